@@ -1,0 +1,23 @@
+"""The two roots of every error vampc raises.
+
+A `VampcError` is the user's to fix (a bad file, a bad option): the CLI prints its one-line message and exits
+with status 1, without a traceback. A `VampcInternalError` is a compiler bug: the CLI shows the full context
+and asks for a report.
+"""
+
+
+class VampcError(Exception):
+    """A user error: bad input file or option. Its message is one line naming the file and the place."""
+
+
+class VampcInternalError(Exception):
+    """A broken invariant inside vampc (a bug, not the user's fault)."""
+
+
+def located(path, where: str, what: str) -> VampcError:
+    """Build the standard one-line message `FILE: WHERE: WHAT` (WHERE may be empty)."""
+    parts = [str(path)] if path else []
+    if where:
+        parts.append(where)
+    parts.append(what)
+    return VampcError(": ".join(parts))
