@@ -1,0 +1,182 @@
+"""The dataflow graph IR: vector operations as nodes, data dependencies as operand references.
+
+A graph is what every builder (linear, logarithmic) produces and every back-end stage (scheduling,
+allocation, emission) consumes. It is plain frozen data; networkx is used only for analysis.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import networkx as nx
+
+from vampc.dataflow.ops import OPERAND_SHAPES, Op, result_shape
+from vampc.errors import VampcInternalError
+
+
+@dataclass(frozen=True)
+class InputKey:
+    """A value the host writes every cycle: `quantity` of joint `joint` (see vampc.dataflow.host)."""
+
+    quantity: str   # "A", "zqd", "zqdd", "p_star", "s_star"
+    joint: int      # 1-based joint index
+
+
+@dataclass(frozen=True)
+class Node:
+    """One node. `args` are operand node ids (A then B). `name` is the paper's variable (e.g. "T4").
+
+    `section` says which part of the algorithm the node belongs to: "bwd" (propagated backward, i.e.
+    base-to-tip in the paper's naming), "npv" (non-propagated r̈, F, N), "fwd" (tip-to-base), or "io".
+    `group` is the recursion node it belongs to (joint index for the linear graph).
+    """
+
+    id: int
+    op: Op
+    args: tuple[int, ...] = ()
+    name: str = ""
+    section: str = "io"
+    group: int = 0
+    key: InputKey | None = None                # INPUT only
+    value: tuple[float, ...] | None = None     # CONST only (3 or 9 scalars, row-major)
+
+    @property
+    def shape(self) -> str:
+        """'v' (3 scalars) or 'm' (9 scalars)."""
+        if self.op is Op.INPUT:
+            return "m" if self.key.quantity == "A" else "v"
+        if self.op is Op.CONST:
+            return "m" if len(self.value) == 9 else "v"
+        return result_shape(self.op)
+
+    @property
+    def label(self) -> str:
+        """A readable unique-ish label: section, group and name."""
+        return f"{self.section}{self.group}.{self.name}"
+
+
+@dataclass(frozen=True)
+class Output:
+    """Joint torque τ_joint is scalar `component` of node `node`'s result."""
+
+    joint: int
+    node: int
+    component: int = 2
+
+
+@dataclass(frozen=True)
+class Graph:
+    """A dataflow graph for one robot: nodes in topological order, and the torque outputs."""
+
+    nodes: tuple[Node, ...]
+    outputs: tuple[Output, ...]
+    n: int
+    recursion: str = "linear"
+    meta: tuple[tuple[str, str], ...] = ()
+
+    def compute_nodes(self):
+        """The nodes a VAMP executes."""
+        return [nd for nd in self.nodes if nd.op.is_compute]
+
+    def to_networkx(self) -> nx.DiGraph:
+        """A DiGraph with an edge producer -> consumer per operand (for analysis only)."""
+        g = nx.DiGraph()
+        for nd in self.nodes:
+            g.add_node(nd.id)
+            for a in nd.args:
+                g.add_edge(a, nd.id)
+        return g
+
+    def consumers(self) -> dict[int, list[int]]:
+        """Map node id -> ids of the nodes reading it."""
+        out: dict[int, list[int]] = {nd.id: [] for nd in self.nodes}
+        for nd in self.nodes:
+            for a in nd.args:
+                out[a].append(nd.id)
+        return out
+
+    def verify(self) -> None:
+        """Check ids, topological order, arities and operand shapes; raise VampcInternalError."""
+        for i, nd in enumerate(self.nodes):
+            if nd.id != i:
+                raise VampcInternalError(f"node {nd.label}: id {nd.id} at position {i}")
+            _verify_node(self, nd)
+        joints = sorted(o.joint for o in self.outputs)
+        if joints != list(range(1, self.n + 1)):
+            raise VampcInternalError(f"outputs cover joints {joints}, expected 1..{self.n}")
+        for o in self.outputs:
+            if self.nodes[o.node].shape != "v" or not 0 <= o.component < 3:
+                raise VampcInternalError(f"output τ{o.joint} reads a bad node/component")
+
+
+def _verify_node(g: Graph, nd: Node) -> None:
+    if nd.op is Op.INPUT and nd.key is None or nd.op is Op.CONST and nd.value is None:
+        raise VampcInternalError(f"node {nd.label}: missing input key / constant value")
+    if not nd.op.is_compute:
+        if nd.args:
+            raise VampcInternalError(f"node {nd.label}: {nd.op.value} has operands")
+        return
+    if len(nd.args) != 2:
+        raise VampcInternalError(f"node {nd.label}: {nd.op.value} needs 2 operands")
+    for arg, want in zip(nd.args, OPERAND_SHAPES[nd.op]):
+        if not 0 <= arg < nd.id:
+            raise VampcInternalError(f"node {nd.label}: operand {arg} not before it")
+        if g.nodes[arg].shape != want:
+            raise VampcInternalError(f"node {nd.label}: operand {g.nodes[arg].label} is not '{want}'")
+
+
+class GraphBuilder:
+    """Appends nodes in topological order; builders use it to write the paper's tables as code."""
+
+    def __init__(self, n: int, recursion: str):
+        self.n, self.recursion = n, recursion
+        self.nodes: list[Node] = []
+        self.outputs: list[Output] = []
+        self._inputs: dict[InputKey, int] = {}
+        self._consts: dict[tuple, int] = {}
+        self.section, self.group = "io", 0
+
+    def at(self, section: str, group: int) -> "GraphBuilder":
+        """Set the section and group of the nodes added next."""
+        self.section, self.group = section, group
+        return self
+
+    def op(self, op: Op, a: int, b: int, name: str) -> int:
+        """Add a compute node and return its id."""
+        return self._add(Node(len(self.nodes), op, (a, b), name, self.section, self.group))
+
+    def input(self, quantity: str, joint: int) -> int:
+        """The (shared) INPUT node for a host quantity of a joint."""
+        key = InputKey(quantity, joint)
+        if key not in self._inputs:
+            node = Node(len(self.nodes), Op.INPUT, (), f"{quantity}{joint}", "io", joint, key=key)
+            self._inputs[key] = self._add(node)
+        return self._inputs[key]
+
+    def const(self, value, name: str, group: int = 0) -> int:
+        """A CONST node holding `value` (a 3-vector or 3x3 matrix); equal (name, value) pairs share."""
+        flat = tuple(float(x) for x in _flatten(value))
+        k = (name, flat)
+        if k not in self._consts:
+            node = Node(len(self.nodes), Op.CONST, (), name, "io", group, value=flat)
+            self._consts[k] = self._add(node)
+        return self._consts[k]
+
+    def output(self, joint: int, node: int, component: int = 2) -> None:
+        """Declare τ_joint = component of node."""
+        self.outputs.append(Output(joint, node, component))
+
+    def build(self, meta: dict | None = None) -> Graph:
+        """Freeze into a Graph (verified)."""
+        g = Graph(tuple(self.nodes), tuple(sorted(self.outputs, key=lambda o: o.joint)), self.n,
+                  self.recursion, tuple(sorted((meta or {}).items())))
+        g.verify()
+        return g
+
+    def _add(self, node: Node) -> int:
+        self.nodes.append(node)
+        return node.id
+
+
+def _flatten(value):
+    import numpy as np
+    return np.asarray(value, dtype=float).reshape(-1)
