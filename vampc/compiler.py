@@ -1,0 +1,101 @@
+"""The compile pipeline as one straight line of named stages (DESIGN §2).
+
+    robot file --load--> Chain --build--> Graph --schedule--> Schedule --allocate--> Network
+      --emit--> programs + program stream --document--> program file
+
+Every IR is verified at its stage boundary when `verify` is on (always in the tests).
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from vampc.dataflow.graph import Graph
+from vampc.dataflow.ops import Timing
+from vampc.errors import VampcError
+from vampc.network.allocate import allocate_systolic, verify_network
+from vampc.network.model import Network
+from vampc.program import emit
+from vampc.program.words import Program
+from vampc.robot.chain import Chain
+from vampc.schedule.asap import Schedule, schedule_asap
+
+RECURSIONS = ("linear", "log")
+PREFIXES = ("sklansky", "brent-kung", "kogge-stone", "ladner-fischer", "serial")
+
+
+@dataclass(frozen=True)
+class CompileOptions:
+    """Compiler options; each field is one `vampc compile` / `vampc report` option."""
+
+    recursion: str = "linear"
+    prefix: str = "sklansky"
+    uniform_leaves: bool = False
+    mult_latency: int = 1
+    add_latency: int = 1
+    numbering: str | None = None
+    verify: bool = True
+
+    @property
+    def timing(self) -> Timing:
+        """The Mult/Addn latency model."""
+        return Timing(self.mult_latency, self.add_latency)
+
+    def check(self) -> None:
+        """Reject option values no stage can honour."""
+        if self.recursion not in RECURSIONS:
+            raise VampcError(f"unknown recursion {self.recursion!r} (choose from {', '.join(RECURSIONS)})")
+        if self.prefix not in PREFIXES:
+            raise VampcError(f"unknown prefix shape {self.prefix!r} (choose from {', '.join(PREFIXES)})")
+        for name in ("mult_latency", "add_latency"):
+            if not 1 <= getattr(self, name) <= 64:
+                raise VampcError(f"--{name.replace('_', '-')} must be between 1 and 64 flops")
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """Everything the compiler produced for one robot."""
+
+    chain: Chain
+    options: CompileOptions
+    graph: Graph
+    schedule: Schedule
+    network: Network
+    numbering: tuple[int, ...]
+    programs: tuple[Program, ...]
+    stream: tuple[emit.StreamEntry, ...] = field(default=())
+
+
+def build_graph(chain: Chain, options: CompileOptions) -> Graph:
+    """The dataflow graph for the chosen recursion."""
+    if options.recursion == "linear":
+        from vampc.dataflow.linear import build_linear
+        return build_linear(chain)
+    from vampc.dataflow.logarithmic import build_log
+    return build_log(chain, prefix=options.prefix, uniform_leaves=options.uniform_leaves)
+
+
+def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> Compiled:
+    """Run every compile stage on a loaded chain."""
+    options.check()
+    if options.verify:
+        chain.verify()
+    graph = build_graph(chain, options)
+    sched = schedule_asap(graph, options.timing)
+    net = allocate_systolic(graph, sched)
+    if options.verify:
+        graph.verify()
+        sched.verify(graph)
+        verify_network(net)
+    numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
+                 else emit.default_numbering(net))
+    return Compiled(chain, options, graph, sched, net, numbering, emit.programs(net),
+                    emit.program_stream(net))
+
+
+def program_document(c: Compiled) -> dict:
+    """The program-file document of a compiled robot."""
+    from vampc.program.document import program_document as doc
+    from vampc.report.counts import summary
+    opts = {k: v for k, v in asdict(c.options).items() if k not in ("verify",)}
+    return doc(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
+               summary(c))

@@ -1,0 +1,144 @@
+"""Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
+from __future__ import annotations
+
+import numpy as np
+
+from vampc.dataflow.graph import Graph, InputKey, Node, Output
+from vampc.dataflow.ops import Op
+from vampc.network.model import Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp
+from vampc.program.emit import StreamEntry, load_ticks, stream_words
+from vampc.program.file import FORMAT, VERSION, tolist
+from vampc.program.words import ROM, Program, encode
+from vampc.robot.chain import Chain, Joint, JointType, Limits
+from vampc.schedule.asap import Schedule
+
+
+def chain_to_doc(chain: Chain) -> dict:
+    """The robot section."""
+    joints = [{
+        "name": j.name, "type": j.type.value, "phi": tolist(j.phi), "p_fixed": tolist(j.p_fixed),
+        "offset": float(j.offset), "mass": float(j.mass), "com": tolist(j.com),
+        "inertia": tolist(j.inertia), "axis": tolist(j.axis),
+        "limits": {"q": list(j.limits.q) if j.limits.q else None, "qd": j.limits.qd,
+                   "tau": j.limits.tau},
+    } for j in chain.joints]
+    return {"name": chain.name, "n": chain.n, "source": chain.source, "joints": joints,
+            "gravity": tolist(chain.gravity), "base_omega": tolist(chain.base_omega),
+            "base_omega_dot": tolist(chain.base_omega_dot), "tip_force": tolist(chain.tip_force),
+            "tip_torque": tolist(chain.tip_torque)}
+
+
+def chain_from_doc(doc: dict) -> Chain:
+    """Inverse of chain_to_doc."""
+    joints = tuple(Joint(
+        name=j["name"], type=JointType(j["type"]), phi=np.array(j["phi"]),
+        p_fixed=np.array(j["p_fixed"]), offset=j["offset"], mass=j["mass"], com=np.array(j["com"]),
+        inertia=np.array(j["inertia"]),
+        limits=Limits(tuple(j["limits"]["q"]) if j["limits"]["q"] else None, j["limits"]["qd"],
+                      j["limits"]["tau"])) for j in doc["joints"])
+    return Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
+                 np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
+                 np.array(doc["tip_torque"]), doc["source"])
+
+
+def graph_to_doc(g: Graph) -> dict:
+    """The graph section: one row per node."""
+    def row(nd: Node) -> dict:
+        r = {"id": nd.id, "op": nd.op.value, "args": list(nd.args), "name": nd.name,
+             "section": nd.section, "group": nd.group}
+        if nd.key:
+            r["key"] = [nd.key.quantity, nd.key.joint]
+        if nd.value is not None:
+            r["value"] = list(nd.value)
+        return r
+    return {"n": g.n, "recursion": g.recursion, "meta": dict(g.meta),
+            "nodes": [row(nd) for nd in g.nodes],
+            "outputs": [[o.joint, o.node, o.component] for o in g.outputs]}
+
+
+def graph_from_doc(d: dict) -> Graph:
+    """Inverse of graph_to_doc."""
+    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], r["section"], r["group"],
+                       InputKey(*r["key"]) if "key" in r else None,
+                       tuple(r["value"]) if "value" in r else None) for r in d["nodes"])
+    return Graph(nodes, tuple(Output(*o) for o in d["outputs"]), d["n"], d["recursion"],
+                 tuple(sorted(d["meta"].items())))
+
+
+def schedule_to_doc(s: Schedule) -> dict:
+    """The schedule section."""
+    return {"mult_latency": s.timing.mult, "add_latency": s.timing.add, "latency": s.latency,
+            "interval": s.interval, "mults": s.mults, "adds": s.adds,
+            "critical_path": list(s.critical_path), "start": list(s.start), "finish": list(s.finish)}
+
+
+def _taps(op: Operand) -> list:
+    return [[t.kind, t.index, t.stage] for t in op.taps]
+
+
+def network_to_doc(net: Network, numbering) -> dict:
+    """The network (netlist) section: wiring only; timing lives in the programs."""
+    return {
+        "cycle": net.cycle,
+        "vamps": [{"index": v.index, "number": numbering[v.index], "node": v.node,
+                   "a": _taps(v.a), "b": _taps(v.b)} for v in net.vamps],
+        "buffers": [{"index": b.index, "source": b.source, "stages": b.stages} for b in net.buffers],
+        "ports": [{"index": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
+                   "cycle": p.cycle, "size": p.size} for p in net.ports],
+        "consts": [{"index": c.index, "name": c.name, "value": list(c.value)} for c in net.consts],
+    }
+
+
+def program_document(chain, graph, sched, net, numbering, progs, stream, options: dict,
+                     summary: dict) -> dict:
+    """The whole program-file document (without its checksum)."""
+    C = net.cycle
+    words = stream_words(stream, numbering, progs)
+    return {
+        "format": FORMAT, "version": VERSION, "robot": chain_to_doc(chain), "options": options,
+        "graph": graph_to_doc(graph), "schedule": schedule_to_doc(sched),
+        "network": network_to_doc(net, numbering),
+        "programs": [{"vamp": v.index, "delay_a": p.delay_a, "delay_b": p.delay_b,
+                      "delay_r": p.delay_r, "rom": p.rom, "op": ROM[p.rom][0].value,
+                      "word": list(encode(numbering[v.index], p))}
+                     for v, p in zip(net.vamps, progs)],
+        "program_stream": [{"root": [e.root.kind, e.root.index], "targets": list(e.targets),
+                            "depth": list(e.depth), "words": [list(w) for w in ws]}
+                           for e, ws in zip(stream, words)],
+        "io": {"cycle": C, "load_ticks": load_ticks(stream),
+               "ports": [{"port": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
+                          "tick": p.cycle * C} for p in net.ports],
+               "outputs": [{"joint": o.joint, "vamp": o.vamp, "component": o.component,
+                            "tick": o.tick} for o in net.outputs]},
+        "summary": summary,
+    }
+
+
+def network_from_doc(doc: dict) -> Network:
+    """The netlist with the timing implied by the programs (latch/dump ticks are cycle-relative here:
+    absolute times are the emulator's to derive)."""
+    nd, C = doc["network"], doc["network"]["cycle"]
+    progs = doc["programs"]
+    def operand(rows) -> Operand:
+        return Operand(tuple(Tap(k, i, s) for k, i, s in rows))
+    vamps = tuple(Vamp(v["index"], v["node"], ROM[progs[v["index"]]["rom"]][0],
+                       ROM[progs[v["index"]]["rom"]][1], operand(v["a"]), operand(v["b"]),
+                       progs[v["index"]]["delay_a"], progs[v["index"]]["delay_b"],
+                       progs[v["index"]]["delay_r"]) for v in nd["vamps"])
+    return Network(C, vamps, tuple(Buffer(b["index"], b["source"], b["stages"]) for b in nd["buffers"]),
+                   tuple(Port(p["index"], InputKey(p["quantity"], p["joint"]), p["cycle"], p["size"])
+                         for p in nd["ports"]),
+                   tuple(Const(c["index"], c["name"], tuple(c["value"])) for c in nd["consts"]),
+                   tuple(OutputPoint(o["joint"], o["vamp"], o["component"], o["tick"])
+                         for o in doc["io"]["outputs"]))
+
+
+def stream_from_doc(doc: dict) -> tuple[StreamEntry, ...]:
+    """The program stream entries (targets and depths; words are re-read from the document)."""
+    return tuple(StreamEntry(Tap(*e["root"]), tuple(e["targets"]), tuple(e["depth"]))
+                 for e in doc["program_stream"])
+
+
+def programs_from_doc(doc: dict) -> tuple[Program, ...]:
+    """Per-VAMP programs as written."""
+    return tuple(Program(p["delay_a"], p["delay_b"], p["delay_r"], p["rom"]) for p in doc["programs"])

@@ -1,0 +1,92 @@
+"""Program emission: VAMP numbering, per-VAMP program words and the Program-Mode stream (section VII).
+
+Program Mode: every VAMP passes the word on its Operand-A input to its Result one tick later, every
+buffer stage passes its input on one tick later, and a VAMP latches the program of the word that carries
+its own number. So the words for a VAMP must be written to the input buffer (host port or constant
+buffer) at the root of its Operand-A path. Each root's words are written one per tick, deepest target
+first, which makes the load time max over roots of (words + depth of the last word's target).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from vampc.errors import VampcError
+from vampc.network.model import Network, Tap
+from vampc.program.words import Program, encode, rom_pointer
+
+
+@dataclass(frozen=True)
+class StreamEntry:
+    """Words the host writes to one input buffer in Program Mode, in order (one per tick)."""
+
+    root: Tap                      # a "port" or "const" tap
+    targets: tuple[int, ...]       # logical VAMP index of each word
+    depth: tuple[int, ...]         # registers between the root and each target's Operand-A input
+
+
+def default_numbering(net: Network) -> tuple[int, ...]:
+    """Burned-in numbers 1..V in logical order."""
+    return tuple(range(1, len(net.vamps) + 1))
+
+
+def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
+    """VAMP numbers from a text file, one positive integer per line (blank lines and #comments skipped)."""
+    numbers = []
+    try:
+        lines = Path(path).read_text().splitlines()
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}") from None
+    for lineno, line in enumerate(lines, 1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        if not text.isdigit() or int(text) < 1 or int(text) >= 2**24:
+            raise VampcError(f"{path}: line {lineno}: {text!r} is not a VAMP number (1..16777215)")
+        numbers.append(int(text))
+    if len(numbers) < count:
+        raise VampcError(f"{path}: {len(numbers)} VAMP numbers given, the network needs {count}")
+    if len(set(numbers)) != len(numbers):
+        dup = next(x for x in numbers if numbers.count(x) > 1)
+        raise VampcError(f"{path}: VAMP number {dup} appears twice")
+    return tuple(numbers[:count])
+
+
+def programs(net: Network) -> tuple[Program, ...]:
+    """Each VAMP's program: the Cycle-Counter values of its latches and dump, and its ROM pointer."""
+    C = net.cycle
+    return tuple(Program(v.latch_a % C, v.latch_b % C, v.dump % C, rom_pointer(v.op, v.column))
+                 for v in net.vamps)
+
+
+def a_root(net: Network, vamp: int) -> tuple[Tap, int]:
+    """The input buffer at the root of a VAMP's Operand-A path and the registers in between."""
+    depth, tap = 0, net.vamps[vamp].a.taps[0]
+    while tap.kind in ("vamp", "buffer"):
+        depth += 1 if tap.kind == "vamp" else 1 + tap.stage
+        src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+        tap = net.vamps[src].a.taps[0]
+    return Tap(tap.kind, tap.index), depth
+
+
+def program_stream(net: Network) -> tuple[StreamEntry, ...]:
+    """The Program-Mode stream: per root input buffer, its words' targets deepest first."""
+    by_root: dict[Tap, list[tuple[int, int]]] = {}
+    for v in net.vamps:
+        root, depth = a_root(net, v.index)
+        by_root.setdefault(root, []).append((depth, v.index))
+    entries = []
+    for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
+        items = sorted(by_root[root], key=lambda dv: (-dv[0], dv[1]))
+        entries.append(StreamEntry(root, tuple(v for _, v in items), tuple(d for d, _ in items)))
+    return tuple(entries)
+
+
+def load_ticks(stream: tuple[StreamEntry, ...]) -> int:
+    """Ticks of Program Mode needed for every VAMP to have latched its word."""
+    return max((k + d + 1 for e in stream for k, d in enumerate(e.depth)), default=0)
+
+
+def stream_words(stream: tuple[StreamEntry, ...], numbering, progs) -> list[list[tuple]]:
+    """The packed words of each stream entry."""
+    return [[encode(numbering[v], progs[v]) for v in e.targets] for e in stream]

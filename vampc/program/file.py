@@ -1,0 +1,111 @@
+"""The program file (`*.vamp.json`): writer and validating reader (schema `program.schema.json`).
+
+Sections (format "vampc-program", version 1):
+
+    robot           what the host needs: joint types, Φ_i, offsets, p*, r*, masses, inertias, limits,
+                    gravity and endpoint values (so it can compute A_i(q) and check torques)
+    options         how it was compiled (recursion, prefix shape, latencies)
+    graph           the dataflow graph (for reports and the layout-versus-graph check; never executed)
+    schedule        ASAP start/finish per graph node, latency, critical path, interval
+    network         VAMPs (logical index, burned-in number, operand taps), buffers, ports, constants
+    programs        per VAMP: delay-A, delay-B, delay-R, ROM pointer, and the packed word
+    program_stream  per input buffer: the words the host writes in Program Mode, in order
+    io              when the host writes each port (tick of set 0; set j is j·C later) and where and
+                    when each τ_i appears
+    summary         latency, interval, counts
+    checksum        sha256 of the canonical JSON of everything else
+
+Written atomically (temporary file, then rename). A reader validates the schema, the version and the
+checksum before anything else looks at the data.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from vampc.errors import VampcError
+
+FORMAT, VERSION = "vampc-program", 1
+
+
+def canonical(doc: dict) -> str:
+    """Deterministic JSON text (sorted keys, no whitespace variation)."""
+    return json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def checksum(doc: dict) -> str:
+    """sha256 over the canonical JSON of the document without its checksum field."""
+    body = {k: v for k, v in doc.items() if k != "checksum"}
+    return "sha256:" + hashlib.sha256(canonical(body).encode()).hexdigest()
+
+
+def write_json_atomic(path: str | Path, text: str) -> None:
+    """Write text to path via a temporary file in the same folder, then rename: no partial files."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)   # mkstemp creates 0600; a normal file respects the umask
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_program(doc: dict, path: str | Path) -> None:
+    """Stamp the checksum and write the document atomically (indented, sorted keys)."""
+    doc = dict(doc, checksum=checksum(doc))
+    try:
+        write_json_atomic(path, json.dumps(doc, sort_keys=True, indent=1, allow_nan=False) + "\n")
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot write program file: {exc.strerror}") from None
+
+
+def read_program(path: str | Path) -> dict:
+    """Load, schema-validate and checksum-verify a program file; VampcError on any problem."""
+    try:
+        text = Path(path).read_text()
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
+    try:
+        doc = json.loads(text, parse_constant=_reject_constant)
+    except (json.JSONDecodeError, ValueError) as exc:
+        raise VampcError(f"{path}: not a vampc program file (invalid JSON: {exc})") from None
+    validate_program(doc, path)
+    if doc["checksum"] != checksum(doc):
+        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
+    return doc
+
+
+def validate_program(doc, path) -> None:
+    """Schema and version check."""
+    import jsonschema
+
+    from vampc.schemas_util import load_schema
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
+    if doc.get("version") != VERSION:
+        raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
+                         f"(this vampc reads version {VERSION})")
+    validator = jsonschema.Draft202012Validator(load_schema("program.schema.json"))
+    err = next(iter(sorted(validator.iter_errors(doc), key=lambda e: list(e.path))), None)
+    if err is not None:
+        where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in err.path).lstrip(".")
+        raise VampcError(f"{path}: {where or 'document'}: {err.message}")
+
+
+def _reject_constant(name: str):
+    raise ValueError(f"{name} is not allowed")
+
+
+def tolist(x) -> list:
+    """numpy array (or nested sequence) to plain lists of floats."""
+    return np.asarray(x, dtype=float).tolist()

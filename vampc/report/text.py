@@ -1,0 +1,36 @@
+"""Plain-text rendering of a report summary (the default `vampc report` output)."""
+from __future__ import annotations
+
+from vampc.report.counts import latency_note
+
+
+def render(rep: dict) -> str:
+    """A human-readable table of the summary produced by vampc.report.counts.summary."""
+    lat, paper, v = rep["latency"], rep["paper"], rep["vamps"]
+    lines = [
+        f"robot            {rep['robot']} ({rep['joints']} joints"
+        + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")"),
+        f"recursion        {rep['recursion']}" + (f" ({rep['prefix']})" if rep.get("prefix") else ""),
+        f"layout           {rep['layout']}",
+        f"latency          {lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns "
+        "on the critical path",
+        f"paper            {paper['flops']} flops = {paper['mults']} Mults + {paper['adds']} Addns",
+    ]
+    lines += [f"                 {note}" for note in latency_note(rep)]
+    lines += [
+        f"interval         {rep['interval_flops']} flops between successive torque sets",
+        f"VAMPs            {v['total']} = {v['backward']} backward + {v['forward']} forward",
+        f"  per node       backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
+        f"non-propagated, forward {v['per_node']['fwd']}",
+        "  by op          " + ", ".join(f"{k} {n}" for k, n in v["by_op"].items()),
+        f"buffers          {rep['buffers']['stages']} stages in {rep['buffers']['chains']} chains "
+        f"({rep['buffers']['scalars']} scalars)",
+        f"host I/O         {rep['ports']} ports, {rep['constants']} constant buffers, "
+        f"{rep['input_buffer_scalars']} input-buffer scalars",
+        f"40-pin packages  {rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
+        f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)",
+        f"serial work      {rep['serial_work']['mults']} Mults + {rep['serial_work']['adds']} Addns "
+        f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
+        f"{rep['serial_reference']['adds']}",
+    ]
+    return "\n".join(lines) + "\n"
