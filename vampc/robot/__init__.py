@@ -1,0 +1,32 @@
+"""The robot model (Chain, Joint: the paper's notation) and the loaders that produce it.
+
+`load_robot` picks the loader from the file extension: .urdf/.xml → `load_urdf`, .yaml/.yml/.json →
+`load_dh` (a standard DH table, schema `schemas/dh-table.schema.json`).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from vampc.errors import located
+from vampc.robot.chain import Chain, Joint, JointType, Limits
+from vampc.robot.dh import JSON_SUFFIXES, YAML_SUFFIXES, chain_from_dh, load_dh
+from vampc.robot.urdf import load_urdf
+
+URDF_SUFFIXES = (".urdf", ".xml")
+
+__all__ = ["Chain", "Joint", "JointType", "Limits", "chain_from_dh", "load_dh", "load_robot", "load_urdf"]
+
+
+def load_robot(path, base: str | None = None, tip: str | None = None,
+               lock: dict[str, float] | None = None) -> Chain:
+    """Load a robot description as a Chain; base, tip and lock select and freeze joints of a URDF tree."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in URDF_SUFFIXES:
+        return load_urdf(path, base=base, tip=tip, lock=lock)
+    if suffix in YAML_SUFFIXES + JSON_SUFFIXES:
+        if base is not None or tip is not None or lock:
+            raise located(path, "", "base, tip and lock apply to URDF files only (a DH table is one chain)")
+        return load_dh(path)
+    raise located(path, "", f"unknown robot file extension {path.suffix!r} "
+                            "(expected .urdf, .xml, .yaml, .yml or .json)")

@@ -1,0 +1,264 @@
+"""DH-table loader: examples against textbook DH kinematics, the Joint mapping, and exact error messages."""
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vampc.errors import VampcError
+from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+DH_EXAMPLES = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml"]
+
+
+# --- an independent textbook DH forward kinematics -----------------------------------------------------
+
+def dh_transform(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
+    """Standard DH link transform Rz(θ) Tz(d) Tx(a) Rx(α), written out as in Spong/Craig tables."""
+    ct, st_, ca, sa = math.cos(theta), math.sin(theta), math.cos(alpha), math.sin(alpha)
+    return np.array([[ct, -st_ * ca, st_ * sa, a * ct],
+                     [st_, ct * ca, -ct * sa, a * st_],
+                     [0.0, sa, ca, d],
+                     [0.0, 0.0, 0.0, 1.0]])
+
+
+def textbook_frames(rows: list[dict], q: np.ndarray) -> list[np.ndarray]:
+    """Base-frame poses of O_1..O_n straight from the table rows (q added to θ or d)."""
+    out, pose = [], np.eye(4)
+    for row, qi in zip(rows, q):
+        revolute = row["type"] == "revolute"
+        theta = row["theta"] + (qi if revolute else 0.0)
+        d = row["d"] + (0.0 if revolute else qi)
+        pose = pose @ dh_transform(theta, d, row["a"], row["alpha"])
+        out.append(pose)
+    return out
+
+
+def chain_frames(chain, q: np.ndarray) -> list[np.ndarray]:
+    """Base-frame poses of O_1..O_n composed from the Chain: O_i in O_{i-1} is [A_i, A_i p*_i]."""
+    out, pose = [], np.eye(4)
+    for joint, qi in zip(chain.joints, q):
+        step = np.eye(4)
+        step[:3, :3] = joint.A(qi)
+        step[:3, 3] = joint.A(qi) @ joint.p_star(qi)
+        pose = pose @ step
+        out.append(pose)
+    return out
+
+
+# --- the examples ----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", DH_EXAMPLES)
+def test_examples_load_and_verify(name):
+    chain = load_robot(EXAMPLES / name)
+    chain.verify()
+    assert chain.source == str(EXAMPLES / name)
+    assert chain.n == len(yaml.safe_load((EXAMPLES / name).read_text())["joints"])
+
+
+@pytest.mark.parametrize("name", ["puma560.yaml", "stanford.yaml", "planar2.yaml"])
+def test_frames_match_textbook_dh(name):
+    rows = yaml.safe_load((EXAMPLES / name).read_text())["joints"]
+    chain = load_dh(EXAMPLES / name)
+    rng = np.random.default_rng(1)
+    for q in rng.uniform(-np.pi, np.pi, (20, chain.n)):
+        for ours, theirs in zip(chain_frames(chain, q), textbook_frames(rows, q)):
+            np.testing.assert_allclose(ours, theirs, atol=1e-12)
+
+
+def test_puma_published_zero_pose():
+    # Corke, Robotics, Vision and Control: p560.fkine(qz) has the identity rotation and t = (0.4521,
+    # -0.15005, 0.4318): a2 + a3 forward, -d3 sideways, d4 up.
+    tip = chain_frames(load_dh(EXAMPLES / "puma560.yaml"), np.zeros(6))[-1]
+    np.testing.assert_allclose(tip[:3, :3], np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(tip[:3, 3], [0.4521, -0.15005, 0.4318], atol=1e-12)
+
+
+def test_puma_published_inertial_values():
+    chain = load_dh(EXAMPLES / "puma560.yaml")
+    np.testing.assert_allclose([j.mass for j in chain.joints], [0, 17.4, 4.8, 0.82, 0.34, 0.09])
+    np.testing.assert_allclose(chain.joints[1].com, [-0.3638, 0.006, 0.2275])
+    np.testing.assert_allclose(np.diag(chain.joints[2].inertia), [0.066, 0.086, 0.0125])
+    assert chain.joints[1].limits.q == pytest.approx((-math.pi / 4, 5 * math.pi / 4))
+
+
+def test_stanford_has_one_prismatic_joint():
+    chain = load_dh(EXAMPLES / "stanford.yaml")
+    assert [j.type for j in chain.joints].count(JointType.PRISMATIC) == 1
+    assert chain.joints[2].type is JointType.PRISMATIC
+    assert chain.joints[2].limits.q == pytest.approx((12 * 0.0254, 50 * 0.0254))
+
+
+def test_snake_is_regenerated_exactly(tmp_path):
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, str(EXAMPLES / "make_snake.py"), "64"], check=True,
+                         capture_output=True, text=True).stdout
+    assert out == (EXAMPLES / "snake64.yaml").read_text()
+    chain = load_dh(EXAMPLES / "snake64.yaml")
+    assert chain.n == 64 and all(j.type is JointType.REVOLUTE for j in chain.joints)
+    assert all(abs(j.inertia[0, 1]) > 0 for j in chain.joints)  # general: products of inertia present
+
+
+# --- the mapping onto Joint ------------------------------------------------------------------------------
+
+def row(**over) -> dict:
+    """A valid joint row; keyword arguments replace fields."""
+    base = {"type": "revolute", "a": 0.3, "alpha": 0.4, "d": 0.1, "theta": 0.2, "mass": 1.0,
+            "com": [0.1, 0.0, 0.0], "inertia": [0.01, 0.02, 0.03, 0.0, 0.0, 0.0]}
+    base.update(over)
+    return base
+
+
+finite = st.floats(-3.0, 3.0, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(kind=st.sampled_from(["revolute", "prismatic"]), a=finite, alpha=finite, d=finite, theta=finite,
+       q=finite)
+def test_single_row_equals_dh_formula(kind, a, alpha, d, theta, q):
+    chain = chain_from_dh({"name": "one", "joints": [row(type=kind, a=a, alpha=alpha, d=d, theta=theta)]},
+                          "<test>")
+    (ours,) = chain_frames(chain, [q])
+    (theirs,) = textbook_frames([row(type=kind, a=a, alpha=alpha, d=d, theta=theta)], [q])
+    np.testing.assert_allclose(ours, theirs, atol=1e-12)
+    if kind == "revolute":  # p* = [a, d sin α, d cos α], the paper's formula, in O_i
+        np.testing.assert_allclose(chain.joints[0].p_star(q), [a, d * math.sin(alpha), d * math.cos(alpha)],
+                                   atol=1e-12)
+
+
+def test_inertia_six_numbers_equal_matrix():
+    six = [1.0, 2.0, 3.0, 0.1, 0.2, 0.3]  # ixx iyy izz ixy iyz ixz
+    matrix = [[1.0, 0.1, 0.3], [0.1, 2.0, 0.2], [0.3, 0.2, 3.0]]
+    a = chain_from_dh({"name": "x", "joints": [row(inertia=six)]}, "<a>")
+    b = chain_from_dh({"name": "x", "joints": [row(inertia=matrix)]}, "<b>")
+    np.testing.assert_array_equal(a.joints[0].inertia, np.array(matrix))
+    np.testing.assert_array_equal(b.joints[0].inertia, np.array(matrix))
+
+
+def test_defaults_and_endpoints():
+    doc = {"name": "x", "joints": [row(), row(type="prismatic", name="slide")]}
+    chain = chain_from_dh(doc, "<t>")
+    assert [j.name for j in chain.joints] == ["j1", "slide"]
+    np.testing.assert_array_equal(chain.gravity, [0, 0, -9.81])
+    np.testing.assert_array_equal(chain.tip_force, [0, 0, 0])
+    assert chain.joints[0].offset == 0.2 and chain.joints[1].offset == 0.1
+    doc.update(gravity=[1, 2, 3], base={"omega": [0, 0, 1], "omega_dot": [0, 1, 0]},
+               tip={"force": [1, 0, 0], "torque": [0, 0, 2]})
+    chain = chain_from_dh(doc, "<t>")
+    np.testing.assert_array_equal(chain.base_omega, [0, 0, 1])
+    np.testing.assert_array_equal(chain.base_omega_dot, [0, 1, 0])
+    np.testing.assert_array_equal(chain.tip_torque, [0, 0, 2])
+    np.testing.assert_array_equal(chain.base_accel, [-1, -2, -3])
+
+
+def test_json_and_yaml_agree(tmp_path):
+    doc = yaml.safe_load((EXAMPLES / "stanford.yaml").read_text())
+    (tmp_path / "s.json").write_text(json.dumps(doc))
+    a, b = load_dh(EXAMPLES / "stanford.yaml"), load_robot(tmp_path / "s.json")
+    for ja, jb in zip(a.joints, b.joints):
+        np.testing.assert_array_equal(ja.phi, jb.phi)
+        np.testing.assert_array_equal(ja.inertia, jb.inertia)
+
+
+def test_exponent_without_dot_is_a_number(tmp_path):
+    text = yaml.safe_dump({"name": "x", "joints": [row()]}).replace("0.01", "1e-2")
+    assert "1e-2" in text
+    (tmp_path / "r.yaml").write_text(text)
+    assert load_dh(tmp_path / "r.yaml").joints[0].inertia[0, 0] == 0.01
+
+
+# --- errors: one line, the file, the place ------------------------------------------------------------
+
+def doc_with(**joint_over) -> dict:
+    return {"name": "bad", "joints": [row(), row(**joint_over), row()]}
+
+
+YAML_ERRORS = [
+    ("name: [1, 2\n", r"line 2: not valid YAML: .+"),
+    ("- just\n- a list\n", r"\['just', 'a list'\] is not of type 'object'"),
+    ("", r"None is not of type 'object'"),
+    ("name: x\njoints: []\n", r"joints: \[\] should be non-empty"),
+    ("!!python/object/apply:os.system ['echo hi']\n",
+     r"line 1: not valid YAML: could not determine a constructor for the tag .+"),
+    ("name: x\nname: y\njoints: []\n", r"line 2: not valid YAML: duplicate key 'name'"),
+]
+
+
+@pytest.mark.parametrize("text, message", YAML_ERRORS)
+def test_yaml_errors(tmp_path, text, message):
+    path = tmp_path / "r.yaml"
+    path.write_text(text)
+    assert_error(lambda: load_robot(path), path, message)
+
+
+DOC_ERRORS = [
+    (doc_with(mass=-1.0), r"joints\[1\]\.mass \(joint 2\): -1\.0 is less than the minimum of 0"),
+    (doc_with(mass="heavy"), r"joints\[1\]\.mass \(joint 2\): 'heavy' is not of type 'number'"),
+    (doc_with(type="helical"), r"joints\[1\]\.type \(joint 2\): 'helical' is not one of .+"),
+    (doc_with(com=[0.0, float("nan"), 0.0]), r"joints\[1\]\.com\[1\] \(joint 2\): nan is not a finite number"),
+    (doc_with(inertia=[1.0, 1.0, float("inf"), 0, 0, 0]),
+     r"joints\[1\]\.inertia\[2\] \(joint 2\): inf is not a finite number"),
+    (doc_with(inertia=[1.0, 1.0, 1.0, 2.0, 0.0, 0.0]),
+     r"joints\[1\]\.inertia \(joint 2\): inertia is not positive semi-definite \(eigenvalues -1, 1, 3\)"),
+    (doc_with(inertia=[[1, 0, 0], [0.5, 1, 0], [0, 0, 1]]), r"joints\[1\]\.inertia \(joint 2\): inertia is not symmetric"),
+    (doc_with(inertia=[1, 2, 3]), r"joints\[1\]\.inertia \(joint 2\): \[1, 2, 3\] is neither a 3x3 matrix nor six numbers \[ixx, iyy, izz, ixy, iyz, ixz\]"),
+    (doc_with(masss=1.0), r"joints\[1\] \(joint 2\): Additional properties are not allowed \('masss' was unexpected\)"),
+    ({"name": "bad", "joints": [row(), {k: v for k, v in row().items() if k != "d"}]},
+     r"joints\[1\] \(joint 2\): 'd' is a required property"),
+    (doc_with(limits={"q": [1.0, -1.0]}), r"joints\[1\]\.limits\.q \(joint 2\): lower limit 1\.0 is above upper limit -1\.0"),
+    (doc_with(name="j1"), r"joints\[1\]\.name \(joint 2\): duplicate joint name 'j1'"),
+    ({"name": "bad", "gravity": [0, 0, float("-inf")], "joints": [row()]}, r"gravity\[2\]: -inf is not a finite number"),
+    ({"name": "bad", "gravity": [0, 0], "joints": [row()]}, r"gravity: \[0, 0\] is too short"),
+    ({"joints": [row()]}, r"'name' is a required property"),
+    ({"name": "bad", "joints": [row()], "tip": {"force": [0, 0, 0], "wrench": 1}},
+     r"tip: Additional properties are not allowed \('wrench' was unexpected\)"),
+]
+
+
+@pytest.mark.parametrize("doc, message", DOC_ERRORS)
+def test_document_errors(tmp_path, doc, message):
+    path = tmp_path / "r.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    assert_error(lambda: load_dh(path), path, message)
+    assert_error(lambda: chain_from_dh(doc, "mem.yaml"), "mem.yaml", message)
+
+
+def test_json_errors(tmp_path):
+    path = tmp_path / "r.json"
+    path.write_text('{"name": "x", "joints": [}')
+    assert_error(lambda: load_robot(path), path, r"line 1: not valid JSON: Expecting value")
+    path.write_text('{"name": "x", "name": "y", "joints": []}')
+    assert_error(lambda: load_robot(path), path, r"not valid JSON: duplicate key 'name'")
+    path.write_text(json.dumps({"name": "x", "joints": [row(mass=float("nan"))]}))  # json writes NaN
+    assert_error(lambda: load_robot(path), path, r"joints\[0\]\.mass \(joint 1\): nan is not a finite number")
+
+
+def test_file_errors(tmp_path):
+    assert_error(lambda: load_robot(tmp_path / "absent.yaml"), tmp_path / "absent.yaml", "no such file")
+    odd = tmp_path / "robot.txt"
+    odd.write_text("x")
+    assert_error(lambda: load_robot(odd), odd, r"unknown robot file extension '\.txt' \(expected .+\)")
+    assert_error(lambda: load_dh(odd), odd, r"unknown DH table extension '\.txt' \(expected .+\)")
+    binary = tmp_path / "b.yaml"
+    binary.write_bytes(b"name: \xff\xfe\n")
+    assert_error(lambda: load_robot(binary), binary, r"not UTF-8 text \(byte 6\)")
+    assert_error(lambda: load_robot(EXAMPLES / "planar2.yaml", tip="x"), EXAMPLES / "planar2.yaml",
+                 r"base, tip and lock apply to URDF files only \(a DH table is one chain\)")
+
+
+def assert_error(call, path, message: str) -> None:
+    """`call` raises a VampcError whose whole message is 'PATH: <message>' on one line."""
+    with pytest.raises(VampcError) as info:
+        call()
+    text = str(info.value)
+    assert "\n" not in text
+    assert re.fullmatch(re.escape(str(path)) + ": " + message, text), text

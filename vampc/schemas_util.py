@@ -1,0 +1,43 @@
+"""Find the JSON schemas shipped with vampc.
+
+They live in the repository's `schemas/` folder; `vampc/schemas` is a symlink to it, so an installed wheel
+carries them as package data (pyproject: `vampc = ["schemas/*.json"]`). A checkout whose symlink was lost
+(e.g. a zip on Windows) still works through the repository fallback.
+"""
+from __future__ import annotations
+
+import copy
+import json
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+
+from vampc.errors import VampcInternalError
+
+_REPO_SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
+
+
+def load_schema(name: str) -> dict:
+    """The parsed schema `name` ("dh-table", "dh-table.schema.json" or any file name in schemas/).
+
+    Returns a fresh copy each call, so callers may not corrupt the cached original.
+    """
+    filename = name if name.endswith(".json") else f"{name}.schema.json"
+    return copy.deepcopy(_cached(filename))
+
+
+@lru_cache(maxsize=None)
+def _cached(filename: str) -> dict:
+    return json.loads(_read(filename))
+
+
+def _read(filename: str) -> str:
+    try:
+        return resources.files("vampc").joinpath("schemas", filename).read_text(encoding="utf-8")
+    except OSError:
+        pass
+    try:
+        return (_REPO_SCHEMAS / filename).read_text(encoding="utf-8")
+    except OSError as exc:
+        # A missing schema is a packaging bug, not the user's fault.
+        raise VampcInternalError(f"schema {filename!r} not found in the package or {_REPO_SCHEMAS}") from exc
