@@ -1,0 +1,94 @@
+"""The host driver: trajectories in, port values per set, torques out, and the check against the
+reference dynamics.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vampc.dataflow.host import input_value
+from vampc.emulator.load import Loaded
+from vampc.errors import VampcError
+from vampc.robot.chain import Chain
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """States (count, n) each; `t` the optional time column."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    t: np.ndarray | None = None
+
+    @property
+    def count(self) -> int:
+        """Number of states."""
+        return self.q.shape[0]
+
+
+def port_values(ld: Loaded, traj: Trajectory) -> dict[int, np.ndarray]:
+    """What the host writes to each port for every set: (count, 3) or (count, 9) row-major."""
+    cache: dict = {}
+    out = {}
+    for p in ld.net.ports:
+        if p.key not in cache:
+            val = input_value(ld.chain, p.key, traj.q, traj.qd, traj.qdd)
+            cache[p.key] = np.ascontiguousarray(val.reshape(traj.count, -1))
+        out[p.index] = cache[p.key]
+    return out
+
+
+def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
+    """States drawn within the joint limits (else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²)."""
+    from vampc.robot.random import random_state
+    if count < 1:
+        raise VampcError(f"--random must be at least 1 (got {count})")
+    return Trajectory(*random_state(chain, count, seed))
+
+
+def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
+    """A trajectory from CSV (header q1..qn,qd1..qdn,qdd1..qddn, optional leading t), .npy or .npz."""
+    from vampc.emulator.trajectory import read
+    return read(path, chain.n)
+
+
+def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
+    """Refuse states outside the joint limits (position and speed), naming the row and joint."""
+    for i, j in enumerate(chain.joints):
+        lim = j.limits
+        bad = np.zeros(traj.count, bool)
+        if lim.q:
+            bad |= (traj.q[:, i] < lim.q[0]) | (traj.q[:, i] > lim.q[1])
+        if lim.qd is not None:
+            bad |= np.abs(traj.qd[:, i]) > lim.qd
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise VampcError(f"{path}: row {row + 1}: joint {i + 1} ({j.name}) is outside its limits "
+                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}); use "
+                             "--allow-out-of-limits to run anyway")
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """Worst errors of emulated torques against the reference."""
+
+    max_abs: float
+    max_rel: float
+    worst_row: int
+    ok: bool
+
+
+def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:
+    """Compare with the reference RNEA; relative error per set against that set's largest |τ|."""
+    from vampc.dynamics.reference import rnea
+    ref = rnea(chain, traj.q, traj.qd, traj.qdd)
+    err = np.abs(tau - ref)
+    scale = np.maximum(np.max(np.abs(ref), axis=1, keepdims=True), 1e-12)
+    rel = err / scale
+    worst = int(np.argmax(np.max(rel, axis=1))) if len(rel) else 0
+    max_rel = float(rel.max()) if rel.size else 0.0
+    return CheckResult(float(err.max()) if err.size else 0.0, max_rel, worst,
+                       bool(max_rel <= tol and np.all(np.isfinite(tau))))
