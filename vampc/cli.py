@@ -141,6 +141,127 @@ def _report(source, base, tip, lock, **opts) -> dict:
     return rep
 
 
+@main.command()
+@click.argument("source", type=click.Path(dir_okay=False))
+@click.option("--trajectory", type=click.Path(dir_okay=False),
+              help="States to run: CSV with header q1..qn,qd1..qdn,qdd1..qddn (optional leading t), "
+              ".npy or .npz.")
+@click.option("--random", "random_count", type=int, metavar="N",
+              help="Run N random states (within the joint limits, else ±π, ±1 rad/s, ±1 rad/s²).")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed for --random and for "
+              "the tick engine's random initial register contents.")
+@click.option("--engine", type=click.Choice(["stream", "tick"]), default="stream", show_default=True,
+              help="stream: vectorised over the trajectory; tick: one flop at a time from Program Mode "
+              "(the hardware specification; slower). They agree bit for bit.")
+@click.option("--check", is_flag=True, help="Compare every torque set with the reference Newton-Euler; "
+              "exit 1 if any relative error exceeds 1e-9.")
+@click.option("--vcd", type=click.Path(dir_okay=False), help="Tick engine: write every VAMP's Result "
+              "as a VCD waveform (GTKWave).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write torques as CSV "
+              "(header tau1..taun).")
+@click.option("--allow-out-of-limits", is_flag=True, help="Run states outside the joint limits.")
+@_compile_options
+@_robot_options
+@_handle_errors
+def emulate(source, trajectory, random_count, seed, engine, check, vcd, output, allow_out_of_limits,
+            base, tip, lock, **opts):
+    """Run a program file (or a robot file, compiled on the fly) in the VAMP network emulator and
+    return the joint torques it computes."""
+    from vampc.emulator import emulate as run
+    from vampc.emulator.host import check_limits, check_torques, random_trajectory, read_trajectory
+    if (trajectory is None) == (random_count is None):
+        raise click.UsageError("give exactly one of --trajectory FILE or --random N")
+    if vcd and engine != "tick":
+        raise click.UsageError("--vcd needs --engine tick")
+    ld = _loaded(source, base, tip, lock, **opts)
+    if trajectory:
+        traj = read_trajectory(trajectory, ld.chain)
+        if not allow_out_of_limits:
+            check_limits(ld.chain, traj, trajectory)
+    else:
+        traj = random_trajectory(ld.chain, random_count, seed)
+    writer = _vcd_writer(vcd, ld)
+    ok = False
+    try:
+        with _Progress(f"{engine} engine") as progress:
+            result = run(ld, traj, engine=engine, seed=seed, vcd=writer, progress=progress)
+        ok = True
+    finally:
+        if writer is not None:
+            writer.close(ok)
+    _print_emulation(result, traj.count)
+    if output:
+        from vampc.emulator.trajectory import write_torques
+        write_torques(output, result.tau)
+    if check:
+        _report_check(check_torques(ld.chain, traj, result.tau))
+
+
+def _loaded(source, base, tip, lock, **opts):
+    from vampc.emulator import load_program, loaded_from_doc
+    if _is_program(source):
+        return load_program(source)
+    from vampc.compiler import program_document
+    return loaded_from_doc(program_document(_compile(source, base, tip, lock, **opts)), source)
+
+
+def _vcd_writer(path, ld):
+    if not path:
+        return None
+    from vampc.emulator.vcd import VcdWriter
+    nodes = ld.doc["graph"]["nodes"]
+    names = [f"vamp{ld.numbers[v.index]}_{nodes[v.node]['section']}{nodes[v.node]['group']}_"
+             f"{nodes[v.node]['name']}" for v in ld.net.vamps]
+    try:
+        return VcdWriter(path, names)
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot write waveform: {exc.strerror}") from None
+
+
+def _print_emulation(r, count: int) -> None:
+    rate = count / r.wall_seconds if r.wall_seconds > 0 else float("inf")
+    click.echo(f"{r.engine} engine: {count} torque sets; program load {r.load_ticks} ticks; first "
+               f"set after {r.first_tick} flops, then one every {r.interval} flops; emulated time "
+               f"{r.emulated_flops} flops; wall time {r.wall_seconds:.3f} s ({rate:,.0f} sets/s)")
+
+
+def _report_check(res) -> None:
+    verdict = "OK" if res.ok else "FAILED"
+    click.echo(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
+               f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance 1e-9: {verdict}")
+    if not res.ok:
+        sys.exit(1)
+
+
+class _Progress:
+    """A progress line on stderr, shown only for runs longer than two seconds and only on a terminal
+    (or when VAMPC_PROGRESS=1)."""
+
+    def __init__(self, label: str):
+        import os
+        import time
+        self.label, self.clock = label, time.monotonic
+        self.enabled = sys.stderr.isatty() or os.environ.get("VAMPC_PROGRESS") == "1"
+        self.t0 = self.last = self.clock()
+        self.shown = False
+
+    def __enter__(self):
+        return self
+
+    def __call__(self, done: int, total: int) -> None:
+        now = self.clock()
+        if not self.enabled or now - self.t0 < 2.0 or now - self.last < 0.2:
+            return
+        self.last, self.shown = now, True
+        pct = 100.0 * done / max(total, 1)
+        sys.stderr.write(f"\r{self.label}: {pct:5.1f}% ({done}/{total}), {now - self.t0:.0f} s")
+        sys.stderr.flush()
+
+    def __exit__(self, *exc):
+        if self.shown:
+            sys.stderr.write("\n")
+
+
 def _is_program(path: str) -> bool:
     return path.endswith(".vamp.json")
 

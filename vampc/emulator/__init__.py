@@ -1,0 +1,65 @@
+"""The VAMP network emulator: load a program file, check it, program the network and run it."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from vampc.emulator.check import check_program
+from vampc.emulator.host import Trajectory, port_values
+from vampc.emulator.load import Loaded, load_program, loaded_from_doc
+
+ENGINES = ("stream", "tick")
+
+
+@dataclass(frozen=True)
+class Emulation:
+    """Torques and the emulated and wall-clock timing of one run."""
+
+    tau: np.ndarray
+    engine: str
+    load_ticks: int          # Program Mode
+    first_tick: int          # Data-Mode tick at which the first torque set is complete
+    interval: int            # ticks between successive torque sets
+    data_ticks: int          # Data-Mode ticks for the whole trajectory
+    wall_seconds: float
+
+    @property
+    def emulated_flops(self) -> int:
+        """Program load plus data ticks (1 tick = 1 flop)."""
+        return self.load_ticks + self.data_ticks
+
+
+def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0, vcd=None,
+            static_check: bool = True, progress=None) -> Emulation:
+    """Run the loaded program on a trajectory with the chosen engine. `vcd` is a VcdWriter (tick
+    engine only); `progress(done, total)` reports progress."""
+    start = time.perf_counter()
+    if static_check:
+        check_program(ld)
+    ports = port_values(ld, traj)
+    if engine == "tick":
+        return _tick(ld, traj, ports, seed, vcd, start, progress)
+    from vampc.emulator.stream import run_stream
+    tau = run_stream(ld, ports, traj.count, progress)
+    latency = max(o.tick for o in ld.net.outputs)
+    C = ld.cycle
+    return Emulation(tau, "stream", ld.doc["io"]["load_ticks"], latency, C,
+                     (traj.count - 1) * C + latency + 1, time.perf_counter() - start)
+
+
+def _tick(ld, traj, ports, seed, vcd, start, progress) -> Emulation:
+    from vampc.emulator.tick import TickEngine, TickStats
+    engine = TickEngine(ld, seed=seed, vcd=vcd)
+    load = engine.program()
+    stats = TickStats()
+    tau = engine.run(ports, traj.count, stats, progress)
+    appear = np.diff(stats.appear)
+    interval = int(appear.max()) if appear.size else ld.cycle
+    return Emulation(tau, "tick", load, stats.first_set_tick, interval, stats.data_ticks,
+                     time.perf_counter() - start)
+
+
+__all__ = ["ENGINES", "Emulation", "Loaded", "Trajectory", "emulate", "load_program",
+           "loaded_from_doc", "check_program"]

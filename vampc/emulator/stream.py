@@ -33,13 +33,16 @@ def _source_vamp(ld: Loaded, tap):
     return None
 
 
-def run_stream(ld: Loaded, ports: dict[int, np.ndarray], count: int) -> np.ndarray:
-    """Torques (count, n) given each port's values (count, 3|9) for every set."""
+def run_stream(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
+    """Torques (count, n) given each port's values (count, 3|9) for every set.
+    `progress(done, total)` is called after each chunk if given."""
     order = wiring_order(ld)
     outs = []
     for lo in range(0, count, CHUNK):
         chunk = {p: a[lo:lo + CHUNK] for p, a in ports.items()}
         outs.append(_run_chunk(ld, order, chunk, min(CHUNK, count - lo)))
+        if progress is not None:
+            progress(min(lo + CHUNK, count), count)
     return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n))
 
 

@@ -10,8 +10,9 @@ All vectors are in link coordinates. For joint i:
 
 Φ_i is a general constant rotation (a standard DH row is the special case Φ_i = Rz(θ)Rx(α) for a
 prismatic joint, Rx(α) for a revolute one). The endpoints are the base rotation ω0, ω̇0 (in O_0), the
-gravity vector g in O_0 (the base acceleration is p̈_0 = -g) and the tip force/torque f_{n+1}, n_{n+1}
-acting on link n, expressed in O_n.
+gravity vector g in O_0 (the base acceleration is p̈_0 = -g) and the tip load f_{n+1}, n_{n+1}: as in
+the paper, the force and the moment (about O_n) that link n exerts on the environment, expressed in O_n
+(the environment pushes on the tip with their negatives).
 """
 from __future__ import annotations
 
