@@ -1,0 +1,240 @@
+"""The command line (vampc.cli): commands, JSON report keys and figures, and error behaviour.
+
+Puma 560 figures come from the paper (n = 6 general rotary arm: 15 M + 43 A linear, 132 + 48 VAMPs,
+4-flop interval, serial 852 M + 738 A) plus the documented output correction of 1 M + 2 A; the graph's
+serial work is counted by hand from DESIGN §4 (see test_report.py).
+"""
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from conftest import EXAMPLES
+from vampc.cli import main
+from vampc.program.file import read_program
+
+PUMA = str(EXAMPLES / "puma560.yaml")
+
+
+def run(*args, cwd=None):
+    """Invoke the CLI in-process; stderr is captured separately."""
+    runner = CliRunner()
+    if cwd is None:
+        return runner.invoke(main, [str(a) for a in args])
+    old = os.getcwd()
+    os.chdir(cwd)
+    try:
+        return runner.invoke(main, [str(a) for a in args])
+    finally:
+        os.chdir(old)
+
+
+def run_process(*args, cwd=None) -> subprocess.CompletedProcess:
+    """Run `python -m vampc.cli` as a real process, importing the same vampc as these tests."""
+    package_root = Path(importlib.util.find_spec("vampc").origin).parent.parent
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(package_root),
+                                                       os.environ.get("PYTHONPATH", "")]))
+    return subprocess.run([sys.executable, "-m", "vampc.cli", *map(str, args)], capture_output=True,
+                          text=True, env=env, cwd=cwd, timeout=120)
+
+
+def assert_user_error(result, name: str, folder: Path | None = None, before=()):
+    """Exit 1, one stderr line `vampc: error: ...` naming the file, nothing on stdout, no new files."""
+    assert result.exit_code == 1, result.output
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("vampc: error: "), result.stderr
+    assert name in lines[0]
+    assert "Traceback" not in result.stderr and result.stdout == ""
+    if folder is not None:
+        assert sorted(folder.iterdir()) == sorted(before)
+
+
+# --- the two commands that matter --------------------------------------------------------------------
+
+def test_compile_writes_the_program_file(tmp_path):
+    out = tmp_path / "puma.vamp.json"
+    result = run("compile", PUMA, "-o", out)
+    assert result.exit_code == 0, result.output
+    assert result.stdout == (f"{out}: 6 joints, linear recursion, 180 VAMPs, latency 61 flops "
+                             "(16 M + 45 A), interval 4 flops\n")
+    doc = read_program(out)
+    assert doc["robot"]["name"] == "puma560" and len(doc["network"]["vamps"]) == 180
+
+
+def test_compile_default_output_name(tmp_path):
+    result = run("compile", PUMA, cwd=tmp_path)
+    assert result.exit_code == 0, result.output
+    assert [p.name for p in tmp_path.iterdir()] == ["puma560.vamp.json"]
+
+
+def puma_json(*extra) -> dict:
+    result = run("report", PUMA, "--format", "json", *extra)
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout)
+
+
+def test_report_json_has_the_documented_keys():
+    rep = puma_json()
+    for key in ("joints", "recursion", "layout", "latency", "paper", "interval_flops", "vamps",
+                "buffers", "serial_work"):
+        assert key in rep
+    assert set(rep["latency"]) >= {"flops", "mults", "adds"}
+    assert set(rep["paper"]) >= {"flops", "mults", "adds"}
+    assert set(rep["vamps"]) >= {"total", "backward", "forward", "by_op"}
+    assert set(rep["serial_work"]) >= {"mults", "adds"}
+
+
+def test_report_json_puma560_figures():
+    rep = puma_json()
+    assert (rep["joints"], rep["recursion"], rep["layout"]) == (6, "linear", "systolic")
+    assert rep["paper"] == {"flops": 58, "mults": 15, "adds": 43}
+    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45}
+    assert rep["interval_flops"] == 4
+    v = rep["vamps"]
+    assert (v["total"], v["backward"], v["forward"]) == (180, 132, 48)
+    assert v["by_op"] == {"MTV": 18, "MV": 24, "SV": 6, "VA": 72, "VC": 60}
+    assert rep["serial_work"] == {"mults": 756, "adds": 648}
+    assert rep["buffers"]["scalars"] == 3 * rep["buffers"]["stages"] > 0
+
+
+def test_report_with_other_latencies():
+    rep = puma_json("--mult-latency", "2", "--add-latency", "3")
+    # Appendix A + 1 MV with VA = 3, SV = 2, VC = 5, MV = 2 + 3 + 3 = 8: 2·5·11 + 2 + 16 + 15 + 24.
+    assert rep["latency"]["flops"] == 167
+    assert rep["interval_flops"] == 11
+
+
+def test_report_of_the_program_equals_report_of_the_robot(tmp_path):
+    out = tmp_path / "puma.vamp.json"
+    assert run("compile", PUMA, "-o", out).exit_code == 0
+    result = run("report", out, "--format", "json")
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout) == puma_json()
+
+
+def test_text_report_explains_the_difference_to_the_paper():
+    result = run("report", PUMA)
+    assert result.exit_code == 0, result.output
+    text = result.stdout
+    assert "latency          61 flops = 16 Mults + 45 Addns on the critical path" in text
+    assert "paper            58 flops = 15 Mults + 43 Addns" in text
+    assert "+3 flops (+1 Mults, +2 Addns) against the paper's formula" in text
+    assert "1 Mult + 2 Addns is the output correction" in text
+    assert "VAMPs            180 = 132 backward + 48 forward" in text
+
+
+# --- errors ------------------------------------------------------------------------------------------
+
+def bad_robots(tmp_path: Path) -> dict[str, tuple[Path, str]]:
+    """Broken robot files: name -> (path, text of the one-line message after 'vampc: error: ')."""
+    files = {
+        "missing": ("gone.yaml", None),
+        "extension": ("robot.txt", "name: x\n"),
+        "yaml": ("broken.yaml", "name: [unclosed\n"),
+        "mass": ("mass.yaml", (EXAMPLES / "planar2.yaml").read_text().replace("mass: 2.0", "mass: -2.0")),
+        "json": ("robot.json", "{\"name\": \"x\", \"joints\": [}"),
+        "urdf": ("arm.urdf", "<robot name='x'><link name='a'/>"),
+        "empty-urdf": ("none.urdf", "<robot name='x'><link name='a'/></robot>"),
+    }
+    out = {}
+    for key, (name, text) in files.items():
+        if text is not None:
+            (tmp_path / name).write_text(text)
+        out[key] = tmp_path / name
+    return out
+
+
+@pytest.mark.parametrize("case", ["missing", "extension", "yaml", "mass", "json", "urdf", "empty-urdf"])
+@pytest.mark.parametrize("command", ["compile", "report"])
+def test_bad_robot_file_is_one_line_exit_1(tmp_path, case, command):
+    path = bad_robots(tmp_path)[case]
+    before = list(tmp_path.iterdir())
+    args = [command, path] + (["-o", tmp_path / "out.vamp.json"] if command == "compile" else [])
+    assert_user_error(run(*args), path.name, tmp_path, before)
+
+
+def test_negative_mass_names_the_joint(tmp_path):
+    path = bad_robots(tmp_path)["mass"]
+    result = run("compile", path, "-o", tmp_path / "out.vamp.json")
+    assert "joints[0].mass (joint 1)" in result.stderr
+
+
+def test_output_in_a_missing_folder(tmp_path):
+    out = tmp_path / "nowhere" / "puma.vamp.json"
+    before = list(tmp_path.iterdir())
+    result = run("compile", PUMA, "-o", out)
+    assert_user_error(result, str(out), tmp_path, before)
+    assert result.stderr == f"vampc: error: {out}: cannot write program file: No such file or directory\n"
+
+
+@pytest.mark.parametrize("text", ["1\n1\n", "1\n2\nthree\n", "5\n"])
+def test_bad_numbering_file(tmp_path, text):
+    numbers = tmp_path / "numbers.txt"
+    numbers.write_text(text)
+    before = list(tmp_path.iterdir())
+    result = run("compile", PUMA, "--numbering", numbers, "-o", tmp_path / "out.vamp.json")
+    assert_user_error(result, str(numbers), tmp_path, before)
+
+
+def test_dh_table_refuses_urdf_options(tmp_path):
+    result = run("report", PUMA, "--tip", "link6")
+    assert_user_error(result, "puma560.yaml")
+
+
+@pytest.mark.parametrize("text", ["", "not json", "{\"format\": \"vampc-program\", \"version\": 9}"])
+def test_bad_program_file(tmp_path, text):
+    path = tmp_path / "bad.vamp.json"
+    path.write_text(text)
+    assert_user_error(run("report", path), path.name)
+
+
+def test_user_error_in_a_real_process_has_no_traceback(tmp_path):
+    proc = run_process("compile", tmp_path / "gone.yaml", "-o", tmp_path / "x.vamp.json")
+    assert proc.returncode == 1
+    assert proc.stderr == f"vampc: error: {tmp_path / 'gone.yaml'}: no such file\n"
+    assert proc.stdout == "" and list(tmp_path.iterdir()) == []
+
+
+def test_compile_in_a_real_process(tmp_path):
+    proc = run_process("compile", PUMA, "-o", tmp_path / "puma.vamp.json")
+    assert proc.returncode == 0, proc.stderr
+    assert read_program(tmp_path / "puma.vamp.json")["summary"]["latency"]["flops"] == 61
+
+
+@pytest.mark.parametrize("args", [
+    ["compile"],
+    ["report"],
+    ["compile", PUMA, "--recursion", "bogus"],
+    ["compile", PUMA, "--mult-latency", "0"],
+    ["compile", PUMA, "--add-latency", "65"],
+    ["report", PUMA, "--format", "xml"],
+    ["compile", PUMA, "--lock", "elbow"],
+    ["compile", PUMA, "--no-such-option"],
+    ["frobnicate"],
+])
+def test_usage_errors_exit_2(args):
+    result = run(*args)
+    assert result.exit_code == 2, result.output
+    assert "Usage:" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_help_works_for_every_command():
+    result = run("--help")
+    assert result.exit_code == 0 and "Commands:" in result.stdout
+    assert {"compile", "report"} <= set(main.commands)
+    for name in main.commands:
+        result = run(name, "--help")
+        assert result.exit_code == 0, (name, result.output)
+        assert result.stdout.startswith(f"Usage: main {name} [OPTIONS]")
+
+
+def test_version():
+    result = run("--version")
+    assert result.exit_code == 0 and "0.1.0" in result.stdout

@@ -1,0 +1,295 @@
+"""Program words (vampc.program.words), numbering and stream (vampc.program.emit), the program file
+(vampc.program.file) and its document (vampc.program.document).
+
+The packing under test is the one documented in words.py: scalar 1 the VAMP number, scalar 2
+delay-A·4096 + delay-B, scalar 3 delay-R·4096 + ROM pointer.
+"""
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import given
+from hypothesis import strategies as st
+
+from vampc.cli import main
+from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.dataflow.ops import Op
+from vampc.errors import VampcError
+from vampc.program import document, emit
+from vampc.program.file import checksum, read_program, write_program
+from vampc.program.words import FIELD, ROM, Program, decode, encode, rom_pointer
+from vampc.robot.random import random_chain
+
+fields = st.integers(0, FIELD - 1)
+programs = st.builds(Program, fields, fields, fields, fields)
+
+
+@pytest.fixture(scope="module")
+def compiled():
+    return compile_chain(random_chain(3, 5, prismatic_fraction=0.34))
+
+
+@pytest.fixture
+def program_path(compiled, tmp_path):
+    path = tmp_path / "arm.vamp.json"
+    write_program(program_document(compiled), path)
+    return path
+
+
+def rewrite(path, edit, restamp: bool = True):
+    """Load a program file, apply `edit` to the document, write it back (checksum re-stamped)."""
+    doc = json.loads(path.read_text())
+    edit(doc)
+    if restamp:
+        doc["checksum"] = checksum(doc)
+    path.write_text(json.dumps(doc))
+
+
+# --- words ---------------------------------------------------------------------------------------------
+
+def test_word_packing_is_the_documented_one():
+    assert encode(7, Program(1, 2, 3, 4)) == (7.0, 1 * 4096 + 2, 3 * 4096 + 4)
+    assert decode((7.0, 4098.0, 12292.0)) == (7, Program(1, 2, 3, 4))
+
+
+@given(number=st.integers(1, 2**24 - 1), prog=programs)
+def test_words_roundtrip_and_are_exact_in_binary32(number, prog):
+    word = encode(number, prog)
+    assert decode(word) == (number, prog)
+    assert all(float(np.float32(x)) == x and 0 <= x < 2**24 for x in word)
+
+
+@pytest.mark.parametrize("field", ["delay_a", "delay_b", "delay_r", "rom"])
+@pytest.mark.parametrize("value", [-1, FIELD])
+def test_field_out_of_range_is_refused(field, value):
+    prog = Program(**dict(dict.fromkeys(("delay_a", "delay_b", "delay_r", "rom"), 0), **{field: value}))
+    with pytest.raises(VampcError, match=rf"^VAMP 9: {field} {value} does not fit in a word$"):
+        encode(9, prog)
+
+
+def test_rom_pointers_are_distinct_and_fit():
+    keys = [(op, None) for op in Op if op.is_compute and op is not Op.MM] + [(Op.MM, c) for c in range(3)]
+    pointers = [rom_pointer(op, col) for op, col in keys]
+    assert sorted(pointers) == list(range(len(ROM)))
+    assert all(ROM[p] == k for p, k in zip(pointers, keys))
+
+
+# --- numbering and stream ------------------------------------------------------------------------------
+
+def test_default_numbering_is_one_to_v(compiled):
+    assert compiled.numbering == tuple(range(1, len(compiled.network.vamps) + 1))
+
+
+def test_numbering_file_sets_the_burned_in_numbers(tmp_path):
+    chain = random_chain(1, 2, prismatic_fraction=0.0)
+    count = len(compile_chain(chain).network.vamps)
+    path = tmp_path / "numbers.txt"
+    path.write_text("# burned in\n" + "\n".join(str(1000 + 3 * k) for k in range(count)) + "\n\n")
+    c = compile_chain(chain, CompileOptions(numbering=str(path)))
+    assert c.numbering == tuple(1000 + 3 * k for k in range(count))
+    doc = program_document(c)
+    assert [v["number"] for v in doc["network"]["vamps"]] == list(c.numbering)
+    assert [p["word"][0] for p in doc["programs"]] == [float(x) for x in c.numbering]
+
+
+@pytest.mark.parametrize("text,message", [
+    ("1\n2\n2\n", "VAMP number 2 appears twice"),
+    ("1\n2\n", "2 VAMP numbers given, the network needs 3"),
+    ("1\nabc\n3\n", "line 2: 'abc' is not a VAMP number (1..16777215)"),
+    ("1\n2.5\n3\n", "line 2: '2.5' is not a VAMP number (1..16777215)"),
+    ("0\n1\n2\n", "line 1: '0' is not a VAMP number (1..16777215)"),
+    ("1\n2\n16777216\n", "line 3: '16777216' is not a VAMP number (1..16777215)"),
+])
+def test_numbering_file_errors(tmp_path, text, message):
+    path = tmp_path / "numbers.txt"
+    path.write_text(text)
+    with pytest.raises(VampcError) as err:
+        emit.read_numbering(path, 3)
+    assert str(err.value) == f"{path}: {message}"
+
+
+def test_missing_numbering_file(tmp_path):
+    with pytest.raises(VampcError, match=r"^.*nope\.txt: cannot read numbering file: No such file"):
+        emit.read_numbering(tmp_path / "nope.txt", 3)
+
+
+def a_depth(net, vamp: int) -> tuple[tuple[str, int], int]:
+    """Root input buffer and register count of a VAMP's Operand-A path (Program Mode: a VAMP passes
+    Operand A to its Result one tick later; a buffer stage adds one tick)."""
+    tap, depth = net.vamps[vamp].a.taps[0], 0
+    while tap.kind in ("vamp", "buffer"):
+        src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+        depth += 1 + (tap.stage if tap.kind == "buffer" else 0)
+        tap = net.vamps[src].a.taps[0]
+    return (tap.kind, tap.index), depth
+
+
+def test_stream_reaches_every_vamp_once_deepest_first(compiled):
+    net, stream = compiled.network, compiled.stream
+    targets = [v for e in stream for v in e.targets]
+    assert sorted(targets) == list(range(len(net.vamps)))
+    for e in stream:
+        assert e.root.kind in ("port", "const")
+        assert list(e.depth) == sorted(e.depth, reverse=True)
+        for v, d in zip(e.targets, e.depth):
+            assert a_depth(net, v) == ((e.root.kind, e.root.index), d)
+    assert emit.load_ticks(stream) == max(k + d + 1 for e in stream for k, d in enumerate(e.depth))
+
+
+def test_programs_are_cycle_relative(compiled):
+    C = compiled.network.cycle
+    for v, p in zip(compiled.network.vamps, compiled.programs):
+        assert (p.delay_a, p.delay_b, p.delay_r) == (v.latch_a % C, v.latch_b % C, v.dump % C)
+        assert ROM[p.rom] == (v.op, v.column)
+
+
+# --- the program file ----------------------------------------------------------------------------------
+
+def test_program_file_roundtrip(compiled, program_path):
+    doc = read_program(program_path)
+    assert doc == dict(program_document(compiled), checksum=doc["checksum"])
+    assert doc["checksum"] == checksum(doc)
+    assert document.graph_from_doc(doc["graph"]) == compiled.graph
+    chain = document.chain_from_doc(doc["robot"])
+    for a, b in zip(chain.joints, compiled.chain.joints):
+        assert (a.name, a.type, a.offset, a.mass) == (b.name, b.type, b.offset, b.mass)
+        for f in ("phi", "p_fixed", "com", "inertia"):
+            assert np.array_equal(getattr(a, f), getattr(b, f))
+    assert document.programs_from_doc(doc) == compiled.programs
+    assert document.stream_from_doc(doc) == compiled.stream
+
+
+def test_written_words_decode_to_the_programs(program_path):
+    doc = read_program(program_path)
+    for row, vamp in zip(doc["programs"], doc["network"]["vamps"]):
+        number, prog = decode(row["word"])
+        assert number == vamp["number"]
+        assert prog == Program(row["delay_a"], row["delay_b"], row["delay_r"], row["rom"])
+
+
+def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
+    data = bytearray(program_path.read_bytes())
+    at = data.index(b"<random>") + 1
+    data[at] ^= 0x20                                   # 'r' -> 'R': still valid JSON and schema
+    program_path.write_bytes(bytes(data))
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == f"{program_path}: checksum mismatch: the file was modified or damaged"
+    result = CliRunner().invoke(main, ["report", str(program_path)])
+    assert result.exit_code == 1
+    assert result.stderr == f"vampc: error: {err.value}\n"
+
+
+@pytest.mark.parametrize("edit,message", [
+    (lambda d: d["programs"][0].pop("delay_a"), "programs[0]: 'delay_a' is a required property"),
+    (lambda d: d["network"].__setitem__("cycle", 0), "network.cycle: 0 is less than the minimum of 1"),
+    (lambda d: d["network"]["vamps"][1].__setitem__("number", "7"), "network.vamps[1].number: '7' is not of type 'integer'"),
+    (lambda d: d.pop("io"), "document: 'io' is a required property"),
+])
+def test_schema_violations_are_named(program_path, edit, message):
+    rewrite(program_path, edit)
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == f"{program_path}: {message}"
+
+
+def test_wrong_version(program_path):
+    rewrite(program_path, lambda d: d.__setitem__("version", 2))
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == (f"{program_path}: program format version 2 is not supported "
+                              "(this vampc reads version 1)")
+
+
+def test_wrong_format(program_path):
+    rewrite(program_path, lambda d: d.__setitem__("format", "something-else"))
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == f"{program_path}: not a vampc program file (format is not 'vampc-program')"
+
+
+@pytest.mark.parametrize("text", ["", "{not json", "[1, 2", "\x00\x01"])
+def test_not_json(tmp_path, text):
+    path = tmp_path / "bad.vamp.json"
+    path.write_text(text)
+    with pytest.raises(VampcError, match=rf"^{path}: not a vampc program file \(invalid JSON: .*\)$"):
+        read_program(path)
+
+
+@pytest.mark.parametrize("constant", ["NaN", "Infinity", "-Infinity"])
+def test_nan_in_a_file_is_refused(program_path, constant):
+    text = program_path.read_text()
+    start = text.index('"gravity": [') + len('"gravity": [')
+    end = text.index(",", start)
+    program_path.write_text(text[:start] + constant + text[end:])
+    with pytest.raises(VampcError, match=rf"^{program_path}: not a vampc program file \(invalid JSON: "
+                                         rf"{constant} is not allowed"):
+        read_program(program_path)
+
+
+def test_nan_is_never_written(compiled, tmp_path):
+    doc = program_document(compiled)
+    doc["robot"]["gravity"] = [0.0, float("nan"), 0.0]
+    path = tmp_path / "nan.vamp.json"
+    with pytest.raises(Exception):
+        write_program(doc, path)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_program_file(tmp_path):
+    with pytest.raises(VampcError, match=r"^.*none\.vamp\.json: cannot read program file: No such file"):
+        read_program(tmp_path / "none.vamp.json")
+
+
+class _FailingHandle:
+    """Wraps a file handle: writes half of the text, then the disk is full."""
+
+    def __init__(self, handle):
+        self.handle = handle
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.handle.close()
+
+    def write(self, text):
+        self.handle.write(text[: len(text) // 2])
+        raise OSError(28, "No space left on device")
+
+
+def test_failed_write_leaves_no_partial_file(compiled, tmp_path, monkeypatch):
+    path = tmp_path / "arm.vamp.json"
+    write_program(program_document(compiled), path)
+    before = path.read_bytes()
+    real_fdopen = os.fdopen
+    monkeypatch.setattr(os, "fdopen", lambda *a, **k: _FailingHandle(real_fdopen(*a, **k)))
+    doc = program_document(compiled)
+    doc["robot"]["name"] = "changed"
+    with pytest.raises(VampcError) as err:
+        write_program(doc, path)
+    assert str(err.value) == f"{path}: cannot write program file: No space left on device"
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.vamp.json"]
+
+
+def test_failed_rename_leaves_no_temporary_file(compiled, tmp_path, monkeypatch):
+    def fail(*args):
+        raise OSError(13, "Permission denied")
+    monkeypatch.setattr(os, "replace", fail)
+    with pytest.raises(VampcError, match=r"cannot write program file: Permission denied$"):
+        write_program(program_document(compiled), tmp_path / "arm.vamp.json")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_written_file_respects_the_umask(compiled, tmp_path):
+    old = os.umask(0o027)
+    try:
+        write_program(program_document(compiled), tmp_path / "arm.vamp.json")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "arm.vamp.json").stat().st_mode & 0o777 == 0o640

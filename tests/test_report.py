@@ -1,0 +1,114 @@
+"""Report figures (vampc.report.counts) and their text rendering (vampc.report.text).
+
+Expected numbers come from the paper (Table O.1 formulas, section VI VAMP tables and 40-pin packaging)
+and from the op costs of DESIGN §4, counted here by hand per joint.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report.counts import latency_note, packages, paper_latency, serial_reference, summary
+from vampc.report.text import render
+from vampc.robot.random import random_chain
+
+# Per revolute joint of the linear graph (section VI tables): 3 MTV (ω, ω̇, T11), 4 MV (T16, T18, f, n),
+# 12 VA, 10 VC, 1 SV. Serial work per op (DESIGN §4): MV/MTV 9M+6A, VA 3A, VC 6M+3A, SV 3M.
+PER_JOINT_OPS = {"MTV": 3, "MV": 4, "VA": 12, "VC": 10, "SV": 1}
+PER_JOINT_WORK = (7 * 9 + 10 * 6 + 3, 7 * 6 + 12 * 3 + 10 * 3)   # (126 M, 108 A)
+
+
+@pytest.fixture(scope="module")
+def rotary6():
+    return summary(compile_chain(random_chain(6, 21, prismatic_fraction=0.0)))
+
+
+def test_paper_formulas_for_n6():
+    # Section I / Table O.1, n = 6: linear 15 M + 43 A, logarithmic 11 M + 28 A, serial 852 M + 738 A.
+    assert paper_latency(6, "linear") == {"flops": 58, "mults": 15, "adds": 43}
+    assert paper_latency(6, "log") == {"flops": 39, "mults": 11, "adds": 28}
+    assert serial_reference(6) == {"mults": 852, "adds": 738}
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7, 8, 63, 64])
+def test_log_formula_uses_ceil_log2_n_plus_1(n):
+    tiers = math.ceil(math.log2(n + 1))
+    want = (2 * tiers + 5, 6 * tiers + 10)
+    got = paper_latency(n, "log")
+    assert (got["mults"], got["adds"], got["flops"]) == want + (sum(want),)
+
+
+@pytest.mark.parametrize("vamps,want", [(180, (36, 15)), (1, (1, 1)), (12, (3, 1)), (13, (3, 2))])
+def test_packages_hold_5_or_12_vamps(vamps, want):
+    assert packages(vamps) == {"separate": want[0], "shared": want[1]}
+
+
+def test_rotary_arm_summary_n6(rotary6):
+    rep = rotary6
+    assert (rep["joints"], rep["recursion"], rep["layout"], rep["prismatic_joints"]) == (6, "linear",
+                                                                                          "systolic", [])
+    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45}
+    assert rep["paper"] == {"flops": 58, "mults": 15, "adds": 43}
+    assert rep["interval_flops"] == 4
+    v = rep["vamps"]
+    assert (v["total"], v["backward"], v["forward"]) == (180, 132, 48)
+    assert v["per_node"] == {"bwd": 12, "npv": 10, "fwd": 8}
+    assert v["by_op"] == {op: 6 * k for op, k in PER_JOINT_OPS.items()}
+    assert rep["ops"] == v["by_op"]
+    assert rep["serial_work"] == {"mults": 6 * PER_JOINT_WORK[0], "adds": 6 * PER_JOINT_WORK[1]}
+    assert rep["packages_40pin"] == {"separate": 36, "shared": 15}
+    assert rep["buffers"]["scalars"] == 3 * rep["buffers"]["stages"]
+
+
+def test_input_buffer_scalars_count_constants_and_one_set_of_ports(rotary6):
+    # Per revolute joint: ports A (9), z q̇ (3), z q̈ (3); constants p* (3), r* (3), s* (3), m (3), J (9).
+    # Endpoints: ω0 = ω̇0 = f_{n+1} = n_{n+1} = 0 share one buffer (3), p̈0 = -g (3).
+    assert rotary6["input_buffer_scalars"] == 6 * (15 + 21) + 6
+
+
+def test_note_explains_the_output_correction(rotary6):
+    notes = latency_note(rotary6)
+    assert notes[0] == "+3 flops (+1 Mults, +2 Addns) against the paper's formula"
+    assert notes[1].startswith("1 Mult + 2 Addns is the output correction: τ_i = z_{i-1}·n_i")
+    assert len(notes) == 2
+
+
+def test_note_for_prismatic_joints_and_other_latencies():
+    chain = random_chain(4, 3, prismatic_fraction=0.5)
+    prismatic = [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]
+    assert prismatic
+    rep = summary(compile_chain(chain, CompileOptions(mult_latency=2, add_latency=3)))
+    assert rep["prismatic_joints"] == prismatic
+    assert rep["timing"] == {"mult_latency": 2, "add_latency": 3}
+    notes = latency_note(rep)
+    assert "the paper assumes 1 Mult = 1 Addn = 1 flop; flops here use the given latencies" in notes
+    assert any(s.startswith(f"prismatic joints {prismatic} add the σ̄ terms") for s in notes)
+
+
+def test_note_when_equal_to_the_paper(rotary6):
+    rep = dict(rotary6, latency=dict(rotary6["paper"]))
+    assert latency_note(rep) == ["equals the paper's formula"]
+
+
+def test_render_shows_the_figures(rotary6):
+    text = render(rotary6)
+    lines = text.splitlines()
+    assert text.endswith("\n")
+    assert "latency          61 flops = 16 Mults + 45 Addns on the critical path" in lines
+    assert "paper            58 flops = 15 Mults + 43 Addns" in lines
+    assert "                 +3 flops (+1 Mults, +2 Addns) against the paper's formula" in lines
+    assert "interval         4 flops between successive torque sets" in lines
+    assert "VAMPs            180 = 132 backward + 48 forward" in lines
+    assert "  per node       backward 12 propagated + 10 non-propagated, forward 8" in lines
+    assert "  by op          MTV 18, MV 24, SV 6, VA 72, VC 60" in lines
+    assert "40-pin packages  36 (5 VAMPs each, separate pins) or 15 (12 each, shared clock/power/reset)" \
+        in lines
+    assert "serial work      756 Mults + 648 Addns in the graph; Luh-Walker-Paul 852 + 738" in lines
+
+
+def test_render_names_prismatic_joints():
+    chain = random_chain(3, 8, prismatic_fraction=1.0)
+    text = render(summary(compile_chain(chain)))
+    assert text.splitlines()[0] == f"robot            {chain.name} (3 joints, prismatic [1, 2, 3])"
