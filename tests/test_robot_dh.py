@@ -169,6 +169,16 @@ def test_json_and_yaml_agree(tmp_path):
         np.testing.assert_array_equal(ja.inertia, jb.inertia)
 
 
+def test_yaml_anchors_are_allowed(tmp_path):
+    text = yaml.safe_dump({"name": "x", "joints": [row(), row()]}).replace(
+        "inertia:\n  - 0.01", "inertia: &I\n  - 0.01", 1)
+    text = text.replace("inertia:\n  - 0.01\n  - 0.02\n  - 0.03\n  - 0.0\n  - 0.0\n  - 0.0", "inertia: *I")
+    assert "*I" in text and "&I" in text
+    (tmp_path / "r.yaml").write_text(text)
+    chain = load_dh(tmp_path / "r.yaml")
+    np.testing.assert_array_equal(chain.joints[0].inertia, chain.joints[1].inertia)
+
+
 def test_exponent_without_dot_is_a_number(tmp_path):
     text = yaml.safe_dump({"name": "x", "joints": [row()]}).replace("0.01", "1e-2")
     assert "1e-2" in text
@@ -190,6 +200,12 @@ YAML_ERRORS = [
     ("!!python/object/apply:os.system ['echo hi']\n",
      r"line 1: not valid YAML: could not determine a constructor for the tag .+"),
     ("name: x\nname: y\njoints: []\n", r"line 2: not valid YAML: duplicate key 'name'"),
+    ("a: &a [1, *a]\nname: x\njoints: [*a]\n", r"a YAML alias refers to itself"),
+    # "Billion laughs" in YAML: nine levels of nine aliases, 9^9 values once expanded.
+    ("l0: &l0 [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\n"
+     + "".join(f"l{k}: &l{k} [{', '.join([f'*l{k - 1}'] * 9)}]\n" for k in range(1, 9))
+     + "name: x\njoints: *l8\n",
+     r"too large: \d{9} values once YAML aliases are expanded \(at most 200000\)"),
 ]
 
 
@@ -204,19 +220,25 @@ DOC_ERRORS = [
     (doc_with(mass=-1.0), r"joints\[1\]\.mass \(joint 2\): -1\.0 is less than the minimum of 0"),
     (doc_with(mass="heavy"), r"joints\[1\]\.mass \(joint 2\): 'heavy' is not of type 'number'"),
     (doc_with(type="helical"), r"joints\[1\]\.type \(joint 2\): 'helical' is not one of .+"),
-    (doc_with(com=[0.0, float("nan"), 0.0]), r"joints\[1\]\.com\[1\] \(joint 2\): nan is not a finite number"),
+    (doc_with(com=[0.0, float("nan"), 0.0]),
+     r"joints\[1\]\.com\[1\] \(joint 2\): nan is not a finite number"),
     (doc_with(inertia=[1.0, 1.0, float("inf"), 0, 0, 0]),
      r"joints\[1\]\.inertia\[2\] \(joint 2\): inf is not a finite number"),
     (doc_with(inertia=[1.0, 1.0, 1.0, 2.0, 0.0, 0.0]),
      r"joints\[1\]\.inertia \(joint 2\): inertia is not positive semi-definite \(eigenvalues -1, 1, 3\)"),
-    (doc_with(inertia=[[1, 0, 0], [0.5, 1, 0], [0, 0, 1]]), r"joints\[1\]\.inertia \(joint 2\): inertia is not symmetric"),
-    (doc_with(inertia=[1, 2, 3]), r"joints\[1\]\.inertia \(joint 2\): \[1, 2, 3\] is neither a 3x3 matrix nor six numbers \[ixx, iyy, izz, ixy, iyz, ixz\]"),
-    (doc_with(masss=1.0), r"joints\[1\] \(joint 2\): Additional properties are not allowed \('masss' was unexpected\)"),
+    (doc_with(inertia=[[1, 0, 0], [0.5, 1, 0], [0, 0, 1]]),
+     r"joints\[1\]\.inertia \(joint 2\): inertia is not symmetric"),
+    (doc_with(inertia=[1, 2, 3]), r"joints\[1\]\.inertia \(joint 2\): \[1, 2, 3\] is neither a 3x3 matrix "
+                                  r"nor six numbers \[ixx, iyy, izz, ixy, iyz, ixz\]"),
+    (doc_with(masss=1.0),
+     r"joints\[1\] \(joint 2\): Additional properties are not allowed \('masss' was unexpected\)"),
     ({"name": "bad", "joints": [row(), {k: v for k, v in row().items() if k != "d"}]},
      r"joints\[1\] \(joint 2\): 'd' is a required property"),
-    (doc_with(limits={"q": [1.0, -1.0]}), r"joints\[1\]\.limits\.q \(joint 2\): lower limit 1\.0 is above upper limit -1\.0"),
+    (doc_with(limits={"q": [1.0, -1.0]}),
+     r"joints\[1\]\.limits\.q \(joint 2\): lower limit 1\.0 is above upper limit -1\.0"),
     (doc_with(name="j1"), r"joints\[1\]\.name \(joint 2\): duplicate joint name 'j1'"),
-    ({"name": "bad", "gravity": [0, 0, float("-inf")], "joints": [row()]}, r"gravity\[2\]: -inf is not a finite number"),
+    ({"name": "bad", "gravity": [0, 0, float("-inf")], "joints": [row()]},
+     r"gravity\[2\]: -inf is not a finite number"),
     ({"name": "bad", "gravity": [0, 0], "joints": [row()]}, r"gravity: \[0, 0\] is too short"),
     ({"joints": [row()]}, r"'name' is a required property"),
     ({"name": "bad", "joints": [row()], "tip": {"force": [0, 0, 0], "wrench": 1}},

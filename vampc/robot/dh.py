@@ -42,6 +42,7 @@ def load_dh(path) -> Chain:
 
 def chain_from_dh(doc: dict, source: str) -> Chain:
     """Validate an already-parsed DH document and build its Chain; `source` names it in error messages."""
+    _check_size(doc, source)
     _check_finite(doc, source)
     _check_schema(doc, source)
     rows = doc["joints"]
@@ -113,6 +114,8 @@ def _parse_yaml(text: str, path: Path):
         raise located(path, where, f"not valid YAML: {exc.problem or exc.context}") from None
     except yaml.YAMLError as exc:
         raise located(path, "", f"not valid YAML: {_one_line(str(exc))}") from None
+    except RecursionError:
+        raise located(path, "", "not valid YAML: nested too deeply") from None
 
 
 def _parse_json(text: str, path: Path):
@@ -122,6 +125,8 @@ def _parse_json(text: str, path: Path):
         raise located(path, f"line {exc.lineno}", f"not valid JSON: {exc.msg}") from None
     except ValueError as exc:
         raise located(path, "", f"not valid JSON: {exc}") from None
+    except RecursionError:
+        raise located(path, "", "not valid JSON: nested too deeply") from None
 
 
 def _unique_pairs(pairs: list) -> dict:
@@ -134,6 +139,36 @@ def _unique_pairs(pairs: list) -> dict:
 
 
 # --- validation --------------------------------------------------------------------------------------
+
+MAX_VALUES = 200_000  # a 1000-joint table has about 30 000
+
+
+def _check_size(doc, source: str) -> None:
+    """YAML aliases let a small file expand into a huge (or infinite) tree, which the checks below and the
+    error messages (jsonschema quotes whole values) would walk or print in full: refuse those first."""
+    try:
+        size = _expanded_size(doc, {}, set())
+    except RecursionError:
+        raise located(source, "", "nested too deeply") from None
+    if size == math.inf:
+        raise located(source, "", "a YAML alias refers to itself")
+    if size > MAX_VALUES:
+        raise located(source, "", f"too large: {size} values once YAML aliases are expanded "
+                                  f"(at most {MAX_VALUES})")
+
+
+def _expanded_size(node, memo: dict, active: set) -> float:
+    if not isinstance(node, (dict, list)):
+        return 1
+    key = id(node)
+    if key in memo or key in active:  # active: a container inside itself
+        return memo.get(key, math.inf)
+    active.add(key)
+    children = node.values() if isinstance(node, dict) else node
+    memo[key] = 1 + sum(_expanded_size(child, memo, active) for child in children)
+    active.discard(key)
+    return memo[key]
+
 
 def _check_finite(doc, source: str) -> None:
     """NaN and ±inf pass a JSON schema's "number", so look for them first (YAML .nan/.inf, JSON NaN)."""
@@ -148,11 +183,17 @@ def _check_finite(doc, source: str) -> None:
             raise located(source, _where(keys), f"{value} is not a finite number")
 
 
-def _walk(node, keys: tuple):
-    yield keys, node
-    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
-    for key, child in items:
-        yield from _walk(child, keys + (key,))
+def _walk(doc, keys: tuple):
+    """(path, value) for every node, visiting each container once: YAML aliases share containers, and a
+    walk through every path of an alias "bomb" would take exponential time."""
+    seen, stack = set(), [(keys, doc)]
+    while stack:
+        keys, node = stack.pop()
+        yield keys, node
+        if isinstance(node, (dict, list)) and id(node) not in seen:
+            seen.add(id(node))
+            items = node.items() if isinstance(node, dict) else enumerate(node)
+            stack.extend((keys + (key,), child) for key, child in reversed(list(items)))
 
 
 @lru_cache(maxsize=1)
@@ -194,8 +235,10 @@ def _where(keys: tuple) -> str:
     return text
 
 
-def _one_line(text: str) -> str:
-    return " ".join(text.split())
+def _one_line(text: str, limit: int = 300) -> str:
+    """Collapse whitespace and cut very long messages (jsonschema quotes whole instances)."""
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 # --- building ----------------------------------------------------------------------------------------

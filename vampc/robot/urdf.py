@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -75,6 +76,7 @@ def _parse_xml(path: Path):
         raise located(path, "", "no such file") from None
     except OSError as exc:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
+    _refuse_declared_entities(data, path)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
                              remove_comments=True, remove_pis=True)
     try:
@@ -86,12 +88,27 @@ def _parse_xml(path: Path):
     return root
 
 
+_ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
+
+
+def _refuse_declared_entities(data: bytes, path: Path) -> None:
+    """Refuse entity declarations before any parser sees them (a declaration in a comment is refused too:
+    harmless, and URDF files have no use for entities)."""
+    names = [m.decode("utf-8", "replace") for m in _ENTITY_DECL.findall(data)]
+    if names:
+        _entity_error(names, path)
+
+
+def _entity_error(names: list, path: Path):
+    raise located(path, "", f"DOCTYPE declares entities ({', '.join(names)}); "
+                            "URDF files must not use XML entities")
+
+
 def _refuse_entities(root, path: Path) -> None:
     dtd = root.getroottree().docinfo.internalDTD
     names = [e.name for e in dtd.iterentities()] if dtd is not None else []
-    if names:
-        raise located(path, "", f"DOCTYPE declares entities ({', '.join(names)}); "
-                                "URDF files must not use XML entities")
+    if names:  # only reached by encodings the byte scan cannot read, e.g. UTF-16
+        _entity_error(names, path)
     for node in root.iter(etree.Entity):
         raise located(path, f"line {node.sourceline}", f"undefined XML entity {node.text}")
 
@@ -149,7 +166,7 @@ def _read_robot(root, path: Path):
     try:
         urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
-    except Exception as exc:  # noqa: BLE001 - yourdfpy raises anything (AttributeError, KeyError...) on bad input
+    except Exception as exc:  # noqa: BLE001 - on bad input yourdfpy raises anything (KeyError, AttributeError...)
         raise located(path, "", f"yourdfpy cannot read it ({type(exc).__name__}: {_one_line(exc)})") from None
     return urdf.robot
 
@@ -179,8 +196,9 @@ class _Tree:
                 if link not in links:
                     raise located(path, f"joint '{j.name}'", f"{role} link '{link}' is not defined")
             if j.child in parent:
-                raise located(path, f"link '{j.child}'", f"has two parent joints ('{parent[j.child].name}' and "
-                                                         f"'{j.name}'); closed loops are not supported")
+                both = _names([parent[j.child].name, j.name]).replace(", ", " and ")
+                raise located(path, f"link '{j.child}'", f"has two parent joints ({both}); "
+                                                         "closed loops are not supported")
             parent[j.child] = j
             children[j.parent].append(j)
         tree = _Tree(links, {j.name: j for j in robot.joints}, parent, children)

@@ -1,0 +1,398 @@
+"""URDF loader: frames and inertias against yourdfpy's forward kinematics, torques against Pinocchio (when
+present), trees and locking, and exact error messages for bad files."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vampc.errors import VampcError
+from vampc.robot import JointType, load_robot, load_urdf
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+ARM6 = EXAMPLES / "arm6.urdf"
+# Which URDF links make up each moving body of arm6 (fixed joints merge camera, link3b and tool).
+ARM6_BODIES = {1: ["link1"], 2: ["link2", "camera"], 3: ["link3", "link3b"], 4: ["link4"], 5: ["link5"],
+               6: ["link6", "tool"]}
+
+
+# --- writing URDF text -----------------------------------------------------------------------------------
+
+def vec(v) -> str:
+    return " ".join(f"{x:.17g}" for x in v)
+
+
+def link(name: str, mass=1.0, xyz=(0.1, 0, 0), rpy=(0, 0, 0), inertia=(0.01, 0, 0, 0.02, 0, 0.03)) -> str:
+    """A <link> with an inertial; mass=None for a link without one. inertia = ixx ixy ixz iyy iyz izz."""
+    if mass is None:
+        return f'<link name="{name}"/>'
+    names = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+    attrs = " ".join(f'{k}="{v:.17g}"' for k, v in zip(names, inertia))
+    return (f'<link name="{name}"><inertial><origin xyz="{vec(xyz)}" rpy="{vec(rpy)}"/>'
+            f'<mass value="{mass:.17g}"/><inertia {attrs}/></inertial></link>')
+
+
+def joint(name: str, kind: str, parent: str, child: str, xyz=(0, 0, 0.1), rpy=(0, 0, 0), axis=(0, 0, 1),
+          extra: str = "") -> str:
+    limited = kind in ("revolute", "prismatic")
+    limit = '<limit lower="-1" upper="1" velocity="1" effort="1"/>' if limited else ""
+    return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<origin xyz="{vec(xyz)}" rpy="{vec(rpy)}"/><axis xyz="{vec(axis)}"/>{limit}{extra}</joint>')
+
+
+def robot(*parts: str, name: str = "r") -> str:
+    return f'<?xml version="1.0"?>\n<robot name="{name}">\n' + "\n".join(parts) + "\n</robot>\n"
+
+
+def write(tmp_path: Path, text: str, name: str = "r.urdf") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def random_inertia(rng) -> list[float]:
+    m = rng.normal(size=(3, 3)) * 0.05
+    i = m @ m.T + 1e-3 * np.eye(3)
+    return [i[0, 0], i[0, 1], i[0, 2], i[1, 1], i[1, 2], i[2, 2]]
+
+
+def random_urdf(seed: int, n: int = 5) -> tuple[str, dict, str]:
+    """A serial URDF with random origins (xyz, rpy), random unit axes, all three movable types, fixed
+    joints in the middle, fixed side branches and a fixed tool. Returns (text, bodies, tip)."""
+    rng = np.random.default_rng(seed)
+    kinds = ["revolute", "continuous", "prismatic"]
+    parts, bodies, parent = [link("base", 2.0)], {}, "base"
+
+    def rlink(name):
+        return link(name, float(rng.uniform(0.2, 3.0)), rng.uniform(-0.2, 0.2, 3), rng.uniform(-3, 3, 3),
+                    random_inertia(rng))
+
+    def rjoint(name, kind, par, child):
+        axis = rng.normal(size=3)
+        return joint(name, kind, par, child, rng.uniform(-0.3, 0.3, 3), rng.uniform(-3, 3, 3),
+                     axis / np.linalg.norm(axis))
+
+    for k in range(1, n + 1):
+        if rng.random() < 0.5:  # a fixed joint before this movable one: its link merges into body k-1
+            parts += [rjoint(f"fix{k}", "fixed", parent, f"mid{k}"), rlink(f"mid{k}")]
+            bodies.setdefault(k - 1, []).append(f"mid{k}")
+            parent = f"mid{k}"
+        parts += [rjoint(f"j{k}", kinds[(k + seed) % 3], parent, f"l{k}"), rlink(f"l{k}")]
+        bodies.setdefault(k, []).append(f"l{k}")
+        if rng.random() < 0.4:  # a fixed side branch
+            parts += [rjoint(f"side{k}", "fixed", f"l{k}", f"s{k}"), rlink(f"s{k}")]
+            bodies[k].append(f"s{k}")
+        parent = f"l{k}"
+    parts += [rjoint("tool_fix", "fixed", parent, "tool"), rlink("tool")]
+    bodies[n].append("tool")
+    bodies.pop(0, None)
+    return robot(*parts), bodies, "tool"
+
+
+TREE = robot(
+    link("torso", 5.0), link("chest", 3.0), link("head", 1.0),
+    link("l_upper", 1.5, (0.1, 0.02, 0), (0.3, 0, 0)), link("l_lower", 1.0), link("left_hand", 0.3),
+    link("r_upper", 1.4, (0.1, -0.02, 0), (0, 0.2, 0)), link("r_lower", 0.9), link("right_hand", 0.35),
+    joint("waist", "revolute", "torso", "chest", (0, 0, 0.3), (0.1, 0, 0), (0, 0, 1)),
+    joint("neck", "fixed", "chest", "head", (0, 0, 0.3)),
+    joint("left_1", "revolute", "chest", "l_upper", (0, 0.2, 0.2), (0.3, 0.1, 0), (0, 1, 0)),
+    joint("left_2", "prismatic", "l_upper", "l_lower", (0.25, 0, 0), (0, 0.2, 0.1), (1, 0, 0)),
+    joint("left_grip", "fixed", "l_lower", "left_hand", (0.2, 0, 0), (0, 0, 0.5)),
+    joint("right_1", "revolute", "chest", "r_upper", (0, -0.2, 0.2), (-0.3, 0.1, 0), (0, 0.6, 0.8)),
+    joint("right_2", "continuous", "r_upper", "r_lower", (0.25, 0, 0), (0.2, 0, 0), (1, 0, 0)),
+    joint("right_grip", "fixed", "r_lower", "right_hand", (0.2, 0, 0)), name="tree")
+TREE_LEFT_BODIES = {1: ["chest", "head", "r_upper", "r_lower", "right_hand"], 2: ["l_upper"],
+                    3: ["l_lower", "left_hand"]}
+
+
+# --- independent references --------------------------------------------------------------------------------
+
+def chain_poses(chain, q) -> list[np.ndarray]:
+    """Poses of O_1..O_n in O_0, composed from the Chain alone."""
+    out, pose = [], np.eye(4)
+    for j, qi in zip(chain.joints, q):
+        step = np.eye(4)
+        step[:3, :3] = j.A(qi)
+        step[:3, 3] = j.A(qi) @ j.p_star(qi)
+        pose = pose @ step
+        out.append(pose)
+    return out
+
+
+def yourdfpy_model(path: Path):
+    import yourdfpy
+    return yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False)
+
+
+def check_frames(path: Path, chain, base: str, tip: str, bodies: dict, frozen: dict | None = None) -> None:
+    """At random q, every O_i and every body's mass, CoM and inertia agree with yourdfpy's kinematics.
+
+    O_0 is not stored in the Chain, so it is recovered from the tip pose at one q and then must be constant,
+    sit on joint 1's axis with z along it, and refer gravity correctly."""
+    urdf = yourdfpy_model(path)
+    joints = {j.name: j for j in urdf.robot.joints}
+    links = {link.name: link for link in urdf.robot.links}
+    rng = np.random.default_rng(7)
+    w0, in_link = None, {}
+    for q in rng.uniform(-1.0, 1.0, (4, chain.n)):
+        urdf.update_cfg({**(frozen or {}), **{j.name: qi for j, qi in zip(chain.joints, q)}})
+        world = lambda name: urdf.get_transform(name, base)  # noqa: E731
+        ours = chain_poses(chain, q)
+        guess = world(tip) @ np.linalg.inv(ours[-1])
+        w0 = guess if w0 is None else w0
+        np.testing.assert_allclose(guess, w0, atol=1e-10)
+        poses = [w0] + [w0 @ p for p in ours]
+        for i, j in enumerate(chain.joints):  # O_i: at joint i+1's origin, z along its axis, fixed in link i
+            uj = joints[j.name]
+            at = world(uj.parent) @ uj.origin
+            np.testing.assert_allclose(poses[i][:3, 3], at[:3, 3], atol=1e-10)
+            np.testing.assert_allclose(poses[i][:3, 2], at[:3, :3] @ uj.axis / np.linalg.norm(uj.axis),
+                                       atol=1e-10)
+            relative = np.linalg.inv(world(uj.parent)) @ poses[i]
+            np.testing.assert_allclose(relative, in_link.setdefault(i, relative), atol=1e-10)
+        np.testing.assert_allclose(poses[-1], world(tip), atol=1e-10)
+        for k, names in bodies.items():
+            check_body(chain.joints[k - 1], poses[k], [(links[n].inertial, world(n)) for n in names])
+    np.testing.assert_allclose(chain.gravity, w0[:3, :3].T @ [0, 0, -9.81], atol=1e-12)
+
+
+def check_body(j, pose: np.ndarray, parts: list) -> None:
+    """Mass, centre of mass and inertia about the base origin (base frame) of a body against the sum of its
+    URDF links' inertials."""
+    mass = sum(inertial.mass for inertial, _ in parts)
+    first = sum(inertial.mass * (w @ inertial.origin)[:3, 3] for inertial, w in parts)
+    poses = [(inertial, w @ inertial.origin) for inertial, w in parts]
+    second = sum(about_origin(inertial.mass, at[:3, 3], rotate(inertial.inertia, at[:3, :3]))
+                 for inertial, at in poses)
+    rot = pose[:3, :3]
+    com = pose[:3, :3] @ j.com + pose[:3, 3]
+    assert j.mass == pytest.approx(mass, abs=1e-12)
+    np.testing.assert_allclose(j.mass * com, first, atol=1e-10)
+    np.testing.assert_allclose(about_origin(j.mass, com, rotate(j.inertia, rot)), second, atol=1e-10)
+
+
+def rotate(inertia: np.ndarray, rot: np.ndarray) -> np.ndarray:
+    return rot @ inertia @ rot.T
+
+
+def about_origin(m: float, c: np.ndarray, i_com: np.ndarray) -> np.ndarray:
+    """Inertia about the origin of a body with mass m, centre of mass c and inertia i_com about c."""
+    return i_com + m * (c @ c * np.eye(3) - np.outer(c, c))
+
+
+def pinocchio_rnea(path: Path, chain, q, qd, qdd, lock: dict | None = None) -> np.ndarray:
+    """Pinocchio's RNEA on the URDF (fixed base = root link, gravity -9.81 z), locked joints removed with
+    buildReducedModel, joints matched by name (continuous joints use Pinocchio's cos/sin coordinates)."""
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(path))
+    q_ref = pin.neutral(model)
+    for name, value in (lock or {}).items():
+        set_q(model, q_ref, name, value)
+    if lock:
+        model = pin.buildReducedModel(model, [model.getJointId(n) for n in lock], q_ref)
+    data = model.createData()
+    qp, v, a = pin.neutral(model), np.zeros(model.nv), np.zeros(model.nv)
+    for j, qi, vi, ai in zip(chain.joints, q, qd, qdd):
+        set_q(model, qp, j.name, qi)
+        v[model.joints[model.getJointId(j.name)].idx_v] = vi
+        a[model.joints[model.getJointId(j.name)].idx_v] = ai
+    tau = pin.rnea(model, data, qp, v, a)
+    return np.array([tau[model.joints[model.getJointId(j.name)].idx_v] for j in chain.joints])
+
+
+def set_q(model, q_vec, name: str, value: float) -> None:
+    jm = model.joints[model.getJointId(name)]
+    if jm.nq == 2:
+        q_vec[jm.idx_q:jm.idx_q + 2] = np.cos(value), np.sin(value)
+    else:
+        q_vec[jm.idx_q] = value
+
+
+def check_torques(path: Path, chain, lock: dict | None = None) -> None:
+    reference = pytest.importorskip("vampc.dynamics.reference")
+    rng = np.random.default_rng(3)
+    for q, qd, qdd in rng.uniform(-1.5, 1.5, (5, 3, chain.n)):
+        ours = reference.rnea(chain, q, qd, qdd)
+        np.testing.assert_allclose(ours, pinocchio_rnea(path, chain, q, qd, qdd, lock), atol=1e-9)
+
+
+# --- arm6 and random chains --------------------------------------------------------------------------------
+
+def test_arm6_structure():
+    chain = load_robot(ARM6)
+    chain.verify()
+    names = ["waist", "shoulder", "elbow", "wrist_roll", "wrist_bend", "flange"]
+    assert [j.name for j in chain.joints] == names
+    assert all(j.type is JointType.REVOLUTE for j in chain.joints)
+    assert chain.joints[2].limits.q is None and chain.joints[2].limits.qd == 2.5  # continuous
+    assert chain.joints[3].limits.q == (-3.0, 3.0) and chain.joints[3].limits.tau == 30.0
+    # Every inertial but the base's ends up in some body: mass totals are kept by the merging.
+    from lxml import etree
+    masses = {el.getparent().getparent().get("name"): float(el.get("value"))
+              for el in etree.parse(str(ARM6)).iter("mass")}
+    assert sum(j.mass for j in chain.joints) == pytest.approx(sum(masses.values()) - masses["base_link"])
+    assert chain.joints[2].mass == pytest.approx(masses["link3"] + masses["link3b"])
+
+
+def test_arm6_frames_and_inertias_match_yourdfpy():
+    check_frames(ARM6, load_urdf(ARM6), "base_link", "tool", ARM6_BODIES)
+
+
+def test_arm6_torques_match_pinocchio():
+    check_torques(ARM6, load_urdf(ARM6))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_urdf_matches_yourdfpy_and_pinocchio(tmp_path, seed):
+    text, bodies, tip = random_urdf(seed)
+    path = write(tmp_path, text)
+    chain = load_urdf(path)
+    chain.verify()
+    assert {j.type for j in chain.joints} == {JointType.REVOLUTE, JointType.PRISMATIC}
+    check_frames(path, chain, "base", tip, bodies)
+    check_torques(path, chain)
+
+
+def test_base_below_the_root():
+    # The flange hangs below the chosen tip, so it must be locked; the tool then rides on link 5.
+    chain = load_urdf(ARM6, base="link2", tip="link5", lock={"flange": 0.3})
+    assert [j.name for j in chain.joints] == ["elbow", "wrist_roll", "wrist_bend"]
+    bodies = {1: ["link3", "link3b"], 2: ["link4"], 3: ["link5", "link6", "tool"]}
+    check_frames(ARM6, chain, "link2", "link5", bodies, frozen={"flange": 0.3})
+
+
+# --- trees and locking -------------------------------------------------------------------------------------
+
+def test_tree_tip_and_locked_branch(tmp_path):
+    path = write(tmp_path, TREE)
+    lock = {"right_1": 0.4}
+    chain = load_urdf(path, tip="left_hand", lock=lock)
+    assert [j.name for j in chain.joints] == ["waist", "left_1", "left_2"]
+    check_frames(path, chain, "torso", "left_hand", TREE_LEFT_BODIES, frozen={"right_1": 0.4, "right_2": 0.0})
+    check_torques(path, chain, lock={"right_1": 0.4, "right_2": 0.0})  # below a lock: frozen at 0
+
+
+def test_tree_locked_values_and_locked_chain_joint(tmp_path):
+    path = write(tmp_path, TREE)
+    lock = {"right_1": -0.3, "right_2": 0.7, "left_1": 0.2}
+    chain = load_urdf(path, tip="left_hand", lock=lock)
+    assert [j.name for j in chain.joints] == ["waist", "left_2"]
+    bodies = {1: TREE_LEFT_BODIES[1] + ["l_upper"], 2: TREE_LEFT_BODIES[3]}
+    check_frames(path, chain, "torso", "left_hand", bodies, frozen=lock)
+    check_torques(path, chain, lock=lock)
+
+
+def test_tree_default_tip_after_locking_one_arm(tmp_path):
+    path = write(tmp_path, TREE)
+    chain = load_urdf(path, lock={"left_1": 0.0, "left_2": 0.1})
+    assert [j.name for j in chain.joints] == ["waist", "right_1", "right_2"]
+
+
+# --- errors: one line, the file, the place ------------------------------------------------------------
+
+ARM = [link("base"), link("l1"), link("l2"), joint("j1", "revolute", "base", "l1"),
+       joint("j2", "revolute", "l1", "l2")]
+
+URDF_ERRORS = [
+    ("<robot name='x'><link name='a'></robot>", {}, r"line 1: not well-formed XML: .+"),
+    ('<?xml version="1.0"?><!DOCTYPE lolz [<!ENTITY lol "lol"><!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;">'
+     '<!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;">]><robot name="&lol3;"/>', {},
+     r"DOCTYPE declares entities \(lol, lol2, lol3\); URDF files must not use XML entities"),
+    ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"/>', {},
+     r"DOCTYPE declares entities \(x\); URDF files must not use XML entities"),
+    ("<sdf version='1.6'/>", {}, r"line 1: the root element must be <robot name=\"...\">"),
+    (robot(link("a", None)), {}, r"no movable joints below base link 'a'"),
+    (robot(*ARM[:4], joint("j2", "floating", "l1", "l2")), {},
+     r"joint 'j2': floating joints are not supported"),
+    (robot(*ARM[:4], joint("j2", "planar", "l1", "l2")), {}, r"joint 'j2': planar joints are not supported"),
+    (robot(*ARM[:4], joint("j2", "ball", "l1", "l2")), {}, r"joint 'j2': unsupported joint type 'ball'"),
+    (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", extra='<mimic joint="j1"/>')), {},
+     r"joint 'j2': mimics joint 'j1'; mimic joints are not supported \(lock it with --lock j2=VALUE\)"),
+    (robot(link("base"), link("l1", None), link("l2"), *ARM[3:]), {},
+     r"link 'l1': no <inertial>: the body moved by joint 'j1' would have no mass"),
+    (robot(link("base"), link("l1", -2.0), link("l2"), *ARM[3:]), {}, r"link 'l1': negative mass -2\.0"),
+    (robot(link("base"), link("l1", 1.0, inertia=(1, 2, 0, 1, 0, 1)), link("l2"), *ARM[3:]), {},
+     r"link 'l1': inertia is not positive semi-definite \(eigenvalues -1, 1, 3\)"),
+    (robot(*ARM, joint("j3", "fixed", "base", "l2")), {},
+     r"link 'l2': has two parent joints \('j2' and 'j3'\); closed loops are not supported"),
+    (robot(link("a"), link("b"), joint("j1", "revolute", "a", "b"), joint("j2", "revolute", "b", "a")), {},
+     r"joint '(j1|j2)': closes a loop through joints '(j1|j2)', '(j1|j2)'; closed loops are not supported"),
+    (robot(*ARM[:4], joint("j2", "revolute", "l1", "l9")), {}, r"joint 'j2': child link 'l9' is not defined"),
+    (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", rpy=(float("nan"), 0, 0))), {},
+     r"joint 'j2': <origin rpy=\"nan 0 0\">: expected 3 finite numbers"),
+    (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(0, 0, 0))), {}, r"joint 'j2': axis is zero"),
+    (robot(*ARM).replace('<inertia ixx="0.01" ', "<inertia "), {}, r"link 'base': <inertia> lacks ixx"),
+    (robot(*ARM).replace('<origin xyz="0 0 0.10000000000000001"', '<origin xyz="0 0"', 1), {},
+     r"joint 'j1': <origin xyz=\"0 0\">: expected 3 finite numbers"),
+    (robot(*ARM).replace("<parent link=\"base\"/>", ""), {}, r"joint 'j1': missing <parent link=\"...\"/>"),
+    (robot(*ARM).replace('<joint name="j1" type="revolute">', '<joint type="revolute">'), {},
+     r"line 6: <joint> has no name"),
+    (robot(*ARM, link("extra_root")), {},
+     r"several root links \('base', 'extra_root'\); choose one with --base"),
+    (robot(*ARM).replace("</link>", '<visual><geometry><box/></geometry></visual></link>', 1), {},
+     r"yourdfpy cannot read it \(KeyError: 'size'\)"),
+    (robot(*ARM), {"base": "nope"}, r"unknown base link 'nope'"),
+    (robot(*ARM), {"tip": "nope"}, r"unknown tip link 'nope'"),
+    (robot(*ARM), {"base": "l2", "tip": "l1"}, r"no path from base link 'l2' down to tip link 'l1'"),
+    (robot(*ARM), {"lock": {"j1": 0.0, "j2": 0.0}}, r"no movable joints below base link 'base'"),
+    (robot(*ARM), {"tip": "l2", "lock": {"j1": 0.0, "j2": 0.0}},
+     r"no movable joints between base link 'base' and tip link 'l2'"),
+    (robot(*ARM), {"lock": {"j9": 0.0}}, r"lock j9: no joint named 'j9'"),
+    (robot(*ARM), {"lock": {"j1": float("nan")}}, r"lock j1: value nan is not a finite number"),
+    (TREE, {},
+     r"several movable branches below base link 'torso'; choose --tip from 'left_hand', 'right_hand'"),
+    (TREE, {"tip": "left_hand"},
+     r"joint 'right_1' branches off the chain; lock it with --lock right_1=VALUE or choose --tip"),
+    (TREE, {"tip": "chest"}, r"joint 'left_1' branches off the chain; lock it with --lock left_1=VALUE "
+                             r"or choose --tip \(also 'right_1'\)"),
+]
+
+
+@pytest.mark.parametrize("text, options, message", URDF_ERRORS)
+def test_urdf_errors(tmp_path, text, options, message):
+    path = write(tmp_path, text)
+    assert_error(lambda: load_robot(path, **options), path, message)
+
+
+def test_missing_file(tmp_path):
+    assert_error(lambda: load_robot(tmp_path / "gone.urdf"), tmp_path / "gone.urdf", "no such file")
+
+
+def test_external_entity_is_never_read(tmp_path):
+    secret = write(tmp_path, "<link name='leaked'/>", "secret.xml")
+    text = (f'<?xml version="1.0"?><!DOCTYPE robot [<!ENTITY x SYSTEM "file://{secret}">]>'
+            '<robot name="r">&x;</robot>')
+    path = write(tmp_path, text)
+    with pytest.raises(VampcError, match="DOCTYPE declares entities") as info:
+        load_robot(path)
+    assert "leaked" not in str(info.value)
+
+
+def assert_error(call, path, message: str) -> None:
+    """`call` raises a VampcError whose whole message is 'PATH: <message>' on one line."""
+    with pytest.raises(VampcError) as info:
+        call()
+    text = str(info.value)
+    assert "\n" not in text
+    assert re.fullmatch(re.escape(str(path)) + ": " + message, text), text
+
+
+def test_entities_refused_in_utf16_too(tmp_path):
+    # The byte scan cannot read UTF-16; the declaration is then caught after the (entity-free) parse.
+    text = '<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE r [<!ENTITY a "b">]><robot name="&a;"/>'
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode("utf-16"))
+    assert_error(lambda: load_robot(path), path, r"DOCTYPE declares entities \(a\); URDF files must not use XML entities")
+
+
+def test_xml_extension_and_lazy_yourdfpy(tmp_path):
+    import subprocess
+    import sys
+    copy = write(tmp_path, ARM6.read_text(), "arm6.xml")
+    assert load_robot(copy).n == 6
+    code = "import sys, vampc.robot; print('yourdfpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=Path(__file__).resolve().parent.parent).stdout
+    assert out.strip() == "False"
