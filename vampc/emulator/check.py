@@ -24,17 +24,22 @@ def check_program(ld: Loaded) -> tuple[tm.VampTiming, ...]:
 
 
 def check_against_schedule(ld: Loaded, timing) -> None:
-    """Latch and dump ticks implied by the programs equal those the compiler scheduled."""
+    """Latch and dump ticks implied by the programs equal those the compiler scheduled, and so do the
+    delays themselves (a latch of a constant is harmless at any tick, but a changed word is damage)."""
     start, finish = ld.doc["schedule"]["start"], ld.doc["schedule"]["finish"]
+    C = ld.cycle
     for v, t in zip(ld.net.vamps, timing):
         want = {"A": start[v.node], "B": start[v.node], "R": finish[v.node] - 1}
         got = {"A": t.latch_a, "B": t.latch_b, "R": t.last}
+        prog = ld.programs[v.index]
+        delay = {"A": prog.delay_a, "B": prog.delay_b, "R": prog.delay_r}
         for reg in ("A", "B", "R"):
-            if abs(got[reg]) != tm.INF and got[reg] != want[reg]:
+            tick = got[reg] if abs(got[reg]) != tm.INF else None
+            if delay[reg] != want[reg] % C or tick not in (None, want[reg]):
                 what = "drives its result" if reg == "R" else f"latches operand {reg}"
-                raise VampcError(f"{ld.path}: {ld.vamp_name(v.index)}: delay-{reg} "
-                                 f"{getattr(ld.programs[v.index], 'delay_' + reg.lower())} "
-                                 f"{what} at tick {got[reg]:g}, the schedule has tick {want[reg]}")
+                at = f"at tick {tick:g}" if tick is not None else f"at counter {delay[reg]}"
+                raise VampcError(f"{ld.path}: {ld.vamp_name(v.index)}: delay-{reg} {delay[reg]} "
+                                 f"{what} {at}, the schedule has tick {want[reg]}")
 
 
 def check_against_graph(ld: Loaded) -> None:

@@ -41,6 +41,13 @@ def steps(rom: int) -> int:
     return len(MICRO_STEPS[ROM[rom][0]])
 
 
+def operand_steps(rom: int) -> int:
+    """How many leading micro-steps read the operand registers (the rest work on unit registers
+    only, so an operand may be re-latched while they run)."""
+    op = ROM[rom][0]
+    return 2 if op in _DOT else 1
+
+
 def module_registers(rom: int, op_a: np.ndarray, op_b: np.ndarray):
     """Each module's operand registers: two arrays (..., 3 modules, 3 registers)."""
     op, col = ROM[rom]

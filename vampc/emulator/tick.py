@@ -22,8 +22,11 @@ Data Mode (Global-Reset pulses at each cycle start: Cycle-Counter c = tick mod C
   5. at the last tick of a cycle every buffer stage takes its input (stage 1 its VAMP's Result).
 
 Beside the data, every value carries a tag: the torque set it belongs to (-1 unknown, -2 constant). A
-VAMP latching operands of two different sets is a timing violation, and a torque read at its scheduled
-tick must carry the set the host expects. The tags are observation only; they never change a value.
+VAMP latching operands of two different sets is a timing violation; so is, in the steady state (from
+the tick the first torque set is due until the last set has entered), starting an op on an operand that
+holds no set's value (never latched, or latched from a source that had none); and a torque read at its
+scheduled tick must carry the set the host expects. The tags are observation only; they never change a
+value.
 """
 from __future__ import annotations
 
@@ -167,6 +170,7 @@ class TickEngine:
         `progress(done, total)` is called every 1024 ticks if given."""
         stats = stats or TickStats()
         self._data_setup()
+        self.steady = (max(o.tick for o in self.ld.net.outputs), count * self.C)
         outs = self.ld.net.outputs
         last_tick = (count - 1) * self.C + max(o.tick for o in outs)
         tau = np.full((count, self.ld.chain.n), np.nan)
@@ -264,6 +268,12 @@ class TickEngine:
             tags = np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)
             self.utag[idx] = _combine(tags)
             mixed = (tags >= 0).all(axis=1) & (tags[:, 0] != tags[:, 1])
+            if self.steady[0] <= t < self.steady[1] and (tags == UNKNOWN).any():
+                v = int(idx[np.argmax((tags == UNKNOWN).any(axis=1))])
+                which = "A" if self.tag_a[v] == UNKNOWN else "B"
+                raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} starts "
+                                 f"{ROM[r][0].value} with operand {which} holding no set's value "
+                                 "(a timing error)")
             if mixed.any():
                 v = int(idx[np.argmax(mixed)])
                 raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} starts "

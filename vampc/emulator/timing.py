@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 from vampc.emulator.load import Loaded
-from vampc.emulator.rom import steps
+from vampc.emulator.rom import operand_steps, steps
 from vampc.errors import VampcError
 
 INF = math.inf
@@ -100,11 +100,12 @@ def _compute(ld: Loaded, v: int, t_a: float, t_b: float) -> VampTiming:
         return VampTiming(-INF, -INF, INF - 1)
     earliest = ready + d - 1
     last = earliest + (prog.delay_r - earliest) % C
+    reader = last - d + operand_steps(prog.rom)    # last micro-step that reads the operands
     for name, t in (("A", t_a), ("B", t_b)):
-        if t != -INF and last >= t + C:
+        if t != -INF and reader >= t + C:
             raise VampcError(
                 f"{ld.path}: {ld.vamp_name(v)}: operand {name} latched at tick {t:g} is re-latched "
-                f"at tick {t + C:g}, before the micro-step at tick {last:g} that still reads it "
+                f"at tick {t + C:g}, before the micro-step at tick {reader:g} that still reads it "
                 f"(delay-R {prog.delay_r})")
     return VampTiming(t_a, t_b, last)
 

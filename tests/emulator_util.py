@@ -1,0 +1,47 @@
+"""Helpers shared by the emulator tests: compile a chain into a loaded program, run both engines."""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.emulator import emulate, loaded_from_doc
+from vampc.emulator.host import random_trajectory
+
+
+def document(chain, **opts) -> dict:
+    """The program document of a chain (not written to disk)."""
+    return program_document(compile_chain(chain, CompileOptions(**opts)))
+
+
+def loaded(chain, **opts):
+    """A Loaded program for a chain."""
+    return loaded_from_doc(document(chain, **opts))
+
+
+def run_both(ld, count: int, seed: int = 1, tick_count: int | None = None):
+    """(trajectory, stream result, tick result) on `count` random states (tick on the first
+    `tick_count`)."""
+    traj = random_trajectory(ld.chain, count, seed)
+    stream = emulate(ld, traj, "stream")
+    short = traj if tick_count is None else _head(traj, tick_count)
+    tick = emulate(ld, short, "tick", seed=seed)
+    return traj, stream, tick
+
+
+def _head(traj, k):
+    from vampc.emulator.host import Trajectory
+    return Trajectory(traj.q[:k], traj.qd[:k], traj.qdd[:k])
+
+
+def mutated(doc: dict, change) -> dict:
+    """A deep copy of a document with `change(copy)` applied."""
+    new = copy.deepcopy(doc)
+    change(new)
+    return new
+
+
+def torques(doc: dict, traj, engine="stream", **kw) -> np.ndarray:
+    """Torques of a document on a trajectory."""
+    return emulate(loaded_from_doc(doc), traj, engine, **kw).tau
