@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, example_paths
 from vampc.cli import main
 from vampc.program.file import read_program
 
@@ -66,6 +66,15 @@ def test_compile_writes_the_program_file(tmp_path):
                              "(16 M + 45 A), interval 4 flops\n")
     doc = read_program(out)
     assert doc["robot"]["name"] == "puma560" and len(doc["network"]["vamps"]) == 180
+
+
+@pytest.mark.parametrize("path", example_paths(), ids=lambda p: p.name)
+def test_every_example_compiles(tmp_path, path):
+    out = tmp_path / "x.vamp.json"
+    result = run("compile", path, "-o", out)
+    assert result.exit_code == 0, result.output
+    doc = read_program(out)
+    assert doc["summary"]["joints"] == doc["robot"]["n"] == len(doc["robot"]["joints"]) >= 1
 
 
 def test_compile_default_output_name(tmp_path):
@@ -238,3 +247,20 @@ def test_help_works_for_every_command():
 def test_version():
     result = run("--version")
     assert result.exit_code == 0 and "0.1.0" in result.stdout
+
+
+def test_report_json_puma560_log_recursion():
+    # Paper, n = 6: (2L+5) M + (6L+10) A with L = ⌈log2 7⌉ = 3, i.e. 11 M + 28 A; plus the output
+    # correction of 1 M + 2 A (logarithmic.py docstring, as for the linear graph).
+    rep = puma_json("--recursion", "log")
+    assert (rep["recursion"], rep["prefix"], rep["interval_flops"]) == ("log", "sklansky", 4)
+    assert rep["paper"] == {"flops": 39, "mults": 11, "adds": 28}
+    assert rep["latency"] == {"flops": 42, "mults": 12, "adds": 30}
+
+
+def test_report_json_puma560_log_uniform_leaves_vamps():
+    # Section VI, VAMPs - Totals, n = 6, log systolic pipeline with Appendix D's uniform leaves:
+    # 398 backward as the paper; forward 169 less one T20 VAMP in each of its 13 nodes (the forward
+    # pass is referred to O_{a-1}, logarithmic.py docstring).
+    v = puma_json("--recursion", "log", "--uniform-leaves")["vamps"]
+    assert (v["backward"], v["forward"], v["total"]) == (398, 169 - 13, 398 + 156)
