@@ -137,7 +137,8 @@ def _report(source, base, tip, lock, **opts) -> dict:
     c = _compile(source, base, tip, lock, **opts)
     rep = summary(c)
     if c.graph.recursion == "log":
-        rep["prefix"] = c.options.prefix
+        from vampc.report.compare import compare_prefixes
+        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
     return rep
 
 

@@ -59,15 +59,16 @@ def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
 
 def delivered_programs(net: Network, numbers, stream, path) -> tuple[Program, ...]:
     """The program each VAMP latches in Program Mode; VampcError if one gets none or a bad one."""
-    words_at = {root: words for root, words in stream}
+    # A VAMP sees every word of its root's stream and keeps the last one carrying its number.
+    last_word = {root: {_number(w): w for w in words} for root, words in stream}
     progs = []
     for v in net.vamps:
         root, _ = a_root(net, v.index)
-        mine = [w for w in words_at.get(root, ()) if _number(w) == numbers[v.index]]
-        if not mine:
+        word = last_word.get(root, {}).get(numbers[v.index])
+        if word is None:
             raise VampcError(f"{path}: VAMP {v.index} (number {numbers[v.index]}) is never "
                              f"programmed: no word written to {root} carries its number")
-        number, prog = decode(mine[-1])
+        number, prog = decode(word)
         if prog.rom >= len(ROM):
             raise VampcError(f"{path}: VAMP {v.index} (number {number}): ROM pointer {prog.rom} "
                              f"is not in the ROM (0..{len(ROM) - 1})")

@@ -71,6 +71,11 @@ class TickEngine:
             for s in range(1, b.stages + 1):
                 self.stage_row[(b.index, s)] = row
                 row += 1
+        # Stage s of a buffer takes stage s - 1 (stage 1 takes its VAMP's Result).
+        self.stage_dst = np.array(list(self.stage_row.values()), dtype=np.int64)
+        self.stage_src = np.array([b_src if s == 1 else self.stage_row[(b, s - 1)]
+                                   for (b, s), b_src in ((k, ld.net.buffers[k[0]].source)
+                                                         for k in self.stage_row)], dtype=np.int64)
         self.port_row = {p.index: row + k for k, p in enumerate(ld.net.ports)}
         row += len(ld.net.ports)
         self.const_row = {c.index: row + k for k, c in enumerate(ld.net.consts)}
@@ -282,20 +287,14 @@ class TickEngine:
 
     # --- buffers and waveforms ----------------------------------------------------------------
     def _shifted_stages(self, every_tick: bool, counter: int = 0):
-        if not (every_tick or counter == self.C - 1):
+        """Values and tags every buffer stage takes at the end of this tick (None: no shift now)."""
+        if not (every_tick or counter == self.C - 1) or not self.stage_dst.size:
             return None
-        new = []
-        for b in self.ld.net.buffers:
-            src = b.source
-            for s in range(1, b.stages + 1):
-                prev = src if s == 1 else self.stage_row[(b.index, s - 1)]
-                new.append((self.stage_row[(b.index, s)], self.bus[prev, :3].copy(), self.tag[prev]))
-        return new
+        return self.bus[self.stage_src, :3].copy(), self.tag[self.stage_src].copy()
 
     def _commit_stages(self, new) -> None:
-        for row, val, tg in new or ():
-            self.bus[row, :3] = val
-            self.tag[row] = tg
+        if new is not None:
+            self.bus[self.stage_dst, :3], self.tag[self.stage_dst] = new
 
     def _vcd_dump(self) -> None:
         if self.vcd is not None:

@@ -25,10 +25,11 @@ class _Allocator:
         self.vamps: list[Vamp] = []
 
     def run(self) -> Network:
+        first = 0
         for nd in self.g.compute_nodes():
             count = VAMPS_PER_OP[nd.op]
-            first = sum(len(v) for v in self.vamps_of.values())
             self.vamps_of[nd.id] = list(range(first, first + count))
+            first += count
         for nd in self.g.compute_nodes():
             for col, idx in enumerate(self.vamps_of[nd.id]):
                 self.vamps.append(self._vamp(nd, idx, col if nd.op is Op.MM else None))

@@ -91,6 +91,8 @@ def summary(c) -> dict:
         "serial_reference": serial_reference(c.chain.n),
         "ops": dict(sorted(Counter(nd.op.value for nd in c.graph.compute_nodes()).items())),
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
+        "uniform_leaves": c.options.uniform_leaves if c.graph.recursion == "log" else None,
+        "prefix": c.options.prefix if c.graph.recursion == "log" else None,
     }
 
 
@@ -103,19 +105,41 @@ def latency_note(rep: dict) -> list[str]:
     """Sentences explaining where the achieved latency differs from the paper's formula, and why."""
     got, paper = rep["latency"], rep["paper"]
     dm, da = got["mults"] - paper["mults"], got["adds"] - paper["adds"]
-    notes = []
     if (dm, da) == (0, 0) and got["flops"] == paper["flops"]:
         return ["equals the paper's formula"]
-    notes.append(f"{got['flops'] - paper['flops']:+d} flops ({dm:+d} Mults, {da:+d} Addns) against "
-                 f"the paper's formula")
-    if dm >= 1 and da >= 2:
-        notes.append("1 Mult + 2 Addns is the output correction: τ_i = z_{i-1}·n_i is the third "
-                     "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when "
-                     "Φ_i = I), so f and n are carried referred to O_{i-1} and one more MV (A_1) "
-                     "lies on the path to τ_1 (DESIGN §5)")
+    notes = [f"{got['flops'] - paper['flops']:+d} flops ({dm:+d} Mults, {da:+d} Addns) against the "
+             "paper's formula"]
+    notes.append("includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
+                 "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "
+                 "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
+                 "torques (DESIGN §5)")
+    n = rep["joints"]
+    if rep["recursion"] == "log" and n & (n - 1) == 0 and got["flops"] < paper["flops"] + 3:
+        notes.append("log recursion: grounded in O_0 when the base does not rotate (section VI), the "
+                     "prefix network spans n leaves instead of n + 1, which saves a whole tier each "
+                     "way (8 flops) when n is a power of 2")
+    if rep["recursion"] == "log" and rep.get("uniform_leaves"):
+        notes.append("Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves")
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
         notes.append("the paper assumes 1 Mult = 1 Addn = 1 flop; flops here use the given latencies")
     if rep["prismatic_joints"]:
         notes.append(f"prismatic joints {rep['prismatic_joints']} add the σ̄ terms of Table I.1 (the "
                      "paper's formula is for a general rotary arm)")
+    return notes
+
+
+def vamp_notes(rep: dict) -> list[str]:
+    """Where the per-node VAMP counts differ from section VI, and why."""
+    per = rep["vamps"]["per_node"]
+    paper = {"linear": (12, 10, 8), "log": (26, 10, 13)}[rep["recursion"]]
+    notes = []
+    if rep["recursion"] == "log" and per["fwd"] == 12:
+        notes.append("forward node 12 VAMPs, paper 13: with f, n referred to O_{a-1} the forward "
+                     "combine needs W_{a,k} and R_{a,k} as the backward pass makes them, so the "
+                     "paper's T20 = A_{k+1}ᵀ R_{a,k} (one MV) is not needed")
+    if per["bwd"] != paper[0] and not rep["prismatic_joints"]:
+        notes.append(f"backward node {per['bwd']} VAMPs, paper {paper[0]}")
+    if rep["recursion"] == "log" and not rep.get("uniform_leaves"):
+        notes.append("leaves are Table IV.1's separate a = b forms (fewer VAMPs than Appendix D's "
+                     "uniform nodes, which section VI counts: use --uniform-leaves to compare)")
     return notes

@@ -1,7 +1,7 @@
 """Plain-text rendering of a report summary (the default `vampc report` output)."""
 from __future__ import annotations
 
-from vampc.report.counts import latency_note
+from vampc.report.counts import latency_note, vamp_notes
 
 
 def render(rep: dict) -> str:
@@ -23,6 +23,7 @@ def render(rep: dict) -> str:
         f"  per node       backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
         f"non-propagated, forward {v['per_node']['fwd']}",
         "  by op          " + ", ".join(f"{k} {n}" for k, n in v["by_op"].items()),
+        *[f"                 {note}" for note in vamp_notes(rep)],
         f"buffers          {rep['buffers']['stages']} stages in {rep['buffers']['chains']} chains "
         f"({rep['buffers']['scalars']} scalars)",
         f"host I/O         {rep['ports']} ports, {rep['constants']} constant buffers, "
@@ -33,4 +34,8 @@ def render(rep: dict) -> str:
         f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
         f"{rep['serial_reference']['adds']}",
     ]
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    if rep.get("prefix_comparison"):
+        from vampc.report.compare import render_comparison
+        text += "\n" + render_comparison(rep["prefix_comparison"])
+    return text

@@ -1,0 +1,41 @@
+"""Side-by-side comparison of prefix-network shapes for one robot (log recursion)."""
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import replace
+
+from vampc.compiler import PREFIXES, CompileOptions, compile_chain
+
+
+def max_fan_out(network) -> int:
+    """The most operand inputs any one VAMP Result drives (directly or through its buffer)."""
+    readers: Counter = Counter()
+    for v in network.vamps:
+        for tap in v.a.taps + v.b.taps:
+            if tap.kind == "vamp":
+                readers[tap.index] += 1
+            elif tap.kind == "buffer":
+                readers[network.buffers[tap.index].source] += 1
+    return max(readers.values(), default=0)
+
+
+def compare_prefixes(chain, options: CompileOptions) -> list[dict]:
+    """Latency, VAMPs, buffer stages and fan-out of every prefix shape, other options as given."""
+    rows = []
+    for shape in PREFIXES:
+        c = compile_chain(chain, replace(options, recursion="log", prefix=shape, verify=False))
+        rows.append({"prefix": shape, "latency_flops": c.schedule.latency,
+                     "mults": c.schedule.mults, "adds": c.schedule.adds,
+                     "vamps": len(c.network.vamps), "buffer_stages": c.network.buffer_stages,
+                     "max_fan_out": max_fan_out(c.network)})
+    return rows
+
+
+def render_comparison(rows: list[dict]) -> str:
+    """A text table of compare_prefixes' rows."""
+    head = f"{'prefix':<16}{'latency':>9}{'= M + A':>12}{'VAMPs':>8}{'buffers':>9}{'fan-out':>9}"
+    lines = ["prefix shapes (log recursion, same robot and options):", head]
+    for r in rows:
+        lines.append(f"{r['prefix']:<16}{r['latency_flops']:>9}{r['mults']:>6} + {r['adds']:<4}"
+                     f"{r['vamps']:>8}{r['buffer_stages']:>9}{r['max_fan_out']:>9}")
+    return "\n".join(lines) + "\n"
