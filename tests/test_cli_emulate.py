@@ -1,0 +1,170 @@
+"""`vampc emulate` from the command line: formats, checks, bad input, no partial output files."""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.dynamics.reference import rnea
+from vampc.robot import load_robot
+from vampc.robot.random import random_state
+
+EXAMPLES = Path(__file__).parent.parent / "examples"
+ERROR = re.compile(r"^vampc: error: [^\n]+\n$")
+
+
+def _run(*args):
+    return CliRunner().invoke(main, [str(a) for a in args], catch_exceptions=False)
+
+
+@pytest.fixture(scope="module")
+def program(tmp_path_factory):
+    path = tmp_path_factory.mktemp("prog") / "planar.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "-o", path).exit_code == 0
+    return path
+
+
+@pytest.fixture(scope="module")
+def states():
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    return chain, random_state(chain, 25, 4)
+
+
+def _csv(path, q, qd, qdd, t=None):
+    n = q.shape[1]
+    head = ([] if t is None else ["t"]) + [f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, n + 1)]
+    body = np.hstack(([] if t is None else [t[:, None]]) + [q, qd, qdd])
+    path.write_text(",".join(head) + "\n" + "\n".join(",".join(repr(float(x)) for x in r) for r in body) + "\n")
+    return path
+
+
+def _read_tau(path) -> np.ndarray:
+    lines = Path(path).read_text().splitlines()
+    assert lines[0] == "tau1,tau2"
+    return np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+
+
+def test_trajectory_csv_gives_reference_torques(tmp_path, program, states):
+    chain, (q, qd, qdd) = states
+    out = tmp_path / "tau.csv"
+    res = _run("emulate", program, "--trajectory", _csv(tmp_path / "t.csv", q, qd, qdd), "-o", out, "--check")
+    assert res.exit_code == 0, res.output
+    assert "OK" in res.output and "one every 4 flops" in res.output
+    assert np.allclose(_read_tau(out), rnea(chain, q, qd, qdd), rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("fmt", ["csv-t", "npy", "npy-t", "npz"])
+def test_trajectory_formats_agree(tmp_path, program, states, fmt):
+    chain, (q, qd, qdd) = states
+    t = np.arange(len(q)) * 0.01
+    if fmt == "csv-t":
+        src = _csv(tmp_path / "t.csv", q, qd, qdd, t)
+    elif fmt.startswith("npy"):
+        src = tmp_path / "t.npy"
+        np.save(src, np.hstack(([t[:, None]] if fmt == "npy-t" else []) + [q, qd, qdd]))
+    else:
+        src = tmp_path / "t.npz"
+        np.savez(src, q=q, qd=qd, qdd=qdd, t=t)
+    out = tmp_path / "tau.csv"
+    assert _run("emulate", program, "--trajectory", src, "-o", out).exit_code == 0
+    assert np.allclose(_read_tau(out), rnea(chain, q, qd, qdd), rtol=1e-12, atol=1e-12)
+
+
+def test_robot_file_compiled_on_the_fly_and_tick_vcd(tmp_path):
+    vcd = tmp_path / "w.vcd"
+    res = _run("emulate", EXAMPLES / "planar2.yaml", "--random", 5, "--engine", "tick", "--vcd", vcd,
+               "--check")
+    assert res.exit_code == 0, res.output
+    text = vcd.read_text()
+    assert text.count("$var real 64") == 3 * text.count("$scope module vamp")
+    assert "$enddefinitions $end" in text and re.search(r"^#\d+$", text, re.M)
+
+
+def _bad(tmp_path, text, name="bad.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("body,message", [
+    ("q1,q2,qd1,qd2,qdd1\n1,2,3,4,5\n", r"header has 5 columns"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,x,0,0,0\n", r"line 2, column qd1: 'x' is not a number"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,nan,0,0,0\n", r"state 1, column 3: nan is not finite"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,0\n", r"line 2: 5 columns, expected 6"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n", r"no states"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n", r"row 1: joint 1 \(.*\) is outside its limits"),
+])
+def test_bad_trajectory(tmp_path, program, body, message):
+    out = tmp_path / "tau.csv"
+    res = _run("emulate", program, "--trajectory", _bad(tmp_path, body), "-o", out)
+    assert res.exit_code == 1
+    assert ERROR.match(res.output) and re.search(message, res.output), res.output
+    assert "bad.csv" in res.output and not out.exists()
+    assert list(tmp_path.iterdir()) == [tmp_path / "bad.csv"]
+
+
+def test_out_of_limits_allowed_on_request(tmp_path, program):
+    src = _bad(tmp_path, "q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n")
+    assert _run("emulate", program, "--trajectory", src, "--allow-out-of-limits", "--check").exit_code == 0
+
+
+def _edited(tmp_path, program, change, fix_checksum=False):
+    from vampc.program.file import checksum
+    doc = json.loads(Path(program).read_text())
+    change(doc)
+    if fix_checksum:
+        doc["checksum"] = checksum(doc)
+    p = tmp_path / "edited.vamp.json"
+    p.write_text(json.dumps(doc))
+    return p
+
+
+@pytest.mark.parametrize("change,fix,message", [
+    (lambda d: d["programs"][0].update(delay_a=1), False, r"checksum mismatch"),
+    (lambda d: d.pop("io"), True, r"document: 'io' is a required property"),
+    (lambda d: d.update(version=7), True, r"version 7 is not supported"),
+    (lambda d: d["network"]["vamps"][0]["a"].__setitem__(0, ["vamp", 999, 0]), True,
+     r"VAMP 0: operand A is wired to a missing vamp 999"),
+    (lambda d: d["program_stream"][0]["words"][0].__setitem__(1, 3.0), True,
+     r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
+     r"before the micro-step at tick 6 that still reads it \(delay-R 3\)$"),
+])
+def test_bad_program_file(tmp_path, program, change, fix, message):
+    out = tmp_path / "tau.csv"
+    res = _run("emulate", _edited(tmp_path, program, change, fix), "--random", 3, "-o", out)
+    assert res.exit_code == 1
+    assert ERROR.match(res.output) and re.search(message, res.output), res.output
+    assert not out.exists()
+
+
+def test_not_json(tmp_path):
+    res = _run("emulate", _bad(tmp_path, "{oops", "x.vamp.json"), "--random", 2)
+    assert res.exit_code == 1 and ERROR.match(res.output) and "invalid JSON" in res.output
+
+
+def test_failed_tick_run_leaves_no_vcd(tmp_path, program):
+    def slow_clock(d):   # a delay the static check would refuse, run through the tick engine
+        d["programs"][0]["delay_r"] = 0
+    edited = _edited(tmp_path, program, slow_clock, fix_checksum=True)
+    vcd = tmp_path / "w.vcd"
+    res = _run("emulate", edited, "--random", 2, "--engine", "tick", "--vcd", vcd)
+    assert res.exit_code in (0, 1)
+    assert vcd.exists() == (res.exit_code == 0)
+    assert not any(p.name.startswith(".w.vcd") for p in tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("args", [
+    ["--random", "3", "--trajectory", "x.csv"], [], ["--random", "3", "--vcd", "w.vcd"],
+])
+def test_usage_errors_exit_2(program, args):
+    assert _run("emulate", program, *args).exit_code == 2
+
+
+def test_help_explains():
+    res = _run("emulate", "--help")
+    assert res.exit_code == 0 and "--check" in res.output and "bit for bit" in res.output
