@@ -7,8 +7,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import networkx as nx
-
 from vampc.dataflow.ops import OPERAND_SHAPES, Op, result_shape
 from vampc.errors import VampcInternalError
 
@@ -77,8 +75,9 @@ class Graph:
         """The nodes a VAMP executes."""
         return [nd for nd in self.nodes if nd.op.is_compute]
 
-    def to_networkx(self) -> nx.DiGraph:
-        """A DiGraph with an edge producer -> consumer per operand (for analysis only)."""
+    def to_networkx(self):
+        """A networkx DiGraph with an edge producer -> consumer per operand (for analysis only)."""
+        import networkx as nx   # imported here: it costs ~0.1 s of start-up and only analysis needs it
         g = nx.DiGraph()
         for nd in self.nodes:
             g.add_node(nd.id)
