@@ -168,3 +168,30 @@ def test_usage_errors_exit_2(program, args):
 def test_help_explains():
     res = _run("emulate", "--help")
     assert res.exit_code == 0 and "--check" in res.output and "bit for bit" in res.output
+
+
+def test_burned_in_numbering_keeps_chips_interchangeable(tmp_path, states):
+    # Same network, VAMP numbers shuffled: the program stream changes, the torques do not.
+    chain, (q, qd, qdd) = states
+    plain, shuffled = tmp_path / "plain.vamp.json", tmp_path / "shuffled.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "-o", plain).exit_code == 0
+    count = len(json.loads(plain.read_text())["network"]["vamps"])
+    numbers = np.random.default_rng(0).permutation(np.arange(1000, 1000 + count))
+    (tmp_path / "numbers.txt").write_text("# burned in\n" + "\n".join(map(str, numbers)) + "\n")
+    assert _run("compile", EXAMPLES / "planar2.yaml", "-o", shuffled, "--numbering",
+                tmp_path / "numbers.txt").exit_code == 0
+    doc = json.loads(shuffled.read_text())
+    assert [v["number"] for v in doc["network"]["vamps"]] == numbers.tolist()
+    src = _csv(tmp_path / "t.csv", q, qd, qdd)
+    for prog in (plain, shuffled):
+        out = tmp_path / f"{prog.stem}.csv"
+        assert _run("emulate", prog, "--trajectory", src, "-o", out, "--engine", "tick").exit_code == 0
+    assert (tmp_path / "plain.vamp.csv").read_text() == (tmp_path / "shuffled.vamp.csv").read_text()
+
+
+def test_other_latencies_compile_but_do_not_emulate(tmp_path):
+    prog = tmp_path / "slow.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "--mult-latency", 3, "-o", prog).exit_code == 0
+    res = _run("emulate", prog, "--random", 2)
+    assert res.exit_code == 1 and ERROR.match(res.output)
+    assert "compiled with --mult-latency 3 --add-latency 1" in res.output

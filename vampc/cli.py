@@ -40,6 +40,8 @@ def _compile_options(f):
                      help="Flops per multiplication."),
         click.option("--add-latency", type=click.IntRange(1, 64), default=1, show_default=True,
                      help="Flops per addition."),
+        click.option("--verify/--no-verify", default=True, show_default=True,
+                     help="Check every IR's invariants at each stage boundary."),
     ]
     for opt in reversed(opts):
         f = opt(f)

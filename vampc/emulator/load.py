@@ -48,6 +48,12 @@ def load_program(path: str) -> Loaded:
 
 def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
     """Decode an already-validated document (tests corrupt documents and call this directly)."""
+    sched = doc["schedule"]
+    if (sched["mult_latency"], sched["add_latency"]) != (1, 1):
+        raise VampcError(f"{path}: compiled with --mult-latency {sched['mult_latency']} "
+                         f"--add-latency {sched['add_latency']}; the emulated VAMP runs one micro-step "
+                         "per tick (1 Mult = 1 Addn = 1 flop, the paper's model): recompile with the "
+                         "default latencies to emulate")
     net = network_from_doc(doc)
     numbers = tuple(v["number"] for v in doc["network"]["vamps"])
     _check_indices(doc, net, path)
