@@ -3,7 +3,7 @@
 For random general rotary chains (random Φ_i, revolute joints) it prints the median wall time of
 `compile_chain` + `program_document` for n = 6, 64, 512, 4096 (linear recursion) and n = 64, 512, 4096
 (logarithmic recursion, when vampc.dataflow.logarithmic exists), with the growth ratio between successive
-n (for reference: n log n grows by 10.7x from 64 to 512 and 10.7x from 512 to 4096, n by 8x). Then the
+n (for reference: n log n grows by 12x from 64 to 512 and 10.7x from 512 to 4096, n by 8x). Then the
 wall time of a whole `vampc compile examples/puma560.yaml` process (median of 5).
 
     python benchmarks/compile_time.py [--runs 3] [--sizes 6,64,512,4096] [--profile N]
