@@ -142,3 +142,12 @@ def test_every_vamp_has_a_distinct_program_word():
 def test_good_program_runs_both_engines():
     ld = loaded_from_doc(DOC)
     assert np.array_equal(emulate(ld, TRAJ, "tick").tau, GOOD)
+
+
+def test_operand_a_loop_is_reported():
+    # VAMP 0's Operand-A rewired to a VAMP downstream of it: the programming path becomes a loop.
+    downstream = next(v["index"] for v in DOC["network"]["vamps"] if v["a"] == [["vamp", 0, 0]])
+    def change(doc):
+        doc["network"]["vamps"][0]["a"] = [["vamp", downstream, 0]]
+    with pytest.raises(VampcError, match=r"VAMP \d+: its Operand-A path loops back through VAMP \d+"):
+        torques(mutated(DOC, change), TRAJ)

@@ -60,11 +60,16 @@ def programs(net: Network) -> tuple[Program, ...]:
 
 
 def a_root(net: Network, vamp: int) -> tuple[Tap, int]:
-    """The input buffer at the root of a VAMP's Operand-A path and the registers in between."""
-    depth, tap = 0, net.vamps[vamp].a.taps[0]
+    """The input buffer at the root of a VAMP's Operand-A path and the registers in between.
+    VampcError if the path loops (no input buffer could ever program those VAMPs)."""
+    depth, tap, seen = 0, net.vamps[vamp].a.taps[0], {vamp}
     while tap.kind in ("vamp", "buffer"):
         depth += 1 if tap.kind == "vamp" else 1 + tap.stage
         src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+        if src in seen:
+            raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, so no "
+                             "input buffer can program it")
+        seen.add(src)
         tap = net.vamps[src].a.taps[0]
     return Tap(tap.kind, tap.index), depth
 
