@@ -36,6 +36,19 @@ def _source_vamp(ld: Loaded, tap):
 def run_stream(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
     """Torques (count, n) given each port's values (count, 3|9) for every set.
     `progress(done, total)` is called after each chunk if given."""
+    # --- native fast path (vampc.emulator.native): the same arithmetic as generated C. It returns
+    # None when off (VAMPC_NATIVE=0), when no compiler works, or for a run too short to pay for
+    # compiling; numpy below does the work then ---
+    from vampc.emulator.native import run_native
+    tau = run_native(ld, ports, count, progress)
+    if tau is not None:
+        return tau
+    # --- end of native fast path ---
+    return run_numpy(ld, ports, count, progress)
+
+
+def run_numpy(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
+    """The numpy path of run_stream: rom.run per VAMP over chunks of sets."""
     order = wiring_order(ld)
     outs = []
     for lo in range(0, count, CHUNK):

@@ -1,0 +1,305 @@
+"""The stream engine's native code (vampc.emulator.native) against the numpy stream path and the tick
+engine, bit for bit; its fallbacks and cache; and the native trajectory reader and the trajectory
+fast paths it serves (vampc.emulator.trajectory).
+"""
+from __future__ import annotations
+
+import importlib.util
+import platform
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.emulator import loaded_from_doc, native
+from vampc.emulator.host import port_values, random_trajectory
+from vampc.emulator.stream import run_numpy, run_stream
+from vampc.emulator.tick import TickEngine
+from vampc.emulator.trajectory import header, read, write_torques
+from vampc.errors import VampcError
+from vampc.robot import load_robot
+from vampc.robot.random import random_chain
+
+EXAMPLES = sorted(p for p in (Path(__file__).resolve().parent.parent / "examples").iterdir()
+                  if p.suffix in (".yaml", ".urdf"))
+HAS_LOG = importlib.util.find_spec("vampc.dataflow.logarithmic") is not None
+FMA = re.compile(r"\b(v?fn?m(add|sub)\w*|fml[as])\b")   # x86 FMA3/FMA4, AArch64 fmadd/fmla
+
+
+def _loaded(chain, **opts):
+    return loaded_from_doc(program_document(compile_chain(chain, CompileOptions(**opts))))
+
+
+def _three_ways(ld, count: int, tick_count: int | None = None, seed: int = 1):
+    """Native, numpy and tick torques on the same random states (tick on the first tick_count)."""
+    traj = random_trajectory(ld.chain, count, seed)
+    ports = port_values(ld, traj)
+    fast = native.build(ld).run(ports, count)
+    slow = run_numpy(ld, ports, count)
+    k = count if tick_count is None else tick_count
+    engine = TickEngine(ld, seed=1)
+    engine.program()
+    tick = engine.run({p: a[:k] for p, a in ports.items()}, k)
+    return fast, slow, tick
+
+
+def _assert_bit_equal(ld, count=133, tick_count=None):
+    # 133 sets: two full blocks of 64 and a tail block of 5
+    fast, slow, tick = _three_ways(ld, count, tick_count)
+    assert np.array_equal(fast, slow)
+    assert np.array_equal(fast[:tick.shape[0]], tick)
+
+
+needs_cc = pytest.mark.skipif(native.compiler() is None, reason="no C compiler")
+
+
+# --- bit for bit ----------------------------------------------------------------------------------
+
+@needs_cc
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
+def test_examples_native_equals_numpy_and_tick(path):
+    ld = _loaded(load_robot(path))
+    _assert_bit_equal(ld, tick_count=3 if "snake" in path.name else None)
+
+
+@needs_cc
+@pytest.mark.parametrize("n, seed, frac", [(1, 0, 1.0), (4, 11, 0.5), (9, 23, 0.4)])
+def test_random_chains_native_equals_numpy_and_tick(n, seed, frac):
+    _assert_bit_equal(_loaded(random_chain(n, seed, prismatic_fraction=frac, endpoints=True)))
+
+
+@needs_cc
+@pytest.mark.skipif(not HAS_LOG, reason="no logarithmic recursion yet")
+@pytest.mark.parametrize("prefix", ["sklansky", "kogge-stone"])
+def test_log_recursion_native_equals_numpy_and_tick(prefix):
+    chain = random_chain(5, 3, prismatic_fraction=0.5, endpoints=True)
+    _assert_bit_equal(_loaded(chain, recursion="log", prefix=prefix), count=70)
+
+
+@needs_cc
+@pytest.mark.skipif(not HAS_LOG, reason="no logarithmic recursion yet")
+def test_puma_log_recursion_native_equals_numpy():
+    ld = _loaded(load_robot(EXAMPLES[[p.name for p in EXAMPLES].index("puma560.yaml")]),
+                 recursion="log")
+    _assert_bit_equal(ld, count=65, tick_count=8)
+
+
+@needs_cc
+@pytest.mark.parametrize("count", [0, 1, 64, 65])
+def test_block_edges(count):
+    ld = _loaded(random_chain(3, 5, prismatic_fraction=0.5, endpoints=True))
+    traj = random_trajectory(ld.chain, max(count, 1), 2)
+    ports = {p: a[:count] for p, a in port_values(ld, traj).items()}
+    fast = native.build(ld).run(ports, count)
+    assert fast.shape == (count, 3)
+    assert np.array_equal(fast, run_numpy(ld, ports, count))
+
+
+@needs_cc
+def test_chunks_report_progress(monkeypatch):
+    monkeypatch.setattr(native, "CHUNK", 100)
+    ld = _loaded(random_chain(2, 8, endpoints=True))
+    ports = port_values(ld, random_trajectory(ld.chain, 250, 4))
+    seen = []
+    fast = native.build(ld).run(ports, 250, lambda done, total: seen.append((done, total)))
+    assert seen == [(100, 250), (200, 250), (250, 250)]
+    assert np.array_equal(fast, run_numpy(ld, ports, 250))
+
+
+@needs_cc
+@pytest.mark.skipif(shutil.which("objdump") is None, reason="no objdump")
+def test_no_fused_multiply_add_in_the_shared_object():
+    ld = _loaded(load_robot(EXAMPLES[[p.name for p in EXAMPLES].index("puma560.yaml")]))
+    so = native.compile_cached(native.generate_source(ld, native.Layout.of(ld)))
+    text = subprocess.run(["objdump", "-d", str(so)], capture_output=True, text=True, check=True).stdout
+    assert not FMA.search(text), FMA.search(text).group(0)
+    if platform.machine() == "x86_64":
+        assert "mulpd" in text    # vectorised across states (two doubles per SSE2 register)
+
+
+# --- choosing the path, falling back, caching ------------------------------------------------------
+
+@pytest.fixture
+def small():
+    ld = _loaded(random_chain(2, 9, prismatic_fraction=0.5, endpoints=True))
+    return ld, port_values(ld, random_trajectory(ld.chain, 10, 1))
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    return tmp_path / "cache" / "vampc"
+
+
+def test_native_off(small, monkeypatch):
+    ld, ports = small
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    assert native.run_native(ld, ports, 10) is None
+    assert np.array_equal(run_stream(ld, ports, 10), run_numpy(ld, ports, 10))
+
+
+def test_no_compiler_falls_back_silently(small, monkeypatch, capsys):
+    ld, ports = small
+    monkeypatch.setattr(native, "compiler", lambda: None)
+    monkeypatch.delenv("VAMPC_NATIVE", raising=False)
+    assert native.run_native(ld, ports, 10**6) is None
+    assert np.array_equal(run_stream(ld, ports, 10), run_numpy(ld, ports, 10))
+    assert capsys.readouterr() == ("", "")
+    monkeypatch.setenv("VAMPC_NATIVE", "1")
+    with pytest.raises(native.NativeError, match=r"^no C compiler found"):
+        native.run_native(ld, ports, 10)
+
+
+@needs_cc
+def test_failed_compile_falls_back(small, cache, monkeypatch, capsys):
+    ld, ports = small
+    monkeypatch.setattr(native, "CFLAGS", native.CFLAGS + ("-fno-such-flag-vampc",))
+    monkeypatch.delenv("VAMPC_NATIVE", raising=False)
+    assert native.run_native(ld, ports, 10**6) is None
+    assert capsys.readouterr() == ("", "")
+    assert not list(cache.iterdir())     # no half-written object left behind
+    monkeypatch.setenv("VAMPC_NATIVE", "1")
+    with pytest.raises(native.NativeError, match=r"failed \(exit \d+\)"):
+        native.run_native(ld, ports, 10)
+
+
+@needs_cc
+def test_short_runs_stay_on_numpy(small, cache, monkeypatch):
+    ld, ports = small
+    monkeypatch.delenv("VAMPC_NATIVE", raising=False)
+    monkeypatch.setattr(native, "generate_source", _must_not_compile)
+    assert native.run_native(ld, ports, 10) is None
+    monkeypatch.undo()
+    monkeypatch.setenv("XDG_CACHE_HOME", str(cache.parent))
+    monkeypatch.setenv("VAMPC_NATIVE", "1")          # forced: compiled whatever the length
+    assert np.array_equal(native.run_native(ld, ports, 10), run_numpy(ld, ports, 10))
+    assert len(list(cache.glob("*.so"))) == 1
+
+
+def _must_not_compile(*args):
+    raise AssertionError("compiled although the cache holds the object or the run is short")
+
+
+@needs_cc
+def test_cache_is_keyed_by_source(small, cache, monkeypatch):
+    ld, ports = small
+    native.build(ld)
+    objects = list(cache.glob("vampc-*.so"))
+    assert len(objects) == 1
+    monkeypatch.setattr(native, "_compile", _must_not_compile)
+    assert np.array_equal(native.build(ld).run(ports, 10), run_numpy(ld, ports, 10))
+    other = _loaded(random_chain(2, 10, endpoints=True))
+    with pytest.raises(AssertionError, match="compiled although"):
+        native.build(other)
+
+
+def test_unwritable_cache_falls_back_to_temp(tmp_path, monkeypatch):
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
+    folder = native.cache_dir()
+    assert folder.name.startswith("vampc-") and folder.is_dir()
+
+
+ATOM = r"(S\[\d+ \+ s\]|\(-?0x[0-9a-f.]+p[+-]\d+\)|0\.0|p1|p2|ad)"
+ONE_OP = re.compile(rf"^(S\[\d+ \+ s\]|p1|p2|ad) = {ATOM} [-+*] {ATOM}$")
+
+
+def test_generated_statements_have_one_rounding_each():
+    ld = _loaded(random_chain(3, 9, prismatic_fraction=0.5, endpoints=True))
+    src = native.generate_source(ld, native.Layout.of(ld))
+    parts = src.split("static void vamps(")[0]
+    body = [line for line in parts.splitlines() if line.startswith("    ")]   # the VAMP loop bodies
+    statements = [st.strip(" {}").removeprefix("double ") for line in body for st in line.split(";")]
+    statements = [st for st in statements if st]
+    assert statements and all(ONE_OP.match(st) for st in statements), \
+        [st for st in statements if not ONE_OP.match(st)][:3]
+    # the ROM's order: A3·B3 and A2·B2, their sum, then A1·B1 added to it; a cross product as the
+    # difference of two rounded products
+    assert "double ad = p1 + p2; p1 = " in src and "= p1 + ad;" in src and "= p1 - p2;" in src
+
+
+# --- the trajectory reader --------------------------------------------------------------------------
+
+def _floats_as_python(lines, cols):
+    return np.array([[float(c) for c in line.split(",")] for line in lines]).reshape(-1, cols)
+
+
+@needs_cc
+def test_parse_csv_gives_float_values():
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=4000) * 10.0 ** rng.integers(-320, 300, 4000).astype(float)
+    cells = [repr(float(v)) for v in x[:1000]] + [f"{v:.17g}" for v in x[1000:2000]] + \
+            [f"{v:.3e}" for v in x[2000:3000]] + [f" {v:.25f}"[:28] + "\t" for v in x[3000:]]
+    cells[:6] = ["1.", ".5", "+1", "-0", "1e400", "-1e-400"]
+    lines = [",".join(cells[k:k + 4]) for k in range(0, len(cells), 4)]
+    got = native.parse_csv(("\n".join(lines) + "\n").encode(), 4)
+    want = _floats_as_python(lines, 4)
+    assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))
+    assert np.array_equal(native.parse_csv(("\r\n".join(lines)).encode(), 4), want)
+
+
+@needs_cc
+@pytest.mark.parametrize("body", ["1,2\n\n3,4\n", "1,2,\n", "1,,2", "1\n", "0x10,1", "1_0,2", "nan,1",
+                                  "inf,2", "1e,2", ".,1", "1 2,3", '"1",2', "1,2\r", "1\r,2",
+                                  "\uff11,2", "", "\n"])
+def test_parse_csv_refuses_anything_else(body):
+    assert native.parse_csv(body.encode(), 2) is None
+
+
+def _traj_file(tmp_path, body: str, n=2, t=False, newline="\n") -> Path:
+    names = (["t"] if t else []) + header(n)
+    path = tmp_path / "traj.csv"
+    path.write_bytes((",".join(names) + "\n" + body).replace("\n", newline).encode())
+    return path
+
+
+@pytest.mark.parametrize("mode", ["native", "loadtxt", "slow"])
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_every_path_reads_the_same(tmp_path, monkeypatch, mode, newline):
+    rng = np.random.default_rng(1)
+    data = rng.normal(size=(50, 7)) * 3
+    body = "".join(",".join(map(repr, row.tolist())) + "\n" for row in data)
+    path = _traj_file(tmp_path, body, n=2, t=True, newline=newline)
+    if mode == "native" and native.compiler() is None:
+        pytest.skip("no C compiler")
+    monkeypatch.setenv("VAMPC_NATIVE", "1" if mode == "native" else "0")   # 1: no silent fallback
+    if mode == "slow":
+        from vampc.emulator import trajectory
+        monkeypatch.setattr(trajectory, "_loadtxt", lambda body, cols: None)
+    traj = read(path, 2)
+    assert np.array_equal(traj.t, data[:, 0])
+    assert np.array_equal(np.hstack([traj.q, traj.qd, traj.qdd]), data[:, 1:])
+
+
+@pytest.mark.parametrize("body, message", [
+    ("1,2,3,4,5,6\n\n1,2,3,4,5,6\n", r"line 3: 0 columns, expected 6$"),
+    ("1,2,3,4,5,6\n1,2,3\n", r"line 3: 3 columns, expected 6$"),
+    ("1,2,3,4,x,6\n", r"line 2, column qdd1: 'x' is not a number$"),
+    ("1,2,3,4,nan,6\n", r"state 1, column 5: nan is not finite$"),
+    ("", r"the trajectory has no states$"),
+])
+def test_errors_name_the_line_whatever_path(tmp_path, body, message):
+    with pytest.raises(VampcError, match=r"^.*traj\.csv: " + message):
+        read(_traj_file(tmp_path, body), 2)
+
+
+def test_quoted_and_underscored_cells_still_read(tmp_path):
+    # the slow path's float() takes them; the fast paths refuse them and hand over
+    traj = read(_traj_file(tmp_path, '"1",2,3,4,5,1_0\n'), 2)
+    assert traj.q.tolist() == [[1.0, 2.0]] and traj.qdd.tolist() == [[5.0, 10.0]]
+
+
+def test_write_torques_round_trips(tmp_path):
+    tau = np.random.default_rng(2).normal(size=(20, 3)) * 10.0 ** np.arange(-5, 15, 1)[:, None]
+    tau[0, 0], tau[0, 1] = -0.0, 0.1
+    path = tmp_path / "tau.csv"
+    write_torques(path, tau)
+    lines = path.read_text().splitlines()
+    assert lines[0] == "tau1,tau2,tau3" and len(lines) == 21
+    back = np.array([[float(c) for c in line.split(",")] for line in lines[1:]])
+    assert np.array_equal(back, tau) and np.signbit(back[0, 0])

@@ -1,0 +1,411 @@
+"""Native code for the stream engine: the delivered programs as generated C, compiled once and cached.
+
+The stream engine's function (every VAMP's ROM sequence applied to its operands, in wiring order) is
+written out as C with exactly the arithmetic of vampc.emulator.rom: the same register views, the same
+products and sums in the same association order, each product rounded before it is added (the compiler
+runs with -ffp-contract=off, so it never fuses a multiply-add). IEEE binary64 arithmetic is then the
+same in C as in numpy, and the torques agree bit for bit with the tick engine.
+
+Layout (structure of arrays, so gcc vectorises across states): a scratch buffer of rows of BLOCK
+doubles, one row per result component of every VAMP, then one per scalar of every host port. A block
+of states is copied from the ports' (count, size) arrays into their rows, every VAMP runs as one loop
+over the block, and the output components are copied into the torque array.
+
+The shared object is cached under $XDG_CACHE_HOME/vampc (default ~/.cache/vampc; a private temp folder
+if that is not writable), named by a hash of the source, compiler and flags; it is never committed.
+Compiling costs more than numpy on short runs, so runs of fewer than MIN_SETS_TO_COMPILE sets stay on
+numpy (property tests that emulate many small random robots never compile anything).
+
+VAMPC_NATIVE=0 forces the numpy path; VAMPC_NATIVE=1 compiles whatever the run length and makes any
+failure here an error (for tests); otherwise a failure (no compiler, a failed compile) falls back
+silently to numpy.
+
+The module also holds the trajectory reader's native fast path (parse_csv): a fixed C source, cached
+the same way.
+"""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import math
+import os
+import shutil
+import subprocess
+import sysconfig
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vampc.dataflow.ops import Op
+from vampc.emulator.load import Loaded
+from vampc.program.words import ROM
+
+BLOCK = 64          # states per block: all VAMP rows of a Puma (180 x 3 x 64 doubles) fit in L2
+CHUNK = 1 << 16     # states per native call, between progress reports
+# gcc takes about 5 ms per VAMP, numpy about 0.15 µs per VAMP and set: shorter runs stay on numpy
+MIN_SETS_TO_COMPILE = 20_000
+PART = 32           # VAMP loops per C function: gcc's compile time grows faster than linearly in
+                    # the length of a function (alias walks in PRE), so big networks are split
+CFLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off", "-fno-fast-math")
+ENTRY = "vamp_run"
+ZERO = "0.0"        # an operand scalar beyond its source's width reads a zeroed register (tick engine)
+
+
+class NativeError(RuntimeError):
+    """The native path cannot run this program here (no compiler, a failed compile, a bad port)."""
+
+
+# --- entry point --------------------------------------------------------------------------------
+
+def run_native(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None):
+    """Torques (count, n) computed by native code, or None if the native path is off, failed, or
+    would cost more than it saves (VAMPC_NATIVE=1 turns a failure into NativeError instead)."""
+    mode = os.environ.get("VAMPC_NATIVE", "")
+    if mode == "0" or (mode != "1" and count < MIN_SETS_TO_COMPILE):
+        return None     # short runs: numpy is quick, and generating the source would cost more
+    try:
+        return build(ld).run(ports, count, progress)
+    except NativeError:
+        if mode == "1":
+            raise
+        return None
+
+
+@dataclass(frozen=True)
+class NativeProgram:
+    """A compiled program: the C entry point and what it expects of its arguments."""
+
+    fn: object                           # ctypes function vamp_run(count, ports, tau, scratch)
+    ports: tuple[tuple[int, int], ...]   # (port index, scalars) in argument order
+    joints: int
+    scratch_rows: int
+
+    def run(self, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
+        """Torques (count, n) for the ports' values (count, size) of every set."""
+        arrays = [_port_array(ports, p, size, count) for p, size in self.ports]
+        tau = np.empty((count, self.joints))
+        # zeros: the tail block computes on rows no state filled; keep them finite and normal
+        scratch = np.zeros(self.scratch_rows * BLOCK)
+        for lo in range(0, count, CHUNK):
+            hi = min(lo + CHUNK, count)
+            ptrs = (ctypes.c_void_p * max(len(arrays), 1))(*[a[lo:].ctypes.data for a in arrays])
+            self.fn(hi - lo, ptrs, tau[lo:].ctypes.data, scratch.ctypes.data)
+            if progress is not None:
+                progress(hi, count)
+        return tau
+
+
+def _port_array(ports, index: int, size: int, count: int) -> np.ndarray:
+    arr = np.ascontiguousarray(ports[index], dtype=np.float64)
+    if arr.shape != (count, size):
+        raise NativeError(f"port {index}: values of shape {arr.shape}, expected {(count, size)}")
+    return arr
+
+
+def build(ld: Loaded) -> NativeProgram:
+    """The native program of `ld`, compiled now unless the cache holds it."""
+    layout = Layout.of(ld)
+    fn = getattr(_load(compile_cached(generate_source(ld, layout))), ENTRY)
+    fn.argtypes = (ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+    fn.restype = None
+    ports = tuple((p.index, p.size) for p in ld.net.ports)
+    return NativeProgram(fn, ports, ld.chain.n, layout.rows)
+
+
+# --- source generation --------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Layout:
+    """Scratch rows: VAMP v's component c at row 3v + c, then each port's scalars from `port_row`."""
+
+    vamps: int
+    port_row: dict
+    rows: int
+
+    @staticmethod
+    def of(ld: Loaded) -> "Layout":
+        """The layout of a loaded program."""
+        row, port_row = 3 * len(ld.net.vamps), {}
+        for p in ld.net.ports:
+            port_row[p.index] = row
+            row += p.size
+        return Layout(len(ld.net.vamps), port_row, row)
+
+
+def generate_source(ld: Loaded, layout: Layout) -> str:
+    """The C translation unit for `ld`: the VAMPs in wiring order, PART loops to a function, and the
+    fixed driver that copies ports in and torques out through tables."""
+    from vampc.emulator.stream import wiring_order
+    loops = [_vamp_loop(ld, layout, v) for v in wiring_order(ld)]
+    parts = [loops[k:k + PART] for k in range(0, len(loops), PART)]
+    return "\n".join((
+        "/* Generated by vampc.emulator.native: the VAMP network of one program file. */",
+        f"#define B {BLOCK}",
+        *(f"__attribute__((noinline)) static void part{k}(double *restrict S) {{\n  long s;\n"
+          + "\n".join(body) + "\n}" for k, body in enumerate(parts)),
+        "static void vamps(double *restrict S) {",
+        *(f"  part{k}(S);" for k in range(len(parts))), "}",
+        _tables(ld, layout), DRIVER))
+
+
+def _tables(ld: Loaded, layout: Layout) -> str:
+    def table(name: str, values) -> str:
+        return f"static const long {name}[] = {{{', '.join(map(str, values)) or '0'}}};"
+    outs = ld.net.outputs
+    return "\n".join((
+        f"#define NPORTS {len(ld.net.ports)}", f"#define NOUT {len(outs)}", f"#define NJ {ld.chain.n}",
+        table("PORT_SIZE", [p.size for p in ld.net.ports]),
+        table("PORT_ROW", [layout.port_row[p.index] for p in ld.net.ports]),
+        table("OUT_JOINT", [o.joint - 1 for o in outs]),
+        table("OUT_ROW", [3 * o.vamp + o.component for o in outs])))
+
+
+# The fixed part: ports (count, size) into their rows, torques out of the output rows. It is not
+# generated per program because gcc's alias walks grow quadratically with straight-line code.
+DRIVER = f"""
+static void load_ports(const double *const *P, long s0, long nb, double *restrict S) {{
+  long k, c, s;
+  for (k = 0; k < NPORTS; k++) {{
+    const long size = PORT_SIZE[k];
+    const double *x = P[k] + s0 * size;
+    double *row = S + PORT_ROW[k] * B;
+    for (c = 0; c < size; c++)
+      for (s = 0; s < nb; s++) row[c * B + s] = x[s * size + c];
+  }}
+}}
+
+static void store_tau(double *restrict tau, long s0, long nb, const double *restrict S) {{
+  long k, s;
+  for (k = 0; k < NOUT; k++) {{
+    const double *row = S + OUT_ROW[k] * B;
+    double *t = tau + s0 * NJ + OUT_JOINT[k];
+    for (s = 0; s < nb; s++) t[s * NJ] = row[s];
+  }}
+}}
+
+void {ENTRY}(long count, const double *const *P, double *restrict tau, double *restrict S) {{
+  long s0;
+  for (s0 = 0; s0 < count; s0 += B) {{
+    long nb = count - s0 < B ? count - s0 : B;
+    load_ports(P, s0, nb, S);
+    vamps(S);
+    store_tau(tau, s0, nb, S);
+  }}
+}}
+"""
+
+
+def _vamp_loop(ld: Loaded, layout: Layout, v: int) -> str:
+    vamp = ld.net.vamps[v]
+    rom = ld.programs[v].rom
+    a = _operand(ld, layout, vamp.a)
+    b = _operand(ld, layout, vamp.b)
+    am, bm = _registers(rom, a, b)
+    lines = [_module(rom, m, am[m], bm[m], _row(3 * v + m)) for m in range(3)]
+    head = f"  /* VAMP {v}: {ROM[rom][0].value} (ROM {rom}) */\n  for (s = 0; s < B; s++) {{\n"
+    return head + "".join(f"    {line}\n" for line in lines) + "  }"
+
+
+def _row(row: int) -> str:
+    return f"S[{row * BLOCK} + s]"
+
+
+def _operand(ld: Loaded, layout: Layout, operand) -> list[str]:
+    """The operand's nine scalars as C expressions (row-major for a matrix)."""
+    taps = operand.taps
+    if len(taps) == 3:   # a matrix as three MM column results: element (i, j) is scalar i of column j
+        return [_tap_scalar(ld, layout, taps[j], i) for i in range(3) for j in range(3)]
+    return [_tap_scalar(ld, layout, taps[0], c) for c in range(9)]
+
+
+def _tap_scalar(ld: Loaded, layout: Layout, tap, c: int) -> str:
+    if tap.kind in ("vamp", "buffer"):   # a buffer stage holds its source VAMP's value of the same set
+        v = tap.index if tap.kind == "vamp" else ld.net.buffers[tap.index].source
+        return _row(3 * v + c) if c < 3 else ZERO
+    if tap.kind == "port":
+        return _row(layout.port_row[tap.index] + c) if c < ld.net.ports[tap.index].size else ZERO
+    value = ld.net.consts[tap.index].value
+    return _literal(value[c]) if c < len(value) else ZERO
+
+
+def _literal(x: float) -> str:
+    """An exact C literal (hexadecimal floating point)."""
+    if not math.isfinite(x):
+        raise NativeError(f"constant {x!r} has no exact C literal here")
+    return f"({float(x).hex()})"
+
+
+def _registers(rom: int, a: list[str], b: list[str]):
+    """Module m's operand registers (3 x 3 expressions each), as vampc.emulator.rom.module_registers."""
+    op, col = ROM[rom]
+    rows = [[a[3 * m + k] for k in range(3)] for m in range(3)]
+    vec_b = [b[0:3]] * 3
+    if op is Op.MV:
+        return rows, vec_b
+    if op is Op.MTV:
+        return [[a[3 * k + m] for k in range(3)] for m in range(3)], vec_b
+    if op is Op.MM:
+        return rows, [[b[3 * k + col] for k in range(3)]] * 3
+    return [a[0:3]] * 3, vec_b
+
+
+def _module(rom: int, m: int, am: list[str], bm: list[str], out: str) -> str:
+    """Module m's micro-sequence as one C statement, products and sums in the ROM's order."""
+    op = ROM[rom][0]
+    if op is Op.VA:
+        return f"{out} = {am[m]} + {bm[m]};"
+    if op is Op.SV:
+        return f"{out} = {am[0]} * {bm[m]};"
+    if op is Op.VC:
+        i, j = (m + 1) % 3, (m + 2) % 3
+        return (f"{{ double p1 = {am[i]} * {bm[j]}; double p2 = {am[j]} * {bm[i]}; "
+                f"{out} = p1 - p2; }}")
+    # VD, MV, MTV, MM: step 1 two products, step 2 their sum and a third product, step 3 the total
+    return (f"{{ double p1 = {am[2]} * {bm[2]}; double p2 = {am[1]} * {bm[1]}; double ad = p1 + p2; "
+            f"p1 = {am[0]} * {bm[0]}; {out} = p1 + ad; }}")
+
+
+# --- trajectory CSV ------------------------------------------------------------------------------
+
+CSV_SOURCE = r"""/* vampc.emulator.native: a strict CSV reader of plain decimal numbers. */
+#include <stdlib.h>
+
+static int digits(const char **p, const char *end) {
+  const char *start = *p;
+  while (*p < end && **p >= '0' && **p <= '9') ++*p;
+  return *p > start;
+}
+
+/* Parse the cell [p, end) into *x if it is, between spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at
+   least one digit in the mantissa; return 0 otherwise. */
+static int cell(const char *p, const char *end, double *x) {
+  const char *num, *stop;
+  char *got;
+  int mant;
+  while (p < end && (*p == ' ' || *p == '\t')) p++;
+  while (end > p && (end[-1] == ' ' || end[-1] == '\t')) end--;
+  num = p;
+  if (p < end && (*p == '+' || *p == '-')) p++;
+  mant = digits(&p, end);
+  if (p < end && *p == '.') { p++; mant |= digits(&p, end); }
+  if (!mant) return 0;
+  if (p < end && (*p == 'e' || *p == 'E')) {
+    p++;
+    if (p < end && (*p == '+' || *p == '-')) p++;
+    if (!digits(&p, end)) return 0;
+  }
+  stop = p;
+  if (stop != end) return 0;
+  *x = strtod(num, &got);
+  return got == stop;
+}
+
+/* Rows of `cols` cells separated by ',' and ended by '\n' (the last newline optional) into out;
+   the number of rows, or -1 on anything else (an empty line, a ragged row, a cell that is not a
+   plain number, more than rows_max rows). */
+long parse_csv(const char *p, long len, long cols, long rows_max, double *out) {
+  const char *end = p + len, *q;
+  long r = 0, c;
+  int crlf;
+  while (p < end) {
+    if (r == rows_max) return -1;
+    for (c = 0; c < cols; c++) {
+      for (q = p; q < end && *q != ',' && *q != '\n'; q++) {}
+      /* a CRLF line end reads as LF, as in Python's text mode */
+      crlf = c == cols - 1 && q < end && q > p && q[-1] == '\r';
+      if (!cell(p, q - crlf, out + r * cols + c)) return -1;
+      if (c < cols - 1 ? (q == end || *q != ',') : (q < end && *q != '\n')) return -1;
+      p = q + 1;
+    }
+    r++;
+  }
+  return r;
+}
+"""
+
+
+def parse_csv(body: bytes, cols: int):
+    """The rows of a trajectory CSV after its header as an array (rows, cols), or None if they are
+    not a plain table of decimal numbers, or if the native path is off or unavailable (the caller
+    then parses them otherwise). glibc's strtod and Python's float() both round correctly, so each
+    value is the one float() gives."""
+    mode = os.environ.get("VAMPC_NATIVE", "")
+    if mode == "0":
+        return None
+    try:
+        fn = getattr(_load(compile_cached(CSV_SOURCE)), "parse_csv")
+    except NativeError:
+        if mode == "1":
+            raise
+        return None
+    fn.argtypes = (ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
+    fn.restype = ctypes.c_long
+    rows_max = body.count(b"\n") + 1
+    out = np.empty((rows_max, cols))
+    rows = fn(body, len(body), cols, rows_max, out.ctypes.data)
+    return out[:rows] if rows > 0 else None
+
+
+# --- compiling and caching ----------------------------------------------------------------------
+
+def compiler() -> str | None:
+    """The system C compiler: Python's own (sysconfig CC), else cc, gcc or clang on the PATH."""
+    configured = (sysconfig.get_config_var("CC") or "").split()
+    for name in configured[:1] + ["cc", "gcc", "clang"]:
+        found = shutil.which(name)
+        if found:
+            return found
+    return None
+
+
+def cache_dir() -> Path:
+    """$XDG_CACHE_HOME/vampc (default ~/.cache/vampc), else a private folder in the temp dir."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    uid = os.getuid() if hasattr(os, "getuid") else 0
+    for folder in (Path(base) / "vampc", Path(tempfile.gettempdir()) / f"vampc-{uid}"):
+        try:
+            folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        except OSError:
+            continue
+        # we load code from here: only a folder of our own that we can write will do
+        if os.access(folder, os.W_OK) and folder.stat().st_uid == uid:
+            return folder
+    raise NativeError("no writable cache folder for compiled programs")
+
+
+def compile_cached(source: str) -> Path:
+    """The shared object for `source`, compiled now unless the cache already holds it."""
+    cc = compiler()
+    if cc is None:
+        raise NativeError("no C compiler found (cc, gcc or clang)")
+    key = hashlib.sha256("\0".join((cc, *CFLAGS, source)).encode()).hexdigest()[:32]
+    target = cache_dir() / f"vampc-{key}.so"
+    if not target.exists():
+        _compile(cc, source, target)
+    return target
+
+
+def _load(path: Path) -> ctypes.CDLL:
+    """dlopen a cached object (a temp folder mounted noexec, say, refuses it)."""
+    try:
+        return ctypes.CDLL(str(path))
+    except OSError as exc:
+        raise NativeError(f"cannot load {path}: {exc}") from None
+
+
+def _compile(cc: str, source: str, target: Path) -> None:
+    """Compile from stdin to a temporary name, then rename: concurrent runs never load half a file."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=".so", dir=target.parent)
+    os.close(fd)
+    try:
+        proc = subprocess.run([cc, *CFLAGS, "-x", "c", "-", "-o", tmp], input=source, text=True,
+                              capture_output=True, check=False)
+        if proc.returncode != 0:
+            raise NativeError(f"{cc} failed (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
+        os.replace(tmp, target)
+    except OSError as exc:
+        raise NativeError(f"cannot compile with {cc}: {exc}") from None
+    finally:
+        Path(tmp).unlink(missing_ok=True)
