@@ -230,7 +230,8 @@ def _floats_as_python(lines, cols):
 
 
 @needs_cc
-def test_parse_csv_gives_float_values():
+def test_parse_csv_gives_float_values(monkeypatch):
+    monkeypatch.setenv("VAMPC_NATIVE", "1")     # the reader under test, whatever the caller's setting
     rng = np.random.default_rng(0)
     x = rng.normal(size=4000) * 10.0 ** rng.integers(-320, 300, 4000).astype(float)
     cells = [repr(float(v)) for v in x[:1000]] + [f"{v:.17g}" for v in x[1000:2000]] + \
