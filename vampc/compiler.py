@@ -12,7 +12,7 @@ from dataclasses import asdict, dataclass, field
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
-from vampc.network.allocate import allocate_systolic, verify_network
+from vampc.network.allocate import allocate_systolic
 from vampc.network.model import Network
 from vampc.program import emit
 from vampc.program.words import Program
@@ -79,13 +79,9 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> C
     options.check()
     if options.verify:
         chain.verify()
-    graph = build_graph(chain, options)
+    graph = build_graph(chain, options)        # each stage verifies the IR it hands on
     sched = schedule_asap(graph, options.timing)
     net = allocate_systolic(graph, sched)
-    if options.verify:
-        graph.verify()
-        sched.verify(graph)
-        verify_network(net)
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))
     return Compiled(chain, options, graph, sched, net, numbering, emit.programs(net),

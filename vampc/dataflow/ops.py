@@ -22,6 +22,7 @@ separate Mult and Addn latencies a step lasts as long as its slowest unit.
 from __future__ import annotations
 
 import enum
+import functools
 from dataclasses import dataclass
 
 
@@ -88,9 +89,7 @@ class Timing:
 
     def duration(self, op: Op) -> int:
         """Flops from operands latched to result ready (0 for inputs and constants)."""
-        if not op.is_compute:
-            return 0
-        return sum(self.step(s) for s in MICRO_STEPS[op])
+        return _durations(self)[op]
 
     def path_counts(self, op: Op) -> tuple[int, int]:
         """(Mults, Addns) the op contributes to a critical path, in the paper's accounting."""
@@ -101,7 +100,18 @@ class Timing:
         adds = sum(1 for s in steps if "A" in s)
         return mults, adds
 
+    def _duration(self, op: Op) -> int:
+        if not op.is_compute:
+            return 0
+        return sum(self.step(s) for s in MICRO_STEPS[op])
+
     @property
     def cycle(self) -> int:
         """The systolic basic cycle C = MV + VA (4 flops with unit latencies)."""
         return self.duration(Op.MV) + self.duration(Op.VA)
+
+
+@functools.lru_cache(maxsize=None)
+def _durations(timing: Timing) -> dict[Op, int]:
+    """Every op's duration under `timing` (looked up once per node by the scheduler: cache it)."""
+    return {op: timing._duration(op) for op in Op}

@@ -20,6 +20,7 @@ class _Allocator:
         self.g, self.s, self.C = graph, sched, sched.interval
         self.vamps_of: dict[int, list[int]] = {}
         self.stages: dict[int, int] = {}          # producer VAMP -> buffer stages needed
+        self.buffer_of: dict[int, int] = {}       # producer VAMP -> buffer index (in order of first use)
         self.ports: dict[tuple[InputKey, int], int] = {}
         self.consts: dict[tuple[float, ...], Const] = {}
         self.vamps: list[Vamp] = []
@@ -57,7 +58,8 @@ class _Allocator:
         if stage < 1:
             raise VampcInternalError(f"VAMP {vamp}: read at tick {t} before its result at {emit}")
         self.stages[vamp] = max(self.stages.get(vamp, 0), stage)
-        return Tap("buffer", vamp, stage)   # index fixed up in _network
+        buf = self.buffer_of.setdefault(vamp, len(self.buffer_of))
+        return Tap("buffer", buf, stage)
 
     def _const(self, nd) -> Tap:
         if nd.value not in self.consts:
@@ -65,9 +67,8 @@ class _Allocator:
         return Tap("const", self.consts[nd.value].index)
 
     def _network(self) -> Network:
-        buf_of = {v: i for i, v in enumerate(sorted(self.stages))}
-        buffers = tuple(Buffer(buf_of[v], v, self.stages[v]) for v in sorted(self.stages))
-        vamps = tuple(_renumber_buffers(v, buf_of) for v in self.vamps)
+        buffers = tuple(Buffer(i, v, self.stages[v]) for v, i in self.buffer_of.items())
+        vamps = tuple(self.vamps)
         ports = tuple(Port(i, key, cyc, 9 if key.quantity == "A" else 3)
                       for (key, cyc), i in sorted(self.ports.items(), key=lambda kv: kv[1]))
         outputs = tuple(OutputPoint(o.joint, self.vamps_of[o.node][0], o.component,
@@ -75,13 +76,6 @@ class _Allocator:
         net = Network(self.C, vamps, buffers, ports, tuple(self.consts.values()), outputs)
         verify_network(net)
         return net
-
-
-def _renumber_buffers(v: Vamp, buf_of: dict[int, int]) -> Vamp:
-    def fix(op: Operand) -> Operand:
-        return Operand(tuple(Tap("buffer", buf_of[t.index], t.stage) if t.kind == "buffer" else t
-                             for t in op.taps))
-    return Vamp(v.index, v.node, v.op, v.column, fix(v.a), fix(v.b), v.latch_a, v.latch_b, v.dump)
 
 
 def allocate_systolic(graph: Graph, sched: Schedule) -> Network:
