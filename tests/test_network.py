@@ -120,10 +120,6 @@ def test_no_buffer_between_successive_recursion_nodes():
             assert src.group == dst.group, (src.label, dst.label)
 
 
-@pytest.mark.xfail(strict=True, reason="ASAP placement in vampc/schedule/asap.py + allocate.py: "
-                   "T11 of node 1 (A_1ᵀ p̈_0) and T22 of node n (p*_n × f_{n+1}) read only "
-                   "endpoint constants, run at tick 0 and wait in delay buffers (2 and n + 3 stages) "
-                   "inside one recursion")
 def test_buffers_only_carry_backward_results_to_the_forward_recursion():
     graph, _, net = build(6)
     for v, _, _, tap in operands(net):

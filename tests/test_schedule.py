@@ -132,10 +132,6 @@ def test_verify_rejects_a_wrong_duration():
         broken.verify(graph)
 
 
-@pytest.mark.xfail(strict=True, reason="bug in vampc/dataflow/ops.py Timing.path_counts: MV's middle "
-                   "step (multiplier and adder together) always counts as an Addn, so with "
-                   "mult_latency > add_latency the reported 'x Mults + y Addns' does not add up to "
-                   "the latency in flops")
 def test_mults_and_adds_add_up_to_the_latency_when_mults_are_slower():
     graph = build_linear(rotary(6))
     s = schedule_asap(graph, Timing(mult=3, add=2))

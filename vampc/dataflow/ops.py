@@ -92,12 +92,17 @@ class Timing:
         return _durations(self)[op]
 
     def path_counts(self, op: Op) -> tuple[int, int]:
-        """(Mults, Addns) the op contributes to a critical path, in the paper's accounting."""
+        """(Mults, Addns) the op contributes to a critical path, in the paper's accounting: a step
+        running a multiplier and the adder together counts as its slower unit (an Addn on a tie, so MV
+        is 1 Mult + 2 Addns), which keeps mults·Mult + adds·Addn equal to the duration."""
         if not op.is_compute:
             return (0, 0)
-        steps = MICRO_STEPS[op]
-        mults = sum(1 for s in steps if s == frozenset("M"))
-        adds = sum(1 for s in steps if "A" in s)
+        mults = adds = 0
+        for units in MICRO_STEPS[op]:
+            if "A" in units and (self.add >= self.mult or "M" not in units):
+                adds += 1
+            else:
+                mults += 1
         return mults, adds
 
     def _duration(self, op: Op) -> int:

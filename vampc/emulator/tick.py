@@ -24,8 +24,9 @@ Data Mode (Global-Reset pulses at each cycle start: Cycle-Counter c = tick mod C
 Beside the data, every value carries a tag: the torque set it belongs to (-1 unknown, -2 constant). A
 VAMP latching operands of two different sets is a timing violation; so is, in the steady state (from
 the tick the first torque set is due until the last set has entered), starting an op on an operand that
-holds no set's value (never latched, or latched from a source that had none); and a torque read at its
-scheduled tick must carry the set the host expects. The tags are observation only; they never change a
+holds no set's value (never latched, or latched from a source that had none); an operand re-latched
+with another set while a later micro-step still reads it; and a torque read at its scheduled tick must
+carry the set the host expects. The tags are observation only; they never change a
 value.
 """
 from __future__ import annotations
@@ -269,6 +270,8 @@ class TickEngine:
         units = self.units[idx]
         rom.step(r, k, am, bm, units)
         self.units[idx] = units
+        if 0 < k < rom.operand_steps(r):
+            self._check_relatch(r, k, idx, t)
         if k == 0:
             tags = np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)
             self.utag[idx] = _combine(tags)
@@ -284,6 +287,18 @@ class TickEngine:
                 raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} starts "
                                  f"{ROM[r][0].value} with operand A of set {self.tag_a[v]} and "
                                  f"operand B of set {self.tag_b[v]} (a timing error)")
+
+    def _check_relatch(self, r: int, k: int, idx, t: int) -> None:
+        """A later operand-reading step must still see the set the op started with."""
+        started = self.utag[idx]
+        for name, tags in (("A", self.tag_a[idx]), ("B", self.tag_b[idx])):
+            moved = (started >= 0) & (tags >= 0) & (tags != started)
+            if moved.any():
+                v = int(idx[np.argmax(moved)])
+                raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} is in step "
+                                 f"{k + 1} of {ROM[r][0].value} on set {self.utag[v]}, but operand "
+                                 f"{name} was re-latched with set {tags[np.argmax(moved)]} (a timing "
+                                 "error)")
 
     # --- buffers and waveforms ----------------------------------------------------------------
     def _shifted_stages(self, every_tick: bool, counter: int = 0):
