@@ -130,7 +130,8 @@ def _edited(tmp_path, program, change, fix_checksum=False):
     (lambda d: d.update(version=7), True, r"version 7 is not supported"),
     (lambda d: d["network"]["vamps"][0]["a"].__setitem__(0, ["vamp", 999, 0]), True,
      r"VAMP 0: operand A is wired to a missing vamp 999"),
-    (lambda d: d["program_stream"][0]["words"][0].__setitem__(1, 3.0), True,
+    (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
+                d["programs"][d["program_stream"][0]["targets"][0]].update(delay_a=0, delay_b=3)), True,
      r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
      r"before the micro-step at tick 6 that still reads it \(delay-R 3\)$"),
 ])
@@ -195,3 +196,28 @@ def test_other_latencies_compile_but_do_not_emulate(tmp_path):
     res = _run("emulate", prog, "--random", 2)
     assert res.exit_code == 1 and ERROR.match(res.output)
     assert "compiled with --mult-latency 3 --add-latency 1" in res.output
+
+
+def test_programs_listing_must_match_the_stream(tmp_path, program):
+    res = _run("emulate", _edited(tmp_path, program, lambda d: d["programs"][2].update(rom=0), True),
+               "--random", 2)
+    assert res.exit_code == 1 and ERROR.match(res.output)
+    assert re.search(r"programs\[2\] lists .* but the program stream delivers", res.output)
+
+
+def test_internal_error_asks_for_a_report(monkeypatch):
+    import vampc.compiler
+    def boom(*a, **k):
+        raise RuntimeError("simulated bug")
+    monkeypatch.setattr(vampc.compiler, "compile_chain", boom)
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml")])
+    assert res.exit_code == 3
+    assert "this is a bug in vampc" in res.output and "RuntimeError: simulated bug" in res.output
+
+
+def test_default_output_name_keeps_inner_dots(tmp_path, monkeypatch):
+    src = tmp_path / "my.robot.yaml"
+    src.write_text((EXAMPLES / "planar2.yaml").read_text())
+    monkeypatch.chdir(tmp_path)
+    assert _run("compile", src).exit_code == 0
+    assert (tmp_path / "my.robot.vamp.json").exists()

@@ -28,11 +28,14 @@ def _word_at(doc, vamp):
 
 
 def _set_field(vamp: int, field: str, value: int):
+    """Change one field of a VAMP's program consistently (stream word and readable listing), so
+    the damage must be caught by the timing, schedule and graph checks, not by the listing check."""
     def change(doc):
         e, k = _word_at(doc, vamp)
         number, prog = decode(doc["program_stream"][e]["words"][k])
         doc["program_stream"][e]["words"][k] = list(encode(number, prog.__class__(
             **{**prog.__dict__, field: value})))
+        doc["programs"][vamp][field] = value
     return change
 
 

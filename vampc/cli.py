@@ -1,7 +1,7 @@
 """The `vampc` command line: a thin layer that parses options, calls the library and formats output.
 
 User errors (VampcError) print one line `vampc: error: ...` and exit 1; usage errors exit 2 (click);
-anything else is a vampc bug and is shown in full with a request to report it.
+anything else is a vampc bug: it is shown in full with a request to report it, and exits 3.
 """
 from __future__ import annotations
 
@@ -72,6 +72,14 @@ def _handle_errors(f):
         except KeyboardInterrupt:
             click.echo("vampc: interrupted", err=True)
             sys.exit(130)
+        except (click.exceptions.Exit, click.ClickException, SystemExit):
+            raise
+        except Exception:
+            import traceback
+            traceback.print_exc()
+            click.echo("vampc: internal error: this is a bug in vampc, not in your input; please "
+                       "report it with the command line and the input file", err=True)
+            sys.exit(3)
     return wrapper
 
 
@@ -107,7 +115,7 @@ def compile(robot, output, numbering, base, tip, lock, **opts):
     from vampc.compiler import program_document
     from vampc.program.file import write_program
     c = _compile(robot, base, tip, lock, numbering=numbering, **opts)
-    out = Path(output) if output else Path(Path(robot).name.split(".")[0] + ".vamp.json")
+    out = Path(output) if output else Path(Path(robot).stem + ".vamp.json")
     write_program(program_document(c), out)
     s = c.schedule
     click.echo(f"{out}: {c.chain.n} joints, {c.graph.recursion} recursion, {len(c.network.vamps)} "

@@ -60,6 +60,7 @@ def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
     stream = tuple((Tap(e["root"][0], e["root"][1]), tuple(tuple(w) for w in e["words"]))
                    for e in doc["program_stream"])
     progs = delivered_programs(net, numbers, stream, path)
+    _check_listing(doc, progs, path)
     return Loaded(path, doc, chain_from_doc(doc["robot"]), net, numbers, stream, progs)
 
 
@@ -81,6 +82,16 @@ def delivered_programs(net: Network, numbers, stream, path) -> tuple[Program, ..
         progs.append(prog)
     _check_unclaimed(net, numbers, stream, path)
     return tuple(progs)
+
+
+def _check_listing(doc, progs, path) -> None:
+    """The readable `programs` section must say what the stream delivers."""
+    for row, prog in zip(doc["programs"], progs):
+        listed = (row["delay_a"], row["delay_b"], row["delay_r"], row["rom"])
+        if listed != (prog.delay_a, prog.delay_b, prog.delay_r, prog.rom):
+            raise VampcError(f"{path}: programs[{row['vamp']}] lists {listed} (delay-A, delay-B, "
+                             f"delay-R, ROM) but the program stream delivers "
+                             f"{(prog.delay_a, prog.delay_b, prog.delay_r, prog.rom)}")
 
 
 def _number(word) -> int:

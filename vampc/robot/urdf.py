@@ -278,7 +278,7 @@ def _check_joint_types(tree: _Tree, base: str, path: Path) -> None:
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
-        if j.type in MOVABLE and not np.any(j.axis):
+        if j.type in MOVABLE and not np.linalg.norm(j.axis) > 1e-9:
             raise located(path, f"joint '{j.name}'", "axis is zero")
 
 
