@@ -40,3 +40,26 @@ def test_import_is_cheap():
     code = "import sys, vampc; print(sorted(m for m in ('numpy','networkx','jsonschema','yourdfpy') if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_verify_flag_controls_every_stage_check(monkeypatch, recursion):
+    # Each stage checks the IR it hands on; --no-verify (verify=False) must skip all of those checks.
+    from vampc.dataflow.graph import Graph
+    from vampc.errors import VampcInternalError
+    from vampc.schedule.asap import Schedule
+    import vampc.network.allocate as allocate
+    calls = []
+    def refuse(name):
+        def check(*args, **kwargs):
+            calls.append(name)
+            raise VampcInternalError(f"{name} ran")
+        return check
+    monkeypatch.setattr(Graph, "verify", refuse("graph"))
+    monkeypatch.setattr(Schedule, "verify", refuse("schedule"))
+    monkeypatch.setattr(allocate, "verify_network", refuse("network"))
+    chain = vampc.load_robot(PUMA)
+    vampc.compile_chain(chain, vampc.CompileOptions(recursion=recursion, verify=False))
+    assert calls == []
+    with pytest.raises(VampcInternalError, match="graph ran"):
+        vampc.compile_chain(chain, vampc.CompileOptions(recursion=recursion))

@@ -69,9 +69,10 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
     """The dataflow graph for the chosen recursion."""
     if options.recursion == "linear":
         from vampc.dataflow.linear import build_linear
-        return build_linear(chain)
+        return build_linear(chain, verify=options.verify)
     from vampc.dataflow.logarithmic import build_log
-    return build_log(chain, prefix=options.prefix, uniform_leaves=options.uniform_leaves)
+    return build_log(chain, prefix=options.prefix, uniform_leaves=options.uniform_leaves,
+                     verify=options.verify)
 
 
 def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> Compiled:
@@ -80,8 +81,8 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> C
     if options.verify:
         chain.verify()
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
-    sched = schedule_asap(graph, options.timing)
-    net = allocate_systolic(graph, sched)
+    sched = schedule_asap(graph, options.timing, options.verify)
+    net = allocate_systolic(graph, sched, options.verify)
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))
     return Compiled(chain, options, graph, sched, net, numbering, emit.programs(net),

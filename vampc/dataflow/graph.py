@@ -164,11 +164,12 @@ class GraphBuilder:
         """Declare τ_joint = component of node."""
         self.outputs.append(Output(joint, node, component))
 
-    def build(self, meta: dict | None = None) -> Graph:
-        """Freeze into a Graph (verified)."""
+    def build(self, meta: dict | None = None, verify: bool = True) -> Graph:
+        """Freeze into a Graph (verified unless `verify` is off)."""
         g = Graph(tuple(self.nodes), tuple(sorted(self.outputs, key=lambda o: o.joint)), self.n,
                   self.recursion, tuple(sorted((meta or {}).items())))
-        g.verify()
+        if verify:
+            g.verify()
         return g
 
     def _add(self, node: Node) -> int:

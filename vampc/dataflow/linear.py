@@ -29,8 +29,8 @@ from vampc.dataflow.ops import Op
 from vampc.robot.chain import Chain, JointType
 
 
-def build_linear(chain: Chain) -> Graph:
-    """The linear Newton-Euler graph of `chain` (see the module docstring)."""
+def build_linear(chain: Chain, verify: bool = True) -> Graph:
+    """The linear Newton-Euler graph of `chain` (see the module docstring); `verify` checks it."""
     b = GraphBuilder(chain.n, "linear")
     w = b.const(chain.base_omega, "omega0")
     wd = b.const(chain.base_omega_dot, "omega_dot0")
@@ -45,7 +45,7 @@ def build_linear(chain: Chain) -> Graph:
         fp, np_ = _forward_node(b, chain, i, forces[i - 1], fp, np_)
         prismatic = chain.joints[i - 1].type is JointType.PRISMATIC
         b.output(i, fp if prismatic else np_)
-    return b.build({"recursion": "linear", "convention": "f, n referred to O_{i-1}"})
+    return b.build({"recursion": "linear", "convention": "f, n referred to O_{i-1}"}, verify)
 
 
 def _p_star(b: GraphBuilder, chain: Chain, i: int) -> int:

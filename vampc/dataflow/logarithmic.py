@@ -173,13 +173,14 @@ def _collector_paused():
 
 @_collector_paused()
 def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = False,
-              ground_o0: bool | None = None, prune: bool = False) -> Graph:
+              ground_o0: bool | None = None, prune: bool = False, verify: bool = True) -> Graph:
     """The logarithmic Newton-Euler graph of `chain` (see the module docstring).
 
     prefix: the prefix-network shape (vampc.dataflow.prefix.SHAPES), mirrored for the forward pass.
     uniform_leaves: build X_{a,a} with Appendix D's uniform combining node instead of Table IV.1's leaf.
     ground_o0: ground the recursion in O_0 (section VI); None = whenever ω0 = ω̇0 = 0.
     prune: drop the ops no torque depends on (the uniform nodes' unused W, Q, R, S).
+    verify: check the graph's invariants (Graph.verify) before returning it.
     """
     ground0 = _check_ground(chain, ground_o0)
     ctx = _Ctx(chain, uniform_leaves)
@@ -189,7 +190,7 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
     suffixes = _forward(ctx, prefix, loads)
     for i, x in enumerate(suffixes, 1):
         ctx.b.output(i, x.f if ctx.joint(i).type is JointType.PRISMATIC else x.n)
-    graph = ctx.b.build(_meta(ctx, prefix, ground0, prefixes, suffixes))
+    graph = ctx.b.build(_meta(ctx, prefix, ground0, prefixes, suffixes), verify)
     return prune_dead(graph) if prune else graph
 
 

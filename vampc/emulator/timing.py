@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from vampc.emulator.load import Loaded
 from vampc.emulator.rom import operand_steps, steps
 from vampc.errors import VampcError
+from vampc.network.model import window as tap_rule
 
 INF = math.inf
 
@@ -41,21 +42,12 @@ def derive(ld: Loaded) -> tuple[VampTiming, ...]:
 
 
 def window(ld: Loaded, tap, memo, trail) -> tuple[float, float]:
-    """[first, end) ticks in which `tap` shows set 0's value."""
-    C = ld.cycle
-    if tap.kind == "const":
-        return (-INF, INF)
-    if tap.kind == "port":
-        start = ld.net.ports[tap.index].cycle * C
-        return (start, start + C)
+    """[first, end) ticks in which `tap` shows set 0's value (the rule is network.model.window)."""
+    if tap.kind in ("const", "port"):
+        port_cycle = ld.net.ports[tap.index].cycle if tap.kind == "port" else 0
+        return tap_rule(tap, ld.cycle, port_cycle=port_cycle)
     src = tap.index if tap.kind == "vamp" else ld.net.buffers[tap.index].source
-    emit = _timing(ld, src, memo, trail).emit
-    if emit == INF:
-        return (-INF, INF)
-    if tap.kind == "vamp":
-        return (emit, emit + C)
-    cyc = emit // C + tap.stage
-    return (cyc * C, cyc * C + C)
+    return tap_rule(tap, ld.cycle, _timing(ld, src, memo, trail).emit)
 
 
 def _timing(ld: Loaded, v: int, memo, trail) -> VampTiming:

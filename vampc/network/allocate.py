@@ -11,12 +11,14 @@ from __future__ import annotations
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.dataflow.ops import VAMPS_PER_OP, Op
 from vampc.errors import VampcInternalError
-from vampc.network.model import Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp
+from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp,
+                                 window)
 from vampc.schedule.asap import Schedule
 
 
 class _Allocator:
-    def __init__(self, graph: Graph, sched: Schedule):
+    def __init__(self, graph: Graph, sched: Schedule, verify: bool):
+        self.verify = verify
         self.g, self.s, self.C = graph, sched, sched.interval
         self.vamps_of: dict[int, list[int]] = {}
         self.stages: dict[int, int] = {}          # producer VAMP -> buffer stages needed
@@ -74,29 +76,22 @@ class _Allocator:
         outputs = tuple(OutputPoint(o.joint, self.vamps_of[o.node][0], o.component,
                                     self.s.finish[o.node]) for o in self.g.outputs)
         net = Network(self.C, vamps, buffers, ports, tuple(self.consts.values()), outputs)
-        verify_network(net)
+        if self.verify:
+            verify_network(net)
         return net
 
 
-def allocate_systolic(graph: Graph, sched: Schedule) -> Network:
+def allocate_systolic(graph: Graph, sched: Schedule, verify: bool = True) -> Network:
     """Bind every op of the systolic schedule to a numbered VAMP, with buffers, ports and constants."""
-    return _Allocator(graph, sched).run()
+    return _Allocator(graph, sched, verify).run()
 
 
 def tap_window(net: Network, tap: Tap) -> tuple[float, float]:
     """[first, last+1) ticks during which `tap` shows set 0's value (constants: always)."""
-    C = net.cycle
-    if tap.kind == "const":
-        return (float("-inf"), float("inf"))
-    if tap.kind == "port":
-        start = net.ports[tap.index].cycle * C
-        return (start, start + C)
-    if tap.kind == "vamp":
-        e = net.vamps[tap.index].emit
-        return (e, e + C)
-    buf = net.buffers[tap.index]
-    cyc = net.vamps[buf.source].emit // C + tap.stage
-    return (cyc * C, cyc * C + C)
+    port_cycle = net.ports[tap.index].cycle if tap.kind == "port" else 0
+    src = tap.index if tap.kind == "vamp" else (
+        net.buffers[tap.index].source if tap.kind == "buffer" else None)
+    return window(tap, net.cycle, net.vamps[src].emit if src is not None else 0, port_cycle)
 
 
 def verify_network(net: Network) -> None:

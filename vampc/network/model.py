@@ -13,6 +13,7 @@ Cycle-Counter t % C). All absolute ticks below are for torque set 0; set j happe
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import InputKey
@@ -29,6 +30,20 @@ class Tap:
 
     def __str__(self) -> str:
         return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind == "buffer" else "")
+
+
+def window(tap: Tap, cycle: int, emit: float = 0, port_cycle: int = 0) -> tuple[float, float]:
+    """[first, end) ticks in which `tap` shows set 0's value, by the rules above: `emit` is the first
+    tick of the source VAMP's value (vamp and buffer taps; infinite for a constant-valued VAMP),
+    `port_cycle` the cycle a port is written in. The compiler and the emulator both use this."""
+    if tap.kind == "const" or math.isinf(emit):
+        return (-math.inf, math.inf)
+    if tap.kind == "port":
+        return (port_cycle * cycle, port_cycle * cycle + cycle)
+    if tap.kind == "vamp":
+        return (emit, emit + cycle)
+    start = (emit // cycle + tap.stage) * cycle
+    return (start, start + cycle)
 
 
 @dataclass(frozen=True)
