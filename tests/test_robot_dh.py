@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from vampc.errors import VampcError
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
+from frames_util import chain_frames
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DH_EXAMPLES = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml"]
@@ -38,18 +39,6 @@ def textbook_frames(rows: list[dict], q: np.ndarray) -> list[np.ndarray]:
         theta = row["theta"] + (qi if revolute else 0.0)
         d = row["d"] + (0.0 if revolute else qi)
         pose = pose @ dh_transform(theta, d, row["a"], row["alpha"])
-        out.append(pose)
-    return out
-
-
-def chain_frames(chain, q: np.ndarray) -> list[np.ndarray]:
-    """Base-frame poses of O_1..O_n composed from the Chain: O_i in O_{i-1} is [A_i, A_i p*_i]."""
-    out, pose = [], np.eye(4)
-    for joint, qi in zip(chain.joints, q):
-        step = np.eye(4)
-        step[:3, :3] = joint.A(qi)
-        step[:3, 3] = joint.A(qi) @ joint.p_star(qi)
-        pose = pose @ step
         out.append(pose)
     return out
 

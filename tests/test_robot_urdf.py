@@ -10,6 +10,7 @@ import pytest
 
 from vampc.errors import VampcError
 from vampc.robot import JointType, load_robot, load_urdf
+from frames_util import chain_frames as chain_poses
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 ARM6 = EXAMPLES / "arm6.urdf"
@@ -108,18 +109,6 @@ TREE_LEFT_BODIES = {1: ["chest", "head", "r_upper", "r_lower", "right_hand"], 2:
 
 
 # --- independent references --------------------------------------------------------------------------------
-
-def chain_poses(chain, q) -> list[np.ndarray]:
-    """Poses of O_1..O_n in O_0, composed from the Chain alone."""
-    out, pose = [], np.eye(4)
-    for j, qi in zip(chain.joints, q):
-        step = np.eye(4)
-        step[:3, :3] = j.A(qi)
-        step[:3, 3] = j.A(qi) @ j.p_star(qi)
-        pose = pose @ step
-        out.append(pose)
-    return out
-
 
 def yourdfpy_model(path: Path):
     import yourdfpy
