@@ -168,7 +168,7 @@ def _check_finite(path, data: np.ndarray) -> None:
 
 def write_torques(path, tau: np.ndarray) -> None:
     """CSV `tau1..taun`, full precision (%.17g round-trips), written atomically."""
-    from vampc.program.file import write_json_atomic
+    from vampc.program.file import write_text_atomic
     # --- fast path: one %-format over all rows at C speed; %.17g round-trips like repr, faster ---
     count, n = tau.shape
     head = ",".join(f"tau{i}" for i in range(1, n + 1)) + "\n"
@@ -176,6 +176,6 @@ def write_torques(path, tau: np.ndarray) -> None:
     text = head + (row * count) % tuple(np.asarray(tau, dtype=float).ravel().tolist())
     # --- end of fast path ---
     try:
-        write_json_atomic(path, text)
+        write_text_atomic(path, text)
     except OSError as exc:
         raise VampcError(f"{path}: cannot write torques: {exc.strerror}") from None

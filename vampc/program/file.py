@@ -44,7 +44,7 @@ def checksum(doc: dict) -> str:
     return "sha256:" + hashlib.sha256(canonical(body).encode()).hexdigest()
 
 
-def write_json_atomic(path: str | Path, text: str) -> None:
+def write_text_atomic(path: str | Path, text: str) -> None:
     """Write text to path via a temporary file in the same folder, then rename: no partial files."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
@@ -64,7 +64,7 @@ def write_program(doc: dict, path: str | Path) -> None:
     """Stamp the checksum and write the document atomically (indented, sorted keys)."""
     doc = dict(doc, checksum=checksum(doc))
     try:
-        write_json_atomic(path, json.dumps(doc, sort_keys=True, indent=1, allow_nan=False) + "\n")
+        write_text_atomic(path, json.dumps(doc, sort_keys=True, indent=1, allow_nan=False) + "\n")
     except OSError as exc:
         raise VampcError(f"{path}: cannot write program file: {exc.strerror}") from None
 
