@@ -1,6 +1,7 @@
 """The Python API: `import vampc` offers every stage the CLI uses."""
 from __future__ import annotations
 
+import gc
 import subprocess
 import sys
 from pathlib import Path
@@ -63,3 +64,21 @@ def test_verify_flag_controls_every_stage_check(monkeypatch, recursion):
     assert calls == []
     with pytest.raises(VampcInternalError, match="graph ran"):
         vampc.compile_chain(chain, vampc.CompileOptions(recursion=recursion))
+
+
+def test_stages_pause_the_garbage_collector_and_resume_it():
+    from vampc.gcpause import gc_paused
+    assert gc.isenabled()
+    with pytest.raises(RuntimeError), gc_paused():
+        assert not gc.isenabled()
+        raise RuntimeError
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        with gc_paused():
+            pass
+        assert not gc.isenabled()     # a caller's own pause is left as it was
+    finally:
+        gc.enable()
+    vampc.program_document(vampc.compile_chain(vampc.random_chain(2, 1)))
+    assert gc.isenabled()

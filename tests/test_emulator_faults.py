@@ -2,6 +2,7 @@
 reported or changes the torques — never a silently plausible answer."""
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -33,8 +34,7 @@ def _set_field(vamp: int, field: str, value: int):
     def change(doc):
         e, k = _word_at(doc, vamp)
         number, prog = decode(doc["program_stream"][e]["words"][k])
-        doc["program_stream"][e]["words"][k] = list(encode(number, prog.__class__(
-            **{**prog.__dict__, field: value})))
+        doc["program_stream"][e]["words"][k] = list(encode(number, dataclasses.replace(prog, **{field: value})))
         doc["programs"][vamp][field] = value
     return change
 

@@ -16,11 +16,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from vampc.cli import main
-from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.compiler import CompileOptions, compile_chain, program_document, program_text
 from vampc.dataflow.ops import Op
 from vampc.errors import VampcError
+from vampc.network.model import Tap
 from vampc.program import document, emit
-from vampc.program.file import checksum, read_program, write_program
+from vampc.program.file import canonical, checksum, layout, read_program, write_program
 from vampc.program.words import FIELD, ROM, Program, decode, encode, rom_pointer
 from vampc.robot.random import random_chain
 
@@ -140,6 +141,19 @@ def test_stream_reaches_every_vamp_once_deepest_first(compiled):
     assert emit.load_ticks(stream) == max(k + d + 1 for e in stream for k, d in enumerate(e.depth))
 
 
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_a_roots_are_those_of_a_walk_along_each_path(recursion):
+    """a_roots walks each path once and reuses roots found before; a plain walk per VAMP agrees."""
+    net = compile_chain(random_chain(6, 3), CompileOptions(recursion=recursion)).network
+    for v, found in enumerate(emit.a_roots(net)):
+        depth, tap = 0, net.vamps[v].a.taps[0]
+        while tap.kind in ("vamp", "buffer"):
+            depth += 1 if tap.kind == "vamp" else 1 + tap.stage
+            src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+            tap = net.vamps[src].a.taps[0]
+        assert found == (Tap(tap.kind, tap.index), depth)
+
+
 def test_programs_are_cycle_relative(compiled):
     C = compiled.network.cycle
     for v, p in zip(compiled.network.vamps, compiled.programs):
@@ -161,6 +175,50 @@ def test_program_file_roundtrip(compiled, program_path):
             assert np.array_equal(getattr(a, f), getattr(b, f))
     assert document.programs_from_doc(doc) == compiled.programs
     assert document.stream_from_doc(doc) == compiled.stream
+
+
+def test_written_netlist_is_the_compiled_one(compiled, program_path):
+    """The netlist rows are formatted straight from the IR: read back, they give its wiring."""
+    net = document.network_from_doc(read_program(program_path))
+    want = compiled.network
+    assert [(v.index, v.node, v.op, v.column, v.a, v.b) for v in net.vamps] == \
+           [(v.index, v.node, v.op, v.column, v.a, v.b) for v in want.vamps]
+    assert (net.buffers, net.ports, net.consts, net.outputs) == \
+           (want.buffers, want.ports, want.consts, want.outputs)
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False, allow_infinity=False) | st.text(),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=5), inner, max_size=4),
+    max_leaves=25)
+
+
+@given(st.dictionaries(st.text(max_size=6), json_values, max_size=5))
+def test_layout_only_adds_newlines_to_the_canonical_json(doc):
+    text = layout(doc)
+    assert text.replace("\n", "") == canonical(doc)
+    assert json.loads(text) == doc
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_rows_formatted_from_the_irs_are_what_json_writes(recursion):
+    """program_text formats its big sections itself (a row per node, VAMP, buffer, program, stream
+    entry); the text must be exactly what the generic JSON layout makes of the parsed document."""
+    c = compile_chain(random_chain(5, 11, prismatic_fraction=0.4), CompileOptions(recursion=recursion))
+    text = program_text(c)
+    assert text == layout(json.loads(text))
+    lines = text.splitlines()
+    assert sum(line.startswith('{"a":') for line in lines) == len(c.network.vamps)
+    assert sum(line.startswith('{"delay_a":') for line in lines) == len(c.network.vamps)
+    assert sum(line.startswith('{"args":') for line in lines) == len(c.graph.nodes)
+
+
+def test_written_file_is_canonical_json_one_row_per_line(compiled, program_path):
+    text = program_path.read_text()
+    doc = json.loads(text)
+    assert text.replace("\n", "") == canonical(doc)
+    assert text.splitlines()[1] == f'"checksum":"{checksum(doc)}",'
+    assert sum(line.startswith('{"a":') for line in text.splitlines()) == len(compiled.network.vamps)
 
 
 def test_written_words_decode_to_the_programs(program_path):
@@ -223,7 +281,7 @@ def test_not_json(tmp_path, text):
 @pytest.mark.parametrize("constant", ["NaN", "Infinity", "-Infinity"])
 def test_nan_in_a_file_is_refused(program_path, constant):
     text = program_path.read_text()
-    start = text.index('"gravity": [') + len('"gravity": [')
+    start = text.index('"gravity":[') + len('"gravity":[')
     end = text.index(",", start)
     program_path.write_text(text[:start] + constant + text[end:])
     with pytest.raises(VampcError, match=rf"^{program_path}: not a vampc program file \(invalid JSON: "

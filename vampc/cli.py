@@ -112,11 +112,11 @@ def main():
 def compile(robot, output, numbering, base, tip, lock, **opts):
     """Compile ROBOT into a program file: dataflow graph, schedule, netlist, VAMP program words,
     Program-Mode stream and host I/O schedule."""
-    from vampc.compiler import program_document
+    from vampc.compiler import program_text
     from vampc.program.file import write_program
     c = _compile(robot, base, tip, lock, numbering=numbering, **opts)
     out = Path(output) if output else Path(Path(robot).stem + ".vamp.json")
-    write_program(program_document(c), out)
+    write_program(program_text(c), out)
     s = c.schedule
     click.echo(f"{out}: {c.chain.n} joints, {c.graph.recursion} recursion, {len(c.network.vamps)} "
                f"VAMPs, latency {s.latency} flops ({s.mults} M + {s.adds} A), interval {s.interval} flops")

@@ -12,6 +12,7 @@ from dataclasses import asdict, dataclass, field
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
+from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate_systolic
 from vampc.network.model import Network
 from vampc.program import emit
@@ -75,6 +76,7 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
                      verify=options.verify)
 
 
+@gc_paused()
 def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> Compiled:
     """Run every compile stage on a loaded chain."""
     options.check()
@@ -89,10 +91,18 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> C
                     emit.program_stream(net))
 
 
-def program_document(c: Compiled) -> dict:
-    """The program-file document of a compiled robot."""
-    from vampc.program.document import program_document as doc
+@gc_paused()
+def program_text(c: Compiled) -> str:
+    """The program file's text (without its checksum: write_program stamps it) of a compiled robot."""
+    from vampc.program.document import program_text as text
     from vampc.report.counts import summary
     opts = {k: v for k, v in asdict(c.options).items() if k not in ("verify",)}
-    return doc(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
-               summary(c))
+    return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
+                summary(c))
+
+
+@gc_paused()
+def program_document(c: Compiled) -> dict:
+    """The program-file document of a compiled robot: what a reader of its file gets."""
+    import json
+    return json.loads(program_text(c))

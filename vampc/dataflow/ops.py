@@ -39,10 +39,13 @@ class Op(enum.Enum):
     INPUT = "INPUT"
     CONST = "CONST"
 
-    @property
-    def is_compute(self) -> bool:
-        """True for ops a VAMP executes."""
-        return self not in (Op.INPUT, Op.CONST)
+    # Members are singletons compared by identity, so identity hashing agrees with equality, and it
+    # is C-speed: Enum's own __hash__ is Python code, and the back end looks ops up millions of times.
+    __hash__ = object.__hash__
+
+    def __init__(self, value: str):
+        # A plain attribute, not a property: the back end asks this once per node and operand.
+        self.is_compute = value not in ("INPUT", "CONST")   # True for ops a VAMP executes
 
 
 # Units active in each micro-step (Table VII.1): "M" a multiplier, "A" the adder/subtractor.

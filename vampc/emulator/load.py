@@ -9,9 +9,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.errors import VampcError
+from vampc.gcpause import gc_paused
 from vampc.network.model import Network, Tap
 from vampc.program.document import chain_from_doc, network_from_doc
-from vampc.program.emit import a_root
+from vampc.program.emit import a_roots
 from vampc.program.file import read_program
 from vampc.program.words import ROM, Program, decode
 from vampc.robot.chain import Chain
@@ -46,6 +47,7 @@ def load_program(path: str) -> Loaded:
     return loaded_from_doc(doc, str(path))
 
 
+@gc_paused()
 def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
     """Decode an already-validated document (tests corrupt documents and call this directly)."""
     sched = doc["schedule"]
@@ -69,8 +71,9 @@ def delivered_programs(net: Network, numbers, stream, path) -> tuple[Program, ..
     # A VAMP sees every word of its root's stream and keeps the last one carrying its number.
     last_word = {root: {_number(w): w for w in words} for root, words in stream}
     progs = []
+    roots = a_roots(net)
     for v in net.vamps:
-        root, _ = a_root(net, v.index)
+        root, _ = roots[v.index]
         word = last_word.get(root, {}).get(numbers[v.index])
         if word is None:
             raise VampcError(f"{path}: VAMP {v.index} (number {numbers[v.index]}) is never "
@@ -80,7 +83,7 @@ def delivered_programs(net: Network, numbers, stream, path) -> tuple[Program, ..
             raise VampcError(f"{path}: VAMP {v.index} (number {number}): ROM pointer {prog.rom} "
                              f"is not in the ROM (0..{len(ROM) - 1})")
         progs.append(prog)
-    _check_unclaimed(net, numbers, stream, path)
+    _check_unclaimed(net, numbers, stream, roots, path)
     return tuple(progs)
 
 
@@ -98,11 +101,11 @@ def _number(word) -> int:
     return int(word[0]) if float(word[0]).is_integer() else -1
 
 
-def _check_unclaimed(net, numbers, stream, path) -> None:
+def _check_unclaimed(net, numbers, stream, roots, path) -> None:
     """A word whose number no VAMP on that root's paths carries is a damaged stream."""
     reach: dict[Tap, set[int]] = {}
     for v in net.vamps:
-        reach.setdefault(a_root(net, v.index)[0], set()).add(numbers[v.index])
+        reach.setdefault(roots[v.index][0], set()).add(numbers[v.index])
     for root, words in stream:
         for k, w in enumerate(words):
             if _number(w) not in reach.get(root, set()):

@@ -20,7 +20,7 @@ from vampc.dataflow.graph import InputKey
 from vampc.dataflow.ops import Op
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Tap:
     """Where an operand is read: a VAMP's Result, stage `stage` of a buffer, a host port or a constant."""
 
@@ -46,14 +46,14 @@ def window(tap: Tap, cycle: int, emit: float = 0, port_cycle: int = 0) -> tuple[
     return (start, start + cycle)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Operand:
     """One operand: one tap, or three taps carrying the columns of a matrix made by an MM group."""
 
     taps: tuple[Tap, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Vamp:
     """One VAMP bound to graph node `node` (an MM node has three VAMPs, `column` 0..2)."""
 
@@ -73,7 +73,7 @@ class Vamp:
         return self.dump + 1
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Buffer:
     """A delay buffer of `stages` stages behind VAMP `source`."""
 
@@ -82,7 +82,7 @@ class Buffer:
     stages: int
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Port:
     """A host input port: the host writes `key` of set j at the start of cycle j + `cycle`."""
 
@@ -92,7 +92,7 @@ class Port:
     size: int   # scalars: 3 or 9
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Const:
     """A constant input buffer (p*, r*, m, J, endpoint values, ...)."""
 
@@ -101,7 +101,7 @@ class Const:
     value: tuple[float, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class OutputPoint:
     """τ_joint of set j is scalar `component` of VAMP `vamp`'s Result at tick j·C + `tick`."""
 
@@ -111,7 +111,7 @@ class OutputPoint:
     tick: int
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Network:
     """A systolic VAMP network for one graph and schedule."""
 

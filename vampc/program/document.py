@@ -1,16 +1,22 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
+import json
+from json.encoder import encode_basestring_ascii as _str
+
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
 from vampc.dataflow.ops import Op
 from vampc.network.model import Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp
-from vampc.program.emit import StreamEntry, load_ticks, stream_words
-from vampc.program.file import FORMAT, VERSION, tolist
+from vampc.program.emit import StreamEntry, load_ticks
+from vampc.program.file import FORMAT, VERSION, Rows, compact_encoder, layout, tolist
 from vampc.program.words import ROM, Program, encode
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
+
+
+_NAME = {op: op.value for op in Op}   # (an Enum's .value is a slow descriptor; rows ask a million times)
 
 
 def chain_to_doc(chain: Chain) -> dict:
@@ -42,17 +48,21 @@ def chain_from_doc(doc: dict) -> Chain:
 
 
 def graph_to_doc(g: Graph) -> dict:
-    """The graph section: one row per node."""
-    def row(nd: Node) -> dict:
-        r = {"id": nd.id, "op": nd.op.value, "args": list(nd.args), "name": nd.name,
+    """The graph section: one row per node (formatted straight to text, see Rows)."""
+    enc = compact_encoder()
+    def row(nd: Node) -> str:
+        if nd.op.is_compute:    # nearly every node of a big graph: no key, no value, two args
+            return (f'{{"args":[{nd.args[0]},{nd.args[1]}],"group":{nd.group},"id":{nd.id},'
+                    f'"name":{_str(nd.name)},"op":"{_NAME[nd.op]}","section":{_str(nd.section)}}}')
+        r = {"id": nd.id, "op": _NAME[nd.op], "args": list(nd.args), "name": nd.name,
              "section": nd.section, "group": nd.group}
         if nd.key:
             r["key"] = [nd.key.quantity, nd.key.joint]
         if nd.value is not None:
             r["value"] = list(nd.value)
-        return r
+        return enc(r)
     return {"n": g.n, "recursion": g.recursion, "meta": dict(g.meta),
-            "nodes": [row(nd) for nd in g.nodes],
+            "nodes": Rows(map(row, g.nodes)),
             "outputs": [[o.joint, o.node, o.component] for o in g.outputs]}
 
 
@@ -72,46 +82,62 @@ def schedule_to_doc(s: Schedule) -> dict:
             "critical_path": list(s.critical_path), "start": list(s.start), "finish": list(s.finish)}
 
 
-def _taps(op: Operand) -> list:
-    return [[t.kind, t.index, t.stage] for t in op.taps]
-
-
 def network_to_doc(net: Network, numbering) -> dict:
     """The network (netlist) section: wiring only; timing lives in the programs."""
+    taps: dict[int, str] = {}   # id(operand) -> its taps as text: readers share operands, and so text
+    def operand(op: Operand) -> str:
+        text = taps.get(id(op))
+        if text is None:
+            text = taps[id(op)] = "[" + ",".join([f'["{t.kind}",{t.index},{t.stage}]'
+                                                  for t in op.taps]) + "]"
+        return text
     return {
         "cycle": net.cycle,
-        "vamps": [{"index": v.index, "number": numbering[v.index], "node": v.node,
-                   "a": _taps(v.a), "b": _taps(v.b)} for v in net.vamps],
-        "buffers": [{"index": b.index, "source": b.source, "stages": b.stages} for b in net.buffers],
+        "vamps": Rows(f'{{"a":{operand(v.a)},"b":{operand(v.b)},"index":{v.index},"node":{v.node},'
+                      f'"number":{numbering[v.index]}}}' for v in net.vamps),
+        "buffers": Rows(f'{{"index":{b.index},"source":{b.source},"stages":{b.stages}}}'
+                        for b in net.buffers),
         "ports": [{"index": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
                    "cycle": p.cycle, "size": p.size} for p in net.ports],
         "consts": [{"index": c.index, "name": c.name, "value": list(c.value)} for c in net.consts],
     }
 
 
-def program_document(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                     summary: dict) -> dict:
-    """The whole program-file document (without its checksum)."""
+def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
+                 summary: dict) -> str:
+    """The whole program-file document (without its checksum) as the text `write_program` writes:
+    canonical JSON laid out one row per line (vampc.program.file.layout)."""
     C = net.cycle
-    words = stream_words(stream, numbering, progs)
-    return {
+    words = [f"[{x!r},{y!r},{z!r}]" for x, y, z in (encode(numbering[v], p)
+                                                      for v, p in enumerate(progs))]
+    return layout({
         "format": FORMAT, "version": VERSION, "robot": chain_to_doc(chain), "options": options,
         "graph": graph_to_doc(graph), "schedule": schedule_to_doc(sched),
         "network": network_to_doc(net, numbering),
-        "programs": [{"vamp": v.index, "delay_a": p.delay_a, "delay_b": p.delay_b,
-                      "delay_r": p.delay_r, "rom": p.rom, "op": ROM[p.rom][0].value,
-                      "word": list(encode(numbering[v.index], p))}
-                     for v, p in zip(net.vamps, progs)],
-        "program_stream": [{"root": [e.root.kind, e.root.index], "targets": list(e.targets),
-                            "depth": list(e.depth), "words": [list(w) for w in ws]}
-                           for e, ws in zip(stream, words)],
+        "programs": Rows(f'{{"delay_a":{p.delay_a},"delay_b":{p.delay_b},"delay_r":{p.delay_r},'
+                         f'"op":"{_NAME[ROM[p.rom][0]]}","rom":{p.rom},"vamp":{v},"word":{w}}}'
+                         for v, (p, w) in enumerate(zip(progs, words))),
+        "program_stream": Rows(
+            f'{{"depth":{_ints(e.depth)},"root":["{e.root.kind}",{e.root.index}],'
+            f'"targets":{_ints(e.targets)},"words":[{",".join([words[v] for v in e.targets])}]}}'
+            for e in stream),
         "io": {"cycle": C, "load_ticks": load_ticks(stream),
                "ports": [{"port": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
                           "tick": p.cycle * C} for p in net.ports],
                "outputs": [{"joint": o.joint, "vamp": o.vamp, "component": o.component,
                             "tick": o.tick} for o in net.outputs]},
         "summary": summary,
-    }
+    })
+
+
+def program_document(*args, **kwargs) -> dict:
+    """The whole program-file document (without its checksum), as a reader of the file gets it:
+    program_text (same arguments) parsed, so the file and the document cannot disagree."""
+    return json.loads(program_text(*args, **kwargs))
+
+
+def _ints(values) -> str:
+    return "[" + ",".join(map(str, values)) + "]"
 
 
 def network_from_doc(doc: dict) -> Network:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from vampc.errors import VampcError
 from vampc.network.model import Network, Tap
-from vampc.program.words import Program, encode, rom_pointer
+from vampc.program.words import Program, rom_pointer
 
 
 @dataclass(frozen=True)
@@ -59,39 +59,45 @@ def programs(net: Network) -> tuple[Program, ...]:
                  for v in net.vamps)
 
 
-def a_root(net: Network, vamp: int) -> tuple[Tap, int]:
-    """The input buffer at the root of a VAMP's Operand-A path and the registers in between.
-    VampcError if the path loops (no input buffer could ever program those VAMPs)."""
-    depth, tap, seen = 0, net.vamps[vamp].a.taps[0], {vamp}
-    while tap.kind in ("vamp", "buffer"):
-        depth += 1 if tap.kind == "vamp" else 1 + tap.stage
-        src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
-        if src in seen:
-            raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, so no "
-                             "input buffer can program it")
-        seen.add(src)
-        tap = net.vamps[src].a.taps[0]
-    return Tap(tap.kind, tap.index), depth
+def a_roots(net: Network) -> list[tuple[Tap, int]]:
+    """For every VAMP, the input buffer at the root of its Operand-A path and the registers in between
+    (a register per VAMP passed, 1 + stage per buffer tap). Each path is walked once: a walk stops at
+    the first VAMP whose root is known. VampcError if a path loops (no input buffer could ever program
+    those VAMPs)."""
+    roots: list[tuple[Tap, int] | None] = [None] * len(net.vamps)
+    for vamp in range(len(net.vamps)):
+        v, walked, seen = vamp, [], {vamp}
+        while roots[v] is None:
+            tap = net.vamps[v].a.taps[0]
+            if tap.kind not in ("vamp", "buffer"):
+                roots[v] = (Tap(tap.kind, tap.index), 0)
+                break
+            src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+            if src in seen:
+                raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, "
+                                 "so no input buffer can program it")
+            seen.add(src)
+            walked.append((v, 1 if tap.kind == "vamp" else 1 + tap.stage))
+            v = src
+        root, depth = roots[v]
+        for u, step in reversed(walked):
+            depth += step
+            roots[u] = (root, depth)
+    return roots
 
 
 def program_stream(net: Network) -> tuple[StreamEntry, ...]:
     """The Program-Mode stream: per root input buffer, its words' targets deepest first."""
     by_root: dict[Tap, list[tuple[int, int]]] = {}
-    for v in net.vamps:
-        root, depth = a_root(net, v.index)
-        by_root.setdefault(root, []).append((depth, v.index))
+    for index, (root, depth) in enumerate(a_roots(net)):
+        by_root.setdefault(root, []).append((-depth, index))
     entries = []
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
-        items = sorted(by_root[root], key=lambda dv: (-dv[0], dv[1]))
-        entries.append(StreamEntry(root, tuple(v for _, v in items), tuple(d for d, _ in items)))
+        items = sorted(by_root[root])
+        entries.append(StreamEntry(root, tuple(v for _, v in items), tuple(-d for d, _ in items)))
     return tuple(entries)
 
 
 def load_ticks(stream: tuple[StreamEntry, ...]) -> int:
     """Ticks of Program Mode needed for every VAMP to have latched its word."""
     return max((k + d + 1 for e in stream for k, d in enumerate(e.depth)), default=0)
-
-
-def stream_words(stream: tuple[StreamEntry, ...], numbering, progs) -> list[list[tuple]]:
-    """The packed words of each stream entry."""
-    return [[encode(numbering[v], progs[v]) for v in e.targets] for e in stream]

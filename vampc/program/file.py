@@ -29,19 +29,69 @@ from pathlib import Path
 import numpy as np
 
 from vampc.errors import VampcError
+from vampc.gcpause import gc_paused
 
 FORMAT, VERSION = "vampc-program", 1
 
 
 def canonical(doc: dict) -> str:
     """Deterministic JSON text (sorted keys, no whitespace variation)."""
-    return json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False,
+                      check_circular=False)   # documents are trees (built or parsed)
 
 
 def checksum(doc: dict) -> str:
     """sha256 over the canonical JSON of the document without its checksum field."""
     body = {k: v for k, v in doc.items() if k != "checksum"}
-    return "sha256:" + hashlib.sha256(canonical(body).encode()).hexdigest()
+    return _digest(canonical(body))
+
+
+def _digest(text: str) -> str:
+    return "sha256:" + hashlib.sha256(text.encode()).hexdigest()
+
+
+class Rows(list):
+    """A list whose items are already canonical JSON text (one row each): `layout` writes them as they
+    are, one per line. The program document's big sections (a row per VAMP, per program, per graph
+    node) are formatted this way, straight from the IRs, because building a million dicts and encoding
+    them again cost most of a large compile."""
+
+
+def compact_encoder():
+    """obj -> canonical JSON text. The C encoder object is made once and reused (json.dumps makes one
+    per call, which would double the cost of encoding a million small rows one by one)."""
+    from json.encoder import c_make_encoder, encode_basestring_ascii
+    if c_make_encoder is None:   # a Python without the C accelerator
+        return json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False,
+                                check_circular=False).encode
+    # (markers, default, encoder, indent, key_separator, item_separator, sort_keys, skipkeys,
+    #  allow_nan), as json.JSONEncoder.iterencode passes them
+    iterencode = c_make_encoder(None, _not_serializable, encode_basestring_ascii, None, ":", ",",
+                                True, False, False)
+    return lambda obj: "".join(iterencode(obj, 0))
+
+
+def _not_serializable(obj):
+    raise TypeError(f"Object of type {type(obj).__name__} is not JSON serializable")
+
+
+def layout(doc: dict) -> str:
+    """The canonical JSON of `doc` with line breaks added: one line per key of the document and of
+    its sections, and one line per row of a list of objects or lists among them (a VAMP, a program,
+    a graph node). Only newlines are added, and a JSON encoder never writes a raw newline (it escapes
+    them inside strings), so deleting every newline gives canonical(doc) back."""
+    enc = compact_encoder()
+
+    def block(value, depth: int) -> str:
+        if isinstance(value, Rows):
+            return "[\n" + ",\n".join(value) + "\n]" if value else "[]"
+        if isinstance(value, dict) and value and depth < 2:
+            return "{\n" + ",\n".join(enc(k) + ":" + block(value[k], depth + 1)
+                                       for k in sorted(value)) + "\n}"
+        if isinstance(value, list) and value and isinstance(value[0], (dict, list)) and depth <= 2:
+            return "[\n" + ",\n".join(map(enc, value)) + "\n]"
+        return enc(value)
+    return block(doc, 0)
 
 
 def write_text_atomic(path: str | Path, text: str) -> None:
@@ -60,15 +110,27 @@ def write_text_atomic(path: str | Path, text: str) -> None:
         raise
 
 
-def write_program(doc: dict, path: str | Path) -> None:
-    """Stamp the checksum and write the document atomically (indented, sorted keys)."""
-    doc = dict(doc, checksum=checksum(doc))
+@gc_paused()
+def write_program(doc: dict | str, path: str | Path) -> None:
+    """Stamp the checksum and write the document atomically, laid out by `layout`. `doc` is a document
+    or its text as layout made it (vampc.program.document.program_text): either way it is serialised
+    once, and the checksum is taken over that text with its newlines removed, which is the canonical
+    JSON. "checksum" sorts before every other key, so it goes first."""
+    if isinstance(doc, str):
+        text = doc
+    else:
+        body = {k: v for k, v in doc.items() if k != "checksum"}
+        if not body or min(body) <= "checksum":
+            raise ValueError("a program document's keys must all sort after 'checksum'")
+        text = layout(body)
+    stamped = '{\n"checksum":' + json.dumps(_digest(text.replace("\n", ""))) + "," + text[1:] + "\n"
     try:
-        write_text_atomic(path, json.dumps(doc, sort_keys=True, indent=1, allow_nan=False) + "\n")
+        write_text_atomic(path, stamped)
     except OSError as exc:
         raise VampcError(f"{path}: cannot write program file: {exc.strerror}") from None
 
 
+@gc_paused()
 def read_program(path: str | Path) -> dict:
     """Load, schema-validate and checksum-verify a program file; VampcError on any problem."""
     try:

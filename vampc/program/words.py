@@ -27,12 +27,15 @@ ROM: tuple[tuple[Op, int | None], ...] = (
 )
 
 
+_POINTER = {entry: pointer for pointer, entry in enumerate(ROM)}
+
+
 def rom_pointer(op: Op, column: int | None) -> int:
     """The ROM pointer of an op (an MM member names the column of B it multiplies)."""
-    return ROM.index((op, column if op is Op.MM else None))
+    return _POINTER[(op, column if op is Op.MM else None)]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Program:
     """A VAMP's four control registers."""
 
@@ -44,9 +47,11 @@ class Program:
 
 def encode(number: int, prog: Program) -> tuple[float, float, float]:
     """The Program-Mode word carrying `prog` for VAMP `number`."""
-    for name in ("delay_a", "delay_b", "delay_r", "rom"):
-        if not 0 <= getattr(prog, name) < FIELD:
-            raise VampcError(f"VAMP {number}: {name} {getattr(prog, name)} does not fit in a word")
+    if not (0 <= prog.delay_a < FIELD and 0 <= prog.delay_b < FIELD and 0 <= prog.delay_r < FIELD
+            and 0 <= prog.rom < FIELD):
+        name = next(k for k in ("delay_a", "delay_b", "delay_r", "rom")
+                    if not 0 <= getattr(prog, k) < FIELD)
+        raise VampcError(f"VAMP {number}: {name} {getattr(prog, name)} does not fit in a word")
     return (float(number), float(prog.delay_a * FIELD + prog.delay_b),
             float(prog.delay_r * FIELD + prog.rom))
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import Timing
+from vampc.dataflow.ops import Op, Timing
 from vampc.errors import VampcInternalError
 
 
@@ -34,11 +34,13 @@ class Schedule:
 
     def verify(self, graph: Graph) -> None:
         """Every node starts after its operands finish and lasts its op's duration."""
+        duration = {op: self.timing.duration(op) for op in Op}
+        start, finish = self.start, self.finish
         for nd in graph.nodes:
-            if self.finish[nd.id] - self.start[nd.id] != self.timing.duration(nd.op):
+            if finish[nd.id] - start[nd.id] != duration[nd.op]:
                 raise VampcInternalError(f"node {nd.label}: duration mismatch")
             for a in nd.args:
-                if self.finish[a] > self.start[nd.id]:
+                if finish[a] > start[nd.id]:
                     raise VampcInternalError(f"node {nd.label} starts before operand {a} ends")
         if self.latency != max(self.finish[o.node] for o in graph.outputs):
             raise VampcInternalError("latency is not the last output's finish")
@@ -47,10 +49,11 @@ class Schedule:
 def schedule_asap(graph: Graph, timing: Timing = Timing(), verify: bool = True) -> Schedule:
     """As-soon-as-possible schedule of `graph` under `timing` (checked unless `verify` is off)."""
     start, finish = [], []
+    duration = {op: timing.duration(op) for op in Op}
     for nd in graph.nodes:
-        s = max((finish[a] for a in nd.args), default=0)
+        s = max([finish[a] for a in nd.args], default=0)
         start.append(s)
-        finish.append(s + timing.duration(nd.op))
+        finish.append(s + duration[nd.op])
     last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
     path = _critical_path(graph, finish, last.node)     # on the ASAP times: delays below never bind
     _delay_source_ops(graph, timing, start, finish)
@@ -63,15 +66,19 @@ def schedule_asap(graph: Graph, timing: Timing = Timing(), verify: bool = True) 
 
 
 def _delay_source_ops(graph: Graph, timing: Timing, start: list[int], finish: list[int]) -> None:
-    """Move ops whose operands are all inputs/constants to just before their first consumer."""
-    consumers = graph.consumers()
-    for nd in graph.nodes:
-        if not nd.op.is_compute or any(graph.nodes[a].op.is_compute for a in nd.args):
-            continue
-        if consumers[nd.id]:
-            latest = min(start[c] for c in consumers[nd.id])
-            finish[nd.id] = max(finish[nd.id], latest)
-            start[nd.id] = finish[nd.id] - timing.duration(nd.op)
+    """Move ops whose operands are all inputs/constants to just before their first consumer (no
+    source op reads another, so consumers' starts do not move meanwhile)."""
+    nodes = graph.nodes
+    sources = {nd.id for nd in nodes
+               if nd.op.is_compute and not any(nodes[a].op.is_compute for a in nd.args)}
+    latest: dict[int, int] = {}
+    for nd in nodes:
+        for a in nd.args:
+            if a in sources:
+                latest[a] = min(latest.get(a, start[nd.id]), start[nd.id])
+    for i, t in latest.items():
+        finish[i] = max(finish[i], t)
+        start[i] = finish[i] - timing.duration(nodes[i].op)
 
 
 def _critical_path(graph: Graph, finish: list[int], end: int) -> list[int]:
