@@ -1,12 +1,15 @@
 """Compile-time benchmark: how the compiler scales with the number of joints.
 
 For random general rotary chains (random Φ_i, revolute joints) it prints the median wall time of
-`compile_chain` + `program_document` for n = 6, 64, 512, 4096 (linear recursion) and n = 64, 512, 4096
-(logarithmic recursion, when vampc.dataflow.logarithmic exists), with the growth ratio between successive
-n (for reference: n log n grows by 12x from 64 to 512 and 10.7x from 512 to 4096, n by 8x). Then the
-wall time of a whole `vampc compile examples/puma560.yaml` process (median of 5).
+`compile_chain` + `program_text` (everything `vampc compile` does between reading the robot and writing
+the file) for n = 6, 64, 512, 4096 (linear recursion) and n = 64, 512, 4096 (logarithmic recursion),
+with the growth ratio between successive n (for reference: n log n grows by 12x from 64 to 512 and
+10.7x from 512 to 4096, n by 8x). Then whole `vampc compile` processes: examples/puma560.yaml (median
+of 5) and a generated N-joint snake (examples/make_snake.py) with --recursion log, once, with its peak
+memory (the issue's target: N = 4096 in under a minute).
 
-    python benchmarks/compile_time.py [--runs 3] [--sizes 6,64,512,4096] [--profile N]
+    python benchmarks/compile_time.py [--runs 3] [--sizes 6,64,512,4096] [--log-process 4096]
+                                      [--profile N]
 
 --profile N prints the cProfile hot spots of one linear compile of size N instead.
 """
@@ -17,6 +20,7 @@ import cProfile
 import importlib.util
 import os
 import pstats
+import resource
 import statistics
 import subprocess
 import sys
@@ -24,7 +28,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.compiler import CompileOptions, compile_chain, program_text
 from vampc.robot.random import random_chain
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -32,9 +36,9 @@ SLOW = 30.0
 
 
 def compile_once(chain, options: CompileOptions) -> float:
-    """Seconds for one compile + program document."""
+    """Seconds for one compile + program text."""
     t0 = time.perf_counter()
-    program_document(compile_chain(chain, options))
+    program_text(compile_chain(chain, options))
     return time.perf_counter() - t0
 
 
@@ -61,26 +65,45 @@ def scaling_table(recursion: str, sizes: list[int], runs: int) -> None:
         previous = t
 
 
+def _cli_env() -> dict:
+    root = Path(importlib.util.find_spec("vampc").origin).parent.parent
+    return dict(os.environ, PYTHONPATH=os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")]))
+
+
 def process_time(runs: int = 5) -> float:
     """Median wall time of `python -m vampc.cli compile examples/puma560.yaml -o ...`."""
-    root = Path(importlib.util.find_spec("vampc").origin).parent.parent
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")]))
     times = []
     with tempfile.TemporaryDirectory() as tmp:
         cmd = [sys.executable, "-m", "vampc.cli", "compile", str(ROOT / "examples" / "puma560.yaml"),
                "-o", str(Path(tmp) / "puma.vamp.json")]
         for _ in range(runs):
             t0 = time.perf_counter()
-            subprocess.run(cmd, check=True, env=env, stdout=subprocess.DEVNULL)
+            subprocess.run(cmd, check=True, env=_cli_env(), stdout=subprocess.DEVNULL)
             times.append(time.perf_counter() - t0)
     return statistics.median(times)
+
+
+def log_process(n: int) -> None:
+    """One whole `vampc compile snake{n}.yaml --recursion log` process: wall time, peak memory, file."""
+    with tempfile.TemporaryDirectory() as tmp:
+        robot, out = Path(tmp) / f"snake{n}.yaml", Path(tmp) / f"snake{n}.vamp.json"
+        robot.write_text(subprocess.run([sys.executable, str(ROOT / "examples" / "make_snake.py"),
+                                         str(n)], check=True, capture_output=True, text=True).stdout)
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(robot), "--recursion", "log",
+                        "-o", str(out)], check=True, env=_cli_env(), stdout=subprocess.DEVNULL)
+        wall = time.perf_counter() - t0
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 2**20   # KiB -> GiB (Linux)
+        size = out.stat().st_size / 1e6
+    print(f"vampc compile snake{n}.yaml --recursion log, whole process: {wall:.1f} s, "
+          f"peak memory {peak:.1f} GiB, program file {size:.0f} MB", flush=True)
 
 
 def profile(n: int, recursion: str) -> None:
     """cProfile one compile and print the 25 most expensive functions (cumulative and own time)."""
     chain = random_chain(n, n, prismatic_fraction=0.0)
     prof = cProfile.Profile()
-    prof.runcall(lambda: program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
+    prof.runcall(lambda: program_text(compile_chain(chain, CompileOptions(recursion=recursion))))
     stats = pstats.Stats(prof).strip_dirs()
     stats.sort_stats("cumulative").print_stats(25)
     stats.sort_stats("tottime").print_stats(15)
@@ -91,6 +114,8 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=3, help="compiles per size (median)")
     parser.add_argument("--sizes", default="6,64,512,4096", help="linear-recursion sizes")
     parser.add_argument("--log-sizes", default="64,512,4096", help="log-recursion sizes")
+    parser.add_argument("--log-process", type=int, default=4096, metavar="N",
+                        help="joints of the snake compiled by a whole log-recursion process (0: skip)")
     parser.add_argument("--profile", type=int, metavar="N", help="profile one compile of size N")
     parser.add_argument("--recursion", default="linear", help="recursion for --profile")
     args = parser.parse_args()
@@ -98,11 +123,10 @@ def main() -> None:
         profile(args.profile, args.recursion)
         return
     scaling_table("linear", [int(x) for x in args.sizes.split(",")], args.runs)
-    if importlib.util.find_spec("vampc.dataflow.logarithmic") is not None:
-        scaling_table("log", [int(x) for x in args.log_sizes.split(",")], args.runs)
-    else:
-        print("log recursion: vampc.dataflow.logarithmic not present, skipped")
+    scaling_table("log", [int(x) for x in args.log_sizes.split(",")], args.runs)
     print(f"vampc compile examples/puma560.yaml, whole process (median of 5): {process_time():.3f} s")
+    if args.log_process:
+        log_process(args.log_process)
 
 
 if __name__ == "__main__":
