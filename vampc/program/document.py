@@ -1,7 +1,6 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
-import json
 from json.encoder import encode_basestring_ascii as _str
 
 import numpy as np
@@ -51,8 +50,8 @@ def graph_to_doc(g: Graph) -> dict:
     """The graph section: one row per node (formatted straight to text, see Rows)."""
     enc = compact_encoder()
     def row(nd: Node) -> str:
-        if nd.op.is_compute:    # nearly every node of a big graph: no key, no value, two args
-            return (f'{{"args":[{nd.args[0]},{nd.args[1]}],"group":{nd.group},"id":{nd.id},'
+        if nd.op.is_compute:    # nearly every node of a big graph: no key, no value
+            return (f'{{"args":{_ints(nd.args)},"group":{nd.group},"id":{nd.id},'
                     f'"name":{_str(nd.name)},"op":"{_NAME[nd.op]}","section":{_str(nd.section)}}}')
         r = {"id": nd.id, "op": _NAME[nd.op], "args": list(nd.args), "name": nd.name,
              "section": nd.section, "group": nd.group}
@@ -128,12 +127,6 @@ def program_text(chain, graph, sched, net, numbering, progs, stream, options: di
                             "tick": o.tick} for o in net.outputs]},
         "summary": summary,
     })
-
-
-def program_document(*args, **kwargs) -> dict:
-    """The whole program-file document (without its checksum), as a reader of the file gets it:
-    program_text (same arguments) parsed, so the file and the document cannot disagree."""
-    return json.loads(program_text(*args, **kwargs))
 
 
 def _ints(values) -> str:
