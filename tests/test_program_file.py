@@ -12,9 +12,10 @@ import os
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from json_mutation import json_values, mutate, mutations
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain, program_document, program_text
 from vampc.dataflow.ops import Op
@@ -187,12 +188,6 @@ def test_written_netlist_is_the_compiled_one(compiled, program_path):
            (want.buffers, want.ports, want.consts, want.outputs)
 
 
-json_values = st.recursive(
-    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False, allow_infinity=False) | st.text(),
-    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=5), inner, max_size=4),
-    max_leaves=25)
-
-
 @given(st.dictionaries(st.text(max_size=6), json_values, max_size=5))
 def test_layout_only_adds_newlines_to_the_canonical_json(doc):
     text = layout(doc)
@@ -219,6 +214,26 @@ def test_written_file_is_canonical_json_one_row_per_line(compiled, program_path)
     assert text.replace("\n", "") == canonical(doc)
     assert text.splitlines()[1] == f'"checksum":"{checksum(doc)}",'
     assert sum(line.startswith('{"a":') for line in text.splitlines()) == len(compiled.network.vamps)
+
+
+PLANAR = program_document(compile_chain(random_chain(2, 4, prismatic_fraction=0.5),
+                                        CompileOptions(recursion="log")))
+PLANAR["checksum"] = checksum(PLANAR)
+
+
+@settings(max_examples=300, deadline=None)
+@given(mutations(PLANAR))
+def test_the_quick_schema_check_agrees_with_the_jsonschema_package(mutation):
+    """accepted_quickly (jsonschema-rs) is only a fast path: it must accept exactly what the
+    jsonschema package accepts, or a damaged file could get past the check."""
+    pytest.importorskip("jsonschema_rs")
+    import jsonschema
+
+    from vampc.schemas_util import accepted_quickly, load_schema
+    validator = jsonschema.Draft202012Validator(load_schema("program"))
+    assert accepted_quickly("program", PLANAR) and not list(validator.iter_errors(PLANAR))
+    doc = mutate(PLANAR, *mutation)
+    assert accepted_quickly("program", doc) == (not list(validator.iter_errors(doc)))
 
 
 def test_written_words_decode_to_the_programs(program_path):

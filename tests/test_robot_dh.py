@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from vampc.errors import VampcError
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
 from frames_util import chain_frames
+from json_mutation import mutate, mutations
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DH_EXAMPLES = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml"]
@@ -273,3 +274,21 @@ def assert_error(call, path, message: str) -> None:
     text = str(info.value)
     assert "\n" not in text
     assert re.fullmatch(re.escape(str(path)) + ": " + message, text), text
+
+
+PUMA_TABLE = yaml.safe_load((EXAMPLES / "puma560.yaml").read_text())
+
+
+@settings(max_examples=300, deadline=None)
+@given(mutations(PUMA_TABLE))
+def test_the_quick_schema_check_agrees_with_the_jsonschema_package(mutation):
+    """accepted_quickly (jsonschema-rs) is only a fast path: it must accept exactly the tables the
+    jsonschema package accepts."""
+    pytest.importorskip("jsonschema_rs")
+    import jsonschema
+
+    from vampc.schemas_util import accepted_quickly, load_schema
+    validator = jsonschema.Draft202012Validator(load_schema("dh-table"))
+    assert accepted_quickly("dh-table", PUMA_TABLE) and not list(validator.iter_errors(PUMA_TABLE))
+    table = mutate(PUMA_TABLE, *mutation)
+    assert accepted_quickly("dh-table", table) == (not list(validator.iter_errors(table)))

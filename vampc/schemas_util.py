@@ -1,4 +1,4 @@
-"""Find the JSON schemas shipped with vampc.
+"""Find the JSON schemas shipped with vampc, and check documents against them quickly.
 
 They live in the repository's `schemas/` folder; `vampc/schemas` is a symlink to it, so an installed wheel
 carries them as package data (pyproject: `vampc = ["schemas/*.json"]`). A checkout whose symlink was lost
@@ -24,6 +24,31 @@ def load_schema(name: str) -> dict:
     """
     filename = name if name.endswith(".json") else f"{name}.schema.json"
     return copy.deepcopy(_cached(filename))
+
+
+def accepted_quickly(name: str, instance) -> bool:
+    """True when jsonschema-rs accepts `instance` under schema `name` (same names as load_schema).
+
+    jsonschema-rs is compiled: it checks a 97 794-VAMP program file in 0.15 s, where the jsonschema
+    package takes 28 s. But only the jsonschema package says where and why a document is wrong, so
+    this is the fast path of a check, never the whole of it: False (rejected, a value JSON has no type
+    for such as a YAML date, or jsonschema-rs not installed) means "run the jsonschema package"."""
+    validator = _quick_validator(name if name.endswith(".json") else f"{name}.schema.json")
+    if validator is None:
+        return False
+    try:
+        return validator.is_valid(instance)
+    except (ValueError, TypeError, OverflowError):   # not representable as JSON
+        return False
+
+
+@lru_cache(maxsize=None)
+def _quick_validator(filename: str):
+    try:
+        import jsonschema_rs
+    except ImportError:
+        return None
+    return jsonschema_rs.validator_for(_cached(filename))
 
 
 @lru_cache(maxsize=None)
