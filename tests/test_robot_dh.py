@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -12,8 +11,8 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vampc.errors import VampcError
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
+from errors_util import assert_error
 from frames_util import chain_frames
 from json_mutation import mutate, mutations
 
@@ -265,15 +264,6 @@ def test_file_errors(tmp_path):
     assert_error(lambda: load_robot(binary), binary, r"not UTF-8 text \(byte 6\)")
     assert_error(lambda: load_robot(EXAMPLES / "planar2.yaml", tip="x"), EXAMPLES / "planar2.yaml",
                  r"base, tip and lock apply to URDF files only \(a DH table is one chain\)")
-
-
-def assert_error(call, path, message: str) -> None:
-    """`call` raises a VampcError whose whole message is 'PATH: <message>' on one line."""
-    with pytest.raises(VampcError) as info:
-        call()
-    text = str(info.value)
-    assert "\n" not in text
-    assert re.fullmatch(re.escape(str(path)) + ": " + message, text), text
 
 
 PUMA_TABLE = yaml.safe_load((EXAMPLES / "puma560.yaml").read_text())

@@ -2,7 +2,6 @@
 present), trees and locking, and exact error messages for bad files."""
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +9,7 @@ import pytest
 
 from vampc.errors import VampcError
 from vampc.robot import JointType, load_robot, load_urdf
+from errors_util import assert_error
 from frames_util import chain_frames as chain_poses
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -357,15 +357,6 @@ def test_external_entity_is_never_read(tmp_path):
     with pytest.raises(VampcError, match="DOCTYPE declares entities") as info:
         load_robot(path)
     assert "leaked" not in str(info.value)
-
-
-def assert_error(call, path, message: str) -> None:
-    """`call` raises a VampcError whose whole message is 'PATH: <message>' on one line."""
-    with pytest.raises(VampcError) as info:
-        call()
-    text = str(info.value)
-    assert "\n" not in text
-    assert re.fullmatch(re.escape(str(path)) + ": " + message, text), text
 
 
 def test_entities_refused_in_utf16_too(tmp_path):
