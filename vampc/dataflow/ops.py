@@ -94,6 +94,12 @@ class Timing:
         """Flops from operands latched to result ready (0 for inputs and constants)."""
         return _durations(self)[op]
 
+    @property
+    def durations(self) -> dict[Op, int]:
+        """Every op's duration (the cached table behind `duration`: a loop over a million nodes
+        looks ops up in it directly rather than hashing this Timing each time). Do not modify."""
+        return _durations(self)
+
     def path_counts(self, op: Op) -> tuple[int, int]:
         """(Mults, Addns) the op contributes to a critical path, in the paper's accounting: a step
         running a multiplier and the adder together counts as its slower unit (an Addn on a tie, so MV

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import Op, Timing
+from vampc.dataflow.ops import Timing
 from vampc.errors import VampcInternalError
 
 
@@ -34,7 +34,7 @@ class Schedule:
 
     def verify(self, graph: Graph) -> None:
         """Every node starts after its operands finish and lasts its op's duration."""
-        duration = {op: self.timing.duration(op) for op in Op}
+        duration = self.timing.durations
         start, finish = self.start, self.finish
         for nd in graph.nodes:
             if finish[nd.id] - start[nd.id] != duration[nd.op]:
@@ -49,7 +49,7 @@ class Schedule:
 def schedule_asap(graph: Graph, timing: Timing = Timing(), verify: bool = True) -> Schedule:
     """As-soon-as-possible schedule of `graph` under `timing` (checked unless `verify` is off)."""
     start, finish = [], []
-    duration = {op: timing.duration(op) for op in Op}
+    duration = timing.durations
     for nd in graph.nodes:
         s = max([finish[a] for a in nd.args], default=0)
         start.append(s)
