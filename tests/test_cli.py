@@ -181,7 +181,7 @@ def test_output_in_a_missing_folder(tmp_path):
     before = list(tmp_path.iterdir())
     result = run("compile", PUMA, "-o", out)
     assert_user_error(result, str(out), tmp_path, before)
-    assert result.stderr == f"vampc: error: {out}: cannot write program file: No such file or directory\n"
+    assert result.stderr == f"vampc: error: {out}: folder {out.parent} does not exist\n"
 
 
 @pytest.mark.parametrize("text", ["1\n1\n", "1\n2\nthree\n", "5\n"])

@@ -43,10 +43,15 @@ def _csv(path, q, qd, qdd, t=None):
     return path
 
 
-def _read_tau(path) -> np.ndarray:
+def _read_tau(path, t=None) -> np.ndarray:
     lines = Path(path).read_text().splitlines()
-    assert lines[0] == "tau1,tau2"
-    return np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    # planar2's joint names, in order; the trajectory's t column is carried over
+    assert lines[0] == ("t," if t is not None else "") + "tau_shoulder,tau_elbow"
+    data = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    if t is not None:
+        assert np.array_equal(data[:, 0], t)
+        data = data[:, 1:]
+    return data
 
 
 def test_trajectory_csv_gives_reference_torques(tmp_path, program, states):
@@ -72,7 +77,8 @@ def test_trajectory_formats_agree(tmp_path, program, states, fmt):
         np.savez(src, q=q, qd=qd, qdd=qdd, t=t)
     out = tmp_path / "tau.csv"
     assert _run("emulate", program, "--trajectory", src, "-o", out).exit_code == 0
-    assert np.allclose(_read_tau(out), rnea(chain, q, qd, qdd), rtol=1e-12, atol=1e-12)
+    tau = _read_tau(out, None if fmt == "npy" else t)
+    assert np.allclose(tau, rnea(chain, q, qd, qdd), rtol=1e-12, atol=1e-12)
 
 
 def test_robot_file_compiled_on_the_fly_and_tick_vcd(tmp_path):
@@ -92,7 +98,8 @@ def _bad(tmp_path, text, name="bad.csv"):
 
 
 @pytest.mark.parametrize("body,message", [
-    ("q1,q2,qd1,qd2,qdd1\n1,2,3,4,5\n", r"header has 5 columns"),
+    ("q1,q2,qd1,qd2,qdd1\n1,2,3,4,5\n", r"header: 5 columns, expected 6 \(expected 6 columns "
+     r"q1,q2...qdd2: the program is for 2 joints\)$"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,x,0,0,0\n", r"line 2, column qd1: 'x' is not a number"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,nan,0,0,0\n", r"state 1, column 3: nan is not finite"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,0\n", r"line 2: 5 columns, expected 6"),

@@ -330,6 +330,9 @@ class _FailingHandle:
     def __exit__(self, *exc):
         self.handle.close()
 
+    def close(self):
+        self.handle.close()
+
     def write(self, text):
         self.handle.write(text[: len(text) // 2])
         raise OSError(28, "No space left on device")
@@ -345,7 +348,8 @@ def test_failed_write_leaves_no_partial_file(compiled, tmp_path, monkeypatch):
     doc["robot"]["name"] = "changed"
     with pytest.raises(VampcError) as err:
         write_program(doc, path)
-    assert str(err.value) == f"{path}: cannot write program file: No space left on device"
+    assert str(err.value) == (f"{path}: cannot write program file: No space left on device (the "
+                              "previous file is unchanged)")
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.vamp.json"]
 

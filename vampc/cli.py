@@ -1,18 +1,28 @@
 """The `vampc` command line: a thin layer that parses options, calls the library and formats output.
 
 User errors (VampcError) print one line `vampc: error: ...` and exit 1; usage errors exit 2 (click);
-anything else is a vampc bug: it is shown in full with a request to report it, and exits 3.
+warnings (VampcWarning) print one line `vampc: warning: ...` and the work goes on; anything else is a
+vampc bug: it is shown in full with a request to report it, and exits 3. Output files follow the
+rules of vampc.outputs (README "Output files"), checked before any work is done.
 """
 from __future__ import annotations
 
 import functools
 import json
 import sys
+import time
+import warnings
 from pathlib import Path
 
 import click
+from click.core import ParameterSource
 
-from vampc.errors import VampcError
+from vampc.errors import VampcError, VampcWarning
+
+# Options that only mean something when a robot file is compiled (their CompileOptions names).
+COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "verify")
+ROBOT_OPTIONS = ("base", "tip", "lock")
+LOG_ONLY = ("prefix", "uniform_leaves")
 
 
 def _robot_options(f):
@@ -49,15 +59,20 @@ def _compile_options(f):
 
 
 def _parse_lock(items) -> dict[str, float]:
-    out = {}
+    out: dict[str, float] = {}
     for item in items:
         name, sep, value = item.partition("=")
+        name = name.strip()
         try:
-            out[name.strip()] = float(value)
+            number = float(value)
         except ValueError:
             sep = ""
-        if not sep or not name.strip():
+        if not sep or not name:
             raise click.BadParameter(f"{item!r} is not JOINT=VALUE", param_hint="--lock")
+        if name in out and out[name] != number:
+            raise click.BadParameter(f"joint {name!r} is locked twice, at {out[name]:g} and "
+                                     f"{number:g}", param_hint="--lock")
+        out[name] = number
     return out
 
 
@@ -65,7 +80,10 @@ def _handle_errors(f):
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
         try:
-            return f(*args, **kwargs)
+            with warnings.catch_warnings():
+                warnings.simplefilter("always", VampcWarning)
+                warnings.showwarning = _show_warning
+                return f(*args, **kwargs)
         except VampcError as exc:
             click.echo(f"vampc: error: {exc}", err=True)
             sys.exit(1)
@@ -83,11 +101,56 @@ def _handle_errors(f):
     return wrapper
 
 
+def _show_warning(message, category, *rest):
+    if issubclass(category, VampcWarning):
+        click.echo(f"vampc: warning: {message}", err=True)
+    else:   # a library's own warning (numpy's, say): not ours to silence, but one line
+        click.echo(f"vampc: warning: {category.__name__}: {message}", err=True)
+
+
+def _given(ctx: click.Context, name: str) -> bool:
+    """Whether the user gave option `name` (rather than its default)."""
+    return ctx.get_parameter_source(name) not in (None, ParameterSource.DEFAULT,
+                                                  ParameterSource.DEFAULT_MAP)
+
+
+def _flag(name: str) -> str:
+    return "--" + name.replace("_", "-")
+
+
+def _check_robot_options(ctx: click.Context, opts: dict) -> None:
+    """Options that do not apply to the recursion chosen are usage errors, not silence."""
+    if opts.get("recursion", "linear") == "linear":
+        for name in LOG_ONLY:
+            if _given(ctx, name):
+                raise click.UsageError(f"{_flag(name)} applies to the log recursion only "
+                                       "(add --recursion log)")
+
+
+def _check_program_options(ctx: click.Context, source: str, stored: dict) -> None:
+    """Compile options given with a program file must not contradict how it was compiled."""
+    for name in ROBOT_OPTIONS + ("verify",):
+        if _given(ctx, name):
+            raise click.UsageError(f"{_flag(name)} applies when compiling a robot file; {source} is "
+                                   "a program file, already compiled")
+    for name in COMPILE_OPTIONS:
+        if name == "verify" or not _given(ctx, name):
+            continue
+        value = ctx.params[name]
+        if stored.get(name) != value:
+            raise click.UsageError(f"{_flag(name)} {value}: {source} was compiled with "
+                                   f"{_flag(name)} {stored.get(name)}; compile options apply to robot "
+                                   "files (recompile to change them)")
+
+
 def _compile(robot, base, tip, lock, **opts):
-    from vampc.compiler import CompileOptions, compile_chain
+    from vampc import progress
+    from vampc.compiler import STAGES, CompileOptions, compile_chain
     from vampc.robot import load_robot
-    chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock))
-    return compile_chain(chain, CompileOptions(**opts))
+    with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
+        stage("load")
+        chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock))
+        return compile_chain(chain, CompileOptions(**opts), stage=stage)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -96,30 +159,38 @@ def main():
     """Compile a robot description into a program for a network of VAMPs (Lathrop, Parallelism in
     Manipulator Dynamics), emulate it bit-exactly, and report what it costs.
 
-    ROBOT files: a Denavit-Hartenberg table (.yaml, .yml, .json) or a URDF (.urdf, .xml).
+    ROBOT files: a Denavit-Hartenberg table (.yaml, .yml, .json) or a URDF (.urdf, .xml). Outputs
+    never replace an input, a folder or a device, and a failed run leaves existing files as they
+    were (README "Output files").
     """
 
 
 @main.command()
 @click.argument("robot", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", type=click.Path(dir_okay=False),
-              help="Program file to write (default: ROBOT's name with .vamp.json, in the current folder).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+              help="Program file to write (default: ROBOT's name with .vamp.json, in the current "
+              "folder; - for standard output).")
 @click.option("--numbering", type=click.Path(dir_okay=False),
               help="Burned-in VAMP numbers, one per line, in logical VAMP order.")
 @_compile_options
 @_robot_options
+@click.pass_context
 @_handle_errors
-def compile(robot, output, numbering, base, tip, lock, **opts):
+def compile(ctx, robot, output, numbering, base, tip, lock, **opts):
     """Compile ROBOT into a program file: dataflow graph, schedule, netlist, VAMP program words,
     Program-Mode stream and host I/O schedule."""
     from vampc.compiler import program_text
+    from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
+    _check_robot_options(ctx, opts)
+    out_path = output or Path(robot).stem + ".vamp.json"
+    out = plan_outputs([robot, numbering], {"-o": out_path}, stdout_ok=("-o",))["-o"]
     c = _compile(robot, base, tip, lock, numbering=numbering, **opts)
-    out = Path(output) if output else Path(Path(robot).stem + ".vamp.json")
     write_program(program_text(c), out)
     s = c.schedule
-    click.echo(f"{out}: {c.chain.n} joints, {c.graph.recursion} recursion, {len(c.network.vamps)} "
-               f"VAMPs, latency {s.latency} flops ({s.mults} M + {s.adds} A), interval {s.interval} flops")
+    click.echo(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
+               f"{len(c.network.vamps)} VAMPs, latency {s.latency} flops ({s.mults} M + {s.adds} A), "
+               f"interval {s.interval} flops", err=out.is_stdout)
 
 
 @main.command()
@@ -127,11 +198,13 @@ def compile(robot, output, numbering, base, tip, lock, **opts):
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
 @_compile_options
 @_robot_options
+@click.pass_context
 @_handle_errors
-def report(source, fmt, base, tip, lock, **opts):
+def report(ctx, source, fmt, base, tip, lock, **opts):
     """Report flop counts, latency, VAMP, buffer and package counts for SOURCE: a robot file (compiled
-    on the fly with the options given) or a program file written by `vampc compile`."""
-    rep = _report(source, base, tip, lock, **opts)
+    on the fly with the options given) or a program file written by `vampc compile` (its figures are
+    recomputed from the file's graph, schedule and network)."""
+    rep = _report(ctx, source, base, tip, lock, **opts)
     if fmt == "json":
         click.echo(json.dumps(rep, indent=1, sort_keys=True))
     else:
@@ -139,12 +212,14 @@ def report(source, fmt, base, tip, lock, **opts):
         click.echo(render(rep), nl=False)
 
 
-def _report(source, base, tip, lock, **opts) -> dict:
-    if _is_program(source):
-        from vampc.program.file import read_program
-        return read_program(source)["summary"]
+def _report(ctx, source, base, tip, lock, **opts) -> dict:
     from vampc.report.counts import summary
-    c = _compile(source, base, tip, lock, **opts)
+    from vampc.sniff import is_program
+    if is_program(source):
+        c = _program_compiled(ctx, source)
+    else:
+        _check_robot_options(ctx, opts)
+        c = _compile(source, base, tip, lock, **opts)
     rep = summary(c)
     if c.graph.recursion == "log":
         from vampc.report.compare import compare_prefixes
@@ -152,129 +227,207 @@ def _report(source, base, tip, lock, **opts) -> dict:
     return rep
 
 
+def _program_compiled(ctx, source):
+    """A program file's IRs, checked against each other and against its stored summary."""
+    from vampc.program.document import compiled_from_doc
+    from vampc.program.file import read_program
+    from vampc.report.counts import summary
+    doc = read_program(source)
+    _check_program_options(ctx, source, doc["options"])
+    c = compiled_from_doc(doc, source)
+    if (doc["schedule"]["mult_latency"], doc["schedule"]["add_latency"]) == (1, 1):
+        from vampc.emulator import check_program, loaded_from_doc
+        check_program(loaded_from_doc(doc, source))     # the network implements the graph
+    fresh = json.loads(json.dumps(summary(c)))
+    edited = sorted(k for k, v in doc["summary"].items() if k in fresh and fresh[k] != v)
+    if edited:
+        warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
+                                   f"schedule and network ({', '.join(edited)}): the file was "
+                                   "edited; showing figures recomputed from them"), stacklevel=1)
+    return c
+
+
 @main.command()
 @click.argument("source", type=click.Path(dir_okay=False))
 @click.option("--trajectory", type=click.Path(dir_okay=False),
               help="States to run: CSV with header q1..qn,qd1..qdn,qdd1..qddn (optional leading t), "
               ".npy or .npz.")
-@click.option("--random", "random_count", type=int, metavar="N",
-              help="Run N random states (within the joint limits, else ±π, ±1 rad/s, ±1 rad/s²).")
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed for --random and for "
-              "the tick engine's random initial register contents.")
+@click.option("--random", "random_count", type=click.IntRange(1, 1 << 53), metavar="N",
+              help="Run N random states (within the joint limits, else ±π, ±1 rad/s, ±1 rad/s²); "
+              "drawn and run in chunks, so memory does not grow with N.")
+@click.option("--seed", type=click.IntRange(0), default=0, show_default=True, help="Seed for "
+              "--random and for the tick engine's random initial register contents.")
 @click.option("--engine", type=click.Choice(["stream", "tick"]), default="stream", show_default=True,
               help="stream: vectorised over the trajectory; tick: one flop at a time from Program Mode "
               "(the hardware specification; slower). They agree bit for bit.")
 @click.option("--check", is_flag=True, help="Compare every torque set with the reference Newton-Euler; "
               "exit 1 if any relative error exceeds 1e-9.")
-@click.option("--vcd", type=click.Path(dir_okay=False), help="Tick engine: write every VAMP's Result "
-              "as a VCD waveform (GTKWave).")
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write torques as CSV "
-              "(header tau1..taun).")
+@click.option("--vcd", type=click.Path(dir_okay=False, allow_dash=True), help="Tick engine: write "
+              "every VAMP's Result as a VCD waveform (GTKWave).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+              help="Write torques as CSV: a t column if the trajectory has one, then tau_<joint name> "
+              "per joint (N·m revolute, N prismatic); - for standard output.")
+@click.option("--save-states", type=click.Path(dir_okay=False, allow_dash=True), metavar="FILE",
+              help="Write the states run as a trajectory CSV (the --trajectory format), to pair "
+              "torques with their inputs.")
+@click.option("--write-failed", is_flag=True, help="With --check: write -o even when the check "
+              "fails and the file exists (by default a failed check never replaces an existing "
+              "torque file).")
 @click.option("--allow-out-of-limits", is_flag=True, help="Run states outside the joint limits.")
 @_compile_options
 @_robot_options
+@click.pass_context
 @_handle_errors
-def emulate(source, trajectory, random_count, seed, engine, check, vcd, output, allow_out_of_limits,
-            base, tip, lock, **opts):
+def emulate(ctx, source, trajectory, random_count, seed, engine, check, vcd, output, save_states,
+            write_failed, allow_out_of_limits, base, tip, lock, **opts):
     """Run a program file (or a robot file, compiled on the fly) in the VAMP network emulator and
     return the joint torques it computes."""
-    from vampc.emulator import emulate as run
-    from vampc.emulator.host import check_limits, check_torques, random_trajectory, read_trajectory
-    if (trajectory is None) == (random_count is None):
-        raise click.UsageError("give exactly one of --trajectory FILE or --random N")
-    if vcd and engine != "tick":
-        raise click.UsageError("--vcd needs --engine tick")
-    ld = _loaded(source, base, tip, lock, **opts)
+    from vampc.emulator.driver import States, run
+    from vampc.emulator.host import check_limits, read_trajectory
+    from vampc.outputs import plan_outputs
+    begun = time.perf_counter()
+    _check_emulate_usage(ctx, trajectory, random_count, engine, vcd, save_states, output,
+                         write_failed, check)
+    outs = plan_outputs([source, trajectory], {"-o": output, "--vcd": vcd,
+                                               "--save-states": save_states},
+                        stdout_ok=("-o", "--vcd", "--save-states"))
+    ld = _loaded(ctx, source, base, tip, lock, **opts)
     if trajectory:
         traj = read_trajectory(trajectory, ld.chain)
         if not allow_out_of_limits:
             check_limits(ld.chain, traj, trajectory)
+        states = States(traj.count, traj)
     else:
-        traj = random_trajectory(ld.chain, random_count, seed)
-    writer = _vcd_writer(vcd, ld)
-    ok = False
+        states = States.random(random_count, seed)
+    sinks = _Sinks(ld, outs, has_t=bool(trajectory) and traj.t is not None)
+    info = any(o.is_stdout for o in outs.values())       # keep stdout for the data
+    from vampc import progress
     try:
-        with _Progress(f"{engine} engine") as progress:
-            result = run(ld, traj, engine=engine, seed=seed, vcd=writer, progress=progress)
-        ok = True
-    finally:
-        if writer is not None:
-            writer.close(ok)
-    _print_emulation(result, traj.count)
-    if output:
-        from vampc.emulator.trajectory import write_torques
-        write_torques(output, result.tau)
-    if check:
-        _report_check(check_torques(ld.chain, traj, result.tau))
+        with progress.counter(f"{engine} engine", states.count) as bar:
+            outcome = run(ld, states, engine=engine, seed=seed, vcd=sinks.vcd, check=check,
+                          sink=sinks.chunk, progress=bar)
+        sinks.finish_vcd()
+    except BaseException:
+        sinks.discard()
+        raise
+    _print_emulation(outcome, time.perf_counter() - begun, info)
+    ok = outcome.check is None or outcome.check.ok
+    sinks.finish(ok, write_failed, info)
+    if outcome.check is not None:
+        _report_check(outcome.check, info)
 
 
-def _loaded(source, base, tip, lock, **opts):
+def _check_emulate_usage(ctx, trajectory, random_count, engine, vcd, save_states, output,
+                         write_failed, check) -> None:
+    if (trajectory is None) == (random_count is None):
+        raise click.UsageError("give exactly one of --trajectory FILE or --random N")
+    if vcd and engine != "tick":
+        raise click.UsageError("--vcd needs --engine tick")
+    if _given(ctx, "seed") and random_count is None and engine != "tick":
+        raise click.UsageError("--seed applies to --random and to the tick engine")
+    if write_failed and not (check and output):
+        raise click.UsageError("--write-failed applies with --check and -o")
+    if save_states and save_states != "-" and Path(save_states).suffix.lower() != ".csv":
+        raise click.UsageError("--save-states writes a CSV trajectory: give a .csv file name")
+
+
+class _Sinks:
+    """The emulate command's output files, written as the chunks of a run arrive."""
+
+    def __init__(self, ld, outs, has_t: bool):
+        from vampc.emulator.trajectory import csv_line, header, torque_columns
+        from vampc.outputs import Pending
+        self.ld, self.outs = ld, outs
+        self.tau = Pending(outs["-o"], "torques", False) if "-o" in outs else None
+        self.states = Pending(outs["--save-states"], "states", False) if "--save-states" in outs \
+            else None
+        self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
+        self.vcd = _vcd_writer(self.vcd_out.fh, ld) if self.vcd_out else None
+        t = ["t"] if has_t else []
+        self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(
+            j.name for j in ld.chain.joints))))
+        self._write(self.states, lambda fh: fh.write(csv_line(t + header(ld.chain.n))))
+
+    def _write(self, pending, action) -> None:
+        if pending is None:
+            return
+        try:
+            action(pending.fh)
+        except OSError as exc:
+            self.discard()
+            raise pending.error(exc) from None
+
+    def chunk(self, traj, tau) -> None:
+        """One chunk's torques and states."""
+        from vampc.emulator.trajectory import format_rows
+        self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, tau)))
+        self._write(self.states, lambda fh: fh.write(format_rows(traj.t, traj.q, traj.qd, traj.qdd)))
+
+    def finish_vcd(self) -> None:
+        """The waveform is complete: put it in place."""
+        if self.vcd is not None:
+            self._write(self.vcd_out, lambda fh: self.vcd.close())
+            self.vcd_out.commit()
+
+    def finish(self, ok: bool, write_failed: bool, info: bool) -> None:
+        """Put the states and torques in place; torques that failed their check never replace an
+        existing file unless asked (--write-failed)."""
+        if self.states is not None:
+            self.states.commit()
+        if self.tau is None:
+            return
+        out = self.tau.out
+        keep_old = not ok and not write_failed and out.kind == "file" and out.target.exists()
+        if keep_old:
+            self.tau.discard()
+            click.echo(f"torques NOT written: the check failed and {out.path} exists (it is "
+                       "unchanged; --write-failed replaces it anyway)", err=True)
+            return
+        self.tau.commit()
+        if not ok:
+            click.echo(f"torques written to {out.path} although the check failed", err=True)
+
+    def discard(self) -> None:
+        """A failed run: drop every output (existing files stay as they were)."""
+        for pending in (self.tau, self.states, self.vcd_out):
+            if pending is not None:
+                pending.discard()
+
+
+def _loaded(ctx, source, base, tip, lock, **opts):
     from vampc.emulator import load_program, loaded_from_doc
-    if _is_program(source):
-        return load_program(source)
+    from vampc.sniff import is_program
+    if is_program(source):
+        ld = load_program(source)
+        _check_program_options(ctx, source, ld.doc["options"])
+        return ld
+    _check_robot_options(ctx, opts)
     from vampc.compiler import program_document
     return loaded_from_doc(program_document(_compile(source, base, tip, lock, **opts)), source)
 
 
-def _vcd_writer(path, ld):
-    if not path:
-        return None
+def _vcd_writer(stream, ld):
     from vampc.emulator.vcd import VcdWriter
     nodes = ld.doc["graph"]["nodes"]
     names = [f"vamp{ld.numbers[v.index]}_{nodes[v.node]['section']}{nodes[v.node]['group']}_"
              f"{nodes[v.node]['name']}" for v in ld.net.vamps]
-    try:
-        return VcdWriter(path, names)
-    except OSError as exc:
-        raise VampcError(f"{path}: cannot write waveform: {exc.strerror}") from None
+    return VcdWriter(stream, names)
 
 
-def _print_emulation(r, count: int) -> None:
-    rate = count / r.wall_seconds if r.wall_seconds > 0 else float("inf")
-    click.echo(f"{r.engine} engine: {count} torque sets; program load {r.load_ticks} ticks; first "
+def _print_emulation(r, whole_seconds: float, err: bool) -> None:
+    rate = r.count / r.engine_seconds if r.engine_seconds > 0 else float("inf")
+    click.echo(f"{r.engine} engine: {r.count} torque sets; program load {r.load_ticks} ticks; first "
                f"set after {r.first_tick} flops, then one every {r.interval} flops; emulated time "
-               f"{r.emulated_flops} flops; wall time {r.wall_seconds:.3f} s ({rate:,.0f} sets/s)")
+               f"{r.emulated_flops} flops; engine wall time {r.engine_seconds:.3f} s ({rate:,.0f} "
+               f"sets/s); whole command {whole_seconds:.3f} s", err=err)
 
 
-def _report_check(res) -> None:
+def _report_check(res, err: bool) -> None:
     verdict = "OK" if res.ok else "FAILED"
     click.echo(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
-               f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance 1e-9: {verdict}")
+               f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance 1e-9: {verdict}", err=err)
     if not res.ok:
         sys.exit(1)
-
-
-class _Progress:
-    """A progress line on stderr, shown only for runs longer than two seconds and only on a terminal
-    (or when VAMPC_PROGRESS=1)."""
-
-    def __init__(self, label: str):
-        import os
-        import time
-        self.label, self.clock = label, time.monotonic
-        self.enabled = sys.stderr.isatty() or os.environ.get("VAMPC_PROGRESS") == "1"
-        self.t0 = self.last = self.clock()
-        self.shown = False
-
-    def __enter__(self):
-        return self
-
-    def __call__(self, done: int, total: int) -> None:
-        now = self.clock()
-        if not self.enabled or now - self.t0 < 2.0 or now - self.last < 0.2:
-            return
-        self.last, self.shown = now, True
-        pct = 100.0 * done / max(total, 1)
-        sys.stderr.write(f"\r{self.label}: {pct:5.1f}% ({done}/{total}), {now - self.t0:.0f} s")
-        sys.stderr.flush()
-
-    def __exit__(self, *exc):
-        if self.shown:
-            sys.stderr.write("\n")
-
-
-def _is_program(path: str) -> bool:
-    return path.endswith(".vamp.json")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -76,15 +76,25 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
                      verify=options.verify)
 
 
+# The stages of compile_chain, in order (what a progress display names).
+STAGES = ("graph", "schedule", "allocate", "emit")
+
+
 @gc_paused()
-def compile_chain(chain: Chain, options: CompileOptions = CompileOptions()) -> Compiled:
-    """Run every compile stage on a loaded chain."""
+def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
+                  stage=None) -> Compiled:
+    """Run every compile stage on a loaded chain; `stage(name)` is told as each of STAGES starts."""
+    stage = stage or (lambda name: None)
     options.check()
     if options.verify:
         chain.verify()
+    stage("graph")
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
+    stage("schedule")
     sched = schedule_asap(graph, options.timing, options.verify)
+    stage("allocate")
     net = allocate_systolic(graph, sched, options.verify)
+    stage("emit")
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))
     return Compiled(chain, options, graph, sched, net, numbering, emit.programs(net),

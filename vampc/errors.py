@@ -10,6 +10,11 @@ class VampcError(Exception):
     """A user error: bad input file or option. Its message is one line naming the file and the place."""
 
 
+class VampcWarning(UserWarning):
+    """Something the user should know that does not stop the work (an option with no effect, input
+    that was not used). The CLI prints it as one line `vampc: warning: ...` on stderr."""
+
+
 class VampcInternalError(Exception):
     """A broken invariant inside vampc (a bug, not the user's fault)."""
 

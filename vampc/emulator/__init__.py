@@ -32,17 +32,18 @@ class Emulation:
 
 
 def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0, vcd=None,
-            static_check: bool = True, progress=None) -> Emulation:
+            static_check: bool = True, progress=None, stream=None) -> Emulation:
     """Run the loaded program on a trajectory with the chosen engine. `vcd` is a VcdWriter (tick
-    engine only); `progress(done, total)` reports progress."""
+    engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
+    a longer run this trajectory is a chunk of (vampc.emulator.driver)."""
     start = time.perf_counter()
     if static_check:
         check_program(ld)
     ports = port_values(ld, traj)
     if engine == "tick":
         return _tick(ld, traj, ports, seed, vcd, start, progress)
-    from vampc.emulator.stream import run_stream
-    tau = run_stream(ld, ports, traj.count, progress)
+    from vampc.emulator.stream import StreamEngine
+    tau = (stream or StreamEngine(ld, traj.count)).run(ports, traj.count, progress)
     latency = max(o.tick for o in ld.net.outputs)
     C = ld.cycle
     return Emulation(tau, "stream", ld.doc["io"]["load_ticks"], latency, C,

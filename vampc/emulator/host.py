@@ -42,11 +42,11 @@ def port_values(ld: Loaded, traj: Trajectory) -> dict[int, np.ndarray]:
 
 
 def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
-    """States drawn within the joint limits (else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²)."""
-    from vampc.robot.random import random_state
-    if count < 1:
-        raise VampcError(f"--random must be at least 1 (got {count})")
-    return Trajectory(*random_state(chain, count, seed))
+    """States drawn within the joint limits (else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²),
+    the same as the first `count` states of any longer run with this seed
+    (vampc.emulator.driver.random_states)."""
+    from vampc.emulator.driver import States, random_states
+    return random_states(chain, 0, States.random(count, seed).count, seed)
 
 
 def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:

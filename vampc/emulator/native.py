@@ -62,11 +62,19 @@ class NativeError(RuntimeError):
 def run_native(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None):
     """Torques (count, n) computed by native code, or None if the native path is off, failed, or
     would cost more than it saves (VAMPC_NATIVE=1 turns a failure into NativeError instead)."""
+    program = prepare(ld, count)
+    return None if program is None else program.run(ports, count, progress)
+
+
+def prepare(ld: Loaded, total: int):
+    """The native program for a run of `total` sets, or None where numpy should do the work (the
+    native path off, failed, or costing more than it saves; VAMPC_NATIVE=1 turns a failure into
+    NativeError instead). A run fed in chunks prepares once and runs each chunk."""
     mode = os.environ.get("VAMPC_NATIVE", "")
-    if mode == "0" or (mode != "1" and count < MIN_SETS_TO_COMPILE):
+    if mode == "0" or (mode != "1" and total < MIN_SETS_TO_COMPILE):
         return None     # short runs: numpy is quick, and generating the source would cost more
     try:
-        return build(ld).run(ports, count, progress)
+        return build(ld)
     except NativeError:
         if mode == "1":
             raise

@@ -36,20 +36,31 @@ def _source_vamp(ld: Loaded, tap):
 def run_stream(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
     """Torques (count, n) given each port's values (count, 3|9) for every set.
     `progress(done, total)` is called after each chunk if given."""
-    # --- native fast path (vampc.emulator.native): the same arithmetic as generated C. It returns
-    # None when off (VAMPC_NATIVE=0), when no compiler works, or for a run too short to pay for
-    # compiling; numpy below does the work then ---
-    from vampc.emulator.native import run_native
-    tau = run_native(ld, ports, count, progress)
-    if tau is not None:
-        return tau
-    # --- end of native fast path ---
-    return run_numpy(ld, ports, count, progress)
+    return StreamEngine(ld, count).run(ports, count, progress)
 
 
-def run_numpy(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
+class StreamEngine:
+    """The stream engine prepared once for a run of `total` sets, which may arrive in chunks."""
+
+    def __init__(self, ld: Loaded, total: int):
+        # --- native fast path (vampc.emulator.native): the same arithmetic as generated C. None
+        # when off (VAMPC_NATIVE=0), when no compiler works, or for a run too short to pay for
+        # compiling; numpy does the work then ---
+        from vampc.emulator.native import prepare
+        self.ld, self.native = ld, prepare(ld, total)
+        self.order = None if self.native is not None else wiring_order(ld)
+
+    def run(self, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
+        """Torques (count, n) of `count` sets given their port values."""
+        if self.native is not None:
+            return self.native.run(ports, count, progress)
+        return run_numpy(self.ld, ports, count, progress, self.order)
+
+
+def run_numpy(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None,
+              order=None) -> np.ndarray:
     """The numpy path of run_stream: rom.run per VAMP over chunks of sets."""
-    order = wiring_order(ld)
+    order = wiring_order(ld) if order is None else order
     outs = []
     for lo in range(0, count, CHUNK):
         chunk = {p: a[lo:lo + CHUNK] for p, a in ports.items()}

@@ -6,13 +6,16 @@ optionally `t`. Torques are written as CSV with the header `tau1..taun`, atomica
 """
 from __future__ import annotations
 
+import codecs
 import csv
 import io
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from vampc.errors import VampcError
+from vampc.textio import shown
 
 
 def header(n: int) -> list[str]:
@@ -36,30 +39,41 @@ def read(path, n: int):
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     _check_finite(path, data)
+    if t is not None:
+        t = np.asarray(t, dtype=float)
+        _check_finite(path, t[:, None], "t")
     return Trajectory(data[:, :n].copy(), data[:, n:2 * n].copy(), data[:, 2 * n:].copy(), t)
 
 
 def _read_csv(path: Path, n: int):
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
-    fast = _read_csv_native(path.read_bytes(), n)
+    from vampc.textio import decode_utf8
+    raw = path.read_bytes()
+    if raw.startswith(codecs.BOM_UTF8):
+        raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
+    fast = _read_csv_native(raw, n)
     text = None
     if fast is None:
-        text = path.read_text()
+        text = decode_utf8(raw, path, "trajectory")
         fast = _read_csv_loadtxt(text, n)
     if fast is not None:
         return fast
     # --- end of fast paths ---
     rows = list(csv.reader(io.StringIO(text)))
+    while rows and not "".join(rows[-1]).strip():
+        rows.pop()       # trailing blank lines end the table; they are not states
     if not rows:
         raise VampcError(f"{path}: empty trajectory file")
     names = [c.strip() for c in rows[0]]
     has_t = bool(names) and names[0] == "t"
     want = (["t"] if has_t else []) + header(n)
     if names != want:
-        raise VampcError(f"{path}: header has {len(names)} columns {','.join(names[:4])}...; "
-                         f"expected {len(want)}: {','.join(want[:2])}...{want[-1]} "
-                         f"(the program is for {n} joints)")
+        bad = next((k for k, (got, exp) in enumerate(zip(names, want)) if got != exp), None)
+        which = (f"column {bad + 1} is {shown(names[bad])}, expected {want[bad]!r}" if bad is not None
+                 else f"{len(names)} columns, expected {len(want)}")
+        raise VampcError(f"{path}: header: {which} (expected {len(want)} columns "
+                         f"{','.join(want[:2])}...{want[-1]}: the program is for {n} joints)")
     data = np.empty((len(rows) - 1, len(want)))
     for r, row in enumerate(rows[1:], 2):
         if len(row) != len(want):
@@ -115,8 +129,8 @@ def _loadtxt(body: str, cols: int):
     """np.loadtxt converts as float() does (PyOS_string_to_double) but, unlike the csv module, skips
     blank lines and takes no quotes: refuse what csv would read differently."""
     lines = body.split("\n")
-    if lines[-1] == "":
-        lines.pop()     # the final newline ends the last row; it does not start an empty one
+    while lines and not lines[-1].strip():
+        lines.pop()     # the final newline (and trailing blank lines) end the table
     if not lines:
         return None
     try:
@@ -126,11 +140,18 @@ def _loadtxt(body: str, cols: int):
     return data if data.shape == (len(lines), cols) else None   # no skipped blank line, not ragged
 
 
+# What np.load raises on a damaged or unexpected file: a truncated array (EOFError, ValueError), an
+# object array (ValueError: pickles are refused), a file that is not a zip (BadZipFile), a bad member.
+_NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
+
+
 def _read_npy(path: Path, n: int):
     try:
         arr = np.load(path, allow_pickle=False)
-    except ValueError as exc:
-        raise VampcError(f"{path}: not a numpy array file ({exc})") from None
+    except _NUMPY_ERRORS as exc:
+        raise VampcError(f"{path}: not a numpy array file ({_numpy_reason(exc)})") from None
+    if not isinstance(arr, np.ndarray):
+        raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
     if arr.ndim != 2 or arr.shape[1] not in (3 * n, 3 * n + 1) or arr.shape[0] == 0:
         raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {3 * n}) or "
                          f"(states, {3 * n + 1}) with t first")
@@ -141,41 +162,91 @@ def _read_npy(path: Path, n: int):
 def _read_npz(path: Path, n: int):
     try:
         z = np.load(path, allow_pickle=False)
-    except ValueError as exc:
-        raise VampcError(f"{path}: not a numpy .npz file ({exc})") from None
-    missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
-    if missing:
-        raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
-    parts = [_as_float(path, z[k]) for k in ("q", "qd", "qdd")]
+    except _NUMPY_ERRORS as exc:
+        raise VampcError(f"{path}: not a numpy .npz file ({_numpy_reason(exc)})") from None
+    if not isinstance(z, np.lib.npyio.NpzFile):
+        raise VampcError(f"{path}: a .npy array, not a .npz archive; rename it .npy")
+    with z:
+        missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
+        if missing:
+            raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
+        parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
+        t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
     for k, p in zip(("q", "qd", "qdd"), parts):
         if p.ndim != 2 or p.shape != (parts[0].shape[0], n) or p.shape[0] == 0:
             raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n})")
-    return np.concatenate(parts, axis=1), (z["t"] if "t" in z.files else None)
+    if t is not None and t.shape != (parts[0].shape[0],):
+        raise VampcError(f"{path}: array t has shape {t.shape}; expected ({parts[0].shape[0]},)")
+    return np.concatenate(parts, axis=1), t
 
 
-def _as_float(path, arr) -> np.ndarray:
-    if not np.issubdtype(arr.dtype, np.number):
-        raise VampcError(f"{path}: array of {arr.dtype} is not numeric")
+def _member(path, z, key: str) -> np.ndarray:
+    try:
+        return z[key]
+    except _NUMPY_ERRORS as exc:
+        raise VampcError(f"{path}: array {key}: {_numpy_reason(exc)}") from None
+
+
+def _numpy_reason(exc: Exception) -> str:
+    text = " ".join(str(exc).split())
+    if "allow_pickle" in text:
+        return "it holds Python objects (dtype object); save plain numbers"
+    return text[:200] or type(exc).__name__
+
+
+def _as_float(path, arr, name: str = "") -> np.ndarray:
+    what = f"array {name}" if name else "the array"
+    if np.issubdtype(arr.dtype, np.complexfloating):
+        raise VampcError(f"{path}: {what} is complex ({arr.dtype}); states must be real numbers")
+    if not (np.issubdtype(arr.dtype, np.floating) or np.issubdtype(arr.dtype, np.integer)):
+        raise VampcError(f"{path}: {what} holds {arr.dtype.name} values, not numbers")
     return np.asarray(arr, dtype=float)
 
 
-def _check_finite(path, data: np.ndarray) -> None:
+def _check_finite(path, data: np.ndarray, column: str | None = None) -> None:
     bad = ~np.isfinite(data)
     if bad.any():
         r, c = (int(x) for x in np.argwhere(bad)[0])
-        raise VampcError(f"{path}: state {r + 1}, column {c + 1}: {data[r, c]} is not finite")
+        raise VampcError(f"{path}: state {r + 1}, column {column or c + 1}: {data[r, c]} is not "
+                         "finite")
 
 
-def write_torques(path, tau: np.ndarray) -> None:
-    """CSV `tau1..taun`, full precision (%.17g round-trips), written atomically."""
-    from vampc.program.file import write_text_atomic
+def torque_columns(names) -> list[str]:
+    """Torque CSV column names: `tau_<joint name>` in joint order (README "Torque files")."""
+    return [f"tau_{name}" for name in names]
+
+
+def csv_line(cells) -> str:
+    """One CSV line (cells quoted only where a name needs it)."""
+    out = io.StringIO()
+    csv.writer(out, lineterminator="\n").writerow(cells)
+    return out.getvalue()
+
+
+def format_rows(*columns: np.ndarray | None) -> str:
+    """CSV rows of the given (count,) or (count, k) arrays side by side (None skipped), full
+    precision: %.17g round-trips like repr."""
+    parts = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in columns if c is not None]
+    data = np.hstack(parts) if len(parts) > 1 else parts[0]
+    count, width = data.shape
     # --- fast path: one %-format over all rows at C speed; %.17g round-trips like repr, faster ---
-    count, n = tau.shape
-    head = ",".join(f"tau{i}" for i in range(1, n + 1)) + "\n"
-    row = ",".join(["%.17g"] * n) + "\n"
-    text = head + (row * count) % tuple(np.asarray(tau, dtype=float).ravel().tolist())
+    row = ",".join(["%.17g"] * width) + "\n"
+    return (row * count) % tuple(data.ravel().tolist())
     # --- end of fast path ---
-    try:
-        write_text_atomic(path, text)
-    except OSError as exc:
-        raise VampcError(f"{path}: cannot write torques: {exc.strerror}") from None
+
+
+def write_torques(path, tau: np.ndarray, names=None, t: np.ndarray | None = None) -> None:
+    """Torque CSV (header `t` if given, then `tau_<name>`; `tau1..taun` without names), written by
+    the output rules of vampc.outputs."""
+    from vampc.program.file import write_text_atomic
+    columns = torque_columns(names) if names is not None else [f"tau{i}" for i in
+                                                                range(1, tau.shape[1] + 1)]
+    head = csv_line((["t"] if t is not None else []) + columns)
+    write_text_atomic(path, head + format_rows(t, tau), "torques")
+
+
+def write_states(path, traj) -> None:
+    """States in the trajectory CSV format (`t` first if the trajectory has it)."""
+    from vampc.program.file import write_text_atomic
+    head = csv_line((["t"] if traj.t is not None else []) + header(traj.q.shape[1]))
+    write_text_atomic(path, head + format_rows(traj.t, traj.q, traj.qd, traj.qdd), "states")

@@ -161,3 +161,32 @@ def stream_from_doc(doc: dict) -> tuple[StreamEntry, ...]:
 def programs_from_doc(doc: dict) -> tuple[Program, ...]:
     """Per-VAMP programs as written."""
     return tuple(Program(p["delay_a"], p["delay_b"], p["delay_r"], p["rom"]) for p in doc["programs"])
+
+
+def compiled_from_doc(doc: dict, path):
+    """The compiler's IRs as a validated program document holds them (a vampc.compiler.Compiled),
+    checked against each other: the graph is verified and the schedule must be the one the graph
+    gives under the file's latencies. So figures reported from a file are recomputed from what runs,
+    never copied from its `summary` (VampcError naming the section that disagrees)."""
+    from dataclasses import fields
+
+    from vampc.compiler import CompileOptions, Compiled
+    from vampc.dataflow.ops import Timing
+    from vampc.errors import VampcError, VampcInternalError
+    from vampc.schedule.asap import schedule_asap
+    graph = graph_from_doc(doc["graph"])
+    stored = doc["schedule"]
+    try:
+        graph.verify()
+        sched = schedule_asap(graph, Timing(stored["mult_latency"], stored["add_latency"]))
+    except VampcInternalError as exc:
+        raise VampcError(f"{path}: graph: {exc}") from None
+    for key, value in schedule_to_doc(sched).items():
+        if stored.get(key) != value:
+            raise VampcError(f"{path}: schedule.{key} is not the schedule of the file's graph (the "
+                             "file was edited); recompile it")
+    known = {f.name for f in fields(CompileOptions)}
+    options = CompileOptions(**{k: v for k, v in doc["options"].items() if k in known})
+    numbering = tuple(v["number"] for v in doc["network"]["vamps"])
+    return Compiled(chain_from_doc(doc["robot"]), options, graph, sched, network_from_doc(doc),
+                    numbering, programs_from_doc(doc), stream_from_doc(doc))

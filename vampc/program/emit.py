@@ -46,6 +46,13 @@ def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
         numbers.append(int(text))
     if len(numbers) < count:
         raise VampcError(f"{path}: {len(numbers)} VAMP numbers given, the network needs {count}")
+    if len(numbers) > count:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"{path}: {len(numbers)} VAMP numbers given, the network has "
+                                   f"{count} VAMPs: the last {len(numbers) - count} are not used"),
+                      stacklevel=2)
     if len(set(numbers)) != len(numbers):
         dup = next(x for x in numbers if numbers.count(x) > 1)
         raise VampcError(f"{path}: VAMP number {dup} appears twice")

@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -94,28 +92,20 @@ def layout(doc: dict) -> str:
     return block(doc, 0)
 
 
-def write_text_atomic(path: str | Path, text: str) -> None:
-    """Write text to path via a temporary file in the same folder, then rename: no partial files."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)   # mkstemp creates 0600; a normal file respects the umask
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+def write_text_atomic(path, text: str, what: str = "output") -> None:
+    """Write text to path by the output rules of vampc.outputs (temporary file, then rename; no
+    partial files; symlinks written through; devices written as streams)."""
+    from vampc.outputs import Output, output_for, write_output
+    write_output(path if isinstance(path, Output) else output_for(path), text, what)
 
 
 @gc_paused()
-def write_program(doc: dict | str, path: str | Path) -> None:
+def write_program(doc: dict | str, path) -> None:
     """Stamp the checksum and write the document atomically, laid out by `layout`. `doc` is a document
     or its text as layout made it (vampc.program.document.program_text): either way it is serialised
     once, and the checksum is taken over that text with its newlines removed, which is the canonical
-    JSON. "checksum" sorts before every other key, so it goes first."""
+    JSON. "checksum" sorts before every other key, so it goes first. `path` is a path or a planned
+    vampc.outputs.Output."""
     if isinstance(doc, str):
         text = doc
     else:
@@ -124,21 +114,22 @@ def write_program(doc: dict | str, path: str | Path) -> None:
             raise ValueError("a program document's keys must all sort after 'checksum'")
         text = layout(body)
     stamped = '{\n"checksum":' + json.dumps(_digest(text.replace("\n", ""))) + "," + text[1:] + "\n"
-    try:
-        write_text_atomic(path, stamped)
-    except OSError as exc:
-        raise VampcError(f"{path}: cannot write program file: {exc.strerror}") from None
+    write_text_atomic(path, stamped, "program file")
 
 
 @gc_paused()
 def read_program(path: str | Path) -> dict:
     """Load, schema-validate and checksum-verify a program file; VampcError on any problem."""
+    from vampc.textio import decode_utf8
     try:
-        text = Path(path).read_text()
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
+    text = decode_utf8(raw, path, "program file")
     try:
         doc = json.loads(text, parse_constant=_reject_constant)
+    except RecursionError:
+        raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
     except (json.JSONDecodeError, ValueError) as exc:
         raise VampcError(f"{path}: not a vampc program file (invalid JSON: {exc})") from None
     validate_program(doc, path)
@@ -159,10 +150,16 @@ def validate_program(doc, path) -> None:
         return
     import jsonschema   # only now: it takes ~0.3 s to import, and only it can say what is wrong
     validator = jsonschema.Draft202012Validator(load_schema("program.schema.json"))
-    err = next(iter(sorted(validator.iter_errors(doc), key=lambda e: list(e.path))), None)
+    try:
+        err = next(iter(sorted(validator.iter_errors(doc), key=lambda e: list(e.path))), None)
+    except RecursionError:
+        raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
     if err is not None:
         where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in err.path).lstrip(".")
-        raise VampcError(f"{path}: {where or 'document'}: {err.message}")
+        message = " ".join(err.message.split())
+        if len(message) > 300:   # jsonschema quotes whole values
+            message = message[:297] + "..."
+        raise VampcError(f"{path}: {where or 'document'}: {message}")
 
 
 def _reject_constant(name: str):

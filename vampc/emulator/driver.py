@@ -1,0 +1,171 @@
+"""The host side of a whole emulation run, fed in chunks so memory does not grow with the run.
+
+`vampc emulate --random 1000000000` must not build a billion states first: the stream engine takes
+torque sets in chunks (a few tens of megabytes of port values each), the caller writes each chunk's
+torques (and states) as they come and the check against the reference accumulates over chunks. The
+tick engine runs a whole trajectory at once (its sets pass through one pipeline), so a run that would
+not fit in memory is refused before it starts.
+
+Random states are drawn in blocks of RANDOM_BLOCK sets, block b from the seed sequence (seed, b): the
+states of a run depend on the seed and their position only, not on the chunk size or the engine.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Callable, Iterator
+
+import numpy as np
+
+from vampc.emulator.host import CheckResult, Trajectory, check_torques, port_values
+from vampc.emulator.load import Loaded
+from vampc.errors import VampcError
+
+RANDOM_BLOCK = 1024
+CHUNK_BYTES = 64 << 20      # port values per chunk of the stream engine
+MAX_CHUNK = 1 << 16
+MAX_STATES = 1 << 53        # beyond this a set index is not exact in a float64 (and no run ends)
+
+
+def random_states(chain, start: int, count: int, seed: int) -> Trajectory:
+    """States start .. start + count - 1 of the random run with this seed (see the module
+    docstring): within the joint limits, else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²."""
+    from vampc.robot.random import random_state
+    parts, first = [], start // RANDOM_BLOCK
+    for block in range(first, (start + count - 1) // RANDOM_BLOCK + 1):
+        parts.append(random_state(chain, RANDOM_BLOCK, np.random.default_rng([seed, block])))
+    lo = start - first * RANDOM_BLOCK
+    q, qd, qdd = (np.concatenate([p[k] for p in parts])[lo:lo + count] for k in range(3))
+    return Trajectory(q, qd, qdd)
+
+
+@dataclass(frozen=True)
+class States:
+    """Where a run's states come from: a trajectory in memory, or `count` random states."""
+
+    count: int
+    trajectory: Trajectory | None = None
+    seed: int = 0
+
+    @staticmethod
+    def random(count: int, seed: int) -> "States":
+        """`count` random states (refused beyond what a run can index)."""
+        if not 1 <= count <= MAX_STATES:
+            raise VampcError(f"--random {count}: the number of states must be between 1 and "
+                             f"{MAX_STATES}")
+        return States(count, None, seed)
+
+    def chunk(self, chain, start: int, count: int) -> Trajectory:
+        """States start .. start + count - 1."""
+        if self.trajectory is None:
+            return random_states(chain, start, count, self.seed)
+        tr = self.trajectory
+        return Trajectory(tr.q[start:start + count], tr.qd[start:start + count],
+                          tr.qdd[start:start + count],
+                          None if tr.t is None else tr.t[start:start + count])
+
+
+def chunk_size(ld: Loaded) -> int:
+    """Sets per chunk: CHUNK_BYTES of port values, at most MAX_CHUNK, at least 1."""
+    per_set = 8 * (sum(p.size for p in ld.net.ports) + 4 * ld.chain.n)
+    return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // max(per_set, 1))))
+
+
+def tick_memory_check(ld: Loaded, count: int) -> None:
+    """The tick engine holds every set's port values and torques: refuse a run that cannot fit."""
+    need = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n)
+    avail = _available_memory()
+    if avail is not None and need > avail // 2:
+        raise VampcError(f"{ld.path}: {count} torque sets need about {need / 2**30:.1f} GiB in the "
+                         f"tick engine ({avail / 2**30:.1f} GiB available); run fewer sets or use "
+                         "--engine stream, which takes them in chunks")
+
+
+def _available_memory() -> int | None:
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a run did: timing (as vampc.emulator.Emulation), the merged check, engine wall time."""
+
+    engine: str
+    count: int
+    load_ticks: int
+    first_tick: int
+    interval: int
+    data_ticks: int
+    engine_seconds: float
+    check: CheckResult | None
+
+    @property
+    def emulated_flops(self) -> int:
+        """Program load plus data ticks (1 tick = 1 flop)."""
+        return self.load_ticks + self.data_ticks
+
+
+def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=None,
+        check: bool = False, sink: Callable[[Trajectory, np.ndarray], None] | None = None,
+        progress=None, limits: Callable[[Trajectory, int], None] | None = None) -> Outcome:
+    """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
+    in order; `limits(traj, first_row)` may refuse a chunk's states before it runs. A non-finite
+    torque is a VampcError naming the set and the joint."""
+    from vampc.emulator import emulate
+    merged, seconds, first = None, 0.0, None
+    size = states.count if engine == "tick" else chunk_size(ld)
+    if engine == "tick":
+        tick_memory_check(ld, states.count)
+    stream = None
+    if engine == "stream":
+        from vampc.emulator.stream import StreamEngine
+        stream = StreamEngine(ld, states.count)
+    for start, traj in _chunks(ld, states, size):
+        if limits is not None:
+            limits(traj, start)
+        def chunk_progress(done, total, start=start):
+            if progress is not None:
+                progress(start + done, states.count)
+        em = emulate(ld, traj, engine=engine, seed=seed, vcd=vcd, static_check=first is None,
+                     progress=chunk_progress, stream=stream)
+        first = first or em
+        seconds += em.wall_seconds
+        _check_finite(ld, em.tau, start)
+        if check:
+            merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
+        if sink is not None:
+            sink(traj, em.tau)
+    # the stream engine's timing is the schedule's: set j completes j·C after set 0
+    data_ticks = first.data_ticks if engine == "tick" else \
+        (states.count - 1) * first.interval + first.first_tick + 1
+    return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
+                   data_ticks, seconds, merged)
+
+
+def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajectory]]:
+    for start in range(0, states.count, size):
+        yield start, states.chunk(ld.chain, start, min(size, states.count - start))
+
+
+def _check_finite(ld: Loaded, tau: np.ndarray, start: int) -> None:
+    bad = ~np.isfinite(tau)
+    if bad.any():
+        r, j = (int(x) for x in np.argwhere(bad)[0])
+        name = ld.chain.joints[j].name
+        raise VampcError(f"set {start + r + 1}, joint {j + 1} ({name}): the torque is {tau[r, j]} "
+                         "(float64 overflow: the robot's or the state's numbers are too large); "
+                         "no torques were written")
+
+
+def _merge(acc: CheckResult | None, new: CheckResult, start: int) -> CheckResult:
+    new = CheckResult(new.max_abs, new.max_rel, new.worst_row + start, new.ok)
+    if acc is None:
+        return new
+    worst = new if new.max_rel > acc.max_rel else acc
+    return CheckResult(max(acc.max_abs, new.max_abs), worst.max_rel, worst.worst_row,
+                       acc.ok and new.ok)
+
+
+__all__ = ["Outcome", "States", "run", "random_states", "chunk_size"]

@@ -1,0 +1,218 @@
+"""Where vampc writes its output files, and the rules that keep the user's files safe (README
+"Output files").
+
+1. An output that is one of the command's inputs (the same file, also through a symlink or a hard
+   link), or two outputs that are the same file, are refused before any work is done.
+2. The folder of every output must exist and take a new file; that too is checked (by creating and
+   removing a probe file) before any work is done, so an unwritable location fails in a second, not
+   after a long emulation.
+3. A regular file (or a path that does not exist yet) is written to a temporary file in the same
+   folder and renamed over the target once complete: a failed run — an error, a full disk, an
+   interrupt — leaves the previous file as it was and no partial file behind. The new file keeps the
+   old file's permission bits (a new one gets the umask's).
+4. A symlink is written through: the file it points to is replaced as in 3, the link stays a link.
+5. An existing path that is not a regular file is never replaced: a character device (/dev/null) or
+   a FIFO is written as a stream; a directory, socket or block device is refused.
+6. `-` is standard output, where a command allows it.
+
+Every failure is one `VampcError` line naming the file (disk full included).
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import stat
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Iterator
+
+from vampc.errors import VampcError
+
+STDOUT = "-"
+
+
+@dataclass(frozen=True)
+class Output:
+    """A planned output: `kind` is "file" (atomic replace of `target`), "stream" (an existing device
+    or FIFO, written in place) or "stdout"."""
+
+    option: str          # the command-line option that named it, e.g. "-o"
+    path: str            # as the user gave it
+    kind: str
+    target: Path | None  # the file actually written (symlinks resolved); None for stdout
+
+    @property
+    def is_stdout(self) -> bool:
+        """True when this output goes to standard output."""
+        return self.kind == "stdout"
+
+
+def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict[str, Output]:
+    """Check every output against the rules above and return them by option name. `inputs` are the
+    command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
+    `stdout_ok` names the options that may be `-`."""
+    inputs = [Path(p) for p in inputs if p is not None]
+    planned: dict[str, Output] = {}
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        out = _plan(option, str(path), stdout_ok)
+        _refuse_input(out, inputs)
+        for other in planned.values():
+            if _same(out, other):
+                raise VampcError(f"{path}: {option} and {other.option} name the same file")
+        planned[option] = out
+    return planned
+
+
+def _plan(option: str, path: str, stdout_ok) -> Output:
+    if path == STDOUT:
+        if option not in stdout_ok:
+            raise VampcError(f"{option} -: standard output is not available for this output")
+        return Output(option, path, "stdout", None)
+    target = Path(os.path.realpath(path))
+    try:
+        mode = os.stat(target).st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot write: {exc.strerror}") from None
+    if mode is not None and not stat.S_ISREG(mode):
+        if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
+            if not os.access(target, os.W_OK):
+                raise VampcError(f"{path}: cannot write: permission denied")
+            return Output(option, path, "stream", target)
+        what = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
+        raise VampcError(f"{path}: is {what}; give a file name for {option}")
+    if mode is not None and not os.access(target, os.W_OK):
+        raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
+    _probe_folder(path, target.parent)
+    return Output(option, path, "file", target)
+
+
+def _probe_folder(path: str, folder: Path) -> None:
+    """Create and remove a temporary file where the output will go (os.access is no proof: root, a
+    read-only file system, a full inode table)."""
+    if not folder.is_dir():
+        raise VampcError(f"{path}: folder {folder} does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".vampc-probe.", dir=folder)
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot write in folder {folder}: {exc.strerror}") from None
+    os.close(fd)
+    os.unlink(tmp)
+
+
+def _refuse_input(out: Output, inputs: list[Path]) -> None:
+    if out.target is None or not out.target.exists():
+        return
+    for src in inputs:
+        try:
+            same = os.path.samefile(out.target, src)
+        except OSError:
+            same = False
+        if same:
+            link = (" (through a symlink)" if os.path.islink(out.path) else
+                    "" if out.target == Path(os.path.realpath(src)) else " (a hard link to it)")
+            raise VampcError(f"{out.path}: {out.option} is the input file {src}{link}; "
+                             "vampc never writes over its inputs")
+
+
+def _same(a: Output, b: Output) -> bool:
+    if a.is_stdout or b.is_stdout:
+        return a.is_stdout and b.is_stdout
+    if a.target == b.target:
+        return True
+    try:
+        return os.path.samefile(a.target, b.target)
+    except OSError:
+        return False
+
+
+class Pending:
+    """An output being written: `fh` takes the content; `commit()` puts it in place, `discard()`
+    drops it (a regular file's previous content stays). Used by `writing`."""
+
+    def __init__(self, out: Output, what: str, binary: bool):
+        self.out, self.what, self.tmp = out, what, None
+        mode = "wb" if binary else "w"
+        try:
+            if out.kind == "stdout":
+                self.fh = sys.stdout.buffer if binary else sys.stdout
+            elif out.kind == "stream":
+                self.fh = open(out.target, mode)    # noqa: SIM115 - closed in commit/discard
+            else:
+                fd, self.tmp = tempfile.mkstemp(prefix=f".{out.target.name}.", suffix=".tmp",
+                                                dir=out.target.parent)
+                self.fh = os.fdopen(fd, mode)
+        except OSError as exc:
+            raise self.error(exc) from None
+
+    def error(self, exc: OSError) -> VampcError:
+        """The one-line message for a failed write."""
+        reason = exc.strerror or str(exc)
+        kept = " (the previous file is unchanged)" if self.out.kind == "file" and \
+            self.out.target.exists() else ""
+        return VampcError(f"{self.out.path}: cannot write {self.what}: {reason}{kept}")
+
+    def commit(self) -> None:
+        """Flush and put the content in place (rename over the target for a regular file)."""
+        try:
+            if self.out.kind == "stdout":
+                self.fh.flush()
+                return
+            self.fh.close()
+            if self.tmp is not None:
+                os.chmod(self.tmp, _mode_for(self.out.target))
+                os.replace(self.tmp, self.out.target)
+                self.tmp = None
+        except OSError as exc:
+            self.discard()
+            raise self.error(exc) from None
+
+    def discard(self) -> None:
+        """Drop what was written (a stream keeps what it already took)."""
+        if self.out.kind != "stdout":
+            with contextlib.suppress(OSError):
+                self.fh.close()
+        if self.tmp is not None:
+            Path(self.tmp).unlink(missing_ok=True)
+            self.tmp = None
+
+
+def _mode_for(target: Path) -> int:
+    try:
+        return stat.S_IMODE(os.stat(target).st_mode)
+    except FileNotFoundError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+@contextlib.contextmanager
+def writing(out: Output, what: str, binary: bool = False) -> Iterator[IO]:
+    """Write `out` through a file handle; committed if the block completes, discarded if it raises.
+    An OSError inside the block (a full disk) becomes the one-line VampcError."""
+    pending = Pending(out, what, binary)
+    try:
+        yield pending.fh
+    except OSError as exc:
+        pending.discard()
+        raise pending.error(exc) from None
+    except BaseException:
+        pending.discard()
+        raise
+    pending.commit()
+
+
+def write_output(out: Output, content: str | bytes, what: str) -> None:
+    """Write the whole of `content` to `out` by the rules above."""
+    with writing(out, what, binary=isinstance(content, bytes)) as fh:
+        fh.write(content)
+
+
+def output_for(path, option: str = "-o", inputs=()) -> Output:
+    """Plan one output (library callers that write a single file)."""
+    return plan_outputs(inputs, {option: path})[option]

@@ -1,0 +1,51 @@
+"""Progress on stderr for long work, drawn by tqdm (a kept library: rate, ETA and terminal handling
+we would otherwise write by hand). Nothing is shown for work that ends within two seconds, and
+nothing at all unless stderr is a terminal or VAMPC_PROGRESS=1 (so logs and pipes stay clean)."""
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+
+DELAY = 2.0   # seconds before a bar appears
+
+
+def enabled() -> bool:
+    """Whether progress is shown at all."""
+    flag = os.environ.get("VAMPC_PROGRESS")
+    if flag is not None:
+        return flag == "1"
+    return sys.stderr.isatty()
+
+
+@contextlib.contextmanager
+def counter(label: str, total: int, unit: str = "set"):
+    """A callable `update(done, total)` that advances a bar to `done` of `total`."""
+    if not enabled():
+        yield lambda done, total: None
+        return
+    from tqdm import tqdm
+    with tqdm(total=total, desc=label, unit=unit, unit_scale=True, delay=DELAY, file=sys.stderr,
+              leave=False, dynamic_ncols=True) as bar:
+        def update(done: int, total_now: int) -> None:
+            if total_now != bar.total:
+                bar.total = total_now
+            bar.update(done - bar.n)
+        yield update
+
+
+@contextlib.contextmanager
+def stages(label: str, names: tuple[str, ...]):
+    """A callable `stage(name)` that shows which of the named stages is running."""
+    if not enabled():
+        yield lambda name: None
+        return
+    from tqdm import tqdm
+    with tqdm(total=len(names), desc=label, unit="stage", delay=DELAY, file=sys.stderr,
+              leave=False, dynamic_ncols=True,
+              bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}] {postfix}") as bar:
+        def stage(name: str) -> None:
+            if name in names:
+                bar.n = names.index(name)
+            bar.set_postfix_str(name)
+        yield stage

@@ -1,0 +1,59 @@
+"""What a file looks like, from its first bytes: so a program file given where a robot is expected,
+or a robot file with the wrong extension, gets a message that says what it is, not a schema error."""
+from __future__ import annotations
+
+import codecs
+from pathlib import Path
+
+HEAD = 4096
+PROGRAM_SUFFIX = ".vamp.json"
+
+DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
+                "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)"}
+
+
+def sniff(path) -> str | None:
+    """"program", "urdf", "json" or "yaml" by content; None if unreadable or none of these (the
+    loaders then say what is wrong)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(HEAD)
+    except OSError:
+        return None
+    if head.startswith(codecs.BOM_UTF8):
+        head = head[len(codecs.BOM_UTF8):]
+    head = head.lstrip()
+    if head.startswith(b"<"):
+        return "urdf"
+    if head.startswith((b"{", b"[")):
+        return "program" if b'"vampc-program"' in head else "json"
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+    return "yaml" if ":" in text else None
+
+
+def is_program(path) -> bool:
+    """A program file: named *.vamp.json, or a JSON file whose first bytes say "vampc-program"."""
+    return str(path).endswith(PROGRAM_SUFFIX) or sniff(path) == "program"
+
+
+def looks_like(path) -> str:
+    """' (it looks like ...)' for a message, or '' when the content says nothing."""
+    kind = sniff(path)
+    return f" (it looks like {DESCRIPTIONS[kind]})" if kind else ""
+
+
+def suffix_mismatch(path, expected: str) -> str | None:
+    """Why a robot file's content does not match its extension's loader ("urdf" or "dh"), or None."""
+    kind = sniff(path)
+    name = Path(path).name
+    if kind == "program":
+        return (f"{name} is a vampc program file, not a robot description; use "
+                "`vampc emulate` or `vampc report` with it")
+    if expected == "dh" and kind == "urdf":
+        return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
+    if expected == "urdf" and kind in ("json", "yaml"):
+        return f"this is {kind.upper()}, not XML; a DH table is named .yaml, .yml or .json"
+    return None

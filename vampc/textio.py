@@ -1,0 +1,40 @@
+"""Text files from users: decoding with messages that say where and what, and showing a user's
+text in a message without letting invisible characters through."""
+from __future__ import annotations
+
+import codecs
+import unicodedata
+
+from vampc.errors import VampcError
+
+_OTHER_BOMS = ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
+               (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"))
+
+
+def decode_utf8(raw: bytes, path, what: str) -> str:
+    """The text of a UTF-8 file (a leading byte-order mark, as Excel writes, is dropped). Anything
+    else is one VampcError naming the line and the byte."""
+    if raw.startswith(codecs.BOM_UTF8):
+        raw = raw[len(codecs.BOM_UTF8):]
+    for bom, name in _OTHER_BOMS:
+        if raw.startswith(bom):
+            raise VampcError(f"{path}: {what} is {name} text; save it as UTF-8")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise VampcError(f"{path}: line {line}: byte 0x{raw[exc.start]:02x} is not UTF-8 "
+                         f"(the {what} must be UTF-8 text)") from None
+
+
+def shown(text: str, limit: int = 60) -> str:
+    """`text` quoted for a message: control, format (zero-width, BOM) and other invisible characters
+    escaped as \\uXXXX, cut to `limit` characters."""
+    out = []
+    for ch in text[:limit]:
+        if ch == " " or unicodedata.category(ch)[0] not in "CZ":
+            out.append(ch)
+        else:
+            out.append(ch.encode("unicode_escape").decode("ascii"))
+    more = "..." if len(text) > limit else ""
+    return "'" + "".join(out).replace("'", "\\'") + more + "'"
