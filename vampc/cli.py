@@ -327,7 +327,7 @@ def _check_emulate_usage(ctx, trajectory, random_count, engine, vcd, save_states
         raise click.UsageError("--seed applies to --random and to the tick engine")
     if write_failed and not (check and output):
         raise click.UsageError("--write-failed applies with --check and -o")
-    if save_states and save_states != "-" and Path(save_states).suffix.lower() != ".csv":
+    if save_states and Path(save_states).suffix.lower() in (".npy", ".npz"):
         raise click.UsageError("--save-states writes a CSV trajectory: give a .csv file name")
 
 
@@ -342,7 +342,8 @@ class _Sinks:
         self.states = Pending(outs["--save-states"], "states", False) if "--save-states" in outs \
             else None
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
-        self.vcd = _vcd_writer(self.vcd_out.fh, ld) if self.vcd_out else None
+        self.vcd = _Guarded(_vcd_writer(self.vcd_out.fh, ld), self.vcd_out) if self.vcd_out \
+            else None
         t = ["t"] if has_t else []
         self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(
             j.name for j in ld.chain.joints))))
@@ -366,7 +367,7 @@ class _Sinks:
     def finish_vcd(self) -> None:
         """The waveform is complete: put it in place."""
         if self.vcd is not None:
-            self._write(self.vcd_out, lambda fh: self.vcd.close())
+            self.vcd.close()
             self.vcd_out.commit()
 
     def finish(self, ok: bool, write_failed: bool, info: bool) -> None:
@@ -392,6 +393,27 @@ class _Sinks:
         for pending in (self.tau, self.states, self.vcd_out):
             if pending is not None:
                 pending.discard()
+
+
+class _Guarded:
+    """A VCD writer whose failed writes (a full disk) become the output's one-line error."""
+
+    def __init__(self, writer, pending):
+        self.writer, self.pending = writer, pending
+
+    def sample(self, tick, values) -> None:
+        """As VcdWriter.sample."""
+        try:
+            self.writer.sample(tick, values)
+        except OSError as exc:
+            raise self.pending.error(exc) from None
+
+    def close(self) -> None:
+        """As VcdWriter.close."""
+        try:
+            self.writer.close()
+        except OSError as exc:
+            raise self.pending.error(exc) from None
 
 
 def _loaded(ctx, source, base, tip, lock, **opts):

@@ -109,22 +109,24 @@ class Outcome:
 
 def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=None,
         check: bool = False, sink: Callable[[Trajectory, np.ndarray], None] | None = None,
-        progress=None, limits: Callable[[Trajectory, int], None] | None = None) -> Outcome:
+        progress=None) -> Outcome:
     """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
-    in order; `limits(traj, first_row)` may refuse a chunk's states before it runs. A non-finite
-    torque is a VampcError naming the set and the joint."""
-    from vampc.emulator import emulate
-    merged, seconds, first = None, 0.0, None
+    in order. A non-finite torque is a VampcError naming the set and the joint."""
     size = states.count if engine == "tick" else chunk_size(ld)
     if engine == "tick":
         tick_memory_check(ld, states.count)
+    with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
+        return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
+
+
+def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
+    from vampc.emulator import emulate
+    merged, seconds, first = None, 0.0, None
     stream = None
     if engine == "stream":
         from vampc.emulator.stream import StreamEngine
         stream = StreamEngine(ld, states.count)
     for start, traj in _chunks(ld, states, size):
-        if limits is not None:
-            limits(traj, start)
         def chunk_progress(done, total, start=start):
             if progress is not None:
                 progress(start + done, states.count)
@@ -154,9 +156,10 @@ def _check_finite(ld: Loaded, tau: np.ndarray, start: int) -> None:
     if bad.any():
         r, j = (int(x) for x in np.argwhere(bad)[0])
         name = ld.chain.joints[j].name
-        raise VampcError(f"set {start + r + 1}, joint {j + 1} ({name}): the torque is {tau[r, j]} "
+        raise VampcError(f"{ld.path}: set {start + r + 1}, joint {j + 1} ({name}): the torque is "
+                         f"{tau[r, j]} "
                          "(float64 overflow: the robot's or the state's numbers are too large); "
-                         "no torques were written")
+                         "the run stopped and wrote no output file")
 
 
 def _merge(acc: CheckResult | None, new: CheckResult, start: int) -> CheckResult:

@@ -182,9 +182,12 @@ def _read_npz(path: Path, n: int):
 
 def _member(path, z, key: str) -> np.ndarray:
     try:
-        return z[key]
+        value = z[key]
     except _NUMPY_ERRORS as exc:
         raise VampcError(f"{path}: array {key}: {_numpy_reason(exc)}") from None
+    if not isinstance(value, np.ndarray):    # a member that is not a .npy file comes back as bytes
+        raise VampcError(f"{path}: array {key}: not a numpy array")
+    return value
 
 
 def _numpy_reason(exc: Exception) -> str:

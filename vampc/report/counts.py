@@ -77,6 +77,8 @@ def summary(c) -> dict:
     s = c.schedule
     return {
         "joints": c.chain.n, "robot": c.chain.name, "prismatic_joints": prismatic_joints(c.chain),
+        "joint_names": [j.name for j in c.chain.joints],
+        "joint_types": [j.type.value for j in c.chain.joints],
         "recursion": c.graph.recursion, "layout": "systolic",
         "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds},
         "paper": paper_latency(c.chain.n, c.graph.recursion),
@@ -112,7 +114,7 @@ def latency_note(rep: dict) -> list[str]:
     notes.append("includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
                  "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "
                  "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
-                 "torques (DESIGN §5)")
+                 "torques (README, Exactness convention)")
     n = rep["joints"]
     if rep["recursion"] == "log" and n & (n - 1) == 0 and got["flops"] < paper["flops"] + 3:
         notes.append("log recursion: grounded in O_0 when the base does not rotate (section VI), the "

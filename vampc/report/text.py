@@ -10,6 +10,7 @@ def render(rep: dict) -> str:
     lines = [
         f"robot            {rep['robot']} ({rep['joints']} joints"
         + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")"),
+        f"joints           {_joints(rep)}",
         f"recursion        {rep['recursion']}" + (f" ({rep['prefix']})" if rep.get("prefix") else ""),
         f"layout           {rep['layout']}",
         f"latency          {lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns "
@@ -39,3 +40,19 @@ def render(rep: dict) -> str:
         from vampc.report.compare import render_comparison
         text += "\n" + render_comparison(rep["prefix_comparison"])
     return text
+
+
+SHOWN_JOINTS = 12
+
+
+def _joints(rep: dict) -> str:
+    """Joints in order (torque columns follow it): '1 shoulder (R), 2 elbow (R)'; long chains cut."""
+    names, types = rep.get("joint_names"), rep.get("joint_types")
+    if names is None:
+        return f"{rep['joints']} (names not recorded in this file)"
+    items = [f"{k} {name} ({kind[0].upper()})" for k, (name, kind) in
+             enumerate(zip(names, types), 1)]
+    if len(items) > SHOWN_JOINTS:
+        items = items[:SHOWN_JOINTS - 1] + [f"... {len(names)} in all (--format json lists "
+                                            "every one)"]
+    return ", ".join(items) + "   (R revolute, P prismatic)"

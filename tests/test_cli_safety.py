@@ -1,0 +1,588 @@
+"""Nothing lost, nothing silent (issue 8): output-path safety, one-line errors for a user's mistakes,
+no silently ignored option, no silently wrong number, named joints in every file."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+import threading
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from conftest import EXAMPLES
+from vampc.cli import main
+from vampc.dynamics.reference import rnea
+from vampc.emulator import driver
+from vampc.emulator.host import CheckResult
+from vampc.program.file import checksum
+from vampc.robot import load_robot
+
+PLANAR = EXAMPLES / "planar2.yaml"
+ARM6 = EXAMPLES / "arm6.urdf"
+ERROR = re.compile(r"^vampc: error: [^\n]+\n$")
+IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
+
+
+def run(*args, input=None):
+    """The CLI in process; stdout and stderr apart."""
+    return CliRunner().invoke(main, [str(a) for a in args], input=input)
+
+
+def user_error(res, pattern: str) -> None:
+    """Exit 1 with exactly one stderr line `vampc: error: ...` matching `pattern` (a regex)."""
+    assert res.exit_code == 1, (res.stdout, res.stderr)
+    assert ERROR.match(res.stderr), res.stderr
+    assert re.search(pattern, res.stderr), res.stderr
+    assert "Traceback" not in res.stderr and "internal error" not in res.stderr
+
+
+@pytest.fixture(scope="module")
+def program(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("prog") / "planar.vamp.json"
+    assert run("compile", PLANAR, "-o", path).exit_code == 0
+    return path
+
+
+@pytest.fixture
+def robot(tmp_path) -> Path:
+    path = tmp_path / "robot.yaml"
+    path.write_bytes(PLANAR.read_bytes())
+    return path
+
+
+def _csv(path: Path, text: str | bytes) -> Path:
+    if isinstance(text, str):
+        text = text.encode()
+    path.write_bytes(text)
+    return path
+
+
+HEAD = "q1,q2,qd1,qd2,qdd1,qdd2\n"
+ROW = "0.1,0.2,0.3,0.4,0.5,0.6\n"
+
+
+# --- 1. never destroy what the user did not ask to replace -------------------------------------------
+
+def test_compile_refuses_to_write_over_its_robot_file(robot):
+    before = robot.read_bytes()
+    res = run("compile", robot, "-o", robot)
+    user_error(res, rf"^vampc: error: {re.escape(str(robot))}: -o is the input file "
+                    rf"{re.escape(str(robot))}; vampc never writes over its inputs$")
+    assert robot.read_bytes() == before
+
+
+@pytest.mark.parametrize("link", ["symlink", "hardlink"])
+def test_an_input_reached_through_a_link_is_refused_too(robot, tmp_path, link):
+    other = tmp_path / "other.yaml"
+    (os.symlink if link == "symlink" else os.link)(robot, other)
+    before = robot.read_bytes()
+    res = run("compile", robot, "-o", other)
+    words = "through a symlink" if link == "symlink" else "a hard link to it"
+    user_error(res, rf"-o is the input file .*robot\.yaml \({words}\); vampc never writes over")
+    assert robot.read_bytes() == before and (other.is_symlink() == (link == "symlink"))
+
+
+@pytest.mark.parametrize("which", ["-o", "--vcd", "--save-states"])
+def test_emulate_outputs_never_overwrite_the_program_or_the_trajectory(tmp_path, program, which):
+    traj = _csv(tmp_path / "traj.csv", HEAD + ROW)
+    prog = tmp_path / "p.vamp.json"
+    prog.write_bytes(program.read_bytes())
+    for victim in (prog, traj):
+        if which == "--save-states" and victim == prog:
+            continue      # --save-states wants a .csv name (tested below)
+        before = victim.read_bytes()
+        extra = ["--engine", "tick"] if which == "--vcd" else []
+        res = run("emulate", prog, "--trajectory", traj, which, victim, *extra)
+        user_error(res, rf"{which} is the input file .*{victim.name}; vampc never writes over")
+        assert victim.read_bytes() == before
+
+
+def test_two_outputs_naming_one_file_are_refused(tmp_path, program):
+    res = run("emulate", program, "--random", 3, "-o", tmp_path / "x.csv", "--save-states",
+              tmp_path / "x.csv")
+    user_error(res, r"x\.csv: --save-states and -o name the same file$")
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_symlink_output_is_written_through_and_stays_a_link(tmp_path, program):
+    target, link = tmp_path / "tau.csv", tmp_path / "link.csv"
+    target.write_text("old\n")
+    link.symlink_to(target)
+    assert run("emulate", program, "--random", 4, "-o", link).exit_code == 0
+    assert link.is_symlink() and os.readlink(link) == str(target)
+    assert target.read_text().startswith("tau_shoulder,tau_elbow\n")
+    assert len(target.read_text().splitlines()) == 5
+
+
+def test_a_fifo_is_written_as_a_stream_not_replaced(tmp_path, program):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()))
+    reader.start()
+    res = run("emulate", program, "--random", 3, "-o", fifo)
+    reader.join(timeout=30)
+    assert res.exit_code == 0, res.stderr
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert got and got[0].startswith("tau_shoulder,tau_elbow\n") and len(got[0].splitlines()) == 4
+
+
+@pytest.mark.skipif(not IS_ROOT, reason="creating a character device needs root")
+def test_a_character_device_is_written_through_not_replaced(tmp_path, program):
+    dev = tmp_path / "null"
+    os.mknod(dev, 0o666 | stat.S_IFCHR, os.makedev(1, 3))     # a private /dev/null
+    assert run("emulate", program, "--random", 3, "-o", dev).exit_code == 0
+    assert run("compile", PLANAR, "-o", dev).exit_code == 0
+    assert stat.S_ISCHR(os.stat(dev).st_mode)
+
+
+def test_standard_output_takes_the_torques_and_the_summary_goes_to_stderr(program):
+    res = run("emulate", program, "--random", 3, "-o", "-")
+    assert res.exit_code == 0
+    assert res.stdout.splitlines()[0] == "tau_shoulder,tau_elbow" and len(res.stdout.splitlines()) == 4
+    assert "stream engine: 3 torque sets" in res.stderr
+
+
+def test_compile_to_standard_output(tmp_path):
+    res = run("compile", PLANAR, "-o", "-")
+    assert res.exit_code == 0 and '"vampc-program"' in res.stdout.splitlines()[2]
+    assert res.stderr.startswith("-: 2 joints")
+
+
+def test_an_unwritable_location_is_refused_before_any_work(tmp_path, program, monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("the emulation ran")
+    monkeypatch.setattr(driver, "run", never)
+    res = run("emulate", program, "--random", 10, "-o", tmp_path / "missing" / "tau.csv")
+    user_error(res, r"tau\.csv: folder .*missing does not exist$")
+    res = run("emulate", program, "--random", 10, "--engine", "tick", "--vcd", tmp_path)
+    assert res.exit_code == 2           # a folder is not an output file (click says so)
+
+
+@pytest.mark.skipif(IS_ROOT, reason="root writes in read-only folders")
+def test_a_read_only_folder_is_refused_before_any_work(tmp_path, program):
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        res = run("emulate", program, "--random", 10, "-o", folder / "tau.csv")
+        user_error(res, r"cannot write in folder .*ro: Permission denied$")
+    finally:
+        folder.chmod(0o755)
+
+
+def _failing_check(monkeypatch):
+    def bad(chain, traj, tau, tol=1e-9):
+        return CheckResult(1.0, 0.5, 0, False)
+    monkeypatch.setattr(driver, "check_torques", bad)
+
+
+def test_a_failed_check_does_not_replace_an_existing_torque_file(tmp_path, program, monkeypatch):
+    _failing_check(monkeypatch)
+    out = tmp_path / "tau.csv"
+    out.write_text("precious\n")
+    res = run("emulate", program, "--random", 3, "--check", "-o", out)
+    assert res.exit_code == 1 and out.read_text() == "precious\n"
+    assert "torques NOT written: the check failed and" in res.stderr
+    assert "FAILED" in res.stdout
+    res = run("emulate", program, "--random", 3, "--check", "-o", out, "--write-failed")
+    assert res.exit_code == 1 and out.read_text().startswith("tau_shoulder")
+    assert "although the check failed" in res.stderr
+
+
+def test_a_failed_check_writes_a_new_file_and_says_so(tmp_path, program, monkeypatch):
+    _failing_check(monkeypatch)
+    out = tmp_path / "tau.csv"
+    res = run("emulate", program, "--random", 3, "--check", "-o", out)
+    assert res.exit_code == 1 and out.read_text().startswith("tau_shoulder")
+    assert f"torques written to {out} although the check failed" in res.stderr
+
+
+def test_write_failed_needs_check_and_output(program):
+    assert run("emulate", program, "--random", 3, "--write-failed").exit_code == 2
+
+
+@pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])
+def test_a_full_device_is_one_line(program, option):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    extra = ["--engine", "tick"] if option == "--vcd" else []
+    res = run("emulate", program, "--random", 3, option, "/dev/full", *extra)
+    user_error(res, rf"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
+
+
+@pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])
+def test_a_full_disk_leaves_nothing_partial(tmp_path, program, monkeypatch, option):
+    out = tmp_path / ("w.vcd" if option == "--vcd" else "out.csv")
+    out.write_text("previous\n")
+    real_fdopen = os.fdopen
+
+    class Full:
+        def __init__(self, fh):
+            self.fh = fh
+
+        def write(self, text):
+            self.fh.write(text[: len(text) // 2])
+            raise OSError(28, "No space left on device")
+
+        def __getattr__(self, name):
+            return getattr(self.fh, name)
+
+    monkeypatch.setattr(os, "fdopen", lambda *a, **k: Full(real_fdopen(*a, **k)))
+    extra = ["--engine", "tick"] if option == "--vcd" else []
+    res = run("emulate", program, "--random", 3, option, out, *extra)
+    user_error(res, rf"{out.name}: cannot write \w+: No space left on device \(the previous file "
+                    r"is unchanged\)$")
+    assert out.read_text() == "previous\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [out.name]
+
+
+def test_the_program_file_keeps_the_permissions_of_the_file_it_replaces(tmp_path):
+    out = tmp_path / "p.vamp.json"
+    out.write_text("{}")
+    out.chmod(0o640)
+    assert run("compile", PLANAR, "-o", out).exit_code == 0
+    assert stat.S_IMODE(os.stat(out).st_mode) == 0o640
+
+
+# --- 3. no traceback for a user's mistake -------------------------------------------------------------
+
+@pytest.mark.parametrize("raw,pattern", [
+    (HEAD.encode() + b"0.1,0.\xff2,0,0,0,0\n", r"bad\.csv: line 2: byte 0xff is not UTF-8 \(the "
+                                               r"trajectory must be UTF-8 text\)$"),
+    ((HEAD + ROW).encode("utf-16"), r"bad\.csv: trajectory is UTF-16 text; save it as UTF-8$"),
+    ((HEAD + ROW).encode("utf-32"), r"bad\.csv: trajectory is UTF-32 text; save it as UTF-8$"),
+    (HEAD.encode() + "0.1,0.2,0,0,0,é\n".encode("latin-1"), r"line 2: byte 0xe9 is not UTF-8"),
+])
+def test_trajectory_not_utf8(tmp_path, program, raw, pattern):
+    res = run("emulate", program, "--trajectory", _csv(tmp_path / "bad.csv", raw))
+    user_error(res, pattern)
+
+
+def test_program_file_not_utf8(tmp_path, program):
+    bad = tmp_path / "bad.vamp.json"
+    bad.write_bytes(program.read_bytes().replace(b'"planar2"', b'"planar\xff"', 1))
+    user_error(run("emulate", bad, "--random", 1), r"bad\.vamp\.json: line \d+: byte 0xff is not "
+                                                   r"UTF-8 \(the program file must be UTF-8 text\)$")
+
+
+def test_program_file_nested_too_deeply(tmp_path):
+    deep = tmp_path / "deep.vamp.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    user_error(run("emulate", deep, "--random", 1), r"deep\.vamp\.json: not a vampc program file "
+                                                    r"\(JSON nested too deeply\)$")
+    user_error(run("report", deep), r"JSON nested too deeply")
+
+
+def _npz(path: Path, **arrays) -> Path:
+    np.savez(path, **arrays)
+    return path
+
+
+@pytest.mark.parametrize("make,pattern", [
+    (lambda p: _npz(p / "t.npz", q=np.array([[1, 2]], dtype=object), qd=np.zeros((1, 2)),
+                    qdd=np.zeros((1, 2))),
+     r"t\.npz: array q: it holds Python objects \(dtype object\); save plain numbers$"),
+    (lambda p: _npz(p / "t.npz", q=np.zeros((1, 2), complex), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2))),
+     r"t\.npz: array q is complex \(complex128\); states must be real numbers$"),
+    (lambda p: _npz(p / "t.npz", q=np.array([["a", "b"]]), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2))),
+     r"t\.npz: array q holds str\w* values, not numbers$"),
+    (lambda p: _npz(p / "t.npz", q=np.zeros((1, 2), bool), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2))),
+     r"t\.npz: array q holds bool values, not numbers$"),
+    (lambda p: _npz(p / "t.npz", q=np.zeros((2, 2)), qd=np.zeros((2, 2)), qdd=np.zeros((2, 2)),
+                    t=np.zeros(3)),
+     r"t\.npz: array t has shape \(3,\); expected \(2,\)$"),
+    (lambda p: (np.save(p / "t.npy", np.zeros((2, 6), complex)), p / "t.npy")[1],
+     r"t\.npy: the array is complex \(complex128\); states must be real numbers$"),
+    (lambda p: (np.save(p / "t.npy", np.zeros((2, 6), "datetime64[s]")), p / "t.npy")[1],
+     r"t\.npy: the array holds datetime64\[s\] values, not numbers$"),
+    (lambda p: (np.save(p / "t.npy", np.zeros((2, 6), object)), p / "t.npy")[1],
+     r"t\.npy: not a numpy array file \(it holds Python objects \(dtype object\); save plain "
+     r"numbers\)$"),
+    (lambda p: _csv(p / "t.npz", "not a zip"), r"t\.npz: not a numpy \.npz file \("),
+    (lambda p: _csv(p / "t.npy", b"\x93NUMPY\x01\x00v\x00{'descr': '<f8', 'fortran_order': False, "
+                                 b"'shape': (2, 6), }" + b" " * 60 + b"\n" + b"\0" * 16),
+     r"t\.npy: not a numpy array file \("),
+    (lambda p: (np.savez(p / "x.npz", q=np.zeros((1, 2)), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2))),
+                os.replace(p / "x.npz", p / "t.npy"), p / "t.npy")[2],
+     r"t\.npy: a \.npz archive, not a \.npy array; rename it \.npz$"),
+])
+def test_numpy_files_of_the_wrong_kind(tmp_path, program, make, pattern):
+    user_error(run("emulate", program, "--trajectory", make(tmp_path)), pattern)
+
+
+@pytest.mark.filterwarnings("ignore:Duplicate name")
+def test_a_damaged_npz_member(tmp_path, program):
+    path = _npz(tmp_path / "t.npz", q=np.zeros((1, 2)), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2)))
+    with zipfile.ZipFile(path, "a") as z:      # a second q.npy that is not an array
+        z.writestr("q.npy", b"garbage")
+    res = run("emulate", program, "--trajectory", path)
+    user_error(res, r"t\.npz: (array q: |not a numpy \.npz file)")
+
+
+@pytest.mark.parametrize("args", [["--seed", "-1"], ["--random", "0"], ["--random", str(10**30)],
+                                  ["--random", "-5"]])
+def test_bad_counts_are_usage_errors(program, args):
+    args = args if "--random" in args else ["--random", "3", *args]
+    res = run("emulate", program, *args)
+    assert res.exit_code == 2 and "Traceback" not in res.output
+
+
+def test_seed_without_random_or_tick_is_a_usage_error(tmp_path, program):
+    traj = _csv(tmp_path / "t.csv", HEAD + ROW)
+    res = run("emulate", program, "--trajectory", traj, "--seed", "3")
+    assert res.exit_code == 2 and "--seed applies to --random and to the tick engine" in res.stderr
+
+
+# --- --random N streams in chunks ------------------------------------------------------------------
+
+def test_random_states_depend_on_position_not_on_chunking():
+    chain = load_robot(PLANAR)
+    whole = driver.random_states(chain, 0, 3000, seed=5)
+    part = driver.random_states(chain, 1000, 1500, seed=5)
+    assert np.array_equal(part.q, whole.q[1000:2500]) and np.array_equal(part.qdd, whole.qdd[1000:2500])
+    assert not np.array_equal(driver.random_states(chain, 0, 10, seed=6).q, whole.q[:10])
+
+
+def test_a_long_run_goes_in_bounded_chunks_and_equals_one_run(program, monkeypatch):
+    from vampc.emulator import emulate, load_program
+    ld = load_program(program)
+    monkeypatch.setattr(driver, "chunk_size", lambda ld: 7)
+    sizes, taus, states = [], [], []
+    def sink(traj, tau):
+        sizes.append(traj.count)
+        taus.append(tau.copy())
+        states.append(traj.q.copy())
+    out = driver.run(ld, driver.States.random(50, 3), check=True, sink=sink)
+    assert sizes == [7] * 7 + [1] and out.count == 50 and out.check.ok
+    whole = driver.random_states(ld.chain, 0, 50, 3)
+    assert np.array_equal(np.concatenate(states), whole.q)
+    assert np.array_equal(np.concatenate(taus), emulate(ld, whole).tau)
+    assert out.data_ticks == 49 * 4 + out.first_tick + 1
+
+
+def test_chunks_keep_port_memory_bounded():
+    from vampc.compiler import compile_chain, program_document
+    from vampc.emulator import loaded_from_doc
+    from vampc.robot.random import random_chain
+    ld = loaded_from_doc(program_document(compile_chain(random_chain(40, 1))))
+    size = driver.chunk_size(ld)
+    per_set = 8 * sum(p.size for p in ld.net.ports)
+    assert 1 <= size <= driver.MAX_CHUNK and size * per_set <= driver.CHUNK_BYTES
+
+
+def test_tick_runs_that_cannot_fit_are_refused(program, monkeypatch):
+    monkeypatch.setattr(driver, "_available_memory", lambda: 1 << 20)
+    res = run("emulate", program, "--random", 100_000, "--engine", "tick")
+    user_error(res, r"planar\.vamp\.json: 100000 torque sets need about [\d.]+ GiB in the tick "
+                    r"engine \([\d.]+ GiB available\); run fewer sets or use --engine stream")
+
+
+# --- 4. no silently ignored option, no silently wrong number ----------------------------------------
+
+@pytest.mark.parametrize("command", ["report", "emulate"])
+@pytest.mark.parametrize("args,pattern", [
+    (["--recursion", "log"], r"--recursion log: .* was compiled with --recursion linear; compile "
+                             r"options apply to robot files"),
+    (["--mult-latency", "4"], r"--mult-latency 4: .* was compiled with --mult-latency 1"),
+    (["--prefix", "serial"], r"--prefix serial: .* was compiled with --prefix sklansky"),
+    (["--tip", "x"], r"--tip applies when compiling a robot file; .* is a program file"),
+    (["--base", "x"], r"--base applies when compiling a robot file"),
+    (["--lock", "j=1"], r"--lock applies when compiling a robot file"),
+    (["--no-verify"], r"--verify applies when compiling a robot file"),
+])
+def test_compile_options_on_a_program_file(program, command, args, pattern):
+    extra = ["--random", "2"] if command == "emulate" else []
+    res = run(command, program, *args, *extra)
+    assert res.exit_code == 2 and re.search(pattern, res.stderr), res.stderr
+
+
+def test_compile_options_that_agree_with_the_program_file_are_fine(program):
+    assert run("report", program, "--recursion", "linear", "--mult-latency", "1").exit_code == 0
+
+
+@pytest.mark.parametrize("command", ["compile", "report", "emulate"])
+@pytest.mark.parametrize("option", [["--prefix", "kogge-stone"], ["--uniform-leaves"]])
+def test_log_options_with_the_linear_recursion(tmp_path, command, option):
+    extra = {"compile": ["-o", tmp_path / "x.vamp.json"], "emulate": ["--random", "2"]}.get(command, [])
+    res = run(command, PLANAR, *option, *extra)
+    assert res.exit_code == 2
+    assert f"{option[0]} applies to the log recursion only (add --recursion log)" in res.stderr
+    assert not (tmp_path / "x.vamp.json").exists()
+
+
+def test_the_same_joint_locked_twice_with_different_values(tmp_path):
+    res = run("compile", ARM6, "--lock", "flange=0.1", "--lock", "flange=0.2", "-o",
+              tmp_path / "x.vamp.json")
+    assert res.exit_code == 2 and "joint 'flange' is locked twice, at 0.1 and 0.2" in res.stderr
+
+
+def test_a_numbering_file_with_more_numbers_than_vamps_warns(tmp_path):
+    numbers = tmp_path / "n.txt"
+    numbers.write_text("\n".join(str(k) for k in range(1, 71)) + "\n")
+    res = run("compile", PLANAR, "--numbering", numbers, "-o", tmp_path / "p.vamp.json")
+    assert res.exit_code == 0
+    assert res.stderr == (f"vampc: warning: {numbers}: 70 VAMP numbers given, the network has 60 "
+                          "VAMPs: the last 10 are not used\n")
+
+
+@pytest.mark.parametrize("edit", ["a: 0.5", "mass: 1.5"])
+def test_absurd_but_finite_inputs_give_an_error_not_nan_torques(tmp_path, edit):
+    text = PLANAR.read_text()
+    key = edit.split(":")[0]
+    assert edit in text
+    big = tmp_path / "big.yaml"
+    big.write_text(text.replace(edit, f"{key}: 1.0e200" if key == "a" else f"{key}: 1.0e300"))
+    out = tmp_path / "tau.csv"
+    res = run("emulate", big, "--trajectory", _csv(tmp_path / "t.csv", HEAD + "0,0,1e200,1e200,0,0\n"),
+              "--allow-out-of-limits", "-o", out)
+    user_error(res, r"big\.yaml: set 1, joint \d \((shoulder|elbow)\): the torque is -?(nan|inf) "
+                    r"\(float64 overflow")
+    assert not out.exists()
+
+
+def test_a_bom_and_trailing_blank_lines_are_accepted(tmp_path, program):
+    src = _csv(tmp_path / "t.csv", b"\xef\xbb\xbf" + (HEAD + ROW + "\n\n  \n").encode())
+    res = run("emulate", program, "--trajectory", src, "-o", "-", "--check")
+    assert res.exit_code == 0, res.stderr
+    assert len(res.stdout.splitlines()) == 2
+
+
+def test_an_invisible_character_in_a_header_is_shown_escaped(tmp_path, program):
+    src = _csv(tmp_path / "t.csv", "q1\u200b,q2,qd1,qd2,qdd1,qdd2\n" + ROW)
+    res = run("emulate", program, "--trajectory", src)
+    user_error(res, r"t\.csv: header: column 1 is 'q1\\u200b', expected 'q1'")
+    assert "\u200b" not in res.stderr
+
+
+def _edited(tmp_path: Path, program: Path, change) -> Path:
+    doc = json.loads(program.read_text())
+    change(doc)
+    doc["checksum"] = checksum(doc)
+    path = tmp_path / "edited.vamp.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def test_report_recomputes_a_hand_edited_summary(tmp_path, program):
+    def edit(doc):
+        doc["summary"]["latency"] = {"flops": 7, "mults": 16, "adds": 45}
+    res = run("report", _edited(tmp_path, program, edit), "--format", "json")
+    assert res.exit_code == 0
+    assert json.loads(res.stdout)["latency"] == {"flops": 29, "mults": 8, "adds": 21}
+    assert res.stderr == ("vampc: warning: " + str(tmp_path / "edited.vamp.json") + ": the stored "
+                          "summary disagrees with the file's graph, schedule and network (latency): "
+                          "the file was edited; showing figures recomputed from them\n")
+
+
+@pytest.mark.parametrize("change,section", [
+    (lambda d: d["schedule"].update(latency=7), "schedule.latency"),
+    (lambda d: d["schedule"]["finish"].__setitem__(-1, 99), "schedule.finish"),
+])
+def test_report_refuses_a_schedule_that_is_not_its_graphs(tmp_path, program, change, section):
+    res = run("report", _edited(tmp_path, program, change))
+    user_error(res, rf"edited\.vamp\.json: {re.escape(section)} is not the schedule of the file's "
+                    r"graph \(the file was edited\); recompile it$")
+
+
+def test_report_of_a_rewired_program_is_refused(tmp_path, program):
+    def rewire(doc):
+        doc["network"]["vamps"][5]["b"] = doc["network"]["vamps"][6]["b"]
+    res = run("report", _edited(tmp_path, program, rewire))
+    assert res.exit_code == 1 and "VAMP" in res.stderr
+
+
+def test_reports_cite_only_what_ships():
+    for args in (["report", EXAMPLES / "puma560.yaml"], ["report", PLANAR, "--recursion", "log"]):
+        res = run(*args)
+        assert res.exit_code == 0 and "DESIGN" not in res.stdout and "README" in res.stdout
+
+
+# --- 5. which column is which joint --------------------------------------------------------------------
+
+def test_report_lists_the_joints_in_order():
+    res = run("report", ARM6, "--format", "json")
+    rep = json.loads(res.stdout)
+    assert rep["joint_names"] == ["waist", "shoulder", "elbow", "wrist_roll", "wrist_bend", "flange"]
+    assert rep["joint_types"] == ["revolute"] * 6
+    text = run("report", EXAMPLES / "stanford.yaml").stdout
+    assert re.search(r"^joints +1 \S+ \(R\), 2 \S+ \(R\), 3 \S+ \(P\),", text, re.M)
+
+
+def test_saved_states_pair_with_their_torques(tmp_path, program):
+    states, tau = tmp_path / "s.csv", tmp_path / "tau.csv"
+    assert run("emulate", program, "--random", 20, "--seed", 9, "--save-states", states, "-o",
+               tau).exit_code == 0
+    chain = load_robot(PLANAR)
+    data = np.loadtxt(states, delimiter=",", skiprows=1)
+    assert states.read_text().splitlines()[0] == HEAD.strip()
+    q, qd, qdd = data[:, :2], data[:, 2:4], data[:, 4:]
+    assert np.allclose(np.loadtxt(tau, delimiter=",", skiprows=1), rnea(chain, q, qd, qdd),
+                       rtol=1e-12, atol=1e-12)
+    again = tmp_path / "again.csv"      # and the saved file runs as a trajectory
+    assert run("emulate", program, "--trajectory", states, "-o", again).exit_code == 0
+    assert again.read_text() == tau.read_text()
+
+
+def test_save_states_wants_a_csv_name(tmp_path, program):
+    assert run("emulate", program, "--random", 2, "--save-states", tmp_path / "s.npy").exit_code == 2
+
+
+def test_a_program_file_given_to_compile(tmp_path, program):
+    res = run("compile", program, "-o", tmp_path / "x.vamp.json")
+    user_error(res, r"planar\.vamp\.json: planar\.vamp\.json is a vampc program file, not a robot "
+                    r"description; use `vampc emulate` or `vampc report` with it$")
+    renamed = tmp_path / "prog.json"
+    renamed.write_bytes(program.read_bytes())
+    user_error(run("compile", renamed), r"prog\.json is a vampc program file, not a robot")
+
+
+def test_a_program_file_without_its_suffix_still_runs(tmp_path, program):
+    renamed = tmp_path / "prog.json"
+    renamed.write_bytes(program.read_bytes())
+    assert run("emulate", renamed, "--random", 2).exit_code == 0
+    assert run("report", renamed).exit_code == 0
+
+
+@pytest.mark.parametrize("name,content,pattern", [
+    ("arm.txt", ARM6, r"arm\.txt: unknown robot file extension '\.txt' \(it looks like XML \(a "
+                      r"URDF\)\)"),
+    ("arm.yaml", ARM6, r"arm\.yaml: this is XML \(a URDF\?\), not a DH table; name it \.urdf"),
+    ("planar.urdf", PLANAR, r"planar\.urdf: this is YAML, not XML; a DH table is named \.yaml"),
+    ("planar.dat", PLANAR, r"planar\.dat: unknown robot file extension '\.dat' \(it looks like YAML "
+                           r"\(a DH table\?\)\)"),
+])
+def test_a_robot_file_with_the_wrong_extension_says_what_it_looks_like(tmp_path, name, content,
+                                                                        pattern):
+    path = tmp_path / name
+    path.write_bytes(content.read_bytes())
+    user_error(run("compile", path, "-o", tmp_path / "x.vamp.json"), pattern)
+
+
+def test_the_printed_times_say_what_they_cover(program):
+    res = run("emulate", program, "--random", 3)
+    assert re.search(r"engine wall time [\d.]+ s \([\d,]+ sets/s\); whole command [\d.]+ s$",
+                     res.stdout.strip())
+
+
+# --- 6. progress ------------------------------------------------------------------------------------
+
+def test_progress_is_drawn_by_tqdm_when_asked(program, monkeypatch):
+    from vampc import progress
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    res = run("emulate", program, "--random", 5000)
+    assert res.exit_code == 0 and "stream engine:" in res.stderr and "/5.00k" in res.stderr
+    res = run("compile", PLANAR, "-o", "-")
+    assert "compiling planar2.yaml" in res.stderr
+
+
+def test_no_progress_when_not_a_terminal(program, monkeypatch):
+    monkeypatch.delenv("VAMPC_PROGRESS", raising=False)
+    res = run("emulate", program, "--random", 5000)
+    assert res.stderr == ""
