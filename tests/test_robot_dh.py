@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
+from vampc.robot import dh as dh_loader
 from errors_util import assert_error
 from frames_util import chain_frames
 from json_mutation import mutate, mutations
@@ -194,7 +195,7 @@ YAML_ERRORS = [
     ("l0: &l0 [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\n"
      + "".join(f"l{k}: &l{k} [{', '.join([f'*l{k - 1}'] * 9)}]\n" for k in range(1, 9))
      + "name: x\njoints: *l8\n",
-     r"too large: \d{9} values once YAML aliases are expanded \(at most 200000\)"),
+     r"too large: \d{9} values once YAML aliases are expanded \(at most 16252922\)"),
 ]
 
 
@@ -282,3 +283,81 @@ def test_the_quick_schema_check_agrees_with_the_jsonschema_package(mutation):
     assert accepted_quickly("dh-table", PUMA_TABLE) and not list(validator.iter_errors(PUMA_TABLE))
     table = mutate(PUMA_TABLE, *mutation)
     assert accepted_quickly("dh-table", table) == (not list(validator.iter_errors(table)))
+
+
+# --- size limits, and loading in O(n) -------------------------------------------------------------------
+
+FULL_ROW = row(name="j1", inertia=[[0.01, 0, 0], [0, 0.02, 0], [0, 0, 0.03]],
+               limits={"q": [-1.0, 1.0], "qd": 2.0, "tau": 3.0})
+FULL_TABLE = {"name": "full", "gravity": [0, 0, -9.81], "base": {"omega": [0, 0, 0], "omega_dot": [0, 0, 0]},
+              "tip": {"force": [0, 0, 0], "torque": [0, 0, 0]}, "joints": [FULL_ROW]}
+
+
+def test_max_joints_is_what_the_smallest_network_can_number():
+    # The linear network of an all-prismatic chain has 32 VAMPs a joint (30 a revolute one); VAMP numbers
+    # go up to 2^24 - 1. The log network has more, so it meets the limit sooner (near 50 000 joints).
+    from vampc.compiler import CompileOptions, compile_chain
+    chain = chain_from_dh({"name": "p", "joints": [row(type="prismatic"), row(type="prismatic")]}, "<t>")
+    per_joint = len(compile_chain(chain, CompileOptions(recursion="linear")).network.vamps) / chain.n
+    assert per_joint == 32
+    assert dh_loader.MAX_JOINTS * per_joint <= 2**24 - 1 < (dh_loader.MAX_JOINTS + 1) * per_joint
+
+
+def test_every_table_within_the_joint_limit_is_within_the_value_limit(tmp_path, monkeypatch):
+    # A row with every field holds ROW_VALUES values, the rest of a table at most TABLE_VALUES: so a table
+    # of MAX_JOINTS such rows is exactly MAX_VALUES values.
+    assert dh_loader.MAX_VALUES == dh_loader.ROW_VALUES * dh_loader.MAX_JOINTS + dh_loader.TABLE_VALUES
+    budget = dh_loader.ROW_VALUES + dh_loader.TABLE_VALUES
+    monkeypatch.setattr(dh_loader, "MAX_VALUES", budget)
+    assert chain_from_dh(FULL_TABLE, "full.json").n == 1
+    monkeypatch.setattr(dh_loader, "MAX_VALUES", budget - 1)
+    assert_error(lambda: chain_from_dh(FULL_TABLE, "full.json"), "full.json",
+                 rf"too large: {budget} values \(at most {budget - 1}\)")
+
+
+def test_too_many_joints(tmp_path, monkeypatch):
+    monkeypatch.setattr(dh_loader, "MAX_JOINTS", 2)
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(doc_with()))
+    assert_error(lambda: load_robot(path), path,
+                 r"too many joints: 3 \(at most 2: VAMP numbers have 24 bits and the smallest network, "
+                 r"the linear one, has up to 32 VAMPs a joint\)")
+
+
+@pytest.mark.parametrize("suffix", [".json", ".yaml"])
+def test_too_large_without_aliases_does_not_mention_them(tmp_path, monkeypatch, suffix):
+    monkeypatch.setattr(dh_loader, "MAX_VALUES", 50)
+    path = tmp_path / f"r{suffix}"
+    path.write_text(json.dumps(doc_with()) if suffix == ".json" else yaml.safe_dump(doc_with()))
+    assert_error(lambda: load_robot(path), path, r"too large: 57 values \(at most 50\)")
+
+
+def test_too_large_once_aliases_are_expanded(tmp_path, monkeypatch):
+    # 24 values written (an alias counts once), 75 once the three aliases of the row are expanded.
+    monkeypatch.setattr(dh_loader, "MAX_VALUES", 60)
+    path = tmp_path / "r.yaml"
+    path.write_text("name: x\nrows: &r {type: revolute, a: 0.3, alpha: 0.4, d: 0.1, theta: 0.2, mass: 1.0,\n"
+                    "  com: [0.1, 0.0, 0.0], inertia: [0.01, 0.02, 0.03, 0.0, 0.0, 0.0]}\n"
+                    "joints: [*r, *r, *r]\n")
+    assert_error(lambda: load_robot(path), path, r"too large: 75 values once YAML aliases are expanded "
+                                                 r"\(at most 60\)")
+
+
+def snake(n: int) -> dict:
+    """The n-joint snake of examples/make_snake.py as a document."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_snake", EXAMPLES / "make_snake.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    rows = [{**module.joint(i, n), "type": "revolute"} for i in range(1, n + 1)]
+    return {"name": f"snake{n}", "joints": rows}
+
+
+def test_loading_is_linear():
+    """Ten times the joints run the loader's lines fewer than 15 times as often (10 for O(n), 14 for
+    O(n log n), 100 for O(n²)). The times are in benchmarks/load_robot.py."""
+    from test_robot_urdf import executed_lines
+    docs = [snake(n) for n in (200, 2000)]
+    assert chain_from_dh(docs[1], "big.json").n == 2000
+    lines = [executed_lines(dh_loader, lambda doc=doc: chain_from_dh(doc, "t.json")) for doc in docs]
+    assert lines[1] < 15 * lines[0], lines

@@ -2,6 +2,7 @@
 present), trees and locking, and exact error messages for bad files."""
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,8 @@ import pytest
 
 from vampc.errors import VampcError
 from vampc.robot import JointType, load_robot, load_urdf
+from vampc.robot import dh as dh_loader
+from vampc.robot import urdf as urdf_loader
 from errors_util import assert_error
 from frames_util import chain_frames as chain_poses
 
@@ -135,7 +138,7 @@ def check_frames(path: Path, chain, base: str, tip: str, bodies: dict, frozen: d
         poses = [w0] + [w0 @ p for p in ours]
         for i, j in enumerate(chain.joints):  # O_i: at joint i+1's origin, z along its axis, fixed in link i
             uj = joints[j.name]
-            at = world(uj.parent) @ uj.origin
+            at = world(uj.parent) @ as_pose(uj.origin)
             np.testing.assert_allclose(poses[i][:3, 3], at[:3, 3], atol=1e-10)
             np.testing.assert_allclose(poses[i][:3, 2], at[:3, :3] @ uj.axis / np.linalg.norm(uj.axis),
                                        atol=1e-10)
@@ -151,8 +154,8 @@ def check_body(j, pose: np.ndarray, parts: list) -> None:
     """Mass, centre of mass and inertia about the base origin (base frame) of a body against the sum of its
     URDF links' inertials."""
     mass = sum(inertial.mass for inertial, _ in parts)
-    first = sum(inertial.mass * (w @ inertial.origin)[:3, 3] for inertial, w in parts)
-    poses = [(inertial, w @ inertial.origin) for inertial, w in parts]
+    first = sum(inertial.mass * (w @ as_pose(inertial.origin))[:3, 3] for inertial, w in parts)
+    poses = [(inertial, w @ as_pose(inertial.origin)) for inertial, w in parts]
     second = sum(about_origin(inertial.mass, at[:3, 3], rotate(inertial.inertia, at[:3, :3]))
                  for inertial, at in poses)
     rot = pose[:3, :3]
@@ -205,6 +208,63 @@ def check_torques(path: Path, chain, lock: dict | None = None) -> None:
     for q, qd, qdd in rng.uniform(-1.5, 1.5, (5, 3, chain.n)):
         ours = reference.rnea(chain, q, qd, qdd)
         np.testing.assert_allclose(ours, pinocchio_rnea(path, chain, q, qd, qdd, lock), atol=1e-9)
+
+
+# --- reading: the values yourdfpy reads ---------------------------------------------------------------------
+
+# Defaults: no <origin>, an <origin> with xyz or rpy only, no <axis>, an <axis> without xyz, a partial
+# <limit>, a <mimic>, an <inertial> without <origin>.
+DEFAULTS = robot(
+    '<link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
+    "</inertial></link>", link("l1"), link("l2"), link("l3"), link("l4", None),
+    '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><limit upper="2" effort="3"/>'
+    "</joint>",
+    '<joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="1 2 3"/><axis/>'
+    '</joint>',
+    '<joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin rpy="0.3 -0.2 1.1"/>'
+    '<axis xyz="0 1 0"/><mimic joint="j1" multiplier="2"/></joint>',
+    '<joint name="j4" type="fixed"><parent link="l3"/><child link="l4"/></joint>')
+
+
+def test_reading_matches_yourdfpy(tmp_path):
+    """Every value the loader uses is what yourdfpy reads: origins (as matrices), axes, limits, mimic and
+    inertials."""
+    import yourdfpy
+    files = [ARM6, write(tmp_path, TREE, "tree.urdf"), write(tmp_path, DEFAULTS, "defaults.urdf")]
+    files += [write(tmp_path, random_urdf(seed)[0], f"random{seed}.urdf") for seed in range(3)]
+    for path in files:
+        ours = urdf_loader._read_robot(urdf_loader._parse_xml(path), path)
+        theirs = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False).robot
+        assert ours.name == theirs.name
+        assert [x.name for x in ours.links] == [x.name for x in theirs.links]
+        for a, b in zip(ours.links, theirs.links):
+            assert (a.inertial is None) == (b.inertial is None)
+            if a.inertial is not None:
+                assert a.inertial.mass == b.inertial.mass
+                np.testing.assert_array_equal(a.inertial.inertia, b.inertial.inertia)
+                np.testing.assert_allclose(a.inertial.origin, as_pose(b.inertial.origin), rtol=0, atol=1e-15)
+        assert [x.name for x in ours.joints] == [x.name for x in theirs.joints]
+        for a, b in zip(ours.joints, theirs.joints):
+            assert (a.type, a.parent, a.child) == (b.type, b.parent, b.child)
+            np.testing.assert_allclose(a.origin, as_pose(b.origin), rtol=0, atol=1e-15)
+            np.testing.assert_array_equal(a.axis, b.axis)
+            assert (a.limit is None) == (b.limit is None)
+            if a.limit is not None:
+                assert (a.limit.lower, a.limit.upper, a.limit.velocity, a.limit.effort) == \
+                    (b.limit.lower, b.limit.upper, b.limit.velocity, b.limit.effort)
+            assert a.mimic == (None if b.mimic is None else b.mimic.joint)
+
+
+def as_pose(origin) -> np.ndarray:
+    return np.eye(4) if origin is None else origin
+
+
+def test_defaults_match_yourdfpy_kinematics(tmp_path):
+    path = write(tmp_path, DEFAULTS.replace('<mimic joint="j1" multiplier="2"/>', ""))
+    chain = load_urdf(path)
+    assert [j.name for j in chain.joints] == ["j1", "j2", "j3"]
+    assert chain.joints[0].limits.q is None and chain.joints[0].limits.tau == 3.0  # no lower: no interval
+    check_frames(path, chain, "base", "l4", {1: ["l1"], 2: ["l2"], 3: ["l3"]})
 
 
 # --- arm6 and random chains --------------------------------------------------------------------------------
@@ -320,8 +380,9 @@ URDF_ERRORS = [
      r"line 6: <joint> has no name"),
     (robot(*ARM, link("extra_root")), {},
      r"several root links \('base', 'extra_root'\); choose one with --base"),
-    (robot(*ARM).replace("</link>", '<visual><geometry><box/></geometry></visual></link>', 1), {},
-     r"yourdfpy cannot read it \(KeyError: 'size'\)"),
+    (robot(*[link(f"r{i}") for i in range(12)]), {},
+     r"several root links \('r0', 'r1', 'r2', 'r3', 'r4', 'r5', 'r6', 'r7', 'r8', 'r9' and 2 more\); "
+     r"choose one with --base"),
     (robot(*ARM), {"base": "nope"}, r"unknown base link 'nope'"),
     (robot(*ARM), {"tip": "nope"}, r"unknown tip link 'nope'"),
     (robot(*ARM), {"base": "l2", "tip": "l1"}, r"no path from base link 'l2' down to tip link 'l1'"),
@@ -367,12 +428,76 @@ def test_entities_refused_in_utf16_too(tmp_path):
     assert_error(lambda: load_robot(path), path, r"DOCTYPE declares entities \(a\); URDF files must not use XML entities")
 
 
-def test_xml_extension_and_lazy_yourdfpy(tmp_path):
+def test_xml_extension_and_no_yourdfpy(tmp_path):
+    # yourdfpy is the tests' reference only: loading a URDF does not import it (it costs about a second).
     import subprocess
-    import sys
     copy = write(tmp_path, ARM6.read_text(), "arm6.xml")
     assert load_robot(copy).n == 6
-    code = "import sys, vampc.robot; print('yourdfpy' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+    code = "import sys, vampc.robot; vampc.robot.load_robot(sys.argv[1]); print('yourdfpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code, str(copy)], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parent.parent).stdout
     assert out.strip() == "False"
+
+
+def test_visuals_and_collisions_are_not_read(tmp_path):
+    # vampc reads kinematics and inertia only: a <box> without its size (yourdfpy raises KeyError) is fine.
+    path = write(tmp_path, robot(*ARM).replace("</link>", "<visual><geometry><box/></geometry></visual>"
+                                               "<collision><geometry><mesh/></geometry></collision></link>", 1))
+    assert load_robot(path).n == 2
+
+
+# --- size: the joint limit, and loading in O(n) -------------------------------------------------------------
+
+def test_too_many_joints(tmp_path, monkeypatch):
+    # The real limit (524 287 joints, tests/test_robot_dh.py) needs a 250 MB file: lower it.
+    monkeypatch.setattr(dh_loader, "MAX_JOINTS", 1)
+    path = write(tmp_path, robot(*ARM))
+    assert_error(lambda: load_robot(path), path,
+                 r"too many joints: 2 \(at most 1: VAMP numbers have 24 bits and the smallest network, "
+                 r"the linear one, has up to 32 VAMPs a joint\)")
+    assert load_robot(path, lock={"j2": 0.0}).n == 1  # the limit is on the chain, not on the file
+
+
+def chain_urdf(n: int) -> str:
+    """A chain of n revolute joints with a fixed joint and link after every fourth, listed tip first (so
+    that every walk up the tree starts from the far end)."""
+    parts, parent = [link("l0")], "l0"
+    for k in range(1, n + 1):
+        parts += [joint(f"j{k}", "revolute", parent, f"l{k}", axis=(0, k % 2, 1)), link(f"l{k}")]
+        parent = f"l{k}"
+        if k % 4 == 0:
+            parts += [joint(f"f{k}", "fixed", parent, f"f{k}"), link(f"f{k}")]
+            parent = f"f{k}"
+    return robot(*reversed(parts))
+
+
+def executed_lines(module, call) -> int:
+    """How many lines of `module` run during call(): a count, not a time, so it does not depend on the
+    machine or its load (steps inside C, such as `list.index`, are not counted)."""
+    count = 0
+
+    def in_module(frame, event, arg):
+        nonlocal count
+        count += event == "line"
+        return in_module
+
+    def tracer(frame, event, arg):
+        return in_module if frame.f_code.co_filename == module.__file__ else None
+
+    previous = sys.gettrace()
+    sys.settrace(tracer)
+    try:
+        call()
+    finally:
+        sys.settrace(previous)
+    return count
+
+
+def test_loading_is_linear(tmp_path):
+    """Ten times the joints run the loader's lines fewer than 15 times as often: 10 times for O(n), 14 for
+    O(n log n), 100 for O(n²) (collecting every joint's ancestors and scanning all links for each body made
+    it 66). The times are in benchmarks/load_robot.py."""
+    small, big = (write(tmp_path, chain_urdf(n), f"chain{n}.urdf") for n in (200, 2000))
+    assert load_urdf(big).n == 2000
+    lines = [executed_lines(urdf_loader, lambda p=p: load_urdf(p)) for p in (small, big)]
+    assert lines[1] < 15 * lines[0], lines

@@ -10,12 +10,19 @@ from O_{i-1}, in O_i, is p*_i = [a_i, d_i sin α_i, d_i cos α_i]. On the Chain 
 
 Every problem is a one-line `VampcError` "FILE: WHERE: WHAT", WHERE being the JSON path in the file
 (0-based) followed by the 1-based joint number, e.g. "joints[2].mass (joint 3)".
+
+Size limits: at most MAX_JOINTS rows (VAMP numbers have 24 bits; the URDF loader applies it too) and
+MAX_VALUES values, counted once YAML aliases are expanded (every table within the joint limit fits). Loading
+is O(n): one walk counts the values and finds non-finite numbers, the inertias are checked as one numpy
+stack, and the cyclic garbage collector is paused while the parsers build millions of objects (it took
+more than half of the 39 s a 100 000-joint YAML table spent in PyYAML).
 """
 from __future__ import annotations
 
 import json
 import math
 import re
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
@@ -23,6 +30,7 @@ import numpy as np
 import yaml
 
 from vampc.errors import VampcError, located
+from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
 
 YAML_SUFFIXES = (".yaml", ".yml")
@@ -36,18 +44,19 @@ def load_dh(path) -> Chain:
     if suffix not in YAML_SUFFIXES + JSON_SUFFIXES:
         raise located(path, "", f"unknown DH table extension {path.suffix!r} (expected .yaml, .yml or .json)")
     text = read_text(path)
-    doc = _parse_yaml(text, path) if suffix in YAML_SUFFIXES else _parse_json(text, path)
-    return chain_from_dh(doc, str(path))
+    with gc_paused():  # a big table is millions of objects: the collector would walk them again and again
+        doc = _parse_yaml(text, path) if suffix in YAML_SUFFIXES else _parse_json(text, path)
+        return chain_from_dh(doc, str(path))
 
 
 def chain_from_dh(doc: dict, source: str) -> Chain:
     """Validate an already-parsed DH document and build its Chain; `source` names it in error messages."""
-    _check_size(doc, source)
-    _check_finite(doc, source)
+    _check_values(doc, source)
     _check_schema(doc, source)
     rows = doc["joints"]
     _check_names(rows, source)
-    joints = tuple(_joint(row, i, source) for i, row in enumerate(rows))
+    inertias = _inertias(rows, source)
+    joints = tuple(_joint(row, i, inertias[i], source) for i, row in enumerate(rows))
     base, tip = doc.get("base", {}), doc.get("tip", {})
     return Chain(name=doc["name"], joints=joints,
                  gravity=_vec(doc.get("gravity", [0.0, 0.0, -9.81])),
@@ -78,6 +87,24 @@ def inertia_problem(inertia: np.ndarray) -> str | None:
     if eig[0] < -1e-9 * scale:
         shown = ", ".join(f"{e:.6g}" for e in eig)
         return f"inertia is not positive semi-definite (eigenvalues {shown})"
+    return None
+
+
+def improper_inertias(inertias: np.ndarray) -> np.ndarray:
+    """For a stack of 3x3 inertias (m, 3, 3): True where `inertia_problem` finds a problem (the same tests,
+    one LAPACK call for the whole stack instead of one each)."""
+    scale = np.maximum(np.abs(inertias).max(axis=(1, 2), initial=0.0), 1e-300)
+    asymmetric = np.abs(inertias - np.swapaxes(inertias, 1, 2)).max(axis=(1, 2), initial=0.0) > 1e-9 * scale
+    if len(inertias) == 0:
+        return asymmetric
+    return asymmetric | (np.linalg.eigvalsh(inertias)[:, 0] < -1e-9 * scale)
+
+
+def joint_count_problem(n: int) -> str | None:
+    """Why a chain of n joints is too long to compile, or None."""
+    if n > MAX_JOINTS:
+        return (f"too many joints: {n} (at most {MAX_JOINTS}: VAMP numbers have 24 bits and the smallest "
+                f"network, the linear one, has up to 32 VAMPs a joint)")
     return None
 
 
@@ -141,60 +168,85 @@ def _unique_pairs(pairs: list) -> dict:
 
 # --- validation --------------------------------------------------------------------------------------
 
-MAX_VALUES = 200_000  # a 1000-joint table has about 30 000
+# VAMP numbers have 24 bits (1..16 777 215) and the linear network, the smallest, has 30 VAMPs per revolute
+# and 32 per prismatic joint: no longer chain can be numbered, whatever the recursion.
+MAX_JOINTS = (2**24 - 1) // 32  # 524 287
+# The most values a row can hold (its mapping; name, type, a, alpha, d, theta, mass; com 1 + 3; a 3x3
+# inertia 1 + 3 x 4; limits 1 + q 3 + qd + tau) and the rest of a table (its mapping; name; gravity 4;
+# base and tip 9 each; the joints list): every valid table of at most MAX_JOINTS rows fits in MAX_VALUES.
+ROW_VALUES, TABLE_VALUES = 31, 25
+MAX_VALUES = ROW_VALUES * MAX_JOINTS + TABLE_VALUES  # 16 252 922
 
 
-def _check_size(doc, source: str) -> None:
-    """YAML aliases let a small file expand into a huge (or infinite) tree, which the checks below and the
-    error messages (jsonschema quotes whole values) would walk or print in full: refuse those first."""
+def _check_values(doc, source: str) -> None:
+    """Refuse a table of more than MAX_JOINTS rows or MAX_VALUES values, counted once YAML aliases are
+    expanded: aliases let a small file expand into a huge (or infinite) tree, which the checks below and
+    the error messages (jsonschema quotes whole values) would walk or print in full. Then refuse NaN and
+    ±inf, which pass a JSON schema's "number" (YAML .nan/.inf, JSON NaN)."""
+    rows = doc.get("joints") if isinstance(doc, dict) else None
+    problem = joint_count_problem(len(rows)) if isinstance(rows, list) else None
+    if problem:
+        raise located(source, "", problem)
+    survey = _Survey()
     try:
-        size = _expanded_size(doc, {}, set())
+        survey.expanded = _visit(doc, (), survey, {}, set())
     except RecursionError:
         raise located(source, "", "nested too deeply") from None
-    if size == math.inf:
+    if survey.expanded == math.inf:
         raise located(source, "", "a YAML alias refers to itself")
-    if size > MAX_VALUES:
-        raise located(source, "", f"too large: {size} values once YAML aliases are expanded "
+    if survey.written > MAX_VALUES:
+        raise located(source, "", f"too large: {survey.written} values (at most {MAX_VALUES})")
+    if survey.expanded > MAX_VALUES:
+        raise located(source, "", f"too large: {survey.expanded} values once YAML aliases are expanded "
                                   f"(at most {MAX_VALUES})")
+    if survey.bad is not None:
+        keys, value = survey.bad
+        raise located(source, _where(keys), f"{value} is not a finite number")
 
 
-def _expanded_size(node, memo: dict, active: set) -> float:
+@dataclass
+class _Survey:
+    """What one walk over a document finds: its number of values once YAML aliases are expanded (inf when
+    a container holds itself), as written (an alias counts once), and its first non-finite number
+    (path, value) in document order."""
+
+    expanded: float = 0
+    written: int = 1
+    bad: tuple | None = None
+
+
+def _visit(node, keys: tuple, survey: _Survey, memo: dict, active: set) -> float:
+    """The expanded size of `node`. Each container is walked once (memo: YAML aliases share containers,
+    and a walk through every path of an alias "bomb" would take exponential time); scalars are checked
+    in the loop, a finite float without any call, since a big table holds millions of them."""
     if not isinstance(node, (dict, list)):
+        if not _finite(node):
+            survey.bad = (keys, node)
         return 1
     key = id(node)
     if key in memo or key in active:  # active: a container inside itself
         return memo.get(key, math.inf)
     active.add(key)
-    children = node.values() if isinstance(node, dict) else node
-    memo[key] = 1 + sum(_expanded_size(child, memo, active) for child in children)
+    survey.written += len(node)
+    size = 1 + len(node)  # itself and a value per child; a container child adds the rest of its size
+    for k, child in node.items() if isinstance(node, dict) else enumerate(node):
+        if isinstance(child, (dict, list)):
+            size += _visit(child, keys + (k,), survey, memo, active) - 1
+        elif not (type(child) is float and math.isfinite(child)) and survey.bad is None and not _finite(child):
+            survey.bad = (keys + (k,), child)
     active.discard(key)
-    return memo[key]
+    memo[key] = size
+    return size
 
 
-def _check_finite(doc, source: str) -> None:
-    """NaN and ±inf pass a JSON schema's "number", so look for them first (YAML .nan/.inf, JSON NaN)."""
-    for keys, value in _walk(doc, ()):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            continue
-        try:
-            finite = math.isfinite(value)
-        except OverflowError:  # an int too large for a float
-            finite = False
-        if not finite:
-            raise located(source, _where(keys), f"{value} is not a finite number")
-
-
-def _walk(doc, keys: tuple):
-    """(path, value) for every node, visiting each container once: YAML aliases share containers, and a
-    walk through every path of an alias "bomb" would take exponential time."""
-    seen, stack = set(), [(keys, doc)]
-    while stack:
-        keys, node = stack.pop()
-        yield keys, node
-        if isinstance(node, (dict, list)) and id(node) not in seen:
-            seen.add(id(node))
-            items = node.items() if isinstance(node, dict) else enumerate(node)
-            stack.extend((keys + (key,), child) for key, child in reversed(list(items)))
+def _finite(value) -> bool:
+    """False for a NaN, an infinity or an int too large for a float; True for anything else."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return True
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 @lru_cache(maxsize=1)
@@ -247,7 +299,7 @@ def _one_line(text: str, limit: int = 300) -> str:
 
 # --- building ----------------------------------------------------------------------------------------
 
-def _joint(row: dict, i: int, source: str) -> Joint:
+def _joint(row: dict, i: int, inertia: np.ndarray, source: str) -> Joint:
     kind = JointType(row["type"])
     a, alpha, d, theta = (float(row[k]) for k in ("a", "alpha", "d", "theta"))
     if kind is JointType.REVOLUTE:
@@ -256,19 +308,26 @@ def _joint(row: dict, i: int, source: str) -> Joint:
         phi, p_fixed, offset = rot_z(theta) @ rot_x(alpha), [a, 0.0, 0.0], d
     return Joint(name=row.get("name", f"j{i + 1}"), type=kind, phi=phi, p_fixed=_vec(p_fixed),
                  offset=offset, mass=float(row["mass"]), com=_vec(row["com"]),
-                 inertia=_inertia(row["inertia"], i, source), limits=_limits(row.get("limits"), i, source))
+                 inertia=inertia, limits=_limits(row.get("limits"), i, source))
 
 
-def _inertia(value: list, i: int, source: str) -> np.ndarray:
-    if len(value) == 6:
-        ixx, iyy, izz, ixy, iyz, ixz = (float(v) for v in value)
-        matrix = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-    else:
-        matrix = np.array(value, dtype=float)
-    problem = inertia_problem(matrix)
-    if problem:
-        raise located(source, _where(("joints", i, "inertia")), problem)
-    return matrix
+def _inertias(rows: list, source: str) -> np.ndarray:
+    """Every row's inertia as one (n, 3, 3) stack, refusing the first that is not symmetric positive
+    semi-definite (checked all at once: one LAPACK call instead of one per row)."""
+    stack = np.array([_inertia_matrix(row["inertia"]) for row in rows], dtype=float)
+    for i in np.flatnonzero(improper_inertias(stack)):
+        problem = inertia_problem(stack[i])
+        if problem:
+            raise located(source, _where(("joints", int(i), "inertia")), problem)
+    return stack
+
+
+def _inertia_matrix(value: list) -> list:
+    """[ixx, iyy, izz, ixy, iyz, ixz] as a 3x3 matrix; a 3x3 matrix as it is."""
+    if len(value) != 6:
+        return value
+    ixx, iyy, izz, ixy, iyz, ixz = value
+    return [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]
 
 
 def _limits(value: dict | None, i: int, source: str) -> Limits:

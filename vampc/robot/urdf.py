@@ -14,12 +14,18 @@ inertials are summed into link k by the parallel-axis theorem. Gravity is [0, 0,
 frame, referred to O_0.
 
 The file is parsed by lxml with entities off and refused if it declares any (entity bombs, external
-entities) before yourdfpy sees it. Every problem is a one-line VampcError "FILE: joint 'x': WHAT",
-"FILE: link 'x': WHAT" or "FILE: line N: WHAT".
+entities). The elements vampc uses (<inertial>; a joint's type, <parent>, <child>, <origin>, <axis>, <limit>
+and <mimic>) are read from the lxml tree with yourdfpy's semantics (a missing <origin> is the identity, a
+missing <axis> is x, rpy are fixed-axis roll, pitch, yaw) and checked as they are read; the tests compare
+them with yourdfpy's. yourdfpy itself is not called: it makes Python objects of every element, visuals and
+collisions too, and spent 16 s of the 44 s a 100 000-joint chain took. Every step is O(n) in the number
+of links and joints (the tree walks are iterative, each joint is visited a bounded number of times, and
+Φ_k, p*_k and the bodies' inertias are computed as numpy stacks), and a chain of more than MAX_JOINTS
+(vampc/robot/dh.py) movable joints is refused. Every problem is a one-line VampcError
+"FILE: joint 'x': WHAT", "FILE: link 'x': WHAT" or "FILE: line N: WHAT".
 """
 from __future__ import annotations
 
-import io
 import math
 import re
 from dataclasses import dataclass
@@ -29,8 +35,9 @@ import numpy as np
 from lxml import etree
 
 from vampc.errors import located
-from vampc.robot.chain import E_Z, Chain, Joint, JointType, Limits
-from vampc.robot.dh import inertia_problem
+from vampc.gcpause import gc_paused
+from vampc.robot.chain import Chain, Joint, JointType, Limits
+from vampc.robot.dh import improper_inertias, inertia_problem, joint_count_problem
 
 MOVABLE = {"revolute": JointType.REVOLUTE, "continuous": JointType.REVOLUTE,
            "prismatic": JointType.PRISMATIC}
@@ -41,10 +48,10 @@ _NUMBERS = {"origin": {"xyz": 3, "rpy": 3}, "axis": {"xyz": 3}, "mass": {"value"
             "inertia": dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
             "limit": dict.fromkeys(("lower", "upper", "velocity", "effort"), 1),
             "mimic": dict.fromkeys(("multiplier", "offset"), 1)}
-_NUMBER_PATHS = {"link": ("inertial/origin", "inertial/mass", "inertial/inertia"),
-                 "joint": ("origin", "axis", "limit", "mimic")}
 # yourdfpy would default a missing ixx to 1.0 where urdfdom (and so Pinocchio) refuses: refuse too.
 _REQUIRED = {"mass": ("value",), "inertia": tuple(_NUMBERS["inertia"])}
+_IDENTITY = np.eye(4)
+_IDENTITY.flags.writeable = False  # shared by every missing <origin> and every body's own link
 
 
 def load_urdf(path, base: str | None = None, tip: str | None = None,
@@ -53,6 +60,11 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     `tip` (default: the end of the only movable path). `lock` maps joint names to values at which they are
     frozen (treated as fixed); a locked joint off the chain freezes everything below it too."""
     path = Path(path)
+    with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
+        return _load(path, base, tip, lock)
+
+
+def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None) -> Chain:
     robot = _read_robot(_parse_xml(path), path)
     tree = _Tree.build(robot, path)
     lock = _check_lock(lock or {}, tree, path)
@@ -66,7 +78,7 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     return _build(robot.name, tree, chain, frames, body_of, tip, path)
 
 
-# --- reading -----------------------------------------------------------------------------------------
+# --- parsing -----------------------------------------------------------------------------------------
 
 def _parse_xml(path: Path):
     """Parse without resolving entities or touching the network, and refuse any entity at all."""
@@ -84,7 +96,6 @@ def _parse_xml(path: Path):
     except etree.XMLSyntaxError as exc:
         raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}") from None
     _refuse_entities(root, path)
-    _check_xml(root, path)
     return root
 
 
@@ -113,24 +124,75 @@ def _refuse_entities(root, path: Path) -> None:
         raise located(path, f"line {node.sourceline}", f"undefined XML entity {node.text}")
 
 
-def _check_xml(root, path: Path) -> None:
-    """Check the structure and numbers we rely on, so yourdfpy never crashes on them."""
+# --- reading: the elements vampc uses, with yourdfpy's semantics ------------------------------------
+
+@dataclass(frozen=True)
+class _Inertial:
+    """A link's <inertial>: mass, inertia about the centre of mass and the pose of that frame in the link
+    (identity without <origin>); mass or inertia None when its element is missing."""
+
+    mass: float | None
+    inertia: np.ndarray | None
+    origin: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Link:
+    name: str
+    inertial: _Inertial | None
+
+
+@dataclass(frozen=True)
+class _Limit:
+    """<limit>: each attribute None when not given."""
+
+    lower: float | None
+    upper: float | None
+    velocity: float | None
+    effort: float | None
+
+
+@dataclass(frozen=True)
+class _UrdfJoint:
+    """A <joint>: origin T_k (identity without <origin>), axis as written (x without <axis>), <limit>, and
+    the joint its <mimic> names (None without <mimic>)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: np.ndarray
+    axis: tuple
+    limit: _Limit | None
+    mimic: str | None
+
+
+@dataclass(frozen=True)
+class _Robot:
+    name: str
+    links: tuple
+    joints: tuple
+
+
+def _read_robot(root, path: Path) -> _Robot:
+    """The robot's links and joints (in file order), checked as they are read so that every later step
+    may rely on names, numbers, parents and children being there."""
     if etree.QName(root).localname != "robot" or root.get("name") is None:
         raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\">")
-    for kind in ("link", "joint"):
-        seen = set()
-        for el in root.findall(kind):
-            name = _named(el, kind, path)
-            if name in seen:
-                raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
-            seen.add(name)
-            for sub in _NUMBER_PATHS[kind]:
-                for num in el.findall(sub):
-                    _check_numbers(num, f"{kind} '{name}'", path)
-    for el in root.findall("joint"):
-        for tag in ("parent", "child"):
-            if el.find(tag) is None or el.find(tag).get("link") is None:
-                raise located(path, f"joint '{el.get('name')}'", f"missing <{tag} link=\"...\"/>")
+    return _Robot(root.get("name"), _read_all(root, "link", _read_link, path),
+                  _read_all(root, "joint", _read_joint, path))
+
+
+def _read_all(root, kind: str, read, path: Path) -> tuple:
+    """Every <kind> child of the root (as yourdfpy: direct children only), each read by `read`."""
+    out, seen = [], set()
+    for el in root.iterchildren(kind):
+        name = _named(el, kind, path)
+        if name in seen:
+            raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
+        seen.add(name)
+        out.append(read(el, name, path))
+    return tuple(out)
 
 
 def _named(el, kind: str, path: Path) -> str:
@@ -142,37 +204,103 @@ def _named(el, kind: str, path: Path) -> str:
     return name
 
 
-def _check_numbers(el, where: str, path: Path) -> None:
-    missing = [a for a in _REQUIRED.get(el.tag, ()) if el.get(a) is None]
+def _read_link(el, name: str, path: Path) -> _Link:
+    inertial = _first_children(el).get("inertial")
+    if inertial is None:
+        return _Link(name, None)
+    where = f"link '{name}'"
+    sub = _first_children(inertial)
+    origin, mass, inertia = [_numbers(sub.get(tag), where, path) for tag in ("origin", "mass", "inertia")]
+    return _Link(name, _Inertial(mass=None if mass is None else mass["value"][0],
+                                 inertia=None if inertia is None else _inertia_matrix(inertia),
+                                 origin=_pose(origin)))
+
+
+def _read_joint(el, name: str, path: Path) -> _UrdfJoint:
+    where = f"joint '{name}'"
+    sub = _first_children(el)
+    tags = ("origin", "axis", "limit", "mimic")
+    origin, axis, limit, _ = [_numbers(sub.get(tag), where, path) for tag in tags]
+    parent, child = [_end(sub.get(tag), tag, where, path) for tag in ("parent", "child")]
+    mimic = sub.get("mimic")
+    return _UrdfJoint(name=name, type=el.get("type"), parent=parent, child=child, origin=_pose(origin),
+                      axis=(axis or {}).get("xyz", (1.0, 0.0, 0.0)), limit=_limit(limit),
+                      mimic=None if mimic is None else str(mimic.get("joint")))
+
+
+def _end(el, tag: str, where: str, path: Path) -> str:
+    """The link named by a joint's <parent> or <child>."""
+    link = None if el is None else el.get("link")
+    if link is None:
+        raise located(path, where, f"missing <{tag} link=\"...\"/>")
+    return link
+
+
+def _limit(attrs: dict | None) -> _Limit | None:
+    if attrs is None:
+        return None
+    return _Limit(*(attrs[k][0] if k in attrs else None for k in _NUMBERS["limit"]))
+
+
+def _first_children(el) -> dict:
+    """Tag -> first child with that tag (yourdfpy's `find`; one pass over the children is cheaper)."""
+    out = {}
+    for sub in el:
+        out.setdefault(sub.tag, sub)
+    return out
+
+
+def _numbers(el, where: str, path: Path) -> dict | None:
+    """The numeric attributes of `el` (attribute -> tuple of floats), checked: required ones present, each
+    the right count of finite numbers. None when `el` is None."""
+    if el is None:
+        return None
+    attrs = dict(el.items())
+    missing = [a for a in _REQUIRED.get(el.tag, ()) if a not in attrs]
     if missing:
         raise located(path, where, f"<{el.tag}> lacks {', '.join(missing)}")
+    out = {}
     for attr, count in _NUMBERS[el.tag].items():
-        raw = el.get(attr)
+        raw = attrs.get(attr)
         if raw is None:
             continue
         try:
-            values = [float(v) for v in raw.split()]
+            values = tuple(map(float, raw.split()))
         except ValueError:
-            values = []
-        if len(values) != count or not all(math.isfinite(v) for v in values):
+            values = ()
+        if len(values) != count or not all(map(math.isfinite, values)):
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
             raise located(path, where, f"<{el.tag} {attr}=\"{raw}\">: expected {noun}")
+        out[attr] = values
+    return out
 
 
-def _read_robot(root, path: Path):
-    import yourdfpy  # costs about a second, so only when a URDF is really loaded
+def _pose(origin: dict | None) -> np.ndarray:
+    """An <origin> as yourdfpy reads it (trimesh's compose_matrix): T(xyz) Rz(yaw) Ry(pitch) Rx(roll),
+    xyz and rpy zero when not given; the identity without <origin>."""
+    if origin is None:
+        return _IDENTITY
+    x, y, z = origin.get("xyz", (0.0, 0.0, 0.0))
+    roll, pitch, yaw = origin.get("rpy", (0.0, 0.0, 0.0))
+    si, sj, sk = math.sin(roll), math.sin(pitch), math.sin(yaw)
+    ci, cj, ck = math.cos(roll), math.cos(pitch), math.cos(yaw)
+    cc, cs, sc, ss = ci * ck, ci * sk, si * ck, si * sk
+    return np.array([[cj * ck, sj * sc - cs, sj * cc + ss, x],
+                     [cj * sk, sj * ss + cc, sj * cs - sc, y],
+                     [-sj, cj * si, cj * ci, z],
+                     [0.0, 0.0, 0.0, 1.0]])
 
-    data = etree.tostring(root)  # the root element only: the (already vetted) DOCTYPE stays behind
-    try:
-        urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
-                                  build_collision_scene_graph=False, load_collision_meshes=False)
-    except Exception as exc:  # noqa: BLE001 - on bad input yourdfpy raises anything (KeyError, AttributeError...)
-        raise located(path, "", f"yourdfpy cannot read it ({type(exc).__name__}: {_one_line(exc)})") from None
-    return urdf.robot
+
+def _inertia_matrix(attrs: dict) -> np.ndarray:
+    (ixx,), (ixy,), (ixz,), (iyy,), (iyz,), (izz,) = (attrs[k] for k in _NUMBERS["inertia"])
+    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
 
 
-def _one_line(exc: Exception) -> str:
-    return " ".join(str(exc).split())
+def _names(names, most: int = 10) -> str:
+    """Quoted names for a message; past `most`, a count of the rest (a message stays one readable line)."""
+    names = list(names)
+    shown = ", ".join(f"'{n}'" for n in names[:most])
+    return shown if len(names) <= most else f"{shown} and {len(names) - most} more"
 
 
 # --- the kinematic tree ------------------------------------------------------------------------------
@@ -209,14 +337,14 @@ class _Tree:
         """With one parent per link, a loop is a cycle of parent joints never reaching a root."""
         done = set()
         for start in self.links:
-            seen = []
+            seen = {}  # link -> its step on this walk: a dict, since a list's `in` would make this O(n²)
             link = start
             while link in self.parent and link not in done:
                 if link in seen:
-                    loop = [self.parent[x].name for x in seen[seen.index(link):]]
+                    loop = [self.parent[x].name for x in list(seen)[seen[link]:]]
                     raise located(path, f"joint '{loop[0]}'", "closes a loop through joints "
                                   + ", ".join(f"'{n}'" for n in loop) + "; closed loops are not supported")
-                seen.append(link)
+                seen[link] = len(seen)
                 link = self.parent[link].parent
             done.update(seen)
 
@@ -229,13 +357,11 @@ class _Tree:
             stack.extend(reversed(self.children[j.child]))
         return out
 
-    def ancestors(self, link: str) -> list:
-        """Joints from `link` up to its root, nearest first."""
-        out = []
+    def ancestors(self, link: str):
+        """Joints from `link` up to its root, nearest first (a generator: callers may stop early)."""
         while link in self.parent:
-            out.append(self.parent[link])
+            yield self.parent[link]
             link = self.parent[link].parent
-        return out
 
     def route(self, base: str, tip: str) -> list:
         """The joints from `base` down to `tip` (tip is known to lie below base)."""
@@ -278,7 +404,7 @@ def _check_joint_types(tree: _Tree, base: str, path: Path) -> None:
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
-        if j.type in MOVABLE and not np.linalg.norm(j.axis) > 1e-9:
+        if j.type in MOVABLE and not math.hypot(*j.axis) > 1e-9:
             raise located(path, f"joint '{j.name}'", "axis is zero")
 
 
@@ -292,12 +418,24 @@ def _choose_tip(tree: _Tree, base: str, tip: str | None, lock: dict, path: Path)
     free = [j for j in tree.below(base) if j.type in MOVABLE and j.name not in lock]
     if not free:
         raise located(path, "", f"no movable joints below base link '{base}'")
-    above = {a.name for j in free for a in tree.ancestors(j.parent)}
-    ends = [_descend(tree, j.child) for j in free if j.name not in above]
+    ends = [_descend(tree, j.child) for j in _lowest(tree, free)]
     if len(ends) > 1:
         raise located(path, "", f"several movable branches below base link '{base}'; "
                                 f"choose --tip from {_names(ends)}")
     return ends[0]
+
+
+def _lowest(tree: _Tree, free: list) -> list:
+    """The joints of `free` with none of the others below them. Each walk up from a joint marks the joints
+    above it and stops at one already marked, so every joint is marked once: O(n), where collecting all
+    the ancestors of every joint would be O(n²) on a long chain."""
+    above = set()
+    for j in free:
+        for a in tree.ancestors(j.parent):
+            if a.name in above:
+                break
+            above.add(a.name)
+    return [j for j in free if j.name not in above]
 
 
 def _descend(tree: _Tree, link: str) -> str:
@@ -310,14 +448,13 @@ def _descend(tree: _Tree, link: str) -> str:
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
     if not chain:
         raise located(path, "", f"no movable joints between base link '{base}' and tip link '{tip}'")
+    problem = joint_count_problem(len(chain))
+    if problem:
+        raise located(path, "", problem)
     for j in chain:
         if j.mimic is not None:
-            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic.joint}'; mimic joints are not "
+            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic}'; mimic joints are not "
                                                      f"supported (lock it with --lock {j.name}=VALUE)")
-
-
-def _names(names) -> str:
-    return ", ".join(f"'{n}'" for n in names)
 
 
 # --- rigid bodies ------------------------------------------------------------------------------------
@@ -329,22 +466,23 @@ def _bodies(tree: _Tree, base: str, chain: list, route: set, lock: dict, path: P
     Off-chain joints must be fixed, locked or below a locked off-chain joint (frozen at their lock value
     or 0); any other movable joint branches off the chain and is refused."""
     index = {j.name: k for k, j in enumerate(chain, 1)}
-    frames, body_of, stray = {base: np.eye(4)}, {base: 0}, []
+    frames, body_of, stray = {base: _IDENTITY}, {base: 0}, []
     stack = [(base, False)]
     while stack:
         link, frozen = stack.pop()
         for j in tree.children[link]:
             if j.name in index:
-                frames[j.child], body_of[j.child] = np.eye(4), index[j.name]
+                frames[j.child], body_of[j.child] = _IDENTITY, index[j.name]
                 stack.append((j.child, False))
             elif j.type in MOVABLE and j.name not in lock and not frozen:
                 stray.append(j.name)
             else:
-                frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
+                frames[j.child] = frames[link] @ j.origin @ _motion(j, lock.get(j.name, 0.0))
                 body_of[j.child] = body_of[link]
                 stack.append((j.child, frozen or (j.name in lock and j.name not in route)))
     if stray:
-        stray.sort(key=list(tree.joints).index)
+        order = {name: i for i, name in enumerate(tree.joints)}
+        stray.sort(key=order.__getitem__)  # file order
         more = f" (also {_names(stray[1:])})" if len(stray) > 1 else ""
         raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
                                 f"--lock {stray[0]}=VALUE or choose --tip{more}")
@@ -352,58 +490,95 @@ def _bodies(tree: _Tree, base: str, chain: list, route: set, lock: dict, path: P
 
 
 def _build(name: str, tree: _Tree, chain: list, frames: dict, body_of: dict, tip: str, path: Path) -> Chain:
-    axes = [_unit(j.axis) for j in chain]
-    # g[k] = G_k, the pose of O_k in body k's reference frame.
-    g = [frames[j.parent] @ _origin(j) @ _homogeneous(_z_to(a)) for j, a in zip(chain, axes)]
-    g.append(frames[tip])
-    joints = []
-    for k, (j, a) in enumerate(zip(chain, axes), 1):
-        r_a = _z_to(a)
-        phi = r_a.T @ g[k][:3, :3]
-        mass, com, inertia = _body_inertia(tree, k, g[k], frames, body_of, path)
-        joints.append(Joint(name=j.name, type=MOVABLE[j.type], phi=phi, p_fixed=phi.T @ r_a.T @ g[k][:3, 3],
-                            offset=0.0, mass=mass, com=com, inertia=inertia, limits=_limits(j, path)))
-    return Chain(name=name, joints=tuple(joints), gravity=g[0][:3, :3].T @ GRAVITY, source=str(path))
+    """The Chain, every joint's Φ_k, p*_k and body computed for all joints at once (numpy stacks)."""
+    r_a = _z_to(_unit(np.array([j.axis for j in chain])))  # R_{a_k}: e_z onto joint k's axis
+    g = _reference_poses(chain, frames, r_a, tip)
+    phi = _transposed(r_a) @ g[1:, :3, :3]
+    p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
+    mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
+    joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=0.0,
+                         mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
+                   for k, j in enumerate(chain))
+    return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ GRAVITY, source=str(path))
 
 
-def _body_inertia(tree: _Tree, k: int, g_k: np.ndarray, frames: dict, body_of: dict, path: Path):
-    """Mass, centre of mass and inertia about it, in O_k, of every link in body k (parallel axes)."""
-    parts = []
-    to_o = np.linalg.inv(g_k)
-    members = [name for name, b in body_of.items() if b == k]
-    for name in members:
-        inertial = tree.links[name].inertial
-        if inertial is not None:
-            mass, inertia = _checked_inertial(inertial, name, path)
-            pose = to_o @ frames[name] @ (np.eye(4) if inertial.origin is None else inertial.origin)
-            parts.append((mass, pose[:3, 3], pose[:3, :3] @ inertia @ pose[:3, :3].T))
-    if not parts:
-        raise located(path, f"link '{members[0]}'", f"no <inertial>: the body moved by joint "
-                                                     f"'{tree.parent[members[0]].name}' would have no mass")
-    return _combine(parts)
+def _reference_poses(chain: list, frames: dict, r_a: np.ndarray, tip: str) -> np.ndarray:
+    """G_0..G_n as an (n + 1, 4, 4) stack: G_{k-1} = X T_k R_{a_k}, X the pose of joint k's parent link in
+    its body; G_n the pose of the tip link in body n."""
+    g = np.array([frames[j.parent] @ j.origin for j in chain] + [frames[tip]])
+    g[:-1, :3, :3] = g[:-1, :3, :3] @ r_a
+    return g
 
 
-def _checked_inertial(inertial, link: str, path: Path):
+def _members(body_of: dict) -> dict:
+    """Body number -> its links, in the order `_bodies` reached them (one pass over all links: picking each
+    body's links out of all of them would be O(n²))."""
+    out = {}
+    for name, body in body_of.items():
+        out.setdefault(body, []).append(name)
+    return out
+
+
+def _body_inertias(tree: _Tree, members: dict, g: np.ndarray, frames: dict, path: Path):
+    """Mass (n,), centre of mass (n, 3) and inertia about it (n, 3, 3), in O_k, of every body k = 1..n."""
+    n = len(g) - 1
+    body, names, parts = _inertial_parts(tree, members, n, path)
+    inertia = np.array([p.inertia for p in parts])
+    _check_inertias(inertia, names, path)
+    in_link = np.array([frames[name] @ p.origin for name, p in zip(names, parts)])
+    pose = _rigid_inverse(g[1:])[body] @ in_link  # each inertial's frame in O_k
+    rot = pose[:, :3, :3]
+    return _sum_bodies(body, n, np.array([p.mass for p in parts]), pose[:, :3, 3],
+                       rot @ inertia @ _transposed(rot))
+
+
+def _inertial_parts(tree: _Tree, members: dict, n: int, path: Path):
+    """Every link of bodies 1..n that has an <inertial>: its body (0-based, as an array), names, inertials."""
+    body, names, parts = [], [], []
+    for k in range(1, n + 1):
+        count = len(parts)
+        for name in members[k]:
+            inertial = tree.links[name].inertial
+            if inertial is not None:
+                _check_mass(inertial, name, path)
+                body.append(k - 1)
+                names.append(name)
+                parts.append(inertial)
+        if len(parts) == count:
+            first = members[k][0]
+            raise located(path, f"link '{first}'", f"no <inertial>: the body moved by joint "
+                                                   f"'{tree.parent[first].name}' would have no mass")
+    return np.array(body, dtype=int), names, parts
+
+
+def _check_mass(inertial: _Inertial, link: str, path: Path) -> None:
     if inertial.mass is None or inertial.inertia is None:
         missing = "<mass>" if inertial.mass is None else "<inertia>"
         raise located(path, f"link '{link}'", f"<inertial> has no {missing}")
     if inertial.mass < 0:
         raise located(path, f"link '{link}'", f"negative mass {inertial.mass}")
-    problem = inertia_problem(np.asarray(inertial.inertia, dtype=float))
-    if problem:
-        raise located(path, f"link '{link}'", problem)
-    return float(inertial.mass), np.asarray(inertial.inertia, dtype=float)
 
 
-def _combine(parts: list):
-    """Sum rigidly joined (mass, com, inertia about com) triples into one, about the joint centre of mass."""
-    total = sum(m for m, _, _ in parts)
-    com = sum(m * c for m, c, _ in parts) / total if total > 0 else np.zeros(3)
-    inertia = np.zeros((3, 3))
-    for m, c, i in parts:
-        d = c - com
-        inertia += i + m * (d @ d * np.eye(3) - np.outer(d, d))
-    return float(total), com, inertia
+def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
+    """Refuse the first inertia that is not symmetric positive semi-definite (checked as one stack)."""
+    for i in np.flatnonzero(improper_inertias(inertia)):
+        problem = inertia_problem(inertia[i])
+        if problem:
+            raise located(path, f"link '{names[i]}'", problem)
+
+
+def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, inertia: np.ndarray):
+    """Sum rigidly joined parts (mass, com, inertia about com; `body` says whose) into n bodies, each
+    about its joint centre of mass (parallel axes)."""
+    total = np.bincount(body, weights=mass, minlength=n)
+    first = np.zeros((n, 3))
+    np.add.at(first, body, mass[:, None] * com)
+    centre = np.divide(first, total[:, None], out=np.zeros((n, 3)), where=total[:, None] > 0)
+    d = com - centre[body]
+    shift = np.einsum("ij,ij->i", d, d)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
+    out = np.zeros((n, 3, 3))
+    np.add.at(out, body, inertia + mass[:, None, None] * shift)
+    return total, centre, out
 
 
 def _limits(j, path: Path) -> Limits:
@@ -423,47 +598,56 @@ def _positive(value) -> float | None:
     return float(value) if value is not None and value > 0 else None
 
 
-# --- small rigid-body algebra ------------------------------------------------------------------------
-
-def _origin(j) -> np.ndarray:
-    return np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
-
+# --- small rigid-body algebra (each also on stacks: leading axes are batch axes) ---------------------
 
 def _motion(j, q: float) -> np.ndarray:
     """The joint's own motion at position q (identity for a fixed joint)."""
     out = np.eye(4)
     if j.type in ("revolute", "continuous"):
-        out[:3, :3] = _axis_rotation(_unit(j.axis), q)
+        out[:3, :3] = _axis_rotation(_unit(np.array(j.axis)), q)
     elif j.type == "prismatic":
-        out[:3, 3] = q * _unit(j.axis)
+        out[:3, 3] = q * _unit(np.array(j.axis))
     return out
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=float)
-    return v / np.linalg.norm(v)
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def _transposed(m: np.ndarray) -> np.ndarray:
+    return np.swapaxes(m, -1, -2)
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2], out[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
+    out[..., 1, 0], out[..., 2, 0], out[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    return out
 
 
-def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+def _axis_rotation(axis: np.ndarray, angle) -> np.ndarray:
     """Rodrigues: rotation by `angle` about the unit vector `axis`."""
     k = _skew(axis)
-    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
+    sin, versin = np.sin(angle), 1.0 - np.cos(angle)
+    return np.eye(3) + np.asarray(sin)[..., None, None] * k + np.asarray(versin)[..., None, None] * (k @ k)
 
 
 def _z_to(a: np.ndarray) -> np.ndarray:
-    """A rotation R with R e_z = a (the shortest one; a half turn about x when a = -e_z)."""
-    v = np.cross(E_Z, a)
-    s, c = np.linalg.norm(v), float(a[2])
-    if s < 1e-12:
-        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
-    return _axis_rotation(v / s, math.atan2(s, c))
+    """Rotations R with R e_z = a, for unit vectors a (m, 3): the shortest one, about e_z × a (a half turn
+    about x when a = -e_z)."""
+    s = np.hypot(a[:, 0], a[:, 1])
+    turn = s >= 1e-12
+    k = np.zeros_like(a)
+    k[turn, 0], k[turn, 1] = -a[turn, 1] / s[turn], a[turn, 0] / s[turn]
+    out = _axis_rotation(k, np.arctan2(s, a[:, 2]))
+    out[~turn] = np.where(a[~turn, 2, None, None] > 0, np.eye(3), np.diag([1.0, -1.0, -1.0]))
+    return out
 
 
-def _homogeneous(rotation: np.ndarray) -> np.ndarray:
-    out = np.eye(4)
-    out[:3, :3] = rotation
+def _rigid_inverse(t: np.ndarray) -> np.ndarray:
+    """Inverses of rigid transforms (m, 4, 4): [Rᵀ, -Rᵀ p]."""
+    out = np.zeros_like(t)
+    out[:, :3, :3] = _transposed(t[:, :3, :3])
+    out[:, :3, 3] = -(out[:, :3, :3] @ t[:, :3, 3:])[..., 0]
+    out[:, 3, 3] = 1.0
     return out
