@@ -264,8 +264,8 @@ def _numbers(el, where: str, path: Path) -> dict | None:
         raw = attrs.get(attr)
         if raw is None:
             continue
-        try:
-            values = tuple(map(float, raw.split()))
+        try:  # float() takes the one number with any spaces around it, as split() then float() would
+            values = (float(raw),) if count == 1 else tuple(map(float, raw.split()))
         except ValueError:
             values = ()
         if len(values) != count or not all(map(math.isfinite, values)):
