@@ -368,6 +368,10 @@ URDF_ERRORS = [
      r"link 'l2': has two parent joints \('j2' and 'j3'\); closed loops are not supported"),
     (robot(link("a"), link("b"), joint("j1", "revolute", "a", "b"), joint("j2", "revolute", "b", "a")), {},
      r"joint '(j1|j2)': closes a loop through joints '(j1|j2)', '(j1|j2)'; closed loops are not supported"),
+    (robot(*[link(f"l{k}") for k in range(12)],
+           *[joint(f"j{k}", "revolute", f"l{k}", f"l{(k + 1) % 12}") for k in range(12)]), {},
+     r"joint 'j11': closes a loop through joints 'j11', 'j10', 'j9', 'j8', 'j7', 'j6', 'j5', 'j4', 'j3', 'j2' "
+     r"and 2 more; closed loops are not supported"),
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l9")), {}, r"joint 'j2': child link 'l9' is not defined"),
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", rpy=(float("nan"), 0, 0))), {},
      r"joint 'j2': <origin rpy=\"nan 0 0\">: expected 3 finite numbers"),

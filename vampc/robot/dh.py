@@ -232,7 +232,9 @@ def _visit(node, keys: tuple, survey: _Survey, memo: dict, active: set) -> float
     for k, child in node.items() if isinstance(node, dict) else enumerate(node):
         if isinstance(child, (dict, list)):
             size += _visit(child, keys + (k,), survey, memo, active) - 1
-        elif not (type(child) is float and math.isfinite(child)) and survey.bad is None and not _finite(child):
+        elif type(child) is float and math.isfinite(child):
+            continue
+        elif survey.bad is None and not _finite(child):
             survey.bad = (keys + (k,), child)
     active.discard(key)
     memo[key] = size

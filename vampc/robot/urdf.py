@@ -342,8 +342,8 @@ class _Tree:
             while link in self.parent and link not in done:
                 if link in seen:
                     loop = [self.parent[x].name for x in list(seen)[seen[link]:]]
-                    raise located(path, f"joint '{loop[0]}'", "closes a loop through joints "
-                                  + ", ".join(f"'{n}'" for n in loop) + "; closed loops are not supported")
+                    raise located(path, f"joint '{loop[0]}'", f"closes a loop through joints {_names(loop)}; "
+                                                             "closed loops are not supported")
                 seen[link] = len(seen)
                 link = self.parent[link].parent
             done.update(seen)
