@@ -135,10 +135,12 @@ def _edited(tmp_path, program, change, fix_checksum=False):
     (lambda d: d["programs"][0].update(delay_a=1), False, r"checksum mismatch"),
     (lambda d: d.pop("io"), True, r"document: 'io' is a required property"),
     (lambda d: d.update(version=7), True, r"version 7 is not supported"),
-    (lambda d: d["network"]["vamps"][0]["a"].__setitem__(0, ["vamp", 999, 0]), True,
+    (lambda d: d["network"]["vamps"][0]["a"][0].__setitem__(0, ["vamp", 999, 0]), True,
      r"VAMP 0: operand A is wired to a missing vamp 999"),
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
-                d["programs"][d["program_stream"][0]["targets"][0]].update(delay_a=0, delay_b=3)), True,
+                d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
+                                                                                     delay_b=3)),
+     True,
      r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
      r"before the micro-step at tick 6 that still reads it \(delay-R 3\)$"),
 ])
@@ -197,19 +199,22 @@ def test_burned_in_numbering_keeps_chips_interchangeable(tmp_path, states):
     assert (tmp_path / "plain.vamp.csv").read_text() == (tmp_path / "shuffled.vamp.csv").read_text()
 
 
-def test_other_latencies_compile_but_do_not_emulate(tmp_path):
+def test_other_latencies_emulate_exactly(tmp_path):
     prog = tmp_path / "slow.vamp.json"
-    assert _run("compile", EXAMPLES / "planar2.yaml", "--mult-latency", 3, "-o", prog).exit_code == 0
-    res = _run("emulate", prog, "--random", 2)
-    assert res.exit_code == 1 and ERROR.match(res.output)
-    assert "compiled with --mult-latency 3 --add-latency 1" in res.output
+    assert _run("compile", EXAMPLES / "planar2.yaml", "--mult-latency", 3, "--add-latency", 2, "-o",
+                prog).exit_code == 0
+    for engine in ("stream", "tick"):
+        res = _run("emulate", prog, "--random", 30, "--engine", engine, "--check")
+        assert res.exit_code == 0 and "OK" in res.output, res.output
 
 
 def test_programs_listing_must_match_the_stream(tmp_path, program):
-    res = _run("emulate", _edited(tmp_path, program, lambda d: d["programs"][2].update(rom=0), True),
+    res = _run("emulate", _edited(tmp_path, program,
+                                  lambda d: d["programs"][2]["slots"][0].update(rom=0), True),
                "--random", 2)
     assert res.exit_code == 1 and ERROR.match(res.output)
-    assert re.search(r"programs\[2\] lists .* but the program stream delivers", res.output)
+    assert re.search(r"programs\[2\] slot 0 lists rom 0 but the program stream delivers 2",
+                     res.output), res.output
 
 
 def test_internal_error_asks_for_a_report(monkeypatch):

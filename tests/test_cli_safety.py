@@ -213,7 +213,7 @@ def test_a_full_device_is_one_line(program, option):
         pytest.skip("no /dev/full here")
     extra = ["--engine", "tick"] if option == "--vcd" else []
     res = run("emulate", program, "--random", 3, option, "/dev/full", *extra)
-    user_error(res, rf"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
+    user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
 
 
 @pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])

@@ -67,7 +67,7 @@ def test_program_mode_from_any_state(seed):
     assert not np.array_equal(engine.programs(), ld.programs)
     ticks = engine.program()
     assert engine.programs() == ld.programs
-    assert ticks == ld.doc["io"]["load_ticks"] > 0
+    assert ticks == ld.load_ticks > 0
 
 
 def test_program_mode_needs_the_whole_stream():
@@ -85,7 +85,7 @@ def test_tick_engine_timing_is_observed_not_scheduled():
     engine.program()
     stats = TickStats()
     engine.run(port_values(ld, traj), traj.count, stats)
-    assert stats.first_set_tick == ld.doc["schedule"]["latency"]
+    assert stats.first_set_tick == ld.schedule.latency
     assert set(np.diff(stats.appear)) == {4}
 
 
@@ -93,5 +93,5 @@ def test_emulated_time_is_reported():
     ld = loaded(random_chain(2, 1))
     traj = random_trajectory(ld.chain, 10, 0)
     res = emulate(ld, traj, "tick")
-    assert res.interval == 4 and res.first_tick == ld.doc["schedule"]["latency"]
+    assert res.interval == 4 and res.first_tick == ld.schedule.latency
     assert res.emulated_flops == res.load_ticks + 9 * 4 + res.first_tick + 1

@@ -1,5 +1,6 @@
-"""Deliberately corrupted programs: every flipped delay, ROM pointer, VAMP number and wire is either
-reported or changes the torques — never a silently plausible answer."""
+"""Deliberately corrupted programs: every flipped field of every slot (delays, ROM pointer,
+multiplexer selects), VAMP number and wire is either reported or changes the torques — never a
+silently plausible answer. Systolic and folded (time-multiplexed) programs alike."""
 from __future__ import annotations
 
 import dataclasses
@@ -12,30 +13,39 @@ from emulator_util import document, mutated, torques
 from vampc.emulator import emulate, loaded_from_doc
 from vampc.emulator.host import random_trajectory
 from vampc.errors import VampcError
-from vampc.program.words import FIELD, ROM, decode, encode
+from vampc.program.words import FIELD, FIELDS, ROM, Program, decode, encode, vamp_words
 from vampc.robot.random import random_chain
 
 CHAIN = random_chain(2, 11, prismatic_fraction=0.5, endpoints=True)
-DOC = document(CHAIN)
-TRAJ = random_trajectory(loaded_from_doc(DOC).chain, 16, 2)   # long enough for a steady state
-GOOD = torques(DOC, TRAJ)
+LAYOUTS = {"systolic": {}, "folded": {"layout": "folded"},
+           "shared": {"layout": "folded", "share_passes": True}}
+DOCS = {name: document(CHAIN, **opts) for name, opts in LAYOUTS.items()}
+TRAJ = random_trajectory(loaded_from_doc(DOCS["systolic"]).chain, 16, 2)   # a steady state too
+GOOD = torques(DOCS["systolic"], TRAJ)
 
 
-def _word_at(doc, vamp):
-    for e, entry in enumerate(doc["program_stream"]):
-        if vamp in entry["targets"]:
-            return e, entry["targets"].index(vamp)
-    raise AssertionError(vamp)
+def _slots(doc, v) -> list[Program]:
+    return [Program(*(s[f] for f in FIELDS)) for s in doc["programs"][v]["slots"]]
 
 
-def _set_field(vamp: int, field: str, value: int):
-    """Change one field of a VAMP's program consistently (stream word and readable listing), so
-    the damage must be caught by the timing, schedule and graph checks, not by the listing check."""
+def _set_field(v: int, k: int, field: str, value: int):
+    """Change one field of one slot consistently (the VAMP's stream words and the readable listing),
+    so the damage must be caught by the timing, schedule and graph checks, not the listing check."""
     def change(doc):
-        e, k = _word_at(doc, vamp)
-        number, prog = decode(doc["program_stream"][e]["words"][k])
-        doc["program_stream"][e]["words"][k] = list(encode(number, dataclasses.replace(prog, **{field: value})))
-        doc["programs"][vamp][field] = value
+        number = doc["network"]["vamps"][v]["number"]
+        slots = _slots(doc, v)
+        slots[k] = dataclasses.replace(slots[k], **{field: value})
+        for entry in doc["program_stream"]:
+            where = [i for i, t in enumerate(entry["targets"]) if t == v]
+            if where:
+                first, last = where[0], where[-1] + 1
+                words = [list(w) for w in vamp_words(number, tuple(slots))]
+                entry["words"][first:last] = words
+                entry["targets"][first:last] = [v] * len(words)
+                entry["depth"][first:last] = [entry["depth"][first]] * len(words)
+        doc["programs"][v]["slots"][k][field] = value
+        doc["io"]["load_ticks"] = max(i + d + 1 for e in doc["program_stream"]
+                                      for i, d in enumerate(e["depth"]))
     return change
 
 
@@ -47,46 +57,76 @@ def _outcome(doc, engine="stream", **kw) -> str:
     return "silent" if np.array_equal(tau, GOOD) else "changed"
 
 
-def _program_flips():
-    C = DOC["network"]["cycle"]
-    for p in DOC["programs"]:
-        for field in ("delay_a", "delay_b", "delay_r"):
-            for value in [*range(C), C + 1]:
-                if value != p[field]:
-                    yield p["vamp"], field, value
-        for value in range(len(ROM)):
-            if value != p["rom"]:
-                yield p["vamp"], "rom", value
+def _flips(doc):
+    """Every other value of every field of every slot: all counters of the period for a delay (a
+    sample for long periods), every ROM entry, every multiplexer input, and one value out of range."""
+    P = doc["network"]["period"]
+    rng = np.random.default_rng(0)
+    for p in doc["programs"]:
+        v, mux = p["vamp"], doc["network"]["vamps"][p["vamp"]]
+        for k, slot in enumerate(p["slots"]):
+            for field in ("delay_a", "delay_b", "delay_r"):
+                values = range(P) if P <= 8 else sorted(set(rng.integers(0, P, 3).tolist()) | {
+                    (slot[field] + 1) % P, (slot[field] - 1) % P})
+                for value in [*values, P + 1]:
+                    if value != slot[field]:
+                        yield v, k, field, value
+            for value in range(len(ROM)):
+                if value != slot["rom"]:
+                    yield v, k, "rom", value
+            for field, inputs in (("sel_a", mux["a"]), ("sel_b", mux["b"])):
+                for value in range(len(inputs) + 1):
+                    if value != slot[field]:
+                        yield v, k, field, value
 
 
-FLIPS = list(_program_flips())
+FLIPS = {name: list(_flips(doc)) for name, doc in DOCS.items()}
 
 
 def test_the_sweep_is_large():
-    assert len(FLIPS) == 20 * len(DOC["programs"])   # 3 delays x 4 wrong values + 8 ROM entries
+    # per slot: 3 delays x 4 wrong values, 8 ROM entries, and 1 select out of range per operand
+    assert len(FLIPS["systolic"]) == 22 * len(DOCS["systolic"]["programs"])
+    assert len(FLIPS["folded"]) > 1000 and len(FLIPS["shared"]) > 1000
 
 
-def test_every_program_flip_is_reported_or_changes_torques():
-    silent = [(v, f, x) for v, f, x in FLIPS if _outcome(mutated(DOC, _set_field(v, f, x))) == "silent"]
+def test_layouts_compute_the_same_torques():
+    for doc in DOCS.values():
+        assert np.array_equal(torques(doc, TRAJ), GOOD)
+
+
+@pytest.mark.parametrize("layout", list(LAYOUTS))
+def test_every_slot_field_flip_is_reported_or_changes_torques(layout):
+    doc = DOCS[layout]
+    silent = [f for f in FLIPS[layout] if _outcome(mutated(doc, _set_field(*f))) == "silent"]
     assert silent == []
 
 
-def test_tick_engine_alone_sees_timing_flips():
+@pytest.mark.parametrize("layout", list(LAYOUTS))
+def test_tick_engine_alone_sees_timing_flips(layout):
     # Without the static checks, the tick engine's own behaviour must still expose a delay that
     # breaks the timing: a mixed-set latch, a wrong-set torque, or different torques.
+    from vampc.emulator import timing
     breaking = []
-    for vamp, field, value in FLIPS:
-        if field == "rom":
+    for v, k, field, value in FLIPS[layout]:
+        if field not in ("delay_a", "delay_b", "delay_r"):
             continue
-        doc = mutated(DOC, _set_field(vamp, field, value))
+        doc = mutated(DOCS[layout], _set_field(v, k, field, value))
         try:
-            from vampc.emulator import timing
             timing.derive(loaded_from_doc(doc))
         except VampcError:
             breaking.append(doc)
+        if len(breaking) >= 40:
+            break
     assert len(breaking) > 10
-    outcomes = {_outcome(doc, "tick", static_check=False) for doc in breaking[:40]}
+    outcomes = {_outcome(doc, "tick", static_check=False) for doc in breaking}
     assert "silent" not in outcomes
+
+
+def _word_at(doc, vamp):
+    for e, entry in enumerate(doc["program_stream"]):
+        if vamp in entry["targets"]:
+            return e, entry["targets"].index(vamp)
+    raise AssertionError(vamp)
 
 
 def test_renumbered_word_is_reported():
@@ -94,7 +134,7 @@ def test_renumbered_word_is_reported():
         e, k = _word_at(doc, 0)
         doc["program_stream"][e]["words"][k][0] = 99999
     with pytest.raises(VampcError, match="never programmed|matches no VAMP"):
-        torques(mutated(DOC, change), TRAJ)
+        torques(mutated(DOCS["systolic"], change), TRAJ)
 
 
 def test_non_integer_number_is_reported():
@@ -102,7 +142,22 @@ def test_non_integer_number_is_reported():
         e, k = _word_at(doc, 3)
         doc["program_stream"][e]["words"][k][0] += 0.5
     with pytest.raises(VampcError):
-        torques(mutated(DOC, change), TRAJ)
+        torques(mutated(DOCS["systolic"], change), TRAJ)
+
+
+@pytest.mark.parametrize("layout", ["folded", "shared"])
+def test_a_lost_extended_word_is_reported(layout):
+    doc = DOCS[layout]
+    entry = next(e for e in doc["program_stream"] if any(w[0] < 0 for w in e["words"]))
+    lost = next(i for i, w in enumerate(entry["words"]) if w[0] < 0)
+    def change(d):
+        e = next(x for x in d["program_stream"] if x["root"] == entry["root"])
+        for key in ("words", "targets", "depth"):
+            del e[key][lost]
+        d["io"]["load_ticks"] = max(i + dd + 1 for x in d["program_stream"]
+                                    for i, dd in enumerate(x["depth"]))
+    with pytest.raises(VampcError, match="never programmed|lists .* but the program stream"):
+        torques(mutated(doc, change), TRAJ)
 
 
 def _taps(doc):
@@ -112,45 +167,55 @@ def _taps(doc):
             + [["const", i, 0] for i in range(K)])
 
 
-def _wire_flips(count=300, seed=0):
+def _wire_flips(doc, count, seed=0):
     rng = np.random.default_rng(seed)
-    vamps, taps = DOC["network"]["vamps"], _taps(DOC)
+    vamps, taps = doc["network"]["vamps"], _taps(doc)
     for _ in range(count):
         v = int(rng.integers(len(vamps)))
         operand = "ab"[int(rng.integers(2))]
+        k = int(rng.integers(len(vamps[v][operand])))
         new = taps[int(rng.integers(len(taps)))]
-        if [new] != vamps[v][operand]:
-            yield v, operand, new
+        if [new] != vamps[v][operand][k]:
+            yield v, operand, k, new
 
 
-@pytest.mark.parametrize("v,operand,new", list(_wire_flips()))
-def test_rewired_operand_is_reported_or_changes_torques(v, operand, new):
+WIRES = [("systolic", *f) for f in _wire_flips(DOCS["systolic"], 200)] + \
+        [("folded", *f) for f in _wire_flips(DOCS["folded"], 100, 1)]
+
+
+@pytest.mark.parametrize("layout,v,operand,k,new", WIRES)
+def test_rewired_operand_is_reported_or_changes_torques(layout, v, operand, k, new):
     def change(doc):
-        doc["network"]["vamps"][v][operand] = [new]
-    assert _outcome(mutated(DOC, change)) != "silent"
+        doc["network"]["vamps"][v][operand][k] = [new]
+    assert _outcome(mutated(DOCS[layout], change)) != "silent"
 
 
 def test_field_packing_limits():
     with pytest.raises(VampcError, match="does not fit"):
         encode(1, decode([1, 0, 0])[1].__class__(FIELD, 0, 0, 0))
+    with pytest.raises(VampcError, match="does not fit"):
+        vamp_words(1, (Program(0, 0, 0, 0), Program(1 << 24, 0, 0, 0)))
 
 
-def test_every_vamp_has_a_distinct_program_word():
-    words = [tuple(w) for e in DOC["program_stream"] for w in e["words"]]
-    assert len(words) == len(set(words)) == len(DOC["programs"])
-    assert sorted(itertools.chain.from_iterable(e["targets"] for e in DOC["program_stream"])) == \
-        list(range(len(DOC["programs"])))
+def test_every_systolic_vamp_has_one_distinct_word():
+    doc = DOCS["systolic"]
+    words = [tuple(w) for e in doc["program_stream"] for w in e["words"]]
+    assert len(words) == len(set(words)) == len(doc["programs"])
+    assert sorted(itertools.chain.from_iterable(e["targets"] for e in doc["program_stream"])) == \
+        list(range(len(doc["programs"])))
 
 
-def test_good_program_runs_both_engines():
-    ld = loaded_from_doc(DOC)
+@pytest.mark.parametrize("layout", list(LAYOUTS))
+def test_good_program_runs_both_engines(layout):
+    ld = loaded_from_doc(DOCS[layout])
     assert np.array_equal(emulate(ld, TRAJ, "tick").tau, GOOD)
 
 
 def test_operand_a_loop_is_reported():
     # VAMP 0's Operand-A rewired to a VAMP downstream of it: the programming path becomes a loop.
-    downstream = next(v["index"] for v in DOC["network"]["vamps"] if v["a"] == [["vamp", 0, 0]])
-    def change(doc):
-        doc["network"]["vamps"][0]["a"] = [["vamp", downstream, 0]]
+    doc = DOCS["systolic"]
+    downstream = next(v["index"] for v in doc["network"]["vamps"] if v["a"] == [[["vamp", 0, 0]]])
+    def change(d):
+        d["network"]["vamps"][0]["a"] = [[["vamp", downstream, 0]]]
     with pytest.raises(VampcError, match=r"VAMP \d+: its Operand-A path loops back through VAMP \d+"):
-        torques(mutated(DOC, change), TRAJ)
+        torques(mutated(doc, change), TRAJ)

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from vampc.compiler import CompileOptions, compile_chain, program_document
-from vampc.emulator import loaded_from_doc, native
+from vampc.emulator import check_program, loaded_from_doc, native
 from vampc.emulator.host import port_values, random_trajectory
-from vampc.emulator.stream import run_numpy, run_stream
+from vampc.emulator.stream import flow, run_numpy, run_stream
 from vampc.emulator.tick import TickEngine
 from vampc.emulator.trajectory import header, read, write_torques
 from vampc.errors import VampcError
@@ -34,16 +34,23 @@ def _loaded(chain, **opts):
     return loaded_from_doc(program_document(compile_chain(chain, CompileOptions(**opts))))
 
 
+def _prepared(ld, traj):
+    """The program's flow, the host's values per (port, entry), and per flow input."""
+    fl = flow(ld, check_program(ld))
+    values = port_values(ld, traj)
+    return fl, values, {i: values[(p, e)] for i, (p, e, _) in enumerate(fl.inputs)}
+
+
 def _three_ways(ld, count: int, tick_count: int | None = None, seed: int = 1):
     """Native, numpy and tick torques on the same random states (tick on the first tick_count)."""
     traj = random_trajectory(ld.chain, count, seed)
-    ports = port_values(ld, traj)
-    fast = native.build(ld).run(ports, count)
-    slow = run_numpy(ld, ports, count)
+    fl, values, ports = _prepared(ld, traj)
+    fast = native.build(ld, fl).run(ports, count)
+    slow = run_numpy(ld, fl, ports, count)
     k = count if tick_count is None else tick_count
     engine = TickEngine(ld, seed=1)
     engine.program()
-    tick = engine.run({p: a[:k] for p, a in ports.items()}, k)
+    tick = engine.run({p: a[:k] for p, a in values.items()}, k)
     return fast, slow, tick
 
 
@@ -73,6 +80,17 @@ def test_random_chains_native_equals_numpy_and_tick(n, seed, frac):
 
 
 @needs_cc
+@pytest.mark.parametrize("opts", [dict(layout="folded"), dict(layout="folded", share_passes=True),
+                                  dict(recursion="log", layout="folded", share_passes=True),
+                                  dict(mult_latency=3, add_latency=2),
+                                  dict(recursion="log", layout="folded", mult_latency=1,
+                                       add_latency=4)], ids=str)
+def test_other_layouts_and_latencies_native_equals_numpy_and_tick(opts):
+    chain = random_chain(5, 7, prismatic_fraction=0.4, endpoints=True)
+    _assert_bit_equal(_loaded(chain, **opts), count=70, tick_count=10)
+
+
+@needs_cc
 @pytest.mark.skipif(not HAS_LOG, reason="no logarithmic recursion yet")
 @pytest.mark.parametrize("prefix", ["sklansky", "kogge-stone"])
 def test_log_recursion_native_equals_numpy_and_tick(prefix):
@@ -93,28 +111,30 @@ def test_puma_log_recursion_native_equals_numpy():
 def test_block_edges(count):
     ld = _loaded(random_chain(3, 5, prismatic_fraction=0.5, endpoints=True))
     traj = random_trajectory(ld.chain, max(count, 1), 2)
-    ports = {p: a[:count] for p, a in port_values(ld, traj).items()}
-    fast = native.build(ld).run(ports, count)
+    fl, _, ports = _prepared(ld, traj)
+    ports = {p: a[:count] for p, a in ports.items()}
+    fast = native.build(ld, fl).run(ports, count)
     assert fast.shape == (count, 3)
-    assert np.array_equal(fast, run_numpy(ld, ports, count))
+    assert np.array_equal(fast, run_numpy(ld, fl, ports, count))
 
 
 @needs_cc
 def test_chunks_report_progress(monkeypatch):
     monkeypatch.setattr(native, "CHUNK", 100)
     ld = _loaded(random_chain(2, 8, endpoints=True))
-    ports = port_values(ld, random_trajectory(ld.chain, 250, 4))
+    fl, _, ports = _prepared(ld, random_trajectory(ld.chain, 250, 4))
     seen = []
-    fast = native.build(ld).run(ports, 250, lambda done, total: seen.append((done, total)))
+    fast = native.build(ld, fl).run(ports, 250, lambda done, total: seen.append((done, total)))
     assert seen == [(100, 250), (200, 250), (250, 250)]
-    assert np.array_equal(fast, run_numpy(ld, ports, 250))
+    assert np.array_equal(fast, run_numpy(ld, fl, ports, 250))
 
 
 @needs_cc
 @pytest.mark.skipif(shutil.which("objdump") is None, reason="no objdump")
 def test_no_fused_multiply_add_in_the_shared_object():
     ld = _loaded(load_robot(EXAMPLES[[p.name for p in EXAMPLES].index("puma560.yaml")]))
-    so = native.compile_cached(native.generate_source(ld, native.Layout.of(ld)))
+    fl = flow(ld, check_program(ld))
+    so = native.compile_cached(native.generate_source(ld, fl, native.Layout.of(fl)))
     text = subprocess.run(["objdump", "-d", str(so)], capture_output=True, text=True, check=True).stdout
     assert not FMA.search(text), FMA.search(text).group(0)
     if platform.machine() == "x86_64":
@@ -126,7 +146,8 @@ def test_no_fused_multiply_add_in_the_shared_object():
 @pytest.fixture
 def small():
     ld = _loaded(random_chain(2, 9, prismatic_fraction=0.5, endpoints=True))
-    return ld, port_values(ld, random_trajectory(ld.chain, 10, 1))
+    fl, _, ports = _prepared(ld, random_trajectory(ld.chain, 10, 1))
+    return ld, fl, ports
 
 
 @pytest.fixture
@@ -136,47 +157,47 @@ def cache(tmp_path, monkeypatch):
 
 
 def test_native_off(small, monkeypatch):
-    ld, ports = small
+    ld, fl, ports = small
     monkeypatch.setenv("VAMPC_NATIVE", "0")
-    assert native.run_native(ld, ports, 10) is None
-    assert np.array_equal(run_stream(ld, ports, 10), run_numpy(ld, ports, 10))
+    assert native.run_native(ld, fl, ports, 10) is None
+    assert np.array_equal(run_stream(ld, fl, ports, 10), run_numpy(ld, fl, ports, 10))
 
 
 def test_no_compiler_falls_back_silently(small, monkeypatch, capsys):
-    ld, ports = small
+    ld, fl, ports = small
     monkeypatch.setattr(native, "compiler", lambda: None)
     monkeypatch.delenv("VAMPC_NATIVE", raising=False)
-    assert native.run_native(ld, ports, 10**6) is None
-    assert np.array_equal(run_stream(ld, ports, 10), run_numpy(ld, ports, 10))
+    assert native.run_native(ld, fl, ports, 10**6) is None
+    assert np.array_equal(run_stream(ld, fl, ports, 10), run_numpy(ld, fl, ports, 10))
     assert capsys.readouterr() == ("", "")
     monkeypatch.setenv("VAMPC_NATIVE", "1")
     with pytest.raises(native.NativeError, match=r"^no C compiler found"):
-        native.run_native(ld, ports, 10)
+        native.run_native(ld, fl, ports, 10)
 
 
 @needs_cc
 def test_failed_compile_falls_back(small, cache, monkeypatch, capsys):
-    ld, ports = small
+    ld, fl, ports = small
     monkeypatch.setattr(native, "CFLAGS", native.CFLAGS + ("-fno-such-flag-vampc",))
     monkeypatch.delenv("VAMPC_NATIVE", raising=False)
-    assert native.run_native(ld, ports, 10**6) is None
+    assert native.run_native(ld, fl, ports, 10**6) is None
     assert capsys.readouterr() == ("", "")
     assert not list(cache.iterdir())     # no half-written object left behind
     monkeypatch.setenv("VAMPC_NATIVE", "1")
     with pytest.raises(native.NativeError, match=r"failed \(exit \d+\)"):
-        native.run_native(ld, ports, 10)
+        native.run_native(ld, fl, ports, 10)
 
 
 @needs_cc
 def test_short_runs_stay_on_numpy(small, cache, monkeypatch):
-    ld, ports = small
+    ld, fl, ports = small
     monkeypatch.delenv("VAMPC_NATIVE", raising=False)
     monkeypatch.setattr(native, "generate_source", _must_not_compile)
-    assert native.run_native(ld, ports, 10) is None
+    assert native.run_native(ld, fl, ports, 10) is None
     monkeypatch.undo()
     monkeypatch.setenv("XDG_CACHE_HOME", str(cache.parent))
     monkeypatch.setenv("VAMPC_NATIVE", "1")          # forced: compiled whatever the length
-    assert np.array_equal(native.run_native(ld, ports, 10), run_numpy(ld, ports, 10))
+    assert np.array_equal(native.run_native(ld, fl, ports, 10), run_numpy(ld, fl, ports, 10))
     assert len(list(cache.glob("*.so"))) == 1
 
 
@@ -186,15 +207,15 @@ def _must_not_compile(*args):
 
 @needs_cc
 def test_cache_is_keyed_by_source(small, cache, monkeypatch):
-    ld, ports = small
-    native.build(ld)
+    ld, fl, ports = small
+    native.build(ld, fl)
     objects = list(cache.glob("vampc-*.so"))
     assert len(objects) == 1
     monkeypatch.setattr(native, "_compile", _must_not_compile)
-    assert np.array_equal(native.build(ld).run(ports, 10), run_numpy(ld, ports, 10))
+    assert np.array_equal(native.build(ld, fl).run(ports, 10), run_numpy(ld, fl, ports, 10))
     other = _loaded(random_chain(2, 10, endpoints=True))
     with pytest.raises(AssertionError, match="compiled although"):
-        native.build(other)
+        native.build(other, flow(other, check_program(other)))
 
 
 def test_unwritable_cache_falls_back_to_temp(tmp_path, monkeypatch):
@@ -211,7 +232,8 @@ ONE_OP = re.compile(rf"^(S\[\d+ \+ s\]|p1|p2|ad) = {ATOM} [-+*] {ATOM}$")
 
 def test_generated_statements_have_one_rounding_each():
     ld = _loaded(random_chain(3, 9, prismatic_fraction=0.5, endpoints=True))
-    src = native.generate_source(ld, native.Layout.of(ld))
+    fl = flow(ld, check_program(ld))
+    src = native.generate_source(ld, fl, native.Layout.of(fl))
     parts = src.split("static void vamps(")[0]
     body = [line for line in parts.splitlines() if line.startswith("    ")]   # the VAMP loop bodies
     statements = [st.strip(" {}").removeprefix("double ") for line in body for st in line.split(";")]

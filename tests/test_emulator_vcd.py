@@ -39,9 +39,8 @@ class Recorder:
 
 def _cli_names(ld) -> list[str]:
     """Scope names as `vampc emulate --vcd` builds them: number, section, group and node name."""
-    nodes = ld.doc["graph"]["nodes"]
-    return [f"vamp{ld.numbers[v.index]}_{nodes[v.node]['section']}{nodes[v.node]['group']}_"
-            f"{nodes[v.node]['name']}" for v in ld.net.vamps]
+    from vampc.emulator.vcd import vamp_names
+    return vamp_names(ld)
 
 
 def _odd_names(ld) -> list[str]:

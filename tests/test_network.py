@@ -1,8 +1,9 @@
-"""Systolic allocation (vampc.network.allocate) and the network IR's timing model (vampc.network.model).
+"""Allocation (vampc.network.allocate) and the network IR's timing model (vampc.network.model), for the
+systolic layout (one op per VAMP) and the folded layouts (VAMPs with slots and multiplexers).
 
 VAMP counts come from the paper (section VI, "VAMPs - Totals, n = 6": linear systolic pipeline 132
-backward + 48 forward). Tap windows are recomputed here from the timing model in the model's docstring,
-not with vampc.network.allocate.tap_window.
+backward + 48 forward; single device 22 + 8, or 22 with the passes sharing processors). Tap windows
+are recomputed here from the rules in the model's docstring, not with the model's window functions.
 """
 from __future__ import annotations
 
@@ -12,56 +13,79 @@ from collections import Counter
 import pytest
 
 from vampc.dataflow.linear import build_linear
-from vampc.dataflow.ops import Timing
+from vampc.dataflow.logarithmic import build_log
+from vampc.dataflow.ops import Op, Timing
 from vampc.errors import VampcInternalError
-from vampc.network.allocate import allocate_systolic, verify_network
+from vampc.network.allocate import allocate, verify_network
+from vampc.program.emit import a_roots
 from vampc.robot.random import random_chain
-from vampc.schedule.asap import schedule_asap
+from vampc.schedule.layout import layout_and_schedule
 
 CASES = [(6, 0.0, Timing()), (6, 0.5, Timing()), (1, 0.0, Timing()), (9, 0.3, Timing(2, 3))]
 CASE_IDS = ["rotary6", "mixed6", "rotary1", "mixed9-m2a3"]
+LAYOUTS = [("systolic", False), ("folded", False), ("folded", True)]
+LAYOUT_IDS = ["systolic", "folded", "shared"]
 
 
-def build(n: int, prismatic: float = 0.0, timing: Timing = Timing(), seed: int = 0):
+def build(n: int, prismatic: float = 0.0, timing: Timing = Timing(), seed: int = 0,
+          layout: str = "systolic", share: bool = False, log: bool = False):
     """(graph, schedule, network) of a random chain."""
-    graph = build_linear(random_chain(n, seed, prismatic_fraction=prismatic))
-    sched = schedule_asap(graph, timing)
-    return graph, sched, allocate_systolic(graph, sched)
+    chain = random_chain(n, seed, prismatic_fraction=prismatic)
+    graph = build_log(chain) if log else build_linear(chain)
+    lay, sched = layout_and_schedule(graph, timing, layout, share)
+    return graph, sched, allocate(graph, sched, lay)
 
 
-def window(net, tap) -> tuple[float, float]:
-    """[first, last + 1) tick at which `tap` shows torque set 0's value, from the model docstring."""
-    C = net.cycle
-    if tap.kind == "const":
-        return (float("-inf"), float("inf"))
-    if tap.kind == "port":
-        c = net.ports[tap.index].cycle
-        return (c * C, (c + 1) * C)
-    if tap.kind == "vamp":
-        return (net.vamps[tap.index].dump + 1, net.vamps[tap.index].dump + 1 + C)
-    buf = net.buffers[tap.index]
-    c = (net.vamps[buf.source].dump + 1) // C + tap.stage
-    return (c * C, (c + 1) * C)
-
-
-def tap_source(graph, net, tap):
-    """The graph node whose value a tap carries (a VAMP's or buffer source's node, a port's key,
-    a constant's value)."""
-    if tap.kind == "vamp":
-        return graph.nodes[net.vamps[tap.index].node]
-    if tap.kind == "buffer":
-        return graph.nodes[net.vamps[net.buffers[tap.index].source].node]
-    if tap.kind == "port":
-        return net.ports[tap.index].key
-    return net.consts[tap.index].value
-
-
-def operands(net):
-    """(vamp, 'A'|'B', latch tick, tap) for every operand tap."""
+def slot_windows(net):
+    """(vamp, slot) -> [emit, next emit): a slot's value stays on the Result until the VAMP's next
+    dump shows (the next slot in dump order; the first one again a period later)."""
+    out = {}
     for v in net.vamps:
-        for name, op, latch in (("A", v.a, v.latch_a), ("B", v.b, v.latch_b)):
-            for tap in op.taps:
-                yield v, name, latch, tap
+        emits = sorted(s.dump + 1 for s in v.slots)
+        for k, s in enumerate(v.slots):
+            later = [e for e in emits if e > s.dump + 1]
+            out[(v.index, k)] = (s.dump + 1, later[0] if later else emits[0] + net.period)
+    return out
+
+
+def shown(net, wins, tap, tick):
+    """What `tap` shows at absolute tick `tick` of set 0, by the model docstring: ("slot", v, k),
+    ("input", key) or ("const", value); None if nothing of set 0."""
+    B = net.clock
+    if tap.kind == "const":
+        return ("const", net.consts[tap.index].value)
+    if tap.kind == "port":
+        port = net.ports[tap.index]
+        for j, e in enumerate(port.entries):
+            nxt = port.entries[(j + 1) % len(port.entries)].block
+            end = nxt if nxt > e.block else nxt + net.period // B
+            if e.block * B <= tick < end * B:
+                return ("input", e.key)
+        return None
+    v = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+    for k in range(len(net.vamps[v].slots)):
+        emit, nxt = wins[(v, k)]
+        if tap.kind == "vamp" and emit <= tick < nxt:
+            return ("slot", v, k)
+        if tap.kind == "buffer" and (emit // B + tap.stage) * B <= tick < (nxt // B + tap.stage) * B:
+            return ("slot", v, k)
+    return None
+
+
+def reads(net):
+    """(vamp, slot index, slot, 'A'|'B', latch tick, operand) for every operand latch."""
+    for v in net.vamps:
+        for k, s in enumerate(v.slots):
+            yield v, k, s, "A", s.latch_a, v.a[s.sel_a]
+            yield v, k, s, "B", s.latch_b, v.b[s.sel_b]
+
+
+def carried(graph, net, src):
+    if src is None:
+        return None
+    if src[0] == "slot":
+        return graph.nodes[net.vamps[src[1]].slots[src[2]].node]
+    return src[1]
 
 
 def test_systolic_n6_totals_match_paper():
@@ -69,38 +93,60 @@ def test_systolic_n6_totals_match_paper():
     sections = Counter(graph.nodes[v.node].section for v in net.vamps)
     assert sections["bwd"] + sections["npv"] == 132
     assert (sections["bwd"], sections["npv"], sections["fwd"]) == (72, 60, 48)
-    assert len(net.vamps) == 180
+    assert len(net.vamps) == 180 and all(len(v.slots) == 1 for v in net.vamps)
+    assert net.period == net.clock == 4
 
 
+def test_folded_n6_single_device_matches_paper():
+    graph, _, net = build(6, layout="folded")
+    kinds = Counter("fwd" if {graph.nodes[s.node].section for s in v.slots} == {"fwd"} else "bwd"
+                    for v in net.vamps)
+    assert (kinds["bwd"], kinds["fwd"]) == (22, 8)        # one node each way (Figure VI.1a)
+    assert len(build(6, layout="folded", share=True)[2].vamps) == 22    # Figure VI.1b
+
+
+@pytest.mark.parametrize("layout,share", LAYOUTS, ids=LAYOUT_IDS)
 @pytest.mark.parametrize("n,prismatic,timing", CASES, ids=CASE_IDS)
-def test_one_vamp_per_op_with_its_graph_operands(n, prismatic, timing):
-    graph, sched, net = build(n, prismatic, timing)
-    assert sorted(v.node for v in net.vamps) == sorted(nd.id for nd in graph.compute_nodes())
+def test_every_op_in_one_slot_reading_its_graph_operands(n, prismatic, timing, layout, share):
+    graph, sched, net = build(n, prismatic, timing, layout=layout, share=share)
+    wins = slot_windows(net)
+    placed = Counter(s.node for v in net.vamps for s in v.slots)
+    ops = {nd.id: (3 if nd.op is Op.MM else 1) for nd in graph.compute_nodes()}
+    assert dict(placed) == ops
+    for v, k, s, name, latch, operand in reads(net):
+        nd = graph.nodes[s.node]
+        assert s.op is nd.op
+        assert (s.latch_a, s.latch_b, s.dump + 1) == (sched.start[nd.id],) * 2 + (sched.finish[nd.id],)
+        src = graph.nodes[nd.args[0 if name == "A" else 1]]
+        want = src.key if src.key else src.value if src.value is not None else src
+        got = [carried(graph, net, shown(net, wins, t, latch)) for t in operand.taps]
+        assert got == [want] * len(operand.taps), (v.index, k, name)
+
+
+@pytest.mark.parametrize("layout,share", LAYOUTS, ids=LAYOUT_IDS)
+@pytest.mark.parametrize("n,prismatic,timing", CASES, ids=CASE_IDS)
+def test_slots_never_overlap_and_every_input_is_used(n, prismatic, timing, layout, share):
+    graph, sched, net = build(n, prismatic, timing, layout=layout, share=share)
+    verify_network(net, graph, sched)
+    P = net.period
     for v in net.vamps:
-        nd = graph.nodes[v.node]
-        assert v.op is nd.op
-        for arg, op in zip(nd.args, (v.a, v.b)):
-            src = graph.nodes[arg]
-            want = src.key if src.key else src.value if src.value is not None else src
-            assert [tap_source(graph, net, t) for t in op.taps] == [want]
-        assert (v.latch_a, v.latch_b, v.dump + 1) == (sched.start[nd.id],) * 2 + (sched.finish[nd.id],)
+        busy = Counter(t % P for s in v.slots for t in range(s.latch_a, s.dump + 1))
+        assert max(busy.values()) == 1, v.index
+        assert {s.sel_a for s in v.slots} | ({0} if not _reaches_data(net, v.a[0]) else set()) \
+            == set(range(len(v.a)))
+        assert {s.sel_b for s in v.slots} == set(range(len(v.b)))
+    a_roots(net)        # every VAMP can be programmed through its operand-A input 0
 
 
-@pytest.mark.parametrize("n,prismatic,timing", CASES, ids=CASE_IDS)
-def test_every_tap_window_contains_its_latch_tick(n, prismatic, timing):
-    _, _, net = build(n, prismatic, timing)
-    verify_network(net)
-    for v, name, latch, tap in operands(net):
-        lo, hi = window(net, tap)
-        assert lo <= latch < hi, (v.index, name, tap)
-        if tap.kind == "buffer":
-            assert 1 <= tap.stage <= net.buffers[tap.index].stages
+def _reaches_data(net, operand) -> bool:
+    tap = operand.taps[0]
+    return not (tap.kind == "port" and not net.ports[tap.index].entries)
 
 
 @pytest.mark.parametrize("n,prismatic,timing", CASES, ids=CASE_IDS)
 def test_buffers_are_as_long_as_their_latest_reader_needs(n, prismatic, timing):
     graph, sched, net = build(n, prismatic, timing)
-    C, need = net.cycle, Counter()
+    C, need = net.period, Counter()
     vamp_of = {v.node: v.index for v in net.vamps}
     for nd in graph.compute_nodes():
         for arg in nd.args:
@@ -111,22 +157,29 @@ def test_buffers_are_as_long_as_their_latest_reader_needs(n, prismatic, timing):
     assert net.buffer_stages == sum(need.values())
 
 
+def _buffered(net):
+    for v, k, s, _, _, operand in reads(net):
+        for tap in operand.taps:
+            if tap.kind == "buffer":
+                yield s, tap
+
+
 def test_no_buffer_between_successive_recursion_nodes():
     # Section VI: "Buffering between nodes is not needed in the linear case".
     graph, _, net = build(8, 0.3)
-    for v, _, _, tap in operands(net):
-        if tap.kind == "buffer":
-            src, dst = tap_source(graph, net, tap), graph.nodes[v.node]
-            assert src.group == dst.group, (src.label, dst.label)
+    for s, tap in _buffered(net):
+        src = graph.nodes[net.vamps[net.buffers[tap.index].source].node]
+        dst = graph.nodes[s.node]
+        assert src.group == dst.group, (src.label, dst.label)
 
 
 def test_buffers_only_carry_backward_results_to_the_forward_recursion():
     graph, _, net = build(6)
-    for v, _, _, tap in operands(net):
-        if tap.kind == "buffer":
-            src, dst = tap_source(graph, net, tap), graph.nodes[v.node]
-            assert dst.section == "fwd", (src.label, dst.label)
-            assert not _reads_forward_recursion(graph, src.id), (src.label, dst.label)
+    for s, tap in _buffered(net):
+        src = graph.nodes[net.vamps[net.buffers[tap.index].source].node]
+        dst = graph.nodes[s.node]
+        assert dst.section == "fwd", (src.label, dst.label)
+        assert not _reads_forward_recursion(graph, src.id), (src.label, dst.label)
 
 
 def _reads_forward_recursion(graph, node_id: int) -> bool:
@@ -137,54 +190,89 @@ def _reads_forward_recursion(graph, node_id: int) -> bool:
     return any(_reads_forward_recursion(graph, a) for a in nd.args)
 
 
-def test_ports_constants_and_outputs():
-    graph, sched, net = build(5, 0.4)
-    C = net.cycle
-    for v, _, latch, tap in operands(net):
-        if tap.kind == "port":
-            assert net.ports[tap.index].cycle == latch // C
-    keys = [(p.key, p.cycle) for p in net.ports]
-    assert len(keys) == len(set(keys))
+@pytest.mark.parametrize("layout,share", LAYOUTS, ids=LAYOUT_IDS)
+def test_ports_constants_and_outputs(layout, share):
+    graph, sched, net = build(5, 0.4, layout=layout, share=share)
+    B, K = net.clock, net.period // net.clock
+    for v, k, s, _, latch, operand in reads(net):
+        for tap in operand.taps:
+            if tap.kind == "port":
+                assert latch // B in {e.block for e in net.ports[tap.index].entries}
+    for p in net.ports:
+        blocks = [e.block % K for e in p.entries]
+        assert len(blocks) == len(set(blocks))          # one write per block of the period
+    entries = [(e.key, e.block) for p in net.ports for e in p.entries]
+    assert len(entries) == len(set(entries))
     values = [c.value for c in net.consts]
     assert len(values) == len(set(values))
     assert sorted(o.joint for o in net.outputs) == [1, 2, 3, 4, 5]
     for o, go in zip(sorted(net.outputs, key=lambda o: o.joint), graph.outputs):
-        assert (net.vamps[o.vamp].node, o.component, o.tick) == (go.node, go.component,
-                                                                 sched.finish[go.node])
-    assert net.latency == sched.latency
+        slot = next(s for s in net.vamps[o.vamp].slots if s.dump + 1 == o.tick)
+        assert (slot.node, o.component, o.tick) == (go.node, go.component, sched.finish[go.node])
+    assert net.latency == sched.latency < net.period or layout == "systolic"
+
+
+def test_folded_ports_are_written_per_joint():
+    # The folded linear node reads A_i of joint i in its cycle: one port, written once per joint.
+    _, _, net = build(6, layout="folded")
+    a_ports = [p for p in net.ports if p.size == 9]
+    assert sum(len(p.entries) for p in a_ports) >= 6 and len(a_ports) <= 2
+
+
+def _replace_slot(net, v, k, **changes):
+    vamp = net.vamps[v]
+    slots = vamp.slots[:k] + (dataclasses.replace(vamp.slots[k], **changes),) + vamp.slots[k + 1:]
+    new = dataclasses.replace(vamp, slots=slots)
+    return dataclasses.replace(net, vamps=net.vamps[:v] + (new,) + net.vamps[v + 1:])
 
 
 def test_shifted_latch_is_rejected_naming_vamp_tick_and_operand():
-    _, _, net = build(3)
-    v = next(v for v in net.vamps if v.a.taps[0].kind == "vamp")
-    src = v.a.taps[0].index
-    emit = net.vamps[src].dump + 1
-    bad = dataclasses.replace(v, latch_a=v.latch_a + net.cycle)
-    broken = dataclasses.replace(net, vamps=net.vamps[:v.index] + (bad,) + net.vamps[v.index + 1:])
+    graph, sched, net = build(3)
+    v = next(v for v in net.vamps if v.a[0].taps[0].kind == "vamp")
+    src = v.a[0].taps[0].index
+    emit = net.vamps[src].slots[0].dump + 1
+    latch = v.slots[0].latch_a + net.period
+    broken = _replace_slot(net, v.index, 0, latch_a=latch, dump=v.slots[0].dump + net.period)
     with pytest.raises(VampcInternalError) as err:
-        verify_network(broken)
-    assert str(err.value) == (f"VAMP {v.index}: operand A latched at tick {v.latch_a + net.cycle} "
-                              f"outside vamp {src}'s window [{emit}, {emit + net.cycle})")
+        verify_network(broken, graph, sched)
+    assert str(err.value) == (f"VAMP {v.index}: operand A latched at tick {latch} outside vamp "
+                              f"{src}'s window [{emit}, {emit + net.period})")
 
 
 def test_shifted_operand_b_latch_is_rejected():
-    _, _, net = build(3)
-    v = next(v for v in net.vamps if v.b.taps[0].kind == "vamp")
-    bad = dataclasses.replace(v, latch_b=v.latch_b - 1)
-    broken = dataclasses.replace(net, vamps=net.vamps[:v.index] + (bad,) + net.vamps[v.index + 1:])
+    graph, sched, net = build(3)
+    v = next(v for v in net.vamps if v.b[0].taps[0].kind == "vamp")
+    broken = _replace_slot(net, v.index, 0, latch_b=v.slots[0].latch_b - 1)
     with pytest.raises(VampcInternalError,
-                       match=rf"^VAMP {v.index}: operand B latched at tick {v.latch_b - 1} outside "
-                             rf"vamp \d+'s window \[\d+, \d+\)$"):
-        verify_network(broken)
+                       match=rf"^VAMP {v.index}: operand B latched at tick {v.slots[0].latch_b - 1} "
+                             rf"outside vamp \d+'s window \[\d+, \d+\)$"):
+        verify_network(broken, graph, sched)
+
+
+def test_overlapping_slots_are_rejected():
+    graph, sched, net = build(4, layout="folded")
+    v = next(v for v in net.vamps if len(v.slots) > 1)
+    s0 = v.slots[0]
+    broken = _replace_slot(net, v.index, 1, latch_a=s0.latch_a, latch_b=s0.latch_b, dump=s0.dump)
+    with pytest.raises(VampcInternalError, match=rf"^VAMP {v.index}: slots \d and \d overlap$"):
+        verify_network(broken, graph, sched)
 
 
 def test_tap_past_the_end_of_a_buffer_is_rejected():
-    _, _, net = build(4)
-    v, name, _, tap = next(x for x in operands(net) if x[3].kind == "buffer")
+    graph, sched, net = build(4)
+    v, _, _, name, _, operand = next(x for x in reads(net) if x[5].taps[0].kind == "buffer")
+    tap = operand.taps[0]
     short = dataclasses.replace(net.buffers[tap.index], stages=tap.stage - 1)
     broken = dataclasses.replace(net, buffers=net.buffers[:tap.index] + (short,)
                                  + net.buffers[tap.index + 1:])
     with pytest.raises(VampcInternalError,
                        match=rf"^VAMP {v.index}: operand {name} taps missing buffer {tap.index} "
                              rf"stage {tap.stage}$"):
-        verify_network(broken)
+        verify_network(broken, graph, sched)
+
+
+@pytest.mark.parametrize("share", [False, True])
+def test_folded_log_networks_verify(share):
+    graph, sched, net = build(7, 0.3, log=True, layout="folded", share=share)
+    verify_network(net, graph, sched)
+    assert net.period >= sched.latency + 1 and net.period % net.clock == 0

@@ -1,8 +1,9 @@
 """Program words (vampc.program.words), numbering and stream (vampc.program.emit), the program file
 (vampc.program.file) and its document (vampc.program.document).
 
-The packing under test is the one documented in words.py: scalar 1 the VAMP number, scalar 2
-delay-A·4096 + delay-B, scalar 3 delay-R·4096 + ROM pointer.
+The packing under test is the one documented in words.py: a compact word (scalar 1 the VAMP number,
+scalar 2 delay-A·4096 + delay-B, scalar 3 delay-R·4096 + ROM pointer) and extended words (-number,
+slot·8 + field, value) for further slots, selects and long delays.
 """
 from __future__ import annotations
 
@@ -23,7 +24,8 @@ from vampc.errors import VampcError
 from vampc.network.model import Tap
 from vampc.program import document, emit
 from vampc.program.file import canonical, checksum, layout, read_program, write_program
-from vampc.program.words import FIELD, ROM, Program, decode, encode, rom_pointer
+from vampc.program.words import (FIELD, FIELDS, ROM, Program, apply_word, decode, encode,
+                                 programs_of, rom_pointer, vamp_words)
 from vampc.robot.random import random_chain
 
 fields = st.integers(0, FIELD - 1)
@@ -73,6 +75,32 @@ def test_field_out_of_range_is_refused(field, value):
         encode(9, prog)
 
 
+slot_programs = st.builds(Program, st.integers(0, 2**24 - 1), st.integers(0, 2**24 - 1),
+                          st.integers(0, 2**24 - 1), st.integers(0, len(ROM) - 1),
+                          st.integers(0, 100), st.integers(0, 100))
+
+
+@given(number=st.integers(1, 2**24 - 1), slots=st.lists(slot_programs, min_size=1, max_size=5))
+def test_slot_words_rebuild_the_table_and_are_exact(number, slots):
+    table = None
+    for word in vamp_words(number, tuple(slots)):
+        assert all(float(np.float32(x)) == x and abs(x) < 2**24 for x in word)
+        assert abs(word[0]) == number
+        table = apply_word(table, word)
+    assert programs_of(table) == tuple(slots)
+
+
+def test_a_systolic_vamp_gets_one_compact_word():
+    assert vamp_words(5, (Program(1, 2, 3, 4),)) == [encode(5, Program(1, 2, 3, 4))]
+    words = vamp_words(5, (Program(1, 2, 3, 4, 1, 0),))
+    assert words == [encode(5, Program(1, 2, 3, 4)), (-5.0, 4.0, 1.0)]   # sel-A of slot 0
+
+
+def test_a_compact_word_resets_the_table():
+    table = apply_word([[9] * 6, [8] * 6], encode(3, Program(1, 2, 3, 4)))
+    assert programs_of(table) == (Program(1, 2, 3, 4, 0, 0),)
+
+
 def test_rom_pointers_are_distinct_and_fit():
     keys = [(op, None) for op in Op if op.is_compute and op is not Op.MM] + [(Op.MM, c) for c in range(3)]
     pointers = [rom_pointer(op, col) for op, col in keys]
@@ -95,7 +123,8 @@ def test_numbering_file_sets_the_burned_in_numbers(tmp_path):
     assert c.numbering == tuple(1000 + 3 * k for k in range(count))
     doc = program_document(c)
     assert [v["number"] for v in doc["network"]["vamps"]] == list(c.numbering)
-    assert [p["word"][0] for p in doc["programs"]] == [float(x) for x in c.numbering]
+    words = {t: w for e in doc["program_stream"] for t, w in zip(e["targets"], e["words"])}
+    assert [words[v][0] for v in range(count)] == [float(x) for x in c.numbering]
 
 
 @pytest.mark.parametrize("text,message", [
@@ -122,18 +151,21 @@ def test_missing_numbering_file(tmp_path):
 def a_depth(net, vamp: int) -> tuple[tuple[str, int], int]:
     """Root input buffer and register count of a VAMP's Operand-A path (Program Mode: a VAMP passes
     Operand A to its Result one tick later; a buffer stage adds one tick)."""
-    tap, depth = net.vamps[vamp].a.taps[0], 0
+    tap, depth = net.vamps[vamp].a[0].taps[0], 0
     while tap.kind in ("vamp", "buffer"):
         src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
         depth += 1 + (tap.stage if tap.kind == "buffer" else 0)
-        tap = net.vamps[src].a.taps[0]
+        tap = net.vamps[src].a[0].taps[0]
     return (tap.kind, tap.index), depth
 
 
-def test_stream_reaches_every_vamp_once_deepest_first(compiled):
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_stream_reaches_every_vamp_deepest_first(compiled, layout):
+    if layout != "systolic":
+        compiled = compile_chain(compiled.chain, CompileOptions(layout=layout))
     net, stream = compiled.network, compiled.stream
     targets = [v for e in stream for v in e.targets]
-    assert sorted(targets) == list(range(len(net.vamps)))
+    assert sorted(set(targets)) == list(range(len(net.vamps)))
     for e in stream:
         assert e.root.kind in ("port", "const")
         assert list(e.depth) == sorted(e.depth, reverse=True)
@@ -143,23 +175,25 @@ def test_stream_reaches_every_vamp_once_deepest_first(compiled):
 
 
 @pytest.mark.parametrize("recursion", ["linear", "log"])
-def test_a_roots_are_those_of_a_walk_along_each_path(recursion):
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_a_roots_are_those_of_a_walk_along_each_path(recursion, layout):
     """a_roots walks each path once and reuses roots found before; a plain walk per VAMP agrees."""
-    net = compile_chain(random_chain(6, 3), CompileOptions(recursion=recursion)).network
+    net = compile_chain(random_chain(6, 3), CompileOptions(recursion=recursion,
+                                                           layout=layout)).network
     for v, found in enumerate(emit.a_roots(net)):
-        depth, tap = 0, net.vamps[v].a.taps[0]
-        while tap.kind in ("vamp", "buffer"):
-            depth += 1 if tap.kind == "vamp" else 1 + tap.stage
-            src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
-            tap = net.vamps[src].a.taps[0]
-        assert found == (Tap(tap.kind, tap.index), depth)
+        assert found == (Tap(*a_depth(net, v)[0]), a_depth(net, v)[1])
 
 
-def test_programs_are_cycle_relative(compiled):
-    C = compiled.network.cycle
-    for v, p in zip(compiled.network.vamps, compiled.programs):
-        assert (p.delay_a, p.delay_b, p.delay_r) == (v.latch_a % C, v.latch_b % C, v.dump % C)
-        assert ROM[p.rom] == (v.op, v.column)
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_programs_are_period_relative(compiled, layout):
+    if layout != "systolic":
+        compiled = compile_chain(compiled.chain, CompileOptions(layout=layout))
+    P = compiled.network.period
+    for v, progs in zip(compiled.network.vamps, compiled.programs):
+        assert len(progs) == len(v.slots)
+        for s, p in zip(v.slots, progs):
+            assert (p.delay_a, p.delay_b, p.delay_r) == (s.latch_a % P, s.latch_b % P, s.dump % P)
+            assert ROM[p.rom] == (s.op, s.column) and (p.sel_a, p.sel_b) == (s.sel_a, s.sel_b)
 
 
 # --- the program file ----------------------------------------------------------------------------------
@@ -182,8 +216,10 @@ def test_written_netlist_is_the_compiled_one(compiled, program_path):
     """The netlist rows are formatted straight from the IR: read back, they give its wiring."""
     net = document.network_from_doc(read_program(program_path))
     want = compiled.network
-    assert [(v.index, v.node, v.op, v.column, v.a, v.b) for v in net.vamps] == \
-           [(v.index, v.node, v.op, v.column, v.a, v.b) for v in want.vamps]
+    def wiring(vamps):
+        return [(v.index, v.a, v.b, [(s.node, s.op, s.column, s.sel_a, s.sel_b) for s in v.slots])
+                for v in vamps]
+    assert wiring(net.vamps) == wiring(want.vamps)
     assert (net.buffers, net.ports, net.consts, net.outputs) == \
            (want.buffers, want.ports, want.consts, want.outputs)
 
@@ -204,7 +240,7 @@ def test_rows_formatted_from_the_irs_are_what_json_writes(recursion):
     assert text == layout(json.loads(text))
     lines = text.splitlines()
     assert sum(line.startswith('{"a":') for line in lines) == len(c.network.vamps)
-    assert sum(line.startswith('{"delay_a":') for line in lines) == len(c.network.vamps)
+    assert sum(line.startswith('{"slots":') for line in lines) == len(c.network.vamps)
     assert sum(line.startswith('{"args":') for line in lines) == len(c.graph.nodes)
 
 
@@ -238,10 +274,14 @@ def test_the_quick_schema_check_agrees_with_the_jsonschema_package(mutation):
 
 def test_written_words_decode_to_the_programs(program_path):
     doc = read_program(program_path)
-    for row, vamp in zip(doc["programs"], doc["network"]["vamps"]):
-        number, prog = decode(row["word"])
-        assert number == vamp["number"]
-        assert prog == Program(row["delay_a"], row["delay_b"], row["delay_r"], row["rom"])
+    tables: dict = {}
+    for e in doc["program_stream"]:
+        for v, word in zip(e["targets"], e["words"]):
+            assert abs(word[0]) == doc["network"]["vamps"][v]["number"]
+            tables[v] = apply_word(tables.get(v), word)
+    for row in doc["programs"]:
+        assert programs_of(tables[row["vamp"]]) == tuple(
+            Program(*(s[f] for f in FIELDS)) for s in row["slots"])
 
 
 def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
@@ -258,8 +298,9 @@ def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
 
 
 @pytest.mark.parametrize("edit,message", [
-    (lambda d: d["programs"][0].pop("delay_a"), "programs[0]: 'delay_a' is a required property"),
-    (lambda d: d["network"].__setitem__("cycle", 0), "network.cycle: 0 is less than the minimum of 1"),
+    (lambda d: d["programs"][0]["slots"][0].pop("delay_a"),
+     "programs[0].slots[0]: 'delay_a' is a required property"),
+    (lambda d: d["network"].__setitem__("period", 0), "network.period: 0 is less than the minimum of 1"),
     (lambda d: d["network"]["vamps"][1].__setitem__("number", "7"), "network.vamps[1].number: '7' is not of type 'integer'"),
     (lambda d: d.pop("io"), "document: 'io' is a required property"),
 ])
@@ -271,11 +312,20 @@ def test_schema_violations_are_named(program_path, edit, message):
 
 
 def test_wrong_version(program_path):
-    rewrite(program_path, lambda d: d.__setitem__("version", 2))
+    rewrite(program_path, lambda d: d.__setitem__("version", 3))
     with pytest.raises(VampcError) as err:
         read_program(program_path)
-    assert str(err.value) == (f"{program_path}: program format version 2 is not supported "
-                              "(this vampc reads version 1)")
+    assert str(err.value) == (f"{program_path}: program format version 3 is not supported "
+                              "(this vampc reads version 2)")
+
+
+def test_version_1_says_to_recompile(program_path):
+    rewrite(program_path, lambda d: d.__setitem__("version", 1))
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == (f"{program_path}: program format version 1 (one op per VAMP) is not "
+                              "read by this vampc, which writes version 2 (VAMPs with slots); "
+                              "recompile the robot with `vampc compile`")
 
 
 def test_wrong_format(program_path):

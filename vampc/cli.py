@@ -20,7 +20,8 @@ from click.core import ParameterSource
 from vampc.errors import VampcError, VampcWarning
 
 # Options that only mean something when a robot file is compiled (their CompileOptions names).
-COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "verify")
+COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "layout",
+                   "share_passes", "verify")
 ROBOT_OPTIONS = ("base", "tip", "lock")
 LOG_ONLY = ("prefix", "uniform_leaves")
 
@@ -50,6 +51,12 @@ def _compile_options(f):
                      help="Flops per multiplication."),
         click.option("--add-latency", type=click.IntRange(1, 64), default=1, show_default=True,
                      help="Flops per addition."),
+        click.option("--layout", type=click.Choice(["systolic", "folded"]), default="systolic",
+                     show_default=True, help="systolic: one VAMP per op, a new torque set every "
+                     "4 flops; folded: the paper's single device, one node's (linear) or one tier's "
+                     "(log) VAMPs reused for every joint or tier, one torque set at a time."),
+        click.option("--share-passes", is_flag=True, help="Folded layout: run the forward pass on "
+                     "the backward pass's VAMPs (Figure VI.1b)."),
         click.option("--verify/--no-verify", default=True, show_default=True,
                      help="Check every IR's invariants at each stage boundary."),
     ]
@@ -125,6 +132,9 @@ def _check_robot_options(ctx: click.Context, opts: dict) -> None:
             if _given(ctx, name):
                 raise click.UsageError(f"{_flag(name)} applies to the log recursion only "
                                        "(add --recursion log)")
+    if opts.get("share_passes") and opts.get("layout") != "folded":
+        raise click.UsageError("--share-passes applies to the folded layout only (add --layout "
+                               "folded)")
 
 
 def _check_program_options(ctx: click.Context, source: str, stored: dict) -> None:
@@ -421,7 +431,7 @@ def _loaded(ctx, source, base, tip, lock, **opts):
     from vampc.sniff import is_program
     if is_program(source):
         ld = load_program(source)
-        _check_program_options(ctx, source, ld.doc["options"])
+        _check_program_options(ctx, source, ld.options)
         return ld
     _check_robot_options(ctx, opts)
     from vampc.compiler import program_document
@@ -429,11 +439,8 @@ def _loaded(ctx, source, base, tip, lock, **opts):
 
 
 def _vcd_writer(stream, ld):
-    from vampc.emulator.vcd import VcdWriter
-    nodes = ld.doc["graph"]["nodes"]
-    names = [f"vamp{ld.numbers[v.index]}_{nodes[v.node]['section']}{nodes[v.node]['group']}_"
-             f"{nodes[v.node]['name']}" for v in ld.net.vamps]
-    return VcdWriter(stream, names)
+    from vampc.emulator.vcd import VcdWriter, vamp_names
+    return VcdWriter(stream, vamp_names(ld))
 
 
 def _print_emulation(r, whole_seconds: float, err: bool) -> None:

@@ -13,12 +13,13 @@ from vampc.dataflow.graph import Graph
 from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
-from vampc.network.allocate import allocate_systolic
+from vampc.network.allocate import allocate
 from vampc.network.model import Network
 from vampc.program import emit
 from vampc.program.words import Program
 from vampc.robot.chain import Chain
-from vampc.schedule.asap import Schedule, schedule_asap
+from vampc.schedule.asap import Schedule
+from vampc.schedule.layout import LAYOUTS, Layout, layout_and_schedule
 
 RECURSIONS = ("linear", "log")
 PREFIXES = ("sklansky", "brent-kung", "kogge-stone", "ladner-fischer", "serial")
@@ -34,6 +35,8 @@ class CompileOptions:
     mult_latency: int = 1
     add_latency: int = 1
     numbering: str | None = None
+    layout: str = "systolic"
+    share_passes: bool = False
     verify: bool = True
 
     @property
@@ -50,6 +53,10 @@ class CompileOptions:
         for name in ("mult_latency", "add_latency"):
             if not 1 <= getattr(self, name) <= 64:
                 raise VampcError(f"--{name.replace('_', '-')} must be between 1 and 64 flops")
+        if self.layout not in LAYOUTS:
+            raise VampcError(f"unknown layout {self.layout!r} (choose from {', '.join(LAYOUTS)})")
+        if self.share_passes and self.layout != "folded":
+            raise VampcError("--share-passes needs --layout folded")
 
 
 @dataclass(frozen=True)
@@ -62,8 +69,9 @@ class Compiled:
     schedule: Schedule
     network: Network
     numbering: tuple[int, ...]
-    programs: tuple[Program, ...]
+    programs: tuple[tuple[Program, ...], ...]     # per VAMP, its slots
     stream: tuple[emit.StreamEntry, ...] = field(default=())
+    layout: Layout | None = None
 
 
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:
@@ -76,7 +84,7 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
                      verify=options.verify)
 
 
-# The stages of compile_chain, in order (what a progress display names).
+# The stages of compile_chain, in order (what a progress display names and --dump-after takes).
 STAGES = ("graph", "schedule", "allocate", "emit")
 
 
@@ -91,14 +99,16 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
     stage("graph")
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
     stage("schedule")
-    sched = schedule_asap(graph, options.timing, options.verify)
+    layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
+                                        options.verify)
     stage("allocate")
-    net = allocate_systolic(graph, sched, options.verify)
+    net = allocate(graph, sched, layout, options.verify)
     stage("emit")
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))
-    return Compiled(chain, options, graph, sched, net, numbering, emit.programs(net),
-                    emit.program_stream(net))
+    progs = emit.programs(net)
+    return Compiled(chain, options, graph, sched, net, numbering, progs,
+                    emit.program_stream(net, progs, numbering), layout)
 
 
 @gc_paused()
@@ -107,8 +117,9 @@ def program_text(c: Compiled) -> str:
     from vampc.program.document import program_text as text
     from vampc.report.counts import summary
     opts = {k: v for k, v in asdict(c.options).items() if k not in ("verify",)}
+    layout_doc = {"name": c.options.layout, "share_passes": c.options.share_passes}
     return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
-                summary(c))
+                summary(c), layout_doc)
 
 
 @gc_paused()

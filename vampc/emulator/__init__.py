@@ -37,17 +37,28 @@ def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0,
     engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
     a longer run this trajectory is a chunk of (vampc.emulator.driver)."""
     start = time.perf_counter()
-    if static_check:
-        check_program(ld)
-    ports = port_values(ld, traj)
     if engine == "tick":
-        return _tick(ld, traj, ports, seed, vcd, start, progress)
-    from vampc.emulator.stream import StreamEngine
-    tau = (stream or StreamEngine(ld, traj.count)).run(ports, traj.count, progress)
+        if static_check:
+            check_program(ld)
+        return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress)
+    if stream is None:
+        stream = prepare_stream(ld, traj.count, static_check)
+    values = port_values(ld, traj)
+    inputs = {i: values[(p, e)] for i, (p, e, _) in enumerate(stream.flow.inputs)}
+    tau = stream.run(inputs, traj.count, progress)
     latency = max(o.tick for o in ld.net.outputs)
-    C = ld.cycle
-    return Emulation(tau, "stream", ld.doc["io"]["load_ticks"], latency, C,
-                     (traj.count - 1) * C + latency + 1, time.perf_counter() - start)
+    P = ld.period
+    return Emulation(tau, "stream", ld.load_ticks, latency, P, (traj.count - 1) * P + latency + 1,
+                     time.perf_counter() - start)
+
+
+def prepare_stream(ld: Loaded, total: int, static_check: bool = True):
+    """The stream engine for `ld`: the static checks (or, without them, the timing derivation that
+    resolves every operand), the flow, and the native code if the run is long enough."""
+    from vampc.emulator.stream import StreamEngine, flow
+    from vampc.emulator.timing import derive
+    timing = check_program(ld) if static_check else derive(ld)
+    return StreamEngine(ld, flow(ld, timing), total)
 
 
 def _tick(ld, traj, ports, seed, vcd, start, progress) -> Emulation:
@@ -57,10 +68,10 @@ def _tick(ld, traj, ports, seed, vcd, start, progress) -> Emulation:
     stats = TickStats()
     tau = engine.run(ports, traj.count, stats, progress)
     appear = np.diff(stats.appear)
-    interval = int(appear.max()) if appear.size else ld.cycle
+    interval = int(appear.max()) if appear.size else ld.period
     return Emulation(tau, "tick", load, stats.first_set_tick, interval, stats.data_ticks,
                      time.perf_counter() - start)
 
 
 __all__ = ["ENGINES", "Emulation", "Loaded", "Trajectory", "emulate", "load_program",
-           "loaded_from_doc", "check_program"]
+           "loaded_from_doc", "check_program", "prepare_stream"]

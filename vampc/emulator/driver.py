@@ -17,7 +17,7 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from vampc.emulator.host import CheckResult, Trajectory, check_torques, port_values
+from vampc.emulator.host import CheckResult, Trajectory, check_torques
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
 
@@ -124,13 +124,13 @@ def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
     merged, seconds, first = None, 0.0, None
     stream = None
     if engine == "stream":
-        from vampc.emulator.stream import StreamEngine
-        stream = StreamEngine(ld, states.count)
+        from vampc.emulator import prepare_stream
+        stream = prepare_stream(ld, states.count)
     for start, traj in _chunks(ld, states, size):
         def chunk_progress(done, total, start=start):
             if progress is not None:
                 progress(start + done, states.count)
-        em = emulate(ld, traj, engine=engine, seed=seed, vcd=vcd, static_check=first is None,
+        em = emulate(ld, traj, engine=engine, seed=seed, vcd=vcd, static_check=stream is None,
                      progress=chunk_progress, stream=stream)
         first = first or em
         seconds += em.wall_seconds

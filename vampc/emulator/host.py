@@ -29,15 +29,16 @@ class Trajectory:
         return self.q.shape[0]
 
 
-def port_values(ld: Loaded, traj: Trajectory) -> dict[int, np.ndarray]:
-    """What the host writes to each port for every set: (count, 3) or (count, 9) row-major."""
+def port_values(ld: Loaded, traj: Trajectory) -> dict[tuple[int, int], np.ndarray]:
+    """What the host writes for every set to each (port, entry): (count, 3) or (count, 9), row-major."""
     cache: dict = {}
     out = {}
     for p in ld.net.ports:
-        if p.key not in cache:
-            val = input_value(ld.chain, p.key, traj.q, traj.qd, traj.qdd)
-            cache[p.key] = np.ascontiguousarray(val.reshape(traj.count, -1))
-        out[p.index] = cache[p.key]
+        for j, e in enumerate(p.entries):
+            if e.key not in cache:
+                val = input_value(ld.chain, e.key, traj.q, traj.qd, traj.qdd)
+                cache[e.key] = np.ascontiguousarray(val.reshape(traj.count, -1))
+            out[(p.index, j)] = cache[e.key]
     return out
 
 

@@ -1,44 +1,68 @@
-"""Loading a program file into the emulator's state description.
+"""Loading a program file into the emulator's typed IRs, read once from the file.
 
-The programs the emulator runs are those the Program-Mode stream delivers: a VAMP latches the last word
-carrying its number among the words written to the root of its Operand-A path (vampc.program.emit). The
-file's `programs` section is a readable listing; it must agree with the stream.
+The programs the emulator runs are those the Program-Mode stream delivers: a VAMP latches every word
+carrying its number (or its negated number: an extended word) among the words written to the root of
+its Operand-A path (vampc.program.emit), and its slot table is what those words leave
+(vampc.program.words.apply_word). The file's `programs` section is a readable listing; it must agree
+with the stream, and it names the graph node each slot claims to implement (which the static checks
+hold it to).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vampc.dataflow.graph import Graph
+from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 from vampc.network.model import Network, Tap
-from vampc.program.document import chain_from_doc, network_from_doc
-from vampc.program.emit import a_roots
+from vampc.program.document import (chain_from_doc, graph_from_doc, network_from_doc,
+                                    programs_from_doc, stream_from_doc)
+from vampc.program.emit import StreamEntry, a_roots, load_ticks
 from vampc.program.file import read_program
-from vampc.program.words import ROM, Program, decode
+from vampc.program.words import FIELDS, ROM, Program, apply_word, word_number
 from vampc.robot.chain import Chain
+from vampc.schedule.asap import Schedule
 
 
 @dataclass(frozen=True)
 class Loaded:
-    """A program file ready to emulate."""
+    """A program file ready to emulate: typed IRs only."""
 
     path: str
-    doc: dict
     chain: Chain
-    net: Network                     # wiring (taps); timing fields are not used by the engines
+    graph: Graph                     # what the network claims to implement (never executed)
+    schedule: Schedule               # the compiler's recorded schedule (checked, never used to run)
+    timing: Timing                   # the VAMP's Mult and Addn latencies, in ticks
+    net: Network                     # wiring; slot fields are the listing's Cycle-Counter values
     numbers: tuple[int, ...]         # burned-in VAMP numbers, by logical index
-    stream: tuple[tuple[Tap, tuple[tuple[float, float, float], ...]], ...]   # (root, words)
-    programs: tuple[Program, ...]    # what Program Mode delivers to each VAMP
+    stream: tuple[StreamEntry, ...]  # what the host writes in Program Mode
+    programs: tuple[tuple[Program, ...], ...]   # what Program Mode delivers to each VAMP
+    load_ticks: int
+    compiled_with: tuple = ()        # the compile options recorded in the file, as (name, value)
+
+    @property
+    def options(self) -> dict:
+        """The compile options recorded in the file."""
+        return dict(self.compiled_with)
+
+    @property
+    def period(self) -> int:
+        """P: ticks between successive torque sets."""
+        return self.net.period
 
     @property
     def cycle(self) -> int:
-        """The basic cycle C in ticks."""
-        return self.net.cycle
+        """The period (the name the systolic layout's code used: there P = C)."""
+        return self.net.period
 
-    def vamp_name(self, index: int) -> str:
-        """'VAMP 12 (number 13, bwd2.T4)': how messages name a VAMP."""
-        node = self.doc["graph"]["nodes"][self.net.vamps[index].node]
-        return f"VAMP {index} (number {self.numbers[index]}, {node['section']}{node['group']}.{node['name']})"
+    def vamp_name(self, index: int, slot: int | None = None) -> str:
+        """'VAMP 12 (number 13, bwd2.T4)': how messages name a VAMP (and one of its slots)."""
+        slots = self.net.vamps[index].slots
+        k = 0 if slot is None else slot
+        node = self.graph.nodes[slots[k].node].label if k < len(slots) else "?"
+        where = f" slot {slot}" if slot is not None and len(slots) > 1 else ""
+        return f"VAMP {index}{where} (number {self.numbers[index]}, {node})"
 
 
 def load_program(path: str) -> Loaded:
@@ -50,83 +74,120 @@ def load_program(path: str) -> Loaded:
 @gc_paused()
 def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
     """Decode an already-validated document (tests corrupt documents and call this directly)."""
-    sched = doc["schedule"]
-    if (sched["mult_latency"], sched["add_latency"]) != (1, 1):
-        raise VampcError(f"{path}: compiled with --mult-latency {sched['mult_latency']} "
-                         f"--add-latency {sched['add_latency']}; the emulated VAMP runs one micro-step "
-                         "per tick (1 Mult = 1 Addn = 1 flop, the paper's model): recompile with the "
-                         "default latencies to emulate")
+    s = doc["schedule"]
+    timing = Timing(s["mult_latency"], s["add_latency"])
+    graph = graph_from_doc(doc["graph"])
     net = network_from_doc(doc)
+    sched = Schedule(timing, tuple(s["start"]), tuple(s["finish"]), s["latency"],
+                     tuple(s["critical_path"]), s["mults"], s["adds"], s["interval"])
     numbers = tuple(v["number"] for v in doc["network"]["vamps"])
-    _check_indices(doc, net, path)
-    stream = tuple((Tap(e["root"][0], e["root"][1]), tuple(tuple(w) for w in e["words"]))
-                   for e in doc["program_stream"])
+    _check_indices(net, numbers, graph, path)
+    stream = stream_from_doc(doc)
     progs = delivered_programs(net, numbers, stream, path)
-    _check_listing(doc, progs, path)
-    return Loaded(path, doc, chain_from_doc(doc["robot"]), net, numbers, stream, progs)
+    _check_listing(programs_from_doc(doc), progs, path)
+    if doc["io"]["load_ticks"] != load_ticks(stream):
+        raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {load_ticks(stream)} "
+                         "ticks the program stream takes")
+    return Loaded(str(path), chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers, stream,
+                  progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
 
 
-def delivered_programs(net: Network, numbers, stream, path) -> tuple[Program, ...]:
-    """The program each VAMP latches in Program Mode; VampcError if one gets none or a bad one."""
-    # A VAMP sees every word of its root's stream and keeps the last one carrying its number.
-    last_word = {root: {_number(w): w for w in words} for root, words in stream}
-    progs = []
+def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:
+    """The slot table each VAMP holds after Program Mode; VampcError if one gets none or a bad one."""
+    index_of = {n: v for v, n in enumerate(numbers)}
     roots = a_roots(net)
-    for v in net.vamps:
-        root, _ = roots[v.index]
-        word = last_word.get(root, {}).get(numbers[v.index])
-        if word is None:
-            raise VampcError(f"{path}: VAMP {v.index} (number {numbers[v.index]}) is never "
-                             f"programmed: no word written to {root} carries its number")
-        number, prog = decode(word)
-        if prog.rom >= len(ROM):
-            raise VampcError(f"{path}: VAMP {v.index} (number {number}): ROM pointer {prog.rom} "
-                             f"is not in the ROM (0..{len(ROM) - 1})")
-        progs.append(prog)
-    _check_unclaimed(net, numbers, stream, roots, path)
-    return tuple(progs)
+    tables: list[list | None] = [None] * len(net.vamps)
+    for entry in stream:
+        for k, word in enumerate(entry.words):
+            v = index_of.get(word_number(word))
+            if v is None or roots[v][0] != entry.root:
+                raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
+                                 f"{word[0]:g} matches no VAMP on that input's Operand-A paths")
+            if float(word[0]) > 0 or tables[v] is not None:     # an extended word needs a table
+                tables[v] = apply_word(tables[v], word)
+    progs = tuple(_program(net, numbers, v, tables[v], roots, path) for v in range(len(net.vamps)))
+    _check_inputs_used(net, numbers, progs, path)
+    return progs
 
 
-def _check_listing(doc, progs, path) -> None:
+def _check_inputs_used(net: Network, numbers, progs, path) -> None:
+    """Every multiplexer input is selected by some slot (the compiler wires no other), except a
+    program port as operand A's input 0: so a damaged select that happens to reach a wire carrying
+    the same value still leaves an unused input behind, and is reported."""
+    for v, (vamp, slots) in enumerate(zip(net.vamps, progs)):
+        for name, inputs, used in (("A", vamp.a, {p.sel_a for p in slots}),
+                                   ("B", vamp.b, {p.sel_b for p in slots})):
+            for k in range(len(inputs)):
+                tap = inputs[k].taps[0]
+                program_port = (name == "A" and k == 0 and tap.kind == "port"
+                                and not net.ports[tap.index].entries)
+                if k not in used and not program_port:
+                    raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}): input {k} of operand "
+                                     f"{name}'s multiplexer ({tap}) is selected by no slot")
+
+
+def _program(net: Network, numbers, v: int, table, roots, path) -> tuple[Program, ...]:
+    name = f"VAMP {v} (number {numbers[v]})"
+    if table is None:
+        raise VampcError(f"{path}: {name} is never programmed: no word written to {roots[v][0]} "
+                         "carries its number")
+    vamp = net.vamps[v]
+    for k, row in enumerate(table):
+        where = f"{name} slot {k}"
+        for f, value in zip(FIELDS, row):
+            if value is None:
+                raise VampcError(f"{path}: {where}: {f.replace('_', '-')} is never programmed")
+        if row[3] >= len(ROM):
+            raise VampcError(f"{path}: {where}: ROM pointer {row[3]} is not in the ROM "
+                             f"(0..{len(ROM) - 1})")
+        for f, inputs in ((4, vamp.a), (5, vamp.b)):
+            if row[f] >= len(inputs):
+                raise VampcError(f"{path}: {where}: {FIELDS[f].replace('_', '-')} {row[f]} selects "
+                                 f"no input (operand {'AB'[f - 4]} has {len(inputs)})")
+    return tuple(Program(*row) for row in table)
+
+
+def _check_listing(listed, progs, path) -> None:
     """The readable `programs` section must say what the stream delivers."""
-    for row, prog in zip(doc["programs"], progs):
-        listed = (row["delay_a"], row["delay_b"], row["delay_r"], row["rom"])
-        if listed != (prog.delay_a, prog.delay_b, prog.delay_r, prog.rom):
-            raise VampcError(f"{path}: programs[{row['vamp']}] lists {listed} (delay-A, delay-B, "
-                             f"delay-R, ROM) but the program stream delivers "
-                             f"{(prog.delay_a, prog.delay_b, prog.delay_r, prog.rom)}")
+    for v, (want, got) in enumerate(zip(listed, progs)):
+        if len(want) != len(got):
+            raise VampcError(f"{path}: programs[{v}] lists {len(want)} slots but the program stream "
+                             f"delivers {len(got)}")
+        for k, (a, b) in enumerate(zip(want, got)):
+            if a != b:
+                name = next(f for f in FIELDS if a.field(f) != b.field(f))
+                raise VampcError(f"{path}: programs[{v}] slot {k} lists {name.replace('_', '-')} "
+                                 f"{a.field(name)} but the program stream delivers {b.field(name)}")
 
 
-def _number(word) -> int:
-    return int(word[0]) if float(word[0]).is_integer() else -1
-
-
-def _check_unclaimed(net, numbers, stream, roots, path) -> None:
-    """A word whose number no VAMP on that root's paths carries is a damaged stream."""
-    reach: dict[Tap, set[int]] = {}
-    for v in net.vamps:
-        reach.setdefault(roots[v.index][0], set()).add(numbers[v.index])
-    for root, words in stream:
-        for k, w in enumerate(words):
-            if _number(w) not in reach.get(root, set()):
-                raise VampcError(f"{path}: program stream of {root}, word {k}: number {w[0]:g} "
-                                 "matches no VAMP on that input's Operand-A paths")
-
-
-def _check_indices(doc, net: Network, path) -> None:
-    """Taps must name existing VAMPs, buffers, stages, ports and constants."""
+def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
+    """Taps must name existing VAMPs, buffers, stages, ports and constants; slots existing nodes."""
+    if net.period % net.clock:
+        raise VampcError(f"{path}: network.period {net.period} is not a multiple of network.clock "
+                         f"{net.clock}")
     sizes = {"vamp": len(net.vamps), "buffer": len(net.buffers), "port": len(net.ports),
              "const": len(net.consts)}
     for v in net.vamps:
-        for name, operand in (("A", v.a), ("B", v.b)):
-            for tap in operand.taps:
-                bad = not tap.index < sizes[tap.kind] or (
-                    tap.kind == "buffer" and not 1 <= tap.stage <= net.buffers[tap.index].stages)
-                if bad:
-                    raise VampcError(f"{path}: VAMP {v.index}: operand {name} is wired to a "
-                                     f"missing {tap}")
-    if len(set(v["number"] for v in doc["network"]["vamps"])) != len(net.vamps):
+        for name, inputs in (("A", v.a), ("B", v.b)):
+            for operand in inputs:
+                for tap in operand.taps:
+                    if _missing(net, sizes, tap):
+                        raise VampcError(f"{path}: VAMP {v.index}: operand {name} is wired to a "
+                                         f"missing {tap}")
+        for k, s in enumerate(v.slots):
+            if not 0 <= s.node < len(graph.nodes) or not graph.nodes[s.node].op.is_compute:
+                raise VampcError(f"{path}: programs[{v.index}] slot {k}: node {s.node} is not a "
+                                 "compute node of the graph")
+    if len(set(numbers)) != len(net.vamps):
         raise VampcError(f"{path}: two VAMPs share a number")
     for b in net.buffers:
         if b.source >= len(net.vamps):
             raise VampcError(f"{path}: buffer {b.index} is fed by missing VAMP {b.source}")
+    for o in net.outputs:
+        if o.vamp >= len(net.vamps):
+            raise VampcError(f"{path}: τ{o.joint} is read from missing VAMP {o.vamp}")
+
+
+def _missing(net: Network, sizes, tap: Tap) -> bool:
+    return not tap.index < sizes[tap.kind] or (
+        tap.kind == "buffer" and not 1 <= tap.stage <= net.buffers[tap.index].stages)

@@ -59,14 +59,14 @@ class NativeError(RuntimeError):
 
 # --- entry point --------------------------------------------------------------------------------
 
-def run_native(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None):
+def run_native(ld: Loaded, fl, ports: dict[int, np.ndarray], count: int, progress=None):
     """Torques (count, n) computed by native code, or None if the native path is off, failed, or
     would cost more than it saves (VAMPC_NATIVE=1 turns a failure into NativeError instead)."""
-    program = prepare(ld, count)
+    program = prepare(ld, fl, count)
     return None if program is None else program.run(ports, count, progress)
 
 
-def prepare(ld: Loaded, total: int):
+def prepare(ld: Loaded, fl, total: int):
     """The native program for a run of `total` sets, or None where numpy should do the work (the
     native path off, failed, or costing more than it saves; VAMPC_NATIVE=1 turns a failure into
     NativeError instead). A run fed in chunks prepares once and runs each chunk."""
@@ -74,7 +74,7 @@ def prepare(ld: Loaded, total: int):
     if mode == "0" or (mode != "1" and total < MIN_SETS_TO_COMPILE):
         return None     # short runs: numpy is quick, and generating the source would cost more
     try:
-        return build(ld)
+        return build(ld, fl)
     except NativeError:
         if mode == "1":
             raise
@@ -86,12 +86,12 @@ class NativeProgram:
     """A compiled program: the C entry point and what it expects of its arguments."""
 
     fn: object                           # ctypes function vamp_run(count, ports, tau, scratch)
-    ports: tuple[tuple[int, int], ...]   # (port index, scalars) in argument order
+    ports: tuple[tuple[int, int], ...]   # (input index, scalars) in argument order
     joints: int
     scratch_rows: int
 
     def run(self, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
-        """Torques (count, n) for the ports' values (count, size) of every set."""
+        """Torques (count, n) for the inputs' values (count, size) of every set."""
         arrays = [_port_array(ports, p, size, count) for p, size in self.ports]
         tau = np.empty((count, self.joints))
         # zeros: the tail block computes on rows no state filled; keep them finite and normal
@@ -108,17 +108,17 @@ class NativeProgram:
 def _port_array(ports, index: int, size: int, count: int) -> np.ndarray:
     arr = np.ascontiguousarray(ports[index], dtype=np.float64)
     if arr.shape != (count, size):
-        raise NativeError(f"port {index}: values of shape {arr.shape}, expected {(count, size)}")
+        raise NativeError(f"input {index}: values of shape {arr.shape}, expected {(count, size)}")
     return arr
 
 
-def build(ld: Loaded) -> NativeProgram:
-    """The native program of `ld`, compiled now unless the cache holds it."""
-    layout = Layout.of(ld)
-    fn = getattr(_load(compile_cached(generate_source(ld, layout))), ENTRY)
+def build(ld: Loaded, fl) -> NativeProgram:
+    """The native program of `ld`'s flow, compiled now unless the cache holds it."""
+    layout = Layout.of(fl)
+    fn = getattr(_load(compile_cached(generate_source(ld, fl, layout))), ENTRY)
     fn.argtypes = (ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
     fn.restype = None
-    ports = tuple((p.index, p.size) for p in ld.net.ports)
+    ports = tuple((i, size) for i, (_, _, size) in enumerate(fl.inputs))
     return NativeProgram(fn, ports, ld.chain.n, layout.rows)
 
 
@@ -126,27 +126,26 @@ def build(ld: Loaded) -> NativeProgram:
 
 @dataclass(frozen=True)
 class Layout:
-    """Scratch rows: VAMP v's component c at row 3v + c, then each port's scalars from `port_row`."""
+    """Scratch rows: op i's component c at row 3i + c, then each input's scalars from `port_row`."""
 
-    vamps: int
+    ops: int
     port_row: dict
     rows: int
 
     @staticmethod
-    def of(ld: Loaded) -> "Layout":
-        """The layout of a loaded program."""
-        row, port_row = 3 * len(ld.net.vamps), {}
-        for p in ld.net.ports:
-            port_row[p.index] = row
-            row += p.size
-        return Layout(len(ld.net.vamps), port_row, row)
+    def of(fl) -> "Layout":
+        """The layout of a flow."""
+        row, port_row = 3 * len(fl.ops), {}
+        for i, (_, _, size) in enumerate(fl.inputs):
+            port_row[i] = row
+            row += size
+        return Layout(len(fl.ops), port_row, row)
 
 
-def generate_source(ld: Loaded, layout: Layout) -> str:
-    """The C translation unit for `ld`: the VAMPs in wiring order, PART loops to a function, and the
-    fixed driver that copies ports in and torques out through tables."""
-    from vampc.emulator.stream import wiring_order
-    loops = [_vamp_loop(ld, layout, v) for v in wiring_order(ld)]
+def generate_source(ld: Loaded, fl, layout: Layout) -> str:
+    """The C translation unit for a flow: the ops in order, PART loops to a function, and the fixed
+    driver that copies inputs in and torques out through tables."""
+    loops = [_op_loop(fl, layout, i) for i in range(len(fl.ops))]
     parts = [loops[k:k + PART] for k in range(0, len(loops), PART)]
     return "\n".join((
         "/* Generated by vampc.emulator.native: the VAMP network of one program file. */",
@@ -155,22 +154,22 @@ def generate_source(ld: Loaded, layout: Layout) -> str:
           + "\n".join(body) + "\n}" for k, body in enumerate(parts)),
         "static void vamps(double *restrict S) {",
         *(f"  part{k}(S);" for k in range(len(parts))), "}",
-        _tables(ld, layout), DRIVER))
+        _tables(ld, fl, layout), DRIVER))
 
 
-def _tables(ld: Loaded, layout: Layout) -> str:
+def _tables(ld: Loaded, fl, layout: Layout) -> str:
     def table(name: str, values) -> str:
         return f"static const long {name}[] = {{{', '.join(map(str, values)) or '0'}}};"
-    outs = ld.net.outputs
     return "\n".join((
-        f"#define NPORTS {len(ld.net.ports)}", f"#define NOUT {len(outs)}", f"#define NJ {ld.chain.n}",
-        table("PORT_SIZE", [p.size for p in ld.net.ports]),
-        table("PORT_ROW", [layout.port_row[p.index] for p in ld.net.ports]),
-        table("OUT_JOINT", [o.joint - 1 for o in outs]),
-        table("OUT_ROW", [3 * o.vamp + o.component for o in outs])))
+        f"#define NPORTS {len(fl.inputs)}", f"#define NOUT {len(fl.outputs)}",
+        f"#define NJ {ld.chain.n}",
+        table("PORT_SIZE", [size for _, _, size in fl.inputs]),
+        table("PORT_ROW", [layout.port_row[i] for i in range(len(fl.inputs))]),
+        table("OUT_JOINT", [joint - 1 for joint, _, _ in fl.outputs]),
+        table("OUT_ROW", [3 * op + c for _, op, c in fl.outputs])))
 
 
-# The fixed part: ports (count, size) into their rows, torques out of the output rows. It is not
+# The fixed part: inputs (count, size) into their rows, torques out of the output rows. It is not
 # generated per program because gcc's alias walks grow quadratically with straight-line code.
 DRIVER = f"""
 static void load_ports(const double *const *P, long s0, long nb, double *restrict S) {{
@@ -205,14 +204,15 @@ void {ENTRY}(long count, const double *const *P, double *restrict tau, double *r
 """
 
 
-def _vamp_loop(ld: Loaded, layout: Layout, v: int) -> str:
-    vamp = ld.net.vamps[v]
-    rom = ld.programs[v].rom
-    a = _operand(ld, layout, vamp.a)
-    b = _operand(ld, layout, vamp.b)
+def _op_loop(fl, layout: Layout, i: int) -> str:
+    rom, a_src, b_src = fl.ops[i]
+    a = _operand(fl, layout, a_src)
+    b = _operand(fl, layout, b_src)
     am, bm = _registers(rom, a, b)
-    lines = [_module(rom, m, am[m], bm[m], _row(3 * v + m)) for m in range(3)]
-    head = f"  /* VAMP {v}: {ROM[rom][0].value} (ROM {rom}) */\n  for (s = 0; s < B; s++) {{\n"
+    lines = [_module(rom, m, am[m], bm[m], _row(3 * i + m)) for m in range(3)]
+    v, k = fl.names[i]
+    head = (f"  /* VAMP {v} slot {k}: {ROM[rom][0].value} (ROM {rom}) */\n"
+            "  for (s = 0; s < B; s++) {\n")
     return head + "".join(f"    {line}\n" for line in lines) + "  }"
 
 
@@ -220,21 +220,19 @@ def _row(row: int) -> str:
     return f"S[{row * BLOCK} + s]"
 
 
-def _operand(ld: Loaded, layout: Layout, operand) -> list[str]:
+def _operand(fl, layout: Layout, sources) -> list[str]:
     """The operand's nine scalars as C expressions (row-major for a matrix)."""
-    taps = operand.taps
-    if len(taps) == 3:   # a matrix as three MM column results: element (i, j) is scalar i of column j
-        return [_tap_scalar(ld, layout, taps[j], i) for i in range(3) for j in range(3)]
-    return [_tap_scalar(ld, layout, taps[0], c) for c in range(9)]
+    if len(sources) == 3:   # a matrix as three MM column results: element (i, j) is scalar i of column j
+        return [_scalar(fl, layout, sources[j], i) for i in range(3) for j in range(3)]
+    return [_scalar(fl, layout, sources[0], c) for c in range(9)]
 
 
-def _tap_scalar(ld: Loaded, layout: Layout, tap, c: int) -> str:
-    if tap.kind in ("vamp", "buffer"):   # a buffer stage holds its source VAMP's value of the same set
-        v = tap.index if tap.kind == "vamp" else ld.net.buffers[tap.index].source
-        return _row(3 * v + c) if c < 3 else ZERO
-    if tap.kind == "port":
-        return _row(layout.port_row[tap.index] + c) if c < ld.net.ports[tap.index].size else ZERO
-    value = ld.net.consts[tap.index].value
+def _scalar(fl, layout: Layout, src, c: int) -> str:
+    if src[0] == "op":
+        return _row(3 * src[1] + c) if c < 3 else ZERO
+    if src[0] == "in":
+        return _row(layout.port_row[src[1]] + c) if c < fl.inputs[src[1]][2] else ZERO
+    value = src[1]
     return _literal(value[c]) if c < len(value) else ZERO
 
 

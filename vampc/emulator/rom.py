@@ -11,7 +11,8 @@ Module m (0-based) sees its operand registers OP-A-1..3 / OP-B-1..3 as follows (
     MTV              A: column m of the matrix   B: the vector
     MM column k      A: row m of the matrix      B: column k of the second matrix
 
-Micro-steps (one per tick; every step of every module runs in the same tick):
+Micro-steps (every step of every module runs in the same tick; with 1 Mult = 1 Addn = 1 flop a step
+takes one tick, otherwise as long as its slowest unit, and runs at the last of its ticks):
 
     VA   1: ADDER ⇐ A_m + B_m                                   result in the adder
     SV   1: MULT-1 ⇐ A_1 · B_m (scalar in A's first scalar)     result in multiplier 1
@@ -28,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vampc.dataflow.ops import MICRO_STEPS, Op
+from vampc.dataflow.ops import MICRO_STEPS, Op, Timing
 from vampc.program.words import ROM
 
 _M = np.arange(3)
@@ -37,8 +38,29 @@ _DOT = (Op.VD, Op.MV, Op.MTV, Op.MM)
 
 
 def steps(rom: int) -> int:
-    """Number of micro-steps (ticks) of a ROM entry."""
+    """Number of micro-steps of a ROM entry."""
     return len(MICRO_STEPS[ROM[rom][0]])
+
+
+def step_ends(rom: int, timing: Timing = Timing()) -> tuple[int, ...]:
+    """When each micro-step completes, in ticks from the op's first tick (1-based): a step lasts as
+    long as its slowest unit (Timing.step), and its registers take their new values at the end of
+    its last tick, which is when the engines run it. With 1 Mult = 1 Addn = 1 tick: 1, 2, 3."""
+    out, t = [], 0
+    for units in MICRO_STEPS[ROM[rom][0]]:
+        t += timing.step(units)
+        out.append(t)
+    return tuple(out)
+
+
+def duration(rom: int, timing: Timing = Timing()) -> int:
+    """Ticks from an op's first tick to its dump (inclusive)."""
+    return step_ends(rom, timing)[-1]
+
+
+def reading_end(rom: int, timing: Timing = Timing()) -> int:
+    """Ticks from the op's first tick to the end of its last step that reads the operand registers."""
+    return step_ends(rom, timing)[operand_steps(rom) - 1]
 
 
 def operand_steps(rom: int) -> int:

@@ -1,13 +1,15 @@
 """The stream engine: the loaded programs evaluated over a whole trajectory at once.
 
-After the static checks (vampc.emulator.check) have proved that every latch reads the value of the same
-torque set, the network is a pure function per set: each VAMP's result is its ROM sequence applied to
-its operands. This engine evaluates that function vectorised over all sets, VAMP by VAMP in wiring
-order, with the same ROM code as the tick engine, so the two agree bit for bit.
+After the static checks (vampc.emulator.check) have resolved, by the tick rules alone, which slot,
+port entry or constant every operand latch holds, and proved that each holds the value of the same
+torque set, the network is a pure function per set: each slot's result is its ROM sequence applied to
+its operands. That function is the *flow*: the slots in dataflow order, each naming its operands'
+sources. This engine evaluates it vectorised over all sets, with the same ROM code as the tick engine,
+so the two agree bit for bit; the generated C (vampc.emulator.native) evaluates the same flow.
 """
 from __future__ import annotations
 
-from graphlib import TopologicalSorter
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -17,86 +19,99 @@ from vampc.emulator.load import Loaded
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
 
 
-def wiring_order(ld: Loaded) -> list[int]:
-    """VAMP indices, every VAMP after the VAMPs it reads (directly or through buffers)."""
-    deps = {}
-    for v in ld.net.vamps:
-        deps[v.index] = {_source_vamp(ld, t) for t in v.a.taps + v.b.taps} - {None}
-    return list(TopologicalSorter(deps).static_order())
+@dataclass(frozen=True)
+class Flow:
+    """The network as a function per torque set. Sources are ("op", i): the result of op i;
+    ("in", i): input i (a port entry, written by the host each set); ("const", values)."""
+
+    ops: tuple[tuple[int, tuple, tuple], ...]      # (ROM pointer, A's sources, B's sources)
+    names: tuple[tuple[int, int], ...]             # (VAMP, slot) of each op
+    inputs: tuple[tuple[int, int, int], ...]       # (port, entry, scalars) of each input
+    outputs: tuple[tuple[int, int, int], ...]      # (joint, op, component)
 
 
-def _source_vamp(ld: Loaded, tap):
-    if tap.kind == "vamp":
-        return tap.index
-    if tap.kind == "buffer":
-        return ld.net.buffers[tap.index].source
-    return None
+def flow(ld: Loaded, timing) -> Flow:
+    """The flow of a checked program (`timing`: vampc.emulator.timing.derive's result)."""
+    op_of = {slot: i for i, slot in enumerate(timing.order)}
+    inputs: dict[tuple[int, int], int] = {}
+
+    def source(src):
+        if src[0] == "slot":
+            return ("op", op_of[(src[1], src[2])])
+        if src[0] == "port":
+            key = (src[1], src[2])
+            if key not in inputs:
+                inputs[key] = len(inputs)
+            return ("in", inputs[key])
+        return ("const", tuple(ld.net.consts[src[1]].value))
+
+    ops = []
+    for v, k in timing.order:
+        t = timing.slots[(v, k)]
+        ops.append((ld.programs[v][k].rom, tuple(map(source, t.src_a)), tuple(map(source, t.src_b))))
+    ins = tuple((p, e, ld.net.ports[p].size) for (p, e), _ in sorted(inputs.items(),
+                                                                     key=lambda kv: kv[1]))
+    outs = tuple((o.joint, op_of[slot], o.component)
+                 for o, slot in zip(ld.net.outputs, timing.outputs))
+    return Flow(tuple(ops), tuple(timing.order), ins, outs)
 
 
-def run_stream(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
-    """Torques (count, n) given each port's values (count, 3|9) for every set.
+def run_stream(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> np.ndarray:
+    """Torques (count, n) given each input's values (count, 3|9) for every set.
     `progress(done, total)` is called after each chunk if given."""
-    return StreamEngine(ld, count).run(ports, count, progress)
+    return StreamEngine(ld, fl, count).run(ports, count, progress)
 
 
 class StreamEngine:
     """The stream engine prepared once for a run of `total` sets, which may arrive in chunks."""
 
-    def __init__(self, ld: Loaded, total: int):
+    def __init__(self, ld: Loaded, fl: Flow, total: int):
         # --- native fast path (vampc.emulator.native): the same arithmetic as generated C. None
         # when off (VAMPC_NATIVE=0), when no compiler works, or for a run too short to pay for
         # compiling; numpy does the work then ---
         from vampc.emulator.native import prepare
-        self.ld, self.native = ld, prepare(ld, total)
-        self.order = None if self.native is not None else wiring_order(ld)
+        self.ld, self.flow = ld, fl
+        self.native = prepare(ld, fl, total)
 
-    def run(self, ports: dict[int, np.ndarray], count: int, progress=None) -> np.ndarray:
-        """Torques (count, n) of `count` sets given their port values."""
+    def run(self, ports: dict, count: int, progress=None) -> np.ndarray:
+        """Torques (count, n) of `count` sets given their input values, by input index."""
         if self.native is not None:
             return self.native.run(ports, count, progress)
-        return run_numpy(self.ld, ports, count, progress, self.order)
+        return run_numpy(self.ld, self.flow, ports, count, progress)
 
 
-def run_numpy(ld: Loaded, ports: dict[int, np.ndarray], count: int, progress=None,
-              order=None) -> np.ndarray:
-    """The numpy path of run_stream: rom.run per VAMP over chunks of sets."""
-    order = wiring_order(ld) if order is None else order
+def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> np.ndarray:
+    """The numpy path: rom.run per op over chunks of sets."""
     outs = []
     for lo in range(0, count, CHUNK):
         chunk = {p: a[lo:lo + CHUNK] for p, a in ports.items()}
-        outs.append(_run_chunk(ld, order, chunk, min(CHUNK, count - lo)))
+        outs.append(_run_chunk(ld, fl, chunk, min(CHUNK, count - lo)))
         if progress is not None:
             progress(min(lo + CHUNK, count), count)
     return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n))
 
 
-def _run_chunk(ld: Loaded, order, ports, count) -> np.ndarray:
-    vals: dict[int, np.ndarray] = {}
-    for v in order:
-        vamp = ld.net.vamps[v]
-        a = _operand(ld, vamp.a, vals, ports, count)
-        b = _operand(ld, vamp.b, vals, ports, count)
-        vals[v] = rom.run(ld.programs[v].rom, a, b)
+def _run_chunk(ld: Loaded, fl: Flow, ports, count) -> np.ndarray:
+    vals: list[np.ndarray] = []
+    for r, a, b in fl.ops:
+        vals.append(rom.run(r, _operand(a, vals, ports, count), _operand(b, vals, ports, count)))
     tau = np.empty((count, ld.chain.n))
-    for o in ld.net.outputs:
-        tau[:, o.joint - 1] = vals[o.vamp][:, o.component]
+    for joint, op, component in fl.outputs:
+        tau[:, joint - 1] = vals[op][:, component]
     return tau
 
 
-def _operand(ld: Loaded, operand, vals, ports, count) -> np.ndarray:
-    taps = operand.taps
-    if len(taps) == 3:   # a matrix delivered as three column results of an MM group
-        cols = [_tap(ld, t, vals, ports, count)[:, :3] for t in taps]
+def _operand(sources, vals, ports, count) -> np.ndarray:
+    if len(sources) == 3:   # a matrix delivered as three column results of an MM group
+        cols = [_value(s, vals, ports, count)[:, :3] for s in sources]
         return np.stack(cols, axis=-1).reshape(count, 9)
-    return _tap(ld, taps[0], vals, ports, count)
+    return _value(sources[0], vals, ports, count)
 
 
-def _tap(ld: Loaded, tap, vals, ports, count) -> np.ndarray:
-    if tap.kind == "vamp":
-        return vals[tap.index]
-    if tap.kind == "buffer":
-        return vals[ld.net.buffers[tap.index].source]
-    if tap.kind == "port":
-        return ports[tap.index]
-    value = np.asarray(ld.net.consts[tap.index].value)
+def _value(src, vals, ports, count) -> np.ndarray:
+    if src[0] == "op":
+        return vals[src[1]]
+    if src[0] == "in":
+        return ports[src[1]]
+    value = np.asarray(src[1])
     return np.broadcast_to(value, (count, value.size))

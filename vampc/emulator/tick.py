@@ -1,33 +1,39 @@
 """The tick engine: the VAMP network clocked one flop at a time. It is the executable specification.
 
 State: every VAMP's operand registers (9 scalars each), its three primitive modules' MULT-1, MULT-2 and
-ADDER, its Result register and its four program registers; every buffer stage; every host port and
-constant buffer. All of it starts random (Program Mode must work from any state).
+ADDER, its Result register and its slot table (per slot delay-A, delay-B, delay-R, ROM pointer, sel-A,
+sel-B); every buffer stage; every host port and constant buffer. All of it starts random (Program Mode
+must work from any state, including slot tables of any length).
 
 Order of events in one tick (every register updates at the end of the tick, from values visible during
 it):
 
-Program Mode (Global-Reset held true)
+Program Mode (Global-Reset held true; every multiplexer passes its input 0)
   1. the host writes the next word of each input buffer's stream (then null words);
-  2. every VAMP copies the word on its Operand-A input to its Result, and latches the word's program
-     into its program registers if the word's first scalar is its own number;
+  2. every VAMP copies the word on its operand-A input 0 to its Result, and if the word carries its
+     number applies it to its slot table (vampc.program.words.apply_word: a compact word replaces the
+     table, an extended word sets one field; a table grown by it keeps random fields until written);
   3. every buffer stage takes its input.
 
-Data Mode (Global-Reset pulses at each cycle start: Cycle-Counter c = tick mod C)
-  1. at the start of each cycle the host writes the ports for the set due in that cycle;
-  2. a VAMP latches operand A if c = delay-A and operand B if c = delay-B (a latch is seen by a
-     micro-step in the same tick);
-  3. the micro-steps due at c run (a d-step op runs at counters delay-R − d + 1 .. delay-R);
-  4. a VAMP whose delay-R is c drives its result register onto Result (visible from the next tick);
-  5. at the last tick of a cycle every buffer stage takes its input (stage 1 its VAMP's Result).
+Data Mode (Global-Reset pulses every P ticks: Cycle-Counter c = tick mod P)
+  1. at the start of each block of B ticks the host writes every port entry due in that block, for
+     the set it belongs to;
+  2. a VAMP latches operand A from input sel-A of each slot whose delay-A is c, operand B likewise
+     (a latch is seen by a micro-step in the same tick);
+  3. the micro-steps due at c run: step j of a slot runs at the last tick of its span, the spans
+     ending at delay-R (vampc.emulator.rom.step_ends);
+  4. a VAMP with a slot whose delay-R is c drives its result register onto Result (visible from the
+     next tick);
+  5. at the last tick of a block every buffer stage takes its input (stage 1 its VAMP's Result).
 
 Beside the data, every value carries a tag: the torque set it belongs to (-1 unknown, -2 constant). A
-VAMP latching operands of two different sets is a timing violation; so is, in the steady state (from
-the tick the first torque set is due until the last set has entered), starting an op on an operand that
-holds no set's value (never latched, or latched from a source that had none); an operand re-latched
-with another set while a later micro-step still reads it; and a torque read at its scheduled tick must
-carry the set the host expects. The tags are observation only; they never change a
-value.
+slot starting its op with operands of two different sets is a timing violation; so is, in the steady
+state (from the tick the first torque set is due until the last set has entered), starting an op on an
+operand that holds no set's value (never latched, or latched from a source that had none); an operand
+re-latched with another set while a later micro-step still reads it; and a torque read at its scheduled
+tick must carry the set the host expects. Likewise every operand register remembers which slot last
+latched it: from the second period on, an op must read operands its own slot latched. The tags and owners are
+observation only; they never change a value.
 """
 from __future__ import annotations
 
@@ -38,7 +44,7 @@ import numpy as np
 from vampc.emulator import rom
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
-from vampc.program.words import ROM, Program, decode
+from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
 
 UNKNOWN, CONST = -1, -2
 
@@ -49,15 +55,15 @@ class TickStats:
 
     load_ticks: int = 0
     data_ticks: int = 0
-    first_set_tick: int | None = None              # tick at which set 0's last torque appeared
-    appear: list = field(default_factory=list)     # per set: tick its last torque first appeared
+    first_set_tick: int | None = None              # tick at which set 0's last torque was read
+    appear: list = field(default_factory=list)     # per set: tick its last torque was read
 
 
 class TickEngine:
     """A network loaded from a program file, ready to be programmed and run."""
 
     def __init__(self, ld: Loaded, seed: int = 0, vcd=None):
-        self.ld, self.C = ld, ld.cycle
+        self.ld, self.P, self.B = ld, ld.net.period, ld.net.clock
         self.rng = np.random.default_rng(seed)
         self.vcd = vcd
         self._layout()
@@ -74,16 +80,14 @@ class TickEngine:
                 row += 1
         # Stage s of a buffer takes stage s - 1 (stage 1 takes its VAMP's Result).
         self.stage_dst = np.array(list(self.stage_row.values()), dtype=np.int64)
-        self.stage_src = np.array([b_src if s == 1 else self.stage_row[(b, s - 1)]
-                                   for (b, s), b_src in ((k, ld.net.buffers[k[0]].source)
-                                                         for k in self.stage_row)], dtype=np.int64)
+        self.stage_src = np.array([ld.net.buffers[b].source if s == 1 else self.stage_row[(b, s - 1)]
+                                   for b, s in self.stage_row], dtype=np.int64)
         self.port_row = {p.index: row + k for k, p in enumerate(ld.net.ports)}
         row += len(ld.net.ports)
         self.const_row = {c.index: row + k for k, c in enumerate(ld.net.consts)}
         self.rows = row + len(ld.net.consts)
         self.V = V
-        self.ga_rows, self.ga_cols, self.ga_taps = self._gather("a")
-        self.gb_rows, self.gb_cols, self.gb_taps = self._gather("b")
+        self.input0 = np.array([self._row(v.a[0].taps[0]) for v in ld.net.vamps], dtype=np.int64)
         self.numbers = np.array(ld.numbers, dtype=float)
 
     def _row(self, tap) -> int:
@@ -95,20 +99,12 @@ class TickEngine:
             return self.port_row[tap.index]
         return self.const_row[tap.index]
 
-    def _gather(self, which: str):
-        rows = np.zeros((self.V, 9), dtype=np.int64)
-        cols = np.zeros((self.V, 9), dtype=np.int64)
-        taps = np.zeros((self.V, 3), dtype=np.int64)
-        for v in self.ld.net.vamps:
-            t = getattr(v, which).taps
-            r = [self._row(x) for x in t]
-            taps[v.index] = (r * 3)[:3]
-            if len(t) == 3:   # matrix as three columns: element (i, j) is scalar i of column j
-                rows[v.index] = [r[j] for i in range(3) for j in range(3)]
-                cols[v.index] = [i for i in range(3) for j in range(3)]
-            else:
-                rows[v.index], cols[v.index] = r[0], np.arange(9)
-        return rows, cols, taps
+    def _gather(self, operand):
+        """Bus rows and columns of an operand's nine scalars, and the rows carrying its set tags."""
+        r = [self._row(x) for x in operand.taps]
+        if len(r) == 3:   # matrix as three columns: element (i, j) is scalar i of column j
+            return [r[j] for i in range(3) for j in range(3)], [i for i in range(3) for j in range(3)], r
+        return [r[0]] * 9, list(range(9)), r * 3
 
     def _random_state(self) -> None:
         rng, V = self.rng, self.V
@@ -120,26 +116,30 @@ class TickEngine:
         self.op_a, self.op_b = rng.normal(size=(V, 9)), rng.normal(size=(V, 9))
         self.tag_a = np.full(V, UNKNOWN, dtype=np.int64)
         self.tag_b = np.full(V, UNKNOWN, dtype=np.int64)
+        self.owner_a = np.full(V, -1, dtype=np.int64)   # the slot that last latched each register
+        self.owner_b = np.full(V, -1, dtype=np.int64)
         self.units = rng.normal(size=(V, 3, 3))
         self.utag = np.full(V, UNKNOWN, dtype=np.int64)
-        self.prog = rng.integers(0, 4096, size=(V, 3))
-        self.rom = rng.integers(0, len(ROM), size=V)
+        self.tables = [[self._random_row() for _ in range(int(rng.integers(1, 4)))] for _ in range(V)]
         self.programmed = np.zeros(V, bool)
         self.tick = 0
+
+    def _random_row(self) -> list[int]:
+        return [int(x) for x in self.rng.integers(0, 4096, size=6)]
 
     # --- Program Mode -------------------------------------------------------------------------
     def program(self, ticks: int | None = None) -> int:
         """Clock the Program-Mode stream through the network; returns ticks used. VampcError if a
         VAMP never latched a program."""
         stream = self.ld.stream
-        roots = [self.port_row[r.index] if r.kind == "port" else self.const_row[r.index]
-                 for r, _ in stream]
-        ticks = ticks if ticks is not None else self.ld.doc["io"]["load_ticks"]
+        roots = [self.port_row[e.root.index] if e.root.kind == "port" else self.const_row[e.root.index]
+                 for e in stream]
+        ticks = ticks if ticks is not None else self.ld.load_ticks
         for k in range(ticks):
-            for row, (_, words) in zip(roots, stream):
+            for row, entry in zip(roots, stream):
                 self.bus[row, :] = 0.0
-                if k < len(words):
-                    self.bus[row, :3] = words[k]
+                if k < len(entry.words):
+                    self.bus[row, :3] = entry.words[k]
             self._program_tick()
         missing = np.flatnonzero(~self.programmed)
         if missing.size:
@@ -149,13 +149,10 @@ class TickEngine:
         return ticks
 
     def _program_tick(self) -> None:
-        words = self.bus[self.ga_taps[:, 0], :3]
-        mine = words[:, 0] == self.numbers
+        words = self.bus[self.input0, :3].copy()
+        mine = np.abs(words[:, 0]) == self.numbers
         for v in np.flatnonzero(mine):
-            _, p = decode(words[v])
-            self.prog[v] = (p.delay_a, p.delay_b, p.delay_r)
-            self.rom[v] = p.rom
-            self.programmed[v] = True
+            self._apply(int(v), words[v])
         new_stages = self._shifted_stages(every_tick=True)
         self.bus[:self.V, :3] = words
         self.bus[:self.V, 3:] = 0.0
@@ -163,29 +160,41 @@ class TickEngine:
         self._vcd_dump()
         self.tick += 1
 
-    def programs(self) -> tuple[Program, ...]:
-        """The programs the VAMPs hold now."""
-        return tuple(Program(int(a), int(b), int(r), int(m))
-                     for (a, b, r), m in zip(self.prog, self.rom))
+    def _apply(self, v: int, word) -> None:
+        if word_number(word) < 0:
+            return
+        table = self.tables[v]
+        if word[0] < 0:                       # an extended word may grow the table: random fields
+            slot = int(word[1]) // ADDRESS
+            while len(table) <= slot:
+                table.append(self._random_row())
+        else:
+            self.programmed[v] = True
+        self.tables[v] = apply_word(table, word)
+
+    def programs(self) -> tuple[tuple[Program, ...], ...]:
+        """The slot tables the VAMPs hold now."""
+        return tuple(tuple(Program(*row) for row in table) for table in self.tables)
 
     # --- Data Mode ----------------------------------------------------------------------------
-    def run(self, ports: dict[int, np.ndarray], count: int, stats: TickStats | None = None,
-            progress=None):
-        """Data Mode for `count` torque sets; returns torques (count, n). VampcError on a timing
-        violation seen in the data (mixed sets at a latch, a torque of the wrong set).
-        `progress(done, total)` is called every 1024 ticks if given."""
+    def run(self, ports: dict, count: int, stats: TickStats | None = None, progress=None):
+        """Data Mode for `count` torque sets; `ports` maps (port, entry) to that entry's values for
+        every set. Returns torques (count, n). VampcError on a timing violation seen in the data
+        (mixed sets at a latch, a torque of the wrong set). `progress(done, total)` is called every
+        1024 ticks if given."""
         stats = stats or TickStats()
         self._data_setup()
-        self.steady = (max(o.tick for o in self.ld.net.outputs), count * self.C)
+        P = self.P
+        self.steady = (max(o.tick for o in self.ld.net.outputs), count * P)
         outs = self.ld.net.outputs
-        last_tick = (count - 1) * self.C + max(o.tick for o in outs)
+        last_tick = (count - 1) * P + max(o.tick for o in outs)
         tau = np.full((count, self.ld.chain.n), np.nan)
         seen = np.full((count, len(outs)), -1, dtype=np.int64)
         for t in range(last_tick + 1):
-            if t % self.C == 0:
-                self._write_ports(ports, t // self.C, count)
+            if t % self.B == 0:
+                self._write_ports(ports, t // self.B, count)
             self._observe(t, outs, tau, seen, count)
-            self._data_tick(t % self.C, t)
+            self._data_tick(t % P, t)
             if progress is not None and t % 1024 == 0:
                 progress(t, last_tick + 1)
         stats.data_ticks = last_tick + 1
@@ -198,42 +207,67 @@ class TickEngine:
             self.bus[self.const_row[c.index], :] = 0.0
             self.bus[self.const_row[c.index], :len(c.value)] = c.value
             self.tag[self.const_row[c.index]] = CONST
-        self._plan = [self._counter_plan(c) for c in range(self.C)]
+        self._slots()
+        self._plan = {}
 
-    def _counter_plan(self, c: int):
-        """Which VAMPs latch, step and dump at Cycle-Counter c (from their program registers)."""
-        C = self.C
-        la = np.flatnonzero(self.prog[:, 0] == c)
-        lb = np.flatnonzero(self.prog[:, 1] == c)
-        groups = []
+    def _slots(self) -> None:
+        """Flatten the programmed slot tables: per slot its VAMP, fields and operand gathers."""
+        P, net = self.P, self.ld.net
+        vamp, fields, ga, gb = [], [], [], []
+        for v, table in enumerate(self.tables):
+            for k, (da, db, dr, r, sa, sb) in enumerate(table):
+                if r >= len(ROM):
+                    raise VampcError(f"{self.ld.path}: {self.ld.vamp_name(v, k)}: ROM pointer {r} is "
+                                     f"not in the ROM (0..{len(ROM) - 1})")
+                inputs = net.vamps[v]
+                if sa >= len(inputs.a) or sb >= len(inputs.b):
+                    raise VampcError(f"{self.ld.path}: {self.ld.vamp_name(v, k)}: a select points "
+                                     "at no multiplexer input")
+                vamp.append(v)
+                fields.append((da, db, dr, r))
+                ga.append(self._gather(inputs.a[sa]))
+                gb.append(self._gather(inputs.b[sb]))
+        self.slot_vamp = np.array(vamp, dtype=np.int64)
+        f = np.array(fields, dtype=np.int64).reshape(-1, 4)
+        self.s_da, self.s_db, self.s_dr, self.s_rom = f[:, 0], f[:, 1], f[:, 2], f[:, 3]
+        self.ga_rows, self.ga_cols, self.ga_taps = (np.array([g[i] for g in ga], dtype=np.int64)
+                                                    for i in range(3))
+        self.gb_rows, self.gb_cols, self.gb_taps = (np.array([g[i] for g in gb], dtype=np.int64)
+                                                    for i in range(3))
+        self.step_at = {}               # counter -> [(rom, step, slots)]
+        timing = self.ld.timing
         for r in range(len(ROM)):
-            d = rom.steps(r)
-            for k in range(d):
-                due = (self.prog[:, 2] - d + 1 + k) % C == c
-                idx = np.flatnonzero((self.rom == r) & due & (self.prog[:, 2] < C))
-                if idx.size:
-                    groups.append((r, k, idx))
-        dumps = [(r, np.flatnonzero((self.prog[:, 2] == c) & (self.rom == r)))
-                 for r in range(len(ROM))]
-        return la, lb, groups, [(r, i) for r, i in dumps if i.size]
+            ends = rom.step_ends(r, timing)
+            d = ends[-1]
+            for j, end in enumerate(ends):
+                mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P))
+                for c, group in _by_counter((self.s_dr[mine] - (d - end)) % P, mine):
+                    self.step_at.setdefault(c, []).append((r, j, group))
+        self.latch_a_at = dict(_by_counter(self.s_da, np.arange(len(vamp))))
+        self.latch_b_at = dict(_by_counter(self.s_db, np.arange(len(vamp))))
+        self.dump_at = dict(_by_counter(self.s_dr, np.arange(len(vamp))))
 
-    def _write_ports(self, ports, cycle: int, count: int) -> None:
+    def _write_ports(self, ports, block: int, count: int) -> None:
+        K = self.P // self.B
         for p in self.ld.net.ports:
-            row, j = self.port_row[p.index], cycle - p.cycle
-            self.bus[row, :] = 0.0
-            if 0 <= j < count:
-                self.bus[row, :p.size] = ports[p.index][j]
-                self.tag[row] = j
-            else:
-                self.tag[row] = UNKNOWN
+            for j, e in enumerate(p.entries):
+                since = block - e.block
+                if since % K:
+                    continue
+                row, s = self.port_row[p.index], since // K
+                self.bus[row, :] = 0.0
+                if 0 <= s < count:
+                    self.bus[row, :p.size] = ports[(p.index, j)][s]
+                    self.tag[row] = s
+                else:
+                    self.tag[row] = UNKNOWN
 
     def _observe(self, t: int, outs, tau, seen, count) -> None:
         for k, o in enumerate(outs):
             tg = self.tag[o.vamp]
-            if 0 <= tg < count and seen[tg, k] < 0:
-                seen[tg, k] = t
-            j, rem = divmod(t - o.tick, self.C)
+            j, rem = divmod(t - o.tick, self.P)
             if rem == 0 and 0 <= j < count:
+                seen[j, k] = t
                 if tg != j:
                     raise VampcError(
                         f"{self.ld.path}: tick {t}: τ{o.joint} of set {j} is read from "
@@ -242,37 +276,44 @@ class TickEngine:
                 tau[j, o.joint - 1] = self.bus[o.vamp, o.component]
 
     def _data_tick(self, c: int, t: int) -> None:
-        la, lb, groups, dumps = self._plan[c]
-        self._latch(la, "a", t)
-        self._latch(lb, "b", t)
-        for r, k, idx in groups:
-            self._step(r, k, idx, t)
-        new_stages = self._shifted_stages(every_tick=False, counter=c)
-        for r, idx in dumps:
-            self.bus[idx, :3] = self.units[idx, rom.result_unit(r), :]
-            self.tag[idx] = self.utag[idx]
+        self._latch(self.latch_a_at.get(c), "a")
+        self._latch(self.latch_b_at.get(c), "b")
+        for r, j, slots in self.step_at.get(c, ()):
+            self._step(r, j, slots, t)
+        new_stages = self._shifted_stages(every_tick=False, tick=t)
+        dumps = self.dump_at.get(c)
+        if dumps is not None:
+            v = self.slot_vamp[dumps]
+            for r in np.unique(self.s_rom[dumps]):
+                sel = v[self.s_rom[dumps] == r]
+                self.bus[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
+                self.bus[sel, 3:] = 0.0
+            self.tag[v] = self.utag[v]
         self._commit_stages(new_stages)
         self._vcd_dump()
         self.tick += 1
 
-    def _latch(self, idx, which: str, t: int) -> None:
-        if not idx.size:
+    def _latch(self, slots, which: str) -> None:
+        if slots is None:
             return
         rows, cols, taps = (self.ga_rows, self.ga_cols, self.ga_taps) if which == "a" else \
             (self.gb_rows, self.gb_cols, self.gb_taps)
-        reg = self.op_a if which == "a" else self.op_b
-        reg[idx] = self.bus[rows[idx], cols[idx]]
-        tags = self.tag[taps[idx]]
-        (self.tag_a if which == "a" else self.tag_b)[idx] = _combine(tags)
+        v = self.slot_vamp[slots]
+        (self.op_a if which == "a" else self.op_b)[v] = self.bus[rows[slots], cols[slots]]
+        (self.tag_a if which == "a" else self.tag_b)[v] = _combine(self.tag[taps[slots]])
+        (self.owner_a if which == "a" else self.owner_b)[v] = slots
 
-    def _step(self, r: int, k: int, idx, t: int) -> None:
+    def _step(self, r: int, j: int, slots, t: int) -> None:
+        idx = self.slot_vamp[slots]
         am, bm = rom.module_registers(r, self.op_a[idx], self.op_b[idx])
         units = self.units[idx]
-        rom.step(r, k, am, bm, units)
+        rom.step(r, j, am, bm, units)
         self.units[idx] = units
-        if 0 < k < rom.operand_steps(r):
-            self._check_relatch(r, k, idx, t)
-        if k == 0:
+        if j < rom.operand_steps(r):
+            self._check_owner(r, j, slots, idx, t)
+        if 0 < j < rom.operand_steps(r):
+            self._check_relatch(r, j, idx, t)
+        if j == 0:
             tags = np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)
             self.utag[idx] = _combine(tags)
             mixed = (tags >= 0).all(axis=1) & (tags[:, 0] != tags[:, 1])
@@ -288,7 +329,28 @@ class TickEngine:
                                  f"{ROM[r][0].value} with operand A of set {self.tag_a[v]} and "
                                  f"operand B of set {self.tag_b[v]} (a timing error)")
 
-    def _check_relatch(self, r: int, k: int, idx, t: int) -> None:
+    def _check_owner(self, r: int, j: int, slots, idx, t: int) -> None:
+        """An op reads the operands its own slot latched (in data mode, once data flows): not what
+        another slot of the VAMP left in the registers, nor nothing. (From the second period on:
+        in the first an op may run before its own latch comes round.)"""
+        if t < self.P:
+            return
+        for name, owner in (("A", self.owner_a[idx]), ("B", self.owner_b[idx])):
+            bad = owner != slots
+            if bad.any():
+                i = int(np.argmax(bad))
+                v, k = int(idx[i]), int(slots[i])
+                other = int(owner[i])
+                who = "no slot" if other < 0 else f"slot {self._slot_in_vamp(other)}"
+                raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v, self._slot_in_vamp(k))} "
+                                 f"runs step {j + 1} of {ROM[r][0].value} on operand {name} latched "
+                                 f"by {who} (a timing error)")
+
+    def _slot_in_vamp(self, s: int) -> int:
+        """The position of global slot s in its VAMP's table."""
+        return int(s - np.searchsorted(self.slot_vamp, self.slot_vamp[s]))
+
+    def _check_relatch(self, r: int, j: int, idx, t: int) -> None:
         """A later operand-reading step must still see the set the op started with."""
         started = self.utag[idx]
         for name, tags in (("A", self.tag_a[idx]), ("B", self.tag_b[idx])):
@@ -296,14 +358,14 @@ class TickEngine:
             if moved.any():
                 v = int(idx[np.argmax(moved)])
                 raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} is in step "
-                                 f"{k + 1} of {ROM[r][0].value} on set {self.utag[v]}, but operand "
+                                 f"{j + 1} of {ROM[r][0].value} on set {self.utag[v]}, but operand "
                                  f"{name} was re-latched with set {tags[np.argmax(moved)]} (a timing "
                                  "error)")
 
     # --- buffers and waveforms ----------------------------------------------------------------
-    def _shifted_stages(self, every_tick: bool, counter: int = 0):
+    def _shifted_stages(self, every_tick: bool, tick: int = 0):
         """Values and tags every buffer stage takes at the end of this tick (None: no shift now)."""
-        if not (every_tick or counter == self.C - 1) or not self.stage_dst.size:
+        if not (every_tick or (tick + 1) % self.B == 0) or not self.stage_dst.size:
             return None
         return self.bus[self.stage_src, :3].copy(), self.tag[self.stage_src].copy()
 
@@ -314,6 +376,16 @@ class TickEngine:
     def _vcd_dump(self) -> None:
         if self.vcd is not None:
             self.vcd.sample(self.tick + 1, self.bus[:self.V, :3])
+
+
+def _by_counter(counters: np.ndarray, slots: np.ndarray):
+    """(counter, slots with that counter) for every counter that occurs."""
+    if not len(slots):
+        return []
+    order = np.argsort(counters, kind="stable")
+    keys = counters[order]
+    cuts = np.flatnonzero(np.diff(keys)) + 1
+    return [(int(keys[g[0]]), slots[order][g]) for g in np.split(np.arange(len(keys)), cuts)]
 
 
 def _combine(tags: np.ndarray) -> np.ndarray:

@@ -1,31 +1,56 @@
-"""Static timing: when, by the tick rules, each VAMP latches, computes and shows set 0's values.
+"""Static timing: when, by the tick rules, each slot latches, computes and shows set 0's values, and
+which slot, port entry or constant each operand it latches actually holds then.
 
 Derived only from the wiring, the delivered programs and the host's port schedule (the rules are in
-vampc/network/model.py). Every source shows a set's value during a window of exactly C ticks, so a
-latch at Cycle-Counter d falls on exactly one tick of its operand's window. A VAMP then runs its
-micro-steps in the ticks ending at the first tick with counter delay-R that leaves room for them after
-both latches; its operands must not be re-latched (C ticks after the latch) before its last step.
+vampc/network/model.py); the graph and the recorded schedule are not looked at here. Every source
+shows a value during a window no longer than the period P, so a latch at Cycle-Counter d falls on
+exactly one tick of it:
+
+- what a VAMP's Result shows at counter d is the slot whose dump shows latest at or before d
+  (cyclically); what stage s of a buffer shows during block b is what its VAMP's Result showed at the
+  end of block b - s; what a port shows is the entry written latest at or before d's block;
+- so every operand resolves, by counters alone, to a producing slot (or port entry, or constant), and
+  the slots form a dataflow graph, which must have no loop;
+- in topological order, a slot's latch tick for set 0 is the tick ≡ its delay (mod P) inside its
+  producer's set-0 window; the slot then runs its micro-steps in the ticks ending with the first tick
+  whose counter is its delay-R that leaves room for them after both latches; an operand register must
+  not be latched again (by any slot of the VAMP, or the same slot a period later) before the last
+  micro-step that reads it.
+
+A slot whose operands are all constants (or such slots' results) shows the same value every period:
+it is *periodic*, and only counters matter for it and its readers.
 """
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass
+from graphlib import CycleError, TopologicalSorter
 
 from vampc.emulator.load import Loaded
-from vampc.emulator.rom import operand_steps, steps
+from vampc.emulator.rom import duration, reading_end
 from vampc.errors import VampcError
-from vampc.network.model import window as tap_rule
+from vampc.network.model import buffer_window, cyclic_gap, port_window
 
 INF = math.inf
 
+# A source: ("slot", vamp, slot) | ("port", port, entry) | ("const", index)
+Source = tuple
+
 
 @dataclass(frozen=True)
-class VampTiming:
-    """Absolute ticks (set 0) of a VAMP: latches, last micro-step; emit = last + 1 (inf: constant)."""
+class SlotTiming:
+    """Absolute ticks (set 0) of a slot: latches (-inf: constant), last micro-step (its dump), the end
+    of its Result window; periodic slots give Cycle-Counter values instead. `src_a`, `src_b`: the
+    source of each tap of the operands it latches."""
 
     latch_a: float
     latch_b: float
     last: float
+    next_emit: float
+    periodic: bool
+    src_a: tuple[Source, ...]
+    src_b: tuple[Source, ...]
 
     @property
     def emit(self) -> float:
@@ -33,80 +58,200 @@ class VampTiming:
         return self.last + 1
 
 
-def derive(ld: Loaded) -> tuple[VampTiming, ...]:
-    """Timing of every VAMP; VampcError naming the VAMP, tick and operand on a violation."""
-    memo: dict[int, VampTiming] = {}
-    for v in range(len(ld.net.vamps)):
-        _timing(ld, v, memo, [])
-    return tuple(memo[v] for v in range(len(ld.net.vamps)))
+@dataclass(frozen=True)
+class Timing:
+    """Every slot's timing (by (vamp, slot)), the slots in dataflow order, and each output's slot."""
+
+    slots: dict
+    order: tuple[tuple[int, int], ...]
+    outputs: tuple[tuple[int, int], ...]
 
 
-def window(ld: Loaded, tap, memo, trail) -> tuple[float, float]:
-    """[first, end) ticks in which `tap` shows set 0's value (the rule is network.model.window)."""
-    if tap.kind in ("const", "port"):
-        port_cycle = ld.net.ports[tap.index].cycle if tap.kind == "port" else 0
-        return tap_rule(tap, ld.cycle, port_cycle=port_cycle)
-    src = tap.index if tap.kind == "vamp" else ld.net.buffers[tap.index].source
-    return tap_rule(tap, ld.cycle, _timing(ld, src, memo, trail).emit)
+class _Deriver:
+    def __init__(self, ld: Loaded):
+        self.ld, self.net = ld, ld.net
+        self.P, self.B = ld.net.period, ld.net.clock
+        self.K = self.P // self.B
+        self.emits = []         # per VAMP: sorted (emit counter, slot)
+        for v, progs in enumerate(ld.programs):
+            self.emits.append(sorted(((p.delay_r + 1) % self.P, k) for k, p in enumerate(progs)))
+        self.ports = []         # per port: sorted (block mod K, entry index)
+        for p in ld.net.ports:
+            self.ports.append(sorted((e.block % self.K, j) for j, e in enumerate(p.entries)))
+
+    # --- which source a tap shows at a counter (counters only) ---------------------------------
+    def showing(self, v: int, counter: int) -> int:
+        """The slot of VAMP v whose value its Result shows at `counter`."""
+        emits = self.emits[v]
+        k = bisect_right(emits, (counter, INF)) - 1
+        return emits[k][1]      # k = -1 wraps round to the latest emit of the previous period
+
+    def entry(self, port: int, block: int) -> int | None:
+        """The entry of `port` written latest at or before `block` (mod K)."""
+        entries = self.ports[port]
+        if not entries:
+            return None
+        k = bisect_right(entries, (block % self.K, INF)) - 1
+        return entries[k][1]
+
+    def source(self, tap, counter: int) -> Source:
+        """What `tap` shows at Cycle-Counter `counter`."""
+        if tap.kind == "const":
+            return ("const", tap.index)
+        if tap.kind == "port":
+            return ("port", tap.index, self.entry(tap.index, counter // self.B))
+        if tap.kind == "vamp":
+            return ("slot", tap.index, self.showing(tap.index, counter))
+        capture = ((counter // self.B - tap.stage + 1) * self.B - 1) % self.P
+        src = self.net.buffers[tap.index].source
+        return ("slot", src, self.showing(src, capture))
+
+    def operand_sources(self, v: int, k: int):
+        """(operand taps, sources) of both operands of slot (v, k)."""
+        prog = self.ld.programs[v][k]
+        vamp = self.net.vamps[v]
+        a = vamp.a[prog.sel_a].taps
+        b = vamp.b[prog.sel_b].taps
+        return ((a, tuple(self.source(t, prog.delay_a) for t in a)),
+                (b, tuple(self.source(t, prog.delay_b) for t in b)))
+
+    # --- absolute timing in dataflow order ------------------------------------------------------
+    def next_emit(self, v: int, k: int, emit: float) -> float:
+        dumps = [p.delay_r for p in self.ld.programs[v]]
+        return emit + cyclic_gap(dumps, k, self.P)
+
+    def window(self, tap, src: Source, done: dict) -> tuple[float, float, bool]:
+        """[lo, hi) ticks (set 0) in which `tap` shows `src`; periodic: counters, True."""
+        kind = src[0]
+        if kind == "const":
+            return -INF, INF, False
+        if kind == "port":
+            port, j = src[1], src[2]
+            entries = self.net.ports[port].entries
+            if j is None:
+                raise VampcError(f"{self.ld.path}: port {port} holds no data (a program port) but "
+                                 "an operand reads it")
+            order = self.ports[port]
+            at = next(i for i, (_, e) in enumerate(order) if e == j)
+            nxt = order[(at + 1) % len(order)][0]
+            gap = ((nxt - order[at][0] - 1) % self.K) + 1
+            block = entries[j].block
+            lo, hi = port_window(block, block + gap, self.B)
+            return lo, hi, False
+        t = done[(src[1], src[2])]
+        if tap.kind == "vamp":
+            return t.emit, t.next_emit, t.periodic
+        lo, hi = buffer_window(t.emit, t.next_emit, tap.stage, self.B)
+        return lo, hi, t.periodic
+
+    def latch(self, v, k, name, taps, sources, delay, done) -> tuple[float, bool]:
+        """The set-0 tick operand `name` is latched (-inf: constant), and whether it is periodic."""
+        ticks, periodic = set(), False
+        for tap, src in zip(taps, sources):
+            lo, hi, per = self.window(tap, src, done)
+            if lo == -INF:
+                ticks.add(-INF)
+                continue
+            if per:
+                periodic = True
+                if not (delay - lo) % self.P < hi - lo:
+                    self.fail(v, k, f"operand {name} latched at counter {delay} outside {tap}'s "
+                                    f"window (counters {lo:g} .. {hi - 1:g})")
+                ticks.add(-INF)
+                continue
+            t = lo + (delay - lo) % self.P
+            if not t < hi:
+                self.fail(v, k, f"operand {name} latched at tick {t:g} outside {tap}'s window "
+                                f"[{lo:g}, {hi:g})")
+            ticks.add(t)
+        if len(ticks - {-INF}) > 1:
+            self.fail(v, k, f"operand {name} reads matrix columns that show set 0 at different "
+                            f"ticks {sorted(ticks - {-INF})}")
+        real = ticks - {-INF}
+        return (real.pop() if real else -INF), periodic
+
+    def slot(self, v: int, k: int, done: dict) -> SlotTiming:
+        prog = self.ld.programs[v][k]
+        (ta, sa), (tb, sb) = self.operand_sources(v, k)
+        t_a, per_a = self.latch(v, k, "A", ta, sa, prog.delay_a, done)
+        t_b, per_b = self.latch(v, k, "B", tb, sb, prog.delay_b, done)
+        d = duration(prog.rom, self.ld.timing)
+        if d > self.P:
+            self.fail(v, k, f"a {d}-tick op does not fit a {self.P}-tick period")
+        ready = max(t_a, t_b)
+        if ready == -INF:          # constants (or periodic values) only: the same every period
+            last = prog.delay_r
+            self.check_relatch(v, k, last, None, None)
+            return SlotTiming(t_a, t_b, last, self.next_emit(v, k, last + 1), True, sa, sb)
+        earliest = ready + d - 1
+        last = earliest + (prog.delay_r - earliest) % self.P
+        self.check_relatch(v, k, last, t_a, t_b)
+        return SlotTiming(t_a, t_b, last, self.next_emit(v, k, last + 1), False, sa, sb)
+
+    def check_relatch(self, v, k, last, t_a, t_b) -> None:
+        """Operand registers hold what the slot latched until its last reading micro-step."""
+        progs = self.ld.programs[v]
+        prog = progs[k]
+        reader = last - duration(prog.rom, self.ld.timing) + reading_end(prog.rom, self.ld.timing)
+        for name, t, delays in (("A", t_a, [p.delay_a for p in progs]),
+                                ("B", t_b, [p.delay_b for p in progs])):
+            gap = cyclic_gap(delays, k, self.P)
+            if t is not None and t != -INF:
+                if reader - t >= gap:
+                    self.fail(v, k, f"operand {name} latched at tick {t:g} is re-latched at tick "
+                                    f"{t + gap:g}, before the micro-step at tick {reader:g} that "
+                                    f"still reads it (delay-R {prog.delay_r})")
+                continue
+            mine = delays[k]
+            if (reader - mine) % self.P >= gap:
+                self.fail(v, k, f"operand {name} latched at counter {mine} is re-latched at counter "
+                                f"{(mine + gap) % self.P}, before the micro-step at counter "
+                                f"{reader % self.P:g} that still reads it (delay-R {prog.delay_r})")
+
+    def fail(self, v: int, k: int, what: str):
+        raise VampcError(f"{self.ld.path}: {self.ld.vamp_name(v, k)}: {what}")
 
 
-def _timing(ld: Loaded, v: int, memo, trail) -> VampTiming:
-    if v in memo:
-        return memo[v]
-    if v in trail:
-        loop = " -> ".join(ld.vamp_name(x) for x in trail[trail.index(v):] + [v])
-        raise VampcError(f"{ld.path}: the wiring has a loop: {loop}")
-    trail.append(v)
-    vamp, prog = ld.net.vamps[v], ld.programs[v]
-    t_a = _latch(ld, v, "A", vamp.a, prog.delay_a, memo, trail)
-    t_b = _latch(ld, v, "B", vamp.b, prog.delay_b, memo, trail)
-    trail.pop()
-    memo[v] = _compute(ld, v, t_a, t_b)
-    return memo[v]
+def derive(ld: Loaded) -> Timing:
+    """Every slot's timing; VampcError naming the VAMP, slot, tick and operand on a violation."""
+    der = _Deriver(ld)
+    deps: dict[tuple[int, int], set] = {}
+    for v, progs in enumerate(ld.programs):
+        _check_units(ld, der, v)
+        for k in range(len(progs)):
+            (_, sa), (_, sb) = der.operand_sources(v, k)
+            deps[(v, k)] = {(s[1], s[2]) for s in sa + sb if s[0] == "slot"}
+    try:
+        order = tuple(TopologicalSorter(deps).static_order())
+    except CycleError as exc:
+        loop = exc.args[1]
+        names = " -> ".join(ld.vamp_name(v, k) for v, k in loop)
+        raise VampcError(f"{ld.path}: the wiring has a loop: {names}") from None
+    done: dict = {}
+    for v, k in order:
+        done[(v, k)] = der.slot(v, k, done)
+    outputs = tuple(_output(ld, der, o, done) for o in ld.net.outputs)
+    return Timing(done, order, outputs)
 
 
-def _latch(ld, v, name, operand, delay, memo, trail) -> float:
-    if not 0 <= delay < ld.cycle:
-        raise VampcError(f"{ld.path}: {ld.vamp_name(v)}: delay-{name} {delay} never matches the "
-                         f"Cycle-Counter (0..{ld.cycle - 1}): operand {name} is never latched")
-    wins = {window(ld, tap, memo, trail) for tap in operand.taps}
-    if len(wins) > 1:
-        raise VampcError(f"{ld.path}: {ld.vamp_name(v)}: operand {name} reads matrix columns "
-                         f"that show set 0 in different windows {sorted(wins)}")
-    lo, _ = wins.pop()
-    if lo == -INF:
-        return -INF
-    return lo + (delay - lo) % ld.cycle
+def _check_units(ld: Loaded, der: _Deriver, v: int) -> None:
+    """The micro-steps of a VAMP's slots never share a tick (they use the same units)."""
+    progs = ld.programs[v]
+    if len(progs) < 2:
+        return
+    spans = sorted(((p.delay_r - duration(p.rom, ld.timing) + 1) % der.P, duration(p.rom, ld.timing), k)
+                   for k, p in enumerate(progs))
+    for (s0, n0, k0), (s1, _, k1) in zip(spans, spans[1:] + [(spans[0][0] + der.P,) + spans[0][1:]]):
+        if s1 < s0 + n0:
+            raise VampcError(f"{ld.path}: {ld.vamp_name(v, k0)} and slot {k1} run micro-steps in "
+                             f"the same tick (counters {s0} .. {s0 + n0 - 1} and {s1 % der.P} ..)")
 
 
-def _compute(ld: Loaded, v: int, t_a: float, t_b: float) -> VampTiming:
-    C, prog = ld.cycle, ld.programs[v]
-    d = steps(prog.rom)
-    if not 0 <= prog.delay_r < C:
-        raise VampcError(f"{ld.path}: {ld.vamp_name(v)}: delay-R {prog.delay_r} never matches the "
-                         f"Cycle-Counter (0..{C - 1}): the result is never driven")
-    if d > C:
-        raise VampcError(f"{ld.path}: {ld.vamp_name(v)}: a {d}-step op does not fit a {C}-tick cycle")
-    ready = max(t_a, t_b)
-    if ready == -INF:
-        return VampTiming(-INF, -INF, INF - 1)
-    earliest = ready + d - 1
-    last = earliest + (prog.delay_r - earliest) % C
-    reader = last - d + operand_steps(prog.rom)    # last micro-step that reads the operands
-    for name, t in (("A", t_a), ("B", t_b)):
-        if t != -INF and reader >= t + C:
-            raise VampcError(
-                f"{ld.path}: {ld.vamp_name(v)}: operand {name} latched at tick {t:g} is re-latched "
-                f"at tick {t + C:g}, before the micro-step at tick {reader:g} that still reads it "
-                f"(delay-R {prog.delay_r})")
-    return VampTiming(t_a, t_b, last)
-
-
-def check_outputs(ld: Loaded, timing) -> None:
-    """Each τ_i must be readable at its scheduled tick."""
-    C = ld.cycle
-    for o in ld.net.outputs:
-        e = timing[o.vamp].emit
-        if not e <= o.tick < e + C:
-            raise VampcError(f"{ld.path}: τ{o.joint} is read from {ld.vamp_name(o.vamp)} at tick "
-                             f"{o.tick}, but it shows set 0 during ticks [{e:g}, {e + C:g})")
+def _output(ld: Loaded, der: _Deriver, o, done) -> tuple[int, int]:
+    """The slot τ_joint is read from; VampcError unless it shows set 0 at the read tick."""
+    k = der.showing(o.vamp, o.tick % der.P)
+    t = done[(o.vamp, k)]
+    if not t.periodic and not t.emit <= o.tick < t.next_emit:
+        raise VampcError(f"{ld.path}: τ{o.joint} is read from {ld.vamp_name(o.vamp, k)} at tick "
+                         f"{o.tick}, but it shows set 0 during ticks [{t.emit:g}, {t.next_emit:g})")
+    return (o.vamp, k)

@@ -108,3 +108,11 @@ class VcdWriter:
         if self._vcd is None:
             self._start(0, self._last)
         self._vcd.close(self._tick)
+
+
+def vamp_names(ld) -> list[str]:
+    """One name per VAMP of a loaded program: its burned-in number and its first slot's graph node
+    (section, group, name), as `vampc emulate --vcd` names the scopes."""
+    nodes = ld.graph.nodes
+    return [f"vamp{ld.numbers[v.index]}_{nodes[v.node].section}{nodes[v.node].group}_"
+            f"{nodes[v.node].name}" for v in ld.net.vamps]

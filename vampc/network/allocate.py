@@ -1,63 +1,114 @@
-"""Systolic allocation: one VAMP per op (three per MM), buffers, ports and constants (DESIGN §6).
+"""Allocation: a layout's units become VAMPs with slots, multiplexers, delay buffers, host ports and
+constant buffers (DESIGN §6; the hardware is described in vampc.network.model).
 
-Each VAMP latches both operands at its op's scheduled start and dumps at its finish. A consumer reading a
-VAMP's result L >= 1 cycles after it is dumped taps stage L of a delay buffer behind that VAMP (one
-buffer chain per producer, shared by all its late consumers). Host inputs get one port per (quantity,
-cycle in which it is read), so the host writes each value when it is needed and no input is buffered.
-Constants are deduplicated by value: two constant buffers never hold the same value.
+Every VAMP of a unit runs one slot per node bound to the unit, in the order of their dumps (three
+VAMPs per MM unit, one per column). A slot latches both operands at its node's scheduled start and
+dumps at its finish. An operand comes from:
+
+- a constant: the constant buffer holding that value (two constant buffers never hold the same value);
+- a host input: the entry for (quantity, joint, block of the read) of a port; entries of one quantity
+  share a port when their blocks differ within the period (systolic: one block per period, so one
+  port per (quantity, cycle), and the host writes each value when it is needed: no input is buffered);
+- a result: the producing VAMP's Result while the value is still on it, else stage s of the delay
+  buffer behind that VAMP, s = (block of the read) - (block the value appeared in). One buffer chain
+  per producing VAMP serves all its later readers, of every slot.
+
+The distinct sources an operand of a VAMP reads over its slots are its multiplexer's inputs, in order
+of first use, except that input 0 of operand A is what the VAMP passes on in Program Mode: a host port
+or constant buffer, or a VAMP already reached from one. A VAMP whose operand-A sources all lead back
+round a loop (a folded VAMP feeding itself) gets one more input: a program port the host writes only
+in Program Mode. Everything is counted in the report.
 """
 from __future__ import annotations
 
-import math
+from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph, InputKey
-from vampc.dataflow.ops import VAMPS_PER_OP, Op
+from vampc.dataflow.ops import Op
 from vampc.errors import VampcInternalError
-from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp,
-                                 window)
+from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, PortEntry,
+                                 Slot, Tap, Vamp, buffer_window, port_window, result_window)
 from vampc.schedule.asap import Schedule
+from vampc.schedule.layout import Layout
+
+
+@dataclass
+class _Unit:
+    """A unit being allocated: its first VAMP, its VAMP count and its nodes in dump order."""
+
+    first: int
+    size: int
+    nodes: list
 
 
 class _Allocator:
     """One pass over the compute nodes in topological order. An operand depends only on its source
-    and on the buffer stage it is read from, so each distinct one, its taps and its buffer bookkeeping
-    are made once and shared by all its readers (log recursion, n = 4096: 1.16 M distinct operands
-    for 1.84 M operand reads)."""
+    and on where it is read (a result's buffer stage, an input's block), so each distinct one is made
+    once and shared by all its readers (log recursion, n = 4096: 1.16 M distinct operands for 1.84 M
+    operand reads)."""
 
-    def __init__(self, graph: Graph, sched: Schedule, verify: bool):
+    def __init__(self, graph: Graph, sched: Schedule, layout: Layout, verify: bool):
         self.verify = verify
-        self.g, self.s, self.C = graph, sched, sched.interval
-        self.vamps_of: dict[int, range] = {}
+        self.g, self.s, self.lay = graph, sched, layout
+        self.P, self.B = layout.period, layout.clock
         self.stages: dict[int, int] = {}          # producer VAMP -> buffer stages needed
         self.buffer_of: dict[int, int] = {}       # producer VAMP -> buffer index (in order of first use)
-        self.ports: dict[tuple[InputKey, int], int] = {}
+        self.entries: dict[tuple[InputKey, int], int] = {}   # (key, block) -> port index
+        self.port_blocks: list[set[int]] = []                  # per port: blocks (mod K) taken
+        self.port_entries: list[list[PortEntry]] = []
+        self.port_size: list[int] = []
+        self.by_quantity: dict[str, list[int]] = {}
         self.consts: dict[tuple[float, ...], Const] = {}
         self.operands: dict[tuple[int, int], Operand] = {}   # (source node, stage; 0: its Result)
-        self.port_operands: list[Operand] = []                 # by port index
-        self.const_operands: list[Operand] = []                # by constant index
-        self.vamps: list[Vamp] = []
+        self.port_operands: list[Operand] = []
+        self.const_operands: list[Operand] = []
+        self.units = self._units()
+        self.next_emit = self._next_emits()
+
+    def _units(self) -> list[_Unit]:
+        units, first = [], 0
+        for size in self.lay.unit_vamps:
+            units.append(_Unit(first, size, []))
+            first += size
+        finish = self.s.finish
+        for nd in self.g.compute_nodes():
+            units[self.lay.units[nd.id]].nodes.append(nd.id)
+        for u in units:
+            if len(u.nodes) > 1:
+                u.nodes.sort(key=lambda i: finish[i])
+        return units
+
+    def _next_emits(self) -> dict[int, int]:
+        """Per compute node: the tick its unit's next dump shows (the end of its Result window)."""
+        finish, P = self.s.finish, self.P
+        out = {}
+        for u in self.units:
+            ids = u.nodes
+            for k, i in enumerate(ids):
+                out[i] = finish[ids[k + 1]] if k + 1 < len(ids) else finish[ids[0]] + P
+        return out
 
     def run(self) -> Network:
-        start, finish, nodes, C = self.s.start, self.s.finish, self.g.nodes, self.C
-        operands, vamps, vamps_of = self.operands, self.vamps, self.vamps_of
-        first = 0
+        start, nodes = self.s.start, self.g.nodes
+        reads: dict[int, tuple[Operand, Operand]] = {}
+        operands = self.operands
         for nd in self.g.compute_nodes():
-            count = VAMPS_PER_OP[nd.op]
-            vamps_of[nd.id] = range(first, first + count)
             t = start[nd.id]
             a, b = nd.args
             # inline, the common case: a result read at a stage already wired for another reader
-            key_a = (a, _stage(finish[a], t, C)) if nodes[a].op.is_compute else None
-            a = operands[key_a] if key_a in operands else self._operand(a, t)
-            key_b = (b, _stage(finish[b], t, C)) if nodes[b].op.is_compute else None
-            b = operands[key_b] if key_b in operands else self._operand(b, t)
-            if count == 1:
-                vamps.append(Vamp(first, nd.id, nd.op, None, a, b, t, t, finish[nd.id] - 1))
-            else:
-                vamps.extend(Vamp(first + col, nd.id, nd.op, col, a, b, t, t, finish[nd.id] - 1)
-                             for col in range(count))
-            first += count
-        return self._network()
+            key_a = (a, self._stage(a, t)) if nodes[a].op.is_compute else None
+            op_a = operands[key_a] if key_a in operands else self._operand(a, t)
+            key_b = (b, self._stage(b, t)) if nodes[b].op.is_compute else None
+            op_b = operands[key_b] if key_b in operands else self._operand(b, t)
+            reads[nd.id] = (op_a, op_b)
+        return self._network(reads)
+
+    def _stage(self, src: int, t: int) -> int:
+        """0 if the result of `src` is read from its VAMP's Result at tick t, else the buffer stage."""
+        emit = self.s.finish[src]
+        if emit <= t < self.next_emit[src]:
+            return 0
+        return t // self.B - emit // self.B
 
     def _operand(self, arg: int, t: int) -> Operand:
         src = self.g.nodes[arg]
@@ -68,92 +119,256 @@ class _Allocator:
                 self.const_operands.append(Operand((Tap("const", index),)))
             return self.const_operands[self.consts[src.value].index]
         if src.op is Op.INPUT:
-            key = (src.key, t // self.C)
-            if key not in self.ports:
-                self.ports[key] = len(self.ports)
-                self.port_operands.append(Operand((Tap("port", self.ports[key]),)))
-            return self.port_operands[self.ports[key]]
-        emit = self.s.finish[arg]
-        stage = _stage(emit, t, self.C)
+            return self.port_operands[self._port(src.key, t // self.B)]
+        stage = self._stage(arg, t)
         operand = self.operands.get((arg, stage))
         if operand is None:
+            unit = self.units[self.lay.units[arg]]
+            vamps = range(unit.first, unit.first + unit.size)
             if stage == 0:
-                taps = tuple(Tap("vamp", v) for v in self.vamps_of[arg])
-            elif t < emit:
-                raise VampcInternalError(
-                    f"VAMP {self.vamps_of[arg][0]}: read at tick {t} before its result at {emit}")
+                taps = tuple(Tap("vamp", v) for v in vamps)
+            elif stage < 1 or t < self.s.finish[arg]:
+                raise VampcInternalError(f"VAMP {unit.first}: read at tick {t} before its result "
+                                         f"at {self.s.finish[arg]}")
             else:
-                taps = tuple(self._buffer_tap(v, stage) for v in self.vamps_of[arg])
+                taps = tuple(self._buffer_tap(v, stage) for v in vamps)
             operand = self.operands[(arg, stage)] = Operand(taps)
         return operand
+
+    def _port(self, key: InputKey, block: int) -> int:
+        """The port carrying `key` written at `block`: an existing port of the quantity whose other
+        entries fall in other blocks of the period, else a new one."""
+        found = self.entries.get((key, block))
+        if found is not None:
+            return found
+        blocks = self.P // self.B
+        for p in self.by_quantity.get(key.quantity, ()):
+            if block % blocks not in self.port_blocks[p]:
+                break
+        else:
+            p = len(self.port_entries)
+            self.port_blocks.append(set())
+            self.port_entries.append([])
+            self.port_size.append(9 if key.quantity == "A" else 3)
+            self.by_quantity.setdefault(key.quantity, []).append(p)
+            self.port_operands.append(Operand((Tap("port", p),)))
+        self.port_blocks[p].add(block % blocks)
+        self.port_entries[p].append(PortEntry(key, block))
+        self.entries[(key, block)] = p
+        return p
 
     def _buffer_tap(self, vamp: int, stage: int) -> Tap:
         self.stages[vamp] = max(self.stages.get(vamp, 0), stage)
         buf = self.buffer_of.setdefault(vamp, len(self.buffer_of))
         return Tap("buffer", buf, stage)
 
-    def _network(self) -> Network:
+    def _network(self, reads) -> Network:
+        vamps = self._vamps(reads)
         buffers = tuple(Buffer(i, v, self.stages[v]) for v, i in self.buffer_of.items())
-        vamps = tuple(self.vamps)
-        ports = tuple(Port(i, key, cyc, 9 if key.quantity == "A" else 3)
-                      for (key, cyc), i in sorted(self.ports.items(), key=lambda kv: kv[1]))
-        outputs = tuple(OutputPoint(o.joint, self.vamps_of[o.node][0], o.component,
+        ports = tuple(Port(i, size, tuple(sorted(entries, key=lambda e: e.block)))
+                      for i, (size, entries) in enumerate(zip(self.port_size, self.port_entries)))
+        ports = ports + self.program_ports
+        outputs = tuple(OutputPoint(o.joint, self.units[self.lay.units[o.node]].first, o.component,
                                     self.s.finish[o.node]) for o in self.g.outputs)
-        net = Network(self.C, vamps, buffers, ports, tuple(self.consts.values()), outputs)
+        net = Network(self.P, self.B, vamps, buffers, ports, tuple(self.consts.values()), outputs)
         if self.verify:
-            verify_network(net)
+            verify_network(net, self.g, self.s)
         return net
 
+    def _vamps(self, reads) -> tuple[Vamp, ...]:
+        nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
+        vamps: list[Vamp] = []
+        self.program_ports: tuple[Port, ...] = ()
+        muxed = []
+        for u in self.units:
+            if len(u.nodes) == 1:       # the systolic case: one slot, one input per operand
+                i = u.nodes[0]
+                a, b = reads[i]
+                op, t, dump = nodes[i].op, start[i], finish[i] - 1
+                if u.size == 1:
+                    vamps.append(Vamp(u.first, (a,), (b,), (Slot(i, op, None, 0, 0, t, t, dump),)))
+                else:
+                    vamps.extend(Vamp(u.first + c, (a,), (b,), (Slot(i, op, c, 0, 0, t, t, dump),))
+                                 for c in range(u.size))
+                continue
+            muxed.append(u)
+            vamps.extend(self._muxed(u, reads, c) for c in range(u.size))
+        if muxed:
+            vamps = self._order_program_inputs(vamps)
+        return tuple(vamps)
 
-def _stage(emit: int, t: int, C: int) -> int:
-    """0 if a result first shown at tick `emit` is read from the VAMP itself at tick t, else the
-    buffer stage holding it then (< 1 for a read before the result exists)."""
-    return 0 if emit <= t < emit + C else t // C - emit // C
+    def _muxed(self, u: _Unit, reads, column: int) -> Vamp:
+        """A VAMP of a unit with several nodes: its multiplexer inputs in order of first use."""
+        nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
+        ins_a: dict[Operand, int] = {}
+        ins_b: dict[Operand, int] = {}
+        slots = []
+        for i in u.nodes:
+            a, b = reads[i]
+            sa = ins_a.setdefault(a, len(ins_a))
+            sb = ins_b.setdefault(b, len(ins_b))
+            col = column if nodes[i].op is Op.MM else None
+            slots.append(Slot(i, nodes[i].op, col, sa, sb, start[i], start[i], finish[i] - 1))
+        return Vamp(u.first + column, tuple(ins_a), tuple(ins_b), tuple(slots))
+
+    def _order_program_inputs(self, vamps: list[Vamp]) -> list[Vamp]:
+        """Make operand-A input 0 of every VAMP lead, without a loop, to a port or constant buffer
+        (Program Mode passes input 0 on); a VAMP with no such input gets a program port."""
+        buffers_source = {i: v for v, i in self.buffer_of.items()}
+        rooted = [None] * len(vamps)       # the chosen A input of each VAMP, once it reaches a root
+        pending = list(range(len(vamps)))
+        while pending:
+            later = []
+            for v in pending:
+                choice = next((k for k, op in enumerate(vamps[v].a)
+                               if _reaches(op.taps[0], rooted, buffers_source)), None)
+                if choice is None:
+                    later.append(v)
+                else:
+                    rooted[v] = choice
+            if len(later) == len(pending):
+                break
+            pending = later
+        extra = []
+        for v in pending:                  # nothing reaches a root: a program port of its own
+            index = len(self.port_entries) + len(extra)
+            extra.append(Port(index, 3, ()))
+            vamp = vamps[v]
+            vamps[v] = Vamp(vamp.index, (Operand((Tap("port", index),)),) + vamp.a, vamp.b,
+                            tuple(_shift_a(s, 1) for s in vamp.slots))
+            rooted[v] = 0
+        self.program_ports = tuple(extra)
+        return [_with_input_first(vamps[v], rooted[v]) for v in range(len(vamps))]
+
+
+def _reaches(tap: Tap, rooted, buffers_source) -> bool:
+    if tap.kind in ("port", "const"):
+        return True
+    src = tap.index if tap.kind == "vamp" else buffers_source[tap.index]
+    return rooted[src] is not None
+
+
+def _shift_a(slot: Slot, by: int) -> Slot:
+    return Slot(slot.node, slot.op, slot.column, slot.sel_a + by, slot.sel_b, slot.latch_a,
+                slot.latch_b, slot.dump)
+
+
+def _with_input_first(vamp: Vamp, k: int) -> Vamp:
+    """Move operand-A input k to position 0, renumbering the slots' selects."""
+    if k == 0:
+        return vamp
+    order = [k] + [j for j in range(len(vamp.a)) if j != k]
+    new = {old: pos for pos, old in enumerate(order)}
+    slots = tuple(Slot(s.node, s.op, s.column, new[s.sel_a], s.sel_b, s.latch_a, s.latch_b, s.dump)
+                  for s in vamp.slots)
+    return Vamp(vamp.index, tuple(vamp.a[j] for j in order), vamp.b, slots)
+
+
+def allocate(graph: Graph, sched: Schedule, layout: Layout, verify: bool = True) -> Network:
+    """Bind every op of the schedule to its VAMPs and slots, with multiplexers, buffers, ports and
+    constants."""
+    return _Allocator(graph, sched, layout, verify).run()
 
 
 def allocate_systolic(graph: Graph, sched: Schedule, verify: bool = True) -> Network:
-    """Bind every op of the systolic schedule to a numbered VAMP, with buffers, ports and constants."""
-    return _Allocator(graph, sched, verify).run()
+    """The systolic network of an ASAP schedule (one VAMP per op, three per MM)."""
+    from vampc.schedule.layout import systolic_layout
+    return allocate(graph, sched, systolic_layout(graph, sched), verify)
 
 
-def tap_window(net: Network, tap: Tap) -> tuple[float, float]:
-    """[first, last+1) ticks during which `tap` shows set 0's value (constants: always)."""
-    port_cycle = net.ports[tap.index].cycle if tap.kind == "port" else 0
-    src = tap.index if tap.kind == "vamp" else (
-        net.buffers[tap.index].source if tap.kind == "buffer" else None)
-    return window(tap, net.cycle, net.vamps[src].emit if src is not None else 0, port_cycle)
+# --- the check -----------------------------------------------------------------------------------
 
-
-def verify_network(net: Network) -> None:
-    """Every tap shows the right set at its latch tick; every micro-sequence fits between latch and the
-    next latch; buffers are long enough. Raise VampcInternalError naming VAMP, tick and operand."""
-    shown: dict[int, tuple[float, float]] = {}   # id(operand) -> ticks in which all its taps show set 0
-    C = net.cycle
+def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
+    """(VAMP, slot) -> (emit, next emit): the ticks its value is on the Result (set 0)."""
+    out = {}
+    P = net.period
     for v in net.vamps:
-        for name, operand, latch in (("A", v.a, v.latch_a), ("B", v.b, v.latch_b)):
-            window_ = shown.get(id(operand))
-            if window_ is None:
-                window_ = shown[id(operand)] = _operand_window(net, v, name, operand)
-            if not (window_[0] <= latch < window_[1] and latch <= v.dump < latch + C):
-                _fail(net, v, name, operand, latch)
+        emits = [s.emit for s in v.slots]
+        for k, s in enumerate(v.slots):
+            later = [e for e in emits if e > s.emit]
+            out[(v.index, k)] = (s.emit, min(later) if later else min(emits) + P)
+    return out
 
 
-def _fail(net: Network, v: Vamp, name: str, operand: Operand, latch: int):
-    """Raise the error for operand `name` of VAMP `v`, which verify_network found wrong."""
+def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
+    """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
+    vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
+    the slot, the tick and the operand."""
+    wins = slot_windows(net)
+    slot_of = {}
+    for v in net.vamps:
+        for k, s in enumerate(v.slots):
+            slot_of.setdefault(s.node, (v.index, k))
+    P, B = net.period, net.clock
+    checked: dict[tuple[int, int, int], bool] = {}     # (id(operand), latch, arg) -> ok
+    for v in net.vamps:
+        _verify_slots(v, P)
+        for k, s in enumerate(v.slots):
+            nd = graph.nodes[s.node]
+            for name, operand, latch, arg in (("A", v.a[s.sel_a], s.latch_a, nd.args[0]),
+                                              ("B", v.b[s.sel_b], s.latch_b, nd.args[1])):
+                key = (id(operand), latch, arg)
+                if key not in checked:
+                    checked[key] = True
+                    _verify_operand(net, graph, wins, slot_of, v, k, name, operand, latch, arg, B)
+
+
+def _verify_slots(v: Vamp, P: int) -> None:
+    """Each slot's latch..dump fits in a period and no two slots' spans meet (cyclically)."""
+    for s in v.slots:
+        if not s.latch_a <= s.dump < s.latch_a + P:
+            raise VampcInternalError(f"VAMP {v.index}: slot latched at {s.latch_a} dumps at {s.dump}")
+    if len(v.slots) == 1:
+        return
+    spans = sorted((s.latch_a % P, s.dump - s.latch_a + 1, k) for k, s in enumerate(v.slots))
+    for (l0, n0, k0), (l1, _, k1) in zip(spans, spans[1:] + [(spans[0][0] + P,) + spans[0][1:]]):
+        if l1 < l0 + n0:
+            raise VampcInternalError(f"VAMP {v.index}: slots {k0} and {k1} overlap")
+
+
+def _verify_operand(net, graph, wins, slot_of, v, k, name, operand, latch, arg, B) -> None:
+    src = graph.nodes[arg]
     for tap in operand.taps:
-        lo, hi = tap_window(net, tap)
+        if tap.kind == "const":
+            ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
+            lo, hi = -float("inf"), float("inf")
+        elif tap.kind == "port":
+            lo, hi, key = _port_entry_window(net, tap.index, latch, B)
+            ok = src.op is Op.INPUT and key == src.key
+        else:
+            vamp = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+            if not (tap.kind == "vamp" or 1 <= tap.stage <= net.buffers[tap.index].stages):
+                raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
+            src_slot = next((j for j, s in enumerate(net.vamps[vamp].slots) if s.node == arg), None)
+            ok = src_slot is not None
+            emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
+            lo, hi = (result_window(emit, nxt) if tap.kind == "vamp"
+                      else buffer_window(emit, nxt, tap.stage, B))
+        if not ok:
+            raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
+                                     f"which does not carry node {src.label}")
         if not lo <= latch < hi:
             raise VampcInternalError(f"VAMP {v.index}: operand {name} latched at tick {latch} outside "
                                      f"{tap}'s window [{lo}, {hi})")
-    raise VampcInternalError(f"VAMP {v.index}: operand {name} re-latched before dump")
 
 
-def _operand_window(net: Network, v: Vamp, name: str, operand: Operand) -> tuple[float, float]:
-    """The ticks in which every tap of `operand` shows set 0's value (VAMP `v` reads it)."""
-    lo, hi = -math.inf, math.inf
-    for tap in operand.taps:
-        if tap.kind == "buffer" and not 1 <= tap.stage <= net.buffers[tap.index].stages:
-            raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
-        first, end = tap_window(net, tap)
-        lo, hi = max(lo, first), min(hi, end)
-    return lo, hi
+def _port_entry_window(net: Network, port: int, tick: int, B: int):
+    """The entry of `port` showing at absolute tick `tick` (set 0) and its window."""
+    entries = net.ports[port].entries
+    K = net.period // B
+    block = tick // B
+    best = None
+    for j, e in enumerate(entries):
+        back = (block - e.block) % K          # blocks since this entry was last written
+        if best is None or back < best[0]:
+            best = (back, j)
+    if best is None:
+        return 0, 0, None
+    e = entries[best[1]]
+    written = block - best[0]
+    nxt = entries[(best[1] + 1) % len(entries)]
+    gap = ((nxt.block - e.block - 1) % K) + 1
+    lo, hi = port_window(written, written + gap, B)
+    if written != e.block:                    # the entry of another set
+        return lo, hi, None
+    return lo, hi, e.key

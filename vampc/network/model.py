@@ -1,15 +1,33 @@
-"""The network IR: VAMPs, delay buffers, host ports and constant buffers, wired by taps (DESIGN §6–7).
+"""The network IR: VAMPs with time-multiplexed slots, delay buffers, host ports and constant buffers,
+wired by taps through operand multiplexers (DESIGN §6–7).
 
-Timing model (1 tick = 1 flop; the basic cycle is C ticks; tick t belongs to cycle t // C and has
-Cycle-Counter t % C). All absolute ticks below are for torque set 0; set j happens j·C ticks later.
+A layout binds every graph op to a (VAMP, slot) and repeats with a period P: the initiation interval,
+in ticks, between successive torque sets. Everything below is periodic with P; absolute ticks are
+those of torque set 0, and set j happens j·P ticks later. The systolic layout is the special case of
+one slot per VAMP, one input per multiplexer and P = C (4 flops); the folded layouts reuse a node's
+or a tier's VAMPs for every joint or tier, one torque set at a time.
 
-- A VAMP latches operand A at the tick whose counter is delay-A, operand B at delay-B, runs its
-  micro-steps in the ticks ending with the one whose counter is delay-R, and drives its Result from the
-  next tick: the Result holds for exactly C ticks (until the next dump).
-- A delay buffer is a chain of passive stages clocked at cycle boundaries: stage s holds its source's
-  value during the whole cycle (e // C) + s, where e is the tick the source's value appeared.
-- A host port holds the value the host wrote at the start of its cycle for that whole cycle.
-- A constant buffer always holds its value.
+Hardware (what the report counts):
+
+- A VAMP has one pair of operand registers, three primitive modules and one Result register, and a
+  table of slots. Each slot holds the paper's four control fields (delay-A, delay-B, delay-R, ROM
+  pointer) plus two multiplexer selects (sel-A, sel-B): which of the VAMP's operand-A and operand-B
+  inputs the slot latches. The Cycle-Counter runs 0..P-1 (Global-Reset pulses every P ticks); a slot
+  latches operand A from input sel-A at the tick whose counter is its delay-A, operand B likewise, runs
+  its micro-steps in the ticks ending with the one whose counter is delay-R, and drives the Result
+  from the next tick. The Result holds until the VAMP's next dump (for one slot: exactly P ticks).
+  In Program Mode every multiplexer passes input 0.
+- A delay buffer is a chain of passive stages behind one VAMP, clocked every B ticks (the buffer
+  clock; B divides P; systolic B = C): at the end of every tick t with (t + 1) % B == 0, stage 1 takes
+  the VAMP's Result and stage s takes stage s - 1. So stage s shows, during block b (ticks bB..bB+B-1),
+  what the Result showed at the end of block b - s: one chain serves every slot of its VAMP.
+- A host port shows, during the blocks from one of its entries to the next, the value the host
+  wrote at the start of that entry's block: entry k is written at tick block_k·B of each set. A port
+  with one entry (the systolic case) is written once per period and holds for P ticks.
+- A constant buffer always shows its value.
+
+`window` and its helpers state these rules once; the compiler's allocation check and the emulator's
+timing derivation both use them.
 """
 from __future__ import annotations
 
@@ -32,45 +50,88 @@ class Tap:
         return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind == "buffer" else "")
 
 
-def window(tap: Tap, cycle: int, emit: float = 0, port_cycle: int = 0) -> tuple[float, float]:
-    """[first, end) ticks in which `tap` shows set 0's value, by the rules above: `emit` is the first
-    tick of the source VAMP's value (vamp and buffer taps; infinite for a constant-valued VAMP),
-    `port_cycle` the cycle a port is written in. The compiler and the emulator both use this."""
-    if tap.kind == "const" or math.isinf(emit):
+def result_window(emit: float, next_emit: float) -> tuple[float, float]:
+    """A Result shows a slot's value from its emit tick until the VAMP's next dump shows."""
+    return (emit, next_emit)
+
+
+def buffer_window(emit: float, next_emit: float, stage: int, clock: int) -> tuple[float, float]:
+    """[first, end) ticks in which stage `stage` of a buffer shows a value its VAMP showed during
+    [emit, next_emit): stage 1 captures it at every block end inside that span. Empty (first >= end)
+    when the span holds no block end: the value is never captured."""
+    if math.isinf(emit):
+        return (-math.inf, math.inf)
+    first = (emit // clock + stage) * clock
+    end = (next_emit // clock + stage) * clock
+    return (first, end)
+
+
+def port_window(block: int, next_block: int, clock: int) -> tuple[int, int]:
+    """A port entry written at the start of `block` holds until the port's next entry is written."""
+    return (block * clock, next_block * clock)
+
+
+def window(tap: Tap, clock: int, emit: float = 0, next_emit: float = 0, block: int = 0,
+           next_block: int = 0) -> tuple[float, float]:
+    """[first, end) ticks in which `tap` shows the value of interest, by the rules above: `emit` and
+    `next_emit` bound the source VAMP's value on its Result (vamp and buffer taps; infinite for a
+    VAMP that always shows the same value), `block` and `next_block` bound a port entry."""
+    if tap.kind == "const":
         return (-math.inf, math.inf)
     if tap.kind == "port":
-        return (port_cycle * cycle, port_cycle * cycle + cycle)
+        return port_window(block, next_block, clock)
     if tap.kind == "vamp":
-        return (emit, emit + cycle)
-    start = (emit // cycle + tap.stage) * cycle
-    return (start, start + cycle)
+        return (-math.inf, math.inf) if math.isinf(emit) else result_window(emit, next_emit)
+    return buffer_window(emit, next_emit, tap.stage, clock)
+
+
+def cyclic_gap(counters, k: int, period: int) -> int:
+    """Ticks from counter `counters[k]` to the next counter in the list, cyclically (P if alone)."""
+    here = counters[k]
+    return min(((c - here - 1) % period) + 1 for c in counters)
 
 
 @dataclass(frozen=True, slots=True)
 class Operand:
-    """One operand: one tap, or three taps carrying the columns of a matrix made by an MM group."""
+    """One multiplexer input: one tap, or three taps carrying the columns of a matrix made by an MM
+    group."""
 
     taps: tuple[Tap, ...]
 
 
 @dataclass(frozen=True, slots=True)
-class Vamp:
-    """One VAMP bound to graph node `node` (an MM node has three VAMPs, `column` 0..2)."""
+class Slot:
+    """One op a VAMP runs each period: graph node `node` (an MM member computes `column`), reading
+    inputs `sel_a` and `sel_b` of its multiplexers. Ticks are absolute, for set 0."""
 
-    index: int
     node: int
     op: Op
     column: int | None
-    a: Operand
-    b: Operand
-    latch_a: int   # absolute tick at which operand A is latched
+    sel_a: int
+    sel_b: int
+    latch_a: int   # tick at which operand A is latched
     latch_b: int
-    dump: int      # absolute tick at the end of which the result is driven
+    dump: int      # tick at the end of which the result is driven
 
     @property
     def emit(self) -> int:
-        """First tick at which the Result shows this VAMP's value (for set 0)."""
+        """First tick at which the Result shows this slot's value (for set 0)."""
         return self.dump + 1
+
+
+@dataclass(frozen=True, slots=True)
+class Vamp:
+    """One VAMP: its multiplexer inputs for operands A and B and its slots, in dump order."""
+
+    index: int
+    a: tuple[Operand, ...]
+    b: tuple[Operand, ...]
+    slots: tuple[Slot, ...]
+
+    @property
+    def node(self) -> int:
+        """The graph node of the first slot (for messages)."""
+        return self.slots[0].node
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,13 +144,20 @@ class Buffer:
 
 
 @dataclass(frozen=True, slots=True)
+class PortEntry:
+    """What the host writes to a port at the start of `block` (absolute, set 0) of every set."""
+
+    key: InputKey
+    block: int
+
+
+@dataclass(frozen=True, slots=True)
 class Port:
-    """A host input port: the host writes `key` of set j at the start of cycle j + `cycle`."""
+    """A host input port: `size` scalars (3 or 9), written with each entry's value at its block."""
 
     index: int
-    key: InputKey
-    cycle: int
-    size: int   # scalars: 3 or 9
+    size: int
+    entries: tuple[PortEntry, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,7 +171,7 @@ class Const:
 
 @dataclass(frozen=True, slots=True)
 class OutputPoint:
-    """τ_joint of set j is scalar `component` of VAMP `vamp`'s Result at tick j·C + `tick`."""
+    """τ_joint of set j is scalar `component` of VAMP `vamp`'s Result at tick j·P + `tick`."""
 
     joint: int
     vamp: int
@@ -113,9 +181,10 @@ class OutputPoint:
 
 @dataclass(frozen=True, slots=True)
 class Network:
-    """A systolic VAMP network for one graph and schedule."""
+    """A VAMP network for one graph, schedule and layout (see the module docstring)."""
 
-    cycle: int
+    period: int        # P: ticks between successive torque sets
+    clock: int         # B: the buffer clock, in ticks (divides P)
     vamps: tuple[Vamp, ...]
     buffers: tuple[Buffer, ...]
     ports: tuple[Port, ...]
@@ -124,10 +193,20 @@ class Network:
 
     @property
     def buffer_stages(self) -> int:
-        """Total delay-buffer stages (each holds one vector for one cycle)."""
+        """Total delay-buffer stages (each holds one vector for one block)."""
         return sum(b.stages for b in self.buffers)
 
     @property
     def latency(self) -> int:
         """Ticks from the first input write of a set to the last of its torques being readable."""
         return max(o.tick for o in self.outputs)
+
+    @property
+    def slot_count(self) -> int:
+        """Slots over all VAMPs (ops run per period)."""
+        return sum(len(v.slots) for v in self.vamps)
+
+    @property
+    def blocks(self) -> int:
+        """Buffer-clock blocks per period."""
+        return self.period // self.clock

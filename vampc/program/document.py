@@ -7,10 +7,11 @@ import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
 from vampc.dataflow.ops import Op
-from vampc.network.model import Buffer, Const, Network, Operand, OutputPoint, Port, Tap, Vamp
+from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, PortEntry, Slot,
+                                 Tap, Vamp)
 from vampc.program.emit import StreamEntry, load_ticks
 from vampc.program.file import FORMAT, VERSION, Rows, compact_encoder, layout, tolist
-from vampc.program.words import ROM, Program, encode
+from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
 
@@ -90,39 +91,45 @@ def network_to_doc(net: Network, numbering) -> dict:
             text = taps[id(op)] = "[" + ",".join([f'["{t.kind}",{t.index},{t.stage}]'
                                                   for t in op.taps]) + "]"
         return text
+    def mux(inputs) -> str:
+        return "[" + ",".join([operand(op) for op in inputs]) + "]"
     return {
-        "cycle": net.cycle,
-        "vamps": Rows(f'{{"a":{operand(v.a)},"b":{operand(v.b)},"index":{v.index},"node":{v.node},'
+        "period": net.period, "clock": net.clock,
+        "vamps": Rows(f'{{"a":{mux(v.a)},"b":{mux(v.b)},"index":{v.index},'
                       f'"number":{numbering[v.index]}}}' for v in net.vamps),
         "buffers": Rows(f'{{"index":{b.index},"source":{b.source},"stages":{b.stages}}}'
                         for b in net.buffers),
-        "ports": [{"index": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
-                   "cycle": p.cycle, "size": p.size} for p in net.ports],
+        "ports": [{"index": p.index, "size": p.size,
+                   "entries": [[e.key.quantity, e.key.joint, e.block] for e in p.entries]}
+                  for p in net.ports],
         "consts": [{"index": c.index, "name": c.name, "value": list(c.value)} for c in net.consts],
     }
 
 
+def _slot_row(s, p) -> str:
+    return (f'{{"delay_a":{p.delay_a},"delay_b":{p.delay_b},"delay_r":{p.delay_r},"node":{s.node},'
+            f'"op":"{_NAME[s.op]}","rom":{p.rom},"sel_a":{p.sel_a},"sel_b":{p.sel_b}}}')
+
+
 def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                 summary: dict) -> str:
+                 summary: dict, layout_doc: dict) -> str:
     """The whole program-file document (without its checksum) as the text `write_program` writes:
     canonical JSON laid out one row per line (vampc.program.file.layout)."""
-    C = net.cycle
-    words = [f"[{x!r},{y!r},{z!r}]" for x, y, z in (encode(numbering[v], p)
-                                                      for v, p in enumerate(progs))]
+    B = net.clock
     return layout({
         "format": FORMAT, "version": VERSION, "robot": chain_to_doc(chain), "options": options,
-        "graph": graph_to_doc(graph), "schedule": schedule_to_doc(sched),
+        "graph": graph_to_doc(graph), "schedule": schedule_to_doc(sched), "layout": layout_doc,
         "network": network_to_doc(net, numbering),
-        "programs": Rows(f'{{"delay_a":{p.delay_a},"delay_b":{p.delay_b},"delay_r":{p.delay_r},'
-                         f'"op":"{_NAME[ROM[p.rom][0]]}","rom":{p.rom},"vamp":{v},"word":{w}}}'
-                         for v, (p, w) in enumerate(zip(progs, words))),
+        "programs": Rows('{"slots":[' + ",".join([_slot_row(s, p) for s, p in zip(v.slots, ps)])
+                         + f'],"vamp":{v.index}}}' for v, ps in zip(net.vamps, progs)),
         "program_stream": Rows(
             f'{{"depth":{_ints(e.depth)},"root":["{e.root.kind}",{e.root.index}],'
-            f'"targets":{_ints(e.targets)},"words":[{",".join([words[v] for v in e.targets])}]}}'
+            f'"targets":{_ints(e.targets)},"words":['
+            + ",".join([f"[{x!r},{y!r},{z!r}]" for x, y, z in e.words]) + "]}"
             for e in stream),
-        "io": {"cycle": C, "load_ticks": load_ticks(stream),
-               "ports": [{"port": p.index, "quantity": p.key.quantity, "joint": p.key.joint,
-                          "tick": p.cycle * C} for p in net.ports],
+        "io": {"period": net.period, "clock": B, "load_ticks": load_ticks(stream),
+               "port_writes": [{"port": p.index, "quantity": e.key.quantity, "joint": e.key.joint,
+                                "tick": e.block * B} for p in net.ports for e in p.entries],
                "outputs": [{"joint": o.joint, "vamp": o.vamp, "component": o.component,
                             "tick": o.tick} for o in net.outputs]},
         "summary": summary,
@@ -134,18 +141,21 @@ def _ints(values) -> str:
 
 
 def network_from_doc(doc: dict) -> Network:
-    """The netlist with the timing implied by the programs (latch/dump ticks are cycle-relative here:
-    absolute times are the emulator's to derive)."""
-    nd, C = doc["network"], doc["network"]["cycle"]
+    """The netlist, with each VAMP's slots as its `programs` listing gives them (latch and dump
+    ticks are Cycle-Counter values here: absolute times are the emulator's to derive)."""
+    nd = doc["network"]
     progs = doc["programs"]
     def operand(rows) -> Operand:
         return Operand(tuple(Tap(k, i, s) for k, i, s in rows))
-    vamps = tuple(Vamp(v["index"], v["node"], ROM[progs[v["index"]]["rom"]][0],
-                       ROM[progs[v["index"]]["rom"]][1], operand(v["a"]), operand(v["b"]),
-                       progs[v["index"]]["delay_a"], progs[v["index"]]["delay_b"],
-                       progs[v["index"]]["delay_r"]) for v in nd["vamps"])
-    return Network(C, vamps, tuple(Buffer(b["index"], b["source"], b["stages"]) for b in nd["buffers"]),
-                   tuple(Port(p["index"], InputKey(p["quantity"], p["joint"]), p["cycle"], p["size"])
+    def slots(index: int):
+        return tuple(Slot(r["node"], ROM[r["rom"]][0], ROM[r["rom"]][1], r["sel_a"], r["sel_b"],
+                          r["delay_a"], r["delay_b"], r["delay_r"]) for r in progs[index]["slots"])
+    vamps = tuple(Vamp(v["index"], tuple(map(operand, v["a"])), tuple(map(operand, v["b"])),
+                       slots(v["index"])) for v in nd["vamps"])
+    return Network(nd["period"], nd["clock"], vamps,
+                   tuple(Buffer(b["index"], b["source"], b["stages"]) for b in nd["buffers"]),
+                   tuple(Port(p["index"], p["size"], tuple(PortEntry(InputKey(q, j), blk)
+                                                           for q, j, blk in p["entries"]))
                          for p in nd["ports"]),
                    tuple(Const(c["index"], c["name"], tuple(c["value"])) for c in nd["consts"]),
                    tuple(OutputPoint(o["joint"], o["vamp"], o["component"], o["tick"])
@@ -153,14 +163,15 @@ def network_from_doc(doc: dict) -> Network:
 
 
 def stream_from_doc(doc: dict) -> tuple[StreamEntry, ...]:
-    """The program stream entries (targets and depths; words are re-read from the document)."""
-    return tuple(StreamEntry(Tap(*e["root"]), tuple(e["targets"]), tuple(e["depth"]))
-                 for e in doc["program_stream"])
+    """The program stream entries, words included."""
+    return tuple(StreamEntry(Tap(*e["root"]), tuple(e["targets"]), tuple(e["depth"]),
+                             tuple(tuple(w) for w in e["words"])) for e in doc["program_stream"])
 
 
-def programs_from_doc(doc: dict) -> tuple[Program, ...]:
-    """Per-VAMP programs as written."""
-    return tuple(Program(p["delay_a"], p["delay_b"], p["delay_r"], p["rom"]) for p in doc["programs"])
+def programs_from_doc(doc: dict) -> tuple[tuple[Program, ...], ...]:
+    """Per-VAMP slot programs as the `programs` listing writes them."""
+    return tuple(tuple(Program(r["delay_a"], r["delay_b"], r["delay_r"], r["rom"], r["sel_a"],
+                               r["sel_b"]) for r in p["slots"]) for p in doc["programs"])
 
 
 def compiled_from_doc(doc: dict, path):
@@ -173,12 +184,15 @@ def compiled_from_doc(doc: dict, path):
     from vampc.compiler import CompileOptions, Compiled
     from vampc.dataflow.ops import Timing
     from vampc.errors import VampcError, VampcInternalError
-    from vampc.schedule.asap import schedule_asap
+    from vampc.schedule.layout import layout_and_schedule
     graph = graph_from_doc(doc["graph"])
     stored = doc["schedule"]
+    lay = doc["layout"]
     try:
         graph.verify()
-        sched = schedule_asap(graph, Timing(stored["mult_latency"], stored["add_latency"]))
+        layout, sched = layout_and_schedule(graph, Timing(stored["mult_latency"],
+                                                          stored["add_latency"]),
+                                            lay["name"], lay["share_passes"])
     except VampcInternalError as exc:
         raise VampcError(f"{path}: graph: {exc}") from None
     for key, value in schedule_to_doc(sched).items():
@@ -189,4 +203,4 @@ def compiled_from_doc(doc: dict, path):
     options = CompileOptions(**{k: v for k, v in doc["options"].items() if k in known})
     numbering = tuple(v["number"] for v in doc["network"]["vamps"])
     return Compiled(chain_from_doc(doc["robot"]), options, graph, sched, network_from_doc(doc),
-                    numbering, programs_from_doc(doc), stream_from_doc(doc))
+                    numbering, programs_from_doc(doc), stream_from_doc(doc), layout)

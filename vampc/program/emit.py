@@ -13,7 +13,7 @@ from pathlib import Path
 
 from vampc.errors import VampcError
 from vampc.network.model import Network, Tap
-from vampc.program.words import Program, rom_pointer
+from vampc.program.words import FIELD, Program, encode, rom_pointer, vamp_words
 
 
 @dataclass(frozen=True)
@@ -23,6 +23,7 @@ class StreamEntry:
     root: Tap                      # a "port" or "const" tap
     targets: tuple[int, ...]       # logical VAMP index of each word
     depth: tuple[int, ...]         # registers between the root and each target's Operand-A input
+    words: tuple[tuple[float, float, float], ...] = ()
 
 
 def default_numbering(net: Network) -> tuple[int, ...]:
@@ -59,23 +60,25 @@ def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
     return tuple(numbers[:count])
 
 
-def programs(net: Network) -> tuple[Program, ...]:
-    """Each VAMP's program: the Cycle-Counter values of its latches and dump, and its ROM pointer."""
-    C = net.cycle
-    return tuple(Program(v.latch_a % C, v.latch_b % C, v.dump % C, rom_pointer(v.op, v.column))
-                 for v in net.vamps)
+def programs(net: Network) -> tuple[tuple[Program, ...], ...]:
+    """Each VAMP's program: per slot the Cycle-Counter values of its latches and dump, its ROM
+    pointer and its multiplexer selects."""
+    P = net.period
+    return tuple(tuple(Program(s.latch_a % P, s.latch_b % P, s.dump % P, rom_pointer(s.op, s.column),
+                               s.sel_a, s.sel_b) for s in v.slots) for v in net.vamps)
 
 
 def a_roots(net: Network) -> list[tuple[Tap, int]]:
-    """For every VAMP, the input buffer at the root of its Operand-A path and the registers in between
-    (a register per VAMP passed, 1 + stage per buffer tap). Each path is walked once: a walk stops at
-    the first VAMP whose root is known. VampcError if a path loops (no input buffer could ever program
-    those VAMPs)."""
+    """For every VAMP, the input buffer at the root of its Operand-A path — through input 0 of each
+    operand-A multiplexer, which Program Mode passes on — and the registers in between (a register
+    per VAMP passed, 1 + stage per buffer tap). Each path is walked once: a walk stops at the first
+    VAMP whose root is known. VampcError if a path loops (no input buffer could ever program those
+    VAMPs)."""
     roots: list[tuple[Tap, int] | None] = [None] * len(net.vamps)
     for vamp in range(len(net.vamps)):
         v, walked, seen = vamp, [], {vamp}
         while roots[v] is None:
-            tap = net.vamps[v].a.taps[0]
+            tap = net.vamps[v].a[0].taps[0]
             if tap.kind not in ("vamp", "buffer"):
                 roots[v] = (Tap(tap.kind, tap.index), 0)
                 break
@@ -93,18 +96,28 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
     return roots
 
 
-def program_stream(net: Network) -> tuple[StreamEntry, ...]:
-    """The Program-Mode stream: per root input buffer, its words' targets deepest first."""
+def program_stream(net: Network, progs, numbering) -> tuple[StreamEntry, ...]:
+    """The Program-Mode stream: per root input buffer, the words of the VAMPs it programs, deepest
+    target first, each VAMP's words in the order vampc.program.words.vamp_words gives them."""
     by_root: dict[Tap, list[tuple[int, int]]] = {}
     for index, (root, depth) in enumerate(a_roots(net)):
         by_root.setdefault(root, []).append((-depth, index))
     entries = []
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
-        items = sorted(by_root[root])
-        entries.append(StreamEntry(root, tuple(v for _, v in items), tuple(-d for d, _ in items)))
+        targets, depths, words = [], [], []
+        for neg, v in sorted(by_root[root]):
+            if len(progs[v]) == 1 and progs[v][0].sel_a == progs[v][0].sel_b == 0 and \
+                    max(progs[v][0].delay_a, progs[v][0].delay_b, progs[v][0].delay_r) < FIELD:
+                mine = [encode(numbering[v], progs[v][0])]      # the common, systolic case
+            else:
+                mine = vamp_words(numbering[v], progs[v])
+            targets.extend([v] * len(mine))
+            depths.extend([-neg] * len(mine))
+            words.extend(mine)
+        entries.append(StreamEntry(root, tuple(targets), tuple(depths), tuple(words)))
     return tuple(entries)
 
 
 def load_ticks(stream: tuple[StreamEntry, ...]) -> int:
-    """Ticks of Program Mode needed for every VAMP to have latched its word."""
+    """Ticks of Program Mode needed for every VAMP to have latched its words."""
     return max((k + d + 1 for e in stream for k, d in enumerate(e.depth)), default=0)

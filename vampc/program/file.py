@@ -29,7 +29,7 @@ import numpy as np
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 
-FORMAT, VERSION = "vampc-program", 1
+FORMAT, VERSION = "vampc-program", 2
 
 
 def canonical(doc: dict) -> str:
@@ -143,6 +143,10 @@ def validate_program(doc, path) -> None:
     from vampc.schemas_util import accepted_quickly, load_schema
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
+    if doc.get("version") == 1:
+        raise VampcError(f"{path}: program format version 1 (one op per VAMP) is not read by this "
+                         f"vampc, which writes version {VERSION} (VAMPs with slots); recompile the "
+                         "robot with `vampc compile`")
     if doc.get("version") != VERSION:
         raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
                          f"(this vampc reads version {VERSION})")

@@ -1,15 +1,27 @@
 """Program words: the one place where VAMP programs are packed and unpacked (DESIGN §7).
 
-A VAMP's program is four small integers: delay-A, delay-B, delay-R (Cycle-Counter values at which
-operand A is latched, operand B is latched, and the Result is driven) and a ROM pointer (which
-micro-sequence of Table VII.1 runs). In Program Mode a word travels as one 3-scalar vector:
+A VAMP's program is a table of slots. Each slot is the paper's four control fields — delay-A,
+delay-B, delay-R (Cycle-Counter values at which operand A is latched, operand B is latched and the
+Result is driven) and a ROM pointer (which micro-sequence of Table VII.1 runs) — plus two multiplexer
+selects, sel-A and sel-B (which of the VAMP's operand inputs the slot latches). In Program Mode a word
+travels as one 3-scalar vector, of one of two kinds:
 
-    scalar 1   VAMP-number (burned in; positive integer)
-    scalar 2   delay-A · 4096 + delay-B
-    scalar 3   delay-R · 4096 + ROM-pointer
+    compact    scalar 1  VAMP-number (burned in; 1..16777215)
+               scalar 2  delay-A · 4096 + delay-B
+               scalar 3  delay-R · 4096 + ROM-pointer
+               Sets the slot table to exactly one slot with these fields and both selects 0. It is the
+               paper's word, and all a systolic VAMP ever gets.
 
-Every field is a non-negative integer below 4096, so the scalars are integers below 2^24, exact in any
-IEEE binary32 or binary64 word.
+    extended   scalar 1  -(VAMP-number)
+               scalar 2  slot · 8 + field   (field 0 delay-A, 1 delay-B, 2 delay-R, 3 ROM, 4 sel-A,
+                                             5 sel-B)
+               scalar 3  the field's value
+               Sets one field of one slot; writing slot k makes the table at least k + 1 slots long.
+
+A VAMP gets its compact word first, then an extended word for every field of slot 0 the compact word
+cannot carry (a delay of 4096 or more in a long period, a select other than 0) and for all six fields
+of every further slot. Every scalar is an integer below 2^24 in magnitude, exact in IEEE binary32 or
+binary64.
 """
 from __future__ import annotations
 
@@ -19,6 +31,9 @@ from vampc.dataflow.ops import Op
 from vampc.errors import VampcError
 
 FIELD = 4096
+LIMIT = 1 << 24
+FIELDS = ("delay_a", "delay_b", "delay_r", "rom", "sel_a", "sel_b")
+ADDRESS = 8          # addresses per slot in an extended word
 
 # ROM contents: pointer -> (op, column of operand B used by an MM member, or None).
 ROM: tuple[tuple[Op, int | None], ...] = (
@@ -37,26 +52,77 @@ def rom_pointer(op: Op, column: int | None) -> int:
 
 @dataclass(frozen=True, slots=True)
 class Program:
-    """A VAMP's four control registers."""
+    """One slot's control registers."""
 
     delay_a: int
     delay_b: int
     delay_r: int
     rom: int
+    sel_a: int = 0
+    sel_b: int = 0
+
+    def field(self, name: str) -> int:
+        """A field by name (FIELDS)."""
+        return getattr(self, name)
 
 
 def encode(number: int, prog: Program) -> tuple[float, float, float]:
-    """The Program-Mode word carrying `prog` for VAMP `number`."""
-    if not (0 <= prog.delay_a < FIELD and 0 <= prog.delay_b < FIELD and 0 <= prog.delay_r < FIELD
-            and 0 <= prog.rom < FIELD):
-        name = next(k for k in ("delay_a", "delay_b", "delay_r", "rom")
-                    if not 0 <= getattr(prog, k) < FIELD)
-        raise VampcError(f"VAMP {number}: {name} {getattr(prog, name)} does not fit in a word")
+    """The compact Program-Mode word carrying `prog` (delays below 4096) for VAMP `number`."""
+    for name in ("delay_a", "delay_b", "delay_r", "rom"):
+        if not 0 <= prog.field(name) < FIELD:
+            raise VampcError(f"VAMP {number}: {name} {prog.field(name)} does not fit in a word")
     return (float(number), float(prog.delay_a * FIELD + prog.delay_b),
             float(prog.delay_r * FIELD + prog.rom))
 
 
 def decode(word) -> tuple[int, Program]:
-    """(VAMP-number, program) from a word; inverse of encode."""
+    """(VAMP-number, program) from a compact word; inverse of encode."""
     number, s2, s3 = (int(x) for x in word[:3])
     return number, Program(s2 // FIELD, s2 % FIELD, s3 // FIELD, s3 % FIELD)
+
+
+def vamp_words(number: int, slots: tuple[Program, ...]) -> list[tuple[float, float, float]]:
+    """Every word that programs VAMP `number` with `slots`, in the order they must arrive."""
+    first = slots[0]
+    fits = all(first.field(n) < FIELD for n in ("delay_a", "delay_b", "delay_r"))
+    words = [encode(number, first if fits else Program(0, 0, 0, first.rom))]
+    for k, slot in enumerate(slots):
+        for f, name in enumerate(FIELDS):
+            value = slot.field(name)
+            if k == 0 and (fits or name not in ("delay_a", "delay_b", "delay_r")) and (
+                    name not in ("sel_a", "sel_b") or value == 0):
+                continue     # carried by the compact word
+            if not 0 <= value < LIMIT or k * ADDRESS + f >= LIMIT:
+                raise VampcError(f"VAMP {number}: slot {k} {name} {value} does not fit in a word")
+            words.append((float(-number), float(k * ADDRESS + f), float(value)))
+    return words
+
+
+def word_number(word) -> int:
+    """The VAMP number a word addresses (its own or negated), or -1 if scalar 1 is not an integer."""
+    x = float(word[0])
+    return abs(int(x)) if x.is_integer() and x != 0 else -1
+
+
+def apply_word(table: list[list[int]] | None, word) -> list[list[int]]:
+    """The slot table after a VAMP latches `word` (addressed to it): a compact word replaces the
+    table with one slot; an extended word sets one field, growing the table to reach its slot. The
+    fields of a new slot hold whatever the registers held before: None here (the loader refuses a
+    program that leaves one so); the tick engine keeps its random register contents there. Rows are
+    [delay-A, delay-B, delay-R, ROM, sel-A, sel-B]."""
+    if float(word[0]) > 0:
+        _, p = decode(word)
+        return [[p.delay_a, p.delay_b, p.delay_r, p.rom, 0, 0]]
+    address, value = int(word[1]), int(word[2])
+    slot, f = divmod(address, ADDRESS)
+    table = [list(r) for r in (table or [])]
+    while len(table) <= slot:
+        table.append([None] * 6)
+    if f < len(FIELDS):
+        table[slot][f] = value
+    return table
+
+
+def programs_of(table: list[list[int]]) -> tuple[Program, ...]:
+    """The slot table as Programs."""
+    return tuple(Program(*row) for row in table)

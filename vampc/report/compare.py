@@ -8,14 +8,15 @@ from vampc.compiler import PREFIXES, CompileOptions, compile_chain
 
 
 def max_fan_out(network) -> int:
-    """The most operand inputs any one VAMP Result drives (directly or through its buffer)."""
+    """The most multiplexer inputs any one VAMP Result drives (directly or through its buffer)."""
     readers: Counter = Counter()
     for v in network.vamps:
-        for tap in v.a.taps + v.b.taps:
-            if tap.kind == "vamp":
-                readers[tap.index] += 1
-            elif tap.kind == "buffer":
-                readers[network.buffers[tap.index].source] += 1
+        for operand in v.a + v.b:
+            for tap in operand.taps:
+                if tap.kind == "vamp":
+                    readers[tap.index] += 1
+                elif tap.kind == "buffer":
+                    readers[network.buffers[tap.index].source] += 1
     return max(readers.values(), default=0)
 
 

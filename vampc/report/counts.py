@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 
-from vampc.dataflow.ops import SERIAL_WORK, VAMPS_PER_OP, Op
+from vampc.dataflow.ops import SERIAL_WORK, VAMPS_PER_OP
 
 # A 40-pin package holds 5 VAMPs with all pins separate, 12 with shared clock/power/reset (section VII).
 VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
@@ -32,13 +32,14 @@ def vamp_counts(c) -> dict:
     """VAMPs in total, on the backward (incl. non-propagated) and forward recursions, and by op."""
     by_section, by_op = Counter(), Counter()
     for v in c.network.vamps:
-        nd = c.graph.nodes[v.node]
-        by_section["forward" if nd.section == "fwd" else "backward"] += 1
-        by_op[nd.op.value] += 1
+        kinds = {"forward" if c.graph.nodes[s.node].section == "fwd" else "backward" for s in v.slots}
+        by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
+        for s in v.slots:
+            by_op[s.op.value] += 1
     per_node = _per_node(c)
     return {"total": len(c.network.vamps), "backward": by_section["backward"],
-            "forward": by_section["forward"], "by_op": dict(sorted(by_op.items())),
-            "per_node": per_node}
+            "forward": by_section["forward"], "shared": by_section["shared"],
+            "by_op": dict(sorted(by_op.items())), "per_node": per_node}
 
 
 def _per_node(c) -> dict:
@@ -68,7 +69,7 @@ def packages(vamps: int) -> dict:
 def input_buffer_scalars(c) -> int:
     """Scalars the host keeps in input buffers: constants plus one torque set's port values."""
     consts = sum(len(k.value) for k in c.network.consts)
-    ports = {(p.key.quantity, p.key.joint): p.size for p in c.network.ports}
+    ports = {(e.key.quantity, e.key.joint): p.size for p in c.network.ports for e in p.entries}
     return consts + sum(ports.values())
 
 

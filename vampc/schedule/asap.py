@@ -17,7 +17,11 @@ from vampc.errors import VampcInternalError
 
 @dataclass(frozen=True)
 class Schedule:
-    """Start and finish flop of every node (indexed by node id) and the critical-path summary."""
+    """Start and finish flop of every node (indexed by node id), the critical-path summary and the
+    interval (flops between successive torque sets: the cycle C for the systolic pipeline, the
+    layout's period otherwise). `mults` + `adds` count the critical path's data dependencies; a
+    layout that makes ops wait for their VAMP adds `latency` - (mults·Mult + adds·Addn) flops of
+    waiting."""
 
     timing: Timing
     start: tuple[int, ...]
@@ -26,11 +30,16 @@ class Schedule:
     critical_path: tuple[int, ...]
     mults: int
     adds: int
+    interval: int = 0
+
+    def __post_init__(self):
+        if not self.interval:
+            object.__setattr__(self, "interval", self.timing.cycle)
 
     @property
-    def interval(self) -> int:
-        """Flops between successive torque sets in the systolic pipeline (the cycle C)."""
-        return self.timing.cycle
+    def waits(self) -> int:
+        """Flops on the critical path spent waiting for a VAMP (0 for an ASAP schedule)."""
+        return self.latency - self.mults * self.timing.mult - self.adds * self.timing.add
 
     def verify(self, graph: Graph) -> None:
         """Every node starts after its operands finish and lasts its op's duration."""
@@ -55,10 +64,8 @@ def schedule_asap(graph: Graph, timing: Timing = Timing(), verify: bool = True) 
         start.append(s)
         finish.append(s + duration[nd.op])
     last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
-    path = _critical_path(graph, finish, last.node)     # on the ASAP times: delays below never bind
-    _delay_source_ops(graph, timing, start, finish)
-    mults = sum(timing.path_counts(graph.nodes[i].op)[0] for i in path)
-    adds = sum(timing.path_counts(graph.nodes[i].op)[1] for i in path)
+    path, mults, adds = critical_path_counts(graph, timing, finish, last.node)  # ASAP times:
+    _delay_source_ops(graph, timing, start, finish)                     # delays below never bind
     sched = Schedule(timing, tuple(start), tuple(finish), finish[last.node], tuple(path), mults, adds)
     if verify:
         sched.verify(graph)
@@ -81,7 +88,15 @@ def _delay_source_ops(graph: Graph, timing: Timing, start: list[int], finish: li
         start[i] = finish[i] - timing.duration(nodes[i].op)
 
 
-def _critical_path(graph: Graph, finish: list[int], end: int) -> list[int]:
+def critical_path_counts(graph: Graph, timing: Timing, finish, end: int):
+    """The critical path ending at node `end` and its (Mults, Addns) in the paper's accounting."""
+    path = _critical_path(graph, finish, end)
+    mults = sum(timing.path_counts(graph.nodes[i].op)[0] for i in path)
+    adds = sum(timing.path_counts(graph.nodes[i].op)[1] for i in path)
+    return path, mults, adds
+
+
+def _critical_path(graph: Graph, finish, end: int) -> list[int]:
     """Walk back from `end` through the operand that finished last (the binding dependency)."""
     path = [end]
     node = graph.nodes[end]

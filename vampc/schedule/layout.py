@@ -1,0 +1,247 @@
+"""Layouts: which VAMPs run which ops, and how often a new torque set enters (DESIGN §6).
+
+A layout binds every compute node of the graph to a *unit* — one VAMP, or three for an MM — and fixes
+the period P (ticks between successive torque sets) and the buffer clock B. Every VAMP of a unit runs
+one slot per node bound to the unit.
+
+systolic   one unit per op, P = B = C (the basic cycle, 4 flops): a new torque set every C ticks
+           (Figures III.1, VI.3). The ASAP schedule is kept as it is.
+folded     the paper's single device (Figure VI.1a): one recursion node's VAMPs (linear) or one
+           tier's (log) run every joint or tier in turn. Ops are bound by role: in the linear graph
+           op T4 of every backward node runs on one unit, and so on for each name; in the log graph
+           the combining node at position p of its tier runs on device node p (leaves and the
+           non-propagated variables are dealt round the device nodes), again one unit per op name.
+           The forward pass has its own device unless `share_passes` (Figure VI.1b) puts its ops on
+           the backward device's units, which are idle by then. The schedule is a list schedule
+           under that binding (below); one torque set at a time: P is the span of one set, rounded
+           up to a multiple of B = C.
+
+The list schedule (`schedule_bound`) takes the compute nodes most urgent first (by the latest start
+that keeps the ASAP latency: a topological order, and an op with slack never takes a unit from one on
+the critical path) and starts each at the earliest tick that (1) follows its operands,
+(2) is no earlier than its ASAP start (an op that reads only inputs and constants starts as late as its
+consumers allow, as in the systolic schedule, so no result waits long), (3) leaves its unit free: no two
+ops of one unit overlap, and (4) lets the buffer capture the unit's previous result: a unit's next dump
+shows no earlier than the end of the block in which its previous result appeared (so every later
+reader finds that result on the Result or in a buffer stage). The latency is then the ASAP latency
+plus whatever (3) and (4) cost; the report shows both.
+"""
+from __future__ import annotations
+
+import json
+import math
+from bisect import bisect_right
+from dataclasses import dataclass
+
+from vampc.dataflow.graph import Graph
+from vampc.dataflow.ops import VAMPS_PER_OP, Op, Timing
+from vampc.errors import VampcError, VampcInternalError
+from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
+
+LAYOUTS = ("systolic", "folded")
+
+
+@dataclass(frozen=True)
+class Layout:
+    """A binding of every compute node to a unit, and the period and buffer clock."""
+
+    name: str
+    units: tuple[int, ...]        # per graph node id: its unit, -1 for inputs and constants
+    unit_vamps: tuple[int, ...]   # VAMPs of each unit (3 for an MM group)
+    period: int
+    clock: int
+    share_passes: bool = False
+
+    def verify(self, graph: Graph) -> None:
+        """Compute nodes are bound to units of their size; the period is a multiple of the clock."""
+        if len(self.units) != len(graph.nodes):
+            raise VampcInternalError("layout: one unit per graph node expected")
+        for nd in graph.nodes:
+            u = self.units[nd.id]
+            if nd.op.is_compute and not (0 <= u < len(self.unit_vamps)
+                                         and self.unit_vamps[u] == VAMPS_PER_OP[nd.op]):
+                raise VampcInternalError(f"node {nd.label}: bound to unit {u} of the wrong size")
+            if not nd.op.is_compute and u != -1:
+                raise VampcInternalError(f"node {nd.label}: an input or constant bound to a unit")
+        if self.clock < 1 or self.period % self.clock:
+            raise VampcInternalError(f"layout: period {self.period} is not a multiple of the "
+                                     f"buffer clock {self.clock}")
+
+
+def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
+                        share_passes: bool = False, verify: bool = True) -> tuple[Layout, Schedule]:
+    """The layout `name` of `graph` and the schedule it runs."""
+    if name not in LAYOUTS:
+        raise VampcError(f"unknown layout {name!r} (choose from {', '.join(LAYOUTS)})")
+    asap = schedule_asap(graph, timing, verify)
+    if name == "systolic":
+        if share_passes:
+            raise VampcError("--share-passes needs --layout folded")
+        layout = systolic_layout(graph, asap)
+        if verify:
+            layout.verify(graph)
+        return layout, asap
+    units, sizes = _folded_binding(graph, share_passes)
+    sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=verify)
+    layout = Layout(name, units, sizes, sched.interval, timing.cycle, share_passes)
+    if verify:
+        layout.verify(graph)
+    return layout, sched
+
+
+def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
+    """One unit per compute node, in graph order; P = B = the schedule's interval."""
+    units, sizes = [-1] * len(graph.nodes), []
+    for nd in graph.compute_nodes():
+        units[nd.id] = len(sizes)
+        sizes.append(VAMPS_PER_OP[nd.op])
+    return Layout("systolic", tuple(units), tuple(sizes), sched.interval, sched.interval)
+
+
+# --- binding by role -----------------------------------------------------------------------------
+
+def _folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """Units by role: (device, device node, op name). The forward pass's roles go onto the backward
+    device's units of the same size when `share_passes`."""
+    device_node = _device_nodes(graph)
+    roles: dict[tuple, int] = {}
+    sizes: list[int] = []
+    units = [-1] * len(graph.nodes)
+    forward: list = []
+    for nd in graph.compute_nodes():
+        dev, pos = device_node(nd)
+        role = (dev, pos, nd.name, nd.op is Op.MM)
+        if share_passes and dev == "fwd":
+            forward.append((nd, role))
+            continue
+        if role not in roles:
+            roles[role] = len(sizes)
+            sizes.append(VAMPS_PER_OP[nd.op])
+        units[nd.id] = roles[role]
+    if forward:
+        _share(forward, roles, sizes, units)
+    return tuple(units), tuple(sizes)
+
+
+def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
+    """Put the forward roles on the backward units, in order, matching unit sizes (MM groups onto
+    MM groups); a forward role that finds no free unit of its size gets a new one."""
+    free = {3: [u for u, s in enumerate(sizes) if s == 3], 1: [u for u, s in enumerate(sizes) if s == 1]}
+    taken: dict[tuple, int] = {}
+    for nd, role in forward:
+        if role not in taken:
+            size = VAMPS_PER_OP[nd.op]
+            if free[size]:
+                taken[role] = free[size].pop(0)
+            else:
+                taken[role] = len(sizes)
+                sizes.append(size)
+        units[nd.id] = taken[role]
+
+
+def _device_nodes(graph: Graph):
+    """node -> (device, position on the device): linear "bwd"/"npv"/"fwd" at position 0; log: the
+    position of its recursion node in its tier, leaves and non-propagated groups dealt round."""
+    if graph.recursion == "linear":
+        return lambda nd: (nd.section, 0)
+    meta = dict(graph.meta)
+    place = {}
+    for section in ("bwd", "fwd"):
+        rows = json.loads(meta[f"{section}_nodes"])
+        combining = [r for r in rows if r[4] > 0]
+        width = max((sum(1 for r in combining if r[4] == t) for t in {r[4] for r in combining}),
+                    default=1)
+        tiers = max((r[4] for r in rows), default=0)
+        seen: dict[int, int] = {}
+        leaf = 0
+        for group, _a, _k, _b, tier in rows:
+            if tier == 0:
+                place[(section, group)] = leaf % width
+                leaf += 1
+            else:
+                place[(section, group)] = seen.get(tier, 0)
+                seen[tier] = seen.get(tier, 0) + 1
+        if section == "bwd":
+            npv_width = max(1, math.ceil(graph.n / max(tiers, 1)))
+    return lambda nd: ((nd.section, (nd.group - 1) % npv_width) if nd.section == "npv"
+                       else (nd.section, place[(nd.section, nd.group)]))
+
+
+# --- the list schedule ---------------------------------------------------------------------------
+
+def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, clock: int,
+                   verify: bool = True) -> Schedule:
+    """List-schedule `graph` with every compute node on its unit (see the module docstring); one
+    torque set at a time: the period is the span of a set rounded up to a multiple of `clock`."""
+    duration = timing.durations
+    nodes = graph.nodes
+    height = _heights(graph, duration)
+    # urgent first: by the latest start that keeps the ASAP latency (a topological order), so an op
+    # with slack never takes a unit from one on the critical path
+    order = sorted((nd.id for nd in nodes if nd.op.is_compute),
+                   key=lambda i: (-height[i] - duration[nodes[i].op], asap.start[i], i))
+    start = list(asap.start)
+    finish = list(asap.finish)
+    busy: list[list[tuple[int, int]]] = [[] for _ in sizes]   # per unit: (start, finish), sorted
+    for i in order:
+        nd = nodes[i]
+        ready = max([finish[a] for a in nd.args if nodes[a].op.is_compute] + [asap.start[i]])
+        t = _earliest(busy[units[i]], ready, duration[nd.op], clock)
+        start[i], finish[i] = t, t + duration[nd.op]
+        spans = busy[units[i]]
+        spans.insert(bisect_right(spans, (t, finish[i])), (t, finish[i]))
+    latency = max(finish[o.node] for o in graph.outputs)
+    span = max(finish[i] for i in order) + 1      # ops no torque reads may finish after the last
+    period = -(-span // clock) * clock
+    last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
+    path, mults, adds = critical_path_counts(graph, timing, finish, last.node)
+    sched = Schedule(timing, tuple(start), tuple(finish), latency, tuple(path), mults, adds, period)
+    if verify:
+        sched.verify(graph)
+        _verify_units(graph, sched, units, clock)
+    return sched
+
+
+def _earliest(spans: list[tuple[int, int]], ready: int, length: int, clock: int) -> int:
+    """The first start t >= ready at which [t, t + length) fits between the unit's spans, each dump
+    showing no earlier than the end of the block in which the previous one showed."""
+    t = ready
+    k = bisect_right(spans, (t, math.inf))
+    while True:
+        prev = spans[k - 1] if k > 0 else None
+        if prev is not None:
+            t = max(t, prev[1], _captured(prev[1], clock) - length)
+        nxt = spans[k] if k < len(spans) else None
+        if nxt is None or (t + length <= nxt[0] and nxt[1] >= _captured(t + length, clock)):
+            return t
+        k += 1
+
+
+def _captured(emit: int, clock: int) -> int:
+    """The earliest next emit of a unit whose value appeared at `emit`: the next block's start."""
+    return (emit // clock + 1) * clock
+
+
+def _heights(graph: Graph, duration) -> list[int]:
+    """Longest path (ticks) from each node to the end of any output (the list priority)."""
+    height = [0] * len(graph.nodes)
+    for nd in reversed(graph.nodes):
+        d = duration[nd.op]
+        for a in nd.args:
+            height[a] = max(height[a], height[nd.id] + d)
+    return height
+
+
+def _verify_units(graph: Graph, sched: Schedule, units, clock: int) -> None:
+    """No two ops of a unit overlap, and each unit's dumps leave the buffer time to capture."""
+    per: dict[int, list[tuple[int, int, int]]] = {}
+    for nd in graph.compute_nodes():
+        per.setdefault(units[nd.id], []).append((sched.start[nd.id], sched.finish[nd.id], nd.id))
+    for unit, spans in per.items():
+        spans.sort()
+        for (s0, f0, a), (s1, f1, b) in zip(spans, spans[1:]):
+            if s1 < f0 or f1 < _captured(f0, clock):
+                raise VampcInternalError(f"unit {unit}: nodes {graph.nodes[a].label} and "
+                                         f"{graph.nodes[b].label} collide")
+        if spans[-1][1] - spans[0][0] > sched.interval:
+            raise VampcInternalError(f"unit {unit}: busy longer than the period")
