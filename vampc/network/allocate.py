@@ -21,6 +21,8 @@ in Program Mode. Everything is counted in the report.
 """
 from __future__ import annotations
 
+import math
+from bisect import bisect_right
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph, InputKey
@@ -54,7 +56,7 @@ class _Allocator:
         self.stages: dict[int, int] = {}          # producer VAMP -> buffer stages needed
         self.buffer_of: dict[int, int] = {}       # producer VAMP -> buffer index (in order of first use)
         self.entries: dict[tuple[InputKey, int], int] = {}   # (key, block) -> port index
-        self.port_blocks: list[set[int]] = []                  # per port: blocks (mod K) taken
+        self.taken: dict[tuple[str, int], int] = {}            # (quantity, block mod K) -> ports
         self.port_entries: list[list[PortEntry]] = []
         self.port_size: list[int] = []
         self.by_quantity: dict[str, list[int]] = {}
@@ -141,18 +143,20 @@ class _Allocator:
         found = self.entries.get((key, block))
         if found is not None:
             return found
-        blocks = self.P // self.B
-        for p in self.by_quantity.get(key.quantity, ()):
-            if block % blocks not in self.port_blocks[p]:
-                break
+        # First fit: the ports of a quantity taking this block of the period are always the first
+        # `taken` of them, so the next one (or a new port) is the first free one.
+        at = (key.quantity, block % (self.P // self.B))
+        taken = self.taken.get(at, 0)
+        ports = self.by_quantity.setdefault(key.quantity, [])
+        if taken < len(ports):
+            p = ports[taken]
         else:
             p = len(self.port_entries)
-            self.port_blocks.append(set())
             self.port_entries.append([])
             self.port_size.append(9 if key.quantity == "A" else 3)
-            self.by_quantity.setdefault(key.quantity, []).append(p)
+            ports.append(p)
             self.port_operands.append(Operand((Tap("port", p),)))
-        self.port_blocks[p].add(block % blocks)
+        self.taken[at] = taken + 1
         self.port_entries[p].append(PortEntry(key, block))
         self.entries[(key, block)] = p
         return p
@@ -283,10 +287,11 @@ def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
     out = {}
     P = net.period
     for v in net.vamps:
-        emits = [s.emit for s in v.slots]
-        for k, s in enumerate(v.slots):
-            later = [e for e in emits if e > s.emit]
-            out[(v.index, k)] = (s.emit, min(later) if later else min(emits) + P)
+        order = sorted(range(len(v.slots)), key=lambda k: v.slots[k].dump)
+        for pos, k in enumerate(order):
+            nxt = v.slots[order[pos + 1]].emit if pos + 1 < len(order) else \
+                v.slots[order[0]].emit + P
+            out[(v.index, k)] = (v.slots[k].emit, nxt)
     return out
 
 
@@ -295,12 +300,10 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
     the slot, the tick and the operand."""
     wins = slot_windows(net)
-    slot_of = {}
-    for v in net.vamps:
-        for k, s in enumerate(v.slots):
-            slot_of.setdefault(s.node, (v.index, k))
+    slot_of = {(v.index, s.node): k for v in net.vamps for k, s in enumerate(v.slots)}
+    ports = _PortIndex(net)
     P, B = net.period, net.clock
-    checked: dict[tuple[int, int, int], bool] = {}     # (id(operand), latch, arg) -> ok
+    checked: set = set()     # (id(operand), latch, arg) already found right
     for v in net.vamps:
         _verify_slots(v, P)
         for k, s in enumerate(v.slots):
@@ -309,8 +312,9 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
                                               ("B", v.b[s.sel_b], s.latch_b, nd.args[1])):
                 key = (id(operand), latch, arg)
                 if key not in checked:
-                    checked[key] = True
-                    _verify_operand(net, graph, wins, slot_of, v, k, name, operand, latch, arg, B)
+                    checked.add(key)
+                    _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch,
+                                    arg, B)
 
 
 def _verify_slots(v: Vamp, P: int) -> None:
@@ -326,20 +330,20 @@ def _verify_slots(v: Vamp, P: int) -> None:
             raise VampcInternalError(f"VAMP {v.index}: slots {k0} and {k1} overlap")
 
 
-def _verify_operand(net, graph, wins, slot_of, v, k, name, operand, latch, arg, B) -> None:
+def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch, arg, B) -> None:
     src = graph.nodes[arg]
     for tap in operand.taps:
         if tap.kind == "const":
             ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
             lo, hi = -float("inf"), float("inf")
         elif tap.kind == "port":
-            lo, hi, key = _port_entry_window(net, tap.index, latch, B)
+            lo, hi, key = ports.showing(tap.index, latch)
             ok = src.op is Op.INPUT and key == src.key
         else:
             vamp = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
             if not (tap.kind == "vamp" or 1 <= tap.stage <= net.buffers[tap.index].stages):
                 raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
-            src_slot = next((j for j, s in enumerate(net.vamps[vamp].slots) if s.node == arg), None)
+            src_slot = slot_of.get((vamp, arg))
             ok = src_slot is not None
             emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
             lo, hi = (result_window(emit, nxt) if tap.kind == "vamp"
@@ -352,23 +356,25 @@ def _verify_operand(net, graph, wins, slot_of, v, k, name, operand, latch, arg, 
                                      f"{tap}'s window [{lo}, {hi})")
 
 
-def _port_entry_window(net: Network, port: int, tick: int, B: int):
-    """The entry of `port` showing at absolute tick `tick` (set 0) and its window."""
-    entries = net.ports[port].entries
-    K = net.period // B
-    block = tick // B
-    best = None
-    for j, e in enumerate(entries):
-        back = (block - e.block) % K          # blocks since this entry was last written
-        if best is None or back < best[0]:
-            best = (back, j)
-    if best is None:
-        return 0, 0, None
-    e = entries[best[1]]
-    written = block - best[0]
-    nxt = entries[(best[1] + 1) % len(entries)]
-    gap = ((nxt.block - e.block - 1) % K) + 1
-    lo, hi = port_window(written, written + gap, B)
-    if written != e.block:                    # the entry of another set
-        return lo, hi, None
-    return lo, hi, e.key
+class _PortIndex:
+    """Which entry of a port shows at a tick: each port's entries sorted by block within the period."""
+
+    def __init__(self, net: Network):
+        self.net, self.B, self.K = net, net.clock, net.period // net.clock
+        self.order = [sorted((e.block % self.K, j) for j, e in enumerate(p.entries))
+                      for p in net.ports]
+
+    def showing(self, port: int, tick: int):
+        """(first, end, key): the window of the entry a port shows at absolute tick `tick` (set 0),
+        and its key; key None if that entry belongs to another set or the port has none."""
+        order = self.order[port]
+        if not order:
+            return 0, 0, None
+        block = tick // self.B
+        at = bisect_right(order, (block % self.K, math.inf)) - 1     # -1: the last, a period ago
+        e = self.net.ports[port].entries[order[at][1]]
+        nxt = order[(at + 1) % len(order)][0]
+        gap = ((nxt - order[at][0] - 1) % self.K) + 1
+        written = block - ((block - e.block) % self.K)
+        lo, hi = port_window(written, written + gap, self.B)
+        return lo, hi, (e.key if written == e.block else None)
