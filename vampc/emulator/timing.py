@@ -30,7 +30,7 @@ from graphlib import CycleError, TopologicalSorter
 from vampc.emulator.load import Loaded
 from vampc.emulator.rom import duration, reading_end
 from vampc.errors import VampcError
-from vampc.network.model import buffer_window, cyclic_gap, port_window
+from vampc.network.model import buffer_window, cyclic_gaps, port_window
 
 INF = math.inf
 
@@ -76,8 +76,15 @@ class _Deriver:
         for v, progs in enumerate(ld.programs):
             self.emits.append(sorted(((p.delay_r + 1) % self.P, k) for k, p in enumerate(progs)))
         self.ports = []         # per port: sorted (block mod K, entry index)
+        self.entry_gap = {}     # (port, entry) -> blocks until the port's next entry
         for p in ld.net.ports:
-            self.ports.append(sorted((e.block % self.K, j) for j, e in enumerate(p.entries)))
+            order = sorted((e.block % self.K, j) for j, e in enumerate(p.entries))
+            self.ports.append(order)
+            gaps = cyclic_gaps([b for b, _ in order], self.K)
+            self.entry_gap.update({(p.index, j): g or self.K for (_, j), g in zip(order, gaps)})
+        # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch
+        self.gaps = [tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
+                           for f in ("delay_r", "delay_a", "delay_b")) for progs in ld.programs]
 
     # --- which source a tap shows at a counter (counters only) ---------------------------------
     def showing(self, v: int, counter: int) -> int:
@@ -117,8 +124,7 @@ class _Deriver:
 
     # --- absolute timing in dataflow order ------------------------------------------------------
     def next_emit(self, v: int, k: int, emit: float) -> float:
-        dumps = [p.delay_r for p in self.ld.programs[v]]
-        return emit + cyclic_gap(dumps, k, self.P)
+        return emit + (self.gaps[v][0][k] or self.P)
 
     def window(self, tap, src: Source, done: dict) -> tuple[float, float, bool]:
         """[lo, hi) ticks (set 0) in which `tap` shows `src`; periodic: counters, True."""
@@ -127,16 +133,11 @@ class _Deriver:
             return -INF, INF, False
         if kind == "port":
             port, j = src[1], src[2]
-            entries = self.net.ports[port].entries
             if j is None:
                 raise VampcError(f"{self.ld.path}: port {port} holds no data (a program port) but "
                                  "an operand reads it")
-            order = self.ports[port]
-            at = next(i for i, (_, e) in enumerate(order) if e == j)
-            nxt = order[(at + 1) % len(order)][0]
-            gap = ((nxt - order[at][0] - 1) % self.K) + 1
-            block = entries[j].block
-            lo, hi = port_window(block, block + gap, self.B)
+            block = self.net.ports[port].entries[j].block
+            lo, hi = port_window(block, block + self.entry_gap[(port, j)], self.B)
             return lo, hi, False
         t = done[(src[1], src[2])]
         if tap.kind == "vamp":
@@ -193,16 +194,15 @@ class _Deriver:
         progs = self.ld.programs[v]
         prog = progs[k]
         reader = last - duration(prog.rom, self.ld.timing) + reading_end(prog.rom, self.ld.timing)
-        for name, t, delays in (("A", t_a, [p.delay_a for p in progs]),
-                                ("B", t_b, [p.delay_b for p in progs])):
-            gap = cyclic_gap(delays, k, self.P)
+        for name, t, gaps, mine in (("A", t_a, self.gaps[v][1], prog.delay_a),
+                                    ("B", t_b, self.gaps[v][2], prog.delay_b)):
+            gap = gaps[k]
             if t is not None and t != -INF:
                 if reader - t >= gap:
                     self.fail(v, k, f"operand {name} latched at tick {t:g} is re-latched at tick "
                                     f"{t + gap:g}, before the micro-step at tick {reader:g} that "
                                     f"still reads it (delay-R {prog.delay_r})")
                 continue
-            mine = delays[k]
             if (reader - mine) % self.P >= gap:
                 self.fail(v, k, f"operand {name} latched at counter {mine} is re-latched at counter "
                                 f"{(mine + gap) % self.P}, before the micro-step at counter "

@@ -85,10 +85,17 @@ def window(tap: Tap, clock: int, emit: float = 0, next_emit: float = 0, block: i
     return buffer_window(emit, next_emit, tap.stage, clock)
 
 
-def cyclic_gap(counters, k: int, period: int) -> int:
-    """Ticks from counter `counters[k]` to the next counter in the list, cyclically (P if alone)."""
-    here = counters[k]
-    return min(((c - here - 1) % period) + 1 for c in counters)
+def cyclic_gaps(counters, period: int) -> list[int]:
+    """For each counter of a VAMP's slots (say their delay-A values): the ticks until the next one
+    comes round, cyclically — P if it is alone, 0 if another slot has the same counter (two events
+    of one register in one tick)."""
+    order = sorted(range(len(counters)), key=lambda k: counters[k])
+    gaps = [period] * len(counters)
+    for pos, k in enumerate(order):
+        nxt = counters[order[(pos + 1) % len(order)]]
+        if len(order) > 1:
+            gaps[k] = (nxt - counters[k]) % period or (0 if nxt == counters[k] else period)
+    return gaps
 
 
 @dataclass(frozen=True, slots=True)

@@ -106,7 +106,8 @@ def word_number(word) -> int:
 
 def apply_word(table: list[list[int]] | None, word) -> list[list[int]]:
     """The slot table after a VAMP latches `word` (addressed to it): a compact word replaces the
-    table with one slot; an extended word sets one field, growing the table to reach its slot. The
+    table with one slot; an extended word sets one field of `table` (in place), growing it to reach
+    its slot. The
     fields of a new slot hold whatever the registers held before: None here (the loader refuses a
     program that leaves one so); the tick engine keeps its random register contents there. Rows are
     [delay-A, delay-B, delay-R, ROM, sel-A, sel-B]."""
@@ -115,7 +116,7 @@ def apply_word(table: list[list[int]] | None, word) -> list[list[int]]:
         return [[p.delay_a, p.delay_b, p.delay_r, p.rom, 0, 0]]
     address, value = int(word[1]), int(word[2])
     slot, f = divmod(address, ADDRESS)
-    table = [list(r) for r in (table or [])]
+    table = table if table is not None else []     # updated in place: a VAMP has many words
     while len(table) <= slot:
         table.append([None] * 6)
     if f < len(FIELDS):

@@ -14,33 +14,41 @@ inertials are summed into link k by the parallel-axis theorem. Gravity is [0, 0,
 frame, referred to O_0.
 
 The file is parsed by lxml with entities off and refused if it declares any (entity bombs, external
-entities). The elements vampc uses (<inertial>; a joint's type, <parent>, <child>, <origin>, <axis>, <limit>
-and <mimic>) are read from the lxml tree with yourdfpy's semantics (a missing <origin> is the identity, a
-missing <axis> is x, rpy are fixed-axis roll, pitch, yaw) and checked as they are read; the tests compare
-them with yourdfpy's. yourdfpy itself is not called: it makes Python objects of every element, visuals and
-collisions too, and spent 16 s of the 44 s a 100 000-joint chain took. Every step is O(n) in the number
-of links and joints (the tree walks are iterative, each joint is visited a bounded number of times, and
-Φ_k, p*_k and the bodies' inertias are computed as numpy stacks), and a chain of more than MAX_JOINTS
-(vampc/robot/dh.py) movable joints is refused. Every problem is a one-line VampcError
-"FILE: joint 'x': WHAT", "FILE: link 'x': WHAT" or "FILE: line N: WHAT".
+entities) before yourdfpy sees it; the structure and numbers vampc relies on are checked on that lxml tree
+too, so that yourdfpy (`URDF.load`, without scene graphs or meshes) never crashes on them, and whatever it
+still raises is one line "yourdfpy cannot read it (...)". yourdfpy reads the file rather than code of our
+own because its reading (default origin and axis, rpy order, which elements count) is the one the robotics
+tools around us share; it is linear, and the slowest step of a 100 000-joint load. Everything after it is
+O(n) in the number of links and joints: the tree walks (vampc/robot/urdf_tree.py) are iterative and visit
+each joint a bounded number of times, Φ_k, p*_k and the bodies' inertias are computed as numpy stacks, and
+the garbage collector is paused while loading. A chain of more than MAX_JOINTS (vampc/robot/dh.py) movable
+joints is refused. Every problem is a one-line VampcError "FILE: joint 'x': WHAT", "FILE: link 'x': WHAT"
+or "FILE: line N: WHAT"; a --lock of a fixed joint is a VampcWarning.
 """
 from __future__ import annotations
 
+import io
 import math
 import re
-from dataclasses import dataclass
+import warnings
 from pathlib import Path
 
 import numpy as np
 from lxml import etree
 
-from vampc.errors import located
+from vampc.errors import VampcWarning, located
 from vampc.gcpause import gc_paused
-from vampc.robot.chain import Chain, Joint, JointType, Limits
+from vampc.robot.chain import Chain, Joint, Limits
 from vampc.robot.dh import improper_inertias, inertia_problem, joint_count_problem
+from vampc.robot.urdf_tree import (
+    MOVABLE,
+    Tree,
+    check_joint_types,
+    choose_base,
+    choose_tip,
+    quoted,
+)
 
-MOVABLE = {"revolute": JointType.REVOLUTE, "continuous": JointType.REVOLUTE,
-           "prismatic": JointType.PRISMATIC}
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
 # Numeric attributes we read (element tag -> attribute -> how many numbers), and where they sit.
@@ -48,6 +56,8 @@ _NUMBERS = {"origin": {"xyz": 3, "rpy": 3}, "axis": {"xyz": 3}, "mass": {"value"
             "inertia": dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
             "limit": dict.fromkeys(("lower", "upper", "velocity", "effort"), 1),
             "mimic": dict.fromkeys(("multiplier", "offset"), 1)}
+_NUMBER_TAGS = {"link": {"origin", "mass", "inertia"},  # in <inertial>
+                "joint": {"origin", "axis", "limit", "mimic"}}
 # yourdfpy would default a missing ixx to 1.0 where urdfdom (and so Pinocchio) refuses: refuse too.
 _REQUIRED = {"mass": ("value",), "inertia": tuple(_NUMBERS["inertia"])}
 _IDENTITY = np.eye(4)
@@ -58,7 +68,8 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None) -> Chain:
     """Read a URDF and return the chain of movable joints from link `base` (default: the root) to link
     `tip` (default: the end of the only movable path). `lock` maps joint names to values at which they are
-    frozen (treated as fixed); a locked joint off the chain freezes everything below it too."""
+    frozen (treated as fixed); a locked joint off the chain freezes everything below it too. Locking a fixed
+    joint has no effect and warns (VampcWarning)."""
     path = Path(path)
     with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
         return _load(path, base, tip, lock)
@@ -66,11 +77,11 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
 
 def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None) -> Chain:
     robot = _read_robot(_parse_xml(path), path)
-    tree = _Tree.build(robot, path)
+    tree = Tree.build(robot, path)
     lock = _check_lock(lock or {}, tree, path)
-    base = _choose_base(tree, base, path)
-    _check_joint_types(tree, base, path)
-    tip = _choose_tip(tree, base, tip, lock, path)
+    base = choose_base(tree, base, path)
+    check_joint_types(tree, base, path)
+    tip = choose_tip(tree, base, tip, lock, path)
     route = tree.route(base, tip)
     chain = [j for j in route if j.type in MOVABLE and j.name not in lock]
     _check_chain(chain, base, tip, path)
@@ -96,6 +107,7 @@ def _parse_xml(path: Path):
     except etree.XMLSyntaxError as exc:
         raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}") from None
     _refuse_entities(root, path)
+    _check_xml(root, path)
     return root
 
 
@@ -124,75 +136,33 @@ def _refuse_entities(root, path: Path) -> None:
         raise located(path, f"line {node.sourceline}", f"undefined XML entity {node.text}")
 
 
-# --- reading: the elements vampc uses, with yourdfpy's semantics ------------------------------------
-
-@dataclass(frozen=True)
-class _Inertial:
-    """A link's <inertial>: mass, inertia about the centre of mass and the pose of that frame in the link
-    (identity without <origin>); mass or inertia None when its element is missing."""
-
-    mass: float | None
-    inertia: np.ndarray | None
-    origin: np.ndarray
-
-
-@dataclass(frozen=True)
-class _Link:
-    name: str
-    inertial: _Inertial | None
-
-
-@dataclass(frozen=True)
-class _Limit:
-    """<limit>: each attribute None when not given."""
-
-    lower: float | None
-    upper: float | None
-    velocity: float | None
-    effort: float | None
-
-
-@dataclass(frozen=True)
-class _UrdfJoint:
-    """A <joint>: origin T_k (identity without <origin>), axis as written (x without <axis>), <limit>, and
-    the joint its <mimic> names (None without <mimic>)."""
-
-    name: str
-    type: str
-    parent: str
-    child: str
-    origin: np.ndarray
-    axis: tuple
-    limit: _Limit | None
-    mimic: str | None
-
-
-@dataclass(frozen=True)
-class _Robot:
-    name: str
-    links: tuple
-    joints: tuple
-
-
-def _read_robot(root, path: Path) -> _Robot:
-    """The robot's links and joints (in file order), checked as they are read so that every later step
-    may rely on names, numbers, parents and children being there."""
+def _check_xml(root, path: Path) -> None:
+    """Check the structure and numbers we rely on, so yourdfpy never crashes on them."""
     if etree.QName(root).localname != "robot" or root.get("name") is None:
         raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\">")
-    return _Robot(root.get("name"), _read_all(root, "link", _read_link, path),
-                  _read_all(root, "joint", _read_joint, path))
+    for kind in ("link", "joint"):
+        seen = set()
+        for el in root.iterchildren(kind):
+            name = _named(el, kind, path)
+            if name in seen:
+                raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
+            seen.add(name)
+            _check_children(el, kind, f"{kind} '{name}'", path)
+    for el in root.iterchildren("joint"):
+        for tag in ("parent", "child"):
+            if el.find(tag) is None or el.find(tag).get("link") is None:
+                raise located(path, f"joint '{el.get('name')}'", f"missing <{tag} link=\"...\"/>")
 
 
-def _read_all(root, kind: str, read, path: Path) -> tuple:
-    """Every <kind> child of the root (as yourdfpy: direct children only), each read by `read`."""
-    out, seen = [], set()
-    for el in root.iterchildren(kind):
-        name = _named(el, kind, path)
-        if name in seen:
-            raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
-        seen.add(name)
-        out.append(read(el, name, path))
-    return tuple(out)
+def _check_children(el, kind: str, where: str, path: Path) -> None:
+    """Check the numbers of a link's <inertial> or of a joint. One pass over the children: path searches
+    (findall("inertial/origin") and the like) took a quarter of a 100 000-joint load."""
+    children = (sub for inertial in el.iterchildren("inertial") for sub in inertial) if kind == "link" else el
+    tags = _NUMBER_TAGS[kind]
+    for sub in children:
+        tag = sub.tag
+        if tag in tags:
+            _check_numbers(sub, tag, where, path)
 
 
 def _named(el, kind: str, path: Path) -> str:
@@ -204,65 +174,15 @@ def _named(el, kind: str, path: Path) -> str:
     return name
 
 
-def _read_link(el, name: str, path: Path) -> _Link:
-    inertial = _first_children(el).get("inertial")
-    if inertial is None:
-        return _Link(name, None)
-    where = f"link '{name}'"
-    sub = _first_children(inertial)
-    origin, mass, inertia = [_numbers(sub.get(tag), where, path) for tag in ("origin", "mass", "inertia")]
-    return _Link(name, _Inertial(mass=None if mass is None else mass["value"][0],
-                                 inertia=None if inertia is None else _inertia_matrix(inertia),
-                                 origin=_pose(origin)))
-
-
-def _read_joint(el, name: str, path: Path) -> _UrdfJoint:
-    where = f"joint '{name}'"
-    sub = _first_children(el)
-    tags = ("origin", "axis", "limit", "mimic")
-    origin, axis, limit, _ = [_numbers(sub.get(tag), where, path) for tag in tags]
-    parent, child = [_end(sub.get(tag), tag, where, path) for tag in ("parent", "child")]
-    mimic = sub.get("mimic")
-    return _UrdfJoint(name=name, type=el.get("type"), parent=parent, child=child, origin=_pose(origin),
-                      axis=(axis or {}).get("xyz", (1.0, 0.0, 0.0)), limit=_limit(limit),
-                      mimic=None if mimic is None else str(mimic.get("joint")))
-
-
-def _end(el, tag: str, where: str, path: Path) -> str:
-    """The link named by a joint's <parent> or <child>."""
-    link = None if el is None else el.get("link")
-    if link is None:
-        raise located(path, where, f"missing <{tag} link=\"...\"/>")
-    return link
-
-
-def _limit(attrs: dict | None) -> _Limit | None:
-    if attrs is None:
-        return None
-    return _Limit(*(attrs[k][0] if k in attrs else None for k in _NUMBERS["limit"]))
-
-
-def _first_children(el) -> dict:
-    """Tag -> first child with that tag (yourdfpy's `find`; one pass over the children is cheaper)."""
-    out = {}
-    for sub in el:
-        out.setdefault(sub.tag, sub)
-    return out
-
-
-def _numbers(el, where: str, path: Path) -> dict | None:
-    """The numeric attributes of `el` (attribute -> tuple of floats), checked: required ones present, each
-    the right count of finite numbers. None when `el` is None."""
-    if el is None:
-        return None
-    attrs = dict(el.items())
-    missing = [a for a in _REQUIRED.get(el.tag, ()) if a not in attrs]
+def _check_numbers(el, tag: str, where: str, path: Path) -> None:
+    """Required attributes present; each numeric one (in file order) the right count of finite numbers."""
+    missing = [a for a in _REQUIRED.get(tag, ()) if el.get(a) is None]
     if missing:
-        raise located(path, where, f"<{el.tag}> lacks {', '.join(missing)}")
-    out = {}
-    for attr, count in _NUMBERS[el.tag].items():
-        raw = attrs.get(attr)
-        if raw is None:
+        raise located(path, where, f"<{tag}> lacks {', '.join(missing)}")
+    counts = _NUMBERS[tag]
+    for attr, raw in el.items():
+        count = counts.get(attr)
+        if count is None:
             continue
         try:  # float() takes the one number with any spaces around it, as split() then float() would
             values = (float(raw),) if count == 1 else tuple(map(float, raw.split()))
@@ -270,182 +190,51 @@ def _numbers(el, where: str, path: Path) -> dict | None:
             values = ()
         if len(values) != count or not all(map(math.isfinite, values)):
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
-            raise located(path, where, f"<{el.tag} {attr}=\"{raw}\">: expected {noun}")
-        out[attr] = values
-    return out
+            raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
 
 
-def _pose(origin: dict | None) -> np.ndarray:
-    """An <origin> as yourdfpy reads it (trimesh's compose_matrix): T(xyz) Rz(yaw) Ry(pitch) Rx(roll),
-    xyz and rpy zero when not given; the identity without <origin>."""
-    if origin is None:
-        return _IDENTITY
-    x, y, z = origin.get("xyz", (0.0, 0.0, 0.0))
-    roll, pitch, yaw = origin.get("rpy", (0.0, 0.0, 0.0))
-    si, sj, sk = math.sin(roll), math.sin(pitch), math.sin(yaw)
-    ci, cj, ck = math.cos(roll), math.cos(pitch), math.cos(yaw)
-    cc, cs, sc, ss = ci * ck, ci * sk, si * ck, si * sk
-    return np.array([[cj * ck, sj * sc - cs, sj * cc + ss, x],
-                     [cj * sk, sj * ss + cc, sj * cs - sc, y],
-                     [-sj, cj * si, cj * ci, z],
-                     [0.0, 0.0, 0.0, 1.0]])
+def _read_robot(root, path: Path):
+    """yourdfpy's `Robot` of the (checked) tree: links and joints in file order."""
+    import yourdfpy  # costs about a second, so only when a URDF is really loaded
+
+    data = etree.tostring(root)  # the root element only: the (already vetted) DOCTYPE stays behind
+    try:
+        urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
+                                  build_collision_scene_graph=False, load_collision_meshes=False)
+    except Exception as exc:  # noqa: BLE001 - on bad input yourdfpy raises anything (KeyError, AttributeError...)
+        raise located(path, "", f"yourdfpy cannot read it ({type(exc).__name__}: {_one_line(exc)})") from None
+    return urdf.robot
 
 
-def _inertia_matrix(attrs: dict) -> np.ndarray:
-    (ixx,), (ixy,), (ixz,), (iyy,), (iyz,), (izz,) = (attrs[k] for k in _NUMBERS["inertia"])
-    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+def _one_line(exc: Exception) -> str:
+    return " ".join(str(exc).split())
 
 
-def _names(names, most: int = 10) -> str:
-    """Quoted names for a message; past `most`, a count of the rest (a message stays one readable line)."""
-    names = list(names)
-    shown = ", ".join(f"'{n}'" for n in names[:most])
-    return shown if len(names) <= most else f"{shown} and {len(names) - most} more"
+# --- lock and chain ----------------------------------------------------------------------------------
 
-
-# --- the kinematic tree ------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class _Tree:
-    """Links and joints by name, each link's parent joint and each link's child joints (file order)."""
-
-    links: dict
-    joints: dict
-    parent: dict
-    children: dict
-
-    @staticmethod
-    def build(robot, path: Path) -> _Tree:
-        """Index the robot; refuse dangling links, links with two parents and closed loops."""
-        links = {link.name: link for link in robot.links}
-        parent, children = {}, {name: [] for name in links}
-        for j in robot.joints:
-            for role, link in (("parent", j.parent), ("child", j.child)):
-                if link not in links:
-                    raise located(path, f"joint '{j.name}'", f"{role} link '{link}' is not defined")
-            if j.child in parent:
-                both = _names([parent[j.child].name, j.name]).replace(", ", " and ")
-                raise located(path, f"link '{j.child}'", f"has two parent joints ({both}); "
-                                                         "closed loops are not supported")
-            parent[j.child] = j
-            children[j.parent].append(j)
-        tree = _Tree(links, {j.name: j for j in robot.joints}, parent, children)
-        tree.check_loops(path)
-        return tree
-
-    def check_loops(self, path: Path) -> None:
-        """With one parent per link, a loop is a cycle of parent joints never reaching a root."""
-        done = set()
-        for start in self.links:
-            seen = {}  # link -> its step on this walk: a dict, since a list's `in` would make this O(n²)
-            link = start
-            while link in self.parent and link not in done:
-                if link in seen:
-                    loop = [self.parent[x].name for x in list(seen)[seen[link]:]]
-                    raise located(path, f"joint '{loop[0]}'", f"closes a loop through joints {_names(loop)}; "
-                                                             "closed loops are not supported")
-                seen[link] = len(seen)
-                link = self.parent[link].parent
-            done.update(seen)
-
-    def below(self, link: str) -> list:
-        """Every joint in the subtree under `link`, depth first."""
-        out, stack = [], list(reversed(self.children[link]))
-        while stack:
-            j = stack.pop()
-            out.append(j)
-            stack.extend(reversed(self.children[j.child]))
-        return out
-
-    def ancestors(self, link: str):
-        """Joints from `link` up to its root, nearest first (a generator: callers may stop early)."""
-        while link in self.parent:
-            yield self.parent[link]
-            link = self.parent[link].parent
-
-    def route(self, base: str, tip: str) -> list:
-        """The joints from `base` down to `tip` (tip is known to lie below base)."""
-        out = []
-        for j in self.ancestors(tip):
-            if j.child == base:
-                break
-            out.append(j)
-        return out[::-1]
-
-
-def _check_lock(lock: dict, tree: _Tree, path: Path) -> dict:
+def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
+    """The --lock values as floats, every name a joint of the file. A fixed joint is dropped with a warning:
+    it has no position to lock (kept, it would also freeze everything below it when off the chain)."""
     out = {}
     for name, value in lock.items():
         if name not in tree.joints:
             raise located(path, f"lock {name}", f"no joint named '{name}'")
         try:
-            out[name] = float(value)
+            number = float(value)
         except (TypeError, ValueError):
-            out[name] = math.nan
-        if not math.isfinite(out[name]):
+            number = math.nan
+        if not math.isfinite(number):
             raise located(path, f"lock {name}", f"value {value!r} is not a finite number")
+        if tree.joints[name].type == "fixed":
+            warnings.warn(VampcWarning(f"{path}: joint '{name}' is fixed; --lock {name}=... has no effect"),
+                          stacklevel=2)
+        else:
+            out[name] = number
     return out
 
 
-def _choose_base(tree: _Tree, base: str | None, path: Path) -> str:
-    if base is not None:
-        if base not in tree.links:
-            raise located(path, "", f"unknown base link '{base}'")
-        return base
-    roots = [name for name in tree.links if name not in tree.parent]
-    if len(roots) != 1:
-        raise located(path, "", f"several root links ({_names(roots)}); choose one with --base")
-    return roots[0]
-
-
-def _check_joint_types(tree: _Tree, base: str, path: Path) -> None:
-    for j in tree.below(base):
-        if j.type in ("floating", "planar"):
-            raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
-        if j.type != "fixed" and j.type not in MOVABLE:
-            raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
-        if j.type in MOVABLE and not math.hypot(*j.axis) > 1e-9:
-            raise located(path, f"joint '{j.name}'", "axis is zero")
-
-
-def _choose_tip(tree: _Tree, base: str, tip: str | None, lock: dict, path: Path) -> str:
-    if tip is not None:
-        if tip not in tree.links:
-            raise located(path, "", f"unknown tip link '{tip}'")
-        if tip != base and base not in {j.parent for j in tree.ancestors(tip)}:
-            raise located(path, "", f"no path from base link '{base}' down to tip link '{tip}'")
-        return tip
-    free = [j for j in tree.below(base) if j.type in MOVABLE and j.name not in lock]
-    if not free:
-        raise located(path, "", f"no movable joints below base link '{base}'")
-    ends = [_descend(tree, j.child) for j in _lowest(tree, free)]
-    if len(ends) > 1:
-        raise located(path, "", f"several movable branches below base link '{base}'; "
-                                f"choose --tip from {_names(ends)}")
-    return ends[0]
-
-
-def _lowest(tree: _Tree, free: list) -> list:
-    """The joints of `free` with none of the others below them. Each walk up from a joint marks the joints
-    above it and stops at one already marked, so every joint is marked once: O(n), where collecting all
-    the ancestors of every joint would be O(n²) on a long chain."""
-    above = set()
-    for j in free:
-        for a in tree.ancestors(j.parent):
-            if a.name in above:
-                break
-            above.add(a.name)
-    return [j for j in free if j.name not in above]
-
-
-def _descend(tree: _Tree, link: str) -> str:
-    """Follow single (fixed) children down, so a tool link bolted on the last link becomes the tip."""
-    while len(tree.children[link]) == 1:
-        link = tree.children[link][0].child
-    return link
-
-
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
+    """Refuse an empty chain, one longer than MAX_JOINTS, and mimic joints on it."""
     if not chain:
         raise located(path, "", f"no movable joints between base link '{base}' and tip link '{tip}'")
     problem = joint_count_problem(len(chain))
@@ -453,13 +242,13 @@ def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
         raise located(path, "", problem)
     for j in chain:
         if j.mimic is not None:
-            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic}'; mimic joints are not "
+            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic.joint}'; mimic joints are not "
                                                      f"supported (lock it with --lock {j.name}=VALUE)")
 
 
 # --- rigid bodies ------------------------------------------------------------------------------------
 
-def _bodies(tree: _Tree, base: str, chain: list, route: set, lock: dict, path: Path):
+def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Path):
     """Assign every link below `base` to a body 0..n (the chain link it is rigidly attached to) and give its
     pose in that body's reference frame (body 0: the base link; body k: the child link of chain joint k).
 
@@ -477,19 +266,19 @@ def _bodies(tree: _Tree, base: str, chain: list, route: set, lock: dict, path: P
             elif j.type in MOVABLE and j.name not in lock and not frozen:
                 stray.append(j.name)
             else:
-                frames[j.child] = frames[link] @ j.origin @ _motion(j, lock.get(j.name, 0.0))
+                frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
                 body_of[j.child] = body_of[link]
                 stack.append((j.child, frozen or (j.name in lock and j.name not in route)))
     if stray:
         order = {name: i for i, name in enumerate(tree.joints)}
         stray.sort(key=order.__getitem__)  # file order
-        more = f" (also {_names(stray[1:])})" if len(stray) > 1 else ""
+        more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
         raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
                                 f"--lock {stray[0]}=VALUE or choose --tip{more}")
     return frames, body_of
 
 
-def _build(name: str, tree: _Tree, chain: list, frames: dict, body_of: dict, tip: str, path: Path) -> Chain:
+def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip: str, path: Path) -> Chain:
     """The Chain, every joint's Φ_k, p*_k and body computed for all joints at once (numpy stacks)."""
     r_a = _z_to(_unit(np.array([j.axis for j in chain])))  # R_{a_k}: e_z onto joint k's axis
     g = _reference_poses(chain, frames, r_a, tip)
@@ -505,7 +294,7 @@ def _build(name: str, tree: _Tree, chain: list, frames: dict, body_of: dict, tip
 def _reference_poses(chain: list, frames: dict, r_a: np.ndarray, tip: str) -> np.ndarray:
     """G_0..G_n as an (n + 1, 4, 4) stack: G_{k-1} = X T_k R_{a_k}, X the pose of joint k's parent link in
     its body; G_n the pose of the tip link in body n."""
-    g = np.array([frames[j.parent] @ j.origin for j in chain] + [frames[tip]])
+    g = np.array([frames[j.parent] @ _origin(j) for j in chain] + [frames[tip]])
     g[:-1, :3, :3] = g[:-1, :3, :3] @ r_a
     return g
 
@@ -519,20 +308,20 @@ def _members(body_of: dict) -> dict:
     return out
 
 
-def _body_inertias(tree: _Tree, members: dict, g: np.ndarray, frames: dict, path: Path):
+def _body_inertias(tree: Tree, members: dict, g: np.ndarray, frames: dict, path: Path):
     """Mass (n,), centre of mass (n, 3) and inertia about it (n, 3, 3), in O_k, of every body k = 1..n."""
     n = len(g) - 1
     body, names, parts = _inertial_parts(tree, members, n, path)
     inertia = np.array([p.inertia for p in parts])
     _check_inertias(inertia, names, path)
-    in_link = np.array([frames[name] @ p.origin for name, p in zip(names, parts)])
+    in_link = np.array([frames[name] @ _origin(p) for name, p in zip(names, parts)])
     pose = _rigid_inverse(g[1:])[body] @ in_link  # each inertial's frame in O_k
     rot = pose[:, :3, :3]
     return _sum_bodies(body, n, np.array([p.mass for p in parts]), pose[:, :3, 3],
                        rot @ inertia @ _transposed(rot))
 
 
-def _inertial_parts(tree: _Tree, members: dict, n: int, path: Path):
+def _inertial_parts(tree: Tree, members: dict, n: int, path: Path):
     """Every link of bodies 1..n that has an <inertial>: its body (0-based, as an array), names, inertials."""
     body, names, parts = [], [], []
     for k in range(1, n + 1):
@@ -551,7 +340,7 @@ def _inertial_parts(tree: _Tree, members: dict, n: int, path: Path):
     return np.array(body, dtype=int), names, parts
 
 
-def _check_mass(inertial: _Inertial, link: str, path: Path) -> None:
+def _check_mass(inertial, link: str, path: Path) -> None:
     if inertial.mass is None or inertial.inertia is None:
         missing = "<mass>" if inertial.mass is None else "<inertia>"
         raise located(path, f"link '{link}'", f"<inertial> has no {missing}")
@@ -599,6 +388,11 @@ def _positive(value) -> float | None:
 
 
 # --- small rigid-body algebra (each also on stacks: leading axes are batch axes) ---------------------
+
+def _origin(element) -> np.ndarray:
+    """A yourdfpy joint's or inertial's <origin> as a 4x4 pose (identity when the file gives none)."""
+    return _IDENTITY if element.origin is None else element.origin
+
 
 def _motion(j, q: float) -> np.ndarray:
     """The joint's own motion at position q (identity for a fixed joint)."""
