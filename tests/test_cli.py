@@ -104,7 +104,7 @@ def test_report_json_puma560_figures():
     rep = puma_json()
     assert (rep["joints"], rep["recursion"], rep["layout"]) == (6, "linear", "systolic")
     assert rep["paper"] == {"flops": 58, "mults": 15, "adds": 43}
-    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45}
+    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45, "waits": 0}
     assert rep["interval_flops"] == 4
     v = rep["vamps"]
     assert (v["total"], v["backward"], v["forward"]) == (180, 132, 48)
@@ -256,7 +256,7 @@ def test_report_json_puma560_log_recursion():
     rep = puma_json("--recursion", "log")
     assert (rep["recursion"], rep["prefix"], rep["interval_flops"]) == ("log", "sklansky", 4)
     assert rep["paper"] == {"flops": 39, "mults": 11, "adds": 28}
-    assert rep["latency"] == {"flops": 42, "mults": 12, "adds": 30}
+    assert rep["latency"] == {"flops": 42, "mults": 12, "adds": 30, "waits": 0}
 
 
 def test_report_json_puma560_log_uniform_leaves_vamps():

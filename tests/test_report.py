@@ -49,7 +49,7 @@ def test_rotary_arm_summary_n6(rotary6):
     rep = rotary6
     assert (rep["joints"], rep["recursion"], rep["layout"], rep["prismatic_joints"]) == (6, "linear",
                                                                                           "systolic", [])
-    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45}
+    assert rep["latency"] == {"flops": 61, "mults": 16, "adds": 45, "waits": 0}
     assert rep["paper"] == {"flops": 58, "mults": 15, "adds": 43}
     assert rep["interval_flops"] == 4
     v = rep["vamps"]

@@ -231,8 +231,9 @@ def _report(ctx, source, base, tip, lock, **opts) -> dict:
         _check_robot_options(ctx, opts)
         c = _compile(source, base, tip, lock, **opts)
     rep = summary(c)
+    from vampc.report.compare import compare_layouts, compare_prefixes
+    rep["layout_comparison"] = compare_layouts(c.chain, c.options)
     if c.graph.recursion == "log":
-        from vampc.report.compare import compare_prefixes
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
     return rep
 

@@ -137,6 +137,11 @@ def _program(net: Network, numbers, v: int, table, roots, path) -> tuple[Program
         for f, value in zip(FIELDS, row):
             if value is None:
                 raise VampcError(f"{path}: {where}: {f.replace('_', '-')} is never programmed")
+        for f in range(3):
+            if row[f] >= net.period:
+                raise VampcError(f"{path}: {where}: {FIELDS[f].replace('_', '-')} {row[f]} never "
+                                 f"matches the Cycle-Counter (0..{net.period - 1}: the period is "
+                                 f"{net.period})")
         if row[3] >= len(ROM):
             raise VampcError(f"{path}: {where}: ROM pointer {row[3]} is not in the ROM "
                              f"(0..{len(ROM) - 1})")

@@ -40,3 +40,37 @@ def render_comparison(rows: list[dict]) -> str:
         lines.append(f"{r['prefix']:<16}{r['latency_flops']:>9}{r['mults']:>6} + {r['adds']:<4}"
                      f"{r['vamps']:>8}{r['buffer_stages']:>9}{r['max_fan_out']:>9}")
     return "\n".join(lines) + "\n"
+
+
+LAYOUT_VARIANTS = (("systolic", "systolic", False), ("folded", "folded", False),
+                   ("folded, shared passes", "folded", True))
+
+
+def compare_layouts(chain, options: CompileOptions) -> list[dict]:
+    """Latency, interval, VAMPs and what the time-multiplexing costs, for the systolic layout and the
+    folded ones (other options as given)."""
+    from vampc.report.counts import hardware
+    rows = []
+    for label, layout, share in LAYOUT_VARIANTS:
+        c = compile_chain(chain, replace(options, layout=layout, share_passes=share, verify=False))
+        s, hw = c.schedule, hardware(c)
+        rows.append({"layout": label, "latency_flops": s.latency, "mults": s.mults, "adds": s.adds,
+                     "waits": s.waits, "interval_flops": s.interval, "vamps": len(c.network.vamps),
+                     "buffer_stages": c.network.buffer_stages, "mux_inputs": hw["mux_inputs"],
+                     "control_registers": hw["control_registers"],
+                     "host_writes_per_set": hw["host_writes_per_set"],
+                     "load_ticks": hw["load_ticks"]})
+    return rows
+
+
+def render_layouts(rows: list[dict]) -> str:
+    """A text table of compare_layouts' rows."""
+    head = (f"{'layout':<24}{'latency':>8}{'= M + A + wait':>16}{'interval':>10}{'VAMPs':>7}"
+            f"{'buffers':>9}{'mux in':>8}{'ctrl regs':>11}{'host wr':>9}{'load':>8}")
+    lines = ["layouts (same robot and recursion; latency and interval in flops):", head]
+    for r in rows:
+        lines.append(f"{r['layout']:<24}{r['latency_flops']:>8}{r['mults']:>6} + {r['adds']:<3} + "
+                     f"{r['waits']:<3}{r['interval_flops']:>9}{r['vamps']:>7}{r['buffer_stages']:>9}"
+                     f"{r['mux_inputs']:>8}{r['control_registers']:>11}"
+                     f"{r['host_writes_per_set']:>9}{r['load_ticks']:>8}")
+    return "\n".join(lines) + "\n"

@@ -80,10 +80,12 @@ def summary(c) -> dict:
         "joints": c.chain.n, "robot": c.chain.name, "prismatic_joints": prismatic_joints(c.chain),
         "joint_names": [j.name for j in c.chain.joints],
         "joint_types": [j.type.value for j in c.chain.joints],
-        "recursion": c.graph.recursion, "layout": "systolic",
-        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds},
+        "recursion": c.graph.recursion, "layout": c.options.layout,
+        "share_passes": c.options.share_passes,
+        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits},
         "paper": paper_latency(c.chain.n, c.graph.recursion),
         "interval_flops": s.interval,
+        "hardware": hardware(c),
         "vamps": vamp_counts(c),
         "buffers": {"chains": len(c.network.buffers), "stages": c.network.buffer_stages,
                     "scalars": 3 * c.network.buffer_stages},
@@ -96,6 +98,28 @@ def summary(c) -> dict:
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "uniform_leaves": c.options.uniform_leaves if c.graph.recursion == "log" else None,
         "prefix": c.options.prefix if c.graph.recursion == "log" else None,
+    }
+
+
+def hardware(c) -> dict:
+    """What a layout needs beyond one op per VAMP, counted from the network and the program:
+    slots (ops run per period), control registers (the paper's four per single-slot VAMP with one
+    input per operand; six per slot — the four and two selects — otherwise), multiplexer inputs
+    beyond the first of each operand, program ports, host writes per torque set, the period and
+    buffer clock, program words and Program-Mode load time."""
+    net = c.network
+    plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
+    from vampc.program.emit import load_ticks
+    return {
+        "slots": net.slot_count,
+        "control_registers": sum(4 if p else 6 * len(v.slots) for v, p in zip(net.vamps, plain)),
+        "mux_inputs": sum(len(v.a) - 1 + len(v.b) - 1 for v in net.vamps),
+        "max_mux_inputs": max(max(len(v.a), len(v.b)) for v in net.vamps),
+        "program_ports": sum(1 for p in net.ports if not p.entries),
+        "host_writes_per_set": sum(len(p.entries) for p in net.ports),
+        "period": net.period, "buffer_clock": net.clock,
+        "program_words": sum(len(e.words) for e in c.stream),
+        "load_ticks": load_ticks(c.stream),
     }
 
 
@@ -135,7 +159,7 @@ def vamp_notes(rep: dict) -> list[str]:
     """Where the per-node VAMP counts differ from section VI, and why."""
     per = rep["vamps"]["per_node"]
     paper = {"linear": (12, 10, 8), "log": (26, 10, 13)}[rep["recursion"]]
-    notes = []
+    notes = _layout_notes(rep)
     if rep["recursion"] == "log" and per["fwd"] == 12:
         notes.append("forward node 12 VAMPs, paper 13: with f, n referred to O_{a-1} the forward "
                      "combine needs W_{a,k} and R_{a,k} as the backward pass makes them, so the "
@@ -145,4 +169,20 @@ def vamp_notes(rep: dict) -> list[str]:
     if rep["recursion"] == "log" and not rep.get("uniform_leaves"):
         notes.append("leaves are Table IV.1's separate a = b forms (fewer VAMPs than Appendix D's "
                      "uniform nodes, which section VI counts: use --uniform-leaves to compare)")
+    return notes
+
+
+def _layout_notes(rep: dict) -> list[str]:
+    """The single-device counts of section VI beside a folded layout's."""
+    if rep.get("layout") != "folded":
+        return []
+    if rep["recursion"] == "linear":
+        paper = "22 with the passes sharing processors" if rep.get("share_passes") else "22 + 8"
+        return [f"single device (section VI, Figure VI.1): paper {paper} for a general rotary arm; "
+                "prismatic joints add VAMPs for their σ̄ terms"]
+    notes = ["single device (section VI, n = 6): paper 98 + 39, a tier of 3 nodes (26 + 10 "
+             "backward, 13 forward each); vampc binds each tier position's ops by name"]
+    if not rep.get("uniform_leaves"):
+        notes.append("leaves are Table IV.1's separate forms, whose ops get VAMPs of their own "
+                     "(use --uniform-leaves to compare with section VI)")
     return notes

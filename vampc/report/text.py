@@ -12,15 +12,27 @@ def render(rep: dict) -> str:
         + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")"),
         f"joints           {_joints(rep)}",
         f"recursion        {rep['recursion']}" + (f" ({rep['prefix']})" if rep.get("prefix") else ""),
-        f"layout           {rep['layout']}",
+        f"layout           {rep['layout']}" + (" (forward pass on the backward VAMPs)"
+                                                   if rep.get("share_passes") else ""),
         f"latency          {lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns "
         "on the critical path",
         f"paper            {paper['flops']} flops = {paper['mults']} Mults + {paper['adds']} Addns",
     ]
     lines += [f"                 {note}" for note in latency_note(rep)]
+    if lat.get("waits"):
+        lines.append(f"                 {lat['waits']} flops of it wait for a busy VAMP (the layout's "
+                     "list schedule); the data path alone takes the Mults + Addns")
+    hw = rep.get("hardware")
     lines += [
         f"interval         {rep['interval_flops']} flops between successive torque sets",
-        f"VAMPs            {v['total']} = {v['backward']} backward + {v['forward']} forward",
+        *([f"time-multiplexed {hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, "
+           f"buffer clock {hw['buffer_clock']} flops); {hw['control_registers']} control "
+           f"registers, {hw['mux_inputs']} multiplexer inputs beyond the first (at most "
+           f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host writes per "
+           f"set, {hw['program_words']} program words loaded in {hw['load_ticks']} ticks"]
+          if hw and rep.get("layout") != "systolic" else []),
+        f"VAMPs            {v['total']} = {v['backward']} backward + {v['forward']} forward"
+        + (f" + {v['shared']} shared by both passes" if v.get("shared") else ""),
         f"  per node       backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
         f"non-propagated, forward {v['per_node']['fwd']}",
         "  by op          " + ", ".join(f"{k} {n}" for k, n in v["by_op"].items()),
@@ -36,6 +48,9 @@ def render(rep: dict) -> str:
         f"{rep['serial_reference']['adds']}",
     ]
     text = "\n".join(lines) + "\n"
+    if rep.get("layout_comparison"):
+        from vampc.report.compare import render_layouts
+        text += "\n" + render_layouts(rep["layout_comparison"])
     if rep.get("prefix_comparison"):
         from vampc.report.compare import render_comparison
         text += "\n" + render_comparison(rep["prefix_comparison"])
