@@ -265,3 +265,15 @@ def test_report_json_puma560_log_uniform_leaves_vamps():
     # pass is referred to O_{a-1}, logarithmic.py docstring).
     v = puma_json("--recursion", "log", "--uniform-leaves")["vamps"]
     assert (v["backward"], v["forward"], v["total"]) == (398, 169 - 13, 398 + 156)
+
+
+def test_dump_after_prints_the_ir_and_writes_nothing(tmp_path):
+    from vampc.compiler import compile_chain
+    from vampc.dump import dump_after
+    from vampc.robot import load_robot
+    c = compile_chain(load_robot(PUMA))
+    for stage in ("graph", "schedule", "allocate", "emit"):
+        result = run("compile", PUMA, "--dump-after", stage, cwd=tmp_path)
+        assert result.exit_code == 0 and result.stdout == dump_after(stage, c)
+    assert list(tmp_path.iterdir()) == []
+    assert run("compile", PUMA, "--dump-after", "graph", "-o", tmp_path / "x.vamp.json").exit_code == 2

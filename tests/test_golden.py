@@ -39,3 +39,33 @@ def test_planar2_linear_golden(update_golden):
     want = path.read_text()
     diff = "".join(difflib.unified_diff(want.splitlines(True), text.splitlines(True), str(path), "now"))
     assert text == want, "golden mismatch (rerun with --update-golden if intended):\n" + diff
+
+
+# --- the IR dumps of `vampc compile --dump-after STAGE` ----------------------------------------------
+
+import pytest  # noqa: E402
+
+from vampc.compiler import CompileOptions, compile_chain  # noqa: E402
+from vampc.dump import dump_after  # noqa: E402
+
+DUMPS = [  # (robot, what, stage, options)
+    (robot, what, stage, opts)
+    for robot in ("planar2", "puma560")
+    for what, stage, opts in (
+        ("graph-linear", "graph", {}), ("graph-log", "graph", {"recursion": "log"}),
+        ("network-systolic", "allocate", {}), ("network-folded", "allocate", {"layout": "folded"}),
+        ("program-systolic", "emit", {}),
+        ("program-folded", "emit", {"layout": "folded", "share_passes": True}))
+]
+
+
+@pytest.mark.parametrize("robot,what,stage,opts", DUMPS, ids=[f"{r}-{w}" for r, w, _, _ in DUMPS])
+def test_ir_dump_golden(robot, what, stage, opts, update_golden):
+    c = compile_chain(load_robot(EXAMPLES / f"{robot}.yaml"), CompileOptions(**opts))
+    text = dump_after(stage, c)
+    path = GOLDEN / f"{robot}-{what}.txt"
+    if update_golden:
+        path.write_text(text)
+    want = path.read_text()
+    diff = "".join(difflib.unified_diff(want.splitlines(True), text.splitlines(True), str(path), "now"))
+    assert text == want, "golden mismatch (rerun with --update-golden if intended):\n" + diff

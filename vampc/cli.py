@@ -182,17 +182,28 @@ def main():
               "folder; - for standard output).")
 @click.option("--numbering", type=click.Path(dir_okay=False),
               help="Burned-in VAMP numbers, one per line, in logical VAMP order.")
+@click.option("--dump-after", type=click.Choice(["graph", "schedule", "allocate", "emit"]),
+              help="Print the IR that STAGE hands on as canonical text (graph; layout and schedule; "
+              "network; programs and Program-Mode stream) and stop: no program file is written.")
 @_compile_options
 @_robot_options
 @click.pass_context
 @_handle_errors
-def compile(ctx, robot, output, numbering, base, tip, lock, **opts):
+def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
     """Compile ROBOT into a program file: dataflow graph, schedule, netlist, VAMP program words,
     Program-Mode stream and host I/O schedule."""
     from vampc.compiler import program_text
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
     _check_robot_options(ctx, opts)
+    if dump_after:
+        if output:
+            raise click.UsageError("--dump-after prints to standard output and writes no program "
+                                   "file: leave out -o")
+        from vampc.dump import dump_after as dump
+        click.echo(dump(dump_after, _compile(robot, base, tip, lock, numbering=numbering, **opts)),
+                   nl=False)
+        return
     out_path = output or Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, numbering], {"-o": out_path}, stdout_ok=("-o",))["-o"]
     c = _compile(robot, base, tip, lock, numbering=numbering, **opts)
