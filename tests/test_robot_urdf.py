@@ -2,16 +2,17 @@
 present), trees and locking, and exact error messages for bad files."""
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from vampc.errors import VampcError
+import vampc.robot
+from vampc.errors import VampcError, VampcWarning
 from vampc.robot import JointType, load_robot, load_urdf
 from vampc.robot import dh as dh_loader
-from vampc.robot import urdf as urdf_loader
 from errors_util import assert_error
 from frames_util import chain_frames as chain_poses
 
@@ -210,10 +211,10 @@ def check_torques(path: Path, chain, lock: dict | None = None) -> None:
         np.testing.assert_allclose(ours, pinocchio_rnea(path, chain, q, qd, qdd, lock), atol=1e-9)
 
 
-# --- reading: the values yourdfpy reads ---------------------------------------------------------------------
+# --- defaults: what yourdfpy reads when the file leaves something out -----------------------------------
 
-# Defaults: no <origin>, an <origin> with xyz or rpy only, no <axis>, an <axis> without xyz, a partial
-# <limit>, a <mimic>, an <inertial> without <origin>.
+# No <origin>, an <origin> with xyz or rpy only, no <axis>, an <axis> without xyz, a partial <limit>, an
+# <inertial> without <origin>.
 DEFAULTS = robot(
     '<link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
     "</inertial></link>", link("l1"), link("l2"), link("l3"), link("l4", None),
@@ -222,37 +223,8 @@ DEFAULTS = robot(
     '<joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="1 2 3"/><axis/>'
     '</joint>',
     '<joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin rpy="0.3 -0.2 1.1"/>'
-    '<axis xyz="0 1 0"/><mimic joint="j1" multiplier="2"/></joint>',
+    '<axis xyz="0 1 0"/></joint>',
     '<joint name="j4" type="fixed"><parent link="l3"/><child link="l4"/></joint>')
-
-
-def test_reading_matches_yourdfpy(tmp_path):
-    """Every value the loader uses is what yourdfpy reads: origins (as matrices), axes, limits, mimic and
-    inertials."""
-    import yourdfpy
-    files = [ARM6, write(tmp_path, TREE, "tree.urdf"), write(tmp_path, DEFAULTS, "defaults.urdf")]
-    files += [write(tmp_path, random_urdf(seed)[0], f"random{seed}.urdf") for seed in range(3)]
-    for path in files:
-        ours = urdf_loader._read_robot(urdf_loader._parse_xml(path), path)
-        theirs = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False).robot
-        assert ours.name == theirs.name
-        assert [x.name for x in ours.links] == [x.name for x in theirs.links]
-        for a, b in zip(ours.links, theirs.links):
-            assert (a.inertial is None) == (b.inertial is None)
-            if a.inertial is not None:
-                assert a.inertial.mass == b.inertial.mass
-                np.testing.assert_array_equal(a.inertial.inertia, b.inertial.inertia)
-                np.testing.assert_allclose(a.inertial.origin, as_pose(b.inertial.origin), rtol=0, atol=1e-15)
-        assert [x.name for x in ours.joints] == [x.name for x in theirs.joints]
-        for a, b in zip(ours.joints, theirs.joints):
-            assert (a.type, a.parent, a.child) == (b.type, b.parent, b.child)
-            np.testing.assert_allclose(a.origin, as_pose(b.origin), rtol=0, atol=1e-15)
-            np.testing.assert_array_equal(a.axis, b.axis)
-            assert (a.limit is None) == (b.limit is None)
-            if a.limit is not None:
-                assert (a.limit.lower, a.limit.upper, a.limit.velocity, a.limit.effort) == \
-                    (b.limit.lower, b.limit.upper, b.limit.velocity, b.limit.effort)
-            assert a.mimic == (None if b.mimic is None else b.mimic.joint)
 
 
 def as_pose(origin) -> np.ndarray:
@@ -260,7 +232,7 @@ def as_pose(origin) -> np.ndarray:
 
 
 def test_defaults_match_yourdfpy_kinematics(tmp_path):
-    path = write(tmp_path, DEFAULTS.replace('<mimic joint="j1" multiplier="2"/>', ""))
+    path = write(tmp_path, DEFAULTS)
     chain = load_urdf(path)
     assert [j.name for j in chain.joints] == ["j1", "j2", "j3"]
     assert chain.joints[0].limits.q is None and chain.joints[0].limits.tau == 3.0  # no lower: no interval
@@ -376,6 +348,8 @@ URDF_ERRORS = [
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", rpy=(float("nan"), 0, 0))), {},
      r"joint 'j2': <origin rpy=\"nan 0 0\">: expected 3 finite numbers"),
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(0, 0, 0))), {}, r"joint 'j2': axis is zero"),
+    (robot(link("base"), link("l1", xyz=(float("inf"), 0, 0)), link("l2"), *ARM[3:]), {},
+     r"link 'l1': <origin xyz=\"inf 0 0\">: expected 3 finite numbers"),
     (robot(*ARM).replace('<inertia ixx="0.01" ', "<inertia "), {}, r"link 'base': <inertia> lacks ixx"),
     (robot(*ARM).replace('<origin xyz="0 0 0.10000000000000001"', '<origin xyz="0 0"', 1), {},
      r"joint 'j1': <origin xyz=\"0 0\">: expected 3 finite numbers"),
@@ -384,6 +358,8 @@ URDF_ERRORS = [
      r"line 6: <joint> has no name"),
     (robot(*ARM, link("extra_root")), {},
      r"several root links \('base', 'extra_root'\); choose one with --base"),
+    (robot(*ARM).replace("</link>", '<visual><geometry><box/></geometry></visual></link>', 1), {},
+     r"yourdfpy cannot read it \(KeyError: 'size'\)"),
     (robot(*[link(f"r{i}") for i in range(12)]), {},
      r"several root links \('r0', 'r1', 'r2', 'r3', 'r4', 'r5', 'r6', 'r7', 'r8', 'r9' and 2 more\); "
      r"choose one with --base"),
@@ -432,22 +408,28 @@ def test_entities_refused_in_utf16_too(tmp_path):
     assert_error(lambda: load_robot(path), path, r"DOCTYPE declares entities \(a\); URDF files must not use XML entities")
 
 
-def test_xml_extension_and_no_yourdfpy(tmp_path):
-    # yourdfpy is the tests' reference only: loading a URDF does not import it (it costs about a second).
+def test_xml_extension_and_lazy_yourdfpy(tmp_path):
+    # Importing vampc.robot does not import yourdfpy (it costs about a second); loading a URDF does.
     import subprocess
     copy = write(tmp_path, ARM6.read_text(), "arm6.xml")
     assert load_robot(copy).n == 6
-    code = "import sys, vampc.robot; vampc.robot.load_robot(sys.argv[1]); print('yourdfpy' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code, str(copy)], capture_output=True, text=True, check=True,
+    code = "import sys, vampc.robot; print('yourdfpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parent.parent).stdout
     assert out.strip() == "False"
 
 
-def test_visuals_and_collisions_are_not_read(tmp_path):
-    # vampc reads kinematics and inertia only: a <box> without its size (yourdfpy raises KeyError) is fine.
-    path = write(tmp_path, robot(*ARM).replace("</link>", "<visual><geometry><box/></geometry></visual>"
-                                               "<collision><geometry><mesh/></geometry></collision></link>", 1))
-    assert load_robot(path).n == 2
+def test_lock_of_a_fixed_joint_warns_and_does_nothing():
+    message = f"{ARM6}: joint 'camera_mount' is fixed; --lock camera_mount=... has no effect"
+    with pytest.warns(VampcWarning, match=f"^{re.escape(message)}$") as record:
+        chain = load_robot(ARM6, lock={"camera_mount": 0.3})
+    assert len(record) == 1
+    plain = load_robot(ARM6)
+    assert [j.name for j in chain.joints] == [j.name for j in plain.joints]
+    for ours, theirs in zip(chain.joints, plain.joints):
+        np.testing.assert_array_equal(ours.phi, theirs.phi)
+        np.testing.assert_array_equal(ours.p_fixed, theirs.p_fixed)
+        np.testing.assert_array_equal(ours.inertia, theirs.inertia)
 
 
 # --- size: the joint limit, and loading in O(n) -------------------------------------------------------------
@@ -476,9 +458,13 @@ def chain_urdf(n: int) -> str:
 
 
 def executed_lines(module, call) -> int:
-    """How many lines of `module` run during call(): a count, not a time, so it does not depend on the
-    machine or its load (steps inside C, such as `list.index`, are not counted)."""
+    """How many lines of `module` (of every module in its folder, for a package) run during call(): a count,
+    not a time, so it does not depend on the machine or its load (steps inside C, such as `list.index`,
+    and lines of other packages, such as yourdfpy's, are not counted)."""
     count = 0
+    files = {module.__file__}
+    if hasattr(module, "__path__"):
+        files = {str(f) for folder in module.__path__ for f in Path(folder).glob("*.py")}
 
     def in_module(frame, event, arg):
         nonlocal count
@@ -486,7 +472,7 @@ def executed_lines(module, call) -> int:
         return in_module
 
     def tracer(frame, event, arg):
-        return in_module if frame.f_code.co_filename == module.__file__ else None
+        return in_module if frame.f_code.co_filename in files else None
 
     previous = sys.gettrace()
     sys.settrace(tracer)
@@ -498,10 +484,10 @@ def executed_lines(module, call) -> int:
 
 
 def test_loading_is_linear(tmp_path):
-    """Ten times the joints run the loader's lines fewer than 15 times as often: 10 times for O(n), 14 for
-    O(n log n), 100 for O(n²) (collecting every joint's ancestors and scanning all links for each body made
-    it 66). The times are in benchmarks/load_robot.py."""
+    """Ten times the joints run our lines (every module of vampc/robot/; yourdfpy's are not counted) fewer
+    than 15 times as often: 10 times for O(n), 14 for O(n log n), 100 for O(n²) (collecting every joint's
+    ancestors and scanning all links for each body made it 66). The times are in benchmarks/load_robot.py."""
     small, big = (write(tmp_path, chain_urdf(n), f"chain{n}.urdf") for n in (200, 2000))
     assert load_urdf(big).n == 2000
-    lines = [executed_lines(urdf_loader, lambda p=p: load_urdf(p)) for p in (small, big)]
+    lines = [executed_lines(vampc.robot, lambda p=p: load_urdf(p)) for p in (small, big)]
     assert lines[1] < 15 * lines[0], lines

@@ -16,14 +16,15 @@ frame, referred to O_0.
 The file is parsed by lxml with entities off and refused if it declares any (entity bombs, external
 entities) before yourdfpy sees it; the structure and numbers vampc relies on are checked on that lxml tree
 too, so that yourdfpy (`URDF.load`, without scene graphs or meshes) never crashes on them, and whatever it
-still raises is one line "yourdfpy cannot read it (...)". yourdfpy reads the file rather than code of our
-own because its reading (default origin and axis, rpy order, which elements count) is the one the robotics
-tools around us share; it is linear, and the slowest step of a 100 000-joint load. Everything after it is
-O(n) in the number of links and joints: the tree walks (vampc/robot/urdf_tree.py) are iterative and visit
-each joint a bounded number of times, Φ_k, p*_k and the bodies' inertias are computed as numpy stacks, and
-the garbage collector is paused while loading. A chain of more than MAX_JOINTS (vampc/robot/dh.py) movable
-joints is refused. Every problem is a one-line VampcError "FILE: joint 'x': WHAT", "FILE: link 'x': WHAT"
-or "FILE: line N: WHAT"; a --lock of a fixed joint is a VampcWarning.
+still raises is one line "yourdfpy cannot read it (...)". yourdfpy reads the file, not code of our own:
+a well-kept library's reading (defaults, rpy order, which elements count) is less likely than ours to
+disagree with urdfdom on a user's file. It is linear, and the slowest step of a big load (about 13 of the
+21 s of a 100 000-joint chain: benchmarks/load_robot.py). Everything after it is O(n) in the number of
+links and joints: the tree walks (vampc/robot/urdf_tree.py) are iterative and visit each joint a bounded
+number of times, Φ_k, p*_k and the bodies' inertias are computed as numpy stacks, and the garbage
+collector is paused while loading. A chain of more than MAX_JOINTS (vampc/robot/dh.py) movable joints is
+refused. Every problem is a one-line VampcError "FILE: joint 'x': WHAT", "FILE: link 'x': WHAT" or
+"FILE: line N: WHAT"; a --lock of a fixed joint is a VampcWarning.
 """
 from __future__ import annotations
 
@@ -76,7 +77,7 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
 
 
 def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None) -> Chain:
-    robot = _read_robot(_parse_xml(path), path)
+    robot = _read_robot(path)
     tree = Tree.build(robot, path)
     lock = _check_lock(lock or {}, tree, path)
     base = choose_base(tree, base, path)
@@ -193,11 +194,13 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
             raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
 
 
-def _read_robot(root, path: Path):
-    """yourdfpy's `Robot` of the (checked) tree: links and joints in file order."""
+def _read_robot(path: Path):
+    """yourdfpy's `Robot` of the checked file: links and joints in file order."""
     import yourdfpy  # costs about a second, so only when a URDF is really loaded
 
-    data = etree.tostring(root)  # the root element only: the (already vetted) DOCTYPE stays behind
+    # The root element only: the (already vetted) DOCTYPE stays behind. Our tree is freed before yourdfpy
+    # parses its own (kept, it raised the peak memory of a 100 000-joint load from 1.2 to 2.0 GB).
+    data = etree.tostring(_parse_xml(path))
     try:
         urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
