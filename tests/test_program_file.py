@@ -420,3 +420,10 @@ def test_written_file_respects_the_umask(compiled, tmp_path):
     finally:
         os.umask(old)
     assert (tmp_path / "arm.vamp.json").stat().st_mode & 0o777 == 0o640
+
+
+def test_a_network_beyond_24_bit_numbers_is_refused():
+    from types import SimpleNamespace
+    with pytest.raises(VampcError, match=r"^the network needs 16777216 VAMPs, but VAMP numbers have "
+                                         r"24 bits \(at most 16777215\)"):
+        emit.default_numbering(SimpleNamespace(vamps=range(1 << 24)))

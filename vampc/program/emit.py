@@ -27,7 +27,10 @@ class StreamEntry:
 
 
 def default_numbering(net: Network) -> tuple[int, ...]:
-    """Burned-in numbers 1..V in logical order."""
+    """Burned-in numbers 1..V in logical order (VampcError if V does not fit the 24-bit numbers)."""
+    if len(net.vamps) >= 1 << 24:
+        raise VampcError(f"the network needs {len(net.vamps)} VAMPs, but VAMP numbers have 24 bits "
+                         "(at most 16777215): use the linear recursion or --layout folded")
     return tuple(range(1, len(net.vamps) + 1))
 
 
