@@ -21,7 +21,7 @@ from vampc.errors import VampcError, VampcWarning
 
 # Options that only mean something when a robot file is compiled (their CompileOptions names).
 COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "layout",
-                   "share_passes", "verify")
+                   "share_passes", "vamps", "interval", "verify")
 ROBOT_OPTIONS = ("base", "tip", "lock")
 LOG_ONLY = ("prefix", "uniform_leaves")
 
@@ -57,6 +57,11 @@ def _compile_options(f):
                      "(log) VAMPs reused for every joint or tier, one torque set at a time."),
         click.option("--share-passes", is_flag=True, help="Folded layout: run the forward pass on "
                      "the backward pass's VAMPs (Figure VI.1b)."),
+        click.option("--vamps", type=click.IntRange(1), metavar="K", help="A VAMP budget: schedule "
+                     "onto at most K VAMPs at the smallest interval reachable (not below ⌈W/K⌉)."),
+        click.option("--interval", type=click.IntRange(1), metavar="T", help="A rate: a new torque "
+                     "set every T flops, on the fewest VAMPs (with --vamps: both, or an error "
+                     "saying what is feasible)."),
         click.option("--verify/--no-verify", default=True, show_default=True,
                      help="Check every IR's invariants at each stage boundary."),
     ]
@@ -135,6 +140,9 @@ def _check_robot_options(ctx: click.Context, opts: dict) -> None:
     if opts.get("share_passes") and opts.get("layout") != "folded":
         raise click.UsageError("--share-passes applies to the folded layout only (add --layout "
                                "folded)")
+    if (opts.get("vamps") or opts.get("interval")) and _given(ctx, "layout"):
+        raise click.UsageError("--vamps and --interval make their own (budgeted) layout: leave out "
+                               "--layout")
 
 
 def _check_program_options(ctx: click.Context, source: str, stored: dict) -> None:

@@ -37,6 +37,8 @@ class CompileOptions:
     numbering: str | None = None
     layout: str = "systolic"
     share_passes: bool = False
+    vamps: int | None = None
+    interval: int | None = None
     verify: bool = True
 
     @property
@@ -53,10 +55,22 @@ class CompileOptions:
         for name in ("mult_latency", "add_latency"):
             if not 1 <= getattr(self, name) <= 64:
                 raise VampcError(f"--{name.replace('_', '-')} must be between 1 and 64 flops")
-        if self.layout not in LAYOUTS:
+        if self.layout not in LAYOUTS + ("budget",):
             raise VampcError(f"unknown layout {self.layout!r} (choose from {', '.join(LAYOUTS)})")
         if self.share_passes and self.layout != "folded":
             raise VampcError("--share-passes needs --layout folded")
+        budget = self.vamps is not None or self.interval is not None
+        if budget and self.layout == "folded":
+            raise VampcError("--vamps and --interval make a budgeted layout: leave out --layout folded")
+        for name in ("vamps", "interval"):
+            value = getattr(self, name)
+            if value is not None and value < 1:
+                raise VampcError(f"--{name} must be at least 1")
+
+    @property
+    def layout_name(self) -> str:
+        """The layout compiled: "budget" when a VAMP budget or interval is given."""
+        return "budget" if self.vamps is not None or self.interval is not None else self.layout
 
 
 @dataclass(frozen=True)
@@ -100,7 +114,7 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
     stage("schedule")
     layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
-                                        options.verify)
+                                        options.verify, options.vamps, options.interval)
     stage("allocate")
     net = allocate(graph, sched, layout, options.verify)
     stage("emit")
@@ -117,7 +131,7 @@ def program_text(c: Compiled) -> str:
     from vampc.program.document import program_text as text
     from vampc.report.counts import summary
     opts = {k: v for k, v in asdict(c.options).items() if k not in ("verify",)}
-    layout_doc = {"name": c.options.layout, "share_passes": c.options.share_passes}
+    layout_doc = {"name": c.options.layout_name, "share_passes": c.options.share_passes}
     return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
                 summary(c), layout_doc)
 

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_right
-from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.dataflow.ops import Op
@@ -32,15 +31,6 @@ from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, P
                                  Slot, Tap, Vamp, buffer_window, port_window, result_window)
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
-
-
-@dataclass
-class _Unit:
-    """A unit being allocated: its first VAMP, its VAMP count and its nodes in dump order."""
-
-    first: int
-    size: int
-    nodes: list
 
 
 class _Allocator:
@@ -64,30 +54,38 @@ class _Allocator:
         self.operands: dict[tuple[int, int], Operand] = {}   # (source node, stage; 0: its Result)
         self.port_operands: list[Operand] = []
         self.const_operands: list[Operand] = []
-        self.units = self._units()
+        self.place = layout.vamps_of()
+        self.on_vamp = self._on_vamps()
         self.next_emit = self._next_emits()
 
-    def _units(self) -> list[_Unit]:
-        units, first = [], 0
-        for size in self.lay.unit_vamps:
-            units.append(_Unit(first, size, []))
-            first += size
-        finish = self.s.finish
+    def _on_vamps(self) -> list[list[int]]:
+        """Per VAMP: the nodes it runs, in order of their dumps."""
+        on: list[list[int]] = [[] for _ in range(self.lay.vamp_count)]
+        place = self.place
         for nd in self.g.compute_nodes():
-            units[self.lay.units[nd.id]].nodes.append(nd.id)
-        for u in units:
-            if len(u.nodes) > 1:
-                u.nodes.sort(key=lambda i: finish[i])
-        return units
+            for v in place[nd.id]:
+                on[v].append(nd.id)
+        finish = self.s.finish
+        for nodes in on:
+            if len(nodes) > 1:
+                nodes.sort(key=lambda i: finish[i])
+        return on
 
     def _next_emits(self) -> dict[int, int]:
-        """Per compute node: the tick its unit's next dump shows (the end of its Result window)."""
+        """Per compute node: the tick the next dump of its VAMP shows (the end of its Result window;
+        the earliest over an MM's three VAMPs), counted round the period."""
         finish, P = self.s.finish, self.P
-        out = {}
-        for u in self.units:
-            ids = u.nodes
-            for k, i in enumerate(ids):
-                out[i] = finish[ids[k + 1]] if k + 1 < len(ids) else finish[ids[0]] + P
+        out: dict[int, int] = {}
+        for nodes in self.on_vamp:
+            if len(nodes) == 1:
+                i = nodes[0]
+                out[i] = min(out.get(i, finish[i] + P), finish[i] + P)
+                continue
+            by_counter = sorted(nodes, key=lambda i: (finish[i] - 1) % P)
+            for k, i in enumerate(by_counter):
+                nxt = by_counter[(k + 1) % len(by_counter)]
+                gap = ((finish[nxt] - finish[i] - 1) % P) + 1
+                out[i] = min(out.get(i, finish[i] + gap), finish[i] + gap)
         return out
 
     def run(self) -> Network:
@@ -106,11 +104,13 @@ class _Allocator:
         return self._network(reads)
 
     def _stage(self, src: int, t: int) -> int:
-        """0 if the result of `src` is read from its VAMP's Result at tick t, else the buffer stage."""
-        emit = self.s.finish[src]
-        if emit <= t < self.next_emit[src]:
+        """0 if the result of `src` is read from its VAMP's Result at tick t, else the first buffer
+        stage that shows it then (stage s shows it during blocks emit//B + s .. next_emit//B + s - 1)."""
+        emit, nxt = self.s.finish[src], self.next_emit[src]
+        if emit <= t < nxt:
             return 0
-        return t // self.B - emit // self.B
+        B = self.B
+        return max(1, t // B - nxt // B + 1)
 
     def _operand(self, arg: int, t: int) -> Operand:
         src = self.g.nodes[arg]
@@ -125,13 +125,13 @@ class _Allocator:
         stage = self._stage(arg, t)
         operand = self.operands.get((arg, stage))
         if operand is None:
-            unit = self.units[self.lay.units[arg]]
-            vamps = range(unit.first, unit.first + unit.size)
+            vamps = self.place[arg]
+            emit = self.s.finish[arg]
             if stage == 0:
                 taps = tuple(Tap("vamp", v) for v in vamps)
-            elif stage < 1 or t < self.s.finish[arg]:
-                raise VampcInternalError(f"VAMP {unit.first}: read at tick {t} before its result "
-                                         f"at {self.s.finish[arg]}")
+            elif t < emit or (emit // self.B + stage) * self.B > t:
+                raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
+                                         f"{emit}) is gone at tick {t}: nothing buffered it")
             else:
                 taps = tuple(self._buffer_tap(v, stage) for v in vamps)
             operand = self.operands[(arg, stage)] = Operand(taps)
@@ -172,7 +172,7 @@ class _Allocator:
         ports = tuple(Port(i, size, tuple(sorted(entries, key=lambda e: e.block)))
                       for i, (size, entries) in enumerate(zip(self.port_size, self.port_entries)))
         ports = ports + self.program_ports
-        outputs = tuple(OutputPoint(o.joint, self.units[self.lay.units[o.node]].first, o.component,
+        outputs = tuple(OutputPoint(o.joint, self.place[o.node][0], o.component,
                                     self.s.finish[o.node]) for o in self.g.outputs)
         net = Network(self.P, self.B, vamps, buffers, ports, tuple(self.consts.values()), outputs)
         if self.verify:
@@ -183,37 +183,37 @@ class _Allocator:
         nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
         vamps: list[Vamp] = []
         self.program_ports: tuple[Port, ...] = ()
-        muxed = []
-        for u in self.units:
-            if len(u.nodes) == 1:       # the systolic case: one slot, one input per operand
-                i = u.nodes[0]
+        muxed = False
+        for v, mine in enumerate(self.on_vamp):
+            if len(mine) == 1:       # the systolic case: one slot, one input per operand
+                i = mine[0]
                 a, b = reads[i]
-                op, t, dump = nodes[i].op, start[i], finish[i] - 1
-                if u.size == 1:
-                    vamps.append(Vamp(u.first, (a,), (b,), (Slot(i, op, None, 0, 0, t, t, dump),)))
-                else:
-                    vamps.extend(Vamp(u.first + c, (a,), (b,), (Slot(i, op, c, 0, 0, t, t, dump),))
-                                 for c in range(u.size))
+                op = nodes[i].op
+                col = self.place[i].index(v) if op is Op.MM else None
+                vamps.append(Vamp(v, (a,), (b,), (Slot(i, op, col, 0, 0, start[i], start[i],
+                                                        finish[i] - 1),)))
                 continue
-            muxed.append(u)
-            vamps.extend(self._muxed(u, reads, c) for c in range(u.size))
+            if not mine:
+                raise VampcInternalError(f"VAMP {v} runs no op")
+            muxed = True
+            vamps.append(self._muxed(v, mine, reads))
         if muxed:
             vamps = self._order_program_inputs(vamps)
         return tuple(vamps)
 
-    def _muxed(self, u: _Unit, reads, column: int) -> Vamp:
-        """A VAMP of a unit with several nodes: its multiplexer inputs in order of first use."""
+    def _muxed(self, v: int, mine: list[int], reads) -> Vamp:
+        """A VAMP running several nodes: its multiplexer inputs in order of first use."""
         nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
         ins_a: dict[Operand, int] = {}
         ins_b: dict[Operand, int] = {}
         slots = []
-        for i in u.nodes:
+        for i in mine:
             a, b = reads[i]
             sa = ins_a.setdefault(a, len(ins_a))
             sb = ins_b.setdefault(b, len(ins_b))
-            col = column if nodes[i].op is Op.MM else None
+            col = self.place[i].index(v) if nodes[i].op is Op.MM else None
             slots.append(Slot(i, nodes[i].op, col, sa, sb, start[i], start[i], finish[i] - 1))
-        return Vamp(u.first + column, tuple(ins_a), tuple(ins_b), tuple(slots))
+        return Vamp(v, tuple(ins_a), tuple(ins_b), tuple(slots))
 
     def _order_program_inputs(self, vamps: list[Vamp]) -> list[Vamp]:
         """Make operand-A input 0 of every VAMP lead, without a loop, to a port or constant buffer
@@ -287,11 +287,11 @@ def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
     out = {}
     P = net.period
     for v in net.vamps:
-        order = sorted(range(len(v.slots)), key=lambda k: v.slots[k].dump)
+        order = sorted(range(len(v.slots)), key=lambda k: v.slots[k].dump % P)
         for pos, k in enumerate(order):
-            nxt = v.slots[order[pos + 1]].emit if pos + 1 < len(order) else \
-                v.slots[order[0]].emit + P
-            out[(v.index, k)] = (v.slots[k].emit, nxt)
+            nxt = v.slots[order[(pos + 1) % len(order)]].dump
+            gap = ((nxt - v.slots[k].dump - 1) % P) + 1
+            out[(v.index, k)] = (v.slots[k].emit, v.slots[k].emit + gap)
     return out
 
 

@@ -51,8 +51,15 @@ def compare_layouts(chain, options: CompileOptions) -> list[dict]:
     folded ones (other options as given)."""
     from vampc.report.counts import hardware
     rows = []
-    for label, layout, share in LAYOUT_VARIANTS:
-        c = compile_chain(chain, replace(options, layout=layout, share_passes=share, verify=False))
+    variants = list(LAYOUT_VARIANTS)
+    if options.vamps is not None or options.interval is not None:
+        variants.append(("budget" + (f", {options.vamps} VAMPs" if options.vamps else "")
+                         + (f", interval {options.interval}" if options.interval else ""),
+                         "budget", False))
+    for label, layout, share in variants:
+        budget = {} if layout == "budget" else {"vamps": None, "interval": None}
+        c = compile_chain(chain, replace(options, layout="systolic" if layout == "budget" else layout,
+                                         share_passes=share, verify=False, **budget))
         s, hw = c.schedule, hardware(c)
         rows.append({"layout": label, "latency_flops": s.latency, "mults": s.mults, "adds": s.adds,
                      "waits": s.waits, "interval_flops": s.interval, "vamps": len(c.network.vamps),

@@ -80,12 +80,13 @@ def summary(c) -> dict:
         "joints": c.chain.n, "robot": c.chain.name, "prismatic_joints": prismatic_joints(c.chain),
         "joint_names": [j.name for j in c.chain.joints],
         "joint_types": [j.type.value for j in c.chain.joints],
-        "recursion": c.graph.recursion, "layout": c.options.layout,
+        "recursion": c.graph.recursion, "layout": c.options.layout_name,
         "share_passes": c.options.share_passes,
         "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits},
         "paper": paper_latency(c.chain.n, c.graph.recursion),
         "interval_flops": s.interval,
         "hardware": hardware(c),
+        "budget": budget_figures(c),
         "vamps": vamp_counts(c),
         "buffers": {"chains": len(c.network.buffers), "stages": c.network.buffer_stages,
                     "scalars": 3 * c.network.buffer_stages},
@@ -121,6 +122,29 @@ def hardware(c) -> dict:
         "program_words": sum(len(e.words) for e in c.stream),
         "load_ticks": load_ticks(c.stream),
     }
+
+
+def budget_figures(c) -> dict | None:
+    """For a budgeted layout: the VAMPs asked for and used, the work, the interval and latency
+    against their certified lower bounds (vampc.schedule.budget.bounds), the gaps in percent."""
+    if c.options.layout_name != "budget":
+        return None
+    from vampc.schedule.budget import bounds
+    k = c.options.vamps if c.options.vamps is not None else len(c.network.vamps)
+    b = bounds(c.graph, c.schedule.timing, k)
+    longest = max(c.schedule.timing.durations[nd.op] for nd in c.graph.compute_nodes())
+    interval_bound = max(b.interval, longest)
+    s = c.schedule
+    return {"vamps_asked": c.options.vamps, "interval_asked": c.options.interval,
+            "vamps_used": len(c.network.vamps), "work": b.work,
+            "interval_bound": interval_bound, "work_over_vamps": b.interval,
+            "interval_gap_pct": _gap(s.interval, interval_bound),
+            "latency_bound": b.latency, "critical_path": b.critical_path, "level_bound": b.level,
+            "latency_gap_pct": _gap(s.latency, b.latency)}
+
+
+def _gap(value: int, bound: int) -> float:
+    return round(100.0 * (value - bound) / bound, 1) if bound else 0.0
 
 
 def prismatic_joints(chain) -> list[int]:

@@ -23,6 +23,16 @@ def render(rep: dict) -> str:
         lines.append(f"                 {lat['waits']} flops of it wait for a busy VAMP (the layout's "
                      "list schedule); the data path alone takes the Mults + Addns")
     hw = rep.get("hardware")
+    b = rep.get("budget")
+    if b:
+        lines.append(f"budget           {b['vamps_used']} VAMPs used"
+                     + (f" of {b['vamps_asked']} allowed" if b["vamps_asked"] else "")
+                     + f"; interval {rep['interval_flops']} against the bound {b['interval_bound']} "
+                     f"(⌈W/K⌉ = ⌈{b['work']}/{b['vamps_asked'] or b['vamps_used']}⌉ = "
+                     f"{b['work_over_vamps']}, and no op shorter than its duration): gap "
+                     f"{b['interval_gap_pct']}%; latency {lat['flops']} against the bound "
+                     f"{b['latency_bound']} (critical path {b['critical_path']}, level bound "
+                     f"{b['level_bound']}): gap {b['latency_gap_pct']}%")
     lines += [
         f"interval         {rep['interval_flops']} flops between successive torque sets",
         *([f"time-multiplexed {hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, "

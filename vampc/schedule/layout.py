@@ -38,12 +38,15 @@ from vampc.dataflow.ops import VAMPS_PER_OP, Op, Timing
 from vampc.errors import VampcError, VampcInternalError
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
-LAYOUTS = ("systolic", "folded")
+LAYOUTS = ("systolic", "folded")       # and "budget", made by --vamps / --interval
 
 
 @dataclass(frozen=True)
 class Layout:
-    """A binding of every compute node to a unit, and the period and buffer clock."""
+    """A binding of every compute node to a unit, and the period and buffer clock. A unit is a fixed
+    group of VAMPs (numbered in unit order); a budgeted layout instead places each node on VAMPs of
+    its own choosing (`placement`: per node the VAMP indices, three for an MM, empty for inputs and
+    constants), VAMPs an MM shares with other ops included."""
 
     name: str
     units: tuple[int, ...]        # per graph node id: its unit, -1 for inputs and constants
@@ -51,9 +54,38 @@ class Layout:
     period: int
     clock: int
     share_passes: bool = False
+    placement: tuple[tuple[int, ...], ...] = ()
+
+    def vamps_of(self) -> tuple[tuple[int, ...], ...]:
+        """Per graph node: the VAMPs that run it (empty for inputs and constants)."""
+        if self.placement:
+            return self.placement
+        firsts, first = [], 0
+        for size in self.unit_vamps:
+            firsts.append(first)
+            first += size
+        return tuple(tuple(range(firsts[u], firsts[u] + self.unit_vamps[u])) if u >= 0 else ()
+                     for u in self.units)
+
+    @property
+    def vamp_count(self) -> int:
+        """VAMPs in the network."""
+        if self.placement:
+            return 1 + max((v for p in self.placement for v in p), default=-1)
+        return sum(self.unit_vamps)
 
     def verify(self, graph: Graph) -> None:
-        """Compute nodes are bound to units of their size; the period is a multiple of the clock."""
+        """Compute nodes are bound to units (or VAMPs) of their size; the period is a multiple of
+        the clock."""
+        if self.clock < 1 or self.period % self.clock:
+            raise VampcInternalError(f"layout: period {self.period} is not a multiple of the "
+                                     f"buffer clock {self.clock}")
+        if self.placement:
+            for nd in graph.nodes:
+                want = VAMPS_PER_OP[nd.op] if nd.op.is_compute else 0
+                if len(set(self.placement[nd.id])) != want:
+                    raise VampcInternalError(f"node {nd.label}: placed on {self.placement[nd.id]}")
+            return
         if len(self.units) != len(graph.nodes):
             raise VampcInternalError("layout: one unit per graph node expected")
         for nd in graph.nodes:
@@ -63,14 +95,17 @@ class Layout:
                 raise VampcInternalError(f"node {nd.label}: bound to unit {u} of the wrong size")
             if not nd.op.is_compute and u != -1:
                 raise VampcInternalError(f"node {nd.label}: an input or constant bound to a unit")
-        if self.clock < 1 or self.period % self.clock:
-            raise VampcInternalError(f"layout: period {self.period} is not a multiple of the "
-                                     f"buffer clock {self.clock}")
 
 
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
-                        share_passes: bool = False, verify: bool = True) -> tuple[Layout, Schedule]:
-    """The layout `name` of `graph` and the schedule it runs."""
+                        share_passes: bool = False, verify: bool = True, vamps: int | None = None,
+                        interval: int | None = None) -> tuple[Layout, Schedule]:
+    """The layout `name` of `graph` and the schedule it runs; a VAMP budget (`vamps`, `interval`:
+    vampc.schedule.budget) makes the layout "budget"."""
+    if vamps is not None or interval is not None or name == "budget":
+        from vampc.schedule.budget import budget_schedule
+        layout, sched, _ = budget_schedule(graph, timing, vamps, interval, verify)
+        return layout, sched
     if name not in LAYOUTS:
         raise VampcError(f"unknown layout {name!r} (choose from {', '.join(LAYOUTS)})")
     asap = schedule_asap(graph, timing, verify)

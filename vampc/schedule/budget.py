@@ -1,0 +1,418 @@
+"""A VAMP budget (not in the paper): schedule the graph onto the network a user can afford.
+
+`--vamps K` places every op on at most K VAMPs (an MM on three at once, as in the systolic layout) and
+pipelines successive torque sets at the smallest interval II it can reach — never below ⌈W/K⌉, W the
+graph's work in VAMP-ticks — with the shortest latency it finds at that interval. `--interval T`
+fixes the rate and looks for the fewest VAMPs.
+
+The scheduler is an iterative modulo list scheduler (Rau's scheme without backtracking): every VAMP
+has a reservation table of II ticks; the compute nodes are taken most urgent first (by the latest start
+that keeps the ASAP latency, a topological order) and each starts at the first tick, from the time its
+operands are ready (and no earlier than its ASAP start: an op that reads only inputs starts as late as
+its consumers allow), at which some VAMP (three for an MM) is free for its whole duration modulo II.
+An op that finds no such tick within II ticks of its ready time never will: the interval is then
+infeasible and the next one is tried. `modulo_schedule` is the one function an exact solver would
+replace.
+
+Buffers are clocked every tick (B = 1) while scheduling, so a result can always be buffered the tick
+it appears; afterwards the largest buffer clock dividing II under which every buffered result is still
+captured is chosen (fewer, longer stages). Every budgeted result is reported beside certified lower
+bounds (`bounds`): II ≥ ⌈W/K⌉; latency ≥ the critical path, ≥ ⌈W/K⌉, and the level bound
+max over q of (q + ⌈work of the ops whose longest path to the outputs exceeds q, divided by K⌉).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from vampc.dataflow.graph import Graph
+from vampc.dataflow.ops import VAMPS_PER_OP, Op, Timing
+from vampc.errors import VampcError, VampcInternalError
+from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Certified lower bounds for a graph on K VAMPs."""
+
+    work: int            # W: VAMP-ticks of one torque set
+    vamps: int
+    interval: int        # ⌈W/K⌉
+    critical_path: int
+    level: int           # the level bound (includes the critical path and ⌈W/K⌉)
+
+    @property
+    def latency(self) -> int:
+        """The best latency bound (the level bound at q = 0 is ⌈work of the ops the torques need / K⌉;
+        ⌈W/K⌉ itself is not one: ops no torque reads may finish after the last torque)."""
+        return max(self.critical_path, self.level)
+
+
+def work(graph: Graph, timing: Timing) -> int:
+    """W: the VAMP-ticks one torque set takes (an MM holds three VAMPs)."""
+    d = timing.durations
+    return sum(d[nd.op] * VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+
+
+def tails(graph: Graph, timing: Timing) -> list[int | None]:
+    """Per node: the longest path, in ticks, from its start to the end of an output (its own
+    duration included); None for a node no output depends on."""
+    d = timing.durations
+    tail: list[int | None] = [None] * len(graph.nodes)
+    for o in graph.outputs:
+        tail[o.node] = 0
+    for nd in reversed(graph.nodes):
+        if tail[nd.id] is None:
+            continue
+        tail[nd.id] += d[nd.op]
+        for a in nd.args:
+            tail[a] = max(tail[a] or 0, tail[nd.id])
+    return tail
+
+
+def bounds(graph: Graph, timing: Timing, k: int) -> Bounds:
+    """The lower bounds for `graph` on `k` VAMPs (see the module docstring). The level bound: an op
+    with tail τ (its longest path to the end of an output, its own duration d included) must start by
+    L - τ, so by L - q it has done at least min(d, τ - q) of its work; all of that fits in K VAMPs
+    over L - q ticks: L >= q + ⌈Σ m·min(d, τ - q)⁺ / K⌉ for every q (m = 3 for an MM). It counts the
+    whole work of every op whose path after it exceeds q, as the issue asks, and more."""
+    d = timing.durations
+    tail = tails(graph, timing)
+    live = [(tail[nd.id], d[nd.op], VAMPS_PER_OP[nd.op]) for nd in graph.compute_nodes()
+            if tail[nd.id] is not None]
+    w = work(graph, timing)
+    cp = max((t for t, _, _ in live), default=0)
+    level = 0
+    for q in range(cp + 1):
+        must = sum(m * min(dur, t - q) for t, dur, m in live if t > q)
+        level = max(level, q + -(-must // k))
+    return Bounds(w, k, -(-w // k), cp, level)
+
+
+def smallest_network(graph: Graph) -> int:
+    """The fewest VAMPs any schedule needs: 3 if the graph has an MM, else 1."""
+    return 3 if any(nd.op is Op.MM for nd in graph.compute_nodes()) else 1
+
+
+@dataclass(frozen=True)
+class Placed:
+    """A modulo schedule: start per node, the VAMPs each compute node runs on, the interval."""
+
+    start: tuple[int, ...]
+    finish: tuple[int, ...]
+    placement: tuple[tuple[int, ...], ...]
+    interval: int
+
+
+def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
+                    asap: Schedule | None = None, latency: int | None = None,
+                    effort: int = 4, scan: bool = False, seed: int = 0) -> Placed | None:
+    """Place every op on `k` VAMPs with successive torque sets every `ii` ticks — every torque set
+    within `latency` ticks if given — or None if this scheduler finds no placement within `effort`
+    placements per op (see the module docstring). `scan`: when an op must evict, it evicts at the
+    tick of its window where the fewest ops are, not at its first tick. `seed` > 0 perturbs the
+    priorities by up to 2 ticks (a portfolio of orders tries its luck where the plain one fails)."""
+    d = timing.durations
+    asap = asap or schedule_asap(graph, timing, verify=False)
+    nodes = graph.nodes
+    if max((d[nd.op] for nd in graph.compute_nodes()), default=0) > ii:
+        return None
+    tail = tails(graph, timing)
+    jitter = _jitter(len(nodes), seed)
+    order = sorted((nd.id for nd in nodes if nd.op.is_compute),
+                   key=lambda i: (-(tail[i] if tail[i] is not None else -1) + jitter[i],
+                                  asap.start[i], i))
+    deadline = None
+    if latency is not None:      # the latest start that lets the torques be out by then
+        deadline = {i: latency - tail[i] for i in order if tail[i] is not None}
+    return _Modulo(graph, d, k, ii, asap, deadline, scan).run(order, effort)
+
+
+def _jitter(count: int, seed: int) -> list[float]:
+    if not seed:
+        return [0.0] * count
+    import random
+    rng = random.Random(seed)
+    return [rng.uniform(-2.0, 2.0) for _ in range(count)]
+
+
+class _Modulo:
+    """Iterative modulo scheduling (after Rau): ops are placed most urgent first at the earliest tick
+    a VAMP is free for them modulo the interval; an op that finds none within one interval is placed
+    anyway, evicting what occupies that VAMP, and the evicted ops (and any successor the move put
+    too early) go back in the queue. A budget of placements bounds the work."""
+
+    def __init__(self, graph: Graph, d, k: int, ii: int, asap: Schedule, deadline=None,
+                 scan: bool = False):
+        self.g, self.d, self.k, self.ii, self.asap = graph, d, k, ii, asap
+        self.deadline = deadline or {}
+        self.scan = scan      # evict where the fewest ops are (else at the first tick, as Rau)
+        self.free = [(1 << k) - 1] * ii          # per tick of the period: bit v set = VAMP v free
+        self.occupant: list[dict[int, int]] = [{} for _ in range(ii)]
+        self.start: dict[int, int] = {}
+        self.placement: dict[int, tuple[int, ...]] = {}
+        self.consumers = graph.consumers()
+
+    def run(self, order: list[int], effort: int) -> Placed | None:
+        import heapq
+        rank = {i: r for r, i in enumerate(order)}
+        queue = [(rank[i], i) for i in order]
+        heapq.heapify(queue)
+        last: dict[int, int] = {}
+        steps = effort * len(order)
+        while queue:
+            if steps == 0:
+                return None
+            steps -= 1
+            _, i = heapq.heappop(queue)
+            if i in self.start:
+                continue
+            try:
+                for evicted in self._place(i, last):
+                    heapq.heappush(queue, (rank[evicted], evicted))
+            except _Late:
+                return None
+        return self._placed()
+
+    def _place(self, i: int, last: dict[int, int]) -> list[int]:
+        nodes, d = self.g.nodes, self.d
+        nd = nodes[i]
+        need, dur = VAMPS_PER_OP[nd.op], d[nd.op]
+        ready = max([self.start[a] + d[nodes[a].op] for a in nd.args if a in self.start]
+                    + [self.asap.start[i]])
+        end = min(ready + self.ii - 1, self.deadline.get(i, ready + self.ii - 1))
+        if end < ready:
+            raise _Late(i)
+        got = _fit(self.free, ready, dur, need, end - ready + 1)
+        evicted = []
+        if got is None:       # no room in time: take VAMPs from others
+            first = ready if i not in last or ready > last[i] else last[i] + 1
+            if first > end:
+                first = ready
+            ticks = range(first, end + 1) if self.scan else (first,)
+            t, vamps = min((self._conflicts(t, dur, need) for t in ticks))[1:]
+            evicted = sorted({self.occupant[tick % self.ii][v] for tick in range(t, t + dur)
+                              for v in vamps if v in self.occupant[tick % self.ii]})
+            for e in evicted:
+                self._remove(e)
+            got = (t, vamps)
+        t, vamps = got
+        self._reserve(i, t, vamps)
+        last[i] = t
+        late = [c for c in self.consumers[i] if c in self.start and self.start[c] < t + dur]
+        for c in late:
+            self._remove(c)
+        return evicted + late
+
+    def _conflicts(self, t: int, dur: int, need: int):
+        """(ops to evict, t, VAMPs): the `need` VAMPs whose ticks t .. t + dur - 1 hold the fewest
+        other ops."""
+        held = []
+        for v in range(self.k):
+            ops = {self.occupant[tick % self.ii].get(v) for tick in range(t, t + dur)} - {None}
+            held.append((len(ops), v))
+        held.sort()
+        vamps = tuple(v for _, v in held[:need])
+        return sum(c for c, _ in held[:need]), t, vamps
+
+    def _reserve(self, i: int, t: int, vamps: tuple[int, ...]) -> None:
+        dur = self.d[self.g.nodes[i].op]
+        for tick in range(t, t + dur):
+            slot = tick % self.ii
+            for v in vamps:
+                self.free[slot] &= ~(1 << v)
+                self.occupant[slot][v] = i
+        self.start[i], self.placement[i] = t, vamps
+
+    def _remove(self, i: int) -> None:
+        t, vamps = self.start.pop(i), self.placement.pop(i)
+        for tick in range(t, t + self.d[self.g.nodes[i].op]):
+            slot = tick % self.ii
+            for v in vamps:
+                self.free[slot] |= 1 << v
+                del self.occupant[slot][v]
+
+    def _placed(self) -> Placed:
+        start, finish = list(self.asap.start), list(self.asap.finish)
+        placement: list[tuple[int, ...]] = [()] * len(self.g.nodes)
+        for i, t in self.start.items():
+            start[i], finish[i] = t, t + self.d[self.g.nodes[i].op]
+            placement[i] = self.placement[i]
+        return Placed(tuple(start), tuple(finish), tuple(placement), self.ii)
+
+
+class _Late(Exception):
+    """An op whose operands are ready after its deadline: this latency cannot be met."""
+
+
+def _fit(free: list[int], ready: int, dur: int, need: int, window: int):
+    """(start, VAMPs): the first start from `ready`, within `window` ticks (at most one interval),
+    at which `need` VAMPs are free for `dur` ticks (modulo the interval); None if there is none."""
+    ii = len(free)
+    for t in range(ready, ready + window):
+        mask = free[t % ii]
+        for tick in range(t + 1, t + dur):
+            mask &= free[tick % ii]
+        if mask and (need == 1 or mask.bit_count() >= need):
+            vamps = []
+            while len(vamps) < need:
+                low = mask & -mask
+                vamps.append(low.bit_length() - 1)
+                mask ^= low
+            return t, tuple(vamps)
+    return None
+
+
+def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
+                    interval: int | None = None, verify: bool = True):
+    """(Layout, Schedule, Bounds) for a budget: `k` VAMPs at the smallest interval this scheduler
+    reaches, or the fewest VAMPs that reach `interval`, or both (K VAMPs at that interval). One line
+    saying what is feasible when the request is not."""
+    asap = schedule_asap(graph, timing, verify=False)
+    smallest = smallest_network(graph)
+    longest = max(timing.durations[nd.op] for nd in graph.compute_nodes())
+    if k is not None and k < smallest:
+        raise VampcError(f"--vamps {k}: the smallest network that runs this graph has {smallest} "
+                         "VAMPs (an MM takes three)" if smallest == 3 else
+                         f"--vamps {k}: at least one VAMP is needed")
+    if interval is not None and interval < longest:
+        raise VampcError(f"--interval {interval}: the smallest interval any network reaches is "
+                         f"{longest} flops (the longest op)")
+    if k is None:
+        k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
+    elif interval is None:
+        placed = _best_for(graph, timing, k, asap)
+    else:
+        placed = modulo_schedule(graph, timing, k, interval, asap)
+        if placed is None:
+            best = _smallest_interval(graph, timing, k, asap).interval
+            raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
+                             f"interval this scheduler reaches is {best} flops")
+    return _finish(graph, timing, placed, k, verify)
+
+
+TOLERANCE = 0.05     # intervals up to 5% above the bound may be taken for a shorter latency
+
+
+def _best_for(graph, timing, k, asap) -> Placed:
+    """K VAMPs: the smallest interval the scheduler reaches, then — among that and a few intervals
+    up to TOLERANCE above the interval bound — the placement with the shortest latency, found by
+    halving the latency each one is held to (vampc.schedule.budget.modulo_schedule's deadlines)."""
+    first = _smallest_interval(graph, timing, k, asap)
+    b = bounds(graph, timing, k)
+    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
+    limit = max(first.interval, int(floor * (1 + TOLERANCE)))
+    step = max(1, (limit - first.interval) // 3)
+    best = first
+    for ii in range(first.interval, limit + 1, step):
+        for scan, seed in ATTEMPTS:
+            if _latency(graph, best) <= b.latency:
+                return best
+            top = first if (ii, scan, seed) == (first.interval, False, 0) else \
+                modulo_schedule(graph, timing, k, ii, asap, scan=scan, seed=seed)
+            if top is None:
+                continue
+            found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, scan, seed)
+            if _latency(graph, found) < _latency(graph, best):
+                best = found
+    return best
+
+
+# The portfolio _best_for tries at each interval: (scan, seed) of modulo_schedule.
+ATTEMPTS = ((False, 0), (True, 0), (False, 1), (True, 2))
+
+
+def _latency(graph, placed: Placed) -> int:
+    return max(placed.finish[o.node] for o in graph.outputs)
+
+
+def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed, scan: bool,
+                      seed: int) -> Placed:
+    """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`."""
+    best, lo, hi = top, bound, _latency(graph, top) - 1
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, scan=scan, seed=seed)
+        if placed is None:
+            lo = mid + 1
+        else:
+            best, hi = placed, min(mid, _latency(graph, placed)) - 1
+    return best
+
+
+def _smallest_interval(graph, timing, k, asap) -> Placed:
+    """The first interval from ⌈W/K⌉ up at which the list scheduler places every op."""
+    ii = max(-(-work(graph, timing) // k), max(timing.durations[nd.op]
+                                               for nd in graph.compute_nodes()))
+    while True:
+        placed = modulo_schedule(graph, timing, k, ii, asap)
+        if placed is not None:
+            return placed
+        ii += 1
+
+
+def _fewest_vamps(graph, timing, interval, asap, smallest) -> tuple[int, Placed]:
+    """The fewest VAMPs at which the scheduler reaches `interval` (binary search from ⌈W/T⌉ up to
+    one VAMP per VAMP-op, where it always does)."""
+    lo = max(smallest, -(-work(graph, timing) // interval))
+    hi = sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+    best = modulo_schedule(graph, timing, hi, interval, asap)
+    if best is None:      # a VAMP per VAMP-op is always free: only a bug gets here
+        raise VampcInternalError(f"no placement at interval {interval} with a VAMP per op")
+    while lo < hi:
+        mid = (lo + hi) // 2
+        placed = modulo_schedule(graph, timing, mid, interval, asap)
+        if placed is None:
+            lo = mid + 1
+        else:
+            hi, best = mid, placed
+    return hi, best
+
+
+def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool):
+    from vampc.schedule.layout import Layout
+    latency = max(placed.finish[o.node] for o in graph.outputs)
+    last = max(graph.outputs, key=lambda o: (placed.finish[o.node], o.joint))
+    path, mults, adds = critical_path_counts(graph, timing, placed.finish, last.node)
+    sched = Schedule(timing, placed.start, placed.finish, latency, tuple(path), mults, adds,
+                     placed.interval)
+    used = sorted({v for p in placed.placement for v in p})
+    renumber = {v: j for j, v in enumerate(used)}          # VAMPs the schedule left idle go
+    placement = tuple(tuple(renumber[v] for v in p) for p in placed.placement)
+    clock = buffer_clock(graph, sched, placement)
+    layout = Layout("budget", tuple(-1 for _ in graph.nodes), (), placed.interval, clock,
+                    placement=placement)
+    if verify:
+        sched.verify(graph)
+        layout.verify(graph)
+    return layout, sched, bounds(graph, timing, k)
+
+
+def buffer_clock(graph: Graph, sched: Schedule, placement) -> int:
+    """The largest buffer clock B dividing the period under which every result a later reader takes
+    from a buffer is still on its VAMP's Result at the end of the block it appeared in."""
+    P = sched.interval
+    need = _buffered_results(graph, sched, placement)
+    for clock in sorted((b for b in range(1, P + 1) if P % b == 0), reverse=True):
+        if all(nxt >= (emit // clock + 1) * clock for emit, nxt in need):
+            return clock
+    return 1
+
+
+def _buffered_results(graph, sched, placement) -> list[tuple[int, int]]:
+    """(emit, next emit) of every result some reader takes after its VAMP's next dump."""
+    P = sched.interval
+    on: dict[int, list[int]] = {}
+    for nd in graph.compute_nodes():
+        for v in placement[nd.id]:
+            on.setdefault(v, []).append(nd.id)
+    nxt: dict[int, int] = {}
+    for nodes in on.values():
+        order = sorted(nodes, key=lambda i: (sched.finish[i] - 1) % P)
+        for j, i in enumerate(order):
+            after = order[(j + 1) % len(order)]
+            gap = ((sched.finish[after] - sched.finish[i] - 1) % P) + 1
+            nxt[i] = min(nxt.get(i, math.inf), sched.finish[i] + gap)
+    late = {a for nd in graph.compute_nodes() for a in nd.args
+            if a in nxt and sched.start[nd.id] >= nxt[a]}
+    return [(sched.finish[a], nxt[a]) for a in late]
