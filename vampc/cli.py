@@ -224,21 +224,57 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
 
 @main.command()
 @click.argument("source", type=click.Path(dir_okay=False))
-@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--format", "fmt", type=click.Choice(["text", "json", "csv"]), default="text",
+              show_default=True, help="csv: with --tradeoff only.")
+@click.option("--tradeoff", is_flag=True, help="Sweep VAMP budgets from the smallest network to one "
+              "VAMP per op, beside the folded and systolic layouts: latency, interval, buffers and "
+              "wiring per point, bounds and gaps, Pareto-optimal points marked.")
 @_compile_options
 @_robot_options
 @click.pass_context
 @_handle_errors
-def report(ctx, source, fmt, base, tip, lock, **opts):
+def report(ctx, source, fmt, tradeoff, base, tip, lock, **opts):
     """Report flop counts, latency, VAMP, buffer and package counts for SOURCE: a robot file (compiled
     on the fly with the options given) or a program file written by `vampc compile` (its figures are
     recomputed from the file's graph, schedule and network)."""
+    if fmt == "csv" and not tradeoff:
+        raise click.UsageError("--format csv applies to --tradeoff only")
+    if tradeoff:
+        return _tradeoff(ctx, source, fmt, base, tip, lock, **opts)
     rep = _report(ctx, source, base, tip, lock, **opts)
     if fmt == "json":
         click.echo(json.dumps(rep, indent=1, sort_keys=True))
     else:
         from vampc.report.text import render
         click.echo(render(rep), nl=False)
+
+
+def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
+    from vampc import progress
+    from vampc.compiler import CompileOptions
+    from vampc.report import tradeoff as tr
+    from vampc.robot import load_robot
+    from vampc.sniff import is_program
+    for name in ("vamps", "interval", "layout", "share_passes"):
+        if _given(ctx, name):
+            raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff, which sweeps the "
+                                   "layouts and budgets itself")
+    if is_program(source):
+        c = _program_compiled(ctx, source)
+        chain, options = c.chain, c.options
+    else:
+        _check_robot_options(ctx, opts)
+        chain = load_robot(source, base=base, tip=tip, lock=_parse_lock(lock))
+        options = CompileOptions(**opts)
+    with progress.counter("trade-off", 1, unit="budget") as bar:
+        rows = tr.tradeoff(chain, options, bar)
+    if fmt == "json":
+        click.echo(json.dumps({"robot": chain.name, "joints": chain.n,
+                               "recursion": options.recursion, "points": rows}, indent=1))
+    elif fmt == "csv":
+        click.echo(tr.render_csv(rows), nl=False)
+    else:
+        click.echo(tr.render_text(rows), nl=False)
 
 
 def _report(ctx, source, base, tip, lock, **opts) -> dict:

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from vampc.errors import VampcError, located
+from vampc.errors import located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
 

@@ -264,10 +264,11 @@ def _fit(free: list[int], ready: int, dur: int, need: int, window: int):
 
 
 def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
-                    interval: int | None = None, verify: bool = True):
+                    interval: int | None = None, verify: bool = True, thorough: bool = True):
     """(Layout, Schedule, Bounds) for a budget: `k` VAMPs at the smallest interval this scheduler
     reaches, or the fewest VAMPs that reach `interval`, or both (K VAMPs at that interval). One line
-    saying what is feasible when the request is not."""
+    saying what is feasible when the request is not. `thorough`: search the portfolio for a shorter
+    latency (vampc compile); without it, the first placement at the smallest interval (sweeps)."""
     asap = schedule_asap(graph, timing, verify=False)
     smallest = smallest_network(graph)
     longest = max(timing.durations[nd.op] for nd in graph.compute_nodes())
@@ -281,7 +282,8 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     if k is None:
         k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
     elif interval is None:
-        placed = _best_for(graph, timing, k, asap)
+        placed = _best_for(graph, timing, k, asap) if thorough else \
+            _smallest_interval(graph, timing, k, asap)
     else:
         placed = modulo_schedule(graph, timing, k, interval, asap)
         if placed is None:

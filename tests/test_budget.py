@@ -1,0 +1,194 @@
+"""VAMP budgets (issue 10; vampc.schedule.budget, vampc.report.tradeoff): budgeted programs emulate
+exactly on both engines, the bounds are lower bounds (checked on graphs whose optimum is known by
+hand), infeasible requests say what is feasible, and the trade-off sweep's Pareto flags are right."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from emulator_util import loaded, run_both
+from vampc.cli import main
+from vampc.compiler import CompileOptions, build_graph, compile_chain
+from vampc.dataflow.graph import GraphBuilder
+from vampc.dataflow.ops import Op, Timing
+from vampc.emulator.host import check_torques
+from vampc.errors import VampcError
+from vampc.robot import load_robot
+from vampc.robot.random import random_chain
+from vampc.schedule.budget import bounds, budget_schedule, modulo_schedule, work
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf"]
+
+
+def _systolic_count(chain, recursion) -> int:
+    return len(compile_chain(chain, CompileOptions(recursion=recursion)).network.vamps)
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_budgeted_programs_emulate_exactly_on_both_engines(robot, recursion):
+    chain = load_robot(EXAMPLES / robot)
+    smallest = 3 if recursion == "log" else 1
+    for k in (smallest, 7, _systolic_count(chain, recursion) - 1):
+        ld = loaded(chain, recursion=recursion, vamps=k)
+        assert len(ld.net.vamps) <= k
+        traj, stream, tick = run_both(ld, 120, tick_count=3)
+        res = check_torques(ld.chain, traj, stream.tau)
+        assert res.ok, (k, res.max_rel)
+        assert np.array_equal(stream.tau[:3], tick.tau)
+        assert tick.interval == ld.period and tick.first_tick == ld.schedule.latency
+
+
+@pytest.mark.parametrize("interval", [8, 40])
+def test_an_interval_asked_for_is_met_on_the_fewest_vamps_found(interval):
+    chain = load_robot(EXAMPLES / "puma560.yaml")
+    ld = loaded(chain, interval=interval)
+    assert ld.period == interval
+    traj, stream, tick = run_both(ld, 80, tick_count=3)
+    assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:3], tick.tau)
+    g = build_graph(chain, CompileOptions())
+    fewest = len(ld.net.vamps)
+    assert fewest >= -(-work(g, Timing()) // interval)
+    assert modulo_schedule(g, Timing(), fewest - 1, interval) is None or fewest - 1 < 1
+
+
+def test_budgets_with_other_latencies_emulate_exactly():
+    chain = random_chain(4, 6, prismatic_fraction=0.5, endpoints=True)
+    ld = loaded(chain, vamps=5, mult_latency=3, add_latency=2)
+    traj, stream, tick = run_both(ld, 60, tick_count=3)
+    assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:3], tick.tau)
+
+
+def test_the_interval_is_never_below_work_over_vamps_and_latency_never_below_the_bounds():
+    for recursion in ("linear", "log"):
+        g = build_graph(random_chain(8, 2, prismatic_fraction=0.3), CompileOptions(recursion=recursion))
+        for k in (3, 5, 11, 40, 200):
+            layout, sched, b = budget_schedule(g, Timing(), k)
+            assert sched.interval >= b.interval and layout.vamp_count <= k
+            assert sched.latency >= b.latency >= b.critical_path
+
+
+# --- the bounds on graphs whose optimum is known ---------------------------------------------------
+
+def _graph(build) -> object:
+    b = GraphBuilder(1, "linear")
+    b.at("bwd", 1)
+    x, y = b.const([1.0, 2.0, 3.0], "x"), b.const([1.0, 0.0, 0.0], "y")
+    out = build(b, x, y)
+    b.output(1, out)
+    return b.build(verify=True)
+
+
+def test_level_bound_on_independent_ops():
+    # four VAs feeding a tree of VAs: work 7 ticks on 2 VAMPs; the best latency is 4 (2 + 1 + 1)
+    def build(b, x, y):
+        leaves = [b.op(Op.VA, x, y, f"L{i}") for i in range(4)]
+        mid = [b.op(Op.VA, leaves[0], leaves[1], "M0"), b.op(Op.VA, leaves[2], leaves[3], "M1")]
+        return b.op(Op.VA, mid[0], mid[1], "R")
+    g = _graph(build)
+    b = bounds(g, Timing(), 2)
+    assert (b.work, b.interval, b.critical_path) == (7, 4, 3)
+    assert b.latency == 4                       # the optimum: the level bound is exact here
+    _, sched, _ = budget_schedule(g, Timing(), 2)
+    assert sched.latency == 4
+
+
+def test_level_bound_counts_only_the_work_that_must_come_first():
+    # an MV (3 ticks) then a VA on one VAMP: latency 4, the critical path. Counting the whole work
+    # of every op whose path *including itself* exceeds q would claim 3 + ⌈3/1⌉ = 6 at q = 3 (the MV,
+    # tail 4 > 3): not a bound. Counting what must be done by L - q (min(d, tail - q)) gives 4.
+    def build(b, x, y):
+        m = b.const(np.eye(3), "M")
+        return b.op(Op.VA, b.op(Op.MV, m, x, "mv"), y, "va")
+    g = _graph(build)
+    b = bounds(g, Timing(), 1)
+    assert b.latency == 4 and b.level == 4
+    assert budget_schedule(g, Timing(), 1)[1].latency == 4
+
+
+def test_bounds_hold_for_every_schedule_the_sweep_finds():
+    from vampc.report.tradeoff import tradeoff
+    rows = tradeoff(random_chain(3, 1), CompileOptions())
+    for r in rows:
+        assert r["interval_flops"] >= r["interval_bound"] and r["latency_flops"] >= r["latency_bound"]
+
+
+# --- bad requests ----------------------------------------------------------------------------------
+
+def test_too_few_vamps_for_an_mm():
+    g = build_graph(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(recursion="log"))
+    with pytest.raises(VampcError, match=r"^--vamps 2: the smallest network that runs this graph "
+                                         r"has 3 VAMPs \(an MM takes three\)$"):
+        budget_schedule(g, Timing(), 2)
+
+
+def test_an_interval_shorter_than_an_op():
+    g = build_graph(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions())
+    with pytest.raises(VampcError, match=r"^--interval 2: the smallest interval any network "
+                                         r"reaches is 3 flops \(the longest op\)$"):
+        budget_schedule(g, Timing(), interval=2)
+
+
+def test_vamps_and_interval_that_contradict():
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "4",
+                                    "--interval", "20", "-o", "-"])
+    assert res.exit_code == 1
+    assert res.stderr.startswith("vampc: error: --vamps 4 --interval 20: with 4 VAMPs the smallest "
+                                 "interval this scheduler reaches is ")
+
+
+@pytest.mark.parametrize("extra", [["--layout", "folded"], ["--layout", "systolic"]])
+def test_a_budget_with_a_layout_is_a_usage_error(extra):
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12",
+                                    *extra, "-o", "-"])
+    assert res.exit_code == 2 and "make their own (budgeted) layout" in res.stderr
+
+
+def test_report_of_a_budget_shows_bound_and_gap():
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "12",
+                                    "--format", "json"])
+    rep = json.loads(res.stdout)
+    b = rep["budget"]
+    assert rep["layout"] == "budget" and b["vamps_asked"] == 12 and b["vamps_used"] <= 12
+    assert b["work"] == 324 and b["work_over_vamps"] == 27
+    assert rep["interval_flops"] >= b["interval_bound"] >= 27
+    assert b["interval_gap_pct"] == round(100 * (rep["interval_flops"] - b["interval_bound"])
+                                          / b["interval_bound"], 1)
+    text = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "12"]).stdout
+    assert "budget           " in text and "gap" in text
+
+
+# --- the trade-off sweep ---------------------------------------------------------------------------
+
+def _pareto(rows):
+    keys = ("vamps", "latency_flops", "interval_flops", "buffer_stages")
+    return [not any(all(o[k] <= r[k] for k in keys) and any(o[k] < r[k] for k in keys) for o in rows)
+            for r in rows]
+
+
+def test_tradeoff_json_and_csv():
+    args = ["report", str(EXAMPLES / "planar2.yaml"), "--tradeoff"]
+    doc = json.loads(CliRunner().invoke(main, [*args, "--format", "json"]).stdout)
+    rows = doc["points"]
+    layouts = {r["layout"] for r in rows}
+    assert {"systolic", "folded", "folded, shared passes"} <= layouts
+    assert any(r["layout"].startswith("budget") for r in rows)
+    assert [r["pareto"] for r in rows] == _pareto(rows)
+    assert [r["vamps"] for r in rows] == sorted(r["vamps"] for r in rows)
+    table = list(csv.DictReader(io.StringIO(CliRunner().invoke(main, [*args, "--format",
+                                                                      "csv"]).stdout)))
+    assert len(table) == len(rows) and table[0]["layout"] == rows[0]["layout"]
+    assert {k: str(v) for k, v in rows[0].items()} == table[0]
+
+
+def test_csv_without_tradeoff_and_budget_options_with_tradeoff_are_usage_errors():
+    robot = str(EXAMPLES / "planar2.yaml")
+    assert CliRunner().invoke(main, ["report", robot, "--format", "csv"]).exit_code == 2
+    assert CliRunner().invoke(main, ["report", robot, "--tradeoff", "--vamps", "3"]).exit_code == 2

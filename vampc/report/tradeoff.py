@@ -1,0 +1,115 @@
+"""The latency / interval / VAMP trade-off (`vampc report --tradeoff`): VAMP budgets from the smallest
+network that runs the graph up to one VAMP per VAMP-op, beside the folded and systolic layouts, with
+the Pareto-optimal points marked.
+
+Every point is compiled for real (budgeted schedule, allocation) and its figures read off the
+network: VAMPs used, latency, interval, delay-buffer stages, control registers, multiplexer inputs and
+host writes per set, with the interval and latency bounds of vampc.schedule.budget and the gaps. A
+point is Pareto-optimal when no other point is at least as good in VAMPs, latency, interval and buffer
+stages and better in one. Budgets are swept one by one up to MAX_STEPS of them, geometrically spaced
+beyond that; a budget whose schedule leaves VAMPs idle and repeats a smaller budget's point is shown
+once. Graphs up to THOROUGH_UP_TO VAMP-ops get the latency search `vampc compile --vamps` does; larger
+ones the first placement at the smallest interval (the sweep would take too long otherwise).
+"""
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import replace
+
+from vampc.compiler import CompileOptions, build_graph
+from vampc.dataflow.ops import VAMPS_PER_OP
+from vampc.network.allocate import allocate
+from vampc.schedule.budget import bounds, budget_schedule, smallest_network
+from vampc.schedule.layout import layout_and_schedule
+
+MAX_STEPS = 48
+THOROUGH_UP_TO = 2500    # VAMP-ops: larger graphs take the first placement at the smallest interval
+COLUMNS = ("layout", "vamps", "latency_flops", "interval_flops", "buffer_stages",
+           "control_registers", "mux_inputs", "host_writes_per_set", "interval_bound",
+           "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto")
+
+
+def budgets(smallest: int, largest: int, steps: int = MAX_STEPS) -> list[int]:
+    """VAMP budgets from `smallest` to `largest`: all of them, or `steps` geometrically spaced."""
+    if largest - smallest + 1 <= steps:
+        return list(range(smallest, largest + 1))
+    ratio = (largest / smallest) ** (1 / (steps - 1))
+    out = sorted({min(largest, max(smallest, round(smallest * ratio ** i))) for i in range(steps)})
+    return out
+
+
+def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
+    """One row per point (see the module docstring), in order of VAMPs."""
+    graph = build_graph(chain, replace(options, verify=False))
+    timing = options.timing
+    largest = sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+    ks = budgets(smallest_network(graph), largest)
+    thorough = largest <= THOROUGH_UP_TO
+    rows, seen = [], set()
+    for done, k in enumerate(ks):
+        layout, sched, b = budget_schedule(graph, timing, k, verify=False, thorough=thorough)
+        row = _row(f"budget {k}", graph, sched, layout, b)
+        figures = tuple(row[c] for c in FIGURES)
+        if figures not in seen:            # a larger budget the schedule did not use
+            seen.add(figures)
+            rows.append(row)
+        if progress is not None:
+            progress(done + 1, len(ks))
+    for name, share in (("folded", False), ("folded", True), ("systolic", False)):
+        layout, sched = layout_and_schedule(graph, timing, name, share, verify=False)
+        label = name + (", shared passes" if share else "")
+        rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
+    _mark_pareto(rows)
+    return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))
+
+
+def _row(label, graph, sched, layout, b) -> dict:
+    net = allocate(graph, sched, layout, verify=False)
+    plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
+    longest = max(sched.timing.durations[nd.op] for nd in graph.compute_nodes())
+    ib = max(b.interval, longest)
+    return {"layout": label, "vamps": len(net.vamps), "latency_flops": sched.latency,
+            "interval_flops": sched.interval, "buffer_stages": net.buffer_stages,
+            "control_registers": sum(4 if p else 6 * len(v.slots) for v, p in zip(net.vamps, plain)),
+            "mux_inputs": sum(len(v.a) - 1 + len(v.b) - 1 for v in net.vamps),
+            "host_writes_per_set": sum(len(p.entries) for p in net.ports),
+            "interval_bound": ib, "interval_gap_pct": _gap(sched.interval, ib),
+            "latency_bound": b.latency, "latency_gap_pct": _gap(sched.latency, b.latency)}
+
+
+def _gap(value: int, bound: int) -> float:
+    return round(100.0 * (value - bound) / bound, 1) if bound else 0.0
+
+
+KEYS = ("vamps", "latency_flops", "interval_flops", "buffer_stages")
+FIGURES = KEYS + ("control_registers", "mux_inputs", "host_writes_per_set")
+
+
+def _mark_pareto(rows: list[dict]) -> None:
+    for r in rows:
+        r["pareto"] = not any(all(o[k] <= r[k] for k in KEYS) and any(o[k] < r[k] for k in KEYS)
+                              for o in rows)
+
+
+def render_csv(rows: list[dict]) -> str:
+    """One CSV row per point, COLUMNS in order."""
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return out.getvalue()
+
+
+def render_text(rows: list[dict]) -> str:
+    """An aligned table; Pareto-optimal points marked with *."""
+    head = (f"{'':2}{'layout':<24}{'VAMPs':>7}{'latency':>9}{'bound':>7}{'gap':>7}{'interval':>10}"
+            f"{'bound':>7}{'gap':>7}{'buffers':>9}{'ctrl regs':>11}{'mux in':>8}{'host wr':>9}")
+    lines = ["trade-off (flops; * Pareto-optimal in VAMPs, latency, interval and buffer stages):", head]
+    for r in rows:
+        lines.append(f"{'*' if r['pareto'] else ' ':2}{r['layout']:<24}{r['vamps']:>7}"
+                     f"{r['latency_flops']:>9}{r['latency_bound']:>7}{r['latency_gap_pct']:>6}%"
+                     f"{r['interval_flops']:>10}{r['interval_bound']:>7}{r['interval_gap_pct']:>6}%"
+                     f"{r['buffer_stages']:>9}{r['control_registers']:>11}{r['mux_inputs']:>8}"
+                     f"{r['host_writes_per_set']:>9}")
+    return "\n".join(lines) + "\n"
