@@ -24,7 +24,7 @@ from vampc.schedule.budget import bounds, budget_schedule, smallest_network
 from vampc.schedule.layout import layout_and_schedule
 
 MAX_STEPS = 48
-THOROUGH_UP_TO = 2500    # VAMP-ops: larger graphs take the first placement at the smallest interval
+THOROUGH_UP_TO = 1000    # VAMP-ops: larger graphs take the first placement at the smallest interval
 COLUMNS = ("layout", "vamps", "latency_flops", "interval_flops", "buffer_stages",
            "control_registers", "mux_inputs", "host_writes_per_set", "interval_bound",
            "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto")

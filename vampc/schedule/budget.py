@@ -136,6 +136,9 @@ def _jitter(count: int, seed: int) -> list[float]:
     return [rng.uniform(-2.0, 2.0) for _ in range(count)]
 
 
+SCAN = 16      # ticks an evicting op looks ahead for the fewest ops to displace
+
+
 class _Modulo:
     """Iterative modulo scheduling (after Rau): ops are placed most urgent first at the earliest tick
     a VAMP is free for them modulo the interval; an op that finds none within one interval is placed
@@ -152,6 +155,11 @@ class _Modulo:
         self.start: dict[int, int] = {}
         self.placement: dict[int, tuple[int, ...]] = {}
         self.consumers = graph.consumers()
+        # per (duration, VAMPs needed) of the graph's ops: bit t set when that many VAMPs are free
+        # for that many ticks from tick t (so the first fit is a bit search, not a scan)
+        self.shapes = sorted({(d[nd.op], VAMPS_PER_OP[nd.op]) for nd in graph.compute_nodes()})
+        self.longest = max(dur for dur, _ in self.shapes)
+        self.avail = {shape: bytearray([shape[1] <= k]) * ii for shape in self.shapes}
 
     def run(self, order: list[int], effort: int) -> Placed | None:
         import heapq
@@ -183,13 +191,13 @@ class _Modulo:
         end = min(ready + self.ii - 1, self.deadline.get(i, ready + self.ii - 1))
         if end < ready:
             raise _Late(i)
-        got = _fit(self.free, ready, dur, need, end - ready + 1)
+        got = self._fit(ready, dur, need, end - ready + 1)
         evicted = []
         if got is None:       # no room in time: take VAMPs from others
             first = ready if i not in last or ready > last[i] else last[i] + 1
             if first > end:
                 first = ready
-            ticks = range(first, end + 1) if self.scan else (first,)
+            ticks = range(first, min(end, first + SCAN) + 1) if self.scan else (first,)
             t, vamps = min((self._conflicts(t, dur, need) for t in ticks))[1:]
             evicted = sorted({self.occupant[tick % self.ii][v] for tick in range(t, t + dur)
                               for v in vamps if v in self.occupant[tick % self.ii]})
@@ -215,6 +223,41 @@ class _Modulo:
         vamps = tuple(v for _, v in held[:need])
         return sum(c for c, _ in held[:need]), t, vamps
 
+    def _fit(self, ready: int, dur: int, need: int, window: int):
+        """(start, VAMPs): the first start from `ready`, within `window` ticks (at most one
+        interval), at which `need` VAMPs are free for `dur` ticks; None if there is none."""
+        ii = self.ii
+        avail, r = self.avail[(dur, need)], ready % ii
+        at = avail.find(1, r, min(ii, r + window))
+        if at >= 0:
+            t = ready + at - r
+        else:
+            at = avail.find(1, 0, r + window - ii) if r + window > ii else -1
+            if at < 0:
+                return None
+            t = ready + ii - r + at
+        mask = self.free[t % ii]
+        for tick in range(t + 1, t + dur):
+            mask &= self.free[tick % ii]
+        vamps = []
+        while len(vamps) < need:
+            low = mask & -mask
+            vamps.append(low.bit_length() - 1)
+            mask ^= low
+        return t, tuple(vamps)
+
+    def _refresh(self, t: int, dur: int) -> None:
+        """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
+        ii, free = self.ii, self.free
+        for start in range(t - self.longest + 1, t + dur):
+            s0 = start % ii
+            for shape in self.shapes:
+                length, need = shape
+                mask = free[s0]
+                for tick in range(start + 1, start + length):
+                    mask &= free[tick % ii]
+                self.avail[shape][s0] = mask.bit_count() >= need if need > 1 else mask != 0
+
     def _reserve(self, i: int, t: int, vamps: tuple[int, ...]) -> None:
         dur = self.d[self.g.nodes[i].op]
         for tick in range(t, t + dur):
@@ -222,15 +265,18 @@ class _Modulo:
             for v in vamps:
                 self.free[slot] &= ~(1 << v)
                 self.occupant[slot][v] = i
+        self._refresh(t, dur)
         self.start[i], self.placement[i] = t, vamps
 
     def _remove(self, i: int) -> None:
         t, vamps = self.start.pop(i), self.placement.pop(i)
-        for tick in range(t, t + self.d[self.g.nodes[i].op]):
+        dur = self.d[self.g.nodes[i].op]
+        for tick in range(t, t + dur):
             slot = tick % self.ii
             for v in vamps:
                 self.free[slot] |= 1 << v
                 del self.occupant[slot][v]
+        self._refresh(t, dur)
 
     def _placed(self) -> Placed:
         start, finish = list(self.asap.start), list(self.asap.finish)
@@ -243,24 +289,6 @@ class _Modulo:
 
 class _Late(Exception):
     """An op whose operands are ready after its deadline: this latency cannot be met."""
-
-
-def _fit(free: list[int], ready: int, dur: int, need: int, window: int):
-    """(start, VAMPs): the first start from `ready`, within `window` ticks (at most one interval),
-    at which `need` VAMPs are free for `dur` ticks (modulo the interval); None if there is none."""
-    ii = len(free)
-    for t in range(ready, ready + window):
-        mask = free[t % ii]
-        for tick in range(t + 1, t + dur):
-            mask &= free[tick % ii]
-        if mask and (need == 1 or mask.bit_count() >= need):
-            vamps = []
-            while len(vamps) < need:
-                low = mask & -mask
-                vamps.append(low.bit_length() - 1)
-                mask ^= low
-            return t, tuple(vamps)
-    return None
 
 
 def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
@@ -305,23 +333,29 @@ def _best_for(graph, timing, k, asap) -> Placed:
     floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
     limit = max(first.interval, int(floor * (1 + TOLERANCE)))
     step = max(1, (limit - first.interval) // 3)
-    best = first
+    tops = []                 # (latency, interval, attempt, placement) of every first placement
     for ii in range(first.interval, limit + 1, step):
-        for scan, seed in ATTEMPTS:
-            if _latency(graph, best) <= b.latency:
-                return best
+        for n, (scan, seed) in enumerate(ATTEMPTS):
             top = first if (ii, scan, seed) == (first.interval, False, 0) else \
                 modulo_schedule(graph, timing, k, ii, asap, scan=scan, seed=seed)
-            if top is None:
-                continue
-            found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, scan, seed)
-            if _latency(graph, found) < _latency(graph, best):
-                best = found
+            if top is not None:
+                tops.append((_latency(graph, top), ii, n, top))
+    tops.sort(key=lambda x: x[:3])
+    best = tops[0][3]
+    for _, ii, n, top in tops[:REFINED]:   # hold the most promising to shorter latencies
+        if _latency(graph, best) <= b.latency:
+            break
+        scan, seed = ATTEMPTS[n]
+        found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, scan, seed)
+        if _latency(graph, found) < _latency(graph, best):
+            best = found
     return best
 
 
-# The portfolio _best_for tries at each interval: (scan, seed) of modulo_schedule.
+# The portfolio _best_for tries at each interval: (scan, seed) of modulo_schedule; the REFINED
+# placements with the shortest latencies are then held to shorter ones.
 ATTEMPTS = ((False, 0), (True, 0), (False, 1), (True, 2))
+REFINED = 3
 
 
 def _latency(graph, placed: Placed) -> int:
