@@ -58,7 +58,7 @@ def build_linear(chain: Chain, verify: bool = True) -> Graph:
         f_next, n_next = tip if i == chain.n else _children_sum(b, i, incoming.get(i, []))
         fp, np_ = _forward_node(b, chain, i, forces[i - 1], f_next, n_next)
         b.output(i, *joint_output(b, chain, i, fp, np_))
-        incoming.setdefault(chain.parent_of[i - 1], []).insert(0, _passed_up(b, chain, i, fp, np_))
+        incoming.setdefault(chain.parent(i), []).insert(0, _passed_up(b, chain, i, fp, np_))
     if chain.floating:
         _base_wrench(b, chain, base_loads, incoming.get(0, []))
     return b.build({"recursion": "linear", "convention": "f, n referred to O_{i-1}"}, verify)

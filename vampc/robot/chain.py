@@ -165,6 +165,10 @@ class Chain:
         """Values per torque set: n joint forces, then 6 base-wrench components if the base floats."""
         return self.n + (6 if self.floating else 0)
 
+    def parent(self, i: int) -> int:
+        """Parent joint of joint i (0: the base link), in O(1)."""
+        return i - 1 if self.parents is None else self.parents[i - 1]
+
     @property
     def parent_of(self) -> tuple[int, ...]:
         """Parent joint of every joint i = 1..n (0: the base link), chain or tree."""
