@@ -250,6 +250,9 @@ def _report(ctx, source, base, tip, lock, **opts) -> dict:
     rep["layout_comparison"] = compare_layouts(c.chain, c.options)
     if c.graph.recursion == "log":
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
+    if "tree" in rep:
+        from vampc.report.compare import tree_latencies
+        rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
     return rep
 
 
