@@ -120,10 +120,7 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
     """Refuse floating joints below the base (a floating joint is only the root's), planar and unknown
     joint types, and movable joints with a zero axis."""
     for j in tree.below(base):
-        if j.type == "floating":
-            raise located(path, f"joint '{j.name}'", "a floating joint must be the root link's only "
-                                                     "joint (the base floats); this one is not at the root")
-        if j.type == "planar":
+        if j.type in ("floating", "planar"):   # a floating root joint was taken by choose_base
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
