@@ -65,9 +65,16 @@ def chain_from_doc(doc: dict) -> Chain:
     if doc.get("floating"):
         tree.update(floating=True, base_mass=doc["base_mass"], base_com=np.array(doc["base_com"]),
                     base_inertia=np.array(doc["base_inertia"]))
-    return Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
-                 np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
-                 np.array(doc["tip_torque"]), doc["source"], **tree)
+    chain = Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
+                  np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
+                  np.array(doc["tip_torque"]), doc["source"], **tree)
+    if tree:      # the host walks the tree: parents must be a depth-first tree of n joints
+        from vampc.errors import VampcError, VampcInternalError
+        try:
+            chain._verify_tree()
+        except VampcInternalError as exc:
+            raise VampcError(f"robot.parents: {exc}") from None
+    return chain
 
 
 def graph_to_doc(g: Graph) -> dict:
