@@ -372,8 +372,6 @@ URDF_ERRORS = [
      r"no movable joints between base link 'base' and tip link 'l2'"),
     (robot(*ARM), {"lock": {"j9": 0.0}}, r"lock j9: no joint named 'j9'"),
     (robot(*ARM), {"lock": {"j1": float("nan")}}, r"lock j1: value nan is not a finite number"),
-    (TREE, {},
-     r"several movable branches below base link 'torso'; choose --tip from 'left_hand', 'right_hand'"),
     (TREE, {"tip": "left_hand"},
      r"joint 'right_1' branches off the chain; lock it with --lock right_1=VALUE or choose --tip"),
     (TREE, {"tip": "chest"}, r"joint 'left_1' branches off the chain; lock it with --lock left_1=VALUE "
@@ -556,3 +554,24 @@ def test_example_robot_data_tree_matches_pinocchio(path, floating):
         ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
         got = emulate(ld, traj, "stream").tau
         assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_a_tree_without_tip_is_taken_whole(tmp_path):
+    """Issue 12 replaced the error "several movable branches below base link 'torso'; choose --tip from
+    'left_hand', 'right_hand'" (a case of URDF_ERRORS until then): the tree is compiled whole, numbered
+    depth-first with children in Pinocchio's order, and its torques are Pinocchio's."""
+    path = write(tmp_path, TREE)
+    chain = load_robot(path)
+    assert [j.name for j in chain.joints] == ["waist", "left_1", "left_2", "right_1", "right_2"]
+    assert chain.parent_of == (0, 1, 2, 1, 4)
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(path))
+    assert list(model.names[1:]) == [j.name for j in chain.joints]
+    from vampc.dynamics.reference import rnea
+    from vampc.robot.random import random_state
+    names = [j.name for j in chain.joints]
+    for q, qd, qdd in zip(*random_state(chain, 3, 1)):
+        pq, pv = _pin_arrays(model, names, q, qd, [])
+        _, pa = _pin_arrays(model, names, q, qdd, [])
+        want = pin.rnea(model, model.createData(), pq, pv, pa)
+        assert np.max(np.abs(rnea(chain, q, qd, qdd) - want)) <= 1e-9 * np.max(np.abs(want))
