@@ -586,3 +586,112 @@ def test_no_progress_when_not_a_terminal(program, monkeypatch):
     monkeypatch.delenv("VAMPC_PROGRESS", raising=False)
     res = run("emulate", program, "--random", 5000)
     assert res.stderr == ""
+
+
+# --- trees and floating bases (issue 12) --------------------------------------------------------------
+
+QUAD = EXAMPLES / "quadruped.urdf"
+DH_ROW = ("{name: %s, type: revolute, %sa: 0.1, alpha: 0.3, d: 0.05, theta: 0, mass: 1, com: [0.05, 0, 0], "
+          "inertia: [0.01, 0.01, 0.01, 0, 0, 0]}")
+
+
+def _dh_tree(tmp_path, rows) -> Path:
+    path = tmp_path / "tree.yaml"
+    body = "\n".join("  - " + DH_ROW % (name, f"parent: {parent}, " if parent is not None else "")
+                     for name, parent in rows)
+    path.write_text(f"name: t\njoints:\n{body}\n")
+    return path
+
+
+def test_dh_parent_that_names_nothing(tmp_path):
+    robot = _dh_tree(tmp_path, [("a", None), ("b", "nope")])
+    user_error(run("compile", robot, "-o", tmp_path / "t.vamp.json"),
+               r"tree\.yaml: joints\[1\]\.parent \(joint 2\): 'nope' names no joint$")
+    assert not (tmp_path / "t.vamp.json").exists()
+
+
+def test_dh_parent_row_number_out_of_range(tmp_path):
+    robot = _dh_tree(tmp_path, [("a", None), ("b", 7)])
+    user_error(run("compile", robot, "-o", tmp_path / "t.vamp.json"),
+               r"joints\[1\]\.parent \(joint 2\): 7 is not a row number \(1\.\.2, or 0 for the base\)$")
+
+
+def test_dh_parent_cycle(tmp_path):
+    robot = _dh_tree(tmp_path, [("a", None), ("b", "c"), ("c", "b")])
+    user_error(run("compile", robot, "-o", tmp_path / "t.vamp.json"),
+               r"joints\[1\]\.parent \(joint 2\): parents form a cycle through joints 'b', 'c': none of "
+               r"them reaches the base$")
+    assert not (tmp_path / "t.vamp.json").exists()
+
+
+def test_dh_tree_is_numbered_depth_first(tmp_path):
+    robot = _dh_tree(tmp_path, [("torso", None), ("l1", "torso"), ("r1", "torso"), ("l2", "l1"), ("r2", 3)])
+    rep = json.loads(run("report", robot, "--format", "json").stdout)
+    assert rep["joint_names"] == ["torso", "l1", "l2", "r1", "r2"]
+    assert rep["tree"]["parents"] == [0, 1, 2, 1, 4] and rep["tree"]["leaves"] == 2
+
+
+def _urdf(tmp_path, text: str) -> Path:
+    path = tmp_path / "robot.urdf"
+    path.write_text(text)
+    return path
+
+
+LINK = '<link name="%s"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+JOINT = '<joint name="%s" type="%s"><parent link="%s"/><child link="%s"/><axis xyz="0 0 1"/></joint>'
+
+
+def test_urdf_two_roots(tmp_path):
+    robot = _urdf(tmp_path, '<robot name="r">' + LINK % "a" + LINK % "b" + LINK % "c"
+                  + JOINT % ("j", "revolute", "a", "c") + "</robot>")
+    user_error(run("compile", robot, "-o", tmp_path / "r.vamp.json"),
+               r"robot\.urdf: several root links \('a', 'b'\); choose one with --base$")
+
+
+def test_urdf_floating_joint_not_at_the_root(tmp_path):
+    robot = _urdf(tmp_path, '<robot name="r">' + LINK % "a" + LINK % "b" + LINK % "c"
+                  + JOINT % ("j1", "revolute", "a", "b") + JOINT % ("free", "floating", "b", "c") + "</robot>")
+    user_error(run("compile", robot, "-o", tmp_path / "r.vamp.json"),
+               r"robot\.urdf: joint 'free': floating joints are not supported$")
+    assert not (tmp_path / "r.vamp.json").exists()
+
+
+def test_urdf_root_floating_joint_floats(tmp_path):
+    robot = _urdf(tmp_path, '<robot name="r"><link name="world"/>' + LINK % "a" + LINK % "b"
+                  + JOINT % ("free", "floating", "world", "a") + JOINT % ("j1", "revolute", "a", "b") + "</robot>")
+    rep = json.loads(run("report", robot, "--format", "json").stdout)
+    assert rep["tree"]["floating"] and rep["tree"]["outputs"] == 7
+
+
+@pytest.fixture(scope="module")
+def floating_program(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("quad") / "quad.vamp.json"
+    assert run("compile", QUAD, "--floating-base", "--recursion", "log", "-o", path).exit_code == 0
+    return path
+
+
+def test_trajectory_missing_base_columns(floating_program, tmp_path):
+    states = tmp_path / "states.csv"
+    assert run("emulate", floating_program, "--random", "3", "--save-states", states).exit_code == 0
+    head, *rows = states.read_text().splitlines()
+    cut = tmp_path / "nobase.csv"
+    cut.write_text("\n".join(",".join(line.split(",")[:36]) for line in [head] + rows) + "\n")
+    user_error(run("emulate", floating_program, "--trajectory", cut, "-o", tmp_path / "tau.csv"),
+               r"nobase\.csv: header: missing column base_wx \(a floating-base program needs the base's motion")
+    assert not (tmp_path / "tau.csv").exists()
+
+
+def test_floating_quadruped_end_to_end(floating_program, tmp_path):
+    states, tau = tmp_path / "states.csv", tmp_path / "tau.csv"
+    res = run("emulate", floating_program, "--random", "20", "--check", "--save-states", states, "-o", tau)
+    assert res.exit_code == 0, res.stderr
+    head = tau.read_text().splitlines()[0].split(",")
+    assert head[:2] == ["tau_FL_HAA", "tau_FL_HFE"] and head[-6:] == ["base_fx", "base_fy", "base_fz",
+                                                                      "base_nx", "base_ny", "base_nz"]
+    tick = run("emulate", floating_program, "--trajectory", states, "--engine", "tick", "-o", tmp_path / "t2.csv")
+    assert tick.exit_code == 0 and (tmp_path / "t2.csv").read_text() == tau.read_text()
+
+
+def test_floating_base_option_applies_to_robot_files(floating_program):
+    res = run("emulate", floating_program, "--random", "2", "--floating-base")
+    assert res.exit_code == 2 and "--floating-base applies when compiling a robot file" in res.stderr

@@ -12,7 +12,7 @@ from vampc.dynamics import logforms as lf
 from vampc.dynamics.reference import rnea, rnea_variables
 from vampc.errors import VampcInternalError
 from vampc.robot.chain import E_Z
-from vampc.robot.random import random_chain, random_state
+from vampc.robot.random import TREE_SHAPES, random_base, random_chain, random_state, random_tree
 
 RTOL = 1e-11
 EXAMPLES = settings(max_examples=25, deadline=None)
@@ -207,3 +207,50 @@ def test_bad_split_and_leaf_index_are_internal_errors():
         lf.prefix_backward(chain, state, split=lambda a, b: b)
     with pytest.raises(VampcInternalError, match=r"leaf 5 outside 0\.\.3"):
         lf.back_leaf(chain, 5, state)
+
+
+# --- trees (issue 12): path prefixes and subtree sums in the base frame ----------------------------------
+
+tree_cases = st.tuples(st.integers(1, 40), st.integers(0, 10_000), st.sampled_from(TREE_SHAPES),
+                       st.sampled_from(["sklansky", "brent-kung", "kogge-stone", "ladner-fischer", "serial"]))
+
+
+@EXAMPLES
+@given(tree_cases)
+def test_tree_prefixes_are_the_linear_variables(args):
+    n, seed, shape, prefix = args
+    chain = random_tree(n, seed, shape, prismatic_fraction=0.4, endpoints=True)
+    state = lf.State(*(x[0] for x in random_state(chain, 1, seed + 1)))
+    linear = rnea_variables(chain, *state)
+    prefixes = lf.tree_prefix_backward(chain, state, prefix)
+    for i in range(1, n + 1):
+        for key in ("omega", "omega_dot", "pdd"):
+            assert_close(getattr(prefixes[i - 1], key), linear[key][i - 1])
+
+
+@EXAMPLES
+@given(tree_cases, st.booleans())
+def test_tree_log_rnea_equals_rnea(args, floating):
+    n, seed, shape, prefix = args
+    chain = random_tree(n, seed, shape, prismatic_fraction=0.4, floating=floating, endpoints=True)
+    if floating:
+        chain = replace(chain, base_omega=np.zeros(3), base_omega_dot=np.zeros(3))
+    q, qd, qdd = random_state(chain, 3, seed + 1)
+    base = random_base(3, seed + 2) if floating else None
+    assert_close(lf.tree_log_rnea(chain, q, qd, qdd, prefix, base), rnea(chain, q, qd, qdd, base))
+
+
+def test_shifted_leaf_is_a_virtual_leaf_then_the_joint():
+    """V_d ⊗ X_{d,d} with the motionless V_d = (I, 0, 0, 0, o_d, 0, 0) is back_leaf's shifted leaf."""
+    chain = random_tree(6, 11, "star", prismatic_fraction=0.5)
+    state = lf.State(*(x[0] for x in random_state(chain, 1, 3)))
+    for a, joint in enumerate(chain.joints, 1):
+        leaf = lf.back_leaf(chain, a, state)
+        bare = lf.back_leaf(replace(chain, joints=tuple(replace(j, shift=None) for j in chain.joints)),
+                            a, state)
+        zero = np.zeros(3)
+        virtual = lf.Back(np.eye(3), zero, zero, zero, joint.shift_vec, zero, zero)
+        both = lf.back_combine(virtual, bare)
+        for key in ("W", "omega", "omega_dot", "Q", "R", "S", "pdd"):
+            assert_close(getattr(leaf, key), getattr(both, key))
+        assert_close(lf.back_combine(*lf.back_leaf_unified(chain, a, state)).R, leaf.R)

@@ -9,7 +9,8 @@ from vampc.dynamics.reference import (kinetic_energy, mass_matrix, potential_ene
                                       rnea_variables)
 from vampc.errors import VampcError
 from vampc.robot.chain import Chain, Joint, JointType, rot_z
-from vampc.robot.random import random_chain, random_state
+from vampc.robot.random import (random_base, random_chain, random_rotation, random_state,
+                                 random_tree)
 
 RTOL = 1e-9
 FD_RTOL = 1e-9      # fourth-order central differences (h = 1e-3): truncation ~h^4, round-off ~eps/h
@@ -263,3 +264,105 @@ def test_bad_shapes_are_user_errors():
     chain = random_chain(3, 0)
     with pytest.raises(VampcError, match=r"expected equal shapes \(n,\) or \(N, n\) with n = 3"):
         rnea(chain, np.zeros(3), np.zeros(2), np.zeros(3))
+
+
+# --- (h) trees and floating bases -------------------------------------------------------------------------
+
+def pinocchio_tree(chain: Chain):
+    """A Pinocchio model of a tree: joint d sits at its joint frame J_d = (M_d, o_d) in O_parent, O_d is
+    (joint frame) · C_d; a floating base is a free-flyer joint at O_0 carrying the base link's inertia.
+    Returns (pin, model, C_n, first) with `first` the Pinocchio index of joint 1."""
+    pin = pytest.importorskip("pinocchio")
+    model = pin.Model()
+    index, frames, first = {0: 0}, {0: pin.SE3.Identity()}, 1
+    if chain.floating:
+        index[0] = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "base")
+        model.appendBodyToJoint(index[0], pin.Inertia(chain.base_mass, chain.base_com, chain.base_inertia),
+                                pin.SE3.Identity())
+        first = 2
+    for i, (j, p) in enumerate(zip(chain.joints, chain.parent_of), 1):
+        revolute = j.type is JointType.REVOLUTE
+        rot = rot_z(j.offset) @ j.phi if revolute else j.phi
+        origin = rot @ j.p_fixed + (0 if revolute else j.offset * np.array([0, 0, 1.0]))
+        pre = np.eye(3) if j.pre is None else j.pre
+        placement = frames[p] * pin.SE3(pre, j.shift_vec)
+        kind = pin.JointModelRZ() if revolute else pin.JointModelPZ()
+        index[i] = model.addJoint(index[p], kind, placement, j.name)
+        model.appendBodyToJoint(index[i], pin.Inertia(j.mass, rot @ j.com + origin, rot @ j.inertia @ rot.T),
+                                pin.SE3.Identity())
+        frames[i] = pin.SE3(rot, origin)
+    model.gravity.linear = np.asarray(chain.gravity, dtype=float)
+    return pin, model, frames[chain.n], first
+
+
+def pinocchio_rnea(chain: Chain, q, qd, qdd, base=None, velocity=None, orientation=None):
+    """Pinocchio's RNEA of `chain` (tip load as an external force) in vampc's column order; for a
+    floating base, `base` = [ω_0, ω̇_0, a_0] is turned into the free flyer's spatial state with the base
+    origin's linear `velocity` and the base `orientation` (a rotation: gravity seen in O_0 changes)."""
+    pin, model, tip_frame, first = pinocchio_tree(chain)
+    data = model.createData()
+    fext = [pin.Force.Zero() for _ in range(model.njoints)]
+    fext[model.njoints - 1 if chain.n else 0] = tip_frame.act(pin.Force(-chain.tip_force, -chain.tip_torque))
+    if not chain.floating:
+        return pin.rnea(model, data, q, qd, qdd, fext)
+    w, wd, acc = base[:3], base[3:6], base[6:]
+    v = np.zeros(3) if velocity is None else velocity
+    rot = np.eye(3) if orientation is None else orientation
+    quat = pin.Quaternion(rot).coeffs()
+    # vampc's a_0 is classical, with the robot's own gravity g in O_0: the physical acceleration a with
+    # a - rotᵀ g = a_0 - g (Pinocchio's gravity seen in O_0 is rotᵀ g), and Pinocchio's is spatial, a - ω × v
+    spatial = acc - chain.gravity + rot.T @ chain.gravity - np.cross(w, v)
+    tau = pin.rnea(model, data, np.r_[np.zeros(3), quat, q], np.r_[v, w, qd], np.r_[spatial, wd, qdd], fext)
+    return np.r_[tau[6:], tau[:6]]
+
+
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("shape", ["random", "binary", "star"])
+def test_tree_matches_pinocchio(seed, shape):
+    chain = random_tree(1 + 3 * seed, seed, shape, prismatic_fraction=0.4, endpoints=True)
+    chain = replace(chain, base_omega=np.zeros(3), base_omega_dot=np.zeros(3))
+    for q, qd, qdd in zip(*random_state(chain, 3, seed)):
+        assert_close(rnea(chain, q, qd, qdd), pinocchio_rnea(chain, q, qd, qdd))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_floating_base_matches_pinocchio(seed):
+    rng = np.random.default_rng(seed)
+    chain = random_tree(1 + 4 * seed, seed, "random", prismatic_fraction=0.4, floating=True, endpoints=True)
+    chain = replace(chain, base_omega=np.zeros(3), base_omega_dot=np.zeros(3))
+    for (q, qd, qdd), base in zip(zip(*random_state(chain, 3, seed)), random_base(3, seed)):
+        velocity, orientation = rng.normal(size=3), random_rotation(rng)
+        want = pinocchio_rnea(chain, q, qd, qdd, base, velocity, orientation)
+        got = rnea(chain, q, qd, qdd, base)
+        assert got.shape == (chain.n + 6,)
+        assert_close(got, want)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_tree_power_equals_energy_rate(seed):
+    rng = np.random.default_rng(seed)
+    chain = quiet(random_tree(int(rng.integers(2, 12)), seed, "random", prismatic_fraction=0.4))
+    path = sine_path(chain.n, rng)
+
+    def energy(t):
+        q, qd, _ = path(t)
+        return kinetic_energy(chain, q, qd) + potential_energy(chain, q)
+    for t in rng.uniform(0, 3, 3):
+        q, qd, qdd = path(t)
+        tau = rnea(chain, q, qd, qdd)
+        assert abs(derivative(energy, t) - tau @ qd) <= FD_RTOL * max(np.abs(tau * qd).sum(), 1.0)
+
+
+def test_tree_mass_matrix_is_the_acceleration_map():
+    chain = random_tree(9, 5, "random", prismatic_fraction=0.4)
+    q, qd, qdd = (x[0] for x in random_state(chain, 1, 2))
+    bias = rnea(chain, q, qd, np.zeros(chain.n))
+    assert_close(rnea(chain, q, qd, qdd) - bias, mass_matrix(chain, q) @ qdd)
+
+
+def test_floating_base_at_rest_carries_the_weight():
+    chain = random_tree(6, 3, "star", floating=True)
+    zero = np.zeros(chain.n)
+    wrench = rnea(chain, zero, zero, zero, np.zeros(9))[chain.n:]
+    total = chain.base_mass + sum(j.mass for j in chain.joints)
+    assert_close(wrench[:3], -total * chain.gravity)

@@ -22,12 +22,16 @@ from vampc.errors import VampcError, VampcWarning
 # Options that only mean something when a robot file is compiled (their CompileOptions names).
 COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "layout",
                    "share_passes", "vamps", "interval", "verify")
-ROBOT_OPTIONS = ("base", "tip", "lock")
+ROBOT_OPTIONS = ("base", "tip", "lock", "floating_base")
 LOG_ONLY = ("prefix", "uniform_leaves")
 
 
 def _robot_options(f):
     """Options shared by every command that reads a robot file."""
+    f = click.option("--floating-base", is_flag=True,
+                     help="The base floats: its motion (ω, ω̇, linear acceleration, in the base frame) "
+                     "is input per torque set, its own inertia counts, and the network also returns "
+                     "the base wrench (a URDF whose root joint is floating floats anyway).")(f)
     f = click.option("--lock", "lock", multiple=True, metavar="JOINT=VALUE",
                      help="URDF: lock a joint at a position (radians or metres); repeatable.")(f)
     f = click.option("--tip", metavar="LINK", help="URDF: last link of the chain.")(f)
@@ -161,13 +165,13 @@ def _check_program_options(ctx: click.Context, source: str, stored: dict) -> Non
                                    "files (recompile to change them)")
 
 
-def _compile(robot, base, tip, lock, **opts):
+def _compile(robot, base, tip, lock, floating_base=False, **opts):
     from vampc import progress
     from vampc.compiler import STAGES, CompileOptions, compile_chain
     from vampc.robot import load_robot
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
-        chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock))
+        chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock), floating=floating_base)
         return compile_chain(chain, CompileOptions(**opts), stage=stage)
 
 
@@ -264,7 +268,8 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
         chain, options = c.chain, c.options
     else:
         _check_robot_options(ctx, opts)
-        chain = load_robot(source, base=base, tip=tip, lock=_parse_lock(lock))
+        floating = opts.pop("floating_base", False)
+        chain = load_robot(source, base=base, tip=tip, lock=_parse_lock(lock), floating=floating)
         options = CompileOptions(**opts)
     with progress.counter("trade-off", 1, unit="budget") as bar:
         rows = tr.tradeoff(chain, options, bar)
@@ -290,6 +295,9 @@ def _report(ctx, source, base, tip, lock, **opts) -> dict:
     rep["layout_comparison"] = compare_layouts(c.chain, c.options)
     if c.graph.recursion == "log":
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
+    if "tree" in rep:
+        from vampc.report.compare import tree_latencies
+        rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
     return rep
 
 
@@ -411,9 +419,10 @@ class _Sinks:
         self.vcd = _Guarded(_vcd_writer(self.vcd_out.fh, ld), self.vcd_out) if self.vcd_out \
             else None
         t = ["t"] if has_t else []
+        floating = ld.chain.floating
         self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(
-            j.name for j in ld.chain.joints))))
-        self._write(self.states, lambda fh: fh.write(csv_line(t + header(ld.chain.n))))
+            (j.name for j in ld.chain.joints), floating))))
+        self._write(self.states, lambda fh: fh.write(csv_line(t + header(ld.chain.n, floating))))
 
     def _write(self, pending, action) -> None:
         if pending is None:
@@ -428,7 +437,8 @@ class _Sinks:
         """One chunk's torques and states."""
         from vampc.emulator.trajectory import format_rows
         self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, tau)))
-        self._write(self.states, lambda fh: fh.write(format_rows(traj.t, traj.q, traj.qd, traj.qdd)))
+        self._write(self.states, lambda fh: fh.write(format_rows(traj.t, traj.q, traj.qd, traj.qdd,
+                                                                 traj.base)))
 
     def finish_vcd(self) -> None:
         """The waveform is complete: put it in place."""

@@ -23,11 +23,12 @@ _APPLY = {
 }
 
 
-def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd) -> list[np.ndarray]:
-    """Every node's value for states of shape (N, n): a list indexed by node id, (N,3) or (N,3,3)."""
+def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> list[np.ndarray]:
+    """Every node's value for states of shape (N, n) (and floating-base motions (N, 9)): a list indexed
+    by node id, (N,3) or (N,3,3)."""
     q = np.atleast_2d(np.asarray(q, dtype=float))
     keys = [nd.key for nd in graph.nodes if nd.op is Op.INPUT]
-    inputs = input_values(chain, keys, q, qd, qdd)
+    inputs = input_values(chain, keys, q, qd, qdd, base)
     count = q.shape[0]
     vals: list[np.ndarray] = []
     for nd in graph.nodes:
@@ -41,9 +42,10 @@ def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd) -> list[np.ndarray]:
     return vals
 
 
-def evaluate(graph: Graph, chain: Chain, q, qd, qdd) -> np.ndarray:
-    """Torques (N, n) (or (n,) for a single state) computed by evaluating the graph."""
+def evaluate(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> np.ndarray:
+    """Torques (N, n) (or (n,) for a single state; n + 6 columns with a floating base's wrench)
+    computed by evaluating the graph."""
     single = np.ndim(q) == 1
-    vals = evaluate_nodes(graph, chain, q, qd, qdd)
+    vals = evaluate_nodes(graph, chain, q, qd, qdd, base)
     tau = np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1)
     return tau[0] if single else tau

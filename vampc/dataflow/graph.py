@@ -15,8 +15,8 @@ from vampc.errors import VampcInternalError
 class InputKey:
     """A value the host writes every cycle: `quantity` of joint `joint` (see vampc.dataflow.host)."""
 
-    quantity: str   # "A", "zqd", "zqdd", "p_star", "s_star"
-    joint: int      # 1-based joint index
+    quantity: str   # "A", "zqd", "zqdd", "p_star", "s_star"; a floating base's "omega0", ...
+    joint: int      # 1-based joint index (0: the floating base)
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,8 @@ class Node:
 
 @dataclass(frozen=True)
 class Output:
-    """Joint torque τ_joint is scalar `component` of node `node`'s result."""
+    """Joint torque τ_joint is scalar `component` of node `node`'s result. Past the n joints, "joints"
+    n + 1..n + 6 are a floating base's wrench [f_0, n_0]."""
 
     joint: int
     node: int
@@ -100,8 +101,9 @@ class Graph:
                 raise VampcInternalError(f"node {nd.label}: id {nd.id} at position {i}")
             _verify_node(self, nd)
         joints = sorted(o.joint for o in self.outputs)
-        if joints != list(range(1, self.n + 1)):
-            raise VampcInternalError(f"outputs cover joints {joints}, expected 1..{self.n}")
+        want = self.n + 6 if len(joints) > self.n else self.n    # a floating base's wrench: 6 more
+        if joints != list(range(1, want + 1)):
+            raise VampcInternalError(f"outputs cover joints {joints}, expected 1..{want}")
         for o in self.outputs:
             if self.nodes[o.node].shape != "v" or not 0 <= o.component < 3:
                 raise VampcInternalError(f"output τ{o.joint} reads a bad node/component")

@@ -182,6 +182,9 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
     prune: drop the ops no torque depends on (the uniform nodes' unused W, Q, R, S).
     verify: check the graph's invariants (Graph.verify) before returning it.
     """
+    if not chain.is_chain or chain.floating:
+        from vampc.dataflow.logtree import build_log_tree
+        return build_log_tree(chain, prefix, uniform_leaves, ground_o0, verify)
     ground0 = _check_ground(chain, ground_o0)
     ctx = _Ctx(chain, uniform_leaves)
     prefixes = _backward(ctx, prefix, ground0)
@@ -220,7 +223,7 @@ def _back_leaf(ctx: _Ctx, a: int, ground0: bool) -> BackIds:
     if a == 0:
         return _ground_leaf(ctx)
     ctx.node("bwd", a, a, a, 0)
-    gravity = ground0 and a == 1      # grounded in O_0: leaf 1 carries p̈_0 (rotated by A_1ᵀ)
+    gravity = ground0 and ctx.chain.parent(a) == 0   # grounded in O_0: a leaf on the base carries p̈_0
     if ctx.uniform:
         return _back_combine(ctx, *_unified_back_operands(ctx, a, gravity))
     if ctx.joint(a).type is JointType.PRISMATIC:
@@ -229,11 +232,11 @@ def _back_leaf(ctx: _Ctx, a: int, ground0: bool) -> BackIds:
 
 
 def _ground_leaf(ctx: _Ctx) -> BackIds:
-    """X_{0,0} in O_{-1} = O_0 at the instant: ω0, ω̇0 and gravity as p̈ᵍ_0 (all constants, no ops)."""
-    b, chain = ctx.b, ctx.chain
-    return BackIds(ctx.eye, b.const(chain.base_omega, "omega0"),
-                   b.const(chain.base_omega_dot, "omega_dot0"), ctx.zero, ctx.zero, ctx.zero,
-                   b.const(chain.base_accel, "pdd0"))
+    """X_{0,0} in O_{-1} = O_0 at the instant: ω0, ω̇0 and gravity as p̈ᵍ_0 (constants, or a floating
+    base's host inputs; no ops)."""
+    from vampc.dataflow.linear import base_motion
+    w, wd, pdd = base_motion(ctx.b, ctx.chain)
+    return BackIds(ctx.eye, w, wd, ctx.zero, ctx.zero, ctx.zero, pdd)
 
 
 def _revolute_leaf(ctx: _Ctx, a: int, gravity: bool) -> BackIds:
@@ -247,7 +250,16 @@ def _revolute_leaf(ctx: _Ctx, a: int, gravity: bool) -> BackIds:
     if gravity:   # added to the earlier term, so the later ω × S still ends the leaf
         l1 = b.op(Op.VA, l1, b.op(Op.MTV, A, b.const(ctx.chain.base_accel, "pdd0"), "L3"), "L4")
     pdd = b.op(Op.VA, l1, b.op(Op.VC, w, s, "L2"), "pdd")
-    return BackIds(A, w, wd, ctx.zero, p, s, pdd)
+    return BackIds(A, w, wd, ctx.zero, _leaf_r(ctx, a, A, p), s, pdd)
+
+
+def _leaf_r(ctx: _Ctx, a: int, A: int, p: int) -> int:
+    """R of leaf a: p*_a, or A_aᵀ o_a + p*_a for a shifted joint frame (logforms: a virtual leaf)."""
+    shift = ctx.joint(a).shift
+    if shift is None:
+        return p
+    b = ctx.b
+    return b.op(Op.VA, b.op(Op.MTV, A, b.const(shift, f"shift{a}", a), "L7"), p, "L8")
 
 
 def _prismatic_leaf(ctx: _Ctx, a: int, gravity: bool) -> BackIds:
@@ -258,7 +270,7 @@ def _prismatic_leaf(ctx: _Ctx, a: int, gravity: bool) -> BackIds:
         zqdd = b.op(Op.VA, zqdd, b.const(ctx.chain.base_accel, "pdd0"), "L3")
     q = b.op(Op.MTV, A, b.input("zqd", a), "Q")
     pdd = b.op(Op.MTV, A, zqdd, "pdd")
-    return BackIds(A, ctx.zero, ctx.zero, q, _p_star(b, ctx.chain, a), ctx.zero, pdd)
+    return BackIds(A, ctx.zero, ctx.zero, q, _leaf_r(ctx, a, A, _p_star(b, ctx.chain, a)), ctx.zero, pdd)
 
 
 def _unified_back_operands(ctx: _Ctx, a: int, gravity: bool) -> tuple[BackIds, BackIds]:
@@ -272,7 +284,8 @@ def _unified_back_operands(ctx: _Ctx, a: int, gravity: bool) -> tuple[BackIds, B
     if gravity:
         g = b.const(ctx.chain.base_accel, "pdd0")
         pdd = g if pdd == z else b.op(Op.VA, pdd, g, "L3")
-    left = BackIds(ctx.eye, w, wd, q, z, z, pdd)
+    shift = ctx.joint(a).shift
+    left = BackIds(ctx.eye, w, wd, q, z if shift is None else b.const(shift, f"shift{a}", a), z, pdd)
     return left, BackIds(b.input("A", a), z, z, z, _p_star(b, ctx.chain, a), z, z)
 
 

@@ -75,6 +75,25 @@ Where these differ from the printed Table IV.1 (and Appendix D), and why:
    A_{a+1}ᵀ p*_a.
 7. Table V.1's W'_{k+1,b} p̈_{a,k} (step T16) is W_{k+1,b}ᵀ p̈_{a,k}.
 8. The joint force is τ_i = (A_iᵀz)·n_i (or ·f_i), not the third coordinate of n_i (DESIGN §5).
+
+Trees (issue 12; vampc.dataflow.treeprefix). A joint d whose joint frame J_d is shifted by o_d from its
+parent's frame origin (vampc.robot.chain) is the leaf X_{d,d} after a motionless virtual leaf
+V_d = (I, 0, 0, 0, o_d, 0, 0) (a rigid offset inside the parent link): V_d ⊗ X_{d,d} has T1 = T2 = 0, so it
+is X_{d,d} with R = A_dᵀ o_d + p*_d, the origin of O_d from the parent frame's origin, and nothing else
+changed; z q̇ of the leaf is u_d q̇_d in the parent's frame. Backward: `tree_prefix_backward` evaluates
+treeprefix's plan (heavy paths, the chain shape on each, one ⊗ per joint below a light edge) with these
+leaves and `back_combine`. Forward, in the base frame: with W_j, R_j of joint j's full prefix (O_j's
+orientation and origin seen from O_0), link j's force and moment about O_0's origin, in O_0, are
+
+    φ_j = W_j F_j,   μ_j = W_j (N_j + (R_j + r*_j) × F_j)          (the tip load folded into joint n)
+
+and the forward recursion is their plain sum over each subtree: Φ_c = Σ_{k ∈ sub(c)} φ_k, M_c likewise
+(`tree_forward`: sums of treeprefix.range_blocks). Back in the parent p's frame, about J_c's origin:
+
+    f'_c = W_pᵀ Φ_c = A_c f_c,   n'_c = W_pᵀ M_c + f'_c × (R_p + o_c) = A_c n_c      (W_0 = I, R_0 = 0)
+
+and τ_c = u_c · n'_c (u_c · f'_c prismatic). A floating base's wrench is F_0 + Σ_all φ, N_0 + r*_0 × F_0
++ Σ_all μ. `tree_log_rnea` runs both passes; the tests hold it to `rnea` on random trees.
 """
 from __future__ import annotations
 
@@ -170,8 +189,10 @@ def back_leaf(chain: Chain, a: int, state: State) -> Back:
     vel, acc = axis * qd[..., a - 1, None], axis * qdd[..., a - 1, None]
     w, wd = joint.sigma * vel, joint.sigma * acc
     pdd = cross(wd, p_star) + cross(w, cross(w, p_star)) + (1 - joint.sigma) * acc
-    return Back(W=joint.A(q[..., a - 1]), omega=w, omega_dot=wd, Q=(1 - joint.sigma) * vel,
-                R=p_star, S=cross(w, p_star), pdd=pdd)
+    big_a = joint.A(q[..., a - 1])
+    r = p_star if joint.shift is None else p_star + mtv(big_a, joint.shift)   # V_d ⊗ X_{d,d}
+    return Back(W=big_a, omega=w, omega_dot=wd, Q=(1 - joint.sigma) * vel,
+                R=r, S=cross(w, p_star), pdd=pdd)
 
 
 def _loads_at(chain: Chain, a: int, big_f, big_n, batch) -> tuple[np.ndarray, np.ndarray]:
@@ -211,10 +232,12 @@ def back_leaf_unified(chain: Chain, a: int, state: State) -> tuple[Back, Back]:
         return left, Back(leaf.W, zero, zero, zero, zero, zero, leaf.pdd)
     joint = chain.joints[a - 1]
     q, qd, qdd = check_state(chain, *state)
-    vel, acc = qd[..., a - 1, None] * np.eye(3)[2], qdd[..., a - 1, None] * np.eye(3)[2]
+    u = joint.parent_axis
+    vel, acc = qd[..., a - 1, None] * u, qdd[..., a - 1, None] * u
     sig, bar = joint.sigma, 1 - joint.sigma
-    left = Back(_eye(zero.shape[:-1]), sig * vel, sig * acc, bar * vel, zero, zero, bar * acc)
-    return left, Back(leaf.W, zero, zero, zero, leaf.R, zero, zero)
+    shift = zero + joint.shift_vec
+    left = Back(_eye(zero.shape[:-1]), sig * vel, sig * acc, bar * vel, shift, zero, bar * acc)
+    return left, Back(leaf.W, zero, zero, zero, joint.p_star(q[..., a - 1]), zero, zero)
 
 
 def fwd_leaf_unified(chain: Chain, a: int, q, big_f, big_n) -> tuple[Fwd, Fwd]:
@@ -289,3 +312,106 @@ def log_rnea(chain: Chain, q, qd, qdd, split: Split = split_middle) -> np.ndarra
     _, big_f, big_n = link_loads(chain, omega, omega_dot, pdd)
     fwd = suffix_forward(chain, q, big_f, big_n, split)[:-1]
     return joint_forces(chain, np.stack([x.f for x in fwd], -2), np.stack([x.n for x in fwd], -2))
+
+
+# --- trees (issue 12) --------------------------------------------------------------------------------------
+
+def tree_prefix_backward(chain: Chain, state: State, shape: str = "sklansky", base=None) -> list[Back]:
+    """Every joint's full prefix X_{0..j} (j = 1..n) by treeprefix's plan, grounded in O_{-1}; a floating
+    base's grounding leaf takes `base` (…, 9) = [ω_0, ω̇_0, a_0] (vampc.dynamics.reference.base_motion)."""
+    from vampc.dataflow.treeprefix import path_prefix_plan
+    from vampc.dynamics.reference import base_motion
+    tiers, keys = path_prefix_plan(chain.parent_of, shape, ground=True)
+    q, _, _ = check_state(chain, *state)
+    x = {(j, j): back_leaf(chain, j, state) for j in range(1, chain.n + 1)}
+    w, wd, pdd = base_motion(chain, base, q.shape[:-1])
+    zero = np.zeros_like(w)
+    x[0, 0] = Back(_eye(q.shape[:-1]), w, wd, zero, zero, zero, pdd)
+    path = {j: p for j, p in enumerate(chain.parent_of, 1)}
+    for tier in tiers:
+        for a, k, b in tier:
+            c = b
+            while path[c] != k:
+                c = path[c]
+            x[a, b] = back_combine(x[a, k], x[c, b])
+    return [x[key] for key in keys]
+
+
+def tree_forward(chain: Chain, prefixes: list[Back], big_f, big_n):
+    """(f', n') per joint, in the parent's frame about the joint frame's origin (A_c f_c, A_c n_c), and
+    Σ φ, Σ μ over all joints, from the full prefixes and the link loads (…, n, 3), by subtree sums in
+    O_0 (module docstring)."""
+    phi, mu = _base_frame_loads(chain, prefixes, big_f, big_n)
+    end, n = chain.subtree_end, chain.n
+    blocks: dict = {}
+    sums = [(_range_sum(phi, i - 1, end[i - 1] - 1, blocks, "f"),
+             _range_sum(mu, i - 1, end[i - 1] - 1, blocks, "n")) for i in range(1, n + 1)]
+    out = []
+    for i, (joint, p) in enumerate(zip(chain.joints, chain.parent_of), 1):
+        f_sum, n_sum = sums[i - 1]
+        if p == 0:
+            fp, np_ = f_sum, n_sum + cross(f_sum, joint.shift_vec)
+        else:
+            wp, rp = prefixes[p - 1].W, prefixes[p - 1].R
+            fp = mtv(wp, f_sum)
+            np_ = mtv(wp, n_sum) + cross(fp, rp + joint.shift_vec)
+        out.append((fp, np_))
+    return out, (_range_sum(phi, 0, n, blocks, "f"), _range_sum(mu, 0, n, blocks, "n"))
+
+
+def _base_frame_loads(chain: Chain, prefixes: list[Back], big_f, big_n):
+    """φ_j = W_j F_j and μ_j = W_j (N_j + (R_j + r*_j) × F_j), the tip load folded into joint n."""
+    phi, mu = [], []
+    for j, (joint, x) in enumerate(zip(chain.joints, prefixes), 1):
+        f, torque = np.asarray(big_f)[..., j - 1, :], np.asarray(big_n)[..., j - 1, :]
+        if j == chain.n:
+            f = f + chain.tip_force
+            torque = torque + chain.tip_torque - np.cross(joint.com, chain.tip_force)
+        phi.append(mv(x.W, f))
+        mu.append(mv(x.W, torque + cross(x.R + joint.com, f)))
+    return phi, mu
+
+
+def _range_sum(values: list, lo: int, hi: int, blocks: dict, tag: str):
+    """Σ values[lo:hi] as the sum of its canonical blocks (treeprefix.range_blocks)."""
+    from vampc.dataflow.treeprefix import range_blocks
+    total = None
+    for level, index in range_blocks(lo, hi):
+        part = _block(values, level, index, blocks, tag)
+        total = part if total is None else total + part
+    return total
+
+
+def _block(values: list, level: int, index: int, blocks: dict, tag: str):
+    """Σ of block (level, index) of `values`, memoised in `blocks`."""
+    from vampc.dataflow.treeprefix import block_sources
+    key = (tag, level, index)
+    if key not in blocks:
+        if level == 0:
+            blocks[key] = values[index]
+        else:
+            halves = block_sources(level, index, len(values))
+            blocks[key] = sum((_block(values, lv, ix, blocks, tag) for lv, ix in halves[1:]),
+                              _block(values, *halves[0], blocks, tag))
+    return blocks[key]
+
+
+def tree_log_rnea(chain: Chain, q, qd, qdd, shape: str = "sklansky", base=None) -> np.ndarray:
+    """Joint forces (and a floating base's wrench) of a tree through tree prefixes and subtree sums."""
+    from vampc.dynamics.reference import _loads, base_motion
+    q, qd, qdd = check_state(chain, q, qd, qdd)
+    pre = tree_prefix_backward(chain, State(q, qd, qdd), shape, base)
+    omega, omega_dot, pdd = (np.stack([getattr(x, k) for x in pre], axis=-2)
+                             for k in ("omega", "omega_dot", "pdd"))
+    _, big_f, big_n = link_loads(chain, omega, omega_dot, pdd)
+    fwd, (f_all, n_all) = tree_forward(chain, pre, big_f, big_n)
+    u = np.array([j.parent_axis for j in chain.joints])
+    sigma = chain.sigmas.astype(bool)
+    f = np.stack([x[0] for x in fwd], -2)
+    n = np.stack([x[1] for x in fwd], -2)
+    tau = np.where(sigma, np.sum(u * n, axis=-1), np.sum(u * f, axis=-1))
+    if not chain.floating:
+        return tau
+    w, wd, p0 = base_motion(chain, base, q.shape[:-1])
+    _, f0, n0 = _loads(chain.base_com, chain.base_mass, chain.base_inertia, w, wd, p0)
+    return np.concatenate([tau, f0 + f_all, n0 + cross(chain.base_com, f0) + n_all], axis=-1)

@@ -83,12 +83,35 @@ def _endpoint(vec: np.ndarray, batch: tuple[int, ...]) -> np.ndarray:
 
 # --- the two recursions ----------------------------------------------------------------------------------
 
-def _backward(chain: Chain, q, qd, qdd) -> dict[str, list[np.ndarray]]:
-    """Base→tip pass of Table I.1 (the paper's "backward" recursion): ω, ω̇, p̈ and the A_i, p*_i used."""
+def base_motion(chain: Chain, base, batch: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ω_0, ω̇_0 and p̈_0 = a_0 - g in O_0. A fixed base: the chain's constants. A floating base: `base`
+    (..., 9) = [ω_0, ω̇_0, a_0] per state, a_0 the classical acceleration of O_0's origin (zero if None)."""
+    if not chain.floating:
+        if base is not None:
+            raise VampcError(f"{chain.name}: base motion given for a fixed-base robot")
+        return tuple(_endpoint(v, batch) for v in (chain.base_omega, chain.base_omega_dot, chain.base_accel))
+    if base is None:
+        base = np.zeros(batch + (9,))
+    base = np.broadcast_to(np.asarray(base, dtype=float), batch + (9,))
+    return base[..., 0:3], base[..., 3:6], base[..., 6:9] - np.asarray(chain.gravity, dtype=float)
+
+
+def shifted_accel(w, wd, pdd, shift):
+    """Acceleration of a point fixed in a link at `shift` from its frame's origin (same coordinates)."""
+    if shift is None:
+        return pdd
+    return pdd + cross(wd, shift) + cross(w, cross(w, shift))
+
+
+def _backward(chain: Chain, q, qd, qdd, base=None) -> dict[str, list[np.ndarray]]:
+    """Base→tip pass of Table I.1 (the paper's "backward" recursion): ω, ω̇, p̈ and the A_i, p*_i used.
+    Each joint reads its parent's ω, ω̇ and the acceleration of its own joint frame's origin."""
     batch = q.shape[:-1]
-    w, wd, pdd = (_endpoint(v, batch) for v in (chain.base_omega, chain.base_omega_dot, chain.base_accel))
+    motion = {0: base_motion(chain, base, batch)}
     out = {key: [] for key in ("A", "p_star", "omega", "omega_dot", "pdd")}
-    for i, joint in enumerate(chain.joints):
+    for i, (joint, parent) in enumerate(zip(chain.joints, chain.parent_of)):
+        w, wd, pdd = motion[parent]
+        pdd = shifted_accel(w, wd, pdd, joint.shift)
         a, ps = joint.A(q[..., i]), joint.p_star(q[..., i])
         axis, vel, acc = joint.axis, qd[..., i, None], qdd[..., i, None]
         if joint.sigma:
@@ -100,8 +123,10 @@ def _backward(chain: Chain, q, qd, qdd) -> dict[str, list[np.ndarray]]:
             w, wd = mtv(a, w), mtv(a, wd)
             pdd = (mtv(a, pdd) + cross(wd, ps) + cross(w, cross(w, ps))
                    + axis * acc + 2.0 * cross(w, axis * vel))
+        motion[i + 1] = (w, wd, pdd)
         for key, val in zip(out, (a, ps, w, wd, pdd)):
             out[key].append(val)
+    out["base"] = motion[0]
     return out
 
 
@@ -110,24 +135,38 @@ def link_loads(chain: Chain, omega, omega_dot, pdd) -> tuple[np.ndarray, np.ndar
     com = np.array([j.com for j in chain.joints])
     mass = np.array([j.mass for j in chain.joints])[:, None]
     inertia = np.array([j.inertia for j in chain.joints])
+    return _loads(com, mass, inertia, omega, omega_dot, pdd)
+
+
+def _loads(com, mass, inertia, omega, omega_dot, pdd):
     rdd = cross(omega, cross(omega, com)) + cross(omega_dot, com) + pdd
     big_n = mv(inertia, omega_dot) + cross(omega, mv(inertia, omega))
     return rdd, mass * rdd, big_n
 
 
-def _forward(chain: Chain, q, fwd_a, p_star, big_f, big_n) -> tuple[list, list]:
-    """Tip→base pass of Table I.1 (the paper's "forward" recursion): f_i, n_i in O_i, i = 1..n."""
+def _forward(chain: Chain, q, fwd_a, p_star, big_f, big_n) -> tuple[list, list, tuple]:
+    """Tip→base pass of Table I.1 (the paper's "forward" recursion): f_i, n_i in O_i, i = 1..n, and what
+    the base's children pass to it (Σ A_c f_c, Σ (A_c n_c + o_c × A_c f_c) in O_0). A joint sums its
+    children's forces and moments, moved from their joint frames' origins to its own."""
     batch = q.shape[:-1]
-    f, n = _endpoint(chain.tip_force, batch), _endpoint(chain.tip_torque, batch)
-    a_next = np.broadcast_to(np.eye(3), batch + (3, 3))   # A_{n+1} = I: the tip load is given in O_n
+    zero = np.zeros(batch + (3,))
+    f_in = [zero] * (chain.n + 1)      # per link: Σ over children of A_d f_d, in its frame
+    n_in = [zero] * (chain.n + 1)      # Σ A_d n_d + o_d × A_d f_d (about its frame's origin)
+    f_in[chain.n] = _endpoint(chain.tip_force, batch)       # the tip load is given in O_n
+    n_in[chain.n] = _endpoint(chain.tip_torque, batch)
     fs, ns = [None] * chain.n, [None] * chain.n
     for i in reversed(range(chain.n)):
-        s_star = p_star[i] + chain.joints[i].com
-        af = mv(a_next, f)
-        n = mv(a_next, n) + big_n[..., i, :] + cross(s_star, big_f[..., i, :]) + cross(p_star[i], af)
-        f = big_f[..., i, :] + af
-        fs[i], ns[i], a_next = f, n, fwd_a[i]
-    return fs, ns
+        joint, parent = chain.joints[i], chain.parent_of[i]
+        s_star = p_star[i] + joint.com
+        f = big_f[..., i, :] + f_in[i + 1]
+        n = n_in[i + 1] + big_n[..., i, :] + cross(s_star, big_f[..., i, :]) + cross(p_star[i], f_in[i + 1])
+        fs[i], ns[i] = f, n
+        af, an = mv(fwd_a[i], f), mv(fwd_a[i], n)
+        if joint.shift is not None:
+            an = an + cross(joint.shift, af)
+        f_in[parent] = f_in[parent] + af
+        n_in[parent] = n_in[parent] + an
+    return fs, ns, (f_in[0], n_in[0])
 
 
 def joint_forces(chain: Chain, f: np.ndarray, n: np.ndarray) -> np.ndarray:
@@ -137,55 +176,85 @@ def joint_forces(chain: Chain, f: np.ndarray, n: np.ndarray) -> np.ndarray:
     return np.where(sigma, np.sum(axes * n, axis=-1), np.sum(axes * f, axis=-1))
 
 
-def _run(chain: Chain, q, qd, qdd) -> dict[str, np.ndarray]:
+def base_wrench(chain: Chain, motion, children) -> tuple[np.ndarray, np.ndarray]:
+    """Floating base: the force and moment (about O_0's origin, in O_0) the base joint must supply: the
+    base link's own F_0, N_0 + r*_0 × F_0 and what its children pass to it."""
+    w, wd, pdd = motion
+    _, big_f, big_n = _loads(chain.base_com, chain.base_mass, chain.base_inertia, w, wd, pdd)
+    return big_f + children[0], big_n + cross(chain.base_com, big_f) + children[1]
+
+
+def _run(chain: Chain, q, qd, qdd, base=None) -> dict[str, np.ndarray]:
     q, qd, qdd = check_state(chain, q, qd, qdd)
-    back = _backward(chain, q, qd, qdd)
+    back = _backward(chain, q, qd, qdd, base)
     out = {key: np.stack(back[key], axis=-2) for key in ("omega", "omega_dot", "pdd")}
     out["rdd"], out["F"], out["N"] = link_loads(chain, out["omega"], out["omega_dot"], out["pdd"])
-    fs, ns = _forward(chain, q, back["A"], back["p_star"], out["F"], out["N"])
+    fs, ns, children = _forward(chain, q, back["A"], back["p_star"], out["F"], out["N"])
     out["f"], out["n"] = np.stack(fs, axis=-2), np.stack(ns, axis=-2)
     out["tau"] = joint_forces(chain, out["f"], out["n"])
+    if chain.floating:
+        f0, n0 = base_wrench(chain, back["base"], children)
+        out["base_wrench"] = np.concatenate([f0, n0], axis=-1)
+        out["tau"] = np.concatenate([out["tau"], out["base_wrench"]], axis=-1)
     return out
 
 
-def rnea(chain: Chain, q, qd, qdd) -> np.ndarray:
-    """Joint forces τ for states q, q̇, q̈ of shape (n,) or (N, n); returns the same shape."""
-    return _run(chain, q, qd, qdd)["tau"]
+def rnea(chain: Chain, q, qd, qdd, base=None) -> np.ndarray:
+    """Joint forces τ for states q, q̇, q̈ of shape (n,) or (N, n); returns the same shape. A floating
+    base takes `base` (..., 9) = [ω_0, ω̇_0, a_0] (see `base_motion`) and returns (..., n + 6): the joint
+    forces, then the base wrench [f_0, n_0] in O_0 (n_0 about O_0's origin)."""
+    return _run(chain, q, qd, qdd, base)["tau"]
 
 
-def rnea_variables(chain: Chain, q, qd, qdd) -> dict[str, np.ndarray]:
+def rnea_variables(chain: Chain, q, qd, qdd, base=None) -> dict[str, np.ndarray]:
     """Every Table I.1 variable for one state: 'omega', 'omega_dot', 'pdd', 'rdd', 'F', 'N', 'f', 'n'.
 
-    Each has shape (n, 3), row i-1 holding the value for link i referred to O_i; 'tau' has shape (n,).
-    A batch (N, n) of states gives (N, n, 3) and (N, n).
+    Each has shape (n, 3), row i-1 holding the value for link i referred to O_i; 'tau' has shape (n,)
+    (n + 6 with a floating base, whose wrench is also 'base_wrench'). A batch (N, n) of states gives
+    (N, n, 3) and (N, n).
     """
-    return _run(chain, q, qd, qdd)
+    return _run(chain, q, qd, qdd, base)
 
 
 # --- independent energy / mass-matrix code (base-frame kinematics, geometric Jacobians) -------------------
 
-def _base_frames(chain: Chain, q) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """Orientation ⁰W_i and origin of O_i in base coordinates, i = 0..n (by composing transforms)."""
+def _base_frames(chain: Chain, q) -> tuple[list[np.ndarray], list[np.ndarray], list, list]:
+    """Orientation ⁰W_i and origin of O_i in base coordinates, i = 0..n (by composing transforms), and
+    per joint its axis and a point on it (J_i's origin), in base coordinates."""
     batch = q.shape[:-1]
     rots = [np.broadcast_to(np.eye(3), batch + (3, 3))]
     origins = [np.zeros(batch + (3,))]
-    for i, joint in enumerate(chain.joints):
-        rots.append(rots[-1] @ joint.A(q[..., i]))
-        origins.append(origins[-1] + mv(rots[-1], joint.p_star(q[..., i])))
-    return rots, origins
+    axes, points = [], []
+    for i, (joint, p) in enumerate(zip(chain.joints, chain.parent_of)):
+        points.append(origins[p] + mv(rots[p], joint.shift_vec))
+        axes.append(mv(rots[p], np.broadcast_to(joint.parent_axis, origins[p].shape)))
+        rots.append(rots[p] @ joint.A(q[..., i]))
+        origins.append(points[-1] + mv(rots[-1], joint.p_star(q[..., i])))
+    return rots, origins, axes, points
+
+
+def _ancestors(chain: Chain) -> np.ndarray:
+    """mask[i-1, j-1] = 1 when joint j moves link i (j is i or an ancestor of i)."""
+    mask = np.zeros((chain.n, chain.n))
+    for i, p in enumerate(chain.parent_of):
+        if p:
+            mask[i] = mask[p - 1]
+        mask[i, i] = 1.0
+    return mask
 
 
 def _com_jacobians(chain: Chain, q):
     """Per link: centre of mass c_i, ⁰W_i, and the geometric Jacobians Jv_i, Jω_i (..., 3, n), base coords."""
-    rots, origins = _base_frames(chain, q)
-    axes = np.stack([mv(rots[j], np.broadcast_to(E_Z, origins[j].shape)) for j in range(chain.n)], -1)
+    rots, origins, axes, points = _base_frames(chain, q)
+    axes = np.stack(axes, -1)
     sigma = chain.sigmas.astype(float)
+    moves = _ancestors(chain)
     for i, joint in enumerate(chain.joints, 1):
         com = origins[i] + mv(rots[i], joint.com)
-        lever = np.stack([com - origins[j] for j in range(chain.n)], axis=-1)
+        lever = np.stack([com - points[j] for j in range(chain.n)], axis=-1)
         jv = sigma * np.swapaxes(cross(np.swapaxes(axes, -1, -2), np.swapaxes(lever, -1, -2)), -1, -2)
         jv = jv + (1.0 - sigma) * axes
-        mask = (np.arange(chain.n) < i).astype(float)     # joints beyond i do not move link i
+        mask = moves[i - 1]                  # only joint i and its ancestors move link i
         yield joint, com, rots[i], jv * mask, sigma * axes * mask
 
 

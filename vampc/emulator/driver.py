@@ -30,13 +30,15 @@ MAX_STATES = 1 << 53        # beyond this a set index is not exact in a float64 
 def random_states(chain, start: int, count: int, seed: int) -> Trajectory:
     """States start .. start + count - 1 of the random run with this seed (see the module
     docstring): within the joint limits, else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²."""
-    from vampc.robot.random import random_state
+    from vampc.robot.random import random_base, random_state
     parts, first = [], start // RANDOM_BLOCK
     for block in range(first, (start + count - 1) // RANDOM_BLOCK + 1):
-        parts.append(random_state(chain, RANDOM_BLOCK, np.random.default_rng([seed, block])))
+        rng = np.random.default_rng([seed, block])
+        state = random_state(chain, RANDOM_BLOCK, rng)
+        parts.append(state + (random_base(RANDOM_BLOCK, rng),) if chain.floating else state)
     lo = start - first * RANDOM_BLOCK
-    q, qd, qdd = (np.concatenate([p[k] for p in parts])[lo:lo + count] for k in range(3))
-    return Trajectory(q, qd, qdd)
+    arrays = [np.concatenate([p[k] for p in parts])[lo:lo + count] for k in range(len(parts[0]))]
+    return Trajectory(*arrays[:3], None, arrays[3] if chain.floating else None)
 
 
 @dataclass(frozen=True)
@@ -60,20 +62,20 @@ class States:
         if self.trajectory is None:
             return random_states(chain, start, count, self.seed)
         tr = self.trajectory
-        return Trajectory(tr.q[start:start + count], tr.qd[start:start + count],
-                          tr.qdd[start:start + count],
-                          None if tr.t is None else tr.t[start:start + count])
+        part = slice(start, start + count)
+        return Trajectory(tr.q[part], tr.qd[part], tr.qdd[part], None if tr.t is None else tr.t[part],
+                          None if tr.base is None else tr.base[part])
 
 
 def chunk_size(ld: Loaded) -> int:
     """Sets per chunk: CHUNK_BYTES of port values, at most MAX_CHUNK, at least 1."""
-    per_set = 8 * (sum(p.size for p in ld.net.ports) + 4 * ld.chain.n)
+    per_set = 8 * (sum(p.size for p in ld.net.ports) + 4 * ld.chain.n_outputs)
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // max(per_set, 1))))
 
 
 def tick_memory_check(ld: Loaded, count: int) -> None:
     """The tick engine holds every set's port values and torques: refuse a run that cannot fit."""
-    need = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n)
+    need = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
     avail = _available_memory()
     if avail is not None and need > avail // 2:
         raise VampcError(f"{ld.path}: {count} torque sets need about {need / 2**30:.1f} GiB in the "
@@ -155,8 +157,10 @@ def _check_finite(ld: Loaded, tau: np.ndarray, start: int) -> None:
     bad = ~np.isfinite(tau)
     if bad.any():
         r, j = (int(x) for x in np.argwhere(bad)[0])
-        name = ld.chain.joints[j].name
-        raise VampcError(f"{ld.path}: set {start + r + 1}, joint {j + 1} ({name}): the torque is "
+        from vampc.emulator.trajectory import WRENCH_COLUMNS
+        where = (f"joint {j + 1} ({ld.chain.joints[j].name}): the torque" if j < ld.chain.n
+                 else f"{WRENCH_COLUMNS[j - ld.chain.n]}: the base wrench")
+        raise VampcError(f"{ld.path}: set {start + r + 1}, {where} is "
                          f"{tau[r, j]} "
                          "(float64 overflow: the robot's or the state's numbers are too large); "
                          "the run stopped and wrote no output file")

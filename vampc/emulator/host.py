@@ -16,12 +16,14 @@ from vampc.robot.chain import Chain
 
 @dataclass(frozen=True)
 class Trajectory:
-    """States (count, n) each; `t` the optional time column."""
+    """States (count, n) each; `t` the optional time column; `base` a floating base's motions (count, 9):
+    ω_0, ω̇_0 and the classical acceleration a_0 of O_0's origin, in O_0."""
 
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
     t: np.ndarray | None = None
+    base: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -36,7 +38,7 @@ def port_values(ld: Loaded, traj: Trajectory) -> dict[tuple[int, int], np.ndarra
     for p in ld.net.ports:
         for j, e in enumerate(p.entries):
             if e.key not in cache:
-                val = input_value(ld.chain, e.key, traj.q, traj.qd, traj.qdd)
+                val = input_value(ld.chain, e.key, traj.q, traj.qd, traj.qdd, traj.base)
                 cache[e.key] = np.ascontiguousarray(val.reshape(traj.count, -1))
             out[(p.index, j)] = cache[e.key]
     return out
@@ -51,9 +53,10 @@ def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
 
 
 def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
-    """A trajectory from CSV (header q1..qn,qd1..qdn,qdd1..qddn, optional leading t), .npy or .npz."""
+    """A trajectory from CSV (header q1..qn,qd1..qdn,qdd1..qddn, a floating base's 9 columns, optional
+    leading t), .npy or .npz."""
     from vampc.emulator.trajectory import read
-    return read(path, chain.n)
+    return read(path, chain.n, chain.floating)
 
 
 def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
@@ -83,9 +86,10 @@ class CheckResult:
 
 
 def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:
-    """Compare with the reference RNEA; relative error per set against that set's largest |τ|."""
+    """Compare with the reference RNEA; relative error per set against that set's largest |τ| (the base
+    wrench's components included)."""
     from vampc.dynamics.reference import rnea
-    ref = rnea(chain, traj.q, traj.qd, traj.qdd)
+    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
     scale = np.maximum(np.max(np.abs(ref), axis=1, keepdims=True), 1e-12)
     rel = err / scale

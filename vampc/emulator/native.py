@@ -119,7 +119,7 @@ def build(ld: Loaded, fl) -> NativeProgram:
     fn.argtypes = (ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
     fn.restype = None
     ports = tuple((i, size) for i, (_, _, size) in enumerate(fl.inputs))
-    return NativeProgram(fn, ports, ld.chain.n, layout.rows)
+    return NativeProgram(fn, ports, ld.chain.n_outputs, layout.rows)
 
 
 # --- source generation --------------------------------------------------------------------------
@@ -162,7 +162,7 @@ def _tables(ld: Loaded, fl, layout: Layout) -> str:
         return f"static const long {name}[] = {{{', '.join(map(str, values)) or '0'}}};"
     return "\n".join((
         f"#define NPORTS {len(fl.inputs)}", f"#define NOUT {len(fl.outputs)}",
-        f"#define NJ {ld.chain.n}",
+        f"#define NJ {ld.chain.n_outputs}",
         table("PORT_SIZE", [size for _, _, size in fl.inputs]),
         table("PORT_ROW", [layout.port_row[i] for i in range(len(fl.inputs))]),
         table("OUT_JOINT", [joint - 1 for joint, _, _ in fl.outputs]),

@@ -88,14 +88,14 @@ def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> n
         outs.append(_run_chunk(ld, fl, chunk, min(CHUNK, count - lo)))
         if progress is not None:
             progress(min(lo + CHUNK, count), count)
-    return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n))
+    return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n_outputs))
 
 
 def _run_chunk(ld: Loaded, fl: Flow, ports, count) -> np.ndarray:
     vals: list[np.ndarray] = []
     for r, a, b in fl.ops:
         vals.append(rom.run(r, _operand(a, vals, ports, count), _operand(b, vals, ports, count)))
-    tau = np.empty((count, ld.chain.n))
+    tau = np.empty((count, ld.chain.n_outputs))
     for joint, op, component in fl.outputs:
         tau[:, joint - 1] = vals[op][:, component]
     return tau

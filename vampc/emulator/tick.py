@@ -188,7 +188,7 @@ class TickEngine:
         self.steady = (max(o.tick for o in self.ld.net.outputs), count * P)
         outs = self.ld.net.outputs
         last_tick = (count - 1) * P + max(o.tick for o in outs)
-        tau = np.full((count, self.ld.chain.n), np.nan)
+        tau = np.full((count, self.ld.chain.n_outputs), np.nan)
         seen = np.full((count, len(outs)), -1, dtype=np.int64)
         for t in range(last_tick + 1):
             if t % self.B == 0:

@@ -3,6 +3,10 @@
 CSV: a header `q1..qn,qd1..qdn,qdd1..qddn`, optionally with a leading `t` column, then one state per row.
 .npy: an array (count, 3n) or (count, 3n + 1) with t first. .npz: arrays `q`, `qd`, `qdd` (count, n) and
 optionally `t`. Torques are written as CSV with the header `tau1..taun`, atomically.
+
+A floating-base program also needs the base's motion per state, 9 columns after qdd (BASE_COLUMNS: ω_0,
+ω̇_0 and the classical acceleration a_0 of O_0's origin, all in O_0); in .npy 9 more columns, in .npz an
+array `base` (count, 9). Its torque files end with the base wrench (WRENCH_COLUMNS).
 """
 from __future__ import annotations
 
@@ -18,45 +22,61 @@ from vampc.errors import VampcError
 from vampc.textio import shown
 
 
-def header(n: int) -> list[str]:
-    """The expected CSV column names (without t)."""
+BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
+                "base_ax", "base_ay", "base_az"]
+WRENCH_COLUMNS = ["base_fx", "base_fy", "base_fz", "base_nx", "base_ny", "base_nz"]
+
+
+def header(n: int, floating: bool = False) -> list[str]:
+    """The expected CSV column names (without t); a floating base adds BASE_COLUMNS."""
     return ([f"q{i}" for i in range(1, n + 1)] + [f"qd{i}" for i in range(1, n + 1)]
-            + [f"qdd{i}" for i in range(1, n + 1)])
+            + [f"qdd{i}" for i in range(1, n + 1)] + (BASE_COLUMNS if floating else []))
 
 
-def read(path, n: int):
-    """A Trajectory from a .csv, .npy or .npz file; VampcError naming the row and column on bad data."""
+def read(path, n: int, floating: bool = False):
+    """A Trajectory from a .csv, .npy or .npz file; VampcError naming the row and column on bad data.
+    `floating`: the states carry the base's motion (BASE_COLUMNS) too."""
     from vampc.emulator.host import Trajectory
     path = Path(path)
     suffix = path.suffix.lower()
+    width = len(header(n, floating))
     try:
         if suffix == ".npz":
-            data, t = _read_npz(path, n)
+            data, t = _read_npz(path, n, floating)
         elif suffix == ".npy":
-            data, t = _read_npy(path, n)
+            data, t = _read_npy(path, n, width)
         else:
-            data, t = _read_csv(path, n)
+            data, t = _read_csv(path, n, floating)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     _check_finite(path, data)
     if t is not None:
         t = np.asarray(t, dtype=float)
         _check_finite(path, t[:, None], "t")
-    return Trajectory(data[:, :n].copy(), data[:, n:2 * n].copy(), data[:, 2 * n:].copy(), t)
+    base = data[:, 3 * n:].copy() if floating else None
+    return Trajectory(data[:, :n].copy(), data[:, n:2 * n].copy(), data[:, 2 * n:3 * n].copy(), t, base)
 
 
-def _read_csv(path: Path, n: int):
+def _missing_base(path: Path, names: list[str], want: list[str]) -> None:
+    """A floating-base trajectory whose header stops before (or leaves out) the base columns."""
+    absent = [c for c in BASE_COLUMNS if c in want and c not in names]
+    if absent and [c for c in names if c not in BASE_COLUMNS] == [c for c in want if c not in BASE_COLUMNS]:
+        raise VampcError(f"{path}: header: missing column {absent[0]} (a floating-base program needs the "
+                         f"base's motion: {','.join(BASE_COLUMNS)} after the qdd columns)")
+
+
+def _read_csv(path: Path, n: int, floating: bool = False):
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
     raw = path.read_bytes()
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
-    fast = _read_csv_native(raw, n)
+    fast = _read_csv_native(raw, n, floating)
     text = None
     if fast is None:
         text = decode_utf8(raw, path, "trajectory")
-        fast = _read_csv_loadtxt(text, n)
+        fast = _read_csv_loadtxt(text, n, floating)
     if fast is not None:
         return fast
     # --- end of fast paths ---
@@ -67,8 +87,9 @@ def _read_csv(path: Path, n: int):
         raise VampcError(f"{path}: empty trajectory file")
     names = [c.strip() for c in rows[0]]
     has_t = bool(names) and names[0] == "t"
-    want = (["t"] if has_t else []) + header(n)
+    want = (["t"] if has_t else []) + header(n, floating)
     if names != want:
+        _missing_base(path, names, want)
         bad = next((k for k, (got, exp) in enumerate(zip(names, want)) if got != exp), None)
         which = (f"column {bad + 1} is {shown(names[bad])}, expected {want[bad]!r}" if bad is not None
                  else f"{len(names)} columns, expected {len(want)}")
@@ -92,34 +113,34 @@ def _read_csv(path: Path, n: int):
 # table: the slow parser then reads it the same way or reports the precise error. Both give each cell
 # the value float() gives it.
 
-def _plain_header(head: str, n: int):
+def _plain_header(head: str, n: int, floating: bool = False):
     """Whether the header line has a t column (True/False), or None if it is not the expected one."""
     names = [c.strip() for c in head.split(",")]
     has_t = bool(names) and names[0] == "t"
-    return has_t if names == (["t"] if has_t else []) + header(n) else None
+    return has_t if names == (["t"] if has_t else []) + header(n, floating) else None
 
 
-def _read_csv_native(raw: bytes, n: int):
+def _read_csv_native(raw: bytes, n: int, floating: bool = False):
     """vampc.emulator.native.parse_csv (strict decimal cells, strtod) on the bytes after the header."""
     head, _, body = raw.partition(b"\n")
     try:
-        has_t = _plain_header(head.decode("ascii"), n)
+        has_t = _plain_header(head.decode("ascii"), n, floating)
     except UnicodeDecodeError:
         return None
     if has_t is None:
         return None
     from vampc.emulator.native import parse_csv
-    data = parse_csv(body, 3 * n + has_t)
+    data = parse_csv(body, len(header(n, floating)) + has_t)
     if data is None:
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
 
 
-def _read_csv_loadtxt(text: str, n: int):
+def _read_csv_loadtxt(text: str, n: int, floating: bool = False):
     """np.loadtxt on the text after the header."""
     head, _, body = text.partition("\n")
-    has_t = _plain_header(head, n)
-    data = None if has_t is None else _loadtxt(body, 3 * n + has_t)
+    has_t = _plain_header(head, n, floating)
+    data = None if has_t is None else _loadtxt(body, len(header(n, floating)) + has_t)
     if data is None:
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
@@ -145,21 +166,22 @@ def _loadtxt(body: str, cols: int):
 _NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
 
 
-def _read_npy(path: Path, n: int):
+def _read_npy(path: Path, n: int, width: int):
     try:
         arr = np.load(path, allow_pickle=False)
     except _NUMPY_ERRORS as exc:
         raise VampcError(f"{path}: not a numpy array file ({_numpy_reason(exc)})") from None
     if not isinstance(arr, np.ndarray):
         raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
-    if arr.ndim != 2 or arr.shape[1] not in (3 * n, 3 * n + 1) or arr.shape[0] == 0:
-        raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {3 * n}) or "
-                         f"(states, {3 * n + 1}) with t first")
+    if arr.ndim != 2 or arr.shape[1] not in (width, width + 1) or arr.shape[0] == 0:
+        base = " (a floating base: q, qd, qdd, then the 9 base columns)" if width > 3 * n else ""
+        raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {width}) or "
+                         f"(states, {width + 1}) with t first{base}")
     arr = _as_float(path, arr)
-    return (arr[:, 1:], arr[:, 0]) if arr.shape[1] == 3 * n + 1 else (arr, None)
+    return (arr[:, 1:], arr[:, 0]) if arr.shape[1] == width + 1 else (arr, None)
 
 
-def _read_npz(path: Path, n: int):
+def _read_npz(path: Path, n: int, floating: bool = False):
     try:
         z = np.load(path, allow_pickle=False)
     except _NUMPY_ERRORS as exc:
@@ -167,17 +189,35 @@ def _read_npz(path: Path, n: int):
     if not isinstance(z, np.lib.npyio.NpzFile):
         raise VampcError(f"{path}: a .npy array, not a .npz archive; rename it .npy")
     with z:
-        missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
-        if missing:
-            raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
-        parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
-        t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
+        return _npz_arrays(path, z, n, floating)
+
+
+def _npz_arrays(path: Path, z, n: int, floating: bool):
+    """(data, t) from an open .npz archive."""
+    missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
+    if missing:
+        raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
+    parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
+    t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
     for k, p in zip(("q", "qd", "qdd"), parts):
         if p.ndim != 2 or p.shape != (parts[0].shape[0], n) or p.shape[0] == 0:
             raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n})")
     if t is not None and t.shape != (parts[0].shape[0],):
         raise VampcError(f"{path}: array t has shape {t.shape}; expected ({parts[0].shape[0]},)")
+    if floating:
+        parts.append(_npz_base(path, z, parts[0].shape[0]))
     return np.concatenate(parts, axis=1), t
+
+
+def _npz_base(path: Path, z, count: int) -> np.ndarray:
+    """The `base` member of a floating-base .npz trajectory: (count, 9)."""
+    if "base" not in z.files:
+        raise VampcError(f"{path}: missing array base (a floating-base program needs the base's motion, "
+                         f"(states, 9): {','.join(BASE_COLUMNS)})")
+    base = _as_float(path, _member(path, z, "base"), "base")
+    if base.shape != (count, 9):
+        raise VampcError(f"{path}: array base has shape {base.shape}; expected ({count}, 9)")
+    return base
 
 
 def _member(path, z, key: str) -> np.ndarray:
@@ -214,9 +254,10 @@ def _check_finite(path, data: np.ndarray, column: str | None = None) -> None:
                          "finite")
 
 
-def torque_columns(names) -> list[str]:
-    """Torque CSV column names: `tau_<joint name>` in joint order (README "Torque files")."""
-    return [f"tau_{name}" for name in names]
+def torque_columns(names, floating: bool = False) -> list[str]:
+    """Torque CSV column names: `tau_<joint name>` in joint order, then a floating base's wrench
+    (WRENCH_COLUMNS) (README "Torque files")."""
+    return [f"tau_{name}" for name in names] + (WRENCH_COLUMNS if floating else [])
 
 
 def csv_line(cells) -> str:
@@ -251,5 +292,5 @@ def write_torques(path, tau: np.ndarray, names=None, t: np.ndarray | None = None
 def write_states(path, traj) -> None:
     """States in the trajectory CSV format (`t` first if the trajectory has it)."""
     from vampc.program.file import write_text_atomic
-    head = csv_line((["t"] if traj.t is not None else []) + header(traj.q.shape[1]))
-    write_text_atomic(path, head + format_rows(traj.t, traj.q, traj.qd, traj.qdd), "states")
+    head = csv_line((["t"] if traj.t is not None else []) + header(traj.q.shape[1], traj.base is not None))
+    write_text_atomic(path, head + format_rows(traj.t, traj.q, traj.qd, traj.qdd, traj.base), "states")

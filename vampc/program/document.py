@@ -19,19 +19,34 @@ from vampc.schedule.asap import Schedule
 _NAME = {op: op.value for op in Op}   # (an Enum's .value is a slow descriptor; rows ask a million times)
 
 
-def chain_to_doc(chain: Chain) -> dict:
-    """The robot section."""
-    joints = [{
+def _joint_doc(j: Joint) -> dict:
+    out = {
         "name": j.name, "type": j.type.value, "phi": tolist(j.phi), "p_fixed": tolist(j.p_fixed),
         "offset": float(j.offset), "mass": float(j.mass), "com": tolist(j.com),
         "inertia": tolist(j.inertia), "axis": tolist(j.axis),
         "limits": {"q": list(j.limits.q) if j.limits.q else None, "qd": j.limits.qd,
                    "tau": j.limits.tau},
-    } for j in chain.joints]
-    return {"name": chain.name, "n": chain.n, "source": chain.source, "joints": joints,
-            "gravity": tolist(chain.gravity), "base_omega": tolist(chain.base_omega),
-            "base_omega_dot": tolist(chain.base_omega_dot), "tip_force": tolist(chain.tip_force),
-            "tip_torque": tolist(chain.tip_torque)}
+    }
+    if j.pre is not None:        # a tree's joint frame (absent for a chain: its files are unchanged)
+        out["pre"] = tolist(j.pre)
+    if j.shift is not None:
+        out["shift"] = tolist(j.shift)
+    return out
+
+
+def chain_to_doc(chain: Chain) -> dict:
+    """The robot section (a tree adds `parents`; a floating base `floating` and the base inertia)."""
+    out = {"name": chain.name, "n": chain.n, "source": chain.source,
+           "joints": [_joint_doc(j) for j in chain.joints],
+           "gravity": tolist(chain.gravity), "base_omega": tolist(chain.base_omega),
+           "base_omega_dot": tolist(chain.base_omega_dot), "tip_force": tolist(chain.tip_force),
+           "tip_torque": tolist(chain.tip_torque)}
+    if not chain.is_chain:
+        out["parents"] = list(chain.parent_of)
+    if chain.floating:
+        out.update(floating=True, base_mass=float(chain.base_mass), base_com=tolist(chain.base_com),
+                   base_inertia=tolist(chain.base_inertia))
+    return out
 
 
 def chain_from_doc(doc: dict) -> Chain:
@@ -41,10 +56,25 @@ def chain_from_doc(doc: dict) -> Chain:
         p_fixed=np.array(j["p_fixed"]), offset=j["offset"], mass=j["mass"], com=np.array(j["com"]),
         inertia=np.array(j["inertia"]),
         limits=Limits(tuple(j["limits"]["q"]) if j["limits"]["q"] else None, j["limits"]["qd"],
-                      j["limits"]["tau"])) for j in doc["joints"])
-    return Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
-                 np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
-                 np.array(doc["tip_torque"]), doc["source"])
+                      j["limits"]["tau"]),
+        pre=np.array(j["pre"]) if "pre" in j else None,
+        shift=np.array(j["shift"]) if "shift" in j else None) for j in doc["joints"])
+    tree = {}
+    if "parents" in doc:
+        tree["parents"] = tuple(doc["parents"])
+    if doc.get("floating"):
+        tree.update(floating=True, base_mass=doc["base_mass"], base_com=np.array(doc["base_com"]),
+                    base_inertia=np.array(doc["base_inertia"]))
+    chain = Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
+                  np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
+                  np.array(doc["tip_torque"]), doc["source"], **tree)
+    if tree:      # the host walks the tree: parents must be a depth-first tree of n joints
+        from vampc.errors import VampcError, VampcInternalError
+        try:
+            chain._verify_tree()
+        except VampcInternalError as exc:
+            raise VampcError(f"robot.parents: {exc}") from None
+    return chain
 
 
 def graph_to_doc(g: Graph) -> dict:

@@ -81,3 +81,14 @@ def render_layouts(rows: list[dict]) -> str:
                      f"{r['mux_inputs']:>8}{r['control_registers']:>11}"
                      f"{r['host_writes_per_set']:>9}{r['load_ticks']:>8}")
     return "\n".join(lines) + "\n"
+
+
+def tree_latencies(chain, options) -> dict:
+    """ASAP latency (flops) of the linear and the log graph of `chain` under `options`' timing and
+    prefix shape: the report's "latency of linear and log" for a tree."""
+    from vampc.dataflow.linear import build_linear
+    from vampc.dataflow.logarithmic import build_log
+    from vampc.schedule.asap import schedule_asap
+    graphs = {"linear": build_linear(chain, verify=False),
+              "log": build_log(chain, options.prefix, options.uniform_leaves, verify=False)}
+    return {k: schedule_asap(g, options.timing, verify=False).latency for k, g in graphs.items()}

@@ -99,7 +99,19 @@ def summary(c) -> dict:
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "uniform_leaves": c.options.uniform_leaves if c.graph.recursion == "log" else None,
         "prefix": c.options.prefix if c.graph.recursion == "log" else None,
+        **({"tree": tree_summary(c.chain, c.options.prefix)} if not c.chain.is_chain or c.chain.floating
+           else {}),
     }
+
+
+def tree_summary(chain, prefix: str) -> dict:
+    """A tree's shape and depths (vampc.dataflow.treeprefix.tree_depths): joints, leaves, height (the
+    depth of the level-by-level, linear recursion), the log recursion's backward ⊗ tiers (heavy paths
+    plus light edges) and forward addition levels, beside ⌈log2(n+1)⌉; the base wrench's outputs."""
+    from vampc.dataflow.treeprefix import tree_depths
+    depths = tree_depths(chain.parent_of, prefix, ground=True)
+    return {**depths, "log2_n_plus_1": (chain.n).bit_length(), "floating": chain.floating,
+            "outputs": chain.n_outputs, "parents": list(chain.parent_of)}
 
 
 def hardware(c) -> dict:

@@ -57,6 +57,7 @@ def render(rep: dict) -> str:
         f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
         f"{rep['serial_reference']['adds']}",
     ]
+    lines += _tree_lines(rep.get("tree"))
     text = "\n".join(lines) + "\n"
     if rep.get("layout_comparison"):
         from vampc.report.compare import render_layouts
@@ -81,3 +82,21 @@ def _joints(rep: dict) -> str:
         items = items[:SHOWN_JOINTS - 1] + [f"... {len(names)} in all (--format json lists "
                                             "every one)"]
     return ", ".join(items) + "   (R revolute, P prismatic)"
+
+
+def _tree_lines(tree: dict | None) -> list[str]:
+    """A tree's shape and depths (counts.tree_summary, and the latencies `vampc report` adds)."""
+    if not tree:
+        return []
+    lines = [f"tree             {tree['joints']} joints, {tree['leaves']} leaves, height {tree['height']} "
+             f"(the level-by-level depth), {tree['heavy_paths']} heavy paths, at most "
+             f"{tree['light_edges']} light edges on a path"
+             + ("; floating base: 6 wrench outputs after the joints" if tree["floating"] else "")]
+    lines.append(f"  log depth      backward {tree['backward_tiers']} combining tiers, forward "
+                 f"{tree['forward_levels']} addition levels; ⌈log2(n+1)⌉ = {tree['log2_n_plus_1']}, "
+                 f"height {tree['height']}")
+    lat = tree.get("latency_flops")
+    if lat:
+        lines.append(f"  latency        linear {lat['linear']} flops, log {lat['log']} flops "
+                     "(systolic, this timing)")
+    return lines

@@ -13,6 +13,21 @@ prismatic joint, Rx(α) for a revolute one). The endpoints are the base rotation
 gravity vector g in O_0 (the base acceleration is p̈_0 = -g) and the tip load f_{n+1}, n_{n+1}: as in
 the paper, the force and the moment (about O_n) that link n exerts on the environment, expressed in O_n
 (the environment pushes on the tip with their negatives).
+
+Trees (issue 12). Every joint has a parent: `Chain.parents[i-1]` is the joint (1..n) that carries joint
+i's parent link, 0 for the base link; a chain is the tree whose parents are i - 1, and `parents` is None
+for it. Joints are numbered depth-first from the root (a parent before its children, every subtree a
+contiguous range of numbers). Link p's frame O_p has its origin on, and z along, the axis of at most
+one child joint (the chain's convention; for a URDF, the child with the largest subtree); another child
+d of p has its own joint frame J_d fixed in link p, given by two constants of joint d:
+
+    pre    M_d: J_d's orientation in O_p (identity when None), so A_d(q) = M_d Rz(q + offset) Φ_d
+    shift  o_d: J_d's origin from O_p's origin, in O_p (zero when None)
+
+so z_{d-1} referred to O_p is u_d = M_d e_z (`Joint.parent_axis`), p*_d is the origin of O_d from J_d's
+origin, and the acceleration a child reads is that of J_d's origin: p̈_p + ω̇_p × o_d + ω_p × (ω_p × o_d).
+A floating base (`Chain.floating`) has its own inertia (`base_mass`, `base_com`, `base_inertia`, in O_0)
+and takes ω_0, ω̇_0 and the base acceleration per torque set instead of the constants above.
 """
 from __future__ import annotations
 
@@ -77,6 +92,8 @@ class Joint:
     com: np.ndarray          # r*_i: centre of mass from O_i, (3,)
     inertia: np.ndarray      # J_i about the centre of mass, (3, 3)
     limits: Limits = field(default_factory=Limits)
+    pre: np.ndarray | None = None     # M_d: joint frame J_d in the parent's frame (None: identity)
+    shift: np.ndarray | None = None   # o_d: J_d's origin from the parent frame's origin (None: zero)
 
     @property
     def sigma(self) -> int:
@@ -88,12 +105,24 @@ class Joint:
         """z_{i-1} referred to O_i: A_iᵀ e_z = Φ_iᵀ e_z, independent of q."""
         return self.phi[2, :].copy()
 
+    @property
+    def parent_axis(self) -> np.ndarray:
+        """u_i: z_{i-1} referred to the parent's frame, M_i e_z (e_z when there is no pre-rotation)."""
+        return E_Z.copy() if self.pre is None else self.pre[:, 2].copy()
+
+    @property
+    def shift_vec(self) -> np.ndarray:
+        """o_i as an array (zero when None)."""
+        return np.zeros(3) if self.shift is None else np.asarray(self.shift, dtype=float)
+
     def A(self, q) -> np.ndarray:
         """A_i(q), vectorised over q (shape S gives S + (3, 3))."""
         q = np.asarray(q, dtype=float)
         if self.type is JointType.PRISMATIC:
-            return np.broadcast_to(self.phi, q.shape + (3, 3)).copy()
-        return rot_z(q + self.offset) @ self.phi
+            a = np.broadcast_to(self.phi, q.shape + (3, 3)).copy()
+        else:
+            a = rot_z(q + self.offset) @ self.phi
+        return a if self.pre is None else self.pre @ a
 
     def p_star(self, q) -> np.ndarray:
         """p*_i(q), vectorised over q (shape S gives S + (3,))."""
@@ -109,7 +138,8 @@ class Joint:
 
 @dataclass(frozen=True, eq=False)
 class Chain:
-    """A serial chain of n joints with its endpoint conditions (see the module docstring)."""
+    """A tree of n joints (a serial chain when `parents` is None) with its endpoint conditions (see the
+    module docstring). The tip load acts on link n, the last joint's link."""
 
     name: str
     joints: tuple[Joint, ...]
@@ -119,11 +149,70 @@ class Chain:
     tip_force: np.ndarray = field(default_factory=lambda: np.zeros(3))
     tip_torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
     source: str = ""
+    parents: tuple[int, ...] | None = None   # parent joint of joint i (0: the base); None: a chain
+    floating: bool = False                   # base motion per torque set; base wrench as 6 outputs
+    base_mass: float = 0.0                   # floating base: the base link's mass, CoM, inertia in O_0
+    base_com: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    base_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
 
     @property
     def n(self) -> int:
         """Number of joints."""
         return len(self.joints)
+
+    @property
+    def n_outputs(self) -> int:
+        """Values per torque set: n joint forces, then 6 base-wrench components if the base floats."""
+        return self.n + (6 if self.floating else 0)
+
+    def parent(self, i: int) -> int:
+        """Parent joint of joint i (0: the base link), in O(1)."""
+        return i - 1 if self.parents is None else self.parents[i - 1]
+
+    @property
+    def parent_of(self) -> tuple[int, ...]:
+        """Parent joint of every joint i = 1..n (0: the base link), chain or tree."""
+        return tuple(range(self.n)) if self.parents is None else tuple(self.parents)
+
+    @property
+    def is_chain(self) -> bool:
+        """True when every joint's parent is the joint before it."""
+        return self.parents is None or tuple(self.parents) == tuple(range(self.n))
+
+    @property
+    def children(self) -> tuple[tuple[int, ...], ...]:
+        """children[p]: the joints whose parent is p (0 = the base), in joint order."""
+        out: list[list[int]] = [[] for _ in range(self.n + 1)]
+        for i, p in enumerate(self.parent_of, 1):
+            out[p].append(i)
+        return tuple(map(tuple, out))
+
+    @property
+    def leaves(self) -> tuple[int, ...]:
+        """Joints with no child joint."""
+        return tuple(i for i, c in enumerate(self.children) if i and not c)
+
+    @property
+    def depths(self) -> tuple[int, ...]:
+        """Depth of joint i (1 for a joint on the base), i = 1..n."""
+        d = [0] * (self.n + 1)
+        for i, p in enumerate(self.parent_of, 1):
+            d[i] = d[p] + 1
+        return tuple(d[1:])
+
+    @property
+    def height(self) -> int:
+        """Joints on the longest root-to-leaf path (n for a chain)."""
+        return max(self.depths, default=0)
+
+    @property
+    def subtree_end(self) -> tuple[int, ...]:
+        """end[i]: one past the last joint of i's subtree (joints i..end-1; depth-first numbering)."""
+        end = list(range(1, self.n + 2))
+        for i in range(self.n, 0, -1):
+            p = self.parent_of[i - 1]
+            end[p] = max(end[p], end[i])
+        return tuple(end[1:])
 
     @property
     def base_accel(self) -> np.ndarray:
@@ -147,10 +236,32 @@ class Chain:
                     raise VampcInternalError(f"joint {i} ({j.name}): bad {label}")
             if not (np.isfinite(j.mass) and j.mass >= 0):
                 raise VampcInternalError(f"joint {i} ({j.name}): bad mass {j.mass}")
-        for label in ("gravity", "base_omega", "base_omega_dot", "tip_force", "tip_torque"):
+            if j.pre is not None:
+                _check_rotation(j.pre, f"joint {i} ({j.name}) pre-rotation")
+            if j.shift is not None and (np.shape(j.shift) != (3,) or not np.all(np.isfinite(j.shift))):
+                raise VampcInternalError(f"joint {i} ({j.name}): bad shift")
+        for label in ("gravity", "base_omega", "base_omega_dot", "tip_force", "tip_torque", "base_com"):
             arr = getattr(self, label)
             if np.shape(arr) != (3,) or not np.all(np.isfinite(arr)):
                 raise VampcInternalError(f"{self.name}: bad {label}")
+        self._verify_tree()
+
+    def _verify_tree(self) -> None:
+        """Parents exist, come first, and number the joints depth-first (subtrees contiguous)."""
+        if self.parents is not None and len(self.parents) != self.n:
+            raise VampcInternalError(f"{self.name}: {len(self.parents)} parents for {self.n} joints")
+        path = [0]                 # the ancestors of the joint before i, and that joint
+        for i, p in enumerate(self.parent_of, 1):
+            while path and path[-1] != p:
+                path.pop()
+            if not path:
+                raise VampcInternalError(f"{self.name}: joint {i}'s parent {p} is not an ancestor of "
+                                         f"joint {i - 1} or joint {i - 1} itself (not depth-first)")
+            path.append(i)
+        if self.floating and not (np.isfinite(self.base_mass) and self.base_mass >= 0
+                                  and np.shape(self.base_inertia) == (3, 3)
+                                  and np.all(np.isfinite(self.base_inertia))):
+            raise VampcInternalError(f"{self.name}: bad base inertia")
 
 
 def _check_rotation(m: np.ndarray, label: str) -> None:

@@ -37,8 +37,9 @@ YAML_SUFFIXES = (".yaml", ".yml")
 JSON_SUFFIXES = (".json",)
 
 
-def load_dh(path) -> Chain:
-    """Read a DH table (.yaml, .yml or .json) and return its Chain; VampcError on any problem."""
+def load_dh(path, floating: bool = False) -> Chain:
+    """Read a DH table (.yaml, .yml or .json) and return its Chain; VampcError on any problem.
+    `floating` lets the base float (as the table's base.floating does)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in YAML_SUFFIXES + JSON_SUFFIXES:
@@ -46,24 +47,102 @@ def load_dh(path) -> Chain:
     text = read_text(path)
     with gc_paused():  # a big table is millions of objects: the collector would walk them again and again
         doc = _parse_yaml(text, path) if suffix in YAML_SUFFIXES else _parse_json(text, path)
-        return chain_from_dh(doc, str(path))
+        return chain_from_dh(doc, str(path), floating)
 
 
-def chain_from_dh(doc: dict, source: str) -> Chain:
-    """Validate an already-parsed DH document and build its Chain; `source` names it in error messages."""
+def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
+    """Validate an already-parsed DH document and build its Chain; `source` names it in error messages.
+    Rows with `parent` make a tree, numbered depth-first from the base (children in row order)."""
     _check_values(doc, source)
     _check_schema(doc, source)
     rows = doc["joints"]
     _check_names(rows, source)
+    parents = row_parents(rows, source)
     inertias = _inertias(rows, source)
-    joints = tuple(_joint(row, i, inertias[i], source) for i, row in enumerate(rows))
+    joints = [_joint(row, i, inertias[i], source) for i, row in enumerate(rows)]
+    order = depth_first(parents)
+    new = {old: k for k, old in enumerate(order, 1)}
+    tree = {} if order == list(range(len(rows))) and parents == list(range(-1, len(rows) - 1)) else \
+        {"parents": tuple(new.get(parents[old], 0) for old in order)}
     base, tip = doc.get("base", {}), doc.get("tip", {})
-    return Chain(name=doc["name"], joints=joints,
+    return Chain(name=doc["name"], joints=tuple(joints[old] for old in order),
                  gravity=_vec(doc.get("gravity", [0.0, 0.0, -9.81])),
                  base_omega=_vec(base.get("omega", [0, 0, 0])),
                  base_omega_dot=_vec(base.get("omega_dot", [0, 0, 0])),
                  tip_force=_vec(tip.get("force", [0, 0, 0])),
-                 tip_torque=_vec(tip.get("torque", [0, 0, 0])), source=source)
+                 tip_torque=_vec(tip.get("torque", [0, 0, 0])), source=source,
+                 **tree, **_floating_base(base, floating, source))
+
+
+def _floating_base(base: dict, floating: bool, source: str) -> dict:
+    """The Chain fields of a floating base: its link's mass, centre of mass and inertia (default none)."""
+    if not (floating or base.get("floating")):
+        for key in ("mass", "com", "inertia"):
+            if key in base:
+                raise located(source, f"base.{key}", "the base link's inertia counts only for a floating "
+                                                     "base (add floating: true or --floating-base)")
+        return {}
+    for key in ("omega", "omega_dot"):
+        if key in base:
+            raise located(source, f"base.{key}", "a floating base's motion is input per torque set "
+                                                 "(trajectory columns), not a constant")
+    inertia = np.array(_inertia_matrix(base.get("inertia", [0.0] * 6)), dtype=float)
+    problem = inertia_problem(inertia)
+    if problem:
+        raise located(source, "base.inertia", problem)
+    return {"floating": True, "base_mass": float(base.get("mass", 0.0)),
+            "base_com": _vec(base.get("com", [0, 0, 0])), "base_inertia": inertia}
+
+
+def row_parents(rows: list, source: str) -> list[int]:
+    """Each row's parent row (0-based; -1 the base) from `parent` (a name, a 1-based row number or 0),
+    default the previous row; refuse names and numbers that name nothing and cycles."""
+    index = {row.get("name", f"j{i + 1}"): i for i, row in enumerate(rows)}
+    parents = []
+    for i, row in enumerate(rows):
+        value = row.get("parent", i)           # the previous row's number, 0 (the base) for row 1
+        if isinstance(value, str):
+            if value not in index:
+                raise located(source, _where(("joints", i, "parent")), f"{value!r} names no joint")
+            parents.append(index[value])
+        elif value > len(rows):
+            raise located(source, _where(("joints", i, "parent")),
+                          f"{value} is not a row number (1..{len(rows)}, or 0 for the base)")
+        else:
+            parents.append(value - 1)
+    _check_cycles(rows, parents, source)
+    return parents
+
+
+def _check_cycles(rows: list, parents: list[int], source: str) -> None:
+    """Every row must reach the base through its parents; name the first cycle met otherwise."""
+    state = [0] * len(rows)         # 0 unseen, 1 on the current walk, 2 reaches the base
+    for start in range(len(rows)):
+        walk, i = [], start
+        while i >= 0 and state[i] == 0:
+            state[i] = 1
+            walk.append(i)
+            i = parents[i]
+        if i >= 0 and state[i] == 1:
+            loop = walk[walk.index(i):]
+            names = ", ".join(repr(rows[k].get("name", f"j{k + 1}")) for k in loop[:10])
+            raise located(source, _where(("joints", loop[0], "parent")),
+                          f"parents form a cycle through joints {names}: none of them reaches the base")
+        for k in walk:
+            state[k] = 2
+
+
+def depth_first(parents: list[int]) -> list[int]:
+    """Rows in depth-first order from the base, children in row order (parents 0-based, -1 the base)."""
+    children: dict[int, list[int]] = {}
+    for i, p in enumerate(parents):
+        children.setdefault(p, []).append(i)
+    order, stack = [], list(reversed(children.get(-1, [])))
+    while stack:
+        i = stack.pop()
+        order.append(i)
+        stack.extend(reversed(children.get(i, [])))
+    return order
 
 
 def read_text(path: Path) -> str:

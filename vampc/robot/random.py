@@ -1,5 +1,7 @@
-"""Random chains for property tests and benchmarks: general Φ_i (not DH), mixed joint types."""
+"""Random chains and trees for property tests and benchmarks: general Φ_i (not DH), mixed joint types."""
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -46,6 +48,70 @@ def random_chain(n: int, rng: np.random.Generator | int = 0, prismatic_fraction:
                      tip_force=rng.normal(size=3), tip_torque=rng.normal(size=3))
     g = rng.normal(size=3) * 5 if gravity else np.zeros(3)
     return Chain(name=f"random{n}", joints=tuple(joints), gravity=g, source="<random>", **extra)
+
+
+TREE_SHAPES = ("random", "chain", "binary", "star")
+
+
+def tree_parents(n: int, shape: str = "random", rng: np.random.Generator | int = 0) -> tuple[int, ...]:
+    """Parents of joints 1..n, numbered depth-first. random: each joint hangs on a random joint of the
+    path to the previous one (or the base); chain: i - 1; binary: a balanced binary tree (heap order
+    renumbered depth-first); star: ⌈√n⌉ chains of about equal length on the base."""
+    rng = np.random.default_rng(rng)
+    if shape == "chain":
+        return tuple(range(n))
+    if shape == "binary":
+        return _depth_first([0] + [(k - 1) // 2 + 1 if k else 0 for k in range(1, n)])
+    if shape == "star":
+        arms = max(1, int(np.ceil(np.sqrt(n))))
+        return tuple(0 if (i - 1) % -(-n // arms) == 0 else i - 1 for i in range(1, n + 1))
+    path, parents = [0], []
+    for i in range(1, n + 1):
+        del path[int(rng.integers(1, len(path) + 1)):]
+        parents.append(path[-1])
+        path.append(i)
+    return tuple(parents)
+
+
+def _depth_first(heap_parents: list[int]) -> tuple[int, ...]:
+    """Renumber a tree given by parents in any topological order (1-based, 0 the base) depth-first."""
+    children: dict[int, list[int]] = {}
+    for i, p in enumerate(heap_parents, 1):
+        children.setdefault(p, []).append(i)
+    new, stack, order = {0: 0}, list(reversed(children.get(0, []))), []
+    while stack:
+        i = stack.pop()
+        new[i] = len(order) + 1
+        order.append(i)
+        stack.extend(reversed(children.get(i, [])))
+    return tuple(new[heap_parents[i - 1]] for i in order)
+
+
+def random_tree(n: int, rng: np.random.Generator | int = 0, shape: str = "random",
+                prismatic_fraction: float = 0.3, floating: bool = False, endpoints: bool = False) -> Chain:
+    """A random n-joint tree: general frames, and for every child after a link's first a random joint
+    frame (pre-rotation and shift, as a URDF gives); `floating` gives the base an inertia of its own."""
+    rng = np.random.default_rng(rng)
+    parents = tree_parents(n, shape, rng)
+    base = random_chain(n, rng, prismatic_fraction, endpoints=endpoints)
+    seen: set[int] = set()
+    joints = []
+    for j, p in zip(base.joints, parents):
+        if p in seen:
+            j = replace(j, pre=random_rotation(rng), shift=rng.uniform(-0.3, 0.3, 3))
+        seen.add(p)
+        joints.append(j)
+    extra = {}
+    if floating:
+        extra = dict(floating=True, base_mass=float(rng.uniform(1, 10)), base_com=rng.uniform(-0.2, 0.2, 3),
+                     base_inertia=random_inertia(rng, 0.5), base_omega=np.zeros(3),
+                     base_omega_dot=np.zeros(3))
+    return replace(base, joints=tuple(joints), parents=parents, name=f"tree{n}", **extra)
+
+
+def random_base(count: int, rng: np.random.Generator | int = 0) -> np.ndarray:
+    """(count, 9) floating-base motions [ω_0, ω̇_0, a_0]: ±1 rad/s, ±1 rad/s², ±1 m/s² per component."""
+    return np.random.default_rng(rng).uniform(-1.0, 1.0, (count, 9))
 
 
 def _rx(alpha: float) -> np.ndarray:

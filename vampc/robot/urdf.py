@@ -66,28 +66,54 @@ _IDENTITY.flags.writeable = False  # shared by every missing <origin> and every 
 
 
 def load_urdf(path, base: str | None = None, tip: str | None = None,
-              lock: dict[str, float] | None = None) -> Chain:
-    """Read a URDF and return the chain of movable joints from link `base` (default: the root) to link
-    `tip` (default: the end of the only movable path). `lock` maps joint names to values at which they are
-    frozen (treated as fixed); a locked joint off the chain freezes everything below it too. Locking a fixed
-    joint has no effect and warns (VampcWarning)."""
+              lock: dict[str, float] | None = None, floating: bool = False) -> Chain:
+    """Read a URDF and return its robot: the chain of movable joints from link `base` (default: the root)
+    to link `tip` when `tip` is given or the movable joints form one branch, else the whole tree (every
+    movable joint below `base`, numbered depth-first, children in Pinocchio's order: vampc.robot.urdf_tree).
+    `lock` maps joint names to values at which they are frozen (treated as fixed); on a chain a locked
+    joint off the chain freezes everything below it too. Locking a fixed joint has no effect and warns
+    (VampcWarning). `floating`, or a root joint of type floating, lets the base link float."""
     path = Path(path)
     with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
-        return _load(path, base, tip, lock)
+        return _load(path, base, tip, lock, floating)
 
 
-def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None) -> Chain:
+def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None,
+          floating: bool = False) -> Chain:
     robot = _read_robot(path)
     tree = Tree.build(robot, path)
     lock = _check_lock(lock or {}, tree, path)
-    base = choose_base(tree, base, path)
+    base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     tip = choose_tip(tree, base, tip, lock, path)
+    if tip is None:
+        return _load_tree(robot.name, tree, base, lock, floating, path)
     route = tree.route(base, tip)
     chain = [j for j in route if j.type in MOVABLE and j.name not in lock]
     _check_chain(chain, base, tip, path)
     frames, body_of = _bodies(tree, base, chain, {j.name for j in route}, lock, path)
+    if floating:
+        return build_tree(robot.name, tree, chain, list(range(len(chain))), frames, body_of, True, path,
+                          leaf_link=tip)
     return _build(robot.name, tree, chain, frames, body_of, tip, path)
+
+
+def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, path: Path) -> Chain:
+    """The whole tree below `base`: every movable, unlocked joint, depth-first (children in Pinocchio's
+    order); the links each carries through fixed and locked joints form its body."""
+    below = tree.below(base, by_name=True)
+    joints = [j for j in below if j.type in MOVABLE and j.name not in lock]
+    _check_chain(joints, base, "", path)
+    index = {j.name: k for k, j in enumerate(joints, 1)}
+    frames, body_of = {base: _IDENTITY}, {base: 0}
+    for j in below:
+        if j.name in index:
+            frames[j.child], body_of[j.child] = _IDENTITY, index[j.name]
+        else:
+            frames[j.child] = frames[j.parent] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
+            body_of[j.child] = body_of[j.parent]
+    parents = [body_of[j.parent] for j in joints]
+    return build_tree(name, tree, joints, parents, frames, body_of, floating, path)
 
 
 # --- parsing -----------------------------------------------------------------------------------------
@@ -238,6 +264,8 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
 
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
     """Refuse an empty chain, one longer than MAX_JOINTS, and mimic joints on it."""
+    if not chain and not tip:
+        raise located(path, "", f"no movable joints below base link '{base}'")
     if not chain:
         raise located(path, "", f"no movable joints between base link '{base}' and tip link '{tip}'")
     problem = joint_count_problem(len(chain))
@@ -292,6 +320,73 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
     return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ GRAVITY, source=str(path))
+
+
+def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict, body_of: dict,
+               floating: bool, path: Path, leaf_link: str | None = None) -> Chain:
+    """A Chain with parents (vampc.robot.chain) from movable joints in depth-first order: body p's frame
+    O_p is the joint frame of its heavy child (the most joints below it; the first on a tie), a leaf
+    body's frame its own link's (or `leaf_link`'s, the tip of a chain); O_0 is the base link's frame
+    for a floating base. Other children carry their joint frame in O_p (pre, shift)."""
+    n = len(joints)
+    r_a = _z_to(_unit(np.array([j.axis for j in joints])))
+    x = np.array([frames[j.parent] @ _origin(j) for j in joints])      # J_k in its parent body's frame
+    x[:, :3, :3] = x[:, :3, :3] @ r_a
+    heavy = _heavy_children(parents)
+    g = np.array([np.eye(4)] * (n + 1))
+    for p in range(n + 1):
+        if p in heavy and not (p == 0 and floating):
+            g[p] = x[heavy[p] - 1]
+        elif p and leaf_link is not None and p == n:
+            g[p] = frames[leaf_link]
+    phi = _transposed(r_a) @ g[1:, :3, :3]
+    p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
+    mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
+    built = []
+    for k, j in enumerate(joints):
+        frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
+            _joint_frame(g[parents[k]], x[k])
+        built.append(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=0.0,
+                           mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path),
+                           **frame))
+    extra = _base_body(tree, body_of, g[0], frames, path) if floating else {}
+    return Chain(name=name, joints=tuple(built), gravity=g[0, :3, :3].T @ GRAVITY, source=str(path),
+                 parents=tuple(parents), **extra)
+
+
+def _heavy_children(parents: list) -> dict:
+    """Body -> its child joint with the most joints below it (the first on a tie), 1-based."""
+    size = [1] * (len(parents) + 1)
+    for k in range(len(parents), 0, -1):
+        size[parents[k - 1]] += size[k]
+    heavy: dict = {}
+    for k, p in enumerate(parents, 1):
+        if p not in heavy or size[k] > size[heavy[p]]:
+            heavy[p] = k
+    return heavy
+
+
+def _joint_frame(g_parent: np.ndarray, x: np.ndarray) -> dict:
+    """pre = J's orientation in O_p, shift = J's origin from O_p's origin in O_p (None when zero)."""
+    rot = g_parent[:3, :3].T
+    shift = rot @ (x[:3, 3] - g_parent[:3, 3])
+    return {"pre": rot @ x[:3, :3], "shift": shift if np.any(shift) else None}
+
+
+def _base_body(tree: Tree, body_of: dict, g0: np.ndarray, frames: dict, path: Path) -> dict:
+    """A floating base link's mass, centre of mass and inertia in O_0 (links fixed to it included)."""
+    links = [name for name, body in body_of.items() if body == 0 and tree.links[name].inertial is not None]
+    if not links:
+        return {"floating": True}
+    for name in links:
+        _check_mass(tree.links[name].inertial, name, path)
+    parts = [tree.links[name].inertial for name in links]
+    _check_inertias(np.array([p.inertia for p in parts]), links, path)
+    pose = _rigid_inverse(g0[None])[0] @ np.array([frames[name] @ _origin(p) for name, p in zip(links, parts)])
+    rot = pose[:, :3, :3]
+    mass, com, inertia = _sum_bodies(np.zeros(len(parts), dtype=int), 1, np.array([p.mass for p in parts]),
+                                     pose[:, :3, 3], rot @ np.array([p.inertia for p in parts]) @ _transposed(rot))
+    return {"floating": True, "base_mass": float(mass[0]), "base_com": com[0], "base_inertia": inertia[0]}
 
 
 def _reference_poses(chain: list, frames: dict, r_a: np.ndarray, tip: str) -> np.ndarray:

@@ -71,13 +71,17 @@ class Tree:
                 link = self.parent[link].parent
             done.update(seen)
 
-    def below(self, link: str) -> list:
-        """Every joint in the subtree under `link`, depth first."""
-        out, stack = [], list(reversed(self.children[link]))
+    def below(self, link: str, by_name: bool = False) -> list:
+        """Every joint in the subtree under `link`, depth first, children in file order or, `by_name`,
+        in the order of their names (as urdfdom keeps them, so Pinocchio numbers a URDF's joints)."""
+        def kids(name):
+            c = self.children[name]
+            return sorted(c, key=lambda j: j.name.encode()) if by_name else c
+        out, stack = [], list(reversed(kids(link)))
         while stack:
             j = stack.pop()
             out.append(j)
-            stack.extend(reversed(self.children[j.child]))
+            stack.extend(reversed(kids(j.child)))
         return out
 
     def ancestors(self, link: str):
@@ -96,22 +100,27 @@ class Tree:
         return out[::-1]
 
 
-def choose_base(tree: Tree, base: str | None, path: Path) -> str:
-    """The base link: `base` if given (it must exist), else the only root link."""
+def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False) -> tuple[str, bool]:
+    """The base link: `base` if given (it must exist), else the only root link, or the link a root joint
+    of type floating carries (the base then floats); and whether the base floats."""
     if base is not None:
         if base not in tree.links:
             raise located(path, "", f"unknown base link '{base}'")
-        return base
+        return base, floating
     roots = [name for name in tree.links if name not in tree.parent]
     if len(roots) != 1:
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
-    return roots[0]
+    free = [j for j in tree.children[roots[0]] if j.type == "floating"]
+    if free and len(tree.children[roots[0]]) == 1:
+        return free[0].child, True
+    return roots[0], floating
 
 
 def check_joint_types(tree: Tree, base: str, path: Path) -> None:
-    """Refuse floating, planar and unknown joint types below `base`, and movable joints with a zero axis."""
+    """Refuse floating joints below the base (a floating joint is only the root's), planar and unknown
+    joint types, and movable joints with a zero axis."""
     for j in tree.below(base):
-        if j.type in ("floating", "planar"):
+        if j.type in ("floating", "planar"):   # a floating root joint was taken by choose_base
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
@@ -121,7 +130,8 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
 
 def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -> str:
     """The tip link: `tip` if given (it must lie below `base`), else the end of the only branch of free
-    (movable, unlocked) joints below `base`, followed down through single fixed children."""
+    (movable, unlocked) joints below `base`, followed down through single fixed children; None when
+    there are several branches (the robot is taken whole, as a tree)."""
     if tip is not None:
         if tip not in tree.links:
             raise located(path, "", f"unknown tip link '{tip}'")
@@ -132,10 +142,7 @@ def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -
     if not free:
         raise located(path, "", f"no movable joints below base link '{base}'")
     ends = [_descend(tree, j.child) for j in _lowest(tree, free)]
-    if len(ends) > 1:
-        raise located(path, "", f"several movable branches below base link '{base}'; "
-                                f"choose --tip from {quoted(ends)}")
-    return ends[0]
+    return ends[0] if len(ends) == 1 else None    # several branches: the whole tree
 
 
 def _lowest(tree: Tree, free: list) -> list:

@@ -1,0 +1,42 @@
+"""Depth of the recursions on trees (issue 12): random trees of 64, 512 and 4096 joints in three shapes
+(a chain, a balanced binary tree, a star of ⌈√n⌉ chains), for each the tree's height (the level-by-level
+depth), the log recursion's backward combining tiers and forward addition levels beside ⌈log2(n+1)⌉, and
+the ASAP latencies (flops, 1 Mult = 1 Addn) of the linear and log graphs.
+
+    python benchmarks/tree_depth.py            # all three sizes (the 4096-joint log graphs take minutes)
+    python benchmarks/tree_depth.py 64 512     # chosen sizes
+
+A chain runs the chain builders (the paper's networks); the other shapes the tree builders.
+"""
+from __future__ import annotations
+
+import sys
+import time
+
+from vampc.dataflow.linear import build_linear
+from vampc.dataflow.logarithmic import build_log
+from vampc.dataflow.treeprefix import tree_depths
+from vampc.robot.random import random_tree
+from vampc.schedule.asap import schedule_asap
+
+
+def row(n: int, shape: str) -> str:
+    """One line of the table."""
+    chain = random_tree(n, 0, shape, prismatic_fraction=0.0)
+    d = tree_depths(chain.parent_of, "sklansky", ground=True)
+    start = time.perf_counter()
+    linear = schedule_asap(build_linear(chain, verify=False), verify=False).latency
+    log = schedule_asap(build_log(chain, verify=False), verify=False).latency
+    return (f"{shape:7} {n:5} {d['height']:6} {d['light_edges']:5} {d['backward_tiers']:8} "
+            f"{d['forward_levels']:8} {d['log2']:10} {linear:9} {log:7}   ({time.perf_counter() - start:.1f} s)")
+
+
+def main(sizes) -> None:
+    print("shape       n height light bwd-tier fwd-lvls ⌈log2(n+1)⌉ linear-fl  log-fl")
+    for n in sizes:
+        for shape in ("chain", "binary", "star"):
+            print(row(n, shape), flush=True)
+
+
+if __name__ == "__main__":
+    main([int(a) for a in sys.argv[1:]] or [64, 512, 4096])
