@@ -19,6 +19,7 @@ from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph
 from vampc.dataflow.ops import VAMPS_PER_OP
+from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate
 from vampc.schedule.budget import bounds, budget_schedule, smallest_network
 from vampc.schedule.layout import layout_and_schedule
@@ -39,6 +40,7 @@ def budgets(smallest: int, largest: int, steps: int = MAX_STEPS) -> list[int]:
     return out
 
 
+@gc_paused()
 def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
     """One row per point (see the module docstring), in order of VAMPs."""
     graph = build_graph(chain, replace(options, verify=False))
