@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from vampc.errors import VampcError
-from vampc.robot.chain import E_Z, Chain
+from vampc.robot.chain import Chain
 
 
 # --- small batched vector algebra (leading axes broadcast) ---------------------------------------------

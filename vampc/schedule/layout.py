@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import json
 import math
-from bisect import bisect_right
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
