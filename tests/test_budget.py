@@ -192,3 +192,14 @@ def test_csv_without_tradeoff_and_budget_options_with_tradeoff_are_usage_errors(
     robot = str(EXAMPLES / "planar2.yaml")
     assert CliRunner().invoke(main, ["report", robot, "--format", "csv"]).exit_code == 2
     assert CliRunner().invoke(main, ["report", robot, "--tradeoff", "--vamps", "3"]).exit_code == 2
+
+
+def test_a_pipelined_budget_whose_unread_ops_outlast_the_torques_runs_on_the_tick_engine():
+    # log recursion on 4 VAMPs: some ops no torque reads finish after the last torque of their set,
+    # so right after the torques are due they still work on the set before set 0 (none): not an
+    # error — the steady state starts when set 0's last op is done
+    chain = random_chain(8, 4, prismatic_fraction=0.0)
+    ld = loaded(chain, recursion="log", vamps=4)
+    assert max(ld.schedule.finish) > ld.schedule.latency
+    traj, stream, tick = run_both(ld, 20, tick_count=2)
+    assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:2], tick.tau)

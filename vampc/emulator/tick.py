@@ -28,8 +28,8 @@ Data Mode (Global-Reset pulses every P ticks: Cycle-Counter c = tick mod P)
 
 Beside the data, every value carries a tag: the torque set it belongs to (-1 unknown, -2 constant). A
 slot starting its op with operands of two different sets is a timing violation; so is, in the steady
-state (from the tick the first torque set is due until the last set has entered), starting an op on an
-operand that holds no set's value (never latched, or latched from a source that had none); an operand
+state (from the tick set 0's last op is done — its torques are due by then — until the last set has
+entered), starting an op on an operand that holds no set's value (never latched, or latched from a source that had none); an operand
 re-latched with another set while a later micro-step still reads it; and a torque read at its scheduled
 tick must carry the set the host expects. Likewise every operand register remembers which slot last
 latched it: from the second period on, an op must read operands its own slot latched. The tags and owners are
@@ -185,7 +185,11 @@ class TickEngine:
         stats = stats or TickStats()
         self._data_setup()
         P = self.P
-        self.steady = (max(o.tick for o in self.ld.net.outputs), count * P)
+        # the steady state: from the tick set 0's last op has finished (ops no torque reads may run
+        # after the torques are out: before that tick they still work on the set before set 0)
+        # until the last set has entered
+        span = max([o.tick for o in self.ld.net.outputs] + list(self.ld.schedule.finish))
+        self.steady = (span, count * P)
         outs = self.ld.net.outputs
         last_tick = (count - 1) * P + max(o.tick for o in outs)
         tau = np.full((count, self.ld.chain.n_outputs), np.nan)
