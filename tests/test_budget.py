@@ -203,3 +203,19 @@ def test_a_pipelined_budget_whose_unread_ops_outlast_the_torques_runs_on_the_tic
     assert max(ld.schedule.finish) > ld.schedule.latency
     traj, stream, tick = run_both(ld, 20, tick_count=2)
     assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:2], tick.tau)
+
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(n=st.integers(1, 12), seed=st.integers(0, 10**6), k=st.integers(1, 40),
+       recursion=st.sampled_from(["linear", "log"]), frac=st.sampled_from([0.0, 0.4]))
+def test_random_budgets_both_engines(n, seed, k, recursion, frac):
+    chain = random_chain(n, seed, prismatic_fraction=frac, endpoints=seed % 2 == 0)
+    k = max(k, 3) if recursion == "log" else k
+    ld = loaded(chain, recursion=recursion, vamps=k)
+    traj, stream, tick = run_both(ld, 40, seed=seed, tick_count=3)
+    assert check_torques(ld.chain, traj, stream.tau).ok
+    assert np.array_equal(stream.tau[:3], tick.tau)
