@@ -106,12 +106,17 @@ class Placed:
 
 def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                     asap: Schedule | None = None, latency: int | None = None,
-                    effort: int = 4, scan: bool = False, seed: int = 0) -> Placed | None:
+                    effort: int = 4, scan: bool = False, seed: int = 0,
+                    swing: bool = False) -> Placed | None:
     """Place every op on `k` VAMPs with successive torque sets every `ii` ticks — every torque set
     within `latency` ticks if given — or None if this scheduler finds no placement within `effort`
     placements per op (see the module docstring). `scan`: when an op must evict, it evicts at the
     tick of its window where the fewest ops are, not at its first tick. `seed` > 0 perturbs the
-    priorities by up to 2 ticks (a portfolio of orders tries its luck where the plain one fails)."""
+    priorities by up to 2 ticks (a portfolio of orders tries its luck where the plain one fails).
+    `swing` (with `latency`): the ops least free to move first — by their slack between the ASAP
+    start and the latest start the latency allows, the critical path first — each placed between
+    its placed operands and its placed consumers (as swing modulo scheduling does), so the ops that
+    fix the latency get their ticks before the others fill the rest."""
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
     nodes = graph.nodes
@@ -125,7 +130,9 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
     deadline = None
     if latency is not None:      # the latest start that lets the torques be out by then
         deadline = {i: latency - tail[i] for i in order if tail[i] is not None}
-    return _Modulo(graph, d, k, ii, asap, deadline, scan).run(order, effort)
+        if swing:
+            order.sort(key=lambda i: (deadline.get(i, latency) - asap.start[i], asap.start[i], i))
+    return _Modulo(graph, d, k, ii, asap, deadline, scan, swing).run(order, effort)
 
 
 def _jitter(count: int, seed: int) -> list[float]:
@@ -146,9 +153,10 @@ class _Modulo:
     too early) go back in the queue. A budget of placements bounds the work."""
 
     def __init__(self, graph: Graph, d, k: int, ii: int, asap: Schedule, deadline=None,
-                 scan: bool = False):
+                 scan: bool = False, swing: bool = False):
         self.g, self.d, self.k, self.ii, self.asap = graph, d, k, ii, asap
         self.deadline = deadline or {}
+        self.swing = swing
         self.scan = scan      # evict where the fewest ops are (else at the first tick, as Rau)
         self.free = [(1 << k) - 1] * ii          # per tick of the period: bit v set = VAMP v free
         self.occupant: list[dict[int, int]] = [{} for _ in range(ii)]
@@ -191,8 +199,12 @@ class _Modulo:
         end = min(ready + self.ii - 1, self.deadline.get(i, ready + self.ii - 1))
         if end < ready:
             raise _Late(i)
-        got = self._fit(ready, dur, need, end - ready + 1)
         evicted = []
+        if self.swing:        # also before the consumers already placed
+            placed = [self.start[c] for c in self.consumers[i] if c in self.start]
+            if placed and min(placed) - dur >= ready:
+                end = min(end, min(placed) - dur)
+        got = self._fit(ready, dur, need, end - ready + 1)
         if got is None:       # no room in time: take VAMPs from others
             first = ready if i not in last or ready > last[i] else last[i] + 1
             if first > end:
@@ -357,6 +369,12 @@ def _best_for(graph, timing, k, asap) -> Placed:
                 tops.append((_latency(graph, top), ii, n, top))
     tops.sort(key=lambda x: x[:3])
     best = tops[0][3]
+    for ii in range(first.interval, limit + 1, step):      # the critical path first, at the bound
+        swung = _swing_latency(graph, timing, k, ii, asap, b.latency, _latency(graph, best))
+        if swung is not None and _latency(graph, swung) < _latency(graph, best):
+            best = swung
+        if _latency(graph, best) <= b.latency:
+            return best
     for _, ii, n, top in tops[:REFINED]:   # hold the most promising to shorter latencies
         if _latency(graph, best) <= b.latency:
             break
@@ -371,6 +389,29 @@ def _best_for(graph, timing, k, asap) -> Placed:
 # placements with the shortest latencies are then held to shorter ones.
 ATTEMPTS = ((False, 0), (True, 0), (False, 1), (True, 2))
 REFINED = 3
+
+
+def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed | None:
+    """The shortest latency from `bound` up (doubling the slack, then halving back) at which the
+    swing order places every op at interval `ii`; None if none below `worse`."""
+    found, step, lo = None, 1, bound
+    while lo < worse:
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=lo, swing=True)
+        if placed is not None:
+            found = placed
+            break
+        lo, step = lo + step, step * 2
+    if found is None:
+        return None
+    hi, lo = _latency(graph, found) - 1, max(bound, lo - step // 2 + 1)
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, swing=True)
+        if placed is None:
+            lo = mid + 1
+        else:
+            found, hi = placed, min(mid, _latency(graph, placed)) - 1
+    return found
 
 
 def _latency(graph, placed: Placed) -> int:
