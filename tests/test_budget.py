@@ -219,3 +219,25 @@ def test_random_budgets_both_engines(n, seed, k, recursion, frac):
     traj, stream, tick = run_both(ld, 40, seed=seed, tick_count=3)
     assert check_torques(ld.chain, traj, stream.tau).ok
     assert np.array_equal(stream.tau[:3], tick.tau)
+
+
+# --- the exact solver (OR-Tools CP-SAT; optional) ----------------------------------------------------
+
+def test_exact_proves_the_optimum_of_a_small_graph(tmp_path):
+    pytest.importorskip("ortools")
+    prog = tmp_path / "p5.vamp.json"
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--vamps", "5",
+                                    "--exact", "-o", str(prog)])
+    assert res.exit_code == 0, res.output
+    rep = json.loads(CliRunner().invoke(main, ["report", str(prog), "--format", "json"]).stdout)
+    b = rep["budget"]
+    # planar2 on 5 VAMPs: W = 108, so II >= 22; the critical path is 29 flops: both bounds met
+    assert (rep["interval_flops"], rep["latency"]["flops"]) == (22, 29)
+    assert b["proof"] == "interval proven optimal, latency proven optimal"
+    ok = CliRunner().invoke(main, ["emulate", str(prog), "--random", "50", "--check"])
+    assert ok.exit_code == 0 and "OK" in ok.stdout
+
+
+def test_exact_needs_a_budget():
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--exact", "-o", "-"])
+    assert res.exit_code == 2 and "--exact applies with --vamps K" in res.stderr

@@ -21,7 +21,7 @@ from vampc.errors import VampcError, VampcWarning
 
 # Options that only mean something when a robot file is compiled (their CompileOptions names).
 COMPILE_OPTIONS = ("recursion", "prefix", "uniform_leaves", "mult_latency", "add_latency", "layout",
-                   "share_passes", "vamps", "interval", "verify")
+                   "share_passes", "vamps", "interval", "exact", "verify")
 ROBOT_OPTIONS = ("base", "tip", "lock", "floating_base")
 LOG_ONLY = ("prefix", "uniform_leaves")
 
@@ -66,6 +66,9 @@ def _compile_options(f):
         click.option("--interval", type=click.IntRange(1), metavar="T", help="A rate: a new torque "
                      "set every T flops, on the fewest VAMPs (with --vamps: both, or an error "
                      "saying what is feasible)."),
+        click.option("--exact", is_flag=True, help="With --vamps: place the ops with OR-Tools CP-SAT "
+                     "(pip install \"vampc[exact]\"), proving the best interval and latency for "
+                     "small graphs within a time limit (about 30 s per interval)."),
         click.option("--verify/--no-verify", default=True, show_default=True,
                      help="Check every IR's invariants at each stage boundary."),
     ]
@@ -144,6 +147,8 @@ def _check_robot_options(ctx: click.Context, opts: dict) -> None:
     if opts.get("share_passes") and opts.get("layout") != "folded":
         raise click.UsageError("--share-passes applies to the folded layout only (add --layout "
                                "folded)")
+    if opts.get("exact") and not opts.get("vamps"):
+        raise click.UsageError("--exact applies with --vamps K")
     if (opts.get("vamps") or opts.get("interval")) and _given(ctx, "layout"):
         raise click.UsageError("--vamps and --interval make their own (budgeted) layout: leave out "
                                "--layout")
@@ -259,7 +264,7 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
     from vampc.report import tradeoff as tr
     from vampc.robot import load_robot
     from vampc.sniff import is_program
-    for name in ("vamps", "interval", "layout", "share_passes"):
+    for name in ("vamps", "interval", "exact", "layout", "share_passes"):
         if _given(ctx, name):
             raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff, which sweeps the "
                                    "layouts and budgets itself")
@@ -292,7 +297,7 @@ def _report(ctx, source, base, tip, lock, **opts) -> dict:
         c = _compile(source, base, tip, lock, **opts)
     rep = summary(c)
     from vampc.report.compare import compare_layouts, compare_prefixes
-    rep["layout_comparison"] = compare_layouts(c.chain, c.options)
+    rep["layout_comparison"] = compare_layouts(c.chain, c.options, c)
     if c.graph.recursion == "log":
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
     if "tree" in rep:

@@ -39,6 +39,7 @@ class CompileOptions:
     share_passes: bool = False
     vamps: int | None = None
     interval: int | None = None
+    exact: bool = False
     verify: bool = True
 
     @property
@@ -66,6 +67,8 @@ class CompileOptions:
             value = getattr(self, name)
             if value is not None and value < 1:
                 raise VampcError(f"--{name} must be at least 1")
+        if self.exact and self.vamps is None:
+            raise VampcError("--exact needs --vamps K")
 
     @property
     def layout_name(self) -> str:
@@ -114,7 +117,8 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
     stage("schedule")
     layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
-                                        options.verify, options.vamps, options.interval)
+                                        options.verify, options.vamps, options.interval,
+                                        options.exact)
     stage("allocate")
     net = allocate(graph, sched, layout, options.verify)
     stage("emit")

@@ -224,7 +224,8 @@ def compiled_from_doc(doc: dict, path):
         layout, sched = layout_and_schedule(graph, Timing(stored["mult_latency"],
                                                           stored["add_latency"]),
                                             lay["name"], lay["share_passes"], True,
-                                            opts.get("vamps"), opts.get("interval"))
+                                            opts.get("vamps"), opts.get("interval"),
+                                            opts.get("exact", False))
     except VampcInternalError as exc:
         raise VampcError(f"{path}: graph: {exc}") from None
     for key, value in schedule_to_doc(sched).items():

@@ -46,9 +46,10 @@ LAYOUT_VARIANTS = (("systolic", "systolic", False), ("folded", "folded", False),
                    ("folded, shared passes", "folded", True))
 
 
-def compare_layouts(chain, options: CompileOptions) -> list[dict]:
+def compare_layouts(chain, options: CompileOptions, current=None) -> list[dict]:
     """Latency, interval, VAMPs and what the time-multiplexing costs, for the systolic layout and the
-    folded ones (other options as given)."""
+    folded ones (other options as given), and the budget asked for; `current` is the configuration
+    already compiled (its row is not compiled again: an exact budget takes a while)."""
     from vampc.report.counts import hardware
     rows = []
     variants = list(LAYOUT_VARIANTS)
@@ -57,9 +58,11 @@ def compare_layouts(chain, options: CompileOptions) -> list[dict]:
                          + (f", interval {options.interval}" if options.interval else ""),
                          "budget", False))
     for label, layout, share in variants:
-        budget = {} if layout == "budget" else {"vamps": None, "interval": None}
-        c = compile_chain(chain, replace(options, layout="systolic" if layout == "budget" else layout,
-                                         share_passes=share, verify=False, **budget))
+        budget = {} if layout == "budget" else {"vamps": None, "interval": None, "exact": False}
+        wanted = replace(options, layout="systolic" if layout == "budget" else layout,
+                         share_passes=share, verify=False, **budget)
+        same = current is not None and replace(current.options, verify=False) == wanted
+        c = current if same else compile_chain(chain, wanted)
         s, hw = c.schedule, hardware(c)
         rows.append({"layout": label, "latency_flops": s.latency, "mults": s.mults, "adds": s.adds,
                      "waits": s.waits, "interval_flops": s.interval, "vamps": len(c.network.vamps),

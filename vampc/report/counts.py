@@ -152,7 +152,8 @@ def budget_figures(c) -> dict | None:
             "interval_bound": interval_bound, "work_over_vamps": b.interval,
             "interval_gap_pct": _gap(s.interval, interval_bound),
             "latency_bound": b.latency, "critical_path": b.critical_path, "level_bound": b.level,
-            "latency_gap_pct": _gap(s.latency, b.latency)}
+            "latency_gap_pct": _gap(s.latency, b.latency),
+            "exact": c.options.exact, "proof": c.layout.proof if c.layout else ""}
 
 
 def _gap(value: int, bound: int) -> float:

@@ -32,7 +32,8 @@ def render(rep: dict) -> str:
                      f"{b['work_over_vamps']}, and no op shorter than its duration): gap "
                      f"{b['interval_gap_pct']}%; latency {lat['flops']} against the bound "
                      f"{b['latency_bound']} (critical path {b['critical_path']}, level bound "
-                     f"{b['level_bound']}): gap {b['latency_gap_pct']}%")
+                     f"{b['level_bound']}): gap {b['latency_gap_pct']}%"
+                     + (f"; exact solver: {b['proof']}" if b.get("exact") else ""))
     lines += [
         f"interval         {rep['interval_flops']} flops between successive torque sets",
         *([f"time-multiplexed {hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, "

@@ -319,11 +319,13 @@ class _Late(Exception):
 
 
 def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
-                    interval: int | None = None, verify: bool = True, thorough: bool = True):
+                    interval: int | None = None, verify: bool = True, thorough: bool = True,
+                    exact: bool = False):
     """(Layout, Schedule, Bounds) for a budget: `k` VAMPs at the smallest interval this scheduler
     reaches, or the fewest VAMPs that reach `interval`, or both (K VAMPs at that interval). One line
     saying what is feasible when the request is not. `thorough`: search the portfolio for a shorter
-    latency (vampc compile); without it, the first placement at the smallest interval (sweeps)."""
+    latency (vampc compile); without it, the first placement at the smallest interval (sweeps).
+    `exact`: OR-Tools CP-SAT instead of the heuristic (vampc.schedule.exact; K must be given)."""
     asap = schedule_asap(graph, timing, verify=False)
     smallest = smallest_network(graph)
     longest = max(timing.durations[nd.op] for nd in graph.compute_nodes())
@@ -334,7 +336,18 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     if interval is not None and interval < longest:
         raise VampcError(f"--interval {interval}: the smallest interval any network reaches is "
                          f"{longest} flops (the longest op)")
-    if k is None:
+    proof = ""
+    if exact:
+        if k is None:
+            raise VampcError("--exact needs --vamps K (it proves the best interval and latency for "
+                             "K VAMPs)")
+        from vampc.schedule.exact import exact_budget
+        e = exact_budget(graph, timing, k, interval=interval)
+        placed = e.placed
+        proof = ", ".join(p for p, ok in (("interval proven optimal", e.interval_optimal),
+                                          ("latency proven optimal", e.latency_optimal)) if ok) \
+            or "not proven optimal (the solver's time limit)"
+    elif k is None:
         k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
     elif interval is None:
         placed = _best_for(graph, timing, k, asap) if thorough else \
@@ -345,7 +358,7 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             best = _smallest_interval(graph, timing, k, asap).interval
             raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
                              f"interval this scheduler reaches is {best} flops")
-    return _finish(graph, timing, placed, k, verify)
+    return _finish(graph, timing, placed, k, verify, proof)
 
 
 TOLERANCE = 0.05     # intervals up to 5% above the bound may be taken for a shorter latency
@@ -461,7 +474,7 @@ def _fewest_vamps(graph, timing, interval, asap, smallest) -> tuple[int, Placed]
     return hi, best
 
 
-def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool):
+def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool, proof: str = ""):
     from vampc.schedule.layout import Layout
     latency = max(placed.finish[o.node] for o in graph.outputs)
     last = max(graph.outputs, key=lambda o: (placed.finish[o.node], o.joint))
@@ -473,7 +486,7 @@ def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool):
     placement = tuple(tuple(renumber[v] for v in p) for p in placed.placement)
     clock = buffer_clock(graph, sched, placement)
     layout = Layout("budget", tuple(-1 for _ in graph.nodes), (), placed.interval, clock,
-                    placement=placement)
+                    placement=placement, proof=proof)
     if verify:
         sched.verify(graph)
         layout.verify(graph)

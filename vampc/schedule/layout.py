@@ -54,6 +54,7 @@ class Layout:
     clock: int
     share_passes: bool = False
     placement: tuple[tuple[int, ...], ...] = ()
+    proof: str = ""               # what an exact solver proved about a budgeted layout
 
     def vamps_of(self) -> tuple[tuple[int, ...], ...]:
         """Per graph node: the VAMPs that run it (empty for inputs and constants)."""
@@ -98,12 +99,12 @@ class Layout:
 
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
                         share_passes: bool = False, verify: bool = True, vamps: int | None = None,
-                        interval: int | None = None) -> tuple[Layout, Schedule]:
+                        interval: int | None = None, exact: bool = False) -> tuple[Layout, Schedule]:
     """The layout `name` of `graph` and the schedule it runs; a VAMP budget (`vamps`, `interval`:
-    vampc.schedule.budget) makes the layout "budget"."""
+    vampc.schedule.budget; `exact`: its CP-SAT solver) makes the layout "budget"."""
     if vamps is not None or interval is not None or name == "budget":
         from vampc.schedule.budget import budget_schedule
-        layout, sched, _ = budget_schedule(graph, timing, vamps, interval, verify)
+        layout, sched, _ = budget_schedule(graph, timing, vamps, interval, verify, exact=exact)
         return layout, sched
     if name not in LAYOUTS:
         raise VampcError(f"unknown layout {name!r} (choose from {', '.join(LAYOUTS)})")

@@ -1,0 +1,122 @@
+"""An exact modulo scheduler for small graphs (`--exact`, with OR-Tools: `pip install "vampc[exact]"`).
+
+It replaces vampc.schedule.budget.modulo_schedule, the heuristic, with a CP-SAT model of the same
+problem: every compute op i starts at s_i (after its operands: s_i >= s_a + d_a), runs on m_i of the
+K VAMPs (three for an MM) and, successive torque sets entering every II ticks, occupies ticks
+s_i mod II .. s_i mod II + d_i - 1 of each of them, round the period. Each VAMP's occupied ticks are
+optional intervals on a line of 2·II ticks (each op twice, at r_i = s_i mod II and at r_i + II, so an
+overlap round the period is an overlap on the line) under a no-overlap constraint. The latency (the
+last torque's finish) is minimised.
+
+`exact_budget` walks II up from the bound: an II the solver proves infeasible is skipped, the first
+one it solves is kept with the shortest latency found there; the result says whether that latency
+and the II are proven optimal (the time limit may stop the proof).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from vampc.dataflow.graph import Graph
+from vampc.dataflow.ops import VAMPS_PER_OP, Timing
+from vampc.errors import VampcError
+from vampc.schedule.budget import Placed, bounds, tails
+
+
+@dataclass(frozen=True)
+class Exact:
+    """An exact placement and what the solver proved about it."""
+
+    placed: Placed
+    interval_optimal: bool     # every smaller interval was proven infeasible
+    latency_optimal: bool      # no shorter latency at this interval
+
+
+def _solver():
+    try:
+        from ortools.sat.python import cp_model
+    except ImportError:
+        raise VampcError('--exact needs OR-Tools: pip install "vampc[exact]"') from None
+    return cp_model
+
+
+def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: float):
+    """(status, Placed or None, latency proven optimal) for one interval."""
+    cp_model = _solver()
+    d = timing.durations
+    ops = graph.compute_nodes()
+    model = cp_model.CpModel()
+    start, rest = {}, {}
+    for nd in ops:
+        start[nd.id] = model.NewIntVar(0, horizon, f"s{nd.id}")
+        rest[nd.id] = model.NewIntVar(0, ii - 1, f"r{nd.id}")
+        model.AddModuloEquality(rest[nd.id], start[nd.id], ii)
+        for a in nd.args:
+            if a in start:
+                model.Add(start[nd.id] >= start[a] + d[graph.nodes[a].op])
+    on = {}
+    lanes: list[list] = [[] for _ in range(k)]
+    for nd in ops:
+        dur, m = d[nd.op], VAMPS_PER_OP[nd.op]
+        chosen = []
+        for v in range(k):
+            x = on[(nd.id, v)] = model.NewBoolVar(f"x{nd.id}_{v}")
+            chosen.append(x)
+            for shift in (0, ii):
+                s = model.NewIntVar(shift, shift + ii - 1, f"p{nd.id}_{v}_{shift}")
+                model.Add(s == rest[nd.id] + shift)
+                lanes[v].append(model.NewOptionalIntervalVar(s, dur, s + dur, x, f"i{nd.id}_{v}"))
+        model.Add(sum(chosen) == m)
+    for lane in lanes:
+        model.AddNoOverlap(lane)
+    latency = model.NewIntVar(0, horizon + 3 * max(d.values()), "latency")
+    for o in graph.outputs:
+        model.Add(latency >= start[o.node] + d[graph.nodes[o.node].op])
+    model.Minimize(latency)
+    solver = cp_model.CpSolver()
+    # one worker and a deterministic time limit: the same placement every time, so a program file's
+    # schedule can be recomputed and compared (vampc.program.document.compiled_from_doc)
+    solver.parameters.max_deterministic_time = seconds
+    solver.parameters.num_workers = 1
+    solver.parameters.random_seed = 0
+    status = solver.Solve(model)
+    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+        return status, None, False
+    starts = [0] * len(graph.nodes)
+    finish = [0] * len(graph.nodes)
+    placement: list[tuple[int, ...]] = [()] * len(graph.nodes)
+    for nd in ops:
+        starts[nd.id] = solver.Value(start[nd.id])
+        finish[nd.id] = starts[nd.id] + d[nd.op]
+        placement[nd.id] = tuple(v for v in range(k) if solver.Value(on[(nd.id, v)]))
+    return status, Placed(tuple(starts), tuple(finish), tuple(placement), ii), \
+        status == cp_model.OPTIMAL
+
+
+EFFORT = 30.0     # the solver's deterministic time limit per interval (about seconds)
+
+
+def exact_budget(graph: Graph, timing: Timing, k: int, seconds: float = EFFORT,
+                 interval: int | None = None) -> Exact:
+    """The smallest interval the solver can place K VAMPs at (from the bound up; or `interval`), and
+    the shortest latency there (see the module docstring)."""
+    cp_model = _solver()
+    b = bounds(graph, timing, k)
+    longest = max(timing.durations[nd.op] for nd in graph.compute_nodes())
+    tail = tails(graph, timing)
+    work = sum(timing.durations[nd.op] for nd in graph.compute_nodes())
+    horizon = work + max(t for t in tail if t is not None)
+    ii, proven = max(b.interval, longest), True
+    if interval is not None:
+        status, placed, optimal = solve(graph, timing, k, interval, horizon, seconds)
+        if placed is None:
+            raise VampcError(f"--exact: no placement of {k} VAMPs at interval {interval} was found "
+                             + ("(proven impossible)" if status == cp_model.INFEASIBLE else
+                                "within the solver's time limit"))
+        return Exact(placed, False, optimal)
+    while True:
+        status, placed, optimal = solve(graph, timing, k, ii, horizon, seconds)
+        if placed is not None:
+            return Exact(placed, proven, optimal)
+        if status != cp_model.INFEASIBLE:
+            proven = False            # not proven infeasible: the time limit stopped the search
+        ii += 1
