@@ -226,8 +226,8 @@ class _Modulo:
 
     def _conflicts(self, t: int, dur: int, need: int):
         """(ops to evict, t, VAMPs): `need` VAMPs for ticks t .. t + dur - 1 — those free for all of
-        them first, then those holding an op at tick t, lowest numbers first (cheap: a network of
-        thousands of VAMPs evicts often)."""
+        them first, then those holding an op at tick t: with deadlines the op with the most slack
+        first, else the lowest numbers (cheap: a network of thousands of VAMPs evicts often)."""
         ii = self.ii
         mask = self.free[t % ii]
         for tick in range(t + 1, t + dur):
@@ -237,7 +237,14 @@ class _Modulo:
             low = mask & -mask
             vamps.append(low.bit_length() - 1)
             mask ^= low
-        for v in sorted(self.occupant[t % ii]):
+        busy = self.occupant[t % ii]
+        if self.deadline:     # with deadlines: displace the ops with the most slack first
+            inf = float("inf")
+            order = sorted(busy, key=lambda v: (-(self.deadline.get(busy[v], inf)
+                                                  - self.start.get(busy[v], 0)), v))
+        else:
+            order = sorted(busy)
+        for v in order:
             if len(vamps) == need:
                 break
             if v not in vamps:
