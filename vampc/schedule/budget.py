@@ -255,7 +255,7 @@ class _Modulo:
             if v not in vamps:
                 vamps.append(v)
         ops = {self.occupant[tick % ii].get(v) for tick in range(t, t + dur) for v in vamps}
-        return len(ops - {None}), t, tuple(vamps)
+        return len(ops - {None}), t, tuple(sorted(vamps))   # an MM's columns go in VAMP order
 
     def _fit(self, ready: int, dur: int, need: int, window: int):
         """(start, VAMPs): the first start from `ready`, within `window` ticks (at most one
