@@ -216,37 +216,92 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
 
 @main.command()
 @click.argument("source", type=click.Path(dir_okay=False))
-@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--format", "fmt", type=click.Choice(["text", "markdown", "json"]), default="text",
+              show_default=True, help="text: aligned tables; markdown: for a design review; json: "
+              "everything (schemas/report.schema.json).")
+@click.option("--clock", metavar="F", help="Clock rate, one flop per tick (Hz, kHz, MHz, GHz: "
+              "20MHz): adds latency in µs and torque sets per second to every figure.")
+@click.option("--pins", type=click.IntRange(8, 1_000_000), metavar="N", help="Also count packages "
+              "of N pins (beside the paper's 40).")
+@click.option("--timing", type=click.Path(dir_okay=False), metavar="FILE.svg",
+              help="Write the timing chart (Table III.2 style) as SVG.")
+@click.option("--network", type=click.Path(dir_okay=False), metavar="FILE.svg",
+              help="Write a drawing of the network (Figures III.1, IV.2, VI.3) as SVG.")
+@click.option("--dot", type=click.Path(dir_okay=False), metavar="FILE.dot",
+              help="Write the network and the dataflow graph as Graphviz digraphs.")
+@click.option("--html", type=click.Path(dir_okay=False), metavar="FILE.html",
+              help="Write one self-contained HTML page: the tables and both pictures inline.")
 @_compile_options
 @_robot_options
 @click.pass_context
 @_handle_errors
-def report(ctx, source, fmt, base, tip, lock, **opts):
-    """Report flop counts, latency, VAMP, buffer and package counts for SOURCE: a robot file (compiled
-    on the fly with the options given) or a program file written by `vampc compile` (its figures are
-    recomputed from the file's graph, schedule and network)."""
-    rep = _report(ctx, source, base, tip, lock, **opts)
+def report(ctx, source, fmt, clock, pins, timing, network, dot, html, base, tip, lock, **opts):
+    """Report flop counts, latency, VAMP, buffer and package counts for SOURCE beside the paper's
+    (Table O.1, sections VI and VII): a robot file (compiled on the fly with the options given) or a
+    program file written by `vampc compile` (its figures are recomputed from the file's graph,
+    schedule and network). Pictures and pages go to the files named."""
+    from vampc.outputs import plan_outputs
+    hz = _clock_hz(clock)
+    outs = plan_outputs([source], {"--timing": timing, "--network": network, "--dot": dot,
+                                   "--html": html})
+    c = _report_compiled(ctx, source, base, tip, lock, **opts)
+    from vampc.report.build import build_report
+    rep = build_report(c, hz, pins)
+    _write_pictures(c, rep, outs)
+    click.echo(_formatted(rep, fmt), nl=False)
+
+
+def _clock_hz(text: str | None) -> float | None:
+    """--clock as Hz; a bad value is one line and exit 2 (a usage error)."""
+    if text is None:
+        return None
+    from vampc.report.clock import parse_clock
+    try:
+        return parse_clock(text)
+    except ValueError as exc:
+        click.echo(f"vampc: error: --clock {exc}", err=True)
+        sys.exit(2)
+
+
+def _formatted(rep: dict, fmt: str) -> str:
     if fmt == "json":
-        click.echo(json.dumps(rep, indent=1, sort_keys=True))
-    else:
-        from vampc.report.text import render
-        click.echo(render(rep), nl=False)
+        return json.dumps(rep, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+    from vampc.report.text import render, render_markdown
+    return render_markdown(rep) if fmt == "markdown" else render(rep)
 
 
-def _report(ctx, source, base, tip, lock, **opts) -> dict:
-    from vampc.report.counts import summary
+def _write_pictures(c, rep: dict, outs: dict) -> None:
+    """Make every picture asked for, then write them all (each atomically); nothing is written
+    unless all were made."""
+    if not outs:
+        return
+    from vampc.outputs import Pending
+    from vampc.report import pictures
+    content = pictures.make(c, rep, set(outs))
+    pending = []
+    try:
+        for option, out in outs.items():
+            pending.append(Pending(out, option.lstrip("-"), False))
+            pending[-1].fh.write(content[option])
+    except OSError as exc:
+        for p in pending:
+            p.discard()
+        raise pending[-1].error(exc) from None
+    except BaseException:
+        for p in pending:
+            p.discard()
+        raise
+    for p in pending:
+        p.commit()
+
+
+def _report_compiled(ctx, source, base, tip, lock, **opts):
+    """The compiled IRs of a report's SOURCE: a program file's, checked, or a robot's."""
     from vampc.sniff import is_program
     if is_program(source):
-        c = _program_compiled(ctx, source)
-    else:
-        _check_robot_options(ctx, opts)
-        c = _compile(source, base, tip, lock, **opts)
-    rep = summary(c)
-    from vampc.report.compare import compare_layouts, compare_prefixes
-    rep["layout_comparison"] = compare_layouts(c.chain, c.options)
-    if c.graph.recursion == "log":
-        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
-    return rep
+        return _program_compiled(ctx, source)
+    _check_robot_options(ctx, opts)
+    return _compile(source, base, tip, lock, **opts)
 
 
 def _program_compiled(ctx, source):

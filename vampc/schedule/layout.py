@@ -81,7 +81,7 @@ def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
         if verify:
             layout.verify(graph)
         return layout, asap
-    units, sizes = _folded_binding(graph, share_passes)
+    units, sizes = folded_binding(graph, share_passes)
     sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=verify)
     layout = Layout(name, units, sizes, sched.interval, timing.cycle, share_passes)
     if verify:
@@ -100,10 +100,10 @@ def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
 
 # --- binding by role -----------------------------------------------------------------------------
 
-def _folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
+def folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """Units by role: (device, device node, op name). The forward pass's roles go onto the backward
     device's units of the same size when `share_passes`."""
-    device_node = _device_nodes(graph)
+    device_node = device_nodes(graph)
     roles: dict[tuple, int] = {}
     sizes: list[int] = []
     units = [-1] * len(graph.nodes)
@@ -139,7 +139,7 @@ def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
         units[nd.id] = taken[role]
 
 
-def _device_nodes(graph: Graph):
+def device_nodes(graph: Graph):
     """node -> (device, position on the device): linear "bwd"/"npv"/"fwd" at position 0; log: the
     position of its recursion node in its tier, leaves and non-propagated groups dealt round."""
     if graph.recursion == "linear":

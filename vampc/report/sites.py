@@ -1,0 +1,70 @@
+"""Where each VAMP sits in the paper's pictures: the recursion node (a circle of Figures III.1, IV.2,
+VI.3) or, for a folded layout, the device node (Figure VI.1) its ops belong to.
+
+A site is (section, index): section "bwd" (propagated, base to tip: the paper's "backward"), "npv"
+(non-propagated r̈, F, N) or "fwd"; index is the recursion node's group (joint i for the linear
+graph, the node's number for the log graph) in the systolic layout, the device node's position in a
+folded one (vampc.schedule.layout.device_nodes). With shared passes the forward ops run on backward
+VAMPs, whose site is the backward device node.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+from vampc.schedule.layout import device_nodes
+
+SECTIONS = ("bwd", "npv", "fwd")
+SECTION_NAMES = {"bwd": "backward", "npv": "non-propagated", "fwd": "forward"}
+
+
+@dataclass(frozen=True, order=True)
+class Site:
+    """A recursion node (systolic) or device node (folded)."""
+
+    section: str
+    index: int
+
+    @property
+    def label(self) -> str:
+        """'bwd 3'."""
+        return f"{self.section} {self.index}"
+
+
+def vamp_units(layout) -> list[int]:
+    """Per VAMP index: its unit (VAMPs are numbered unit by unit, three for an MM unit)."""
+    out = []
+    for unit, size in enumerate(layout.unit_vamps):
+        out.extend([unit] * size)
+    return out
+
+
+def unit_nodes(graph, layout) -> list[list[int]]:
+    """Per unit: the compute nodes bound to it, in id order."""
+    out: list[list[int]] = [[] for _ in layout.unit_vamps]
+    for nd in graph.compute_nodes():
+        out[layout.units[nd.id]].append(nd.id)
+    return out
+
+
+def unit_sites(graph, layout) -> list[Site]:
+    """Per unit: its site (from the unit's first node)."""
+    first = [nodes[0] for nodes in unit_nodes(graph, layout)]
+    if layout.name == "systolic":
+        return [Site(graph.nodes[i].section, graph.nodes[i].group) for i in first]
+    device = device_nodes(graph)
+    return [Site(*device(graph.nodes[i])) for i in first]
+
+
+def vamp_sites(graph, layout) -> list[Site]:
+    """Per VAMP index: its site."""
+    sites = unit_sites(graph, layout)
+    return [sites[u] for u in vamp_units(layout)]
+
+
+def node_table(graph) -> dict[str, list[tuple[int, int, int, int, int]]]:
+    """A log graph's recursion nodes per section: (group, a, k, b, tier) rows (tier 0: leaves);
+    empty for the linear graph."""
+    meta = dict(graph.meta)
+    return {s: [tuple(r) for r in json.loads(meta[f"{s}_nodes"])] if f"{s}_nodes" in meta else []
+            for s in ("bwd", "fwd")}

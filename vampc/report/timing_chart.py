@@ -1,0 +1,267 @@
+"""The timing chart (`vampc report --timing FILE.svg`), in the style of the paper's Table III.2:
+flops across, one row per variable (systolic layout: the op of that name in every node, one lane
+more wherever two run at once) or per VAMP (folded layouts: a unit, three VAMPs for an MM), every
+scheduled op a bar labelled with its op and node, the critical path outlined in red and joined, and
+a strip above showing successive torque sets: one every interval, each lasting the latency, so a
+pipelined layout's overlapping sets are visible.
+
+Each op's bar is an SVG group with id `op-<node id>` (`op-<node id>-critical` on the critical path)
+and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000)
+would be neither readable nor quick to draw: it shows, per variable, when any node computes it
+(merged bars, ids `busy-<row>-<k>`), and says so in its title.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from vampc.report import svg
+from vampc.report.sites import SECTIONS, unit_nodes
+
+MAX_BARS = 10_000
+MAX_SETS = 8
+OP_COLOURS = {"VA": "#9ecae1", "SV": "#c6dbef", "VC": "#a1d99b", "MV": "#fdae6b", "MTV": "#fdd0a2",
+              "MM": "#bcbddc", "VD": "#fcbba1"}
+ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 60, 40, 30
+FONT = 6.0
+
+
+@dataclass(frozen=True)
+class Row:
+    """One row: its label and its lanes, each a list of node ids (merged: (start, finish, count))."""
+
+    label: str
+    lanes: tuple[tuple, ...]
+
+
+@dataclass(frozen=True)
+class Chart:
+    """What the chart shows, before any drawing: rows, whether bars are merged, the x span."""
+
+    rows: tuple[Row, ...]
+    merged: bool
+    span: int
+    sets: tuple[int, ...]        # start tick of each torque set shown
+
+
+def chart(graph, layout, sched) -> Chart:
+    """The rows of the chart for a graph, its layout and schedule (see the module docstring)."""
+    ops = graph.compute_nodes()
+    merged = len(ops) > MAX_BARS
+    if merged:
+        rows = _merged_rows(graph, sched)
+    elif layout.name == "systolic":
+        rows = _variable_rows(graph, sched)
+    else:
+        rows = _unit_rows(graph, layout, sched)
+    P = sched.interval
+    count = min(MAX_SETS, math.ceil(sched.latency / P) + 1) if P < sched.latency else 2
+    sets = tuple(k * P for k in range(count))
+    span = max(max((sched.finish[nd.id] for nd in ops), default=0), sets[-1] + sched.latency)
+    return Chart(tuple(rows), merged, span, sets)
+
+
+def _roles(graph) -> list[tuple[str, str]]:
+    """(section, name) of every op, sections in pass order, names in order of first appearance."""
+    seen: dict[tuple[str, str], None] = {}
+    for sec in SECTIONS:
+        for nd in graph.compute_nodes():
+            if nd.section == sec:
+                seen.setdefault((sec, nd.name))
+    return list(seen)
+
+
+def _lanes(ids, sched) -> tuple[tuple[int, ...], ...]:
+    """Ops packed into as few lanes as let no two of a lane overlap (earliest start first)."""
+    lanes: list[list[int]] = []
+    ends: list[int] = []
+    for i in sorted(ids, key=lambda i: (sched.start[i], i)):
+        k = next((k for k, end in enumerate(ends) if end <= sched.start[i]), None)
+        if k is None:
+            lanes.append([])
+            ends.append(0)
+            k = len(lanes) - 1
+        lanes[k].append(i)
+        ends[k] = sched.finish[i]
+    return tuple(tuple(x) for x in lanes)
+
+
+def _variable_rows(graph, sched) -> list[Row]:
+    by_role: dict[tuple[str, str], list[int]] = {}
+    for nd in graph.compute_nodes():
+        by_role.setdefault((nd.section, nd.name), []).append(nd.id)
+    return [Row(f"{sec} {name} ({graph.nodes[by_role[(sec, name)][0]].op.value})",
+                _lanes(by_role[(sec, name)], sched)) for sec, name in _roles(graph)]
+
+
+def _unit_rows(graph, layout, sched) -> list[Row]:
+    rows, first = [], 0
+    for unit, ids in enumerate(unit_nodes(graph, layout)):
+        size = layout.unit_vamps[unit]
+        roles = list(dict.fromkeys(f"{graph.nodes[i].section} {graph.nodes[i].name}" for i in ids))
+        where = f"VAMP {first}" if size == 1 else f"VAMPs {first}-{first + size - 1}"
+        rows.append(Row(f"{where}: {', '.join(roles[:2])}" + (" …" if len(roles) > 2 else ""),
+                        _lanes(ids, sched)))
+        first += size
+    return rows
+
+
+def _merged_rows(graph, sched) -> list[Row]:
+    """Per variable, the spans in which some node computes it, with how many ops each covers."""
+    by_role: dict[tuple[str, str], list[int]] = {}
+    for nd in graph.compute_nodes():
+        by_role.setdefault((nd.section, nd.name), []).append(nd.id)
+    rows = []
+    for sec, name in _roles(graph):
+        spans: list[list[int]] = []
+        for i in sorted(by_role[(sec, name)], key=lambda i: sched.start[i]):
+            s, f = sched.start[i], sched.finish[i]
+            if spans and s <= spans[-1][1]:
+                spans[-1][1] = max(spans[-1][1], f)
+                spans[-1][2] += 1
+            else:
+                spans.append([s, f, 1])
+        rows.append(Row(f"{sec} {name}", (tuple(tuple(x) for x in spans),)))
+    return rows
+
+
+def label(nd) -> str:
+    """A bar's label: op name and node, 'T4·3'."""
+    return f"{nd.name}·{nd.group}"
+
+
+def timing_svg(graph, layout, sched, title: str) -> str:
+    """The chart as SVG text."""
+    data = chart(graph, layout, sched)
+    with svg.settings():
+        return _draw(graph, layout, sched, data, title)
+
+
+def _scale(span: int) -> float:
+    """Pixels per flop: wide enough for 'T4·3' in a one-flop bar, narrower for long schedules."""
+    return max(6.0, min(24.0, 18.0 if span <= 600 else 9000.0 / span))
+
+
+def _draw(graph, layout, sched, data: Chart, title: str) -> str:
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Rectangle
+    lanes = [(r, k) for r in data.rows for k in range(len(r.lanes))]
+    set_rows = len(data.sets)
+    pxf = _scale(data.span)
+    width = LEFT_PX + data.span * pxf + RIGHT_PX
+    height = TOP_PX + (len(lanes) + set_rows + 1) * ROW_PX + BOTTOM_PX
+    fig = svg.figure(width, height)
+    ax = fig.add_axes((LEFT_PX / width, BOTTOM_PX / height, data.span * pxf / width,
+                       (height - TOP_PX - BOTTOM_PX) / height))
+    total = len(lanes) + set_rows + 1
+    ax.set_xlim(0, data.span)
+    ax.set_ylim(total, 0)
+    titles: dict[str, str] = {}
+    _draw_sets(ax, data, sched, titles)
+    critical = set(sched.critical_path)
+    y = set_rows + 1
+    ticks, names = [], []
+    for row in data.rows:
+        for k, lane in enumerate(row.lanes):
+            ticks.append(y + 0.5)
+            names.append(row.label if k == 0 else "")
+            for item in lane:
+                if data.merged:
+                    _merged_bar(ax, Rectangle, item, y, pxf, f"busy-{len(ticks) - 1}", titles, row)
+                else:
+                    _bar(ax, Rectangle, graph, layout, sched, item, y, pxf, item in critical, titles)
+            y += 1
+    if not data.merged:
+        _critical_line(ax, Line2D, graph, sched, data, critical)
+    _axes(ax, data, sched, ticks, names, pxf)
+    ax.set_title(title + (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at "
+                          f"most {MAX_BARS:,} ops show every op)" if data.merged else ""),
+                 loc="left", fontsize=9)
+    fig.legend(handles=_legend(Rectangle, Line2D), loc="upper left", ncols=10, fontsize=7,
+               frameon=False, bbox_to_anchor=(LEFT_PX / width, 1 - 18 / height))
+    return svg.to_svg(fig, titles)
+
+
+def _draw_sets(ax, data: Chart, sched, titles: dict) -> None:
+    from matplotlib.patches import Rectangle
+    for k, start in enumerate(data.sets):
+        r = Rectangle((start, k + 0.15), sched.latency, 0.7, facecolor="#e0e0e0", edgecolor="#808080",
+                      linewidth=0.5)
+        r.set_gid(f"set-{k}")
+        ax.add_artist(r)
+        ax.text(start + 0.3, k + 0.5, f"torque set {k}: flops {start}-{start + sched.latency}",
+                fontsize=FONT, va="center", ha="left")
+        titles[f"set-{k}"] = (f"torque set {k} enters at flop {start} and its last torque leaves "
+                              f"at flop {start + sched.latency}")
+
+
+def _bar(ax, Rectangle, graph, layout, sched, i: int, y: int, pxf: float, crit: bool,
+         titles: dict) -> None:
+    nd = graph.nodes[i]
+    s, f = sched.start[i], sched.finish[i]
+    r = Rectangle((s, y + 0.1), f - s, 0.8, facecolor=OP_COLOURS.get(nd.op.value, "#dddddd"),
+                  edgecolor="#d62728" if crit else "#404040", linewidth=1.6 if crit else 0.4)
+    gid = f"op-{i}" + ("-critical" if crit else "")
+    r.set_gid(gid)
+    ax.add_artist(r)
+    titles[gid] = (f"{nd.section}{nd.group}.{nd.name} ({nd.op.value}), node {i}: flops {s}-{f}, "
+                   f"unit {layout.units[i]}" + (", on the critical path" if crit else ""))
+    text = label(nd)
+    room = (f - s) * pxf
+    if len(text) * FONT * 0.62 > room:
+        text = str(nd.group)
+    if len(text) * FONT * 0.62 <= room:
+        ax.text((s + f) / 2, y + 0.5, text, fontsize=FONT, ha="center", va="center")
+
+
+def _merged_bar(ax, Rectangle, item, y: int, pxf: float, gid_base: str, titles: dict, row) -> None:
+    s, f, count = item
+    r = Rectangle((s, y + 0.1), f - s, 0.8, facecolor="#9ecae1", edgecolor="#404040", linewidth=0.4)
+    gid = f"{gid_base}-{s}"
+    r.set_gid(gid)
+    ax.add_artist(r)
+    titles[gid] = f"{row.label}: {count} ops in flops {s}-{f}"
+    if len(f"×{count}") * FONT * 0.62 <= (f - s) * pxf:
+        ax.text((s + f) / 2, y + 0.5, f"×{count}", fontsize=FONT, ha="center", va="center")
+
+
+def _critical_line(ax, Line2D, graph, sched, data: Chart, critical: set) -> None:
+    """Join the critical path's bars, each op's end to the next one's start."""
+    where = {}
+    y = len(data.sets) + 1
+    for row in data.rows:
+        for lane in row.lanes:
+            for i in lane:
+                where[i] = y + 0.5
+            y += 1
+    xs, ys = [], []
+    for i in sched.critical_path:
+        xs += [sched.start[i], sched.finish[i]]
+        ys += [where[i], where[i]]
+    line = Line2D(xs, ys, color="#d62728", linewidth=0.9, alpha=0.8)
+    line.set_gid("critical-path")
+    ax.add_artist(line)
+
+
+def _axes(ax, data: Chart, sched, ticks, names, pxf: float) -> None:
+    ax.set_yticks(ticks, names, fontsize=FONT)
+    ax.tick_params(axis="y", length=0)
+    step = next(s for s in (1, 2, 4, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 10**9)
+                if s * pxf >= 28)
+    ax.set_xticks(range(0, data.span + 1, step))
+    ax.tick_params(axis="x", labelsize=FONT, top=True, labeltop=True)
+    ax.set_xlabel("flops (ticks) from the first input of torque set 0", fontsize=7)
+    P = sched.interval
+    if P * pxf >= 8:
+        for x in range(0, data.span + 1, P):
+            ax.axvline(x, color="#e8e8e8", linewidth=0.5, zorder=0)
+    ax.axhline(len(data.sets) + 0.5, color="#808080", linewidth=0.5)
+
+
+def _legend(Rectangle, Line2D) -> list:
+    handles = [Rectangle((0, 0), 1, 1, facecolor=c, edgecolor="#404040", linewidth=0.4, label=op)
+               for op, c in OP_COLOURS.items()]
+    handles.append(Line2D([0], [0], color="#d62728", linewidth=1.6, label="critical path"))
+    handles.append(Rectangle((0, 0), 1, 1, facecolor="#e0e0e0", edgecolor="#808080", linewidth=0.5,
+                             label="torque set (entry to last torque)"))
+    return handles
