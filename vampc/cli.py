@@ -240,14 +240,16 @@ def report(ctx, source, fmt, clock, pins, timing, network, dot, html, base, tip,
     (Table O.1, sections VI and VII): a robot file (compiled on the fly with the options given) or a
     program file written by `vampc compile` (its figures are recomputed from the file's graph,
     schedule and network). Pictures and pages go to the files named."""
+    from vampc.gcpause import gc_paused
     from vampc.outputs import plan_outputs
     hz = _clock_hz(clock)
     outs = plan_outputs([source], {"--timing": timing, "--network": network, "--dot": dot,
                                    "--html": html})
-    c = _report_compiled(ctx, source, base, tip, lock, **opts)
-    from vampc.report.build import build_report
-    rep = build_report(c, hz, pins)
-    _write_pictures(c, rep, outs)
+    with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
+        c = _report_compiled(ctx, source, base, tip, lock, **opts)
+        from vampc.report.build import build_report
+        rep = build_report(c, hz, pins)
+        _write_pictures(c, rep, outs)
     click.echo(_formatted(rep, fmt), nl=False)
 
 
@@ -314,7 +316,8 @@ def _program_compiled(ctx, source):
     c = compiled_from_doc(doc, source)
     if (doc["schedule"]["mult_latency"], doc["schedule"]["add_latency"]) == (1, 1):
         from vampc.emulator import check_program, loaded_from_doc
-        check_program(loaded_from_doc(doc, source))     # the network implements the graph
+        # the network implements the graph (decoded once: the report's IRs are the check's)
+        check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph, c.network)))
     fresh = json.loads(json.dumps(summary(c)))
     edited = sorted(k for k, v in doc["summary"].items() if k in fresh and fresh[k] != v)
     if edited:

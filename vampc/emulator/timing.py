@@ -82,6 +82,7 @@ class _Deriver:
             self.ports.append(order)
             gaps = cyclic_gaps([b for b, _ in order], self.K)
             self.entry_gap.update({(p.index, j): g or self.K for (_, j), g in zip(order, gaps)})
+        self.sources: dict = {}  # (vamp, slot) -> operand_sources, each derived once
         # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch
         self.gaps = [tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
                            for f in ("delay_r", "delay_a", "delay_b")) for progs in ld.programs]
@@ -115,6 +116,12 @@ class _Deriver:
 
     def operand_sources(self, v: int, k: int):
         """(operand taps, sources) of both operands of slot (v, k)."""
+        got = self.sources.get((v, k))
+        if got is None:
+            got = self.sources[(v, k)] = self._operand_sources(v, k)
+        return got
+
+    def _operand_sources(self, v: int, k: int):
         prog = self.ld.programs[v][k]
         vamp = self.net.vamps[v]
         a = vamp.a[prog.sel_a].taps

@@ -6,6 +6,7 @@ and of the configurations it is compared with (vampc.report.configs); the paper'
 vampc.report.paper and are labelled as the paper's."""
 from __future__ import annotations
 
+from vampc.gcpause import gc_paused
 from vampc.report.clock import add_clock
 from vampc.report.compare import compare_prefixes, layout_rows
 from vampc.report.configs import ALLOCATE_LIMIT, configurations
@@ -17,22 +18,28 @@ from vampc.report.wiring import wiring
 REPORT_VERSION = 2
 
 
+@gc_paused()
 def build_report(c, clock_hz: float | None = None, pins: int | None = None) -> dict:
     """The report of `c` (a vampc.compiler.Compiled), with times at `clock_hz` when given and
-    packages of `pins` pins beside the 40-pin ones."""
+    packages of `pins` pins beside the 40-pin ones. Above ALLOCATE_LIMIT ops the comparisons that
+    would each compile the robot again (prefix shapes, the log graph with the other leaf style)
+    are left out and `allocation.omitted` names them."""
     rep = summary(c)
     configs = configurations(c)
+    big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
     rep["report_version"] = REPORT_VERSION
     rep["layout_comparison"] = layout_rows(configs, c.graph.recursion)
-    if c.graph.recursion == "log":
+    if c.graph.recursion == "log" and not big:
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
     rep["table_o1"] = table_o1(configs, c.chain)
-    rep["processors"] = processors(configs, c.chain)
+    rep["processors"] = processors(configs, c.chain, other_leaves=not big)
     rep["packages"] = packages(configs, pins)
     rep["wiring"] = wiring(configs, c.chain)
-    rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT,
+    rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT, "ops": len(c.graph.compute_nodes()),
                          "allocated": [k.name for k in configs if k.network is not None],
-                         "scheduled_only": [k.name for k in configs if k.network is None]}
+                         "scheduled_only": [k.name for k in configs if k.network is None],
+                         "omitted": (["prefix_comparison"] * (c.graph.recursion == "log")
+                                     + ["other leaf style"]) if big else []}
     rep["clock"] = None
     if clock_hz is not None:
         add_clock(rep, clock_hz)

@@ -3,9 +3,10 @@ report's robot and options (DESIGN §6).
 
 The report's own configuration is the compiled one it was given (from a robot or a program file).
 The others are built here from the same chain: the graph once per recursion, then each layout's
-binding and schedule. They are allocated too (buffers, multiplexers, load time) when their graph has
-at most ALLOCATE_LIMIT ops; a bigger one keeps the figures the graph, layout and schedule give
-(latency, interval, VAMPs), which is what lets `vampc report` of a 512-joint log program stay fast.
+binding and schedule. They are allocated too (buffers, multiplexers, load time) when both their
+graph and the report's own have at most ALLOCATE_LIMIT ops; otherwise they keep the figures the
+graph, layout and schedule give (latency, interval, VAMPs), which is what lets `vampc report` of a
+512-joint log program stay within seconds.
 """
 from __future__ import annotations
 
@@ -66,10 +67,11 @@ def configurations(c, recursions=("linear", "log")) -> list[Config]:
     """Every recursion of `recursions` in every layout, `c` (a vampc.compiler.Compiled) among them;
     the other options (prefix, leaves, latencies) as `c` was compiled."""
     out = []
+    small = len(c.graph.compute_nodes()) <= ALLOCATE_LIMIT
     for rec in recursions:
         opts = replace(c.options, recursion=rec, verify=False, numbering=None)
         graph = c.graph if rec == c.graph.recursion else build_graph(c.chain, opts)
-        full = len(graph.compute_nodes()) <= ALLOCATE_LIMIT
+        full = small and len(graph.compute_nodes()) <= ALLOCATE_LIMIT
         for label, layout, share in LAYOUTS:
             own = (rec, layout, share) == (c.graph.recursion, c.options.layout, c.options.share_passes)
             if own:

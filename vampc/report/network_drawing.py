@@ -6,7 +6,8 @@ delay buffers on a bus as a square labelled with its stages, host ports along th
 the torque outputs along the top.
 
 Ids in the SVG: `site-<section>-<index>` (circles), `bus-<from>-<to>` (lines), `buffer-<from>-<to>`
-(squares), `port-<index>`, `tau-<joint>`; each with a <title>.
+(squares), `port-<index>`, `tau-<joint>`; each with a <title>. A kind with more than DETAIL shapes
+(a 512-joint log network has thousands of nodes) is drawn as one collection, without ids or labels.
 """
 from __future__ import annotations
 
@@ -18,6 +19,8 @@ from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
 
 COLOURS = {"bwd": "#c6dbef", "npv": "#e5f5e0", "fwd": "#fdd0a2"}
 CELL_PX, MARGIN_PX = 78, 80
+MIN_COLS = 7
+DETAIL = 600          # shapes of one kind drawn one by one (ids, titles, labels) up to this many
 
 
 @dataclass(frozen=True)
@@ -121,29 +124,28 @@ def _xy(d: Drawing, site: Site) -> tuple[float, float]:
 
 
 def _draw(d: Drawing, title: str) -> str:
-    from matplotlib.collections import LineCollection
     span = d.rows + 1.6                   # y units: ports below row 0, outputs above the last
-    width = MARGIN_PX * 2 + d.cols * CELL_PX
+    cols = max(d.cols, MIN_COLS)          # room for the title and the key
+    width = MARGIN_PX * 2 + cols * CELL_PX
     height = MARGIN_PX * 2 + span * CELL_PX
     fig = svg.figure(width, height)
-    ax = fig.add_axes((MARGIN_PX / width, MARGIN_PX / height, d.cols * CELL_PX / width,
+    ax = fig.add_axes((MARGIN_PX / width, MARGIN_PX / height, cols * CELL_PX / width,
                        span * CELL_PX / height))
-    ax.set_xlim(0, d.cols)
+    ax.set_xlim(0, cols)
     ax.set_ylim(-0.3, d.rows + 1.3)
     ax.set_axis_off()
     titles: dict[str, str] = {}
-    lines, widths = [], []
+    by_width: dict[float, list] = {}
     for (a, b), k in d.buses.items():
         if a != b:
-            lines.append([_xy(d, a), _xy(d, b)])
-            widths.append(min(0.4 + 0.25 * k, 3.0))
-    segs = LineCollection(lines, linewidths=widths, colors="#555555", zorder=1)
-    segs.set_gid("buses")
-    ax.add_collection(segs)
+            by_width.setdefault(min(0.4 + 0.4 * (k // 3), 3.0), []).append([_xy(d, a), _xy(d, b)])
+    for w, segments in sorted(by_width.items()):
+        _lines(ax, segments, f"buses-{w:g}", "#555555", w, 1)
     _buffers(ax, d, titles)
     _sites(ax, d, titles)
-    _edges(ax, d, titles)
-    ax.set_title(title, loc="left", fontsize=9)
+    _ports(ax, d, titles)
+    _outputs(ax, d, titles)
+    ax.set_title(title.replace(": ", ":\n", 1), loc="left", fontsize=9)
     fig.text(MARGIN_PX / width, 8 / height,
              "circles: recursion or device nodes (V: VAMPs)\nlines: vector buses (wider: more)\n"
              "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i",
@@ -151,82 +153,143 @@ def _draw(d: Drawing, title: str) -> str:
     return svg.to_svg(fig, titles)
 
 
+def _lines(ax, segments, gid: str, colour: str, width: float, zorder: int) -> None:
+    """Line segments as one SVG path (one element however many: a big drawing has thousands)."""
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path
+    if not segments:
+        return
+    verts = [p for seg in segments for p in seg]
+    codes = [Path.MOVETO, Path.LINETO] * len(segments)
+    patch = PathPatch(Path(verts, codes), facecolor="none", edgecolor=colour, linewidth=width,
+                      zorder=zorder)
+    patch.set_gid(gid)
+    ax.add_artist(patch)
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One marker: `kind` circle, square, triangle (pointing up) or triangle-down; its centre and
+    size (radius or half side), and its SVG id and title."""
+
+    kind: str
+    x: float
+    y: float
+    size: float
+    gid: str
+    title: str
+
+
+def _unit_path(kind: str):
+    from matplotlib.path import Path
+    if kind == "circle":
+        return Path.unit_circle()
+    if kind == "square":
+        return Path([(-1, -1), (1, -1), (1, 1), (-1, 1), (-1, -1)],
+                    [Path.MOVETO, Path.LINETO, Path.LINETO, Path.LINETO, Path.CLOSEPOLY])
+    up = Path.unit_regular_polygon(3)
+    return up if kind == "triangle" else Path(up.vertices * [1, -1], up.codes)
+
+
+def _shapes(ax, shapes: list[Shape], gid: str, style: dict, titles: dict) -> bool:
+    """Markers, each its own SVG group with an id and a title when there are at most DETAIL of
+    them; else one compound path (a 512-joint drawing has thousands). Returns whether they were
+    drawn one by one (and so whether labels fit)."""
+    import numpy as np
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path
+    if not shapes:
+        return True
+    unit = _unit_path(shapes[0].kind)
+    if len(shapes) <= DETAIL:
+        for sh in shapes:
+            patch = PathPatch(Path(unit.vertices * sh.size + (sh.x, sh.y), unit.codes), **style)
+            patch.set_gid(sh.gid)
+            ax.add_artist(patch)
+            titles[sh.gid] = sh.title
+        return True
+    centres = np.array([(sh.x, sh.y) for sh in shapes])
+    sizes = np.array([sh.size for sh in shapes])[:, None, None]
+    verts = (unit.vertices[None, :, :] * sizes + centres[:, None, :]).reshape(-1, 2)
+    patch = PathPatch(Path(verts, np.tile(unit.codes, len(shapes))), **style)
+    patch.set_gid(gid)
+    ax.add_artist(patch)
+    return False
+
+
 def _sites(ax, d: Drawing, titles: dict) -> None:
-    from matplotlib.patches import Circle
-    small = len(d.places) > 400
-    for site, label in d.labels.items():
-        x, y = _xy(d, site)
-        c = Circle((x, y), 0.32, facecolor=COLOURS[site.section], edgecolor="#333333", linewidth=0.6,
-                   zorder=3)
-        gid = f"site-{site.section}-{site.index}"
-        c.set_gid(gid)
-        ax.add_artist(c)
-        titles[gid] = f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: " \
-                      f"{d.vamps[site]} VAMPs"
-        if not small:
-            ax.text(x, y, f"{label}\n{d.vamps[site]} V", fontsize=5.5, ha="center", va="center",
-                    zorder=4)
+    shapes = [Shape("circle", *_xy(d, site), 0.32, f"site-{site.section}-{site.index}",
+                    f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
+                    f"{d.vamps[site]} VAMPs") for site, label in d.labels.items()]
+    for section in SECTION_NAMES:
+        mine = [sh for sh, site in zip(shapes, d.labels) if site.section == section]
+        style = {"facecolor": COLOURS[section], "edgecolor": "#333333", "linewidth": 0.6,
+                 "zorder": 3}
+        if _shapes(ax, mine, f"sites-{section}", style, titles):
+            for sh, (site, label) in zip(shapes, d.labels.items()):
+                if site.section == section:
+                    ax.text(sh.x, sh.y, f"{label}\n{d.vamps[site]} V", fontsize=5.5, ha="center",
+                            va="center", zorder=4)
 
 
 def _buffers(ax, d: Drawing, titles: dict) -> None:
-    from matplotlib.patches import Rectangle
-    small = len(d.buffered) > 400
+    shapes, segments = [], []
     for (a, b), (buses, deepest, chains) in sorted(d.buffered.items()):
         (xa, ya), (xb, yb) = _xy(d, a), _xy(d, b)
-        if a == b:                                        # a folded device's feedback
+        if a == b:                                        # feedback within a node or device
             x, y = xa + 0.42, ya + 0.38
-            ax.plot([xa, x, xb], [ya, y, yb], color="#8c6d31", linewidth=0.6, zorder=1)
         else:
             x, y = xa + 0.55 * (xb - xa), ya + 0.55 * (yb - ya)
-            ax.plot([xa, x, xb], [ya, y, yb], color="#8c6d31", linewidth=0.6, zorder=1)
-        r = Rectangle((x - 0.11, y - 0.11), 0.22, 0.22, facecolor="#fff7bc", edgecolor="#8c6d31",
-                      linewidth=0.6, zorder=2)
-        gid = f"buffer-{a.section}{a.index}-{b.section}{b.index}"
-        r.set_gid(gid)
-        ax.add_artist(r)
-        titles[gid] = (f"delay buffers from {a.label} to {b.label}: {chains} chains, {buses} taps, "
-                       f"up to stage {deepest}")
-        if not small:
-            ax.text(x, y, str(deepest), fontsize=5, ha="center", va="center", zorder=3)
+        segments += [[(xa, ya), (x, y)], [(x, y), (xb, yb)]]
+        shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
+                            f"delay buffers from {a.label} to {b.label}: {chains} chains, {buses} "
+                            f"taps, up to stage {deepest}"))
+    _lines(ax, segments, "buffered-buses", "#8c6d31", 0.6, 1)
+    style = {"facecolor": "#fff7bc", "edgecolor": "#8c6d31", "linewidth": 0.6, "zorder": 2}
+    if _shapes(ax, shapes, "buffers", style, titles):
+        for sh, (_, deepest, _) in zip(shapes, (v for _, v in sorted(d.buffered.items()))):
+            ax.text(sh.x, sh.y, str(deepest), fontsize=5, ha="center", va="center", zorder=3)
 
 
-def _edges(ax, d: Drawing, titles: dict) -> None:
-    """Host ports along the bottom edge, torque outputs along the top."""
-    from matplotlib.patches import RegularPolygon
-    small = len(d.ports) > 400
+def _ports(ax, d: Drawing, titles: dict) -> None:
+    """Host ports along the bottom edge, a thin line to each node that reads them."""
     stack: Counter = Counter()
+    shapes, segments, labels = [], [], []
     for index, readers, label in d.ports:
         if not readers:
             continue
         x, _ = _xy(d, readers[0])
         k = stack[round(x, 3)]
         stack[round(x, 3)] += 1
-        px, py = x - 0.3 + 0.2 * (k % 4), 0.1 - 0.0 * k
-        tri = RegularPolygon((px, py), 3, radius=0.09, facecolor="#ffffff", edgecolor="#333333",
-                             linewidth=0.5, zorder=3)
-        gid = f"port-{index}"
-        tri.set_gid(gid)
-        ax.add_artist(tri)
-        titles[gid] = f"host port {index}: {label}, read by " + ", ".join(r.label for r in readers)
-        for r in readers:
-            rx, ry = _xy(d, r)
-            ax.plot([px, rx], [py, ry], color="#bbbbbb", linewidth=0.3, zorder=0)
-        if not small and k < 4:
-            ax.text(px, py - 0.16, label, fontsize=4, ha="center", va="top", rotation=90)
+        px, py = x - 0.3 + 0.2 * (k % 4), 0.1
+        shapes.append(Shape("triangle", px, py, 0.09, f"port-{index}", f"host port {index}: {label}, "
+                            "read by " + ", ".join(r.label for r in readers)))
+        segments += [[(px, py), _xy(d, r)] for r in readers]
+        if k < 4:
+            labels.append((px, py - 0.16, label))
+    _lines(ax, segments, "port-wires", "#bbbbbb", 0.3, 0)
+    style = {"facecolor": "#ffffff", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
+    if _shapes(ax, shapes, "ports", style, titles):
+        for x, y, text in labels:
+            ax.text(x, y, text, fontsize=4, ha="center", va="top", rotation=90)
+
+
+def _outputs(ax, d: Drawing, titles: dict) -> None:
+    """Torque outputs along the top edge, spread when one node gives several."""
     top = d.rows + 1.0
     shown: Counter = Counter()
+    per = Counter(site for _, site in d.outputs)
+    shapes, segments = [], []
     for joint, site in sorted(d.outputs, key=lambda o: o[0]):
         x, y = _xy(d, site)
         k = shown[site]
         shown[site] += 1
-        per = sum(1 for _, s in d.outputs if s == site)
-        ox = x + (k - (per - 1) / 2) * min(0.25, 0.9 / per)
-        tri = RegularPolygon((ox, top), 3, radius=0.1, orientation=0, facecolor="#fcbba1",
-                             edgecolor="#333333", linewidth=0.5, zorder=3)
-        gid = f"tau-{joint}"
-        tri.set_gid(gid)
-        ax.add_artist(tri)
-        titles[gid] = f"τ{joint} leaves {site.label}"
-        ax.plot([x, ox], [y, top], color="#d94801", linewidth=0.4, zorder=0)
-        if len(d.outputs) <= 400:
-            ax.text(ox, top + 0.13, f"τ{joint}", fontsize=5, ha="center", va="bottom")
+        ox = x + (k - (per[site] - 1) / 2) * min(0.25, 0.9 / per[site])
+        shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"τ{joint} leaves "
+                            f"{site.label}"))
+        segments.append([(x, y), (ox, top)])
+    _lines(ax, segments, "output-wires", "#d94801", 0.4, 0)
+    style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
+    if _shapes(ax, shapes, "outputs", style, titles):
+        for sh in shapes:
+            ax.text(sh.x, sh.y + 0.13, f"τ{sh.gid[4:]}", fontsize=5, ha="center", va="bottom")

@@ -206,7 +206,7 @@ INPUT_BUFFER_ENDPOINTS = 15
 # point-to-point buses inside one module.
 LINEAR_INTER_NODE_BUSES = {"bwd": 4, "fwd": 2}
 LOG_INTER_NODE_BUSES = 18
-INTERNAL_BUS_BOUNDS = {"module": 50, "shared passes": 70, "npv": 20}
+INTERNAL_BUS_BOUNDS = {"module": 50, "shared_passes": 70, "npv": 20}
 
 
 # --- section VII: pins and packages ---------------------------------------------------------------

@@ -2,6 +2,8 @@
 --dot --html` write (matplotlib is imported only here, and only when a picture is asked for)."""
 from __future__ import annotations
 
+from vampc.gcpause import gc_paused
+
 
 def title(rep: dict) -> str:
     """'puma560, 6 joints, linear recursion, systolic layout: latency 61 flops, interval 4'."""
@@ -28,6 +30,7 @@ def dot(c, rep: dict) -> str:
     return report_dot(c.graph, c.layout, c.network, rep["robot"])
 
 
+@gc_paused()
 def make(c, rep: dict, wanted: set[str]) -> dict[str, str]:
     """The content of every output option in `wanted` (--timing, --network, --dot, --html); each
     picture is drawn once even when the page needs it too."""

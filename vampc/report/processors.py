@@ -15,17 +15,18 @@ from vampc.schedule.layout import folded_binding
 COLUMNS = ("per_node", "per_tier", "single_device", "systolic")
 
 
-def processors(configs, chain) -> dict:
+def processors(configs, chain, other_leaves: bool = True) -> dict:
     """VAMP tables and ops per node for every recursion the configurations cover, and for the log
-    recursion also with the other leaf style (section VI counts Appendix D's uniform leaves)."""
-    graphs = _graphs(configs, chain)
+    recursion also with the other leaf style (section VI counts Appendix D's uniform leaves) when
+    `other_leaves`."""
+    graphs = _graphs(configs, chain, other_leaves)
     own = list(dict.fromkeys(k.recursion for k in configs))
     return {"vamps": [_variant(graph, leaves, chain.n) for graph, leaves in graphs],
             "ops_per_node": [_ops_row(graph, s) for graph, _ in graphs[:len(own)]
                              for s in ("bwd", "npv", "fwd")]}
 
 
-def _graphs(configs, chain) -> list:
+def _graphs(configs, chain, other_leaves: bool) -> list:
     """(graph, leaves) per recursion in the configurations, then the log graph with the other leaf
     style: built here (binding and counts only, no schedule)."""
     out, seen = [], set()
@@ -34,7 +35,7 @@ def _graphs(configs, chain) -> list:
             seen.add(k.recursion)
             out.append((k.graph, _leaves(k.graph, k.options)))
     log = next((k for k in configs if k.recursion == "log"), None)
-    if log is not None:
+    if log is not None and other_leaves:
         from vampc.compiler import build_graph
         other = replace(log.options, uniform_leaves=not log.options.uniform_leaves, verify=False)
         out.append((build_graph(chain, other), _leaves(None, other)))

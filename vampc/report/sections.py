@@ -252,7 +252,7 @@ def buffering(rep: dict) -> Table:
     rows = [("input buffering (scalars)", num(ib["scalars"]), f"≈ 37n + 15 = {num(ib['paper'])}",
              "see the first note")]
     for flow, x in d["by_flow"].items():
-        rows.append((f"delay buffers, {flow}", f"{num(x['stages'])} stages, {num(x['scalars'])} "
+        rows.append((f"delay buffers, {flow.replace('_', ' ')}", f"{num(x['stages'])} stages, {num(x['scalars'])} "
                      f"scalars, {num(x['chains'])} chains", _flow_paper(rep, flow), ""))
     rows.append(("delay buffers, all", f"{num(d['stages'])} stages, {num(d['scalars'])} scalars, "
                  f"{num(d['chains'])} chains (longest {d['max_stages']})", DASH, ""))
@@ -278,7 +278,7 @@ def _input_note(ib: dict) -> str:
 
 def _flow_paper(rep: dict, flow: str) -> str:
     if rep["recursion"] == "linear" and rep["layout"] == "systolic":
-        return ("only between backward and forward" if flow == "backward to forward" else
+        return ("only between backward and forward" if flow == "backward_to_forward" else
                 "none (\"only required between backward and forward\")")
     return DASH
 
@@ -310,7 +310,7 @@ def wiring(rep: dict) -> Table:
                  f"{b['backward_to_forward']['vectors']} vectors on "
                  f"{b['backward_to_forward']['wires']} wires", "F_i, N_i of each joint"))
     internal = b["internal_max"]
-    bound = pi["shared passes"] if rep.get("share_passes") else pi["module"]
+    bound = pi["shared_passes"] if rep.get("share_passes") else pi["module"]
     rows.append(("buses into one node's VAMPs, most (backward / npv / forward)",
                  f"{internal['bwd']} / {internal['npv']} / {internal['fwd']}",
                  f"≤ {bound} / {pi['npv']} / {bound}"))

@@ -10,7 +10,7 @@ VAMPs, whose site is the backward device node.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from vampc.schedule.layout import device_nodes
 
@@ -18,9 +18,9 @@ SECTIONS = ("bwd", "npv", "fwd")
 SECTION_NAMES = {"bwd": "backward", "npv": "non-propagated", "fwd": "forward"}
 
 
-@dataclass(frozen=True, order=True)
-class Site:
-    """A recursion node (systolic) or device node (folded)."""
+class Site(NamedTuple):
+    """A recursion node (systolic) or device node (folded). A tuple: sites are hashed and compared
+    millions of times in a big network's figures."""
 
     section: str
     index: int
@@ -56,10 +56,22 @@ def unit_sites(graph, layout) -> list[Site]:
     return [Site(*device(graph.nodes[i])) for i in first]
 
 
+_CACHE: dict = {}
+
+
 def vamp_sites(graph, layout) -> list[Site]:
-    """Per VAMP index: its site."""
+    """Per VAMP index: its site (the last few answers are kept: the wiring figures, the drawing and
+    the DOT text of one report all ask for them)."""
+    key = (id(graph), id(layout))
+    hit = _CACHE.get(key)
+    if hit is not None and hit[0] is graph and hit[1] is layout:
+        return hit[2]
     sites = unit_sites(graph, layout)
-    return [sites[u] for u in vamp_units(layout)]
+    out = [sites[u] for u in vamp_units(layout)]
+    if len(_CACHE) >= 4:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[key] = (graph, layout, out)
+    return out
 
 
 def node_table(graph) -> dict[str, list[tuple[int, int, int, int, int]]]:

@@ -22,7 +22,7 @@ MAX_BARS = 10_000
 MAX_SETS = 8
 OP_COLOURS = {"VA": "#9ecae1", "SV": "#c6dbef", "VC": "#a1d99b", "MV": "#fdae6b", "MTV": "#fdd0a2",
               "MM": "#bcbddc", "VD": "#fcbba1"}
-ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 60, 40, 30
+ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 84, 40, 30
 FONT = 6.0
 
 
@@ -174,11 +174,13 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     if not data.merged:
         _critical_line(ax, Line2D, graph, sched, data, critical)
     _axes(ax, data, sched, ticks, names, pxf)
-    ax.set_title(title + (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at "
-                          f"most {MAX_BARS:,} ops show every op)" if data.merged else ""),
-                 loc="left", fontsize=9)
+    if data.merged:
+        title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at most "
+                  f"{MAX_BARS:,} ops show every op)")
+    ax.set_title(title.replace(": ", ":\n", 1) if width < 900 else title,
+                 loc="left", fontsize=9, pad=16)
     fig.legend(handles=_legend(Rectangle, Line2D), loc="upper left", ncols=10, fontsize=7,
-               frameon=False, bbox_to_anchor=(LEFT_PX / width, 1 - 18 / height))
+               frameon=False, bbox_to_anchor=(LEFT_PX / width, 1 - 2 / height))
     return svg.to_svg(fig, titles)
 
 

@@ -16,6 +16,7 @@ from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
 
 PASS = {"bwd": "backward", "npv": "backward", "fwd": "forward"}
+FLOWS = ("within_backward", "backward_to_forward", "within_forward")
 
 
 def wiring(configs, chain) -> dict:
@@ -99,10 +100,9 @@ def delay_buffers(graph, net) -> dict:
         kind = _flow(origin_pass(graph, early, arg), PASS[graph.nodes[node].section])
         if tap.stage > deepest.get(tap.index, (0, ""))[0]:
             deepest[tap.index] = (tap.stage, kind)
-    classes = {k: {"chains": 0, "stages": 0, "scalars": 0}
-               for k in ("within backward", "backward to forward", "within forward")}
+    classes = {k: {"chains": 0, "stages": 0, "scalars": 0} for k in FLOWS}
     for b in net.buffers:
-        cls = classes[deepest.get(b.index, (0, "within backward"))[1]]
+        cls = classes[deepest.get(b.index, (0, "within_backward"))[1]]
         cls["chains"] += 1
         cls["stages"] += b.stages
         cls["scalars"] += 3 * b.stages
@@ -112,7 +112,7 @@ def delay_buffers(graph, net) -> dict:
 
 
 def _flow(src: str, dst: str) -> str:
-    return f"within {src}" if src == dst else "backward to forward"
+    return f"within_{src}" if src == dst else "backward_to_forward"
 
 
 def buses(graph, layout, net) -> dict:
@@ -183,4 +183,4 @@ def _buffering_row(k) -> dict:
     d = delay_buffers(k.graph, k.network)
     return {"configuration": k.name, "chains": d["chains"], "stages": d["stages"],
             "scalars": d["scalars"],
-            "backward_to_forward_scalars": d["by_flow"]["backward to forward"]["scalars"]}
+            "backward_to_forward_scalars": d["by_flow"]["backward_to_forward"]["scalars"]}
