@@ -13,7 +13,8 @@ import pytest
 from vampc.report import paper
 
 # Table O.1b as printed, and the formulas of O.1a evaluated at n = 6 by hand:
-# Uicker/Kahn Mults 32½·1296 + 86 5/12·216 + 171¼·36 + 53⅓·6 − 128 = 42120 + 18666 + 6165 + 320 − 128.
+# Uicker/Kahn Mults 32½·1296 + 86 5/12·216 + 171¼·36 + 53⅓·6 − 128
+#                 = 42120 + 18666 + 6165 + 320 − 128.
 BY_HAND = {
     "uicker_kahn": ((67143, 51548), (66271, 51548)),
     "waters": ((7045, 5652), (7051, 5652)),

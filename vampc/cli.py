@@ -246,9 +246,9 @@ def report(ctx, source, fmt, clock, pins, timing, network, dot, html, base, tip,
     outs = plan_outputs([source], {"--timing": timing, "--network": network, "--dot": dot,
                                    "--html": html})
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
-        c = _report_compiled(ctx, source, base, tip, lock, **opts)
+        c, figures = _report_compiled(ctx, source, base, tip, lock, **opts)
         from vampc.report.build import build_report
-        rep = build_report(c, hz, pins)
+        rep = build_report(c, hz, pins, figures)
         _write_pictures(c, rep, outs)
     click.echo(_formatted(rep, fmt), nl=False)
 
@@ -298,16 +298,18 @@ def _write_pictures(c, rep: dict, outs: dict) -> None:
 
 
 def _report_compiled(ctx, source, base, tip, lock, **opts):
-    """The compiled IRs of a report's SOURCE: a program file's, checked, or a robot's."""
+    """The compiled IRs of a report's SOURCE — a program file's, checked, or a robot's — and their
+    summary figures when already made (None)."""
     from vampc.sniff import is_program
     if is_program(source):
         return _program_compiled(ctx, source)
     _check_robot_options(ctx, opts)
-    return _compile(source, base, tip, lock, **opts)
+    return _compile(source, base, tip, lock, **opts), None
 
 
 def _program_compiled(ctx, source):
-    """A program file's IRs, checked against each other and against its stored summary."""
+    """A program file's IRs, checked against each other and against its stored summary, and their
+    summary figures."""
     from vampc.program.document import compiled_from_doc
     from vampc.program.file import read_program
     from vampc.report.counts import summary
@@ -324,7 +326,7 @@ def _program_compiled(ctx, source):
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
                                    f"schedule and network ({', '.join(edited)}): the file was "
                                    "edited; showing figures recomputed from them"), stacklevel=1)
-    return c
+    return c, fresh
 
 
 @main.command()

@@ -89,8 +89,8 @@ def loaded_from_doc(doc: dict, path: str = "<program>", decoded=None) -> Loaded:
     if doc["io"]["load_ticks"] != load_ticks(stream):
         raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {load_ticks(stream)} "
                          "ticks the program stream takes")
-    return Loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers, stream,
-                  progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
+    return Loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers,
+                  stream, progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
 
 
 def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:

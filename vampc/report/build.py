@@ -19,12 +19,13 @@ REPORT_VERSION = 2
 
 
 @gc_paused()
-def build_report(c, clock_hz: float | None = None, pins: int | None = None) -> dict:
+def build_report(c, clock_hz: float | None = None, pins: int | None = None,
+                 figures: dict | None = None) -> dict:
     """The report of `c` (a vampc.compiler.Compiled), with times at `clock_hz` when given and
     packages of `pins` pins beside the 40-pin ones. Above ALLOCATE_LIMIT ops the comparisons that
     would each compile the robot again (prefix shapes, the log graph with the other leaf style)
-    are left out and `allocation.omitted` names them."""
-    rep = summary(c)
+    are left out and `allocation.omitted` names them. `figures`: summary(c) if already made."""
+    rep = dict(figures) if figures is not None else summary(c)
     configs = configurations(c)
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
     rep["report_version"] = REPORT_VERSION

@@ -21,7 +21,7 @@ def network_dot(graph, layout, net, name: str) -> str:
     """The network as a DOT digraph named `network`."""
     sites = vamp_sites(graph, layout)
     lines = ["digraph network {", f"  label={quote(f'{name}: VAMP network ({layout.name})')};",
-             "  rankdir=BT; node [fontsize=9]; edge [fontsize=7];"]
+             "  rankdir=BT; newrank=true; node [fontsize=9]; edge [fontsize=7];"]
     by_site: dict = {}
     for v in net.vamps:
         by_site.setdefault(sites[v.index], []).append(v)
@@ -61,7 +61,7 @@ def _network_edges(net) -> list[str]:
 def dataflow_dot(graph, name: str) -> str:
     """The dataflow graph as a DOT digraph named `dataflow`."""
     lines = ["digraph dataflow {", f"  label={quote(f'{name}: {graph.recursion} dataflow graph')};",
-             "  rankdir=BT; node [fontsize=9];"]
+             "  rankdir=BT; newrank=true; node [fontsize=9];"]
     groups: dict = {}
     for nd in graph.nodes:
         if nd.op.is_compute:
@@ -77,5 +77,6 @@ def dataflow_dot(graph, name: str) -> str:
     for nd in graph.nodes:
         lines += [f"  n{a} -> n{nd.id};" for a in nd.args]
     for o in graph.outputs:
-        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; n{o.node} -> tau{o.joint};")
+        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; "
+                     f"n{o.node} -> tau{o.joint};")
     return "\n".join(lines) + "\n}\n"

@@ -5,9 +5,10 @@ or — for a folded layout — its device nodes (Figure VI.1); vector buses betw
 delay buffers on a bus as a square labelled with its stages, host ports along the bottom edge and
 the torque outputs along the top.
 
-Ids in the SVG: `site-<section>-<index>` (circles), `bus-<from>-<to>` (lines), `buffer-<from>-<to>`
-(squares), `port-<index>`, `tau-<joint>`; each with a <title>. A kind with more than DETAIL shapes
-(a 512-joint log network has thousands of nodes) is drawn as one collection, without ids or labels.
+Ids in the SVG: `site-<section>-<index>` (circles), `buffer-<from>-<to>` (squares), `port-<index>`,
+`tau-<joint>`, each with a <title>; the lines of each kind are one path, `wires-<kind>`. A kind with
+more than DETAIL shapes (a 512-joint log network has thousands of nodes) is drawn as one path,
+`sites-<section>`, `buffers`, `ports`, `outputs`, without ids or labels.
 """
 from __future__ import annotations
 
@@ -140,7 +141,7 @@ def _draw(d: Drawing, title: str) -> str:
         if a != b:
             by_width.setdefault(min(0.4 + 0.4 * (k // 3), 3.0), []).append([_xy(d, a), _xy(d, b)])
     for w, segments in sorted(by_width.items()):
-        _lines(ax, segments, f"buses-{w:g}", "#555555", w, 1)
+        _lines(ax, segments, f"wires-buses-{w:g}", "#555555", w, 1)
     _buffers(ax, d, titles)
     _sites(ax, d, titles)
     _ports(ax, d, titles)
@@ -244,7 +245,7 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
         shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
                             f"delay buffers from {a.label} to {b.label}: {chains} chains, {buses} "
                             f"taps, up to stage {deepest}"))
-    _lines(ax, segments, "buffered-buses", "#8c6d31", 0.6, 1)
+    _lines(ax, segments, "wires-buffered", "#8c6d31", 0.6, 1)
     style = {"facecolor": "#fff7bc", "edgecolor": "#8c6d31", "linewidth": 0.6, "zorder": 2}
     if _shapes(ax, shapes, "buffers", style, titles):
         for sh, (_, deepest, _) in zip(shapes, (v for _, v in sorted(d.buffered.items()))):
@@ -267,7 +268,7 @@ def _ports(ax, d: Drawing, titles: dict) -> None:
         segments += [[(px, py), _xy(d, r)] for r in readers]
         if k < 4:
             labels.append((px, py - 0.16, label))
-    _lines(ax, segments, "port-wires", "#bbbbbb", 0.3, 0)
+    _lines(ax, segments, "wires-ports", "#bbbbbb", 0.3, 0)
     style = {"facecolor": "#ffffff", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
     if _shapes(ax, shapes, "ports", style, titles):
         for x, y, text in labels:
@@ -288,7 +289,7 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
         shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"τ{joint} leaves "
                             f"{site.label}"))
         segments.append([(x, y), (ox, top)])
-    _lines(ax, segments, "output-wires", "#d94801", 0.4, 0)
+    _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)
     style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
     if _shapes(ax, shapes, "outputs", style, titles):
         for sh in shapes:

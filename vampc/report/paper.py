@@ -45,7 +45,8 @@ TABLE_O1 = (
     Formulation("uicker_kahn", "Uicker/Kahn (original Lagrangian)",
                 lambda n: F(65, 2) * n**4 + F(1037, 12) * n**3 + F(685, 4) * n**2 + F(160, 3) * n - 128,
                 lambda n: 25 * n**4 + F(199, 3) * n**3 + F(259, 2) * n**2 + F(127, 3) * n - 96,
-                "32½n⁴ + 86⁵⁄₁₂n³ + 171¼n² + 53⅓n − 128", "25n⁴ + 66⅓n³ + 129½n² + 42⅓n − 96",
+                "32½n⁴ + 86⁵⁄₁₂n³ + 171¼n² + 53⅓n − 128",
+                "25n⁴ + 66⅓n³ + 129½n² + 42⅓n − 96",
                 (66271, 51548), "serial"),
     Formulation("waters", "Waters (partially recursive)",
                 lambda n: F(213, 2) * n**2 + F(1241, 2) * n - 512, lambda n: F(82 * n**2 + 514 * n - 384),
@@ -108,8 +109,8 @@ def o1_check_note(f: Formulation) -> str:
     if f.key == "luh_lin":
         return (f"printed {pm} + {pa} is Luh-Walker-Paul's 852 + 738 divided by the concurrency factor "
                 f"2.64 ({float(852 / LUH_LIN_FACTOR):.1f}, {float(738 / LUH_LIN_FACTOR):.1f}); the "
-                f"formula rounds the coefficients first (150/2.64 ≈ 57, 48/2.64 ≈ 18, 131/2.64 ≈ 50) and "
-                f"gives {number(m)} + {number(a)}: both are estimates")
+                "formula rounds the coefficients first (150/2.64 ≈ 57, 48/2.64 ≈ 18, "
+                f"131/2.64 ≈ 50) and gives {number(m)} + {number(a)}: both are estimates")
     parts = []
     for what, got, printed in (("Mults", m, pm), ("Addns", a, pa)):
         if got != printed:

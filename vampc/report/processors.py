@@ -51,8 +51,8 @@ def _leaves(graph, options) -> str | None:
 def _variant(graph, leaves, n: int) -> dict:
     """One recursion's VAMP table: rows bwd (propagated), npv, bwd total, fwd; paper beside."""
     per_node = _per_node(graph)
-    tier = _per_tier(graph)
     single = _by_section(graph, folded_binding(graph, False))
+    tier = _per_tier(graph, single)
     shared = sum(folded_binding(graph, True)[1])
     systolic = Counter()
     for nd in graph.compute_nodes():
@@ -84,9 +84,10 @@ def _per_node(graph) -> Counter:
     return out
 
 
-def _per_tier(graph) -> Counter:
+def _per_tier(graph, single: Counter) -> Counter:
     """Log graph: VAMPs of the busiest tier of combining nodes per pass; for the non-propagated
-    variables, those the single device runs beside each tier (⌈n / tiers⌉ joints' worth)."""
+    variables, those the single device (`single`, VAMPs by section) runs beside each tier
+    (⌈n / tiers⌉ joints' worth)."""
     out: Counter = Counter()
     if graph.recursion != "log":
         return out
@@ -99,7 +100,7 @@ def _per_tier(graph) -> Counter:
             sums[(nd.section, t)] += VAMPS_PER_OP[nd.op]
     for (sec, _), k in sums.items():
         out[sec] = max(out[sec], k)
-    out["npv"] = _by_section(graph, folded_binding(graph, False))["npv"]
+    out["npv"] = single["npv"]
     return out
 
 

@@ -174,8 +174,8 @@ def vamps(rep: dict, v: dict) -> Table:
                  "the larger pass's single device" if v["paper_shared_passes"] else
                  "Figure VI.1b (--share-passes)"))
     what = v["recursion"] + (f" ({v['prefix']}, {v['leaves']} leaves)" if v["leaves"] else "")
-    own = rep["recursion"] == v["recursion"] and (v["leaves"] is None or
-                                                 (v["leaves"] == "uniform") == bool(rep.get("uniform_leaves")))
+    leaves_as_mine = v["leaves"] is None or (v["leaves"] == "uniform") == bool(rep.get("uniform_leaves"))
+    own = rep["recursion"] == v["recursion"] and leaves_as_mine
     title = (f"VAMPs, {what}, n = {n}: measured [the paper's section VI figure"
              + (", n = 6]" if n == 6 else ": per node only, its tables are for n = 6]")
              + (" — this report's recursion" if own else ""))
@@ -234,9 +234,10 @@ def packages(rep: dict) -> Table:
              "VAMP reads several wires; a systolic one needs exactly the paper's budget); "
              f"{DASH}: not allocated"]
     if p.get("paper_check"):
-        notes.append(f"section VII: \"11 such 40-pin packages would implement the full systolic "
-                     f"pipeline for the linear case of n = 6\" — measured {p['paper_check']['measured']}: "
-                     f"{p['paper_check']['note']}")
+        check = p["paper_check"]
+        notes.append("section VII: \"11 such 40-pin packages would implement the full systolic "
+                     f"pipeline for the linear case of n = 6\" — measured {check['measured']}: "
+                     f"{check['note']}")
     return Table("packages", "Packages (section VII): by the paper's pin budget, and with each "
                  "multiplexer input a pin", tuple(cols), tuple(rows), tuple(notes))
 
@@ -252,8 +253,9 @@ def buffering(rep: dict) -> Table:
     rows = [("input buffering (scalars)", num(ib["scalars"]), f"≈ 37n + 15 = {num(ib['paper'])}",
              "see the first note")]
     for flow, x in d["by_flow"].items():
-        rows.append((f"delay buffers, {flow.replace('_', ' ')}", f"{num(x['stages'])} stages, {num(x['scalars'])} "
-                     f"scalars, {num(x['chains'])} chains", _flow_paper(rep, flow), ""))
+        rows.append((f"delay buffers, {flow.replace('_', ' ')}",
+                     f"{num(x['stages'])} stages, {num(x['scalars'])} scalars, {num(x['chains'])} chains",
+                     _flow_paper(rep, flow), ""))
     rows.append(("delay buffers, all", f"{num(d['stages'])} stages, {num(d['scalars'])} scalars, "
                  f"{num(d['chains'])} chains (longest {d['max_stages']})", DASH, ""))
     for r in w["by_configuration"]:
