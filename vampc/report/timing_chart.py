@@ -8,7 +8,8 @@ pipelined layout's overlapping sets are visible.
 Each op's bar is an SVG group with id `op-<node id>` (`op-<node id>-critical` on the critical path)
 and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000)
 would be neither readable nor quick to draw: it shows, per variable, when any node computes it
-(merged bars, ids `busy-<row>-<k>`), and says so in its title.
+(merged bars, ids `busy-<row>-<k>`), and says so in its title; one of more than LABELLED_BARS ops
+keeps its labels in the tooltips.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from vampc.report import svg
 from vampc.report.sites import SECTIONS, unit_nodes
 
 MAX_BARS = 10_000
+LABELLED_BARS = 4_000     # above this many bars, labels only in the tooltips (text is slow to lay out)
 MAX_SETS = 8
 OP_COLOURS = {"VA": "#9ecae1", "SV": "#c6dbef", "VC": "#a1d99b", "MV": "#fdae6b", "MTV": "#fdd0a2",
               "MM": "#bcbddc", "VD": "#fcbba1"}
@@ -32,6 +34,7 @@ class Row:
 
     label: str
     lanes: tuple[tuple, ...]
+    op: str = ""                 # the op of a merged row (its bars' colour)
 
 
 @dataclass(frozen=True)
@@ -121,7 +124,8 @@ def _merged_rows(graph, sched) -> list[Row]:
                 spans[-1][2] += 1
             else:
                 spans.append([s, f, 1])
-        rows.append(Row(f"{sec} {name}", (tuple(tuple(x) for x in spans),)))
+        op = graph.nodes[by_role[(sec, name)][0]].op.value
+        rows.append(Row(f"{sec} {name} ({op})", (tuple(tuple(x) for x in spans),), op))
     return rows
 
 
@@ -160,23 +164,24 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     _draw_sets(ax, data, sched, titles)
     critical = set(sched.critical_path)
     y = set_rows + 1
-    ticks, names = [], []
+    ticks, names, bars = [], [], []
     for row in data.rows:
         for k, lane in enumerate(row.lanes):
             ticks.append(y + 0.5)
             names.append(row.label if k == 0 else "")
             for item in lane:
-                if data.merged:
-                    _merged_bar(ax, Rectangle, item, y, pxf, f"busy-{len(ticks) - 1}", titles, row)
-                else:
-                    _bar(ax, Rectangle, graph, layout, sched, item, y, pxf, item in critical, titles)
+                bars.append(_merged_bar(item, y, f"busy-{len(ticks) - 1}", row) if data.merged
+                            else _bar(graph, layout, sched, item, y, item in critical))
             y += 1
+    _draw_bars(ax, bars, pxf, titles)
     if not data.merged:
         _critical_line(ax, Line2D, graph, sched, data, critical)
     _axes(ax, data, sched, ticks, names, pxf)
     if data.merged:
         title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at most "
                   f"{MAX_BARS:,} ops show every op)")
+    elif len(bars) > LABELLED_BARS:
+        title += f" — {len(bars):,} ops: labels in the tooltips"
     ax.set_title(title.replace(": ", ":\n", 1) if width < 900 else title,
                  loc="left", fontsize=9, pad=16)
     fig.legend(handles=_legend(Rectangle, Line2D), loc="upper left", ncols=10, fontsize=7,
@@ -188,7 +193,7 @@ def _draw_sets(ax, data: Chart, sched, titles: dict) -> None:
     from matplotlib.patches import Rectangle
     for k, start in enumerate(data.sets):
         r = Rectangle((start, k + 0.15), sched.latency, 0.7, facecolor="#e0e0e0", edgecolor="#808080",
-                      linewidth=0.5)
+                      linewidth=0.5, clip_on=False)
         r.set_gid(f"set-{k}")
         ax.add_artist(r)
         ax.text(start + 0.3, k + 0.5, f"torque set {k}: flops {start}-{start + sched.latency}",
@@ -197,34 +202,60 @@ def _draw_sets(ax, data: Chart, sched, titles: dict) -> None:
                               f"at flop {start + sched.latency}")
 
 
-def _bar(ax, Rectangle, graph, layout, sched, i: int, y: int, pxf: float, crit: bool,
-         titles: dict) -> None:
+@dataclass(frozen=True)
+class Bar:
+    """One bar: ticks [start, end) on row y, colours, id, tooltip and label candidates (the first
+    that fits is drawn)."""
+
+    start: int
+    end: int
+    y: int
+    face: str
+    edge: str
+    width: float
+    gid: str
+    title: str
+    labels: tuple[str, ...]
+
+
+def _bar(graph, layout, sched, i: int, y: int, crit: bool) -> Bar:
     nd = graph.nodes[i]
     s, f = sched.start[i], sched.finish[i]
-    r = Rectangle((s, y + 0.1), f - s, 0.8, facecolor=OP_COLOURS.get(nd.op.value, "#dddddd"),
-                  edgecolor="#d62728" if crit else "#404040", linewidth=1.6 if crit else 0.4)
-    gid = f"op-{i}" + ("-critical" if crit else "")
-    r.set_gid(gid)
-    ax.add_artist(r)
-    titles[gid] = (f"{nd.section}{nd.group}.{nd.name} ({nd.op.value}), node {i}: flops {s}-{f}, "
-                   f"unit {layout.units[i]}" + (", on the critical path" if crit else ""))
-    text = label(nd)
-    room = (f - s) * pxf
-    if len(text) * FONT * 0.62 > room:
-        text = str(nd.group)
-    if len(text) * FONT * 0.62 <= room:
-        ax.text((s + f) / 2, y + 0.5, text, fontsize=FONT, ha="center", va="center")
+    return Bar(s, f, y, OP_COLOURS.get(nd.op.value, "#dddddd"), "#d62728" if crit else "#404040",
+               1.6 if crit else 0.4, f"op-{i}" + ("-critical" if crit else ""),
+               f"{nd.section}{nd.group}.{nd.name} ({nd.op.value}), node {i}: flops {s}-{f}, unit "
+               f"{layout.units[i]}" + (", on the critical path" if crit else ""),
+               (label(nd), str(nd.group)))
 
 
-def _merged_bar(ax, Rectangle, item, y: int, pxf: float, gid_base: str, titles: dict, row) -> None:
+def _merged_bar(item, y: int, gid_base: str, row) -> Bar:
     s, f, count = item
-    r = Rectangle((s, y + 0.1), f - s, 0.8, facecolor="#9ecae1", edgecolor="#404040", linewidth=0.4)
-    gid = f"{gid_base}-{s}"
-    r.set_gid(gid)
-    ax.add_artist(r)
-    titles[gid] = f"{row.label}: {count} ops in flops {s}-{f}"
-    if len(f"×{count}") * FONT * 0.62 <= (f - s) * pxf:
-        ax.text((s + f) / 2, y + 0.5, f"×{count}", fontsize=FONT, ha="center", va="center")
+    return Bar(s, f, y, OP_COLOURS.get(row.op, "#dddddd"), "#404040", 0.4, f"{gid_base}-{s}",
+               f"{row.label}: {count} ops in flops {s}-{f}", (f"×{count}",))
+
+
+def _draw_bars(ax, bars: list[Bar], pxf: float, titles: dict) -> None:
+    """All bars as one collection (one SVG path each, fast for thousands), each carrying its id as
+    a link target that vampc.report.svg turns into a group with that id and a tooltip; then the
+    labels that fit."""
+    from matplotlib.collections import PolyCollection
+    if not bars:
+        return
+    coll = PolyCollection([[(b.start, b.y + 0.1), (b.end, b.y + 0.1), (b.end, b.y + 0.9),
+                            (b.start, b.y + 0.9)] for b in bars],
+                          facecolors=[b.face for b in bars], edgecolors=[b.edge for b in bars],
+                          linewidths=[b.width for b in bars], urls=[f"#{b.gid}" for b in bars],
+                          clip_on=False)
+    coll.set_gid("bars")
+    ax.add_collection(coll)
+    for b in bars:
+        titles[b.gid] = b.title
+        if len(bars) > LABELLED_BARS:
+            continue
+        room = (b.end - b.start) * pxf
+        text = next((t for t in b.labels if len(t) * FONT * 0.62 <= room), None)
+        if text is not None:
+            ax.text((b.start + b.end) / 2, b.y + 0.5, text, fontsize=FONT, ha="center", va="center")
 
 
 def _critical_line(ax, Line2D, graph, sched, data: Chart, critical: set) -> None:
