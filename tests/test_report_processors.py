@@ -85,3 +85,13 @@ def test_pins_of_a_vamp_count_its_multiplexer_inputs(report):
     for v in net.vamps:
         inputs = len(v.a) + len(v.b)
         assert vamp_pins(v) == {"separate": 6 + inputs, "shared": 1 + inputs}
+
+
+def test_vamps_by_op_kind_add_up(report):
+    proc, _, configs = report
+    linear = next(v for v in proc["vamps"] if v["recursion"] == "linear")["by_op"]
+    assert linear["systolic"] == {"MTV": 18, "MV": 24, "SV": 6, "VA": 72, "VC": 60}
+    assert sum(linear["single_device"].values()) == 30 and sum(linear["shared_passes"].values()) == 22
+    log = next(v for v in proc["vamps"] if v["leaves"] == "separate")["by_op"]
+    systolic = next(k for k in configs if k.name == "log, systolic")
+    assert sum(log["systolic"].values()) == systolic.vamps and log["systolic"]["MM"] % 3 == 0

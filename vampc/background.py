@@ -41,6 +41,19 @@ class Deferred:
             raise VampcError(message)
         raise VampcInternalError(f"background check failed:\n{message}")
 
+    def abandon(self) -> None:
+        """Stop a check whose result is no longer wanted (the main work failed), and reap it."""
+        if self.pid is None:
+            return
+        import signal
+        try:
+            os.kill(self.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        os.waitpid(self.pid, 0)
+        os.close(self.fd)
+        self.pid = None
+
 
 def in_background(fn, *args, inline: bool = False) -> Deferred:
     """Start fn(*args) in a forked child (see the module docstring)."""

@@ -247,9 +247,13 @@ def report(ctx, source, fmt, clock, pins, timing, network, dot, html, base, tip,
                                    "--html": html})
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
         c, figures, check = _report_compiled(ctx, source, base, tip, lock, **opts)
-        from vampc.report.build import build_report
-        rep = build_report(c, hz, pins, figures)
-        content = _pictures(c, rep, outs)
+        try:
+            from vampc.report.build import build_report
+            rep = build_report(c, hz, pins, figures)
+            content = _pictures(c, rep, outs)
+        except BaseException:
+            check.abandon()
+            raise
         check.wait()        # a program that fails its static check gets no report and no file
         _write_pictures(outs, content)
     click.echo(_formatted(rep, fmt), nl=False)

@@ -83,6 +83,7 @@ def configurations(c, recursions=("linear", "log")) -> list[Config]:
 
 
 def _config(label: str, opts: CompileOptions, graph: Graph, full: bool) -> Config:
+    """One configuration of `graph`: laid out and scheduled; allocated and emitted when `full`."""
     lay, sched = layout_and_schedule(graph, opts.timing, opts.layout, opts.share_passes, False)
     if not full:
         return Config(label, opts, graph, lay, sched, None)

@@ -74,6 +74,7 @@ def drawing(graph, layout, net) -> Drawing:
 
 
 def _port_label(p) -> str:
+    """'A3', 'zqd2 +5' (a folded port carries a quantity for every joint), 'program'."""
     names = list(dict.fromkeys(f"{e.key.quantity}{e.key.joint}" for e in p.entries))
     if not names:
         return "program"
@@ -120,11 +121,13 @@ def network_svg(graph, layout, net, title: str) -> str:
 
 
 def _xy(d: Drawing, site: Site) -> tuple[float, float]:
+    """The centre of a site's cell (the row above the ports)."""
     x, y = d.places[site]
     return x + 0.5, y + 1.0
 
 
 def _draw(d: Drawing, title: str) -> str:
+    """The figure: buses, buffers, nodes, ports, outputs, title and key."""
     span = d.rows + 1.6                   # y units: ports below row 0, outputs above the last
     cols = max(d.cols, MIN_COLS)          # room for the title and the key
     width = MARGIN_PX * 2 + cols * CELL_PX
@@ -182,6 +185,7 @@ class Shape:
 
 
 def _unit_path(kind: str):
+    """A marker's outline around the origin, radius or half side 1."""
     from matplotlib.path import Path
     if kind == "circle":
         return Path.unit_circle()
@@ -219,6 +223,7 @@ def _shapes(ax, shapes: list[Shape], gid: str, style: dict, titles: dict) -> boo
 
 
 def _sites(ax, d: Drawing, titles: dict) -> None:
+    """The nodes as circles coloured by section, labelled (a, b) and VAMPs when few enough."""
     shapes = [Shape("circle", *_xy(d, site), 0.32, f"site-{site.section}-{site.index}",
                     f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
                     f"{d.vamps[site]} VAMPs") for site, label in d.labels.items()]
@@ -234,6 +239,7 @@ def _sites(ax, d: Drawing, titles: dict) -> None:
 
 
 def _buffers(ax, d: Drawing, titles: dict) -> None:
+    """A square on each buffered bus (a node's own feedback beside it), labelled its deepest stage."""
     shapes, segments = [], []
     for (a, b), (buses, deepest, chains) in sorted(d.buffered.items()):
         (xa, ya), (xb, yb) = _xy(d, a), _xy(d, b)

@@ -21,7 +21,10 @@ def processors(configs, chain, other_leaves: bool = True) -> dict:
     `other_leaves`."""
     graphs = _graphs(configs, chain, other_leaves)
     own = list(dict.fromkeys(k.recursion for k in configs))
-    return {"vamps": [_variant(graph, leaves, chain.n) for graph, leaves in graphs],
+    bindings = {(id(k.graph), k.options.share_passes): (k.layout.units, k.layout.unit_vamps)
+                for k in configs if k.options.layout == "folded"}
+    return {"vamps": [_variant(graph, leaves, chain.n, _binder(graph, bindings))
+                      for graph, leaves in graphs],
             "ops_per_node": [_ops_row(graph, s) for graph, _ in graphs[:len(own)]
                              for s in ("bwd", "npv", "fwd")]}
 
@@ -48,12 +51,19 @@ def _leaves(graph, options) -> str | None:
     return "uniform" if options.uniform_leaves else "separate"
 
 
-def _variant(graph, leaves, n: int) -> dict:
-    """One recursion's VAMP table: rows bwd (propagated), npv, bwd total, fwd; paper beside."""
+def _binder(graph, bindings: dict):
+    """share_passes -> the folded binding of `graph`: a folded configuration's layout when there
+    is one (it is that binding), else made here."""
+    return lambda share: bindings.get((id(graph), share)) or folded_binding(graph, share)
+
+
+def _variant(graph, leaves, n: int, binding) -> dict:
+    """One recursion's VAMP table: rows bwd (propagated), npv, bwd total, fwd; paper beside.
+    `binding(share_passes)` gives the folded binding (vampc.schedule.layout.folded_binding)."""
     per_node = _per_node(graph)
-    single = _by_section(graph, folded_binding(graph, False))
+    single = _by_section(graph, binding(False))
     tier = _per_tier(graph, single)
-    shared = sum(folded_binding(graph, True)[1])
+    shared = sum(binding(True)[1])
     systolic = Counter()
     for nd in graph.compute_nodes():
         systolic[nd.section] += VAMPS_PER_OP[nd.op]
@@ -70,7 +80,28 @@ def _variant(graph, leaves, n: int) -> dict:
         rows.append(row)
     return {"recursion": graph.recursion, "leaves": leaves, "prefix": dict(graph.meta).get("prefix"),
             "rows": rows, "shared_passes": shared, "paper_shared_passes":
-            _paper_shared(graph.recursion, n, leaves)}
+            _paper_shared(graph.recursion, n, leaves), "by_op": _by_op(graph, binding)}
+
+
+def _by_op(graph, binding) -> dict:
+    """VAMPs by op kind: of the systolic pipeline (one per op, three per MM) and of the single
+    device and the shared-pass device (a unit counts as the kind of its first op: its ops share it
+    by role, and with shared passes a forward op may run on a VAMP of another kind — every VAMP
+    runs every op of the ROM)."""
+    systolic: Counter = Counter()
+    for nd in graph.compute_nodes():
+        systolic[nd.op.value] += VAMPS_PER_OP[nd.op]
+    out = {"systolic": dict(sorted(systolic.items()))}
+    for name, share in (("single_device", False), ("shared_passes", True)):
+        units, sizes = binding(share)
+        kind: dict[int, str] = {}
+        for nd in graph.compute_nodes():
+            kind.setdefault(units[nd.id], nd.op.value)
+        got: Counter = Counter()
+        for u, op in kind.items():
+            got[op] += sizes[u]
+        out[name] = dict(sorted(got.items()))
+    return out
 
 
 def _per_node(graph) -> Counter:
@@ -225,12 +256,14 @@ def vamp_pins(vamp) -> dict[str, int]:
 
 def _packed(network, size: int) -> dict:
     """VAMPs packed in logical order (neighbours share a package), each with its pins."""
+    inputs = [len(v.a) + len(v.b) for v in network.vamps]
     out = {}
     for style in ("separate", "shared"):
         fixed = len(paper.PINS_SHARED_PER_PACKAGE) if style == "shared" else 0
+        base = (len(paper.PINS_SEPARATE) if style == "separate" else len(paper.PINS_SHARED_PER_VAMP)) - 2
         count, used, ok = 0, size, True
-        for v in network.vamps:
-            need = vamp_pins(v)[style]
+        for k in inputs:                 # vamp_pins, inlined: a big network has 10⁵ VAMPs
+            need = base + k
             if need + fixed > size:
                 ok = False
                 break
@@ -238,7 +271,7 @@ def _packed(network, size: int) -> dict:
                 count, used = count + 1, fixed
             used += need
         out[f"muxed_{style}"] = count if ok else None
-    out["max_pins_per_vamp"] = max((vamp_pins(v)["separate"] for v in network.vamps), default=0)
+    out["max_pins_per_vamp"] = len(paper.PINS_SEPARATE) - 2 + max(inputs, default=2)
     return out
 
 

@@ -29,7 +29,7 @@ def tables(rep: dict) -> list[Table]:
     if rep.get("prefix_comparison"):
         out.append(prefixes(rep))
     out += [vamps(rep, v) for v in rep["processors"]["vamps"]]
-    out += [ops_per_node(rep), packages(rep), buffering(rep), wiring(rep)]
+    out += [vamps_by_op(rep), ops_per_node(rep), packages(rep), buffering(rep), wiring(rep)]
     if rep.get("clock"):
         out.append(clock(rep))
     return out
@@ -186,6 +186,23 @@ def vamps(rep: dict, v: dict) -> Table:
                  tuple(notes), align="lrrrrl")
 
 
+KINDS = ("MV", "MTV", "VA", "VC", "SV", "MM", "VD")
+
+
+def vamps_by_op(rep: dict) -> Table:
+    """VAMPs by op kind for each recursion (and leaf style) and layout."""
+    rows = []
+    for v in rep["processors"]["vamps"]:
+        what = v["recursion"] + (f", {v['leaves']} leaves" if v["leaves"] else "")
+        for layout, label in (("systolic", "systolic"), ("single_device", "single device"),
+                              ("shared_passes", "both passes on one device")):
+            got = v["by_op"][layout]
+            rows.append((f"{what}, {label}", *(num(got.get(k)) if got.get(k) else "" for k in KINDS),
+                         num(sum(got.values()))))
+    return Table("vamps-by-op", "VAMPs by op kind (an MM takes three), measured", ("configuration",
+                 *KINDS, "total"), tuple(rows))
+
+
 def _paired(got, paper) -> str:
     if got is None:
         return DASH
@@ -194,7 +211,7 @@ def _paired(got, paper) -> str:
 
 def ops_per_node(rep: dict) -> Table:
     """Ops of the busiest node by kind, beside the paper's requirements per node."""
-    kinds = ("MV", "MTV", "VA", "VC", "SV", "MM", "VD")
+    kinds = KINDS
     cols = ("node", *kinds, "total", "paper", "check")
     rows = []
     for r in rep["processors"]["ops_per_node"]:

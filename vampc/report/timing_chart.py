@@ -147,35 +147,17 @@ def _scale(span: int) -> float:
 
 
 def _draw(graph, layout, sched, data: Chart, title: str) -> str:
+    """The figure: torque-set strip, bars, critical path, axes, title and key."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Rectangle
-    lanes = [(r, k) for r in data.rows for k in range(len(r.lanes))]
-    set_rows = len(data.sets)
     pxf = _scale(data.span)
-    width = LEFT_PX + data.span * pxf + RIGHT_PX
-    height = TOP_PX + (len(lanes) + set_rows + 1) * ROW_PX + BOTTOM_PX
-    fig = svg.figure(width, height)
-    ax = fig.add_axes((LEFT_PX / width, BOTTOM_PX / height, data.span * pxf / width,
-                       (height - TOP_PX - BOTTOM_PX) / height))
-    total = len(lanes) + set_rows + 1
-    ax.set_xlim(0, data.span)
-    ax.set_ylim(total, 0)
+    fig, ax, width, height = _figure(data, pxf)
     titles: dict[str, str] = {}
     _draw_sets(ax, data, sched, titles)
-    critical = set(sched.critical_path)
-    y = set_rows + 1
-    ticks, names, bars = [], [], []
-    for row in data.rows:
-        for k, lane in enumerate(row.lanes):
-            ticks.append(y + 0.5)
-            names.append(row.label if k == 0 else "")
-            for item in lane:
-                bars.append(_merged_bar(item, y, f"busy-{len(ticks) - 1}", row) if data.merged
-                            else _bar(graph, layout, sched, item, y, item in critical))
-            y += 1
+    ticks, names, bars = _bars(graph, layout, sched, data)
     _draw_bars(ax, bars, pxf, titles)
     if not data.merged:
-        _critical_line(ax, Line2D, graph, sched, data, critical)
+        _critical_line(ax, Line2D, graph, sched, data, set(sched.critical_path))
     _axes(ax, data, sched, ticks, names, pxf)
     if data.merged:
         title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at most "
@@ -189,7 +171,37 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     return svg.to_svg(fig, titles)
 
 
+def _figure(data: Chart, pxf: float):
+    """Figure and axes sized to the rows and the span: (fig, ax, width, height)."""
+    rows = sum(len(r.lanes) for r in data.rows) + len(data.sets) + 1
+    width = LEFT_PX + data.span * pxf + RIGHT_PX
+    height = TOP_PX + rows * ROW_PX + BOTTOM_PX
+    fig = svg.figure(width, height)
+    ax = fig.add_axes((LEFT_PX / width, BOTTOM_PX / height, data.span * pxf / width,
+                       (height - TOP_PX - BOTTOM_PX) / height))
+    ax.set_xlim(0, data.span)
+    ax.set_ylim(rows, 0)
+    return fig, ax, width, height
+
+
+def _bars(graph, layout, sched, data: Chart):
+    """(row tick positions, row names, bars), lanes below the torque-set strip."""
+    critical = set(sched.critical_path)
+    y = len(data.sets) + 1
+    ticks, names, bars = [], [], []
+    for row in data.rows:
+        for k, lane in enumerate(row.lanes):
+            ticks.append(y + 0.5)
+            names.append(row.label if k == 0 else "")
+            for item in lane:
+                bars.append(_merged_bar(item, y, f"busy-{len(ticks) - 1}", row) if data.merged
+                            else _bar(graph, layout, sched, item, y, item in critical))
+            y += 1
+    return ticks, names, bars
+
+
 def _draw_sets(ax, data: Chart, sched, titles: dict) -> None:
+    """The strip of successive torque sets: each from its entry to its last torque."""
     from matplotlib.patches import Rectangle
     for k, start in enumerate(data.sets):
         r = Rectangle((start, k + 0.15), sched.latency, 0.7, facecolor="#e0e0e0", edgecolor="#808080",
@@ -219,6 +231,7 @@ class Bar:
 
 
 def _bar(graph, layout, sched, i: int, y: int, crit: bool) -> Bar:
+    """The bar of op i."""
     nd = graph.nodes[i]
     s, f = sched.start[i], sched.finish[i]
     return Bar(s, f, y, OP_COLOURS.get(nd.op.value, "#dddddd"), "#d62728" if crit else "#404040",
@@ -229,6 +242,7 @@ def _bar(graph, layout, sched, i: int, y: int, crit: bool) -> Bar:
 
 
 def _merged_bar(item, y: int, gid_base: str, row) -> Bar:
+    """The bar of a span in which some node computes a variable."""
     s, f, count = item
     return Bar(s, f, y, OP_COLOURS.get(row.op, "#dddddd"), "#404040", 0.4, f"{gid_base}-{s}",
                f"{row.label}: {count} ops in flops {s}-{f}", (f"×{count}",))
@@ -277,6 +291,7 @@ def _critical_line(ax, Line2D, graph, sched, data: Chart, critical: set) -> None
 
 
 def _axes(ax, data: Chart, sched, ticks, names, pxf: float) -> None:
+    """Row names, flop ticks (top and bottom), period lines."""
     ax.set_yticks(ticks, names, fontsize=FONT)
     ax.tick_params(axis="y", length=0)
     step = next(s for s in (1, 2, 4, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 10**9)
@@ -292,6 +307,7 @@ def _axes(ax, data: Chart, sched, ticks, names, pxf: float) -> None:
 
 
 def _legend(Rectangle, Line2D) -> list:
+    """The key: op colours, the critical path, the torque-set bars."""
     handles = [Rectangle((0, 0), 1, 1, facecolor=c, edgecolor="#404040", linewidth=0.4, label=op)
                for op, c in OP_COLOURS.items()]
     handles.append(Line2D([0], [0], color="#d62728", linewidth=1.6, label="critical path"))

@@ -127,17 +127,24 @@ def buses(graph, layout, net) -> dict:
     values: dict = {}
     wires: dict = {}
     b2f_values, b2f_wires = set(), set()
+    source = [b.source for b in net.buffers]
     for v, tap, arg, _ in _reads(graph, net):
-        src = _source_vamp(net, tap)
-        here = sites[v]
-        if src is None or sites[src] == here:
+        kind = tap.kind
+        if kind == "vamp":
+            there = sites[tap.index]
+        elif kind == "buffer":
+            there = sites[source[tap.index]]
+        else:
             continue
-        if PASS[sites[src].section] != PASS[here.section]:
+        here = sites[v]
+        if there == here:
+            continue
+        if PASS[there[0]] != PASS[here[0]]:
             b2f_values.add((arg, here))
-            b2f_wires.add((tap.kind, tap.index, tap.stage, here))
-        elif sites[src].section == here.section:
+            b2f_wires.add((kind, tap.index, tap.stage, here))
+        elif there[0] == here[0]:
             values.setdefault(here, set()).add(arg)
-            wires.setdefault(here, set()).add((tap.kind, tap.index, tap.stage))
+            wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
     def vectors(ids) -> int:          # a matrix value travels as three vectors (its columns)
         return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
     return {"between_nodes": {s: {"vectors": max((vectors(x) for site, x in values.items()
@@ -154,14 +161,6 @@ def buses(graph, layout, net) -> dict:
 
 def _most(per_site: dict, section: str) -> int:
     return max((len(x) for site, x in per_site.items() if site.section == section), default=0)
-
-
-def _source_vamp(net, tap) -> int | None:
-    if tap.kind == "vamp":
-        return tap.index
-    if tap.kind == "buffer":
-        return net.buffers[tap.index].source
-    return None
 
 
 def _internal(sites, units, net) -> dict:

@@ -183,9 +183,13 @@ def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, c
     start = list(asap.start)
     finish = list(asap.finish)
     busy: list[list[tuple[int, int]]] = [[] for _ in sizes]   # per unit: (start, finish), sorted
+    is_compute = [nd.op.is_compute for nd in nodes]
     for i in order:
         nd = nodes[i]
-        ready = max([finish[a] for a in nd.args if nodes[a].op.is_compute] + [asap.start[i]])
+        ready = asap.start[i]
+        for a in nd.args:          # (a loop, not max() of a list: this runs once per op)
+            if is_compute[a] and finish[a] > ready:
+                ready = finish[a]
         t = _earliest(busy[units[i]], ready, duration[nd.op], clock)
         start[i], finish[i] = t, t + duration[nd.op]
         spans = busy[units[i]]
@@ -208,11 +212,13 @@ def _earliest(spans: list[tuple[int, int]], ready: int, length: int, clock: int)
     t = ready
     k = bisect_right(spans, (t, math.inf))
     while True:
-        prev = spans[k - 1] if k > 0 else None
-        if prev is not None:
-            t = max(t, prev[1], _captured(prev[1], clock) - length)
-        nxt = spans[k] if k < len(spans) else None
-        if nxt is None or (t + length <= nxt[0] and nxt[1] >= _captured(t + length, clock)):
+        if k > 0:                  # _captured inlined: this runs once per op and collision
+            end = spans[k - 1][1]
+            t = max(t, end, (end // clock + 1) * clock - length)
+        if k == len(spans):
+            return t
+        nxt = spans[k]
+        if t + length <= nxt[0] and nxt[1] >= ((t + length) // clock + 1) * clock:
             return t
         k += 1
 
