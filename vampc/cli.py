@@ -273,7 +273,7 @@ def _clock_hz(text: str | None) -> float | None:
 
 def _formatted(rep: dict, fmt: str) -> str:
     if fmt == "json":
-        return json.dumps(rep, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+        return json.dumps(rep, indent=1, sort_keys=True) + "\n"
     from vampc.report.text import render, render_markdown
     return render_markdown(rep) if fmt == "markdown" else render(rep)
 

@@ -29,8 +29,13 @@ def hz_text(hz: float) -> str:
     """'20 MHz', '1.5 GHz', '500 kHz', '60 Hz'."""
     for unit, scale in (("GHz", 1e9), ("MHz", 1e6), ("kHz", 1e3)):
         if hz >= scale:
-            return f"{hz / scale:g} {unit}"
-    return f"{hz:g} Hz"
+            return f"{hz / scale:.4g} {unit}"
+    return f"{hz:.4g} Hz"
+
+
+def us_text(x: float) -> str:
+    """Microseconds for a table: '3.05', '0.2', '118,691'."""
+    return f"{x:,.0f}" if x >= 1000 else f"{x:g}"
 
 
 def us(flops: float, hz: float) -> float:

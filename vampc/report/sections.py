@@ -2,7 +2,7 @@
 and HTML show the same cells, and a program file's report the same as its robot's."""
 from __future__ import annotations
 
-from vampc.report.clock import control_sentence, hz_text
+from vampc.report.clock import control_sentence, hz_text, us_text
 from vampc.report.sites import SECTION_NAMES
 from vampc.report.table import Table
 
@@ -70,7 +70,7 @@ def o1_at_n(rep: dict) -> Table:
             if not p["matches"]:
                 notes.append(f"{len(notes) + 1}. {f['method']}: {p['note']}")
         if clk:
-            row.append(f"{f['time_us']:g}" + (f" ({f['sets_per_second']:,.0f} sets/s)"
+            row.append(us_text(f["time_us"]) + (f" ({f['sets_per_second']:,.0f} sets/s)"
                                                if "sets_per_second" in f else ""))
         rows.append(tuple(row))
     title = (f"Table O.1 at n = {n}, from the paper's formulas (not measured)"
@@ -100,7 +100,7 @@ def o1_measured(rep: dict) -> Table:
                + (" LWP" if r["measure"] == "serial" else f" = {num(ref['flops'])}"),
                f"{signed(d['mults'])} M, {signed(d['adds'])} A", r["note"])
         if clk:
-            row += (f"{r['time_us']:g}",
+            row += (us_text(r["time_us"]),
                     f"{r['sets_per_second']:,.0f}" if "sets_per_second" in r else DASH)
         rows.append(row)
     notes = ["serial rows: the graph's ops one after another (op costs: README, Report tables), beside "
@@ -127,7 +127,7 @@ def layouts(rep: dict) -> Table:
                num(r.get("mux_inputs")), num(r.get("control_registers")),
                num(r.get("host_writes_per_set")), num(r.get("load_ticks")))
         if clk:
-            row += (f"{r['latency_us']:g}", f"{r['sets_per_second']:,.0f}")
+            row += (us_text(r["latency_us"]), f"{r['sets_per_second']:,.0f}")
         rows.append(row)
     notes = [] if all("buffer_stages" in r for r in rep["layout_comparison"]) else [_unallocated(rep)]
     return Table("layouts", f"Layouts, {rep['recursion']} recursion (same robot; latency and "
