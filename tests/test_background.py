@@ -60,7 +60,8 @@ def test_a_rewired_big_program_is_refused_and_nothing_written(tmp_path, monkeypa
     monkeypatch.setattr(cli, "BACKGROUND_CHECK_SLOTS", 0)       # every program is "big"
     runner = CliRunner()
     program = tmp_path / "p.vamp.json"
-    assert runner.invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)]).exit_code == 0
+    compiled = runner.invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)])
+    assert compiled.exit_code == 0
     picture = tmp_path / "t.svg"
     good = runner.invoke(main, ["report", str(program), "--timing", str(picture)])
     assert good.exit_code == 0 and picture.exists()

@@ -46,7 +46,8 @@ def test_every_example_and_configuration_validates(path, opts):
 @pytest.mark.parametrize("opts", [dict(), dict(recursion="log", layout="folded")],
                          ids=["linear", "log-folded"])
 def test_the_64_joint_example_validates(opts):
-    rep = valid(build_report(compile_chain(load_robot(EXAMPLES / "snake64.yaml"), CompileOptions(**opts))))
+    c = compile_chain(load_robot(EXAMPLES / "snake64.yaml"), CompileOptions(**opts))
+    rep = valid(build_report(c))
     assert rep["allocation"]["scheduled_only"] == [] and rep["allocation"]["omitted"] == []
 
 

@@ -311,7 +311,9 @@ def _factor_note(rep: dict) -> str:
             parts.append(f"{rec}: systolic {num(s['scalars'])} against folded {num(f['scalars'])} "
                          f"scalars, ×{s['scalars'] / f['scalars']:.1f} (paper: about a factor of "
                          f"{factor})")
-    return ("systolic pipelining needs more intermediate storage — " + "; ".join(parts)) if parts else ""
+    if not parts:
+        return ""
+    return "systolic pipelining needs more intermediate storage — " + "; ".join(parts)
 
 
 def wiring(rep: dict) -> Table:
