@@ -284,6 +284,15 @@ def test_written_words_decode_to_the_programs(program_path):
             Program(*(s[f] for f in FIELDS)) for s in row["slots"])
 
 
+def test_a_file_laid_out_otherwise_still_verifies(program_path, tmp_path):
+    # The checksum is read off the text as vampc lays it out; any other layout of the same JSON
+    # (pretty-printed, CRLF) is checked by encoding the document again.
+    doc = json.loads(program_path.read_text())
+    other = tmp_path / "pretty.vamp.json"
+    other.write_text(json.dumps(doc, indent=2).replace("\n", "\r\n"))
+    assert read_program(other) == doc
+
+
 def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
     data = bytearray(program_path.read_bytes())
     at = data.index(b"<random>") + 1

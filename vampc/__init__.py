@@ -9,7 +9,9 @@ The stages, as functions (the CLI is a thin layer over exactly these):
     net = vampc.allocate_systolic(graph, sched)                # VAMPs, buffers, ports, constants
     c = vampc.compile_chain(chain, vampc.CompileOptions())     # all of the above in one call
     doc = vampc.program_document(c)                            # the program file's content
-    vampc.summary(c)                                           # the report's figures (a dict)
+    vampc.summary(c)                                           # the headline figures (a dict)
+    rep = vampc.build_report(c, clock_hz=20e6)                 # the whole report (report schema)
+    vampc.timing_svg(c.graph, c.layout, c.schedule, "title")   # pictures: also network_svg, report_dot
     ld = vampc.loaded_from_doc(doc)                            # or vampc.load_program(path)
     vampc.emulate(ld, vampc.random_trajectory(chain, 100, 0))  # torques from the emulated network
     vampc.rnea(chain, q, qd, qdd)                              # the reference dynamics
@@ -35,6 +37,9 @@ _API = {
     "write_program": "vampc.program.file",
     "read_program": "vampc.program.file", "summary": "vampc.report.counts",
     "compare_prefixes": "vampc.report.compare", "render_report": ("vampc.report.text", "render"),
+    "build_report": "vampc.report.build", "render_markdown": "vampc.report.text",
+    "timing_svg": "vampc.report.timing_chart", "network_svg": "vampc.report.network_drawing",
+    "report_dot": "vampc.report.dot",
     "emulate": "vampc.emulator", "load_program": "vampc.emulator",
     "loaded_from_doc": "vampc.emulator", "random_trajectory": "vampc.emulator.host",
     "read_trajectory": "vampc.emulator.host", "check_torques": "vampc.emulator.host",

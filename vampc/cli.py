@@ -233,29 +233,78 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
 
 @main.command()
 @click.argument("source", type=click.Path(dir_okay=False))
-@click.option("--format", "fmt", type=click.Choice(["text", "json", "csv"]), default="text",
-              show_default=True, help="csv: with --tradeoff only.")
+@click.option("--format", "fmt", type=click.Choice(["text", "markdown", "json", "csv"]),
+              default="text", show_default=True, help="text: aligned tables; markdown: for a design "
+              "review; json: everything (schemas/report.schema.json); csv: with --tradeoff only.")
 @click.option("--tradeoff", is_flag=True, help="Sweep VAMP budgets from the smallest network to one "
               "VAMP per op, beside the folded and systolic layouts: latency, interval, buffers and "
               "wiring per point, bounds and gaps, Pareto-optimal points marked.")
+@click.option("--clock", metavar="F", help="Clock rate, one flop per tick (Hz, kHz, MHz, GHz: "
+              "20MHz): adds latency in µs and torque sets per second to every figure.")
+@click.option("--pins", type=click.IntRange(8, 1_000_000), metavar="N", help="Also count packages "
+              "of N pins (beside the paper's 40).")
+@click.option("--timing", type=click.Path(dir_okay=False), metavar="FILE.svg",
+              help="Write the timing chart (Table III.2 style) as SVG.")
+@click.option("--network", type=click.Path(dir_okay=False), metavar="FILE.svg",
+              help="Write a drawing of the network (Figures III.1, IV.2, VI.3) as SVG.")
+@click.option("--dot", type=click.Path(dir_okay=False), metavar="FILE.dot",
+              help="Write the network and the dataflow graph as Graphviz digraphs.")
+@click.option("--html", type=click.Path(dir_okay=False), metavar="FILE.html",
+              help="Write one self-contained HTML page: the tables and both pictures inline.")
 @_compile_options
 @_robot_options
 @click.pass_context
 @_handle_errors
-def report(ctx, source, fmt, tradeoff, base, tip, lock, **opts):
-    """Report flop counts, latency, VAMP, buffer and package counts for SOURCE: a robot file (compiled
-    on the fly with the options given) or a program file written by `vampc compile` (its figures are
-    recomputed from the file's graph, schedule and network)."""
+def report(ctx, source, fmt, tradeoff, clock, pins, timing, network, dot, html, base, tip, lock,
+           **opts):
+    """Report flop counts, latency, VAMP, buffer and package counts for SOURCE beside the paper's
+    (Table O.1, sections VI and VII): a robot file (compiled on the fly with the options given) or a
+    program file written by `vampc compile` (its figures are recomputed from the file's graph,
+    schedule and network). Pictures and pages go to the files named. With --tradeoff: the
+    trade-off sweep instead."""
+    from vampc.gcpause import gc_paused
+    from vampc.outputs import plan_outputs
     if fmt == "csv" and not tradeoff:
         raise click.UsageError("--format csv applies to --tradeoff only")
     if tradeoff:
+        for name in ("clock", "pins", "timing", "network", "dot", "html"):
+            if _given(ctx, name):
+                raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff")
         return _tradeoff(ctx, source, fmt, base, tip, lock, **opts)
-    rep = _report(ctx, source, base, tip, lock, **opts)
+    hz = _clock_hz(clock)
+    outs = plan_outputs([source], {"--timing": timing, "--network": network, "--dot": dot,
+                                   "--html": html})
+    with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
+        c, figures, check = _report_compiled(ctx, source, base, tip, lock, **opts)
+        try:
+            from vampc.report.build import build_report
+            rep = build_report(c, hz, pins, figures)
+            content = _pictures(c, rep, outs)
+        except BaseException:
+            check.abandon()
+            raise
+        check.wait()        # a program that fails its static check gets no report and no file
+        _write_pictures(outs, content)
+    click.echo(_formatted(rep, fmt), nl=False)
+
+
+def _clock_hz(text: str | None) -> float | None:
+    """--clock as Hz; a bad value is one line and exit 2 (a usage error)."""
+    if text is None:
+        return None
+    from vampc.report.clock import parse_clock
+    try:
+        return parse_clock(text)
+    except ValueError as exc:
+        click.echo(f"vampc: error: --clock {exc}", err=True)
+        sys.exit(2)
+
+
+def _formatted(rep: dict, fmt: str) -> str:
     if fmt == "json":
-        click.echo(json.dumps(rep, indent=1, sort_keys=True))
-    else:
-        from vampc.report.text import render
-        click.echo(render(rep), nl=False)
+        return json.dumps(rep, indent=1, sort_keys=True) + "\n"
+    from vampc.report.text import render, render_markdown
+    return render_markdown(rep) if fmt == "markdown" else render(rep)
 
 
 def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
@@ -269,7 +318,8 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
             raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff, which sweeps the "
                                    "layouts and budgets itself")
     if is_program(source):
-        c = _program_compiled(ctx, source)
+        c, _, check = _program_compiled(ctx, source)
+        check.wait()
         chain, options = c.chain, c.options
     else:
         _check_robot_options(ctx, opts)
@@ -287,43 +337,80 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
         click.echo(tr.render_text(rows), nl=False)
 
 
-def _report(ctx, source, base, tip, lock, **opts) -> dict:
-    from vampc.report.counts import summary
+def _pictures(c, rep: dict, outs: dict) -> dict:
+    """The content of every picture and page asked for."""
+    if not outs:
+        return {}
+    from vampc.report import pictures
+    return pictures.make(c, rep, set(outs))
+
+
+def _write_pictures(outs: dict, content: dict) -> None:
+    """Write every picture (each atomically); none is committed unless all were written."""
+    from vampc.outputs import Pending
+    pending = []
+    try:
+        for option, out in outs.items():
+            pending.append(Pending(out, option.lstrip("-"), False))
+            pending[-1].fh.write(content[option])
+    except OSError as exc:
+        for p in pending:
+            p.discard()
+        raise pending[-1].error(exc) from None
+    except BaseException:
+        for p in pending:
+            p.discard()
+        raise
+    for p in pending:
+        p.commit()
+
+
+def _report_compiled(ctx, source, base, tip, lock, **opts):
+    """The compiled IRs of a report's SOURCE — a program file's, checked, or a robot's — their
+    summary figures when already made (None), and the program's static check, which may still be
+    running (vampc.background: wait for it before showing anything)."""
+    from vampc.background import Deferred
     from vampc.sniff import is_program
     if is_program(source):
-        c = _program_compiled(ctx, source)
-    else:
-        _check_robot_options(ctx, opts)
-        c = _compile(source, base, tip, lock, **opts)
-    rep = summary(c)
-    from vampc.report.compare import compare_layouts, compare_prefixes
-    rep["layout_comparison"] = compare_layouts(c.chain, c.options, c)
-    if c.graph.recursion == "log":
-        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
-    if "tree" in rep:
-        from vampc.report.compare import tree_latencies
-        rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
-    return rep
+        return _program_compiled(ctx, source)
+    _check_robot_options(ctx, opts)
+    return _compile(source, base, tip, lock, **opts), None, Deferred()
+
+
+# Programs with more slots than this are statically checked in a forked process while the report
+# is built (about a third of the work for a 512-joint log program).
+BACKGROUND_CHECK_SLOTS = 20_000
 
 
 def _program_compiled(ctx, source):
-    """A program file's IRs, checked against each other and against its stored summary."""
+    """A program file's IRs, checked against each other and against its stored summary; their
+    summary figures; and the static check that the network implements the graph (vampc.emulator),
+    run in the background for a big program."""
     from vampc.program.document import compiled_from_doc
     from vampc.program.file import read_program
     from vampc.report.counts import summary
     doc = read_program(source)
     _check_program_options(ctx, source, doc["options"])
     c = compiled_from_doc(doc, source)
+    from vampc.background import Deferred, in_background
+    check = Deferred()
     if (doc["schedule"]["mult_latency"], doc["schedule"]["add_latency"]) == (1, 1):
-        from vampc.emulator import check_program, loaded_from_doc
-        check_program(loaded_from_doc(doc, source))     # the network implements the graph
+        # decoded once: the report's IRs are the check's
+        check = in_background(_static_check, doc, source, c,
+                              inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
     fresh = json.loads(json.dumps(summary(c)))
     edited = sorted(k for k, v in doc["summary"].items() if k in fresh and fresh[k] != v)
     if edited:
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
                                    f"schedule and network ({', '.join(edited)}): the file was "
                                    "edited; showing figures recomputed from them"), stacklevel=1)
-    return c
+    return c, fresh, check
+
+
+def _static_check(doc: dict, source, c) -> None:
+    """The emulator's static checks of a program file: the network implements the graph."""
+    from vampc.emulator import check_program, loaded_from_doc
+    check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph, c.network, c.programs)))
 
 
 @main.command()

@@ -26,9 +26,13 @@ def dump_graph(graph) -> str:
 def dump_schedule(graph, sched, layout) -> str:
     """The layout and schedule: `id start finish unit` per compute node, then the summary."""
     lines = [f"# {layout.name} layout{' (shared passes)' if layout.share_passes else ''}: "
-             f"{len(layout.unit_vamps)} units, period {layout.period}, buffer clock {layout.clock}",
-             "# id start finish unit"]
-    lines += [f"{nd.id} {sched.start[nd.id]} {sched.finish[nd.id]} {layout.units[nd.id]}"
+             + (f"{layout.vamp_count} VAMPs" if layout.placement else
+              f"{len(layout.unit_vamps)} units") +
+             f", period {layout.period}, buffer clock {layout.clock}",
+             "# id start finish " + ("vamps" if layout.placement else "unit")]
+    lines += [f"{nd.id} {sched.start[nd.id]} {sched.finish[nd.id]} "
+              + (",".join(map(str, layout.placement[nd.id])) if layout.placement
+                 else str(layout.units[nd.id]))
               for nd in graph.compute_nodes()]
     lines.append(f"latency {sched.latency} = {sched.mults} M + {sched.adds} A + {sched.waits} waiting,"
                  f" interval {sched.interval}")

@@ -72,24 +72,27 @@ def load_program(path: str) -> Loaded:
 
 
 @gc_paused()
-def loaded_from_doc(doc: dict, path: str = "<program>") -> Loaded:
-    """Decode an already-validated document (tests corrupt documents and call this directly)."""
+def loaded_from_doc(doc: dict, path: str = "<program>", decoded=None) -> Loaded:
+    """Decode an already-validated document (tests corrupt documents and call this directly).
+    `decoded`: the (chain, graph, network, listed programs) already read from this same document,
+    which a report has (vampc.program.document.compiled_from_doc): they are used instead of
+    decoding again."""
     s = doc["schedule"]
     timing = Timing(s["mult_latency"], s["add_latency"])
-    graph = graph_from_doc(doc["graph"])
-    net = network_from_doc(doc)
+    chain, graph, net, listed = decoded or (None, graph_from_doc(doc["graph"]), network_from_doc(doc),
+                                            None)
     sched = Schedule(timing, tuple(s["start"]), tuple(s["finish"]), s["latency"],
                      tuple(s["critical_path"]), s["mults"], s["adds"], s["interval"])
     numbers = tuple(v["number"] for v in doc["network"]["vamps"])
     _check_indices(net, numbers, graph, path)
     stream = stream_from_doc(doc)
     progs = delivered_programs(net, numbers, stream, path)
-    _check_listing(programs_from_doc(doc), progs, path)
+    _check_listing(listed or programs_from_doc(doc), progs, path)
     if doc["io"]["load_ticks"] != load_ticks(stream):
         raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {load_ticks(stream)} "
                          "ticks the program stream takes")
-    return Loaded(str(path), chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers, stream,
-                  progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
+    return Loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers,
+                  stream, progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
 
 
 def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:

@@ -27,6 +27,8 @@ in the adder; we take the adder.) No fused multiply-add: each product is rounded
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from vampc.dataflow.ops import MICRO_STEPS, Op, Timing
@@ -42,10 +44,12 @@ def steps(rom: int) -> int:
     return len(MICRO_STEPS[ROM[rom][0]])
 
 
+@functools.lru_cache(maxsize=None)
 def step_ends(rom: int, timing: Timing = Timing()) -> tuple[int, ...]:
     """When each micro-step completes, in ticks from the op's first tick (1-based): a step lasts as
     long as its slowest unit (Timing.step), and its registers take their new values at the end of
-    its last tick, which is when the engines run it. With 1 Mult = 1 Addn = 1 tick: 1, 2, 3."""
+    its last tick, which is when the engines run it. With 1 Mult = 1 Addn = 1 tick: 1, 2, 3.
+    Cached: the static checks ask once per slot of a network of a hundred thousand VAMPs."""
     out, t = [], 0
     for units in MICRO_STEPS[ROM[rom][0]]:
         t += timing.step(units)

@@ -89,6 +89,8 @@ def cyclic_gaps(counters, period: int) -> list[int]:
     """For each counter of a VAMP's slots (say their delay-A values): the ticks until the next one
     comes round, cyclically — P if it is alone, 0 if another slot has the same counter (two events
     of one register in one tick)."""
+    if len(counters) == 1:          # a systolic VAMP: one slot, the common case by far
+        return [period]
     order = sorted(range(len(counters)), key=lambda k: counters[k])
     gaps = [period] * len(counters)
     for pos, k in enumerate(order):

@@ -133,9 +133,19 @@ def read_program(path: str | Path) -> dict:
     except (json.JSONDecodeError, ValueError) as exc:
         raise VampcError(f"{path}: not a vampc program file (invalid JSON: {exc})") from None
     validate_program(doc, path)
-    if doc["checksum"] != checksum(doc):
+    if doc["checksum"] != _laid_out_digest(text, doc["checksum"]) and doc["checksum"] != checksum(doc):
         raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
     return doc
+
+
+def _laid_out_digest(text: str, stored: str) -> str | None:
+    """The checksum of a file as write_program lays it out, taken from its text (its newlines
+    removed, it is the canonical JSON the checksum covers), which spares encoding a big document
+    again; None for text laid out otherwise (then the document is encoded: `checksum`)."""
+    head = '{\n"checksum":' + json.dumps(stored) + ","
+    if not text.startswith(head):
+        return None
+    return _digest(("{" + text[len(head):]).replace("\n", ""))
 
 
 def validate_program(doc, path) -> None:

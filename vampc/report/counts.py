@@ -114,7 +114,21 @@ def tree_summary(chain, prefix: str) -> dict:
             "outputs": chain.n_outputs, "parents": list(chain.parent_of)}
 
 
+_HARDWARE: dict = {}
+
+
 def hardware(c) -> dict:
+    """hardware_counts, kept for the last few networks (a report asks for its own several times)."""
+    key = (id(c.network), id(c.stream))
+    hit = _HARDWARE.get(key)
+    if hit is None or hit[0] is not c.network or hit[1] is not c.stream:
+        if len(_HARDWARE) >= 8:
+            _HARDWARE.pop(next(iter(_HARDWARE)))
+        hit = _HARDWARE[key] = (c.network, c.stream, hardware_counts(c))
+    return dict(hit[2])
+
+
+def hardware_counts(c) -> dict:
     """What a layout needs beyond one op per VAMP, counted from the network and the program:
     slots (ops run per period), control registers (the paper's four per single-slot VAMP with one
     input per operand; six per slot — the four and two selects — otherwise), multiplexer inputs
@@ -173,23 +187,36 @@ def latency_note(rep: dict) -> list[str]:
         return ["equals the paper's formula"]
     notes = [f"{got['flops'] - paper['flops']:+d} flops ({dm:+d} Mults, {da:+d} Addns) against the "
              "paper's formula"]
-    notes.append("includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
-                 "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "
-                 "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
-                 "torques (README, Exactness convention)")
+    return notes + [long for _, long in latency_reasons(rep)]
+
+
+def latency_reasons(rep: dict) -> list[tuple[str, str]]:
+    """Why a latency differs from the paper's formula, each reason as (short, sentence); `rep` holds
+    the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints."""
+    got, paper = rep["latency"], rep["paper"]
+    reasons = [("output correction, +1 M + 2 A",
+                "includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
+                "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "
+                "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
+                "torques (README, Exactness convention)")]
     n = rep["joints"]
     if rep["recursion"] == "log" and n & (n - 1) == 0 and got["flops"] < paper["flops"] + 3:
-        notes.append("log recursion: grounded in O_0 when the base does not rotate (section VI), the "
-                     "prefix network spans n leaves instead of n + 1, which saves a whole tier each "
-                     "way (8 flops) when n is a power of 2")
+        reasons.append(("one tier less each way (n a power of 2)",
+                        "log recursion: grounded in O_0 when the base does not rotate (section VI), "
+                        "the prefix network spans n leaves instead of n + 1, which saves a whole tier "
+                        "each way (8 flops) when n is a power of 2"))
     if rep["recursion"] == "log" and rep.get("uniform_leaves"):
-        notes.append("Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves")
+        reasons.append(("uniform leaves, +2 A",
+                        "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
-        notes.append("the paper assumes 1 Mult = 1 Addn = 1 flop; flops here use the given latencies")
+        reasons.append(("Mult/Addn latencies ≠ 1 flop",
+                        "the paper assumes 1 Mult = 1 Addn = 1 flop; flops here use the given "
+                        "latencies"))
     if rep["prismatic_joints"]:
-        notes.append(f"prismatic joints {rep['prismatic_joints']} add the σ̄ terms of Table I.1 (the "
-                     "paper's formula is for a general rotary arm)")
-    return notes
+        reasons.append(("σ̄ terms of prismatic joints",
+                        f"prismatic joints {rep['prismatic_joints']} add the σ̄ terms of Table I.1 (the "
+                        "paper's formula is for a general rotary arm)"))
+    return reasons
 
 
 def vamp_notes(rep: dict) -> list[str]:

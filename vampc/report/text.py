@@ -1,72 +1,94 @@
-"""Plain-text rendering of a report summary (the default `vampc report` output)."""
+"""Text and Markdown renderings of a report (the default `vampc report` output and `--format
+markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
 from vampc.report.counts import latency_note, vamp_notes
 
 
 def render(rep: dict) -> str:
-    """A human-readable table of the summary produced by vampc.report.counts.summary."""
+    """The text report: the summary lines, then every table (vampc.report.sections) aligned."""
+    text = "".join(f"{label:<16} {value}".rstrip() + "\n" for label, value in summary_pairs(rep))
+    if "table_o1" not in rep:
+        return text
+    from vampc.report.sections import tables
+    from vampc.report.table import render_text
+    return text + "".join("\n" + render_text(t) for t in tables(rep))
+
+
+def render_markdown(rep: dict) -> str:
+    """The Markdown report (for a design review): the summary as a table, then every table."""
+    from vampc.report.sections import tables
+    from vampc.report.table import render_markdown as table_md
+    lines = [f"## vampc report: {rep['robot']}", "", "| figure | value |", "|---|---|"]
+    for label, value in summary_pairs(rep):
+        lines.append(f"| {label or ' '} | {value.replace('|', chr(92) + '|')} |")
+    return "\n".join(lines) + "\n" + "".join("\n" + table_md(t) for t in tables(rep))
+
+
+def summary_pairs(rep: dict) -> list[tuple[str, str]]:
+    """The summary as (label, value) lines; a continuation line has an empty label."""
     lat, paper, v = rep["latency"], rep["paper"], rep["vamps"]
-    lines = [
-        f"robot            {rep['robot']} ({rep['joints']} joints"
-        + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")"),
-        f"joints           {_joints(rep)}",
-        f"recursion        {rep['recursion']}" + (f" ({rep['prefix']})" if rep.get("prefix") else ""),
-        f"layout           {rep['layout']}" + (" (forward pass on the backward VAMPs)"
-                                                   if rep.get("share_passes") else ""),
-        f"latency          {lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns "
-        "on the critical path",
-        f"paper            {paper['flops']} flops = {paper['mults']} Mults + {paper['adds']} Addns",
+    pairs = [
+        ("robot", f"{rep['robot']} ({rep['joints']} joints"
+         + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")")),
+        ("joints", _joints(rep)),
+        ("recursion", rep["recursion"] + (f" ({rep['prefix']})" if rep.get("prefix") else "")),
+        ("layout", rep["layout"] + (" (forward pass on the backward VAMPs)"
+                                    if rep.get("share_passes") else "")),
+        ("latency", f"{lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns on the "
+         "critical path"),
+        ("paper", f"{paper['flops']} flops = {paper['mults']} Mults + {paper['adds']} Addns"),
     ]
-    lines += [f"                 {note}" for note in latency_note(rep)]
+    pairs += [("", note) for note in latency_note(rep)]
     if lat.get("waits"):
-        lines.append(f"                 {lat['waits']} flops of it wait for a busy VAMP (the layout's "
-                     "list schedule); the data path alone takes the Mults + Addns")
+        pairs.append(("", f"{lat['waits']} flops of it wait for a busy VAMP (the layout's list "
+                          "schedule); the data path alone takes the Mults + Addns"))
     hw = rep.get("hardware")
     b = rep.get("budget")
     if b:
-        lines.append(f"budget           {b['vamps_used']} VAMPs used"
-                     + (f" of {b['vamps_asked']} allowed" if b["vamps_asked"] else "")
-                     + f"; interval {rep['interval_flops']} against the bound {b['interval_bound']} "
-                     f"(⌈W/K⌉ = ⌈{b['work']}/{b['vamps_asked'] or b['vamps_used']}⌉ = "
-                     f"{b['work_over_vamps']}, and no op shorter than its duration): gap "
-                     f"{b['interval_gap_pct']}%; latency {lat['flops']} against the bound "
-                     f"{b['latency_bound']} (critical path {b['critical_path']}, level bound "
-                     f"{b['level_bound']}): gap {b['latency_gap_pct']}%"
-                     + (f"; exact solver: {b['proof']}" if b.get("exact") else ""))
-    lines += [
-        f"interval         {rep['interval_flops']} flops between successive torque sets",
-        *([f"time-multiplexed {hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, "
-           f"buffer clock {hw['buffer_clock']} flops); {hw['control_registers']} control "
-           f"registers, {hw['mux_inputs']} multiplexer inputs beyond the first (at most "
-           f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host writes per "
-           f"set, {hw['program_words']} program words loaded in {hw['load_ticks']} ticks"]
-          if hw and rep.get("layout") != "systolic" else []),
-        f"VAMPs            {v['total']} = {v['backward']} backward + {v['forward']} forward"
-        + (f" + {v['shared']} shared by both passes" if v.get("shared") else ""),
-        f"  per node       backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
-        f"non-propagated, forward {v['per_node']['fwd']}",
-        "  by op          " + ", ".join(f"{k} {n}" for k, n in v["by_op"].items()),
-        *[f"                 {note}" for note in vamp_notes(rep)],
-        f"buffers          {rep['buffers']['stages']} stages in {rep['buffers']['chains']} chains "
-        f"({rep['buffers']['scalars']} scalars)",
-        f"host I/O         {rep['ports']} ports, {rep['constants']} constant buffers, "
-        f"{rep['input_buffer_scalars']} input-buffer scalars",
-        f"40-pin packages  {rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
-        f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)",
-        f"serial work      {rep['serial_work']['mults']} Mults + {rep['serial_work']['adds']} Addns "
-        f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
-        f"{rep['serial_reference']['adds']}",
+        pairs.append(("budget", f"{b['vamps_used']} VAMPs used"
+                      + (f" of {b['vamps_asked']} allowed" if b["vamps_asked"] else "")
+                      + f"; interval {rep['interval_flops']} against the bound {b['interval_bound']} "
+                      f"(⌈W/K⌉ = ⌈{b['work']}/{b['vamps_asked'] or b['vamps_used']}⌉ = "
+                      f"{b['work_over_vamps']}, and no op shorter than its duration): gap "
+                      f"{b['interval_gap_pct']}%; latency {lat['flops']} against the bound "
+                      f"{b['latency_bound']} (critical path {b['critical_path']}, level bound "
+                      f"{b['level_bound']}): gap {b['latency_gap_pct']}%"
+                      + (f"; exact solver: {b['proof']}" if b.get("exact") else "")))
+    pairs.append(("interval", f"{rep['interval_flops']} flops between successive torque sets"))
+    if hw and rep.get("layout") != "systolic":
+        pairs.append(("time-multiplexed",
+                      f"{hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, buffer "
+                      f"clock {hw['buffer_clock']} flops); {hw['control_registers']} control "
+                      f"registers, {hw['mux_inputs']} multiplexer inputs beyond the first (at most "
+                      f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host "
+                      f"writes per set, {hw['program_words']} program words loaded in "
+                      f"{hw['load_ticks']} ticks"))
+    if rep.get("clock"):
+        from vampc.report.clock import control_sentence
+        c = rep["clock"]
+        pairs.append(("clock", f"{c['text']}: latency {c['latency_us']:g} µs, a torque set every "
+                      f"{c['interval_us']:g} µs ({c['sets_per_second']:,.0f} per second)"))
+        pairs.append(("", control_sentence(c)))
+    pairs += [
+        ("VAMPs", f"{v['total']} = {v['backward']} backward + {v['forward']} forward"
+         + (f" + {v['shared']} shared by both passes" if v.get("shared") else "")),
+        ("  per node", f"backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
+         f"non-propagated, forward {v['per_node']['fwd']}"),
+        ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
+        *[("", note) for note in vamp_notes(rep)],
+        ("buffers", f"{rep['buffers']['stages']} stages in {rep['buffers']['chains']} chains "
+         f"({rep['buffers']['scalars']} scalars)"),
+        ("host I/O", f"{rep['ports']} ports, {rep['constants']} constant buffers, "
+         f"{rep['input_buffer_scalars']} input-buffer scalars"),
+        ("40-pin packages", f"{rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
+         f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)"),
+        ("serial work", f"{rep['serial_work']['mults']} Mults + {rep['serial_work']['adds']} Addns "
+         f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
+         f"{rep['serial_reference']['adds']}"),
     ]
-    lines += _tree_lines(rep.get("tree"))
-    text = "\n".join(lines) + "\n"
-    if rep.get("layout_comparison"):
-        from vampc.report.compare import render_layouts
-        text += "\n" + render_layouts(rep["layout_comparison"])
-    if rep.get("prefix_comparison"):
-        from vampc.report.compare import render_comparison
-        text += "\n" + render_comparison(rep["prefix_comparison"])
-    return text
+    pairs += _tree_pairs(rep.get("tree"))
+    return pairs
 
 
 SHOWN_JOINTS = 12
@@ -85,19 +107,19 @@ def _joints(rep: dict) -> str:
     return ", ".join(items) + "   (R revolute, P prismatic)"
 
 
-def _tree_lines(tree: dict | None) -> list[str]:
+def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
     """A tree's shape and depths (counts.tree_summary, and the latencies `vampc report` adds)."""
     if not tree:
         return []
-    lines = [f"tree             {tree['joints']} joints, {tree['leaves']} leaves, height {tree['height']} "
-             f"(the level-by-level depth), {tree['heavy_paths']} heavy paths, at most "
-             f"{tree['light_edges']} light edges on a path"
-             + ("; floating base: 6 wrench outputs after the joints" if tree["floating"] else "")]
-    lines.append(f"  log depth      backward {tree['backward_tiers']} combining tiers, forward "
-                 f"{tree['forward_levels']} addition levels; ⌈log2(n+1)⌉ = {tree['log2_n_plus_1']}, "
-                 f"height {tree['height']}")
+    pairs = [("tree", f"{tree['joints']} joints, {tree['leaves']} leaves, height {tree['height']} "
+              f"(the level-by-level depth), {tree['heavy_paths']} heavy paths, at most "
+              f"{tree['light_edges']} light edges on a path"
+              + ("; floating base: 6 wrench outputs after the joints" if tree["floating"] else ""))]
+    pairs.append(("  log depth", f"backward {tree['backward_tiers']} combining tiers, forward "
+                  f"{tree['forward_levels']} addition levels; ⌈log2(n+1)⌉ = "
+                  f"{tree['log2_n_plus_1']}, height {tree['height']}"))
     lat = tree.get("latency_flops")
     if lat:
-        lines.append(f"  latency        linear {lat['linear']} flops, log {lat['log']} flops "
-                     "(systolic, this timing)")
-    return lines
+        pairs.append(("  latency", f"linear {lat['linear']} flops, log {lat['log']} flops "
+                      "(systolic, this timing)"))
+    return pairs

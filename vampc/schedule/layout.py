@@ -116,7 +116,7 @@ def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
         if verify:
             layout.verify(graph)
         return layout, asap
-    units, sizes = _folded_binding(graph, share_passes)
+    units, sizes = folded_binding(graph, share_passes)
     sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=verify)
     layout = Layout(name, units, sizes, sched.interval, timing.cycle, share_passes)
     if verify:
@@ -135,10 +135,10 @@ def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
 
 # --- binding by role -----------------------------------------------------------------------------
 
-def _folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
+def folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """Units by role: (device, device node, op name). The forward pass's roles go onto the backward
     device's units of the same size when `share_passes`."""
-    device_node = _device_nodes(graph)
+    device_node = device_nodes(graph)
     roles: dict[tuple, int] = {}
     sizes: list[int] = []
     units = [-1] * len(graph.nodes)
@@ -174,7 +174,7 @@ def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
         units[nd.id] = taken[role]
 
 
-def _device_nodes(graph: Graph):
+def device_nodes(graph: Graph):
     """node -> (device, position on the device): linear "bwd"/"npv"/"fwd" at position 0; log: the
     position of its recursion node in its tier, leaves and non-propagated groups dealt round."""
     if graph.recursion == "linear":
@@ -218,9 +218,13 @@ def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, c
     start = list(asap.start)
     finish = list(asap.finish)
     busy = [_Timeline(clock) for _ in sizes]
+    is_compute = [nd.op.is_compute for nd in nodes]
     for i in order:
         nd = nodes[i]
-        ready = max([finish[a] for a in nd.args if nodes[a].op.is_compute] + [asap.start[i]])
+        ready = asap.start[i]
+        for a in nd.args:          # (a loop, not max() of a list: this runs once per op)
+            if is_compute[a] and finish[a] > ready:
+                ready = finish[a]
         t = busy[units[i]].earliest(ready, duration[nd.op])
         start[i], finish[i] = t, t + duration[nd.op]
         busy[units[i]].add(t, finish[i])

@@ -1,0 +1,88 @@
+"""Checks run in a forked process (vampc.background), and the report's use of it for big programs."""
+from __future__ import annotations
+
+import json
+import os
+
+import pytest
+from click.testing import CliRunner
+
+from conftest import EXAMPLES
+from vampc import background
+from vampc.cli import main
+from vampc.errors import VampcError, VampcInternalError
+from vampc.program.file import checksum
+
+FORKS = hasattr(os, "fork")
+
+
+def ok():
+    pass
+
+
+def user_error(what):
+    raise VampcError(what)
+
+
+def crash():
+    raise ZeroDivisionError("boom")
+
+
+def test_inline_runs_at_once():
+    with pytest.raises(VampcError, match="^now$"):
+        background.in_background(user_error, "now", inline=True)
+    background.in_background(ok, inline=True).wait()
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_forked_check_reports_its_error_when_waited_for():
+    pending = background.in_background(user_error, "the wiring has a loop")
+    assert pending.pid is not None
+    with pytest.raises(VampcError, match="^the wiring has a loop$"):
+        pending.wait()
+    background.in_background(ok).wait()
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_crash_in_the_child_is_an_internal_error_with_its_traceback():
+    with pytest.raises(VampcInternalError, match="ZeroDivisionError: boom"):
+        background.in_background(crash).wait()
+
+
+def test_vampc_fork_0_runs_inline(monkeypatch):
+    monkeypatch.setenv("VAMPC_FORK", "0")
+    assert background.in_background(ok).pid is None
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_rewired_big_program_is_refused_and_nothing_written(tmp_path, monkeypatch):
+    import vampc.cli as cli
+    monkeypatch.setattr(cli, "BACKGROUND_CHECK_SLOTS", 0)       # every program is "big"
+    runner = CliRunner()
+    program = tmp_path / "p.vamp.json"
+    compiled = runner.invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)])
+    assert compiled.exit_code == 0
+    picture = tmp_path / "t.svg"
+    good = runner.invoke(main, ["report", str(program), "--timing", str(picture)])
+    assert good.exit_code == 0 and picture.exists()
+    picture.unlink()
+    doc = json.loads(program.read_text())
+    doc["network"]["vamps"][5]["b"] = doc["network"]["vamps"][6]["b"]
+    doc["checksum"] = checksum(doc)
+    program.write_text(json.dumps(doc))
+    res = runner.invoke(main, ["report", str(program), "--timing", str(picture)])
+    assert res.exit_code == 1 and res.stdout == ""
+    assert res.stderr.startswith("vampc: error: ") and len(res.stderr.splitlines()) == 1
+    assert "VAMP" in res.stderr and not picture.exists()
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_an_abandoned_check_is_stopped_and_reaped():
+    import time
+    pending = background.in_background(time.sleep, 60)
+    pid = pending.pid
+    pending.abandon()
+    assert pending.pid is None
+    with pytest.raises(ChildProcessError):
+        os.waitpid(pid, os.WNOHANG)
+    pending.wait()                                   # nothing left to wait for

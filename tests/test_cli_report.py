@@ -1,0 +1,149 @@
+"""`vampc report` (vampc.cli): formats, --clock, --pins, the picture and page outputs, and their
+errors — one line, exit 1 or 2, no partial file."""
+from __future__ import annotations
+
+import json
+import re
+import xml.etree.ElementTree as ET
+
+import jsonschema
+import pytest
+from click.testing import CliRunner
+
+from conftest import EXAMPLES
+from vampc.cli import main
+from vampc.schemas_util import load_schema
+
+PUMA = EXAMPLES / "puma560.yaml"
+PLANAR = EXAMPLES / "planar2.yaml"
+
+
+def run(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def one_line_error(res, code: int, pattern: str) -> None:
+    assert res.exit_code == code, (res.stdout, res.stderr)
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("vampc: error: "), res.stderr
+    assert re.search(pattern, lines[0]), lines[0]
+    assert res.stdout == ""
+
+
+@pytest.fixture(scope="module")
+def program(tmp_path_factory):
+    path = tmp_path_factory.mktemp("prog") / "puma.vamp.json"
+    assert run("compile", PUMA, "-o", path).exit_code == 0
+    return path
+
+
+def test_text_report_has_every_section():
+    out = run("report", PUMA).stdout
+    for title in ("Table O.1a, the paper's formulas", "Table O.1 at n = 6, from the paper's formulas",
+                  "Table O.1, vampc's figures for puma560", "Layouts, linear recursion",
+                  "VAMPs, linear, n = 6", "Requirements per node", "Packages (section VII)",
+                  "Buffering (section VI)", "Wiring (section VI)"):
+        assert re.search(rf"^{re.escape(title)}", out, re.M), title
+    assert "differs: note 1" in out and "1. Uicker/Kahn (original Lagrangian): Mults:" in out
+
+
+def test_markdown_report():
+    out = run("report", PUMA, "--format", "markdown").stdout
+    assert out.startswith("## vampc report: puma560\n")
+    assert "### Table O.1 at n = 6, from the paper's formulas" in out
+    assert "| Lathrop (linear parallel N.E.) | 15 | 43 | 58 | 15 + 43 | agrees |" in out
+
+
+def test_json_report_validates_and_carries_the_clock(program):
+    res = run("report", program, "--format", "json", "--clock", "20MHz", "--pins", "64")
+    rep = json.loads(res.stdout)
+    jsonschema.validate(rep, load_schema("report"))
+    assert rep["clock"]["latency_us"] == 3.05 and rep["clock"]["sets_per_second"] == 5e6
+    assert rep["packages"]["pins"] == [40, 64]
+    lin = next(r for r in rep["table_o1"]["measured"] if r["configuration"] == "linear, systolic")
+    assert lin["time_us"] == 3.05 and lin["sets_per_second"] == 5e6
+
+
+@pytest.mark.parametrize("args", [(PUMA, "--vamps", "12"), (PUMA, "--recursion", "log", "--interval", "40"),
+                                  (EXAMPLES / "quadruped.urdf",), (PLANAR, "--floating-base")])
+def test_json_report_of_a_budget_or_a_tree_validates(args, tmp_path):
+    """Budgeted layouts and trees add keys of their own; their pictures draw too."""
+    svg = tmp_path / "t.svg"
+    res = run("report", *map(str, args), "--format", "json", "--timing", str(svg),
+              "--network", str(tmp_path / "n.svg"))
+    assert res.exit_code == 0, res.stderr
+    rep = json.loads(res.stdout)
+    jsonschema.validate(rep, load_schema("report"))
+    if "--vamps" in args:
+        assert rep["layout"] == "budget" and rep["budget"]["vamps_used"] <= 12
+        assert rep["vamps"]["total"] <= 12
+        # the timing chart's rows are the budget's VAMPs, one per row
+        assert ET.parse(svg).getroot() is not None
+    else:
+        assert rep["budget"] is None or rep["layout"] == "budget"
+    if args[0] != PUMA:
+        assert rep["tree"]["outputs"] >= rep["joints"]
+
+
+def test_clock_says_which_control_rates_are_met():
+    out = run("report", PUMA, "--clock", "20MHz").stdout
+    assert ("clock            20 MHz: latency 3.05 µs, a torque set every 0.2 µs (5,000,000 per "
+            "second)") in out
+    assert "at 20 MHz the design meets 1 kHz and 10 kHz control" in out
+
+
+@pytest.mark.parametrize("value", ["fast", "20 MHzz", "0Hz", "-1MHz"])
+def test_a_bad_clock_is_one_line(value):
+    one_line_error(run("report", PUMA, "--clock", value), 2, r"--clock '.*'")
+
+
+def test_too_few_pins_is_a_usage_error():
+    assert run("report", PUMA, "--pins", "7").exit_code == 2
+
+
+def test_pictures_and_page_are_written(tmp_path):
+    files = {opt: tmp_path / name for opt, name in (("--timing", "t.svg"), ("--network", "n.svg"),
+                                                     ("--dot", "n.dot"), ("--html", "p.html"))}
+    res = run("report", PLANAR, "--recursion", "log", *[x for kv in files.items() for x in kv])
+    assert res.exit_code == 0, res.stderr
+    assert res.stdout.startswith("robot            planar2")
+    for opt in ("--timing", "--network"):
+        ET.fromstring(files[opt].read_text())
+    assert files["--dot"].read_text().count("digraph ") == 2
+    assert files["--html"].read_text().count("<svg") == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["n.dot", "n.svg", "p.html", "t.svg"]
+
+
+def test_a_program_draws_what_its_robot_draws(tmp_path, program):
+    a, b = tmp_path / "a.svg", tmp_path / "b.svg"
+    assert run("report", PUMA, "--timing", a).exit_code == 0
+    assert run("report", program, "--timing", b).exit_code == 0
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_a_picture_over_the_input_is_refused(tmp_path):
+    robot = tmp_path / "planar2.yaml"
+    robot.write_bytes(PLANAR.read_bytes())
+    one_line_error(run("report", robot, "--timing", robot), 1, r"vampc never writes over its inputs")
+    assert robot.read_bytes() == PLANAR.read_bytes()
+
+
+def test_an_unwritable_picture_path_writes_nothing(tmp_path):
+    res = run("report", PLANAR, "--timing", tmp_path / "t.svg", "--network",
+              tmp_path / "missing" / "n.svg")
+    one_line_error(res, 1, r"n\.svg: folder .*missing does not exist")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_two_pictures_into_one_file_are_refused(tmp_path):
+    res = run("report", PLANAR, "--timing", tmp_path / "x.svg", "--network", tmp_path / "x.svg")
+    one_line_error(res, 1, r"--network and --timing name the same file")
+
+
+def test_a_picture_to_stdout_is_refused(tmp_path):
+    one_line_error(run("report", PLANAR, "--timing", "-"), 1, r"standard output is not available")
+
+
+def test_compile_options_that_contradict_a_program_are_refused(program):
+    res = run("report", program, "--recursion", "log", "--timing", "x.svg")
+    assert res.exit_code == 2 and "was compiled with --recursion linear" in res.stderr

@@ -1,0 +1,61 @@
+"""The HTML page (vampc.report.html): self-contained — tables and both pictures inline, nothing to
+fetch — and it opens in a browser (headless Chromium, when installed)."""
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import pytest
+
+from conftest import EXAMPLES
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report import pictures
+from vampc.report.build import build_report
+from vampc.report.sections import tables
+from vampc.robot import load_robot
+
+CHROMIUM = next((p for p in (shutil.which("chromium"), shutil.which("chromium-browser"),
+                             shutil.which("google-chrome")) if p), None)
+
+
+@pytest.fixture(scope="module")
+def made():
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(layout="folded"))
+    rep = build_report(c, 20e6)
+    return rep, pictures.make(c, rep, {"--html", "--timing", "--network"})
+
+
+def test_the_page_holds_every_table_and_both_pictures(made):
+    rep, out = made
+    page = out["--html"]
+    assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 2
+    for t in tables(rep):
+        assert f'<section id="{t.key}">' in page
+    assert out["--timing"][out["--timing"].index("<svg"):] in page      # the same drawing, inline
+
+
+def test_nothing_is_fetched(made):
+    page = made[1]["--html"]
+    for attr in re.findall(r'(?:src|href)="([^"#][^"]*)"', page):
+        pytest.fail(f"the page refers to {attr}")
+    assert "<script" not in page and "@import" not in page and "url(http" not in page
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no headless Chromium installed")
+@pytest.mark.parametrize("what", ["--html", "--timing", "--network"])
+def test_it_opens_in_a_browser(made, what, tmp_path):
+    from PIL import Image
+    suffix = ".html" if what == "--html" else ".svg"
+    page = tmp_path / f"page{suffix}"
+    page.write_text(made[1][what], encoding="utf-8")
+    shot = tmp_path / "shot.png"
+    subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                    f"--screenshot={shot}", "--window-size=1000,800", page.as_uri()],
+                   capture_output=True, timeout=120)
+    assert shot.exists(), "Chromium wrote no screenshot"
+    img = Image.open(shot).convert("L")
+    colours = img.getcolors(maxcolors=1 << 16) or []
+    assert len(colours) > 20                                     # not a blank page
+    dark = sum(n for n, level in colours if level < 128)
+    assert dark > 0.002 * img.width * img.height                 # text and lines drawn

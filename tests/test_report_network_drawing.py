@@ -1,0 +1,66 @@
+"""The network drawing (vampc.report.network_drawing): recursion or device nodes as circles placed as
+in the paper's figures, delay buffers as squares, host ports and outputs at the edges."""
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from conftest import EXAMPLES
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report import network_drawing as nd
+from vampc.robot import load_robot
+
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def ids(svg: str) -> list[str]:
+    return [g.get("id") for g in ET.fromstring(svg).iter(f"{SVG}g") if g.get("id")]
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return load_robot(EXAMPLES / "puma560.yaml")
+
+
+def test_linear_systolic_is_three_rows_of_joints(puma):
+    c = compile_chain(puma)
+    d = nd.drawing(c.graph, c.layout, c.network)
+    places = {f"{s.section}{s.index}": p for s, p in d.places.items()}
+    assert places["bwd1"] == (0, 0) and places["npv6"] == (5, 1) and places["fwd3"] == (2, 2)
+    assert d.labels[next(s for s in d.places if s.section == "fwd" and s.index == 1)] == "(1,6)"
+    got = ids(nd.network_svg(c.graph, c.layout, c.network, "t"))
+    assert sum(i.startswith("site-") for i in got) == 18
+    assert sum(i.startswith("buffer-") for i in got) == len(d.buffered)
+    assert sum(i.startswith("tau-") for i in got) == 6
+    assert sum(i.startswith("port-") for i in got) == len([p for p in d.ports if p[1]])
+
+
+def test_log_systolic_places_nodes_by_tier(puma):
+    c = compile_chain(puma, CompileOptions(recursion="log", uniform_leaves=True))
+    d = nd.drawing(c.graph, c.layout, c.network)
+    bwd = [p for s, p in d.places.items() if s.section == "bwd"]
+    assert len(bwd) == 13 and max(y for _, y in bwd) == 3      # leaves and three tiers (n = 6)
+    assert d.vamps[next(s for s in d.places if s.section == "bwd")] == 26
+
+
+def test_folded_draws_device_nodes_with_feedback_buffers(puma):
+    c = compile_chain(puma, CompileOptions(layout="folded", share_passes=True))
+    d = nd.drawing(c.graph, c.layout, c.network)
+    assert {s.section for s in d.places} == {"bwd", "npv"}      # the forward pass runs on bwd's VAMPs
+    assert sum(d.vamps.values()) == len(c.network.vamps) == 22
+    assert any(a == b for a, b in d.buffered)                   # a device feeding itself
+
+
+def test_a_big_drawing_uses_one_path_per_kind(puma, monkeypatch):
+    c = compile_chain(puma, CompileOptions(recursion="log"))
+    monkeypatch.setattr(nd, "DETAIL", 3)
+    got = ids(nd.network_svg(c.graph, c.layout, c.network, "t"))
+    assert not any(i.startswith("site-") for i in got)
+    assert {"sites-bwd", "sites-npv", "sites-fwd", "buffers", "ports"} <= set(got)
+
+
+def test_deterministic(puma):
+    c = compile_chain(puma)
+    assert nd.network_svg(c.graph, c.layout, c.network, "t") == \
+        nd.network_svg(c.graph, c.layout, c.network, "t")

@@ -1,0 +1,97 @@
+"""Processors and packages (vampc.report.processors) for a general rotary 6-joint arm: the section VI
+VAMP tables reproduced for every configuration vampc compiles, each row marked as matching the
+paper or differing with its reason, and section VII's packages."""
+from __future__ import annotations
+
+import pytest
+
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report.configs import configurations
+from vampc.report.processors import packages, processors, vamp_pins
+from vampc.robot.random import random_chain
+
+# Section VI, "VAMPs - Totals, n = 6" and its propagated / non-propagated tables:
+# (per node, tier, single device, systolic pipeline)
+LINEAR = {"bwd": (12, None, 12, 72), "npv": (10, None, 10, 60), "bwd_total": (22, None, 22, 132),
+          "fwd": (8, None, 8, 48)}
+LOG_UNIFORM = {"bwd": (26, 78, 78, 338), "npv": (10, 20, 20, 60), "bwd_total": (36, 98, 98, 398),
+               "fwd": (12, 36, 36, 156)}       # forward: paper 13, 39, 39, 169 (one T20 per node)
+COLS = ("per_node", "per_tier", "single_device", "systolic")
+
+
+@pytest.fixture(scope="module")
+def report():
+    c = compile_chain(random_chain(6, 21, prismatic_fraction=0.0), CompileOptions(recursion="log"))
+    configs = configurations(c)
+    return processors(configs, c.chain), packages(configs, 64), configs
+
+
+def _rows(proc, recursion, leaves):
+    v = next(v for v in proc["vamps"] if (v["recursion"], v["leaves"]) == (recursion, leaves))
+    return v, {r["section"]: r for r in v["rows"]}
+
+
+def test_linear_vamps_match_section_vi(report):
+    v, rows = _rows(report[0], "linear", None)
+    for sec, want in LINEAR.items():
+        assert tuple(rows[sec][c] for c in COLS) == want
+        assert rows[sec]["note"] == "matches the paper"
+    assert v["shared_passes"] == 22 == v["paper_shared_passes"]
+
+
+def test_log_vamps_with_uniform_leaves_match_except_the_forward_t20(report):
+    v, rows = _rows(report[0], "log", "uniform")
+    for sec, want in LOG_UNIFORM.items():
+        assert tuple(rows[sec][c] for c in COLS) == want
+    for sec in ("bwd", "npv", "bwd_total"):
+        assert rows[sec]["note"] == "matches the paper"
+    assert rows["fwd"]["paper"] == {"per_node": 13, "per_tier": 39, "single_device": 39, "systolic": 169}
+    assert rows["fwd"]["note"].startswith("differs in per node, per tier, single device, systolic: "
+                                          "forward node 12 VAMPs, not 13")
+    assert "T20" in rows["fwd"]["note"]
+
+
+def test_log_vamps_with_separate_leaves_say_why_they_differ(report):
+    _, rows = _rows(report[0], "log", "separate")
+    assert rows["bwd"]["systolic"] < 338
+    assert "Table IV.1's leaves are cheaper" in rows["bwd"]["note"]
+    assert rows["npv"]["note"] == "matches the paper"
+
+
+def test_ops_per_node_against_the_papers_requirements(report):
+    ops = {(r["recursion"], r["section"]): r for r in report[0]["ops_per_node"]}
+    assert ops[("linear", "bwd")]["ops"] == {"MTV": 3, "VA": 5, "VC": 4}      # paper: MV 3, VA 5, VC 4
+    assert all(ops[k]["matches"] for k in ops if k != ("log", "fwd"))
+    fwd = ops[("log", "fwd")]
+    assert (fwd["total"], fwd["paper_total"], fwd["matches"]) == (10, 11, False)
+    assert fwd["note"].startswith("differs: MV 4 (paper 5)")
+
+
+def test_packages_by_pin_budget(report):
+    pk = report[1]
+    assert pk["pins"] == [40, 64]
+    rows = {r["configuration"]: r for r in pk["rows"]}
+    lin = rows["linear, systolic"]["by_pins"][0]
+    assert (lin["paper_separate"], lin["paper_shared"]) == (36, 15)          # 180 VAMPs: 5 and 12 each
+    assert (lin["muxed_separate"], lin["muxed_shared"], lin["max_pins_per_vamp"]) == (36, 15, 8)
+    folded = rows["linear, folded"]["by_pins"][0]
+    assert folded["max_pins_per_vamp"] > 8 and folded["muxed_separate"] > folded["paper_separate"]
+    assert pk["paper_check"]["paper"] == 11 and pk["paper_check"]["measured"] == 15
+    assert pk["budget"]["vamps_per_package"]["64"] == {"separate": 8, "shared": 20}
+
+
+def test_pins_of_a_vamp_count_its_multiplexer_inputs(report):
+    net = next(k for k in report[2] if k.name == "linear, folded").network
+    for v in net.vamps:
+        inputs = len(v.a) + len(v.b)
+        assert vamp_pins(v) == {"separate": 6 + inputs, "shared": 1 + inputs}
+
+
+def test_vamps_by_op_kind_add_up(report):
+    proc, _, configs = report
+    linear = next(v for v in proc["vamps"] if v["recursion"] == "linear")["by_op"]
+    assert linear["systolic"] == {"MTV": 18, "MV": 24, "SV": 6, "VA": 72, "VC": 60}
+    assert sum(linear["single_device"].values()) == 30 and sum(linear["shared_passes"].values()) == 22
+    log = next(v for v in proc["vamps"] if v["leaves"] == "separate")["by_op"]
+    systolic = next(k for k in configs if k.name == "log, systolic")
+    assert sum(log["systolic"].values()) == systolic.vamps and log["systolic"]["MM"] % 3 == 0

@@ -1,0 +1,50 @@
+"""The report's tables (vampc.report.sections), built from the report dictionary."""
+from __future__ import annotations
+
+import pytest
+
+from conftest import EXAMPLES
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report.build import build_report
+from vampc.report.sections import num, signed, tables
+from vampc.robot import load_robot
+
+
+@pytest.fixture(scope="module")
+def rep():
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(layout="folded"))
+    return build_report(c, clock_hz=20e6, pins=64)
+
+
+def test_numbers():
+    assert [num(x) for x in (None, 0, 66271, 1437 + 1 / 3, 3.0)] == ["—", "0", "66,271", "1,437.3", "3"]
+    assert [signed(x) for x in (0, 3, -96, 1026)] == ["0", "+3", "−96", "+1,026"]
+
+
+def test_every_table_is_there_with_rows_as_wide_as_its_columns(rep):
+    got = tables(rep)
+    assert [t.key for t in got] == ["o1-formulas", "o1-at-n", "o1-measured", "layouts",
+                                    "vamps-linear-linear", "vamps-log-separate", "vamps-log-uniform",
+                                    "vamps-by-op", "ops-per-node", "packages", "buffering", "wiring",
+                                    "clock"]
+    for t in got:
+        assert t.rows and all(len(r) == len(t.columns) == len(t.alignment()) for r in t.rows), t.key
+
+
+def test_o1_at_n_marks_every_row(rep):
+    t = next(t for t in tables(rep) if t.key == "o1-at-n")
+    checks = [r[5] for r in t.rows]
+    assert checks.count("agrees") == 7
+    assert [c for c in checks if c != "agrees"] == [f"differs: note {k}" for k in (1, 2, 3)]
+    assert len(t.notes) == 3 and t.columns[-1] == "µs at 20 MHz"
+
+
+def test_the_own_configuration_is_marked(rep):
+    t = next(t for t in tables(rep) if t.key == "o1-measured")
+    assert [r[0] for r in t.rows if "(this report)" in r[0]] == ["linear, folded (this report)"]
+
+
+def test_packages_show_the_pins_asked_for(rep):
+    t = next(t for t in tables(rep) if t.key == "packages")
+    assert "64 pins, 8 each" in t.columns and "64 pins, 20 each" in t.columns
+    assert any("11 such 40-pin packages" in n for n in t.notes)

@@ -1,0 +1,50 @@
+"""Table O.1 for one robot (vampc.report.table_o1): the paper's rows at n beside vampc's measured
+serial work, latencies and intervals.
+
+Measured figures, general rotary 6-joint arm: linear 16 M + 45 A (the paper's 15 + 43 and the
+output correction of 1 M + 2 A, README, Exactness convention), log (Sklansky, Table IV.1 leaves)
+12 M + 30 A against 11 + 28; serial work 756 M + 648 A (test_report.py counts it per joint by hand).
+"""
+from __future__ import annotations
+
+import pytest
+
+from vampc.compiler import compile_chain
+from vampc.report.configs import configurations
+from vampc.report.table_o1 import table_o1
+from vampc.robot.random import random_chain
+
+
+@pytest.fixture(scope="module")
+def table():
+    c = compile_chain(random_chain(6, 21, prismatic_fraction=0.0))
+    return table_o1(configurations(c), c.chain)
+
+
+def test_paper_rows_are_formulas_with_the_printed_column(table):
+    assert table["n"] == 6 and len(table["formulas"]) == 10
+    assert all(r["source"] == "formula" and "printed_n6" in r for r in table["formulas"])
+
+
+def test_measured_rows(table):
+    rows = {r["configuration"]: r for r in table["measured"]}
+    serial = rows["linear graph, serial work"]
+    assert (serial["mults"], serial["adds"], serial["paper"]) == (756, 648, {"mults": 852, "adds": 738})
+    assert serial["difference"] == {"mults": -96, "adds": -90}
+    lin = rows["linear, systolic"]
+    assert (lin["mults"], lin["adds"], lin["flops"], lin["waits"], lin["own"]) == (16, 45, 61, 0, True)
+    assert lin["difference"] == {"mults": 1, "adds": 2, "flops": 3}
+    assert lin["interval"] == {"mults": 1, "adds": 3} and lin["interval_flops"] == 4
+    assert lin["note"] == "output correction, +1 M + 2 A"
+    log = rows["log, systolic"]
+    assert (log["mults"], log["adds"], log["paper"]["flops"]) == (12, 30, 39)
+    folded = rows["linear, folded"]
+    assert "interval" not in folded and folded["interval_flops"] % 4 == 0 and folded["vamps"] == 30
+
+
+def test_every_difference_has_its_reason_in_the_notes(table):
+    assert any("output correction of 1 Mult + 2 Addns" in n for n in table["notes"])
+    for r in table["measured"]:
+        if r["measure"] == "latency" and r["waits"]:
+            assert "waiting for busy VAMPs" in r["note"]
+            assert any("wait for their VAMP" in n for n in table["notes"])

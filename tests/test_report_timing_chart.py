@@ -1,0 +1,99 @@
+"""The timing chart (vampc.report.timing_chart): a well-formed, deterministic SVG with exactly one bar
+per scheduled op, the critical path's bars the ones the schedule names, and the torque-set strip."""
+from __future__ import annotations
+
+import re
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from conftest import EXAMPLES
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report import timing_chart
+from vampc.robot import load_robot
+
+SVG = "{http://www.w3.org/2000/svg}"
+CONFIGS = [dict(), dict(layout="folded"), dict(layout="folded", share_passes=True),
+           dict(recursion="log"), dict(recursion="log", uniform_leaves=True, layout="folded"),
+           dict(recursion="log", prefix="kogge-stone", layout="folded", share_passes=True)]
+
+
+def groups(svg: str) -> dict[str, ET.Element]:
+    """Every <g> with an id, by id (parsing also proves the SVG well-formed)."""
+    root = ET.fromstring(svg)
+    return {g.get("id"): g for g in root.iter(f"{SVG}g") if g.get("id")}
+
+
+def bars(svg: str) -> tuple[set[int], set[int]]:
+    """(ops with a bar, ops whose bar is marked critical); each bar group holds one <path>."""
+    ops, critical = set(), set()
+    for gid, g in groups(svg).items():
+        m = re.fullmatch(r"op-(\d+)(-critical)?", gid)
+        if m:
+            assert len(g.findall(f"{SVG}path")) == 1
+            node = int(m.group(1))
+            assert node not in ops, f"two bars for op {node}"
+            ops.add(node)
+            if m.group(2):
+                critical.add(node)
+    return ops, critical
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return load_robot(EXAMPLES / "puma560.yaml")
+
+
+@pytest.mark.parametrize("opts", CONFIGS, ids=lambda o: ",".join(f"{k}={v}" for k, v in o.items())
+                         or "default")
+def test_one_bar_per_op_and_the_critical_path_marked(puma, opts):
+    c = compile_chain(puma, CompileOptions(**opts))
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    ops, critical = bars(svg)
+    assert ops == {nd.id for nd in c.graph.compute_nodes()}
+    assert critical == set(c.schedule.critical_path)
+    g = groups(svg)
+    assert "critical-path" in g
+    title = g[f"op-{c.schedule.critical_path[-1]}-critical"].find(f"{SVG}title").text
+    assert "on the critical path" in title
+
+
+def test_successive_torque_sets_are_visible(puma):
+    systolic = compile_chain(puma)
+    sets = [k for k in groups(timing_chart.timing_svg(systolic.graph, systolic.layout,
+                                                      systolic.schedule, "t")) if k.startswith("set-")]
+    assert len(sets) == timing_chart.MAX_SETS       # 61 flops of latency, a set every 4: 8 shown
+    chart = timing_chart.chart(systolic.graph, systolic.layout, systolic.schedule)
+    assert chart.sets == (0, 4, 8, 12, 16, 20, 24, 28)
+    folded = compile_chain(puma, CompileOptions(layout="folded"))
+    chart = timing_chart.chart(folded.graph, folded.layout, folded.schedule)
+    assert chart.sets == (0, folded.schedule.interval)       # one set at a time
+
+
+def test_rows_are_variables_for_systolic_and_vamps_for_folded(puma):
+    c = compile_chain(puma)
+    rows = timing_chart.chart(c.graph, c.layout, c.schedule).rows
+    assert rows[0].label == "bwd T2 (VA)" and len(rows) == 30         # Table III.1's 22 + 8
+    assert all(len(r.lanes) == 1 for r in rows)     # a variable's joints never overlap in time
+    f = compile_chain(puma, CompileOptions(layout="folded"))
+    rows = timing_chart.chart(f.graph, f.layout, f.schedule).rows
+    assert len(rows) == len(f.layout.unit_vamps) and rows[0].label.startswith("VAMP 0: bwd")
+
+
+def test_the_chart_is_deterministic(puma):
+    c = compile_chain(puma, CompileOptions(layout="folded"))
+    a = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    b = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    assert a == b and "<dc:date>" not in a and "Matplotlib v" not in a
+
+
+def test_a_big_chart_merges_bars_per_variable(puma, monkeypatch):
+    c = compile_chain(puma, CompileOptions(recursion="log"))
+    monkeypatch.setattr(timing_chart, "MAX_BARS", 10)
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    g = groups(svg)
+    assert not any(k.startswith("op-") for k in g)
+    busy = [k for k in g if k.startswith("busy-")]
+    assert busy and "merged per variable" in svg
+    total = sum(int(re.search(r": (\d+) ops", g[k].find(f"{SVG}title").text).group(1)) for k in busy)
+    assert total == len(c.graph.compute_nodes())

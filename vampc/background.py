@@ -1,0 +1,81 @@
+"""Running a check in a forked process while the main one goes on, for the few long checks whose
+only result is "passed" or an error (the static check of a big program file, done while its report
+is built: the machine has two cores or more, and the check is a third of the work).
+
+`in_background(fn, *args)` forks (POSIX) and runs fn in the child; `.wait()` returns when it is done
+and raises what it raised: a VampcError with its one line, anything else as a VampcInternalError
+carrying the child's traceback. Where there is no fork, or when asked not to (`inline=True`, or the
+environment variable VAMPC_FORK=0), fn runs at once and `.wait()` does nothing. The child never
+writes to the terminal and leaves with os._exit, so nothing of the parent's (buffers, atexit
+handlers, a test runner) runs twice.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import traceback
+
+from vampc.errors import VampcError, VampcInternalError
+
+
+class Deferred:
+    """A check running in a child process (or already done inline)."""
+
+    def __init__(self, pid: int | None = None, fd: int | None = None):
+        self.pid, self.fd = pid, fd
+
+    def wait(self) -> None:
+        """Block until the check is done; raise what it raised."""
+        if self.pid is None:
+            return
+        chunks = []
+        with os.fdopen(self.fd, "rb") as pipe:
+            while chunk := pipe.read(1 << 16):
+                chunks.append(chunk)
+        _, status = os.waitpid(self.pid, 0)
+        self.pid = None
+        if os.waitstatus_to_exitcode(status) == 0:
+            return
+        kind, message = pickle.loads(b"".join(chunks)) if chunks else ("internal", "no report")
+        if kind == "user":
+            raise VampcError(message)
+        raise VampcInternalError(f"background check failed:\n{message}")
+
+    def abandon(self) -> None:
+        """Stop a check whose result is no longer wanted (the main work failed), and reap it."""
+        if self.pid is None:
+            return
+        import signal
+        try:
+            os.kill(self.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        os.waitpid(self.pid, 0)
+        os.close(self.fd)
+        self.pid = None
+
+
+def in_background(fn, *args, inline: bool = False) -> Deferred:
+    """Start fn(*args) in a forked child (see the module docstring)."""
+    if inline or not hasattr(os, "fork") or os.environ.get("VAMPC_FORK") == "0":
+        fn(*args)
+        return Deferred()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                     # the child: run, report, leave at once
+        os.close(read)
+        code, payload = 0, b""
+        try:
+            fn(*args)
+        except VampcError as exc:
+            code, payload = 1, pickle.dumps(("user", str(exc)))
+        except BaseException:                        # noqa: BLE001 - reported to the parent
+            code, payload = 3, pickle.dumps(("internal", traceback.format_exc()))
+        try:
+            view = memoryview(payload)
+            while view:
+                view = view[os.write(write, view):]
+        finally:
+            os._exit(code)
+    os.close(write)
+    return Deferred(pid, read)

@@ -1,0 +1,50 @@
+"""The whole report of one compiled robot as one dictionary (what `vampc report --format json`
+prints, checked against schemas/report.schema.json): the summary figures (vampc.report.counts),
+the layout and prefix comparisons, Table O.1, processors, packages, buffering and wiring, and —
+with a clock rate — times. Every figure is read off the compiled IRs of the report's configuration
+and of the configurations it is compared with (vampc.report.configs); the paper's figures come from
+vampc.report.paper and are labelled as the paper's."""
+from __future__ import annotations
+
+from vampc.gcpause import gc_paused
+from vampc.report.clock import add_clock
+from vampc.report.compare import compare_prefixes, layout_rows
+from vampc.report.configs import ALLOCATE_LIMIT, configurations
+from vampc.report.counts import summary
+from vampc.report.processors import packages, processors
+from vampc.report.table_o1 import table_o1
+from vampc.report.wiring import wiring
+
+REPORT_VERSION = 2
+
+
+@gc_paused()
+def build_report(c, clock_hz: float | None = None, pins: int | None = None,
+                 figures: dict | None = None) -> dict:
+    """The report of `c` (a vampc.compiler.Compiled), with times at `clock_hz` when given and
+    packages of `pins` pins beside the 40-pin ones. Above ALLOCATE_LIMIT ops the comparisons that
+    would each compile the robot again (prefix shapes, the log graph with the other leaf style)
+    are left out and `allocation.omitted` names them. `figures`: summary(c) if already made."""
+    rep = dict(figures) if figures is not None else summary(c)
+    configs = configurations(c)
+    big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
+    rep["report_version"] = REPORT_VERSION
+    rep["layout_comparison"] = layout_rows(configs, c.graph.recursion)
+    if c.graph.recursion == "log" and not big:
+        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
+    rep["table_o1"] = table_o1(configs, c.chain)
+    rep["processors"] = processors(configs, c.chain, other_leaves=not big)
+    rep["packages"] = packages(configs, pins)
+    rep["wiring"] = wiring(configs, c.chain)
+    rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT, "ops": len(c.graph.compute_nodes()),
+                         "allocated": [k.name for k in configs if k.network is not None],
+                         "scheduled_only": [k.name for k in configs if k.network is None],
+                         "omitted": (["prefix_comparison"] * (c.graph.recursion == "log")
+                                     + ["other leaf style"]) if big else []}
+    if "tree" in rep:
+        from vampc.report.compare import tree_latencies
+        rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
+    rep["clock"] = None
+    if clock_hz is not None:
+        add_clock(rep, clock_hz)
+    return rep

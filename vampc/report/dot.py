@@ -1,0 +1,82 @@
+"""Graphviz text (`vampc report --dot FILE.dot`): two digraphs in one file — `network` (every VAMP,
+grouped in a cluster per recursion or device node, its delay buffers, host ports, constant buffers
+and torque outputs; one edge per multiplexer input) and `dataflow` (every graph node, grouped per
+recursion node; one edge per operand). `dot -Tsvg FILE.dot` draws both."""
+from __future__ import annotations
+
+from vampc.report.sites import SECTION_NAMES, vamp_sites
+
+
+def quote(text: str) -> str:
+    """A DOT string literal."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
+def report_dot(graph, layout, net, name: str) -> str:
+    """Both digraphs (the network, then the dataflow graph) as DOT text."""
+    return network_dot(graph, layout, net, name) + "\n" + dataflow_dot(graph, name)
+
+
+def network_dot(graph, layout, net, name: str) -> str:
+    """The network as a DOT digraph named `network`."""
+    sites = vamp_sites(graph, layout)
+    lines = ["digraph network {", f"  label={quote(f'{name}: VAMP network ({layout.name})')};",
+             "  rankdir=BT; newrank=true; node [fontsize=9]; edge [fontsize=7];"]
+    by_site: dict = {}
+    for v in net.vamps:
+        by_site.setdefault(sites[v.index], []).append(v)
+    for site in sorted(by_site):
+        lines.append(f"  subgraph {quote('cluster_' + site.section + str(site.index))} {{")
+        lines.append(f"    label={quote(f'{SECTION_NAMES[site.section]} {site.index}')};")
+        for v in by_site[site]:
+            ops = ", ".join(dict.fromkeys(f"{graph.nodes[s.node].name} {s.op.value}" for s in v.slots))
+            lines.append(f"    v{v.index} [label={quote(f'VAMP {v.index}' + chr(10) + ops)}];")
+        lines.append("  }")
+    lines += [f"  b{b.index} [shape=square, label={quote(f'{b.stages} st.')}]; v{b.source} -> b{b.index};"
+              for b in net.buffers]
+    for p in net.ports:
+        what = ", ".join(dict.fromkeys(f"{e.key.quantity}{e.key.joint}" for e in p.entries)) or "program"
+        lines.append(f"  p{p.index} [shape=invtriangle, label={quote(f'port {p.index}: {what}')}];")
+    lines += [f"  k{c.index} [shape=box, style=dashed, label={quote(c.name)}];" for c in net.consts]
+    lines += _network_edges(net)
+    for o in net.outputs:
+        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; "
+                     f"v{o.vamp} -> tau{o.joint};")
+    return "\n".join(lines) + "\n}\n"
+
+
+def _network_edges(net) -> list[str]:
+    """One edge per multiplexer input (an MM operand: one per column), labelled operand and input."""
+    names = {"vamp": "v", "buffer": "b", "port": "p", "const": "k"}
+    out = []
+    for v in net.vamps:
+        for operand_name, inputs in (("A", v.a), ("B", v.b)):
+            for k, operand in enumerate(inputs):
+                for tap in operand.taps:
+                    label = f"{operand_name}{k}" + (f" s{tap.stage}" if tap.kind == "buffer" else "")
+                    out.append(f"  {names[tap.kind]}{tap.index} -> v{v.index} [label={quote(label)}];")
+    return out
+
+
+def dataflow_dot(graph, name: str) -> str:
+    """The dataflow graph as a DOT digraph named `dataflow`."""
+    lines = ["digraph dataflow {", f"  label={quote(f'{name}: {graph.recursion} dataflow graph')};",
+             "  rankdir=BT; newrank=true; node [fontsize=9];"]
+    groups: dict = {}
+    for nd in graph.nodes:
+        if nd.op.is_compute:
+            groups.setdefault((nd.section, nd.group), []).append(nd)
+        else:
+            shape = "plaintext" if nd.key else "box, style=dashed"
+            lines.append(f"  n{nd.id} [shape={shape}, label={quote(nd.name)}];")
+    for (section, group), nodes in groups.items():
+        lines.append(f"  subgraph {quote(f'cluster_{section}{group}')} {{")
+        lines.append(f"    label={quote(f'{SECTION_NAMES[section]} {group}')};")
+        lines += [f"    n{nd.id} [label={quote(nd.name + chr(10) + nd.op.value)}];" for nd in nodes]
+        lines.append("  }")
+    for nd in graph.nodes:
+        lines += [f"  n{a} -> n{nd.id};" for a in nd.args]
+    for o in graph.outputs:
+        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; "
+                     f"n{o.node} -> tau{o.joint};")
+    return "\n".join(lines) + "\n}\n"

@@ -1,0 +1,38 @@
+"""The HTML report (`vampc report --html FILE.html`): one self-contained page — the summary, every
+table and both pictures inline (SVG elements, styles in the page), nothing fetched from anywhere."""
+from __future__ import annotations
+
+import html
+
+from vampc.report.sections import tables
+from vampc.report.svg import strip_prolog
+from vampc.report.table import render_html
+from vampc.report.text import summary_pairs
+
+STYLE = """
+body { font-family: sans-serif; font-size: 13px; margin: 1.5em; color: #222; }
+h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 2em; } h3 { font-size: 14px; }
+table { border-collapse: collapse; margin: 0.5em 0; }
+th, td { border: 1px solid #ccc; padding: 2px 6px; vertical-align: top; }
+th { background: #f0f0f0; } td.r, th.r { text-align: right; } td.l, th.l { text-align: left; }
+.picture { overflow: auto; max-height: 90vh; border: 1px solid #ddd; margin: 0.5em 0; }
+ul { margin: 0.2em 0 1em 1.2em; padding: 0; color: #444; }
+"""
+
+
+def page(rep: dict, timing_svg: str, network_svg: str) -> str:
+    """The whole page as text."""
+    esc = html.escape
+    summary = "".join(f"<tr><th class=\"l\">{esc(label)}</th><td class=\"l\">{esc(value)}</td></tr>\n"
+                      for label, value in summary_pairs(rep))
+    body = [f"<h1>vampc report: {esc(rep['robot'])} ({rep['joints']} joints, {esc(rep['recursion'])} "
+            f"recursion, {esc(rep['layout'])} layout)</h1>",
+            f'<section id="summary"><h2>Summary</h2><table>{summary}</table></section>',
+            '<section id="timing"><h2>Timing chart</h2><div class="picture">'
+            f"{strip_prolog(timing_svg)}</div></section>",
+            '<section id="network"><h2>Network</h2><div class="picture">'
+            f"{strip_prolog(network_svg)}</div></section>",
+            "<h2>Tables</h2>", *[render_html(t) for t in tables(rep)]]
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>vampc report: {esc(rep['robot'])}</title><style>{STYLE}</style></head>\n<body>\n"
+            + "\n".join(body) + "\n</body></html>\n")

@@ -1,0 +1,47 @@
+"""The report's pictures and pages for one compiled robot: what `vampc report --timing --network
+--dot --html` write (matplotlib is imported only here, and only when a picture is asked for)."""
+from __future__ import annotations
+
+from vampc.gcpause import gc_paused
+
+
+def title(rep: dict) -> str:
+    """'puma560, 6 joints, linear recursion, systolic layout: latency 61 flops, interval 4'."""
+    layout = rep["layout"] + (", shared passes" if rep.get("share_passes") else "")
+    return (f"{rep['robot']}, {rep['joints']} joints, {rep['recursion']} recursion, {layout} layout: "
+            f"latency {rep['latency']['flops']} flops, a torque set every {rep['interval_flops']}")
+
+
+def timing(c, rep: dict) -> str:
+    """The timing chart as SVG."""
+    from vampc.report.timing_chart import timing_svg
+    return timing_svg(c.graph, c.layout, c.schedule, title(rep))
+
+
+def network(c, rep: dict) -> str:
+    """The network drawing as SVG."""
+    from vampc.report.network_drawing import network_svg
+    return network_svg(c.graph, c.layout, c.network, title(rep))
+
+
+def dot(c, rep: dict) -> str:
+    """The network and the dataflow graph as Graphviz text."""
+    from vampc.report.dot import report_dot
+    return report_dot(c.graph, c.layout, c.network, rep["robot"])
+
+
+@gc_paused()
+def make(c, rep: dict, wanted: set[str]) -> dict[str, str]:
+    """The content of every output option in `wanted` (--timing, --network, --dot, --html); each
+    picture is drawn once even when the page needs it too."""
+    out: dict[str, str] = {}
+    if wanted & {"--timing", "--html"}:
+        out["--timing"] = timing(c, rep)
+    if wanted & {"--network", "--html"}:
+        out["--network"] = network(c, rep)
+    if "--dot" in wanted:
+        out["--dot"] = dot(c, rep)
+    if "--html" in wanted:
+        from vampc.report.html import page
+        out["--html"] = page(rep, out["--timing"], out["--network"])
+    return out

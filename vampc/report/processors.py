@@ -1,0 +1,287 @@
+"""Processors (section VI) and packages (section VII), measured from the compiled configurations:
+VAMPs by recursion and pass — propagated, non-propagated and forward — per node, per tier, as a
+single device (the folded layout), with the passes sharing, and as a systolic pipeline; the ops of a
+node by kind; and the 40-pin (or --pins N) packages each configuration needs."""
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import replace
+
+from vampc.dataflow.ops import VAMPS_PER_OP, Op
+from vampc.report import paper
+from vampc.report.sites import node_table
+from vampc.schedule.layout import folded_binding
+
+COLUMNS = ("per_node", "per_tier", "single_device", "systolic")
+
+
+def processors(configs, chain, other_leaves: bool = True) -> dict:
+    """VAMP tables and ops per node for every recursion the configurations cover, and for the log
+    recursion also with the other leaf style (section VI counts Appendix D's uniform leaves) when
+    `other_leaves`."""
+    graphs = _graphs(configs, chain, other_leaves)
+    own = list(dict.fromkeys(k.recursion for k in configs))
+    bindings = {(id(k.graph), k.options.share_passes): (k.layout.units, k.layout.unit_vamps)
+                for k in configs if k.options.layout == "folded"}
+    return {"vamps": [_variant(graph, leaves, chain.n, _binder(graph, bindings))
+                      for graph, leaves in graphs],
+            "ops_per_node": [_ops_row(graph, s) for graph, _ in graphs[:len(own)]
+                             for s in ("bwd", "npv", "fwd")]}
+
+
+def _graphs(configs, chain, other_leaves: bool) -> list:
+    """(graph, leaves) per recursion in the configurations, then the log graph with the other leaf
+    style: built here (binding and counts only, no schedule)."""
+    out, seen = [], set()
+    for k in configs:
+        if k.recursion not in seen:
+            seen.add(k.recursion)
+            out.append((k.graph, _leaves(k.graph, k.options)))
+    log = next((k for k in configs if k.recursion == "log"), None)
+    if log is not None and other_leaves:
+        from vampc.compiler import build_graph
+        other = replace(log.options, uniform_leaves=not log.options.uniform_leaves, verify=False)
+        out.append((build_graph(chain, other), _leaves(None, other)))
+    return out
+
+
+def _leaves(graph, options) -> str | None:
+    if graph is not None and graph.recursion == "linear":
+        return None
+    return "uniform" if options.uniform_leaves else "separate"
+
+
+def _binder(graph, bindings: dict):
+    """share_passes -> the folded binding of `graph`: a folded configuration's layout when there
+    is one (it is that binding), else made here."""
+    return lambda share: bindings.get((id(graph), share)) or folded_binding(graph, share)
+
+
+def _variant(graph, leaves, n: int, binding) -> dict:
+    """One recursion's VAMP table: rows bwd (propagated), npv, bwd total, fwd; paper beside.
+    `binding(share_passes)` gives the folded binding (vampc.schedule.layout.folded_binding)."""
+    per_node = _per_node(graph)
+    single = _by_section(graph, binding(False))
+    tier = _per_tier(graph, single)
+    shared = sum(binding(True)[1])
+    systolic = Counter()
+    for nd in graph.compute_nodes():
+        systolic[nd.section] += VAMPS_PER_OP[nd.op]
+    rows = []
+    for sec in ("bwd", "npv", "bwd_total", "fwd"):
+        parts = ("bwd", "npv") if sec == "bwd_total" else (sec,)
+        row = {"section": sec,
+               "per_node": sum(per_node[p] for p in parts),
+               "per_tier": (sum(tier[p] for p in parts) if graph.recursion == "log" else None),
+               "single_device": sum(single[p] for p in parts),
+               "systolic": sum(systolic[p] for p in parts)}
+        row["paper"] = _paper_row(graph.recursion, sec, n)
+        row["note"] = _vamp_note(graph.recursion, sec, leaves, row, n)
+        rows.append(row)
+    return {"recursion": graph.recursion, "leaves": leaves, "prefix": dict(graph.meta).get("prefix"),
+            "rows": rows, "shared_passes": shared, "paper_shared_passes":
+            _paper_shared(graph.recursion, n, leaves), "by_op": _by_op(graph, binding)}
+
+
+def _by_op(graph, binding) -> dict:
+    """VAMPs by op kind: of the systolic pipeline (one per op, three per MM) and of the single
+    device and the shared-pass device (a unit counts as the kind of its first op: its ops share it
+    by role, and with shared passes a forward op may run on a VAMP of another kind — every VAMP
+    runs every op of the ROM)."""
+    systolic: Counter = Counter()
+    for nd in graph.compute_nodes():
+        systolic[nd.op.value] += VAMPS_PER_OP[nd.op]
+    out = {"systolic": dict(sorted(systolic.items()))}
+    for name, share in (("single_device", False), ("shared_passes", True)):
+        units, sizes = binding(share)
+        kind: dict[int, str] = {}
+        for nd in graph.compute_nodes():
+            kind.setdefault(units[nd.id], nd.op.value)
+        got: Counter = Counter()
+        for u, op in kind.items():
+            got[op] += sizes[u]
+        out[name] = dict(sorted(got.items()))
+    return out
+
+
+def _per_node(graph) -> Counter:
+    """VAMPs of the busiest recursion node of each section."""
+    groups: Counter = Counter()
+    for nd in graph.compute_nodes():
+        groups[(nd.section, nd.group)] += VAMPS_PER_OP[nd.op]
+    out: Counter = Counter()
+    for (sec, _), k in groups.items():
+        out[sec] = max(out[sec], k)
+    return out
+
+
+def _per_tier(graph, single: Counter) -> Counter:
+    """Log graph: VAMPs of the busiest tier of combining nodes per pass; for the non-propagated
+    variables, those the single device (`single`, VAMPs by section) runs beside each tier
+    (⌈n / tiers⌉ joints' worth)."""
+    out: Counter = Counter()
+    if graph.recursion != "log":
+        return out
+    table = node_table(graph)
+    tier_of = {(sec, r[0]): r[4] for sec, rows in table.items() for r in rows}
+    sums: Counter = Counter()
+    for nd in graph.compute_nodes():
+        t = tier_of.get((nd.section, nd.group), 0)
+        if nd.section != "npv" and t > 0:
+            sums[(nd.section, t)] += VAMPS_PER_OP[nd.op]
+    for (sec, _), k in sums.items():
+        out[sec] = max(out[sec], k)
+    out["npv"] = single["npv"]
+    return out
+
+
+def _by_section(graph, binding) -> Counter:
+    """VAMPs of a binding's units per section (a unit serving both passes counts as backward)."""
+    units, sizes = binding
+    section: dict[int, str] = {}
+    for nd in graph.compute_nodes():
+        section.setdefault(units[nd.id], nd.section)
+    out: Counter = Counter()
+    for u, sec in section.items():
+        out[sec] += sizes[u]
+    return out
+
+
+def _paper_row(recursion: str, sec: str, n: int) -> dict:
+    """The section VI figures for this row (its tables are for n = 6; per node holds for any n)."""
+    if sec == "bwd_total":
+        src = paper.VAMPS_N6_TOTALS[(recursion, "bwd")]
+    else:
+        src = paper.VAMPS_N6[(recursion, sec)]
+    got = {"per_node": src["per_node"], "per_tier": src["tier"],
+           "single_device": src["single_device"], "systolic": src["systolic"]}
+    return got if n == 6 else {c: (got[c] if c == "per_node" else None) for c in COLUMNS}
+
+
+def _paper_shared(recursion: str, n: int, leaves) -> int | None:
+    """Single device with the passes sharing processors (Figure VI.1b), n = 6: the paper prints no
+    count; its tables imply the larger pass's single device (inferred, and labelled so)."""
+    if n != 6:
+        return None
+    t = paper.VAMPS_N6_TOTALS
+    return max(t[(recursion, "bwd")]["single_device"], t[(recursion, "fwd")]["single_device"])
+
+
+def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
+    """Whether the row matches the paper, and why not where it does not."""
+    ref = row["paper"]
+    diff = [c for c in COLUMNS if ref.get(c) is not None and row[c] != ref[c]]
+    if not diff:
+        return "matches the paper" if any(ref.get(c) is not None for c in COLUMNS) else ""
+    why = []
+    if recursion == "log" and sec == "fwd":
+        why.append("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
+                   "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
+    if recursion == "log" and leaves == "separate" and "systolic" in diff:
+        why.append("Table IV.1's leaves are cheaper than the uniform nodes section VI counts "
+                   "(--uniform-leaves to compare)")
+    if recursion == "log" and leaves == "separate" and "single_device" in diff:
+        why.append("the single device also runs the leaves, on device nodes of their own roles")
+    return f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " + ("; ".join(why) or
+                                                                          "see README, Layouts")
+
+
+def _ops_row(graph, section: str) -> dict:
+    """Ops of the busiest node of a section by kind, beside the paper's requirements per node (its
+    MV covers vampc's MV and MTV)."""
+    groups: dict[int, Counter] = {}
+    for nd in graph.compute_nodes():
+        if nd.section == section:
+            groups.setdefault(nd.group, Counter())[nd.op.value] += 1
+    busiest = max(groups.values(), key=lambda c: (sum(VAMPS_PER_OP[Op(o)] * k for o, k in c.items()),
+                                                  sum(c.values())), default=Counter())
+    ops = dict(sorted(busiest.items()))
+    ref = paper.OPS_PER_NODE[(graph.recursion, section)]
+    as_paper = Counter({("MV" if o == "MTV" else o): k for o, k in ops.items() if o != "MTV"})
+    as_paper["MV"] += ops.get("MTV", 0)
+    as_paper = {o: k for o, k in as_paper.items() if k}
+    matches = as_paper == ref
+    note = "matches the paper (its MV counts MV and MTV)" if matches else _ops_note(graph, section,
+                                                                                    as_paper, ref)
+    return {"recursion": graph.recursion, "section": section, "ops": ops,
+            "total": sum(ops.values()), "paper": ref, "paper_total": sum(ref.values()),
+            "matches": matches, "note": note}
+
+
+def _ops_note(graph, section: str, got: dict, ref: dict) -> str:
+    diff = ", ".join(f"{o} {got.get(o, 0)} (paper {ref.get(o, 0)})" for o in sorted(set(got) | set(ref))
+                     if got.get(o, 0) != ref.get(o, 0))
+    if graph.recursion == "log" and section == "fwd":
+        return (f"differs: {diff}: no T20 = A_{{k+1}}ᵀ R_{{a,k}} with f, n referred to O_{{a-1}} "
+                "(README, Figures against the paper)")
+    return f"differs: {diff} (prismatic joints add the σ̄ terms of Table I.1)"
+
+
+# --- packages ------------------------------------------------------------------------------------
+
+def packages(configs, pins: int | None) -> dict:
+    """Packages per configuration by the paper's pin budget (section VII) at 40 pins and at `pins`;
+    for an allocated configuration also with each multiplexer input as a pin of its own."""
+    sizes = [40] + ([pins] if pins and pins != 40 else [])
+    rows = []
+    for k in configs:
+        row = {"configuration": k.name, "vamps": k.vamps, "own": k.own, "by_pins": []}
+        for size in sizes:
+            entry = {"pins": size, **{f"paper_{s}": v for s, v in
+                                      paper.paper_packages(k.vamps, size).items()}}
+            if k.network is not None:
+                entry.update(_packed(k.network, size))
+            row["by_pins"].append(entry)
+        rows.append(row)
+    return {"pins": sizes, "budget": budget(sizes), "rows": rows, "paper_check": _paper_check(configs)}
+
+
+def budget(sizes) -> dict:
+    """The pin budget per VAMP (section VII) and what a package of each size holds."""
+    return {"separate": {"pins_per_vamp": len(paper.PINS_SEPARATE), "signals": list(paper.PINS_SEPARATE)},
+            "shared": {"pins_per_vamp": len(paper.PINS_SHARED_PER_VAMP),
+                       "signals": list(paper.PINS_SHARED_PER_VAMP),
+                       "pins_per_package": len(paper.PINS_SHARED_PER_PACKAGE),
+                       "package_signals": list(paper.PINS_SHARED_PER_PACKAGE)},
+            "vamps_per_package": {str(p): paper.vamps_per_package(p) for p in sizes}}
+
+
+def vamp_pins(vamp) -> dict[str, int]:
+    """Pins one VAMP needs: the paper's budget with one pin per multiplexer input (a systolic VAMP
+    has one input per operand: 8 separate, 3 shared)."""
+    inputs = len(vamp.a) + len(vamp.b)
+    return {"separate": len(paper.PINS_SEPARATE) - 2 + inputs,
+            "shared": len(paper.PINS_SHARED_PER_VAMP) - 2 + inputs}
+
+
+def _packed(network, size: int) -> dict:
+    """VAMPs packed in logical order (neighbours share a package), each with its pins."""
+    inputs = [len(v.a) + len(v.b) for v in network.vamps]
+    out = {}
+    for style in ("separate", "shared"):
+        fixed = len(paper.PINS_SHARED_PER_PACKAGE) if style == "shared" else 0
+        base = (len(paper.PINS_SEPARATE) if style == "separate" else len(paper.PINS_SHARED_PER_VAMP)) - 2
+        count, used, ok = 0, size, True
+        for k in inputs:                 # vamp_pins, inlined: a big network has 10⁵ VAMPs
+            need = base + k
+            if need + fixed > size:
+                ok = False
+                break
+            if used + need > size:
+                count, used = count + 1, fixed
+            used += need
+        out[f"muxed_{style}"] = count if ok else None
+    out["max_pins_per_vamp"] = len(paper.PINS_SEPARATE) - 2 + max(inputs, default=2)
+    return out
+
+
+def _paper_check(configs) -> dict | None:
+    """Section VII: '11 such 40-pin packages would implement the full systolic pipeline for the
+    linear case of n = 6' — set beside the count for the linear systolic configuration."""
+    k = next((k for k in configs if k.recursion == "linear" and k.options.layout == "systolic"), None)
+    if k is None or k.graph.n != 6:
+        return None
+    got = paper.paper_packages(k.vamps)["shared"]
+    return {"paper": paper.PAPER_PACKAGES_LINEAR_N6, "measured": got, "vamps": k.vamps,
+            "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 covers only "
+                    "the backward recursion's VAMPs (its forward 48 need 4 more)"}

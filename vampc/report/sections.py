@@ -1,0 +1,360 @@
+"""The report's tables, built from the report dictionary (vampc.report.build) so that text, Markdown
+and HTML show the same cells, and a program file's report the same as its robot's."""
+from __future__ import annotations
+
+from vampc.report.clock import control_sentence, hz_text, us_text
+from vampc.report.sites import SECTION_NAMES
+from vampc.report.table import Table
+
+DASH = "—"
+
+
+def num(x) -> str:
+    """An integer with thousands separators, a fraction with one decimal, None as a dash."""
+    if x is None:
+        return DASH
+    if isinstance(x, float) and not x.is_integer():
+        return f"{x:,.1f}"
+    return f"{int(x):,}"
+
+
+def signed(x) -> str:
+    """'+3', '−96', '0'."""
+    return f"{x:+,}".replace("-", "−") if x else "0"
+
+
+def tables(rep: dict) -> list[Table]:
+    """Every table of the report, in the order the report shows them."""
+    out = [o1_formulas(rep), o1_at_n(rep), o1_measured(rep), layouts(rep)]
+    if rep.get("prefix_comparison"):
+        out.append(prefixes(rep))
+    out += [vamps(rep, v) for v in rep["processors"]["vamps"]]
+    out += [vamps_by_op(rep), ops_per_node(rep), packages(rep), buffering(rep), wiring(rep)]
+    if rep.get("clock"):
+        out.append(clock(rep))
+    return out
+
+
+# --- Table O.1 -----------------------------------------------------------------------------------
+
+def o1_formulas(rep: dict) -> Table:
+    """Table O.1a as the paper prints it: formulas in n."""
+    rows = tuple((f["method"], f["mults_formula"], f["adds_formula"], _measure(f))
+                 for f in rep["table_o1"]["formulas"])
+    return Table("o1-formulas", "Table O.1a, the paper's formulas (Mults, Addns in n; a general "
+                 "rotary arm, 1 Mult = 1 Addn = 1 flop)", ("method", "Mults", "Addns", "counts"),
+                 rows, align="llll")
+
+
+def _measure(f: dict) -> str:
+    what = {"serial": "one set, serially", "latency": "one set's latency",
+            "interval": "interval between sets"}[f["measure"]]
+    return what + (f" ({f['qualifier']})" if f.get("qualifier") else "")
+
+
+def o1_at_n(rep: dict) -> Table:
+    """The formulas evaluated at this robot's n; for n = 6 the printed column O.1b beside them."""
+    t = rep["table_o1"]
+    n = t["n"]
+    six = n == 6
+    clk = rep.get("clock")
+    cols = ("method", "Mults", "Addns", "flops") + (("printed O.1b", "check") if six else ()) + \
+        ((f"µs at {clk['text']}",) if clk else ())
+    rows, notes = [], []
+    for f in t["formulas"]:
+        row = [f["method"], num(f["mults"]), num(f["adds"]), num(f["flops"])]
+        if six:
+            p = f["printed_n6"]
+            row += [f"{num(p['mults'])} + {num(p['adds'])}",
+                    "agrees" if p["matches"] else f"differs: note {len(notes) + 1}"]
+            if not p["matches"]:
+                notes.append(f"{len(notes) + 1}. {f['method']}: {p['note']}")
+        if clk:
+            row.append(us_text(f["time_us"]) + (f" ({f['sets_per_second']:,.0f} sets/s)"
+                                               if "sets_per_second" in f else ""))
+        rows.append(tuple(row))
+    title = (f"Table O.1 at n = {n}, from the paper's formulas (not measured)"
+             + ("; the paper's printed column O.1b beside them" if six else ""))
+    if not six:
+        notes.append("the paper prints values for n = 6 only (Table O.1b)")
+    return Table("o1-at-n", title, cols, tuple(rows), tuple(notes),
+                 align="lrrr" + ("rl" if six else "") + ("r" if clk else ""))
+
+
+def o1_measured(rep: dict) -> Table:
+    """vampc's measured rows: serial work of its graphs, latency and interval of each configuration."""
+    t = rep["table_o1"]
+    clk = rep.get("clock")
+    cols = ("vampc, measured", "Mults", "Addns", "waits", "flops", "interval", "VAMPs", "paper",
+            "difference", "why") + ((f"µs at {clk['text']}", "sets/s") if clk else ())
+    rows = []
+    for r in t["measured"]:
+        ref = r["paper"]
+        d = r["difference"]
+        interval = (f"{r['interval_flops']} = {r['interval']['mults']} M + {r['interval']['adds']} A"
+                    if "interval" in r else num(r.get("interval_flops")))
+        label = r["configuration"] + (" (this report)" if r.get("own") else "")
+        row = (label, num(r["mults"]), num(r["adds"]), num(r.get("waits")), num(r["flops"]), interval,
+               num(r.get("vamps")),
+               f"{num(ref['mults'])} + {num(ref['adds'])}"
+               + (" LWP" if r["measure"] == "serial" else f" = {num(ref['flops'])}"),
+               f"{signed(d['mults'])} M, {signed(d['adds'])} A", r["note"])
+        if clk:
+            row += (us_text(r["time_us"]),
+                    f"{r['sets_per_second']:,.0f}" if "sets_per_second" in r else DASH)
+        rows.append(row)
+    notes = ["serial rows: the graph's ops one after another (op costs: README, Report tables), beside "
+             "Luh-Walker-Paul (LWP); configuration rows: latency on the critical path as Mults + "
+             "Addns (+ flops waiting for a busy VAMP), beside the paper's formula for the recursion; "
+             "the systolic interval beside the paper's 1 Mult + 3 Addns"] + list(t["notes"])
+    return Table("o1-measured", f"Table O.1, vampc's figures for {rep['robot']} (measured from "
+                 "its compiled graphs and schedules)", cols, tuple(rows), tuple(notes),
+                 align="lrrrrrrrll" + ("rr" if clk else ""))
+
+
+# --- layouts and prefixes ------------------------------------------------------------------------
+
+def layouts(rep: dict) -> Table:
+    """The layout comparison (existing `layout_comparison` rows)."""
+    clk = rep.get("clock")
+    cols = ("layout", "latency", "= M + A + wait", "interval", "VAMPs", "buffer stages",
+            "mux inputs", "control regs", "host writes", "load ticks") + \
+        (("latency µs", "sets/s") if clk else ())
+    rows = []
+    for r in rep["layout_comparison"]:
+        row = (r["layout"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']} + {r['waits']}",
+               num(r["interval_flops"]), num(r["vamps"]), num(r.get("buffer_stages")),
+               num(r.get("mux_inputs")), num(r.get("control_registers")),
+               num(r.get("host_writes_per_set")), num(r.get("load_ticks")))
+        if clk:
+            row += (us_text(r["latency_us"]), f"{r['sets_per_second']:,.0f}")
+        rows.append(row)
+    notes = [] if all("buffer_stages" in r for r in rep["layout_comparison"]) else [_unallocated(rep)]
+    return Table("layouts", f"Layouts, {rep['recursion']} recursion (same robot; latency and "
+                 "interval in flops; README, Layouts)", cols, tuple(rows), tuple(notes),
+                 align="lrlrrrrrrr" + ("rr" if clk else ""))
+
+
+def _unallocated(rep: dict) -> str:
+    a = rep["allocation"]
+    return (f"{DASH}: not allocated — a configuration other than the report's own is allocated "
+            f"only when its graph has at most {a['limit_ops']:,} ops (compile it with its "
+            "--layout to see its buffers, multiplexers and load time)")
+
+
+def prefixes(rep: dict) -> Table:
+    """The prefix-shape comparison (log recursion)."""
+    rows = tuple((r["prefix"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']}", num(r["vamps"]),
+                  num(r.get("buffer_stages")), num(r.get("max_fan_out")))
+                 for r in rep["prefix_comparison"])
+    notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
+    return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
+                 "and options)", ("prefix", "latency", "= M + A", "VAMPs", "buffer stages",
+                                  "fan-out"), rows, tuple(notes), align="lrlrrr")
+
+
+# --- processors ----------------------------------------------------------------------------------
+
+ROW_NAMES = {"bwd": "backward, propagated", "npv": "backward, non-propagated",
+             "bwd_total": "backward, total", "fwd": "forward"}
+
+
+def vamps(rep: dict, v: dict) -> Table:
+    """One recursion's VAMP table (section VI): measured, the paper's figure in brackets."""
+    n = rep["joints"]
+    cols = ("pass", "per node", "per tier", "single device", "systolic", "check")
+    rows = []
+    for r in v["rows"]:
+        cells = [_paired(r[c], r["paper"].get(c)) for c in ("per_node", "per_tier", "single_device",
+                                                             "systolic")]
+        rows.append((ROW_NAMES[r["section"]], *cells, r["note"]))
+    shared = _paired(v["shared_passes"], v["paper_shared_passes"])
+    rows.append(("both passes on one device", DASH, DASH, shared, DASH,
+                 "Figure VI.1b (--share-passes); paper figure inferred: its tables give no count, "
+                 "the larger pass's single device" if v["paper_shared_passes"] else
+                 "Figure VI.1b (--share-passes)"))
+    what = v["recursion"] + (f" ({v['prefix']}, {v['leaves']} leaves)" if v["leaves"] else "")
+    leaves_as_mine = v["leaves"] is None or (v["leaves"] == "uniform") == bool(rep.get("uniform_leaves"))
+    own = rep["recursion"] == v["recursion"] and leaves_as_mine
+    title = (f"VAMPs, {what}, n = {n}: measured [the paper's section VI figure"
+             + (", n = 6]" if n == 6 else ": per node only, its tables are for n = 6]")
+             + (" — this report's recursion" if own else ""))
+    notes = ["per node: the busiest recursion node; per tier: the busiest tier of combining nodes "
+             "(non-propagated: those a tier's single device runs); single device: --layout folded; "
+             "systolic: one VAMP per op (three per MM)"]
+    return Table(f"vamps-{v['recursion']}-{v['leaves'] or 'linear'}", title, cols, tuple(rows),
+                 tuple(notes), align="lrrrrl")
+
+
+KINDS = ("MV", "MTV", "VA", "VC", "SV", "MM", "VD")
+
+
+def vamps_by_op(rep: dict) -> Table:
+    """VAMPs by op kind for each recursion (and leaf style) and layout."""
+    rows = []
+    for v in rep["processors"]["vamps"]:
+        what = v["recursion"] + (f", {v['leaves']} leaves" if v["leaves"] else "")
+        for layout, label in (("systolic", "systolic"), ("single_device", "single device"),
+                              ("shared_passes", "both passes on one device")):
+            got = v["by_op"][layout]
+            rows.append((f"{what}, {label}", *(num(got.get(k)) if got.get(k) else "" for k in KINDS),
+                         num(sum(got.values()))))
+    return Table("vamps-by-op", "VAMPs by op kind (an MM takes three), measured", ("configuration",
+                 *KINDS, "total"), tuple(rows))
+
+
+def _paired(got, paper) -> str:
+    if got is None:
+        return DASH
+    return num(got) + (f" [{num(paper)}]" if paper is not None else "")
+
+
+def ops_per_node(rep: dict) -> Table:
+    """Ops of the busiest node by kind, beside the paper's requirements per node."""
+    kinds = KINDS
+    cols = ("node", *kinds, "total", "paper", "check")
+    rows = []
+    for r in rep["processors"]["ops_per_node"]:
+        paper = " ".join(f"{k} {r['paper'][k]}" for k in kinds if r["paper"].get(k))
+        rows.append((f"{r['recursion']} {SECTION_NAMES[r['section']]}",
+                     *(num(r["ops"].get(k)) if r["ops"].get(k) else "" for k in kinds),
+                     num(r["total"]), f"{paper} = {r['paper_total']}", r["note"]))
+    return Table("ops-per-node", "Requirements per node (section VI): ops of the busiest node by "
+                 "kind, measured; the paper's MV counts MV and MTV (Mᵀv)", cols, tuple(rows),
+                 align="l" + "r" * 8 + "ll")
+
+
+def packages(rep: dict) -> Table:
+    """Packages per configuration (section VII), at 40 pins and --pins N."""
+    p = rep["packages"]
+    cols = ["configuration", "VAMPs"]
+    for size in p["pins"]:
+        per = p["budget"]["vamps_per_package"][str(size)]
+        cols += [f"{size} pins, {per['separate']} each", f"{size} pins, {per['shared']} each",
+                 f"{size} pins, mux pins sep./shared"]
+    cols.append("most pins a VAMP needs")
+    rows = []
+    for r in p["rows"]:
+        row = [r["configuration"] + (" (this report)" if r["own"] else ""), num(r["vamps"])]
+        for e in r["by_pins"]:
+            muxed = (f"{num(e.get('muxed_separate'))} / {num(e.get('muxed_shared'))}"
+                     if "muxed_separate" in e else DASH)
+            row += [num(e["paper_separate"]), num(e["paper_shared"]), muxed]
+        row.append(num(r["by_pins"][0].get("max_pins_per_vamp")))
+        rows.append(tuple(row))
+    b = p["budget"]
+    notes = [f"pin budget per VAMP (section VII): {b['separate']['pins_per_vamp']} wired separately "
+             f"({', '.join(b['separate']['signals'])}); {b['shared']['pins_per_vamp']} when "
+             f"{', '.join(b['shared']['package_signals'])} take {b['shared']['pins_per_package']} "
+             f"pins per package ({', '.join(b['shared']['signals'])} per VAMP)",
+             "mux pins: VAMPs packed in order, each multiplexer input a pin of its own (a folded "
+             "VAMP reads several wires; a systolic one needs exactly the paper's budget); "
+             f"{DASH}: not allocated"]
+    if p.get("paper_check"):
+        check = p["paper_check"]
+        notes.append("section VII: \"11 such 40-pin packages would implement the full systolic "
+                     f"pipeline for the linear case of n = 6\" — measured {check['measured']}: "
+                     f"{check['note']}")
+    return Table("packages", "Packages (section VII): by the paper's pin budget, and with each "
+                 "multiplexer input a pin", tuple(cols), tuple(rows), tuple(notes))
+
+
+# --- buffering and wiring ------------------------------------------------------------------------
+
+def buffering(rep: dict) -> Table:
+    """Input buffering and delay buffers of the report's configuration, and the delay buffering of
+    every allocated configuration."""
+    w = rep["wiring"]
+    ib = w["input_buffering"]
+    d = w["delay_buffers"]
+    rows = [("input buffering (scalars)", num(ib["scalars"]), f"≈ 37n + 15 = {num(ib['paper'])}",
+             "see the first note")]
+    for flow, x in d["by_flow"].items():
+        rows.append((f"delay buffers, {flow.replace('_', ' ')}",
+                     f"{num(x['stages'])} stages, {num(x['scalars'])} scalars, {num(x['chains'])} chains",
+                     _flow_paper(rep, flow), ""))
+    rows.append(("delay buffers, all", f"{num(d['stages'])} stages, {num(d['scalars'])} scalars, "
+                 f"{num(d['chains'])} chains (longest {d['max_stages']})", DASH, ""))
+    for r in w["by_configuration"]:
+        rows.append((f"  {r['configuration']}", f"{num(r['stages'])} stages, {num(r['scalars'])} "
+                     f"scalars", DASH, f"backward to forward {num(r['backward_to_forward_scalars'])} "
+                     "scalars"))
+    notes = [_input_note(ib)] + ([_factor_note(rep)] if _factor_note(rep) else [])
+    return Table("buffering", f"Buffering (section VI) of {w['configuration']}, measured; the "
+                 "other configurations below it", ("figure", "measured", "paper", "note"),
+                 tuple(rows), tuple(notes), align="lrll")
+
+
+def _input_note(ib: dict) -> str:
+    ports = ", ".join(f"{k} {v}" for k, v in ib["ports"].items())
+    consts = ", ".join(f"{k} {v}" for k, v in ib["constants"].items())
+    return (f"input buffering: host ports per set {ports}; {ib['constant_buffers']} constant buffers "
+            f"{consts}. The "
+            "paper's 37 per joint count z q̇ 3, z q̈ 3, A 9, p*, ṗ*, r*, s*, z 3 each, m 1, J 6 "
+            "(symmetric) and 15 for the endpoints; vampc stores no ṗ* or z (the input convention), "
+            "m as a vector and J whole, and one buffer per distinct constant")
+
+
+def _flow_paper(rep: dict, flow: str) -> str:
+    if rep["recursion"] == "linear" and rep["layout"] == "systolic":
+        return ("only between backward and forward" if flow == "backward_to_forward" else
+                "none (\"only required between backward and forward\")")
+    return DASH
+
+
+def _factor_note(rep: dict) -> str:
+    rows = {r["configuration"]: r for r in rep["wiring"]["by_configuration"]}
+    parts = []
+    for rec, factor in (("linear", "n"), ("log", "⌈log₂ n⌉")):
+        s, f = rows.get(f"{rec}, systolic"), rows.get(f"{rec}, folded")
+        if s and f and f["scalars"]:
+            parts.append(f"{rec}: systolic {num(s['scalars'])} against folded {num(f['scalars'])} "
+                         f"scalars, ×{s['scalars'] / f['scalars']:.1f} (paper: about a factor of "
+                         f"{factor})")
+    if not parts:
+        return ""
+    return "systolic pipelining needs more intermediate storage — " + "; ".join(parts)
+
+
+def wiring(rep: dict) -> Table:
+    """Vector buses, fan-out and the Program-Mode stream of the report's configuration."""
+    w = rep["wiring"]
+    b = w["buses"]
+    pb, pi = b["paper_between_nodes"], b["paper_internal"]
+    what = "nodes" if rep["recursion"] == "linear" else "nodes of the tiers"
+    rows = []
+    for sec in ("bwd", "fwd"):
+        x = b["between_nodes"][sec]
+        rows.append((f"vector buses into a {SECTION_NAMES[sec]} node from other {what}",
+                     f"{x['vectors']} vectors on {x['wires']} wires", f"{pb[sec]} vectors"))
+    rows.append(("vector buses, backward to forward (in all)",
+                 f"{b['backward_to_forward']['vectors']} vectors on "
+                 f"{b['backward_to_forward']['wires']} wires", "F_i, N_i of each joint"))
+    internal = b["internal_max"]
+    bound = pi["shared_passes"] if rep.get("share_passes") else pi["module"]
+    rows.append(("buses into one node's VAMPs, most (backward / npv / forward)",
+                 f"{internal['bwd']} / {internal['npv']} / {internal['fwd']}",
+                 f"≤ {bound} / {pi['npv']} / {bound}"))
+    rows.append(("maximum fan-out (inputs one Result drives)", num(w["max_fan_out"]), DASH))
+    p = w["program"]
+    rows.append(("program stream", f"{num(p['words'])} words into {p['input_buffers']} input "
+                 f"buffers, loaded in {num(p['load_ticks'])} ticks", DASH))
+    notes = ["a bus is a vector bus three scalars wide (section VI): vectors counts the results a "
+             "node receives (a matrix as three), wires the taps (a value read at two buffer stages "
+             "twice); a folded layout's recursion variables return through its own multiplexers"]
+    return Table("wiring", f"Wiring (section VI) of {w['configuration']}, measured",
+                 ("figure", "measured", "paper"), tuple(rows), tuple(notes), align="lrl")
+
+
+def clock(rep: dict) -> Table:
+    """Times at the clock rate given."""
+    c = rep["clock"]
+    rows = (("clock", f"{c['text']} ({c['tick_ns']:g} ns per flop)"),
+            ("latency", f"{c['latency_us']:g} µs ({rep['latency']['flops']} flops)"),
+            ("interval", f"{c['interval_us']:g} µs ({rep['interval_flops']} flops): "
+                         f"{c['sets_per_second']:,.0f} torque sets per second"),
+            ("program load", f"{c['load_us']:g} µs ({rep['hardware']['load_ticks']} ticks)"),
+            *((f"{hz_text(r['hz'])} control", ("met" if r["met"] else "not met")
+               + f" (×{r['margin']:g})") for r in c["control_rates"]))
+    return Table("clock", f"At {c['text']}, one flop per tick", ("figure", "value"), rows,
+                 (control_sentence(c),), align="ll")

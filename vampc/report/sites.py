@@ -1,0 +1,102 @@
+"""Where each VAMP sits in the paper's pictures: the recursion node (a circle of Figures III.1, IV.2,
+VI.3) or, for a folded layout, the device node (Figure VI.1) its ops belong to.
+
+A site is (section, index): section "bwd" (propagated, base to tip: the paper's "backward"), "npv"
+(non-propagated r̈, F, N) or "fwd"; index is the recursion node's group (joint i for the linear
+graph, the node's number for the log graph) in the systolic layout, the device node's position in a
+folded one (vampc.schedule.layout.device_nodes). With shared passes the forward ops run on backward
+VAMPs, whose site is the backward device node.
+"""
+from __future__ import annotations
+
+import json
+from collections import Counter
+from typing import NamedTuple
+
+from vampc.schedule.layout import device_nodes
+
+SECTIONS = ("bwd", "npv", "fwd")
+SECTION_NAMES = {"bwd": "backward", "npv": "non-propagated", "fwd": "forward"}
+
+
+class Site(NamedTuple):
+    """A recursion node (systolic) or device node (folded). A tuple: sites are hashed and compared
+    millions of times in a big network's figures."""
+
+    section: str
+    index: int
+
+    @property
+    def label(self) -> str:
+        """'bwd 3'."""
+        return f"{self.section} {self.index}"
+
+
+def unit_sizes(layout) -> list[int]:
+    """Per unit: its VAMPs. A budgeted layout has no fixed groups: each VAMP is a unit of its own
+    (an MM's three VAMPs each run other ops in between)."""
+    if layout.placement:
+        return [1] * layout.vamp_count
+    return list(layout.unit_vamps)
+
+
+def vamp_units(layout) -> list[int]:
+    """Per VAMP index: its unit (VAMPs are numbered unit by unit, three for an MM unit)."""
+    out = []
+    for unit, size in enumerate(unit_sizes(layout)):
+        out.extend([unit] * size)
+    return out
+
+
+def unit_nodes(graph, layout) -> list[list[int]]:
+    """Per unit: the compute nodes bound to it, in id order (in a budgeted layout, per VAMP: the
+    ops it takes part in, an MM on each of its three)."""
+    if layout.placement:
+        out: list[list[int]] = [[] for _ in range(layout.vamp_count)]
+        for nd in graph.compute_nodes():
+            for v in layout.placement[nd.id]:
+                out[v].append(nd.id)
+        return out
+    out = [[] for _ in layout.unit_vamps]
+    for nd in graph.compute_nodes():
+        out[layout.units[nd.id]].append(nd.id)
+    return out
+
+
+def unit_sites(graph, layout) -> list[Site]:
+    """Per unit: its site (from the unit's first node; in a budgeted layout, whose VAMPs serve many
+    device nodes in turn, the device node most of its ops belong to)."""
+    nodes = unit_nodes(graph, layout)
+    if layout.name == "systolic":
+        return [Site(graph.nodes[ids[0]].section, graph.nodes[ids[0]].group) for ids in nodes]
+    device = device_nodes(graph)
+    if layout.placement:
+        return [Site(*Counter(device(graph.nodes[i]) for i in ids).most_common(1)[0][0])
+                if ids else Site("bwd", 0) for ids in nodes]
+    return [Site(*device(graph.nodes[ids[0]])) for ids in nodes]
+
+
+_CACHE: dict = {}
+
+
+def vamp_sites(graph, layout) -> list[Site]:
+    """Per VAMP index: its site (the last few answers are kept: the wiring figures, the drawing and
+    the DOT text of one report all ask for them)."""
+    key = (id(graph), id(layout))
+    hit = _CACHE.get(key)
+    if hit is not None and hit[0] is graph and hit[1] is layout:
+        return hit[2]
+    sites = unit_sites(graph, layout)
+    out = [sites[u] for u in vamp_units(layout)]
+    if len(_CACHE) >= 4:
+        _CACHE.pop(next(iter(_CACHE)))
+    _CACHE[key] = (graph, layout, out)
+    return out
+
+
+def node_table(graph) -> dict[str, list[tuple[int, int, int, int, int]]]:
+    """A log graph's recursion nodes per section: (group, a, k, b, tier) rows (tier 0: leaves);
+    empty for the linear graph."""
+    meta = dict(graph.meta)
+    return {s: [tuple(r) for r in json.loads(meta[f"{s}_nodes"])] if f"{s}_nodes" in meta else []
+            for s in ("bwd", "fwd")}

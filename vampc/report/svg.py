@@ -1,0 +1,62 @@
+"""matplotlib, set up once for the report's pictures: imported only when a picture is asked for,
+the SVG backend without pyplot (no global figure state), and deterministic output — a fixed hash
+salt for the ids matplotlib derives, text kept as text, no date, a fixed creator — so the same IRs
+give the same bytes and tests can compare pictures."""
+from __future__ import annotations
+
+import io
+import re
+from contextlib import contextmanager
+
+DPI = 72            # SVG user units are points: one inch is 72 of them
+SETTINGS = {"svg.hashsalt": "vampc", "svg.fonttype": "none", "svg.id": "vampc",
+            "font.family": "DejaVu Sans", "font.size": 8.0, "axes.unicode_minus": True}
+METADATA = {"Date": None, "Creator": "vampc", "Format": None, "Type": None}
+
+
+def figure(width_px: float, height_px: float):
+    """A pyplot-free matplotlib Figure of the given size in SVG units (points)."""
+    from matplotlib.figure import Figure
+    return Figure(figsize=(width_px / DPI, height_px / DPI), dpi=DPI)
+
+
+@contextmanager
+def settings():
+    """matplotlib's rc settings for a deterministic SVG, for the duration of one drawing."""
+    import matplotlib
+    with matplotlib.rc_context(SETTINGS):
+        yield
+
+
+def to_svg(fig, titles: dict[str, str] | None = None) -> str:
+    """The figure as SVG text, with a <title> (a tooltip in browsers) added inside each group whose
+    id is a key of `titles`. Paths of a collection that carry a link to `#ID` (matplotlib wraps each
+    in an <a>) become groups with that id: the way to give thousands of bars drawn as one collection
+    an id each."""
+    buf = io.StringIO()
+    fig.savefig(buf, format="svg", metadata=METADATA)
+    text = _links_to_groups(buf.getvalue())
+    if titles:
+        text = _add_titles(text, titles)
+    return text
+
+
+def _links_to_groups(text: str) -> str:
+    if '<a xlink:href="#' not in text:
+        return text
+    text = re.sub(r'<a xlink:href="#([^"]+)"(?: target="_blank")?>', r'<g id="\1">', text)
+    return text.replace("</a>", "</g>")
+
+
+def _add_titles(text: str, titles: dict[str, str]) -> str:
+    from xml.sax.saxutils import escape
+
+    def title(m: re.Match) -> str:
+        what = titles.get(m.group(1))
+        return m.group(0) if what is None else f'{m.group(0)}<title>{escape(what)}</title>'
+    return re.sub(r'<g id="([^"]+)">', title, text)
+
+
+def strip_prolog(svg: str) -> str:
+    """The <svg> element alone (no XML declaration or DOCTYPE), to inline in HTML."""
+    return svg[svg.index("<svg"):]

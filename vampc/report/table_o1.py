@@ -1,0 +1,87 @@
+"""Table O.1 for one robot: the paper's rows evaluated at its n (formulas, marked as such; for n = 6
+the printed column beside them) and vampc's measured rows — the serial work of its graphs and the
+latency and interval of every configuration it compiles (vampc.report.configs)."""
+from __future__ import annotations
+
+from vampc.dataflow.ops import Op
+from vampc.report import paper
+from vampc.report.counts import latency_reasons, paper_latency, serial_work
+
+
+def table_o1(configs, chain) -> dict:
+    """The whole table: {"n", "formulas": [...], "measured": [...], "notes": [...]}."""
+    n = chain.n
+    measured, notes = [], []
+    for rec in _recursions(configs):
+        graph = next(k.graph for k in configs if k.recursion == rec)
+        measured.append(_serial_row(graph, n))
+        _add(notes, measured[-1]["explanation"])
+    for k in configs:
+        measured.append(_config_row(k, chain, notes))
+    return {"n": n, "formulas": [paper.o1_row(f, n) for f in paper.TABLE_O1],
+            "measured": measured, "notes": notes}
+
+
+def _recursions(configs) -> list[str]:
+    return list(dict.fromkeys(k.recursion for k in configs))
+
+
+def _serial_row(graph, n: int) -> dict:
+    """The graph's ops done one after another, beside Luh-Walker-Paul's serial Newton-Euler."""
+    work = serial_work(graph)
+    lwp = paper.formulation("luh_walker_paul")
+    ref = {"mults": paper.number(lwp.mults(n)), "adds": paper.number(lwp.adds(n))}
+    short, why = (("no SV, VD (input/output convention)",
+                   "linear graph, serial work: counted op by op from vampc's graph (README, Figures "
+                   "against the paper), not by Luh-Walker-Paul's accounting: no SV for z q̇, z q̈ and "
+                   "no VD for τ (the paper's input/output convention)")
+                  if graph.recursion == "linear" else
+                  ("work traded for depth",
+                   "log graph, serial work: the log recursion trades work for depth, every combining "
+                   "node composing whole relational parameters (Table V.1)"))
+    return {"configuration": f"{graph.recursion} graph, serial work", "recursion": graph.recursion,
+            "measure": "serial", "mults": work["mults"], "adds": work["adds"],
+            "flops": work["mults"] + work["adds"], "compare": lwp.key, "paper": ref,
+            "difference": {"mults": work["mults"] - ref["mults"], "adds": work["adds"] - ref["adds"]},
+            "note": short, "explanation": why}
+
+
+def _config_row(k, chain, notes: list[str]) -> dict:
+    """A compiled configuration's latency and interval beside the paper's formula."""
+    s, n = k.schedule, chain.n
+    ref = paper_latency(n, k.recursion)
+    row = {"configuration": k.name, "recursion": k.recursion, "layout": k.options.layout,
+           "share_passes": k.options.share_passes, "own": k.own, "measure": "latency",
+           "mults": s.mults, "adds": s.adds, "waits": s.waits, "flops": s.latency,
+           "interval_flops": s.interval, "vamps": k.vamps,
+           "compare": "lathrop_linear" if k.recursion == "linear" else "lathrop_log",
+           "paper": ref, "difference": {"mults": s.mults - ref["mults"], "adds": s.adds - ref["adds"],
+                                         "flops": s.latency - ref["flops"]}}
+    if k.options.layout == "systolic":
+        im, ia = _cycle_counts(s.timing)
+        row["interval"] = {"mults": im, "adds": ia}
+    reasons = latency_reasons({
+        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds}, "paper": ref,
+        "joints": n, "recursion": k.recursion, "uniform_leaves": k.options.uniform_leaves,
+        "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
+        "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]})
+    short = [r[0] for r in reasons]
+    if s.waits:
+        short.append(f"{s.waits} flops waiting for busy VAMPs")
+        _add(notes, "a folded layout's ops wait for their VAMP when the ops bound to it (ops of "
+                    "adjacent tiers on one device node) are busy: the list schedule of README, Layouts")
+    for _, sentence in reasons:
+        _add(notes, sentence)
+    row["note"] = "; ".join(short)
+    return row
+
+
+def _add(notes: list[str], sentence: str) -> None:
+    if sentence not in notes:
+        notes.append(sentence)
+
+
+def _cycle_counts(timing) -> tuple[int, int]:
+    """The systolic cycle C = MV + VA as (Mults, Addns) in the paper's accounting."""
+    mv, va = timing.path_counts(Op.MV), timing.path_counts(Op.VA)
+    return mv[0] + va[0], mv[1] + va[1]
