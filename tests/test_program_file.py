@@ -436,3 +436,17 @@ def test_a_network_beyond_24_bit_numbers_is_refused():
     with pytest.raises(VampcError, match=r"^the network needs 16777216 VAMPs, but VAMP numbers have "
                                          r"24 bits \(at most 16777215\)"):
         emit.default_numbering(SimpleNamespace(vamps=range(1 << 24)))
+
+
+def test_an_edited_robot_section_fails_the_check(program_path):
+    """The robot's parameters are baked into the constant buffers: an edited `robot` section (its
+    checksum re-stamped) is what --check compares against, so the check fails (README, Program file)."""
+    res = CliRunner().invoke(main, ["emulate", str(program_path), "--random", "5", "--check"])
+    assert res.exit_code == 0, res.output
+
+    def heavier(doc):
+        doc["robot"]["joints"][0]["mass"] *= 1.5
+
+    rewrite(program_path, heavier)
+    res = CliRunner().invoke(main, ["emulate", str(program_path), "--random", "5", "--check"])
+    assert res.exit_code == 1 and "FAILED" in res.output, res.output

@@ -6,8 +6,8 @@ Every point is compiled for real (budgeted schedule, allocation) and its figures
 network: VAMPs used, latency, interval, delay-buffer stages, control registers, multiplexer inputs and
 host writes per set, with the interval and latency bounds of vampc.schedule.budget and the gaps. A
 point is Pareto-optimal when no other point is at least as good in VAMPs, latency, interval and buffer
-stages and better in one. Budgets are swept one by one up to MAX_STEPS of them, geometrically spaced
-beyond that; a budget whose schedule leaves VAMPs idle and repeats a smaller budget's point is shown
+stages and better in one. Every budget is swept when there are at most MAX_STEPS of them, else
+MAX_STEPS budgets spaced geometrically over the range (fewer where rounding makes two equal); a budget whose schedule leaves VAMPs idle and repeats a smaller budget's point is shown
 once. Graphs up to THOROUGH_UP_TO VAMP-ops get the latency search `vampc compile --vamps` does; larger
 ones the first placement at the smallest interval (the sweep would take too long otherwise).
 """
