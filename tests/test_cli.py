@@ -232,7 +232,9 @@ def test_compile_in_a_real_process(tmp_path):
 def test_usage_errors_exit_2(args):
     result = run(*args)
     assert result.exit_code == 2, result.output
-    assert "Usage:" in result.stderr and "Traceback" not in result.stderr
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("vampc: error: "), result.stderr
+    assert lines[0].endswith("--help')") and result.stdout == ""
 
 
 def test_help_works_for_every_command():

@@ -695,3 +695,23 @@ def test_floating_quadruped_end_to_end(floating_program, tmp_path):
 def test_floating_base_option_applies_to_robot_files(floating_program):
     res = run("emulate", floating_program, "--random", "2", "--floating-base")
     assert res.exit_code == 2 and "--floating-base applies when compiling a robot file" in res.stderr
+
+
+@pytest.mark.parametrize("args", [("compile", PLANAR, "-o", ""), ("compile", ""),
+                                  ("report", PLANAR, "--timing", " ")])
+def test_an_empty_file_name_is_a_usage_error(args, tmp_path, monkeypatch):
+    """`-o "$UNSET"` must not fall back on the default name (or the current folder)."""
+    monkeypatch.chdir(tmp_path)
+    res = run(*args)
+    assert res.exit_code == 2 and "an empty file name" in res.stderr, res.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_read_only_file_is_kept_even_for_root(tmp_path):
+    """The owner's write bit decides, not os.access (which lets root write anything)."""
+    target = tmp_path / "kept.vamp.json"
+    target.write_text("mine\n")
+    target.chmod(0o444)
+    res = run("compile", PLANAR, "-o", target)
+    user_error(res, r"kept\.vamp\.json: exists and is read-only; vampc does not replace it$")
+    assert target.read_text() == "mine\n"

@@ -26,6 +26,16 @@ ROBOT_OPTIONS = ("base", "tip", "lock", "floating_base")
 LOG_ONLY = ("prefix", "uniform_leaves")
 
 
+class FilePath(click.Path):
+    """click.Path that refuses an empty name (a shell variable that was never set), rather than
+    falling back on a default file or the current folder."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and not value.strip():
+            self.fail("an empty file name", param, ctx)
+        return super().convert(value, param, ctx)
+
+
 def _robot_options(f):
     """Options shared by every command that reads a robot file."""
     f = click.option("--floating-base", is_flag=True,
@@ -180,7 +190,33 @@ def _compile(robot, base, tip, lock, floating_base=False, **opts):
         return compile_chain(chain, CompileOptions(**opts), stage=stage)
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Vampc(click.Group):
+    """The command group: a usage error (a bad option or value, options that contradict each other)
+    is one line on stderr, `vampc: error: ...` with the help to read, exit 2, like every other error."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, False, **extra)
+        try:
+            code = super().main(args, prog_name, complete_var, False, **extra)
+        except click.UsageError as exc:
+            if type(exc).__name__ == "NoArgsIsHelpError":      # `vampc` alone: the help
+                click.echo(exc.ctx.get_help(), err=True)
+                sys.exit(2)
+            where = exc.ctx.command_path if exc.ctx is not None else "vampc"
+            message = " ".join(exc.format_message().split())
+            click.echo(f"vampc: error: {message} (see '{where} --help')", err=True)
+            sys.exit(2)
+        except click.ClickException as exc:
+            exc.show()
+            sys.exit(exc.exit_code)
+        except click.Abort:
+            click.echo("vampc: interrupted", err=True)
+            sys.exit(1)
+        sys.exit(code if isinstance(code, int) else 0)
+
+
+@click.group(cls=_Vampc, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="vampc")
 def main():
     """Compile a robot description into a program for a network of VAMPs (Lathrop, Parallelism in
@@ -193,11 +229,11 @@ def main():
 
 
 @main.command()
-@click.argument("robot", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+@click.argument("robot", type=FilePath(dir_okay=False))
+@click.option("-o", "--output", type=FilePath(dir_okay=False, allow_dash=True),
               help="Program file to write (default: ROBOT's name with .vamp.json, in the current "
               "folder; - for standard output).")
-@click.option("--numbering", type=click.Path(dir_okay=False),
+@click.option("--numbering", type=FilePath(dir_okay=False),
               help="Burned-in VAMP numbers, one per line, in logical VAMP order.")
 @click.option("--dump-after", type=click.Choice(["graph", "schedule", "allocate", "emit"]),
               help="Print the IR that STAGE hands on as canonical text (graph; layout and schedule; "
@@ -214,14 +250,14 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
     from vampc.program.file import write_program
     _check_robot_options(ctx, opts)
     if dump_after:
-        if output:
+        if output is not None:
             raise click.UsageError("--dump-after prints to standard output and writes no program "
                                    "file: leave out -o")
         from vampc.dump import dump_after as dump
         click.echo(dump(dump_after, _compile(robot, base, tip, lock, numbering=numbering, **opts)),
                    nl=False)
         return
-    out_path = output or Path(robot).stem + ".vamp.json"
+    out_path = output if output is not None else Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, numbering], {"-o": out_path}, stdout_ok=("-o",))["-o"]
     c = _compile(robot, base, tip, lock, numbering=numbering, **opts)
     write_program(program_text(c), out)
@@ -232,7 +268,7 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
 
 
 @main.command()
-@click.argument("source", type=click.Path(dir_okay=False))
+@click.argument("source", type=FilePath(dir_okay=False))
 @click.option("--format", "fmt", type=click.Choice(["text", "markdown", "json", "csv"]),
               default="text", show_default=True, help="text: aligned tables; markdown: for a design "
               "review; json: everything (schemas/report.schema.json); csv: with --tradeoff only.")
@@ -243,13 +279,13 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
               "20MHz): adds latency in µs and torque sets per second to every figure.")
 @click.option("--pins", type=click.IntRange(8, 1_000_000), metavar="N", help="Also count packages "
               "of N pins (beside the paper's 40).")
-@click.option("--timing", type=click.Path(dir_okay=False), metavar="FILE.svg",
+@click.option("--timing", type=FilePath(dir_okay=False), metavar="FILE.svg",
               help="Write the timing chart (Table III.2 style) as SVG.")
-@click.option("--network", type=click.Path(dir_okay=False), metavar="FILE.svg",
+@click.option("--network", type=FilePath(dir_okay=False), metavar="FILE.svg",
               help="Write a drawing of the network (Figures III.1, IV.2, VI.3) as SVG.")
-@click.option("--dot", type=click.Path(dir_okay=False), metavar="FILE.dot",
+@click.option("--dot", type=FilePath(dir_okay=False), metavar="FILE.dot",
               help="Write the network and the dataflow graph as Graphviz digraphs.")
-@click.option("--html", type=click.Path(dir_okay=False), metavar="FILE.html",
+@click.option("--html", type=FilePath(dir_okay=False), metavar="FILE.html",
               help="Write one self-contained HTML page: the tables and both pictures inline.")
 @_compile_options
 @_robot_options
@@ -414,8 +450,8 @@ def _static_check(doc: dict, source, c) -> None:
 
 
 @main.command()
-@click.argument("source", type=click.Path(dir_okay=False))
-@click.option("--trajectory", type=click.Path(dir_okay=False),
+@click.argument("source", type=FilePath(dir_okay=False))
+@click.option("--trajectory", type=FilePath(dir_okay=False),
               help="States to run: CSV with header q1..qn,qd1..qdn,qdd1..qddn (optional leading t), "
               ".npy or .npz.")
 @click.option("--random", "random_count", type=click.IntRange(1, 1 << 53), metavar="N",
@@ -428,12 +464,12 @@ def _static_check(doc: dict, source, c) -> None:
               "(the hardware specification; slower). They agree bit for bit.")
 @click.option("--check", is_flag=True, help="Compare every torque set with the reference Newton-Euler; "
               "exit 1 if any relative error exceeds 1e-9.")
-@click.option("--vcd", type=click.Path(dir_okay=False, allow_dash=True), help="Tick engine: write "
+@click.option("--vcd", type=FilePath(dir_okay=False, allow_dash=True), help="Tick engine: write "
               "every VAMP's Result as a VCD waveform (GTKWave).")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+@click.option("-o", "--output", type=FilePath(dir_okay=False, allow_dash=True),
               help="Write torques as CSV: a t column if the trajectory has one, then tau_<joint name> "
               "per joint (N·m revolute, N prismatic); - for standard output.")
-@click.option("--save-states", type=click.Path(dir_okay=False, allow_dash=True), metavar="FILE",
+@click.option("--save-states", type=FilePath(dir_okay=False, allow_dash=True), metavar="FILE",
               help="Write the states run as a trajectory CSV (the --trajectory format), to pair "
               "torques with their inputs.")
 @click.option("--write-failed", is_flag=True, help="With --check: write -o even when the check "

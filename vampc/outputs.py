@@ -86,7 +86,8 @@ def _plan(option: str, path: str, stdout_ok) -> Output:
             return Output(option, path, "stream", target)
         what = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
         raise VampcError(f"{path}: is {what}; give a file name for {option}")
-    if mode is not None and not os.access(target, os.W_OK):
+    if mode is not None and (not mode & stat.S_IWUSR or not os.access(target, os.W_OK)):
+        # the owner's write bit, too: root may write anything, but a file made read-only is kept
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
     _probe_folder(path, target.parent)
     return Output(option, path, "file", target)
