@@ -147,3 +147,22 @@ def test_a_picture_to_stdout_is_refused(tmp_path):
 def test_compile_options_that_contradict_a_program_are_refused(program):
     res = run("report", program, "--recursion", "log", "--timing", "x.svg")
     assert res.exit_code == 2 and "was compiled with --recursion linear" in res.stderr
+
+
+def test_latency_line_adds_up_and_trees_are_not_held_to_the_chain_formula():
+    rep = json.loads(run("report", PUMA, "--recursion", "log", "--layout", "folded",
+                         "--format", "json").stdout)
+    lat = rep["latency"]
+    assert lat["waits"] > 0 and lat["mults"] + lat["adds"] + lat["waits"] == lat["flops"]
+    out = run("report", PUMA, "--recursion", "log", "--layout", "folded").stdout
+    assert (f"latency          {lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns + "
+            f"{lat['waits']} waiting on the critical path") in out
+    tree = run("report", EXAMPLES / "quadruped.urdf").stdout
+    assert "a tree's or a floating base's latency follows its depth" in tree
+    assert "output correction" not in tree.split("interval")[0]
+
+
+def test_one_vamp_is_singular():
+    res = run("compile", PLANAR, "--vamps", "1", "-o", "-")
+    assert ", 1 VAMP, latency " in res.stderr, res.stderr
+    assert "budget           1 VAMP used of 1 allowed" in run("report", PLANAR, "--vamps", "1").stdout

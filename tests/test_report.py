@@ -88,7 +88,12 @@ def test_note_for_prismatic_joints_and_other_latencies():
     assert rep["prismatic_joints"] == prismatic
     assert rep["timing"] == {"mult_latency": 2, "add_latency": 3}
     notes = latency_note(rep)
-    assert "the paper assumes 1 Mult = 1 Addn = 1 flop; flops here use the given latencies" in notes
+    assert any(n.startswith("the paper assumes 1 Mult = 1 Addn = 1 flop; its formula is compared "
+                            "at the given latencies") for n in notes)
+    # the paper's 2n + 3 Mults and 6n + 7 Addns (n = 4), at 2 and 3 flops each
+    expected = (2 * 4 + 3) * 2 + (6 * 4 + 7) * 3
+    assert notes[0].startswith(f"{rep['latency']['flops'] - expected:+d} flops (")
+    assert notes[0].endswith("against the paper's formula at these latencies")
     assert any(s.startswith(f"prismatic joints {prismatic} add the σ̄ terms") for s in notes)
 
 

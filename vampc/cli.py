@@ -248,6 +248,7 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
     from vampc.compiler import program_text
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
+    from vampc.textio import count
     _check_robot_options(ctx, opts)
     if dump_after:
         if output is not None:
@@ -263,8 +264,9 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
     write_program(program_text(c), out)
     s = c.schedule
     click.echo(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
-               f"{len(c.network.vamps)} VAMPs, latency {s.latency} flops ({s.mults} M + {s.adds} A), "
-               f"interval {s.interval} flops", err=out.is_stdout)
+               f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + {s.adds} A"
+               f"{f' + {s.waits} waiting' if s.waits else ''}), "
+               f"interval {count(s.interval, 'flop')}", err=out.is_stdout)
 
 
 @main.command()

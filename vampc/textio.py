@@ -27,6 +27,11 @@ def decode_utf8(raw: bytes, path, what: str) -> str:
                          f"(the {what} must be UTF-8 text)") from None
 
 
+def count(k: int, noun: str) -> str:
+    """'1 VAMP', '12 VAMPs', '1 chain', '3 flops' (the noun's plural is noun + 's')."""
+    return f"{k} {noun}" + ("" if k == 1 else "s")
+
+
 def shown(text: str, limit: int = 60) -> str:
     """`text` quoted for a message: control, format (zero-width, BOM) and other invisible characters
     escaped as \\uXXXX, cut to `limit` characters."""

@@ -19,6 +19,7 @@ from vampc.network.model import Network
 from vampc.program import emit
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout, layout_and_schedule
+from vampc.textio import count
 
 # Ops in a graph above which the other configurations are scheduled but not allocated.
 ALLOCATE_LIMIT = 20_000
@@ -90,7 +91,7 @@ def configurations(c, recursions=("linear", "log")) -> list[Config]:
 
 def budget_label(options: CompileOptions) -> str:
     """'budget, 12 VAMPs', 'budget, interval 40', ..."""
-    return ("budget" + (f", {options.vamps} VAMPs" if options.vamps else "")
+    return ("budget" + (f", {count(options.vamps, 'VAMP')}" if options.vamps else "")
             + (f", interval {options.interval}" if options.interval else "")
             + (", exact" if options.exact else ""))
 

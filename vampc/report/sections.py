@@ -271,10 +271,11 @@ def buffering(rep: dict) -> Table:
              "see the first note")]
     for flow, x in d["by_flow"].items():
         rows.append((f"delay buffers, {flow.replace('_', ' ')}",
-                     f"{num(x['stages'])} stages, {num(x['scalars'])} scalars, {num(x['chains'])} chains",
+                     f"{num(x['stages'])} stages, {num(x['scalars'])} scalars, {num(x['chains'])} "
+                     + ("chain" if x["chains"] == 1 else "chains"),
                      _flow_paper(rep, flow), ""))
     rows.append(("delay buffers, all", f"{num(d['stages'])} stages, {num(d['scalars'])} scalars, "
-                 f"{num(d['chains'])} chains (longest {d['max_stages']})", DASH, ""))
+                 f"{num(d['chains'])} " + ("chain" if d["chains"] == 1 else "chains") + f" (longest {d['max_stages']})", DASH, ""))
     for r in w["by_configuration"]:
         rows.append((f"  {r['configuration']}", f"{num(r['stages'])} stages, {num(r['scalars'])} "
                      f"scalars", DASH, f"backward to forward {num(r['backward_to_forward_scalars'])} "

@@ -6,6 +6,7 @@ from __future__ import annotations
 from vampc.dataflow.ops import Op
 from vampc.report import paper
 from vampc.report.counts import latency_reasons, paper_latency, serial_work
+from vampc.textio import count
 
 
 def table_o1(configs, chain) -> dict:
@@ -57,7 +58,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
            "compare": "lathrop_linear" if k.recursion == "linear" else "lathrop_log",
            "paper": ref, "difference": {"mults": s.mults - ref["mults"], "adds": s.adds - ref["adds"],
                                          "flops": s.latency - ref["flops"]}}
-    if k.options.layout == "systolic":
+    if k.options.layout_name == "systolic":
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
     reasons = latency_reasons({
@@ -67,9 +68,10 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]})
     short = [r[0] for r in reasons]
     if s.waits:
-        short.append(f"{s.waits} flops waiting for busy VAMPs")
-        _add(notes, "a folded layout's ops wait for their VAMP when the ops bound to it (ops of "
-                    "adjacent tiers on one device node) are busy: the list schedule of README, Layouts")
+        short.append(f"{count(s.waits, 'flop')} waiting for busy VAMPs")
+        _add(notes, "a time-multiplexed layout's ops wait for their VAMP while it runs other ops: "
+                    "ops of adjacent tiers on one device node in a folded layout (README, Layouts), "
+                    "other ops and torque sets in a budget's (README, VAMP budgets and the trade-off)")
     for _, sentence in reasons:
         _add(notes, sentence)
     row["note"] = "; ".join(short)

@@ -2,7 +2,8 @@
 markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
-from vampc.report.counts import latency_note, vamp_notes
+from vampc.report.counts import flops, latency_note, latency_terms, paper_flops, vamp_notes
+from vampc.textio import count
 
 
 def render(rep: dict) -> str:
@@ -35,18 +36,17 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
         ("recursion", rep["recursion"] + (f" ({rep['prefix']})" if rep.get("prefix") else "")),
         ("layout", rep["layout"] + (" (forward pass on the backward VAMPs)"
                                     if rep.get("share_passes") else "")),
-        ("latency", f"{lat['flops']} flops = {lat['mults']} Mults + {lat['adds']} Addns on the "
-         "critical path"),
-        ("paper", f"{paper['flops']} flops = {paper['mults']} Mults + {paper['adds']} Addns"),
+        ("latency", f"{flops(lat['flops'])} = {latency_terms(rep, lat)} on the critical path"),
+        ("paper", f"{flops(paper_flops(rep))} = {latency_terms(rep, paper)}"),
     ]
     pairs += [("", note) for note in latency_note(rep)]
     if lat.get("waits"):
-        pairs.append(("", f"{lat['waits']} flops of it wait for a busy VAMP (the layout's list "
+        pairs.append(("", f"{flops(lat['waits'])} of it waiting for a busy VAMP (the layout's "
                           "schedule); the data path alone takes the Mults + Addns"))
     hw = rep.get("hardware")
     b = rep.get("budget")
     if b:
-        pairs.append(("budget", f"{b['vamps_used']} VAMPs used"
+        pairs.append(("budget", f"{count(b['vamps_used'], 'VAMP')} used"
                       + (f" of {b['vamps_asked']} allowed" if b["vamps_asked"] else "")
                       + f"; interval {rep['interval_flops']} against the bound {b['interval_bound']} "
                       f"(⌈W/K⌉ = ⌈{b['work']}/{b['vamps_asked'] or b['vamps_used']}⌉ = "
@@ -58,8 +58,8 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     pairs.append(("interval", f"{rep['interval_flops']} flops between successive torque sets"))
     if hw and rep.get("layout") != "systolic":
         pairs.append(("time-multiplexed",
-                      f"{hw['slots']} slots on {v['total']} VAMPs (period {hw['period']}, buffer "
-                      f"clock {hw['buffer_clock']} flops); {hw['control_registers']} control "
+                      f"{hw['slots']} slots on {count(v['total'], 'VAMP')} (period {hw['period']}, "
+                      f"buffer clock {flops(hw['buffer_clock'])}); {hw['control_registers']} control "
                       f"registers, {hw['mux_inputs']} multiplexer inputs beyond the first (at most "
                       f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host "
                       f"writes per set, {hw['program_words']} program words loaded in "
@@ -77,7 +77,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
          f"non-propagated, forward {v['per_node']['fwd']}"),
         ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
         *[("", note) for note in vamp_notes(rep)],
-        ("buffers", f"{rep['buffers']['stages']} stages in {rep['buffers']['chains']} chains "
+        ("buffers", f"{count(rep['buffers']['stages'], 'stage')} in {count(rep['buffers']['chains'], 'chain')} "
          f"({rep['buffers']['scalars']} scalars)"),
         ("host I/O", f"{rep['ports']} ports, {rep['constants']} constant buffers, "
          f"{rep['input_buffer_scalars']} input-buffer scalars"),
