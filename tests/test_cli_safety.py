@@ -715,3 +715,14 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     res = run("compile", PLANAR, "-o", target)
     user_error(res, r"kept\.vamp\.json: exists and is read-only; vampc does not replace it$")
     assert target.read_text() == "mine\n"
+
+
+@pytest.mark.parametrize("args, message", [
+    ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF files only"),
+    ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF files only"),
+    ((EXAMPLES / "quadruped.urdf", "--lock", "x=nan"), "the position must be a finite number"),
+])
+def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
+    res = run("compile", *args, "-o", tmp_path / "x.vamp.json")
+    assert res.exit_code == 2 and message in res.stderr, res.stderr
+    assert len(res.stderr.splitlines()) == 1 and not (tmp_path / "x.vamp.json").exists()

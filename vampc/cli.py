@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import sys
 import time
 import warnings
@@ -98,6 +99,9 @@ def _parse_lock(items) -> dict[str, float]:
             sep = ""
         if not sep or not name:
             raise click.BadParameter(f"{item!r} is not JOINT=VALUE", param_hint="--lock")
+        if not math.isfinite(number):
+            raise click.BadParameter(f"{item!r}: the position must be a finite number",
+                                     param_hint="--lock")
         if name in out and out[name] != number:
             raise click.BadParameter(f"joint {name!r} is locked twice, at {out[name]:g} and "
                                      f"{number:g}", param_hint="--lock")
@@ -183,7 +187,11 @@ def _check_program_options(ctx: click.Context, source: str, stored: dict) -> Non
 def _compile(robot, base, tip, lock, floating_base=False, **opts):
     from vampc import progress
     from vampc.compiler import STAGES, CompileOptions, compile_chain
-    from vampc.robot import load_robot
+    from vampc.robot import URDF_SUFFIXES, load_robot
+    given = [flag for flag, v in (("--base", base), ("--tip", tip), ("--lock", lock)) if v]
+    if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
+        raise click.UsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to URDF files only; {robot} is not a URDF "
+                               "(a DH table is one chain)")
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
         chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock), floating=floating_base)
