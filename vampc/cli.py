@@ -297,12 +297,16 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
               help="Write the network and the dataflow graph as Graphviz digraphs.")
 @click.option("--html", type=FilePath(dir_okay=False), metavar="FILE.html",
               help="Write one self-contained HTML page: the tables and both pictures inline.")
+@click.option("--curve", type=FilePath(dir_okay=False), metavar="FILE.svg",
+              help="With --tradeoff: write the trade-off curve as SVG (latency and interval "
+              "against VAMPs, Pareto-optimal points marked, the folded and systolic layouts "
+              "labelled).")
 @_compile_options
 @_robot_options
 @click.pass_context
 @_handle_errors
-def report(ctx, source, fmt, tradeoff, clock, pins, timing, network, dot, html, base, tip, lock,
-           **opts):
+def report(ctx, source, fmt, tradeoff, clock, pins, timing, network, dot, html, curve, base, tip,
+           lock, **opts):
     """Report flop counts, latency, VAMP, buffer and package counts for SOURCE beside the paper's
     (Table O.1, sections VI and VII): a robot file (compiled on the fly with the options given) or a
     program file written by `vampc compile` (its figures are recomputed from the file's graph,
@@ -316,7 +320,9 @@ def report(ctx, source, fmt, tradeoff, clock, pins, timing, network, dot, html, 
         for name in ("clock", "pins", "timing", "network", "dot", "html"):
             if _given(ctx, name):
                 raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff")
-        return _tradeoff(ctx, source, fmt, base, tip, lock, **opts)
+        return _tradeoff(ctx, source, fmt, curve, base, tip, lock, **opts)
+    if curve is not None:
+        raise click.UsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
     hz = _clock_hz(clock)
     outs = plan_outputs([source], {"--timing": timing, "--network": network, "--dot": dot,
                                    "--html": html})
@@ -353,8 +359,9 @@ def _formatted(rep: dict, fmt: str) -> str:
     return render_markdown(rep) if fmt == "markdown" else render(rep)
 
 
-def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
+def _tradeoff(ctx, source, fmt, curve, base, tip, lock, **opts) -> None:
     from vampc import progress
+    from vampc.outputs import plan_outputs
     from vampc.compiler import CompileOptions
     from vampc.report import tradeoff as tr
     from vampc.robot import load_robot
@@ -363,6 +370,7 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
         if _given(ctx, name):
             raise click.UsageError(f"{_flag(name)} does not apply to --tradeoff, which sweeps the "
                                    "layouts and budgets itself")
+    outs = plan_outputs([source], {"--curve": curve})
     if is_program(source):
         c, _, check = _program_compiled(ctx, source)
         check.wait()
@@ -374,6 +382,10 @@ def _tradeoff(ctx, source, fmt, base, tip, lock, **opts) -> None:
         options = CompileOptions(**opts)
     with progress.counter("trade-off", 1, unit="budget") as bar:
         rows = tr.tradeoff(chain, options, bar)
+    if outs:
+        from vampc.report.tradeoff_chart import curve_svg
+        _write_pictures(outs, {"--curve": curve_svg(rows, f"{chain.name}: {options.recursion} "
+                                                          f"recursion, {chain.n} joints")})
     if fmt == "json":
         click.echo(json.dumps({"robot": chain.name, "joints": chain.n,
                                "recursion": options.recursion, "points": rows}, indent=1))
