@@ -179,11 +179,6 @@ def prismatic_joints(chain) -> list[int]:
     return [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]
 
 
-def flops(k: int) -> str:
-    """'1 flop', '61 flops'."""
-    return f"{k} flop" + ("" if k == 1 else "s")
-
-
 def paper_flops(rep: dict) -> int:
     """The paper's formula in flops at the report's Mult and Addn latencies (the paper's own figure
     when both are 1 flop)."""

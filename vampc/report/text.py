@@ -2,8 +2,13 @@
 markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
-from vampc.report.counts import flops, latency_note, latency_terms, paper_flops, vamp_notes
+from vampc.report.counts import latency_note, latency_terms, paper_flops, vamp_notes
 from vampc.textio import count
+
+
+def flops(k: int) -> str:
+    """'1 flop', '61 flops'."""
+    return count(k, "flop")
 
 
 def render(rep: dict) -> str:
