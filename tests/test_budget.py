@@ -241,3 +241,20 @@ def test_exact_proves_the_optimum_of_a_small_graph(tmp_path):
 def test_exact_needs_a_budget():
     res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--exact", "-o", "-"])
     assert res.exit_code == 2 and "--exact applies with --vamps K" in res.stderr
+
+
+@pytest.mark.parametrize("recursion, k", [("linear", 9), ("linear", 18), ("log", 60), ("log", 112)])
+def test_full_networks_reach_the_interval_bound_and_stay_near_the_latency_bound(recursion, k):
+    # the Puma 560's points where the VAMPs must be (nearly) full: 324 VAMP-ticks on 18 VAMPs at
+    # II 18 leave no tick idle, 769 on 112 at II 7 leave 15. The list scheduler reached them only
+    # once ops with slack waited for gaps they fill exactly (modulo_schedule's `pack`); CP-SAT
+    # (--exact) places K = 18 at II 18 with latency 61. The program is then run and checked.
+    chain = load_robot(EXAMPLES / "puma560.yaml")
+    g = build_graph(chain, CompileOptions(recursion=recursion))
+    layout, sched, b = budget_schedule(g, Timing(), k)
+    floor = max(b.interval, 3)
+    assert floor <= sched.interval <= floor * 1.05, (sched.interval, floor)
+    assert b.latency <= sched.latency <= b.latency * 1.1, (sched.latency, b.latency)
+    ld = loaded(chain, recursion=recursion, vamps=k)
+    traj, stream, tick = run_both(ld, 40, tick_count=2)
+    assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:2], tick.tau)

@@ -9,7 +9,10 @@ The scheduler is an iterative modulo list scheduler (Rau's scheme without backtr
 has a reservation table of II ticks; the compute nodes are taken most urgent first (by the latest start
 that keeps the ASAP latency, a topological order) and each starts at the first tick, from the time its
 operands are ready (and no earlier than its ASAP start: an op that reads only inputs starts as late as
-its consumers allow), at which some VAMP (three for an MM) is free for its whole duration modulo II.
+its consumers allow), at which some VAMP (three for an MM) is free for its whole duration modulo II; of the VAMPs free
+there it takes those it fits most tightly (busy on both sides of it, then on one: best fit, so the
+free ticks stay in runs long enough for the ops still to come — at an interval of ⌈W/K⌉ every tick
+is needed), and with `pack` an op waits a few ticks, within its window, for a gap it fills exactly.
 An op that finds no such tick within II ticks of its ready time never will: the interval is then
 infeasible and the next one is tried. `modulo_schedule` is the one function an exact solver would
 replace.
@@ -107,7 +110,7 @@ class Placed:
 def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                     asap: Schedule | None = None, latency: int | None = None,
                     effort: int = 4, scan: bool = False, seed: int = 0,
-                    swing: bool = False) -> Placed | None:
+                    swing: bool = False, pack: int = 0) -> Placed | None:
     """Place every op on `k` VAMPs with successive torque sets every `ii` ticks — every torque set
     within `latency` ticks if given — or None if this scheduler finds no placement within `effort`
     placements per op (see the module docstring). `scan`: when an op must evict, it evicts at the
@@ -132,7 +135,7 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
         deadline = {i: latency - tail[i] for i in order if tail[i] is not None}
         if swing:
             order.sort(key=lambda i: (deadline.get(i, latency) - asap.start[i], asap.start[i], i))
-    return _Modulo(graph, d, k, ii, asap, deadline, scan, swing).run(order, effort)
+    return _Modulo(graph, d, k, ii, asap, deadline, scan, swing, pack).run(order, effort)
 
 
 def _jitter(count: int, seed: int) -> list[float]:
@@ -153,8 +156,9 @@ class _Modulo:
     too early) go back in the queue. A budget of placements bounds the work."""
 
     def __init__(self, graph: Graph, d, k: int, ii: int, asap: Schedule, deadline=None,
-                 scan: bool = False, swing: bool = False):
+                 scan: bool = False, swing: bool = False, pack: int = 0):
         self.g, self.d, self.k, self.ii, self.asap = graph, d, k, ii, asap
+        self.pack = pack
         self.deadline = deadline or {}
         self.swing = swing
         self.scan = scan      # evict where the fewest ops are (else at the first tick, as Rau)
@@ -273,12 +277,39 @@ class _Modulo:
         mask = self.free[t % ii]
         for tick in range(t + 1, t + dur):
             mask &= self.free[tick % ii]
-        vamps = []
-        while len(vamps) < need:
-            low = mask & -mask
-            vamps.append(low.bit_length() - 1)
-            mask ^= low
-        return t, tuple(vamps)
+        if self.pack and dur < ii:         # wait up to `pack` ticks for a gap it fills exactly
+            for later in range(t, min(t + self.pack, ready + window - 1) + 1):
+                m = self.free[later % ii]
+                for tick in range(later + 1, later + dur):
+                    m &= self.free[tick % ii]
+                if (m & ~self.free[(later - 1) % ii] & ~self.free[(later + dur) % ii]
+                        ).bit_count() >= need:
+                    t, mask = later, m
+                    break
+        return t, self._tightest(mask, t, dur, need)
+
+    def _tightest(self, mask: int, t: int, dur: int, need: int) -> tuple[int, ...]:
+        """`need` of the VAMPs in `mask` (free for ticks t .. t + dur - 1), those the op fits most
+        tightly first: busy on both sides of the span, then on one side, then any (best fit: the
+        free ticks left over stay in long runs, so a later long op still finds room; at an interval
+        of ⌈W/K⌉ the VAMPs must be packed without a gap). Lowest numbers first within a tier."""
+        ii = self.ii
+        if dur >= ii:
+            tiers = (mask,)
+        else:
+            left, right = ~self.free[(t - 1) % ii], ~self.free[(t + dur) % ii]
+            tiers = (mask & left & right, mask & (left | right), mask)
+        vamps: list[int] = []
+        for tier in tiers:
+            tier &= mask
+            while tier and len(vamps) < need:
+                low = tier & -tier
+                vamps.append(low.bit_length() - 1)
+                tier ^= low
+                mask ^= low
+            if len(vamps) == need:
+                break
+        return tuple(sorted(vamps))
 
     def _refresh(self, t: int, dur: int) -> None:
         """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
@@ -368,23 +399,53 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     return _finish(graph, timing, placed, k, verify, proof)
 
 
-TOLERANCE = 0.05     # intervals up to 5% above the bound may be taken for a shorter latency
+TOLERANCE = 0.05       # intervals up to 5% above the bound may be taken for a shorter latency
+LATENCY_SLACK = 0.10   # a placement is first held to 10% above the latency bound
 
 
 def _best_for(graph, timing, k, asap) -> Placed:
-    """K VAMPs: the smallest interval the scheduler reaches, then — among that and a few intervals
-    up to TOLERANCE above the interval bound — the placement with the shortest latency, found by
-    halving the latency each one is held to (vampc.schedule.budget.modulo_schedule's deadlines)."""
-    first = _smallest_interval(graph, timing, k, asap)
+    """K VAMPs: the interval and latency of the module docstring, searched in two steps.
+
+    1. **Held.** From the interval bound up to TOLERANCE above it, the first interval at which some
+       attempt of the portfolio (ATTEMPTS) places every op with the torques out within
+       LATENCY_SLACK of the latency bound; the latency is then shortened by halving what the best
+       of those attempts are held to.
+    2. **Otherwise** the smallest interval the list scheduler reaches unheld, and among that and the
+       intervals up to TOLERANCE above the bound, the placement with the shortest latency (the
+       critical path placed first at the bound — swing order — then the portfolio held to ever
+       shorter latencies).
+
+    Held placements reach intervals unheld ones do not: with a deadline an op that must evict
+    displaces the op with the most slack, and an op with slack waits for a gap it fills exactly
+    (`pack`) rather than cut a long one."""
     b = bounds(graph, timing, k)
     floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
-    limit = max(first.interval, int(floor * (1 + TOLERANCE)))
+    limit = max(floor, int(floor * (1 + TOLERANCE)))
+    target = int(b.latency * (1 + LATENCY_SLACK))
+    for ii in range(floor, limit + 1):
+        held = []
+        for n, attempt in enumerate(ATTEMPTS):
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
+            if placed is not None:
+                held.append((_latency(graph, placed), n, placed))
+        if held:
+            held.sort(key=lambda x: x[:2])
+            best = held[0][2]
+            for _, n, top in held[:REFINED]:
+                if _latency(graph, best) <= b.latency:
+                    break
+                found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, ATTEMPTS[n])
+                if _latency(graph, found) < _latency(graph, best):
+                    best = found
+            return best
+    first = _smallest_interval(graph, timing, k, asap)
+    limit = max(first.interval, limit)
     step = max(1, (limit - first.interval) // 3)
     tops = []                 # (latency, interval, attempt, placement) of every first placement
     for ii in range(first.interval, limit + 1, step):
-        for n, (scan, seed) in enumerate(ATTEMPTS):
-            top = first if (ii, scan, seed) == (first.interval, False, 0) else \
-                modulo_schedule(graph, timing, k, ii, asap, scan=scan, seed=seed)
+        for n, attempt in enumerate(ATTEMPTS):
+            top = first if (ii, n) == (first.interval, 0) else \
+                modulo_schedule(graph, timing, k, ii, asap, **attempt)
             if top is not None:
                 tops.append((_latency(graph, top), ii, n, top))
     tops.sort(key=lambda x: x[:3])
@@ -398,30 +459,35 @@ def _best_for(graph, timing, k, asap) -> Placed:
     for _, ii, n, top in tops[:REFINED]:   # hold the most promising to shorter latencies
         if _latency(graph, best) <= b.latency:
             break
-        scan, seed = ATTEMPTS[n]
-        found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, scan, seed)
+        found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, ATTEMPTS[n])
         if _latency(graph, found) < _latency(graph, best):
             best = found
     return best
 
 
-LATENCY_SLACK = 0.10   # the sweep's cheap pass holds a placement to 10% above the latency bound
-
 
 def _quick_for(graph, timing, k, asap) -> Placed:
-    """K VAMPs, cheaply (the trade-off sweep of big graphs): the first placement at the smallest
-    interval; when its latency is more than LATENCY_SLACK above the bound, one placement held to
-    that latency at the largest interval within TOLERANCE of the interval bound (swing order, then
-    the urgency order), taken if found. Near saturation successive torque sets crowd the VAMPs and
-    the first placement's latency can be several times the bound (a 32-joint log graph on 241
-    VAMPs, II 32: 220 flops against a bound of 58); held to 63, it is placed at the same II."""
-    first = _smallest_interval(graph, timing, k, asap)
+    """K VAMPs, cheaply (the trade-off sweep of big graphs): the first interval from the bound up to
+    TOLERANCE above it at which one of QUICK places every op held to LATENCY_SLACK above the
+    latency bound (no shortening); failing that, the first placement at the smallest interval
+    the list scheduler reaches, or — when its latency is more than LATENCY_SLACK above the bound —
+    one held to that latency at the largest interval within TOLERANCE of the bound (swing order,
+    then the urgency order), if found. Near saturation successive torque sets crowd the VAMPs and an
+    unheld placement's latency can be several times the bound (a 32-joint log graph on 241 VAMPs,
+    II 32: 220 flops against a bound of 58); held to 63, it is placed at the same II."""
     b = bounds(graph, timing, k)
+    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
+    limit = max(floor, int(floor * (1 + TOLERANCE)))
     target = int(b.latency * (1 + LATENCY_SLACK))
+    for ii in range(floor, limit + 1):
+        for attempt in QUICK:
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
+            if placed is not None:
+                return placed
+    first = _smallest_interval(graph, timing, k, asap)
     if _latency(graph, first) <= target:
         return first
-    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
-    ii = max(first.interval, int(floor * (1 + TOLERANCE)))
+    ii = max(first.interval, limit)
     for swing in (True, False):
         placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, swing=swing)
         if placed is not None:
@@ -429,10 +495,12 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     return first
 
 
-# The portfolio _best_for tries at each interval: (scan, seed) of modulo_schedule; the REFINED
-# placements with the shortest latencies are then held to shorter ones.
-ATTEMPTS = ((False, 0), (True, 0), (False, 1), (True, 2))
+# The portfolio _best_for tries at each interval (keyword arguments of modulo_schedule); the
+# REFINED placements with the shortest latencies are then held to shorter ones.
+ATTEMPTS = ({}, {"scan": True}, {"seed": 1}, {"scan": True, "seed": 2}, {"pack": 1},
+            {"pack": 2, "seed": 1}, {"pack": 4})
 REFINED = 3
+QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # _quick_for's portfolio
 
 
 def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed | None:
@@ -462,13 +530,14 @@ def _latency(graph, placed: Placed) -> int:
     return max(placed.finish[o.node] for o in graph.outputs)
 
 
-def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed, scan: bool,
-                      seed: int) -> Placed:
-    """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`."""
+def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed,
+                      attempt: dict) -> Placed:
+    """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`
+    (`attempt`: the keyword arguments of modulo_schedule that found `top`)."""
     best, lo, hi = top, bound, _latency(graph, top) - 1
     while lo <= hi:
         mid = (lo + hi) // 2
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, scan=scan, seed=seed)
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, **attempt)
         if placed is None:
             lo = mid + 1
         else:
