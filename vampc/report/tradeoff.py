@@ -9,7 +9,8 @@ point is Pareto-optimal when no other point is at least as good in VAMPs, latenc
 stages and better in one. Every budget is swept when there are at most MAX_STEPS of them, else
 MAX_STEPS budgets spaced geometrically over the range (fewer where rounding makes two equal); a budget whose schedule leaves VAMPs idle and repeats a smaller budget's point is shown
 once. Graphs up to THOROUGH_UP_TO VAMP-ops get the latency search `vampc compile --vamps` does; larger
-ones the first placement at the smallest interval (the sweep would take too long otherwise).
+ones a cheaper one (vampc.schedule.budget._quick_for: no shortening below 10% above the latency
+bound; the sweep would take too long otherwise).
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ from vampc.schedule.budget import bounds, budget_schedule, smallest_network
 from vampc.schedule.layout import layout_and_schedule
 
 MAX_STEPS = 48
-THOROUGH_UP_TO = 1000    # VAMP-ops: larger graphs take the first placement at the smallest interval
+THOROUGH_UP_TO = 1000    # VAMP-ops: larger graphs get the cheaper search (_quick_for)
 COLUMNS = ("layout", "vamps", "latency_flops", "interval_flops", "buffer_stages",
            "control_registers", "mux_inputs", "host_writes_per_set", "interval_bound",
            "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto")

@@ -467,26 +467,26 @@ def _best_for(graph, timing, k, asap) -> Placed:
 
 
 def _quick_for(graph, timing, k, asap) -> Placed:
-    """K VAMPs, cheaply (the trade-off sweep of big graphs): the first interval from the bound up to
-    TOLERANCE above it at which one of QUICK places every op held to LATENCY_SLACK above the
-    latency bound (no shortening); failing that, the first placement at the smallest interval
-    the list scheduler reaches, or — when its latency is more than LATENCY_SLACK above the bound —
-    one held to that latency at the largest interval within TOLERANCE of the bound (swing order,
-    then the urgency order), if found. Near saturation successive torque sets crowd the VAMPs and an
-    unheld placement's latency can be several times the bound (a 32-joint log graph on 241 VAMPs,
-    II 32: 220 flops against a bound of 58); held to 63, it is placed at the same II."""
+    """K VAMPs, cheaply (the trade-off sweep of big graphs): the first placement at the smallest
+    interval the list scheduler reaches, if its latency is within LATENCY_SLACK of the latency
+    bound (whatever its interval); else the first interval from the bound up to
+    TOLERANCE above it at which one of QUICK places every op held to that latency (no shortening);
+    else one held to it at the largest interval within TOLERANCE of the bound, swing order then the
+    urgency order; else the first placement. Near saturation successive torque sets crowd the
+    VAMPs and an unheld placement's latency can be several times the bound (a 32-joint log graph on
+    241 VAMPs, II 32: 220 flops against a bound of 58); held to 63, it is placed at the same II."""
     b = bounds(graph, timing, k)
     floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
     limit = max(floor, int(floor * (1 + TOLERANCE)))
     target = int(b.latency * (1 + LATENCY_SLACK))
+    first = _smallest_interval(graph, timing, k, asap)
+    if _latency(graph, first) <= target:      # (held attempts that fail on a big graph are slow:
+        return first                          # a 64-joint log graph at II 4 on 4357, 2 minutes)
     for ii in range(floor, limit + 1):
         for attempt in QUICK:
             placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
             if placed is not None:
                 return placed
-    first = _smallest_interval(graph, timing, k, asap)
-    if _latency(graph, first) <= target:
-        return first
     ii = max(first.interval, limit)
     for swing in (True, False):
         placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, swing=swing)
