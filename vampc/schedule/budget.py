@@ -110,7 +110,7 @@ class Placed:
 def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                     asap: Schedule | None = None, latency: int | None = None,
                     effort: int = 4, scan: bool = False, seed: int = 0,
-                    swing: bool = False, pack: int = 0) -> Placed | None:
+                    swing: bool = False, pack: int = 0, big: bool = False) -> Placed | None:
     """Place every op on `k` VAMPs with successive torque sets every `ii` ticks — every torque set
     within `latency` ticks if given — or None if this scheduler finds no placement within `effort`
     placements per op (see the module docstring). `scan`: when an op must evict, it evicts at the
@@ -135,6 +135,9 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
         deadline = {i: latency - tail[i] for i in order if tail[i] is not None}
         if swing:
             order.sort(key=lambda i: (deadline.get(i, latency) - asap.start[i], asap.start[i], i))
+    if big:              # the longest ops first (bin packing's rule), then as above
+        rank = {i: r for r, i in enumerate(order)}
+        order.sort(key=lambda i: (-d[nodes[i].op] * VAMPS_PER_OP[nodes[i].op], rank[i]))
     return _Modulo(graph, d, k, ii, asap, deadline, scan, swing, pack).run(order, effort)
 
 
@@ -422,7 +425,7 @@ def _best_for(graph, timing, k, asap) -> Placed:
     floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
     limit = max(floor, int(floor * (1 + TOLERANCE)))
     target = int(b.latency * (1 + LATENCY_SLACK))
-    for ii in range(floor, limit + 1):
+    for ii in _intervals(floor, limit):
         held = []
         for n, attempt in enumerate(ATTEMPTS):
             placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
@@ -466,23 +469,40 @@ def _best_for(graph, timing, k, asap) -> Placed:
 
 
 
+def _intervals(floor: int, limit: int) -> list[int]:
+    """The intervals a held search tries, from `floor` to `limit`: all of them up to 4, else 4
+    spread evenly (a few budgets of a big graph allow a hundred)."""
+    step = max(1, -(-(limit - floor) // 3))
+    return sorted({*range(floor, limit, step), limit})
+
+
 def _quick_for(graph, timing, k, asap) -> Placed:
-    """K VAMPs, cheaply (the trade-off sweep of big graphs): the first placement at the smallest
-    interval the list scheduler reaches, if its latency is within LATENCY_SLACK of the latency
-    bound (whatever its interval); else the first interval from the bound up to
-    TOLERANCE above it at which one of QUICK places every op held to that latency (no shortening);
-    else one held to it at the largest interval within TOLERANCE of the bound, swing order then the
-    urgency order; else the first placement. Near saturation successive torque sets crowd the
-    VAMPs and an unheld placement's latency can be several times the bound (a 32-joint log graph on
-    241 VAMPs, II 32: 220 flops against a bound of 58); held to 63, it is placed at the same II."""
+    """K VAMPs, cheaply (the trade-off sweep of big graphs), the first of these found: the first
+    placement at the smallest interval the list scheduler reaches, if that interval is within
+    TOLERANCE of the bound and its latency within LATENCY_SLACK of the latency bound; one held to
+    that latency with the longest ops first (`big`), at the first interval from the bound up to
+    TOLERANCE above it; the first placement, if its latency is within the slack; one held to it by
+    QUICK over the same intervals; one held to it at the largest interval within TOLERANCE of the
+    bound (swing order, then the urgency order); the first placement. No shortening. Near
+    saturation successive torque sets crowd the VAMPs and an unheld placement's latency can be
+    several times the bound (a 32-joint log graph on 241 VAMPs, II 32: 220 flops against a bound of
+    58). QUICK's attempts, which wait for exact fits, are slow where they fail on a big graph (a
+    64-joint log graph at II 4 on 4357 VAMPs: two minutes), so they come after the cheap ones."""
     b = bounds(graph, timing, k)
     floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
     limit = max(floor, int(floor * (1 + TOLERANCE)))
     target = int(b.latency * (1 + LATENCY_SLACK))
     first = _smallest_interval(graph, timing, k, asap)
-    if _latency(graph, first) <= target:      # (held attempts that fail on a big graph are slow:
-        return first                          # a 64-joint log graph at II 4 on 4357, 2 minutes)
-    for ii in range(floor, limit + 1):
+    if first.interval <= limit and _latency(graph, first) <= target:
+        return first
+    for ii in _intervals(floor, limit):
+        for seed in (0, 1):
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, big=True, seed=seed)
+            if placed is not None:
+                return placed
+    if _latency(graph, first) <= target:
+        return first
+    for ii in _intervals(floor, limit):
         for attempt in QUICK:
             placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
             if placed is not None:
@@ -497,10 +517,10 @@ def _quick_for(graph, timing, k, asap) -> Placed:
 
 # The portfolio _best_for tries at each interval (keyword arguments of modulo_schedule); the
 # REFINED placements with the shortest latencies are then held to shorter ones.
-ATTEMPTS = ({}, {"scan": True}, {"seed": 1}, {"scan": True, "seed": 2}, {"pack": 1},
-            {"pack": 2, "seed": 1}, {"pack": 4})
+ATTEMPTS = ({"big": True}, {}, {"scan": True}, {"seed": 1}, {"scan": True, "seed": 2},
+            {"pack": 1}, {"pack": 2, "seed": 1}, {"pack": 4})
 REFINED = 3
-QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # _quick_for's portfolio
+QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # _quick_for's portfolio after {"big": True}
 
 
 def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed | None:
@@ -533,8 +553,14 @@ def _latency(graph, placed: Placed) -> int:
 def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed,
                       attempt: dict) -> Placed:
     """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`
-    (`attempt`: the keyword arguments of modulo_schedule that found `top`)."""
-    best, lo, hi = top, bound, _latency(graph, top) - 1
+    (`attempt`: the keyword arguments of modulo_schedule that found `top`). The bound is tried
+    first: a held placement is not monotone in the latency (a 32-joint linear graph on 22 VAMPs at
+    II 79 is placed at its bound, 269, but not at 275)."""
+    if _latency(graph, top) > bound:
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=bound, **attempt)
+        if placed is not None:
+            return placed
+    best, lo, hi = top, bound + 1, _latency(graph, top) - 1
     while lo <= hi:
         mid = (lo + hi) // 2
         placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, **attempt)
