@@ -480,9 +480,10 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     """K VAMPs, cheaply (the trade-off sweep of big graphs), the first of these found: the first
     placement at the smallest interval the list scheduler reaches, if that interval is within
     TOLERANCE of the bound and its latency within LATENCY_SLACK of the latency bound; one held to
-    that latency with the longest ops first (`big`), at the first interval from the bound up to
-    TOLERANCE above it; the first placement, if its latency is within the slack; one held to it by
-    QUICK over the same intervals; one held to it at the largest interval within TOLERANCE of the
+    that latency with the longest ops first (BIG), at the first interval from the bound up to
+    TOLERANCE above it; if the first placement's latency is within the slack, one more such try
+    (evicting where the fewest ops are: `scan`), else that placement; one held to it by QUICK over
+    the same intervals; one held to it at the largest interval within TOLERANCE of the
     bound (swing order, then the urgency order); the first placement. No shortening. Near
     saturation successive torque sets crowd the VAMPs and an unheld placement's latency can be
     several times the bound (a 32-joint log graph on 241 VAMPs, II 32: 220 flops against a bound of
@@ -496,11 +497,16 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     if first.interval <= limit and _latency(graph, first) <= target:
         return first
     for ii in _intervals(floor, limit):
-        for seed in (0, 1):
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, big=True, seed=seed)
+        for attempt in BIG:
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
             if placed is not None:
                 return placed
-    if _latency(graph, first) <= target:
+    if _latency(graph, first) <= target:      # only the interval is over: one more try
+        for ii in _intervals(floor, limit):
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, big=True,
+                                     scan=True)
+            if placed is not None:
+                return placed
         return first
     for ii in _intervals(floor, limit):
         for attempt in QUICK:
@@ -520,7 +526,8 @@ def _quick_for(graph, timing, k, asap) -> Placed:
 ATTEMPTS = ({"big": True}, {}, {"scan": True}, {"seed": 1}, {"scan": True, "seed": 2},
             {"pack": 1}, {"pack": 2, "seed": 1}, {"pack": 4})
 REFINED = 3
-QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # _quick_for's portfolio after {"big": True}
+BIG = ({"big": True}, {"big": True, "seed": 1})     # _quick_for's cheap attempts, then its
+QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # slower ones
 
 
 def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed | None:
