@@ -429,8 +429,14 @@ def _best_for(graph, timing, k, asap) -> Placed:
         held = []
         for n, attempt in enumerate(ATTEMPTS):
             placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
-            if placed is not None:
-                held.append((_latency(graph, placed), n, placed))
+            if placed is None:
+                continue
+            if _latency(graph, placed) > b.latency:    # the bound itself, at once
+                placed = modulo_schedule(graph, timing, k, ii, asap, latency=b.latency,
+                                         **attempt) or placed
+            held.append((_latency(graph, placed), n, placed))
+            if held[-1][0] <= b.latency:     # none does better (and a failing attempt can
+                break                         # take a minute on a big graph)
         if held:
             held.sort(key=lambda x: x[:2])
             best = held[0][2]
@@ -523,8 +529,8 @@ def _quick_for(graph, timing, k, asap) -> Placed:
 
 # The portfolio _best_for tries at each interval (keyword arguments of modulo_schedule); the
 # REFINED placements with the shortest latencies are then held to shorter ones.
-ATTEMPTS = ({"big": True}, {}, {"scan": True}, {"seed": 1}, {"scan": True, "seed": 2},
-            {"pack": 1}, {"pack": 2, "seed": 1}, {"pack": 4})
+ATTEMPTS = ({"big": True}, {"pack": 1}, {"big": True, "scan": True}, {}, {"seed": 1},
+            {"pack": 2, "seed": 1}, {"scan": True}, {"scan": True, "seed": 2}, {"pack": 4})
 REFINED = 3
 BIG = ({"big": True}, {"big": True, "seed": 1})     # _quick_for's cheap attempts, then its
 QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # slower ones
