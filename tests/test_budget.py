@@ -258,3 +258,31 @@ def test_full_networks_reach_the_interval_bound_and_stay_near_the_latency_bound(
     ld = loaded(chain, recursion=recursion, vamps=k)
     traj, stream, tick = run_both(ld, 40, tick_count=2)
     assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:2], tick.tau)
+
+
+@pytest.mark.parametrize("k", [943, 1485])
+def test_a_32_joint_log_graph_reaches_both_bounds_on_nearly_full_networks(k):
+    # 7284 VAMP-ticks on 943 VAMPs at II 8 (96.5% busy) and on 1485 at II 5 (98.1%): reached once
+    # the longest ops are placed first ('big'); the sweep's cheap pass (thorough=False) as well
+    chain = random_chain(32, 32, prismatic_fraction=0.0)
+    g = build_graph(chain, CompileOptions(recursion="log"))
+    for thorough in (True, False):
+        _, sched, b = budget_schedule(g, Timing(), k, thorough=thorough)
+        assert sched.interval == b.interval and sched.latency <= b.latency * 1.1
+    ld = loaded(chain, recursion="log", vamps=k)
+    traj, stream, tick = run_both(ld, 20, tick_count=2)
+    assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:2], tick.tau)
+
+
+@pytest.mark.parametrize("robot, recursion", [("puma", "linear"), ("puma", "log"),
+                                              ("32 joints", "linear")])
+def test_a_budget_is_never_worse_than_the_folded_layout_on_as_many_vamps(robot, recursion):
+    from vampc.schedule.layout import layout_and_schedule
+    chain = load_robot(EXAMPLES / "puma560.yaml") if robot == "puma" else \
+        random_chain(32, 32, prismatic_fraction=0.0)
+    g = build_graph(chain, CompileOptions(recursion=recursion))
+    for share in (False, True):
+        layout, folded = layout_and_schedule(g, Timing(), "folded", share, verify=False)
+        _, sched, _ = budget_schedule(g, Timing(), layout.vamp_count)
+        assert sched.latency <= folded.latency and sched.interval <= folded.interval, \
+            (share, layout.vamp_count, sched.latency, folded.latency)
