@@ -26,7 +26,7 @@ from vampc.schedule.budget import bounds, budget_schedule, smallest_network
 from vampc.schedule.layout import layout_and_schedule
 
 MAX_STEPS = 48
-THOROUGH_UP_TO = 1000    # VAMP-ops: larger graphs get the cheaper search (_quick_for)
+THOROUGH_UP_TO = 2000    # VAMP-ops: larger graphs get the cheaper search (_quick_for)
 COLUMNS = ("layout", "vamps", "latency_flops", "interval_flops", "buffer_stages",
            "control_registers", "mux_inputs", "host_writes_per_set", "interval_bound",
            "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto")
