@@ -406,13 +406,20 @@ TOLERANCE = 0.05       # intervals up to 5% above the bound may be taken for a s
 LATENCY_SLACK = 0.10   # a placement is first held to 10% above the latency bound
 
 
+def _targets(graph, timing, k):
+    """(bounds, interval bound, largest interval within TOLERANCE of it, latency held to)."""
+    b = bounds(graph, timing, k)
+    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
+    return b, floor, max(floor, int(floor * (1 + TOLERANCE))), int(b.latency * (1 + LATENCY_SLACK))
+
+
 def _best_for(graph, timing, k, asap) -> Placed:
     """K VAMPs: the interval and latency of the module docstring, searched in two steps.
 
     1. **Held.** From the interval bound up to TOLERANCE above it, the first interval at which some
        attempt of the portfolio (ATTEMPTS) places every op with the torques out within
-       LATENCY_SLACK of the latency bound; the latency is then shortened by halving what the best
-       of those attempts are held to.
+       LATENCY_SLACK of the latency bound; each is tried at the bound itself at once, and the
+       best of them are then held to ever shorter latencies (halving).
     2. **Otherwise** the smallest interval the list scheduler reaches unheld, and among that and the
        intervals up to TOLERANCE above the bound, the placement with the shortest latency (the
        critical path placed first at the bound — swing order — then the portfolio held to ever
@@ -421,10 +428,7 @@ def _best_for(graph, timing, k, asap) -> Placed:
     Held placements reach intervals unheld ones do not: with a deadline an op that must evict
     displaces the op with the most slack, and an op with slack waits for a gap it fills exactly
     (`pack`) rather than cut a long one."""
-    b = bounds(graph, timing, k)
-    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
-    limit = max(floor, int(floor * (1 + TOLERANCE)))
-    target = int(b.latency * (1 + LATENCY_SLACK))
+    b, floor, limit, target = _targets(graph, timing, k)
     for ii in _intervals(floor, limit):
         held = []
         for n, attempt in enumerate(ATTEMPTS):
@@ -434,19 +438,12 @@ def _best_for(graph, timing, k, asap) -> Placed:
             if _latency(graph, placed) > b.latency:    # the bound itself, at once
                 placed = modulo_schedule(graph, timing, k, ii, asap, latency=b.latency,
                                          **attempt) or placed
-            held.append((_latency(graph, placed), n, placed))
+            held.append((_latency(graph, placed), ii, n, placed))
             if held[-1][0] <= b.latency:     # none does better (and a failing attempt can
                 break                         # take a minute on a big graph)
         if held:
-            held.sort(key=lambda x: x[:2])
-            best = held[0][2]
-            for _, n, top in held[:REFINED]:
-                if _latency(graph, best) <= b.latency:
-                    break
-                found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, ATTEMPTS[n])
-                if _latency(graph, found) < _latency(graph, best):
-                    best = found
-            return best
+            held.sort(key=lambda x: x[:3])
+            return _refine(graph, timing, k, asap, b.latency, held[0][3], held)
     first = _smallest_interval(graph, timing, k, asap)
     limit = max(first.interval, limit)
     step = max(1, (limit - first.interval) // 3)
@@ -465,14 +462,19 @@ def _best_for(graph, timing, k, asap) -> Placed:
             best = swung
         if _latency(graph, best) <= b.latency:
             return best
-    for _, ii, n, top in tops[:REFINED]:   # hold the most promising to shorter latencies
-        if _latency(graph, best) <= b.latency:
-            break
-        found = _shortest_latency(graph, timing, k, ii, asap, b.latency, top, ATTEMPTS[n])
-        if _latency(graph, found) < _latency(graph, best):
-            best = found
-    return best
+    return _refine(graph, timing, k, asap, b.latency, best, tops)
 
+
+def _refine(graph, timing, k, asap, bound: int, best: Placed, found: list) -> Placed:
+    """`best`, or a shorter latency from holding the REFINED most promising of `found` —
+    (latency, interval, attempt, placement), best first — to ever shorter latencies."""
+    for _, ii, n, top in found[:REFINED]:
+        if _latency(graph, best) <= bound:
+            break
+        shorter = _shortest_latency(graph, timing, k, ii, asap, bound, top, ATTEMPTS[n])
+        if _latency(graph, shorter) < _latency(graph, best):
+            best = shorter
+    return best
 
 
 def _intervals(floor: int, limit: int) -> list[int]:
@@ -480,6 +482,16 @@ def _intervals(floor: int, limit: int) -> list[int]:
     spread evenly (a few budgets of a big graph allow a hundred)."""
     step = max(1, -(-(limit - floor) // 3))
     return sorted({*range(floor, limit, step), limit})
+
+
+def _first_held(graph, timing, k, asap, intervals, attempts, latency: int) -> Placed | None:
+    """The first placement held to `latency` over `intervals` × `attempts`, or None."""
+    for ii in intervals:
+        for attempt in attempts:
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=latency, **attempt)
+            if placed is not None:
+                return placed
+    return None
 
 
 def _quick_for(graph, timing, k, asap) -> Placed:
@@ -495,36 +507,21 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     several times the bound (a 32-joint log graph on 241 VAMPs, II 32: 220 flops against a bound of
     58). QUICK's attempts, which wait for exact fits, are slow where they fail on a big graph (a
     64-joint log graph at II 4 on 4357 VAMPs: two minutes), so they come after the cheap ones."""
-    b = bounds(graph, timing, k)
-    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
-    limit = max(floor, int(floor * (1 + TOLERANCE)))
-    target = int(b.latency * (1 + LATENCY_SLACK))
+    b, floor, limit, target = _targets(graph, timing, k)
     first = _smallest_interval(graph, timing, k, asap)
     if first.interval <= limit and _latency(graph, first) <= target:
         return first
-    for ii in _intervals(floor, limit):
-        for attempt in BIG:
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
-            if placed is not None:
-                return placed
-    if _latency(graph, first) <= target:      # only the interval is over: one more try
-        for ii in _intervals(floor, limit):
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, big=True,
-                                     scan=True)
-            if placed is not None:
-                return placed
-        return first
-    for ii in _intervals(floor, limit):
-        for attempt in QUICK:
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
-            if placed is not None:
-                return placed
-    ii = max(first.interval, limit)
-    for swing in (True, False):
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, swing=swing)
-        if placed is not None:
-            return placed
-    return first
+    intervals = _intervals(floor, limit)
+    placed = _first_held(graph, timing, k, asap, intervals, BIG, target)
+    if placed is None and _latency(graph, first) <= target:    # only the interval is over
+        placed = _first_held(graph, timing, k, asap, intervals, ({"big": True, "scan": True},),
+                             target) or first
+    if placed is None:
+        placed = _first_held(graph, timing, k, asap, intervals, QUICK, target)
+    if placed is None:
+        placed = _first_held(graph, timing, k, asap, [max(first.interval, limit)],
+                             ({"swing": True}, {}), target)
+    return placed or first
 
 
 # The portfolio _best_for tries at each interval (keyword arguments of modulo_schedule); the
