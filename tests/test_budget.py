@@ -24,7 +24,7 @@ from vampc.robot.random import random_chain
 from vampc.schedule.budget import bounds, budget_schedule, modulo_schedule, work
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf"]
+ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf"]
 
 
 def _systolic_count(chain, recursion) -> int:
@@ -286,3 +286,15 @@ def test_a_budget_is_never_worse_than_the_folded_layout_on_as_many_vamps(robot, 
         _, sched, _ = budget_schedule(g, Timing(), layout.vamp_count)
         assert sched.latency <= folded.latency and sched.interval <= folded.interval, \
             (share, layout.vamp_count, sched.latency, folded.latency)
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_the_64_joint_snake_on_a_small_budget_emulates_exactly(recursion):
+    # the last example robot (the others are in ROBOTS); one budget, a small prime: the smallest
+    # network and systolic - 1 of a 64-joint graph take minutes to emulate on the tick engine
+    chain = load_robot(EXAMPLES / "snake64.yaml")
+    ld = loaded(chain, recursion=recursion, vamps=7)
+    assert len(ld.net.vamps) <= 7
+    traj, stream, tick = run_both(ld, 20, tick_count=2)
+    assert check_torques(ld.chain, traj, stream.tau).ok
+    assert np.array_equal(stream.tau[:2], tick.tau)
