@@ -119,7 +119,10 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
     `swing` (with `latency`): the ops least free to move first — by their slack between the ASAP
     start and the latest start the latency allows, the critical path first — each placed between
     its placed operands and its placed consumers (as swing modulo scheduling does), so the ops that
-    fix the latency get their ticks before the others fill the rest."""
+    fix the latency get their ticks before the others fill the rest. `pack` > 0: an op may wait up
+    to that many ticks (within its window) for a gap it fills exactly. `big`: the ops taking the most
+    VAMP-ticks first (bin packing's rule; the order above breaks ties), which packs nearly full
+    networks the urgency order cannot."""
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
     nodes = graph.nodes
