@@ -16,11 +16,11 @@ import time
 from pathlib import Path
 
 from vampc.compiler import CompileOptions, build_graph
-from vampc.dataflow.ops import VAMPS_PER_OP, Timing
+from vampc.dataflow.ops import Timing
 from vampc.report.tradeoff import THOROUGH_UP_TO, tradeoff
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain
-from vampc.schedule.budget import budget_schedule
+from vampc.schedule.budget import budget_schedule, vamp_ops
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -40,11 +40,10 @@ def one(label: str, chain, recursion: str) -> None:
           f"within 10%: {within_l}/{len(budget)} (worst {worst_l['latency_gap_pct']}% at "
           f"{worst_l['layout']})", flush=True)
     graph = build_graph(chain, CompileOptions(recursion=recursion, verify=False))
-    ops = sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())     # as the sweep decides
     for r in rows:
         if r["layout"].startswith("folded"):
             _, sched, _ = budget_schedule(graph, Timing(), r["vamps"], verify=False,
-                                          thorough=ops <= THOROUGH_UP_TO)
+                                          thorough=vamp_ops(graph) <= THOROUGH_UP_TO)
             worse = sched.latency > r["latency_flops"] or sched.interval > r["interval_flops"]
             print(f"{'':22}{r['layout']} on {r['vamps']} VAMPs: latency {r['latency_flops']}, "
                   f"interval {r['interval_flops']}; budget {r['vamps']}: latency {sched.latency}, "

@@ -19,10 +19,9 @@ import io
 from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph
-from vampc.dataflow.ops import VAMPS_PER_OP
 from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate
-from vampc.schedule.budget import bounds, budget_schedule, smallest_network
+from vampc.schedule.budget import bounds, budget_schedule, smallest_network, vamp_ops
 from vampc.schedule.layout import layout_and_schedule
 
 MAX_STEPS = 48
@@ -46,7 +45,7 @@ def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
     """One row per point (see the module docstring), in order of VAMPs."""
     graph = build_graph(chain, replace(options, verify=False))
     timing = options.timing
-    largest = sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+    largest = vamp_ops(graph)
     ks = budgets(smallest_network(graph), largest)
     thorough = largest <= THOROUGH_UP_TO
     rows, seen = [], set()

@@ -57,6 +57,11 @@ def work(graph: Graph, timing: Timing) -> int:
     return sum(d[nd.op] * VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
 
 
+def vamp_ops(graph: Graph) -> int:
+    """VAMP-ops of one torque set (an MM counts three): the VAMPs of the systolic layout."""
+    return sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+
+
 def tails(graph: Graph, timing: Timing) -> list[int | None]:
     """Per node: the longest path, in ticks, from its start to the end of an output (its own
     duration included); None for a node no output depends on."""
@@ -239,9 +244,7 @@ class _Modulo:
         them first, then those holding an op at tick t: with deadlines the op with the most slack
         first, else the lowest numbers (cheap: a network of thousands of VAMPs evicts often)."""
         ii = self.ii
-        mask = self.free[t % ii]
-        for tick in range(t + 1, t + dur):
-            mask &= self.free[tick % ii]
+        mask = self._free_for(t, dur)
         vamps = []
         while mask and len(vamps) < need:
             low = mask & -mask
@@ -280,19 +283,23 @@ class _Modulo:
             if at < 0:
                 return None
             t = ready + ii - r + at
-        mask = self.free[t % ii]
-        for tick in range(t + 1, t + dur):
-            mask &= self.free[tick % ii]
+        mask = self._free_for(t, dur)
         if self.pack and dur < ii:         # wait up to `pack` ticks for a gap it fills exactly
             for later in range(t, min(t + self.pack, ready + window - 1) + 1):
-                m = self.free[later % ii]
-                for tick in range(later + 1, later + dur):
-                    m &= self.free[tick % ii]
+                m = self._free_for(later, dur)
                 if (m & ~self.free[(later - 1) % ii] & ~self.free[(later + dur) % ii]
                         ).bit_count() >= need:
                     t, mask = later, m
                     break
         return t, self._tightest(mask, t, dur, need)
+
+    def _free_for(self, t: int, dur: int) -> int:
+        """The VAMPs (bit v for VAMP v) free for all of ticks t .. t + dur - 1, round the period."""
+        ii, free = self.ii, self.free
+        mask = free[t % ii]
+        for tick in range(t + 1, t + dur):
+            mask &= free[tick % ii]
+        return mask
 
     def _tightest(self, mask: int, t: int, dur: int, need: int) -> tuple[int, ...]:
         """`need` of the VAMPs in `mask` (free for ticks t .. t + dur - 1), those the op fits most
@@ -319,14 +326,11 @@ class _Modulo:
 
     def _refresh(self, t: int, dur: int) -> None:
         """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
-        ii, free = self.ii, self.free
         for start in range(t - self.longest + 1, t + dur):
-            s0 = start % ii
+            s0 = start % self.ii
             for shape in self.shapes:
                 length, need = shape
-                mask = free[s0]
-                for tick in range(start + 1, start + length):
-                    mask &= free[tick % ii]
+                mask = self._free_for(start, length)
                 self.avail[shape][s0] = mask.bit_count() >= need if need > 1 else mask != 0
 
     def _reserve(self, i: int, t: int, vamps: tuple[int, ...]) -> None:
@@ -445,8 +449,8 @@ def _best_for(graph, timing, k, asap) -> Placed:
             if held[-1][0] <= b.latency:     # none does better (and a failing attempt can
                 break                         # take a minute on a big graph)
         if held:
-            held.sort(key=lambda x: x[:3])
-            return _refine(graph, timing, k, asap, b.latency, held[0][3], held)
+            held.sort(key=lambda x: x[:3])       # (each failed at the bound already)
+            return _refine(graph, timing, k, asap, b.latency, held[0][3], held, at_bound=False)
     first = _smallest_interval(graph, timing, k, asap)
     limit = max(first.interval, limit)
     step = max(1, (limit - first.interval) // 3)
@@ -468,13 +472,15 @@ def _best_for(graph, timing, k, asap) -> Placed:
     return _refine(graph, timing, k, asap, b.latency, best, tops)
 
 
-def _refine(graph, timing, k, asap, bound: int, best: Placed, found: list) -> Placed:
+def _refine(graph, timing, k, asap, bound: int, best: Placed, found: list,
+            at_bound: bool = True) -> Placed:
     """`best`, or a shorter latency from holding the REFINED most promising of `found` —
-    (latency, interval, attempt, placement), best first — to ever shorter latencies."""
+    (latency, interval, attempt, placement), best first — to ever shorter latencies (`at_bound`:
+    see _shortest_latency)."""
     for _, ii, n, top in found[:REFINED]:
         if _latency(graph, best) <= bound:
             break
-        shorter = _shortest_latency(graph, timing, k, ii, asap, bound, top, ATTEMPTS[n])
+        shorter = _shortest_latency(graph, timing, k, ii, asap, bound, top, ATTEMPTS[n], at_bound)
         if _latency(graph, shorter) < _latency(graph, best):
             best = shorter
     return best
@@ -564,12 +570,13 @@ def _latency(graph, placed: Placed) -> int:
 
 
 def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed,
-                      attempt: dict) -> Placed:
+                      attempt: dict, at_bound: bool = True) -> Placed:
     """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`
     (`attempt`: the keyword arguments of modulo_schedule that found `top`). The bound is tried
-    first: a held placement is not monotone in the latency (a 32-joint linear graph on 22 VAMPs at
-    II 79 is placed at its bound, 269, but not at 275)."""
-    if _latency(graph, top) > bound:
+    first (unless `at_bound` is off: the caller tried it): a held placement is not monotone in the
+    latency (a 32-joint linear graph on 22 VAMPs at II 79 is placed at its bound, 269, but not at
+    275)."""
+    if at_bound and _latency(graph, top) > bound:
         placed = modulo_schedule(graph, timing, k, ii, asap, latency=bound, **attempt)
         if placed is not None:
             return placed
@@ -599,7 +606,7 @@ def _fewest_vamps(graph, timing, interval, asap, smallest) -> tuple[int, Placed]
     """The fewest VAMPs at which the scheduler reaches `interval` (binary search from ⌈W/T⌉ up to
     one VAMP per VAMP-op, where it always does)."""
     lo = max(smallest, -(-work(graph, timing) // interval))
-    hi = sum(VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes())
+    hi = vamp_ops(graph)
     best = modulo_schedule(graph, timing, hi, interval, asap)
     if best is None:      # a VAMP per VAMP-op is always free: only a bug gets here
         raise VampcInternalError(f"no placement at interval {interval} with a VAMP per op")
