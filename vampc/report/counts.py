@@ -158,19 +158,19 @@ def budget_figures(c) -> dict | None:
     from vampc.schedule.budget import bounds
     k = c.options.vamps if c.options.vamps is not None else len(c.network.vamps)
     b = bounds(c.graph, c.schedule.timing, k)
-    longest = max(c.schedule.timing.durations[nd.op] for nd in c.graph.compute_nodes())
-    interval_bound = max(b.interval, longest)
+    interval_bound = b.interval_bound
     s = c.schedule
     return {"vamps_asked": c.options.vamps, "interval_asked": c.options.interval,
             "vamps_used": len(c.network.vamps), "work": b.work,
             "interval_bound": interval_bound, "work_over_vamps": b.interval,
-            "interval_gap_pct": _gap(s.interval, interval_bound),
+            "interval_gap_pct": gap_pct(s.interval, interval_bound),
             "latency_bound": b.latency, "critical_path": b.critical_path, "level_bound": b.level,
-            "latency_gap_pct": _gap(s.latency, b.latency),
+            "latency_gap_pct": gap_pct(s.latency, b.latency),
             "exact": c.options.exact, "proof": c.layout.proof if c.layout else ""}
 
 
-def _gap(value: int, bound: int) -> float:
+def gap_pct(value: int, bound: int) -> float:
+    """How far `value` is above `bound`, in percent (one decimal; 0 for a zero bound)."""
     return round(100.0 * (value - bound) / bound, 1) if bound else 0.0
 
 

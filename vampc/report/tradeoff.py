@@ -21,6 +21,7 @@ from dataclasses import replace
 from vampc.compiler import CompileOptions, build_graph
 from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate
+from vampc.report.counts import gap_pct
 from vampc.schedule.budget import bounds, budget_schedule, smallest_network, vamp_ops
 from vampc.schedule.layout import layout_and_schedule
 
@@ -69,19 +70,14 @@ def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
 def _row(label, graph, sched, layout, b) -> dict:
     net = allocate(graph, sched, layout, verify=False)
     plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
-    longest = max(sched.timing.durations[nd.op] for nd in graph.compute_nodes())
-    ib = max(b.interval, longest)
+    ib = b.interval_bound
     return {"layout": label, "vamps": len(net.vamps), "latency_flops": sched.latency,
             "interval_flops": sched.interval, "buffer_stages": net.buffer_stages,
             "control_registers": sum(4 if p else 6 * len(v.slots) for v, p in zip(net.vamps, plain)),
             "mux_inputs": sum(len(v.a) - 1 + len(v.b) - 1 for v in net.vamps),
             "host_writes_per_set": sum(len(p.entries) for p in net.ports),
-            "interval_bound": ib, "interval_gap_pct": _gap(sched.interval, ib),
-            "latency_bound": b.latency, "latency_gap_pct": _gap(sched.latency, b.latency)}
-
-
-def _gap(value: int, bound: int) -> float:
-    return round(100.0 * (value - bound) / bound, 1) if bound else 0.0
+            "interval_bound": ib, "interval_gap_pct": gap_pct(sched.interval, ib),
+            "latency_bound": b.latency, "latency_gap_pct": gap_pct(sched.latency, b.latency)}
 
 
 KEYS = ("vamps", "latency_flops", "interval_flops", "buffer_stages")

@@ -43,6 +43,12 @@ class Bounds:
     interval: int        # ⌈W/K⌉
     critical_path: int
     level: int           # the level bound (includes the critical path and ⌈W/K⌉)
+    longest: int         # the longest op's duration (no interval is shorter)
+
+    @property
+    def interval_bound(self) -> int:
+        """The interval bound reported and searched from: max(⌈W/K⌉, the longest op)."""
+        return max(self.interval, self.longest)
 
     @property
     def latency(self) -> int:
@@ -94,7 +100,8 @@ def bounds(graph: Graph, timing: Timing, k: int) -> Bounds:
     for q in range(cp + 1):
         must = sum(m * min(dur, t - q) for t, dur, m in live if t > q)
         level = max(level, q + -(-must // k))
-    return Bounds(w, k, -(-w // k), cp, level)
+    return Bounds(w, k, -(-w // k), cp, level, max((d[nd.op] for nd in graph.compute_nodes()),
+                                                   default=0))
 
 
 def smallest_network(graph: Graph) -> int:
@@ -403,7 +410,8 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     else:
         placed = modulo_schedule(graph, timing, k, interval, asap)
         if placed is None:
-            best = _smallest_interval(graph, timing, k, asap).interval
+            best = _smallest_interval(graph, timing, k, asap,
+                                      bounds(graph, timing, k).interval_bound).interval
             raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
                              f"interval this scheduler reaches is {best} flops")
     return _finish(graph, timing, placed, k, verify, proof)
@@ -416,7 +424,7 @@ LATENCY_SLACK = 0.10   # a placement is first held to 10% above the latency boun
 def _targets(graph, timing, k):
     """(bounds, interval bound, largest interval within TOLERANCE of it, latency held to)."""
     b = bounds(graph, timing, k)
-    floor = max(b.interval, max(timing.durations[nd.op] for nd in graph.compute_nodes()))
+    floor = b.interval_bound
     return b, floor, max(floor, int(floor * (1 + TOLERANCE))), int(b.latency * (1 + LATENCY_SLACK))
 
 
@@ -451,7 +459,7 @@ def _best_for(graph, timing, k, asap) -> Placed:
         if held:
             held.sort(key=lambda x: x[:3])       # (each failed at the bound already)
             return _refine(graph, timing, k, asap, b.latency, held[0][3], held, at_bound=False)
-    first = _smallest_interval(graph, timing, k, asap)
+    first = _smallest_interval(graph, timing, k, asap, floor)
     limit = max(first.interval, limit)
     step = max(1, (limit - first.interval) // 3)
     tops = []                 # (latency, interval, attempt, placement) of every first placement
@@ -517,7 +525,7 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     58). QUICK's attempts, which wait for exact fits, are slow where they fail on a big graph (a
     64-joint log graph at II 4 on 4357 VAMPs: two minutes), so they come after the cheap ones."""
     b, floor, limit, target = _targets(graph, timing, k)
-    first = _smallest_interval(graph, timing, k, asap)
+    first = _smallest_interval(graph, timing, k, asap, floor)
     if first.interval <= limit and _latency(graph, first) <= target:
         return first
     intervals = _intervals(floor, limit)
@@ -591,10 +599,10 @@ def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed,
     return best
 
 
-def _smallest_interval(graph, timing, k, asap) -> Placed:
-    """The first interval from ⌈W/K⌉ up at which the list scheduler places every op."""
-    ii = max(-(-work(graph, timing) // k), max(timing.durations[nd.op]
-                                               for nd in graph.compute_nodes()))
+def _smallest_interval(graph, timing, k, asap, floor: int) -> Placed:
+    """The first interval from `floor` (the interval bound) up at which the list scheduler places
+    every op."""
+    ii = floor
     while True:
         placed = modulo_schedule(graph, timing, k, ii, asap)
         if placed is not None:

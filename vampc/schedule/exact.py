@@ -101,11 +101,10 @@ def exact_budget(graph: Graph, timing: Timing, k: int, seconds: float = EFFORT,
     the shortest latency there (see the module docstring)."""
     cp_model = _solver()
     b = bounds(graph, timing, k)
-    longest = max(timing.durations[nd.op] for nd in graph.compute_nodes())
     tail = tails(graph, timing)
     work = sum(timing.durations[nd.op] for nd in graph.compute_nodes())
     horizon = work + max(t for t in tail if t is not None)
-    ii, proven = max(b.interval, longest), True
+    ii, proven = b.interval_bound, True
     if interval is not None:
         status, placed, optimal = solve(graph, timing, k, interval, horizon, seconds)
         if placed is None:
