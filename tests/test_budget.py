@@ -136,12 +136,18 @@ def test_an_interval_shorter_than_an_op():
         budget_schedule(g, Timing(), interval=2)
 
 
-def test_vamps_and_interval_that_contradict():
-    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "4",
-                                    "--interval", "20", "-o", "-"])
+@pytest.mark.parametrize("k, interval", [(4, 20), (12, 20)])
+def test_vamps_and_interval_that_contradict(k, interval):
+    # the interval named is the one `--vamps K` alone compiles to (at K = 12 an unheld search
+    # stops at 28, the held one reaches 27)
+    alone = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", str(k),
+                                      "-o", "-"])
+    reached = json.loads(alone.stdout)["schedule"]["interval"]
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", str(k),
+                                    "--interval", str(interval), "-o", "-"])
     assert res.exit_code == 1
-    assert res.stderr.startswith("vampc: error: --vamps 4 --interval 20: with 4 VAMPs the smallest "
-                                 "interval this scheduler reaches is ")
+    assert res.stderr == (f"vampc: error: --vamps {k} --interval {interval}: with {k} VAMPs the "
+                          f"smallest interval this scheduler reaches is {reached} flops\n")
 
 
 @pytest.mark.parametrize("extra", [["--layout", "folded"], ["--layout", "systolic"]])

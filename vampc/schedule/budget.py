@@ -405,16 +405,18 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     elif k is None:
         k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
     elif interval is None:
-        placed = _best_for(graph, timing, k, asap) if thorough else \
-            _quick_for(graph, timing, k, asap)
+        placed = _for_vamps(graph, timing, k, asap, thorough)
     else:
         placed = modulo_schedule(graph, timing, k, interval, asap)
-        if placed is None:
-            best = _smallest_interval(graph, timing, k, asap,
-                                      bounds(graph, timing, k).interval_bound).interval
+        if placed is None:         # what --vamps K alone reaches (an unheld search can say more)
+            best = _for_vamps(graph, timing, k, asap, thorough).interval
             raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
                              f"interval this scheduler reaches is {best} flops")
     return _finish(graph, timing, placed, k, verify, proof)
+
+
+def _for_vamps(graph, timing, k, asap, thorough: bool) -> Placed:
+    return _best_for(graph, timing, k, asap) if thorough else _quick_for(graph, timing, k, asap)
 
 
 TOLERANCE = 0.05       # intervals up to 5% above the bound may be taken for a shorter latency
