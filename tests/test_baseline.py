@@ -1,0 +1,19 @@
+"""Outputs unchanged: program files, reports and torques are byte-identical to those of commit
+4d9317d, for every example, layout and recursion (tests/baseline.py made the digests from that
+commit's code; see its docstring)."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from baseline import CASES, outputs
+from conftest import GOLDEN
+
+WANT = json.loads((GOLDEN / "baseline-4d9317d.json").read_text())
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
+def test_outputs_as_at_4d9317d(case, monkeypatch):
+    monkeypatch.setenv("VAMPC_PROGRESS", "0")
+    assert outputs(case) == WANT[case[0]]
