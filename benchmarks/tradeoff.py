@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 
 from vampc.compiler import CompileOptions, build_graph
-from vampc.dataflow.ops import Timing
+from vampc.machine.ops import Timing
 from vampc.report.tradeoff import THOROUGH_UP_TO, tradeoff
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain

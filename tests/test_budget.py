@@ -16,7 +16,7 @@ from emulator_util import loaded, run_both
 from vampc.cli import main
 from vampc.compiler import CompileOptions, build_graph, compile_chain
 from vampc.dataflow.graph import GraphBuilder
-from vampc.dataflow.ops import Op, Timing
+from vampc.machine.ops import Op, Timing
 from vampc.emulator.host import check_torques
 from vampc.errors import VampcError
 from vampc.robot import load_robot

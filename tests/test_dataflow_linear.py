@@ -16,7 +16,7 @@ from conftest import EXPECTED_EXAMPLES, EXAMPLES, example_paths
 from vampc.dataflow.evaluate import evaluate
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.linear import build_linear
-from vampc.dataflow.ops import Op
+from vampc.machine.ops import Op
 from vampc.dynamics.reference import rnea
 from vampc.errors import VampcInternalError
 from vampc.robot.chain import JointType

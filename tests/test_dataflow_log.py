@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from vampc.dataflow.evaluate import evaluate, evaluate_nodes
 from vampc.dataflow.linear import build_linear
 from vampc.dataflow.logarithmic import build_log, relational_nodes
-from vampc.dataflow.ops import VAMPS_PER_OP, Op
+from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.dataflow.prefix import prefix_tiers, size
 from vampc.dynamics.reference import rnea, rnea_variables
 from vampc.errors import VampcError

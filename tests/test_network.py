@@ -14,7 +14,7 @@ import pytest
 
 from vampc.dataflow.linear import build_linear
 from vampc.dataflow.logarithmic import build_log
-from vampc.dataflow.ops import Op, Timing
+from vampc.machine.ops import Op, Timing
 from vampc.errors import VampcInternalError
 from vampc.network.allocate import allocate, verify_network
 from vampc.program.emit import a_roots

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from json_mutation import json_values, mutate, mutations
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain, program_document, program_text
-from vampc.dataflow.ops import Op
+from vampc.machine.ops import Op
 from vampc.errors import VampcError
 from vampc.network.model import Tap
 from vampc.program import document, emit

@@ -15,7 +15,7 @@ import networkx as nx
 import pytest
 
 from vampc.dataflow.linear import build_linear
-from vampc.dataflow.ops import Op, Timing
+from vampc.machine.ops import Op, Timing
 from vampc.errors import VampcInternalError
 from vampc.robot.random import random_chain
 from vampc.schedule.asap import Schedule, schedule_asap

@@ -30,7 +30,7 @@ _API = {
     "random_chain": "vampc.robot.random",
     "rnea": "vampc.dynamics.reference", "rnea_variables": "vampc.dynamics.reference",
     "build_linear": "vampc.dataflow.linear", "build_log": "vampc.dataflow.logarithmic",
-    "evaluate": "vampc.dataflow.evaluate", "Timing": "vampc.dataflow.ops",
+    "evaluate": "vampc.dataflow.evaluate", "Timing": "vampc.machine.ops",
     "schedule_asap": "vampc.schedule.asap", "allocate_systolic": "vampc.network.allocate",
     "CompileOptions": "vampc.compiler", "compile_chain": "vampc.compiler",
     "program_document": "vampc.compiler", "program_text": "vampc.compiler",

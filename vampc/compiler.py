@@ -10,9 +10,9 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
+from vampc.machine.ops import Timing
 from vampc.network.allocate import allocate
 from vampc.network.model import Network
 from vampc.program import emit
@@ -115,6 +115,15 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
         chain.verify()
     stage("graph")
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
+    return compile_graph(chain, graph, options, stage)
+
+
+def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileOptions(),
+                  stage=None) -> Compiled:
+    """The stages after the graph (schedule, allocate, emit) on a graph of `chain`'s inputs: a
+    graph built by a recursion, or by hand (tests build tiny graphs of new ops this way)."""
+    stage = stage or (lambda name: None)
+    options.check()
     stage("schedule")
     layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
                                         options.verify, options.vamps, options.interval,

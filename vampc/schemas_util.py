@@ -53,7 +53,41 @@ def _quick_validator(filename: str):
 
 @lru_cache(maxsize=None)
 def _cached(filename: str) -> dict:
-    return json.loads(_read(filename))
+    return _with_op_table(json.loads(_read(filename)))
+
+
+def _with_op_table(schema):
+    """The schema with its op names and ROM range taken from the op table (vampc.machine.ops), so
+    an op registered there is a valid op in a program file: every enum of op names becomes the
+    table's names (compute ops, and INPUT and CONST where it had them), a `rom` maximum the last ROM
+    pointer."""
+    from vampc.machine.ops import ROM, Op
+    if isinstance(schema, list):
+        return [_with_op_table(x) for x in schema]
+    if not isinstance(schema, dict):
+        return schema
+    out = {k: _with_op_table(v) for k, v in schema.items()}
+    names = out.get("enum")
+    if isinstance(names, list) and "VA" in names and "MTV" in names:
+        keep = {"INPUT", "CONST"} & set(names)
+        out["enum"] = [op.value for op in Op if op.is_compute or op.value in keep]
+    rom = out.get("properties", {}).get("rom")
+    if isinstance(rom, dict) and "maximum" in rom:
+        rom["maximum"] = len(ROM) - 1
+    return out
+
+
+def _table_changed() -> None:
+    _cached.cache_clear()
+    _quick_validator.cache_clear()
+
+
+def _listen() -> None:
+    from vampc.machine.ops import on_change
+    on_change(_table_changed)
+
+
+_listen()
 
 
 def _read(filename: str) -> str:

@@ -1,7 +1,8 @@
 """Numerical evaluation of a dataflow graph, vectorised over states.
 
 It proves a graph before any hardware exists: its torques must equal the reference RNEA. It evaluates
-the graph, not VAMP programs (the emulator does that), with plain numpy algebra.
+the graph, not VAMP programs (the emulator does that), but each op as the VAMPs compute it: the op
+table's micro-steps (vampc.machine.interp.apply), so its values are bit-equal to the emulator's.
 """
 from __future__ import annotations
 
@@ -9,18 +10,9 @@ import numpy as np
 
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.host import input_values
-from vampc.dataflow.ops import Op
+from vampc.machine.interp import apply
+from vampc.machine.ops import Op
 from vampc.robot.chain import Chain
-
-_APPLY = {
-    Op.VA: lambda a, b: a + b,
-    Op.SV: lambda a, b: a[:, :1] * b,
-    Op.VC: lambda a, b: np.cross(a, b),
-    Op.MV: lambda a, b: np.einsum("nij,nj->ni", a, b),
-    Op.MTV: lambda a, b: np.einsum("nji,nj->ni", a, b),
-    Op.MM: lambda a, b: a @ b,
-    Op.VD: lambda a, b: np.repeat(np.einsum("ni,ni->n", a, b)[:, None], 3, axis=1),
-}
 
 
 def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> list[np.ndarray]:
@@ -38,7 +30,7 @@ def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> list[np
             shape = (3, 3) if len(nd.value) == 9 else (3,)
             vals.append(np.broadcast_to(np.reshape(nd.value, shape), (count,) + shape))
         else:
-            vals.append(_APPLY[nd.op](vals[nd.args[0]], vals[nd.args[1]]))
+            vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]]))
     return vals
 
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vampc.dataflow.ops import OPERAND_SHAPES, Op, result_shape
 from vampc.errors import VampcInternalError
+from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 
 
 @dataclass(frozen=True)
@@ -78,7 +78,7 @@ class Graph:
 
     def to_networkx(self):
         """A networkx DiGraph with an edge producer -> consumer per operand (for analysis only)."""
-        import networkx as nx   # imported here: it costs ~0.1 s of start-up and only analysis needs it
+        import networkx as nx  # imported here: it costs ~0.1 s of start-up and only analysis needs it
         g = nx.DiGraph()
         for nd in self.nodes:
             g.add_node(nd.id)

@@ -37,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from vampc.dataflow.graph import Graph, GraphBuilder
-from vampc.dataflow.ops import Op
+from vampc.machine.ops import Op
 from vampc.robot.chain import Chain, JointType
 
 

@@ -109,9 +109,9 @@ import numpy as np
 
 from vampc.dataflow.graph import Graph, GraphBuilder, Node, Output
 from vampc.dataflow.linear import _nonpropagated, _p_star, _s_star
-from vampc.dataflow.ops import Op
 from vampc.dataflow.prefix import prefix_tiers, suffix_tiers
 from vampc.errors import VampcError
+from vampc.machine.ops import Op
 from vampc.robot.chain import Chain, JointType
 
 

@@ -34,10 +34,24 @@ import json
 
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.linear import add_tree, link_loads
-from vampc.dataflow.logarithmic import (BackIds, _back_combine, _back_leaf, _check_ground,
-                                        _collector_paused, _Ctx, _nonpropagated, _tip_load, prune_dead)
-from vampc.dataflow.ops import Op
-from vampc.dataflow.treeprefix import block_sources, path_prefix_plan, range_blocks, tree_depths
+from vampc.dataflow.logarithmic import (
+    BackIds,
+    _back_combine,
+    _back_leaf,
+    _check_ground,
+    _collector_paused,
+    _Ctx,
+    _nonpropagated,
+    _tip_load,
+    prune_dead,
+)
+from vampc.dataflow.treeprefix import (
+    block_sources,
+    path_prefix_plan,
+    range_blocks,
+    tree_depths,
+)
+from vampc.machine.ops import Op
 from vampc.robot.chain import Chain, JointType
 
 

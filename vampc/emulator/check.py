@@ -8,10 +8,10 @@ reported.
 """
 from __future__ import annotations
 
-from vampc.dataflow.ops import Op
 from vampc.emulator import timing as tm
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
+from vampc.machine.ops import Op
 from vampc.program.words import ROM
 
 
@@ -56,10 +56,10 @@ def check_against_graph(ld: Loaded, timing: tm.Timing) -> None:
         for k, slot in enumerate(vamp.slots):
             node = nodes[slot.node]
             op, col = ROM[ld.programs[v][k].rom]
-            if op is not node.op or (op is Op.MM and col != members[slot.node].index(v)):
+            if op is not node.op or (col is not None and col != members[slot.node].index(v)):
                 raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: ROM pointer "
                                  f"{ld.programs[v][k].rom} selects {op.value}"
-                                 + (f" column {col}" if op is Op.MM else "")
+                                 + (f" column {col}" if col is not None else "")
                                  + f", the graph node is {node.op.value}")
             t = timing.slots[(v, k)]
             for name, sources, arg in (("A", t.src_a, node.args[0]), ("B", t.src_b, node.args[1])):

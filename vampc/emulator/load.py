@@ -12,12 +12,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import Timing
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
+from vampc.machine.ops import Timing
 from vampc.network.model import Network, Tap
-from vampc.program.document import (chain_from_doc, graph_from_doc, network_from_doc,
-                                    programs_from_doc, stream_from_doc)
+from vampc.program.document import (
+    chain_from_doc,
+    graph_from_doc,
+    network_from_doc,
+    programs_from_doc,
+    stream_from_doc,
+)
 from vampc.program.emit import StreamEntry, a_roots, load_ticks
 from vampc.program.file import read_program
 from vampc.program.words import FIELDS, ROM, Program, apply_word, word_number

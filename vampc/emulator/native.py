@@ -1,8 +1,9 @@
 """Native code for the stream engine: the delivered programs as generated C, compiled once and cached.
 
 The stream engine's function (every VAMP's ROM sequence applied to its operands, in wiring order) is
-written out as C with exactly the arithmetic of vampc.emulator.rom: the same register views, the same
-products and sums in the same association order, each product rounded before it is added (the compiler
+rendered as C from the op table (vampc.machine.ops), with exactly the arithmetic the numpy interpreter
+(vampc.machine.interp) runs: the same register views, the same products and sums in the same
+association order, each product rounded before it is added (the compiler
 runs with -ffp-contract=off, so it never fuses a multiply-add). IEEE binary64 arithmetic is then the
 same in C as in numpy, and the torques agree bit for bit with the tick engine.
 
@@ -38,9 +39,10 @@ from pathlib import Path
 
 import numpy as np
 
-from vampc.dataflow.ops import Op
 from vampc.emulator.load import Loaded
-from vampc.program.words import ROM
+from vampc.machine import ops
+from vampc.machine.arith import FLOAT64
+from vampc.machine.ops import ROM
 
 BLOCK = 64          # states per block: all VAMP rows of a Puma (180 x 3 x 64 doubles) fit in L2
 CHUNK = 1 << 16     # states per native call, between progress reports
@@ -244,33 +246,34 @@ def _literal(x: float) -> str:
 
 
 def _registers(rom: int, a: list[str], b: list[str]):
-    """Module m's operand registers (3 x 3 expressions each), as vampc.emulator.rom.module_registers."""
-    op, col = ROM[rom]
-    rows = [[a[3 * m + k] for k in range(3)] for m in range(3)]
-    vec_b = [b[0:3]] * 3
-    if op is Op.MV:
-        return rows, vec_b
-    if op is Op.MTV:
-        return [[a[3 * k + m] for k in range(3)] for m in range(3)], vec_b
-    if op is Op.MM:
-        return rows, [[b[3 * k + col] for k in range(3)]] * 3
-    return [a[0:3]] * 3, vec_b
+    """Module m's operand registers (3 x 3 expressions each): the scalars its op's views name, as
+    vampc.machine.interp.registers."""
+    entry, col = ops.entry(rom)
+    return tuple([[x[i] for i in view.scalars(m, col)] for m in range(3)]
+                 for x, view in zip((a, b), entry.views))
 
 
-def _module(rom: int, m: int, am: list[str], bm: list[str], out: str) -> str:
-    """Module m's micro-sequence as one C statement, products and sums in the ROM's order."""
-    op = ROM[rom][0]
-    if op is Op.VA:
-        return f"{out} = {am[m]} + {bm[m]};"
-    if op is Op.SV:
-        return f"{out} = {am[0]} * {bm[m]};"
-    if op is Op.VC:
-        i, j = (m + 1) % 3, (m + 2) % 3
-        return (f"{{ double p1 = {am[i]} * {bm[j]}; double p2 = {am[j]} * {bm[i]}; "
-                f"{out} = p1 - p2; }}")
-    # VD, MV, MTV, MM: step 1 two products, step 2 their sum and a third product, step 3 the total
-    return (f"{{ double p1 = {am[2]} * {bm[2]}; double p2 = {am[1]} * {bm[1]}; double ad = p1 + p2; "
-            f"p1 = {am[0]} * {bm[0]}; {out} = p1 + ad; }}")
+def _module(rom: int, m: int, am: list[str], bm: list[str], out: str, arith=FLOAT64) -> str:
+    """Module m's micro-sequence (`am`, `bm`: its three operand registers each) as one C block, rendered from the op table: a local per unit
+    register, each step's assignments made together (a step that reads a unit it also writes goes
+    through temporaries), the result unit stored last."""
+    entry, _ = ops.entry(rom)
+    regs = {"a": am, "b": bm}
+
+    def ref(r) -> str:
+        return f"u{r.i}" if r.kind == "u" else regs[r.kind][r.index(m)]
+    body = []
+    for step in entry.steps:
+        exprs = [(a.unit, arith.c_expr(a.fn, ref(a.x), ref(a.y))) for a in step]
+        read = {r.i for a in step for r in (a.x, a.y) if r.kind == "u"}
+        if len(step) > 1 and read & {a.unit for a in step[:-1]}:
+            body += ["{", *(f"{arith.c_type} t{u} = {e};" for u, e in exprs),
+                     *(f"u{u} = t{u};" for u, _ in exprs), "}"]
+        else:
+            body += [f"u{u} = {e};" for u, e in exprs]
+    units = sorted({a.unit for step in entry.steps for a in step})
+    decl = f"{arith.c_type} " + ", ".join(f"u{u}" for u in units) + ";"
+    return "{ " + " ".join([decl, *body, f"{out} = u{entry.result};"]) + " }"
 
 
 # --- trajectory CSV ------------------------------------------------------------------------------

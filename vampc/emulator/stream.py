@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vampc.emulator import rom
 from vampc.emulator.load import Loaded
+from vampc.machine import interp as rom
 
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
 

@@ -21,7 +21,7 @@ Data Mode (Global-Reset pulses every P ticks: Cycle-Counter c = tick mod P)
   2. a VAMP latches operand A from input sel-A of each slot whose delay-A is c, operand B likewise
      (a latch is seen by a micro-step in the same tick);
   3. the micro-steps due at c run: step j of a slot runs at the last tick of its span, the spans
-     ending at delay-R (vampc.emulator.rom.step_ends);
+     ending at delay-R (vampc.machine.ops.Timing.step_ends);
   4. a VAMP with a slot whose delay-R is c drives its result register onto Result (visible from the
      next tick);
   5. at the last tick of a block every buffer stage takes its input (stage 1 its VAMP's Result).
@@ -41,9 +41,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vampc.emulator import rom
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
+from vampc.machine import interp as rom
 from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
 
 UNKNOWN, CONST = -1, -2
@@ -309,7 +309,7 @@ class TickEngine:
 
     def _step(self, r: int, j: int, slots, t: int) -> None:
         idx = self.slot_vamp[slots]
-        am, bm = rom.module_registers(r, self.op_a[idx], self.op_b[idx])
+        am, bm = rom.registers(r, self.op_a[idx], self.op_b[idx])
         units = self.units[idx]
         rom.step(r, j, am, bm, units)
         self.units[idx] = units

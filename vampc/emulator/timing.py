@@ -28,8 +28,8 @@ from dataclasses import dataclass
 from graphlib import CycleError, TopologicalSorter
 
 from vampc.emulator.load import Loaded
-from vampc.emulator.rom import duration, reading_end
 from vampc.errors import VampcError, VampcInternalError
+from vampc.machine.interp import duration, reading_end
 from vampc.network.model import buffer_window, cyclic_gaps, port_window
 
 INF = math.inf

@@ -25,10 +25,23 @@ import math
 from bisect import bisect_right
 
 from vampc.dataflow.graph import Graph, InputKey
-from vampc.dataflow.ops import Op
 from vampc.errors import VampcInternalError
-from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, PortEntry,
-                                 Slot, Tap, Vamp, buffer_window, port_window, result_window)
+from vampc.machine.ops import VAMPS_PER_OP, Op
+from vampc.network.model import (
+    Buffer,
+    Const,
+    Network,
+    Operand,
+    OutputPoint,
+    Port,
+    PortEntry,
+    Slot,
+    Tap,
+    Vamp,
+    buffer_window,
+    port_window,
+    result_window,
+)
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 
@@ -189,7 +202,7 @@ class _Allocator:
                 i = mine[0]
                 a, b = reads[i]
                 op = nodes[i].op
-                col = self.place[i].index(v) if op is Op.MM else None
+                col = self.place[i].index(v) if VAMPS_PER_OP[op] > 1 else None
                 vamps.append(Vamp(v, (a,), (b,), (Slot(i, op, col, 0, 0, start[i], start[i],
                                                         finish[i] - 1),)))
                 continue
@@ -211,7 +224,7 @@ class _Allocator:
             a, b = reads[i]
             sa = ins_a.setdefault(a, len(ins_a))
             sb = ins_b.setdefault(b, len(ins_b))
-            col = self.place[i].index(v) if nodes[i].op is Op.MM else None
+            col = self.place[i].index(v) if VAMPS_PER_OP[nodes[i].op] > 1 else None
             slots.append(Slot(i, nodes[i].op, col, sa, sb, start[i], start[i], finish[i] - 1))
         return Vamp(v, tuple(ins_a), tuple(ins_b), tuple(slots))
 

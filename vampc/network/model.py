@@ -35,7 +35,7 @@ import math
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import InputKey
-from vampc.dataflow.ops import Op
+from vampc.machine.ops import Op
 
 
 @dataclass(frozen=True, slots=True)

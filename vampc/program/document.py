@@ -6,17 +6,24 @@ from json.encoder import encode_basestring_ascii as _str
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
-from vampc.dataflow.ops import Op
-from vampc.network.model import (Buffer, Const, Network, Operand, OutputPoint, Port, PortEntry, Slot,
-                                 Tap, Vamp)
+from vampc.machine.ops import Op
+from vampc.network.model import (
+    Buffer,
+    Const,
+    Network,
+    Operand,
+    OutputPoint,
+    Port,
+    PortEntry,
+    Slot,
+    Tap,
+    Vamp,
+)
 from vampc.program.emit import StreamEntry, load_ticks
 from vampc.program.file import FORMAT, VERSION, Rows, compact_encoder, layout, tolist
 from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
-
-
-_NAME = {op: op.value for op in Op}   # (an Enum's .value is a slow descriptor; rows ask a million times)
 
 
 def _joint_doc(j: Joint) -> dict:
@@ -83,8 +90,8 @@ def graph_to_doc(g: Graph) -> dict:
     def row(nd: Node) -> str:
         if nd.op.is_compute:    # nearly every node of a big graph: no key, no value
             return (f'{{"args":{_ints(nd.args)},"group":{nd.group},"id":{nd.id},'
-                    f'"name":{_str(nd.name)},"op":"{_NAME[nd.op]}","section":{_str(nd.section)}}}')
-        r = {"id": nd.id, "op": _NAME[nd.op], "args": list(nd.args), "name": nd.name,
+                    f'"name":{_str(nd.name)},"op":"{nd.op.value}","section":{_str(nd.section)}}}')
+        r = {"id": nd.id, "op": nd.op.value, "args": list(nd.args), "name": nd.name,
              "section": nd.section, "group": nd.group}
         if nd.key:
             r["key"] = [nd.key.quantity, nd.key.joint]
@@ -138,7 +145,7 @@ def network_to_doc(net: Network, numbering) -> dict:
 
 def _slot_row(s, p) -> str:
     return (f'{{"delay_a":{p.delay_a},"delay_b":{p.delay_b},"delay_r":{p.delay_r},"node":{s.node},'
-            f'"op":"{_NAME[s.op]}","rom":{p.rom},"sel_a":{p.sel_a},"sel_b":{p.sel_b}}}')
+            f'"op":"{s.op.value}","rom":{p.rom},"sel_a":{p.sel_a},"sel_b":{p.sel_b}}}')
 
 
 def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
@@ -211,9 +218,9 @@ def compiled_from_doc(doc: dict, path):
     never copied from its `summary` (VampcError naming the section that disagrees)."""
     from dataclasses import fields
 
-    from vampc.compiler import CompileOptions, Compiled
-    from vampc.dataflow.ops import Timing
+    from vampc.compiler import Compiled, CompileOptions
     from vampc.errors import VampcError, VampcInternalError
+    from vampc.machine.ops import Timing
     from vampc.schedule.layout import layout_and_schedule
     graph = graph_from_doc(doc["graph"])
     stored = doc["schedule"]

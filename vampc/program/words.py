@@ -27,27 +27,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vampc.dataflow.ops import Op
 from vampc.errors import VampcError
+from vampc.machine.ops import ROM, rom_pointer  # noqa: F401  (the ROM is the op table's)
 
 FIELD = 4096
 LIMIT = 1 << 24
 FIELDS = ("delay_a", "delay_b", "delay_r", "rom", "sel_a", "sel_b")
 ADDRESS = 8          # addresses per slot in an extended word
-
-# ROM contents: pointer -> (op, column of operand B used by an MM member, or None).
-ROM: tuple[tuple[Op, int | None], ...] = (
-    (Op.VA, None), (Op.SV, None), (Op.VC, None), (Op.MV, None), (Op.MTV, None), (Op.VD, None),
-    (Op.MM, 0), (Op.MM, 1), (Op.MM, 2),
-)
-
-
-_POINTER = {entry: pointer for pointer, entry in enumerate(ROM)}
-
-
-def rom_pointer(op: Op, column: int | None) -> int:
-    """The ROM pointer of an op (an MM member names the column of B it multiplies)."""
-    return _POINTER[(op, column if op is Op.MM else None)]
 
 
 @dataclass(frozen=True, slots=True)

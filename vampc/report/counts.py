@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 
-from vampc.dataflow.ops import SERIAL_WORK, VAMPS_PER_OP
+from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
 
 # A 40-pin package holds 5 VAMPs with all pins separate, 12 with shared clock/power/reset (section VII).
 VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}

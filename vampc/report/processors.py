@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
-from vampc.dataflow.ops import VAMPS_PER_OP, Op
+from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.report import paper
 from vampc.report.sites import node_table
 from vampc.schedule.layout import folded_binding

@@ -2,6 +2,7 @@
 and HTML show the same cells, and a program file's report the same as its robot's."""
 from __future__ import annotations
 
+from vampc.machine.ops import report_kinds
 from vampc.report.clock import control_sentence, hz_text, us_text
 from vampc.report.sites import SECTION_NAMES
 from vampc.report.table import Table
@@ -186,7 +187,6 @@ def vamps(rep: dict, v: dict) -> Table:
                  tuple(notes), align="lrrrrl")
 
 
-KINDS = ("MV", "MTV", "VA", "VC", "SV", "MM", "VD")
 
 
 def vamps_by_op(rep: dict) -> Table:
@@ -197,10 +197,10 @@ def vamps_by_op(rep: dict) -> Table:
         for layout, label in (("systolic", "systolic"), ("single_device", "single device"),
                               ("shared_passes", "both passes on one device")):
             got = v["by_op"][layout]
-            rows.append((f"{what}, {label}", *(num(got.get(k)) if got.get(k) else "" for k in KINDS),
+            rows.append((f"{what}, {label}", *(num(got.get(k)) if got.get(k) else "" for k in report_kinds()),
                          num(sum(got.values()))))
     return Table("vamps-by-op", "VAMPs by op kind (an MM takes three), measured", ("configuration",
-                 *KINDS, "total"), tuple(rows))
+                 *report_kinds(), "total"), tuple(rows))
 
 
 def _paired(got, paper) -> str:
@@ -211,7 +211,7 @@ def _paired(got, paper) -> str:
 
 def ops_per_node(rep: dict) -> Table:
     """Ops of the busiest node by kind, beside the paper's requirements per node."""
-    kinds = KINDS
+    kinds = report_kinds()
     cols = ("node", *kinds, "total", "paper", "check")
     rows = []
     for r in rep["processors"]["ops_per_node"]:
@@ -221,7 +221,7 @@ def ops_per_node(rep: dict) -> Table:
                      num(r["total"]), f"{paper} = {r['paper_total']}", r["note"]))
     return Table("ops-per-node", "Requirements per node (section VI): ops of the busiest node by "
                  "kind, measured; the paper's MV counts MV and MTV (Mᵀv)", cols, tuple(rows),
-                 align="l" + "r" * 8 + "ll")
+                 align="l" + "r" * (len(kinds) + 1) + "ll")
 
 
 def packages(rep: dict) -> Table:

@@ -3,7 +3,7 @@ the printed column beside them) and vampc's measured rows — the serial work of
 latency and interval of every configuration it compiles (vampc.report.configs)."""
 from __future__ import annotations
 
-from vampc.dataflow.ops import Op
+from vampc.machine.ops import Op
 from vampc.report import paper
 from vampc.report.counts import latency_reasons, paper_latency, serial_work
 from vampc.textio import count

@@ -16,14 +16,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from vampc.machine.ops import colours
 from vampc.report import svg
 from vampc.report.sites import SECTIONS, unit_nodes, unit_sizes
 
 MAX_BARS = 10_000
 LABELLED_BARS = 4_000     # above this many bars, labels only in the tooltips (text is slow to lay out)
 MAX_SETS = 8
-OP_COLOURS = {"VA": "#9ecae1", "SV": "#c6dbef", "VC": "#a1d99b", "MV": "#fdae6b", "MTV": "#fdd0a2",
-              "MM": "#bcbddc", "VD": "#fcbba1"}
 ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 84, 40, 30
 FONT = 6.0
 
@@ -234,7 +233,7 @@ def _bar(graph, layout, sched, i: int, y: int, crit: bool) -> Bar:
     """The bar of op i."""
     nd = graph.nodes[i]
     s, f = sched.start[i], sched.finish[i]
-    return Bar(s, f, y, OP_COLOURS.get(nd.op.value, "#dddddd"), "#d62728" if crit else "#404040",
+    return Bar(s, f, y, colours()[nd.op.value], "#d62728" if crit else "#404040",
                1.6 if crit else 0.4, f"op-{i}" + ("-critical" if crit else ""),
                f"{nd.section}{nd.group}.{nd.name} ({nd.op.value}), node {i}: flops {s}-{f}, "
                + _where(layout, i) + (", on the critical path" if crit else ""),
@@ -252,7 +251,7 @@ def _where(layout, i: int) -> str:
 def _merged_bar(item, y: int, gid_base: str, row) -> Bar:
     """The bar of a span in which some node computes a variable."""
     s, f, count = item
-    return Bar(s, f, y, OP_COLOURS.get(row.op, "#dddddd"), "#404040", 0.4, f"{gid_base}-{s}",
+    return Bar(s, f, y, colours().get(row.op, "#dddddd"), "#404040", 0.4, f"{gid_base}-{s}",
                f"{row.label}: {count} ops in flops {s}-{f}", (f"×{count}",))
 
 
@@ -317,7 +316,7 @@ def _axes(ax, data: Chart, sched, ticks, names, pxf: float) -> None:
 def _legend(Rectangle, Line2D) -> list:
     """The key: op colours, the critical path, the torque-set bars."""
     handles = [Rectangle((0, 0), 1, 1, facecolor=c, edgecolor="#404040", linewidth=0.4, label=op)
-               for op, c in OP_COLOURS.items()]
+               for op, c in colours().items()]
     handles.append(Line2D([0], [0], color="#d62728", linewidth=1.6, label="critical path"))
     handles.append(Rectangle((0, 0), 1, 1, facecolor="#e0e0e0", edgecolor="#808080", linewidth=0.5,
                              label="torque set (entry to last torque)"))

@@ -11,8 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import Timing
 from vampc.errors import VampcInternalError
+from vampc.machine.ops import Timing
 
 
 @dataclass(frozen=True)

@@ -29,8 +29,8 @@ import math
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import VAMPS_PER_OP, Op, Timing
 from vampc.errors import VampcError, VampcInternalError
+from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
 
@@ -105,8 +105,8 @@ def bounds(graph: Graph, timing: Timing, k: int) -> Bounds:
 
 
 def smallest_network(graph: Graph) -> int:
-    """The fewest VAMPs any schedule needs: 3 if the graph has an MM, else 1."""
-    return 3 if any(nd.op is Op.MM for nd in graph.compute_nodes()) else 1
+    """The fewest VAMPs any schedule needs: the most any one op takes (3 for an MM), else 1."""
+    return max((VAMPS_PER_OP[nd.op] for nd in graph.compute_nodes()), default=1)
 
 
 @dataclass(frozen=True)

@@ -17,8 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import VAMPS_PER_OP, Timing
 from vampc.errors import VampcError
+from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.schedule.budget import Placed, bounds, tails
 
 

@@ -33,8 +33,8 @@ import math
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
-from vampc.dataflow.ops import VAMPS_PER_OP, Op, Timing
 from vampc.errors import VampcError, VampcInternalError
+from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
 LAYOUTS = ("systolic", "folded")       # and "budget", made by --vamps / --interval
@@ -145,7 +145,7 @@ def folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], t
     forward: list = []
     for nd in graph.compute_nodes():
         dev, pos = device_node(nd)
-        role = (dev, pos, nd.name, nd.op is Op.MM)
+        role = (dev, pos, nd.name, VAMPS_PER_OP[nd.op])
         if share_passes and dev == "fwd":
             forward.append((nd, role))
             continue
