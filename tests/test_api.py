@@ -48,8 +48,8 @@ def test_verify_flag_controls_every_stage_check(monkeypatch, recursion):
     # Each stage checks the IR it hands on; --no-verify (verify=False) must skip all of those checks.
     from vampc.dataflow.graph import Graph
     from vampc.errors import VampcInternalError
+    from vampc.network.model import Network
     from vampc.schedule.asap import Schedule
-    import vampc.network.allocate as allocate
     calls = []
     def refuse(name):
         def check(*args, **kwargs):
@@ -58,7 +58,7 @@ def test_verify_flag_controls_every_stage_check(monkeypatch, recursion):
         return check
     monkeypatch.setattr(Graph, "verify", refuse("graph"))
     monkeypatch.setattr(Schedule, "verify", refuse("schedule"))
-    monkeypatch.setattr(allocate, "verify_network", refuse("network"))
+    monkeypatch.setattr(Network, "verify", refuse("network"))
     chain = vampc.load_robot(PUMA)
     vampc.compile_chain(chain, vampc.CompileOptions(recursion=recursion, verify=False))
     assert calls == []

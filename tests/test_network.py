@@ -16,7 +16,8 @@ from vampc.dataflow.linear import build_linear
 from vampc.dataflow.logarithmic import build_log
 from vampc.machine.ops import Op, Timing
 from vampc.errors import VampcInternalError
-from vampc.network.allocate import allocate, verify_network
+from vampc.network.allocate import allocate
+from vampc.network.verify import verify_network
 from vampc.program.emit import a_roots
 from vampc.robot.random import random_chain
 from vampc.schedule.layout import layout_and_schedule

@@ -44,6 +44,7 @@ import numpy as np
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
 from vampc.machine import interp as rom
+from vampc.machine.timing import captures, step_counter
 from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
 
 UNKNOWN, CONST = -1, -2
@@ -242,10 +243,9 @@ class TickEngine:
         timing = self.ld.timing
         for r in range(len(ROM)):
             ends = rom.step_ends(r, timing)
-            d = ends[-1]
-            for j, end in enumerate(ends):
+            for j in range(len(ends)):
                 mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P))
-                for c, group in _by_counter((self.s_dr[mine] - (d - end)) % P, mine):
+                for c, group in _by_counter(step_counter(self.s_dr[mine], ends, j, P), mine):
                     self.step_at.setdefault(c, []).append((r, j, group))
         self.latch_a_at = dict(_by_counter(self.s_da, np.arange(len(vamp))))
         self.latch_b_at = dict(_by_counter(self.s_db, np.arange(len(vamp))))
@@ -369,7 +369,7 @@ class TickEngine:
     # --- buffers and waveforms ----------------------------------------------------------------
     def _shifted_stages(self, every_tick: bool, tick: int = 0):
         """Values and tags every buffer stage takes at the end of this tick (None: no shift now)."""
-        if not (every_tick or (tick + 1) % self.B == 0) or not self.stage_dst.size:
+        if not (every_tick or captures(tick, self.B)) or not self.stage_dst.size:
             return None
         return self.bus[self.stage_src, :3].copy(), self.tag[self.stage_src].copy()
 

@@ -2,7 +2,7 @@
 which slot, port entry or constant each operand it latches actually holds then.
 
 Derived only from the wiring, the delivered programs and the host's port schedule (the rules are in
-vampc/network/model.py); the graph and the recorded schedule are not looked at here. Every source
+vampc/machine/timing.py); the graph and the recorded schedule are not looked at here. Every source
 shows a value during a window no longer than the period P, so a latch at Cycle-Counter d falls on
 exactly one tick of it:
 
@@ -30,7 +30,7 @@ from graphlib import CycleError, TopologicalSorter
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.interp import duration, reading_end
-from vampc.network.model import buffer_window, cyclic_gaps, port_window
+from vampc.machine.timing import buffer_window, capture_counter, cyclic_gaps, port_window
 
 INF = math.inf
 
@@ -110,7 +110,7 @@ class _Deriver:
             return ("port", tap.index, self.entry(tap.index, counter // self.B))
         if tap.kind == "vamp":
             return ("slot", tap.index, self.showing(tap.index, counter))
-        capture = ((counter // self.B - tap.stage + 1) * self.B - 1) % self.P
+        capture = capture_counter(counter, tap.stage, self.B, self.P)
         src = self.net.buffers[tap.index].source
         return ("slot", src, self.showing(src, capture))
 

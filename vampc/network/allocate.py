@@ -21,12 +21,10 @@ in Program Mode. Everything is counted in the report.
 """
 from __future__ import annotations
 
-import math
-from bisect import bisect_right
-
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Op
+from vampc.machine.timing import buffer_stage, result_windows
 from vampc.network.model import (
     Buffer,
     Const,
@@ -38,9 +36,6 @@ from vampc.network.model import (
     Slot,
     Tap,
     Vamp,
-    buffer_window,
-    port_window,
-    result_window,
 )
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
@@ -94,11 +89,8 @@ class _Allocator:
                 i = nodes[0]
                 out[i] = min(out.get(i, finish[i] + P), finish[i] + P)
                 continue
-            by_counter = sorted(nodes, key=lambda i: (finish[i] - 1) % P)
-            for k, i in enumerate(by_counter):
-                nxt = by_counter[(k + 1) % len(by_counter)]
-                gap = ((finish[nxt] - finish[i] - 1) % P) + 1
-                out[i] = min(out.get(i, finish[i] + gap), finish[i] + gap)
+            for i, (_, nxt) in zip(nodes, result_windows([finish[i] - 1 for i in nodes], P)):
+                out[i] = min(out.get(i, nxt), nxt)
         return out
 
     def run(self) -> Network:
@@ -119,11 +111,7 @@ class _Allocator:
     def _stage(self, src: int, t: int) -> int:
         """0 if the result of `src` is read from its VAMP's Result at tick t, else the first buffer
         stage that shows it then (stage s shows it during blocks emit//B + s .. next_emit//B + s - 1)."""
-        emit, nxt = self.s.finish[src], self.next_emit[src]
-        if emit <= t < nxt:
-            return 0
-        B = self.B
-        return max(1, t // B - nxt // B + 1)
+        return buffer_stage(self.s.finish[src], self.next_emit[src], t, self.B)
 
     def _operand(self, arg: int, t: int) -> Operand:
         src = self.g.nodes[arg]
@@ -189,7 +177,7 @@ class _Allocator:
                                     self.s.finish[o.node]) for o in self.g.outputs)
         net = Network(self.P, self.B, vamps, buffers, ports, tuple(self.consts.values()), outputs)
         if self.verify:
-            verify_network(net, self.g, self.s)
+            net.verify(self.g, self.s)
         return net
 
     def _vamps(self, reads) -> tuple[Vamp, ...]:
@@ -291,103 +279,3 @@ def allocate_systolic(graph: Graph, sched: Schedule, verify: bool = True) -> Net
     """The systolic network of an ASAP schedule (one VAMP per op, three per MM)."""
     from vampc.schedule.layout import systolic_layout
     return allocate(graph, sched, systolic_layout(graph, sched), verify)
-
-
-# --- the check -----------------------------------------------------------------------------------
-
-def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
-    """(VAMP, slot) -> (emit, next emit): the ticks its value is on the Result (set 0)."""
-    out = {}
-    P = net.period
-    for v in net.vamps:
-        order = sorted(range(len(v.slots)), key=lambda k: v.slots[k].dump % P)
-        for pos, k in enumerate(order):
-            nxt = v.slots[order[(pos + 1) % len(order)]].dump
-            gap = ((nxt - v.slots[k].dump - 1) % P) + 1
-            out[(v.index, k)] = (v.slots[k].emit, v.slots[k].emit + gap)
-    return out
-
-
-def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
-    """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
-    vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
-    the slot, the tick and the operand."""
-    wins = slot_windows(net)
-    slot_of = {(v.index, s.node): k for v in net.vamps for k, s in enumerate(v.slots)}
-    ports = _PortIndex(net)
-    P, B = net.period, net.clock
-    checked: set = set()     # (id(operand), latch, arg) already found right
-    for v in net.vamps:
-        _verify_slots(v, P)
-        for k, s in enumerate(v.slots):
-            nd = graph.nodes[s.node]
-            for name, operand, latch, arg in (("A", v.a[s.sel_a], s.latch_a, nd.args[0]),
-                                              ("B", v.b[s.sel_b], s.latch_b, nd.args[1])):
-                key = (id(operand), latch, arg)
-                if key not in checked:
-                    checked.add(key)
-                    _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch,
-                                    arg, B)
-
-
-def _verify_slots(v: Vamp, P: int) -> None:
-    """Each slot's latch..dump fits in a period and no two slots' spans meet (cyclically)."""
-    for s in v.slots:
-        if not s.latch_a <= s.dump < s.latch_a + P:
-            raise VampcInternalError(f"VAMP {v.index}: slot latched at {s.latch_a} dumps at {s.dump}")
-    if len(v.slots) == 1:
-        return
-    spans = sorted((s.latch_a % P, s.dump - s.latch_a + 1, k) for k, s in enumerate(v.slots))
-    for (l0, n0, k0), (l1, _, k1) in zip(spans, spans[1:] + [(spans[0][0] + P,) + spans[0][1:]]):
-        if l1 < l0 + n0:
-            raise VampcInternalError(f"VAMP {v.index}: slots {k0} and {k1} overlap")
-
-
-def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch, arg, B) -> None:
-    src = graph.nodes[arg]
-    for tap in operand.taps:
-        if tap.kind == "const":
-            ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
-            lo, hi = -float("inf"), float("inf")
-        elif tap.kind == "port":
-            lo, hi, key = ports.showing(tap.index, latch)
-            ok = src.op is Op.INPUT and key == src.key
-        else:
-            vamp = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
-            if not (tap.kind == "vamp" or 1 <= tap.stage <= net.buffers[tap.index].stages):
-                raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
-            src_slot = slot_of.get((vamp, arg))
-            ok = src_slot is not None
-            emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
-            lo, hi = (result_window(emit, nxt) if tap.kind == "vamp"
-                      else buffer_window(emit, nxt, tap.stage, B))
-        if not ok:
-            raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
-                                     f"which does not carry node {src.label}")
-        if not lo <= latch < hi:
-            raise VampcInternalError(f"VAMP {v.index}: operand {name} latched at tick {latch} outside "
-                                     f"{tap}'s window [{lo}, {hi})")
-
-
-class _PortIndex:
-    """Which entry of a port shows at a tick: each port's entries sorted by block within the period."""
-
-    def __init__(self, net: Network):
-        self.net, self.B, self.K = net, net.clock, net.period // net.clock
-        self.order = [sorted((e.block % self.K, j) for j, e in enumerate(p.entries))
-                      for p in net.ports]
-
-    def showing(self, port: int, tick: int):
-        """(first, end, key): the window of the entry a port shows at absolute tick `tick` (set 0),
-        and its key; key None if that entry belongs to another set or the port has none."""
-        order = self.order[port]
-        if not order:
-            return 0, 0, None
-        block = tick // self.B
-        at = bisect_right(order, (block % self.K, math.inf)) - 1     # -1: the last, a period ago
-        e = self.net.ports[port].entries[order[at][1]]
-        nxt = order[(at + 1) % len(order)][0]
-        gap = ((nxt - order[at][0] - 1) % self.K) + 1
-        written = block - ((block - e.block) % self.K)
-        lo, hi = port_window(written, written + gap, self.B)
-        return lo, hi, (e.key if written == e.block else None)

@@ -26,12 +26,11 @@ Hardware (what the report counts):
   with one entry (the systolic case) is written once per period and holds for P ticks.
 - A constant buffer always shows its value.
 
-`window` and its helpers state these rules once; the compiler's allocation check and the emulator's
-timing derivation both use them.
+vampc.machine.timing states these rules once; the allocator, the budget scheduler, the network check
+(Network.verify), the emulator's timing derivation and its tick engine all use them.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import InputKey
@@ -48,56 +47,6 @@ class Tap:
 
     def __str__(self) -> str:
         return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind == "buffer" else "")
-
-
-def result_window(emit: float, next_emit: float) -> tuple[float, float]:
-    """A Result shows a slot's value from its emit tick until the VAMP's next dump shows."""
-    return (emit, next_emit)
-
-
-def buffer_window(emit: float, next_emit: float, stage: int, clock: int) -> tuple[float, float]:
-    """[first, end) ticks in which stage `stage` of a buffer shows a value its VAMP showed during
-    [emit, next_emit): stage 1 captures it at every block end inside that span. Empty (first >= end)
-    when the span holds no block end: the value is never captured."""
-    if math.isinf(emit):
-        return (-math.inf, math.inf)
-    first = (emit // clock + stage) * clock
-    end = (next_emit // clock + stage) * clock
-    return (first, end)
-
-
-def port_window(block: int, next_block: int, clock: int) -> tuple[int, int]:
-    """A port entry written at the start of `block` holds until the port's next entry is written."""
-    return (block * clock, next_block * clock)
-
-
-def window(tap: Tap, clock: int, emit: float = 0, next_emit: float = 0, block: int = 0,
-           next_block: int = 0) -> tuple[float, float]:
-    """[first, end) ticks in which `tap` shows the value of interest, by the rules above: `emit` and
-    `next_emit` bound the source VAMP's value on its Result (vamp and buffer taps; infinite for a
-    VAMP that always shows the same value), `block` and `next_block` bound a port entry."""
-    if tap.kind == "const":
-        return (-math.inf, math.inf)
-    if tap.kind == "port":
-        return port_window(block, next_block, clock)
-    if tap.kind == "vamp":
-        return (-math.inf, math.inf) if math.isinf(emit) else result_window(emit, next_emit)
-    return buffer_window(emit, next_emit, tap.stage, clock)
-
-
-def cyclic_gaps(counters, period: int) -> list[int]:
-    """For each counter of a VAMP's slots (say their delay-A values): the ticks until the next one
-    comes round, cyclically — P if it is alone, 0 if another slot has the same counter (two events
-    of one register in one tick)."""
-    if len(counters) == 1:          # a systolic VAMP: one slot, the common case by far
-        return [period]
-    order = sorted(range(len(counters)), key=lambda k: counters[k])
-    gaps = [period] * len(counters)
-    for pos, k in enumerate(order):
-        nxt = counters[order[(pos + 1) % len(order)]]
-        if len(order) > 1:
-            gaps[k] = (nxt - counters[k]) % period or (0 if nxt == counters[k] else period)
-    return gaps
 
 
 @dataclass(frozen=True, slots=True)
@@ -219,3 +168,10 @@ class Network:
     def blocks(self) -> int:
         """Buffer-clock blocks per period."""
         return self.period // self.clock
+
+    def verify(self, graph, sched) -> None:
+        """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
+        vampc.machine.timing; slots of a VAMP never overlap (VampcInternalError otherwise, naming
+        the VAMP, the slot, the tick and the operand). `graph`, `sched`: what it was allocated from."""
+        from vampc.network.verify import verify_network
+        verify_network(self, graph, sched)

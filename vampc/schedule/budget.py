@@ -31,6 +31,7 @@ from dataclasses import dataclass
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
+from vampc.machine.timing import result_windows
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
 
@@ -669,11 +670,8 @@ def _buffered_results(graph, sched, placement) -> list[tuple[int, int]]:
             on.setdefault(v, []).append(nd.id)
     nxt: dict[int, int] = {}
     for nodes in on.values():
-        order = sorted(nodes, key=lambda i: (sched.finish[i] - 1) % P)
-        for j, i in enumerate(order):
-            after = order[(j + 1) % len(order)]
-            gap = ((sched.finish[after] - sched.finish[i] - 1) % P) + 1
-            nxt[i] = min(nxt.get(i, math.inf), sched.finish[i] + gap)
+        for i, (_, after) in zip(nodes, result_windows([sched.finish[i] - 1 for i in nodes], P)):
+            nxt[i] = min(nxt.get(i, math.inf), after)
     late = {a for nd in graph.compute_nodes() for a in nd.args
             if a in nxt and sched.start[nd.id] >= nxt[a]}
     return [(sched.finish[a], nxt[a]) for a in late]
