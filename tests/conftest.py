@@ -28,6 +28,23 @@ def update_golden(request) -> bool:
     return request.config.getoption("--update-golden")
 
 
+@pytest.fixture
+def golden(update_golden):
+    """golden(name, text): assert `text` equals tests/golden/NAME byte for byte, with a diff if
+    not; with --update-golden, write it there instead (the one path every golden goes through)."""
+    import difflib
+
+    def check(name: str, text: str) -> None:
+        path = GOLDEN / name
+        if update_golden:
+            path.write_text(text)
+        want = path.read_text()
+        diff = "".join(difflib.unified_diff(want.splitlines(True), text.splitlines(True), str(path),
+                                            "now"))
+        assert text == want, "golden mismatch (rerun with --update-golden if intended):\n" + diff
+    return check
+
+
 def example_paths() -> list[Path]:
     """Every robot file in examples/ (sorted, so test ids are stable)."""
     return sorted(p for p in EXAMPLES.glob("*") if p.suffix in (".yaml", ".yml", ".json", ".urdf"))
