@@ -184,7 +184,7 @@ def _check_program_options(ctx: click.Context, source: str, stored: dict) -> Non
                                    "files (recompile to change them)")
 
 
-def _compile(robot, base, tip, lock, floating_base=False, **opts):
+def _compile(robot, base, tip, lock, floating_base=False, until=None, **opts):
     from vampc import progress
     from vampc.compiler import STAGES, CompileOptions, compile_chain
     from vampc.robot import URDF_SUFFIXES, load_robot
@@ -195,7 +195,7 @@ def _compile(robot, base, tip, lock, floating_base=False, **opts):
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
         chain = load_robot(robot, base=base, tip=tip, lock=_parse_lock(lock), floating=floating_base)
-        return compile_chain(chain, CompileOptions(**opts), stage=stage)
+        return compile_chain(chain, CompileOptions(**opts), stage=stage, until=until)
 
 
 class _Vampc(click.Group):
@@ -263,8 +263,8 @@ def compile(ctx, robot, output, numbering, dump_after, base, tip, lock, **opts):
             raise click.UsageError("--dump-after prints to standard output and writes no program "
                                    "file: leave out -o")
         from vampc.dump import dump_after as dump
-        click.echo(dump(dump_after, _compile(robot, base, tip, lock, numbering=numbering, **opts)),
-                   nl=False)
+        c = _compile(robot, base, tip, lock, numbering=numbering, until=dump_after, **opts)
+        click.echo(dump(dump_after, c), nl=False)
         return
     out_path = output if output is not None else Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, numbering], {"-o": out_path}, stdout_ok=("-o",))["-o"]

@@ -78,15 +78,16 @@ class CompileOptions:
 
 @dataclass(frozen=True)
 class Compiled:
-    """Everything the compiler produced for one robot."""
+    """Everything the compiler produced for one robot (a compile stopped after a stage, `until`,
+    leaves what later stages make None)."""
 
     chain: Chain
     options: CompileOptions
     graph: Graph
-    schedule: Schedule
-    network: Network
-    numbering: tuple[int, ...]
-    programs: tuple[tuple[Program, ...], ...]     # per VAMP, its slots
+    schedule: Schedule | None = None
+    network: Network | None = None
+    numbering: tuple[int, ...] | None = None
+    programs: tuple[tuple[Program, ...], ...] | None = None     # per VAMP, its slots
     stream: tuple[emit.StreamEntry, ...] = field(default=())
     layout: Layout | None = None
 
@@ -107,29 +108,39 @@ STAGES = ("graph", "schedule", "allocate", "emit")
 
 @gc_paused()
 def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
-                  stage=None) -> Compiled:
-    """Run every compile stage on a loaded chain; `stage(name)` is told as each of STAGES starts."""
+                  stage=None, until: str | None = None) -> Compiled:
+    """Run every compile stage on a loaded chain; `stage(name)` is told as each of STAGES starts.
+    `until`: stop after that stage (a name of STAGES), even where a later stage would fail."""
     stage = stage or (lambda name: None)
     options.check()
+    if until is not None and until not in STAGES:
+        raise VampcError(f"unknown stage {until!r} (choose from {', '.join(STAGES)})")
     if options.verify:
         chain.verify()
     stage("graph")
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
-    return compile_graph(chain, graph, options, stage)
+    if until == "graph":
+        return Compiled(chain, options, graph)
+    return compile_graph(chain, graph, options, stage, until)
 
 
 def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileOptions(),
-                  stage=None) -> Compiled:
+                  stage=None, until: str | None = None) -> Compiled:
     """The stages after the graph (schedule, allocate, emit) on a graph of `chain`'s inputs: a
-    graph built by a recursion, or by hand (tests build tiny graphs of new ops this way)."""
+    graph built by a recursion, or by hand (tests build tiny graphs of new ops this way). `until`:
+    stop after that stage."""
     stage = stage or (lambda name: None)
     options.check()
     stage("schedule")
     layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
                                         options.verify, options.vamps, options.interval,
                                         options.exact)
+    if until == "schedule":
+        return Compiled(chain, options, graph, sched, layout=layout)
     stage("allocate")
     net = allocate(graph, sched, layout, options.verify)
+    if until == "allocate":
+        return Compiled(chain, options, graph, sched, net, layout=layout)
     stage("emit")
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))

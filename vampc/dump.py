@@ -25,14 +25,15 @@ def dump_graph(graph) -> str:
 
 def dump_schedule(graph, sched, layout) -> str:
     """The layout and schedule: `id start finish unit` per compute node, then the summary."""
+    units = layout.units
     lines = [f"# {layout.name} layout{' (shared passes)' if layout.share_passes else ''}: "
-             + (f"{layout.vamp_count} VAMPs" if layout.placement else
+             + (f"{layout.vamp_count} VAMPs" if not layout.grouped else
               f"{len(layout.unit_vamps)} units") +
              f", period {layout.period}, buffer clock {layout.clock}",
-             "# id start finish " + ("vamps" if layout.placement else "unit")]
+             "# id start finish " + ("vamps" if not layout.grouped else "unit")]
     lines += [f"{nd.id} {sched.start[nd.id]} {sched.finish[nd.id]} "
-              + (",".join(map(str, layout.placement[nd.id])) if layout.placement
-                 else str(layout.units[nd.id]))
+              + (",".join(map(str, layout.placement[nd.id])) if not layout.grouped
+                 else str(units[nd.id]))
               for nd in graph.compute_nodes()]
     lines.append(f"latency {sched.latency} = {sched.mults} M + {sched.adds} A + {sched.waits} waiting,"
                  f" interval {sched.interval}")

@@ -35,7 +35,7 @@ class Site(NamedTuple):
 def unit_sizes(layout) -> list[int]:
     """Per unit: its VAMPs. A budgeted layout has no fixed groups: each VAMP is a unit of its own
     (an MM's three VAMPs each run other ops in between)."""
-    if layout.placement:
+    if not layout.grouped:
         return [1] * layout.vamp_count
     return list(layout.unit_vamps)
 
@@ -51,7 +51,7 @@ def vamp_units(layout) -> list[int]:
 def unit_nodes(graph, layout) -> list[list[int]]:
     """Per unit: the compute nodes bound to it, in id order (in a budgeted layout, per VAMP: the
     ops it takes part in, an MM on each of its three)."""
-    if layout.placement:
+    if not layout.grouped:
         out: list[list[int]] = [[] for _ in range(layout.vamp_count)]
         for nd in graph.compute_nodes():
             for v in layout.placement[nd.id]:
@@ -70,7 +70,7 @@ def unit_sites(graph, layout) -> list[Site]:
     if layout.name == "systolic":
         return [Site(graph.nodes[ids[0]].section, graph.nodes[ids[0]].group) for ids in nodes]
     device = device_nodes(graph)
-    if layout.placement:
+    if not layout.grouped:
         return [Site(*Counter(device(graph.nodes[i]) for i in ids).most_common(1)[0][0])
                 if ids else Site("bwd", 0) for ids in nodes]
     return [Site(*device(graph.nodes[ids[0]])) for ids in nodes]

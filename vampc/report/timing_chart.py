@@ -242,7 +242,7 @@ def _bar(graph, layout, sched, i: int, y: int, crit: bool) -> Bar:
 
 def _where(layout, i: int) -> str:
     """'unit 4', or in a budgeted layout 'VAMPs 0,3,5'."""
-    if layout.placement:
+    if not layout.grouped:
         vs = layout.placement[i]
         return f"VAMP{'s' if len(vs) > 1 else ''} {','.join(map(str, vs))}"
     return f"unit {layout.units[i]}"

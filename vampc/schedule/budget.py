@@ -642,8 +642,7 @@ def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool, 
     renumber = {v: j for j, v in enumerate(used)}          # VAMPs the schedule left idle go
     placement = tuple(tuple(renumber[v] for v in p) for p in placed.placement)
     clock = buffer_clock(graph, sched, placement)
-    layout = Layout("budget", tuple(-1 for _ in graph.nodes), (), placed.interval, clock,
-                    placement=placement, proof=proof)
+    layout = Layout("budget", placement, placed.interval, clock, grouped=False, proof=proof)
     if verify:
         sched.verify(graph)
         layout.verify(graph)

@@ -28,6 +28,7 @@ plus whatever (3) and (4) cost; the report shows both.
 """
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass
@@ -42,59 +43,80 @@ LAYOUTS = ("systolic", "folded")       # and "budget", made by --vamps / --inter
 
 @dataclass(frozen=True)
 class Layout:
-    """A binding of every compute node to a unit, and the period and buffer clock. A unit is a fixed
-    group of VAMPs (numbered in unit order); a budgeted layout instead places each node on VAMPs of
-    its own choosing (`placement`: per node the VAMP indices, three for an MM, empty for inputs and
-    constants), VAMPs an MM shares with other ops included."""
+    """Where every compute node runs, and the period and buffer clock: one shape for every layout.
+    `placement` gives, per graph node, the VAMPs that run it (three for an MM, in column order; empty
+    for inputs and constants). In a `grouped` layout (systolic, folded) the VAMPs form fixed units —
+    one VAMP, or three for an MM — numbered unit by unit, and a node runs on all of its unit's; a
+    budgeted layout places each node on VAMPs of its own choosing, VAMPs an MM shares with other
+    ops included."""
 
     name: str
-    units: tuple[int, ...]        # per graph node id: its unit, -1 for inputs and constants
-    unit_vamps: tuple[int, ...]   # VAMPs of each unit (3 for an MM group)
+    placement: tuple[tuple[int, ...], ...]
     period: int
     clock: int
     share_passes: bool = False
-    placement: tuple[tuple[int, ...], ...] = ()
+    grouped: bool = True
     proof: str = ""               # what an exact solver proved about a budgeted layout
+
+    @staticmethod
+    def of_units(name: str, units, sizes, period: int, clock: int,
+                 share_passes: bool = False) -> "Layout":
+        """A grouped layout from a unit per node (-1 for inputs and constants) and each unit's size;
+        VAMPs are numbered unit by unit."""
+        firsts, first = [], 0
+        for size in sizes:
+            firsts.append(first)
+            first += size
+        placement = tuple(tuple(range(firsts[u], firsts[u] + sizes[u])) if u >= 0 else ()
+                          for u in units)
+        return Layout(name, placement, period, clock, share_passes)
 
     def vamps_of(self) -> tuple[tuple[int, ...], ...]:
         """Per graph node: the VAMPs that run it (empty for inputs and constants)."""
-        if self.placement:
-            return self.placement
-        firsts, first = [], 0
-        for size in self.unit_vamps:
-            firsts.append(first)
-            first += size
-        return tuple(tuple(range(firsts[u], firsts[u] + self.unit_vamps[u])) if u >= 0 else ()
-                     for u in self.units)
+        return self.placement
 
     @property
     def vamp_count(self) -> int:
         """VAMPs in the network."""
-        if self.placement:
-            return 1 + max((v for p in self.placement for v in p), default=-1)
-        return sum(self.unit_vamps)
+        return 1 + max((v for p in self.placement for v in p), default=-1)
+
+    @property
+    def units(self) -> tuple[int, ...]:
+        """A grouped layout's unit per node (-1 for inputs and constants), units in VAMP order."""
+        return self._units[0]
+
+    @property
+    def unit_vamps(self) -> tuple[int, ...]:
+        """A grouped layout's VAMPs per unit (3 for an MM group)."""
+        return self._units[1]
+
+    @functools.cached_property
+    def _units(self):
+        firsts = sorted({p[0]: len(p) for p in self.placement if p}.items())
+        index = {first: u for u, (first, _) in enumerate(firsts)}
+        return (tuple(index[p[0]] if p else -1 for p in self.placement),
+                tuple(size for _, size in firsts))
 
     def verify(self, graph: Graph) -> None:
-        """Compute nodes are bound to units (or VAMPs) of their size; the period is a multiple of
-        the clock."""
+        """Compute nodes are placed on as many distinct VAMPs as their op takes, inputs and
+        constants on none; in a grouped layout, nodes sharing a VAMP share all its unit's; the
+        period is a multiple of the clock."""
         if self.clock < 1 or self.period % self.clock:
             raise VampcInternalError(f"layout: period {self.period} is not a multiple of the "
                                      f"buffer clock {self.clock}")
-        if self.placement:
-            for nd in graph.nodes:
-                want = VAMPS_PER_OP[nd.op] if nd.op.is_compute else 0
-                if len(set(self.placement[nd.id])) != want:
-                    raise VampcInternalError(f"node {nd.label}: placed on {self.placement[nd.id]}")
-            return
-        if len(self.units) != len(graph.nodes):
-            raise VampcInternalError("layout: one unit per graph node expected")
+        if len(self.placement) != len(graph.nodes):
+            raise VampcInternalError("layout: one placement per graph node expected")
+        group: dict[int, tuple[int, ...]] = {}
         for nd in graph.nodes:
-            u = self.units[nd.id]
-            if nd.op.is_compute and not (0 <= u < len(self.unit_vamps)
-                                         and self.unit_vamps[u] == VAMPS_PER_OP[nd.op]):
-                raise VampcInternalError(f"node {nd.label}: bound to unit {u} of the wrong size")
-            if not nd.op.is_compute and u != -1:
-                raise VampcInternalError(f"node {nd.label}: an input or constant bound to a unit")
+            where = self.placement[nd.id]
+            want = VAMPS_PER_OP[nd.op] if nd.op.is_compute else 0
+            if len(set(where)) != want or any(v < 0 for v in where):
+                raise VampcInternalError(f"node {nd.label}: placed on {where}")
+            if self.grouped:
+                for v in where:
+                    if group.setdefault(v, where) != where:
+                        raise VampcInternalError(f"node {nd.label}: placed on {where}, across "
+                                                 f"the unit {group[v]}")
 
 
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
@@ -118,7 +140,7 @@ def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
         return layout, asap
     units, sizes = folded_binding(graph, share_passes)
     sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=verify)
-    layout = Layout(name, units, sizes, sched.interval, timing.cycle, share_passes)
+    layout = Layout.of_units(name, units, sizes, sched.interval, timing.cycle, share_passes)
     if verify:
         layout.verify(graph)
     return layout, sched
@@ -130,7 +152,7 @@ def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
     for nd in graph.compute_nodes():
         units[nd.id] = len(sizes)
         sizes.append(VAMPS_PER_OP[nd.op])
-    return Layout("systolic", tuple(units), tuple(sizes), sched.interval, sched.interval)
+    return Layout.of_units("systolic", units, sizes, sched.interval, sched.interval)
 
 
 # --- binding by role -----------------------------------------------------------------------------
