@@ -1,6 +1,7 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
+from dataclasses import replace
 from json.encoder import encode_basestring_ascii as _str
 
 import numpy as np
@@ -24,6 +25,7 @@ from vampc.program.file import FORMAT, VERSION, Rows, compact_encoder, layout, t
 from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
+from vampc.schedule.layout import Layout
 
 
 def _joint_doc(j: Joint) -> dict:
@@ -213,34 +215,93 @@ def programs_from_doc(doc: dict) -> tuple[tuple[Program, ...], ...]:
 
 def compiled_from_doc(doc: dict, path):
     """The compiler's IRs as a validated program document holds them (a vampc.compiler.Compiled),
-    checked against each other: the graph is verified and the schedule must be the one the graph
-    gives under the file's latencies. So figures reported from a file are recomputed from what runs,
-    never copied from its `summary` (VampcError naming the section that disagrees)."""
+    checked against each other, nothing scheduled again: the graph is verified; the schedule must
+    run the graph under the file's latencies (durations, dependencies, latency and critical path);
+    the layout is read off the network's slots, and the network, its slots at the schedule's ticks,
+    must carry every operand by the machine's timing rules (Network.verify). So figures reported
+    from a file are recomputed from what runs, never copied from its `summary` (VampcError naming
+    the section that disagrees); only an exact solver's proof, which no check can redo, is read
+    from it."""
     from dataclasses import fields
 
     from vampc.compiler import Compiled, CompileOptions
     from vampc.errors import VampcError, VampcInternalError
-    from vampc.machine.ops import Timing
-    from vampc.schedule.layout import layout_and_schedule
     graph = graph_from_doc(doc["graph"])
-    stored = doc["schedule"]
-    lay = doc["layout"]
+    net = network_from_doc(doc)
+    opts = doc["options"]
+    known = {f.name for f in fields(CompileOptions)}
+    options = CompileOptions(**{k: v for k, v in opts.items() if k in known})
     try:
         graph.verify()
-        opts = doc["options"]
-        layout, sched = layout_and_schedule(graph, Timing(stored["mult_latency"],
-                                                          stored["add_latency"]),
-                                            lay["name"], lay["share_passes"], True,
-                                            opts.get("vamps"), opts.get("interval"),
-                                            opts.get("exact", False))
+        sched = schedule_from_doc(doc["schedule"], graph, path)
+        if sched.interval != net.period:
+            raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
+                             f"period {net.period}")
+        proof = (doc.get("summary", {}).get("budget") or {}).get("proof", "")
+        layout = layout_from_network(doc["layout"], net, graph, options.layout_name != "budget",
+                                     proof)
+        layout.verify(graph)
+        timed_network(net, sched, path).verify(graph, sched)
     except VampcInternalError as exc:
-        raise VampcError(f"{path}: graph: {exc}") from None
-    for key, value in schedule_to_doc(sched).items():
-        if stored.get(key) != value:
-            raise VampcError(f"{path}: schedule.{key} is not the schedule of the file's graph (the "
-                             "file was edited); recompile it")
-    known = {f.name for f in fields(CompileOptions)}
-    options = CompileOptions(**{k: v for k, v in doc["options"].items() if k in known})
+        raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v["number"] for v in doc["network"]["vamps"])
-    return Compiled(chain_from_doc(doc["robot"]), options, graph, sched, network_from_doc(doc),
+    return Compiled(chain_from_doc(doc["robot"]), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
+    """The schedule section as a Schedule, verified against the graph: every op lasts its duration
+    after its operands, the latency is the last torque's finish and the critical path and its
+    Mult/Addn counts are the graph's under these times (VampcError naming the field otherwise)."""
+    from vampc.errors import VampcError
+    from vampc.machine.ops import Timing
+    timing = Timing(stored["mult_latency"], stored["add_latency"])
+    if len(stored["start"]) != len(graph.nodes) or len(stored["finish"]) != len(graph.nodes):
+        raise VampcError(f"{path}: schedule: start and finish need one tick per graph node")
+    sched = Schedule(timing, tuple(stored["start"]), tuple(stored["finish"]), stored["latency"],
+                     tuple(stored["critical_path"]), stored["mults"], stored["adds"],
+                     stored["interval"])
+    sched.verify(graph)
+    # the critical path: a chain of operands ending at the last torque, with its Mults and Addns
+    last = max(graph.outputs, key=lambda o: (sched.finish[o.node], o.joint))
+    crit = sched.critical_path
+    chained = (bool(crit) and all(0 <= i < len(graph.nodes) for i in crit) and crit[-1] == last.node
+               and all(a in graph.nodes[b].args for a, b in zip(crit, crit[1:])))
+    counts = [timing.path_counts(graph.nodes[i].op) for i in crit if chained]
+    if not chained or (sum(m for m, _ in counts), sum(a for _, a in counts)) != (sched.mults,
+                                                                                 sched.adds):
+        raise VampcError(f"{path}: schedule.critical_path is not a critical path of the file's "
+                         "graph with its mults and adds (the file was edited); recompile it")
+    return sched
+
+
+def layout_from_network(lay: dict, net: Network, graph: Graph, grouped: bool,
+                        proof: str = "") -> Layout:
+    """The layout a network runs: each node's VAMPs, read off the slots naming it (in column order)."""
+    on: list[list[tuple[int, int]]] = [[] for _ in graph.nodes]
+    for v in net.vamps:
+        for s in v.slots:
+            on[s.node].append((s.column or 0, v.index))
+    placement = tuple(tuple(v for _, v in sorted(p)) for p in on)
+    return Layout(lay["name"], placement, net.period, net.clock, lay["share_passes"], grouped,
+                  proof)
+
+
+def timed_network(net: Network, sched: Schedule, path) -> Network:
+    """The network with its slots at absolute ticks (set 0): each slot latches at its node's start and
+    dumps at its finish - 1. Its Cycle-Counter fields must be those ticks mod P (VampcError)."""
+    from vampc.errors import VampcError
+    P = net.period
+    vamps = []
+    for v in net.vamps:
+        slots = []
+        for k, s in enumerate(v.slots):
+            start, dump = sched.start[s.node], sched.finish[s.node] - 1
+            for name, got, want in (("delay-A", s.latch_a, start), ("delay-B", s.latch_b, start),
+                                    ("delay-R", s.dump, dump)):
+                if got != want % P:
+                    raise VampcError(f"{path}: programs[{v.index}] slot {k}: {name} {got} is not "
+                                     f"the schedule's tick {want} mod {P}")
+            slots.append(replace(s, latch_a=start, latch_b=start, dump=dump))
+        vamps.append(replace(v, slots=tuple(slots)))
+    return replace(net, vamps=tuple(vamps))

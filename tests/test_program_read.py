@@ -1,0 +1,70 @@
+"""Reading a program never schedules again: the report of a `--vamps 7 --exact` program (compiled
+once, kept in tests/data/) neither imports OR-Tools nor runs the budget scheduler for its own
+configuration; the schedule, layout and network are read from the file and checked against each
+other (vampc.program.document.compiled_from_doc)."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.program.file import checksum
+
+EXACT = Path(__file__).resolve().parent / "data" / "puma560-vamps7-exact.vamp.json"
+
+
+def test_report_of_an_exact_program_imports_no_ortools():
+    code = ("import sys\nfrom vampc.cli import main\ntry:\n    main(['report', sys.argv[1]])\n"
+            "except SystemExit as e:\n    assert not e.code, e.code\n"
+            "print('ortools' in sys.modules, file=sys.stderr)")
+    res = subprocess.run([sys.executable, "-c", code, str(EXACT)], capture_output=True, text=True,
+                         check=True)
+    assert res.stderr.strip() == "False"
+    assert "budget, 7 VAMPs, exact" in res.stdout
+
+
+def test_report_of_an_exact_program_does_not_schedule_it(monkeypatch):
+    import vampc.schedule.budget as budget
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the program's own budget was scheduled again")
+    monkeypatch.setattr(budget, "budget_schedule", refuse)
+    res = CliRunner().invoke(main, ["report", str(EXACT), "--format", "json"])
+    assert res.exit_code == 0, res.output
+    rep = json.loads(res.stdout)
+    assert rep["budget"]["exact"] and "proven optimal" in rep["budget"]["proof"]
+    assert rep["latency"]["flops"] == 61 and rep["interval_flops"] == 47
+
+
+def _edited(tmp_path, change) -> str:
+    doc = json.loads(EXACT.read_text())
+    change(doc)
+    doc["checksum"] = checksum(doc)
+    path = tmp_path / "edited.vamp.json"
+    path.write_text(json.dumps(doc))
+    return str(path)
+
+
+def test_a_schedule_that_does_not_run_the_graph_is_refused(tmp_path):
+    def later(doc):          # an op that starts a tick late no longer lasts its duration
+        doc["schedule"]["start"][doc["schedule"]["critical_path"][0]] += 1
+    res = CliRunner().invoke(main, ["report", _edited(tmp_path, later)])
+    assert res.exit_code == 1 and "duration" in res.stderr, res.stderr
+
+    def other_path(doc):
+        doc["schedule"]["critical_path"] = doc["schedule"]["critical_path"][1:]
+    res = CliRunner().invoke(main, ["report", _edited(tmp_path, other_path)])
+    assert res.exit_code == 1 and "schedule.critical_path is not a critical path" in res.stderr
+
+
+def test_a_slot_off_its_scheduled_tick_is_refused(tmp_path):
+    def moved(doc):
+        slot = doc["programs"][0]["slots"][0]
+        slot["delay_r"] = (slot["delay_r"] + 1) % doc["network"]["period"]
+    res = CliRunner().invoke(main, ["report", _edited(tmp_path, moved)])
+    assert res.exit_code == 1 and "delay-R" in res.stderr and "is not the schedule's tick" in \
+        res.stderr, res.stderr
