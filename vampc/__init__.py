@@ -12,7 +12,7 @@ The stages, as functions (the CLI is a thin layer over exactly these):
     vampc.summary(c)                                           # the headline figures (a dict)
     rep = vampc.build_report(c, clock_hz=20e6)                 # the whole report (report schema)
     vampc.timing_svg(c.graph, c.layout, c.schedule, "title")   # pictures: also network_svg, report_dot
-    ld = vampc.loaded_from_doc(doc)                            # or vampc.load_program(path)
+    ld = vampc.loaded_from_compiled(c)                         # or vampc.load_program(path)
     vampc.emulate(ld, vampc.random_trajectory(chain, 100, 0))  # torques from the emulated network
     vampc.rnea(chain, q, qd, qdd)                              # the reference dynamics
 
@@ -41,7 +41,7 @@ _API = {
     "timing_svg": "vampc.report.timing_chart", "network_svg": "vampc.report.network_drawing",
     "report_dot": "vampc.report.dot",
     "emulate": "vampc.emulator", "load_program": "vampc.emulator",
-    "loaded_from_doc": "vampc.emulator", "random_trajectory": "vampc.emulator.host",
+    "loaded_from_doc": "vampc.emulator", "loaded_from_compiled": "vampc.emulator", "random_trajectory": "vampc.emulator.host",
     "read_trajectory": "vampc.emulator.host", "check_torques": "vampc.emulator.host",
     "VampcError": "vampc.errors",
 }

@@ -643,15 +643,15 @@ class _Guarded:
 
 
 def _loaded(ctx, source, base, tip, lock, **opts):
-    from vampc.emulator import load_program, loaded_from_doc
+    from vampc.emulator import load_program
+    from vampc.emulator.load import loaded_from_compiled
     from vampc.sniff import is_program
     if is_program(source):
         ld = load_program(source)
         _check_program_options(ctx, source, ld.options)
         return ld
     _check_robot_options(ctx, opts)
-    from vampc.compiler import program_document
-    return loaded_from_doc(program_document(_compile(source, base, tip, lock, **opts)), source)
+    return loaded_from_compiled(_compile(source, base, tip, lock, **opts), source)
 
 
 def _vcd_writer(stream, ld):

@@ -8,7 +8,7 @@ import numpy as np
 
 from vampc.emulator.check import check_program
 from vampc.emulator.host import Trajectory, port_values
-from vampc.emulator.load import Loaded, load_program, loaded_from_doc
+from vampc.emulator.load import Loaded, load_program, loaded_from_compiled, loaded_from_doc
 
 ENGINES = ("stream", "tick")
 
@@ -74,4 +74,4 @@ def _tick(ld, traj, ports, seed, vcd, start, progress) -> Emulation:
 
 
 __all__ = ["ENGINES", "Emulation", "Loaded", "Trajectory", "emulate", "load_program",
-           "loaded_from_doc", "check_program", "prepare_stream"]
+           "loaded_from_doc", "loaded_from_compiled", "check_program", "prepare_stream"]

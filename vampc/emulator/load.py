@@ -89,15 +89,45 @@ def loaded_from_doc(doc: dict, path: str = "<program>", decoded=None) -> Loaded:
     sched = Schedule(timing, tuple(s["start"]), tuple(s["finish"]), s["latency"],
                      tuple(s["critical_path"]), s["mults"], s["adds"], s["interval"])
     numbers = tuple(v["number"] for v in doc["network"]["vamps"])
-    _check_indices(net, numbers, graph, path)
-    stream = stream_from_doc(doc)
-    progs = delivered_programs(net, numbers, stream, path)
-    _check_listing(listed or programs_from_doc(doc), progs, path)
-    if doc["io"]["load_ticks"] != load_ticks(stream):
-        raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {load_ticks(stream)} "
+    ld = _loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, net, numbers,
+                 stream_from_doc(doc), listed or programs_from_doc(doc),
+                 tuple(sorted(doc["options"].items())))
+    if doc["io"]["load_ticks"] != ld.load_ticks:
+        raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
-    return Loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, timing, net, numbers,
-                  stream, progs, load_ticks(stream), tuple(sorted(doc["options"].items())))
+    return ld
+
+
+def loaded_from_compiled(c, path: str = "<compiled>") -> Loaded:
+    """The emulator's IRs straight from the compiler's (a vampc.compiler.Compiled), in the same
+    process: no program document is made or parsed. The same checks as a file's: the stream must
+    deliver the listed programs."""
+    from dataclasses import asdict
+    net = counter_network(c.network, c.programs)
+    opts = {k: v for k, v in asdict(c.options).items() if k != "verify"}
+    return _loaded(path, c.chain, c.graph, c.schedule, net, c.numbering, c.stream, c.programs,
+                   tuple(sorted(opts.items())))
+
+
+def counter_network(net: Network, programs) -> Network:
+    """The network with each slot's ticks as its program's Cycle-Counter values (what a loaded
+    network holds: absolute times are the emulator's to derive)."""
+    from dataclasses import replace
+    vamps = tuple(replace(v, slots=tuple(replace(s, latch_a=p.delay_a, latch_b=p.delay_b,
+                                                  dump=p.delay_r, sel_a=p.sel_a, sel_b=p.sel_b)
+                                         for s, p in zip(v.slots, progs)))
+                  for v, progs in zip(net.vamps, programs))
+    return replace(net, vamps=vamps)
+
+
+def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, options) -> Loaded:
+    """The one loader both engines run from: indices checked, the programs the stream delivers
+    (which must be the listed ones), the Program-Mode length."""
+    _check_indices(net, numbers, graph, path)
+    progs = delivered_programs(net, numbers, stream, path)
+    _check_listing(listed, progs, path)
+    return Loaded(path, chain, graph, sched, sched.timing, net, numbers, stream, progs,
+                  load_ticks(stream), options)
 
 
 def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:
@@ -106,11 +136,21 @@ def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Progr
     roots = a_roots(net)
     tables: list[list | None] = [None] * len(net.vamps)
     for entry in stream:
+        if not len(entry.words) == len(entry.targets) == len(entry.depth):
+            raise VampcError(f"{path}: program stream of {entry.root}: {len(entry.words)} words but "
+                             f"{len(entry.targets)} targets and {len(entry.depth)} depths")
         for k, word in enumerate(entry.words):
             v = index_of.get(word_number(word))
             if v is None or roots[v][0] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
                                  f"{word[0]:g} matches no VAMP on that input's Operand-A paths")
+            # the listing says where each word goes and how deep; Program Mode lasts as long as
+            # it says the deepest word needs, so it must be the network's truth (the tick engine
+            # clocks the words by it)
+            if (entry.targets[k], entry.depth[k]) != (v, roots[v][1]):
+                raise VampcError(f"{path}: program stream of {entry.root}, word {k}: it is for VAMP "
+                                 f"{v} at depth {roots[v][1]}, but the stream lists VAMP "
+                                 f"{entry.targets[k]} at depth {entry.depth[k]}")
             if float(word[0]) > 0 or tables[v] is not None:     # an extended word needs a table
                 tables[v] = apply_word(tables[v], word)
     progs = tuple(_program(net, numbers, v, tables[v], roots, path) for v in range(len(net.vamps)))
