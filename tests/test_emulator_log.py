@@ -11,7 +11,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from emulator_util import loaded, run_both
-from vampc.compiler import PREFIXES, CompileOptions, compile_chain
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.kinds import Prefix
+
+PREFIXES = Prefix.names()
 from vampc.emulator.host import check_torques
 from vampc.report.compare import compare_prefixes
 from vampc.report.counts import summary

@@ -361,8 +361,8 @@ def _formatted(rep: dict, fmt: str) -> str:
 
 def _tradeoff(ctx, source, fmt, curve, base, tip, lock, **opts) -> None:
     from vampc import progress
-    from vampc.outputs import plan_outputs
     from vampc.compiler import CompileOptions
+    from vampc.outputs import plan_outputs
     from vampc.report import tradeoff as tr
     from vampc.robot import load_robot
     from vampc.sniff import is_program

@@ -7,73 +7,20 @@ Every IR is verified at its stage boundary when `verify` is on (always in the te
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
-from vampc.machine.ops import Timing
+from vampc.kinds import Recursion
 from vampc.network.allocate import allocate
 from vampc.network.model import Network
+from vampc.options import CompileOptions
 from vampc.program import emit
 from vampc.program.words import Program
 from vampc.robot.chain import Chain
 from vampc.schedule.asap import Schedule
-from vampc.schedule.layout import LAYOUTS, Layout, layout_and_schedule
-
-RECURSIONS = ("linear", "log")
-PREFIXES = ("sklansky", "brent-kung", "kogge-stone", "ladner-fischer", "serial")
-
-
-@dataclass(frozen=True)
-class CompileOptions:
-    """Compiler options; each field is one `vampc compile` / `vampc report` option."""
-
-    recursion: str = "linear"
-    prefix: str = "sklansky"
-    uniform_leaves: bool = False
-    mult_latency: int = 1
-    add_latency: int = 1
-    numbering: str | None = None
-    layout: str = "systolic"
-    share_passes: bool = False
-    vamps: int | None = None
-    interval: int | None = None
-    exact: bool = False
-    verify: bool = True
-
-    @property
-    def timing(self) -> Timing:
-        """The Mult/Addn latency model."""
-        return Timing(self.mult_latency, self.add_latency)
-
-    def check(self) -> None:
-        """Reject option values no stage can honour."""
-        if self.recursion not in RECURSIONS:
-            raise VampcError(f"unknown recursion {self.recursion!r} (choose from {', '.join(RECURSIONS)})")
-        if self.prefix not in PREFIXES:
-            raise VampcError(f"unknown prefix shape {self.prefix!r} (choose from {', '.join(PREFIXES)})")
-        for name in ("mult_latency", "add_latency"):
-            if not 1 <= getattr(self, name) <= 64:
-                raise VampcError(f"--{name.replace('_', '-')} must be between 1 and 64 flops")
-        if self.layout not in LAYOUTS + ("budget",):
-            raise VampcError(f"unknown layout {self.layout!r} (choose from {', '.join(LAYOUTS)})")
-        if self.share_passes and self.layout != "folded":
-            raise VampcError("--share-passes needs --layout folded")
-        budget = self.vamps is not None or self.interval is not None
-        if budget and self.layout == "folded":
-            raise VampcError("--vamps and --interval make a budgeted layout: leave out --layout folded")
-        for name in ("vamps", "interval"):
-            value = getattr(self, name)
-            if value is not None and value < 1:
-                raise VampcError(f"--{name} must be at least 1")
-        if self.exact and self.vamps is None:
-            raise VampcError("--exact needs --vamps K")
-
-    @property
-    def layout_name(self) -> str:
-        """The layout compiled: "budget" when a VAMP budget or interval is given."""
-        return "budget" if self.vamps is not None or self.interval is not None else self.layout
+from vampc.schedule.layout import Layout, layout_and_schedule
 
 
 @dataclass(frozen=True)
@@ -94,7 +41,7 @@ class Compiled:
 
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:
     """The dataflow graph for the chosen recursion."""
-    if options.recursion == "linear":
+    if options.recursion is Recursion.LINEAR:
         from vampc.dataflow.linear import build_linear
         return build_linear(chain, verify=options.verify)
     from vampc.dataflow.logarithmic import build_log
@@ -154,7 +101,7 @@ def program_text(c: Compiled) -> str:
     """The program file's text (without its checksum: write_program stamps it) of a compiled robot."""
     from vampc.program.document import program_text as text
     from vampc.report.counts import summary
-    opts = {k: v for k, v in asdict(c.options).items() if k not in ("verify",)}
+    opts = c.options.record()
     layout_doc = {"name": c.options.layout_name, "share_passes": c.options.share_passes}
     return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
                 summary(c), layout_doc)

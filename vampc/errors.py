@@ -26,3 +26,8 @@ def located(path, where: str, what: str) -> VampcError:
         parts.append(where)
     parts.append(what)
     return VampcError(": ".join(parts))
+
+
+class VampcUsageError(VampcError):
+    """A usage error: an option value or a combination of options no command can honour. The CLI
+    prints it as one line with the help to read, and exits with status 2."""

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.errors import VampcInternalError
+from vampc.kinds import Recursion
 from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 
 
@@ -69,8 +70,12 @@ class Graph:
     nodes: tuple[Node, ...]
     outputs: tuple[Output, ...]
     n: int
-    recursion: str = "linear"
+    recursion: Recursion = Recursion.LINEAR
     meta: tuple[tuple[str, str], ...] = ()
+
+    def __post_init__(self):
+        if not isinstance(self.recursion, Recursion):     # read from a file, or a builder's name
+            object.__setattr__(self, "recursion", Recursion(self.recursion))
 
     def compute_nodes(self):
         """The nodes a VAMP executes."""

@@ -24,7 +24,6 @@ import numpy as np
 from vampc.dataflow.graph import InputKey
 from vampc.robot.chain import Chain
 
-
 BASE_QUANTITIES = {"omega0": 0, "omega_dot0": 3, "pdd0": 6}   # their columns in a base (N, 9) array
 
 

@@ -102,7 +102,14 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from vampc.dynamics.reference import check_state, cross, joint_forces, link_loads, mtv, mv
+from vampc.dynamics.reference import (
+    check_state,
+    cross,
+    joint_forces,
+    link_loads,
+    mtv,
+    mv,
+)
 from vampc.errors import VampcInternalError
 from vampc.robot.chain import Chain
 

@@ -40,7 +40,6 @@ import numpy as np
 from vampc.errors import VampcError
 from vampc.robot.chain import Chain
 
-
 # --- small batched vector algebra (leading axes broadcast) ---------------------------------------------
 
 def mv(m: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -8,7 +8,12 @@ import numpy as np
 
 from vampc.emulator.check import check_program
 from vampc.emulator.host import Trajectory, port_values
-from vampc.emulator.load import Loaded, load_program, loaded_from_compiled, loaded_from_doc
+from vampc.emulator.load import (
+    Loaded,
+    load_program,
+    loaded_from_compiled,
+    loaded_from_doc,
+)
 
 ENGINES = ("stream", "tick")
 

@@ -102,9 +102,8 @@ def loaded_from_compiled(c, path: str = "<compiled>") -> Loaded:
     """The emulator's IRs straight from the compiler's (a vampc.compiler.Compiled), in the same
     process: no program document is made or parsed. The same checks as a file's: the stream must
     deliver the listed programs."""
-    from dataclasses import asdict
     net = counter_network(c.network, c.programs)
-    opts = {k: v for k, v in asdict(c.options).items() if k != "verify"}
+    opts = c.options.record()
     return _loaded(path, c.chain, c.graph, c.schedule, net, c.numbering, c.stream, c.programs,
                    tuple(sorted(opts.items())))
 

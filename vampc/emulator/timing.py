@@ -30,7 +30,12 @@ from graphlib import CycleError, TopologicalSorter
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.interp import duration, reading_end
-from vampc.machine.timing import buffer_window, capture_counter, cyclic_gaps, port_window
+from vampc.machine.timing import (
+    buffer_window,
+    capture_counter,
+    cyclic_gaps,
+    port_window,
+)
 
 INF = math.inf
 

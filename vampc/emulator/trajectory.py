@@ -21,7 +21,6 @@ import numpy as np
 from vampc.errors import VampcError
 from vampc.textio import shown
 
-
 BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
                 "base_ax", "base_ay", "base_az"]
 WRENCH_COLUMNS = ["base_fx", "base_fy", "base_fz", "base_nx", "base_ny", "base_nz"]

@@ -9,8 +9,14 @@ from bisect import bisect_right
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcInternalError
 from vampc.machine.ops import Op
-from vampc.machine.timing import (buffer_window, cyclic_gaps, overlapping_spans, port_window,
-                                  result_window, result_windows)
+from vampc.machine.timing import (
+    buffer_window,
+    cyclic_gaps,
+    overlapping_spans,
+    port_window,
+    result_window,
+    result_windows,
+)
 from vampc.network.model import Network, Vamp
 from vampc.schedule.asap import Schedule
 

@@ -26,6 +26,7 @@ from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
+from vampc.schedule.registry import BUDGET
 
 
 def _joint_doc(j: Joint) -> dict:
@@ -238,7 +239,7 @@ def compiled_from_doc(doc: dict, path):
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
         proof = (doc.get("summary", {}).get("budget") or {}).get("proof", "")
-        layout = layout_from_network(doc["layout"], net, graph, options.layout_name != "budget",
+        layout = layout_from_network(doc["layout"], net, graph, options.layout_kind is not BUDGET,
                                      proof)
         layout.verify(graph)
         timed_network(net, sched, path).verify(graph, sched)
@@ -261,7 +262,19 @@ def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
     sched = Schedule(timing, tuple(stored["start"]), tuple(stored["finish"]), stored["latency"],
                      tuple(stored["critical_path"]), stored["mults"], stored["adds"],
                      stored["interval"])
-    sched.verify(graph)
+    duration = timing.durations
+    for nd in graph.nodes:
+        key = None
+        if sched.finish[nd.id] - sched.start[nd.id] != duration[nd.op]:
+            key = "finish"
+        elif any(sched.finish[a] > sched.start[nd.id] for a in nd.args):
+            key = "start"
+        if key is not None:
+            raise VampcError(f"{path}: schedule.{key} is not the schedule of the file's graph (the "
+                             "file was edited); recompile it")
+    if sched.latency != max(sched.finish[o.node] for o in graph.outputs):
+        raise VampcError(f"{path}: schedule.latency is not the schedule of the file's graph (the "
+                         "file was edited); recompile it")
     # the critical path: a chain of operands ending at the last torque, with its Mults and Addns
     last = max(graph.outputs, key=lambda o: (sched.finish[o.node], o.joint))
     crit = sched.critical_path

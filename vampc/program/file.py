@@ -162,7 +162,7 @@ def validate_program(doc, path) -> None:
                          f"(this vampc reads version {VERSION})")
     if accepted_quickly("program.schema.json", doc):
         return
-    import jsonschema   # only now: it takes ~0.3 s to import, and only it can say what is wrong
+    import jsonschema  # only now: it takes ~0.3 s to import, and only it can say what is wrong
     validator = jsonschema.Draft202012Validator(load_schema("program.schema.json"))
     try:
         err = next(iter(sorted(validator.iter_errors(doc), key=lambda e: list(e.path))), None)

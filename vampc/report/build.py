@@ -7,6 +7,7 @@ vampc.report.paper and are labelled as the paper's."""
 from __future__ import annotations
 
 from vampc.gcpause import gc_paused
+from vampc.kinds import Recursion
 from vampc.report.clock import add_clock
 from vampc.report.compare import compare_prefixes, layout_rows
 from vampc.report.configs import ALLOCATE_LIMIT, configurations
@@ -30,7 +31,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
     rep["report_version"] = REPORT_VERSION
     rep["layout_comparison"] = layout_rows(configs, c.graph.recursion)
-    if c.graph.recursion == "log" and not big:
+    if c.graph.recursion is Recursion.LOG and not big:
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
     rep["table_o1"] = table_o1(configs, c.chain)
     rep["processors"] = processors(configs, c.chain, other_leaves=not big)
@@ -39,7 +40,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT, "ops": len(c.graph.compute_nodes()),
                          "allocated": [k.name for k in configs if k.network is not None],
                          "scheduled_only": [k.name for k in configs if k.network is None],
-                         "omitted": (["prefix_comparison"] * (c.graph.recursion == "log")
+                         "omitted": (["prefix_comparison"] * (c.graph.recursion is Recursion.LOG)
                                      + ["other leaf style"]) if big else []}
     if "tree" in rep:
         from vampc.report.compare import tree_latencies

@@ -4,7 +4,8 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
-from vampc.compiler import PREFIXES, CompileOptions, build_graph, compile_chain
+from vampc.compiler import CompileOptions, build_graph, compile_chain
+from vampc.kinds import Prefix
 
 
 def max_fan_out(network) -> int:
@@ -28,7 +29,7 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None) -
     from vampc.schedule.layout import layout_and_schedule
     limit = ALLOCATE_LIMIT if limit is None else limit
     rows = []
-    for shape in PREFIXES:
+    for shape in Prefix:
         opts = replace(options, recursion="log", prefix=shape, verify=False, numbering=None)
         graph = build_graph(chain, opts)
         if len(graph.compute_nodes()) > limit:

@@ -19,6 +19,7 @@ from vampc.network.model import Network
 from vampc.program import emit
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout, layout_and_schedule
+from vampc.schedule.registry import BUDGET
 from vampc.textio import count
 
 # Ops in a graph above which the other configurations are scheduled but not allocated.
@@ -69,7 +70,7 @@ def configurations(c, recursions=("linear", "log")) -> list[Config]:
     the other options (prefix, leaves, latencies) as `c` was compiled."""
     out = []
     small = len(c.graph.compute_nodes()) <= ALLOCATE_LIMIT
-    budget = c.options.layout_name == "budget"
+    budget = c.options.layout_kind is BUDGET
     for rec in recursions:
         opts = replace(c.options, recursion=rec, verify=False, numbering=None, vamps=None,
                        interval=None, exact=False)

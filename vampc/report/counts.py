@@ -7,7 +7,9 @@ from __future__ import annotations
 import math
 from collections import Counter
 
+from vampc.kinds import Recursion
 from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
+from vampc.schedule.registry import BUDGET, FOLDED, is_layout
 
 # A 40-pin package holds 5 VAMPs with all pins separate, 12 with shared clock/power/reset (section VII).
 VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
@@ -15,7 +17,7 @@ VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
 
 def paper_latency(n: int, recursion: str) -> dict:
     """The paper's latency formula for a general rotary arm of n joints: Mults, Addns, flops."""
-    if recursion == "linear":
+    if Recursion(recursion) is Recursion.LINEAR:
         mults, adds = 2 * n + 3, 6 * n + 7
     else:
         tiers = math.ceil(math.log2(n + 1))
@@ -97,8 +99,8 @@ def summary(c) -> dict:
         "serial_reference": serial_reference(c.chain.n),
         "ops": dict(sorted(Counter(nd.op.value for nd in c.graph.compute_nodes()).items())),
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
-        "uniform_leaves": c.options.uniform_leaves if c.graph.recursion == "log" else None,
-        "prefix": c.options.prefix if c.graph.recursion == "log" else None,
+        "uniform_leaves": c.options.uniform_leaves if c.graph.recursion is Recursion.LOG else None,
+        "prefix": c.options.prefix if c.graph.recursion is Recursion.LOG else None,
         **({"tree": tree_summary(c.chain, c.options.prefix)} if not c.chain.is_chain or c.chain.floating
            else {}),
     }
@@ -153,7 +155,7 @@ def hardware_counts(c) -> dict:
 def budget_figures(c) -> dict | None:
     """For a budgeted layout: the VAMPs asked for and used, the work, the interval and latency
     against their certified lower bounds (vampc.schedule.budget.bounds), the gaps in percent."""
-    if c.options.layout_name != "budget":
+    if c.options.layout_kind is not BUDGET:
         return None
     from vampc.schedule.budget import bounds
     k = c.options.vamps if c.options.vamps is not None else len(c.network.vamps)
@@ -222,12 +224,12 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                 "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
                 "torques (README, Exactness convention)")]
     n = rep["joints"]
-    if rep["recursion"] == "log" and n & (n - 1) == 0 and got["flops"] < paper["flops"] + 3:
+    if Recursion(rep["recursion"]) is Recursion.LOG and n & (n - 1) == 0 and got["flops"] < paper["flops"] + 3:
         reasons.append(("one tier less each way (n a power of 2)",
                         "log recursion: grounded in O_0 when the base does not rotate (section VI), "
                         "the prefix network spans n leaves instead of n + 1, which saves a whole tier "
                         "each way (8 flops) when n is a power of 2"))
-    if rep["recursion"] == "log" and rep.get("uniform_leaves"):
+    if Recursion(rep["recursion"]) is Recursion.LOG and rep.get("uniform_leaves"):
         reasons.append(("uniform leaves, +2 A",
                         "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
@@ -247,13 +249,13 @@ def vamp_notes(rep: dict) -> list[str]:
     per = rep["vamps"]["per_node"]
     paper = {"linear": (12, 10, 8), "log": (26, 10, 13)}[rep["recursion"]]
     notes = _layout_notes(rep)
-    if rep["recursion"] == "log" and per["fwd"] == 12:
+    if Recursion(rep["recursion"]) is Recursion.LOG and per["fwd"] == 12:
         notes.append("forward node 12 VAMPs, paper 13: with f, n referred to O_{a-1} the forward "
                      "combine needs W_{a,k} and R_{a,k} as the backward pass makes them, so the "
                      "paper's T20 = A_{k+1}ᵀ R_{a,k} (one MV) is not needed")
     if per["bwd"] != paper[0] and not rep["prismatic_joints"]:
         notes.append(f"backward node {per['bwd']} VAMPs, paper {paper[0]}")
-    if rep["recursion"] == "log" and not rep.get("uniform_leaves"):
+    if Recursion(rep["recursion"]) is Recursion.LOG and not rep.get("uniform_leaves"):
         notes.append("leaves are Table IV.1's separate a = b forms (fewer VAMPs than Appendix D's "
                      "uniform nodes, which section VI counts: use --uniform-leaves to compare)")
     return notes
@@ -261,9 +263,9 @@ def vamp_notes(rep: dict) -> list[str]:
 
 def _layout_notes(rep: dict) -> list[str]:
     """The single-device counts of section VI beside a folded layout's."""
-    if rep.get("layout") != "folded":
+    if not is_layout(rep.get("layout"), FOLDED):
         return []
-    if rep["recursion"] == "linear":
+    if Recursion(rep["recursion"]) is Recursion.LINEAR:
         paper = "22 with the passes sharing processors" if rep.get("share_passes") else "22 + 8"
         return [f"single device (section VI, Figure VI.1): paper {paper} for a general rotary arm; "
                 "prismatic joints add VAMPs for their σ̄ terms"]

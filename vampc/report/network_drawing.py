@@ -15,8 +15,10 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
+from vampc.kinds import Recursion
 from vampc.report import svg
 from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
+from vampc.schedule.registry import SYSTOLIC, is_layout
 
 COLOURS = {"bwd": "#c6dbef", "npv": "#e5f5e0", "fwd": "#fdd0a2"}
 CELL_PX, MARGIN_PX = 78, 80
@@ -83,11 +85,11 @@ def _port_label(p) -> str:
 
 def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
     """Grid cell and label of every site (see the module docstring)."""
-    if layout.name != "systolic":
+    if not is_layout(layout.name, SYSTOLIC):
         row = {"bwd": 0, "npv": 1, "fwd": 2}
         return ({s: (s.index, row[s.section]) for s in sites},
                 {s: f"{SECTION_NAMES[s.section]}\ndevice {s.index}" for s in sites})
-    if graph.recursion == "linear":
+    if graph.recursion is Recursion.LINEAR:
         row = {"bwd": 0, "npv": 1, "fwd": 2}
         n = graph.n
         name = {"bwd": lambda i: f"(0,{i})", "npv": lambda i: f"r̈ F N {i}",

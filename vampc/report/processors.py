@@ -7,10 +7,12 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
+from vampc.kinds import Recursion
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.report import paper
 from vampc.report.sites import node_table
 from vampc.schedule.layout import folded_binding
+from vampc.schedule.registry import FOLDED, SYSTOLIC
 
 COLUMNS = ("per_node", "per_tier", "single_device", "systolic")
 
@@ -22,7 +24,7 @@ def processors(configs, chain, other_leaves: bool = True) -> dict:
     graphs = _graphs(configs, chain, other_leaves)
     own = list(dict.fromkeys(k.recursion for k in configs))
     bindings = {(id(k.graph), k.options.share_passes): (k.layout.units, k.layout.unit_vamps)
-                for k in configs if k.options.layout == "folded"}
+                for k in configs if k.options.layout_kind is FOLDED}
     return {"vamps": [_variant(graph, leaves, chain.n, _binder(graph, bindings))
                       for graph, leaves in graphs],
             "ops_per_node": [_ops_row(graph, s) for graph, _ in graphs[:len(own)]
@@ -37,7 +39,7 @@ def _graphs(configs, chain, other_leaves: bool) -> list:
         if k.recursion not in seen:
             seen.add(k.recursion)
             out.append((k.graph, _leaves(k.graph, k.options)))
-    log = next((k for k in configs if k.recursion == "log"), None)
+    log = next((k for k in configs if k.recursion is Recursion.LOG), None)
     if log is not None and other_leaves:
         from vampc.compiler import build_graph
         other = replace(log.options, uniform_leaves=not log.options.uniform_leaves, verify=False)
@@ -46,7 +48,7 @@ def _graphs(configs, chain, other_leaves: bool) -> list:
 
 
 def _leaves(graph, options) -> str | None:
-    if graph is not None and graph.recursion == "linear":
+    if graph is not None and graph.recursion is Recursion.LINEAR:
         return None
     return "uniform" if options.uniform_leaves else "separate"
 
@@ -72,7 +74,7 @@ def _variant(graph, leaves, n: int, binding) -> dict:
         parts = ("bwd", "npv") if sec == "bwd_total" else (sec,)
         row = {"section": sec,
                "per_node": sum(per_node[p] for p in parts),
-               "per_tier": (sum(tier[p] for p in parts) if graph.recursion == "log" else None),
+               "per_tier": (sum(tier[p] for p in parts) if graph.recursion is Recursion.LOG else None),
                "single_device": sum(single[p] for p in parts),
                "systolic": sum(systolic[p] for p in parts)}
         row["paper"] = _paper_row(graph.recursion, sec, n)
@@ -120,7 +122,7 @@ def _per_tier(graph, single: Counter) -> Counter:
     variables, those the single device (`single`, VAMPs by section) runs beside each tier
     (⌈n / tiers⌉ joints' worth)."""
     out: Counter = Counter()
-    if graph.recursion != "log":
+    if graph.recursion is not Recursion.LOG:
         return out
     table = node_table(graph)
     tier_of = {(sec, r[0]): r[4] for sec, rows in table.items() for r in rows}
@@ -174,13 +176,13 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
     if not diff:
         return "matches the paper" if any(ref.get(c) is not None for c in COLUMNS) else ""
     why = []
-    if recursion == "log" and sec == "fwd":
+    if Recursion(recursion) is Recursion.LOG and sec == "fwd":
         why.append("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
                    "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
-    if recursion == "log" and leaves == "separate" and "systolic" in diff:
+    if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "systolic" in diff:
         why.append("Table IV.1's leaves are cheaper than the uniform nodes section VI counts "
                    "(--uniform-leaves to compare)")
-    if recursion == "log" and leaves == "separate" and "single_device" in diff:
+    if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "single_device" in diff:
         why.append("the single device also runs the leaves, on device nodes of their own roles")
     return f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " + ("; ".join(why) or
                                                                           "see README, Layouts")
@@ -211,7 +213,7 @@ def _ops_row(graph, section: str) -> dict:
 def _ops_note(graph, section: str, got: dict, ref: dict) -> str:
     diff = ", ".join(f"{o} {got.get(o, 0)} (paper {ref.get(o, 0)})" for o in sorted(set(got) | set(ref))
                      if got.get(o, 0) != ref.get(o, 0))
-    if graph.recursion == "log" and section == "fwd":
+    if graph.recursion is Recursion.LOG and section == "fwd":
         return (f"differs: {diff}: no T20 = A_{{k+1}}ᵀ R_{{a,k}} with f, n referred to O_{{a-1}} "
                 "(README, Figures against the paper)")
     return f"differs: {diff} (prismatic joints add the σ̄ terms of Table I.1)"
@@ -278,7 +280,7 @@ def _packed(network, size: int) -> dict:
 def _paper_check(configs) -> dict | None:
     """Section VII: '11 such 40-pin packages would implement the full systolic pipeline for the
     linear case of n = 6' — set beside the count for the linear systolic configuration."""
-    k = next((k for k in configs if k.recursion == "linear" and k.options.layout == "systolic"), None)
+    k = next((k for k in configs if k.recursion is Recursion.LINEAR and k.options.layout_kind is SYSTOLIC), None)
     if k is None or k.graph.n != 6:
         return None
     got = paper.paper_packages(k.vamps)["shared"]

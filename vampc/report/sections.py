@@ -2,10 +2,12 @@
 and HTML show the same cells, and a program file's report the same as its robot's."""
 from __future__ import annotations
 
+from vampc.kinds import Recursion
 from vampc.machine.ops import report_kinds
 from vampc.report.clock import control_sentence, hz_text, us_text
 from vampc.report.sites import SECTION_NAMES
 from vampc.report.table import Table
+from vampc.schedule.registry import SYSTOLIC, is_layout
 
 DASH = "—"
 
@@ -297,7 +299,7 @@ def _input_note(ib: dict) -> str:
 
 
 def _flow_paper(rep: dict, flow: str) -> str:
-    if rep["recursion"] == "linear" and rep["layout"] == "systolic":
+    if Recursion(rep["recursion"]) is Recursion.LINEAR and is_layout(rep["layout"], SYSTOLIC):
         return ("only between backward and forward" if flow == "backward_to_forward" else
                 "none (\"only required between backward and forward\")")
     return DASH
@@ -322,7 +324,7 @@ def wiring(rep: dict) -> Table:
     w = rep["wiring"]
     b = w["buses"]
     pb, pi = b["paper_between_nodes"], b["paper_internal"]
-    what = "nodes" if rep["recursion"] == "linear" else "nodes of the tiers"
+    what = "nodes" if Recursion(rep["recursion"]) is Recursion.LINEAR else "nodes of the tiers"
     rows = []
     for sec in ("bwd", "fwd"):
         x = b["between_nodes"][sec]

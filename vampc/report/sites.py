@@ -14,6 +14,7 @@ from collections import Counter
 from typing import NamedTuple
 
 from vampc.schedule.layout import device_nodes
+from vampc.schedule.registry import SYSTOLIC, is_layout
 
 SECTIONS = ("bwd", "npv", "fwd")
 SECTION_NAMES = {"bwd": "backward", "npv": "non-propagated", "fwd": "forward"}
@@ -67,7 +68,7 @@ def unit_sites(graph, layout) -> list[Site]:
     """Per unit: its site (from the unit's first node; in a budgeted layout, whose VAMPs serve many
     device nodes in turn, the device node most of its ops belong to)."""
     nodes = unit_nodes(graph, layout)
-    if layout.name == "systolic":
+    if is_layout(layout.name, SYSTOLIC):
         return [Site(graph.nodes[ids[0]].section, graph.nodes[ids[0]].group) for ids in nodes]
     device = device_nodes(graph)
     if not layout.grouped:

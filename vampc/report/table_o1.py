@@ -3,9 +3,11 @@ the printed column beside them) and vampc's measured rows — the serial work of
 latency and interval of every configuration it compiles (vampc.report.configs)."""
 from __future__ import annotations
 
+from vampc.kinds import Recursion
 from vampc.machine.ops import Op
 from vampc.report import paper
 from vampc.report.counts import latency_reasons, paper_latency, serial_work
+from vampc.schedule.registry import SYSTOLIC
 from vampc.textio import count
 
 
@@ -36,7 +38,7 @@ def _serial_row(graph, n: int) -> dict:
                    "linear graph, serial work: counted op by op from vampc's graph (README, Figures "
                    "against the paper), not by Luh-Walker-Paul's accounting: no SV for z q̇, z q̈ and "
                    "no VD for τ (the paper's input/output convention)")
-                  if graph.recursion == "linear" else
+                  if graph.recursion is Recursion.LINEAR else
                   ("work traded for depth",
                    "log graph, serial work: the log recursion trades work for depth, every combining "
                    "node composing whole relational parameters (Table V.1)"))
@@ -55,10 +57,10 @@ def _config_row(k, chain, notes: list[str]) -> dict:
            "share_passes": k.options.share_passes, "own": k.own, "measure": "latency",
            "mults": s.mults, "adds": s.adds, "waits": s.waits, "flops": s.latency,
            "interval_flops": s.interval, "vamps": k.vamps,
-           "compare": "lathrop_linear" if k.recursion == "linear" else "lathrop_log",
+           "compare": "lathrop_linear" if k.recursion is Recursion.LINEAR else "lathrop_log",
            "paper": ref, "difference": {"mults": s.mults - ref["mults"], "adds": s.adds - ref["adds"],
                                          "flops": s.latency - ref["flops"]}}
-    if k.options.layout_name == "systolic":
+    if k.options.layout_kind is SYSTOLIC:
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
     reasons = latency_reasons({

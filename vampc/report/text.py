@@ -3,6 +3,7 @@ markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
 from vampc.report.counts import latency_note, latency_terms, paper_flops, vamp_notes
+from vampc.schedule.registry import SYSTOLIC, is_layout
 from vampc.textio import count
 
 
@@ -61,7 +62,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
                       f"{b['level_bound']}): gap {b['latency_gap_pct']}%"
                       + (f"; exact solver: {b['proof']}" if b.get("exact") else "")))
     pairs.append(("interval", f"{rep['interval_flops']} flops between successive torque sets"))
-    if hw and rep.get("layout") != "systolic":
+    if hw and not is_layout(rep.get("layout"), SYSTOLIC):
         pairs.append(("time-multiplexed",
                       f"{hw['slots']} slots on {count(v['total'], 'VAMP')} (period {hw['period']}, "
                       f"buffer clock {flops(hw['buffer_clock'])}); {hw['control_registers']} control "

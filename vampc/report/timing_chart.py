@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from vampc.machine.ops import colours
 from vampc.report import svg
 from vampc.report.sites import SECTIONS, unit_nodes, unit_sizes
+from vampc.schedule.registry import SYSTOLIC, is_layout
 
 MAX_BARS = 10_000
 LABELLED_BARS = 4_000     # above this many bars, labels only in the tooltips (text is slow to lay out)
@@ -52,7 +53,7 @@ def chart(graph, layout, sched) -> Chart:
     merged = len(ops) > MAX_BARS
     if merged:
         rows = _merged_rows(graph, sched)
-    elif layout.name == "systolic":
+    elif is_layout(layout.name, SYSTOLIC):
         rows = _variable_rows(graph, sched)
     else:
         rows = _unit_rows(graph, layout, sched)

@@ -35,10 +35,9 @@ from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
+from vampc.kinds import Recursion
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
-
-LAYOUTS = ("systolic", "folded")       # and "budget", made by --vamps / --interval
 
 
 @dataclass(frozen=True)
@@ -122,25 +121,35 @@ class Layout:
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
                         share_passes: bool = False, verify: bool = True, vamps: int | None = None,
                         interval: int | None = None, exact: bool = False) -> tuple[Layout, Schedule]:
-    """The layout `name` of `graph` and the schedule it runs; a VAMP budget (`vamps`, `interval`:
-    vampc.schedule.budget; `exact`: its CP-SAT solver) makes the layout "budget"."""
-    if vamps is not None or interval is not None or name == "budget":
-        from vampc.schedule.budget import budget_schedule
-        layout, sched, _ = budget_schedule(graph, timing, vamps, interval, verify, exact=exact)
-        return layout, sched
-    if name not in LAYOUTS:
-        raise VampcError(f"unknown layout {name!r} (choose from {', '.join(LAYOUTS)})")
+    """The layout `name` (vampc.schedule.registry) of `graph` and the schedule it runs; a VAMP
+    budget (`vamps`, `interval`; `exact`: its CP-SAT solver) makes the layout "budget"."""
+    from vampc.schedule.registry import BUDGET, LayoutRequest, layout_kind
+    try:
+        kind = BUDGET if vamps is not None or interval is not None else layout_kind(name)
+    except ValueError as exc:
+        raise VampcError(str(exc)) from None
+    if share_passes and not kind.shares_passes:
+        raise VampcError(f"--share-passes does not apply to the {kind.name} layout")
+    return kind.build(graph, timing, LayoutRequest(share_passes, vamps, interval, exact, verify))
+
+
+def systolic(graph: Graph, timing: Timing, verify: bool = True) -> tuple[Layout, Schedule]:
+    """The systolic layout: the ASAP schedule, one unit per op."""
     asap = schedule_asap(graph, timing, verify)
-    if name == "systolic":
-        if share_passes:
-            raise VampcError("--share-passes needs --layout folded")
-        layout = systolic_layout(graph, asap)
-        if verify:
-            layout.verify(graph)
-        return layout, asap
+    layout = systolic_layout(graph, asap)
+    if verify:
+        layout.verify(graph)
+    return layout, asap
+
+
+def folded(graph: Graph, timing: Timing, share_passes: bool = False,
+           verify: bool = True) -> tuple[Layout, Schedule]:
+    """The folded layout (the paper's single device), the forward pass on the backward pass's units
+    with `share_passes`."""
+    asap = schedule_asap(graph, timing, verify)
     units, sizes = folded_binding(graph, share_passes)
     sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=verify)
-    layout = Layout.of_units(name, units, sizes, sched.interval, timing.cycle, share_passes)
+    layout = Layout.of_units("folded", units, sizes, sched.interval, timing.cycle, share_passes)
     if verify:
         layout.verify(graph)
     return layout, sched
@@ -199,7 +208,7 @@ def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
 def device_nodes(graph: Graph):
     """node -> (device, position on the device): linear "bwd"/"npv"/"fwd" at position 0; log: the
     position of its recursion node in its tier, leaves and non-propagated groups dealt round."""
-    if graph.recursion == "linear":
+    if graph.recursion is Recursion.LINEAR:
         return lambda nd: (nd.section, 0)
     meta = dict(graph.meta)
     place = {}

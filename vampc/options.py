@@ -1,0 +1,352 @@
+"""The options of every command as frozen objects, one field per command-line option.
+
+Each field carries its option's declaration (`cli(...)` metadata); vampc.cli generates the click
+options from the fields, so the two cannot drift, and every rule between options is checked here,
+once, by the object's `check()`, raising VampcUsageError (exit status 2). `given` holds the names of
+the options the user gave explicitly (as opposed to defaults): "--prefix applies to the log recursion
+only" is a rule about what was given. Library callers leave it empty.
+
+A new option: add a field with its `cli(...)` declaration (and its rule to `check`); the command
+receives it in its option object.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import MISSING, dataclass, field, fields
+from pathlib import Path
+
+from vampc.errors import VampcUsageError
+from vampc.kinds import Prefix, Recursion
+from vampc.machine.ops import Timing
+from vampc.schedule.registry import FOLDED, layout_kind, layout_names
+
+
+def cli(*decls: str, help: str, **click: object) -> dict:
+    """Field metadata: the click option declaration (`decls`, `help` and click keywords; a
+    `choices` callable is evaluated when the command line is parsed)."""
+    return {"cli": (decls, help, click)}
+
+
+def flag(name: str) -> str:
+    """'--share-passes' for 'share_passes'."""
+    return "--" + name.replace("_", "-")
+
+
+@dataclass(frozen=True)
+class CompileOptions:
+    """Compiler options; each field is one `vampc compile` / `emulate` / `report` option."""
+
+    recursion: Recursion = field(default=Recursion.LINEAR, metadata=cli(
+        "--recursion", choices=Recursion.names, show_default=True,
+        help="Linear (section III) or logarithmic (sections IV-V) Newton-Euler recursion."))
+    prefix: Prefix = field(default=Prefix.SKLANSKY, metadata=cli(
+        "--prefix", choices=Prefix.names, show_default=True,
+        help="Prefix-network shape of the log recursion (Sklansky is the paper's)."))
+    uniform_leaves: bool = field(default=False, metadata=cli(
+        "--uniform-leaves", help="Log recursion: handle a = b with the uniform node of Appendix D."))
+    mult_latency: int = field(default=1, metadata=cli(
+        "--mult-latency", range=(1, 64), show_default=True, help="Flops per multiplication."))
+    add_latency: int = field(default=1, metadata=cli(
+        "--add-latency", range=(1, 64), show_default=True, help="Flops per addition."))
+    numbering: str | None = None
+    layout: str = field(default="systolic", metadata=cli(
+        "--layout", choices=layout_names, show_default=True,
+        help="systolic: one VAMP per op, a new torque set every 4 flops; folded: the paper's single "
+        "device, one node's (linear) or one tier's (log) VAMPs reused for every joint or tier, one "
+        "torque set at a time."))
+    share_passes: bool = field(default=False, metadata=cli(
+        "--share-passes", help="Folded layout: run the forward pass on the backward pass's VAMPs "
+        "(Figure VI.1b)."))
+    vamps: int | None = field(default=None, metadata=cli(
+        "--vamps", range=(1, None), metavar="K", help="A VAMP budget: schedule onto at most K VAMPs "
+        "at the smallest interval reachable (not below ⌈W/K⌉)."))
+    interval: int | None = field(default=None, metadata=cli(
+        "--interval", range=(1, None), metavar="T", help="A rate: a new torque set every T flops, "
+        "on the fewest VAMPs (with --vamps: both, or an error saying what is feasible)."))
+    exact: bool = field(default=False, metadata=cli(
+        "--exact", help="With --vamps: place the ops with OR-Tools CP-SAT (pip install "
+        "\"vampc[exact]\"), proving the best interval and latency for small graphs within a time "
+        "limit (about 30 s per interval)."))
+    verify: bool = field(default=True, metadata=cli(
+        "--verify/--no-verify", show_default=True,
+        help="Check every IR's invariants at each stage boundary."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
+
+    def __post_init__(self):
+        for name, kind, what in (("recursion", Recursion, "recursion"),
+                                 ("prefix", Prefix, "prefix shape")):
+            value = getattr(self, name)
+            if not isinstance(value, kind):
+                try:
+                    object.__setattr__(self, name, kind.parse(value, what))
+                except ValueError as exc:
+                    raise VampcUsageError(str(exc)) from None
+
+    @property
+    def timing(self) -> Timing:
+        """The Mult/Addn latency model."""
+        return Timing(self.mult_latency, self.add_latency)
+
+    @property
+    def budget(self) -> bool:
+        """A VAMP budget or a rate was asked for (the layout is then the budget's)."""
+        return self.vamps is not None or self.interval is not None
+
+    @property
+    def layout_name(self) -> str:
+        """The layout compiled: "budget" when a VAMP budget or interval is given."""
+        return "budget" if self.budget else self.layout
+
+    @property
+    def layout_kind(self):
+        """The registered layout compiled (vampc.schedule.registry)."""
+        return layout_kind(self.layout_name)
+
+    def record(self) -> dict:
+        """The options as a program file records them."""
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if f.name not in ("verify", "given")}
+
+    def check(self) -> None:
+        """Every rule between compile options (VampcUsageError, one line)."""
+        try:
+            kind = layout_kind(self.layout)
+        except ValueError as exc:
+            raise VampcUsageError(str(exc)) from None
+        for name in ("mult_latency", "add_latency"):
+            if not 1 <= getattr(self, name) <= 64:
+                raise VampcUsageError(f"{flag(name)} must be between 1 and 64 flops")
+        for name in ("vamps", "interval"):
+            value = getattr(self, name)
+            if value is not None and value < 1:
+                raise VampcUsageError(f"{flag(name)} must be at least 1")
+        if self.recursion is Recursion.LINEAR:
+            for name in ("prefix", "uniform_leaves"):
+                if name in self.given:
+                    raise VampcUsageError(f"{flag(name)} applies to the log recursion only (add "
+                                          "--recursion log)")
+        if self.share_passes and not kind.shares_passes:
+            raise VampcUsageError(f"--share-passes applies to the {FOLDED.name} layout only (add "
+                                  f"--layout {FOLDED.name})")
+        if self.exact and self.vamps is None:
+            raise VampcUsageError("--exact applies with --vamps K")
+        if self.budget and ("layout" in self.given or kind.by_budget or kind is FOLDED):
+            raise VampcUsageError("--vamps and --interval make their own (budgeted) layout: leave "
+                                  "out --layout")
+
+
+@dataclass(frozen=True)
+class RobotOptions:
+    """How a robot file becomes a chain (URDF only but --floating-base)."""
+
+    floating_base: bool = field(default=False, metadata=cli(
+        "--floating-base", help="The base floats: its motion (ω, ω̇, linear acceleration, in the "
+        "base frame) is input per torque set, its own inertia counts, and the network also returns "
+        "the base wrench (a URDF whose root joint is floating floats anyway)."))
+    lock: tuple = field(default=(), metadata=cli(
+        "--lock", multiple=True, metavar="JOINT=VALUE",
+        help="URDF: lock a joint at a position (radians or metres); repeatable."))
+    tip: str | None = field(default=None, metadata=cli("--tip", metavar="LINK",
+                                                       help="URDF: last link of the chain."))
+    base: str | None = field(default=None, metadata=cli(
+        "--base", metavar="LINK", help="URDF: first link of the chain (default: root)."))
+
+    def locks(self) -> dict[str, float]:
+        """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
+        out: dict[str, float] = {}
+        for item in self.lock:
+            name, sep, value = item.partition("=")
+            name = name.strip()
+            try:
+                number = float(value)
+            except ValueError:
+                raise VampcUsageError(f"Invalid value for '--lock': {item!r} is not JOINT=VALUE") \
+                    from None
+            if not sep or not name:
+                raise VampcUsageError(f"Invalid value for '--lock': {item!r} is not JOINT=VALUE")
+            if not math.isfinite(number):
+                raise VampcUsageError(f"Invalid value for '--lock': {item!r}: the position must be "
+                                      "a finite number")
+            if name in out and out[name] != number:
+                raise VampcUsageError(f"Invalid value for '--lock': joint {name!r} is locked twice, "
+                                      f"at {out[name]:g} and {number:g}")
+            out[name] = number
+        return out
+
+    def check(self, robot: str) -> None:
+        """--base, --tip and --lock name URDF links and joints: a DH table is one chain."""
+        from vampc.robot import URDF_SUFFIXES
+        given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)]
+        if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
+            raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
+                                  f"URDF files only; {robot} is not a URDF (a DH table is one chain)")
+        self.locks()
+
+
+def check_program_options(given, params: dict, source: str, stored: dict) -> None:
+    """Compile and robot options given with a program file must not contradict how it was compiled:
+    a robot option, or a compile option with another value than the file's, is a usage error."""
+    for name in tuple(f.name for f in fields(RobotOptions)) + ("verify",):
+        if name in given:
+            raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
+                                  "program file, already compiled")
+    for f in fields(CompileOptions):
+        name = f.name
+        if name in ("verify", "given") or name not in given:
+            continue
+        value = params[name]
+        if stored.get(name) != value:
+            raise VampcUsageError(f"{flag(name)} {value}: {source} was compiled with {flag(name)} "
+                                  f"{stored.get(name)}; compile options apply to robot files "
+                                  "(recompile to change them)")
+
+
+def cli_fields(cls) -> list:
+    """The fields of an option class that are command-line options, in declaration order."""
+    return [f for f in fields(cls) if "cli" in f.metadata]
+
+
+def default(f):
+    """A field's default value."""
+    return None if f.default is MISSING else f.default
+
+
+STAGES = ("graph", "schedule", "allocate", "emit")      # the compile stages --dump-after names
+
+
+@dataclass(frozen=True)
+class CompileCommand:
+    """`vampc compile`'s own options."""
+
+    output: str | None = field(default=None, metadata=cli(
+        "-o", "--output", path=True, dash=True, help="Program file to write (default: ROBOT's name "
+        "with .vamp.json, in the current folder; - for standard output)."))
+    numbering: str | None = field(default=None, metadata=cli(
+        "--numbering", path=True, help="Burned-in VAMP numbers, one per line, in logical VAMP "
+        "order."))
+    dump_after: str | None = field(default=None, metadata=cli(
+        "--dump-after", choices=lambda: STAGES, help="Print the IR that STAGE hands on as canonical "
+        "text (graph; layout and schedule; network; programs and Program-Mode stream) and stop: no "
+        "program file is written."))
+
+    def check(self) -> None:
+        """--dump-after prints instead of writing."""
+        if self.dump_after and self.output is not None:
+            raise VampcUsageError("--dump-after prints to standard output and writes no program "
+                                  "file: leave out -o")
+
+
+@dataclass(frozen=True)
+class EmulateOptions:
+    """`vampc emulate`'s own options."""
+
+    trajectory: str | None = field(default=None, metadata=cli(
+        "--trajectory", path=True, help="States to run: CSV with header q1..qn,qd1..qdn,qdd1..qddn "
+        "(optional leading t), .npy or .npz."))
+    random_count: int | None = field(default=None, metadata=cli(
+        "--random", range=(1, 1 << 53), metavar="N", help="Run N random states (within the joint "
+        "limits, else ±π, ±1 rad/s, ±1 rad/s²); drawn and run in chunks, so memory does not grow "
+        "with N."))
+    seed: int = field(default=0, metadata=cli(
+        "--seed", range=(0, None), show_default=True, help="Seed for --random and for the tick "
+        "engine's random initial register contents."))
+    engine: str = field(default="stream", metadata=cli(
+        "--engine", choices=lambda: ("stream", "tick"), show_default=True,
+        help="stream: vectorised over the trajectory; tick: one flop at a time from Program Mode "
+        "(the hardware specification; slower). They agree bit for bit."))
+    check_torques: bool = field(default=False, metadata=cli(
+        "--check", help="Compare every torque set with the reference Newton-Euler; exit 1 if any "
+        "relative error exceeds 1e-9."))
+    vcd: str | None = field(default=None, metadata=cli(
+        "--vcd", path=True, dash=True, help="Tick engine: write every VAMP's Result as a VCD "
+        "waveform (GTKWave)."))
+    output: str | None = field(default=None, metadata=cli(
+        "-o", "--output", path=True, dash=True, help="Write torques as CSV: a t column if the "
+        "trajectory has one, then tau_<joint name> per joint (N·m revolute, N prismatic); - for "
+        "standard output."))
+    save_states: str | None = field(default=None, metadata=cli(
+        "--save-states", path=True, dash=True, metavar="FILE", help="Write the states run as a "
+        "trajectory CSV (the --trajectory format), to pair torques with their inputs."))
+    write_failed: bool = field(default=False, metadata=cli(
+        "--write-failed", help="With --check: write -o even when the check fails and the file "
+        "exists (by default a failed check never replaces an existing torque file)."))
+    allow_out_of_limits: bool = field(default=False, metadata=cli(
+        "--allow-out-of-limits", help="Run states outside the joint limits."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
+
+    def check(self) -> None:
+        """Every rule between emulate options."""
+        if (self.trajectory is None) == (self.random_count is None):
+            raise VampcUsageError("give exactly one of --trajectory FILE or --random N")
+        if self.vcd and self.engine != "tick":
+            raise VampcUsageError("--vcd needs --engine tick")
+        if "seed" in self.given and self.random_count is None and self.engine != "tick":
+            raise VampcUsageError("--seed applies to --random and to the tick engine")
+        if self.write_failed and not (self.check_torques and self.output):
+            raise VampcUsageError("--write-failed applies with --check and -o")
+        if self.save_states and Path(self.save_states).suffix.lower() in (".npy", ".npz"):
+            raise VampcUsageError("--save-states writes a CSV trajectory: give a .csv file name")
+
+
+@dataclass(frozen=True)
+class ReportOptions:
+    """`vampc report`'s own options."""
+
+    fmt: str = field(default="text", metadata=cli(
+        "--format", choices=lambda: ("text", "markdown", "json", "csv"), show_default=True,
+        help="text: aligned tables; markdown: for a design review; json: everything "
+        "(schemas/report.schema.json); csv: with --tradeoff only."))
+    tradeoff: bool = field(default=False, metadata=cli(
+        "--tradeoff", help="Sweep VAMP budgets from the smallest network to one VAMP per op, beside "
+        "the folded and systolic layouts: latency, interval, buffers and wiring per point, bounds "
+        "and gaps, Pareto-optimal points marked."))
+    clock: str | None = field(default=None, metadata=cli(
+        "--clock", metavar="F", help="Clock rate, one flop per tick (Hz, kHz, MHz, GHz: 20MHz): adds "
+        "latency in µs and torque sets per second to every figure."))
+    pins: int | None = field(default=None, metadata=cli(
+        "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
+        "the paper's 40)."))
+    timing: str | None = field(default=None, metadata=cli(
+        "--timing", path=True, metavar="FILE.svg", help="Write the timing chart (Table III.2 style) "
+        "as SVG."))
+    network: str | None = field(default=None, metadata=cli(
+        "--network", path=True, metavar="FILE.svg", help="Write a drawing of the network (Figures "
+        "III.1, IV.2, VI.3) as SVG."))
+    dot: str | None = field(default=None, metadata=cli(
+        "--dot", path=True, metavar="FILE.dot", help="Write the network and the dataflow graph as "
+        "Graphviz digraphs."))
+    html: str | None = field(default=None, metadata=cli(
+        "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
+        "tables and both pictures inline."))
+    curve: str | None = field(default=None, metadata=cli(
+        "--curve", path=True, metavar="FILE.svg", help="With --tradeoff: write the trade-off curve "
+        "as SVG (latency and interval against VAMPs, Pareto-optimal points marked, the folded and "
+        "systolic layouts labelled)."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
+
+    PICTURES = ("timing", "network", "dot", "html")
+
+    def check(self, compile_given=frozenset()) -> None:
+        """Every rule between report options (and the compile options a sweep makes itself)."""
+        if self.fmt == "csv" and not self.tradeoff:
+            raise VampcUsageError("--format csv applies to --tradeoff only")
+        if self.tradeoff:
+            for name in ("clock", "pins") + self.PICTURES:
+                if name in self.given:
+                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff")
+            for name in ("vamps", "interval", "exact", "layout", "share_passes"):
+                if name in compile_given:
+                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, which sweeps "
+                                          "the layouts and budgets itself")
+        elif self.curve is not None:
+            raise VampcUsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
+
+    def clock_hz(self) -> float | None:
+        """--clock in Hz (VampcUsageError for a bad value)."""
+        if self.clock is None:
+            return None
+        from vampc.report.clock import parse_clock
+        try:
+            return parse_clock(self.clock)
+        except ValueError as exc:
+            raise VampcUsageError(f"--clock {exc}") from None
