@@ -56,8 +56,8 @@ def test_vampc_fork_0_runs_inline(monkeypatch):
 
 @pytest.mark.skipif(not FORKS, reason="no os.fork here")
 def test_a_rewired_big_program_is_refused_and_nothing_written(tmp_path, monkeypatch):
-    import vampc.cli as cli
-    monkeypatch.setattr(cli, "BACKGROUND_CHECK_SLOTS", 0)       # every program is "big"
+    import vampc.commands as commands
+    monkeypatch.setattr(commands, "BACKGROUND_CHECK_SLOTS", 0)       # every program is "big"
     runner = CliRunner()
     program = tmp_path / "p.vamp.json"
     compiled = runner.invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)])

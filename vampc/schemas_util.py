@@ -42,52 +42,58 @@ def accepted_quickly(name: str, instance) -> bool:
         return False
 
 
-@lru_cache(maxsize=None)
 def _quick_validator(filename: str):
+    return _quick_validator_at(filename, _version())
+
+
+@lru_cache(maxsize=None)
+def _quick_validator_at(filename: str, version):
     try:
         import jsonschema_rs
     except ImportError:
         return None
-    return jsonschema_rs.validator_for(_cached(filename))
+    return jsonschema_rs.validator_for(_cached_at(filename, version))
+
+
+def _cached(filename: str) -> dict:
+    return _cached_at(filename, _version())
+
+
+def _version() -> tuple:
+    """What the schemas take from the registries: the op table's names and ROM, the layouts."""
+    from vampc.machine.ops import ROM, TABLE
+    from vampc.schedule.registry import LAYOUTS
+    return (len(ROM), tuple(op.value for op in TABLE), tuple(LAYOUTS))
 
 
 @lru_cache(maxsize=None)
-def _cached(filename: str) -> dict:
-    return _with_op_table(json.loads(_read(filename)))
+def _cached_at(filename: str, version) -> dict:
+    return _with_registries(json.loads(_read(filename)))
 
 
-def _with_op_table(schema):
-    """The schema with its op names and ROM range taken from the op table (vampc.machine.ops), so
-    an op registered there is a valid op in a program file: every enum of op names becomes the
-    table's names (compute ops, and INPUT and CONST where it had them), a `rom` maximum the last ROM
-    pointer."""
+def _with_registries(schema):
+    """The schema with its op names, ROM range and layout names taken from the op table
+    (vampc.machine.ops) and the layout registry (vampc.schedule.registry), so an op or a layout
+    registered there is valid in a program file: every enum of op names becomes the table's names
+    (compute ops, and INPUT and CONST where it had them), a `rom` maximum the last ROM pointer, every
+    enum of layout names the registry's."""
     from vampc.machine.ops import ROM, Op
+    from vampc.schedule.registry import LAYOUTS
     if isinstance(schema, list):
-        return [_with_op_table(x) for x in schema]
+        return [_with_registries(x) for x in schema]
     if not isinstance(schema, dict):
         return schema
-    out = {k: _with_op_table(v) for k, v in schema.items()}
+    out = {k: _with_registries(v) for k, v in schema.items()}
     names = out.get("enum")
     if isinstance(names, list) and "VA" in names and "MTV" in names:
         keep = {"INPUT", "CONST"} & set(names)
         out["enum"] = [op.value for op in Op if op.is_compute or op.value in keep]
+    if isinstance(names, list) and "systolic" in names and "folded" in names:
+        out["enum"] = list(LAYOUTS)
     rom = out.get("properties", {}).get("rom")
     if isinstance(rom, dict) and "maximum" in rom:
         rom["maximum"] = len(ROM) - 1
     return out
-
-
-def _table_changed() -> None:
-    _cached.cache_clear()
-    _quick_validator.cache_clear()
-
-
-def _listen() -> None:
-    from vampc.machine.ops import on_change
-    on_change(_table_changed)
-
-
-_listen()
 
 
 def _read(filename: str) -> str:

@@ -19,15 +19,24 @@ from vampc.network.model import Network
 from vampc.program import emit
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout, layout_and_schedule
-from vampc.schedule.registry import BUDGET
+from vampc.schedule.registry import BUDGET, LAYOUTS
 from vampc.textio import count
 
 # Ops in a graph above which the other configurations are scheduled but not allocated.
 ALLOCATE_LIMIT = 20_000
 
-# (label, layout, share_passes), in the order every table lists them.
-LAYOUTS = (("systolic", "systolic", False), ("folded", "folded", False),
-           ("folded, shared passes", "folded", True))
+
+def compared_layouts() -> tuple[tuple[str, str, bool], ...]:
+    """(label, layout, share_passes) of every layout the report lays each recursion out in, in the
+    order every table lists them: the registry's compared layouts (vampc.schedule.registry),
+    systolic, folded and folded with shared passes."""
+    out = []
+    for kind in LAYOUTS.values():
+        if kind.compared:
+            out.append((kind.name, kind.name, False))
+            if kind.shares_passes:
+                out.append((f"{kind.name}, shared passes", kind.name, True))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -61,8 +70,9 @@ class Config:
 
 
 def layout_label(layout: str, share_passes: bool) -> str:
-    """The label LAYOUTS gives a layout."""
-    return next(lab for lab, lay, share in LAYOUTS if (lay, share) == (layout, share_passes))
+    """The label the report gives a layout."""
+    return next((lab for lab, lay, share in compared_layouts() if (lay, share) == (layout,
+                                                                             share_passes)), layout)
 
 
 def configurations(c, recursions=("linear", "log")) -> list[Config]:
@@ -70,22 +80,24 @@ def configurations(c, recursions=("linear", "log")) -> list[Config]:
     the other options (prefix, leaves, latencies) as `c` was compiled."""
     out = []
     small = len(c.graph.compute_nodes()) <= ALLOCATE_LIMIT
-    budget = c.options.layout_kind is BUDGET
+    kind = c.options.layout_kind
+    extra = not kind.compared        # a budget, or a registered layout the report does not compare
     for rec in recursions:
         opts = replace(c.options, recursion=rec, verify=False, numbering=None, vamps=None,
                        interval=None, exact=False)
         graph = c.graph if rec == c.graph.recursion else build_graph(c.chain, opts)
         full = small and len(graph.compute_nodes()) <= ALLOCATE_LIMIT
-        for label, layout, share in LAYOUTS:
-            own = not budget and (rec, layout, share) == (c.graph.recursion, c.options.layout,
+        for label, layout, share in compared_layouts():
+            own = not extra and (rec, layout, share) == (c.graph.recursion, c.options.layout,
                                                           c.options.share_passes)
             if own:
                 out.append(Config(label, c.options, c.graph, c.layout, c.schedule, c.network,
                                   c.stream, True))
                 continue
             out.append(_config(label, replace(opts, layout=layout, share_passes=share), graph, full))
-        if budget and rec == c.graph.recursion:      # the budget asked for, after the layouts
-            out.append(Config(budget_label(c.options), c.options, c.graph, c.layout, c.schedule,
+        if extra and rec == c.graph.recursion:      # the budget asked for, after the layouts
+            label = budget_label(c.options) if kind is BUDGET else kind.name
+            out.append(Config(label, c.options, c.graph, c.layout, c.schedule,
                               c.network, c.stream, True))
     return out
 

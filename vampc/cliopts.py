@@ -1,0 +1,75 @@
+"""The click options of the commands, generated from the fields of the option objects
+(vampc.options): each field's `cli(...)` declaration becomes one option, so the two cannot drift, and
+`build` turns the parsed values back into the option object, with the names the user gave."""
+from __future__ import annotations
+
+import enum
+from dataclasses import fields
+
+import click
+from click.core import ParameterSource
+
+from vampc.options import cli_fields, default
+
+
+class FilePath(click.Path):
+    """click.Path that refuses an empty name (a shell variable that was never set), rather than
+    falling back on a default file or the current folder."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and not value.strip():
+            self.fail("an empty file name", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class Choices(click.Choice):
+    """A choice among names a registry gives when the command line is parsed (a layout registered
+    after import is a choice)."""
+
+    def __init__(self, names):
+        self.names = names
+        super().__init__(())
+
+    @property
+    def choices(self):
+        return tuple(self.names())
+
+    @choices.setter
+    def choices(self, value):
+        pass
+
+
+def options_of(*classes):
+    """Decorator: one click option per field of the option classes (vampc.options)."""
+    def decorate(f):
+        for cls in reversed(classes):
+            for fl in reversed(cli_fields(cls)):
+                decls, text, kw = fl.metadata["cli"]
+                kw = dict(kw)
+                if "choices" in kw:
+                    kw["type"] = Choices(kw.pop("choices"))
+                if "range" in kw:
+                    kw["type"] = click.IntRange(*kw.pop("range"))
+                if kw.pop("path", False):
+                    kw["type"] = FilePath(dir_okay=False, allow_dash=kw.pop("dash", False))
+                if fl.type in (bool, "bool") and "/" not in decls[0]:
+                    kw["is_flag"] = True
+                value = default(fl)
+                value = value.value if isinstance(value, enum.Enum) else value
+                f = click.option(*decls, fl.name, default=value if value != () else None,
+                                 help=text, **kw)(f)
+        return f
+    return decorate
+
+
+def build(cls, ctx: click.Context, params: dict):
+    """The option object of `cls` from the parsed parameters, with the names the user gave."""
+    names = {fl.name for fl in fields(cls)}
+    values = {k: v for k, v in params.items() if k in names}
+    if "lock" in values:
+        values["lock"] = tuple(values["lock"] or ())
+    if "given" in names:
+        values["given"] = frozenset(   # every option the user gave, this object's or not
+            k for k in ctx.params if ctx.get_parameter_source(k) not in (
+                None, ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP))
+    return cls(**values)

@@ -1,0 +1,357 @@
+"""What the three commands do, as library functions (vampc.cli only parses options into the option
+objects of vampc.options, calls these and prints): compile a robot to a program file or an IR dump,
+emulate a program (or a robot compiled on the fly) into torque, state and waveform files, and build a
+report with its pictures, or a trade-off sweep.
+
+Output files follow the rules of vampc.outputs (README "Output files"): planned before any work is
+done, written whole or not at all. `say(text, err)` receives the lines a command prints besides its
+main output (`err`: for standard error, because standard output carries data).
+"""
+from __future__ import annotations
+
+import json
+import time
+import warnings
+from pathlib import Path
+
+from vampc.errors import VampcError, VampcWarning
+from vampc.options import (CompileCommand, CompileOptions, EmulateOptions, ReportOptions,
+                           RobotOptions, check_program_options)
+from vampc.textio import count
+
+# Programs with more slots than this are statically checked in a forked process while the report
+# is built (about a third of the work for a 512-joint log program).
+BACKGROUND_CHECK_SLOTS = 20_000
+
+
+# --- compile --------------------------------------------------------------------------------------
+
+def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),
+                  until: str | None = None):
+    """Load a robot file and compile it (progress shown for long work), stopping after `until`."""
+    from vampc import progress
+    from vampc.compiler import STAGES, compile_chain
+    from vampc.robot import load_robot
+    options.check()
+    robot_opts.check(robot)
+    with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
+        stage("load")
+        chain = load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
+                           floating=robot_opts.floating_base)
+        return compile_chain(chain, options, stage=stage, until=until)
+
+
+def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
+                    robot_opts: RobotOptions, say) -> str | None:
+    """`vampc compile`: the IR dump asked for (returned), or the program file written (and a summary
+    line said)."""
+    from vampc.compiler import program_text
+    from vampc.outputs import plan_outputs
+    from vampc.program.file import write_program
+    own.check()
+    options = options if own.numbering is None else _with_numbering(options, own.numbering)
+    if own.dump_after:
+        from vampc.dump import dump_after
+        return dump_after(own.dump_after, compile_robot(robot, options, robot_opts, own.dump_after))
+    options.check()
+    robot_opts.check(robot)
+    path = own.output if own.output is not None else Path(robot).stem + ".vamp.json"
+    out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",))["-o"]
+    c = compile_robot(robot, options, robot_opts)
+    write_program(program_text(c), out)
+    s = c.schedule
+    say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
+        f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
+        f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
+        f"{count(s.interval, 'flop')}", out.is_stdout)
+    return None
+
+
+def _with_numbering(options: CompileOptions, numbering: str) -> CompileOptions:
+    from dataclasses import replace
+    return replace(options, numbering=numbering)
+
+
+# --- programs -------------------------------------------------------------------------------------
+
+def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, params: dict):
+    """The emulator's IRs of SOURCE: a program file read, or a robot compiled in this process.
+    `params`: the compile and robot option values given (checked against a program file's)."""
+    from vampc.emulator import load_program
+    from vampc.emulator.load import loaded_from_compiled
+    from vampc.sniff import is_program
+    if is_program(source):
+        ld = load_program(source)
+        check_program_options(options.given, params, source, ld.options)
+        return ld
+    return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
+
+
+def program_compiled(source: str, given, params: dict):
+    """A program file's IRs, checked against each other (nothing is scheduled again) and against
+    its stored summary; their summary figures; and the static check that the network implements the
+    graph (vampc.emulator), run in the background for a big program."""
+    from vampc.background import Deferred, in_background
+    from vampc.program.document import compiled_from_doc
+    from vampc.program.file import read_program
+    from vampc.report.counts import summary
+    doc = read_program(source)
+    check_program_options(given, params, source, doc["options"])
+    c = compiled_from_doc(doc, source)
+    check = Deferred()
+    if (doc["schedule"]["mult_latency"], doc["schedule"]["add_latency"]) == (1, 1):
+        check = in_background(_static_check, doc, source, c,
+                              inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
+    fresh = json.loads(json.dumps(summary(c)))
+    edited = sorted(k for k, v in doc["summary"].items() if k in fresh and fresh[k] != v)
+    if edited:
+        warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
+                                   f"schedule and network ({', '.join(edited)}): the file was "
+                                   "edited; showing figures recomputed from them"), stacklevel=1)
+    return c, fresh, check
+
+
+def _static_check(doc: dict, source, c) -> None:
+    """The emulator's static checks of a program file: the network implements the graph."""
+    from vampc.emulator import check_program, loaded_from_doc
+    check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph, c.network, c.programs)))
+
+
+# --- emulate --------------------------------------------------------------------------------------
+
+def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
+                    robot_opts: RobotOptions, params: dict, say) -> bool:
+    """`vampc emulate`: run the states and write the outputs asked for; False when --check failed."""
+    from vampc import progress
+    from vampc.emulator.driver import States, run
+    from vampc.emulator.host import check_limits, read_trajectory
+    from vampc.outputs import plan_outputs
+    begun = time.perf_counter()
+    own.check()
+    outs = plan_outputs([source, own.trajectory], {"-o": own.output, "--vcd": own.vcd,
+                                                   "--save-states": own.save_states},
+                        stdout_ok=("-o", "--vcd", "--save-states"))
+    ld = loaded(source, options, robot_opts, params)
+    traj = None
+    if own.trajectory:
+        traj = read_trajectory(own.trajectory, ld.chain)
+        if not own.allow_out_of_limits:
+            check_limits(ld.chain, traj, own.trajectory)
+        states = States(traj.count, traj)
+    else:
+        states = States.random(own.random_count, own.seed)
+    sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None)
+    info = any(o.is_stdout for o in outs.values())       # keep stdout for the data
+    try:
+        with progress.counter(f"{own.engine} engine", states.count) as bar:
+            outcome = run(ld, states, engine=own.engine, seed=own.seed, vcd=sinks.vcd,
+                          check=own.check_torques, sink=sinks.chunk, progress=bar)
+        sinks.finish_vcd()
+    except BaseException:
+        sinks.discard()
+        raise
+    say(emulation_line(outcome, time.perf_counter() - begun), info)
+    ok = outcome.check is None or outcome.check.ok
+    sinks.finish(ok, own.write_failed, lambda text: say(text, True))
+    if outcome.check is not None:
+        res = outcome.check
+        say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
+            f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance 1e-9: "
+            f"{'OK' if res.ok else 'FAILED'}", info)
+    return ok
+
+
+def emulation_line(r, whole_seconds: float) -> str:
+    """The one line an emulation prints about itself."""
+    rate = r.count / r.engine_seconds if r.engine_seconds > 0 else float("inf")
+    return (f"{r.engine} engine: {r.count} torque sets; program load {r.load_ticks} ticks; first "
+            f"set after {r.first_tick} flops, then one every {r.interval} flops; emulated time "
+            f"{r.emulated_flops} flops; engine wall time {r.engine_seconds:.3f} s ({rate:,.0f} "
+            f"sets/s); whole command {whole_seconds:.3f} s")
+
+
+class Sinks:
+    """The emulate command's output files, written as the chunks of a run arrive."""
+
+    def __init__(self, ld, outs, has_t: bool):
+        from vampc.emulator.trajectory import csv_line, header, torque_columns
+        from vampc.emulator.vcd import VcdWriter, vamp_names
+        from vampc.outputs import Pending
+        self.ld, self.outs = ld, outs
+        self.tau = Pending(outs["-o"], "torques", False) if "-o" in outs else None
+        self.states = Pending(outs["--save-states"], "states", False) if "--save-states" in outs \
+            else None
+        self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
+        self.vcd = (_Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
+                    if self.vcd_out else None)
+        t = ["t"] if has_t else []
+        floating = ld.chain.floating
+        self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(
+            (j.name for j in ld.chain.joints), floating))))
+        self._write(self.states, lambda fh: fh.write(csv_line(t + header(ld.chain.n, floating))))
+
+    def _write(self, pending, action) -> None:
+        if pending is None:
+            return
+        try:
+            action(pending.fh)
+        except OSError as exc:
+            self.discard()
+            raise pending.error(exc) from None
+
+    def chunk(self, traj, tau) -> None:
+        """One chunk's torques and states."""
+        from vampc.emulator.trajectory import format_rows
+        self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, tau)))
+        self._write(self.states, lambda fh: fh.write(format_rows(traj.t, traj.q, traj.qd, traj.qdd,
+                                                                 traj.base)))
+
+    def finish_vcd(self) -> None:
+        """The waveform is complete: put it in place."""
+        if self.vcd is not None:
+            self.vcd.close()
+            self.vcd_out.commit()
+
+    def finish(self, ok: bool, write_failed: bool, say) -> None:
+        """Put the states and torques in place; torques that failed their check never replace an
+        existing file unless asked (--write-failed)."""
+        if self.states is not None:
+            self.states.commit()
+        if self.tau is None:
+            return
+        out = self.tau.out
+        if not ok and not write_failed and out.kind == "file" and out.target.exists():
+            self.tau.discard()
+            say(f"torques NOT written: the check failed and {out.path} exists (it is unchanged; "
+                "--write-failed replaces it anyway)")
+            return
+        self.tau.commit()
+        if not ok:
+            say(f"torques written to {out.path} although the check failed")
+
+    def discard(self) -> None:
+        """A failed run: drop every output (existing files stay as they were)."""
+        for pending in (self.tau, self.states, self.vcd_out):
+            if pending is not None:
+                pending.discard()
+
+
+class _Guarded:
+    """A VCD writer whose failed writes (a full disk) become the output's one-line error."""
+
+    def __init__(self, writer, pending):
+        self.writer, self.pending = writer, pending
+
+    def sample(self, tick, values) -> None:
+        """As VcdWriter.sample."""
+        try:
+            self.writer.sample(tick, values)
+        except OSError as exc:
+            raise self.pending.error(exc) from None
+
+    def close(self) -> None:
+        """As VcdWriter.close."""
+        try:
+            self.writer.close()
+        except OSError as exc:
+            raise self.pending.error(exc) from None
+
+
+# --- report ---------------------------------------------------------------------------------------
+
+def report_command(source: str, own: ReportOptions, options: CompileOptions,
+                   robot_opts: RobotOptions, params: dict) -> str:
+    """`vampc report`: the report (or the trade-off sweep) as text in the format asked for, with
+    its pictures written."""
+    from vampc.gcpause import gc_paused
+    from vampc.outputs import plan_outputs
+    own.check(options.given)
+    if own.tradeoff:
+        return tradeoff_command(source, own, options, robot_opts, params)
+    hz = own.clock_hz()
+    outs = plan_outputs([source], {f"--{name}": getattr(own, name) for name in own.PICTURES})
+    with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
+        c, figures, check = _report_compiled(source, options, robot_opts, params)
+        try:
+            from vampc.report.build import build_report
+            rep = build_report(c, hz, own.pins, figures)
+            content = _pictures(c, rep, outs)
+        except BaseException:
+            check.abandon()
+            raise
+        check.wait()        # a program that fails its static check gets no report and no file
+        write_pictures(outs, content)
+    if own.fmt == "json":
+        return json.dumps(rep, indent=1, sort_keys=True) + "\n"
+    from vampc.report.text import render, render_markdown
+    return render_markdown(rep) if own.fmt == "markdown" else render(rep)
+
+
+def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, params: dict):
+    from vampc.background import Deferred
+    from vampc.sniff import is_program
+    if is_program(source):
+        return program_compiled(source, options.given, params)
+    return compile_robot(source, options, robot_opts), None, Deferred()
+
+
+def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
+                     robot_opts: RobotOptions, params: dict) -> str:
+    """The trade-off sweep of a robot or program, as text, JSON or CSV (and --curve's picture)."""
+    from vampc import progress
+    from vampc.outputs import plan_outputs
+    from vampc.report import tradeoff as tr
+    from vampc.robot import load_robot
+    from vampc.sniff import is_program
+    outs = plan_outputs([source], {"--curve": own.curve})
+    if is_program(source):
+        c, _, check = program_compiled(source, options.given, params)
+        check.wait()
+        chain, options = c.chain, c.options
+    else:
+        options.check()
+        robot_opts.check(source)
+        chain = load_robot(source, base=robot_opts.base, tip=robot_opts.tip,
+                           lock=robot_opts.locks(), floating=robot_opts.floating_base)
+    with progress.counter("trade-off", 1, unit="budget") as bar:
+        rows = tr.tradeoff(chain, options, bar)
+    if outs:
+        from vampc.report.tradeoff_chart import curve_svg
+        write_pictures(outs, {"--curve": curve_svg(rows, f"{chain.name}: {options.recursion} "
+                                                         f"recursion, {chain.n} joints")})
+    if own.fmt == "json":
+        return json.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
+                           "points": rows}, indent=1) + "\n"
+    return tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
+
+
+def _pictures(c, rep: dict, outs: dict) -> dict:
+    """The content of every picture and page asked for."""
+    if not outs:
+        return {}
+    from vampc.report import pictures
+    return pictures.make(c, rep, set(outs))
+
+
+def write_pictures(outs: dict, content: dict) -> None:
+    """Write every picture (each atomically); none is committed unless all were written."""
+    from vampc.outputs import Pending
+    pending = []
+    try:
+        for option, out in outs.items():
+            pending.append(Pending(out, option.lstrip("-"), False))
+            pending[-1].fh.write(content[option])
+    except OSError as exc:
+        for p in pending:
+            p.discard()
+        raise pending[-1].error(exc) from None
+    except BaseException:
+        for p in pending:
+            p.discard()
+        raise
+    for p in pending:
+        p.commit()
+
+
+__all__ = ["VampcError", "compile_command", "emulate_command", "report_command", "compile_robot",
+           "loaded", "program_compiled"]
