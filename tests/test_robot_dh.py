@@ -15,7 +15,6 @@ from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
 from vampc.robot import dh as dh_loader
 from errors_util import assert_error
 from frames_util import chain_frames
-from json_mutation import mutate, mutations
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DH_EXAMPLES = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml"]
@@ -184,9 +183,9 @@ def doc_with(**joint_over) -> dict:
 
 YAML_ERRORS = [
     ("name: [1, 2\n", r"line 2: not valid YAML: .+"),
-    ("- just\n- a list\n", r"\['just', 'a list'\] is not of type 'object'"),
-    ("", r"None is not of type 'object'"),
-    ("name: x\njoints: []\n", r"joints: \[\] should be non-empty"),
+    ("- just\n- a list\n", r'\["just","a list"\] is not of type "object"'),
+    ("", r'null is not of type "object"'),
+    ("name: x\njoints: []\n", r"joints: \[\] has less than 1 item"),
     ("!!python/object/apply:os.system ['echo hi']\n",
      r"line 1: not valid YAML: could not determine a constructor for the tag .+"),
     ("name: x\nname: y\njoints: []\n", r"line 2: not valid YAML: duplicate key 'name'"),
@@ -208,8 +207,8 @@ def test_yaml_errors(tmp_path, text, message):
 
 DOC_ERRORS = [
     (doc_with(mass=-1.0), r"joints\[1\]\.mass \(joint 2\): -1\.0 is less than the minimum of 0"),
-    (doc_with(mass="heavy"), r"joints\[1\]\.mass \(joint 2\): 'heavy' is not of type 'number'"),
-    (doc_with(type="helical"), r"joints\[1\]\.type \(joint 2\): 'helical' is not one of .+"),
+    (doc_with(mass="heavy"), r'joints\[1\]\.mass \(joint 2\): "heavy" is not of type "number"'),
+    (doc_with(type="helical"), r'joints\[1\]\.type \(joint 2\): "helical" is not one of .+'),
     (doc_with(com=[0.0, float("nan"), 0.0]),
      r"joints\[1\]\.com\[1\] \(joint 2\): nan is not a finite number"),
     (doc_with(inertia=[1.0, 1.0, float("inf"), 0, 0, 0]),
@@ -223,14 +222,14 @@ DOC_ERRORS = [
     (doc_with(masss=1.0),
      r"joints\[1\] \(joint 2\): Additional properties are not allowed \('masss' was unexpected\)"),
     ({"name": "bad", "joints": [row(), {k: v for k, v in row().items() if k != "d"}]},
-     r"joints\[1\] \(joint 2\): 'd' is a required property"),
+     r'joints\[1\] \(joint 2\): "d" is a required property'),
     (doc_with(limits={"q": [1.0, -1.0]}),
      r"joints\[1\]\.limits\.q \(joint 2\): lower limit 1\.0 is above upper limit -1\.0"),
     (doc_with(name="j1"), r"joints\[1\]\.name \(joint 2\): duplicate joint name 'j1'"),
     ({"name": "bad", "gravity": [0, 0, float("-inf")], "joints": [row()]},
      r"gravity\[2\]: -inf is not a finite number"),
-    ({"name": "bad", "gravity": [0, 0], "joints": [row()]}, r"gravity: \[0, 0\] is too short"),
-    ({"joints": [row()]}, r"'name' is a required property"),
+    ({"name": "bad", "gravity": [0, 0], "joints": [row()]}, r"gravity: \[0,0\] has less than 3 items"),
+    ({"joints": [row()]}, r'"name" is a required property'),
     ({"name": "bad", "joints": [row()], "tip": {"force": [0, 0, 0], "wrench": 1}},
      r"tip: Additional properties are not allowed \('wrench' was unexpected\)"),
 ]
@@ -268,21 +267,6 @@ def test_file_errors(tmp_path):
 
 
 PUMA_TABLE = yaml.safe_load((EXAMPLES / "puma560.yaml").read_text())
-
-
-@settings(max_examples=300, deadline=None)
-@given(mutations(PUMA_TABLE))
-def test_the_quick_schema_check_agrees_with_the_jsonschema_package(mutation):
-    """accepted_quickly (jsonschema-rs) is only a fast path: it must accept exactly the tables the
-    jsonschema package accepts."""
-    pytest.importorskip("jsonschema_rs")
-    import jsonschema
-
-    from vampc.schemas_util import accepted_quickly, load_schema
-    validator = jsonschema.Draft202012Validator(load_schema("dh-table"))
-    assert accepted_quickly("dh-table", PUMA_TABLE) and not list(validator.iter_errors(PUMA_TABLE))
-    table = mutate(PUMA_TABLE, *mutation)
-    assert accepted_quickly("dh-table", table) == (not list(validator.iter_errors(table)))
 
 
 # --- size limits, and loading in O(n) -------------------------------------------------------------------

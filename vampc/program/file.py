@@ -150,7 +150,7 @@ def _laid_out_digest(text: str, stored: str) -> str | None:
 
 def validate_program(doc, path) -> None:
     """Schema and version check."""
-    from vampc.schemas_util import accepted_quickly, load_schema
+    from vampc.schemas_util import schema_errors
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
     if doc.get("version") == 1:
@@ -160,18 +160,12 @@ def validate_program(doc, path) -> None:
     if doc.get("version") != VERSION:
         raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
                          f"(this vampc reads version {VERSION})")
-    if accepted_quickly("program.schema.json", doc):
-        return
-    import jsonschema  # only now: it takes ~0.3 s to import, and only it can say what is wrong
-    validator = jsonschema.Draft202012Validator(load_schema("program.schema.json"))
-    try:
-        err = next(iter(sorted(validator.iter_errors(doc), key=lambda e: list(e.path))), None)
-    except RecursionError:
-        raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
-    if err is not None:
+    errors = schema_errors("program.schema.json", doc)
+    if errors:
+        err = errors[0]
         where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in err.path).lstrip(".")
-        message = " ".join(err.message.split())
-        if len(message) > 300:   # jsonschema quotes whole values
+        message = err.message
+        if len(message) > 300:   # the validator quotes whole values
             message = message[:297] + "..."
         raise VampcError(f"{path}: {where or 'document'}: {message}")
 

@@ -23,7 +23,6 @@ import json
 import math
 import re
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -330,29 +329,23 @@ def _finite(value) -> bool:
         return False
 
 
-@lru_cache(maxsize=1)
-def _validator():
-    import jsonschema
-
-    from vampc.schemas_util import load_schema
-    return jsonschema.Draft202012Validator(load_schema("dh-table"))
-
-
 def _check_schema(doc, source: str) -> None:
-    from vampc.schemas_util import accepted_quickly
-    if accepted_quickly("dh-table", doc):
+    from vampc.schemas_util import schema_errors
+    errors = schema_errors("dh-table", doc)
+    if not errors:
         return
-    import jsonschema
+    # the deepest complaint is the most specific, but one about a oneOf (a value that is neither
+    # form it may take) says what was expected in the schema's own words (x-error)
+    error = max(errors, key=lambda e: len(e.path))
+    what = (f"{_value(doc, error.path)!r} {error.schema['x-error']}" if "x-error" in error.schema
+            else error.message)
+    raise located(source, _where(error.path), _one_line(what))
 
-    error = jsonschema.exceptions.best_match(_validator().iter_errors(doc))
-    if error is None:
-        return
-    # best_match dives into the branches of a oneOf and reports one branch's complaint, which misleads
-    # (e.g. "1 is not of type 'array'" for a 3-vector inertia); report the oneOf itself instead.
-    while error.parent is not None:
-        error = error.parent
-    what = f"{error.instance!r} {error.schema['x-error']}" if "x-error" in error.schema else error.message
-    raise located(source, _where(tuple(error.absolute_path)), _one_line(what))
+
+def _value(doc, path):
+    for key in path:
+        doc = doc[key]
+    return doc
 
 
 def _check_names(rows: list, source: str) -> None:
