@@ -1,8 +1,9 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
+import functools
+import json
 from dataclasses import replace
-from json.encoder import encode_basestring_ascii as _str
 
 import numpy as np
 
@@ -21,12 +22,18 @@ from vampc.network.model import (
     Vamp,
 )
 from vampc.program.emit import StreamEntry, load_ticks
-from vampc.program.file import FORMAT, VERSION, Rows, compact_encoder, layout, tolist
+from vampc.program.file import FORMAT, VERSION, Rows, layout, tolist
 from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 from vampc.schedule.registry import BUDGET
+
+
+@functools.lru_cache(maxsize=65536)
+def _str(text: str) -> str:
+    """A string as JSON text (ASCII, as the encoder writes it); names repeat, so cached."""
+    return json.dumps(text)
 
 
 def _joint_doc(j: Joint) -> dict:
@@ -89,18 +96,15 @@ def chain_from_doc(doc: dict) -> Chain:
 
 def graph_to_doc(g: Graph) -> dict:
     """The graph section: one row per node (formatted straight to text, see Rows)."""
-    enc = compact_encoder()
     def row(nd: Node) -> str:
-        if nd.op.is_compute:    # nearly every node of a big graph: no key, no value
-            return (f'{{"args":{_ints(nd.args)},"group":{nd.group},"id":{nd.id},'
-                    f'"name":{_str(nd.name)},"op":"{nd.op.value}","section":{_str(nd.section)}}}')
-        r = {"id": nd.id, "op": nd.op.value, "args": list(nd.args), "name": nd.name,
-             "section": nd.section, "group": nd.group}
-        if nd.key:
-            r["key"] = [nd.key.quantity, nd.key.joint]
-        if nd.value is not None:
-            r["value"] = list(nd.value)
-        return enc(r)
+        # keys in sorted order, as the canonical encoder writes them; a float as its repr, which
+        # is json's (the values are finite: the graph was verified)
+        key = f'"key":[{_str(nd.key.quantity)},{nd.key.joint}],' if nd.key else ""
+        value = (",\"value\":[" + ",".join(map(float.__repr__, nd.value)) + "]"
+                 if nd.value is not None else "")
+        return (f'{{"args":{_ints(nd.args)},"group":{nd.group},"id":{nd.id},{key}'
+                f'"name":{_str(nd.name)},"op":"{nd.op.value}","section":{_str(nd.section)}'
+                f'{value}}}')
     return {"n": g.n, "recursion": g.recursion, "meta": dict(g.meta),
             "nodes": Rows(map(row, g.nodes)),
             "outputs": [[o.joint, o.node, o.component] for o in g.outputs]}

@@ -56,21 +56,10 @@ class Rows(list):
 
 
 def compact_encoder():
-    """obj -> canonical JSON text. The C encoder object is made once and reused (json.dumps makes one
-    per call, which would double the cost of encoding a million small rows one by one)."""
-    from json.encoder import c_make_encoder, encode_basestring_ascii
-    if c_make_encoder is None:   # a Python without the C accelerator
-        return json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False,
-                                check_circular=False).encode
-    # (markers, default, encoder, indent, key_separator, item_separator, sort_keys, skipkeys,
-    #  allow_nan), as json.JSONEncoder.iterencode passes them
-    iterencode = c_make_encoder(None, _not_serializable, encode_basestring_ascii, None, ":", ",",
-                                True, False, False)
-    return lambda obj: "".join(iterencode(obj, 0))
-
-
-def _not_serializable(obj):
-    raise TypeError(f"Object of type {type(obj).__name__} is not JSON serializable")
+    """obj -> canonical JSON text (sorted keys, no spaces, ASCII). The encoder object is made once
+    and reused for every row (json.dumps would make one per call)."""
+    return json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False,
+                            check_circular=False).encode
 
 
 def layout(doc: dict) -> str:
