@@ -63,3 +63,45 @@ class Pass(Kind):
 
     BACKWARD = "backward"
     FORWARD = "forward"
+
+
+class TapKind(Kind):
+    """Where an operand is read (vampc.network.model.Tap): a VAMP's Result, a buffer stage, a host
+    port or a constant buffer."""
+
+    VAMP = "vamp"
+    BUFFER = "buffer"
+    PORT = "port"
+    CONST = "const"
+
+
+class SourceKind(Kind):
+    """What an operand latch holds by the tick rules (vampc.emulator.timing): a slot's result, a
+    port entry, or a constant."""
+
+    SLOT = "slot"
+    PORT = "port"
+    CONST = "const"
+
+
+class FlowKind(Kind):
+    """An operand of the stream engine's flow (vampc.emulator.stream): an op's result, an input the
+    host writes each set, or a constant."""
+
+    OP = "op"
+    IN = "in"
+    CONST = "const"
+
+
+class Quantity(Kind):
+    """A value the host writes every torque set (vampc.dataflow.host): A_i, z q̇_i, z q̈_i, a
+    prismatic joint's p*_i and s*_i, a floating base's motion."""
+
+    A = "A"
+    ZQD = "zqd"
+    ZQDD = "zqdd"
+    P_STAR = "p_star"
+    S_STAR = "s_star"
+    OMEGA0 = "omega0"
+    OMEGA_DOT0 = "omega_dot0"
+    PDD0 = "pdd0"

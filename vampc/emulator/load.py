@@ -109,11 +109,13 @@ def loaded_from_compiled(c, path: str = "<compiled>") -> Loaded:
 
 
 def counter_network(net: Network, programs) -> Network:
-    """The network with each slot's ticks as its program's Cycle-Counter values (what a loaded
+    """The network with its scheduled slots as programmed ones: Cycle-Counter values (what a loaded
     network holds: absolute times are the emulator's to derive)."""
     from dataclasses import replace
-    vamps = tuple(replace(v, slots=tuple(replace(s, latch_a=p.delay_a, latch_b=p.delay_b,
-                                                  dump=p.delay_r, sel_a=p.sel_a, sel_b=p.sel_b)
+
+    from vampc.network.model import ProgrammedSlot
+    vamps = tuple(replace(v, slots=tuple(ProgrammedSlot(s.node, s.op, s.column, p.sel_a, p.sel_b,
+                                                        p.delay_a, p.delay_b, p.delay_r)
                                          for s, p in zip(v.slots, progs)))
                   for v, progs in zip(net.vamps, programs))
     return replace(net, vamps=vamps)

@@ -111,7 +111,10 @@ class _Allocator:
     def _stage(self, src: int, t: int) -> int:
         """0 if the result of `src` is read from its VAMP's Result at tick t, else the first buffer
         stage that shows it then (stage s shows it during blocks emit//B + s .. next_emit//B + s - 1)."""
-        return buffer_stage(self.s.finish[src], self.next_emit[src], t, self.B)
+        emit, nxt = self.s.finish[src], self.next_emit[src]
+        if emit <= t < nxt:         # still on the Result: the common case, inline
+            return 0
+        return buffer_stage(emit, nxt, t, self.B)
 
     def _operand(self, arg: int, t: int) -> Operand:
         src = self.g.nodes[arg]

@@ -78,8 +78,26 @@ class Slot:
 
 
 @dataclass(frozen=True, slots=True)
+class ProgrammedSlot:
+    """A slot as a VAMP's program holds it: the same op and selects as a scheduled `Slot`, but its
+    events as Cycle-Counter values (delay-A, delay-B, delay-R, 0..P-1), not absolute ticks. A network
+    read from a program file (or loaded for the emulator) has these; its absolute times are the
+    emulator's to derive (vampc.emulator.timing), or the schedule's (timed_network)."""
+
+    node: int
+    op: Op
+    column: int | None
+    sel_a: int
+    sel_b: int
+    delay_a: int
+    delay_b: int
+    delay_r: int
+
+
+@dataclass(frozen=True, slots=True)
 class Vamp:
-    """One VAMP: its multiplexer inputs for operands A and B and its slots, in dump order."""
+    """One VAMP: its multiplexer inputs for operands A and B and its slots, in dump order (scheduled
+    `Slot`s after allocation, `ProgrammedSlot`s once loaded from a program)."""
 
     index: int
     a: tuple[Operand, ...]
@@ -173,5 +191,9 @@ class Network:
         """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
         vampc.machine.timing; slots of a VAMP never overlap (VampcInternalError otherwise, naming
         the VAMP, the slot, the tick and the operand). `graph`, `sched`: what it was allocated from."""
+        from vampc.errors import VampcInternalError
         from vampc.network.verify import verify_network
+        if any(isinstance(s, ProgrammedSlot) for v in self.vamps for s in v.slots):
+            raise VampcInternalError("a programmed network holds Cycle-Counter values: verify the "
+                                     "network at the schedule's ticks (timed_network)")
         verify_network(self, graph, sched)

@@ -24,8 +24,13 @@ from vampc.schedule.asap import Schedule
 def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
     """(VAMP, slot) -> (emit, next emit): the ticks its value is on the Result (set 0)."""
     out = {}
+    P = net.period
     for v in net.vamps:
-        windows = result_windows([s.dump for s in v.slots], net.period)
+        if len(v.slots) == 1:       # a systolic VAMP: the common case by far
+            emit = v.slots[0].dump + 1
+            out[(v.index, 0)] = (emit, emit + P)
+            continue
+        windows = result_windows([s.dump for s in v.slots], P)
         out.update({(v.index, k): w for k, w in enumerate(windows)})
     return out
 

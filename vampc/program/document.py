@@ -17,6 +17,7 @@ from vampc.network.model import (
     OutputPoint,
     Port,
     PortEntry,
+    ProgrammedSlot,
     Slot,
     Tap,
     Vamp,
@@ -192,8 +193,9 @@ def network_from_doc(doc: dict) -> Network:
     def operand(rows) -> Operand:
         return Operand(tuple(Tap(k, i, s) for k, i, s in rows))
     def slots(index: int):
-        return tuple(Slot(r["node"], ROM[r["rom"]][0], ROM[r["rom"]][1], r["sel_a"], r["sel_b"],
-                          r["delay_a"], r["delay_b"], r["delay_r"]) for r in progs[index]["slots"])
+        return tuple(ProgrammedSlot(r["node"], ROM[r["rom"]][0], ROM[r["rom"]][1], r["sel_a"],
+                                    r["sel_b"], r["delay_a"], r["delay_b"], r["delay_r"])
+                     for r in progs[index]["slots"])
     vamps = tuple(Vamp(v["index"], tuple(map(operand, v["a"])), tuple(map(operand, v["b"])),
                        slots(v["index"])) for v in nd["vamps"])
     return Network(nd["period"], nd["clock"], vamps,
@@ -295,18 +297,21 @@ def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
 def layout_from_network(lay: dict, net: Network, graph: Graph, grouped: bool,
                         proof: str = "") -> Layout:
     """The layout a network runs: each node's VAMPs, read off the slots naming it (in column order)."""
-    on: list[list[tuple[int, int]]] = [[] for _ in graph.nodes]
+    on: dict[int, list[tuple[int, int]]] = {}
     for v in net.vamps:
         for s in v.slots:
-            on[s.node].append((s.column or 0, v.index))
-    placement = tuple(tuple(v for _, v in sorted(p)) for p in on)
+            on.setdefault(s.node, []).append((s.column or 0, v.index))
+    empty = ()
+    placement = tuple(tuple(v for _, v in sorted(on[i])) if i in on else empty
+                      for i in range(len(graph.nodes)))
     return Layout(lay["name"], placement, net.period, net.clock, lay["share_passes"], grouped,
                   proof)
 
 
 def timed_network(net: Network, sched: Schedule, path) -> Network:
-    """The network with its slots at absolute ticks (set 0): each slot latches at its node's start and
-    dumps at its finish - 1. Its Cycle-Counter fields must be those ticks mod P (VampcError)."""
+    """The network with its programmed slots as scheduled ones, at absolute ticks (set 0): each slot
+    latches at its node's start and dumps at its finish - 1. Its Cycle-Counter fields must be those
+    ticks mod P (VampcError)."""
     from vampc.errors import VampcError
     P = net.period
     vamps = []
@@ -314,11 +319,11 @@ def timed_network(net: Network, sched: Schedule, path) -> Network:
         slots = []
         for k, s in enumerate(v.slots):
             start, dump = sched.start[s.node], sched.finish[s.node] - 1
-            for name, got, want in (("delay-A", s.latch_a, start), ("delay-B", s.latch_b, start),
-                                    ("delay-R", s.dump, dump)):
+            for name, got, want in (("delay-A", s.delay_a, start), ("delay-B", s.delay_b, start),
+                                    ("delay-R", s.delay_r, dump)):
                 if got != want % P:
                     raise VampcError(f"{path}: programs[{v.index}] slot {k}: {name} {got} is not "
                                      f"the schedule's tick {want} mod {P}")
-            slots.append(replace(s, latch_a=start, latch_b=start, dump=dump))
+            slots.append(Slot(s.node, s.op, s.column, s.sel_a, s.sel_b, start, start, dump))
         vamps.append(replace(v, slots=tuple(slots)))
     return replace(net, vamps=tuple(vamps))

@@ -105,17 +105,15 @@ class Layout:
                                      f"buffer clock {self.clock}")
         if len(self.placement) != len(graph.nodes):
             raise VampcInternalError("layout: one placement per graph node expected")
-        group: dict[int, tuple[int, ...]] = {}
         for nd in graph.nodes:
             where = self.placement[nd.id]
             want = VAMPS_PER_OP[nd.op] if nd.op.is_compute else 0
             if len(set(where)) != want or any(v < 0 for v in where):
                 raise VampcInternalError(f"node {nd.label}: placed on {where}")
-            if self.grouped:
-                for v in where:
-                    if group.setdefault(v, where) != where:
-                        raise VampcInternalError(f"node {nd.label}: placed on {where}, across "
-                                                 f"the unit {group[v]}")
+        if self.grouped:        # units: two placements share a VAMP only if they are the same
+            groups = set(self.placement) - {()}
+            if sum(map(len, groups)) != len({v for g in groups for v in g}):
+                raise VampcInternalError("layout: a VAMP belongs to two units")
 
 
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",

@@ -1,0 +1,101 @@
+"""Before/after benchmark of the one-machine-model work: compile, read, emulate and report speeds.
+
+Uses only what every version since 4d9317d has (vampc.compiler.compile_chain/program_text,
+vampc.program.file.write_program, the `vampc` command), so the same script measures an older
+checkout too:
+
+    python benchmarks/machine_model.py                 # this checkout
+    python benchmarks/machine_model.py OTHER_CHECKOUT  # OTHER_CHECKOUT's vampc first on sys.path
+
+Prints, as medians of --runs (default 5) in one process:
+
+- compile: compile_chain + program_text of the Puma 560 (linear, log), a 512-joint linear chain,
+  and a 32-joint log graph on a budget of 943 VAMPs (the issue's reading benchmark);
+- read: `vampc report PROGRAM --format json`'s reading step alone (read_program + compiled_from_doc,
+  i.e. what the report of a program does before building figures) of that 32-joint log budget,
+  and its ratio to compiling it (the issue's target: under a fifth);
+- emulate: `vampc emulate` of the Puma 560 program, 20 000 random states on the stream engine
+  (numpy path, VAMPC_NATIVE=0) and 200 on the tick engine, in-process;
+- report: `vampc report` of the Puma 560 robot file, in-process.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def median_time(fn, runs: int) -> float:
+    """Median wall time of `fn()` over `runs` calls."""
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("checkout", nargs="?", help="measure this checkout's vampc instead")
+    ap.add_argument("--runs", type=int, default=5)
+    args = ap.parse_args()
+    if args.checkout:
+        sys.path.insert(0, str(Path(args.checkout).resolve()))
+    os.environ["VAMPC_PROGRESS"] = "0"
+    from click.testing import CliRunner
+
+    import vampc
+    from vampc.cli import main as cli
+    from vampc.compiler import CompileOptions, compile_chain, program_text
+    from vampc.program.document import compiled_from_doc
+    from vampc.program.file import read_program, write_program
+    from vampc.robot import load_robot
+    from vampc.robot.random import random_chain
+    examples = Path(vampc.__file__).resolve().parent.parent / "examples"
+    print(f"vampc from {Path(vampc.__file__).parent}")
+    puma = load_robot(examples / "puma560.yaml")
+    runner = CliRunner()
+
+    def run(*argv):
+        res = runner.invoke(cli, list(map(str, argv)))
+        assert res.exit_code == 0, res.output
+
+    cases = [("Puma 560, linear", puma, {}), ("Puma 560, log", puma, {"recursion": "log"}),
+             ("512 joints, linear", random_chain(512, 1), {}),
+             ("32 joints, log, 943 VAMPs", random_chain(32, 1), {"recursion": "log", "vamps": 943})]
+    with tempfile.TemporaryDirectory() as tmp:
+        for label, chain, opts in cases:
+            options = CompileOptions(**opts)
+            t = median_time(lambda: program_text(compile_chain(chain, options)), args.runs)
+            print(f"compile {label:28s} {t:8.3f} s")
+        budget_path = Path(tmp) / "budget.vamp.json"
+        write_program(program_text(compile_chain(cases[3][1], CompileOptions(**cases[3][2]))),
+                      str(budget_path))
+        compile_s = median_time(lambda: program_text(compile_chain(cases[3][1],
+                                                                   CompileOptions(**cases[3][2]))),
+                                args.runs)
+        read_s = median_time(lambda: compiled_from_doc(read_program(budget_path), budget_path),
+                             args.runs)
+        print(f"read    {cases[3][0]:28s} {read_s:8.3f} s  ({read_s / compile_s:.2f} of compiling it)")
+        prog = Path(tmp) / "puma.vamp.json"
+        run("compile", examples / "puma560.yaml", "-o", prog)
+        os.environ["VAMPC_NATIVE"] = "0"
+        t = median_time(lambda: run("emulate", prog, "--random", 20000), args.runs)
+        print(f"emulate Puma 560, stream (numpy), 20 000 {t:8.3f} s")
+        t = median_time(lambda: run("emulate", prog, "--random", 200, "--engine", "tick"),
+                        args.runs)
+        print(f"emulate Puma 560, tick, 200 sets          {t:8.3f} s")
+        os.environ.pop("VAMPC_NATIVE")
+        t = median_time(lambda: run("report", examples / "puma560.yaml"), args.runs)
+        print(f"report  Puma 560 robot file               {t:8.3f} s")
+        t = median_time(lambda: run("report", prog), args.runs)
+        print(f"report  Puma 560 program file             {t:8.3f} s")
+
+
+if __name__ == "__main__":
+    main()
