@@ -15,8 +15,14 @@ import warnings
 from pathlib import Path
 
 from vampc.errors import VampcError, VampcWarning
-from vampc.options import (CompileCommand, CompileOptions, EmulateOptions, ReportOptions,
-                           RobotOptions, check_program_options)
+from vampc.options import (
+    CompileCommand,
+    CompileOptions,
+    EmulateOptions,
+    ReportOptions,
+    RobotOptions,
+    check_program_options,
+)
 from vampc.textio import count
 
 # Programs with more slots than this are statically checked in a forked process while the report

@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.errors import VampcInternalError
-from vampc.kinds import Recursion
+from vampc.kinds import Quantity, Recursion, Section
 from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 
 
@@ -16,8 +16,12 @@ from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 class InputKey:
     """A value the host writes every cycle: `quantity` of joint `joint` (see vampc.dataflow.host)."""
 
-    quantity: str   # "A", "zqd", "zqdd", "p_star", "s_star"; a floating base's "omega0", ...
-    joint: int      # 1-based joint index (0: the floating base)
+    quantity: Quantity   # A, zqd, zqdd, p_star, s_star; a floating base's omega0, ...
+    joint: int           # 1-based joint index (0: the floating base)
+
+    def __post_init__(self):
+        if not isinstance(self.quantity, Quantity):     # a builder's name, or read from a file
+            object.__setattr__(self, "quantity", Quantity(self.quantity))
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,7 @@ class Node:
     op: Op
     args: tuple[int, ...] = ()
     name: str = ""
-    section: str = "io"
+    section: Section = Section.IO
     group: int = 0
     key: InputKey | None = None                # INPUT only
     value: tuple[float, ...] | None = None     # CONST only (3 or 9 scalars, row-major)
@@ -42,7 +46,7 @@ class Node:
     def shape(self) -> str:
         """'v' (3 scalars) or 'm' (9 scalars)."""
         if self.op is Op.INPUT:
-            return "m" if self.key.quantity == "A" else "v"
+            return "m" if self.key.quantity is Quantity.A else "v"
         if self.op is Op.CONST:
             return "m" if len(self.value) == 9 else "v"
         return result_shape(self.op)
@@ -139,11 +143,11 @@ class GraphBuilder:
         self.outputs: list[Output] = []
         self._inputs: dict[InputKey, int] = {}
         self._consts: dict[tuple, int] = {}
-        self.section, self.group = "io", 0
+        self.section, self.group = Section.IO, 0
 
     def at(self, section: str, group: int) -> "GraphBuilder":
         """Set the section and group of the nodes added next."""
-        self.section, self.group = section, group
+        self.section, self.group = Section(section), group
         return self
 
     def op(self, op: Op, a: int, b: int, name: str) -> int:
@@ -154,7 +158,8 @@ class GraphBuilder:
         """The (shared) INPUT node for a host quantity of a joint."""
         key = InputKey(quantity, joint)
         if key not in self._inputs:
-            node = Node(len(self.nodes), Op.INPUT, (), f"{quantity}{joint}", "io", joint, key=key)
+            node = Node(len(self.nodes), Op.INPUT, (), f"{quantity}{joint}", Section.IO, joint,
+                        key=key)
             self._inputs[key] = self._add(node)
         return self._inputs[key]
 
@@ -163,7 +168,7 @@ class GraphBuilder:
         flat = tuple(float(x) for x in _flatten(value))
         k = (name, flat)
         if k not in self._consts:
-            node = Node(len(self.nodes), Op.CONST, (), name, "io", group, value=flat)
+            node = Node(len(self.nodes), Op.CONST, (), name, Section.IO, group, value=flat)
             self._consts[k] = self._add(node)
         return self._consts[k]
 

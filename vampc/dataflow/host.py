@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from vampc.dataflow.graph import InputKey
+from vampc.kinds import Quantity
 from vampc.robot.chain import Chain
 
 BASE_QUANTITIES = {"omega0": 0, "omega_dot0": 3, "pdd0": 6}   # their columns in a base (N, 9) array
@@ -34,18 +35,18 @@ def input_value(chain: Chain, key: InputKey, q, qd, qdd, base=None) -> np.ndarra
         return _base_value(chain, key.quantity, base, q.shape[0])
     j = chain.joints[key.joint - 1]
     col = key.joint - 1
-    if key.quantity == "A":
+    if key.quantity is Quantity.A:
         return j.A(q[:, col])
-    if key.quantity in ("zqd", "zqdd"):
-        src = qd if key.quantity == "zqd" else qdd
+    if key.quantity in (Quantity.ZQD, Quantity.ZQDD):
+        src = qd if key.quantity is Quantity.ZQD else qdd
         if j.pre is not None:
             return src[:, col, None] * j.parent_axis
         out = np.zeros((src.shape[0], 3))
         out[:, 2] = src[:, col]
         return out
-    if key.quantity == "p_star":
+    if key.quantity is Quantity.P_STAR:
         return j.p_star(q[:, col])
-    if key.quantity == "s_star":
+    if key.quantity is Quantity.S_STAR:
         return j.s_star(q[:, col])
     raise KeyError(f"unknown host quantity {key.quantity!r}")
 
@@ -54,7 +55,7 @@ def _base_value(chain: Chain, quantity: str, base, count: int) -> np.ndarray:
     base = np.zeros((count, 9)) if base is None else np.atleast_2d(np.asarray(base, dtype=float))
     col = BASE_QUANTITIES[quantity]
     value = base[:, col:col + 3]
-    return value - np.asarray(chain.gravity, dtype=float) if quantity == "pdd0" else value.copy()
+    return value - np.asarray(chain.gravity, dtype=float) if quantity is Quantity.PDD0 else value.copy()
 
 
 def input_values(chain: Chain, keys, q, qd, qdd, base=None) -> dict[InputKey, np.ndarray]:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from vampc.emulator import timing as tm
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
+from vampc.kinds import SourceKind
 from vampc.machine.ops import Op
 from vampc.program.words import ROM
 
@@ -77,18 +78,18 @@ def check_against_graph(ld: Loaded, timing: tm.Timing) -> None:
 
 def _carried(ld: Loaded, src):
     """What a resolved source carries, in graph terms."""
-    if src[0] == "slot":
+    if src[0] is SourceKind.SLOT:
         return ("node", ld.net.vamps[src[1]].slots[src[2]].node)
-    if src[0] == "port":
+    if src[0] is SourceKind.PORT:
         key = ld.net.ports[src[1]].entries[src[2]].key
         return ("input", key.quantity, key.joint)
     return ("const", tuple(ld.net.consts[src[1]].value))
 
 
 def _describe(ld: Loaded, src) -> str:
-    if src[0] == "slot":
+    if src[0] is SourceKind.SLOT:
         return f"the result of {ld.vamp_name(src[1], src[2])}"
-    if src[0] == "port":
+    if src[0] is SourceKind.PORT:
         key = ld.net.ports[src[1]].entries[src[2]].key
         return f"port {src[1]}'s {key.quantity}{key.joint}"
     return f"constant {ld.net.consts[src[1]].name}"

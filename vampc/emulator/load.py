@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
+from vampc.kinds import TapKind
 from vampc.machine.ops import Timing
 from vampc.network.model import Network, Tap
 from vampc.program.document import (
@@ -168,7 +169,7 @@ def _check_inputs_used(net: Network, numbers, progs, path) -> None:
                                    ("B", vamp.b, {p.sel_b for p in slots})):
             for k in range(len(inputs)):
                 tap = inputs[k].taps[0]
-                program_port = (name == "A" and k == 0 and tap.kind == "port"
+                program_port = (name == "A" and k == 0 and tap.kind is TapKind.PORT
                                 and not net.ports[tap.index].entries)
                 if k not in used and not program_port:
                     raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}): input {k} of operand "
@@ -244,4 +245,4 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
 
 def _missing(net: Network, sizes, tap: Tap) -> bool:
     return not tap.index < sizes[tap.kind] or (
-        tap.kind == "buffer" and not 1 <= tap.stage <= net.buffers[tap.index].stages)
+        tap.kind is TapKind.BUFFER and not 1 <= tap.stage <= net.buffers[tap.index].stages)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vampc.emulator.load import Loaded
+from vampc.kinds import FlowKind, SourceKind
 from vampc.machine import interp as rom
 
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
@@ -21,8 +22,9 @@ CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
 
 @dataclass(frozen=True)
 class Flow:
-    """The network as a function per torque set. Sources are ("op", i): the result of op i;
-    ("in", i): input i (a port entry, written by the host each set); ("const", values)."""
+    """The network as a function per torque set. Sources are (FlowKind.OP, i): the result of op i;
+    (FlowKind.IN, i): input i (a port entry, written by the host each set); (FlowKind.CONST,
+    values)."""
 
     ops: tuple[tuple[int, tuple, tuple], ...]      # (ROM pointer, A's sources, B's sources)
     names: tuple[tuple[int, int], ...]             # (VAMP, slot) of each op
@@ -36,14 +38,14 @@ def flow(ld: Loaded, timing) -> Flow:
     inputs: dict[tuple[int, int], int] = {}
 
     def source(src):
-        if src[0] == "slot":
-            return ("op", op_of[(src[1], src[2])])
-        if src[0] == "port":
+        if src[0] is SourceKind.SLOT:
+            return (FlowKind.OP, op_of[(src[1], src[2])])
+        if src[0] is SourceKind.PORT:
             key = (src[1], src[2])
             if key not in inputs:
                 inputs[key] = len(inputs)
-            return ("in", inputs[key])
-        return ("const", tuple(ld.net.consts[src[1]].value))
+            return (FlowKind.IN, inputs[key])
+        return (FlowKind.CONST, tuple(ld.net.consts[src[1]].value))
 
     ops = []
     for v, k in timing.order:
@@ -109,9 +111,9 @@ def _operand(sources, vals, ports, count) -> np.ndarray:
 
 
 def _value(src, vals, ports, count) -> np.ndarray:
-    if src[0] == "op":
+    if src[0] is FlowKind.OP:
         return vals[src[1]]
-    if src[0] == "in":
+    if src[0] is FlowKind.IN:
         return ports[src[1]]
     value = np.asarray(src[1])
     return np.broadcast_to(value, (count, value.size))

@@ -43,6 +43,7 @@ import numpy as np
 
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
+from vampc.kinds import TapKind
 from vampc.machine import interp as rom
 from vampc.machine.timing import captures, step_counter
 from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
@@ -92,11 +93,11 @@ class TickEngine:
         self.numbers = np.array(ld.numbers, dtype=float)
 
     def _row(self, tap) -> int:
-        if tap.kind == "vamp":
+        if tap.kind is TapKind.VAMP:
             return tap.index
-        if tap.kind == "buffer":
+        if tap.kind is TapKind.BUFFER:
             return self.stage_row[(tap.index, tap.stage)]
-        if tap.kind == "port":
+        if tap.kind is TapKind.PORT:
             return self.port_row[tap.index]
         return self.const_row[tap.index]
 
@@ -133,7 +134,7 @@ class TickEngine:
         """Clock the Program-Mode stream through the network; returns ticks used. VampcError if a
         VAMP never latched a program."""
         stream = self.ld.stream
-        roots = [self.port_row[e.root.index] if e.root.kind == "port" else self.const_row[e.root.index]
+        roots = [self.port_row[e.root.index] if e.root.kind is TapKind.PORT else self.const_row[e.root.index]
                  for e in stream]
         ticks = ticks if ticks is not None else self.ld.load_ticks
         for k in range(ticks):

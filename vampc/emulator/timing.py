@@ -29,6 +29,7 @@ from graphlib import CycleError, TopologicalSorter
 
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, VampcInternalError
+from vampc.kinds import SourceKind, TapKind
 from vampc.machine.interp import duration, reading_end
 from vampc.machine.timing import (
     buffer_window,
@@ -39,7 +40,7 @@ from vampc.machine.timing import (
 
 INF = math.inf
 
-# A source: ("slot", vamp, slot) | ("port", port, entry) | ("const", index)
+# A source: (SourceKind.SLOT, vamp, slot) | (SourceKind.PORT, port, entry) | (SourceKind.CONST, index)
 Source = tuple
 
 
@@ -109,15 +110,15 @@ class _Deriver:
 
     def source(self, tap, counter: int) -> Source:
         """What `tap` shows at Cycle-Counter `counter`."""
-        if tap.kind == "const":
-            return ("const", tap.index)
-        if tap.kind == "port":
-            return ("port", tap.index, self.entry(tap.index, counter // self.B))
-        if tap.kind == "vamp":
-            return ("slot", tap.index, self.showing(tap.index, counter))
+        if tap.kind is TapKind.CONST:
+            return (SourceKind.CONST, tap.index)
+        if tap.kind is TapKind.PORT:
+            return (SourceKind.PORT, tap.index, self.entry(tap.index, counter // self.B))
+        if tap.kind is TapKind.VAMP:
+            return (SourceKind.SLOT, tap.index, self.showing(tap.index, counter))
         capture = capture_counter(counter, tap.stage, self.B, self.P)
         src = self.net.buffers[tap.index].source
-        return ("slot", src, self.showing(src, capture))
+        return (SourceKind.SLOT, src, self.showing(src, capture))
 
     def operand_sources(self, v: int, k: int):
         """(operand taps, sources) of both operands of slot (v, k)."""
@@ -141,9 +142,9 @@ class _Deriver:
     def window(self, tap, src: Source, done: dict) -> tuple[float, float, bool]:
         """[lo, hi) ticks (set 0) in which `tap` shows `src`; periodic: counters, True."""
         kind = src[0]
-        if kind == "const":
+        if kind is SourceKind.CONST:
             return -INF, INF, False
-        if kind == "port":
+        if kind is SourceKind.PORT:
             port, j = src[1], src[2]
             if j is None:
                 raise VampcError(f"{self.ld.path}: port {port} holds no data (a program port) but "
@@ -152,7 +153,7 @@ class _Deriver:
             lo, hi = port_window(block, block + self.entry_gap[(port, j)], self.B)
             return lo, hi, False
         t = done[(src[1], src[2])]
-        if tap.kind == "vamp":
+        if tap.kind is TapKind.VAMP:
             return t.emit, t.next_emit, t.periodic
         lo, hi = buffer_window(t.emit, t.next_emit, tap.stage, self.B)
         return lo, hi, t.periodic
@@ -232,7 +233,7 @@ def derive(ld: Loaded) -> Timing:
         _check_units(ld, der, v)
         for k in range(len(progs)):
             (_, sa), (_, sb) = der.operand_sources(v, k)
-            deps[(v, k)] = {(s[1], s[2]) for s in sa + sb if s[0] == "slot"}
+            deps[(v, k)] = {(s[1], s[2]) for s in sa + sb if s[0] is SourceKind.SLOT}
     order = _dataflow_order(ld, deps)
     done: dict = {}
     for v, k in order:

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import math
 
+from vampc.kinds import TapKind
+
 
 def cyclic_gaps(counters, period: int) -> list[int]:
     """For each counter of a VAMP's slots (say their delay-A values): the ticks until the next one
@@ -94,11 +96,11 @@ def window(tap, clock: int, emit: float = 0, next_emit: float = 0, block: int = 
     """[first, end) ticks in which `tap` (a vampc.network.model.Tap) shows the value of interest:
     `emit` and `next_emit` bound the source VAMP's value on its Result (vamp and buffer taps;
     infinite for a VAMP that always shows the same value), `block` and `next_block` a port entry."""
-    if tap.kind == "const":
+    if tap.kind is TapKind.CONST:
         return (-math.inf, math.inf)
-    if tap.kind == "port":
+    if tap.kind is TapKind.PORT:
         return port_window(block, next_block, clock)
-    if tap.kind == "vamp":
+    if tap.kind is TapKind.VAMP:
         return (-math.inf, math.inf) if math.isinf(emit) else result_window(emit, next_emit)
     return buffer_window(emit, next_emit, tap.stage, clock)
 

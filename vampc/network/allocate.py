@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
+from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.machine.timing import buffer_stage, result_windows
 from vampc.network.model import (
@@ -157,7 +158,7 @@ class _Allocator:
         else:
             p = len(self.port_entries)
             self.port_entries.append([])
-            self.port_size.append(9 if key.quantity == "A" else 3)
+            self.port_size.append(9 if key.quantity is Quantity.A else 3)
             ports.append(p)
             self.port_operands.append(Operand((Tap("port", p),)))
         self.taken[at] = taken + 1
@@ -250,9 +251,9 @@ class _Allocator:
 
 
 def _reaches(tap: Tap, rooted, buffers_source) -> bool:
-    if tap.kind in ("port", "const"):
+    if tap.kind in (TapKind.PORT, TapKind.CONST):
         return True
-    src = tap.index if tap.kind == "vamp" else buffers_source[tap.index]
+    src = tap.index if tap.kind is TapKind.VAMP else buffers_source[tap.index]
     return rooted[src] is not None
 
 

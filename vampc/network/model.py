@@ -34,6 +34,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import InputKey
+from vampc.kinds import TapKind
 from vampc.machine.ops import Op
 
 
@@ -41,12 +42,16 @@ from vampc.machine.ops import Op
 class Tap:
     """Where an operand is read: a VAMP's Result, stage `stage` of a buffer, a host port or a constant."""
 
-    kind: str       # "vamp" | "buffer" | "port" | "const"
+    kind: TapKind
     index: int
     stage: int = 0  # buffers only, 1-based
 
+    def __post_init__(self):
+        if not isinstance(self.kind, TapKind):       # read from a file
+            object.__setattr__(self, "kind", TapKind(self.kind))
+
     def __str__(self) -> str:
-        return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind == "buffer" else "")
+        return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind is TapKind.BUFFER else "")
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,6 +8,7 @@ from bisect import bisect_right
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcInternalError
+from vampc.kinds import TapKind
 from vampc.machine.ops import Op
 from vampc.machine.timing import (
     buffer_window,
@@ -70,20 +71,20 @@ def _verify_slots(v: Vamp, P: int) -> None:
 def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch, arg, B) -> None:
     src = graph.nodes[arg]
     for tap in operand.taps:
-        if tap.kind == "const":
+        if tap.kind is TapKind.CONST:
             ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
             lo, hi = -float("inf"), float("inf")
-        elif tap.kind == "port":
+        elif tap.kind is TapKind.PORT:
             lo, hi, key = ports.showing(tap.index, latch)
             ok = src.op is Op.INPUT and key == src.key
         else:
-            vamp = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
-            if not (tap.kind == "vamp" or 1 <= tap.stage <= net.buffers[tap.index].stages):
+            vamp = tap.index if tap.kind is TapKind.VAMP else net.buffers[tap.index].source
+            if not (tap.kind is TapKind.VAMP or 1 <= tap.stage <= net.buffers[tap.index].stages):
                 raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
             src_slot = slot_of.get((vamp, arg))
             ok = src_slot is not None
             emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
-            lo, hi = (result_window(emit, nxt) if tap.kind == "vamp"
+            lo, hi = (result_window(emit, nxt) if tap.kind is TapKind.VAMP
                       else buffer_window(emit, nxt, tap.stage, B))
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "

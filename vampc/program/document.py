@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
+from vampc.kinds import Section
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
@@ -113,7 +114,8 @@ def graph_to_doc(g: Graph) -> dict:
 
 def graph_from_doc(d: dict) -> Graph:
     """Inverse of graph_to_doc."""
-    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], r["section"], r["group"],
+    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], Section(r["section"]),
+                       r["group"],
                        InputKey(*r["key"]) if "key" in r else None,
                        tuple(r["value"]) if "value" in r else None) for r in d["nodes"])
     return Graph(nodes, tuple(Output(*o) for o in d["outputs"]), d["n"], d["recursion"],

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vampc.errors import VampcError
+from vampc.kinds import TapKind
 from vampc.network.model import Network, Tap
 from vampc.program.words import FIELD, Program, encode, rom_pointer, vamp_words
 
@@ -82,15 +83,15 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
         v, walked, seen = vamp, [], {vamp}
         while roots[v] is None:
             tap = net.vamps[v].a[0].taps[0]
-            if tap.kind not in ("vamp", "buffer"):
+            if tap.kind not in (TapKind.VAMP, TapKind.BUFFER):
                 roots[v] = (Tap(tap.kind, tap.index), 0)
                 break
-            src = tap.index if tap.kind == "vamp" else net.buffers[tap.index].source
+            src = tap.index if tap.kind is TapKind.VAMP else net.buffers[tap.index].source
             if src in seen:
                 raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, "
                                  "so no input buffer can program it")
             seen.add(src)
-            walked.append((v, 1 if tap.kind == "vamp" else 1 + tap.stage))
+            walked.append((v, 1 if tap.kind is TapKind.VAMP else 1 + tap.stage))
             v = src
         root, depth = roots[v]
         for u, step in reversed(walked):

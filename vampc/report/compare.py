@@ -5,7 +5,7 @@ from collections import Counter
 from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph, compile_chain
-from vampc.kinds import Prefix
+from vampc.kinds import Prefix, TapKind
 
 
 def max_fan_out(network) -> int:
@@ -14,9 +14,9 @@ def max_fan_out(network) -> int:
     for v in network.vamps:
         for operand in v.a + v.b:
             for tap in operand.taps:
-                if tap.kind == "vamp":
+                if tap.kind is TapKind.VAMP:
                     readers[tap.index] += 1
-                elif tap.kind == "buffer":
+                elif tap.kind is TapKind.BUFFER:
                     readers[network.buffers[tap.index].source] += 1
     return max(readers.values(), default=0)
 

@@ -4,6 +4,7 @@ and torque outputs; one edge per multiplexer input) and `dataflow` (every graph 
 recursion node; one edge per operand). `dot -Tsvg FILE.dot` draws both."""
 from __future__ import annotations
 
+from vampc.kinds import TapKind
 from vampc.report.sites import SECTION_NAMES, vamp_sites
 
 
@@ -53,7 +54,7 @@ def _network_edges(net) -> list[str]:
         for operand_name, inputs in (("A", v.a), ("B", v.b)):
             for k, operand in enumerate(inputs):
                 for tap in operand.taps:
-                    label = f"{operand_name}{k}" + (f" s{tap.stage}" if tap.kind == "buffer" else "")
+                    label = f"{operand_name}{k}" + (f" s{tap.stage}" if tap.kind is TapKind.BUFFER else "")
                     out.append(f"  {names[tap.kind]}{tap.index} -> v{v.index} [label={quote(label)}];")
     return out
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, Section, TapKind
 from vampc.report import svg
 from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
 from vampc.schedule.registry import SYSTOLIC, is_layout
@@ -55,14 +55,14 @@ def drawing(graph, layout, net) -> Drawing:
         here = sites[v.index]
         for operand in v.a + v.b:
             for tap in operand.taps:
-                if tap.kind == "vamp":
+                if tap.kind is TapKind.VAMP:
                     buses[(sites[tap.index], here)] += 1
-                elif tap.kind == "buffer":
+                elif tap.kind is TapKind.BUFFER:
                     key = (sites[net.buffers[tap.index].source], here)
                     got = buffered.get(key, (0, 0))
                     buffered[key] = (got[0] + 1, max(got[1], tap.stage))
                     chains_of.setdefault(key, set()).add(tap.index)
-                elif tap.kind == "port":
+                elif tap.kind is TapKind.PORT:
                     readers_of_port.setdefault(tap.index, [])
                     if here not in readers_of_port[tap.index]:
                         readers_of_port[tap.index].append(here)
@@ -102,12 +102,12 @@ def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
     first = min((r[1] for r in table["bwd"]), default=1)
     places, labels = {}, {}
     for s in sites:
-        if s.section == "npv":
+        if s.section is Section.NPV:
             places[s] = (s.index - first, tiers + 1)
             labels[s] = f"r̈ F N {s.index}"
             continue
         _, a, _, b, tier = info[(s.section, s.index)]
-        if s.section == "bwd":
+        if s.section is Section.BWD:
             places[s] = (b - first, tier)
         else:
             places[s] = (a - first, tiers + 2 + tier)

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from fractions import Fraction as F
 from typing import Callable
 
+from vampc.kinds import Section
+
 
 def ceil_log2(x: int) -> int:
     """⌈log2 x⌉ for a positive integer, exactly (no floating point)."""
@@ -179,11 +181,11 @@ def vamp_table_checks() -> list[str]:
             bad.append(f"{key}: {vamps} VAMPs per node from the ops, printed {VAMPS_N6[key]['per_node']}")
     nodes = {"linear": 6, "log": LOG_NODES_N6}
     for (rec, sec), row in VAMPS_N6.items():
-        count = 6 if sec == "npv" else nodes[rec]
+        count = 6 if sec == Section.NPV else nodes[rec]
         if row["per_node"] * count != row["systolic"]:
             bad.append(f"{rec} {sec}: systolic {row['systolic']} is not {count} × {row['per_node']}")
     for (rec, sec), row in VAMPS_N6_TOTALS.items():
-        parts = [VAMPS_N6[(rec, sec)]] + ([VAMPS_N6[(rec, "npv")]] if sec == "bwd" else [])
+        parts = [VAMPS_N6[(rec, sec)]] + ([VAMPS_N6[(rec, "npv")]] if sec == Section.BWD else [])
         for col in ("per_node", "single_device", "systolic"):
             if sum(p[col] for p in parts) != row[col]:
                 bad.append(f"{rec} {sec} total {col}: {row[col]} is not the sum of its parts")

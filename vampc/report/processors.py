@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, Section
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.report import paper
 from vampc.report.sites import node_table
@@ -129,7 +129,7 @@ def _per_tier(graph, single: Counter) -> Counter:
     sums: Counter = Counter()
     for nd in graph.compute_nodes():
         t = tier_of.get((nd.section, nd.group), 0)
-        if nd.section != "npv" and t > 0:
+        if nd.section is not Section.NPV and t > 0:
             sums[(nd.section, t)] += VAMPS_PER_OP[nd.op]
     for (sec, _), k in sums.items():
         out[sec] = max(out[sec], k)
@@ -176,7 +176,7 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
     if not diff:
         return "matches the paper" if any(ref.get(c) is not None for c in COLUMNS) else ""
     why = []
-    if Recursion(recursion) is Recursion.LOG and sec == "fwd":
+    if Recursion(recursion) is Recursion.LOG and sec == Section.FWD:
         why.append("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
                    "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "systolic" in diff:
@@ -213,7 +213,7 @@ def _ops_row(graph, section: str) -> dict:
 def _ops_note(graph, section: str, got: dict, ref: dict) -> str:
     diff = ", ".join(f"{o} {got.get(o, 0)} (paper {ref.get(o, 0)})" for o in sorted(set(got) | set(ref))
                      if got.get(o, 0) != ref.get(o, 0))
-    if graph.recursion is Recursion.LOG and section == "fwd":
+    if graph.recursion is Recursion.LOG and section == Section.FWD:
         return (f"differs: {diff}: no T20 = A_{{k+1}}ᵀ R_{{a,k}} with f, n referred to O_{{a-1}} "
                 "(README, Figures against the paper)")
     return f"differs: {diff} (prismatic joints add the σ̄ terms of Table I.1)"

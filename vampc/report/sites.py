@@ -13,6 +13,7 @@ import json
 from collections import Counter
 from typing import NamedTuple
 
+from vampc.kinds import Section
 from vampc.schedule.layout import device_nodes
 from vampc.schedule.registry import SYSTOLIC, is_layout
 
@@ -73,7 +74,7 @@ def unit_sites(graph, layout) -> list[Site]:
     device = device_nodes(graph)
     if not layout.grouped:
         return [Site(*Counter(device(graph.nodes[i]) for i in ids).most_common(1)[0][0])
-                if ids else Site("bwd", 0) for ids in nodes]
+                if ids else Site(Section.BWD, 0) for ids in nodes]
     return [Site(*device(graph.nodes[ids[0]])) for ids in nodes]
 
 

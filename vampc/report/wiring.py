@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from collections import Counter
 
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, Section, TapKind
 from vampc.report import paper
 from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
@@ -77,9 +77,9 @@ def early_forward(graph) -> set[int]:
     early: set[int] = set()
     nodes = graph.nodes
     for nd in nodes:
-        if nd.section != "fwd":
+        if nd.section is not Section.FWD:
             continue
-        if all(nodes[a].section != "fwd" or (a in early and nodes[a].group == nd.group)
+        if all(nodes[a].section is not Section.FWD or (a in early and nodes[a].group == nd.group)
                for a in nd.args):
             early.add(nd.id)
     return early
@@ -87,7 +87,7 @@ def early_forward(graph) -> set[int]:
 
 def origin_pass(graph, early: set[int], node: int) -> str:
     """'backward' or 'forward': the pass whose recursion a value belongs to."""
-    return "forward" if graph.nodes[node].section == "fwd" and node not in early else "backward"
+    return "forward" if graph.nodes[node].section is Section.FWD and node not in early else "backward"
 
 
 def delay_buffers(graph, net) -> dict:
@@ -98,7 +98,7 @@ def delay_buffers(graph, net) -> dict:
     early = early_forward(graph)
     deepest: dict[int, tuple[int, str]] = {}
     for _, tap, arg, node in _reads(graph, net):
-        if tap.kind != "buffer":
+        if tap.kind is not TapKind.BUFFER:
             continue
         kind = _flow(origin_pass(graph, early, arg), PASS[graph.nodes[node].section])
         if tap.stage > deepest.get(tap.index, (0, ""))[0]:
@@ -131,9 +131,9 @@ def buses(graph, layout, net) -> dict:
     source = [b.source for b in net.buffers]
     for v, tap, arg, _ in _reads(graph, net):
         kind = tap.kind
-        if kind == "vamp":
+        if kind is TapKind.VAMP:
             there = sites[tap.index]
-        elif kind == "buffer":
+        elif kind is TapKind.BUFFER:
             there = sites[source[tap.index]]
         else:
             continue

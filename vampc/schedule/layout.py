@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, Section
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
@@ -175,7 +175,7 @@ def folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], t
     for nd in graph.compute_nodes():
         dev, pos = device_node(nd)
         role = (dev, pos, nd.name, VAMPS_PER_OP[nd.op])
-        if share_passes and dev == "fwd":
+        if share_passes and dev is Section.FWD:
             forward.append((nd, role))
             continue
         if role not in roles:
@@ -210,7 +210,7 @@ def device_nodes(graph: Graph):
         return lambda nd: (nd.section, 0)
     meta = dict(graph.meta)
     place = {}
-    for section in ("bwd", "fwd"):
+    for section in (Section.BWD, Section.FWD):
         rows = json.loads(meta[f"{section}_nodes"])
         combining = [r for r in rows if r[4] > 0]
         width = max((sum(1 for r in combining if r[4] == t) for t in {r[4] for r in combining}),
@@ -225,9 +225,9 @@ def device_nodes(graph: Graph):
             else:
                 place[(section, group)] = seen.get(tier, 0)
                 seen[tier] = seen.get(tier, 0) + 1
-        if section == "bwd":
+        if section == Section.BWD:
             npv_width = max(1, math.ceil(graph.n / max(tiers, 1)))
-    return lambda nd: ((nd.section, (nd.group - 1) % npv_width) if nd.section == "npv"
+    return lambda nd: ((nd.section, (nd.group - 1) % npv_width) if nd.section is Section.NPV
                        else (nd.section, place[(nd.section, nd.group)]))
 
 
