@@ -120,10 +120,23 @@ class Placed:
     interval: int
 
 
+@dataclass(frozen=True)
+class Attempt:
+    """How one placement attempt orders and places the ops (modulo_schedule): `effort` placements
+    per op, `scan`, `seed`, `swing`, `pack` and `big` as its docstring says. A portfolio is a tuple
+    of them (ATTEMPTS)."""
+
+    effort: int = 4
+    scan: bool = False
+    seed: int = 0
+    swing: bool = False
+    pack: int = 0
+    big: bool = False
+
+
 def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                     asap: Schedule | None = None, latency: int | None = None,
-                    effort: int = 4, scan: bool = False, seed: int = 0,
-                    swing: bool = False, pack: int = 0, big: bool = False) -> Placed | None:
+                    attempt: Attempt = Attempt()) -> Placed | None:
     """Place every op on `k` VAMPs with successive torque sets every `ii` ticks — every torque set
     within `latency` ticks if given — or None if this scheduler finds no placement within `effort`
     placements per op (see the module docstring). `scan`: when an op must evict, it evicts at the
@@ -136,6 +149,8 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
     to that many ticks (within its window) for a gap it fills exactly. `big`: the ops taking the most
     VAMP-ticks first (bin packing's rule; the order above breaks ties), which packs nearly full
     networks the urgency order cannot."""
+    effort, scan, seed, swing, pack, big = (attempt.effort, attempt.scan, attempt.seed,
+                                            attempt.swing, attempt.pack, attempt.big)
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
     nodes = graph.nodes
@@ -450,12 +465,12 @@ def _best_for(graph, timing, k, asap) -> Placed:
     for ii in _intervals(floor, limit):
         held = []
         for n, attempt in enumerate(ATTEMPTS):
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, **attempt)
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=target, attempt=attempt)
             if placed is None:
                 continue
             if _latency(graph, placed) > b.latency:    # the bound itself, at once
                 placed = modulo_schedule(graph, timing, k, ii, asap, latency=b.latency,
-                                         **attempt) or placed
+                                         attempt=attempt) or placed
             held.append((_latency(graph, placed), ii, n, placed))
             if held[-1][0] <= b.latency:     # none does better (and a failing attempt can
                 break                         # take a minute on a big graph)
@@ -469,7 +484,7 @@ def _best_for(graph, timing, k, asap) -> Placed:
     for ii in range(first.interval, limit + 1, step):
         for n, attempt in enumerate(ATTEMPTS):
             top = first if (ii, n) == (first.interval, 0) else \
-                modulo_schedule(graph, timing, k, ii, asap, **attempt)
+                modulo_schedule(graph, timing, k, ii, asap, attempt=attempt)
             if top is not None:
                 tops.append((_latency(graph, top), ii, n, top))
     tops.sort(key=lambda x: x[:3])
@@ -508,7 +523,7 @@ def _first_held(graph, timing, k, asap, intervals, attempts, latency: int) -> Pl
     """The first placement held to `latency` over `intervals` × `attempts`, or None."""
     for ii in intervals:
         for attempt in attempts:
-            placed = modulo_schedule(graph, timing, k, ii, asap, latency=latency, **attempt)
+            placed = modulo_schedule(graph, timing, k, ii, asap, latency=latency, attempt=attempt)
             if placed is not None:
                 return placed
     return None
@@ -534,7 +549,7 @@ def _quick_for(graph, timing, k, asap) -> Placed:
     intervals = _intervals(floor, limit)
     placed = _first_held(graph, timing, k, asap, intervals, BIG, target)
     if placed is None and _latency(graph, first) <= target:    # only the interval is over
-        placed = _first_held(graph, timing, k, asap, intervals, ({"big": True, "scan": True},),
+        placed = _first_held(graph, timing, k, asap, intervals, (Attempt(big=True, scan=True),),
                              target) or first
     if placed is None:
         placed = _first_held(graph, timing, k, asap, intervals, QUICK, target)
@@ -546,11 +561,12 @@ def _quick_for(graph, timing, k, asap) -> Placed:
 
 # The portfolio _best_for tries at each interval (keyword arguments of modulo_schedule); the
 # REFINED placements with the shortest latencies are then held to shorter ones.
-ATTEMPTS = ({"big": True}, {"pack": 1}, {"big": True, "scan": True}, {}, {"seed": 1},
-            {"pack": 2, "seed": 1}, {"scan": True}, {"scan": True, "seed": 2}, {"pack": 4})
+ATTEMPTS = (Attempt(big=True), Attempt(pack=1), Attempt(big=True, scan=True), Attempt(),
+            Attempt(seed=1), Attempt(pack=2, seed=1), Attempt(scan=True), Attempt(scan=True, seed=2),
+            Attempt(pack=4))
 REFINED = 3
-BIG = ({"big": True}, {"big": True, "seed": 1})     # _quick_for's cheap attempts, then its
-QUICK = ({"pack": 1}, {"pack": 2, "seed": 1})      # slower ones
+BIG = (Attempt(big=True), Attempt(big=True, seed=1))     # _quick_for's cheap attempts, then its
+QUICK = (Attempt(pack=1), Attempt(pack=2, seed=1))      # slower ones
 
 
 def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed | None:
@@ -558,7 +574,7 @@ def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed
     swing order places every op at interval `ii`; None if none below `worse`."""
     found, step, lo = None, 1, bound
     while lo < worse:
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=lo, swing=True)
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=lo, attempt=Attempt(swing=True))
         if placed is not None:
             found = placed
             break
@@ -568,7 +584,7 @@ def _swing_latency(graph, timing, k, ii, asap, bound: int, worse: int) -> Placed
     hi, lo = _latency(graph, found) - 1, max(bound, lo - step // 2 + 1)
     while lo <= hi:
         mid = (lo + hi) // 2
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, swing=True)
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, attempt=Attempt(swing=True))
         if placed is None:
             lo = mid + 1
         else:
@@ -581,20 +597,20 @@ def _latency(graph, placed: Placed) -> int:
 
 
 def _shortest_latency(graph, timing, k, ii, asap, bound: int, top: Placed,
-                      attempt: dict, at_bound: bool = True) -> Placed:
+                      attempt: Attempt, at_bound: bool = True) -> Placed:
     """Halve the latency a placement at interval `ii` is held to, from `top`'s down to `bound`
-    (`attempt`: the keyword arguments of modulo_schedule that found `top`). The bound is tried
+    (`attempt`: the Attempt that found `top`). The bound is tried
     first (unless `at_bound` is off: the caller tried it): a held placement is not monotone in the
     latency (a 32-joint linear graph on 22 VAMPs at II 79 is placed at its bound, 269, but not at
     275)."""
     if at_bound and _latency(graph, top) > bound:
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=bound, **attempt)
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=bound, attempt=attempt)
         if placed is not None:
             return placed
     best, lo, hi = top, bound + 1, _latency(graph, top) - 1
     while lo <= hi:
         mid = (lo + hi) // 2
-        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, **attempt)
+        placed = modulo_schedule(graph, timing, k, ii, asap, latency=mid, attempt=attempt)
         if placed is None:
             lo = mid + 1
         else:
