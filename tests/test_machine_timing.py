@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from vampc.machine.timing import (buffer_stage, buffer_window, capture_counter, captures, cyclic_gaps,
+                                  next_capture,
                                   overlapping_spans, port_window, result_windows, step_counter)
 
 
@@ -57,3 +58,10 @@ def test_ports_steps_and_spans():
     assert overlapping_spans([(0, 3), (2, 2)], 8) == (0, 1)
     assert overlapping_spans([(6, 3), (1, 2)], 8) is None      # ticks 6, 7, 0 and 1, 2
     assert overlapping_spans([(6, 4), (1, 2)], 8) == (0, 1)    # ticks 6, 7, 0, 1 meet 1
+
+
+def test_next_capture_is_the_next_block_start():
+    assert [next_capture(e, 4) for e in (0, 3, 4, 7, 8)] == [4, 4, 8, 8, 12]
+    # and a value shown from there on is still captured by the stage: its first capture is at the
+    # end of the block it appeared in
+    assert all(captures(next_capture(e, 4) - 1, 4) for e in range(20))

@@ -61,6 +61,12 @@ def captures(tick: int, clock: int) -> bool:
     return (tick + 1) % clock == 0
 
 
+def next_capture(emit: int, clock: int) -> int:
+    """The earliest tick a VAMP's next value may show on its Result so that its buffer captured the
+    value that appeared at `emit`: the start of the next block."""
+    return (emit // clock + 1) * clock
+
+
 def capture_counter(counter: int, stage: int, clock: int, period: int) -> int:
     """The counter at whose end stage `stage` of a buffer captured (from its VAMP's Result, `stage`
     block ends back) what it shows at `counter`."""

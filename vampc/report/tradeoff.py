@@ -21,6 +21,7 @@ from dataclasses import replace
 from vampc.compiler import CompileOptions, build_graph
 from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate
+from vampc.report.configs import compared_layouts
 from vampc.report.counts import gap_pct
 from vampc.schedule.budget import bounds, budget_schedule, smallest_network, vamp_ops
 from vampc.schedule.layout import layout_and_schedule
@@ -59,9 +60,8 @@ def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
             rows.append(row)
         if progress is not None:
             progress(done + 1, len(ks))
-    for name, share in (("folded", False), ("folded", True), ("systolic", False)):
+    for label, name, share in compared_layouts():     # the registry's (vampc.schedule.registry)
         layout, sched = layout_and_schedule(graph, timing, name, share, verify=False)
-        label = name + (", shared passes" if share else "")
         rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
     _mark_pareto(rows)
     return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))

@@ -37,6 +37,7 @@ from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Recursion, Section
 from vampc.machine.ops import VAMPS_PER_OP, Timing
+from vampc.machine.timing import next_capture
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
 
@@ -316,11 +317,6 @@ def _find_free(buf: bytearray, start: int, length: int) -> int:
     return start if last < 0 else last + 1
 
 
-def _captured(emit: int, clock: int) -> int:
-    """The earliest next emit of a unit whose value appeared at `emit`: the next block's start."""
-    return (emit // clock + 1) * clock
-
-
 def _heights(graph: Graph, duration) -> list[int]:
     """Longest path (ticks) from each node to the end of any output (the list priority)."""
     height = [0] * len(graph.nodes)
@@ -339,7 +335,7 @@ def _verify_units(graph: Graph, sched: Schedule, units, clock: int) -> None:
     for unit, spans in per.items():
         spans.sort()
         for (s0, f0, a), (s1, f1, b) in zip(spans, spans[1:]):
-            if s1 < f0 or f1 < _captured(f0, clock):
+            if s1 < f0 or f1 < next_capture(f0, clock):
                 raise VampcInternalError(f"unit {unit}: nodes {graph.nodes[a].label} and "
                                          f"{graph.nodes[b].label} collide")
         if spans[-1][1] - spans[0][0] > sched.interval:
