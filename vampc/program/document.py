@@ -8,7 +8,8 @@ from dataclasses import replace
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
-from vampc.kinds import Section
+from vampc.gcpause import gc_paused
+from vampc.kinds import Section, TapKind
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
@@ -112,9 +113,14 @@ def graph_to_doc(g: Graph) -> dict:
             "outputs": [[o.joint, o.node, o.component] for o in g.outputs]}
 
 
+# name -> member, a dict lookup (an Enum call costs a microsecond, and a big file names millions)
+_SECTION = {m.value: m for m in Section}
+_TAP = {m.value: m for m in TapKind}
+
+
 def graph_from_doc(d: dict) -> Graph:
     """Inverse of graph_to_doc."""
-    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], Section(r["section"]),
+    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], _SECTION[r["section"]],
                        r["group"],
                        InputKey(*r["key"]) if "key" in r else None,
                        tuple(r["value"]) if "value" in r else None) for r in d["nodes"])
@@ -193,7 +199,7 @@ def network_from_doc(doc: dict) -> Network:
     nd = doc["network"]
     progs = doc["programs"]
     def operand(rows) -> Operand:
-        return Operand(tuple(Tap(k, i, s) for k, i, s in rows))
+        return Operand(tuple(Tap(_TAP[k], i, s) for k, i, s in rows))
     def slots(index: int):
         return tuple(ProgrammedSlot(r["node"], ROM[r["rom"]][0], ROM[r["rom"]][1], r["sel_a"],
                                     r["sel_b"], r["delay_a"], r["delay_b"], r["delay_r"])
@@ -222,6 +228,7 @@ def programs_from_doc(doc: dict) -> tuple[tuple[Program, ...], ...]:
                                r["sel_b"]) for r in p["slots"]) for p in doc["programs"])
 
 
+@gc_paused()
 def compiled_from_doc(doc: dict, path):
     """The compiler's IRs as a validated program document holds them (a vampc.compiler.Compiled),
     checked against each other, nothing scheduled again: the graph is verified; the schedule must
