@@ -65,3 +65,22 @@ def test_next_capture_is_the_next_block_start():
     # and a value shown from there on is still captured by the stage: its first capture is at the
     # end of the block it appeared in
     assert all(captures(next_capture(e, 4) - 1, 4) for e in range(20))
+
+
+def test_every_tap_kind_has_its_window_and_no_other_passes():
+    import pytest
+
+    from vampc.errors import VampcInternalError
+    from vampc.kinds import TapKind
+    from vampc.machine.timing import window
+    from vampc.network.model import Tap
+    got = {kind: window(Tap(kind, 0, 1), 4, emit=5, next_emit=9, block=1, next_block=2)
+           for kind in TapKind}
+    assert got == {TapKind.VAMP: (5, 9), TapKind.BUFFER: (8, 12), TapKind.PORT: (4, 8),
+                   TapKind.CONST: (-math.inf, math.inf)}
+
+    class Odd:
+        kind = "bus"
+        stage = 1
+    with pytest.raises(VampcInternalError, match="no branch handles 'bus'"):
+        window(Odd(), 4)

@@ -105,3 +105,10 @@ class Quantity(Kind):
     OMEGA0 = "omega0"
     OMEGA_DOT0 = "omega_dot0"
     PDD0 = "pdd0"
+
+
+def unhandled(value):
+    """The end of a dispatch over a kind's members: a member no branch handles is a bug, never a
+    silent default (every dispatch names each member it handles)."""
+    from vampc.errors import VampcInternalError
+    raise VampcInternalError(f"no branch handles {value!r}")

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.emulator.load import Loaded
-from vampc.kinds import FlowKind
+from vampc.kinds import FlowKind, unhandled
 from vampc.machine import ops
 from vampc.machine.arith import FLOAT64
 from vampc.machine.ops import ROM
@@ -235,8 +235,10 @@ def _scalar(fl, layout: Layout, src, c: int) -> str:
         return _row(3 * src[1] + c) if c < 3 else ZERO
     if src[0] is FlowKind.IN:
         return _row(layout.port_row[src[1]] + c) if c < fl.inputs[src[1]][2] else ZERO
-    value = src[1]
-    return _literal(value[c]) if c < len(value) else ZERO
+    if src[0] is FlowKind.CONST:
+        value = src[1]
+        return _literal(value[c]) if c < len(value) else ZERO
+    return unhandled(src[0])
 
 
 def _literal(x: float) -> str:

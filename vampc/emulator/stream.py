@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vampc.emulator.load import Loaded
-from vampc.kinds import FlowKind, SourceKind
+from vampc.kinds import FlowKind, SourceKind, unhandled
 from vampc.machine import interp as rom
 
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
@@ -115,5 +115,7 @@ def _value(src, vals, ports, count) -> np.ndarray:
         return vals[src[1]]
     if src[0] is FlowKind.IN:
         return ports[src[1]]
-    value = np.asarray(src[1])
-    return np.broadcast_to(value, (count, value.size))
+    if src[0] is FlowKind.CONST:
+        value = np.asarray(src[1])
+        return np.broadcast_to(value, (count, value.size))
+    return unhandled(src[0])

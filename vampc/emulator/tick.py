@@ -43,7 +43,7 @@ import numpy as np
 
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
-from vampc.kinds import TapKind
+from vampc.kinds import TapKind, unhandled
 from vampc.machine import interp as rom
 from vampc.machine.timing import captures, step_counter
 from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
@@ -99,7 +99,9 @@ class TickEngine:
             return self.stage_row[(tap.index, tap.stage)]
         if tap.kind is TapKind.PORT:
             return self.port_row[tap.index]
-        return self.const_row[tap.index]
+        if tap.kind is TapKind.CONST:
+            return self.const_row[tap.index]
+        return unhandled(tap.kind)
 
     def _gather(self, operand):
         """Bus rows and columns of an operand's nine scalars, and the rows carrying its set tags."""

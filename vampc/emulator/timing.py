@@ -29,7 +29,7 @@ from graphlib import CycleError, TopologicalSorter
 
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, VampcInternalError
-from vampc.kinds import SourceKind, TapKind
+from vampc.kinds import SourceKind, TapKind, unhandled
 from vampc.machine.interp import duration, reading_end
 from vampc.machine.timing import (
     buffer_window,
@@ -116,6 +116,8 @@ class _Deriver:
             return (SourceKind.PORT, tap.index, self.entry(tap.index, counter // self.B))
         if tap.kind is TapKind.VAMP:
             return (SourceKind.SLOT, tap.index, self.showing(tap.index, counter))
+        if tap.kind is not TapKind.BUFFER:
+            unhandled(tap.kind)
         capture = capture_counter(counter, tap.stage, self.B, self.P)
         src = self.net.buffers[tap.index].source
         return (SourceKind.SLOT, src, self.showing(src, capture))

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from vampc.kinds import TapKind
+from vampc.kinds import TapKind, unhandled
 
 
 def cyclic_gaps(counters, period: int) -> list[int]:
@@ -108,7 +108,9 @@ def window(tap, clock: int, emit: float = 0, next_emit: float = 0, block: int = 
         return port_window(block, next_block, clock)
     if tap.kind is TapKind.VAMP:
         return (-math.inf, math.inf) if math.isinf(emit) else result_window(emit, next_emit)
-    return buffer_window(emit, next_emit, tap.stage, clock)
+    if tap.kind is TapKind.BUFFER:
+        return buffer_window(emit, next_emit, tap.stage, clock)
+    return unhandled(tap.kind)
 
 
 def step_counter(delay_r: int, ends: tuple[int, ...], j: int, period: int) -> int:
