@@ -7,14 +7,17 @@ base commit were made by running this very file against a checkout of that commi
 
     python tests/baseline.py BASE_CHECKOUT > tests/golden/baseline-4d9317d.json
 
-(`BASE_CHECKOUT` goes first on sys.path, so the code measured is that commit's.) test_baseline.py
-recomputes every digest with today's code and compares.
+(`BASE_CHECKOUT` goes first on sys.path, so the code measured is that commit's.) Each case runs in
+a scratch folder holding a copy of the robot file, named by a relative path, so the digests do not
+depend on where the checkout lives. test_baseline.py recomputes every digest with today's code and
+compares.
 """
 from __future__ import annotations
 
 import hashlib
 import json
 import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -55,30 +58,43 @@ def _digest(data: bytes) -> str:
 
 def outputs(case) -> dict[str, str]:
     """The digests of what the commands of one case print and write."""
+    name, robot, options, engines = case
+    here = os.getcwd()
+    with tempfile.TemporaryDirectory() as tmp:
+        # the robot file is named by a relative path, so what the program file records of it (its
+        # `robot.source`) is the same wherever the checkout lives
+        shutil.copy(EXAMPLES / robot, os.path.join(tmp, robot))
+        os.chdir(tmp)
+        try:
+            got = _run_case(name, robot, options, engines)
+        finally:
+            os.chdir(here)
+    return got
+
+
+def _run_case(name, robot, options, engines) -> dict[str, str]:
+    """The digests of one case, run in the current folder (which holds the robot file)."""
     from click.testing import CliRunner
 
     from vampc.cli import main
-    name, robot, options, engines = case
-    got = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        prog = os.path.join(tmp, "robot.vamp.json")
-        runner = CliRunner()
+    runner = CliRunner()
 
-        def run(args) -> bytes:
-            res = runner.invoke(main, args, catch_exceptions=False)
-            if res.exit_code != 0:
-                raise AssertionError(f"{name}: vampc {' '.join(args)} exited {res.exit_code}: "
-                                     f"{res.output}")
-            return res.stdout_bytes
+    def run(args) -> bytes:
+        res = runner.invoke(main, args, catch_exceptions=False)
+        if res.exit_code != 0:
+            raise AssertionError(f"{name}: vampc {' '.join(args)} exited {res.exit_code}: "
+                                 f"{res.output}")
+        return res.stdout_bytes
 
-        run(["compile", str(EXAMPLES / robot), *options, "-o", prog])
-        got["program"] = _digest(Path(prog).read_bytes())
-        got["report"] = _digest(run(["report", prog]))
-        got["report-json"] = _digest(run(["report", prog, "--format", "json"]))
-        for engine in engines:
-            count = "200" if engine == "stream" else "3"
-            got[f"torques-{engine}"] = _digest(run(["emulate", prog, "--random", count, "--seed", "3",
-                                                    "--engine", engine, "-o", "-"]))
+    prog = "robot.vamp.json"
+    run(["compile", robot, *options, "-o", prog])
+    got = {"program": _digest(Path(prog).read_bytes()),
+           "report": _digest(run(["report", prog])),
+           "report-json": _digest(run(["report", prog, "--format", "json"]))}
+    for engine in engines:
+        count = "200" if engine == "stream" else "3"
+        got[f"torques-{engine}"] = _digest(run(["emulate", prog, "--random", count, "--seed", "3",
+                                                "--engine", engine, "-o", "-"]))
     return got
 
 

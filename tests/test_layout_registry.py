@@ -69,3 +69,24 @@ def test_a_layout_registered_in_a_test_compiles_emulates_and_reports(tmp_path, r
     assert "round-robin" not in layout_names()
     code, _, err = _run("compile", EXAMPLES / "puma560.yaml", "--layout", "round-robin")
     assert code == 2 and "'round-robin' is not one of 'systolic', 'folded'" in err
+
+
+def round_robin_shared(graph, timing, request):
+    """As round_robin, but declared ungrouped (a budget-like layout): the report must read its
+    placement VAMP by VAMP, not as units."""
+    layout, sched = round_robin(graph, timing, request)
+    return Layout("shared-rr", layout.placement, layout.period, layout.clock, grouped=False), sched
+
+
+def test_a_registered_layout_that_is_not_grouped_reports(tmp_path):
+    prog = tmp_path / "srr.vamp.json"
+    with registered_layout(LayoutKind("shared-rr", "ungrouped round robin", round_robin_shared,
+                                      grouped=False)):
+        code, _, err = _run("compile", EXAMPLES / "puma560.yaml", "--recursion", "log",
+                            "--layout", "shared-rr", "-o", prog)
+        assert code == 0, err
+        code, out, err = _run("emulate", prog, "--random", "20", "--check")
+        assert code == 0 and ": OK" in out, err
+        code, out, err = _run("report", prog, "--format", "json")
+        assert code == 0, err
+        assert json.loads(out)["layout"] == "shared-rr"

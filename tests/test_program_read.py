@@ -1,7 +1,8 @@
-"""Reading a program never schedules again: the report of a `--vamps 7 --exact` program (compiled
+"""Reading a program never schedules it again: the report of a `--vamps 7 --exact` program (compiled
 once, kept in tests/data/) neither imports OR-Tools nor runs the budget scheduler for its own
-configuration; the schedule, layout and network are read from the file and checked against each
-other (vampc.program.document.compiled_from_doc)."""
+configuration (the comparison layouts it is set beside, systolic and folded, are still laid out);
+the schedule, layout and network are read from the file and checked against each other
+(vampc.program.document.compiled_from_doc)."""
 from __future__ import annotations
 
 import json
@@ -27,7 +28,7 @@ def test_report_of_an_exact_program_imports_no_ortools():
     assert "budget, 7 VAMPs, exact" in res.stdout
 
 
-def test_report_of_an_exact_program_does_not_schedule_it(monkeypatch):
+def test_report_of_an_exact_program_does_not_schedule_its_own_configuration(monkeypatch):
     import vampc.schedule.budget as budget
 
     def refuse(*args, **kwargs):
@@ -68,3 +69,12 @@ def test_a_slot_off_its_scheduled_tick_is_refused(tmp_path):
     res = CliRunner().invoke(main, ["report", _edited(tmp_path, moved)])
     assert res.exit_code == 1 and "delay-R" in res.stderr and "is not the schedule's tick" in \
         res.stderr, res.stderr
+
+
+def test_a_damaged_options_section_is_the_files_error(tmp_path):
+    for change, what in ((lambda d: d["options"].update(layout="bogus"), "options.layout"),
+                         (lambda d: d["options"].update(vamps="x"), "options.vamps"),
+                         (lambda d: d["options"].update(prefix="bogus"), "options.prefix")):
+        res = CliRunner().invoke(main, ["report", _edited(tmp_path, change)])
+        assert res.exit_code == 1 and what in res.stderr and res.stderr.count("\n") == 1, \
+            res.stderr

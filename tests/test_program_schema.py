@@ -8,8 +8,8 @@ from __future__ import annotations
 import json
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain, program_text
 from vampc.robot import load_robot
 from vampc.schemas_util import load_schema, schema_errors
@@ -76,14 +76,19 @@ def test_every_section_the_schema_requires_is_written():
 
 
 def test_the_schema_names_the_kinds_the_types_define():
-    from vampc.kinds import Quantity, Recursion, Section
-    from vampc.machine.ops import Op
+    from vampc.kinds import Prefix, Quantity, Recursion, Section
+    from vampc.machine.ops import BUILTIN
     from vampc.schedule.registry import LAYOUTS
-    graph = SCHEMA["properties"]["graph"]["properties"]
+    raw = json.loads((EXAMPLES.parent / "schemas" / "program.schema.json").read_text())
+    graph = raw["properties"]["graph"]["properties"]
     assert graph["recursion"]["enum"] == list(Recursion.names())
     node = graph["nodes"]["items"]["properties"]
     assert node["section"]["enum"] == list(Section.names())
-    assert node["op"]["enum"] == [op.value for op in Op]
-    writes = SCHEMA["properties"]["io"]["properties"]["port_writes"]["items"]["properties"]
+    assert node["op"]["enum"] == [e.name for e in BUILTIN] + ["INPUT", "CONST"]
+    writes = raw["properties"]["io"]["properties"]["port_writes"]["items"]["properties"]
     assert writes["quantity"]["enum"] == list(Quantity.names())
-    assert SCHEMA["properties"]["layout"]["properties"]["name"]["enum"] == list(LAYOUTS)
+    assert raw["properties"]["layout"]["properties"]["name"]["enum"] == list(LAYOUTS)
+    options = raw["properties"]["options"]["properties"]
+    assert options["recursion"]["enum"] == list(Recursion.names())
+    assert options["prefix"]["enum"] == list(Prefix.names())
+    assert options["layout"]["enum"] == list(LAYOUTS)

@@ -18,7 +18,7 @@ from pathlib import Path
 from vampc.errors import VampcUsageError
 from vampc.kinds import Prefix, Recursion
 from vampc.machine.ops import Timing
-from vampc.schedule.registry import FOLDED, layout_kind, layout_names
+from vampc.schedule.registry import FOLDED, SYSTOLIC, layout_kind, layout_names
 
 
 def cli(*decls: str, help: str, **click: object) -> dict:
@@ -130,7 +130,9 @@ class CompileOptions:
                                   f"--layout {FOLDED.name})")
         if self.exact and self.vamps is None:
             raise VampcUsageError("--exact applies with --vamps K")
-        if self.budget and ("layout" in self.given or kind.by_budget or kind is FOLDED):
+        if kind.by_budget and not self.budget:
+            raise VampcUsageError(f"the {kind.name} layout is made by --vamps K or --interval T")
+        if self.budget and ("layout" in self.given or kind is not SYSTOLIC):
             raise VampcUsageError("--vamps and --interval make their own (budgeted) layout: leave "
                                   "out --layout")
 

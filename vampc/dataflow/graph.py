@@ -42,6 +42,10 @@ class Node:
     key: InputKey | None = None                # INPUT only
     value: tuple[float, ...] | None = None     # CONST only (3 or 9 scalars, row-major)
 
+    def __post_init__(self):
+        if type(self.section) is not Section:     # a plain name: compared as a member everywhere
+            object.__setattr__(self, "section", Section(self.section))
+
     @property
     def shape(self) -> str:
         """'v' (3 scalars) or 'm' (9 scalars)."""

@@ -25,7 +25,7 @@ from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
 from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import VAMPS_PER_OP, Op
-from vampc.machine.timing import buffer_stage, result_windows
+from vampc.machine.timing import buffer_stage, buffer_window, result_windows
 from vampc.network.model import (
     Buffer,
     Const,
@@ -134,7 +134,7 @@ class _Allocator:
             emit = self.s.finish[arg]
             if stage == 0:
                 taps = tuple(Tap("vamp", v) for v in vamps)
-            elif t < emit or (emit // self.B + stage) * self.B > t:
+            elif t < emit or buffer_window(emit, self.next_emit[arg], stage, self.B)[0] > t:
                 raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
                                          f"{emit}) is gone at tick {t}: nothing buffered it")
             else:

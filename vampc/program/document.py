@@ -30,7 +30,7 @@ from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
-from vampc.schedule.registry import BUDGET
+from vampc.schedule.registry import LAYOUTS
 
 
 @functools.lru_cache(maxsize=65536)
@@ -245,8 +245,12 @@ def compiled_from_doc(doc: dict, path):
     graph = graph_from_doc(doc["graph"])
     net = network_from_doc(doc)
     opts = doc["options"]
-    known = {f.name for f in fields(CompileOptions)}
-    options = CompileOptions(**{k: v for k, v in opts.items() if k in known})
+    known = {f.name for f in fields(CompileOptions)} - {"given"}
+    try:
+        options = CompileOptions(**{k: v for k, v in opts.items() if k in known})
+        options.check()
+    except VampcError as exc:          # a usage error on the command line is the file's here
+        raise VampcError(f"{path}: options: {exc}") from None
     try:
         graph.verify()
         sched = schedule_from_doc(doc["schedule"], graph, path)
@@ -254,7 +258,8 @@ def compiled_from_doc(doc: dict, path):
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
         proof = (doc.get("summary", {}).get("budget") or {}).get("proof", "")
-        layout = layout_from_network(doc["layout"], net, graph, options.layout_kind is not BUDGET,
+        kind = LAYOUTS.get(options.layout_name)      # the schema holds the name to the registry
+        layout = layout_from_network(doc["layout"], net, graph, kind is None or kind.grouped,
                                      proof)
         layout.verify(graph)
         timed_network(net, sched, path).verify(graph, sched)

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
-from vampc.machine.timing import result_windows
+from vampc.machine.timing import next_capture, result_windows
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 
 
@@ -671,7 +671,7 @@ def buffer_clock(graph: Graph, sched: Schedule, placement) -> int:
     P = sched.interval
     need = _buffered_results(graph, sched, placement)
     for clock in sorted((b for b in range(1, P + 1) if P % b == 0), reverse=True):
-        if all(nxt >= (emit // clock + 1) * clock for emit, nxt in need):
+        if all(nxt >= next_capture(emit, clock) for emit, nxt in need):
             return clock
     return 1
 
