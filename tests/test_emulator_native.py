@@ -134,7 +134,7 @@ def test_chunks_report_progress(monkeypatch):
 def test_no_fused_multiply_add_in_the_shared_object():
     ld = _loaded(load_robot(EXAMPLES[[p.name for p in EXAMPLES].index("puma560.yaml")]))
     fl = flow(ld, check_program(ld))
-    so = native.compile_cached(native.generate_source(ld, fl, native.Layout.of(fl)))
+    so = native.compile_cached(native.generate_source(ld, fl, native.Scratch.of(fl)))
     text = subprocess.run(["objdump", "-d", str(so)], capture_output=True, text=True, check=True).stdout
     assert not FMA.search(text), FMA.search(text).group(0)
     if platform.machine() == "x86_64":
@@ -234,7 +234,7 @@ MOVE = re.compile(r"^(S\[\d+ \+ s\] = u\d|u\d = t\d|u\d(, u\d)*)$")    # a store
 def test_generated_statements_have_one_rounding_each():
     ld = _loaded(random_chain(3, 9, prismatic_fraction=0.5, endpoints=True))
     fl = flow(ld, check_program(ld))
-    src = native.generate_source(ld, fl, native.Layout.of(fl))
+    src = native.generate_source(ld, fl, native.Scratch.of(fl))
     parts = src.split("static void vamps(")[0]
     body = [line for line in parts.splitlines() if line.startswith("    ")]   # the VAMP loop bodies
     statements = [st.strip(" {}").removeprefix("double ") for line in body for st in line.split(";")]

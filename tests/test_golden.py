@@ -6,10 +6,9 @@ with `pytest --update-golden`, then read the diff against Table III.1 before com
 """
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 
-from conftest import EXAMPLES, GOLDEN
+from conftest import EXAMPLES
 from vampc.dataflow.linear import build_linear
 from vampc.robot import load_robot
 from vampc.schedule.asap import schedule_asap

@@ -34,7 +34,7 @@ STDOUT = "-"
 
 
 @dataclass(frozen=True)
-class Output:
+class PlannedOutput:
     """A planned output: `kind` is "file" (atomic replace of `target`), "stream" (an existing device
     or FIFO, written in place) or "stdout"."""
 
@@ -49,12 +49,12 @@ class Output:
         return self.kind == "stdout"
 
 
-def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict[str, Output]:
+def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict[str, PlannedOutput]:
     """Check every output against the rules above and return them by option name. `inputs` are the
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
     `stdout_ok` names the options that may be `-`."""
     inputs = [Path(p) for p in inputs if p is not None]
-    planned: dict[str, Output] = {}
+    planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
         if path is None:
             continue
@@ -67,11 +67,11 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict
     return planned
 
 
-def _plan(option: str, path: str, stdout_ok) -> Output:
+def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     if path == STDOUT:
         if option not in stdout_ok:
             raise VampcError(f"{option} -: standard output is not available for this output")
-        return Output(option, path, "stdout", None)
+        return PlannedOutput(option, path, "stdout", None)
     target = Path(os.path.realpath(path))
     try:
         mode = os.stat(target).st_mode
@@ -83,14 +83,14 @@ def _plan(option: str, path: str, stdout_ok) -> Output:
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
             if not os.access(target, os.W_OK):
                 raise VampcError(f"{path}: cannot write: permission denied")
-            return Output(option, path, "stream", target)
+            return PlannedOutput(option, path, "stream", target)
         what = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
         raise VampcError(f"{path}: is {what}; give a file name for {option}")
     if mode is not None and (not mode & stat.S_IWUSR or not os.access(target, os.W_OK)):
         # the owner's write bit, too: root may write anything, but a file made read-only is kept
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
     _probe_folder(path, target.parent)
-    return Output(option, path, "file", target)
+    return PlannedOutput(option, path, "file", target)
 
 
 def _probe_folder(path: str, folder: Path) -> None:
@@ -106,7 +106,7 @@ def _probe_folder(path: str, folder: Path) -> None:
     os.unlink(tmp)
 
 
-def _refuse_input(out: Output, inputs: list[Path]) -> None:
+def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
     if out.target is None or not out.target.exists():
         return
     for src in inputs:
@@ -121,7 +121,7 @@ def _refuse_input(out: Output, inputs: list[Path]) -> None:
                              "vampc never writes over its inputs")
 
 
-def _same(a: Output, b: Output) -> bool:
+def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
     if a.is_stdout or b.is_stdout:
         return a.is_stdout and b.is_stdout
     if a.target == b.target:
@@ -136,7 +136,7 @@ class Pending:
     """An output being written: `fh` takes the content; `commit()` puts it in place, `discard()`
     drops it (a regular file's previous content stays). Used by `writing`."""
 
-    def __init__(self, out: Output, what: str, binary: bool):
+    def __init__(self, out: PlannedOutput, what: str, binary: bool):
         self.out, self.what, self.tmp = out, what, None
         mode = "wb" if binary else "w"
         try:
@@ -193,7 +193,7 @@ def _mode_for(target: Path) -> int:
 
 
 @contextlib.contextmanager
-def writing(out: Output, what: str, binary: bool = False) -> Iterator[IO]:
+def writing(out: PlannedOutput, what: str, binary: bool = False) -> Iterator[IO]:
     """Write `out` through a file handle; committed if the block completes, discarded if it raises.
     An OSError inside the block (a full disk) becomes the one-line VampcError."""
     pending = Pending(out, what, binary)
@@ -208,12 +208,12 @@ def writing(out: Output, what: str, binary: bool = False) -> Iterator[IO]:
     pending.commit()
 
 
-def write_output(out: Output, content: str | bytes, what: str) -> None:
+def write_output(out: PlannedOutput, content: str | bytes, what: str) -> None:
     """Write the whole of `content` to `out` by the rules above."""
     with writing(out, what, binary=isinstance(content, bytes)) as fh:
         fh.write(content)
 
 
-def output_for(path, option: str = "-o", inputs=()) -> Output:
+def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
     """Plan one output (library callers that write a single file)."""
     return plan_outputs(inputs, {option: path})[option]

@@ -16,7 +16,7 @@ from vampc.machine.ops import Op
 from vampc.program.words import ROM
 
 
-def check_program(ld: Loaded) -> tm.Timing:
+def check_program(ld: Loaded) -> tm.StaticTiming:
     """All static checks; returns the derived timing. VampcError on the first problem found."""
     timing = tm.derive(ld)
     check_against_schedule(ld, timing)
@@ -24,7 +24,7 @@ def check_program(ld: Loaded) -> tm.Timing:
     return timing
 
 
-def check_against_schedule(ld: Loaded, timing: tm.Timing) -> None:
+def check_against_schedule(ld: Loaded, timing: tm.StaticTiming) -> None:
     """Latch and dump ticks implied by the programs equal those the compiler scheduled, and so do the
     delays themselves (a latch of a constant is harmless at any tick, but a changed word is damage)."""
     start, finish = ld.schedule.start, ld.schedule.finish
@@ -45,7 +45,7 @@ def check_against_schedule(ld: Loaded, timing: tm.Timing) -> None:
                                      f"{what} {at}, the schedule has tick {want[reg]}")
 
 
-def check_against_graph(ld: Loaded, timing: tm.Timing) -> None:
+def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
     """Every slot's ROM op and the sources its operands resolve to match its graph node; outputs read
     the right slots."""
     nodes = ld.graph.nodes

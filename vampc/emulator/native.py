@@ -117,7 +117,7 @@ def _port_array(ports, index: int, size: int, count: int) -> np.ndarray:
 
 def build(ld: Loaded, fl) -> NativeProgram:
     """The native program of `ld`'s flow, compiled now unless the cache holds it."""
-    layout = Layout.of(fl)
+    layout = Scratch.of(fl)
     fn = getattr(_load(compile_cached(generate_source(ld, fl, layout))), ENTRY)
     fn.argtypes = (ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
     fn.restype = None
@@ -128,7 +128,7 @@ def build(ld: Loaded, fl) -> NativeProgram:
 # --- source generation --------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class Layout:
+class Scratch:
     """Scratch rows: op i's component c at row 3i + c, then each input's scalars from `port_row`."""
 
     ops: int
@@ -136,16 +136,16 @@ class Layout:
     rows: int
 
     @staticmethod
-    def of(fl) -> "Layout":
+    def of(fl) -> "Scratch":
         """The layout of a flow."""
         row, port_row = 3 * len(fl.ops), {}
         for i, (_, _, size) in enumerate(fl.inputs):
             port_row[i] = row
             row += size
-        return Layout(len(fl.ops), port_row, row)
+        return Scratch(len(fl.ops), port_row, row)
 
 
-def generate_source(ld: Loaded, fl, layout: Layout) -> str:
+def generate_source(ld: Loaded, fl, layout: Scratch) -> str:
     """The C translation unit for a flow: the ops in order, PART loops to a function, and the fixed
     driver that copies inputs in and torques out through tables."""
     loops = [_op_loop(fl, layout, i) for i in range(len(fl.ops))]
@@ -160,7 +160,7 @@ def generate_source(ld: Loaded, fl, layout: Layout) -> str:
         _tables(ld, fl, layout), DRIVER))
 
 
-def _tables(ld: Loaded, fl, layout: Layout) -> str:
+def _tables(ld: Loaded, fl, layout: Scratch) -> str:
     def table(name: str, values) -> str:
         return f"static const long {name}[] = {{{', '.join(map(str, values)) or '0'}}};"
     return "\n".join((
@@ -207,7 +207,7 @@ void {ENTRY}(long count, const double *const *P, double *restrict tau, double *r
 """
 
 
-def _op_loop(fl, layout: Layout, i: int) -> str:
+def _op_loop(fl, layout: Scratch, i: int) -> str:
     rom, a_src, b_src = fl.ops[i]
     a = _operand(fl, layout, a_src)
     b = _operand(fl, layout, b_src)
@@ -223,14 +223,14 @@ def _row(row: int) -> str:
     return f"S[{row * BLOCK} + s]"
 
 
-def _operand(fl, layout: Layout, sources) -> list[str]:
+def _operand(fl, layout: Scratch, sources) -> list[str]:
     """The operand's nine scalars as C expressions (row-major for a matrix)."""
     if len(sources) == 3:   # a matrix as three MM column results: element (i, j) is scalar i of column j
         return [_scalar(fl, layout, sources[j], i) for i in range(3) for j in range(3)]
     return [_scalar(fl, layout, sources[0], c) for c in range(9)]
 
 
-def _scalar(fl, layout: Layout, src, c: int) -> str:
+def _scalar(fl, layout: Scratch, src, c: int) -> str:
     if src[0] is FlowKind.OP:
         return _row(3 * src[1] + c) if c < 3 else ZERO
     if src[0] is FlowKind.IN:

@@ -65,7 +65,7 @@ class SlotTiming:
 
 
 @dataclass(frozen=True)
-class Timing:
+class StaticTiming:
     """Every slot's timing (by (vamp, slot)), the slots in dataflow order, and each output's slot."""
 
     slots: dict
@@ -227,7 +227,7 @@ class _Deriver:
         raise VampcError(f"{self.ld.path}: {self.ld.vamp_name(v, k)}: {what}")
 
 
-def derive(ld: Loaded) -> Timing:
+def derive(ld: Loaded) -> StaticTiming:
     """Every slot's timing; VampcError naming the VAMP, slot, tick and operand on a violation."""
     der = _Deriver(ld)
     deps: dict[tuple[int, int], set] = {}
@@ -241,7 +241,7 @@ def derive(ld: Loaded) -> Timing:
     for v, k in order:
         done[(v, k)] = der.slot(v, k, done)
     outputs = tuple(_output(ld, der, o, done) for o in ld.net.outputs)
-    return Timing(done, order, outputs)
+    return StaticTiming(done, order, outputs)
 
 
 def _dataflow_order(ld: Loaded, deps: dict) -> tuple:

@@ -84,8 +84,8 @@ def layout(doc: dict) -> str:
 def write_text_atomic(path, text: str, what: str = "output") -> None:
     """Write text to path by the output rules of vampc.outputs (temporary file, then rename; no
     partial files; symlinks written through; devices written as streams)."""
-    from vampc.outputs import Output, output_for, write_output
-    write_output(path if isinstance(path, Output) else output_for(path), text, what)
+    from vampc.outputs import PlannedOutput, output_for, write_output
+    write_output(path if isinstance(path, PlannedOutput) else output_for(path), text, what)
 
 
 @gc_paused()
@@ -94,7 +94,7 @@ def write_program(doc: dict | str, path) -> None:
     or its text as layout made it (vampc.program.document.program_text): either way it is serialised
     once, and the checksum is taken over that text with its newlines removed, which is the canonical
     JSON. "checksum" sorts before every other key, so it goes first. `path` is a path or a planned
-    vampc.outputs.Output."""
+    vampc.outputs.PlannedOutput."""
     if isinstance(doc, str):
         text = doc
     else:
