@@ -10,14 +10,16 @@ import numpy as np
 
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.host import input_values
+from vampc.machine.arith import FLOAT64
 from vampc.machine.interp import apply
 from vampc.machine.ops import Op
 from vampc.robot.chain import Chain
 
 
-def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> list[np.ndarray]:
+def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None,
+                   arith=FLOAT64) -> list[np.ndarray]:
     """Every node's value for states of shape (N, n) (and floating-base motions (N, 9)): a list indexed
-    by node id, (N,3) or (N,3,3)."""
+    by node id, (N,3) or (N,3,3); each op in the word format `arith` (vampc.machine.arith)."""
     q = np.atleast_2d(np.asarray(q, dtype=float))
     keys = [nd.key for nd in graph.nodes if nd.op is Op.INPUT]
     inputs = input_values(chain, keys, q, qd, qdd, base)
@@ -30,14 +32,14 @@ def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> list[np
             shape = (3, 3) if len(nd.value) == 9 else (3,)
             vals.append(np.broadcast_to(np.reshape(nd.value, shape), (count,) + shape))
         else:
-            vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]]))
+            vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]], arith))
     return vals
 
 
-def evaluate(graph: Graph, chain: Chain, q, qd, qdd, base=None) -> np.ndarray:
+def evaluate(graph: Graph, chain: Chain, q, qd, qdd, base=None, arith=FLOAT64) -> np.ndarray:
     """Torques (N, n) (or (n,) for a single state; n + 6 columns with a floating base's wrench)
-    computed by evaluating the graph."""
+    computed by evaluating the graph in the word format `arith`."""
     single = np.ndim(q) == 1
-    vals = evaluate_nodes(graph, chain, q, qd, qdd, base)
+    vals = evaluate_nodes(graph, chain, q, qd, qdd, base, arith)
     tau = np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1)
     return tau[0] if single else tau

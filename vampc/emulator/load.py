@@ -53,6 +53,13 @@ class Loaded:
         return dict(self.compiled_with)
 
     @property
+    def arith(self):
+        """The word format the network computes in (vampc.machine.arith), which every engine
+        calls or renders: IEEE binary64 for every program today."""
+        from vampc.machine.arith import FLOAT64
+        return FLOAT64
+
+    @property
     def period(self) -> int:
         """P: ticks between successive torque sets."""
         return self.net.period

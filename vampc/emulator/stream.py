@@ -96,7 +96,8 @@ def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> n
 def _run_chunk(ld: Loaded, fl: Flow, ports, count) -> np.ndarray:
     vals: list[np.ndarray] = []
     for r, a, b in fl.ops:
-        vals.append(rom.run(r, _operand(a, vals, ports, count), _operand(b, vals, ports, count)))
+        vals.append(rom.run(r, _operand(a, vals, ports, count), _operand(b, vals, ports, count),
+                            ld.arith))
     tau = np.empty((count, ld.chain.n_outputs))
     for joint, op, component in fl.outputs:
         tau[:, joint - 1] = vals[op][:, component]

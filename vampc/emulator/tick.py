@@ -314,7 +314,7 @@ class TickEngine:
         idx = self.slot_vamp[slots]
         am, bm = rom.registers(r, self.op_a[idx], self.op_b[idx])
         units = self.units[idx]
-        rom.step(r, j, am, bm, units)
+        rom.step(r, j, am, bm, units, self.ld.arith)
         self.units[idx] = units
         if j < rom.operand_steps(r):
             self._check_owner(r, j, slots, idx, t)
