@@ -84,3 +84,11 @@ def test_every_tap_kind_has_its_window_and_no_other_passes():
         stage = 1
     with pytest.raises(VampcInternalError, match="no branch handles 'bus'"):
         window(Odd(), 4)
+
+
+def test_port_schedule_shows_the_latest_entry_cyclically():
+    from vampc.machine.timing import PortSchedule
+    s = PortSchedule([5, 2, 7], 4)          # blocks 5, 2, 7 of a 4-block period: 1, 2, 3
+    assert [s.entry_at(b) for b in range(8)] == [2, 0, 1, 2, 2, 0, 1, 2]
+    assert s.gap == {0: 1, 1: 1, 2: 2}       # 1 -> 2, 2 -> 3, 3 -> 1 (round the period)
+    assert PortSchedule([], 4).entry_at(3) is None

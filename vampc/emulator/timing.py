@@ -32,6 +32,7 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import SourceKind, TapKind, unhandled
 from vampc.machine.interp import duration, reading_end
 from vampc.machine.timing import (
+    PortSchedule,
     buffer_window,
     capture_counter,
     cyclic_gaps,
@@ -81,13 +82,7 @@ class _Deriver:
         self.emits = []         # per VAMP: sorted (emit counter, slot)
         for v, progs in enumerate(ld.programs):
             self.emits.append(sorted(((p.delay_r + 1) % self.P, k) for k, p in enumerate(progs)))
-        self.ports = []         # per port: sorted (block mod K, entry index)
-        self.entry_gap = {}     # (port, entry) -> blocks until the port's next entry
-        for p in ld.net.ports:
-            order = sorted((e.block % self.K, j) for j, e in enumerate(p.entries))
-            self.ports.append(order)
-            gaps = cyclic_gaps([b for b, _ in order], self.K)
-            self.entry_gap.update({(p.index, j): g or self.K for (_, j), g in zip(order, gaps)})
+        self.ports = [PortSchedule([e.block for e in p.entries], self.K) for p in ld.net.ports]
         self.sources: dict = {}  # (vamp, slot) -> operand_sources, each derived once
         # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch
         self.gaps = [tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
@@ -102,11 +97,7 @@ class _Deriver:
 
     def entry(self, port: int, block: int) -> int | None:
         """The entry of `port` written latest at or before `block` (mod K)."""
-        entries = self.ports[port]
-        if not entries:
-            return None
-        k = bisect_right(entries, (block % self.K, INF)) - 1
-        return entries[k][1]
+        return self.ports[port].entry_at(block)
 
     def source(self, tap, counter: int) -> Source:
         """What `tap` shows at Cycle-Counter `counter`."""
@@ -152,7 +143,7 @@ class _Deriver:
                 raise VampcError(f"{self.ld.path}: port {port} holds no data (a program port) but "
                                  "an operand reads it")
             block = self.net.ports[port].entries[j].block
-            lo, hi = port_window(block, block + self.entry_gap[(port, j)], self.B)
+            lo, hi = port_window(block, block + self.ports[port].gap[j], self.B)
             return lo, hi, False
         t = done[(src[1], src[2])]
         if tap.kind is TapKind.VAMP:

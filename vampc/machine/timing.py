@@ -26,6 +26,7 @@ The rules (vampc.network.model describes the hardware they belong to):
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 
 from vampc.kinds import TapKind, unhandled
 
@@ -90,6 +91,25 @@ def buffer_stage(emit: int, next_emit: int, tick: int, clock: int) -> int:
     if emit <= tick < next_emit:
         return 0
     return max(1, tick // clock - next_emit // clock + 1)
+
+
+class PortSchedule:
+    """When the entries of one host port show: entry j is written at the start of its block (taken
+    mod the K blocks of a period) and shows until the port's next entry is written."""
+
+    def __init__(self, blocks, per_period: int):
+        self.K = per_period
+        self.order = sorted((b % per_period, j) for j, b in enumerate(blocks))
+        gaps = cyclic_gaps([b for b, _ in self.order], per_period)
+        self.gap = {j: g or per_period for (_, j), g in zip(self.order, gaps)}   # blocks it shows
+
+    def entry_at(self, block: int) -> int | None:
+        """The entry showing during `block`: the one written latest at or before it, cyclically
+        (None for a port without entries, a program port)."""
+        if not self.order:
+            return None
+        k = bisect_right(self.order, (block % self.K, math.inf)) - 1   # -1: the last, a period ago
+        return self.order[k][1]
 
 
 def port_window(block: int, next_block: int, clock: int) -> tuple[int, int]:

@@ -3,16 +3,13 @@ ticks, by the timing rules of vampc.machine.timing, and no two slots of a VAMP o
 every network the allocator makes when verification is on (always in the tests)."""
 from __future__ import annotations
 
-import math
-from bisect import bisect_right
-
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcInternalError
 from vampc.kinds import TapKind
 from vampc.machine.ops import Op
 from vampc.machine.timing import (
+    PortSchedule,
     buffer_window,
-    cyclic_gaps,
     overlapping_spans,
     port_window,
     result_window,
@@ -95,24 +92,21 @@ def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch
 
 
 class _PortIndex:
-    """Which entry of a port shows at a tick: each port's entries sorted by block within the period."""
+    """Which entry of a port shows at a tick (the rule: machine.timing.PortSchedule)."""
 
     def __init__(self, net: Network):
         self.net, self.B, self.K = net, net.clock, net.period // net.clock
-        self.order = [sorted((e.block % self.K, j) for j, e in enumerate(p.entries))
-                      for p in net.ports]
-        self.gaps = [cyclic_gaps([b for b, _ in order], self.K) for order in self.order]
+        self.schedules = [PortSchedule([e.block for e in p.entries], self.K) for p in net.ports]
 
     def showing(self, port: int, tick: int):
         """(first, end, key): the window of the entry a port shows at absolute tick `tick` (set 0),
         and its key; key None if that entry belongs to another set or the port has none."""
-        order = self.order[port]
-        if not order:
-            return 0, 0, None
+        schedule = self.schedules[port]
         block = tick // self.B
-        at = bisect_right(order, (block % self.K, math.inf)) - 1     # -1: the last, a period ago
-        e = self.net.ports[port].entries[order[at][1]]
-        gap = self.gaps[port][at % len(order)] or self.K
+        j = schedule.entry_at(block)
+        if j is None:
+            return 0, 0, None
+        e = self.net.ports[port].entries[j]
         written = block - ((block - e.block) % self.K)
-        lo, hi = port_window(written, written + gap, self.B)
+        lo, hi = port_window(written, written + schedule.gap[j], self.B)
         return lo, hi, (e.key if written == e.block else None)
