@@ -6,8 +6,8 @@ import os
 
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc import background
 from vampc.cli import main
 from vampc.errors import VampcError, VampcInternalError

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 
 import pytest
-
 from baseline import CASES, outputs
 from conftest import GOLDEN
 

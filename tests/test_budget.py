@@ -11,14 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-
 from emulator_util import loaded, run_both
+
 from vampc.cli import main
 from vampc.compiler import CompileOptions, build_graph, compile_chain
 from vampc.dataflow.graph import GraphBuilder
-from vampc.machine.ops import Op, Timing
 from vampc.emulator.host import check_torques
 from vampc.errors import VampcError
+from vampc.machine.ops import Op, Timing
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain
 from vampc.schedule.budget import bounds, budget_schedule, modulo_schedule, work
@@ -284,11 +284,12 @@ def test_a_32_joint_log_graph_reaches_both_bounds_on_nearly_full_networks(k):
                                               ("32 joints", "linear")])
 def test_a_budget_is_never_worse_than_the_folded_layout_on_as_many_vamps(robot, recursion):
     from vampc.schedule.layout import layout_and_schedule
+    from vampc.schedule.registry import LayoutRequest
     chain = load_robot(EXAMPLES / "puma560.yaml") if robot == "puma" else \
         random_chain(32, 32, prismatic_fraction=0.0)
     g = build_graph(chain, CompileOptions(recursion=recursion))
     for share in (False, True):
-        layout, folded = layout_and_schedule(g, Timing(), "folded", share, verify=False)
+        layout, folded = layout_and_schedule(g, Timing(), "folded", LayoutRequest(share, verify=False))
         _, sched, _ = budget_schedule(g, Timing(), layout.vamp_count)
         assert sched.latency <= folded.latency and sched.interval <= folded.interval, \
             (share, layout.vamp_count, sched.latency, folded.latency)

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES, example_paths
+
 from vampc.cli import main
 from vampc.program.file import read_program
 

@@ -8,8 +8,8 @@ import xml.etree.ElementTree as ET
 
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 from vampc.schemas_util import schema_errors
 

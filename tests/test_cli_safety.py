@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 from vampc.dynamics.reference import rnea
 from vampc.emulator import driver

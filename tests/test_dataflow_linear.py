@@ -9,16 +9,16 @@ from collections import Counter
 
 import numpy as np
 import pytest
+from conftest import EXAMPLES, EXPECTED_EXAMPLES, example_paths
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import EXPECTED_EXAMPLES, EXAMPLES, example_paths
 from vampc.dataflow.evaluate import evaluate
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.linear import build_linear
-from vampc.machine.ops import Op
 from vampc.dynamics.reference import rnea
 from vampc.errors import VampcInternalError
+from vampc.machine.ops import Op
 from vampc.robot.chain import JointType
 from vampc.robot.random import random_chain, random_state
 

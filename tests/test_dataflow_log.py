@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 from vampc.dataflow.evaluate import evaluate, evaluate_nodes
 from vampc.dataflow.linear import build_linear
 from vampc.dataflow.logarithmic import build_log, relational_nodes
-from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.dataflow.prefix import prefix_tiers, size
 from vampc.dynamics.reference import rnea, rnea_variables
 from vampc.errors import VampcError
+from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.robot.chain import JointType
 from vampc.robot.random import random_chain, random_state
 from vampc.schedule.asap import schedule_asap

@@ -12,7 +12,13 @@ from vampc.dynamics import logforms as lf
 from vampc.dynamics.reference import rnea, rnea_variables
 from vampc.errors import VampcInternalError
 from vampc.robot.chain import E_Z
-from vampc.robot.random import TREE_SHAPES, random_base, random_chain, random_state, random_tree
+from vampc.robot.random import (
+    TREE_SHAPES,
+    random_base,
+    random_chain,
+    random_state,
+    random_tree,
+)
 
 RTOL = 1e-11
 EXAMPLES = settings(max_examples=25, deadline=None)

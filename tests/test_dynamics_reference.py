@@ -5,12 +5,22 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from vampc.dynamics.reference import (kinetic_energy, mass_matrix, potential_energy, rnea,
-                                      rnea_variables)
+from vampc.dynamics.reference import (
+    kinetic_energy,
+    mass_matrix,
+    potential_energy,
+    rnea,
+    rnea_variables,
+)
 from vampc.errors import VampcError
 from vampc.robot.chain import Chain, Joint, JointType, rot_z
-from vampc.robot.random import (random_base, random_chain, random_rotation, random_state,
-                                 random_tree)
+from vampc.robot.random import (
+    random_base,
+    random_chain,
+    random_rotation,
+    random_state,
+    random_tree,
+)
 
 RTOL = 1e-9
 FD_RTOL = 1e-9      # fourth-order central differences (h = 1e-3): truncation ~h^4, round-off ~eps/h

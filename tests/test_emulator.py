@@ -6,10 +6,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from emulator_util import loaded, run_both
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from emulator_util import loaded, run_both
 from vampc.dynamics.reference import rnea
 from vampc.emulator import emulate
 from vampc.emulator.host import check_torques, port_values, random_trajectory

@@ -8,8 +8,8 @@ import itertools
 
 import numpy as np
 import pytest
-
 from emulator_util import document, mutated, torques
+
 from vampc.emulator import emulate, loaded_from_doc
 from vampc.emulator.host import random_trajectory
 from vampc.errors import VampcError

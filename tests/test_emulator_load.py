@@ -8,8 +8,8 @@ import copy
 import numpy as np
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain, program_document
 from vampc.emulator import emulate, loaded_from_compiled, loaded_from_doc

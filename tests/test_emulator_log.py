@@ -7,10 +7,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from emulator_util import loaded, run_both
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from emulator_util import loaded, run_both
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.kinds import Prefix
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from emulator_util import loaded
+
 from vampc.emulator.host import port_values, random_trajectory
 from vampc.emulator.tick import TickEngine
 from vampc.emulator.vcd import VcdWriter, scope_names

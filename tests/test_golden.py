@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from conftest import EXAMPLES
+
 from vampc.dataflow.linear import build_linear
 from vampc.robot import load_robot
 from vampc.schedule.asap import schedule_asap

@@ -7,8 +7,8 @@ import json
 
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 from vampc.machine.ops import VAMPS_PER_OP
 from vampc.schedule.asap import schedule_asap

@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from emulator_util import document, loaded, mutated, run_both
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from emulator_util import document, loaded, mutated, run_both
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.emulator import emulate, loaded_from_doc

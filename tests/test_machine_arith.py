@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.dataflow.evaluate import evaluate
-from vampc.emulator import emulate, loaded_from_compiled
-from vampc.emulator import native
+from vampc.emulator import emulate, loaded_from_compiled, native
 from vampc.emulator.host import random_trajectory
 from vampc.emulator.load import Loaded
 from vampc.emulator.stream import flow

@@ -13,15 +13,28 @@ import io
 import numpy as np
 import pytest
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_graph, program_text
 from vampc.dataflow.evaluate import evaluate
 from vampc.dataflow.graph import GraphBuilder
 from vampc.machine import interp, ops
-from vampc.machine.ops import (ADDER, MULT1, ROM, A, B, Op, OpDef, Timing, U, View, add, mul,
-                               registered)
+from vampc.machine.ops import (
+    ADDER,
+    MULT1,
+    ROM,
+    A,
+    B,
+    Op,
+    OpDef,
+    Timing,
+    U,
+    View,
+    add,
+    mul,
+    registered,
+)
 from vampc.program.file import write_program
 from vampc.robot import load_robot
 

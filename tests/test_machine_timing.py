@@ -5,9 +5,18 @@ from __future__ import annotations
 
 import math
 
-from vampc.machine.timing import (buffer_stage, buffer_window, capture_counter, captures, cyclic_gaps,
-                                  next_capture,
-                                  overlapping_spans, port_window, result_windows, step_counter)
+from vampc.machine.timing import (
+    buffer_stage,
+    buffer_window,
+    capture_counter,
+    captures,
+    cyclic_gaps,
+    next_capture,
+    overlapping_spans,
+    port_window,
+    result_windows,
+    step_counter,
+)
 
 
 def test_cyclic_gaps():

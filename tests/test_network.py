@@ -14,13 +14,14 @@ import pytest
 
 from vampc.dataflow.linear import build_linear
 from vampc.dataflow.logarithmic import build_log
-from vampc.machine.ops import Op, Timing
 from vampc.errors import VampcInternalError
+from vampc.machine.ops import Op, Timing
 from vampc.network.allocate import allocate
 from vampc.network.verify import verify_network
 from vampc.program.emit import a_roots
 from vampc.robot.random import random_chain
 from vampc.schedule.layout import layout_and_schedule
+from vampc.schedule.registry import LayoutRequest
 
 CASES = [(6, 0.0, Timing()), (6, 0.5, Timing()), (1, 0.0, Timing()), (9, 0.3, Timing(2, 3))]
 CASE_IDS = ["rotary6", "mixed6", "rotary1", "mixed9-m2a3"]
@@ -33,7 +34,7 @@ def build(n: int, prismatic: float = 0.0, timing: Timing = Timing(), seed: int =
     """(graph, schedule, network) of a random chain."""
     chain = random_chain(n, seed, prismatic_fraction=prismatic)
     graph = build_log(chain) if log else build_linear(chain)
-    lay, sched = layout_and_schedule(graph, timing, layout, share)
+    lay, sched = layout_and_schedule(graph, timing, layout, LayoutRequest(share))
     return graph, sched, allocate(graph, sched, lay)
 
 

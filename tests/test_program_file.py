@@ -15,17 +15,27 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given
 from hypothesis import strategies as st
-
 from json_mutation import json_values
+
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain, program_document, program_text
-from vampc.machine.ops import Op
 from vampc.errors import VampcError
+from vampc.machine.ops import Op
 from vampc.network.model import Tap
 from vampc.program import document, emit
 from vampc.program.file import canonical, checksum, layout, read_program, write_program
-from vampc.program.words import (FIELD, FIELDS, ROM, Program, apply_word, decode, encode,
-                                 programs_of, rom_pointer, vamp_words)
+from vampc.program.words import (
+    FIELD,
+    FIELDS,
+    ROM,
+    Program,
+    apply_word,
+    decode,
+    encode,
+    programs_of,
+    rom_pointer,
+    vamp_words,
+)
 from vampc.robot.random import random_chain
 
 fields = st.integers(0, FIELD - 1)

@@ -10,7 +10,13 @@ import math
 import pytest
 
 from vampc.compiler import CompileOptions, compile_chain
-from vampc.report.counts import latency_note, packages, paper_latency, serial_reference, summary
+from vampc.report.counts import (
+    latency_note,
+    packages,
+    paper_latency,
+    serial_reference,
+    summary,
+)
 from vampc.report.text import render
 from vampc.robot.random import random_chain
 

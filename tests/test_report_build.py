@@ -8,8 +8,8 @@ import json
 
 import jsonschema_rs
 import pytest
-
 from conftest import EXAMPLES, example_paths
+
 from vampc.compiler import CompileOptions, compile_chain, program_document
 from vampc.program.document import compiled_from_doc
 from vampc.report import pictures

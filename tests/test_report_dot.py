@@ -6,8 +6,8 @@ import shutil
 import subprocess
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report.dot import quote, report_dot
 from vampc.robot import load_robot

@@ -7,8 +7,8 @@ import shutil
 import subprocess
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report import pictures
 from vampc.report.build import build_report

@@ -5,8 +5,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report import network_drawing as nd
 from vampc.robot import load_robot

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from conftest import EXAMPLES
+
 from vampc.compiler import compile_chain
 from vampc.report import pictures
 from vampc.report.build import build_report

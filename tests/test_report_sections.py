@@ -2,8 +2,8 @@
 from __future__ import annotations
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report.build import build_report
 from vampc.report.sections import num, signed, tables

@@ -4,6 +4,7 @@ from __future__ import annotations
 from collections import Counter
 
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report.sites import Site, node_table, vamp_sites, vamp_units
 from vampc.robot import load_robot

@@ -6,8 +6,8 @@ import re
 import xml.etree.ElementTree as ET
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report import timing_chart
 from vampc.robot import load_robot

@@ -5,8 +5,8 @@ import json
 import xml.etree.ElementTree as ET
 
 from click.testing import CliRunner
-
 from conftest import EXAMPLES
+
 from vampc.cli import main
 
 PLANAR = EXAMPLES / "planar2.yaml"

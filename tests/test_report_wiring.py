@@ -2,8 +2,8 @@
 from __future__ import annotations
 
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report.configs import configurations
 from vampc.report.wiring import early_forward, wiring

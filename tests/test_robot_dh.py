@@ -8,13 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from errors_util import assert_error
+from frames_util import chain_frames
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
 from vampc.robot import dh as dh_loader
-from errors_util import assert_error
-from frames_util import chain_frames
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 DH_EXAMPLES = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml"]

@@ -3,19 +3,19 @@ present), trees and locking, and exact error messages for bad files."""
 from __future__ import annotations
 
 import re
-import warnings
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
+from errors_util import assert_error
+from frames_util import chain_frames as chain_poses
 
 import vampc.robot
 from vampc.errors import VampcError, VampcWarning
 from vampc.robot import JointType, load_robot, load_urdf
 from vampc.robot import dh as dh_loader
-from errors_util import assert_error
-from frames_util import chain_frames as chain_poses
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 ARM6 = EXAMPLES / "arm6.urdf"

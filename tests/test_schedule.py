@@ -15,8 +15,8 @@ import networkx as nx
 import pytest
 
 from vampc.dataflow.linear import build_linear
-from vampc.machine.ops import Op, Timing
 from vampc.errors import VampcInternalError
+from vampc.machine.ops import Op, Timing
 from vampc.robot.random import random_chain
 from vampc.schedule.asap import Schedule, schedule_asap
 

@@ -15,7 +15,7 @@ from vampc.gcpause import gc_paused
 from vampc.kinds import Recursion
 from vampc.network.allocate import allocate
 from vampc.network.model import Network
-from vampc.options import CompileOptions
+from vampc.options import STAGES, CompileOptions  # noqa: F401  (STAGES: the compile stages)
 from vampc.program import emit
 from vampc.program.words import Program
 from vampc.robot.chain import Chain
@@ -49,8 +49,6 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
                      verify=options.verify)
 
 
-# The stages of compile_chain, in order (what a progress display names and --dump-after takes).
-STAGES = ("graph", "schedule", "allocate", "emit")
 
 
 @gc_paused()
@@ -79,9 +77,8 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     stage = stage or (lambda name: None)
     options.check()
     stage("schedule")
-    layout, sched = layout_and_schedule(graph, options.timing, options.layout, options.share_passes,
-                                        options.verify, options.vamps, options.interval,
-                                        options.exact)
+    layout, sched = layout_and_schedule(graph, options.timing, options.layout,
+                                        options.layout_request)
     if until == "schedule":
         return Compiled(chain, options, graph, sched, layout=layout)
     stage("allocate")

@@ -112,3 +112,11 @@ def unhandled(value):
     silent default (every dispatch names each member it handles)."""
     from vampc.errors import VampcInternalError
     raise VampcInternalError(f"no branch handles {value!r}")
+
+
+class Engine(Kind):
+    """The emulator engine: tick by tick from Program Mode (the specification), or the stream
+    engine vectorised over the trajectory."""
+
+    STREAM = "stream"
+    TICK = "tick"

@@ -16,9 +16,15 @@ from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 
 from vampc.errors import VampcUsageError
-from vampc.kinds import Prefix, Recursion
+from vampc.kinds import Engine, Prefix, Recursion
 from vampc.machine.ops import Timing
-from vampc.schedule.registry import FOLDED, SYSTOLIC, layout_kind, layout_names
+from vampc.schedule.registry import (
+    FOLDED,
+    SYSTOLIC,
+    LayoutRequest,
+    layout_kind,
+    layout_names,
+)
 
 
 def cli(*decls: str, help: str, **click: object) -> dict:
@@ -98,6 +104,11 @@ class CompileOptions:
         return "budget" if self.budget else self.layout
 
     @property
+    def layout_request(self) -> LayoutRequest:
+        """What the layout stage is asked for (vampc.schedule.registry.LayoutRequest)."""
+        return LayoutRequest(self.share_passes, self.vamps, self.interval, self.exact, self.verify)
+
+    @property
     def layout_kind(self):
         """The registered layout compiled (vampc.schedule.registry)."""
         return layout_kind(self.layout_name)
@@ -113,13 +124,7 @@ class CompileOptions:
             kind = layout_kind(self.layout)
         except ValueError as exc:
             raise VampcUsageError(str(exc)) from None
-        for name in ("mult_latency", "add_latency"):
-            if not 1 <= getattr(self, name) <= 64:
-                raise VampcUsageError(f"{flag(name)} must be between 1 and 64 flops")
-        for name in ("vamps", "interval"):
-            value = getattr(self, name)
-            if value is not None and value < 1:
-                raise VampcUsageError(f"{flag(name)} must be at least 1")
+        check_ranges(self)
         if self.recursion is Recursion.LINEAR:
             for name in ("prefix", "uniform_leaves"):
                 if name in self.given:
@@ -203,6 +208,20 @@ def check_program_options(given, params: dict, source: str, stored: dict) -> Non
                                   "(recompile to change them)")
 
 
+def check_ranges(options) -> None:
+    """Every integer option within the range its declaration gives (`cli(..., range=(lo, hi))`,
+    which the command line enforces too): library callers get the same rule."""
+    for f in cli_fields(type(options)):
+        lo, hi = f.metadata["cli"][2].get("range", (None, None))
+        value = getattr(options, f.name)
+        if value is None or lo is None:
+            continue
+        if not isinstance(value, int) or isinstance(value, bool) or value < lo or (
+                hi is not None and value > hi):
+            within = f"from {lo} to {hi}" if hi is not None else f"of {lo} or more"
+            raise VampcUsageError(f"{flag(f.name)} must be a whole number {within}")
+
+
 def cli_fields(cls) -> list:
     """The fields of an option class that are command-line options, in declaration order."""
     return [f for f in fields(cls) if "cli" in f.metadata]
@@ -213,7 +232,8 @@ def default(f):
     return None if f.default is MISSING else f.default
 
 
-STAGES = ("graph", "schedule", "allocate", "emit")      # the compile stages --dump-after names
+STAGES = ("graph", "schedule", "allocate", "emit")   # the compile stages, in order: a progress
+                                                    # display names them, --dump-after takes them
 
 
 @dataclass(frozen=True)
@@ -253,7 +273,7 @@ class EmulateOptions:
         "--seed", range=(0, None), show_default=True, help="Seed for --random and for the tick "
         "engine's random initial register contents."))
     engine: str = field(default="stream", metadata=cli(
-        "--engine", choices=lambda: ("stream", "tick"), show_default=True,
+        "--engine", choices=Engine.names, show_default=True,
         help="stream: vectorised over the trajectory; tick: one flop at a time from Program Mode "
         "(the hardware specification; slower). They agree bit for bit."))
     check_torques: bool = field(default=False, metadata=cli(
@@ -280,9 +300,9 @@ class EmulateOptions:
         """Every rule between emulate options."""
         if (self.trajectory is None) == (self.random_count is None):
             raise VampcUsageError("give exactly one of --trajectory FILE or --random N")
-        if self.vcd and self.engine != "tick":
+        if self.vcd and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--vcd needs --engine tick")
-        if "seed" in self.given and self.random_count is None and self.engine != "tick":
+        if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--seed applies to --random and to the tick engine")
         if self.write_failed and not (self.check_torques and self.output):
             raise VampcUsageError("--write-failed applies with --check and -o")

@@ -14,8 +14,9 @@ from vampc.emulator.load import (
     loaded_from_compiled,
     loaded_from_doc,
 )
+from vampc.kinds import Engine
 
-ENGINES = ("stream", "tick")
+ENGINES = Engine.names()
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,7 @@ def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0,
     engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
     a longer run this trajectory is a chunk of (vampc.emulator.driver)."""
     start = time.perf_counter()
-    if engine == "tick":
+    if Engine(engine) is Engine.TICK:
         if static_check:
             check_program(ld)
         return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress)

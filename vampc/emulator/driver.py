@@ -20,6 +20,7 @@ import numpy as np
 from vampc.emulator.host import CheckResult, Trajectory, check_torques
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
+from vampc.kinds import Engine
 
 RANDOM_BLOCK = 1024
 CHUNK_BYTES = 64 << 20      # port values per chunk of the stream engine
@@ -114,8 +115,8 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
         progress=None) -> Outcome:
     """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
     in order. A non-finite torque is a VampcError naming the set and the joint."""
-    size = states.count if engine == "tick" else chunk_size(ld)
-    if engine == "tick":
+    size = states.count if Engine(engine) is Engine.TICK else chunk_size(ld)
+    if Engine(engine) is Engine.TICK:
         tick_memory_check(ld, states.count)
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
         return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
@@ -142,7 +143,7 @@ def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
         if sink is not None:
             sink(traj, em.tau)
     # the stream engine's timing is the schedule's: set j completes j·C after set 0
-    data_ticks = first.data_ticks if engine == "tick" else \
+    data_ticks = first.data_ticks if Engine(engine) is Engine.TICK else \
         (states.count - 1) * first.interval + first.first_tick + 1
     return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
                    data_ticks, seconds, merged)

@@ -27,13 +27,15 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None) -
     scheduled but not allocated: its row has latency and VAMPs only."""
     from vampc.report.configs import ALLOCATE_LIMIT
     from vampc.schedule.layout import layout_and_schedule
+    from vampc.schedule.registry import LayoutRequest
     limit = ALLOCATE_LIMIT if limit is None else limit
     rows = []
     for shape in Prefix:
         opts = replace(options, recursion="log", prefix=shape, verify=False, numbering=None)
         graph = build_graph(chain, opts)
         if len(graph.compute_nodes()) > limit:
-            lay, s = layout_and_schedule(graph, opts.timing, opts.layout, opts.share_passes, False)
+            lay, s = layout_and_schedule(graph, opts.timing, opts.layout,
+                                         LayoutRequest(opts.share_passes, verify=False))
             rows.append({"prefix": shape, "latency_flops": s.latency, "mults": s.mults,
                          "adds": s.adds, "vamps": lay.vamp_count})
             continue

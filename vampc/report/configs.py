@@ -19,7 +19,7 @@ from vampc.network.model import Network
 from vampc.program import emit
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout, layout_and_schedule
-from vampc.schedule.registry import BUDGET, LAYOUTS
+from vampc.schedule.registry import BUDGET, LAYOUTS, LayoutRequest
 from vampc.textio import count
 
 # Ops in a graph above which the other configurations are scheduled but not allocated.
@@ -111,7 +111,8 @@ def budget_label(options: CompileOptions) -> str:
 
 def _config(label: str, opts: CompileOptions, graph: Graph, full: bool) -> Config:
     """One configuration of `graph`: laid out and scheduled; allocated and emitted when `full`."""
-    lay, sched = layout_and_schedule(graph, opts.timing, opts.layout, opts.share_passes, False)
+    lay, sched = layout_and_schedule(graph, opts.timing, opts.layout,
+                                      LayoutRequest(opts.share_passes, verify=False))
     if not full:
         return Config(label, opts, graph, lay, sched, None)
     net = allocate(graph, sched, lay, False)

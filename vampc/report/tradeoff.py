@@ -25,6 +25,7 @@ from vampc.report.configs import compared_layouts
 from vampc.report.counts import gap_pct
 from vampc.schedule.budget import bounds, budget_schedule, smallest_network, vamp_ops
 from vampc.schedule.layout import layout_and_schedule
+from vampc.schedule.registry import LayoutRequest
 
 MAX_STEPS = 48
 THOROUGH_UP_TO = 2000    # VAMP-ops: larger graphs get the cheaper search (_quick_for)
@@ -61,7 +62,8 @@ def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
         if progress is not None:
             progress(done + 1, len(ks))
     for label, name, share in compared_layouts():     # the registry's (vampc.schedule.registry)
-        layout, sched = layout_and_schedule(graph, timing, name, share, verify=False)
+        layout, sched = layout_and_schedule(graph, timing, name,
+                                            LayoutRequest(share, verify=False))
         rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
     _mark_pareto(rows)
     return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))

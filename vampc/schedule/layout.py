@@ -118,18 +118,20 @@ class Layout:
 
 
 def layout_and_schedule(graph: Graph, timing: Timing, name: str = "systolic",
-                        share_passes: bool = False, verify: bool = True, vamps: int | None = None,
-                        interval: int | None = None, exact: bool = False) -> tuple[Layout, Schedule]:
-    """The layout `name` (vampc.schedule.registry) of `graph` and the schedule it runs; a VAMP
-    budget (`vamps`, `interval`; `exact`: its CP-SAT solver) makes the layout "budget"."""
+                        request=None) -> tuple[Layout, Schedule]:
+    """The layout `name` (vampc.schedule.registry) of `graph` and the schedule it runs, as
+    `request` (a LayoutRequest: shared passes, a VAMP budget or interval and its exact solver,
+    verification) asks; a budget or an interval makes the layout "budget"."""
     from vampc.schedule.registry import BUDGET, LayoutRequest, layout_kind
+    request = request if request is not None else LayoutRequest()
+    budget = request.vamps is not None or request.interval is not None
     try:
-        kind = BUDGET if vamps is not None or interval is not None else layout_kind(name)
+        kind = BUDGET if budget else layout_kind(name)
     except ValueError as exc:
         raise VampcError(str(exc)) from None
-    if share_passes and not kind.shares_passes:
+    if request.share_passes and not kind.shares_passes:
         raise VampcError(f"--share-passes does not apply to the {kind.name} layout")
-    return kind.build(graph, timing, LayoutRequest(share_passes, vamps, interval, exact, verify))
+    return kind.build(graph, timing, request)
 
 
 def systolic(graph: Graph, timing: Timing, verify: bool = True) -> tuple[Layout, Schedule]:
