@@ -32,18 +32,23 @@ BACKGROUND_CHECK_SLOTS = 20_000
 
 # --- compile --------------------------------------------------------------------------------------
 
+def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
+    """A robot file's chain, once the options given for it have passed their rules."""
+    from vampc.robot import load_robot
+    options.check()
+    robot_opts.check(robot)
+    return load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
+                      floating=robot_opts.floating_base)
+
+
 def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),
                   until: str | None = None):
     """Load a robot file and compile it (progress shown for long work), stopping after `until`."""
     from vampc import progress
     from vampc.compiler import STAGES, compile_chain
-    from vampc.robot import load_robot
-    options.check()
-    robot_opts.check(robot)
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
-        chain = load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
-                           floating=robot_opts.floating_base)
+        chain = load_chain(robot, options, robot_opts)
         return compile_chain(chain, options, stage=stage, until=until)
 
 
@@ -54,8 +59,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     from vampc.compiler import program_text
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
-    own.check()
-    options = options if own.numbering is None else _with_numbering(options, own.numbering)
+    own.check()           # (options.numbering is own.numbering: both are built from --numbering)
     if own.dump_after:
         from vampc.dump import dump_after
         return dump_after(own.dump_after, compile_robot(robot, options, robot_opts, own.dump_after))
@@ -71,11 +75,6 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
         f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
         f"{count(s.interval, 'flop')}", out.is_stdout)
     return None
-
-
-def _with_numbering(options: CompileOptions, numbering: str) -> CompileOptions:
-    from dataclasses import replace
-    return replace(options, numbering=numbering)
 
 
 # --- programs -------------------------------------------------------------------------------------
@@ -307,7 +306,6 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     from vampc import progress
     from vampc.outputs import plan_outputs
     from vampc.report import tradeoff as tr
-    from vampc.robot import load_robot
     from vampc.sniff import is_program
     outs = plan_outputs([source], {"--curve": own.curve})
     if is_program(source):
@@ -315,10 +313,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         check.wait()
         chain, options = c.chain, c.options
     else:
-        options.check()
-        robot_opts.check(source)
-        chain = load_robot(source, base=robot_opts.base, tip=robot_opts.tip,
-                           lock=robot_opts.locks(), floating=robot_opts.floating_base)
+        chain = load_chain(source, options, robot_opts)
     with progress.counter("trade-off", 1, unit="budget") as bar:
         rows = tr.tradeoff(chain, options, bar)
     if outs:

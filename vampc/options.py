@@ -113,10 +113,14 @@ class CompileOptions:
         """The registered layout compiled (vampc.schedule.registry)."""
         return layout_kind(self.layout_name)
 
+    @staticmethod
+    def recorded() -> tuple[str, ...]:
+        """The options a program file records (all but --verify and the names given)."""
+        return tuple(f.name for f in fields(CompileOptions) if f.name not in ("verify", "given"))
+
     def record(self) -> dict:
         """The options as a program file records them."""
-        return {f.name: getattr(self, f.name) for f in fields(self)
-                if f.name not in ("verify", "given")}
+        return {name: getattr(self, name) for name in self.recorded()}
 
     def check(self) -> None:
         """Every rule between compile options (VampcUsageError, one line)."""
@@ -160,6 +164,8 @@ class RobotOptions:
 
     def locks(self) -> dict[str, float]:
         """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
+        def bad(what: str) -> VampcUsageError:
+            return VampcUsageError(f"Invalid value for '--lock': {what}")
         out: dict[str, float] = {}
         for item in self.lock:
             name, sep, value = item.partition("=")
@@ -167,16 +173,13 @@ class RobotOptions:
             try:
                 number = float(value)
             except ValueError:
-                raise VampcUsageError(f"Invalid value for '--lock': {item!r} is not JOINT=VALUE") \
-                    from None
+                raise bad(f"{item!r} is not JOINT=VALUE") from None
             if not sep or not name:
-                raise VampcUsageError(f"Invalid value for '--lock': {item!r} is not JOINT=VALUE")
+                raise bad(f"{item!r} is not JOINT=VALUE")
             if not math.isfinite(number):
-                raise VampcUsageError(f"Invalid value for '--lock': {item!r}: the position must be "
-                                      "a finite number")
+                raise bad(f"{item!r}: the position must be a finite number")
             if name in out and out[name] != number:
-                raise VampcUsageError(f"Invalid value for '--lock': joint {name!r} is locked twice, "
-                                      f"at {out[name]:g} and {number:g}")
+                raise bad(f"joint {name!r} is locked twice, at {out[name]:g} and {number:g}")
             out[name] = number
         return out
 
@@ -197,9 +200,8 @@ def check_program_options(given, params: dict, source: str, stored: dict) -> Non
         if name in given:
             raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
-    for f in fields(CompileOptions):
-        name = f.name
-        if name in ("verify", "given") or name not in given:
+    for name in CompileOptions.recorded():
+        if name not in given:
             continue
         value = params[name]
         if stored.get(name) != value:

@@ -91,15 +91,6 @@ def _not_json(value, path: tuple):
     return path, value
 
 
-def accepted_quickly(name: str, instance) -> bool:
-    """True when `instance` is valid under schema `name` (the fast verdict of schema_errors)."""
-    validator = _quick_validator(name if name.endswith(".json") else f"{name}.schema.json")
-    try:
-        return validator.is_valid(instance)
-    except (ValueError, TypeError, OverflowError):   # not representable as JSON
-        return False
-
-
 def _quick_validator(filename: str):
     return _quick_validator_at(filename, _version())
 

@@ -22,6 +22,7 @@ from vampc.program.document import (
     graph_from_doc,
     network_from_doc,
     programs_from_doc,
+    schedule_of,
     stream_from_doc,
 )
 from vampc.program.emit import StreamEntry, a_roots, load_ticks
@@ -90,12 +91,9 @@ def loaded_from_doc(doc: dict, path: str = "<program>", decoded=None) -> Loaded:
     `decoded`: the (chain, graph, network, listed programs) already read from this same document,
     which a report has (vampc.program.document.compiled_from_doc): they are used instead of
     decoding again."""
-    s = doc["schedule"]
-    timing = Timing(s["mult_latency"], s["add_latency"])
     chain, graph, net, listed = decoded or (None, graph_from_doc(doc["graph"]), network_from_doc(doc),
                                             None)
-    sched = Schedule(timing, tuple(s["start"]), tuple(s["finish"]), s["latency"],
-                     tuple(s["critical_path"]), s["mults"], s["adds"], s["interval"])
+    sched = schedule_of(doc["schedule"])
     numbers = tuple(v["number"] for v in doc["network"]["vamps"])
     ld = _loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, net, numbers,
                  stream_from_doc(doc), listed or programs_from_doc(doc),

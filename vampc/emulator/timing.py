@@ -33,10 +33,10 @@ from vampc.kinds import SourceKind, TapKind, unhandled
 from vampc.machine.interp import duration, reading_end
 from vampc.machine.timing import (
     PortSchedule,
-    buffer_window,
     capture_counter,
     cyclic_gaps,
     port_window,
+    window,
 )
 
 INF = math.inf
@@ -145,10 +145,8 @@ class _Deriver:
             block = self.net.ports[port].entries[j].block
             lo, hi = port_window(block, block + self.ports[port].gap[j], self.B)
             return lo, hi, False
-        t = done[(src[1], src[2])]
-        if tap.kind is TapKind.VAMP:
-            return t.emit, t.next_emit, t.periodic
-        lo, hi = buffer_window(t.emit, t.next_emit, tap.stage, self.B)
+        t = done[(src[1], src[2])]            # a slot's result, on its Result or a buffer stage
+        lo, hi = window(tap, self.B, t.emit, t.next_emit)
         return lo, hi, t.periodic
 
     def latch(self, v, k, name, taps, sources, delay, done) -> tuple[float, bool]:

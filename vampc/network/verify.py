@@ -9,11 +9,10 @@ from vampc.kinds import TapKind
 from vampc.machine.ops import Op
 from vampc.machine.timing import (
     PortSchedule,
-    buffer_window,
     overlapping_spans,
     port_window,
-    result_window,
     result_windows,
+    window,
 )
 from vampc.network.model import Network, Vamp
 from vampc.schedule.asap import Schedule
@@ -81,8 +80,7 @@ def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch
             src_slot = slot_of.get((vamp, arg))
             ok = src_slot is not None
             emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
-            lo, hi = (result_window(emit, nxt) if tap.kind is TapKind.VAMP
-                      else buffer_window(emit, nxt, tap.stage, B))
+            lo, hi = window(tap, B, emit, nxt)
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
                                      f"which does not carry node {src.label}")

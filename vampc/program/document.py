@@ -238,14 +238,13 @@ def compiled_from_doc(doc: dict, path):
     from a file are recomputed from what runs, never copied from its `summary` (VampcError naming
     the section that disagrees); only an exact solver's proof, which no check can redo, is read
     from it."""
-    from dataclasses import fields
 
     from vampc.compiler import Compiled, CompileOptions
     from vampc.errors import VampcError, VampcInternalError
     graph = graph_from_doc(doc["graph"])
     net = network_from_doc(doc)
     opts = doc["options"]
-    known = {f.name for f in fields(CompileOptions)} - {"given"}
+    known = CompileOptions.recorded()
     try:
         options = CompileOptions(**{k: v for k, v in opts.items() if k in known})
         options.check()
@@ -270,6 +269,14 @@ def compiled_from_doc(doc: dict, path):
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
 
 
+def schedule_of(stored: dict) -> Schedule:
+    """The schedule section as a Schedule, as it stands (schedule_from_doc checks it too)."""
+    from vampc.machine.ops import Timing
+    return Schedule(Timing(stored["mult_latency"], stored["add_latency"]), tuple(stored["start"]),
+                    tuple(stored["finish"]), stored["latency"], tuple(stored["critical_path"]),
+                    stored["mults"], stored["adds"], stored["interval"])
+
+
 def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
     """The schedule section as a Schedule, verified against the graph: every op lasts its duration
     after its operands, the latency is the last torque's finish and the critical path and its
@@ -279,9 +286,7 @@ def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
     timing = Timing(stored["mult_latency"], stored["add_latency"])
     if len(stored["start"]) != len(graph.nodes) or len(stored["finish"]) != len(graph.nodes):
         raise VampcError(f"{path}: schedule: start and finish need one tick per graph node")
-    sched = Schedule(timing, tuple(stored["start"]), tuple(stored["finish"]), stored["latency"],
-                     tuple(stored["critical_path"]), stored["mults"], stored["adds"],
-                     stored["interval"])
+    sched = schedule_of(stored)
     duration = timing.durations
     for nd in graph.nodes:
         key = None
