@@ -259,9 +259,10 @@ def _registers(rom: int, a: list[str], b: list[str]):
 
 
 def _module(rom: int, m: int, am: list[str], bm: list[str], out: str, arith=FLOAT64) -> str:
-    """Module m's micro-sequence (`am`, `bm`: its three operand registers each) as one C block, rendered from the op table: a local per unit
-    register, each step's assignments made together (a step that reads a unit it also writes goes
-    through temporaries), the result unit stored last."""
+    """Module m's micro-sequence (`am`, `bm`: its three operand registers each) as one C block,
+    rendered from the op table: a local per unit register, each step's assignments made together (a
+    step whose assignment writes a unit a later one of the step reads goes through temporaries), the
+    result unit stored last."""
     entry, _ = ops.entry(rom)
     regs = {"a": am, "b": bm}
 
