@@ -49,6 +49,9 @@ CASES = [
     ("quadruped-linear-systolic", "quadruped.urdf", [], ("stream",)),
     ("quadruped-log-systolic", "quadruped.urdf", ["--recursion", "log"], ("stream",)),
     ("quadruped-linear-budget9", "quadruped.urdf", ["--vamps", "9"], ("stream",)),
+    ("snake64-linear-systolic", "snake64.yaml", [], ("stream",)),
+    ("snake64-log-folded", "snake64.yaml", ["--recursion", "log", "--layout", "folded"],
+     ("stream",)),
 ]
 
 
