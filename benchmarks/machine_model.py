@@ -54,7 +54,11 @@ def main() -> None:
     from vampc.cli import main as cli
     from vampc.compiler import CompileOptions, compile_chain, program_text
     from vampc.program.document import compiled_from_doc
-    from vampc.program.file import read_program, write_program
+    from vampc.program.file import write_program
+    try:      # the typed reader, where there is one (the dict reader before it)
+        from vampc.program.file import read_program_file as read_program
+    except ImportError:
+        from vampc.program.file import read_program
     from vampc.robot import load_robot
     from vampc.robot.random import random_chain
     examples = Path(vampc.__file__).resolve().parent.parent / "examples"

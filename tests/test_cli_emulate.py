@@ -132,8 +132,8 @@ def _edited(tmp_path, program, change, fix_checksum=False):
 
 
 @pytest.mark.parametrize("change,fix,message", [
-    (lambda d: d["programs"][0].update(delay_a=1), False, r"checksum mismatch"),
-    (lambda d: d.pop("io"), True, r'document: "io" is a required property'),
+    (lambda d: d["programs"][0]["slots"][0].update(delay_a=1), False, r"checksum mismatch"),
+    (lambda d: d.pop("io"), True, r"document: object missing required field `io`"),
     (lambda d: d.update(version=7), True, r"version 7 is not supported"),
     (lambda d: d["network"]["vamps"][0]["a"][0].__setitem__(0, ["vamp", 999, 0]), True,
      r"VAMP 0: operand A is wired to a missing vamp 999"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 
+import msgspec
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -23,7 +24,14 @@ from vampc.errors import VampcError
 from vampc.machine.ops import Op
 from vampc.network.model import Tap
 from vampc.program import document, emit
-from vampc.program.file import canonical, checksum, layout, read_program, write_program
+from vampc.program.file import (
+    canonical,
+    checksum,
+    layout,
+    read_program,
+    read_program_file,
+    write_program,
+)
 from vampc.program.words import (
     FIELD,
     FIELDS,
@@ -212,19 +220,21 @@ def test_program_file_roundtrip(compiled, program_path):
     doc = read_program(program_path)
     assert doc == dict(program_document(compiled), checksum=doc["checksum"])
     assert doc["checksum"] == checksum(doc)
-    assert document.graph_from_doc(doc["graph"]) == compiled.graph
-    chain = document.chain_from_doc(doc["robot"])
+    typed = read_program_file(program_path)
+    assert json.loads(json.dumps(msgspec.to_builtins(typed))) == doc   # the Structs hold it all
+    assert document.graph_from_doc(typed.graph) == compiled.graph
+    chain = document.chain_from_doc(typed.robot)
     for a, b in zip(chain.joints, compiled.chain.joints):
         assert (a.name, a.type, a.offset, a.mass) == (b.name, b.type, b.offset, b.mass)
         for f in ("phi", "p_fixed", "com", "inertia"):
             assert np.array_equal(getattr(a, f), getattr(b, f))
-    assert document.programs_from_doc(doc) == compiled.programs
-    assert document.stream_from_doc(doc) == compiled.stream
+    assert document.programs_from_doc(typed) == compiled.programs
+    assert document.stream_from_doc(typed) == compiled.stream
 
 
 def test_written_netlist_is_the_compiled_one(compiled, program_path):
     """The netlist rows are formatted straight from the IR: read back, they give its wiring."""
-    net = document.network_from_doc(read_program(program_path))
+    net = document.network_from_doc(read_program_file(program_path))
     want = compiled.network
     def wiring(vamps):
         return [(v.index, v.a, v.b, [(s.node, s.op, s.column, s.sel_a, s.sel_b) for s in v.slots])
@@ -303,10 +313,10 @@ def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
 
 @pytest.mark.parametrize("edit,message", [
     (lambda d: d["programs"][0]["slots"][0].pop("delay_a"),
-     'programs[0].slots[0]: "delay_a" is a required property'),
-    (lambda d: d["network"].__setitem__("period", 0), "network.period: 0 is less than the minimum of 1"),
-    (lambda d: d["network"]["vamps"][1].__setitem__("number", "7"), 'network.vamps[1].number: "7" is not of type "integer"'),
-    (lambda d: d.pop("io"), 'document: "io" is a required property'),
+     "programs[0].slots[0]: object missing required field `delay_a`"),
+    (lambda d: d["network"].__setitem__("period", 0), "network.period: expected `int` >= 1"),
+    (lambda d: d["network"]["vamps"][1].__setitem__("number", "7"), "network.vamps[1].number: expected `int`, got `str`"),
+    (lambda d: d.pop("io"), "document: object missing required field `io`"),
 ])
 def test_schema_violations_are_named(program_path, edit, message):
     rewrite(program_path, edit)

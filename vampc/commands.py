@@ -14,6 +14,8 @@ import time
 import warnings
 from pathlib import Path
 
+import msgspec
+
 from vampc.errors import VampcError, VampcWarning
 from vampc.options import (
     CompileCommand,
@@ -98,17 +100,17 @@ def program_compiled(source: str, given, params: dict):
     graph (vampc.emulator), run in the background for a big program."""
     from vampc.background import Deferred, in_background
     from vampc.program.document import compiled_from_doc
-    from vampc.program.file import read_program
+    from vampc.program.file import read_program_file
     from vampc.report.counts import summary
-    doc = read_program(source)
-    check_program_options(given, params, source, doc["options"])
+    doc = read_program_file(source)
+    check_program_options(given, params, source, msgspec.structs.asdict(doc.options))
     c = compiled_from_doc(doc, source)
     check = Deferred()
-    if (doc["schedule"]["mult_latency"], doc["schedule"]["add_latency"]) == (1, 1):
+    if (doc.schedule.mult_latency, doc.schedule.add_latency) == (1, 1):
         check = in_background(_static_check, doc, source, c,
                               inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
     fresh = json.loads(json.dumps(summary(c)))
-    edited = sorted(k for k, v in doc["summary"].items() if k in fresh and fresh[k] != v)
+    edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v)
     if edited:
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
                                    f"schedule and network ({', '.join(edited)}): the file was "
@@ -116,7 +118,7 @@ def program_compiled(source: str, given, params: dict):
     return c, fresh, check
 
 
-def _static_check(doc: dict, source, c) -> None:
+def _static_check(doc, source, c) -> None:
     """The emulator's static checks of a program file: the network implements the graph."""
     from vampc.emulator import check_program, loaded_from_doc
     check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph, c.network, c.programs)))

@@ -97,11 +97,11 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
 def program_text(c: Compiled) -> str:
     """The program file's text (without its checksum: write_program stamps it) of a compiled robot."""
     from vampc.program.document import program_text as text
+    from vampc.program.format import LayoutDoc
     from vampc.report.counts import summary
-    opts = c.options.record()
-    layout_doc = {"name": c.options.layout_name, "share_passes": c.options.share_passes}
-    return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream, opts,
-                summary(c), layout_doc)
+    return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream,
+                c.options.record(), summary(c),
+                LayoutDoc(c.options.layout_name, c.options.share_passes))
 
 
 @gc_paused()

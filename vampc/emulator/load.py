@@ -24,9 +24,10 @@ from vampc.program.document import (
     programs_from_doc,
     schedule_of,
     stream_from_doc,
+    typed,
 )
 from vampc.program.emit import StreamEntry, a_roots, load_ticks
-from vampc.program.file import read_program
+from vampc.program.file import read_program_file
 from vampc.program.words import FIELDS, ROM, Program, apply_word, word_number
 from vampc.robot.chain import Chain
 from vampc.schedule.asap import Schedule
@@ -81,25 +82,27 @@ class Loaded:
 
 def load_program(path: str) -> Loaded:
     """Read, validate and decode a program file."""
-    doc = read_program(path)
-    return loaded_from_doc(doc, str(path))
+    return loaded_from_doc(read_program_file(path), str(path))
 
 
 @gc_paused()
-def loaded_from_doc(doc: dict, path: str = "<program>", decoded=None) -> Loaded:
-    """Decode an already-validated document (tests corrupt documents and call this directly).
+def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
+    """Decode a document: a vampc.program.format.ProgramFile as a file reads, or the same as dicts
+    (tests corrupt documents and call this directly; checked as a file's Structs are).
     `decoded`: the (chain, graph, network, listed programs) already read from this same document,
     which a report has (vampc.program.document.compiled_from_doc): they are used instead of
     decoding again."""
-    chain, graph, net, listed = decoded or (None, graph_from_doc(doc["graph"]), network_from_doc(doc),
-                                            None)
-    sched = schedule_of(doc["schedule"])
-    numbers = tuple(v["number"] for v in doc["network"]["vamps"])
-    ld = _loaded(str(path), chain or chain_from_doc(doc["robot"]), graph, sched, net, numbers,
+    import msgspec
+    doc = typed(doc, path)
+    chain, graph, net, listed = decoded or (None, graph_from_doc(doc.graph, path),
+                                            network_from_doc(doc, path), None)
+    sched = schedule_of(doc.schedule)
+    numbers = tuple(v.number for v in doc.network.vamps)
+    ld = _loaded(str(path), chain or chain_from_doc(doc.robot), graph, sched, net, numbers,
                  stream_from_doc(doc), listed or programs_from_doc(doc),
-                 tuple(sorted(doc["options"].items())))
-    if doc["io"]["load_ticks"] != ld.load_ticks:
-        raise VampcError(f"{path}: io.load_ticks {doc['io']['load_ticks']} is not the {ld.load_ticks} "
+                 tuple(sorted(msgspec.structs.asdict(doc.options).items())))
+    if doc.io.load_ticks != ld.load_ticks:
+        raise VampcError(f"{path}: io.load_ticks {doc.io.load_ticks} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
     return ld
 

@@ -1,15 +1,14 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
-import functools
-import json
 from dataclasses import replace
 
+import msgspec
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
+from vampc.errors import VampcError, VampcInternalError
 from vampc.gcpause import gc_paused
-from vampc.kinds import Section, TapKind
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
@@ -24,8 +23,17 @@ from vampc.network.model import (
     Tap,
     Vamp,
 )
+from vampc.program import format as F
 from vampc.program.emit import StreamEntry, load_ticks
-from vampc.program.file import FORMAT, VERSION, Rows, layout, tolist
+from vampc.program.file import (
+    FORMAT,
+    VERSION,
+    number,
+    number_rows,
+    numbers,
+    rendered,
+)
+from vampc.program.file import layout as laid_out
 from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.schedule.asap import Schedule
@@ -33,63 +41,52 @@ from vampc.schedule.layout import Layout
 from vampc.schedule.registry import LAYOUTS
 
 
-@functools.lru_cache(maxsize=65536)
-def _str(text: str) -> str:
-    """A string as JSON text (ASCII, as the encoder writes it); names repeat, so cached."""
-    return json.dumps(text)
-
-
-def _joint_doc(j: Joint) -> dict:
-    out = {
-        "name": j.name, "type": j.type.value, "phi": tolist(j.phi), "p_fixed": tolist(j.p_fixed),
-        "offset": float(j.offset), "mass": float(j.mass), "com": tolist(j.com),
-        "inertia": tolist(j.inertia), "axis": tolist(j.axis),
-        "limits": {"q": list(j.limits.q) if j.limits.q else None, "qd": j.limits.qd,
-                   "tau": j.limits.tau},
-    }
-    if j.pre is not None:        # a tree's joint frame (absent for a chain: its files are unchanged)
-        out["pre"] = tolist(j.pre)
-    if j.shift is not None:
-        out["shift"] = tolist(j.shift)
-    return out
-
-
-def chain_to_doc(chain: Chain) -> dict:
-    """The robot section (a tree adds `parents`; a floating base `floating` and the base inertia)."""
-    out = {"name": chain.name, "n": chain.n, "source": chain.source,
-           "joints": [_joint_doc(j) for j in chain.joints],
-           "gravity": tolist(chain.gravity), "base_omega": tolist(chain.base_omega),
-           "base_omega_dot": tolist(chain.base_omega_dot), "tip_force": tolist(chain.tip_force),
-           "tip_torque": tolist(chain.tip_torque)}
+def robot_doc(chain: Chain) -> F.RobotDoc:
+    """The robot section (a tree adds `parents`; a floating base `floating` and the base inertia).
+    Floats as program files write them (vampc.program.file.number), like every section's."""
+    def floats(x):       # a vector or a matrix's rows
+        x = np.asarray(x, dtype=float)
+        return numbers(x) if x.ndim == 1 else [numbers(row) for row in x]
+    joints = [F.JointDoc(
+        j.name, j.type.value, floats(j.phi), floats(j.p_fixed), number(j.offset), number(j.mass),
+        floats(j.com), floats(j.inertia), floats(j.axis),
+        F.Limits(*rendered([list(j.limits.q) if j.limits.q else None, j.limits.qd,
+                             j.limits.tau])),
+        # a tree's joint frame (absent for a chain: its files are unchanged)
+        floats(j.pre) if j.pre is not None else None,
+        floats(j.shift) if j.shift is not None else None) for j in chain.joints]
+    out = F.RobotDoc(chain.name, chain.n, chain.source, joints, floats(chain.gravity),
+                     floats(chain.base_omega), floats(chain.base_omega_dot),
+                     floats(chain.tip_force), floats(chain.tip_torque))
     if not chain.is_chain:
-        out["parents"] = list(chain.parent_of)
+        out.parents = list(chain.parent_of)
     if chain.floating:
-        out.update(floating=True, base_mass=float(chain.base_mass), base_com=tolist(chain.base_com),
-                   base_inertia=tolist(chain.base_inertia))
+        out.floating, out.base_mass = True, number(chain.base_mass)
+        out.base_com, out.base_inertia = floats(chain.base_com), floats(chain.base_inertia)
     return out
 
 
-def chain_from_doc(doc: dict) -> Chain:
-    """Inverse of chain_to_doc."""
+def chain_from_doc(doc: F.RobotDoc) -> Chain:
+    """Inverse of robot_doc."""
     joints = tuple(Joint(
-        name=j["name"], type=JointType(j["type"]), phi=np.array(j["phi"]),
-        p_fixed=np.array(j["p_fixed"]), offset=j["offset"], mass=j["mass"], com=np.array(j["com"]),
-        inertia=np.array(j["inertia"]),
-        limits=Limits(tuple(j["limits"]["q"]) if j["limits"]["q"] else None, j["limits"]["qd"],
-                      j["limits"]["tau"]),
-        pre=np.array(j["pre"]) if "pre" in j else None,
-        shift=np.array(j["shift"]) if "shift" in j else None) for j in doc["joints"])
+        name=j.name, type=JointType(j.type), phi=np.array(j.phi), p_fixed=np.array(j.p_fixed),
+        offset=j.offset, mass=j.mass, com=np.array(j.com), inertia=np.array(j.inertia),
+        limits=Limits(tuple(j.limits.q) if j.limits.q else None, j.limits.qd, j.limits.tau),
+        pre=np.array(j.pre) if j.pre is not None else None,
+        shift=np.array(j.shift) if j.shift is not None else None) for j in doc.joints)
     tree = {}
-    if "parents" in doc:
-        tree["parents"] = tuple(doc["parents"])
-    if doc.get("floating"):
-        tree.update(floating=True, base_mass=doc["base_mass"], base_com=np.array(doc["base_com"]),
-                    base_inertia=np.array(doc["base_inertia"]))
-    chain = Chain(doc["name"], joints, np.array(doc["gravity"]), np.array(doc["base_omega"]),
-                  np.array(doc["base_omega_dot"]), np.array(doc["tip_force"]),
-                  np.array(doc["tip_torque"]), doc["source"], **tree)
+    if doc.parents is not None:
+        tree["parents"] = tuple(doc.parents)
+    if doc.floating:
+        for name in ("base_mass", "base_com", "base_inertia"):
+            if getattr(doc, name) is None:
+                raise VampcError(f"robot.{name}: a floating base needs it")
+        tree.update(floating=True, base_mass=doc.base_mass, base_com=np.array(doc.base_com),
+                    base_inertia=np.array(doc.base_inertia))
+    chain = Chain(doc.name, joints, np.array(doc.gravity), np.array(doc.base_omega),
+                  np.array(doc.base_omega_dot), np.array(doc.tip_force),
+                  np.array(doc.tip_torque), doc.source, **tree)
     if tree:      # the host walks the tree: parents must be a depth-first tree of n joints
-        from vampc.errors import VampcError, VampcInternalError
         try:
             chain._verify_tree()
         except VampcInternalError as exc:
@@ -97,139 +94,165 @@ def chain_from_doc(doc: dict) -> Chain:
     return chain
 
 
-def graph_to_doc(g: Graph) -> dict:
-    """The graph section: one row per node (formatted straight to text, see Rows)."""
-    def row(nd: Node) -> str:
-        # keys in sorted order, as the canonical encoder writes them; a float as its repr, which
-        # is json's (the values are finite: the graph was verified)
-        key = f'"key":[{_str(nd.key.quantity)},{nd.key.joint}],' if nd.key else ""
-        value = (",\"value\":[" + ",".join(map(float.__repr__, nd.value)) + "]"
-                 if nd.value is not None else "")
-        return (f'{{"args":{_ints(nd.args)},"group":{nd.group},"id":{nd.id},{key}'
-                f'"name":{_str(nd.name)},"op":"{nd.op.value}","section":{_str(nd.section)}'
-                f'{value}}}')
-    return {"n": g.n, "recursion": g.recursion, "meta": dict(g.meta),
-            "nodes": Rows(map(row, g.nodes)),
-            "outputs": [[o.joint, o.node, o.component] for o in g.outputs]}
+def graph_doc(g: Graph) -> F.GraphDoc:
+    """The graph section: one row per node."""
+    return F.GraphDoc(g.n, g.recursion, [
+        F.NodeDoc(nd.id, nd.op.value, list(nd.args), nd.name, nd.section, nd.group,
+                  (nd.key.quantity, nd.key.joint) if nd.key else None,
+                  numbers(nd.value) if nd.value is not None else None) for nd in g.nodes],
+        [(o.joint, o.node, o.component) for o in g.outputs], dict(g.meta))
 
 
-# name -> member, a dict lookup (an Enum call costs a microsecond, and a big file names millions)
-_SECTION = {m.value: m for m in Section}
-_TAP = {m.value: m for m in TapKind}
+def graph_from_doc(d: F.GraphDoc, path="<program>") -> Graph:
+    """Inverse of graph_doc (VampcError naming the node whose op the table does not know)."""
+    ops = _ops(graph=True)
+    nodes = []
+    for r in d.nodes:
+        op = ops.get(r.op)
+        if op is None:
+            raise VampcError(f"{path}: graph.nodes[{len(nodes)}].op: {r.op!r} is not an op "
+                             f"({', '.join(ops)})")
+        nodes.append(Node(r.id, op, tuple(r.args), r.name, r.section, r.group,
+                          InputKey(*r.key) if r.key is not None else None,
+                          tuple(r.value) if r.value is not None else None))
+    return Graph(tuple(nodes), tuple(Output(*o) for o in d.outputs), d.n, d.recursion,
+                 tuple(sorted(d.meta.items())))
 
 
-def graph_from_doc(d: dict) -> Graph:
-    """Inverse of graph_to_doc."""
-    nodes = tuple(Node(r["id"], Op(r["op"]), tuple(r["args"]), r["name"], _SECTION[r["section"]],
-                       r["group"],
-                       InputKey(*r["key"]) if "key" in r else None,
-                       tuple(r["value"]) if "value" in r else None) for r in d["nodes"])
-    return Graph(nodes, tuple(Output(*o) for o in d["outputs"]), d["n"], d["recursion"],
-                 tuple(sorted(d["meta"].items())))
+def _ops(graph: bool) -> dict[str, Op]:
+    """Op names a file may use: the table's compute ops (and INPUT, CONST in a graph)."""
+    return {op.value: op for op in Op if op.is_compute or graph}
 
 
-def schedule_to_doc(s: Schedule) -> dict:
+def schedule_doc(s: Schedule) -> F.ScheduleDoc:
     """The schedule section."""
-    return {"mult_latency": s.timing.mult, "add_latency": s.timing.add, "latency": s.latency,
-            "interval": s.interval, "mults": s.mults, "adds": s.adds,
-            "critical_path": list(s.critical_path), "start": list(s.start), "finish": list(s.finish)}
+    return F.ScheduleDoc(s.timing.mult, s.timing.add, s.latency, s.interval, s.mults, s.adds,
+                         list(s.start), list(s.finish), list(s.critical_path))
 
 
-def network_to_doc(net: Network, numbering) -> dict:
+def network_doc(net: Network, numbering) -> F.NetworkDoc:
     """The network (netlist) section: wiring only; timing lives in the programs."""
-    taps: dict[int, str] = {}   # id(operand) -> its taps as text: readers share operands, and so text
-    def operand(op: Operand) -> str:
-        text = taps.get(id(op))
-        if text is None:
-            text = taps[id(op)] = "[" + ",".join([f'["{t.kind}",{t.index},{t.stage}]'
-                                                  for t in op.taps]) + "]"
-        return text
-    def mux(inputs) -> str:
-        return "[" + ",".join([operand(op) for op in inputs]) + "]"
-    return {
-        "period": net.period, "clock": net.clock,
-        "vamps": Rows(f'{{"a":{mux(v.a)},"b":{mux(v.b)},"index":{v.index},'
-                      f'"number":{numbering[v.index]}}}' for v in net.vamps),
-        "buffers": Rows(f'{{"index":{b.index},"source":{b.source},"stages":{b.stages}}}'
-                        for b in net.buffers),
-        "ports": [{"index": p.index, "size": p.size,
-                   "entries": [[e.key.quantity, e.key.joint, e.block] for e in p.entries]}
-                  for p in net.ports],
-        "consts": [{"index": c.index, "name": c.name, "value": list(c.value)} for c in net.consts],
-    }
+    taps: dict[int, list] = {}   # id(operand) -> its taps: readers share operands, and so rows
+    def operand(op: Operand) -> list:
+        rows = taps.get(id(op))
+        if rows is None:
+            rows = taps[id(op)] = [F.TapDoc(t.kind, t.index, t.stage) for t in op.taps]
+        return rows
+    return F.NetworkDoc(
+        net.period, net.clock,
+        [F.VampDoc(v.index, numbering[v.index], [operand(op) for op in v.a],
+                   [operand(op) for op in v.b]) for v in net.vamps],
+        [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],
+        [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
+                                     for e in p.entries]) for p in net.ports],
+        [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts])
 
 
-def _slot_row(s, p) -> str:
-    return (f'{{"delay_a":{p.delay_a},"delay_b":{p.delay_b},"delay_r":{p.delay_r},"node":{s.node},'
-            f'"op":"{s.op.value}","rom":{p.rom},"sel_a":{p.sel_a},"sel_b":{p.sel_b}}}')
+def programs_doc(net: Network, progs) -> list[F.ProgramDoc]:
+    """The programs section: each VAMP's slots with their control registers."""
+    return [F.ProgramDoc(v.index, [F.SlotDoc(s.node, s.op.value, p.delay_a, p.delay_b, p.delay_r,
+                                             p.rom, p.sel_a, p.sel_b)
+                                   for s, p in zip(v.slots, ps)])
+            for v, ps in zip(net.vamps, progs)]
+
+
+def stream_doc(stream) -> list[F.StreamDoc]:
+    """The program_stream section: per input buffer, the words the host writes in Program Mode."""
+    return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets), list(e.depth),
+                        number_rows(e.words)) for e in stream]
+
+
+def io_doc(net: Network, stream) -> F.IoDoc:
+    """The io section: when the host writes each port, where and when each torque appears."""
+    B = net.clock
+    return F.IoDoc(net.period, B, load_ticks(stream),
+                   [F.PortWriteDoc(p.index, e.key.quantity, e.key.joint, e.block * B)
+                    for p in net.ports for e in p.entries],
+                   [F.OutputDoc(o.joint, o.vamp, o.component, o.tick) for o in net.outputs])
+
+
+def program_sections(chain, graph, sched, net, numbering, progs, stream, options: dict,
+                     summary: dict, layout: F.LayoutDoc) -> dict:
+    """Every section of the program file but its checksum, as vampc.program.format's Structs."""
+    return {"format": FORMAT, "version": VERSION, "robot": robot_doc(chain),
+            "options": F.OptionsDoc(**options), "graph": graph_doc(graph),
+            "schedule": schedule_doc(sched), "layout": layout, "network": network_doc(net, numbering),
+            "programs": programs_doc(net, progs), "program_stream": stream_doc(stream),
+            "io": io_doc(net, stream), "summary": summary}
 
 
 def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                 summary: dict, layout_doc: dict) -> str:
+                 summary: dict, layout: F.LayoutDoc) -> str:
     """The whole program-file document (without its checksum) as the text `write_program` writes:
-    canonical JSON laid out one row per line (vampc.program.file.layout)."""
-    B = net.clock
-    return layout({
-        "format": FORMAT, "version": VERSION, "robot": chain_to_doc(chain), "options": options,
-        "graph": graph_to_doc(graph), "schedule": schedule_to_doc(sched), "layout": layout_doc,
-        "network": network_to_doc(net, numbering),
-        "programs": Rows('{"slots":[' + ",".join([_slot_row(s, p) for s, p in zip(v.slots, ps)])
-                         + f'],"vamp":{v.index}}}' for v, ps in zip(net.vamps, progs)),
-        "program_stream": Rows(
-            f'{{"depth":{_ints(e.depth)},"root":["{e.root.kind}",{e.root.index}],'
-            f'"targets":{_ints(e.targets)},"words":['
-            + ",".join([f"[{x!r},{y!r},{z!r}]" for x, y, z in e.words]) + "]}"
-            for e in stream),
-        "io": {"period": net.period, "clock": B, "load_ticks": load_ticks(stream),
-               "port_writes": [{"port": p.index, "quantity": e.key.quantity, "joint": e.key.joint,
-                                "tick": e.block * B} for p in net.ports for e in p.entries],
-               "outputs": [{"joint": o.joint, "vamp": o.vamp, "component": o.component,
-                            "tick": o.tick} for o in net.outputs]},
-        "summary": summary,
-    })
+    the sections' Structs encoded by msgspec as canonical JSON, laid out one row per line
+    (vampc.program.file.layout)."""
+    return laid_out(program_sections(chain, graph, sched, net, numbering, progs, stream,
+                                     options, summary, layout))
 
 
-def _ints(values) -> str:
-    return "[" + ",".join(map(str, values)) + "]"
-
-
-def network_from_doc(doc: dict) -> Network:
+def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
     """The netlist, with each VAMP's slots as its `programs` listing gives them (latch and dump
     ticks are Cycle-Counter values here: absolute times are the emulator's to derive)."""
-    nd = doc["network"]
-    progs = doc["programs"]
+    nd = doc.network
+    progs = doc.programs
+    ops = _ops(graph=False)
+    rom_size = len(ROM)
+    operands: dict[tuple, Operand] = {}
     def operand(rows) -> Operand:
-        return Operand(tuple(Tap(_TAP[k], i, s) for k, i, s in rows))
+        key = tuple((t.kind, t.index, t.stage) for t in rows)
+        op = operands.get(key)
+        if op is None:
+            op = operands[key] = Operand(tuple(Tap(*k) for k in key))
+        return op
+    def slot(v: int, k: int, r: F.SlotDoc) -> ProgrammedSlot:
+        op = ops.get(r.op)
+        where = f"{path}: programs[{v}].slots[{k}]"
+        if op is None:
+            raise VampcError(f"{where}.op: {r.op!r} is not a compute op ({', '.join(ops)})")
+        if r.rom >= rom_size:
+            raise VampcError(f"{where}.rom: {r.rom} is not a ROM pointer (0..{rom_size - 1})")
+        name, column = ROM[r.rom]
+        return ProgrammedSlot(r.node, name, column, r.sel_a, r.sel_b, r.delay_a, r.delay_b,
+                              r.delay_r)
     def slots(index: int):
-        return tuple(ProgrammedSlot(r["node"], ROM[r["rom"]][0], ROM[r["rom"]][1], r["sel_a"],
-                                    r["sel_b"], r["delay_a"], r["delay_b"], r["delay_r"])
-                     for r in progs[index]["slots"])
-    vamps = tuple(Vamp(v["index"], tuple(map(operand, v["a"])), tuple(map(operand, v["b"])),
-                       slots(v["index"])) for v in nd["vamps"])
-    return Network(nd["period"], nd["clock"], vamps,
-                   tuple(Buffer(b["index"], b["source"], b["stages"]) for b in nd["buffers"]),
-                   tuple(Port(p["index"], p["size"], tuple(PortEntry(InputKey(q, j), blk)
-                                                           for q, j, blk in p["entries"]))
-                         for p in nd["ports"]),
-                   tuple(Const(c["index"], c["name"], tuple(c["value"])) for c in nd["consts"]),
-                   tuple(OutputPoint(o["joint"], o["vamp"], o["component"], o["tick"])
-                         for o in doc["io"]["outputs"]))
+        if not 0 <= index < len(progs):
+            raise VampcError(f"{path}: network.vamps: VAMP {index} has no programs entry")
+        return tuple(slot(index, k, r) for k, r in enumerate(progs[index].slots))
+    vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
+                       slots(v.index)) for v in nd.vamps)
+    return Network(nd.period, nd.clock, vamps,
+                   tuple(Buffer(b.index, b.source, b.stages) for b in nd.buffers),
+                   tuple(Port(p.index, p.size, tuple(PortEntry(InputKey(e.quantity, e.joint),
+                                                               e.block) for e in p.entries))
+                         for p in nd.ports),
+                   tuple(Const(c.index, c.name, tuple(c.value)) for c in nd.consts),
+                   tuple(OutputPoint(o.joint, o.vamp, o.component, o.tick)
+                         for o in doc.io.outputs))
 
 
-def stream_from_doc(doc: dict) -> tuple[StreamEntry, ...]:
+def stream_from_doc(doc: F.ProgramFile) -> tuple[StreamEntry, ...]:
     """The program stream entries, words included."""
-    return tuple(StreamEntry(Tap(*e["root"]), tuple(e["targets"]), tuple(e["depth"]),
-                             tuple(tuple(w) for w in e["words"])) for e in doc["program_stream"])
+    return tuple(StreamEntry(Tap(e.root.kind, e.root.index), tuple(e.targets), tuple(e.depth),
+                             tuple(map(tuple, e.words))) for e in doc.program_stream)
 
 
-def programs_from_doc(doc: dict) -> tuple[tuple[Program, ...], ...]:
+def programs_from_doc(doc: F.ProgramFile) -> tuple[tuple[Program, ...], ...]:
     """Per-VAMP slot programs as the `programs` listing writes them."""
-    return tuple(tuple(Program(r["delay_a"], r["delay_b"], r["delay_r"], r["rom"], r["sel_a"],
-                               r["sel_b"]) for r in p["slots"]) for p in doc["programs"])
+    return tuple(tuple(Program(r.delay_a, r.delay_b, r.delay_r, r.rom, r.sel_a, r.sel_b)
+                       for r in p.slots) for p in doc.programs)
+
+
+def typed(doc, path) -> F.ProgramFile:
+    """A program document as its Structs: a ProgramFile as it is, a dict (json.loads of a file, a
+    test's edit) converted and checked like a file (VampcError naming the place)."""
+    if isinstance(doc, F.ProgramFile):
+        return doc
+    from vampc.program.file import validate_program
+    return validate_program(doc, path)
 
 
 @gc_paused()
-def compiled_from_doc(doc: dict, path):
+def compiled_from_doc(doc: F.ProgramFile | dict, path):
     """The compiler's IRs as a validated program document holds them (a vampc.compiler.Compiled),
     checked against each other, nothing scheduled again: the graph is verified; the schedule must
     run the graph under the file's latencies (durations, dependencies, latency and critical path);
@@ -240,51 +263,52 @@ def compiled_from_doc(doc: dict, path):
     from it."""
 
     from vampc.compiler import Compiled, CompileOptions
-    from vampc.errors import VampcError, VampcInternalError
-    graph = graph_from_doc(doc["graph"])
-    net = network_from_doc(doc)
-    opts = doc["options"]
-    known = CompileOptions.recorded()
+    doc = typed(doc, path)
+    graph = graph_from_doc(doc.graph, path)
+    net = network_from_doc(doc, path)
+    for name in (doc.options.layout, doc.layout.name):
+        if name not in LAYOUTS:
+            where = "options.layout" if name == doc.options.layout else "layout.name"
+            raise VampcError(f"{path}: {where}: {name!r} is not a layout ({', '.join(LAYOUTS)})")
     try:
-        options = CompileOptions(**{k: v for k, v in opts.items() if k in known})
+        options = CompileOptions(**msgspec.structs.asdict(doc.options))
         options.check()
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
     try:
         graph.verify()
-        sched = schedule_from_doc(doc["schedule"], graph, path)
+        sched = schedule_from_doc(doc.schedule, graph, path)
         if sched.interval != net.period:
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
-        proof = (doc.get("summary", {}).get("budget") or {}).get("proof", "")
-        kind = LAYOUTS.get(options.layout_name)      # the schema holds the name to the registry
-        layout = layout_from_network(doc["layout"], net, graph, kind is None or kind.grouped,
+        budget = doc.summary.get("budget")
+        proof = budget.get("proof", "") if isinstance(budget, dict) else ""
+        layout = layout_from_network(doc.layout, net, graph, LAYOUTS[doc.layout.name].grouped,
                                      proof)
         layout.verify(graph)
         timed_network(net, sched, path).verify(graph, sched)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
-    numbering = tuple(v["number"] for v in doc["network"]["vamps"])
-    return Compiled(chain_from_doc(doc["robot"]), options, graph, sched, net,
+    numbering = tuple(v.number for v in doc.network.vamps)
+    return Compiled(chain_from_doc(doc.robot), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
 
 
-def schedule_of(stored: dict) -> Schedule:
+def schedule_of(stored: F.ScheduleDoc) -> Schedule:
     """The schedule section as a Schedule, as it stands (schedule_from_doc checks it too)."""
     from vampc.machine.ops import Timing
-    return Schedule(Timing(stored["mult_latency"], stored["add_latency"]), tuple(stored["start"]),
-                    tuple(stored["finish"]), stored["latency"], tuple(stored["critical_path"]),
-                    stored["mults"], stored["adds"], stored["interval"])
+    return Schedule(Timing(stored.mult_latency, stored.add_latency), tuple(stored.start),
+                    tuple(stored.finish), stored.latency, tuple(stored.critical_path),
+                    stored.mults, stored.adds, stored.interval)
 
 
-def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
+def schedule_from_doc(stored: F.ScheduleDoc, graph: Graph, path) -> Schedule:
     """The schedule section as a Schedule, verified against the graph: every op lasts its duration
     after its operands, the latency is the last torque's finish and the critical path and its
     Mult/Addn counts are the graph's under these times (VampcError naming the field otherwise)."""
-    from vampc.errors import VampcError
     from vampc.machine.ops import Timing
-    timing = Timing(stored["mult_latency"], stored["add_latency"])
-    if len(stored["start"]) != len(graph.nodes) or len(stored["finish"]) != len(graph.nodes):
+    timing = Timing(stored.mult_latency, stored.add_latency)
+    if len(stored.start) != len(graph.nodes) or len(stored.finish) != len(graph.nodes):
         raise VampcError(f"{path}: schedule: start and finish need one tick per graph node")
     sched = schedule_of(stored)
     duration = timing.durations
@@ -313,7 +337,7 @@ def schedule_from_doc(stored: dict, graph: Graph, path) -> Schedule:
     return sched
 
 
-def layout_from_network(lay: dict, net: Network, graph: Graph, grouped: bool,
+def layout_from_network(lay: F.LayoutDoc, net: Network, graph: Graph, grouped: bool,
                         proof: str = "") -> Layout:
     """The layout a network runs: each node's VAMPs, read off the slots naming it (in column order)."""
     on: dict[int, list[tuple[int, int]]] = {}
@@ -323,7 +347,7 @@ def layout_from_network(lay: dict, net: Network, graph: Graph, grouped: bool,
     empty = ()
     placement = tuple(tuple(v for _, v in sorted(on[i])) if i in on else empty
                       for i in range(len(graph.nodes)))
-    return Layout(lay["name"], placement, net.period, net.clock, lay["share_passes"], grouped,
+    return Layout(lay.name, placement, net.period, net.clock, lay.share_passes, grouped,
                   proof)
 
 

@@ -1,6 +1,7 @@
-"""The program file (`*.vamp.json`): writer and validating reader (schema `program.schema.json`).
+"""The program file (`*.vamp.json`): writer and validating reader. Its types are
+vampc.program.format's Structs, from which `schemas/program.schema.json` is generated.
 
-Sections (format "vampc-program", version 1):
+Sections (format "vampc-program", version 2):
 
     robot           what the host needs: joint types, Φ_i, offsets, p*, r*, masses, inertias, limits,
                     gravity and endpoint values (so it can compute A_i(q) and check torques)
@@ -15,27 +16,30 @@ Sections (format "vampc-program", version 1):
     summary         latency, interval, counts
     checksum        sha256 of the canonical JSON of everything else
 
-Written atomically (temporary file, then rename). A reader validates the schema, the version and the
-checksum before anything else looks at the data.
+Written atomically (temporary file, then rename). A reader decodes the file into the Structs, which
+checks every type and range as it parses, then the checksum, before anything else looks at the data.
 """
 from __future__ import annotations
 
 import hashlib
 import json
+import re
 from pathlib import Path
 
+import msgspec
 import numpy as np
 
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
+from vampc.program.format import ProgramFile, check_summary, decode, from_builtins
 
 FORMAT, VERSION = "vampc-program", 2
 
 
-def canonical(doc: dict) -> str:
-    """Deterministic JSON text (sorted keys, no whitespace variation)."""
-    return json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False,
-                      check_circular=False)   # documents are trees (built or parsed)
+def canonical(doc) -> str:
+    """Deterministic JSON text (sorted keys, no whitespace, ASCII, floats as Python's repr) of a
+    document: dicts and lists as json.loads gives them, or vampc.program.format's Structs."""
+    return encode(rendered(doc))
 
 
 def checksum(doc: dict) -> str:
@@ -48,37 +52,113 @@ def _digest(text: str) -> str:
     return "sha256:" + hashlib.sha256(text.encode()).hexdigest()
 
 
-class Rows(list):
-    """A list whose items are already canonical JSON text (one row each): `layout` writes them as they
-    are, one per line. The program document's big sections (a row per VAMP, per program, per graph
-    node) are formatted this way, straight from the IRs, because building a million dicts and encoding
-    them again cost most of a large compile."""
+# The one encoder: msgspec, keys and Struct fields in sorted order. It writes floats its own way
+# (0.00001 where Python's repr, which program files have always used, writes 1e-05), so floats
+# reach it already written, as msgspec.Raw (number, numbers); and it writes non-ASCII characters as
+# UTF-8, where program files have always escaped them (_ascii).
+_ENCODER = msgspec.json.Encoder(order="sorted")
+_NOT_ASCII = re.compile(rb"[\x7f-\xff]")
+_ESCAPE = re.compile("[\x7f-\U0010ffff]")
 
 
-def compact_encoder():
-    """obj -> canonical JSON text (sorted keys, no spaces, ASCII). The encoder object is made once
-    and reused for every row (json.dumps would make one per call)."""
-    return json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False,
-                            check_circular=False).encode
+def number(x) -> msgspec.Raw:
+    """A float as program files write it: Python's repr (shortest round trip); ValueError for NaN
+    and infinities, which JSON has no number for."""
+    text = float.__repr__(float(x))
+    if "n" in text:                      # nan, inf: no finite float's repr has an n
+        raise ValueError(f"{text} is not a JSON number")
+    return msgspec.Raw(text.encode())
 
 
-def layout(doc: dict) -> str:
-    """The canonical JSON of `doc` with line breaks added: one line per key of the document and of
-    its sections, and one line per row of a list of objects or lists among them (a VAMP, a program,
-    a graph node). Only newlines are added, and a JSON encoder never writes a raw newline (it escapes
-    them inside strings), so deleting every newline gives canonical(doc) back."""
-    enc = compact_encoder()
+def numbers(xs) -> msgspec.Raw:
+    """A list of floats as program files write it (see number)."""
+    text = _reprs(xs)
+    if "n" in text:
+        raise ValueError(f"[{text}] holds a value that is not a JSON number")
+    return msgspec.Raw(f"[{text}]".encode())
+
+
+def number_rows(rows) -> msgspec.Raw:
+    """A list of lists of floats (a program stream's words) as program files write it, at once."""
+    text = ",".join(["[" + _reprs(r) + "]" for r in rows])
+    if "n" in text:
+        raise ValueError("a row holds a value that is not a JSON number")
+    return msgspec.Raw(f"[{text}]".encode())
+
+
+def _reprs(xs) -> str:
+    try:
+        return ",".join(map(float.__repr__, xs))
+    except TypeError:                 # ints among them
+        return ",".join([float.__repr__(float(x)) for x in xs])
+
+
+def encode(value) -> str:
+    """Canonical JSON text of a value whose floats are already written (number, numbers)."""
+    out = _ENCODER.encode(value)
+    return _ascii(out.decode()) if _NOT_ASCII.search(out) else out.decode()
+
+
+def _ascii(text: str) -> str:
+    """Characters beyond ASCII (and DEL) as JSON escapes, as Python's json writes them: they occur
+    in strings only."""
+    def escape(m) -> str:
+        c = ord(m.group())
+        if c < 0x10000:
+            return f"\\u{c:04x}"
+        c -= 0x10000
+        return f"\\u{0xd800 | (c >> 10):04x}\\u{0xdc00 | (c & 0x3ff):04x}"
+    return _ESCAPE.sub(escape, text)
+
+
+def rendered(value):
+    """A dict-and-list document with its floats written (number); Structs, written by the program
+    writer with their floats already so, are left as they are."""
+    if type(value) is float:
+        return number(value)
+    if isinstance(value, dict):
+        return {k: rendered(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [rendered(v) for v in value]
+    return value
+
+
+def _fields(value):
+    """(key, value) of a dict or a Struct as the encoder writes them: sorted; a Struct's fields
+    left out when it omits defaults and they are."""
+    if isinstance(value, dict):
+        return sorted(value.items())
+    config = value.__struct_config__
+    out = []
+    for f in msgspec.structs.fields(value):
+        v = getattr(value, f.name)
+        if config.omit_defaults and f.default is not msgspec.NODEFAULT and v == f.default:
+            continue
+        out.append((f.encode_name, v))
+    return sorted(out)
+
+
+def layout(doc) -> str:
+    """The canonical JSON of `doc` (dicts and lists, or the program writer's Structs) with line
+    breaks added: one line per key of the document and of its sections, and one line per row of a
+    list of objects or lists among them (a VAMP, a program, a graph node). Only newlines are added,
+    and a JSON encoder never writes a raw newline (it escapes them inside strings), so deleting
+    every newline gives canonical(doc) back."""
+    rows = (dict, list, tuple, msgspec.Struct)
 
     def block(value, depth: int) -> str:
-        if isinstance(value, Rows):
-            return "[\n" + ",\n".join(value) + "\n]" if value else "[]"
-        if isinstance(value, dict) and value and depth < 2:
-            return "{\n" + ",\n".join(enc(k) + ":" + block(value[k], depth + 1)
-                                       for k in sorted(value)) + "\n}"
-        if isinstance(value, list) and value and isinstance(value[0], (dict, list)) and depth <= 2:
-            return "[\n" + ",\n".join(map(enc, value)) + "\n]"
-        return enc(value)
-    return block(doc, 0)
+        if depth < 2 and (isinstance(value, dict) and value or isinstance(value, msgspec.Struct)
+                          and not value.__struct_config__.array_like):
+            return "{\n" + ",\n".join(encode(k) + ":" + block(v, depth + 1)
+                                       for k, v in _fields(value)) + "\n}"
+        if isinstance(value, (list, tuple)) and value and isinstance(value[0], rows) and depth <= 2:
+            # one row per line: msgspec writes rows newline-delimited, and JSON text has no raw
+            # newline of its own, so each newline is a row's end
+            out = _ENCODER.encode_lines(value)[:-1].replace(b"\n", b",\n")
+            text = _ascii(out.decode()) if _NOT_ASCII.search(out) else out.decode()
+            return "[\n" + text + "\n]"
+        return encode(value)
+    return block(rendered(doc), 0)
 
 
 def write_text_atomic(path, text: str, what: str = "output") -> None:
@@ -107,8 +187,20 @@ def write_program(doc: dict | str, path) -> None:
 
 
 @gc_paused()
+def read_program_file(path: str | Path) -> ProgramFile:
+    """Load a program file as its Structs (vampc.program.format), its types, ranges, version and
+    checksum checked; VampcError on any problem, naming the place."""
+    return _read(path)[0]
+
+
+@gc_paused()
 def read_program(path: str | Path) -> dict:
-    """Load, schema-validate and checksum-verify a program file; VampcError on any problem."""
+    """A program file checked as read_program_file does, as plain dicts and lists (for scripts and
+    tests that edit documents; vampc itself reads the Structs)."""
+    return json.loads(_read(path)[1])
+
+
+def _read(path) -> tuple[ProgramFile, str]:
     from vampc.textio import decode_utf8
     try:
         raw = Path(path).read_bytes()
@@ -116,15 +208,53 @@ def read_program(path: str | Path) -> dict:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
     text = decode_utf8(raw, path, "program file")
     try:
-        doc = json.loads(text, parse_constant=_reject_constant)
+        doc = decode(text)
+    except msgspec.ValidationError as exc:
+        _refuse_version(_untyped(text, path), path)
+        raise VampcError(f"{path}: {_where(exc)}") from None
+    except msgspec.DecodeError:
+        _untyped(text, path)         # says why
+        raise
+    lacks = check_summary(doc)
+    if lacks:
+        raise VampcError(f"{path}: {lacks}")
+    if doc.checksum != _laid_out_digest(text, doc.checksum) and \
+            doc.checksum != checksum(json.loads(text)):
+        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
+    return doc, text
+
+
+def _untyped(text: str, path):
+    """The JSON value of a file whose typed decode failed (VampcError if it is not JSON)."""
+    try:
+        return json.loads(text, parse_constant=_reject_constant)
     except RecursionError:
         raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
     except (json.JSONDecodeError, ValueError) as exc:
         raise VampcError(f"{path}: not a vampc program file (invalid JSON: {exc})") from None
-    validate_program(doc, path)
-    if doc["checksum"] != _laid_out_digest(text, doc["checksum"]) and doc["checksum"] != checksum(doc):
-        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
-    return doc
+
+
+def _refuse_version(doc, path) -> None:
+    """A document that is not a program file of this version, said as such (VampcError)."""
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
+    if doc.get("version") == 1:
+        raise VampcError(f"{path}: program format version 1 (one op per VAMP) is not read by this "
+                         f"vampc, which writes version {VERSION} (VAMPs with slots); recompile the "
+                         "robot with `vampc compile`")
+    if doc.get("version") != VERSION:
+        raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
+                         f"(this vampc reads version {VERSION})")
+
+
+def _where(exc: msgspec.ValidationError) -> str:
+    """msgspec's "Expected `int` >= 0 - at `$.network.vamps[0].index`" as "network.vamps[0].index:
+    expected `int` >= 0" (and "document: ..." for the top level)."""
+    message, _, where = str(exc).partition(" - at `$")
+    where = where.rstrip("`").lstrip(".") or "document"
+    if len(message) > 300:
+        message = message[:297] + "..."
+    return f"{where}: {message[:1].lower()}{message[1:]}"
 
 
 def _laid_out_digest(text: str, stored: str) -> str | None:
@@ -137,26 +267,21 @@ def _laid_out_digest(text: str, stored: str) -> str | None:
     return _digest(("{" + text[len(head):]).replace("\n", ""))
 
 
-def validate_program(doc, path) -> None:
-    """Schema and version check."""
-    from vampc.schemas_util import schema_errors
-    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
-    if doc.get("version") == 1:
-        raise VampcError(f"{path}: program format version 1 (one op per VAMP) is not read by this "
-                         f"vampc, which writes version {VERSION} (VAMPs with slots); recompile the "
-                         "robot with `vampc compile`")
-    if doc.get("version") != VERSION:
-        raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
-                         f"(this vampc reads version {VERSION})")
-    errors = schema_errors("program.schema.json", doc)
-    if errors:
-        err = errors[0]
-        where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in err.path).lstrip(".")
-        message = err.message
-        if len(message) > 300:   # the validator quotes whole values
-            message = message[:297] + "..."
-        raise VampcError(f"{path}: {where or 'document'}: {message}")
+def validate_program(doc, path) -> ProgramFile:
+    """A program document held as dicts and lists, checked like a file's (format, version, types
+    and ranges; not its checksum, which it may lack: vampc.compiler.program_document has none)
+    and returned as its Structs; VampcError otherwise."""
+    _refuse_version(doc, path)
+    if "checksum" not in doc:
+        doc = dict(doc, checksum=_digest(""))
+    try:
+        out = from_builtins(doc)
+    except msgspec.ValidationError as exc:
+        raise VampcError(f"{path}: {_where(exc)}") from None
+    lacks = check_summary(out)
+    if lacks:
+        raise VampcError(f"{path}: {lacks}")
+    return out
 
 
 def _reject_constant(name: str):
