@@ -251,6 +251,26 @@ def test_layout_only_adds_newlines_to_the_canonical_json(doc):
     assert json.loads(text) == doc
 
 
+@given(st.dictionaries(st.text(max_size=6), json_values, max_size=5))
+def test_canonical_json_is_what_the_standard_library_writes(doc):
+    """The encoder (msgspec, floats written as Python's repr, non-ASCII escaped) writes exactly the
+    text Python's json module writes with sorted keys and no spaces: program files keep their bytes."""
+    want = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    assert canonical(doc) == want
+
+
+def test_canonical_json_escapes_as_the_standard_library():
+    doc = {"name": "J\u00e9r\u00f4me \u2028 \U0001f916 \x7f \x1f \\ \"", "x": [1e-05, 1e16, -0.0, 5e-324]}
+    assert canonical(doc) == json.dumps(doc, sort_keys=True, separators=(",", ":"))
+
+
+def test_non_finite_numbers_are_refused_not_written():
+    with pytest.raises(ValueError):
+        canonical({"x": [1.0, float("nan")]})
+    with pytest.raises(ValueError):
+        canonical({"x": float("inf")})
+
+
 @pytest.mark.parametrize("recursion", ["linear", "log"])
 def test_rows_formatted_from_the_irs_are_what_json_writes(recursion):
     """program_text formats its big sections itself (a row per node, VAMP, buffer, program, stream
