@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
-from vampc.kinds import Recursion
 from vampc.network.allocate import allocate
 from vampc.network.model import Network
 from vampc.options import STAGES, CompileOptions  # noqa: F401  (STAGES: the compile stages)
@@ -40,13 +39,9 @@ class Compiled:
 
 
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:
-    """The dataflow graph for the chosen recursion."""
-    if options.recursion is Recursion.LINEAR:
-        from vampc.dataflow.linear import build_linear
-        return build_linear(chain, verify=options.verify)
-    from vampc.dataflow.logarithmic import build_log
-    return build_log(chain, prefix=options.prefix, uniform_leaves=options.uniform_leaves,
-                     verify=options.verify)
+    """The dataflow graph for the chosen recursion (its builder in vampc.dataflow.registry)."""
+    from vampc.dataflow.registry import RECURSIONS
+    return RECURSIONS[options.recursion].build(chain, options)
 
 
 

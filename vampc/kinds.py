@@ -107,6 +107,19 @@ class Quantity(Kind):
     PDD0 = "pdd0"
 
 
+def exhaustive(table: dict, kind: type[Kind]) -> dict:
+    """`table`, checked to hold an entry for every member of `kind` and nothing else
+    (VampcInternalError naming what is missing or extra): a registry keyed by a kind is then a
+    complete dispatch over it."""
+    missing = [m.value for m in kind if m not in table]
+    extra = [k for k in table if not isinstance(k, kind)]
+    if missing or extra:
+        from vampc.errors import VampcInternalError
+        raise VampcInternalError(f"the {kind.__name__} table misses {missing} and has extra "
+                                 f"{extra}")
+    return table
+
+
 def unhandled(value):
     """The end of a dispatch over a kind's members: a member no branch handles is a bug, never a
     silent default (every dispatch names each member it handles)."""

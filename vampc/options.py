@@ -15,6 +15,7 @@ import math
 from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 
+from vampc.dataflow.registry import prefix_names, recursion_names
 from vampc.errors import VampcUsageError
 from vampc.kinds import Engine, Prefix, Recursion
 from vampc.machine.ops import Timing
@@ -43,10 +44,10 @@ class CompileOptions:
     """Compiler options; each field is one `vampc compile` / `emulate` / `report` option."""
 
     recursion: Recursion = field(default=Recursion.LINEAR, metadata=cli(
-        "--recursion", choices=Recursion.names, show_default=True,
+        "--recursion", choices=recursion_names, show_default=True,
         help="Linear (section III) or logarithmic (sections IV-V) Newton-Euler recursion."))
     prefix: Prefix = field(default=Prefix.SKLANSKY, metadata=cli(
-        "--prefix", choices=Prefix.names, show_default=True,
+        "--prefix", choices=prefix_names, show_default=True,
         help="Prefix-network shape of the log recursion (Sklansky is the paper's)."))
     uniform_leaves: bool = field(default=False, metadata=cli(
         "--uniform-leaves", help="Log recursion: handle a = b with the uniform node of Appendix D."))

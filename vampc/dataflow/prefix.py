@@ -38,6 +38,7 @@ from collections import Counter
 from typing import Callable, Iterator
 
 from vampc.errors import VampcError, VampcInternalError
+from vampc.kinds import Prefix, exhaustive
 
 Triple = tuple[int, int, int]
 Tiers = tuple[tuple[Triple, ...], ...]
@@ -116,13 +117,14 @@ def ladner_fischer(m: int) -> Tiers:
     return _tiers(m, _ladner_fischer_triples(m))
 
 
-SHAPES: dict[str, Callable[[int], Tiers]] = {
-    "sklansky": sklansky,
-    "brent-kung": brent_kung,
-    "kogge-stone": kogge_stone,
-    "ladner-fischer": ladner_fischer,
-    "serial": serial,
-}
+# every prefix shape's tier function, one per member of vampc.kinds.Prefix (exhaustive)
+SHAPES: dict[Prefix, Callable[[int], Tiers]] = exhaustive({
+    Prefix.SKLANSKY: sklansky,
+    Prefix.BRENT_KUNG: brent_kung,
+    Prefix.KOGGE_STONE: kogge_stone,
+    Prefix.LADNER_FISCHER: ladner_fischer,
+    Prefix.SERIAL: serial,
+}, Prefix)
 
 
 def _tiers(m: int, triples) -> Tiers:

@@ -75,9 +75,12 @@ def layout_label(layout: str, share_passes: bool) -> str:
                                                                              share_passes)), layout)
 
 
-def configurations(c, recursions=("linear", "log")) -> list[Config]:
-    """Every recursion of `recursions` in every layout, `c` (a vampc.compiler.Compiled) among them;
-    the other options (prefix, leaves, latencies) as `c` was compiled."""
+def configurations(c, recursions=None) -> list[Config]:
+    """Every recursion of `recursions` (default: the registry's, vampc.dataflow.registry) in every
+    layout, `c` (a vampc.compiler.Compiled) among them; the other options (prefix, leaves,
+    latencies) as `c` was compiled."""
+    from vampc.dataflow.registry import RECURSIONS
+    recursions = tuple(RECURSIONS) if recursions is None else recursions
     out = []
     small = len(c.graph.compute_nodes()) <= ALLOCATE_LIMIT
     kind = c.options.layout_kind

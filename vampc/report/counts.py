@@ -17,11 +17,8 @@ VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
 
 def paper_latency(n: int, recursion: str) -> dict:
     """The paper's latency formula for a general rotary arm of n joints: Mults, Addns, flops."""
-    if Recursion(recursion) is Recursion.LINEAR:
-        mults, adds = 2 * n + 3, 6 * n + 7
-    else:
-        tiers = math.ceil(math.log2(n + 1))
-        mults, adds = 2 * tiers + 5, 6 * tiers + 10
+    from vampc.dataflow.registry import RECURSIONS
+    mults, adds = RECURSIONS[Recursion(recursion)].paper_latency(n)
     return {"flops": mults + adds, "mults": mults, "adds": adds}
 
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
-from vampc.kinds import Recursion, Section, TapKind
+from vampc.kinds import Recursion, Section, TapKind, unhandled
 from vampc.report import svg
 from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
 from vampc.schedule.registry import SYSTOLIC, is_layout
@@ -102,16 +102,17 @@ def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
     first = min((r[1] for r in table["bwd"]), default=1)
     places, labels = {}, {}
     for s in sites:
-        if s.section is Section.NPV:
-            places[s] = (s.index - first, tiers + 1)
-            labels[s] = f"r̈ F N {s.index}"
-            continue
-        _, a, _, b, tier = info[(s.section, s.index)]
-        if s.section is Section.BWD:
-            places[s] = (b - first, tier)
-        else:
-            places[s] = (a - first, tiers + 2 + tier)
-        labels[s] = f"({a},{b})"
+        match s.section:
+            case Section.NPV:
+                places[s] = (s.index - first, tiers + 1)
+                labels[s] = f"r̈ F N {s.index}"
+            case Section.BWD | Section.FWD:
+                _, a, _, b, tier = info[(s.section, s.index)]
+                places[s] = ((b - first, tier) if s.section is Section.BWD
+                             else (a - first, tiers + 2 + tier))
+                labels[s] = f"({a},{b})"
+            case other:
+                unhandled(other)
     return places, labels
 
 

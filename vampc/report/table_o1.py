@@ -3,6 +3,7 @@ the printed column beside them) and vampc's measured rows — the serial work of
 latency and interval of every configuration it compiles (vampc.report.configs)."""
 from __future__ import annotations
 
+from vampc.dataflow.registry import RECURSIONS
 from vampc.kinds import Recursion
 from vampc.machine.ops import Op
 from vampc.report import paper
@@ -57,7 +58,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
            "share_passes": k.options.share_passes, "own": k.own, "measure": "latency",
            "mults": s.mults, "adds": s.adds, "waits": s.waits, "flops": s.latency,
            "interval_flops": s.interval, "vamps": k.vamps,
-           "compare": "lathrop_linear" if k.recursion is Recursion.LINEAR else "lathrop_log",
+           "compare": RECURSIONS[k.recursion].paper_key,
            "paper": ref, "difference": {"mults": s.mults - ref["mults"], "adds": s.adds - ref["adds"],
                                          "flops": s.latency - ref["flops"]}}
     if k.options.layout_kind is SYSTOLIC:

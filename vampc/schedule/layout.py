@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
-from vampc.kinds import Recursion, Section
+from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
@@ -209,8 +209,13 @@ def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
 def device_nodes(graph: Graph):
     """node -> (device, position on the device): linear "bwd"/"npv"/"fwd" at position 0; log: the
     position of its recursion node in its tier, leaves and non-propagated groups dealt round."""
-    if graph.recursion is Recursion.LINEAR:
-        return lambda nd: (nd.section, 0)
+    match graph.recursion:
+        case Recursion.LINEAR:
+            return lambda nd: (nd.section, 0)
+        case Recursion.LOG:
+            pass
+        case other:
+            unhandled(other)
     meta = dict(graph.meta)
     place = {}
     for section in (Section.BWD, Section.FWD):
