@@ -2,7 +2,7 @@
 and HTML show the same cells, and a program file's report the same as its robot's."""
 from __future__ import annotations
 
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, exhaustive
 from vampc.machine.ops import report_kinds
 from vampc.report.clock import control_sentence, hz_text, us_text
 from vampc.report.sites import SECTION_NAMES
@@ -324,7 +324,8 @@ def wiring(rep: dict) -> Table:
     w = rep["wiring"]
     b = w["buses"]
     pb, pi = b["paper_between_nodes"], b["paper_internal"]
-    what = "nodes" if Recursion(rep["recursion"]) is Recursion.LINEAR else "nodes of the tiers"
+    what = exhaustive({Recursion.LINEAR: "nodes", Recursion.LOG: "nodes of the tiers"},
+                      Recursion)[Recursion(rep["recursion"])]
     rows = []
     for sec in ("bwd", "fwd"):
         x = b["between_nodes"][sec]

@@ -4,7 +4,7 @@ latency and interval of every configuration it compiles (vampc.report.configs)."
 from __future__ import annotations
 
 from vampc.dataflow.registry import RECURSIONS
-from vampc.kinds import Recursion
+from vampc.kinds import Recursion, exhaustive
 from vampc.machine.ops import Op
 from vampc.report import paper
 from vampc.report.counts import latency_reasons, paper_latency, serial_work
@@ -35,14 +35,17 @@ def _serial_row(graph, n: int) -> dict:
     work = serial_work(graph)
     lwp = paper.formulation("luh_walker_paul")
     ref = {"mults": paper.number(lwp.mults(n)), "adds": paper.number(lwp.adds(n))}
-    short, why = (("no SV, VD (input/output convention)",
-                   "linear graph, serial work: counted op by op from vampc's graph (README, Figures "
-                   "against the paper), not by Luh-Walker-Paul's accounting: no SV for z q̇, z q̈ and "
-                   "no VD for τ (the paper's input/output convention)")
-                  if graph.recursion is Recursion.LINEAR else
-                  ("work traded for depth",
-                   "log graph, serial work: the log recursion trades work for depth, every combining "
-                   "node composing whole relational parameters (Table V.1)"))
+    short, why = exhaustive({
+        Recursion.LINEAR: (
+            "no SV, VD (input/output convention)",
+            "linear graph, serial work: counted op by op from vampc's graph (README, Figures "
+            "against the paper), not by Luh-Walker-Paul's accounting: no SV for z q̇, z q̈ and "
+            "no VD for τ (the paper's input/output convention)"),
+        Recursion.LOG: (
+            "work traded for depth",
+            "log graph, serial work: the log recursion trades work for depth, every combining "
+            "node composing whole relational parameters (Table V.1)"),
+    }, Recursion)[graph.recursion]
     return {"configuration": f"{graph.recursion} graph, serial work", "recursion": graph.recursion,
             "measure": "serial", "mults": work["mults"], "adds": work["adds"],
             "flops": work["mults"] + work["adds"], "compare": lwp.key, "paper": ref,

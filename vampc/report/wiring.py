@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from collections import Counter
 
-from vampc.kinds import Recursion, Section, TapKind
+from vampc.kinds import Recursion, Section, TapKind, exhaustive
 from vampc.report import paper
 from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
@@ -154,9 +154,10 @@ def buses(graph, layout, net) -> dict:
             "backward_to_forward": {"vectors": vectors(a for a, _ in b2f_values),
                                     "wires": len(b2f_wires)},
             "internal_max": _internal(sites, vamp_units(layout), net),
-            "paper_between_nodes": (dict(paper.LINEAR_INTER_NODE_BUSES) if graph.recursion is Recursion.LINEAR
-                                    else {"bwd": paper.LOG_INTER_NODE_BUSES,
-                                          "fwd": paper.LOG_INTER_NODE_BUSES}),
+            "paper_between_nodes": exhaustive({
+                Recursion.LINEAR: dict(paper.LINEAR_INTER_NODE_BUSES),
+                Recursion.LOG: {"bwd": paper.LOG_INTER_NODE_BUSES, "fwd": paper.LOG_INTER_NODE_BUSES},
+            }, Recursion)[graph.recursion],
             "paper_internal": dict(paper.INTERNAL_BUS_BOUNDS)}
 
 
