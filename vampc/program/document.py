@@ -136,7 +136,7 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
     def operand(op: Operand) -> list:
         rows = taps.get(id(op))
         if rows is None:
-            rows = taps[id(op)] = [F.TapDoc(t.kind, t.index, t.stage) for t in op.taps]
+            rows = taps[id(op)] = [(t.kind, t.index, t.stage) for t in op.taps]
         return rows
     return F.NetworkDoc(
         net.period, net.clock,
@@ -198,11 +198,17 @@ def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
     ops = _ops(graph=False)
     rom_size = len(ROM)
     operands: dict[tuple, Operand] = {}
+    taps: dict[tuple, Tap] = {}
+    def tap(row) -> Tap:
+        t = taps.get(row)
+        if t is None:
+            t = taps[row] = Tap(*row)
+        return t
     def operand(rows) -> Operand:
-        key = tuple((t.kind, t.index, t.stage) for t in rows)
+        key = tuple(rows)
         op = operands.get(key)
         if op is None:
-            op = operands[key] = Operand(tuple(Tap(*k) for k in key))
+            op = operands[key] = Operand(tuple(map(tap, key)))
         return op
     def slot(v: int, k: int, r: F.SlotDoc) -> ProgrammedSlot:
         op = ops.get(r.op)
@@ -233,7 +239,7 @@ def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
 def stream_from_doc(doc: F.ProgramFile) -> tuple[StreamEntry, ...]:
     """The program stream entries, words included."""
     return tuple(StreamEntry(Tap(e.root.kind, e.root.index), tuple(e.targets), tuple(e.depth),
-                             tuple(map(tuple, e.words))) for e in doc.program_stream)
+                             tuple(e.words)) for e in doc.program_stream)
 
 
 def programs_from_doc(doc: F.ProgramFile) -> tuple[tuple[Program, ...], ...]:
@@ -355,18 +361,25 @@ def timed_network(net: Network, sched: Schedule, path) -> Network:
     """The network with its programmed slots as scheduled ones, at absolute ticks (set 0): each slot
     latches at its node's start and dumps at its finish - 1. Its Cycle-Counter fields must be those
     ticks mod P (VampcError)."""
-    from vampc.errors import VampcError
     P = net.period
+    starts, finishes = sched.start, sched.finish
     vamps = []
     for v in net.vamps:
         slots = []
-        for k, s in enumerate(v.slots):
-            start, dump = sched.start[s.node], sched.finish[s.node] - 1
-            for name, got, want in (("delay-A", s.delay_a, start), ("delay-B", s.delay_b, start),
-                                    ("delay-R", s.delay_r, dump)):
-                if got != want % P:
-                    raise VampcError(f"{path}: programs[{v.index}] slot {k}: {name} {got} is not "
-                                     f"the schedule's tick {want} mod {P}")
+        for s in v.slots:
+            start, dump = starts[s.node], finishes[s.node] - 1
+            if s.delay_a != start % P or s.delay_b != start % P or s.delay_r != dump % P:
+                _off_schedule(v, s, start, dump, P, path)
             slots.append(Slot(s.node, s.op, s.column, s.sel_a, s.sel_b, start, start, dump))
-        vamps.append(replace(v, slots=tuple(slots)))
+        vamps.append(Vamp(v.index, v.a, v.b, tuple(slots)))
     return replace(net, vamps=tuple(vamps))
+
+
+def _off_schedule(v: Vamp, s: ProgrammedSlot, start: int, dump: int, P: int, path) -> None:
+    """The VampcError of a slot whose Cycle-Counter fields are not its node's scheduled ticks."""
+    k = v.slots.index(s)
+    for name, got, want in (("delay-A", s.delay_a, start), ("delay-B", s.delay_b, start),
+                            ("delay-R", s.delay_r, dump)):
+        if got != want % P:
+            raise VampcError(f"{path}: programs[{v.index}] slot {k}: {name} {got} is not "
+                             f"the schedule's tick {want} mod {P}")

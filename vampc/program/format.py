@@ -10,6 +10,9 @@ checked when the sections become IRs: op names and ROM pointers (vampc.machine.o
 (vampc.schedule.registry). Relations between sections (a slot's node exists, the schedule runs the
 graph, every operand arrives in time) are vampc.program.document.compiled_from_doc's.
 
+The Structs are not tracked by the cyclic garbage collector (gc=False: they hold no cycles), so a
+big file's hundreds of thousands of rows cost the collector nothing.
+
 msgspec was chosen by measuring (a 32-joint log program on 943 VAMPs, 1.4 MB, median of five runs,
 garbage collector paused): a typed decode, types and ranges checked, takes 0.010 s, against 0.030 s
 for json.loads and 0.005 s more for jsonschema-rs, and it hands over typed rows instead of dicts.
@@ -36,13 +39,13 @@ Mat3 = Annotated[list[Vec3], Meta(min_length=3, max_length=3)]
 Vector = Annotated[list[float], Meta(min_length=3, max_length=9)]
 
 
-class Limits(Struct, forbid_unknown_fields=True):
+class Limits(Struct, gc=False, forbid_unknown_fields=True):
     q: Annotated[list[float], Meta(min_length=2, max_length=2)] | None
     qd: float | None
     tau: float | None
 
 
-class JointDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
+class JointDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     name: str
     type: Literal["revolute", "prismatic"]
     phi: Mat3
@@ -60,7 +63,7 @@ class JointDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
                                        "absent).")] = None
 
 
-class RobotDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
+class RobotDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     name: str
     n: Count
     source: str
@@ -80,7 +83,7 @@ class RobotDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
     base_inertia: Mat3 | None = None
 
 
-class OptionsDoc(Struct, forbid_unknown_fields=True):
+class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):
     """How the program was compiled (vampc.options.CompileOptions.recorded; defaults as there)."""
 
     recursion: Recursion = Recursion.LINEAR
@@ -96,7 +99,7 @@ class OptionsDoc(Struct, forbid_unknown_fields=True):
     exact: bool = False
 
 
-class NodeDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
+class NodeDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     id: Index
     op: str
     args: Annotated[list[Index], Meta(max_length=2)]
@@ -107,7 +110,7 @@ class NodeDoc(Struct, omit_defaults=True, forbid_unknown_fields=True):
     value: Vector | None = None
 
 
-class GraphDoc(Struct, forbid_unknown_fields=True):
+class GraphDoc(Struct, gc=False, forbid_unknown_fields=True):
     n: Count
     recursion: Recursion
     nodes: list[NodeDoc]
@@ -115,7 +118,7 @@ class GraphDoc(Struct, forbid_unknown_fields=True):
     meta: dict[str, str] = {}
 
 
-class ScheduleDoc(Struct, forbid_unknown_fields=True):
+class ScheduleDoc(Struct, gc=False, forbid_unknown_fields=True):
     mult_latency: Latency
     add_latency: Latency
     latency: Index
@@ -127,37 +130,36 @@ class ScheduleDoc(Struct, forbid_unknown_fields=True):
     critical_path: list[Index] = []
 
 
-class LayoutDoc(Struct, forbid_unknown_fields=True):
+class LayoutDoc(Struct, gc=False, forbid_unknown_fields=True):
     name: str
     share_passes: bool
 
 
-class TapDoc(Struct, array_like=True, forbid_unknown_fields=True):
-    """[kind, index, stage]: where an operand is read (vampc.network.model.Tap)."""
-
-    kind: TapKind
-    index: Index
-    stage: Index
-
-
-Operand = Annotated[list[TapDoc], Meta(min_length=1, max_length=3)]
+# [kind, index, stage]: where an operand is read (vampc.network.model.Tap). A tuple, not an
+# array-like Struct: readers share operands, and a tuple of tuples is its own cache key.
+TapDoc = Annotated[tuple[TapKind, Index, Index],
+                   Meta(description="[kind, index, stage]: a VAMP's Result, stage `stage` (1-based) "
+                                    "of a buffer, a host port or a constant buffer")]
+Operand = Annotated[list[TapDoc], Meta(min_length=1, max_length=3,
+                                       description="One multiplexer input: one tap, or three "
+                                                   "carrying an MM group's columns")]
 Mux = Annotated[list[Operand], Meta(min_length=1)]
 
 
-class VampDoc(Struct, forbid_unknown_fields=True):
+class VampDoc(Struct, gc=False, forbid_unknown_fields=True):
     index: Index
     number: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     a: Mux
     b: Mux
 
 
-class BufferDoc(Struct, forbid_unknown_fields=True):
+class BufferDoc(Struct, gc=False, forbid_unknown_fields=True):
     index: Index
     source: Index
     stages: Count
 
 
-class PortEntryDoc(Struct, array_like=True, forbid_unknown_fields=True):
+class PortEntryDoc(Struct, gc=False, array_like=True, forbid_unknown_fields=True):
     """[quantity, joint, block]: what the host writes to a port, and at which block."""
 
     quantity: Quantity
@@ -165,19 +167,19 @@ class PortEntryDoc(Struct, array_like=True, forbid_unknown_fields=True):
     block: Index
 
 
-class PortDoc(Struct, forbid_unknown_fields=True):
+class PortDoc(Struct, gc=False, forbid_unknown_fields=True):
     index: Index
     size: Literal[3, 9]
     entries: list[PortEntryDoc]
 
 
-class ConstDoc(Struct, forbid_unknown_fields=True):
+class ConstDoc(Struct, gc=False, forbid_unknown_fields=True):
     index: Index
     name: str
     value: Vector
 
 
-class NetworkDoc(Struct, forbid_unknown_fields=True):
+class NetworkDoc(Struct, gc=False, forbid_unknown_fields=True):
     period: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     clock: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     vamps: Annotated[list[VampDoc], Meta(min_length=1)]
@@ -186,7 +188,7 @@ class NetworkDoc(Struct, forbid_unknown_fields=True):
     consts: list[ConstDoc]
 
 
-class SlotDoc(Struct, forbid_unknown_fields=True):
+class SlotDoc(Struct, gc=False, forbid_unknown_fields=True):
     node: Index
     op: str
     delay_a: Field24
@@ -197,38 +199,38 @@ class SlotDoc(Struct, forbid_unknown_fields=True):
     sel_b: Field24
 
 
-class ProgramDoc(Struct, forbid_unknown_fields=True):
+class ProgramDoc(Struct, gc=False, forbid_unknown_fields=True):
     vamp: Index
     slots: Annotated[list[SlotDoc], Meta(min_length=1)]
 
 
-class RootDoc(Struct, array_like=True, forbid_unknown_fields=True):
+class RootDoc(Struct, gc=False, array_like=True, forbid_unknown_fields=True):
     kind: Literal["port", "const"]
     index: Index
 
 
-class StreamDoc(Struct, forbid_unknown_fields=True):
+class StreamDoc(Struct, gc=False, forbid_unknown_fields=True):
     root: RootDoc
     targets: list[Index]
     depth: list[Index]
-    words: list[Annotated[list[float], Meta(min_length=3, max_length=3)]]
+    words: list[tuple[float, float, float]]
 
 
-class PortWriteDoc(Struct, forbid_unknown_fields=True):
+class PortWriteDoc(Struct, gc=False, forbid_unknown_fields=True):
     port: Index
     quantity: Quantity
     joint: Index
     tick: Index
 
 
-class OutputDoc(Struct, forbid_unknown_fields=True):
+class OutputDoc(Struct, gc=False, forbid_unknown_fields=True):
     joint: Count
     vamp: Index
     component: Annotated[int, Meta(ge=0, le=2)]
     tick: Index
 
 
-class IoDoc(Struct, forbid_unknown_fields=True):
+class IoDoc(Struct, gc=False, forbid_unknown_fields=True):
     period: Count
     clock: Count
     load_ticks: Index
@@ -241,7 +243,7 @@ class IoDoc(Struct, forbid_unknown_fields=True):
 SUMMARY_KEYS = ("interval_flops", "joints", "latency", "recursion", "vamps")
 
 
-class ProgramFile(Struct, forbid_unknown_fields=True):
+class ProgramFile(Struct, gc=False, forbid_unknown_fields=True):
     """A compiled VAMP network: robot data for the host, dataflow graph, schedule, layout, netlist
     with operand multiplexers, per-VAMP slot programs (delay-A/B/R, ROM pointer, multiplexer
     selects), the Program Mode stream and I/O timing (README, Program files)."""
