@@ -50,7 +50,7 @@ def test_budgeted_programs_emulate_exactly_on_both_engines(robot, recursion):
 def test_an_interval_asked_for_is_met_on_the_fewest_vamps_found(interval):
     chain = load_robot(EXAMPLES / "puma560.yaml")
     ld = loaded(chain, interval=interval)
-    assert ld.period == interval
+    assert ld.period <= interval      # on the fewest VAMPs, the best latency at any interval <= T
     traj, stream, tick = run_both(ld, 80, tick_count=3)
     assert check_torques(ld.chain, traj, stream.tau).ok and np.array_equal(stream.tau[:3], tick.tau)
     g = build_graph(chain, CompileOptions())

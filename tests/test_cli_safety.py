@@ -307,7 +307,8 @@ def _npz(path: Path, **arrays) -> Path:
     (lambda p: _csv(p / "t.npz", "not a zip"), r"t\.npz: not a numpy \.npz file \("),
     (lambda p: _csv(p / "t.npy", b"\x93NUMPY\x01\x00v\x00{'descr': '<f8', 'fortran_order': False, "
                                  b"'shape': (2, 6), }" + b" " * 60 + b"\n" + b"\0" * 16),
-     r"t\.npy: not a numpy array file \("),
+     r"t\.npy: its header announces an array of shape \(2, 6\) \(96 bytes\) but the file holds "
+     r"18 bytes of data \(truncated or damaged\)$"),
     (lambda p: (np.savez(p / "x.npz", q=np.zeros((1, 2)), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2))),
                 os.replace(p / "x.npz", p / "t.npy"), p / "t.npy")[2],
      r"t\.npy: a \.npz archive, not a \.npy array; rename it \.npz$"),

@@ -313,10 +313,13 @@ def test_errors_name_the_line_whatever_path(tmp_path, body, message):
         read(_traj_file(tmp_path, body), 2)
 
 
-def test_quoted_and_underscored_cells_still_read(tmp_path):
-    # the slow path's float() takes them; the fast paths refuse them and hand over
-    traj = read(_traj_file(tmp_path, '"1",2,3,4,5,1_0\n'), 2)
-    assert traj.q.tolist() == [[1.0, 2.0]] and traj.qdd.tolist() == [[5.0, 10.0]]
+def test_quoted_cells_still_read_and_underscored_ones_are_refused(tmp_path):
+    # the slow path's float() takes quotes; the fast paths refuse them and hand over. float() also
+    # reads 1_0 as 10, which is a typo, not a number: refused with its line and column
+    traj = read(_traj_file(tmp_path, '"1",2,3,4,5,6\n'), 2)
+    assert traj.q.tolist() == [[1.0, 2.0]] and traj.qdd.tolist() == [[5.0, 6.0]]
+    with pytest.raises(VampcError, match=r"line 2, column qdd2: '1_0' is not a number"):
+        read(_traj_file(tmp_path, '"1",2,3,4,5,1_0\n'), 2)
 
 
 def test_write_torques_round_trips(tmp_path):

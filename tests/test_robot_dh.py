@@ -184,7 +184,7 @@ def doc_with(**joint_over) -> dict:
 YAML_ERRORS = [
     ("name: [1, 2\n", r"line 2: not valid YAML: .+"),
     ("- just\n- a list\n", r'\["just","a list"\] is not of type "object"'),
-    ("", r'null is not of type "object"'),
+    ("", r"the robot file is empty .+"),
     ("name: x\njoints: []\n", r"joints: \[\] has less than 1 item"),
     ("!!python/object/apply:os.system ['echo hi']\n",
      r"line 1: not valid YAML: could not determine a constructor for the tag .+"),

@@ -9,6 +9,7 @@ report it, exit 3.
 from __future__ import annotations
 
 import functools
+import signal
 import sys
 import warnings
 
@@ -39,6 +40,9 @@ def handle_errors(f):
         except VampcError as exc:
             click.echo(f"vampc: error: {exc}", err=True)
             sys.exit(1)
+        except Terminated as exc:
+            click.echo(f"vampc: terminated ({exc})", err=True)
+            sys.exit(128 + exc.signum)
         except KeyboardInterrupt:
             click.echo("vampc: interrupted", err=True)
             sys.exit(130)
@@ -65,6 +69,23 @@ def say(text: str, err: bool) -> None:
     click.echo(text, err=err)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the program is, like Ctrl-C: every output being written is
+    removed on the way out (vampc.outputs), so no partial or temporary file is left."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _terminate_like_interrupt() -> None:
+    def handler(signum, frame):
+        raise Terminated(signum)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), handler)
+
+
 class _Vampc(click.Group):
     """The command group: a usage error is one line on stderr, `vampc: error: ...` with the help to
     read, exit 2, like every other error."""
@@ -72,6 +93,7 @@ class _Vampc(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, False, **extra)
+        _terminate_like_interrupt()
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
         except click.UsageError as exc:

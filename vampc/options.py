@@ -17,6 +17,8 @@ from pathlib import Path
 
 from vampc.dataflow.registry import prefix_names, recursion_names
 from vampc.errors import VampcUsageError
+
+FIELD_MAX = (1 << 24) - 1     # a VAMP number, a period: 24-bit fields of the program words
 from vampc.kinds import Engine, Prefix, Recursion
 from vampc.machine.ops import Timing
 from vampc.schedule.registry import (
@@ -65,11 +67,14 @@ class CompileOptions:
         "--share-passes", help="Folded layout: run the forward pass on the backward pass's VAMPs "
         "(Figure VI.1b)."))
     vamps: int | None = field(default=None, metadata=cli(
-        "--vamps", range=(1, None), metavar="K", help="A VAMP budget: schedule onto at most K VAMPs "
-        "at the smallest interval reachable (not below ⌈W/K⌉)."))
+        "--vamps", range=(1, FIELD_MAX), metavar="K", help="A VAMP budget: schedule onto at most K "
+        "VAMPs at the smallest interval reachable (not below ⌈W/K⌉); more VAMPs than the graph has "
+        "VAMP-ops are never used (K is capped there). At most 16777215: VAMP numbers are 24-bit."))
     interval: int | None = field(default=None, metadata=cli(
-        "--interval", range=(1, None), metavar="T", help="A rate: a new torque set every T flops, "
-        "on the fewest VAMPs (with --vamps: both, or an error saying what is feasible)."))
+        "--interval", range=(1, FIELD_MAX), metavar="T", help="A rate: a new torque set at least "
+        "every T flops, on the fewest VAMPs that reach it, at the best latency found on them for "
+        "any interval up to T (with --vamps: K VAMPs, or an error saying what is feasible). At most "
+        "16777215: the Cycle-Counter is 24-bit."))
     exact: bool = field(default=False, metadata=cli(
         "--exact", help="With --vamps: place the ops with OR-Tools CP-SAT (pip install "
         "\"vampc[exact]\"), proving the best interval and latency for small graphs within a time "

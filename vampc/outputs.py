@@ -74,16 +74,19 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         return PlannedOutput(option, path, "stdout", None)
     target = Path(os.path.realpath(path))
     try:
-        mode = os.stat(target).st_mode
+        # through any symlink: /dev/stdout resolves to /proc/PID/fd/pipe:[N], a name, not a path
+        mode = os.stat(path).st_mode
     except FileNotFoundError:
         mode = None
     except OSError as exc:
         raise VampcError(f"{path}: cannot write: {exc.strerror}") from None
     if mode is not None and not stat.S_ISREG(mode):
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
-            if not os.access(target, os.W_OK):
+            if not os.access(path, os.W_OK):
                 raise VampcError(f"{path}: cannot write: permission denied")
-            return PlannedOutput(option, path, "stream", target)
+            if option in stdout_ok and _is_stdout(path):     # /dev/stdout, /proc/self/fd/1
+                return PlannedOutput(option, path, "stdout", None)
+            return PlannedOutput(option, path, "stream", Path(path))
         what = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
         raise VampcError(f"{path}: is {what}; give a file name for {option}")
     if mode is not None and (not mode & stat.S_IWUSR or not os.access(target, os.W_OK)):
@@ -91,6 +94,16 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
     _probe_folder(path, target.parent)
     return PlannedOutput(option, path, "file", target)
+
+
+def _is_stdout(path: str) -> bool:
+    """Whether `path` is the file standard output writes to: then it is written as `-` is, and
+    the command's own lines go to stderr instead of into the data."""
+    try:
+        here, there = os.stat(path), os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
 
 
 def _probe_folder(path: str, folder: Path) -> None:

@@ -14,8 +14,11 @@ DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
 
 def sniff(path) -> str | None:
     """"program", "urdf", "json" or "yaml" by content; None if unreadable or none of these (the
-    loaders then say what is wrong)."""
+    loaders then say what is wrong). Only a regular file is looked at: a FIFO's first bytes, once
+    read, are gone, and the loader must read them."""
     try:
+        if not Path(path).is_file():
+            return None
         with open(path, "rb") as fh:
             head = fh.read(HEAD)
     except OSError:

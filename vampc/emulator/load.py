@@ -98,7 +98,8 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
                                             network_from_doc(doc, path), None)
     sched = schedule_of(doc.schedule)
     numbers = tuple(v.number for v in doc.network.vamps)
-    ld = _loaded(str(path), chain or chain_from_doc(doc.robot), graph, sched, net, numbers,
+    ld = _loaded(str(path), chain or chain_from_doc(doc.robot, graph, path), graph, sched, net,
+                 numbers,
                  stream_from_doc(doc), listed or programs_from_doc(doc),
                  tuple(sorted(msgspec.structs.asdict(doc.options).items())))
     if doc.io.load_ticks != ld.load_ticks:

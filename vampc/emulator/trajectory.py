@@ -13,6 +13,7 @@ from __future__ import annotations
 import codecs
 import csv
 import io
+import math
 import zipfile
 from pathlib import Path
 
@@ -100,6 +101,8 @@ def _read_csv(path: Path, n: int, floating: bool = False):
             raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
         for c, cell in enumerate(row):
             try:
+                if "_" in cell:          # float() reads 1_0 as 10: a typo, not a number
+                    raise ValueError(cell)
                 data[r - 2, c] = float(cell)
             except ValueError:
                 raise VampcError(f"{path}: line {r}, column {want[c]}: {cell!r} is not a number") from None
@@ -165,7 +168,32 @@ def _loadtxt(body: str, cols: int):
 _NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
 
 
+def _npy_fits(path: Path) -> None:
+    """A .npy file holds the data its header announces (VampcError otherwise), read before numpy
+    allocates the array the header asks for, whatever size that claims."""
+    try:
+        with open(path, "rb") as f:
+            version = np.lib.format.read_magic(f)
+            read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                    else np.lib.format.read_array_header_2_0)
+            shape, _, dtype = read(f)
+            start = f.tell()
+        size = path.stat().st_size
+    except OSError:
+        return                      # np.load says why
+    except _NUMPY_ERRORS:
+        return
+    if dtype.hasobject:
+        return
+    need = math.prod(shape) * dtype.itemsize
+    if need > size - start:
+        raise VampcError(f"{path}: its header announces an array of shape {tuple(shape)} "
+                         f"({need:,} bytes) but the file holds {size - start:,} bytes of data "
+                         "(truncated or damaged)")
+
+
 def _read_npy(path: Path, n: int, width: int):
+    _npy_fits(path)
     try:
         arr = np.load(path, allow_pickle=False)
     except _NUMPY_ERRORS as exc:

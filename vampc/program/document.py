@@ -66,8 +66,14 @@ def robot_doc(chain: Chain) -> F.RobotDoc:
     return out
 
 
-def chain_from_doc(doc: F.RobotDoc) -> Chain:
-    """Inverse of robot_doc."""
+def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>") -> Chain:
+    """Inverse of robot_doc; with `graph`, the robot must have the graph's joints (VampcError)."""
+    if len(doc.joints) != doc.n:
+        raise VampcError(f"{path}: robot: n is {doc.n} but {len(doc.joints)} joints are listed "
+                         "(the file was edited); recompile it")
+    if graph is not None and graph.n != doc.n:
+        raise VampcError(f"{path}: robot: {doc.n} joints, but the graph is of {graph.n} (the file "
+                         "was edited); recompile it")
     joints = tuple(Joint(
         name=j.name, type=JointType(j.type), phi=np.array(j.phi), p_fixed=np.array(j.p_fixed),
         offset=j.offset, mass=j.mass, com=np.array(j.com), inertia=np.array(j.inertia),
@@ -296,7 +302,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v.number for v in doc.network.vamps)
-    return Compiled(chain_from_doc(doc.robot), options, graph, sched, net,
+    return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
 
 

@@ -37,11 +37,13 @@ def default_numbering(net: Network) -> tuple[int, ...]:
 
 def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
     """VAMP numbers from a text file, one positive integer per line (blank lines and #comments skipped)."""
+    from vampc.textio import decode_utf8
     numbers = []
     try:
-        lines = Path(path).read_text().splitlines()
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}") from None
+    lines = decode_utf8(raw, path, "numbering file").splitlines()
     for lineno, line in enumerate(lines, 1):
         text = line.split("#", 1)[0].strip()
         if not text:

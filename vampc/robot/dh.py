@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from vampc.errors import located
+from vampc.errors import VampcError, located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
 
@@ -52,6 +52,9 @@ def load_dh(path, floating: bool = False) -> Chain:
 def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
     """Validate an already-parsed DH document and build its Chain; `source` names it in error messages.
     Rows with `parent` make a tree, numbered depth-first from the base (children in row order)."""
+    if doc is None or doc == "":
+        raise VampcError(f"{source}: the robot file is empty (a DH table is a mapping with "
+                         "`joints`; README, DH table)")
     _check_values(doc, source)
     _check_schema(doc, source)
     rows = doc["joints"]

@@ -254,11 +254,17 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
             number = math.nan
         if not math.isfinite(number):
             raise located(path, f"lock {name}", f"value {value!r} is not a finite number")
-        if tree.joints[name].type == "fixed":
+        joint = tree.joints[name]
+        if joint.type == "fixed":
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is fixed; --lock {name}=... has no effect"),
                           stacklevel=2)
-        else:
-            out[name] = number
+            continue
+        lim = joint.limit
+        if (joint.type != "continuous" and lim is not None and lim.lower is not None
+                and lim.upper is not None and not lim.lower <= number <= lim.upper):
+            raise located(path, f"lock {name}", f"{number:g} is outside the joint's limits "
+                          f"[{lim.lower:g}, {lim.upper:g}]")
+        out[name] = number
     return out
 
 

@@ -407,6 +407,8 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     if interval is not None and interval < longest:
         raise VampcError(f"--interval {interval}: the smallest interval any network reaches is "
                          f"{longest} flops (the longest op)")
+    asked = interval
+    k, interval = usable(graph, timing, k, interval)
     proof = ""
     if exact:
         if k is None:
@@ -420,6 +422,11 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             or "not proven optimal (the solver's time limit)"
     elif k is None:
         k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
+        # on those K VAMPs, the best latency found at any interval up to the one asked for
+        best = _for_vamps(graph, timing, k, asap, thorough)
+        if best.interval <= asked and (_latency(graph, best), best.interval) < (
+                _latency(graph, placed), placed.interval):
+            placed = best
     elif interval is None:
         placed = _for_vamps(graph, timing, k, asap, thorough)
     else:
@@ -429,6 +436,21 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
                              f"interval this scheduler reaches is {best} flops")
     return _finish(graph, timing, placed, k, verify, proof)
+
+
+def usable(graph: Graph, timing: Timing, k: int | None, interval: int | None):
+    """(K, T) capped at what the graph can use: no placement uses more VAMPs than the graph has
+    VAMP-ops (vamp_ops), and at an interval of W (the work) or more the smallest network already
+    runs every op of a set before the next set starts, so a longer interval needs no fewer VAMPs
+    and is served by one of max(W, the longest op). So a huge --vamps or --interval costs what the
+    graph needs, not what was asked (each VAMP and each tick of the period is a bit of the
+    scheduler's reservation tables)."""
+    if k is not None:
+        k = min(k, vamp_ops(graph))
+    if interval is not None:
+        longest = max((timing.durations[nd.op] for nd in graph.compute_nodes()), default=1)
+        interval = min(interval, max(work(graph, timing), longest))
+    return k, interval
 
 
 def _for_vamps(graph, timing, k, asap, thorough: bool) -> Placed:

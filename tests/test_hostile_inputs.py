@@ -1,0 +1,232 @@
+"""The cases a hostile tester found on main at 4d9317d (issue "Nothing lost, nothing silent, round
+two"): each gives one line and exit 1 or 2, or works where the input is valid; nothing hangs, no
+traceback, no file left behind on SIGTERM or SIGHUP, and both engines give one verdict."""
+from __future__ import annotations
+
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from conftest import EXAMPLES
+
+from vampc.cli import main
+from vampc.program.file import checksum
+
+PUMA, PLANAR = EXAMPLES / "puma560.yaml", EXAMPLES / "planar2.yaml"
+
+
+def run(*args):
+    res = CliRunner().invoke(main, list(map(str, args)))
+    return res.exit_code, res.stderr, res.stdout
+
+
+def one_line(err: str) -> bool:
+    return err.count("\n") == 1 and err.startswith("vampc: error: ") and "Traceback" not in err
+
+
+@pytest.fixture(scope="module")
+def puma_program(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("puma") / "puma.vamp.json"
+    assert run("compile", PUMA, "-o", out)[0] == 0
+    return out
+
+
+def edited(program: Path, tmp_path: Path, change) -> Path:
+    doc = json.loads(program.read_text())
+    change(doc)
+    doc["checksum"] = checksum(doc)
+    out = tmp_path / "edited.vamp.json"
+    out.write_text(json.dumps(doc))
+    return out
+
+
+# --- tracebacks and a hang: huge budgets ------------------------------------------------------------
+
+@pytest.mark.parametrize("option,value", [("--vamps", "99999999999999999999999"),
+                                          ("--interval", "99999999999999999999999"),
+                                          ("--vamps", "9223372036854775807"),
+                                          ("--vamps", "1000000000"),
+                                          ("--interval", "1000000000")])
+def test_a_budget_beyond_the_24_bit_fields_is_a_usage_error_at_once(tmp_path, option, value):
+    start = time.perf_counter()
+    code, err, _ = run("compile", PUMA, option, value, "-o", tmp_path / "p.vamp.json")
+    assert code == 2 and "is not in the range 1<=x<=16777215" in err and err.count("\n") == 1
+    assert time.perf_counter() - start < 5 and not (tmp_path / "p.vamp.json").exists()
+
+
+@pytest.mark.parametrize("option", ["--vamps", "--interval"])
+def test_a_huge_budget_is_capped_at_what_the_graph_can_use(tmp_path, option):
+    """16777215 VAMPs or flops: capped at the graph's VAMP-ops (108 for the Puma) or its work, in
+    about a second (it took minutes and gigabytes, or ran out of memory)."""
+    out = tmp_path / "p.vamp.json"
+    start = time.perf_counter()
+    code, err, _ = run("compile", PUMA, option, 16777215, "-o", out)
+    assert code == 0, err
+    assert time.perf_counter() - start < 20
+    summary = json.loads(out.read_text())["summary"]
+    if option == "--vamps":
+        assert summary["vamps"]["total"] == 108 and summary["interval_flops"] <= 4
+    else:
+        assert summary["vamps"]["total"] == 1 and summary["interval_flops"] == 324   # W = 324
+
+
+# --- tracebacks: damaged inputs ------------------------------------------------------------------------
+
+def test_a_npy_whose_header_claims_terabytes_is_refused_before_allocating(puma_program, tmp_path):
+    buf = io.BytesIO()
+    np.save(buf, np.zeros((2, 18)))
+    path = tmp_path / "tr.npy"
+    path.write_bytes(buf.getvalue().replace(b"(2, 18)", b"(100000000000, 18)"))
+    code, err, _ = run("emulate", puma_program, "--trajectory", path)
+    assert code == 1 and one_line(err) and "header announces an array of shape" in err
+
+
+def test_a_robot_section_missing_a_joint_is_the_files_error(puma_program, tmp_path):
+    for change in (lambda d: d["robot"]["joints"].pop(),
+                   lambda d: (d["robot"]["joints"].pop(), d["robot"].update(n=5))):
+        path = edited(puma_program, tmp_path, change)
+        for engine in ("stream", "tick"):
+            code, err, _ = run("emulate", path, "--random", 5, "--check", "--engine", engine)
+            assert code == 1 and one_line(err) and "robot:" in err, err
+        code, err, _ = run("report", path)
+        assert code == 1 and one_line(err) and "robot:" in err
+
+
+def test_a_numbering_file_of_binary_bytes_is_refused(tmp_path):
+    numbers = tmp_path / "n.txt"
+    numbers.write_bytes(b"\x80\x81\xff\n")
+    code, err, _ = run("compile", PLANAR, "--numbering", numbers, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and "line 1: byte 0x80 is not UTF-8" in err
+
+
+# --- nothing left on SIGTERM or SIGHUP -----------------------------------------------------------------
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+def test_a_terminated_emulation_leaves_no_file(puma_program, tmp_path, sig):
+    out = tmp_path / "o.csv"
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", "emulate", str(puma_program),
+                             "--random", "200000000", "-o", str(out)], cwd=tmp_path,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "VAMPC_PROGRESS": "0"})
+    deadline = time.time() + 60
+    while not any(p.name.startswith(".o.csv") for p in tmp_path.iterdir()):   # writing has begun
+        assert proc.poll() is None and time.time() < deadline
+        time.sleep(0.05)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + sig
+    assert err.strip().splitlines()[-1] == f"vampc: terminated ({signal.Signals(sig).name})"
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- one verdict from both engines ---------------------------------------------------------------------
+
+def test_a_reversed_program_mode_stream_is_refused_by_both_engines_and_the_report(puma_program,
+                                                                                    tmp_path):
+    def reverse(d):
+        for e in d["program_stream"]:
+            e["words"].reverse()
+    path = edited(puma_program, tmp_path, reverse)
+    errors = {run("emulate", path, "--random", 5, "--check", "--engine", e)[1]
+              for e in ("stream", "tick")} | {run("report", path)[1]}
+    assert len(errors) == 1 and "program stream of" in errors.pop()
+
+
+def test_a_stream_reordered_consistently_runs_on_both_engines(puma_program, tmp_path):
+    """Words, targets and depths reversed together (and Program Mode's length with them) still
+    deliver every VAMP its program: both engines run it, and agree."""
+    def reverse(d):
+        for e in d["program_stream"]:
+            for key in ("words", "targets", "depth"):
+                e[key].reverse()
+        d["io"]["load_ticks"] = max(k + depth + 1 for e in d["program_stream"]
+                                    for k, depth in enumerate(e["depth"]))
+    path = edited(puma_program, tmp_path, reverse)
+    for engine in ("stream", "tick"):
+        code, err, out = run("emulate", path, "--random", 5, "--check", "--engine", engine)
+        assert code == 0 and "tolerance 1e-9: OK" in out + err, out + err
+
+
+# --- messages ------------------------------------------------------------------------------------------
+
+def test_dev_stdout_into_a_pipe_is_written_as_a_stream():
+    proc = subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(PLANAR), "-o",
+                           "/dev/stdout"], capture_output=True, text=True,
+                          env={**os.environ, "VAMPC_PROGRESS": "0"})
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["format"] == "vampc-program"
+
+
+def test_x_keys_are_free_for_annotations(tmp_path):
+    text = PLANAR.read_text().replace("name: planar2\n", "name: planar2\nx-note: bench A\n")
+    text = text.replace("  - name: shoulder\n", "  - name: shoulder\n    x-part: ABC-1\n")
+    robot = tmp_path / "annotated.yaml"
+    robot.write_text(text)
+    code, err, _ = run("compile", robot, "-o", tmp_path / "p.vamp.json")
+    assert code == 0, err
+
+
+def test_an_empty_robot_file_or_fifo_says_so(tmp_path):
+    empty = tmp_path / "empty.yaml"
+    empty.write_text("")
+    code, err, _ = run("compile", empty, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and "the robot file is empty" in err
+    fifo = tmp_path / "fifo.yaml"
+    os.mkfifo(fifo)
+    for content in (b"", PLANAR.read_bytes()):
+        writer = subprocess.Popen([sys.executable, "-c", f"open({str(fifo)!r}, 'wb').write("
+                                   f"{content!r})"])
+        proc = subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(fifo), "-o",
+                               str(tmp_path / "p.vamp.json")], capture_output=True, text=True,
+                              timeout=60)
+        writer.wait(timeout=60)
+        if content:      # read once: the first bytes are not lost to a look at the file's kind
+            assert proc.returncode == 0, proc.stderr
+        else:
+            assert proc.returncode == 1 and "the robot file is empty" in proc.stderr
+
+
+def test_a_lock_outside_the_joints_limits_is_refused(tmp_path):
+    code, err, _ = run("compile", EXAMPLES / "arm6.urdf", "--lock", "waist=100", "-o",
+                       tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and "100 is outside the joint's limits [-2.9, 2.9]" in err
+    assert run("compile", EXAMPLES / "arm6.urdf", "--lock", "waist=1", "-o",
+               tmp_path / "p.vamp.json")[0] == 0
+
+
+def test_a_csv_number_with_an_underscore_is_refused(puma_program, tmp_path):
+    from vampc.emulator.trajectory import header
+    cells = ["0.1"] * 18
+    cells[4] = "1_0"
+    path = tmp_path / "tr.csv"
+    path.write_text(",".join(header(6)) + "\n" + ",".join(cells) + "\n")
+    code, err, _ = run("emulate", puma_program, "--trajectory", path)
+    assert code == 1 and one_line(err) and "line 2, column q5: '1_0' is not a number" in err
+
+
+# --- budget quality ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("robot,intervals", [("puma", (37, 40, 48, 60)), ("chain32", (120, 200))])
+def test_an_interval_budget_is_never_beaten_by_the_vamps_budget_of_its_size(robot, intervals):
+    """--interval T gives the fewest VAMPs reaching T, and on them the best latency found at any
+    interval up to T: --vamps K with that K never beats it on both latency and interval."""
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.robot import load_robot
+    from vampc.robot.random import random_chain
+    chain = load_robot(PUMA) if robot == "puma" else random_chain(32, 3)
+    for t in intervals:
+        by_t = compile_chain(chain, CompileOptions(interval=t)).schedule
+        k = compile_chain(chain, CompileOptions(interval=t)).layout.vamp_count
+        by_k = compile_chain(chain, CompileOptions(vamps=k)).schedule
+        assert by_t.interval <= t
+        beaten = (by_k.latency <= by_t.latency and by_k.interval <= by_t.interval
+                  and (by_k.latency, by_k.interval) != (by_t.latency, by_t.interval))
+        assert not beaten, (t, k, by_t.latency, by_t.interval, by_k.latency, by_k.interval)
