@@ -170,11 +170,21 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
 
 def emulation_line(r, whole_seconds: float) -> str:
     """The one line an emulation prints about itself."""
-    rate = r.count / r.engine_seconds if r.engine_seconds > 0 else float("inf")
     return (f"{r.engine} engine: {r.count} torque sets; program load {r.load_ticks} ticks; first "
             f"set after {r.first_tick} flops, then one every {r.interval} flops; emulated time "
-            f"{r.emulated_flops} flops; engine wall time {r.engine_seconds:.3f} s ({rate:,.0f} "
-            f"sets/s); whole command {whole_seconds:.3f} s")
+            f"{r.emulated_flops} flops; engine wall time {r.engine_seconds:.3f} s "
+            f"({rate_text(r.count, r.engine_seconds)}); whole command {whole_seconds:.3f} s")
+
+
+def rate_text(count: int, seconds: float) -> str:
+    """Torque sets per second, with the digits that matter: "1,104 sets/s", "2.5 sets/s",
+    "0.031 sets/s" (a few sets of a huge robot), never "0 sets/s"."""
+    if seconds <= 0:
+        return "too fast to time"
+    rate = count / seconds
+    if rate >= 100:
+        return f"{rate:,.0f} sets/s"
+    return f"{rate:.2g} sets/s"
 
 
 class Sinks:

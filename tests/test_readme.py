@@ -1,0 +1,84 @@
+"""The README cannot drift: every command of its code blocks runs (exit 0) from a fresh folder holding
+the examples, the files its prose uses are made by commands it gives, and the figures it quotes
+beside the paper's are the report's."""
+from __future__ import annotations
+
+import json
+import re
+import shlex
+import shutil
+
+from click.testing import CliRunner
+from conftest import EXAMPLES
+
+from vampc.cli import main
+
+README = (EXAMPLES.parent / "README.md").read_text()
+
+
+def code_block_commands() -> list[str]:
+    blocks = re.findall(r"```[a-z]*\n(.*?)```", README, re.S)
+    out = []
+    for block in blocks:
+        for line in block.splitlines():
+            command = line.split("  #")[0].strip()
+            if command.startswith("vampc ") and "[" not in command:   # not the synopsis
+                out.append(command)
+    return out
+
+
+def test_the_readme_has_commands_to_run():
+    assert len(code_block_commands()) >= 15
+
+
+def test_every_command_in_the_readme_runs(tmp_path, monkeypatch):
+    shutil.copytree(EXAMPLES, tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    for command in code_block_commands():
+        res = CliRunner().invoke(main, shlex.split(command)[1:])
+        assert res.exit_code == 0, f"{command}: {res.stderr}"
+
+
+def test_the_files_the_readme_uses_are_made_by_commands_it_gives():
+    text = " ".join(README.split())
+    for name, maker in (("snake4096.yaml", "python examples/make_snake.py 4096 > snake4096.yaml"),
+                        ("snake4096.vamp.json", "vampc compile snake4096.yaml --recursion log -o "
+                                                "snake4096.vamp.json"),
+                        ("snake512.yaml", "python examples/make_snake.py 512 > snake512.yaml"),
+                        ("snake512.vamp.json", "vampc compile snake512.yaml --recursion log -o "
+                                               "snake512.vamp.json")):
+        assert name in text and maker in text, name
+
+
+def _report(*args) -> dict:
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--format", "json",
+                                    *args])
+    assert res.exit_code == 0, res.stderr
+    return json.loads(res.stdout)
+
+
+def test_the_storage_figures_quoted_are_the_reports():
+    """"×2.9 (183 against 63 buffer scalars), log ×1.9 (504 against 261; ×1.6 with
+    --uniform-leaves)": systolic against folded delay-buffer scalars, Puma 560."""
+    line = next(x for x in README.splitlines() if x.startswith("| systolic against single-device"))
+    got = re.search(r"×([\d.]+) \((\d+) against (\d+) buffer scalars\), log ×([\d.]+) \((\d+) "
+                    r"against (\d+); ×([\d.]+) with `--uniform-leaves`\)", line)
+    assert got, line
+    lin_x, lin_s, lin_f, log_x, log_s, log_f, uni_x = got.groups()
+
+    def scalars(rep, name):
+        return next(r["scalars"] for r in rep["wiring"]["by_configuration"]
+                    if r["configuration"] == name)
+    rep = _report()
+    assert (scalars(rep, "linear, systolic"), scalars(rep, "linear, folded")) == (int(lin_s),
+                                                                                int(lin_f))
+    assert (scalars(rep, "log, systolic"), scalars(rep, "log, folded")) == (int(log_s), int(log_f))
+    assert f"{int(lin_s) / int(lin_f):.1f}" == lin_x and f"{int(log_s) / int(log_f):.1f}" == log_x
+    uni = _report("--recursion", "log", "--uniform-leaves")
+    assert f"{scalars(uni, 'log, systolic') / scalars(uni, 'log, folded'):.1f}" == uni_x
+
+
+def test_the_budget_commands_quoted_are_accepted():
+    """The budget-18 point is quoted with the options that make it, --exact needing --vamps."""
+    text = " ".join(README.split())
+    assert "`--vamps 18 --interval 18`" in text and "`--exact --vamps 18 --interval 18`" in text
