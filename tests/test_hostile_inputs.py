@@ -230,3 +230,9 @@ def test_an_interval_budget_is_never_beaten_by_the_vamps_budget_of_its_size(robo
         beaten = (by_k.latency <= by_t.latency and by_k.interval <= by_t.interval
                   and (by_k.latency, by_k.interval) != (by_t.latency, by_t.interval))
         assert not beaten, (t, k, by_t.latency, by_t.interval, by_k.latency, by_k.interval)
+
+
+def test_a_slow_rate_is_not_printed_as_zero():
+    from vampc.commands import rate_text
+    assert rate_text(3, 97.0) == "0.031 sets/s"
+    assert rate_text(5, 0.004) == "1,250 sets/s" and rate_text(3, 0.9) == "3.3 sets/s"
