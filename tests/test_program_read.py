@@ -29,16 +29,32 @@ def test_report_of_an_exact_program_imports_no_ortools():
 
 
 def test_report_of_an_exact_program_does_not_schedule_its_own_configuration(monkeypatch):
+    """No budget scheduler, heuristic or exact, runs; the only layouts made are the comparison
+    configurations the file does not hold (systolic and folded, each recursion once)."""
+    import vampc.report.configs as configs
     import vampc.schedule.budget as budget
+    import vampc.schedule.exact as exact
 
     def refuse(*args, **kwargs):
         raise AssertionError("the program's own budget was scheduled again")
-    monkeypatch.setattr(budget, "budget_schedule", refuse)
+    for module, name in ((budget, "budget_schedule"), (budget, "modulo_schedule"),
+                         (exact, "exact_budget")):
+        monkeypatch.setattr(module, name, refuse)
+    made = []
+    real = configs.layout_and_schedule
+
+    def recording(graph, timing, name, request):
+        made.append((str(graph.recursion), name, request.share_passes))
+        return real(graph, timing, name, request)
+    monkeypatch.setattr(configs, "layout_and_schedule", recording)
     res = CliRunner().invoke(main, ["report", str(EXACT), "--format", "json"])
     assert res.exit_code == 0, res.output
     rep = json.loads(res.stdout)
     assert rep["budget"]["exact"] and "proven optimal" in rep["budget"]["proof"]
     assert rep["latency"]["flops"] == 61 and rep["interval_flops"] == 47
+    assert sorted(made) == sorted((rec, lay, share) for rec in ("linear", "log")
+                                  for lay, share in (("systolic", False), ("folded", False),
+                                                     ("folded", True)))
 
 
 def _edited(tmp_path, change) -> str:

@@ -332,8 +332,6 @@ URDF_ERRORS = [
     (robot(*ARM[:4], joint("j2", "ball", "l1", "l2")), {}, r"joint 'j2': unsupported joint type 'ball'"),
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", extra='<mimic joint="j1"/>')), {},
      r"joint 'j2': mimics joint 'j1'; mimic joints are not supported \(lock it with --lock j2=VALUE\)"),
-    (robot(link("base"), link("l1", None), link("l2"), *ARM[3:]), {},
-     r"link 'l1': no <inertial>: the body moved by joint 'j1' would have no mass"),
     (robot(link("base"), link("l1", -2.0), link("l2"), *ARM[3:]), {}, r"link 'l1': negative mass -2\.0"),
     (robot(link("base"), link("l1", 1.0, inertia=(1, 2, 0, 1, 0, 1)), link("l2"), *ARM[3:]), {},
      r"link 'l1': inertia is not positive semi-definite \(eigenvalues -1, 1, 3\)"),
@@ -577,3 +575,39 @@ def test_a_tree_without_tip_is_taken_whole(tmp_path):
         _, pa = _pin_arrays(model, names, q, qdd, [])
         want = pin.rnea(model, model.createData(), pq, pv, pa)
         assert np.max(np.abs(rnea(chain, q, qd, qdd) - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+# --- robots Pinocchio loads (issue "Every robot Pinocchio loads") --------------------------------------
+
+def test_a_massless_link_is_taken_with_zero_inertia_as_pinocchio_does(tmp_path):
+    """Until then refused ("no <inertial>: the body moved by joint 'j1' would have no mass")."""
+    path = write(tmp_path, robot(link("base"), link("l1", None), link("l2"), *ARM[3:]))
+    chain = load_urdf(path)
+    assert chain.joints[0].mass == 0.0 and not np.any(chain.joints[0].inertia)
+    check_torques(path, chain)
+
+
+def test_a_robot_with_no_mass_at_all_is_taken_with_a_warning(tmp_path):
+    path = write(tmp_path, robot(link("base"), link("l1", None), link("l2", None), *ARM[3:]))
+    with pytest.warns(VampcWarning, match="every body is massless"):
+        chain = load_urdf(path)
+    assert all(j.mass == 0.0 for j in chain.joints)
+
+
+def test_an_inertia_off_by_a_rounding_error_is_taken_with_a_warning(tmp_path):
+    """Eigenvalues (-1e-7, 0.01, 0.02): negative by 5e-6 of the largest entry, under NEARLY_PSD."""
+    skew = (0.01, 0, 0, 0.02, 0, -1e-7)
+    path = write(tmp_path, robot(link("base"), link("l1", 1.0, inertia=skew), link("l2"), *ARM[3:]))
+    with pytest.warns(VampcWarning, match=r"link 'l1': inertia is not positive semi-definite .+ "
+                                          "taken as a rounding error"):
+        chain = load_urdf(path)
+    check_torques(path, chain)
+
+
+def test_a_robot_without_a_name_is_named_after_its_file(tmp_path):
+    text = robot(*ARM).replace('<robot name="r">', "<robot>")
+    assert "<robot>" in text
+    path = write(tmp_path, text)
+    with pytest.warns(VampcWarning, match="<robot> has no name; calling it"):
+        chain = load_urdf(path)
+    assert chain.name == path.stem

@@ -159,13 +159,14 @@ def read_text(path: Path) -> str:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
 
 
-def inertia_problem(inertia: np.ndarray) -> str | None:
-    """Why a 3x3 inertia is not symmetric positive semi-definite, or None if it is (up to rounding)."""
+def inertia_problem(inertia: np.ndarray, tolerance: float = 1e-9) -> str | None:
+    """Why a 3x3 inertia is not symmetric positive semi-definite, or None if it is (up to rounding:
+    `tolerance` of its largest entry)."""
     scale = max(float(np.max(np.abs(inertia))), 1e-300)
-    if np.max(np.abs(inertia - inertia.T)) > 1e-9 * scale:
+    if np.max(np.abs(inertia - inertia.T)) > tolerance * scale:
         return "inertia is not symmetric"
     eig = np.linalg.eigvalsh(inertia)
-    if eig[0] < -1e-9 * scale:
+    if eig[0] < -tolerance * scale:
         shown = ", ".join(f"{e:.6g}" for e in eig)
         return f"inertia is not positive semi-definite (eigenvalues {shown})"
     return None

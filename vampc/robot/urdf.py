@@ -165,8 +165,12 @@ def _refuse_entities(root, path: Path) -> None:
 
 def _check_xml(root, path: Path) -> None:
     """Check the structure and numbers we rely on, so yourdfpy never crashes on them."""
-    if etree.QName(root).localname != "robot" or root.get("name") is None:
+    if etree.QName(root).localname != "robot":
         raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\">")
+    if not root.get("name"):           # xacro output often has none; Pinocchio loads it
+        warnings.warn(VampcWarning(f"{path}: <robot> has no name; calling it {path.stem!r}"),
+                      stacklevel=2)
+        root.set("name", path.stem)
     for kind in ("link", "joint"):
         seen = set()
         for el in root.iterchildren(kind):
@@ -416,6 +420,8 @@ def _body_inertias(tree: Tree, members: dict, g: np.ndarray, frames: dict, path:
     """Mass (n,), centre of mass (n, 3) and inertia about it (n, 3, 3), in O_k, of every body k = 1..n."""
     n = len(g) - 1
     body, names, parts = _inertial_parts(tree, members, n, path)
+    if not parts:                                      # every body massless
+        return np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
     inertia = np.array([p.inertia for p in parts])
     _check_inertias(inertia, names, path)
     in_link = np.array([frames[name] @ _origin(p) for name, p in zip(names, parts)])
@@ -428,8 +434,7 @@ def _body_inertias(tree: Tree, members: dict, g: np.ndarray, frames: dict, path:
 def _inertial_parts(tree: Tree, members: dict, n: int, path: Path):
     """Every link of bodies 1..n that has an <inertial>: its body (0-based, as an array), names, inertials."""
     body, names, parts = [], [], []
-    for k in range(1, n + 1):
-        count = len(parts)
+    for k in range(1, n + 1):       # a body without any <inertial> is massless (zero inertia)
         for name in members[k]:
             inertial = tree.links[name].inertial
             if inertial is not None:
@@ -437,10 +442,10 @@ def _inertial_parts(tree: Tree, members: dict, n: int, path: Path):
                 body.append(k - 1)
                 names.append(name)
                 parts.append(inertial)
-        if len(parts) == count:
-            first = members[k][0]
-            raise located(path, f"link '{first}'", f"no <inertial>: the body moved by joint "
-                                                   f"'{tree.parent[first].name}' would have no mass")
+    if not parts:       # massless bodies are Pinocchio's reading too; all of them is a bad sign
+        warnings.warn(VampcWarning(f"{path}: no link moved by a joint has an <inertial>: every body "
+                                   "is massless, so every torque is zero but for the tip's load"),
+                      stacklevel=2)
     return np.array(body, dtype=int), names, parts
 
 
@@ -452,12 +457,24 @@ def _check_mass(inertial, link: str, path: Path) -> None:
         raise located(path, f"link '{link}'", f"negative mass {inertial.mass}")
 
 
+# An inertia whose smallest eigenvalue is negative by at most this much of its largest entry is a
+# rounding error of the file (exported models print a few digits): taken as it is, with a warning.
+NEARLY_PSD = 1e-4
+
+
 def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
-    """Refuse the first inertia that is not symmetric positive semi-definite (checked as one stack)."""
+    """Refuse the first inertia that is not symmetric positive semi-definite (checked as one stack);
+    one that misses by a rounding error (NEARLY_PSD) is taken, with a warning naming the link."""
     for i in np.flatnonzero(improper_inertias(inertia)):
         problem = inertia_problem(inertia[i])
-        if problem:
-            raise located(path, f"link '{names[i]}'", problem)
+        if not problem:
+            continue
+        if inertia_problem(inertia[i], tolerance=NEARLY_PSD) is None:
+            warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}, by less than "
+                                       f"{NEARLY_PSD:g} of its largest entry: taken as a rounding "
+                                       "error"), stacklevel=2)
+            continue
+        raise located(path, f"link '{names[i]}'", problem)
 
 
 def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, inertia: np.ndarray):
