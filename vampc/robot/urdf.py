@@ -82,6 +82,10 @@ def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] 
           floating: bool = False) -> Chain:
     robot = _read_robot(path)
     tree = Tree.build(robot, path)
+    for j in tree.joints.values():
+        if j.mimic is not None and j.mimic.joint not in tree.joints:
+            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic.joint}', which the "
+                                                     "file does not have")
     lock = _check_lock(lock or {}, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
@@ -273,7 +277,7 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
 
 
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
-    """Refuse an empty chain, one longer than MAX_JOINTS, and mimic joints on it."""
+    """Refuse an empty chain and one longer than MAX_JOINTS; say how mimic joints on it are read."""
     if not chain and not tip:
         raise located(path, "", f"no movable joints below base link '{base}'")
     if not chain:
@@ -281,10 +285,17 @@ def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
     problem = joint_count_problem(len(chain))
     if problem:
         raise located(path, "", problem)
-    for j in chain:
+    _check_mimics(chain, path)
+
+
+def _check_mimics(joints, path: Path) -> None:
+    """A mimic joint is taken as an ordinary joint, as Pinocchio's default reads it: its own q, q̇,
+    q̈ from the host and its own torque in the output (a warning says so)."""
+    for j in joints:
         if j.mimic is not None:
-            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic.joint}'; mimic joints are not "
-                                                     f"supported (lock it with --lock {j.name}=VALUE)")
+            warnings.warn(VampcWarning(f"{path}: joint '{j.name}' mimics joint '{j.mimic.joint}': "
+                                       "taken as an ordinary joint (its own q, q̇, q̈ and torque), as "
+                                       "Pinocchio reads it by default"), stacklevel=2)
 
 
 # --- rigid bodies ------------------------------------------------------------------------------------
