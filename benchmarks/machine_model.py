@@ -87,6 +87,20 @@ def main() -> None:
         read_s = median_time(lambda: compiled_from_doc(read_program(budget_path), budget_path),
                              args.runs)
         print(f"read    {cases[3][0]:28s} {read_s:8.3f} s  ({read_s / compile_s:.2f} of compiling it)")
+        try:     # the typed decode alone, beside json.loads of the same text (which checks nothing)
+            import gc
+            import json
+
+            from vampc.program.format import decode
+            text = budget_path.read_bytes()
+            gc.disable()
+            typed_s = median_time(lambda: decode(text), args.runs)
+            plain_s = median_time(lambda: json.loads(text), args.runs)
+            gc.enable()
+            print(f"decode  {cases[3][0]:28s} {typed_s:8.3f} s typed (msgspec), {plain_s:.3f} s "
+                  "json.loads")
+        except ImportError:      # a checkout before the typed program file
+            pass
         # a budget where the scheduler has real work (compiled once: about 14 s)
         tight = CompileOptions(recursion="log", vamps=100)
         start = time.perf_counter()
