@@ -78,12 +78,23 @@ class Terminated(KeyboardInterrupt):
         self.signum = signum
 
 
-def _terminate_like_interrupt() -> None:
+def _terminate_like_interrupt():
+    """Install the handlers (in the main thread only: Python allows no other) and return what
+    puts the previous ones back."""
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
     def handler(signum, frame):
         raise Terminated(signum)
+    previous = {}
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
-            signal.signal(getattr(signal, name), handler)
+            sig = getattr(signal, name)
+            previous[sig] = signal.signal(sig, handler)
+    def restore():
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+    return restore
 
 
 class _Vampc(click.Group):
@@ -93,7 +104,7 @@ class _Vampc(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, False, **extra)
-        _terminate_like_interrupt()
+        restore = _terminate_like_interrupt()
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
         except click.UsageError as exc:
@@ -110,6 +121,8 @@ class _Vampc(click.Group):
         except click.Abort:
             click.echo("vampc: interrupted", err=True)
             sys.exit(1)
+        finally:
+            restore()
         sys.exit(code if isinstance(code, int) else 0)
 
 

@@ -10,6 +10,7 @@ main output (`err`: for standard error, because standard output carries data).
 from __future__ import annotations
 
 import json
+import math
 import time
 import warnings
 from pathlib import Path
@@ -182,9 +183,10 @@ def rate_text(count: int, seconds: float) -> str:
     if seconds <= 0:
         return "too fast to time"
     rate = count / seconds
-    if rate >= 100:
+    if rate >= 99.5:
         return f"{rate:,.0f} sets/s"
-    return f"{rate:.2g} sets/s"
+    decimals = 1 - math.floor(math.log10(rate))        # two significant digits, no exponent
+    return f"{rate:.{decimals}f} sets/s"
 
 
 class Sinks:

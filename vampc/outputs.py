@@ -80,12 +80,14 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         mode = None
     except OSError as exc:
         raise VampcError(f"{path}: cannot write: {exc.strerror}") from None
+    if mode is not None and option in stdout_ok and _is_stdout(path):
+        # /dev/stdout, /proc/self/fd/1: standard output's own file, whatever it is (a pipe, or a
+        # file it is appended to, which a rename would replace)
+        return PlannedOutput(option, path, "stdout", None)
     if mode is not None and not stat.S_ISREG(mode):
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
             if not os.access(path, os.W_OK):
                 raise VampcError(f"{path}: cannot write: permission denied")
-            if option in stdout_ok and _is_stdout(path):     # /dev/stdout, /proc/self/fd/1
-                return PlannedOutput(option, path, "stdout", None)
             return PlannedOutput(option, path, "stream", Path(path))
         what = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
         raise VampcError(f"{path}: is {what}; give a file name for {option}")

@@ -168,18 +168,22 @@ def _loadtxt(body: str, cols: int):
 _NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
 
 
-def _npy_fits(path: Path) -> None:
-    """A .npy file holds the data its header announces (VampcError otherwise), read before numpy
-    allocates the array the header asks for, whatever size that claims."""
+def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
+    """A .npy file (or member `member` of the .npz `z`) holds the data its header announces
+    (VampcError otherwise), read before numpy allocates the array the header asks for, whatever
+    size that claims."""
     try:
-        with open(path, "rb") as f:
+        if member is None:
+            f, size = open(path, "rb"), path.stat().st_size
+        else:
+            f, size = z.zip.open(f"{member}.npy"), z.zip.getinfo(f"{member}.npy").file_size
+        with f:
             version = np.lib.format.read_magic(f)
             read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
                     else np.lib.format.read_array_header_2_0)
             shape, _, dtype = read(f)
             start = f.tell()
-        size = path.stat().st_size
-    except OSError:
+    except (OSError, KeyError, AttributeError):
         return                      # np.load says why
     except _NUMPY_ERRORS:
         return
@@ -187,7 +191,8 @@ def _npy_fits(path: Path) -> None:
         return
     need = math.prod(shape) * dtype.itemsize
     if need > size - start:
-        raise VampcError(f"{path}: its header announces an array of shape {tuple(shape)} "
+        what = f"{path}: array {member}" if member is not None else f"{path}"
+        raise VampcError(f"{what}: its header announces an array of shape {tuple(shape)} "
                          f"({need:,} bytes) but the file holds {size - start:,} bytes of data "
                          "(truncated or damaged)")
 
@@ -248,6 +253,7 @@ def _npz_base(path: Path, z, count: int) -> np.ndarray:
 
 
 def _member(path, z, key: str) -> np.ndarray:
+    _npy_fits(path, key, z)
     try:
         value = z[key]
     except _NUMPY_ERRORS as exc:

@@ -86,7 +86,7 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     if doc.floating:
         for name in ("base_mass", "base_com", "base_inertia"):
             if getattr(doc, name) is None:
-                raise VampcError(f"robot.{name}: a floating base needs it")
+                raise VampcError(f"{path}: robot.{name}: a floating base needs it")
         tree.update(floating=True, base_mass=doc.base_mass, base_com=np.array(doc.base_com),
                     base_inertia=np.array(doc.base_inertia))
     chain = Chain(doc.name, joints, np.array(doc.gravity), np.array(doc.base_omega),
@@ -96,7 +96,7 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
         try:
             chain._verify_tree()
         except VampcInternalError as exc:
-            raise VampcError(f"robot.parents: {exc}") from None
+            raise VampcError(f"{path}: robot.parents: {exc}") from None
     return chain
 
 
@@ -256,11 +256,15 @@ def programs_from_doc(doc: F.ProgramFile) -> tuple[tuple[Program, ...], ...]:
 
 def typed(doc, path) -> F.ProgramFile:
     """A program document as its Structs: a ProgramFile as it is, a dict (json.loads of a file, a
-    test's edit) converted and checked like a file (VampcError naming the place)."""
-    if isinstance(doc, F.ProgramFile):
-        return doc
-    from vampc.program.file import validate_program
-    return validate_program(doc, path)
+    test's edit) converted and checked like a file (VampcError naming the place). Either way its
+    layout names must be registered ones (what a type cannot say: the registry grows)."""
+    if not isinstance(doc, F.ProgramFile):
+        from vampc.program.file import validate_program
+        doc = validate_program(doc, path)
+    for where, name in (("options.layout", doc.options.layout), ("layout.name", doc.layout.name)):
+        if name not in LAYOUTS:
+            raise VampcError(f"{path}: {where}: {name!r} is not a layout ({', '.join(LAYOUTS)})")
+    return doc
 
 
 @gc_paused()
@@ -278,10 +282,6 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     doc = typed(doc, path)
     graph = graph_from_doc(doc.graph, path)
     net = network_from_doc(doc, path)
-    for name in (doc.options.layout, doc.layout.name):
-        if name not in LAYOUTS:
-            where = "options.layout" if name == doc.options.layout else "layout.name"
-            raise VampcError(f"{path}: {where}: {name!r} is not a layout ({', '.join(LAYOUTS)})")
     try:
         options = CompileOptions(**msgspec.structs.asdict(doc.options))
         options.check()

@@ -212,9 +212,9 @@ def _read(path) -> tuple[ProgramFile, str]:
     except msgspec.ValidationError as exc:
         _refuse_version(_untyped(text, path), path)
         raise VampcError(f"{path}: {_where(exc)}") from None
-    except msgspec.DecodeError:
-        _untyped(text, path)         # says why
-        raise
+    except msgspec.DecodeError as exc:
+        _untyped(text, path)         # says why, when it is not JSON
+        raise VampcError(f"{path}: not a vampc program file ({exc})") from None
     lacks = check_summary(doc)
     if lacks:
         raise VampcError(f"{path}: {lacks}")

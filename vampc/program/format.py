@@ -16,9 +16,10 @@ big file's hundreds of thousands of rows cost the collector nothing.
 msgspec was chosen by measuring (a 32-joint log program on 943 VAMPs, 1.4 MB, median of five runs,
 garbage collector paused): a typed decode, types and ranges checked, takes 0.010 s, against 0.030 s
 for json.loads and 0.005 s more for jsonschema-rs, and it hands over typed rows instead of dicts.
-It does not write floats as Python's repr does (1e-05 becomes 0.00001), and the program files are
-byte-identical to earlier vampc's, so the writer encodes the builtins msgspec makes of the Structs
-(msgspec.to_builtins) with the standard library's encoder.
+It does not write floats as Python's repr does (1e-05 becomes 0.00001) nor escape non-ASCII
+characters, and program files stay byte-identical to earlier vampc's, so the writer hands it floats
+already written as Python's repr (vampc.program.file.number, msgspec.Raw) and escapes what it
+writes beyond ASCII (vampc.program.file.encode).
 """
 from __future__ import annotations
 

@@ -270,8 +270,8 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
         lim = joint.limit
         if (joint.type != "continuous" and lim is not None and lim.lower is not None
                 and lim.upper is not None and not lim.lower <= number <= lim.upper):
-            raise located(path, f"lock {name}", f"{number:g} is outside the joint's limits "
-                          f"[{lim.lower:g}, {lim.upper:g}]")
+            raise located(path, f"lock {name}", f"{value} is outside the joint's limits "
+                          f"[{lim.lower!r}, {lim.upper!r}]")
         out[name] = number
     return out
 
@@ -468,9 +468,11 @@ def _check_mass(inertial, link: str, path: Path) -> None:
         raise located(path, f"link '{link}'", f"negative mass {inertial.mass}")
 
 
-# An inertia whose smallest eigenvalue is negative by at most this much of its largest entry is a
+# An inertia whose smallest eigenvalue is negative by at most this much of its largest entry, or by
+# at most NEARLY_PSD_ABS kg m² (a 10 g bead 3 mm from its axis: below any link's inertia), is a
 # rounding error of the file (exported models print a few digits): taken as it is, with a warning.
 NEARLY_PSD = 1e-4
+NEARLY_PSD_ABS = 1e-7
 
 
 def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
@@ -480,10 +482,12 @@ def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
         problem = inertia_problem(inertia[i])
         if not problem:
             continue
-        if inertia_problem(inertia[i], tolerance=NEARLY_PSD) is None:
+        scale = float(np.max(np.abs(inertia[i])))
+        loose = max(NEARLY_PSD, NEARLY_PSD_ABS / scale) if scale > 0 else NEARLY_PSD
+        if inertia_problem(inertia[i], tolerance=loose) is None:
             warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}, by less than "
-                                       f"{NEARLY_PSD:g} of its largest entry: taken as a rounding "
-                                       "error"), stacklevel=2)
+                                       f"{NEARLY_PSD:g} of its largest entry or {NEARLY_PSD_ABS:g} "
+                                       "kg m²: taken as a rounding error"), stacklevel=2)
             continue
         raise located(path, f"link '{names[i]}'", problem)
 

@@ -432,9 +432,11 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     else:
         placed = modulo_schedule(graph, timing, k, interval, asap)
         if placed is None:         # what --vamps K alone reaches (an unheld search can say more)
-            best = _for_vamps(graph, timing, k, asap, thorough).interval
-            raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
-                             f"interval this scheduler reaches is {best} flops")
+            best = _for_vamps(graph, timing, k, asap, thorough)
+            if best.interval > interval:
+                raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
+                                 f"interval this scheduler reaches is {best.interval} flops")
+            placed = best          # a set at least every T flops, as --interval promises
     return _finish(graph, timing, placed, k, verify, proof)
 
 
