@@ -116,12 +116,17 @@ def test_a_terminated_emulation_leaves_no_file(puma_program, tmp_path, sig):
                              "--random", "200000000", "-o", str(out)], cwd=tmp_path,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env={**os.environ, "VAMPC_PROGRESS": "0"})
-    deadline = time.time() + 60
-    while not any(p.name.startswith(".o.csv") for p in tmp_path.iterdir()):   # writing has begun
-        assert proc.poll() is None and time.time() < deadline
-        time.sleep(0.05)
-    proc.send_signal(sig)
-    _, err = proc.communicate(timeout=240)      # a loaded machine; it normally ends at once
+    try:
+        deadline = time.time() + 60
+        while not any(p.name.startswith(".o.csv") for p in tmp_path.iterdir()):   # writing began
+            assert proc.poll() is None and time.time() < deadline
+            time.sleep(0.05)
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=240)      # a loaded machine; it normally ends at once
+    finally:
+        if proc.poll() is None:                     # never leave a run filling the disk
+            proc.kill()
+            proc.communicate()
     assert proc.returncode == 128 + sig
     assert err.strip().splitlines()[-1] == f"vampc: terminated ({signal.Signals(sig).name})"
     assert list(tmp_path.iterdir()) == []

@@ -16,7 +16,13 @@ import warnings
 import click
 
 from vampc.cliopts import FilePath, build, options_of
-from vampc.errors import VampcError, VampcUsageError, VampcWarning
+from vampc.errors import (
+    Terminated,
+    VampcError,
+    VampcUsageError,
+    VampcWarning,
+    terminate,
+)
 from vampc.options import (
     CompileCommand,
     CompileOptions,
@@ -24,6 +30,7 @@ from vampc.options import (
     ReportOptions,
     RobotOptions,
 )
+from vampc.outputs import discard_all
 
 
 def handle_errors(f):
@@ -41,9 +48,11 @@ def handle_errors(f):
             click.echo(f"vampc: error: {exc}", err=True)
             sys.exit(1)
         except Terminated as exc:
+            discard_all()
             click.echo(f"vampc: terminated ({exc})", err=True)
             sys.exit(128 + exc.signum)
         except KeyboardInterrupt:
+            discard_all()
             click.echo("vampc: interrupted", err=True)
             sys.exit(130)
         except (click.exceptions.Exit, click.ClickException, SystemExit):
@@ -69,15 +78,6 @@ def say(text: str, err: bool) -> None:
     click.echo(text, err=err)
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM or SIGHUP, raised where the program is, like Ctrl-C: every output being written is
-    removed on the way out (vampc.outputs), so no partial or temporary file is left."""
-
-    def __init__(self, signum: int):
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
-
-
 def _terminate_like_interrupt():
     """Install the handlers (in the main thread only: Python allows no other) and return what
     puts the previous ones back."""
@@ -85,7 +85,7 @@ def _terminate_like_interrupt():
     if threading.current_thread() is not threading.main_thread():
         return lambda: None
     def handler(signum, frame):
-        raise Terminated(signum)
+        terminate(signum)
     previous = {}
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):

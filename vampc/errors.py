@@ -31,3 +31,31 @@ def located(path, where: str, what: str) -> VampcError:
 class VampcUsageError(VampcError):
     """A usage error: an option value or a combination of options no command can honour. The CLI
     prints it as one line with the help to read, and exits with status 2."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the program is, like Ctrl-C: every output being written is
+    removed on the way out (vampc.outputs), so no partial or temporary file is left."""
+
+    def __init__(self, signum: int):
+        import signal
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+# The signal received, kept beside the exception its handler raises: an exception raised inside
+# an import or a finaliser can be swallowed there, so long loops also ask (raise_if_terminated).
+_terminated: list[int] = []
+
+
+def terminate(signum: int):
+    """The SIGTERM/SIGHUP handler's work: remember the signal, raise Terminated."""
+    if not _terminated:
+        _terminated.append(signum)
+    raise Terminated(signum)
+
+
+def raise_if_terminated() -> None:
+    """Raise Terminated again if a termination signal came and its exception was lost."""
+    if _terminated:
+        raise Terminated(_terminated[0])

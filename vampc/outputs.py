@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import stat
 import sys
 import tempfile
@@ -147,6 +148,35 @@ def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
         return False
 
 
+# Every temporary file an output is being written to, until it is renamed into place or removed:
+# what an interrupted command removes on its way out (discard_all), wherever the signal landed.
+_TEMPORARIES: set[str] = set()
+_HELD = (signal.SIGINT, signal.SIGTERM) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold Ctrl-C, SIGTERM and SIGHUP (delivered when the block ends): a temporary file is then
+    never made or renamed without the registry knowing."""
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    except (AttributeError, ValueError, OSError):      # no pthread_sigmask: nothing to hold
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def discard_all() -> None:
+    """Remove every temporary output file still open (an interrupted or terminated command)."""
+    for tmp in list(_TEMPORARIES):
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        _TEMPORARIES.discard(tmp)
+
+
 class Pending:
     """An output being written: `fh` takes the content; `commit()` puts it in place, `discard()`
     drops it (a regular file's previous content stays). Used by `writing`."""
@@ -160,8 +190,10 @@ class Pending:
             elif out.kind == "stream":
                 self.fh = open(out.target, mode)    # noqa: SIM115 - closed in commit/discard
             else:
-                fd, self.tmp = tempfile.mkstemp(prefix=f".{out.target.name}.", suffix=".tmp",
-                                                dir=out.target.parent)
+                with _signals_held():        # the name is known before a signal can unwind
+                    fd, self.tmp = tempfile.mkstemp(prefix=f".{out.target.name}.", suffix=".tmp",
+                                                    dir=out.target.parent)
+                    _TEMPORARIES.add(self.tmp)
                 self.fh = os.fdopen(fd, mode)
         except OSError as exc:
             raise self.error(exc) from None
@@ -182,8 +214,10 @@ class Pending:
             self.fh.close()
             if self.tmp is not None:
                 os.chmod(self.tmp, _mode_for(self.out.target))
-                os.replace(self.tmp, self.out.target)
-                self.tmp = None
+                with _signals_held():
+                    os.replace(self.tmp, self.out.target)
+                    _TEMPORARIES.discard(self.tmp)
+                    self.tmp = None
         except OSError as exc:
             self.discard()
             raise self.error(exc) from None
@@ -195,6 +229,7 @@ class Pending:
                 self.fh.close()
         if self.tmp is not None:
             Path(self.tmp).unlink(missing_ok=True)
+            _TEMPORARIES.discard(self.tmp)
             self.tmp = None
 
 

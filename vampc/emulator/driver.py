@@ -17,9 +17,13 @@ from typing import Callable, Iterator
 
 import numpy as np
 
+# imported before any output is open: a signal landing in numpy's lazy import of it loses its
+# exception (raise_if_terminated asks again at every chunk anyway)
+import numpy.random  # noqa: F401
+
 from vampc.emulator.host import CheckResult, Trajectory, check_torques
 from vampc.emulator.load import Loaded
-from vampc.errors import VampcError
+from vampc.errors import VampcError, raise_if_terminated
 from vampc.kinds import Engine
 
 RANDOM_BLOCK = 1024
@@ -130,6 +134,7 @@ def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
         from vampc.emulator import prepare_stream
         stream = prepare_stream(ld, states.count)
     for start, traj in _chunks(ld, states, size):
+        raise_if_terminated()
         def chunk_progress(done, total, start=start):
             if progress is not None:
                 progress(start + done, states.count)
@@ -142,6 +147,7 @@ def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
         if sink is not None:
             sink(traj, em.tau)
+        raise_if_terminated()
     # the stream engine's timing is the schedule's: set j completes j·C after set 0
     data_ticks = first.data_ticks if Engine(engine) is Engine.TICK else \
         (states.count - 1) * first.interval + first.first_tick + 1
