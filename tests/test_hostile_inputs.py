@@ -314,3 +314,11 @@ def test_both_budgets_given_take_what_vamps_alone_reaches_within_the_interval(tm
     code, err, _ = run("compile", PUMA, "--vamps", 18, "--interval", 18, "-o", out)
     assert code == 0, err
     assert json.loads(out.read_text())["summary"]["interval_flops"] <= 18
+
+
+
+def test_a_graph_output_naming_no_node_is_the_files_error(puma_program, tmp_path):
+    path = edited(puma_program, tmp_path, lambda d: d["graph"]["outputs"][0].__setitem__(1, 99999))
+    for args in (("report", path), ("emulate", path, "--random", 3, "--check")):
+        code, err, _ = run(*args)
+        assert code == 1 and one_line(err) and "graph.outputs[0]" in err, err

@@ -121,6 +121,10 @@ def graph_from_doc(d: F.GraphDoc, path="<program>") -> Graph:
         nodes.append(Node(r.id, op, tuple(r.args), r.name, r.section, r.group,
                           InputKey(*r.key) if r.key is not None else None,
                           tuple(r.value) if r.value is not None else None))
+    for k, (joint, node, component) in enumerate(d.outputs):
+        if not 0 <= node < len(nodes) or not 1 <= joint or not 0 <= component <= 2:
+            raise VampcError(f"{path}: graph.outputs[{k}]: [{joint}, {node}, {component}] names no "
+                             "torque of the graph (the file was edited); recompile it")
     return Graph(tuple(nodes), tuple(Output(*o) for o in d.outputs), d.n, d.recursion,
                  tuple(sorted(d.meta.items())))
 
