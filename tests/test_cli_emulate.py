@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from program_util import edited_program
 
 from vampc.cli import main
 from vampc.dynamics.reference import rnea
@@ -120,17 +121,6 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
     assert _run("emulate", program, "--trajectory", src, "--allow-out-of-limits", "--check").exit_code == 0
 
 
-def _edited(tmp_path, program, change, fix_checksum=False):
-    from vampc.program.file import checksum
-    doc = json.loads(Path(program).read_text())
-    change(doc)
-    if fix_checksum:
-        doc["checksum"] = checksum(doc)
-    p = tmp_path / "edited.vamp.json"
-    p.write_text(json.dumps(doc))
-    return p
-
-
 @pytest.mark.parametrize("change,fix,message", [
     (lambda d: d["programs"][0]["slots"][0].update(delay_a=1), False, r"checksum mismatch"),
     (lambda d: d.pop("io"), True, r"document: object missing required field `io`"),
@@ -146,7 +136,7 @@ def _edited(tmp_path, program, change, fix_checksum=False):
 ])
 def test_bad_program_file(tmp_path, program, change, fix, message):
     out = tmp_path / "tau.csv"
-    res = _run("emulate", _edited(tmp_path, program, change, fix), "--random", 3, "-o", out)
+    res = _run("emulate", edited_program(program, tmp_path, change, fix), "--random", 3, "-o", out)
     assert res.exit_code == 1
     assert ERROR.match(res.output) and re.search(message, res.output), res.output
     assert not out.exists()
@@ -160,7 +150,7 @@ def test_not_json(tmp_path):
 def test_failed_tick_run_leaves_no_vcd(tmp_path, program):
     def slow_clock(d):   # a delay the static check would refuse, run through the tick engine
         d["programs"][0]["delay_r"] = 0
-    edited = _edited(tmp_path, program, slow_clock, fix_checksum=True)
+    edited = edited_program(program, tmp_path, slow_clock)
     vcd = tmp_path / "w.vcd"
     res = _run("emulate", edited, "--random", 2, "--engine", "tick", "--vcd", vcd)
     assert res.exit_code in (0, 1)
@@ -209,8 +199,8 @@ def test_other_latencies_emulate_exactly(tmp_path):
 
 
 def test_programs_listing_must_match_the_stream(tmp_path, program):
-    res = _run("emulate", _edited(tmp_path, program,
-                                  lambda d: d["programs"][2]["slots"][0].update(rom=0), True),
+    res = _run("emulate", edited_program(program, tmp_path,
+                                         lambda d: d["programs"][2]["slots"][0].update(rom=0)),
                "--random", 2)
     assert res.exit_code == 1 and ERROR.match(res.output)
     assert re.search(r"programs\[2\] slot 0 lists rom 0 but the program stream delivers 2",

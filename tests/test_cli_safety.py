@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from conftest import EXAMPLES
+from program_util import edited_program
 
 from vampc.cli import main
 from vampc.dynamics.reference import rnea
 from vampc.emulator import driver
 from vampc.emulator.host import CheckResult
-from vampc.program.file import checksum
 from vampc.robot import load_robot
 
 PLANAR = EXAMPLES / "planar2.yaml"
@@ -461,19 +461,10 @@ def test_an_invisible_character_in_a_header_is_shown_escaped(tmp_path, program):
     assert "\u200b" not in res.stderr
 
 
-def _edited(tmp_path: Path, program: Path, change) -> Path:
-    doc = json.loads(program.read_text())
-    change(doc)
-    doc["checksum"] = checksum(doc)
-    path = tmp_path / "edited.vamp.json"
-    path.write_text(json.dumps(doc))
-    return path
-
-
 def test_report_recomputes_a_hand_edited_summary(tmp_path, program):
     def edit(doc):
         doc["summary"]["latency"] = {"flops": 7, "mults": 16, "adds": 45}
-    res = run("report", _edited(tmp_path, program, edit), "--format", "json")
+    res = run("report", edited_program(program, tmp_path, edit), "--format", "json")
     assert res.exit_code == 0
     assert json.loads(res.stdout)["latency"] == {"flops": 29, "mults": 8, "adds": 21, "waits": 0}
     assert res.stderr == ("vampc: warning: " + str(tmp_path / "edited.vamp.json") + ": the stored "
@@ -486,7 +477,7 @@ def test_report_recomputes_a_hand_edited_summary(tmp_path, program):
     (lambda d: d["schedule"]["finish"].__setitem__(-1, 99), "schedule.finish"),
 ])
 def test_report_refuses_a_schedule_that_is_not_its_graphs(tmp_path, program, change, section):
-    res = run("report", _edited(tmp_path, program, change))
+    res = run("report", edited_program(program, tmp_path, change))
     user_error(res, rf"edited\.vamp\.json: {re.escape(section)} is not the schedule of the file's "
                     r"graph \(the file was edited\); recompile it$")
 
@@ -494,7 +485,7 @@ def test_report_refuses_a_schedule_that_is_not_its_graphs(tmp_path, program, cha
 def test_report_of_a_rewired_program_is_refused(tmp_path, program):
     def rewire(doc):
         doc["network"]["vamps"][5]["b"] = doc["network"]["vamps"][6]["b"]
-    res = run("report", _edited(tmp_path, program, rewire))
+    res = run("report", edited_program(program, tmp_path, rewire))
     assert res.exit_code == 1 and "VAMP" in res.stderr
 
 

@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from conftest import EXAMPLES
+from program_util import edited_program
 
 from vampc.cli import main
-from vampc.program.file import checksum
 
 PUMA, PLANAR = EXAMPLES / "puma560.yaml", EXAMPLES / "planar2.yaml"
 
@@ -36,15 +36,6 @@ def one_line(err: str) -> bool:
 def puma_program(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("puma") / "puma.vamp.json"
     assert run("compile", PUMA, "-o", out)[0] == 0
-    return out
-
-
-def edited(program: Path, tmp_path: Path, change) -> Path:
-    doc = json.loads(program.read_text())
-    change(doc)
-    doc["checksum"] = checksum(doc)
-    out = tmp_path / "edited.vamp.json"
-    out.write_text(json.dumps(doc))
     return out
 
 
@@ -92,7 +83,7 @@ def test_a_npy_whose_header_claims_terabytes_is_refused_before_allocating(puma_p
 def test_a_robot_section_missing_a_joint_is_the_files_error(puma_program, tmp_path):
     for change in (lambda d: d["robot"]["joints"].pop(),
                    lambda d: (d["robot"]["joints"].pop(), d["robot"].update(n=5))):
-        path = edited(puma_program, tmp_path, change)
+        path = edited_program(puma_program, tmp_path, change)
         for engine in ("stream", "tick"):
             code, err, _ = run("emulate", path, "--random", 5, "--check", "--engine", engine)
             assert code == 1 and one_line(err) and "robot:" in err, err
@@ -139,7 +130,7 @@ def test_a_reversed_program_mode_stream_is_refused_by_both_engines_and_the_repor
     def reverse(d):
         for e in d["program_stream"]:
             e["words"].reverse()
-    path = edited(puma_program, tmp_path, reverse)
+    path = edited_program(puma_program, tmp_path, reverse)
     errors = {run("emulate", path, "--random", 5, "--check", "--engine", e)[1]
               for e in ("stream", "tick")} | {run("report", path)[1]}
     assert len(errors) == 1 and "program stream of" in errors.pop()
@@ -154,7 +145,7 @@ def test_a_stream_reordered_consistently_runs_on_both_engines(puma_program, tmp_
                 e[key].reverse()
         d["io"]["load_ticks"] = max(k + depth + 1 for e in d["program_stream"]
                                     for k, depth in enumerate(e["depth"]))
-    path = edited(puma_program, tmp_path, reverse)
+    path = edited_program(puma_program, tmp_path, reverse)
     for engine in ("stream", "tick"):
         code, err, out = run("emulate", path, "--random", 5, "--check", "--engine", engine)
         assert code == 0 and "tolerance 1e-9: OK" in out + err, out + err
@@ -273,7 +264,7 @@ def test_a_lone_surrogate_in_a_program_file_is_the_files_error(puma_program, tmp
 
 
 def test_a_layout_name_not_registered_is_refused_by_the_emulator_too(puma_program, tmp_path):
-    path = edited(puma_program, tmp_path, lambda d: d["layout"].update(name="bogus"))
+    path = edited_program(puma_program, tmp_path, lambda d: d["layout"].update(name="bogus"))
     for args in (("emulate", path, "--random", 3, "--check"), ("report", path)):
         code, err, _ = run(*args)
         assert code == 1 and one_line(err) and "layout.name: 'bogus' is not a layout" in err
@@ -318,7 +309,7 @@ def test_both_budgets_given_take_what_vamps_alone_reaches_within_the_interval(tm
 
 
 def test_a_graph_output_naming_no_node_is_the_files_error(puma_program, tmp_path):
-    path = edited(puma_program, tmp_path, lambda d: d["graph"]["outputs"][0].__setitem__(1, 99999))
+    path = edited_program(puma_program, tmp_path, lambda d: d["graph"]["outputs"][0].__setitem__(1, 99999))
     for args in (("report", path), ("emulate", path, "--random", 3, "--check")):
         code, err, _ = run(*args)
         assert code == 1 and one_line(err) and "graph.outputs[0]" in err, err

@@ -11,9 +11,9 @@ import sys
 from pathlib import Path
 
 from click.testing import CliRunner
+from program_util import edited_program
 
 from vampc.cli import main
-from vampc.program.file import checksum
 
 EXACT = Path(__file__).resolve().parent / "data" / "puma560-vamps7-exact.vamp.json"
 
@@ -58,12 +58,7 @@ def test_report_of_an_exact_program_does_not_schedule_its_own_configuration(monk
 
 
 def _edited(tmp_path, change) -> str:
-    doc = json.loads(EXACT.read_text())
-    change(doc)
-    doc["checksum"] = checksum(doc)
-    path = tmp_path / "edited.vamp.json"
-    path.write_text(json.dumps(doc))
-    return str(path)
+    return str(edited_program(EXACT, tmp_path, change))
 
 
 def test_a_schedule_that_does_not_run_the_graph_is_refused(tmp_path):
