@@ -183,10 +183,8 @@ def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
                     else np.lib.format.read_array_header_2_0)
             shape, _, dtype = read(f)
             start = f.tell()
-    except (OSError, KeyError, AttributeError):
+    except (OSError, AttributeError, *_NUMPY_ERRORS):
         return                      # np.load says why
-    except _NUMPY_ERRORS:
-        return
     if dtype.hasobject:
         return
     need = math.prod(shape) * dtype.itemsize

@@ -95,7 +95,11 @@ def _reprs(xs) -> str:
 
 def encode(value) -> str:
     """Canonical JSON text of a value whose floats are already written (number, numbers)."""
-    out = _ENCODER.encode(value)
+    return _text(_ENCODER.encode(value))
+
+
+def _text(out: bytes) -> str:
+    """The encoder's bytes as the text program files hold: beyond ASCII escaped (_ascii)."""
     return _ascii(out.decode()) if _NOT_ASCII.search(out) else out.decode()
 
 
@@ -154,9 +158,7 @@ def layout(doc) -> str:
         if isinstance(value, (list, tuple)) and value and isinstance(value[0], rows) and depth <= 2:
             # one row per line: msgspec writes rows newline-delimited, and JSON text has no raw
             # newline of its own, so each newline is a row's end
-            out = _ENCODER.encode_lines(value)[:-1].replace(b"\n", b",\n")
-            text = _ascii(out.decode()) if _NOT_ASCII.search(out) else out.decode()
-            return "[\n" + text + "\n]"
+            return "[\n" + _text(_ENCODER.encode_lines(value)[:-1].replace(b"\n", b",\n")) + "\n]"
         return encode(value)
     return block(rendered(doc), 0)
 
