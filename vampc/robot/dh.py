@@ -159,14 +159,15 @@ def read_text(path: Path) -> str:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
 
 
-def inertia_problem(inertia: np.ndarray, tolerance: float = 1e-9) -> str | None:
+def inertia_problem(inertia: np.ndarray, tolerance: float = 1e-9, floor: float = 0.0) -> str | None:
     """Why a 3x3 inertia is not symmetric positive semi-definite, or None if it is (up to rounding:
-    `tolerance` of its largest entry)."""
+    `tolerance` of its largest entry, or `floor` in its own units, whichever is larger)."""
     scale = max(float(np.max(np.abs(inertia))), 1e-300)
-    if np.max(np.abs(inertia - inertia.T)) > tolerance * scale:
+    limit = max(tolerance * scale, floor)
+    if np.max(np.abs(inertia - inertia.T)) > limit:
         return "inertia is not symmetric"
     eig = np.linalg.eigvalsh(inertia)
-    if eig[0] < -tolerance * scale:
+    if eig[0] < -limit:
         shown = ", ".join(f"{e:.6g}" for e in eig)
         return f"inertia is not positive semi-definite (eigenvalues {shown})"
     return None

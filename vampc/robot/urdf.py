@@ -482,9 +482,7 @@ def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
         problem = inertia_problem(inertia[i])
         if not problem:
             continue
-        scale = float(np.max(np.abs(inertia[i])))
-        loose = max(NEARLY_PSD, NEARLY_PSD_ABS / scale) if scale > 0 else NEARLY_PSD
-        if inertia_problem(inertia[i], tolerance=loose) is None:
+        if inertia_problem(inertia[i], tolerance=NEARLY_PSD, floor=NEARLY_PSD_ABS) is None:
             warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}, by less than "
                                        f"{NEARLY_PSD:g} of its largest entry or {NEARLY_PSD_ABS:g} "
                                        "kg m²: taken as a rounding error"), stacklevel=2)

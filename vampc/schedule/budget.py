@@ -407,8 +407,8 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
     if interval is not None and interval < longest:
         raise VampcError(f"--interval {interval}: the smallest interval any network reaches is "
                          f"{longest} flops (the longest op)")
-    asked = interval
-    k, interval = usable(graph, timing, k, interval)
+    asked_k, asked = k, interval
+    k, interval = usable(graph, timing, k, interval, longest)
     proof = ""
     if exact:
         if k is None:
@@ -434,23 +434,23 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
         if placed is None:         # what --vamps K alone reaches (an unheld search can say more)
             best = _for_vamps(graph, timing, k, asap, thorough)
             if best.interval > interval:
-                raise VampcError(f"--vamps {k} --interval {interval}: with {k} VAMPs the smallest "
-                                 f"interval this scheduler reaches is {best.interval} flops")
+                raise VampcError(f"--vamps {asked_k} --interval {asked}: with {k} VAMPs the "
+                                 f"smallest interval this scheduler reaches is {best.interval} "
+                                 "flops")
             placed = best          # a set at least every T flops, as --interval promises
     return _finish(graph, timing, placed, k, verify, proof)
 
 
-def usable(graph: Graph, timing: Timing, k: int | None, interval: int | None):
+def usable(graph: Graph, timing: Timing, k: int | None, interval: int | None, longest: int):
     """(K, T) capped at what the graph can use: no placement uses more VAMPs than the graph has
     VAMP-ops (vamp_ops), and at an interval of W (the work) or more the smallest network already
     runs every op of a set before the next set starts, so a longer interval needs no fewer VAMPs
     and is served by one of max(W, the longest op). So a huge --vamps or --interval costs what the
     graph needs, not what was asked (each VAMP and each tick of the period is a bit of the
-    scheduler's reservation tables)."""
+    scheduler's reservation tables). `longest`: the longest op's duration."""
     if k is not None:
         k = min(k, vamp_ops(graph))
     if interval is not None:
-        longest = max((timing.durations[nd.op] for nd in graph.compute_nodes()), default=1)
         interval = min(interval, max(work(graph, timing), longest))
     return k, interval
 
