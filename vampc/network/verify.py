@@ -3,32 +3,36 @@ ticks, by the timing rules of vampc.machine.timing, and no two slots of a VAMP o
 every network the allocator makes when verification is on (always in the tests)."""
 from __future__ import annotations
 
+import math
+
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcInternalError
-from vampc.kinds import TapKind
+from vampc.kinds import TapKind, unhandled
 from vampc.machine.ops import Op
 from vampc.machine.timing import (
     PortSchedule,
+    buffer_window,
     overlapping_spans,
     port_window,
+    result_window,
     result_windows,
-    window,
 )
 from vampc.network.model import Network, Vamp
 from vampc.schedule.asap import Schedule
 
 
-def slot_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
-    """(VAMP, slot) -> (emit, next emit): the ticks its value is on the Result (set 0)."""
+def shown_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
+    """(VAMP, node) -> (emit, next emit): the ticks the VAMP's Result shows that node's value
+    (set 0)."""
     out = {}
     P = net.period
     for v in net.vamps:
         if len(v.slots) == 1:       # a systolic VAMP: the common case by far
-            emit = v.slots[0].dump + 1
-            out[(v.index, 0)] = (emit, emit + P)
+            s = v.slots[0]
+            out[(v.index, s.node)] = (s.dump + 1, s.dump + 1 + P)
             continue
         windows = result_windows([s.dump for s in v.slots], P)
-        out.update({(v.index, k): w for k, w in enumerate(windows)})
+        out.update({(v.index, s.node): w for s, w in zip(v.slots, windows)})
     return out
 
 
@@ -36,22 +40,25 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
     vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
     the slot, the tick and the operand."""
-    wins = slot_windows(net)
-    slot_of = {(v.index, s.node): k for v in net.vamps for k, s in enumerate(v.slots)}
+    shown = shown_windows(net)
     ports = _PortIndex(net)
     P, B = net.period, net.clock
+    nodes = graph.nodes
     checked: set = set()     # (id(operand), latch, arg) already found right
     for v in net.vamps:
         _verify_slots(v, P)
         for k, s in enumerate(v.slots):
-            nd = graph.nodes[s.node]
-            for name, operand, latch, arg in (("A", v.a[s.sel_a], s.latch_a, nd.args[0]),
-                                              ("B", v.b[s.sel_b], s.latch_b, nd.args[1])):
-                key = (id(operand), latch, arg)
-                if key not in checked:
-                    checked.add(key)
-                    _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch,
-                                    arg, B)
+            arg_a, arg_b = nodes[s.node].args
+            operand = v.a[s.sel_a]
+            key = (id(operand), s.latch_a, arg_a)
+            if key not in checked:
+                checked.add(key)
+                _verify_operand(net, graph, shown, ports, v, k, "A", operand, s.latch_a, arg_a, B)
+            operand = v.b[s.sel_b]
+            key = (id(operand), s.latch_b, arg_b)
+            if key not in checked:
+                checked.add(key)
+                _verify_operand(net, graph, shown, ports, v, k, "B", operand, s.latch_b, arg_b, B)
 
 
 def _verify_slots(v: Vamp, P: int) -> None:
@@ -64,23 +71,29 @@ def _verify_slots(v: Vamp, P: int) -> None:
         raise VampcInternalError(f"VAMP {v.index}: slots {met[0]} and {met[1]} overlap")
 
 
-def _verify_operand(net, graph, wins, slot_of, ports, v, k, name, operand, latch, arg, B) -> None:
+def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B) -> None:
     src = graph.nodes[arg]
     for tap in operand.taps:
-        if tap.kind is TapKind.CONST:
-            ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
-            lo, hi = -float("inf"), float("inf")
-        elif tap.kind is TapKind.PORT:
+        kind = tap.kind
+        if kind is TapKind.VAMP:
+            emit_next = shown.get((tap.index, arg))
+            ok = emit_next is not None
+            lo, hi = result_window(*emit_next) if ok else (0, 0)
+        elif kind is TapKind.BUFFER:
+            buffer = net.buffers[tap.index]
+            if not 1 <= tap.stage <= buffer.stages:
+                raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
+            emit_next = shown.get((buffer.source, arg))
+            ok = emit_next is not None
+            lo, hi = buffer_window(*emit_next, tap.stage, B) if ok else (0, 0)
+        elif kind is TapKind.PORT:
             lo, hi, key = ports.showing(tap.index, latch)
             ok = src.op is Op.INPUT and key == src.key
+        elif kind is TapKind.CONST:
+            ok = src.op is Op.CONST and tuple(net.consts[tap.index].value) == src.value
+            lo, hi = -math.inf, math.inf
         else:
-            vamp = tap.index if tap.kind is TapKind.VAMP else net.buffers[tap.index].source
-            if not (tap.kind is TapKind.VAMP or 1 <= tap.stage <= net.buffers[tap.index].stages):
-                raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
-            src_slot = slot_of.get((vamp, arg))
-            ok = src_slot is not None
-            emit, nxt = wins[(vamp, src_slot)] if ok else (0, 0)
-            lo, hi = window(tap, B, emit, nxt)
+            unhandled(kind)
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
                                      f"which does not carry node {src.label}")

@@ -220,20 +220,21 @@ def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
         if op is None:
             op = operands[key] = Operand(tuple(map(tap, key)))
         return op
-    def slot(v: int, k: int, r: F.SlotDoc) -> ProgrammedSlot:
-        op = ops.get(r.op)
-        where = f"{path}: programs[{v}].slots[{k}]"
-        if op is None:
-            raise VampcError(f"{where}.op: {r.op!r} is not a compute op ({', '.join(ops)})")
-        if r.rom >= rom_size:
-            raise VampcError(f"{where}.rom: {r.rom} is not a ROM pointer (0..{rom_size - 1})")
-        name, column = ROM[r.rom]
-        return ProgrammedSlot(r.node, name, column, r.sel_a, r.sel_b, r.delay_a, r.delay_b,
-                              r.delay_r)
     def slots(index: int):
         if not 0 <= index < len(progs):
             raise VampcError(f"{path}: network.vamps: VAMP {index} has no programs entry")
-        return tuple(slot(index, k, r) for k, r in enumerate(progs[index].slots))
+        out = []
+        for r in progs[index].slots:
+            if r.op not in ops:
+                raise VampcError(f"{path}: programs[{index}].slots[{len(out)}].op: {r.op!r} is not "
+                                 f"a compute op ({', '.join(ops)})")
+            if r.rom >= rom_size:
+                raise VampcError(f"{path}: programs[{index}].slots[{len(out)}].rom: {r.rom} is not "
+                                 f"a ROM pointer (0..{rom_size - 1})")
+            name, column = ROM[r.rom]
+            out.append(ProgrammedSlot(r.node, name, column, r.sel_a, r.sel_b, r.delay_a, r.delay_b,
+                                      r.delay_r))
+        return tuple(out)
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
     return Network(nd.period, nd.clock, vamps,
