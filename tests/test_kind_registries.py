@@ -10,7 +10,7 @@ from vampc.cli import main
 from vampc.dataflow.prefix import SHAPES, prefix_tiers
 from vampc.dataflow.registry import PREFIXES, RECURSIONS, prefix_names, recursion_names
 from vampc.errors import VampcInternalError
-from vampc.kinds import Prefix, Recursion, exhaustive
+from vampc.kinds import Pass, Prefix, Recursion, Section, TapKind, exhaustive
 from vampc.program.format import schema
 
 
@@ -44,3 +44,26 @@ def test_the_paper_formulas_come_from_the_registry():
     assert RECURSIONS[Recursion.LOG].paper_latency(6) == (11, 28)
     assert RECURSIONS[Recursion.LOG].paper_latency(7) == (11, 28)
     assert RECURSIONS[Recursion.LOG].paper_latency(8) == (13, 34)
+
+
+def test_each_tap_kind_has_its_source_vamp():
+    from vampc.network.model import Tap, tap_source
+    sources = [7, 9]                 # buffer 0 delays VAMP 7, buffer 1 VAMP 9
+    got = {kind: tap_source(Tap(kind, 1, 2 if kind is TapKind.BUFFER else 0), sources)
+           for kind in TapKind}
+    assert got == {TapKind.VAMP: 1, TapKind.BUFFER: 9, TapKind.PORT: None, TapKind.CONST: None}
+
+
+def test_each_section_belongs_to_its_pass():
+    # the non-propagated r̈, F, N are computed from the backward pass's values: they go with it
+    assert {s: Pass.of(s) for s in Section} == {Section.BWD: Pass.BACKWARD,
+                                                  Section.NPV: Pass.BACKWARD,
+                                                  Section.FWD: Pass.FORWARD, Section.IO: None}
+
+
+def test_a_kind_no_branch_handles_is_an_internal_error():
+    from vampc.network.model import Tap, tap_source
+    tap = Tap(TapKind.VAMP, 0)
+    object.__setattr__(tap, "kind", "bus")      # a kind a later feature adds, not yet handled
+    with pytest.raises(VampcInternalError, match="no branch handles 'bus'"):
+        tap_source(tap, [])

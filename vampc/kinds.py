@@ -64,6 +64,12 @@ class Pass(Kind):
     BACKWARD = "backward"
     FORWARD = "forward"
 
+    @staticmethod
+    def of(section: Section) -> Pass | None:
+        """The pass a section's values belong to (the non-propagated ones, computed from the
+        backward pass's, with it); None for host I/O."""
+        return _PASS_OF[section]
+
 
 class TapKind(Kind):
     """Where an operand is read (vampc.network.model.Tap): a VAMP's Result, a buffer stage, a host
@@ -133,3 +139,7 @@ class Engine(Kind):
 
     STREAM = "stream"
     TICK = "tick"
+
+
+_PASS_OF = exhaustive({Section.BWD: Pass.BACKWARD, Section.NPV: Pass.BACKWARD,
+                       Section.FWD: Pass.FORWARD, Section.IO: None}, Section)

@@ -14,7 +14,7 @@ from vampc.emulator.load import (
     loaded_from_compiled,
     loaded_from_doc,
 )
-from vampc.kinds import Engine
+from vampc.kinds import Engine, unhandled
 
 ENGINES = Engine.names()
 
@@ -43,12 +43,20 @@ def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0,
     engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
     a longer run this trajectory is a chunk of (vampc.emulator.driver)."""
     start = time.perf_counter()
-    if Engine(engine) is Engine.TICK:
-        if static_check:
-            check_program(ld)
-        return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress)
-    if stream is None:
-        stream = prepare_stream(ld, traj.count, static_check)
+    engine = Engine(engine)
+    match engine:
+        case Engine.TICK:
+            if static_check:
+                check_program(ld)
+            return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress)
+        case Engine.STREAM:
+            return _stream(ld, traj, progress, stream or prepare_stream(ld, traj.count,
+                                                                        static_check), start)
+        case _:
+            unhandled(engine)
+
+
+def _stream(ld, traj, progress, stream, start) -> Emulation:
     values = port_values(ld, traj)
     inputs = {i: values[(p, e)] for i, (p, e, _) in enumerate(stream.flow.inputs)}
     tau = stream.run(inputs, traj.count, progress)

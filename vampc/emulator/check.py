@@ -11,7 +11,7 @@ from __future__ import annotations
 from vampc.emulator import timing as tm
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
-from vampc.kinds import SourceKind
+from vampc.kinds import SourceKind, unhandled
 from vampc.machine.ops import Op
 from vampc.program.words import ROM
 
@@ -83,7 +83,9 @@ def _carried(ld: Loaded, src):
     if src[0] is SourceKind.PORT:
         key = ld.net.ports[src[1]].entries[src[2]].key
         return ("input", key.quantity, key.joint)
-    return ("const", tuple(ld.net.consts[src[1]].value))
+    if src[0] is SourceKind.CONST:
+        return ("const", tuple(ld.net.consts[src[1]].value))
+    return unhandled(src[0])
 
 
 def _describe(ld: Loaded, src) -> str:
@@ -92,7 +94,9 @@ def _describe(ld: Loaded, src) -> str:
     if src[0] is SourceKind.PORT:
         key = ld.net.ports[src[1]].entries[src[2]].key
         return f"port {src[1]}'s {key.quantity}{key.joint}"
-    return f"constant {ld.net.consts[src[1]].name}"
+    if src[0] is SourceKind.CONST:
+        return f"constant {ld.net.consts[src[1]].name}"
+    return unhandled(src[0])
 
 
 def _expected(node):

@@ -24,7 +24,7 @@ import numpy.random  # noqa: F401
 from vampc.emulator.host import CheckResult, Trajectory, check_torques
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, raise_if_terminated
-from vampc.kinds import Engine
+from vampc.kinds import Engine, unhandled
 
 RANDOM_BLOCK = 1024
 CHUNK_BYTES = 64 << 20      # port values per chunk of the stream engine
@@ -119,20 +119,23 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
         progress=None) -> Outcome:
     """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
     in order. A non-finite torque is a VampcError naming the set and the joint."""
-    size = states.count if Engine(engine) is Engine.TICK else chunk_size(ld)
-    if Engine(engine) is Engine.TICK:
-        tick_memory_check(ld, states.count)
+    engine = Engine(engine)
+    match engine:
+        case Engine.TICK:           # one chunk: the tick engine runs the sets back to back
+            tick_memory_check(ld, states.count)
+            size = states.count
+        case Engine.STREAM:
+            size = chunk_size(ld)
+        case _:
+            unhandled(engine)
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
         return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
 
 
-def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
-    from vampc.emulator import emulate
+def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> Outcome:
+    from vampc.emulator import emulate, prepare_stream
     merged, seconds, first = None, 0.0, None
-    stream = None
-    if engine == "stream":
-        from vampc.emulator import prepare_stream
-        stream = prepare_stream(ld, states.count)
+    stream = prepare_stream(ld, states.count) if engine is Engine.STREAM else None
     for start, traj in _chunks(ld, states, size):
         raise_if_terminated()
         def chunk_progress(done, total, start=start):
@@ -148,9 +151,13 @@ def _run(ld, states, engine, seed, vcd, check, sink, progress, size) -> Outcome:
         if sink is not None:
             sink(traj, em.tau)
         raise_if_terminated()
-    # the stream engine's timing is the schedule's: set j completes j·C after set 0
-    data_ticks = first.data_ticks if Engine(engine) is Engine.TICK else \
-        (states.count - 1) * first.interval + first.first_tick + 1
+    match engine:
+        case Engine.TICK:
+            data_ticks = first.data_ticks
+        case Engine.STREAM:     # its timing is the schedule's: set j completes j·C after set 0
+            data_ticks = (states.count - 1) * first.interval + first.first_tick + 1
+        case _:
+            unhandled(engine)
     return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
                    data_ticks, seconds, merged)
 

@@ -45,7 +45,9 @@ def flow(ld: Loaded, timing) -> Flow:
             if key not in inputs:
                 inputs[key] = len(inputs)
             return (FlowKind.IN, inputs[key])
-        return (FlowKind.CONST, tuple(ld.net.consts[src[1]].value))
+        if src[0] is SourceKind.CONST:
+            return (FlowKind.CONST, tuple(ld.net.consts[src[1]].value))
+        return unhandled(src[0])
 
     ops = []
     for v, k in timing.order:

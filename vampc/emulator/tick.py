@@ -103,6 +103,16 @@ class TickEngine:
             return self.const_row[tap.index]
         return unhandled(tap.kind)
 
+    def _root_row(self, root) -> int:
+        """The bus row of an input buffer at the root of a Program-Mode stream."""
+        match root.kind:
+            case TapKind.PORT:
+                return self.port_row[root.index]
+            case TapKind.CONST:
+                return self.const_row[root.index]
+            case _:
+                return unhandled(root.kind)
+
     def _gather(self, operand):
         """Bus rows and columns of an operand's nine scalars, and the rows carrying its set tags."""
         r = [self._row(x) for x in operand.taps]
@@ -136,8 +146,7 @@ class TickEngine:
         """Clock the Program-Mode stream through the network; returns ticks used. VampcError if a
         VAMP never latched a program."""
         stream = self.ld.stream
-        roots = [self.port_row[e.root.index] if e.root.kind is TapKind.PORT else self.const_row[e.root.index]
-                 for e in stream]
+        roots = [self._root_row(e.root) for e in stream]
         ticks = ticks if ticks is not None else self.ld.load_ticks
         for k in range(ticks):
             for row, entry in zip(roots, stream):

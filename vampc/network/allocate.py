@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
-from vampc.kinds import Quantity, TapKind
+from vampc.kinds import Quantity
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.machine.timing import buffer_stage, buffer_window, result_windows
 from vampc.network.model import (
@@ -37,6 +37,7 @@ from vampc.network.model import (
     Slot,
     Tap,
     Vamp,
+    tap_source,
 )
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
@@ -251,10 +252,8 @@ class _Allocator:
 
 
 def _reaches(tap: Tap, rooted, buffers_source) -> bool:
-    if tap.kind in (TapKind.PORT, TapKind.CONST):
-        return True
-    src = tap.index if tap.kind is TapKind.VAMP else buffers_source[tap.index]
-    return rooted[src] is not None
+    src = tap_source(tap, buffers_source)
+    return src is None or rooted[src] is not None
 
 
 def _shift_a(slot: Slot, by: int) -> Slot:

@@ -34,7 +34,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vampc.dataflow.graph import InputKey
-from vampc.kinds import TapKind
+from vampc.kinds import TapKind, unhandled
 from vampc.machine.ops import Op
 
 
@@ -52,6 +52,20 @@ class Tap:
 
     def __str__(self) -> str:
         return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind is TapKind.BUFFER else "")
+
+
+def tap_source(tap: Tap, buffer_sources) -> int | None:
+    """The VAMP whose Result `tap` carries: the VAMP itself, or the VAMP a buffer delays
+    (`buffer_sources[b]`: buffer b's source VAMP); None for a host port or a constant buffer."""
+    match tap.kind:
+        case TapKind.VAMP:
+            return tap.index
+        case TapKind.BUFFER:
+            return buffer_sources[tap.index]
+        case TapKind.PORT | TapKind.CONST:
+            return None
+        case _:
+            return unhandled(tap.kind)
 
 
 @dataclass(frozen=True, slots=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from vampc.errors import VampcError
 from vampc.kinds import TapKind
-from vampc.network.model import Network, Tap
+from vampc.network.model import Network, Tap, tap_source
 from vampc.program.words import FIELD, Program, encode, rom_pointer, vamp_words
 
 
@@ -81,19 +81,20 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
     VAMP whose root is known. VampcError if a path loops (no input buffer could ever program those
     VAMPs)."""
     roots: list[tuple[Tap, int] | None] = [None] * len(net.vamps)
+    sources = [b.source for b in net.buffers]
     for vamp in range(len(net.vamps)):
         v, walked, seen = vamp, [], {vamp}
         while roots[v] is None:
             tap = net.vamps[v].a[0].taps[0]
-            if tap.kind not in (TapKind.VAMP, TapKind.BUFFER):
+            src = tap_source(tap, sources)
+            if src is None:          # a host port or a constant buffer: the path's root
                 roots[v] = (Tap(tap.kind, tap.index), 0)
                 break
-            src = tap.index if tap.kind is TapKind.VAMP else net.buffers[tap.index].source
             if src in seen:
                 raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, "
                                  "so no input buffer can program it")
             seen.add(src)
-            walked.append((v, 1 if tap.kind is TapKind.VAMP else 1 + tap.stage))
+            walked.append((v, 1 if tap.kind is TapKind.VAMP else 1 + tap.stage))   # a buffer's
             v = src
         root, depth = roots[v]
         for u, step in reversed(walked):

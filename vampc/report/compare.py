@@ -5,19 +5,20 @@ from collections import Counter
 from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph, compile_chain
-from vampc.kinds import Prefix, TapKind
+from vampc.kinds import Prefix
+from vampc.network.model import tap_source
 
 
 def max_fan_out(network) -> int:
     """The most multiplexer inputs any one VAMP Result drives (directly or through its buffer)."""
     readers: Counter = Counter()
+    sources = [b.source for b in network.buffers]
     for v in network.vamps:
         for operand in v.a + v.b:
             for tap in operand.taps:
-                if tap.kind is TapKind.VAMP:
-                    readers[tap.index] += 1
-                elif tap.kind is TapKind.BUFFER:
-                    readers[network.buffers[tap.index].source] += 1
+                src = tap_source(tap, sources)
+                if src is not None:
+                    readers[src] += 1
     return max(readers.values(), default=0)
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 
-from vampc.kinds import Recursion, Section
+from vampc.kinds import Pass, Recursion
 from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
 from vampc.schedule.registry import BUDGET, FOLDED, is_layout
 
@@ -31,7 +31,7 @@ def vamp_counts(c) -> dict:
     """VAMPs in total, on the backward (incl. non-propagated) and forward recursions, and by op."""
     by_section, by_op = Counter(), Counter()
     for v in c.network.vamps:
-        kinds = {"forward" if c.graph.nodes[s.node].section is Section.FWD else "backward" for s in v.slots}
+        kinds = {Pass.of(c.graph.nodes[s.node].section) for s in v.slots}
         by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
         for s in v.slots:
             by_op[s.op.value] += 1

@@ -55,17 +55,22 @@ def drawing(graph, layout, net) -> Drawing:
         here = sites[v.index]
         for operand in v.a + v.b:
             for tap in operand.taps:
-                if tap.kind is TapKind.VAMP:
-                    buses[(sites[tap.index], here)] += 1
-                elif tap.kind is TapKind.BUFFER:
-                    key = (sites[net.buffers[tap.index].source], here)
-                    got = buffered.get(key, (0, 0))
-                    buffered[key] = (got[0] + 1, max(got[1], tap.stage))
-                    chains_of.setdefault(key, set()).add(tap.index)
-                elif tap.kind is TapKind.PORT:
-                    readers_of_port.setdefault(tap.index, [])
-                    if here not in readers_of_port[tap.index]:
-                        readers_of_port[tap.index].append(here)
+                match tap.kind:
+                    case TapKind.VAMP:
+                        buses[(sites[tap.index], here)] += 1
+                    case TapKind.BUFFER:
+                        key = (sites[net.buffers[tap.index].source], here)
+                        got = buffered.get(key, (0, 0))
+                        buffered[key] = (got[0] + 1, max(got[1], tap.stage))
+                        chains_of.setdefault(key, set()).add(tap.index)
+                    case TapKind.PORT:
+                        readers_of_port.setdefault(tap.index, [])
+                        if here not in readers_of_port[tap.index]:
+                            readers_of_port[tap.index].append(here)
+                    case TapKind.CONST:     # constant buffers are not drawn
+                        pass
+                    case other:
+                        unhandled(other)
     buffered = {k: (n, deep, len(chains_of[k])) for k, (n, deep) in buffered.items()}
     ports = [(p.index, readers_of_port.get(p.index, []), _port_label(p)) for p in net.ports]
     outputs = [(o.joint, sites[o.vamp]) for o in net.outputs]
@@ -89,13 +94,22 @@ def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
         row = {"bwd": 0, "npv": 1, "fwd": 2}
         return ({s: (s.index, row[s.section]) for s in sites},
                 {s: f"{SECTION_NAMES[s.section]}\ndevice {s.index}" for s in sites})
-    if graph.recursion is Recursion.LINEAR:
-        row = {"bwd": 0, "npv": 1, "fwd": 2}
-        n = graph.n
-        name = {"bwd": lambda i: f"(0,{i})", "npv": lambda i: f"r̈ F N {i}",
-                "fwd": lambda i: f"({i},{n})"}
-        return ({s: (s.index - 1, row[s.section]) for s in sites},
-                {s: name[s.section](s.index) for s in sites})
+    match graph.recursion:
+        case Recursion.LINEAR:
+            row = {"bwd": 0, "npv": 1, "fwd": 2}
+            n = graph.n
+            name = {"bwd": lambda i: f"(0,{i})", "npv": lambda i: f"r̈ F N {i}",
+                    "fwd": lambda i: f"({i},{n})"}
+            return ({s: (s.index - 1, row[s.section]) for s in sites},
+                    {s: name[s.section](s.index) for s in sites})
+        case Recursion.LOG:
+            return _log_places(graph, sites)
+        case other:
+            return unhandled(other)
+
+
+def _log_places(graph, sites: list[Site]) -> tuple[dict, dict]:
+    """Grid cells and labels of a log graph's systolic sites: recursion nodes by tier."""
     table = node_table(graph)
     info = {(sec, r[0]): r for sec, rows in table.items() for r in rows}
     tiers = max((r[4] for r in table["bwd"]), default=0)

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
-from vampc.kinds import Recursion, Section
+from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.report import paper
 from vampc.report.sites import node_table
@@ -48,9 +48,14 @@ def _graphs(configs, chain, other_leaves: bool) -> list:
 
 
 def _leaves(graph, options) -> str | None:
-    if graph is not None and graph.recursion is Recursion.LINEAR:
-        return None
-    return "uniform" if options.uniform_leaves else "separate"
+    """The leaf style of a log graph (None for a linear one; `graph` None: a log graph)."""
+    match Recursion.LOG if graph is None else graph.recursion:
+        case Recursion.LINEAR:
+            return None
+        case Recursion.LOG:
+            return "uniform" if options.uniform_leaves else "separate"
+        case other:
+            return unhandled(other)
 
 
 def _binder(graph, bindings: dict):

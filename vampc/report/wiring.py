@@ -11,12 +11,12 @@ from __future__ import annotations
 import re
 from collections import Counter
 
-from vampc.kinds import Recursion, Section, TapKind, exhaustive
+from vampc.kinds import Pass, Recursion, Section, TapKind, exhaustive
+from vampc.network.model import tap_source
 from vampc.report import paper
 from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
 
-PASS = {"bwd": "backward", "npv": "backward", "fwd": "forward"}
 FLOWS = ("within_backward", "backward_to_forward", "within_forward")
 
 
@@ -85,9 +85,9 @@ def early_forward(graph) -> set[int]:
     return early
 
 
-def origin_pass(graph, early: set[int], node: int) -> str:
+def origin_pass(graph, early: set[int], node: int) -> Pass:
     """'backward' or 'forward': the pass whose recursion a value belongs to."""
-    return "forward" if graph.nodes[node].section is Section.FWD and node not in early else "backward"
+    return Pass.BACKWARD if node in early else Pass.of(graph.nodes[node].section)
 
 
 def delay_buffers(graph, net) -> dict:
@@ -100,7 +100,7 @@ def delay_buffers(graph, net) -> dict:
     for _, tap, arg, node in _reads(graph, net):
         if tap.kind is not TapKind.BUFFER:
             continue
-        kind = _flow(origin_pass(graph, early, arg), PASS[graph.nodes[node].section])
+        kind = _flow(origin_pass(graph, early, arg), Pass.of(graph.nodes[node].section))
         if tap.stage > deepest.get(tap.index, (0, ""))[0]:
             deepest[tap.index] = (tap.stage, kind)
     classes = {k: {"chains": 0, "stages": 0, "scalars": 0} for k in FLOWS}
@@ -130,22 +130,19 @@ def buses(graph, layout, net) -> dict:
     b2f_values, b2f_wires = set(), set()
     source = [b.source for b in net.buffers]
     for v, tap, arg, _ in _reads(graph, net):
-        kind = tap.kind
-        if kind is TapKind.VAMP:
-            there = sites[tap.index]
-        elif kind is TapKind.BUFFER:
-            there = sites[source[tap.index]]
-        else:
+        src = tap_source(tap, source)
+        if src is None:           # the host's ports and constants are no bus between sites
             continue
+        there = sites[src]
         here = sites[v]
         if there == here:
             continue
-        if PASS[there[0]] != PASS[here[0]]:
+        if Pass.of(there[0]) != Pass.of(here[0]):
             b2f_values.add((arg, here))
-            b2f_wires.add((kind, tap.index, tap.stage, here))
+            b2f_wires.add((tap.kind, tap.index, tap.stage, here))
         elif there[0] == here[0]:
             values.setdefault(here, set()).add(arg)
-            wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
+            wires.setdefault(here, set()).add((tap.kind, tap.index, tap.stage))
     def vectors(ids) -> int:          # a matrix value travels as three vectors (its columns)
         return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
     return {"between_nodes": {s: {"vectors": max((vectors(x) for site, x in values.items()
