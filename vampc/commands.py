@@ -9,7 +9,6 @@ main output (`err`: for standard error, because standard output carries data).
 """
 from __future__ import annotations
 
-import json
 import math
 import time
 import warnings
@@ -17,6 +16,7 @@ from pathlib import Path
 
 import msgspec
 
+from vampc import jsontext
 from vampc.errors import VampcError, VampcWarning
 from vampc.options import (
     CompileCommand,
@@ -110,7 +110,7 @@ def program_compiled(source: str, given, params: dict):
     if (doc.schedule.mult_latency, doc.schedule.add_latency) == (1, 1):
         check = in_background(_static_check, doc, source, c,
                               inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
-    fresh = json.loads(json.dumps(summary(c)))
+    fresh = jsontext.loads(jsontext.dumps(summary(c)))
     edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v)
     if edited:
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
@@ -301,7 +301,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         check.wait()        # a program that fails its static check gets no report and no file
         write_pictures(outs, content)
     if own.fmt == "json":
-        return json.dumps(rep, indent=1, sort_keys=True) + "\n"
+        return jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"
     from vampc.report.text import render, render_markdown
     return render_markdown(rep) if own.fmt == "markdown" else render(rep)
 
@@ -335,7 +335,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         write_pictures(outs, {"--curve": curve_svg(rows, f"{chain.name}: {options.recursion} "
                                                          f"recursion, {chain.n} joints")})
     if own.fmt == "json":
-        return json.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
+        return jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
                            "points": rows}, indent=1) + "\n"
     return tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
 

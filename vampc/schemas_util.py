@@ -7,12 +7,12 @@ carries them as package data (pyproject: `vampc = ["schemas/*.json"]`). A checko
 from __future__ import annotations
 
 import copy
-import json
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
+from vampc import jsontext
 from vampc.errors import VampcInternalError
 
 _REPO_SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
@@ -114,7 +114,7 @@ def _version() -> tuple:
 
 @lru_cache(maxsize=None)
 def _cached_at(filename: str, version) -> dict:
-    return _with_registries(json.loads(_read(filename)))
+    return _with_registries(jsontext.loads(_read(filename)))
 
 
 def _with_registries(schema):

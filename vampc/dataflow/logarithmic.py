@@ -101,12 +101,12 @@ trade depth for VAMPs (prefix.py); "serial" grows by 8 flops per joint, like the
 from __future__ import annotations
 
 import gc
-import json
 from contextlib import contextmanager
 from typing import NamedTuple
 
 import numpy as np
 
+from vampc import jsontext
 from vampc.dataflow.graph import Graph, GraphBuilder, Node, Output
 from vampc.dataflow.linear import _nonpropagated, _p_star, _s_star
 from vampc.dataflow.prefix import prefix_tiers, suffix_tiers
@@ -399,9 +399,9 @@ def _meta(ctx: _Ctx, prefix: str, ground0: bool, prefixes, suffixes) -> dict:
         "leaves": "uniform (Appendix D)" if ctx.uniform else "separate (Table IV.1)",
         "ground": "O_0" if ground0 else "O_-1",
         "convention": "forward f, n referred to O_{i-1}",
-        "bwd_nodes": json.dumps(ctx.table["bwd"]), "fwd_nodes": json.dumps(ctx.table["fwd"]),
-        "prefixes": json.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
-        "suffixes": json.dumps([[x.f, x.n] for x in suffixes]),
+        "bwd_nodes": jsontext.dumps(ctx.table["bwd"]), "fwd_nodes": jsontext.dumps(ctx.table["fwd"]),
+        "prefixes": jsontext.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
+        "suffixes": jsontext.dumps([[x.f, x.n] for x in suffixes]),
     }
 
 
@@ -411,7 +411,7 @@ def relational_nodes(graph: Graph) -> dict[str, list[list[int | None]]]:
     Returns {"prefixes": [[ω, ω̇, p̈], ...], "suffixes": [[f', n'], ...]}; None marks a pruned node.
     """
     meta = dict(graph.meta)
-    return {key: json.loads(meta[key]) for key in ("prefixes", "suffixes")}
+    return {key: jsontext.loads(meta[key]) for key in ("prefixes", "suffixes")}
 
 
 @_collector_paused()
@@ -425,8 +425,8 @@ def prune_dead(graph: Graph) -> Graph:
     outputs = tuple(Output(o.joint, new[o.node], o.component) for o in graph.outputs)
     meta = dict(graph.meta)
     for key in ("prefixes", "suffixes"):
-        ids = json.loads(meta[key])
-        meta[key] = json.dumps([[new.get(v) for v in row] for row in ids])
+        ids = jsontext.loads(meta[key])
+        meta[key] = jsontext.dumps([[new.get(v) for v in row] for row in ids])
     meta["pruned"] = "yes"
     pruned = Graph(nodes, outputs, graph.n, graph.recursion, tuple(sorted(meta.items())))
     pruned.verify()

@@ -30,8 +30,8 @@ final prefixes' Q and S, say) are pruned.
 from __future__ import annotations
 
 import heapq
-import json
 
+from vampc import jsontext
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.linear import add_tree, link_loads
 from vampc.dataflow.logarithmic import (
@@ -208,13 +208,13 @@ def _meta(ctx: _Ctx, prefix: str, ground0: bool, prefixes, suffixes) -> dict:
     """logarithmic.py's metadata, for a tree: its depth figures too."""
     depths = tree_depths(ctx.chain.parent_of, prefix, not ground0)
     return {
-        "recursion": "log", "prefix": prefix, "tree": json.dumps(depths),
+        "recursion": "log", "prefix": prefix, "tree": jsontext.dumps(depths),
         "leaves": "uniform (Appendix D)" if ctx.uniform else "separate (Table IV.1)",
         "ground": "O_0" if ground0 else "O_-1",
         "convention": "forward f, n referred to O_{i-1}; subtree sums in O_0",
-        "bwd_nodes": json.dumps(ctx.table["bwd"]), "fwd_nodes": json.dumps(ctx.table["fwd"]),
-        "prefixes": json.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
-        "suffixes": json.dumps([[f, n] for f, n in suffixes]),
+        "bwd_nodes": jsontext.dumps(ctx.table["bwd"]), "fwd_nodes": jsontext.dumps(ctx.table["fwd"]),
+        "prefixes": jsontext.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
+        "suffixes": jsontext.dumps([[f, n] for f, n in suffixes]),
     }
 
 

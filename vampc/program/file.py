@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import codecs
 import hashlib
-import json
-import re
 from pathlib import Path
 
 import msgspec
@@ -32,6 +30,18 @@ import numpy as np
 
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
+from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the writer's, from here
+    DecodeError,
+    ascii_text,
+    decode_problem,
+    encode,
+    encode_lines,
+    loads,
+    number,
+    number_rows,
+    numbers,
+    rendered,
+)
 from vampc.program.format import ProgramFile, check_summary, decode, from_builtins
 
 FORMAT, VERSION = "vampc-program", 2
@@ -51,81 +61,6 @@ def checksum(doc: dict) -> str:
 
 def _digest(text: str) -> str:
     return "sha256:" + hashlib.sha256(text.encode()).hexdigest()
-
-
-# The one encoder: msgspec, keys and Struct fields in sorted order. It writes floats its own way
-# (0.00001 where Python's repr, which program files have always used, writes 1e-05), so floats
-# reach it already written, as msgspec.Raw (number, numbers); and it writes non-ASCII characters as
-# UTF-8, where program files have always escaped them (_ascii).
-_ENCODER = msgspec.json.Encoder(order="sorted")
-_NOT_ASCII = re.compile(rb"[\x7f-\xff]")
-_ESCAPE = re.compile("[\x7f-\U0010ffff]")
-
-
-def number(x) -> msgspec.Raw:
-    """A float as program files write it: Python's repr (shortest round trip); ValueError for NaN
-    and infinities, which JSON has no number for."""
-    text = float.__repr__(float(x))
-    if "n" in text:                      # nan, inf: no finite float's repr has an n
-        raise ValueError(f"{text} is not a JSON number")
-    return msgspec.Raw(text.encode())
-
-
-def numbers(xs) -> msgspec.Raw:
-    """A list of floats as program files write it (see number)."""
-    text = _reprs(xs)
-    if "n" in text:
-        raise ValueError(f"[{text}] holds a value that is not a JSON number")
-    return msgspec.Raw(f"[{text}]".encode())
-
-
-def number_rows(rows) -> msgspec.Raw:
-    """A list of lists of floats (a program stream's words) as program files write it, at once."""
-    text = ",".join(["[" + _reprs(r) + "]" for r in rows])
-    if "n" in text:
-        raise ValueError("a row holds a value that is not a JSON number")
-    return msgspec.Raw(f"[{text}]".encode())
-
-
-def _reprs(xs) -> str:
-    try:
-        return ",".join(map(float.__repr__, xs))
-    except TypeError:                 # ints among them
-        return ",".join([float.__repr__(float(x)) for x in xs])
-
-
-def encode(value) -> str:
-    """Canonical JSON text of a value whose floats are already written (number, numbers)."""
-    return _text(_ENCODER.encode(value))
-
-
-def _text(out: bytes) -> str:
-    """The encoder's bytes as the text program files hold: beyond ASCII escaped (_ascii)."""
-    return _ascii(out.decode()) if _NOT_ASCII.search(out) else out.decode()
-
-
-def _ascii(text: str) -> str:
-    """Characters beyond ASCII (and DEL) as JSON escapes, as Python's json writes them: they occur
-    in strings only."""
-    def escape(m) -> str:
-        c = ord(m.group())
-        if c < 0x10000:
-            return f"\\u{c:04x}"
-        c -= 0x10000
-        return f"\\u{0xd800 | (c >> 10):04x}\\u{0xdc00 | (c & 0x3ff):04x}"
-    return _ESCAPE.sub(escape, text)
-
-
-def rendered(value):
-    """A dict-and-list document with its floats written (number); Structs, written by the program
-    writer with their floats already so, are left as they are."""
-    if type(value) is float:
-        return number(value)
-    if isinstance(value, dict):
-        return {k: rendered(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [rendered(v) for v in value]
-    return value
 
 
 def _fields(value):
@@ -159,7 +94,7 @@ def layout(doc) -> str:
         if isinstance(value, (list, tuple)) and value and isinstance(value[0], rows) and depth <= 2:
             # one row per line: msgspec writes rows newline-delimited, and JSON text has no raw
             # newline of its own, so each newline is a row's end
-            return "[\n" + _text(_ENCODER.encode_lines(value)[:-1].replace(b"\n", b",\n")) + "\n]"
+            return "[\n" + ascii_text(encode_lines(value)[:-1].replace(b"\n", b",\n")) + "\n]"
         return encode(value)
     return block(rendered(doc), 0)
 
@@ -185,7 +120,7 @@ def write_program(doc: dict | str, path) -> None:
         if not body or min(body) <= "checksum":
             raise ValueError("a program document's keys must all sort after 'checksum'")
         text = layout(body)
-    stamped = '{\n"checksum":' + json.dumps(_digest(text.replace("\n", ""))) + "," + text[1:] + "\n"
+    stamped = '{\n"checksum":' + encode(_digest(text.replace("\n", ""))) + "," + text[1:] + "\n"
     write_text_atomic(path, stamped, "program file")
 
 
@@ -200,7 +135,7 @@ def read_program_file(path: str | Path) -> ProgramFile:
 def read_program(path: str | Path) -> dict:
     """A program file checked as read_program_file does, as plain dicts and lists (for scripts and
     tests that edit documents; vampc itself reads the Structs)."""
-    return json.loads(_read(path)[1])
+    return loads(_read(path)[1])
 
 
 def _read(path) -> tuple[ProgramFile, str]:
@@ -223,7 +158,7 @@ def _read(path) -> tuple[ProgramFile, str]:
     if lacks:
         raise VampcError(f"{path}: {lacks}")
     if doc.checksum != _laid_out_digest(data, doc.checksum) and \
-            doc.checksum != checksum(json.loads(text)):
+            doc.checksum != checksum(loads(data)):
         raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
     return doc, text
 
@@ -231,11 +166,12 @@ def _read(path) -> tuple[ProgramFile, str]:
 def _untyped(text: str, path):
     """The JSON value of a file whose typed decode failed (VampcError if it is not JSON)."""
     try:
-        return json.loads(text, parse_constant=_reject_constant)
+        return loads(text)
     except RecursionError:
         raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
-    except (json.JSONDecodeError, ValueError) as exc:
-        raise VampcError(f"{path}: not a vampc program file (invalid JSON: {exc})") from None
+    except DecodeError as exc:         # NaN and infinities included: JSON has no such number
+        raise VampcError(f"{path}: not a vampc program file (invalid JSON: "
+                         f"{decode_problem(exc, text)})") from None
 
 
 def _refuse_version(doc, path) -> None:
@@ -265,7 +201,7 @@ def _laid_out_digest(data: bytes, stored: str) -> str | None:
     """The checksum of a file as write_program lays it out, taken from its UTF-8 bytes (its newlines
     removed, they are the canonical JSON the checksum covers), which spares encoding a big document
     again; None for a file laid out otherwise (then the document is encoded: `checksum`)."""
-    head = ('{\n"checksum":' + json.dumps(stored) + ",").encode()
+    head = ('{\n"checksum":' + encode(stored) + ",").encode()
     if not data.startswith(head):
         return None
     return "sha256:" + hashlib.sha256(b"{" + data[len(head):].replace(b"\n", b"")).hexdigest()
@@ -286,10 +222,6 @@ def validate_program(doc, path) -> ProgramFile:
     if lacks:
         raise VampcError(f"{path}: {lacks}")
     return out
-
-
-def _reject_constant(name: str):
-    raise ValueError(f"{name} is not allowed")
 
 
 def tolist(x) -> list:

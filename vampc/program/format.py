@@ -296,5 +296,5 @@ def schema() -> dict:
 
 
 if __name__ == "__main__":
-    import json
-    print(json.dumps(schema(), indent=1, sort_keys=True))
+    from vampc.jsontext import dumps
+    print(dumps(schema(), indent=1, sort_keys=True))

@@ -9,10 +9,10 @@ VAMPs, whose site is the backward device node.
 """
 from __future__ import annotations
 
-import json
 from collections import Counter
 from typing import NamedTuple
 
+from vampc import jsontext
 from vampc.kinds import Section
 from vampc.schedule.layout import device_nodes
 from vampc.schedule.registry import SYSTOLIC, is_layout
@@ -100,5 +100,5 @@ def node_table(graph) -> dict[str, list[tuple[int, int, int, int, int]]]:
     """A log graph's recursion nodes per section: (group, a, k, b, tier) rows (tier 0: leaves);
     empty for the linear graph."""
     meta = dict(graph.meta)
-    return {s: [tuple(r) for r in json.loads(meta[f"{s}_nodes"])] if f"{s}_nodes" in meta else []
+    return {s: [tuple(r) for r in jsontext.loads(meta[f"{s}_nodes"])] if f"{s}_nodes" in meta else []
             for s in ("bwd", "fwd")}

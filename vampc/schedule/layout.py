@@ -29,10 +29,10 @@ plus whatever (3) and (4) cost; the report shows both.
 from __future__ import annotations
 
 import functools
-import json
 import math
 from dataclasses import dataclass
 
+from vampc import jsontext
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Recursion, Section, unhandled
@@ -219,7 +219,7 @@ def device_nodes(graph: Graph):
     meta = dict(graph.meta)
     place = {}
     for section in (Section.BWD, Section.FWD):
-        rows = json.loads(meta[f"{section}_nodes"])
+        rows = jsontext.loads(meta[f"{section}_nodes"])
         combining = [r for r in rows if r[4] > 0]
         width = max((sum(1 for r in combining if r[4] == t) for t in {r[4] for r in combining}),
                     default=1)

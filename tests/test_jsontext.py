@@ -1,0 +1,58 @@
+"""vampc.jsontext writes JSON with msgspec exactly as Python's json module writes it (the module is
+the independent reference here): reports, graph annotations and schemas keep their bytes."""
+from __future__ import annotations
+
+import json
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from vampc import jsontext
+
+scalars = st.none() | st.booleans() | st.integers(-2**63, 2**63) | \
+    st.floats(allow_nan=False, allow_infinity=False) | st.text(max_size=8)
+values = st.recursive(scalars, lambda inner: st.lists(inner, max_size=4) |
+                      st.dictionaries(st.text(max_size=5), inner, max_size=4), max_leaves=20)
+
+
+@given(values, st.sampled_from([None, 1, 2]), st.booleans())
+def test_dumps_writes_what_the_standard_library_writes(value, indent, sort_keys):
+    assert jsontext.dumps(value, indent=indent, sort_keys=sort_keys) == \
+        json.dumps(value, indent=indent, sort_keys=sort_keys)
+
+
+@given(values)
+def test_loads_reads_what_the_standard_library_reads(value):
+    text = json.dumps(value)
+    assert jsontext.loads(text) == json.loads(text) == value
+
+
+def test_escapes_and_floats_as_the_standard_library():
+    doc = {"name": "J\u00e9r\u00f4me \u2028 \U0001f916 \x7f \x1f \\ \"", "x": [1e-05, 1e16, -0.0, 5e-324],
+           "t": (1, 2.5)}
+    for indent in (None, 1):
+        assert jsontext.dumps(doc, indent=indent) == json.dumps(doc, indent=indent)
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), [1.0, -float("inf")]])
+def test_a_non_finite_number_is_refused_not_written(value):
+    with pytest.raises(ValueError, match="not a JSON number"):
+        jsontext.dumps({"x": value})
+
+
+@pytest.mark.parametrize("text", ["NaN", "[1, Infinity]", "{\"a\": 1,}", ""])
+def test_what_is_not_json_is_a_decode_error(text):
+    with pytest.raises(jsontext.DecodeError):
+        jsontext.loads(text)
+
+
+@pytest.mark.parametrize("text, said", [
+    ('{"a":\n [1, NaN]}', "NaN is not allowed (line 2, column 6)"),
+    ('{"a":\n [1, -Infinity]}', "-Infinity is not allowed (line 2, column 6)"),
+    ('{"a": 1,}', "trailing comma in object (line 1, column 9)"),
+])
+def test_a_decode_problem_is_said_with_its_line_and_column(text, said):
+    with pytest.raises(jsontext.DecodeError) as exc:
+        jsontext.loads(text)
+    assert jsontext.decode_problem(exc.value, text) == said
