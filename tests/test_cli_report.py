@@ -11,7 +11,7 @@ from click.testing import CliRunner
 from conftest import EXAMPLES
 
 from vampc.cli import main
-from vampc.schemas_util import schema_errors
+from schema_check import schema_errors
 
 PUMA = EXAMPLES / "puma560.yaml"
 PLANAR = EXAMPLES / "planar2.yaml"

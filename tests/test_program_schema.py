@@ -12,7 +12,7 @@ from conftest import EXAMPLES
 
 from vampc.compiler import CompileOptions, compile_chain, program_text
 from vampc.robot import load_robot
-from vampc.schemas_util import load_schema, schema_errors
+from schema_check import load_schema, schema_errors
 
 SCHEMA = load_schema("program")
 CASES = [("planar2.yaml", {}, False), ("planar2.yaml", {"recursion": "log"}, False),

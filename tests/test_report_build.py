@@ -16,7 +16,7 @@ from vampc.report import pictures
 from vampc.report.build import build_report
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain
-from vampc.schemas_util import load_schema, schema_errors
+from schema_check import load_schema, schema_errors
 
 LAYOUTS = [dict(), dict(layout="folded"), dict(layout="folded", share_passes=True)]
 CONFIGS = ([dict(recursion="linear", **x) for x in LAYOUTS] + [dict(recursion="log", **x) for x in LAYOUTS]

@@ -246,11 +246,11 @@ def test_document_errors(tmp_path, doc, message):
 def test_json_errors(tmp_path):
     path = tmp_path / "r.json"
     path.write_text('{"name": "x", "joints": [}')
-    assert_error(lambda: load_robot(path), path, r"line 1: not valid JSON: Expecting value")
+    assert_error(lambda: load_robot(path), path, r"not valid JSON: invalid character \(line 1, column 26\)")
     path.write_text('{"name": "x", "name": "y", "joints": []}')
-    assert_error(lambda: load_robot(path), path, r"not valid JSON: duplicate key 'name'")
+    assert_error(lambda: load_robot(path), path, r"line 1: not valid JSON: duplicate key 'name'")
     path.write_text(json.dumps({"name": "x", "joints": [row(mass=float("nan"))]}))  # json writes NaN
-    assert_error(lambda: load_robot(path), path, r"joints\[0\]\.mass \(joint 1\): nan is not a finite number")
+    assert_error(lambda: load_robot(path), path, r"not valid JSON: NaN is not allowed \(line 1, column \d+\)")
 
 
 def test_file_errors(tmp_path):

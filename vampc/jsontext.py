@@ -128,3 +128,32 @@ def loads(text: str | bytes):
     """The value of JSON text: dicts, lists and scalars (DecodeError if it is not JSON, NaN and
     infinities included; RecursionError if nested too deeply)."""
     return _DECODER.decode(text)
+
+
+_TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]:]')
+
+
+def duplicate_key(text: str) -> tuple[str, int] | None:
+    """The first key a mapping of valid JSON text repeats, and its line; None if none does (msgspec
+    keeps the last silently, as a dict would). Every string is one token, so no scan starts inside
+    one; a string followed by a colon is a key of the innermost mapping."""
+    stack: list[set | None] = []
+    pending = None             # the last string token, a key if a colon follows
+    for m in _TOKEN.finditer(text):
+        token = m.group()
+        if token[0] == '"':
+            pending = m
+            continue
+        if token == ":" and pending is not None:
+            key = _DECODER.decode(pending.group())
+            if key in stack[-1]:
+                return key, text.count("\n", 0, pending.start()) + 1
+            stack[-1].add(key)
+        elif token == "{":
+            stack.append(set())
+        elif token == "[":
+            stack.append(None)
+        elif token in "}]":
+            stack.pop()
+        pending = None
+    return None

@@ -43,3 +43,9 @@ def shown(text: str, limit: int = 60) -> str:
             out.append(ch.encode("unicode_escape").decode("ascii"))
     more = "..." if len(text) > limit else ""
     return "'" + "".join(out).replace("'", "\\'") + more + "'"
+
+
+def one_line(text: str, limit: int = 300) -> str:
+    """Collapse whitespace and cut very long messages (a parser's, or one quoting a whole value)."""
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."

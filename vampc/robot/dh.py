@@ -19,7 +19,6 @@ more than half of the 39 s a 100 000-joint YAML table spent in PyYAML).
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from dataclasses import dataclass
@@ -28,9 +27,13 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from vampc import jsontext
 from vampc.errors import VampcError, located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
+from vampc.robot.dh_format import check as check_table
+from vampc.robot.dh_format import where as _where
+from vampc.textio import one_line
 
 YAML_SUFFIXES = (".yaml", ".yml")
 JSON_SUFFIXES = (".json",)
@@ -56,7 +59,7 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
         raise VampcError(f"{source}: the robot file is empty (a DH table is a mapping with "
                          "`joints`; README, DH table)")
     _check_values(doc, source)
-    _check_schema(doc, source)
+    check_table(doc, source)
     rows = doc["joints"]
     _check_names(rows, source)
     parents = row_parents(rows, source)
@@ -224,29 +227,23 @@ def _parse_yaml(text: str, path: Path):
         where = f"line {mark.line + 1}" if mark else ""
         raise located(path, where, f"not valid YAML: {exc.problem or exc.context}") from None
     except yaml.YAMLError as exc:
-        raise located(path, "", f"not valid YAML: {_one_line(str(exc))}") from None
+        raise located(path, "", f"not valid YAML: {one_line(str(exc))}") from None
     except RecursionError:
         raise located(path, "", "not valid YAML: nested too deeply") from None
 
 
 def _parse_json(text: str, path: Path):
     try:
-        return json.loads(text, object_pairs_hook=_unique_pairs)
-    except json.JSONDecodeError as exc:
-        raise located(path, f"line {exc.lineno}", f"not valid JSON: {exc.msg}") from None
-    except ValueError as exc:
-        raise located(path, "", f"not valid JSON: {exc}") from None
+        doc = jsontext.loads(text)
+    except jsontext.DecodeError as exc:
+        raise located(path, "", f"not valid JSON: {jsontext.decode_problem(exc, text)}") from None
     except RecursionError:
         raise located(path, "", "not valid JSON: nested too deeply") from None
-
-
-def _unique_pairs(pairs: list) -> dict:
-    out = {}
-    for key, value in pairs:
-        if key in out:
-            raise ValueError(f"duplicate key {key!r}")
-        out[key] = value
-    return out
+    duplicate = jsontext.duplicate_key(text)
+    if duplicate is not None:
+        key, line = duplicate
+        raise located(path, f"line {line}", f"not valid JSON: duplicate key {key!r}") from None
+    return doc
 
 
 # --- validation --------------------------------------------------------------------------------------
@@ -264,7 +261,7 @@ MAX_VALUES = ROW_VALUES * MAX_JOINTS + TABLE_VALUES  # 16 252 922
 def _check_values(doc, source: str) -> None:
     """Refuse a table of more than MAX_JOINTS rows or MAX_VALUES values, counted once YAML aliases are
     expanded: aliases let a small file expand into a huge (or infinite) tree, which the checks below and
-    the error messages (jsonschema quotes whole values) would walk or print in full. Then refuse NaN and
+    the error messages (which quote whole values) would walk or print in full. Then refuse NaN and
     ±inf, which pass a JSON schema's "number" (YAML .nan/.inf, JSON NaN)."""
     rows = doc.get("joints") if isinstance(doc, dict) else None
     problem = joint_count_problem(len(rows)) if isinstance(rows, list) else None
@@ -334,25 +331,6 @@ def _finite(value) -> bool:
         return False
 
 
-def _check_schema(doc, source: str) -> None:
-    from vampc.schemas_util import schema_errors
-    errors = schema_errors("dh-table", doc)
-    if not errors:
-        return
-    # the deepest complaint is the most specific, but one about a oneOf (a value that is neither
-    # form it may take) says what was expected in the schema's own words (x-error)
-    error = max(errors, key=lambda e: len(e.path))
-    what = (f"{_value(doc, error.path)!r} {error.schema['x-error']}" if "x-error" in error.schema
-            else error.message)
-    raise located(source, _where(error.path), _one_line(what))
-
-
-def _value(doc, path):
-    for key in path:
-        doc = doc[key]
-    return doc
-
-
 def _check_names(rows: list, source: str) -> None:
     seen = set()
     for i, row in enumerate(rows):
@@ -360,20 +338,6 @@ def _check_names(rows: list, source: str) -> None:
         if name in seen:
             raise located(source, _where(("joints", i, "name")), f"duplicate joint name {name!r}")
         seen.add(name)
-
-
-def _where(keys: tuple) -> str:
-    """A JSON path ("joints[2].com[1]") plus the 1-based joint number when it points into a row."""
-    text = "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in keys).lstrip(".")
-    if len(keys) >= 2 and keys[0] == "joints" and isinstance(keys[1], int):
-        text += f" (joint {keys[1] + 1})"
-    return text
-
-
-def _one_line(text: str, limit: int = 300) -> str:
-    """Collapse whitespace and cut very long messages (jsonschema quotes whole instances)."""
-    text = " ".join(text.split())
-    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 # --- building ----------------------------------------------------------------------------------------

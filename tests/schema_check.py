@@ -1,4 +1,6 @@
-"""Find the JSON schemas shipped with vampc, and check documents against them quickly.
+"""Tests: find the JSON schemas shipped with vampc, and check documents against them with an
+independent validator (jsonschema-rs, a test dependency: vampc itself checks what it reads with the
+typed records the program-file and DH-table schemas are generated from).
 
 They live in the repository's `schemas/` folder; `vampc/schemas` is a symlink to it, so an installed wheel
 carries them as package data (pyproject: `vampc = ["schemas/*.json"]`). A checkout whose symlink was lost
