@@ -89,3 +89,11 @@ def test_a_damaged_options_section_is_the_files_error(tmp_path):
         res = CliRunner().invoke(main, ["report", _edited(tmp_path, change)])
         assert res.exit_code == 1 and what in res.stderr and res.stderr.count("\n") == 1, \
             res.stderr
+
+
+def test_a_slot_naming_no_graph_node_is_refused(tmp_path):
+    def beyond(doc):
+        doc["programs"][0]["slots"][0]["node"] = len(doc["graph"]["nodes"]) + 5
+    res = CliRunner().invoke(main, ["report", _edited(tmp_path, beyond)])
+    assert res.exit_code == 1 and "programs[0].slots[0].node" in res.stderr and \
+        "is not a node of the graph" in res.stderr and res.stderr.count("\n") == 1, res.stderr

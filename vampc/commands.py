@@ -122,7 +122,10 @@ def program_compiled(source: str, given, params: dict):
 def _static_check(doc, source, c) -> None:
     """The emulator's static checks of a program file: the network implements the graph."""
     from vampc.emulator import check_program, loaded_from_doc
-    check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph, c.network, c.programs)))
+    from vampc.emulator.load import counter_network
+    check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph,
+                                                        counter_network(c.network, c.programs),
+                                                        c.programs)))
 
 
 # --- emulate --------------------------------------------------------------------------------------

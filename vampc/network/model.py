@@ -100,8 +100,9 @@ class Slot:
 class ProgrammedSlot:
     """A slot as a VAMP's program holds it: the same op and selects as a scheduled `Slot`, but its
     events as Cycle-Counter values (delay-A, delay-B, delay-R, 0..P-1), not absolute ticks. A network
-    read from a program file (or loaded for the emulator) has these; its absolute times are the
-    emulator's to derive (vampc.emulator.timing), or the schedule's (timed_network)."""
+    loaded for the emulator has these; its absolute times are the emulator's to derive
+    (vampc.emulator.timing), or the schedule's (vampc.program.document.scheduled_network_from_doc,
+    what a report reads)."""
 
     node: int
     op: Op
@@ -214,5 +215,5 @@ class Network:
         from vampc.network.verify import verify_network
         if any(isinstance(s, ProgrammedSlot) for v in self.vamps for s in v.slots):
             raise VampcInternalError("a programmed network holds Cycle-Counter values: verify the "
-                                     "network at the schedule's ticks (timed_network)")
+                                     "network at the schedule's ticks (scheduled_network_from_doc)")
         verify_network(self, graph, sched)

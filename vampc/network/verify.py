@@ -44,21 +44,22 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     ports = _PortIndex(net)
     P, B = net.period, net.clock
     nodes = graph.nodes
-    checked: set = set()     # (id(operand), latch, arg) already found right
+    VAMP = TapKind.VAMP
     for v in net.vamps:
         _verify_slots(v, P)
         for k, s in enumerate(v.slots):
             arg_a, arg_b = nodes[s.node].args
-            operand = v.a[s.sel_a]
-            key = (id(operand), s.latch_a, arg_a)
-            if key not in checked:
-                checked.add(key)
-                _verify_operand(net, graph, shown, ports, v, k, "A", operand, s.latch_a, arg_a, B)
-            operand = v.b[s.sel_b]
-            key = (id(operand), s.latch_b, arg_b)
-            if key not in checked:
-                checked.add(key)
-                _verify_operand(net, graph, shown, ports, v, k, "B", operand, s.latch_b, arg_b, B)
+            # most operands are one other VAMP's Result, shown over its window: checked here
+            taps = v.a[s.sel_a].taps
+            window = shown.get((taps[0].index, arg_a)) if taps[0].kind is VAMP else None
+            if len(taps) != 1 or window is None or not window[0] <= s.latch_a < window[1]:
+                _verify_operand(net, graph, shown, ports, v, k, "A", v.a[s.sel_a], s.latch_a,
+                                arg_a, B)
+            taps = v.b[s.sel_b].taps
+            window = shown.get((taps[0].index, arg_b)) if taps[0].kind is VAMP else None
+            if len(taps) != 1 or window is None or not window[0] <= s.latch_b < window[1]:
+                _verify_operand(net, graph, shown, ports, v, k, "B", v.b[s.sel_b], s.latch_b,
+                                arg_b, B)
 
 
 def _verify_slots(v: Vamp, P: int) -> None:
@@ -66,6 +67,8 @@ def _verify_slots(v: Vamp, P: int) -> None:
     for s in v.slots:
         if not s.latch_a <= s.dump < s.latch_a + P:
             raise VampcInternalError(f"VAMP {v.index}: slot latched at {s.latch_a} dumps at {s.dump}")
+    if len(v.slots) < 2:
+        return
     met = overlapping_spans([(s.latch_a, s.dump - s.latch_a + 1) for s in v.slots], P)
     if met is not None:
         raise VampcInternalError(f"VAMP {v.index}: slots {met[0]} and {met[1]} overlap")

@@ -1,8 +1,6 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
-from dataclasses import replace
-
 import msgspec
 import numpy as np
 
@@ -203,6 +201,31 @@ def program_text(chain, graph, sched, net, numbering, progs, stream, options: di
 def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
     """The netlist, with each VAMP's slots as its `programs` listing gives them (latch and dump
     ticks are Cycle-Counter values here: absolute times are the emulator's to derive)."""
+    def slot(v: int, k: int, r: F.SlotDoc, op: Op, column: int | None) -> ProgrammedSlot:
+        return ProgrammedSlot(r.node, op, column, r.sel_a, r.sel_b, r.delay_a, r.delay_b,
+                              r.delay_r)
+    return _network(doc, path, slot)
+
+
+def scheduled_network_from_doc(doc: F.ProgramFile, sched: Schedule, path) -> Network:
+    """The netlist with each VAMP's slots at the schedule's ticks (absolute, set 0), as the
+    allocator makes them: each slot latches at its node's start and dumps at its finish - 1. Its
+    Cycle-Counter fields must be those ticks mod P (VampcError naming the field otherwise)."""
+    P = doc.network.period
+    starts, finishes = sched.start, sched.finish
+    def slot(v: int, k: int, r: F.SlotDoc, op: Op, column: int | None) -> Slot:
+        if not r.node < len(starts):
+            raise VampcError(f"{path}: programs[{v}].slots[{k}].node: {r.node} is not a node of "
+                             f"the graph (0..{len(starts) - 1})")
+        start, dump = starts[r.node], finishes[r.node] - 1
+        if r.delay_a != start % P or r.delay_b != start % P or r.delay_r != dump % P:
+            _off_schedule(v, k, r, start, dump, P, path)
+        return Slot(r.node, op, column, r.sel_a, r.sel_b, start, start, dump)
+    return _network(doc, path, slot)
+
+
+def _network(doc: F.ProgramFile, path, slot) -> Network:
+    """The netlist of a document, each VAMP's slots made by slot(VAMP, k, row, op, column)."""
     nd = doc.network
     progs = doc.programs
     ops = _ops(graph=False)
@@ -232,8 +255,7 @@ def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
                 raise VampcError(f"{path}: programs[{index}].slots[{len(out)}].rom: {r.rom} is not "
                                  f"a ROM pointer (0..{rom_size - 1})")
             name, column = ROM[r.rom]
-            out.append(ProgrammedSlot(r.node, name, column, r.sel_a, r.sel_b, r.delay_a, r.delay_b,
-                                      r.delay_r))
+            out.append(slot(index, len(out), r, name, column))
         return tuple(out)
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
@@ -286,7 +308,6 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     from vampc.compiler import Compiled, CompileOptions
     doc = typed(doc, path)
     graph = graph_from_doc(doc.graph, path)
-    net = network_from_doc(doc, path)
     try:
         options = CompileOptions(**msgspec.structs.asdict(doc.options))
         options.check()
@@ -295,6 +316,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     try:
         graph.verify()
         sched = schedule_from_doc(doc.schedule, graph, path)
+        net = scheduled_network_from_doc(doc, sched, path)
         if sched.interval != net.period:
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
@@ -303,7 +325,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         layout = layout_from_network(doc.layout, net, graph, LAYOUTS[doc.layout.name].grouped,
                                      proof)
         layout.verify(graph)
-        timed_network(net, sched, path).verify(graph, sched)
+        net.verify(graph, sched)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v.number for v in doc.network.vamps)
@@ -368,29 +390,10 @@ def layout_from_network(lay: F.LayoutDoc, net: Network, graph: Graph, grouped: b
                   proof)
 
 
-def timed_network(net: Network, sched: Schedule, path) -> Network:
-    """The network with its programmed slots as scheduled ones, at absolute ticks (set 0): each slot
-    latches at its node's start and dumps at its finish - 1. Its Cycle-Counter fields must be those
-    ticks mod P (VampcError)."""
-    P = net.period
-    starts, finishes = sched.start, sched.finish
-    vamps = []
-    for v in net.vamps:
-        slots = []
-        for s in v.slots:
-            start, dump = starts[s.node], finishes[s.node] - 1
-            if s.delay_a != start % P or s.delay_b != start % P or s.delay_r != dump % P:
-                _off_schedule(v, s, start, dump, P, path)
-            slots.append(Slot(s.node, s.op, s.column, s.sel_a, s.sel_b, start, start, dump))
-        vamps.append(Vamp(v.index, v.a, v.b, tuple(slots)))
-    return replace(net, vamps=tuple(vamps))
-
-
-def _off_schedule(v: Vamp, s: ProgrammedSlot, start: int, dump: int, P: int, path) -> None:
+def _off_schedule(v: int, k: int, r: F.SlotDoc, start: int, dump: int, P: int, path) -> None:
     """The VampcError of a slot whose Cycle-Counter fields are not its node's scheduled ticks."""
-    k = v.slots.index(s)
-    for name, got, want in (("delay-A", s.delay_a, start), ("delay-B", s.delay_b, start),
-                            ("delay-R", s.delay_r, dump)):
+    for name, got, want in (("delay-A", r.delay_a, start), ("delay-B", r.delay_b, start),
+                            ("delay-R", r.delay_r, dump)):
         if got != want % P:
-            raise VampcError(f"{path}: programs[{v.index}] slot {k}: {name} {got} is not "
+            raise VampcError(f"{path}: programs[{v}] slot {k}: {name} {got} is not "
                              f"the schedule's tick {want} mod {P}")
