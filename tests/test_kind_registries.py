@@ -63,7 +63,6 @@ def test_each_section_belongs_to_its_pass():
 
 def test_a_kind_no_branch_handles_is_an_internal_error():
     from vampc.network.model import Tap, tap_source
-    tap = Tap(TapKind.VAMP, 0)
-    object.__setattr__(tap, "kind", "bus")      # a kind a later feature adds, not yet handled
+    tap = Tap("bus", 0)      # a kind a later feature adds, not yet handled
     with pytest.raises(VampcInternalError, match="no branch handles 'bus'"):
         tap_source(tap, [])

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 from collections import Counter
 
+import msgspec
 import pytest
 
 from vampc.dataflow.linear import build_linear
@@ -223,8 +224,8 @@ def test_folded_ports_are_written_per_joint():
 
 def _replace_slot(net, v, k, **changes):
     vamp = net.vamps[v]
-    slots = vamp.slots[:k] + (dataclasses.replace(vamp.slots[k], **changes),) + vamp.slots[k + 1:]
-    new = dataclasses.replace(vamp, slots=slots)
+    slots = vamp.slots[:k] + (msgspec.structs.replace(vamp.slots[k], **changes),) + vamp.slots[k + 1:]
+    new = msgspec.structs.replace(vamp, slots=slots)
     return dataclasses.replace(net, vamps=net.vamps[:v] + (new,) + net.vamps[v + 1:])
 
 
@@ -264,7 +265,7 @@ def test_tap_past_the_end_of_a_buffer_is_rejected():
     graph, sched, net = build(4)
     v, _, _, name, _, operand = next(x for x in reads(net) if x[5].taps[0].kind == "buffer")
     tap = operand.taps[0]
-    short = dataclasses.replace(net.buffers[tap.index], stages=tap.stage - 1)
+    short = msgspec.structs.replace(net.buffers[tap.index], stages=tap.stage - 1)
     broken = dataclasses.replace(net, buffers=net.buffers[:tap.index] + (short,)
                                  + net.buffers[tap.index + 1:])
     with pytest.raises(VampcInternalError,

@@ -123,8 +123,10 @@ def counter_network(net: Network, programs) -> Network:
     network holds: absolute times are the emulator's to derive)."""
     from dataclasses import replace
 
+    import msgspec
+
     from vampc.network.model import ProgrammedSlot
-    vamps = tuple(replace(v, slots=tuple(ProgrammedSlot(s.node, s.op, s.column, p.sel_a, p.sel_b,
+    vamps = tuple(msgspec.structs.replace(v, slots=tuple(ProgrammedSlot(s.node, s.op, s.column, p.sel_a, p.sel_b,
                                                         p.delay_a, p.delay_b, p.delay_r)
                                          for s, p in zip(v.slots, progs)))
                   for v, progs in zip(net.vamps, programs))

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
-from vampc.kinds import Quantity
+from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.machine.timing import buffer_stage, buffer_window, result_windows
 from vampc.network.model import (
@@ -124,7 +124,7 @@ class _Allocator:
             if src.value not in self.consts:
                 index = len(self.consts)
                 self.consts[src.value] = Const(index, src.name, src.value)
-                self.const_operands.append(Operand((Tap("const", index),)))
+                self.const_operands.append(Operand((Tap(TapKind.CONST, index),)))
             return self.const_operands[self.consts[src.value].index]
         if src.op is Op.INPUT:
             return self.port_operands[self._port(src.key, t // self.B)]
@@ -134,7 +134,7 @@ class _Allocator:
             vamps = self.place[arg]
             emit = self.s.finish[arg]
             if stage == 0:
-                taps = tuple(Tap("vamp", v) for v in vamps)
+                taps = tuple(Tap(TapKind.VAMP, v) for v in vamps)
             elif t < emit or buffer_window(emit, self.next_emit[arg], stage, self.B)[0] > t:
                 raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
                                          f"{emit}) is gone at tick {t}: nothing buffered it")
@@ -161,7 +161,7 @@ class _Allocator:
             self.port_entries.append([])
             self.port_size.append(9 if key.quantity is Quantity.A else 3)
             ports.append(p)
-            self.port_operands.append(Operand((Tap("port", p),)))
+            self.port_operands.append(Operand((Tap(TapKind.PORT, p),)))
         self.taken[at] = taken + 1
         self.port_entries[p].append(PortEntry(key, block))
         self.entries[(key, block)] = p
@@ -170,7 +170,7 @@ class _Allocator:
     def _buffer_tap(self, vamp: int, stage: int) -> Tap:
         self.stages[vamp] = max(self.stages.get(vamp, 0), stage)
         buf = self.buffer_of.setdefault(vamp, len(self.buffer_of))
-        return Tap("buffer", buf, stage)
+        return Tap(TapKind.BUFFER, buf, stage)
 
     def _network(self, reads) -> Network:
         vamps = self._vamps(reads)
@@ -244,7 +244,7 @@ class _Allocator:
             index = len(self.port_entries) + len(extra)
             extra.append(Port(index, 3, ()))
             vamp = vamps[v]
-            vamps[v] = Vamp(vamp.index, (Operand((Tap("port", index),)),) + vamp.a, vamp.b,
+            vamps[v] = Vamp(vamp.index, (Operand((Tap(TapKind.PORT, index),)),) + vamp.a, vamp.b,
                             tuple(_shift_a(s, 1) for s in vamp.slots))
             rooted[v] = 0
         self.program_ports = tuple(extra)

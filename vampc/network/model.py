@@ -33,22 +33,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from msgspec import Struct
+
 from vampc.dataflow.graph import InputKey
 from vampc.kinds import TapKind, unhandled
 from vampc.machine.ops import Op
 
 
-@dataclass(frozen=True, slots=True)
-class Tap:
+class Tap(Struct, frozen=True, gc=False):
     """Where an operand is read: a VAMP's Result, stage `stage` of a buffer, a host port or a constant."""
 
     kind: TapKind
     index: int
     stage: int = 0  # buffers only, 1-based
-
-    def __post_init__(self):
-        if not isinstance(self.kind, TapKind):       # read from a file
-            object.__setattr__(self, "kind", TapKind(self.kind))
 
     def __str__(self) -> str:
         return f"{self.kind} {self.index}" + (f" stage {self.stage}" if self.kind is TapKind.BUFFER else "")
@@ -68,16 +65,14 @@ def tap_source(tap: Tap, buffer_sources) -> int | None:
             return unhandled(tap.kind)
 
 
-@dataclass(frozen=True, slots=True)
-class Operand:
+class Operand(Struct, frozen=True, gc=False):
     """One multiplexer input: one tap, or three taps carrying the columns of a matrix made by an MM
     group."""
 
     taps: tuple[Tap, ...]
 
 
-@dataclass(frozen=True, slots=True)
-class Slot:
+class Slot(Struct, frozen=True, gc=False):
     """One op a VAMP runs each period: graph node `node` (an MM member computes `column`), reading
     inputs `sel_a` and `sel_b` of its multiplexers. Ticks are absolute, for set 0."""
 
@@ -96,8 +91,7 @@ class Slot:
         return self.dump + 1
 
 
-@dataclass(frozen=True, slots=True)
-class ProgrammedSlot:
+class ProgrammedSlot(Struct, frozen=True, gc=False):
     """A slot as a VAMP's program holds it: the same op and selects as a scheduled `Slot`, but its
     events as Cycle-Counter values (delay-A, delay-B, delay-R, 0..P-1), not absolute ticks. A network
     loaded for the emulator has these; its absolute times are the emulator's to derive
@@ -114,8 +108,7 @@ class ProgrammedSlot:
     delay_r: int
 
 
-@dataclass(frozen=True, slots=True)
-class Vamp:
+class Vamp(Struct, frozen=True, gc=False):
     """One VAMP: its multiplexer inputs for operands A and B and its slots, in dump order (scheduled
     `Slot`s after allocation, `ProgrammedSlot`s once loaded from a program)."""
 
@@ -130,8 +123,7 @@ class Vamp:
         return self.slots[0].node
 
 
-@dataclass(frozen=True, slots=True)
-class Buffer:
+class Buffer(Struct, frozen=True, gc=False):
     """A delay buffer of `stages` stages behind VAMP `source`."""
 
     index: int
@@ -139,16 +131,14 @@ class Buffer:
     stages: int
 
 
-@dataclass(frozen=True, slots=True)
-class PortEntry:
+class PortEntry(Struct, frozen=True, gc=False):
     """What the host writes to a port at the start of `block` (absolute, set 0) of every set."""
 
     key: InputKey
     block: int
 
 
-@dataclass(frozen=True, slots=True)
-class Port:
+class Port(Struct, frozen=True, gc=False):
     """A host input port: `size` scalars (3 or 9), written with each entry's value at its block."""
 
     index: int
@@ -156,8 +146,7 @@ class Port:
     entries: tuple[PortEntry, ...]
 
 
-@dataclass(frozen=True, slots=True)
-class Const:
+class Const(Struct, frozen=True, gc=False):
     """A constant input buffer (p*, r*, m, J, endpoint values, ...)."""
 
     index: int
@@ -165,8 +154,7 @@ class Const:
     value: tuple[float, ...]
 
 
-@dataclass(frozen=True, slots=True)
-class OutputPoint:
+class OutputPoint(Struct, frozen=True, gc=False):
     """τ_joint of set j is scalar `component` of VAMP `vamp`'s Result at tick j·P + `tick`."""
 
     joint: int
