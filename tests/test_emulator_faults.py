@@ -3,9 +3,9 @@ multiplexer selects), VAMP number and wire is either reported or changes the tor
 silently plausible answer. Systolic and folded (time-multiplexed) programs alike."""
 from __future__ import annotations
 
-import dataclasses
 import itertools
 
+import msgspec
 import numpy as np
 import pytest
 from emulator_util import document, mutated, torques
@@ -34,7 +34,7 @@ def _set_field(v: int, k: int, field: str, value: int):
     def change(doc):
         number = doc["network"]["vamps"][v]["number"]
         slots = _slots(doc, v)
-        slots[k] = dataclasses.replace(slots[k], **{field: value})
+        slots[k] = msgspec.structs.replace(slots[k], **{field: value})
         for entry in doc["program_stream"]:
             where = [i for i, t in enumerate(entry["targets"]) if t == v]
             if where:

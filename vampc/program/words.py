@@ -25,7 +25,7 @@ binary64.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from msgspec import Struct
 
 from vampc.errors import VampcError
 from vampc.machine.ops import ROM, rom_pointer  # noqa: F401  (the ROM is the op table's)
@@ -36,9 +36,8 @@ FIELDS = ("delay_a", "delay_b", "delay_r", "rom", "sel_a", "sel_b")
 ADDRESS = 8          # addresses per slot in an extended word
 
 
-@dataclass(frozen=True, slots=True)
-class Program:
-    """One slot's control registers."""
+class Program(Struct, frozen=True, gc=False):
+    """One slot's control registers (a frozen msgspec Struct, like the network's records)."""
 
     delay_a: int
     delay_b: int
