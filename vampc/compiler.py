@@ -102,5 +102,5 @@ def program_text(c: Compiled) -> str:
 @gc_paused()
 def program_document(c: Compiled) -> dict:
     """The program-file document of a compiled robot: what a reader of its file gets."""
-    import json
-    return json.loads(program_text(c))
+    from vampc.jsontext import loads
+    return loads(program_text(c))
