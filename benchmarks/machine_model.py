@@ -127,8 +127,8 @@ def main() -> None:
         # compiling and reading, each in a fresh process as `vampc compile` and `vampc report`
         # run (a long process that has compiled a 512-joint chain reads 1.5x slower: its heap)
         for k in (943, 600, 300):
-            c_s = fresh_time(args.checkout, COMPILE.format(k=k, out=budget_path), args.runs)
-            r_s = fresh_time(args.checkout, READ.format(path=budget_path), args.runs)
+            c_s = fresh_time(args.checkout, COMPILE.format(k=k, out=str(budget_path)), args.runs)
+            r_s = fresh_time(args.checkout, READ.format(path=str(budget_path)), args.runs)
             print(f"read    {f'32 joints, log, {k} VAMPs':28s} {r_s:8.3f} s  ({r_s / c_s:.2f} of "
                   f"compiling it, {c_s:.3f} s; fresh processes)")
         write_program(program_text(compile_chain(cases[3][1], CompileOptions(**cases[3][2]))),
