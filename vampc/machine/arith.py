@@ -1,21 +1,34 @@
-"""The arithmetic of a VAMP's units, behind one small interface (DESIGN §10).
+"""The arithmetic of a VAMP's units, behind one small interface (DESIGN §10): the word formats.
 
 Every engine does its arithmetic through a word format: the tick engine and the numpy stream engine
 call `apply`, the stream engine's generated C renders `c_expr`, and later a Verilog generator renders
-the same three functions again. A format decides where a result is rounded and what happens on
-overflow, so every engine rounds and saturates at the same points, bit for bit.
+the same functions again. A format decides how a value is held (`dtype`), where a result is rounded
+and what happens on overflow, so every engine rounds and saturates at the same points, bit for bit.
+The host converts what it writes (A_i, constants, q̇, q̈) with `encode` and reads torques with
+`decode`.
 
-    function   meaning             float64 (IEEE binary64, round to nearest even)
-    mul        x · y               one rounded product (never fused with a following add)
-    add        x + y               one rounded sum
-    sub        x − y               one rounded difference
+    format     held as                 mul x · y                     add x + y, sub x − y
+    float64    IEEE binary64           one rounded product (never    one rounded sum or difference
+                                       fused with a following add)
+    float32    IEEE binary32           the same in binary32          the same in binary32
+    qI.F       signed integers of      the exact product, shifted    exact, then the overflow rule
+               W = I + F bits, value   right by F bits with the
+               raw · 2^-F (I counts    rounding rule, then the
+               the sign bit)           overflow rule
 
-Only float64 exists today; a fixed-point format (issue "Hardware word formats") is another class with
-the same four members.
+Fixed-point rules. Rounding `nearest` adds 2^(F-1) before the shift (ties go up, towards +inf);
+`truncate` drops the bits (towards −inf, two's complement). Overflow `saturate` clips a result to
+[−2^(W-1), 2^(W-1) − 1]; `wrap` keeps its low W bits (two's complement). Either way every overflow is
+counted (`overflows`): it is never silent. The host's conversion rounds and overflows by the same
+rules. A float format's overflow is a non-finite result, also counted.
 """
 from __future__ import annotations
 
 import enum
+import math
+import re
+
+import numpy as np
 
 
 class Fn(enum.Enum):
@@ -37,7 +50,12 @@ class Float64:
 
     name = "float64"
     c_type = "double"
+    dtype = np.float64
+    bits = 64
     _C = {Fn.MUL: "*", Fn.ADD: "+", Fn.SUB: "-"}
+
+    def __init__(self):
+        self.overflows = 0
 
     def apply(self, fn: Fn, x, y):
         """fn(x, y) on numpy arrays (any broadcastable shapes)."""
@@ -51,5 +69,184 @@ class Float64:
         """fn(x, y) as a C expression of two C expressions of type `c_type`."""
         return f"{x} {self._C[fn]} {y}"
 
+    def encode(self, values) -> np.ndarray:
+        """Real values (float64) as words of this format."""
+        return np.asarray(values, dtype=np.float64)
+
+    def decode(self, words) -> np.ndarray:
+        """Words of this format as float64 values."""
+        return np.asarray(words, dtype=np.float64)
+
+    def fresh(self):
+        """The same format with its overflow count at zero (one per run)."""
+        return type(self)()
+
+    def __eq__(self, other) -> bool:
+        return type(other) is type(self) and other.name == self.name
+
+    def __hash__(self) -> int:
+        return hash(self.name)
+
+    def __repr__(self) -> str:
+        return self.name
+
+
+class Float32(Float64):
+    """IEEE binary32 words: numpy's float32, `float` in C. A result too large for binary32 is an
+    infinity: counted as an overflow."""
+
+    name = "float32"
+    c_type = "float"
+    dtype = np.float32
+    bits = 32
+
+    def apply(self, fn: Fn, x, y):
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = super().apply(fn, x, y)
+        bad = ~np.isfinite(out)
+        if bad.any():
+            self.overflows += int(np.count_nonzero(bad))
+        return out
+
+    def encode(self, values) -> np.ndarray:
+        with np.errstate(over="ignore"):
+            out = np.asarray(values, dtype=np.float64).astype(np.float32)
+        self.overflows += int(np.count_nonzero(~np.isfinite(out)))
+        return out
+
+
+class Rounding(enum.Enum):
+    """How a fixed-point result drops fraction bits."""
+
+    NEAREST = "nearest"       # add half an LSB, then drop: ties towards +inf
+    TRUNCATE = "truncate"     # drop: towards -inf (two's complement)
+
+
+class Overflow(enum.Enum):
+    """What a fixed-point result outside the word's range becomes (counted either way)."""
+
+    SATURATE = "saturate"
+    WRAP = "wrap"
+
+
+class Fixed(Float64):
+    """Signed fixed point qI.F held as int64 raw values (see the module docstring)."""
+
+    c_type = "int64_t"
+    dtype = np.int64
+
+    def __init__(self, integer: int, fraction: int, rounding: Rounding = Rounding.NEAREST,
+                 overflow: Overflow = Overflow.SATURATE):
+        super().__init__()
+        self.integer, self.fraction = integer, fraction
+        self.rounding, self.overflow = Rounding(rounding), Overflow(overflow)
+        self.bits = integer + fraction
+        if integer < 1 or fraction < 0 or not 2 <= self.bits <= 64:
+            raise ValueError(f"q{integer}.{fraction}: a fixed-point word has at least 1 integer bit "
+                             "(the sign) and 2 to 64 bits in all")
+        self.lo, self.hi = -(1 << (self.bits - 1)), (1 << (self.bits - 1)) - 1
+        self.name = f"q{integer}.{fraction}"
+
+    def fresh(self):
+        return Fixed(self.integer, self.fraction, self.rounding, self.overflow)
+
+    def __eq__(self, other) -> bool:
+        return type(other) is Fixed and (other.name, other.rounding, other.overflow) == \
+            (self.name, self.rounding, self.overflow)
+
+    def __hash__(self) -> int:
+        return hash((self.name, self.rounding, self.overflow))
+
+    def __repr__(self) -> str:
+        return f"{self.name} ({self.rounding.value}, {self.overflow.value})"
+
+    # --- arithmetic ----------------------------------------------------------------------------
+    def apply(self, fn: Fn, x, y):
+        x, y = np.asarray(x, dtype=np.int64), np.asarray(y, dtype=np.int64)
+        if fn is Fn.MUL:
+            return self._fit(self._shift(self._product(x, y)))
+        if self.bits <= 63:        # |x|, |y| <= 2^62: the sum is exact in int64
+            return self._fit(x + y if fn is Fn.ADD else x - y)
+        # 64-bit words: int64 arithmetic wraps as the word does; an overflow is a result whose sign
+        # is wrong (operands of one sign for a sum, of opposite signs for a difference)
+        with np.errstate(over="ignore"):
+            out = x + y if fn is Fn.ADD else x - y
+        over = (((x ^ out) & (y ^ out)) < 0) if fn is Fn.ADD else (((x ^ y) & (x ^ out)) < 0)
+        return self._overflowed(out, over, np.where(x < 0, self.lo, self.hi))
+
+    def _product(self, x, y):
+        """The exact product: int64 when it fits (words of at most 32 bits), Python integers
+        otherwise."""
+        if self.bits <= 32:
+            return x * y
+        return x.astype(object) * y.astype(object)
+
+    def _shift(self, p):
+        """The product with its F extra fraction bits dropped by the rounding rule."""
+        F = self.fraction
+        if F == 0:
+            return p
+        if self.rounding is Rounding.NEAREST:
+            return (p + (1 << (F - 1))) >> F
+        return p >> F
+
+    def _fit(self, r):
+        """A result of any size (int64 or Python integers) in the word: saturated or wrapped
+        (sign-extending its low W bits), counted."""
+        over = (r < self.lo) | (r > self.hi)
+        if not np.any(over):
+            return np.asarray(r).astype(np.int64)
+        if self.overflow is Overflow.SATURATE:
+            fitted = np.minimum(np.maximum(r, self.lo), self.hi)
+        else:
+            low = r & ((1 << self.bits) - 1)
+            fitted = np.where(low > self.hi, low - (1 << self.bits), low)
+        return self._overflowed(np.asarray(fitted).astype(np.int64), over, None)
+
+    def _overflowed(self, out, over, saturated):
+        n = int(np.count_nonzero(over))
+        if n:
+            self.overflows += n
+            if saturated is not None and self.overflow is Overflow.SATURATE:
+                out = np.where(over, saturated, out)
+        return out
+
+    def c_expr(self, fn: Fn, x: str, y: str) -> str:
+        return f"q_{fn.value}({x}, {y})"
+
+    # --- the host's conversions ----------------------------------------------------------------
+    def encode(self, values) -> np.ndarray:
+        x = np.asarray(values, dtype=np.float64)
+        if not np.all(np.isfinite(x)):
+            raise ValueError("a value that is not a finite number has no fixed-point word")
+        with np.errstate(over="ignore", invalid="ignore"):
+            v = x * 2.0 ** self.fraction             # exact (a power of two) unless it overflows
+            r = np.floor(v)
+            if self.rounding is Rounding.NEAREST:
+                r = r + (v - r >= 0.5)
+        if np.all(np.abs(r) <= 2.0 ** 62):
+            return self._fit(r.astype(np.int64))
+        # beyond int64, in Python's integers: the scaled value is exact unless it overflowed (then
+        # the value, far beyond 2^53, is an integer itself)
+        exact = [int(a) if math.isfinite(a) else int(b) << self.fraction
+                 for a, b in zip(r.ravel(), x.ravel())]
+        return self._fit(np.array(exact, dtype=object).reshape(r.shape))
+
+    def decode(self, words) -> np.ndarray:
+        return np.asarray(words, dtype=np.int64).astype(np.float64) * 2.0 ** -self.fraction
+
 
 FLOAT64 = Float64()
+_Q = re.compile(r"q(\d+)\.(\d+)")
+
+
+def parse_word(text: str, rounding: str = "nearest", overflow: str = "saturate"):
+    """The word format named `text` ("float64", "float32" or "qI.F"), with the fixed-point rounding
+    and overflow rules; ValueError saying what is wrong otherwise."""
+    if text in ("float64", "float32"):
+        return Float64() if text == "float64" else Float32()
+    m = _Q.fullmatch(text)
+    if m is None:
+        raise ValueError(f"unknown word format {text!r} (float64, float32, or qI.F: I integer bits "
+                         "including the sign, F fraction bits, I + F from 2 to 64, e.g. q16.16)")
+    return Fixed(int(m.group(1)), int(m.group(2)), Rounding(rounding), Overflow(overflow))

@@ -1,0 +1,109 @@
+"""Word formats (vampc.machine.arith) against an independent oracle: Python's integers and exact
+fractions, written here from the rules (the module docstring), on random operands of every width and
+at the edges of each word's range."""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from vampc.machine.arith import Fixed, Float32, Fn, Overflow, Rounding, parse_word
+
+FORMATS = [(16, 16), (12, 20), (9, 12), (20, 12), (24, 24), (32, 16), (32, 32), (1, 1), (2, 0),
+           (40, 24), (1, 63), (64, 0)]
+MODES = [(Rounding.NEAREST, Overflow.SATURATE), (Rounding.TRUNCATE, Overflow.WRAP),
+         (Rounding.NEAREST, Overflow.WRAP), (Rounding.TRUNCATE, Overflow.SATURATE)]
+
+
+def fit(v: int, bits: int, overflow: Overflow) -> tuple[int, bool]:
+    lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+    if lo <= v <= hi:
+        return v, False
+    if overflow is Overflow.SATURATE:
+        return (lo if v < lo else hi), True
+    return (v - lo) % (1 << bits) + lo, True
+
+
+def oracle(fn: Fn, a: int, b: int, I: int, F: int, rounding: Rounding, overflow: Overflow):
+    if fn is Fn.ADD:
+        return fit(a + b, I + F, overflow)
+    if fn is Fn.SUB:
+        return fit(a - b, I + F, overflow)
+    exact = Fraction(a * b, 1 << F)            # the product's value in LSBs of the word
+    r = math.floor(exact + Fraction(1, 2)) if rounding is Rounding.NEAREST else math.floor(exact)
+    return fit(r, I + F, overflow)
+
+
+def operands(bits: int, count: int, seed: int) -> np.ndarray:
+    """Random raw words of `bits` bits, with the range's edges and small values among them."""
+    rng = np.random.default_rng(seed)
+    lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+    edges = [lo, hi, 0, 1, -1, lo + 1, hi - 1]
+    small = rng.integers(-1000, 1000, count // 4)
+    wide = [int(x) for x in rng.integers(lo, hi, count - count // 4 - len(edges), endpoint=True,
+                                         dtype=np.int64)]
+    return np.array([max(lo, min(hi, int(x))) for x in list(edges) + list(small) + wide],
+                    dtype=np.int64)
+
+
+@pytest.mark.parametrize("I, F", FORMATS, ids=lambda x: str(x))
+@pytest.mark.parametrize("rounding, overflow", MODES, ids=lambda m: m.value)
+@pytest.mark.parametrize("fn", list(Fn), ids=lambda f: f.value)
+def test_each_op_is_the_oracles_bit_for_bit(I, F, rounding, overflow, fn):
+    word = Fixed(I, F, rounding, overflow)
+    a, b = operands(I + F, 400, I * 100 + F), operands(I + F, 400, I * 100 + F + 1)[::-1]
+    got = word.apply(fn, a, b)
+    want = [oracle(fn, int(x), int(y), I, F, rounding, overflow) for x, y in zip(a, b)]
+    assert got.dtype == np.int64
+    assert [int(g) for g in got] == [w for w, _ in want]
+    assert word.overflows == sum(o for _, o in want)        # every overflow counted
+
+
+@pytest.mark.parametrize("I, F", [(16, 16), (12, 20), (9, 12), (32, 32), (2, 0), (40, 24)])
+@pytest.mark.parametrize("rounding, overflow", MODES, ids=lambda m: m.value)
+def test_the_hosts_conversion_is_the_oracles(I, F, rounding, overflow):
+    rng = np.random.default_rng(I + F)
+    scale = 2.0 ** (I - 1)
+    values = np.concatenate([rng.uniform(-1.5 * scale, 1.5 * scale, 300),
+                             rng.normal(0, 1, 100), [0.0, -0.0, 2.0 ** -F / 2, -(2.0 ** -F) / 2,
+                                                     3 * 2.0 ** -F / 2, scale, -scale, 1e300]])
+    word = Fixed(I, F, rounding, overflow)
+    got = word.encode(values)
+    want = []
+    for x in values:
+        exact = Fraction(x) * (1 << F)
+        r = math.floor(exact + Fraction(1, 2)) if rounding is Rounding.NEAREST else math.floor(exact)
+        want.append(fit(r, I + F, overflow))
+    assert [int(g) for g in got] == [w for w, _ in want]
+    assert word.overflows == sum(o for _, o in want)
+    inside = [not o for _, o in want]      # decode gives back the word's value exactly (<= 53 bits)
+    if I + F <= 53:
+        np.testing.assert_array_equal(word.decode(got)[inside],
+                                      [float(Fraction(w, 1 << F)) for (w, o) in want if not o])
+
+
+def test_float32_rounds_each_result_and_counts_infinities():
+    word = Float32()
+    x = word.encode([1.0, 3e38, 1 / 3])
+    assert x.dtype == np.float32 and x[2] == np.float32(1 / 3)
+    y = word.apply(Fn.MUL, x, np.float32([3.0, 10.0, 3.0]))
+    assert y[0] == 3.0 and np.isinf(y[1]) and y[2] == np.float32(np.float32(1 / 3) * np.float32(3))
+    assert word.overflows == 1
+
+
+@pytest.mark.parametrize("text, said", [
+    ("q0.0", "at least 1 integer bit"), ("q70.70", "2 to 64 bits"), ("float16", "unknown word"),
+    ("q16.-1", "unknown word"), ("q0.16", "at least 1 integer bit"), ("Q16.16", "unknown word"),
+])
+def test_a_word_that_is_no_format_is_refused(text, said):
+    with pytest.raises(ValueError, match=said):
+        parse_word(text)
+
+
+def test_formats_are_named_as_given():
+    assert parse_word("q16.16").name == "q16.16" and parse_word("q16.16").bits == 32
+    assert parse_word("float32").name == "float32"
+    assert parse_word("q12.20", "truncate", "wrap") == Fixed(12, 20, Rounding.TRUNCATE,
+                                                            Overflow.WRAP)
