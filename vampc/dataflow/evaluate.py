@@ -19,18 +19,19 @@ from vampc.robot.chain import Chain
 def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None,
                    arith=FLOAT64) -> list[np.ndarray]:
     """Every node's value for states of shape (N, n) (and floating-base motions (N, 9)): a list indexed
-    by node id, (N,3) or (N,3,3); each op in the word format `arith` (vampc.machine.arith)."""
+    by node id, (N,3) or (N,3,3); each op in the word format `arith` (vampc.machine.arith), the
+    values its words (float64 values for float64)."""
     q = np.atleast_2d(np.asarray(q, dtype=float))
     keys = [nd.key for nd in graph.nodes if nd.op is Op.INPUT]
     inputs = input_values(chain, keys, q, qd, qdd, base)
     count = q.shape[0]
     vals: list[np.ndarray] = []
-    for nd in graph.nodes:
+    for nd in graph.nodes:     # values as words of the format (the host's conversion: encode)
         if nd.op is Op.INPUT:
-            vals.append(inputs[nd.key])
+            vals.append(arith.encode(inputs[nd.key]))
         elif nd.op is Op.CONST:
             shape = (3, 3) if len(nd.value) == 9 else (3,)
-            vals.append(np.broadcast_to(np.reshape(nd.value, shape), (count,) + shape))
+            vals.append(np.broadcast_to(np.reshape(arith.encode(nd.value), shape), (count,) + shape))
         else:
             vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]], arith))
     return vals
@@ -41,5 +42,5 @@ def evaluate(graph: Graph, chain: Chain, q, qd, qdd, base=None, arith=FLOAT64) -
     computed by evaluating the graph in the word format `arith`."""
     single = np.ndim(q) == 1
     vals = evaluate_nodes(graph, chain, q, qd, qdd, base, arith)
-    tau = np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1)
+    tau = arith.decode(np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1))
     return tau[0] if single else tau

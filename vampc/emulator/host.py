@@ -32,14 +32,15 @@ class Trajectory:
 
 
 def port_values(ld: Loaded, traj: Trajectory) -> dict[tuple[int, int], np.ndarray]:
-    """What the host writes for every set to each (port, entry): (count, 3) or (count, 9), row-major."""
+    """What the host writes for every set to each (port, entry): (count, 3) or (count, 9), row-major,
+    as words of the network's format (vampc.machine.arith: encode)."""
     cache: dict = {}
     out = {}
     for p in ld.net.ports:
         for j, e in enumerate(p.entries):
             if e.key not in cache:
                 val = input_value(ld.chain, e.key, traj.q, traj.qd, traj.qdd, traj.base)
-                cache[e.key] = np.ascontiguousarray(val.reshape(traj.count, -1))
+                cache[e.key] = np.ascontiguousarray(ld.arith.encode(val.reshape(traj.count, -1)))
             out[(p.index, j)] = cache[e.key]
     return out
 

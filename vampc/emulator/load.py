@@ -48,6 +48,7 @@ class Loaded:
     programs: tuple[tuple[Program, ...], ...]   # what Program Mode delivers to each VAMP
     load_ticks: int
     compiled_with: tuple = ()        # the compile options recorded in the file, as (name, value)
+    word: object = None              # the word format (vampc.machine.arith); None: float64
 
     @property
     def options(self) -> dict:
@@ -57,9 +58,9 @@ class Loaded:
     @property
     def arith(self):
         """The word format the network computes in (vampc.machine.arith), which every engine
-        calls or renders: IEEE binary64 for every program today."""
+        calls or renders, and which counts its overflows; float64 unless one is given."""
         from vampc.machine.arith import FLOAT64
-        return FLOAT64
+        return FLOAT64 if self.word is None else self.word
 
     @property
     def period(self) -> int:

@@ -97,28 +97,29 @@ def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> n
 
 def _run_chunk(ld: Loaded, fl: Flow, ports, count) -> np.ndarray:
     vals: list[np.ndarray] = []
+    arith = ld.arith
     for r, a, b in fl.ops:
-        vals.append(rom.run(r, _operand(a, vals, ports, count), _operand(b, vals, ports, count),
-                            ld.arith))
+        vals.append(rom.run(r, _operand(a, vals, ports, count, arith),
+                            _operand(b, vals, ports, count, arith), arith))
     tau = np.empty((count, ld.chain.n_outputs))
     for joint, op, component in fl.outputs:
-        tau[:, joint - 1] = vals[op][:, component]
+        tau[:, joint - 1] = arith.decode(vals[op][:, component])
     return tau
 
 
-def _operand(sources, vals, ports, count) -> np.ndarray:
+def _operand(sources, vals, ports, count, arith) -> np.ndarray:
     if len(sources) == 3:   # a matrix delivered as three column results of an MM group
-        cols = [_value(s, vals, ports, count)[:, :3] for s in sources]
+        cols = [_value(s, vals, ports, count, arith)[:, :3] for s in sources]
         return np.stack(cols, axis=-1).reshape(count, 9)
-    return _value(sources[0], vals, ports, count)
+    return _value(sources[0], vals, ports, count, arith)
 
 
-def _value(src, vals, ports, count) -> np.ndarray:
+def _value(src, vals, ports, count, arith) -> np.ndarray:
     if src[0] is FlowKind.OP:
         return vals[src[1]]
     if src[0] is FlowKind.IN:
         return ports[src[1]]
     if src[0] is FlowKind.CONST:
-        value = np.asarray(src[1])
+        value = arith.encode(src[1])
         return np.broadcast_to(value, (count, value.size))
     return unhandled(src[0])

@@ -121,18 +121,19 @@ class TickEngine:
         return [r[0]] * 9, list(range(9)), r * 3
 
     def _random_state(self) -> None:
-        rng, V = self.rng, self.V
-        self.bus = rng.normal(size=(self.rows, 9)) * 1e3
+        rng, V, word = self.rng, self.V, self.ld.arith
+        # every register holds words of the network's format (vampc.machine.arith)
+        self.bus = word.random(rng, (self.rows, 9), 1e3)
         # Some registers start out looking like program words for real VAMPs.
         fake = rng.random(self.rows) < 0.5
         self.bus[fake, 0] = rng.choice(self.numbers, size=int(fake.sum()))
         self.tag = np.full(self.rows, UNKNOWN, dtype=np.int64)
-        self.op_a, self.op_b = rng.normal(size=(V, 9)), rng.normal(size=(V, 9))
+        self.op_a, self.op_b = word.random(rng, (V, 9)), word.random(rng, (V, 9))
         self.tag_a = np.full(V, UNKNOWN, dtype=np.int64)
         self.tag_b = np.full(V, UNKNOWN, dtype=np.int64)
         self.owner_a = np.full(V, -1, dtype=np.int64)   # the slot that last latched each register
         self.owner_b = np.full(V, -1, dtype=np.int64)
-        self.units = rng.normal(size=(V, 3, 3))
+        self.units = word.random(rng, (V, 3, 3))
         self.utag = np.full(V, UNKNOWN, dtype=np.int64)
         self.tables = [[self._random_row() for _ in range(int(rng.integers(1, 4)))] for _ in range(V)]
         self.programmed = np.zeros(V, bool)
@@ -147,12 +148,16 @@ class TickEngine:
         VAMP never latched a program."""
         stream = self.ld.stream
         roots = [self._root_row(e.root) for e in stream]
+        try:       # the words as the network's format carries them
+            words = [self.ld.arith.program_words(e.words) for e in stream]
+        except ValueError as exc:
+            raise VampcError(f"{self.ld.path}: Program Mode: {exc}") from None
         ticks = ticks if ticks is not None else self.ld.load_ticks
         for k in range(ticks):
-            for row, entry in zip(roots, stream):
-                self.bus[row, :] = 0.0
-                if k < len(entry.words):
-                    self.bus[row, :3] = entry.words[k]
+            for row, entry in zip(roots, words):
+                self.bus[row, :] = 0
+                if k < len(entry):
+                    self.bus[row, :3] = entry[k]
             self._program_tick()
         missing = np.flatnonzero(~self.programmed)
         if missing.size:
@@ -168,7 +173,7 @@ class TickEngine:
             self._apply(int(v), words[v])
         new_stages = self._shifted_stages(every_tick=True)
         self.bus[:self.V, :3] = words
-        self.bus[:self.V, 3:] = 0.0
+        self.bus[:self.V, 3:] = 0
         self._commit_stages(new_stages)
         self._vcd_dump()
         self.tick += 1
@@ -221,8 +226,8 @@ class TickEngine:
 
     def _data_setup(self) -> None:
         for c in self.ld.net.consts:
-            self.bus[self.const_row[c.index], :] = 0.0
-            self.bus[self.const_row[c.index], :len(c.value)] = c.value
+            self.bus[self.const_row[c.index], :] = 0
+            self.bus[self.const_row[c.index], :len(c.value)] = self.ld.arith.encode(c.value)
             self.tag[self.const_row[c.index]] = CONST
         self._slots()
         self._plan = {}
@@ -271,7 +276,7 @@ class TickEngine:
                 if since % K:
                     continue
                 row, s = self.port_row[p.index], since // K
-                self.bus[row, :] = 0.0
+                self.bus[row, :] = 0
                 if 0 <= s < count:
                     self.bus[row, :p.size] = ports[(p.index, j)][s]
                     self.tag[row] = s
@@ -289,7 +294,7 @@ class TickEngine:
                         f"{self.ld.path}: tick {t}: τ{o.joint} of set {j} is read from "
                         f"{self.ld.vamp_name(o.vamp)}, whose Result holds "
                         + (f"set {tg}" if tg >= 0 else "no set's value") + " (a timing error)")
-                tau[j, o.joint - 1] = self.bus[o.vamp, o.component]
+                tau[j, o.joint - 1] = self.ld.arith.decode(self.bus[o.vamp, o.component])
 
     def _data_tick(self, c: int, t: int) -> None:
         self._latch(self.latch_a_at.get(c), "a")
@@ -303,7 +308,7 @@ class TickEngine:
             for r in np.unique(self.s_rom[dumps]):
                 sel = v[self.s_rom[dumps] == r]
                 self.bus[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
-                self.bus[sel, 3:] = 0.0
+                self.bus[sel, 3:] = 0
             self.tag[v] = self.utag[v]
         self._commit_stages(new_stages)
         self._vcd_dump()

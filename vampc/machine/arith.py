@@ -81,6 +81,21 @@ class Float64:
         """The same format with its overflow count at zero (one per run)."""
         return type(self)()
 
+    def random(self, rng, shape, scale: float = 1.0) -> np.ndarray:
+        """Words a register may hold at power-on (the tick engine's random start)."""
+        return (rng.normal(size=shape) * scale).astype(self.dtype)
+
+    def program_words(self, words) -> np.ndarray:
+        """Program-Mode words (VAMP numbers and packed fields: integers) as this format carries
+        them: as values in a float format, which must hold them exactly (ValueError otherwise)."""
+        w = np.asarray(words, dtype=np.float64)
+        out = w.astype(self.dtype)
+        if not np.array_equal(out.astype(np.float64), w):
+            bad = w.ravel()[np.argmax(out.astype(np.float64).ravel() != w.ravel())]
+            raise ValueError(f"a Program-Mode word holds {bad:.0f}, which {self.name} does not "
+                             "hold exactly")
+        return out
+
     def __eq__(self, other) -> bool:
         return type(other) is type(self) and other.name == self.name
 
@@ -234,6 +249,20 @@ class Fixed(Float64):
 
     def decode(self, words) -> np.ndarray:
         return np.asarray(words, dtype=np.int64).astype(np.float64) * 2.0 ** -self.fraction
+
+    def random(self, rng, shape, scale: float = 1.0) -> np.ndarray:
+        return rng.integers(self.lo, self.hi, size=shape, endpoint=True, dtype=np.int64)
+
+    def program_words(self, words) -> np.ndarray:
+        """Program-Mode words as raw bits: the integer a field packs is the word's bit pattern,
+        which must fit in the word (ValueError otherwise: the packing for words this narrow is
+        not done)."""
+        w = np.asarray(words, dtype=np.float64)
+        if w.size and (w.min() < self.lo or w.max() > self.hi):
+            bad = w.min() if w.min() < self.lo else w.max()
+            raise ValueError(f"a Program-Mode word holds {bad:.0f}, beyond the {self.bits}-bit "
+                             f"words of {self.name} (narrower Program-Mode packing is not done)")
+        return w.astype(np.int64)
 
 
 FLOAT64 = Float64()

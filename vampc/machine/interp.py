@@ -100,7 +100,7 @@ def _read(ref, regs, units):
 def run(rom: int, op_a: np.ndarray, op_b: np.ndarray, arith=FLOAT64) -> np.ndarray:
     """The whole micro-sequence at once: the 3-scalar result, batch-shaped."""
     am, bm = registers(rom, op_a, op_b)
-    units = np.zeros(op_a.shape[:-1] + (3, 3))
+    units = np.zeros(op_a.shape[:-1] + (3, 3), dtype=arith.dtype)
     for k in range(steps(rom)):
         step(rom, k, am, bm, units, arith)
     return units[..., result_unit(rom), :]
