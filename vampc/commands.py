@@ -14,8 +14,6 @@ import time
 import warnings
 from pathlib import Path
 
-import msgspec
-
 from vampc import jsontext
 from vampc.errors import VampcError, VampcWarning
 from vampc.options import (
@@ -89,8 +87,18 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
     from vampc.emulator.load import loaded_from_compiled
     from vampc.sniff import is_program
     if is_program(source):
+        from vampc.options import WORD_OPTIONS
         ld = load_program(source)
-        check_program_options(options.given, params, source, ld.options)
+        check_program_options(options.given, params, source, ld.options, overrides=WORD_OPTIONS)
+        if options.given & set(WORD_OPTIONS):        # a what-if: the program in another word
+            from dataclasses import replace
+
+            from vampc.options import check_word
+            stored = ld.options
+            word = replace(options, **{k: stored[k] for k in WORD_OPTIONS
+                                       if k in stored and k not in options.given})
+            check_word(word)
+            ld = replace(ld, word=None if word.word == "float64" else word.arith())
         return ld
     return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
 
@@ -104,7 +112,7 @@ def program_compiled(source: str, given, params: dict):
     from vampc.program.file import read_program_file
     from vampc.report.counts import summary
     doc = read_program_file(source)
-    check_program_options(given, params, source, msgspec.structs.asdict(doc.options))
+    check_program_options(given, params, source, doc.options.recorded())
     c = compiled_from_doc(doc, source)
     check = Deferred()
     if (doc.schedule.mult_latency, doc.schedule.add_latency) == (1, 1):
@@ -162,14 +170,53 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.discard()
         raise
     say(emulation_line(outcome, time.perf_counter() - begun), info)
-    ok = outcome.check is None or outcome.check.ok
+    word = ld.arith
+    if ld.word is None:
+        ok = outcome.check is None or outcome.check.ok and (
+            own.tolerance is None or outcome.check.max_rel <= own.tolerance)
+    else:
+        tolerance = own.tolerance or default_tolerance(word)
+        ok = outcome.check is None or (outcome.check.overall <= tolerance
+                                       and not outcome.overflows)
     sinks.finish(ok, own.write_failed, lambda text: say(text, True))
-    if outcome.check is not None:
+    if ld.word is not None:          # overflows are never silent
+        say(f"{word!r} words: {count(outcome.overflows, 'overflow')}", info)
+    if outcome.check is not None and ld.word is None:
         res = outcome.check
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
-            f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance 1e-9: "
-            f"{'OK' if res.ok else 'FAILED'}", info)
+            f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
+            f"{number_text(own.tolerance if own.tolerance is not None else 1e-9)}: "
+            f"{'OK' if ok else 'FAILED'}", info)
+    elif outcome.check is not None:
+        say(word_check_text(ld, outcome, tolerance, ok), info)
     return ok
+
+
+def number_text(x: float) -> str:
+    """A tolerance as people write it: 1e-9, 0.001, 2.5e-5."""
+    return f"{x:g}".replace("e-0", "e-").replace("e+0", "e+")
+
+
+def default_tolerance(word) -> float:
+    """--check's tolerance for a word format (README, Word formats): 1e-9 for float64 (of each
+    set's largest |τ|), 1e-5 for float32, 1e-3 for fixed point (of each joint's largest |τ|)."""
+    return {"float64": 1e-9, "float32": 1e-5}.get(word.name, 1e-3)
+
+
+def word_check_text(ld, outcome, tolerance: float, ok: bool) -> str:
+    """The check of a run in a word other than float64: per joint, then the verdict."""
+    res = outcome.check
+    from vampc.emulator.trajectory import torque_columns
+    names = torque_columns([j.name for j in ld.chain.joints], ld.chain.floating)
+    lines = [f"check against reference RNEA (float64), {ld.arith.name} words, per joint: max abs "
+             "error, max error relative to the joint's largest |τ|, RMS error"]
+    for k, name in enumerate(names):
+        lines.append(f"  {name}: {res.max_abs[k]:.3e}, {res.rel[k]:.3e}, {res.rms[k]:.3e}")
+    worst = int(res.max_abs.argmax()) if len(names) else 0
+    over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
+    lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}), tolerance "
+                 f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}")
+    return "\n".join(lines)
 
 
 def emulation_line(r, whole_seconds: float) -> str:

@@ -82,6 +82,17 @@ class CompileOptions:
     verify: bool = field(default=True, metadata=cli(
         "--verify/--no-verify", show_default=True,
         help="Check every IR's invariants at each stage boundary."))
+    word: str = field(default="float64", metadata=cli(
+        "--word", metavar="FORMAT", show_default=True, help="The VAMPs' word format: float64, "
+        "float32, or signed fixed point qI.F (I integer bits including the sign, F fraction bits, "
+        "I + F from 2 to 64; e.g. q16.16). The program records it; `vampc emulate PROGRAM --word` "
+        "runs a program in another one (a what-if). README, Word formats."))
+    rounding: str = field(default="nearest", metadata=cli(
+        "--rounding", choices=lambda: WORD_ROUNDING, show_default=True, help="Fixed-point words: "
+        "how a product drops its extra fraction bits (nearest: ties up; truncate: towards -inf)."))
+    overflow: str = field(default="saturate", metadata=cli(
+        "--overflow", choices=lambda: WORD_OVERFLOW, show_default=True, help="Fixed-point words: "
+        "a result beyond the word saturates or wraps; either way it is counted and reported."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
     def __post_init__(self):
@@ -125,8 +136,20 @@ class CompileOptions:
         return tuple(f.name for f in fields(CompileOptions) if f.name not in ("verify", "given"))
 
     def record(self) -> dict:
-        """The options as a program file records them."""
-        return {name: getattr(self, name) for name in self.recorded()}
+        """The options as a program file records them: the word format only when it is not float64
+        (so float64 programs keep their bytes), its rounding and overflow only for fixed point."""
+        out = {name: getattr(self, name) for name in self.recorded()}
+        if self.word == "float64":
+            del out["word"]
+        if not self.word.startswith("q"):
+            del out["rounding"], out["overflow"]
+        return out
+
+    def arith(self):
+        """The word format (vampc.machine.arith), with a fresh overflow count; ValueError saying
+        what is wrong with --word."""
+        from vampc.machine.arith import parse_word
+        return parse_word(self.word, self.rounding, self.overflow)
 
     def check(self) -> None:
         """Every rule between compile options (VampcUsageError, one line)."""
@@ -135,6 +158,7 @@ class CompileOptions:
         except ValueError as exc:
             raise VampcUsageError(str(exc)) from None
         check_ranges(self)
+        check_word(self)
         if self.recursion is Recursion.LINEAR:
             for name in ("prefix", "uniform_leaves"):
                 if name in self.given:
@@ -199,20 +223,41 @@ class RobotOptions:
         self.locks()
 
 
-def check_program_options(given, params: dict, source: str, stored: dict) -> None:
+WORD_OPTIONS = ("word", "rounding", "overflow")
+WORD_ROUNDING = ("nearest", "truncate")
+WORD_OVERFLOW = ("saturate", "wrap")
+
+
+def check_word(options) -> None:
+    """--word names a format; --rounding and --overflow apply to fixed-point words only."""
+    try:
+        options.arith()
+    except ValueError as exc:
+        raise VampcUsageError(f"--word {options.word}: {exc}") from None
+    if not options.word.startswith("q"):
+        for name in ("rounding", "overflow"):
+            if name in options.given:
+                raise VampcUsageError(f"{flag(name)} applies to fixed-point words (--word qI.F), "
+                                      f"not to {options.word}")
+
+
+def check_program_options(given, params: dict, source: str, stored: dict,
+                          overrides: tuple = ()) -> None:
     """Compile and robot options given with a program file must not contradict how it was compiled:
-    a robot option, or a compile option with another value than the file's, is a usage error."""
+    a robot option, or a compile option with another value than the file's, is a usage error (but
+    for `overrides`, which a command may run the program with: emulate's word format)."""
     for name in tuple(f.name for f in fields(RobotOptions)) + ("verify",):
         if name in given:
             raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
+    defaults = {f.name: f.default for f in fields(CompileOptions)}
     for name in CompileOptions.recorded():
-        if name not in given:
+        if name not in given or name in overrides:
             continue
         value = params[name]
-        if stored.get(name) != value:
+        if stored.get(name, defaults[name]) != value:
             raise VampcUsageError(f"{flag(name)} {value}: {source} was compiled with {flag(name)} "
-                                  f"{stored.get(name)}; compile options apply to robot files "
+                                  f"{stored.get(name, defaults[name])}; compile options apply to robot files "
                                   "(recompile to change them)")
 
 
@@ -285,8 +330,13 @@ class EmulateOptions:
         help="stream: vectorised over the trajectory; tick: one flop at a time from Program Mode "
         "(the hardware specification; slower). They agree bit for bit."))
     check_torques: bool = field(default=False, metadata=cli(
-        "--check", help="Compare every torque set with the reference Newton-Euler; exit 1 if any "
-        "relative error exceeds 1e-9."))
+        "--check", help="Compare every torque set with the reference Newton-Euler (float64); exit 1 "
+        "if an error exceeds the tolerance (relative to the set's largest |τ| for float64 words, to "
+        "the run's largest |τ| for others, which are also reported joint by joint; see "
+        "--tolerance) or a word overflowed."))
+    tolerance: float | None = field(default=None, metadata=cli(
+        "--tolerance", type=float, metavar="X", help="With --check: the largest relative error "
+        "allowed (default: 1e-9 for float64, 1e-5 for float32, 1e-3 for fixed point)."))
     vcd: str | None = field(default=None, metadata=cli(
         "--vcd", path=True, dash=True, help="Tick engine: write every VAMP's Result as a VCD "
         "waveform (GTKWave)."))
@@ -312,6 +362,10 @@ class EmulateOptions:
             raise VampcUsageError("--vcd needs --engine tick")
         if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--seed applies to --random and to the tick engine")
+        if self.tolerance is not None and not self.check_torques:
+            raise VampcUsageError("--tolerance applies with --check")
+        if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
+            raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
         if self.write_failed and not (self.check_torques and self.output):
             raise VampcUsageError("--write-failed applies with --check and -o")
         if self.save_states and Path(self.save_states).suffix.lower() in (".npy", ".npz"):

@@ -21,7 +21,13 @@ import numpy as np
 # exception (raise_if_terminated asks again at every chunk anyway)
 import numpy.random  # noqa: F401
 
-from vampc.emulator.host import CheckResult, Trajectory, check_torques
+from vampc.emulator.host import (
+    CheckResult,
+    Trajectory,
+    WordCheck,
+    check_torques,
+    word_check,
+)
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError, raise_if_terminated
 from vampc.kinds import Engine, unhandled
@@ -106,7 +112,8 @@ class Outcome:
     interval: int
     data_ticks: int
     engine_seconds: float
-    check: CheckResult | None
+    check: CheckResult | WordCheck | None     # WordCheck: a word format other than float64
+    overflows: int = 0                        # results and host words beyond the word (counted)
 
     @property
     def emulated_flops(self) -> int:
@@ -128,6 +135,7 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
             size = chunk_size(ld)
         case _:
             unhandled(engine)
+    ld.arith.overflows = 0             # the word format counts the overflows of this run
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
         return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
 
@@ -146,8 +154,10 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
         first = first or em
         seconds += em.wall_seconds
         _check_finite(ld, em.tau, start)
-        if check:
+        if check and ld.word is None:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
+        elif check:      # another word: its error against float64, joint by joint
+            merged = word_check(ld.chain, traj, em.tau).merged(merged)
         if sink is not None:
             sink(traj, em.tau)
         raise_if_terminated()
@@ -159,7 +169,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
         case _:
             unhandled(engine)
     return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
-                   data_ticks, seconds, merged)
+                   data_ticks, seconds, merged, ld.arith.overflows)
 
 
 def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajectory]]:
@@ -176,7 +186,8 @@ def _check_finite(ld: Loaded, tau: np.ndarray, start: int) -> None:
                  else f"{WRENCH_COLUMNS[j - ld.chain.n]}: the base wrench")
         raise VampcError(f"{ld.path}: set {start + r + 1}, {where} is "
                          f"{tau[r, j]} "
-                         "(float64 overflow: the robot's or the state's numbers are too large); "
+                         f"({ld.arith.name} overflow: the robot's or the state's numbers are too "
+                         "large); "
                          "the run stopped and wrote no output file")
 
 

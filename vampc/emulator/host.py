@@ -86,6 +86,51 @@ class CheckResult:
     ok: bool
 
 
+@dataclass(frozen=True)
+class WordCheck:
+    """Torques computed in a word format narrower than float64 against the float64 reference, per
+    joint (torque column) over a whole run: the largest |error|, the largest |τ| of the reference
+    (the scale of the relative error), the sum of squared errors, and the sets compared."""
+
+    max_abs: np.ndarray
+    max_ref: np.ndarray
+    sum_sq: np.ndarray
+    count: int
+
+    @property
+    def rel(self) -> np.ndarray:
+        """Per joint: the largest error relative to that joint's largest |τ| over the run."""
+        return self.max_abs / np.maximum(self.max_ref, 1e-12)
+
+    @property
+    def overall(self) -> float:
+        """The largest error of any joint relative to the largest |τ| of any joint over the run
+        (what --check's tolerance bounds: a joint that barely moves is not its own yardstick)."""
+        return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), 1e-12))
+
+    @property
+    def rms(self) -> np.ndarray:
+        """Per joint: the root-mean-square error."""
+        return np.sqrt(self.sum_sq / max(self.count, 1))
+
+    def merged(self, other: WordCheck | None) -> WordCheck:
+        """The check over both runs (chunks) of sets."""
+        if other is None:
+            return self
+        return WordCheck(np.maximum(self.max_abs, other.max_abs),
+                         np.maximum(self.max_ref, other.max_ref), self.sum_sq + other.sum_sq,
+                         self.count + other.count)
+
+
+def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
+    """The per-joint errors of torques `tau` against the float64 reference RNEA."""
+    from vampc.dynamics.reference import rnea
+    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    err = np.abs(tau - ref)
+    return WordCheck(err.max(axis=0, initial=0.0), np.abs(ref).max(axis=0, initial=0.0),
+                     (err ** 2).sum(axis=0), len(tau))
+
+
 def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:
     """Compare with the reference RNEA; relative error per set against that set's largest |τ| (the base
     wrench's components included)."""

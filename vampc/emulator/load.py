@@ -93,7 +93,6 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     `decoded`: the (chain, graph, network, listed programs) already read from this same document,
     which a report has (vampc.program.document.compiled_from_doc): they are used instead of
     decoding again."""
-    import msgspec
     doc = typed(doc, path)
     chain, graph, net, listed = decoded or (None, graph_from_doc(doc.graph, path),
                                             network_from_doc(doc, path), None)
@@ -102,7 +101,7 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     ld = _loaded(str(path), chain or chain_from_doc(doc.robot, graph, path), graph, sched, net,
                  numbers,
                  stream_from_doc(doc), listed or programs_from_doc(doc),
-                 tuple(sorted(msgspec.structs.asdict(doc.options).items())))
+                 tuple(sorted(doc.options.recorded().items())), _word(doc.options.recorded(), path))
     if doc.io.load_ticks != ld.load_ticks:
         raise VampcError(f"{path}: io.load_ticks {doc.io.load_ticks} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
@@ -116,7 +115,7 @@ def loaded_from_compiled(c, path: str = "<compiled>") -> Loaded:
     net = counter_network(c.network, c.programs)
     opts = c.options.record()
     return _loaded(path, c.chain, c.graph, c.schedule, net, c.numbering, c.stream, c.programs,
-                   tuple(sorted(opts.items())))
+                   tuple(sorted(opts.items())), _word(opts, path))
 
 
 def counter_network(net: Network, programs) -> Network:
@@ -134,14 +133,27 @@ def counter_network(net: Network, programs) -> Network:
     return replace(net, vamps=vamps)
 
 
-def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, options) -> Loaded:
+def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, options,
+            word=None) -> Loaded:
     """The one loader both engines run from: indices checked, the programs the stream delivers
     (which must be the listed ones), the Program-Mode length."""
     _check_indices(net, numbers, graph, path)
     progs = delivered_programs(net, numbers, stream, path)
     _check_listing(listed, progs, path)
     return Loaded(path, chain, graph, sched, sched.timing, net, numbers, stream, progs,
-                  load_ticks(stream), options)
+                  load_ticks(stream), options, word)
+
+
+def _word(options: dict, path):
+    """The word format a program records (vampc.machine.arith); None for float64."""
+    if options.get("word", "float64") == "float64":
+        return None
+    from vampc.machine.arith import parse_word
+    try:
+        return parse_word(options["word"], options.get("rounding", "nearest"),
+                          options.get("overflow", "saturate"))
+    except ValueError as exc:
+        raise VampcError(f"{path}: options.word: {exc}") from None
 
 
 def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:

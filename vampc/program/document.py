@@ -1,7 +1,6 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
-import msgspec
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
@@ -309,7 +308,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     doc = typed(doc, path)
     graph = graph_from_doc(doc.graph, path)
     try:
-        options = CompileOptions(**msgspec.structs.asdict(doc.options))
+        options = CompileOptions(**doc.options.recorded())
         options.check()
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None

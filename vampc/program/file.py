@@ -72,7 +72,7 @@ def _fields(value):
     out = []
     for name, key, default in _struct_fields(type(value)):
         v = getattr(value, name)
-        if default is not msgspec.NODEFAULT and v == default:
+        if v is msgspec.UNSET or default is not msgspec.NODEFAULT and v == default:
             continue
         out.append((key, v))
     return sorted(out)

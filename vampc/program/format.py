@@ -26,7 +26,7 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 import msgspec
-from msgspec import Meta, Struct
+from msgspec import UNSET, Meta, Struct, UnsetType
 
 from vampc.kinds import Prefix, Quantity, Recursion, Section, TapKind
 
@@ -98,6 +98,14 @@ class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):
     vamps: Count | None = None
     interval: Count | None = None
     exact: bool = False
+    # the word format (vampc.machine.arith): absent for float64, rounding and overflow for qI.F only
+    word: Annotated[str, Meta(pattern=r"^(float32|float64|q[0-9]+\.[0-9]+)$")] | UnsetType = UNSET
+    rounding: Literal["nearest", "truncate"] | UnsetType = UNSET
+    overflow: Literal["saturate", "wrap"] | UnsetType = UNSET
+
+    def recorded(self) -> dict:
+        """The options the file records, as CompileOptions takes them (absent ones left out)."""
+        return {k: v for k, v in msgspec.structs.asdict(self).items() if v is not UNSET}
 
 
 class NodeDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):

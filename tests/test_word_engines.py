@@ -1,0 +1,117 @@
+"""Word formats through the whole machine: every engine (tick, numpy stream, graph evaluator) runs
+float32 and fixed-point words bit for bit alike; an independent oracle (Python integers, driving the
+op table's micro-steps with the rules of tests/test_word_formats.py) agrees on whole torque sets; a
+program records its word, and `vampc emulate --word` runs a what-if with the error against float64
+reported joint by joint and every overflow counted."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from conftest import EXAMPLES
+from test_word_formats import oracle
+
+from vampc.cli import main
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.dataflow.evaluate import evaluate
+from vampc.emulator import emulate, load_program, loaded_from_compiled
+from vampc.emulator.host import random_trajectory
+from vampc.machine.arith import Fixed, Fn, Overflow, Rounding, parse_word
+from vampc.robot import load_robot
+
+WORDS = ["float32", "q16.16", "q12.20", "q9.12", "q24.24", "q32.16", "q32.32"]
+
+
+class OracleWord(Fixed):
+    """The fixed-point rules computed one scalar at a time with Python's integers (the test
+    oracle), not by vampc.machine.arith's numpy code."""
+
+    def apply(self, fn: Fn, x, y):
+        x, y = np.broadcast_arrays(np.asarray(x), np.asarray(y))
+        out = [oracle(fn, int(a), int(b), self.integer, self.fraction, self.rounding,
+                      self.overflow)[0] for a, b in zip(x.ravel(), y.ravel())]
+        return np.array(out, dtype=np.int64).reshape(x.shape)
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return load_robot(EXAMPLES / "puma560.yaml")
+
+
+@pytest.mark.parametrize("options", [{}, {"recursion": "log"}, {"layout": "folded"},
+                                     {"vamps": 12}], ids=["linear", "log", "folded", "budget"])
+def test_every_engine_computes_each_word_alike(puma, options, monkeypatch):
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    c = compile_chain(puma, CompileOptions(**options))
+    traj = random_trajectory(puma, 12, 5)
+    for text in WORDS:
+        ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(text))
+        stream = emulate(ld, traj, "stream").tau
+        tick = emulate(ld, traj, "tick").tau
+        evaluated = evaluate(c.graph, puma, traj.q, traj.qd, traj.qdd, arith=ld.arith)
+        assert np.array_equal(stream, tick), text
+        assert np.array_equal(stream, evaluated), text
+
+
+@pytest.mark.parametrize("word", [Fixed(16, 16), Fixed(12, 20, Rounding.TRUNCATE, Overflow.WRAP),
+                                  Fixed(9, 12), Fixed(32, 32, Rounding.TRUNCATE)],
+                         ids=lambda w: repr(w))
+def test_whole_torque_sets_are_the_oracles(puma, word, monkeypatch):
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    c = compile_chain(puma, CompileOptions(recursion="log"))
+    traj = random_trajectory(puma, 3, 11)
+    ld = dataclasses.replace(loaded_from_compiled(c), word=word)
+    engines = emulate(ld, traj, "stream").tau
+    want = OracleWord(word.integer, word.fraction, word.rounding, word.overflow)
+    assert np.array_equal(engines, evaluate(c.graph, puma, traj.q, traj.qd, traj.qdd, arith=want))
+
+
+def test_q16_16_error_is_what_its_lsb_allows(puma):
+    """Puma 560, q16.16: the error against float64 is about 5e-5 of the largest torque (a test
+    that the format does what it says, not only that the engines agree)."""
+    c = compile_chain(puma, CompileOptions())
+    traj = random_trajectory(puma, 200, 2)
+    ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word("q16.16"))
+    from vampc.dynamics.reference import rnea
+    ref = rnea(puma, traj.q, traj.qd, traj.qdd)
+    err = np.abs(emulate(ld, traj, "stream").tau - ref).max() / np.abs(ref).max()
+    assert 1e-6 < err < 2e-4 and ld.arith.overflows == 0
+
+
+def test_a_program_records_its_word_and_emulate_checks_against_float64(tmp_path):
+    prog = tmp_path / "p.vamp.json"
+    run = CliRunner().invoke
+    res = run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--word", "q16.16", "-o",
+                     str(prog)])
+    assert res.exit_code == 0, res.output
+    assert load_program(str(prog)).arith == Fixed(16, 16)
+    res = run(main, ["emulate", str(prog), "--random", "300", "--check"])
+    assert res.exit_code == 0, res.output
+    assert "q16.16 (nearest, saturate) words: 0 overflows" in res.output
+    assert "tau_shoulder:" in res.output and "tolerance 0.001: OK" in res.output
+    # a what-if in a narrower word overflows: counted, reported, and the check fails
+    res = run(main, ["emulate", str(prog), "--random", "300", "--check", "--word", "q6.12"])
+    assert res.exit_code == 1 and "overflows" in res.output and "FAILED" in res.output
+
+
+def test_a_float64_program_keeps_its_bytes_and_a_word_is_recorded_only_when_given(tmp_path):
+    run = CliRunner().invoke
+    plain, again = tmp_path / "a.vamp.json", tmp_path / "b.vamp.json"
+    for path, extra in ((plain, []), (again, ["--word", "float64"])):
+        res = run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(path), *extra])
+        assert res.exit_code == 0, res.output
+    assert plain.read_bytes() == again.read_bytes() and b'"word"' not in plain.read_bytes()
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--word", "q0.0"], "--word q0.0"), (["--word", "q70.70"], "--word q70.70"),
+    (["--word", "float16"], "--word float16"), (["--word", "q16.-1"], "--word q16.-1"),
+    (["--word", "float32", "--overflow", "wrap"], "--overflow applies to fixed-point words"),
+    (["--tolerance", "-1", "--check"], "--tolerance -1.0: give a positive number"),
+])
+def test_a_word_option_that_makes_no_sense_is_a_usage_error(args, said):
+    res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",
+                                    *args])
+    assert res.exit_code == 2 and said in res.stderr, res.stderr
