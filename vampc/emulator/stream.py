@@ -87,39 +87,42 @@ class StreamEngine:
 def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> np.ndarray:
     """The numpy path: rom.run per op over chunks of sets."""
     outs = []
+    consts: dict = {}       # each constant converted once a run, as the host writes it once
     for lo in range(0, count, CHUNK):
         chunk = {p: a[lo:lo + CHUNK] for p, a in ports.items()}
-        outs.append(_run_chunk(ld, fl, chunk, min(CHUNK, count - lo)))
+        outs.append(_run_chunk(ld, fl, chunk, min(CHUNK, count - lo), consts))
         if progress is not None:
             progress(min(lo + CHUNK, count), count)
     return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n_outputs))
 
 
-def _run_chunk(ld: Loaded, fl: Flow, ports, count) -> np.ndarray:
+def _run_chunk(ld: Loaded, fl: Flow, ports, count, consts: dict) -> np.ndarray:
     vals: list[np.ndarray] = []
     arith = ld.arith
     for r, a, b in fl.ops:
-        vals.append(rom.run(r, _operand(a, vals, ports, count, arith),
-                            _operand(b, vals, ports, count, arith), arith))
+        vals.append(rom.run(r, _operand(a, vals, ports, count, consts, arith),
+                            _operand(b, vals, ports, count, consts, arith), arith))
     tau = np.empty((count, ld.chain.n_outputs))
     for joint, op, component in fl.outputs:
         tau[:, joint - 1] = arith.decode(vals[op][:, component])
     return tau
 
 
-def _operand(sources, vals, ports, count, arith) -> np.ndarray:
+def _operand(sources, vals, ports, count, consts, arith) -> np.ndarray:
     if len(sources) == 3:   # a matrix delivered as three column results of an MM group
-        cols = [_value(s, vals, ports, count, arith)[:, :3] for s in sources]
+        cols = [_value(s, vals, ports, count, consts, arith)[:, :3] for s in sources]
         return np.stack(cols, axis=-1).reshape(count, 9)
-    return _value(sources[0], vals, ports, count, arith)
+    return _value(sources[0], vals, ports, count, consts, arith)
 
 
-def _value(src, vals, ports, count, arith) -> np.ndarray:
+def _value(src, vals, ports, count, consts, arith) -> np.ndarray:
     if src[0] is FlowKind.OP:
         return vals[src[1]]
     if src[0] is FlowKind.IN:
         return ports[src[1]]
     if src[0] is FlowKind.CONST:
-        value = arith.encode(src[1])
+        value = consts.get(src[1])
+        if value is None:
+            value = consts[src[1]] = arith.encode(src[1])
         return np.broadcast_to(value, (count, value.size))
     return unhandled(src[0])

@@ -69,6 +69,18 @@ class Float64:
         """fn(x, y) as a C expression of two C expressions of type `c_type`."""
         return f"{x} {self._C[fn]} {y}"
 
+    def c_prelude(self) -> str:
+        """C definitions c_expr's expressions use (and the overflow counter `vamp_overflows`)."""
+        return "long vamp_overflows;"
+
+    def c_literal(self, value: float) -> str:
+        """An exact C literal of the word encoding `value` (the host's conversion, encode)."""
+        return f"({float(self.encode(value)).hex()})"
+
+    def c_decode(self, x: str) -> str:
+        """A C expression of the double a word `x` stands for (decode)."""
+        return x
+
     def encode(self, values) -> np.ndarray:
         """Real values (float64) as words of this format."""
         return np.asarray(values, dtype=np.float64)
@@ -128,6 +140,21 @@ class Float32(Float64):
             out = np.asarray(values, dtype=np.float64).astype(np.float32)
         self.overflows += int(np.count_nonzero(~np.isfinite(out)))
         return out
+
+    def c_expr(self, fn: Fn, x: str, y: str) -> str:
+        return f"f_{fn.value}({x}, {y})"
+
+    def c_prelude(self) -> str:
+        ops = "".join(f"static inline float f_{fn.value}(float x, float y) {{ float r = x {op} y; "
+                      "if (!isfinite(r)) vamp_overflows++; return r; }\n"
+                      for fn, op in self._C.items())
+        return "#include <math.h>\nlong vamp_overflows;\n" + ops
+
+    def c_literal(self, value: float) -> str:
+        return f"((float){float(self.encode(value)).hex()})"
+
+    def c_decode(self, x: str) -> str:
+        return f"(double)({x})"
 
 
 class Rounding(enum.Enum):
@@ -228,6 +255,38 @@ class Fixed(Float64):
 
     def c_expr(self, fn: Fn, x: str, y: str) -> str:
         return f"q_{fn.value}({x}, {y})"
+
+    def c_prelude(self) -> str:
+        """The fixed-point rules in C: a 128-bit product, gcc's arithmetic shift of a signed
+        __int128 (towards -inf), then the overflow rule."""
+        W, F = self.bits, self.fraction
+        shift = ("p" if F == 0 else f"(p + ((__int128)1 << {F - 1})) >> {F}"
+                 if self.rounding is Rounding.NEAREST else f"p >> {F}")
+        if self.overflow is Overflow.SATURATE:
+            out = "r < QLO ? QLO : QHI"
+        else:          # the low W bits, sign-extended
+            out = ("(int64_t)(((uint64_t)r & MASK) ^ SIGN) - (int64_t)SIGN" if W < 64
+                   else "(int64_t)(uint64_t)r")
+        return "\n".join((
+            "#include <stdint.h>", "long vamp_overflows;",
+            f"#define QLO ((__int128)({self.lo}LL))" if W < 64 else "#define QLO ((__int128)INT64_MIN)",
+            f"#define QHI ((__int128)({self.hi}LL))" if W < 64 else "#define QHI ((__int128)INT64_MAX)",
+            f"#define MASK ((uint64_t){(1 << W) - 1 if W < 64 else 0}ULL)",
+            f"#define SIGN ((uint64_t){1 << (W - 1) if W < 64 else 0}ULL)",
+            "static inline int64_t q_fit(__int128 r) {",
+            f"  if (r < QLO || r > QHI) {{ vamp_overflows++; return {out}; }}",
+            "  return (int64_t)r; }",
+            f"static inline int64_t q_mul(int64_t x, int64_t y) {{ __int128 p = (__int128)x * y; "
+            f"return q_fit({shift}); }}",
+            "static inline int64_t q_add(int64_t x, int64_t y) { return q_fit((__int128)x + y); }",
+            "static inline int64_t q_sub(int64_t x, int64_t y) { return q_fit((__int128)x - y); }",
+            ""))
+
+    def c_literal(self, value: float) -> str:
+        return f"((int64_t){int(self.encode(value))}LL)"
+
+    def c_decode(self, x: str) -> str:
+        return f"((double)({x}) * {2.0 ** -self.fraction!r})"
 
     # --- the host's conversions ----------------------------------------------------------------
     def encode(self, values) -> np.ndarray:
