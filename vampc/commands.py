@@ -143,7 +143,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     """`vampc emulate`: run the states and write the outputs asked for; False when --check failed."""
     from vampc import progress
     from vampc.emulator.driver import States, run
-    from vampc.emulator.host import check_limits, read_trajectory
+    from vampc.emulator.host import check_limits, check_word_range, read_trajectory
     from vampc.outputs import plan_outputs
     begun = time.perf_counter()
     own.check()
@@ -156,6 +156,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         traj = read_trajectory(own.trajectory, ld.chain)
         if not own.allow_out_of_limits:
             check_limits(ld.chain, traj, own.trajectory)
+        if "overflow" not in options.given:
+            check_word_range(ld.arith, traj, own.trajectory)
         states = States(traj.count, traj)
     else:
         states = States.random(own.random_count, own.seed)

@@ -76,6 +76,27 @@ def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
                              "--allow-out-of-limits to run anyway")
 
 
+def check_word_range(word, traj: Trajectory, path: str) -> None:
+    """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
+    range: the host writes them as they are), naming the row and column."""
+    from vampc.emulator.trajectory import header
+    hi = getattr(word, "hi", None)
+    if hi is None:
+        return
+    top = (hi + 1) * 2.0 ** -word.fraction          # the range is [-top, top)
+    n = traj.q.shape[1]
+    columns = [traj.qd, traj.qdd] + ([traj.base] if traj.base is not None else [])
+    names = header(n, traj.base is not None)[n:]
+    values = np.concatenate(columns, axis=1)
+    bad = (values < -top) | (values >= top)
+    if bad.any():
+        row, col = (int(x) for x in np.argwhere(bad)[0])
+        raise VampcError(f"{path}: row {row + 1}, column {names[col]}: {values[row, col]:g} is "
+                         f"beyond {word.name} words, which hold [{-top:g}, {top:g}); give "
+                         "--overflow saturate or --overflow wrap to run it anyway (each overflow "
+                         "counted)")
+
+
 @dataclass(frozen=True)
 class CheckResult:
     """Worst errors of emulated torques against the reference."""
