@@ -133,3 +133,34 @@ def test_the_generated_c_computes_each_word_as_numpy_does(word, monkeypatch):
     assert np.array_equal(got["0"][0], got["1"][0]) and got["0"][1] == got["1"][1]
     if word == "q5.12":
         assert got["0"][1] > 0
+
+
+def test_the_first_overflows_are_located(tmp_path):
+    """Set, tick, VAMP and what overflowed: the host's conversion of an input, an op's result."""
+    traj = tmp_path / "t.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,1,2\n0.1,0.2,0,0,1,300\n")
+    args = ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory", str(traj), "--word",
+            "q9.12"]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 1 and "row 2, column qdd2: 300 is beyond q9.12 words, which hold " \
+        "[-256, 256)" in res.stderr and res.stderr.count("\n") == 1, res.stderr
+    res = CliRunner().invoke(main, args + ["--overflow", "saturate", "--engine", "tick"])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    at = lines.index("q9.12 (nearest, saturate) words: 2 overflows")
+    assert lines[at + 1].startswith("  set 2, tick 8: the host's zqdd2 for port ")
+    assert lines[at + 2].startswith("  set 2, tick 11: VAMP ") and "the result of VA" in lines[at + 2]
+
+
+def test_the_tick_engine_counts_the_overflows_the_stream_engine_counts(puma, monkeypatch):
+    """Once per torque set and op: not the power-on registers' nor an op run again on its set."""
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    c = compile_chain(puma, CompileOptions(recursion="log"))
+    traj = random_trajectory(puma, 20, 9)
+    counts = []
+    for engine in ("stream", "tick"):
+        ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word("q6.12", "nearest",
+                                                                          "wrap"))
+        emulate(ld, traj, engine)
+        counts.append(ld.arith.overflows)
+    assert counts[0] == counts[1] > 0

@@ -182,7 +182,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                                        and not outcome.overflows)
     sinks.finish(ok, own.write_failed, lambda text: say(text, True))
     if ld.word is not None:          # overflows are never silent
-        say(f"{word!r} words: {count(outcome.overflows, 'overflow')}", info)
+        say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
+            + "".join(f"\n  {site}" for site in outcome.overflow_sites), info)
     if outcome.check is not None and ld.word is None:
         res = outcome.check
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "

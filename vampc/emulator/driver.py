@@ -114,6 +114,7 @@ class Outcome:
     engine_seconds: float
     check: CheckResult | WordCheck | None     # WordCheck: a word format other than float64
     overflows: int = 0                        # results and host words beyond the word (counted)
+    overflow_sites: tuple[str, ...] = ()      # where the first few happened (stream.overflow_sites)
 
     @property
     def emulated_flops(self) -> int:
@@ -144,6 +145,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
     from vampc.emulator import emulate, prepare_stream
     merged, seconds, first = None, 0.0, None
     stream = prepare_stream(ld, states.count) if engine is Engine.STREAM else None
+    sites: list[str] = []
     for start, traj in _chunks(ld, states, size):
         raise_if_terminated()
         def chunk_progress(done, total, start=start):
@@ -153,6 +155,8 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
                      progress=chunk_progress, stream=stream)
         first = first or em
         seconds += em.wall_seconds
+        if ld.arith.overflows and len(sites) < SITES:     # where, for the first few
+            sites += _sites(ld, stream, traj, SITES - len(sites), start)
         _check_finite(ld, em.tau, start)
         if check and ld.word is None:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
@@ -169,7 +173,18 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
         case _:
             unhandled(engine)
     return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
-                   data_ticks, seconds, merged, ld.arith.overflows)
+                   data_ticks, seconds, merged, ld.arith.overflows, tuple(sites))
+
+
+SITES = 5       # overflows located and reported by a run
+
+
+def _sites(ld, stream, traj, limit: int, start: int) -> list[str]:
+    """The first overflows of a chunk, located (vampc.emulator.stream.overflow_sites)."""
+    from vampc.emulator.stream import flow, overflow_sites
+    from vampc.emulator.timing import derive
+    fl = stream.flow if stream is not None else flow(ld, derive(ld))
+    return overflow_sites(ld, fl, traj, limit, start)
 
 
 def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajectory]]:

@@ -16,6 +16,7 @@ import numpy as np
 from vampc.emulator.load import Loaded
 from vampc.kinds import FlowKind, SourceKind, unhandled
 from vampc.machine import interp as rom
+from vampc.machine.ops import ROM
 
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
 
@@ -126,3 +127,50 @@ def _value(src, vals, ports, count, consts, arith) -> np.ndarray:
             value = consts[src[1]] = arith.encode(src[1])
         return np.broadcast_to(value, (count, value.size))
     return unhandled(src[0])
+
+
+def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -> list[str]:
+    """Where the first overflows of a run of `traj` happen, in set order, at most `limit`: the
+    host's conversion of an input (its port and quantity, the set, the tick it is written) or an
+    op's result (the VAMP, slot and op, the set, the tick it is dumped). The numpy path runs the
+    sets again with a copy of the word that notes which sets overflowed. `start`: the run's index
+    of traj's first set."""
+    word = ld.arith.fresh()
+    word.track = []
+    P, B = ld.net.period, ld.net.clock
+    found: list[tuple[int, int, str]] = []          # (set, tick, what)
+    ports = {}
+    for i, (p, e, _) in enumerate(fl.inputs):
+        entry = ld.net.ports[p].entries[e]
+        word.track.clear()
+        ports[i] = word.encode(_host_values(ld, traj, entry.key))
+        for s in _sets(word.track, start)[:limit]:
+            tick = s * P + entry.block * B
+            found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {entry.key.quantity}"
+                                   f"{entry.key.joint} for port {p}"))
+    consts: dict = {}
+    vals: list[np.ndarray] = []
+    for i, (r, a, b) in enumerate(fl.ops):
+        word.track.clear()
+        vals.append(rom.run(r, _operand(a, vals, ports, traj.count, consts, word),
+                            _operand(b, vals, ports, traj.count, consts, word), word))
+        v, k = fl.names[i]
+        dump = ld.schedule.finish[ld.net.vamps[v].slots[k].node] - 1     # set 0's, absolute
+        for s in _sets(word.track, start)[:limit]:
+            found.append((s, s * P + dump, f"set {s + 1}, tick {s * P + dump}: "
+                                           f"{ld.vamp_name(v, k)}, the result of "
+                                           f"{ROM[r][0].value}"))
+    return [what for _, _, what in sorted(found)[:limit]]
+
+
+def _sets(track: list, start: int) -> list[int]:
+    """The sets (rows, numbered from `start`) any of the noted calls overflowed in."""
+    if not track:
+        return []
+    return [start + int(s) for s in np.flatnonzero(np.sum(np.stack(track), axis=0))]
+
+
+def _host_values(ld: Loaded, traj, key) -> np.ndarray:
+    from vampc.dataflow.host import input_value
+    val = input_value(ld.chain, key, traj.q, traj.qd, traj.qdd, traj.base)
+    return np.ascontiguousarray(val.reshape(traj.count, -1))

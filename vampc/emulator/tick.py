@@ -250,6 +250,7 @@ class TickEngine:
                 ga.append(self._gather(inputs.a[sa]))
                 gb.append(self._gather(inputs.b[sb]))
         self.slot_vamp = np.array(vamp, dtype=np.int64)
+        self.counted = np.full(len(vamp), -1, dtype=np.int64)   # the last set whose overflows count
         f = np.array(fields, dtype=np.int64).reshape(-1, 4)
         self.s_da, self.s_db, self.s_dr, self.s_rom = f[:, 0], f[:, 1], f[:, 2], f[:, 3]
         self.ga_rows, self.ga_cols, self.ga_taps = (np.array([g[i] for g in ga], dtype=np.int64)
@@ -328,7 +329,12 @@ class TickEngine:
         idx = self.slot_vamp[slots]
         am, bm = rom.registers(r, self.op_a[idx], self.op_b[idx])
         units = self.units[idx]
-        rom.step(r, j, am, bm, units, self.ld.arith)
+        word = self.ld.arith
+        before, word.track = word.overflows, []
+        rom.step(r, j, am, bm, units, word)
+        if word.overflows != before:
+            self._count_overflows(r, j, slots, idx, word, before)
+        word.track = None
         self.units[idx] = units
         if j < rom.operand_steps(r):
             self._check_owner(r, j, slots, idx, t)
@@ -349,6 +355,18 @@ class TickEngine:
                 raise VampcError(f"{self.ld.path}: tick {t}: {self.ld.vamp_name(v)} starts "
                                  f"{ROM[r][0].value} with operand A of set {self.tag_a[v]} and "
                                  f"operand B of set {self.tag_b[v]} (a timing error)")
+
+    def _count_overflows(self, r: int, j: int, slots, idx, word, before: int) -> None:
+        """Count an op's overflows once per torque set, as the stream engine computes each op once
+        a set: not those on registers holding no set's value (the power-on state, the warm-up),
+        nor an op run again on a set it has done."""
+        tags = _combine(np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)) if j == 0 \
+            else self.utag[idx]
+        fresh = (tags >= 0) & (tags > self.counted[slots])
+        per_row = np.sum(np.stack(word.track), axis=0)
+        word.overflows = before + int(per_row[fresh].sum())
+        if j == rom.steps(r) - 1:
+            self.counted[slots[fresh]] = tags[fresh]
 
     def _check_owner(self, r: int, j: int, slots, idx, t: int) -> None:
         """An op reads the operands its own slot latched (in data mode, once data flows): not what

@@ -56,6 +56,7 @@ class Float64:
 
     def __init__(self):
         self.overflows = 0
+        self.track = None      # a list to collect, per overflowing call, each batch row's overflows
 
     def apply(self, fn: Fn, x, y):
         """fn(x, y) on numpy arrays (any broadcastable shapes)."""
@@ -133,6 +134,7 @@ class Float32(Float64):
         bad = ~np.isfinite(out)
         if bad.any():
             self.overflows += int(np.count_nonzero(bad))
+            _tracked(self, bad)
         return out
 
     def encode(self, values) -> np.ndarray:
@@ -249,6 +251,7 @@ class Fixed(Float64):
         n = int(np.count_nonzero(over))
         if n:
             self.overflows += n
+            _tracked(self, over)
             if saturated is not None and self.overflow is Overflow.SATURATE:
                 out = np.where(over, saturated, out)
         return out
@@ -322,6 +325,14 @@ class Fixed(Float64):
             raise ValueError(f"a Program-Mode word holds {bad:.0f}, beyond the {self.bits}-bit "
                              f"words of {self.name} (narrower Program-Mode packing is not done)")
         return w.astype(np.int64)
+
+
+def _tracked(word, over) -> None:
+    """Note how many results of each row (first axis: torque sets in the stream engine, VAMPs in
+    the tick engine) of a call overflowed."""
+    if word.track is not None:
+        over = np.broadcast_to(np.asarray(over), np.shape(over))
+        word.track.append(over.reshape(over.shape[0], -1).sum(axis=1) if over.ndim else over)
 
 
 FLOAT64 = Float64()
