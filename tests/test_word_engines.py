@@ -164,3 +164,21 @@ def test_the_tick_engine_counts_the_overflows_the_stream_engine_counts(puma, mon
         emulate(ld, traj, engine)
         counts.append(ld.arith.overflows)
     assert counts[0] == counts[1] > 0
+
+
+EXAMPLE_ROBOTS = ["planar2.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf"]
+
+
+@pytest.mark.parametrize("robot", EXAMPLE_ROBOTS)
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_every_example_robot_is_computed_alike_in_a_fixed_word(robot, recursion, monkeypatch):
+    """The other examples (the Puma is above; snake64, 64 joints, takes 90 s for every layout and
+    word and is left to a run by hand), systolic, folded and budget layouts."""
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    chain = load_robot(EXAMPLES / robot)
+    traj = random_trajectory(chain, 3, 1)
+    for layout in ({}, {"layout": "folded"}, {"vamps": 24}):
+        c = compile_chain(chain, CompileOptions(recursion=recursion, **layout))
+        for text in ("float32", "q16.16"):
+            ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(text))
+            assert np.array_equal(emulate(ld, traj, "stream").tau, emulate(ld, traj, "tick").tau)
