@@ -182,3 +182,32 @@ def test_every_example_robot_is_computed_alike_in_a_fixed_word(robot, recursion,
         for text in ("float32", "q16.16"):
             ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(text))
             assert np.array_equal(emulate(ld, traj, "stream").tau, emulate(ld, traj, "tick").tau)
+
+
+def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
+    from schema_check import schema_errors
+
+    from vampc.jsontext import loads
+    from vampc.machine import ops
+    run = CliRunner().invoke
+    prog = tmp_path / "p.vamp.json"
+    assert run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--word", "q12.20", "-o",
+                      str(prog)]).exit_code == 0
+    res = run(main, ["report", str(prog), "--format", "json"])
+    rep = loads(res.output)
+    assert not schema_errors("report", rep)
+    c = load_program(str(prog))
+    w, V = rep["word"], len(c.net.vamps)
+    assert (w["format"], w["bits"], w["rounding"], w["overflow"]) == ("q12.20", 32, "nearest",
+                                                                      "saturate")
+    assert w["data_register_bits"] == (9 + 9 + 9 + 3) * 32 * V       # A, B, 3 x 3 units, Result
+    assert w["delay_line_bits"] == 3 * 32 * sum(b.stages for b in c.net.buffers)
+    assert w["host_read_bits_per_set"] == 32 * 6
+    # every slot: delay-A, -B, -R of log2(P) bits, a ROM pointer, no select for a one-input mux
+    counter, rom = (c.net.period - 1).bit_length(), (len(ops.ROM) - 1).bit_length()
+    assert w["control_register_bits"] == sum(len(v.slots) * (3 * counter + rom) for v in c.net.vamps)
+    text = run(main, ["report", str(prog)]).output
+    assert "q12.20 (nearest, saturate): 32 bits;" in text
+    plain = tmp_path / "f.vamp.json"
+    assert run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", str(plain)]).exit_code == 0
+    assert "word" not in loads(run(main, ["report", str(plain), "--format", "json"]).output)

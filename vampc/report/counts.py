@@ -100,7 +100,48 @@ def summary(c) -> dict:
         "prefix": c.options.prefix if c.graph.recursion is Recursion.LOG else None,
         **({"tree": tree_summary(c.chain, c.options.prefix)} if not c.chain.is_chain or c.chain.floating
            else {}),
+        **({"word": word_bits(c)} if c.options.word != "float64" else {}),
     }
+
+
+# A VAMP's data registers, in words: operands A and B (9 each), its three modules' MULT-1, MULT-2
+# and ADDER (9), its Result (3).
+DATA_WORDS_PER_VAMP = 9 + 9 + 9 + 3
+# A micro-step assignment as the ROM holds it: the unit written (3: 2 bits), the function (mul, add,
+# sub: 2 bits), and each of its two operands (one of 9 registers: A0-A2, B0-B2, U0-U2: 4 bits each).
+ROM_BITS_PER_ASSIGNMENT = 2 + 2 + 4 + 4
+
+
+def word_bits(c) -> dict:
+    """What the program's word format costs in bits (README, Word formats): the word width, every
+    VAMP's data registers, control registers and microcode ROM, the delay lines, the constant
+    buffers, the host's writes and reads per torque set and the Program-Mode stream. Control
+    registers hold Cycle-Counter values (⌈log2 P⌉ bits each for delay-A, delay-B, delay-R), a ROM
+    pointer and the multiplexer selects; the ROM holds the op table's micro-steps (12 bits per
+    assignment, ROM_BITS_PER_ASSIGNMENT), one copy per VAMP."""
+    from vampc.machine import ops
+    word, net = c.options.arith(), c.network
+    W = word.bits
+
+    def width(values: int) -> int:          # bits to tell `values` things apart (0 for one)
+        return (values - 1).bit_length()
+    counter = width(net.period)
+    control = sum(len(v.slots) * (3 * counter + width(len(ops.ROM)) + width(len(v.a))
+                                  + width(len(v.b))) for v in net.vamps)
+    rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
+                                        for step in ops.entry(r)[0].steps)
+    inputs = sum(p.size for p in net.ports for _ in p.entries)
+    out = {"format": c.options.word, "bits": W,
+           "data_register_bits": DATA_WORDS_PER_VAMP * W * len(net.vamps),
+           "control_register_bits": control, "rom_bits_per_vamp": rom,
+           "rom_bits": rom * len(net.vamps),
+           "delay_line_bits": 3 * W * net.buffer_stages,
+           "constant_bits": W * sum(len(k.value) for k in net.consts),
+           "host_write_bits_per_set": W * inputs, "host_read_bits_per_set": W * c.chain.n_outputs,
+           "program_bits": 3 * W * sum(len(e.words) for e in c.stream)}
+    if c.options.word.startswith("q"):
+        out.update(rounding=c.options.rounding, overflow=c.options.overflow)
+    return out
 
 
 def tree_summary(chain, prefix: str) -> dict:

@@ -70,6 +70,16 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
                       f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host "
                       f"writes per set, {hw['program_words']} program words loaded in "
                       f"{hw['load_ticks']} ticks"))
+    w = rep.get("word")
+    if w:
+        modes = f" ({w['rounding']}, {w['overflow']})" if "rounding" in w else ""
+        pairs.append(("word", f"{w['format']}{modes}: {w['bits']} bits; {w['data_register_bits']:,} "
+                      f"bits of data registers, {w['control_register_bits']:,} of control registers, "
+                      f"{w['rom_bits']:,} of microcode ROM ({w['rom_bits_per_vamp']:,} a VAMP), "
+                      f"{w['delay_line_bits']:,} of delay lines, {w['constant_bits']:,} of constants; "
+                      f"the host writes {w['host_write_bits_per_set']:,} and reads "
+                      f"{w['host_read_bits_per_set']:,} bits a torque set, and loads "
+                      f"{w['program_bits']:,} bits in Program Mode"))
     if rep.get("clock"):
         from vampc.report.clock import control_sentence
         c = rep["clock"]
