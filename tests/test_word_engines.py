@@ -211,3 +211,17 @@ def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
     plain = tmp_path / "f.vamp.json"
     assert run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", str(plain)]).exit_code == 0
     assert "word" not in loads(run(main, ["report", str(plain), "--format", "json"]).output)
+
+
+def test_a_waveform_shows_the_values_a_word_stands_for(tmp_path):
+    """--vcd writes what a fixed-point word means (raw · 2^-F), not its raw bits."""
+    prog, wave = tmp_path / "p.vamp.json", tmp_path / "w.vcd"
+    run = CliRunner().invoke
+    assert run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q8.8", "-o",
+                      str(prog)]).exit_code == 0
+    assert run(main, ["emulate", str(prog), "--random", "2", "--engine", "tick", "--vcd",
+                      str(wave)]).exit_code == 0
+    values = [float(line[1:].split()[0]) for line in wave.read_text().splitlines()
+              if line.startswith("r")]
+    assert values and all((v * 256).is_integer() for v in values)      # multiples of 2^-8
+    assert all(-128 <= v < 128 for v in values)                          # within q8.8's range

@@ -414,7 +414,7 @@ class TickEngine:
 
     def _vcd_dump(self) -> None:
         if self.vcd is not None:
-            self.vcd.sample(self.tick + 1, self.bus[:self.V, :3])
+            self.vcd.sample(self.tick + 1, self.ld.arith.decode(self.bus[:self.V, :3]))
 
 
 def _by_counter(counters: np.ndarray, slots: np.ndarray):
