@@ -225,3 +225,51 @@ def test_a_waveform_shows_the_values_a_word_stands_for(tmp_path):
               if line.startswith("r")]
     assert values and all((v * 256).is_integer() for v in values)      # multiples of 2^-8
     assert all(-128 <= v < 128 for v in values)                          # within q8.8's range
+
+
+def test_narrow_words_carry_programs_in_more_words():
+    from vampc.program.words import PACKING, Packing, Program, apply_word, vamp_words
+    assert Packing.of(parse_word("float32")) == Packing.of(parse_word("q16.16")) == PACKING
+    assert Packing.of(parse_word("q8.8")) == Packing(128, 32768)
+    narrow = Packing.of(parse_word("q4.4"))                  # 8 bits: fields below 8, words below 128
+    assert narrow == Packing(8, 128)
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        slots = tuple(Program(*(int(x) for x in rng.integers(0, 20, 4)),
+                              *(int(x) for x in rng.integers(0, 3, 2)))
+                      for _ in range(int(rng.integers(1, 4))))
+        words = vamp_words(77, slots, narrow)
+        assert all(abs(x) < 128 for w in words for x in w)
+        table = None
+        for w in words:
+            table = apply_word(table, w, narrow) if table is not None or w[0] > 0 else table
+        assert tuple(Program(*row) for row in table) == slots
+        assert len(words) >= len(vamp_words(77, slots))     # never fewer than the wide packing's
+
+
+def test_a_narrow_program_runs_alike_on_both_engines(monkeypatch, tmp_path):
+    """Puma on 12 VAMPs (period 27: delays beyond q5.5's 4-bit compact fields) in 10-bit words."""
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    run = CliRunner().invoke
+    wide, narrow = tmp_path / "w.vamp.json", tmp_path / "n.vamp.json"
+    for path, word in ((wide, "q16.16"), (narrow, "q5.5")):
+        res = run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12", "--word",
+                         word, "-o", str(path)])
+        assert res.exit_code == 0, res.output
+    a, b = load_program(str(wide)), load_program(str(narrow))
+    assert a.programs == b.programs and sum(len(e.words) for e in b.stream) > \
+        sum(len(e.words) for e in a.stream)
+    traj = random_trajectory(b.chain, 4, 2)
+    stream, tick = emulate(b, traj, "stream").tau, emulate(b, traj, "tick").tau
+    assert np.array_equal(stream, tick)
+
+
+def test_a_word_too_narrow_for_the_program_is_one_line(tmp_path):
+    run = CliRunner().invoke
+    res = run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--word", "q4.4", "-o",
+                     str(tmp_path / "p.vamp.json")])
+    assert res.exit_code == 1 and "VAMP number 179 does not fit in a 8-bit Program-Mode word " \
+        "(at most 127); give a wider --word" in res.stderr
+    res = run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q4.4", "--vamps", "3",
+                     "-o", str(tmp_path / "q.vamp.json")])
+    assert res.exit_code == 1 and "beyond what a 8-bit Program-Mode word addresses" in res.stderr

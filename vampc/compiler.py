@@ -16,7 +16,7 @@ from vampc.network.allocate import allocate
 from vampc.network.model import Network
 from vampc.options import STAGES, CompileOptions  # noqa: F401  (STAGES: the compile stages)
 from vampc.program import emit
-from vampc.program.words import Program
+from vampc.program.words import Packing, Program
 from vampc.robot.chain import Chain
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout, layout_and_schedule
@@ -85,7 +85,8 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
                  else emit.default_numbering(net))
     progs = emit.programs(net)
     return Compiled(chain, options, graph, sched, net, numbering, progs,
-                    emit.program_stream(net, progs, numbering), layout)
+                    emit.program_stream(net, progs, numbering, Packing.of(options.arith())),
+                    layout)
 
 
 @gc_paused()

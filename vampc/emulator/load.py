@@ -28,7 +28,15 @@ from vampc.program.document import (
 )
 from vampc.program.emit import StreamEntry, a_roots, load_ticks
 from vampc.program.file import read_program_file
-from vampc.program.words import FIELDS, ROM, Program, apply_word, word_number
+from vampc.program.words import (
+    FIELDS,
+    PACKING,
+    ROM,
+    Packing,
+    Program,
+    apply_word,
+    word_number,
+)
 from vampc.robot.chain import Chain
 from vampc.schedule.asap import Schedule
 
@@ -49,6 +57,7 @@ class Loaded:
     load_ticks: int
     compiled_with: tuple = ()        # the compile options recorded in the file, as (name, value)
     word: object = None              # the word format (vampc.machine.arith); None: float64
+    packing: object = PACKING        # how the recorded word carries Program-Mode words
 
     @property
     def options(self) -> dict:
@@ -138,10 +147,10 @@ def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, option
     """The one loader both engines run from: indices checked, the programs the stream delivers
     (which must be the listed ones), the Program-Mode length."""
     _check_indices(net, numbers, graph, path)
-    progs = delivered_programs(net, numbers, stream, path)
+    progs = delivered_programs(net, numbers, stream, path, Packing.of(word))
     _check_listing(listed, progs, path)
     return Loaded(path, chain, graph, sched, sched.timing, net, numbers, stream, progs,
-                  load_ticks(stream), options, word)
+                  load_ticks(stream), options, word, Packing.of(word))
 
 
 def _word(options: dict, path):
@@ -156,7 +165,8 @@ def _word(options: dict, path):
         raise VampcError(f"{path}: options.word: {exc}") from None
 
 
-def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Program, ...], ...]:
+def delivered_programs(net: Network, numbers, stream, path,
+                       packing=PACKING) -> tuple[tuple[Program, ...], ...]:
     """The slot table each VAMP holds after Program Mode; VampcError if one gets none or a bad one."""
     index_of = {n: v for v, n in enumerate(numbers)}
     roots = a_roots(net)
@@ -178,7 +188,11 @@ def delivered_programs(net: Network, numbers, stream, path) -> tuple[tuple[Progr
                                  f"{v} at depth {roots[v][1]}, but the stream lists VAMP "
                                  f"{entry.targets[k]} at depth {entry.depth[k]}")
             if float(word[0]) > 0 or tables[v] is not None:     # an extended word needs a table
-                tables[v] = apply_word(tables[v], word)
+                try:
+                    tables[v] = apply_word(tables[v], word, packing)
+                except VampcError as exc:
+                    raise VampcError(f"{path}: program stream of {entry.root}, word {k}: "
+                                     f"{exc}") from None
     progs = tuple(_program(net, numbers, v, tables[v], roots, path) for v in range(len(net.vamps)))
     _check_inputs_used(net, numbers, progs, path)
     return progs

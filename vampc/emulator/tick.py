@@ -184,11 +184,13 @@ class TickEngine:
         table = self.tables[v]
         if word[0] < 0:                       # an extended word may grow the table: random fields
             slot = int(word[1]) // ADDRESS
+            if not 0 <= slot < self.P:        # no slot has that address (a power-on word): ignored
+                return
             while len(table) <= slot:
                 table.append(self._random_row())
         else:
             self.programmed[v] = True
-        self.tables[v] = apply_word(table, word)
+        self.tables[v] = apply_word(table, word, self.ld.packing)
 
     def programs(self) -> tuple[tuple[Program, ...], ...]:
         """The slot tables the VAMPs hold now."""

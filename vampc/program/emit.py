@@ -14,7 +14,14 @@ from pathlib import Path
 from vampc.errors import VampcError
 from vampc.kinds import TapKind
 from vampc.network.model import Network, Tap, tap_source
-from vampc.program.words import FIELD, Program, encode, rom_pointer, vamp_words
+from vampc.program.words import (
+    PACKING,
+    Program,
+    encode,
+    fits_compact,
+    rom_pointer,
+    vamp_words,
+)
 
 
 @dataclass(frozen=True)
@@ -103,9 +110,10 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
     return roots
 
 
-def program_stream(net: Network, progs, numbering) -> tuple[StreamEntry, ...]:
+def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[StreamEntry, ...]:
     """The Program-Mode stream: per root input buffer, the words of the VAMPs it programs, deepest
-    target first, each VAMP's words in the order vampc.program.words.vamp_words gives them."""
+    target first, each VAMP's words in the order vampc.program.words.vamp_words gives them, packed
+    for the word format (vampc.program.words.Packing)."""
     by_root: dict[Tap, list[tuple[int, int]]] = {}
     for index, (root, depth) in enumerate(a_roots(net)):
         by_root.setdefault(root, []).append((-depth, index))
@@ -114,10 +122,10 @@ def program_stream(net: Network, progs, numbering) -> tuple[StreamEntry, ...]:
         targets, depths, words = [], [], []
         for neg, v in sorted(by_root[root]):
             if len(progs[v]) == 1 and progs[v][0].sel_a == progs[v][0].sel_b == 0 and \
-                    max(progs[v][0].delay_a, progs[v][0].delay_b, progs[v][0].delay_r) < FIELD:
-                mine = [encode(numbering[v], progs[v][0])]      # the common, systolic case
+                    fits_compact(progs[v][0], packing):
+                mine = [encode(numbering[v], progs[v][0], packing)]   # the common, systolic case
             else:
-                mine = vamp_words(numbering[v], progs[v])
+                mine = vamp_words(numbering[v], progs[v], packing)
             targets.extend([v] * len(mine))
             depths.extend([-neg] * len(mine))
             words.extend(mine)

@@ -22,6 +22,13 @@ A VAMP gets its compact word first, then an extended word for every field of slo
 cannot carry (a delay of 4096 or more in a long period, a select other than 0) and for all six fields
 of every further slot. Every scalar is an integer below 2^24 in magnitude, exact in IEEE binary32 or
 binary64.
+
+Narrow words (`Packing`). A fixed-point word of W bits carries a scalar as its raw bits, so below
+2^(W-1) (the sign bit). For W < 25 the compact word's two fields per scalar shrink to ⌊(W-1)/2⌋ bits
+each (4096 becomes 2^⌊(W-1)/2⌋ above), and whatever does not fit travels in extended words, whose
+values must then be below 2^(W-1): more words per VAMP, the same tables delivered. The packing
+follows from the word format the program records; float words and fixed words of 25 bits or more use
+the one above.
 """
 from __future__ import annotations
 
@@ -32,6 +39,25 @@ from vampc.machine.ops import ROM, rom_pointer  # noqa: F401  (the ROM is the op
 
 FIELD = 4096
 LIMIT = 1 << 24
+
+
+class Packing(Struct, frozen=True):
+    """How wide a Program-Mode scalar may be: each compact field below `field`, every scalar below
+    `limit` in magnitude."""
+
+    field: int = FIELD
+    limit: int = LIMIT
+
+    @staticmethod
+    def of(word) -> "Packing":
+        """The packing a word format carries (see the module docstring)."""
+        bits = getattr(word, "bits", 64)
+        if getattr(word, "c_type", "") != "int64_t" or bits >= 25:
+            return PACKING
+        return Packing(1 << ((bits - 1) // 2), 1 << (bits - 1))
+
+
+PACKING = Packing()
 FIELDS = ("delay_a", "delay_b", "delay_r", "rom", "sel_a", "sel_b")
 ADDRESS = 8          # addresses per slot in an extended word
 
@@ -51,34 +77,52 @@ class Program(Struct, frozen=True, gc=False):
         return getattr(self, name)
 
 
-def encode(number: int, prog: Program) -> tuple[float, float, float]:
-    """The compact Program-Mode word carrying `prog` (delays below 4096) for VAMP `number`."""
+def encode(number: int, prog: Program, packing: Packing = PACKING) -> tuple[float, float, float]:
+    """The compact Program-Mode word carrying `prog` (delays below the packing's field) for VAMP
+    `number`."""
+    F = packing.field
+    if not 0 < number < packing.limit:
+        raise VampcError(f"VAMP number {number} does not fit in a {packing.limit.bit_length()}-bit "
+                         f"Program-Mode word (at most {packing.limit - 1}); give a wider --word")
     for name in ("delay_a", "delay_b", "delay_r", "rom"):
-        if not 0 <= prog.field(name) < FIELD:
+        if not 0 <= prog.field(name) < F:
             raise VampcError(f"VAMP {number}: {name} {prog.field(name)} does not fit in a word")
-    return (float(number), float(prog.delay_a * FIELD + prog.delay_b),
-            float(prog.delay_r * FIELD + prog.rom))
+    return (float(number), float(prog.delay_a * F + prog.delay_b), float(prog.delay_r * F + prog.rom))
 
 
-def decode(word) -> tuple[int, Program]:
+def decode(word, packing: Packing = PACKING) -> tuple[int, Program]:
     """(VAMP-number, program) from a compact word; inverse of encode."""
+    F = packing.field
     number, s2, s3 = (int(x) for x in word[:3])
-    return number, Program(s2 // FIELD, s2 % FIELD, s3 // FIELD, s3 % FIELD)
+    return number, Program(s2 // F, s2 % F, s3 // F, s3 % F)
 
 
-def vamp_words(number: int, slots: tuple[Program, ...]) -> list[tuple[float, float, float]]:
+def fits_compact(prog: Program, packing: Packing = PACKING) -> bool:
+    """Whether a compact word can carry `prog`'s delays and ROM pointer."""
+    return all(prog.field(n) < packing.field for n in ("delay_a", "delay_b", "delay_r", "rom"))
+
+
+def vamp_words(number: int, slots: tuple[Program, ...],
+               packing: Packing = PACKING) -> list[tuple[float, float, float]]:
     """Every word that programs VAMP `number` with `slots`, in the order they must arrive."""
     first = slots[0]
-    fits = all(first.field(n) < FIELD for n in ("delay_a", "delay_b", "delay_r"))
-    words = [encode(number, first if fits else Program(0, 0, 0, first.rom))]
+    rom_fits = first.rom < packing.field
+    delays_fit = rom_fits and all(first.field(n) < packing.field
+                                  for n in ("delay_a", "delay_b", "delay_r"))
+    words = [encode(number, first if delays_fit else
+                    Program(0, 0, 0, first.rom if rom_fits else 0), packing)]
     for k, slot in enumerate(slots):
         for f, name in enumerate(FIELDS):
             value = slot.field(name)
-            if k == 0 and (fits or name not in ("delay_a", "delay_b", "delay_r")) and (
-                    name not in ("sel_a", "sel_b") or value == 0):
+            if k == 0 and (name in ("sel_a", "sel_b") and value == 0 or name == "rom" and rom_fits
+                           or name in ("delay_a", "delay_b", "delay_r") and delays_fit):
                 continue     # carried by the compact word
-            if not 0 <= value < LIMIT or k * ADDRESS + f >= LIMIT:
+            if not 0 <= value < packing.limit:
                 raise VampcError(f"VAMP {number}: slot {k} {name} {value} does not fit in a word")
+            if k * ADDRESS + f >= packing.limit:
+                raise VampcError(f"VAMP {number}: slot {k} is beyond what a "
+                                 f"{packing.limit.bit_length()}-bit Program-Mode word addresses "
+                                 f"(slots 0..{(packing.limit - 1) // ADDRESS}); give a wider --word")
             words.append((float(-number), float(k * ADDRESS + f), float(value)))
     return words
 
@@ -89,7 +133,7 @@ def word_number(word) -> int:
     return abs(int(x)) if x.is_integer() and x != 0 else -1
 
 
-def apply_word(table: list[list[int]] | None, word) -> list[list[int]]:
+def apply_word(table: list[list[int]] | None, word, packing: Packing = PACKING) -> list[list[int]]:
     """The slot table after a VAMP latches `word` (addressed to it): a compact word replaces the
     table with one slot; an extended word sets one field of `table` (in place), growing it to reach
     its slot. The
@@ -97,10 +141,12 @@ def apply_word(table: list[list[int]] | None, word) -> list[list[int]]:
     program that leaves one so); the tick engine keeps its random register contents there. Rows are
     [delay-A, delay-B, delay-R, ROM, sel-A, sel-B]."""
     if float(word[0]) > 0:
-        _, p = decode(word)
+        _, p = decode(word, packing)
         return [[p.delay_a, p.delay_b, p.delay_r, p.rom, 0, 0]]
     address, value = int(word[1]), int(word[2])
     slot, f = divmod(address, ADDRESS)
+    if slot < 0:
+        raise VampcError(f"an extended word's address {address} names no slot")
     table = table if table is not None else []     # updated in place: a VAMP has many words
     while len(table) <= slot:
         table.append([None] * 6)
