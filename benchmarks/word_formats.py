@@ -10,9 +10,10 @@ Prints, in one run:
 - error: for the Puma 560, the Stanford arm, the bundled URDF arm (arm6) and the quadruped (a
   floating-base tree), the largest torque error against the float64 reference RNEA relative to the
   largest |τ| of the run, over 2000 random states within the joint limits, at float32, q16.16,
-  q12.20, q20.12, q24.24, and the narrowest qI.F (I from 4 to 24, F from 4 to 40) whose error is
-  within 1e-3 and 1e-6 with no overflow (observed, not bounded: the range analysis that would
-  bound it is not built yet).
+  q12.20, q20.12, q24.24, each beside the bound vampc.precision analyses for it ("may overflow"
+  where the word's integer bits do not cover the analysed peak), and the narrowest word meeting 1e-3
+  and 1e-6 by the bound with no possible overflow (as `vampc precision` finds it) beside the
+  narrowest observed to (any qI.F, I from 4 to 24, F from 4 to 40, with no overflow in the run).
 """
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ from vampc.compiler import CompileOptions, compile_chain
 from vampc.dynamics.reference import rnea
 from vampc.emulator import emulate, loaded_from_compiled
 from vampc.emulator.host import random_trajectory
-from vampc.machine.arith import parse_word
+from vampc.machine.arith import Rounding, parse_word
+from vampc.precision import Ranges, analyse, fitted, integer_bits
 from vampc.robot import load_robot
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -85,11 +87,26 @@ def main() -> None:
         traj = random_trajectory(chain, 2000, 7)
         ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
         cells = []
+        scale = np.abs(ref).max()
         for word in ("float32", "q16.16", "q12.20", "q20.12", "q24.24"):
             err, over = error(c, chain, traj, ref, word)
-            cells.append(f"{word} {err:.1e}" + (f" ({over} overflows)" if over else ""))
+            a = analyse(c.graph, chain, parse_word(word))
+            fits = not word.startswith("q") or integer_bits(a.peak, int(word.split(".")[1])) <= \
+                int(word[1:].split(".")[0])
+            cells.append(f"{word} {err:.1e}" + (f" ({over} overflows)" if over else "")
+                         + f" [bound {a.tau_error.max() / scale:.1e}"
+                         + ("" if fits else ", may overflow") + "]")
         print(f"error  {name}: " + "; ".join(cells))
-        print(f"       narrowest within 1e-3: {narrowest(c, chain, traj, ref, 1e-3)}; "
+        by_bound = {}
+        for tol in (1e-3, 1e-6):
+            for bits in range(8, 65):
+                got = fitted(c.graph, chain, bits, Rounding.NEAREST, Ranges())
+                if got and got[1].tau_error.max() / scale <= tol:
+                    by_bound[tol] = f"{got[0].name} ({bits} bits)"
+                    break
+        print(f"       narrowest by the bound within 1e-3: {by_bound.get(1e-3)}; within 1e-6: "
+              f"{by_bound.get(1e-6)}")
+        print(f"       narrowest observed within 1e-3: {narrowest(c, chain, traj, ref, 1e-3)}; "
               f"within 1e-6: {narrowest(c, chain, traj, ref, 1e-6)}")
 
 

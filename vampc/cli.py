@@ -9,7 +9,6 @@ report it, exit 3.
 from __future__ import annotations
 
 import functools
-import signal
 import sys
 import warnings
 
@@ -21,12 +20,13 @@ from vampc.errors import (
     VampcError,
     VampcUsageError,
     VampcWarning,
-    terminate,
+    terminate_like_interrupt,
 )
 from vampc.options import (
     CompileCommand,
     CompileOptions,
     EmulateOptions,
+    PrecisionOptions,
     ReportOptions,
     RobotOptions,
 )
@@ -78,25 +78,6 @@ def say(text: str, err: bool) -> None:
     click.echo(text, err=err)
 
 
-def _terminate_like_interrupt():
-    """Install the handlers (in the main thread only: Python allows no other) and return what
-    puts the previous ones back."""
-    import threading
-    if threading.current_thread() is not threading.main_thread():
-        return lambda: None
-    def handler(signum, frame):
-        terminate(signum)
-    previous = {}
-    for name in ("SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            sig = getattr(signal, name)
-            previous[sig] = signal.signal(sig, handler)
-    def restore():
-        for sig, old in previous.items():
-            signal.signal(sig, old)
-    return restore
-
-
 class _Vampc(click.Group):
     """The command group: a usage error is one line on stderr, `vampc: error: ...` with the help to
     read, exit 2, like every other error."""
@@ -104,7 +85,7 @@ class _Vampc(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, False, **extra)
-        restore = _terminate_like_interrupt()
+        restore = terminate_like_interrupt()
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
         except click.UsageError as exc:
@@ -183,6 +164,19 @@ def report(ctx, source, **params):
     click.echo(report_command(source, build(ReportOptions, ctx, params),
                               build(CompileOptions, ctx, params), build(RobotOptions, ctx, params),
                               params), nl=False)
+
+
+@main.command()
+@click.argument("source", type=FilePath(dir_okay=False))
+@options_of(PrecisionOptions, CompileOptions, RobotOptions)
+@click.pass_context
+@handle_errors
+def precision(ctx, source, **params):
+    """The narrowest fixed-point word for SOURCE: per width, the torque error bound analysed from the
+    joint limits and the error observed on random states (README, Word formats)."""
+    from vampc.commands import precision_command
+    click.echo(precision_command(source, build(PrecisionOptions, ctx, params), build(
+        CompileOptions, ctx, params), build(RobotOptions, ctx, params), params), nl=False)
 
 
 if __name__ == "__main__":  # pragma: no cover

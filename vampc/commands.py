@@ -423,3 +423,68 @@ def write_pictures(outs: dict, content: dict) -> None:
 
 __all__ = ["VampcError", "compile_command", "emulate_command", "report_command", "compile_robot",
            "loaded", "program_compiled"]
+
+
+# --- precision ------------------------------------------------------------------------------------
+
+def precision_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
+                      params: dict) -> str:
+    """`vampc precision`: per word width, the qI.F nothing can overflow in, its analysed torque
+    error bound and the error observed on random states (README, Word formats)."""
+    import numpy as np
+
+    from vampc.dataflow.evaluate import evaluate
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.driver import random_states
+    from vampc.machine.arith import Rounding
+    from vampc.precision import Ranges, fitted
+    own.check()
+    ld = loaded(source, options, robot_opts, params)
+    chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
+    traj = random_states(chain, 0, own.sets, 0)
+    traj = type(traj)(traj.q, traj.qd, np.clip(traj.qdd, -1, 1) * own.acceleration, traj.t,
+                      traj.base)
+    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    scale = max(float(np.abs(ref).max(initial=0.0)), 1e-12)
+    rows = []
+    for bits in own.widths():
+        got = fitted(graph, chain, bits, Rounding(options.rounding), ranges)
+        if got is None:
+            rows.append({"bits": bits, "word": None})
+            continue
+        word, analysis = got
+        tau = evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
+        rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
+                     "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
+                     "observed": float(np.abs(tau - ref).max(initial=0.0)) / scale,
+                     "overflows": word.overflows})
+    return precision_text(rows, own, chain)
+
+
+def precision_text(rows: list[dict], own, chain) -> str:
+    """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance."""
+    ok = [r for r in rows if r["word"] and r["bound"] <= own.tolerance]
+    seen = [r for r in rows if r["word"] and r["observed"] <= own.tolerance and not r["overflows"]]
+    if own.fmt == "json":
+        return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rows": rows,
+                               "narrowest_bound": ok[0]["word"] if ok else None,
+                               "narrowest_observed": seen[0]["word"] if seen else None},
+                              indent=1) + "\n"
+    head = ["bits", "word", "peak", "bound", "observed", "overflows"]
+    if own.fmt == "csv":
+        cells = [[str(r["bits"]) if k == "bits" else str(r[k]) if r["word"] else "" for k in head]
+                 for r in rows]
+        return "\n".join(",".join(line) for line in [head] + cells) + "\n"
+    lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
+             f"overflow in; errors relative to the largest |τ| of {own.sets} random states",
+             f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
+    for r in rows:
+        lines.append(f"{r['bits']:>4}  " + (f"{r['word']:<8} {r['peak']:>10.4g}  {r['bound']:>8.1e}  "
+                                            f"{r['observed']:>8.1e}  {r['overflows']}" if r["word"]
+                                            else "no split of this width holds the values"))
+    tol = number_text(own.tolerance)
+    lines.append(f"narrowest word meeting {tol} by the analysed bound, with no possible overflow: "
+                 + (f"{ok[0]['word']} ({ok[0]['bits']} bits)" if ok else "none in the sweep"))
+    lines.append(f"narrowest word observed within {tol}: "
+                 + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else "none in the sweep"))
+    return "\n".join(lines) + "\n"

@@ -59,3 +59,24 @@ def raise_if_terminated() -> None:
     """Raise Terminated again if a termination signal came and its exception was lost."""
     if _terminated:
         raise Terminated(_terminated[0])
+
+
+def terminate_like_interrupt():
+    """Make SIGTERM and SIGHUP end a command as an interrupt does (`terminate`): install the
+    handlers (in the main thread only: Python allows no other) and return what puts the previous
+    ones back."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    def handler(signum, frame):
+        terminate(signum)
+    previous = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            sig = getattr(signal, name)
+            previous[sig] = signal.signal(sig, handler)
+    def restore():
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+    return restore

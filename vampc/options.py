@@ -434,3 +434,44 @@ class ReportOptions:
             return parse_clock(self.clock)
         except ValueError as exc:
             raise VampcUsageError(f"--clock {exc}") from None
+
+
+@dataclass(frozen=True)
+class PrecisionOptions:
+    """`vampc precision`'s own options."""
+
+    tolerance: float = field(default=1e-3, metadata=cli(
+        "--tolerance", type=float, metavar="X", show_default=True, help="The largest torque error "
+        "allowed, relative to the largest |τ| of the random states: the narrowest word meeting it "
+        "by the analysed bound, with no possible overflow, is named."))
+    sweep: str = field(default="8:48", metadata=cli(
+        "--sweep", metavar="A:B", show_default=True, help="Word widths to try, in bits (2..64): "
+        "each as the qI.F with the fewest integer bits nothing can overflow in."))
+    sets: int = field(default=2000, metadata=cli(
+        "--sets", range=(1, 10_000_000), show_default=True, help="Random states (within the "
+        "joint limits, accelerations within --acceleration) the observed errors are measured on."))
+    acceleration: float = field(default=1.0, metadata=cli(
+        "--acceleration", type=float, metavar="A", show_default=True, help="The joint acceleration "
+        "bound analysed and drawn (rad/s², m/s²)."))
+    fmt: str = field(default="text", metadata=cli(
+        "--format", choices=lambda: ("text", "csv", "json"), show_default=True,
+        help="text: a table and the narrowest words; csv: the table; json: both."))
+
+    def widths(self) -> range:
+        """The widths of --sweep (VampcUsageError if it is not A:B within 2..64)."""
+        lo, sep, hi = self.sweep.partition(":")
+        try:
+            a, b = int(lo), int(hi)
+        except ValueError:
+            a = b = 0
+        if not sep or not 2 <= a <= b <= 64:
+            raise VampcUsageError(f"--sweep {self.sweep}: give A:B with 2 <= A <= B <= 64 bits")
+        return range(a, b + 1)
+
+    def check(self) -> None:
+        """Every rule between precision options."""
+        self.widths()
+        for name in ("tolerance", "acceleration"):
+            value = getattr(self, name)
+            if not (value > 0 and math.isfinite(value)):
+                raise VampcUsageError(f"{flag(name)} {value}: give a positive number")

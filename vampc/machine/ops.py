@@ -196,6 +196,9 @@ class OpDef:
     colour: str = "#dddddd"
     report_rank: float = math.inf
     rom: int | None = None           # the first ROM pointer (None: the next free one)
+    # how the result's norm bounds by the operands' (vampc.precision): ("sum", 1) |A| + |B|, or
+    # ("product", g) g |A| |B| (a matrix's norm its spectral norm); None: no bound known
+    norm: tuple[str, float] | None = None
 
     @property
     def op(self) -> Op:
@@ -259,20 +262,22 @@ _VEC = (View.VECTOR, View.VECTOR)
 # program format v2 (VA 0, SV 1, VC 2, MV 3, MTV 4, VD 5, MM columns 6-8).
 BUILTIN = (
     OpDef("VA", "A + B", ("v", "v"), _VEC, ((add(ADDER, A(0, True), B(0, True)),),), ADDER, (0, 3),
-          colour="#9ecae1", report_rank=2, rom=0),
+          colour="#9ecae1", report_rank=2, rom=0, norm=("sum", 1.0)),
     OpDef("SV", "A[0] · B (scalar in A's first scalar)", ("v", "v"), _VEC,
-          ((mul(MULT1, A(0), B(0, True)),),), MULT1, (3, 0), colour="#c6dbef", report_rank=4, rom=1),
+          ((mul(MULT1, A(0), B(0, True)),),), MULT1, (3, 0), colour="#c6dbef", report_rank=4, rom=1,
+          norm=("product", 1.0)),
     OpDef("VC", "A × B", ("v", "v"), _VEC,
           ((mul(MULT1, A(1, True), B(2, True)), mul(MULT2, A(2, True), B(1, True))),
-           (sub(ADDER, _M1, _M2),)), ADDER, (6, 3), colour="#a1d99b", report_rank=3, rom=2),
+           (sub(ADDER, _M1, _M2),)), ADDER, (6, 3), colour="#a1d99b", report_rank=3, rom=2,
+          norm=("product", 1.0)),
     OpDef("MV", "A @ B (A a matrix)", ("m", "v"), (View.ROW, View.VECTOR), _DOT, ADDER, (9, 6),
-          colour="#fdae6b", report_rank=0, rom=3),
+          colour="#fdae6b", report_rank=0, rom=3, norm=("product", 1.0)),
     OpDef("MTV", "Aᵀ @ B (A a matrix)", ("m", "v"), (View.COLUMN, View.VECTOR), _DOT, ADDER, (9, 6),
-          colour="#fdd0a2", report_rank=1, rom=4),
+          colour="#fdd0a2", report_rank=1, rom=4, norm=("product", 1.0)),
     OpDef("MM", "A @ B (both matrices)", ("m", "m"), (View.ROW, View.BCOLUMN), _DOT, ADDER, (27, 18),
-          columns=3, colour="#bcbddc", report_rank=5, rom=6),
+          columns=3, colour="#bcbddc", report_rank=5, rom=6, norm=("product", 1.0)),
     OpDef("VD", "[A·B, A·B, A·B]", ("v", "v"), _VEC, _DOT, ADDER, (3, 2), colour="#fcbba1",
-          report_rank=6, rom=5),
+          report_rank=6, rom=5, norm=("product", math.sqrt(3))),
 )
 
 # --- the registry and the tables derived from it (updated in place: modules import them) --------

@@ -1,0 +1,157 @@
+"""How narrow a word can be (`vampc precision`, README "Word formats"): a bound on every value's
+magnitude and on the torques' error in a word format, beside the error observed on random states.
+
+The bound follows the graph op by op with norms (a vector's Euclidean norm, a matrix's spectral
+norm), which rotations preserve, so it does not grow along the chain as per-component intervals do.
+Each op of the table states how its result's norm bounds by its operands' (vampc.machine.ops.OpDef
+`norm`: a sum |A| + |B|, or a product g |A| |B|); its error then propagates as
+
+    sum      e_A + e_B
+    product  g (|A| e_B + |B| e_A + e_A e_B)
+
+plus the op's own rounding: in fixed point each product its module computes is rounded once (2^-F/2
+rounding to nearest, 2^-F truncating; sums are exact), in floating point every assignment (half an
+ulp of the largest value it can hold). An output scalar's error is at most the result's error norm.
+
+The host inputs' norms come from the states analysed (`Ranges`: joint positions within their limits,
+else ±π; speeds within their limits, else ±1; accelerations within ±`qdd`, default 1 as random
+states use; a floating base's motions within ±1): a rotation A_i has norm 1, and every other input is
+affine in one state variable, so its norm is largest at one end of that variable's range. Each is
+converted by the host (its rounding, and a few ulps of float64 before it); a constant is exact plus
+its conversion. Every register value is at most a product's |A| |B| or a sum's |A| + |B| (a partial
+dot product by Cauchy–Schwarz) plus its error: the largest (`peak`) gives the integer bits a
+fixed-point word needs so that nothing can overflow. The bound holds for every state in the ranges
+(tests compare it with observed errors on every example, both recursions).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vampc.dataflow.graph import Graph, InputKey
+from vampc.dataflow.host import BASE_QUANTITIES, input_value
+from vampc.errors import VampcError
+from vampc.kinds import Quantity
+from vampc.machine.arith import Fixed, Float32, Fn, Rounding
+from vampc.machine.ops import TABLE, Op
+from vampc.robot.chain import Chain
+
+ROOT3 = math.sqrt(3.0)
+
+
+@dataclass(frozen=True)
+class Ranges:
+    """The states analysed (see the module docstring)."""
+
+    qdd: float = 1.0
+
+    def of(self, chain: Chain, key: InputKey, name: str) -> tuple[float, float]:
+        """The range of state variable `name` ("q", "qd", "qdd") of the key's joint."""
+        j = chain.joints[key.joint - 1]
+        if name == "q":
+            return j.limits.q if j.limits.q else (-np.pi, np.pi)
+        if name == "qd":
+            v = j.limits.qd if j.limits.qd else 1.0
+            return (-v, v)
+        return (-self.qdd, self.qdd)
+
+
+def rounding(word, magnitude: float) -> float:
+    """The most one rounding in `word` moves a value of at most this magnitude."""
+    if isinstance(word, Fixed):
+        return 2.0 ** -word.fraction * (1.0 if word.rounding is Rounding.TRUNCATE else 0.5)
+    return magnitude * (2.0 ** -24 if isinstance(word, Float32) else 2.0 ** -53)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """The bounds: the largest magnitude any register holds (`peak`), and per torque output its
+    largest |τ| (`tau_max`) and the largest error (`tau_error`)."""
+
+    peak: float
+    tau_max: np.ndarray
+    tau_error: np.ndarray
+
+
+def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Analysis:
+    """The norm and error bounds of every value of `graph` computed in `word` (VampcError for an
+    op without a norm rule)."""
+    norm: list[float] = []
+    err: list[float] = []
+    peak = 0.0
+    for nd in graph.nodes:
+        if nd.op is Op.INPUT:
+            size, scalar = _input_bound(chain, nd.key, ranges)
+            e = rounding(word, scalar) + 4 * 2.0 ** -53 * scalar     # float64 first, then the word
+            norm.append(size)
+            err.append((3.0 if nd.shape == "m" else ROOT3) * e)
+            peak = max(peak, scalar + e)
+            continue
+        if nd.op is Op.CONST:
+            v = np.asarray(nd.value, dtype=float)
+            e = float(np.max(np.abs(word.decode(word.fresh().encode(v)) - v)))
+            norm.append(float(np.linalg.norm(v.reshape(3, 3), 2) if v.size == 9 else
+                              np.linalg.norm(v)))
+            err.append((3.0 if v.size == 9 else ROOT3) * e)
+            peak = max(peak, float(np.max(np.abs(v))) + e)
+            continue
+        entry = TABLE[nd.op]
+        if entry.norm is None:
+            raise VampcError(f"op {entry.name} states no norm rule (vampc.machine.ops OpDef.norm): "
+                             "its values cannot be bounded")
+        kind, gain = entry.norm
+        (na, nb), (ea, eb) = (norm[a] for a in nd.args), (err[a] for a in nd.args)
+        if kind == "sum":
+            size, spread, scalar = na + nb, ea + eb, na + nb
+        else:
+            size, spread, scalar = gain * na * nb, gain * (na * eb + nb * ea + ea * eb), na * nb
+        assigns = [a.fn for step in entry.steps for a in step]
+        rounded = (sum(fn is Fn.MUL for fn in assigns) if isinstance(word, Fixed) else len(assigns))
+        own = rounded * rounding(word, scalar + spread)
+        norm.append(size)
+        err.append(spread + (3.0 if entry.columns == 3 else ROOT3) * own)
+        peak = max(peak, scalar + err[-1])
+    tau_max = np.array([norm[o.node] for o in graph.outputs])
+    tau_error = np.array([err[o.node] for o in graph.outputs])
+    return Analysis(peak, tau_max, tau_error)
+
+
+def _input_bound(chain: Chain, key: InputKey, ranges: Ranges) -> tuple[float, float]:
+    """(norm bound, largest scalar) of one host input over the states analysed."""
+    if key.quantity is Quantity.A:
+        return 1.0, 1.0
+    if key.quantity in BASE_QUANTITIES:            # three components within ±1 (PDD0: minus g)
+        g = np.asarray(chain.gravity, dtype=float) if key.quantity is Quantity.PDD0 else np.zeros(3)
+        return ROOT3 + float(np.linalg.norm(g)), 1.0 + float(np.max(np.abs(g)))
+    name = {Quantity.P_STAR: "q", Quantity.S_STAR: "q", Quantity.ZQD: "qd",
+            Quantity.ZQDD: "qdd"}[key.quantity]
+    ends = []
+    for end in ranges.of(chain, key, name):
+        state = {n: np.zeros((1, chain.n)) for n in ("q", "qd", "qdd")}
+        state[name][0, key.joint - 1] = end
+        ends.append(input_value(chain, key, state["q"], state["qd"], state["qdd"]).reshape(-1))
+    return (max(float(np.linalg.norm(v)) for v in ends),
+            max(float(np.max(np.abs(v))) for v in ends))
+
+
+def integer_bits(peak: float, fraction: int) -> int:
+    """The fewest integer bits (the sign included) of a qI.F word holding every magnitude up to
+    `peak`: 2^(I-1) - 2^-F >= peak."""
+    bits = 1
+    while 2.0 ** (bits - 1) - 2.0 ** -fraction < peak:
+        bits += 1
+    return bits
+
+
+def fitted(graph: Graph, chain: Chain, bits: int, rounding_mode: Rounding,
+           ranges: Ranges) -> tuple[Fixed, Analysis] | None:
+    """The qI.F word of `bits` bits with the fewest integer bits nothing can overflow in, and its
+    analysis; None when no split of `bits` is wide enough."""
+    for integer in range(1, bits + 1):
+        word = Fixed(integer, bits - integer, rounding_mode)
+        analysis = analyse(graph, chain, word, ranges)
+        if integer_bits(analysis.peak, word.fraction) <= integer:
+            return word, analysis
+    return None
