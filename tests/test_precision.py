@@ -82,3 +82,13 @@ def test_an_op_without_a_norm_rule_cannot_be_bounded(monkeypatch):
     monkeypatch.setitem(ops.TABLE, ops.Op.VA, replace(ops.TABLE[ops.Op.VA], norm=None))
     with pytest.raises(VampcError, match="op VA states no norm rule"):
         analyse(graph, chain, fitted(graph, chain, 32, Rounding.NEAREST, Ranges())[0])
+
+
+def test_precision_analyses_the_rounding_asked_for():
+    res = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "22:22",
+                                    "--rounding", "truncate"])
+    nearest = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep",
+                                        "22:22"])
+    assert res.exit_code == nearest.exit_code == 0, res.output
+    bound = {r: float(x.output.splitlines()[2].split()[3]) for r, x in (("t", res), ("n", nearest))}
+    assert bound["t"] > bound["n"]           # truncating loses up to a whole LSB a product, not half

@@ -439,7 +439,9 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.machine.arith import Rounding
     from vampc.precision import Ranges, fitted
     own.check()
-    ld = loaded(source, options, robot_opts, params)
+    from dataclasses import replace
+    # --rounding chooses the rounding analysed here, whatever word the robot compiles in
+    ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     traj = random_states(chain, 0, own.sets, 0)
     traj = type(traj)(traj.q, traj.qd, np.clip(traj.qdd, -1, 1) * own.acceleration, traj.t,
