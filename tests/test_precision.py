@@ -28,7 +28,7 @@ def test_the_bound_is_never_below_what_is_observed(robot, recursion):
     from vampc.robot import load_robot
     chain = load_robot(EXAMPLES / robot)
     graph = compile_chain(chain, CompileOptions(recursion=recursion)).graph
-    traj = random_states(chain, 0, 300, 4)
+    traj = random_states(chain, 0, 120, 4)
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     for bits, rounding in ((20, Rounding.NEAREST), (28, Rounding.TRUNCATE), (36, Rounding.NEAREST)):
         got = fitted(graph, chain, bits, rounding, Ranges())
