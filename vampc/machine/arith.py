@@ -260,29 +260,32 @@ class Fixed(Float64):
         return f"q_{fn.value}({x}, {y})"
 
     def c_prelude(self) -> str:
-        """The fixed-point rules in C: a 128-bit product, gcc's arithmetic shift of a signed
-        __int128 (towards -inf), then the overflow rule."""
+        """The fixed-point rules in C: the exact product (in int64_t for words of at most 32 bits,
+        whose products fit; in __int128 beyond), the compiler's arithmetic shift of a signed integer
+        (towards -inf), then the overflow rule."""
         W, F = self.bits, self.fraction
-        shift = ("p" if F == 0 else f"(p + ((__int128)1 << {F - 1})) >> {F}"
-                 if self.rounding is Rounding.NEAREST else f"p >> {F}")
+        wide = "__int128" if W > 32 else "int64_t"     # holds any product and any sum exactly
+        half = f"(({wide})1 << {F - 1})" if F else "0"
+        shift = ("p" if F == 0 else f"(p + {half}) >> {F}" if self.rounding is Rounding.NEAREST
+                 else f"p >> {F}")
         if self.overflow is Overflow.SATURATE:
             out = "r < QLO ? QLO : QHI"
         else:          # the low W bits, sign-extended
             out = ("(int64_t)(((uint64_t)r & MASK) ^ SIGN) - (int64_t)SIGN" if W < 64
                    else "(int64_t)(uint64_t)r")
         return "\n".join((
-            "#include <stdint.h>", "long vamp_overflows;",
-            f"#define QLO ((__int128)({self.lo}LL))" if W < 64 else "#define QLO ((__int128)INT64_MIN)",
-            f"#define QHI ((__int128)({self.hi}LL))" if W < 64 else "#define QHI ((__int128)INT64_MAX)",
+            "#include <stdint.h>", "long vamp_overflows;", f"typedef {wide} wide_t;",
+            f"#define QLO ((wide_t)({self.lo}LL))" if W < 64 else "#define QLO ((wide_t)INT64_MIN)",
+            f"#define QHI ((wide_t)({self.hi}LL))" if W < 64 else "#define QHI ((wide_t)INT64_MAX)",
             f"#define MASK ((uint64_t){(1 << W) - 1 if W < 64 else 0}ULL)",
             f"#define SIGN ((uint64_t){1 << (W - 1) if W < 64 else 0}ULL)",
-            "static inline int64_t q_fit(__int128 r) {",
+            "static inline int64_t q_fit(wide_t r) {",
             f"  if (r < QLO || r > QHI) {{ vamp_overflows++; return {out}; }}",
             "  return (int64_t)r; }",
-            f"static inline int64_t q_mul(int64_t x, int64_t y) {{ __int128 p = (__int128)x * y; "
+            f"static inline int64_t q_mul(int64_t x, int64_t y) {{ wide_t p = (wide_t)x * y; "
             f"return q_fit({shift}); }}",
-            "static inline int64_t q_add(int64_t x, int64_t y) { return q_fit((__int128)x + y); }",
-            "static inline int64_t q_sub(int64_t x, int64_t y) { return q_fit((__int128)x - y); }",
+            "static inline int64_t q_add(int64_t x, int64_t y) { return q_fit((wide_t)x + y); }",
+            "static inline int64_t q_sub(int64_t x, int64_t y) { return q_fit((wide_t)x - y); }",
             ""))
 
     def c_literal(self, value: float) -> str:
