@@ -313,3 +313,21 @@ def test_a_graph_output_naming_no_node_is_the_files_error(puma_program, tmp_path
     for args in (("report", path), ("emulate", path, "--random", 3, "--check")):
         code, err, _ = run(*args)
         assert code == 1 and one_line(err) and "graph.outputs[0]" in err, err
+
+
+@pytest.mark.parametrize("command", [["report", str(PLANAR)],
+                                     ["precision", str(PLANAR), "--sweep", "20:20"]])
+def test_a_reader_that_goes_away_or_a_full_disk_is_one_line(command):
+    """`vampc report ... | head -0`: the reader closed the pipe; `> /dev/full`: no space left."""
+    env = {**os.environ, "VAMPC_PROGRESS": "0"}
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", *command], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, env=env)
+    proc.stdout.close()                 # the reader is gone before anything is written
+    err = proc.stderr.read().decode()
+    assert proc.wait() == 1 and err == "vampc: error: cannot write to standard output: Broken pipe\n"
+    if os.path.exists("/dev/full"):
+        with open("/dev/full", "w") as full:
+            done = subprocess.run([sys.executable, "-m", "vampc.cli", *command], stdout=full,
+                                  stderr=subprocess.PIPE, text=True, env=env)
+        assert done.returncode == 1 and done.stderr == \
+            "vampc: error: cannot write to standard output: No space left on device\n"

@@ -92,3 +92,9 @@ def test_precision_analyses_the_rounding_asked_for():
     assert res.exit_code == nearest.exit_code == 0, res.output
     bound = {r: float(x.output.splitlines()[2].split()[3]) for r, x in (("t", res), ("n", nearest))}
     assert bound["t"] > bound["n"]           # truncating loses up to a whole LSB a product, not half
+
+
+@pytest.mark.parametrize("option", [["--word", "q16.16"], ["--overflow", "wrap"]])
+def test_an_option_precision_does_not_use_is_refused(option):
+    res = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), *option])
+    assert res.exit_code == 2 and f"{option[0]} does not apply to vampc precision" in res.stderr

@@ -9,6 +9,7 @@ report it, exit 3.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 import warnings
 
@@ -73,9 +74,16 @@ def _show_warning(message, category, *rest):
         click.echo(f"vampc: warning: {category.__name__}: {message}", err=True)
 
 
-def say(text: str, err: bool) -> None:
-    """Print a line of a command's own (to stderr when stdout carries data)."""
-    click.echo(text, err=err)
+def say(text: str, err: bool = False, nl: bool = True) -> None:
+    """Print a command's text (to stderr when stdout carries data); a stream that cannot take it
+    (a reader gone, a full disk) is the command's one-line error."""
+    try:
+        click.echo(text, err=err, nl=nl)
+    except OSError as exc:
+        if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
+            os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())
+        raise VampcError(f"cannot write to standard {'error' if err else 'output'}: "
+                         f"{exc.strerror or exc}") from None
 
 
 class _Vampc(click.Group):
@@ -131,7 +139,7 @@ def compile(ctx, robot, **params):
     dump = compile_command(robot, build(CompileCommand, ctx, params),
                            build(CompileOptions, ctx, params), build(RobotOptions, ctx, params), say)
     if dump is not None:
-        click.echo(dump, nl=False)
+        say(dump, nl=False)
 
 
 @main.command()
@@ -161,9 +169,8 @@ def report(ctx, source, **params):
     schedule and network). Pictures and pages go to the files named. With --tradeoff: the
     trade-off sweep instead."""
     from vampc.commands import report_command
-    click.echo(report_command(source, build(ReportOptions, ctx, params),
-                              build(CompileOptions, ctx, params), build(RobotOptions, ctx, params),
-                              params), nl=False)
+    say(report_command(source, build(ReportOptions, ctx, params), build(CompileOptions, ctx, params),
+                       build(RobotOptions, ctx, params), params), nl=False)
 
 
 @main.command()
@@ -175,7 +182,7 @@ def precision(ctx, source, **params):
     """The narrowest fixed-point word for SOURCE: per width, the torque error bound analysed from the
     joint limits and the error observed on random states (README, Word formats)."""
     from vampc.commands import precision_command
-    click.echo(precision_command(source, build(PrecisionOptions, ctx, params), build(
+    say(precision_command(source, build(PrecisionOptions, ctx, params), build(
         CompileOptions, ctx, params), build(RobotOptions, ctx, params), params), nl=False)
 
 

@@ -15,7 +15,7 @@ import warnings
 from pathlib import Path
 
 from vampc import jsontext
-from vampc.errors import VampcError, VampcWarning
+from vampc.errors import VampcError, VampcUsageError, VampcWarning
 from vampc.options import (
     CompileCommand,
     CompileOptions,
@@ -218,7 +218,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool) -> str:
     worst = int(res.max_abs.argmax()) if len(names) else 0
     over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
     lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}), tolerance "
-                 f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}")
+                 f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}"
+                 + ("" if ok else " (a wider --word would do better; `vampc precision` finds one)"))
     return "\n".join(lines)
 
 
@@ -440,6 +441,10 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.precision import Ranges, fitted
     own.check()
     from dataclasses import replace
+    for name, why in (("word", "it tries every width of --sweep"),
+                      ("overflow", "it names words nothing can overflow in")):
+        if name in options.given:
+            raise VampcUsageError(f"--{name} does not apply to vampc precision: {why}")
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
@@ -478,15 +483,18 @@ def precision_text(rows: list[dict], own, chain) -> str:
                  for r in rows]
         return "\n".join(",".join(line) for line in [head] + cells) + "\n"
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
-             f"overflow in; errors relative to the largest |τ| of {own.sets} random states",
+             f"overflow in (peak: the largest magnitude any register can hold); errors relative to "
+             f"the largest |τ| of {own.sets} random states",
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     for r in rows:
         lines.append(f"{r['bits']:>4}  " + (f"{r['word']:<8} {r['peak']:>10.4g}  {r['bound']:>8.1e}  "
                                             f"{r['observed']:>8.1e}  {r['overflows']}" if r["word"]
-                                            else "no split of this width holds the values"))
+                                            else "too narrow: no qI.F of this width holds the peak"))
     tol = number_text(own.tolerance)
     lines.append(f"narrowest word meeting {tol} by the analysed bound, with no possible overflow: "
-                 + (f"{ok[0]['word']} ({ok[0]['bits']} bits)" if ok else "none in the sweep"))
-    lines.append(f"narrowest word observed within {tol}: "
-                 + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else "none in the sweep"))
+                 + (f"{ok[0]['word']} ({ok[0]['bits']} bits)" if ok else
+                    "none in the sweep (widen --sweep)"))
+    lines.append(f"narrowest word observed within {tol} (among those): "
+                 + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else
+                    "none in the sweep (widen --sweep)"))
     return "\n".join(lines) + "\n"
