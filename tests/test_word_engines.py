@@ -273,3 +273,45 @@ def test_a_word_too_narrow_for_the_program_is_one_line(tmp_path):
     res = run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q4.4", "--vamps", "3",
                      "-o", str(tmp_path / "q.vamp.json")])
     assert res.exit_code == 1 and "beyond what a 8-bit Program-Mode word addresses" in res.stderr
+
+
+def test_a_constant_the_word_cannot_hold_is_counted_once_and_located(monkeypatch):
+    """Stanford arm in q2.8 (range ±2): constants (masses, gravity) overflow at the host's
+    conversion; every engine counts each once a run, and the sites name them."""
+    chain = load_robot(EXAMPLES / "stanford.yaml")
+    c = compile_chain(chain, CompileOptions(word="q2.8", overflow="wrap"))   # packed for 10 bits
+    traj = random_trajectory(chain, 100, 3)
+    counts = {}
+    for name, mode, engine in (("numpy", "0", "stream"), ("C", "1", "stream"),
+                               ("tick", "0", "tick")):
+        monkeypatch.setenv("VAMPC_NATIVE", mode)
+        ld = loaded_from_compiled(c)
+        from vampc.emulator.driver import States, run
+        outcome = run(ld, States(traj.count, traj), engine=engine)
+        counts[name] = outcome.overflows
+        if name == "numpy":
+            assert any("the host's constant" in site for site in outcome.overflow_sites)
+    assert counts["numpy"] == counts["C"] == counts["tick"] > 0
+
+
+def test_a_what_if_in_a_word_too_narrow_for_the_programs_words_is_one_line(tmp_path):
+    run = CliRunner().invoke
+    prog = tmp_path / "b.vamp.json"
+    assert run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12", "-o",
+                      str(prog)]).exit_code == 0
+    for engine in ("stream", "tick"):
+        res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q9.7", "--engine",
+                         engine])
+        assert res.exit_code == 1 and "--word q9.7: a Program-Mode word holds" in res.stderr \
+            and "compile it with --word q9.7" in res.stderr, res.stderr
+
+
+def test_float64_tolerance_tightens_and_loosens_and_words_are_named_canonically(tmp_path):
+    run = CliRunner().invoke
+    base = ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "20", "--check"]
+    assert run(main, base + ["--tolerance", "1e-30"]).exit_code == 1
+    assert run(main, base + ["--tolerance", "1e-3"]).exit_code == 0
+    prog = tmp_path / "z.vamp.json"
+    assert run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q016.016", "-o",
+                      str(prog)]).exit_code == 0
+    assert load_program(str(prog)).options["word"] == "q16.16"

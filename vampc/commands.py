@@ -99,6 +99,11 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
                                        if k in stored and k not in options.given})
             check_word(word)
             ld = replace(ld, word=None if word.word == "float64" else word.arith())
+            try:        # its Program-Mode words must travel in the new word: both engines refuse
+                for entry in ld.stream:
+                    ld.arith.program_words(entry.words)
+            except ValueError as exc:
+                raise VampcError(f"{source}: --word {word.word}: {exc}") from None
         return ld
     return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
 
@@ -174,8 +179,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     say(emulation_line(outcome, time.perf_counter() - begun), info)
     word = ld.arith
     if ld.word is None:
-        ok = outcome.check is None or outcome.check.ok and (
-            own.tolerance is None or outcome.check.max_rel <= own.tolerance)
+        ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
+                                       outcome.check.max_rel <= own.tolerance)
     else:
         tolerance = own.tolerance or default_tolerance(word)
         ok = outcome.check is None or (outcome.check.overall <= tolerance

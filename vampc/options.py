@@ -104,6 +104,10 @@ class CompileOptions:
                     object.__setattr__(self, name, kind.parse(value, what))
                 except ValueError as exc:
                     raise VampcUsageError(str(exc)) from None
+        try:          # a word as its format names it ("q016.016" is q16.16); a bad one: check()
+            object.__setattr__(self, "word", self.arith().name)
+        except ValueError:
+            pass
 
     @property
     def timing(self) -> Timing:

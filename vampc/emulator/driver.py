@@ -136,7 +136,8 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
             size = chunk_size(ld)
         case _:
             unhandled(engine)
-    ld.arith.overflows = 0             # the word format counts the overflows of this run
+    from vampc.emulator.stream import constant_overflows
+    ld.arith.overflows = constant_overflows(ld)   # the word counts this run's overflows from here
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
         return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
 

@@ -123,8 +123,8 @@ def _value(src, vals, ports, count, consts, arith) -> np.ndarray:
         return ports[src[1]]
     if src[0] is FlowKind.CONST:
         value = consts.get(src[1])
-        if value is None:
-            value = consts[src[1]] = arith.encode(src[1])
+        if value is None:        # converted by the host once a run: counted once (constant_overflows)
+            value = consts[src[1]] = arith.fresh().encode(src[1])
         return np.broadcast_to(value, (count, value.size))
     return unhandled(src[0])
 
@@ -148,6 +148,9 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
             tick = s * P + entry.block * B
             found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {entry.key.quantity}"
                                    f"{entry.key.joint} for port {p}"))
+    for c in ld.net.consts if start == 0 else ():     # written once, before the first set
+        if constant_overflows(ld, (c,)):
+            found.append((start, 0, f"set {start + 1}, tick 0: the host's constant {c.name}"))
     consts: dict = {}
     vals: list[np.ndarray] = []
     for i, (r, a, b) in enumerate(fl.ops):
@@ -161,6 +164,17 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
                                            f"{ld.vamp_name(v, k)}, the result of "
                                            f"{ROM[r][0].value}"))
     return [what for _, _, what in sorted(found)[:limit]]
+
+
+def constant_overflows(ld: Loaded, consts=None) -> int:
+    """How many scalars of the constant buffers (all, or `consts`) the host's conversion to the
+    network's word overflows: counted once a run, as the host writes them once."""
+    total = 0
+    for c in ld.net.consts if consts is None else consts:
+        word = ld.arith.fresh()
+        word.encode(c.value)
+        total += word.overflows
+    return total
 
 
 def _sets(track: list, start: int) -> list[int]:

@@ -229,7 +229,8 @@ class TickEngine:
     def _data_setup(self) -> None:
         for c in self.ld.net.consts:
             self.bus[self.const_row[c.index], :] = 0
-            self.bus[self.const_row[c.index], :len(c.value)] = self.ld.arith.encode(c.value)
+            # the host's conversion, counted once a run (vampc.emulator.stream.constant_overflows)
+            self.bus[self.const_row[c.index], :len(c.value)] = self.ld.arith.fresh().encode(c.value)
             self.tag[self.const_row[c.index]] = CONST
         self._slots()
         self._plan = {}

@@ -140,7 +140,10 @@ class Float32(Float64):
     def encode(self, values) -> np.ndarray:
         with np.errstate(over="ignore"):
             out = np.asarray(values, dtype=np.float64).astype(np.float32)
-        self.overflows += int(np.count_nonzero(~np.isfinite(out)))
+        bad = ~np.isfinite(out)
+        if bad.any():
+            self.overflows += int(np.count_nonzero(bad))
+            _tracked(self, bad)
         return out
 
     def c_expr(self, fn: Fn, x: str, y: str) -> str:
@@ -153,7 +156,7 @@ class Float32(Float64):
         return "#include <math.h>\nlong vamp_overflows;\n" + ops
 
     def c_literal(self, value: float) -> str:
-        return f"((float){float(self.encode(value)).hex()})"
+        return f"((float){float(self.fresh().encode(value)).hex()})"
 
     def c_decode(self, x: str) -> str:
         return f"(double)({x})"
@@ -289,7 +292,7 @@ class Fixed(Float64):
             ""))
 
     def c_literal(self, value: float) -> str:
-        return f"((int64_t){int(self.encode(value))}LL)"
+        return f"((int64_t){int(self.fresh().encode(value))}LL)"
 
     def c_decode(self, x: str) -> str:
         return f"((double)({x}) * {2.0 ** -self.fraction!r})"
@@ -326,7 +329,8 @@ class Fixed(Float64):
         if w.size and (w.min() < self.lo or w.max() > self.hi):
             bad = w.min() if w.min() < self.lo else w.max()
             raise ValueError(f"a Program-Mode word holds {bad:.0f}, beyond the {self.bits}-bit "
-                             f"words of {self.name} (narrower Program-Mode packing is not done)")
+                             f"words of {self.name}: the program was packed for a wider word "
+                             f"(compile it with --word {self.name} to pack it for this one)")
         return w.astype(np.int64)
 
 
