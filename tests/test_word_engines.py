@@ -315,3 +315,13 @@ def test_float64_tolerance_tightens_and_loosens_and_words_are_named_canonically(
     assert run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q016.016", "-o",
                       str(prog)]).exit_code == 0
     assert load_program(str(prog)).options["word"] == "q16.16"
+
+
+def test_a_value_that_rounds_beyond_the_word_is_refused(tmp_path):
+    """255.9999 rounds to 256 in q9.12 (to nearest): the word cannot hold it."""
+    traj = tmp_path / "h.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,1,255.9999\n")
+    args = ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory", str(traj), "--word", "q9.12"]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 1 and "column qdd2: 255.9999 is beyond q9.12 words" in res.stderr
+    assert CliRunner().invoke(main, args + ["--rounding", "truncate"]).exit_code == 0

@@ -88,10 +88,13 @@ def check_word_range(word, traj: Trajectory, path: str) -> None:
     columns = [traj.qd, traj.qdd] + ([traj.base] if traj.base is not None else [])
     names = header(n, traj.base is not None)[n:]
     values = np.concatenate(columns, axis=1)
-    bad = (values < -top) | (values >= top)
+    scaled = values * 2.0 ** word.fraction             # rounded as the host's conversion rounds
+    raw = np.floor(scaled) + ((scaled - np.floor(scaled) >= 0.5) if word.rounding.value == "nearest"
+                              else 0)
+    bad = (raw < word.lo) | (raw > word.hi)
     if bad.any():
         row, col = (int(x) for x in np.argwhere(bad)[0])
-        raise VampcError(f"{path}: row {row + 1}, column {names[col]}: {values[row, col]:g} is "
+        raise VampcError(f"{path}: row {row + 1}, column {names[col]}: {values[row, col]:.12g} is "
                          f"beyond {word.name} words, which hold [{-top:g}, {top:g}); give "
                          "--overflow saturate or --overflow wrap to run it anyway (each overflow "
                          "counted)")
