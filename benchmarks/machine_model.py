@@ -23,6 +23,7 @@ Prints, as medians of --runs (default 5) in one process:
 from __future__ import annotations
 
 import argparse
+import inspect
 import os
 import statistics
 import sys
@@ -55,13 +56,6 @@ try:
 except ImportError:
     from vampc.program.file import read_program
 from vampc.robot.random import random_chain
-def median_time(fn, runs):
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 """
 COMPILE = """
 chain, options = random_chain(32, 1), CompileOptions(recursion="log", vamps={k})
@@ -79,7 +73,8 @@ print(median_time(lambda: compiled_from_doc(read_program(path), path), RUNS))
 def fresh_time(checkout, code: str, runs: int) -> float:
     """Median seconds of a step timed in a new Python process."""
     import subprocess
-    prelude = _PRELUDE.format(checkout=str(Path(checkout).resolve()) if checkout else "")
+    prelude = (_PRELUDE.format(checkout=str(Path(checkout).resolve()) if checkout else "")
+               + inspect.getsource(median_time))     # the same timer as this process's
     out = subprocess.run([sys.executable, "-c", prelude + f"RUNS = {runs}\n" + code],
                          capture_output=True, text=True, check=True, env=dict(os.environ))
     return float(out.stdout.split()[-1])

@@ -98,10 +98,9 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
             word = replace(options, **{k: stored[k] for k in WORD_OPTIONS
                                        if k in stored and k not in options.given})
             check_word(word)
-            ld = replace(ld, word=None if word.word == "float64" else word.arith())
-            try:        # its Program-Mode words must travel in the new word: both engines refuse
-                for entry in ld.stream:
-                    ld.arith.program_words(entry.words)
+            from vampc.emulator.load import in_word
+            try:
+                ld = in_word(ld, None if word.word == "float64" else word.arith())
             except ValueError as exc:
                 raise VampcError(f"{source}: --word {word.word}: {exc}") from None
         return ld
@@ -193,7 +192,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         res = outcome.check
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
             f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
-            f"{number_text(own.tolerance if own.tolerance is not None else 1e-9)}: "
+            f"{number_text(own.tolerance or default_tolerance(word))}: "
             f"{'OK' if ok else 'FAILED'}", info)
     elif outcome.check is not None:
         say(word_check_text(ld, outcome, tolerance, ok), info)
@@ -437,6 +436,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                       params: dict) -> str:
     """`vampc precision`: per word width, the qI.F nothing can overflow in, its analysed torque
     error bound and the error observed on random states (README, Word formats)."""
+    from dataclasses import replace
+
     import numpy as np
 
     from vampc.dataflow.evaluate import evaluate
@@ -445,7 +446,6 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.machine.arith import Rounding
     from vampc.precision import Ranges, fitted
     own.check()
-    from dataclasses import replace
     for name, why in (("word", "it tries every width of --sweep"),
                       ("overflow", "it names words nothing can overflow in")):
         if name in options.given:
@@ -453,9 +453,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
-    traj = random_states(chain, 0, own.sets, 0)
-    traj = type(traj)(traj.q, traj.qd, np.clip(traj.qdd, -1, 1) * own.acceleration, traj.t,
-                      traj.base)
+    traj = random_states(chain, 0, own.sets, 0)        # accelerations within ±1: scaled to ±A
+    traj = replace(traj, qdd=traj.qdd * own.acceleration)
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     scale = max(float(np.abs(ref).max(initial=0.0)), 1e-12)
     rows = []

@@ -39,10 +39,14 @@ def port_values(ld: Loaded, traj: Trajectory) -> dict[tuple[int, int], np.ndarra
     for p in ld.net.ports:
         for j, e in enumerate(p.entries):
             if e.key not in cache:
-                val = input_value(ld.chain, e.key, traj.q, traj.qd, traj.qdd, traj.base)
-                cache[e.key] = np.ascontiguousarray(ld.arith.encode(val.reshape(traj.count, -1)))
+                cache[e.key] = np.ascontiguousarray(ld.arith.encode(host_values(ld, traj, e.key)))
             out[(p.index, j)] = cache[e.key]
     return out
+
+
+def host_values(ld: Loaded, traj: Trajectory, key) -> np.ndarray:
+    """The real values the host converts and writes for input `key`, every set: (count, 3|9)."""
+    return input_value(ld.chain, key, traj.q, traj.qd, traj.qdd, traj.base).reshape(traj.count, -1)
 
 
 def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
@@ -80,17 +84,14 @@ def check_word_range(word, traj: Trajectory, path: str) -> None:
     """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
     range: the host writes them as they are), naming the row and column."""
     from vampc.emulator.trajectory import header
-    hi = getattr(word, "hi", None)
-    if hi is None:
+    if not hasattr(word, "rounded"):                 # float words: nothing to refuse
         return
-    top = (hi + 1) * 2.0 ** -word.fraction          # the range is [-top, top)
+    top = (word.hi + 1) * 2.0 ** -word.fraction     # the range is [-top, top)
     n = traj.q.shape[1]
     columns = [traj.qd, traj.qdd] + ([traj.base] if traj.base is not None else [])
     names = header(n, traj.base is not None)[n:]
     values = np.concatenate(columns, axis=1)
-    scaled = values * 2.0 ** word.fraction             # rounded as the host's conversion rounds
-    raw = np.floor(scaled) + ((scaled - np.floor(scaled) >= 0.5) if word.rounding.value == "nearest"
-                              else 0)
+    raw = word.rounded(values)                       # as the host's conversion rounds them
     bad = (raw < word.lo) | (raw > word.hi)
     if bad.any():
         row, col = (int(x) for x in np.argwhere(bad)[0])

@@ -153,6 +153,17 @@ def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, option
                   load_ticks(stream), options, word, Packing.of(word))
 
 
+def in_word(ld: Loaded, word) -> Loaded:
+    """The program run in another word format (a what-if; None: float64). Its Program-Mode words,
+    packed for the word it records, must travel in the new one (ValueError saying why not), so
+    both engines take or refuse it alike."""
+    from dataclasses import replace
+    ld = replace(ld, word=word)
+    for entry in ld.stream:
+        ld.arith.program_words(entry.words)
+    return ld
+
+
 def _word(options: dict, path):
     """The word format a program records (vampc.machine.arith); None for float64."""
     if options.get("word", "float64") == "float64":

@@ -135,6 +135,7 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
     op's result (the VAMP, slot and op, the set, the tick it is dumped). The numpy path runs the
     sets again with a copy of the word that notes which sets overflowed. `start`: the run's index
     of traj's first set."""
+    from vampc.emulator.host import host_values
     word = ld.arith.fresh()
     word.track = []
     P, B = ld.net.period, ld.net.clock
@@ -143,7 +144,7 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
     for i, (p, e, _) in enumerate(fl.inputs):
         entry = ld.net.ports[p].entries[e]
         word.track.clear()
-        ports[i] = word.encode(_host_values(ld, traj, entry.key))
+        ports[i] = word.encode(host_values(ld, traj, entry.key))
         for s in _sets(word.track, start)[:limit]:
             tick = s * P + entry.block * B
             found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {entry.key.quantity}"
@@ -182,9 +183,3 @@ def _sets(track: list, start: int) -> list[int]:
     if not track:
         return []
     return [start + int(s) for s in np.flatnonzero(np.sum(np.stack(track), axis=0))]
-
-
-def _host_values(ld: Loaded, traj, key) -> np.ndarray:
-    from vampc.dataflow.host import input_value
-    val = input_value(ld.chain, key, traj.q, traj.qd, traj.qdd, traj.base)
-    return np.ascontiguousarray(val.reshape(traj.count, -1))

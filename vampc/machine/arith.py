@@ -298,7 +298,9 @@ class Fixed(Float64):
         return f"((double)({x}) * {2.0 ** -self.fraction!r})"
 
     # --- the host's conversions ----------------------------------------------------------------
-    def encode(self, values) -> np.ndarray:
+    def rounded(self, values) -> np.ndarray:
+        """The raw integers (as floats, before the overflow rule) the host's conversion rounds
+        real values to: value · 2^F rounded by the rounding rule (inf where that overflows)."""
         x = np.asarray(values, dtype=np.float64)
         if not np.all(np.isfinite(x)):
             raise ValueError("a value that is not a finite number has no fixed-point word")
@@ -307,6 +309,11 @@ class Fixed(Float64):
             r = np.floor(v)
             if self.rounding is Rounding.NEAREST:
                 r = r + (v - r >= 0.5)
+        return r
+
+    def encode(self, values) -> np.ndarray:
+        x = np.asarray(values, dtype=np.float64)
+        r = self.rounded(x)
         if np.all(np.abs(r) <= 2.0 ** 62):
             return self._fit(r.astype(np.int64))
         # beyond int64, in Python's integers: the scaled value is exact unless it overflowed (then
@@ -323,8 +330,8 @@ class Fixed(Float64):
 
     def program_words(self, words) -> np.ndarray:
         """Program-Mode words as raw bits: the integer a field packs is the word's bit pattern,
-        which must fit in the word (ValueError otherwise: the packing for words this narrow is
-        not done)."""
+        which must fit in the word (ValueError otherwise: the program was packed for a wider word,
+        vampc.program.words.Packing)."""
         w = np.asarray(words, dtype=np.float64)
         if w.size and (w.min() < self.lo or w.max() > self.hi):
             bad = w.min() if w.min() < self.lo else w.max()
