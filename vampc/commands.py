@@ -39,7 +39,7 @@ def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
     options.check()
     robot_opts.check(robot)
     return load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
-                      floating=robot_opts.floating_base)
+                      floating=robot_opts.floating_base, mimic=robot_opts.mimic)
 
 
 def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),
@@ -261,11 +261,12 @@ class Sinks:
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
         self.vcd = (_Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
                     if self.vcd_out else None)
+        from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating
-        self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(
-            (j.name for j in ld.chain.joints), floating))))
-        self._write(self.states, lambda fh: fh.write(csv_line(t + header(ld.chain.n, floating))))
+        self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(free_names(ld.chain),
+                                                                              floating))))
+        self._write(self.states, lambda fh: fh.write(csv_line(t + header(n_free(ld.chain), floating))))
 
     def _write(self, pending, action) -> None:
         if pending is None:
@@ -279,9 +280,11 @@ class Sinks:
     def chunk(self, traj, tau) -> None:
         """One chunk's torques and states."""
         from vampc.emulator.trajectory import format_rows
-        self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, tau)))
-        self._write(self.states, lambda fh: fh.write(format_rows(traj.t, traj.q, traj.qd, traj.qdd,
-                                                                 traj.base)))
+        from vampc.robot.mimic import reduce_states, reduce_torques
+        chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
+        self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, reduce_torques(chain, tau))))
+        self._write(self.states, lambda fh: fh.write(format_rows(
+            traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)))
 
     def finish_vcd(self) -> None:
         """The waveform is complete: put it in place."""

@@ -196,6 +196,13 @@ class RobotOptions:
     base: str | None = field(default=None, metadata=cli(
         "--base", metavar="LINK", help="URDF: first link of the chain (default: root)."))
 
+    mimic: str = field(default="ordinary", metadata=cli(
+        "--mimic", choices=lambda: ("ordinary", "couple"),
+        help="URDF: how <mimic> joints are read. ordinary (default, as Pinocchio reads them): each its "
+        "own joint, with its own input and torque. couple: each follows its leader (q = multiplier · "
+        "q_leader + offset); states give the independent joints only, and a leader's torque includes "
+        "its followers' (README, URDF)."))
+
     def locks(self) -> dict[str, float]:
         """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
         def bad(what: str) -> VampcUsageError:
@@ -220,7 +227,8 @@ class RobotOptions:
     def check(self, robot: str) -> None:
         """--base, --tip and --lock name URDF links and joints: a DH table is one chain."""
         from vampc.robot import URDF_SUFFIXES
-        given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)]
+        given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)] + \
+            (["--mimic"] if self.mimic != "ordinary" else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
                                   f"URDF files only; {robot} is not a URDF (a DH table is one chain)")

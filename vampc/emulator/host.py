@@ -59,9 +59,14 @@ def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
 
 def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     """A trajectory from CSV (header q1..qn,qd1..qdn,qdd1..qddn, a floating base's 9 columns, optional
-    leading t), .npy or .npz."""
+    leading t), .npy or .npz. With coupled mimic joints the file gives the independent joints only
+    (vampc.robot.mimic), and the followers' states are derived from their leaders'."""
     from vampc.emulator.trajectory import read
-    return read(path, chain.n, chain.floating)
+    from vampc.robot.mimic import expand, n_free
+    traj = read(path, n_free(chain), chain.floating)
+    if not chain.mimic:
+        return traj
+    return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
 
 
 def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:

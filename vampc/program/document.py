@@ -32,7 +32,7 @@ from vampc.program.file import (
 )
 from vampc.program.file import layout as laid_out
 from vampc.program.words import ROM, Program
-from vampc.robot.chain import Chain, Joint, JointType, Limits
+from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 from vampc.schedule.registry import LAYOUTS
@@ -60,6 +60,9 @@ def robot_doc(chain: Chain) -> F.RobotDoc:
     if chain.floating:
         out.floating, out.base_mass = True, number(chain.base_mass)
         out.base_com, out.base_inertia = floats(chain.base_com), floats(chain.base_inertia)
+    if chain.mimic:
+        out.mimic = [F.MimicDoc(m.follower, m.leader, *rendered([m.multiplier, m.offset]))
+                     for m in chain.mimic]
     return out
 
 
@@ -86,6 +89,8 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
                 raise VampcError(f"{path}: robot.{name}: a floating base needs it")
         tree.update(floating=True, base_mass=doc.base_mass, base_com=np.array(doc.base_com),
                     base_inertia=np.array(doc.base_inertia))
+    if doc.mimic:
+        tree["mimic"] = tuple(Mimic(m.follower, m.leader, m.multiplier, m.offset) for m in doc.mimic)
     chain = Chain(doc.name, joints, np.array(doc.gravity), np.array(doc.base_omega),
                   np.array(doc.base_omega_dot), np.array(doc.tip_force),
                   np.array(doc.tip_torque), doc.source, **tree)
@@ -94,6 +99,10 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
             chain._verify_tree()
         except VampcInternalError as exc:
             raise VampcError(f"{path}: robot.parents: {exc}") from None
+        try:
+            chain._verify_mimic()
+        except VampcInternalError as exc:
+            raise VampcError(f"{path}: robot.mimic: {exc}") from None
     return chain
 
 

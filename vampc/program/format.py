@@ -64,6 +64,15 @@ class JointDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True)
                                        "absent).")] = None
 
 
+class MimicDoc(Struct, gc=False, forbid_unknown_fields=True):
+    """A coupled mimic joint (--mimic couple): q_follower = multiplier · q_leader + offset."""
+
+    follower: Annotated[int, Meta(ge=1)]
+    leader: Annotated[int, Meta(ge=1)]
+    multiplier: float
+    offset: float
+
+
 class RobotDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     name: str
     n: Count
@@ -82,6 +91,10 @@ class RobotDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True)
     base_mass: Annotated[float, Meta(ge=0)] | None = None
     base_com: Vec3 | None = None
     base_inertia: Mat3 | None = None
+    mimic: Annotated[list[MimicDoc] | None, Meta(description="Coupled mimic joints (1-based): the "
+                                                "host derives each follower's inputs from its leader "
+                                                "and adds its torque, times the multiplier, to the "
+                                                "leader's; absent when there are none.")] = None
 
 
 class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):

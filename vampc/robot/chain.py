@@ -79,6 +79,19 @@ def rot_x(alpha: float) -> np.ndarray:
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
+@dataclass(frozen=True)
+class Mimic:
+    """A coupled mimic joint (URDF `<mimic>` read with --mimic couple, vampc.robot.mimic): joint
+    `follower` (1-based) moves as q_f = multiplier · q_leader + offset, its q̇ and q̈ as multiplier times
+    the leader's; the host writes its inputs, and its torque is added, times multiplier, to the leader's
+    generalized force. `leader` is an independent joint (chains of mimics are composed)."""
+
+    follower: int
+    leader: int
+    multiplier: float
+    offset: float
+
+
 @dataclass(frozen=True, eq=False)
 class Joint:
     """Joint i with the link i it carries (all quantities in O_i unless said otherwise)."""
@@ -154,6 +167,7 @@ class Chain:
     base_mass: float = 0.0                   # floating base: the base link's mass, CoM, inertia in O_0
     base_com: np.ndarray = field(default_factory=lambda: np.zeros(3))
     base_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    mimic: tuple[Mimic, ...] = ()            # coupled joints, by follower (vampc.robot.mimic)
 
     @property
     def n(self) -> int:
@@ -245,6 +259,17 @@ class Chain:
             if np.shape(arr) != (3,) or not np.all(np.isfinite(arr)):
                 raise VampcInternalError(f"{self.name}: bad {label}")
         self._verify_tree()
+        self._verify_mimic()
+
+    def _verify_mimic(self) -> None:
+        """Followers are distinct joints; leaders are joints and none of them a follower."""
+        followers = [m.follower for m in self.mimic]
+        if len(set(followers)) != len(followers):
+            raise VampcInternalError(f"{self.name}: a joint is coupled twice")
+        for m in self.mimic:
+            if not (1 <= m.follower <= self.n and 1 <= m.leader <= self.n) or m.leader in followers \
+                    or not (np.isfinite(m.multiplier) and np.isfinite(m.offset)):
+                raise VampcInternalError(f"{self.name}: bad mimic coupling {m}")
 
     def _verify_tree(self) -> None:
         """Parents exist, come first, and number the joints depth-first (subtrees contiguous)."""

@@ -66,40 +66,113 @@ _IDENTITY.flags.writeable = False  # shared by every missing <origin> and every 
 
 
 def load_urdf(path, base: str | None = None, tip: str | None = None,
-              lock: dict[str, float] | None = None, floating: bool = False) -> Chain:
+              lock: dict[str, float] | None = None, floating: bool = False,
+              mimic: str = "ordinary") -> Chain:
     """Read a URDF and return its robot: the chain of movable joints from link `base` (default: the root)
     to link `tip` when `tip` is given or the movable joints form one branch, else the whole tree (every
     movable joint below `base`, numbered depth-first, children in Pinocchio's order: vampc.robot.urdf_tree).
     `lock` maps joint names to values at which they are frozen (treated as fixed); on a chain a locked
     joint off the chain freezes everything below it too. Locking a fixed joint has no effect and warns
-    (VampcWarning). `floating`, or a root joint of type floating, lets the base link float."""
+    (VampcWarning). `floating`, or a root joint of type floating, lets the base link float. `mimic`:
+    "ordinary" reads a `<mimic>` joint as an ordinary joint (Pinocchio's default), "couple" couples it
+    to its leader (vampc.robot.mimic; a follower of a locked leader is locked with it)."""
     path = Path(path)
+    if mimic not in MIMIC_MODES:
+        raise ValueError(f"mimic must be one of {MIMIC_MODES}, not {mimic!r}")
     with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
-        return _load(path, base, tip, lock, floating)
+        return _load(path, base, tip, lock, floating, mimic)
+
+
+MIMIC_MODES = ("ordinary", "couple")
 
 
 def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None,
-          floating: bool = False) -> Chain:
+          floating: bool = False, mimic: str = "ordinary") -> Chain:
     robot = _read_robot(path)
     tree = Tree.build(robot, path)
-    for j in tree.joints.values():
-        if j.mimic is not None and j.mimic.joint not in tree.joints:
-            raise located(path, f"joint '{j.name}'", f"mimics joint '{j.mimic.joint}', which the "
-                                                     "file does not have")
     lock = _check_lock(lock or {}, tree, path)
+    leaders = _mimic_leaders(tree, path) if mimic == "couple" else {}
+    lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     tip = choose_tip(tree, base, tip, lock, path)
     if tip is None:
-        return _load_tree(robot.name, tree, base, lock, floating, path)
-    route = tree.route(base, tip)
-    chain = [j for j in route if j.type in MOVABLE and j.name not in lock]
-    _check_chain(chain, base, tip, path)
-    frames, body_of = _bodies(tree, base, chain, {j.name for j in route}, lock, path)
-    if floating:
-        return build_tree(robot.name, tree, chain, list(range(len(chain))), frames, body_of, True, path,
-                          leaf_link=tip)
-    return _build(robot.name, tree, chain, frames, body_of, tip, path)
+        chain = _load_tree(robot.name, tree, base, lock, floating, path)
+    else:
+        route = tree.route(base, tip)
+        joints = [j for j in route if j.type in MOVABLE and j.name not in lock]
+        _check_chain(joints, base, tip, path)
+        frames, body_of = _bodies(tree, base, joints, {j.name for j in route}, lock, path)
+        chain = build_tree(robot.name, tree, joints, list(range(len(joints))), frames, body_of, True, path,
+                           leaf_link=tip) if floating else \
+            _build(robot.name, tree, joints, frames, body_of, tip, path)
+    if mimic == "ordinary":
+        _check_mimics(chain.joints, tree, path)
+    return _coupled(chain, leaders, path) if leaders else chain
+
+
+# --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
+
+def _mimic_leaders(tree: Tree, path: Path) -> dict:
+    """Follower name -> (leader name, multiplier, offset), chains of mimics composed down to a joint
+    nobody mimics; refuse a leader the file lacks or that cannot move, and a cycle."""
+    direct = {j.name: j.mimic for j in tree.joints.values()
+              if j.mimic is not None and j.type in MOVABLE}
+    out = {}
+    for name in direct:
+        seen, at, mult, off = [name], name, 1.0, 0.0
+        while at in direct:
+            m = direct[at]
+            leader = m.joint
+            if leader not in tree.joints:
+                raise located(path, f"joint '{at}'", f"mimics joint '{leader}', which the file does not "
+                                                     "have")
+            if tree.joints[leader].type not in MOVABLE:
+                raise located(path, f"joint '{at}'", f"mimics joint '{leader}', which is "
+                                                     f"{tree.joints[leader].type}: it cannot lead")
+            if leader in seen:
+                loop = " -> ".join(seen[seen.index(leader):] + [leader])
+                raise located(path, f"joint '{at}'", f"mimic cycle {loop}: no joint leads it")
+            # q_at = m q_leader + o, and q_name = mult q_at + off
+            mult, off = mult * _or(m.multiplier, 1.0), off + mult * _or(m.offset, 0.0)
+            seen.append(leader)
+            at = leader
+        out[name] = (at, mult, off)
+    return out
+
+
+def _or(value, default: float) -> float:
+    return default if value is None else float(value)
+
+
+def _lock_followers(leaders: dict, lock: dict, tree: Tree, path: Path) -> dict:
+    """A follower of a locked leader is locked with it (at multiplier · value + offset); locking a
+    follower of a joint that moves is refused (the coupling would break)."""
+    out = dict(lock)
+    for follower, (leader, mult, off) in leaders.items():
+        if follower in lock and leader not in lock:
+            raise located(path, f"lock {follower}", f"joint '{follower}' follows joint '{leader}' "
+                                                    f"(--mimic couple): lock '{leader}' instead")
+        if leader in lock:
+            out[follower] = mult * lock[leader] + off
+    return out
+
+
+def _coupled(chain: Chain, leaders: dict, path: Path) -> Chain:
+    """The chain with its Mimic couplings; a leader must be one of its joints."""
+    from dataclasses import replace
+
+    from vampc.robot.chain import Mimic
+    index = {j.name: k for k, j in enumerate(chain.joints, 1)}
+    out = []
+    for j in chain.joints:
+        if j.name in leaders:
+            leader, mult, off = leaders[j.name]
+            if leader not in index:
+                raise located(path, f"joint '{j.name}'", f"mimics joint '{leader}', which is not one of "
+                                                         "the robot's joints (choose --base, or lock it)")
+            out.append(Mimic(index[j.name], index[leader], mult, off))
+    return replace(chain, mimic=tuple(out))
 
 
 def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, path: Path) -> Chain:
@@ -277,7 +350,7 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
 
 
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
-    """Refuse an empty chain and one longer than MAX_JOINTS; say how mimic joints on it are read."""
+    """Refuse an empty chain and one longer than MAX_JOINTS."""
     if not chain and not tip:
         raise located(path, "", f"no movable joints below base link '{base}'")
     if not chain:
@@ -285,17 +358,27 @@ def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
     problem = joint_count_problem(len(chain))
     if problem:
         raise located(path, "", problem)
-    _check_mimics(chain, path)
 
 
-def _check_mimics(joints, path: Path) -> None:
-    """A mimic joint is taken as an ordinary joint, as Pinocchio's default reads it: its own q, q̇,
-    q̈ from the host and its own torque in the output (a warning says so)."""
-    for j in joints:
-        if j.mimic is not None:
-            warnings.warn(VampcWarning(f"{path}: joint '{j.name}' mimics joint '{j.mimic.joint}': "
-                                       "taken as an ordinary joint (its own q, q̇, q̈ and torque), as "
-                                       "Pinocchio reads it by default"), stacklevel=2)
+def _check_mimics(joints, tree: Tree, path: Path) -> None:
+    """--mimic ordinary: a mimic joint is taken as an ordinary joint, as Pinocchio's default reads it:
+    its own q, q̇, q̈ from the host and its own torque in the output. One warning says so, naming the
+    first few; a leader the file lacks is only a warning here (the tag is not used)."""
+    names = {j.name for j in joints}
+    mimics = [tree.joints[n] for n in tree.joints if n in names and tree.joints[n].mimic is not None]
+    if not mimics:
+        return
+    lost = [j for j in mimics if j.mimic.joint not in tree.joints]
+    if lost:
+        warnings.warn(VampcWarning(f"{path}: joint '{lost[0].name}' mimics joint '{lost[0].mimic.joint}', "
+                                   "which the file does not have" + (f" (and {len(lost) - 1} more)"
+                                   if len(lost) > 1 else "") + "; --mimic couple would refuse it"),
+                      stacklevel=3)
+    first = mimics[0]
+    more = f" (and {len(mimics) - 1} more mimic joints)" if len(mimics) > 1 else ""
+    warnings.warn(VampcWarning(f"{path}: joint '{first.name}' mimics joint '{first.mimic.joint}'{more}: "
+                               "taken as ordinary joints (own q, q̇, q̈ and torque), as Pinocchio reads "
+                               "them by default; --mimic couple couples them"), stacklevel=3)
 
 
 # --- rigid bodies ------------------------------------------------------------------------------------

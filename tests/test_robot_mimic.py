@@ -1,0 +1,210 @@
+"""Mimic joints both ways (issue "Every robot Pinocchio loads", part 1): `--mimic ordinary` (the
+default, Pinocchio's default reading) and `--mimic couple` (vampc.robot.mimic), checked against
+Pinocchio's models built without and with `mimic=True`."""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from errors_util import assert_error
+from pinocchio_util import load_pin_urdf, pin_torques
+from test_robot_urdf import joint, link, robot, write
+
+from vampc.cli import main
+from vampc.errors import VampcWarning
+from vampc.robot import load_urdf
+from vampc.robot.mimic import expand, free_names, reduce_torques
+
+pin = pytest.importorskip("pinocchio")
+
+
+def gripper(*mimics: str) -> str:
+    """An arm (j1, j2), a prismatic finger f1 and its twin f2, a revolute thumb t1 and a second
+    phalanx t2 whose <mimic> tags are `mimics` (in that order: f2's, t2's)."""
+    f2, t2 = mimics
+    parts = [link("base"), link("l1"), link("l2"), link("f1", 0.2), link("f2", 0.3), link("t1", 0.1),
+             link("t2", 0.05, xyz=(0.02, 0.01, 0)),
+             joint("j1", "revolute", "base", "l1"),
+             joint("j2", "revolute", "l1", "l2", axis=(0, 1, 0)),
+             joint("f1", "prismatic", "l2", "f1", xyz=(0, 0.02, 0.1), axis=(0, 1, 0)),
+             joint("f2", "prismatic", "l2", "f2", xyz=(0, -0.02, 0.1), axis=(0, -1, 0), extra=f2),
+             joint("t1", "revolute", "l2", "t1", xyz=(0.03, 0, 0.1), axis=(1, 0, 0)),
+             joint("t2", "revolute", "t1", "t2", xyz=(0, 0, 0.04), axis=(1, 0, 0), extra=t2)]
+    return robot(*parts)
+
+
+COUPLED = gripper('<mimic joint="f1"/>', '<mimic joint="t1" multiplier="-0.5" offset="0.3"/>')
+
+
+def emulated(path, chain, count=6, seed=4):
+    """The torques of `count` random states as `vampc emulate` writes them (the program compiled
+    from `chain`), with the states the host was given."""
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.emulator.host import random_trajectory
+    traj = random_trajectory(chain, count, seed)
+    ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
+    return traj, reduce_torques(chain, emulate(ld, traj, "stream").tau)
+
+
+def test_coupled_mimic_joints_give_pinocchios_mimic_model(tmp_path):
+    path = write(tmp_path, COUPLED)
+    chain = load_urdf(path, mimic="couple")
+    assert [(m.follower, m.leader, m.multiplier, m.offset) for m in chain.mimic] == [
+        (4, 3, 1.0, 0.0), (6, 5, -0.5, 0.3)]
+    assert free_names(chain) == ["j1", "j2", "f1", "t1"]
+    traj, got = emulated(path, chain)
+    free = [0, 1, 2, 4]
+    assert np.allclose(traj.q[:, 5], -0.5 * traj.q[:, 4] + 0.3) and np.allclose(traj.qdd[:, 3], traj.qdd[:, 2])
+    model = load_pin_urdf(path, floating=False, mimic=True)
+    assert model.nv == 4
+    want = pin_torques(model, free_names(chain), traj.q[:, free], traj.qd[:, free], traj.qdd[:, free])
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_coupled_mimic_joints_on_a_floating_base(tmp_path):
+    path = write(tmp_path, COUPLED)
+    chain = load_urdf(path, mimic="couple", floating=True)
+    traj, got = emulated(path, chain)
+    free = [0, 1, 2, 4]
+    model = load_pin_urdf(path, floating=True, mimic=True)
+    want = pin_torques(model, free_names(chain), traj.q[:, free], traj.qd[:, free], traj.qdd[:, free],
+                       traj.base)
+    assert got.shape == (6, 4 + 6)
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_a_chain_of_mimics_is_composed_and_gives_the_constrained_forces(tmp_path):
+    """t2 mimics f2 which mimics f1 (Pinocchio's mimic model refuses a mimic of a mimic): q_t2 =
+    2 (−q_f1 + 0.1) − 0.2. Checked against Gᵀ τ of Pinocchio's ordinary model at the expanded state,
+    which is what coupling means (d'Alembert), independent of vampc's reduction."""
+    path = write(tmp_path, gripper('<mimic joint="f1" multiplier="-1" offset="0.1"/>',
+                                   '<mimic joint="f2" multiplier="2" offset="-0.2"/>'))
+    chain = load_urdf(path, mimic="couple")
+    assert [(m.follower, m.leader, m.multiplier, m.offset) for m in chain.mimic] == [
+        (4, 3, -1.0, 0.1), (6, 3, -2.0, 0.0)]
+    traj, got = emulated(path, chain)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        names = [j.name for j in load_urdf(path).joints]
+    full = pin_torques(load_pin_urdf(path, floating=False), names, traj.q, traj.qd, traj.qdd)
+    g = np.zeros((6, 5))                 # q_full = G q_free + b
+    g[[0, 1, 2, 4], [0, 1, 2, 4]] = 1
+    g[3, 2], g[5, 2] = -1.0, -2.0
+    want = full @ g[:, [0, 1, 2, 4]]
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_by_default_a_mimic_joint_is_ordinary_as_in_pinocchios_default_model(tmp_path):
+    path = write(tmp_path, COUPLED)
+    with pytest.warns(VampcWarning, match=r"joint 'f2' mimics joint 'f1' \(and 1 more mimic joints\): "
+                                          "taken as ordinary joints"):
+        chain = load_urdf(path)
+    assert chain.mimic == () and chain.n == 6
+    traj, got = emulated(path, chain)
+    want = pin_torques(load_pin_urdf(path, floating=False), [j.name for j in chain.joints],
+                       traj.q, traj.qd, traj.qdd)
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_the_command_line_reads_and_writes_the_independent_joints(tmp_path):
+    """compile --mimic couple, then emulate a trajectory of the 4 independent joints: the torque file
+    has their 4 generalized forces, Pinocchio's mimic model's; --save-states reads back the same."""
+    path = write(tmp_path, COUPLED)
+    program = tmp_path / "g.vamp.json"
+    runner = CliRunner()
+    r = runner.invoke(main, ["compile", str(path), "--mimic", "couple", "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    rng = np.random.default_rng(2)
+    q, qd, qdd = rng.uniform(-0.9, 0.9, (3, 5, 4))
+    head = ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 5))
+    states = tmp_path / "s.csv"
+    np.savetxt(states, np.hstack([q, qd, qdd]), delimiter=",", header=head, comments="")
+    out, saved = tmp_path / "tau.csv", tmp_path / "saved.csv"
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--check", "-o", str(out),
+                             "--save-states", str(saved)])
+    assert r.exit_code == 0, r.output
+    assert out.read_text().splitlines()[0] == "tau_j1,tau_j2,tau_f1,tau_t1"
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    want = pin_torques(load_pin_urdf(path, floating=False, mimic=True), ["j1", "j2", "f1", "t1"], q, qd, qdd)
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+    assert np.array_equal(np.loadtxt(saved, delimiter=",", skiprows=1), np.hstack([q, qd, qdd]))
+
+
+def test_expand_then_reduce_is_the_transpose_pair():
+    """<G x, y> = <x, Gᵀ y> for the host's two maps (offsets zero), on a coupled chain."""
+    from dataclasses import replace
+
+    from vampc.robot.chain import Mimic
+    from vampc.robot.random import random_chain
+    chain = replace(random_chain(6, 1), mimic=(Mimic(3, 1, -0.7, 0.0), Mimic(6, 1, 2.0, 0.0)))
+    rng = np.random.default_rng(0)
+    x, y = rng.normal(size=(2, 4)), rng.normal(size=(2, 6))
+    gx = expand(chain, x, x, x)[1]
+    assert np.allclose(np.sum(gx * y, axis=1), np.sum(x * reduce_torques(chain, y), axis=1))
+
+
+# --- bad input: one line naming the joint -------------------------------------------------------------
+
+MIMIC_ERRORS = [
+    (gripper('<mimic joint="f9"/>', ""), {}, r"joint 'f2': mimics joint 'f9', which the file does not have"),
+    (gripper('<mimic joint="t2"/>', '<mimic joint="f2"/>'), {},
+     r"joint '(f2|t2)': mimic cycle (f2 -> t2 -> f2|t2 -> f2 -> t2): no joint leads it"),
+    (gripper('<mimic joint="f2"/>', ""), {}, r"joint 'f2': mimic cycle f2 -> f2: no joint leads it"),
+    (gripper('<mimic joint="f1"/>', ""), {"lock": {"f2": 0.1}},
+     r"lock f2: joint 'f2' follows joint 'f1' \(--mimic couple\): lock 'f1' instead"),
+]
+
+
+@pytest.mark.parametrize("text, options, message", MIMIC_ERRORS)
+def test_mimic_errors(tmp_path, text, options, message):
+    path = write(tmp_path, text)
+    assert_error(lambda: load_urdf(path, mimic="couple", **options), path, message)
+
+
+def test_a_leader_that_cannot_move_is_refused(tmp_path):
+    text = gripper("", '<mimic joint="j0"/>').replace(
+        '<link name="base">', '<link name="world"/><joint name="j0" type="fixed"><parent link="world"/>'
+        '<child link="base"/></joint><link name="base">')
+    path = write(tmp_path, text)
+    assert_error(lambda: load_urdf(path, mimic="couple"), path,
+                 r"joint 't2': mimics joint 'j0', which is fixed: it cannot lead")
+
+
+def test_a_locked_leader_locks_its_followers(tmp_path):
+    """f1 locked at 0.05: f2 = f1 is locked there too; t2 = -0.5 t1 + 0.3 still follows t1."""
+    path = write(tmp_path, COUPLED)
+    chain = load_urdf(path, mimic="couple", lock={"f1": 0.05})
+    assert [j.name for j in chain.joints] == ["j1", "j2", "t1", "t2"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        both = load_urdf(path, lock={"f1": 0.05, "f2": 0.05})
+    q = np.array([[0.2, -0.4, 0.3]])
+    full = expand(chain, q, q, q)[0]
+    from vampc.dynamics.reference import rnea
+    assert np.allclose(rnea(chain, full, full, full), rnea(both, full, full, full))
+
+
+def test_a_missing_leader_only_warns_when_mimics_are_ordinary(tmp_path):
+    """Pinocchio's default loads it (the tag is unused); --mimic couple refuses it (MIMIC_ERRORS)."""
+    path = write(tmp_path, gripper('<mimic joint="f9"/>', ""))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert load_urdf(path).n == 6
+    assert [str(w.message).split(": ", 1)[1] for w in caught] == [
+        "joint 'f2' mimics joint 'f9', which the file does not have; --mimic couple would refuse it",
+        "joint 'f2' mimics joint 'f9': taken as ordinary joints (own q, q̇, q̈ and torque), as Pinocchio "
+        "reads them by default; --mimic couple couples them"]
+
+
+def test_mimic_couple_is_for_robot_files(tmp_path):
+    runner = CliRunner()
+    r = runner.invoke(main, ["compile", "examples/puma560.yaml", "--mimic", "couple"])
+    assert r.exit_code == 2 and "--mimic applies to URDF files only" in r.output
+    path = write(tmp_path, COUPLED)
+    program = tmp_path / "g.vamp.json"
+    assert runner.invoke(main, ["compile", str(path), "-o", str(program)]).exit_code == 0
+    r = runner.invoke(main, ["emulate", str(program), "--random", "2", "--mimic", "couple"])
+    assert r.exit_code == 2 and "--mimic applies when compiling a robot file" in r.output
