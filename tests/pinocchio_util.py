@@ -48,3 +48,116 @@ def load_pin_urdf(path, floating: bool, mimic: bool = False):
     import pinocchio as pin
     args = (str(path), pin.JointModelFreeFlyer()) if floating else (str(path),)
     return pin.buildModelFromUrdf(*args, mimic=mimic)
+
+
+# --- every URDF of example-robot-data (tests/test_example_robot_data.py, benchmarks/) -----------------
+
+# A robot whose file has an inertia that is not positive semi-definite beyond rounding (vampc refuses
+# it unless --accept-improper-inertia; Pinocchio does not check): romeo_laas_small's hip links.
+IMPROPER_INERTIA = {"romeo_laas_small.urdf"}
+
+
+def erd_urdfs() -> dict:
+    """File name -> path of every URDF of the installed example-robot-data ({} when absent)."""
+    try:
+        from importlib.metadata import PackageNotFoundError, files
+        listed = files("example-robot-data") or ()
+    except PackageNotFoundError:
+        return {}
+    return dict(sorted((f.name, f.locate()) for f in listed if f.suffix == ".urdf"))
+
+
+def coupled_matrix(chain) -> np.ndarray:
+    """G with q_full = G q_free + b, from the chain's couplings (n × n_free)."""
+    followers = {m.follower - 1: m for m in chain.mimic}
+    free = [i for i in range(chain.n) if i not in followers]
+    g = np.zeros((chain.n, len(free)))
+    g[free, range(len(free))] = 1.0
+    for f, m in followers.items():
+        g[f, free.index(m.leader - 1)] = m.multiplier
+    return g
+
+
+def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
+                            recursions=("linear", "log")) -> dict:
+    """Load, compile, emulate (stream engine) `count` random states and compare with Pinocchio, each
+    recursion and each mimic mode the robot has. Returns what happened: `skip` (why the robot is not
+    a case: Pinocchio refuses it, or it has no movable joint), else `n`, `accepted` (whether it needed
+    --accept-improper-inertia), `check` (the largest error of vampc's own --check against its
+    reference RNEA, relative to each set's largest |τ|), and `errors`: (mimic mode, recursion) ->
+    the largest error against Pinocchio relative to the largest |τ|. Ordinary mimics are compared
+    with Pinocchio's default model; coupled ones with its mimic=True model where it builds one, and
+    always with Gᵀ τ of its default model at the expanded states."""
+    import warnings
+
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.emulator.host import check_torques, random_trajectory
+    from vampc.errors import VampcError
+    from vampc.robot import load_urdf
+    from vampc.robot.mimic import free_joints, free_names, reduce_torques
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model = load_pin_urdf(path, floating)
+    except Exception as exc:  # noqa: BLE001 - Pinocchio raises ValueError, RuntimeError...
+        return {"skip": f"Pinocchio refuses it ({' '.join(str(exc).split())[:80]})"}
+    if model.nv == (6 if floating else 0):
+        return {"skip": "no movable joint"}
+    out = {"errors": {}, "accepted": False, "check": 0.0}
+    for mimic in ("ordinary", "couple"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                chain = load_urdf(path, floating=floating, mimic=mimic,
+                                  accept_improper_inertia=out["accepted"])
+            except VampcError as exc:
+                if mimic == "couple" and _pin_refuses_mimic(path, floating):
+                    out["couple refused"] = str(exc).split(": ", 1)[1]   # as Pinocchio refuses it
+                    break
+                if "--accept-improper-inertia" not in str(exc):
+                    raise
+                out["accepted"] = True
+                chain = load_urdf(path, floating=floating, mimic=mimic, accept_improper_inertia=True)
+        if mimic == "couple" and not chain.mimic:
+            break
+        out["n"] = out.get("n", chain.n)
+        traj = random_trajectory(chain, count, seed)
+        names = [j.name for j in chain.joints]
+        full = pin_torques(model, names, traj.q, traj.qd, traj.qdd, traj.base)
+        wants = [full]
+        if chain.mimic:
+            g = coupled_matrix(chain)
+            g6 = np.block([[g, np.zeros((chain.n, full.shape[1] - chain.n))],
+                           [np.zeros((full.shape[1] - chain.n, g.shape[1])), np.eye(full.shape[1] - chain.n)]])
+            wants = [full @ g6]
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    coupled = load_pin_urdf(path, floating, mimic=True)
+            except Exception:  # noqa: BLE001 - e.g. a leader after its follower
+                coupled = None
+            if coupled is not None:
+                free = free_joints(chain)
+                wants.append(pin_torques(coupled, free_names(chain), traj.q[:, free], traj.qd[:, free],
+                                         traj.qdd[:, free], traj.base))
+        for recursion in recursions:
+            ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
+            tau = emulate(ld, traj, "stream").tau
+            res = check_torques(chain, traj, tau)
+            out["check"] = max(out["check"], res.max_rel if res.ok else np.inf)
+            got = reduce_torques(chain, tau)
+            out["errors"][(mimic, recursion)] = max(
+                float(np.max(np.abs(got - want)) / np.max(np.abs(want))) for want in wants)
+    return out
+
+
+def _pin_refuses_mimic(path, floating: bool) -> bool:
+    import warnings
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            load_pin_urdf(path, floating, mimic=True)
+    except Exception:  # noqa: BLE001
+        return True
+    return False

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import re
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 from errors_util import assert_error
 from frames_util import chain_frames as chain_poses
+from pinocchio_util import pin_arrays
 
 import vampc.robot
 from vampc.errors import VampcError, VampcWarning
@@ -332,7 +332,8 @@ URDF_ERRORS = [
     (robot(*ARM[:4], joint("j2", "ball", "l1", "l2")), {}, r"joint 'j2': unsupported joint type 'ball'"),
     (robot(link("base"), link("l1", -2.0), link("l2"), *ARM[3:]), {}, r"link 'l1': negative mass -2\.0"),
     (robot(link("base"), link("l1", 1.0, inertia=(1, 2, 0, 1, 0, 1)), link("l2"), *ARM[3:]), {},
-     r"link 'l1': inertia is not positive semi-definite \(eigenvalues -1, 1, 3\)"),
+     r"link 'l1': inertia is not positive semi-definite \(eigenvalues -1, 1, 3\); "
+     r"--accept-improper-inertia takes it as written, as Pinocchio does"),
     (robot(*ARM, joint("j3", "fixed", "base", "l2")), {},
      r"link 'l2': has two parent joints \('j2' and 'j3'\); closed loops are not supported"),
     (robot(link("a"), link("b"), joint("j1", "revolute", "a", "b"), joint("j2", "revolute", "b", "a")), {},
@@ -488,72 +489,6 @@ def test_loading_is_linear(tmp_path):
     assert lines[1] < 15 * lines[0], lines
 
 
-# --- trees from example-robot-data against Pinocchio (issue 12; skipped when either is absent) ---------
-
-def _erd_robots():
-    """Public trees from the example-robot-data package: a quadruped, humanoids, a dual-arm torso, a hand,
-    a legged manipulator, a mobile manipulator (its fixed-base tree)."""
-    missing = [pytest.param(None, marks=pytest.mark.skip(
-        reason="example-robot-data is not installed (pip install example-robot-data)"))]
-    try:
-        from importlib.metadata import files
-        found = {f.name: f for f in files("example-robot-data") or () if f.suffix == ".urdf"}
-    except Exception:  # noqa: BLE001 - not installed
-        return missing
-    names = ["solo12.urdf", "talos_reduced.urdf", "romeo_small.urdf", "allegro_left_hand.urdf",
-             "anymal-kinova.urdf", "g1_29dof_rev_1_0.urdf", "simple_humanoid.urdf", "tiago_dual.urdf"]
-    return [found[n].locate() for n in names if n in found] or missing
-
-
-def _pin_arrays(model, names, q, v, head_v):
-    pin = pytest.importorskip("pinocchio")
-    qq, vv = pin.neutral(model), np.zeros(model.nv)
-    vv[:len(head_v)] = head_v
-    for k, name in enumerate(names):
-        j = model.joints[model.getJointId(name)]
-        if j.nq == 2:                       # a continuous joint: (cos q, sin q)
-            qq[j.idx_q:j.idx_q + 2] = np.cos(q[k]), np.sin(q[k])
-        else:
-            qq[j.idx_q] = q[k]
-        vv[j.idx_v] = v[k]
-    return qq, vv
-
-
-@pytest.mark.parametrize("path", _erd_robots(), ids=lambda p: getattr(p, "name", "absent"))
-@pytest.mark.parametrize("floating", [False, True])
-def test_example_robot_data_tree_matches_pinocchio(path, floating):
-    pin = pytest.importorskip("pinocchio")
-    from vampc.compiler import CompileOptions, compile_chain, program_document
-    from vampc.emulator import emulate, loaded_from_doc
-    from vampc.emulator.host import random_trajectory
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            chain = load_urdf(path, floating=floating)
-        except VampcError as exc:       # e.g. a base antenna whose inertia is not positive semi-definite
-            pytest.skip(str(exc))
-        model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer()) if floating else \
-            pin.buildModelFromUrdf(str(path))
-    names = [j.name for j in chain.joints]
-    assert names == [n for n in model.names[1:] if n != "root_joint"]     # Pinocchio's joint order
-    traj = random_trajectory(chain, 4, 1)
-    data, want = model.createData(), []
-    for s in range(4):
-        base = traj.base[s] if floating else np.zeros(9)
-        q, v = _pin_arrays(model, names, traj.q[s], traj.qd[s], np.r_[np.zeros(3), base[:3]] if floating else [])
-        _, a = _pin_arrays(model, names, traj.q[s], traj.qdd[s], np.r_[base[6:], base[3:6]] if floating else [])
-        if floating:
-            q[:7] = [0, 0, 0, 0, 0, 0, 1]
-        tau = pin.rnea(model, data, q, v, a)
-        joints = [tau[model.joints[model.getJointId(n)].idx_v] for n in names]
-        want.append(np.r_[joints, tau[:6]] if floating else np.array(joints))
-    want = np.array(want)
-    for recursion in ("linear", "log"):
-        ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
-        got = emulate(ld, traj, "stream").tau
-        assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
-
-
 def test_a_tree_without_tip_is_taken_whole(tmp_path):
     """Issue 12 replaced the error "several movable branches below base link 'torso'; choose --tip from
     'left_hand', 'right_hand'" (a case of URDF_ERRORS until then): the tree is compiled whole, numbered
@@ -569,8 +504,8 @@ def test_a_tree_without_tip_is_taken_whole(tmp_path):
     from vampc.robot.random import random_state
     names = [j.name for j in chain.joints]
     for q, qd, qdd in zip(*random_state(chain, 3, 1)):
-        pq, pv = _pin_arrays(model, names, q, qd, [])
-        _, pa = _pin_arrays(model, names, q, qdd, [])
+        pq, pv = pin_arrays(model, names, q, qd, [])
+        _, pa = pin_arrays(model, names, q, qdd, [])
         want = pin.rnea(model, model.createData(), pq, pv, pa)
         assert np.max(np.abs(rnea(chain, q, qd, qdd) - want)) <= 1e-9 * np.max(np.abs(want))
 
@@ -600,6 +535,20 @@ def test_an_inertia_off_by_a_rounding_error_is_taken_with_a_warning(tmp_path):
                                           "taken as a rounding error"):
         chain = load_urdf(path)
     check_torques(path, chain)
+
+
+def test_an_improper_inertia_is_taken_as_written_when_asked(tmp_path):
+    """romeo_laas_small's hip link has eigenvalues (-0.0027, 0.040, 0.054), far beyond a rounding
+    error: refused by default (URDF_ERRORS), taken with a warning by --accept-improper-inertia, and
+    the torques are then Pinocchio's, which does not check."""
+    path = write(tmp_path, robot(link("base"), link("l1", 1.0, inertia=(1, 2, 0, 1, 0, 1)), link("l2"),
+                                 *ARM[3:]))
+    with pytest.warns(VampcWarning, match=r"link 'l1': inertia is not positive semi-definite "
+                                          r"\(eigenvalues -1, 1, 3\): taken as written"):
+        chain = load_urdf(path, accept_improper_inertia=True)
+    check_torques(path, chain)
+    with pytest.raises(VampcError):
+        load_urdf(path)                      # the next load is strict again
 
 
 def test_a_robot_without_a_name_is_named_after_its_file(tmp_path):

@@ -39,7 +39,8 @@ def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
     options.check()
     robot_opts.check(robot)
     return load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
-                      floating=robot_opts.floating_base, mimic=robot_opts.mimic)
+                      floating=robot_opts.floating_base, mimic=robot_opts.mimic,
+                      accept_improper_inertia=robot_opts.accept_improper_inertia)
 
 
 def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),

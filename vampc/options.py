@@ -203,6 +203,11 @@ class RobotOptions:
         "q_leader + offset); states give the independent joints only, and a leader's torque includes "
         "its followers' (README, URDF)."))
 
+    accept_improper_inertia: bool = field(default=False, metadata=cli(
+        "--accept-improper-inertia", help="URDF: take a link inertia that is not positive "
+        "semi-definite as written, with a warning naming the link, as Pinocchio does (by default one "
+        "that misses by more than a rounding error is refused)."))
+
     def locks(self) -> dict[str, float]:
         """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
         def bad(what: str) -> VampcUsageError:
@@ -228,7 +233,8 @@ class RobotOptions:
         """--base, --tip and --lock name URDF links and joints: a DH table is one chain."""
         from vampc.robot import URDF_SUFFIXES
         given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)] + \
-            (["--mimic"] if self.mimic != "ordinary" else [])
+            (["--mimic"] if self.mimic != "ordinary" else []) + \
+            (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
                                   f"URDF files only; {robot} is not a URDF (a DH table is one chain)")

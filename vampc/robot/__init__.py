@@ -19,10 +19,11 @@ __all__ = ["Chain", "Joint", "JointType", "Limits", "chain_from_dh", "load_dh", 
 
 def load_robot(path, base: str | None = None, tip: str | None = None,
                lock: dict[str, float] | None = None, floating: bool = False,
-               mimic: str = "ordinary") -> Chain:
+               mimic: str = "ordinary", accept_improper_inertia: bool = False) -> Chain:
     """Load a robot description as a Chain (a tree when the file is one); base, tip and lock select and
     freeze joints of a URDF tree; `floating` lets the base float (vampc.robot.chain); `mimic` says how
-    a URDF's mimic joints are read (vampc.robot.urdf.load_urdf)."""
+    a URDF's mimic joints are read and `accept_improper_inertia` whether an inertia that is not
+    positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
     from vampc.sniff import looks_like, suffix_mismatch
     path = Path(path)
     suffix = path.suffix.lower()
@@ -31,10 +32,12 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
         if mismatch:
             raise located(path, "", mismatch)
     if suffix in URDF_SUFFIXES:
-        return load_urdf(path, base=base, tip=tip, lock=lock, floating=floating, mimic=mimic)
+        return load_urdf(path, base=base, tip=tip, lock=lock, floating=floating, mimic=mimic,
+                         accept_improper_inertia=accept_improper_inertia)
     if suffix in YAML_SUFFIXES + JSON_SUFFIXES:
-        if base is not None or tip is not None or lock or mimic != "ordinary":
-            raise located(path, "", "base, tip, lock and mimic apply to URDF files only (a DH table is one chain)")
+        if base is not None or tip is not None or lock or mimic != "ordinary" or accept_improper_inertia:
+            raise located(path, "", "base, tip, lock, mimic and accept_improper_inertia apply to URDF files "
+                                    "only (a DH table is one chain)")
         return load_dh(path, floating=floating)
     raise located(path, "", f"unknown robot file extension {path.suffix!r}{looks_like(path)} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")

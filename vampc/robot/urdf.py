@@ -32,6 +32,7 @@ import io
 import math
 import re
 import warnings
+from contextvars import ContextVar
 from pathlib import Path
 
 import numpy as np
@@ -67,7 +68,7 @@ _IDENTITY.flags.writeable = False  # shared by every missing <origin> and every 
 
 def load_urdf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None, floating: bool = False,
-              mimic: str = "ordinary") -> Chain:
+              mimic: str = "ordinary", accept_improper_inertia: bool = False) -> Chain:
     """Read a URDF and return its robot: the chain of movable joints from link `base` (default: the root)
     to link `tip` when `tip` is given or the movable joints form one branch, else the whole tree (every
     movable joint below `base`, numbered depth-first, children in Pinocchio's order: vampc.robot.urdf_tree).
@@ -75,12 +76,18 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     joint off the chain freezes everything below it too. Locking a fixed joint has no effect and warns
     (VampcWarning). `floating`, or a root joint of type floating, lets the base link float. `mimic`:
     "ordinary" reads a `<mimic>` joint as an ordinary joint (Pinocchio's default), "couple" couples it
-    to its leader (vampc.robot.mimic; a follower of a locked leader is locked with it)."""
+    to its leader (vampc.robot.mimic; a follower of a locked leader is locked with it).
+    `accept_improper_inertia` takes an inertia that is not positive semi-definite as written, with a
+    warning naming the link, however far it misses (Pinocchio does not check)."""
     path = Path(path)
     if mimic not in MIMIC_MODES:
         raise ValueError(f"mimic must be one of {MIMIC_MODES}, not {mimic!r}")
-    with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
-        return _load(path, base, tip, lock, floating, mimic)
+    token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
+    try:
+        with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
+            return _load(path, base, tip, lock, floating, mimic)
+    finally:
+        _ACCEPT_IMPROPER.reset(token)
 
 
 MIMIC_MODES = ("ordinary", "couple")
@@ -556,6 +563,9 @@ def _check_mass(inertial, link: str, path: Path) -> None:
 # rounding error of the file (exported models print a few digits): taken as it is, with a warning.
 NEARLY_PSD = 1e-4
 NEARLY_PSD_ABS = 1e-7
+# --accept-improper-inertia, for the load under way (a context variable: the checks sit deep in the
+# body computations, and a load in one thread must not change another's).
+_ACCEPT_IMPROPER: ContextVar[bool] = ContextVar("accept_improper_inertia", default=False)
 
 
 def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
@@ -570,7 +580,12 @@ def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
                                        f"{NEARLY_PSD:g} of its largest entry or {NEARLY_PSD_ABS:g} "
                                        "kg m²: taken as a rounding error"), stacklevel=2)
             continue
-        raise located(path, f"link '{names[i]}'", problem)
+        if _ACCEPT_IMPROPER.get():
+            warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}: taken as written "
+                                       "(--accept-improper-inertia); no rigid body has it"), stacklevel=2)
+            continue
+        raise located(path, f"link '{names[i]}'", f"{problem}; --accept-improper-inertia takes it as "
+                                                  "written, as Pinocchio does")
 
 
 def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, inertia: np.ndarray):
