@@ -2,6 +2,8 @@
 in vampc's joint order. Used by the tests and by benchmarks/example_robot_data.py."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 
@@ -83,7 +85,8 @@ def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
     """Load, compile, emulate (stream engine) `count` random states and compare with Pinocchio, each
     recursion and each mimic mode the robot has. Returns what happened: `skip` (why the robot is not
     a case: Pinocchio refuses it, or it has no movable joint), else `n`, `accepted` (whether it needed
-    --accept-improper-inertia), `check` (the largest error of vampc's own --check against its
+    --accept-improper-inertia), `coupled` (how many joints --mimic couple couples, when any; `couple
+    refused`: why it refused them, where Pinocchio's mimic model refuses them too), `check` (the largest error of vampc's own --check against its
     reference RNEA, relative to each set's largest |τ|), and `errors`: (mimic mode, recursion) ->
     the largest error against Pinocchio relative to the largest |τ|. Ordinary mimics are compared
     with Pinocchio's default model; coupled ones with its mimic=True model where it builds one, and
@@ -101,7 +104,8 @@ def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
             warnings.simplefilter("ignore")
             model = load_pin_urdf(path, floating)
     except Exception as exc:  # noqa: BLE001 - Pinocchio raises ValueError, RuntimeError...
-        return {"skip": f"Pinocchio refuses it ({' '.join(str(exc).split())[:80]})"}
+        why = " ".join(str(exc).replace(str(path), Path(path).name).split())
+        return {"skip": f"Pinocchio refuses it ({why[:100]})"}
     if model.nv == (6 if floating else 0):
         return {"skip": "no movable joint"}
     out = {"errors": {}, "accepted": False, "check": 0.0}
@@ -121,6 +125,8 @@ def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
                 chain = load_urdf(path, floating=floating, mimic=mimic, accept_improper_inertia=True)
         if mimic == "couple" and not chain.mimic:
             break
+        if chain.mimic:
+            out["coupled"] = len(chain.mimic)
         out["n"] = out.get("n", chain.n)
         traj = random_trajectory(chain, count, seed)
         names = [j.name for j in chain.joints]
