@@ -1,7 +1,8 @@
 """The robot model (Chain, Joint: the paper's notation) and the loaders that produce it.
 
-`load_robot` picks the loader from the file extension: .urdf/.xml → `load_urdf`, .yaml/.yml/.json →
-`load_dh` (a standard DH table, schema `schemas/dh-table.schema.json`).
+`load_robot` picks the loader from the file extension: .urdf/.xml → `load_urdf` (an .xml file whose root
+is <mujoco> → `load_mjcf`), .yaml/.yml/.json → `load_dh` (a standard DH table, schema
+`schemas/dh-table.schema.json`).
 """
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from pathlib import Path
 from vampc.errors import located
 from vampc.robot.chain import Chain, Joint, JointType, Limits
 from vampc.robot.dh import JSON_SUFFIXES, YAML_SUFFIXES, chain_from_dh, load_dh
+from vampc.robot.mjcf import is_mjcf, load_mjcf
 from vampc.robot.urdf import load_urdf
 
 URDF_SUFFIXES = (".urdf", ".xml")
@@ -31,6 +33,11 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
         mismatch = suffix_mismatch(path, "urdf" if suffix in URDF_SUFFIXES else "dh")
         if mismatch:
             raise located(path, "", mismatch)
+    if suffix == ".xml" and is_mjcf(path):
+        if mimic != "ordinary":
+            raise located(path, "", "--mimic applies to URDF <mimic> joints; an MJCF model has none")
+        return load_mjcf(path, base=base, tip=tip, lock=lock, floating=floating,
+                         accept_improper_inertia=accept_improper_inertia)
     if suffix in URDF_SUFFIXES:
         return load_urdf(path, base=base, tip=tip, lock=lock, floating=floating, mimic=mimic,
                          accept_improper_inertia=accept_improper_inertia)

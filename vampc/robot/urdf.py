@@ -96,7 +96,20 @@ MIMIC_MODES = ("ordinary", "couple")
 def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None,
           floating: bool = False, mimic: str = "ordinary") -> Chain:
     robot = _read_robot(path)
-    tree = Tree.build(robot, path)
+    return chain_of(robot, Tree.build(robot, path), path, base, tip, lock, floating, mimic)
+
+
+def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
+             lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
+             accept_improper_inertia: bool | None = None) -> Chain:
+    """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
+    too): base, tip, lock, floating and mimic as `load_urdf` takes them."""
+    if accept_improper_inertia is not None:
+        token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
+        try:
+            return chain_of(robot, tree, path, base, tip, lock, floating, mimic)
+        finally:
+            _ACCEPT_IMPROPER.reset(token)
     lock = _check_lock(lock or {}, tree, path)
     leaders = _mimic_leaders(tree, path) if mimic == "couple" else {}
     lock = _lock_followers(leaders, lock, tree, path)
@@ -185,7 +198,7 @@ def _coupled(chain: Chain, leaders: dict, path: Path) -> Chain:
 def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, path: Path) -> Chain:
     """The whole tree below `base`: every movable, unlocked joint, depth-first (children in Pinocchio's
     order); the links each carries through fixed and locked joints form its body."""
-    below = tree.below(base, by_name=True)
+    below = tree.below(base, by_name=tree.by_name)
     joints = [j for j in below if j.type in MOVABLE and j.name not in lock]
     _check_chain(joints, base, "", path)
     index = {j.name: k for k, j in enumerate(joints, 1)}
@@ -430,7 +443,7 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=0.0,
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
-    return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ GRAVITY, source=str(path))
+    return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ np.array(tree.gravity), source=str(path))
 
 
 def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict, body_of: dict,
@@ -461,7 +474,8 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
                            mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path),
                            **frame))
     extra = _base_body(tree, body_of, g[0], frames, path) if floating else {}
-    return Chain(name=name, joints=tuple(built), gravity=g[0, :3, :3].T @ GRAVITY, source=str(path),
+    return Chain(name=name, joints=tuple(built), gravity=g[0, :3, :3].T @ np.array(tree.gravity),
+                 source=str(path),
                  parents=tuple(parents), **extra)
 
 

@@ -1,0 +1,188 @@
+"""MJCF input (issue "Every robot Pinocchio loads", part 5): MuJoCo models written for the tests -- a
+serial arm, a quadruped on a free joint, a humanoid-like tree -- compiled, emulated (both recursions)
+and compared with Pinocchio's MJCF model (pin.buildModelFromMJCF) and with MuJoCo's own inverse
+dynamics (mj_inverse); and what is refused, one line each."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from errors_util import assert_error
+
+from vampc.errors import VampcWarning
+from vampc.robot import load_robot
+
+mujoco = pytest.importorskip("mujoco")
+pin = pytest.importorskip("pinocchio")
+
+INERTIAL = '<inertial pos="{c}" mass="{m}" diaginertia="{i}" quat="{q}"/>'
+
+
+def body(name, pos, joints, inner="", m=1.0, c="0.05 0.01 0", i="0.01 0.02 0.025", q="1 0 0 0",
+         quat="1 0 0 0"):
+    """A <body> with its joints (name, type, axis, pos, range or None) and children."""
+    js = "".join(f'<joint name="{n}" type="{t}" axis="{a}" pos="{p}"'
+                 + (f' range="{r}" limited="true"' if r else "") + "/>" for n, t, a, p, r in joints)
+    return (f'<body name="{name}" pos="{pos}" quat="{quat}">{js}'
+            + INERTIAL.format(c=c, m=m, i=i, q=q) + inner + "</body>")
+
+
+def model(name, bodies, gravity="0 0 -9.81", extra=""):
+    return (f'<mujoco model="{name}"><option gravity="{gravity}"/><worldbody>{bodies}</worldbody>'
+            f"{extra}</mujoco>")
+
+
+# A 6-joint arm: rotated bodies, joints off the body origin, a slide, tilted principal axes, a
+# body with two hinges (Pinocchio makes it a composite joint), a non-default gravity.
+ARM = model("arm", body(
+    "shoulder", "0 0 0.3", [("j1", "hinge", "0 0 1", "0.01 0 0", "-2 2")], quat="0.9 0.1 0.2 0.1", inner=body(
+        "upper", "0.05 0 0.1", [("j2", "hinge", "0 1 0", "0 0 0", None)], q="0.8 0.2 0.1 0", inner=body(
+            "fore", "0.3 0 0", [("j3", "hinge", "0 1 0", "0 0.02 0", None)], inner=body(
+                "slider", "0.25 0 0", [("j4", "slide", "1 0 0", "0 0 0", "-0.1 0.1")], m=0.4, inner=body(
+                    "wrist", "0.05 0 0", [("j5", "hinge", "1 0 0", "0 0 0.01", None),
+                                          ("j6", "hinge", "0 0 1", "0 0 0", None)], m=0.3))))),
+    gravity="0.5 -0.3 -9.7")
+
+
+def leg(side, x, y):
+    return body(f"{side}_hip", f"{x} {y} 0", [(f"{side}_haa", "hinge", "1 0 0", "0 0 0", "-1 1")], m=0.6,
+                inner=body(f"{side}_thigh", "0 0.05 0", [(f"{side}_hfe", "hinge", "0 1 0", "0 0 0", None)],
+                           m=0.9, c="0 0 -0.1", inner=body(
+                               f"{side}_shank", "0 0 -0.2", [(f"{side}_kfe", "hinge", "0 1 0", "0 0 0", None)],
+                               m=0.3, c="0 0 -0.1")))
+
+
+QUADRUPED = model("quadruped", body(
+    "trunk", "0 0 0.5", [], m=6.0, i="0.05 0.2 0.22", c="0.01 0 0.02",
+    inner=leg("lf", 0.3, 0.1) + leg("rf", 0.3, -0.1) + leg("lh", -0.3, 0.1) + leg("rh", -0.3, -0.1)
+).replace('<body name="trunk" pos="0 0 0.5" quat="1 0 0 0">',
+          '<body name="trunk" pos="0 0 0.5" quat="1 0 0 0"><freejoint name="root"/>'))
+
+
+def limb(name, pos, axes, m=1.0):
+    """A limb of three bodies; the first has two hinges (a hip or a shoulder)."""
+    return body(f"{name}1", pos, [(f"{name}_x", "hinge", "1 0 0", "0 0 0", None),
+                                  (f"{name}_y", "hinge", "0 1 0", "0 0 0.02", None)], m=m, inner=body(
+        f"{name}2", "0 0 -0.3", [(f"{name}_knee", "hinge", axes, "0 0 0", None)], m=0.7 * m,
+        c="0 0 -0.15", inner=body(f"{name}3", "0 0 -0.3", [(f"{name}_ankle", "hinge", "0 1 0", "0 0 0", None)],
+                                  m=0.2 * m)))
+
+
+HUMANOID = model("humanoid", body(
+    "pelvis", "0 0 1", [], m=8.0, i="0.1 0.1 0.08", inner=(
+        limb("lleg", "0 0.1 -0.1", "0 1 0", 3.0) + limb("rleg", "0 -0.1 -0.1", "0 1 0", 3.0)
+        + body("torso", "0 0 0.2", [("waist", "hinge", "0 0 1", "0 0 0", None)], m=10.0, i="0.3 0.3 0.1",
+               inner=limb("larm", "0 0.2 0.3", "0 1 0", 1.0) + limb("rarm", "0 -0.2 0.3", "1 0 0", 1.0)
+               + body("head", "0 0 0.4", [("neck", "hinge", "0 0 1", "0 0 0", None)], m=2.0))))
+).replace('<body name="pelvis" pos="0 0 1" quat="1 0 0 0">',
+          '<body name="pelvis" pos="0 0 1" quat="1 0 0 0"><freejoint name="root"/>')
+
+
+def pin_reference(path, chain, traj):
+    """Pinocchio's rnea on its MJCF model, its velocities in vampc's joint order (its v order, one
+    entry a joint, a composite's in file order), gravity set from the file as MuJoCo reads it."""
+    pm = pin.buildModelFromMJCF(str(path))
+    pm.gravity.linear = mujoco.MjModel.from_xml_path(str(path)).opt.gravity
+    head = 6 if chain.floating else 0
+    assert pm.nv == chain.n + head
+    data, out = pm.createData(), []
+    for s in range(traj.count):
+        q, v, a = pin.neutral(pm), np.zeros(pm.nv), np.zeros(pm.nv)
+        q[head + (1 if head else 0):] = traj.q[s]
+        v[head:], a[head:] = traj.qd[s], traj.qdd[s]
+        if head:
+            q[:7] = [0, 0, 0, 0, 0, 0, 1]
+            b = traj.base[s]
+            v[:6], a[:6] = np.r_[0, 0, 0, b[:3]], np.r_[b[6:], b[3:6]]
+        tau = pin.rnea(pm, data, q, v, a)
+        out.append(np.r_[tau[head:], tau[:6]] if head else tau)
+    return np.array(out)
+
+
+def mujoco_reference(path, traj):
+    """MuJoCo's mj_inverse for a fixed base (its qpos is vampc's q)."""
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    out = []
+    for s in range(traj.count):
+        d.qpos[:], d.qvel[:], d.qacc[:] = traj.q[s], traj.qd[s], traj.qdd[s]
+        mujoco.mj_inverse(m, d)
+        out.append(d.qfrc_inverse.copy())
+    return np.array(out)
+
+
+@pytest.mark.parametrize("name, text, n, floating", [("arm", ARM, 6, False),
+                                                     ("quadruped", QUADRUPED, 12, True),
+                                                     ("humanoid", HUMANOID, 18, True)])
+def test_mjcf_models_match_pinocchio(tmp_path, name, text, n, floating):
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.emulator.host import check_torques, random_trajectory
+    path = tmp_path / f"{name}.xml"
+    path.write_text(text)
+    chain = load_robot(path)
+    assert chain.n == n and chain.floating == floating and chain.name == name
+    traj = random_trajectory(chain, 5, 2)
+    want = pin_reference(path, chain, traj)
+    if not floating:
+        assert np.max(np.abs(mujoco_reference(path, traj) - want)) <= 1e-9 * np.max(np.abs(want))
+    for recursion in ("linear", "log"):
+        ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
+        tau = emulate(ld, traj, "stream").tau
+        assert check_torques(chain, traj, tau).ok
+        assert np.max(np.abs(tau - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_the_command_line_compiles_an_mjcf_model(tmp_path):
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM)
+    r = CliRunner().invoke(main, ["compile", str(path), "-o", str(tmp_path / "arm.vamp.json")])
+    assert r.exit_code == 0, r.output
+    assert "arm.vamp.json: 6 joints" in r.output
+    r = CliRunner().invoke(main, ["emulate", str(tmp_path / "arm.vamp.json"), "--random", "50", "--check"])
+    assert r.exit_code == 0 and ": OK" in r.output, r.output
+
+
+MJCF_ERRORS = [
+    (model("b", body("a", "0 0 0", [("j1", "ball", "0 0 1", "0 0 0", None)])), "",
+     r"joint 'j1': ball joints are not supported \(one degree of freedom per joint: use three hinges\)"),
+    (model("t", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]),
+           extra='<tendon><fixed name="tt"><joint joint="j1" coef="1"/></fixed></tendon>'), "",
+     r"tendon 'tt': tendons are not supported \(the network computes an open tree\)"),
+    (model("e", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
+        "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
+           extra='<equality><joint name="eq" joint1="j1" joint2="j2"/></equality>'), "",
+     r"equality 'eq': equality constraints are not supported \(the network computes an open tree\)"),
+    (model("i", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)])).replace(
+        "<worldbody>", '<include file="missing.xml"/><worldbody>'), "",
+     r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
+    (model("r", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]).replace(
+        'name="j1"', 'name="j1" ref="0.3"')), "",
+     r"joint 'j1': ref=0\.00523599 rad is not supported \(vampc's q is MuJoCo's qpos - ref only when "
+     r"ref is 0\)"),
+]
+
+
+@pytest.mark.parametrize("text, _, message", MJCF_ERRORS)
+def test_mjcf_errors(tmp_path, text, _, message):
+    path = tmp_path / "bad.xml"
+    path.write_text(text)
+    assert_error(lambda: load_robot(path), path, message)
+
+
+def test_what_inverse_dynamics_leaves_out_is_a_warning(tmp_path):
+    path = tmp_path / "d.xml"
+    path.write_text(model("d", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]).replace(
+        'name="j1"', 'name="j1" damping="0.5" armature="0.01"')))
+    with pytest.warns(VampcWarning, match="joint armature, damping ignored: not part of rigid-body inverse "
+                                          "dynamics"):
+        assert load_robot(path).n == 1
+
+
+def test_mimic_couple_does_not_apply_to_mjcf(tmp_path):
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM)
+    assert_error(lambda: load_robot(path, mimic="couple"), path,
+                 r"--mimic applies to URDF <mimic> joints; an MJCF model has none")

@@ -1,0 +1,233 @@
+"""MJCF (MuJoCo) → Chain: a MuJoCo model read by MuJoCo's own compiler, then built like a URDF.
+
+The `mujoco` package (the `mjcf` extra: `pip install "vampc[mjcf]"`, imported only here) compiles the
+file: includes, defaults, angle units, euler conventions, frames and inertias inferred from geoms are
+MuJoCo's reading, not ours. From the compiled model vampc takes, per body, its pose in its parent
+(body_pos, body_quat), its mass, centre of mass and principal inertia (body_ipos, body_iquat,
+body_inertia), and its joints (type, pos, axis, range), and the gravity (opt.gravity, in the world
+frame). These become links and joints of the shape yourdfpy gives for a URDF, and the URDF loader's
+tree building (vampc.robot.urdf.chain_of) makes the Chain, so frames, merged fixed bodies and trees are
+computed by one code.
+
+MuJoCo moves a body with joints j_1..j_k (at pos c_i, axis a_i, in the body frame) by
+T(c_1) M_1(q_1) T(-c_1) ⋯ T(c_k) M_k(q_k) T(-c_k) after its pose X in the parent. Link joint j_1's
+origin is X T(c_1), j_i's (i > 1) T(c_i - c_{i-1}) in a massless link between them, and the body's own
+link sits at T(c_k) from the body frame: its inertial and its children's poses are shifted by
+T(-c_k). A free joint on a body the world carries makes it the floating base (its pose in the world is
+then the base's motion, the host's input); gravity is MuJoCo's, in the world frame, with the base at
+the world's orientation for a floating base. Bodies welded to their parent (no joint) merge into it.
+Children are numbered in file order, as Pinocchio's MJCF reader numbers them.
+
+Refused, one line each naming the joint or element: ball joints, free joints below the root,
+tendons, equality constraints, a joint `ref` other than 0 (q would not be MuJoCo's qpos), and what
+MuJoCo itself refuses (an unreadable `<include>`, a bad attribute: its message, with the file).
+Ignored with a warning: joint armature, damping, friction loss and springs (not rigid-body inverse
+dynamics; Pinocchio's rnea leaves them out too).
+"""
+from __future__ import annotations
+
+import re
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vampc.errors import VampcError, VampcWarning, located
+from vampc.gcpause import gc_paused
+
+FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
+KINDS = {SLIDE: "prismatic", HINGE: "revolute"}
+
+
+@dataclass
+class _Inertial:
+    mass: float
+    inertia: np.ndarray
+    origin: np.ndarray
+
+
+@dataclass
+class _Link:
+    name: str
+    inertial: _Inertial | None
+
+
+@dataclass
+class _Limit:
+    lower: float | None
+    upper: float | None
+    velocity: float | None = None
+    effort: float | None = None
+
+
+@dataclass
+class _Joint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: np.ndarray
+    axis: np.ndarray
+    limit: _Limit | None = None
+    mimic: None = None
+
+
+@dataclass
+class _Robot:
+    name: str
+    links: list
+    joints: list
+
+
+def is_mjcf(path) -> bool:
+    """An XML file whose root element is <mujoco> (read from its first 4 KiB)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False
+    return re.search(rb"<mujoco[\s>/]", re.sub(rb"<!--.*?-->", b"", head, flags=re.S)) is not None
+
+
+def load_mjcf(path, base: str | None = None, tip: str | None = None,
+              lock: dict[str, float] | None = None, floating: bool = False,
+              accept_improper_inertia: bool = False) -> object:
+    """Read an MJCF file as a Chain (see the module docstring); base, tip, lock and floating as
+    vampc.robot.urdf.load_urdf takes them (links are MuJoCo's bodies)."""
+    from vampc.robot.urdf import chain_of
+    from vampc.robot.urdf_tree import Tree
+    path = Path(path)
+    model = _compiled(path)
+    with gc_paused():
+        robot, gravity = _robot(model, path)
+        tree = Tree.build(robot, path, gravity=gravity, by_name=False)
+        return chain_of(robot, tree, path, base, tip, lock, floating,
+                        accept_improper_inertia=accept_improper_inertia)
+
+
+def _compiled(path: Path):
+    try:
+        import mujoco
+    except ImportError:
+        raise VampcError(f"{path}: an MJCF (MuJoCo) model needs the mujoco package: "
+                         "pip install \"vampc[mjcf]\"") from None
+    if not path.is_file():
+        raise located(path, "", "no such file" if not path.exists() else "not a regular file")
+    try:
+        return mujoco.MjModel.from_xml_path(str(path))
+    except ValueError as exc:            # MuJoCo's parser and compiler errors
+        raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
+
+
+def _robot(model, path: Path):
+    """Links and joints of the compiled model, and the gravity."""
+    import mujoco
+    body_name = [model.body(b).name or f"body{b}" for b in range(model.nbody)]
+    body_name[0] = model.body(0).name or "world"
+    joint_name = [model.joint(j).name or f"joint{j}" for j in range(model.njnt)]
+    _refuse(model, path, joint_name, mujoco)
+    links = [_Link(body_name[0], None)]
+    joints = []
+    shift = {0: np.eye(4)}          # each body's own link frame from the body frame: T(-c_k)
+    for b in range(1, model.nbody):
+        parent = int(model.body_parentid[b])
+        x = shift[parent] @ _pose(model.body_pos[b], model.body_quat[b])   # the body in its parent's link
+        first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
+        kinds = [int(model.jnt_type[j]) for j in range(first, first + count)]
+        inertial = _inertial(model, b)
+        if count == 0:
+            joints.append(_Joint(f"{body_name[b]}_weld", "fixed", body_name[parent], body_name[b], x,
+                                 np.array([0.0, 0.0, 1.0])))
+            shift[b] = np.eye(4)
+        elif kinds == [FREE]:
+            if parent != 0:
+                raise located(path, f"joint '{joint_name[first]}'", "a free joint is the floating base; "
+                                                                   "only a body the world carries may have one")
+            joints.append(_Joint(joint_name[first], "floating", body_name[parent], body_name[b], x,
+                                 np.array([0.0, 0.0, 1.0])))
+            shift[b] = np.eye(4)
+        else:
+            at, previous, link = x, np.zeros(3), body_name[parent]
+            for i, j in enumerate(range(first, first + count)):
+                c = np.array(model.jnt_pos[j], dtype=float)
+                child = body_name[b] if i == count - 1 else f"{body_name[b]}__{joint_name[j]}"
+                if i < count - 1:
+                    links.append(_Link(child, None))
+                kind = KINDS[int(model.jnt_type[j])]
+                if kind == "revolute" and not model.jnt_limited[j]:
+                    kind = "continuous"
+                joints.append(_Joint(joint_name[j], kind, link, child,
+                                     at @ _translation(c - previous), np.array(model.jnt_axis[j], dtype=float),
+                                     _limit(model, j)))
+                at, previous, link = np.eye(4), c, child
+            shift[b] = _translation(-previous)
+        if inertial is not None:
+            inertial.origin = shift[b] @ inertial.origin
+        links.append(_Link(body_name[b], inertial))
+    name = model.names[:model.names.index(b"\0")].decode() if model.names else ""
+    return _Robot(name or path.stem, links, joints), tuple(float(g) for g in model.opt.gravity)
+
+
+def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
+    """What vampc does not model: ball joints, tendons, equality constraints, a nonzero ref; and a
+    warning for what rigid-body inverse dynamics leaves out."""
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) == BALL:
+            raise located(path, f"joint '{joint_name[j]}'", "ball joints are not supported (one degree "
+                                                            "of freedom per joint: use three hinges)")
+        if int(model.jnt_type[j]) == FREE and int(model.body_jntnum[model.jnt_bodyid[j]]) > 1:
+            raise located(path, f"joint '{joint_name[j]}'", "a free joint must be its body's only joint")
+        ref = model.qpos0[model.jnt_qposadr[j]]
+        if int(model.jnt_type[j]) in (HINGE, SLIDE) and ref != 0:
+            unit = "rad" if int(model.jnt_type[j]) == HINGE else "m"
+            raise located(path, f"joint '{joint_name[j]}'", f"ref={ref:g} {unit} is not supported (vampc's "
+                                                            "q is MuJoCo's qpos - ref only when ref is 0)")
+    if model.ntendon:
+        raise located(path, f"tendon '{model.tendon(0).name or 0}'", "tendons are not supported (the "
+                                                                    "network computes an open tree)")
+    if model.neq:
+        raise located(path, f"equality '{model.equality(0).name or 0}'", "equality constraints are not "
+                                                                       "supported (the network computes "
+                                                                       "an open tree)")
+    extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
+                                        ("frictionloss", model.dof_frictionloss),
+                                        ("stiffness", model.jnt_stiffness)) if np.any(values)]
+    if extras:
+        warnings.warn(VampcWarning(f"{path}: joint {', '.join(extras)} ignored: not part of rigid-body "
+                                   "inverse dynamics (nor of Pinocchio's rnea)"), stacklevel=4)
+
+
+def _inertial(model, b: int) -> _Inertial | None:
+    mass = float(model.body_mass[b])
+    diag = np.array(model.body_inertia[b], dtype=float)
+    if mass == 0 and not np.any(diag):
+        return None
+    # principal moments in the principal frame, whose pose in the body is (ipos, iquat)
+    return _Inertial(mass, np.diag(diag), _pose(model.body_ipos[b], model.body_iquat[b]))
+
+
+def _limit(model, j: int) -> _Limit | None:
+    if not model.jnt_limited[j]:
+        return None
+    lower, upper = (float(x) for x in model.jnt_range[j])
+    return _Limit(lower, upper)
+
+
+def _quat(q) -> np.ndarray:
+    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _pose(pos, quat) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, :3], out[:3, 3] = _quat(quat), pos
+    return out
+
+
+def _translation(v) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, 3] = v
+    return out
