@@ -146,6 +146,11 @@ def test_the_command_line_compiles_an_mjcf_model(tmp_path):
 
 
 MJCF_ERRORS = [
+    (model("u", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
+        "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
+           extra='<equality><joint joint1="j1" joint2="j2"/></equality>'), "",
+     r"the first <equality> \(unnamed\): equality constraints are not supported \(the network computes "
+     r"an open tree\)"),
     (model("b", body("a", "0 0 0", [("j1", "ball", "0 0 1", "0 0 0", None)])), "",
      r"joint 'j1': ball joints are not supported \(one degree of freedom per joint: use three hinges\)"),
     (model("t", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]),
@@ -160,8 +165,8 @@ MJCF_ERRORS = [
      r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
     (model("r", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]).replace(
         'name="j1"', 'name="j1" ref="0.3"')), "",
-     r"joint 'j1': ref=0\.00523599 rad is not supported \(vampc's q is MuJoCo's qpos - ref only when "
-     r"ref is 0\)"),
+     r"joint 'j1': ref=0\.00523599 rad is not supported \(vampc's q is 0 in the pose the file gives, "
+     r"where MuJoCo's qpos is ref\)"),
 ]
 
 

@@ -121,7 +121,8 @@ def main():
     """Compile a robot description into a program for a network of VAMPs (Lathrop, Parallelism in
     Manipulator Dynamics), emulate it bit-exactly, and report what it costs.
 
-    ROBOT files: a Denavit-Hartenberg table (.yaml, .yml, .json) or a URDF (.urdf, .xml). Outputs
+    ROBOT files: a Denavit-Hartenberg table (.yaml, .yml, .json), a URDF (.urdf, .xml) or a MuJoCo
+    MJCF model (.xml with a <mujoco> root; pip install "vampc[mjcf]"). Outputs
     never replace an input, a folder or a device, and a failed run leaves existing files as they
     were (README "Output files").
     """

@@ -204,7 +204,7 @@ class RobotOptions:
         "its followers' (README, URDF)."))
 
     accept_improper_inertia: bool = field(default=False, metadata=cli(
-        "--accept-improper-inertia", help="URDF: take a link inertia that is not positive "
+        "--accept-improper-inertia", help="URDF and MJCF: take a link inertia that is not positive "
         "semi-definite as written, with a warning naming the link, as Pinocchio does (by default one "
         "that misses by more than a rounding error is refused)."))
 
@@ -238,6 +238,11 @@ class RobotOptions:
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
                                   f"URDF files only; {robot} is not a URDF (a DH table is one chain)")
+        if self.mimic != "ordinary" and Path(robot).suffix.lower() == ".xml":
+            from vampc.robot.mjcf import is_mjcf
+            if is_mjcf(robot):
+                raise VampcUsageError(f"--mimic applies to URDF <mimic> joints; {robot} is an MJCF model "
+                                      "(it has none)")
         self.locks()
 
 

@@ -26,7 +26,6 @@ dynamics; Pinocchio's rnea leaves them out too).
 """
 from __future__ import annotations
 
-import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -81,13 +80,17 @@ class _Robot:
 
 
 def is_mjcf(path) -> bool:
-    """An XML file whose root element is <mujoco> (read from its first 4 KiB)."""
+    """An XML file whose root element is <mujoco> (only its first start tag is parsed; entities are
+    neither loaded nor resolved). False for anything else, unreadable or not XML: the URDF loader then
+    says what is wrong."""
+    from lxml import etree
     try:
-        with open(path, "rb") as fh:
-            head = fh.read(4096)
-    except OSError:
+        for _, element in etree.iterparse(str(path), events=("start",), resolve_entities=False,
+                                          no_network=True, load_dtd=False):
+            return etree.QName(element).localname == "mujoco"
+    except (etree.XMLSyntaxError, OSError, ValueError):
         return False
-    return re.search(rb"<mujoco[\s>/]", re.sub(rb"<!--.*?-->", b"", head, flags=re.S)) is not None
+    return False
 
 
 def load_mjcf(path, base: str | None = None, tip: str | None = None,
@@ -182,20 +185,26 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
         if int(model.jnt_type[j]) in (HINGE, SLIDE) and ref != 0:
             unit = "rad" if int(model.jnt_type[j]) == HINGE else "m"
             raise located(path, f"joint '{joint_name[j]}'", f"ref={ref:g} {unit} is not supported (vampc's "
-                                                            "q is MuJoCo's qpos - ref only when ref is 0)")
+                                                            "q is 0 in the pose the file gives, where "
+                                                            "MuJoCo's qpos is ref)")
     if model.ntendon:
-        raise located(path, f"tendon '{model.tendon(0).name or 0}'", "tendons are not supported (the "
-                                                                    "network computes an open tree)")
+        raise located(path, _element("tendon", model.tendon(0).name), "tendons are not supported (the "
+                                                                     "network computes an open tree)")
     if model.neq:
-        raise located(path, f"equality '{model.equality(0).name or 0}'", "equality constraints are not "
-                                                                       "supported (the network computes "
-                                                                       "an open tree)")
+        raise located(path, _element("equality", model.equality(0).name), "equality constraints are not "
+                                                                        "supported (the network computes "
+                                                                        "an open tree)")
     extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
                                         ("frictionloss", model.dof_frictionloss),
                                         ("stiffness", model.jnt_stiffness)) if np.any(values)]
     if extras:
         warnings.warn(VampcWarning(f"{path}: joint {', '.join(extras)} ignored: not part of rigid-body "
                                    "inverse dynamics (nor of Pinocchio's rnea)"), stacklevel=4)
+
+
+def _element(kind: str, name: str) -> str:
+    """Where an error is: the element by name, or the first unnamed one."""
+    return f"{kind} '{name}'" if name else f"the first <{kind}> (unnamed)"
 
 
 def _inertial(model, b: int) -> _Inertial | None:
