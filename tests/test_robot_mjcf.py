@@ -191,3 +191,51 @@ def test_mimic_couple_does_not_apply_to_mjcf(tmp_path):
     path.write_text(ARM)
     assert_error(lambda: load_robot(path, mimic="couple"), path,
                  r"--mimic applies to URDF <mimic> joints; an MJCF model has none")
+
+
+def test_generated_names_never_take_a_name_the_file_uses(tmp_path):
+    """An unnamed joint beside one named 'joint1' (MuJoCo's index would make it 'joint1' too), and a
+    body named like the massless link between a body's two joints: distinct names, Pinocchio's
+    torques (found by the review: a KeyError, exit 3)."""
+    text = model("n", body("a", "0 0 0.1", [("joint1", "hinge", "0 0 1", "0 0 0", None),
+                                            ("", "hinge", "0 1 0", "0 0 0", None)], inner=body(
+        "a__joint1", "0.2 0 0", [("j3", "hinge", "1 0 0", "0 0 0", None)]))).replace(' name=""', "")
+    path = tmp_path / "n.xml"
+    path.write_text(text)
+    chain = load_robot(path)
+    assert len({j.name for j in chain.joints}) == chain.n == 3
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    traj = random_trajectory(chain, 3, 1)
+    want = pin_reference(path, chain, traj)
+    assert np.max(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd) - want)) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_a_static_body_beside_the_floating_base_is_left_out(tmp_path):
+    table = '<body name="table" pos="2 0 0"><inertial pos="0 0 0" mass="20" diaginertia="1 1 1"/></body>'
+    path = tmp_path / "q.xml"
+    path.write_text(QUADRUPED.replace("<worldbody>", "<worldbody>" + table))
+    chain = load_robot(path)
+    assert chain.floating and chain.n == 12
+    plain = tmp_path / "plain.xml"
+    plain.write_text(QUADRUPED)
+    other = load_robot(plain)
+    assert chain.base_mass == other.base_mass and np.array_equal(chain.gravity, other.gravity)
+
+
+def test_two_free_bodies_are_refused(tmp_path):
+    path = tmp_path / "two.xml"
+    second = QUADRUPED.split("<worldbody>")[1].split("</worldbody>")[0].replace('name="', 'name="b_')
+    path.write_text(QUADRUPED.replace("</worldbody>", second + "</worldbody>"))
+    assert_error(lambda: load_robot(path), path,
+                 r"body 'trunk': has a free joint \(a floating base\) but the world also carries 'b_trunk' "
+                 r"with joints of its own: one robot per file \(choose one with --base BODY --floating-base\)")
+    chain = load_robot(path, base="b_trunk", floating=True)
+    assert chain.n == 12 and chain.joints[0].name.startswith("b_")
+
+
+def test_a_model_without_a_name_is_named_after_its_file(tmp_path):
+    path = tmp_path / "nameless.xml"
+    path.write_text(ARM.replace('<mujoco model="arm">', "<mujoco>"))
+    with pytest.warns(VampcWarning, match="<mujoco> has no model name; calling it 'nameless'"):
+        assert load_robot(path).name == "nameless"

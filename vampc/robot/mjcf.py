@@ -103,7 +103,7 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
     path = Path(path)
     model = _compiled(path)
     with gc_paused():
-        robot, gravity = _robot(model, path)
+        robot, gravity = _robot(model, path, base)
         tree = Tree.build(robot, path, gravity=gravity, by_name=False)
         return chain_of(robot, tree, path, base, tip, lock, floating,
                         accept_improper_inertia=accept_improper_inertia)
@@ -123,24 +123,28 @@ def _compiled(path: Path):
         raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
 
 
-def _robot(model, path: Path):
+def _robot(model, path: Path, base: str | None = None):
     """Links and joints of the compiled model, and the gravity."""
     import mujoco
-    body_name = [model.body(b).name or f"body{b}" for b in range(model.nbody)]
-    body_name[0] = model.body(0).name or "world"
-    joint_name = [model.joint(j).name or f"joint{j}" for j in range(model.njnt)]
+    links_taken, joints_taken = _Names(model.body(b).name for b in range(model.nbody)), \
+        _Names(model.joint(j).name for j in range(model.njnt))
+    body_name = [model.body(b).name or links_taken.new(f"body{b}") for b in range(model.nbody)]
+    joint_name = [model.joint(j).name or joints_taken.new(f"joint{j}") for j in range(model.njnt)]
     _refuse(model, path, joint_name, mujoco)
+    static = _static_beside_free(model, path, body_name) if base is None else set()
     links = [_Link(body_name[0], None)]
     joints = []
     shift = {0: np.eye(4)}          # each body's own link frame from the body frame: T(-c_k)
     for b in range(1, model.nbody):
         parent = int(model.body_parentid[b])
+        if b in static:
+            continue
         x = shift[parent] @ _pose(model.body_pos[b], model.body_quat[b])   # the body in its parent's link
         first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
         kinds = [int(model.jnt_type[j]) for j in range(first, first + count)]
         inertial = _inertial(model, b)
         if count == 0:
-            joints.append(_Joint(f"{body_name[b]}_weld", "fixed", body_name[parent], body_name[b], x,
+            joints.append(_Joint(joints_taken.new(f"{body_name[b]}_weld"), "fixed", body_name[parent], body_name[b], x,
                                  np.array([0.0, 0.0, 1.0])))
             shift[b] = np.eye(4)
         elif kinds == [FREE]:
@@ -154,7 +158,7 @@ def _robot(model, path: Path):
             at, previous, link = x, np.zeros(3), body_name[parent]
             for i, j in enumerate(range(first, first + count)):
                 c = np.array(model.jnt_pos[j], dtype=float)
-                child = body_name[b] if i == count - 1 else f"{body_name[b]}__{joint_name[j]}"
+                child = body_name[b] if i == count - 1 else links_taken.new(f"{body_name[b]}__{joint_name[j]}")
                 if i < count - 1:
                     links.append(_Link(child, None))
                 kind = KINDS[int(model.jnt_type[j])]
@@ -169,7 +173,44 @@ def _robot(model, path: Path):
             inertial.origin = shift[b] @ inertial.origin
         links.append(_Link(body_name[b], inertial))
     name = model.names[:model.names.index(b"\0")].decode() if model.names else ""
-    return _Robot(name or path.stem, links, joints), tuple(float(g) for g in model.opt.gravity)
+    if name in ("", "MuJoCo Model"):       # MuJoCo's name for a <mujoco> without model="..."
+        warnings.warn(VampcWarning(f"{path}: <mujoco> has no model name; calling it {path.stem!r}"),
+                      stacklevel=3)
+        name = path.stem
+    return _Robot(name, links, joints), tuple(float(g) for g in model.opt.gravity)
+
+
+class _Names:
+    """Names given in the file, and fresh ones for what it leaves unnamed (never one it uses)."""
+
+    def __init__(self, given):
+        self.taken = {n for n in given if n}
+
+    def new(self, wanted: str) -> str:
+        name, k = wanted, 1
+        while name in self.taken:
+            k += 1
+            name = f"{wanted}~{k}"
+        self.taken.add(name)
+        return name
+
+
+def _static_beside_free(model, path: Path, body_name: list) -> set:
+    """Bodies to leave out: when the world carries one body on a free joint (the floating base) and
+    other subtrees without any joint (a table, a floor: they move with nothing the network computes),
+    those subtrees. Two free bodies, or a free body beside a jointed one, are refused: one robot."""
+    children = [b for b in range(1, model.nbody) if int(model.body_parentid[b]) == 0]
+    free = [b for b in children if int(model.body_jntnum[b]) and int(model.jnt_type[model.body_jntadr[b]]) == FREE]
+    if not free or len(children) == 1:
+        return set()
+    root = np.array([int(model.body_rootid[b]) for b in range(model.nbody)])
+    moving = [b for b in children if b not in free and np.any(model.body_jntnum[root == b])]
+    if len(free) > 1 or moving:
+        others = [body_name[b] for b in free[1:] + moving]
+        raise located(path, f"body '{body_name[free[0]]}'", f"has a free joint (a floating base) but the "
+                      f"world also carries {', '.join(repr(n) for n in others)} with joints of its own: "
+                      "one robot per file (choose one with --base BODY --floating-base)")
+    return {b for b in range(1, model.nbody) if root[b] in children and root[b] not in free}
 
 
 def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
