@@ -155,6 +155,10 @@ MIMIC_ERRORS = [
     (gripper('<mimic joint="f2"/>', ""), {}, r"joint 'f2': mimic cycle f2 -> f2: no joint leads it"),
     (gripper('<mimic joint="f1"/>', ""), {"lock": {"f2": 0.1}},
      r"lock f2: joint 'f2' follows joint 'f1' \(--mimic couple\): lock 'f1' instead"),
+    (gripper('<mimic joint="f1" multiplier="2"/>', ""), {"lock": {"f1": 0.1, "f2": 0.9}},
+     r"lock f2: joint 'f2' follows joint 'f1' \(--mimic couple\): locking 'f1' at 0\.1 locks it at "
+     r"0\.2, not 0\.9"),
+    (gripper("<mimic/>", ""), {}, r"joint 'f2': <mimic> names no joint \(joint=\"\.\.\.\"\)"),
 ]
 
 
@@ -208,3 +212,32 @@ def test_mimic_couple_is_for_robot_files(tmp_path):
     assert runner.invoke(main, ["compile", str(path), "-o", str(program)]).exit_code == 0
     r = runner.invoke(main, ["emulate", str(program), "--random", "2", "--mimic", "couple"])
     assert r.exit_code == 2 and "--mimic applies when compiling a robot file" in r.output
+
+
+def test_couple_without_mimic_joints_warns(tmp_path):
+    path = write(tmp_path, gripper("", ""))
+    with pytest.warns(VampcWarning, match="no joint has a <mimic>; --mimic couple has no effect"):
+        assert load_urdf(path, mimic="couple").mimic == ()
+
+
+def test_trajectory_messages_name_the_files_columns(tmp_path):
+    """With 4 independent joints in the file, a fixed-point overflow in the file's qd4 (t1) is named
+    qd4, and one of t2 = 3 t1, derived from it, says so (the review found 'column qd5' for a 4-column
+    file)."""
+    path = write(tmp_path, COUPLED)
+    program = tmp_path / "g.vamp.json"
+    runner = CliRunner()
+    assert runner.invoke(main, ["compile", str(path), "--mimic", "couple", "--word", "q8.8", "-o",
+                                str(program)]).exit_code == 0
+    states = tmp_path / "s.csv"
+    head = ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 5))
+    states.write_text(head + "\n" + ",".join(["0"] * 7 + ["300"] + ["0"] * 4) + "\n")
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--allow-out-of-limits"])
+    assert r.exit_code == 1 and "row 1, column qd4: 300 is beyond q8.8 words" in r.output, r.output
+    triple = write(tmp_path, gripper('<mimic joint="f1"/>', '<mimic joint="t1" multiplier="3"/>'), "t.urdf")
+    assert runner.invoke(main, ["compile", str(triple), "--mimic", "couple", "--word", "q8.8", "-o",
+                                str(program)]).exit_code == 0
+    states.write_text(head + "\n" + ",".join(["0"] * 7 + ["100"] + ["0"] * 4) + "\n")
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--allow-out-of-limits"])
+    assert r.exit_code == 1 and ("row 1, column qd of joint 't2' (derived from qd4): 300 is beyond"
+                                 in r.output), r.output

@@ -162,7 +162,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if not own.allow_out_of_limits:
             check_limits(ld.chain, traj, own.trajectory)
         if "overflow" not in options.given:
-            check_word_range(ld.arith, traj, own.trajectory)
+            check_word_range(ld.arith, traj, own.trajectory, ld.chain)
         states = States(traj.count, traj)
     else:
         states = States.random(own.random_count, own.seed)

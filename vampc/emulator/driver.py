@@ -49,7 +49,7 @@ def random_states(chain, start: int, count: int, seed: int) -> Trajectory:
         parts.append(state + (random_base(RANDOM_BLOCK, rng),) if chain.floating else state)
     lo = start - first * RANDOM_BLOCK
     arrays = [np.concatenate([p[k] for p in parts])[lo:lo + count] for k in range(len(parts[0]))]
-    if chain.mimic:           # followers move with their leaders (vampc.robot.mimic)
+    if chain.mimic:   # followers move with their leaders (vampc.robot.mimic), their own limits aside
         from vampc.robot.mimic import couple
         arrays[:3] = couple(chain, *arrays[:3])
     return Trajectory(*arrays[:3], None, arrays[3] if chain.floating else None)

@@ -52,7 +52,8 @@ def host_values(ld: Loaded, traj: Trajectory, key) -> np.ndarray:
 def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
     """States drawn within the joint limits (else ±π rad (±0.5 m prismatic), ±1 rad/s, ±1 rad/s²),
     the same as the first `count` states of any longer run with this seed
-    (vampc.emulator.driver.random_states)."""
+    (vampc.emulator.driver.random_states). A coupled follower (vampc.robot.mimic) follows its
+    leader, whatever its own limits say."""
     from vampc.emulator.driver import States, random_states
     return random_states(chain, 0, States.random(count, seed).count, seed)
 
@@ -70,7 +71,11 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
 
 
 def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
-    """Refuse states outside the joint limits (position and speed), naming the row and joint."""
+    """Refuse states outside the joint limits (position and speed), naming the row and joint (a
+    coupled follower's by the leader column it is derived from)."""
+    from vampc.robot.mimic import column_names
+    derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
+               for m in chain.mimic}
     for i, j in enumerate(chain.joints):
         lim = j.limits
         bad = np.zeros(traj.count, bool)
@@ -80,12 +85,13 @@ def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
             bad |= np.abs(traj.qd[:, i]) > lim.qd
         if bad.any():
             row = int(np.argmax(bad))
+            via = f", {derived[i]} and the coupling" if i in derived else ""
             raise VampcError(f"{path}: row {row + 1}: joint {i + 1} ({j.name}) is outside its limits "
-                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}); use "
+                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}); use "
                              "--allow-out-of-limits to run anyway")
 
 
-def check_word_range(word, traj: Trajectory, path: str) -> None:
+def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None) -> None:
     """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
     range: the host writes them as they are), naming the row and column."""
     from vampc.emulator.trajectory import header
@@ -95,6 +101,9 @@ def check_word_range(word, traj: Trajectory, path: str) -> None:
     n = traj.q.shape[1]
     columns = [traj.qd, traj.qdd] + ([traj.base] if traj.base is not None else [])
     names = header(n, traj.base is not None)[n:]
+    if chain is not None and chain.mimic:       # the file has the independent joints only
+        from vampc.robot.mimic import column_names
+        names = column_names(chain, "qd") + column_names(chain, "qdd") + names[2 * n:]
     values = np.concatenate(columns, axis=1)
     raw = word.rounded(values)                       # as the host's conversion rounds them
     bad = (raw < word.lo) | (raw > word.hi)

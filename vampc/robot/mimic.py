@@ -77,3 +77,13 @@ def reduce_torques(chain: Chain, tau: np.ndarray) -> np.ndarray:
         tau[:, m.leader - 1] += m.multiplier * tau[:, m.follower - 1]
     keep = np.r_[free_joints(chain), np.arange(chain.n, tau.shape[1])]
     return tau[:, keep]
+
+
+def column_names(chain: Chain, prefix: str) -> list[str]:
+    """The trajectory file's name for each joint's `prefix` (q, qd, qdd) column, joint by joint: a
+    follower has none, so it is named with the leader it is derived from."""
+    free = {int(i): k for k, i in enumerate(free_joints(chain), 1)}
+    leader = {m.follower - 1: m.leader - 1 for m in chain.mimic}
+    return [f"{prefix}{free[i]}" if i in free else
+            f"{prefix} of joint '{chain.joints[i].name}' (derived from {prefix}{free[leader[i]]})"
+            for i in range(chain.n)]

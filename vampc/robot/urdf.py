@@ -112,6 +112,9 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
             _ACCEPT_IMPROPER.reset(token)
     lock = _check_lock(lock or {}, tree, path)
     leaders = _mimic_leaders(tree, path) if mimic == "couple" else {}
+    if mimic == "couple" and not leaders:
+        warnings.warn(VampcWarning(f"{path}: no joint has a <mimic>; --mimic couple has no effect"),
+                      stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
@@ -174,7 +177,12 @@ def _lock_followers(leaders: dict, lock: dict, tree: Tree, path: Path) -> dict:
             raise located(path, f"lock {follower}", f"joint '{follower}' follows joint '{leader}' "
                                                     f"(--mimic couple): lock '{leader}' instead")
         if leader in lock:
-            out[follower] = mult * lock[leader] + off
+            derived = mult * lock[leader] + off
+            if follower in lock and not math.isclose(lock[follower], derived, rel_tol=1e-12, abs_tol=1e-12):
+                raise located(path, f"lock {follower}", f"joint '{follower}' follows joint '{leader}' "
+                              f"(--mimic couple): locking '{leader}' at {lock[leader]!r} locks it at "
+                              f"{derived!r}, not {lock[follower]!r}")
+            out[follower] = derived
     return out
 
 
@@ -277,6 +285,9 @@ def _check_xml(root, path: Path) -> None:
             seen.add(name)
             _check_children(el, kind, f"{kind} '{name}'", path)
     for el in root.iterchildren("joint"):
+        for mimic in el.iterchildren("mimic"):
+            if not mimic.get("joint"):
+                raise located(path, f"joint '{el.get('name')}'", "<mimic> names no joint (joint=\"...\")")
         for tag in ("parent", "child"):
             if el.find(tag) is None or el.find(tag).get("link") is None:
                 raise located(path, f"joint '{el.get('name')}'", f"missing <{tag} link=\"...\"/>")
