@@ -148,18 +148,25 @@ def test_the_command_line_compiles_an_mjcf_model(tmp_path):
 MJCF_ERRORS = [
     (model("u", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
-           extra='<equality><joint joint1="j1" joint2="j2"/></equality>'), "",
-     r"the first <equality> \(unnamed\): equality constraints are not supported \(the network computes "
-     r"an open tree\)"),
+           extra='<equality><joint joint1="j1" joint2="j2"/><weld body1="b"/></equality>'), "",
+     r"<equality> number 2 \(unnamed\): weld equality constraints are not supported \(the network "
+     r"computes an open tree; joint equalities are read as mimic joints\)"),
+    (model("p", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
+        "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
+           extra='<equality><joint name="sq" joint1="j1" joint2="j2" polycoef="0 1 0.5 0 0"/></equality>'),
+     "", r"equality 'sq': a joint equality beyond degree 1 \(polycoef c2\.\.c4 not 0\) cannot be a mimic "
+         r"coupling"),
     (model("b", body("a", "0 0 0", [("j1", "ball", "0 0 1", "0 0 0", None)])), "",
      r"joint 'j1': ball joints are not supported \(one degree of freedom per joint: use three hinges\)"),
     (model("t", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]),
-           extra='<tendon><fixed name="tt"><joint joint="j1" coef="1"/></fixed></tendon>'), "",
-     r"tendon 'tt': tendons are not supported \(the network computes an open tree\)"),
+           extra='<tendon><fixed name="tt" stiffness="10"><joint joint="j1" coef="1"/></fixed></tendon>'),
+     "", r"tendon 'tt': has stiffness: tendons that exert forces are not supported \(the network "
+         r"computes an open tree\)"),
     (model("e", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
-           extra='<equality><joint name="eq" joint1="j1" joint2="j2"/></equality>'), "",
-     r"equality 'eq': equality constraints are not supported \(the network computes an open tree\)"),
+           extra='<equality><connect name="eq" body1="b" anchor="0 0 0"/></equality>'), "",
+     r"equality 'eq': connect equality constraints are not supported \(the network computes an open "
+     r"tree; joint equalities are read as mimic joints\)"),
     (model("i", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)])).replace(
         "<worldbody>", '<include file="missing.xml"/><worldbody>'), "",
      r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
@@ -186,11 +193,58 @@ def test_what_inverse_dynamics_leaves_out_is_a_warning(tmp_path):
         assert load_robot(path).n == 1
 
 
-def test_mimic_couple_does_not_apply_to_mjcf(tmp_path):
-    path = tmp_path / "arm.xml"
-    path.write_text(ARM)
-    assert_error(lambda: load_robot(path, mimic="couple"), path,
-                 r"--mimic applies to URDF <mimic> joints; an MJCF model has none")
+# A gripper as the Menagerie's panda has one: two fingers an inert tendon pulls together and a joint
+# equality couples (here with a multiplier and an offset), and a third finger an equality holds.
+GRIPPER = model("gripper", body(
+    "hand", "0 0 0.1", [("wrist", "hinge", "0 0 1", "0 0 0", None)], inner=(
+        body("left", "0.1 0.02 0", [("f1", "slide", "0 1 0", "0 0 0", "0 0.04")], m=0.1)
+        + body("right", "0.1 -0.02 0", [("f2", "slide", "0 -1 0", "0 0 0", "0 0.04")], m=0.15)
+        + body("thumb", "0.05 0 0.02", [("f3", "hinge", "1 0 0", "0 0 0", None)], m=0.05))),
+    extra='<tendon><fixed name="split"><joint joint="f1" coef="0.5"/><joint joint="f2" coef="0.5"/>'
+          '</fixed></tendon><equality><joint name="twin" joint1="f2" joint2="f1" polycoef="0.01 0.8 0 0 0"/>'
+          '<joint name="hold" joint1="f3" polycoef="0.2 0 0 0 0"/></equality>')
+
+
+def test_joint_equalities_are_mimic_joints(tmp_path):
+    """By default ordinary joints (Pinocchio's MJCF reader ignores equalities: its model has the same
+    four joints); with --mimic couple f2 = 0.01 + 0.8 f1 and f3 is locked at 0.2, and the torques are
+    Gᵀ τ of Pinocchio's model at the expanded states."""
+    import warnings
+
+    from pinocchio_util import coupled_matrix
+
+    from vampc.robot.mimic import expand, reduce_torques
+    path = tmp_path / "g.xml"
+    path.write_text(GRIPPER)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        plain = load_robot(path)
+    said = [str(w.message).split(": ", 1)[1] for w in caught]
+    assert said[0].startswith("tendon 'split' left out: it exerts no force")
+    assert "an equality holds joint 'f3' at 0.2: taken as an ordinary joint; --mimic couple locks it there" in said
+    assert [j.name for j in plain.joints] == ["wrist", "f1", "f2", "f3"] and plain.mimic == ()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        chain = load_robot(path, mimic="couple")
+    assert [j.name for j in chain.joints] == ["wrist", "f1", "f2"]
+    assert [(m.follower, m.leader, m.multiplier, m.offset) for m in chain.mimic] == [(3, 2, 0.8, 0.01)]
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.emulator.host import Trajectory
+    rng = np.random.default_rng(5)
+    q, qd, qdd = rng.uniform(-0.5, 0.5, (3, 6, 2))
+    full = Trajectory(*expand(chain, q, qd, qdd))
+    ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
+    got = reduce_torques(chain, emulate(ld, full, "stream").tau)
+    pm = pin.buildModelFromMJCF(str(path))
+    assert pm.nv == 4
+    data, want = pm.createData(), []
+    for s in range(6):
+        pq = np.r_[full.q[s], 0.2]                 # f3 held at 0.2
+        tau = pin.rnea(pm, data, pq, np.r_[full.qd[s], 0], np.r_[full.qdd[s], 0])
+        want.append(tau[:3] @ coupled_matrix(chain))
+    want = np.array(want)
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
 
 
 def test_generated_names_never_take_a_name_the_file_uses(tmp_path):

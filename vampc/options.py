@@ -198,7 +198,7 @@ class RobotOptions:
 
     mimic: str = field(default="ordinary", metadata=cli(
         "--mimic", choices=lambda: ("ordinary", "couple"),
-        help="URDF: how <mimic> joints are read. ordinary (default, as Pinocchio reads them): each its "
+        help="URDF and MJCF: how <mimic> joints (MJCF: joint equalities) are read. ordinary (default, as Pinocchio reads them): each its "
         "own joint, with its own input and torque. couple: each follows its leader (q = multiplier · "
         "q_leader + offset); states give the independent joints only, and a leader's torque includes "
         "its followers' (README, URDF)."))
@@ -238,11 +238,7 @@ class RobotOptions:
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
                                   f"URDF files only; {robot} is not a URDF (a DH table is one chain)")
-        if self.mimic != "ordinary" and Path(robot).suffix.lower() == ".xml":
-            from vampc.robot.mjcf import is_mjcf
-            if is_mjcf(robot):
-                raise VampcUsageError(f"--mimic applies to URDF <mimic> joints; {robot} is an MJCF model "
-                                      "(it has none)")
+
         self.locks()
 
 

@@ -34,10 +34,8 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
         if mismatch:
             raise located(path, "", mismatch)
     if suffix == ".xml" and is_mjcf(path):
-        if mimic != "ordinary":
-            raise located(path, "", "--mimic applies to URDF <mimic> joints; an MJCF model has none")
         return load_mjcf(path, base=base, tip=tip, lock=lock, floating=floating,
-                         accept_improper_inertia=accept_improper_inertia)
+                         accept_improper_inertia=accept_improper_inertia, mimic=mimic)
     if suffix in URDF_SUFFIXES:
         return load_urdf(path, base=base, tip=tip, lock=lock, floating=floating, mimic=mimic,
                          accept_improper_inertia=accept_improper_inertia)

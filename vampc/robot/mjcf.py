@@ -69,7 +69,7 @@ class _Joint:
     origin: np.ndarray
     axis: np.ndarray
     limit: _Limit | None = None
-    mimic: None = None
+    mimic: object = None
 
 
 @dataclass
@@ -95,17 +95,28 @@ def is_mjcf(path) -> bool:
 
 def load_mjcf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None, floating: bool = False,
-              accept_improper_inertia: bool = False) -> object:
-    """Read an MJCF file as a Chain (see the module docstring); base, tip, lock and floating as
-    vampc.robot.urdf.load_urdf takes them (links are MuJoCo's bodies)."""
+              accept_improper_inertia: bool = False, mimic: str = "ordinary") -> object:
+    """Read an MJCF file as a Chain (see the module docstring); base, tip, lock, floating and mimic
+    as vampc.robot.urdf.load_urdf takes them (links are MuJoCo's bodies; joint equalities are its
+    mimic joints)."""
     from vampc.robot.urdf import chain_of
     from vampc.robot.urdf_tree import Tree
     path = Path(path)
     model = _compiled(path)
     with gc_paused():
-        robot, gravity = _robot(model, path, base)
+        robot, gravity, held = _robot(model, path, base)
         tree = Tree.build(robot, path, gravity=gravity, by_name=False)
-        return chain_of(robot, tree, path, base, tip, lock, floating,
+        lock = dict(lock or {})
+        for name, value in held.items():
+            if mimic == "ordinary":
+                warnings.warn(VampcWarning(f"{path}: an equality holds joint '{name}' at {value:g}: taken "
+                                           "as an ordinary joint; --mimic couple locks it there"), stacklevel=2)
+            elif name in lock and lock[name] != value:
+                raise located(path, f"lock {name}", f"an equality holds joint '{name}' at {value!r} "
+                                                    "(--mimic couple)")
+            else:
+                lock[name] = value
+        return chain_of(robot, tree, path, base, tip, lock, floating, mimic,
                         accept_improper_inertia=accept_improper_inertia)
 
 
@@ -177,7 +188,8 @@ def _robot(model, path: Path, base: str | None = None):
         warnings.warn(VampcWarning(f"{path}: <mujoco> has no model name; calling it {path.stem!r}"),
                       stacklevel=3)
         name = path.stem
-    return _Robot(name, links, joints), tuple(float(g) for g in model.opt.gravity)
+    held = _equalities(model, path, joints, joint_name)
+    return _Robot(name, links, joints), tuple(float(g) for g in model.opt.gravity), held
 
 
 class _Names:
@@ -228,13 +240,7 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
             raise located(path, f"joint '{joint_name[j]}'", f"ref={ref:g} {unit} is not supported (vampc's "
                                                             "q is 0 in the pose the file gives, where "
                                                             "MuJoCo's qpos is ref)")
-    if model.ntendon:
-        raise located(path, _element("tendon", model.tendon(0).name), "tendons are not supported (the "
-                                                                     "network computes an open tree)")
-    if model.neq:
-        raise located(path, _element("equality", model.equality(0).name), "equality constraints are not "
-                                                                        "supported (the network computes "
-                                                                        "an open tree)")
+    _tendons(model, path)
     extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
                                         ("frictionloss", model.dof_frictionloss),
                                         ("stiffness", model.jnt_stiffness)) if np.any(values)]
@@ -243,9 +249,69 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
                                    "inverse dynamics (nor of Pinocchio's rnea)"), stacklevel=4)
 
 
-def _element(kind: str, name: str) -> str:
-    """Where an error is: the element by name, or the first unnamed one."""
-    return f"{kind} '{name}'" if name else f"the first <{kind}> (unnamed)"
+def _tendons(model, path: Path) -> None:
+    """A tendon that exerts no force (no stiffness, damping, friction, armature or limit: one only an
+    actuator pulls, and actuators are not read) is left out, with a warning; any other is refused."""
+    inert = []
+    for t in range(model.ntendon):
+        forces = [what for what, value in (
+            ("stiffness", model.tendon_stiffness[t]), ("damping", model.tendon_damping[t]),
+            ("frictionloss", model.tendon_frictionloss[t]), ("armature", model.tendon_armature[t]),
+            ("a limit", model.tendon_limited[t])) if np.any(value)]
+        if forces:
+            raise located(path, _element("tendon", model.tendon(t).name, t),
+                          f"has {', '.join(forces)}: tendons that exert forces are not supported (the "
+                          "network computes an open tree)")
+        inert.append(model.tendon(t).name or f"#{t}")
+    if inert:
+        warnings.warn(VampcWarning(f"{path}: tendon {', '.join(repr(n) for n in inert)} left out: it exerts "
+                                   "no force (no stiffness, damping, friction, armature or limit; "
+                                   "actuators are not read)"), stacklevel=5)
+
+
+class _Mimic:
+    """A joint equality read as a URDF <mimic>: q_joint1 = offset + multiplier · q_joint2."""
+
+    def __init__(self, joint: str, multiplier: float, offset: float):
+        self.joint, self.multiplier, self.offset = joint, multiplier, offset
+
+
+def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
+    """Joint equalities (joint1 = c0 + c1 · joint2) become mimic couplings of joint1 (read as
+    `--mimic` says: ordinary joints by default, coupled with --mimic couple); a joint held at c0
+    (no joint2) is returned, joint name -> c0, to be locked there under --mimic couple. Inactive
+    equalities are left out; other kinds, and polynomials beyond degree 1, are refused."""
+    import mujoco
+    by_name = {j.name: j for j in joints}
+    held, inactive = {}, []
+    for e in range(model.neq):
+        where = _element("equality", model.equality(e).name, e)
+        if not model.eq_active0[e]:
+            inactive.append(model.equality(e).name or f"#{e}")
+            continue
+        kind = int(model.eq_type[e])
+        if kind != int(mujoco.mjtEq.mjEQ_JOINT):
+            raise located(path, where, f"{mujoco.mjtEq(kind).name[5:].lower()} equality constraints are not "
+                                       "supported (the network computes an open tree; joint equalities "
+                                       "are read as mimic joints)")
+        c = [float(x) for x in model.eq_data[e, :5]]
+        if any(c[2:]):
+            raise located(path, where, "a joint equality beyond degree 1 (polycoef c2..c4 not 0) cannot "
+                                       "be a mimic coupling")
+        follower = joint_name[int(model.eq_obj1id[e])]
+        if int(model.eq_obj2id[e]) < 0:
+            held[follower] = c[0]
+            continue
+        by_name[follower].mimic = _Mimic(joint_name[int(model.eq_obj2id[e])], c[1], c[0])
+    if inactive:
+        warnings.warn(VampcWarning(f"{path}: inactive equality {', '.join(repr(n) for n in inactive)} "
+                                   "left out"), stacklevel=4)
+    return held
+
+
+def _element(kind: str, name: str, index: int = 0) -> str:
+    """Where an error is: the element by name, or by its place among its kind when unnamed."""
+    return f"{kind} '{name}'" if name else f"<{kind}> number {index + 1} (unnamed)"
 
 
 def _inertial(model, b: int) -> _Inertial | None:
