@@ -23,6 +23,8 @@ def sniff(path) -> str | None:
             head = fh.read(HEAD)
     except OSError:
         return None
+    if head.startswith(b"\x1f\x8b"):               # gzip: a compact program file (or nothing we read)
+        head = _gunzipped_head(path)
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
@@ -38,8 +40,20 @@ def sniff(path) -> str | None:
 
 
 def is_program(path) -> bool:
-    """A program file: named *.vamp.json, or a JSON file whose first bytes say "vampc-program"."""
-    return str(path).endswith(PROGRAM_SUFFIX) or sniff(path) == "program"
+    """A program file: named *.vamp.json or *.vamp.json.gz, or a JSON file (gzip-compressed or not)
+    whose first bytes say "vampc-program"."""
+    return str(path).endswith((PROGRAM_SUFFIX, PROGRAM_SUFFIX + ".gz")) or sniff(path) == "program"
+
+
+def _gunzipped_head(path) -> bytes:
+    """The first HEAD bytes of a gzip file's content (b"" if it is not readable gzip)."""
+    import gzip
+    import zlib
+    try:
+        with gzip.open(path, "rb") as fh:
+            return fh.read(HEAD)
+    except (OSError, EOFError, zlib.error):
+        return b""
 
 
 def looks_like(path) -> str:

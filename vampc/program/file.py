@@ -18,6 +18,13 @@ Sections (format "vampc-program", version 2):
 
 Written atomically (temporary file, then rename). A reader decodes the file into the Structs, which
 checks every type and range as it parses, then the checksum, before anything else looks at the data.
+
+Compact form: a name ending in `.gz` (`-o robot.vamp.json.gz`) writes the same text gzip-compressed
+(level GZIP_LEVEL, no timestamp, so the bytes are reproducible), and any program file that starts
+with gzip's magic bytes is read decompressed, to the same IRs. Measured on a 512-joint log program
+(35 MB of JSON): level 1 makes 4.7 MB in 0.17 s, level 3 4.3 MB in 0.21 s, level 6 3.8 MB in 0.50 s,
+level 9 3.5 MB in 2.1 s; decompression 0.1 s at every level. Level 3 is most of the size for little
+of the time. A compressed file decompresses to at most GUNZIP_LIMIT bytes (a gzip bomb is refused).
 """
 from __future__ import annotations
 
@@ -46,6 +53,9 @@ from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the w
 from vampc.program.format import ProgramFile, check_summary, decode, from_builtins
 
 FORMAT, VERSION = "vampc-program", 2
+GZIP_LEVEL = 3
+GZIP_MAGIC = b"\x1f\x8b"
+GUNZIP_LIMIT = 8 << 30          # 8 GiB: a 4096-joint log program is under 0.4 GB
 
 
 def canonical(doc) -> str:
@@ -131,6 +141,12 @@ def write_program(doc: dict | str, path) -> None:
             raise ValueError("a program document's keys must all sort after 'checksum'")
         text = layout(body)
     stamped = '{\n"checksum":' + encode(_digest(text.replace("\n", ""))) + "," + text[1:] + "\n"
+    name = path.path if hasattr(path, "path") else str(path)
+    if str(name).endswith(".gz"):           # the compact form (module docstring)
+        import gzip
+        write_text_atomic(path, gzip.compress(stamped.encode("ascii"), compresslevel=GZIP_LEVEL, mtime=0),
+                          "program file")
+        return
     write_text_atomic(path, stamped, "program file")
 
 
@@ -154,6 +170,8 @@ def _read(path) -> tuple[ProgramFile, str]:
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
+    if raw.startswith(GZIP_MAGIC):
+        raw = gunzip(raw, path)
     text = decode_utf8(raw, path, "program file")     # checks it is UTF-8, for a clear message
     data = raw.removeprefix(codecs.BOM_UTF8)      # msgspec reads the bytes faster than the text
     try:
@@ -171,6 +189,32 @@ def _read(path) -> tuple[ProgramFile, str]:
             doc.checksum != checksum(loads(data)):
         raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
     return doc, text
+
+
+def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
+    """A gzip-compressed program file's text (VampcError if it is damaged or decompresses to more than
+    `limit` bytes)."""
+    import zlib
+    out, size = [], 0
+    d = zlib.decompressobj(wbits=31)            # gzip header and trailer
+    try:
+        chunk = d.decompress(data, 1 << 24)
+        while True:
+            size += len(chunk)
+            if size > limit:
+                raise VampcError(f"{path}: decompresses to more than {limit:,} bytes; not a program "
+                                 "file vampc reads")
+            out.append(chunk)
+            if not d.unconsumed_tail:
+                break
+            chunk = d.decompress(d.unconsumed_tail, 1 << 24)
+        if not d.eof:
+            raise VampcError(f"{path}: compressed program file is truncated")
+    except zlib.error as exc:
+        raise VampcError(f"{path}: damaged compressed program file ({exc})") from None
+    if d.unused_data:
+        raise VampcError(f"{path}: trailing data after the compressed program file")
+    return b"".join(out)
 
 
 def _untyped(text: str, path):

@@ -1,0 +1,72 @@
+"""The compact program file (issue "Fast at every size", part 2): a name ending in .gz writes the same
+text gzip-compressed, and any program file starting with gzip's magic is read back to the same IRs."""
+from __future__ import annotations
+
+import gzip
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.emulator import emulate, load_program
+from vampc.emulator.host import random_trajectory
+from vampc.errors import VampcError
+from vampc.program.file import GZIP_MAGIC, gunzip, read_program_file
+
+PUMA = "examples/puma560.yaml"
+
+
+@pytest.fixture(scope="module")
+def programs(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("gz")
+    plain, packed = folder / "p.vamp.json", folder / "p.vamp.json.gz"
+    for out in (plain, packed):
+        r = CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o", str(out)])
+        assert r.exit_code == 0, r.output
+    return plain, packed
+
+
+def test_the_compact_form_is_the_same_text_gzipped(programs):
+    plain, packed = programs
+    data = packed.read_bytes()
+    assert data.startswith(GZIP_MAGIC) and len(data) * 5 < plain.stat().st_size
+    assert gzip.decompress(data) == plain.read_bytes()      # Python's gzip, not vampc's reader
+
+
+def test_it_reads_back_to_the_same_program(programs):
+    plain, packed = programs
+    assert read_program_file(packed) == read_program_file(plain)
+    a, b = load_program(str(plain)), load_program(str(packed))
+    traj = random_trajectory(a.chain, 50, 3)
+    assert np.array_equal(emulate(a, traj, "stream").tau, emulate(b, traj, "stream").tau)
+
+
+def test_writing_twice_gives_the_same_bytes(programs, tmp_path):
+    again = tmp_path / "again.vamp.json.gz"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o", str(again)]).exit_code == 0
+    assert again.read_bytes() == programs[1].read_bytes()      # no timestamp in the header
+
+
+def test_a_compressed_program_is_known_by_its_content(programs, tmp_path):
+    renamed = tmp_path / "whatever.bin"
+    renamed.write_bytes(programs[1].read_bytes())
+    r = CliRunner().invoke(main, ["emulate", str(renamed), "--random", "5", "--check"])
+    assert r.exit_code == 0 and ": OK" in r.output, r.output
+
+
+@pytest.mark.parametrize("cut, message", [(200, "compressed program file is truncated"),
+                                          (None, "damaged compressed program file")])
+def test_a_damaged_compressed_file_is_one_line(programs, tmp_path, cut, message):
+    data = programs[1].read_bytes()
+    bad = tmp_path / "bad.vamp.json.gz"
+    bad.write_bytes(data[:cut] if cut else data[:10] + bytes(255 - b for b in data[10:]))
+    r = CliRunner().invoke(main, ["emulate", str(bad), "--random", "5"])
+    assert r.exit_code == 1 and f"{bad}: {message}" in r.output, r.output
+
+
+def test_a_gzip_bomb_is_refused():
+    bomb = gzip.compress(b" " * (3 << 20))
+    with pytest.raises(VampcError, match="decompresses to more than"):
+        gunzip(bomb, "bomb.vamp.json.gz", limit=1 << 20)
+    assert gunzip(bomb, "bomb.vamp.json.gz", limit=4 << 20) == b" " * (3 << 20)
