@@ -166,7 +166,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         states = States(traj.count, traj)
     else:
         states = States.random(own.random_count, own.seed)
-    sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None)
+    sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None, count=states.count)
     info = any(o.is_stdout for o in outs.values())       # keep stdout for the data
     try:
         with progress.counter(f"{own.engine} engine", states.count) as bar:
@@ -251,12 +251,14 @@ def rate_text(count: int, seconds: float) -> str:
 class Sinks:
     """The emulate command's output files, written as the chunks of a run arrive."""
 
-    def __init__(self, ld, outs, has_t: bool):
+    def __init__(self, ld, outs, has_t: bool, count: int = 0):
         from vampc.emulator.trajectory import csv_line, header, torque_columns
         from vampc.emulator.vcd import VcdWriter, vamp_names
         from vampc.outputs import Pending
         self.ld, self.outs = ld, outs
-        self.tau = Pending(outs["-o"], "torques", False) if "-o" in outs else None
+        # -o NAME.npy: a float64 array (count, [t,] torques), written as the chunks arrive
+        self.npy = "-o" in outs and outs["-o"].kind != "stdout" and outs["-o"].path.lower().endswith(".npy")
+        self.tau = Pending(outs["-o"], "torques", self.npy) if "-o" in outs else None
         self.states = Pending(outs["--save-states"], "states", False) if "--save-states" in outs \
             else None
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
@@ -265,8 +267,14 @@ class Sinks:
         from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating
-        self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(free_names(ld.chain),
-                                                                              floating))))
+        if self.npy:
+            import numpy as np
+            width = len(t) + n_free(ld.chain) + (6 if floating else 0)
+            self._write(self.tau, lambda fh: np.lib.format.write_array_header_1_0(
+                fh, {"descr": "<f8", "fortran_order": False, "shape": (count, width)}))
+        else:
+            self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(free_names(ld.chain),
+                                                                                  floating))))
         self._write(self.states, lambda fh: fh.write(csv_line(t + header(n_free(ld.chain), floating))))
 
     def _write(self, pending, action) -> None:
@@ -283,7 +291,13 @@ class Sinks:
         from vampc.emulator.trajectory import format_rows
         from vampc.robot.mimic import reduce_states, reduce_torques
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
-        self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, reduce_torques(chain, tau))))
+        if self.npy:
+            import numpy as np
+            rows = reduce_torques(chain, tau) if traj.t is None else np.column_stack(
+                [traj.t, reduce_torques(chain, tau)])
+            self._write(self.tau, lambda fh: fh.write(np.ascontiguousarray(rows, dtype="<f8").tobytes()))
+        else:
+            self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, reduce_torques(chain, tau))))
         self._write(self.states, lambda fh: fh.write(format_rows(
             traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)))
 

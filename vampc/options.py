@@ -363,7 +363,7 @@ class EmulateOptions:
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="Write torques as CSV: a t column if the "
         "trajectory has one, then tau_<joint name> per joint (N·m revolute, N prismatic); - for "
-        "standard output."))
+        "standard output. A name ending in .npy writes the same columns as a NumPy float64 array."))
     save_states: str | None = field(default=None, metadata=cli(
         "--save-states", path=True, dash=True, metavar="FILE", help="Write the states run as a "
         "trajectory CSV (the --trajectory format), to pair torques with their inputs."))

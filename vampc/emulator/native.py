@@ -303,7 +303,8 @@ def _module(rom: int, m: int, am: list[str], bm: list[str], out: str, arith=FLOA
 
 # --- trajectory CSV ------------------------------------------------------------------------------
 
-CSV_SOURCE = r"""/* vampc.emulator.native: a strict CSV reader of plain decimal numbers. */
+CSV_SOURCE = r"""/* vampc.emulator.native: a strict CSV reader of plain decimal numbers, and its writer. */
+#include <stdio.h>
 #include <stdlib.h>
 
 static int digits(const char **p, const char *end) {
@@ -357,6 +358,21 @@ long parse_csv(const char *p, long len, long cols, long rows_max, double *out) {
   }
   return r;
 }
+
+/* rows x cols doubles as CSV text, each "%.17g" (C's printf rounds correctly, as Python's does), ','
+   between cells and '\n' after each row, into out (at least rows * cols * 25 bytes: the longest
+   "%.17g" is 24 characters); the number of bytes written. */
+long format_csv(const double *data, long rows, long cols, char *out) {
+  char *p = out;
+  long r, c;
+  for (r = 0; r < rows; r++) {
+    for (c = 0; c < cols; c++) {
+      p += sprintf(p, "%.17g", data[r * cols + c]);
+      *p++ = c == cols - 1 ? '\n' : ',';
+    }
+  }
+  return p - out;
+}
 """
 
 
@@ -374,12 +390,80 @@ def parse_csv(body: bytes, cols: int):
         if mode == "1":
             raise
         return None
-    fn.argtypes = (ctypes.c_char_p, ctypes.c_long, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
+    fn.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
     fn.restype = ctypes.c_long
-    rows_max = body.count(b"\n") + 1
-    out = np.empty((rows_max, cols))
-    rows = fn(body, len(body), cols, rows_max, out.ctypes.data)
-    return out[:rows] if rows > 0 else None
+    lines = body.count(b"\n") + 1
+    # split at line ends into one piece per thread (ctypes lets go of the GIL during each call)
+    cuts, count = [0], workers(lines)
+    for k in range(1, count):
+        at = body.find(b"\n", max(len(body) * k // count, cuts[-1]))
+        if at < 0:
+            break
+        cuts.append(at + 1)
+    cuts.append(len(body))
+    base = ctypes.cast(ctypes.c_char_p(body), ctypes.c_void_p).value
+
+    def part(k: int, _=None):
+        lo, hi = cuts[k], cuts[k + 1]
+        rows_max = body.count(b"\n", lo, hi) + 1
+        out = np.empty((rows_max, cols))
+        rows = fn(base + lo, hi - lo, cols, rows_max, out.ctypes.data) if hi > lo else 0
+        return out[:rows] if rows > 0 or hi == lo else None
+    pieces = _threaded(part, len(cuts) - 1)
+    if any(p is None for p in pieces) or not sum(len(p) for p in pieces):
+        return None
+    return np.concatenate(pieces) if len(pieces) > 1 else pieces[0]
+
+
+def format_csv(data: np.ndarray) -> str | None:
+    """The rows of a finite float64 array (count, width) as CSV text, "%.17g" each, as
+    vampc.emulator.trajectory.format_rows writes them; None when the native path is off or
+    unavailable (the caller then formats them in Python)."""
+    mode = os.environ.get("VAMPC_NATIVE", "")
+    if mode == "0":
+        return None
+    try:
+        fn = getattr(_load(compile_cached(CSV_SOURCE)), "format_csv")
+    except NativeError:
+        if mode == "1":
+            raise
+        return None
+    fn.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
+    fn.restype = ctypes.c_long
+    data = np.ascontiguousarray(data, dtype=np.float64)
+    big = np.abs(data)
+    if big.size and (big.max() >= 1e20 or np.any((big > 0) & (big < 1e-20))):
+        return None       # glibc's exact printf is slow on far exponents: Python's dtoa is faster there
+    rows, cols = data.shape
+
+    def part(lo: int, hi: int) -> bytes:           # ctypes lets go of the GIL during the call
+        out = ctypes.create_string_buffer((hi - lo) * cols * 25 + 1)
+        size = fn(data[lo:hi].ctypes.data, hi - lo, cols, out)
+        return ctypes.string_at(out, size)
+    return b"".join(in_threads(part, rows)).decode("ascii")
+
+
+def _threaded(work, count: int) -> list:
+    """work(k) for k in range(count), in threads; the results in order."""
+    if count == 1:
+        return [work(0)]
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(count) as pool:
+        return list(pool.map(work, range(count)))
+
+
+def workers(rows: int) -> int:
+    """Threads for a table of `rows` rows: one per available core, at least 10 000 rows each."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    return max(1, min(cores, rows // 10_000))
+
+
+def in_threads(work, rows: int) -> list:
+    """work(lo, hi) over row ranges, one per thread (workers), for C calls, which run without the
+    GIL; the results in row order."""
+    count = workers(rows)
+    bounds = [rows * k // count for k in range(count + 1)]
+    return _threaded(lambda k: work(bounds[k], bounds[k + 1]), count)
 
 
 # --- compiling and caching ----------------------------------------------------------------------

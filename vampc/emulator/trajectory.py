@@ -24,6 +24,9 @@ from vampc.textio import shown
 
 BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
                 "base_ax", "base_ay", "base_az"]
+# Tables of at least this many cells are formatted by the native writer (smaller ones are not worth
+# loading it for).
+NATIVE_CELLS = 20_000
 WRENCH_COLUMNS = ["base_fx", "base_fy", "base_fz", "base_nx", "base_ny", "base_nz"]
 
 
@@ -304,6 +307,11 @@ def format_rows(*columns: np.ndarray | None) -> str:
     parts = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in columns if c is not None]
     data = np.hstack(parts) if len(parts) > 1 else parts[0]
     count, width = data.shape
+    if count * width >= NATIVE_CELLS:          # C's sprintf: about twice as fast (README, Emulator speed)
+        from vampc.emulator.native import format_csv
+        text = format_csv(data)
+        if text is not None:
+            return text
     # --- fast path: one %-format over all rows at C speed; %.17g round-trips like repr, faster ---
     row = ",".join(["%.17g"] * width) + "\n"
     return (row * count) % tuple(data.ravel().tolist())

@@ -10,11 +10,21 @@ from pathlib import Path
 
 from vampc.errors import located
 from vampc.robot.chain import Chain, Joint, JointType, Limits
-from vampc.robot.dh import JSON_SUFFIXES, YAML_SUFFIXES, chain_from_dh, load_dh
-from vampc.robot.mjcf import is_mjcf, load_mjcf
-from vampc.robot.urdf import load_urdf
 
 URDF_SUFFIXES = (".urdf", ".xml")
+YAML_SUFFIXES = (".yaml", ".yml")
+JSON_SUFFIXES = (".json",)
+# The loaders (and PyYAML, lxml) are imported when first used: reading a program file needs only the
+# Chain, and a whole `vampc emulate` of a program is a fraction of a second.
+_LAZY = {"chain_from_dh": "vampc.robot.dh", "load_dh": "vampc.robot.dh", "load_urdf": "vampc.robot.urdf",
+         "load_mjcf": "vampc.robot.mjcf", "is_mjcf": "vampc.robot.mjcf"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'vampc.robot' has no attribute {name!r}")
 
 __all__ = ["Chain", "Joint", "JointType", "Limits", "chain_from_dh", "load_dh", "load_robot", "load_urdf"]
 
@@ -26,6 +36,9 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
     freeze joints of a URDF tree; `floating` lets the base float (vampc.robot.chain); `mimic` says how
     a URDF's mimic joints are read and `accept_improper_inertia` whether an inertia that is not
     positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
+    from vampc.robot.dh import load_dh
+    from vampc.robot.mjcf import is_mjcf, load_mjcf
+    from vampc.robot.urdf import load_urdf
     from vampc.sniff import looks_like, suffix_mismatch
     path = Path(path)
     suffix = path.suffix.lower()

@@ -30,13 +30,11 @@ import yaml
 from vampc import jsontext
 from vampc.errors import VampcError, located
 from vampc.gcpause import gc_paused
+from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES  # noqa: F401 - re-exported, used below
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
 from vampc.robot.dh_format import check as check_table
 from vampc.robot.dh_format import where as _where
 from vampc.textio import one_line
-
-YAML_SUFFIXES = (".yaml", ".yml")
-JSON_SUFFIXES = (".json",)
 
 
 def load_dh(path, floating: bool = False) -> Chain:

@@ -1,0 +1,71 @@
+"""The emulator's file I/O at speed (issue "Fast at every size", part 3): the native CSV writer and
+the threaded native reader give exactly what Python's formatting and parsing give, and `-o NAME.npy`
+writes the torques as a NumPy array equal to the CSV's."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.emulator import native
+from vampc.emulator.trajectory import NATIVE_CELLS, format_rows
+
+pytestmark = pytest.mark.skipif(native.compiler() is None, reason="no C compiler")
+
+
+def python_rows(data: np.ndarray) -> str:
+    """What format_rows wrote before the native writer, independent of it: '%.17g' per cell."""
+    return "".join(",".join("%.17g" % x for x in row) + "\n" for row in data)
+
+
+def test_the_native_writer_writes_what_python_writes():
+    rng = np.random.default_rng(7)
+    data = rng.normal(size=(NATIVE_CELLS // 4 + 3, 4)) * 10.0 ** rng.integers(-15, 15, (NATIVE_CELLS // 4 + 3, 4))
+    data[0] = [0.0, -0.0, 0.1, 2.5]
+    data[1] = [1e-5, 123456789012345678.0, 9007199254740993.0, -1.0000000000000002]
+    text = native.format_csv(data)
+    assert text is not None and text == python_rows(data)
+    assert format_rows(data) == text
+
+
+def test_far_exponents_are_left_to_python():
+    """glibc's exact printf is slow on exponents near ±300: the native writer declines them and
+    format_rows still gives Python's text."""
+    data = np.full((NATIVE_CELLS, 1), 1e300)
+    data[5] = 5e-324
+    assert native.format_csv(data) is None
+    assert format_rows(data) == python_rows(data)
+
+
+def test_the_threaded_reader_reads_what_numpy_reads():
+    rng = np.random.default_rng(3)
+    data = rng.normal(size=(45_001, 3)) * 10.0 ** rng.integers(-8, 8, (45_001, 3))
+    body = python_rows(data).encode()
+    assert native.workers(45_001) >= 1
+    got = native.parse_csv(body, 3)
+    assert got is not None and np.array_equal(got, data)
+    assert np.array_equal(native.parse_csv(body.rstrip(b"\n"), 3), data)       # no final newline
+    assert native.parse_csv(body.replace(b"\n", b"\n\n", 1), 3) is None          # an empty line
+    cut = body.index(b"\n", len(body) // 2) + 1           # a two-cell row half-way down
+    ragged = body[:cut] + b"1,2\n" + body[cut:]
+    assert native.parse_csv(ragged, 3) is None
+
+
+@pytest.mark.parametrize("robot, extra", [("examples/puma560.yaml", []),
+                                          ("examples/planar2.yaml", ["--floating-base"])])
+def test_torques_as_npy_equal_the_csv(tmp_path, robot, extra):
+    runner = CliRunner()
+    program, states = tmp_path / "p.vamp.json", tmp_path / "s.csv"
+    assert runner.invoke(main, ["compile", robot, *extra, "-o", str(program)]).exit_code == 0
+    r = runner.invoke(main, ["emulate", str(program), "--random", "300", "--save-states", str(states)])
+    assert r.exit_code == 0, r.output
+    lines = states.read_text().splitlines()              # a t column, carried to both outputs
+    states.write_text("t," + lines[0] + "\n" + "".join(f"{k * 0.001!r},{line}\n"
+                                                        for k, line in enumerate(lines[1:])))
+    for out in ("tau.csv", "tau.npy"):
+        r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "-o", str(tmp_path / out)])
+        assert r.exit_code == 0, r.output
+    want = np.loadtxt(tmp_path / "tau.csv", delimiter=",", skiprows=1)
+    got = np.load(tmp_path / "tau.npy")
+    assert got.dtype == np.float64 and np.array_equal(got, want)
