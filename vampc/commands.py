@@ -405,7 +405,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     else:
         chain = load_chain(source, options, robot_opts)
     with progress.counter("trade-off", 1, unit="budget") as bar:
-        rows = tr.tradeoff(chain, options, bar)
+        rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     if outs:
         from vampc.report.tradeoff_chart import curve_svg
         write_pictures(outs, {"--curve": curve_svg(rows, f"{chain.name}: {options.recursion} "

@@ -422,6 +422,13 @@ class ReportOptions:
     html: str | None = field(default=None, metadata=cli(
         "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
         "tables and both pictures inline."))
+    workers: int | None = field(default=None, metadata=cli(
+        "--workers", range=(1, 1024), metavar="N", help="With --tradeoff: budgets computed by N local "
+        "worker processes (default: one per available core); the points are the same as one process "
+        "gives."))
+    scheduler: str | None = field(default=None, metadata=cli(
+        "--scheduler", metavar="ADDRESS", help="With --tradeoff: run the budgets on the Dask cluster "
+        "whose scheduler is at ADDRESS (tcp://HOST:8786; pip install \"vampc[dask]\")."))
     curve: str | None = field(default=None, metadata=cli(
         "--curve", path=True, metavar="FILE.svg", help="With --tradeoff: write the trade-off curve "
         "as SVG (latency and interval against VAMPs, Pareto-optimal points marked, the folded and "
@@ -444,6 +451,11 @@ class ReportOptions:
                                           "the layouts and budgets itself")
         elif self.curve is not None:
             raise VampcUsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
+        for name in ("workers", "scheduler"):
+            if getattr(self, name) is not None and not self.tradeoff:
+                raise VampcUsageError(f"{flag(name)} applies with --tradeoff (it runs the sweep's budgets)")
+        if self.workers is not None and self.scheduler is not None:
+            raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
 
     def clock_hz(self) -> float | None:
         """--clock in Hz (VampcUsageError for a bad value)."""

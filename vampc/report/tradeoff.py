@@ -11,11 +11,18 @@ MAX_STEPS budgets spaced geometrically over the range (fewer where rounding make
 once. Graphs up to THOROUGH_UP_TO VAMP-ops get the latency search `vampc compile --vamps` does; larger
 ones a cheaper one (vampc.schedule.budget._quick_for: no shortening below 10% above the latency
 bound; the sweep would take too long otherwise).
+
+The budgets are independent: `workers` processes (default: one per available core) each build the
+graph once and compute the budgets handed to them; the rows are put back in budget order before the
+repeats are dropped, so the result is the same as one process gives (a test compares both). With
+`scheduler` (a Dask scheduler's address, `--scheduler tcp://HOST:8786`), the graph is broadcast to
+the cluster's workers once and each budget is one task (dask.distributed, the `dask` extra).
 """
 from __future__ import annotations
 
 import csv
 import io
+import os
 from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph
@@ -44,29 +51,99 @@ def budgets(smallest: int, largest: int, steps: int = MAX_STEPS) -> list[int]:
 
 
 @gc_paused()
-def tradeoff(chain, options: CompileOptions, progress=None) -> list[dict]:
-    """One row per point (see the module docstring), in order of VAMPs."""
+def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None = None,
+             scheduler: str | None = None) -> list[dict]:
+    """One row per point (see the module docstring), in order of VAMPs; `workers` processes compute
+    the budgets (None: one per available core; 1: this process), or the Dask cluster whose
+    scheduler is at `scheduler`."""
     graph = build_graph(chain, replace(options, verify=False))
     timing = options.timing
     largest = vamp_ops(graph)
     ks = budgets(smallest_network(graph), largest)
     thorough = largest <= THOROUGH_UP_TO
+    workers = min(available_cores() if workers is None else workers, len(ks))
     rows, seen = [], set()
-    for done, k in enumerate(ks):
-        layout, sched, b = budget_schedule(graph, timing, k, verify=False, thorough=thorough)
-        row = _row(f"budget {k}", graph, sched, layout, b)
+    computed = _cluster_rows(graph, timing, ks, thorough, scheduler, progress) if scheduler else \
+        _budget_rows(graph, timing, ks, thorough, workers, progress)
+    for row in computed:
         figures = tuple(row[c] for c in FIGURES)
         if figures not in seen:            # a larger budget the schedule did not use
             seen.add(figures)
             rows.append(row)
-        if progress is not None:
-            progress(done + 1, len(ks))
     for label, name, share in compared_layouts():     # the registry's (vampc.schedule.registry)
         layout, sched = layout_and_schedule(graph, timing, name,
                                             LayoutRequest(share, verify=False))
         rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
     _mark_pareto(rows)
     return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))
+
+
+def available_cores() -> int:
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def _budget_row(graph, timing, k: int, thorough: bool) -> dict:
+    layout, sched, b = budget_schedule(graph, timing, k, verify=False, thorough=thorough)
+    return _row(f"budget {k}", graph, sched, layout, b)
+
+
+def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, progress):
+    """The budgets' rows in budget order, computed here or by `workers` forked processes (which
+    inherit the graph: each task sends a budget and returns a row)."""
+    if workers <= 1 or not hasattr(os, "fork"):
+        for done, k in enumerate(ks):
+            yield _budget_row(graph, timing, k, thorough)
+            if progress is not None:
+                progress(done + 1, len(ks))
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    global _SHARED
+    _SHARED = (graph, timing, thorough)
+    try:
+        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+            futures = {pool.submit(_shared_budget_row, k): i for i, k in enumerate(ks)}
+            out = [None] * len(ks)
+            for done, future in enumerate(as_completed(futures), 1):
+                out[futures[future]] = future.result()
+                if progress is not None:
+                    progress(done, len(ks))
+    finally:
+        _SHARED = None
+    yield from out
+
+
+_SHARED = None        # (graph, timing, thorough) for forked workers
+SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
+
+
+def _cluster_rows(graph, timing, ks: list, thorough: bool, address: str, progress) -> list:
+    """The budgets' rows in budget order, computed on a Dask cluster."""
+    from vampc.errors import VampcError
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise VampcError("--scheduler needs dask.distributed: pip install \"vampc[dask]\"") from None
+    try:
+        client = Client(address, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there ({exc})") from None
+    with client:
+        shared = client.scatter(graph, broadcast=True)
+        futures = [client.submit(_budget_row, shared, timing, k, thorough, pure=False) for k in ks]
+        index = {f.key: i for i, f in enumerate(futures)}
+        out = [None] * len(ks)
+        for done, future in enumerate(as_completed(futures), 1):
+            out[index[future.key]] = future.result()
+            if progress is not None:
+                progress(done, len(ks))
+    return out
+
+
+def _shared_budget_row(k: int) -> dict:
+    graph, timing, thorough = _SHARED
+    return _budget_row(graph, timing, k, thorough)
 
 
 def _row(label, graph, sched, layout, b) -> dict:

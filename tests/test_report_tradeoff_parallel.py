@@ -1,0 +1,56 @@
+"""`report --tradeoff` in parallel (issue "Fast at every size", part 4): local worker processes
+(--workers) and a Dask cluster (--scheduler) give the points one process gives."""
+from __future__ import annotations
+
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.compiler import CompileOptions
+from vampc.report import tradeoff as tr
+from vampc.robot import load_robot
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_worker_processes_give_the_serial_points(recursion):
+    chain = load_robot("examples/planar2.yaml")
+    options = CompileOptions(recursion=recursion)
+    seen = []
+    serial = tr.tradeoff(chain, options, workers=1)
+    parallel = tr.tradeoff(chain, options, progress=lambda done, total: seen.append((done, total)),
+                           workers=2)
+    assert parallel == serial and len(serial) > 3
+    assert seen[-1][0] == seen[-1][1] and len(seen) == seen[-1][1]     # every budget reported
+
+
+def test_a_dask_cluster_gives_the_serial_points():
+    distributed = pytest.importorskip("distributed")
+    runner = CliRunner()
+    args = ["report", "examples/planar2.yaml", "--tradeoff", "--format", "json"]
+    serial = runner.invoke(main, [*args, "--workers", "1"])
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        r = runner.invoke(main, [*args, "--scheduler", cluster.scheduler_address])
+    assert r.exit_code == 0 and serial.exit_code == 0, r.output
+    assert r.output == serial.output
+
+
+def test_an_unreachable_scheduler_is_one_line(monkeypatch):
+    pytest.importorskip("distributed")
+    monkeypatch.setattr(tr, "SCHEDULER_TIMEOUT", "1s")
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                  "tcp://127.0.0.1:9"])
+    assert r.exit_code == 1
+    assert r.output.startswith("vampc: error: --scheduler tcp://127.0.0.1:9: cannot reach a Dask scheduler")
+    assert len(r.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--workers", "2"], "--workers applies with --tradeoff"),
+    (["--scheduler", "tcp://x:1"], "--scheduler applies with --tradeoff"),
+    (["--tradeoff", "--workers", "2", "--scheduler", "tcp://x:1"], "--workers and --scheduler: give one"),
+    (["--tradeoff", "--workers", "0"], "--workers"),
+])
+def test_usage(args, message):
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", *args])
+    assert r.exit_code == 2 and message in r.output, r.output
