@@ -38,6 +38,9 @@ def main() -> int:
         print("example-robot-data is not installed (pip install example-robot-data)")
         return 1
     only = {n.strip() for n in args.only.split(",") if n.strip()}
+    print("Each row: both recursions and, where the robot has mimic joints, both --mimic modes. mimic: "
+          "joints --mimic couple couples; vs Pinocchio: the worst error relative to the largest |tau|; "
+          "--check: vampc's own check against its reference RNEA, likewise; s: seconds for the row.\n")
     print(f"{'robot':34s} {'base':8s} {'joints':>6s} {'mimic':>5s} {'vs Pinocchio':>12s} "
           f"{'--check':>9s} {'s':>6s}  notes")
     tally = {"ok": 0, "skipped": 0, "failed": 0}

@@ -75,8 +75,16 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
         f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
-        f"{count(s.interval, 'flop')}", out.is_stdout)
+        f"{count(s.interval, 'flop')}" + robot_notes(c.chain), out.is_stdout)
     return None
+
+
+def robot_notes(chain) -> str:
+    """What compile's summary line adds about the robot: a floating base, coupled mimic joints."""
+    notes = (["floating base"] if chain.floating else []) + \
+        ([count(len(chain.mimic), "coupled mimic joint") + " (torques of the independent joints)"]
+         if chain.mimic else [])
+    return "; " + ", ".join(notes) if notes else ""
 
 
 # --- programs -------------------------------------------------------------------------------------

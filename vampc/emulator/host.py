@@ -86,9 +86,11 @@ def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
         if bad.any():
             row = int(np.argmax(bad))
             via = f", {derived[i]} and the coupling" if i in derived else ""
+            limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
+                ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None else [])
             raise VampcError(f"{path}: row {row + 1}: joint {i + 1} ({j.name}) is outside its limits "
-                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}); use "
-                             "--allow-out-of-limits to run anyway")
+                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}; limits "
+                             f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")
 
 
 def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None) -> None:
