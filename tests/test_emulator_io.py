@@ -69,3 +69,14 @@ def test_torques_as_npy_equal_the_csv(tmp_path, robot, extra):
     want = np.loadtxt(tmp_path / "tau.csv", delimiter=",", skiprows=1)
     got = np.load(tmp_path / "tau.npy")
     assert got.dtype == np.float64 and np.array_equal(got, want)
+
+
+def test_npz_is_not_a_torque_file():
+    r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--random", "3", "-o", "x.npz"])
+    assert r.exit_code == 2 and "not .npz" in r.output
+
+
+def test_non_finite_values_are_left_to_python():
+    data = np.zeros((NATIVE_CELLS, 1))
+    data[3] = np.nan
+    assert native.format_csv(data) is None

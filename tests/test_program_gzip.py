@@ -70,3 +70,24 @@ def test_a_gzip_bomb_is_refused():
     with pytest.raises(VampcError, match="decompresses to more than"):
         gunzip(bomb, "bomb.vamp.json.gz", limit=1 << 20)
     assert gunzip(bomb, "bomb.vamp.json.gz", limit=4 << 20) == b" " * (3 << 20)
+
+
+def test_members_one_after_another_are_one_text(programs, tmp_path):
+    """As `cat a.gz b.gz` or bgzip make them (the review found them refused as 'trailing data')."""
+    text = programs[0].read_bytes()
+    split = tmp_path / "two.vamp.json.gz"
+    split.write_bytes(gzip.compress(text[:1000]) + gzip.compress(text[1000:]))
+    assert read_program_file(split) == read_program_file(programs[0])
+
+
+def test_an_upper_case_suffix_compresses_too(tmp_path):
+    out = tmp_path / "P.VAMP.JSON.GZ"
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "-o", str(out)]).exit_code == 0
+    assert out.read_bytes().startswith(GZIP_MAGIC)
+
+
+def test_a_compressed_robot_file_says_so(tmp_path):
+    robot = tmp_path / "arm.urdf"
+    robot.write_bytes(gzip.compress(open("examples/arm6.urdf", "rb").read()))
+    r = CliRunner().invoke(main, ["compile", str(robot)])
+    assert r.exit_code == 1 and "arm.urdf is gzip-compressed; decompress it first (gunzip)" in r.output

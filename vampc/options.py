@@ -388,6 +388,9 @@ class EmulateOptions:
             raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
         if self.write_failed and not (self.check_torques and self.output):
             raise VampcUsageError("--write-failed applies with --check and -o")
+        if self.output and Path(self.output).suffix.lower() == ".npz":
+            raise VampcUsageError("-o writes torques as CSV or, for a name ending in .npy, as a NumPy "
+                                  "array: not .npz")
         if self.save_states and Path(self.save_states).suffix.lower() in (".npy", ".npz"):
             raise VampcUsageError("--save-states writes a CSV trajectory: give a .csv file name")
 
@@ -454,6 +457,8 @@ class ReportOptions:
         for name in ("workers", "scheduler"):
             if getattr(self, name) is not None and not self.tradeoff:
                 raise VampcUsageError(f"{flag(name)} applies with --tradeoff (it runs the sweep's budgets)")
+        if self.scheduler is not None and not self.scheduler.strip():
+            raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
         if self.workers is not None and self.scheduler is not None:
             raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
 

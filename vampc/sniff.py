@@ -9,13 +9,14 @@ HEAD = 4096
 PROGRAM_SUFFIX = ".vamp.json"
 
 DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
+                "gzip": "gzip-compressed data: decompress it first (gunzip)",
                 "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)"}
 
 
 def sniff(path) -> str | None:
-    """"program", "urdf", "json" or "yaml" by content; None if unreadable or none of these (the
-    loaders then say what is wrong). Only a regular file is looked at: a FIFO's first bytes, once
-    read, are gone, and the loader must read them."""
+    """"program", "urdf", "json", "yaml" or "gzip" (compressed, not a program) by content; None if
+    unreadable or none of these (the loaders then say what is wrong). Only a regular file is looked
+    at: a FIFO's first bytes, once read, are gone, and the loader must read them."""
     try:
         if not Path(path).is_file():
             return None
@@ -25,6 +26,8 @@ def sniff(path) -> str | None:
         return None
     if head.startswith(b"\x1f\x8b"):               # gzip: a compact program file (or nothing we read)
         head = _gunzipped_head(path)
+        if b'"vampc-program"' not in head:
+            return "gzip"
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
@@ -69,6 +72,8 @@ def suffix_mismatch(path, expected: str) -> str | None:
     if kind == "program":
         return (f"{name} is a vampc program file, not a robot description; use "
                 "`vampc emulate` or `vampc report` with it")
+    if kind == "gzip":
+        return f"{name} is gzip-compressed; decompress it first (gunzip)"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
     if expected == "urdf" and kind in ("json", "yaml"):

@@ -432,8 +432,8 @@ def format_csv(data: np.ndarray) -> str | None:
     fn.restype = ctypes.c_long
     data = np.ascontiguousarray(data, dtype=np.float64)
     big = np.abs(data)
-    if big.size and (big.max() >= 1e20 or np.any((big > 0) & (big < 1e-20))):
-        return None       # glibc's exact printf is slow on far exponents: Python's dtoa is faster there
+    if big.size and (not np.all(np.isfinite(big)) or big.max() >= 1e20 or np.any((big > 0) & (big < 1e-20))):
+        return None       # far exponents (glibc's exact printf is slow there) and nan/inf: Python's
     rows, cols = data.shape
 
     def part(lo: int, hi: int) -> bytes:           # ctypes lets go of the GIL during the call

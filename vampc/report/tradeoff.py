@@ -51,11 +51,11 @@ def budgets(smallest: int, largest: int, steps: int = MAX_STEPS) -> list[int]:
 
 
 @gc_paused()
-def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None = None,
+def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None = 1,
              scheduler: str | None = None) -> list[dict]:
     """One row per point (see the module docstring), in order of VAMPs; `workers` processes compute
-    the budgets (None: one per available core; 1: this process), or the Dask cluster whose
-    scheduler is at `scheduler`."""
+    the budgets (1, the default: this process; None: one per available core, as `vampc report`
+    does), or the Dask cluster whose scheduler is at `scheduler`."""
     graph = build_graph(chain, replace(options, verify=False))
     timing = options.timing
     largest = vamp_ops(graph)
@@ -63,7 +63,7 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
     thorough = largest <= THOROUGH_UP_TO
     workers = min(available_cores() if workers is None else workers, len(ks))
     rows, seen = [], set()
-    computed = _cluster_rows(graph, timing, ks, thorough, scheduler, progress) if scheduler else \
+    computed = _cluster_rows(graph, timing, ks, thorough, scheduler, progress) if scheduler is not None else \
         _budget_rows(graph, timing, ks, thorough, workers, progress)
     for row in computed:
         figures = tuple(row[c] for c in FIGURES)
@@ -89,37 +89,65 @@ def _budget_row(graph, timing, k: int, thorough: bool) -> dict:
 
 
 def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, progress):
-    """The budgets' rows in budget order, computed here or by `workers` forked processes (which
-    inherit the graph: each task sends a budget and returns a row)."""
-    if workers <= 1 or not hasattr(os, "fork"):
+    """The budgets' rows in budget order, computed here or by `workers` forked processes (each
+    inherits the graph when it starts; a task sends a budget and returns a row). Workers ignore
+    Ctrl-C: an interrupt, a signal or a failed budget in this process stops them at once."""
+    import multiprocessing
+    if workers > 1 and not hasattr(os, "fork"):
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"--workers {workers}: this platform cannot fork; the budgets run "
+                                   "in this process"), stacklevel=3)
+    if workers <= 1 or not hasattr(os, "fork") or multiprocessing.current_process().daemon:
         for done, k in enumerate(ks):
             yield _budget_row(graph, timing, k, thorough)
             if progress is not None:
                 progress(done + 1, len(ks))
         return
-    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
-    global _SHARED
-    _SHARED = (graph, timing, thorough)
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"),
+                               initializer=_worker_start, initargs=(graph, timing, thorough))
     try:
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-            futures = {pool.submit(_shared_budget_row, k): i for i, k in enumerate(ks)}
-            out = [None] * len(ks)
-            for done, future in enumerate(as_completed(futures), 1):
-                out[futures[future]] = future.result()
-                if progress is not None:
-                    progress(done, len(ks))
-    finally:
-        _SHARED = None
+        futures = {pool.submit(_worker_row, k): i for i, k in enumerate(ks)}
+        out = [None] * len(ks)
+        for done, future in enumerate(as_completed(futures), 1):
+            out[futures[future]] = future.result()
+            if progress is not None:
+                progress(done, len(ks))
+    except BaseException:
+        for proc in list(getattr(pool, "_processes", {}).values()):     # do not wait for the queue
+            proc.kill()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
     yield from out
 
 
-_SHARED = None        # (graph, timing, thorough) for forked workers
+_WORKER = None        # a forked worker's (graph, timing, thorough)
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 
 
+def _worker_start(graph, timing, thorough: bool) -> None:
+    """A worker's start: keep the graph; leave Ctrl-C to the process that started it."""
+    import signal
+    global _WORKER
+    _WORKER = (graph, timing, thorough)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+
+
+def _worker_row(k: int) -> dict:
+    graph, timing, thorough = _WORKER
+    return _budget_row(graph, timing, k, thorough)
+
+
 def _cluster_rows(graph, timing, ks: list, thorough: bool, address: str, progress) -> list:
-    """The budgets' rows in budget order, computed on a Dask cluster."""
+    """The budgets' rows in budget order, computed on a Dask cluster; anything the cluster does
+    wrong (no workers, a worker without vampc, a lost worker, an address it cannot use) is one
+    line."""
     from vampc.errors import VampcError
     try:
         from distributed import Client, as_completed
@@ -127,23 +155,27 @@ def _cluster_rows(graph, timing, ks: list, thorough: bool, address: str, progres
         raise VampcError("--scheduler needs dask.distributed: pip install \"vampc[dask]\"") from None
     try:
         client = Client(address, timeout=SCHEDULER_TIMEOUT)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
+                         f"({type(exc).__name__}: {_one_line(exc)})") from None
     with client:
-        shared = client.scatter(graph, broadcast=True)
-        futures = [client.submit(_budget_row, shared, timing, k, thorough, pure=False) for k in ks]
-        index = {f.key: i for i, f in enumerate(futures)}
-        out = [None] * len(ks)
-        for done, future in enumerate(as_completed(futures), 1):
-            out[index[future.key]] = future.result()
-            if progress is not None:
-                progress(done, len(ks))
+        try:
+            shared = client.scatter(graph, broadcast=True)
+            futures = [client.submit(_budget_row, shared, timing, k, thorough, pure=False) for k in ks]
+            index = {f.key: i for i, f in enumerate(futures)}
+            out = [None] * len(ks)
+            for done, future in enumerate(as_completed(futures), 1):
+                out[index[future.key]] = future.result()
+                if progress is not None:
+                    progress(done, len(ks))
+        except Exception as exc:  # noqa: BLE001 - whatever the cluster raises
+            raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
+                             f"{_one_line(exc)})") from None
     return out
 
 
-def _shared_budget_row(k: int) -> dict:
-    graph, timing, thorough = _SHARED
-    return _budget_row(graph, timing, k, thorough)
+def _one_line(exc: Exception) -> str:
+    return " ".join(str(exc).split())[:300]
 
 
 def _row(label, graph, sched, layout, b) -> dict:
