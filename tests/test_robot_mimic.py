@@ -241,3 +241,24 @@ def test_trajectory_messages_name_the_files_columns(tmp_path):
     r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--allow-out-of-limits"])
     assert r.exit_code == 1 and ("row 1, column qd of joint 't2' (derived from qd4): 300 is beyond"
                                  in r.output), r.output
+
+
+def test_the_report_says_who_follows_whom(tmp_path):
+    """JSON (valid against the report schema) and text name the couplings; a program without them
+    has no `mimic` key."""
+    import json
+
+    from schema_check import schema_errors
+    path = write(tmp_path, COUPLED)
+    program = tmp_path / "g.vamp.json"
+    runner = CliRunner()
+    assert runner.invoke(main, ["compile", str(path), "--mimic", "couple", "-o", str(program)]).exit_code == 0
+    r = runner.invoke(main, ["report", str(program), "--format", "json"])
+    rep = json.loads(r.output)
+    assert not schema_errors("report", rep)
+    assert rep["mimic"] == [{"follower": "f2", "leader": "f1", "multiplier": 1.0, "offset": 0.0},
+                            {"follower": "t2", "leader": "t1", "multiplier": -0.5, "offset": 0.3}]
+    text = runner.invoke(main, ["report", str(program)]).output
+    assert "mimic            f2 = 1 · f1, t2 = -0.5 · t1 + 0.3 (coupled on the host" in text
+    plain = runner.invoke(main, ["report", "examples/planar2.yaml", "--format", "json"]).output
+    assert "mimic" not in json.loads(plain)

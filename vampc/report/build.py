@@ -42,6 +42,10 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
                          "scheduled_only": [k.name for k in configs if k.network is None],
                          "omitted": (["prefix_comparison"] * (c.graph.recursion is Recursion.LOG)
                                      + ["other leaf style"]) if big else []}
+    if c.chain.mimic:            # coupled mimic joints (vampc.robot.mimic): the host's, not the network's
+        names = [j.name for j in c.chain.joints]
+        rep["mimic"] = [{"follower": names[m.follower - 1], "leader": names[m.leader - 1],
+                         "multiplier": m.multiplier, "offset": m.offset} for m in c.chain.mimic]
     if "tree" in rep:
         from vampc.report.compare import tree_latencies
         rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)

@@ -104,7 +104,21 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
          f"{rep['serial_reference']['adds']}"),
     ]
     pairs += _tree_pairs(rep.get("tree"))
+    pairs += _mimic_pairs(rep.get("mimic"))
     return pairs
+
+
+def _mimic_pairs(mimic: list | None) -> list[tuple[str, str]]:
+    """Coupled mimic joints: who follows whom (the network computes every joint; the host derives
+    the followers' inputs and folds their torques into their leaders')."""
+    if not mimic:
+        return []
+    shown = [f"{m['follower']} = {m['multiplier']:g} · {m['leader']}"
+             + (f" {'+' if m['offset'] >= 0 else '-'} {abs(m['offset']):g}" if m["offset"] else "")
+             for m in mimic[:SHOWN_JOINTS]]
+    more = f", ... {len(mimic)} in all" if len(mimic) > SHOWN_JOINTS else ""
+    return [("mimic", ", ".join(shown) + more + " (coupled on the host: states and torques give the "
+             "independent joints; the network computes every joint)")]
 
 
 SHOWN_JOINTS = 12
