@@ -170,10 +170,6 @@ MJCF_ERRORS = [
     (model("i", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)])).replace(
         "<worldbody>", '<include file="missing.xml"/><worldbody>'), "",
      r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
-    (model("r", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)]).replace(
-        'name="j1"', 'name="j1" ref="0.3"')), "",
-     r"joint 'j1': ref=0\.00523599 rad is not supported \(vampc's q is 0 in the pose the file gives, "
-     r"where MuJoCo's qpos is ref\)"),
 ]
 
 
@@ -293,3 +289,59 @@ def test_a_model_without_a_name_is_named_after_its_file(tmp_path):
     path.write_text(ARM.replace('<mujoco model="arm">', "<mujoco>"))
     with pytest.warns(VampcWarning, match="<mujoco> has no model name; calling it 'nameless'"):
         assert load_robot(path).name == "nameless"
+
+
+def test_a_reference_position_is_an_offset_and_q_is_qpos(tmp_path):
+    """ref on a hinge (degrees, as MuJoCo reads them) and on a slide: vampc's q is MuJoCo's qpos
+    (until then refused). Checked against mj_inverse at the same qpos, a joint locked at a qpos too,
+    and an equality about the refs."""
+    text = ARM.replace('name="j2" type="hinge"', 'name="j2" ref="20" type="hinge"').replace(
+        'name="j4" type="slide"', 'name="j4" ref="0.05" type="slide"')
+    path = tmp_path / "ref.xml"
+    path.write_text(text)
+    chain = load_robot(path)
+    assert [round(j.offset, 12) for j in chain.joints] == [0, round(-np.radians(20), 12), 0, -0.05, 0, 0]
+    from vampc.emulator.host import random_trajectory
+    traj = random_trajectory(chain, 5, 4)
+    want = mujoco_reference(path, traj)
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
+    got = emulate(ld, traj, "stream").tau
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
+    locked = load_robot(path, lock={"j2": 0.4})          # at qpos 0.4, not at ref + 0.4
+    assert [j.name for j in locked.joints] == ["j1", "j3", "j4", "j5", "j6"]
+    m = mujoco.MjModel.from_xml_path(str(path))
+    m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)     # j1 beyond its range
+    d = mujoco.MjData(m)
+    q = np.array([0.3, 0.4, -0.2, 0.01, 0.5, -0.6])
+    d.qpos[:], d.qvel[:], d.qacc[:] = q, 0, 0
+    mujoco.mj_inverse(m, d)
+    from vampc.dynamics.reference import rnea
+    keep = [0, 2, 3, 4, 5]
+    ours = rnea(locked, q[None, keep], np.zeros((1, 5)), np.zeros((1, 5)))[0]
+    assert np.max(np.abs(ours - d.qfrc_inverse[keep])) <= 1e-9 * np.max(np.abs(ours))
+
+
+def test_an_equality_about_reference_positions_is_coupled_as_mujoco_means_it(tmp_path):
+    """With refs on both fingers, MuJoCo's polynomial is about them (y - y0 = c0 + c1 (x - x0)): the
+    expanded states satisfy MuJoCo's own equality constraint (its efc_pos is 0 there)."""
+    import warnings
+
+    from vampc.robot.mimic import expand
+    text = GRIPPER.replace('name="f1" type="slide"', 'name="f1" ref="0.01" type="slide"').replace(
+        'name="f2" type="slide"', 'name="f2" ref="0.02" type="slide"').replace(
+        '<joint name="hold" joint1="f3" polycoef="0.2 0 0 0 0"/>', "")
+    path = tmp_path / "gr.xml"
+    path.write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        chain = load_robot(path, mimic="couple")
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    for q in ([0.3, 0.02, 0.5], [-0.1, 0.035, -0.4]):
+        full = expand(chain, np.array([q]), np.zeros((1, 3)), np.zeros((1, 3)))[0][0]
+        d.qpos[:] = full
+        mujoco.mj_forward(m, d)
+        rows = d.efc_type == int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+        assert rows.sum() == 1 and abs(d.efc_pos[rows][0]) < 1e-12

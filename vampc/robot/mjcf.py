@@ -18,9 +18,11 @@ then the base's motion, the host's input); gravity is MuJoCo's, in the world fra
 the world's orientation for a floating base. Bodies welded to their parent (no joint) merge into it.
 Children are numbered in file order, as Pinocchio's MJCF reader numbers them.
 
-Refused, one line each naming the joint or element: ball joints, free joints below the root,
-tendons, equality constraints, a joint `ref` other than 0 (q would not be MuJoCo's qpos), and what
-MuJoCo itself refuses (an unreadable `<include>`, a bad attribute: its message, with the file).
+A joint's q is MuJoCo's qpos: a joint with a reference position `ref` (the file's pose is at qpos =
+ref) gets the offset -ref (vampc.robot.chain: A = Rz(q + offset) Φ). Refused, one line each naming the
+joint or element: ball joints, free joints below the root, tendons that exert forces, equality
+constraints other than joint equalities of degree 1, and what MuJoCo itself refuses (an unreadable
+`<include>`, a bad attribute: its message, with the file).
 Ignored with a warning: joint armature, damping, friction loss and springs (not rigid-body inverse
 dynamics; Pinocchio's rnea leaves them out too).
 """
@@ -70,6 +72,7 @@ class _Joint:
     axis: np.ndarray
     limit: _Limit | None = None
     mimic: object = None
+    offset: float = 0.0           # -ref: the motion from the file's pose is qpos - ref
 
 
 @dataclass
@@ -177,7 +180,7 @@ def _robot(model, path: Path, base: str | None = None):
                     kind = "continuous"
                 joints.append(_Joint(joint_name[j], kind, link, child,
                                      at @ _translation(c - previous), np.array(model.jnt_axis[j], dtype=float),
-                                     _limit(model, j)))
+                                     _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]])))
                 at, previous, link = np.eye(4), c, child
             shift[b] = _translation(-previous)
         if inertial is not None:
@@ -226,20 +229,14 @@ def _static_beside_free(model, path: Path, body_name: list) -> set:
 
 
 def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
-    """What vampc does not model: ball joints, tendons, equality constraints, a nonzero ref; and a
-    warning for what rigid-body inverse dynamics leaves out."""
+    """What vampc does not model: ball joints, free joints but alone on a body, tendons that exert
+    forces; and a warning for what rigid-body inverse dynamics leaves out."""
     for j in range(model.njnt):
         if int(model.jnt_type[j]) == BALL:
             raise located(path, f"joint '{joint_name[j]}'", "ball joints are not supported (one degree "
                                                             "of freedom per joint: use three hinges)")
         if int(model.jnt_type[j]) == FREE and int(model.body_jntnum[model.jnt_bodyid[j]]) > 1:
             raise located(path, f"joint '{joint_name[j]}'", "a free joint must be its body's only joint")
-        ref = model.qpos0[model.jnt_qposadr[j]]
-        if int(model.jnt_type[j]) in (HINGE, SLIDE) and ref != 0:
-            unit = "rad" if int(model.jnt_type[j]) == HINGE else "m"
-            raise located(path, f"joint '{joint_name[j]}'", f"ref={ref:g} {unit} is not supported (vampc's "
-                                                            "q is 0 in the pose the file gives, where "
-                                                            "MuJoCo's qpos is ref)")
     _tendons(model, path)
     extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
                                         ("frictionloss", model.dof_frictionloss),
@@ -298,11 +295,14 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
         if any(c[2:]):
             raise located(path, where, "a joint equality beyond degree 1 (polycoef c2..c4 not 0) cannot "
                                        "be a mimic coupling")
-        follower = joint_name[int(model.eq_obj1id[e])]
-        if int(model.eq_obj2id[e]) < 0:
-            held[follower] = c[0]
+        one, two = int(model.eq_obj1id[e]), int(model.eq_obj2id[e])
+        follower = joint_name[one]
+        y0 = float(model.qpos0[model.jnt_qposadr[one]])     # MuJoCo's polynomial is about the refs:
+        if two < 0:                                          # y - y0 = c0 + c1 (x - x0)
+            held[follower] = y0 + c[0]
             continue
-        by_name[follower].mimic = _Mimic(joint_name[int(model.eq_obj2id[e])], c[1], c[0])
+        x0 = float(model.qpos0[model.jnt_qposadr[two]])
+        by_name[follower].mimic = _Mimic(joint_name[two], c[1], y0 + c[0] - c[1] * x0)
     if inactive:
         warnings.warn(VampcWarning(f"{path}: inactive equality {', '.join(repr(n) for n in inactive)} "
                                    "left out"), stacklevel=4)

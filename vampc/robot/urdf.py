@@ -451,7 +451,7 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     phi = _transposed(r_a) @ g[1:, :3, :3]
     p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
-    joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=0.0,
+    joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
     return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ np.array(tree.gravity), source=str(path))
@@ -481,7 +481,7 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     for k, j in enumerate(joints):
         frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
             _joint_frame(g[parents[k]], x[k])
-        built.append(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=0.0,
+        built.append(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                            mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path),
                            **frame))
     extra = _base_body(tree, body_of, g[0], frames, path) if floating else {}
@@ -651,8 +651,15 @@ def _origin(element) -> np.ndarray:
     return _IDENTITY if element.origin is None else element.origin
 
 
+def _offset(j) -> float:
+    """What to add to a joint's q for its motion from the file's pose: 0 for a URDF joint, -ref for an
+    MJCF joint whose reference position is ref (vampc.robot.mjcf)."""
+    return float(getattr(j, "offset", 0.0))
+
+
 def _motion(j, q: float) -> np.ndarray:
     """The joint's own motion at position q (identity for a fixed joint)."""
+    q = q + _offset(j)
     out = np.eye(4)
     if j.type in ("revolute", "continuous"):
         out[:3, :3] = _axis_rotation(_unit(np.array(j.axis)), q)
