@@ -262,3 +262,14 @@ def test_the_report_says_who_follows_whom(tmp_path):
     assert "mimic            f2 = 1 · f1, t2 = -0.5 · t1 + 0.3 (coupled on the host" in text
     plain = runner.invoke(main, ["report", "examples/planar2.yaml", "--format", "json"]).output
     assert "mimic" not in json.loads(plain)
+
+
+def test_a_bad_mimic_off_the_robot_does_not_matter(tmp_path):
+    """f2 mimics a joint the file lacks; with f2 locked and the chain to t2 chosen, the robot has no
+    bad coupling, and t2 = -0.5 t1 + 0.3 is coupled (until then the whole file was refused)."""
+    path = write(tmp_path, gripper('<mimic joint="f9"/>', '<mimic joint="t1" multiplier="-0.5" offset="0.3"/>'))
+    chain = load_urdf(path, mimic="couple", tip="t2", lock={"f1": 0.0, "f2": 0.0})
+    assert [j.name for j in chain.joints] == ["j1", "j2", "t1", "t2"]
+    assert [(m.follower, m.leader) for m in chain.mimic] == [(4, 3)]
+    assert_error(lambda: load_urdf(path, mimic="couple"), path,
+                 r"joint 'f2': mimics joint 'f9', which the file does not have")

@@ -111,8 +111,8 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
         finally:
             _ACCEPT_IMPROPER.reset(token)
     lock = _check_lock(lock or {}, tree, path)
-    leaders = _mimic_leaders(tree, path) if mimic == "couple" else {}
-    if mimic == "couple" and not leaders:
+    leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
+    if mimic == "couple" and not leaders and not problems:
         warnings.warn(VampcWarning(f"{path}: no joint has a <mimic>; --mimic couple has no effect"),
                       stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
@@ -131,37 +131,44 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
             _build(robot.name, tree, joints, frames, body_of, tip, path)
     if mimic == "ordinary":
         _check_mimics(chain.joints, tree, path)
+    for j in chain.joints:           # a bad <mimic> matters on the robot's joints only
+        if j.name in problems:
+            raise located(path, *problems[j.name])
     return _coupled(chain, leaders, path) if leaders else chain
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
 
-def _mimic_leaders(tree: Tree, path: Path) -> dict:
+def _mimic_leaders(tree: Tree) -> tuple[dict, dict]:
     """Follower name -> (leader name, multiplier, offset), chains of mimics composed down to a joint
-    nobody mimics; refuse a leader the file lacks or that cannot move, and a cycle."""
+    nobody mimics; and follower name -> (where, why) for a leader the file lacks or that cannot move,
+    or a cycle (refused when the follower is one of the robot's joints)."""
     direct = {j.name: j.mimic for j in tree.joints.values()
               if j.mimic is not None and j.type in MOVABLE}
-    out = {}
+    out, problems = {}, {}
     for name in direct:
         seen, at, mult, off = [name], name, 1.0, 0.0
         while at in direct:
             m = direct[at]
             leader = m.joint
             if leader not in tree.joints:
-                raise located(path, f"joint '{at}'", f"mimics joint '{leader}', which the file does not "
-                                                     "have")
+                problems[name] = (f"joint '{at}'", f"mimics joint '{leader}', which the file does not have")
+                break
             if tree.joints[leader].type not in MOVABLE:
-                raise located(path, f"joint '{at}'", f"mimics joint '{leader}', which is "
-                                                     f"{tree.joints[leader].type}: it cannot lead")
+                problems[name] = (f"joint '{at}'", f"mimics joint '{leader}', which is "
+                                                   f"{tree.joints[leader].type}: it cannot lead")
+                break
             if leader in seen:
                 loop = " -> ".join(seen[seen.index(leader):] + [leader])
-                raise located(path, f"joint '{at}'", f"mimic cycle {loop}: no joint leads it")
+                problems[name] = (f"joint '{at}'", f"mimic cycle {loop}: no joint leads it")
+                break
             # q_at = m q_leader + o, and q_name = mult q_at + off
             mult, off = mult * _or(m.multiplier, 1.0), off + mult * _or(m.offset, 0.0)
             seen.append(leader)
             at = leader
-        out[name] = (at, mult, off)
-    return out
+        if name not in problems:
+            out[name] = (at, mult, off)
+    return out, problems
 
 
 def _or(value, default: float) -> float:
