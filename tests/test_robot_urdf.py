@@ -324,7 +324,8 @@ URDF_ERRORS = [
      r"DOCTYPE declares entities \(lol, lol2, lol3\); URDF files must not use XML entities"),
     ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"/>', {},
      r"DOCTYPE declares entities \(x\); URDF files must not use XML entities"),
-    ("<sdf version='1.6'/>", {}, r"line 1: the root element must be <robot name=\"...\">"),
+    ("<sdf version='1.6'/>", {}, r"line 1: the root element must be <robot name=\"...\"> \(a URDF\) or "
+     r"<mujoco> \(an MJCF model\)"),
     (robot(link("a", None)), {}, r"no movable joints below base link 'a'"),
     (robot(*ARM[:4], joint("j2", "floating", "l1", "l2")), {},
      r"joint 'j2': floating joints are not supported"),

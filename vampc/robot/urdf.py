@@ -278,7 +278,8 @@ def _refuse_entities(root, path: Path) -> None:
 def _check_xml(root, path: Path) -> None:
     """Check the structure and numbers we rely on, so yourdfpy never crashes on them."""
     if etree.QName(root).localname != "robot":
-        raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\">")
+        raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\"> "
+                                                       "(a URDF) or <mujoco> (an MJCF model)")
     if not root.get("name"):           # xacro output often has none; Pinocchio loads it
         warnings.warn(VampcWarning(f"{path}: <robot> has no name; calling it {path.stem!r}"),
                       stacklevel=2)
