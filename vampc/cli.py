@@ -27,6 +27,7 @@ from vampc.options import (
     CompileCommand,
     CompileOptions,
     EmulateOptions,
+    LookaheadOptions,
     PrecisionOptions,
     ReportOptions,
     RobotOptions,
@@ -185,6 +186,20 @@ def precision(ctx, source, **params):
     from vampc.commands import precision_command
     say(precision_command(source, build(PrecisionOptions, ctx, params), build(
         CompileOptions, ctx, params), build(RobotOptions, ctx, params), params), nl=False)
+
+
+@main.command()
+@click.argument("source", type=FilePath(dir_okay=False))
+@options_of(LookaheadOptions, CompileOptions, RobotOptions)
+@click.pass_context
+@handle_errors
+def lookahead(ctx, source, **params):
+    """The torque shift register of section VIII over a path: every row's torques, limits seen before
+    the arm gets there, and uniform time scaling (README, vampc lookahead)."""
+    from vampc.commands import lookahead_command
+    if not lookahead_command(source, build(LookaheadOptions, ctx, params), build(
+            CompileOptions, ctx, params), build(RobotOptions, ctx, params), params, say):
+        sys.exit(1)
 
 
 if __name__ == "__main__":  # pragma: no cover

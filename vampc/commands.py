@@ -528,3 +528,94 @@ def precision_text(rows: list[dict], own, chain) -> str:
                  + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else
                     "none in the sweep (widen --sweep)"))
     return "\n".join(lines) + "\n"
+
+
+# --- lookahead ------------------------------------------------------------------------------------
+
+def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
+                      params: dict, say) -> bool:
+    """`vampc lookahead`: the torque shift register over a path (vampc.lookahead); False when
+    --check failed."""
+    from vampc import lookahead as la
+    from vampc.emulator import emulate
+    from vampc.emulator.host import check_torques, read_trajectory
+    from vampc.outputs import plan_outputs
+    own.check()
+    rate = own.rate_hz()
+    clock = own.clock_hz()
+    outs = plan_outputs([source, own.trajectory, own.limits], {"-o": own.output, "--torques": own.torques},
+                        stdout_ok=("-o", "--torques"))
+    ld = loaded(source, options, robot_opts, params)
+    if ld.chain.floating:
+        raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
+    traj = read_trajectory(own.trajectory, ld.chain)
+    times = la.check_path(traj, rate, own.trajectory)
+    la.check_window(own.window, traj)
+    limits = la.limits_of(ld.chain, own.limits)
+    info = any(o.is_stdout for o in outs.values())
+    lam = 1.0 / rate
+    if clock is not None:
+        need = 2 if own.retime else 1                 # a new row per λ, and its gravity pass
+        period = ld.schedule.interval / clock         # one torque set per interval of flops
+        if need * period > lam:
+            raise VampcError(f"{source}: the network computes a torque set every {period * 1e6:.4g} µs "
+                             f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
+                             f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
+        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} row(s) per λ = "
+            f"{lam * 1e6:.4g} µs use {100 * need * period / lam:.3g}% of it: keeps up", info)
+    res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
+                 own.trajectory)
+    say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
+    ok = True
+    if own.check_torques:
+        check = check_torques(ld.chain, traj, res.tau)
+        ok = check.ok
+        line = (f"check against reference RNEA: max relative error {check.max_rel:.3e}: "
+                f"{'OK' if check.ok else 'FAILED'}")
+        if res.k is not None:
+            from vampc.dynamics.reference import rnea
+            ref = rnea(ld.chain, traj.q, traj.qd / res.k, traj.qdd / res.k ** 2)
+            within = la.violations(ref, traj.qd / res.k, limits)
+            ok = ok and not within
+            line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
+                     f"{'' if not within else ' FAILED'}")
+        say(line, info)
+    _write_lookahead(outs, ld.chain, traj, times, res)
+    return ok
+
+
+def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
+    """The run in a few lines: rows, window, violations with how far ahead they were seen, k."""
+    from vampc.lookahead import ahead
+    names = [j.name for j in ld.chain.joints]
+    lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({times[-1] - times[0] + lam:.6g} s), "
+             f"window {window} ({(window - 1) * lam * 1e3:.4g} ms ahead): "
+             f"{count(len(res.violations), 'violation')}"]
+    for v in res.violations[:5]:
+        step, early = ahead(v.row, window)
+        lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {names[v.joint]} {v.kind} "
+                     f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {early} steps "
+                     f"({early * lam * 1e3:.4g} ms) ahead")
+    if len(res.violations) > 5:
+        lines.append(f"  ... {len(res.violations)} in all")
+    if res.k is not None:
+        lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
+                     f"k(1 + 1e-12)), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
+                     f"rows by the network: {count(len(res.retimed_violations), 'violation')}")
+    return "\n".join(lines)
+
+
+def _write_lookahead(outs: dict, chain, traj, times, res) -> None:
+    from vampc.emulator.trajectory import csv_line, format_rows, header, torque_columns
+    from vampc.outputs import write_output
+    from vampc.robot.mimic import free_names, n_free, reduce_states, reduce_torques
+    k = res.k or 1.0
+    t = times * k
+    if "-o" in outs:
+        parts = reduce_states(chain, traj.q, traj.qd / k, traj.qdd / k ** 2)
+        write_output(outs["-o"], csv_line(["t"] + header(n_free(chain))) + format_rows(t, *parts),
+                     "retimed path")
+    if "--torques" in outs:
+        tau = res.retimed_tau if res.retimed_tau is not None else res.tau
+        write_output(outs["--torques"], csv_line(["t"] + torque_columns(free_names(chain)))
+                     + format_rows(t, reduce_torques(chain, tau)), "torques")

@@ -396,6 +396,70 @@ class EmulateOptions:
 
 
 @dataclass(frozen=True)
+class LookaheadOptions:
+    """`vampc lookahead`'s own options."""
+
+    trajectory: str | None = field(default=None, metadata=cli(
+        "--trajectory", path=True, help="The path: CSV with header q1..qn,qd1..qdn,qdd1..qddn "
+        "(optional leading t, which must step by 1/rate), .npy or .npz; one row per λ."))
+    rate: str | None = field(default=None, metadata=cli(
+        "--rate", metavar="F", help="Rows per second, with a unit (Hz, kHz: 1kHz): one row goes to "
+        "the motors every λ = 1/rate."))
+    window: int | None = field(default=None, metadata=cli(
+        "--window", range=(1, 1 << 24), metavar="M", help="Rows in the shift register: how far ahead "
+        "the host sees."))
+    limits: str | None = field(default=None, metadata=cli(
+        "--limits", path=True, metavar="FILE", help="Limits per joint, CSV with header joint,tau,qd "
+        "(N·m or N, rad/s or m/s; qd may be empty); default: the robot file's."))
+    retime: str | None = field(default=None, metadata=cli(
+        "--retime", choices=lambda: ("uniform",), help="uniform: Hollerbach's uniform time scaling, "
+        "the smallest k keeping every torque and speed within its limit."))
+    check_torques: bool = field(default=False, metadata=cli(
+        "--check", help="Compare every row's torques with the reference Newton-Euler, and with "
+        "--retime every retimed row's torques (by the reference) with the limits; exit 1 if not."))
+    clock: str | None = field(default=None, metadata=cli(
+        "--clock", metavar="F", help="The network's clock (one flop per tick: 20MHz): say whether it "
+        "keeps up with the rows, and refuse a rate it cannot serve."))
+    output: str | None = field(default=None, metadata=cli(
+        "-o", "--output", path=True, dash=True, help="With --retime: write the retimed path (CSV "
+        "with t first)."))
+    torques: str | None = field(default=None, metadata=cli(
+        "--torques", path=True, dash=True, help="Write every row's torques (the retimed rows' with "
+        "--retime), CSV with t first."))
+
+    def check(self) -> None:
+        """Required options and their rules."""
+        for name, flag_text in (("trajectory", "--trajectory FILE"), ("rate", "--rate F"),
+                                ("window", "--window M")):
+            if getattr(self, name) is None:
+                raise VampcUsageError(f"give {flag_text}")
+        if self.output is not None and self.retime is None:
+            raise VampcUsageError("-o writes the retimed path: give --retime")
+        if self.output is not None and self.output == self.torques and self.output != "-":
+            raise VampcUsageError("-o and --torques name the same file")
+        if self.output == "-" and self.torques == "-":
+            raise VampcUsageError("-o - and --torques -: only one can be standard output")
+
+    def rate_hz(self) -> float:
+        """--rate in Hz (VampcUsageError for a bad value)."""
+        from vampc.report.clock import parse_clock
+        try:
+            return parse_clock(self.rate)
+        except ValueError as exc:
+            raise VampcUsageError(f"--rate {str(exc).replace('clock rate', 'rate')}") from None
+
+    def clock_hz(self) -> float | None:
+        """--clock in Hz, or None."""
+        if self.clock is None:
+            return None
+        from vampc.report.clock import parse_clock
+        try:
+            return parse_clock(self.clock)
+        except ValueError as exc:
+            raise VampcUsageError(f"--clock {exc}") from None
+
+
+@dataclass(frozen=True)
 class ReportOptions:
     """`vampc report`'s own options."""
 

@@ -1,0 +1,131 @@
+"""`vampc lookahead` (issue "Trajectory look-ahead", parts 1, 2, 3 uniform, 5 in part): the register's
+torques are emulate's, bit for bit; violations are seen window - 1 rows ahead; uniform scaling's k is
+the closed form computed from the reference dynamics, and the retimed path is within its limits by
+the reference."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.dynamics.reference import rnea
+from vampc.robot import load_robot
+
+PUMA = "examples/puma560.yaml"
+LIMITS = "joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\nflange,1,4\n"
+
+
+def sine_path(rate: float = 1000.0, seconds: float = 0.5):
+    t = np.arange(int(rate * seconds)) / rate
+    amp, w = np.array([1.0, 0.6, 0.8, 1.0, 0.7, 1.0]), np.array([3.0, 2.5, 4.0, 5.0, 6.0, 7.0])
+    q = amp * np.sin(np.outer(t, w))
+    return t, q, amp * w * np.cos(np.outer(t, w)), -amp * w ** 2 * np.sin(np.outer(t, w))
+
+
+def write_path(folder, t, q, qd, qdd, name="path.csv"):
+    n = q.shape[1]
+    head = ",".join(["t"] + [f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, n + 1)])
+    path = folder / name
+    np.savetxt(path, np.column_stack([t, q, qd, qdd]), delimiter=",", header=head, comments="", fmt="%.17g")
+    return path
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("la")
+    program = folder / "puma.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "-o", str(program)]).exit_code == 0
+    limits = folder / "lim.csv"
+    limits.write_text(LIMITS)
+    return folder, program, limits, write_path(folder, *sine_path())
+
+
+def test_every_rows_torques_are_emulates_bit_for_bit(setup):
+    folder, program, limits, path = setup
+    runner = CliRunner()
+    r = runner.invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                             "--window", "64", "--limits", str(limits), "--torques", str(folder / "la.csv")])
+    assert r.exit_code == 0, r.output
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(path), "-o", str(folder / "em.csv"),
+                             "--allow-out-of-limits"])
+    assert r.exit_code == 0, r.output
+    assert (folder / "la.csv").read_text() == (folder / "em.csv").read_text()
+
+
+def test_violations_are_seen_window_minus_one_rows_ahead(setup):
+    folder, program, limits, path = setup
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    chain = load_robot(PUMA)
+    t, q, qd, qdd = sine_path()
+    tau = rnea(chain, q, qd, qdd)               # the reference, not the network
+    over = [(row, j) for row, j in zip(*np.nonzero(np.abs(tau) > [10, 60, 20, 1, 1, 1]))]
+    over += [(row, 5) for row in np.flatnonzero(np.abs(qd[:, 5]) > 4)]
+    assert f"{len(over)} violations" in r.output
+    first = min(row for row, _ in over)             # row 1: entered at the first step, 0 ahead
+    assert re.search(rf"row {first + 1} \(t = 0 s\): joint waist torque \S+ beyond 10, seen at step 1, "
+                     r"0 steps \(0 ms\) ahead", r.output), r.output
+
+
+def test_a_row_is_seen_when_it_enters_the_register():
+    """Row r (0-based) enters at step r - window + 1 and is seen window - 1 steps ahead; the first
+    window rows are filled before motion starts."""
+    from vampc.lookahead import ahead
+    assert ahead(0, 64) == (0, 0) and ahead(10, 64) == (0, 10) and ahead(63, 64) == (0, 63)
+    assert ahead(100, 64) == (37, 63)
+
+
+def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setup):
+    folder, program, limits, path = setup
+    out = folder / "retimed.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform", "--check",
+                                  "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    k = float(re.search(r"k = (\S+) \(closed form", r.output).group(1))
+    chain = load_robot(PUMA)
+    t, q, qd, qdd = sine_path()
+    tau, g = rnea(chain, q, qd, qdd), rnea(chain, q, 0 * qd, 0 * qdd)
+    lim = np.array([10, 60, 20, 1, 1, 1.0])
+    d = tau - g
+    need = np.where(d > 0, d / (lim - g), np.where(d < 0, -d / (lim + g), 0.0))
+    closed = np.sqrt(max(1.0, need.max(), ((qd[:, 5] / 4) ** 2).max()))
+    assert abs(k - closed) <= 1e-9 * closed and k > 1
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    t2, q2, qd2, qdd2 = data[:, 0], data[:, 1:7], data[:, 7:13], data[:, 13:19]
+    assert np.allclose(t2, t * k, rtol=1e-6) and np.array_equal(q2, q)
+    retimed = rnea(chain, q2, qd2, qdd2)
+    assert np.all(np.abs(retimed) <= lim) and np.all(np.abs(qd2[:, 5]) <= 4)
+    worst = max(np.max(np.abs(retimed) / lim), np.max(np.abs(qd2[:, 5]) / 4))
+    assert worst > 0.999                  # the smallest k: some torque or speed is at its limit
+
+
+@pytest.mark.parametrize("edit, args, message, code", [
+    (lambda t: t[::-1], [], r"row 2: t = \S+ does not come after \S+ \(not a path: time must increase\)", 1),
+    (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005", 1),
+    (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
+    (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
+    (None, ["-o", "x.csv"], r"-o writes the retimed path: give --retime", 2),
+    (None, ["--no-limits"], r"joint 'waist' has no effort limit \(and 5 more\); give --limits FILE", 1),
+])
+def test_bad_input_is_one_line(setup, edit, args, message, code):
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    path = write_path(folder, edit(t) if edit else t, q, qd, qdd, "bad.csv")
+    options = {"--trajectory": str(path), "--rate": "1kHz", "--window": "64", "--limits": str(limits)}
+    rest = list(args)
+    if "--no-limits" in rest:
+        rest.remove("--no-limits")
+        del options["--limits"]
+    while rest and rest[0] in options:      # an override of one of the above
+        key = rest.pop(0)
+        options[key] = rest.pop(0)
+    cmd = ["lookahead", str(program)] + [x for kv in options.items() for x in kv] + rest
+    r = CliRunner().invoke(main, cmd)
+    assert r.exit_code == code, r.output
+    assert re.search(message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1

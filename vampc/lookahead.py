@@ -1,0 +1,211 @@
+"""Trajectory look-ahead (section VIII): the torque shift register, limits seen before the arm gets
+there, and Hollerbach's uniform time scaling (`vampc lookahead`).
+
+The register has `window` rows. Each row holds one set of inputs (q, q̇, q̈ at time jλ, λ = 1/rate)
+wired through the compiled network to its torques. Before motion starts the host fills it with rows
+0..window-1; every λ the bottom row goes to the motors and the host writes the next row at the top,
+so row r enters the register at step max(0, r - window + 1) and is seen min(r, window - 1) steps
+before it reaches the motors. The network computes every row's torques as `vampc emulate` does (the
+stream engine, the same bits). With a clock (`--clock`) the command says whether the network keeps
+up: one new row per λ, and with `--retime uniform` its gravity pass too, against one set per
+interval of the program.
+
+Limits are the robot's (a URDF's `<limit effort velocity>`, a DH table's `limits`) or a `--limits`
+file; a violation is reported with the step at which its row entered and how far ahead that was.
+
+`--retime uniform` (Hollerbach): scaling time by k (t' = k t, q̇' = q̇ / k, q̈' = q̈ / k²) gives
+τ' = τ_g + (τ - τ_g) / k², where τ_g is the torque at (q, 0, 0), which the network computes in a
+second, gravity-only pass. The smallest k keeping every row within |τ'| <= L and |q̇'| <= q̇_max is
+
+    k² = max(1, max over rows and joints of  d / (L - g)  for d > 0,  -d / (L + g)  for d < 0,
+                                             (q̇ / q̇_max)²),     d = τ - τ_g, g = τ_g,
+
+taken over the whole path (a uniform scaling is one k, so the host needs the whole path before motion
+starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form
+times (1 + 1e-12), so rounding never puts a torque over its limit. Not built yet (issue "Trajectory
+look-ahead"): the window-by-window retiming and several registers side by side (--retime window,
+--futures), integrating q̇ and q from q̈ (--accelerations), the plot.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vampc.errors import VampcError, VampcUsageError
+
+K_MARGIN = 1e-12
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per joint: the effort limit L (None: none) and the speed limit (None: none)."""
+
+    tau: tuple
+    qd: tuple
+
+
+@dataclass
+class Violation:
+    row: int
+    joint: int
+    value: float
+    limit: float
+    kind: str            # "torque" or "speed"
+
+
+@dataclass
+class Lookahead:
+    """What a look-ahead run found: torques of every row, violations, and the retiming."""
+
+    tau: np.ndarray
+    violations: list = field(default_factory=list)
+    k: float | None = None
+    k_closed_form: float | None = None
+    retimed_tau: np.ndarray | None = None
+    retimed_violations: list = field(default_factory=list)
+
+
+def limits_of(chain, path: str | None) -> Limits:
+    """The robot's limits, or those of a --limits CSV file (header joint,tau,qd; a joint's row may
+    leave qd empty). Every joint needs an effort limit (VampcError naming the first that lacks one)."""
+    tau = [j.limits.tau for j in chain.joints]
+    qd = [j.limits.qd for j in chain.joints]
+    if path is not None:
+        tau, qd = _read_limits(path, chain, tau, qd)
+    missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
+    if missing:
+        where = path or chain.source or chain.name
+        raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
+                         + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
+                         + "; give --limits FILE (README, vampc lookahead)")
+    return Limits(tuple(float(t) for t in tau), tuple(None if v is None else float(v) for v in qd))
+
+
+def _read_limits(path: str, chain, tau: list, qd: list):
+    import csv
+    names = {j.name: i for i, j in enumerate(chain.joints)}
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.reader(fh))
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise VampcError(f"{path}: not UTF-8 text") from None
+    if not rows or [c.strip() for c in rows[0]][:2] != ["joint", "tau"]:
+        raise VampcError(f"{path}: line 1: expected the header joint,tau,qd")
+    tau, qd = list(tau), list(qd)
+    for line, row in enumerate(rows[1:], 2):
+        if not row or not any(c.strip() for c in row):
+            continue
+        name = row[0].strip()
+        if name not in names:
+            raise VampcError(f"{path}: line {line}: no joint named '{name}'")
+        values = []
+        for k, cell in enumerate(row[1:3]):
+            cell = cell.strip()
+            try:
+                x = float(cell) if cell else None
+            except ValueError:
+                x = -1.0
+            if x is not None and not (np.isfinite(x) and x > 0):
+                raise VampcError(f"{path}: line {line}: {'tau' if k == 0 else 'qd'} {cell!r} is not a "
+                                 "positive number")
+            values.append(x)
+        values += [None] * (2 - len(values))
+        if values[0] is not None:
+            tau[names[name]] = values[0]
+        if values[1] is not None:
+            qd[names[name]] = values[1]
+    return tau, qd
+
+
+def check_path(traj, rate: float, path: str) -> np.ndarray:
+    """The row times: the file's t column (strictly increasing, every step 1/rate to 1e-9), or j/rate."""
+    lam = 1.0 / rate
+    if traj.t is None:
+        return np.arange(traj.count) * lam
+    t = traj.t
+    steps = np.diff(t)
+    bad = np.flatnonzero(~(steps > 0))
+    if bad.size:
+        raise VampcError(f"{path}: row {bad[0] + 2}: t = {float(t[bad[0] + 1])!r} does not come after "
+                         f"{float(t[bad[0]])!r} (not a path: time must increase)")
+    off = np.flatnonzero(np.abs(steps - lam) > 1e-9 * max(lam, 1.0))
+    if off.size:
+        raise VampcError(f"{path}: row {off[0] + 2}: t steps by {float(steps[off[0]])!r}, not 1/rate = "
+                         f"{lam!r}; give the rate the rows were sampled at")
+    return t
+
+
+def check_window(window: int, traj) -> None:
+    """A register no longer than the path (VampcUsageError)."""
+    if window > traj.count:
+        raise VampcUsageError(f"--window {window}: larger than the trajectory ({traj.count} rows)")
+
+
+def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
+        path: str = "") -> Lookahead:
+    """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
+    violations, and with retime == "uniform" the scaling and the retimed rows' torques. `path`
+    names the trajectory in messages."""
+    from vampc.emulator.host import Trajectory
+    check_window(window, traj)
+    tau = emulate_rows(traj)
+    out = Lookahead(tau, violations(tau, traj.qd, limits))
+    if retime == "uniform":
+        zero = np.zeros_like(traj.qd)
+        g = emulate_rows(Trajectory(traj.q, zero, zero, None, None))       # the gravity-only pass
+        try:
+            k = uniform_k(tau, g, traj.qd, limits, ld.chain)
+        except VampcError as exc:
+            raise VampcError(f"{path}: {exc}") from None
+        out.k_closed_form = k
+        out.k = k * (1 + K_MARGIN) if k > 1 else 1.0
+        scaled = Trajectory(traj.q, traj.qd / out.k, traj.qdd / out.k ** 2, None, None)
+        out.retimed_tau = emulate_rows(scaled)
+        out.retimed_violations = violations(out.retimed_tau, scaled.qd, limits)
+    return out
+
+
+def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:
+    """Every (row, joint) over its effort or speed limit, in row order."""
+    found = []
+    lim = np.array(limits.tau)
+    over = np.abs(tau[:, :len(lim)]) > lim
+    for r, j in zip(*np.nonzero(over)):
+        found.append(Violation(int(r), int(j), float(tau[r, j]), float(lim[j]), "torque"))
+    for j, v in enumerate(limits.qd):
+        if v is not None:
+            for r in np.flatnonzero(np.abs(qd[:, j]) > v):
+                found.append(Violation(int(r), j, float(qd[r, j]), v, "speed"))
+    return sorted(found, key=lambda x: (x.row, x.joint, x.kind))
+
+
+def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, chain) -> float:
+    """The smallest k of the module docstring (VampcError where gravity alone breaks a limit)."""
+    n = len(limits.tau)
+    lim = np.array(limits.tau)
+    tau, g = tau[:, :n], g[:, :n]
+    alone = np.argwhere(np.abs(g) > lim)
+    if alone.size:
+        r, j = (int(x) for x in alone[0])
+        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.6g} at rest "
+                         f"(gravity alone), beyond its limit {lim[j]:g}: no time scaling helps")
+    d = tau - g
+    with np.errstate(divide="ignore", invalid="ignore"):
+        need = np.where(d > 0, d / (lim - g), np.where(d < 0, -d / (lim + g), 0.0))
+    k2 = max(1.0, float(np.max(need, initial=0.0)))
+    if not np.isfinite(k2):
+        r, j = (int(x) for x in np.argwhere(~np.isfinite(need))[0])
+        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' sits at its limit {lim[j]:g} "
+                         "at rest: no time scaling helps")
+    for j, v in enumerate(limits.qd):
+        if v is not None:
+            k2 = max(k2, float(np.max((qd[:, j] / v) ** 2, initial=0.0)))
+    return float(np.sqrt(k2))
+
+
+def ahead(row: int, window: int) -> tuple[int, int]:
+    """(the step at which a row enters the register, how many steps before the motors take it)."""
+    return max(0, row - window + 1), min(row, window - 1)
