@@ -109,7 +109,7 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
     (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005", 1),
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
-    (None, ["-o", "x.csv"], r"-o writes the retimed path: give --retime", 2),
+    (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
     (None, ["--no-limits"], r"joint 'waist' has no effort limit \(and 5 more\); give --limits FILE", 1),
 ])
 def test_bad_input_is_one_line(setup, edit, args, message, code):
@@ -129,3 +129,58 @@ def test_bad_input_is_one_line(setup, edit, args, message, code):
     assert r.exit_code == code, r.output
     assert re.search(message, r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+def test_accelerations_are_integrated_exactly_for_a_held_profile(setup, tmp_path):
+    """Each q̈ held for one λ: the positions and velocities are those of that piecewise-constant
+    profile, computed here step by step (independent of the vectorised rule), and no position
+    jumps; the command's -o writes them and its torques pass --check."""
+    from vampc.lookahead import integrate
+    rng = np.random.default_rng(9)
+    qdd = rng.uniform(-3, 3, (400, 6))
+    q0, qd0 = rng.uniform(-1, 1, 6), rng.uniform(-1, 1, 6)
+    lam = 1e-3
+    q, qd = [q0], [qd0]
+    for j in range(399):
+        q.append(q[-1] + lam * qd[-1] + 0.5 * lam ** 2 * qdd[j])
+        qd.append(qd[-1] + lam * qdd[j])
+    got_q, got_qd = integrate(qdd, q0, qd0, 1000.0)
+    assert np.allclose(got_q, q, rtol=0, atol=1e-12) and np.allclose(got_qd, qd, rtol=0, atol=1e-12)
+    step = np.abs(np.diff(got_q, axis=0))
+    assert np.all(step <= lam * np.abs(got_qd[:-1]) + 0.5 * lam ** 2 * np.abs(qdd[:-1]) + 1e-15)
+    folder, program, limits, _ = setup
+    path = tmp_path / "qdd.csv"
+    np.savetxt(path, qdd, delimiter=",", header=",".join(f"qdd{i}" for i in range(1, 7)), comments="")
+    out = tmp_path / "integrated.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--rate", "1kHz",
+                                  "--window", "32", "--limits", str(limits), "--check", "-o", str(out),
+                                  "--q0", ",".join(repr(float(x)) for x in q0),
+                                  "--qd0", ",".join(repr(float(x)) for x in qd0)])
+    assert r.exit_code == 0 and ": OK" in r.output, r.output
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.array_equal(data[:, 1:7], got_q) and np.array_equal(data[:, 7:13], got_qd)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--trajectory", "examples/puma560-path.csv", "--accelerations", "x.csv", "--q0", "0,0,0,0,0,0"],
+     "give exactly one of --trajectory FILE or --accelerations FILE"),
+    (["--accelerations", "x.csv"], "--accelerations needs --q0"),
+    (["--trajectory", "examples/puma560-path.csv", "--q0", "0"], "--q0 applies with --accelerations"),
+])
+def test_acceleration_usage(setup, args, message):
+    program = setup[1]
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--rate", "1kHz", "--window", "8", *args])
+    assert r.exit_code == 2 and message in r.output, r.output
+
+
+def test_a_start_of_the_wrong_length_is_one_line(setup, tmp_path):
+    folder, program, limits, _ = setup
+    path = tmp_path / "qdd.csv"
+    path.write_text("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n" + "0,0,0,0,0,0\n" * 10)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--q0", "0,0",
+                                  "--rate", "1kHz", "--window", "8", "--limits", str(limits)])
+    assert r.exit_code == 2 and "--q0 '0,0': give 6 finite numbers, one per joint" in r.output, r.output
+    path.write_text("qdd1,qdd2\n0,0\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--q0",
+                                  "0,0,0,0,0,0", "--rate", "1kHz", "--window", "1", "--limits", str(limits)])
+    assert r.exit_code == 1 and "line 1: expected the header qdd1,qdd2,qdd3,qdd4,qdd5,qdd6" in r.output

@@ -543,13 +543,21 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     own.check()
     rate = own.rate_hz()
     clock = own.clock_hz()
-    outs = plan_outputs([source, own.trajectory, own.limits], {"-o": own.output, "--torques": own.torques},
+    outs = plan_outputs([source, own.trajectory, own.accelerations, own.limits],
+                        {"-o": own.output, "--torques": own.torques},
                         stdout_ok=("-o", "--torques"))
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
-    traj = read_trajectory(own.trajectory, ld.chain)
-    times = la.check_path(traj, rate, own.trajectory)
+    source_path = own.trajectory or own.accelerations
+    if own.trajectory is not None:
+        traj = read_trajectory(own.trajectory, ld.chain)
+    else:                             # q and q̇ integrated from q̈ (vampc.lookahead.integrate)
+        from vampc.emulator.host import Trajectory
+        from vampc.robot.mimic import expand, n_free
+        free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate, *own.start(n_free(ld.chain)))
+        traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
+    times = la.check_path(traj, rate, source_path)
     la.check_window(own.window, traj)
     limits = la.limits_of(ld.chain, own.limits)
     info = any(o.is_stdout for o in outs.values())
@@ -564,7 +572,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         say(f"network: one torque set every {period * 1e6:.4g} µs; {need} row(s) per λ = "
             f"{lam * 1e6:.4g} µs use {100 * need * period / lam:.3g}% of it: keeps up", info)
     res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
-                 own.trajectory)
+                 source_path)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
     ok = True
     if own.check_torques:
@@ -614,7 +622,7 @@ def _write_lookahead(outs: dict, chain, traj, times, res) -> None:
     if "-o" in outs:
         parts = reduce_states(chain, traj.q, traj.qd / k, traj.qdd / k ** 2)
         write_output(outs["-o"], csv_line(["t"] + header(n_free(chain))) + format_rows(t, *parts),
-                     "retimed path")
+                     "path")
     if "--torques" in outs:
         tau = res.retimed_tau if res.retimed_tau is not None else res.tau
         write_output(outs["--torques"], csv_line(["t"] + torque_columns(free_names(chain)))

@@ -120,6 +120,43 @@ def _read_limits(path: str, chain, tau: list, qd: list):
     return tau, qd
 
 
+def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
+    """q and q̇ from a q̈ profile, each q̈_j held for one step λ (exact for that profile):
+    q̇_{j+1} = q̇_j + λ q̈_j,  q_{j+1} = q_j + λ q̇_j + λ²/2 q̈_j. Position and velocity are
+    continuous (no step can come out: |q_{j+1} - q_j| <= λ |q̇_j| + λ²/2 |q̈_j|)."""
+    lam = 1.0 / rate
+    prev = np.vstack([np.zeros((1, qdd.shape[1])), qdd[:-1]])        # q̈_0 .. q̈_{j-1}
+    qd = qd0 + lam * np.cumsum(prev, axis=0)
+    step = lam * np.vstack([np.zeros((1, qdd.shape[1])), qd[:-1]]) + 0.5 * lam ** 2 * prev
+    return q0 + np.cumsum(step, axis=0), qd
+
+
+def read_accelerations(path: str, n: int, rate: float, q0, qd0):
+    """A q̈ CSV (header qdd1..qddn, optional leading t) integrated into a Trajectory (VampcError
+    naming the row or column)."""
+    from vampc.emulator.host import Trajectory
+    from vampc.emulator.trajectory import _check_finite
+    try:
+        with open(path, encoding="utf-8-sig") as fh:
+            head = fh.readline().strip().split(",")
+            want = [f"qdd{i}" for i in range(1, n + 1)]
+            has_t = head[:1] == ["t"]
+            if [c.strip() for c in head[has_t:]] != want:
+                raise VampcError(f"{path}: line 1: expected the header {'t,' if has_t else ''}"
+                                 f"{','.join(want)} (the program is for {n} joints)")
+            data = np.loadtxt(fh, delimiter=",", ndmin=2)
+    except OSError as exc:
+        raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise VampcError(f"{path}: not a table of numbers ({' '.join(str(exc).split())[:120]})") from None
+    if data.shape[1] != n + has_t or not len(data):
+        raise VampcError(f"{path}: expected {n + has_t} columns in every row")
+    _check_finite(path, data)
+    qdd = data[:, has_t:]
+    q, qd = integrate(qdd, q0, qd0, rate)
+    return Trajectory(q, qd, qdd, data[:, 0] if has_t else None, None)
+
+
 def check_path(traj, rate: float, path: str) -> np.ndarray:
     """The row times: the file's t column (strictly increasing, every step 1/rate to 1e-9), or j/rate."""
     lam = 1.0 / rate

@@ -402,6 +402,15 @@ class LookaheadOptions:
     trajectory: str | None = field(default=None, metadata=cli(
         "--trajectory", path=True, help="The path: CSV with header q1..qn,qd1..qdn,qdd1..qddn "
         "(optional leading t, which must step by 1/rate), .npy or .npz; one row per λ."))
+    accelerations: str | None = field(default=None, metadata=cli(
+        "--accelerations", path=True, metavar="FILE", help="Instead of --trajectory: the path as "
+        "accelerations, CSV with header qdd1..qddn (optional leading t); q and q̇ are integrated from "
+        "--q0 and --qd0, each q̈ held for one λ (README, vampc lookahead)."))
+    q0: str | None = field(default=None, metadata=cli(
+        "--q0", metavar="Q1,...,QN", help="With --accelerations: the positions at the first row."))
+    qd0: str | None = field(default=None, metadata=cli(
+        "--qd0", metavar="V1,...,VN", help="With --accelerations: the velocities at the first row "
+        "(default 0)."))
     rate: str | None = field(default=None, metadata=cli(
         "--rate", metavar="F", help="Rows per second, with a unit (Hz, kHz: 1kHz): one row goes to "
         "the motors every λ = 1/rate."))
@@ -429,16 +438,41 @@ class LookaheadOptions:
 
     def check(self) -> None:
         """Required options and their rules."""
-        for name, flag_text in (("trajectory", "--trajectory FILE"), ("rate", "--rate F"),
-                                ("window", "--window M")):
+        if (self.trajectory is None) == (self.accelerations is None):
+            raise VampcUsageError("give exactly one of --trajectory FILE or --accelerations FILE")
+        for name, flag_text in (("rate", "--rate F"), ("window", "--window M")):
             if getattr(self, name) is None:
                 raise VampcUsageError(f"give {flag_text}")
-        if self.output is not None and self.retime is None:
-            raise VampcUsageError("-o writes the retimed path: give --retime")
+        if self.accelerations is not None and self.q0 is None:
+            raise VampcUsageError("--accelerations needs --q0 (the positions at the first row)")
+        for name in ("q0", "qd0"):
+            if getattr(self, name) is not None and self.accelerations is None:
+                raise VampcUsageError(f"--{name} applies with --accelerations")
+        if self.output is not None and self.retime is None and self.accelerations is None:
+            raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
+                                  "--accelerations")
         if self.output is not None and self.output == self.torques and self.output != "-":
             raise VampcUsageError("-o and --torques name the same file")
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
+
+    def start(self, n: int) -> tuple:
+        """--q0 and --qd0 as arrays of n numbers (VampcUsageError naming a bad one)."""
+        import numpy as np
+        out = []
+        for name in ("q0", "qd0"):
+            text = getattr(self, name)
+            if text is None:
+                out.append(np.zeros(n))
+                continue
+            try:
+                values = np.array([float(x) for x in text.split(",")])
+            except ValueError:
+                raise VampcUsageError(f"--{name} {text!r}: give {n} comma-separated numbers") from None
+            if len(values) != n or not np.all(np.isfinite(values)):
+                raise VampcUsageError(f"--{name} {text!r}: give {n} finite numbers, one per joint")
+            out.append(values)
+        return tuple(out)
 
     def rate_hz(self) -> float:
         """--rate in Hz (VampcUsageError for a bad value)."""
