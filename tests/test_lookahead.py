@@ -184,3 +184,18 @@ def test_a_start_of_the_wrong_length_is_one_line(setup, tmp_path):
     r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--q0",
                                   "0,0,0,0,0,0", "--rate", "1kHz", "--window", "1", "--limits", str(limits)])
     assert r.exit_code == 1 and "line 1: expected the header qdd1,qdd2,qdd3,qdd4,qdd5,qdd6" in r.output
+
+
+def test_the_plot_has_a_panel_per_joint_with_its_limits(setup, tmp_path):
+    import xml.etree.ElementTree as ET
+    folder, program, limits, path = setup
+    out = tmp_path / "torques.svg"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
+                                  "--plot", str(out)])
+    assert r.exit_code == 0, r.output
+    root = ET.parse(out).getroot()
+    ids = [g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")]
+    assert sum(1 for i in ids if i and i.startswith("axes_")) == 6
+    text = out.read_text()
+    assert "retimed (k = 1.75)" in text and "waist" in text and "flange" in text

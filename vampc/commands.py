@@ -544,7 +544,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     rate = own.rate_hz()
     clock = own.clock_hz()
     outs = plan_outputs([source, own.trajectory, own.accelerations, own.limits],
-                        {"-o": own.output, "--torques": own.torques},
+                        {"-o": own.output, "--torques": own.torques, "--plot": own.plot},
                         stdout_ok=("-o", "--torques"))
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
@@ -589,6 +589,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                      f"{'' if not within else ' FAILED'}")
         say(line, info)
     _write_lookahead(outs, ld.chain, traj, times, res)
+    if "--plot" in outs:
+        from vampc.outputs import write_output
+        write_output(outs["--plot"], la.plot_svg([j.name for j in ld.chain.joints], times, res, limits,
+                                                 f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
+                                                 f"window {own.window}"), "plot")
     return ok
 
 

@@ -22,9 +22,12 @@ second, gravity-only pass. The smallest k keeping every row within |τ'| <= L an
 
 taken over the whole path (a uniform scaling is one k, so the host needs the whole path before motion
 starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form
-times (1 + 1e-12), so rounding never puts a torque over its limit. Not built yet (issue "Trajectory
-look-ahead"): the window-by-window retiming and several registers side by side (--retime window,
---futures), integrating q̇ and q from q̈ (--accelerations), the plot.
+times (1 + 1e-12), so rounding never puts a torque over its limit.
+
+`--accelerations`: q and q̇ integrated from a q̈ profile (`integrate`), each q̈ held for one λ.
+`--plot`: per joint, torque over time against its limit, before and after the retiming (`plot_svg`).
+Not built yet (issue "Trajectory look-ahead"): the window-by-window retiming and several registers
+side by side (--retime window, --futures), the comparison with TOPP-RA, a floating base.
 """
 from __future__ import annotations
 
@@ -246,3 +249,32 @@ def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, ch
 def ahead(row: int, window: int) -> tuple[int, int]:
     """(the step at which a row enters the register, how many steps before the motors take it)."""
     return max(0, row - window + 1), min(row, window - 1)
+
+
+def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+    """Per joint, torque over time against ±its limit: the path as given, and the retimed one (its
+    own, longer time axis) when there is one; the scaling k in the title. SVG text."""
+    import io
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = len(limits.tau)
+    fig, axes = plt.subplots(n, 1, figsize=(8, 1.6 * n + 0.8), sharex=True, squeeze=False)
+    for j, ax in enumerate(axes[:, 0]):
+        ax.plot(times, res.tau[:, j], lw=1, color="tab:red", label="as given")
+        if res.retimed_tau is not None:
+            ax.plot(times * res.k, res.retimed_tau[:, j], lw=1, color="tab:blue",
+                    label=f"retimed (k = {res.k_closed_form:.4g})")
+        for sign in (1, -1):
+            ax.axhline(sign * limits.tau[j], color="black", lw=0.8, ls="--")
+        ax.set_ylabel(f"{names[j]}\n(N·m or N)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    axes[0, 0].legend(fontsize=7, loc="upper right")
+    axes[-1, 0].set_xlabel("time (s)")
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    out = io.StringIO()
+    fig.savefig(out, format="svg", metadata={"Date": None})
+    plt.close(fig)
+    return out.getvalue()

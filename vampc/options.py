@@ -435,6 +435,9 @@ class LookaheadOptions:
     torques: str | None = field(default=None, metadata=cli(
         "--torques", path=True, dash=True, help="Write every row's torques (the retimed rows' with "
         "--retime), CSV with t first."))
+    plot: str | None = field(default=None, metadata=cli(
+        "--plot", path=True, metavar="FILE.svg", help="Draw, per joint, torque over time against its "
+        "limit, before and after --retime, as SVG."))
 
     def check(self) -> None:
         """Required options and their rules."""
