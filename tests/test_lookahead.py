@@ -199,3 +199,12 @@ def test_the_plot_has_a_panel_per_joint_with_its_limits(setup, tmp_path):
     assert sum(1 for i in ids if i and i.startswith("axes_")) == 6
     text = out.read_text()
     assert "retimed (k = 1.75)" in text and "waist" in text and "flange" in text
+
+
+def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path):
+    folder, _, limits, path = setup
+    program = tmp_path / "q.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--check"])
+    assert r.exit_code == 0 and "tolerance 0.001: OK" in r.output, r.output
