@@ -18,6 +18,11 @@ import traceback
 from vampc.errors import VampcError, VampcInternalError
 
 
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the platform says)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
 class Deferred:
     """A check running in a child process (or already done inline)."""
 

@@ -395,6 +395,15 @@ class EmulateOptions:
             raise VampcUsageError("--save-states writes a CSV trajectory: give a .csv file name")
 
 
+def frequency(text: str, option: str, noun: str = "clock rate") -> float:
+    """A rate with its unit ('20MHz', '1kHz') in Hz; VampcUsageError naming `option` otherwise."""
+    from vampc.report.clock import parse_clock
+    try:
+        return parse_clock(text)
+    except ValueError as exc:
+        raise VampcUsageError(f"{option} {str(exc).replace('clock rate', noun)}") from None
+
+
 @dataclass(frozen=True)
 class LookaheadOptions:
     """`vampc lookahead`'s own options."""
@@ -479,21 +488,11 @@ class LookaheadOptions:
 
     def rate_hz(self) -> float:
         """--rate in Hz (VampcUsageError for a bad value)."""
-        from vampc.report.clock import parse_clock
-        try:
-            return parse_clock(self.rate)
-        except ValueError as exc:
-            raise VampcUsageError(f"--rate {str(exc).replace('clock rate', 'rate')}") from None
+        return frequency(self.rate, "--rate", "rate")
 
     def clock_hz(self) -> float | None:
         """--clock in Hz, or None."""
-        if self.clock is None:
-            return None
-        from vampc.report.clock import parse_clock
-        try:
-            return parse_clock(self.clock)
-        except ValueError as exc:
-            raise VampcUsageError(f"--clock {exc}") from None
+        return None if self.clock is None else frequency(self.clock, "--clock")
 
 
 @dataclass(frozen=True)
@@ -565,13 +564,7 @@ class ReportOptions:
 
     def clock_hz(self) -> float | None:
         """--clock in Hz (VampcUsageError for a bad value)."""
-        if self.clock is None:
-            return None
-        from vampc.report.clock import parse_clock
-        try:
-            return parse_clock(self.clock)
-        except ValueError as exc:
-            raise VampcUsageError(f"--clock {exc}") from None
+        return None if self.clock is None else frequency(self.clock, "--clock")
 
 
 @dataclass(frozen=True)

@@ -376,22 +376,31 @@ long format_csv(const double *data, long rows, long cols, char *out) {
 """
 
 
+def _csv_function(name: str, argtypes: tuple):
+    """A function of the compiled CSV_SOURCE, returning a C long; None when the native path is off
+    (VAMPC_NATIVE=0) or unavailable, and the NativeError raised when it is required (=1)."""
+    mode = os.environ.get("VAMPC_NATIVE", "")
+    if mode == "0":
+        return None
+    try:
+        fn = getattr(_load(compile_cached(CSV_SOURCE)), name)
+    except NativeError:
+        if mode == "1":
+            raise
+        return None
+    fn.argtypes, fn.restype = argtypes, ctypes.c_long
+    return fn
+
+
 def parse_csv(body: bytes, cols: int):
     """The rows of a trajectory CSV after its header as an array (rows, cols), or None if they are
     not a plain table of decimal numbers, or if the native path is off or unavailable (the caller
     then parses them otherwise). glibc's strtod and Python's float() both round correctly, so each
     value is the one float() gives."""
-    mode = os.environ.get("VAMPC_NATIVE", "")
-    if mode == "0":
+    fn = _csv_function("parse_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long,
+                                     ctypes.c_void_p))
+    if fn is None:
         return None
-    try:
-        fn = getattr(_load(compile_cached(CSV_SOURCE)), "parse_csv")
-    except NativeError:
-        if mode == "1":
-            raise
-        return None
-    fn.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
-    fn.restype = ctypes.c_long
     lines = body.count(b"\n") + 1
     # split at line ends into one piece per thread (ctypes lets go of the GIL during each call)
     cuts, count = [0], workers(lines)
@@ -403,7 +412,7 @@ def parse_csv(body: bytes, cols: int):
     cuts.append(len(body))
     base = ctypes.cast(ctypes.c_char_p(body), ctypes.c_void_p).value
 
-    def part(k: int, _=None):
+    def part(k: int):
         lo, hi = cuts[k], cuts[k + 1]
         rows_max = body.count(b"\n", lo, hi) + 1
         out = np.empty((rows_max, cols))
@@ -419,17 +428,9 @@ def format_csv(data: np.ndarray) -> str | None:
     """The rows of a finite float64 array (count, width) as CSV text, "%.17g" each, as
     vampc.emulator.trajectory.format_rows writes them; None when the native path is off or
     unavailable (the caller then formats them in Python)."""
-    mode = os.environ.get("VAMPC_NATIVE", "")
-    if mode == "0":
+    fn = _csv_function("format_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_void_p))
+    if fn is None:
         return None
-    try:
-        fn = getattr(_load(compile_cached(CSV_SOURCE)), "format_csv")
-    except NativeError:
-        if mode == "1":
-            raise
-        return None
-    fn.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_void_p)
-    fn.restype = ctypes.c_long
     data = np.ascontiguousarray(data, dtype=np.float64)
     big = np.abs(data)
     if big.size and (not np.all(np.isfinite(big)) or big.max() >= 1e20 or np.any((big > 0) & (big < 1e-20))):
@@ -454,8 +455,8 @@ def _threaded(work, count: int) -> list:
 
 def workers(rows: int) -> int:
     """Threads for a table of `rows` rows: one per available core, at least 10 000 rows each."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-    return max(1, min(cores, rows // 10_000))
+    from vampc.background import available_cores
+    return max(1, min(available_cores(), rows // 10_000))
 
 
 def in_threads(work, rows: int) -> list:

@@ -25,6 +25,7 @@ import io
 import os
 from dataclasses import replace
 
+from vampc.background import available_cores
 from vampc.compiler import CompileOptions, build_graph
 from vampc.gcpause import gc_paused
 from vampc.network.allocate import allocate
@@ -76,11 +77,6 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
         rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
     _mark_pareto(rows)
     return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))
-
-
-def available_cores() -> int:
-    """The cores this process may run on."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 def _budget_row(graph, timing, k: int, thorough: bool) -> dict:

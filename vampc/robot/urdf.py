@@ -82,34 +82,29 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     path = Path(path)
     if mimic not in MIMIC_MODES:
         raise ValueError(f"mimic must be one of {MIMIC_MODES}, not {mimic!r}")
-    token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
-    try:
-        with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
-            return _load(path, base, tip, lock, floating, mimic)
-    finally:
-        _ACCEPT_IMPROPER.reset(token)
+    with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
+        robot = _read_robot(path)
+        return chain_of(robot, Tree.build(robot, path), path, base, tip, lock, floating, mimic,
+                        accept_improper_inertia)
 
 
 MIMIC_MODES = ("ordinary", "couple")
 
 
-def _load(path: Path, base: str | None, tip: str | None, lock: dict[str, float] | None,
-          floating: bool = False, mimic: str = "ordinary") -> Chain:
-    robot = _read_robot(path)
-    return chain_of(robot, Tree.build(robot, path), path, base, tip, lock, floating, mimic)
-
-
 def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
              lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
-             accept_improper_inertia: bool | None = None) -> Chain:
+             accept_improper_inertia: bool = False) -> Chain:
     """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
-    too): base, tip, lock, floating and mimic as `load_urdf` takes them."""
-    if accept_improper_inertia is not None:
-        token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
-        try:
-            return chain_of(robot, tree, path, base, tip, lock, floating, mimic)
-        finally:
-            _ACCEPT_IMPROPER.reset(token)
+    too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them."""
+    token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
+    try:
+        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic)
+    finally:
+        _ACCEPT_IMPROPER.reset(token)
+
+
+def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
+              lock: dict[str, float] | None, floating: bool, mimic: str) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic == "couple" and not leaders and not problems:
