@@ -186,7 +186,7 @@ def test_a_start_of_the_wrong_length_is_one_line(setup, tmp_path):
     assert r.exit_code == 1 and "line 1: expected the header qdd1,qdd2,qdd3,qdd4,qdd5,qdd6" in r.output
 
 
-def test_the_plot_has_a_panel_per_joint_with_its_limits(setup, tmp_path):
+def test_the_plot_has_a_panel_per_joint_with_its_limits_and_one_of_the_speed(setup, tmp_path):
     import xml.etree.ElementTree as ET
     folder, program, limits, path = setup
     out = tmp_path / "torques.svg"
@@ -196,9 +196,10 @@ def test_the_plot_has_a_panel_per_joint_with_its_limits(setup, tmp_path):
     assert r.exit_code == 0, r.output
     root = ET.parse(out).getroot()
     ids = [g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")]
-    assert sum(1 for i in ids if i and i.startswith("axes_")) == 6
+    assert sum(1 for i in ids if i and i.startswith("axes_")) == 7
     text = out.read_text()
-    assert "retimed (k = 1.75)" in text and "waist" in text and "flange" in text
+    assert "retimed, uniform (k = 1.75)" in text and "waist" in text and "flange" in text
+    assert "speed ṡ" in text
 
 
 def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path):

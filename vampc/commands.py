@@ -562,17 +562,24 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     limits = la.limits_of(ld.chain, own.limits)
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
+    need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent
     if clock is not None:
-        need = 2 if own.retime else 1                 # a new row per λ, and its gravity pass
         period = ld.schedule.interval / clock         # one torque set per interval of flops
         if need * period > lam:
             raise VampcError(f"{source}: the network computes a torque set every {period * 1e6:.4g} µs "
                              f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
                              f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
-        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} row(s) per λ = "
-            f"{lam * 1e6:.4g} µs use {100 * need * period / lam:.3g}% of it: keeps up", info)
     res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
-                 source_path)
+                 source_path, own.futures or 1, rate)
+    if clock is not None:
+        # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
+        step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
+        if need * period > step:
+            raise VampcError(f"{source}: the retimed path has rows {step * 1e6:.4g} µs apart; the "
+                             f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
+                             f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
+        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} row(s) every "
+            f"{step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
     ok = True
     if own.check_torques:
@@ -586,10 +593,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             ok = error <= tolerance
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                 f"{number_text(tolerance)}: {'OK' if ok else 'FAILED'}")
-        if res.k is not None:
+        if res.retimed is not None:
             from vampc.dynamics.reference import rnea
-            ref = rnea(ld.chain, traj.q, traj.qd / res.k, traj.qdd / res.k ** 2)
-            within = la.violations(ref, traj.qd / res.k, limits)
+            new = res.retimed
+            ref = rnea(ld.chain, new.q, new.qd, new.qdd)
+            within = la.violations(ref, new.qd, limits)
             ok = ok and not within
             line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
                      f"{'' if not within else ' FAILED'}")
@@ -617,6 +625,14 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      f"({early * lam * 1e3:.4g} ms) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
+    if res.retimed is not None and res.k is None:
+        fast = res.speed                      # the first and last rows are at rest
+        slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
+        lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
+                     f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
+                     f"{times[-1] - times[0] + lam:.6g} s); speed ṡ between rest and the "
+                     f"ends from {slowest:.4g} to {fast.max():.4g} of the path's; retimed rows by the network: "
+                     f"{count(len(res.retimed_violations), 'violation')}")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"k(1 + 1e-12)), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
@@ -628,10 +644,13 @@ def _write_lookahead(outs: dict, chain, traj, times, res) -> None:
     from vampc.emulator.trajectory import csv_line, format_rows, header, torque_columns
     from vampc.outputs import write_output
     from vampc.robot.mimic import free_names, n_free, reduce_states, reduce_torques
-    k = res.k or 1.0
-    t = times * k
+    path, t = traj, times
+    if res.k is not None:
+        path, t = res.retimed, times * res.k            # t' = k t
+    elif res.retimed is not None:
+        path, t = res.retimed, times[0] + res.retimed_t
     if "-o" in outs:
-        parts = reduce_states(chain, traj.q, traj.qd / k, traj.qdd / k ** 2)
+        parts = reduce_states(chain, path.q, path.qd, path.qdd)
         write_output(outs["-o"], csv_line(["t"] + header(n_free(chain))) + format_rows(t, *parts),
                      "path")
     if "--torques" in outs:

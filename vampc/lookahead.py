@@ -24,10 +24,29 @@ taken over the whole path (a uniform scaling is one k, so the host needs the who
 starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form
 times (1 + 1e-12), so rounding never puts a torque over its limit.
 
+`--retime window` (`window_plan`): the scaling varies along the path, decided row by row from what is
+in the register. The path's rows are its samples s_j (spacing Δ = λ of the path as given, q' = q̇,
+q'' = q̈ there); the retimed path runs them at speed ṡ, x = ṡ², with s̈ = u constant between two rows
+(x_{j+1} = x_j + 2Δ u_j). Its row j is (q_j, q'_j ṡ_j, q''_j x_j + q'_j u_j), and its torque is affine
+in (u, x):  τ_j = a_j u + b_j x + c_j. The network gives a, b and c from three passes over each row
+as it enters: the row as given (b + c), the gravity pass (q, 0, 0) (c) and the tangent pass
+(q, 0, q') (a + c); every other scaling is interpolated exactly between these three. Each λ the host
+then solves the window as TOPP-RA solves a whole path: backwards from the last row it sees, the largest
+x at each row from which the arm can still stop (x = 0) at that last row within every effort and speed
+limit, then forwards one row: the largest x reachable within the limits and inside that set. The plan
+is recursively feasible (a row the arm can stop at, it can also rest at, since gravity alone is
+within the limits), so no row goes over a limit; the limits used are 1e-9 tighter so rounding cannot
+either. The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
+continuous (x is). `--futures R` chains R registers of `window` rows end to end, so the host sees
+R·window rows ahead: each row is still computed once, as it enters (three passes), and R costs
+R·window rows of register and the longer backward pass on the host. The rows of the retimed path come
+at their new times (the `t` column), not at λ: a row interval shorter than λ needs the network to
+keep up with it, which `--clock` checks.
+
 `--accelerations`: q and q̇ integrated from a q̈ profile (`integrate`), each q̈ held for one λ.
-`--plot`: per joint, torque over time against its limit, before and after the retiming (`plot_svg`).
-Not built yet (issue "Trajectory look-ahead"): the window-by-window retiming and several registers
-side by side (--retime window, --futures), the comparison with TOPP-RA, a floating base.
+`--plot`: per joint, torque over time against its limit, before and after the retiming, and the speed
+ṡ over time (`plot_svg`).
+Not built yet (issue "Trajectory look-ahead"): a floating base.
 """
 from __future__ import annotations
 
@@ -67,6 +86,11 @@ class Lookahead:
     k_closed_form: float | None = None
     retimed_tau: np.ndarray | None = None
     retimed_violations: list = field(default_factory=list)
+    retimed: object = None            # the retimed Trajectory (q, q̇, q̈)
+    retimed_t: np.ndarray | None = None   # its row times, from 0
+    speed: np.ndarray | None = None   # ṡ at each row
+    futures: int = 1
+    ahead_rows: int = 0               # rows the host sees with --retime window
 
 
 def limits_of(chain, path: str | None) -> Limits:
@@ -185,27 +209,136 @@ def check_window(window: int, traj) -> None:
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
-        path: str = "") -> Lookahead:
+        path: str = "", futures: int = 1, rate: float = 1.0) -> Lookahead:
     """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
-    violations, and with retime == "uniform" the scaling and the retimed rows' torques. `path`
-    names the trajectory in messages."""
+    violations, and with `retime` ("uniform" or "window") the scaling and the retimed rows' torques.
+    `path` names the trajectory in messages; `rate` is the rows' rate (Hz)."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj)
     tau = emulate_rows(traj)
-    out = Lookahead(tau, violations(tau, traj.qd, limits))
-    if retime == "uniform":
-        zero = np.zeros_like(traj.qd)
-        g = emulate_rows(Trajectory(traj.q, zero, zero, None, None))       # the gravity-only pass
-        try:
+    out = Lookahead(tau, violations(tau, traj.qd, limits), futures=futures, ahead_rows=window * futures)
+    if retime is None:
+        return out
+    zero = np.zeros_like(traj.qd)
+    g = emulate_rows(Trajectory(traj.q, zero, zero, None, None))           # the gravity-only pass
+    try:
+        check_gravity(g, limits, ld.chain, 0.0 if retime == "uniform" else PLAN_MARGIN)
+        if retime == "uniform":
             k = uniform_k(tau, g, traj.qd, limits, ld.chain)
-        except VampcError as exc:
-            raise VampcError(f"{path}: {exc}") from None
+        else:
+            tangent = emulate_rows(Trajectory(traj.q, zero, traj.qd, None, None))
+            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate)
+    except VampcError as exc:
+        raise VampcError(f"{path}: {exc}") from None
+    if retime == "uniform":
         out.k_closed_form = k
         out.k = k * (1 + K_MARGIN) if k > 1 else 1.0
-        scaled = Trajectory(traj.q, traj.qd / out.k, traj.qdd / out.k ** 2, None, None)
-        out.retimed_tau = emulate_rows(scaled)
-        out.retimed_violations = violations(out.retimed_tau, scaled.qd, limits)
+        out.retimed = Trajectory(traj.q, traj.qd / out.k, traj.qdd / out.k ** 2, None, None)
+        out.retimed_t = np.arange(traj.count) * (out.k / rate)
+        out.speed = np.full(traj.count, 1.0 / out.k)
+    else:
+        speed = np.sqrt(x)
+        out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
+                                 traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
+        out.retimed_t, out.speed = t, speed
+    out.retimed_tau = emulate_rows(out.retimed)
+    out.retimed_violations = violations(out.retimed_tau, out.retimed.qd, limits)
     return out
+
+
+def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> None:
+    """VampcError where gravity alone (the torque at rest) is beyond a limit (less `margin` of it):
+    no time scaling helps there."""
+    lim = np.array(limits.tau)
+    g = g[:, :len(lim)]
+    alone = np.argwhere(np.abs(g) > lim * (1 - margin))
+    if alone.size:
+        r, j = (int(x) for x in alone[0])
+        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.6g} at rest "
+                         f"(gravity alone), beyond its limit {lim[j]:g}: no time scaling helps")
+
+
+PLAN_MARGIN = 1e-9
+
+
+def _stage(a, b, c, L):
+    """Each row's effort limits as bounds on u affine in x: u >= p + r x and u <= P + R x per joint
+    (±inf where a joint's a is zero), and the bound on x alone from those joints."""
+    lo, hi = -L - c, L - c
+    tiny = np.abs(a) <= 1e-12 * (np.abs(b) + np.abs(c) + L)
+    sa = np.where(tiny, 1.0, a)
+    r = np.where(tiny, 0.0, -b / sa)
+    p = np.where(tiny, -np.inf, np.where(a > 0, lo, hi) / sa)
+    P = np.where(tiny, np.inf, np.where(a > 0, hi, lo) / sa)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        alone = np.where(tiny & (b > 0), hi / b, np.where(tiny & (b < 0), lo / b, np.inf))
+    return p, r, P, r.copy(), np.min(alone, axis=-1)
+
+
+def _largest_x(p, r, P, R, cap, H, two_d):
+    """Per row (leading axes): the largest x in [0, cap] with some u within the effort bounds and
+    0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval holding 0, so its top
+    is the least root among the pairs (lower bound, upper bound) that cross."""
+    shape = p.shape[:-1] + (1,)
+    lp = np.concatenate([p, np.zeros(shape)], -1)
+    lr = np.concatenate([r, np.full(shape, -1.0 / two_d)], -1)
+    up = np.concatenate([P, (H / two_d)[..., None]], -1)
+    ur = np.concatenate([R, np.full(shape, -1.0 / two_d)], -1)
+    gap = lp[..., :, None] - up[..., None, :]
+    slope = lr[..., :, None] - ur[..., None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.where(slope > 0, -gap / slope, np.inf)
+    root = np.where(np.isnan(root), np.inf, root)
+    return np.clip(np.minimum(cap, root.reshape(root.shape[:-2] + (-1,)).min(-1)), 0.0, None)
+
+
+def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float):
+    """The window-by-window scaling of the module docstring: per row x = ṡ², u = s̈ and the new row
+    times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
+    row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included)."""
+    if ahead_rows < 3:
+        raise VampcUsageError(f"--retime window sees {ahead_rows} row(s) ahead: it needs at least 3 "
+                              "(--window × --futures) to start and still be able to stop")
+    n_rows, n = len(a), len(limits.tau)
+    a, b, c = a[:, :n], b[:, :n], c[:, :n]
+    L = np.array(limits.tau) * (1 - PLAN_MARGIN)
+    two_d = 2.0 * lam
+    p, r, P, R, cap = _stage(a, b, c, L)
+    for j, v in enumerate(limits.qd):
+        if v is not None:
+            with np.errstate(divide="ignore"):
+                cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
+    rows = np.arange(n_rows)
+    end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
+    H = np.zeros(n_rows)                                    # per step: stop-able x at row end - d
+    for d in range(1, ahead_rows - 1):
+        j = end - d
+        act = j >= rows + 1
+        if not act.any():
+            break
+        jj = np.where(act, j, 0)
+        H = np.where(act, _largest_x(p[jj], r[jj], P[jj], R[jj], cap[jj], H, two_d), H)
+    H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
+    x, u = np.zeros(n_rows), np.zeros(n_rows)
+    for i in range(n_rows - 1):
+        xi = x[i]
+        up = float(np.min(P[i] + R[i] * xi))
+        low = float(np.max(p[i] + r[i] * xi))
+        nxt = max(0.0, min(xi + two_d * up, float(H[i])))
+        ui = (nxt - xi) / two_d
+        if ui < low - 1e-9 * max(1.0, abs(low)):
+            raise VampcError(f"row {i + 1}: no speed keeps every joint within its limit here "
+                             "(the look-ahead found no way through)")
+        x[i + 1], u[i] = nxt, ui
+    root = np.sqrt(x)
+    with np.errstate(divide="ignore"):
+        steps = two_d / (root[:-1] + root[1:])
+    stuck = np.flatnonzero(~np.isfinite(steps))
+    if stuck.size:
+        raise VampcError(f"row {stuck[0] + 1}: the arm cannot move on within the limits while still "
+                         f"able to stop within the {ahead_rows} rows it sees; give a longer --window "
+                         "or more --futures")
+    return x, u, np.concatenate([[0.0], np.cumsum(steps)])
 
 
 def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:
@@ -227,11 +360,6 @@ def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, ch
     n = len(limits.tau)
     lim = np.array(limits.tau)
     tau, g = tau[:, :n], g[:, :n]
-    alone = np.argwhere(np.abs(g) > lim)
-    if alone.size:
-        r, j = (int(x) for x in alone[0])
-        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.6g} at rest "
-                         f"(gravity alone), beyond its limit {lim[j]:g}: no time scaling helps")
     d = tau - g
     with np.errstate(divide="ignore", invalid="ignore"):
         need = np.where(d > 0, d / (lim - g), np.where(d < 0, -d / (lim + g), 0.0))
@@ -253,22 +381,32 @@ def ahead(row: int, window: int) -> tuple[int, int]:
 
 def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
     """Per joint, torque over time against ±its limit: the path as given, and the retimed one (its
-    own, longer time axis) when there is one; the scaling k in the title. SVG text."""
+    own time axis) when there is one, with a last panel of the speed ṡ over time. SVG text."""
     import io
 
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     n = len(limits.tau)
-    fig, axes = plt.subplots(n, 1, figsize=(8, 1.6 * n + 0.8), sharex=True, squeeze=False)
-    for j, ax in enumerate(axes[:, 0]):
+    panels = n + (res.retimed is not None)
+    fig, axes = plt.subplots(panels, 1, figsize=(8, 1.6 * panels + 0.8), sharex=True, squeeze=False)
+    if res.retimed is not None:
+        new_t = times * res.k if res.k is not None else times[0] + res.retimed_t
+        label = (f"uniform (k = {res.k_closed_form:.4g})" if res.k is not None else
+                 f"window ({res.ahead_rows} rows ahead)")
+    for j, ax in enumerate(axes[:n, 0]):
         ax.plot(times, res.tau[:, j], lw=1, color="tab:red", label="as given")
-        if res.retimed_tau is not None:
-            ax.plot(times * res.k, res.retimed_tau[:, j], lw=1, color="tab:blue",
-                    label=f"retimed (k = {res.k_closed_form:.4g})")
+        if res.retimed is not None:
+            ax.plot(new_t, res.retimed_tau[:, j], lw=1, color="tab:blue", label=f"retimed, {label}")
         for sign in (1, -1):
             ax.axhline(sign * limits.tau[j], color="black", lw=0.8, ls="--")
         ax.set_ylabel(f"{names[j]}\n(N·m or N)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    if res.retimed is not None:
+        ax = axes[n, 0]
+        ax.plot(new_t, res.speed, lw=1, color="tab:blue")
+        ax.axhline(1.0, color="tab:red", lw=0.8, ls=":")
+        ax.set_ylabel("speed ṡ\n(1 = as given)", fontsize=8)
         ax.tick_params(labelsize=7)
     axes[0, 0].legend(fontsize=7, loc="upper right")
     axes[-1, 0].set_xlabel("time (s)")

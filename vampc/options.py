@@ -430,8 +430,14 @@ class LookaheadOptions:
         "--limits", path=True, metavar="FILE", help="Limits per joint, CSV with header joint,tau,qd "
         "(N·m or N, rad/s or m/s; qd may be empty); default: the robot file's."))
     retime: str | None = field(default=None, metadata=cli(
-        "--retime", choices=lambda: ("uniform",), help="uniform: Hollerbach's uniform time scaling, "
-        "the smallest k keeping every torque and speed within its limit."))
+        "--retime", choices=lambda: ("uniform", "window"), help="uniform: Hollerbach's uniform time "
+        "scaling, the smallest k keeping every torque and speed within its limit (needs the whole "
+        "path); window: the speed varies along the path, decided row by row from the rows in the "
+        "register, slowing before a violation and speeding up below the limits (README, vampc "
+        "lookahead)."))
+    futures: int | None = field(default=None, metadata=cli(
+        "--futures", range=(1, 1 << 16), metavar="R", help="With --retime window: R registers of "
+        "--window rows side by side, end to end, so the host sees R × M rows ahead (default 1)."))
     check_torques: bool = field(default=False, metadata=cli(
         "--check", help="Compare every row's torques with the reference Newton-Euler, and with "
         "--retime every retimed row's torques (by the reference) with the limits; exit 1 if not."))
@@ -460,6 +466,12 @@ class LookaheadOptions:
         for name in ("q0", "qd0"):
             if getattr(self, name) is not None and self.accelerations is None:
                 raise VampcUsageError(f"--{name} applies with --accelerations")
+        if self.futures is not None and self.retime != "window":
+            raise VampcUsageError("--futures applies with --retime window")
+        if self.retime == "window" and self.window is not None and self.window * (self.futures or 1) < 3:
+            raise VampcUsageError(f"--retime window sees {self.window * (self.futures or 1)} row(s) ahead: "
+                                  "it needs at least 3 (--window × --futures) to start and still be "
+                                  "able to stop")
         if self.output is not None and self.retime is None and self.accelerations is None:
             raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
                                   "--accelerations")

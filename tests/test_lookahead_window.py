@@ -1,0 +1,187 @@
+"""`vampc lookahead --retime window` (issue "Trajectory look-ahead", part 3): the speed decided row by
+row from the rows in the register. Checked by the reference dynamics (not by the network) that every
+retimed row is within its limits, that the path is the same, the velocity continuous and the times
+consistent with it; that a decision depends on no row beyond the look-ahead; that the retimed rows'
+torques are `vampc emulate`'s bit for bit; and, with the whole path in view, that the duration is
+TOPP-RA's time optimum."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.dynamics.reference import rnea
+from vampc.lookahead import Limits, window_plan
+from vampc.robot import load_robot
+
+PUMA = "examples/puma560.yaml"
+LIMITS = "joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\nflange,1,4\n"
+LIM = np.array([10, 60, 20, 1, 1, 1.0])
+RATE = 1000.0
+
+
+def bump_path(T: float = 0.6, centre: float = 0.3):
+    """q(s) = s Δq + a Gaussian-windowed sine, s = t / T: moving at both ends, exact derivatives."""
+    t = np.arange(int(round(T * RATE)) + 1) / RATE
+    s = t / T
+    dq, amp, w, width = np.array([1.2, 0.8, -1.0, 1.5, 1.0, 1.5]) * 0.3, np.array([.3, .2, .3, .4, .3, .4]), 4 * np.pi, 0.15
+    env = np.exp(-((s - centre) / width) ** 2)
+    env_d = env * (-2 * (s - centre) / width ** 2) / T
+    env_dd = env * (4 * (s - centre) ** 2 / width ** 4 - 2 / width ** 2) / T ** 2
+    sn, cs = np.sin(w * s), np.cos(w * s)
+    q = np.outer(s, dq) + np.outer(env * sn, amp)
+    qd = np.outer(np.full_like(s, 1 / T), dq) + np.outer(env_d * sn + env * cs * w / T, amp)
+    qdd = np.outer(env_dd * sn + 2 * env_d * cs * w / T - env * sn * (w / T) ** 2, amp)
+    return t, q, qd, qdd
+
+
+def write_path(path, t, q, qd, qdd):
+    head = ",".join(["t"] + [f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7)])
+    np.savetxt(path, np.column_stack([t, q, qd, qdd]), delimiter=",", header=head, comments="", fmt="%.17g")
+    return path
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("law")
+    program = folder / "puma.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "-o", str(program)]).exit_code == 0
+    (folder / "lim.csv").write_text(LIMITS)
+    return folder, program, folder / "lim.csv", write_path(folder / "path.csv", *bump_path())
+
+
+def retime(setup, *extra, name="w.csv"):
+    folder, program, limits, path = setup
+    out, tau = folder / name, folder / ("tau-" + name)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window", "--check",
+                                  "-o", str(out), "--torques", str(tau), *extra])
+    assert r.exit_code == 0, r.output
+    return r.output, np.loadtxt(out, delimiter=",", skiprows=1), tau
+
+
+def test_the_retimed_path_is_the_same_path_within_every_limit_by_the_reference(setup):
+    text, data, _ = retime(setup)
+    t, q, qd, qdd = data[:, 0], data[:, 1:7], data[:, 7:13], data[:, 13:19]
+    _, q0, qd0, qdd0 = bump_path()
+    chain = load_robot(PUMA)
+    assert (np.abs(rnea(chain, q0, qd0, qdd0)) > LIM).any()          # the path as given is over
+    assert np.array_equal(q, q0)                                     # the same positions, row by row
+    tau = rnea(chain, q, qd, qdd)
+    assert np.all(np.abs(tau) <= LIM) and np.all(np.abs(qd[:, 5]) <= 4)
+    assert np.max(np.abs(tau) / LIM) > 0.999                         # and it uses them
+    assert np.all(np.diff(t) > 0) and not qd[0].any() and not qd[-1].any()   # rest to rest
+    assert "retimed rows by the reference: 0 violations" in text and "retimed rows by the network: 0" in text
+
+
+def test_velocity_is_continuous_and_the_times_agree_with_it(setup):
+    """Between two rows s̈ is constant: the velocity changes by at most about q̈ Δt (the row's q̈ is
+    the next segment's, so allow twice that; a step in velocity would not be bounded so). The speed
+    ṡ read back from each row's q̇ against the path's q' gives the row times (a segment of path
+    time Δ at constant s̈ takes 2Δ / (ṡ_i + ṡ_i+1)) and each row's q̈ = q'' ṡ² + q' s̈."""
+    _, data, _ = retime(setup)
+    t, qd, qdd = data[:, 0], data[:, 7:13], data[:, 13:19]
+    dt = np.diff(t)[:, None]
+    jump = np.abs(np.diff(qd, axis=0))
+    bound = np.maximum(np.abs(qdd[:-1]), np.abs(qdd[1:])) * dt
+    assert np.all(jump <= 2 * bound + 1e-12)
+    _, _, d1, d2 = bump_path()
+    speed = np.einsum("ij,ij->i", qd, d1) / np.einsum("ij,ij->i", d1, d1)
+    assert np.allclose(qd, d1 * speed[:, None], rtol=1e-12, atol=1e-15)     # along the path
+    lam = 1 / RATE
+    assert np.allclose(np.diff(t), 2 * lam / (speed[:-1] + speed[1:]), rtol=1e-9)
+    accel = np.append(np.diff(speed ** 2) / (2 * lam), 0.0)
+    assert np.allclose(qdd, d2 * speed[:, None] ** 2 + d1 * accel[:, None], rtol=1e-6, atol=1e-9)
+
+
+def test_the_retimed_rows_torques_are_emulates_bit_for_bit(setup):
+    folder, program, _, _ = setup
+    _, _, tau = retime(setup)
+    em = folder / "em.csv"
+    r = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(folder / "w.csv"), "-o", str(em)])
+    assert r.exit_code == 0, r.output
+    assert em.read_text() == tau.read_text()
+
+
+def test_a_decision_depends_on_no_row_beyond_the_look_ahead():
+    """x at row j + 1 is decided at step j from rows j .. j + ahead - 1: changing every row from K on
+    leaves x[0 .. K - ahead + 1] as it was, and changes later ones."""
+    chain = load_robot(PUMA)
+    _, q, qd, qdd = bump_path()
+    z = np.zeros_like(q)
+    c = rnea(chain, q, z, z)
+    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
+    limits = Limits(tuple(LIM), (None,) * 5 + (4.0,))
+    ahead, K = 64, 300
+    x, _, _ = window_plan(a, b, c, qd, limits, ahead, 1 / RATE)
+    b2 = b.copy()
+    b2[K:] *= 3.0                          # the path much faster from row K on
+    x2, _, _ = window_plan(a, b2, c, qd, limits, ahead, 1 / RATE)
+    keep = K - ahead + 2
+    assert np.array_equal(x[:keep], x2[:keep]) and not np.array_equal(x[keep:], x2[keep:])
+
+
+def test_more_futures_see_further_and_are_never_slower(setup):
+    text1, d1, _ = retime(setup, name="r1.csv")
+    text4, d4, _ = retime(setup, "--futures", "4", name="r4.csv")
+    assert "64 rows ahead (1 × window 64)" in text1 and "256 rows ahead (4 × window 64)" in text4
+    assert d4[-1, 0] < d1[-1, 0]
+    # R registers of M rows see what one of R·M rows sees: the same plan
+    folder, program, limits, path = setup
+    out = folder / "w256.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "256", "--limits", str(limits), "--retime", "window", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert out.read_text() == (folder / "r4.csv").read_text()
+
+
+def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():
+    """TOPP-RA (an independent implementation: its own spline of the path, its own LP solver) on the
+    same rows and limits, starting and ending at rest: the window method seeing the whole path finds
+    the same time-optimal duration (to 1%: the spline and the samples differ slightly)."""
+    toppra = pytest.importorskip("toppra")
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+    toppra.setup_logging("ERROR")
+    chain = load_robot(PUMA)
+    t, q, qd, qdd = bump_path(T=0.3, centre=0.5)
+    z = np.zeros_like(q)
+    c = rnea(chain, q, z, z)
+    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
+    x, _, times = window_plan(a, b, c, qd, Limits(tuple(LIM), (None,) * 6), len(t), 1 / RATE)
+    cons = [constraint.JointTorqueConstraint(
+        lambda p, v, acc: rnea(chain, p[None], v[None], acc[None])[0], np.column_stack([-LIM, LIM]),
+        np.zeros(6), discretization_scheme=constraint.DiscretizationType.Collocation)]
+    best = algo.TOPPRA(cons, toppra.SplineInterpolator(t, q), gridpoints=t,
+                       parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
+    assert best is not None
+    assert abs(times[-1] / best.duration - 1) < 0.01, (times[-1], best.duration)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--futures", "2"], r"--futures applies with --retime window"),
+    (["--retime", "window", "--window", "1", "--futures", "2"],
+     r"--retime window sees 2 row\(s\) ahead: it needs at least 3"),
+])
+def test_window_usage(setup, args, message):
+    folder, program, limits, path = setup
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), *args])
+    assert r.exit_code == 2 and re.search(message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
+def test_a_retimed_path_faster_than_the_network_is_refused(setup, tmp_path):
+    """Rows closer together than λ need the network sooner: --clock checks the retimed intervals."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = bump_path()
+    slow = write_path(tmp_path / "slow.csv", t, q, qd * 0.05, qdd * 0.0025)    # far below the limits
+    out = tmp_path / "never.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(slow), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window",
+                                  "--clock", "25kHz", "-o", str(out)])
+    assert r.exit_code == 1 and "the retimed path has rows" in r.output and "cannot keep up" in r.output, r.output
+    assert not out.exists()
