@@ -118,7 +118,7 @@ def table() -> None:
                 print(f"{name} {kind}: as given {T:.3f} s ({violations}), uniform {uniform:.3f}, window R=1 "
                       f"{w1:.3f} ({100 * (w1 / best - 1):+.1f}%), R=4 {w4:.3f} ({100 * (w4 / best - 1):+.1f}%), "
                       f"TOPP-RA {best:.3f}", flush=True)
-    print("\n| robot | path | as given (s) | violations as given | uniform (s) | window R = 1 (s) | "
+    print("\n| robot | path | as given (s) | violations as given (row, joint) | uniform (s) | window R = 1 (s) | "
           "window R = 4 (s) | TOPP-RA (s) |")
     print("|---|---|---|---|---|---|---|---|")
     for name, kind, T, v, u, w1, w4, best in rows:

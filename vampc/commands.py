@@ -628,6 +628,10 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
+        n = len(ld.chain.joints)
+        lines.append(f"register: {res.futures} × {window} rows, each q, q', q'' and three torque sets "
+                     f"(as given, gravity, tangent: {3 * n} + {3 * n} words); 3 passes of the network "
+                     "per row")
         lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
                      f"{times[-1] - times[0] + lam:.6g} s); speed ṡ between rest and the "
