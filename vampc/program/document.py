@@ -371,10 +371,11 @@ def schedule_from_doc(stored: F.ScheduleDoc, graph: Graph, path) -> Schedule:
     if sched.latency != max(sched.finish[o.node] for o in graph.outputs):
         raise VampcError(f"{path}: schedule.latency is not the schedule of the file's graph (the "
                          "file was edited); recompile it")
-    # the critical path: a chain of operands ending at the last torque, with its Mults and Addns
-    last = max(graph.outputs, key=lambda o: (sched.finish[o.node], o.joint))
+    # the critical path: a chain of operands ending at a torque, with its Mults and Addns (the
+    # graph's data path; a file from before 2026-12 holds the chain binding in its own schedule)
+    outputs = {o.node for o in graph.outputs}
     crit = sched.critical_path
-    chained = (bool(crit) and all(0 <= i < len(graph.nodes) for i in crit) and crit[-1] == last.node
+    chained = (bool(crit) and all(0 <= i < len(graph.nodes) for i in crit) and crit[-1] in outputs
                and all(a in graph.nodes[b].args for a, b in zip(crit, crit[1:])))
     counts = [timing.path_counts(graph.nodes[i].op) for i in crit if chained]
     if not chained or (sum(m for m, _ in counts), sum(a for _, a in counts)) != (sched.mults,

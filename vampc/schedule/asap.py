@@ -19,9 +19,10 @@ from vampc.machine.ops import Timing
 class Schedule:
     """Start and finish flop of every node (indexed by node id), the critical-path summary and the
     interval (flops between successive torque sets: the cycle C for the systolic pipeline, the
-    layout's period otherwise). `mults` + `adds` count the critical path's data dependencies; a
-    layout that makes ops wait for their VAMP adds `latency` - (mults·Mult + adds·Addn) flops of
-    waiting."""
+    layout's period otherwise). `critical_path` is the graph's data path (the longest chain of
+    operands, as the ASAP schedule finds it, for every layout) and `mults` + `adds` count it in the
+    paper's accounting; a layout that makes ops wait for their VAMP adds `latency` -
+    (mults·Mult + adds·Addn) flops of waiting (`waits`), so the two always add up to the latency."""
 
     timing: Timing
     start: tuple[int, ...]

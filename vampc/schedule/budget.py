@@ -32,7 +32,7 @@ from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture, result_windows
-from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
+from vampc.schedule.asap import Schedule, schedule_asap
 
 
 @dataclass(frozen=True)
@@ -438,7 +438,7 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
                                  f"smallest interval this scheduler reaches is {best.interval} "
                                  "flops")
             placed = best          # a set at least every T flops, as --interval promises
-    return _finish(graph, timing, placed, k, verify, proof)
+    return _finish(graph, timing, placed, k, verify, proof, asap)
 
 
 def usable(graph: Graph, timing: Timing, k: int | None, interval: int | None, longest: int):
@@ -671,13 +671,15 @@ def _fewest_vamps(graph, timing, interval, asap, smallest) -> tuple[int, Placed]
     return hi, best
 
 
-def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool, proof: str = ""):
+def _finish(graph: Graph, timing: Timing, placed: Placed, k: int, verify: bool, proof: str = "",
+            asap: Schedule | None = None):
     from vampc.schedule.layout import Layout
     latency = max(placed.finish[o.node] for o in graph.outputs)
-    last = max(graph.outputs, key=lambda o: (placed.finish[o.node], o.joint))
-    path, mults, adds = critical_path_counts(graph, timing, placed.finish, last.node)
-    sched = Schedule(timing, placed.start, placed.finish, latency, tuple(path), mults, adds,
-                     placed.interval)
+    # the critical path is the data path (the graph's, as ASAP finds it): what the paper's formula
+    # counts; the rest of the latency is waiting for a busy VAMP (Schedule.waits)
+    asap = asap or schedule_asap(graph, timing, verify=False)
+    sched = Schedule(timing, placed.start, placed.finish, latency, asap.critical_path, asap.mults,
+                     asap.adds, placed.interval)
     used = sorted({v for p in placed.placement for v in p})
     renumber = {v: j for j, v in enumerate(used)}          # VAMPs the schedule left idle go
     placement = tuple(tuple(renumber[v] for v in p) for p in placed.placement)

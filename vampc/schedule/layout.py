@@ -38,7 +38,7 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture
-from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
+from vampc.schedule.asap import Schedule, schedule_asap
 
 
 @dataclass(frozen=True)
@@ -268,9 +268,10 @@ def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, c
     latency = max(finish[o.node] for o in graph.outputs)
     span = max(finish[i] for i in order) + 1      # ops no torque reads may finish after the last
     period = -(-span // clock) * clock
-    last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
-    path, mults, adds = critical_path_counts(graph, timing, finish, last.node)
-    sched = Schedule(timing, tuple(start), tuple(finish), latency, tuple(path), mults, adds, period)
+    # the critical path is the data path (the graph's, as ASAP finds it): what the paper's formula
+    # counts; the rest of the latency is waiting for a busy VAMP (Schedule.waits)
+    sched = Schedule(timing, tuple(start), tuple(finish), latency, asap.critical_path, asap.mults,
+                     asap.adds, period)
     if verify:
         sched.verify(graph)
         _verify_units(graph, sched, units, clock)

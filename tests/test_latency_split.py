@@ -1,0 +1,78 @@
+"""The latency split of every layout (issue "The report a hardware engineer trusts", part 1): the data
+path's Mults + Addns equal the graph's critical path, found here by networkx's longest path over the
+graph (independent of vampc's schedulers), and Mults + Addns + waiting equal the latency, for every
+example robot, both recursions, every layout and a few budgets; and the report's text and JSON say the
+same."""
+from __future__ import annotations
+
+import networkx as nx
+import pytest
+
+from conftest import EXAMPLES
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report.counts import summary
+from vampc.robot import load_robot
+
+LAYOUTS = [dict(), dict(layout="folded"), dict(layout="folded", share_passes=True)]
+CONFIGS = [dict(recursion=r, **x) for r in ("linear", "log") for x in LAYOUTS]
+BUDGETS = [("puma560.yaml", dict(vamps=3)), ("puma560.yaml", dict(vamps=7)), ("puma560.yaml", dict(vamps=12)),
+           ("puma560.yaml", dict(vamps=12, recursion="log")), ("quadruped.urdf", dict(vamps=9)),
+           ("planar2.yaml", dict(vamps=3)), ("puma560.yaml", dict(mult_latency=3, add_latency=2)),
+           ("puma560.yaml", dict(mult_latency=3, add_latency=2, layout="folded", recursion="log"))]
+ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf"]
+
+
+def longest_path(graph, timing) -> int:
+    """The latest finish of a torque with unlimited VAMPs: the longest path through the compute ops
+    (weight = duration), by networkx."""
+    g = nx.DiGraph()
+    g.add_node("src")
+    duration = timing.durations
+    for nd in graph.nodes:
+        if not nd.op.is_compute:
+            continue
+        g.add_edge("src", nd.id, weight=duration[nd.op])
+        for a in nd.args:
+            if graph.nodes[a].op.is_compute:
+                g.add_edge(a, nd.id, weight=duration[nd.op])
+    length = nx.single_source_bellman_ford_path_length(nx.DiGraph(
+        (u, v, {"weight": -d["weight"]}) for u, v, d in g.edges(data=True)), "src")
+    return max(-length[o.node] for o in graph.outputs)
+
+
+def check(robot: str, options: dict) -> None:
+    c = compile_chain(load_robot(EXAMPLES / robot), CompileOptions(**options))
+    s, t = c.schedule, c.schedule.timing
+    lat = summary(c)["latency"]
+    data_path = lat["mults"] * t.mult + lat["adds"] * t.add
+    assert data_path == longest_path(c.graph, t), (robot, options)
+    assert data_path + lat["waits"] == lat["flops"] == s.latency and lat["waits"] >= 0
+    # the stored critical path is a chain of operands ending at a torque, with those counts
+    path = s.critical_path
+    assert path[-1] in {o.node for o in c.graph.outputs}
+    assert all(a in c.graph.nodes[b].args for a, b in zip(path, path[1:]))
+    assert sum(t.duration(c.graph.nodes[i].op) for i in path) == data_path
+
+
+@pytest.mark.parametrize("options", CONFIGS, ids=lambda o: "-".join(str(v) for v in o.values()))
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_every_layout_splits_its_latency_into_the_data_path_and_waiting(robot, options):
+    check(robot, options)
+
+
+@pytest.mark.parametrize("robot, options", BUDGETS, ids=lambda x: x if isinstance(x, str) else
+                         "-".join(f"{k}{v}" for k, v in x.items()))
+def test_budgets_and_latencies_split_the_same_way(robot, options):
+    check(robot, options)
+
+
+def test_a_budget_that_waits_says_so_against_the_paper():
+    """Puma --vamps 12 linear: 16 M + 45 A (61 flops, the systolic figure) + 6 waiting = 67; the
+    comparison with the paper is the data path's (+1 M, +2 A: the output correction)."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "12"])
+    assert r.exit_code == 0, r.output
+    assert "67 flops = 16 Mults + 45 Addns + 6 waiting" in r.output
+    assert "(+1 Mults, +2 Addns, 6 waiting) against the paper's formula" in r.output
