@@ -86,7 +86,7 @@ def test_json_report_of_a_budget_or_a_tree_validates(args, tmp_path):
 
 def test_clock_says_which_control_rates_are_met():
     out = run("report", PUMA, "--clock", "20MHz").stdout
-    assert ("clock            20 MHz: latency 3.05 µs, a torque set every 0.2 µs (5,000,000 per "
+    assert ("clock            20 MHz: latency 3.05 µs, a torque set every 200 ns (5,000,000 per "
             "second)") in out
     assert "at 20 MHz the design meets 1 kHz and 10 kHz control" in out
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import networkx as nx
 import pytest
-
 from conftest import EXAMPLES
+
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.report.counts import summary
 from vampc.robot import load_robot

@@ -8,13 +8,13 @@ from vampc.report.clock import clock_figures, control_sentence, hz_text, parse_c
 
 @pytest.mark.parametrize("text,hz", [("20MHz", 20e6), ("20 MHz", 20e6), ("20mhz", 20e6),
                                      ("1.5GHz", 1.5e9), ("500kHz", 5e5), ("60Hz", 60.0),
-                                     ("4e7", 4e7), (" 2.5e1 kHz ", 25e3)])
+                                     ("4e7Hz", 4e7), (" 2.5e1 kHz ", 25e3)])
 def test_parse_clock(text, hz):
     assert parse_clock(text) == pytest.approx(hz)
 
 
-@pytest.mark.parametrize("text", ["", "fast", "20 MHzz", "MHz", "-5MHz", "0Hz", "1e13", "nan",
-                                  "inf", "20 THz", "1,000Hz"])
+@pytest.mark.parametrize("text", ["", "fast", "20 MHzz", "MHz", "-5MHz", "0Hz", "1e13Hz", "nan",
+                                  "inf", "20 THz", "1,000Hz", "20", "4e7"])
 def test_bad_clock_values_say_why(text):
     with pytest.raises(ValueError) as err:
         parse_clock(text)
@@ -44,3 +44,30 @@ def test_a_slow_clock_misses_10_khz():
 def test_hz_text():
     assert [hz_text(x) for x in (60, 1e3, 2.5e4, 2e7, 1.5e9)] == ["60 Hz", "1 kHz", "25 kHz",
                                                                    "20 MHz", "1.5 GHz"]
+
+
+def test_a_rate_without_a_unit_is_refused():
+    """'--clock 20' could be 20 Hz or 20 MHz: it needs a unit."""
+    with pytest.raises(ValueError, match="'20' has no unit: give Hz, kHz, MHz or GHz"):
+        parse_clock("20")
+
+
+@pytest.mark.parametrize("us_value, text", [(3.05, "3.05 µs"), (0.2, "200 ns"), (0.00266667, "2.667 ns"),
+                                            (610000, "610 ms"), (3.05e6, "3.05 s"), (5e4, "50 ms"),
+                                            (118691, "118.7 ms"), (0, "0 s")])
+def test_times_have_an_engineering_prefix_and_at_most_4_significant_digits(us_value, text):
+    from vampc.report.clock import time_text
+    assert time_text(us_value) == text
+
+
+def test_a_column_of_times_has_one_unit_and_one_style():
+    from vampc.report.clock import time_column
+    assert time_column([5935.0, 634.85, None]) == ("ms", ["5.935", "0.635", "—"])
+    assert time_column([3.05, 2.2]) == ("µs", ["3.05", "2.20"])
+    assert time_column([118691.0, 61.0]) == ("ms", ["118.7", "0.1"])
+
+
+def test_margins_read_as_words():
+    from vampc.report.clock import margin_text
+    assert [margin_text(m) for m in (32.8, 328.0, 0.000328, 0.5)] == [
+        "×32.8", "×328", "needs a ×3,049 faster clock", "needs a ×2 faster clock"]

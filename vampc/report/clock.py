@@ -6,16 +6,19 @@ from __future__ import annotations
 import math
 import re
 
-UNITS = {"": 1.0, "hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9}
+UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9}
 CONTROL_RATES = (1_000, 10_000)
 _CLOCK = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*([a-zA-Z]*)\s*$")
 
 
 def parse_clock(text: str) -> float:
-    """A clock rate in Hz from '20MHz', '20 MHz', '1.5GHz', '500kHz', '4e7' (Hz); the unit's case
-    does not matter. ValueError with the reason for anything else, zero or more than 1 THz."""
+    """A clock rate in Hz from '20MHz', '20 MHz', '1.5GHz', '500kHz', '4e7Hz'; the unit's case
+    does not matter, but it must be there ('20' could be 20 Hz or 20 MHz). ValueError with the
+    reason for anything else, zero or more than 1 THz."""
     m = _CLOCK.match(text)
     unit = m.group(2).lower() if m else None
+    if m and not unit:
+        raise ValueError(f"{text!r} has no unit: give Hz, kHz, MHz or GHz (e.g. {m.group(1)}MHz)")
     if not m or unit not in UNITS:
         raise ValueError(f"{text!r} is not a clock rate (a number with Hz, kHz, MHz or GHz, "
                          "e.g. 20MHz)")
@@ -26,16 +29,58 @@ def parse_clock(text: str) -> float:
 
 
 def hz_text(hz: float) -> str:
-    """'20 MHz', '1.5 GHz', '500 kHz', '60 Hz'."""
+    """'20 MHz', '1.5 GHz', '500 kHz', '60 Hz', '327.9 kHz', '0.3279 Hz'."""
     for unit, scale in (("GHz", 1e9), ("MHz", 1e6), ("kHz", 1e3)):
         if hz >= scale:
-            return f"{hz / scale:.4g} {unit}"
-    return f"{hz:.4g} Hz"
+            return f"{float(f'{hz / scale:.4g}'):g} {unit}"
+    return f"{float(f'{hz:.4g}'):g} Hz"
 
 
-def us_text(x: float) -> str:
-    """Microseconds for a table: '3.05', '0.2', '118,691'."""
-    return f"{x:,.0f}" if x >= 1000 else f"{x:g}"
+PREFIXES = (("s", 1e6), ("ms", 1e3), ("µs", 1.0), ("ns", 1e-3), ("ps", 1e-6))
+
+
+def _prefix(us_value: float) -> tuple[str, float]:
+    """The engineering unit for a time given in µs: the largest with the value at least 1."""
+    for unit, scale in PREFIXES:
+        if abs(us_value) >= scale:
+            return unit, scale
+    return PREFIXES[-1]
+
+
+def _digits(x: float, decimals: int) -> str:
+    return f"{x:,.{decimals}f}"
+
+
+def time_text(us_value: float) -> str:
+    """A time given in µs with an engineering prefix and at most 4 significant digits:
+    '3.05 µs', '200 ms', '2.667 ns', '3.05 s'."""
+    if us_value == 0:
+        return "0 s"
+    unit, scale = _prefix(us_value)
+    return f"{float(f'{us_value / scale:.4g}'):g} {unit}"
+
+
+def time_column(values_us) -> tuple[str, list[str]]:
+    """One unit and one number style for a column of times given in µs: the unit that puts the
+    largest at 1 to 999, every value with the decimals that give the largest 4 significant digits
+    (fewer when those are zeros). (unit, texts); None values come out as '—'."""
+    present = [abs(v) for v in values_us if v is not None]
+    unit, scale = _prefix(max(present, default=0.0) or 1.0)
+    top = max(present, default=0.0) / scale
+    decimals = max(0, 3 - (len(str(int(top))) - 1)) if top else 0
+    texts = [_digits(v / scale, decimals) if v is not None else "—" for v in values_us]
+    while decimals and all(t == "—" or t.endswith("0") for t in texts):      # 5.500 -> 5.5
+        decimals -= 1
+        texts = [_digits(v / scale, decimals) if v is not None else "—" for v in values_us]
+    return unit, texts
+
+
+def margin_text(margin: float) -> str:
+    """How far a control rate is met or missed: '×3.4', '×1,639', 'needs a ×3,050 faster clock'."""
+    if margin >= 1:
+        return f"×{margin:,.0f}" if margin >= 100 else f"×{margin:.3g}"
+    need = 1 / margin
+    return f"needs a ×{need:,.0f} faster clock" if need >= 100 else f"needs a ×{need:.3g} faster clock"
 
 
 def us(flops: float, hz: float) -> float:
@@ -72,10 +117,16 @@ def control_sentence(fig: dict) -> str:
         parts.append(f"meets {' and '.join(met)} control")
     if missed:
         parts.append(f"does not meet {' and '.join(missed)} control")
+    bound = fig["latency_us"] if fig["limited_by"] == "latency" else fig["interval_us"]
     return (f"at {fig['text']} the design {', '.join(parts)}: one torque set within each control "
             f"period up to {hz_text(fig['max_control_rate_hz'])} (bound by its {fig['limited_by']}, "
-            f"{fig['latency_us'] if fig['limited_by'] == 'latency' else fig['interval_us']:g} µs), "
-            f"and {fig['sets_per_second']:,.0f} torque sets per second when sets are pipelined")
+            f"{time_text(bound)}), and {sets_text(fig['sets_per_second'])} torque sets per second "
+            "when sets are pipelined")
+
+
+def sets_text(per_second: float) -> str:
+    """A rate as a count per second: '5,000,000', '7,813', '0.3279'."""
+    return f"{per_second:,.0f}" if per_second >= 100 else f"{per_second:.4g}"
 
 
 def add_clock(rep: dict, hz: float) -> None:

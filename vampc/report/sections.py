@@ -4,7 +4,14 @@ from __future__ import annotations
 
 from vampc.kinds import Recursion, exhaustive
 from vampc.machine.ops import report_kinds
-from vampc.report.clock import control_sentence, hz_text, us_text
+from vampc.report.clock import (
+    control_sentence,
+    hz_text,
+    margin_text,
+    sets_text,
+    time_column,
+    time_text,
+)
 from vampc.report.sites import SECTION_NAMES
 from vampc.report.table import Table
 from vampc.schedule.registry import SYSTOLIC, is_layout
@@ -19,6 +26,24 @@ def num(x) -> str:
     if isinstance(x, float) and not x.is_integer():
         return f"{x:,.1f}"
     return f"{int(x):,}"
+
+
+VULGAR = {(1, 2): "½", (1, 3): "⅓", (2, 3): "⅔", (1, 4): "¼", (3, 4): "¾", (1, 5): "⅕", (2, 5): "⅖",
+          (3, 5): "⅗", (4, 5): "⅘", (1, 6): "⅙", (5, 6): "⅚", (1, 12): "¹⁄₁₂", (5, 12): "⁵⁄₁₂",
+          (7, 12): "⁷⁄₁₂", (11, 12): "¹¹⁄₁₂"}
+
+
+def exact(x) -> str:
+    """A formula's value as the formula gives it: an integer with separators, or a whole part and a
+    fraction ('89,323⅕'; the paper's coefficients have denominators 2, 3, 4 and 12, so a value
+    at an integer n is a multiple of 1/12)."""
+    from fractions import Fraction
+    if x is None or float(x).is_integer():
+        return num(x)
+    f = Fraction(x).limit_denominator(12)
+    whole, part = divmod(f.numerator, f.denominator)
+    key = (part, f.denominator)
+    return f"{whole:,}" + VULGAR.get(key, f" {part}/{f.denominator}")
 
 
 def signed(x) -> str:
@@ -61,11 +86,13 @@ def o1_at_n(rep: dict) -> Table:
     n = t["n"]
     six = n == 6
     clk = rep.get("clock")
+    if clk:
+        unit, times = time_column([f["time_us"] for f in t["formulas"]])
     cols = ("method", "Mults", "Addns", "flops") + (("printed O.1b", "check") if six else ()) + \
-        ((f"µs at {clk['text']}",) if clk else ())
+        ((f"{unit} at {clk['text']}",) if clk else ())
     rows, notes = [], []
-    for f in t["formulas"]:
-        row = [f["method"], num(f["mults"]), num(f["adds"]), num(f["flops"])]
+    for i, f in enumerate(t["formulas"]):
+        row = [f["method"], exact(f["mults"]), exact(f["adds"]), exact(f["flops"])]
         if six:
             p = f["printed_n6"]
             row += [f"{num(p['mults'])} + {num(p['adds'])}",
@@ -73,13 +100,19 @@ def o1_at_n(rep: dict) -> Table:
             if not p["matches"]:
                 notes.append(f"{len(notes) + 1}. {f['method']}: {p['note']}")
         if clk:
-            row.append(us_text(f["time_us"]) + (f" ({f['sets_per_second']:,.0f} sets/s)"
-                                               if "sets_per_second" in f else ""))
+            row.append(times[i] + (f" ({sets_text(f['sets_per_second'])} sets/s)"
+                                   if "sets_per_second" in f else ""))
         rows.append(tuple(row))
     title = (f"Table O.1 at n = {n}, from the paper's formulas (not measured)"
              + ("; the paper's printed column O.1b beside them" if six else ""))
     if not six:
         notes.append("the paper prints values for n = 6 only (Table O.1b)")
+    fractional = [f["method"] for f in t["formulas"]
+                  if any(not float(f[k]).is_integer() for k in ("mults", "adds", "flops"))]
+    if fractional:
+        notes.append(f"{', '.join(fractional)}: the formula's fractional coefficients give a fraction "
+                     f"at n = {n}; shown exactly as the formula gives it (a count of operations "
+                     "would round it)")
     return Table("o1-at-n", title, cols, tuple(rows), tuple(notes),
                  align="lrrr" + ("rl" if six else "") + ("r" if clk else ""))
 
@@ -88,10 +121,12 @@ def o1_measured(rep: dict) -> Table:
     """vampc's measured rows: serial work of its graphs, latency and interval of each configuration."""
     t = rep["table_o1"]
     clk = rep.get("clock")
+    if clk:
+        unit, times = time_column([r.get("time_us") for r in t["measured"]])
     cols = ("vampc, measured", "Mults", "Addns", "waits", "flops", "interval", "VAMPs", "paper",
-            "difference", "why") + ((f"µs at {clk['text']}", "sets/s") if clk else ())
+            "difference", "why") + ((f"{unit} at {clk['text']}", "sets/s") if clk else ())
     rows = []
-    for r in t["measured"]:
+    for i, r in enumerate(t["measured"]):
         ref = r["paper"]
         d = r["difference"]
         interval = (f"{r['interval_flops']} = {r['interval']['mults']} M + {r['interval']['adds']} A"
@@ -103,8 +138,7 @@ def o1_measured(rep: dict) -> Table:
                + (" LWP" if r["measure"] == "serial" else f" = {num(ref['flops'])}"),
                f"{signed(d['mults'])} M, {signed(d['adds'])} A", r["note"])
         if clk:
-            row += (us_text(r["time_us"]),
-                    f"{r['sets_per_second']:,.0f}" if "sets_per_second" in r else DASH)
+            row += (times[i], sets_text(r["sets_per_second"]) if "sets_per_second" in r else DASH)
         rows.append(row)
     notes = ["serial rows: the graph's ops one after another (op costs: README, Report tables), beside "
              "Luh-Walker-Paul (LWP); configuration rows: latency on the critical path as Mults + "
@@ -120,17 +154,19 @@ def o1_measured(rep: dict) -> Table:
 def layouts(rep: dict) -> Table:
     """The layout comparison (existing `layout_comparison` rows)."""
     clk = rep.get("clock")
+    if clk:
+        unit, times = time_column([r["latency_us"] for r in rep["layout_comparison"]])
     cols = ("layout", "latency", "= M + A + wait", "interval", "VAMPs", "buffer stages",
             "mux inputs", "control regs", "host writes", "load ticks") + \
-        (("latency µs", "sets/s") if clk else ())
+        ((f"latency {unit}", "sets/s") if clk else ())
     rows = []
-    for r in rep["layout_comparison"]:
+    for i, r in enumerate(rep["layout_comparison"]):
         row = (r["layout"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']} + {r['waits']}",
                num(r["interval_flops"]), num(r["vamps"]), num(r.get("buffer_stages")),
                num(r.get("mux_inputs")), num(r.get("control_registers")),
                num(r.get("host_writes_per_set")), num(r.get("load_ticks")))
         if clk:
-            row += (us_text(r["latency_us"]), f"{r['sets_per_second']:,.0f}")
+            row += (times[i], sets_text(r["sets_per_second"]))
         rows.append(row)
     notes = [] if all("buffer_stages" in r for r in rep["layout_comparison"]) else [_unallocated(rep)]
     return Table("layouts", f"Layouts, {rep['recursion']} recursion (same robot; latency and "
@@ -353,12 +389,12 @@ def wiring(rep: dict) -> Table:
 def clock(rep: dict) -> Table:
     """Times at the clock rate given."""
     c = rep["clock"]
-    rows = (("clock", f"{c['text']} ({c['tick_ns']:g} ns per flop)"),
-            ("latency", f"{c['latency_us']:g} µs ({rep['latency']['flops']} flops)"),
-            ("interval", f"{c['interval_us']:g} µs ({rep['interval_flops']} flops): "
-                         f"{c['sets_per_second']:,.0f} torque sets per second"),
-            ("program load", f"{c['load_us']:g} µs ({rep['hardware']['load_ticks']} ticks)"),
+    rows = (("clock", f"{c['text']} ({time_text(c['tick_ns'] / 1e3)} per flop)"),
+            ("latency", f"{time_text(c['latency_us'])} ({rep['latency']['flops']} flops)"),
+            ("interval", f"{time_text(c['interval_us'])} ({rep['interval_flops']} flops): "
+                         f"{sets_text(c['sets_per_second'])} torque sets per second"),
+            ("program load", f"{time_text(c['load_us'])} ({rep['hardware']['load_ticks']} ticks)"),
             *((f"{hz_text(r['hz'])} control", ("met" if r["met"] else "not met")
-               + f" (×{r['margin']:g})") for r in c["control_rates"]))
+               + f" ({margin_text(r['margin'])})") for r in c["control_rates"]))
     return Table("clock", f"At {c['text']}, one flop per tick", ("figure", "value"), rows,
                  (control_sentence(c),), align="ll")

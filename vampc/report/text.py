@@ -81,10 +81,10 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
                       f"{w['host_read_bits_per_set']:,} bits a torque set, and loads "
                       f"{w['program_bits']:,} bits in Program Mode"))
     if rep.get("clock"):
-        from vampc.report.clock import control_sentence
+        from vampc.report.clock import control_sentence, sets_text, time_text
         c = rep["clock"]
-        pairs.append(("clock", f"{c['text']}: latency {c['latency_us']:g} µs, a torque set every "
-                      f"{c['interval_us']:g} µs ({c['sets_per_second']:,.0f} per second)"))
+        pairs.append(("clock", f"{c['text']}: latency {time_text(c['latency_us'])}, a torque set every "
+                      f"{time_text(c['interval_us'])} ({sets_text(c['sets_per_second'])} per second)"))
         pairs.append(("", control_sentence(c)))
     pairs += [
         ("VAMPs", f"{v['total']} = {v['backward']} backward + {v['forward']} forward"
