@@ -173,8 +173,7 @@ def test_report_of_a_budget_shows_bound_and_gap():
 
 # --- the trade-off sweep ---------------------------------------------------------------------------
 
-def _pareto(rows):
-    keys = ("vamps", "latency_flops", "interval_flops", "buffer_stages")
+def _pareto(rows, keys=("vamps", "latency_flops", "interval_flops", "buffer_stages")):
     return [not any(all(o[k] <= r[k] for k in keys) and any(o[k] < r[k] for k in keys) for o in rows)
             for r in rows]
 
@@ -187,6 +186,8 @@ def test_tradeoff_json_and_csv():
     assert {"systolic", "folded", "folded, shared passes"} <= layouts
     assert any(r["layout"].startswith("budget") for r in rows)
     assert [r["pareto"] for r in rows] == _pareto(rows)
+    assert [r["pareto_latency"] for r in rows] == _pareto(rows, ("vamps", "latency_flops"))
+    assert [r["pareto_interval"] for r in rows] == _pareto(rows, ("vamps", "interval_flops"))
     assert [r["vamps"] for r in rows] == sorted(r["vamps"] for r in rows)
     table = list(csv.DictReader(io.StringIO(CliRunner().invoke(main, [*args, "--format",
                                                                       "csv"]).stdout)))

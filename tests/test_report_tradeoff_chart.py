@@ -27,7 +27,7 @@ def test_the_curve_has_a_point_per_row_and_marks_the_pareto_ones(tmp_path):
     ids = {g.get("id") for g in ET.parse(first).getroot().iter(f"{SVG}g")}
     for panel in ("latency", "interval"):
         for i, r in enumerate(rows):
-            want = f"{panel}-{i}" + ("-pareto" if r["pareto"] else "")
+            want = f"{panel}-{i}" + ("-pareto" if r[f"pareto_{panel}"] else "")
             assert want in ids, (want, r)
         assert f"{panel}-{len(rows)}" not in ids and f"{panel}-{len(rows)}-pareto" not in ids
     titles = [t.text for t in ET.parse(first).getroot().iter(f"{SVG}title")]
@@ -44,3 +44,23 @@ def test_curve_needs_tradeoff_and_never_replaces_the_input(tmp_path):
     res = run("report", copy, "--tradeoff", "--curve", copy)
     assert res.exit_code == 1 and "never writes over its inputs" in res.stderr
     assert copy.read_bytes() == PLANAR.read_bytes()
+
+
+def test_each_panel_marks_its_own_front_and_ticks_are_integers(tmp_path):
+    """Puma log: in four dimensions almost every point is optimal; each panel's two-dimensional front
+    is what it marks (fewer points), with a staircase, and its tick labels are whole numbers."""
+    import re
+    puma = EXAMPLES / "puma560.yaml"
+    out = tmp_path / "c.svg"
+    res = run("report", puma, "--recursion", "log", "--tradeoff", "--curve", out, "--format", "json")
+    assert res.exit_code == 0, res.stderr
+    rows = json.loads(res.stdout)["points"]
+    root = ET.parse(out).getroot()
+    ids = {g.get("id") for g in root.iter(f"{SVG}g")}
+    for panel in ("latency", "interval"):
+        marked = sum(1 for i in range(len(rows)) if f"{panel}-{i}-pareto" in ids)
+        assert marked == sum(r[f"pareto_{panel}"] for r in rows)
+        assert f"{panel}-front" in ids
+    assert sum(r["pareto_latency"] for r in rows) < sum(r["pareto"] for r in rows)
+    ticks = [t.text.strip() for t in root.iter(f"{SVG}text") if t.text and re.fullmatch(r"[0-9.,]+", t.text.strip())]
+    assert ticks and all(re.fullmatch(r"[0-9]{1,3}(,[0-9]{3})*", t) for t in ticks), ticks

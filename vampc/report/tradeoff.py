@@ -5,8 +5,10 @@ the Pareto-optimal points marked.
 Every point is compiled for real (budgeted schedule, allocation) and its figures read off the
 network: VAMPs used, latency, interval, delay-buffer stages, control registers, multiplexer inputs and
 host writes per set, with the interval and latency bounds of vampc.schedule.budget and the gaps. A
-point is Pareto-optimal when no other point is at least as good in VAMPs, latency, interval and buffer
-stages and better in one. Every budget is swept when there are at most MAX_STEPS of them, else
+point is Pareto-optimal (`pareto`) when no other point is at least as good in VAMPs, latency, interval
+and buffer stages and better in one; in four dimensions most points are, so the two fronts a picture
+can show are kept too: `pareto_latency` (no other point has at most as many VAMPs and at most its
+latency, and fewer of one) and `pareto_interval` (the same with the interval). Every budget is swept when there are at most MAX_STEPS of them, else
 MAX_STEPS budgets spaced geometrically over the range (fewer where rounding makes two equal); a budget whose schedule leaves VAMPs idle and repeats a smaller budget's point is shown
 once. Graphs up to THOROUGH_UP_TO VAMP-ops get the latency search `vampc compile --vamps` does; larger
 ones a cheaper one (vampc.schedule.budget._quick_for: no shortening below 10% above the latency
@@ -39,7 +41,8 @@ MAX_STEPS = 48
 THOROUGH_UP_TO = 2000    # VAMP-ops: larger graphs get the cheaper search (_quick_for)
 COLUMNS = ("layout", "vamps", "latency_flops", "interval_flops", "buffer_stages",
            "control_registers", "mux_inputs", "host_writes_per_set", "interval_bound",
-           "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto")
+           "interval_gap_pct", "latency_bound", "latency_gap_pct", "pareto", "pareto_latency",
+           "pareto_interval")
 
 
 def budgets(smallest: int, largest: int, steps: int = MAX_STEPS) -> list[int]:
@@ -191,9 +194,14 @@ KEYS = ("vamps", "latency_flops", "interval_flops", "buffer_stages")
 FIGURES = KEYS + ("control_registers", "mux_inputs", "host_writes_per_set")
 
 
+FRONTS = {"pareto": KEYS, "pareto_latency": ("vamps", "latency_flops"),
+          "pareto_interval": ("vamps", "interval_flops")}
+
+
 def _mark_pareto(rows: list[dict]) -> None:
-    for r in rows:
-        r["pareto"] = not any(all(o[k] <= r[k] for k in KEYS) and any(o[k] < r[k] for k in KEYS)
+    for name, keys in FRONTS.items():
+        for r in rows:
+            r[name] = not any(all(o[k] <= r[k] for k in keys) and any(o[k] < r[k] for k in keys)
                               for o in rows)
 
 
@@ -207,12 +215,18 @@ def render_csv(rows: list[dict]) -> str:
 
 
 def render_text(rows: list[dict]) -> str:
-    """An aligned table; Pareto-optimal points marked with *."""
-    head = (f"{'':2}{'layout':<24}{'VAMPs':>7}{'latency':>9}{'bound':>7}{'gap':>7}{'interval':>10}"
+    """An aligned table; the fronts marked: L on the latency-VAMP front, I on the interval-VAMP
+    front, * Pareto-optimal in all four figures."""
+    head = (f"{'':4}{'layout':<24}{'VAMPs':>7}{'latency':>9}{'bound':>7}{'gap':>7}{'interval':>10}"
             f"{'bound':>7}{'gap':>7}{'buffers':>9}{'ctrl regs':>11}{'mux in':>8}{'host wr':>9}")
-    lines = ["trade-off (flops; * Pareto-optimal in VAMPs, latency, interval and buffer stages):", head]
+    fronts = [sum(r[k] for r in rows) for k in FRONTS]
+    lines = [f"trade-off (flops): L on the latency-VAMP front ({fronts[1]} of {len(rows)} points), I on "
+             f"the interval-VAMP front ({fronts[2]}), * Pareto-optimal in VAMPs, latency, interval and "
+             f"buffer stages ({fronts[0]})", head]
     for r in rows:
-        lines.append(f"{'*' if r['pareto'] else ' ':2}{r['layout']:<24}{r['vamps']:>7}"
+        mark = ("L" if r["pareto_latency"] else " ") + ("I" if r["pareto_interval"] else " ") + \
+            ("*" if r["pareto"] else " ")
+        lines.append(f"{mark:4}{r['layout']:<24}{r['vamps']:>7}"
                      f"{r['latency_flops']:>9}{r['latency_bound']:>7}{r['latency_gap_pct']:>6}%"
                      f"{r['interval_flops']:>10}{r['interval_bound']:>7}{r['interval_gap_pct']:>6}%"
                      f"{r['buffer_stages']:>9}{r['control_registers']:>11}{r['mux_inputs']:>8}"
