@@ -59,3 +59,11 @@ def test_it_opens_in_a_browser(made, what, tmp_path):
     assert len(colours) > 20                                     # not a blank page
     dark = sum(n for n, level in colours if level < 128)
     assert dark > 0.002 * img.width * img.height                 # text and lines drawn
+
+
+def test_subscripts_are_set_as_subscripts_not_left_raw(made):
+    """'z_{i-1}' in a note reads z<sub>i−1</sub> on the page; a joint name's underscore stays."""
+    from vampc.report.table import html_text
+    assert html_text("τ_i = z_{i-1}·n_i & wrist_roll") == "τ_i = z<sub>i−1</sub>·n_i &amp; wrist_roll"
+    page = made[1]["--html"]
+    assert "_{" not in page and "z<sub>i−1</sub>" in page

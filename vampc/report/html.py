@@ -6,7 +6,7 @@ import html
 
 from vampc.report.sections import tables
 from vampc.report.svg import strip_prolog
-from vampc.report.table import render_html
+from vampc.report.table import html_text, render_html
 from vampc.report.text import summary_pairs
 
 STYLE = """
@@ -23,7 +23,7 @@ ul { margin: 0.2em 0 1em 1.2em; padding: 0; color: #444; }
 def page(rep: dict, timing_svg: str, network_svg: str) -> str:
     """The whole page as text."""
     esc = html.escape
-    summary = "".join(f"<tr><th class=\"l\">{esc(label)}</th><td class=\"l\">{esc(value)}</td></tr>\n"
+    summary = "".join(f"<tr><th class=\"l\">{esc(label)}</th><td class=\"l\">{html_text(value)}</td></tr>\n"
                       for label, value in summary_pairs(rep))
     body = [f"<h1>vampc report: {esc(rep['robot'])} ({rep['joints']} joints, {esc(rep['recursion'])} "
             f"recursion, {esc(rep['layout'])} layout)</h1>",

@@ -4,6 +4,7 @@ report dictionary, so every format shows the same cells."""
 from __future__ import annotations
 
 import html
+import re
 import unicodedata
 from dataclasses import dataclass
 
@@ -62,9 +63,18 @@ def render_markdown(t: Table) -> str:
     return "\n".join(lines) + "\n"
 
 
+_SUBSCRIPT = re.compile(r"_\{([^{}<>]*)\}")
+
+
+def html_text(text) -> str:
+    """Text escaped for HTML, with the report's subscripts in braces set as subscripts:
+    'z_{i-1}' -> 'z<sub>i−1</sub>' (a bare '_' stays: joint names have them)."""
+    return _SUBSCRIPT.sub(lambda m: f"<sub>{m.group(1).replace('-', '−')}</sub>", html.escape(str(text)))
+
+
 def render_html(t: Table) -> str:
     """A <section> with an <h3>, a <table> and the notes as a list."""
-    esc = html.escape
+    esc = html_text
     how = t.alignment()
     head = "".join(f'<th class="{a}">{esc(c)}</th>' for c, a in zip(t.columns, how))
     body = "".join("<tr>" + "".join(f'<td class="{a}">{esc(c)}</td>' for c, a in zip(r, how))
