@@ -64,3 +64,16 @@ def test_each_panel_marks_its_own_front_and_ticks_are_integers(tmp_path):
     assert sum(r["pareto_latency"] for r in rows) < sum(r["pareto"] for r in rows)
     ticks = [t.text.strip() for t in root.iter(f"{SVG}text") if t.text and re.fullmatch(r"[0-9.,]+", t.text.strip())]
     assert ticks and all(re.fullmatch(r"[0-9]{1,3}(,[0-9]{3})*", t) for t in ticks), ticks
+
+
+def test_html_with_tradeoff_is_a_page_of_the_table_and_the_curve(tmp_path):
+    page, curve = tmp_path / "t.html", tmp_path / "c.svg"
+    res = run("report", PLANAR, "--tradeoff", "--html", page, "--curve", curve, "--format", "json")
+    assert res.exit_code == 0, res.stderr
+    rows = json.loads(res.stdout)["points"]
+    text = page.read_text()
+    assert text.startswith("<!DOCTYPE html>") and text.count("<svg") == 1
+    assert text.count("<tr>") == len(rows) + 1                     # the header and a row per point
+    assert curve.read_text()[curve.read_text().index("<svg"):] in text
+    res = run("report", PLANAR, "--tradeoff", "--timing", tmp_path / "x.svg")
+    assert res.exit_code == 2 and "--timing does not apply to --tradeoff (--html and --curve do)" in res.stderr

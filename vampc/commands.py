@@ -405,7 +405,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     from vampc.outputs import plan_outputs
     from vampc.report import tradeoff as tr
     from vampc.sniff import is_program
-    outs = plan_outputs([source], {"--curve": own.curve})
+    outs = plan_outputs([source], {"--curve": own.curve, "--html": own.html})
     if is_program(source):
         c, _, check = program_compiled(source, options.given, params)
         check.wait()
@@ -416,8 +416,13 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     if outs:
         from vampc.report.tradeoff_chart import curve_svg
-        write_pictures(outs, {"--curve": curve_svg(rows, f"{chain.name}: {options.recursion} "
-                                                         f"recursion, {chain.n} joints")})
+        title = f"{chain.name}: {options.recursion} recursion, {chain.n} joints"
+        curve = curve_svg(rows, title)
+        content = {"--curve": curve}
+        if "--html" in outs:
+            from vampc.report.html import tradeoff_page
+            content["--html"] = tradeoff_page(rows, title, curve)
+        write_pictures(outs, {k: v for k, v in content.items() if k in outs})
     if own.fmt == "json":
         return jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
                            "points": rows}, indent=1) + "\n"

@@ -536,7 +536,7 @@ class ReportOptions:
         "Graphviz digraphs."))
     html: str | None = field(default=None, metadata=cli(
         "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
-        "tables and both pictures inline."))
+        "tables and both pictures inline (with --tradeoff: the sweep's table and its curve)."))
     workers: int | None = field(default=None, metadata=cli(
         "--workers", range=(1, 1024), metavar="N", help="With --tradeoff: budgets computed by N local "
         "worker processes (default: one per available core); the points are the same as one process "
@@ -557,9 +557,10 @@ class ReportOptions:
         if self.fmt == "csv" and not self.tradeoff:
             raise VampcUsageError("--format csv applies to --tradeoff only")
         if self.tradeoff:
-            for name in ("clock", "pins") + self.PICTURES:
+            for name in ("clock", "pins") + tuple(p for p in self.PICTURES if p != "html"):
                 if name in self.given:
-                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff")
+                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff"
+                                          + (" (--html and --curve do)" if name in self.PICTURES else ""))
             for name in ("vamps", "interval", "exact", "layout", "share_passes"):
                 if name in compile_given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, which sweeps "

@@ -36,3 +36,28 @@ def page(rep: dict, timing_svg: str, network_svg: str) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>vampc report: {esc(rep['robot'])}</title><style>{STYLE}</style></head>\n<body>\n"
             + "\n".join(body) + "\n</body></html>\n")
+
+
+def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
+    """`vampc report --tradeoff --html FILE.html`: the sweep's table and its curve on one page."""
+    from vampc.report.table import Table
+    esc = html.escape
+    marks = lambda r: ("L" if r["pareto_latency"] else "") + ("I" if r["pareto_interval"] else "") + \
+        ("*" if r["pareto"] else "")
+    table = Table("tradeoff", f"Trade-off: {title} (flops)",
+                  ("front", "layout", "VAMPs", "latency", "bound", "gap", "interval", "bound", "gap",
+                   "buffer stages", "control registers", "mux inputs", "host writes"),
+                  tuple((marks(r), r["layout"], f"{r['vamps']:,}", f"{r['latency_flops']:,}",
+                         f"{r['latency_bound']:,}", f"{r['latency_gap_pct']}%", f"{r['interval_flops']:,}",
+                         f"{r['interval_bound']:,}", f"{r['interval_gap_pct']}%", f"{r['buffer_stages']:,}",
+                         f"{r['control_registers']:,}", f"{r['mux_inputs']:,}",
+                         f"{r['host_writes_per_set']:,}") for r in rows),
+                  ("front: L on the latency-VAMP front, I on the interval-VAMP front, * Pareto-optimal "
+                   "in VAMPs, latency, interval and buffer stages (README, Scheduling on a VAMP budget)",),
+                  align="llrrrrrrrrrrr")
+    body = [f"<h1>vampc trade-off: {esc(title)}</h1>",
+            '<section id="curve"><h2>Curve</h2><div class="picture">'
+            f"{strip_prolog(curve_svg)}</div></section>", render_html(table)]
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>vampc trade-off: {esc(title)}</title><style>{STYLE}</style></head>\n<body>\n"
+            + "\n".join(body) + "\n</body></html>\n")
