@@ -26,7 +26,7 @@ def test_every_table_is_there_with_rows_as_wide_as_its_columns(rep):
     assert [t.key for t in got] == ["o1-formulas", "o1-at-n", "o1-measured", "layouts",
                                     "vamps-linear-linear", "vamps-log-separate", "vamps-log-uniform",
                                     "vamps-by-op", "ops-per-node", "packages", "buffering", "wiring",
-                                    "clock"]
+                                    "engineering", "clock"]
     for t in got:
         assert t.rows and all(len(r) == len(t.columns) == len(t.alignment()) for r in t.rows), t.key
 

@@ -377,7 +377,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         c, figures, check = _report_compiled(source, options, robot_opts, params)
         try:
             from vampc.report.build import build_report
-            rep = build_report(c, hz, own.pins, figures)
+            rep = build_report(c, hz, own.pins, figures, cpu_reference=own.cpu_reference)
             content = _pictures(c, rep, outs)
         except BaseException:
             check.abandon()

@@ -525,6 +525,10 @@ class ReportOptions:
     pins: int | None = field(default=None, metadata=cli(
         "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
         "the paper's 40)."))
+    cpu_reference: bool = field(default=False, metadata=cli(
+        "--cpu-reference", help="Measure a CPU's time per torque set on this machine, one set at a "
+        "time (vampc's reference Newton-Euler; Pinocchio's rnea too for a URDF when pin is "
+        "installed), beside the network's: a few seconds, and the figures vary from run to run."))
     timing: str | None = field(default=None, metadata=cli(
         "--timing", path=True, metavar="FILE.svg", help="Write the timing chart (Table III.2 style) "
         "as SVG."))
@@ -557,7 +561,7 @@ class ReportOptions:
         if self.fmt == "csv" and not self.tradeoff:
             raise VampcUsageError("--format csv applies to --tradeoff only")
         if self.tradeoff:
-            for name in ("clock", "pins") + tuple(p for p in self.PICTURES if p != "html"):
+            for name in ("clock", "pins", "cpu_reference") + tuple(p for p in self.PICTURES if p != "html"):
                 if name in self.given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff"
                                           + (" (--html and --curve do)" if name in self.PICTURES else ""))

@@ -21,11 +21,12 @@ REPORT_VERSION = 2
 
 @gc_paused()
 def build_report(c, clock_hz: float | None = None, pins: int | None = None,
-                 figures: dict | None = None) -> dict:
+                 figures: dict | None = None, cpu_reference: bool = False) -> dict:
     """The report of `c` (a vampc.compiler.Compiled), with times at `clock_hz` when given and
     packages of `pins` pins beside the 40-pin ones. Above ALLOCATE_LIMIT ops the comparisons that
     would each compile the robot again (prefix shapes, the log graph with the other leaf style)
-    are left out and `allocation.omitted` names them. `figures`: summary(c) if already made."""
+    are left out and `allocation.omitted` names them. `figures`: summary(c) if already made.
+    `cpu_reference`: measure a CPU's time per set here (vampc.report.engineering.cpu_reference)."""
     rep = dict(figures) if figures is not None else summary(c)
     configs = configurations(c)
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
@@ -49,6 +50,11 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     if "tree" in rep:
         from vampc.report.compare import tree_latencies
         rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
+    from vampc.report.engineering import cpu_reference as measure_cpu
+    from vampc.report.engineering import engineering
+    rep["engineering"] = engineering(c, clock_hz)
+    if cpu_reference:
+        rep["engineering"]["cpu_reference"] = measure_cpu(c.chain)
     rep["clock"] = None
     if clock_hz is not None:
         add_clock(rep, clock_hz)

@@ -58,9 +58,77 @@ def tables(rep: dict) -> list[Table]:
         out.append(prefixes(rep))
     out += [vamps(rep, v) for v in rep["processors"]["vamps"]]
     out += [vamps_by_op(rep), ops_per_node(rep), packages(rep), buffering(rep), wiring(rep)]
+    if rep.get("engineering"):
+        out.append(engineering(rep))
     if rep.get("clock"):
         out.append(clock(rep))
     return out
+
+
+def _bits(x: int) -> str:
+    """'1,536 bits (192 B)', '3.1 Mbit (393 kB)'."""
+    for unit, scale in (("Gbit", 1e9), ("Mbit", 1e6), ("kbit", 1e3)):
+        if x >= scale:
+            return f"{x / scale:.4g} {unit}"
+    return f"{x:,} bits"
+
+
+def _rate(x: float, what: str) -> str:
+    """'270 M scalars/s', '17.28 Gbit/s'."""
+    for unit, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
+        if x >= scale:
+            return f"{x / scale:.4g} {unit}{what}/s"
+    return f"{x:.4g} {what}/s"
+
+
+def _ratio(x: float) -> str:
+    return f"{x:,.0f}" if x >= 100 else f"{x:.3g}"
+
+
+def engineering(rep: dict) -> Table:
+    """Utilisation, host I/O, the critical path op by op, storage bits and the CPU reference."""
+    e = rep["engineering"]
+    u, io, bits = e["utilisation"], e["host_io"], e["bits"]
+    rows = [("utilisation", f"mean {u['mean']:.1%} of the interval ({u['busy_ticks_per_set']:,} busy VAMP-ticks "
+             f"of {u['vamp_ticks_per_set']:,} per set, interval {u['interval_flops']} flops); least busy "
+             f"VAMP {u['min']:.1%}, busiest {u['max']:.1%}")]
+    line = (f"{io['scalars_in_per_set']:,} scalars in ({_bits(io['bits_in_per_set'])}) and "
+            f"{io['scalars_out_per_set']:,} out ({_bits(io['bits_out_per_set'])}) per set, "
+            f"{io['word_bits']}-bit words")
+    if "sets_per_second" in io:
+        line += (f"; at {rep['clock']['text'] if rep.get('clock') else 'the clock'}: "
+                 f"{_rate(io['scalars_in_per_second'], ' scalars')} in "
+                 f"({_rate(io['bits_in_per_second'], 'bit')}), "
+                 f"{_rate(io['scalars_out_per_second'], ' scalars')} out "
+                 f"({_rate(io['bits_out_per_second'], 'bit')})")
+    rows.append(("host I/O", line))
+    path = e["critical_path"]
+    shown = " → ".join(f"{p['label']} ({p['op']}, {p['flops']})" for p in path[:8])
+    if len(path) > 8:
+        shown += f" → … → {path[-1]['label']} ({path[-1]['op']}, {path[-1]['flops']})"
+    rows.append(("critical path", f"{len(path)} ops, {sum(p['flops'] for p in path)} flops: {shown}"))
+    rows.append(("storage", f"data registers {_bits(bits['data_register_bits'])}, control registers "
+                 f"{_bits(bits['control_register_bits'])}, microcode ROM {_bits(bits['rom_bits'])}, delay "
+                 f"lines {_bits(bits['delay_line_bits'])}, constants {_bits(bits['constant_bits'])}, "
+                 f"program {_bits(bits['program_bits'])} ({bits['bits']}-bit words)"))
+    notes = ["utilisation: a VAMP's ops' durations once per set over the interval; host I/O: what the "
+             "host writes into the ports and reads off the outputs each set (constants are loaded once, "
+             "in Program Mode); the whole critical path is in --format json (engineering.critical_path)"]
+    cpu = e.get("cpu_reference")
+    if cpu:
+        for m in cpu["measured"]:
+            text = f"{time_text(m['seconds_per_set'] * 1e6)} per set"
+            if rep.get("clock"):
+                c = rep["clock"]
+                ratio = [m["seconds_per_set"] * 1e6 / c[k] for k in ("latency_us", "interval_us")]
+                text += (f"; the network's latency {time_text(c['latency_us'])} (CPU / network "
+                         f"{_ratio(ratio[0])}), its interval {time_text(c['interval_us'])} (CPU / "
+                         f"network {_ratio(ratio[1])})")
+            rows.append(("CPU reference", f"{m['what']}: {text}"))
+        notes.append(f"CPU reference: measured on this machine ({cpu['machine']}), the median of 3 runs "
+                     f"of {cpu['sets']} random sets one at a time; it varies from run to run")
+    return Table("engineering", "Engineering figures", ("figure", "value"), tuple(rows), tuple(notes),
+                 align="ll")
 
 
 # --- Table O.1 -----------------------------------------------------------------------------------

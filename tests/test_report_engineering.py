@@ -1,0 +1,58 @@
+"""The report's engineering figures (issue "The report a hardware engineer trusts", part 4): each
+checked against something that is not the report's own arithmetic: busy VAMP-ticks against the
+graph's work (every op runs once a set on its VAMPs, whatever the layout), host inputs against what
+the emulator's host actually writes, the critical path against networkx's longest path, and the
+CPU reference as a measurement (positive, labelled, absent unless asked for)."""
+from __future__ import annotations
+
+import pytest
+from click.testing import CliRunner
+from conftest import EXAMPLES
+from test_latency_split import longest_path
+
+from vampc.cli import main
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.emulator.host import port_values, random_trajectory
+from vampc.emulator.load import loaded_from_compiled
+from vampc.report.build import build_report
+from vampc.robot import load_robot
+from vampc.schedule.budget import work
+
+
+@pytest.mark.parametrize("options", [dict(), dict(layout="folded"), dict(recursion="log"),
+                                     dict(vamps=7), dict(recursion="log", layout="folded", share_passes=True)],
+                         ids=["systolic", "folded", "log", "budget7", "log-folded-shared"])
+def test_utilisation_host_io_and_critical_path(options):
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(**options))
+    e = build_report(c, 20e6)["engineering"]
+    u = e["utilisation"]
+    w = work(c.graph, c.schedule.timing)
+    assert u["busy_ticks_per_set"] == w
+    assert u["vamp_ticks_per_set"] == c.schedule.interval * len(c.network.vamps)
+    assert u["mean"] == pytest.approx(w / u["vamp_ticks_per_set"], abs=1e-4)
+    assert 0 < u["min"] <= u["mean"] <= u["max"] <= 1
+    # what the emulator's host writes for one set
+    ld = loaded_from_compiled(c)
+    written = sum(v.shape[1] for v in port_values(ld, random_trajectory(c.chain, 1, 0)).values())
+    io = e["host_io"]
+    assert io["scalars_in_per_set"] == written and io["scalars_out_per_set"] == 6
+    assert io["bits_in_per_set"] == 64 * written
+    assert io["scalars_in_per_second"] == pytest.approx(written * 20e6 / c.schedule.interval, rel=1e-5)
+    # the critical path, op by op: a chain of operands as long as the longest path (networkx)
+    path = e["critical_path"]
+    t = c.schedule.timing
+    assert sum(x["flops"] for x in path) == longest_path(c.graph, t)
+    assert all(a["node"] in c.graph.nodes[b["node"]].args for a, b in zip(path, path[1:]))
+    assert all(x["flops"] == t.duration(c.graph.nodes[x["node"]].op) for x in path)
+    assert e["cpu_reference"] is None
+
+
+def test_the_section_prints_and_the_cpu_reference_is_measured_when_asked():
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--clock", "20MHz",
+                                  "--cpu-reference"])
+    assert r.exit_code == 0, r.output
+    assert "Engineering figures" in r.output and "utilisation    mean 45.0% of the interval" in r.output
+    assert "CPU reference  vampc's reference Newton-Euler (numpy), one set at a time:" in r.output
+    assert "measured on this machine" in r.output
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--tradeoff", "--cpu-reference"])
+    assert r.exit_code == 2 and "--cpu-reference does not apply to --tradeoff" in r.output
