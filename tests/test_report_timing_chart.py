@@ -92,8 +92,23 @@ def test_a_big_chart_merges_bars_per_variable(puma, monkeypatch):
     monkeypatch.setattr(timing_chart, "MAX_BARS", 10)
     svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
     g = groups(svg)
-    assert not any(k.startswith("op-") for k in g)
+    # every op merged, except the critical path's, kept one by one and joined
+    assert {k for k in g if k.startswith("op-")} == {f"op-{i}-critical" for i in c.schedule.critical_path}
+    assert "critical-path" in g
     busy = [k for k in g if k.startswith("busy-")]
     assert busy and "merged per variable" in svg
     total = sum(int(re.search(r": (\d+) ops", g[k].find(f"{SVG}title").text).group(1)) for k in busy)
     assert total == len(c.graph.compute_nodes())
+
+
+def test_a_chart_of_many_rows_merges_and_stays_readable_in_size(monkeypatch):
+    """A 64-joint log network has 1 824 lanes of bars: the chart merges per variable, keeps the
+    critical path, and is at most about 2 000 px (1 500 pt) wide and tall and under 1 MB."""
+    from vampc.robot.random import random_chain
+    c = compile_chain(random_chain(64, 3), CompileOptions(recursion="log"))
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    width, height = (float(x) for x in re.search(r'width="([0-9.]+)pt" height="([0-9.]+)pt"', svg).groups())
+    assert width <= 1500 and height <= 1500 and len(svg) < 1_000_000
+    g = groups(svg)
+    assert "merged per variable" in svg and "critical-path" in g
+    assert {k for k in g if k.startswith("op-")} == {f"op-{i}-critical" for i in c.schedule.critical_path}

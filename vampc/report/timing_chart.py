@@ -6,10 +6,13 @@ a strip above showing successive torque sets: one every interval, each lasting t
 pipelined layout's overlapping sets are visible.
 
 Each op's bar is an SVG group with id `op-<node id>` (`op-<node id>-critical` on the critical path)
-and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000)
-would be neither readable nor quick to draw: it shows, per variable, when any node computes it
-(merged bars, ids `busy-<row>-<k>`), and says so in its title; one of more than LABELLED_BARS ops
-keeps its labels in the tooltips.
+and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000) or
+more than MAX_LANES lanes (a 64-joint log network has 1 824) would be neither readable nor quick to
+draw: it shows, per variable, when any node computes it (merged bars, ids `busy-<row>-<k>`), keeps
+the critical path's ops as their own red-edged bars on their variable's row, joined (ids
+`op-<node id>-critical`), and says so in its title; one of more than LABELLED_BARS ops keeps its
+labels in the tooltips. The plot is at most MAX_PLOT_PT wide (flops narrower than a label then
+carry theirs in the tooltip), so every chart stays under about 2 000 px on its long side.
 """
 from __future__ import annotations
 
@@ -22,6 +25,8 @@ from vampc.report.sites import SECTIONS, unit_nodes, unit_sizes
 from vampc.schedule.registry import SYSTOLIC, is_layout
 
 MAX_BARS = 10_000
+MAX_LANES = 300           # rows of bars: above this, the chart merges per variable
+MAX_PLOT_PT = 1300        # the plot's width at most (the labels column and margins come on top)
 LABELLED_BARS = 4_000     # above this many bars, labels only in the tooltips (text is slow to lay out)
 MAX_SETS = 8
 ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 84, 40, 30
@@ -51,12 +56,12 @@ def chart(graph, layout, sched) -> Chart:
     """The rows of the chart for a graph, its layout and schedule (see the module docstring)."""
     ops = graph.compute_nodes()
     merged = len(ops) > MAX_BARS
+    if not merged:
+        rows = (_variable_rows(graph, sched) if is_layout(layout.name, SYSTOLIC)
+                else _unit_rows(graph, layout, sched))
+        merged = sum(len(r.lanes) for r in rows) > MAX_LANES
     if merged:
         rows = _merged_rows(graph, sched)
-    elif is_layout(layout.name, SYSTOLIC):
-        rows = _variable_rows(graph, sched)
-    else:
-        rows = _unit_rows(graph, layout, sched)
     P = sched.interval
     count = min(MAX_SETS, math.ceil(sched.latency / P) + 1) if P < sched.latency else 2
     sets = tuple(k * P for k in range(count))
@@ -142,8 +147,9 @@ def timing_svg(graph, layout, sched, title: str) -> str:
 
 
 def _scale(span: int) -> float:
-    """Pixels per flop: wide enough for 'T4·3' in a one-flop bar, narrower for long schedules."""
-    return max(6.0, min(24.0, 18.0 if span <= 600 else 9000.0 / span))
+    """Points per flop: wide enough for 'T4·3' in a one-flop bar, narrower for long schedules, and
+    never wider in all than MAX_PLOT_PT."""
+    return min(max(6.0, min(24.0, 18.0 if span <= 600 else 9000.0 / span)), MAX_PLOT_PT / max(span, 1))
 
 
 def _draw(graph, layout, sched, data: Chart, title: str) -> str:
@@ -155,13 +161,15 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     titles: dict[str, str] = {}
     _draw_sets(ax, data, sched, titles)
     ticks, names, bars = _bars(graph, layout, sched, data)
+    if data.merged:
+        bars += _critical_bars(graph, layout, sched, data)
     _draw_bars(ax, bars, pxf, titles)
-    if not data.merged:
-        _critical_line(ax, Line2D, graph, sched, data, set(sched.critical_path))
+    _critical_line(ax, Line2D, graph, sched, data, set(sched.critical_path))
     _axes(ax, data, sched, ticks, names, pxf)
     if data.merged:
-        title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable (charts of at most "
-                  f"{MAX_BARS:,} ops show every op)")
+        title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable, the critical path's "
+                  f"{len(sched.critical_path)} ops shown one by one (charts of at most {MAX_BARS:,} ops "
+                  f"and {MAX_LANES} rows show every op)")
     elif len(bars) > LABELLED_BARS:
         title += f" — {len(bars):,} ops: labels in the tooltips"
     ax.set_title(title.replace(": ", ":\n", 1) if width < 900 else title,
@@ -280,11 +288,29 @@ def _draw_bars(ax, bars: list[Bar], pxf: float, titles: dict) -> None:
             ax.text((b.start + b.end) / 2, b.y + 0.5, text, fontsize=FONT, ha="center", va="center")
 
 
+def _merged_row_of(graph, data: Chart) -> dict:
+    """In a merged chart, the row (y) of each critical op: its variable's."""
+    y0 = len(data.sets) + 1
+    at = {role: y0 + k for k, role in enumerate(_roles(graph))}     # the merged rows' order
+    return lambda i: at[(graph.nodes[i].section, graph.nodes[i].name)]
+
+
+def _critical_bars(graph, layout, sched, data: Chart) -> list:
+    """A merged chart's critical-path ops, each its own bar on its variable's row."""
+    from dataclasses import replace
+    row_of = _merged_row_of(graph, data)      # unlabelled: the merged bar under each has its label
+    return [replace(_bar(graph, layout, sched, i, row_of(i), True), labels=())
+            for i in sched.critical_path]
+
+
 def _critical_line(ax, Line2D, graph, sched, data: Chart, critical: set) -> None:
     """Join the critical path's bars, each op's end to the next one's start."""
     where = {}
+    if data.merged:
+        row_of = _merged_row_of(graph, data)
+        where = {i: row_of(i) + 0.5 for i in sched.critical_path}
     y = len(data.sets) + 1
-    for row in data.rows:
+    for row in data.rows if not data.merged else ():
         for lane in row.lanes:
             for i in lane:
                 where[i] = y + 0.5
