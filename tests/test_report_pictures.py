@@ -15,8 +15,8 @@ def test_only_what_is_asked_for_and_each_drawing_once(monkeypatch):
     drawn = []
     for name in ("timing", "network", "dot"):
         real = getattr(pictures, name)
-        monkeypatch.setattr(pictures, name, lambda c, rep, real=real, name=name:
-                            drawn.append(name) or real(c, rep))
+        monkeypatch.setattr(pictures, name, lambda c, rep, *more, real=real, name=name:
+                            drawn.append(name) or real(c, rep, *more))
     assert set(pictures.make(c, rep, {"--dot"})) == {"--dot"} and drawn == ["dot"]
     drawn.clear()
     out = pictures.make(c, rep, {"--html", "--timing"})

@@ -378,7 +378,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         try:
             from vampc.report.build import build_report
             rep = build_report(c, hz, own.pins, figures, cpu_reference=own.cpu_reference)
-            content = _pictures(c, rep, outs)
+            content = _pictures(c, rep, outs, own.focus_range())
         except BaseException:
             check.abandon()
             raise
@@ -429,12 +429,12 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     return tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
 
 
-def _pictures(c, rep: dict, outs: dict) -> dict:
+def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
     """The content of every picture and page asked for."""
     if not outs:
         return {}
     from vampc.report import pictures
-    return pictures.make(c, rep, set(outs))
+    return pictures.make(c, rep, set(outs), focus)
 
 
 def write_pictures(outs: dict, content: dict) -> None:

@@ -525,6 +525,10 @@ class ReportOptions:
     pins: int | None = field(default=None, metadata=cli(
         "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
         "the paper's 40)."))
+    focus: str | None = field(default=None, metadata=cli(
+        "--focus", metavar="A:B", help="With --network (or --html): draw only the nodes at positions "
+        "A to B (joints or prefix positions, 1-based), node by node; a big drawing groups positions "
+        "and its tooltips say which."))
     cpu_reference: bool = field(default=False, metadata=cli(
         "--cpu-reference", help="Measure a CPU's time per torque set on this machine, one set at a "
         "time (vampc's reference Newton-Euler; Pinocchio's rnea too for a URDF when pin is "
@@ -556,12 +560,24 @@ class ReportOptions:
 
     PICTURES = ("timing", "network", "dot", "html")
 
+    def focus_range(self) -> tuple[int, int] | None:
+        """--focus A:B as (A, B), or None (VampcUsageError for a bad value)."""
+        if self.focus is None:
+            return None
+        try:
+            a, b = (int(x) for x in self.focus.split(":"))
+        except ValueError:
+            raise VampcUsageError(f"--focus {self.focus!r}: give A:B, two positions (e.g. 1:32)") from None
+        if not 1 <= a <= b:
+            raise VampcUsageError(f"--focus {self.focus!r}: give 1 <= A <= B")
+        return a, b
+
     def check(self, compile_given=frozenset()) -> None:
         """Every rule between report options (and the compile options a sweep makes itself)."""
         if self.fmt == "csv" and not self.tradeoff:
             raise VampcUsageError("--format csv applies to --tradeoff only")
         if self.tradeoff:
-            for name in ("clock", "pins", "cpu_reference") + tuple(p for p in self.PICTURES if p != "html"):
+            for name in ("clock", "pins", "cpu_reference", "focus") + tuple(p for p in self.PICTURES if p != "html"):
                 if name in self.given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff"
                                           + (" (--html and --curve do)" if name in self.PICTURES else ""))
@@ -571,6 +587,10 @@ class ReportOptions:
                                           "the layouts and budgets itself")
         elif self.curve is not None:
             raise VampcUsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
+        if self.focus is not None:
+            if self.network is None and self.html is None:
+                raise VampcUsageError("--focus applies with --network or --html (it narrows the drawing)")
+            self.focus_range()
         for name in ("workers", "scheduler"):
             if getattr(self, name) is not None and not self.tradeoff:
                 raise VampcUsageError(f"{flag(name)} applies with --tradeoff (it runs the sweep's budgets)")

@@ -1,7 +1,13 @@
 """Graphviz text (`vampc report --dot FILE.dot`): two digraphs in one file — `network` (every VAMP,
 grouped in a cluster per recursion or device node, its delay buffers, host ports, constant buffers
 and torque outputs; one edge per multiplexer input) and `dataflow` (every graph node, grouped per
-recursion node; one edge per operand). `dot -Tsvg FILE.dot` draws both."""
+recursion node; one edge per operand). `dot -Tsvg FILE.dot` draws both.
+
+A network of more than DETAIL_VAMPS VAMPs (a 64-joint log network has 7 000, which Graphviz does
+not lay out in minutes) gets the drawing's aggregation instead (vampc.report.network_drawing): one
+DOT node per recursion node, or per group of positions for a wide network, with its VAMPs; one edge
+per pair with the vector buses (solid) or buffered buses (dashed) between them; the critical path's
+nodes in red; the dataflow digraph is then left out (the file says so)."""
 from __future__ import annotations
 
 from vampc.kinds import TapKind
@@ -13,9 +19,45 @@ def quote(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
 
 
-def report_dot(graph, layout, net, name: str) -> str:
-    """Both digraphs (the network, then the dataflow graph) as DOT text."""
+DETAIL_VAMPS = 2000
+
+
+def report_dot(graph, layout, net, name: str, critical_path=()) -> str:
+    """Both digraphs (the network, then the dataflow graph) as DOT text; for a big network the
+    aggregated network alone (see the module docstring)."""
+    if len(net.vamps) > DETAIL_VAMPS:
+        return aggregated_dot(graph, layout, net, name, critical_path)
     return network_dot(graph, layout, net, name) + "\n" + dataflow_dot(graph, name)
+
+
+def aggregated_dot(graph, layout, net, name: str, critical_path=()) -> str:
+    """The network as the drawing aggregates it, a DOT digraph named `network`."""
+    from vampc.report.network_drawing import COLOURS, drawing
+    d = drawing(graph, layout, net, critical_path)
+    ids = {site: f"s{k}" for k, site in enumerate(d.labels)}
+    what = (f"{len(net.vamps):,} VAMPs, one node per recursion node" if d.grouped == 1 else
+            f"{len(net.vamps):,} VAMPs in groups of {d.grouped} positions")
+    lines = [f"// {len(net.vamps):,} VAMPs: more than {DETAIL_VAMPS:,}, so the network is aggregated "
+             f"and the dataflow graph ({len(graph.compute_nodes()):,} ops) left out",
+             "digraph network {", f"  label={quote(f'{name}: VAMP network ({layout.name}), {what}')};",
+             "  rankdir=BT; newrank=true; node [fontsize=9, style=filled]; edge [fontsize=7];"]
+    for site, label in d.labels.items():
+        red = ", color=red, penwidth=2" if site in d.critical else ""
+        lines.append(f"  {ids[site]} [label={quote(label + chr(10) + f'{d.vamps[site]} V')}, "
+                     f"fillcolor={quote(COLOURS[site.section])}{red}];")
+    for (a, b), k in sorted(d.buses.items(), key=lambda e: (ids[e[0][0]], ids[e[0][1]])):
+        if a != b:
+            lines.append(f"  {ids[a]} -> {ids[b]} [label={quote(str(k))}];")
+    for (a, b), (k, deepest, chains) in sorted(d.buffered.items(), key=lambda e: (ids[e[0][0]], ids[e[0][1]])):
+        lines.append(f"  {ids[a]} -> {ids[b]} [style=dashed, label={quote(f'{k} buffered, st. ≤{deepest}')}];")
+    for index, readers, label in d.ports:
+        if readers:
+            lines.append(f"  p{index} [shape=invtriangle, style=solid, label={quote(label)}];")
+            lines += [f"  p{index} -> {ids[r]};" for r in readers]
+    for joint, site in d.outputs:
+        lines.append(f"  tau{joint} [shape=house, style=solid, label={quote(f'τ{joint}…' if d.grouped > 1 else f'τ{joint}')}]; "
+                     f"{ids[site]} -> tau{joint};")
+    return "\n".join(lines) + "\n}\n"
 
 
 def network_dot(graph, layout, net, name: str) -> str:

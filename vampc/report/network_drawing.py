@@ -7,13 +7,21 @@ the torque outputs along the top.
 
 Ids in the SVG: `site-<section>-<index>` (circles), `buffer-<from>-<to>` (squares), `port-<index>`,
 `tau-<joint>`, each with a <title>; the lines of each kind are one path, `wires-<kind>`. A kind with
-more than DETAIL shapes (a 512-joint log network has thousands of nodes) is drawn as one path,
-`sites-<section>`, `buffers`, `ports`, `outputs`, without ids or labels.
+more than DETAIL shapes is drawn as one path, `sites-<section>`, `buffers`, `ports`, `outputs`,
+without ids or labels.
+
+A drawing more than MAX_COLS cells across (a 512-joint log network has 513 positions) aggregates:
+each row's nodes are grouped by MAX_COLS-th of the positions, every group one circle labelled with
+its positions and node count, buses and buffers summed between groups (those within a group named in
+its tooltip), a port marker and an output marker per group. Its cells shrink so that the drawing
+stays under about 2 000 px (MAX_PT) on its long side. Sites holding an op of the critical path are
+outlined in red, aggregated or not.
 """
 from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from vampc.kinds import Recursion, Section, TapKind, unhandled
 from vampc.report import svg
@@ -24,6 +32,8 @@ COLOURS = {"bwd": "#c6dbef", "npv": "#e5f5e0", "fwd": "#fdd0a2"}
 CELL_PX, MARGIN_PX = 78, 80
 MIN_COLS = 7
 DETAIL = 600          # shapes of one kind drawn one by one (ids, titles, labels) up to this many
+MAX_COLS = 16         # cells across; beyond, positions are grouped (see the module docstring)
+MAX_PT = 1500         # the long side at most (cells shrink to fit), about 2 000 px
 
 
 @dataclass(frozen=True)
@@ -40,10 +50,15 @@ class Drawing:
     outputs: list              # (joint, Site)
     rows: int
     cols: int
+    critical: frozenset = frozenset()   # sites holding an op of the critical path
+    grouped: int = 1           # positions per cell (1: every node drawn)
+    inside: dict | None = None  # aggregated: site -> (nodes, buses within, positions "a–b")
 
 
-def drawing(graph, layout, net) -> Drawing:
-    """The drawing's content for a compiled graph, layout and network."""
+def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None = None) -> Drawing:
+    """The drawing's content for a compiled graph, layout and network; `critical_path`: the
+    schedule's critical path (node ids), whose sites are outlined; `focus`: (A, B), only the nodes
+    at positions A to B (1-based, inclusive), with the buses among them."""
     sites = vamp_sites(graph, layout)
     places, labels = _places(graph, layout, sorted(set(sites)))
     vamps = Counter(sites)
@@ -76,8 +91,90 @@ def drawing(graph, layout, net) -> Drawing:
     outputs = [(o.joint, sites[o.vamp]) for o in net.outputs]
     xs = [x for x, _ in places.values()]
     ys = [y for _, y in places.values()]
-    return Drawing(places, labels, vamps, dict(buses), buffered, ports, outputs,
-                   max(ys) + 1, max(xs) + 1)
+    on_path = set(critical_path)
+    critical = frozenset(sites[v.index] for v in net.vamps if any(sl.node in on_path for sl in v.slots))
+    d = Drawing(places, labels, vamps, dict(buses), buffered, ports, outputs, max(ys) + 1, max(xs) + 1,
+                critical)
+    if focus is not None:
+        d = focused(d, *focus)
+    return aggregate(d) if d.cols > MAX_COLS else d
+
+
+def focused(d: Drawing, first: int, last: int) -> Drawing:
+    """Only the sites at positions first..last (1-based), moved to the left edge; VampcUsageError
+    when there are none."""
+    from vampc.errors import VampcUsageError
+    keep = {s for s, (x, _) in d.places.items() if first - 1 <= x <= last - 1}
+    if not keep:
+        raise VampcUsageError(f"--focus {first}:{last}: no node there (positions 1 to {d.cols})")
+    low = min(d.places[s][0] for s in keep)
+    places = {s: (d.places[s][0] - low, d.places[s][1]) for s in keep}
+    pick = lambda table: {k: v for k, v in table.items() if k[0] in keep and k[1] in keep}
+    ports = [(i, [r for r in readers if r in keep], label) for i, readers, label in d.ports
+             if any(r in keep for r in readers)]
+    return Drawing(places, {s: d.labels[s] for s in keep}, Counter({s: d.vamps[s] for s in keep}),
+                   pick(d.buses), pick(d.buffered), ports, [(j, s) for j, s in d.outputs if s in keep],
+                   max(y for _, y in places.values()) + 1, max(x for x, _ in places.values()) + 1,
+                   frozenset(d.critical & keep))
+
+
+class Group(NamedTuple):
+    """An aggregated cell: the nodes of one row over a range of positions (what Site is for one)."""
+
+    section: str
+    index: int                 # the group's column
+    row: int
+
+    @property
+    def label(self) -> str:
+        return f"{self.section} group {self.index} (row {self.row})"
+
+
+def aggregate(d: Drawing) -> Drawing:
+    """The drawing with each row's nodes grouped by ⌈cols / MAX_COLS⌉ positions (see the module
+    docstring)."""
+    per = -(-d.cols // MAX_COLS)
+    group = {s: Group(s.section, x // per, y) for s, (x, y) in d.places.items()}
+    places = {g: (g.index, g.row) for g in group.values()}
+    members: dict = {}
+    for s, g in group.items():
+        members.setdefault(g, []).append(s)
+    vamps: Counter = Counter()
+    for s, g in group.items():
+        vamps[g] += d.vamps[s]
+    buses: Counter = Counter()
+    within: Counter = Counter()
+    for (a, b), k in d.buses.items():
+        if group[a] == group[b]:
+            within[group[a]] += k
+        else:
+            buses[(group[a], group[b])] += k
+    buffered: dict = {}
+    for (a, b), (n, deep, chains) in d.buffered.items():
+        key = (group[a], group[b])
+        got = buffered.get(key, (0, 0, 0))
+        buffered[key] = (got[0] + n, max(got[1], deep), got[2] + chains)
+    inside, labels = {}, {}
+    for g, ss in members.items():
+        xs = sorted(d.places[s][0] for s in ss)
+        span = f"{xs[0] + 1}–{xs[-1] + 1}" if xs[0] != xs[-1] else f"{xs[0] + 1}"
+        inside[g] = (len(ss), within[g], span)
+        labels[g] = f"{g.section} ×{len(ss)}\npos {span}"
+    ports: dict = {}
+    for index, readers, label in d.ports:
+        if readers:
+            key = group[readers[0]]
+            got = ports.get(key, (index, set(), 0))
+            ports[key] = (got[0], got[1] | {group[r] for r in readers}, got[2] + 1)
+    port_list = [(index, sorted(readers), f"{count} port{'s' * (count > 1)}")
+                 for key, (index, readers, count) in sorted(ports.items())]
+    outs: dict = {}
+    for joint, site in d.outputs:
+        outs.setdefault(group[site], []).append(joint)
+    outputs = [(min(js), g) for g, js in sorted(outs.items())]
+    return Drawing(places, labels, vamps, dict(buses), buffered, port_list, outputs, d.rows,
+                   -(-d.cols // per), frozenset(group[s] for s in d.critical), per,
+                   {**inside, "_outputs": {g: sorted(js) for g, js in outs.items()}})
 
 
 def _port_label(p) -> str:
@@ -93,7 +190,7 @@ def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
     if not is_layout(layout.name, SYSTOLIC):
         row = {"bwd": 0, "npv": 1, "fwd": 2}
         return ({s: (s.index, row[s.section]) for s in sites},
-                {s: f"{SECTION_NAMES[s.section]}\ndevice {s.index}" for s in sites})
+                {s: f"{s.section} dev {s.index}" for s in sites})
     match graph.recursion:
         case Recursion.LINEAR:
             row = {"bwd": 0, "npv": 1, "fwd": 2}
@@ -130,9 +227,11 @@ def _log_places(graph, sites: list[Site]) -> tuple[dict, dict]:
     return places, labels
 
 
-def network_svg(graph, layout, net, title: str) -> str:
-    """The drawing as SVG text."""
-    d = drawing(graph, layout, net)
+def network_svg(graph, layout, net, title: str, critical_path=(), focus=None) -> str:
+    """The drawing as SVG text (`focus`: (A, B), positions A to B only)."""
+    d = drawing(graph, layout, net, critical_path, focus)
+    if focus is not None:
+        title += f" — positions {focus[0]} to {focus[1]} only"
     with svg.settings():
         return _draw(d, title)
 
@@ -147,11 +246,12 @@ def _draw(d: Drawing, title: str) -> str:
     """The figure: buses, buffers, nodes, ports, outputs, title and key."""
     span = d.rows + 1.6                   # y units: ports below row 0, outputs above the last
     cols = max(d.cols, MIN_COLS)          # room for the title and the key
-    width = MARGIN_PX * 2 + cols * CELL_PX
-    height = MARGIN_PX * 2 + span * CELL_PX
+    cell = min(CELL_PX, (MAX_PT - 2 * MARGIN_PX) / max(cols, span))
+    width = MARGIN_PX * 2 + cols * cell
+    height = MARGIN_PX * 2 + span * cell
     fig = svg.figure(width, height)
-    ax = fig.add_axes((MARGIN_PX / width, MARGIN_PX / height, cols * CELL_PX / width,
-                       span * CELL_PX / height))
+    ax = fig.add_axes((MARGIN_PX / width, MARGIN_PX / height, cols * cell / width,
+                       span * cell / height))
     ax.set_xlim(0, cols)
     ax.set_ylim(-0.3, d.rows + 1.3)
     ax.set_axis_off()
@@ -166,9 +266,14 @@ def _draw(d: Drawing, title: str) -> str:
     _sites(ax, d, titles)
     _ports(ax, d, titles)
     _outputs(ax, d, titles)
-    ax.set_title(title.replace(": ", ":\n", 1), loc="left", fontsize=9)
+    if d.grouped > 1:
+        title += (f" — {sum(i[0] for k, i in d.inside.items() if k != '_outputs'):,} nodes in "
+                  f"groups of {d.grouped} positions (--focus A:B draws positions A to B node by node)")
+    ax.set_title(title.replace(": ", ":\n", 1), loc="left", fontsize=9, pad=26)
     fig.text(MARGIN_PX / width, 8 / height,
-             "circles: recursion or device nodes (V: VAMPs)\nlines: vector buses (wider: more)\n"
+             ("circles: recursion or device nodes (V: VAMPs)" if d.grouped == 1 else
+              "circles: groups of nodes (×: nodes, pos: positions, V: VAMPs)")
+             + "; red outline: on the critical path\nlines: vector buses (wider: more)\n"
              "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i",
              fontsize=6.5, va="bottom")
     return svg.to_svg(fig, titles)
@@ -241,29 +346,60 @@ def _shapes(ax, shapes: list[Shape], gid: str, style: dict, titles: dict) -> boo
 
 def _sites(ax, d: Drawing, titles: dict) -> None:
     """The nodes as circles coloured by section, labelled (a, b) and VAMPs when few enough."""
-    shapes = [Shape("circle", *_xy(d, site), 0.32, f"site-{site.section}-{site.index}",
-                    f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
-                    f"{d.vamps[site]} VAMPs") for site, label in d.labels.items()]
+    def title(site, label) -> str:
+        if d.grouped == 1:
+            return (f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
+                    f"{d.vamps[site]} VAMPs")
+        nodes, within, span = d.inside[site]
+        return (f"{SECTION_NAMES[site.section]} nodes at positions {span} (row {site.row}): {nodes} "
+                f"nodes, {d.vamps[site]} VAMPs, {within} vector buses among them")
+    gid = (lambda site: f"site-{site.section}-{site.index}") if d.grouped == 1 else \
+        (lambda site: f"group-{site.section}-{site.row}-{site.index}")
+    shapes = [Shape("circle", *_xy(d, site), 0.32, gid(site), title(site, label)
+                    + ("; on the critical path" if site in d.critical else ""))
+              for site, label in d.labels.items()]
     for section in SECTION_NAMES:
-        mine = [sh for sh, site in zip(shapes, d.labels) if site.section == section]
-        style = {"facecolor": COLOURS[section], "edgecolor": "#333333", "linewidth": 0.6,
-                 "zorder": 3}
-        if _shapes(ax, mine, f"sites-{section}", style, titles):
-            for sh, (site, label) in zip(shapes, d.labels.items()):
-                if site.section == section:
-                    ax.text(sh.x, sh.y, f"{label}\n{d.vamps[site]} V", fontsize=5.5, ha="center",
-                            va="center", zorder=4)
+        for on in (False, True):
+            mine = [sh for sh, site in zip(shapes, d.labels)
+                    if site.section == section and (site in d.critical) == on]
+            style = {"facecolor": COLOURS[section], "edgecolor": "#d62728" if on else "#333333",
+                     "linewidth": 1.4 if on else 0.6, "zorder": 3}
+            if _shapes(ax, mine, f"sites-{section}" + ("-critical" if on else ""), style, titles):
+                for sh, (site, label) in zip(shapes, d.labels.items()):
+                    if site.section == section and (site in d.critical) == on:
+                        ax.text(sh.x, sh.y, f"{label}\n{d.vamps[site]} V", fontsize=5.5,
+                                ha="center", va="center", zorder=4)
+
+
+def _free_spot(x: float, y: float, dx: float, dy: float, taken: list, circles: list) -> tuple:
+    """Where a buffer square (half side 0.11 cells) goes near (x, y): there, or moved across the bus
+    (direction dx, dy) until it meets neither another square nor a node's circle."""
+    import math
+    norm = math.hypot(dx, dy) or 1.0
+    px, py = -dy / norm, dx / norm                        # across the bus
+    for k in (0, 1, -1, 2, -2, 3, -3, 4, -4):
+        cx, cy = x + 0.24 * k * px, y + 0.24 * k * py
+        if all(abs(cx - a) >= 0.23 or abs(cy - b) >= 0.23 for a, b in taken) and \
+                all(math.hypot(cx - a, cy - b) >= 0.32 + 0.16 for a, b in circles):
+            return cx, cy
+    return x, y
 
 
 def _buffers(ax, d: Drawing, titles: dict) -> None:
-    """A square on each buffered bus (a node's own feedback beside it), labelled its deepest stage."""
+    """A square on each buffered bus (a node's own feedback beside it), labelled its deepest stage;
+    squares are moved across their bus so that none covers another or a node."""
     shapes, segments = [], []
+    taken: list = []
+    circles = [_xy(d, s) for s in d.places] if len(d.buffered) <= DETAIL else []
     for (a, b), (buses, deepest, chains) in sorted(d.buffered.items()):
         (xa, ya), (xb, yb) = _xy(d, a), _xy(d, b)
         if a == b:                                        # feedback within a node or device
-            x, y = xa + 0.42, ya + 0.38
+            x, y, dx, dy = xa + 0.42, ya + 0.38, 0.0, 1.0
         else:
-            x, y = xa + 0.55 * (xb - xa), ya + 0.55 * (yb - ya)
+            x, y, dx, dy = xa + 0.55 * (xb - xa), ya + 0.55 * (yb - ya), xb - xa, yb - ya
+        if circles:
+            x, y = _free_spot(x, y, dx, dy, taken, circles)
+            taken.append((x, y))
         segments += [[(xa, ya), (x, y)], [(x, y), (xb, yb)]]
         shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
                             f"delay buffers from {a.label} to {b.label}: {chains} chains, {buses} "
@@ -299,21 +435,32 @@ def _ports(ax, d: Drawing, titles: dict) -> None:
 
 
 def _outputs(ax, d: Drawing, titles: dict) -> None:
-    """Torque outputs along the top edge, spread when one node gives several."""
+    """Torque outputs along the top edge, one column's spread over its cell (several nodes of one
+    column can give torques: the log recursion's forward tiers, a folded device)."""
     top = d.rows + 1.0
+    column = Counter(round(_xy(d, site)[0], 3) for _, site in d.outputs)
     shown: Counter = Counter()
-    per = Counter(site for _, site in d.outputs)
-    shapes, segments = [], []
+    shapes, segments, texts = [], [], []
     for joint, site in sorted(d.outputs, key=lambda o: o[0]):
         x, y = _xy(d, site)
-        k = shown[site]
-        shown[site] += 1
-        ox = x + (k - (per[site] - 1) / 2) * min(0.25, 0.9 / per[site])
-        shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"τ{joint} leaves "
-                            f"{site.label}"))
+        key = round(x, 3)
+        k, per = shown[key], column[key]
+        shown[key] += 1
+        ox = x + (k - (per - 1) / 2) * min(0.25, 0.9 / per)
+        if d.grouped == 1:
+            shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"τ{joint} leaves "
+                                f"{site.label}"))
+            texts.append(f"τ{joint}")
+        else:
+            js = d.inside["_outputs"][site]
+            shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}",
+                                f"τ{js[0]}–τ{js[-1]} ({len(js)} torques) leave {site.label}"))
+            texts.append(f"τ{js[0]}–{js[-1]}" if len(js) > 1 else f"τ{js[0]}")
         segments.append([(x, y), (ox, top)])
     _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)
     style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
     if _shapes(ax, shapes, "outputs", style, titles):
-        for sh in shapes:
-            ax.text(sh.x, sh.y + 0.13, f"τ{sh.gid[4:]}", fontsize=5, ha="center", va="bottom")
+        # labels upright when they fit their spacing, else turned up (still one per marker)
+        for sh, text in zip(shapes, texts):
+            ax.text(sh.x, sh.y + 0.13, text, fontsize=5, ha="center", va="bottom",
+                    rotation=90 if any(column[c] > 1 for c in column) else 0)

@@ -18,27 +18,27 @@ def timing(c, rep: dict) -> str:
     return timing_svg(c.graph, c.layout, c.schedule, title(rep))
 
 
-def network(c, rep: dict) -> str:
-    """The network drawing as SVG."""
+def network(c, rep: dict, focus=None) -> str:
+    """The network drawing as SVG (`focus`: positions (A, B) only)."""
     from vampc.report.network_drawing import network_svg
-    return network_svg(c.graph, c.layout, c.network, title(rep))
+    return network_svg(c.graph, c.layout, c.network, title(rep), c.schedule.critical_path, focus)
 
 
 def dot(c, rep: dict) -> str:
     """The network and the dataflow graph as Graphviz text."""
     from vampc.report.dot import report_dot
-    return report_dot(c.graph, c.layout, c.network, rep["robot"])
+    return report_dot(c.graph, c.layout, c.network, rep["robot"], c.schedule.critical_path)
 
 
 @gc_paused()
-def make(c, rep: dict, wanted: set[str]) -> dict[str, str]:
+def make(c, rep: dict, wanted: set[str], focus=None) -> dict[str, str]:
     """The content of every output option in `wanted` (--timing, --network, --dot, --html); each
-    picture is drawn once even when the page needs it too."""
+    picture is drawn once even when the page needs it too. `focus`: --focus A:B for the drawing."""
     out: dict[str, str] = {}
     if wanted & {"--timing", "--html"}:
         out["--timing"] = timing(c, rep)
     if wanted & {"--network", "--html"}:
-        out["--network"] = network(c, rep)
+        out["--network"] = network(c, rep, focus)
     if "--dot" in wanted:
         out["--dot"] = dot(c, rep)
     if "--html" in wanted:

@@ -1,0 +1,69 @@
+"""Pictures at scale (issue "The report a hardware engineer trusts", part 3): every picture of a
+512-joint log robot stays under about 2 000 px (1 500 pt) on its long side and 1 MB, keeps the
+critical path, and no two labels overlap; the DOT is aggregated small enough for Graphviz; and the
+Puma 560's pictures of every layout have no overlapping labels either. One 512-joint compile and
+report (about 6 s of CPU): the only way to see the pictures at that size."""
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import EXAMPLES
+from overlap_util import catch_figure, overlapping_texts
+
+from vampc.compiler import CompileOptions, compile_chain
+from vampc.report import pictures
+from vampc.report.build import build_report
+from vampc.robot import load_robot
+from vampc.robot.random import random_chain
+
+MAX_PT, MAX_BYTES = 1500, 1_000_000
+
+
+def size(svg: str) -> tuple[float, float]:
+    return tuple(float(x) for x in re.search(r'width="([0-9.]+)pt" height="([0-9.]+)pt"', svg).groups())
+
+
+@pytest.fixture(scope="module")
+def big():
+    c = compile_chain(random_chain(512, 5), CompileOptions(recursion="log"))
+    return c, build_report(c)
+
+
+def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(big, monkeypatch):
+    c, rep = big
+    figures = catch_figure(monkeypatch)
+    out = pictures.make(c, rep, {"--timing", "--network", "--dot", "--html"})
+    for name in ("--timing", "--network"):
+        w, h = size(out[name])
+        assert max(w, h) <= MAX_PT and len(out[name].encode()) < MAX_BYTES, (name, w, h)
+    assert len(out["--html"].encode()) < MAX_BYTES and len(out["--dot"].encode()) < MAX_BYTES
+    assert len(figures) == 2
+    for fig in figures:
+        assert overlapping_texts(fig) == []
+    # the critical path: red bars joined in the chart, red-outlined nodes in the drawing
+    assert "critical-path" in out["--timing"] and "; on the critical path</title>" in out["--network"]
+    assert sum(f'op-{i}-critical' in out["--timing"] for i in c.schedule.critical_path) == \
+        len(c.schedule.critical_path)
+    # the DOT: one node per group, fewer than a thousand edges, the critical nodes red
+    assert out["--dot"].startswith("// ") and out["--dot"].count("->") < 3000 and "color=red" in out["--dot"]
+
+
+def test_focus_draws_a_range_node_by_node(big):
+    c, rep = big
+    out = pictures.make(c, rep, {"--network"}, focus=(100, 110))
+    assert "positions 100 to 110 only" in out["--network"] and "site-bwd-" in out["--network"]
+    assert max(size(out["--network"])) <= MAX_PT
+
+
+@pytest.mark.parametrize("options", [dict(), dict(recursion="log"), dict(layout="folded"),
+                                     dict(layout="folded", share_passes=True, recursion="log"),
+                                     dict(vamps=12), dict(vamps=7, recursion="log")],
+                         ids=["linear", "log", "folded", "log-folded-shared", "budget12", "log-budget7"])
+def test_no_labels_overlap_in_the_pumas_pictures(options, monkeypatch):
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(**options))
+    from vampc.report.counts import summary
+    figures = catch_figure(monkeypatch)
+    pictures.make(c, summary(c), {"--timing", "--network"})
+    for fig in figures:
+        assert overlapping_texts(fig) == []
