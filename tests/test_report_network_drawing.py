@@ -3,6 +3,7 @@ in the paper's figures, delay buffers as squares, host ports and outputs at the 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from collections import Counter
 
 import pytest
 from conftest import EXAMPLES
@@ -64,3 +65,16 @@ def test_deterministic(puma):
     c = compile_chain(puma)
     assert nd.network_svg(c.graph, c.layout, c.network, "t") == \
         nd.network_svg(c.graph, c.layout, c.network, "t")
+
+
+def test_a_budget_is_drawn_by_the_passes_its_vamps_serve():
+    """Puma --vamps 12: the report counts 3 backward VAMPs and 9 shared by both passes; the drawing
+    has exactly those circles, each VAMP its own (a budget's VAMPs serve many nodes in turn)."""
+    from vampc.report.counts import vamp_counts
+    from vampc.report.network_drawing import drawing
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(vamps=12))
+    counts = vamp_counts(c)
+    d = drawing(c.graph, c.layout, c.network)
+    rows = Counter(site.section for site in d.labels)
+    assert rows == Counter({"bwd": counts["backward"], "both": counts["shared"], "fwd": counts["forward"]}) - Counter()
+    assert sum(d.vamps.values()) == 12 and set(d.vamps.values()) == {1}

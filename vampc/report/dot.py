@@ -62,7 +62,13 @@ def aggregated_dot(graph, layout, net, name: str, critical_path=()) -> str:
 
 def network_dot(graph, layout, net, name: str) -> str:
     """The network as a DOT digraph named `network`."""
-    sites = vamp_sites(graph, layout)
+    if layout.grouped:
+        sites = vamp_sites(graph, layout)
+    else:                 # a budget: one cluster per pass its VAMPs serve (as the drawing has them)
+        from vampc.report.network_drawing import _budget_sites
+        from vampc.report.sites import Site
+        sites = [Site(s.section, 0) for s in _budget_sites(graph, net)[0]]
+    names = {**SECTION_NAMES, "both": "both passes"}
     lines = ["digraph network {", f"  label={quote(f'{name}: VAMP network ({layout.name})')};",
              "  rankdir=BT; newrank=true; node [fontsize=9]; edge [fontsize=7];"]
     by_site: dict = {}
@@ -70,7 +76,7 @@ def network_dot(graph, layout, net, name: str) -> str:
         by_site.setdefault(sites[v.index], []).append(v)
     for site in sorted(by_site):
         lines.append(f"  subgraph {quote('cluster_' + site.section + str(site.index))} {{")
-        lines.append(f"    label={quote(f'{SECTION_NAMES[site.section]} {site.index}')};")
+        lines.append(f"    label={quote(f'{names[site.section]} {site.index}' if layout.grouped else f'VAMPs serving {names[site.section]}')};")
         for v in by_site[site]:
             ops = ", ".join(dict.fromkeys(f"{graph.nodes[s.node].name} {s.op.value}" for s in v.slots))
             lines.append(f"    v{v.index} [label={quote(f'VAMP {v.index}' + chr(10) + ops)}];")

@@ -28,7 +28,8 @@ from vampc.report import svg
 from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
 from vampc.schedule.registry import SYSTOLIC, is_layout
 
-COLOURS = {"bwd": "#c6dbef", "npv": "#e5f5e0", "fwd": "#fdd0a2"}
+COLOURS = {"bwd": "#c6dbef", "npv": "#e5f5e0", "fwd": "#fdd0a2", "both": "#dadaeb"}
+NAMES = {**SECTION_NAMES, "both": "both passes"}
 CELL_PX, MARGIN_PX = 78, 80
 MIN_COLS = 7
 DETAIL = 600          # shapes of one kind drawn one by one (ids, titles, labels) up to this many
@@ -53,14 +54,18 @@ class Drawing:
     critical: frozenset = frozenset()   # sites holding an op of the critical path
     grouped: int = 1           # positions per cell (1: every node drawn)
     inside: dict | None = None  # aggregated: site -> (nodes, buses within, positions "a–b")
+    budget: bool = False       # a budget's VAMPs, by pass (vampc.report.network_drawing._budget_sites)
 
 
 def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None = None) -> Drawing:
     """The drawing's content for a compiled graph, layout and network; `critical_path`: the
     schedule's critical path (node ids), whose sites are outlined; `focus`: (A, B), only the nodes
     at positions A to B (1-based, inclusive), with the buses among them."""
-    sites = vamp_sites(graph, layout)
-    places, labels = _places(graph, layout, sorted(set(sites)))
+    if layout.grouped:
+        sites = vamp_sites(graph, layout)
+        places, labels = _places(graph, layout, sorted(set(sites)))
+    else:
+        sites, places, labels = _budget_sites(graph, net)
     vamps = Counter(sites)
     buses: Counter = Counter()
     buffered: dict = {}
@@ -94,7 +99,7 @@ def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None 
     on_path = set(critical_path)
     critical = frozenset(sites[v.index] for v in net.vamps if any(sl.node in on_path for sl in v.slots))
     d = Drawing(places, labels, vamps, dict(buses), buffered, ports, outputs, max(ys) + 1, max(xs) + 1,
-                critical)
+                critical, budget=not layout.grouped)
     if focus is not None:
         d = focused(d, *focus)
     return aggregate(d) if d.cols > MAX_COLS else d
@@ -175,6 +180,29 @@ def aggregate(d: Drawing) -> Drawing:
     return Drawing(places, labels, vamps, dict(buses), buffered, port_list, outputs, d.rows,
                    -(-d.cols // per), frozenset(group[s] for s in d.critical), per,
                    {**inside, "_outputs": {g: sorted(js) for g, js in outs.items()}})
+
+
+def _budget_sites(graph, net):
+    """A budgeted layout's VAMPs as the program has them: each VAMP its own circle, in a row by the
+    passes its ops belong to (backward, with the non-propagated values; both passes; forward), so a
+    VAMP serving both is drawn as such. (sites per VAMP, places, labels)."""
+    from vampc.kinds import Pass
+    from vampc.report.sites import Site
+    rows = {"bwd": 0, "both": 1, "fwd": 2}
+    sites = []
+    for v in net.vamps:
+        passes = {Pass.of(graph.nodes[s.node].section) for s in v.slots}
+        sites.append(Site("both" if len(passes) > 1 else
+                          ("fwd" if passes == {Pass.FORWARD} else "bwd"), v.index))
+    present = sorted({s.section for s in sites}, key=rows.get)
+    row = {sec: k for k, sec in enumerate(present)}
+    seen: Counter = Counter()
+    places, labels = {}, {}
+    for v, site in zip(net.vamps, sites):
+        places[site] = (seen[site.section], row[site.section])
+        seen[site.section] += 1
+        labels[site] = f"VAMP {v.index}\n{len(v.slots)} ops"
+    return sites, places, labels
 
 
 def _port_label(p) -> str:
@@ -271,8 +299,10 @@ def _draw(d: Drawing, title: str) -> str:
                   f"groups of {d.grouped} positions (--focus A:B draws positions A to B node by node)")
     ax.set_title(title.replace(": ", ":\n", 1), loc="left", fontsize=9, pad=26)
     fig.text(MARGIN_PX / width, 8 / height,
-             ("circles: recursion or device nodes (V: VAMPs)" if d.grouped == 1 else
-              "circles: groups of nodes (×: nodes, pos: positions, V: VAMPs)")
+             ("circles: groups of nodes (×: nodes, pos: positions, V: VAMPs)" if d.grouped > 1 else
+              "circles: VAMPs of a budget, in rows by pass (blue: backward, with the non-propagated "
+              "values; purple: both passes; orange: forward)" if any(s.section == "both" for s in d.labels)
+              or d.budget else "circles: recursion or device nodes (V: VAMPs)")
              + "; red outline: on the critical path\nlines: vector buses (wider: more)\n"
              "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i",
              fontsize=6.5, va="bottom")
@@ -348,17 +378,17 @@ def _sites(ax, d: Drawing, titles: dict) -> None:
     """The nodes as circles coloured by section, labelled (a, b) and VAMPs when few enough."""
     def title(site, label) -> str:
         if d.grouped == 1:
-            return (f"{SECTION_NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
+            return (f"{NAMES[site.section]} node {label.replace(chr(10), ' ')}: "
                     f"{d.vamps[site]} VAMPs")
         nodes, within, span = d.inside[site]
-        return (f"{SECTION_NAMES[site.section]} nodes at positions {span} (row {site.row}): {nodes} "
+        return (f"{NAMES[site.section]} nodes at positions {span} (row {site.row}): {nodes} "
                 f"nodes, {d.vamps[site]} VAMPs, {within} vector buses among them")
     gid = (lambda site: f"site-{site.section}-{site.index}") if d.grouped == 1 else \
         (lambda site: f"group-{site.section}-{site.row}-{site.index}")
     shapes = [Shape("circle", *_xy(d, site), 0.32, gid(site), title(site, label)
                     + ("; on the critical path" if site in d.critical else ""))
               for site, label in d.labels.items()]
-    for section in SECTION_NAMES:
+    for section in NAMES:
         for on in (False, True):
             mine = [sh for sh, site in zip(shapes, d.labels)
                     if site.section == section and (site in d.critical) == on]
@@ -371,16 +401,21 @@ def _sites(ax, d: Drawing, titles: dict) -> None:
                                 ha="center", va="center", zorder=4)
 
 
-def _free_spot(x: float, y: float, dx: float, dy: float, taken: list, circles: list) -> tuple:
+def _free_spot(x: float, y: float, dx: float, dy: float, taken: list, circles: list,
+               right: float = float("inf")) -> tuple:
     """Where a buffer square (half side 0.11 cells) goes near (x, y): there, or moved across the bus
     (direction dx, dy) until it meets neither another square nor a node's circle."""
     import math
     norm = math.hypot(dx, dy) or 1.0
     px, py = -dy / norm, dx / norm                        # across the bus
-    for k in (0, 1, -1, 2, -2, 3, -3, 4, -4):
-        cx, cy = x + 0.24 * k * px, y + 0.24 * k * py
-        if all(abs(cx - a) >= 0.23 or abs(cy - b) >= 0.23 for a, b in taken) and \
-                all(math.hypot(cx - a, cy - b) >= 0.32 + 0.16 for a, b in circles):
+    ux, uy = dx / norm, dy / norm                         # along it
+    tries = sorted(((k, m) for k in range(-6, 7) for m in (-2, -1, 0, 1, 2)),
+                   key=lambda km: (abs(km[0]) + abs(km[1]), km[1] != 0, -km[0]))
+    for k, m in tries:
+        cx = x + 0.24 * k * px + 0.2 * m * ux
+        cy = y + 0.24 * k * py + 0.2 * m * uy
+        if 0.12 <= cx <= right - 0.12 and all(abs(cx - a) >= 0.23 or abs(cy - b) >= 0.23 for a, b in taken) \
+                and all(math.hypot(cx - a, cy - b) >= 0.32 + 0.16 for a, b in circles):
             return cx, cy
     return x, y
 
@@ -398,7 +433,7 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
         else:
             x, y, dx, dy = xa + 0.55 * (xb - xa), ya + 0.55 * (yb - ya), xb - xa, yb - ya
         if circles:
-            x, y = _free_spot(x, y, dx, dy, taken, circles)
+            x, y = _free_spot(x, y, dx, dy, taken, circles, max(d.cols, MIN_COLS))
             taken.append((x, y))
         segments += [[(xa, ya), (x, y)], [(x, y), (xb, yb)]]
         shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
