@@ -109,7 +109,7 @@ def test_pictures_and_page_are_written(tmp_path):
     for opt in ("--timing", "--network"):
         ET.fromstring(files[opt].read_text())
     assert files["--dot"].read_text().count("digraph ") == 2
-    assert files["--html"].read_text().count("<svg") == 2
+    assert files["--html"].read_text().count("<svg") == 3
     assert sorted(p.name for p in tmp_path.iterdir()) == ["n.dot", "n.svg", "p.html", "t.svg"]
 
 

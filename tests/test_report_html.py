@@ -26,10 +26,10 @@ def made():
     return rep, pictures.make(c, rep, {"--html", "--timing", "--network"})
 
 
-def test_the_page_holds_every_table_and_both_pictures(made):
+def test_the_page_holds_every_table_and_the_three_pictures(made):
     rep, out = made
     page = out["--html"]
-    assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 2
+    assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3     # chart, drawing, table
     for t in tables(rep):
         assert f'<section id="{t.key}">' in page
     assert out["--timing"][out["--timing"].index("<svg"):] in page      # the same drawing, inline

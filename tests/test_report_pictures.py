@@ -20,7 +20,8 @@ def test_only_what_is_asked_for_and_each_drawing_once(monkeypatch):
     assert set(pictures.make(c, rep, {"--dot"})) == {"--dot"} and drawn == ["dot"]
     drawn.clear()
     out = pictures.make(c, rep, {"--html", "--timing"})
-    assert set(out) == {"--html", "--timing", "--network"} and sorted(drawn) == ["network", "timing"]
+    assert set(out) == {"--html", "--timing", "--network", "--reservation"}
+    assert sorted(drawn) == ["network", "timing"]
 
 
 def test_title_names_robot_layout_latency_and_interval():

@@ -33,12 +33,12 @@ def big():
 def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(big, monkeypatch):
     c, rep = big
     figures = catch_figure(monkeypatch)
-    out = pictures.make(c, rep, {"--timing", "--network", "--dot", "--html"})
-    for name in ("--timing", "--network"):
+    out = pictures.make(c, rep, {"--timing", "--network", "--reservation", "--dot", "--html"})
+    for name in ("--timing", "--network", "--reservation"):
         w, h = size(out[name])
         assert max(w, h) <= MAX_PT and len(out[name].encode()) < MAX_BYTES, (name, w, h)
     assert len(out["--html"].encode()) < MAX_BYTES and len(out["--dot"].encode()) < MAX_BYTES
-    assert len(figures) == 2
+    assert len(figures) == 3
     for fig in figures:
         assert overlapping_texts(fig) == []
     # the critical path: red bars joined in the chart, red-outlined nodes in the drawing

@@ -539,6 +539,10 @@ class ReportOptions:
     network: str | None = field(default=None, metadata=cli(
         "--network", path=True, metavar="FILE.svg", help="Write a drawing of the network (Figures "
         "III.1, IV.2, VI.3) as SVG."))
+    reservation: str | None = field(default=None, metadata=cli(
+        "--reservation", path=True, metavar="FILE.svg", help="Write the modulo reservation table as "
+        "SVG: each unit's ops in the ticks of one interval, every torque set's (the steady state "
+        "beside the timing chart's first set)."))
     dot: str | None = field(default=None, metadata=cli(
         "--dot", path=True, metavar="FILE.dot", help="Write the network and the dataflow graph as "
         "Graphviz digraphs."))
@@ -558,7 +562,7 @@ class ReportOptions:
         "systolic layouts labelled)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
-    PICTURES = ("timing", "network", "dot", "html")
+    PICTURES = ("timing", "network", "reservation", "dot", "html")
 
     def focus_range(self) -> tuple[int, int] | None:
         """--focus A:B as (A, B), or None (VampcUsageError for a bad value)."""

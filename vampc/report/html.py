@@ -20,7 +20,7 @@ ul { margin: 0.2em 0 1em 1.2em; padding: 0; color: #444; }
 """
 
 
-def page(rep: dict, timing_svg: str, network_svg: str) -> str:
+def page(rep: dict, timing_svg: str, network_svg: str, reservation_svg: str = "") -> str:
     """The whole page as text."""
     esc = html.escape
     summary = "".join(f"<tr><th class=\"l\">{esc(label)}</th><td class=\"l\">{html_text(value)}</td></tr>\n"
@@ -32,6 +32,9 @@ def page(rep: dict, timing_svg: str, network_svg: str) -> str:
             f"{strip_prolog(timing_svg)}</div></section>",
             '<section id="network"><h2>Network</h2><div class="picture">'
             f"{strip_prolog(network_svg)}</div></section>",
+            *(['<section id="reservation"><h2>Steady state: the modulo reservation table</h2>'
+               f'<div class="picture">{strip_prolog(reservation_svg)}</div></section>']
+              if reservation_svg else []),
             "<h2>Tables</h2>", *[render_html(t) for t in tables(rep)]]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>vampc report: {esc(rep['robot'])}</title><style>{STYLE}</style></head>\n<body>\n"

@@ -24,6 +24,12 @@ def network(c, rep: dict, focus=None) -> str:
     return network_svg(c.graph, c.layout, c.network, title(rep), c.schedule.critical_path, focus)
 
 
+def reservation(c, rep: dict) -> str:
+    """The modulo reservation table as SVG."""
+    from vampc.report.reservation import reservation_svg
+    return reservation_svg(c.graph, c.layout, c.schedule, title(rep))
+
+
 def dot(c, rep: dict) -> str:
     """The network and the dataflow graph as Graphviz text."""
     from vampc.report.dot import report_dot
@@ -32,16 +38,19 @@ def dot(c, rep: dict) -> str:
 
 @gc_paused()
 def make(c, rep: dict, wanted: set[str], focus=None) -> dict[str, str]:
-    """The content of every output option in `wanted` (--timing, --network, --dot, --html); each
+    """The content of every output option in `wanted` (--timing, --network, --reservation, --dot,
+    --html); each
     picture is drawn once even when the page needs it too. `focus`: --focus A:B for the drawing."""
     out: dict[str, str] = {}
     if wanted & {"--timing", "--html"}:
         out["--timing"] = timing(c, rep)
     if wanted & {"--network", "--html"}:
         out["--network"] = network(c, rep, focus)
+    if wanted & {"--reservation", "--html"}:
+        out["--reservation"] = reservation(c, rep)
     if "--dot" in wanted:
         out["--dot"] = dot(c, rep)
     if "--html" in wanted:
         from vampc.report.html import page
-        out["--html"] = page(rep, out["--timing"], out["--network"])
+        out["--html"] = page(rep, out["--timing"], out["--network"], out["--reservation"])
     return out
