@@ -1,5 +1,5 @@
 """The HTML report (`vampc report --html FILE.html`): one self-contained page — the summary, every
-table and both pictures inline (SVG elements, styles in the page), nothing fetched from anywhere."""
+table and the three pictures (timing chart, network, reservation table) inline (SVG elements, styles in the page), nothing fetched from anywhere."""
 from __future__ import annotations
 
 import html
