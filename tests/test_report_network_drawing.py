@@ -29,7 +29,7 @@ def test_linear_systolic_is_three_rows_of_joints(puma):
     d = nd.drawing(c.graph, c.layout, c.network)
     places = {f"{s.section}{s.index}": p for s, p in d.places.items()}
     assert places["bwd1"] == (0, 0) and places["npv6"] == (5, 1) and places["fwd3"] == (2, 2)
-    assert d.labels[next(s for s in d.places if s.section == "fwd" and s.index == 1)] == "(1,6)"
+    assert d.labels[next(s for s in d.places if s.section == "fwd" and s.index == 1)] == "fwd 1\n(1,6)"
     got = ids(nd.network_svg(c.graph, c.layout, c.network, "t"))
     assert sum(i.startswith("site-") for i in got) == 18
     assert sum(i.startswith("buffer-") for i in got) == len(d.buffered)
@@ -78,3 +78,11 @@ def test_a_budget_is_drawn_by_the_passes_its_vamps_serve():
     rows = Counter(site.section for site in d.labels)
     assert rows == Counter({"bwd": counts["backward"], "both": counts["shared"], "fwd": counts["forward"]}) - Counter()
     assert sum(d.vamps.values()) == 12 and set(d.vamps.values()) == {1}
+
+
+def test_a_tree_forward_node_spans_its_own_subtree():
+    """Quadruped: joint 1 starts a leg of three joints, so its forward node is (1,3), not (1,12)."""
+    c = compile_chain(load_robot(EXAMPLES / "quadruped.urdf"))
+    d = nd.drawing(c.graph, c.layout, c.network)
+    fwd = {s.index: label.split("\n")[1] for s, label in d.labels.items() if s.section == "fwd"}
+    assert fwd[1] == "(1,3)" and fwd[4] == "(4,6)" and fwd[3] == "(3,3)"

@@ -292,7 +292,10 @@ def vamp_notes(rep: dict) -> list[str]:
                      "combine needs W_{a,k} and R_{a,k} as the backward pass makes them, so the "
                      "paper's T20 = A_{k+1}ᵀ R_{a,k} (one MV) is not needed")
     if per["bwd"] != paper[0] and not rep["prismatic_joints"]:
-        notes.append(f"backward node {per['bwd']} VAMPs, paper {paper[0]}")
+        why = (": in a tree, a joint whose frame is shifted from its parent's (at a branch, o_i ≠ 0) "
+               "first forms its origin's acceleration, H1..H5 = 3 VC + 2 VA, 5 VAMPs more (README, "
+               "Trees and floating bases)" if rep.get("tree") and per["bwd"] - paper[0] == 5 else "")
+        notes.append(f"backward node {per['bwd']} VAMPs, paper {paper[0]}{why}")
     if Recursion(rep["recursion"]) is Recursion.LOG and not rep.get("uniform_leaves"):
         notes.append("leaves are Table IV.1's separate a = b forms (fewer VAMPs than Appendix D's "
                      "uniform nodes, which section VI counts: use --uniform-leaves to compare)")

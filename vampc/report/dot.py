@@ -76,7 +76,7 @@ def network_dot(graph, layout, net, name: str) -> str:
         by_site.setdefault(sites[v.index], []).append(v)
     for site in sorted(by_site):
         lines.append(f"  subgraph {quote('cluster_' + site.section + str(site.index))} {{")
-        lines.append(f"    label={quote(f'{names[site.section]} {site.index}' if layout.grouped else f'VAMPs serving {names[site.section]}')};")
+        lines.append(f"    label={quote(f'{site.section} {site.index} ({names[site.section]})' if layout.grouped else f'VAMPs serving {names[site.section]}')};")
         for v in by_site[site]:
             ops = ", ".join(dict.fromkeys(f"{graph.nodes[s.node].name} {s.op.value}" for s in v.slots))
             lines.append(f"    v{v.index} [label={quote(f'VAMP {v.index}' + chr(10) + ops)}];")
@@ -120,7 +120,7 @@ def dataflow_dot(graph, name: str) -> str:
             lines.append(f"  n{nd.id} [shape={shape}, label={quote(nd.name)}];")
     for (section, group), nodes in groups.items():
         lines.append(f"  subgraph {quote(f'cluster_{section}{group}')} {{")
-        lines.append(f"    label={quote(f'{SECTION_NAMES[section]} {group}')};")
+        lines.append(f"    label={quote(f'{section} {group} ({SECTION_NAMES[section]})')};")
         lines += [f"    n{nd.id} [label={quote(nd.name + chr(10) + nd.op.value)}];" for nd in nodes]
         lines.append("  }")
     for nd in graph.nodes:

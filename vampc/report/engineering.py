@@ -36,7 +36,8 @@ def engineering(c, clock_hz: float | None = None) -> dict:
                   scalars_out_per_second=float(f"{outputs * sets:.6g}"),
                   bits_in_per_second=float(f"{bits['host_write_bits_per_set'] * sets:.6g}"),
                   bits_out_per_second=float(f"{bits['host_read_bits_per_set'] * sets:.6g}"))
-    path = [{"node": i, "label": graph.nodes[i].label, "op": graph.nodes[i].op.value,
+    path = [{"node": i, "label": f"{graph.nodes[i].name}·{graph.nodes[i].section} {graph.nodes[i].group}",
+             "op": graph.nodes[i].op.value,
              "start": sched.start[i], "flops": duration[graph.nodes[i].op]} for i in sched.critical_path]
     return {"utilisation": {"interval_flops": interval, "mean": round(sum(share) / len(share), 4),
                             "min": round(min(share), 4), "max": round(max(share), 4),

@@ -222,15 +222,32 @@ def _places(graph, layout, sites: list[Site]) -> tuple[dict, dict]:
     match graph.recursion:
         case Recursion.LINEAR:
             row = {"bwd": 0, "npv": 1, "fwd": 2}
-            n = graph.n
-            name = {"bwd": lambda i: f"(0,{i})", "npv": lambda i: f"r̈ F N {i}",
-                    "fwd": lambda i: f"({i},{n})"}
+            last = _subtree_ends(graph)
+            name = {"bwd": lambda i: f"(0,{i})", "npv": lambda i: "r̈ F N",
+                    "fwd": lambda i: f"({i},{last.get(i, i)})"}
             return ({s: (s.index - 1, row[s.section]) for s in sites},
-                    {s: name[s.section](s.index) for s in sites})
+                    {s: f"{s.section} {s.index}\n{name[s.section](s.index)}" for s in sites})
         case Recursion.LOG:
             return _log_places(graph, sites)
         case other:
             return unhandled(other)
+
+
+def _subtree_ends(graph) -> dict[int, int]:
+    """Per joint i of a linear graph: the last joint of its subtree (n for a chain; a leg's last
+    joint in a tree, whose joints are numbered depth-first), read off the forward pass's edges (a
+    forward node reads its children's)."""
+    children: dict[int, set] = {}
+    for nd in graph.compute_nodes():
+        if nd.section == "fwd":
+            for a in nd.args:
+                src = graph.nodes[a]
+                if src.op.is_compute and src.section == "fwd" and src.group not in (nd.group, 0):
+                    children.setdefault(nd.group, set()).add(src.group)
+    last: dict[int, int] = {}
+    for i in range(graph.n, 0, -1):
+        last[i] = max([i] + [last[c] for c in children.get(i, ()) if c > i])
+    return last
 
 
 def _log_places(graph, sites: list[Site]) -> tuple[dict, dict]:
@@ -244,12 +261,12 @@ def _log_places(graph, sites: list[Site]) -> tuple[dict, dict]:
         match s.section:
             case Section.NPV:
                 places[s] = (s.index - first, tiers + 1)
-                labels[s] = f"r̈ F N {s.index}"
+                labels[s] = f"npv {s.index}\nr̈ F N"
             case Section.BWD | Section.FWD:
                 _, a, _, b, tier = info[(s.section, s.index)]
                 places[s] = ((b - first, tier) if s.section is Section.BWD
                              else (a - first, tiers + 2 + tier))
-                labels[s] = f"({a},{b})"
+                labels[s] = f"{s.section} {s.index}\n({a},{b})"
             case other:
                 unhandled(other)
     return places, labels

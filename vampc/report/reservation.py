@@ -108,8 +108,9 @@ def _draw(graph, layout, sched, title: str) -> str:
     step = next(s for s in (1, 2, 4, 5, 10, 20, 50, 100, 200, 500, 1000, 10**9) if s * ptf >= 24)
     ax.set_xticks(range(0, P + 1, step))
     ax.tick_params(axis="x", labelsize=FONT, top=True, labeltop=True)
-    ax.set_xlabel(f"tick within the interval (0 to {P - 1}); a bar −k belongs to the set that "
-                  "entered k intervals earlier", fontsize=7)
+    ax.set_xlabel(f"tick within the interval (0 to {P - 1}); T4·3 −k: op T4 of node 3 of its pass "
+                  "(bwd, npv or fwd 3 in every picture), for the set that entered k intervals earlier",
+                  fontsize=7)
     for x in range(P + 1):
         ax.axvline(x, color="#eeeeee", linewidth=0.4, zorder=0)
     head = (f"{title} — modulo reservation table: every op of the steady state on its unit, "

@@ -332,7 +332,8 @@ def _axes(ax, data: Chart, sched, ticks, names, pxf: float) -> None:
                 if s * pxf >= 28)
     ax.set_xticks(range(0, data.span + 1, step))
     ax.tick_params(axis="x", labelsize=FONT, top=True, labeltop=True)
-    ax.set_xlabel("flops (ticks) from the first input of torque set 0", fontsize=7)
+    ax.set_xlabel("flops (ticks) from the first input of torque set 0; a bar T4·3 is op T4 of node 3 of "
+                  "its row's pass (named bwd 3, npv 3 or fwd 3 in every picture)", fontsize=7)
     P = sched.interval
     if P * pxf >= 8:
         for x in range(0, data.span + 1, P):
