@@ -56,3 +56,13 @@ def test_the_section_prints_and_the_cpu_reference_is_measured_when_asked():
     assert "measured on this machine" in r.output
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--tradeoff", "--cpu-reference"])
     assert r.exit_code == 2 and "--cpu-reference does not apply to --tradeoff" in r.output
+
+
+def test_the_package_line_counts_multiplexer_pins():
+    """Puma --vamps 12: a VAMP needs up to 37 pins, so 12 / 10 packages of 40 pins (the pin-aware
+    table's figures), not the paper budget's 3 / 1, which follows as the comparison."""
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "12"])
+    line = next(x for x in r.output.splitlines() if x.startswith("40-pin packages"))
+    assert line.startswith("40-pin packages  12 with separate pins or 10 with shared") and "up to 37" in line
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml")])       # systolic: the same
+    assert "40-pin packages  36 (5 VAMPs each, separate pins) or 15 (12 each" in r.output

@@ -97,8 +97,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
          f"({rep['buffers']['scalars']} scalars)"),
         ("host I/O", f"{rep['ports']} ports, {rep['constants']} constant buffers, "
          f"{rep['input_buffer_scalars']} input-buffer scalars"),
-        ("40-pin packages", f"{rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
-         f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)"),
+        ("40-pin packages", _packages_line(rep)),
         ("serial work", f"{rep['serial_work']['mults']} Mults + {rep['serial_work']['adds']} Addns "
          f"in the graph; Luh-Walker-Paul {rep['serial_reference']['mults']} + "
          f"{rep['serial_reference']['adds']}"),
@@ -153,3 +152,18 @@ def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
         pairs.append(("  latency", f"linear {lat['linear']} flops, log {lat['log']} flops "
                       "(systolic, this timing)"))
     return pairs
+
+
+def _packages_line(rep: dict) -> str:
+    """40-pin packages with each multiplexer input a pin (what the network needs), beside the
+    paper's pin budget when the two differ (a folded or budget VAMP reads several wires)."""
+    paper = (f"{rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
+             f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)")
+    own = next((r for r in rep.get("packages", {}).get("rows", []) if r.get("own")), None)
+    at40 = next((b for b in own["by_pins"] if b["pins"] == 40), None) if own else None
+    if not at40 or at40.get("muxed_separate") is None or (
+            (at40["muxed_separate"], at40["muxed_shared"]) == (at40["paper_separate"], at40["paper_shared"])):
+        return paper
+    return (f"{at40['muxed_separate']} with separate pins or {at40['muxed_shared']} with shared "
+            f"clock/power/reset, each multiplexer input a pin (a VAMP here needs up to "
+            f"{at40['max_pins_per_vamp']}); by the paper's budget of 8 or 3 pins a VAMP: {paper}")
