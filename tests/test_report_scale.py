@@ -67,3 +67,10 @@ def test_no_labels_overlap_in_the_pumas_pictures(options, monkeypatch):
     pictures.make(c, summary(c), {"--timing", "--network"})
     for fig in figures:
         assert overlapping_texts(fig) == []
+
+
+def test_focus_on_a_node_draws_the_positions_around_it(big):
+    c, rep = big
+    out = pictures.make(c, rep, {"--network"}, focus=("bwd", 300))
+    svg = out["--network"]
+    assert "around node bwd 300" in svg and 'id="site-bwd-300"' in svg and 'id="site-bwd-250"' not in svg

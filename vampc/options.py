@@ -526,9 +526,10 @@ class ReportOptions:
         "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
         "the paper's 40)."))
     focus: str | None = field(default=None, metadata=cli(
-        "--focus", metavar="A:B", help="With --network (or --html): draw only the nodes at positions "
-        "A to B (joints or prefix positions, 1-based), node by node; a big drawing groups positions "
-        "and its tooltips say which."))
+        "--focus", metavar="A:B|NODE", help="With --network (or --html): draw only the nodes at "
+        "positions A to B (joints or prefix positions, 1-based), or around node NODE ('bwd 300': "
+        "the 16 positions around it), node by node; a big drawing groups positions and its "
+        "tooltips say which."))
     cpu_reference: bool = field(default=False, metadata=cli(
         "--cpu-reference", help="Measure a CPU's time per torque set on this machine, one set at a "
         "time (vampc's reference Newton-Euler; Pinocchio's rnea too for a URDF when pin is "
@@ -564,14 +565,20 @@ class ReportOptions:
 
     PICTURES = ("timing", "network", "reservation", "dot", "html")
 
-    def focus_range(self) -> tuple[int, int] | None:
-        """--focus A:B as (A, B), or None (VampcUsageError for a bad value)."""
+    def focus_range(self):
+        """--focus as (A, B) positions, or a node name ("bwd 300", "fwd7"), or None
+        (VampcUsageError for a bad value)."""
+        import re
         if self.focus is None:
             return None
+        node = re.fullmatch(r"\s*(bwd|npv|fwd)\s*(\d+)\s*", self.focus)
+        if node:
+            return node.group(1), int(node.group(2))
         try:
             a, b = (int(x) for x in self.focus.split(":"))
         except ValueError:
-            raise VampcUsageError(f"--focus {self.focus!r}: give A:B, two positions (e.g. 1:32)") from None
+            raise VampcUsageError(f"--focus {self.focus!r}: give A:B, two positions (e.g. 1:32), or a "
+                                  "node (e.g. 'bwd 300')") from None
         if not 1 <= a <= b:
             raise VampcUsageError(f"--focus {self.focus!r}: give 1 <= A <= B")
         return a, b

@@ -101,6 +101,13 @@ def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None 
     d = Drawing(places, labels, vamps, dict(buses), buffered, ports, outputs, max(ys) + 1, max(xs) + 1,
                 critical, budget=not layout.grouped)
     if focus is not None:
+        if isinstance(focus[0], str):                     # a node: the positions around it
+            from vampc.errors import VampcUsageError
+            site = next((s for s in d.places if (s.section, s.index) == focus), None)
+            if site is None:
+                raise VampcUsageError(f"--focus '{focus[0]} {focus[1]}': no such node in this drawing")
+            x = d.places[site][0] + 1
+            focus = (max(1, x - MAX_COLS // 2), x + MAX_COLS // 2 - 1)      # 16 positions
         d = focused(d, *focus)
     return aggregate(d) if d.cols > MAX_COLS else d
 
@@ -276,7 +283,8 @@ def network_svg(graph, layout, net, title: str, critical_path=(), focus=None) ->
     """The drawing as SVG text (`focus`: (A, B), positions A to B only)."""
     d = drawing(graph, layout, net, critical_path, focus)
     if focus is not None:
-        title += f" — positions {focus[0]} to {focus[1]} only"
+        title += (f" — positions {focus[0]} to {focus[1]} only" if isinstance(focus[0], int)
+                  else f" — around node {focus[0]} {focus[1]}")
     with svg.settings():
         return _draw(d, title)
 
