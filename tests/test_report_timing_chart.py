@@ -112,3 +112,17 @@ def test_a_chart_of_many_rows_merges_and_stays_readable_in_size(monkeypatch):
     g = groups(svg)
     assert "merged per variable" in svg and "critical-path" in g
     assert {k for k in g if k.startswith("op-")} == {f"op-{i}-critical" for i in c.schedule.critical_path}
+
+
+def test_a_long_schedule_merges_bars_closer_than_the_plot_can_show(monkeypatch):
+    """A chart whose span is wider than the plot merges spans less than a point apart, and a long
+    critical path's ops per row the same way: a 300-joint linear chain's chart (11 000 staggered ops, a
+    span of 1 000+ flops) stays small."""
+    from vampc.robot.random import random_chain
+    monkeypatch.setattr(timing_chart, "MAX_CRITICAL_BARS", 50)
+    c = compile_chain(random_chain(300, 2))
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    assert "merged per variable" in svg and len(svg) < 400_000
+    g = groups(svg)
+    assert "critical-path" in g and any(k.startswith("critical-") and k != "critical-path" for k in g)
+    assert not any(k.startswith("op-") for k in g)

@@ -6,8 +6,8 @@ a strip above showing successive torque sets: one every interval, each lasting t
 pipelined layout's overlapping sets are visible.
 
 Each op's bar is an SVG group with id `op-<node id>` (`op-<node id>-critical` on the critical path)
-and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000) or
-more than MAX_LANES lanes (a 64-joint log network has 1 824) would be neither readable nor quick to
+and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000), of
+more than LABELLED_BARS ops under 2 pt wide each (a 300-joint chain's), or of more than MAX_LANES lanes (a 64-joint log network has 1 824) would be neither readable nor quick to
 draw: it shows, per variable, when any node computes it (merged bars, ids `busy-<row>-<k>`), keeps
 the critical path's ops as their own red-edged bars on their variable's row, joined (ids
 `op-<node id>-critical`), and says so in its title; one of more than LABELLED_BARS ops keeps its
@@ -27,6 +27,7 @@ from vampc.schedule.registry import SYSTOLIC, is_layout
 MAX_BARS = 10_000
 MAX_LANES = 300           # rows of bars: above this, the chart merges per variable
 MAX_PLOT_PT = 1300        # the plot's width at most (the labels column and margins come on top)
+MAX_CRITICAL_BARS = 600   # a merged chart's critical ops drawn one by one up to this many
 LABELLED_BARS = 4_000     # above this many bars, labels only in the tooltips (text is slow to lay out)
 MAX_SETS = 8
 ROW_PX, LEFT_PX, TOP_PX, BOTTOM_PX, RIGHT_PX = 13, 150, 84, 40, 30
@@ -55,17 +56,18 @@ class Chart:
 def chart(graph, layout, sched) -> Chart:
     """The rows of the chart for a graph, its layout and schedule (see the module docstring)."""
     ops = graph.compute_nodes()
-    merged = len(ops) > MAX_BARS
-    if not merged:
-        rows = (_variable_rows(graph, sched) if is_layout(layout.name, SYSTOLIC)
-                else _unit_rows(graph, layout, sched))
-        merged = sum(len(r.lanes) for r in rows) > MAX_LANES
-    if merged:
-        rows = _merged_rows(graph, sched)
     P = sched.interval
     count = min(MAX_SETS, math.ceil(sched.latency / P) + 1) if P < sched.latency else 2
     sets = tuple(k * P for k in range(count))
     span = max(max((sched.finish[nd.id] for nd in ops), default=0), sets[-1] + sched.latency)
+    # merged: too many ops, too many rows, or thousands of ops each under 2 pt wide
+    merged = len(ops) > MAX_BARS or (len(ops) > LABELLED_BARS and _scale(span) < 2.0)
+    if not merged:
+        rows = (_variable_rows(graph, sched) if is_layout(layout.name, SYSTOLIC)
+                else _unit_rows(graph, layout, sched))
+        merged = sum(len(r.lanes) for r in rows) > MAX_LANES
+    if merged:          # spans closer than 3 pt of the plot are one bar
+        rows = _merged_rows(graph, sched, gap=3 * span / MAX_PLOT_PT if span > MAX_PLOT_PT / 6 else 0)
     return Chart(tuple(rows), merged, span, sets)
 
 
@@ -114,8 +116,9 @@ def _unit_rows(graph, layout, sched) -> list[Row]:
     return rows
 
 
-def _merged_rows(graph, sched) -> list[Row]:
-    """Per variable, the spans in which some node computes it, with how many ops each covers."""
+def _merged_rows(graph, sched, gap: float = 0) -> list[Row]:
+    """Per variable, the spans in which some node computes it, with how many ops each covers; spans
+    less than `gap` flops apart are one (a long schedule's plot cannot show the gap)."""
     by_role: dict[tuple[str, str], list[int]] = {}
     for nd in graph.compute_nodes():
         by_role.setdefault((nd.section, nd.name), []).append(nd.id)
@@ -124,7 +127,7 @@ def _merged_rows(graph, sched) -> list[Row]:
         spans: list[list[int]] = []
         for i in sorted(by_role[(sec, name)], key=lambda i: sched.start[i]):
             s, f = sched.start[i], sched.finish[i]
-            if spans and s <= spans[-1][1]:
+            if spans and s <= spans[-1][1] + gap:
                 spans[-1][1] = max(spans[-1][1], f)
                 spans[-1][2] += 1
             else:
@@ -167,9 +170,11 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     _critical_line(ax, Line2D, graph, sched, data, set(sched.critical_path))
     _axes(ax, data, sched, ticks, names, pxf)
     if data.merged:
+        one_by_one = len(sched.critical_path) <= MAX_CRITICAL_BARS
         title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable, the critical path's "
-                  f"{len(sched.critical_path)} ops shown one by one (charts of at most {MAX_BARS:,} ops "
-                  f"and {MAX_LANES} rows show every op)")
+                  f"{len(sched.critical_path):,} ops " + ("shown one by one" if one_by_one else
+                                                          "merged the same way, in red")
+                  + f" (charts of at most {MAX_BARS:,} ops and {MAX_LANES} rows show every op)")
     elif len(bars) > LABELLED_BARS:
         title += f" — {len(bars):,} ops: labels in the tooltips"
     ax.set_title(title.replace(": ", ":\n", 1) if width < 900 else title,
@@ -299,8 +304,22 @@ def _critical_bars(graph, layout, sched, data: Chart) -> list:
     """A merged chart's critical-path ops, each its own bar on its variable's row."""
     from dataclasses import replace
     row_of = _merged_row_of(graph, data)      # unlabelled: the merged bar under each has its label
-    return [replace(_bar(graph, layout, sched, i, row_of(i), True), labels=())
-            for i in sched.critical_path]
+    path = sched.critical_path
+    if len(path) <= MAX_CRITICAL_BARS:
+        return [replace(_bar(graph, layout, sched, i, row_of(i), True), labels=()) for i in path]
+    # a long path (a 4 096-joint chain's has 8 000 ops): its ops merged per row, as the others
+    gap = 3 * data.span / MAX_PLOT_PT
+    spans: dict[int, list[list[int]]] = {}
+    for i in sorted(path, key=lambda i: sched.start[i]):
+        row = spans.setdefault(row_of(i), [])
+        s, f = sched.start[i], sched.finish[i]
+        if row and s <= row[-1][1] + gap:
+            row[-1][1], row[-1][2] = max(row[-1][1], f), row[-1][2] + 1
+        else:
+            row.append([s, f, 1])
+    return [Bar(s, f, y, "none", "#d62728", 1.6, f"critical-{y}-{s}",
+                f"{k} ops of the critical path in flops {s}-{f}", ())
+            for y, row in spans.items() for s, f, k in row]
 
 
 def _critical_line(ax, Line2D, graph, sched, data: Chart, critical: set) -> None:
