@@ -55,7 +55,7 @@ def _draw(graph, layout, sched, title: str) -> str:
     grouped = len(table) > MAX_ROWS
     per = -(-len(table) // MAX_ROWS)
     shown = -(-len(table) // per)
-    ptf = min(24.0, MAX_PLOT_PT / P)
+    ptf = max(min(24.0, MAX_PLOT_PT / P), 600.0 / P)     # room for the title and key
     width, height = LEFT_PT + P * ptf + RIGHT_PT, TOP_PT + shown * ROW_PT + BOTTOM_PT
     fig = svg.figure(width, height)
     ax = fig.add_axes((LEFT_PT / width, BOTTOM_PT / height, P * ptf / width,
@@ -119,9 +119,10 @@ def _draw(graph, layout, sched, title: str) -> str:
         head += f"; {per} units a row, shaded by how many are busy"
     ax.set_title(head if width > 900 else head.replace(" — ", "\n", 1), loc="left", fontsize=8, pad=14)
     handles = [Rectangle((0, 0), 1, 1, facecolor=c, edgecolor="#404040", linewidth=0.4, label=op)
-               for op, c in colours().items()]
-    fig.legend(handles=handles, loc="upper left", ncols=10, fontsize=6.5, frameon=False,
-               bbox_to_anchor=(LEFT_PT / width, 1 - 2 / height))
+               for op, c in colours().items()] if not grouped else []     # grouped: shaded, not by op
+    if handles:
+        fig.legend(handles=handles, loc="upper left", ncols=10, fontsize=6.5, frameon=False,
+                   bbox_to_anchor=(LEFT_PT / width, 1 - 2 / height))
     return svg.to_svg(fig, titles)
 
 
