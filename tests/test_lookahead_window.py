@@ -147,7 +147,7 @@ def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():
     import toppra.constraint as constraint
     toppra.setup_logging("ERROR")
     chain = load_robot(PUMA)
-    t, q, qd, qdd = bump_path(T=0.3, centre=0.5)
+    t, q, qd, qdd = bump_path(T=0.15, centre=0.5)
     z = np.zeros_like(q)
     c = rnea(chain, q, z, z)
     a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c

@@ -24,14 +24,9 @@ def size(svg: str) -> tuple[float, float]:
     return tuple(float(x) for x in re.search(r'width="([0-9.]+)pt" height="([0-9.]+)pt"', svg).groups())
 
 
-@pytest.fixture(scope="module")
-def big():
+def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(monkeypatch):
     c = compile_chain(random_chain(512, 5), CompileOptions(recursion="log"))
-    return c, build_report(c)
-
-
-def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(big, monkeypatch):
-    c, rep = big
+    rep = build_report(c)
     figures = catch_figure(monkeypatch)
     out = pictures.make(c, rep, {"--timing", "--network", "--reservation", "--dot", "--html"})
     for name in ("--timing", "--network", "--reservation"):
@@ -47,13 +42,12 @@ def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(big, mon
         len(c.schedule.critical_path)
     # the DOT: one node per group, fewer than a thousand edges, the critical nodes red
     assert out["--dot"].startswith("// ") and out["--dot"].count("->") < 3000 and "color=red" in out["--dot"]
-
-
-def test_focus_draws_a_range_node_by_node(big):
-    c, rep = big
-    out = pictures.make(c, rep, {"--network"}, focus=(100, 110))
-    assert "positions 100 to 110 only" in out["--network"] and "site-bwd-" in out["--network"]
-    assert max(size(out["--network"])) <= MAX_PT
+    # the drill-down: a range of positions, or the positions around a node, node by node
+    focus = pictures.make(c, rep, {"--network"}, focus=(100, 110))["--network"]
+    assert "positions 100 to 110 only" in focus and "site-bwd-" in focus and max(size(focus)) <= MAX_PT
+    around = pictures.make(c, rep, {"--network"}, focus=("bwd", 300))["--network"]
+    assert "around node bwd 300" in around and 'id="site-bwd-300"' in around
+    assert 'id="site-bwd-250"' not in around
 
 
 @pytest.mark.parametrize("options", [dict(), dict(recursion="log"), dict(layout="folded"),
@@ -67,10 +61,3 @@ def test_no_labels_overlap_in_the_pumas_pictures(options, monkeypatch):
     pictures.make(c, summary(c), {"--timing", "--network"})
     for fig in figures:
         assert overlapping_texts(fig) == []
-
-
-def test_focus_on_a_node_draws_the_positions_around_it(big):
-    c, rep = big
-    out = pictures.make(c, rep, {"--network"}, focus=("bwd", 300))
-    svg = out["--network"]
-    assert "around node bwd 300" in svg and 'id="site-bwd-300"' in svg and 'id="site-bwd-250"' not in svg
