@@ -18,8 +18,9 @@ CONFIGS = [dict(recursion=r, **x) for r in ("linear", "log") for x in LAYOUTS]
 BUDGETS = [("puma560.yaml", dict(vamps=3)), ("puma560.yaml", dict(vamps=7)), ("puma560.yaml", dict(vamps=12)),
            ("puma560.yaml", dict(vamps=12, recursion="log")), ("quadruped.urdf", dict(vamps=9)),
            ("planar2.yaml", dict(vamps=3)), ("puma560.yaml", dict(mult_latency=3, add_latency=2)),
-           ("puma560.yaml", dict(mult_latency=3, add_latency=2, layout="folded", recursion="log"))]
-ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf"]
+           ("puma560.yaml", dict(mult_latency=3, add_latency=2, layout="folded", recursion="log")),
+           ("snake64.yaml", dict()), ("snake64.yaml", dict(recursion="log", layout="folded"))]
+ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf", "ur5.urdf"]
 
 
 def longest_path(graph, timing) -> int:

@@ -64,7 +64,18 @@ def test_a_column_of_times_has_one_unit_and_one_style():
     from vampc.report.clock import time_column
     assert time_column([5935.0, 634.85, None]) == ("ms", ["5.935", "0.635", "—"])
     assert time_column([3.05, 2.2]) == ("µs", ["3.05", "2.20"])
-    assert time_column([118691.0, 61.0]) == ("ms", ["118.7", "0.1"])
+    assert time_column([118691.0, 610.0]) == ("ms", ["118.7", "0.6"])
+    # three orders of magnitude or more: each cell its own prefix, no 0.000
+    assert time_column([5935.0, 0.2, None]) == ("", ["5.935 ms", "200 ns", "—"])
+
+
+def test_millihertz_and_the_rate_example_are_not_megahertz():
+    with pytest.raises(ValueError, match="mHz is millihertz; write MHz"):
+        parse_clock("20mHz")
+    from vampc.errors import VampcUsageError
+    from vampc.options import frequency
+    with pytest.raises(VampcUsageError, match=r"--rate '1000' has no unit: .*\(e\.g\. 1000Hz\)"):
+        frequency("1000", "--rate", "rate")
 
 
 def test_margins_read_as_words():

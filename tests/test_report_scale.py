@@ -61,3 +61,19 @@ def test_no_labels_overlap_in_the_pumas_pictures(options, monkeypatch):
     pictures.make(c, summary(c), {"--timing", "--network"})
     for fig in figures:
         assert overlapping_texts(fig) == []
+
+
+def test_focus_past_the_last_position_and_a_device_name(tmp_path):
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    out = tmp_path / "f.svg"
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
+                                  "--focus", "5:1000"])
+    assert r.exit_code == 0 and "positions 5 to 6 only" in out.read_text()
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--layout", "folded",
+                                  "--network", str(out), "--focus", "bwd dev 0"])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
+                                  "--focus", "9:12"])
+    assert r.exit_code == 2 and "--focus 9:12: no node there (positions 1 to 6)" in r.output

@@ -12,6 +12,7 @@ receives it in its option object.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 
@@ -401,7 +402,10 @@ def frequency(text: str, option: str, noun: str = "clock rate") -> float:
     try:
         return parse_clock(text)
     except ValueError as exc:
-        raise VampcUsageError(f"{option} {str(exc).replace('clock rate', noun)}") from None
+        message = str(exc).replace("clock rate", noun)
+        if noun != "clock rate":          # a row rate: suggest Hz, not MHz
+            message = re.sub(r"\(e\.g\. ([0-9.eE+-]+)MHz\)", r"(e.g. \1Hz)", message)
+        raise VampcUsageError(f"{option} {message}") from None
 
 
 @dataclass(frozen=True)
@@ -571,7 +575,7 @@ class ReportOptions:
         import re
         if self.focus is None:
             return None
-        node = re.fullmatch(r"\s*(bwd|npv|fwd)\s*(\d+)\s*", self.focus)
+        node = re.fullmatch(r"\s*(bwd|npv|fwd|both)\s*(?:dev\s*)?(\d+)\s*", self.focus)
         if node:
             return node.group(1), int(node.group(2))
         try:

@@ -19,6 +19,8 @@ def parse_clock(text: str) -> float:
     unit = m.group(2).lower() if m else None
     if m and not unit:
         raise ValueError(f"{text!r} has no unit: give Hz, kHz, MHz or GHz (e.g. {m.group(1)}MHz)")
+    if m and m.group(2) == "mHz":             # millihertz, or a slip for MHz: say which
+        raise ValueError(f"{text!r}: mHz is millihertz; write MHz for megahertz")
     if not m or unit not in UNITS:
         raise ValueError(f"{text!r} is not a clock rate (a number with Hz, kHz, MHz or GHz, "
                          "e.g. 20MHz)")
@@ -63,8 +65,12 @@ def time_text(us_value: float) -> str:
 def time_column(values_us) -> tuple[str, list[str]]:
     """One unit and one number style for a column of times given in µs: the unit that puts the
     largest at 1 to 999, every value with the decimals that give the largest 4 significant digits
-    (fewer when those are zeros). (unit, texts); None values come out as '—'."""
+    (fewer when those are zeros). (unit, texts); None values come out as '—'. When the column spans
+    three orders of magnitude or more, each cell carries its own prefix instead (unit '')."""
     present = [abs(v) for v in values_us if v is not None]
+    small = min((v for v in present if v), default=0.0)
+    if small and max(present) / small >= 1000:     # one unit would print the small ones as 0.000
+        return "", [time_text(v) if v is not None else "—" for v in values_us]
     unit, scale = _prefix(max(present, default=0.0) or 1.0)
     top = max(present, default=0.0) / scale
     decimals = max(0, 3 - (len(str(int(top))) - 1)) if top else 0

@@ -116,9 +116,9 @@ def focused(d: Drawing, first: int, last: int) -> Drawing:
     """Only the sites at positions first..last (1-based), moved to the left edge; VampcUsageError
     when there are none."""
     from vampc.errors import VampcUsageError
-    keep = {s for s, (x, _) in d.places.items() if first - 1 <= x <= last - 1}
-    if not keep:
+    if first > d.cols:
         raise VampcUsageError(f"--focus {first}:{last}: no node there (positions 1 to {d.cols})")
+    keep = {s for s, (x, _) in d.places.items() if first - 1 <= x <= last - 1}
     low = min(d.places[s][0] for s in keep)
     places = {s: (d.places[s][0] - low, d.places[s][1]) for s in keep}
     pick = lambda table: {k: v for k, v in table.items() if k[0] in keep and k[1] in keep}
@@ -282,9 +282,10 @@ def _log_places(graph, sites: list[Site]) -> tuple[dict, dict]:
 def network_svg(graph, layout, net, title: str, critical_path=(), focus=None) -> str:
     """The drawing as SVG text (`focus`: (A, B), positions A to B only)."""
     d = drawing(graph, layout, net, critical_path, focus)
-    if focus is not None:
-        title += (f" — positions {focus[0]} to {focus[1]} only" if isinstance(focus[0], int)
-                  else f" — around node {focus[0]} {focus[1]}")
+    if focus is not None and isinstance(focus[0], int):     # B beyond the last position: up to it
+        title += f" — positions {focus[0]} to {min(focus[1], focus[0] - 1 + d.cols * d.grouped)} only"
+    elif focus is not None:
+        title += f" — around node {focus[0]} {focus[1]}"
     with svg.settings():
         return _draw(d, title)
 

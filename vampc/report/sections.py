@@ -92,8 +92,9 @@ def engineering(rep: dict) -> Table:
     rows = [("utilisation", f"mean {u['mean']:.1%} of the interval ({u['busy_ticks_per_set']:,} busy VAMP-ticks "
              f"of {u['vamp_ticks_per_set']:,} per set, interval {u['interval_flops']} flops); least busy "
              f"VAMP {u['min']:.1%}, busiest {u['max']:.1%}")]
-    line = (f"{io['scalars_in_per_set']:,} scalars in ({_bits(io['bits_in_per_set'])}) and "
-            f"{io['scalars_out_per_set']:,} out ({_bits(io['bits_out_per_set'])}) per set, "
+    line = (f"{io['scalars_in_per_set']:,} scalars written into the ports per set "
+            f"({_bits(io['bits_in_per_set'])}; a value several ports read is written to each) and "
+            f"{io['scalars_out_per_set']:,} read off the outputs ({_bits(io['bits_out_per_set'])}), "
             f"{io['word_bits']}-bit words")
     if "sets_per_second" in io:
         line += (f"; at {rep['clock']['text'] if rep.get('clock') else 'the clock'}: "
@@ -101,7 +102,7 @@ def engineering(rep: dict) -> Table:
                  f"({_rate(io['bits_in_per_second'], 'bit')}), "
                  f"{_rate(io['scalars_out_per_second'], ' scalars')} out "
                  f"({_rate(io['bits_out_per_second'], 'bit')})")
-    rows.append(("host I/O", line))
+    rows.append(("host traffic", line))
     path = e["critical_path"]
     shown = " → ".join(f"{p['label']} ({p['op']}, {p['flops']})" for p in path[:8])
     if len(path) > 8:
@@ -157,7 +158,7 @@ def o1_at_n(rep: dict) -> Table:
     if clk:
         unit, times = time_column([f["time_us"] for f in t["formulas"]])
     cols = ("method", "Mults", "Addns", "flops") + (("printed O.1b", "check") if six else ()) + \
-        ((f"{unit} at {clk['text']}",) if clk else ())
+        ((f"{unit or 'time'} at {clk['text']}",) if clk else ())
     rows, notes = [], []
     for i, f in enumerate(t["formulas"]):
         row = [f["method"], exact(f["mults"]), exact(f["adds"]), exact(f["flops"])]
@@ -192,7 +193,7 @@ def o1_measured(rep: dict) -> Table:
     if clk:
         unit, times = time_column([r.get("time_us") for r in t["measured"]])
     cols = ("vampc, measured", "Mults", "Addns", "waits", "flops", "interval", "VAMPs", "paper",
-            "difference", "why") + ((f"{unit} at {clk['text']}", "sets/s") if clk else ())
+            "difference", "why") + ((f"{unit or 'time'} at {clk['text']}", "sets/s") if clk else ())
     rows = []
     for i, r in enumerate(t["measured"]):
         ref = r["paper"]
@@ -226,7 +227,7 @@ def layouts(rep: dict) -> Table:
         unit, times = time_column([r["latency_us"] for r in rep["layout_comparison"]])
     cols = ("layout", "latency", "= M + A + wait", "interval", "VAMPs", "buffer stages",
             "mux inputs", "control regs", "host writes", "load ticks") + \
-        ((f"latency {unit}", "sets/s") if clk else ())
+        ((f"latency {unit}".strip(), "sets/s") if clk else ())
     rows = []
     for i, r in enumerate(rep["layout_comparison"]):
         row = (r["layout"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']} + {r['waits']}",
