@@ -51,3 +51,10 @@ def test_the_option_and_the_page(tmp_path):
     text = out.read_text()
     assert "modulo reservation table" in text and re.search(r"12 units × 27 ticks", text)
     assert page.read_text().count("<svg") == 3 and 'id="reservation"' in page.read_text()
+
+
+def test_a_picture_named_otherwise_is_written_with_a_warning(tmp_path):
+    out = tmp_path / "r.png"
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--reservation", str(out)])
+    assert r.exit_code == 0 and "writes SVG, whatever the name says (name it .svg)" in r.output
+    assert out.read_text().lstrip().startswith("<?xml")

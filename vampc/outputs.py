@@ -65,6 +65,8 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict
             if _same(out, other):
                 raise VampcError(f"{path}: {option} and {other.option} name the same file")
         planned[option] = out
+    for option, out in planned.items():          # accepted: say when the name misleads
+        _warn_suffix(option, str(outputs[option]))
     return planned
 
 
@@ -267,3 +269,20 @@ def write_output(out: PlannedOutput, content: str | bytes, what: str) -> None:
 def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
     """Plan one output (library callers that write a single file)."""
     return plan_outputs(inputs, {option: path})[option]
+
+
+# what each picture option writes, and the names that say so
+WRITES = {"--timing": ("SVG", (".svg",)), "--network": ("SVG", (".svg",)),
+          "--reservation": ("SVG", (".svg",)), "--curve": ("SVG", (".svg",)), "--plot": ("SVG", (".svg",)),
+          "--html": ("HTML", (".html", ".htm")), "--dot": ("Graphviz DOT", (".dot", ".gv"))}
+
+
+def _warn_suffix(option: str, path: str) -> None:
+    """A one-line warning when a picture goes to a name that says otherwise (x.png gets SVG)."""
+    import warnings
+
+    from vampc.errors import VampcWarning
+    kind = WRITES.get(option)
+    if kind and path.strip() not in ("", "-") and not path.lower().endswith(kind[1]):
+        warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
+                                   f"(name it {kind[1][0]})"))
