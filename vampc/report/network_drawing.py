@@ -57,10 +57,22 @@ class Drawing:
     budget: bool = False       # a budget's VAMPs, by pass (vampc.report.network_drawing._budget_sites)
 
 
+_LAST: list = []      # the last drawing made: the DOT of a big network asks for the same one
+
+
 def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None = None) -> Drawing:
     """The drawing's content for a compiled graph, layout and network; `critical_path`: the
     schedule's critical path (node ids), whose sites are outlined; `focus`: (A, B), only the nodes
     at positions A to B (1-based, inclusive), with the buses among them."""
+    key = (graph, layout, net, tuple(critical_path), focus)
+    if _LAST and all(a is b for a, b in zip(_LAST[0][:3], key[:3])) and _LAST[0][3:] == key[3:]:
+        return _LAST[1]
+    d = _drawing(graph, layout, net, critical_path, focus)
+    _LAST[:] = [key, d]
+    return d
+
+
+def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
     if layout.grouped:
         sites = vamp_sites(graph, layout)
         places, labels = _places(graph, layout, sorted(set(sites)))
