@@ -62,9 +62,9 @@ def test_times_have_an_engineering_prefix_and_at_most_4_significant_digits(us_va
 
 def test_a_column_of_times_has_one_unit_and_one_style():
     from vampc.report.clock import time_column
-    assert time_column([5935.0, 634.85, None]) == ("ms", ["5.935", "0.635", "—"])
-    assert time_column([3.05, 2.2]) == ("µs", ["3.05", "2.20"])
-    assert time_column([118691.0, 610.0]) == ("ms", ["118.7", "0.6"])
+    assert time_column([5935.0, 634.85, None]) == ("ms", ["5.935", "0.6349", "—"])
+    assert time_column([3.05, 2.2]) == ("µs", ["3.05", "2.2"])
+    assert time_column([118691.0, 610.0]) == ("ms", ["118.7", "0.61"])
     # three orders of magnitude or more: each cell its own prefix, no 0.000
     assert time_column([5935.0, 0.2, None]) == ("", ["5.935 ms", "200 ns", "—"])
 

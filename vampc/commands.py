@@ -583,8 +583,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{source}: the retimed path has rows {step * 1e6:.4g} µs apart; the "
                              f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
                              f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
-        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} row(s) every "
-            f"{step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up", info)
+        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
+            f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
+            f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
+            f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
     ok = True
     if own.check_torques:
@@ -626,7 +628,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
     for v in res.violations[:5]:
         step, early = ahead(v.row, window)
         lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {names[v.joint]} {v.kind} "
-                     f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {early} steps "
+                     f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {count(early, 'step')} "
                      f"({early * lam * 1e3:.4g} ms) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
@@ -639,8 +641,8 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      "per row")
         lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
-                     f"{times[-1] - times[0] + lam:.6g} s); speed ṡ between rest and the "
-                     f"ends from {slowest:.4g} to {fast.max():.4g} of the path's; retimed rows by the network: "
+                     f"{times[-1] - times[0] + lam:.6g} s); ṡ (leaving out the rest at start and end) "
+                     f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
                      f"{count(len(res.retimed_violations), 'violation')}")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "

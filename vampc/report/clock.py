@@ -63,22 +63,21 @@ def time_text(us_value: float) -> str:
 
 
 def time_column(values_us) -> tuple[str, list[str]]:
-    """One unit and one number style for a column of times given in µs: the unit that puts the
-    largest at 1 to 999, every value with the decimals that give the largest 4 significant digits
-    (fewer when those are zeros). (unit, texts); None values come out as '—'. When the column spans
-    three orders of magnitude or more, each cell carries its own prefix instead (unit '')."""
+    """One unit for a column of times given in µs: the unit that puts the largest at 1 to 999, every
+    value in it with at most 4 significant digits. (unit, texts); None values come out as '—'. When
+    the column spans three orders of magnitude or more, each cell carries its own prefix instead
+    (unit '')."""
     present = [abs(v) for v in values_us if v is not None]
     small = min((v for v in present if v), default=0.0)
     if small and max(present) / small >= 1000:     # one unit would print the small ones as 0.000
         return "", [time_text(v) if v is not None else "—" for v in values_us]
     unit, scale = _prefix(max(present, default=0.0) or 1.0)
-    top = max(present, default=0.0) / scale
-    decimals = max(0, 3 - (len(str(int(top))) - 1)) if top else 0
-    texts = [_digits(v / scale, decimals) if v is not None else "—" for v in values_us]
-    while decimals and all(t == "—" or t.endswith("0") for t in texts):      # 5.500 -> 5.5
-        decimals -= 1
-        texts = [_digits(v / scale, decimals) if v is not None else "—" for v in values_us]
-    return unit, texts
+    return unit, [_four(v / scale) if v is not None else "—" for v in values_us]
+
+
+def _four(x: float) -> str:
+    """At most 4 significant digits, no exponent (the column's unit keeps x below 1000)."""
+    return f"{float(f'{x:.4g}'):g}" if x else "0"
 
 
 def margin_text(margin: float) -> str:

@@ -24,9 +24,12 @@ def engineering(c, clock_hz: float | None = None) -> dict:
     busy = [sum(duration[graph.nodes[s.node].op] for s in v.slots) for v in net.vamps]
     share = [b / interval for b in busy]
     inputs = sum(p.size for p in net.ports for _ in p.entries)
+    distinct = sum({(e.key.quantity, e.key.joint): p.size for p in net.ports for e in p.entries}.values())
     outputs = c.chain.n_outputs
     bits = word_bits(c)
-    io = {"scalars_in_per_set": inputs, "scalars_out_per_set": outputs,
+    io = {"scalars_in_per_set": inputs, "distinct_scalars_in_per_set": distinct,
+          "port_writes_per_set": sum(len(p.entries) for p in net.ports),
+          "scalars_out_per_set": outputs,
           "bits_in_per_set": bits["host_write_bits_per_set"],
           "bits_out_per_set": bits["host_read_bits_per_set"], "word_bits": bits["bits"]}
     if clock_hz is not None:
@@ -74,6 +77,8 @@ def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:
                          "seconds_per_set": median_per_set(
                              lambda k: rnea(chain, q[k:k + 1], qd[k:k + 1], qdd[k:k + 1]))}]}
     model = _pinocchio_model(chain)
+    if model is None:
+        out["not_measured"] = _why_no_pinocchio(chain)
     if model is not None:
         import pinocchio as pin
         data = model.createData()
@@ -84,6 +89,17 @@ def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:
                                 "seconds_per_set": median_per_set(
                                     lambda k: pin.rnea(model, data, pq, pv[k], pa[k]))})
     return out
+
+
+def _why_no_pinocchio(chain) -> str:
+    source = str(chain.source or "")
+    if not source.lower().endswith(".urdf"):
+        return "Pinocchio: not measured (it is timed on a URDF's own model; this robot is not one)"
+    try:
+        import pinocchio  # noqa: F401
+    except ImportError:
+        return "Pinocchio: not measured (not installed: pip install pin)"
+    return "Pinocchio: not measured (it did not load this URDF)"
 
 
 def _pinocchio_model(chain):

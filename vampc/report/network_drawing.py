@@ -55,6 +55,7 @@ class Drawing:
     grouped: int = 1           # positions per cell (1: every node drawn)
     inside: dict | None = None  # aggregated: site -> (nodes, buses within, positions "a–b")
     budget: bool = False       # a budget's VAMPs, by pass (vampc.report.network_drawing._budget_sites)
+    first: int = 0             # a focused drawing: the position its left edge shows, less one
 
 
 _LAST: list = []      # the last drawing made: the DOT of a big network asks for the same one
@@ -130,6 +131,12 @@ def focused(d: Drawing, first: int, last: int) -> Drawing:
     from vampc.errors import VampcUsageError
     if first > d.cols:
         raise VampcUsageError(f"--focus {first}:{last}: no node there (positions 1 to {d.cols})")
+    if last > d.cols:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"--focus {first}:{last}: the network has positions 1 to {d.cols}; "
+                                   f"drawing {first}:{d.cols}"))
     keep = {s for s, (x, _) in d.places.items() if first - 1 <= x <= last - 1}
     low = min(d.places[s][0] for s in keep)
     places = {s: (d.places[s][0] - low, d.places[s][1]) for s in keep}
@@ -139,7 +146,7 @@ def focused(d: Drawing, first: int, last: int) -> Drawing:
     return Drawing(places, {s: d.labels[s] for s in keep}, Counter({s: d.vamps[s] for s in keep}),
                    pick(d.buses), pick(d.buffered), ports, [(j, s) for j, s in d.outputs if s in keep],
                    max(y for _, y in places.values()) + 1, max(x for x, _ in places.values()) + 1,
-                   frozenset(d.critical & keep))
+                   frozenset(d.critical & keep), first=low)
 
 
 class Group(NamedTuple):
@@ -180,7 +187,7 @@ def aggregate(d: Drawing) -> Drawing:
         buffered[key] = (got[0] + n, max(got[1], deep), got[2] + chains)
     inside, labels = {}, {}
     for g, ss in members.items():
-        xs = sorted(d.places[s][0] for s in ss)
+        xs = sorted(d.places[s][0] + d.first for s in ss)
         span = f"{xs[0] + 1}–{xs[-1] + 1}" if xs[0] != xs[-1] else f"{xs[0] + 1}"
         inside[g] = (len(ss), within[g], span)
         labels[g] = f"{g.section} ×{len(ss)}\npos {span}"
@@ -334,7 +341,8 @@ def _draw(d: Drawing, title: str) -> str:
     _outputs(ax, d, titles)
     if d.grouped > 1:
         title += (f" — {sum(i[0] for k, i in d.inside.items() if k != '_outputs'):,} nodes in "
-                  f"groups of {d.grouped} positions (--focus A:B draws positions A to B node by node)")
+                  f"groups of {d.grouped} positions (--focus A:B with at most {MAX_COLS} positions "
+                  "draws them node by node)")
     ax.set_title(title.replace(": ", ":\n", 1), loc="left", fontsize=9, pad=26)
     fig.text(MARGIN_PX / width, 8 / height,
              ("circles: groups of nodes (×: nodes, pos: positions, V: VAMPs)" if d.grouped > 1 else
@@ -475,8 +483,8 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
             taken.append((x, y))
         segments += [[(xa, ya), (x, y)], [(x, y), (xb, yb)]]
         shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
-                            f"delay buffers from {a.label} to {b.label}: {chains} chains, {buses} "
-                            f"taps, up to stage {deepest}"))
+                            f"delay buffers from {a.label} to {b.label}: {chains} chain{'s' * (chains != 1)}, "
+                            f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}"))
     _lines(ax, segments, "wires-buffered", "#8c6d31", 0.6, 1)
     style = {"facecolor": "#fff7bc", "edgecolor": "#8c6d31", "linewidth": 0.6, "zorder": 2}
     if _shapes(ax, shapes, "buffers", style, titles):

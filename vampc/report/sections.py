@@ -92,8 +92,9 @@ def engineering(rep: dict) -> Table:
     rows = [("utilisation", f"mean {u['mean']:.1%} of the interval ({u['busy_ticks_per_set']:,} busy VAMP-ticks "
              f"of {u['vamp_ticks_per_set']:,} per set, interval {u['interval_flops']} flops); least busy "
              f"VAMP {u['min']:.1%}, busiest {u['max']:.1%}")]
-    line = (f"{io['scalars_in_per_set']:,} scalars written into the ports per set "
-            f"({_bits(io['bits_in_per_set'])}; a value several ports read is written to each) and "
+    line = (f"{io['scalars_in_per_set']:,} scalars written per set in {io.get('port_writes_per_set', 0):,} "
+            f"port writes ({_bits(io['bits_in_per_set'])}): {io.get('distinct_scalars_in_per_set', 0):,} "
+            "distinct input scalars, a value several ports read written to each; and "
             f"{io['scalars_out_per_set']:,} read off the outputs ({_bits(io['bits_out_per_set'])}), "
             f"{io['word_bits']}-bit words")
     if "sets_per_second" in io:
@@ -107,7 +108,10 @@ def engineering(rep: dict) -> Table:
     shown = " → ".join(f"{p['label']} ({p['op']}, {p['flops']})" for p in path[:8])
     if len(path) > 8:
         shown += f" → … → {path[-1]['label']} ({path[-1]['op']}, {path[-1]['flops']})"
-    rows.append(("critical path", f"{len(path)} ops, {sum(p['flops'] for p in path)} flops: {shown}"))
+    data = sum(p["flops"] for p in path)
+    waits = rep["latency"].get("waits") or 0
+    rows.append(("critical path", f"the data path, {len(path)} ops, {data} flops"
+                 + (f" (latency {data + waits} with {waits} waiting)" if waits else "") + f": {shown}"))
     rows.append(("storage", f"data registers {_bits(bits['data_register_bits'])}, control registers "
                  f"{_bits(bits['control_register_bits'])}, microcode ROM {_bits(bits['rom_bits'])}, delay "
                  f"lines {_bits(bits['delay_line_bits'])}, constants {_bits(bits['constant_bits'])}, "
@@ -126,6 +130,8 @@ def engineering(rep: dict) -> Table:
                          f"{_ratio(ratio[0])}), its interval {time_text(c['interval_us'])} (CPU / "
                          f"network {_ratio(ratio[1])})")
             rows.append(("CPU reference", f"{m['what']}: {text}"))
+        if cpu.get("not_measured"):
+            rows.append(("CPU reference", cpu["not_measured"]))
         notes.append(f"CPU reference: measured on this machine ({cpu['machine']}), the median of 3 runs "
                      f"of {cpu['sets']} random sets one at a time; it varies from run to run")
     return Table("engineering", "Engineering figures", ("figure", "value"), tuple(rows), tuple(notes),
