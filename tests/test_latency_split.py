@@ -41,8 +41,8 @@ def longest_path(graph, timing) -> int:
     return max(-length[o.node] for o in graph.outputs)
 
 
-def check(robot: str, options: dict) -> None:
-    c = compile_chain(load_robot(EXAMPLES / robot), CompileOptions(**options))
+def check(robot: str, options: dict, chain=None) -> None:
+    c = compile_chain(chain or load_robot(EXAMPLES / robot), CompileOptions(**options))
     s, t = c.schedule, c.schedule.timing
     lat = summary(c)["latency"]
     data_path = lat["mults"] * t.mult + lat["adds"] * t.add
@@ -55,10 +55,12 @@ def check(robot: str, options: dict) -> None:
     assert sum(t.duration(c.graph.nodes[i].op) for i in path) == data_path
 
 
-@pytest.mark.parametrize("options", CONFIGS, ids=lambda o: "-".join(str(v) for v in o.values()))
 @pytest.mark.parametrize("robot", ROBOTS)
-def test_every_layout_splits_its_latency_into_the_data_path_and_waiting(robot, options):
-    check(robot, options)
+def test_every_layout_splits_its_latency_into_the_data_path_and_waiting(robot):
+    """Every layout and recursion of one robot (one test per robot: the URDF is read once)."""
+    chain = load_robot(EXAMPLES / robot)
+    for options in CONFIGS:
+        check(robot, options, chain)
 
 
 @pytest.mark.parametrize("robot, options", BUDGETS, ids=lambda x: x if isinstance(x, str) else

@@ -14,7 +14,7 @@ from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain
 from vampc.emulator.host import port_values, random_trajectory
 from vampc.emulator.load import loaded_from_compiled
-from vampc.report.build import build_report
+from vampc.report.engineering import engineering
 from vampc.robot import load_robot
 from vampc.schedule.budget import work
 
@@ -24,7 +24,7 @@ from vampc.schedule.budget import work
                          ids=["systolic", "folded", "log", "budget7", "log-folded-shared"])
 def test_utilisation_host_io_and_critical_path(options):
     c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(**options))
-    e = build_report(c, 20e6)["engineering"]
+    e = engineering(c, 20e6)
     u = e["utilisation"]
     w = work(c.graph, c.schedule.timing)
     assert u["busy_ticks_per_set"] == w
