@@ -18,9 +18,9 @@ from vampc.report import reservation
 from vampc.robot import load_robot
 
 
-@pytest.mark.parametrize("options", [dict(vamps=12), dict(vamps=7, recursion="log"), dict(layout="folded"),
+@pytest.mark.parametrize("options", [dict(vamps=7, recursion="log"),
                                      dict(layout="folded", share_passes=True, recursion="log"), dict()],
-                         ids=["budget12", "log-budget7", "folded", "log-folded-shared", "systolic"])
+                         ids=["log-budget7", "log-folded-shared", "systolic"])
 def test_every_op_once_and_no_unit_does_two_things_at_once(options, monkeypatch):
     c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(**options))
     P = c.schedule.interval
