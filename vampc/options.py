@@ -441,7 +441,8 @@ class LookaheadOptions:
         "lookahead)."))
     futures: int | None = field(default=None, metadata=cli(
         "--futures", range=(1, 1 << 16), metavar="R", help="With --retime window: R registers of "
-        "--window rows side by side, end to end, so the host sees R × M rows ahead (default 1)."))
+        "--window rows chained end to end, so the host sees R × M rows ahead (default 1): a longer "
+        "look-ahead (README, vampc lookahead)."))
     check_torques: bool = field(default=False, metadata=cli(
         "--check", help="Compare every row's torques with the reference Newton-Euler, and with "
         "--retime every retimed row's torques (by the reference) with the limits; exit 1 if not."))
@@ -524,8 +525,8 @@ class ReportOptions:
         "the folded and systolic layouts: latency, interval, buffers and wiring per point, bounds "
         "and gaps, Pareto-optimal points marked."))
     clock: str | None = field(default=None, metadata=cli(
-        "--clock", metavar="F", help="Clock rate, one flop per tick (Hz, kHz, MHz, GHz: 20MHz): adds "
-        "latency in µs and torque sets per second to every figure."))
+        "--clock", metavar="F", help="Clock rate, one flop per tick, with its unit (Hz, kHz, MHz, GHz: "
+        "20MHz; a bare number is refused): adds times and torque sets per second to every figure."))
     pins: int | None = field(default=None, metadata=cli(
         "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
         "the paper's 40)."))
