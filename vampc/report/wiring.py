@@ -12,7 +12,6 @@ import re
 from collections import Counter
 
 from vampc.kinds import Pass, Recursion, Section, TapKind, exhaustive
-from vampc.network.model import tap_source
 from vampc.report import paper
 from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
@@ -129,20 +128,31 @@ def buses(graph, layout, net) -> dict:
     wires: dict = {}
     b2f_values, b2f_wires = set(), set()
     source = [b.source for b in net.buffers]
-    for v, tap, arg, _ in _reads(graph, net):
-        src = tap_source(tap, source)
-        if src is None:           # the host's ports and constants are no bus between sites
-            continue
-        there = sites[src]
-        here = sites[v]
-        if there == here:
-            continue
-        if Pass.of(there[0]) != Pass.of(here[0]):
-            b2f_values.add((arg, here))
-            b2f_wires.add((tap.kind, tap.index, tap.stage, here))
-        elif there[0] == here[0]:
-            values.setdefault(here, set()).add(arg)
-            wires.setdefault(here, set()).add((tap.kind, tap.index, tap.stage))
+    passes = {site: Pass.of(site[0]) for site in set(sites)}
+    vamp, buffer = TapKind.VAMP, TapKind.BUFFER
+    nodes = graph.nodes
+    for v in net.vamps:             # every operand tap of every slot (as _reads yields them)
+        here = sites[v.index]
+        here_pass = passes[here]
+        for sl in v.slots:
+            args = nodes[sl.node].args
+            for operand, arg in ((v.a[sl.sel_a], args[0]), (v.b[sl.sel_b], args[1])):
+                for tap in operand.taps:
+                    kind = tap.kind
+                    if kind is vamp:      # the host's ports and constants are no bus between sites
+                        there = sites[tap.index]
+                    elif kind is buffer:
+                        there = sites[source[tap.index]]
+                    else:
+                        continue
+                    if there == here:
+                        continue
+                    if passes[there] != here_pass:
+                        b2f_values.add((arg, here))
+                        b2f_wires.add((kind, tap.index, tap.stage, here))
+                    elif there[0] == here[0]:
+                        values.setdefault(here, set()).add(arg)
+                        wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
     def vectors(ids) -> int:          # a matrix value travels as three vectors (its columns)
         return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
     return {"between_nodes": {s: {"vectors": max((vectors(x) for site, x in values.items()
