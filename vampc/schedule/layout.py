@@ -303,30 +303,44 @@ class _Timeline:
 
     def add(self, start: int, finish: int) -> None:
         """Mark [start, finish) busy and the block `finish` (its dump shows then) taken."""
-        _grow(self.busy, finish)
-        self.busy[start:finish] = b"\x01" * (finish - start)
+        busy, shown = self.busy, self.shown
+        if len(busy) < finish:                       # grown in line: this runs once per op
+            busy.extend(bytes(finish - len(busy)))
+        busy[start:finish] = b"\x01" * (finish - start)
         block = finish // self.clock
-        _grow(self.shown, block + 1)
-        self.shown[block] = 1
+        if len(shown) <= block:
+            shown.extend(bytes(block + 1 - len(shown)))
+        shown[block] = 1
 
 
-def _grow(buf: bytearray, size: int) -> None:
-    if len(buf) < size:
-        buf.extend(bytes(size - len(buf)))
+_ZEROS = [bytes(k) for k in range(64)]
 
 
 def _find_free(buf: bytearray, start: int, length: int) -> int:
     """The first index >= start of `length` zero bytes (beyond the end everything is zero)."""
-    _grow(buf, start + length)
-    at = buf.find(bytes(length), start)
+    if len(buf) < start + length:                    # grown in line: millions of calls
+        buf.extend(bytes(start + length - len(buf)))
+    at = buf.find(_ZEROS[length] if length < 64 else bytes(length), start)
     if at >= 0:
         return at
     last = buf.rfind(1, start)
     return start if last < 0 else last + 1
 
 
+_HEIGHTS: list = []
+
+
 def _heights(graph: Graph, duration) -> list[int]:
-    """Longest path (ticks) from each node to the end of any output (the list priority)."""
+    """Longest path (ticks) from each node to the end of any output (the list priority); the last
+    answer is kept (a report's folded and shared-pass layouts list-schedule the same graph)."""
+    if _HEIGHTS and _HEIGHTS[0] is graph and _HEIGHTS[1] == duration:
+        return _HEIGHTS[2]
+    height = _longest_to_end(graph, duration)
+    _HEIGHTS[:] = [graph, dict(duration) if isinstance(duration, dict) else duration, height]
+    return height
+
+
+def _longest_to_end(graph: Graph, duration) -> list[int]:
     height = [0] * len(graph.nodes)
     for nd in reversed(graph.nodes):
         d = duration[nd.op]
