@@ -195,7 +195,7 @@ def precision(ctx, source, **params):
 @handle_errors
 def lookahead(ctx, source, **params):
     """The torque shift register of section VIII over a path: every row's torques, limits seen before
-    the arm gets there, and uniform time scaling (README, vampc lookahead)."""
+    the arm gets there, and time scaling, uniform or window by window (README, vampc lookahead)."""
     from vampc.commands import lookahead_command
     if not lookahead_command(source, build(LookaheadOptions, ctx, params), build(
             CompileOptions, ctx, params), build(RobotOptions, ctx, params), params, say):

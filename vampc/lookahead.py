@@ -262,8 +262,9 @@ PLAN_MARGIN = 1e-9
 
 
 def _stage(a, b, c, L):
-    """Each row's effort limits as bounds on u affine in x: u >= p + r x and u <= P + R x per joint
-    (±inf where a joint's a is zero), and the bound on x alone from those joints."""
+    """Each row's effort limits as bounds on u affine in x: u >= p + r x and u <= P + r x per joint
+    (±inf where a joint's a is zero; both bounds of a joint share the slope r = -b/a), and the
+    bound on x alone from those joints."""
     lo, hi = -L - c, L - c
     tiny = np.abs(a) <= 1e-12 * (np.abs(b) + np.abs(c) + L)
     sa = np.where(tiny, 1.0, a)
@@ -272,10 +273,10 @@ def _stage(a, b, c, L):
     P = np.where(tiny, np.inf, np.where(a > 0, hi, lo) / sa)
     with np.errstate(divide="ignore", invalid="ignore"):
         alone = np.where(tiny & (b > 0), hi / b, np.where(tiny & (b < 0), lo / b, np.inf))
-    return p, r, P, r.copy(), np.min(alone, axis=-1)
+    return p, r, P, np.min(alone, axis=-1)
 
 
-def _largest_x(p, r, P, R, cap, H, two_d):
+def _largest_x(p, r, P, cap, H, two_d):
     """Per row (leading axes): the largest x in [0, cap] with some u within the effort bounds and
     0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval holding 0, so its top
     is the least root among the pairs (lower bound, upper bound) that cross."""
@@ -283,7 +284,7 @@ def _largest_x(p, r, P, R, cap, H, two_d):
     lp = np.concatenate([p, np.zeros(shape)], -1)
     lr = np.concatenate([r, np.full(shape, -1.0 / two_d)], -1)
     up = np.concatenate([P, (H / two_d)[..., None]], -1)
-    ur = np.concatenate([R, np.full(shape, -1.0 / two_d)], -1)
+    ur = np.concatenate([r, np.full(shape, -1.0 / two_d)], -1)
     gap = lp[..., :, None] - up[..., None, :]
     slope = lr[..., :, None] - ur[..., None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -303,7 +304,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float):
     a, b, c = a[:, :n], b[:, :n], c[:, :n]
     L = np.array(limits.tau) * (1 - PLAN_MARGIN)
     two_d = 2.0 * lam
-    p, r, P, R, cap = _stage(a, b, c, L)
+    p, r, P, cap = _stage(a, b, c, L)
     for j, v in enumerate(limits.qd):
         if v is not None:
             with np.errstate(divide="ignore"):
@@ -317,12 +318,12 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float):
         if not act.any():
             break
         jj = np.where(act, j, 0)
-        H = np.where(act, _largest_x(p[jj], r[jj], P[jj], R[jj], cap[jj], H, two_d), H)
+        H = np.where(act, _largest_x(p[jj], r[jj], P[jj], cap[jj], H, two_d), H)
     H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
     x, u = np.zeros(n_rows), np.zeros(n_rows)
     for i in range(n_rows - 1):
         xi = x[i]
-        up = float(np.min(P[i] + R[i] * xi))
+        up = float(np.min(P[i] + r[i] * xi))
         low = float(np.max(p[i] + r[i] * xi))
         nxt = max(0.0, min(xi + two_d * up, float(H[i])))
         ui = (nxt - xi) / two_d

@@ -30,12 +30,21 @@ def parse_clock(text: str) -> float:
     return hz
 
 
+SI = (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0))
+
+
+def si_text(x: float, unit: str) -> str:
+    """x with a G, M or k prefix to `unit` and at most 4 significant digits: si_text(2e7, "Hz") is
+    '20 MHz', si_text(1.26e9, " scalars/s") '1.26 G scalars/s', si_text(12, " scalars/s")
+    '12 scalars/s'."""
+    for prefix, scale in SI:
+        if x >= scale or not prefix:
+            return f"{float(f'{x / scale:.4g}'):g} {(prefix + unit).strip()}"
+
+
 def hz_text(hz: float) -> str:
     """'20 MHz', '1.5 GHz', '500 kHz', '60 Hz', '327.9 kHz', '0.3279 Hz'."""
-    for unit, scale in (("GHz", 1e9), ("MHz", 1e6), ("kHz", 1e3)):
-        if hz >= scale:
-            return f"{float(f'{hz / scale:.4g}'):g} {unit}"
-    return f"{float(f'{hz:.4g}'):g} Hz"
+    return si_text(hz, "Hz")
 
 
 PREFIXES = (("s", 1e6), ("ms", 1e3), ("µs", 1.0), ("ns", 1e-3), ("ps", 1e-6))
@@ -47,10 +56,6 @@ def _prefix(us_value: float) -> tuple[str, float]:
         if abs(us_value) >= scale:
             return unit, scale
     return PREFIXES[-1]
-
-
-def _digits(x: float, decimals: int) -> str:
-    return f"{x:,.{decimals}f}"
 
 
 def time_text(us_value: float) -> str:

@@ -76,10 +76,10 @@ def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:
            "measured": [{"what": "vampc's reference Newton-Euler (numpy), one set at a time",
                          "seconds_per_set": median_per_set(
                              lambda k: rnea(chain, q[k:k + 1], qd[k:k + 1], qdd[k:k + 1]))}]}
-    model = _pinocchio_model(chain)
+    model, why = _pinocchio_model(chain)
     if model is None:
-        out["not_measured"] = _why_no_pinocchio(chain)
-    if model is not None:
+        out["not_measured"] = f"Pinocchio: not measured ({why})"
+    else:
         import pinocchio as pin
         data = model.createData()
         pq = pin.neutral(model)
@@ -91,27 +91,19 @@ def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:
     return out
 
 
-def _why_no_pinocchio(chain) -> str:
-    source = str(chain.source or "")
-    if not source.lower().endswith(".urdf"):
-        return "Pinocchio: not measured (it is timed on a URDF's own model; this robot is not one)"
-    try:
-        import pinocchio  # noqa: F401
-    except ImportError:
-        return "Pinocchio: not measured (not installed: pip install pin)"
-    return "Pinocchio: not measured (it did not load this URDF)"
-
-
 def _pinocchio_model(chain):
-    """Pinocchio's model of the robot's URDF (fixed base), or None: no `pin`, not a URDF."""
+    """(Pinocchio's model of the robot's URDF, fixed base, "") or (None, why not)."""
     source = str(chain.source or "")
     if not source.lower().endswith(".urdf"):
-        return None
+        return None, "it is timed on a URDF's own model; this robot is not one"
     try:
         import pinocchio as pin
-        return pin.buildModelFromUrdf(source)
-    except Exception:          # pin missing or refusing the file: the figure is left out
-        return None
+    except ImportError:
+        return None, "not installed: pip install pin"
+    try:
+        return pin.buildModelFromUrdf(source), ""
+    except Exception:          # pin refusing the file: the figure is left out, and said so
+        return None, "it did not load this URDF"
 
 
 def _machine() -> str:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from vampc.machine.ops import colours
 from vampc.report import svg
-from vampc.report.sites import unit_nodes
+from vampc.report.sites import unit_nodes, unit_sizes
 
 MAX_ROWS = 110          # rows drawn one by one at most: 110 × 12 pt keeps the table within 1 500 pt
 ROW_PT, LEFT_PT, TOP_PT, BOTTOM_PT, RIGHT_PT, MAX_PLOT_PT = 12, 150, 70, 40, 30, 1200.0
@@ -31,7 +31,7 @@ def rows(graph, layout, sched) -> list[tuple[str, list[tuple[int, int, int, int]
     P = sched.interval
     duration = sched.timing.durations
     out = []
-    sizes = _sizes(layout)
+    sizes = unit_sizes(layout)
     first = 0
     for unit, ids in enumerate(unit_nodes(graph, layout)):
         size = sizes[unit]
@@ -40,11 +40,6 @@ def rows(graph, layout, sched) -> list[tuple[str, list[tuple[int, int, int, int]
         out.append((label, [(i, sched.start[i] % P, duration[graph.nodes[i].op], sched.start[i] // P)
                             for i in ids]))
     return out
-
-
-def _sizes(layout) -> list[int]:
-    from vampc.report.sites import unit_sizes
-    return unit_sizes(layout)
 
 
 def _draw(graph, layout, sched, title: str) -> str:

@@ -9,6 +9,7 @@ from vampc.report.clock import (
     hz_text,
     margin_text,
     sets_text,
+    si_text,
     time_column,
     time_text,
 )
@@ -66,19 +67,13 @@ def tables(rep: dict) -> list[Table]:
 
 
 def _bits(x: int) -> str:
-    """'1,536 bits (192 B)', '3.1 Mbit (393 kB)'."""
-    for unit, scale in (("Gbit", 1e9), ("Mbit", 1e6), ("kbit", 1e3)):
-        if x >= scale:
-            return f"{x / scale:.4g} {unit}"
-    return f"{x:,} bits"
+    """'384 bits', '16.13 kbit', '3.1 Mbit'."""
+    return si_text(x, "bit") if x >= 1000 else f"{x:,} bits"
 
 
 def _rate(x: float, what: str) -> str:
     """'270 M scalars/s', '17.28 Gbit/s'."""
-    for unit, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
-        if x >= scale:
-            return f"{x / scale:.4g} {unit}{what}/s"
-    return f"{x:.4g} {what}/s"
+    return si_text(x, f"{what}/s")
 
 
 def _ratio(x: float) -> str:

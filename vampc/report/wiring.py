@@ -130,29 +130,23 @@ def buses(graph, layout, net) -> dict:
     source = [b.source for b in net.buffers]
     passes = {site: Pass.of(site[0]) for site in set(sites)}
     vamp, buffer = TapKind.VAMP, TapKind.BUFFER
-    nodes = graph.nodes
-    for v in net.vamps:             # every operand tap of every slot (as _reads yields them)
-        here = sites[v.index]
-        here_pass = passes[here]
-        for sl in v.slots:
-            args = nodes[sl.node].args
-            for operand, arg in ((v.a[sl.sel_a], args[0]), (v.b[sl.sel_b], args[1])):
-                for tap in operand.taps:
-                    kind = tap.kind
-                    if kind is vamp:      # the host's ports and constants are no bus between sites
-                        there = sites[tap.index]
-                    elif kind is buffer:
-                        there = sites[source[tap.index]]
-                    else:
-                        continue
-                    if there == here:
-                        continue
-                    if passes[there] != here_pass:
-                        b2f_values.add((arg, here))
-                        b2f_wires.add((kind, tap.index, tap.stage, here))
-                    elif there[0] == here[0]:
-                        values.setdefault(here, set()).add(arg)
-                        wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
+    for v, tap, arg, _ in _reads(graph, net):
+        kind = tap.kind
+        if kind is vamp:          # (tap_source in line) the host's ports and constants are no bus
+            there = sites[tap.index]
+        elif kind is buffer:
+            there = sites[source[tap.index]]
+        else:
+            continue
+        here = sites[v]
+        if there == here:
+            continue
+        if passes[there] != passes[here]:
+            b2f_values.add((arg, here))
+            b2f_wires.add((kind, tap.index, tap.stage, here))
+        elif there[0] == here[0]:
+            values.setdefault(here, set()).add(arg)
+            wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
     def vectors(ids) -> int:          # a matrix value travels as three vectors (its columns)
         return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
     return {"between_nodes": {s: {"vectors": max((vectors(x) for site, x in values.items()
