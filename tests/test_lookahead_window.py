@@ -11,6 +11,7 @@ import re
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from test_lookahead import LIMITS, write_path
 
 from vampc.cli import main
 from vampc.dynamics.reference import rnea
@@ -18,7 +19,6 @@ from vampc.lookahead import Limits, window_plan
 from vampc.robot import load_robot
 
 PUMA = "examples/puma560.yaml"
-LIMITS = "joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\nflange,1,4\n"
 LIM = np.array([10, 60, 20, 1, 1, 1.0])
 RATE = 1000.0
 
@@ -38,19 +38,13 @@ def bump_path(T: float = 0.6, centre: float = 0.3):
     return t, q, qd, qdd
 
 
-def write_path(path, t, q, qd, qdd):
-    head = ",".join(["t"] + [f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7)])
-    np.savetxt(path, np.column_stack([t, q, qd, qdd]), delimiter=",", header=head, comments="", fmt="%.17g")
-    return path
-
-
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     folder = tmp_path_factory.mktemp("law")
     program = folder / "puma.vamp.json"
     assert CliRunner().invoke(main, ["compile", PUMA, "-o", str(program)]).exit_code == 0
     (folder / "lim.csv").write_text(LIMITS)
-    return folder, program, folder / "lim.csv", write_path(folder / "path.csv", *bump_path())
+    return folder, program, folder / "lim.csv", write_path(folder, *bump_path())
 
 
 def retime(setup, *extra, name="w.csv"):
@@ -178,7 +172,7 @@ def test_a_retimed_path_faster_than_the_network_is_refused(setup, tmp_path):
     """Rows closer together than λ need the network sooner: --clock checks the retimed intervals."""
     folder, program, limits, _ = setup
     t, q, qd, qdd = bump_path()
-    slow = write_path(tmp_path / "slow.csv", t, q, qd * 0.05, qdd * 0.0025)    # far below the limits
+    slow = write_path(tmp_path, t, q, qd * 0.05, qdd * 0.0025, "slow.csv")    # far below the limits
     out = tmp_path / "never.csv"
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(slow), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(limits), "--retime", "window",
