@@ -247,24 +247,28 @@ def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, c
     torque set at a time: the period is the span of a set rounded up to a multiple of `clock`."""
     duration = timing.durations
     nodes = graph.nodes
-    height = _heights(graph, duration)
-    # urgent first: by the latest start that keeps the ASAP latency (a topological order), so an op
-    # with slack never takes a unit from one on the critical path
-    order = sorted((nd.id for nd in nodes if nd.op.is_compute),
-                   key=lambda i: (-height[i] - duration[nodes[i].op], asap.start[i], i))
-    start = list(asap.start)
-    finish = list(asap.finish)
-    busy = [_Timeline(clock) for _ in sizes]
-    is_compute = [nd.op.is_compute for nd in nodes]
-    for i in order:
-        nd = nodes[i]
-        ready = asap.start[i]
-        for a in nd.args:          # (a loop, not max() of a list: this runs once per op)
-            if is_compute[a] and finish[a] > ready:
-                ready = finish[a]
-        t = busy[units[i]].earliest(ready, duration[nd.op])
-        start[i], finish[i] = t, t + duration[nd.op]
-        busy[units[i]].add(t, finish[i])
+    height, arrays = _heights(graph, duration)
+    placed = arrays is not None and _native_schedule(arrays, height, asap, units, sizes, clock)
+    if placed:
+        start, finish, order = placed
+    else:
+        # urgent first: by the latest start that keeps the ASAP latency (a topological order), so
+        # an op with slack never takes a unit from one on the critical path
+        order = sorted((nd.id for nd in nodes if nd.op.is_compute),
+                       key=lambda i: (-height[i] - duration[nodes[i].op], asap.start[i], i))
+        start = list(asap.start)
+        finish = list(asap.finish)
+        busy = [_Timeline(clock) for _ in sizes]
+        is_compute = [nd.op.is_compute for nd in nodes]
+        for i in order:
+            nd = nodes[i]
+            ready = asap.start[i]
+            for a in nd.args:          # (a loop, not max() of a list: this runs once per op)
+                if is_compute[a] and finish[a] > ready:
+                    ready = finish[a]
+            t = busy[units[i]].earliest(ready, duration[nd.op])
+            start[i], finish[i] = t, t + duration[nd.op]
+            busy[units[i]].add(t, finish[i])
     latency = max(finish[o.node] for o in graph.outputs)
     span = max(finish[i] for i in order) + 1      # ops no torque reads may finish after the last
     period = -(-span // clock) * clock
@@ -330,14 +334,40 @@ def _find_free(buf: bytearray, start: int, length: int) -> int:
 _HEIGHTS: list = []
 
 
-def _heights(graph: Graph, duration) -> list[int]:
-    """Longest path (ticks) from each node to the end of any output (the list priority); the last
-    answer is kept (a report's folded and shared-pass layouts list-schedule the same graph)."""
+def _heights(graph: Graph, duration) -> tuple[list[int], object]:
+    """Longest path (ticks) from each node to the end of any output (the list priority), and the
+    graph's arrays when it is big enough to be list-scheduled in C (vampc.schedule.native; else
+    None); the last answer is kept (a report's folded and shared-pass layouts list-schedule the
+    same graph)."""
     if _HEIGHTS and _HEIGHTS[0] is graph and _HEIGHTS[1] == duration:
-        return _HEIGHTS[2]
-    height = _longest_to_end(graph, duration)
-    _HEIGHTS[:] = [graph, dict(duration) if isinstance(duration, dict) else duration, height]
-    return height
+        return _HEIGHTS[2], _HEIGHTS[3]
+    from vampc.schedule import native
+    height = arrays = None
+    if native.wanted(sum(1 for nd in graph.nodes if nd.op.is_compute)):
+        arrays = native.Arrays(graph, duration)
+        height = native.longest_to_end(graph, duration, arrays)
+        if height is None:            # no C compiler here: the Python loops
+            arrays = None
+    if height is None:
+        height = _longest_to_end(graph, duration)
+    _HEIGHTS[:] = [graph, dict(duration) if isinstance(duration, dict) else duration, height,
+                   arrays]
+    return height, arrays
+
+
+def _native_schedule(arrays, height, asap: Schedule, units, sizes, clock: int):
+    """schedule_bound's order and loop in C: (start, finish, order), or None without the library.
+    The order is the Python loop's: by (-height - duration, ASAP start, node id)."""
+    import numpy as np
+
+    from vampc.schedule import native
+    ids = np.flatnonzero(arrays.is_compute)
+    urgency = -(np.asarray(height, dtype=np.int64)[ids] + arrays.dur[ids])
+    order = ids[np.lexsort((ids, np.asarray(asap.start, dtype=np.int64)[ids], urgency))]
+    placed = native.list_schedule(arrays, order, asap, units, len(sizes), clock)
+    if placed is None:
+        return None
+    return placed[0], placed[1], order.tolist()
 
 
 def _longest_to_end(graph: Graph, duration) -> list[int]:
