@@ -60,3 +60,75 @@ def test_program_and_fan_out(puma):
     assert w["program"]["load_ticks"] == 527 and w["program"]["words"] > len(c.network.vamps)
     assert w["configuration"] == "linear, folded" and w["max_fan_out"] >= 1
     assert {r["configuration"] for r in w["by_configuration"]} >= {"linear, systolic", "log, folded"}
+
+
+# --- the figures counted with numpy against a plain count over sets, tap by tap -----------------
+
+def _taps(graph, net):
+    for v in net.vamps:
+        for s in v.slots:
+            args = graph.nodes[s.node].args
+            for operand, arg in ((v.a[s.sel_a], args[0]), (v.b[s.sel_b], args[1])):
+                for tap in operand.taps:
+                    yield v.index, tap, arg, s.node
+
+
+def _by_sets(graph, layout, net):
+    """(between_nodes, backward_to_forward, by_flow) counted the plain way."""
+    from vampc.kinds import Pass, TapKind
+    from vampc.report.sites import vamp_sites
+    from vampc.report.wiring import origin_pass
+    sites = vamp_sites(graph, layout)
+    source = [b.source for b in net.buffers]
+    values, wires, b2f_values, b2f_wires = {}, {}, set(), set()
+    early = early_forward(graph)
+    deepest = {}
+    for v, tap, arg, node in _taps(graph, net):
+        if tap.kind is TapKind.BUFFER and tap.stage > deepest.get(tap.index, (0, ""))[0]:
+            src, dst = origin_pass(graph, early, arg), Pass.of(graph.nodes[node].section)
+            deepest[tap.index] = (tap.stage, f"within_{src}" if src == dst else "backward_to_forward")
+        if tap.kind not in (TapKind.VAMP, TapKind.BUFFER):
+            continue
+        there = sites[tap.index if tap.kind is TapKind.VAMP else source[tap.index]]
+        here = sites[v]
+        if there == here:
+            continue
+        if Pass.of(there.section) != Pass.of(here.section):
+            b2f_values.add((arg, here))
+            b2f_wires.add((tap.kind, tap.index, tap.stage, here))
+        elif there.section == here.section:
+            values.setdefault(here, set()).add(arg)
+            wires.setdefault(here, set()).add((tap.kind, tap.index, tap.stage))
+
+    def vectors(ids):
+        return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
+    between = {s: {"vectors": max((vectors(x) for site, x in values.items() if site.section == s),
+                                  default=0),
+                   "wires": max((len(x) for site, x in wires.items() if site.section == s),
+                                default=0)} for s in ("bwd", "fwd")}
+    flows = {k: {"chains": 0, "stages": 0, "scalars": 0}
+             for k in ("within_backward", "backward_to_forward", "within_forward")}
+    for b in net.buffers:
+        cls = flows[deepest.get(b.index, (0, "within_backward"))[1]]
+        cls["chains"] += 1
+        cls["stages"] += b.stages
+        cls["scalars"] += 3 * b.stages
+    return between, {"vectors": vectors(a for a, _ in b2f_values), "wires": len(b2f_wires)}, flows
+
+
+@pytest.mark.parametrize("robot,opts", [
+    ("puma560.yaml", {}), ("puma560.yaml", {"recursion": "log"}),
+    ("puma560.yaml", {"layout": "folded"}),
+    ("quadruped.urdf", {"recursion": "log", "layout": "folded", "share_passes": True}),
+    ("puma560.yaml", {"recursion": "log", "layout": "folded"}),
+    ("puma560.yaml", {"vamps": 12}),
+    ("quadruped.urdf", {"recursion": "log"}), ("quadruped.urdf", {"layout": "folded"}),
+    ("snake64.yaml", {"recursion": "log"})])
+def test_numpy_counts_equal_a_plain_count(robot, opts):
+    from vampc.report.wiring import buses, delay_buffers
+    c = compile_chain(load_robot(EXAMPLES / robot), CompileOptions(**opts))
+    between, b2f, flows = _by_sets(c.graph, c.layout, c.network)
+    got = buses(c.graph, c.layout, c.network)
+    assert got["between_nodes"] == between and got["backward_to_forward"] == b2f
+    assert delay_buffers(c.graph, c.network)["by_flow"] == flows
+    assert b2f["wires"] + between["bwd"]["wires"] + between["fwd"]["wires"] > 0   # something to count

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 from vampc import jsontext
 from vampc.kinds import Section
+from vampc.memo import keep_last
 from vampc.schedule.layout import device_nodes
 from vampc.schedule.registry import SYSTOLIC, is_layout
 
@@ -68,32 +69,27 @@ def unit_nodes(graph, layout) -> list[list[int]]:
 def unit_sites(graph, layout) -> list[Site]:
     """Per unit: its site (from the unit's first node; in a budgeted layout, whose VAMPs serve many
     device nodes in turn, the device node most of its ops belong to)."""
-    nodes = unit_nodes(graph, layout)
-    if is_layout(layout.name, SYSTOLIC):
-        return [Site(graph.nodes[ids[0]].section, graph.nodes[ids[0]].group) for ids in nodes]
-    device = device_nodes(graph)
     if not layout.grouped:
+        device = device_nodes(graph)
         return [Site(*Counter(device(graph.nodes[i]) for i in ids).most_common(1)[0][0])
-                if ids else Site(Section.BWD, 0) for ids in nodes]
-    return [Site(*device(graph.nodes[ids[0]])) for ids in nodes]
+                if ids else Site(Section.BWD, 0) for ids in unit_nodes(graph, layout)]
+    first = [None] * len(layout.unit_vamps)       # per unit, its first node
+    units = layout.units
+    for nd in graph.compute_nodes():
+        if first[units[nd.id]] is None:
+            first[units[nd.id]] = nd
+    if is_layout(layout.name, SYSTOLIC):
+        return [Site(nd.section, nd.group) for nd in first]
+    device = device_nodes(graph)
+    return [Site(*device(nd)) for nd in first]
 
 
-_CACHE: dict = {}
-
-
+@keep_last(4)
 def vamp_sites(graph, layout) -> list[Site]:
     """Per VAMP index: its site (the last few answers are kept: the wiring figures, the drawing and
     the DOT text of one report all ask for them)."""
-    key = (id(graph), id(layout))
-    hit = _CACHE.get(key)
-    if hit is not None and hit[0] is graph and hit[1] is layout:
-        return hit[2]
     sites = unit_sites(graph, layout)
-    out = [sites[u] for u in vamp_units(layout)]
-    if len(_CACHE) >= 4:
-        _CACHE.pop(next(iter(_CACHE)))
-    _CACHE[key] = (graph, layout, out)
-    return out
+    return [sites[u] for u in vamp_units(layout)]
 
 
 def node_table(graph) -> dict[str, list[tuple[int, int, int, int, int]]]:

@@ -8,10 +8,14 @@ device node (vampc.report.sites).
 """
 from __future__ import annotations
 
+import math
 import re
 from collections import Counter
+from typing import NamedTuple
 
 from vampc.kinds import Pass, Recursion, Section, TapKind, exhaustive
+from vampc.machine.ops import Op, result_shape
+from vampc.memo import keep_last
 from vampc.report import paper
 from vampc.report.compare import max_fan_out
 from vampc.report.sites import vamp_sites, vamp_units
@@ -59,14 +63,66 @@ def input_buffering(net, n: int) -> dict:
             "paper_endpoints": paper.INPUT_BUFFER_ENDPOINTS}
 
 
-def _reads(graph, net):
-    """(reader VAMP, tap, source node, reading node) for every operand tap of every slot."""
+_WEIGHT = {op: 3 if result_shape(op) == "m" else 1 for op in Op if op.is_compute}   # vectors
+_KIND_CODES = {TapKind.VAMP: 0, TapKind.BUFFER: 1, TapKind.PORT: 2, TapKind.CONST: 3}
+
+
+class Reads(NamedTuple):
+    """Every operand tap of every slot, VAMP by VAMP, slot by slot, A then B, as columns (numpy
+    arrays, a row per tap): reader VAMP, tap kind (_KIND_CODES), tap index, tap stage, source node
+    (the operand's), reading node (the slot's). A big network has millions of taps: the wiring
+    figures count them with numpy."""
+
+    reader: object
+    kind: object
+    index: object
+    stage: object
+    arg: object
+    node: object
+
+
+@keep_last()
+def reads_table(graph, net) -> Reads:
+    """The network's taps as a Reads table (the last one is kept: the report's figures ask twice)."""
+    import numpy as np
+    nodes = graph.nodes
+    cols: list[list[int]] = [[], [], [], [], [], []]
+    reader, kind, index, stage, source, reading = (c.append for c in cols)
+    code = _KIND_CODES
     for v in net.vamps:
+        vi = v.index
         for s in v.slots:
-            args = graph.nodes[s.node].args
+            args = nodes[s.node].args
             for operand, arg in ((v.a[s.sel_a], args[0]), (v.b[s.sel_b], args[1])):
                 for tap in operand.taps:
-                    yield v.index, tap, arg, s.node
+                    reader(vi)
+                    kind(code[tap.kind])
+                    index(tap.index)
+                    stage(tap.stage)
+                    source(arg)
+                    reading(s.node)
+    return Reads(*(np.array(c, dtype=np.int64) for c in cols))
+
+
+def _distinct(*columns):
+    """The distinct rows of equal-length integer columns (each >= 0), as columns."""
+    import numpy as np
+    if not len(columns[0]):
+        return tuple(np.zeros(0, dtype=np.int64) for _ in columns)
+    radix = [int(c.max()) + 1 for c in columns]
+    if math.prod(radix) >= 1 << 62:               # too wide for one int64 key: rows of a matrix
+        rows = np.unique(np.stack(columns, axis=1), axis=0)
+        return tuple(rows[:, k] for k in range(len(columns)))
+    key = np.zeros(len(columns[0]), dtype=np.int64)
+    for c, r in zip(columns, radix):
+        key = key * r + c
+    key = np.sort(key)        # (np.unique hashes: 2.5 s for two million keys here, the sort 0.14 s)
+    key = key[np.r_[True, key[1:] != key[:-1]]]
+    out = []
+    for r in reversed(radix):
+        key, rest = np.divmod(key, r)
+        out.append(rest)
+    return tuple(reversed(out))
 
 
 def early_forward(graph) -> set[int]:
@@ -93,18 +149,23 @@ def delay_buffers(graph, net) -> dict:
     """Buffer chains, stages and scalars in all and by where the values go: within the backward
     pass (with its non-propagated variables), backward to forward (values computed from the
     backward pass and held for the forward one), within the forward pass. A chain counts where its
-    deepest stage is read."""
+    deepest stage is read (the first such read, in the order of reads_table)."""
+    import numpy as np
     early = early_forward(graph)
-    deepest: dict[int, tuple[int, str]] = {}
-    for _, tap, arg, node in _reads(graph, net):
-        if tap.kind is not TapKind.BUFFER:
-            continue
-        kind = _flow(origin_pass(graph, early, arg), Pass.of(graph.nodes[node].section))
-        if tap.stage > deepest.get(tap.index, (0, ""))[0]:
-            deepest[tap.index] = (tap.stage, kind)
+    t = reads_table(graph, net)
+    buffered = np.flatnonzero(t.kind == _KIND_CODES[TapKind.BUFFER])
+    buffered = buffered[t.stage[buffered] > 0]
+    index, stage = t.index[buffered], t.stage[buffered]
+    # per buffer: its first tap (in table order) of the deepest stage read
+    order = np.lexsort((buffered, -stage, index))
+    first = order[np.r_[True, index[order][1:] != index[order][:-1]]] if len(order) else order
+    kind: dict[int, str] = {}
+    for i, row in zip(index[first].tolist(), buffered[first].tolist()):
+        src, node = int(t.arg[row]), int(t.node[row])
+        kind[i] = _flow(origin_pass(graph, early, src), Pass.of(graph.nodes[node].section))
     classes = {k: {"chains": 0, "stages": 0, "scalars": 0} for k in FLOWS}
     for b in net.buffers:
-        cls = classes[deepest.get(b.index, (0, "within_backward"))[1]]
+        cls = classes[kind.get(b.index, "within_backward")]
         cls["chains"] += 1
         cls["stages"] += b.stages
         cls["scalars"] += 3 * b.stages
@@ -123,47 +184,50 @@ def buses(graph, layout, net) -> dict:
     twice, a matrix's three columns counting three), the most any
     one site receives per pass; the backward-to-forward traffic in all; and the buses into one
     site's VAMPs (the paper's point-to-point bound per module)."""
+    import numpy as np
     sites = vamp_sites(graph, layout)
-    values: dict = {}
-    wires: dict = {}
-    b2f_values, b2f_wires = set(), set()
-    source = [b.source for b in net.buffers]
-    passes = {site: Pass.of(site[0]) for site in set(sites)}
-    vamp, buffer = TapKind.VAMP, TapKind.BUFFER
-    for v, tap, arg, _ in _reads(graph, net):
-        kind = tap.kind
-        if kind is vamp:          # (tap_source in line) the host's ports and constants are no bus
-            there = sites[tap.index]
-        elif kind is buffer:
-            there = sites[source[tap.index]]
-        else:
-            continue
-        here = sites[v]
-        if there == here:
-            continue
-        if passes[there] != passes[here]:
-            b2f_values.add((arg, here))
-            b2f_wires.add((kind, tap.index, tap.stage, here))
-        elif there[0] == here[0]:
-            values.setdefault(here, set()).add(arg)
-            wires.setdefault(here, set()).add((kind, tap.index, tap.stage))
-    def vectors(ids) -> int:          # a matrix value travels as three vectors (its columns)
-        return sum(3 if graph.nodes[i].shape == "m" else 1 for i in ids)
-    return {"between_nodes": {s: {"vectors": max((vectors(x) for site, x in values.items()
-                                                  if site.section == s), default=0),
-                                  "wires": _most(wires, s)} for s in ("bwd", "fwd")},
-            "backward_to_forward": {"vectors": vectors(a for a, _ in b2f_values),
-                                    "wires": len(b2f_wires)},
+    ids: dict = {}
+    site_id = np.fromiter((ids.setdefault(x, len(ids)) for x in sites), dtype=np.int64,
+                          count=len(sites))
+    site_list = list(ids)
+    sections = list(dict.fromkeys(x[0] for x in site_list))
+    site_section = np.array([sections.index(x[0]) for x in site_list], dtype=np.int64)
+    pass_code = {p: k for k, p in enumerate(Pass)}
+    site_pass = np.array([pass_code.get(Pass.of(x[0]), -1) for x in site_list], dtype=np.int64)
+    t = reads_table(graph, net)
+    source = np.array([b.source for b in net.buffers], dtype=np.int64)
+    vamp = t.kind == _KIND_CODES[TapKind.VAMP]
+    buffer = t.kind == _KIND_CODES[TapKind.BUFFER]
+    rows = np.flatnonzero(vamp | buffer)       # the host's ports and constants are no bus
+    src = np.where(vamp[rows], t.index[rows], source[np.where(buffer[rows], t.index[rows], 0)]
+                   if len(source) else 0)
+    there, here = site_id[src], site_id[t.reader[rows]]
+    across = there != here
+    b2f = across & (site_pass[there] != site_pass[here])
+    within = across & ~b2f & (site_section[there] == site_section[here])
+    weight = np.fromiter((_WEIGHT[nd.op] if nd.op.is_compute else 3 if nd.shape == "m" else 1
+                          for nd in graph.nodes), dtype=np.int64, count=len(graph.nodes))
+    kind, index, stage, arg = t.kind[rows], t.index[rows], t.stage[rows], t.arg[rows]
+    b2f_args, _ = _distinct(arg[b2f], here[b2f])
+    b2f_wires = len(_distinct(kind[b2f], index[b2f], stage[b2f], here[b2f])[0])
+    at, value = _distinct(here[within], arg[within])
+    vectors = np.bincount(at, weights=weight[value], minlength=len(site_list)).astype(np.int64)
+    wire_at = _distinct(here[within], kind[within], index[within], stage[within])[0]
+    wires = np.bincount(wire_at, minlength=len(site_list))
+
+    def most(per_site, section: str) -> int:
+        if section not in sections:
+            return 0
+        return int(per_site[site_section == sections.index(section)].max(initial=0))
+    return {"between_nodes": {s: {"vectors": most(vectors, s), "wires": most(wires, s)}
+                              for s in ("bwd", "fwd")},
+            "backward_to_forward": {"vectors": int(weight[b2f_args].sum()), "wires": b2f_wires},
             "internal_max": _internal(sites, vamp_units(layout), net),
             "paper_between_nodes": exhaustive({
                 Recursion.LINEAR: dict(paper.LINEAR_INTER_NODE_BUSES),
                 Recursion.LOG: {"bwd": paper.LOG_INTER_NODE_BUSES, "fwd": paper.LOG_INTER_NODE_BUSES},
             }, Recursion)[graph.recursion],
             "paper_internal": dict(paper.INTERNAL_BUS_BOUNDS)}
-
-
-def _most(per_site: dict, section: str) -> int:
-    return max((len(x) for site, x in per_site.items() if site.section == section), default=0)
 
 
 def _internal(sites, units, net) -> dict:

@@ -28,6 +28,7 @@ plus whatever (3) and (4) cost; the report shows both.
 """
 from __future__ import annotations
 
+import collections
 import functools
 import math
 from dataclasses import dataclass
@@ -38,6 +39,7 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture
+from vampc.memo import keep_last
 from vampc.schedule.asap import Schedule, schedule_asap
 
 
@@ -75,9 +77,9 @@ class Layout:
         """Per graph node: the VAMPs that run it (empty for inputs and constants)."""
         return self.placement
 
-    @property
+    @functools.cached_property
     def vamp_count(self) -> int:
-        """VAMPs in the network."""
+        """VAMPs in the network (kept: a big layout's reports ask often)."""
         return 1 + max((v for p in self.placement for v in p), default=-1)
 
     @property
@@ -170,36 +172,43 @@ def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
 def folded_binding(graph: Graph, share_passes: bool) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """Units by role: (device, device node, op name). The forward pass's roles go onto the backward
     device's units of the same size when `share_passes`."""
-    device_node = device_nodes(graph)
     roles: dict[tuple, int] = {}
     sizes: list[int] = []
     units = [-1] * len(graph.nodes)
     forward: list = []
-    for nd in graph.compute_nodes():
-        dev, pos = device_node(nd)
-        role = (dev, pos, nd.name, VAMPS_PER_OP[nd.op])
-        if share_passes and dev is Section.FWD:
+    fwd = Section.FWD
+    for nd, role in _roles(graph):
+        if share_passes and role[0] is fwd:
             forward.append((nd, role))
             continue
-        if role not in roles:
-            roles[role] = len(sizes)
-            sizes.append(VAMPS_PER_OP[nd.op])
-        units[nd.id] = roles[role]
+        unit = roles.get(role)
+        if unit is None:
+            unit = roles[role] = len(sizes)
+            sizes.append(role[3])
+        units[nd.id] = unit
     if forward:
         _share(forward, roles, sizes, units)
     return tuple(units), tuple(sizes)
 
 
+@keep_last()
+def _roles(graph: Graph) -> list[tuple]:
+    """(node, (device, device node, op name, VAMPs)) of every compute node (kept: the folded and
+    shared-pass bindings of one graph both ask)."""
+    device_node = device_nodes(graph)
+    return [(nd, (*device_node(nd), nd.name, VAMPS_PER_OP[nd.op])) for nd in graph.compute_nodes()]
+
+
 def _share(forward, roles: dict, sizes: list[int], units: list[int]) -> None:
     """Put the forward roles on the backward units, in order, matching unit sizes (MM groups onto
     MM groups); a forward role that finds no free unit of its size gets a new one."""
-    free = {3: [u for u, s in enumerate(sizes) if s == 3], 1: [u for u, s in enumerate(sizes) if s == 1]}
+    free = {size: collections.deque(u for u, s in enumerate(sizes) if s == size) for size in (1, 3)}
     taken: dict[tuple, int] = {}
     for nd, role in forward:
         if role not in taken:
             size = VAMPS_PER_OP[nd.op]
             if free[size]:
-                taken[role] = free[size].pop(0)
+                taken[role] = free[size].popleft()
             else:
                 taken[role] = len(sizes)
                 sizes.append(size)
