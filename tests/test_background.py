@@ -86,3 +86,31 @@ def test_an_abandoned_check_is_stopped_and_reaped():
     with pytest.raises(ChildProcessError):
         os.waitpid(pid, os.WNOHANG)
     pending.wait()                                   # nothing left to wait for
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+@pytest.mark.parametrize("big", [False, True], ids=["inline", "forked"])
+def test_a_robot_reports_network_check_failure_stops_the_report(tmp_path, monkeypatch, big):
+    # a robot file's network is checked beside the report when big (in line otherwise); a network
+    # that fails its check gets no report and no picture, and --no-verify skips the check
+    import vampc.commands as commands
+    from vampc.network.model import Network
+    if big:
+        monkeypatch.setattr(commands, "BACKGROUND_CHECK_SLOTS", 0)
+    runs = []
+    real = Network.verify
+
+    def broken(self, graph, sched):
+        real(self, graph, sched)
+        runs.append(os.getpid())
+        raise VampcInternalError("the network check failed on purpose")
+    monkeypatch.setattr(Network, "verify", broken)
+    runner = CliRunner()
+    picture = tmp_path / "t.svg"
+    res = runner.invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--timing", str(picture)])
+    assert res.exit_code != 0 and res.stdout == "" and not picture.exists()
+    assert "the network check failed on purpose" in res.stderr
+    assert runs == ([] if big else [os.getpid()])        # a forked check ran in the child
+    skipped = runner.invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--no-verify",
+                                   "--timing", str(picture)])
+    assert skipped.exit_code == 0 and picture.exists()

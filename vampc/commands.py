@@ -27,7 +27,8 @@ from vampc.options import (
 from vampc.textio import count
 
 # Programs with more slots than this are statically checked in a forked process while the report
-# is built (about a third of the work for a 512-joint log program).
+# is built (about a third of the work for a 512-joint log program); a robot file's compiled network
+# likewise gets its check (Network.verify) there.
 BACKGROUND_CHECK_SLOTS = 20_000
 
 
@@ -44,14 +45,15 @@ def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
 
 
 def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),
-                  until: str | None = None):
-    """Load a robot file and compile it (progress shown for long work), stopping after `until`."""
+                  until: str | None = None, check_network: bool = True):
+    """Load a robot file and compile it (progress shown for long work), stopping after `until`
+    (`check_network`: as vampc.compiler.compile_chain's)."""
     from vampc import progress
     from vampc.compiler import STAGES, compile_chain
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
         chain = load_chain(robot, options, robot_opts)
-        return compile_chain(chain, options, stage=stage, until=until)
+        return compile_chain(chain, options, stage=stage, until=until, check_network=check_network)
 
 
 def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
@@ -391,11 +393,24 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
 
 
 def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, params: dict):
-    from vampc.background import Deferred
+    """The compiled robot or program, its stored figures (a program's) and the check still running:
+    a program's static check, or a robot's network check (Network.verify, which compile runs in
+    line), both in a forked process beside the report for a network of more than
+    BACKGROUND_CHECK_SLOTS slots."""
+    from vampc.background import Deferred, in_background
     from vampc.sniff import is_program
     if is_program(source):
         return program_compiled(source, options.given, params)
-    return compile_robot(source, options, robot_opts), None, Deferred()
+    c = compile_robot(source, options, robot_opts, check_network=False)
+    if not options.verify:
+        return c, None, Deferred()
+    return c, None, in_background(_network_check, c,
+                                  inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
+
+
+def _network_check(c) -> None:
+    """The allocation's own check: the network computes the graph on the schedule's ticks."""
+    c.network.verify(c.graph, c.schedule)
 
 
 def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,

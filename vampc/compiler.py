@@ -48,9 +48,10 @@ def build_graph(chain: Chain, options: CompileOptions) -> Graph:
 
 @gc_paused()
 def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
-                  stage=None, until: str | None = None) -> Compiled:
+                  stage=None, until: str | None = None, check_network: bool = True) -> Compiled:
     """Run every compile stage on a loaded chain; `stage(name)` is told as each of STAGES starts.
-    `until`: stop after that stage (a name of STAGES), even where a later stage would fail."""
+    `until`: stop after that stage (a name of STAGES), even where a later stage would fail.
+    `check_network` False: the caller runs the network's check (Network.verify) itself."""
     stage = stage or (lambda name: None)
     options.check()
     if until is not None and until not in STAGES:
@@ -61,14 +62,14 @@ def compile_chain(chain: Chain, options: CompileOptions = CompileOptions(),
     graph = build_graph(chain, options)        # each stage verifies the IR it hands on
     if until == "graph":
         return Compiled(chain, options, graph)
-    return compile_graph(chain, graph, options, stage, until)
+    return compile_graph(chain, graph, options, stage, until, check_network)
 
 
 def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileOptions(),
-                  stage=None, until: str | None = None) -> Compiled:
+                  stage=None, until: str | None = None, check_network: bool = True) -> Compiled:
     """The stages after the graph (schedule, allocate, emit) on a graph of `chain`'s inputs: a
     graph built by a recursion, or by hand (tests build tiny graphs of new ops this way). `until`:
-    stop after that stage."""
+    stop after that stage; `check_network`: as compile_chain's."""
     stage = stage or (lambda name: None)
     options.check()
     stage("schedule")
@@ -77,7 +78,7 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     if until == "schedule":
         return Compiled(chain, options, graph, sched, layout=layout)
     stage("allocate")
-    net = allocate(graph, sched, layout, options.verify)
+    net = allocate(graph, sched, layout, options.verify and check_network)
     if until == "allocate":
         return Compiled(chain, options, graph, sched, net, layout=layout)
     stage("emit")

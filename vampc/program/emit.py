@@ -118,14 +118,32 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
     for index, (root, depth) in enumerate(a_roots(net)):
         by_root.setdefault(root, []).append((-depth, index))
     entries = []
+    compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields
+    F, limit = packing.field, packing.limit
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
         targets, depths, words = [], [], []
         for neg, v in sorted(by_root[root]):
-            if len(progs[v]) == 1 and progs[v][0].sel_a == progs[v][0].sel_b == 0 and \
-                    fits_compact(progs[v][0], packing):
-                mine = [encode(numbering[v], progs[v][0], packing)]   # the common, systolic case
+            slots, number = progs[v], numbering[v]
+            pair = None
+            if len(slots) == 1:                 # the common, systolic case: one compact word
+                prog = slots[0]
+                if prog in compact:
+                    pair = compact[prog]
+                else:
+                    pair = compact[prog] = (
+                        (float(prog.delay_a * F + prog.delay_b), float(prog.delay_r * F + prog.rom))
+                        if prog.sel_a == prog.sel_b == 0 and fits_compact(prog, packing)
+                        and min(prog.delay_a, prog.delay_b, prog.delay_r, prog.rom) >= 0 else None)
+            if pair is not None and 0 < number < limit:        # encode's word, in line
+                targets.append(v)
+                depths.append(-neg)
+                words.append((float(number), pair[0], pair[1]))
+                continue
+            if len(slots) == 1 and slots[0].sel_a == slots[0].sel_b == 0 and \
+                    fits_compact(slots[0], packing):
+                mine = [encode(number, slots[0], packing)]     # (says what does not fit)
             else:
-                mine = vamp_words(numbering[v], progs[v], packing)
+                mine = vamp_words(number, slots, packing)
             targets.extend([v] * len(mine))
             depths.extend([-neg] * len(mine))
             words.extend(mine)
