@@ -9,6 +9,7 @@ from dataclasses import replace
 
 from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
+from vampc.memo import keep_last
 from vampc.report import paper
 from vampc.report.sites import node_table
 from vampc.schedule.layout import folded_binding
@@ -193,13 +194,19 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
                                                                           "see README, Layouts")
 
 
+@keep_last()
+def _ops_by_node(graph) -> dict[str, dict[int, Counter]]:
+    """Per section, per recursion node (group): its ops by kind (one walk for every section)."""
+    out: dict[str, dict[int, Counter]] = {}
+    for nd in graph.compute_nodes():
+        out.setdefault(nd.section, {}).setdefault(nd.group, Counter())[nd.op.value] += 1
+    return out
+
+
 def _ops_row(graph, section: str) -> dict:
     """Ops of the busiest node of a section by kind, beside the paper's requirements per node (its
     MV covers vampc's MV and MTV)."""
-    groups: dict[int, Counter] = {}
-    for nd in graph.compute_nodes():
-        if nd.section == section:
-            groups.setdefault(nd.group, Counter())[nd.op.value] += 1
+    groups = _ops_by_node(graph).get(section, {})
     busiest = max(groups.values(), key=lambda c: (sum(VAMPS_PER_OP[Op(o)] * k for o, k in c.items()),
                                                   sum(c.values())), default=Counter())
     ops = dict(sorted(busiest.items()))

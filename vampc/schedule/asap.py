@@ -81,7 +81,10 @@ def _schedule_asap(graph: Graph, timing: Timing, verify: bool) -> Schedule:
     start, finish = [], []
     duration = timing.durations
     for nd in graph.nodes:
-        s = max([finish[a] for a in nd.args], default=0)
+        s = 0
+        for a in nd.args:        # (a loop, not max() of a list: a million nodes)
+            if finish[a] > s:
+                s = finish[a]
         start.append(s)
         finish.append(s + duration[nd.op])
     last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
@@ -97,13 +100,14 @@ def _delay_source_ops(graph: Graph, timing: Timing, start: list[int], finish: li
     """Move ops whose operands are all inputs/constants to just before their first consumer (no
     source op reads another, so consumers' starts do not move meanwhile)."""
     nodes = graph.nodes
-    sources = {nd.id for nd in nodes
-               if nd.op.is_compute and not any(nodes[a].op.is_compute for a in nd.args)}
+    compute = [nd.op.is_compute for nd in nodes]
+    source = [c and not any(compute[a] for a in nd.args) for c, nd in zip(compute, nodes)]
     latest: dict[int, int] = {}
     for nd in nodes:
+        t = start[nd.id]
         for a in nd.args:
-            if a in sources:
-                latest[a] = min(latest.get(a, start[nd.id]), start[nd.id])
+            if source[a] and latest.get(a, t) >= t:
+                latest[a] = t
     for i, t in latest.items():
         finish[i] = max(finish[i], t)
         start[i] = finish[i] - timing.duration(nodes[i].op)

@@ -65,12 +65,11 @@ class Layout:
                  share_passes: bool = False) -> "Layout":
         """A grouped layout from a unit per node (-1 for inputs and constants) and each unit's size;
         VAMPs are numbered unit by unit."""
-        firsts, first = [], 0
+        vamps, first = [], 0          # per unit, its VAMPs (one tuple, shared by its nodes)
         for size in sizes:
-            firsts.append(first)
+            vamps.append(tuple(range(first, first + size)))
             first += size
-        placement = tuple(tuple(range(firsts[u], firsts[u] + sizes[u])) if u >= 0 else ()
-                          for u in units)
+        placement = tuple(vamps[u] if u >= 0 else () for u in units)
         return Layout(name, placement, period, clock, share_passes)
 
     def vamps_of(self) -> tuple[tuple[int, ...], ...]:
