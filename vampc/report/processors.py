@@ -73,8 +73,8 @@ def _variant(graph, leaves, n: int, binding) -> dict:
     tier = _per_tier(graph, single)
     shared = sum(binding(True)[1])
     systolic = Counter()
-    for nd in graph.compute_nodes():
-        systolic[nd.section] += VAMPS_PER_OP[nd.op]
+    for (section, _, op), k in _node_ops(graph).items():
+        systolic[section] += VAMPS_PER_OP[op] * k
     rows = []
     for sec in ("bwd", "npv", "bwd_total", "fwd"):
         parts = ("bwd", "npv") if sec == "bwd_total" else (sec,)
@@ -97,26 +97,44 @@ def _by_op(graph, binding) -> dict:
     by role, and with shared passes a forward op may run on a VAMP of another kind — every VAMP
     runs every op of the ROM)."""
     systolic: Counter = Counter()
-    for nd in graph.compute_nodes():
-        systolic[nd.op.value] += VAMPS_PER_OP[nd.op]
+    for (_, _, op), k in _node_ops(graph).items():
+        systolic[op.value] += VAMPS_PER_OP[op] * k
     out = {"systolic": dict(sorted(systolic.items()))}
     for name, share in (("single_device", False), ("shared_passes", True)):
         units, sizes = binding(share)
-        kind: dict[int, str] = {}
-        for nd in graph.compute_nodes():
-            kind.setdefault(units[nd.id], nd.op.value)
         got: Counter = Counter()
-        for u, op in kind.items():
-            got[op] += sizes[u]
+        for u, nd in enumerate(_unit_firsts(graph, units)):
+            if nd is not None:
+                got[nd.op.value] += sizes[u]
         out[name] = dict(sorted(got.items()))
     return out
+
+
+@keep_last()
+def _node_ops(graph) -> Counter:
+    """Compute nodes by (section, recursion node, op): one walk of a big graph for every count of
+    this module."""
+    out: Counter = Counter()
+    for nd in graph.compute_nodes():
+        out[(nd.section, nd.group, nd.op)] += 1
+    return out
+
+
+@keep_last(4)
+def _unit_firsts(graph, units) -> list:
+    """Per unit of a binding (`units`: a unit per node), its first compute node (None if none)."""
+    first = [None] * (max(units, default=-1) + 1)
+    for nd in graph.compute_nodes():
+        if first[units[nd.id]] is None:
+            first[units[nd.id]] = nd
+    return first
 
 
 def _per_node(graph) -> Counter:
     """VAMPs of the busiest recursion node of each section."""
     groups: Counter = Counter()
-    for nd in graph.compute_nodes():
-        groups[(nd.section, nd.group)] += VAMPS_PER_OP[nd.op]
+    for (section, group, op), k in _node_ops(graph).items():
+        groups[(section, group)] += VAMPS_PER_OP[op] * k
     out: Counter = Counter()
     for (sec, _), k in groups.items():
         out[sec] = max(out[sec], k)
@@ -133,10 +151,10 @@ def _per_tier(graph, single: Counter) -> Counter:
     table = node_table(graph)
     tier_of = {(sec, r[0]): r[4] for sec, rows in table.items() for r in rows}
     sums: Counter = Counter()
-    for nd in graph.compute_nodes():
-        t = tier_of.get((nd.section, nd.group), 0)
-        if nd.section is not Section.NPV and t > 0:
-            sums[(nd.section, t)] += VAMPS_PER_OP[nd.op]
+    for (section, group, op), k in _node_ops(graph).items():
+        t = tier_of.get((section, group), 0)
+        if section is not Section.NPV and t > 0:
+            sums[(section, t)] += VAMPS_PER_OP[op] * k
     for (sec, _), k in sums.items():
         out[sec] = max(out[sec], k)
     out["npv"] = single["npv"]
@@ -146,12 +164,10 @@ def _per_tier(graph, single: Counter) -> Counter:
 def _by_section(graph, binding) -> Counter:
     """VAMPs of a binding's units per section (a unit serving both passes counts as backward)."""
     units, sizes = binding
-    section: dict[int, str] = {}
-    for nd in graph.compute_nodes():
-        section.setdefault(units[nd.id], nd.section)
     out: Counter = Counter()
-    for u, sec in section.items():
-        out[sec] += sizes[u]
+    for u, nd in enumerate(_unit_firsts(graph, units)):
+        if nd is not None:
+            out[nd.section] += sizes[u]
     return out
 
 
@@ -198,8 +214,8 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
 def _ops_by_node(graph) -> dict[str, dict[int, Counter]]:
     """Per section, per recursion node (group): its ops by kind (one walk for every section)."""
     out: dict[str, dict[int, Counter]] = {}
-    for nd in graph.compute_nodes():
-        out.setdefault(nd.section, {}).setdefault(nd.group, Counter())[nd.op.value] += 1
+    for (section, group, op), k in _node_ops(graph).items():
+        out.setdefault(section, {}).setdefault(group, Counter())[op.value] += k
     return out
 
 
