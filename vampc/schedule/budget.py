@@ -25,6 +25,7 @@ max over q of (q + ⌈work of the ops whose longest path to the outputs exceeds 
 """
 from __future__ import annotations
 
+import heapq
 import math
 from dataclasses import dataclass
 
@@ -274,17 +275,15 @@ class _Modulo:
             vamps.append(low.bit_length() - 1)
             mask ^= low
         busy = self.occupant[t % ii]
-        if self.deadline:     # with deadlines: displace the ops with the most slack first
-            inf = float("inf")
-            order = sorted(busy, key=lambda v: (-(self.deadline.get(busy[v], inf)
-                                                  - self.start.get(busy[v], 0)), v))
-        else:
-            order = sorted(busy)
-        for v in order:
-            if len(vamps) == need:
-                break
-            if v not in vamps:
-                vamps.append(v)
+        short = need - len(vamps)
+        if short > 0:         # the first `short` of the busy VAMPs in order, not yet taken
+            if self.deadline:     # with deadlines: displace the ops with the most slack first
+                inf, deadline, start = float("inf"), self.deadline.get, self.start.get
+                keys = [(start(op, 0) - deadline(op, inf), v) for v, op in busy.items()
+                        if v not in vamps]
+                vamps.extend(v for _, v in heapq.nsmallest(short, keys))
+            else:
+                vamps.extend(heapq.nsmallest(short, (v for v in busy if v not in vamps)))
         for v in range(self.k):          # only when fewer than `need` VAMPs are busy at tick t
             if len(vamps) == need:
                 break
@@ -349,12 +348,17 @@ class _Modulo:
 
     def _refresh(self, t: int, dur: int) -> None:
         """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
+        ii, free, avail, shapes = self.ii, self.free, self.avail, self.shapes
         for start in range(t - self.longest + 1, t + dur):
-            s0 = start % self.ii
-            for shape in self.shapes:
+            s0 = start % ii
+            # the VAMPs free for 1, 2, ... ticks from `start` (_free_for of each length, built up)
+            spans = [free[s0]]
+            for tick in range(start + 1, start + self.longest):
+                spans.append(spans[-1] & free[tick % ii])
+            for shape in shapes:
                 length, need = shape
-                mask = self._free_for(start, length)
-                self.avail[shape][s0] = mask.bit_count() >= need if need > 1 else mask != 0
+                mask = spans[length - 1]
+                avail[shape][s0] = mask.bit_count() >= need if need > 1 else mask != 0
 
     def _reserve(self, i: int, t: int, vamps: tuple[int, ...]) -> None:
         dur = self.d[self.g.nodes[i].op]
