@@ -282,8 +282,13 @@ class _Modulo:
                 keys = [(start(op, 0) - deadline(op, inf), v) for v, op in busy.items()
                         if v not in vamps]
                 vamps.extend(v for _, v in heapq.nsmallest(short, keys))
-            else:
-                vamps.extend(heapq.nsmallest(short, (v for v in busy if v not in vamps)))
+            else:     # the lowest-numbered: the clear bits of `free` at tick t are busy's keys
+                taken = ~self.free[t % ii] & ((1 << self.k) - 1)   # (and none of vamps: free)
+                while taken and short:
+                    low = taken & -taken
+                    vamps.append(low.bit_length() - 1)
+                    taken ^= low
+                    short -= 1
         for v in range(self.k):          # only when fewer than `need` VAMPs are busy at tick t
             if len(vamps) == need:
                 break
