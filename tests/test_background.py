@@ -114,3 +114,32 @@ def test_a_robot_reports_network_check_failure_stops_the_report(tmp_path, monkey
     skipped = runner.invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--no-verify",
                                    "--timing", str(picture)])
     assert skipped.exit_code == 0 and picture.exists()
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_check_killed_before_it_reports_says_so():
+    import signal
+    import time
+    pending = background.in_background(time.sleep, 60)
+    os.kill(pending.pid, signal.SIGKILL)
+    with pytest.raises(VampcInternalError, match="killed by SIGKILL before it could report"):
+        pending.wait()
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_failing_network_check_is_reported_before_a_report_that_then_crashed(monkeypatch):
+    # a broken network can crash the report's figures; the check's one line is what the user sees
+    import vampc.commands as commands
+    import vampc.report.build as build
+    from vampc.network.model import Network
+    monkeypatch.setattr(commands, "BACKGROUND_CHECK_SLOTS", 0)
+
+    def broken(self, graph, sched):
+        raise VampcError("VAMP 3: operand A is not wired")
+
+    def crash(*args, **kwargs):
+        raise IndexError("list index out of range")
+    monkeypatch.setattr(Network, "verify", broken)
+    monkeypatch.setattr(build, "build_report", crash)
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml")])
+    assert res.exit_code == 1 and res.stderr == "vampc: error: VAMP 3: operand A is not wired\n"

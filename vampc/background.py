@@ -39,9 +39,16 @@ class Deferred:
                 chunks.append(chunk)
         _, status = os.waitpid(self.pid, 0)
         self.pid = None
-        if os.waitstatus_to_exitcode(status) == 0:
+        code = os.waitstatus_to_exitcode(status)
+        if code == 0:
             return
-        kind, message = pickle.loads(b"".join(chunks)) if chunks else ("internal", "no report")
+        if not chunks:        # killed before it could report: by a signal (the OOM killer, say)
+            import signal
+            how = (f"was killed by {signal.Signals(-code).name}" if code < 0
+                   else f"exited with status {code}")
+            raise VampcInternalError(f"the check running beside this command {how} before it "
+                                     "could report (out of memory?)")
+        kind, message = pickle.loads(b"".join(chunks))
         if kind == "user":
             raise VampcError(message)
         raise VampcInternalError(f"background check failed:\n{message}")

@@ -381,10 +381,17 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
             from vampc.report.build import build_report
             rep = build_report(c, hz, own.pins, figures, cpu_reference=own.cpu_reference)
             content = _pictures(c, rep, outs, own.focus_range())
-        except BaseException:
+        except KeyboardInterrupt:   # Ctrl-C, SIGTERM: stop the check too
             check.abandon()
             raise
-        check.wait()        # a program that fails its static check gets no report and no file
+        except BaseException:
+            check.wait()    # a failing check says what is wrong: its error before the report's
+            raise
+        try:
+            check.wait()    # a program or network failing its check gets no report and no file
+        except KeyboardInterrupt:
+            check.abandon()
+            raise
         write_pictures(outs, content)
     if own.fmt == "json":
         return jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"

@@ -18,15 +18,16 @@ import os
 MIN_NODES = 50_000
 
 SOURCE = r"""
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct { unsigned char *p; long n; } buf_t;
+typedef struct { unsigned char *p; int64_t n; } buf_t;
 
 /* Make b hold at least `need` bytes, the new ones zero. */
-static int grow(buf_t *b, long need) {
+static int grow(buf_t *b, int64_t need) {
     if (need <= b->n) return 0;
-    long cap = b->n ? b->n : 64;
+    int64_t cap = b->n ? b->n : 64;
     while (cap < need) cap *= 2;
     unsigned char *q = realloc(b->p, (size_t)cap);
     if (!q) return -1;
@@ -36,10 +37,10 @@ static int grow(buf_t *b, long need) {
 }
 
 /* The first index >= start of `length` zero bytes (beyond the end everything is zero). */
-static long find_free(const buf_t *b, long start, long length) {
-    long t = start;
+static int64_t find_free(const buf_t *b, int64_t start, int64_t length) {
+    int64_t t = start;
     for (;;) {
-        long k = t, end = t + length;
+        int64_t k = t, end = t + length;
         while (k < end && k < b->n && !b->p[k]) k++;
         if (k == end || k >= b->n) return t;
         t = k + 1;
@@ -47,48 +48,49 @@ static long find_free(const buf_t *b, long start, long length) {
 }
 
 /* height[a] = the longest path (ticks) from node a to the end: nodes in topological order. */
-void longest_to_end(long nodes, const long *argptr, const long *args, const long *dur,
-                    long *height) {
-    for (long i = nodes - 1; i >= 0; i--) {
-        long h = height[i] + dur[i];
-        for (long j = argptr[i]; j < argptr[i + 1]; j++)
+void longest_to_end(int64_t nodes, const int64_t *argptr, const int64_t *args,
+                    const int64_t *dur, int64_t *height) {
+    for (int64_t i = nodes - 1; i >= 0; i--) {
+        int64_t h = height[i] + dur[i];
+        for (int64_t j = argptr[i]; j < argptr[i + 1]; j++)
             if (height[args[j]] < h) height[args[j]] = h;
     }
 }
 
 /* Place the compute nodes of `order` on their units, in that order (start, finish: the ASAP
    schedule on entry). 0, or -1 when memory ran out. */
-long list_schedule(long count, const long *order, const long *argptr, const long *args,
-                   const unsigned char *is_compute, const long *asap_start, const long *dur,
-                   const long *unit, long units, long clock, long *start, long *finish) {
-    buf_t *busy = calloc((size_t)units + 1, sizeof(buf_t));
-    buf_t *shown = calloc((size_t)units + 1, sizeof(buf_t));
-    long rc = 0;
+int64_t list_schedule(int64_t count, const int64_t *order, const int64_t *argptr,
+                      const int64_t *args, const unsigned char *is_compute,
+                      const int64_t *asap_start, const int64_t *dur, const int64_t *unit,
+                      int64_t units, int64_t clock, int64_t *start, int64_t *finish) {
+    buf_t *busy = calloc((size_t)units, sizeof(buf_t));
+    buf_t *shown = calloc((size_t)units, sizeof(buf_t));
+    int64_t rc = 0;
     if (!busy || !shown) { rc = -1; goto done; }
-    for (long c = 0; c < count; c++) {
-        long i = order[c], ready = asap_start[i], len = dur[i], u = unit[i];
-        for (long j = argptr[i]; j < argptr[i + 1]; j++) {
-            long a = args[j];
+    for (int64_t c = 0; c < count; c++) {
+        int64_t i = order[c], ready = asap_start[i], len = dur[i], u = unit[i];
+        for (int64_t j = argptr[i]; j < argptr[i + 1]; j++) {
+            int64_t a = args[j];
             if (is_compute[a] && finish[a] > ready) ready = finish[a];
         }
-        long t = ready;
+        int64_t t = ready;
         for (;;) {
             t = find_free(&busy[u], t, len);
-            long block = (t + len) / clock;
-            long free_block = find_free(&shown[u], block, 1);
+            int64_t block = (t + len) / clock;
+            int64_t free_block = find_free(&shown[u], block, 1);
             if (free_block == block) break;
             if (free_block * clock - len > t) t = free_block * clock - len;
         }
         start[i] = t;
         finish[i] = t + len;
-        long block = (t + len) / clock;
+        int64_t block = (t + len) / clock;
         if (grow(&busy[u], t + len) || grow(&shown[u], block + 1)) { rc = -1; goto done; }
         memset(busy[u].p + t, 1, (size_t)len);
         shown[u].p[block] = 1;
     }
 done:
-    if (busy) for (long u = 0; u <= units; u++) free(busy[u].p);
-    if (shown) for (long u = 0; u <= units; u++) free(shown[u].p);
+    if (busy) for (int64_t u = 0; u < units; u++) free(busy[u].p);
+    if (shown) for (int64_t u = 0; u < units; u++) free(shown[u].p);
     free(busy);
     free(shown);
     return rc;
@@ -118,12 +120,11 @@ def _library():
             raise
         lib = None
     if lib is not None:
-        p = ctypes.c_void_p
-        lib.longest_to_end.argtypes = (ctypes.c_long, p, p, p, p)
+        p, i64 = ctypes.c_void_p, ctypes.c_int64     # (int64_t: numpy's int64 on every platform)
+        lib.longest_to_end.argtypes = (i64, p, p, p, p)
         lib.longest_to_end.restype = None
-        lib.list_schedule.argtypes = (ctypes.c_long, p, p, p, p, p, p, p, ctypes.c_long,
-                                      ctypes.c_long, p, p)
-        lib.list_schedule.restype = ctypes.c_long
+        lib.list_schedule.argtypes = (i64, p, p, p, p, p, p, p, i64, i64, p, p)
+        lib.list_schedule.restype = i64
     _LIB.append(lib)
     return lib
 
@@ -170,8 +171,16 @@ def list_schedule(arrays: Arrays, order, asap, units, unit_count: int, clock: in
     if lib is None:
         return None
     import numpy as np
+
+    from vampc.errors import VampcInternalError
     order = np.asarray(order, dtype=np.int64)
     unit = np.asarray(units, dtype=np.int64)
+    # the C trusts its indices: check them here (Python's lists would raise IndexError)
+    nodes = len(arrays.dur)
+    if len(order) and (order.min() < 0 or order.max() >= nodes or unit[order].min() < 0
+                       or unit[order].max() >= unit_count) or clock < 1 or \
+            len(arrays.args) and (arrays.args.min() < 0 or arrays.args.max() >= nodes):
+        raise VampcInternalError("list schedule: a node, operand or unit out of range")
     asap_start = np.asarray(asap.start, dtype=np.int64)
     start = asap_start.copy()
     finish = np.asarray(asap.finish, dtype=np.int64).copy()
