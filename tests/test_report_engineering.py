@@ -5,6 +5,8 @@ the emulator's host actually writes, the critical path against networkx's longes
 CPU reference as a measurement (positive, labelled, absent unless asked for)."""
 from __future__ import annotations
 
+import json
+
 import pytest
 from click.testing import CliRunner
 from conftest import EXAMPLES
@@ -66,3 +68,19 @@ def test_the_package_line_counts_multiplexer_pins():
     assert line.startswith("40-pin packages  12 with separate pins or 10 with shared") and "up to 37" in line
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml")])       # systolic: the same
     assert "40-pin packages  36 (5 VAMPs each, separate pins) or 15 (12 each" in r.output
+
+
+def test_a_vamp_that_needs_more_pins_than_a_package_has_gets_none():
+    """Puma --vamps 7: a VAMP with its multiplexer inputs needs 45 pins, more than 40: no 40-pin
+    package holds it, and the line and table say so rather than the paper budget's 2 / 1 alone."""
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "7"])
+    line = next(x for x in r.output.splitlines() if x.startswith("40-pin packages"))
+    assert line.startswith("40-pin packages  none: with each multiplexer input a pin, a VAMP here "
+                           "needs up to 45 pins, more than a 40-pin package has")
+    rows = [x for x in r.output.splitlines() if x.startswith("linear, budget, 7 VAMPs (this")]
+    assert "none / none" in rows[-1]                         # the packages table's row and "none: a VAMP needs more pins than the package has" in r.output
+    wide = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "7",
+                                     "--pins", "64", "--format", "json"])
+    at64 = json.loads(wide.output)["packages"]["rows"]
+    own = next(r for r in at64 if r["own"])["by_pins"]
+    assert own[0]["muxed_separate"] is None and own[1]["pins"] == 64 and own[1]["muxed_separate"] >= 1

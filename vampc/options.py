@@ -554,7 +554,8 @@ class ReportOptions:
         "Graphviz digraphs."))
     html: str | None = field(default=None, metadata=cli(
         "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
-        "tables and both pictures inline (with --tradeoff: the sweep's table and its curve)."))
+        "tables, the timing chart, the network drawing and the reservation table inline (with "
+        "--tradeoff: the sweep's table and its curve)."))
     workers: int | None = field(default=None, metadata=cli(
         "--workers", range=(1, 1024), metavar="N", help="With --tradeoff: budgets computed by N local "
         "worker processes (default: one per available core); the points are the same as one process "

@@ -332,6 +332,11 @@ def ops_per_node(rep: dict) -> Table:
                  align="l" + "r" * (len(kinds) + 1) + "ll")
 
 
+def _fit(count) -> str:
+    """Packages of an allocated configuration, or 'none' when a VAMP needs more pins than one has."""
+    return "none" if count is None else num(count)
+
+
 def packages(rep: dict) -> Table:
     """Packages per configuration (section VII), at 40 pins and --pins N."""
     p = rep["packages"]
@@ -345,7 +350,7 @@ def packages(rep: dict) -> Table:
     for r in p["rows"]:
         row = [r["configuration"] + (" (this report)" if r["own"] else ""), num(r["vamps"])]
         for e in r["by_pins"]:
-            muxed = (f"{num(e.get('muxed_separate'))} / {num(e.get('muxed_shared'))}"
+            muxed = (f"{_fit(e['muxed_separate'])} / {_fit(e['muxed_shared'])}"
                      if "muxed_separate" in e else DASH)
             row += [num(e["paper_separate"]), num(e["paper_shared"]), muxed]
         row.append(num(r["by_pins"][0].get("max_pins_per_vamp")))
@@ -357,7 +362,10 @@ def packages(rep: dict) -> Table:
              f"pins per package ({', '.join(b['shared']['signals'])} per VAMP)",
              "mux pins: VAMPs packed in order, each multiplexer input a pin of its own (a folded "
              "VAMP reads several wires; a systolic one needs exactly the paper's budget); "
-             f"{DASH}: not allocated"]
+             f"{DASH}: not allocated" + ("; none: a VAMP needs more pins than the package has"
+                                         if any(e.get("muxed_separate", 0) is None
+                                                or e.get("muxed_shared", 0) is None
+                                                for r in p["rows"] for e in r["by_pins"]) else "")]
     if p.get("paper_check"):
         check = p["paper_check"]
         notes.append("section VII: \"11 such 40-pin packages would implement the full systolic "
@@ -389,8 +397,9 @@ def buffering(rep: dict) -> Table:
                      f"scalars", DASH, f"backward to forward {num(r['backward_to_forward_scalars'])} "
                      "scalars"))
     notes = [_input_note(ib)] + ([_factor_note(rep)] if _factor_note(rep) else [])
-    return Table("buffering", f"Buffering (section VI) of {w['configuration']}, measured; the "
-                 "other configurations below it", ("figure", "measured", "paper", "note"),
+    others = "; the other configurations below it" if len(w["by_configuration"]) > 1 else ""
+    return Table("buffering", f"Buffering (section VI) of {w['configuration']}, measured{others}",
+                 ("figure", "measured", "paper", "note"),
                  tuple(rows), tuple(notes), align="lrll")
 
 

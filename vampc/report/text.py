@@ -161,9 +161,17 @@ def _packages_line(rep: dict) -> str:
              f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)")
     own = next((r for r in rep.get("packages", {}).get("rows", []) if r.get("own")), None)
     at40 = next((b for b in own["by_pins"] if b["pins"] == 40), None) if own else None
-    if not at40 or at40.get("muxed_separate") is None or (
+    if not at40 or "muxed_separate" not in at40 or (
             (at40["muxed_separate"], at40["muxed_shared"]) == (at40["paper_separate"], at40["paper_shared"])):
         return paper
-    return (f"{at40['muxed_separate']} with separate pins or {at40['muxed_shared']} with shared "
-            f"clock/power/reset, each multiplexer input a pin (a VAMP here needs up to "
-            f"{at40['max_pins_per_vamp']}); by the paper's budget of 8 or 3 pins a VAMP: {paper}")
+    most = at40["max_pins_per_vamp"]
+    if at40["muxed_separate"] is None and at40["muxed_shared"] is None:
+        return (f"none: with each multiplexer input a pin, a VAMP here needs up to {most} pins, "
+                f"more than a 40-pin package has (--pins N counts other packages); by the paper's "
+                f"budget of 8 or 3 pins a VAMP: {paper}")
+
+    def count(n) -> str:
+        return "none (a VAMP needs too many pins)" if n is None else str(n)
+    return (f"{count(at40['muxed_separate'])} with separate pins or {count(at40['muxed_shared'])} "
+            f"with shared clock/power/reset, each multiplexer input a pin (a VAMP here needs up to "
+            f"{most}); by the paper's budget of 8 or 3 pins a VAMP: {paper}")
