@@ -84,3 +84,20 @@ def test_small_graphs_stay_in_python(monkeypatch):
     assert not native.wanted(native.MIN_NODES - 1) and native.wanted(native.MIN_NODES)
     monkeypatch.setenv("VAMPC_NATIVE", "0")
     assert not native.wanted(10 ** 7)
+
+
+def test_without_a_compiler_the_python_loops_run(monkeypatch):
+    # no C compiler here (the library could not be built): the same schedule, from Python
+    graph = build_graph(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(recursion="log"))
+    units, sizes = layout.folded_binding(graph, False)
+    asap = schedule_asap(graph, Timing(), verify=False)
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    layout._HEIGHTS.clear()
+    want = layout.schedule_bound(graph, Timing(), asap, units, sizes, clock=Timing().cycle)
+    monkeypatch.delenv("VAMPC_NATIVE")
+    monkeypatch.setattr(native, "MIN_NODES", 1)
+    monkeypatch.setattr(native, "_LIB", [None])
+    layout._HEIGHTS.clear()
+    got = layout.schedule_bound(graph, Timing(), asap, units, sizes, clock=Timing().cycle)
+    assert layout._HEIGHTS[3] is None and got == want
+    layout._HEIGHTS.clear()
