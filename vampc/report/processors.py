@@ -110,7 +110,7 @@ def _by_op(graph, binding) -> dict:
     return out
 
 
-@keep_last()
+@keep_last(4)
 def _node_ops(graph) -> Counter:
     """Compute nodes by (section, recursion node, op): one walk of a big graph for every count of
     this module."""

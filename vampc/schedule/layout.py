@@ -71,7 +71,12 @@ class Layout:
             vamps.append(tuple(range(first, first + size)))
             first += size
         placement = tuple(vamps[u] if u >= 0 else () for u in units)
-        return Layout(name, placement, period, clock, share_passes)
+        layout = Layout(name, placement, period, clock, share_passes)
+        if len(set(units) - {-1}) == len(sizes):   # every unit runs a node: what _units and
+            units = tuple(units)                    # vamp_count would work out from placement
+            layout.__dict__["_units"] = (units, tuple(sizes))
+            layout.__dict__["vamp_count"] = first
+        return layout
 
     def vamps_of(self) -> tuple[tuple[int, ...], ...]:
         """Per graph node: the VAMPs that run it (empty for inputs and constants)."""
