@@ -17,6 +17,7 @@ from vampc.network.model import Network, Tap, tap_source
 from vampc.program.words import (
     PACKING,
     Program,
+    compact_fields,
     encode,
     fits_compact,
     rom_pointer,
@@ -119,7 +120,7 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
         by_root.setdefault(root, []).append((-depth, index))
     entries = []
     compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields
-    F, limit = packing.field, packing.limit
+    limit = packing.limit
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
         targets, depths, words = [], [], []
         for neg, v in sorted(by_root[root]):
@@ -129,11 +130,9 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
                 prog = slots[0]
                 if prog in compact:
                     pair = compact[prog]
-                else:
-                    pair = compact[prog] = (
-                        (float(prog.delay_a * F + prog.delay_b), float(prog.delay_r * F + prog.rom))
-                        if prog.sel_a == prog.sel_b == 0 and fits_compact(prog, packing)
-                        and min(prog.delay_a, prog.delay_b, prog.delay_r, prog.rom) >= 0 else None)
+                else:                           # (worked out once per distinct program)
+                    pair = compact[prog] = (compact_fields(prog, packing)
+                                            if prog.sel_a == prog.sel_b == 0 else None)
             if pair is not None and 0 < number < limit:        # encode's word, in line
                 targets.append(v)
                 depths.append(-neg)

@@ -80,14 +80,24 @@ class Program(Struct, frozen=True, gc=False):
 def encode(number: int, prog: Program, packing: Packing = PACKING) -> tuple[float, float, float]:
     """The compact Program-Mode word carrying `prog` (delays below the packing's field) for VAMP
     `number`."""
-    F = packing.field
     if not 0 < number < packing.limit:
         raise VampcError(f"VAMP number {number} does not fit in a {packing.limit.bit_length()}-bit "
                          f"Program-Mode word (at most {packing.limit - 1}); give a wider --word")
-    for name in ("delay_a", "delay_b", "delay_r", "rom"):
-        if not 0 <= prog.field(name) < F:
-            raise VampcError(f"VAMP {number}: {name} {prog.field(name)} does not fit in a word")
-    return (float(number), float(prog.delay_a * F + prog.delay_b), float(prog.delay_r * F + prog.rom))
+    fields = compact_fields(prog, packing)
+    if fields is None:
+        name = next(n for n in ("delay_a", "delay_b", "delay_r", "rom")
+                    if not 0 <= prog.field(n) < packing.field)
+        raise VampcError(f"VAMP {number}: {name} {prog.field(name)} does not fit in a word")
+    return (float(number), *fields)
+
+
+def compact_fields(prog: Program, packing: Packing = PACKING) -> tuple[float, float] | None:
+    """The two fields after the VAMP-number of `prog`'s compact word (delays and ROM pointer packed
+    in pairs), or None when one of them does not fit (encode says which)."""
+    F = packing.field
+    if not all(0 <= prog.field(n) < F for n in ("delay_a", "delay_b", "delay_r", "rom")):
+        return None
+    return float(prog.delay_a * F + prog.delay_b), float(prog.delay_r * F + prog.rom)
 
 
 def decode(word, packing: Packing = PACKING) -> tuple[int, Program]:

@@ -67,9 +67,13 @@ def packages(vamps: int) -> dict:
 
 def input_buffer_scalars(c) -> int:
     """Scalars the host keeps in input buffers: constants plus one torque set's port values."""
-    consts = sum(len(k.value) for k in c.network.consts)
-    ports = {(e.key.quantity, e.key.joint): p.size for p in c.network.ports for e in p.entries}
-    return consts + sum(ports.values())
+    return sum(len(k.value) for k in c.network.consts) + distinct_port_scalars(c.network)
+
+
+def distinct_port_scalars(net) -> int:
+    """Scalars of one torque set's distinct host inputs (a quantity of a joint counted once, however
+    many ports carry it)."""
+    return sum({(e.key.quantity, e.key.joint): p.size for p in net.ports for e in p.entries}.values())
 
 
 def summary(c) -> dict:

@@ -17,17 +17,16 @@ PER_VAMP_UP_TO = 4096          # VAMPs: above this the JSON keeps the spread, no
 
 def engineering(c, clock_hz: float | None = None) -> dict:
     """The section's figures for a compiled program `c` (vampc.compiler.Compiled)."""
-    from vampc.report.counts import word_bits
+    from vampc.report.counts import distinct_port_scalars, word_bits
     net, graph, sched = c.network, c.graph, c.schedule
     duration = sched.timing.durations
     interval = sched.interval
     busy = [sum(duration[graph.nodes[s.node].op] for s in v.slots) for v in net.vamps]
     share = [b / interval for b in busy]
     inputs = sum(p.size for p in net.ports for _ in p.entries)
-    distinct = sum({(e.key.quantity, e.key.joint): p.size for p in net.ports for e in p.entries}.values())
     outputs = c.chain.n_outputs
     bits = word_bits(c)
-    io = {"scalars_in_per_set": inputs, "distinct_scalars_in_per_set": distinct,
+    io = {"scalars_in_per_set": inputs, "distinct_scalars_in_per_set": distinct_port_scalars(net),
           "port_writes_per_set": sum(len(p.entries) for p in net.ports),
           "scalars_out_per_set": outputs,
           "bits_in_per_set": bits["host_write_bits_per_set"],

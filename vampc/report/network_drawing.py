@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 from vampc.kinds import Recursion, Section, TapKind, unhandled
+from vampc.memo import keep_last
 from vampc.report import svg
 from vampc.report.sites import SECTION_NAMES, Site, node_table, vamp_sites
 from vampc.schedule.registry import SYSTOLIC, is_layout
@@ -58,21 +59,14 @@ class Drawing:
     first: int = 0             # a focused drawing: the position its left edge shows, less one
 
 
-_LAST: list = []      # the last drawing made: the DOT of a big network asks for the same one
-
-
 def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None = None) -> Drawing:
     """The drawing's content for a compiled graph, layout and network; `critical_path`: the
     schedule's critical path (node ids), whose sites are outlined; `focus`: (A, B), only the nodes
     at positions A to B (1-based, inclusive), with the buses among them."""
-    key = (graph, layout, net, tuple(critical_path), focus)
-    if _LAST and all(a is b for a, b in zip(_LAST[0][:3], key[:3])) and _LAST[0][3:] == key[3:]:
-        return _LAST[1]
-    d = _drawing(graph, layout, net, critical_path, focus)
-    _LAST[:] = [key, d]
-    return d
+    return _drawing(graph, layout, net, tuple(critical_path), focus)
 
 
+@keep_last()          # the last drawing made: the DOT of a big network asks for the same one
 def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
     if layout.grouped:
         sites = vamp_sites(graph, layout)

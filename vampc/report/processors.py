@@ -11,7 +11,7 @@ from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.memo import keep_last
 from vampc.report import paper
-from vampc.report.sites import node_table
+from vampc.report.sites import node_table, unit_firsts
 from vampc.schedule.layout import folded_binding
 from vampc.schedule.registry import FOLDED, SYSTOLIC
 
@@ -103,7 +103,7 @@ def _by_op(graph, binding) -> dict:
     for name, share in (("single_device", False), ("shared_passes", True)):
         units, sizes = binding(share)
         got: Counter = Counter()
-        for u, nd in enumerate(_unit_firsts(graph, units)):
+        for u, nd in enumerate(unit_firsts(graph, units)):
             if nd is not None:
                 got[nd.op.value] += sizes[u]
         out[name] = dict(sorted(got.items()))
@@ -118,16 +118,6 @@ def _node_ops(graph) -> Counter:
     for nd in graph.compute_nodes():
         out[(nd.section, nd.group, nd.op)] += 1
     return out
-
-
-@keep_last(4)
-def _unit_firsts(graph, units) -> list:
-    """Per unit of a binding (`units`: a unit per node), its first compute node (None if none)."""
-    first = [None] * (max(units, default=-1) + 1)
-    for nd in graph.compute_nodes():
-        if first[units[nd.id]] is None:
-            first[units[nd.id]] = nd
-    return first
 
 
 def _per_node(graph) -> Counter:
@@ -165,7 +155,7 @@ def _by_section(graph, binding) -> Counter:
     """VAMPs of a binding's units per section (a unit serving both passes counts as backward)."""
     units, sizes = binding
     out: Counter = Counter()
-    for u, nd in enumerate(_unit_firsts(graph, units)):
+    for u, nd in enumerate(unit_firsts(graph, units)):
         if nd is not None:
             out[nd.section] += sizes[u]
     return out

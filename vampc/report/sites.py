@@ -73,15 +73,22 @@ def unit_sites(graph, layout) -> list[Site]:
         device = device_nodes(graph)
         return [Site(*Counter(device(graph.nodes[i]) for i in ids).most_common(1)[0][0])
                 if ids else Site(Section.BWD, 0) for ids in unit_nodes(graph, layout)]
-    first = [None] * len(layout.unit_vamps)       # per unit, its first node
-    units = layout.units
-    for nd in graph.compute_nodes():
-        if first[units[nd.id]] is None:
-            first[units[nd.id]] = nd
+    first = unit_firsts(graph, layout.units)
     if is_layout(layout.name, SYSTOLIC):
         return [Site(nd.section, nd.group) for nd in first]
     device = device_nodes(graph)
     return [Site(*device(nd)) for nd in first]
+
+
+@keep_last(4)
+def unit_firsts(graph, units) -> list:
+    """Per unit of a binding (`units`: a unit per node), its first compute node (None if none; the
+    last few answers are kept)."""
+    first = [None] * (max(units, default=-1) + 1)
+    for nd in graph.compute_nodes():
+        if first[units[nd.id]] is None:
+            first[units[nd.id]] = nd
+    return first
 
 
 @keep_last(4)

@@ -396,27 +396,21 @@ def _find_free(buf: bytearray, start: int, length: int) -> int:
     return start if last < 0 else last + 1
 
 
-_HEIGHTS: list = []
-
-
+@keep_last()
 def _heights(graph: Graph, duration) -> tuple[list[int], object]:
     """Longest path (ticks) from each node to the end of any output (the list priority), and the
     graph's arrays when it is big enough to be list-scheduled in C (vampc.schedule.native; else
     None); the last answer is kept (a report's folded and shared-pass layouts list-schedule the
-    same graph)."""
-    if _HEIGHTS and _HEIGHTS[0] is graph and _HEIGHTS[1] == duration:
-        return _HEIGHTS[2], _HEIGHTS[3]
+    same graph; `duration` is a Timing's table, one object per Timing)."""
     from vampc.schedule import native
     height = arrays = None
-    if native.wanted(sum(1 for nd in graph.nodes if nd.op.is_compute)):
+    if native.wanted(len(graph.compute_nodes())):
         arrays = native.Arrays(graph, duration)
         height = native.longest_to_end(graph, duration, arrays)
         if height is None:            # no C compiler here: the Python loops
             arrays = None
     if height is None:
         height = _longest_to_end(graph, duration)
-    _HEIGHTS[:] = [graph, dict(duration) if isinstance(duration, dict) else duration, height,
-                   arrays]
     return height, arrays
 
 
