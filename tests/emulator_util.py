@@ -1,8 +1,7 @@
 """Helpers shared by the emulator tests: compile a chain into a loaded program, run both engines."""
 from __future__ import annotations
 
-import copy
-
+import msgspec
 import numpy as np
 
 from vampc.compiler import CompileOptions, compile_chain, program_document
@@ -35,9 +34,14 @@ def _head(traj, k):
     return Trajectory(traj.q[:k], traj.qd[:k], traj.qdd[:k])
 
 
+_ENCODE, _DECODE = msgspec.json.Encoder().encode, msgspec.json.Decoder().decode
+
+
 def mutated(doc: dict, change) -> dict:
-    """A deep copy of a document with `change(copy)` applied."""
-    new = copy.deepcopy(doc)
+    """A deep copy of a document with `change(copy)` applied (a document is JSON data: copied
+    through its JSON text, six times faster than copy.deepcopy, which the fault sweeps spent most
+    of their time in)."""
+    new = _DECODE(_ENCODE(doc))
     change(new)
     return new
 

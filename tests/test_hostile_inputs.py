@@ -219,8 +219,8 @@ def test_an_interval_budget_is_never_beaten_by_the_vamps_budget_of_its_size(robo
     from vampc.robot.random import random_chain
     chain = load_robot(PUMA) if robot == "puma" else random_chain(32, 3)
     for t in intervals:
-        by_t = compile_chain(chain, CompileOptions(interval=t)).schedule
-        k = compile_chain(chain, CompileOptions(interval=t)).layout.vamp_count
+        c = compile_chain(chain, CompileOptions(interval=t))
+        by_t, k = c.schedule, c.layout.vamp_count
         by_k = compile_chain(chain, CompileOptions(vamps=k)).schedule
         assert by_t.interval <= t
         beaten = (by_k.latency <= by_t.latency and by_k.interval <= by_t.interval

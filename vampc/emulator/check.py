@@ -13,11 +13,14 @@ from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
 from vampc.kinds import SourceKind, unhandled
 from vampc.machine.ops import Op
+from vampc.memo import keep_last
 from vampc.program.words import ROM
 
 
+@keep_last(2)
 def check_program(ld: Loaded) -> tm.StaticTiming:
-    """All static checks; returns the derived timing. VampcError on the first problem found."""
+    """All static checks; returns the derived timing. VampcError on the first problem found. A
+    program is frozen, so the last two checked are not checked again (both engines on one program)."""
     timing = tm.derive(ld)
     check_against_schedule(ld, timing)
     check_against_graph(ld, timing)

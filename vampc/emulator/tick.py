@@ -80,10 +80,13 @@ class TickEngine:
             for s in range(1, b.stages + 1):
                 self.stage_row[(b.index, s)] = row
                 row += 1
-        # Stage s of a buffer takes stage s - 1 (stage 1 takes its VAMP's Result).
-        self.stage_dst = np.array(list(self.stage_row.values()), dtype=np.int64)
-        self.stage_src = np.array([ld.net.buffers[b].source if s == 1 else self.stage_row[(b, s - 1)]
-                                   for b, s in self.stage_row], dtype=np.int64)
+        # Stage s of a buffer takes stage s - 1 (stage 1 takes its VAMP's Result). A buffer's
+        # stages are consecutive rows, so the stage rows move down one row as a block and each
+        # buffer's first row then takes its VAMP's Result.
+        self.stages = (V, row)
+        self.first_row = np.array([self.stage_row[(b.index, 1)] for b in ld.net.buffers
+                                   if b.stages], dtype=np.int64)
+        self.first_src = np.array([b.source for b in ld.net.buffers if b.stages], dtype=np.int64)
         self.port_row = {p.index: row + k for k, p in enumerate(ld.net.ports)}
         row += len(ld.net.ports)
         self.const_row = {c.index: row + k for k, c in enumerate(ld.net.consts)}
@@ -406,14 +409,19 @@ class TickEngine:
 
     # --- buffers and waveforms ----------------------------------------------------------------
     def _shifted_stages(self, every_tick: bool, tick: int = 0):
-        """Values and tags every buffer stage takes at the end of this tick (None: no shift now)."""
-        if not (every_tick or captures(tick, self.B)) or not self.stage_dst.size:
+        """What each buffer's first stage takes at the end of this tick, its VAMP's Result (None:
+        no shift now); the other stages take their predecessors' when committed."""
+        if not (every_tick or captures(tick, self.B)) or not self.first_row.size:
             return None
-        return self.bus[self.stage_src, :3].copy(), self.tag[self.stage_src].copy()
+        return self.bus[self.first_src, :3].copy(), self.tag[self.first_src].copy()
 
     def _commit_stages(self, new) -> None:
+        """Shift every buffer one stage (only stage rows change between _shifted_stages and this)."""
         if new is not None:
-            self.bus[self.stage_dst, :3], self.tag[self.stage_dst] = new
+            lo, hi = self.stages
+            self.bus[lo + 1:hi, :3] = self.bus[lo:hi - 1, :3]   # overlapping: numpy copies safely
+            self.tag[lo + 1:hi] = self.tag[lo:hi - 1]
+            self.bus[self.first_row, :3], self.tag[self.first_row] = new
 
     def _vcd_dump(self) -> None:
         if self.vcd is not None:
