@@ -73,12 +73,20 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     stage = stage or (lambda name: None)
     options.check()
     stage("schedule")
-    layout, sched = layout_and_schedule(graph, options.timing, options.layout,
-                                        options.layout_request)
+    plan = None
+    if options.bus == "mlb":
+        from vampc.network.bus import schedule_on_bus
+        layout, sched, plan = schedule_on_bus(graph, options.timing, options.tiers, options.verify)
+    else:
+        layout, sched = layout_and_schedule(graph, options.timing, options.layout,
+                                            options.layout_request)
     if until == "schedule":
         return Compiled(chain, options, graph, sched, layout=layout)
     stage("allocate")
     net = allocate(graph, sched, layout, options.verify and check_network)
+    if plan is not None:
+        from vampc.network.bus import with_bus
+        net = with_bus(net, plan, graph, sched, options.verify and check_network)
     if until == "allocate":
         return Compiled(chain, options, graph, sched, net, layout=layout)
     stage("emit")

@@ -73,12 +73,14 @@ class Pass(Kind):
 
 class TapKind(Kind):
     """Where an operand is read (vampc.network.model.Tap): a VAMP's Result, a buffer stage, a host
-    port or a constant buffer."""
+    port, a constant buffer, or (a network on the Mostly-Local Bus) the bus of one tier in front of
+    the reading VAMP."""
 
     VAMP = "vamp"
     BUFFER = "buffer"
     PORT = "port"
     CONST = "const"
+    BUS = "bus"
 
 
 class SourceKind(Kind):

@@ -94,6 +94,16 @@ class CompileOptions:
     overflow: str = field(default="saturate", metadata=cli(
         "--overflow", choices=lambda: WORD_OVERFLOW, show_default=True, help="Fixed-point words: "
         "a result beyond the word saturates or wraps; either way it is counted and reported."))
+    bus: str = field(default="p2p", metadata=cli(
+        "--bus", choices=lambda: BUS_KINDS, show_default=True, help="How results travel between "
+        "VAMPs: p2p, a wire from each source to its readers; mlb, the Mostly-Local Bus of section "
+        "VII, tiers of buses shared in time, the basic cycle stretched where they conflict "
+        "(systolic layout; README, Mostly-Local Bus)."))
+    tiers: str | None = field(default=None, metadata=cli(
+        "--tiers", metavar="SPANS|auto", help="With --bus mlb: each tier's bus span in VAMPs, e.g. "
+        "2,2,4,4,8 (a tier of the span of the one before is offset by half a span), or auto: tuned "
+        "to this graph's message lengths. Default: 2,2,4,4,8,8,... doubling every second tier, "
+        "then six tiers over the whole line."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
     def __post_init__(self):
@@ -148,6 +158,10 @@ class CompileOptions:
             del out["word"]
         if not self.word.startswith("q"):
             del out["rounding"], out["overflow"]
+        if self.bus == "p2p":          # point-to-point programs keep their bytes
+            del out["bus"]
+        if self.tiers is None:
+            del out["tiers"]
         return out
 
     def arith(self):
@@ -179,6 +193,7 @@ class CompileOptions:
         if self.budget and ("layout" in self.given or kind is not SYSTOLIC):
             raise VampcUsageError("--vamps and --interval make their own (budgeted) layout: leave "
                                   "out --layout")
+        check_bus(self)
 
 
 @dataclass(frozen=True)
@@ -246,6 +261,26 @@ class RobotOptions:
 WORD_OPTIONS = ("word", "rounding", "overflow")
 WORD_ROUNDING = ("nearest", "truncate")
 WORD_OVERFLOW = ("saturate", "wrap")
+
+
+BUS_KINDS = ("p2p", "mlb")
+
+
+def check_bus(options) -> None:
+    """--bus and --tiers against each other and the layout (VampcUsageError)."""
+    from vampc.network.bus import LAYOUTS, parse_tiers
+    if options.bus not in BUS_KINDS:
+        raise VampcUsageError(f"--bus {options.bus}: choose from {', '.join(BUS_KINDS)}")
+    if options.tiers is not None:
+        if options.bus != "mlb":
+            raise VampcUsageError("--tiers applies with --bus mlb")
+        try:
+            parse_tiers(options.tiers)
+        except ValueError as exc:
+            raise VampcUsageError(f"--tiers {exc}") from None
+    if options.bus == "mlb" and options.layout_name not in LAYOUTS:
+        raise VampcUsageError(f"--bus mlb is built for the {', '.join(LAYOUTS)} layout only, not "
+                              f"the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
 def check_word(options) -> None:

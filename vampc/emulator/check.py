@@ -11,7 +11,7 @@ from __future__ import annotations
 from vampc.emulator import timing as tm
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
-from vampc.kinds import SourceKind, unhandled
+from vampc.kinds import SourceKind, TapKind, unhandled
 from vampc.machine.ops import Op
 from vampc.memo import keep_last
 from vampc.program.words import ROM
@@ -24,7 +24,35 @@ def check_program(ld: Loaded) -> tm.StaticTiming:
     timing = tm.derive(ld)
     check_against_schedule(ld, timing)
     check_against_graph(ld, timing)
+    check_bus(ld)
     return timing
+
+
+def check_bus(ld: Loaded) -> None:
+    """On the Mostly-Local Bus: no two writes drive one bus at one Cycle-Counter, and every write
+    is latched by some slot (derive has already found a writer for every bus a slot latches)."""
+    bus = ld.net.bus
+    if bus is None:
+        return
+    drivers = bus.drivers([b.source for b in ld.net.buffers], ld.period)
+    for (k, b, c), writes in drivers.items():
+        if len(writes) > 1:
+            raise VampcError(f"{ld.path}: bus {b} of tier {k} is driven by {len(writes)} writers "
+                             f"at Cycle-Counter {c} ({', '.join(str(w.source) for w in writes)})")
+    read = set()
+    for v, vamp in enumerate(ld.net.vamps):
+        for prog in ld.programs[v]:
+            for operand, counter in ((vamp.a[prog.sel_a], prog.delay_a),
+                                     (vamp.b[prog.sel_b], prog.delay_b)):
+                for tap in operand.taps:
+                    if tap.kind is TapKind.BUS:
+                        tier = bus.tiers[tap.index]
+                        read.add((tap.index, tier.bus_at(bus.position[v]), counter))
+    for key, writes in drivers.items():
+        if key not in read:
+            k, b, c = key
+            raise VampcError(f"{ld.path}: {writes[0].source} drives bus {b} of tier {k} at "
+                             f"Cycle-Counter {c}, but no VAMP latches it then")
 
 
 def check_against_schedule(ld: Loaded, timing: tm.StaticTiming) -> None:

@@ -220,7 +220,8 @@ def _check_inputs_used(net: Network, numbers, progs, path) -> None:
                 tap = inputs[k].taps[0]
                 program_port = (name == "A" and k == 0 and tap.kind is TapKind.PORT
                                 and not net.ports[tap.index].entries)
-                if k not in used and not program_port:
+                program_wire = name == "A" and k == 0 and net.bus is not None   # (Program Mode's)
+                if k not in used and not program_port and not program_wire:
                     raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}): input {k} of operand "
                                      f"{name}'s multiplexer ({tap}) is selected by no slot")
 
@@ -270,7 +271,7 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
         raise VampcError(f"{path}: network.period {net.period} is not a multiple of network.clock "
                          f"{net.clock}")
     sizes = {"vamp": len(net.vamps), "buffer": len(net.buffers), "port": len(net.ports),
-             "const": len(net.consts)}
+             "const": len(net.consts), "bus": len(net.bus.tiers) if net.bus else 0}
     for v in net.vamps:
         for name, inputs in (("A", v.a), ("B", v.b)):
             for operand in inputs:
@@ -287,6 +288,12 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
     for b in net.buffers:
         if b.source >= len(net.vamps):
             raise VampcError(f"{path}: buffer {b.index} is fed by missing VAMP {b.source}")
+    for j, w in enumerate(net.bus.writes if net.bus else ()):
+        if _missing(net, sizes, w.source):
+            raise VampcError(f"{path}: network.bus.writes[{j}] is driven by a missing {w.source}")
+        if w.counter >= net.period:
+            raise VampcError(f"{path}: network.bus.writes[{j}]: counter {w.counter} never matches "
+                             f"the Cycle-Counter (0..{net.period - 1})")
     for o in net.outputs:
         if o.vamp >= len(net.vamps):
             raise VampcError(f"{path}: τ{o.joint} is read from missing VAMP {o.vamp}")

@@ -90,12 +90,23 @@ class TickEngine:
         self.port_row = {p.index: row + k for k, p in enumerate(ld.net.ports)}
         row += len(ld.net.ports)
         self.const_row = {c.index: row + k for k, c in enumerate(ld.net.consts)}
-        self.rows = row + len(ld.net.consts)
+        row += len(ld.net.consts)
+        # the Mostly-Local Bus: a row per bus of every tier, driven afresh every tick
+        self.bus_row: dict[tuple[int, int], int] = {}
+        bus = ld.net.bus
+        for k, tier in enumerate(bus.tiers if bus is not None else ()):
+            for b in range(tier.bus_at(0), tier.bus_at(V - 1) + 1):
+                self.bus_row[(k, b)] = row
+                row += 1
+        self.buses = (row - len(self.bus_row), row)
+        self.rows = row
         self.V = V
-        self.input0 = np.array([self._row(v.a[0].taps[0]) for v in ld.net.vamps], dtype=np.int64)
+        self.input0 = np.array([self._row(v.a[0].taps[0], v.index) for v in ld.net.vamps],
+                               dtype=np.int64)
         self.numbers = np.array(ld.numbers, dtype=float)
 
-    def _row(self, tap) -> int:
+    def _row(self, tap, reader: int) -> int:
+        """The row `tap` reads; a bus tap, the bus of its tier in front of VAMP `reader`."""
         if tap.kind is TapKind.VAMP:
             return tap.index
         if tap.kind is TapKind.BUFFER:
@@ -104,6 +115,9 @@ class TickEngine:
             return self.port_row[tap.index]
         if tap.kind is TapKind.CONST:
             return self.const_row[tap.index]
+        if tap.kind is TapKind.BUS:
+            bus = self.ld.net.bus
+            return self.bus_row[(tap.index, bus.tiers[tap.index].bus_at(bus.position[reader]))]
         return unhandled(tap.kind)
 
     def _root_row(self, root) -> int:
@@ -116,9 +130,9 @@ class TickEngine:
             case _:
                 return unhandled(root.kind)
 
-    def _gather(self, operand):
-        """Bus rows and columns of an operand's nine scalars, and the rows carrying its set tags."""
-        r = [self._row(x) for x in operand.taps]
+    def _gather(self, operand, reader: int):
+        """Rows and columns of an operand's nine scalars, and the rows carrying its set tags."""
+        r = [self._row(x, reader) for x in operand.taps]
         if len(r) == 3:   # matrix as three columns: element (i, j) is scalar i of column j
             return [r[j] for i in range(3) for j in range(3)], [i for i in range(3) for j in range(3)], r
         return [r[0]] * 9, list(range(9)), r * 3
@@ -237,6 +251,42 @@ class TickEngine:
             self.tag[self.const_row[c.index]] = CONST
         self._slots()
         self._plan = {}
+        self._bus_drives()
+
+    def _bus_drives(self) -> None:
+        """Per Cycle-Counter: the rows the bus-write registers copy onto their buses (source rows,
+        bus rows), and the first two writes that drive one bus together, if any."""
+        self.drive_at: dict[int, tuple] = {}
+        bus = self.ld.net.bus
+        if bus is None:
+            return
+        sources = [b.source for b in self.ld.net.buffers]
+        for (k, b, c), writes in sorted(bus.drivers(sources, self.P).items()):
+            src, dst, clash = self.drive_at.get(c, ([], [], None))
+            for w in writes:
+                src.append(self._row(w.source, 0))
+                dst.append(self.bus_row[(k, b)])
+            if len(writes) > 1 and clash is None:
+                clash = (k, b, writes[0].source, writes[1].source)
+            self.drive_at[c] = (src, dst, clash)
+        self.drive_at = {c: (np.array(s, dtype=np.int64), np.array(d, dtype=np.int64), x)
+                         for c, (s, d, x) in self.drive_at.items()}
+
+    def _drive_buses(self, c: int, t: int) -> None:
+        """The buses at the start of tick t: what their writers drive (a bus no one drives holds
+        no set's value); VampcError if two drive one bus."""
+        lo, hi = self.buses
+        self.tag[lo:hi] = UNKNOWN
+        drive = self.drive_at.get(c)
+        if drive is None:
+            return
+        src, dst, clash = drive
+        if clash is not None:
+            k, b, w0, w1 = clash
+            raise VampcError(f"{self.ld.path}: tick {t}: bus {b} of tier {k} is driven by two "
+                             f"writers at once ({w0} and {w1}): a bus collision")
+        self.bus[dst] = self.bus[src]
+        self.tag[dst] = self.tag[src]
 
     def _slots(self) -> None:
         """Flatten the programmed slot tables: per slot its VAMP, fields and operand gathers."""
@@ -253,8 +303,8 @@ class TickEngine:
                                      "at no multiplexer input")
                 vamp.append(v)
                 fields.append((da, db, dr, r))
-                ga.append(self._gather(inputs.a[sa]))
-                gb.append(self._gather(inputs.b[sb]))
+                ga.append(self._gather(inputs.a[sa], v))
+                gb.append(self._gather(inputs.b[sb], v))
         self.slot_vamp = np.array(vamp, dtype=np.int64)
         self.counted = np.full(len(vamp), -1, dtype=np.int64)   # the last set whose overflows count
         f = np.array(fields, dtype=np.int64).reshape(-1, 4)
@@ -304,6 +354,8 @@ class TickEngine:
                 tau[j, o.joint - 1] = self.ld.arith.decode(self.bus[o.vamp, o.component])
 
     def _data_tick(self, c: int, t: int) -> None:
+        if self.bus_row:
+            self._drive_buses(c, t)
         self._latch(self.latch_a_at.get(c), "a")
         self._latch(self.latch_b_at.get(c), "b")
         for r, j, slots in self.step_at.get(c, ()):

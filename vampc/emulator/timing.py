@@ -87,6 +87,9 @@ class _Deriver:
         # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch
         self.gaps = [tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
                            for f in ("delay_r", "delay_a", "delay_b")) for progs in ld.programs]
+        bus = ld.net.bus                  # the Mostly-Local Bus: who drives each bus when
+        self.drivers = (bus.drivers([b.source for b in ld.net.buffers], self.P)
+                        if bus is not None else None)
 
     # --- which source a tap shows at a counter (counters only) ---------------------------------
     def showing(self, v: int, counter: int) -> int:
@@ -125,8 +128,27 @@ class _Deriver:
         vamp = self.net.vamps[v]
         a = vamp.a[prog.sel_a].taps
         b = vamp.b[prog.sel_b].taps
+        if self.drivers is not None:      # a bus tap carries what its writer drives then
+            a = self._over_bus(v, k, "A", a, prog.delay_a)
+            b = self._over_bus(v, k, "B", b, prog.delay_b)
         return ((a, tuple(self.source(t, prog.delay_a) for t in a)),
                 (b, tuple(self.source(t, prog.delay_b) for t in b)))
+
+    def _over_bus(self, v: int, k: int, name: str, taps, counter: int):
+        """The taps with each bus tap replaced by the source driving that bus at `counter`."""
+        from vampc.network.bus import bus_source
+        if not any(t.kind is TapKind.BUS for t in taps):
+            return taps
+        out = []
+        for tap in taps:
+            if tap.kind is TapKind.BUS:
+                w, why = bus_source(self.net.bus, self.drivers, v, tap.index, counter, self.P)
+                if w is None:
+                    self.fail(v, k, f"operand {name} latches tier {tap.index}'s bus at "
+                                    f"Cycle-Counter {counter}, but {why}")
+                tap = w.source
+            out.append(tap)
+        return tuple(out)
 
     # --- absolute timing in dataflow order ------------------------------------------------------
     def next_emit(self, v: int, k: int, emit: float) -> float:

@@ -53,13 +53,14 @@ class Tap(Struct, frozen=True, gc=False):
 
 def tap_source(tap: Tap, buffer_sources) -> int | None:
     """The VAMP whose Result `tap` carries: the VAMP itself, or the VAMP a buffer delays
-    (`buffer_sources[b]`: buffer b's source VAMP); None for a host port or a constant buffer."""
+    (`buffer_sources[b]`: buffer b's source VAMP); None for a host port, a constant buffer or a bus
+    (whose source depends on the tick: Bus.source)."""
     match tap.kind:
         case TapKind.VAMP:
             return tap.index
         case TapKind.BUFFER:
             return buffer_sources[tap.index]
-        case TapKind.PORT | TapKind.CONST:
+        case TapKind.PORT | TapKind.CONST | TapKind.BUS:
             return None
         case _:
             return unhandled(tap.kind)
@@ -163,6 +164,59 @@ class OutputPoint(Struct, frozen=True, gc=False):
     tick: int
 
 
+class Tier(Struct, frozen=True, gc=False):
+    """One tier of the Mostly-Local Bus: buses of `span` VAMPs each, laid end to end along the line
+    of VAMPs from position `offset` (the first bus, before it, is shorter)."""
+
+    span: int
+    offset: int = 0
+
+    def bus_at(self, position: int) -> int:
+        """The bus of this tier in front of the VAMP at `position` (-1 for the short first bus)."""
+        return (position - self.offset) // self.span
+
+    def buses(self, vamps: int) -> int:
+        """Buses of this tier over a line of `vamps` VAMPs."""
+        return self.bus_at(vamps - 1) - self.bus_at(0) + 1
+
+    def carries(self, lo: int, hi: int) -> bool:
+        """Whether one bus of this tier is in front of every position from `lo` to `hi`."""
+        return self.bus_at(lo) == self.bus_at(hi)
+
+
+class BusWrite(Struct, frozen=True, gc=False):
+    """A bus-write register: at Cycle-Counter `counter` the VAMP behind `source` (its Result, or a
+    stage of its delay buffer) drives the bus of tier `tier` in front of it."""
+
+    source: Tap
+    counter: int
+    tier: int
+
+
+class Bus(Struct, frozen=True, gc=False):
+    """A network's Mostly-Local Bus (vampc.network.bus): the tiers, each VAMP's place on the line,
+    the bus-write registers, and the ticks the bus added to the basic cycle (`stretch`) and to the
+    latency (`wait`) over the point-to-point network of the same layout."""
+
+    tiers: tuple[Tier, ...]
+    position: tuple[int, ...]
+    writes: tuple[BusWrite, ...]
+    stretch: int = 0
+    wait: int = 0
+
+    def writer_position(self, tap: Tap, buffer_sources) -> int:
+        """Where on the line the VAMP (or the buffer behind it) driving `tap` sits."""
+        return self.position[tap_source(tap, buffer_sources)]
+
+    def drivers(self, buffer_sources, period: int) -> dict[tuple[int, int, int], list[BusWrite]]:
+        """Per (tier, bus, counter): the writes driving that bus then (one, unless they collide)."""
+        out: dict[tuple[int, int, int], list[BusWrite]] = {}
+        for w in self.writes:
+            bus = self.tiers[w.tier].bus_at(self.writer_position(w.source, buffer_sources))
+            out.setdefault((w.tier, bus, w.counter % period), []).append(w)
+        return out
+
+
 @dataclass(frozen=True, slots=True)
 class Network:
     """A VAMP network for one graph, schedule and layout (see the module docstring)."""
@@ -174,6 +228,7 @@ class Network:
     ports: tuple[Port, ...]
     consts: tuple[Const, ...]
     outputs: tuple[OutputPoint, ...]
+    bus: Bus | None = None    # the Mostly-Local Bus, when operands travel on it (TapKind.BUS taps)
 
     @property
     def buffer_stages(self) -> int:

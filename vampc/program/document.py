@@ -6,9 +6,12 @@ import numpy as np
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
 from vampc.errors import VampcError, VampcInternalError
 from vampc.gcpause import gc_paused
+from vampc.kinds import TapKind
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
+    Bus,
+    BusWrite,
     Const,
     Network,
     Operand,
@@ -18,6 +21,7 @@ from vampc.network.model import (
     ProgrammedSlot,
     Slot,
     Tap,
+    Tier,
     Vamp,
 )
 from vampc.program import format as F
@@ -161,7 +165,16 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
         [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],
         [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
                                      for e in p.entries]) for p in net.ports],
-        [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts])
+        [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts],
+        None if net.bus is None else bus_doc(net.bus))
+
+
+def bus_doc(bus) -> F.BusDoc:
+    """The network's Mostly-Local Bus section."""
+    return F.BusDoc([F.TierDoc(t.span, t.offset) for t in bus.tiers], list(bus.position),
+                    [F.BusWriteDoc((w.source.kind, w.source.index, w.source.stage), w.counter,
+                                   w.tier) for w in bus.writes],
+                    bus.stretch, bus.wait)
 
 
 def programs_doc(net: Network, progs) -> list[F.ProgramDoc]:
@@ -274,7 +287,25 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                          for p in nd.ports),
                    tuple(Const(c.index, c.name, tuple(c.value)) for c in nd.consts),
                    tuple(OutputPoint(o.joint, o.vamp, o.component, o.tick)
-                         for o in doc.io.outputs))
+                         for o in doc.io.outputs),
+                   None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path))
+
+
+def bus_from_doc(bd: F.BusDoc, vamps: int, path) -> Bus:
+    """The bus section as the network's Bus; VampcError where it does not fit the network."""
+    if len(bd.position) != vamps or sorted(bd.position) != list(range(vamps)):
+        raise VampcError(f"{path}: network.bus.position: not a place on the line for each of the "
+                         f"{vamps} VAMPs (a permutation of 0..{vamps - 1})")
+    for j, w in enumerate(bd.writes):
+        if w.source[0] not in (TapKind.VAMP, TapKind.BUFFER):
+            raise VampcError(f"{path}: network.bus.writes[{j}]: a {w.source[0]} cannot drive a "
+                             "bus (only a VAMP's Result or a buffer stage)")
+        if w.tier >= len(bd.tiers):
+            raise VampcError(f"{path}: network.bus.writes[{j}]: tier {w.tier} does not exist "
+                             f"({len(bd.tiers)} tiers)")
+    return Bus(tuple(Tier(t.span, t.offset) for t in bd.tiers), tuple(bd.position),
+               tuple(BusWrite(Tap(*w.source), w.counter, w.tier) for w in bd.writes),
+               bd.stretch, bd.wait)
 
 
 def stream_from_doc(doc: F.ProgramFile) -> tuple[StreamEntry, ...]:

@@ -115,6 +115,9 @@ class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):
     word: Annotated[str, Meta(pattern=r"^(float32|float64|q[0-9]+\.[0-9]+)$")] | UnsetType = UNSET
     rounding: Literal["nearest", "truncate"] | UnsetType = UNSET
     overflow: Literal["saturate", "wrap"] | UnsetType = UNSET
+    # the Mostly-Local Bus: absent for point-to-point wiring; the tiers as --tiers gave them
+    bus: Literal["p2p", "mlb"] | UnsetType = UNSET
+    tiers: str | UnsetType = UNSET
 
     def recorded(self) -> dict:
         """The options the file records, as CompileOptions takes them (absent ones left out)."""
@@ -161,7 +164,8 @@ class LayoutDoc(Struct, gc=False, forbid_unknown_fields=True):
 # array-like Struct: readers share operands, and a tuple of tuples is its own cache key.
 TapDoc = Annotated[tuple[TapKind, Index, Index],
                    Meta(description="[kind, index, stage]: a VAMP's Result, stage `stage` (1-based) "
-                                    "of a buffer, a host port or a constant buffer")]
+                                    "of a buffer, a host port, a constant buffer, or the bus of "
+                                    "tier `index` in front of the reader")]
 Operand = Annotated[list[TapDoc], Meta(min_length=1, max_length=3,
                                        description="One multiplexer input: one tap, or three "
                                                    "carrying an MM group's columns")]
@@ -201,13 +205,41 @@ class ConstDoc(Struct, gc=False, forbid_unknown_fields=True):
     value: Vector
 
 
-class NetworkDoc(Struct, gc=False, forbid_unknown_fields=True):
+class TierDoc(Struct, gc=False, array_like=True, forbid_unknown_fields=True):
+    """[span, offset]: buses of `span` VAMPs end to end along the line from position `offset`."""
+
+    span: Annotated[int, Meta(ge=1, le=WORD_MAX)]
+    offset: Annotated[int, Meta(ge=0, le=WORD_MAX)]
+
+
+class BusWriteDoc(Struct, gc=False, array_like=True, forbid_unknown_fields=True):
+    """[source tap, counter, tier]: a bus-write register of the VAMP behind the source."""
+
+    source: TapDoc
+    counter: Field24
+    tier: Annotated[int, Meta(ge=0, le=63)]
+
+
+class BusDoc(Struct, gc=False, forbid_unknown_fields=True):
+    """The Mostly-Local Bus (README, Mostly-Local Bus): tiers, each VAMP's place on the line (by
+    VAMP index), the bus-write registers, and the ticks the bus added to the basic cycle (stretch)
+    and to the latency (wait)."""
+
+    tiers: Annotated[list[TierDoc], Meta(min_length=1, max_length=64)]
+    position: list[Index]
+    writes: list[BusWriteDoc]
+    stretch: Index
+    wait: Index
+
+
+class NetworkDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     period: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     clock: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     vamps: Annotated[list[VampDoc], Meta(min_length=1)]
     buffers: list[BufferDoc]
     ports: list[PortDoc]
     consts: list[ConstDoc]
+    bus: BusDoc | None = None
 
 
 class SlotDoc(Struct, gc=False, forbid_unknown_fields=True):
