@@ -53,6 +53,7 @@ import math
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import TapKind
+from vampc.memo import keep_last
 from vampc.machine.ops import Timing
 from vampc.network.model import (
     Bus,
@@ -487,6 +488,13 @@ def with_bus(net: Network, plan: _Plan, graph=None, sched=None, verify: bool = F
                                              f"{w.a[t.sel_a]}, {w.b[t.sel_b]} instead of "
                                              f"{v.a[s.sel_a]}, {v.b[s.sel_b]}")
     return out
+
+
+@keep_last(2)
+def wired(net: Network) -> Network:
+    """The point-to-point network a bus network implements (the network itself without a bus): what
+    the report's wiring figures and pictures count as logical connections."""
+    return net if net.bus is None else resolved(net)
 
 
 def resolved(net: Network, path: str = "<network>") -> Network:

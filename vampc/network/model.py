@@ -259,4 +259,8 @@ class Network:
         if any(isinstance(s, ProgrammedSlot) for v in self.vamps for s in v.slots):
             raise VampcInternalError("a programmed network holds Cycle-Counter values: verify the "
                                      "network at the schedule's ticks (scheduled_network_from_doc)")
+        if self.bus is not None:          # the bus network checked as the wires it implements
+            from vampc.network.bus import resolved
+            verify_network(resolved(self), graph, sched)
+            return
         verify_network(self, graph, sched)

@@ -9,6 +9,8 @@ from vampc.kinds import Prefix, TapKind
 
 def max_fan_out(network) -> int:
     """The most multiplexer inputs any one VAMP Result drives (directly or through its buffer)."""
+    from vampc.network.bus import wired
+    network = wired(network)     # a bus network: the wires it implements
     readers = [0] * len(network.vamps)
     sources = [b.source for b in network.buffers]
     vamp, buffer = TapKind.VAMP, TapKind.BUFFER

@@ -96,6 +96,8 @@ def network_dot(graph, layout, net, name: str) -> str:
 
 def _network_edges(net) -> list[str]:
     """One edge per multiplexer input (an MM operand: one per column), labelled operand and input."""
+    from vampc.network.bus import wired
+    net = wired(net)             # a bus network: the wires it implements
     names = {"vamp": "v", "buffer": "b", "port": "p", "const": "k"}
     out = []
     for v in net.vamps:

@@ -68,6 +68,8 @@ def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None 
 
 @keep_last()          # the last drawing made: the DOT of a big network asks for the same one
 def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
+    from vampc.network.bus import wired
+    net = wired(net)             # a bus network: the wires it implements
     if layout.grouped:
         sites = vamp_sites(graph, layout)
         places, labels = _places(graph, layout, sorted(set(sites)))

@@ -85,6 +85,9 @@ class Reads(NamedTuple):
 def reads_table(graph, net) -> Reads:
     """The network's taps as a Reads table (the last one is kept: the report's figures ask twice)."""
     import numpy as np
+
+    from vampc.network.bus import wired
+    net = wired(net)             # a bus network: the wires it implements
     nodes = graph.nodes
     cols: list[list[int]] = [[], [], [], [], [], []]
     reader, kind, index, stage, source, reading = (c.append for c in cols)
