@@ -76,7 +76,8 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     plan = None
     if options.bus == "mlb":
         from vampc.network.bus import schedule_on_bus
-        layout, sched, plan = schedule_on_bus(graph, options.timing, options.tiers, options.verify)
+        layout, sched, plan = schedule_on_bus(graph, options.timing, options.tiers, options.verify,
+                                              options.layout, options.share_passes)
     else:
         layout, sched = layout_and_schedule(graph, options.timing, options.layout,
                                             options.layout_request)

@@ -43,8 +43,10 @@ Decisions where the paper is silent:
   easier, so a shorter one may exist between two that failed). The report gives the stretch
   (interval) and the wait (latency) the bus added.
 
-Layouts: systolic. (A folded or budget layout's ops share VAMPs, which this scheduler does not yet
-place; they are refused with a usage error.)
+Layouts: systolic (the cycle stretched by searching, as above) and folded (one torque set at a
+time: the folded list schedule with each op also waiting for its buses, so the cycle grows by what
+the waits cost). A budget layout places each op on VAMPs of its own choosing and is refused with a
+usage error.
 """
 from __future__ import annotations
 
@@ -53,8 +55,8 @@ import math
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import TapKind
-from vampc.memo import keep_last
 from vampc.machine.ops import Timing
+from vampc.memo import keep_last
 from vampc.network.model import (
     Bus,
     BusWrite,
@@ -68,7 +70,7 @@ from vampc.network.model import (
 from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
 from vampc.schedule.layout import Layout, systolic_layout
 
-LAYOUTS = ("systolic",)   # the layouts a bus is built for
+LAYOUTS = ("systolic", "folded")   # the layouts a bus is built for
 
 
 # --- tiers --------------------------------------------------------------------------------------------
@@ -210,101 +212,197 @@ def _augment(j: int, wants, owner: dict, seen: set) -> bool:
     return False
 
 
+class _Problem:
+    """A graph to schedule on the bus in one layout: the point-to-point layout and schedule it is
+    measured against, its units, and the VAMPs' places on the line."""
+
+    def __init__(self, graph: Graph, timing: Timing, layout: str, share_passes: bool,
+                 verify: bool):
+        from vampc.schedule.layout import Layout, folded_binding, schedule_bound
+        self.graph, self.timing, self.verify = graph, timing, verify
+        self.layout, self.share_passes = layout, share_passes
+        self.asap = schedule_asap(graph, timing, verify)
+        if layout == "systolic":
+            self.base_sched = self.asap
+            self.base = systolic_layout(graph, self.asap)
+        else:
+            self.units, self.sizes = folded_binding(graph, share_passes)
+            self.base_sched = schedule_bound(graph, timing, self.asap, self.units, self.sizes,
+                                             clock=timing.cycle, verify=verify)
+            self.base = Layout.of_units(layout, self.units, self.sizes, self.base_sched.interval,
+                                        timing.cycle, share_passes)
+        self.place = self.base.vamps_of()
+        self.position = line_positions(graph, self.base)
+
+    def run(self, tiers, progress=None):
+        """(layout, schedule, plan) on `tiers`; VampcError when they cannot carry a transfer."""
+        graph = self.graph
+        bad = _unmatched(graph, self.place, self.position, tiers)
+        if bad is not None:
+            i, a, span, count = bad
+            nodes = graph.nodes
+            longest = max(t.span for t in tiers)
+            why = (f"it needs a bus spanning {span} VAMPs, the longest tier spans {longest}"
+                   if not any(t.span >= span for t in tiers) else
+                   f"it latches {count} results in one tick and the tiers have too few buses "
+                   f"spanning up to {span} VAMPs to carry them at once")
+            raise VampcError(f"the tiers cannot carry node {nodes[a].label}'s result to node "
+                             f"{nodes[i].label}: {why} (give more or longer tiers, or --tiers "
+                             "auto)")
+        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
+        if self.layout == "systolic":
+            return self._systolic(tiers, order, progress)
+        return self._folded(tiers, order)
+
+    def _plan(self, tiers, sched, carried, spans) -> _Plan:
+        return _Plan(tiers, self.position, carried, sched.interval - self.base_sched.interval,
+                     sched.latency - self.base_sched.latency, spans)
+
+    def _systolic(self, tiers, order, progress):
+        graph, timing, asap = self.graph, self.timing, self.asap
+
+        def attempt(period):
+            try:
+                return _attempt(graph, timing, asap, self.place, self.position, tiers, order,
+                                period)
+            except _Full:
+                return None
+
+        # The smallest stretch found: up by doubling steps, then halving back. A period longer
+        # than all the writes together always has a free tick for every op (each op's buses were
+        # matched above), so the search ends.
+        low, step = asap.interval - 1, 1
+        period = asap.interval
+        found = attempt(period)
+        while found is None:
+            low, period = period, asap.interval + step
+            step *= 2
+            if progress is not None:
+                progress(period)
+            found = attempt(period)
+        high, best = period, found
+        while high - low > 1:
+            mid = (low + high) // 2
+            if progress is not None:
+                progress(mid)
+            got = attempt(mid)
+            if got is None:
+                low = mid
+            else:
+                high, best = mid, got
+        period, (start, finish, (carried, spans)) = high, best
+        last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
+        path, mults, adds = critical_path_counts(graph, timing, finish, last.node)
+        sched = Schedule(timing, tuple(start), tuple(finish), finish[last.node], tuple(path),
+                         mults, adds, period)
+        if self.verify:
+            sched.verify(graph)
+        layout = systolic_layout(graph, sched)
+        if self.verify:
+            layout.verify(graph)
+        return layout, sched, self._plan(tiers, sched, carried, spans)
+
+    def _folded(self, tiers, order):
+        """The folded layout's list schedule (vampc.schedule.layout.schedule_bound: the same
+        order, units and capture rule) with each op also waiting for free buses. One torque set
+        at a time, so every tick of a set has its own Cycle-Counter value: a bus is taken per
+        tick, and the cycle grows by the ticks the buses cost."""
+        from vampc.schedule.layout import Layout, _heights, _Timeline, _verify_units
+        graph, timing, asap = self.graph, self.timing, self.asap
+        nodes = graph.nodes
+        duration = timing.durations
+        clock = timing.cycle
+        height = _heights(graph, duration)[0]
+        ids = sorted((nd.id for nd in nodes if nd.op.is_compute),
+                     key=lambda i: (-height[i] - duration[nodes[i].op], asap.start[i], i))
+        start, finish = list(asap.start), list(asap.finish)
+        busy = [_Timeline(clock) for _ in self.sizes]
+        compute = [nd.op.is_compute for nd in nodes]
+        taken: dict[tuple[int, int], int] = {}
+        carried: dict[tuple, list[tuple[int, int]]] = {}
+        spans: list[int] = []
+        place, position = self.place, self.position
+        for i in ids:
+            nd = nodes[i]
+            ready = asap.start[i]
+            for a in nd.args:
+                if compute[a] and finish[a] > ready:
+                    ready = finish[a]
+            d = duration[nd.op]
+            unit = busy[self.units[i]]
+            readers = [position[v] for v in place[i]]
+            wants = []
+            for a in dict.fromkeys(nd.args):
+                if compute[a]:
+                    for u in place[a]:
+                        lo, hi = min(position[u], *readers), max(position[u], *readers)
+                        wants.append(((a, u), lo, hi, [(k, tiers[k].bus_at(lo)) for k in order
+                                                  if tiers[k].carries(lo, hi)]))
+            t = unit.earliest(ready, d)
+            while True:
+                got = _reserve(wants, t, t, taken, carried, tiers)
+                if got is not None:
+                    break
+                t = unit.earliest(t + 1, d)
+            for key, kb, span in got:
+                spans.append(span)
+                carried.setdefault(key, []).append(kb)
+                taken[kb] = taken.get(kb, 0) | (1 << t)
+            start[i], finish[i] = t, t + d
+            unit.add(t, t + d)
+        latency = max(finish[o.node] for o in graph.outputs)
+        span = max(finish[i] for i in ids) + 1
+        period = -(-span // clock) * clock
+        sched = Schedule(timing, tuple(start), tuple(finish), latency, asap.critical_path,
+                         asap.mults, asap.adds, period)
+        if self.verify:
+            sched.verify(graph)
+            _verify_units(graph, sched, self.units, clock)
+        layout = Layout.of_units(self.layout, self.units, self.sizes, period, clock,
+                                 self.share_passes)
+        if self.verify:
+            layout.verify(graph)
+        return layout, sched, self._plan(tiers, sched, carried, spans)
+
+
 def schedule_on_bus(graph: Graph, timing: Timing, tiers_option: str | None = None,
-                    verify: bool = True, progress=None):
-    """The systolic layout and schedule of `graph` with every result transfer on a bus of the tiers
-    `--tiers` gives (None: the default; 'auto': tuned): (layout, schedule, bus plan). VampcError
-    when the tiers cannot carry some transfer."""
-    asap = schedule_asap(graph, timing, verify)
-    base = systolic_layout(graph, asap)
-    place = base.vamps_of()
-    position = line_positions(graph, base)
-    V = base.vamp_count
+                    verify: bool = True, layout: str = "systolic", share_passes: bool = False,
+                    progress=None):
+    """The `layout` (systolic or folded) and schedule of `graph` with every result transfer on a
+    bus of the tiers `--tiers` gives (None: the default; 'auto': tuned): (layout, schedule, bus
+    plan). VampcError when the tiers cannot carry some transfer."""
+    problem = _Problem(graph, timing, layout, share_passes, verify)
+    V = problem.base.vamp_count
     spans = default_spans(V) if tiers_option is None else parse_tiers(tiers_option)
     if spans == "auto":
-        return _tuned(graph, timing, asap, place, position, verify, progress)
-    return _on_tiers(graph, timing, asap, place, position, tiers_of(spans, V), verify, progress)
+        return _tuned(problem, progress)
+    return problem.run(tiers_of(spans, V), progress)
 
 
-def _on_tiers(graph, timing, asap, place, position, tiers, verify, progress):
-    """schedule_on_bus on given tiers."""
-    bad = _unmatched(graph, place, position, tiers)
-    if bad is not None:
-        i, a, span, count = bad
-        nodes = graph.nodes
-        longest = max(t.span for t in tiers)
-        why = (f"it needs a bus spanning {span} VAMPs, the longest tier spans {longest}"
-               if not any(t.span >= span for t in tiers) else
-               f"it latches {count} results in one tick and the tiers have too few buses spanning "
-               f"up to {span} VAMPs to carry them at once")
-        raise VampcError(f"the tiers cannot carry node {nodes[a].label}'s result to node "
-                         f"{nodes[i].label}: {why} (give more or longer tiers, or --tiers auto)")
-    order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
-
-    def attempt(period):
-        try:
-            return _attempt(graph, timing, asap, place, position, tiers, order, period)
-        except _Full:
-            return None
-
-    # The smallest stretch found: up by doubling steps, then halving back. A period longer than
-    # all the writes together always has a free tick for every op (each op's buses were matched
-    # above), so the search ends.
-    low, step = asap.interval - 1, 1
-    period = asap.interval
-    found = attempt(period)
-    while found is None:
-        low, period = period, asap.interval + step
-        step *= 2
-        if progress is not None:
-            progress(period)
-        found = attempt(period)
-    high, best = period, found
-    while high - low > 1:
-        mid = (low + high) // 2
-        if progress is not None:
-            progress(mid)
-        got = attempt(mid)
-        if got is None:
-            low = mid
-        else:
-            high, best = mid, got
-    period, (start, finish, plan) = high, best
-    last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
-    path, mults, adds = critical_path_counts(graph, timing, finish, last.node)
-    sched = Schedule(timing, tuple(start), tuple(finish), finish[last.node], tuple(path), mults,
-                     adds, period)
-    if verify:
-        sched.verify(graph)
-    layout = systolic_layout(graph, sched)
-    if verify:
-        layout.verify(graph)
-    return layout, sched, _Plan(tiers, position, plan[0], period - asap.interval,
-                                sched.latency - asap.latency, plan[1])
-
-
-def _tuned(graph, timing, asap, place, position, verify, progress):
+def _tuned(problem: _Problem, progress):
     """--tiers auto: as many tiers as the default, the buses of each length roughly proportional
     to the share of messages of about that length (the paper's rule), then refined by measurement:
     the rule applied again to the messages the schedule actually sends, and the default tried
     too; the tiers with the least stretch (then wait, then total bus length) are kept."""
-    V = len(position)
+    V = len(problem.position)
     default = default_spans(V)
-    candidates = [default]
-    spans = _needed_spans(graph, place, position)
-    for _ in range(2):
-        candidates.append(_proportional(spans, len(default), V))
-    best = None
-    for cand in candidates:
-        tiers = tiers_of(cand, V)
-        if _unmatched(graph, place, position, tiers) is not None:
+    spans = _needed_spans(problem.graph, problem.place, problem.position)
+    best, tried = None, []
+    for round_ in range(3):
+        cand = default if round_ == 0 else _proportional(spans, len(default), V)
+        if cand in tried:
             continue
-        got = _on_tiers(graph, timing, asap, place, position, tiers, verify, progress)
+        tried.append(cand)
+        tiers = tiers_of(cand, V)
+        if _unmatched(problem.graph, problem.place, problem.position, tiers) is not None:
+            continue
+        got = problem.run(tiers, progress)
         plan = got[2]
         score = (plan.stretch, plan.wait, sum(t.span * t.buses(V) for t in tiers))
         if best is None or score < best[0]:
             best = (score, got)
-        spans = plan.spans              # what the schedule sent: the rule once more
+        if round_ > 0:
+            spans = plan.spans          # what the schedule sent: the rule once more
     return best[1]
 
 
@@ -349,7 +447,8 @@ def _proportional(spans, count: int, vamps: int) -> list[int]:
 
 
 class _Plan:
-    """What the scheduler decided: per (source VAMP, tick) the (tier, bus) pairs carrying it."""
+    """What the scheduler decided: per (node, its VAMP, tick) the (tier, bus) pairs carrying
+    that node's result from that VAMP at that tick."""
 
     def __init__(self, tiers, position, carried, stretch: int, wait: int, spans):
         self.tiers, self.position, self.carried = tiers, position, carried
@@ -367,8 +466,8 @@ def _attempt(graph: Graph, timing: Timing, asap: Schedule, place, position, tier
     start, finish = list(asap.start), list(asap.finish)
     full = (1 << period) - 1
     taken: dict[tuple[int, int], int] = {}                       # (tier, bus) -> counters in use
-    carried: dict[tuple[int, int], list[tuple[int, int]]] = {}   # (vamp, tick) -> (tier, bus)
-    sent: dict[int, list] = {}                                   # vamp -> (tick, (tier, bus))
+    carried: dict[tuple, list[tuple[int, int]]] = {}   # (node, vamp, tick) -> (tier, bus)
+    sent: dict[tuple, list] = {}                       # (node, vamp) -> (tick, (tier, bus))
     spans: list[int] = []                                        # of each write, when made
     for nd in graph.compute_nodes():
         i = nd.id
@@ -384,11 +483,11 @@ def _attempt(graph: Graph, timing: Timing, asap: Schedule, place, position, tier
                 p = position[u]
                 lo, hi = min(p, r_lo), max(p, r_hi)
                 buses = [(k, tiers[k].bus_at(lo)) for k in order if tiers[k].carries(lo, hi)]
-                wants.append((u, lo, hi, buses))
+                wants.append(((a, u), lo, hi, buses))
                 some = 0
                 for kb in buses:
                     some |= full & ~taken.get(kb, 0)
-                for t0, (k, b) in sent.get(u, ()):      # or share a write of the same result
+                for t0, (k, b) in sent.get((a, u), ()):   # or share a write of the same result
                     if tiers[k].bus_at(lo) == b == tiers[k].bus_at(hi):
                         some |= 1 << (t0 % period)
                 free &= some
@@ -406,7 +505,7 @@ def _attempt(graph: Graph, timing: Timing, asap: Schedule, place, position, tier
                 for key, kb, span in got:
                     spans.append(span)
                     carried.setdefault(key, []).append(kb)
-                    sent.setdefault(key[0], []).append((t, kb))
+                    sent.setdefault(key[:2], []).append((t, kb))
                     taken[kb] = taken.get(kb, 0) | bit
                 start[i], finish[i] = t, t + duration[nd.op]
                 break
@@ -421,8 +520,8 @@ def _reserve(wants, t: int, counter: int, taken, carried, tiers):
     bit = 1 << counter
     new: list = []
     mine: set = set()
-    for u, lo, hi, buses in wants:
-        key = (u, t)
+    for src, lo, hi, buses in wants:
+        key = (*src, t)          # node a's result on VAMP u at tick t: one tap shows it
         if any(tiers[k].bus_at(lo) == b and tiers[k].bus_at(hi) == b
                for k, b in [*carried.get(key, ()), *(kb for kk, kb, _ in new if kk == key)]):
             continue                   # the source already drives a bus in front of all of them
@@ -439,7 +538,7 @@ def _reserve(wants, t: int, counter: int, taken, carried, tiers):
 
 # --- the network on the bus ---------------------------------------------------------------------------
 
-def with_bus(net: Network, plan: _Plan, graph=None, sched=None, verify: bool = False) -> Network:
+def with_bus(net: Network, plan: _Plan, graph: Graph, sched=None, verify: bool = False) -> Network:
     """The allocated point-to-point network with every result operand read from a bus tier: the bus
     taps, and the bus-write registers of the writers. `verify`: the bus network resolved back to
     wires must be the network it was made from (and so pass its check)."""
@@ -453,7 +552,8 @@ def with_bus(net: Network, plan: _Plan, graph=None, sched=None, verify: bool = F
         slots = []
         for s in v.slots:
             sel = {}
-            for name, tick in (("a", s.latch_a), ("b", s.latch_b)):
+            args = graph.nodes[s.node].args
+            for name, tick, arg in (("a", s.latch_a, args[0]), ("b", s.latch_b, args[1])):
                 operand = ins[name][getattr(s, "sel_" + name)]
                 if all(t.kind in (TapKind.PORT, TapKind.CONST) for t in operand.taps):
                     sel[name] = getattr(s, "sel_" + name)
@@ -463,7 +563,7 @@ def with_bus(net: Network, plan: _Plan, graph=None, sched=None, verify: bool = F
                     u = tap_source(tap, sources)
                     lo = min(plan.position[u], plan.position[v.index])
                     hi = max(plan.position[u], plan.position[v.index])
-                    k = next((k for k, b in plan.carried.get((u, tick), ())
+                    k = next((k for k, b in plan.carried.get((arg, u, tick), ())
                               if plan.tiers[k].bus_at(lo) == b == plan.tiers[k].bus_at(hi)), None)
                     if k is None:
                         raise VampcInternalError(f"VAMP {v.index}: no bus carries VAMP {u}'s "

@@ -53,6 +53,9 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     from vampc.report.engineering import cpu_reference as measure_cpu
     from vampc.report.engineering import engineering
     rep["engineering"] = engineering(c, clock_hz)
+    if c.network is not None and c.network.bus is not None:
+        from vampc.report.mlb import bus_figures
+        rep["bus"] = bus_figures(c)
     if cpu_reference:
         rep["engineering"]["cpu_reference"] = measure_cpu(c.chain)
     rep["clock"] = None

@@ -104,6 +104,9 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     ]
     pairs += _tree_pairs(rep.get("tree"))
     pairs += _mimic_pairs(rep.get("mimic"))
+    if rep.get("bus") is not None:
+        from vampc.report.mlb import bus_pairs
+        pairs += bus_pairs(rep["bus"])
     return pairs
 
 

@@ -1,0 +1,186 @@
+"""The Mostly-Local Bus in the report (README, Mostly-Local Bus): per tier its buses, the writes it
+carries, its utilisation and message distances; the cycle stretch and the wait; the bus-write
+registers; pins and wires per VAMP against the point-to-point wiring the bus replaces; and, for
+robots small enough to compile again, the same robot with the default tiers, tuned tiers and
+point-to-point wiring side by side. Every figure is read off the compiled network."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from vampc.kinds import TapKind
+from vampc.network.bus import wired
+from vampc.network.model import tap_source
+from vampc.report import paper
+
+COMPARE_LIMIT = 4000      # VAMPs up to which the report compiles the other wirings to compare
+TIER_BITS = 6             # a tier select (at most 64 tiers)
+COUNTER_BITS = 24         # a Cycle-Counter value
+
+
+def _reads(net):
+    """Per (tier, bus, counter): the places of the VAMPs latching it then."""
+    bus = net.bus
+    out: dict[tuple[int, int, int], list[int]] = {}
+    for v in net.vamps:
+        here = bus.position[v.index]
+        for s in v.slots:
+            for name in ("a", "b"):
+                counter = getattr(s, "latch_" + name, None)
+                counter = getattr(s, "delay_" + name) if counter is None else counter
+                for tap in (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)].taps:
+                    if tap.kind is TapKind.BUS:
+                        key = (tap.index, bus.tiers[tap.index].bus_at(here), counter % net.period)
+                        out.setdefault(key, []).append(here)
+    return out
+
+
+def _stage_bits(net) -> int:
+    """Bits of a bus-write register's source field: Result or one of the buffer's stages."""
+    deepest = max((b.stages for b in net.buffers), default=0)
+    return max(1, deepest.bit_length())
+
+
+def bus_figures(c) -> dict | None:
+    """The bus section of a report of `c` (a vampc.compiler.Compiled); None without a bus."""
+    net = c.network
+    bus = net.bus
+    if bus is None:
+        return None
+    P, V = net.period, len(net.vamps)
+    sources = [b.source for b in net.buffers]
+    drivers = bus.drivers(sources, P)
+    reads = _reads(net)
+    per_tier = []
+    for k, tier in enumerate(bus.tiers):
+        dist = []
+        for (kk, b, cnt), writes in drivers.items():
+            if kk != k:
+                continue
+            p = bus.writer_position(writes[0].source, sources)
+            dist.append(max(abs(p - r) for r in reads.get((kk, b, cnt), [p])))
+        buses = tier.buses(V)
+        per_tier.append({"tier": k, "span": tier.span, "offset": tier.offset, "buses": buses,
+                         "writes": len(dist), "utilisation": len(dist) / (buses * P),
+                         "longest": max(dist, default=0),
+                         "mean": sum(dist) / len(dist) if dist else 0.0})
+    writers: dict[int, int] = {}
+    for w in bus.writes:
+        u = tap_source(w.source, sources)
+        writers[u] = writers.get(u, 0) + 1
+    register_bits = COUNTER_BITS + _stage_bits(net) + TIER_BITS
+    p2p = wired(net)
+    p2p_pins = [_p2p_pins(v) for v in p2p.vamps]
+    bus_pins = [_bus_pins(v, len(bus.tiers)) for v in net.vamps]
+    p2p_wires, p2p_length = _wires(p2p, bus.position)
+    direct_wires, direct_length = _wires(net, bus.position)
+    total_buses = sum(t["buses"] for t in per_tier)
+    out = {
+        "tiers": per_tier,
+        "vamps_on_line": V,
+        "interval_flops": P, "interval_without_bus": P - bus.stretch, "stretch": bus.stretch,
+        "latency_flops": c.schedule.latency, "wait": bus.wait,
+        "writes": len(bus.writes),
+        "utilisation": sum(t["writes"] for t in per_tier) / (total_buses * P),
+        "registers": {"bus_write": len(bus.writes), "max_per_vamp": max(writers.values(), default=0),
+                      "bits_each": register_bits, "bits": register_bits * len(bus.writes),
+                      "tier_select_bits": TIER_BITS},
+        "pins_per_vamp": {"bus": {"max": max(bus_pins), "mean": sum(bus_pins) / V},
+                          "point_to_point": {"max": max(p2p_pins), "mean": sum(p2p_pins) / V}},
+        "wires": {"buses": total_buses,
+                  "bus_length": sum(min(t.span, V) * t.buses(V) for t in bus.tiers),
+                  "direct": direct_wires, "direct_length": direct_length,
+                  "point_to_point": p2p_wires, "point_to_point_length": p2p_length},
+    }
+    if V <= COMPARE_LIMIT:
+        out["comparison"] = _comparison(c)
+    return out
+
+
+def _p2p_pins(vamp) -> int:
+    """A VAMP's pins with each multiplexer input a pin (vampc.report.processors.vamp_pins)."""
+    return len(paper.PINS_SEPARATE) - 2 + len(vamp.a) + len(vamp.b)
+
+
+def _bus_pins(vamp, tiers: int) -> int:
+    """A VAMP's pins on the bus: the paper's budget without its two operand pins, one pin per tier
+    (reading and driving the bus in front of it), and one per input still wired (host ports,
+    constant buffers, the Program-Mode wire)."""
+    direct = sum(1 for op in vamp.a + vamp.b if not any(t.kind is TapKind.BUS for t in op.taps))
+    return len(paper.PINS_SEPARATE) - 2 + tiers + direct
+
+
+def _wires(net, position) -> tuple[int, int]:
+    """VAMP-to-VAMP wires (each multiplexer input from a Result or buffer) and their total length
+    along the line, in VAMP pitches."""
+    sources = [b.source for b in net.buffers]
+    count = length = 0
+    for v in net.vamps:
+        for op in v.a + v.b:
+            for tap in op.taps:
+                if tap.kind in (TapKind.VAMP, TapKind.BUFFER):
+                    count += 1
+                    length += abs(position[tap_source(tap, sources)] - position[v.index])
+    return count, length
+
+
+def _comparison(c) -> list[dict]:
+    """The robot compiled with point-to-point wiring, the default tiers and tuned tiers."""
+    from vampc.compiler import compile_graph
+    rows = []
+    for label, bus, tiers in (("point-to-point", "p2p", None), ("bus, default tiers", "mlb", None),
+                              ("bus, tuned tiers", "mlb", "auto")):
+        if (bus, tiers) == (c.options.bus, c.options.tiers):
+            k = c
+        else:
+            opts = replace(c.options, bus=bus, tiers=tiers, verify=False, numbering=None)
+            k = compile_graph(c.chain, c.graph, opts, until="allocate")
+        net = k.network
+        row = {"wiring": label, "interval_flops": k.schedule.interval,
+               "latency_flops": k.schedule.latency, "vamps": len(net.vamps)}
+        if net.bus is None:
+            row.update({"tiers": None, "stretch": 0, "wait": 0, "utilisation": None,
+                        "max_pins_per_vamp": max(_p2p_pins(v) for v in net.vamps)})
+        else:
+            slots = sum(t.buses(len(net.vamps)) for t in net.bus.tiers) * net.period
+            row.update({"tiers": [t.span for t in net.bus.tiers], "stretch": net.bus.stretch,
+                        "wait": net.bus.wait, "utilisation": len(net.bus.writes) / slots,
+                        "max_pins_per_vamp": max(_bus_pins(v, len(net.bus.tiers))
+                                                 for v in net.vamps)})
+        rows.append(row)
+    return rows
+
+
+def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
+    """The text report's Mostly-Local Bus lines, as (label, value) pairs; none without a bus."""
+    if b is None:
+        return []
+    spans = ",".join(str(t["span"]) for t in b["tiers"])
+    regs, pins, wires = b["registers"], b["pins_per_vamp"], b["wires"]
+    pairs = [
+        ("bus", f"Mostly-Local Bus: {len(b['tiers'])} tiers (spans {spans}) over "
+                f"{b['vamps_on_line']} VAMPs in a line; {b['writes']} bus writes a cycle, "
+                f"{b['utilisation']:.1%} of the bus slots"),
+        ("  cycle", f"{b['interval_flops']} flops = {b['interval_without_bus']} + {b['stretch']} "
+                    f"stretched for conflicting transfers; latency {b['latency_flops']} flops, "
+                    f"{b['wait']} more than without the bus"),
+        ("  registers", f"{regs['bus_write']} bus-write registers of {regs['bits_each']} bits (up "
+                        f"to {regs['max_per_vamp']} on one VAMP); an operand select picks a tier"),
+        ("  pins per VAMP", f"up to {pins['bus']['max']} (mean {pins['bus']['mean']:.1f}) on the "
+                            f"bus; point-to-point up to {pins['point_to_point']['max']} (mean "
+                            f"{pins['point_to_point']['mean']:.1f})"),
+        ("  wires", f"{wires['buses']} bus segments {wires['bus_length']:,} VAMP pitches long, and "
+                    f"{wires['direct']} direct VAMP-to-VAMP wires (Program Mode's) "
+                    f"{wires['direct_length']:,} long; point-to-point {wires['point_to_point']} "
+                    f"wires {wires['point_to_point_length']:,} long"),
+        ("  by tier", "tier span offset buses writes utilisation longest mean-distance"),
+    ]
+    for t in b["tiers"]:
+        pairs.append(("", f"{t['tier']:>4} {t['span']:>4} {t['offset']:>6} {t['buses']:>5} "
+                          f"{t['writes']:>6} {t['utilisation']:>11.1%} {t['longest']:>7} "
+                          f"{t['mean']:>13.1f}"))
+    for r in b.get("comparison", ()):
+        tiers = "" if r["tiers"] is None else f", tiers {','.join(map(str, r['tiers']))}"
+        pairs.append(("  compared" if r is b["comparison"][0] else "",
+                      f"{r['wiring']}: interval {r['interval_flops']}, latency "
+                      f"{r['latency_flops']}, up to {r['max_pins_per_vamp']} pins a VAMP{tiers}"))
+    return pairs
