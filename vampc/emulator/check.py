@@ -39,15 +39,34 @@ def check_bus(ld: Loaded) -> None:
         if len(writes) > 1:
             raise VampcError(f"{ld.path}: bus {b} of tier {k} is driven by {len(writes)} writers "
                              f"at Cycle-Counter {c} ({', '.join(str(w.source) for w in writes)})")
+    sources = [b.source for b in ld.net.buffers]
+    by_source: dict = {}                 # (source tap, counter) -> its writes
+    for w in bus.writes:
+        by_source.setdefault((w.source, w.counter % ld.period), []).append(w)
     read = set()
     for v, vamp in enumerate(ld.net.vamps):
-        for prog in ld.programs[v]:
-            for operand, counter in ((vamp.a[prog.sel_a], prog.delay_a),
-                                     (vamp.b[prog.sel_b], prog.delay_b)):
+        here = bus.position[v]
+        for k, prog in enumerate(ld.programs[v]):
+            for name, operand, counter in (("A", vamp.a[prog.sel_a], prog.delay_a),
+                                           ("B", vamp.b[prog.sel_b], prog.delay_b)):
                 for tap in operand.taps:
-                    if tap.kind is TapKind.BUS:
-                        tier = bus.tiers[tap.index]
-                        read.add((tap.index, tier.bus_at(bus.position[v]), counter))
+                    if tap.kind is not TapKind.BUS:
+                        continue
+                    tier = bus.tiers[tap.index]
+                    key = (tap.index, tier.bus_at(here), counter)
+                    read.add(key)
+                    # the shortest of the writer's buses reaching this reader (the compiler's rule)
+                    w = drivers[key][0]
+                    there = bus.writer_position(w.source, sources)
+                    lo, hi = min(here, there), max(here, there)
+                    best = min((x.tier for x in by_source[(w.source, counter)]
+                                if bus.tiers[x.tier].carries(lo, hi)),
+                               key=lambda j: (bus.tiers[j].span, j))
+                    if best != tap.index:
+                        raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: operand {name} latches "
+                                         f"tier {tap.index}'s bus, but its writer ({w.source}) "
+                                         f"drives the shorter tier {best} to it at Cycle-Counter "
+                                         f"{counter} too (a damaged tier select)")
     for key, writes in drivers.items():
         if key not in read:
             k, b, c = key

@@ -27,7 +27,10 @@ Decisions where the paper is silent:
   Mode's words: operand A's input 0 keeps the point-to-point wire Program Mode passes words along
   (the program path of the point-to-point network); Data Mode never reads it over the bus's
   transfers. The report counts these wires.
-- A source may drive more than one tier in a tick (two readers too far apart for one bus).
+- A source may drive more than one tier in a tick (two readers too far apart for one bus); a
+  reader then latches the shortest of its source's buses that reaches it (the lowest tier of that
+  span), so a program has one reading of each transfer and a tier select damaged into another bus
+  of the same source is still reported.
 - Placement along the line: the units (one VAMP, or an MM's three, which stand together) start
   in a reverse Cuthill-McKee order of their producer-consumer graph (networkx), then 200 rounds
   move each towards the mean place of its neighbours (a barycentre ordering, which approaches the
@@ -563,8 +566,9 @@ def with_bus(net: Network, plan: _Plan, graph: Graph, sched=None, verify: bool =
                     u = tap_source(tap, sources)
                     lo = min(plan.position[u], plan.position[v.index])
                     hi = max(plan.position[u], plan.position[v.index])
-                    k = next((k for k, b in plan.carried.get((arg, u, tick), ())
-                              if plan.tiers[k].bus_at(lo) == b == plan.tiers[k].bus_at(hi)), None)
+                    k = min((k for k, b in plan.carried.get((arg, u, tick), ())
+                             if plan.tiers[k].bus_at(lo) == b == plan.tiers[k].bus_at(hi)),
+                            key=lambda k: (plan.tiers[k].span, k), default=None)
                     if k is None:
                         raise VampcInternalError(f"VAMP {v.index}: no bus carries VAMP {u}'s "
                                                  f"result at tick {tick}")

@@ -1,0 +1,290 @@
+"""The Mostly-Local Bus (vampc.network.bus): every example robot computes, bit for bit, the torques of
+its point-to-point program on both engines; the tick engine really carries values over the buses
+and refuses two writers on one bus; damaged bus registers are reported; bad tiers are one-line
+errors; tuned tiers never stretch the cycle more than the default."""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from emulator_util import document, mutated
+
+from vampc.cli import main
+from vampc.compiler import CompileOptions, compile_chain, program_document
+from vampc.emulator import emulate, loaded_from_compiled, loaded_from_doc
+from vampc.emulator.host import Trajectory, check_torques, random_trajectory
+from vampc.errors import VampcError
+from vampc.machine.ops import VAMPS_PER_OP
+from vampc.network.bus import default_spans, parse_tiers, resolved, tiers_of
+from vampc.network.model import Tier
+from vampc.robot import load_robot
+from vampc.robot.random import random_chain
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+ROBOTS = sorted(p.name for p in EXAMPLES.iterdir() if p.suffix in (".yaml", ".urdf"))
+LAYOUTS = {"systolic": {}, "folded": {"layout": "folded"},
+           "shared": {"layout": "folded", "share_passes": True}}
+PUMA = EXAMPLES / "puma560.yaml"
+
+
+def _cases():
+    for robot in ROBOTS:
+        for recursion in ("linear", "log"):
+            for layout in LAYOUTS:
+                yield robot, recursion, layout
+
+
+@pytest.mark.parametrize("robot,recursion,layout", list(_cases()))
+def test_every_example_computes_the_point_to_point_torques(robot, recursion, layout):
+    chain = load_robot(EXAMPLES / robot)
+    opts = dict(recursion=recursion, **LAYOUTS[layout])
+    p2p = loaded_from_compiled(compile_chain(chain, CompileOptions(**opts)))
+    c = compile_chain(chain, CompileOptions(bus="mlb", **opts))
+    assert c.network.bus is not None
+    ld = loaded_from_compiled(c)
+    traj = random_trajectory(chain, 40, 5)
+    want = emulate(p2p, traj, "stream").tau
+    got = emulate(ld, traj, "stream").tau
+    assert np.array_equal(got, want)               # bit for bit
+    assert check_torques(chain, traj, got).ok
+    # the tick engine on the first sets (one for the 64-joint robot: its log networks run
+    # hundreds of ticks a set)
+    k = 1 if chain.n > 10 else 2
+    head = Trajectory(*(None if x is None else x[:k] for x in (traj.q, traj.qd, traj.qdd, traj.t,
+                                                                traj.base)))
+    assert np.array_equal(emulate(ld, head, "tick").tau, want[:k])
+
+
+def test_operands_really_travel_on_the_bus():
+    # every result operand of a bus program reads a tier; the network it implements reads the wires
+    c = compile_chain(load_robot(PUMA), CompileOptions(bus="mlb"))
+    net = c.network
+    kinds = {t.kind.value for v in net.vamps for s in v.slots
+             for t in v.a[s.sel_a].taps + v.b[s.sel_b].taps}
+    assert "bus" in kinds and "vamp" not in kinds and "buffer" not in kinds
+    wires = resolved(net)
+    assert {t.kind.value for v in wires.vamps for op in v.a + v.b for t in op.taps} >= {"vamp"}
+
+
+def test_the_line_is_a_permutation_and_an_mm_stands_together():
+    c = compile_chain(load_robot(PUMA), CompileOptions(recursion="log", bus="mlb"))
+    pos = c.network.bus.position
+    assert sorted(pos) == list(range(len(c.network.vamps)))
+    for nd in c.graph.compute_nodes():
+        vs = c.layout.vamps_of()[nd.id]
+        if VAMPS_PER_OP[nd.op] == 3:
+            places = sorted(pos[v] for v in vs)
+            assert places[2] - places[0] == 2
+
+
+def test_default_tiers_double_every_second_tier_then_span_the_line():
+    assert default_spans(20) == [2, 2, 4, 4, 8, 8, 16, 16] + [32] * 6
+    tiers = tiers_of([2, 2, 4, 4, 32, 32], 20)
+    assert tiers == (Tier(2, 0), Tier(2, 1), Tier(4, 0), Tier(4, 2), Tier(32, 0), Tier(32, 0))
+    t = Tier(4, 2)
+    assert [t.bus_at(p) for p in range(8)] == [-1, -1, 0, 0, 0, 0, 1, 1]
+    assert t.carries(2, 5) and not t.carries(1, 2)
+
+
+@pytest.mark.parametrize("text", ["2,x", "0,2", "", "2,,4", "auto,2", "-1"])
+def test_malformed_tiers_are_usage_errors(text):
+    with pytest.raises(ValueError):
+        parse_tiers(text)
+    res = CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "--tiers", text, "-o", "-"])
+    assert res.exit_code == 2 and len(res.stderr.splitlines()) == 1 and "--tiers" in res.stderr
+
+
+def test_tiers_too_short_name_the_transfer_and_the_span(tmp_path):
+    out = tmp_path / "p.vamp.json"
+    res = CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "--tiers", "2,2,4",
+                                    "-o", str(out)])
+    assert res.exit_code == 1 and len(res.stderr.splitlines()) == 1
+    assert re.search(r"cannot carry node \S+'s result to node \S+: it needs a bus spanning \d+ "
+                     r"VAMPs, the longest tier spans 4", res.stderr)
+    assert not out.exists()
+
+
+def test_options_that_do_not_apply_are_refused():
+    run = CliRunner().invoke
+    res = run(main, ["compile", str(PUMA), "--tiers", "2,2", "-o", "-"])
+    assert res.exit_code == 2 and "--tiers applies with --bus mlb" in res.stderr
+    res = run(main, ["compile", str(PUMA), "--bus", "mlb", "--vamps", "12", "-o", "-"])
+    assert res.exit_code == 2 and "--bus mlb is built for the systolic, folded layout" in res.stderr
+
+
+def test_tuned_tiers_never_stretch_more_than_the_default():
+    for chain, rec in ((load_robot(PUMA), "log"), (random_chain(16, 3), "log"),
+                       (load_robot(PUMA), "linear")):
+        default = compile_chain(chain, CompileOptions(recursion=rec, bus="mlb"))
+        tuned = compile_chain(chain, CompileOptions(recursion=rec, bus="mlb", tiers="auto"))
+        assert len(tuned.network.bus.tiers) == len(default.network.bus.tiers)
+        assert tuned.network.bus.stretch <= default.network.bus.stretch
+        assert tuned.schedule.interval <= default.schedule.interval
+
+
+def test_a_stretched_cycle_is_the_period_and_the_point_to_point_one_plus_the_stretch():
+    chain = load_robot(PUMA)
+    p2p = compile_chain(chain, CompileOptions(recursion="log"))
+    c = compile_chain(chain, CompileOptions(recursion="log", bus="mlb"))
+    bus = c.network.bus
+    assert bus.stretch > 0                     # the log graph's long messages conflict at 4 flops
+    assert c.schedule.interval == c.network.period == p2p.schedule.interval + bus.stretch
+    assert c.schedule.latency == p2p.schedule.latency + bus.wait
+
+
+# --- the bus in the emulator -----------------------------------------------------------------------
+
+CHAIN = random_chain(3, 7, prismatic_fraction=0.3)
+DOC = document(CHAIN, bus="mlb")
+TRAJ = random_trajectory(CHAIN, 12, 1)
+
+
+def _collide(doc):
+    """Move one write onto a bus and counter another write of its tier already drives."""
+    writes = doc["network"]["bus"]["writes"]
+    pos = doc["network"]["bus"]["position"]
+    tiers = doc["network"]["bus"]["tiers"]
+    buffers = doc["network"]["buffers"]
+
+    def where(w):
+        kind, index, _ = w[0]
+        vamp = index if kind == "vamp" else buffers[index]["source"]
+        span, offset = tiers[w[2]]
+        return w[2], (pos[vamp] - offset) // span
+
+    for i, w in enumerate(writes):
+        for j, x in enumerate(writes):
+            if i != j and where(w) == where(x) and w[1] != x[1]:
+                writes[i] = [w[0], x[1], w[2]]
+                return
+    raise AssertionError("no two writes share a bus")
+
+
+def test_the_tick_engine_refuses_two_writers_on_one_bus():
+    doc = mutated(DOC, _collide)
+    ld = loaded_from_doc(doc)
+    with pytest.raises(VampcError, match=r"tick \d+: bus -?\d+ of tier \d+ is driven by two "
+                                         r"writers at once .*a bus collision"):
+        emulate(ld, TRAJ, "tick", static_check=False)
+    with pytest.raises(VampcError):            # and the static check sees it before running
+        emulate(ld, TRAJ, "stream")
+
+
+def test_the_bus_program_as_compiled_runs_on_both_engines():
+    ld = loaded_from_doc(DOC)
+    stream = emulate(ld, TRAJ, "stream").tau
+    assert np.array_equal(emulate(ld, TRAJ, "tick").tau, stream)
+    assert check_torques(CHAIN, TRAJ, stream).ok
+
+
+def _every_write_damage(doc):
+    P = doc["network"]["period"]
+    for i, (src, counter, tier) in enumerate(doc["network"]["bus"]["writes"]):
+        yield i, "counter", (counter + 1) % P
+        yield i, "tier", (tier + 1) % len(doc["network"]["bus"]["tiers"])
+
+
+@pytest.mark.parametrize("damage", list(_every_write_damage(DOC)), ids=str)
+def test_a_damaged_bus_write_register_is_reported_or_changes_the_torques(damage):
+    i, field, value = damage
+
+    def change(doc):
+        w = doc["network"]["bus"]["writes"][i]
+        w[1 if field == "counter" else 2] = value
+    doc = mutated(DOC, change)
+    good = emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
+    try:
+        got = emulate(loaded_from_doc(doc), TRAJ, "stream").tau
+    except VampcError:
+        return
+    assert not np.array_equal(got, good)
+
+
+def _tier_selects(doc):
+    for v, vamp in enumerate(doc["network"]["vamps"]):
+        for name in ("a", "b"):
+            for k, op in enumerate(vamp[name]):
+                for j, tap in enumerate(op):
+                    if tap[0] == "bus":
+                        yield v, name, k, j
+
+
+def test_every_damaged_tier_select_is_reported_or_changes_the_torques():
+    # each bus input of each multiplexer made to name the next tier: its bus then carries another
+    # writer's value, or none
+    T = len(DOC["network"]["bus"]["tiers"])
+    good = emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
+    silent = []
+    selects = list(_tier_selects(DOC))
+    assert len(selects) > 100
+    for v, name, k, j in selects:
+        def change(doc):
+            tap = doc["network"]["vamps"][v][name][k][j]
+            doc["network"]["vamps"][v][name][k][j] = ["bus", (tap[1] + 1) % T, 0]
+        try:
+            got = emulate(loaded_from_doc(mutated(DOC, change)), TRAJ, "stream").tau
+        except VampcError:
+            continue
+        if np.array_equal(got, good):
+            silent.append((v, name, k, j))
+    assert silent == []
+
+
+def test_a_write_no_one_latches_is_reported():
+    # a register added on a bus no one drives at that counter, which no slot latches either
+    ld = loaded_from_doc(DOC)
+    bus = ld.net.bus
+    sources = [b.source for b in ld.net.buffers]
+    driven = set(bus.drivers(sources, ld.period))
+    w = bus.writes[0]
+    here = bus.writer_position(w.source, sources)
+    free = next((k, c) for k in range(len(bus.tiers)) for c in range(ld.period)
+                if (k, bus.tiers[k].bus_at(here), c) not in driven)
+
+    def change(doc):
+        doc["network"]["bus"]["writes"].append([[w.source.kind.value, w.source.index,
+                                                 w.source.stage], free[1], free[0]])
+    with pytest.raises(VampcError, match="no VAMP latches it"):
+        emulate(loaded_from_doc(mutated(DOC, change)), TRAJ, "stream")
+
+
+def test_a_position_that_is_not_a_permutation_is_reported():
+    def change(doc):
+        doc["network"]["bus"]["position"][0] = doc["network"]["bus"]["position"][1]
+    with pytest.raises(VampcError, match="position"):
+        loaded_from_doc(mutated(DOC, change))
+
+
+# --- the file and the report ---------------------------------------------------------------------
+
+def test_point_to_point_programs_hold_no_bus():
+    doc = program_document(compile_chain(CHAIN, CompileOptions()))
+    assert "bus" not in doc["network"] and "bus" not in doc["options"]
+
+
+def test_the_report_counts_the_bus(tmp_path):
+    prog = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(PUMA), "--recursion", "log", "--bus", "mlb",
+                                     "-o", str(prog)]).exit_code == 0
+    res = CliRunner().invoke(main, ["report", str(prog), "--format", "json"])
+    rep = json.loads(res.stdout)
+    from schema_check import schema_errors
+    assert schema_errors("report", rep) == []
+    b = rep["bus"]
+    doc = json.loads(prog.read_text())
+    P = doc["network"]["period"]
+    assert b["interval_flops"] == P == rep["interval_flops"]
+    assert b["stretch"] == doc["network"]["bus"]["stretch"] > 0
+    assert b["writes"] == len(doc["network"]["bus"]["writes"])
+    assert sum(t["writes"] for t in b["tiers"]) == b["writes"]
+    for t in b["tiers"]:
+        assert t["longest"] < t["span"] and 0 <= t["utilisation"] <= 1
+    assert [r["wiring"] for r in b["comparison"]] == ["point-to-point", "bus, default tiers",
+                                                      "bus, tuned tiers"]
+    assert b["comparison"][0]["interval_flops"] == P - b["stretch"]
+    text = CliRunner().invoke(main, ["report", str(prog)]).stdout
+    assert "Mostly-Local Bus" in text and f"{P} flops = {P - b['stretch']} + {b['stretch']}" in text
