@@ -143,6 +143,37 @@ DOC = document(CHAIN, bus="mlb")
 TRAJ = random_trajectory(CHAIN, 12, 1)
 
 
+def _register(doc, i):
+    """(VAMP, register index) of write i: the writer's registers are its writes in listing order."""
+    buffers = doc["network"]["buffers"]
+
+    def writer(w):
+        kind, index, _ = w[0]
+        return index if kind == "vamp" else buffers[index]["source"]
+    writes = doc["network"]["bus"]["writes"]
+    v = writer(writes[i])
+    return v, sum(1 for w in writes[:i] if writer(w) == v)
+
+
+def _set_write(doc, i, counter=None, tier=None):
+    """Change write i's counter or tier in the listing and in the words that load it, so only the
+    timing and bus checks can catch it."""
+    w = doc["network"]["bus"]["writes"][i]
+    stage = w[0][2] if w[0][0] == "buffer" else 0
+    if counter is not None:
+        w[1] = counter
+    if tier is not None:
+        w[2] = tier
+    v, j = _register(doc, i)
+    number = doc["network"]["vamps"][v]["number"]
+    for entry in doc["program_stream"]:
+        for word in entry["words"]:
+            if word[0] == -number and word[1] == j * 8 + 6:
+                word[2] = w[1]
+            if word[0] == -number and word[1] == j * 8 + 7:
+                word[2] = stage * 64 + w[2]
+
+
 def _collide(doc):
     """Move one write onto a bus and counter another write of its tier already drives."""
     writes = doc["network"]["bus"]["writes"]
@@ -159,7 +190,7 @@ def _collide(doc):
     for i, w in enumerate(writes):
         for j, x in enumerate(writes):
             if i != j and where(w) == where(x) and w[1] != x[1]:
-                writes[i] = [w[0], x[1], w[2]]
+                _set_write(doc, i, counter=x[1])
                 return
     raise AssertionError("no two writes share a bus")
 
@@ -193,8 +224,7 @@ def test_a_damaged_bus_write_register_is_reported_or_changes_the_torques(damage)
     i, field, value = damage
 
     def change(doc):
-        w = doc["network"]["bus"]["writes"][i]
-        w[1 if field == "counter" else 2] = value
+        _set_write(doc, i, **{field: value})
     doc = mutated(DOC, change)
     good = emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
     try:
@@ -246,10 +276,46 @@ def test_a_write_no_one_latches_is_reported():
                 if (k, bus.tiers[k].bus_at(here), c) not in driven)
 
     def change(doc):
-        doc["network"]["bus"]["writes"].append([[w.source.kind.value, w.source.index,
-                                                 w.source.stage], free[1], free[0]])
+        writes = doc["network"]["bus"]["writes"]
+        writes.append([[w.source.kind.value, w.source.index, w.source.stage], 0, 0])
+        v, j = _register(doc, len(writes) - 1)
+        number = doc["network"]["vamps"][v]["number"]
+        entry = next(e for e in doc["program_stream"] if v in e["targets"])
+        last = max(k for k, t in enumerate(entry["targets"]) if t == v)
+        for f in (7, 6):
+            entry["words"].insert(last + 1, [-number, j * 8 + f, 0])
+            entry["targets"].insert(last + 1, v)
+            entry["depth"].insert(last + 1, entry["depth"][last])
+        _set_write(doc, len(writes) - 1, counter=free[1], tier=free[0])
+    doc = mutated(DOC, change)
+    doc["io"]["load_ticks"] = _load_ticks(doc)
     with pytest.raises(VampcError, match="no VAMP latches it"):
-        emulate(loaded_from_doc(mutated(DOC, change)), TRAJ, "stream")
+        emulate(loaded_from_doc(doc), TRAJ, "stream")
+
+
+def _load_ticks(doc) -> int:
+    return max(k + d + 1 for e in doc["program_stream"] for k, d in enumerate(e["depth"]))
+
+
+def test_registers_the_stream_does_not_deliver_are_reported():
+    # the listing says one thing, the Program-Mode words another
+    def change(doc):
+        doc["network"]["bus"]["writes"][0][1] = (doc["network"]["bus"]["writes"][0][1] + 1) % \
+            doc["network"]["period"]
+    with pytest.raises(VampcError, match="program stream delivers"):
+        loaded_from_doc(mutated(DOC, change))
+
+
+def test_program_mode_loads_the_bus_write_registers():
+    # the tick engine's registers after Program Mode are the listed writes, from any power-on state
+    from vampc.emulator.tick import TickEngine
+    from vampc.program.emit import bus_writes
+    ld = loaded_from_doc(DOC)
+    for seed in range(3):
+        engine = TickEngine(ld, seed=seed)
+        engine.program()
+        assert sorted(bus_writes(ld.net, engine.wtables), key=repr) == \
+            sorted(ld.net.bus.writes, key=repr)
 
 
 def test_a_position_that_is_not_a_permutation_is_reported():

@@ -182,6 +182,7 @@ def delivered_programs(net: Network, numbers, stream, path,
     index_of = {n: v for v, n in enumerate(numbers)}
     roots = a_roots(net)
     tables: list[list | None] = [None] * len(net.vamps)
+    writes: list[list] = [[] for _ in net.vamps]          # bus-write registers (the bus's)
     for entry in stream:
         if not len(entry.words) == len(entry.targets) == len(entry.depth):
             raise VampcError(f"{path}: program stream of {entry.root}: {len(entry.words)} words but "
@@ -200,13 +201,35 @@ def delivered_programs(net: Network, numbers, stream, path,
                                  f"{entry.targets[k]} at depth {entry.depth[k]}")
             if float(word[0]) > 0 or tables[v] is not None:     # an extended word needs a table
                 try:
-                    tables[v] = apply_word(tables[v], word, packing)
+                    tables[v] = apply_word(tables[v], word, packing, writes[v])
                 except VampcError as exc:
                     raise VampcError(f"{path}: program stream of {entry.root}, word {k}: "
                                      f"{exc}") from None
     progs = tuple(_program(net, numbers, v, tables[v], roots, path) for v in range(len(net.vamps)))
     _check_inputs_used(net, numbers, progs, path)
+    _check_bus_registers(net, numbers, writes, path)
     return progs
+
+
+def _check_bus_registers(net: Network, numbers, writes, path) -> None:
+    """The bus-write registers Program Mode delivers (`writes`: per VAMP, [counter, source · 64 +
+    tier] rows) must be complete, valid and the ones network.bus lists."""
+    from vampc.program.emit import bus_registers, bus_writes
+    from vampc.program.words import TIER_CODES
+    if net.bus is None:
+        v = next((v for v, regs in enumerate(writes) if regs), None)
+        if v is not None:
+            raise VampcError(f"{path}: the program stream loads bus-write registers into VAMP {v} "
+                             f"(number {numbers[v]}), but the network has no bus")
+        return
+    bus_writes(net, writes, path)            # each one complete and naming what exists
+    for v, regs in enumerate(bus_registers(net)):
+        listed = [[r.counter, r.source * TIER_CODES + r.tier] for r in regs]
+        if listed != writes[v]:
+            raise VampcError(f"{path}: network.bus.writes lists {len(listed)} bus-write "
+                             f"register(s) for VAMP {v} (number {numbers[v]}), but the program "
+                             f"stream delivers {len(writes[v])}"
+                             + (" that differ" if len(listed) == len(writes[v]) else ""))
 
 
 def _check_inputs_used(net: Network, numbers, progs, path) -> None:

@@ -46,7 +46,15 @@ from vampc.errors import VampcError
 from vampc.kinds import TapKind, unhandled
 from vampc.machine import interp as rom
 from vampc.machine.timing import captures, step_counter
-from vampc.program.words import ADDRESS, ROM, Program, apply_word, word_number
+from vampc.program.words import (
+    ADDRESS,
+    ROM,
+    TIER_CODES,
+    WRITE_FIELDS,
+    Program,
+    apply_word,
+    word_number,
+)
 
 UNKNOWN, CONST = -1, -2
 
@@ -87,6 +95,12 @@ class TickEngine:
         self.first_row = np.array([self.stage_row[(b.index, 1)] for b in ld.net.buffers
                                    if b.stages], dtype=np.int64)
         self.first_src = np.array([b.source for b in ld.net.buffers if b.stages], dtype=np.int64)
+        # Program Mode moves words only along operand A's input 0: the buffers read there (rows
+        # and first row, source) are the ones whose shifting Program Mode can see; the others
+        # hold power-on contents of no set whether they shift or not, so they are left alone then
+        read0 = {v.a[0].taps[0].index for v in ld.net.vamps if v.a[0].taps[0].kind is TapKind.BUFFER}
+        self.program_buffers = [(self.stage_row[(b.index, 1)], self.stage_row[(b.index, b.stages)] + 1,
+                                 b.source) for b in ld.net.buffers if b.index in read0 and b.stages]
         self.port_row = {p.index: row + k for k, p in enumerate(ld.net.ports)}
         row += len(ld.net.ports)
         self.const_row = {c.index: row + k for k, c in enumerate(ld.net.consts)}
@@ -153,6 +167,9 @@ class TickEngine:
         self.units = word.random(rng, (V, 3, 3))
         self.utag = np.full(V, UNKNOWN, dtype=np.int64)
         self.tables = [[self._random_row() for _ in range(int(rng.integers(1, 4)))] for _ in range(V)]
+        # bus-write registers (a bus network's): power-on garbage until a compact word clears them
+        self.wtables = [[[int(x) for x in rng.integers(0, 4096, size=2)]
+                         for _ in range(int(rng.integers(0, 3)))] for _ in range(V)]
         self.programmed = np.zeros(V, bool)
         self.tick = 0
 
@@ -188,26 +205,35 @@ class TickEngine:
         mine = np.abs(words[:, 0]) == self.numbers
         for v in np.flatnonzero(mine):
             self._apply(int(v), words[v])
-        new_stages = self._shifted_stages(every_tick=True)
+        firsts = [(self.bus[src, :3].copy(), self.tag[src]) for _, _, src in self.program_buffers]
         self.bus[:self.V, :3] = words
         self.bus[:self.V, 3:] = 0
-        self._commit_stages(new_stages)
+        for (lo, hi, _), (value, tag) in zip(self.program_buffers, firsts):   # every tick
+            self.bus[lo + 1:hi, :3] = self.bus[lo:hi - 1, :3]
+            self.tag[lo + 1:hi] = self.tag[lo:hi - 1]
+            self.bus[lo, :3], self.tag[lo] = value, tag
         self._vcd_dump()
         self.tick += 1
 
     def _apply(self, v: int, word) -> None:
         if word_number(word) < 0:
             return
-        table = self.tables[v]
+        table, writes = self.tables[v], self.wtables[v]
         if word[0] < 0:                       # an extended word may grow the table: random fields
-            slot = int(word[1]) // ADDRESS
-            if not 0 <= slot < self.P:        # no slot has that address (a power-on word): ignored
-                return
-            while len(table) <= slot:
-                table.append(self._random_row())
+            slot, f = divmod(int(word[1]), ADDRESS)
+            if f in WRITE_FIELDS:             # a bus-write register (a bus network's)
+                if not 0 <= slot < self.P * TIER_CODES:   # past any register (a power-on word)
+                    return
+                while len(writes) <= slot:
+                    writes.append([int(x) for x in self.rng.integers(0, 4096, size=2)])
+            else:
+                if not 0 <= slot < self.P:    # no slot has that address (a power-on word): ignored
+                    return
+                while len(table) <= slot:
+                    table.append(self._random_row())
         else:
             self.programmed[v] = True
-        self.tables[v] = apply_word(table, word, self.ld.packing)
+        self.tables[v] = apply_word(table, word, self.ld.packing, writes)
 
     def programs(self) -> tuple[tuple[Program, ...], ...]:
         """The slot tables the VAMPs hold now."""
@@ -260,6 +286,11 @@ class TickEngine:
         bus = self.ld.net.bus
         if bus is None:
             return
+        from msgspec.structs import replace
+
+        from vampc.program.emit import bus_writes
+        # what Program Mode left in the bus-write registers drives the buses
+        bus = replace(bus, writes=tuple(bus_writes(self.ld.net, self.wtables, self.ld.path)))
         sources = [b.source for b in self.ld.net.buffers]
         for (k, b, c), writes in sorted(bus.drivers(sources, self.P).items()):
             src, dst, clash = self.drive_at.get(c, ([], [], None))

@@ -130,6 +130,10 @@ def window(tap, clock: int, emit: float = 0, next_emit: float = 0, block: int = 
         return (-math.inf, math.inf) if math.isinf(emit) else result_window(emit, next_emit)
     if tap.kind is TapKind.BUFFER:
         return buffer_window(emit, next_emit, tap.stage, clock)
+    if tap.kind is TapKind.BUS:
+        from vampc.errors import VampcInternalError
+        raise VampcInternalError("a bus tap shows what its writer drives in that tick: resolve it "
+                                 "to the writer's tap first (vampc.network.bus.bus_source)")
     return unhandled(tap.kind)
 
 

@@ -16,7 +16,10 @@ from vampc.kinds import TapKind
 from vampc.network.model import Network, Tap, tap_source
 from vampc.program.words import (
     PACKING,
+    TIER_CODES,
+    BusRegister,
     Program,
+    bus_words,
     compact_fields,
     encode,
     fits_compact,
@@ -111,6 +114,47 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
     return roots
 
 
+def bus_registers(net: Network) -> list[list[BusRegister]]:
+    """Each VAMP's bus-write registers (none without a bus), in the order of network.bus.writes."""
+    out: list[list[BusRegister]] = [[] for _ in net.vamps]
+    if net.bus is None:
+        return out
+    sources = [b.source for b in net.buffers]
+    for w in net.bus.writes:
+        stage = w.source.stage if w.source.kind is TapKind.BUFFER else 0
+        out[tap_source(w.source, sources)].append(BusRegister(w.counter, stage, w.tier))
+    return out
+
+
+def bus_writes(net: Network, registers, path: str = "<program>"):
+    """The bus writes the VAMPs' registers make (network.bus.writes' form); VampcError naming the
+    VAMP and register when one is incomplete or names a missing buffer stage or tier."""
+    from vampc.network.model import BusWrite
+    buffer_of = {b.source: b for b in net.buffers}
+    out = []
+    for v, regs in enumerate(registers):
+        for j, row in enumerate(regs):
+            if any(x is None for x in row):
+                raise VampcError(f"{path}: VAMP {v}: bus-write register {j}: field "
+                                 f"{6 + row.index(None)} is never programmed")
+            counter, code = row
+            stage, tier = divmod(code, TIER_CODES)
+            where = f"{path}: VAMP {v}: bus-write register {j}"
+            if counter >= net.period:
+                raise VampcError(f"{where}: counter {counter} never matches the Cycle-Counter "
+                                 f"(0..{net.period - 1})")
+            if net.bus is None or tier >= len(net.bus.tiers):
+                raise VampcError(f"{where}: tier {tier} does not exist")
+            if stage == 0:
+                tap = Tap(TapKind.VAMP, v)
+            elif v in buffer_of and stage <= buffer_of[v].stages:
+                tap = Tap(TapKind.BUFFER, buffer_of[v].index, stage)
+            else:
+                raise VampcError(f"{where}: the buffer behind it has no stage {stage}")
+            out.append(BusWrite(tap, counter, tier))
+    return out
+
+
 def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[StreamEntry, ...]:
     """The Program-Mode stream: per root input buffer, the words of the VAMPs it programs, deepest
     target first, each VAMP's words in the order vampc.program.words.vamp_words gives them, packed
@@ -121,11 +165,18 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
     entries = []
     compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields
     limit = packing.limit
+    registers = bus_registers(net) if net.bus is not None else None
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
         targets, depths, words = [], [], []
         for neg, v in sorted(by_root[root]):
             slots, number = progs[v], numbering[v]
             pair = None
+            if registers is not None and registers[v]:     # bus-write registers follow: no fast path
+                mine = vamp_words(number, slots, packing) + bus_words(number, registers[v], packing)
+                targets.extend([v] * len(mine))
+                depths.extend([-neg] * len(mine))
+                words.extend(mine)
+                continue
             if len(slots) == 1:                 # the common, systolic case: one compact word
                 prog = slots[0]
                 if prog in compact:

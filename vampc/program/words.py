@@ -20,7 +20,13 @@ travels as one 3-scalar vector, of one of two kinds:
 
 A VAMP gets its compact word first, then an extended word for every field of slot 0 the compact word
 cannot carry (a delay of 4096 or more in a long period, a select other than 0) and for all six fields
-of every further slot. Every scalar is an integer below 2^24 in magnitude, exact in IEEE binary32 or
+of every further slot.
+
+On the Mostly-Local Bus a VAMP also has bus-write registers (vampc.network.bus), addressed by the
+two fields an extended word's slot address leaves free: field 6 of address j is register j's
+Cycle-Counter value, field 7 its source · 64 + tier (source 0: the VAMP's Result; s ≥ 1: stage s
+of the delay buffer behind it). They follow the slot words. A compact word clears them, as it
+clears the slot table, so a VAMP driving no bus holds none after Program Mode. Every scalar is an integer below 2^24 in magnitude, exact in IEEE binary32 or
 binary64.
 
 Narrow words (`Packing`). A fixed-point word of W bits carries a scalar as its raw bits, so below
@@ -137,27 +143,64 @@ def vamp_words(number: int, slots: tuple[Program, ...],
     return words
 
 
+WRITE_FIELDS = (6, 7)   # an extended word's fields for bus-write register j (address j · 8 + f)
+TIER_CODES = 64         # tiers per source code in field 7
+
+
+class BusRegister(Struct, frozen=True, gc=False):
+    """One bus-write register as Program Mode delivers it: at Cycle-Counter `counter` drive the
+    bus of tier `tier` with `source` (0: the Result; s: stage s of the VAMP's delay buffer)."""
+
+    counter: int
+    source: int
+    tier: int
+
+
+def bus_words(number: int, registers, packing: Packing = PACKING) -> list[tuple[float, float, float]]:
+    """The extended words that load VAMP `number`'s bus-write registers (after its slot words)."""
+    words = []
+    for j, r in enumerate(registers):
+        for f, value in zip(WRITE_FIELDS, (r.counter, r.source * TIER_CODES + r.tier)):
+            if not 0 <= value < packing.limit or j * ADDRESS + f >= packing.limit:
+                raise VampcError(f"VAMP {number}: bus-write register {j} does not fit in a "
+                                 f"{packing.limit.bit_length()}-bit Program-Mode word; give a "
+                                 "wider --word")
+            words.append((float(-number), float(j * ADDRESS + f), float(value)))
+    return words
+
+
 def word_number(word) -> int:
     """The VAMP number a word addresses (its own or negated), or -1 if scalar 1 is not an integer."""
     x = float(word[0])
     return abs(int(x)) if x.is_integer() and x != 0 else -1
 
 
-def apply_word(table: list[list[int]] | None, word, packing: Packing = PACKING) -> list[list[int]]:
+def apply_word(table: list[list[int]] | None, word, packing: Packing = PACKING,
+               writes: list | None = None) -> list[list[int]]:
     """The slot table after a VAMP latches `word` (addressed to it): a compact word replaces the
     table with one slot; an extended word sets one field of `table` (in place), growing it to reach
     its slot. The
     fields of a new slot hold whatever the registers held before: None here (the loader refuses a
     program that leaves one so); the tick engine keeps its random register contents there. Rows are
-    [delay-A, delay-B, delay-R, ROM, sel-A, sel-B]."""
+    [delay-A, delay-B, delay-R, ROM, sel-A, sel-B]. `writes`: the VAMP's bus-write registers as
+    [counter, field 7] rows, updated in place (cleared by a compact word, grown by fields 6 and 7;
+    None: such words are ignored)."""
     if float(word[0]) > 0:
         _, p = decode(word, packing)
+        if writes is not None:
+            writes.clear()
         return [[p.delay_a, p.delay_b, p.delay_r, p.rom, 0, 0]]
     address, value = int(word[1]), int(word[2])
     slot, f = divmod(address, ADDRESS)
     if slot < 0:
         raise VampcError(f"an extended word's address {address} names no slot")
     table = table if table is not None else []     # updated in place: a VAMP has many words
+    if f in WRITE_FIELDS:
+        if writes is not None:
+            while len(writes) <= slot:
+                writes.append([None, None])
+            writes[slot][f - WRITE_FIELDS[0]] = value
+        return table
     while len(table) <= slot:
         table.append([None] * 6)
     if f < len(FIELDS):
