@@ -183,29 +183,21 @@ class _Full(Exception):
     """No tick of a whole basic cycle had a bus for some op's operands."""
 
 
-def _unmatched(graph: Graph, place, position, tiers):
+def _unmatched(wanted):
     """An op whose results to latch cannot all have a bus at once, whatever the tick: (node, the
-    producer whose result finds none, span it needs, how many it latches), or None."""
-    compute = [nd.op.is_compute for nd in graph.nodes]
-    for nd in graph.compute_nodes():
-        readers = [position[v] for v in place[nd.id]]
-        wants = []
-        for a in dict.fromkeys(nd.args):
-            if compute[a]:
-                for u in place[a]:
-                    lo, hi = min(position[u], *readers), max(position[u], *readers)
-                    wants.append((a, hi - lo + 1,
-                                  [(k, t.bus_at(lo)) for k, t in enumerate(tiers) if t.carries(lo, hi)]))
+    producer whose result finds none, span it needs, how many it latches), or None. `wanted`:
+    transfers()."""
+    for i, wants in wanted:
         owner: dict = {}
-        for j, (a, span, buses) in enumerate(wants):
+        for j, (src, lo, hi, buses) in enumerate(wants):
             if not _augment(j, wants, owner, set()):
-                return nd.id, a, span, len(wants)
+                return i, src[0], hi - lo + 1, len(wants)
     return None
 
 
 def _augment(j: int, wants, owner: dict, seen: set) -> bool:
     """Kuhn's augmenting path: give want j a bus, moving others along if need be."""
-    for bus in wants[j][2]:
+    for bus in wants[j][3]:
         if bus in seen:
             continue
         seen.add(bus)
@@ -240,7 +232,9 @@ class _Problem:
     def run(self, tiers, progress=None):
         """(layout, schedule, plan) on `tiers`; VampcError when they cannot carry a transfer."""
         graph = self.graph
-        bad = _unmatched(graph, self.place, self.position, tiers)
+        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
+        wanted = transfers(graph, self.place, self.position, tiers, order)
+        bad = _unmatched(wanted)
         if bad is not None:
             i, a, span, count = bad
             nodes = graph.nodes
@@ -252,22 +246,20 @@ class _Problem:
             raise VampcError(f"the tiers cannot carry node {nodes[a].label}'s result to node "
                              f"{nodes[i].label}: {why} (give more or longer tiers, or --tiers "
                              "auto)")
-        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
         if self.layout == "systolic":
-            return self._systolic(tiers, order, progress)
-        return self._folded(tiers, order)
+            return self._systolic(tiers, wanted, progress)
+        return self._folded(tiers, dict(wanted))
 
     def _plan(self, tiers, sched, carried, spans) -> _Plan:
         return _Plan(tiers, self.position, carried, sched.interval - self.base_sched.interval,
                      sched.latency - self.base_sched.latency, spans)
 
-    def _systolic(self, tiers, order, progress):
+    def _systolic(self, tiers, wanted, progress):
         graph, timing, asap = self.graph, self.timing, self.asap
 
         def attempt(period):
             try:
-                return _attempt(graph, timing, asap, self.place, self.position, tiers, order,
-                                period)
+                return _attempt(graph, timing, asap, wanted, tiers, period)
             except _Full:
                 return None
 
@@ -305,7 +297,7 @@ class _Problem:
             layout.verify(graph)
         return layout, sched, self._plan(tiers, sched, carried, spans)
 
-    def _folded(self, tiers, order):
+    def _folded(self, tiers, wanted):
         """The folded layout's list schedule (vampc.schedule.layout.schedule_bound: the same
         order, units and capture rule) with each op also waiting for free buses. One torque set
         at a time, so every tick of a set has its own Cycle-Counter value: a bus is taken per
@@ -324,7 +316,6 @@ class _Problem:
         taken: dict[tuple[int, int], int] = {}
         carried: dict[tuple, list[tuple[int, int]]] = {}
         spans: list[int] = []
-        place, position = self.place, self.position
         for i in ids:
             nd = nodes[i]
             ready = asap.start[i]
@@ -333,14 +324,7 @@ class _Problem:
                     ready = finish[a]
             d = duration[nd.op]
             unit = busy[self.units[i]]
-            readers = [position[v] for v in place[i]]
-            wants = []
-            for a in dict.fromkeys(nd.args):
-                if compute[a]:
-                    for u in place[a]:
-                        lo, hi = min(position[u], *readers), max(position[u], *readers)
-                        wants.append(((a, u), lo, hi, [(k, tiers[k].bus_at(lo)) for k in order
-                                                  if tiers[k].carries(lo, hi)]))
+            wants = wanted.get(i, ())
             t = unit.earliest(ready, d)
             while True:
                 got = _reserve(wants, t, t, taken, carried, tiers)
@@ -397,7 +381,9 @@ def _tuned(problem: _Problem, progress):
             continue
         tried.append(cand)
         tiers = tiers_of(cand, V)
-        if _unmatched(problem.graph, problem.place, problem.position, tiers) is not None:
+        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
+        if _unmatched(transfers(problem.graph, problem.place, problem.position, tiers,
+                                order)) is not None:
             continue
         got = problem.run(tiers, progress)
         plan = got[2]
@@ -458,13 +444,38 @@ class _Plan:
         self.stretch, self.wait, self.spans = stretch, wait, spans
 
 
-def _attempt(graph: Graph, timing: Timing, asap: Schedule, place, position, tiers, order,
-             period: int):
-    """One list schedule at `period` (see the module docstring); _Full when an op finds no tick.
-    A bus's taken counters are the bits of an int, so the ticks worth trying for an op are those
-    at which each of its transfers has some free bus."""
+def transfers(graph: Graph, place, position, tiers, order) -> list:
+    """Per compute node reading results, in graph order: (node, the results it latches as
+    ((producer, its VAMP), lo, hi, the (tier, bus) pairs able to carry it, shortest tier first)).
+    They do not depend on the cycle's length, so every attempt shares them."""
+    compute = [nd.op.is_compute for nd in graph.nodes]
+    reach: dict[tuple[int, int], list] = {}     # (lo, hi) -> carrying buses
+    out = []
+    for nd in graph.compute_nodes():
+        srcs = [a for a in dict.fromkeys(nd.args) if compute[a]]
+        if not srcs:
+            continue                    # reads only inputs and constants: as the ASAP schedule
+        readers = [position[v] for v in place[nd.id]]
+        r_lo, r_hi = min(readers), max(readers)
+        wants = []
+        for a in srcs:
+            for u in place[a]:
+                p = position[u]
+                lo, hi = min(p, r_lo), max(p, r_hi)
+                buses = reach.get((lo, hi))
+                if buses is None:
+                    buses = reach[(lo, hi)] = [(k, tiers[k].bus_at(lo)) for k in order
+                                               if tiers[k].carries(lo, hi)]
+                wants.append(((a, u), lo, hi, buses))
+        out.append((nd.id, wants))
+    return out
+
+
+def _attempt(graph: Graph, timing: Timing, asap: Schedule, wanted, tiers, period: int):
+    """One list schedule at `period` (see the module docstring) of the ops `wanted` (transfers());
+    _Full when an op finds no tick. A bus's taken counters are the bits of an int, so the ticks
+    worth trying for an op are those at which each of its transfers has some free bus."""
     nodes = graph.nodes
-    compute = [nd.op.is_compute for nd in nodes]
     duration = timing.durations
     start, finish = list(asap.start), list(asap.finish)
     full = (1 << period) - 1
@@ -472,28 +483,23 @@ def _attempt(graph: Graph, timing: Timing, asap: Schedule, place, position, tier
     carried: dict[tuple, list[tuple[int, int]]] = {}   # (node, vamp, tick) -> (tier, bus)
     sent: dict[tuple, list] = {}                       # (node, vamp) -> (tick, (tier, bus))
     spans: list[int] = []                                        # of each write, when made
-    for nd in graph.compute_nodes():
-        i = nd.id
-        srcs = [a for a in dict.fromkeys(nd.args) if compute[a]]
-        if not srcs:
-            continue                    # reads only inputs and constants: as the ASAP schedule
-        ready = max(finish[a] for a in nd.args)
-        readers = [position[v] for v in place[i]]
-        r_lo, r_hi = min(readers), max(readers)
-        wants, free = [], full
-        for a in srcs:
-            for u in place[a]:
-                p = position[u]
-                lo, hi = min(p, r_lo), max(p, r_hi)
-                buses = [(k, tiers[k].bus_at(lo)) for k in order if tiers[k].carries(lo, hi)]
-                wants.append(((a, u), lo, hi, buses))
-                some = 0
-                for kb in buses:
-                    some |= full & ~taken.get(kb, 0)
-                for t0, (k, b) in sent.get((a, u), ()):   # or share a write of the same result
-                    if tiers[k].bus_at(lo) == b == tiers[k].bus_at(hi):
-                        some |= 1 << (t0 % period)
-                free &= some
+    for i, wants in wanted:
+        nd = nodes[i]
+        ready = 0
+        for a in nd.args:
+            if finish[a] > ready:
+                ready = finish[a]
+        free = full
+        for src, lo, hi, buses in wants:
+            some = 0
+            for kb in buses:
+                some |= full & ~taken.get(kb, 0)
+            for t0, (k, b) in sent.get(src, ()):   # or share a write of the same result
+                if tiers[k].bus_at(lo) == b == tiers[k].bus_at(hi):
+                    some |= 1 << (t0 % period)
+            free &= some
+            if not free:
+                break
         # try the free counters in tick order from `ready`, once round the cycle
         r = ready % period
         rotated = ((free >> r) | (free << (period - r))) & full
