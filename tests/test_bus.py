@@ -354,3 +354,20 @@ def test_the_report_counts_the_bus(tmp_path):
     assert b["comparison"][0]["interval_flops"] == P - b["stretch"]
     text = CliRunner().invoke(main, ["report", str(prog)]).stdout
     assert "Mostly-Local Bus" in text and f"{P} flops = {P - b['stretch']} + {b['stretch']}" in text
+
+
+def test_the_bus_chart_shows_every_write(tmp_path):
+    from vampc.report.bus_chart import cells
+    chart = tmp_path / "bus.svg"
+    res = CliRunner().invoke(main, ["report", str(PUMA), "--bus", "mlb", "--bus-chart", str(chart)])
+    assert res.exit_code == 0, res.stderr
+    text = chart.read_text()
+    c = compile_chain(load_robot(PUMA), CompileOptions(bus="mlb"))
+    every = cells(c.network)
+    assert len(every) == len(c.network.bus.writes)
+    # a tier of at most 12 buses is drawn bus by bus: each of its writes has its tooltip
+    small = [x for x in every if c.network.bus.tiers[x["tier"]].buses(len(c.network.vamps)) <= 12]
+    assert small and all(f'id="bus-{x["tier"]}-{x["bus"]}-{x["counter"]}"' in text for x in small)
+    res = CliRunner().invoke(main, ["report", str(PUMA), "--bus-chart", str(tmp_path / "b.svg")])
+    assert res.exit_code == 2 and "--bus-chart applies to a program on the Mostly-Local Bus" in \
+        res.stderr and not (tmp_path / "b.svg").exists()

@@ -23,6 +23,7 @@ from vampc.options import (
     ReportOptions,
     RobotOptions,
     check_program_options,
+    flag,
 )
 from vampc.textio import count
 
@@ -382,12 +383,15 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
     if own.tradeoff:
         return tradeoff_command(source, own, options, robot_opts, params)
     hz = own.clock_hz()
-    outs = plan_outputs([source], {f"--{name}": getattr(own, name) for name in own.PICTURES})
+    outs = plan_outputs([source], {flag(name): getattr(own, name) for name in own.PICTURES})
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
         c, figures, check = _report_compiled(source, options, robot_opts, params)
         try:
             from vampc.report.build import build_report
             rep = build_report(c, hz, own.pins, figures, cpu_reference=own.cpu_reference)
+            if "--bus-chart" in outs and c.network.bus is None:
+                raise VampcUsageError("--bus-chart applies to a program on the Mostly-Local Bus "
+                                      "(compile --bus mlb, or give --bus mlb with a robot file)")
             content = _pictures(c, rep, outs, own.focus_range())
         except KeyboardInterrupt:   # Ctrl-C, SIGTERM: stop the check too
             check.abandon()

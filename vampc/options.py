@@ -587,6 +587,10 @@ class ReportOptions:
     dot: str | None = field(default=None, metadata=cli(
         "--dot", path=True, metavar="FILE.dot", help="Write the network and the dataflow graph as "
         "Graphviz digraphs."))
+    bus_chart: str | None = field(default=None, metadata=cli(
+        "--bus-chart", path=True, metavar="FILE.svg", help="A program on the Mostly-Local Bus "
+        "(compile --bus mlb): write the bus chart as SVG, tiers and their buses down, the ticks "
+        "of one cycle across, each write with its writer and readers."))
     html: str | None = field(default=None, metadata=cli(
         "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
         "tables, the timing chart, the network drawing and the reservation table inline (with "
@@ -604,7 +608,7 @@ class ReportOptions:
         "systolic layouts labelled)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
-    PICTURES = ("timing", "network", "reservation", "dot", "html")
+    PICTURES = ("timing", "network", "reservation", "dot", "bus_chart", "html")
 
     def focus_range(self):
         """--focus as (A, B) positions, or a node name ("bwd 300", "fwd7"), or None

@@ -273,7 +273,7 @@ def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
 
 # what each picture option writes, and the names that say so
 WRITES = {"--timing": ("SVG", (".svg",)), "--network": ("SVG", (".svg",)),
-          "--reservation": ("SVG", (".svg",)), "--curve": ("SVG", (".svg",)), "--plot": ("SVG", (".svg",)),
+          "--reservation": ("SVG", (".svg",)), "--bus-chart": ("SVG", (".svg",)), "--curve": ("SVG", (".svg",)), "--plot": ("SVG", (".svg",)),
           "--html": ("HTML", (".html", ".htm")), "--dot": ("Graphviz DOT", (".dot", ".gv"))}
 
 

@@ -50,6 +50,9 @@ def make(c, rep: dict, wanted: set[str], focus=None) -> dict[str, str]:
         out["--reservation"] = reservation(c, rep)
     if "--dot" in wanted:
         out["--dot"] = dot(c, rep)
+    if "--bus-chart" in wanted:
+        from vampc.report.bus_chart import bus_chart_svg
+        out["--bus-chart"] = bus_chart_svg(c.network, title(rep))
     if "--html" in wanted:
         from vampc.report.html import page
         out["--html"] = page(rep, out["--timing"], out["--network"], out["--reservation"])

@@ -1,0 +1,123 @@
+"""The bus chart (`vampc report --bus-chart FILE.svg`): the Mostly-Local Bus over one basic cycle. One
+band per tier (shortest at the top), one row per bus of the tier, the Cycle-Counter values across;
+a cell is filled where a write drives that bus then, coloured by tier, labelled `w→r,r` (the writer
+VAMP and the VAMPs latching it) where the label fits, and a tooltip names them. A tier of more than
+MAX_ROWS_PER_TIER buses is drawn as that many rows, each standing for several buses, shaded by how
+many of them are driven in that tick (and the chart says so)."""
+from __future__ import annotations
+
+from vampc.kinds import TapKind
+from vampc.network.model import tap_source
+from vampc.report import svg
+
+MAX_ROWS_PER_TIER = 12
+ROW_PT, GAP_PT, LEFT_PT, TOP_PT, BOTTOM_PT, RIGHT_PT, MAX_PLOT_PT = 9, 5, 110, 60, 40, 30, 1200.0
+FONT = 5.5
+
+
+def cells(net) -> list[dict]:
+    """Every bus write of one cycle: tier, bus, counter, writer VAMP and readers (VAMP indices)."""
+    bus = net.bus
+    sources = [b.source for b in net.buffers]
+    readers: dict[tuple[int, int, int], list[int]] = {}
+    for v in net.vamps:
+        here = bus.position[v.index]
+        for s in v.slots:
+            for name in ("a", "b"):
+                counter = getattr(s, "latch_" + name, None)
+                counter = getattr(s, "delay_" + name) if counter is None else counter
+                for tap in (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)].taps:
+                    if tap.kind is TapKind.BUS:
+                        key = (tap.index, bus.tiers[tap.index].bus_at(here), counter % net.period)
+                        readers.setdefault(key, []).append(v.index)
+    out = []
+    for (k, b, c), writes in sorted(bus.drivers(sources, net.period).items()):
+        w = writes[0]
+        out.append({"tier": k, "bus": b, "counter": c, "writer": tap_source(w.source, sources),
+                    "source": str(w.source), "readers": sorted(set(readers.get((k, b, c), [])))})
+    return out
+
+
+def bus_chart_svg(net, title: str) -> str:
+    """The chart as SVG text (a network with a bus)."""
+    with svg.settings():
+        return _draw(net, title)
+
+
+def _draw(net, title: str) -> str:
+    from matplotlib.collections import PolyCollection
+    bus, P, V = net.bus, net.period, len(net.vamps)
+    # rows: per tier, its buses (or groups of them)
+    bands = []
+    y = 0.0
+    for k, tier in enumerate(bus.tiers):
+        first, count = tier.bus_at(0), tier.buses(V)
+        per = -(-count // MAX_ROWS_PER_TIER)
+        rows = -(-count // per)
+        bands.append((k, first, per, rows, y))
+        y += rows + GAP_PT / ROW_PT
+    total = y
+    ptf = max(min(24.0, MAX_PLOT_PT / P), 600.0 / P)
+    width, height = LEFT_PT + P * ptf + RIGHT_PT, TOP_PT + total * ROW_PT + BOTTOM_PT
+    fig = svg.figure(width, height)
+    ax = fig.add_axes((LEFT_PT / width, BOTTOM_PT / height, P * ptf / width,
+                       (height - TOP_PT - BOTTOM_PT) / height))
+    ax.set_xlim(0, P)
+    ax.set_ylim(total, 0)
+    import matplotlib
+    cmap = matplotlib.colormaps["tab20"]
+    polys, faces, alphas, urls, texts = [], [], [], [], []
+    titles: dict[str, str] = {}
+    shade: dict[tuple[int, int, int], int] = {}
+    grouped = False
+    for cell in cells(net):
+        k, b, c = cell["tier"], cell["bus"], cell["counter"]
+        _, first, per, _, top = bands[k]
+        row = (b - first) // per
+        if per > 1:
+            grouped = True
+            shade[(k, row, c)] = shade.get((k, row, c), 0) + 1
+            continue
+        yy = top + row
+        gid = f"bus-{k}-{b}-{c}"
+        polys.append([(c, yy + 0.1), (c + 1, yy + 0.1), (c + 1, yy + 0.9), (c, yy + 0.9)])
+        faces.append(cmap(k % 20))
+        alphas.append(1.0)
+        urls.append(f"#{gid}")
+        who = ",".join(str(r) for r in cell["readers"])
+        titles[gid] = (f"tier {k} (span {bus.tiers[k].span}), bus {b}, Cycle-Counter {c}: "
+                       f"{cell['source']} (VAMP {cell['writer']}) to VAMP(s) {who}")
+        text = f"{cell['writer']}→{who}"
+        if len(text) * FONT * 0.6 <= ptf:
+            texts.append((c + 0.5, yy + 0.5, text))
+    for (k, row, c), n in shade.items():
+        _, _, per, _, top = bands[k]
+        yy = top + row
+        polys.append([(c, yy + 0.1), (c + 1, yy + 0.1), (c + 1, yy + 0.9), (c, yy + 0.9)])
+        colour = cmap(k % 20)
+        faces.append((*colour[:3], 0.25 + 0.75 * n / per))
+        urls.append(None)
+    if polys:
+        coll = PolyCollection(polys, facecolors=faces, edgecolors="none", urls=urls)
+        ax.add_collection(coll)
+    for x, yy, text in texts:
+        ax.text(x, yy, text, ha="center", va="center", fontsize=FONT, color="black")
+    ax.set_yticks([top + rows / 2 for _, _, _, rows, top in bands])
+    ax.set_yticklabels([f"tier {k} (span {bus.tiers[k].span})" + (f", {per} buses a row" if per > 1
+                                                                   else "")
+                        for k, _, per, _, _ in bands], fontsize=6)
+    step = max(1, P // 40)
+    ax.set_xticks([x + 0.5 for x in range(0, P, step)])
+    ax.set_xticklabels([str(x) for x in range(0, P, step)], fontsize=6)
+    ax.set_xlabel("Cycle-Counter (tick of the basic cycle)", fontsize=7)
+    ax.tick_params(length=0)
+    for spine in ax.spines.values():
+        spine.set_visible(False)
+    note = (f"{len(bus.tiers)} tiers over {V} VAMPs, a cycle of {P} ticks ({bus.stretch} "
+            f"stretched), {len(bus.writes)} bus writes")
+    if grouped:
+        note += f"; tiers of more than {MAX_ROWS_PER_TIER} buses: a row stands for several, " \
+                "shaded by how many are driven"
+    fig.text(0.5, 1 - 18 / height, title, ha="center", va="top", fontsize=9)
+    fig.text(0.5, 1 - 34 / height, note, ha="center", va="top", fontsize=7)
+    return svg.to_svg(fig, titles)
