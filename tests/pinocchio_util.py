@@ -93,8 +93,8 @@ def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
     always with Gᵀ τ of its default model at the expanded states."""
     import warnings
 
-    from vampc.compiler import CompileOptions, compile_chain, program_document
-    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.emulator import emulate, loaded_from_compiled
     from vampc.emulator.host import check_torques, random_trajectory
     from vampc.errors import VampcError
     from vampc.robot import load_urdf
@@ -148,7 +148,7 @@ def check_against_pinocchio(path, floating: bool, count: int = 4, seed: int = 1,
                 wants.append(pin_torques(coupled, free_names(chain), traj.q[:, free], traj.qd[:, free],
                                          traj.qdd[:, free], traj.base))
         for recursion in recursions:
-            ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions(recursion=recursion))))
+            ld = loaded_from_compiled(compile_chain(chain, CompileOptions(recursion=recursion)))
             tau = emulate(ld, traj, "stream").tau
             res = check_torques(chain, traj, tau)
             out["check"] = max(out["check"], res.max_rel if res.ok else np.inf)

@@ -371,3 +371,8 @@ def test_the_bus_chart_shows_every_write(tmp_path):
     res = CliRunner().invoke(main, ["report", str(PUMA), "--bus-chart", str(tmp_path / "b.svg")])
     assert res.exit_code == 2 and "--bus-chart applies to a program on the Mostly-Local Bus" in \
         res.stderr and not (tmp_path / "b.svg").exists()
+
+
+def test_the_trade_off_sweep_refuses_the_bus():
+    res = CliRunner().invoke(main, ["report", str(PUMA), "--bus", "mlb", "--tradeoff"])
+    assert res.exit_code == 2 and "--bus does not apply to --tradeoff" in res.stderr

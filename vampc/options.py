@@ -641,6 +641,10 @@ class ReportOptions:
                 if name in compile_given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, which sweeps "
                                           "the layouts and budgets itself")
+            for name in ("bus", "tiers"):
+                if name in compile_given:
+                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, whose "
+                                          "budgets are wired point to point")
         elif self.curve is not None:
             raise VampcUsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
         if self.focus is not None:
