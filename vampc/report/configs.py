@@ -94,8 +94,9 @@ def configurations(c, recursions=None) -> list[Config]:
             own = not extra and (rec, layout, share) == (c.graph.recursion, c.options.layout,
                                                           c.options.share_passes)
             if own:
-                out.append(Config(label, c.options, c.graph, c.layout, c.schedule, c.network,
-                                  c.stream, True))
+                bus = ", Mostly-Local Bus" if c.options.bus == "mlb" else ""
+                out.append(Config(label + bus, c.options, c.graph, c.layout, c.schedule,
+                                  c.network, c.stream, True))
                 continue
             out.append(_config(label, replace(opts, layout=layout, share_passes=share), graph, full))
         if extra and rec == c.graph.recursion:      # the budget asked for, after the layouts

@@ -64,7 +64,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
            "compare": RECURSIONS[k.recursion].paper_key,
            "paper": ref, "difference": {"mults": s.mults - ref["mults"], "adds": s.adds - ref["adds"],
                                          "flops": s.latency - ref["flops"]}}
-    if k.options.layout_kind is SYSTOLIC:
+    if k.options.layout_kind is SYSTOLIC and s.interval == s.timing.cycle:   # (a bus may stretch it)
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
     reasons = latency_reasons({
@@ -73,7 +73,13 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]})
     short = [r[0] for r in reasons]
-    if s.waits:
+    on_bus = k.network is not None and k.network.bus is not None
+    if s.waits and on_bus:
+        short.append(f"{count(s.waits, 'flop')} waiting for a bus"
+                     + ("" if k.options.layout_kind is SYSTOLIC else " or a busy VAMP"))
+        _add(notes, "on the Mostly-Local Bus an op waits until every result it latches finds a "
+                    "free bus (README, Mostly-Local Bus)")
+    elif s.waits:
         short.append(f"{count(s.waits, 'flop')} waiting for busy VAMPs")
         _add(notes, "a time-multiplexed layout's ops wait for their VAMP while it runs other ops: "
                     "ops of adjacent tiers on one device node in a folded layout (README, Layouts), "

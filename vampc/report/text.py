@@ -47,7 +47,9 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     ]
     pairs += [("", note) for note in latency_note(rep)]
     if lat.get("waits"):
-        pairs.append(("", f"{flops(lat['waits'])} of it waiting for a busy VAMP (the layout's "
+        what = ("a free bus or a busy VAMP" if rep.get("bus") and rep.get("layout") != "systolic"
+                else "a free bus" if rep.get("bus") else "a busy VAMP")
+        pairs.append(("", f"{flops(lat['waits'])} of it waiting for {what} (the layout's "
                           "schedule); the data path alone takes the Mults + Addns"))
     hw = rep.get("hardware")
     b = rep.get("budget")
