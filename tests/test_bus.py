@@ -120,7 +120,8 @@ def test_options_that_do_not_apply_are_refused():
     res = run(main, ["compile", str(PUMA), "--tiers", "2,2", "-o", "-"])
     assert res.exit_code == 2 and "--tiers applies with --bus mlb" in res.stderr
     res = run(main, ["compile", str(PUMA), "--bus", "mlb", "--vamps", "12", "-o", "-"])
-    assert res.exit_code == 2 and "--bus mlb is built for the systolic, folded layout" in res.stderr
+    assert res.exit_code == 2 and "--bus mlb is built for the systolic and folded layouts only, not the budget one" in \
+        res.stderr
 
 
 def test_tuned_tiers_never_stretch_more_than_the_default():
@@ -383,3 +384,25 @@ def test_the_bus_chart_shows_every_write(tmp_path):
 def test_the_trade_off_sweep_refuses_the_bus():
     res = CliRunner().invoke(main, ["report", str(PUMA), "--bus", "mlb", "--tradeoff"])
     assert res.exit_code == 2 and "--bus does not apply to --tradeoff" in res.stderr
+
+
+@pytest.mark.parametrize("field", ["stretch", "wait"])
+def test_an_edited_stretch_or_wait_is_refused_by_the_report(tmp_path, field):
+    from vampc.program.file import checksum
+    doc = json.loads(json.dumps(program_document(compile_chain(load_robot(PUMA), CompileOptions(
+        recursion="log", bus="mlb")))))
+    doc["network"]["bus"][field] += 1
+    doc["checksum"] = checksum(doc)
+    path = tmp_path / "p.vamp.json"
+    path.write_text(json.dumps(doc))
+    res = CliRunner().invoke(main, ["report", str(path)])
+    assert res.exit_code == 1 and f"network.bus.{field} is" in res.stderr
+    assert len(res.stderr.splitlines()) == 1
+
+
+def test_tiers_no_bus_can_reach_across_are_named():
+    res = CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "--tiers",
+                                    "1,1,2,2,4,4,8", "-o", "-"])
+    assert res.exit_code == 1
+    assert re.search(r"needs a bus spanning \d+ VAMPs \(places \d+ to \d+ on the line\), and no "
+                     r"tier has one bus in front of both", res.stderr)

@@ -98,7 +98,7 @@ class CompileOptions:
         "--bus", choices=lambda: BUS_KINDS, show_default=True, help="How results travel between "
         "VAMPs: p2p, a wire from each source to its readers; mlb, the Mostly-Local Bus of section "
         "VII, tiers of buses shared in time, the basic cycle stretched where they conflict "
-        "(systolic layout; README, Mostly-Local Bus)."))
+        "(systolic and folded layouts; README, Mostly-Local Bus)."))
     tiers: str | None = field(default=None, metadata=cli(
         "--tiers", metavar="SPANS|auto", help="With --bus mlb: each tier's bus span in VAMPs, e.g. "
         "2,2,4,4,8 (a tier of the span of the one before is offset by half a span), or auto: tuned "
@@ -279,8 +279,8 @@ def check_bus(options) -> None:
         except ValueError as exc:
             raise VampcUsageError(f"--tiers {exc}") from None
     if options.bus == "mlb" and options.layout_name not in LAYOUTS:
-        raise VampcUsageError(f"--bus mlb is built for the {', '.join(LAYOUTS)} layout only, not "
-                              f"the {options.layout_name} one (README, Mostly-Local Bus)")
+        raise VampcUsageError(f"--bus mlb is built for the {' and '.join(LAYOUTS)} layouts only, "
+                              f"not the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
 def check_word(options) -> None:
@@ -311,9 +311,10 @@ def check_program_options(given, params: dict, source: str, stored: dict,
             continue
         value = params[name]
         if stored.get(name, defaults[name]) != value:
-            raise VampcUsageError(f"{flag(name)} {value}: {source} was compiled with {flag(name)} "
-                                  f"{stored.get(name, defaults[name])}; compile options apply to robot files "
-                                  "(recompile to change them)")
+            was = stored.get(name, defaults[name])
+            was = f"{flag(name)} {was}" if was is not None else f"no {flag(name)} (the default)"
+            raise VampcUsageError(f"{flag(name)} {value}: {source} was compiled with {was}; "
+                                  "compile options apply to robot files (recompile to change them)")
 
 
 def check_ranges(options) -> None:

@@ -70,7 +70,7 @@ from vampc.network.model import (
     Vamp,
     tap_source,
 )
-from vampc.schedule.asap import Schedule, critical_path_counts, schedule_asap
+from vampc.schedule.asap import Schedule, schedule_asap
 from vampc.schedule.layout import Layout, systolic_layout
 
 LAYOUTS = ("systolic", "folded")   # the layouts a bus is built for
@@ -116,6 +116,9 @@ def parse_tiers(text: str) -> list[int] | str:
         if not p.isdigit() or int(p) < 1:
             raise ValueError(f"{text!r}: a tier's span is a whole number of VAMPs, at least 1 "
                              f"(got {p!r}); give spans like 2,2,4,4,8 or 'auto'")
+        if int(p) > 16_777_215:
+            raise ValueError(f"{text!r}: a span of {p} VAMPs is more than a network has "
+                             "(at most 16777215)")
         spans.append(int(p))
     if not spans:
         raise ValueError("no tiers given")
@@ -184,14 +187,17 @@ class _Full(Exception):
 
 
 def _unmatched(wanted):
-    """An op whose results to latch cannot all have a bus at once, whatever the tick: (node, the
-    producer whose result finds none, span it needs, how many it latches), or None. `wanted`:
-    transfers()."""
+    """An op whose results cannot all have a bus at once, whatever the tick: (node, the producer
+    whose result finds none, lo, hi, how many results it latches, whether any bus reaches from lo
+    to hi at all), or None. `wanted`: transfers()."""
     for i, wants in wanted:
+        for src, lo, hi, buses in wants:
+            if not buses:
+                return i, src[0], lo, hi, len(wants), False
         owner: dict = {}
         for j, (src, lo, hi, buses) in enumerate(wants):
             if not _augment(j, wants, owner, set()):
-                return i, src[0], hi - lo + 1, len(wants)
+                return i, src[0], lo, hi, len(wants), True
     return None
 
 
@@ -205,6 +211,18 @@ def _augment(j: int, wants, owner: dict, seen: set) -> bool:
             owner[bus] = j
             return True
     return False
+
+
+def baseline(graph: Graph, timing: Timing, layout: str, share_passes: bool) -> tuple[int, int]:
+    """(interval, latency) of `graph` in `layout` wired point to point: what a bus network's stretch
+    and wait are counted from."""
+    asap = schedule_asap(graph, timing, False)
+    if layout == "systolic":
+        return asap.interval, asap.latency
+    from vampc.schedule.layout import folded_binding, schedule_bound
+    units, sizes = folded_binding(graph, share_passes)
+    sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=False)
+    return sched.interval, sched.latency
 
 
 class _Problem:
@@ -236,13 +254,18 @@ class _Problem:
         wanted = transfers(graph, self.place, self.position, tiers, order)
         bad = _unmatched(wanted)
         if bad is not None:
-            i, a, span, count = bad
+            i, a, lo, hi, count, reached = bad
             nodes = graph.nodes
-            longest = max(t.span for t in tiers)
-            why = (f"it needs a bus spanning {span} VAMPs, the longest tier spans {longest}"
-                   if not any(t.span >= span for t in tiers) else
-                   f"it latches {count} results in one tick and the tiers have too few buses "
-                   f"spanning up to {span} VAMPs to carry them at once")
+            span, longest = hi - lo + 1, max(t.span for t in tiers)
+            if not reached and longest < span:
+                why = f"it needs a bus spanning {span} VAMPs, the longest tier spans {longest}"
+            elif not reached:
+                why = (f"it needs a bus spanning {span} VAMPs (places {lo} to {hi} on the line), "
+                       "and no tier has one bus in front of both: each bus covers only its own "
+                       "stretch of the line")
+            else:
+                why = (f"it latches {count} results in one tick, and the tiers have too few buses "
+                       f"reaching places {lo} to {hi} to carry them all at once")
             raise VampcError(f"the tiers cannot carry node {nodes[a].label}'s result to node "
                              f"{nodes[i].label}: {why} (give more or longer tiers, or --tiers "
                              "auto)")
@@ -286,10 +309,11 @@ class _Problem:
             else:
                 high, best = mid, got
         period, (start, finish, (carried, spans)) = high, best
-        last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
-        path, mults, adds = critical_path_counts(graph, timing, finish, last.node)
-        sched = Schedule(timing, tuple(start), tuple(finish), finish[last.node], tuple(path),
-                         mults, adds, period)
+        latency = max(finish[o.node] for o in graph.outputs)
+        # the critical path is the graph's data path, as every layout reports it (the ASAP
+        # schedule's): the rest of the latency is waiting for a bus (Schedule.waits)
+        sched = Schedule(timing, tuple(start), tuple(finish), latency, asap.critical_path,
+                         asap.mults, asap.adds, period)
         if self.verify:
             sched.verify(graph)
         layout = systolic_layout(graph, sched)

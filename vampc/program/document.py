@@ -365,11 +365,25 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
                                      proof)
         layout.verify(graph)
         net.verify(graph, sched)
+        if net.bus is not None:
+            _check_bus_figures(net, graph, sched, doc.layout, path)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v.number for v in doc.network.vamps)
     return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, path) -> None:
+    """network.bus.stretch and .wait must be what the bus costs against the same layout wired point
+    to point (scheduled again here: a report prints them)."""
+    from vampc.network.bus import baseline
+    interval, latency = baseline(graph, sched.timing, layout.name, layout.share_passes)
+    for name, got, want in (("stretch", net.bus.stretch, sched.interval - interval),
+                            ("wait", net.bus.wait, sched.latency - latency)):
+        if got != want:
+            raise VampcError(f"{path}: network.bus.{name} is {got}, but the bus costs {want} ticks "
+                             f"against the same layout wired point to point (the file was edited)")
 
 
 def schedule_of(stored: F.ScheduleDoc) -> Schedule:

@@ -1,7 +1,8 @@
 """The bus chart (`vampc report --bus-chart FILE.svg`): the Mostly-Local Bus over one basic cycle. One
 band per tier (shortest at the top), one row per bus of the tier, the Cycle-Counter values across;
 a cell is filled where a write drives that bus then, coloured by tier, labelled `w→r,r` (the writer
-VAMP and the VAMPs latching it) where the label fits, and a tooltip names them. A tier of more than
+VAMP and the VAMPs latching it, by VAMP index) where the label fits, and a tooltip names them with
+their places on the line. A tier of more than
 MAX_ROWS_PER_TIER buses is drawn as that many rows, each standing for several buses, shaded by how
 many of them are driven in that tick (and the chart says so)."""
 from __future__ import annotations
@@ -85,8 +86,10 @@ def _draw(net, title: str) -> str:
         alphas.append(1.0)
         urls.append(f"#{gid}")
         who = ",".join(str(r) for r in cell["readers"])
+        places = ", ".join(f"VAMP {r} at {bus.position[r]}" for r in cell["readers"])
         titles[gid] = (f"tier {k} (span {bus.tiers[k].span}), bus {b}, Cycle-Counter {c}: "
-                       f"{cell['source']} (VAMP {cell['writer']}) to VAMP(s) {who}")
+                       f"{cell['source']} (VAMP {cell['writer']} at place "
+                       f"{bus.position[cell['writer']]}) to {places}")
         text = f"{cell['writer']}→{who}"
         if len(text) * FONT * 0.6 <= ptf:
             texts.append((c + 0.5, yy + 0.5, text))

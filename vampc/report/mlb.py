@@ -87,13 +87,24 @@ def bus_figures(c) -> dict | None:
         "pins_per_vamp": {"bus": {"max": max(bus_pins), "mean": sum(bus_pins) / V},
                           "point_to_point": {"max": max(p2p_pins), "mean": sum(p2p_pins) / V}},
         "wires": {"buses": total_buses,
-                  "bus_length": sum(min(t.span, V) * t.buses(V) for t in bus.tiers),
+                  "bus_length": sum(_tier_length(t, V) for t in bus.tiers),
                   "direct": direct_wires, "direct_length": direct_length,
                   "point_to_point": p2p_wires, "point_to_point_length": p2p_length},
     }
     if V <= COMPARE_LIMIT:
         out["comparison"] = _comparison(c)
     return out
+
+
+def _tier_length(tier, vamps: int) -> int:
+    """A tier's buses' lengths in VAMP pitches, each from the first to the last place it serves (a
+    bus at an end of the line serves fewer), as a point-to-point wire is measured."""
+    total = 0
+    for b in range(tier.bus_at(0), tier.bus_at(vamps - 1) + 1):
+        lo = max(0, tier.offset + b * tier.span)
+        hi = min(vamps - 1, tier.offset + (b + 1) * tier.span - 1)
+        total += hi - lo
+    return total
 
 
 def _p2p_pins(vamp) -> int:
@@ -168,7 +179,7 @@ def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
         ("  pins per VAMP", f"up to {pins['bus']['max']} (mean {pins['bus']['mean']:.1f}) on the "
                             f"bus; point-to-point up to {pins['point_to_point']['max']} (mean "
                             f"{pins['point_to_point']['mean']:.1f})"),
-        ("  wires", f"{wires['buses']} bus segments {wires['bus_length']:,} VAMP pitches long, and "
+        ("  wires", f"{wires['buses']} buses {wires['bus_length']:,} VAMP pitches long in all, and "
                     f"{wires['direct']} direct VAMP-to-VAMP wires (Program Mode's) "
                     f"{wires['direct_length']:,} long; point-to-point {wires['point_to_point']} "
                     f"wires {wires['point_to_point_length']:,} long"),
