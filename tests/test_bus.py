@@ -406,3 +406,31 @@ def test_tiers_no_bus_can_reach_across_are_named():
     assert res.exit_code == 1
     assert re.search(r"needs a bus spanning \d+ VAMPs \(places \d+ to \d+ on the line\), and no "
                      r"tier has one bus in front of both", res.stderr)
+
+
+def test_a_folded_schedule_shorter_on_the_bus_is_a_program_like_any_other(tmp_path):
+    # waiting for buses can reorder the folded list schedule into a shorter one than point to
+    # point: the negative stretch and wait are written, read back, checked and reported as such
+    chain = random_chain(9, 1)
+    c = compile_chain(chain, CompileOptions(recursion="log", layout="folded", bus="mlb"))
+    assert c.network.bus.stretch < 0 and c.network.bus.wait < 0
+    doc = program_document(c)
+    ld = loaded_from_doc(doc)
+    traj = random_trajectory(chain, 3, 2)
+    assert check_torques(chain, traj, emulate(ld, traj, "stream").tau).ok
+    path = tmp_path / "p.vamp.json"
+    from vampc.program.file import write_program
+    from vampc.compiler import program_text
+    write_program(program_text(c), path)
+    res = CliRunner().invoke(main, ["report", str(path)])
+    assert res.exit_code == 0, res.stderr
+    assert "came out shorter" in res.stdout
+
+
+def test_the_dump_of_a_bus_network_holds_the_bus():
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--bus", "mlb",
+                                    "--dump-after", "allocate"])
+    assert res.exit_code == 0
+    assert re.search(r"^bus: \d+ tiers, stretch 0, wait 0$", res.stdout, re.M)
+    assert re.search(r"^tier 1: span 2 offset 1$", res.stdout, re.M)
+    assert re.search(r"^write vamp:\d+ at \d+ on tier \d+$", res.stdout, re.M)

@@ -86,6 +86,10 @@ def bus_note(net) -> str:
     """'; on a Mostly-Local Bus of 20 tiers, the cycle stretched by 4 flops' (nothing without)."""
     if net.bus is None:
         return ""
+    if net.bus.stretch < 0 or net.bus.wait < 0:
+        return (f"; on a Mostly-Local Bus of {len(net.bus.tiers)} tiers: {net.bus.stretch:+d} "
+                f"flops of interval, {net.bus.wait:+d} of latency against point-to-point wiring "
+                "(waiting for buses reordered the folded list schedule)")
     return (f"; on a Mostly-Local Bus of {len(net.bus.tiers)} tiers, the cycle stretched by "
             f"{count(net.bus.stretch, 'flop')}, {count(net.bus.wait, 'flop')} waiting for a bus")
 

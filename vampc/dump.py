@@ -64,6 +64,13 @@ def dump_network(net) -> str:
     lines += [f"const {c.index} {c.name} [{', '.join(map(repr, c.value))}]" for c in net.consts]
     lines += [f"output tau{o.joint} = vamp {o.vamp} component {o.component} at tick {o.tick}"
               for o in sorted(net.outputs, key=lambda o: o.joint)]
+    bus = net.bus
+    if bus is not None:
+        lines.append(f"bus: {len(bus.tiers)} tiers, stretch {bus.stretch}, wait {bus.wait}")
+        lines += [f"tier {k}: span {t.span} offset {t.offset}" for k, t in enumerate(bus.tiers)]
+        lines.append("line: " + " ".join(map(str, bus.position)))
+        lines += [f"write {str(w.source).replace(' ', ':')} at {w.counter} on tier {w.tier}"
+                  for w in bus.writes]
     return "\n".join(lines) + "\n"
 
 

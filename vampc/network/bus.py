@@ -2,8 +2,8 @@
 point-to-point wires.
 
 The model. The VAMPs stand in a line (`Bus.position`). Tier k is made of buses of `span` VAMPs each,
-laid end to end (vampc.network.model.Tier); every VAMP is connected to the one bus of every tier in
-front of it. A transfer is legal when the destination latches the bus of a tier in the same tick the
+laid end to end (vampc.network.model.Tier); Figure VII.4 draws tiers on both sides of the line,
+and every VAMP is connected to the one bus of every tier that passes it, on either side. A transfer is legal when the destination latches the bus of a tier in the same tick the
 source drives it, and both (and every other VAMP reading that write) are in front of that one bus.
 Different transfers share a bus at different Cycle-Counter values of the basic cycle. The default
 tiers are the paper's illustration: spans 2, 2, 4, 4, 8, 8, ... (doubling every second tier), the
@@ -37,7 +37,7 @@ Decisions where the paper is silent:
   graph's spectral ordering without an eigensolver); the order with the least total message
   length is kept. On the Puma 560 this halves the log graph's total length (15 939 to 7 748 unit
   pitches) and cuts the linear one's from 2 652 to 1 530.
-- Conflicts. Ops are scheduled again, in the ASAP schedule's order: each starts at the first tick,
+- Conflicts. Ops are scheduled again, in graph order (producers first): each starts at the first tick,
   from when its operands are ready, at which every operand it latches finds a free bus of a tier
   that spans the source and the readers (the shortest tier first, keeping long buses for long
   messages). Where no tick of a whole basic cycle does, the cycle is stretched (the paper's "extra

@@ -223,13 +223,15 @@ class BusWriteDoc(Struct, gc=False, array_like=True, forbid_unknown_fields=True)
 class BusDoc(Struct, gc=False, forbid_unknown_fields=True):
     """The Mostly-Local Bus (README, Mostly-Local Bus): tiers, each VAMP's place on the line (by
     VAMP index), the bus-write registers, and the ticks the bus added to the basic cycle (stretch)
-    and to the latency (wait)."""
+    and to the latency (wait) against the same layout wired point to point."""
 
     tiers: Annotated[list[TierDoc], Meta(min_length=1, max_length=64)]
     position: list[Index]
     writes: list[BusWriteDoc]
-    stretch: Index
-    wait: Index
+    # ticks against the same layout wired point to point (a folded layout's list schedule can
+    # come out shorter on the bus: then negative)
+    stretch: int
+    wait: int
 
 
 class NetworkDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):

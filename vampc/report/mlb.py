@@ -73,6 +73,8 @@ def bus_figures(c) -> dict | None:
     bus_pins = [_bus_pins(v, len(bus.tiers)) for v in net.vamps]
     p2p_wires, p2p_length = _wires(p2p, bus.position)
     direct_wires, direct_length = _wires(net, bus.position)
+    p2p_in = [_from_vamps(v) for v in p2p.vamps]
+    bus_in = [len(bus.tiers) + _from_vamps(v) for v in net.vamps]
     total_buses = sum(t["buses"] for t in per_tier)
     out = {
         "tiers": per_tier,
@@ -86,6 +88,8 @@ def bus_figures(c) -> dict | None:
                       "tier_select_bits": TIER_BITS},
         "pins_per_vamp": {"bus": {"max": max(bus_pins), "mean": sum(bus_pins) / V},
                           "point_to_point": {"max": max(p2p_pins), "mean": sum(p2p_pins) / V}},
+        "wires_per_vamp": {"bus": {"max": max(bus_in), "mean": sum(bus_in) / V},
+                           "point_to_point": {"max": max(p2p_in), "mean": sum(p2p_in) / V}},
         "wires": {"buses": total_buses,
                   "bus_length": sum(_tier_length(t, V) for t in bus.tiers),
                   "direct": direct_wires, "direct_length": direct_length,
@@ -105,6 +109,12 @@ def _tier_length(tier, vamps: int) -> int:
         hi = min(vamps - 1, tier.offset + (b + 1) * tier.span - 1)
         total += hi - lo
     return total
+
+
+def _from_vamps(vamp) -> int:
+    """A VAMP's multiplexer inputs wired from other VAMPs' Results or buffers."""
+    return sum(1 for op in vamp.a + vamp.b for t in op.taps
+               if t.kind in (TapKind.VAMP, TapKind.BUFFER))
 
 
 def _p2p_pins(vamp) -> int:
@@ -171,14 +181,17 @@ def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
         ("bus", f"Mostly-Local Bus: {len(b['tiers'])} tiers (spans {spans}) over "
                 f"{b['vamps_on_line']} VAMPs in a line; {b['writes']} bus writes a cycle, "
                 f"{b['utilisation']:.1%} of the bus slots"),
-        ("  cycle", f"{b['interval_flops']} flops = {b['interval_without_bus']} + {b['stretch']} "
-                    f"stretched for conflicting transfers; latency {b['latency_flops']} flops, "
-                    f"{b['wait']} more than without the bus"),
+        ("  cycle", _cycle_text(b)),
         ("  registers", f"{regs['bus_write']} bus-write registers of {regs['bits_each']} bits (up "
                         f"to {regs['max_per_vamp']} on one VAMP); an operand select picks a tier"),
         ("  pins per VAMP", f"up to {pins['bus']['max']} (mean {pins['bus']['mean']:.1f}) on the "
                             f"bus; point-to-point up to {pins['point_to_point']['max']} (mean "
                             f"{pins['point_to_point']['mean']:.1f})"),
+        ("  wires per VAMP", f"up to {b['wires_per_vamp']['bus']['max']} (mean "
+                             f"{b['wires_per_vamp']['bus']['mean']:.1f}): a tap on each tier and "
+                             f"its direct wires; point-to-point up to "
+                             f"{b['wires_per_vamp']['point_to_point']['max']} (mean "
+                             f"{b['wires_per_vamp']['point_to_point']['mean']:.1f})"),
         ("  wires", f"{wires['buses']} buses {wires['bus_length']:,} VAMP pitches long in all, and "
                     f"{wires['direct']} direct VAMP-to-VAMP wires (Program Mode's) "
                     f"{wires['direct_length']:,} long; point-to-point {wires['point_to_point']} "
@@ -195,3 +208,14 @@ def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
                       f"{r['wiring']}: interval {r['interval_flops']}, latency "
                       f"{r['latency_flops']}, up to {r['max_pins_per_vamp']} pins a VAMP{tiers}"))
     return pairs
+
+
+def _cycle_text(b: dict) -> str:
+    """'8 flops = 4 + 4 stretched ...', or how a shorter folded schedule came about."""
+    if b["stretch"] >= 0 and b["wait"] >= 0:
+        return (f"{b['interval_flops']} flops = {b['interval_without_bus']} + {b['stretch']} "
+                f"stretched for conflicting transfers; latency {b['latency_flops']} flops, "
+                f"{b['wait']} more than without the bus")
+    return (f"{b['interval_flops']} flops against {b['interval_without_bus']} point to point, "
+            f"latency {b['latency_flops']} flops ({b['wait']:+d}): waiting for buses reordered "
+            "the folded list schedule, which came out shorter")
