@@ -419,8 +419,8 @@ def test_a_folded_schedule_shorter_on_the_bus_is_a_program_like_any_other(tmp_pa
     traj = random_trajectory(chain, 3, 2)
     assert check_torques(chain, traj, emulate(ld, traj, "stream").tau).ok
     path = tmp_path / "p.vamp.json"
-    from vampc.program.file import write_program
     from vampc.compiler import program_text
+    from vampc.program.file import write_program
     write_program(program_text(c), path)
     res = CliRunner().invoke(main, ["report", str(path)])
     assert res.exit_code == 0, res.stderr
