@@ -707,31 +707,31 @@ def bus_source(bus: Bus, drivers, reader: int, tier: int, counter: int, period: 
                   f"({', '.join(str(w.source) for w in found)})")
 
 
+def latched(net: Network) -> dict[tuple[int, int, int], list[int]]:
+    """Per (tier, bus, Cycle-Counter): the VAMPs latching that bus then (scheduled slots' latch
+    ticks, or a loaded network's delays)."""
+    bus = net.bus
+    out: dict[tuple[int, int, int], list[int]] = {}
+    for v in net.vamps:
+        here = bus.position[v.index]
+        for s in v.slots:
+            for name in ("a", "b"):
+                counter = getattr(s, "latch_" + name, None)
+                counter = getattr(s, "delay_" + name) if counter is None else counter
+                for tap in (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)].taps:
+                    if tap.kind is TapKind.BUS:
+                        key = (tap.index, bus.tiers[tap.index].bus_at(here), counter % net.period)
+                        out.setdefault(key, []).append(v.index)
+    return out
+
+
 def message_spans(net: Network) -> list[int]:
     """The span (VAMPs from the writer to the farthest reader, both counted) of every bus write."""
     bus = net.bus
     sources = [b.source for b in net.buffers]
     drivers = bus.drivers(sources, net.period)
-    reach: dict[tuple[int, int, int], list[int]] = {}
-    for v in net.vamps:
-        for s in v.slots:
-            for name in ("a", "b"):
-                counter = getattr(s, "latch_" + name, None)
-                counter = getattr(s, "delay_" + name) if counter is None else counter
-                operand = (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)]
-                for tap in operand.taps:
-                    if tap.kind is TapKind.BUS:
-                        t = bus.tiers[tap.index]
-                        key = (tap.index, t.bus_at(bus.position[v.index]), counter % net.period)
-                        reach.setdefault(key, []).append(bus.position[v.index])
     out = []
-    for key, readers in reach.items():
-        w = drivers[key][0]
-        p = bus.writer_position(w.source, sources)
-        out.append(max(abs(p - r) for r in readers) + 1)
+    for key, readers in latched(net).items():
+        p = bus.writer_position(drivers[key][0].source, sources)
+        out.append(max(abs(p - bus.position[r]) for r in readers) + 1)
     return out
-
-
-def span_log2(span: int) -> int:
-    """The power-of-two bucket of a message span (1, 2, 3-4, 5-8, ...)."""
-    return max(0, math.ceil(math.log2(span)))

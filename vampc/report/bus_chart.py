@@ -7,7 +7,7 @@ MAX_ROWS_PER_TIER buses is drawn as that many rows, each standing for several bu
 many of them are driven in that tick (and the chart says so)."""
 from __future__ import annotations
 
-from vampc.kinds import TapKind
+from vampc.network.bus import latched
 from vampc.network.model import tap_source
 from vampc.report import svg
 
@@ -20,17 +20,7 @@ def cells(net) -> list[dict]:
     """Every bus write of one cycle: tier, bus, counter, writer VAMP and readers (VAMP indices)."""
     bus = net.bus
     sources = [b.source for b in net.buffers]
-    readers: dict[tuple[int, int, int], list[int]] = {}
-    for v in net.vamps:
-        here = bus.position[v.index]
-        for s in v.slots:
-            for name in ("a", "b"):
-                counter = getattr(s, "latch_" + name, None)
-                counter = getattr(s, "delay_" + name) if counter is None else counter
-                for tap in (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)].taps:
-                    if tap.kind is TapKind.BUS:
-                        key = (tap.index, bus.tiers[tap.index].bus_at(here), counter % net.period)
-                        readers.setdefault(key, []).append(v.index)
+    readers = latched(net)
     out = []
     for (k, b, c), writes in sorted(bus.drivers(sources, net.period).items()):
         w = writes[0]

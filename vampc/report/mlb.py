@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from vampc.kinds import TapKind
-from vampc.network.bus import wired
+from vampc.network.bus import latched, wired
 from vampc.network.model import tap_source
 from vampc.report import paper
 
@@ -19,19 +19,7 @@ COUNTER_BITS = 24         # a Cycle-Counter value
 
 def _reads(net):
     """Per (tier, bus, counter): the places of the VAMPs latching it then."""
-    bus = net.bus
-    out: dict[tuple[int, int, int], list[int]] = {}
-    for v in net.vamps:
-        here = bus.position[v.index]
-        for s in v.slots:
-            for name in ("a", "b"):
-                counter = getattr(s, "latch_" + name, None)
-                counter = getattr(s, "delay_" + name) if counter is None else counter
-                for tap in (v.a if name == "a" else v.b)[getattr(s, "sel_" + name)].taps:
-                    if tap.kind is TapKind.BUS:
-                        key = (tap.index, bus.tiers[tap.index].bus_at(here), counter % net.period)
-                        out.setdefault(key, []).append(here)
-    return out
+    return {key: [net.bus.position[v] for v in vamps] for key, vamps in latched(net).items()}
 
 
 def _stage_bits(net) -> int:
