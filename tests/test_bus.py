@@ -434,3 +434,13 @@ def test_the_dump_of_a_bus_network_holds_the_bus():
     assert re.search(r"^bus: \d+ tiers, stretch 0, wait 0$", res.stdout, re.M)
     assert re.search(r"^tier 1: span 2 offset 1$", res.stdout, re.M)
     assert re.search(r"^write vamp:\d+ at \d+ on tier \d+$", res.stdout, re.M)
+
+
+def test_a_program_on_its_own_tiers_is_compared_too():
+    from vampc.report.mlb import bus_figures
+    c = compile_chain(load_robot(PUMA), CompileOptions(bus="mlb", tiers="2,2,4,4,8,8,16,16,32,32,"
+                                                       "256,256,256,256,256,256"))
+    rows = bus_figures(c)["comparison"]
+    assert [r["wiring"] for r in rows][-1] == "bus, these tiers"
+    assert rows[-1]["tiers"] == [t.span for t in c.network.bus.tiers]
+    assert rows[-1]["interval_flops"] == c.schedule.interval

@@ -85,6 +85,10 @@ def bus_figures(c) -> dict | None:
     }
     if V <= COMPARE_LIMIT:
         out["comparison"] = _comparison(c)
+    else:
+        out["comparison_omitted"] = (f"{V} VAMPs: the other wirings are compared up to "
+                                     f"{COMPARE_LIMIT} (each is a compile; benchmarks/bus.py "
+                                     "compares bigger ones)")
     return out
 
 
@@ -136,8 +140,11 @@ def _comparison(c) -> list[dict]:
     """The robot compiled with point-to-point wiring, the default tiers and tuned tiers."""
     from vampc.compiler import compile_graph
     rows = []
-    for label, bus, tiers in (("point-to-point", "p2p", None), ("bus, default tiers", "mlb", None),
-                              ("bus, tuned tiers", "mlb", "auto")):
+    wirings = [("point-to-point", "p2p", None), ("bus, default tiers", "mlb", None),
+               ("bus, tuned tiers", "mlb", "auto")]
+    if c.options.tiers not in (None, "auto"):
+        wirings.append(("bus, these tiers", "mlb", c.options.tiers))
+    for label, bus, tiers in wirings:
         if (bus, tiers) == (c.options.bus, c.options.tiers):
             k = c
         else:
@@ -190,6 +197,8 @@ def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
         pairs.append(("", f"{t['tier']:>4} {t['span']:>4} {t['offset']:>6} {t['buses']:>5} "
                           f"{t['writes']:>6} {t['utilisation']:>11.1%} {t['longest']:>7} "
                           f"{t['mean']:>13.1f}"))
+    if "comparison_omitted" in b:
+        pairs.append(("  compared", f"not here: {b['comparison_omitted']}"))
     for r in b.get("comparison", ()):
         tiers = "" if r["tiers"] is None else f", tiers {','.join(map(str, r['tiers']))}"
         pairs.append(("  compared" if r is b["comparison"][0] else "",
