@@ -87,7 +87,7 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     net = allocate(graph, sched, layout, options.verify and check_network)
     if plan is not None:
         from vampc.network.bus import with_bus
-        net = with_bus(net, plan, graph, sched, options.verify and check_network)
+        net = with_bus(net, plan, graph, options.verify and check_network)
     if until == "allocate":
         return Compiled(chain, options, graph, sched, net, layout=layout)
     stage("emit")

@@ -571,10 +571,10 @@ def _reserve(wants, t: int, counter: int, taken, carried, tiers):
 
 # --- the network on the bus ---------------------------------------------------------------------------
 
-def with_bus(net: Network, plan: _Plan, graph: Graph, sched=None, verify: bool = False) -> Network:
-    """The allocated point-to-point network with every result operand read from a bus tier: the bus
-    taps, and the bus-write registers of the writers. `verify`: the bus network resolved back to
-    wires must be the network it was made from (and so pass its check)."""
+def with_bus(net: Network, plan: _Plan, graph: Graph, verify: bool = False) -> Network:
+    """The allocated point-to-point network (of `graph`) with every result operand read from a bus
+    tier: the bus taps, and the bus-write registers of the writers. `verify`: the bus network
+    resolved back to wires must read what the network it was made from reads."""
     from dataclasses import replace
     sources = [b.source for b in net.buffers]
     P = net.period
