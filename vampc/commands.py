@@ -171,6 +171,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     """`vampc emulate`: run the states and write the outputs asked for; False when --check failed."""
     from vampc import progress
     from vampc.emulator.driver import States, run
+    from vampc.emulator.faults import parse_fault
     from vampc.emulator.host import check_limits, check_word_range, read_trajectory
     from vampc.outputs import plan_outputs
     begun = time.perf_counter()
@@ -194,7 +195,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     try:
         with progress.counter(f"{own.engine} engine", states.count) as bar:
             outcome = run(ld, states, engine=own.engine, seed=own.seed, vcd=sinks.vcd,
-                          check=own.check_torques, sink=sinks.chunk, progress=bar)
+                          check=own.check_torques, sink=sinks.chunk, progress=bar,
+                          faults=tuple(parse_fault(text) for text in own.fault))
         sinks.finish_vcd()
     except BaseException:
         sinks.discard()

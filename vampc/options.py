@@ -397,6 +397,11 @@ class EmulateOptions:
     vcd: str | None = field(default=None, metadata=cli(
         "--vcd", path=True, dash=True, help="Tick engine: write every VAMP's Result as a VCD "
         "waveform (GTKWave)."))
+    fault: tuple = field(default=(), metadata=cli(
+        "--fault", multiple=True, metavar="SPEC", help="Tick engine: inject a fault, e.g. "
+        "vamp=37,stuck=result.z:62,value=1,at=300 (a stuck bit), vamp=5,flip=a.x:51,at=120 (one "
+        "bit flipped once), vamp=9,dead (outputs tri-stated), rate=0.1 (a stuck fault in a random "
+        "tenth of the cycles); repeatable. README, Faults."))
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="Write torques as CSV: a t column if the "
         "trajectory has one, then tau_<joint name> per joint (N·m revolute, N prismatic); - for "
@@ -417,6 +422,15 @@ class EmulateOptions:
             raise VampcUsageError("give exactly one of --trajectory FILE or --random N")
         if self.vcd and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--vcd needs --engine tick")
+        if self.fault and Engine(self.engine) is not Engine.TICK:
+            raise VampcUsageError("--fault needs --engine tick (faults are injected into its "
+                                  "registers)")
+        for text in self.fault:
+            from vampc.emulator.faults import parse_fault
+            try:
+                parse_fault(text)
+            except ValueError as exc:
+                raise VampcUsageError(str(exc)) from None
         if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--seed applies to --random and to the tick engine")
         if self.tolerance is not None and not self.check_torques:

@@ -38,18 +38,23 @@ class Emulation:
 
 
 def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0, vcd=None,
-            static_check: bool = True, progress=None, stream=None) -> Emulation:
+            static_check: bool = True, progress=None, stream=None, faults=()) -> Emulation:
     """Run the loaded program on a trajectory with the chosen engine. `vcd` is a VcdWriter (tick
     engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
-    a longer run this trajectory is a chunk of (vampc.emulator.driver)."""
+    a longer run this trajectory is a chunk of (vampc.emulator.driver); `faults`: Faults injected
+    (tick engine only; vampc.emulator.faults)."""
     start = time.perf_counter()
     engine = Engine(engine)
     match engine:
         case Engine.TICK:
             if static_check:
                 check_program(ld)
-            return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress)
+            return _tick(ld, traj, port_values(ld, traj), seed, vcd, start, progress, faults)
         case Engine.STREAM:
+            if faults:
+                from vampc.errors import VampcUsageError
+                raise VampcUsageError("--fault needs --engine tick (faults are injected into its "
+                                      "registers)")
             return _stream(ld, traj, progress, stream or prepare_stream(ld, traj.count,
                                                                         static_check), start)
         case _:
@@ -75,9 +80,9 @@ def prepare_stream(ld: Loaded, total: int, static_check: bool = True):
     return StreamEngine(ld, flow(ld, timing), total)
 
 
-def _tick(ld, traj, ports, seed, vcd, start, progress) -> Emulation:
+def _tick(ld, traj, ports, seed, vcd, start, progress, faults=()) -> Emulation:
     from vampc.emulator.tick import TickEngine, TickStats
-    engine = TickEngine(ld, seed=seed, vcd=vcd)
+    engine = TickEngine(ld, seed=seed, vcd=vcd, faults=faults)
     load = engine.program()
     stats = TickStats()
     tau = engine.run(ports, traj.count, stats, progress)

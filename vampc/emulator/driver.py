@@ -127,9 +127,10 @@ class Outcome:
 
 def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=None,
         check: bool = False, sink: Callable[[Trajectory, np.ndarray], None] | None = None,
-        progress=None) -> Outcome:
+        progress=None, faults=()) -> Outcome:
     """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
-    in order. A non-finite torque is a VampcError naming the set and the joint."""
+    in order. A non-finite torque is a VampcError naming the set and the joint. `faults`: injected
+    into the tick engine (vampc.emulator.faults)."""
     engine = Engine(engine)
     match engine:
         case Engine.TICK:           # one chunk: the tick engine runs the sets back to back
@@ -142,10 +143,10 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
     from vampc.emulator.stream import constant_overflows
     ld.arith.overflows = constant_overflows(ld)   # the word counts this run's overflows from here
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
-        return _run(ld, states, engine, seed, vcd, check, sink, progress, size)
+        return _run(ld, states, engine, seed, vcd, check, sink, progress, size, faults)
 
 
-def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> Outcome:
+def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, faults=()) -> Outcome:
     from vampc.emulator import emulate, prepare_stream
     merged, seconds, first = None, 0.0, None
     stream = prepare_stream(ld, states.count) if engine is Engine.STREAM else None
@@ -156,7 +157,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size) -> 
             if progress is not None:
                 progress(start + done, states.count)
         em = emulate(ld, traj, engine=engine, seed=seed, vcd=vcd, static_check=stream is None,
-                     progress=chunk_progress, stream=stream)
+                     progress=chunk_progress, stream=stream, faults=faults)
         first = first or em
         seconds += em.wall_seconds
         if ld.arith.overflows and len(sites) < SITES:     # where, for the first few

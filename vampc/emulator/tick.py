@@ -72,10 +72,12 @@ class TickStats:
 class TickEngine:
     """A network loaded from a program file, ready to be programmed and run."""
 
-    def __init__(self, ld: Loaded, seed: int = 0, vcd=None):
+    def __init__(self, ld: Loaded, seed: int = 0, vcd=None, faults=()):
         self.ld, self.P, self.B = ld, ld.net.period, ld.net.clock
         self.rng = np.random.default_rng(seed)
         self.vcd = vcd
+        self.faults = tuple(faults)        # injected in Data Mode (vampc.emulator.faults)
+        self.fault_rng = np.random.default_rng([seed, 0xFA])
         self._layout()
         self._random_state()
 
@@ -255,6 +257,11 @@ class TickEngine:
         self.steady = (span, count * P)
         outs = self.ld.net.outputs
         last_tick = (count - 1) * P + max(o.tick for o in outs)
+        if self.faults:
+            from vampc.emulator.faults import check_faults
+            check_faults(self.faults, self.ld, last_tick)
+            cycles = last_tick // P + 1       # an intermittent fault's cycles, drawn once
+            self.fault_draws = [self.fault_rng.random(cycles) for _ in self.faults]
         tau = np.full((count, self.ld.chain.n_outputs), np.nan)
         seen = np.full((count, len(outs)), -1, dtype=np.int64)
         for t in range(last_tick + 1):
@@ -387,8 +394,12 @@ class TickEngine:
     def _data_tick(self, c: int, t: int) -> None:
         if self.bus_row:
             self._drive_buses(c, t)
+        if self.faults:
+            self._control_faults(t)
         self._latch(self.latch_a_at.get(c), "a")
         self._latch(self.latch_b_at.get(c), "b")
+        if self.faults:
+            self._register_faults(t, ("a", "b"))
         for r, j, slots in self.step_at.get(c, ()):
             self._step(r, j, slots, t)
         new_stages = self._shifted_stages(every_tick=False, tick=t)
@@ -401,8 +412,50 @@ class TickEngine:
                 self.bus[sel, 3:] = 0
             self.tag[v] = self.utag[v]
         self._commit_stages(new_stages)
+        if self.faults:
+            self._register_faults(t, ("result", "dead"))
         self._vcd_dump()
         self.tick += 1
+
+    # --- faults (vampc.emulator.faults) -------------------------------------------------------
+    def _holds(self, k: int, f, t: int) -> bool:
+        """Whether fault k acts at tick t (a flip only at its tick)."""
+        if f.kind == "flip":
+            return t == f.at
+        return f.active(t, self.P, lambda cycle: self.fault_draws[k][cycle])
+
+    def _register_faults(self, t: int, registers) -> None:
+        """Result and operand faults after the tick's latches or dumps; a dead VAMP's Result
+        left undriven."""
+        from vampc.emulator.faults import set_bit
+        word = self.ld.arith
+        for k, f in enumerate(self.faults):
+            which = "dead" if f.kind == "dead" else f.register
+            if which not in registers or not self._holds(k, f, t):
+                continue
+            v = f.vamp
+            if f.kind == "dead":
+                self.bus[v, :] = word.random(self.rng, (9,), 1e3)
+                self.tag[v] = UNKNOWN
+                continue
+            how = "flip" if f.kind == "flip" else "set" if f.value else "clear"
+            reg = self.bus if f.register == "result" else self.op_a if f.register == "a" \
+                else self.op_b
+            reg[v, f.component] = set_bit(word, reg[v, f.component:f.component + 1], f.bit, how)[0]
+
+    def _control_faults(self, t: int) -> None:
+        """A control-register fault changes the field the slot table holds when it starts (the
+        register keeps it); the slot arrays are made again."""
+        from vampc.emulator.faults import set_field
+        changed = False
+        for f in self.faults:
+            if f.register == "control" and t == f.at:
+                row = self.tables[f.vamp][f.slot]
+                how = "flip" if f.kind == "flip" else "set" if f.value else "clear"
+                row[f.component] = set_field(int(row[f.component]), f.bit, how)
+                changed = True
+        if changed:
+            self._slots()
 
     def _latch(self, slots, which: str) -> None:
         if slots is None:

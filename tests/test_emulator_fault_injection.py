@@ -1,0 +1,170 @@
+"""Faults injected into the tick engine (vampc.emulator.faults, `vampc emulate --fault`): stuck,
+flipped and intermittent bits of Result, operand and control registers, and dead VAMPs, applied to
+the bits of the real word; bad fault specs are one-line errors."""
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from emulator_util import loaded
+
+from vampc.cli import main
+from vampc.emulator import emulate
+from vampc.emulator.faults import parse_fault, set_bit
+from vampc.emulator.host import random_trajectory
+from vampc.errors import VampcError
+from vampc.machine.arith import parse_word
+from vampc.robot.random import random_chain
+
+CHAIN = random_chain(3, 4, prismatic_fraction=0.3)
+LD = loaded(CHAIN)
+TRAJ = random_trajectory(CHAIN, 12, 3)
+GOOD = emulate(LD, TRAJ, "tick").tau
+P = LD.period
+
+
+def _run(*specs):
+    with np.errstate(all="ignore"):
+        return emulate(LD, TRAJ, "tick", faults=[parse_fault(s) for s in specs]).tau
+
+
+def _uses(v: int):
+    """The Data-Mode ticks (set 0) at which VAMP v latches and dumps."""
+    s = LD.schedule
+    node = LD.net.vamps[v].slots[0].node
+    return s.start[node], s.finish[node] - 1
+
+
+def _changed(tau) -> np.ndarray:
+    """Per set: whether its torques differ from the fault-free run (NaN counts as different)."""
+    return ~np.all(np.isclose(tau, GOOD, rtol=0, atol=0) & np.isfinite(tau), axis=1)
+
+
+# bit 62 is a binary64 word's top exponent bit: 1 for |x| >= 2, so stuck at 0 it makes such a
+# value tiny (a stuck bit that already holds its stuck value changes nothing: hence "most sets")
+STUCK = "stuck=result.z:62,value=0"
+
+
+def test_a_stuck_high_bit_on_a_result_spoils_the_torques():
+    v = LD.net.outputs[0].vamp             # the VAMP τ1 is read from
+    tau = _run(f"vamp={v},{STUCK}")
+    assert _changed(tau).sum() >= len(tau) // 2
+
+
+def test_a_fault_starting_later_leaves_the_earlier_sets_alone():
+    v = LD.net.outputs[0].vamp
+    _, dump = _uses(v)
+    at = dump + 1 + 5 * P                   # after set 5's value has been read
+    tau = _run(f"vamp={v},{STUCK},at={at}")
+    changed = _changed(tau)
+    assert not changed[:6].any() and changed[6:].any()
+    assert np.array_equal(changed[6:], _changed(_run(f"vamp={v},{STUCK}"))[6:])
+
+
+def test_a_transient_flip_spoils_one_set():
+    # operand B's high bits flipped in the tick a systolic VAMP latches set 4's: that set only
+    v = LD.net.outputs[0].vamp
+    latch, _ = _uses(v)
+    tau = _run(*(f"vamp={v},flip=b.{k}:62,at={latch + 4 * P}" for k in range(3)))
+    assert list(np.flatnonzero(_changed(tau))) == [4]
+
+
+def test_an_intermittent_fault_spoils_some_cycles_and_is_repeatable():
+    v = LD.net.outputs[0].vamp
+    spec = f"vamp={v},{STUCK},rate=0.5"
+    a, b = _run(spec), _run(spec)
+    np.testing.assert_array_equal(a, b)
+    changed, always = _changed(a), _changed(_run(f"vamp={v},{STUCK}"))
+    assert 0 < changed.sum() < always.sum() and not (changed & ~always).any()
+
+
+def test_a_dead_vamp_is_seen():
+    v = LD.net.outputs[0].vamp
+    try:
+        tau = _run(f"vamp={v},dead")
+    except VampcError as exc:
+        assert "no set's value" in str(exc)
+        return
+    assert _changed(tau).all()
+
+
+def test_a_stuck_control_bit_holds_in_the_register_and_a_wrong_op_is_seen():
+    # the slot table holds the stuck bit from the fault's tick on
+    from vampc.emulator.host import port_values
+    from vampc.emulator.tick import TickEngine
+    v = LD.net.outputs[0].vamp
+    rom = LD.programs[v][0].rom
+    engine = TickEngine(LD, faults=[parse_fault(f"vamp={v},stuck=control.rom:1,value={1 - (rom >> 1 & 1)},at=9")])
+    engine.program()
+    assert engine.tables[v][0][3] == rom
+    with np.errstate(all="ignore"):
+        try:
+            tau = engine.run(port_values(LD, TRAJ), TRAJ.count)
+        except VampcError:
+            tau = None
+    assert engine.tables[v][0][3] == rom ^ 2
+    # another micro-sequence on the VAMP τ1 is read from: the torques change, or a timing error
+    assert tau is None or _changed(tau).any()
+
+
+@pytest.mark.parametrize("bit", [0, 7, 31, 47, 62, 63])
+def test_float64_bits_are_the_ieee_pattern(bit):
+    word = parse_word("float64")
+    x = np.array([1.2345e3])
+    (raw,) = struct.unpack("<Q", struct.pack("<d", x[0]))
+    want = struct.unpack("<d", struct.pack("<Q", raw ^ (1 << bit)))[0]
+    got = set_bit(word, x, bit, "flip")[0]
+    assert got == want or (np.isnan(got) and np.isnan(want))
+
+
+@pytest.mark.parametrize("bit", [0, 5, 16, 30, 31])
+def test_fixed_point_bits_are_the_raw_twos_complement_bits(bit):
+    word = parse_word("q16.16")                     # 32-bit words held as int64 raw values
+    raw = -123_456
+    u = raw & 0xFFFFFFFF                            # the 32-bit pattern, by Python's integers
+    flipped = u ^ (1 << bit)
+    want = flipped - (1 << 32) if flipped >= 1 << 31 else flipped
+    assert set_bit(word, np.array([raw], dtype=np.int64), bit, "flip")[0] == want
+    assert set_bit(word, np.array([raw], dtype=np.int64), bit, "set")[0] == (
+        (u | (1 << bit)) - (1 << 32) if (u | (1 << bit)) >= 1 << 31 else u | (1 << bit))
+
+
+@pytest.mark.parametrize("spec,says", [
+    ("stuck=result.z:3", "give vamp=N"),
+    ("vamp=1,stuck=result.z:3,dead", "give one of"),
+    ("vamp=1,stuck=result.q:3", "is no register"),
+    ("vamp=1,stuck=result.z", "REGISTER:BIT"),
+    ("vamp=1,flip=a.x:3", "give at=T"),
+    ("vamp=1,stuck=control.rom:1,rate=0.5", "rate= applies"),
+    ("vamp=1,flip=a.x:3,at=4,value=1", "value=0 or value=1"),
+    ("vamp=1,stuck=b.9:3", "is no register"),
+    ("vamp=x,dead", "not a whole number"),
+    ("vamp=1,dead,colour=red", "unknown field"),
+])
+def test_bad_fault_specs_are_usage_errors(spec, says):
+    with pytest.raises(ValueError, match=says):
+        parse_fault(spec)
+
+
+def test_faults_on_the_command_line(tmp_path):
+    prog = tmp_path / "p.vamp.json"
+    run = CliRunner().invoke
+    assert run(main, ["compile", "examples/planar2.yaml", "-o", str(prog)]).exit_code == 0
+    res = run(main, ["emulate", str(prog), "--random", "5", "--fault", "vamp=1,dead"])
+    assert res.exit_code == 2 and "--fault needs --engine tick" in res.stderr
+    res = run(main, ["emulate", str(prog), "--random", "5", "--engine", "tick", "--fault",
+                     "vamp=999,dead"])
+    assert res.exit_code == 1 and len(res.stderr.splitlines()) == 1
+    assert "there is no VAMP 999" in res.stderr
+    res = run(main, ["emulate", str(prog), "--random", "5", "--engine", "tick", "--fault",
+                     "vamp=0,stuck=result.x:70"])
+    assert res.exit_code == 1 and "the register has 64 bits" in res.stderr
+    res = run(main, ["emulate", str(prog), "--random", "5", "--engine", "tick", "--fault",
+                     "vamp=0,dead,at=100000"])
+    assert res.exit_code == 1 and "after the run's last tick" in res.stderr
+    res = run(main, ["emulate", str(prog), "--random", "5", "--engine", "tick", "--check",
+                     "--fault", "vamp=0,stuck=result.z:62,value=1", "--fault",
+                     "vamp=0,stuck=result.y:62,value=1", "--fault", "vamp=0,stuck=result.x:62,value=1"])
+    assert res.exit_code == 1          # the spoiled torques do not pass the check, or are refused

@@ -1,0 +1,188 @@
+"""Faults injected into the tick engine (`vampc emulate --engine tick --fault SPEC`): the fault model
+of the error-correction work (section VII), on the registers the engine holds.
+
+A fault is comma-separated key=value fields:
+
+    vamp=N           the VAMP, by logical index (as messages name it: "VAMP 12 (number 13, ...)")
+    stuck=REG:BIT    permanent: bit BIT of register REG holds `value` from Data-Mode tick `at` on
+    flip=REG:BIT     transient: bit BIT of REG flips once, at the end of Data-Mode tick `at`
+    dead             the VAMP's outputs tri-state from tick `at` on: its Result shows no set's value
+    value=0|1        the stuck-at value (stuck only; default 0)
+    at=T             the Data-Mode tick the fault starts (stuck, dead: default 0) or happens (flip:
+                     required)
+    rate=F           intermittent: a stuck fault on a Result or operand register active in a random
+                     fraction F of the cycles (0 < F < 1; drawn from the engine's --seed)
+
+Registers: `result.x`, `result.y`, `result.z` (the Result's three scalars); `a.K`, `b.K` (operand
+registers A and B, scalar K of 0..8, or x, y, z for 0..2); `control.FIELD` or `control.FIELD.SLOT`,
+FIELD one of delay_a, delay_b, delay_r, rom, sel_a, sel_b (24-bit fields; slot 0 by default).
+
+Bits count from 0, the least significant, in the word as the network's format holds it: the IEEE
+binary64 or binary32 bit pattern, or a fixed-point word's two's-complement raw bits (a stuck or
+flipped bit of a qI.F word is a bit of the real word). How the engine applies them: a Result fault
+after the tick's dumps (the register holds it until the next dump), an operand fault after the
+tick's latches, a control fault by changing the field the slot tables hold (the engine's slot
+arrays are made again), a dead VAMP by leaving its Result row undriven (random contents, no set's
+value) every tick.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vampc.program.words import FIELDS
+
+REGISTERS = ("result", "a", "b", "control")
+AXES = {"x": 0, "y": 1, "z": 2}
+CONTROL_BITS = 24
+
+
+@dataclass(frozen=True)
+class Fault:
+    """One fault (see the module docstring)."""
+
+    vamp: int
+    kind: str                 # "stuck", "flip" or "dead"
+    register: str = ""        # "result", "a", "b", "control"
+    component: int = 0        # a scalar of the register, or a control field's index in FIELDS
+    slot: int = 0             # control faults: the slot
+    bit: int = 0
+    value: int = 0
+    at: int = 0
+    rate: float | None = None
+    text: str = ""
+
+    def active(self, t: int, period: int, rng_draws) -> bool:
+        """Whether the fault holds at Data-Mode tick t (an intermittent one: in this cycle)."""
+        if t < self.at:
+            return False
+        if self.rate is None:
+            return True
+        return bool(rng_draws(t // period) < self.rate)
+
+
+def parse_fault(text: str) -> Fault:
+    """A --fault SPEC as a Fault; ValueError saying what is wrong with it."""
+    fields: dict[str, str] = {}
+    for part in text.split(","):
+        key, sep, value = part.strip().partition("=")
+        if not key:
+            continue
+        if key in fields:
+            raise ValueError(f"--fault {text!r}: {key} given twice")
+        fields[key] = value if sep else ""
+    known = {"vamp", "stuck", "flip", "dead", "value", "at", "rate"}
+    extra = sorted(set(fields) - known)
+    if extra:
+        raise ValueError(f"--fault {text!r}: unknown field {extra[0]!r} (give vamp=, stuck= or "
+                         "flip= or dead, and value=, at=, rate=)")
+    kinds = [k for k in ("stuck", "flip", "dead") if k in fields]
+    if len(kinds) != 1:
+        raise ValueError(f"--fault {text!r}: give one of stuck=REG:BIT, flip=REG:BIT or dead")
+    kind = kinds[0]
+    if "vamp" not in fields:
+        raise ValueError(f"--fault {text!r}: give vamp=N (the VAMP's index)")
+    vamp = _whole(fields["vamp"], "vamp", text)
+    at = _whole(fields["at"], "at", text) if "at" in fields else None
+    if kind == "flip" and at is None:
+        raise ValueError(f"--fault {text!r}: a flip happens at one tick: give at=T")
+    rate = None
+    if "rate" in fields:
+        try:
+            rate = float(fields["rate"])
+        except ValueError:
+            rate = -1.0
+        if not 0 < rate < 1 or kind != "stuck":
+            raise ValueError(f"--fault {text!r}: rate=F (0 < F < 1) makes a stuck fault "
+                             "intermittent")
+    if "value" in fields and (kind != "stuck" or fields["value"] not in ("0", "1")):
+        raise ValueError(f"--fault {text!r}: value=0 or value=1 is a stuck fault's value")
+    if kind == "dead":
+        if fields["dead"]:
+            raise ValueError(f"--fault {text!r}: dead takes no value")
+        return Fault(vamp, "dead", at=at or 0, text=text)
+    register, component, slot, bit = _register(fields[kind], text)
+    if rate is not None and register == "control":
+        raise ValueError(f"--fault {text!r}: rate= applies to Result and operand registers")
+    return Fault(vamp, kind, register, component, slot, bit, int(fields.get("value", "0")),
+                 at or 0, rate, text)
+
+
+def _whole(value: str, key: str, text: str) -> int:
+    if not value.isdigit():
+        raise ValueError(f"--fault {text!r}: {key}={value!r} is not a whole number")
+    return int(value)
+
+
+def _register(spec: str, text: str) -> tuple[str, int, int, int]:
+    """(register, component, slot, bit) of REG:BIT."""
+    reg, sep, bit = spec.partition(":")
+    if not sep or not bit.isdigit():
+        raise ValueError(f"--fault {text!r}: give REGISTER:BIT, e.g. result.z:62")
+    parts = reg.split(".")
+    name = parts[0]
+    if name == "result" and len(parts) == 2 and parts[1] in AXES:
+        return "result", AXES[parts[1]], 0, int(bit)
+    if name in ("a", "b") and len(parts) == 2 and (parts[1] in AXES or parts[1].isdigit()):
+        k = AXES[parts[1]] if parts[1] in AXES else int(parts[1])
+        if k < 9:
+            return name, k, 0, int(bit)
+    if name == "control" and len(parts) in (2, 3) and parts[1] in FIELDS and (
+            len(parts) == 2 or parts[2].isdigit()):
+        return "control", FIELDS.index(parts[1]), int(parts[2]) if len(parts) == 3 else 0, int(bit)
+    raise ValueError(f"--fault {text!r}: {reg!r} is no register (result.x|y|z, a.K, b.K with K "
+                     f"0..8 or x|y|z, control.FIELD[.SLOT] with FIELD one of {', '.join(FIELDS)})")
+
+
+def check_faults(faults, ld, last_tick: int) -> None:
+    """Each fault names what the loaded network has (VampcError naming the fault otherwise)."""
+    from vampc.errors import VampcError
+    word_bits = ld.arith.bits
+    for f in faults:
+        where = f"--fault {f.text!r}"
+        if not 0 <= f.vamp < len(ld.net.vamps):
+            raise VampcError(f"{where}: there is no VAMP {f.vamp} (0..{len(ld.net.vamps) - 1})")
+        if f.at > last_tick:
+            raise VampcError(f"{where}: tick {f.at} is after the run's last tick ({last_tick})")
+        if f.kind == "dead":
+            continue
+        bits = CONTROL_BITS if f.register == "control" else word_bits
+        if f.bit >= bits:
+            raise VampcError(f"{where}: bit {f.bit}: the register has {bits} bits (0..{bits - 1})")
+        if f.register == "control" and f.slot >= len(ld.programs[f.vamp]):
+            raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
+                             f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")
+
+
+def set_bit(word, values: np.ndarray, bit: int, how: str) -> np.ndarray:
+    """`values` (words of the format `word`) with bit `bit` set to 1 ("set"), 0 ("clear") or
+    flipped ("flip"), as the hardware word holds it."""
+    if word.dtype == np.int64:                       # fixed point: two's complement, `bits` wide
+        width = word.bits
+        raw = values.astype(np.int64) & np.int64((1 << width) - 1 if width < 64 else -1)
+        mask = np.int64(1 << bit) if bit < 63 else np.int64(-(1 << 63))
+        raw = _apply(raw, mask, how)
+        if width < 64:
+            raw = np.where(raw >= (1 << (width - 1)), raw - (1 << width), raw)
+        return raw.astype(np.int64)
+    if word.bits == 32:
+        u = values.astype(np.float32).view(np.uint32)
+        out = _apply(u, np.uint32(1 << bit), how).view(np.float32)
+        return out.astype(values.dtype)
+    u = np.ascontiguousarray(values, dtype=np.float64).view(np.uint64)
+    return _apply(u, np.uint64(1 << bit), how).view(np.float64)
+
+
+def _apply(u, mask, how: str):
+    if how == "set":
+        return u | mask
+    if how == "clear":
+        return u & ~mask
+    return u ^ mask
+
+
+def set_field(value: int, bit: int, how: str) -> int:
+    """A 24-bit control field with one bit set, cleared or flipped."""
+    mask = 1 << bit
+    return value | mask if how == "set" else value & ~mask if how == "clear" else value ^ mask
