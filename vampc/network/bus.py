@@ -130,7 +130,7 @@ def parse_tiers(text: str) -> list[int] | str:
 # --- placement ----------------------------------------------------------------------------------------
 
 def _unit_graph(graph: Graph, layout: Layout):
-    """(units, unit of each node, producer-consumer unit pairs) of a grouped layout."""
+    """(how many units, the producer-consumer pairs of units) of a grouped layout."""
     units = layout.units
     compute = [nd.op.is_compute for nd in graph.nodes]
     edges = set()
@@ -213,16 +213,17 @@ def _augment(j: int, wants, owner: dict, seen: set) -> bool:
     return False
 
 
-def baseline(graph: Graph, timing: Timing, layout: str, share_passes: bool) -> tuple[int, int]:
-    """(interval, latency) of `graph` in `layout` wired point to point: what a bus network's stretch
-    and wait are counted from."""
-    asap = schedule_asap(graph, timing, False)
+def baseline(graph: Graph, timing: Timing, layout: str, share_passes: bool):
+    """`graph` in `layout` wired point to point (vampc.schedule.layout's systolic or folded): the
+    (layout, schedule) a bus network's stretch and wait are counted from."""
+    from vampc.schedule.layout import folded, systolic
     if layout == "systolic":
-        return asap.interval, asap.latency
-    from vampc.schedule.layout import folded_binding, schedule_bound
-    units, sizes = folded_binding(graph, share_passes)
-    sched = schedule_bound(graph, timing, asap, units, sizes, clock=timing.cycle, verify=False)
-    return sched.interval, sched.latency
+        return systolic(graph, timing, verify=False)
+    return folded(graph, timing, share_passes, verify=False)
+
+
+class _Uncarried(VampcError):
+    """The tiers cannot carry some transfer at any tick (the message says which)."""
 
 
 class _Problem:
@@ -231,27 +232,17 @@ class _Problem:
 
     def __init__(self, graph: Graph, timing: Timing, layout: str, share_passes: bool,
                  verify: bool):
-        from vampc.schedule.layout import Layout, folded_binding, schedule_bound
         self.graph, self.timing, self.verify = graph, timing, verify
         self.layout, self.share_passes = layout, share_passes
         self.asap = schedule_asap(graph, timing, verify)
-        if layout == "systolic":
-            self.base_sched = self.asap
-            self.base = systolic_layout(graph, self.asap)
-        else:
-            self.units, self.sizes = folded_binding(graph, share_passes)
-            self.base_sched = schedule_bound(graph, timing, self.asap, self.units, self.sizes,
-                                             clock=timing.cycle, verify=verify)
-            self.base = Layout.of_units(layout, self.units, self.sizes, self.base_sched.interval,
-                                        timing.cycle, share_passes)
+        self.base, self.base_sched = baseline(graph, timing, layout, share_passes)
         self.place = self.base.vamps_of()
         self.position = line_positions(graph, self.base)
 
     def run(self, tiers, progress=None):
         """(layout, schedule, plan) on `tiers`; VampcError when they cannot carry a transfer."""
         graph = self.graph
-        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
-        wanted = transfers(graph, self.place, self.position, tiers, order)
+        wanted = transfers(graph, self.place, self.position, tiers)
         bad = _unmatched(wanted)
         if bad is not None:
             i, a, lo, hi, count, reached = bad
@@ -266,7 +257,7 @@ class _Problem:
             else:
                 why = (f"it latches {count} results in one tick, and the tiers have too few buses "
                        f"reaching places {lo} to {hi} to carry them all at once")
-            raise VampcError(f"the tiers cannot carry node {nodes[a].label}'s result to node "
+            raise _Uncarried(f"the tiers cannot carry node {nodes[a].label}'s result to node "
                              f"{nodes[i].label}: {why} (give more or longer tiers, or --tiers "
                              "auto)")
         if self.layout == "systolic":
@@ -326,53 +317,28 @@ class _Problem:
         order, units and capture rule) with each op also waiting for free buses. One torque set
         at a time, so every tick of a set has its own Cycle-Counter value: a bus is taken per
         tick, and the cycle grows by the ticks the buses cost."""
-        from vampc.schedule.layout import Layout, _heights, _Timeline, _verify_units
-        graph, timing, asap = self.graph, self.timing, self.asap
-        nodes = graph.nodes
-        duration = timing.durations
-        clock = timing.cycle
-        height = _heights(graph, duration)[0]
-        ids = sorted((nd.id for nd in nodes if nd.op.is_compute),
-                     key=lambda i: (-height[i] - duration[nodes[i].op], asap.start[i], i))
-        start, finish = list(asap.start), list(asap.finish)
-        busy = [_Timeline(clock) for _ in self.sizes]
-        compute = [nd.op.is_compute for nd in nodes]
+        from vampc.schedule.layout import Layout, schedule_bound
         taken: dict[tuple[int, int], int] = {}
         carried: dict[tuple, list[tuple[int, int]]] = {}
         spans: list[int] = []
-        for i in ids:
-            nd = nodes[i]
-            ready = asap.start[i]
-            for a in nd.args:
-                if compute[a] and finish[a] > ready:
-                    ready = finish[a]
-            d = duration[nd.op]
-            unit = busy[self.units[i]]
-            wants = wanted.get(i, ())
-            t = unit.earliest(ready, d)
-            while True:
-                got = _reserve(wants, t, t, taken, carried, tiers)
-                if got is not None:
-                    break
-                t = unit.earliest(t + 1, d)
+
+        def admit(i: int, t: int) -> bool:
+            got = _reserve(wanted.get(i, ()), t, t, taken, carried, tiers)
+            if got is None:
+                return False
             for key, kb, span in got:
                 spans.append(span)
                 carried.setdefault(key, []).append(kb)
                 taken[kb] = taken.get(kb, 0) | (1 << t)
-            start[i], finish[i] = t, t + d
-            unit.add(t, t + d)
-        latency = max(finish[o.node] for o in graph.outputs)
-        span = max(finish[i] for i in ids) + 1
-        period = -(-span // clock) * clock
-        sched = Schedule(timing, tuple(start), tuple(finish), latency, asap.critical_path,
-                         asap.mults, asap.adds, period)
-        if self.verify:
-            sched.verify(graph)
-            _verify_units(graph, sched, self.units, clock)
-        layout = Layout.of_units(self.layout, self.units, self.sizes, period, clock,
+            return True
+
+        units, sizes = self.base.units, self.base.unit_vamps
+        sched = schedule_bound(self.graph, self.timing, self.asap, units, sizes,
+                               self.timing.cycle, self.verify, admit)
+        layout = Layout.of_units(self.layout, units, sizes, sched.interval, self.timing.cycle,
                                  self.share_passes)
         if self.verify:
-            layout.verify(graph)
+            layout.verify(self.graph)
         return layout, sched, self._plan(tiers, sched, carried, spans)
 
 
@@ -404,14 +370,12 @@ def _tuned(problem: _Problem, progress):
         if cand in tried:
             continue
         tried.append(cand)
-        tiers = tiers_of(cand, V)
-        order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
-        if _unmatched(transfers(problem.graph, problem.place, problem.position, tiers,
-                                order)) is not None:
+        try:
+            got = problem.run(tiers_of(cand, V), progress)
+        except _Uncarried:
             continue
-        got = problem.run(tiers, progress)
         plan = got[2]
-        score = (plan.stretch, plan.wait, sum(t.span * t.buses(V) for t in tiers))
+        score = (plan.stretch, plan.wait, sum(t.span * t.buses(V) for t in plan.tiers))
         if best is None or score < best[0]:
             best = (score, got)
         if round_ > 0:
@@ -421,15 +385,8 @@ def _tuned(problem: _Problem, progress):
 
 def _needed_spans(graph: Graph, place, position) -> list[int]:
     """The span of every transfer (source to its farthest reader of one op)."""
-    compute = [nd.op.is_compute for nd in graph.nodes]
-    out = []
-    for nd in graph.compute_nodes():
-        readers = [position[v] for v in place[nd.id]]
-        for a in dict.fromkeys(nd.args):
-            if compute[a]:
-                for u in place[a]:
-                    out.append(max(position[u], *readers) - min(position[u], *readers) + 1)
-    return out
+    return [hi - lo + 1 for _, wants in transfers(graph, place, position, ())
+            for _, lo, hi, _ in wants]
 
 
 def _proportional(spans, count: int, vamps: int) -> list[int]:
@@ -468,10 +425,11 @@ class _Plan:
         self.stretch, self.wait, self.spans = stretch, wait, spans
 
 
-def transfers(graph: Graph, place, position, tiers, order) -> list:
+def transfers(graph: Graph, place, position, tiers) -> list:
     """Per compute node reading results, in graph order: (node, the results it latches as
     ((producer, its VAMP), lo, hi, the (tier, bus) pairs able to carry it, shortest tier first)).
     They do not depend on the cycle's length, so every attempt shares them."""
+    order = sorted(range(len(tiers)), key=lambda k: (tiers[k].span, k))
     compute = [nd.op.is_compute for nd in graph.nodes]
     reach: dict[tuple[int, int], list] = {}     # (lo, hi) -> carrying buses
     out = []
@@ -519,7 +477,7 @@ def _attempt(graph: Graph, timing: Timing, asap: Schedule, wanted, tiers, period
             for kb in buses:
                 some |= full & ~taken.get(kb, 0)
             for t0, (k, b) in sent.get(src, ()):   # or share a write of the same result
-                if tiers[k].bus_at(lo) == b == tiers[k].bus_at(hi):
+                if tiers[k].covers(b, lo, hi):
                     some |= 1 << (t0 % period)
             free &= some
             if not free:
@@ -555,7 +513,7 @@ def _reserve(wants, t: int, counter: int, taken, carried, tiers):
     mine: set = set()
     for src, lo, hi, buses in wants:
         key = (*src, t)          # node a's result on VAMP u at tick t: one tap shows it
-        if any(tiers[k].bus_at(lo) == b and tiers[k].bus_at(hi) == b
+        if any(tiers[k].covers(b, lo, hi)
                for k, b in [*carried.get(key, ()), *(kb for kk, kb, _ in new if kk == key)]):
             continue                   # the source already drives a bus in front of all of them
         for kb in buses:
@@ -597,7 +555,7 @@ def with_bus(net: Network, plan: _Plan, graph: Graph, verify: bool = False) -> N
                     lo = min(plan.position[u], plan.position[v.index])
                     hi = max(plan.position[u], plan.position[v.index])
                     k = min((k for k, b in plan.carried.get((arg, u, tick), ())
-                             if plan.tiers[k].bus_at(lo) == b == plan.tiers[k].bus_at(hi)),
+                             if plan.tiers[k].covers(b, lo, hi)),
                             key=lambda k: (plan.tiers[k].span, k), default=None)
                     if k is None:
                         raise VampcInternalError(f"VAMP {v.index}: no bus carries VAMP {u}'s "

@@ -183,6 +183,10 @@ class Tier(Struct, frozen=True, gc=False):
         """Whether one bus of this tier is in front of every position from `lo` to `hi`."""
         return self.bus_at(lo) == self.bus_at(hi)
 
+    def covers(self, bus: int, lo: int, hi: int) -> bool:
+        """Whether bus `bus` of this tier is in front of every position from `lo` to `hi`."""
+        return self.bus_at(lo) == bus == self.bus_at(hi)
+
 
 class BusWrite(Struct, frozen=True, gc=False):
     """A bus-write register: at Cycle-Counter `counter` the VAMP behind `source` (its Result, or a

@@ -378,9 +378,9 @@ def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, path) -> None:
     """network.bus.stretch and .wait must be what the bus costs against the same layout wired point
     to point (scheduled again here: a report prints them)."""
     from vampc.network.bus import baseline
-    interval, latency = baseline(graph, sched.timing, layout.name, layout.share_passes)
-    for name, got, want in (("stretch", net.bus.stretch, sched.interval - interval),
-                            ("wait", net.bus.wait, sched.latency - latency)):
+    _, base = baseline(graph, sched.timing, layout.name, layout.share_passes)
+    for name, got, want in (("stretch", net.bus.stretch, sched.interval - base.interval),
+                            ("wait", net.bus.wait, sched.latency - base.latency)):
         if got != want:
             raise VampcError(f"{path}: network.bus.{name} is {got}, but the bus costs {want} ticks "
                              f"against the same layout wired point to point (the file was edited)")

@@ -171,13 +171,8 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
         for neg, v in sorted(by_root[root]):
             slots, number = progs[v], numbering[v]
             pair = None
-            if registers is not None and registers[v]:     # bus-write registers follow: no fast path
-                mine = vamp_words(number, slots, packing) + bus_words(number, registers[v], packing)
-                targets.extend([v] * len(mine))
-                depths.extend([-neg] * len(mine))
-                words.extend(mine)
-                continue
-            if len(slots) == 1:                 # the common, systolic case: one compact word
+            regs = registers[v] if registers is not None else ()   # bus-write registers
+            if len(slots) == 1 and not regs:    # the common, systolic case: one compact word
                 prog = slots[0]
                 if prog in compact:
                     pair = compact[prog]
@@ -194,6 +189,8 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
                 mine = [encode(number, slots[0], packing)]     # (says what does not fit)
             else:
                 mine = vamp_words(number, slots, packing)
+            if regs:                            # after the slot words (vampc.program.words)
+                mine = mine + bus_words(number, regs, packing)
             targets.extend([v] * len(mine))
             depths.extend([-neg] * len(mine))
             words.extend(mine)

@@ -48,13 +48,8 @@ def _draw(net, title: str) -> str:
         bands.append((k, first, per, rows, y))
         y += rows + GAP_PT / ROW_PT
     total = y
-    ptf = max(min(24.0, MAX_PLOT_PT / P), 600.0 / P)
-    width, height = LEFT_PT + P * ptf + RIGHT_PT, TOP_PT + total * ROW_PT + BOTTOM_PT
-    fig = svg.figure(width, height)
-    ax = fig.add_axes((LEFT_PT / width, BOTTOM_PT / height, P * ptf / width,
-                       (height - TOP_PT - BOTTOM_PT) / height))
-    ax.set_xlim(0, P)
-    ax.set_ylim(total, 0)
+    fig, ax, ptf, width, height = svg.cycle_axes(P, total, ROW_PT, LEFT_PT, TOP_PT, BOTTOM_PT, RIGHT_PT,
+                                          MAX_PLOT_PT)
     import matplotlib
     cmap = matplotlib.colormaps["tab20"]
     polys, faces, alphas, urls, texts = [], [], [], [], []

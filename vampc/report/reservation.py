@@ -50,13 +50,8 @@ def _draw(graph, layout, sched, title: str) -> str:
     grouped = len(table) > MAX_ROWS
     per = -(-len(table) // MAX_ROWS)
     shown = -(-len(table) // per)
-    ptf = max(min(24.0, MAX_PLOT_PT / P), 600.0 / P)     # room for the title and key
-    width, height = LEFT_PT + P * ptf + RIGHT_PT, TOP_PT + shown * ROW_PT + BOTTOM_PT
-    fig = svg.figure(width, height)
-    ax = fig.add_axes((LEFT_PT / width, BOTTOM_PT / height, P * ptf / width,
-                       (height - TOP_PT - BOTTOM_PT) / height))
-    ax.set_xlim(0, P)
-    ax.set_ylim(shown, 0)
+    fig, ax, ptf, width, height = svg.cycle_axes(P, shown, ROW_PT, LEFT_PT, TOP_PT, BOTTOM_PT, RIGHT_PT,
+                                          MAX_PLOT_PT)
     titles: dict[str, str] = {}
     polys, faces, urls = [], [], []
     texts = []

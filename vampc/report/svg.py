@@ -20,6 +20,21 @@ def figure(width_px: float, height_px: float):
     return Figure(figsize=(width_px / DPI, height_px / DPI), dpi=DPI)
 
 
+def cycle_axes(ticks: int, rows: float, row_pt: float, left: float, top: float, bottom: float,
+               right: float, max_plot: float):
+    """(figure, axes, points per tick, width, height) of a chart of one cycle: `ticks` across (at most
+    `max_plot` points and at most 24 a tick, at least 600 points in all: room for the title and
+    key), `rows` of `row_pt` points down, the first at the top; margins in points."""
+    ptf = max(min(24.0, max_plot / ticks), 600.0 / ticks)
+    width, height = left + ticks * ptf + right, top + rows * row_pt + bottom
+    fig = figure(width, height)
+    ax = fig.add_axes((left / width, bottom / height, ticks * ptf / width,
+                       (height - top - bottom) / height))
+    ax.set_xlim(0, ticks)
+    ax.set_ylim(rows, 0)
+    return fig, ax, ptf, width, height
+
+
 @contextmanager
 def settings():
     """matplotlib's rc settings for a deterministic SVG, for the duration of one drawing."""

@@ -307,13 +307,17 @@ def _device_places(graph: Graph):
 # --- the list schedule ---------------------------------------------------------------------------
 
 def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, clock: int,
-                   verify: bool = True) -> Schedule:
+                   verify: bool = True, admit=None) -> Schedule:
     """List-schedule `graph` with every compute node on its unit (see the module docstring); one
-    torque set at a time: the period is the span of a set rounded up to a multiple of `clock`."""
+    torque set at a time: the period is the span of a set rounded up to a multiple of `clock`.
+    `admit(node, t)`: whether an op may start at a tick its unit has free, reserving whatever else
+    it needs there when it says yes (the Mostly-Local Bus's buses, vampc.network.bus); the op
+    tries its unit's next free tick otherwise."""
     duration = timing.durations
     nodes = graph.nodes
     height, arrays = _heights(graph, duration)
-    placed = arrays is not None and _native_schedule(arrays, height, asap, units, sizes, clock)
+    placed = (admit is None and arrays is not None
+              and _native_schedule(arrays, height, asap, units, sizes, clock))
     if placed:
         start, finish, order = placed
     else:
@@ -332,6 +336,8 @@ def schedule_bound(graph: Graph, timing: Timing, asap: Schedule, units, sizes, c
                 if is_compute[a] and finish[a] > ready:
                     ready = finish[a]
             t = busy[units[i]].earliest(ready, duration[nd.op])
+            while admit is not None and not admit(i, t):
+                t = busy[units[i]].earliest(t + 1, duration[nd.op])
             start[i], finish[i] = t, t + duration[nd.op]
             busy[units[i]].add(t, finish[i])
     latency = max(finish[o.node] for o in graph.outputs)
