@@ -94,6 +94,11 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
                  else emit.default_numbering(net))
     progs = emit.programs(net)
+    if options.error_correction:
+        from dataclasses import replace
+
+        from vampc.network.checking import checking_for
+        net = replace(net, checking=checking_for(net, progs, options.timing))
     return Compiled(chain, options, graph, sched, net, numbering, progs,
                     emit.program_stream(net, progs, numbering, Packing.of(options.arith())),
                     layout)

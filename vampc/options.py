@@ -104,6 +104,11 @@ class CompileOptions:
         "2,2,4,4,8 (a tier of the span of the one before is offset by half a span), or auto: tuned "
         "to this graph's message lengths. Default: 2,2,4,4,8,8,... doubling every second tier, "
         "then six tiers over the whole line."))
+    error_correction: bool = field(default=False, metadata=cli(
+        "--error-correction", help="Limited automatic error correction (section VII): the VAMPs "
+        "in a chain, each checking its successor with a second set of control registers and "
+        "operand inputs, one extraneous VAMP first; a mismatch inhibits the successor and the "
+        "checker plays its role (point-to-point wiring; README, Error correction)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
     def __post_init__(self):
@@ -162,6 +167,8 @@ class CompileOptions:
             del out["bus"]
         if self.tiers is None:
             del out["tiers"]
+        if not self.error_correction:  # programs without checking keep their bytes
+            del out["error_correction"]
         return out
 
     def arith(self):
@@ -194,6 +201,10 @@ class CompileOptions:
             raise VampcUsageError("--vamps and --interval make their own (budgeted) layout: leave "
                                   "out --layout")
         check_bus(self)
+        if self.error_correction and self.bus != "p2p":
+            raise VampcUsageError(f"--error-correction is built for point-to-point wiring (the "
+                                  f"{', '.join(layout_names())} and budget layouts), not --bus "
+                                  f"{self.bus}")
 
 
 @dataclass(frozen=True)

@@ -82,6 +82,8 @@ def prepare_stream(ld: Loaded, total: int, static_check: bool = True):
 
 def _tick(ld, traj, ports, seed, vcd, start, progress, faults=()) -> Emulation:
     from vampc.emulator.tick import TickEngine, TickStats
+    if ld.net.checking is not None:        # --error-correction: the checking mechanism runs
+        from vampc.emulator.checking import CheckingTickEngine as TickEngine
     engine = TickEngine(ld, seed=seed, vcd=vcd, faults=faults)
     load = engine.program()
     stats = TickStats()

@@ -141,8 +141,9 @@ def check_faults(faults, ld, last_tick: int) -> None:
     word_bits = ld.arith.bits
     for f in faults:
         where = f"--fault {f.text!r}"
-        if not 0 <= f.vamp < len(ld.net.vamps):
-            raise VampcError(f"{where}: there is no VAMP {f.vamp} (0..{len(ld.net.vamps) - 1})")
+        V = len(ld.net.vamps) + (ld.net.checking is not None)   # with checking: E is VAMP V
+        if not 0 <= f.vamp < V:
+            raise VampcError(f"{where}: there is no VAMP {f.vamp} (0..{V - 1})")
         if f.at > last_tick:
             raise VampcError(f"{where}: tick {f.at} is after the run's last tick ({last_tick})")
         if f.kind == "dead":
@@ -150,6 +151,9 @@ def check_faults(faults, ld, last_tick: int) -> None:
         bits = CONTROL_BITS if f.register == "control" else word_bits
         if f.bit >= bits:
             raise VampcError(f"{where}: bit {f.bit}: the register has {bits} bits (0..{bits - 1})")
+        if f.register == "control" and f.vamp == len(ld.net.vamps):
+            raise VampcError(f"{where}: the extraneous VAMP {f.vamp} has no control registers of "
+                             "its own (its second set is its successor's)")
         if f.register == "control" and f.slot >= len(ld.programs[f.vamp]):
             raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
                              f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")

@@ -221,6 +221,22 @@ class Bus(Struct, frozen=True, gc=False):
         return out
 
 
+class Checking(Struct, frozen=True, gc=False):
+    """Limited automatic error correction (section VII; vampc.emulator.checking): the VAMPs in a
+    chain of successors after one extraneous VAMP (index V, after the network's), each holding a
+    second slot table matching its successor's and wired to its successor's operand inputs and
+    Result; `warmup`: the Cycle-Counter periods a VAMP computes a role it has just taken before its
+    results are compared or driven."""
+
+    chain: tuple[int, ...]
+    warmup: int
+
+    @property
+    def order(self) -> tuple[int, ...]:
+        """Physical VAMPs in chain order: the extraneous one first."""
+        return (len(self.chain),) + self.chain
+
+
 @dataclass(frozen=True, slots=True)
 class Network:
     """A VAMP network for one graph, schedule and layout (see the module docstring)."""
@@ -233,6 +249,7 @@ class Network:
     consts: tuple[Const, ...]
     outputs: tuple[OutputPoint, ...]
     bus: Bus | None = None    # the Mostly-Local Bus, when operands travel on it (TapKind.BUS taps)
+    checking: Checking | None = None   # limited automatic error correction (--error-correction)
 
     @property
     def buffer_stages(self) -> int:

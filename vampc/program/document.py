@@ -13,6 +13,7 @@ from vampc.network.model import (
     Bus,
     BusWrite,
     Const,
+    Checking,
     Network,
     Operand,
     OutputPoint,
@@ -166,7 +167,9 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
         [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
                                      for e in p.entries]) for p in net.ports],
         [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts],
-        None if net.bus is None else bus_doc(net.bus))
+        None if net.bus is None else bus_doc(net.bus),
+        None if net.checking is None else F.CheckingDoc(list(net.checking.chain),
+                                                         net.checking.warmup))
 
 
 def bus_doc(bus) -> F.BusDoc:
@@ -288,7 +291,17 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    tuple(Const(c.index, c.name, tuple(c.value)) for c in nd.consts),
                    tuple(OutputPoint(o.joint, o.vamp, o.component, o.tick)
                          for o in doc.io.outputs),
-                   None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path))
+                   None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path),
+                   None if nd.error_correction is None
+                   else checking_from_doc(nd.error_correction, len(vamps), path))
+
+
+def checking_from_doc(cd: F.CheckingDoc, vamps: int, path) -> Checking:
+    """The error-correction section as the network's Checking; VampcError where it does not fit."""
+    if len(cd.chain) != vamps or sorted(cd.chain) != list(range(vamps)):
+        raise VampcError(f"{path}: network.error_correction.chain: not each of the {vamps} VAMPs "
+                         f"once (a permutation of 0..{vamps - 1})")
+    return Checking(tuple(cd.chain), cd.warmup)
 
 
 def bus_from_doc(bd: F.BusDoc, vamps: int, path) -> Bus:
@@ -367,6 +380,8 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         net.verify(graph, sched)
         if net.bus is not None:
             _check_bus_figures(net, graph, sched, doc.layout, path)
+        from vampc.network.checking import check_checking
+        check_checking(net, programs_from_doc(doc), sched.timing, options.error_correction, path)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v.number for v in doc.network.vamps)

@@ -118,6 +118,8 @@ class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):
     # the Mostly-Local Bus: absent for point-to-point wiring; the tiers as --tiers gave them
     bus: Literal["p2p", "mlb"] | UnsetType = UNSET
     tiers: str | UnsetType = UNSET
+    # limited automatic error correction: absent without it
+    error_correction: bool | UnsetType = UNSET
 
     def recorded(self) -> dict:
         """The options the file records, as CompileOptions takes them (absent ones left out)."""
@@ -234,6 +236,15 @@ class BusDoc(Struct, gc=False, forbid_unknown_fields=True):
     wait: int
 
 
+class CheckingDoc(Struct, gc=False, forbid_unknown_fields=True):
+    """Limited automatic error correction (README, Error correction): the VAMPs (by index) in
+    their chain of successors, after one extraneous VAMP; the periods a VAMP computes a role it has
+    just taken before comparing or driving it."""
+
+    chain: list[Index]
+    warmup: Annotated[int, Meta(ge=1, le=WORD_MAX)]
+
+
 class NetworkDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):
     period: Annotated[int, Meta(ge=1, le=WORD_MAX)]
     clock: Annotated[int, Meta(ge=1, le=WORD_MAX)]
@@ -242,6 +253,7 @@ class NetworkDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=Tru
     ports: list[PortDoc]
     consts: list[ConstDoc]
     bus: BusDoc | None = None
+    error_correction: CheckingDoc | None = None
 
 
 class SlotDoc(Struct, gc=False, forbid_unknown_fields=True):

@@ -1,0 +1,309 @@
+"""Fault campaigns (`vampc faults`): many runs of the tick engine, one fault each, classified against
+the fault-free run of the same program on the same states (README, Error correction).
+
+Campaigns:
+
+    single        every single permanent fault of each kind on every VAMP (the extraneous checker
+                  included when the program has error correction), from Data-Mode tick --at
+    transient     every VAMP: one bit of its Result flipped once, at a tick drawn from --seed
+    intermittent  every VAMP: a stuck Result bit active in a random fraction (--rate) of cycles
+    random        --count faults drawn from --seed: VAMP, kind, register, bit, value and tick
+
+The kinds of a permanent fault (--kinds): `result` (bit B of the Result's x scalar stuck at 1),
+`a` and `b` (bit B of operand register A or B, scalar 0, stuck at 1), B the word's highest
+magnitude bit (62 of binary64, 30 of binary32, the bit below the sign of a fixed-point word: a
+stuck 1 there changes any value below half the range); `control` (bit 0 of the first slot's
+delay-R stuck at the value it does not hold: the register always changes); `dead` (outputs
+tri-stated).
+
+Each run is classified: `masked` (every torque set as the fault-free run's, nothing flagged),
+`detected-corrected` (a checker flagged a mismatch and no set entering after it differs),
+`detected-not-corrected` (flagged, but sets entering after it still differ), `silent-corruption`
+(a torque differs and nothing flagged it) or `hang` (the run stopped with an error: what the
+emulator cannot run, named). Beside it: the tick and the cycles from the fault's start to the
+detection, the sets corrupted before and after it, and the VAMP Maintenance Mode names.
+
+A run stops early when its outcome is settled: with checking, `TAIL` periods after sets that
+entered after the detection have left the network; without, at the first corrupted set.
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from vampc.emulator.faults import Fault, parse_fault
+from vampc.errors import VampcError
+
+CAMPAIGNS = ("single", "transient", "intermittent", "random")
+KINDS = ("result", "a", "b", "control", "dead")
+CLASSES = ("masked", "detected-corrected", "detected-not-corrected", "silent-corruption", "hang")
+TAIL = 8          # sets checked after those in flight at a detection, before a run stops
+SEED_STATES = 0x5EED
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every run of a campaign shares: the program, the states' ports, the fault-free torques."""
+
+    ld: object
+    ports: dict
+    reference: np.ndarray
+    sets: int
+    seed: int
+
+
+def high_bit(word) -> int:
+    """The word's highest magnitude bit (binary64: 62, binary32: 30; qI.F: below the sign)."""
+    return word.bits - 2
+
+
+def physical_vamps(ld) -> int:
+    """VAMPs faults can name: the network's, and the extraneous checker with error correction."""
+    return len(ld.net.vamps) + (ld.net.checking is not None)
+
+
+def default_sets(ld) -> int:
+    """Sets a campaign runs by default: enough for the first sweep to check the last VAMP, and
+    for the sets after it to leave the network."""
+    from vampc.emulator.checking import check_periods
+    from vampc.network.checking import warmup
+    w = warmup(ld.programs, ld.timing, ld.period)
+    latency = max(o.tick for o in ld.net.outputs)
+    return check_periods(len(ld.net.vamps), w) + math.ceil(latency / ld.period) + TAIL + 1
+
+
+def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rate: float = 0.2,
+              seed: int = 0, sets: int = 100) -> list[Fault]:
+    """The campaign's faults, in a fixed order (the results file's keys)."""
+    V, hi, P = physical_vamps(ld), high_bit(ld.arith), ld.period
+    last = sets * P - 1
+    rng = np.random.default_rng([seed, 0xCA])
+    specs: list[str] = []
+    if campaign == "single":
+        for v in range(V):
+            for kind in kinds:
+                spec = _permanent(ld, v, kind, hi, at)
+                if spec is not None:
+                    specs.append(spec)
+    elif campaign == "transient":
+        for v in range(V):
+            specs.append(f"vamp={v},flip=result.x:{hi},at={int(rng.integers(0, last))}")
+    elif campaign == "intermittent":
+        for v in range(V):
+            specs.append(f"vamp={v},stuck=result.x:{hi},value=1,rate={rate},at={at}")
+    elif campaign == "random":
+        for _ in range(count):
+            v = int(rng.integers(0, V))
+            kind = str(rng.choice(kinds))
+            t = int(rng.integers(0, last))
+            if kind == "dead":
+                specs.append(f"vamp={v},dead,at={t}")
+                continue
+            if kind == "control" and v >= len(ld.net.vamps):
+                kind = "result"             # the extraneous VAMP has no control registers
+            how = str(rng.choice(["stuck", "flip"]))
+            if kind == "control":           # the low bits: a field's values are small
+                from vampc.program.words import FIELDS
+                field = str(rng.choice(FIELDS))
+                reg = f"control.{field}.{int(rng.integers(0, len(ld.programs[v])))}"
+                bit = int(rng.integers(0, 12))
+            else:
+                reg = {"result": f"result.{'xyz'[int(rng.integers(0, 3))]}",
+                       "a": f"a.{int(rng.integers(0, 9))}", "b": f"b.{int(rng.integers(0, 9))}"}[kind]
+                bit = int(rng.integers(0, ld.arith.bits))
+            extra = f",value={int(rng.integers(0, 2))}" if how == "stuck" else ""
+            specs.append(f"vamp={v},{how}={reg}:{bit}{extra},at={t}")
+    else:
+        raise VampcError(f"--campaign {campaign}: choose from {', '.join(CAMPAIGNS)}")
+    return [parse_fault(s) for s in specs]
+
+
+def _permanent(ld, v: int, kind: str, hi: int, at: int) -> str | None:
+    if kind == "result":
+        return f"vamp={v},stuck=result.x:{hi},value=1,at={at}"
+    if kind in ("a", "b"):
+        return f"vamp={v},stuck={kind}.0:{hi},value=1,at={at}"
+    if kind == "control":
+        if v >= len(ld.net.vamps):
+            return None                     # E's only control registers are its successor's
+        held = ld.programs[v][0].delay_r & 1
+        return f"vamp={v},stuck=control.delay_r:0,value={1 - held},at={at}"
+    if kind == "dead":
+        return f"vamp={v},dead,at={at}"
+    raise VampcError(f"--kinds: {kind!r} is no fault kind ({', '.join(KINDS)})")
+
+
+# --- one run ----------------------------------------------------------------------------------
+
+def engine_class(ld):
+    if ld.net.checking is not None:
+        from vampc.emulator.checking import CheckingTickEngine
+        return CheckingTickEngine
+    from vampc.emulator.tick import TickEngine
+    return TickEngine
+
+
+def reference_run(ld, ports, sets: int, seed: int) -> np.ndarray:
+    """The fault-free torques; VampcError if the checking flags a mismatch without a fault."""
+    engine = engine_class(ld)(ld, seed=seed)
+    engine.program()
+    with np.errstate(all="ignore"):
+        tau = engine.run(ports, sets)
+    if getattr(engine, "detections", None):
+        d = engine.detections[0]
+        raise VampcError(f"{ld.path}: the checking flagged VAMP {d['excised']} at tick "
+                         f"{d['tick']} without any fault (a false alarm: an emulator error)")
+    return tau
+
+
+def run_fault(setup: Setup, fault: Fault) -> dict:
+    """One run with `fault`, classified (see the module docstring)."""
+    ld, P = setup.ld, setup.ld.period
+    ec = ld.net.checking is not None
+    latency = max(o.tick for o in ld.net.outputs)
+    ref_bits = setup.reference.view(np.int64)
+    out = {"fault": fault.text, "vamp": fault.vamp, "kind": _kind(fault)}
+    engine = engine_class(ld)(ld, seed=setup.seed, faults=[fault])
+
+    def settled(t, tau, seen) -> bool:
+        if ec:
+            if not engine.detections:
+                return False
+            first_after = engine.detections[0]["tick"] // P + 1        # the first set after it
+            return t >= (first_after + TAIL) * P + latency
+        done = (seen >= 0).all(axis=1)
+        return bool((done & _differs(tau, ref_bits)).any())
+
+    try:
+        engine.program()
+        with np.errstate(all="ignore"):
+            tau = engine.run(setup.ports, setup.sets, until=settled)
+    except VampcError as exc:
+        out.update({"class": "hang", "reason": str(exc).split(": ", 1)[-1]})
+        return out
+    done = engine.last_seen
+    run_sets = int(done.sum())
+    bad = done & _differs(tau, ref_bits)
+    out["sets_run"] = run_sets
+    detections = getattr(engine, "detections", [])
+    if detections:
+        d = detections[0]
+        after = d["tick"] // P + 1
+        entered = np.arange(len(bad))
+        out.update({"detected_tick": d["tick"],
+                    "latency_cycles": (d["tick"] - fault.at) // P,
+                    "finder": d["finder"], "excised": d["excised"],
+                    "corrupted_before": int((bad & (entered < after)).sum()),
+                    "corrupted_after": int((bad & (entered >= after)).sum())})
+        m = engine.maintenance()
+        out["named"] = m["named"]
+        out["maintenance_ticks"] = m["ticks"]
+        out["named_right"] = m["named"] == [fault.vamp]
+        out["class"] = "detected-corrected" if out["corrupted_after"] == 0 and \
+            out["named_right"] else "detected-not-corrected"
+        if out["class"] == "detected-not-corrected":
+            out["reason"] = _escape_reason(ld, fault, d, out)
+    else:
+        out["corrupted"] = int(bad.sum())
+        out["class"] = "silent-corruption" if bad.any() else "masked"
+        if bad.any() and ec:
+            out["reason"] = _silent_reason(ld, fault, run_sets)
+    return out
+
+
+def _differs(tau: np.ndarray, ref_bits: np.ndarray) -> np.ndarray:
+    return (tau.view(np.int64) != ref_bits[:len(tau)]).any(axis=1)
+
+
+def _kind(f: Fault) -> str:
+    if f.kind == "dead":
+        return "dead"
+    cls = "permanent" if f.kind == "stuck" and f.rate is None else \
+        "intermittent" if f.kind == "stuck" else "transient"
+    return f"{cls} {f.register}"
+
+
+def _escape_reason(ld, fault: Fault, d: dict, out: dict) -> str:
+    V = len(ld.net.vamps)
+    if fault.vamp == V:
+        return ("a fault in the extraneous checker, which nothing checks: it flagged VAMP "
+                f"{d['excised']} and plays its role with the fault")
+    if d["finder"] == fault.vamp:
+        return ("a fault in the checker itself (its copy of its successor's result differs): it "
+                f"flagged the healthy VAMP {d['excised']} and plays its role with the fault")
+    if not out["named_right"]:
+        return f"Maintenance Mode named {out['named']}, not VAMP {fault.vamp}"
+    return f"{out['corrupted_after']} set(s) after the correction still differ"
+
+
+def _silent_reason(ld, fault: Fault, run_sets: int) -> str:
+    from vampc.emulator.checking import check_periods
+    w = ld.net.checking.warmup
+    pos = ld.net.checking.order.index(fault.vamp) if fault.vamp in ld.net.checking.order else 0
+    if fault.vamp == len(ld.net.vamps):
+        return "a fault in the extraneous checker, which nothing checks"
+    if fault.kind == "flip" or fault.rate is not None:
+        return "not active in the compare period that checked the VAMP"
+    if check_periods(pos, w) + fault.at // ld.period > run_sets:
+        return f"the check did not reach the VAMP within the run's {run_sets} sets"
+    return "the fault left the checked results equal in the compare period (the data masked it)"
+
+
+# --- a whole campaign -------------------------------------------------------------------------
+
+def program_digest(path) -> str:
+    """A program file's identity for the results file (its bytes' SHA-256, first 16 digits)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()[:16]
+
+
+def summarise(ld, runs: list[dict], sets: int) -> dict:
+    """Coverage, latency and corruption figures over a campaign's runs."""
+    by = {c: sum(1 for r in runs if r.get("class") == c) for c in CLASSES}
+    effective = len(runs) - by["masked"]
+    lat = sorted(r["latency_cycles"] for r in runs if "latency_cycles" in r)
+    before = [r["corrupted_before"] for r in runs if "corrupted_before" in r]
+    out = {"runs": len(runs), "classes": by,
+           "error_correction": ld.net.checking is not None, "sets": sets,
+           "coverage": (by["detected-corrected"] / effective) if effective else None,
+           "silent_corruption_rate": by["silent-corruption"] / len(runs) if runs else None}
+    if ld.net.checking is not None:
+        out["named_right"] = sum(1 for r in runs if r.get("named_right"))
+        out["detected"] = len(lat)
+        if lat:
+            out["latency_cycles"] = {"min": lat[0], "median": lat[len(lat) // 2],
+                                     "p90": lat[min(len(lat) - 1, int(0.9 * len(lat)))],
+                                     "max": lat[-1], "mean": sum(lat) / len(lat),
+                                     "histogram": _histogram(lat)}
+            out["corrupted_before_correction"] = {"max": max(before),
+                                                  "mean": sum(before) / len(before)}
+        out["escapes"] = [{"fault": r["fault"], "class": r["class"],
+                           "reason": r.get("reason", "")} for r in runs
+                          if r.get("class") not in ("masked", "detected-corrected")]
+    kinds: dict[str, dict] = {}
+    for r in runs:
+        k = kinds.setdefault(r["kind"], {c: 0 for c in CLASSES})
+        k[r["class"]] += 1
+    out["by_kind"] = kinds
+    return out
+
+
+def _histogram(values: list[int], bins: int = 8) -> list[dict]:
+    lo, hi = values[0], values[-1]
+    width = max(1, math.ceil((hi - lo + 1) / bins))
+    out = []
+    for b in range(lo, hi + 1, width):
+        out.append({"from": b, "to": b + width - 1,
+                    "runs": sum(1 for v in values if b <= v < b + width)})
+    return out
+
+
+def workers_default() -> int:
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)

@@ -1,0 +1,378 @@
+"""Limited automatic error correction (section VII, Figure VII.5b) in the tick engine: VAMPs that
+check their successors, excise a faulty one and play its role; Maintenance Mode names it.
+
+The hardware (what the report counts, vampc.report.checking): the VAMPs in a chain of successors
+(network.error_correction.chain, the logical order) after one extraneous VAMP E (index V). Each
+VAMP with a successor has Operand-A' and Operand-B' inputs wired to its successor's operand inputs
+(every multiplexer input of them: the same wires reach both), a Result' input/output on its
+successor's Result line, Test-in/out, Test-back-in/out and Inhibit-in/out, and a second set of
+control registers matching its successor's slot table. Program Mode loads the second set like the
+first: a VAMP latches, from its Operand-A' input 0 (its successor's Operand-A input 0, where its
+successor's words pass), every word carrying its successor's number; the program stream is the
+same as without checking. E has no role of its own and carries the number after the largest.
+
+A VAMP is in one mode at a time; the modes change only at period boundaries (Global-Reset):
+
+    normal     its own slot table on its own inputs, driving its Result line;
+    warm       its own slot table, driving nothing (taking its own role back);
+    check      the second table on the primed inputs, comparing each result with the successor's
+               Result line after `warmup` periods (its own line is driven by its predecessor);
+    fill       the second table, driving its successor's line through Result';
+    inhibited  excised: its outputs tri-stated (Inhibit-in), its control outputs false.
+
+What the paper leaves open, decided here:
+
+- The sweep. Forward stage k (k = 0 .. V-1) lasts warmup + 1 periods: chain position k checks
+  position k + 1, positions before it fill their successors' roles, those after are normal. The
+  checker computes its successor's slots from the stage's start and compares every one of their
+  results, bit for bit, in the stage's last period (`warmup` periods: every op dumped then ran
+  whole after the switch, vampc.network.checking). A match moves the check on: the checker starts
+  filling the role it has just computed (it is warm), its successor starts checking. After the last
+  VAMP is checked the sequence reverses (the last VAMP's Test-out fed to its Test-back-in): back
+  stage j (j = V-1 .. 1) lasts `warmup` periods, position j computing its own role again (warm)
+  while its predecessor still drives it, then driving it (normal) as its predecessor turns warm in
+  turn. E then starts the next sweep. A full sweep is V·(warmup + 1) + (V - 1)·warmup periods.
+- The checker's own Result is tri-stated while it checks; its result register holds its copy of
+  the successor's result, which the comparator reads beside the successor's line (Result').
+- On a mismatch the checker inhibits its successor at once and drives its line from the next tick;
+  the chain stays shifted (every VAMP before the excised one plays its successor's role, E the
+  first's) and the checking stops: there is no spare left. A second fault is not corrected.
+- Maintenance Mode (`maintenance`): the fault-finder drives its VAMP-number onto the line it
+  fills; every VAMP drives onto its line any fault notification on any of its multiplexer inputs
+  (A or B; buffers shift every tick, as in Program Mode), and the host reads the numbers where the
+  torques emerge. The faulty VAMP is the finder's successor in the chain.
+- Folded and budget layouts: the second table holds every slot of the successor and the primed
+  inputs every multiplexer input, so each slot is checked in the compare period. The Mostly-Local
+  Bus is not supported (a usage error at compile time).
+- Escapes, by construction: a fault in E, or in a VAMP's second control registers or comparator,
+  can make it excise a healthy successor and play its role wrongly (the paper's "failures in the
+  error-correcting circuitry itself"); a fault that leaves the checked results equal in the compare
+  period (masked then) waits for the next sweep; transient and intermittent faults are caught only
+  if active in a compare period.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from vampc.emulator.tick import UNKNOWN, TickEngine, _by_counter
+from vampc.errors import VampcError
+from vampc.kinds import TapKind
+from vampc.machine import interp as rom
+from vampc.machine.timing import step_counter
+from vampc.program.words import ROM
+
+NORMAL, WARM, CHECK, FILL, INHIBITED, IDLE = range(6)
+MODE_NAMES = ("normal", "warm", "check", "fill", "inhibited", "idle")
+
+
+class CheckingTickEngine(TickEngine):
+    """The tick engine of a program compiled with --error-correction (see the module docstring)."""
+
+    def __init__(self, ld, seed: int = 0, vcd=None, faults=(), strict: bool | None = None):
+        self.checking = ld.net.checking
+        V = len(ld.net.vamps)
+        self.order = list(self.checking.order)               # physical VAMPs, E (= V) first
+        self.pos = {p: i for i, p in enumerate(self.order)}
+        self.succ = {self.order[i]: self.order[i + 1] for i in range(V)}
+        self.pred = {s: p for p, s in self.succ.items()}
+        self.w = self.checking.warmup
+        self.e_number = max(ld.numbers) + 1
+        super().__init__(ld, seed, vcd, faults, strict)
+
+    # --- state --------------------------------------------------------------------------------
+    def _random_state(self) -> None:
+        super()._random_state()
+        rng, V, word = self.rng, self.V, self.ld.arith
+        # one more VAMP (E) in every per-VAMP register; result registers apart from the lines
+        self.op_a = np.vstack([self.op_a, word.random(rng, (1, 9))])
+        self.op_b = np.vstack([self.op_b, word.random(rng, (1, 9))])
+        self.units = np.concatenate([self.units, word.random(rng, (1, 3, 3))])
+        for name in ("tag_a", "tag_b", "utag"):
+            setattr(self, name, np.append(getattr(self, name), UNKNOWN))
+        for name in ("owner_a", "owner_b"):
+            setattr(self, name, np.append(getattr(self, name), -1))
+        self.res = word.random(rng, (V + 1, 9), 1e3)
+        self.res_tag = np.full(V + 1, UNKNOWN, dtype=np.int64)
+        self.tables2 = {p: [self._random_row() for _ in range(int(rng.integers(1, 4)))]
+                        for p in self.succ}
+        self.programmed2 = {p: False for p in self.succ}
+
+    def _name(self, v: int, slot: int | None = None) -> str:
+        if v == self.V:
+            return f"the extraneous VAMP {v} (number {self.e_number})"
+        return super()._name(v, slot)
+
+    # --- Program Mode -------------------------------------------------------------------------
+    def _program_tick(self) -> None:
+        """Every checker latches, from its Operand-A' input 0, the words carrying its successor's
+        number into its second control registers; then the tick as without checking."""
+        words = self.bus[self.input0, :3]
+        for p, s in self.succ.items():
+            w = words[s]
+            if abs(w[0]) == self.numbers[s]:
+                self._apply(p, w.copy(), self.tables2, self.programmed2)
+        super()._program_tick()
+
+    def program(self, ticks: int | None = None) -> int:
+        ticks = super().program(ticks)
+        missing = [p for p, done in self.programmed2.items() if not done]
+        if missing:
+            raise VampcError(f"{self.ld.path}: Program Mode: {self._name(missing[0])} saw no word "
+                             f"for its successor's second control registers in {ticks} ticks")
+        return ticks
+
+    # --- Data Mode ----------------------------------------------------------------------------
+    def _slots(self) -> None:
+        """Both slot tables of every VAMP as one set of slot arrays: per slot its physical VAMP,
+        the role (program VAMP) whose program it is, which table. A slot whose fields point at
+        nothing (a control fault) is broken: with faults it runs no op and its dumps are garbage;
+        without, an error as without checking."""
+        P, net = self.P, self.ld.net
+        vamp, role, kind, fields, ga, gb, broken = [], [], [], [], [], [], []
+        tables = [(p, p, 1, t) for p, t in enumerate(self.tables)] + \
+                 [(p, self.succ[p], 2, t) for p, t in sorted(self.tables2.items())]
+        for p, r, k, table in tables:
+            inputs = net.vamps[r]
+            for slot, (da, db, dr, rr, sa, sb) in enumerate(table):
+                bad = rr >= len(ROM) or sa >= len(inputs.a) or sb >= len(inputs.b)
+                if bad and self.strict:
+                    raise VampcError(f"{self.ld.path}: {self._name(p, slot)}: table {k}: a control "
+                                     "field points at no ROM entry or multiplexer input")
+                vamp.append(p)
+                role.append(r)
+                kind.append(k)
+                broken.append(bad)
+                fields.append((da, db, dr, 0 if bad else rr))
+                ga.append(self._gather(inputs.a[0 if bad else sa], r))
+                gb.append(self._gather(inputs.b[0 if bad else sb], r))
+        order = np.argsort(np.array(vamp), kind="stable")     # slots of a VAMP together
+        pick = lambda xs: [xs[i] for i in order]               # noqa: E731
+        vamp, role, kind, fields, ga, gb, broken = map(pick, (vamp, role, kind, fields, ga, gb,
+                                                              broken))
+        self.slot_vamp = np.array(vamp, dtype=np.int64)
+        self.slot_role = np.array(role, dtype=np.int64)
+        self.slot_kind = np.array(kind, dtype=np.int64)
+        self.broken = np.array(broken, dtype=bool)
+        self.counted = np.full(len(vamp), -1, dtype=np.int64)
+        f = np.array(fields, dtype=np.int64).reshape(-1, 4)
+        self.s_da, self.s_db, self.s_dr, self.s_rom = f[:, 0], f[:, 1], f[:, 2], f[:, 3]
+        self.ga_rows, self.ga_cols, self.ga_taps = (np.array([g[i] for g in ga], dtype=np.int64)
+                                                    for i in range(3))
+        self.gb_rows, self.gb_cols, self.gb_taps = (np.array([g[i] for g in gb], dtype=np.int64)
+                                                    for i in range(3))
+        self.step_at = {}
+        timing = self.ld.timing
+        for r in range(len(ROM)):
+            ends = rom.step_ends(r, timing)
+            for j in range(len(ends)):
+                mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P) & ~self.broken)
+                for c, group in _by_counter(step_counter(self.s_dr[mine], ends, j, P), mine):
+                    self.step_at.setdefault(c, []).append((r, j, group))
+        every = np.arange(len(vamp))
+        self.latch_a_at = dict(_by_counter(self.s_da, every))
+        self.latch_b_at = dict(_by_counter(self.s_db, every))
+        self.dump_at = dict(_by_counter(self.s_dr, every))
+        if not hasattr(self, "mode"):
+            self._start_sweep()
+        self._activate()
+
+    def _start_sweep(self) -> None:
+        """Data Mode starts with forward stage 0: E checks the first VAMP, the rest are normal."""
+        V = self.V
+        self.mode = np.full(V + 1, NORMAL, dtype=np.int64)
+        self.since = np.full(V + 1, self.tick, dtype=np.int64)   # tick each took its table
+        self.phase, self.stage, self.left = "fwd", 0, self.w + 1
+        self.mode[V] = CHECK
+        self.detections: list[dict] = []
+        self.sweeps = 0
+        self.checked = np.zeros(V, dtype=np.int64)        # times each VAMP passed a check
+
+    def _activate(self) -> None:
+        """Which slots run, and which VAMP drives each Result line, from the modes."""
+        m = self.mode[self.slot_vamp]
+        first = (m == NORMAL) | (m == WARM)
+        second = (m == CHECK) | (m == FILL)
+        self.active = np.where(self.slot_kind == 1, first, second)
+        self.driver = np.full(self.V, -1, dtype=np.int64)
+        for p in np.flatnonzero(self.mode == NORMAL):
+            if p < self.V:
+                self.driver[p] = p
+        for p in np.flatnonzero(self.mode == FILL):
+            self.driver[self.succ[int(p)]] = p
+
+    def _watched(self, slots):
+        """Slots of VAMPs past the warm-up of the table they run (a VAMP that has just switched
+        tables runs ops on operands the other table's slots latched, by design)."""
+        ok = self.tick - self.since[self.slot_vamp[slots]] >= self.w * self.P
+        return slots[ok]
+
+    def _on(self, slots):
+        return None if slots is None else slots[self.active[slots]]
+
+    def _data_tick(self, c: int, t: int) -> None:
+        if self.faults:
+            self._control_faults(t)
+        self._latch(self._on(self.latch_a_at.get(c)), "a")
+        self._latch(self._on(self.latch_b_at.get(c)), "b")
+        if self.faults:
+            self._register_faults(t, ("a", "b"))
+        for r, j, slots in self.step_at.get(c, ()):
+            on = self._on(slots)
+            if on.size:
+                self._step(r, j, on, t)
+        new_stages = self._shifted_stages(every_tick=False, tick=t)
+        dumps = self._on(self.dump_at.get(c))
+        if dumps is not None and dumps.size:
+            v = self.slot_vamp[dumps]
+            for r in np.unique(self.s_rom[dumps]):
+                sel = v[self.s_rom[dumps] == r]
+                self.res[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
+                self.res[sel, 3:] = 0
+            self.res_tag[v] = self.utag[v]
+            bad = self.broken[dumps]
+            if bad.any():                       # a broken slot's result is undefined
+                self.res[v[bad], :3] = self.ld.arith.random(self.rng, (int(bad.sum()), 3), 1e3)
+                self.res_tag[v[bad]] = UNKNOWN
+        if self.faults:
+            self._register_faults(t, ("result", "dead"))
+        self._drive_lines()
+        self._commit_stages(new_stages)
+        if dumps is not None and dumps.size and self.mode_compare():
+            self._compare(dumps, t)
+        self._vcd_dump()
+        self.tick += 1
+        if (t + 1) % self.P == 0:
+            self._period_end()
+
+    def _register_faults(self, t: int, registers) -> None:
+        """As without checking, on the physical result registers (not the lines)."""
+        lines, self.bus = self.bus, self.res
+        lines_tag, self.tag = self.tag, self.res_tag
+        try:
+            super()._register_faults(t, registers)
+        finally:
+            self.bus, self.tag = lines, lines_tag
+
+    def _drive_lines(self) -> None:
+        """Every Result line shows the result register of the VAMP driving it."""
+        d = self.driver
+        on = d >= 0
+        self.bus[:self.V][on] = self.res[d[on]]
+        self.tag[:self.V][on] = self.res_tag[d[on]]
+
+    def mode_compare(self) -> bool:
+        """Whether this tick is in a forward stage's compare period."""
+        return self.phase == "fwd" and self.left == 1 and not self.detections
+
+    def _compare(self, dumps, t: int) -> None:
+        """The checker's results against its successor's line, bit for bit, at its own dumps."""
+        p = self.order[self.stage]
+        if self.mode[p] != CHECK or not (self.slot_vamp[dumps] == p).any():
+            return
+        s = self.succ[p]
+        mine, theirs = self.res[p, :3], self.bus[s, :3]
+        if np.array_equal(_bits(mine), _bits(theirs)):
+            return
+        # Inhibit-out: the successor is excised, the checker drives its line from the next tick
+        self.mode[s] = INHIBITED
+        self.mode[p] = FILL
+        self.detections.append({"tick": t, "finder": int(p), "excised": int(s)})
+        self._activate()
+
+    def _period_end(self) -> None:
+        """Global-Reset: the sweep moves on when a stage's periods are done."""
+        if self.detections:
+            return
+        self.left -= 1
+        if self.left:
+            return
+        V, order, now = self.V, self.order, self.tick
+        if self.phase == "fwd":
+            p, s = order[self.stage], order[self.stage + 1]
+            self.checked[s] += 1
+            if self.stage + 1 < V:           # the checker fills the role it checked; s checks
+                self.mode[p], self.mode[s] = FILL, CHECK
+                self.since[s] = now
+                self.stage += 1
+                self.left = self.w + 1
+            elif V == 1:                     # E checks the only VAMP, again and again
+                self.sweeps += 1
+                self.left = self.w + 1
+            else:                            # the last VAMP checked: the sequence reverses
+                self.phase, self.stage, self.left = "back", V - 1, self.w
+                self.mode[p] = WARM if p != V else IDLE
+                self.since[p] = now
+        else:                                # back stage done: position `stage` drives its role
+            p = order[self.stage]
+            self.mode[p] = NORMAL
+            q = order[self.stage - 1]
+            if self.stage - 1 > 0:
+                self.mode[q] = WARM
+                self.since[q] = now
+                self.stage -= 1
+                self.left = self.w
+            else:                            # E hands the first role back: the next sweep
+                self.sweeps += 1
+                self.mode[q] = CHECK
+                self.since[q] = now
+                self.phase, self.stage, self.left = "fwd", 0, self.w + 1
+        self._activate()
+
+    # --- Maintenance Mode ---------------------------------------------------------------------
+    def maintenance(self) -> dict:
+        """Maintenance Mode after the run: the fault-finders' numbers broadcast to where the
+        torques emerge. Returns the ticks it took, the numbers the host reads at the outputs, and
+        the VAMPs they name (each finder's successor)."""
+        finders = {d["finder"] for d in self.detections}
+        note = np.zeros(self.rows, dtype=np.int64)          # a fault notification: a VAMP-number
+        number = lambda p: self.e_number if p == self.V else int(self.ld.numbers[p])  # noqa: E731
+        net = self.ld.net
+        reads = [sorted({self._row(tap, r) for op in net.vamps[r].a + net.vamps[r].b
+                         for tap in op.taps if tap.kind is not TapKind.BUS})
+                 for r in range(self.V)]
+        outs = sorted({o.vamp for o in net.outputs})
+        ticks, seen = 0, set()
+        for ticks in range(1, self.rows + 2):
+            new = note.copy()
+            for r in range(self.V):
+                p = int(self.driver[r])
+                if p < 0:
+                    continue
+                new[r] = number(p) if p in finders and self.succ.get(p) == r else \
+                    max((int(note[x]) for x in reads[r]), default=0)
+            lo, hi = self.stages                            # buffers shift every tick
+            new[lo + 1:hi] = note[lo:hi - 1]
+            new[self.first_row] = note[self.first_src]
+            note = new
+            seen = {int(note[o]) for o in outs} - {0}
+            if finders and {number(p) for p in finders} <= seen:
+                break
+        by_number = {number(p): p for p in range(self.V + 1)}
+        named = sorted(self.succ[by_number[n]] for n in seen if n in by_number
+                       and by_number[n] in self.succ)
+        return {"ticks": ticks if finders else 0, "numbers": sorted(seen), "named": named}
+
+    def status(self) -> dict:
+        """What the checking did: detections, sweeps completed, where the check is now."""
+        return {"detections": list(self.detections), "sweeps": self.sweeps,
+                "stage": [self.phase, self.stage],
+                "checked": int((self.checked > 0).sum()),
+                "modes": {MODE_NAMES[m]: int((self.mode == m).sum())
+                          for m in range(len(MODE_NAMES)) if (self.mode == m).any()}}
+
+
+def sweep_periods(vamps: int, warmup: int) -> int:
+    """Periods of one full sweep (forward and back) over `vamps` VAMPs."""
+    return vamps * (warmup + 1) + (vamps - 1) * warmup
+
+
+def check_periods(position: int, warmup: int) -> int:
+    """Periods from Data Mode's start to the end of the compare period checking chain position
+    `position` (1 .. V) in the first sweep."""
+    return position * (warmup + 1)
+
+
+def _bits(values: np.ndarray) -> np.ndarray:
+    """Words as the comparator sees them: their bit patterns."""
+    a = np.ascontiguousarray(values)
+    return a.view(np.int64) if a.dtype.itemsize == 8 else a.view(np.int32)
