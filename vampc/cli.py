@@ -27,6 +27,7 @@ from vampc.options import (
     CompileCommand,
     CompileOptions,
     EmulateOptions,
+    FaultsOptions,
     LookaheadOptions,
     PrecisionOptions,
     ReportOptions,
@@ -200,6 +201,22 @@ def lookahead(ctx, source, **params):
     if not lookahead_command(source, build(LookaheadOptions, ctx, params), build(
             CompileOptions, ctx, params), build(RobotOptions, ctx, params), params, say):
         sys.exit(1)
+
+
+@main.command()
+@click.argument("source", type=FilePath(dir_okay=False))
+@options_of(FaultsOptions, CompileOptions, RobotOptions)
+@click.pass_context
+@handle_errors
+def faults(ctx, source, **params):
+    """A fault campaign on the tick engine: every single permanent fault of a kind on every VAMP,
+    transient or intermittent faults, or random ones; each run classified (masked, detected and
+    corrected, detected not corrected, silent corruption, hang) against the fault-free run. With a
+    program compiled with --error-correction the checking of section VII runs (README, Error
+    correction)."""
+    from vampc.commands import faults_command
+    faults_command(source, build(FaultsOptions, ctx, params), build(CompileOptions, ctx, params),
+                   build(RobotOptions, ctx, params), params, say)
 
 
 if __name__ == "__main__":  # pragma: no cover

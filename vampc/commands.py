@@ -708,3 +708,94 @@ def _write_lookahead(outs: dict, chain, traj, times, res) -> None:
         tau = res.retimed_tau if res.retimed_tau is not None else res.tau
         write_output(outs["--torques"], csv_line(["t"] + torque_columns(free_names(chain)))
                      + format_rows(t, reduce_torques(chain, tau)), "torques")
+
+
+# --- faults ---------------------------------------------------------------------------------------
+
+def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
+                   params: dict, say) -> None:
+    """`vampc faults`: a fault campaign on the tick engine, each run classified against the
+    fault-free run (vampc.emulator.campaign); results kept as they come, a re-run resumes."""
+    import numpy as np
+
+    from vampc import parallel, progress
+    from vampc.background import available_cores
+    from vampc.emulator import campaign as cp
+    from vampc.emulator.driver import random_states
+    from vampc.emulator.host import port_values
+    from vampc.outputs import plan_outputs, write_output
+    from vampc.sniff import is_program
+    own.check()
+    results = own.results or f"{_stem(source)}.{own.campaign}.faults.jsonl"
+    outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",))
+    ld = loaded(source, options, robot_opts, params)
+    sets = own.sets or cp.default_sets(ld)
+    if own.sets is not None and ld.net.checking is not None and own.sets < cp.default_sets(ld):
+        warnings.warn(VampcWarning(f"--sets {own.sets}: the checking reaches only part of the "
+                                   f"chain in that many sets; faults past it cannot be detected "
+                                   f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
+    from vampc.emulator.driver import tick_memory_check
+    tick_memory_check(ld, sets)
+    faults = cp.faults_of(ld, own.campaign, own.kind_list(), own.at, own.count, own.rate,
+                          own.seed, sets)
+    identity = cp.program_digest(source) if is_program(source) else \
+        cp.program_digest(source) + ":" + jsontext.dumps(options.record())
+    header = {"vampc_faults": 1, "program": identity, "campaign": own.campaign, "sets": sets,
+              "seed": own.seed, "faults": [f.text for f in faults]}
+    store = cp.ResultsFile(str(outs["--results"].path), header)
+    store.load()
+    client = parallel.connect(own.scheduler) if own.scheduler is not None else None
+    try:
+        todo = [i for i in range(len(faults)) if i not in store.done]
+        if todo:
+            traj = random_states(ld.chain, 0, sets, own.seed)
+            ports = port_values(ld, traj)
+            setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, own.seed), sets, own.seed)
+            store.open()
+            try:
+                with progress.counter("fault runs", len(todo), unit="run") as bar:
+                    parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo],
+                                       lambda _, r: store.add(*r),
+                                       available_cores() if own.workers is None
+                                       else own.workers, own.scheduler, client, bar)
+            finally:
+                store.close()
+    finally:
+        if client is not None:
+            client.close()
+    runs = [store.done[i] for i in range(len(faults))]
+    summary = cp.summarise(ld, runs, sets)
+    np.seterr(all="ignore")
+    head = (f"vampc faults: {source}, campaign {own.campaign}: {len(faults)} faults on "
+            f"{cp.physical_vamps(ld)} VAMPs, {sets} torque sets each, error correction "
+            f"{'on' if ld.net.checking is not None else 'off'}"
+            + (f" ({len(faults) - len(todo)} run(s) read from {results})"
+               if len(todo) < len(faults) else ""))
+    if own.fmt == "json":
+        text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
+                               "seed": own.seed, "results": results, "summary": summary,
+                               "runs": runs}, indent=1)
+    elif own.fmt == "csv":
+        text = cp.render_csv(runs)
+    else:
+        text = cp.render_text(head, summary) + f"\nresults: {results} (a re-run resumes from it)"
+    if "-o" in outs and not outs["-o"].is_stdout:
+        write_output(outs["-o"], text + "\n", "report")
+    else:
+        say(text.rstrip("\n"))
+
+
+def _fault_task(setup, item):
+    from vampc.emulator.campaign import run_fault
+    index, fault = item
+    return index, run_fault(setup, fault)
+
+
+def _stem(source: str) -> str:
+    """A source path without its program or robot suffix (puma.vamp.json -> puma)."""
+    name = str(source)
+    for suffix in (".vamp.json.gz", ".vamp.json", ".json.gz", ".json", ".yaml", ".yml", ".urdf",
+                   ".xml"):
+        if name.endswith(suffix):
+            return name[:-len(suffix)]
+    return name

@@ -693,6 +693,79 @@ class ReportOptions:
 
 
 @dataclass(frozen=True)
+class FaultsOptions:
+    """`vampc faults`' own options."""
+
+    campaign: str = field(default="single", metadata=cli(
+        "--campaign", choices=lambda: ("single", "transient", "intermittent", "random"),
+        show_default=True, help="single: every single permanent fault of each --kinds on every "
+        "VAMP; transient: every VAMP's Result bit flipped once; intermittent: every VAMP's Result "
+        "bit stuck in a random fraction (--rate) of cycles; random: --count faults of every sort "
+        "(README, Error correction)."))
+    sets: int | None = field(default=None, metadata=cli(
+        "--sets", range=(1, 1 << 24), metavar="N", help="Torque sets each run (default: enough for "
+        "the checking to reach the last VAMP and the sets after to leave the network)."))
+    kinds: str = field(default="result,a,b,control,dead", metadata=cli(
+        "--kinds", metavar="K,...", show_default=True, help="Which permanent faults (single, "
+        "random): result, a, b (a stuck bit of the Result or an operand register), control (a "
+        "stuck bit of a control register), dead (outputs tri-stated)."))
+    count: int = field(default=100, metadata=cli(
+        "--count", range=(1, 1 << 24), metavar="N", show_default=True, help="With --campaign "
+        "random: how many faults."))
+    rate: float = field(default=0.2, metadata=cli(
+        "--rate", type=float, metavar="F", show_default=True, help="With --campaign intermittent: "
+        "the fraction of cycles the fault is active in (0 < F < 1)."))
+    at: int = field(default=0, metadata=cli(
+        "--at", range=(0, None), metavar="T", show_default=True, help="Data-Mode tick the "
+        "permanent and intermittent faults start at."))
+    seed: int = field(default=0, metadata=cli(
+        "--seed", range=(0, None), show_default=True, help="Seed for the random states, the "
+        "engine's initial registers and the faults drawn."))
+    workers: int | None = field(default=None, metadata=cli(
+        "--workers", range=(1, 1024), metavar="N", help="Runs on N local worker processes "
+        "(default: one per available core); the results are the same as one process gives."))
+    scheduler: str | None = field(default=None, metadata=cli(
+        "--scheduler", metavar="ADDRESS", help="Run on the Dask cluster whose scheduler is at "
+        "ADDRESS (tcp://HOST:8786; pip install \"vampc[dask]\")."))
+    results: str | None = field(default=None, metadata=cli(
+        "--results", path=True, metavar="FILE.jsonl", help="Where each run's result is kept as it "
+        "finishes; a re-run of the same campaign resumes from it (default: beside the program, "
+        "PROGRAM.CAMPAIGN.faults.jsonl)."))
+    fmt: str = field(default="text", metadata=cli(
+        "--format", choices=lambda: ("text", "json", "csv"), show_default=True, help="text: the "
+        "summary; json: the summary and every run; csv: one row per run."))
+    output: str | None = field(default=None, metadata=cli(
+        "-o", "--output", path=True, dash=True, help="Write the report to FILE (default: stdout)."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
+
+    def check(self) -> None:
+        """Every rule between the options (VampcUsageError, one line)."""
+        from vampc.emulator.campaign import KINDS
+        kinds = self.kind_list()
+        bad = [k for k in kinds if k not in KINDS]
+        if bad or not kinds:
+            raise VampcUsageError(f"--kinds {self.kinds}: give some of {','.join(KINDS)}")
+        for name, campaigns in (("count", ("random",)), ("rate", ("intermittent",)),
+                                ("kinds", ("single", "random"))):
+            if name in self.given and self.campaign not in campaigns:
+                raise VampcUsageError(f"{flag(name)} applies to --campaign "
+                                      f"{' or '.join(campaigns)}")
+        if "at" in self.given and self.campaign in ("transient", "random"):
+            raise VampcUsageError(f"--at applies to --campaign single or intermittent (the "
+                                  f"{self.campaign} campaign draws its ticks)")
+        if not 0 < self.rate < 1:
+            raise VampcUsageError(f"--rate {self.rate}: give a fraction 0 < F < 1")
+        if self.scheduler is not None and not self.scheduler.strip():
+            raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
+        if self.workers is not None and self.scheduler is not None:
+            raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own "
+                                  "workers)")
+
+    def kind_list(self) -> list[str]:
+        return [k.strip() for k in self.kinds.split(",") if k.strip()]
+
+
+@dataclass(frozen=True)
 class PrecisionOptions:
     """`vampc precision`'s own options."""
 

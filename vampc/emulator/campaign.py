@@ -204,9 +204,9 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
         out["maintenance_ticks"] = m["ticks"]
         out["named_right"] = m["named"] == [fault.vamp]
         out["class"] = "detected-corrected" if out["corrupted_after"] == 0 and \
-            out["named_right"] else "detected-not-corrected"
-        if out["class"] == "detected-not-corrected":
-            out["reason"] = _escape_reason(ld, fault, d, out)
+            d["excised"] == fault.vamp else "detected-not-corrected"
+        if out["class"] == "detected-not-corrected" or not out["named_right"]:
+            out["reason"] = _escape_reason(ld, fault, d, out, m)
     else:
         out["corrupted"] = int(bad.sum())
         out["class"] = "silent-corruption" if bad.any() else "masked"
@@ -227,7 +227,7 @@ def _kind(f: Fault) -> str:
     return f"{cls} {f.register}"
 
 
-def _escape_reason(ld, fault: Fault, d: dict, out: dict) -> str:
+def _escape_reason(ld, fault: Fault, d: dict, out: dict, m: dict) -> str:
     V = len(ld.net.vamps)
     if fault.vamp == V:
         return ("a fault in the extraneous checker, which nothing checks: it flagged VAMP "
@@ -235,6 +235,11 @@ def _escape_reason(ld, fault: Fault, d: dict, out: dict) -> str:
     if d["finder"] == fault.vamp:
         return ("a fault in the checker itself (its copy of its successor's result differs): it "
                 f"flagged the healthy VAMP {d['excised']} and plays its role with the fault")
+    if d["excised"] in m["unreachable"]:
+        node = ld.graph.nodes[ld.net.vamps[d["excised"]].slots[0].node].label
+        return (f"excised and replaced, but Maintenance Mode cannot name it: no torque depends on "
+                f"VAMP {d['excised']}'s result ({node}), so the finder's number on its line "
+                "reaches no output")
     if not out["named_right"]:
         return f"Maintenance Mode named {out['named']}, not VAMP {fault.vamp}"
     return f"{out['corrupted_after']} set(s) after the correction still differ"
@@ -286,7 +291,8 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
                                                   "mean": sum(before) / len(before)}
         out["escapes"] = [{"fault": r["fault"], "class": r["class"],
                            "reason": r.get("reason", "")} for r in runs
-                          if r.get("class") not in ("masked", "detected-corrected")]
+                          if r.get("class") not in ("masked", "detected-corrected")
+                          or (r["class"] == "detected-corrected" and not r["named_right"])]
     kinds: dict[str, dict] = {}
     for r in runs:
         k = kinds.setdefault(r["kind"], {c: 0 for c in CLASSES})
@@ -305,5 +311,132 @@ def _histogram(values: list[int], bins: int = 8) -> list[dict]:
     return out
 
 
-def workers_default() -> int:
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+# --- the results file -------------------------------------------------------------------------
+
+class ResultsFile:
+    """A campaign's results as JSON Lines: a header naming the campaign, then one line per run as it
+    finishes (`index` into the campaign's faults). A re-run with the same header resumes: the runs
+    on file are kept and not run again; a last line cut short (a run interrupted mid-write) is
+    dropped. A file holding another campaign is refused, never overwritten."""
+
+    def __init__(self, path: str, header: dict):
+        self.path, self.header = path, header
+        self.done: dict[int, dict] = {}
+        self._fh = None
+
+    def load(self) -> None:
+        """Read what an earlier run of this campaign left (VampcError for another campaign's file)."""
+        from vampc import jsontext
+        if not os.path.exists(self.path):
+            return
+        if os.path.islink(self.path) or not os.path.isfile(self.path):
+            raise VampcError(f"--results {self.path}: not a regular file (a link or a device is "
+                             "never written)")
+        with open(self.path, "rb") as fh:
+            data = fh.read()
+        lines = data.split(b"\n")
+        good = len(data) if data.endswith(b"\n") else len(data) - len(lines[-1])
+        try:
+            head = jsontext.loads(lines[0]) if lines and lines[0] else None
+        except ValueError:
+            head = None
+        if head != self.header:
+            raise VampcError(f"--results {self.path}: it holds the results of another campaign or "
+                             "program (give another --results file, or remove it to start over)")
+        for k, line in enumerate(lines[1:], 2):
+            if not line.strip():
+                continue
+            try:
+                run = jsontext.loads(line)
+                self.done[int(run["index"])] = run
+            except (ValueError, KeyError, TypeError):
+                if sum(len(x) + 1 for x in lines[:k]) <= good:      # not just a cut-short last line
+                    raise VampcError(f"--results {self.path}: line {k} is not a run's result "
+                                     "(the file was edited; remove it to start over)") from None
+        self._truncate = good
+
+    def open(self) -> None:
+        """Ready to append (the header written if the file is new)."""
+        from vampc import jsontext
+        fresh = not os.path.exists(self.path)
+        self._fh = open(self.path, "ab")
+        if fresh:
+            self._fh.write(jsontext.dumps(self.header).encode() + b"\n")
+        elif getattr(self, "_truncate", None) is not None:
+            self._fh.truncate(self._truncate)
+        self._fh.flush()
+
+    def add(self, index: int, run: dict) -> None:
+        from vampc import jsontext
+        run = {"index": index, **run}
+        self.done[index] = run
+        self._fh.write(jsontext.dumps(run).encode() + b"\n")
+        self._fh.flush()
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+
+# --- rendering --------------------------------------------------------------------------------
+
+CSV_COLUMNS = ("index", "fault", "vamp", "kind", "class", "sets_run", "detected_tick",
+               "latency_cycles", "finder", "excised", "named", "named_right", "corrupted_before",
+               "corrupted_after", "corrupted", "maintenance_ticks", "reason")
+LABELS = {"masked": "masked", "detected-corrected": "detected and corrected",
+          "detected-not-corrected": "detected, not corrected",
+          "silent-corruption": "silent corruption", "hang": "hang"}
+
+
+def render_csv(runs: list[dict]) -> str:
+    import csv
+    import io
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for r in runs:
+        w.writerow(["" if r.get(c) is None else " ".join(map(str, r[c])) if isinstance(r.get(c), list)
+                    else r[c] for c in CSV_COLUMNS])
+    return buf.getvalue()
+
+
+def render_text(head: str, summary: dict) -> str:
+    n = summary["runs"]
+    pct = lambda k: f"{100 * k / n:.1f}%" if n else "-"           # noqa: E731
+    lines = [head]
+    for c in CLASSES:
+        k = summary["classes"][c]
+        lines.append(f"  {LABELS[c]:<26}{k:>6}  ({pct(k)})")
+    if summary["coverage"] is not None:
+        lines.append(f"coverage (detected and corrected, of the faults not masked): "
+                     f"{100 * summary['coverage']:.1f}%")
+    lines.append(f"silent corruption: {summary['classes']['silent-corruption']} of {n} runs "
+                 f"({pct(summary['classes']['silent-corruption'])})")
+    if summary["error_correction"]:
+        lines.append(f"faulty VAMP named in Maintenance Mode: {summary['named_right']} of "
+                     f"{summary['detected']} detected")
+        lat = summary.get("latency_cycles")
+        if lat:
+            lines.append(f"detection latency, cycles from the fault: min {lat['min']}, median "
+                         f"{lat['median']}, 90% {lat['p90']}, max {lat['max']} (mean "
+                         f"{lat['mean']:.1f})")
+            bars = "  ".join(f"{b['from']}-{b['to']}: {b['runs']}" for b in lat["histogram"])
+            lines.append(f"  runs by latency: {bars}")
+            cb = summary["corrupted_before_correction"]
+            lines.append(f"torque sets corrupted before correction: max {cb['max']}, mean "
+                         f"{cb['mean']:.1f}")
+    lines.append("by kind:")
+    width = max((len(k) for k in summary["by_kind"]), default=4) + 2
+    lines.append("  " + "kind".ljust(width) + "".join(f"{LABELS[c]:>26}" for c in CLASSES))
+    for kind, counts in summary["by_kind"].items():
+        lines.append("  " + kind.ljust(width) + "".join(f"{counts[c]:>26}" for c in CLASSES))
+    esc = summary.get("escapes")
+    if esc:
+        lines.append(f"escapes ({len(esc)}):")
+        for e in esc:
+            lines.append(f"  {e['fault']}: {LABELS[e['class']]}: {e['reason']}")
+    elif summary["error_correction"]:
+        lines.append("escapes: none")
+    return "\n".join(lines)

@@ -267,7 +267,7 @@ class CheckingTickEngine(TickEngine):
     def _compare(self, dumps, t: int) -> None:
         """The checker's results against its successor's line, bit for bit, at its own dumps."""
         p = self.order[self.stage]
-        if self.mode[p] != CHECK or not (self.slot_vamp[dumps] == p).any():
+        if self.mode[p] != CHECK or not (self.slot_vamp[dumps] == p).any() or self._dead(p, t):
             return
         s = self.succ[p]
         mine, theirs = self.res[p, :3], self.bus[s, :3]
@@ -287,6 +287,9 @@ class CheckingTickEngine(TickEngine):
         if self.left:
             return
         V, order, now = self.V, self.order, self.tick
+        if self.phase == "fwd" and self._dead(order[self.stage], now - 1):
+            self.left = 1                    # a dead checker's Test-out stays false: stalled
+            return
         if self.phase == "fwd":
             p, s = order[self.stage], order[self.stage + 1]
             self.checked[s] += 1
@@ -317,6 +320,11 @@ class CheckingTickEngine(TickEngine):
                 self.since[q] = now
                 self.phase, self.stage, self.left = "fwd", 0, self.w + 1
         self._activate()
+
+    def _dead(self, p: int, t: int) -> bool:
+        """Whether VAMP p is dead at tick t (its control outputs false: no Inhibit-out, no
+        Test-out)."""
+        return any(f.kind == "dead" and f.vamp == p and f.at <= t for f in self.faults)
 
     # --- Maintenance Mode ---------------------------------------------------------------------
     def maintenance(self) -> dict:
@@ -350,7 +358,34 @@ class CheckingTickEngine(TickEngine):
         by_number = {number(p): p for p in range(self.V + 1)}
         named = sorted(self.succ[by_number[n]] for n in seen if n in by_number
                        and by_number[n] in self.succ)
-        return {"ticks": ticks if finders else 0, "numbers": sorted(seen), "named": named}
+        lost = sorted(self.succ[p] for p in finders if number(p) not in seen)
+        return {"ticks": ticks if finders else 0, "numbers": sorted(seen), "named": named,
+                "unreachable": [v for v in lost if not self._reaches_output(v, reads)]}
+
+    def _reaches_output(self, line: int, reads) -> bool:
+        """Whether what VAMP `line`'s Result carries can reach a torque output through the
+        multiplexer inputs (directly or through a buffer)."""
+        outs = {o.vamp for o in self.ld.net.outputs}
+        row_of = {}                       # a row -> the Result line it carries
+        for b in self.ld.net.buffers:
+            for st in range(1, b.stages + 1):
+                row_of[self.stage_row[(b.index, st)]] = b.source
+        readers: dict[int, set] = {}
+        for r, rows in enumerate(reads):
+            for x in rows:
+                src = x if x < self.V else row_of.get(x)
+                if src is not None:
+                    readers.setdefault(src, set()).add(r)
+        todo, seen = [line], {line}
+        while todo:
+            v = todo.pop()
+            if v in outs:
+                return True
+            for r in readers.get(v, ()):
+                if r not in seen:
+                    seen.add(r)
+                    todo.append(r)
+        return False
 
     def status(self) -> dict:
         """What the checking did: detections, sweeps completed, where the check is now."""

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 from dataclasses import replace
 
 from vampc.background import available_cores
@@ -67,8 +66,7 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
     thorough = largest <= THOROUGH_UP_TO
     workers = min(available_cores() if workers is None else workers, len(ks))
     rows, seen = [], set()
-    computed = _cluster_rows(graph, timing, ks, thorough, scheduler, progress) if scheduler is not None else \
-        _budget_rows(graph, timing, ks, thorough, workers, progress)
+    computed = _budget_rows(graph, timing, ks, thorough, workers, scheduler, progress)
     for row in computed:
         figures = tuple(row[c] for c in FIGURES)
         if figures not in seen:            # a larger budget the schedule did not use
@@ -87,94 +85,27 @@ def _budget_row(graph, timing, k: int, thorough: bool) -> dict:
     return _row(f"budget {k}", graph, sched, layout, b)
 
 
-def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, progress):
-    """The budgets' rows in budget order, computed here or by `workers` forked processes (each
-    inherits the graph when it starts; a task sends a budget and returns a row). Workers ignore
-    Ctrl-C: an interrupt, a signal or a failed budget in this process stops them at once."""
-    import multiprocessing
-    if workers > 1 and not hasattr(os, "fork"):
-        import warnings
-
-        from vampc.errors import VampcWarning
-        warnings.warn(VampcWarning(f"--workers {workers}: this platform cannot fork; the budgets run "
-                                   "in this process"), stacklevel=3)
-    if workers <= 1 or not hasattr(os, "fork") or multiprocessing.current_process().daemon:
-        for done, k in enumerate(ks):
-            yield _budget_row(graph, timing, k, thorough)
-            if progress is not None:
-                progress(done + 1, len(ks))
-        return
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"),
-                               initializer=_worker_start, initargs=(graph, timing, thorough))
-    try:
-        futures = {pool.submit(_worker_row, k): i for i, k in enumerate(ks)}
-        out = [None] * len(ks)
-        for done, future in enumerate(as_completed(futures), 1):
-            out[futures[future]] = future.result()
-            if progress is not None:
-                progress(done, len(ks))
-    except BaseException:
-        for proc in list(getattr(pool, "_processes", {}).values()):     # do not wait for the queue
-            proc.kill()
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    pool.shutdown()
-    yield from out
-
-
-_WORKER = None        # a forked worker's (graph, timing, thorough)
-SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
-
-
-def _worker_start(graph, timing, thorough: bool) -> None:
-    """A worker's start: keep the graph; leave Ctrl-C to the process that started it."""
-    import signal
-    global _WORKER
-    _WORKER = (graph, timing, thorough)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), signal.SIG_DFL)
-
-
-def _worker_row(k: int) -> dict:
-    graph, timing, thorough = _WORKER
+def _budget_task(context, k: int) -> dict:
+    graph, timing, thorough = context
     return _budget_row(graph, timing, k, thorough)
 
 
-def _cluster_rows(graph, timing, ks: list, thorough: bool, address: str, progress) -> list:
-    """The budgets' rows in budget order, computed on a Dask cluster; anything the cluster does
-    wrong (no workers, a worker without vampc, a lost worker, an address it cannot use) is one
-    line."""
-    from vampc.errors import VampcError
+def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, scheduler, progress):
+    """The budgets' rows in budget order, computed here, by `workers` forked processes or on the
+    Dask cluster at `scheduler` (vampc.parallel)."""
+    from vampc import parallel
+    out = [None] * len(ks)
+    client = parallel.connect(scheduler, SCHEDULER_TIMEOUT) if scheduler is not None else None
     try:
-        from distributed import Client, as_completed
-    except ImportError:
-        raise VampcError("--scheduler needs dask.distributed: pip install \"vampc[dask]\"") from None
-    try:
-        client = Client(address, timeout=SCHEDULER_TIMEOUT)
-    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
-        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
-                         f"({type(exc).__name__}: {_one_line(exc)})") from None
-    with client:
-        try:
-            shared = client.scatter(graph, broadcast=True)
-            futures = [client.submit(_budget_row, shared, timing, k, thorough, pure=False) for k in ks]
-            index = {f.key: i for i, f in enumerate(futures)}
-            out = [None] * len(ks)
-            for done, future in enumerate(as_completed(futures), 1):
-                out[index[future.key]] = future.result()
-                if progress is not None:
-                    progress(done, len(ks))
-        except Exception as exc:  # noqa: BLE001 - whatever the cluster raises
-            raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
-                             f"{_one_line(exc)})") from None
+        parallel.run_tasks(_budget_task, (graph, timing, thorough), ks, out.__setitem__, workers,
+                           scheduler, client, progress, warn_stack=5)
+    finally:
+        if client is not None:
+            client.close()
     return out
 
 
-def _one_line(exc: Exception) -> str:
-    return " ".join(str(exc).split())[:300]
+SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 
 
 def _row(label, graph, sched, layout, b) -> dict:

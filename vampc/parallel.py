@@ -1,0 +1,117 @@
+"""Independent tasks run here, on local worker processes, or on a Dask cluster, with the same results
+whichever runs them: `report --tradeoff`'s budgets and `vampc faults`' runs.
+
+`run_tasks(task, context, items, ...)` calls `task(context, item)` for every item and hands each
+result to `done(index, result)` as it arrives (in any order; the caller orders them). Local workers
+are forked (each inherits `context` when it starts); they ignore Ctrl-C, and an interrupt, a signal
+or a failed task here stops them at once. A Dask cluster (`scheduler`, an address such as
+tcp://HOST:8786; dask.distributed, the `dask` extra) gets `context` broadcast once and one task per
+item; the scheduler is reached before anything runs, and anything the cluster does wrong (no
+workers, a worker without vampc, a lost worker, an address it cannot use) is one line.
+"""
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+
+from vampc.errors import VampcError
+
+SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
+_CONTEXT = None                 # a forked worker's (task, context)
+
+
+def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
+    """A dask.distributed Client of the scheduler at `address` (VampcError, one line, if there is
+    none or dask.distributed is missing)."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise VampcError("--scheduler needs dask.distributed: pip install \"vampc[dask]\"") from None
+    try:
+        return Client(address, timeout=timeout)
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
+                         f"({type(exc).__name__}: {one_line(exc)})") from None
+
+
+def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
+              workers: int = 1, scheduler: str | None = None, client=None, progress=None,
+              warn_stack: int = 3) -> None:
+    """Run `task(context, item)` for every item (see the module docstring). `client`: a Client
+    already connected to `scheduler` (connect); `progress(done, total)` after each result."""
+    if scheduler is not None:
+        _on_cluster(task, context, items, done, scheduler, client, progress)
+        return
+    import multiprocessing
+    if workers > 1 and not hasattr(os, "fork"):
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"--workers {workers}: this platform cannot fork; the tasks run "
+                                   "in this process"), stacklevel=warn_stack)
+    if workers <= 1 or len(items) <= 1 or not hasattr(os, "fork") or \
+            multiprocessing.current_process().daemon:
+        for i, item in enumerate(items):
+            done(i, task(context, item))
+            if progress is not None:
+                progress(i + 1, len(items))
+        return
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    pool = ProcessPoolExecutor(min(workers, len(items)),
+                               mp_context=multiprocessing.get_context("fork"),
+                               initializer=_worker_start, initargs=(task, context))
+    try:
+        futures = {pool.submit(_worker_task, item): i for i, item in enumerate(items)}
+        for n, future in enumerate(as_completed(futures), 1):
+            done(futures[future], future.result())
+            if progress is not None:
+                progress(n, len(items))
+    except BaseException:
+        for proc in list(getattr(pool, "_processes", {}).values()):     # do not wait for the queue
+            proc.kill()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
+
+
+def _worker_start(task, context) -> None:
+    """A worker's start: keep the task and its context; leave Ctrl-C to the process that started
+    it."""
+    import signal
+    global _CONTEXT
+    _CONTEXT = (task, context)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+
+
+def _worker_task(item):
+    task, context = _CONTEXT
+    return task(context, item)
+
+
+def _on_cluster(task, context, items, done, address: str, client, progress) -> None:
+    own = client is None
+    client = client or connect(address)
+    try:
+        from distributed import as_completed
+        shared = client.scatter(context, broadcast=True)
+        futures = [client.submit(task, shared, item, pure=False) for item in items]
+        index = {f.key: i for i, f in enumerate(futures)}
+        for n, future in enumerate(as_completed(futures), 1):
+            done(index[future.key], future.result())
+            if progress is not None:
+                progress(n, len(items))
+    except VampcError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - whatever the cluster raises
+        raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
+                         f"{one_line(exc)})") from None
+    finally:
+        if own:
+            client.close()
+
+
+def one_line(exc: Exception) -> str:
+    return " ".join(str(exc).split())[:300]
