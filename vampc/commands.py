@@ -202,6 +202,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.discard()
         raise
     say(emulation_line(outcome, time.perf_counter() - begun), info)
+    if outcome.checking is not None:
+        say(checking_line(ld, outcome), info)
     word = ld.arith
     if ld.word is None:
         ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
@@ -223,6 +225,22 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     elif outcome.check is not None:
         say(word_check_text(ld, outcome, tolerance, ok), info)
     return ok
+
+
+def checking_line(ld, outcome) -> str:
+    """What the error-correction checking did in a tick-engine run."""
+    ck = outcome.checking
+    done = f"{ck['sweeps']} whole sweep(s), {ck['checked']} of {len(ld.net.vamps)} VAMPs checked"
+    if not ck["detections"]:
+        return f"error correction: no mismatch ({done})"
+    d = ck["detections"][0]
+    m = ck["maintenance"]
+    named = (f"Maintenance Mode names VAMP {', '.join(map(str, m['named']))} after {m['ticks']} "
+             f"ticks (fault-finder number {', '.join(map(str, m['numbers']))})" if m["named"] else
+             "Maintenance Mode cannot name it: its line reaches no torque output")
+    return (f"error correction: VAMP {d['finder']} found a mismatch at Data-Mode tick {d['tick']} "
+            f"(set {d['tick'] // ld.period + 1}) and excised VAMP {d['excised']}, whose role it "
+            f"plays from then on; {named}")
 
 
 def number_text(x: float) -> str:

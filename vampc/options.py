@@ -109,6 +109,11 @@ class CompileOptions:
         "in a chain, each checking its successor with a second set of control registers and "
         "operand inputs, one extraneous VAMP first; a mismatch inhibits the successor and the "
         "checker plays its role (point-to-point wiring; README, Error correction)."))
+    check_cycles: int = field(default=1, metadata=cli(
+        "--check-cycles", range=(1, 1 << 16), metavar="K", show_default=True, help="With "
+        "--error-correction: the cycles (periods) a checker compares its successor's results "
+        "before the check moves on; the paper's 1, or more to catch faults one cycle's data mask "
+        "(a sweep takes K more periods per VAMP)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
     def __post_init__(self):
@@ -169,6 +174,8 @@ class CompileOptions:
             del out["tiers"]
         if not self.error_correction:  # programs without checking keep their bytes
             del out["error_correction"]
+        if not self.error_correction or self.check_cycles == 1:
+            del out["check_cycles"]
         return out
 
     def arith(self):
@@ -201,6 +208,8 @@ class CompileOptions:
             raise VampcUsageError("--vamps and --interval make their own (budgeted) layout: leave "
                                   "out --layout")
         check_bus(self)
+        if "check_cycles" in self.given and not self.error_correction:
+            raise VampcUsageError("--check-cycles applies with --error-correction")
         if self.error_correction and self.bus != "p2p":
             raise VampcUsageError(f"--error-correction is built for point-to-point wiring (the "
                                   f"{', '.join(layout_names())} and budget layouts), not --bus "

@@ -30,6 +30,7 @@ class Emulation:
     interval: int            # ticks between successive torque sets
     data_ticks: int          # Data-Mode ticks for the whole trajectory
     wall_seconds: float
+    checking: dict | None = None   # error correction: what the checking did (tick engine)
 
     @property
     def emulated_flops(self) -> int:
@@ -90,8 +91,11 @@ def _tick(ld, traj, ports, seed, vcd, start, progress, faults=()) -> Emulation:
     tau = engine.run(ports, traj.count, stats, progress)
     appear = np.diff(stats.appear)
     interval = int(appear.max()) if appear.size else ld.period
+    checking = None
+    if ld.net.checking is not None:
+        checking = {**engine.status(), "maintenance": engine.maintenance()}
     return Emulation(tau, "tick", load, stats.first_set_tick, interval, stats.data_ticks,
-                     time.perf_counter() - start)
+                     time.perf_counter() - start, checking)
 
 
 __all__ = ["ENGINES", "Emulation", "Loaded", "Trajectory", "emulate", "load_program",

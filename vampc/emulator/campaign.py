@@ -72,8 +72,9 @@ def default_sets(ld) -> int:
     from vampc.emulator.checking import check_periods
     from vampc.network.checking import warmup
     w = warmup(ld.programs, ld.timing, ld.period)
+    k = ld.net.checking.compare if ld.net.checking is not None else 1
     latency = max(o.tick for o in ld.net.outputs)
-    return check_periods(len(ld.net.vamps), w) + math.ceil(latency / ld.period) + TAIL + 1
+    return check_periods(len(ld.net.vamps), w, k) + math.ceil(latency / ld.period) + TAIL + 1
 
 
 def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rate: float = 0.2,
@@ -247,13 +248,13 @@ def _escape_reason(ld, fault: Fault, d: dict, out: dict, m: dict) -> str:
 
 def _silent_reason(ld, fault: Fault, run_sets: int) -> str:
     from vampc.emulator.checking import check_periods
-    w = ld.net.checking.warmup
+    w, k = ld.net.checking.warmup, ld.net.checking.compare
     pos = ld.net.checking.order.index(fault.vamp) if fault.vamp in ld.net.checking.order else 0
     if fault.vamp == len(ld.net.vamps):
         return "a fault in the extraneous checker, which nothing checks"
     if fault.kind == "flip" or fault.rate is not None:
         return "not active in the compare period that checked the VAMP"
-    if check_periods(pos, w) + fault.at // ld.period > run_sets:
+    if check_periods(pos, w, k) + fault.at // ld.period > run_sets:
         return f"the check did not reach the VAMP within the run's {run_sets} sets"
     return "the fault left the checked results equal in the compare period (the data masked it)"
 

@@ -22,16 +22,18 @@ A VAMP is in one mode at a time; the modes change only at period boundaries (Glo
 
 What the paper leaves open, decided here:
 
-- The sweep. Forward stage k (k = 0 .. V-1) lasts warmup + 1 periods: chain position k checks
+- The sweep. Forward stage k (k = 0 .. V-1) lasts warmup + K periods: chain position k checks
   position k + 1, positions before it fill their successors' roles, those after are normal. The
   checker computes its successor's slots from the stage's start and compares every one of their
-  results, bit for bit, in the stage's last period (`warmup` periods: every op dumped then ran
-  whole after the switch, vampc.network.checking). A match moves the check on: the checker starts
+  results, bit for bit, in the stage's last K periods (after `warmup` periods every op dumped ran
+  whole after the switch, vampc.network.checking). K (`compare`, --check-cycles) is 1 in the
+  paper ("for that cycle"); a stuck bit a cycle's data happen to mask (a stuck 1 where the value
+  has a 1) escapes one compare cycle but rarely K. A match moves the check on: the checker starts
   filling the role it has just computed (it is warm), its successor starts checking. After the last
   VAMP is checked the sequence reverses (the last VAMP's Test-out fed to its Test-back-in): back
   stage j (j = V-1 .. 1) lasts `warmup` periods, position j computing its own role again (warm)
   while its predecessor still drives it, then driving it (normal) as its predecessor turns warm in
-  turn. E then starts the next sweep. A full sweep is V·(warmup + 1) + (V - 1)·warmup periods.
+  turn. E then starts the next sweep. A full sweep is V·(warmup + K) + (V - 1)·warmup periods.
 - The checker's own Result is tri-stated while it checks; its result register holds its copy of
   the successor's result, which the comparator reads beside the successor's line (Result').
 - On a mismatch the checker inhibits its successor at once and drives its line from the next tick;
@@ -76,6 +78,7 @@ class CheckingTickEngine(TickEngine):
         self.succ = {self.order[i]: self.order[i + 1] for i in range(V)}
         self.pred = {s: p for p, s in self.succ.items()}
         self.w = self.checking.warmup
+        self.k = self.checking.compare
         self.e_number = max(ld.numbers) + 1
         super().__init__(ld, seed, vcd, faults, strict)
 
@@ -181,7 +184,7 @@ class CheckingTickEngine(TickEngine):
         V = self.V
         self.mode = np.full(V + 1, NORMAL, dtype=np.int64)
         self.since = np.full(V + 1, self.tick, dtype=np.int64)   # tick each took its table
-        self.phase, self.stage, self.left = "fwd", 0, self.w + 1
+        self.phase, self.stage, self.left = "fwd", 0, self.w + self.k
         self.mode[V] = CHECK
         self.detections: list[dict] = []
         self.sweeps = 0
@@ -262,7 +265,7 @@ class CheckingTickEngine(TickEngine):
 
     def mode_compare(self) -> bool:
         """Whether this tick is in a forward stage's compare period."""
-        return self.phase == "fwd" and self.left == 1 and not self.detections
+        return self.phase == "fwd" and self.left <= self.k and not self.detections
 
     def _compare(self, dumps, t: int) -> None:
         """The checker's results against its successor's line, bit for bit, at its own dumps."""
@@ -297,10 +300,10 @@ class CheckingTickEngine(TickEngine):
                 self.mode[p], self.mode[s] = FILL, CHECK
                 self.since[s] = now
                 self.stage += 1
-                self.left = self.w + 1
+                self.left = self.w + self.k
             elif V == 1:                     # E checks the only VAMP, again and again
                 self.sweeps += 1
-                self.left = self.w + 1
+                self.left = self.w + self.k
             else:                            # the last VAMP checked: the sequence reverses
                 self.phase, self.stage, self.left = "back", V - 1, self.w
                 self.mode[p] = WARM if p != V else IDLE
@@ -318,7 +321,7 @@ class CheckingTickEngine(TickEngine):
                 self.sweeps += 1
                 self.mode[q] = CHECK
                 self.since[q] = now
-                self.phase, self.stage, self.left = "fwd", 0, self.w + 1
+                self.phase, self.stage, self.left = "fwd", 0, self.w + self.k
         self._activate()
 
     def _dead(self, p: int, t: int) -> bool:
@@ -396,15 +399,15 @@ class CheckingTickEngine(TickEngine):
                           for m in range(len(MODE_NAMES)) if (self.mode == m).any()}}
 
 
-def sweep_periods(vamps: int, warmup: int) -> int:
+def sweep_periods(vamps: int, warmup: int, compare: int = 1) -> int:
     """Periods of one full sweep (forward and back) over `vamps` VAMPs."""
-    return vamps * (warmup + 1) + (vamps - 1) * warmup
+    return vamps * (warmup + compare) + (vamps - 1) * warmup
 
 
-def check_periods(position: int, warmup: int) -> int:
-    """Periods from Data Mode's start to the end of the compare period checking chain position
+def check_periods(position: int, warmup: int, compare: int = 1) -> int:
+    """Periods from Data Mode's start to the end of the compare periods checking chain position
     `position` (1 .. V) in the first sweep."""
-    return position * (warmup + 1)
+    return position * (warmup + compare)
 
 
 def _bits(values: np.ndarray) -> np.ndarray:

@@ -118,6 +118,7 @@ class Outcome:
     check: CheckResult | WordCheck | None     # WordCheck: a word format other than float64
     overflows: int = 0                        # results and host words beyond the word (counted)
     overflow_sites: tuple[str, ...] = ()      # where the first few happened (stream.overflow_sites)
+    checking: dict | None = None              # error correction: what the checking did (tick)
 
     @property
     def emulated_flops(self) -> int:
@@ -178,7 +179,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, fau
         case _:
             unhandled(engine)
     return Outcome(engine, states.count, first.load_ticks, first.first_tick, first.interval,
-                   data_ticks, seconds, merged, ld.arith.overflows, tuple(sites))
+                   data_ticks, seconds, merged, ld.arith.overflows, tuple(sites), first.checking)
 
 
 SITES = 5       # overflows located and reported by a run

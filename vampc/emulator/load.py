@@ -150,8 +150,9 @@ def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, option
     progs = delivered_programs(net, numbers, stream, path, Packing.of(word))
     _check_listing(listed, progs, path)
     from vampc.network.checking import check_checking
-    check_checking(net, progs, sched.timing,
-                   dict(options).get("error_correction", False), path)
+    recorded = dict(options)
+    check_checking(net, progs, sched.timing, recorded.get("error_correction", False), path,
+                   recorded.get("check_cycles", 1))
     return Loaded(path, chain, graph, sched, sched.timing, net, numbers, stream, progs,
                   load_ticks(stream), options, word, Packing.of(word))
 

@@ -7,12 +7,15 @@ systolic network's VAMPs in graph order, so a VAMP's successor is most often its
 same pass, and its operand inputs, which the checker's Operand-A' and Operand-B' share, come from
 the same VAMPs as its own.
 
-The warm-up: a VAMP that takes over a role (its successor's, to check it, or its own again) must
-compute it for `warmup` whole periods before a result of that role is trusted. An op reads operands
-latched at most P - 1 ticks before its first tick (the next latch of its slot would overwrite them)
-and dumps D ticks after its first tick, so every op dumped `warmup` periods after the switch began
-after it, with warmup = ceil(max over slots (lead + D) / P), lead the ticks from the slot's earlier
-latch to its first tick, read off the slot's Cycle-Counter fields.
+The warm-up: a VAMP that takes over a role (its successor's, to check it, or its own again) at a
+period boundary must compute it for `warmup` whole periods before a result of that role is trusted:
+compared, or driven onto a line (the line then shows the VAMP's last dump, so that dump must be of
+an op run whole after the switch). A slot's op spans s = lead + D ticks from its earlier operand
+latch to its dump (lead < P: the slot's next latch would overwrite the operand; D the op's
+duration), read off the slot's Cycle-Counter fields; its last dump before the end of `warmup`
+periods falls at counter delay-R of the last period, so the op began after the switch when
+(warmup - 1)·P + delay-R ≥ s - 1: warmup = 1 + max(0, ⌈(s - 1 - delay-R) / P⌉), the largest over
+the slots.
 """
 from __future__ import annotations
 
@@ -31,16 +34,20 @@ def span(program, timing, period: int) -> int:
 
 def warmup(programs, timing, period: int) -> int:
     """The periods a VAMP computes a role before its results are those of ops it ran whole."""
-    longest = max((span(p, timing, period) for table in programs for p in table), default=1)
-    return max(1, -(-longest // period))
+    need = 1
+    for table in programs:
+        for p in table:
+            late = span(p, timing, period) - 1 - p.delay_r
+            need = max(need, 1 + max(0, -(-late // period)))
+    return need
 
 
-def checking_for(net, programs, timing) -> Checking:
-    """The Checking a compile with --error-correction adds to `net`."""
-    return Checking(tuple(range(len(net.vamps))), warmup(programs, timing, net.period))
+def checking_for(net, programs, timing, compare: int = 1) -> Checking:
+    """The Checking a compile with --error-correction adds to `net` (`compare`: --check-cycles)."""
+    return Checking(tuple(range(len(net.vamps))), warmup(programs, timing, net.period), compare)
 
 
-def check_checking(net, programs, timing, enabled: bool, path) -> None:
+def check_checking(net, programs, timing, enabled: bool, path, cycles: int = 1) -> None:
     """A program file's error correction: present exactly when its options say so, with the
     warm-up its slots need (VampcError naming the field otherwise)."""
     if net.checking is None:
@@ -58,3 +65,6 @@ def check_checking(net, programs, timing, enabled: bool, path) -> None:
     if net.checking.warmup != want:
         raise VampcError(f"{path}: network.error_correction.warmup is {net.checking.warmup}, but "
                          f"the slots need {want} period(s) to run an op whole")
+    if net.checking.compare != cycles:
+        raise VampcError(f"{path}: network.error_correction.compare is {net.checking.compare}, "
+                         f"but options.check_cycles is {cycles}")

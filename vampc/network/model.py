@@ -226,10 +226,11 @@ class Checking(Struct, frozen=True, gc=False):
     chain of successors after one extraneous VAMP (index V, after the network's), each holding a
     second slot table matching its successor's and wired to its successor's operand inputs and
     Result; `warmup`: the Cycle-Counter periods a VAMP computes a role it has just taken before its
-    results are compared or driven."""
+    results are compared or driven; `compare`: the periods a checker then compares them."""
 
     chain: tuple[int, ...]
     warmup: int
+    compare: int = 1
 
     @property
     def order(self) -> tuple[int, ...]:

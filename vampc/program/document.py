@@ -169,7 +169,8 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
         [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts],
         None if net.bus is None else bus_doc(net.bus),
         None if net.checking is None else F.CheckingDoc(list(net.checking.chain),
-                                                         net.checking.warmup))
+                                                         net.checking.warmup,
+                                                         net.checking.compare))
 
 
 def bus_doc(bus) -> F.BusDoc:
@@ -301,7 +302,7 @@ def checking_from_doc(cd: F.CheckingDoc, vamps: int, path) -> Checking:
     if len(cd.chain) != vamps or sorted(cd.chain) != list(range(vamps)):
         raise VampcError(f"{path}: network.error_correction.chain: not each of the {vamps} VAMPs "
                          f"once (a permutation of 0..{vamps - 1})")
-    return Checking(tuple(cd.chain), cd.warmup)
+    return Checking(tuple(cd.chain), cd.warmup, cd.compare)
 
 
 def bus_from_doc(bd: F.BusDoc, vamps: int, path) -> Bus:
@@ -381,7 +382,8 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         if net.bus is not None:
             _check_bus_figures(net, graph, sched, doc.layout, path)
         from vampc.network.checking import check_checking
-        check_checking(net, programs_from_doc(doc), sched.timing, options.error_correction, path)
+        check_checking(net, programs_from_doc(doc), sched.timing, options.error_correction, path,
+                       options.check_cycles)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     numbering = tuple(v.number for v in doc.network.vamps)

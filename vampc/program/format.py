@@ -118,8 +118,9 @@ class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):
     # the Mostly-Local Bus: absent for point-to-point wiring; the tiers as --tiers gave them
     bus: Literal["p2p", "mlb"] | UnsetType = UNSET
     tiers: str | UnsetType = UNSET
-    # limited automatic error correction: absent without it
+    # limited automatic error correction: absent without it; its compare cycles with it
     error_correction: bool | UnsetType = UNSET
+    check_cycles: Annotated[int, Meta(ge=1, le=WORD_MAX)] | UnsetType = UNSET
 
     def recorded(self) -> dict:
         """The options the file records, as CompileOptions takes them (absent ones left out)."""
@@ -243,6 +244,7 @@ class CheckingDoc(Struct, gc=False, forbid_unknown_fields=True):
 
     chain: list[Index]
     warmup: Annotated[int, Meta(ge=1, le=WORD_MAX)]
+    compare: Annotated[int, Meta(ge=1, le=WORD_MAX)] = 1
 
 
 class NetworkDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):

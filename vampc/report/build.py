@@ -56,6 +56,9 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     if c.network is not None and c.network.bus is not None:
         from vampc.report.mlb import bus_figures
         rep["bus"] = bus_figures(c)
+    if c.network is not None and c.network.checking is not None:
+        from vampc.report.checking import checking_figures
+        rep["error_correction"] = checking_figures(c)
     if cpu_reference:
         rep["engineering"]["cpu_reference"] = measure_cpu(c.chain)
     rep["clock"] = None

@@ -109,6 +109,9 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     if rep.get("bus") is not None:
         from vampc.report.mlb import bus_pairs
         pairs += bus_pairs(rep["bus"])
+    if rep.get("error_correction") is not None:
+        from vampc.report.checking import checking_pairs
+        pairs += checking_pairs(rep["error_correction"])
     return pairs
 
 

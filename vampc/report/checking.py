@@ -1,0 +1,144 @@
+"""What limited automatic error correction costs, in the report (README, Error correction): read off
+the compiled network and its Checking (vampc.network.checking; the mechanism is
+vampc.emulator.checking).
+
+- VAMPs: one extraneous VAMP before the chain.
+- Registers: every VAMP with a successor holds a second slot table matching its successor's (the
+  control registers hardware_counts counts for one table, bits as vampc.report.counts.word_bits
+  counts them), the mode (normal, warm, check, fill, inhibited: 3 bits) and a stage counter of
+  ⌈log2(warmup + compare + 1)⌉ bits; its own Result register holds its copy of the successor's
+  result, and a comparator of three words sets it beside the Result' line.
+- Pins per VAMP: Operand-A' and Operand-B' (one per multiplexer input of its successor, as its own
+  operand inputs are counted), Result' (one), and six one-bit pins: Test-in, Test-out,
+  Test-back-in, Test-back-out, Inhibit-in, Inhibit-out.
+- Wires: to each VAMP's successor, one per successor input the primed inputs share, the Result'
+  line, and the three control lines (Test, Test-back, Inhibit); the chain runs in logical order, so
+  these are neighbours' wires (one VAMP pitch each) plus, for each shared input, the wire already
+  reaching the successor extended by one pitch.
+- Time: no latency, interval or Program-Mode tick is added (the checker runs its successor's slots
+  at their ticks, on the same wires; the program stream is the same). A sweep checks every VAMP
+  once in V·(warmup + compare) + (V - 1)·warmup periods: a permanent fault is found at most that
+  many torque sets after it starts (a sweep and a stage, if it starts just after its check).
+- Maintenance Mode: VAMPs whose results reach no torque (an op no output depends on) can be
+  excised but not named: counted.
+"""
+from __future__ import annotations
+
+from vampc.kinds import TapKind
+from vampc.report.processors import vamp_pins
+
+CONTROL_PINS = ("Test-in", "Test-out", "Test-back-in", "Test-back-out", "Inhibit-in", "Inhibit-out")
+MODE_BITS = 3
+
+
+def checking_figures(c) -> dict | None:
+    """The error-correction section of a report of `c` (a vampc.compiler.Compiled); None without."""
+    net = c.network
+    ck = net.checking if net is not None else None
+    if ck is None:
+        return None
+    from vampc.emulator.checking import sweep_periods
+    from vampc.machine import ops
+    V = len(net.vamps)
+    order = ck.order
+    succ = {order[i]: order[i + 1] for i in range(V)}
+
+    def width(values: int) -> int:
+        return (values - 1).bit_length()
+    counter = width(net.period)
+    table_bits = {v.index: len(v.slots) * (3 * counter + width(len(ops.ROM)) + width(len(v.a))
+                                           + width(len(v.b))) for v in net.vamps}
+    plain = {v.index: 4 if len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1
+             else 6 * len(v.slots) for v in net.vamps}
+    stage_bits = width(ck.warmup + ck.compare + 1)
+    word = c.options.arith().bits
+    pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
+    pins_after = []
+    for p in order:                          # E (index V) first: pins of its own and its successor's
+        own = vamp_pins(net.vamps[p])["separate"] if p < V else 6   # E: power, clocks, reset, Result
+        s = succ.get(p)
+        extra = len(CONTROL_PINS) + (len(net.vamps[s].a) + len(net.vamps[s].b) + 1 if s is not None
+                                     else 0)
+        pins_after.append(own + extra)
+    shared = sum(len(net.vamps[s].a) + len(net.vamps[s].b) for s in succ.values())
+    sweep = sweep_periods(V, ck.warmup, ck.compare)
+    unnamed = _unreachable(net)
+    return {
+        "chain": "logical order, one extraneous VAMP first",
+        "extra_vamps": 1,
+        "vamps": V + 1,
+        "warmup_periods": ck.warmup, "compare_periods": ck.compare,
+        "registers": {"second_control_registers": sum(plain[s] for s in succ.values()),
+                      "second_control_bits": sum(table_bits[s] for s in succ.values()),
+                      "mode_bits": MODE_BITS * (V + 1), "stage_counter_bits": stage_bits * (V + 1),
+                      "comparators": V, "comparator_bits": 3 * word * V},
+        "pins_per_vamp": {"with": {"max": max(pins_after), "mean": sum(pins_after) / len(pins_after)},
+                          "without": {"max": max(pins_before),
+                                      "mean": sum(pins_before) / len(pins_before)},
+                          "control": len(CONTROL_PINS)},
+        "wires": {"successor_inputs": shared, "result_prime": V, "control": 3 * V,
+                  "total": shared + 4 * V, "length_pitches": shared + 4 * V},
+        "added": {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0},
+        "sweep_periods": sweep,
+        "worst_detection_periods": sweep + ck.warmup + ck.compare,
+        "unnameable_vamps": unnamed,
+    }
+
+
+def _unreachable(net) -> list[int]:
+    """VAMPs whose result reaches no torque output (through multiplexer inputs and buffers)."""
+    outs = {o.vamp for o in net.outputs}
+    src = {b.index: b.source for b in net.buffers}
+    readers: dict[int, set] = {}
+    for v in net.vamps:
+        for op in v.a + v.b:
+            for t in op.taps:
+                s = t.index if t.kind is TapKind.VAMP else src.get(t.index) \
+                    if t.kind is TapKind.BUFFER else None
+                if s is not None:
+                    readers.setdefault(s, set()).add(v.index)
+    reach = set(outs)
+    todo = list(outs)
+    writers: dict[int, set] = {}
+    for s, rs in readers.items():
+        for r in rs:
+            writers.setdefault(r, set()).add(s)
+    while todo:
+        v = todo.pop()
+        for w in writers.get(v, ()):
+            if w not in reach:
+                reach.add(w)
+                todo.append(w)
+    return sorted(set(range(len(net.vamps))) - reach)
+
+
+def checking_pairs(ck: dict | None) -> list[tuple[str, str]]:
+    """The section as (label, text) rows for the text and markdown reports."""
+    if not ck:
+        return []
+    r, pins, wires = ck["registers"], ck["pins_per_vamp"], ck["wires"]
+    sweep = f"{ck['sweep_periods']} periods (torque sets)"
+    out = [
+        ("error correction", f"section VII checking: {ck['vamps'] - 1} VAMPs in a chain after "
+                             f"{ck['extra_vamps']} extraneous VAMP ({ck['vamps']} in all); warm-up "
+                             f"{ck['warmup_periods']} period(s), compare {ck['compare_periods']}"),
+        ("  added time", "none: latency, interval and Program Mode as without checking"),
+        ("  second control registers", f"{r['second_control_registers']} ({r['second_control_bits']} "
+                                       f"bits), mode {r['mode_bits']} bits, stage counters "
+                                       f"{r['stage_counter_bits']} bits, {r['comparators']} "
+                                       f"comparators of {r['comparator_bits'] // max(1, r['comparators'])} bits"),
+        ("  pins per VAMP", f"up to {pins['with']['max']} (mean {pins['with']['mean']:.1f}) with "
+                            f"checking, {pins['without']['max']} (mean {pins['without']['mean']:.1f}) "
+                            f"without: Operand-A', Operand-B' per successor input, Result', and "
+                            f"{pins['control']} Test and Inhibit pins"),
+        ("  successor wires", f"{wires['total']}: {wires['successor_inputs']} shared operand inputs, "
+                              f"{wires['result_prime']} Result', {wires['control']} control lines"),
+        ("  sweep", f"every VAMP checked once in {sweep}; a permanent fault found within "
+                    f"{ck['worst_detection_periods']} periods of its start"),
+    ]
+    if ck["unnameable_vamps"]:
+        out.append(("  Maintenance Mode", f"{len(ck['unnameable_vamps'])} VAMP(s) whose results "
+                                          f"reach no torque can be excised but not named: "
+                                          f"{', '.join(map(str, ck['unnameable_vamps'][:8]))}"
+                                          + (" ..." if len(ck["unnameable_vamps"]) > 8 else "")))
+    return out
