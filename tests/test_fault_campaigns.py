@@ -1,0 +1,209 @@
+"""`vampc faults` (issue 19, parts 4 and 5): campaigns classified against the fault-free run, the same
+faults with and without error correction, results kept and resumed, local workers and a Dask
+cluster giving the same results, and bad input as one line."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.emulator import campaign as cp
+from vampc.emulator import load_program
+from vampc.emulator.faults import parse_fault
+
+RUN = CliRunner().invoke
+
+
+ONE_JOINT = """name: one
+joints:
+  - {name: j, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, theta: 0.0, mass: 2.0,
+     com: [-0.25, 0.02, 0.01], inertia: [0.01, 0.04, 0.04, 0.001, 0.0, 0.0]}
+"""
+QUICK = ("--campaign", "random", "--count", "8", "--sets", "40")   # short runs where that will do
+
+
+@pytest.fixture(scope="module")
+def programs(tmp_path_factory):
+    """A one-joint arm with and without checking (every fault of a kind runs in seconds) and
+    planar2 with checking."""
+    d = tmp_path_factory.mktemp("campaign")
+    robot = d / "one.yaml"
+    robot.write_text(ONE_JOINT)
+    ec, plain, planar = d / "ec.vamp.json", d / "plain.vamp.json", d / "planar.vamp.json"
+    for args in ([str(robot), "--error-correction", "-o", str(ec)], [str(robot), "-o", str(plain)],
+                 ["examples/planar2.yaml", "--error-correction", "-o", str(planar)]):
+        assert RUN(main, ["compile", *args]).exit_code == 0
+    return ec, plain, planar
+
+
+def _campaign(program, tmp_path, *args, name="r.jsonl"):
+    r = RUN(main, ["faults", str(program), "--format", "json", "--results", str(tmp_path / name),
+                   "--workers", "1", *args])
+    assert r.exit_code == 0, r.output
+    return _json(r.output)
+
+
+def _json(output: str) -> dict:
+    """The JSON report (after a warning a short run draws, when the output mixes stderr in)."""
+    return json.loads(output[output.index("{"):])
+
+
+def test_a_single_campaign_with_and_without_checking(programs, tmp_path):
+    ec, plain, _ = programs
+    with_ec = _campaign(ec, tmp_path, "--kinds", "dead", name="ec.jsonl")
+    without = _campaign(plain, tmp_path, "--kinds", "dead", name="plain.jsonl")
+    ld = load_program(str(ec))
+    V = len(ld.net.vamps)
+    assert len(with_ec["runs"]) == V + 1 and len(without["runs"]) == V
+    assert with_ec["sets"] == without["sets"] == cp.default_sets(ld)
+    plain_by = {r["fault"]: r for r in without["runs"]}
+    for run in with_ec["runs"]:
+        assert run["class"] in cp.CLASSES
+        if run["vamp"] == V:                                # the extraneous VAMP: no plain twin
+            continue
+        twin = plain_by[run["fault"]]                       # the same fault, no checking
+        if run["kind"] == "dead" and twin["class"] == "silent-corruption":
+            # a dead VAMP that spoils torques is found by its predecessor and replaced
+            assert run["class"] == "detected-corrected" and run["excised"] == run["vamp"]
+            assert run["named"] == [run["vamp"]] and run["corrupted_after"] == 0
+    s = with_ec["summary"]
+    assert s["classes"]["silent-corruption"] < without["summary"]["classes"]["silent-corruption"]
+    assert without["summary"]["classes"]["detected-corrected"] == 0
+
+
+def test_a_corrected_run_is_right_by_the_reference_after_the_excision(programs, tmp_path):
+    """The classification against the fault-free run, checked against the reference Newton-Euler:
+    the sets after a 'detected-corrected' excision are right, the corrupted ones before are not."""
+    from vampc.emulator.checking import CheckingTickEngine
+    from vampc.emulator.driver import random_states
+    from vampc.emulator.host import check_torques, port_values
+    _, _, ec = programs
+    ld = load_program(str(ec))
+    sets = cp.default_sets(ld)
+    traj = random_states(ld.chain, 0, sets, 0)
+    ports = port_values(ld, traj)
+    setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, 0), sets, 0)
+    victim = ld.net.outputs[0].vamp
+    run = cp.run_fault(setup, parse_fault(f"vamp={victim},dead"))
+    assert run["class"] == "detected-corrected" and run["corrupted_before"] > 0
+    engine = CheckingTickEngine(ld, faults=[parse_fault(f"vamp={victim},dead")])
+    engine.program()
+    with np.errstate(all="ignore"):
+        tau = engine.run(ports, sets)
+    after = run["detected_tick"] // ld.period + 1
+    from vampc.emulator.host import Trajectory
+    tail = Trajectory(traj.q[after:], traj.qd[after:], traj.qdd[after:])
+    assert check_torques(ld.chain, tail, tau[after:]).ok
+    bad = [j for j in range(after) if not np.allclose(tau[j], setup.reference[j])]
+    assert len(bad) == run["corrupted_before"]
+
+
+def test_the_campaign_resumes_from_its_results_file(programs, tmp_path, monkeypatch):
+    ec, _, _ = programs
+    args = QUICK
+    first = _campaign(ec, tmp_path, *args)
+    path = tmp_path / "r.jsonl"
+    lines = path.read_bytes().splitlines(keepends=True)
+    assert len(lines) == len(first["runs"]) + 1             # the header, a line per run
+    path.write_bytes(b"".join(lines[:-5]) + lines[-5][:17])  # five runs lost, one cut mid-line
+    calls = []
+    real = cp.run_fault
+    monkeypatch.setattr(cp, "run_fault", lambda setup, f: calls.append(f) or real(setup, f))
+    again = _campaign(ec, tmp_path, *args)
+    assert len(calls) == 5                                   # only the missing runs ran
+    assert again["runs"] == first["runs"] and again["summary"] == first["summary"]
+    assert path.read_bytes() != b"" and len(path.read_bytes().splitlines()) == len(lines)
+    calls.clear()
+    assert _campaign(ec, tmp_path, *args)["runs"] == first["runs"] and not calls
+
+
+def test_another_campaigns_results_file_is_refused_and_kept(programs, tmp_path):
+    ec, _, _ = programs
+    _campaign(ec, tmp_path, *QUICK)
+    before = (tmp_path / "r.jsonl").read_bytes()
+    r = RUN(main, ["faults", str(ec), *QUICK[:-1], "41", "--results", str(tmp_path / "r.jsonl")])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and "another campaign" in r.output and len(errors) == 1
+    assert (tmp_path / "r.jsonl").read_bytes() == before
+
+
+def test_workers_give_the_results_one_process_gives(programs, tmp_path):
+    _, _, ec = programs
+    one = _campaign(ec, tmp_path, *QUICK, name="one.jsonl")
+    r = RUN(main, ["faults", str(ec), *QUICK, "--format", "json",
+                   "--results", str(tmp_path / "two.jsonl"), "--workers", "2"])
+    assert r.exit_code == 0, r.output
+    assert _json(r.output)["runs"] == one["runs"]
+
+
+def test_a_dask_cluster_gives_the_results_one_process_gives(programs, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    ec, _, _ = programs
+    one = _campaign(ec, tmp_path, *QUICK, name="one.jsonl")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        r = RUN(main, ["faults", str(ec), *QUICK, "--format", "json",
+                       "--results", str(tmp_path / "dask.jsonl"), "--scheduler",
+                       cluster.scheduler_address])
+    assert r.exit_code == 0, r.output
+    assert _json(r.output)["runs"] == one["runs"]
+
+
+def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(programs, tmp_path, monkeypatch):
+    pytest.importorskip("distributed")
+    from vampc import parallel
+    monkeypatch.setattr(parallel, "SCHEDULER_TIMEOUT", "1s")
+    monkeypatch.setattr(parallel.connect, "__defaults__", ("1s",))
+    ec, _, _ = programs
+    out = tmp_path / "r.jsonl"
+    r = RUN(main, ["faults", str(ec), "--scheduler", "tcp://127.0.0.1:9", "--results", str(out)])
+    assert r.exit_code == 1 and "cannot reach a Dask scheduler" in r.output
+    assert len(r.output.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_csv_and_text(programs, tmp_path):
+    ec, _, _ = programs
+    r = RUN(main, ["faults", str(ec), *QUICK, "--format", "csv", "--results",
+                   str(tmp_path / "r.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0, r.output
+    rows = [x for x in r.output.strip().splitlines() if not x.startswith("vampc: warning")]
+    assert rows[0].split(",")[:5] == ["index", "fault", "vamp", "kind", "class"]
+    assert len(rows) == 1 + 8
+    r = RUN(main, ["faults", str(ec), *QUICK, "--results", str(tmp_path / "r.jsonl")])
+    assert "detected and corrected" in r.output and "read from" in r.output
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--count", "5"], "--count applies to --campaign random"),
+    (["--kinds", "bogus"], "--kinds bogus"),
+    (["--campaign", "intermittent", "--rate", "1.5"], "--rate 1.5"),
+    (["--workers", "2", "--scheduler", "tcp://x:1"], "give one"),
+    (["--campaign", "transient", "--at", "5"], "--at applies"),
+])
+def test_usage_errors(programs, args, says):
+    ec, _, _ = programs
+    r = RUN(main, ["faults", str(ec), *args])
+    assert r.exit_code == 2 and says in r.output, r.output
+
+
+def test_check_cycles_without_error_correction_is_a_usage_error():
+    r = RUN(main, ["faults", "examples/planar2.yaml", "--check-cycles", "3"])
+    says = "--check-cycles applies with --error-correction"
+    assert r.exit_code == 2 and says in r.output, r.output
+
+
+def test_too_few_sets_for_the_sweep_is_said(programs, tmp_path):
+    _, _, ec = programs
+    r = RUN(main, ["faults", str(ec), "--campaign", "random", "--count", "2", "--sets", "20",
+                   "--results", str(tmp_path / "r.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0 and "reaches only part of the chain" in r.output
+
+
+def test_the_results_file_is_never_the_program(programs):
+    ec, _, _ = programs
+    before = ec.read_bytes()
+    r = RUN(main, ["faults", str(ec), "--results", str(ec)])
+    assert r.exit_code == 1 and ec.read_bytes() == before
