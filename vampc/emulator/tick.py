@@ -80,6 +80,10 @@ class TickEngine:
         # timing violations seen in the set tags are errors; with faults injected they are what
         # the faults do, and the torques say what came of them
         self.strict = not self.faults if strict is None else strict
+        # the tags feed the timing checks and a fixed-point word's overflow count (once a set);
+        # a float64 run with faults needs neither
+        self.tagged = self.strict or ld.word is not None
+        self.word = ld.arith
         self.fault_rng = np.random.default_rng([seed, 0xFA])
         self._layout()
         self._random_state()
@@ -477,21 +481,22 @@ class TickEngine:
             (self.gb_rows, self.gb_cols, self.gb_taps)
         v = self.slot_vamp[slots]
         (self.op_a if which == "a" else self.op_b)[v] = self.bus[rows[slots], cols[slots]]
-        (self.tag_a if which == "a" else self.tag_b)[v] = _combine(self.tag[taps[slots]])
-        (self.owner_a if which == "a" else self.owner_b)[v] = slots
+        if self.tagged:
+            (self.tag_a if which == "a" else self.tag_b)[v] = _combine(self.tag[taps[slots]])
+            (self.owner_a if which == "a" else self.owner_b)[v] = slots
 
     def _step(self, r: int, j: int, slots, t: int) -> None:
         idx = self.slot_vamp[slots]
         am, bm = rom.registers(r, self.op_a[idx], self.op_b[idx])
         units = self.units[idx]
-        word = self.ld.arith
+        word = self.word
         before, word.track = word.overflows, []
         rom.step(r, j, am, bm, units, word)
         if word.overflows != before:
             self._count_overflows(r, j, slots, idx, word, before)
         word.track = None
         self.units[idx] = units
-        if j == 0:
+        if j == 0 and self.tagged:
             self.utag[idx] = _combine(np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1))
         if self.strict:
             slots = self._watched(slots)
@@ -603,11 +608,14 @@ def _by_counter(counters: np.ndarray, slots: np.ndarray):
     return [(int(keys[g[0]]), slots[order][g]) for g in np.split(np.arange(len(keys)), cuts)]
 
 
+_BIG, _SMALL = np.iinfo(np.int64).max, np.iinfo(np.int64).min
+
+
 def _combine(tags: np.ndarray) -> np.ndarray:
     """Set tag of a value computed from several: the common set; CONST if all constant; else UNKNOWN."""
-    valid = np.where(tags == CONST, np.iinfo(np.int64).max, tags)
-    lo = valid.min(axis=1)
-    hi = np.where(tags == CONST, np.iinfo(np.int64).min, tags).max(axis=1)
+    const = tags == CONST
+    lo = np.where(const, _BIG, tags).min(axis=1)
+    hi = np.where(const, _SMALL, tags).max(axis=1)
     out = np.where(lo == hi, lo, UNKNOWN)
-    out = np.where((tags == CONST).all(axis=1), CONST, out)
+    out = np.where(const.all(axis=1), CONST, out)
     return np.where((tags == UNKNOWN).any(axis=1), UNKNOWN, out)
