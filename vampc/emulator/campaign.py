@@ -21,7 +21,8 @@ Each run is classified: `masked` (every torque set as the fault-free run's, noth
 `detected-not-corrected` (flagged, but sets entering after it still differ), `silent-corruption`
 (a torque differs and nothing flagged it) or `hang` (the run stopped with an error: what the
 emulator cannot run, named). Beside it: the tick and the cycles from the fault's start to the
-detection, the sets corrupted before and after it, and the VAMP Maintenance Mode names.
+detection, the sets corrupted before and after it, and the VAMP Maintenance Mode names; without a
+detection, `corrupted`, the sets that differ among those run.
 
 A run stops early when its outcome is settled: with checking, `TAIL` periods after sets that
 entered after the detection have left the network; without, at the first corrupted set.
@@ -336,6 +337,8 @@ class ResultsFile:
                              "never written)")
         with open(self.path, "rb") as fh:
             data = fh.read()
+        if not data:                          # made, but stopped before its header: a new file
+            return
         lines = data.split(b"\n")
         good = len(data) if data.endswith(b"\n") else len(data) - len(lines[-1])
         try:
@@ -360,7 +363,7 @@ class ResultsFile:
     def open(self) -> None:
         """Ready to append (the header written if the file is new)."""
         from vampc import jsontext
-        fresh = not os.path.exists(self.path)
+        fresh = not os.path.exists(self.path) or os.path.getsize(self.path) == 0
         self._fh = open(self.path, "ab")
         if fresh:
             self._fh.write(jsontext.dumps(self.header).encode() + b"\n")

@@ -56,12 +56,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from vampc.emulator.tick import UNKNOWN, TickEngine, _by_counter
+from vampc.emulator.tick import UNKNOWN, TickEngine
 from vampc.errors import VampcError
 from vampc.kinds import TapKind
-from vampc.machine import interp as rom
-from vampc.machine.timing import step_counter
-from vampc.program.words import ROM
 
 NORMAL, WARM, CHECK, FILL, INHIBITED, IDLE = range(6)
 MODE_NAMES = ("normal", "warm", "check", "fill", "inhibited", "idle")
@@ -126,55 +123,10 @@ class CheckingTickEngine(TickEngine):
 
     # --- Data Mode ----------------------------------------------------------------------------
     def _slots(self) -> None:
-        """Both slot tables of every VAMP as one set of slot arrays: per slot its physical VAMP,
-        the role (program VAMP) whose program it is, which table. A slot whose fields point at
-        nothing (a control fault) is broken: with faults it runs no op and its dumps are garbage;
-        without, an error as without checking."""
-        P, net = self.P, self.ld.net
-        vamp, role, kind, fields, ga, gb, broken = [], [], [], [], [], [], []
-        tables = [(p, p, 1, t) for p, t in enumerate(self.tables)] + \
-                 [(p, self.succ[p], 2, t) for p, t in sorted(self.tables2.items())]
-        for p, r, k, table in tables:
-            inputs = net.vamps[r]
-            for slot, (da, db, dr, rr, sa, sb) in enumerate(table):
-                bad = rr >= len(ROM) or sa >= len(inputs.a) or sb >= len(inputs.b)
-                if bad and self.strict:
-                    raise VampcError(f"{self.ld.path}: {self._name(p, slot)}: table {k}: a control "
-                                     "field points at no ROM entry or multiplexer input")
-                vamp.append(p)
-                role.append(r)
-                kind.append(k)
-                broken.append(bad)
-                fields.append((da, db, dr, 0 if bad else rr))
-                ga.append(self._gather(inputs.a[0 if bad else sa], r))
-                gb.append(self._gather(inputs.b[0 if bad else sb], r))
-        order = np.argsort(np.array(vamp), kind="stable")     # slots of a VAMP together
-        pick = lambda xs: [xs[i] for i in order]               # noqa: E731
-        vamp, role, kind, fields, ga, gb, broken = map(pick, (vamp, role, kind, fields, ga, gb,
-                                                              broken))
-        self.slot_vamp = np.array(vamp, dtype=np.int64)
-        self.slot_role = np.array(role, dtype=np.int64)
-        self.slot_kind = np.array(kind, dtype=np.int64)
-        self.broken = np.array(broken, dtype=bool)
-        self.counted = np.full(len(vamp), -1, dtype=np.int64)
-        f = np.array(fields, dtype=np.int64).reshape(-1, 4)
-        self.s_da, self.s_db, self.s_dr, self.s_rom = f[:, 0], f[:, 1], f[:, 2], f[:, 3]
-        self.ga_rows, self.ga_cols, self.ga_taps = (np.array([g[i] for g in ga], dtype=np.int64)
-                                                    for i in range(3))
-        self.gb_rows, self.gb_cols, self.gb_taps = (np.array([g[i] for g in gb], dtype=np.int64)
-                                                    for i in range(3))
-        self.step_at = {}
-        timing = self.ld.timing
-        for r in range(len(ROM)):
-            ends = rom.step_ends(r, timing)
-            for j in range(len(ends)):
-                mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P) & ~self.broken)
-                for c, group in _by_counter(step_counter(self.s_dr[mine], ends, j, P), mine):
-                    self.step_at.setdefault(c, []).append((r, j, group))
-        every = np.arange(len(vamp))
-        self.latch_a_at = dict(_by_counter(self.s_da, every))
-        self.latch_b_at = dict(_by_counter(self.s_db, every))
-        self.dump_at = dict(_by_counter(self.s_dr, every))
+        """Both slot tables of every VAMP as one set of slot arrays (TickEngine._build_slots: per
+        slot its physical VAMP, the role whose program it is, which table)."""
+        self._build_slots([(p, p, 1, t) for p, t in enumerate(self.tables)]
+                          + [(p, self.succ[p], 2, t) for p, t in sorted(self.tables2.items())])
         if not hasattr(self, "mode"):
             self._start_sweep()
         self._activate()
@@ -226,16 +178,7 @@ class CheckingTickEngine(TickEngine):
         new_stages = self._shifted_stages(every_tick=False, tick=t)
         dumps = self._on(self.dump_at.get(c))
         if dumps is not None and dumps.size:
-            v = self.slot_vamp[dumps]
-            for r in np.unique(self.s_rom[dumps]):
-                sel = v[self.s_rom[dumps] == r]
-                self.res[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
-                self.res[sel, 3:] = 0
-            self.res_tag[v] = self.utag[v]
-            bad = self.broken[dumps]
-            if bad.any():                       # a broken slot's result is undefined
-                self.res[v[bad], :3] = self.ld.arith.random(self.rng, (int(bad.sum()), 3), 1e3)
-                self.res_tag[v[bad]] = UNKNOWN
+            self._dump(dumps, self.res, self.res_tag)
         if self.faults:
             self._register_faults(t, ("result", "dead"))
         self._drive_lines()

@@ -345,22 +345,35 @@ class TickEngine:
 
     def _slots(self) -> None:
         """Flatten the programmed slot tables: per slot its VAMP, fields and operand gathers."""
+        self._build_slots([(v, v, 1, table) for v, table in enumerate(self.tables)])
+
+    def _build_slots(self, tables) -> None:
+        """The slot arrays of `tables`, (VAMP, role, table number, slot table) each: the VAMP whose
+        registers run the slots, the VAMP whose program and inputs they are (another with error
+        correction's second tables). A slot whose fields point at no ROM entry or multiplexer
+        input is an error; with faults (not strict) it is broken: it runs no op and its dumps are
+        garbage, as the hardware's would be."""
         P, net = self.P, self.ld.net
-        vamp, fields, ga, gb = [], [], [], []
-        for v, table in enumerate(self.tables):
-            for k, (da, db, dr, r, sa, sb) in enumerate(table):
-                if r >= len(ROM):
-                    raise VampcError(f"{self.ld.path}: {self._name(v, k)}: ROM pointer {r} is "
-                                     f"not in the ROM (0..{len(ROM) - 1})")
-                inputs = net.vamps[v]
-                if sa >= len(inputs.a) or sb >= len(inputs.b):
-                    raise VampcError(f"{self.ld.path}: {self._name(v, k)}: a select points "
-                                     "at no multiplexer input")
-                vamp.append(v)
-                fields.append((da, db, dr, r))
-                ga.append(self._gather(inputs.a[sa], v))
-                gb.append(self._gather(inputs.b[sb], v))
+        rows = []
+        for p, r, kind, table in tables:
+            inputs = net.vamps[r]
+            for k, (da, db, dr, rr, sa, sb) in enumerate(table):
+                bad = rr >= len(ROM) or sa >= len(inputs.a) or sb >= len(inputs.b)
+                if bad and self.strict:
+                    what = (f"ROM pointer {rr} is not in the ROM (0..{len(ROM) - 1})"
+                            if rr >= len(ROM) else "a select points at no multiplexer input")
+                    raise VampcError(f"{self.ld.path}: {self._name(p, k)}: {what}")
+                rows.append((p, r, kind, bad, (da, db, dr, 0 if bad else rr),
+                             self._gather(inputs.a[0 if bad else sa], r),
+                             self._gather(inputs.b[0 if bad else sb], r)))
+        rows.sort(key=lambda x: x[0])                     # a VAMP's slots together, stably
+        vamp = [x[0] for x in rows]
         self.slot_vamp = np.array(vamp, dtype=np.int64)
+        self.slot_role = np.array([x[1] for x in rows], dtype=np.int64)
+        self.slot_kind = np.array([x[2] for x in rows], dtype=np.int64)
+        self.broken = np.array([x[3] for x in rows], dtype=bool)
+        fields = [x[4] for x in rows]
+        ga, gb = [x[5] for x in rows], [x[6] for x in rows]
         self.counted = np.full(len(vamp), -1, dtype=np.int64)   # the last set whose overflows count
         f = np.array(fields, dtype=np.int64).reshape(-1, 4)
         self.s_da, self.s_db, self.s_dr, self.s_rom = f[:, 0], f[:, 1], f[:, 2], f[:, 3]
@@ -373,12 +386,27 @@ class TickEngine:
         for r in range(len(ROM)):
             ends = rom.step_ends(r, timing)
             for j in range(len(ends)):
-                mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P))
+                mine = np.flatnonzero((self.s_rom == r) & (self.s_dr < P) & ~self.broken)
                 for c, group in _by_counter(step_counter(self.s_dr[mine], ends, j, P), mine):
                     self.step_at.setdefault(c, []).append((r, j, group))
-        self.latch_a_at = dict(_by_counter(self.s_da, np.arange(len(vamp))))
-        self.latch_b_at = dict(_by_counter(self.s_db, np.arange(len(vamp))))
-        self.dump_at = dict(_by_counter(self.s_dr, np.arange(len(vamp))))
+        every = np.arange(len(vamp))
+        self.latch_a_at = dict(_by_counter(self.s_da, every))
+        self.latch_b_at = dict(_by_counter(self.s_db, every))
+        self.dump_at = dict(_by_counter(self.s_dr, every))
+
+    def _dump(self, dumps, regs, tags) -> None:
+        """The slots `dumps` drive their VAMPs' result registers `regs` (and set tags `tags`): a
+        broken slot's with garbage."""
+        v = self.slot_vamp[dumps]
+        for r in np.unique(self.s_rom[dumps]):
+            sel = v[self.s_rom[dumps] == r]
+            regs[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
+            regs[sel, 3:] = 0
+        tags[v] = self.utag[v]
+        bad = self.broken[dumps]
+        if bad.any():
+            regs[v[bad], :3] = self.word.random(self.rng, (int(bad.sum()), 3), 1e3)
+            tags[v[bad]] = UNKNOWN
 
     def _write_ports(self, ports, block: int, count: int) -> None:
         K = self.P // self.B
@@ -422,12 +450,7 @@ class TickEngine:
         new_stages = self._shifted_stages(every_tick=False, tick=t)
         dumps = self.dump_at.get(c)
         if dumps is not None:
-            v = self.slot_vamp[dumps]
-            for r in np.unique(self.s_rom[dumps]):
-                sel = v[self.s_rom[dumps] == r]
-                self.bus[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
-                self.bus[sel, 3:] = 0
-            self.tag[v] = self.utag[v]
+            self._dump(dumps, self.bus, self.tag)
         self._commit_stages(new_stages)
         if self.faults:
             self._register_faults(t, ("result", "dead"))
