@@ -33,6 +33,7 @@ from vampc.emulator.host import port_values, random_trajectory
 from vampc.robot import load_robot
 
 ROOT = Path(__file__).resolve().parent.parent
+LONGEST = 1500     # sets a fault-free tick run takes at most (a sweep of thousands of VAMPs is longer)
 CONFIGS = [("linear", {}), ("log", {"recursion": "log"}), ("linear folded", {"layout": "folded"}),
            ("log folded", {"recursion": "log", "layout": "folded"}),
            ("linear budget", {"interval": 12}), ("log budget", {"recursion": "log", "interval": 12})]
@@ -45,10 +46,6 @@ def fault_free(quick: bool) -> None:
     print("| robot | configuration | VAMPs | sweep, periods | tick engine | stream engine |")
     print("|---|---|---:|---:|---|---|")
     for path in examples:
-        if path.stem == "snake64":
-            print(f"| {path.stem} | all | | | not run: 64 joints, a sweep is some 10⁵ ticks of "
-                  "thousands of VAMPs | |")
-            continue
         chain = load_robot(str(path))
         for name, opts in CONFIGS:
             try:
@@ -60,16 +57,19 @@ def fault_free(quick: bool) -> None:
                 continue
             V, w = len(ec.net.vamps), ec.net.checking.warmup
             count = sweep_periods(V, w) + 3 * (w + 1) + 4
+            whole = count <= LONGEST       # snake64's systolic sweeps: their first LONGEST sets
+            count = min(count, LONGEST)
             traj = random_trajectory(chain, count, 1)
             want = emulate(plain, traj, "tick").tau
             engine = CheckingTickEngine(ec, seed=1)
             engine.program()
             got = engine.run(port_values(ec, traj), count)
             tick_ok = np.array_equal(got.view(np.int64), want.view(np.int64)) and \
-                not engine.detections and (engine.checked >= 1).all()
+                not engine.detections and (not whole or (engine.checked >= 1).all())
             stream = emulate(ec, traj, "stream").tau
             stream_ok = np.array_equal(stream.view(np.int64), want.view(np.int64))
-            print(f"| {path.stem} | {name} | {V} + 1 | {sweep_periods(V, w)} | "
+            sweep = f"{sweep_periods(V, w)}" + ("" if whole else f" (first {count} run)")
+            print(f"| {path.stem} | {name} | {V} + 1 | {sweep} | "
                   f"{'bit for bit' if tick_ok else 'DIFFERS'} | "
                   f"{'bit for bit' if stream_ok else 'DIFFERS'} |", flush=True)
 

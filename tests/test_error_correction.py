@@ -228,6 +228,6 @@ def test_emulate_reports_the_checking(tmp_path):
     r = run(main, ["emulate", str(prog), "--random", "80", "--engine", "tick", "--fault",
                    f"vamp={victim},dead"])
     assert r.exit_code == 0, r.output
-    assert f"excised VAMP {victim}" in r.output and f"names VAMP {victim}" in r.output
+    assert f"excised VAMP {victim}" in r.output and f"naming its successor, VAMP {victim}" in r.output
     r = run(main, ["emulate", str(prog), "--random", "80", "--engine", "tick"])
     assert "no mismatch" in r.output

@@ -235,8 +235,9 @@ def checking_line(ld, outcome) -> str:
         return f"error correction: no mismatch ({done})"
     d = ck["detections"][0]
     m = ck["maintenance"]
-    named = (f"Maintenance Mode names VAMP {', '.join(map(str, m['named']))} after {m['ticks']} "
-             f"ticks (fault-finder number {', '.join(map(str, m['numbers']))})" if m["named"] else
+    named = (f"in Maintenance Mode the finder's VAMP-number {', '.join(map(str, m['numbers']))} "
+             f"emerges at the torque outputs after {m['ticks']} ticks, naming its successor, VAMP "
+             f"{', '.join(map(str, m['named']))}" if m["named"] else
              "Maintenance Mode cannot name it: its line reaches no torque output")
     return (f"error correction: VAMP {d['finder']} found a mismatch at Data-Mode tick {d['tick']} "
             f"(set {d['tick'] // ld.period + 1}) and excised VAMP {d['excised']}, whose role it "
