@@ -14,7 +14,6 @@ from vampc.cli import main
 from vampc.emulator import emulate
 from vampc.emulator.faults import parse_fault, set_bit
 from vampc.emulator.host import random_trajectory
-from vampc.errors import VampcError
 from vampc.machine.arith import parse_word
 from vampc.robot.random import random_chain
 
@@ -82,12 +81,7 @@ def test_an_intermittent_fault_spoils_some_cycles_and_is_repeatable():
 
 def test_a_dead_vamp_is_seen():
     v = LD.net.outputs[0].vamp
-    try:
-        tau = _run(f"vamp={v},dead")
-    except VampcError as exc:
-        assert "no set's value" in str(exc)
-        return
-    assert _changed(tau).all()
+    assert _changed(_run(f"vamp={v},dead")).all()      # its undriven Result: every torque read
 
 
 def test_a_stuck_control_bit_holds_in_the_register_and_a_wrong_op_is_seen():
@@ -100,13 +94,10 @@ def test_a_stuck_control_bit_holds_in_the_register_and_a_wrong_op_is_seen():
     engine.program()
     assert engine.tables[v][0][3] == rom
     with np.errstate(all="ignore"):
-        try:
-            tau = engine.run(port_values(LD, TRAJ), TRAJ.count)
-        except VampcError:
-            tau = None
+        tau = engine.run(port_values(LD, TRAJ), TRAJ.count)
     assert engine.tables[v][0][3] == rom ^ 2
-    # another micro-sequence on the VAMP τ1 is read from: the torques change, or a timing error
-    assert tau is None or _changed(tau).any()
+    # another micro-sequence on the VAMP τ1 is read from: the torques change from then on
+    assert _changed(tau).any()
 
 
 @pytest.mark.parametrize("bit", [0, 7, 31, 47, 62, 63])

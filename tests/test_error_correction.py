@@ -231,3 +231,34 @@ def test_emulate_reports_the_checking(tmp_path):
     assert f"excised VAMP {victim}" in r.output and f"naming its successor, VAMP {victim}" in r.output
     r = run(main, ["emulate", str(prog), "--random", "80", "--engine", "tick"])
     assert "no mismatch" in r.output
+
+
+def test_a_vamp_dying_after_its_check_does_not_stall_it():
+    """Fault ticks count in Data Mode: a VAMP dying after its stage has moved on is not taken for
+    a dead checker (the review found the stall test reading the absolute tick)."""
+    _, ld = _pair(PLANAR)
+    w, k, P = ld.net.checking.warmup, ld.net.checking.compare, ld.period
+    victim = ld.net.checking.chain[0]                       # checks in stage 1
+    end = 2 * (w + k) * P                                   # its stage has ended
+    _, engine, _ = _faulty_run(ld, f"vamp={victim},dead,at={end + 1}", 40)
+    assert engine.stalled is None or engine.stalled["tick"] >= end
+
+
+def test_a_fault_in_the_checkers_copy_excises_a_healthy_successor():
+    """The paper's 'failures in the error-correcting circuitry itself': a stuck bit in a VAMP's
+    second control registers makes its copy of its successor wrong."""
+    _, ld = _pair(PLANAR)
+    chain = ld.net.checking.order
+    checker, healthy = chain[3], chain[4]
+    held = ld.programs[healthy][0].rom & 1                  # another op in the copy
+    _, engine, _ = _faulty_run(ld, f"vamp={checker},stuck=control2.rom:0,value={1 - held}", 60)
+    assert engine.detections[0]["finder"] == checker and engine.detections[0]["excised"] == healthy
+
+
+def test_a_register_no_vamp_has_is_exit_1():
+    r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--engine", "tick", "--random",
+                                  "3", "--fault", "vamp=1,stuck=result.q:3"])
+    assert r.exit_code == 1 and "is no register" in r.output
+    r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--engine", "tick", "--random",
+                                  "3", "--fault", "vamp=1,stuck=control2.rom:0"])
+    assert r.exit_code == 1 and "compile --error-correction" in r.output

@@ -97,8 +97,11 @@ def test_a_corrected_run_is_right_by_the_reference_after_the_excision(programs, 
     from vampc.emulator.host import Trajectory
     tail = Trajectory(traj.q[after:], traj.qd[after:], traj.qdd[after:])
     assert check_torques(ld.chain, tail, tau[after:]).ok
-    bad = [j for j in range(after) if not np.allclose(tau[j], setup.reference[j])]
-    assert len(bad) == run["corrupted_before"]
+    # the sets spoiled before it, counted against the stream engine (not the campaign's reference)
+    from vampc.emulator import emulate
+    stream = emulate(ld, traj, "stream").tau
+    bad = [j for j in range(after) if not np.array_equal(tau[j], stream[j])]
+    assert len(bad) == run["corrupted_before"] > 0
 
 
 def test_the_campaign_resumes_from_its_results_file(programs, tmp_path, monkeypatch):
@@ -207,3 +210,51 @@ def test_the_results_file_is_never_the_program(programs):
     before = ec.read_bytes()
     r = RUN(main, ["faults", str(ec), "--results", str(ec)])
     assert r.exit_code == 1 and ec.read_bytes() == before
+
+
+def test_a_last_line_without_its_newline_runs_again(programs, tmp_path):
+    ec, _, _ = programs
+    first = _campaign(ec, tmp_path, *QUICK)
+    path = tmp_path / "r.jsonl"
+    path.write_bytes(path.read_bytes().rstrip(b"\n"))       # whole JSON, but cut before its end
+    again = _campaign(ec, tmp_path, *QUICK)
+    assert again["runs"] == first["runs"]
+    assert path.read_bytes().endswith(b"\n") and len(path.read_bytes().splitlines()) == 9
+
+
+def test_a_header_cut_short_is_a_new_file(programs, tmp_path):
+    ec, _, _ = programs
+    (tmp_path / "r.jsonl").write_bytes(b'{"vampc_faults": 1, "progr')
+    assert len(_campaign(ec, tmp_path, *QUICK)["runs"]) == 8
+
+
+def test_a_start_tick_after_the_run_is_one_line(programs, tmp_path):
+    ec, _, _ = programs
+    out = tmp_path / "r.jsonl"
+    r = RUN(main, ["faults", str(ec), "--at", "99999", "--results", str(out)])
+    assert r.exit_code == 1 and "--at 99999: the run's last Data-Mode tick" in r.output
+    assert not out.exists()
+
+
+def test_bits_and_values_make_the_single_campaigns_faults():
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.emulator import loaded_from_compiled
+    from vampc.robot import load_robot
+    ld = loaded_from_compiled(compile_chain(load_robot("examples/planar2.yaml"),
+                                            CompileOptions(error_correction=True)))
+    V = len(ld.net.vamps) + 1
+    faults = cp.faults_of(ld, "single", ["result", "dead", "control2"], bits=[62, 0], values=(0, 1))
+    assert len(faults) == V * 4 + V + (V - 1)               # result: 2 bits x 2 values
+    texts = {f.text for f in faults}
+    assert "vamp=3,stuck=result.x:0,value=0,at=0" in texts and "vamp=3,dead,at=0" in texts
+    assert sum(f.register == "control2" for f in faults) == V - 1    # the last VAMP has no copy
+
+
+def test_a_stall_is_listed_among_the_escapes(programs, tmp_path):
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    out = _campaign(ec, tmp_path, "--kinds", "dead")
+    e = next(r for r in out["runs"] if r["vamp"] == len(ld.net.vamps))   # the extraneous VAMP
+    assert e["class"] == "masked" and e["stalled"]["vamp"] == len(ld.net.vamps)
+    assert any(x["fault"] == e["fault"] and "stalled" in x["reason"]
+               for x in out["summary"]["escapes"])

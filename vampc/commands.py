@@ -754,9 +754,17 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                    f"chain in that many sets; faults past it cannot be detected "
                                    f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
     from vampc.emulator.driver import tick_memory_check
+    from vampc.emulator.faults import check_faults
     tick_memory_check(ld, sets)
+    last = (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs)
+    if own.at > last:
+        raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "
+                         "sets)")
     faults = cp.faults_of(ld, own.campaign, own.kind_list(), own.at, own.count, own.rate,
-                          own.seed, sets)
+                          own.seed, sets, own.bit_list(), own.value_list())
+    check_faults(faults, ld, last)      # a bit the word has not, control2 without checking
+    if not faults:
+        raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
     header = {"vampc_faults": 1, "program": identity, "campaign": own.campaign, "sets": sets,
@@ -771,14 +779,16 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             ports = port_values(ld, traj)
             setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, own.seed), sets, own.seed)
             store.open()
+            failed = True
             try:
                 with progress.counter("fault runs", len(todo), unit="run") as bar:
                     parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo],
                                        lambda _, r: store.add(*r),
                                        available_cores() if own.workers is None
                                        else own.workers, own.scheduler, client, bar)
+                failed = False
             finally:
-                store.close()
+                store.close(failed)
     finally:
         if client is not None:
             client.close()

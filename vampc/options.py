@@ -17,7 +17,7 @@ from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 
 from vampc.dataflow.registry import prefix_names, recursion_names
-from vampc.errors import VampcUsageError
+from vampc.errors import VampcError, VampcUsageError
 
 FIELD_MAX = (1 << 24) - 1     # a VAMP number, a period: 24-bit fields of the program words
 from vampc.kinds import Engine, Prefix, Recursion
@@ -448,9 +448,11 @@ class EmulateOptions:
             raise VampcUsageError("--fault needs --engine tick (faults are injected into its "
                                   "registers)")
         for text in self.fault:
-            from vampc.emulator.faults import parse_fault
+            from vampc.emulator.faults import NoSuchRegister, parse_fault
             try:
                 parse_fault(text)
+            except NoSuchRegister as exc:      # well formed, naming what no VAMP has: exit 1
+                raise VampcError(str(exc)) from None
             except ValueError as exc:
                 raise VampcUsageError(str(exc)) from None
         if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:
@@ -717,7 +719,14 @@ class FaultsOptions:
     kinds: str = field(default="result,a,b,control,dead", metadata=cli(
         "--kinds", metavar="K,...", show_default=True, help="Which permanent faults (single, "
         "random): result, a, b (a stuck bit of the Result or an operand register), control (a "
-        "stuck bit of a control register), dead (outputs tri-stated)."))
+        "stuck bit of a control register), dead (outputs tri-stated); control2 (a stuck bit of "
+        "the checking's second control registers) on request."))
+    bits: str | None = field(default=None, metadata=cli(
+        "--bits", metavar="B,...", help="With --campaign single: the stuck bits of the result, a "
+        "and b faults (default: the word's highest magnitude bit, 62 of binary64)."))
+    values: str = field(default="1", metadata=cli(
+        "--values", metavar="0|1|0,1", show_default=True, help="With --campaign single: the "
+        "values those bits are stuck at."))
     count: int = field(default=100, metadata=cli(
         "--count", range=(1, 1 << 24), metavar="N", show_default=True, help="With --campaign "
         "random: how many faults."))
@@ -755,7 +764,8 @@ class FaultsOptions:
         if bad or not kinds:
             raise VampcUsageError(f"--kinds {self.kinds}: give some of {','.join(KINDS)}")
         for name, campaigns in (("count", ("random",)), ("rate", ("intermittent",)),
-                                ("kinds", ("single", "random"))):
+                                ("kinds", ("single", "random")), ("bits", ("single",)),
+                                ("values", ("single",))):
             if name in self.given and self.campaign not in campaigns:
                 raise VampcUsageError(f"{flag(name)} applies to --campaign "
                                       f"{' or '.join(campaigns)}")
@@ -770,8 +780,25 @@ class FaultsOptions:
             raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own "
                                   "workers)")
 
+        self.bit_list()
+        if self.value_list() is None:
+            raise VampcUsageError(f"--values {self.values}: give 0, 1 or 0,1")
+
     def kind_list(self) -> list[str]:
         return [k.strip() for k in self.kinds.split(",") if k.strip()]
+
+    def bit_list(self) -> list[int] | None:
+        """--bits as numbers (VampcUsageError for a bad one); None: the default bit."""
+        if self.bits is None:
+            return None
+        parts = [b.strip() for b in self.bits.split(",") if b.strip()]
+        if not parts or not all(b.isdigit() for b in parts):
+            raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
+        return [int(b) for b in parts]
+
+    def value_list(self) -> tuple[int, ...] | None:
+        parts = sorted({v.strip() for v in self.values.split(",") if v.strip()})
+        return tuple(int(v) for v in parts) if parts and set(parts) <= {"0", "1"} else None
 
 
 @dataclass(frozen=True)

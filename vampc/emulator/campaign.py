@@ -7,14 +7,17 @@ Campaigns:
                   included when the program has error correction), from Data-Mode tick --at
     transient     every VAMP: one bit of its Result flipped once, at a tick drawn from --seed
     intermittent  every VAMP: a stuck Result bit active in a random fraction (--rate) of cycles
-    random        --count faults drawn from --seed: VAMP, kind, register, bit, value and tick
+    random        --count faults drawn from --seed: VAMP, kind, register, bit, value, tick, and
+                  whether stuck, flipped once or intermittent
 
-The kinds of a permanent fault (--kinds): `result` (bit B of the Result's x scalar stuck at 1),
-`a` and `b` (bit B of operand register A or B, scalar 0, stuck at 1), B the word's highest
-magnitude bit (62 of binary64, 30 of binary32, the bit below the sign of a fixed-point word: a
-stuck 1 there changes any value below half the range); `control` (bit 0 of the first slot's
-delay-R stuck at the value it does not hold: the register always changes); `dead` (outputs
-tri-stated).
+The kinds of a permanent fault (--kinds): `result` (bit B of the Result's x scalar stuck at V),
+`a` and `b` (bit B of operand register A or B, scalar 0, stuck at V), B by default the word's
+highest magnitude bit (62 of binary64, 30 of binary32, the bit below the sign of a fixed-point
+word: a stuck 1 there changes any value below half the range) and V by default 1 (--bits and
+--values give others: every pair is a fault); `control` (bit 0 of the first slot's delay-R stuck at
+the value it does not hold: the register always changes); `dead` (outputs tri-stated); and, on
+request, `control2` (the same bit of the second set of control registers, the checking circuitry's
+copy of the successor's table).
 
 Each run is classified: `masked` (every torque set as the fault-free run's, nothing flagged),
 `detected-corrected` (a checker flagged a mismatch and no set entering after it differs),
@@ -40,7 +43,8 @@ from vampc.emulator.faults import Fault, parse_fault
 from vampc.errors import VampcError
 
 CAMPAIGNS = ("single", "transient", "intermittent", "random")
-KINDS = ("result", "a", "b", "control", "dead")
+KINDS = ("result", "a", "b", "control", "dead", "control2")
+DEFAULT_KINDS = KINDS[:5]       # control2: the checking circuitry's own registers, on request
 CLASSES = ("masked", "detected-corrected", "detected-not-corrected", "silent-corruption", "hang")
 TAIL = 8          # sets checked after those in flight at a detection, before a run stops
 SEED_STATES = 0x5EED
@@ -79,8 +83,10 @@ def default_sets(ld) -> int:
 
 
 def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rate: float = 0.2,
-              seed: int = 0, sets: int = 100) -> list[Fault]:
-    """The campaign's faults, in a fixed order (the results file's keys)."""
+              seed: int = 0, sets: int = 100, bits=None, values=(1,)) -> list[Fault]:
+    """The campaign's faults, in a fixed order (the results file's keys). `bits`, `values`: of
+    the single campaign's stuck data bits (default: the word's highest magnitude bit, stuck at
+    1)."""
     V, hi, P = physical_vamps(ld), high_bit(ld.arith), ld.period
     last = sets * P - 1
     rng = np.random.default_rng([seed, 0xCA])
@@ -88,9 +94,11 @@ def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rat
     if campaign == "single":
         for v in range(V):
             for kind in kinds:
-                spec = _permanent(ld, v, kind, hi, at)
-                if spec is not None:
-                    specs.append(spec)
+                for bit in (bits or [hi]) if kind in ("result", "a", "b") else [None]:
+                    for value in values if kind in ("result", "a", "b") else [None]:
+                        spec = _permanent(ld, v, kind, bit, at, value)
+                        if spec is not None:
+                            specs.append(spec)
     elif campaign == "transient":
         for v in range(V):
             specs.append(f"vamp={v},flip=result.x:{hi},at={int(rng.integers(0, last))}")
@@ -107,33 +115,48 @@ def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rat
                 continue
             if kind == "control" and v >= len(ld.net.vamps):
                 kind = "result"             # the extraneous VAMP has no control registers
-            how = str(rng.choice(["stuck", "flip"]))
-            if kind == "control":           # the low bits: a field's values are small
+            ck = ld.net.checking
+            if kind == "control2" and (ck is None or v == ck.order[-1]):
+                kind = "result"             # no second set there
+            how = str(rng.choice(["stuck", "flip", "intermittent"]))
+            if kind in ("control", "control2"):   # the low bits: a field's values are small
                 from vampc.program.words import FIELDS
                 field = str(rng.choice(FIELDS))
-                reg = f"control.{field}.{int(rng.integers(0, len(ld.programs[v])))}"
+                owner = v if kind == "control" else ck.order[ck.order.index(v) + 1]
+                reg = f"{kind}.{field}.{int(rng.integers(0, len(ld.programs[owner])))}"
                 bit = int(rng.integers(0, 12))
             else:
                 reg = {"result": f"result.{'xyz'[int(rng.integers(0, 3))]}",
                        "a": f"a.{int(rng.integers(0, 9))}", "b": f"b.{int(rng.integers(0, 9))}"}[kind]
                 bit = int(rng.integers(0, ld.arith.bits))
-            extra = f",value={int(rng.integers(0, 2))}" if how == "stuck" else ""
+            extra = "" if how == "flip" else f",value={int(rng.integers(0, 2))}"
+            if how == "intermittent":
+                if kind in ("control", "control2"):   # written once: no intermittent fault
+                    how, extra = "stuck", extra
+                else:
+                    how, extra = "stuck", extra + f",rate={float(rng.choice([0.05, 0.2, 0.5]))}"
             specs.append(f"vamp={v},{how}={reg}:{bit}{extra},at={t}")
     else:
         raise VampcError(f"--campaign {campaign}: choose from {', '.join(CAMPAIGNS)}")
     return [parse_fault(s) for s in specs]
 
 
-def _permanent(ld, v: int, kind: str, hi: int, at: int) -> str | None:
+def _permanent(ld, v: int, kind: str, bit, at: int, value) -> str | None:
     if kind == "result":
-        return f"vamp={v},stuck=result.x:{hi},value=1,at={at}"
+        return f"vamp={v},stuck=result.x:{bit},value={value},at={at}"
     if kind in ("a", "b"):
-        return f"vamp={v},stuck={kind}.0:{hi},value=1,at={at}"
+        return f"vamp={v},stuck={kind}.0:{bit},value={value},at={at}"
     if kind == "control":
         if v >= len(ld.net.vamps):
             return None                     # E's only control registers are its successor's
         held = ld.programs[v][0].delay_r & 1
         return f"vamp={v},stuck=control.delay_r:0,value={1 - held},at={at}"
+    if kind == "control2":                  # the checking's own copy of the successor's table
+        ck = ld.net.checking
+        if ck is None or v == ck.order[-1]:
+            return None
+        held = ld.programs[ck.order[ck.order.index(v) + 1]][0].delay_r & 1
+        return f"vamp={v},stuck=control2.delay_r:0,value={1 - held},at={at}"
     if kind == "dead":
         return f"vamp={v},dead,at={at}"
     raise VampcError(f"--kinds: {kind!r} is no fault kind ({', '.join(KINDS)})")
@@ -213,7 +236,10 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
         out["corrupted"] = int(bad.sum())
         out["class"] = "silent-corruption" if bad.any() else "masked"
         if bad.any() and ec:
-            out["reason"] = _silent_reason(ld, fault, run_sets)
+            out["reason"] = _silent_reason(ld, fault, run_sets, engine)
+        elif ec and engine.stalled is not None:     # no torque spoiled, but the checking is lost
+            out["stalled"] = engine.stalled
+            out["reason"] = _stall_reason(engine.stalled)
     return out
 
 
@@ -247,17 +273,33 @@ def _escape_reason(ld, fault: Fault, d: dict, out: dict, m: dict) -> str:
     return f"{out['corrupted_after']} set(s) after the correction still differ"
 
 
-def _silent_reason(ld, fault: Fault, run_sets: int) -> str:
-    from vampc.emulator.checking import check_periods
-    w, k = ld.net.checking.warmup, ld.net.checking.compare
-    pos = ld.net.checking.order.index(fault.vamp) if fault.vamp in ld.net.checking.order else 0
+def next_check(ld, vamp: int, start: int) -> int:
+    """The period ending the first compare window that checks `vamp` after period `start` (with
+    no detection or stall before it)."""
+    from vampc.emulator.checking import check_periods, sweep_periods
+    ck = ld.net.checking
+    w, k, V = ck.warmup, ck.compare, len(ld.net.vamps)
+    end = check_periods(ck.order.index(vamp), w, k)
+    sweep = sweep_periods(V, w, k)
+    return end + sweep * max(0, -(-(start + 1 - end) // sweep))
+
+
+def _silent_reason(ld, fault: Fault, run_sets: int, engine) -> str:
     if fault.vamp == len(ld.net.vamps):
         return "a fault in the extraneous checker, which nothing checks"
+    if engine.stalled is not None:
+        return _stall_reason(engine.stalled)
+    if next_check(ld, fault.vamp, fault.at // ld.period) > run_sets:
+        return f"the check did not reach the VAMP after the fault within the run's {run_sets} sets"
     if fault.kind == "flip" or fault.rate is not None:
-        return "not active in the compare period that checked the VAMP"
-    if check_periods(pos, w, k) + fault.at // ld.period > run_sets:
-        return f"the check did not reach the VAMP within the run's {run_sets} sets"
-    return "the fault left the checked results equal in the compare period (the data masked it)"
+        return "not active in the compare periods that checked the VAMP"
+    return "the fault left the checked results equal in the compare periods (the data masked it)"
+
+
+def _stall_reason(stalled: dict) -> str:
+    doing = "checking" if stalled["phase"] == "fwd" else "the sweep came back to it"
+    return (f"VAMP {stalled['vamp']} died while {doing} and its Test signal stays false: the "
+            f"checking stalled at tick {stalled['tick']}, nothing is checked or named after it")
 
 
 # --- a whole campaign -------------------------------------------------------------------------
@@ -294,7 +336,8 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
         out["escapes"] = [{"fault": r["fault"], "class": r["class"],
                            "reason": r.get("reason", "")} for r in runs
                           if r.get("class") not in ("masked", "detected-corrected")
-                          or (r["class"] == "detected-corrected" and not r["named_right"])]
+                          or (r["class"] == "detected-corrected" and not r["named_right"])
+                          or r.get("stalled")]
     kinds: dict[str, dict] = {}
     for r in runs:
         k = kinds.setdefault(r["kind"], {c: 0 for c in CLASSES})
@@ -337,10 +380,13 @@ class ResultsFile:
                              "never written)")
         with open(self.path, "rb") as fh:
             data = fh.read()
-        if not data:                          # made, but stopped before its header: a new file
+        if b"\n" not in data:                 # made, but stopped in its header: a new file
+            self._truncate = 0
+            self._fresh = True
             return
         lines = data.split(b"\n")
         good = len(data) if data.endswith(b"\n") else len(data) - len(lines[-1])
+        lines = data[:good].split(b"\n")      # a last line with no newline was cut: run again
         try:
             head = jsontext.loads(lines[0]) if lines and lines[0] else None
         except ValueError:
@@ -363,13 +409,15 @@ class ResultsFile:
     def open(self) -> None:
         """Ready to append (the header written if the file is new)."""
         from vampc import jsontext
-        fresh = not os.path.exists(self.path) or os.path.getsize(self.path) == 0
+        self.created = not os.path.exists(self.path)
+        fresh = self.created or getattr(self, "_fresh", False)
         self._fh = open(self.path, "ab")
+        if getattr(self, "_truncate", None) is not None:
+            self._fh.truncate(self._truncate)
         if fresh:
             self._fh.write(jsontext.dumps(self.header).encode() + b"\n")
-        elif getattr(self, "_truncate", None) is not None:
-            self._fh.truncate(self._truncate)
         self._fh.flush()
+        self.added = 0
 
     def add(self, index: int, run: dict) -> None:
         from vampc import jsontext
@@ -377,11 +425,15 @@ class ResultsFile:
         self.done[index] = run
         self._fh.write(jsontext.dumps(run).encode() + b"\n")
         self._fh.flush()
+        self.added += 1
 
-    def close(self) -> None:
+    def close(self, failed: bool = False) -> None:
+        """Close; a file this run made and added no result to is removed if it failed."""
         if self._fh is not None:
             self._fh.close()
             self._fh = None
+            if failed and self.created and not self.added:
+                os.unlink(self.path)
 
 
 # --- rendering --------------------------------------------------------------------------------

@@ -46,11 +46,18 @@ What the paper leaves open, decided here:
 - Folded and budget layouts: the second table holds every slot of the successor and the primed
   inputs every multiplexer input, so each slot is checked in the compare period. The Mostly-Local
   Bus is not supported (a usage error at compile time).
-- Escapes, by construction: a fault in E, or in a VAMP's second control registers or comparator,
-  can make it excise a healthy successor and play its role wrongly (the paper's "failures in the
-  error-correcting circuitry itself"); a fault that leaves the checked results equal in the compare
-  period (masked then) waits for the next sweep; transient and intermittent faults are caught only
-  if active in a compare period.
+- A dead VAMP's control outputs are false: a dead checker never raises Test-out, a dead VAMP
+  never Test-back-out, so the sweep stalls there for good (`stalled`): the roles stay as they are
+  (a dead checker's own role is played by its predecessor, so nothing it drove is lost), but
+  nothing is checked any more and nothing is named.
+- Escapes, by construction: a fault in E, or in a VAMP's second control registers (`control2`
+  faults) or comparator, can make it excise a healthy successor and play its role wrongly (the
+  paper's "failures in the error-correcting circuitry itself"); a stuck data bit the data of a
+  VAMP's own check mask but not the data of its successor's (the checker then excises its healthy
+  successor); a fault that leaves the checked results equal in the compare periods waits for the
+  next sweep; a VAMP dying while it fills its successor's role leaves that line undriven until
+  the back sweep reaches it, then stalls it; transient and intermittent faults are caught only if
+  active in a compare period.
 """
 from __future__ import annotations
 
@@ -139,6 +146,7 @@ class CheckingTickEngine(TickEngine):
         self.phase, self.stage, self.left = "fwd", 0, self.w + self.k
         self.mode[V] = CHECK
         self.detections: list[dict] = []
+        self.stalled: dict | None = None     # where a dead VAMP stopped the sweep
         self.sweeps = 0
         self.checked = np.zeros(V, dtype=np.int64)        # times each VAMP passed a check
 
@@ -188,7 +196,21 @@ class CheckingTickEngine(TickEngine):
         self._vcd_dump()
         self.tick += 1
         if (t + 1) % self.P == 0:
-            self._period_end()
+            self._period_end(t)
+
+    def _control_faults(self, t: int) -> None:
+        """As without checking; `control2` faults on the second set (the successor's copy)."""
+        from vampc.emulator.faults import set_field
+        changed = False
+        for f in self.faults:
+            if f.register == "control2" and t == f.at:
+                row = self.tables2[f.vamp][f.slot]
+                how = "flip" if f.kind == "flip" else "set" if f.value else "clear"
+                row[f.component] = set_field(int(row[f.component]), f.bit, how)
+                changed = True
+        if changed:
+            self._slots()
+        super()._control_faults(t)
 
     def _register_faults(self, t: int, registers) -> None:
         """As without checking, on the physical result registers (not the lines)."""
@@ -208,7 +230,8 @@ class CheckingTickEngine(TickEngine):
 
     def mode_compare(self) -> bool:
         """Whether this tick is in a forward stage's compare period."""
-        return self.phase == "fwd" and self.left <= self.k and not self.detections
+        return self.phase == "fwd" and self.left <= self.k and not self.detections \
+            and self.stalled is None
 
     def _compare(self, dumps, t: int) -> None:
         """The checker's results against its successor's line, bit for bit, at its own dumps."""
@@ -225,16 +248,18 @@ class CheckingTickEngine(TickEngine):
         self.detections.append({"tick": t, "finder": int(p), "excised": int(s)})
         self._activate()
 
-    def _period_end(self) -> None:
-        """Global-Reset: the sweep moves on when a stage's periods are done."""
-        if self.detections:
+    def _period_end(self, t: int) -> None:
+        """Global-Reset after Data-Mode tick t: the sweep moves on when a stage's periods are
+        done. A dead VAMP whose signal would move it on (a checker's Test-out, a VAMP's
+        Test-back-out) holds it false: the sweep stalls there for good."""
+        if self.detections or self.stalled is not None:
             return
         self.left -= 1
         if self.left:
             return
         V, order, now = self.V, self.order, self.tick
-        if self.phase == "fwd" and self._dead(order[self.stage], now - 1):
-            self.left = 1                    # a dead checker's Test-out stays false: stalled
+        if self._dead(order[self.stage], t):
+            self.stalled = {"tick": t, "vamp": int(order[self.stage]), "phase": self.phase}
             return
         if self.phase == "fwd":
             p, s = order[self.stage], order[self.stage + 1]
@@ -336,6 +361,7 @@ class CheckingTickEngine(TickEngine):
     def status(self) -> dict:
         """What the checking did: detections, sweeps completed, where the check is now."""
         return {"detections": list(self.detections), "sweeps": self.sweeps,
+                "stalled": self.stalled,
                 "stage": [self.phase, self.stage],
                 "checked": int((self.checked > 0).sum()),
                 "modes": {MODE_NAMES[m]: int((self.mode == m).sum())

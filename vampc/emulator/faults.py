@@ -15,7 +15,9 @@ A fault is comma-separated key=value fields:
 
 Registers: `result.x`, `result.y`, `result.z` (the Result's three scalars); `a.K`, `b.K` (operand
 registers A and B, scalar K of 0..8, or x, y, z for 0..2); `control.FIELD` or `control.FIELD.SLOT`,
-FIELD one of delay_a, delay_b, delay_r, rom, sel_a, sel_b (24-bit fields; slot 0 by default).
+FIELD one of delay_a, delay_b, delay_r, rom, sel_a, sel_b (24-bit fields; slot 0 by default);
+`control2.FIELD[.SLOT]`, with error correction, the second set (the copy of the successor's). A
+flipped control bit stays flipped: the registers are written only in Program Mode.
 
 Bits count from 0, the least significant, in the word as the network's format holds it: the IEEE
 binary64 or binary32 bit pattern, or a fixed-point word's two's-complement raw bits (a stuck or
@@ -33,7 +35,11 @@ import numpy as np
 
 from vampc.program.words import FIELDS
 
-REGISTERS = ("result", "a", "b", "control")
+REGISTERS = ("result", "a", "b", "control", "control2")
+
+
+class NoSuchRegister(ValueError):
+    """A well-formed fault naming a register no VAMP has (a VampcError, exit 1, not a usage error)."""
 AXES = {"x": 0, "y": 1, "z": 2}
 CONTROL_BITS = 24
 
@@ -103,7 +109,7 @@ def parse_fault(text: str) -> Fault:
             raise ValueError(f"--fault {text!r}: dead takes no value")
         return Fault(vamp, "dead", at=at or 0, text=text)
     register, component, slot, bit = _register(fields[kind], text)
-    if rate is not None and register == "control":
+    if rate is not None and register in ("control", "control2"):
         raise ValueError(f"--fault {text!r}: rate= applies to Result and operand registers")
     return Fault(vamp, kind, register, component, slot, bit, int(fields.get("value", "0")),
                  at or 0, rate, text)
@@ -128,11 +134,12 @@ def _register(spec: str, text: str) -> tuple[str, int, int, int]:
         k = AXES[parts[1]] if parts[1] in AXES else int(parts[1])
         if k < 9:
             return name, k, 0, int(bit)
-    if name == "control" and len(parts) in (2, 3) and parts[1] in FIELDS and (
+    if name in ("control", "control2") and len(parts) in (2, 3) and parts[1] in FIELDS and (
             len(parts) == 2 or parts[2].isdigit()):
-        return "control", FIELDS.index(parts[1]), int(parts[2]) if len(parts) == 3 else 0, int(bit)
-    raise ValueError(f"--fault {text!r}: {reg!r} is no register (result.x|y|z, a.K, b.K with K "
-                     f"0..8 or x|y|z, control.FIELD[.SLOT] with FIELD one of {', '.join(FIELDS)})")
+        return name, FIELDS.index(parts[1]), int(parts[2]) if len(parts) == 3 else 0, int(bit)
+    raise NoSuchRegister(f"--fault {text!r}: {reg!r} is no register (result.x|y|z, a.K, b.K with K "
+                     f"0..8 or x|y|z, control.FIELD[.SLOT] or, with error correction, control2.FIELD[.SLOT], "
+                         f"with FIELD one of {', '.join(FIELDS)})")
 
 
 def check_faults(faults, ld, last_tick: int) -> None:
@@ -148,12 +155,23 @@ def check_faults(faults, ld, last_tick: int) -> None:
             raise VampcError(f"{where}: tick {f.at} is after the run's last tick ({last_tick})")
         if f.kind == "dead":
             continue
-        bits = CONTROL_BITS if f.register == "control" else word_bits
+        bits = CONTROL_BITS if f.register in ("control", "control2") else word_bits
         if f.bit >= bits:
             raise VampcError(f"{where}: bit {f.bit}: the register has {bits} bits (0..{bits - 1})")
         if f.register == "control" and f.vamp == len(ld.net.vamps):
             raise VampcError(f"{where}: the extraneous VAMP {f.vamp} has no control registers of "
                              "its own (its second set is its successor's)")
+        if f.register == "control2":
+            order = ld.net.checking.order if ld.net.checking is not None else ()
+            if f.vamp not in order[:-1]:
+                raise VampcError(f"{where}: control2 is the second set of control registers a "
+                                 "VAMP with a successor holds under error correction "
+                                 "(compile --error-correction): VAMP "
+                                 f"{f.vamp} has none")
+            succ = order[order.index(f.vamp) + 1]
+            if f.slot >= len(ld.programs[succ]):
+                raise VampcError(f"{where}: VAMP {f.vamp}'s second set copies VAMP {succ}'s "
+                                 f"{len(ld.programs[succ])} slot(s): no slot {f.slot}")
         if f.register == "control" and f.slot >= len(ld.programs[f.vamp]):
             raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
                              f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")
