@@ -64,7 +64,8 @@ def checking_figures(c) -> dict | None:
     sweep = sweep_periods(V, ck.warmup, ck.compare)
     unnamed = _unreachable(net)
     return {
-        "chain": "logical order, one extraneous VAMP first",
+        "chain": ("logical order" if ck.chain == tuple(range(V)) else "as the program lists it")
+                 + ", one extraneous VAMP first",
         "extra_vamps": 1,
         "vamps": V + 1,
         "warmup_periods": ck.warmup, "compare_periods": ck.compare,
