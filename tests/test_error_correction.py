@@ -38,7 +38,7 @@ def _bits(tau):
 LAYOUTS = [
     ("planar2", {}), ("planar2", {"recursion": "log"}),
     ("planar2", {"layout": "folded"}), ("planar2", {"layout": "folded", "recursion": "log"}),
-    ("planar2", {"vamps": 6}), ("planar2", {"interval": 9, "recursion": "log"}), ("stanford", {}),
+    ("planar2", {"vamps": 6}), ("planar2", {"interval": 9, "recursion": "log"}),
 ]   # every example, both recursions and layouts: benchmarks/error_correction.py
 
 
