@@ -262,3 +262,30 @@ def test_a_register_no_vamp_has_is_exit_1():
     r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--engine", "tick", "--random",
                                   "3", "--fault", "vamp=1,stuck=control2.rom:0"])
     assert r.exit_code == 1 and "compile --error-correction" in r.output
+
+
+def test_the_report_counts_what_the_checking_adds():
+    """Against the network read independently: one pin per successor multiplexer input, Result',
+    six control pins; a wire per successor input, per Result' and three per link; no added time."""
+    import json
+
+    from schema_check import schema_errors
+
+    from vampc.report.build import build_report
+    from vampc.report.checking import checking_pairs
+    c = compile_chain(PLANAR, CompileOptions(error_correction=True))
+    plain = compile_chain(PLANAR, CompileOptions())
+    rep = build_report(c)
+    assert not schema_errors("report", json.loads(json.dumps(rep)))
+    ec = rep["error_correction"]
+    net = c.network
+    V = len(net.vamps)
+    inputs = [len(v.a) + len(v.b) for v in net.vamps]
+    assert ec["extra_vamps"] == 1 and ec["vamps"] == V + 1
+    assert ec["pins_per_vamp"]["with"]["max"] == 8 - 2 + max(inputs) + max(inputs) + 1 + 6
+    assert ec["wires"]["successor_inputs"] == sum(inputs) and ec["wires"]["total"] == sum(inputs) + 4 * V
+    assert ec["registers"]["second_control_registers"] == 4 * V     # one-slot systolic VAMPs
+    assert ec["added"] == {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0}
+    assert (c.schedule.latency, c.schedule.interval) == (plain.schedule.latency, plain.schedule.interval)
+    assert ec["sweep_periods"] == sweep_periods(V, net.checking.warmup)
+    assert checking_pairs(ec)[0][0] == "error correction"
