@@ -78,8 +78,19 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
         f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
-        f"{count(s.interval, 'flop')}" + bus_note(c.network) + robot_notes(c.chain), out.is_stdout)
+        f"{count(s.interval, 'flop')}" + bus_note(c.network) + checking_note(c.network)
+        + robot_notes(c.chain), out.is_stdout)
     return None
+
+
+def checking_note(net) -> str:
+    """'; error correction: 1 extraneous VAMP, every VAMP checked once in 898 periods'."""
+    if net.checking is None:
+        return ""
+    from vampc.emulator.checking import sweep_periods
+    ck = net.checking
+    return (f"; error correction: 1 extraneous VAMP, every VAMP checked once in "
+            f"{count(sweep_periods(len(net.vamps), ck.warmup, ck.compare), 'period')}")
 
 
 def bus_note(net) -> str:
@@ -230,13 +241,20 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
 def checking_line(ld, outcome) -> str:
     """What the error-correction checking did in a tick-engine run."""
     ck = outcome.checking
-    done = f"{ck['sweeps']} whole sweep(s), {ck['checked']} of {len(ld.net.vamps)} VAMPs checked"
+    done = (f"{count(ck['sweeps'], 'whole sweep')}, {ck['checked']} of {len(ld.net.vamps)} VAMPs "
+            "checked")
     if not ck["detections"]:
+        if ck.get("stalled"):
+            st = ck["stalled"]
+            return (f"error correction: no mismatch, but the checking stalled at Data-Mode tick "
+                    f"{st['tick']}: VAMP {st['vamp']} is dead and its Test signal stays false, "
+                    f"so nothing is checked after it ({done})")
         return f"error correction: no mismatch ({done})"
     d = ck["detections"][0]
     m = ck["maintenance"]
     named = (f"in Maintenance Mode the finder's VAMP-number {', '.join(map(str, m['numbers']))} "
-             f"emerges at the torque outputs after {m['ticks']} ticks, naming its successor, VAMP "
+             f"(VAMP {d['finder']}) emerges at the torque outputs after "
+             f"{count(m['ticks'], 'tick')}, naming its successor, VAMP "
              f"{', '.join(map(str, m['named']))}" if m["named"] else
              "Maintenance Mode cannot name it: its line reaches no torque output")
     return (f"error correction: VAMP {d['finder']} found a mismatch at Data-Mode tick {d['tick']} "
