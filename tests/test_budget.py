@@ -296,6 +296,7 @@ def test_a_budget_is_never_worse_than_the_folded_layout_on_as_many_vamps(robot, 
             (share, layout.vamp_count, sched.latency, folded.latency)
 
 
+@pytest.mark.slow      # the run emulates every other example robot on budgets (ROBOTS)
 @pytest.mark.parametrize("recursion", ["linear", "log"])
 def test_the_64_joint_snake_on_a_small_budget_emulates_exactly(recursion):
     # the last example robot (the others are in ROBOTS); one budget, a small prime: the smallest

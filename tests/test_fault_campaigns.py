@@ -250,11 +250,15 @@ def test_bits_and_values_make_the_single_campaigns_faults():
     assert sum(f.register == "control2" for f in faults) == V - 1    # the last VAMP has no copy
 
 
-def test_a_stall_is_listed_among_the_escapes(programs, tmp_path):
+def test_a_stall_is_listed_among_the_escapes(programs):
+    from vampc.emulator.driver import random_states
+    from vampc.emulator.host import port_values
     ec, _, _ = programs
     ld = load_program(str(ec))
-    out = _campaign(ec, tmp_path, "--kinds", "dead")
-    e = next(r for r in out["runs"] if r["vamp"] == len(ld.net.vamps))   # the extraneous VAMP
-    assert e["class"] == "masked" and e["stalled"]["vamp"] == len(ld.net.vamps)
-    assert any(x["fault"] == e["fault"] and "stalled" in x["reason"]
-               for x in out["summary"]["escapes"])
+    sets = 40
+    ports = port_values(ld, random_states(ld.chain, 0, sets, 0))
+    setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, 0), sets, 0)
+    V = len(ld.net.vamps)
+    e = cp.run_fault(setup, parse_fault(f"vamp={V},dead"))      # the extraneous VAMP
+    assert e["class"] == "masked" and e["stalled"]["vamp"] == V
+    assert [x["fault"] for x in cp.summarise(ld, [e], sets)["escapes"]] == [e["fault"]]

@@ -23,6 +23,7 @@ def size(svg: str) -> tuple[float, float]:
     return tuple(float(x) for x in re.search(r'width="([0-9.]+)pt" height="([0-9.]+)pt"', svg).groups())
 
 
+@pytest.mark.slow      # the run draws every picture of the Puma 560 (test_no_labels_overlap_...)
 def test_every_picture_of_a_512_joint_log_robot_is_bounded_and_readable(monkeypatch):
     """The pictures only (the page around them is the report's tables: README, Report speed has the
     whole 512-joint page at 859 kB)."""
