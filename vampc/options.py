@@ -305,6 +305,14 @@ def check_bus(options) -> None:
                               f"not the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
+def check_parallel(options) -> None:
+    """--workers and --scheduler against each other (report --tradeoff, faults)."""
+    if options.scheduler is not None and not options.scheduler.strip():
+        raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
+    if options.workers is not None and options.scheduler is not None:
+        raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
+
+
 def check_word(options) -> None:
     """--word names a format; --rounding and --overflow apply to fixed-point words only."""
     try:
@@ -693,10 +701,7 @@ class ReportOptions:
         for name in ("workers", "scheduler"):
             if getattr(self, name) is not None and not self.tradeoff:
                 raise VampcUsageError(f"{flag(name)} applies with --tradeoff (it runs the sweep's budgets)")
-        if self.scheduler is not None and not self.scheduler.strip():
-            raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
-        if self.workers is not None and self.scheduler is not None:
-            raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
+        check_parallel(self)
 
     def clock_hz(self) -> float | None:
         """--clock in Hz (VampcUsageError for a bad value)."""
@@ -774,11 +779,7 @@ class FaultsOptions:
                                   f"{self.campaign} campaign draws its ticks)")
         if not 0 < self.rate < 1:
             raise VampcUsageError(f"--rate {self.rate}: give a fraction 0 < F < 1")
-        if self.scheduler is not None and not self.scheduler.strip():
-            raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
-        if self.workers is not None and self.scheduler is not None:
-            raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own "
-                                  "workers)")
+        check_parallel(self)
 
         self.bit_list()
         if self.value_list() is None:

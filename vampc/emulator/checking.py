@@ -198,19 +198,9 @@ class CheckingTickEngine(TickEngine):
         if (t + 1) % self.P == 0:
             self._period_end(t)
 
-    def _control_faults(self, t: int) -> None:
-        """As without checking; `control2` faults on the second set (the successor's copy)."""
-        from vampc.emulator.faults import set_field
-        changed = False
-        for f in self.faults:
-            if f.register == "control2" and t == f.at:
-                row = self.tables2[f.vamp][f.slot]
-                how = "flip" if f.kind == "flip" else "set" if f.value else "clear"
-                row[f.component] = set_field(int(row[f.component]), f.bit, how)
-                changed = True
-        if changed:
-            self._slots()
-        super()._control_faults(t)
+    def _control_tables(self, register: str):
+        """`control2` faults change the second set (the successor's copy)."""
+        return self.tables2 if register == "control2" else super()._control_tables(register)
 
     def _register_faults(self, t: int, registers) -> None:
         """As without checking, on the physical result registers (not the lines)."""
@@ -329,34 +319,11 @@ class CheckingTickEngine(TickEngine):
         by_number = {number(p): p for p in range(self.V + 1)}
         named = sorted(self.succ[by_number[n]] for n in seen if n in by_number
                        and by_number[n] in self.succ)
+        from vampc.network.checking import unnameable
         lost = sorted(self.succ[p] for p in finders if number(p) not in seen)
+        dead_ends = set(unnameable(net)) if lost else set()
         return {"ticks": ticks if finders else 0, "numbers": sorted(seen), "named": named,
-                "unreachable": [v for v in lost if not self._reaches_output(v, reads)]}
-
-    def _reaches_output(self, line: int, reads) -> bool:
-        """Whether what VAMP `line`'s Result carries can reach a torque output through the
-        multiplexer inputs (directly or through a buffer)."""
-        outs = {o.vamp for o in self.ld.net.outputs}
-        row_of = {}                       # a row -> the Result line it carries
-        for b in self.ld.net.buffers:
-            for st in range(1, b.stages + 1):
-                row_of[self.stage_row[(b.index, st)]] = b.source
-        readers: dict[int, set] = {}
-        for r, rows in enumerate(reads):
-            for x in rows:
-                src = x if x < self.V else row_of.get(x)
-                if src is not None:
-                    readers.setdefault(src, set()).add(r)
-        todo, seen = [line], {line}
-        while todo:
-            v = todo.pop()
-            if v in outs:
-                return True
-            for r in readers.get(v, ()):
-                if r not in seen:
-                    seen.add(r)
-                    todo.append(r)
-        return False
+                "unreachable": [v for v in lost if v in dead_ends]}
 
     def status(self) -> dict:
         """What the checking did: detections, sweeps completed, where the check is now."""

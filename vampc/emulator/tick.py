@@ -489,13 +489,18 @@ class TickEngine:
         from vampc.emulator.faults import set_field
         changed = False
         for f in self.faults:
-            if f.register == "control" and t == f.at:
-                row = self.tables[f.vamp][f.slot]
+            tables = self._control_tables(f.register)
+            if tables is not None and t == f.at:
+                row = tables[f.vamp][f.slot]
                 how = "flip" if f.kind == "flip" else "set" if f.value else "clear"
                 row[f.component] = set_field(int(row[f.component]), f.bit, how)
                 changed = True
         if changed:
             self._slots()
+
+    def _control_tables(self, register: str):
+        """The slot tables a control fault on `register` changes (None: not a control register)."""
+        return self.tables if register == "control" else None
 
     def _latch(self, slots, which: str) -> None:
         if slots is None:

@@ -20,6 +20,7 @@ the slots.
 from __future__ import annotations
 
 from vampc.errors import VampcError
+from vampc.kinds import TapKind
 from vampc.machine import interp as rom
 from vampc.network.model import Checking
 
@@ -68,3 +69,31 @@ def check_checking(net, programs, timing, enabled: bool, path, cycles: int = 1) 
     if net.checking.compare != cycles:
         raise VampcError(f"{path}: network.error_correction.compare is {net.checking.compare}, "
                          f"but options.check_cycles is {cycles}")
+
+
+def unnameable(net) -> list[int]:
+    """VAMPs whose result reaches no torque output (through multiplexer inputs and buffers): the
+    checking can excise them, but Maintenance Mode cannot carry a number from their lines out."""
+    outs = {o.vamp for o in net.outputs}
+    src = {b.index: b.source for b in net.buffers}
+    readers: dict[int, set] = {}
+    for v in net.vamps:
+        for op in v.a + v.b:
+            for t in op.taps:
+                s = t.index if t.kind is TapKind.VAMP else src.get(t.index) \
+                    if t.kind is TapKind.BUFFER else None
+                if s is not None:
+                    readers.setdefault(s, set()).add(v.index)
+    reach = set(outs)
+    todo = list(outs)
+    writers: dict[int, set] = {}
+    for s, rs in readers.items():
+        for r in rs:
+            writers.setdefault(r, set()).add(s)
+    while todo:
+        v = todo.pop()
+        for w in writers.get(v, ()):
+            if w not in reach:
+                reach.add(w)
+                todo.append(w)
+    return sorted(set(range(len(net.vamps))) - reach)

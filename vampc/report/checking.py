@@ -24,7 +24,6 @@ vampc.emulator.checking).
 """
 from __future__ import annotations
 
-from vampc.kinds import TapKind
 from vampc.report.processors import vamp_pins
 
 CONTROL_PINS = ("Test-in", "Test-out", "Test-back-in", "Test-back-out", "Inhibit-in", "Inhibit-out")
@@ -62,7 +61,8 @@ def checking_figures(c) -> dict | None:
         pins_after.append(own + extra)
     shared = sum(len(net.vamps[s].a) + len(net.vamps[s].b) for s in succ.values())
     sweep = sweep_periods(V, ck.warmup, ck.compare)
-    unnamed = _unreachable(net)
+    from vampc.network.checking import unnameable
+    unnamed = unnameable(net)
     return {
         "chain": ("logical order" if ck.chain == tuple(range(V)) else "as the program lists it")
                  + ", one extraneous VAMP first",
@@ -84,33 +84,6 @@ def checking_figures(c) -> dict | None:
         "worst_detection_periods": sweep + ck.warmup + ck.compare,
         "unnameable_vamps": unnamed,
     }
-
-
-def _unreachable(net) -> list[int]:
-    """VAMPs whose result reaches no torque output (through multiplexer inputs and buffers)."""
-    outs = {o.vamp for o in net.outputs}
-    src = {b.index: b.source for b in net.buffers}
-    readers: dict[int, set] = {}
-    for v in net.vamps:
-        for op in v.a + v.b:
-            for t in op.taps:
-                s = t.index if t.kind is TapKind.VAMP else src.get(t.index) \
-                    if t.kind is TapKind.BUFFER else None
-                if s is not None:
-                    readers.setdefault(s, set()).add(v.index)
-    reach = set(outs)
-    todo = list(outs)
-    writers: dict[int, set] = {}
-    for s, rs in readers.items():
-        for r in rs:
-            writers.setdefault(r, set()).add(s)
-    while todo:
-        v = todo.pop()
-        for w in writers.get(v, ()):
-            if w not in reach:
-                reach.add(w)
-                todo.append(w)
-    return sorted(set(range(len(net.vamps))) - reach)
 
 
 def checking_pairs(ck: dict | None) -> list[tuple[str, str]]:
