@@ -1,0 +1,366 @@
+"""The compiled VAMP network as an Amaranth design (README "RTL").
+
+Everything here is rendered from the same definitions the emulator runs, never restated:
+
+- the datapath of a VAMP from the op table (vampc.machine.ops): every ROM entry's micro-steps, module
+  by module, with each module's operand registers chosen by the entry's views; each module has two
+  multipliers and one adder/subtractor, shared by every op, and a step's assignments are given to
+  them in order (a step that needs more is refused);
+- the arithmetic from the word format (vampc.machine.arith.Fixed): the exact product, the rounding
+  rule's shift, the overflow rule (saturate or wrap);
+- the timing from vampc.machine.timing and Timing.step_ends: step j of a slot runs at the counter
+  step_counter(delay-R, ends, j, P), the latch at delay-A/B, the dump at delay-R;
+- Program Mode from vampc.program.words: the VAMP-number recognition, the compact word (one slot, its
+  fields packed by the program's Packing), the extended word (one field of one slot).
+
+One tick of the tick engine (vampc.emulator.tick) is one clock cycle, with the same order of events:
+a latch is seen by a micro-step of the same tick, and a dump drives what that tick's step wrote; every
+register takes its new value at the clock edge. One clock domain, synchronous reset.
+
+The host side: each input buffer (host port or constant buffer) is a register of its size in words
+that the host loads through `host<k>` (data) and `host<k>_we` (write enable) — what is written in one
+tick shows from the next. `program` is Program Mode (Global-Reset held), `global_reset` the Data-Mode
+pulse that starts each period. The torques are outputs `tau<j>`, the Result word the program's
+outputs table names; the host reads them at the ticks that table gives.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+from amaranth.hdl import Array, Cat, Const, Elaboratable, Module, Mux, Signal, signed, unsigned
+
+from vampc.kinds import TapKind, unhandled
+from vampc.machine import ops
+from vampc.machine.arith import Fn, Overflow, Rounding
+from vampc.machine.interp import steps as rom_steps
+from vampc.machine.timing import captures  # noqa: F401  (the buffer clock rule rendered below)
+from vampc.program.words import ADDRESS, FIELDS
+
+MULTIPLIERS = 2        # per primitive module (section VII): two multipliers, one adder/subtractor
+
+
+def width(n: int) -> int:
+    """Bits of a register holding 0..n."""
+    return max(1, int(n).bit_length())
+
+
+class Arith:
+    """The word format's rules as hardware: product, sum, difference, each rounded and fitted."""
+
+    def __init__(self, word):
+        self.W, self.F = word.bits, word.fraction
+        self.lo, self.hi = word.lo, word.hi
+        self.rounding, self.overflow = word.rounding, word.overflow
+
+    def fit(self, m: Module, r, name: str):
+        """A result of any width as a W-bit word: saturated or wrapped (the low W bits)."""
+        out = Signal(signed(self.W), name=name)
+        low = r[:self.W].as_signed()
+        if self.overflow is Overflow.SATURATE:
+            m.d.comb += out.eq(Mux(r > self.hi, self.hi, Mux(r < self.lo, self.lo, low)))
+        else:
+            m.d.comb += out.eq(low)
+        return out
+
+    def product(self, m: Module, x, y, name: str):
+        p = Signal(signed(2 * self.W + 1), name=f"{name}_p")
+        m.d.comb += p.eq(x * y)
+        if self.F == 0:
+            shifted = p
+        elif self.rounding is Rounding.NEAREST:
+            shifted = (p + (1 << (self.F - 1))) >> self.F
+        else:
+            shifted = p >> self.F
+        return self.fit(m, shifted, name)
+
+    def sum(self, m: Module, x, y, subtract, name: str):
+        r = Signal(signed(self.W + 1), name=f"{name}_r")
+        m.d.comb += r.eq(Mux(subtract, x - y, x + y))
+        return self.fit(m, r, name)
+
+
+def micro_program():
+    """Every micro-step of the ROM as hardware control: a list of (rom, j, per module [(physical
+    unit, fn, x, y, target register)]), x and y as ("a"|"b", scalar) or ("u", unit). Physical units
+    0, 1 are the multipliers, 2 the adder/subtractor. ValueError for a step a module cannot run in
+    one go."""
+    out = []
+    for r in range(len(ops.ROM)):
+        entry, col = ops.entry(r)
+        for j, step in enumerate(entry.steps):
+            modules = []
+            for mod in range(3):
+                mults, adds, assigns = 0, 0, []
+                for a in step:
+                    if a.fn is Fn.MUL:
+                        unit, mults = mults, mults + 1
+                    else:
+                        unit, adds = MULTIPLIERS, adds + 1
+                    if mults > MULTIPLIERS or adds > 1:
+                        raise ValueError(f"op {entry.name} step {j + 1} needs more than "
+                                         f"{MULTIPLIERS} multipliers and one adder in a module")
+                    assigns.append((unit, a.fn, _source(entry, col, mod, a.x),
+                                    _source(entry, col, mod, a.y), a.unit))
+                modules.append(assigns)
+            out.append((r, j, modules))
+    return out
+
+
+def _source(entry, col: int, mod: int, ref):
+    """Where module `mod` reads `ref`: an operand scalar (by the op's view) or a unit register."""
+    if ref.kind == "u":
+        return ("u", ref.i)
+    view = entry.views[0 if ref.kind == "a" else 1]
+    return (ref.kind, view.scalars(mod, col)[ref.index(mod)])
+
+
+class Vamp(Elaboratable):
+    """One VAMP: Cycle-Counter, slot table, operand registers, three primitive modules, Result.
+
+    `a_in`, `b_in`: per multiplexer input, its nine scalar words (Values); `word_in`: the three
+    words on operand-A input 0 (Program Mode); `program`, `global_reset`: the control lines."""
+
+    def __init__(self, index: int, number: int, slots: int, a_in, b_in, word_in, arith: Arith,
+                 period: int, timing, packing, program, global_reset):
+        self.index, self.number, self.S = index, number, slots
+        self.a_in, self.b_in, self.word_in = a_in, b_in, word_in
+        self.arith, self.P, self.timing, self.packing = arith, period, timing, packing
+        self.program, self.global_reset = program, global_reset
+        W = arith.W
+        n = f"v{index}"
+        self.result = [Signal(signed(W), name=f"{n}_result{k}") for k in range(3)]
+
+    def elaborate(self, platform):
+        m = Module()
+        A, W, P, S = self.arith, self.arith.W, self.P, self.S
+        n = f"v{self.index}"
+        cb = width(P)
+        rb = width(len(ops.ROM) - 1)
+        sab, sbb = width(len(self.a_in) - 1), width(len(self.b_in) - 1)
+        # --- registers ----------------------------------------------------------------------
+        cc = Signal(cb, name=f"{n}_cc")
+        valid = Signal(S, name=f"{n}_valid")
+        fields = [[Signal(w, name=f"{n}_s{s}_{f}") for f, w in
+                   zip(FIELDS, (cb, cb, cb, rb, sab, sbb))] for s in range(S)]
+        op_a = [Signal(signed(W), name=f"{n}_a{i}") for i in range(9)]
+        op_b = [Signal(signed(W), name=f"{n}_b{i}") for i in range(9)]
+        units = [[Signal(signed(W), name=f"{n}_u{u}m{mod}") for mod in range(3)] for u in range(3)]
+        # --- the Cycle-Counter: 0 in the tick Global-Reset is true ---------------------------
+        c = Signal(cb, name=f"{n}_c")
+        m.d.comb += c.eq(Mux(self.global_reset, 0, cc))
+        m.d.sync += cc.eq(c + 1)
+        with m.If(self.program):
+            self._program_mode(m, valid, fields, cb, rb, sab, sbb)
+        with m.Else():
+            self._data_mode(m, c, valid, fields, op_a, op_b, units, cb)
+        return m
+
+    # --- Program Mode -------------------------------------------------------------------------
+    def _program_mode(self, m, valid, fields, cb, rb, sab, sbb):
+        w0, w1, w2 = self.word_in
+        m.d.sync += [r.eq(w) for r, w in zip(self.result, self.word_in)]
+        shift = int(math.log2(self.packing.field))
+        with m.If(w0 == self.number):                 # a compact word: one slot, selects 0
+            m.d.sync += valid.eq(1)
+            da, db, dr, rom, sa, sb = fields[0]
+            m.d.sync += [da.eq(w1[shift:]), db.eq(w1[:shift]), dr.eq(w2[shift:]),
+                         rom.eq(w2[:shift]), sa.eq(0), sb.eq(0)]
+        with m.Elif(w0 == -self.number):              # an extended word: one field of one slot
+            slot = w1[3:].as_signed()                  # address = slot · 8 + field
+            field = w1[:3]
+            assert ADDRESS == 8
+            for s in range(self.S):
+                with m.If(slot == s):
+                    m.d.sync += valid.eq(valid | ((1 << (s + 1)) - 1))
+                    with m.Switch(field):
+                        for f, reg in enumerate(fields[s]):
+                            with m.Case(f):
+                                m.d.sync += reg.eq(w2)
+
+    # --- Data Mode ----------------------------------------------------------------------------
+    def _data_mode(self, m, c, valid, fields, op_a, op_b, units, cb):
+        A, W, P, S, n = self.arith, self.arith.W, self.P, self.S, f"v{self.index}"
+        # latches: operand registers as a micro-step of this tick sees them
+        a_now = [Signal(signed(W), name=f"{n}_a{i}_now") for i in range(9)]
+        b_now = [Signal(signed(W), name=f"{n}_b{i}_now") for i in range(9)]
+        m.d.comb += [x.eq(r) for x, r in zip(a_now + b_now, op_a + op_b)]
+        for s in range(S):
+            da, db, dr, rom, sa, sb = fields[s]
+            for now, reg, delay, sel, inputs in ((a_now, op_a, da, sa, self.a_in),
+                                                 (b_now, op_b, db, sb, self.b_in)):
+                with m.If(valid[s] & (delay == c)):
+                    for i in range(9):
+                        src = inputs[0][i] if len(inputs) == 1 else \
+                            Array([inp[i] for inp in inputs])[sel]
+                        m.d.comb += now[i].eq(src)
+                        m.d.sync += reg[i].eq(src)
+        # the micro-step due now (the spans of a VAMP's slots never meet: at most one)
+        program = micro_program()
+        code = Signal(range(len(program) + 1), name=f"{n}_step")
+        for s in range(S):
+            da, db, dr, rom, sa, sb = fields[s]
+            diff = Signal(signed(cb + 1), name=f"{n}_s{s}_left")
+            m.d.comb += diff.eq(dr - c)
+            left = Mux(diff < 0, diff + P, diff)       # ticks until the dump, mod P
+            with m.If(valid[s]):
+                with m.Switch(rom):
+                    for r in range(len(ops.ROM)):
+                        ends = self.timing.step_ends(r)
+                        with m.Case(r):
+                            for j in range(rom_steps(r)):
+                                k = next(i for i, (rr, jj, _) in enumerate(program)
+                                         if (rr, jj) == (r, j))
+                                with m.If(left == ends[-1] - ends[j]):
+                                    m.d.comb += code.eq(k + 1)
+        units_now = [[Signal(signed(W), name=f"{n}_u{u}m{mod}_now") for mod in range(3)]
+                     for u in range(3)]
+        for mod in range(3):
+            self._module(m, mod, code, program, a_now, b_now, units, units_now)
+        # the dump: the Result takes the dumping slot's result unit as this tick left it
+        for s in range(S):
+            da, db, dr, rom, sa, sb = fields[s]
+            with m.If(valid[s] & (dr == c)):
+                with m.Switch(rom):
+                    for r in range(len(ops.ROM)):
+                        with m.Case(r):
+                            u = ops.TABLE[ops.ROM[r][0]].result
+                            m.d.sync += [res.eq(units_now[u][mod])
+                                         for mod, res in enumerate(self.result)]
+
+    def _module(self, m, mod, code, program, a_now, b_now, units, units_now):
+        """Primitive module `mod`: two multipliers and an adder/subtractor, their operands and the
+        unit registers each writes chosen by the step code."""
+        A, W, n = self.arith, self.arith.W, f"v{self.index}m{mod}"
+        xs = [Signal(signed(W), name=f"{n}_x{k}") for k in range(3)]
+        ys = [Signal(signed(W), name=f"{n}_y{k}") for k in range(3)]
+        subtract = Signal(name=f"{n}_sub")
+        write = [Signal(range(4), name=f"{n}_w{u}") for u in range(3)]   # 0: keep, k+1: unit k
+
+        def value(src):
+            kind, i = src
+            return units[i][mod] if kind == "u" else (a_now if kind == "a" else b_now)[i]
+
+        with m.Switch(code):
+            for k, (_, _, modules) in enumerate(program):
+                with m.Case(k + 1):
+                    for unit, fn, x, y, target in modules[mod]:
+                        m.d.comb += [xs[unit].eq(value(x)), ys[unit].eq(value(y)),
+                                     write[target].eq(unit + 1)]
+                        if fn is Fn.SUB:
+                            m.d.comb += subtract.eq(1)
+        outs = [A.product(m, xs[0], ys[0], f"{n}_mul0"), A.product(m, xs[1], ys[1], f"{n}_mul1"),
+                A.sum(m, xs[2], ys[2], subtract, f"{n}_add")]
+        for u in range(3):
+            now = units_now[u][mod]
+            m.d.comb += now.eq(Array([units[u][mod]] + outs)[write[u]])
+            m.d.sync += units[u][mod].eq(now)
+
+
+class NetworkDesign(Elaboratable):
+    """The whole network of a loaded program (vampc.emulator.load.Loaded) with a fixed-point word:
+    VAMPs, delay buffers, host input buffers, wired as the Network IR says."""
+
+    def __init__(self, ld, arith_override=None):
+        self.ld = ld
+        net = ld.net
+        self.arith = arith_override or Arith(ld.word)
+        W = self.arith.W
+        self.name = module_name(ld.chain.name)
+        self.program = Signal(name="program")
+        self.global_reset = Signal(name="global_reset")
+        # host input buffers: ports, then constant buffers
+        self.inputs = [("port", p.index, p.size) for p in net.ports] + \
+                      [("const", c.index, len(c.value)) for c in net.consts]
+        self.host = [Signal(size * W, name=f"host{k}") for k, (_, _, size) in enumerate(self.inputs)]
+        self.host_we = [Signal(name=f"host{k}_we") for k in range(len(self.inputs))]
+        self.tau = [Signal(signed(W), name=f"tau{o.joint}") for o in net.outputs]
+
+    def ports(self):
+        """The top module's ports, inputs first."""
+        return [self.program, self.global_reset, *self.host, *self.host_we, *self.tau]
+
+    def elaborate(self, platform):
+        m = Module()
+        ld, net, A, W = self.ld, self.ld.net, self.arith, self.arith.W
+        zero = Const(0, signed(W))
+        # host input buffers: registers the host writes
+        rows: dict[tuple, list] = {}
+        for k, ((kind, index, size), data, we) in enumerate(zip(self.inputs, self.host, self.host_we)):
+            regs = [Signal(signed(W), name=f"in{k}_{kind}{index}_{i}") for i in range(size)]
+            with m.If(we):
+                m.d.sync += [r.eq(data[i * W:(i + 1) * W].as_signed()) for i, r in enumerate(regs)]
+            rows[(kind, index)] = regs + [zero] * (9 - size)
+        # VAMP Results and buffer stages (three words each)
+        vamps = []
+        results = {}
+        for v in net.vamps:
+            results[v.index] = [Signal(signed(W), name=f"v{v.index}_result{k}") for k in range(3)]
+        stages = {}
+        for b in net.buffers:
+            for s in range(1, b.stages + 1):
+                stages[(b.index, s)] = [Signal(signed(W), name=f"buf{b.index}_s{s}_{k}")
+                                        for k in range(3)]
+
+        def row(tap):
+            match tap.kind:
+                case TapKind.VAMP:
+                    return results[tap.index] + [zero] * 6
+                case TapKind.BUFFER:
+                    return stages[(tap.index, tap.stage)] + [zero] * 6
+                case TapKind.PORT:
+                    return rows[("port", tap.index)]
+                case TapKind.CONST:
+                    return rows[("const", tap.index)]
+                case _:
+                    return unhandled(tap.kind)
+
+        def gather(operand):
+            r = [row(t) for t in operand.taps]
+            if len(r) == 3:      # a matrix as three columns: scalar i·3 + j is word i of column j
+                return [r[j][i] for i in range(3) for j in range(3)]
+            return r[0][:9]
+
+        for v in net.vamps:
+            a_in = [gather(o) for o in v.a]
+            b_in = [gather(o) for o in v.b]
+            word_in = row(v.a[0].taps[0])[:3]
+            vamp = Vamp(v.index, ld.numbers[v.index], len(ld.programs[v.index]), a_in, b_in,
+                        word_in, A, net.period, ld.timing, ld.packing, self.program,
+                        self.global_reset)
+            vamp.result = results[v.index]
+            m.submodules[f"vamp{v.index}"] = vamp
+            vamps.append(vamp)
+        # the buffer clock: every tick in Program Mode, at each block's last tick in Data Mode
+        cc = Signal(width(net.period), name="buffer_cc")
+        c = Mux(self.global_reset, 0, cc)
+        m.d.sync += cc.eq(c + 1)
+        shift = Signal(name="buffer_clock")
+        ends = [t for t in range(net.period) if (t + 1) % net.clock == 0]
+        m.d.comb += shift.eq(self.program | _any(c == t for t in ends))
+        with m.If(shift):
+            for b in net.buffers:
+                for s in range(1, b.stages + 1):
+                    src = results[b.source] if s == 1 else stages[(b.index, s - 1)]
+                    m.d.sync += [x.eq(y) for x, y in zip(stages[(b.index, s)], src)]
+        for o, t in zip(net.outputs, self.tau):
+            m.d.comb += t.eq(results[o.vamp][o.component])
+        return m
+
+
+def _any(terms):
+    terms = list(terms)
+    out = terms[0]
+    for t in terms[1:]:
+        out = out | t
+    return out
+
+
+def module_name(robot: str) -> str:
+    """A Verilog identifier for the top module, after the robot."""
+    name = re.sub(r"\W", "_", robot or "network")
+    return name if re.match(r"[A-Za-z_]", name) else f"robot_{name}"
+
+
+__all__ = ["Arith", "NetworkDesign", "Vamp", "micro_program", "module_name", "width",
+           "Cat", "unsigned"]
