@@ -32,6 +32,7 @@ from vampc.options import (
     PrecisionOptions,
     ReportOptions,
     RobotOptions,
+    RtlOptions,
 )
 from vampc.outputs import discard_all
 
@@ -217,6 +218,22 @@ def faults(ctx, source, **params):
     from vampc.commands import faults_command
     faults_command(source, build(FaultsOptions, ctx, params), build(CompileOptions, ctx, params),
                    build(RobotOptions, ctx, params), params, say)
+
+
+@main.command()
+@click.argument("source", type=FilePath(dir_okay=False))
+@options_of(RtlOptions, CompileOptions, RobotOptions)
+@click.pass_context
+@handle_errors
+def rtl(ctx, source, **params):
+    """The compiled network as synthesizable Verilog (-o FILE.v), co-simulated against the emulator
+    bit for bit (--cosim N --check) and synthesized for cell counts and Fmax (--synth ecp5 --pnr).
+    SOURCE: a program compiled with a fixed-point word (--word qI.F), or a robot file compiled here
+    (README, RTL)."""
+    from vampc.commands import rtl_command
+    if not rtl_command(source, build(RtlOptions, ctx, params), build(CompileOptions, ctx, params),
+                       build(RobotOptions, ctx, params), params, say):
+        sys.exit(1)
 
 
 if __name__ == "__main__":  # pragma: no cover

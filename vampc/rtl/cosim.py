@@ -130,25 +130,26 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
             lines.extend(current[k] if we[k] else 0 for k in range(n_in))
         with open(os.path.join(workdir, "stim.hex"), "w") as f:
             f.write("\n".join(format(x, "x") for x in lines) + "\n")
-        sizes = [s.shape.width for s in design.host]
+        sizes = [len(s) for s in design.host]
         widest = max(sizes + [2 + n_in])
         samples = sorted(run.samples.items())
         tb = [f"`timescale 1ns/1ps", "module tb;",
               "  reg clk = 0; reg rst = 0;",
-              "  reg program = 1; reg global_reset = 1;",
+              "  reg program_mode = 1; reg global_reset = 1;",
               *[f"  reg [{s - 1}:0] host{k} = 0; reg host{k}_we = 0;" for k, s in enumerate(sizes)],
               *[f"  wire signed [{W - 1}:0] tau{i};" for i in range(len(design.tau))],
               f"  reg [{widest - 1}:0] mem [0:{len(lines) - 1}];",
               "  integer T, p, out;",
-              f"  {top} dut(.clk(clk), .rst(rst), .program(program), .global_reset(global_reset),",
+              f"  {top} dut(.clk(clk), .rst(rst), .program_mode(program_mode), .global_reset(global_reset),",
               *[f"    .host{k}(host{k}), .host{k}_we(host{k}_we)," for k in range(n_in)],
               "    " + ", ".join(f".{t.name}(tau{i})" for i, t in enumerate(design.tau)) + ");",
               "  initial begin",
               '    $readmemh("stim.hex", mem);',
               '    out = $fopen("tau.txt", "w");',
               "    p = 0;",
+              "    rst = 1; #1; clk = 1; #1; clk = 0; rst = 0;   // a synchronous reset first",
               f"    for (T = -1; T < {run.ticks}; T = T + 1) begin",
-              "      program = mem[p][0]; global_reset = mem[p][1];",
+              "      program_mode = mem[p][0]; global_reset = mem[p][1];",
               *[f"      host{k}_we = mem[p][{2 + k}]; if (mem[p][{2 + k}]) host{k} = mem[p + {1 + k}];"
                 for k in range(n_in)],
               f"      p = p + {1 + n_in};",
@@ -164,7 +165,7 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
         del samples
         with open(os.path.join(workdir, "tb.v"), "w") as f:
             f.write("\n".join(tb))
-        _run(["iverilog", "-g2012", "-o", "sim.vvp", "tb.v", "design.v"], workdir)
+        _run(["iverilog", "-g2005", "-o", "sim.vvp", "tb.v", "design.v"], workdir)
         _run(["vvp", "-n", "sim.vvp"], workdir)
         values = {}
         with open(os.path.join(workdir, "tau.txt")) as f:

@@ -267,7 +267,7 @@ class NetworkDesign(Elaboratable):
         self.arith = arith_override or Arith(ld.word)
         W = self.arith.W
         self.name = module_name(ld.chain.name)
-        self.program = Signal(name="program")
+        self.program = Signal(name="program_mode")
         self.global_reset = Signal(name="global_reset")
         # host input buffers: ports, then constant buffers
         self.inputs = [("port", p.index, p.size) for p in net.ports] + \
@@ -346,6 +346,55 @@ class NetworkDesign(Elaboratable):
         for o, t in zip(net.outputs, self.tau):
             m.d.comb += t.eq(results[o.vamp][o.component])
         return m
+
+
+class VampChip(Elaboratable):
+    """One VAMP on its own, every input a port (a VAMP as a chip): what `--synth` counts per kind.
+    `kind`: (slots, operand-A inputs, operand-B inputs), as `kinds` gives."""
+
+    def __init__(self, ld, index: int, arith: Arith | None = None):
+        self.ld, self.index = ld, index
+        self.arith = arith or Arith(ld.word)
+        v = ld.net.vamps[index]
+        W = self.arith.W
+        self.kind = vamp_kind(ld, index)
+        self.name = f"vamp_{self.kind[0]}s_{self.kind[1]}a_{self.kind[2]}b"
+        self.program = Signal(name="program_mode")
+        self.global_reset = Signal(name="global_reset")
+        self.a_in = [Signal(9 * W, name=f"a_in{k}") for k in range(len(v.a))]
+        self.b_in = [Signal(9 * W, name=f"b_in{k}") for k in range(len(v.b))]
+        self.result = [Signal(signed(W), name=f"result{k}") for k in range(3)]
+
+    def ports(self):
+        return [self.program, self.global_reset, *self.a_in, *self.b_in, *self.result]
+
+    def elaborate(self, platform):
+        m = Module()
+        ld, W = self.ld, self.arith.W
+
+        def words(x):
+            return [x[i * W:(i + 1) * W].as_signed() for i in range(9)]
+        a_in, b_in = [words(x) for x in self.a_in], [words(x) for x in self.b_in]
+        vamp = Vamp(self.index, ld.numbers[self.index], len(ld.programs[self.index]), a_in, b_in,
+                    a_in[0][:3], self.arith, ld.net.period, ld.timing, ld.packing, self.program,
+                    self.global_reset)
+        vamp.result = self.result
+        m.submodules.vamp = vamp
+        return m
+
+
+def vamp_kind(ld, index: int) -> tuple[int, int, int]:
+    """(slots, operand-A inputs, operand-B inputs) of a VAMP: its hardware's shape."""
+    v = ld.net.vamps[index]
+    return (len(ld.programs[index]), len(v.a), len(v.b))
+
+
+def kinds(ld) -> dict[tuple[int, int, int], list[int]]:
+    """The VAMPs of each kind (vamp_kind), by kind."""
+    out: dict = {}
+    for v in ld.net.vamps:
+        out.setdefault(vamp_kind(ld, v.index), []).append(v.index)
+    return dict(sorted(out.items()))
 
 
 def _any(terms):
