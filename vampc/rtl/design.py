@@ -25,8 +25,10 @@ outputs table names; the host reads them at the ticks that table gives.
 """
 from __future__ import annotations
 
+import functools
 import math
 import re
+from dataclasses import dataclass
 
 from amaranth.hdl import Array, Cat, Const, Elaboratable, Module, Mux, Signal, signed, unsigned
 
@@ -195,66 +197,116 @@ class Vamp(Elaboratable):
                             Array([inp[i] for inp in inputs])[sel]
                         m.d.comb += now[i].eq(src)
                         m.d.sync += reg[i].eq(src)
-        # the micro-step due now (the spans of a VAMP's slots never meet: at most one)
-        program = micro_program()
-        code = Signal(range(len(program) + 1), name=f"{n}_step")
+        # the micro-step due now (the spans of a VAMP's slots never meet: at most one): the
+        # microcode ROM, addressed by the slot's ROM pointer and the ticks left until its dump
+        rom_table = microcode(self.timing)
+        code = Signal(range(len(rom_table.steps) + 1), name=f"{n}_step")
         for s in range(S):
             da, db, dr, rom, sa, sb = fields[s]
             diff = Signal(signed(cb + 1), name=f"{n}_s{s}_left")
             m.d.comb += diff.eq(dr - c)
             left = Mux(diff < 0, diff + P, diff)       # ticks until the dump, mod P
-            with m.If(valid[s]):
-                with m.Switch(rom):
-                    for r in range(len(ops.ROM)):
-                        ends = self.timing.step_ends(r)
-                        with m.Case(r):
-                            for j in range(rom_steps(r)):
-                                k = next(i for i, (rr, jj, _) in enumerate(program)
-                                         if (rr, jj) == (r, j))
-                                with m.If(left == ends[-1] - ends[j]):
-                                    m.d.comb += code.eq(k + 1)
+            address = Signal(range(len(rom_table.codes)), name=f"{n}_s{s}_upc")
+            m.d.comb += address.eq(Mux(left < rom_table.depth, rom * rom_table.depth + left,
+                                       len(rom_table.codes) - 1))
+            step = Signal.like(code, name=f"{n}_s{s}_step")
+            m.d.comb += step.eq(Array(rom_table.codes)[address])
+            with m.If(valid[s] & (step != 0)):
+                m.d.comb += code.eq(step)
         units_now = [[Signal(signed(W), name=f"{n}_u{u}m{mod}_now") for mod in range(3)]
                      for u in range(3)]
         for mod in range(3):
-            self._module(m, mod, code, program, a_now, b_now, units, units_now)
+            self._module(m, mod, code, rom_table, a_now, b_now, units, units_now)
         # the dump: the Result takes the dumping slot's result unit as this tick left it
         for s in range(S):
             da, db, dr, rom, sa, sb = fields[s]
             with m.If(valid[s] & (dr == c)):
-                with m.Switch(rom):
-                    for r in range(len(ops.ROM)):
-                        with m.Case(r):
-                            u = ops.TABLE[ops.ROM[r][0]].result
-                            m.d.sync += [res.eq(units_now[u][mod])
-                                         for mod, res in enumerate(self.result)]
+                unit = Signal(range(3), name=f"{n}_s{s}_unit")
+                m.d.comb += unit.eq(Array(rom_table.result)[rom])
+                m.d.sync += [res.eq(Array([units_now[u][mod] for u in range(3)])[unit])
+                             for mod, res in enumerate(self.result)]
 
-    def _module(self, m, mod, code, program, a_now, b_now, units, units_now):
+    def _module(self, m, mod, code, rom_table, a_now, b_now, units, units_now):
         """Primitive module `mod`: two multipliers and an adder/subtractor, their operands and the
-        unit registers each writes chosen by the step code."""
+        unit registers each writes chosen by the step code (rows of the microcode's tables)."""
         A, W, n = self.arith, self.arith.W, f"v{self.index}m{mod}"
-        xs = [Signal(signed(W), name=f"{n}_x{k}") for k in range(3)]
-        ys = [Signal(signed(W), name=f"{n}_y{k}") for k in range(3)]
-        subtract = Signal(name=f"{n}_sub")
-        write = [Signal(range(4), name=f"{n}_w{u}") for u in range(3)]   # 0: keep, k+1: unit k
+        sources = Array(a_now + b_now + [units[u][mod] for u in range(3)])
+        table = rom_table.modules[mod]
 
-        def value(src):
-            kind, i = src
-            return units[i][mod] if kind == "u" else (a_now if kind == "a" else b_now)[i]
-
-        with m.Switch(code):
-            for k, (_, _, modules) in enumerate(program):
-                with m.Case(k + 1):
-                    for unit, fn, x, y, target in modules[mod]:
-                        m.d.comb += [xs[unit].eq(value(x)), ys[unit].eq(value(y)),
-                                     write[target].eq(unit + 1)]
-                        if fn is Fn.SUB:
-                            m.d.comb += subtract.eq(1)
+        def looked_up(column, name, shape=range(21)):
+            sig = Signal(shape, name=f"{n}_{name}")
+            m.d.comb += sig.eq(Array(column)[code])
+            return sig
+        xs = [sources[looked_up(table.x[k], f"xsel{k}")] for k in range(3)]
+        ys = [sources[looked_up(table.y[k], f"ysel{k}")] for k in range(3)]
+        subtract = looked_up(table.subtract, "sub", 1)
         outs = [A.product(m, xs[0], ys[0], f"{n}_mul0"), A.product(m, xs[1], ys[1], f"{n}_mul1"),
                 A.sum(m, xs[2], ys[2], subtract, f"{n}_add")]
         for u in range(3):
             now = units_now[u][mod]
-            m.d.comb += now.eq(Array([units[u][mod]] + outs)[write[u]])
+            m.d.comb += now.eq(Array([units[u][mod]] + outs)[looked_up(table.write[u], f"w{u}", range(4))])
             m.d.sync += units[u][mod].eq(now)
+
+
+@dataclass(frozen=True)
+class ModuleTable:
+    """One primitive module's micro-step control, one row per step code (0: no step): the source
+    (0-8 operand A's scalars, 9-17 B's, 18-20 the unit registers) of each physical unit's two
+    inputs, the adder's subtract line, and what each unit register takes (0 itself, k + 1 unit k)."""
+
+    x: tuple
+    y: tuple
+    subtract: tuple
+    write: tuple
+
+
+@dataclass(frozen=True)
+class Microcode:
+    """The VAMP's microcode ROM: `codes[rom · depth + left]` the step code (k + 1 for `steps[k]`, 0
+    none) running when a slot with that ROM pointer is `left` ticks before its dump; `result[rom]`
+    the unit register its dump drives; the modules' tables."""
+
+    steps: tuple
+    depth: int
+    codes: tuple
+    result: tuple
+    modules: tuple
+
+
+@functools.lru_cache(maxsize=None)
+def microcode(timing) -> Microcode:
+    """The microcode ROM of the op table (vampc.machine.ops) under `timing`."""
+    program = micro_program()
+    index = {(r, j): k + 1 for k, (r, j, _) in enumerate(program)}
+    depth = max(timing.step_ends(r)[-1] for r in range(len(ops.ROM)))
+    slots = 1 << width(len(ops.ROM) - 1)
+    codes = [0] * (slots * depth + 1)            # the last entry: no step (left beyond any op)
+    for r in range(len(ops.ROM)):
+        ends = timing.step_ends(r)
+        for j in range(rom_steps(r)):
+            codes[r * depth + ends[-1] - ends[j]] = index[(r, j)]
+    result = [ops.TABLE[ops.ROM[r][0]].result for r in range(len(ops.ROM))]
+    result += [0] * (slots - len(result))
+
+    def number(src):
+        kind, i = src
+        return {"a": 0, "b": 9, "u": 18}[kind] + i
+    modules = []
+    for mod in range(3):
+        x, y = [[0] * (len(program) + 1) for _ in range(3)], [[0] * (len(program) + 1) for _ in range(3)]
+        subtract = [0] * (len(program) + 1)
+        write = [[0] * (len(program) + 1) for _ in range(3)]
+        for k, (_, _, per_module) in enumerate(program):
+            for unit, fn, xs, ys, target in per_module[mod]:
+                x[unit][k + 1], y[unit][k + 1] = number(xs), number(ys)
+                write[target][k + 1] = unit + 1
+                subtract[k + 1] = int(fn is Fn.SUB)
+        modules.append(ModuleTable(tuple(map(tuple, x)), tuple(map(tuple, y)), tuple(subtract),
+                                   tuple(map(tuple, write))))
+    return Microcode(tuple(program), depth, tuple(codes), tuple(result), tuple(modules))
+
+
+ops.on_change(microcode.cache_clear)
 
 
 class NetworkDesign(Elaboratable):

