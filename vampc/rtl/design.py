@@ -42,6 +42,7 @@ from amaranth.hdl import (
     unsigned,
 )
 
+from vampc.errors import VampcError
 from vampc.kinds import TapKind, unhandled
 from vampc.machine import ops
 from vampc.machine.arith import Fn, Overflow, Rounding
@@ -110,7 +111,7 @@ def micro_program():
                     else:
                         unit, adds = MULTIPLIERS, adds + 1
                     if mults > MULTIPLIERS or adds > 1:
-                        raise ValueError(f"op {entry.name} step {j + 1} needs more than "
+                        raise VampcError(f"op {entry.name} step {j + 1} needs more than "
                                          f"{MULTIPLIERS} multipliers and one adder in a module")
                     assigns.append((unit, a.fn, _source(entry, col, mod, a.x),
                                     _source(entry, col, mod, a.y), a.unit))
@@ -183,8 +184,9 @@ class Vamp(Elaboratable):
             field = w1[:3]
             assert ADDRESS == 8
             for s in range(self.S):
-                with m.If(slot == s):
-                    m.d.sync += valid.eq(valid | ((1 << (s + 1)) - 1))
+                with m.If(slot == s):     # a slot beyond the table's registers: ignored
+                    with m.If(field < len(FIELDS)):   # fields 6, 7: bus-write registers (no bus)
+                        m.d.sync += valid.eq(valid | ((1 << (s + 1)) - 1))
                     with m.Switch(field):
                         for f, reg in enumerate(fields[s]):
                             with m.Case(f):
@@ -217,7 +219,7 @@ class Vamp(Elaboratable):
             m.d.comb += diff.eq(dr - c)
             left = Mux(diff < 0, diff + P, diff)       # ticks until the dump, mod P
             address = Signal(range(len(rom_table.codes)), name=f"{n}_s{s}_upc")
-            m.d.comb += address.eq(Mux(left < rom_table.depth, rom * rom_table.depth + left,
+            m.d.comb += address.eq(Mux(left < rom_table.depth, Cat(left[:rom_table.stride_bits], rom),
                                        len(rom_table.codes) - 1))
             step = Signal.like(code, name=f"{n}_s{s}_step")
             m.d.comb += step.eq(Array(rom_table.codes)[address])
@@ -272,12 +274,13 @@ class ModuleTable:
 
 @dataclass(frozen=True)
 class Microcode:
-    """The VAMP's microcode ROM: `codes[rom · depth + left]` the step code (k + 1 for `steps[k]`, 0
-    none) running when a slot with that ROM pointer is `left` ticks before its dump; `result[rom]`
-    the unit register its dump drives; the modules' tables."""
+    """The VAMP's microcode ROM: `codes[rom · 2^stride_bits + left]` the step code (k + 1 for
+    `steps[k]`, 0 none) running when a slot with that ROM pointer is `left` (< depth) ticks before its
+    dump; `result[rom]` the unit register its dump drives; the modules' tables."""
 
     steps: tuple
     depth: int
+    stride_bits: int
     codes: tuple
     result: tuple
     modules: tuple
@@ -290,11 +293,12 @@ def microcode(timing) -> Microcode:
     index = {(r, j): k + 1 for k, (r, j, _) in enumerate(program)}
     depth = max(timing.step_ends(r)[-1] for r in range(len(ops.ROM)))
     slots = 1 << width(len(ops.ROM) - 1)
-    codes = [0] * (slots * depth + 1)            # the last entry: no step (left beyond any op)
+    stride_bits = width(depth - 1)
+    codes = [0] * ((slots << stride_bits) + 1)   # the last entry: no step (left beyond any op)
     for r in range(len(ops.ROM)):
         ends = timing.step_ends(r)
         for j in range(rom_steps(r)):
-            codes[r * depth + ends[-1] - ends[j]] = index[(r, j)]
+            codes[(r << stride_bits) + ends[-1] - ends[j]] = index[(r, j)]
     result = [ops.TABLE[ops.ROM[r][0]].result for r in range(len(ops.ROM))]
     result += [0] * (slots - len(result))
 
@@ -310,10 +314,12 @@ def microcode(timing) -> Microcode:
             for unit, fn, xs, ys, target in per_module[mod]:
                 x[unit][k + 1], y[unit][k + 1] = number(xs), number(ys)
                 write[target][k + 1] = unit + 1
-                subtract[k + 1] = int(fn is Fn.SUB)
+                if fn is not Fn.MUL:
+                    subtract[k + 1] = int(fn is Fn.SUB)
         modules.append(ModuleTable(tuple(map(tuple, x)), tuple(map(tuple, y)), tuple(subtract),
                                    tuple(map(tuple, write))))
-    return Microcode(tuple(program), depth, tuple(codes), tuple(result), tuple(modules))
+    return Microcode(tuple(program), depth, stride_bits, tuple(codes), tuple(result),
+                     tuple(modules))
 
 
 ops.on_change(microcode.cache_clear)
@@ -437,8 +443,9 @@ class VampChip(Elaboratable):
         def words(x):
             return [x[i * W:(i + 1) * W].as_signed() for i in range(9)]
         a_in, b_in = [words(x) for x in self.a_in], [words(x) for x in self.b_in]
+        word_in = a_in[0][0::3] if len(ld.net.vamps[self.index].a[0].taps) == 3 else a_in[0][:3]
         vamp = Vamp(self.index, ld.numbers[self.index], len(ld.programs[self.index]), a_in, b_in,
-                    a_in[0][:3], self.arith, ld.net.period, ld.timing, ld.packing, self.program,
+                    word_in, self.arith, ld.net.period, ld.timing, ld.packing, self.program,
                     self.global_reset)
         vamp.result = self.result
         m.submodules.vamp = vamp
