@@ -261,3 +261,53 @@ def test_synth_one_vamp_has_the_multipliers_of_its_word():
     # 3 modules x 2 multipliers of 32 x 32 bits, each four 18 x 18 blocks
     assert cells.get("MULT18X18D") == 3 * 2 * 4
     assert cells.get("LUT4") > 1000 and cells.get("TRELLIS_FF") > 32 * (9 + 9 + 9 + 3)
+
+
+def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
+    """`rtl --synth ecp5 --pnr --format json` into `report --rtl`: the tools replaced by fixed
+    figures (the plumbing is under test here; test_synth_one_vamp... runs the real tools)."""
+    from vampc.rtl import synth
+    calls = []
+
+    def fake_synth(verilog, top, workdir=None, timeout=None):
+        calls.append(top)
+        return synth.Cells({"LUT4": 100 + len(calls), "MULT18X18D": 24, "TRELLIS_FF": 900}, 1.0)
+
+    def fake_pnr(verilog, top, workdir=None, timeout=None, **kw):
+        return {"cells": fake_synth(verilog, top).as_dict(), "fmax_mhz": {"clk": 12.5 + len(calls)},
+                "utilization": {}, "device": "LFE5U-85K CABGA381", "seconds": 1.0}
+    monkeypatch.setattr(synth, "synthesize", fake_synth)
+    monkeypatch.setattr(synth, "place_and_route", fake_pnr)
+    monkeypatch.setattr(synth, "require", lambda pnr=False: None)
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "--synth", "ecp5",
+                                  "--pnr", "--format", "json"])
+    assert r.exit_code == 0, r.output
+    figures = json.loads(r.stdout.strip().splitlines()[-1])
+    kinds = figures["synth"]["kinds"]
+    assert sum(k["vamps"] for k in kinds.values()) == figures["vamps"] == 30
+    path = tmp_path / "rtl.json"
+    path.write_text(json.dumps(figures))
+    slowest = min(min(k["pnr"]["fmax_mhz"].values()) for k in kinds.values())
+    r = CliRunner().invoke(main, ["report", str(programs / "fixed.vamp.json"), "--rtl", str(path),
+                                  "--format", "json"])
+    assert r.exit_code == 0, r.output
+    rep = json.loads(r.stdout)
+    assert rep["rtl"]["fmax_mhz"] == slowest
+    assert rep["clock"]["hz"] == slowest * 1e6
+    assert rep["clock"]["latency_us"] == pytest.approx(rep["latency"]["flops"] / slowest)
+    assert rep["rtl"]["network"]["LUT4"] == figures["synth"]["network"]["LUT4"]
+    assert rep["rtl"]["vamps_sum"]["MULT18X18D"] == 24 * 30
+    from schema_check import schema_errors   # the report schema, by an independent validator
+    assert schema_errors("report", rep) == []
+    r = CliRunner().invoke(main, ["report", str(programs / "fixed.vamp.json"), "--rtl", str(path)])
+    assert r.exit_code == 0 and "the slowest VAMP's Fmax" in r.output
+    # another program's figures, a faster --clock, --tradeoff
+    r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--word", "q12.20", "--rtl",
+                                  str(path)])
+    assert r.exit_code == 1 and "figures are of another design (word" in r.output
+    r = CliRunner().invoke(main, ["report", str(programs / "fixed.vamp.json"), "--rtl", str(path),
+                                  "--clock", "1GHz"])
+    assert r.exit_code == 0 and "above the synthesized Fmax" in r.output
+    r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--tradeoff", "--rtl",
+                                  str(path)])
+    assert r.exit_code == 2 and "--rtl does not apply to --tradeoff" in r.output

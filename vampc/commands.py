@@ -433,7 +433,19 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         c, figures, check = _report_compiled(source, options, robot_opts, params)
         try:
             from vampc.report.build import build_report
+            rtl = None
+            if own.rtl is not None:
+                from vampc.report.rtl import rtl_figures
+                rtl = rtl_figures(own.rtl, c)
+                if hz is None and rtl["fmax_mhz"] is not None:
+                    hz = rtl["fmax_mhz"] * 1e6
+                elif hz is not None and rtl["fmax_mhz"] is not None and hz > rtl["fmax_mhz"] * 1e6:
+                    warnings.warn(VampcWarning(
+                        f"--clock {own.clock} is above the synthesized Fmax, {rtl['fmax_mhz']:g} "
+                        f"MHz ({own.rtl})"), stacklevel=1)
             rep = build_report(c, hz, own.pins, figures, cpu_reference=own.cpu_reference)
+            if rtl is not None:
+                rep["rtl"] = rtl
             if "--bus-chart" in outs and c.network.bus is None:
                 raise VampcUsageError("--bus-chart applies to a program on the Mostly-Local Bus "
                                       "(compile --bus mlb, or give --bus mlb with a robot file)")

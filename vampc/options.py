@@ -649,6 +649,10 @@ class ReportOptions:
     scheduler: str | None = field(default=None, metadata=cli(
         "--scheduler", metavar="ADDRESS", help="With --tradeoff: run the budgets on the Dask cluster "
         "whose scheduler is at ADDRESS (tcp://HOST:8786; pip install \"vampc[dask]\")."))
+    rtl: str | None = field(default=None, metadata=cli(
+        "--rtl", path=True, metavar="FILE.json", help="The figures of `vampc rtl --synth ecp5 "
+        "[--pnr] --format json` for this program: adds the synthesized cells and, without "
+        "--clock, times at the slowest VAMP's Fmax (README, RTL)."))
     curve: str | None = field(default=None, metadata=cli(
         "--curve", path=True, metavar="FILE.svg", help="With --tradeoff: write the trade-off curve "
         "as SVG (latency and interval against VAMPs, Pareto-optimal points marked, the folded and "
@@ -680,7 +684,7 @@ class ReportOptions:
         if self.fmt == "csv" and not self.tradeoff:
             raise VampcUsageError("--format csv applies to --tradeoff only")
         if self.tradeoff:
-            for name in ("clock", "pins", "cpu_reference", "focus") + tuple(p for p in self.PICTURES if p != "html"):
+            for name in ("clock", "pins", "cpu_reference", "focus", "rtl") + tuple(p for p in self.PICTURES if p != "html"):
                 if name in self.given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff"
                                           + (" (--html and --curve do)" if name in self.PICTURES else ""))

@@ -112,6 +112,9 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     if rep.get("error_correction") is not None:
         from vampc.report.checking import checking_pairs
         pairs += checking_pairs(rep["error_correction"])
+    if rep.get("rtl") is not None:
+        from vampc.report.rtl import rtl_pairs
+        pairs += rtl_pairs(rep["rtl"])
     return pairs
 
 
