@@ -297,7 +297,9 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     assert rep["clock"]["latency_us"] == pytest.approx(rep["latency"]["flops"] / slowest)
     assert rep["rtl"]["network"]["LUT4"] == figures["synth"]["network"]["LUT4"]
     assert rep["rtl"]["vamps_sum"]["MULT18X18D"] == 24 * 30
-    from schema_check import schema_errors   # the report schema, by an independent validator
+    from schema_check import (
+        schema_errors,  # the report schema, by an independent validator
+    )
     assert schema_errors("report", rep) == []
     r = CliRunner().invoke(main, ["report", str(programs / "fixed.vamp.json"), "--rtl", str(path)])
     assert r.exit_code == 0 and "the slowest VAMP's Fmax" in r.output
