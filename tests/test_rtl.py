@@ -285,6 +285,7 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     figures = json.loads(r.stdout.strip().splitlines()[-1])
     kinds = figures["synth"]["kinds"]
     assert sum(k["vamps"] for k in kinds.values()) == figures["vamps"] == 30
+    assert figures["synth"]["network"]["pnr"] is None      # 30 VAMPs: beyond --max-minutes 30
     path = tmp_path / "rtl.json"
     path.write_text(json.dumps(figures))
     slowest = min(min(k["pnr"]["fmax_mhz"].values()) for k in kinds.values())

