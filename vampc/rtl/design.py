@@ -199,16 +199,22 @@ class Vamp(Elaboratable):
         a_now = [Signal(signed(W), name=f"{n}_a{i}_now") for i in range(9)]
         b_now = [Signal(signed(W), name=f"{n}_b{i}_now") for i in range(9)]
         m.d.comb += [x.eq(r) for x, r in zip(a_now + b_now, op_a + op_b)]
-        for s in range(S):
-            da, db, dr, rom, sa, sb = fields[s]
-            for now, reg, delay, sel, inputs in ((a_now, op_a, da, sa, self.a_in),
-                                                 (b_now, op_b, db, sb, self.b_in)):
+        # the slot latching now (if two did, the later one: the tick engine's order) drives the
+        # multiplexer's select; one multiplexer per operand, whatever the number of slots
+        for name, now, reg, k, inputs in (("a", a_now, op_a, 0, self.a_in),
+                                          ("b", b_now, op_b, 1, self.b_in)):
+            latch = Signal(name=f"{n}_latch_{name}")
+            sel = Signal(range(max(2, len(inputs))), name=f"{n}_sel_{name}")
+            for s in range(S):
+                delay, select = fields[s][k], fields[s][4 + k]
                 with m.If(valid[s] & (delay == c)):
-                    for i in range(9):
-                        src = inputs[0][i] if len(inputs) == 1 else \
-                            Array([inp[i] for inp in inputs])[sel]
-                        m.d.comb += now[i].eq(src)
-                        m.d.sync += reg[i].eq(src)
+                    m.d.comb += [latch.eq(1), sel.eq(select)]
+            with m.If(latch):
+                for i in range(9):
+                    src = inputs[0][i] if len(inputs) == 1 else \
+                        Array([inp[i] for inp in inputs])[sel]
+                    m.d.comb += now[i].eq(src)
+                    m.d.sync += reg[i].eq(src)
         # the micro-step due now (the spans of a VAMP's slots never meet: at most one): the
         # microcode ROM, addressed by the slot's ROM pointer and the ticks left until its dump
         rom_table = microcode(self.timing)
