@@ -889,7 +889,6 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     ld = loaded(source, options, robot_opts, params)
     rtl_supported(ld, source)
     from vampc.rtl.design import NetworkDesign, kinds
-    design = NetworkDesign(ld)
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
     note = functools.partial(say, err=True)
@@ -898,6 +897,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "vamps": V, "kinds": {_kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
     _preflight(ld, own, limit)         # every step's estimate and tool before any work
+    design = NetworkDesign(ld)
     verilog = None
     if "-o" in outs:
         _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, limit, note)
