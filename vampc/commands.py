@@ -866,10 +866,13 @@ def _stem(source: str) -> str:
 
 # seconds, measured on the 2-core machine of README "RTL": what the estimates given before a step
 # starts are made of (Amaranth's elaboration and simulation; its Verilog back end)
-ELABORATE_PER_VAMP = 0.12
+# (benchmarks/rtl.py: the Puma 560's 180 systolic VAMPs took 30 s in Amaranth, 76 s to write as
+# Verilog, 286 s through Icarus, most of it compiling the Verilog)
+ELABORATE_PER_VAMP = 0.17
 SIMULATE_PER_VAMP_TICK = 2.5e-4
 ICARUS_PER_VAMP_TICK = 2e-5
-VERILOG_PER_VAMP = 0.36
+ICARUS_BUILD_PER_VAMP = 1.6          # the Verilog written and compiled by iverilog
+VERILOG_PER_VAMP = 0.45
 
 
 def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
@@ -972,7 +975,7 @@ def _cosim_estimate(ld, own) -> float:
     V, P = len(ld.net.vamps), ld.period
     ticks = ld.load_ticks + (own.cosim - 1) * P + max(o.tick for o in ld.net.outputs) + 2
     per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
-    build = ELABORATE_PER_VAMP * V if own.simulator == "amaranth" else VERILOG_PER_VAMP * V
+    build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * V
     return build + per_tick * V * ticks
 
 
