@@ -203,7 +203,7 @@ def test_cli_verilog_and_cosim(programs, tmp_path):
     ("ec", ["-o", "x.v"], 2, "error correction"),
     ("fixed", ["--check"], 2, "--check applies to --cosim"),
     ("fixed", ["--pnr", "-o", "x.v"], 2, "--pnr applies to --synth"),
-    ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5"),
+    ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)"),
     ("fixed", ["--cosim", "2", "--max-minutes", "0.0001"], 1, "beyond --max-minutes"),
 ])
 def test_cli_refusals(programs, tmp_path, monkeypatch, name, args, code, message):

@@ -228,8 +228,8 @@ def faults(ctx, source, **params):
 def rtl(ctx, source, **params):
     """The compiled network as synthesizable Verilog (-o FILE.v), co-simulated against the emulator
     bit for bit (--cosim N --check) and synthesized for cell counts and Fmax (--synth ecp5 --pnr).
-    SOURCE: a program compiled with a fixed-point word (--word qI.F), or a robot file compiled here
-    (README, RTL)."""
+    SOURCE: a program compiled with a fixed-point word (--word qI.F), a program in another word
+    given --word qI.F here, or a robot file compiled here with --word qI.F (README, RTL)."""
     from vampc.commands import rtl_command
     if not rtl_command(source, build(RtlOptions, ctx, params), build(CompileOptions, ctx, params),
                        build(RobotOptions, ctx, params), params, say):

@@ -927,9 +927,11 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
 def rtl_supported(ld, source: str) -> None:
     """VampcUsageError for a program the RTL does not render (README, RTL: limits)."""
     if ld.word is None or getattr(ld.word, "c_type", "") != "int64_t":
+        from vampc.sniff import is_program
         name = "float64" if ld.word is None else ld.word.name
+        what = "this program computes" if is_program(source) else "compiled without --word, it computes"
         raise VampcUsageError(f"{source}: RTL needs a fixed-point word (--word qI.F, e.g. q16.16); "
-                              f"this program computes in {name}")
+                              f"{what} in {name}")
     if ld.net.bus is not None:
         raise VampcUsageError(f"{source}: the Mostly-Local Bus (--bus mlb) is not rendered in RTL "
                               "yet; compile with the point-to-point wiring (--bus p2p)")
@@ -966,7 +968,7 @@ def _preflight(ld, own, limit: float) -> None:
         steps.append((f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V))
     for what, seconds in steps:
         if seconds > limit:
-            raise VampcError(f"{what} is estimated at {seconds / 60:.0f} minutes, beyond "
+            raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond "
                              f"--max-minutes {limit / 60:g}; give a larger --max-minutes to run it "
                              "anyway")
 
@@ -987,7 +989,7 @@ def _kind_name(kind) -> str:
 def _within(what: str, seconds: float, limit: float, note) -> None:
     """Say what is about to run and its estimate; refuse it beyond --max-minutes."""
     if seconds > limit:
-        raise VampcError(f"{what} is estimated at {seconds / 60:.0f} minutes, beyond --max-minutes "
+        raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond --max-minutes "
                          f"{limit / 60:g}; give a larger --max-minutes to run it anyway")
     if seconds >= 5:
         note(f"vampc rtl: {what} (estimated {_duration(seconds)})")
@@ -1001,7 +1003,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     from vampc import progress
     from vampc.emulator.host import random_trajectory
     from vampc.rtl.cosim import cosimulate
-    ticks = ld.load_ticks + (own.cosim - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 2
+    ticks = ld.load_ticks + (own.cosim - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 1
     _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
             _cosim_estimate(ld, own), limit, note)
     traj = random_trajectory(ld.chain, own.cosim, own.seed)
@@ -1062,7 +1064,8 @@ def _synth(ld, design, own, figures, limit, note) -> None:
 
 def _rtl_text(figures: dict) -> str:
     lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {figures['vamps']} VAMPs, "
-             f"word {figures['word']}"]
+             f"word {figures['word']}",
+             "  VAMP kinds: " + "; ".join(f"{n} × {k}" for k, n in figures["kinds"].items())]
     if "verilog" in figures:
         v = figures["verilog"]
         lines.append(f"  Verilog: {v['file']} ({v['bytes'] / 1e6:.1f} MB, {v['seconds']} s)")

@@ -893,4 +893,4 @@ class RtlOptions:
         if not self.max_minutes > 0:
             raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number")
         if self.output is None and self.cosim is None and self.synth is None:
-            raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5 (README, RTL)")
+            raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)")
