@@ -66,8 +66,9 @@ def test_cosim_bit_equal(robot, layout, word):
 @pytest.mark.parametrize("robot, options", [
     ("planar2", dict(recursion="log")), ("planar2", dict(vamps=6)),
     pytest.param("planar2", dict(layout="folded", recursion="log"), marks=pytest.mark.slow),
-    (random_chain(1, 11), dict(rounding="truncate", overflow="wrap", vamps=2))],
-    ids=["log", "budget6", "folded-log", "truncate-wrap"])
+    (random_chain(1, 11), dict(rounding="truncate", overflow="wrap", vamps=2)),
+    (random_chain(1, 13), dict(mult_latency=2, add_latency=3, vamps=2))],
+    ids=["log", "budget6", "folded-log", "truncate-wrap", "latencies"])
 def test_cosim_log_budget_and_rules(robot, options):
     ld = _loaded(robot, word="q16.16", **options)
     r = _cosim(ld)
