@@ -973,9 +973,13 @@ def _preflight(ld, own, limit: float) -> None:
                              "anyway")
 
 
+def _cosim_ticks(ld, sets: int) -> int:
+    """Ticks a co-simulation of `sets` torque sets runs (vampc.rtl.host.HostRun.ticks)."""
+    return ld.load_ticks + (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 1
+
+
 def _cosim_estimate(ld, own) -> float:
-    V, P = len(ld.net.vamps), ld.period
-    ticks = ld.load_ticks + (own.cosim - 1) * P + max(o.tick for o in ld.net.outputs) + 2
+    V, ticks = len(ld.net.vamps), _cosim_ticks(ld, own.cosim)
     per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
     build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * V
     return build + per_tick * V * ticks
@@ -987,10 +991,8 @@ def _kind_name(kind) -> str:
 
 
 def _within(what: str, seconds: float, limit: float, note) -> None:
-    """Say what is about to run and its estimate; refuse it beyond --max-minutes."""
-    if seconds > limit:
-        raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond --max-minutes "
-                         f"{limit / 60:g}; give a larger --max-minutes to run it anyway")
+    """Say what is about to run and its estimate (_preflight has refused, before any work, every
+    step beyond --max-minutes)."""
     if seconds >= 5:
         note(f"vampc rtl: {what} (estimated {_duration(seconds)})")
 
@@ -1003,7 +1005,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     from vampc import progress
     from vampc.emulator.host import random_trajectory
     from vampc.rtl.cosim import cosimulate
-    ticks = ld.load_ticks + (own.cosim - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 1
+    ticks = _cosim_ticks(ld, own.cosim)
     _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
             _cosim_estimate(ld, own), limit, note)
     traj = random_trajectory(ld.chain, own.cosim, own.seed)

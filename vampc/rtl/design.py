@@ -39,15 +39,15 @@ from amaranth.hdl import (
     Mux,
     Signal,
     signed,
-    unsigned,
 )
 
 from vampc.errors import VampcError
 from vampc.kinds import TapKind, unhandled
 from vampc.machine import ops
 from vampc.machine.arith import Fn, Overflow, Rounding
+from vampc.machine.interp import result_unit
 from vampc.machine.interp import steps as rom_steps
-from vampc.machine.timing import captures  # noqa: F401  (the buffer clock rule rendered below)
+from vampc.machine.timing import captures
 from vampc.program.words import ADDRESS, FIELDS
 
 MULTIPLIERS = 2        # per primitive module (section VII): two multipliers, one adder/subtractor
@@ -96,7 +96,7 @@ class Arith:
 def micro_program():
     """Every micro-step of the ROM as hardware control: a list of (rom, j, per module [(physical
     unit, fn, x, y, target register)]), x and y as ("a"|"b", scalar) or ("u", unit). Physical units
-    0, 1 are the multipliers, 2 the adder/subtractor. ValueError for a step a module cannot run in
+    0, 1 are the multipliers, 2 the adder/subtractor. VampcError for a step a module cannot run in
     one go."""
     out = []
     for r in range(len(ops.ROM)):
@@ -135,14 +135,21 @@ class Vamp(Elaboratable):
     words on operand-A input 0 (Program Mode); `program`, `global_reset`: the control lines."""
 
     def __init__(self, index: int, number: int, slots: int, a_in, b_in, word_in, arith: Arith,
-                 period: int, timing, packing, program, global_reset):
+                 period: int, timing, packing, program, global_reset, result):
         self.index, self.number, self.S = index, number, slots
         self.a_in, self.b_in, self.word_in = a_in, b_in, word_in
         self.arith, self.P, self.timing, self.packing = arith, period, timing, packing
-        self.program, self.global_reset = program, global_reset
-        W = arith.W
-        n = f"v{index}"
-        self.result = [Signal(signed(W), name=f"{n}_result{k}") for k in range(3)]
+        self.program, self.global_reset, self.result = program, global_reset, result
+
+    @staticmethod
+    def of(ld, index: int, a_in, b_in, arith: Arith, program, global_reset, result) -> "Vamp":
+        """VAMP `index` of a loaded program, given its gathered inputs (nine words each): in
+        Program Mode it reads the first three words of operand-A input 0's first tap, which a
+        matrix of three column taps gathers as its scalars 0, 3, 6."""
+        matrix = len(ld.net.vamps[index].a[0].taps) == 3
+        word_in = a_in[0][0::3] if matrix else a_in[0][:3]
+        return Vamp(index, ld.numbers[index], len(ld.programs[index]), a_in, b_in, word_in, arith,
+                    ld.net.period, ld.timing, ld.packing, program, global_reset, result)
 
     def elaborate(self, platform):
         m = Module()
@@ -164,13 +171,13 @@ class Vamp(Elaboratable):
         m.d.comb += c.eq(Mux(self.global_reset, 0, cc))
         m.d.sync += cc.eq(c + 1)
         with m.If(self.program):
-            self._program_mode(m, valid, fields, cb, rb, sab, sbb)
+            self._program_mode(m, valid, fields)
         with m.Else():
             self._data_mode(m, c, valid, fields, op_a, op_b, units, cb)
         return m
 
     # --- Program Mode -------------------------------------------------------------------------
-    def _program_mode(self, m, valid, fields, cb, rb, sab, sbb):
+    def _program_mode(self, m, valid, fields):
         w0, w1, w2 = self.word_in
         m.d.sync += [r.eq(w) for r, w in zip(self.result, self.word_in)]
         shift = int(math.log2(self.packing.field))
@@ -305,7 +312,7 @@ def microcode(timing) -> Microcode:
         ends = timing.step_ends(r)
         for j in range(rom_steps(r)):
             codes[(r << stride_bits) + ends[-1] - ends[j]] = index[(r, j)]
-    result = [ops.TABLE[ops.ROM[r][0]].result for r in range(len(ops.ROM))]
+    result = [result_unit(r) for r in range(len(ops.ROM))]
     result += [0] * (slots - len(result))
 
     def number(src):
@@ -366,7 +373,6 @@ class NetworkDesign(Elaboratable):
                 m.d.sync += [r.eq(data[i * W:(i + 1) * W].as_signed()) for i, r in enumerate(regs)]
             rows[(kind, index)] = regs + [zero] * (9 - size)
         # VAMP Results and buffer stages (three words each)
-        vamps = []
         results = {}
         for v in net.vamps:
             results[v.index] = [Signal(signed(W), name=f"v{v.index}_result{k}") for k in range(3)]
@@ -396,21 +402,15 @@ class NetworkDesign(Elaboratable):
             return r[0][:9]
 
         for v in net.vamps:
-            a_in = [gather(o) for o in v.a]
-            b_in = [gather(o) for o in v.b]
-            word_in = row(v.a[0].taps[0])[:3]
-            vamp = Vamp(v.index, ld.numbers[v.index], len(ld.programs[v.index]), a_in, b_in,
-                        word_in, A, net.period, ld.timing, ld.packing, self.program,
-                        self.global_reset)
-            vamp.result = results[v.index]
-            m.submodules[f"vamp{v.index}"] = vamp
-            vamps.append(vamp)
+            m.submodules[f"vamp{v.index}"] = Vamp.of(
+                ld, v.index, [gather(o) for o in v.a], [gather(o) for o in v.b], A, self.program,
+                self.global_reset, results[v.index])
         # the buffer clock: every tick in Program Mode, at each block's last tick in Data Mode
         cc = Signal(width(net.period), name="buffer_cc")
         c = Mux(self.global_reset, 0, cc)
         m.d.sync += cc.eq(c + 1)
         shift = Signal(name="buffer_clock")
-        ends = [t for t in range(net.period) if (t + 1) % net.clock == 0]
+        ends = [t for t in range(net.period) if captures(t, net.clock)]
         m.d.comb += shift.eq(self.program | _any(c == t for t in ends))
         with m.If(shift):
             for b in net.buffers:
@@ -448,13 +448,9 @@ class VampChip(Elaboratable):
 
         def words(x):
             return [x[i * W:(i + 1) * W].as_signed() for i in range(9)]
-        a_in, b_in = [words(x) for x in self.a_in], [words(x) for x in self.b_in]
-        word_in = a_in[0][0::3] if len(ld.net.vamps[self.index].a[0].taps) == 3 else a_in[0][:3]
-        vamp = Vamp(self.index, ld.numbers[self.index], len(ld.programs[self.index]), a_in, b_in,
-                    word_in, self.arith, ld.net.period, ld.timing, ld.packing, self.program,
-                    self.global_reset)
-        vamp.result = self.result
-        m.submodules.vamp = vamp
+        m.submodules.vamp = Vamp.of(ld, self.index, [words(x) for x in self.a_in],
+                                    [words(x) for x in self.b_in], self.arith, self.program,
+                                    self.global_reset, self.result)
         return m
 
 
@@ -486,5 +482,5 @@ def module_name(robot: str) -> str:
     return name if re.match(r"[A-Za-z_]", name) else f"robot_{name}"
 
 
-__all__ = ["Arith", "NetworkDesign", "Vamp", "micro_program", "module_name", "width",
-           "Cat", "unsigned"]
+__all__ = ["Arith", "NetworkDesign", "Vamp", "VampChip", "kinds", "micro_program", "microcode",
+           "module_name", "width"]
