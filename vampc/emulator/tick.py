@@ -45,7 +45,7 @@ from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
 from vampc.kinds import TapKind, unhandled
 from vampc.machine import interp as rom
-from vampc.machine.timing import captures, step_counter
+from vampc.machine.timing import captures, port_writes, step_counter
 from vampc.program.words import (
     ADDRESS,
     ROM,
@@ -411,11 +411,8 @@ class TickEngine:
     def _write_ports(self, ports, block: int, count: int) -> None:
         K = self.P // self.B
         for p in self.ld.net.ports:
-            for j, e in enumerate(p.entries):
-                since = block - e.block
-                if since % K:
-                    continue
-                row, s = self.port_row[p.index], since // K
+            for j, s in port_writes(p.entries, block, K):
+                row = self.port_row[p.index]
                 self.bus[row, :] = 0
                 if 0 <= s < count:
                     self.bus[row, :p.size] = ports[(p.index, j)][s]

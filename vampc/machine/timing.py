@@ -112,6 +112,16 @@ class PortSchedule:
         return self.order[k][1]
 
 
+def port_writes(entries, block: int, per_period: int):
+    """(entry, torque set) for each entry of a host port written at the start of `block`: entry j
+    (first written at its block, for set 0) is written again every period (`per_period` blocks), for
+    the next set. The set may be outside the run (negative, or past the last set)."""
+    for j, e in enumerate(entries):
+        since = block - e.block
+        if since % per_period == 0:
+            yield j, since // per_period
+
+
 def port_window(block: int, next_block: int, clock: int) -> tuple[int, int]:
     """A port entry written at the start of `block` holds until the port's next entry is written."""
     return (block * clock, next_block * clock)

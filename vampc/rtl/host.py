@@ -15,6 +15,7 @@ import numpy as np
 
 from vampc.emulator.host import port_values
 from vampc.kinds import TapKind, unhandled
+from vampc.machine.timing import port_writes
 
 
 @dataclass
@@ -69,11 +70,7 @@ def host_run(ld, traj, inputs) -> HostRun:
     for t in range(0, last + 1, B):
         block = t // B
         for p in net.ports:
-            for j, e in enumerate(p.entries):
-                since = block - e.block
-                if since % K:
-                    continue
-                s = since // K
+            for j, s in port_writes(p.entries, block, K):
                 write(L + t, where[("port", p.index)], values[(p.index, j)][s] if 0 <= s < count
                       else ())
     for k, o in enumerate(net.outputs):
