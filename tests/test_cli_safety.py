@@ -242,6 +242,28 @@ def test_a_full_disk_leaves_nothing_partial(tmp_path, program, monkeypatch, opti
     assert sorted(p.name for p in tmp_path.iterdir()) == [out.name]
 
 
+@pytest.mark.parametrize("option", ["-o", "--save-states"])
+@pytest.mark.parametrize("which", [".vampc-probe.", ".out.csv."])
+def test_a_signal_landing_just_after_a_temporary_file_is_made_leaves_nothing(tmp_path, program,
+                                                                              monkeypatch, option, which):
+    """SIGTERM between the temporary file's creation and anything after it (the moment a loaded
+    machine once caught: with worker threads running, holding the signal in the main thread did
+    not stop its handler there) still leaves no file: the name is known before the file exists."""
+    from vampc.errors import Terminated
+    real_open = os.open
+
+    def open_then_signal(path, flags, *args, **kwargs):
+        fd = real_open(path, flags, *args, **kwargs)
+        if flags & os.O_CREAT and Path(path).name.startswith(which):
+            raise Terminated(15)                  # as the handler raises it, right after the file is made
+        return fd
+
+    monkeypatch.setattr(os, "open", open_then_signal)
+    res = run("emulate", program, "--random", 3, option, tmp_path / "out.csv")
+    assert res.exit_code == 128 + 15 and "terminated (SIGTERM)" in res.output, res.output
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_the_program_file_keeps_the_permissions_of_the_file_it_replaces(tmp_path):
     out = tmp_path / "p.vamp.json"
     out.write_text("{}")

@@ -20,11 +20,11 @@ Every failure is one `VampcError` line naming the file (disk full included).
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
-import signal
+import secrets
 import stat
 import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Iterator
@@ -117,11 +117,12 @@ def _probe_folder(path: str, folder: Path) -> None:
     if not folder.is_dir():
         raise VampcError(f"{path}: folder {folder} does not exist")
     try:
-        fd, tmp = tempfile.mkstemp(prefix=".vampc-probe.", dir=folder)
+        fd, tmp = _new_temporary(folder / "vampc-probe")
     except OSError as exc:
         raise VampcError(f"{path}: cannot write in folder {folder}: {exc.strerror}") from None
     os.close(fd)
     os.unlink(tmp)
+    _TEMPORARIES.discard(tmp)
 
 
 def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
@@ -151,24 +152,25 @@ def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
 
 
 # Every temporary file an output is being written to, until it is renamed into place or removed:
-# what an interrupted command removes on its way out (discard_all), wherever the signal landed.
+# what an interrupted command removes on its way out (discard_all), wherever the signal landed. A
+# name goes in before its file is made and leaves after the file is renamed or removed, so no
+# file exists that the registry does not name. (Holding the signals around those steps is not
+# enough: with worker threads running, the kernel hands a signal to a thread that does not hold
+# it, and Python then runs the handler in the main thread, inside the held block.)
 _TEMPORARIES: set[str] = set()
-_HELD = (signal.SIGINT, signal.SIGTERM) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
 
 
-@contextlib.contextmanager
-def _signals_held():
-    """Hold Ctrl-C, SIGTERM and SIGHUP (delivered when the block ends): a temporary file is then
-    never made or renamed without the registry knowing."""
-    try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
-    except (AttributeError, ValueError, OSError):      # no pthread_sigmask: nothing to hold
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+def _new_temporary(target: Path) -> tuple[int, str]:
+    """Create a new temporary file beside `target` (mode 0o600) with the name in the registry
+    first; (its descriptor, its name)."""
+    for _ in range(100):
+        name = str(target.parent / f".{target.name}.{secrets.token_hex(8)}.tmp")
+        _TEMPORARIES.add(name)
+        try:
+            return os.open(name, os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o600), name
+        except FileExistsError:
+            _TEMPORARIES.discard(name)            # somebody else's: never removed by discard_all
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(target.parent))
 
 
 def discard_all() -> None:
@@ -192,10 +194,7 @@ class Pending:
             elif out.kind == "stream":
                 self.fh = open(out.target, mode)    # noqa: SIM115 - closed in commit/discard
             else:
-                with _signals_held():        # the name is known before a signal can unwind
-                    fd, self.tmp = tempfile.mkstemp(prefix=f".{out.target.name}.", suffix=".tmp",
-                                                    dir=out.target.parent)
-                    _TEMPORARIES.add(self.tmp)
+                fd, self.tmp = _new_temporary(out.target)
                 self.fh = os.fdopen(fd, mode)
         except OSError as exc:
             raise self.error(exc) from None
@@ -216,10 +215,9 @@ class Pending:
             self.fh.close()
             if self.tmp is not None:
                 os.chmod(self.tmp, _mode_for(self.out.target))
-                with _signals_held():
-                    os.replace(self.tmp, self.out.target)
-                    _TEMPORARIES.discard(self.tmp)
-                    self.tmp = None
+                os.replace(self.tmp, self.out.target)
+                _TEMPORARIES.discard(self.tmp)    # after the rename: a signal between the two finds no file
+                self.tmp = None
         except OSError as exc:
             self.discard()
             raise self.error(exc) from None
