@@ -56,6 +56,14 @@ def test_usage(args, message):
     assert r.exit_code == 2 and message in r.output, r.output
 
 
+def _ctrl_c_as_at_a_terminal():
+    """Ctrl-C's default action in the child, whatever this process has: a test run started as a
+    shell's background job (`pytest &`) ignores SIGINT, the child would inherit that, Python would
+    then leave Ctrl-C ignored (as it should for a background job) and the sweep would run on."""
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_stops_the_workers_at_once(tmp_path):
     """The review found an interrupted sweep running on for 10 s (the pool waited for its queue,
     and each worker took Ctrl-C as one task's failure). Now: exit 130 within a second or so, and
@@ -69,7 +77,8 @@ def test_ctrl_c_stops_the_workers_at_once(tmp_path):
         pytest.skip("needs process groups and /proc")
     proc = subprocess.Popen([sys.executable, "-c", "from vampc.cli import main; main()", "report",
                              "examples/stanford.yaml", "--mult-latency", "3", "--tradeoff", "--workers", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
+                            preexec_fn=_ctrl_c_as_at_a_terminal)
     time.sleep(3)
     sent = time.perf_counter()
     os.killpg(proc.pid, signal.SIGINT)                  # as a terminal's Ctrl-C does
