@@ -75,11 +75,15 @@ def test_cosim_log_budget_and_rules(robot, options):
     assert r.ok, r.first_mismatch()
 
 
+# Folded networks of 1-4 joints are 30-36 VAMPs; systolic ones grow by about 30 VAMPs a joint (124
+# at n = 4, 10-20 s to elaborate here), so random systolic chains stop at 2 joints: every op and
+# slot kind is already in them, and planar2/Puma systolic run above and under -m slow.
 @settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(n=st.integers(1, 4), seed=st.integers(0, 10**6),
-       layout=st.sampled_from(["systolic", "folded"]),
-       word=st.sampled_from(["q16.16", "q12.20", "q20.12"]))
-def test_random_small_chains(n, seed, layout, word):
+@given(shape=st.one_of(st.tuples(st.just("folded"), st.integers(1, 4)),
+                       st.tuples(st.just("systolic"), st.integers(1, 2))),
+       seed=st.integers(0, 10**6), word=st.sampled_from(["q16.16", "q12.20", "q20.12"]))
+def test_random_small_chains(shape, seed, word):
+    layout, n = shape
     chain = random_chain(n, seed, prismatic_fraction=0.3)
     ld = _loaded(chain, layout=layout, word=word)
     r = _cosim(ld, sets=2, seed=seed)
