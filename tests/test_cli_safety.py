@@ -264,6 +264,36 @@ def test_a_signal_landing_just_after_a_temporary_file_is_made_leaves_nothing(tmp
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")   # the swallowing itself
+@pytest.mark.parametrize("where", ["file", "stdout"])
+def test_a_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path, monkeypatch, where):
+    """Ctrl-C's KeyboardInterrupt raised inside a __del__ (the garbage collector runs them anywhere)
+    is printed and dropped by Python; vampc remembers the signal, so nothing is put in place or
+    printed, and the exit is the interrupt's (a sweep once ran to the end and exited 0 after a
+    Ctrl-C on a loaded machine)."""
+    import signal
+
+    import vampc.compiler
+    from vampc import errors
+    monkeypatch.setattr(errors, "_terminated", [])
+
+    class Finaliser:
+        def __del__(self):
+            errors.interrupt(signal.SIGINT)        # what the handler does, landing in a finaliser
+
+    real = vampc.compiler.program_text
+
+    def program_text(c):
+        Finaliser()                                # made and dropped: its __del__ runs here
+        return real(c)
+
+    monkeypatch.setattr(vampc.compiler, "program_text", program_text)
+    out = tmp_path / "p.vamp.json"
+    res = run("compile", PLANAR, "-o", "-" if where == "stdout" else out)
+    assert res.exit_code == 130 and "vampc: interrupted" in res.output, res.output
+    assert '"format"' not in res.output and list(tmp_path.iterdir()) == []
+
+
 def test_the_program_file_keeps_the_permissions_of_the_file_it_replaces(tmp_path):
     out = tmp_path / "p.vamp.json"
     out.write_text("{}")

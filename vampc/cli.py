@@ -21,6 +21,7 @@ from vampc.errors import (
     VampcError,
     VampcUsageError,
     VampcWarning,
+    raise_if_terminated,
     terminate_like_interrupt,
 )
 from vampc.options import (
@@ -79,7 +80,9 @@ def _show_warning(message, category, *rest):
 
 def say(text: str, err: bool = False, nl: bool = True) -> None:
     """Print a command's text (to stderr when stdout carries data); a stream that cannot take it
-    (a reader gone, a full disk) is the command's one-line error."""
+    (a reader gone, a full disk) is the command's one-line error. A Ctrl-C or signal whose
+    exception was swallowed on the way (in a finaliser) is raised again first."""
+    raise_if_terminated()
     try:
         click.echo(text, err=err, nl=nl)
     except OSError as exc:

@@ -44,7 +44,9 @@ class Terminated(KeyboardInterrupt):
 
 
 # The signal received, kept beside the exception its handler raises: an exception raised inside
-# an import or a finaliser can be swallowed there, so long loops also ask (raise_if_terminated).
+# an import or a finaliser (a weakref callback, a __del__ run by the garbage collector) is printed
+# and swallowed there, so long loops, and every output before it is put in place, also ask
+# (raise_if_terminated).
 _terminated: list[int] = []
 
 
@@ -55,27 +57,43 @@ def terminate(signum: int):
     raise Terminated(signum)
 
 
+def interrupt(signum: int):
+    """The Ctrl-C (SIGINT) handler's work: remember it, raise KeyboardInterrupt as Python's own
+    handler does."""
+    if not _terminated:
+        _terminated.append(signum)
+    raise KeyboardInterrupt
+
+
 def raise_if_terminated() -> None:
-    """Raise Terminated again if a termination signal came and its exception was lost."""
+    """Raise again what a termination signal or Ctrl-C raised, if it came and its exception was
+    lost."""
     if _terminated:
+        import signal
+        if _terminated[0] == signal.SIGINT:
+            raise KeyboardInterrupt
         raise Terminated(_terminated[0])
 
 
 def terminate_like_interrupt():
-    """Make SIGTERM and SIGHUP end a command as an interrupt does (`terminate`): install the
-    handlers (in the main thread only: Python allows no other) and return what puts the previous
-    ones back."""
+    """Make SIGTERM and SIGHUP end a command as an interrupt does (`terminate`), and remember a
+    Ctrl-C (`interrupt`) where Python's own handler is in place: install the handlers (in the main
+    thread only: Python allows no other) and return what puts the previous ones back."""
     import signal
     import threading
     if threading.current_thread() is not threading.main_thread():
         return lambda: None
     def handler(signum, frame):
         terminate(signum)
+    def ctrl_c(signum, frame):
+        interrupt(signum)
     previous = {}
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
             sig = getattr(signal, name)
             previous[sig] = signal.signal(sig, handler)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        previous[signal.SIGINT] = signal.signal(signal.SIGINT, ctrl_c)
     def restore():
         for sig, old in previous.items():
             signal.signal(sig, old)

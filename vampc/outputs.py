@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Iterator
 
-from vampc.errors import VampcError
+from vampc.errors import VampcError, raise_if_terminated
 
 STDOUT = "-"
 
@@ -187,6 +187,7 @@ class Pending:
 
     def __init__(self, out: PlannedOutput, what: str, binary: bool):
         self.out, self.what, self.tmp = out, what, None
+        raise_if_terminated()              # an interrupt swallowed on the way: nothing begun
         mode = "wb" if binary else "w"
         try:
             if out.kind == "stdout":
@@ -213,6 +214,7 @@ class Pending:
                 self.fh.flush()
                 return
             self.fh.close()
+            raise_if_terminated()          # an interrupt swallowed on the way: not put in place
             if self.tmp is not None:
                 os.chmod(self.tmp, _mode_for(self.out.target))
                 os.replace(self.tmp, self.out.target)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 
-from vampc.errors import VampcError
+from vampc.errors import VampcError, raise_if_terminated
 
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 _CONTEXT = None                 # a forked worker's (task, context)
@@ -52,6 +52,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
     if workers <= 1 or len(items) <= 1 or not hasattr(os, "fork") or \
             multiprocessing.current_process().daemon:
         for i, item in enumerate(items):
+            raise_if_terminated()
             done(i, task(context, item))
             if progress is not None:
                 progress(i + 1, len(items))
@@ -61,17 +62,47 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
                                mp_context=multiprocessing.get_context("fork"),
                                initializer=_worker_start, initargs=(task, context))
     try:
-        futures = {pool.submit(_worker_task, item): i for i, item in enumerate(items)}
+        with _ctrl_c_held():       # the workers are forked here: none takes Ctrl-C before it ignores it
+            futures = {pool.submit(_worker_task, item): i for i, item in enumerate(items)}
         for n, future in enumerate(as_completed(futures), 1):
+            raise_if_terminated()      # a Ctrl-C its exception lost in a finaliser still stops
             done(futures[future], future.result())
             if progress is not None:
                 progress(n, len(items))
+        raise_if_terminated()
     except BaseException:
+        manager = getattr(pool, "_executor_manager_thread", None)
         for proc in list(getattr(pool, "_processes", {}).values()):     # do not wait for the queue
             proc.kill()
         pool.shutdown(wait=False, cancel_futures=True)
+        if manager is not None:
+            # The pool's thread sees its workers gone and closes its pipes, at once. Let it finish:
+            # at exit, Python's own hook writes to one of those pipes without the pool's lock, and
+            # a write racing the close printed "OSError: [Errno 9] Bad file descriptor" under a
+            # Ctrl-C (1 run in about 50 on a loaded machine).
+            manager.join(timeout=5)
         raise
     pool.shutdown()
+
+
+class _ctrl_c_held:
+    """Block Ctrl-C in this thread while the workers are forked: a forked worker starts with it
+    blocked (a Ctrl-C then waits, instead of raising in a worker that has not yet set it aside)
+    and unblocks it once it ignores it (_worker_start). Threads started meanwhile (the pool's) keep
+    it blocked, so it always reaches this one; one that comes during the block is delivered at its
+    end."""
+
+    def __enter__(self):
+        import signal
+        try:
+            self.old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        except (AttributeError, ValueError, OSError):
+            self.old = None
+
+    def __exit__(self, *exc):
+        import signal
+        if self.old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self.old)
 
 
 def _worker_start(task, context) -> None:
@@ -81,6 +112,8 @@ def _worker_start(task, context) -> None:
     global _CONTEXT
     _CONTEXT = (task, context)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):   # forked with it blocked (_ctrl_c_held): ignored now
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
