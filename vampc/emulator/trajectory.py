@@ -126,16 +126,18 @@ def _plain_header(head: str, n: int, floating: bool = False):
 
 
 def _read_csv_native(raw: bytes, n: int, floating: bool = False):
-    """vampc.emulator.native.parse_csv (strict decimal cells, strtod) on the bytes after the header."""
-    head, _, body = raw.partition(b"\n")
+    """vampc.emulator.native.parse_csv (strict decimal cells, Eisel-Lemire then strtod) on the bytes after
+    the header, read in place."""
+    end = raw.find(b"\n")                 # the body is read in place: no copy of a big file
+    end = len(raw) if end < 0 else end
     try:
-        has_t = _plain_header(head.decode("ascii"), n, floating)
+        has_t = _plain_header(raw[:end].decode("ascii"), n, floating)
     except UnicodeDecodeError:
         return None
     if has_t is None:
         return None
     from vampc.emulator.native import parse_csv
-    data = parse_csv(body, len(header(n, floating)) + has_t)
+    data = parse_csv(raw, len(header(n, floating)) + has_t, start=min(end + 1, len(raw)))
     if data is None:
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
