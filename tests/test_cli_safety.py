@@ -770,3 +770,22 @@ def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     res = run("compile", *args, "-o", tmp_path / "x.vamp.json")
     assert res.exit_code == 2 and message in res.stderr, res.stderr
     assert len(res.stderr.splitlines()) == 1 and not (tmp_path / "x.vamp.json").exists()
+
+
+def test_a_ctrl_c_while_the_command_line_is_imported_is_one_line(monkeypatch, capsys):
+    """The console script (vampc.launch) catches a Ctrl-C that lands while vampc.cli and its
+    imports load: `vampc: interrupted`, exit 130, no traceback."""
+    import builtins
+
+    from vampc import launch
+    real = builtins.__import__
+
+    def interrupted(name, *args, **kwargs):
+        if name == "vampc.cli":
+            raise KeyboardInterrupt
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", interrupted)
+    with pytest.raises(SystemExit) as exit_:
+        launch.main()
+    assert exit_.value.code == 130 and capsys.readouterr().err == "vampc: interrupted\n"
