@@ -343,12 +343,21 @@ def test_every_path_reads_the_same(tmp_path, monkeypatch, mode, newline):
     ("1,2,3,4,5,6\n\n1,2,3,4,5,6\n", r"line 3: 0 columns, expected 6$"),
     ("1,2,3,4,5,6\n1,2,3\n", r"line 3: 3 columns, expected 6$"),
     ("1,2,3,4,x,6\n", r"line 2, column qdd1: 'x' is not a number$"),
-    ("1,2,3,4,nan,6\n", r"state 1, column 5: nan is not finite$"),
+    ("1,2,3,4,nan,6\n", r"line 2 \(state 1\), column qdd1: nan is not finite$"),
+    ("1,2,3,inf,5,6\n", r"line 2 \(state 1\), column qd2: inf is not finite$"),
     ("", r"the trajectory has no states$"),
 ])
 def test_errors_name_the_line_whatever_path(tmp_path, body, message):
     with pytest.raises(VampcError, match=r"^.*traj\.csv: " + message):
         read(_traj_file(tmp_path, body), 2)
+
+
+def test_a_npy_state_that_is_not_finite_is_named_by_state_and_column(tmp_path):
+    data = np.zeros((3, 7))
+    data[2, 4] = np.nan                                  # t, q1, q2, qd1, qd2: qd2 of state 3
+    np.save(tmp_path / "traj.npy", data)
+    with pytest.raises(VampcError, match=r"traj\.npy: state 3, column qd2: nan is not finite$"):
+        read(tmp_path / "traj.npy", 2)
 
 
 def test_quoted_cells_still_read_and_underscored_ones_are_refused(tmp_path):

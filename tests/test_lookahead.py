@@ -110,7 +110,10 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
-    (None, ["--no-limits"], r"joint 'waist' has no effort limit \(and 5 more\); give --limits FILE", 1),
+    (None, ["--no-limits"], r"puma\.vamp\.json: joint 'waist' has no effort limit \(and 5 more\); give "
+     r"--limits FILE", 1),       # named by the program file given, not the robot it was compiled from
+    (None, ["--retime", "uniform", "-o", "r.npy"], r"-o writes CSV .*: give a \.csv file name", 2),
+    (None, ["--torques", "t.npy"], r"--torques writes CSV .*: give a \.csv file name", 2),
 ])
 def test_bad_input_is_one_line(setup, edit, args, message, code):
     folder, program, limits, _ = setup

@@ -655,7 +655,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
     times = la.check_path(traj, rate, source_path)
     la.check_window(own.window, traj)
-    limits = la.limits_of(ld.chain, own.limits)
+    limits = la.limits_of(ld.chain, own.limits, source)
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
     need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent

@@ -4,8 +4,8 @@ there, and Hollerbach's uniform time scaling (`vampc lookahead`).
 The register has `window` rows. Each row holds one set of inputs (q, q̇, q̈ at time jλ, λ = 1/rate)
 wired through the compiled network to its torques. Before motion starts the host fills it with rows
 0..window-1; every λ the bottom row goes to the motors and the host writes the next row at the top,
-so row r enters the register at step max(0, r - window + 1) and is seen min(r, window - 1) steps
-before it reaches the motors. The network computes every row's torques as `vampc emulate` does (the
+so row r (from 0; the output counts from 1) enters the register at step max(0, r - window + 1) and
+is seen min(r, window - 1) steps before it reaches the motors. The network computes every row's torques as `vampc emulate` does (the
 stream engine, the same bits). With a clock (`--clock`) the command says whether the network keeps
 up: one new row per λ, and with `--retime uniform` its gravity pass too, against one set per
 interval of the program.
@@ -93,16 +93,18 @@ class Lookahead:
     ahead_rows: int = 0               # rows the host sees with --retime window
 
 
-def limits_of(chain, path: str | None) -> Limits:
+def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     """The robot's limits, or those of a --limits CSV file (header joint,tau,qd; a joint's row may
-    leave qd empty). Every joint needs an effort limit (VampcError naming the first that lacks one)."""
+    leave qd empty). Every joint needs an effort limit (VampcError naming the first that lacks one,
+    and the file it was looked for in: --limits FILE, else `source`, the robot or program file the
+    command was given)."""
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
     if path is not None:
         tau, qd = _read_limits(path, chain, tau, qd)
     missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
     if missing:
-        where = path or chain.source or chain.name
+        where = path or source or chain.source or chain.name
         raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
                          + "; give --limits FILE (README, vampc lookahead)")
@@ -178,7 +180,7 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0):
         raise VampcError(f"{path}: not a table of numbers ({' '.join(str(exc).split())[:120]})") from None
     if data.shape[1] != n + has_t or not len(data):
         raise VampcError(f"{path}: expected {n + has_t} columns in every row")
-    _check_finite(path, data)
+    _check_finite(path, data, (['t'] if has_t else []) + want)
     qdd = data[:, has_t:]
     q, qd = integrate(qdd, q0, qd0, rate)
     return Trajectory(q, qd, qdd, data[:, 0] if has_t else None, None)

@@ -52,10 +52,11 @@ def read(path, n: int, floating: bool = False):
             data, t = _read_csv(path, n, floating)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
-    _check_finite(path, data)
+    line = 2 if suffix not in (".npy", ".npz") else None       # a CSV's states start on line 2
+    _check_finite(path, data, header(n, floating), line)
     if t is not None:
         t = np.asarray(t, dtype=float)
-        _check_finite(path, t[:, None], "t")
+        _check_finite(path, t[:, None], ["t"], line)
     base = data[:, 3 * n:].copy() if floating else None
     return Trajectory(data[:, :n].copy(), data[:, n:2 * n].copy(), data[:, 2 * n:3 * n].copy(), t, base)
 
@@ -282,12 +283,16 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
     return np.asarray(arr, dtype=float)
 
 
-def _check_finite(path, data: np.ndarray, column: str | None = None) -> None:
+def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
+                  first_line: int | None = None) -> None:
+    """VampcError naming the first state (from 1; with its line where the states start on
+    `first_line` of a text file) and column (by name where given) that is not finite."""
     bad = ~np.isfinite(data)
     if bad.any():
         r, c = (int(x) for x in np.argwhere(bad)[0])
-        raise VampcError(f"{path}: state {r + 1}, column {column or c + 1}: {data[r, c]} is not "
-                         "finite")
+        column = columns[c] if columns is not None and c < len(columns) else c + 1
+        where = f"state {r + 1}" if first_line is None else f"line {r + first_line} (state {r + 1})"
+        raise VampcError(f"{path}: {where}, column {column}: {data[r, c]} is not finite")
 
 
 def torque_columns(names, floating: bool = False) -> list[str]:
