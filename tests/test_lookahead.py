@@ -203,6 +203,7 @@ def test_the_plot_has_a_panel_per_joint_with_its_limits_and_one_of_the_speed(set
     text = out.read_text()
     assert "retimed, uniform (k = 1.75)" in text and "waist" in text and "flange" in text
     assert "speed ṡ" in text
+    assert text.count("(N·m)") == 6 and "or N" not in text     # the Puma's six revolute joints
 
 
 def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path):

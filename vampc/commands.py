@@ -705,7 +705,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         from vampc.outputs import write_output
         write_output(outs["--plot"], la.plot_svg([j.name for j in ld.chain.joints], times, res, limits,
                                                  f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                                 f"window {own.window}"), "plot")
+                                                 f"window {own.window}",
+                                                 ["N" if j.type.sigma == 0 else "N·m"
+                                                  for j in ld.chain.joints]), "plot")
     return ok
 
 

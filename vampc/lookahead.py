@@ -382,9 +382,11 @@ def ahead(row: int, window: int) -> tuple[int, int]:
     return max(0, row - window + 1), min(row, window - 1)
 
 
-def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, title: str,
+             units: list | None = None) -> str:
     """Per joint, torque over time against ±its limit: the path as given, and the retimed one (its
-    own time axis) when there is one, with a last panel of the speed ṡ over time. SVG text."""
+    own time axis) when there is one, with a last panel of the speed ṡ over time. SVG text.
+    `units`: each joint's torque unit (N·m for a revolute joint, N for a prismatic one)."""
     import io
 
     import matplotlib
@@ -403,7 +405,7 @@ def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, tit
             ax.plot(new_t, res.retimed_tau[:, j], lw=1, color="tab:blue", label=f"retimed, {label}")
         for sign in (1, -1):
             ax.axhline(sign * limits.tau[j], color="black", lw=0.8, ls="--")
-        ax.set_ylabel(f"{names[j]}\n(N·m or N)", fontsize=8)
+        ax.set_ylabel(f"{names[j]}\n({units[j] if units else 'N·m or N'})", fontsize=8)
         ax.tick_params(labelsize=7)
     if res.retimed is not None:
         ax = axes[n, 0]
