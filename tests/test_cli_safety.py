@@ -772,6 +772,32 @@ def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     assert len(res.stderr.splitlines()) == 1 and not (tmp_path / "x.vamp.json").exists()
 
 
+def test_a_ctrl_c_ends_its_own_command_only(tmp_path, monkeypatch):
+    """The remembered Ctrl-C is forgotten when its command ends: the next command in the same
+    process (a notebook, a test runner) runs (it exited 130 at its first output, having done
+    nothing)."""
+    import signal
+
+    import vampc.compiler
+    from vampc import errors
+    monkeypatch.setattr(errors, "_terminated", [])        # a failure here must not reach other tests
+    real = vampc.compiler.program_text
+
+    def interrupted(c):
+        try:
+            errors.interrupt(signal.SIGINT)                 # the handler's work, its exception lost
+        except KeyboardInterrupt:
+            pass
+        return real(c)
+
+    monkeypatch.setattr(vampc.compiler, "program_text", interrupted)
+    assert run("compile", PLANAR, "-o", tmp_path / "a.vamp.json").exit_code == 130
+    monkeypatch.setattr(vampc.compiler, "program_text", real)
+    res = run("compile", PLANAR, "-o", tmp_path / "b.vamp.json")
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.vamp.json"]
+
+
 def test_a_ctrl_c_while_the_command_line_is_imported_is_one_line(monkeypatch, capsys):
     """The console script (vampc.launch) catches a Ctrl-C that lands while vampc.cli and its
     imports load: `vampc: interrupted`, exit 130, no traceback."""

@@ -46,7 +46,9 @@ def handle_errors(f):
             with warnings.catch_warnings():
                 warnings.simplefilter("always", VampcWarning)
                 warnings.showwarning = _show_warning
-                return f(*args, **kwargs)
+                done = f(*args, **kwargs)
+                raise_if_terminated()          # a Ctrl-C swallowed after the last output
+                return done
         except VampcUsageError as exc:
             raise click.UsageError(str(exc)) from None
         except VampcError as exc:

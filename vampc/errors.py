@@ -97,4 +97,5 @@ def terminate_like_interrupt():
     def restore():
         for sig, old in previous.items():
             signal.signal(sig, old)
+        _terminated.clear()          # a signal belongs to the command it ended, not to the next one
     return restore

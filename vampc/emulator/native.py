@@ -359,8 +359,13 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
   return 1;
 }
 
-/* The cell [p, stop), already checked to be [+-]d[.d][(e|E)[+-]d], as a double if Eisel-Lemire
-   decides it; 0 leaves it to strtod. */
+#endif
+
+/* The cell [p, stop), already checked to be [+-]d[.d][(e|E)[+-]d]: 1 with *x its double where
+   Eisel-Lemire decides it; 0 where strtod is to (at most 19 significant digits, and an undecided
+   case or an exponent beyond 100000); -1 for more than 19 significant digits, which this reader
+   refuses (parse_csv's caller then converts the table with Python's own, correctly rounded,
+   conversion: glibc's strtod misrounds some decimals of hundreds of digits). */
 static int fast_decimal(const char *p, const char *stop, double *x) {
   unsigned long long man = 0;
   long e10 = 0, ex = 0;
@@ -368,14 +373,14 @@ static int fast_decimal(const char *p, const char *stop, double *x) {
   if (*p == '+' || *p == '-') { neg = *p == '-'; p++; }
   for (; p < stop && *p >= '0' && *p <= '9'; p++) {
     if (man == 0 && *p == '0') continue;                /* leading zeros */
-    if (nd == 19) return 0;                             /* more digits than 64 bits hold */
+    if (nd == 19) return -1;                            /* more digits than 64 bits hold */
     man = man * 10 + (unsigned long long)(*p - '0');
     nd++;
   }
   if (p < stop && *p == '.') {
     for (p++; p < stop && *p >= '0' && *p <= '9'; p++) {
       if (man == 0 && *p == '0') { e10--; continue; }
-      if (nd == 19) return 0;
+      if (nd == 19) return -1;
       man = man * 10 + (unsigned long long)(*p - '0');
       nd++;
       e10--;
@@ -385,14 +390,17 @@ static int fast_decimal(const char *p, const char *stop, double *x) {
     p++;
     if (*p == '+' || *p == '-') { eneg = *p == '-'; p++; }
     for (; p < stop; p++) {
-      if (ex < 100000) ex = ex * 10 + (*p - '0');
+      ex = ex * 10 + (*p - '0');
+      if (ex > 100000) return 0;                        /* strtod: 0, inf or what the zeros leave */
     }
   }
+#ifdef __SIZEOF_INT128__
   return eisel_lemire(man, e10 + (eneg ? -ex : ex), neg, x);
-}
 #else
-static int fast_decimal(const char *p, const char *stop, double *x) { return 0; }
+  (void)x;
+  return 0;
 #endif
+}
 
 static int digits(const char **p, const char *end) {
   const char *start = *p;
@@ -420,7 +428,8 @@ static int cell(const char *p, const char *end, double *x) {
   }
   stop = p;
   if (stop != end) return 0;
-  if (fast_decimal(num, stop, x)) return 1;
+  mant = fast_decimal(num, stop, x);
+  if (mant != 0) return mant > 0;
   *x = strtod(num, &got);
   return got == stop;
 }
@@ -506,9 +515,10 @@ def _csv_function(name: str, argtypes: tuple):
 def parse_csv(body: bytes, cols: int, start: int = 0):
     """The rows of a trajectory CSV from byte `start` of `body` (the line after its header) as an
     array (rows, cols), or None if they are not a plain table of decimal numbers, or if the native
-    path is off or unavailable (the caller then parses them otherwise). Eisel-Lemire, glibc's strtod
-    where it cannot decide, and Python's float() all round correctly, so each value is the one
-    float() gives (tested on 300 000 cells of every form against float(), bit for bit)."""
+    path is off or unavailable (the caller then parses them otherwise). A cell of more than 19
+    significant digits is refused too (glibc's strtod misrounds some decimals of hundreds of
+    digits); up to 19, Eisel-Lemire, and strtod where it cannot decide, round correctly as
+    Python's float() does (tested against float(), bit for bit, on cells of every form)."""
     fn = _csv_function("parse_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long,
                                      ctypes.c_void_p))
     if fn is None:
