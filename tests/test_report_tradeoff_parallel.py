@@ -101,3 +101,42 @@ def test_ctrl_c_stops_the_workers_at_once(tmp_path):
 def test_an_empty_scheduler_address_is_a_usage_error():
     r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler", ""])
     assert r.exit_code == 2 and "--scheduler: give the scheduler's address" in r.output
+
+
+def _square(context, item):
+    return item * item
+
+
+def test_a_ctrl_c_while_the_workers_are_forked_waits_until_the_pool_knows_them(monkeypatch):
+    """Ctrl-C's handler running in the middle of the submissions (where the workers are forked)
+    only records it; the interrupt is raised once every submission is made, so the kill that
+    follows reaches every worker, and none is left."""
+    import multiprocessing
+    import signal
+    import time
+    from concurrent.futures import ProcessPoolExecutor
+
+    from vampc import errors, parallel
+    monkeypatch.setattr(errors, "_terminated", [])
+    made = []
+    real = ProcessPoolExecutor.submit
+
+    def submit(self, *args, **kwargs):
+        future = real(self, *args, **kwargs)
+        made.append(future)
+        if len(made) == 1:                                  # the workers are forked by now
+            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)      # Ctrl-C's handler runs here
+        return future
+
+    monkeypatch.setattr(ProcessPoolExecutor, "submit", submit)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)   # as at a terminal
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            parallel.run_tasks(_square, None, list(range(8)), lambda i, r: None, workers=2)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert len(made) == 8                                   # raised after the last submission
+    deadline = time.time() + 10
+    while multiprocessing.active_children() and time.time() < deadline:
+        time.sleep(0.05)
+    assert not multiprocessing.active_children()

@@ -50,18 +50,22 @@ class Terminated(KeyboardInterrupt):
 _terminated: list[int] = []
 
 
-def terminate(signum: int):
-    """The SIGTERM/SIGHUP handler's work: remember the signal, raise Terminated."""
+def remember(signum: int) -> None:
+    """Keep the first termination signal or Ctrl-C of this command (raise_if_terminated raises it)."""
     if not _terminated:
         _terminated.append(signum)
+
+
+def terminate(signum: int):
+    """The SIGTERM/SIGHUP handler's work: remember the signal, raise Terminated."""
+    remember(signum)
     raise Terminated(signum)
 
 
 def interrupt(signum: int):
     """The Ctrl-C (SIGINT) handler's work: remember it, raise KeyboardInterrupt as Python's own
     handler does."""
-    if not _terminated:
-        _terminated.append(signum)
+    remember(signum)
     raise KeyboardInterrupt
 
 

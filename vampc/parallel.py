@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 
-from vampc.errors import VampcError, raise_if_terminated
+from vampc.errors import VampcError, raise_if_terminated, remember
 
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 _CONTEXT = None                 # a forked worker's (task, context)
@@ -86,11 +86,17 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
 
 
 class _ctrl_c_held:
-    """Block Ctrl-C in this thread while the workers are forked: a forked worker starts with it
-    blocked (a Ctrl-C then waits, instead of raising in a worker that has not yet set it aside)
-    and unblocks it once it ignores it (_worker_start). Threads started meanwhile (the pool's) keep
-    it blocked, so it always reaches this one; one that comes during the block is delivered at its
-    end."""
+    """Ctrl-C held while the workers are forked, in two ways.
+
+    - Blocked in this thread: a forked worker starts with it blocked (a Ctrl-C to the process
+      group then waits, instead of raising in a worker that has not yet set it aside) and unblocks
+      it once it ignores it (_worker_start).
+    - Deferred here: the kernel may still hand it to another thread (NumPy's BLAS threads do not
+      block it), and Python then runs its handler in this thread, which could land between a
+      worker's fork and the pool's note of it, leaving that worker out of the kill. So the handler
+      only records it (vampc.errors.remember) until the pool knows every worker, and the
+      block's end raises it.
+    """
 
     def __enter__(self):
         import signal
@@ -98,11 +104,26 @@ class _ctrl_c_held:
             self.old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         except (AttributeError, ValueError, OSError):
             self.old = None
+        self.handler = None
+        try:
+            current = signal.getsignal(signal.SIGINT)
+            if callable(current):            # not ignored (a background job), not the default
+                self.handler = signal.signal(signal.SIGINT, _record_ctrl_c)
+        except ValueError:                   # not the main thread: Python runs no handler here
+            pass
 
-    def __exit__(self, *exc):
+    def __exit__(self, kind, value, tb):
         import signal
+        if self.handler is not None:
+            signal.signal(signal.SIGINT, self.handler)
         if self.old is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, self.old)
+        if kind is None:
+            raise_if_terminated()            # a Ctrl-C that came meanwhile, now that all is known
+
+
+def _record_ctrl_c(signum, frame) -> None:
+    remember(signum)
 
 
 def _worker_start(task, context) -> None:
