@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 
-from vampc.errors import VampcError, raise_if_terminated, remember
+from vampc.errors import VampcError, raise_if_terminated
 
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 _CONTEXT = None                 # a forked worker's (task, context)
@@ -93,9 +93,9 @@ class _ctrl_c_held:
       it once it ignores it (_worker_start).
     - Deferred here: the kernel may still hand it to another thread (NumPy's BLAS threads do not
       block it), and Python then runs its handler in this thread, which could land between a
-      worker's fork and the pool's note of it, leaving that worker out of the kill. So the handler
-      only records it (vampc.errors.remember) until the pool knows every worker, and the
-      block's end raises it.
+      worker's fork and the pool's note of it, leaving that worker out of the kill. So a handler
+      that only notes it stands in until the pool knows every worker, and the block's end raises
+      it (as KeyboardInterrupt; nothing of it is kept beyond the block).
     """
 
     def __enter__(self):
@@ -104,11 +104,13 @@ class _ctrl_c_held:
             self.old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         except (AttributeError, ValueError, OSError):
             self.old = None
-        self.handler = None
+        self.handler, self.caught = None, False
+
+        def note(signum, frame):
+            self.caught = True
         try:
-            current = signal.getsignal(signal.SIGINT)
-            if callable(current):            # not ignored (a background job), not the default
-                self.handler = signal.signal(signal.SIGINT, _record_ctrl_c)
+            if callable(signal.getsignal(signal.SIGINT)):     # not ignored (a background job)
+                self.handler = signal.signal(signal.SIGINT, note)
         except ValueError:                   # not the main thread: Python runs no handler here
             pass
 
@@ -118,12 +120,8 @@ class _ctrl_c_held:
             signal.signal(signal.SIGINT, self.handler)
         if self.old is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, self.old)
-        if kind is None:
-            raise_if_terminated()            # a Ctrl-C that came meanwhile, now that all is known
-
-
-def _record_ctrl_c(signum, frame) -> None:
-    remember(signum)
+        if kind is None and self.caught:
+            raise KeyboardInterrupt           # the Ctrl-C that came meanwhile, now that all is known
 
 
 def _worker_start(task, context) -> None:
