@@ -193,6 +193,16 @@ def test_tradeoff_json_and_csv():
                                                                       "csv"]).stdout)))
     assert len(table) == len(rows) and table[0]["layout"] == rows[0]["layout"]
     assert {k: str(v) for k, v in rows[0].items()} == table[0]
+    # Markdown (it printed the text table before): a row per point, its figures the JSON's
+    md = CliRunner().invoke(main, [*args, "--format", "markdown"]).stdout.splitlines()
+    body = [line.split("|")[1:-1] for line in md if line.startswith("| ") and "layout" not in line]
+    assert len(body) == len(rows)
+    for cells, r in zip(body, rows):
+        cells = [c.strip() for c in cells]
+        assert cells[1] == r["layout"] and int(cells[2]) == r["vamps"]
+        assert int(cells[3]) == r["latency_flops"] and int(cells[6]) == r["interval_flops"]
+        assert cells[0] == ("L" if r["pareto_latency"] else "") + ("I" if r["pareto_interval"] else "") + \
+            ("\\*" if r["pareto"] else "")
 
 
 def test_csv_without_tradeoff_and_budget_options_with_tradeoff_are_usage_errors():

@@ -517,6 +517,8 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     if own.fmt == "json":
         return jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
                            "points": rows}, indent=1) + "\n"
+    if own.fmt == "markdown":
+        return tr.render_markdown(rows)
     return tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
 
 

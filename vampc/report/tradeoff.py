@@ -145,6 +145,25 @@ def render_csv(rows: list[dict]) -> str:
     return out.getvalue()
 
 
+def render_markdown(rows: list[dict]) -> str:
+    """The table of render_text as Markdown, for a design review: the same columns and marks."""
+    fronts = [sum(r[k] for r in rows) for k in FRONTS]
+    lines = [f"**Trade-off** (flops): L on the latency-VAMP front ({fronts[1]} of {len(rows)} points), I on "
+             f"the interval-VAMP front ({fronts[2]}), * Pareto-optimal in VAMPs, latency, interval and "
+             f"buffer stages ({fronts[0]})", "",
+             "| front | layout | VAMPs | latency | bound | gap | interval | bound | gap | buffers | "
+             "ctrl regs | mux in | host wr |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        mark = ("L" if r["pareto_latency"] else "") + ("I" if r["pareto_interval"] else "") + \
+            ("\\*" if r["pareto"] else "")
+        lines.append(f"| {mark} | {r['layout']} | {r['vamps']} | {r['latency_flops']} | {r['latency_bound']} | "
+                     f"{r['latency_gap_pct']}% | {r['interval_flops']} | {r['interval_bound']} | "
+                     f"{r['interval_gap_pct']}% | {r['buffer_stages']} | {r['control_registers']} | "
+                     f"{r['mux_inputs']} | {r['host_writes_per_set']} |")
+    return "\n".join(lines) + "\n"
+
+
 def render_text(rows: list[dict]) -> str:
     """An aligned table; the fronts marked: L on the latency-VAMP front, I on the interval-VAMP
     front, * Pareto-optimal in all four figures."""
