@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 from program_util import edited_program
 
@@ -97,3 +98,16 @@ def test_a_slot_naming_no_graph_node_is_refused(tmp_path):
     res = CliRunner().invoke(main, ["report", _edited(tmp_path, beyond)])
     assert res.exit_code == 1 and "programs[0].slots[0].node" in res.stderr and \
         "is not a node of the graph" in res.stderr and res.stderr.count("\n") == 1, res.stderr
+
+
+@pytest.mark.parametrize("value", [999, 5])
+def test_a_programs_entry_naming_another_vamp_is_refused_by_every_command(tmp_path, value):
+    """programs[3].vamp edited (out of range, a duplicate) with the checksum made again: the listing
+    is read by position, so the edit changed nothing the engines ran, and went unnoticed."""
+    def renamed(doc):
+        doc["programs"][3]["vamp"] = value
+    path = _edited(tmp_path, renamed)
+    for args in (["report", path], ["emulate", path, "--random", "3", "--check"]):
+        res = CliRunner().invoke(main, args)
+        assert res.exit_code == 1 and f"programs[3].vamp: {value}, but entry 3 lists VAMP 3" in res.stderr \
+            and res.stderr.count("\n") == 1, res.stderr

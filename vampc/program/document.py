@@ -268,6 +268,10 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
         if op is None:
             op = operands[key] = Operand(tuple(map(tap, key)))
         return op
+    for i, prog in enumerate(progs):            # the listing is in VAMP order, each entry named
+        if prog.vamp != i:
+            raise VampcError(f"{path}: programs[{i}].vamp: {prog.vamp}, but entry {i} lists VAMP {i} "
+                             "(the file was edited); recompile it")
     def slots(index: int):
         if not 0 <= index < len(progs):
             raise VampcError(f"{path}: network.vamps: VAMP {index} has no programs entry")
