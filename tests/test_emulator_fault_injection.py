@@ -159,3 +159,9 @@ def test_faults_on_the_command_line(tmp_path):
                      "--fault", "vamp=0,stuck=result.z:62,value=1", "--fault",
                      "vamp=0,stuck=result.y:62,value=1", "--fault", "vamp=0,stuck=result.x:62,value=1"])
     assert res.exit_code == 1          # the spoiled torques do not pass the check, or are refused
+    # a torque made infinite or NaN by an injected fault is blamed on the fault, not on the robot
+    res = run(main, ["emulate", str(prog), "--random", "5", "--engine", "tick", "--fault",
+                     "vamp=10,stuck=result.x:62,value=1"])
+    assert res.exit_code == 1 and len(res.stderr.splitlines()) == 1, res.stderr
+    assert "float64 overflow under the injected fault)" in res.stderr, res.stderr
+    assert "robot's or the state's numbers" not in res.stderr

@@ -163,7 +163,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, fau
         seconds += em.wall_seconds
         if ld.arith.overflows and len(sites) < SITES:     # where, for the first few
             sites += _sites(ld, stream, traj, SITES - len(sites), start)
-        _check_finite(ld, em.tau, start)
+        _check_finite(ld, em.tau, start, faults)
         if check and ld.word is None:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
         elif check:      # another word: its error against float64, joint by joint
@@ -198,17 +198,19 @@ def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajec
         yield start, states.chunk(ld.chain, start, min(size, states.count - start))
 
 
-def _check_finite(ld: Loaded, tau: np.ndarray, start: int) -> None:
+def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=()) -> None:
+    """VampcError naming the first torque that is not finite, and the cause: the injected faults
+    where there are any, else an overflow of the robot's or the state's numbers."""
     bad = ~np.isfinite(tau)
     if bad.any():
         r, j = (int(x) for x in np.argwhere(bad)[0])
         from vampc.emulator.trajectory import WRENCH_COLUMNS
         where = (f"joint {j + 1} ({ld.chain.joints[j].name}): the torque" if j < ld.chain.n
                  else f"{WRENCH_COLUMNS[j - ld.chain.n]}: the base wrench")
-        raise VampcError(f"{ld.path}: set {start + r + 1}, {where} is "
-                         f"{tau[r, j]} "
-                         f"({ld.arith.name} overflow: the robot's or the state's numbers are too "
-                         "large); "
+        cause = (f"{ld.arith.name} overflow under the injected fault{'s' if len(faults) > 1 else ''}"
+                 if faults else
+                 f"{ld.arith.name} overflow: the robot's or the state's numbers are too large")
+        raise VampcError(f"{ld.path}: set {start + r + 1}, {where} is {tau[r, j]} ({cause}); "
                          "the run stopped and wrote no output file")
 
 
