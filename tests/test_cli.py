@@ -196,8 +196,8 @@ def test_bad_numbering_file(tmp_path, text):
 def test_dh_table_refuses_urdf_options(tmp_path):
     result = run("report", PUMA, "--tip", "link6")      # an option that does not apply: usage
     assert result.exit_code == 2 and result.stdout == ""
-    assert result.stderr.startswith("vampc: error: --tip applies to URDF files only; ")
-    assert "puma560.yaml is not a URDF" in result.stderr
+    assert result.stderr.startswith("vampc: error: --tip applies to URDF and MJCF files only; ")
+    assert "puma560.yaml is a DH table" in result.stderr
 
 
 @pytest.mark.parametrize("text", ["", "not json", "{\"format\": \"vampc-program\", \"version\": 9}"])

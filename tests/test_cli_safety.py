@@ -762,8 +762,8 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF files only"),
-    ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF files only"),
+    ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF and MJCF files only"),
+    ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF and MJCF files only"),
     ((EXAMPLES / "quadruped.urdf", "--lock", "x=nan"), "the position must be a finite number"),
 ])
 def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):

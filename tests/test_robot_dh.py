@@ -263,8 +263,8 @@ def test_file_errors(tmp_path):
     binary.write_bytes(b"name: \xff\xfe\n")
     assert_error(lambda: load_robot(binary), binary, r"not UTF-8 text \(byte 6\)")
     assert_error(lambda: load_robot(EXAMPLES / "planar2.yaml", tip="x"), EXAMPLES / "planar2.yaml",
-                 r"base, tip, lock, mimic and accept_improper_inertia apply to URDF files only "
-                 r"\(a DH table is one chain\)")
+                 r"base, tip, lock, mimic and accept_improper_inertia apply to URDF and MJCF "
+                 r"files only \(a DH table is read whole\)")
 
 
 PUMA_TABLE = yaml.safe_load((EXAMPLES / "puma560.yaml").read_text())

@@ -206,7 +206,7 @@ def test_a_missing_leader_only_warns_when_mimics_are_ordinary(tmp_path):
 def test_mimic_couple_is_for_robot_files(tmp_path):
     runner = CliRunner()
     r = runner.invoke(main, ["compile", "examples/puma560.yaml", "--mimic", "couple"])
-    assert r.exit_code == 2 and "--mimic applies to URDF files only" in r.output
+    assert r.exit_code == 2 and "--mimic applies to URDF and MJCF files only" in r.output
     path = write(tmp_path, COUPLED)
     program = tmp_path / "g.vamp.json"
     assert runner.invoke(main, ["compile", str(path), "-o", str(program)]).exit_code == 0

@@ -107,3 +107,12 @@ def test_formats_are_named_as_given():
     assert parse_word("float32").name == "float32"
     assert parse_word("q12.20", "truncate", "wrap") == Fixed(12, 20, Rounding.TRUNCATE,
                                                             Overflow.WRAP)
+
+
+def test_a_bad_word_on_the_command_line_names_the_value_once():
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    res = CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q99.99", "-o", "-"])
+    assert res.exit_code == 2 and res.stderr.count("q99.99") == 1, res.stderr
+    assert "--word q99.99: a fixed-point word has at least 1 integer bit" in res.stderr

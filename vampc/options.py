@@ -266,14 +266,15 @@ class RobotOptions:
         return out
 
     def check(self, robot: str) -> None:
-        """--base, --tip and --lock name URDF links and joints: a DH table is one chain."""
+        """--base, --tip and --lock name URDF or MJCF links and joints: a DH table is read whole."""
         from vampc.robot import URDF_SUFFIXES
         given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)] + \
             (["--mimic"] if self.mimic != "ordinary" else []) + \
             (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
-                                  f"URDF files only; {robot} is not a URDF (a DH table is one chain)")
+                                  f"URDF and MJCF files only; {robot} is a DH table, whose joints (a "
+                                  "chain, or a tree by their parent fields) are all read")
 
         self.locks()
 
@@ -318,7 +319,8 @@ def check_word(options) -> None:
     try:
         options.arith()
     except ValueError as exc:
-        raise VampcUsageError(f"--word {options.word}: {exc}") from None
+        reason = str(exc).removeprefix(f"{options.word}: ")     # the value once, not twice
+        raise VampcUsageError(f"--word {options.word}: {reason}") from None
     if not options.word.startswith("q"):
         for name in ("rounding", "overflow"):
             if name in options.given:

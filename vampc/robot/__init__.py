@@ -54,8 +54,8 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
                          accept_improper_inertia=accept_improper_inertia)
     if suffix in YAML_SUFFIXES + JSON_SUFFIXES:
         if base is not None or tip is not None or lock or mimic != "ordinary" or accept_improper_inertia:
-            raise located(path, "", "base, tip, lock, mimic and accept_improper_inertia apply to URDF files "
-                                    "only (a DH table is one chain)")
+            raise located(path, "", "base, tip, lock, mimic and accept_improper_inertia apply to URDF and "
+                                    "MJCF files only (a DH table is read whole)")
         return load_dh(path, floating=floating)
     raise located(path, "", f"unknown robot file extension {path.suffix!r}{looks_like(path)} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")
