@@ -325,7 +325,8 @@ def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):
     program_path.write_bytes(bytes(data))
     with pytest.raises(VampcError) as err:
         read_program(program_path)
-    assert str(err.value) == f"{program_path}: checksum mismatch: the file was modified or damaged"
+    assert str(err.value) == f"{program_path}: checksum mismatch: the file was modified or damaged; " \
+        "recompile it (vampc compile)"
     result = CliRunner().invoke(main, ["report", str(program_path)])
     assert result.exit_code == 1
     assert result.stderr == f"vampc: error: {err.value}\n"
@@ -369,11 +370,20 @@ def test_wrong_format(program_path):
     assert str(err.value) == f"{program_path}: not a vampc program file (format is not 'vampc-program')"
 
 
-@pytest.mark.parametrize("text", ["", "{not json", "[1, 2", "\x00\x01"])
+@pytest.mark.parametrize("text", ["{not json", "[1, 2", "\x00\x01"])
 def test_not_json(tmp_path, text):
     path = tmp_path / "bad.vamp.json"
     path.write_text(text)
     with pytest.raises(VampcError, match=rf"^{path}: not a vampc program file \(invalid JSON: .*\)$"):
+        read_program(path)
+
+
+@pytest.mark.parametrize("text", ["", "\n  \n"])
+def test_an_empty_file_is_called_empty(tmp_path, text):
+    path = tmp_path / "empty.vamp.json"
+    path.write_text(text)
+    with pytest.raises(VampcError, match=rf"^{path}: empty file, not a vampc program file \(vampc "
+                                         r"compile writes one\)$"):
         read_program(path)
 
 

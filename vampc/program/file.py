@@ -173,6 +173,8 @@ def _read(path) -> tuple[ProgramFile, str]:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
     if raw.startswith(GZIP_MAGIC):
         raw = gunzip(raw, path)
+    if not raw.strip():
+        raise VampcError(f"{path}: empty file, not a vampc program file (vampc compile writes one)")
     text = decode_utf8(raw, path, "program file")     # checks it is UTF-8, for a clear message
     data = raw.removeprefix(codecs.BOM_UTF8)      # msgspec reads the bytes faster than the text
     try:
@@ -188,7 +190,8 @@ def _read(path) -> tuple[ProgramFile, str]:
         raise VampcError(f"{path}: {lacks}")
     if doc.checksum != _laid_out_digest(data, doc.checksum) and \
             doc.checksum != checksum(loads(data)):
-        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged")
+        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged; recompile it "
+                         "(vampc compile)")
     return doc, text
 
 
