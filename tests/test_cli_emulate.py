@@ -223,3 +223,18 @@ def test_default_output_name_keeps_inner_dots(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert _run("compile", src).exit_code == 0
     assert (tmp_path / "my.robot.vamp.json").exists()
+
+
+def test_messages_a_new_user_read_wrongly(tmp_path):
+    """A switch is named as given (it said '--error-correction True: ... compiled with
+    --error-correction False'); one set is 'torque set'; a 64-bit word that fails its check for want
+    of fraction bits is not told to widen."""
+    prog = tmp_path / "q.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "--word", "q16.16", "-o", prog).exit_code == 0
+    res = _run("emulate", prog, "--random", 2, "--error-correction")
+    assert res.exit_code == 2 and f"--error-correction: {prog} was compiled with no " \
+        "--error-correction;" in res.output and "True" not in res.output, res.output
+    res = _run("emulate", prog, "--random", 1)
+    assert res.exit_code == 0 and "stream engine: 1 torque set;" in res.output, res.output
+    res = _run("emulate", prog, "--random", 20, "--word", "q64.0", "--check")
+    assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output

@@ -80,3 +80,14 @@ def test_non_finite_values_are_left_to_python():
     data = np.zeros((NATIVE_CELLS, 1))
     data[3] = np.nan
     assert native.format_csv(data) is None
+
+
+def test_a_base_array_for_a_fixed_base_program_is_refused(tmp_path):
+    """As the CSV's and .npy's extra columns are: the base's motion is never silently dropped."""
+    from vampc.emulator.trajectory import read
+    from vampc.errors import VampcError
+    path = tmp_path / "b.npz"
+    np.savez(path, q=np.zeros((3, 2)), qd=np.zeros((3, 2)), qdd=np.zeros((3, 2)), base=np.zeros((3, 9)))
+    with pytest.raises(VampcError, match=r"b\.npz: array base: the program has a fixed base"):
+        read(path, 2)
+    assert read(path, 2, floating=True).base.shape == (3, 9)

@@ -288,13 +288,23 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool) -> str:
     over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
     lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}), tolerance "
                  f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}"
-                 + ("" if ok else " (a wider --word would do better; `vampc precision` finds one)"))
+                 + ("" if ok else _word_hint(ld, outcome)))
     return "\n".join(lines)
+
+
+def _word_hint(ld, outcome) -> str:
+    """What to try after a word's failed check: a wider word, or, at 64 bits without overflow,
+    more of them for the fraction."""
+    from vampc.machine.arith import Fixed
+    if isinstance(ld.arith, Fixed) and ld.arith.bits == 64 and not outcome.overflows:
+        return " (64 bits is the widest word: more of them for the fraction would do better; " \
+               "`vampc precision` finds the split)"
+    return " (a wider --word would do better; `vampc precision` finds one)"
 
 
 def emulation_line(r, whole_seconds: float) -> str:
     """The one line an emulation prints about itself."""
-    return (f"{r.engine} engine: {r.count} torque sets; program load {r.load_ticks} ticks; first "
+    return (f"{r.engine} engine: {count(r.count, 'torque set')}; program load {r.load_ticks} ticks; first "
             f"set after {r.first_tick} flops, then one every {r.interval} flops; emulated time "
             f"{r.emulated_flops} flops; engine wall time {r.engine_seconds:.3f} s "
             f"({rate_text(r.count, r.engine_seconds)}); whole command {whole_seconds:.3f} s")

@@ -344,8 +344,13 @@ def check_program_options(given, params: dict, source: str, stored: dict,
         value = params[name]
         if stored.get(name, defaults[name]) != value:
             was = stored.get(name, defaults[name])
-            was = f"{flag(name)} {was}" if was is not None else f"no {flag(name)} (the default)"
-            raise VampcUsageError(f"{flag(name)} {value}: {source} was compiled with {was}; "
+            if isinstance(value, bool):        # a switch: named as given, not as Python's True/False
+                given_text = flag(name)
+                was = f"{flag(name)}" if was else f"no {flag(name)}"
+            else:
+                given_text = f"{flag(name)} {value}"
+                was = f"{flag(name)} {was}" if was is not None else f"no {flag(name)} (the default)"
+            raise VampcUsageError(f"{given_text}: {source} was compiled with {was}; "
                                   "compile options apply to robot files (recompile to change them)")
 
 

@@ -242,6 +242,9 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
         raise VampcError(f"{path}: array t has shape {t.shape}; expected ({parts[0].shape[0]},)")
     if floating:
         parts.append(_npz_base(path, z, parts[0].shape[0]))
+    elif "base" in z.files:         # as the CSV's and .npy's extra columns are: never silently dropped
+        raise VampcError(f"{path}: array base: the program has a fixed base, so the base's motion does "
+                         "not apply (compile with --floating-base, or leave it out)")
     return np.concatenate(parts, axis=1), t
 
 
