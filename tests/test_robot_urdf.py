@@ -290,7 +290,9 @@ def test_base_below_the_root():
 def test_tree_tip_and_locked_branch(tmp_path):
     path = write(tmp_path, TREE)
     lock = {"right_1": 0.4}
-    chain = load_urdf(path, tip="left_hand", lock=lock)
+    with pytest.warns(VampcWarning, match=r"joint 'right_2', below a locked joint, is frozen at 0; give "
+                                          r"--lock right_2=VALUE"):    # never assumed silently
+        chain = load_urdf(path, tip="left_hand", lock=lock)
     assert [j.name for j in chain.joints] == ["waist", "left_1", "left_2"]
     check_frames(path, chain, "torso", "left_hand", TREE_LEFT_BODIES, frozen={"right_1": 0.4, "right_2": 0.0})
     check_torques(path, chain, lock={"right_1": 0.4, "right_2": 0.0})  # below a lock: frozen at 0

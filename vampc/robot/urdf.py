@@ -424,7 +424,7 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
     Off-chain joints must be fixed, locked or below a locked off-chain joint (frozen at their lock value
     or 0); any other movable joint branches off the chain and is refused."""
     index = {j.name: k for k, j in enumerate(chain, 1)}
-    frames, body_of, stray = {base: _IDENTITY}, {base: 0}, []
+    frames, body_of, stray, at_zero = {base: _IDENTITY}, {base: 0}, [], []
     stack = [(base, False)]
     while stack:
         link, frozen = stack.pop()
@@ -435,6 +435,8 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
             elif j.type in MOVABLE and j.name not in lock and not frozen:
                 stray.append(j.name)
             else:
+                if j.type in MOVABLE and j.name not in lock:
+                    at_zero.append(j.name)             # below a locked branch: frozen at 0, unasked
                 frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
                 body_of[j.child] = body_of[link]
                 stack.append((j.child, frozen or (j.name in lock and j.name not in route)))
@@ -444,6 +446,13 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
         more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
         raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
                                 f"--lock {stray[0]}=VALUE or choose --tip{more}")
+    if at_zero:              # their positions move the locked branch's mass: never assumed silently
+        order = {name: i for i, name in enumerate(tree.joints)}
+        at_zero.sort(key=order.__getitem__)
+        more = f" (and {len(at_zero) - 1} more)" if len(at_zero) > 1 else ""
+        warnings.warn(VampcWarning(f"{path}: joint '{at_zero[0]}'{more}, below a locked joint, is frozen "
+                                   f"at 0; give --lock {at_zero[0]}=VALUE for another position"),
+                      stacklevel=3)
     return frames, body_of
 
 
