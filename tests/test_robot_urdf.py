@@ -374,8 +374,8 @@ URDF_ERRORS = [
     (robot(*ARM), {"lock": {"j1": float("nan")}}, r"lock j1: value nan is not a finite number"),
     (TREE, {"tip": "left_hand"},
      r"joint 'right_1' branches off the chain; lock it with --lock right_1=VALUE or choose --tip"),
-    (TREE, {"tip": "chest"}, r"joint 'left_1' branches off the chain; lock it with --lock left_1=VALUE "
-                             r"or choose --tip \(also 'right_1'\)"),
+    (TREE, {"tip": "chest"}, r"joint 'left_1' moves below the tip link 'chest'; choose a tip further out "
+                             r"or lock it with --lock left_1=VALUE \(also 'right_1'\)"),   # not a branch
 ]
 
 

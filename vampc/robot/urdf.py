@@ -120,7 +120,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
         route = tree.route(base, tip)
         joints = [j for j in route if j.type in MOVABLE and j.name not in lock]
         _check_chain(joints, base, tip, path)
-        frames, body_of = _bodies(tree, base, joints, {j.name for j in route}, lock, path)
+        frames, body_of = _bodies(tree, base, joints, {j.name for j in route}, lock, path, tip)
         chain = build_tree(robot.name, tree, joints, list(range(len(joints))), frames, body_of, True, path,
                            leaf_link=tip) if floating else \
             _build(robot.name, tree, joints, frames, body_of, tip, path)
@@ -417,33 +417,39 @@ def _check_mimics(joints, tree: Tree, path: Path) -> None:
 
 # --- rigid bodies ------------------------------------------------------------------------------------
 
-def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Path):
+def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Path,
+            tip: str | None = None):
     """Assign every link below `base` to a body 0..n (the chain link it is rigidly attached to) and give its
     pose in that body's reference frame (body 0: the base link; body k: the child link of chain joint k).
 
     Off-chain joints must be fixed, locked or below a locked off-chain joint (frozen at their lock value
     or 0); any other movable joint branches off the chain and is refused."""
     index = {j.name: k for k, j in enumerate(chain, 1)}
-    frames, body_of, stray, at_zero = {base: _IDENTITY}, {base: 0}, [], []
-    stack = [(base, False)]
+    frames, body_of, stray, at_zero, beyond = {base: _IDENTITY}, {base: 0}, [], [], set()
+    stack = [(base, False, base == tip)]
     while stack:
-        link, frozen = stack.pop()
+        link, frozen, past_tip = stack.pop()
         for j in tree.children[link]:
             if j.name in index:
                 frames[j.child], body_of[j.child] = _IDENTITY, index[j.name]
-                stack.append((j.child, False))
+                stack.append((j.child, False, j.child == tip))
             elif j.type in MOVABLE and j.name not in lock and not frozen:
                 stray.append(j.name)
+                if past_tip:
+                    beyond.add(j.name)
             else:
                 if j.type in MOVABLE and j.name not in lock:
                     at_zero.append(j.name)             # below a locked branch: frozen at 0, unasked
                 frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
                 body_of[j.child] = body_of[link]
-                stack.append((j.child, frozen or (j.name in lock and j.name not in route)))
+                stack.append((j.child, frozen or (j.name in lock and j.name not in route), past_tip))
     if stray:
         order = {name: i for i, name in enumerate(tree.joints)}
         stray.sort(key=order.__getitem__)  # file order
         more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
+        if stray[0] in beyond:
+            raise located(path, "", f"joint '{stray[0]}' moves below the tip link '{tip}'; choose a tip "
+                                    f"further out or lock it with --lock {stray[0]}=VALUE{more}")
         raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
                                 f"--lock {stray[0]}=VALUE or choose --tip{more}")
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
