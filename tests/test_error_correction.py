@@ -294,3 +294,15 @@ def test_the_report_counts_what_the_checking_adds():
     assert (c.schedule.latency, c.schedule.interval) == (plain.schedule.latency, plain.schedule.interval)
     assert ec["sweep_periods"] == sweep_periods(V, net.checking.warmup)
     assert checking_pairs(ec)[0][0] == "error correction"
+
+
+def test_a_detection_after_the_last_set_names_no_set(tmp_path):
+    """The check of VAMPs 36/37 comes round after the last of 100 Puma sets has passed them: the
+    line said 'set 114' (tick // period). It names the tick only."""
+    prog = tmp_path / "pec.vamp.json"
+    run = CliRunner().invoke
+    assert run(main, ["compile", "examples/puma560.yaml", "--error-correction", "-o", str(prog)]).exit_code == 0
+    res = run(main, ["emulate", str(prog), "--random", "100", "--engine", "tick", "--fault",
+                     "vamp=37,stuck=result.z:20,value=1,at=100"])
+    line = next(x for x in res.output.splitlines() if x.startswith("error correction:"))
+    assert "found a mismatch at Data-Mode tick 453 and excised VAMP 37" in line and "(set " not in line, line

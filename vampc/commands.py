@@ -259,9 +259,10 @@ def checking_line(ld, outcome) -> str:
              f"{count(m['ticks'], 'tick')}, naming its successor, VAMP "
              f"{', '.join(map(str, m['named']))}" if m["named"] else
              "Maintenance Mode cannot name it: its line reaches no torque output")
+    # no set number: tick // period is not the set a VAMP held then (that depends on its place in
+    # the pipeline), and a check may run after the last set has passed (on what the VAMP still holds)
     return (f"error correction: VAMP {d['finder']} found a mismatch at Data-Mode tick {d['tick']} "
-            f"(set {d['tick'] // ld.period + 1}) and excised VAMP {d['excised']}, whose role it "
-            f"plays from then on; {named}")
+            f"and excised VAMP {d['excised']}, whose role it plays from then on; {named}")
 
 
 def number_text(x: float) -> str:
