@@ -145,22 +145,31 @@ def render_csv(rows: list[dict]) -> str:
     return out.getvalue()
 
 
+def _caption(rows: list[dict]) -> str:
+    """What the marks say, with the size of each front."""
+    fronts = [sum(r[k] for r in rows) for k in FRONTS]
+    return (f"(flops): L on the latency-VAMP front ({fronts[1]} of {len(rows)} points), I on the "
+            f"interval-VAMP front ({fronts[2]}), * Pareto-optimal in VAMPs, latency, interval and "
+            f"buffer stages ({fronts[0]})")
+
+
+def _marks(r: dict, star: str = "*", blank: str = " ") -> str:
+    """A point's marks: L, I and * where it is on each front, `blank` where not."""
+    return "".join(mark if r[key] else blank for key, mark in
+                   (("pareto_latency", "L"), ("pareto_interval", "I"), ("pareto", star)))
+
+
 def render_markdown(rows: list[dict]) -> str:
     """The table of render_text as Markdown, for a design review: the same columns and marks."""
-    fronts = [sum(r[k] for r in rows) for k in FRONTS]
-    lines = [f"**Trade-off** (flops): L on the latency-VAMP front ({fronts[1]} of {len(rows)} points), I on "
-             f"the interval-VAMP front ({fronts[2]}), * Pareto-optimal in VAMPs, latency, interval and "
-             f"buffer stages ({fronts[0]})", "",
+    lines = [f"**Trade-off** {_caption(rows)}", "",
              "| front | layout | VAMPs | latency | bound | gap | interval | bound | gap | buffers | "
              "ctrl regs | mux in | host wr |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        mark = ("L" if r["pareto_latency"] else "") + ("I" if r["pareto_interval"] else "") + \
-            ("\\*" if r["pareto"] else "")
-        lines.append(f"| {mark} | {r['layout']} | {r['vamps']} | {r['latency_flops']} | {r['latency_bound']} | "
-                     f"{r['latency_gap_pct']}% | {r['interval_flops']} | {r['interval_bound']} | "
-                     f"{r['interval_gap_pct']}% | {r['buffer_stages']} | {r['control_registers']} | "
-                     f"{r['mux_inputs']} | {r['host_writes_per_set']} |")
+        lines.append(f"| {_marks(r, chr(92) + '*', '')} | {r['layout']} | {r['vamps']} | {r['latency_flops']} | "
+                     f"{r['latency_bound']} | {r['latency_gap_pct']}% | {r['interval_flops']} | "
+                     f"{r['interval_bound']} | {r['interval_gap_pct']}% | {r['buffer_stages']} | "
+                     f"{r['control_registers']} | {r['mux_inputs']} | {r['host_writes_per_set']} |")
     return "\n".join(lines) + "\n"
 
 
@@ -169,14 +178,9 @@ def render_text(rows: list[dict]) -> str:
     front, * Pareto-optimal in all four figures."""
     head = (f"{'':4}{'layout':<24}{'VAMPs':>7}{'latency':>9}{'bound':>7}{'gap':>7}{'interval':>10}"
             f"{'bound':>7}{'gap':>7}{'buffers':>9}{'ctrl regs':>11}{'mux in':>8}{'host wr':>9}")
-    fronts = [sum(r[k] for r in rows) for k in FRONTS]
-    lines = [f"trade-off (flops): L on the latency-VAMP front ({fronts[1]} of {len(rows)} points), I on "
-             f"the interval-VAMP front ({fronts[2]}), * Pareto-optimal in VAMPs, latency, interval and "
-             f"buffer stages ({fronts[0]})", head]
+    lines = [f"trade-off {_caption(rows)}", head]
     for r in rows:
-        mark = ("L" if r["pareto_latency"] else " ") + ("I" if r["pareto_interval"] else " ") + \
-            ("*" if r["pareto"] else " ")
-        lines.append(f"{mark:4}{r['layout']:<24}{r['vamps']:>7}"
+        lines.append(f"{_marks(r):4}{r['layout']:<24}{r['vamps']:>7}"
                      f"{r['latency_flops']:>9}{r['latency_bound']:>7}{r['latency_gap_pct']:>6}%"
                      f"{r['interval_flops']:>10}{r['interval_bound']:>7}{r['interval_gap_pct']:>6}%"
                      f"{r['buffer_stages']:>9}{r['control_registers']:>11}{r['mux_inputs']:>8}"
