@@ -94,7 +94,7 @@ def test_emulate_outputs_never_overwrite_the_program_or_the_trajectory(tmp_path,
     prog.write_bytes(program.read_bytes())
     for victim in (prog, traj):
         if which == "--save-states" and victim == prog:
-            continue      # --save-states wants a .csv name (tested below)
+            continue      # --save-states writes states, not a program (a .csv or .npy name)
         before = victim.read_bytes()
         extra = ["--engine", "tick"] if which == "--vcd" else []
         res = run("emulate", prog, "--trajectory", traj, which, victim, *extra)
@@ -573,8 +573,10 @@ def test_saved_states_pair_with_their_torques(tmp_path, program):
     assert again.read_text() == tau.read_text()
 
 
-def test_save_states_wants_a_csv_name(tmp_path, program):
-    assert run("emulate", program, "--random", 2, "--save-states", tmp_path / "s.npy").exit_code == 2
+def test_save_states_writes_csv_or_npy_not_npz(tmp_path, program):
+    res = run("emulate", program, "--random", 2, "--save-states", tmp_path / "s.npz")
+    assert res.exit_code == 2 and "not .npz" in res.output and not (tmp_path / "s.npz").exists()
+    assert run("emulate", program, "--random", 2, "--save-states", tmp_path / "s.npy").exit_code == 0
 
 
 def test_a_program_file_given_to_compile(tmp_path, program):

@@ -69,6 +69,28 @@ def test_torques_as_npy_equal_the_csv(tmp_path, robot, extra):
     want = np.loadtxt(tmp_path / "tau.csv", delimiter=",", skiprows=1)
     got = np.load(tmp_path / "tau.npy")
     assert got.dtype == np.float64 and np.array_equal(got, want)
+    # --save-states NAME.npy: the states in the CSV's columns (t first), read back by --trajectory
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--save-states",
+                             str(tmp_path / "again.npy"), "-o", str(tmp_path / "tau2.csv")])
+    assert r.exit_code == 0, r.output
+    saved = np.load(tmp_path / "again.npy")
+    assert saved.dtype == np.float64 and np.array_equal(saved, np.loadtxt(states, delimiter=",", skiprows=1))
+    r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(tmp_path / "again.npy"), "-o",
+                             str(tmp_path / "tau3.csv")])
+    assert r.exit_code == 0 and (tmp_path / "tau3.csv").read_text() == (tmp_path / "tau.csv").read_text()
+
+
+def test_states_saved_as_npy_over_several_chunks(tmp_path, monkeypatch):
+    from vampc.emulator import driver
+    monkeypatch.setattr(driver, "MAX_CHUNK", 64)                 # 300 states: five chunks
+    runner = CliRunner()
+    program = tmp_path / "p.vamp.json"
+    assert runner.invoke(main, ["compile", "examples/planar2.yaml", "-o", str(program)]).exit_code == 0
+    for name in ("s.csv", "s.npy"):
+        r = runner.invoke(main, ["emulate", str(program), "--random", "300", "--seed", "4", "--save-states",
+                                 str(tmp_path / name)])
+        assert r.exit_code == 0, r.output
+    assert np.array_equal(np.load(tmp_path / "s.npy"), np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1))
 
 
 def test_npz_is_not_a_torque_file():

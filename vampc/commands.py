@@ -334,8 +334,12 @@ class Sinks:
         # -o NAME.npy: a float64 array (count, [t,] torques), written as the chunks arrive
         self.npy = "-o" in outs and outs["-o"].kind != "stdout" and outs["-o"].path.lower().endswith(".npy")
         self.tau = Pending(outs["-o"], "torques", self.npy) if "-o" in outs else None
-        self.states = Pending(outs["--save-states"], "states", False) if "--save-states" in outs \
-            else None
+        # --save-states NAME.npy: the states as a float64 array in the CSV's columns (t first if any),
+        # which --trajectory reads back
+        self.states_npy = "--save-states" in outs and outs["--save-states"].kind != "stdout" and \
+            outs["--save-states"].path.lower().endswith(".npy")
+        self.states = Pending(outs["--save-states"], "states", self.states_npy) \
+            if "--save-states" in outs else None
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
         self.vcd = (_Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
                     if self.vcd_out else None)
@@ -350,7 +354,13 @@ class Sinks:
         else:
             self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(free_names(ld.chain),
                                                                                   floating))))
-        self._write(self.states, lambda fh: fh.write(csv_line(t + header(n_free(ld.chain), floating))))
+        if self.states_npy:
+            import numpy as np
+            columns = len(t + header(n_free(ld.chain), floating))
+            self._write(self.states, lambda fh: np.lib.format.write_array_header_1_0(
+                fh, {"descr": "<f8", "fortran_order": False, "shape": (count, columns)}))
+        else:
+            self._write(self.states, lambda fh: fh.write(csv_line(t + header(n_free(ld.chain), floating))))
 
     def _write(self, pending, action) -> None:
         if pending is None:
@@ -373,8 +383,15 @@ class Sinks:
             self._write(self.tau, lambda fh: fh.write(np.ascontiguousarray(rows, dtype="<f8").tobytes()))
         else:
             self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, reduce_torques(chain, tau))))
-        self._write(self.states, lambda fh: fh.write(format_rows(
-            traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)))
+        if self.states_npy:
+            import numpy as np
+            parts = [traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base]
+            rows = np.column_stack([np.asarray(c, dtype=float).reshape(len(traj.q), -1)
+                                    for c in parts if c is not None])
+            self._write(self.states, lambda fh: fh.write(np.ascontiguousarray(rows, dtype="<f8").tobytes()))
+        else:
+            self._write(self.states, lambda fh: fh.write(format_rows(
+                traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)))
 
     def finish_vcd(self) -> None:
         """The waveform is complete: put it in place."""

@@ -481,8 +481,9 @@ class EmulateOptions:
         if self.output and Path(self.output).suffix.lower() == ".npz":
             raise VampcUsageError("-o writes torques as CSV or, for a name ending in .npy, as a NumPy "
                                   "array: not .npz")
-        if self.save_states and Path(self.save_states).suffix.lower() in (".npy", ".npz"):
-            raise VampcUsageError("--save-states writes a CSV trajectory: give a .csv file name")
+        if self.save_states and Path(self.save_states).suffix.lower() == ".npz":
+            raise VampcUsageError("--save-states writes a CSV trajectory or, for a name ending in .npy, "
+                                  "a NumPy array: not .npz")
 
 
 def frequency(text: str, option: str, noun: str = "clock rate") -> float:
