@@ -733,11 +733,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     _write_lookahead(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
         from vampc.outputs import write_output
-        write_output(outs["--plot"], la.plot_svg([j.name for j in ld.chain.joints], times, res, limits,
+        write_output(outs["--plot"], la.plot_svg(ld.chain.joints, times, res, limits,
                                                  f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                                 f"window {own.window}",
-                                                 ["N" if j.type.sigma == 0 else "N·m"
-                                                  for j in ld.chain.joints]), "plot")
+                                                 f"window {own.window}"), "plot")
     return ok
 
 

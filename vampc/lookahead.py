@@ -5,10 +5,10 @@ The register has `window` rows. Each row holds one set of inputs (q, q̇, q̈ at
 wired through the compiled network to its torques. Before motion starts the host fills it with rows
 0..window-1; every λ the bottom row goes to the motors and the host writes the next row at the top,
 so row r (from 0; the output counts from 1) enters the register at step max(0, r - window + 1) and
-is seen min(r, window - 1) steps before it reaches the motors. The network computes every row's torques as `vampc emulate` does (the
-stream engine, the same bits). With a clock (`--clock`) the command says whether the network keeps
-up: one new row per λ, and with `--retime uniform` its gravity pass too, against one set per
-interval of the program.
+is seen min(r, window - 1) steps before it reaches the motors. The network computes every row's
+torques as `vampc emulate` does (the stream engine, the same bits). With a clock (`--clock`) the
+command says whether the network keeps up: one new row per λ, and with `--retime uniform` its
+gravity pass too, against one set per interval of the program.
 
 Limits are the robot's (a URDF's `<limit effort velocity>`, a DH table's `limits`) or a `--limits`
 file; a violation is reported with the step at which its row entered and how far ahead that was.
@@ -382,11 +382,10 @@ def ahead(row: int, window: int) -> tuple[int, int]:
     return max(0, row - window + 1), min(row, window - 1)
 
 
-def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, title: str,
-             units: list | None = None) -> str:
-    """Per joint, torque over time against ±its limit: the path as given, and the retimed one (its
-    own time axis) when there is one, with a last panel of the speed ṡ over time. SVG text.
-    `units`: each joint's torque unit (N·m for a revolute joint, N for a prismatic one)."""
+def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+    """Per joint (the chain's `joints`), torque over time against ±its limit, in its unit (N·m
+    revolute, N prismatic): the path as given, and the retimed one (its own time axis) when there
+    is one, with a last panel of the speed ṡ over time. SVG text."""
     import io
 
     import matplotlib
@@ -405,7 +404,7 @@ def plot_svg(names: list, times: np.ndarray, res: Lookahead, limits: Limits, tit
             ax.plot(new_t, res.retimed_tau[:, j], lw=1, color="tab:blue", label=f"retimed, {label}")
         for sign in (1, -1):
             ax.axhline(sign * limits.tau[j], color="black", lw=0.8, ls="--")
-        ax.set_ylabel(f"{names[j]}\n({units[j] if units else 'N·m or N'})", fontsize=8)
+        ax.set_ylabel(f"{joints[j].name}\n({'N·m' if joints[j].sigma else 'N'})", fontsize=8)
         ax.tick_params(labelsize=7)
     if res.retimed is not None:
         ax = axes[n, 0]
