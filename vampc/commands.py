@@ -1006,13 +1006,9 @@ def _preflight(ld, own, limit: float) -> None:
                              "anyway")
 
 
-def _cosim_ticks(ld, sets: int) -> int:
-    """Ticks a co-simulation of `sets` torque sets runs (vampc.rtl.host.HostRun.ticks)."""
-    return ld.load_ticks + (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs) + 1
-
-
 def _cosim_estimate(ld, own) -> float:
-    V, ticks = len(ld.net.vamps), _cosim_ticks(ld, own.cosim)
+    from vampc.rtl.host import run_ticks
+    V, ticks = len(ld.net.vamps), run_ticks(ld, own.cosim)
     per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
     build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * V
     return build + per_tick * V * ticks
@@ -1038,7 +1034,8 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     from vampc import progress
     from vampc.emulator.host import random_trajectory
     from vampc.rtl.cosim import cosimulate
-    ticks = _cosim_ticks(ld, own.cosim)
+    from vampc.rtl.host import run_ticks
+    ticks = run_ticks(ld, own.cosim)
     _within(f"co-simulating {own.cosim} torque set(s), {ticks} ticks, with {own.simulator}",
             _cosim_estimate(ld, own), note)
     traj = random_trajectory(ld.chain, own.cosim, own.seed)

@@ -36,14 +36,20 @@ class HostRun:
         return T < self.load or (T - self.load) % self.period == 0
 
 
+def run_ticks(ld, count: int) -> int:
+    """All ticks a run of `count` torque sets takes, Program Mode and Data Mode: up to the tick
+    the last set's last torque is sampled."""
+    return ld.load_ticks + (count - 1) * ld.net.period + max(o.tick for o in ld.net.outputs) + 1
+
+
 def host_run(ld, traj, inputs) -> HostRun:
     """The host's writes and reads for `traj` on `ld` (`inputs`: the design's input buffers as
     (kind, index, size), NetworkDesign.inputs)."""
     net, word = ld.net, ld.arith
     L, P, B = ld.load_ticks, net.period, net.clock
     count = traj.count
-    last = (count - 1) * P + max(o.tick for o in net.outputs)
-    run = HostRun(L, L + last + 1, count=count, period=P)
+    run = HostRun(L, run_ticks(ld, count), count=count, period=P)
+    last = run.ticks - L - 1                     # the last Data-Mode tick: the last torque's sample
     where = {(kind, index): k for k, (kind, index, _) in enumerate(inputs)}
     size = [s for _, _, s in inputs]
 
