@@ -323,21 +323,25 @@ def rate_text(count: int, seconds: float) -> str:
     return f"{rate:.{decimals}f} sets/s"
 
 
+def _npy_output(outs: dict, option: str) -> bool:
+    """Whether `option` names a .npy file (written as a NumPy array, not as CSV)."""
+    return option in outs and outs[option].kind != "stdout" and outs[option].path.lower().endswith(".npy")
+
+
 class Sinks:
     """The emulate command's output files, written as the chunks of a run arrive."""
 
     def __init__(self, ld, outs, has_t: bool, count: int = 0):
-        from vampc.emulator.trajectory import csv_line, header, torque_columns
+        from vampc.emulator.trajectory import header, torque_columns
         from vampc.emulator.vcd import VcdWriter, vamp_names
         from vampc.outputs import Pending
         self.ld, self.outs = ld, outs
-        # -o NAME.npy: a float64 array (count, [t,] torques), written as the chunks arrive
-        self.npy = "-o" in outs and outs["-o"].kind != "stdout" and outs["-o"].path.lower().endswith(".npy")
+        # -o NAME.npy: a float64 array (count, [t,] torques); --save-states NAME.npy: the states in
+        # the CSV's columns (t first if any), which --trajectory reads back; both written as the
+        # chunks arrive
+        self.npy = _npy_output(outs, "-o")
         self.tau = Pending(outs["-o"], "torques", self.npy) if "-o" in outs else None
-        # --save-states NAME.npy: the states as a float64 array in the CSV's columns (t first if any),
-        # which --trajectory reads back
-        self.states_npy = "--save-states" in outs and outs["--save-states"].kind != "stdout" and \
-            outs["--save-states"].path.lower().endswith(".npy")
+        self.states_npy = _npy_output(outs, "--save-states")
         self.states = Pending(outs["--save-states"], "states", self.states_npy) \
             if "--save-states" in outs else None
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
@@ -346,21 +350,28 @@ class Sinks:
         from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating
-        if self.npy:
+        self._head(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count)
+        self._head(self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)
+
+    def _head(self, pending, npy: bool, columns: list[str], count: int) -> None:
+        """A table's start: the CSV header line, or the .npy header of (count, its columns)."""
+        if npy:
             import numpy as np
-            width = len(t) + n_free(ld.chain) + (6 if floating else 0)
-            self._write(self.tau, lambda fh: np.lib.format.write_array_header_1_0(
-                fh, {"descr": "<f8", "fortran_order": False, "shape": (count, width)}))
+            self._write(pending, lambda fh: np.lib.format.write_array_header_1_0(
+                fh, {"descr": "<f8", "fortran_order": False, "shape": (count, len(columns))}))
         else:
-            self._write(self.tau, lambda fh: fh.write(csv_line(t + torque_columns(free_names(ld.chain),
-                                                                                  floating))))
-        if self.states_npy:
+            from vampc.emulator.trajectory import csv_line
+            self._write(pending, lambda fh: fh.write(csv_line(columns)))
+
+    def _rows(self, pending, npy: bool, *columns) -> None:
+        """A chunk's rows of a table: the columns side by side, as CSV text or raw float64."""
+        from vampc.emulator.trajectory import format_rows, side_by_side
+        if npy:
             import numpy as np
-            columns = len(t + header(n_free(ld.chain), floating))
-            self._write(self.states, lambda fh: np.lib.format.write_array_header_1_0(
-                fh, {"descr": "<f8", "fortran_order": False, "shape": (count, columns)}))
+            data = np.ascontiguousarray(side_by_side(*columns), dtype="<f8")
+            self._write(pending, lambda fh: fh.write(data.tobytes()))
         else:
-            self._write(self.states, lambda fh: fh.write(csv_line(t + header(n_free(ld.chain), floating))))
+            self._write(pending, lambda fh: fh.write(format_rows(*columns)))
 
     def _write(self, pending, action) -> None:
         if pending is None:
@@ -373,25 +384,13 @@ class Sinks:
 
     def chunk(self, traj, tau) -> None:
         """One chunk's torques and states."""
-        from vampc.emulator.trajectory import format_rows
         from vampc.robot.mimic import reduce_states, reduce_torques
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
-        if self.npy:
-            import numpy as np
-            rows = reduce_torques(chain, tau) if traj.t is None else np.column_stack(
-                [traj.t, reduce_torques(chain, tau)])
-            self._write(self.tau, lambda fh: fh.write(np.ascontiguousarray(rows, dtype="<f8").tobytes()))
-        else:
-            self._write(self.tau, lambda fh: fh.write(format_rows(traj.t, reduce_torques(chain, tau))))
-        if self.states_npy:
-            import numpy as np
-            parts = [traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base]
-            rows = np.column_stack([np.asarray(c, dtype=float).reshape(len(traj.q), -1)
-                                    for c in parts if c is not None])
-            self._write(self.states, lambda fh: fh.write(np.ascontiguousarray(rows, dtype="<f8").tobytes()))
-        else:
-            self._write(self.states, lambda fh: fh.write(format_rows(
-                traj.t, *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)))
+        if self.tau is not None:
+            self._rows(self.tau, self.npy, traj.t, reduce_torques(chain, tau))
+        if self.states is not None:
+            self._rows(self.states, self.states_npy, traj.t,
+                       *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)
 
     def finish_vcd(self) -> None:
         """The waveform is complete: put it in place."""

@@ -311,11 +311,16 @@ def csv_line(cells) -> str:
     return out.getvalue()
 
 
+def side_by_side(*columns: np.ndarray | None) -> np.ndarray:
+    """The given (count,) or (count, k) arrays side by side as one float array (None skipped)."""
+    parts = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in columns if c is not None]
+    return np.hstack(parts) if len(parts) > 1 else parts[0]
+
+
 def format_rows(*columns: np.ndarray | None) -> str:
     """CSV rows of the given (count,) or (count, k) arrays side by side (None skipped), full
     precision: %.17g round-trips like repr."""
-    parts = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in columns if c is not None]
-    data = np.hstack(parts) if len(parts) > 1 else parts[0]
+    data = side_by_side(*columns)
     count, width = data.shape
     if count * width >= NATIVE_CELLS:          # C's sprintf: about twice as fast (README, Emulator speed)
         from vampc.emulator.native import format_csv
