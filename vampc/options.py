@@ -574,9 +574,9 @@ class LookaheadOptions:
             raise VampcUsageError("-o and --torques name the same file")
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
-        for flag, value in (("-o", self.output), ("--torques", self.torques)):
+        for option, value in (("-o", self.output), ("--torques", self.torques)):
             if value is not None and Path(value).suffix.lower() in (".npy", ".npz"):
-                raise VampcUsageError(f"{flag} writes CSV (README, Torque files and Output files): "
+                raise VampcUsageError(f"{option} writes CSV (README, Torque files and Output files): "
                                       "give a .csv file name")
 
     def start(self, n: int) -> tuple:

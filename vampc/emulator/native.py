@@ -413,7 +413,7 @@ static int digits(const char **p, const char *end) {
 static int cell(const char *p, const char *end, double *x) {
   const char *num, *stop;
   char *got;
-  int mant;
+  int mant, fast;
   while (p < end && (*p == ' ' || *p == '\t')) p++;
   while (end > p && (end[-1] == ' ' || end[-1] == '\t')) end--;
   num = p;
@@ -428,8 +428,8 @@ static int cell(const char *p, const char *end, double *x) {
   }
   stop = p;
   if (stop != end) return 0;
-  mant = fast_decimal(num, stop, x);
-  if (mant != 0) return mant > 0;
+  fast = fast_decimal(num, stop, x);
+  if (fast != 0) return fast > 0;
   *x = strtod(num, &got);
   return got == stop;
 }

@@ -443,9 +443,10 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
                 frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
                 body_of[j.child] = body_of[link]
                 stack.append((j.child, frozen or (j.name in lock and j.name not in route), past_tip))
+    if stray or at_zero:                 # named in file order
+        order = {name: i for i, name in enumerate(tree.joints)}.__getitem__
     if stray:
-        order = {name: i for i, name in enumerate(tree.joints)}
-        stray.sort(key=order.__getitem__)  # file order
+        stray.sort(key=order)
         more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
         if stray[0] in beyond:
             raise located(path, "", f"joint '{stray[0]}' moves below the tip link '{tip}'; choose a tip "
@@ -453,8 +454,7 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
         raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
                                 f"--lock {stray[0]}=VALUE or choose --tip{more}")
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
-        order = {name: i for i, name in enumerate(tree.joints)}
-        at_zero.sort(key=order.__getitem__)
+        at_zero.sort(key=order)
         more = f" (and {len(at_zero) - 1} more)" if len(at_zero) > 1 else ""
         warnings.warn(VampcWarning(f"{path}: joint '{at_zero[0]}'{more}, below a locked joint, is frozen "
                                    f"at 0; give --lock {at_zero[0]}=VALUE for another position"),
