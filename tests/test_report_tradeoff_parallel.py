@@ -103,41 +103,53 @@ def test_an_empty_scheduler_address_is_a_usage_error():
     assert r.exit_code == 2 and "--scheduler: give the scheduler's address" in r.output
 
 
-def _square(context, item):
+# Run in a process of its own: forking a pool inside a pytest-xdist worker (its channel threads and
+# pipes copied into every child) once crashed that worker under the whole suite's load.
+FORKED_CTRL_C = """
+import json, multiprocessing, signal, time
+from concurrent.futures import ProcessPoolExecutor
+from vampc import errors, parallel
+
+def square(context, item):
     return item * item
 
+made = []
+real = ProcessPoolExecutor.submit
 
-def test_a_ctrl_c_while_the_workers_are_forked_waits_until_the_pool_knows_them(monkeypatch):
+def submit(self, *args, **kwargs):
+    future = real(self, *args, **kwargs)
+    made.append(future)
+    if len(made) == 1:                                  # the workers are forked by now
+        signal.getsignal(signal.SIGINT)(signal.SIGINT, None)      # Ctrl-C's handler runs here
+    return future
+
+ProcessPoolExecutor.submit = submit
+signal.signal(signal.SIGINT, signal.default_int_handler)          # as at a terminal
+try:
+    parallel.run_tasks(square, None, list(range(8)), lambda i, r: None, workers=2)
+    raised = False
+except KeyboardInterrupt:
+    raised = True
+deadline = time.time() + 10
+while multiprocessing.active_children() and time.time() < deadline:
+    time.sleep(0.05)
+print(json.dumps({"raised": raised, "made": len(made), "kept": list(errors._terminated),
+                  "left": len(multiprocessing.active_children())}))
+"""
+
+
+def test_a_ctrl_c_while_the_workers_are_forked_waits_until_the_pool_knows_them():
     """Ctrl-C's handler running in the middle of the submissions (where the workers are forked)
     only notes it; the interrupt is raised once every submission is made, so the kill that
     follows reaches every worker, and none is left; nothing of it outlives the call."""
-    import multiprocessing
-    import signal
-    import time
-    from concurrent.futures import ProcessPoolExecutor
-
-    from vampc import errors, parallel
-    monkeypatch.setattr(errors, "_terminated", [])
-    made = []
-    real = ProcessPoolExecutor.submit
-
-    def submit(self, *args, **kwargs):
-        future = real(self, *args, **kwargs)
-        made.append(future)
-        if len(made) == 1:                                  # the workers are forked by now
-            signal.getsignal(signal.SIGINT)(signal.SIGINT, None)      # Ctrl-C's handler runs here
-        return future
-
-    monkeypatch.setattr(ProcessPoolExecutor, "submit", submit)
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)   # as at a terminal
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            parallel.run_tasks(_square, None, list(range(8)), lambda i, r: None, workers=2)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    assert len(made) == 8                                   # raised after the last submission
-    assert errors._terminated == []              # nothing kept for a later call (a notebook's)
-    deadline = time.time() + 10
-    while multiprocessing.active_children() and time.time() < deadline:
-        time.sleep(0.05)
-    assert not multiprocessing.active_children()
+    import json
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, "-c", FORKED_CTRL_C], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    got = json.loads(done.stdout.strip().splitlines()[-1])
+    assert got["raised"]
+    assert got["made"] == 8                 # raised after the last submission
+    assert got["kept"] == []                # nothing kept for a later call (a notebook's)
+    assert got["left"] == 0                 # every worker killed
