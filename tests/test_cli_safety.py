@@ -281,13 +281,13 @@ def test_a_ctrl_c_swallowed_by_a_finaliser_still_stops_the_command(tmp_path, mon
         def __del__(self):
             errors.interrupt(signal.SIGINT)        # what the handler does, landing in a finaliser
 
-    real = vampc.compiler.program_text
+    real = vampc.compiler.program_chunks
 
-    def program_text(c):
+    def program_chunks(c):
         Finaliser()                                # made and dropped: its __del__ runs here
         return real(c)
 
-    monkeypatch.setattr(vampc.compiler, "program_text", program_text)
+    monkeypatch.setattr(vampc.compiler, "program_chunks", program_chunks)
     out = tmp_path / "p.vamp.json"
     res = run("compile", PLANAR, "-o", "-" if where == "stdout" else out)
     assert res.exit_code == 130 and "vampc: interrupted" in res.output, res.output
@@ -783,7 +783,7 @@ def test_a_ctrl_c_ends_its_own_command_only(tmp_path, monkeypatch):
     import vampc.compiler
     from vampc import errors
     monkeypatch.setattr(errors, "_terminated", [])        # a failure here must not reach other tests
-    real = vampc.compiler.program_text
+    real = vampc.compiler.program_chunks
 
     def interrupted(c):
         try:
@@ -792,9 +792,9 @@ def test_a_ctrl_c_ends_its_own_command_only(tmp_path, monkeypatch):
             pass
         return real(c)
 
-    monkeypatch.setattr(vampc.compiler, "program_text", interrupted)
+    monkeypatch.setattr(vampc.compiler, "program_chunks", interrupted)
     assert run("compile", PLANAR, "-o", tmp_path / "a.vamp.json").exit_code == 130
-    monkeypatch.setattr(vampc.compiler, "program_text", real)
+    monkeypatch.setattr(vampc.compiler, "program_chunks", real)
     res = run("compile", PLANAR, "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0, res.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b.vamp.json"]

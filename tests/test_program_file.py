@@ -7,6 +7,7 @@ slot·8 + field, value) for further slots, selects and long delays.
 """
 from __future__ import annotations
 
+import gzip
 import json
 import os
 
@@ -282,6 +283,28 @@ def test_rows_formatted_from_the_irs_are_what_json_writes(recursion):
     assert sum(line.startswith('{"a":') for line in lines) == len(c.network.vamps)
     assert sum(line.startswith('{"slots":') for line in lines) == len(c.network.vamps)
     assert sum(line.startswith('{"args":') for line in lines) == len(c.graph.nodes)
+
+
+def test_the_text_made_in_small_pieces_is_the_same(monkeypatch, tmp_path):
+    """program_chunks makes its big sections a batch of rows at a time (Rows) and write_program
+    streams the pieces, hashing as they pass: with batches of 3 rows, every way of writing gives
+    the text of the whole document laid out at once, checksum included."""
+    import vampc.program.file as program_file
+    from vampc.compiler import program_chunks
+    c = compile_chain(random_chain(4, 7, prismatic_fraction=0.3), CompileOptions(recursion="log"))
+    whole = layout(program_document(c))
+    monkeypatch.setattr(program_file, "ROW_BATCH", 3)
+    pieces = list(program_chunks(c))
+    assert len(pieces) > len(c.network.vamps) // 3 > 10        # batches of 3 rows, not a section each
+    assert b"".join(pieces).decode() == whole == layout(json.loads(whole))
+    doc = json.loads(whole)
+    want = '{\n"checksum":"' + checksum(doc) + '",' + whole[1:] + "\n"
+    for name, source in [("a.vamp.json", program_chunks(c)), ("b.vamp.json", whole),
+                         ("c.vamp.json", doc), ("d.vamp.json.gz", program_chunks(c))]:
+        write_program(source, tmp_path / name)
+        raw = (tmp_path / name).read_bytes()
+        assert (gzip.decompress(raw) if name.endswith(".gz") else raw).decode() == want, name
+    assert read_program(tmp_path / "d.vamp.json.gz") == doc | {"checksum": checksum(doc)}
 
 
 def test_written_file_is_canonical_json_one_row_per_line(compiled, program_path):

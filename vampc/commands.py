@@ -63,7 +63,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
                     robot_opts: RobotOptions, say) -> str | None:
     """`vampc compile`: the IR dump asked for (returned), or the program file written (and a summary
     line said)."""
-    from vampc.compiler import program_text
+    from vampc.compiler import program_chunks
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
     own.check()           # (options.numbering is own.numbering: both are built from --numbering)
@@ -75,7 +75,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     path = own.output if own.output is not None else Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",))["-o"]
     c = compile_robot(robot, options, robot_opts)
-    write_program(program_text(c), out)
+    write_program(program_chunks(c), out)
     s = c.schedule
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "

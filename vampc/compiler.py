@@ -105,15 +105,22 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
                     layout)
 
 
+def program_chunks(c: Compiled):
+    """The program file's text (without its checksum: write_program stamps it) of a compiled robot,
+    as ASCII byte pieces made as they are taken (what write_program streams: the text of a big
+    program is never held whole)."""
+    from vampc.program.document import program_chunks as chunks
+    from vampc.program.format import LayoutDoc
+    from vampc.report.counts import summary
+    return chunks(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream,
+                  c.options.record(), summary(c),
+                  LayoutDoc(c.options.layout_name, c.options.share_passes))
+
+
 @gc_paused()
 def program_text(c: Compiled) -> str:
     """The program file's text (without its checksum: write_program stamps it) of a compiled robot."""
-    from vampc.program.document import program_text as text
-    from vampc.program.format import LayoutDoc
-    from vampc.report.counts import summary
-    return text(c.chain, c.graph, c.schedule, c.network, c.numbering, c.programs, c.stream,
-                c.options.record(), summary(c),
-                LayoutDoc(c.options.layout_name, c.options.share_passes))
+    return b"".join(program_chunks(c)).decode("ascii")
 
 
 @gc_paused()

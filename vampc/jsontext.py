@@ -82,6 +82,11 @@ def ascii_text(out: bytes) -> str:
     return _ESCAPE.sub(escape, text)
 
 
+def ascii_bytes(out: bytes) -> bytes:
+    """ascii_text's escaping, bytes to bytes (the bytes themselves when they are ASCII)."""
+    return ascii_text(out).encode() if _NOT_ASCII.search(out) else out
+
+
 def encode(value, sort_keys: bool = True) -> str:
     """Compact JSON text (no whitespace) of a value whose floats are already written."""
     return ascii_text((_SORTED if sort_keys else _PLAIN).encode(value))

@@ -1,6 +1,8 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
@@ -30,12 +32,13 @@ from vampc.program.emit import StreamEntry, load_ticks
 from vampc.program.file import (
     FORMAT,
     VERSION,
+    Rows,
+    layout_chunks,
     number,
     number_rows,
     numbers,
     rendered,
 )
-from vampc.program.file import layout as laid_out
 from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic
 from vampc.schedule.asap import Schedule
@@ -111,13 +114,15 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     return chain
 
 
-def graph_doc(g: Graph) -> F.GraphDoc:
-    """The graph section: one row per node."""
-    return F.GraphDoc(g.n, g.recursion, [
-        F.NodeDoc(nd.id, nd.op.value, list(nd.args), nd.name, nd.section, nd.group,
-                  (nd.key.quantity, nd.key.joint) if nd.key else None,
-                  numbers(nd.value) if nd.value is not None else None) for nd in g.nodes],
-        [(o.joint, o.node, o.component) for o in g.outputs], dict(g.meta))
+def graph_doc(g: Graph, lazy: bool = False) -> F.GraphDoc:
+    """The graph section: one row per node (made as the writer reaches them when `lazy`: `_rows`)."""
+    def rows(lo: int, hi: int) -> list[F.NodeDoc]:
+        return [F.NodeDoc(nd.id, nd.op.value, list(nd.args), nd.name, nd.section, nd.group,
+                          (nd.key.quantity, nd.key.joint) if nd.key else None,
+                          numbers(nd.value) if nd.value is not None else None)
+                for nd in g.nodes[lo:hi]]
+    return F.GraphDoc(g.n, g.recursion, _rows(len(g.nodes), rows, lazy),
+                      [(o.joint, o.node, o.component) for o in g.outputs], dict(g.meta))
 
 
 def graph_from_doc(d: F.GraphDoc, path="<program>") -> Graph:
@@ -151,18 +156,20 @@ def schedule_doc(s: Schedule) -> F.ScheduleDoc:
                          list(s.start), list(s.finish), list(s.critical_path))
 
 
-def network_doc(net: Network, numbering) -> F.NetworkDoc:
-    """The network (netlist) section: wiring only; timing lives in the programs."""
-    taps: dict[int, list] = {}   # id(operand) -> its taps: readers share operands, and so rows
-    def operand(op: Operand) -> list:
-        rows = taps.get(id(op))
-        if rows is None:
-            rows = taps[id(op)] = [(t.kind, t.index, t.stage) for t in op.taps]
-        return rows
+def network_doc(net: Network, numbering, lazy: bool = False) -> F.NetworkDoc:
+    """The network (netlist) section: wiring only; timing lives in the programs. `lazy`: its VAMPs
+    made as the writer reaches them (`_rows`)."""
+    def vamps(lo: int, hi: int) -> list[F.VampDoc]:
+        taps: dict[int, list] = {}   # id(operand) -> its taps: readers share operands, and so rows
+        def operand(op: Operand) -> list:
+            rows = taps.get(id(op))
+            if rows is None:
+                rows = taps[id(op)] = [(t.kind, t.index, t.stage) for t in op.taps]
+            return rows
+        return [F.VampDoc(v.index, numbering[v.index], [operand(op) for op in v.a],
+                          [operand(op) for op in v.b]) for v in net.vamps[lo:hi]]
     return F.NetworkDoc(
-        net.period, net.clock,
-        [F.VampDoc(v.index, numbering[v.index], [operand(op) for op in v.a],
-                   [operand(op) for op in v.b]) for v in net.vamps],
+        net.period, net.clock, _rows(len(net.vamps), vamps, lazy),
         [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],
         [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
                                      for e in p.entries]) for p in net.ports],
@@ -181,18 +188,32 @@ def bus_doc(bus) -> F.BusDoc:
                     bus.stretch, bus.wait)
 
 
-def programs_doc(net: Network, progs) -> list[F.ProgramDoc]:
-    """The programs section: each VAMP's slots with their control registers."""
-    return [F.ProgramDoc(v.index, [F.SlotDoc(s.node, s.op.value, p.delay_a, p.delay_b, p.delay_r,
-                                             p.rom, p.sel_a, p.sel_b)
-                                   for s, p in zip(v.slots, ps)])
-            for v, ps in zip(net.vamps, progs)]
+def programs_doc(net: Network, progs, lazy: bool = False) -> list[F.ProgramDoc]:
+    """The programs section: each VAMP's slots with their control registers (`lazy`: `_rows`)."""
+    def rows(lo: int, hi: int) -> list[F.ProgramDoc]:
+        return [F.ProgramDoc(v.index, [F.SlotDoc(s.node, s.op.value, p.delay_a, p.delay_b,
+                                                 p.delay_r, p.rom, p.sel_a, p.sel_b)
+                                       for s, p in zip(v.slots, ps)])
+                for v, ps in zip(net.vamps[lo:hi], progs[lo:hi])]
+    if len(progs) != len(net.vamps):
+        raise VampcInternalError(f"{len(progs)} programs for {len(net.vamps)} VAMPs")
+    return _rows(len(net.vamps), rows, lazy)
 
 
-def stream_doc(stream) -> list[F.StreamDoc]:
-    """The program_stream section: per input buffer, the words the host writes in Program Mode."""
-    return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets), list(e.depth),
-                        number_rows(e.words)) for e in stream]
+def stream_doc(stream, lazy: bool = False) -> list[F.StreamDoc]:
+    """The program_stream section: per input buffer, the words the host writes in Program Mode
+    (`lazy`: `_rows`)."""
+    def rows(lo: int, hi: int) -> list[F.StreamDoc]:
+        return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets),
+                            list(e.depth), number_rows(e.words)) for e in stream[lo:hi]]
+    return _rows(len(stream), rows, lazy)
+
+
+def _rows(count: int, make, lazy: bool):
+    """Rows 0..count-1 of a section, made by make(lo, hi): a list, or (`lazy`) a
+    vampc.program.file.Rows the writer makes a batch at a time, so a big program's rows are never
+    all held at once."""
+    return Rows(count, make) if lazy else make(0, count)
 
 
 def io_doc(net: Network, stream) -> F.IoDoc:
@@ -205,22 +226,31 @@ def io_doc(net: Network, stream) -> F.IoDoc:
 
 
 def program_sections(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                     summary: dict, layout: F.LayoutDoc) -> dict:
-    """Every section of the program file but its checksum, as vampc.program.format's Structs."""
+                     summary: dict, layout: F.LayoutDoc, lazy: bool = False) -> dict:
+    """Every section of the program file but its checksum, as vampc.program.format's Structs
+    (`lazy`: the big row lists as vampc.program.file.Rows, for layout_chunks only)."""
     return {"format": FORMAT, "version": VERSION, "robot": robot_doc(chain),
-            "options": F.OptionsDoc(**options), "graph": graph_doc(graph),
-            "schedule": schedule_doc(sched), "layout": layout, "network": network_doc(net, numbering),
-            "programs": programs_doc(net, progs), "program_stream": stream_doc(stream),
-            "io": io_doc(net, stream), "summary": summary}
+            "options": F.OptionsDoc(**options), "graph": graph_doc(graph, lazy),
+            "schedule": schedule_doc(sched), "layout": layout,
+            "network": network_doc(net, numbering, lazy), "programs": programs_doc(net, progs, lazy),
+            "program_stream": stream_doc(stream, lazy), "io": io_doc(net, stream),
+            "summary": summary}
+
+
+def program_chunks(chain, graph, sched, net, numbering, progs, stream, options: dict,
+                   summary: dict, layout: F.LayoutDoc) -> Iterator[bytes]:
+    """The whole program-file document (without its checksum) as the text `write_program` writes,
+    in ASCII byte pieces made as they are taken (vampc.program.file.layout_chunks): the sections'
+    Structs encoded by msgspec as canonical JSON, laid out one row per line."""
+    return layout_chunks(program_sections(chain, graph, sched, net, numbering, progs, stream,
+                                          options, summary, layout, lazy=True))
 
 
 def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
                  summary: dict, layout: F.LayoutDoc) -> str:
-    """The whole program-file document (without its checksum) as the text `write_program` writes:
-    the sections' Structs encoded by msgspec as canonical JSON, laid out one row per line
-    (vampc.program.file.layout)."""
-    return laid_out(program_sections(chain, graph, sched, net, numbering, progs, stream,
-                                     options, summary, layout))
+    """program_chunks' text, whole."""
+    return b"".join(program_chunks(chain, graph, sched, net, numbering, progs, stream, options,
+                                   summary, layout)).decode("ascii")
 
 
 def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:
