@@ -40,8 +40,9 @@ from vampc.kinds import TapKind, unhandled
 from vampc.machine.ops import Op
 
 
-class Tap(Struct, frozen=True, gc=False):
-    """Where an operand is read: a VAMP's Result, stage `stage` of a buffer, a host port or a constant."""
+class Tap(Struct, frozen=True, gc=False, array_like=True):
+    """Where an operand is read: a VAMP's Result, stage `stage` of a buffer, a host port or a constant.
+    Encoded as the program file writes a tap, [kind, index, stage] (vampc.program.document)."""
 
     kind: TapKind
     index: int

@@ -160,14 +160,9 @@ def network_doc(net: Network, numbering, lazy: bool = False) -> F.NetworkDoc:
     """The network (netlist) section: wiring only; timing lives in the programs. `lazy`: its VAMPs
     made as the writer reaches them (`_rows`)."""
     def vamps(lo: int, hi: int) -> list[F.VampDoc]:
-        taps: dict[int, list] = {}   # id(operand) -> its taps: readers share operands, and so rows
-        def operand(op: Operand) -> list:
-            rows = taps.get(id(op))
-            if rows is None:
-                rows = taps[id(op)] = [(t.kind, t.index, t.stage) for t in op.taps]
-            return rows
-        return [F.VampDoc(v.index, numbering[v.index], [operand(op) for op in v.a],
-                          [operand(op) for op in v.b]) for v in net.vamps[lo:hi]]
+        # an operand is written as its taps, and a Tap (array-like) as [kind, index, stage]
+        return [F.VampDoc(v.index, numbering[v.index], [op.taps for op in v.a],
+                          [op.taps for op in v.b]) for v in net.vamps[lo:hi]]
     return F.NetworkDoc(
         net.period, net.clock, _rows(len(net.vamps), vamps, lazy),
         [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],

@@ -156,9 +156,12 @@ def layout_chunks(doc) -> Iterator[bytes]:
             batches = value.batches() if isinstance(value, Rows) else \
                 (value[lo:lo + ROW_BATCH] for lo in range(0, len(value), ROW_BATCH))
             yield b"[\n"
-            for k, batch in enumerate(batches):
-                yield (b",\n" if k else b"") + \
-                    ascii_bytes(encode_lines(batch)[:-1].replace(b"\n", b",\n"))
+            held = None         # each batch's rows end ",\n"; the last one's without (one copy)
+            for batch in batches:
+                if held is not None:
+                    yield held
+                held = ascii_bytes(encode_lines(batch)).replace(b"\n", b",\n")
+            yield held[:-2]
             yield b"\n]"
         elif isinstance(value, Rows):
             yield b"[]"
@@ -226,24 +229,29 @@ def write_program(doc, path) -> None:
             fh.write(b"\n")
 
 
-def _overlapped(pieces, digest, put) -> None:
+def _overlapped(pieces, digest, put, in_flight: int = 4) -> None:
     """Hash each piece with its newlines removed (`digest`) and put(piece), in order, on a thread
-    of its own while this one makes the next piece: zlib, hashlib and file writes let go of the
+    of its own while this one makes the next pieces: zlib, hashlib and file writes let go of the
     interpreter on big buffers, so on two cores compressing and hashing hide behind the making of
-    the rows. One piece at a time is in hand: memory stays bounded, and an error (a full disk)
-    is raised here."""
+    the rows. At most `in_flight` pieces wait: memory stays bounded, and an error (a full disk) is
+    raised here, the pieces after it dropped."""
+    from collections import deque
     from concurrent.futures import ThreadPoolExecutor
     def take(piece: bytes) -> None:
         digest.update(piece.replace(b"\n", b""))
         put(piece)
     with ThreadPoolExecutor(1, thread_name_prefix="vampc-write") as pool:
-        pending = None
-        for piece in pieces:
-            if pending is not None:
-                pending.result()
-            pending = pool.submit(take, piece)
-        if pending is not None:
-            pending.result()
+        pending: deque = deque()
+        try:
+            for piece in pieces:
+                if len(pending) == in_flight:
+                    pending.popleft().result()
+                pending.append(pool.submit(take, piece))
+            while pending:
+                pending.popleft().result()
+        except BaseException:
+            pool.shutdown(cancel_futures=True)
+            raise
 
 
 def _after_open_brace(pieces) -> Iterator[bytes]:
