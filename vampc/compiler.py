@@ -105,10 +105,12 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
                     layout)
 
 
+@gc_paused()
 def program_chunks(c: Compiled):
     """The program file's text (without its checksum: write_program stamps it) of a compiled robot,
     as ASCII byte pieces made as they are taken (what write_program streams: the text of a big
-    program is never held whole)."""
+    program is never held whole). The summary and the small sections are made at once, with the
+    cyclic collector paused: a full collection over a 4096-joint log compile's objects took 0.7 s."""
     from vampc.program.document import program_chunks as chunks
     from vampc.program.format import LayoutDoc
     from vampc.report.counts import summary
