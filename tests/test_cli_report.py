@@ -46,6 +46,17 @@ def test_text_report_has_every_section():
     assert "differs: note 1" in out and "1. Uicker/Kahn (original Lagrangian): Mults:" in out
 
 
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_the_log_leaves_note_is_said_once(layout):
+    # a folded log report said it twice, once in the single-device note's words, once in the
+    # general one's (review, 2026-12-02)
+    out = run("report", PUMA, "--recursion", "log", "--layout", layout).stdout
+    notes = [line for line in out.splitlines() if line.strip().startswith("leaves are Table IV.1")]
+    assert len(notes) == 1, notes
+    out = run("report", PUMA, "--recursion", "log", "--layout", layout, "--uniform-leaves").stdout
+    assert not any(line.strip().startswith("leaves are") for line in out.splitlines())
+
+
 def test_markdown_report():
     out = run("report", PUMA, "--format", "markdown").stdout
     assert out.startswith("## vampc report: puma560\n")

@@ -300,7 +300,8 @@ def vamp_notes(rep: dict) -> list[str]:
                "first forms its origin's acceleration, H1..H5 = 3 VC + 2 VA, 5 VAMPs more (README, "
                "Trees and floating bases)" if rep.get("tree") and per["bwd"] - paper[0] == 5 else "")
         notes.append(f"backward node {per['bwd']} VAMPs, paper {paper[0]}{why}")
-    if Recursion(rep["recursion"]) is Recursion.LOG and not rep.get("uniform_leaves"):
+    if Recursion(rep["recursion"]) is Recursion.LOG and not rep.get("uniform_leaves") and \
+            not is_layout(rep.get("layout"), FOLDED):    # (_layout_notes says it for a folded one)
         notes.append("leaves are Table IV.1's separate a = b forms (fewer VAMPs than Appendix D's "
                      "uniform nodes, which section VI counts: use --uniform-leaves to compare)")
     return notes
