@@ -123,6 +123,42 @@ def test_a_terminated_emulation_leaves_no_file(puma_program, tmp_path, sig):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_stops_a_compile_whose_reader_stopped_reading(sig):
+    """`vampc compile big.yaml -o - | less`: Ctrl-C reaches both, less ignores it and stops reading.
+    vampc must stop at once, not wait for the reader (the streamed writer's writelines on standard
+    output let no signal through until the pipe drained; the review of 2026-12-02 found it)."""
+    import array
+    import fcntl
+    import termios
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", "compile",
+                             str(EXAMPLES / "snake64.yaml"), "--recursion", "log", "-o", "-"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env={**os.environ, "VAMPC_PROGRESS": "0"},
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        held, since, deadline = -1, time.time(), time.time() + 120
+        while True:                       # until the pipe holds what it can and nothing more comes
+            size = array.array("i", [0])
+            fcntl.ioctl(proc.stdout.fileno(), termios.FIONREAD, size, True)
+            if size[0] != held:
+                held, since = size[0], time.time()
+            elif held > 0 and time.time() - since > 0.5:
+                break
+            assert proc.poll() is None and time.time() < deadline
+            time.sleep(0.05)
+        proc.send_signal(sig)
+        code = proc.wait(timeout=30)      # at once, normally; never waiting for the reader
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    err = proc.stderr.read().decode()
+    assert code == 128 + sig
+    assert err.splitlines() == ["vampc: terminated (SIGTERM)" if sig == signal.SIGTERM
+                                else "vampc: interrupted"]
+
+
 # --- one verdict from both engines ---------------------------------------------------------------------
 
 def test_a_reversed_program_mode_stream_is_refused_by_both_engines_and_the_report(puma_program,

@@ -214,7 +214,7 @@ def write_program(doc, path) -> None:
             _overlapped(rest, digest, lambda piece: packed.append(packer.compress(piece)))
             packed.append(packer.compress(b"\n") + packer.flush())
             fh.write(zlib.compress(head(), GZIP_LEVEL, wbits=31))
-            fh.writelines(packed)
+            _write_each(fh, packed)
         elif out.kind == "file":                               # seekable: the checksum last
             fh.write(b" " * placeholder)
             _overlapped(rest, digest, fh.write)
@@ -225,8 +225,16 @@ def write_program(doc, path) -> None:
             held: list[bytes] = []
             _overlapped(rest, digest, held.append)
             fh.write(head())
-            fh.writelines(held)
+            _write_each(fh, held)
             fh.write(b"\n")
+
+
+def _write_each(fh, pieces) -> None:
+    """fh.write each piece in turn. (Not fh.writelines: on standard output, into a pipe nobody
+    reads, Python 3.11's writelines does not let a SIGTERM or Ctrl-C through, and vampc would wait
+    for the reader; write returns to the interpreter, which runs the signal's handler.)"""
+    for piece in pieces:
+        fh.write(piece)
 
 
 def _overlapped(pieces, digest, put, in_flight: int = 4) -> None:
