@@ -55,11 +55,25 @@ def test_a_compressed_program_is_known_by_its_content(programs, tmp_path):
     assert r.exit_code == 0 and ": OK" in r.output, r.output
 
 
-@pytest.mark.parametrize("cut, message", [(200, "compressed program file is truncated"),
-                                          (None, "damaged compressed program file")])
+def _first_member(data: bytes) -> int:
+    """The length of the first gzip member of `data` (the compact form's checksum line)."""
+    import zlib
+    d = zlib.decompressobj(wbits=31)
+    d.decompress(data)
+    return len(data) - len(d.unused_data)
+
+
+@pytest.mark.parametrize("cut, message", [
+    (200, "compressed program file is truncated"),
+    (None, "damaged compressed program file"),
+    # cut between the two members: the gzip is whole, its text short (found by a user trial)
+    (_first_member, "compressed program file is truncated (its text ends early")])
 def test_a_damaged_compressed_file_is_one_line(programs, tmp_path, cut, message):
     data = programs[1].read_bytes()
     bad = tmp_path / "bad.vamp.json.gz"
+    if callable(cut):
+        cut = cut(data)
+        assert 0 < cut < len(data)
     bad.write_bytes(data[:cut] if cut else data[:10] + bytes(255 - b for b in data[10:]))
     r = CliRunner().invoke(main, ["emulate", str(bad), "--random", "5"])
     assert r.exit_code == 1 and f"{bad}: {message}" in r.output, r.output

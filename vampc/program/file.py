@@ -295,7 +295,8 @@ def _read(path) -> tuple[ProgramFile, str]:
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
-    if raw.startswith(GZIP_MAGIC):
+    packed = raw.startswith(GZIP_MAGIC)
+    if packed:
         raw = gunzip(raw, path)
     if not raw.strip():
         raise VampcError(f"{path}: empty file, not a vampc program file (vampc compile writes one)")
@@ -307,6 +308,11 @@ def _read(path) -> tuple[ProgramFile, str]:
         _refuse_version(_untyped(text, path), path)
         raise VampcError(f"{path}: {_where(exc)}") from None
     except msgspec.DecodeError as exc:
+        if packed and "truncated" in str(exc):
+            # every gzip member whole, the text short: a copy cut between members (the compact
+            # form has two)
+            raise VampcError(f"{path}: compressed program file is truncated (its text ends "
+                             "early, after a whole gzip member)") from None
         _untyped(text, path)         # says why, when it is not JSON
         raise VampcError(f"{path}: not a vampc program file ({exc})") from None
     lacks = check_summary(doc)
