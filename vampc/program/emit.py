@@ -79,10 +79,22 @@ def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
 
 def programs(net: Network) -> tuple[tuple[Program, ...], ...]:
     """Each VAMP's program: per slot the Cycle-Counter values of its latches and dump, its ROM
-    pointer and its multiplexer selects."""
+    pointer and its multiplexer selects. Equal programs are one object (Programs are frozen), and so
+    are equal one-slot listings: a systolic network of a million VAMPs has a few hundred distinct
+    programs, and a Program and a tuple each per VAMP took 120 MB."""
     P = net.period
-    return tuple(tuple(Program(s.latch_a % P, s.latch_b % P, s.dump % P, rom_pointer(s.op, s.column),
-                               s.sel_a, s.sel_b) for s in v.slots) for v in net.vamps)
+    known: dict[Program, Program] = {}
+    alone: dict[Program, tuple[Program]] = {}
+    def program(s) -> Program:
+        made = Program(s.latch_a % P, s.latch_b % P, s.dump % P, rom_pointer(s.op, s.column),
+                       s.sel_a, s.sel_b)
+        return known.setdefault(made, made)
+    def listing(slots) -> tuple[Program, ...]:
+        if len(slots) == 1:
+            made = program(slots[0])
+            return alone.setdefault(made, (made,))
+        return tuple(map(program, slots))
+    return tuple(listing(v.slots) for v in net.vamps)
 
 
 def a_roots(net: Network) -> list[tuple[Tap, int]]:
