@@ -60,9 +60,11 @@ class _Allocator:
         self.port_size: list[int] = []
         self.by_quantity: dict[str, list[int]] = {}
         self.consts: dict[tuple[float, ...], Const] = {}
-        self.operands: dict[tuple[int, int], Operand] = {}   # (source node, stage; 0: its Result)
-        self.port_operands: list[Operand] = []
-        self.const_operands: list[Operand] = []
+        # Each operand is kept as the one-input tuple a one-slot VAMP's multiplexer is, so that
+        # its readers share that tuple too (4096 joints: 40 MB)
+        self.operands: dict[tuple[int, int], tuple[Operand]] = {}   # (source node, stage; 0: its
+        self.port_operands: list[tuple[Operand]] = []                 # Result)
+        self.const_operands: list[tuple[Operand]] = []
         self.place = layout.vamps_of()
         self.on_vamp = self._on_vamps()
         self.next_emit = self._next_emits()
@@ -96,7 +98,7 @@ class _Allocator:
 
     def run(self) -> Network:
         start, nodes = self.s.start, self.g.nodes
-        reads: dict[int, tuple[Operand, Operand]] = {}
+        reads: dict[int, tuple[tuple[Operand], tuple[Operand]]] = {}   # each as (operand,)
         operands = self.operands
         for nd in self.g.compute_nodes():
             t = start[nd.id]
@@ -117,13 +119,14 @@ class _Allocator:
             return 0
         return buffer_stage(emit, nxt, t, self.B)
 
-    def _operand(self, arg: int, t: int) -> Operand:
+    def _operand(self, arg: int, t: int) -> tuple[Operand]:
+        """The operand reading node `arg` at tick t, as (operand,) (`operands`), made if new."""
         src = self.g.nodes[arg]
         if src.op is Op.CONST:
             if src.value not in self.consts:
                 index = len(self.consts)
                 self.consts[src.value] = Const(index, src.name, src.value)
-                self.const_operands.append(Operand((Tap(TapKind.CONST, index),)))
+                self.const_operands.append((Operand((Tap(TapKind.CONST, index),)),))
             return self.const_operands[self.consts[src.value].index]
         if src.op is Op.INPUT:
             return self.port_operands[self._port(src.key, t // self.B)]
@@ -139,7 +142,7 @@ class _Allocator:
                                          f"{emit}) is gone at tick {t}: nothing buffered it")
             else:
                 taps = tuple(self._buffer_tap(v, stage) for v in vamps)
-            operand = self.operands[(arg, stage)] = Operand(taps)
+            operand = self.operands[(arg, stage)] = (Operand(taps),)
         return operand
 
     def _port(self, key: InputKey, block: int) -> int:
@@ -160,7 +163,7 @@ class _Allocator:
             self.port_entries.append([])
             self.port_size.append(9 if key.quantity is Quantity.A else 3)
             ports.append(p)
-            self.port_operands.append(Operand((Tap(TapKind.PORT, p),)))
+            self.port_operands.append((Operand((Tap(TapKind.PORT, p),)),))
         self.taken[at] = taken + 1
         self.port_entries[p].append(PortEntry(key, block))
         self.entries[(key, block)] = p
@@ -192,8 +195,8 @@ class _Allocator:
                 a, b = reads[i]
                 op = nodes[i].op
                 col = self.place[i].index(v) if VAMPS_PER_OP[op] > 1 else None
-                vamps.append(Vamp(v, (a,), (b,), (Slot(i, op, col, 0, 0, start[i], start[i],
-                                                        finish[i] - 1),)))
+                vamps.append(Vamp(v, a, b, (Slot(i, op, col, 0, 0, start[i], start[i],
+                                                    finish[i] - 1),)))
                 continue
             if not mine:
                 raise VampcInternalError(f"VAMP {v} runs no op")
@@ -210,7 +213,7 @@ class _Allocator:
         ins_b: dict[Operand, int] = {}
         slots = []
         for i in mine:
-            a, b = reads[i]
+            (a,), (b,) = reads[i]
             sa = ins_a.setdefault(a, len(ins_a))
             sb = ins_b.setdefault(b, len(ins_b))
             col = self.place[i].index(v) if VAMPS_PER_OP[nodes[i].op] > 1 else None
