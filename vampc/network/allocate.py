@@ -61,9 +61,10 @@ class _Allocator:
         self.by_quantity: dict[str, list[int]] = {}
         self.consts: dict[tuple[float, ...], Const] = {}
         # Each operand is kept as the one-input tuple a one-slot VAMP's multiplexer is, so that
-        # its readers share that tuple too (4096 joints: 40 MB)
-        self.operands: dict[tuple[int, int], tuple[Operand]] = {}   # (source node, stage; 0: its
-        self.port_operands: list[tuple[Operand]] = []                 # Result)
+        # its readers share that tuple too (4096 joints: 40 MB). Keys: (source node, stage), stage
+        # 0 being its Result.
+        self.operands: dict[tuple[int, int], tuple[Operand]] = {}
+        self.port_operands: list[tuple[Operand]] = []
         self.const_operands: list[tuple[Operand]] = []
         self.place = layout.vamps_of()
         self.on_vamp = self._on_vamps()
