@@ -114,14 +114,15 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     return chain
 
 
-def graph_doc(g: Graph, lazy: bool = False) -> F.GraphDoc:
-    """The graph section: one row per node (made as the writer reaches them when `lazy`: `_rows`)."""
+def graph_doc(g: Graph) -> F.GraphDoc:
+    """The graph section: one row per node, made as the writer reaches them (vampc.program.file.Rows:
+    a big program's rows are never all held at once)."""
     def rows(lo: int, hi: int) -> list[F.NodeDoc]:
         return [F.NodeDoc(nd.id, nd.op.value, list(nd.args), nd.name, nd.section, nd.group,
                           (nd.key.quantity, nd.key.joint) if nd.key else None,
                           numbers(nd.value) if nd.value is not None else None)
                 for nd in g.nodes[lo:hi]]
-    return F.GraphDoc(g.n, g.recursion, _rows(len(g.nodes), rows, lazy),
+    return F.GraphDoc(g.n, g.recursion, Rows(len(g.nodes), rows),
                       [(o.joint, o.node, o.component) for o in g.outputs], dict(g.meta))
 
 
@@ -156,15 +157,15 @@ def schedule_doc(s: Schedule) -> F.ScheduleDoc:
                          list(s.start), list(s.finish), list(s.critical_path))
 
 
-def network_doc(net: Network, numbering, lazy: bool = False) -> F.NetworkDoc:
-    """The network (netlist) section: wiring only; timing lives in the programs. `lazy`: its VAMPs
-    made as the writer reaches them (`_rows`)."""
+def network_doc(net: Network, numbering) -> F.NetworkDoc:
+    """The network (netlist) section: wiring only; timing lives in the programs. Its VAMPs are made
+    as the writer reaches them (Rows)."""
     def vamps(lo: int, hi: int) -> list[F.VampDoc]:
         # an operand is written as its taps, and a Tap (array-like) as [kind, index, stage]
         return [F.VampDoc(v.index, numbering[v.index], [op.taps for op in v.a],
                           [op.taps for op in v.b]) for v in net.vamps[lo:hi]]
     return F.NetworkDoc(
-        net.period, net.clock, _rows(len(net.vamps), vamps, lazy),
+        net.period, net.clock, Rows(len(net.vamps), vamps),
         [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],
         [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
                                      for e in p.entries]) for p in net.ports],
@@ -183,8 +184,9 @@ def bus_doc(bus) -> F.BusDoc:
                     bus.stretch, bus.wait)
 
 
-def programs_doc(net: Network, progs, lazy: bool = False) -> list[F.ProgramDoc]:
-    """The programs section: each VAMP's slots with their control registers (`lazy`: `_rows`)."""
+def programs_doc(net: Network, progs) -> Rows:
+    """The programs section: each VAMP's slots with their control registers, made as the writer
+    reaches them (Rows)."""
     def rows(lo: int, hi: int) -> list[F.ProgramDoc]:
         return [F.ProgramDoc(v.index, [F.SlotDoc(s.node, s.op.value, p.delay_a, p.delay_b,
                                                  p.delay_r, p.rom, p.sel_a, p.sel_b)
@@ -192,23 +194,16 @@ def programs_doc(net: Network, progs, lazy: bool = False) -> list[F.ProgramDoc]:
                 for v, ps in zip(net.vamps[lo:hi], progs[lo:hi])]
     if len(progs) != len(net.vamps):
         raise VampcInternalError(f"{len(progs)} programs for {len(net.vamps)} VAMPs")
-    return _rows(len(net.vamps), rows, lazy)
+    return Rows(len(net.vamps), rows)
 
 
-def stream_doc(stream, lazy: bool = False) -> list[F.StreamDoc]:
-    """The program_stream section: per input buffer, the words the host writes in Program Mode
-    (`lazy`: `_rows`)."""
+def stream_doc(stream) -> Rows:
+    """The program_stream section: per input buffer, the words the host writes in Program Mode,
+    made as the writer reaches them (Rows)."""
     def rows(lo: int, hi: int) -> list[F.StreamDoc]:
         return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets),
                             list(e.depth), number_rows(e.words)) for e in stream[lo:hi]]
-    return _rows(len(stream), rows, lazy)
-
-
-def _rows(count: int, make, lazy: bool):
-    """Rows 0..count-1 of a section, made by make(lo, hi): a list, or (`lazy`) a
-    vampc.program.file.Rows the writer makes a batch at a time, so a big program's rows are never
-    all held at once."""
-    return Rows(count, make) if lazy else make(0, count)
+    return Rows(len(stream), rows)
 
 
 def io_doc(net: Network, stream) -> F.IoDoc:
@@ -221,14 +216,14 @@ def io_doc(net: Network, stream) -> F.IoDoc:
 
 
 def program_sections(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                     summary: dict, layout: F.LayoutDoc, lazy: bool = False) -> dict:
-    """Every section of the program file but its checksum, as vampc.program.format's Structs
-    (`lazy`: the big row lists as vampc.program.file.Rows, for layout_chunks only)."""
+                     summary: dict, layout: F.LayoutDoc) -> dict:
+    """Every section of the program file but its checksum, as vampc.program.format's Structs, the
+    big row lists as vampc.program.file.Rows (for layout_chunks)."""
     return {"format": FORMAT, "version": VERSION, "robot": robot_doc(chain),
-            "options": F.OptionsDoc(**options), "graph": graph_doc(graph, lazy),
+            "options": F.OptionsDoc(**options), "graph": graph_doc(graph),
             "schedule": schedule_doc(sched), "layout": layout,
-            "network": network_doc(net, numbering, lazy), "programs": programs_doc(net, progs, lazy),
-            "program_stream": stream_doc(stream, lazy), "io": io_doc(net, stream),
+            "network": network_doc(net, numbering), "programs": programs_doc(net, progs),
+            "program_stream": stream_doc(stream), "io": io_doc(net, stream),
             "summary": summary}
 
 
@@ -238,14 +233,7 @@ def program_chunks(chain, graph, sched, net, numbering, progs, stream, options: 
     in ASCII byte pieces made as they are taken (vampc.program.file.layout_chunks): the sections'
     Structs encoded by msgspec as canonical JSON, laid out one row per line."""
     return layout_chunks(program_sections(chain, graph, sched, net, numbering, progs, stream,
-                                          options, summary, layout, lazy=True))
-
-
-def program_text(chain, graph, sched, net, numbering, progs, stream, options: dict,
-                 summary: dict, layout: F.LayoutDoc) -> str:
-    """program_chunks' text, whole."""
-    return b"".join(program_chunks(chain, graph, sched, net, numbering, progs, stream, options,
-                                   summary, layout)).decode("ascii")
+                                          options, summary, layout))
 
 
 def network_from_doc(doc: F.ProgramFile, path="<program>") -> Network:

@@ -153,11 +153,11 @@ def layout_chunks(doc) -> Iterator[bytes]:
                 value and isinstance(value[0], rows) and depth <= 2:
             # one row per line: msgspec writes rows newline-delimited, and JSON text has no raw
             # newline of its own, so each newline is a row's end
-            batches = value.batches() if isinstance(value, Rows) else \
-                (value[lo:lo + ROW_BATCH] for lo in range(0, len(value), ROW_BATCH))
+            if not isinstance(value, Rows):
+                value = Rows(len(value), lambda lo, hi, whole=value: whole[lo:hi])
             yield b"[\n"
             held = None         # each batch's rows end ",\n"; the last one's without (one copy)
-            for batch in batches:
+            for batch in value.batches():
                 if held is not None:
                     yield held
                 held = ascii_bytes(encode_lines(batch)).replace(b"\n", b",\n")
