@@ -917,10 +917,8 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     if own.synth is not None:
         from vampc.rtl.synth import require
         require(own.pnr)
-    outs = plan_outputs([source], {"-o": own.output}, stdout_ok=("-o",))
-    if own.output not in (None, "-") and not own.output.lower().endswith((".v", ".sv")):
-        warnings.warn(VampcWarning(f"-o {own.output}: writes Verilog, whatever the name says (name it "
-                                   ".v)"), stacklevel=1)
+    outs = plan_outputs([source], {"-o": own.output}, stdout_ok=("-o",),
+                        writes={"-o": ("Verilog", (".v", ".sv"))})
     ld = loaded(source, options, robot_opts, params)
     rtl_supported(ld, source)
     from vampc.rtl.design import NetworkDesign, kinds

@@ -50,10 +50,12 @@ class PlannedOutput:
         return self.kind == "stdout"
 
 
-def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict[str, PlannedOutput]:
+def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
+                 writes: dict | None = None) -> dict[str, PlannedOutput]:
     """Check every output against the rules above and return them by option name. `inputs` are the
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
-    `stdout_ok` names the options that may be `-`."""
+    `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
+    where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
     inputs = [Path(p) for p in inputs if p is not None]
     planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
@@ -66,7 +68,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = ()) -> dict
                 raise VampcError(f"{path}: {option} and {other.option} name the same file")
         planned[option] = out
     for option, out in planned.items():          # accepted: say when the name misleads
-        _warn_suffix(option, str(outputs[option]))
+        _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})})
     return planned
 
 
@@ -277,12 +279,12 @@ WRITES = {"--timing": ("SVG", (".svg",)), "--network": ("SVG", (".svg",)),
           "--html": ("HTML", (".html", ".htm")), "--dot": ("Graphviz DOT", (".dot", ".gv"))}
 
 
-def _warn_suffix(option: str, path: str) -> None:
-    """A one-line warning when a picture goes to a name that says otherwise (x.png gets SVG)."""
+def _warn_suffix(option: str, path: str, writes: dict) -> None:
+    """A one-line warning when an output goes to a name that says otherwise (x.png gets SVG)."""
     import warnings
 
     from vampc.errors import VampcWarning
-    kind = WRITES.get(option)
+    kind = writes.get(option)
     if kind and path.strip() not in ("", "-") and not path.lower().endswith(kind[1]):
         warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
                                    f"(name it {kind[1][0]})"))
