@@ -346,7 +346,7 @@ def check_program_options(given, params: dict, source: str, stored: dict,
             was = stored.get(name, defaults[name])
             if isinstance(value, bool):        # a switch: named as given, not as Python's True/False
                 given_text = flag(name)
-                was = f"{flag(name)}" if was else f"no {flag(name)}"
+                was = flag(name) if was else f"no {flag(name)}"
             else:
                 given_text = f"{flag(name)} {value}"
                 was = f"{flag(name)} {was}" if was is not None else f"no {flag(name)} (the default)"

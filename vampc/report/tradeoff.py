@@ -166,7 +166,8 @@ def render_markdown(rows: list[dict]) -> str:
              "ctrl regs | mux in | host wr |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        lines.append(f"| {_marks(r, chr(92) + '*', '')} | {r['layout']} | {r['vamps']} | {r['latency_flops']} | "
+        marks = _marks(r, "\\*", "")          # Markdown's * escaped
+        lines.append(f"| {marks} | {r['layout']} | {r['vamps']} | {r['latency_flops']} | "
                      f"{r['latency_bound']} | {r['latency_gap_pct']}% | {r['interval_flops']} | "
                      f"{r['interval_bound']} | {r['interval_gap_pct']}% | {r['buffer_stages']} | "
                      f"{r['control_registers']} | {r['mux_inputs']} | {r['host_writes_per_set']} |")
