@@ -76,7 +76,12 @@ def checksum(doc: dict) -> str:
 
 
 def _digest(text: str) -> str:
-    return "sha256:" + hashlib.sha256(text.encode()).hexdigest()
+    return _stamp(hashlib.sha256(text.encode()))
+
+
+def _stamp(digest) -> str:
+    """A checksum as the file holds it: "sha256:" and the hash's hex digits."""
+    return "sha256:" + digest.hexdigest()
 
 
 def _fields(value):
@@ -205,7 +210,7 @@ def write_program(doc, path) -> None:
     digest, rest = hashlib.sha256(), _after_open_brace(pieces)
     digest.update(b"{")
     def head() -> bytes:
-        return b'{\n"checksum":' + encode("sha256:" + digest.hexdigest()).encode() + b","
+        return b'{\n"checksum":' + encode(_stamp(digest)).encode() + b","
     placeholder = len(head())
     with writing(out, "program file", binary=True) as fh:
         if str(out.path).lower().endswith(".gz"):            # the compact form
@@ -392,7 +397,7 @@ def _laid_out_digest(data: bytes, stored: str) -> str | None:
     head = ('{\n"checksum":' + encode(stored) + ",").encode()
     if not data.startswith(head):
         return None
-    return "sha256:" + hashlib.sha256(b"{" + data[len(head):].replace(b"\n", b"")).hexdigest()
+    return _stamp(hashlib.sha256(b"{" + data[len(head):].replace(b"\n", b"")))
 
 
 def validate_program(doc, path) -> ProgramFile:
