@@ -508,3 +508,17 @@ def test_an_edited_robot_section_fails_the_check(program_path):
     rewrite(program_path, heavier)
     res = CliRunner().invoke(main, ["emulate", str(program_path), "--random", "5", "--check"])
     assert res.exit_code == 1 and "FAILED" in res.output, res.output
+
+
+def test_rows_with_weights_batch_by_items(monkeypatch):
+    """A weighted Rows (the program stream: a row per input buffer, weighed in words) cuts a batch
+    before it would pass ROW_BATCH items; a row heavier than that is a batch of its own."""
+    import vampc.program.file as program_file
+    monkeypatch.setattr(program_file, "ROW_BATCH", 10)
+    weights = [3, 4, 2, 30, 1, 9, 5, 5]
+    rows = program_file.Rows(len(weights), lambda lo, hi: list(range(lo, hi)), weights)
+    batches = list(rows.batches())
+    assert batches == [[0, 1, 2], [3], [4, 5], [6, 7]]
+    assert [sum(weights[i] for i in b) for b in batches if len(b) > 1] == [9, 10, 10]
+    plain = program_file.Rows(len(weights), lambda lo, hi: list(range(lo, hi)))
+    assert list(plain.batches()) == [list(range(8))]

@@ -67,39 +67,54 @@ class _Allocator:
         self.port_operands: list[tuple[Operand]] = []
         self.const_operands: list[tuple[Operand]] = []
         self.place = layout.vamps_of()
-        self.on_vamp = self._on_vamps()
+        self.first, self.more = self._on_vamps()
         self.next_emit = self._next_emits()
 
-    def _on_vamps(self) -> list[list[int]]:
-        """Per VAMP: the nodes it runs, in order of their dumps."""
-        on: list[list[int]] = [[] for _ in range(self.lay.vamp_count)]
+    def _on_vamps(self) -> tuple[list[int], dict[int, list[int]]]:
+        """Per VAMP: the first node it runs (-1 for none); and per VAMP running several, all its
+        nodes in order of their dumps. (Lists and a dict of the few, not a list per VAMP: a
+        4096-joint log network has a million VAMPs of one node each.)"""
+        first = [-1] * self.lay.vamp_count
+        more: dict[int, list[int]] = {}
         place = self.place
         for nd in self.g.compute_nodes():
-            for v in place[nd.id]:
-                on[v].append(nd.id)
+            i = nd.id
+            for v in place[i]:
+                if first[v] < 0:
+                    first[v] = i
+                elif v in more:
+                    more[v].append(i)
+                else:
+                    more[v] = [first[v], i]
         finish = self.s.finish
-        for nodes in on:
-            if len(nodes) > 1:
-                nodes.sort(key=lambda i: finish[i])
-        return on
+        for nodes in more.values():
+            nodes.sort(key=lambda i: finish[i])
+        return first, more
 
-    def _next_emits(self) -> dict[int, int]:
-        """Per compute node: the tick the next dump of its VAMP shows (the end of its Result window;
-        the earliest over an MM's three VAMPs), counted round the period."""
+    def _next_emits(self) -> list[int | None]:
+        """Per graph node: the tick the next dump of its VAMP shows (the end of its Result window;
+        the earliest over an MM's three VAMPs), counted round the period; None for inputs and
+        constants."""
         finish, P = self.s.finish, self.P
-        out: dict[int, int] = {}
-        for nodes in self.on_vamp:
-            if len(nodes) == 1:
-                i = nodes[0]
-                out[i] = min(out.get(i, finish[i] + P), finish[i] + P)
+        out: list[int | None] = [None] * len(self.g.nodes)
+        more = self.more
+        for v, i in enumerate(self.first):
+            if v not in more:
+                if i >= 0:
+                    nxt = finish[i] + P
+                    if out[i] is None or nxt < out[i]:
+                        out[i] = nxt
                 continue
+            nodes = more[v]
             for i, (_, nxt) in zip(nodes, result_windows([finish[i] - 1 for i in nodes], P)):
-                out[i] = min(out.get(i, nxt), nxt)
+                if out[i] is None or nxt < out[i]:
+                    out[i] = nxt
         return out
 
     def run(self) -> Network:
         start, nodes = self.s.start, self.g.nodes
-        reads: dict[int, tuple[tuple[Operand], tuple[Operand]]] = {}   # each as (operand,)
+        # per graph node: its operands, each as (operand,); None for inputs and constants
+        reads: list[tuple[tuple[Operand], tuple[Operand]] | None] = [None] * len(nodes)
         operands = self.operands
         for nd in self.g.compute_nodes():
             t = start[nd.id]
@@ -190,19 +205,19 @@ class _Allocator:
         vamps: list[Vamp] = []
         self.program_ports: tuple[Port, ...] = ()
         muxed = False
-        for v, mine in enumerate(self.on_vamp):
-            if len(mine) == 1:       # the systolic case: one slot, one input per operand
-                i = mine[0]
+        more = self.more
+        for v, i in enumerate(self.first):
+            if v not in more and i >= 0:   # the systolic case: one slot, one input per operand
                 a, b = reads[i]
                 op = nodes[i].op
                 col = self.place[i].index(v) if VAMPS_PER_OP[op] > 1 else None
                 vamps.append(Vamp(v, a, b, (Slot(i, op, col, 0, 0, start[i], start[i],
                                                     finish[i] - 1),)))
                 continue
-            if not mine:
+            if i < 0:
                 raise VampcInternalError(f"VAMP {v} runs no op")
             muxed = True
-            vamps.append(self._muxed(v, mine, reads))
+            vamps.append(self._muxed(v, more[v], reads))
         if muxed:
             vamps = self._order_program_inputs(vamps)
         return tuple(vamps)

@@ -203,7 +203,7 @@ def stream_doc(stream) -> Rows:
     def rows(lo: int, hi: int) -> list[F.StreamDoc]:
         return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets),
                             list(e.depth), number_rows(e.words)) for e in stream[lo:hi]]
-    return Rows(len(stream), rows)
+    return Rows(len(stream), rows, [len(e.words) for e in stream])
 
 
 def io_doc(net: Network, stream) -> F.IoDoc:

@@ -116,20 +116,32 @@ class Rows:
     gives rows lo..hi-1. The big sections of a program file are written this way (a 4096-joint log
     program has about a million VAMPs; holding every row's Struct, and the whole text, at once
     doubled the compile's peak memory). Only `layout_chunks` reads it: a row list at the depth
-    where `layout` puts one row per line."""
+    where `layout` puts one row per line. `weights`, if given, is each row's size in items (a
+    stream entry's words): a batch then holds at most ROW_BATCH items, or one row (a 4096-joint log
+    program's 8192 stream entries took 100 MB of text at once)."""
 
-    __slots__ = ("count", "make")
+    __slots__ = ("count", "make", "weights")
 
-    def __init__(self, count: int, make):
-        self.count, self.make = count, make
+    def __init__(self, count: int, make, weights=None):
+        self.count, self.make, self.weights = count, make, weights
 
     def __len__(self) -> int:
         return self.count
 
     def batches(self):
         size = ROW_BATCH
-        for lo in range(0, self.count, size):
-            yield self.make(lo, min(lo + size, self.count))
+        if self.weights is None:
+            for lo in range(0, self.count, size):
+                yield self.make(lo, min(lo + size, self.count))
+            return
+        lo, held = 0, 0
+        for k, weight in enumerate(self.weights):
+            if k > lo and held + weight > size:
+                yield self.make(lo, k)
+                lo, held = k, 0
+            held += weight
+        if lo < self.count:
+            yield self.make(lo, self.count)
 
 
 def layout(doc) -> str:
