@@ -35,3 +35,19 @@ def keep_last(count: int = 1):
         wrapper.forget = kept.clear
         return wrapper
     return decorate
+
+
+_COUNTING: tuple[int, ...] = ()
+
+
+def counting(n: int) -> tuple[int, ...]:
+    """The ints 0, 1, 2, ..., at least `n` of them, as one tuple kept for the process. The IRs of a
+    big network take their node ids, VAMP indices, placements, program-stream targets and VAMP
+    numbers from it, so each value is one int object however many IRs hold it: an int above 256
+    is a 28-byte object of its own, and a 4096-joint log compile (a million nodes and a million
+    VAMPs) held five copies of a million of them."""
+    global _COUNTING
+    have = len(_COUNTING)
+    if have < n:      # grown by an eighth at least: a graph asks one more at a time
+        _COUNTING = _COUNTING + tuple(range(have, max(n, have + have // 8 + 1024)))
+    return _COUNTING

@@ -13,6 +13,7 @@ from msgspec import Struct
 from vampc.errors import VampcInternalError
 from vampc.kinds import Quantity, Recursion, Section
 from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
+from vampc.memo import counting
 
 
 @dataclass(frozen=True)
@@ -162,7 +163,8 @@ class GraphBuilder:
 
     def op(self, op: Op, a: int, b: int, name: str) -> int:
         """Add a compute node and return its id."""
-        return self._add(Node(len(self.nodes), op, (a, b), name, self.section, self.group))
+        k = len(self.nodes)
+        return self._add(Node(counting(k + 1)[k], op, (a, b), name, self.section, self.group))
 
     def input(self, quantity: str, joint: int) -> int:
         """The (shared) INPUT node for a host quantity of a joint."""

@@ -26,6 +26,7 @@ from vampc.errors import VampcInternalError
 from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.machine.timing import buffer_stage, buffer_window, result_windows
+from vampc.memo import counting
 from vampc.network.model import (
     Buffer,
     Const,
@@ -206,7 +207,7 @@ class _Allocator:
         self.program_ports: tuple[Port, ...] = ()
         muxed = False
         more = self.more
-        for v, i in enumerate(self.first):
+        for v, i in zip(counting(len(self.first)), self.first):   # (shared ints: vampc.memo)
             if v not in more and i >= 0:   # the systolic case: one slot, one input per operand
                 a, b = reads[i]
                 op = nodes[i].op

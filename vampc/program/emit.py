@@ -13,6 +13,7 @@ from pathlib import Path
 
 from vampc.errors import VampcError
 from vampc.kinds import TapKind
+from vampc.memo import counting
 from vampc.network.model import Network, Tap, tap_source
 from vampc.program.words import (
     PACKING,
@@ -43,7 +44,8 @@ def default_numbering(net: Network) -> tuple[int, ...]:
     if len(net.vamps) >= 1 << 24:
         raise VampcError(f"the network needs {len(net.vamps)} VAMPs, but VAMP numbers have 24 bits "
                          "(at most 16777215): use the linear recursion or --layout folded")
-    return tuple(range(1, len(net.vamps) + 1))
+    count = len(net.vamps)
+    return counting(count + 1)[1:count + 1]       # (shared ints: vampc.memo)
 
 
 def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
@@ -172,7 +174,7 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
     target first, each VAMP's words in the order vampc.program.words.vamp_words gives them, packed
     for the word format (vampc.program.words.Packing)."""
     by_root: dict[Tap, list[tuple[int, int]]] = {}
-    for index, (root, depth) in enumerate(a_roots(net)):
+    for index, (root, depth) in zip(counting(len(net.vamps)), a_roots(net)):   # (vampc.memo)
         by_root.setdefault(root, []).append((-depth, index))
     entries = []
     compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields

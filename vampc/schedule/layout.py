@@ -40,7 +40,7 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture
-from vampc.memo import keep_last
+from vampc.memo import counting, keep_last
 from vampc.schedule.asap import Schedule, schedule_asap
 
 
@@ -67,8 +67,9 @@ class Layout:
         """A grouped layout from a unit per node (-1 for inputs and constants) and each unit's size;
         VAMPs are numbered unit by unit."""
         vamps, first = [], 0          # per unit, its VAMPs (one tuple, shared by its nodes)
+        ints = counting(sum(sizes))   # (the VAMP indices as the network's ints: vampc.memo)
         for size in sizes:
-            vamps.append(tuple(range(first, first + size)))
+            vamps.append(ints[first:first + size])
             first += size
         placement = tuple(vamps[u] if u >= 0 else () for u in units)
         layout = Layout(name, placement, period, clock, share_passes)
@@ -166,8 +167,9 @@ def folded(graph: Graph, timing: Timing, share_passes: bool = False,
 def systolic_layout(graph: Graph, sched: Schedule) -> Layout:
     """One unit per compute node, in graph order; P = B = the schedule's interval."""
     units, sizes = [-1] * len(graph.nodes), []
+    ints = counting(len(graph.nodes))
     for nd in graph.compute_nodes():
-        units[nd.id] = len(sizes)
+        units[nd.id] = ints[len(sizes)]
         sizes.append(VAMPS_PER_OP[nd.op])
     return Layout.of_units("systolic", units, sizes, sched.interval, sched.interval)
 
