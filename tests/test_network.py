@@ -252,6 +252,39 @@ def test_shifted_operand_b_latch_is_rejected():
         verify_network(broken, graph, sched)
 
 
+@pytest.mark.parametrize("kind", ["vamp", "buffer"])
+def test_tap_of_another_node_shown_at_the_same_time_is_rejected(kind):
+    """An operand wired to the Result (or the buffer behind it) of a one-slot VAMP whose window
+    covers the latch, but which runs another node: the check names the tap and the node."""
+    graph, sched, net = build(4)
+    sources = {b.index: b.source for b in net.buffers}
+    for v, k, s, name, latch, operand in reads(net):
+        tap = operand.taps[0]
+        if len(operand.taps) != 1 or tap.kind != kind:
+            continue
+        src = net.vamps[tap.index if kind == "vamp" else sources[tap.index]].slots[0]
+        others = [t for t in (net.buffers if kind == "buffer" else net.vamps)
+                  for w in [net.vamps[t.source if kind == "buffer" else t.index].slots]
+                  if len(w) == 1 and w[0].node != src.node
+                  and (w[0].dump == src.dump if kind == "vamp"        # a buffer's window: by block
+                       else (w[0].dump + 1) // net.clock == (src.dump + 1) // net.clock
+                       and t.stages >= tap.stage)]
+        if others:
+            break
+    else:
+        pytest.fail(f"no {kind} operand with another source shown at the same time")
+    other = msgspec.structs.replace(tap, index=others[0].index)
+    field = "a" if name == "A" else "b"
+    vamp = msgspec.structs.replace(v, **{field: (type(operand)((other,)),)
+                                         + getattr(v, field)[1:]})
+    broken = dataclasses.replace(net, vamps=net.vamps[:v.index] + (vamp,) + net.vamps[v.index + 1:])
+    assert (s.sel_a if name == "A" else s.sel_b) == 0
+    with pytest.raises(VampcInternalError,
+                       match=rf"^VAMP {v.index} slot {k}: operand {name} is wired to {kind} "
+                             rf"{others[0].index}.*, which does not carry node "):
+        verify_network(broken, graph, sched)
+
+
 def test_overlapping_slots_are_rejected():
     graph, sched, net = build(4, layout="folded")
     v = next(v for v in net.vamps if len(v.slots) > 1)

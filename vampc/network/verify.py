@@ -21,45 +21,75 @@ from vampc.network.model import Network, Vamp
 from vampc.schedule.asap import Schedule
 
 
-def shown_windows(net: Network) -> dict[tuple[int, int], tuple[int, int]]:
-    """(VAMP, node) -> (emit, next emit): the ticks the VAMP's Result shows that node's value
-    (set 0)."""
-    out = {}
-    P = net.period
-    for v in net.vamps:
-        if len(v.slots) == 1:       # a systolic VAMP: the common case by far
-            s = v.slots[0]
-            out[(v.index, s.node)] = (s.dump + 1, s.dump + 1 + P)
-            continue
-        windows = result_windows([s.dump for s in v.slots], P)
-        out.update({(v.index, s.node): w for s, w in zip(v.slots, windows)})
-    return out
+class _Shown:
+    """(VAMP, node) -> (emit, next emit): the ticks the VAMP's Result shows that node's value (set
+    0), None if the VAMP does not run the node. A one-slot VAMP's window is worked out when asked
+    (the common case by far: a dict of a million such windows took a second and 200 MB)."""
+
+    def __init__(self, net: Network):
+        self.vamps, self.P = net.vamps, net.period
+        self.multi = {}
+        for v in net.vamps:
+            if len(v.slots) > 1:
+                windows = result_windows([s.dump for s in v.slots], net.period)
+                self.multi.update({(v.index, s.node): w for s, w in zip(v.slots, windows)})
+
+    def get(self, key: tuple[int, int]) -> tuple[int, int] | None:
+        v, node = key
+        if not 0 <= v < len(self.vamps):
+            return None
+        slots = self.vamps[v].slots
+        if len(slots) != 1:
+            return self.multi.get(key)
+        s = slots[0]
+        return (s.dump + 1, s.dump + 1 + self.P) if s.node == node else None
 
 
 def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
     vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
     the slot, the tick and the operand."""
-    shown = shown_windows(net)
+    shown = _Shown(net)
     ports = _PortIndex(net)
     P, B = net.period, net.clock
-    nodes = graph.nodes
-    VAMP = TapKind.VAMP
+    nodes, count = graph.nodes, len(net.vamps)
     for v in net.vamps:
         _verify_slots(v, P)
         for k, s in enumerate(v.slots):
             arg_a, arg_b = nodes[s.node].args
-            # most operands are one other VAMP's Result, shown over its window: checked here
-            taps = v.a[s.sel_a].taps
-            window = shown.get((taps[0].index, arg_a)) if taps[0].kind is VAMP else None
-            if len(taps) != 1 or window is None or not window[0] <= s.latch_a < window[1]:
-                _verify_operand(net, graph, shown, ports, v, k, "A", v.a[s.sel_a], s.latch_a,
-                                arg_a, B)
-            taps = v.b[s.sel_b].taps
-            window = shown.get((taps[0].index, arg_b)) if taps[0].kind is VAMP else None
-            if len(taps) != 1 or window is None or not window[0] <= s.latch_b < window[1]:
-                _verify_operand(net, graph, shown, ports, v, k, "B", v.b[s.sel_b], s.latch_b,
-                                arg_b, B)
+            a, b = v.a[s.sel_a], v.b[s.sel_b]
+            if not _on_results(a.taps, arg_a, s.latch_a, net, count, P, B):
+                _verify_operand(net, graph, shown, ports, v, k, "A", a, s.latch_a, arg_a, B)
+            if not _on_results(b.taps, arg_b, s.latch_b, net, count, P, B):
+                _verify_operand(net, graph, shown, ports, v, k, "B", b, s.latch_b, arg_b, B)
+
+
+def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B: int) -> bool:
+    """Whether every tap of an operand shows node `arg` at tick `latch` from the Result of a
+    one-slot VAMP running it, or from a stage of the buffer behind one (windows: vampc.machine.
+    timing). Most operands are such, and are checked here; False sends the operand to
+    _verify_operand, which checks every kind of tap and says what is wrong."""
+    vamps = net.vamps
+    for t in taps:
+        if t.kind is TapKind.VAMP:
+            source, stage = t.index, 0
+        elif t.kind is TapKind.BUFFER and 0 <= t.index < len(net.buffers):
+            buffer = net.buffers[t.index]
+            if not 1 <= t.stage <= buffer.stages:
+                return False
+            source, stage = buffer.source, t.stage
+        else:
+            return False
+        if not 0 <= source < count:
+            return False
+        slots = vamps[source].slots
+        if len(slots) != 1 or slots[0].node != arg:
+            return False
+        emit = slots[0].dump + 1
+        lo, hi = (emit, emit + P) if stage == 0 else buffer_window(emit, emit + P, stage, B)
+        if not lo <= latch < hi:
+            return False
+    return True
 
 
 def _verify_slots(v: Vamp, P: int) -> None:
