@@ -107,7 +107,16 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
     VAMPs)."""
     roots: list[tuple[Tap, int] | None] = [None] * len(net.vamps)
     sources = [b.source for b in net.buffers]
-    for vamp in range(len(net.vamps)):
+    vamps = net.vamps
+    for vamp in range(len(vamps)):
+        if roots[vamp] is not None:
+            continue
+        tap = vamps[vamp].a[0].taps[0]
+        src = tap_source(tap, sources)
+        if src is not None and roots[src] is not None:    # one step to a known root: most VAMPs
+            root, depth = roots[src]
+            roots[vamp] = (root, depth + _registers(tap))
+            continue
         v, walked, seen = vamp, [], {vamp}
         while roots[v] is None:
             tap = net.vamps[v].a[0].taps[0]
@@ -119,13 +128,19 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
                 raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, "
                                  "so no input buffer can program it")
             seen.add(src)
-            walked.append((v, 1 if tap.kind is TapKind.VAMP else 1 + tap.stage))   # a buffer's
+            walked.append((v, _registers(tap)))
             v = src
         root, depth = roots[v]
         for u, step in reversed(walked):
             depth += step
             roots[u] = (root, depth)
     return roots
+
+
+def _registers(tap: Tap) -> int:
+    """Registers an Operand-A path passes through a VAMP's input `tap`: the VAMP's own, and a
+    buffer's stages."""
+    return 1 if tap.kind is TapKind.VAMP else 1 + tap.stage
 
 
 def bus_registers(net: Network) -> list[list[BusRegister]]:
