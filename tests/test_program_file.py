@@ -522,3 +522,24 @@ def test_rows_with_weights_batch_by_items(monkeypatch):
     assert [sum(weights[i] for i in b) for b in batches if len(b) > 1] == [9, 10, 10]
     plain = program_file.Rows(len(weights), lambda lo, hi: list(range(lo, hi)))
     assert list(plain.batches()) == [list(range(8))]
+
+
+def test_compiled_stream_words_read_as_tuples_of_floats(compiled):
+    """A compiled stream's words (emit.Words: one float64 array) read, compare and hash as the tuple
+    of (number, field, field) tuples a program file's stream reads back as."""
+    from array import array
+
+    import numpy as np
+    entry = max(compiled.stream, key=lambda e: len(e.words))
+    words = entry.words
+    assert isinstance(words, emit.Words) and len(words) >= 2
+    plain = tuple(words)
+    assert all(type(w) is tuple and len(w) == 3 and all(type(x) is float for x in w) for w in plain)
+    assert words == plain and plain == words and hash(words) == hash(plain)
+    assert words != plain[:-1] and words != list(plain)
+    assert words[-1] == plain[-1] and words[0] == plain[0] and words[1:] == plain[1:]
+    with pytest.raises(IndexError):
+        words[len(plain)]
+    got = np.asarray(words, dtype=np.float64)
+    assert got.shape == (len(plain), 3) and got.tolist() == [list(w) for w in plain]
+    assert emit.Words(array("d", [1.0, 2.0, 3.0])) == ((1.0, 2.0, 3.0),)

@@ -8,10 +8,12 @@ first, which makes the load time max over roots of (words + depth of the last wo
 """
 from __future__ import annotations
 
+from array import array
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from vampc.errors import VampcError
+from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import TapKind
 from vampc.memo import counting
 from vampc.network.model import Network, Tap, tap_source
@@ -29,6 +31,51 @@ from vampc.program.words import (
 )
 
 
+class Words(Sequence):
+    """A stream entry's words as the compiler makes them: a sequence of (number, field, field)
+    tuples of floats, held as one array of float64 (24 bytes a word, where a tuple of three floats
+    takes 88: a 4096-joint log program has a million words). Equal to the tuple of the same words
+    (what a program file's stream reads back as); NumPy reads it as a words x 3 array."""
+
+    __slots__ = ("_data",)
+
+    def __init__(self, data: array):
+        self._data = data
+
+    def __len__(self) -> int:
+        return len(self._data) // 3
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return tuple(self)[k]
+        if not -len(self) <= k < len(self):
+            raise IndexError("word index out of range")
+        k %= len(self)
+        return tuple(self._data[3 * k:3 * k + 3])
+
+    def __iter__(self):
+        d = self._data
+        return zip(d[0::3], d[1::3], d[2::3])
+
+    def __eq__(self, other) -> bool:
+        if isinstance(other, Words):
+            return self._data == other._data
+        if isinstance(other, tuple):
+            return tuple(self) == other
+        return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(tuple(self))
+
+    def __repr__(self) -> str:
+        return f"Words({list(self)!r})"
+
+    def __array__(self, dtype=None, copy=None):
+        import numpy as np
+        out = np.array(self._data, dtype=np.float64).reshape(-1, 3)
+        return out if dtype is None else out.astype(dtype)
+
+
 @dataclass(frozen=True)
 class StreamEntry:
     """Words the host writes to one input buffer in Program Mode, in order (one per tick)."""
@@ -36,7 +83,7 @@ class StreamEntry:
     root: Tap                      # a "port" or "const" tap
     targets: tuple[int, ...]       # logical VAMP index of each word
     depth: tuple[int, ...]         # registers between the root and each target's Operand-A input
-    words: tuple[tuple[float, float, float], ...] = ()
+    words: Sequence[tuple[float, float, float]] = ()   # a tuple, or Words (as compiled)
 
 
 def default_numbering(net: Network) -> tuple[int, ...]:
@@ -188,16 +235,19 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
     """The Program-Mode stream: per root input buffer, the words of the VAMPs it programs, deepest
     target first, each VAMP's words in the order vampc.program.words.vamp_words gives them, packed
     for the word format (vampc.program.words.Packing)."""
-    by_root: dict[Tap, list[tuple[int, int]]] = {}
+    by_root: dict[Tap, list[int]] = {}         # per root, its VAMPs in index order
+    depth_of = []                              # per VAMP, the registers before it
     for index, (root, depth) in zip(counting(len(net.vamps)), a_roots(net)):   # (vampc.memo)
-        by_root.setdefault(root, []).append((-depth, index))
+        by_root.setdefault(root, []).append(index)
+        depth_of.append(depth)
     entries = []
     compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields
     limit = packing.limit
     registers = bus_registers(net) if net.bus is not None else None
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
-        targets, depths, words = [], [], []
-        for neg, v in sorted(by_root[root]):
+        targets, depths, words = [], [], array("d")
+        # deepest first, then by index (a stable sort keeps the index order of equal depths)
+        for v in sorted(by_root[root], key=depth_of.__getitem__, reverse=True):
             slots, number = progs[v], numbering[v]
             pair = None
             regs = registers[v] if registers is not None else ()   # bus-write registers
@@ -210,8 +260,8 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
                                             if prog.sel_a == prog.sel_b == 0 else None)
             if pair is not None and 0 < number < limit:        # encode's word, in line
                 targets.append(v)
-                depths.append(-neg)
-                words.append((float(number), pair[0], pair[1]))
+                depths.append(depth_of[v])
+                words.extend((float(number), pair[0], pair[1]))
                 continue
             if len(slots) == 1 and slots[0].sel_a == slots[0].sel_b == 0 and \
                     fits_compact(slots[0], packing):
@@ -221,9 +271,12 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
             if regs:                            # after the slot words (vampc.program.words)
                 mine = mine + bus_words(number, regs, packing)
             targets.extend([v] * len(mine))
-            depths.extend([-neg] * len(mine))
-            words.extend(mine)
-        entries.append(StreamEntry(root, tuple(targets), tuple(depths), tuple(words)))
+            depths.extend([depth_of[v]] * len(mine))
+            for word in mine:
+                if len(word) != 3:
+                    raise VampcInternalError(f"VAMP {v}: a program word of {len(word)} fields")
+                words.extend(word)
+        entries.append(StreamEntry(root, tuple(targets), tuple(depths), Words(words)))
     return tuple(entries)
 
 
