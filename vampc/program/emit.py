@@ -8,6 +8,7 @@ first, which makes the load time max over roots of (words + depth of the last wo
 """
 from __future__ import annotations
 
+import operator
 from array import array
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -282,4 +283,5 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
 
 def load_ticks(stream: tuple[StreamEntry, ...]) -> int:
     """Ticks of Program Mode needed for every VAMP to have latched its words."""
-    return max((k + d + 1 for e in stream for k, d in enumerate(e.depth)), default=0)
+    return max((max(map(operator.add, range(1, len(e.depth) + 1), e.depth)) for e in stream
+                if e.depth), default=0)

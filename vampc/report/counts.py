@@ -29,14 +29,19 @@ def serial_reference(n: int) -> dict:
 
 def vamp_counts(c) -> dict:
     """VAMPs in total, on the backward (incl. non-propagated) and forward recursions, and by op."""
+    nodes, vamps = c.graph.nodes, c.network.vamps
     by_section, by_op = Counter(), Counter()
-    for v in c.network.vamps:
-        kinds = {Pass.of(c.graph.nodes[s.node].section) for s in v.slots}
-        by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
-        for s in v.slots:
-            by_op[s.op.value] += 1
+    alone = [v.slots[0] for v in vamps if len(v.slots) == 1]   # most VAMPs: counted in bulk
+    for section, k in Counter([nodes[s.node].section for s in alone]).items():
+        by_section[Pass.of(section)] += k
+    by_op.update([s.op.value for s in alone])
+    for v in vamps:
+        if len(v.slots) > 1:
+            kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
+            by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
+            by_op.update([s.op.value for s in v.slots])
     per_node = _per_node(c)
-    return {"total": len(c.network.vamps), "backward": by_section["backward"],
+    return {"total": len(vamps), "backward": by_section["backward"],
             "forward": by_section["forward"], "shared": by_section["shared"],
             "by_op": dict(sorted(by_op.items())), "per_node": per_node}
 
@@ -44,8 +49,9 @@ def vamp_counts(c) -> dict:
 def _per_node(c) -> dict:
     """VAMPs of the busiest recursion node of each section ('bwd', 'npv', 'fwd')."""
     groups: dict[tuple[str, int], int] = Counter()
-    for nd in c.graph.compute_nodes():
-        groups[(nd.section, nd.group)] += VAMPS_PER_OP[nd.op]
+    kinds = Counter([(nd.section, nd.group, nd.op) for nd in c.graph.compute_nodes()])
+    for (section, group, op), k in kinds.items():
+        groups[(section, group)] += k * VAMPS_PER_OP[op]
     out = {}
     for section in ("bwd", "npv", "fwd"):
         sizes = [k for (s, _), k in groups.items() if s == section]
@@ -179,13 +185,19 @@ def hardware_counts(c) -> dict:
     beyond the first of each operand, program ports, host writes per torque set, the period and
     buffer clock, program words and Program-Mode load time."""
     net = c.network
-    plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
+    slots = [len(v.slots) for v in net.vamps]
+    ins_a = [len(v.a) for v in net.vamps]
+    ins_b = [len(v.b) for v in net.vamps]
+    if max(slots) == max(ins_a) == max(ins_b) == 1:     # every VAMP plain (systolic): at once
+        control = 4 * len(slots)
+    else:
+        control = sum(4 if s == a == b == 1 else 6 * s for s, a, b in zip(slots, ins_a, ins_b))
     from vampc.program.emit import load_ticks
     return {
-        "slots": net.slot_count,
-        "control_registers": sum(4 if p else 6 * len(v.slots) for v, p in zip(net.vamps, plain)),
-        "mux_inputs": sum(len(v.a) - 1 + len(v.b) - 1 for v in net.vamps),
-        "max_mux_inputs": max(max(len(v.a), len(v.b)) for v in net.vamps),
+        "slots": sum(slots),
+        "control_registers": control,
+        "mux_inputs": sum(ins_a) + sum(ins_b) - 2 * len(net.vamps),
+        "max_mux_inputs": max(max(ins_a), max(ins_b)),
         "program_ports": sum(1 for p in net.ports if not p.entries),
         "host_writes_per_set": sum(len(p.entries) for p in net.ports),
         "period": net.period, "buffer_clock": net.clock,
