@@ -32,9 +32,9 @@ def vamp_counts(c) -> dict:
     nodes, vamps = c.graph.nodes, c.network.vamps
     by_section, by_op = Counter(), Counter()
     alone = [v.slots[0] for v in vamps if len(v.slots) == 1]   # most VAMPs: counted in bulk
-    for section, k in Counter([nodes[s.node].section for s in alone]).items():
+    for section, k in Counter(nodes[s.node].section for s in alone).items():
         by_section[Pass.of(section)] += k
-    by_op.update([s.op.value for s in alone])
+    by_op.update(s.op.value for s in alone)
     for v in vamps:
         if len(v.slots) > 1:
             kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
@@ -49,7 +49,7 @@ def vamp_counts(c) -> dict:
 def _per_node(c) -> dict:
     """VAMPs of the busiest recursion node of each section ('bwd', 'npv', 'fwd')."""
     groups: dict[tuple[str, int], int] = Counter()
-    kinds = Counter([(nd.section, nd.group, nd.op) for nd in c.graph.compute_nodes()])
+    kinds = Counter((nd.section, nd.group, nd.op) for nd in c.graph.compute_nodes())
     for (section, group, op), k in kinds.items():
         groups[(section, group)] += k * VAMPS_PER_OP[op]
     out = {}
