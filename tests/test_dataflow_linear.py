@@ -5,6 +5,7 @@ from vampc.dynamics.reference.rnea, the serial Newton-Euler of Table I.1.
 """
 from __future__ import annotations
 
+import re
 from collections import Counter
 
 import numpy as np
@@ -18,7 +19,7 @@ from vampc.dataflow.graph import Graph
 from vampc.dataflow.linear import build_linear
 from vampc.dynamics.reference import rnea
 from vampc.errors import VampcInternalError
-from vampc.machine.ops import Op
+from vampc.machine.ops import OPERAND_SHAPES, Op
 from vampc.robot.chain import JointType
 from vampc.robot.random import random_chain, random_state
 
@@ -97,6 +98,31 @@ def test_verify_rejects_a_node_reading_a_later_node():
                                   first.section, first.group)
     broken = Graph(tuple(nodes), graph.outputs, graph.n)
     with pytest.raises(VampcInternalError, match=rf"^node bwd1\.{first.name}: operand \d+ not before it$"):
+        broken.verify()
+
+
+@pytest.mark.parametrize("source", ["compute", "input", "const"])
+def test_verify_rejects_an_operand_of_the_wrong_shape(source):
+    """An operand wired to an earlier node whose result has the other shape (a matrix for a vector,
+    or a vector for a matrix), whatever made it: a compute op, a host input or a constant."""
+    graph = build_linear(random_chain(2, 1))
+    nodes = list(graph.nodes)
+    for nd in nodes:
+        if not nd.op.is_compute:
+            continue
+        want = OPERAND_SHAPES[nd.op][0]
+        wrong = [m for m in nodes[:nd.id] if m.shape != want
+                 and (m.op.is_compute if source == "compute" else m.op.value == source.upper())]
+        if wrong:
+            break
+    else:
+        pytest.fail(f"no node with an earlier {source} node of the other shape")
+    nodes[nd.id] = type(nd)(nd.id, nd.op, (wrong[-1].id, nd.args[1]), nd.name, nd.section,
+                            nd.group)
+    broken = Graph(tuple(nodes), graph.outputs, graph.n)
+    with pytest.raises(VampcInternalError,
+                       match=rf"^node {re.escape(nd.label)}: operand {re.escape(wrong[-1].label)} "
+                             rf"is not '{want}'$"):
         broken.verify()
 
 

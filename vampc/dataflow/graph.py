@@ -116,10 +116,13 @@ class Graph:
 
     def verify(self) -> None:
         """Check ids, topological order, arities and operand shapes; raise VampcInternalError."""
+        result = {op: result_shape(op) for op in {nd.op for nd in self.nodes} if op.is_compute}
+        shapes: list[str] = []      # per node checked, its result's shape
         for i, nd in enumerate(self.nodes):
             if nd.id != i:
                 raise VampcInternalError(f"node {nd.label}: id {nd.id} at position {i}")
-            _verify_node(self, nd)
+            _verify_node(self, nd, shapes)
+            shapes.append(result.get(nd.op) or nd.shape)
         joints = sorted(o.joint for o in self.outputs)
         want = self.n + 6 if len(joints) > self.n else self.n    # a floating base's wrench: 6 more
         if joints != list(range(1, want + 1)):
@@ -129,7 +132,8 @@ class Graph:
                 raise VampcInternalError(f"output τ{o.joint} reads a bad node/component")
 
 
-def _verify_node(g: Graph, nd: Node) -> None:
+def _verify_node(g: Graph, nd: Node, shapes: list[str]) -> None:
+    """Check one node; `shapes`: the result shapes of the nodes before it."""
     if nd.op is Op.INPUT and nd.key is None or nd.op is Op.CONST and nd.value is None:
         raise VampcInternalError(f"node {nd.label}: missing input key / constant value")
     if not nd.op.is_compute:
@@ -141,7 +145,7 @@ def _verify_node(g: Graph, nd: Node) -> None:
     for arg, want in zip(nd.args, OPERAND_SHAPES[nd.op]):
         if not 0 <= arg < nd.id:
             raise VampcInternalError(f"node {nd.label}: operand {arg} not before it")
-        if g.nodes[arg].shape != want:
+        if shapes[arg] != want:
             raise VampcInternalError(f"node {nd.label}: operand {g.nodes[arg].label} is not '{want}'")
 
 
