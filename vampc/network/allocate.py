@@ -113,31 +113,35 @@ class _Allocator:
         return out
 
     def run(self) -> Network:
-        start, nodes = self.s.start, self.g.nodes
+        start, finish, nxt, B = self.s.start, self.s.finish, self.next_emit, self.B
         # per graph node: its operands, each as (operand,); None for inputs and constants
-        reads: list[tuple[tuple[Operand], tuple[Operand]] | None] = [None] * len(nodes)
+        reads: list[tuple[tuple[Operand], tuple[Operand]] | None] = [None] * len(self.g.nodes)
         operands = self.operands
         for nd in self.g.compute_nodes():
             t = start[nd.id]
             a, b = nd.args
-            # inline, the common case: a result read at a stage already wired for another reader
-            key_a = (a, self._stage(a, t)) if nodes[a].op.is_compute else None
-            op_a = operands[key_a] if key_a in operands else self._operand(a, t)
-            key_b = (b, self._stage(b, t)) if nodes[b].op.is_compute else None
-            op_b = operands[key_b] if key_b in operands else self._operand(b, t)
+            # In line, the common case: a result (a node with a next emit: not an input or a
+            # constant) read at a stage already wired for another reader. The stage is 0 while the
+            # Result still shows it, else buffer_stage's.
+            n = nxt[a]
+            if n is None:
+                op_a = self._operand(a, t)
+            else:
+                e = finish[a]
+                stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
+                op_a = operands.get((a, stage)) or self._result(a, stage, t)
+            n = nxt[b]
+            if n is None:
+                op_b = self._operand(b, t)
+            else:
+                e = finish[b]
+                stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
+                op_b = operands.get((b, stage)) or self._result(b, stage, t)
             reads[nd.id] = (op_a, op_b)
         return self._network(reads)
 
-    def _stage(self, src: int, t: int) -> int:
-        """0 if the result of `src` is read from its VAMP's Result at tick t, else the first buffer
-        stage that shows it then (stage s shows it during blocks emit//B + s .. next_emit//B + s - 1)."""
-        emit, nxt = self.s.finish[src], self.next_emit[src]
-        if emit <= t < nxt:         # still on the Result: the common case, inline
-            return 0
-        return buffer_stage(emit, nxt, t, self.B)
-
     def _operand(self, arg: int, t: int) -> tuple[Operand]:
-        """The operand reading node `arg` at tick t, as (operand,) (`operands`), made if new."""
+        """The operand reading constant or host input `arg` at tick t, as (operand,), made if new."""
         src = self.g.nodes[arg]
         if src.op is Op.CONST:
             if src.value not in self.consts:
@@ -147,19 +151,21 @@ class _Allocator:
             return self.const_operands[self.consts[src.value].index]
         if src.op is Op.INPUT:
             return self.port_operands[self._port(src.key, t // self.B)]
-        stage = self._stage(arg, t)
-        operand = self.operands.get((arg, stage))
-        if operand is None:
-            vamps = self.place[arg]
-            emit = self.s.finish[arg]
-            if stage == 0:
-                taps = tuple(Tap(TapKind.VAMP, v) for v in vamps)
-            elif t < emit or buffer_window(emit, self.next_emit[arg], stage, self.B)[0] > t:
-                raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
-                                         f"{emit}) is gone at tick {t}: nothing buffered it")
-            else:
-                taps = tuple(self._buffer_tap(v, stage) for v in vamps)
-            operand = self.operands[(arg, stage)] = (Operand(taps),)
+        raise VampcInternalError(f"node {arg} ({src.op}) runs on no VAMP")
+
+    def _result(self, arg: int, stage: int, t: int) -> tuple[Operand]:
+        """The new operand reading node `arg`'s result at tick t, from its VAMPs' Results (stage 0)
+        or stage `stage` of the buffers behind them, as (operand,) (kept in `operands`)."""
+        vamps = self.place[arg]
+        emit = self.s.finish[arg]
+        if stage == 0:
+            taps = tuple([Tap(TapKind.VAMP, v) for v in vamps])
+        elif t < emit or buffer_window(emit, self.next_emit[arg], stage, self.B)[0] > t:
+            raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
+                                     f"{emit}) is gone at tick {t}: nothing buffered it")
+        else:
+            taps = tuple([self._buffer_tap(v, stage) for v in vamps])
+        operand = self.operands[(arg, stage)] = (Operand(taps),)
         return operand
 
     def _port(self, key: InputKey, block: int) -> int:
