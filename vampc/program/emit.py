@@ -134,17 +134,21 @@ def programs(net: Network) -> tuple[tuple[Program, ...], ...]:
     programs, and a Program and a tuple each per VAMP took 120 MB."""
     P = net.period
     known: dict[Program, Program] = {}
-    alone: dict[Program, tuple[Program]] = {}
+    alone: dict[tuple, tuple[Program]] = {}     # a one-slot listing by its slot's fields
     def program(s) -> Program:
         made = Program(s.latch_a % P, s.latch_b % P, s.dump % P, rom_pointer(s.op, s.column),
                        s.sel_a, s.sel_b)
         return known.setdefault(made, made)
     def listing(slots) -> tuple[Program, ...]:
         if len(slots) == 1:
-            made = program(slots[0])
-            return alone.setdefault(made, (made,))
+            s = slots[0]
+            key = (s.latch_a % P, s.latch_b % P, s.dump % P, s.op, s.column, s.sel_a, s.sel_b)
+            made = alone.get(key)
+            if made is None:
+                made = alone[key] = (program(s),)
+            return made
         return tuple(map(program, slots))
-    return tuple(listing(v.slots) for v in net.vamps)
+    return tuple([listing(v.slots) for v in net.vamps])
 
 
 def a_roots(net: Network) -> list[tuple[Tap, int]]:
@@ -242,7 +246,9 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
         by_root.setdefault(root, []).append(index)
         depth_of.append(depth)
     entries = []
-    compact: dict[Program, tuple[float, float] | None] = {}   # a one-slot program's two fields
+    # a one-slot listing's two fields (None if not compact), by the listing's identity: programs
+    # interns them, and a Program's hash is worked out anew each time
+    compact: dict[int, tuple[float, float] | None] = {}
     limit = packing.limit
     registers = bus_registers(net) if net.bus is not None else None
     for root in sorted(by_root, key=lambda t: (t.kind, t.index)):
@@ -253,12 +259,11 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
             pair = None
             regs = registers[v] if registers is not None else ()   # bus-write registers
             if len(slots) == 1 and not regs:    # the common, systolic case: one compact word
-                prog = slots[0]
-                if prog in compact:
-                    pair = compact[prog]
-                else:                           # (worked out once per distinct program)
-                    pair = compact[prog] = (compact_fields(prog, packing)
-                                            if prog.sel_a == prog.sel_b == 0 else None)
+                pair = compact.get(id(slots), compact)
+                if pair is compact:             # (worked out once per distinct listing)
+                    prog = slots[0]
+                    pair = compact[id(slots)] = (compact_fields(prog, packing)
+                                                 if prog.sel_a == prog.sel_b == 0 else None)
             if pair is not None and 0 < number < limit:        # encode's word, in line
                 targets.append(v)
                 depths.append(depth_of[v])
