@@ -56,3 +56,19 @@ def test_a_decode_problem_is_said_with_its_line_and_column(text, said):
     with pytest.raises(jsontext.DecodeError) as exc:
         jsontext.loads(text)
     assert jsontext.decode_problem(exc.value, text) == said
+
+
+def test_number_rows_from_a_flat_array_are_the_rows_written_one_by_one():
+    """Rows held as one flat float array (emit.Words) are written as the same rows given as tuples,
+    and a non-finite value is refused either way."""
+    from array import array
+
+    from vampc.program.emit import Words
+    values = [1.0, 0.1, -0.0, 16777215.0, 1e16, 2.5e-7, 3.0, 9007199254740991.0, -4.0]
+    flat = Words(array("d", values))
+    rows = tuple(tuple(values[k:k + 3]) for k in range(0, len(values), 3))
+    assert bytes(jsontext.number_rows(flat)) == bytes(jsontext.number_rows(rows)) == \
+        b"[[1.0,0.1,-0.0],[16777215.0,1e+16,2.5e-07],[3.0,9007199254740991.0,-4.0]]"
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="not a JSON number"):
+            jsontext.number_rows(Words(array("d", [1.0, bad, 2.0])))

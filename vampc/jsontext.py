@@ -41,8 +41,16 @@ def numbers(xs) -> msgspec.Raw:
 
 
 def number_rows(rows) -> msgspec.Raw:
-    """A list of lists of floats (a program stream's words), at once."""
-    text = ",".join(["[" + _reprs(r) + "]" for r in rows])
+    """A list of lists of floats (a program stream's words), at once. Rows held as one flat array
+    of floats (`rows.flat`, `rows.width` per row: vampc.program.emit.Words) are written from it
+    without a tuple per row."""
+    flat = getattr(rows, "flat", None)
+    if flat is not None:
+        reprs = iter(list(map(float.__repr__, flat)))
+        row = "[" + ",".join(["%s"] * rows.width) + "]"
+        text = ",".join(map(row.__mod__, zip(*[reprs] * rows.width)))
+    else:
+        text = ",".join(["[" + _reprs(r) + "]" for r in rows])
     if "n" in text:
         raise ValueError("a row holds a value that is not a JSON number")
     return msgspec.Raw(f"[{text}]".encode())

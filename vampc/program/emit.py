@@ -39,9 +39,15 @@ class Words(Sequence):
     (what a program file's stream reads back as); NumPy reads it as a words x 3 array."""
 
     __slots__ = ("_data",)
+    width = 3          # floats a word
 
     def __init__(self, data: array):
         self._data = data
+
+    @property
+    def flat(self) -> array:
+        """The words' floats, word after word (what vampc.jsontext.number_rows writes from)."""
+        return self._data
 
     def __len__(self) -> int:
         return len(self._data) // 3
