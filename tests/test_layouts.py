@@ -184,3 +184,52 @@ def test_a_period_that_is_not_a_multiple_of_the_clock():
 def test_compiled_options_round_trip():
     c = compile_chain(random_chain(3, 1), CompileOptions(layout="folded", share_passes=True))
     assert c.layout.share_passes and c.network.period == c.schedule.interval
+
+
+def _systolic(n: int = 2):
+    from vampc.schedule.layout import layout_and_schedule
+    c = compile_chain(random_chain(n, 0), CompileOptions(recursion="log", verify=False),
+                      until="graph")       # (the log recursion has MM nodes: three VAMPs each)
+    layout, _ = layout_and_schedule(c.graph, CompileOptions().timing)
+    return c.graph, layout
+
+
+@pytest.mark.parametrize("kind", ["too few", "negative", "repeated", "input on a VAMP"])
+def test_layout_check_rejects_a_bad_placement(kind):
+    """Layout.verify: a compute node on as many distinct, non-negative VAMPs as its op takes, an
+    input or a constant on none (VampcInternalError naming the node)."""
+    import dataclasses
+
+    from vampc.errors import VampcInternalError
+    graph, layout = _systolic()
+    placement = list(layout.placement)
+    if kind == "input on a VAMP":
+        nd = next(nd for nd in graph.nodes if not nd.op.is_compute)
+        placement[nd.id] = (0,)
+    else:
+        nd = next(nd for nd in graph.nodes if len(placement[nd.id]) == 3)
+        where = placement[nd.id]
+        placement[nd.id] = {"too few": where[:2], "negative": (where[0], -1, where[2]),
+                            "repeated": (where[0], where[0], where[2])}[kind]
+    broken = dataclasses.replace(layout, placement=tuple(placement))
+    with pytest.raises(VampcInternalError, match=rf"^node {re.escape(nd.label)}: placed on "):
+        broken.verify(graph)
+    layout.verify(graph)
+
+
+def test_layout_check_rejects_two_units_sharing_a_vamp():
+    """In a grouped layout, nodes placed on equal VAMPs are one unit (allowed); a VAMP in two
+    different units is not."""
+    import dataclasses
+
+    from vampc.errors import VampcInternalError
+    graph, layout = _systolic()
+    placement = list(layout.placement)
+    one = [nd.id for nd in graph.nodes if len(placement[nd.id]) == 1]
+    mm = next(nd.id for nd in graph.nodes if len(placement[nd.id]) == 3)
+    placement[one[1]] = placement[one[0]]       # two nodes on one unit
+    dataclasses.replace(layout, placement=tuple(placement)).verify(graph)
+    placement[one[2]] = (placement[mm][1],)     # an MM unit's VAMP as a unit of its own
+    broken = dataclasses.replace(layout, placement=tuple(placement))
+    with pytest.raises(VampcInternalError, match="^layout: a VAMP belongs to two units$"):
+        broken.verify(graph)

@@ -114,10 +114,10 @@ class Layout:
                                      f"buffer clock {self.clock}")
         if len(self.placement) != len(graph.nodes):
             raise VampcInternalError("layout: one placement per graph node expected")
-        for nd in graph.nodes:
-            where = self.placement[nd.id]
-            want = VAMPS_PER_OP[nd.op] if nd.op.is_compute else 0
-            if len(set(where)) != want or any(v < 0 for v in where):
+        wants = {op: VAMPS_PER_OP[op] if op.is_compute else 0 for op in {nd.op for nd in graph.nodes}}
+        for nd, where in zip(graph.nodes, self.placement):
+            want = wants[nd.op]
+            if len(where) != want or want and (min(where) < 0 or want > 1 and len(set(where)) < want):
                 raise VampcInternalError(f"node {nd.label}: placed on {where}")
         if self.grouped:        # units: two placements share a VAMP only if they are the same
             groups = set(self.placement) - {()}
