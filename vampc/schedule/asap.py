@@ -101,7 +101,8 @@ def _delay_source_ops(graph: Graph, timing: Timing, start: list[int], finish: li
     source op reads another, so consumers' starts do not move meanwhile)."""
     nodes = graph.nodes
     compute = [nd.op.is_compute for nd in nodes]
-    source = [c and not any(compute[a] for a in nd.args) for c, nd in zip(compute, nodes)]
+    is_compute = compute.__getitem__
+    source = [c and not any(map(is_compute, nd.args)) for c, nd in zip(compute, nodes)]
     latest: dict[int, int] = {}
     for nd in nodes:
         t = start[nd.id]
