@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import collections
 import functools
+import itertools
 import math
 import operator
 from dataclasses import dataclass
@@ -120,8 +121,9 @@ class Layout:
             if len(where) != want or want and (min(where) < 0 or want > 1 and len(set(where)) < want):
                 raise VampcInternalError(f"node {nd.label}: placed on {where}")
         if self.grouped:        # units: two placements share a VAMP only if they are the same
-            groups = set(self.placement) - {()}
-            if sum(map(len, groups)) != len({v for g in groups for v in g}):
+            units = dict.fromkeys(self.placement)     # (in the placement's order: read fast)
+            units.pop((), None)
+            if sum(map(len, units)) != len(set(itertools.chain.from_iterable(units))):
                 raise VampcInternalError("layout: a VAMP belongs to two units")
 
 
