@@ -45,6 +45,9 @@ class _Shown:
         return (s.dump + 1, s.dump + 1 + self.P) if s.node == node else None
 
 
+_VAMP, _BUFFER = TapKind.VAMP, TapKind.BUFFER     # (an Enum member read from its class: 85 ns)
+
+
 def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
     vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
@@ -71,9 +74,9 @@ def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B:
     _verify_operand, which checks every kind of tap and says what is wrong."""
     vamps = net.vamps
     for t in taps:
-        if t.kind is TapKind.VAMP:
+        if t.kind is _VAMP:
             source, stage = t.index, 0
-        elif t.kind is TapKind.BUFFER and 0 <= t.index < len(net.buffers):
+        elif t.kind is _BUFFER and 0 <= t.index < len(net.buffers):
             buffer = net.buffers[t.index]
             if not 1 <= t.stage <= buffer.stages:
                 return False

@@ -198,7 +198,10 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
 def _registers(tap: Tap) -> int:
     """Registers an Operand-A path passes through a VAMP's input `tap`: the VAMP's own, and a
     buffer's stages."""
-    return 1 if tap.kind is TapKind.VAMP else 1 + tap.stage
+    return 1 if tap.kind is _VAMP else 1 + tap.stage
+
+
+_VAMP = TapKind.VAMP          # (an Enum member read from its class: 85 ns, at every VAMP)
 
 
 def bus_registers(net: Network) -> list[list[BusRegister]]:
