@@ -165,16 +165,20 @@ class GraphBuilder:
         self.section, self.group = Section(section), group
         return self
 
+    def _next_id(self) -> int:
+        """The next node's id, as the shared int (vampc.memo.counting)."""
+        k = len(self.nodes)
+        return counting(k + 1)[k]
+
     def op(self, op: Op, a: int, b: int, name: str) -> int:
         """Add a compute node and return its id."""
-        k = len(self.nodes)
-        return self._add(Node(counting(k + 1)[k], op, (a, b), name, self.section, self.group))
+        return self._add(Node(self._next_id(), op, (a, b), name, self.section, self.group))
 
     def input(self, quantity: str, joint: int) -> int:
         """The (shared) INPUT node for a host quantity of a joint."""
         key = InputKey(quantity, joint)
         if key not in self._inputs:
-            node = Node(len(self.nodes), Op.INPUT, (), f"{quantity}{joint}", Section.IO, joint,
+            node = Node(self._next_id(), Op.INPUT, (), f"{quantity}{joint}", Section.IO, joint,
                         key=key)
             self._inputs[key] = self._add(node)
         return self._inputs[key]
@@ -184,7 +188,7 @@ class GraphBuilder:
         flat = tuple(float(x) for x in _flatten(value))
         k = (name, flat)
         if k not in self._consts:
-            node = Node(len(self.nodes), Op.CONST, (), name, Section.IO, group, value=flat)
+            node = Node(self._next_id(), Op.CONST, (), name, Section.IO, group, value=flat)
             self._consts[k] = self._add(node)
         return self._consts[k]
 
