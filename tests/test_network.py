@@ -312,3 +312,39 @@ def test_folded_log_networks_verify(share):
     graph, sched, net = build(7, 0.3, log=True, layout="folded", share=share)
     verify_network(net, graph, sched)
     assert net.period >= sched.latency + 1 and net.period % net.clock == 0
+
+
+def _with_operand(net, v, k, name, operand):
+    """`net` with input sel of slot k's operand `name` of VAMP v replaced by `operand`."""
+    vamp = net.vamps[v]
+    field = "a" if name == "A" else "b"
+    sel = vamp.slots[k].sel_a if name == "A" else vamp.slots[k].sel_b
+    inputs = getattr(vamp, field)
+    vamp = msgspec.structs.replace(vamp, **{field: inputs[:sel] + (operand,) + inputs[sel + 1:]})
+    return dataclasses.replace(net, vamps=net.vamps[:v] + (vamp,) + net.vamps[v + 1:])
+
+
+@pytest.mark.parametrize("change", ["reversed", "cut", "repeated", "none"])
+def test_a_matrix_operand_needs_its_three_columns_in_order(change):
+    """An operand reading an MM's result (a matrix made by three VAMPs, a column each) has one tap
+    per column, in column order; an operand with no tap at all carries nothing."""
+    graph, sched, net = build(3, log=True)
+    v, k, _, name, _, operand = next(x for x in reads(net) if len(x[5].taps) == 3)
+    taps = operand.taps
+    wrong = {"reversed": taps[::-1], "cut": taps[:2], "repeated": (taps[0],) * 3,
+             "none": ()}[change]
+    broken = _with_operand(net, v.index, k, name, type(operand)(wrong))
+    message = (rf"operand {name}'s tap \d \(.*\) carries column \d of node "
+               if change in ("reversed", "repeated") else
+               rf"operand {name} has {len(wrong)} taps, but node .* comes from 3 ")
+    with pytest.raises(VampcInternalError, match=rf"^VAMP {v.index} slot {k}: {message}"):
+        verify_network(broken, graph, sched)
+    verify_network(net, graph, sched)
+
+
+def test_vamps_out_of_their_index_order_are_rejected():
+    graph, sched, net = build(2)
+    vamps = list(net.vamps)
+    vamps[3], vamps[5] = vamps[5], vamps[3]
+    with pytest.raises(VampcInternalError, match=r"^VAMP 5 is at position 3$"):
+        verify_network(dataclasses.replace(net, vamps=tuple(vamps)), graph, sched)

@@ -543,3 +543,6 @@ def test_compiled_stream_words_read_as_tuples_of_floats(compiled):
     got = np.asarray(words, dtype=np.float64)
     assert got.shape == (len(plain), 3) and got.tolist() == [list(w) for w in plain]
     assert emit.Words(array("d", [1.0, 2.0, 3.0])) == ((1.0, 2.0, 3.0),)
+    import pickle
+    for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
+        assert pickle.loads(pickle.dumps(entry, protocol)) == entry

@@ -128,3 +128,43 @@ def test_render_names_prismatic_joints():
     chain = random_chain(3, 8, prismatic_fraction=1.0)
     text = render(summary(compile_chain(chain)))
     assert text.splitlines()[0] == f"robot            {chain.name} (3 joints, prismatic [1, 2, 3])"
+
+
+def test_vamp_counts_of_plain_and_unusual_vamps():
+    """VAMP counts by pass and op, and control registers (4 for a plain one-slot VAMP, 6 per slot
+    otherwise), counted one VAMP at a time here and compared with the bulk counts, also for a
+    network with a VAMP of no slot (the allocator never makes one: counted as shared, no
+    registers) and one of two slots."""
+    import dataclasses
+    from collections import Counter
+
+    import msgspec
+
+    from vampc.kinds import Pass
+    from vampc.report.counts import hardware_counts, vamp_counts
+    c = compile_chain(random_chain(3, 0))
+
+    def by_hand(c):
+        sections, ops, control = Counter(), Counter(), 0
+        for v in c.network.vamps:
+            kinds = {Pass.of(c.graph.nodes[s.node].section) for s in v.slots}
+            sections[kinds.pop() if len(kinds) == 1 else "shared"] += 1
+            ops.update(s.op.value for s in v.slots)
+            plain = len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1
+            control += 4 if plain else 6 * len(v.slots)
+        return sections, dict(sorted(ops.items())), control
+
+    vamps = list(c.network.vamps)
+    empty = dataclasses.replace(c, network=dataclasses.replace(
+        c.network, vamps=tuple(vamps[:-1] + [msgspec.structs.replace(vamps[-1], slots=())])))
+    two = dataclasses.replace(c, network=dataclasses.replace(
+        c.network, vamps=tuple([msgspec.structs.replace(vamps[0], slots=vamps[0].slots
+                                                        + vamps[1].slots)] + vamps[1:])))
+    for case in (c, empty, two):
+        sections, ops, control = by_hand(case)
+        got = vamp_counts(case)
+        assert [got["backward"], got["forward"], got["shared"]] == \
+            [sections["backward"], sections["forward"], sections["shared"]]
+        assert got["by_op"] == ops
+        assert hardware_counts(case)["control_registers"] == control
+    assert vamp_counts(empty)["shared"] == 1 and vamp_counts(c)["shared"] == 0

@@ -4,11 +4,12 @@ every network the allocator makes when verification is on (always in the tests).
 from __future__ import annotations
 
 import math
+import operator
 
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcInternalError
 from vampc.kinds import TapKind, unhandled
-from vampc.machine.ops import Op
+from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.machine.timing import (
     PortSchedule,
     buffer_window,
@@ -29,10 +30,17 @@ class _Shown:
     def __init__(self, net: Network):
         self.vamps, self.P = net.vamps, net.period
         self.multi = {}
+        self.columns = {}
         for v in net.vamps:
             if len(v.slots) > 1:
                 windows = result_windows([s.dump for s in v.slots], net.period)
                 self.multi.update({(v.index, s.node): w for s, w in zip(v.slots, windows)})
+                self.columns.update({(v.index, s.node): s.column for s in v.slots})
+
+    def column(self, v: int, node: int) -> int | None:
+        """The column of `node` that VAMP `v` computes (None for a whole vector; `get` first)."""
+        slots = self.vamps[v].slots
+        return slots[0].column if len(slots) == 1 else self.columns[(v, node)]
 
     def get(self, key: tuple[int, int]) -> tuple[int, int] | None:
         v, node = key
@@ -46,12 +54,16 @@ class _Shown:
 
 
 _VAMP, _BUFFER = TapKind.VAMP, TapKind.BUFFER     # (an Enum member read from its class: 85 ns)
+_index = operator.attrgetter("index")
 
 
 def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
     vampc.network.model; slots of a VAMP never overlap. Raise VampcInternalError naming the VAMP,
     the slot, the tick and the operand."""
+    if not all(map(operator.eq, map(_index, net.vamps), range(len(net.vamps)))):
+        k = next(k for k, v in enumerate(net.vamps) if v.index != k)   # (taps name VAMPs by index)
+        raise VampcInternalError(f"VAMP {net.vamps[k].index} is at position {k}")
     shown = _Shown(net)
     ports = _PortIndex(net)
     P, B = net.period, net.clock
@@ -72,8 +84,8 @@ def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B:
     one-slot VAMP running it, or from a stage of the buffer behind one (windows: vampc.machine.
     timing). Most operands are such, and are checked here; False sends the operand to
     _verify_operand, which checks every kind of tap and says what is wrong."""
-    vamps = net.vamps
-    for t in taps:
+    vamps, n = net.vamps, len(taps)
+    for j, t in enumerate(taps):
         if t.kind is _VAMP:
             source, stage = t.index, 0
         elif t.kind is _BUFFER and 0 <= t.index < len(net.buffers):
@@ -88,11 +100,13 @@ def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B:
         slots = vamps[source].slots
         if len(slots) != 1 or slots[0].node != arg:
             return False
+        if slots[0].column != (j if n > 1 else None) or n > 1 and n != VAMPS_PER_OP[slots[0].op]:
+            return False            # (a matrix's columns, one per tap and in order)
         emit = slots[0].dump + 1
         lo, hi = (emit, emit + P) if stage == 0 else buffer_window(emit, emit + P, stage, B)
         if not lo <= latch < hi:
             return False
-    return True
+    return n > 0
 
 
 def _verify_slots(v: Vamp, P: int) -> None:
@@ -109,7 +123,12 @@ def _verify_slots(v: Vamp, P: int) -> None:
 
 def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B) -> None:
     src = graph.nodes[arg]
-    for tap in operand.taps:
+    want = VAMPS_PER_OP[src.op] if src.op.is_compute else 1
+    if len(operand.taps) != want:       # a matrix made by three VAMPs: a tap per column
+        raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} has "
+                                 f"{len(operand.taps)} taps, but node {src.label} comes from "
+                                 f"{want} (VAMPs, or an input or constant buffer)")
+    for j, tap in enumerate(operand.taps):
         kind = tap.kind
         if kind is TapKind.VAMP:
             emit_next = shown.get((tap.index, arg))
@@ -133,6 +152,11 @@ def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
                                      f"which does not carry node {src.label}")
+        if kind is TapKind.VAMP or kind is TapKind.BUFFER:
+            column = shown.column(tap.index if kind is TapKind.VAMP else buffer.source, arg)
+            if column != (j if want > 1 else None):
+                raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name}'s tap {j} "
+                                         f"({tap}) carries column {column} of node {src.label}")
         if not lo <= latch < hi:
             raise VampcInternalError(f"VAMP {v.index}: operand {name} latched at tick {latch} outside "
                                      f"{tap}'s window [{lo}, {hi})")

@@ -74,6 +74,9 @@ class Words(Sequence):
     def __hash__(self) -> int:
         return hash(tuple(self))
 
+    def __reduce__(self):
+        return (Words, (self._data,))
+
     def __repr__(self) -> str:
         return f"Words({list(self)!r})"
 

@@ -36,7 +36,7 @@ def vamp_counts(c) -> dict:
         by_section[Pass.of(section)] += k
     by_op.update(s.op.value for s in alone)
     for v in vamps:
-        if len(v.slots) > 1:
+        if len(v.slots) != 1:
             kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
             by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
             by_op.update([s.op.value for s in v.slots])
@@ -188,7 +188,7 @@ def hardware_counts(c) -> dict:
     slots = [len(v.slots) for v in net.vamps]
     ins_a = [len(v.a) for v in net.vamps]
     ins_b = [len(v.b) for v in net.vamps]
-    if max(slots) == max(ins_a) == max(ins_b) == 1:     # every VAMP plain (systolic): at once
+    if min(slots) == max(slots) == max(ins_a) == max(ins_b) == 1:   # all plain (systolic): at once
         control = 4 * len(slots)
     else:
         control = sum(4 if s == a == b == 1 else 6 * s for s, a, b in zip(slots, ins_a, ins_b))
