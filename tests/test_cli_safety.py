@@ -817,3 +817,42 @@ def test_a_ctrl_c_while_the_command_line_is_imported_is_one_line(monkeypatch, ca
     with pytest.raises(SystemExit) as exit_:
         launch.main()
     assert exit_.value.code == 130 and capsys.readouterr().err == "vampc: interrupted\n"
+
+
+LEAVING = """
+import atexit, sys
+import vampc.commands
+from vampc import launch
+vampc.commands.BIG_NETWORK_SLOTS = int(sys.argv[1])     # every compile counts as big
+atexit.register(lambda: print("atexit ran"))
+sys.argv = ["vampc", *sys.argv[2:]]
+launch.main()
+"""
+
+
+@pytest.mark.parametrize("big", [True, False])
+def test_a_big_compile_leaves_without_teardown_its_output_whole(tmp_path, big):
+    """A compile of a big network leaves with os._exit once it has succeeded (vampc.launch): its
+    summary line, written to a pipe, and its program file are whole, the exit status 0; only the
+    exit handlers are skipped (a small one leaves the normal way and runs them). A failing command
+    never leaves that way."""
+    import subprocess
+    import sys
+    out = tmp_path / "p.vamp.json"
+    limit = "0" if big else str(10 ** 9)
+    done = subprocess.run([sys.executable, "-c", LEAVING, limit, "compile", str(PLANAR), "-o",
+                           str(out)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith(f"{out}: ") and done.stdout.count("\n") == 1 + (not big)
+    assert ("atexit ran" in done.stdout) is not big
+    assert main_emulates(out)
+    failed = subprocess.run([sys.executable, "-c", LEAVING, limit, "compile", str(PLANAR), "-o",
+                             str(tmp_path / "missing" / "q.vamp.json")],
+                            capture_output=True, text=True, timeout=120)
+    assert failed.returncode == 1 and "atexit ran" in failed.stdout
+
+
+def main_emulates(program) -> bool:
+    """Whether `vampc emulate PROGRAM --random 3 --check` passes (the file is whole and sound)."""
+    res = CliRunner().invoke(main, ["emulate", str(program), "--random", "3", "--check"])
+    return res.exit_code == 0

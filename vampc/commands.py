@@ -33,6 +33,9 @@ from vampc.textio import count
 # is built (about a third of the work for a 512-joint log program); a robot file's compiled network
 # likewise gets its check (Network.verify) there.
 BACKGROUND_CHECK_SLOTS = 20_000
+# A compile of more slots than this leaves without freeing its objects once it has succeeded
+# (vampc.launch.skip_teardown; 100 000 slots: about a million objects, 0.1 s to free).
+BIG_NETWORK_SLOTS = 100_000
 
 
 # --- compile --------------------------------------------------------------------------------------
@@ -76,6 +79,9 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",))["-o"]
     c = compile_robot(robot, options, robot_opts)
     write_program(program_chunks(c), out)
+    if c.network.slot_count >= BIG_NETWORK_SLOTS:     # millions of objects: not freed one by one
+        from vampc.launch import skip_teardown
+        skip_teardown()
     s = c.schedule
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "

@@ -1,9 +1,24 @@
 """The `vampc` console script: the command line of vampc.cli, with a Ctrl-C that lands while Python
 is still importing it (the first few tenths of a second) ending as every other interrupt does: one
-line, `vampc: interrupted`, exit status 130, instead of an import's traceback."""
+line, `vampc: interrupted`, exit status 130, instead of an import's traceback.
+
+A command that has built millions of objects (a 4096-joint log compile: about ten million) asks
+for `skip_teardown()`: when it has succeeded, the script then flushes its output, shuts logging
+down and leaves with os._exit, instead of having Python free every object one by one on the way
+out (0.7-0.9 s at 4096 joints), as C compilers do. Its files are closed by then; the only exit
+handlers vampc's commands register are logging's (run here) and the thread pools' (whose threads
+have ended: checked)."""
 from __future__ import annotations
 
 import sys
+
+_SKIP_TEARDOWN = False
+
+
+def skip_teardown() -> None:
+    """Leave without freeing memory if the command succeeds (when run as the console script)."""
+    global _SKIP_TEARDOWN
+    _SKIP_TEARDOWN = True
 
 
 def main() -> None:
@@ -12,4 +27,24 @@ def main() -> None:
     except KeyboardInterrupt:
         sys.stderr.write("vampc: interrupted\n")
         sys.exit(130)
-    command_line()
+    try:
+        command_line()
+    except SystemExit as done:
+        if _SKIP_TEARDOWN and done.code in (0, None):
+            _leave_now()
+        raise
+
+
+def _leave_now() -> None:
+    import logging
+    import os
+    import threading
+    if threading.active_count() > 1:       # a thread still running: leave the normal way
+        return
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except OSError:                        # (a closed pipe: let Python report it as it would)
+        return
+    logging.shutdown()
+    os._exit(0)
