@@ -212,14 +212,15 @@ class _Allocator:
         vamps: list[Vamp] = []
         self.program_ports: tuple[Port, ...] = ()
         muxed = False
-        more = self.more
+        more, place, add = self.more, self.place, vamps.append
         for v, i in zip(counting(len(self.first)), self.first):   # (shared ints: vampc.memo)
             if v not in more and i >= 0:   # the systolic case: one slot, one input per operand
                 a, b = reads[i]
                 op = nodes[i].op
-                col = self.place[i].index(v) if VAMPS_PER_OP[op] > 1 else None
-                vamps.append(Vamp(v, a, b, (Slot(i, op, col, 0, 0, start[i], start[i],
-                                                    finish[i] - 1),)))
+                t = start[i]
+                where = place[i]
+                add(Vamp(v, a, b, (Slot(i, op, where.index(v) if len(where) > 1 else None, 0, 0,
+                                        t, t, finish[i] - 1),)))
                 continue
             if i < 0:
                 raise VampcInternalError(f"VAMP {v} runs no op")
