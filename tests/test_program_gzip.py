@@ -105,3 +105,34 @@ def test_a_compressed_robot_file_says_so(tmp_path):
     robot.write_bytes(gzip.compress(open("examples/arm6.urdf", "rb").read()))
     r = CliRunner().invoke(main, ["compile", str(robot)])
     assert r.exit_code == 1 and "arm.urdf is gzip-compressed; decompress it first (gunzip)" in r.output
+
+
+def test_the_compact_form_to_a_file_and_to_a_pipe_is_the_same_and_a_failure_leaves_nothing(
+        programs, tmp_path, monkeypatch):
+    """The second member waits for the first in an unnamed file beside a regular output (in
+    memory for standard output): the same bytes either way; a run that fails while writing
+    leaves the folder as it was, an earlier file unchanged and no temporary."""
+    import io
+
+    import vampc.compiler
+    import vampc.program.file as program_file
+    held = tmp_path / "held.vamp.json.gz"
+    with monkeypatch.context() as m:            # the pipe's way: the member held in memory
+        m.setattr(program_file, "_aside", lambda out: io.BytesIO())
+        assert CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o",
+                                         str(held)]).exit_code == 0
+    assert held.read_bytes() == programs[1].read_bytes()
+    held.unlink()
+    out = tmp_path / "kept.vamp.json.gz"
+    out.write_bytes(b"earlier")
+    real = vampc.compiler.program_chunks
+
+    def failing(c):
+        for k, piece in enumerate(real(c)):
+            if k == 40:
+                raise OSError(28, "No space left on device")
+            yield piece
+    monkeypatch.setattr(vampc.compiler, "program_chunks", failing)
+    r = CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o", str(out)])
+    assert r.exit_code == 1 and "No space left on device" in r.output
+    assert out.read_bytes() == b"earlier" and [p.name for p in tmp_path.iterdir()] == [out.name]

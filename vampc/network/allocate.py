@@ -114,30 +114,25 @@ class _Allocator:
 
     def run(self) -> Network:
         start, finish, nxt, B = self.s.start, self.s.finish, self.next_emit, self.B
+        operands = self.operands
+
+        def read(arg: int, t: int) -> tuple[Operand]:
+            # The common case: a result (a node with a next emit: not an input or a constant)
+            # read at a stage already wired for another reader. The stage is 0 while the Result
+            # still shows it, else buffer_stage's.
+            n = nxt[arg]
+            if n is None:
+                return self._operand(arg, t)
+            e = finish[arg]
+            stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
+            return operands.get((arg, stage)) or self._result(arg, stage, t)
+
         # per graph node: its operands, each as (operand,); None for inputs and constants
         reads: list[tuple[tuple[Operand], tuple[Operand]] | None] = [None] * len(self.g.nodes)
-        operands = self.operands
         for nd in self.g.compute_nodes():
             t = start[nd.id]
             a, b = nd.args
-            # In line, the common case: a result (a node with a next emit: not an input or a
-            # constant) read at a stage already wired for another reader. The stage is 0 while the
-            # Result still shows it, else buffer_stage's.
-            n = nxt[a]
-            if n is None:
-                op_a = self._operand(a, t)
-            else:
-                e = finish[a]
-                stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
-                op_a = operands.get((a, stage)) or self._result(a, stage, t)
-            n = nxt[b]
-            if n is None:
-                op_b = self._operand(b, t)
-            else:
-                e = finish[b]
-                stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
-                op_b = operands.get((b, stage)) or self._result(b, stage, t)
-            reads[nd.id] = (op_a, op_b)
+            reads[nd.id] = (read(a, t), read(b, t))
         return self._network(reads)
 
     def _operand(self, arg: int, t: int) -> tuple[Operand]:
