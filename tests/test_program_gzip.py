@@ -109,20 +109,25 @@ def test_a_compressed_robot_file_says_so(tmp_path):
 
 def test_the_compact_form_to_a_file_and_to_a_pipe_is_the_same_and_a_failure_leaves_nothing(
         programs, tmp_path, monkeypatch):
-    """The second member waits for the first in an unnamed file beside a regular output (in
-    memory for standard output): the same bytes either way; a run that fails while writing
-    leaves the folder as it was, an earlier file unchanged and no temporary."""
+    """The second member waits for the first in memory, past ASIDE_IN_MEMORY bytes in an unnamed
+    file beside a regular output (in memory for standard output): the same bytes every way; a run
+    that fails while writing leaves the folder as it was, an earlier file unchanged and no
+    temporary."""
     import io
 
     import vampc.compiler
     import vampc.program.file as program_file
     held = tmp_path / "held.vamp.json.gz"
-    with monkeypatch.context() as m:            # the pipe's way: the member held in memory
-        m.setattr(program_file, "_aside", lambda out: io.BytesIO())
-        assert CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o",
-                                         str(held)]).exit_code == 0
-    assert held.read_bytes() == programs[1].read_bytes()
-    held.unlink()
+    for how in ("pipe", "spilled"):
+        with monkeypatch.context() as m:
+            if how == "pipe":                   # the member held in memory
+                m.setattr(program_file, "_aside", lambda out: io.BytesIO())
+            else:                               # past a few bytes, on disk
+                m.setattr(program_file, "ASIDE_IN_MEMORY", 100)
+            assert CliRunner().invoke(main, ["compile", PUMA, "--recursion", "log", "-o",
+                                             str(held)]).exit_code == 0
+        assert held.read_bytes() == programs[1].read_bytes(), how
+        held.unlink()
     out = tmp_path / "kept.vamp.json.gz"
     out.write_bytes(b"earlier")
     real = vampc.compiler.program_chunks

@@ -7,7 +7,8 @@ for `skip_teardown()`: when it has succeeded, the script then flushes its output
 down and leaves with os._exit, instead of having Python free every object one by one on the way
 out (0.7-0.9 s at 4096 joints), as C compilers do. Its files are closed by then; the only exit
 handlers vampc's commands register are logging's (run here) and the thread pools' (whose threads
-have ended: checked)."""
+have ended: checked; a daemon thread, such as the progress bar's monitor, does not hold the exit).
+The request holds for the run that made it only."""
 from __future__ import annotations
 
 import sys
@@ -22,6 +23,8 @@ def skip_teardown() -> None:
 
 
 def main() -> None:
+    global _SKIP_TEARDOWN
+    _SKIP_TEARDOWN = False            # (asked for by this run's command only)
     try:
         from vampc.cli import main as command_line
     except KeyboardInterrupt:
@@ -39,12 +42,14 @@ def _leave_now() -> None:
     import logging
     import os
     import threading
-    if threading.active_count() > 1:       # a thread still running: leave the normal way
+    if any(t.is_alive() and not t.daemon for t in threading.enumerate()
+           if t is not threading.main_thread()):     # work still running: leave the normal way
         return
     try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except OSError:                        # (a closed pipe: let Python report it as it would)
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:                     # (None: started with the stream closed)
+                stream.flush()
+    except (OSError, ValueError):          # a closed pipe or file: let Python handle it as it would
         return
     logging.shutdown()
     os._exit(0)

@@ -249,15 +249,19 @@ def write_program(doc, path) -> None:
             fh.write(b"\n")
 
 
+ASIDE_IN_MEMORY = 16 << 20     # bytes of a compact form's second member held in memory at most
+
+
 def _aside(out):
-    """Where the compact form's second member waits for its first: an unnamed file beside the
-    output (gone however the run ends; a 4096-joint log program's 44 MB are not held in memory),
-    or memory when the output is a pipe or a device."""
+    """Where the compact form's second member waits for its first: memory up to ASIDE_IN_MEMORY,
+    and past that an unnamed file beside the output (gone however the run ends; a 4096-joint log
+    program's 44 MB are not held in memory, at the cost of that much more disk until the file is
+    whole); memory only when the output is a pipe or a device."""
     import io
     import tempfile
     if out.kind != "file":
         return io.BytesIO()
-    return tempfile.TemporaryFile(dir=Path(out.path).resolve().parent)
+    return tempfile.SpooledTemporaryFile(ASIDE_IN_MEMORY, dir=Path(out.path).resolve().parent)
 
 
 def _write_each(fh, pieces) -> None:
