@@ -174,13 +174,8 @@ class GraphBuilder:
         return self._ids[k]
 
     def op(self, op: Op, a: int, b: int, name: str) -> int:
-        """Add a compute node and return its id (_next_id and _add in line: a million calls)."""
-        k = len(self.nodes)
-        if k >= len(self._ids):
-            self._ids = counting(k + 1)
-        node = Node(self._ids[k], op, (a, b), name, self.section, self.group)
-        self.nodes.append(node)
-        return node.id
+        """Add a compute node and return its id."""
+        return self._add(Node(self._next_id(), op, (a, b), name, self.section, self.group))
 
     def input(self, quantity: str, joint: int) -> int:
         """The (shared) INPUT node for a host quantity of a joint."""

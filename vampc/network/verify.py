@@ -29,18 +29,17 @@ class _Shown:
 
     def __init__(self, net: Network):
         self.vamps, self.P = net.vamps, net.period
-        self.multi = {}
-        self.columns = {}
+        self.multi = {}         # (VAMP, node) -> (window, column), for VAMPs of several slots
         for v in net.vamps:
             if len(v.slots) > 1:
                 windows = result_windows([s.dump for s in v.slots], net.period)
-                self.multi.update({(v.index, s.node): w for s, w in zip(v.slots, windows)})
-                self.columns.update({(v.index, s.node): s.column for s in v.slots})
+                self.multi.update({(v.index, s.node): (w, s.column)
+                                   for s, w in zip(v.slots, windows)})
 
     def column(self, v: int, node: int) -> int | None:
         """The column of `node` that VAMP `v` computes (None for a whole vector; `get` first)."""
         slots = self.vamps[v].slots
-        return slots[0].column if len(slots) == 1 else self.columns[(v, node)]
+        return slots[0].column if len(slots) == 1 else self.multi[(v, node)][1]
 
     def get(self, key: tuple[int, int]) -> tuple[int, int] | None:
         v, node = key
@@ -48,7 +47,8 @@ class _Shown:
             return None
         slots = self.vamps[v].slots
         if len(slots) != 1:
-            return self.multi.get(key)
+            hit = self.multi.get(key)
+            return None if hit is None else hit[0]
         s = slots[0]
         return (s.dump + 1, s.dump + 1 + self.P) if s.node == node else None
 
@@ -129,16 +129,18 @@ def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B
                                  f"{len(operand.taps)} taps, but node {src.label} comes from "
                                  f"{want} (VAMPs, or an input or constant buffer)")
     for j, tap in enumerate(operand.taps):
-        kind = tap.kind
+        kind, source = tap.kind, None       # source: the VAMP whose Result the tap carries
         if kind is TapKind.VAMP:
-            emit_next = shown.get((tap.index, arg))
+            source = tap.index
+            emit_next = shown.get((source, arg))
             ok = emit_next is not None
             lo, hi = result_window(*emit_next) if ok else (0, 0)
         elif kind is TapKind.BUFFER:
             buffer = net.buffers[tap.index]
             if not 1 <= tap.stage <= buffer.stages:
                 raise VampcInternalError(f"VAMP {v.index}: operand {name} taps missing {tap}")
-            emit_next = shown.get((buffer.source, arg))
+            source = buffer.source
+            emit_next = shown.get((source, arg))
             ok = emit_next is not None
             lo, hi = buffer_window(*emit_next, tap.stage, B) if ok else (0, 0)
         elif kind is TapKind.PORT:
@@ -152,8 +154,8 @@ def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
                                      f"which does not carry node {src.label}")
-        if kind is TapKind.VAMP or kind is TapKind.BUFFER:
-            column = shown.column(tap.index if kind is TapKind.VAMP else buffer.source, arg)
+        if source is not None:
+            column = shown.column(source, arg)
             if column != (j if want > 1 else None):
                 raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name}'s tap {j} "
                                          f"({tap}) carries column {column} of node {src.label}")
