@@ -152,21 +152,23 @@ def _ops(graph: bool) -> dict[str, Op]:
 
 
 def schedule_doc(s: Schedule) -> F.ScheduleDoc:
-    """The schedule section."""
+    """The schedule section (start and finish as the schedule holds them, not copied: the encoder
+    writes a tuple as a list, and a 4096-joint log schedule's are a million entries each)."""
     return F.ScheduleDoc(s.timing.mult, s.timing.add, s.latency, s.interval, s.mults, s.adds,
-                         list(s.start), list(s.finish), list(s.critical_path))
+                         s.start, s.finish, list(s.critical_path))
 
 
 def network_doc(net: Network, numbering) -> F.NetworkDoc:
-    """The network (netlist) section: wiring only; timing lives in the programs. Its VAMPs are made
-    as the writer reaches them (Rows)."""
+    """The network (netlist) section: wiring only; timing lives in the programs. Its VAMPs and
+    buffers are made as the writer reaches them (Rows)."""
     def vamps(lo: int, hi: int) -> list[F.VampDoc]:
         # an operand is written as its taps, and a Tap (array-like) as [kind, index, stage]
         return [F.VampDoc(v.index, numbering[v.index], [op.taps for op in v.a],
                           [op.taps for op in v.b]) for v in net.vamps[lo:hi]]
     return F.NetworkDoc(
         net.period, net.clock, Rows(len(net.vamps), vamps),
-        [F.BufferDoc(b.index, b.source, b.stages) for b in net.buffers],
+        Rows(len(net.buffers), lambda lo, hi: [F.BufferDoc(b.index, b.source, b.stages)
+                                               for b in net.buffers[lo:hi]]),
         [F.PortDoc(p.index, p.size, [F.PortEntryDoc(e.key.quantity, e.key.joint, e.block)
                                      for e in p.entries]) for p in net.ports],
         [F.ConstDoc(c.index, c.name, numbers(c.value)) for c in net.consts],
