@@ -127,13 +127,17 @@ class _Allocator:
             stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
             return operands.get((arg, stage)) or self._result(arg, stage, t)
 
-        # per graph node: its operands, each as (operand,); None for inputs and constants
-        reads: list[tuple[tuple[Operand], tuple[Operand]] | None] = [None] * len(self.g.nodes)
+        # per graph node: its operands A and B, each as (operand,); None for inputs and constants
+        # (two lists, not a pair per node: a 4096-joint log graph's pairs took 60 MB)
+        reads_a: list[tuple[Operand] | None] = [None] * len(self.g.nodes)
+        reads_b: list[tuple[Operand] | None] = [None] * len(self.g.nodes)
         for nd in self.g.compute_nodes():
-            t = start[nd.id]
+            i = nd.id
+            t = start[i]
             a, b = nd.args
-            reads[nd.id] = (read(a, t), read(b, t))
-        return self._network(reads)
+            reads_a[i] = read(a, t)
+            reads_b[i] = read(b, t)
+        return self._network(reads_a, reads_b)
 
     def _operand(self, arg: int, t: int) -> tuple[Operand]:
         """The operand reading constant or host input `arg` at tick t, as (operand,), made if new."""
@@ -192,8 +196,8 @@ class _Allocator:
         buf = self.buffer_of.setdefault(vamp, len(self.buffer_of))
         return Tap(_BUFFER, buf, stage)
 
-    def _network(self, reads) -> Network:
-        vamps = self._vamps(reads)
+    def _network(self, reads_a, reads_b) -> Network:
+        vamps = self._vamps(reads_a, reads_b)
         buffers = tuple(Buffer(i, v, self.stages[v]) for v, i in self.buffer_of.items())
         ports = tuple(Port(i, size, tuple(sorted(entries, key=lambda e: e.block)))
                       for i, (size, entries) in enumerate(zip(self.port_size, self.port_entries)))
@@ -202,7 +206,7 @@ class _Allocator:
                                     self.s.finish[o.node]) for o in self.g.outputs)
         return Network(self.P, self.B, vamps, buffers, ports, tuple(self.consts.values()), outputs)
 
-    def _vamps(self, reads) -> tuple[Vamp, ...]:
+    def _vamps(self, reads_a, reads_b) -> tuple[Vamp, ...]:
         nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
         vamps: list[Vamp] = []
         self.program_ports: tuple[Port, ...] = ()
@@ -210,7 +214,7 @@ class _Allocator:
         more, place, add = self.more, self.place, vamps.append
         for v, i in zip(counting(len(self.first)), self.first):   # (shared ints: vampc.memo)
             if v not in more and i >= 0:   # the systolic case: one slot, one input per operand
-                a, b = reads[i]
+                a, b = reads_a[i], reads_b[i]
                 op = nodes[i].op
                 t = start[i]
                 where = place[i]
@@ -220,19 +224,19 @@ class _Allocator:
             if i < 0:
                 raise VampcInternalError(f"VAMP {v} runs no op")
             muxed = True
-            vamps.append(self._muxed(v, more[v], reads))
+            vamps.append(self._muxed(v, more[v], reads_a, reads_b))
         if muxed:
             vamps = self._order_program_inputs(vamps)
         return tuple(vamps)
 
-    def _muxed(self, v: int, mine: list[int], reads) -> Vamp:
+    def _muxed(self, v: int, mine: list[int], reads_a, reads_b) -> Vamp:
         """A VAMP running several nodes: its multiplexer inputs in order of first use."""
         nodes, start, finish = self.g.nodes, self.s.start, self.s.finish
         ins_a: dict[Operand, int] = {}
         ins_b: dict[Operand, int] = {}
         slots = []
         for i in mine:
-            (a,), (b,) = reads[i]
+            (a,), (b,) = reads_a[i], reads_b[i]
             sa = ins_a.setdefault(a, len(ins_a))
             sb = ins_b.setdefault(b, len(ins_b))
             col = self.place[i].index(v) if VAMPS_PER_OP[nodes[i].op] > 1 else None
