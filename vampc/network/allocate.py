@@ -62,9 +62,11 @@ class _Allocator:
         self.by_quantity: dict[str, list[int]] = {}
         self.consts: dict[tuple[float, ...], Const] = {}
         # Each operand is kept as the one-input tuple a one-slot VAMP's multiplexer is, so that
-        # its readers share that tuple too (4096 joints: 40 MB). Keys: (source node, stage), stage
-        # 0 being its Result.
-        self.operands: dict[tuple[int, int], tuple[Operand]] = {}
+        # its readers share that tuple too (4096 joints: 40 MB): read from a node's Result, by
+        # source node (a list: most operands are these); from a buffer stage, by (source node,
+        # stage).
+        self.at_result: list[tuple[Operand] | None] = [None] * len(graph.nodes)
+        self.buffered: dict[tuple[int, int], tuple[Operand]] = {}
         self.port_operands: list[tuple[Operand]] = []
         self.const_operands: list[tuple[Operand]] = []
         self.place = layout.vamps_of()
@@ -114,7 +116,7 @@ class _Allocator:
 
     def run(self) -> Network:
         start, finish, nxt, B = self.s.start, self.s.finish, self.next_emit, self.B
-        operands = self.operands
+        at_result, buffered = self.at_result, self.buffered
 
         def read(arg: int, t: int) -> tuple[Operand]:
             # The common case: a result (a node with a next emit: not an input or a constant)
@@ -124,8 +126,10 @@ class _Allocator:
             if n is None:
                 return self._operand(arg, t)
             e = finish[arg]
-            stage = 0 if e <= t < n else buffer_stage(e, n, t, B)
-            return operands.get((arg, stage)) or self._result(arg, stage, t)
+            if e <= t < n:                   # still on the Result
+                return at_result[arg] or self._result(arg, 0, t)
+            stage = buffer_stage(e, n, t, B)
+            return buffered.get((arg, stage)) or self._result(arg, stage, t)
 
         # per graph node: its operands A and B, each as (operand,); None for inputs and constants
         # (two lists, not a pair per node: a 4096-joint log graph's pairs took 60 MB)
@@ -154,7 +158,8 @@ class _Allocator:
 
     def _result(self, arg: int, stage: int, t: int) -> tuple[Operand]:
         """The new operand reading node `arg`'s result at tick t, from its VAMPs' Results (stage 0)
-        or stage `stage` of the buffers behind them, as (operand,) (kept in `operands`)."""
+        or stage `stage` of the buffers behind them, as (operand,) (kept in `at_result` or
+        `buffered`)."""
         vamps = self.place[arg]
         emit = self.s.finish[arg]
         if stage == 0:
@@ -164,7 +169,11 @@ class _Allocator:
                                      f"{emit}) is gone at tick {t}: nothing buffered it")
         else:
             taps = tuple([self._buffer_tap(v, stage) for v in vamps])
-        operand = self.operands[(arg, stage)] = (Operand(taps),)
+        operand = (Operand(taps),)
+        if stage == 0:
+            self.at_result[arg] = operand
+        else:
+            self.buffered[(arg, stage)] = operand
         return operand
 
     def _port(self, key: InputKey, block: int) -> int:
