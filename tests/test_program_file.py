@@ -199,7 +199,9 @@ def test_a_roots_are_those_of_a_walk_along_each_path(recursion, layout):
     """a_roots walks each path once and reuses roots found before; a plain walk per VAMP agrees."""
     net = compile_chain(random_chain(6, 3), CompileOptions(recursion=recursion,
                                                            layout=layout)).network
-    for v, found in enumerate(emit.a_roots(net)):
+    roots, depths = emit.a_roots(net)
+    assert len(roots) == len(depths) == len(net.vamps)
+    for v, found in enumerate(zip(roots, depths)):
         assert found == (Tap(*a_depth(net, v)[0]), a_depth(net, v)[1])
 
 

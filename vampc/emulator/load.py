@@ -184,7 +184,7 @@ def delivered_programs(net: Network, numbers, stream, path,
                        packing=PACKING) -> tuple[tuple[Program, ...], ...]:
     """The slot table each VAMP holds after Program Mode; VampcError if one gets none or a bad one."""
     index_of = {n: v for v, n in enumerate(numbers)}
-    roots = a_roots(net)
+    roots, depths = a_roots(net)
     tables: list[list | None] = [None] * len(net.vamps)
     writes: list[list] = [[] for _ in net.vamps]          # bus-write registers (the bus's)
     for entry in stream:
@@ -193,15 +193,15 @@ def delivered_programs(net: Network, numbers, stream, path,
                              f"{len(entry.targets)} targets and {len(entry.depth)} depths")
         for k, word in enumerate(entry.words):
             v = index_of.get(word_number(word))
-            if v is None or roots[v][0] != entry.root:
+            if v is None or roots[v] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
                                  f"{word[0]:g} matches no VAMP on that input's Operand-A paths")
             # the listing says where each word goes and how deep; Program Mode lasts as long as
             # it says the deepest word needs, so it must be the network's truth (the tick engine
             # clocks the words by it)
-            if (entry.targets[k], entry.depth[k]) != (v, roots[v][1]):
+            if (entry.targets[k], entry.depth[k]) != (v, depths[v]):
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: it is for VAMP "
-                                 f"{v} at depth {roots[v][1]}, but the stream lists VAMP "
+                                 f"{v} at depth {depths[v]}, but the stream lists VAMP "
                                  f"{entry.targets[k]} at depth {entry.depth[k]}")
             if float(word[0]) > 0 or tables[v] is not None:     # an extended word needs a table
                 try:
@@ -256,7 +256,7 @@ def _check_inputs_used(net: Network, numbers, progs, path) -> None:
 def _program(net: Network, numbers, v: int, table, roots, path) -> tuple[Program, ...]:
     name = f"VAMP {v} (number {numbers[v]})"
     if table is None:
-        raise VampcError(f"{path}: {name} is never programmed: no word written to {roots[v][0]} "
+        raise VampcError(f"{path}: {name} is never programmed: no word written to {roots[v]} "
                          "carries its number")
     vamp = net.vamps[v]
     for k, row in enumerate(table):

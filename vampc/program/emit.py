@@ -160,13 +160,14 @@ def programs(net: Network) -> tuple[tuple[Program, ...], ...]:
     return tuple([listing(v.slots) for v in net.vamps])
 
 
-def a_roots(net: Network) -> list[tuple[Tap, int]]:
+def a_roots(net: Network) -> tuple[list[Tap], list[int]]:
     """For every VAMP, the input buffer at the root of its Operand-A path — through input 0 of each
     operand-A multiplexer, which Program Mode passes on — and the registers in between (a register
-    per VAMP passed, 1 + stage per buffer tap). Each path is walked once: a walk stops at the first
-    VAMP whose root is known. VampcError if a path loops (no input buffer could ever program those
-    VAMPs)."""
-    roots: list[tuple[Tap, int] | None] = [None] * len(net.vamps)
+    per VAMP passed, 1 + stage per buffer tap), as two lists (not a pair per VAMP: a million pairs
+    were 60 MB). Each path is walked once: a walk stops at the first VAMP whose root is known.
+    VampcError if a path loops (no input buffer could ever program those VAMPs)."""
+    roots: list[Tap | None] = [None] * len(net.vamps)
+    depths: list[int] = [0] * len(net.vamps)
     sources = [b.source for b in net.buffers]
     vamps = net.vamps
     for vamp in range(len(vamps)):
@@ -175,15 +176,15 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
         tap = vamps[vamp].a[0].taps[0]
         src = tap_source(tap, sources)
         if src is not None and roots[src] is not None:    # one step to a known root: most VAMPs
-            root, depth = roots[src]
-            roots[vamp] = (root, depth + _registers(tap))
+            roots[vamp] = roots[src]
+            depths[vamp] = depths[src] + _registers(tap)
             continue
         v, walked, seen = vamp, [], {vamp}
         while roots[v] is None:
             tap = net.vamps[v].a[0].taps[0]
             src = tap_source(tap, sources)
             if src is None:          # a host port or a constant buffer: the path's root
-                roots[v] = (Tap(tap.kind, tap.index), 0)
+                roots[v] = Tap(tap.kind, tap.index)
                 break
             if src in seen:
                 raise VampcError(f"VAMP {vamp}: its Operand-A path loops back through VAMP {src}, "
@@ -191,11 +192,11 @@ def a_roots(net: Network) -> list[tuple[Tap, int]]:
             seen.add(src)
             walked.append((v, _registers(tap)))
             v = src
-        root, depth = roots[v]
+        root, depth = roots[v], depths[v]
         for u, step in reversed(walked):
             depth += step
-            roots[u] = (root, depth)
-    return roots
+            roots[u], depths[u] = root, depth
+    return roots, depths
 
 
 def _registers(tap: Tap) -> int:
@@ -253,10 +254,9 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
     target first, each VAMP's words in the order vampc.program.words.vamp_words gives them, packed
     for the word format (vampc.program.words.Packing)."""
     by_root: dict[Tap, list[int]] = {}         # per root, its VAMPs in index order
-    depth_of = []                              # per VAMP, the registers before it
-    for index, (root, depth) in zip(counting(len(net.vamps)), a_roots(net)):   # (vampc.memo)
+    roots, depth_of = a_roots(net)             # per VAMP, the registers before it
+    for index, root in zip(counting(len(net.vamps)), roots):   # (shared ints: vampc.memo)
         by_root.setdefault(root, []).append(index)
-        depth_of.append(depth)
     entries = []
     # a one-slot listing's two fields (None if not compact), by the listing's identity: programs
     # interns them, and a Program's hash is worked out anew each time
