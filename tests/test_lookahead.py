@@ -213,3 +213,23 @@ def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(limits), "--check"])
     assert r.exit_code == 0 and "tolerance 0.001: OK" in r.output, r.output
+
+
+@pytest.mark.parametrize("retime", [[], ["--retime", "uniform"], ["--retime", "window"]])
+def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_path, retime):
+    """A path whose numbers overflow float64 gives nan torques: one line naming the row and joint,
+    exit 1, no output (they were written, their violations not counted, and the exit status 0)."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    qd = qd.copy()
+    qd[3, 0] = 1e300                                   # finite, but its square is not
+    path = write_path(tmp_path, t, q, qd, qdd)
+    out, tau = tmp_path / "out.csv", tmp_path / "tau.csv"
+    tau.write_text("before\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--torques", str(tau), *retime]
+                           + (["-o", str(out)] if retime else []))
+    assert r.exit_code == 1, r.output
+    assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow", r.output)
+    assert "wrote no output file" in r.output and len(r.output.strip().splitlines()) == 1, r.output
+    assert tau.read_text() == "before\n" and not out.exists()

@@ -179,3 +179,40 @@ def test_a_retimed_path_faster_than_the_network_is_refused(setup, tmp_path):
                                   "--clock", "25kHz", "-o", str(out)])
     assert r.exit_code == 1 and "the retimed path has rows" in r.output and "cannot keep up" in r.output, r.output
     assert not out.exists()
+
+
+def rest_paths():
+    """Paths that stand still for some rows (q' = 0): no limit bounds the speed there."""
+    t = np.arange(300) / RATE
+    c = np.array([5, 3, 4, 6, 5, 7.0])
+    u = np.clip(t - 0.02, 0, None)                      # at rest for 20 rows, then moving
+    start = (t, np.outer(u ** 3, c), np.outer(3 * u ** 2, c), np.outer(6 * u, c))
+    u = np.clip(0.28 - t, 0, None)                      # moving, then at rest for 20 rows
+    end = (t, np.outer(-u ** 3, c), np.outer(3 * u ** 2, c), np.outer(-6 * u, c))
+    still = (t, np.zeros((300, 6)), np.zeros((300, 6)), np.zeros((300, 6)))
+    return {"start": start, "end": end, "still": still}
+
+
+@pytest.mark.parametrize("name", ["start", "end", "still"])
+def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
+    """Where the path stands still nothing bounds ṡ: the rows there took no time (the same t, and
+    q̇ = 0·∞ = nan) or the plan failed. They are run at MAX_SPEED, the rest as everywhere."""
+    from vampc.lookahead import MAX_SPEED
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = rest_paths()[name]
+    path = write_path(tmp_path, t, q, qd, qdd, f"{name}.csv")
+    out = tmp_path / "out.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window",
+                                  "--check", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.isfinite(got).all()
+    steps = np.diff(got[:, 0])
+    assert (steps > 0).all()
+    assert steps.min() >= 2 / RATE / (2 * MAX_SPEED) * (1 - 1e-12)       # no row faster than MAX_SPEED
+    retimed_qd = got[:, 7:13]
+    assert not retimed_qd[0].any() and not retimed_qd[-1].any()          # from rest to rest
+    assert np.allclose(got[:, 1:7], q)                                   # the same path
+    ref = rnea(load_robot(PUMA), got[:, 1:7], retimed_qd, got[:, 13:19])
+    assert (np.abs(ref) <= LIM).all() and (np.abs(retimed_qd[:, 5]) <= 4).all()

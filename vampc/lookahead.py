@@ -37,7 +37,8 @@ limit, then forwards one row: the largest x reachable within the limits and insi
 is recursively feasible (a row the arm can stop at, it can also rest at, since gravity alone is
 within the limits), so no row goes over a limit; the limits used are 1e-9 tighter so rounding cannot
 either. The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
-continuous (x is). `--futures R` chains R registers of `window` rows end to end, so the host sees
+continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
+`--futures R` chains R registers of `window` rows end to end, so the host sees
 R·window rows ahead: each row is still computed once, as it enters (three passes), and R costs
 R·window rows of register and the longer backward pass on the host. The rows of the retimed path come
 at their new times (the `t` column), not at λ: a row interval shorter than λ needs the network to
@@ -217,18 +218,24 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     `path` names the trajectory in messages; `rate` is the rows' rate (Hz)."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj)
-    tau = emulate_rows(traj)
+
+    def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
+        with np.errstate(all="ignore"):                # (an overflow is said once, below)
+            tau = emulate_rows(rows)
+        finite(tau, ld, path, what)
+        return tau
+    tau = torques(traj, "")
     out = Lookahead(tau, violations(tau, traj.qd, limits), futures=futures, ahead_rows=window * futures)
     if retime is None:
         return out
     zero = np.zeros_like(traj.qd)
-    g = emulate_rows(Trajectory(traj.q, zero, zero, None, None))           # the gravity-only pass
+    g = torques(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
     try:
         check_gravity(g, limits, ld.chain, 0.0 if retime == "uniform" else PLAN_MARGIN)
         if retime == "uniform":
             k = uniform_k(tau, g, traj.qd, limits, ld.chain)
         else:
-            tangent = emulate_rows(Trajectory(traj.q, zero, traj.qd, None, None))
+            tangent = torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
             x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate)
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
@@ -243,9 +250,24 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
                                  traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
         out.retimed_t, out.speed = t, speed
-    out.retimed_tau = emulate_rows(out.retimed)
+    out.retimed_tau = torques(out.retimed, "retimed")
     out.retimed_violations = violations(out.retimed_tau, out.retimed.qd, limits)
     return out
+
+
+def finite(tau: np.ndarray, ld, path: str, what: str = "") -> None:
+    """VampcError naming the first torque that is not finite (an overflow of the word format: the
+    robot's or the path's numbers are too large), and saying nothing was written: a non-finite
+    number is never a result."""
+    bad = ~np.isfinite(tau)
+    if bad.any():
+        r, j = (int(x) for x in np.argwhere(bad)[0])
+        joint = (f"joint {j + 1} ({ld.chain.joints[j].name})" if j < ld.chain.n
+                 else f"base wrench component {j - ld.chain.n + 1}")
+        row = f"row {r + 1}" + (f" {what}" if what else "")
+        raise VampcError(f"{path}: {row}, {joint}: the torque is {tau[r, j]} ({ld.arith.name} "
+                         "overflow: the robot's or the path's numbers are too large); the run "
+                         "stopped and wrote no output file")
 
 
 def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> None:
@@ -261,6 +283,10 @@ def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> 
 
 
 PLAN_MARGIN = 1e-9
+# The fastest the window retiming runs a path: ṡ at most MAX_SPEED times the path's own speed.
+# Where the path stands still (q' = 0: at rest at its start or end, or waiting), no limit bounds ṡ,
+# and without this the rows there would take no time at all (the same t, and q̇ = 0·∞).
+MAX_SPEED = 100.0
 
 
 def _stage(a, b, c, L):
@@ -307,6 +333,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float):
     L = np.array(limits.tau) * (1 - PLAN_MARGIN)
     two_d = 2.0 * lam
     p, r, P, cap = _stage(a, b, c, L)
+    cap = np.minimum(cap, MAX_SPEED ** 2)
     for j, v in enumerate(limits.qd):
         if v is not None:
             with np.errstate(divide="ignore"):
