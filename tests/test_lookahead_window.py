@@ -216,3 +216,24 @@ def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
     assert np.allclose(got[:, 1:7], q)                                   # the same path
     ref = rnea(load_robot(PUMA), got[:, 1:7], retimed_qd, got[:, 13:19])
     assert (np.abs(ref) <= LIM).all() and (np.abs(retimed_qd[:, 5]) <= 4).all()
+
+
+@pytest.mark.parametrize("word", ["float32", "q16.16"])
+def test_a_narrower_word_plans_within_its_error_and_stays_within_every_limit(setup, tmp_path, word):
+    """The network's torques in a narrower word are off by up to the error its --check allows: the
+    plan keeps that much inside each effort limit, so the reference finds none over (planning
+    1e-9 inside, as for float64, went over by 1e-6 of a limit in float32 and 6e-5 in q16.16)."""
+    folder, _, limits, path = setup
+    program = tmp_path / f"{word}.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
+    out = tmp_path / "out.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window",
+                                  "--check", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "retimed rows by the reference: 0 violations" in r.output
+    assert re.search(rf"planned to effort limits (1e-5|0\.001) of each tighter: the error a {re.escape(word)}", r.output)
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    tau = rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])
+    assert (np.abs(tau) <= LIM).all()
+    assert np.max(np.abs(tau) / LIM) > 0.99                  # and still uses them

@@ -700,8 +700,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{source}: the network computes a torque set every {period * 1e6:.4g} µs "
                              f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
                              f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
+    # a narrower word than float64: plan within the error its --check allows (of each limit)
+    margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
     res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
-                 source_path, own.futures or 1, rate)
+                 source_path, own.futures or 1, rate, margin)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
@@ -774,6 +776,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"k(1 + 1e-12)), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}")
+    if res.retimed is not None and res.word_margin:
+        lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
+                     f"error a {ld.arith.name} network's --check allows")
     return "\n".join(lines)
 
 

@@ -36,7 +36,8 @@ x at each row from which the arm can still stop (x = 0) at that last row within 
 limit, then forwards one row: the largest x reachable within the limits and inside that set. The plan
 is recursively feasible (a row the arm can stop at, it can also rest at, since gravity alone is
 within the limits), so no row goes over a limit; the limits used are 1e-9 tighter so rounding cannot
-either. The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
+either (a narrower word than float64: tighter by the error its --check allows, `word_margin`, for
+both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
 `--futures R` chains R registers of `window` rows end to end, so the host sees
 R·window rows ahead: each row is still computed once, as it enters (three passes), and R costs
@@ -92,6 +93,7 @@ class Lookahead:
     speed: np.ndarray | None = None   # ṡ at each row
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
+    word_margin: float = 0.0          # the effort limits planned to are this much (of each) tighter
 
 
 def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
@@ -212,10 +214,12 @@ def check_window(window: int, traj) -> None:
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
-        path: str = "", futures: int = 1, rate: float = 1.0) -> Lookahead:
+        path: str = "", futures: int = 1, rate: float = 1.0, word_margin: float = 0.0) -> Lookahead:
     """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
     violations, and with `retime` ("uniform" or "window") the scaling and the retimed rows' torques.
-    `path` names the trajectory in messages; `rate` is the rows' rate (Hz)."""
+    `path` names the trajectory in messages; `rate` is the rows' rate (Hz). `word_margin`: the
+    error the network's word format may make, as a fraction of each effort limit (0 for float64);
+    the retiming plans to limits that much tighter, so the reference dynamics stays within them."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj)
 
@@ -225,18 +229,21 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         finite(tau, ld, path, what)
         return tau
     tau = torques(traj, "")
-    out = Lookahead(tau, violations(tau, traj.qd, limits), futures=futures, ahead_rows=window * futures)
+    out = Lookahead(tau, violations(tau, traj.qd, limits), futures=futures, ahead_rows=window * futures,
+                    word_margin=word_margin)
     if retime is None:
         return out
     zero = np.zeros_like(traj.qd)
     g = torques(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
     try:
-        check_gravity(g, limits, ld.chain, 0.0 if retime == "uniform" else PLAN_MARGIN)
+        check_gravity(g, limits, ld.chain,
+                      word_margin if retime == "uniform" else max(PLAN_MARGIN, word_margin))
         if retime == "uniform":
-            k = uniform_k(tau, g, traj.qd, limits, ld.chain)
+            k = uniform_k(tau, g, traj.qd, tightened(limits, word_margin), ld.chain)
         else:
             tangent = torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
-            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate)
+            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
+                                  max(PLAN_MARGIN, word_margin))
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -268,6 +275,14 @@ def finite(tau: np.ndarray, ld, path: str, what: str = "") -> None:
         raise VampcError(f"{path}: {row}, {joint}: the torque is {tau[r, j]} ({ld.arith.name} "
                          "overflow: the robot's or the path's numbers are too large); the run "
                          "stopped and wrote no output file")
+
+
+def tightened(limits: Limits, margin: float) -> Limits:
+    """The effort limits `margin` (of each) tighter; the speed limits as they are (the host works
+    speeds out itself, in float64)."""
+    if not margin:
+        return limits
+    return Limits(tuple(t * (1 - margin) for t in limits.tau), limits.qd)
 
 
 def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> None:
@@ -321,16 +336,18 @@ def _largest_x(p, r, P, cap, H, two_d):
     return np.clip(np.minimum(cap, root.reshape(root.shape[:-2] + (-1,)).min(-1)), 0.0, None)
 
 
-def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float):
+def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
+                margin: float = PLAN_MARGIN):
     """The window-by-window scaling of the module docstring: per row x = ṡ², u = s̈ and the new row
     times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
-    row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included)."""
+    row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included);
+    margin: how much (of each) tighter than the effort limits to plan."""
     if ahead_rows < 3:
         raise VampcUsageError(f"--retime window sees {ahead_rows} row(s) ahead: it needs at least 3 "
                               "(--window × --futures) to start and still be able to stop")
     n_rows, n = len(a), len(limits.tau)
     a, b, c = a[:, :n], b[:, :n], c[:, :n]
-    L = np.array(limits.tau) * (1 - PLAN_MARGIN)
+    L = np.array(limits.tau) * (1 - margin)
     two_d = 2.0 * lam
     p, r, P, cap = _stage(a, b, c, L)
     cap = np.minimum(cap, MAX_SPEED ** 2)
