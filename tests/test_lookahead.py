@@ -233,3 +233,41 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
     assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow", r.output)
     assert "wrote no output file" in r.output and len(r.output.strip().splitlines()) == 1, r.output
     assert tau.read_text() == "before\n" and not out.exists()
+
+
+@pytest.mark.parametrize("text, message", [
+    (LIMITS + "waist,1000,\n", r"line 8: joint 'waist' again \(line 2 gave its limits\)"),
+    (LIMITS.replace("waist,10,", "waist,10,,junk"), r"line 2: 4 cells; expected joint,tau,qd"),
+])
+def test_a_limits_file_that_says_two_things_is_refused(setup, tmp_path, text, message):
+    """A joint given twice (the last one won, silently) or a row with more cells is one line."""
+    folder, program, _, path = setup
+    limits = tmp_path / "lim.csv"
+    limits.write_text(text)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits)])
+    assert r.exit_code == 1 and re.search(r"lim\.csv: " + message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
+def test_a_limits_file_with_a_byte_order_mark_is_read(setup, tmp_path):
+    """A spreadsheet's UTF-8 CSV starts with a byte-order mark: the same limits as without."""
+    folder, program, plain, path = setup
+    marked = tmp_path / "lim.csv"
+    marked.write_bytes(b"\xef\xbb\xbf" + LIMITS.encode())
+    runs = [CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate",
+                                      "1kHz", "--window", "64", "--limits", str(f)]) for f in (plain, marked)]
+    assert runs[0].exit_code == runs[1].exit_code == 0, runs[1].output
+    assert runs[0].output == runs[1].output
+
+
+@pytest.mark.parametrize("second", ["--torques", "--plot"])
+def test_two_outputs_naming_one_file_are_one_error(setup, tmp_path, second):
+    """-o and --torques naming one file exited 2, -o and --plot 1: both are the output rule's error."""
+    folder, program, limits, path = setup
+    same = tmp_path / "a.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
+                                  "-o", str(same), second, str(same)])
+    assert r.exit_code == 1 and re.search(rf"a\.csv: {second} and -o name the same file", r.output), r.output
+    assert not same.exists()

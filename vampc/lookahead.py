@@ -118,7 +118,7 @@ def _read_limits(path: str, chain, tau: list, qd: list):
     import csv
     names = {j.name: i for i, j in enumerate(chain.joints)}
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
+        with open(path, newline="", encoding="utf-8-sig") as fh:   # (a spreadsheet's BOM too)
             rows = list(csv.reader(fh))
     except OSError as exc:
         raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
@@ -127,12 +127,19 @@ def _read_limits(path: str, chain, tau: list, qd: list):
     if not rows or [c.strip() for c in rows[0]][:2] != ["joint", "tau"]:
         raise VampcError(f"{path}: line 1: expected the header joint,tau,qd")
     tau, qd = list(tau), list(qd)
+    seen: dict[str, int] = {}
     for line, row in enumerate(rows[1:], 2):
         if not row or not any(c.strip() for c in row):
             continue
         name = row[0].strip()
         if name not in names:
             raise VampcError(f"{path}: line {line}: no joint named '{name}'")
+        if name in seen:
+            raise VampcError(f"{path}: line {line}: joint '{name}' again (line {seen[name]} gave "
+                             "its limits)")
+        seen[name] = line
+        if any(c.strip() for c in row[3:]):
+            raise VampcError(f"{path}: line {line}: {len(row)} cells; expected joint,tau,qd")
         values = []
         for k, cell in enumerate(row[1:3]):
             cell = cell.strip()

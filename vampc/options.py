@@ -540,8 +540,8 @@ class LookaheadOptions:
         "--clock", metavar="F", help="The network's clock (one flop per tick: 20MHz): say whether it "
         "keeps up with the rows, and refuse a rate it cannot serve."))
     output: str | None = field(default=None, metadata=cli(
-        "-o", "--output", path=True, dash=True, help="With --retime: write the retimed path (CSV "
-        "with t first)."))
+        "-o", "--output", path=True, dash=True, help="With --retime or --accelerations: write "
+        "the retimed or integrated path (CSV with t first)."))
     torques: str | None = field(default=None, metadata=cli(
         "--torques", path=True, dash=True, help="Write every row's torques (the retimed rows' with "
         "--retime), CSV with t first."))
@@ -570,8 +570,6 @@ class LookaheadOptions:
         if self.output is not None and self.retime is None and self.accelerations is None:
             raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
                                   "--accelerations")
-        if self.output is not None and self.output == self.torques and self.output != "-":
-            raise VampcUsageError("-o and --torques name the same file")
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):
