@@ -271,3 +271,21 @@ def test_two_outputs_naming_one_file_are_one_error(setup, tmp_path, second):
                                   "-o", str(same), second, str(same)])
     assert r.exit_code == 1 and re.search(rf"a\.csv: {second} and -o name the same file", r.output), r.output
     assert not same.exists()
+
+
+def test_an_interrupt_while_the_outputs_are_made_leaves_every_file_as_it_was(setup, tmp_path, monkeypatch):
+    """The path and torques were written, then the plot made: a signal while making it left new
+    -o and --torques files beside no plot. Now every output is made before any is written."""
+    import vampc.lookahead as la
+    def interrupted(*args):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(la, "plot_svg", interrupted)
+    folder, program, limits, path = setup
+    out, tau = tmp_path / "out.csv", tmp_path / "tau.csv"
+    out.write_text("before\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
+                                  "-o", str(out), "--torques", str(tau), "--plot", str(tmp_path / "p.svg")])
+    assert r.exit_code != 0
+    assert out.read_text() == "before\n" and not tau.exists() and not (tmp_path / "p.svg").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]          # no temporary left

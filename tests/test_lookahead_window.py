@@ -237,3 +237,35 @@ def test_a_narrower_word_plans_within_its_error_and_stays_within_every_limit(set
     tau = rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])
     assert (np.abs(tau) <= LIM).all()
     assert np.max(np.abs(tau) / LIM) > 0.99                  # and still uses them
+
+
+@pytest.mark.parametrize("write_failed", [False, True])
+def test_a_retiming_over_a_limit_fails_and_replaces_no_existing_file(setup, tmp_path, monkeypatch,
+                                                                     write_failed):
+    """Should the network find a retimed row over a limit (here: a plan made 1% outside them), the
+    run fails (it printed the violations and exited 0) and, as emulate's failed --check, replaces no
+    existing output unless --write-failed; a new one is written, and said so. All outputs are
+    written together, so a failure or a signal leaves none half done."""
+    import vampc.lookahead as la
+    monkeypatch.setattr(la, "PLAN_MARGIN", -0.01)
+    folder, program, limits, path = setup
+    old, new, plot = tmp_path / "old.csv", tmp_path / "new.csv", tmp_path / "p.svg"
+    old.write_text("before\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window",
+                                  "-o", str(old), "--torques", str(new), "--plot", str(plot)]
+                           + (["--write-failed"] if write_failed else []))
+    assert r.exit_code == 1, r.output
+    assert re.search(r"retimed rows by the network: \d+ violations FAILED", r.output), r.output
+    assert new.exists() and plot.exists() and "--torques " + str(new) + " written although the retiming failed" in r.output
+    if write_failed:
+        assert old.read_text().startswith("t,q1")
+    else:
+        assert old.read_text() == "before\n" and "-o " + str(old) + " NOT written: the retiming failed" in r.output
+
+
+def test_write_failed_applies_with_check_or_retime(setup):
+    folder, program, limits, path = setup
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--torques", "x.csv", "--write-failed"])
+    assert r.exit_code == 2 and "--write-failed applies with --check or --retime" in r.output, r.output

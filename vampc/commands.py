@@ -565,22 +565,8 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
 
 def write_pictures(outs: dict, content: dict) -> None:
     """Write every picture (each atomically); none is committed unless all were written."""
-    from vampc.outputs import Pending
-    pending = []
-    try:
-        for option, out in outs.items():
-            pending.append(Pending(out, option.lstrip("-"), False))
-            pending[-1].fh.write(content[option])
-    except OSError as exc:
-        for p in pending:
-            p.discard()
-        raise pending[-1].error(exc) from None
-    except BaseException:
-        for p in pending:
-            p.discard()
-        raise
-    for p in pending:
-        p.commit()
+    from vampc.outputs import write_together
+    write_together([(out, content[option], option.lstrip("-")) for option, out in outs.items()])
 
 
 __all__ = ["VampcError", "compile_command", "emulate_command", "report_command", "compile_robot",
@@ -716,16 +702,16 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
             f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
-    ok = True
+    ok = not res.retimed_violations       # a retiming the network finds over a limit has failed
     if own.check_torques:
         tolerance = default_tolerance(ld.arith)
         if ld.word is None:
             check = check_torques(ld.chain, traj, res.tau)
-            ok, error = check.ok, check.max_rel
+            ok, error = ok and check.ok, check.max_rel
         else:                         # a narrower word: errors against each joint's largest |τ|
             from vampc.emulator.host import word_check
             error = word_check(ld.chain, traj, res.tau).overall
-            ok = error <= tolerance
+            ok = ok and error <= tolerance
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                 f"{number_text(tolerance)}: {'OK' if ok else 'FAILED'}")
         if res.retimed is not None:
@@ -737,13 +723,26 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
                      f"{'' if not within else ' FAILED'}")
         say(line, info)
-    _write_lookahead(outs, ld.chain, traj, times, res)
+    content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
-        from vampc.outputs import write_output
-        write_output(outs["--plot"], la.plot_svg(ld.chain.joints, times, res, limits,
-                                                 f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                                 f"window {own.window}"), "plot")
+        content["--plot"] = la.plot_svg(ld.chain.joints, times, res, limits,
+                                        f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
+                                        f"window {own.window}")
+    why = "retiming" if res.retimed_violations else "check"
+    kept = [] if ok or own.write_failed else \
+        [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
+    for option in kept:
+        say(f"{option} {outs[option].path} NOT written: the {why} failed and it exists (it is "
+            "unchanged; --write-failed replaces it anyway)", True)
+    from vampc.outputs import write_together
+    write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
+    if not ok:
+        for option in (o for o in outs if o not in kept and not outs[o].is_stdout):
+            say(f"{option} {outs[option].path} written although the {why} failed", True)
     return ok
+
+
+WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead's outputs
 
 
 def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
@@ -771,34 +770,41 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
                      f"{times[-1] - times[0] + lam:.6g} s); ṡ (leaving out the rest at start and end) "
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
-                     f"{count(len(res.retimed_violations), 'violation')}")
+                     f"{count(len(res.retimed_violations), 'violation')}{failed(res)}")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"k(1 + 1e-12)), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
-                     f"rows by the network: {count(len(res.retimed_violations), 'violation')}")
+                     f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
+                     f"{failed(res)}")
     if res.retimed is not None and res.word_margin:
         lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
                      f"error a {ld.arith.name} network's --check allows")
     return "\n".join(lines)
 
 
-def _write_lookahead(outs: dict, chain, traj, times, res) -> None:
+def failed(res) -> str:
+    """' FAILED' after the count of a retimed path's violations when there are any (exit 1)."""
+    return " FAILED" if res.retimed_violations else ""
+
+
+def _lookahead_outputs(outs: dict, chain, traj, times, res) -> dict:
+    """The text of the path (-o) and torques (--torques) asked for, by option."""
     from vampc.emulator.trajectory import csv_line, format_rows, header, torque_columns
-    from vampc.outputs import write_output
     from vampc.robot.mimic import free_names, n_free, reduce_states, reduce_torques
     path, t = traj, times
     if res.k is not None:
         path, t = res.retimed, times * res.k            # t' = k t
     elif res.retimed is not None:
         path, t = res.retimed, times[0] + res.retimed_t
+    content = {}
     if "-o" in outs:
         parts = reduce_states(chain, path.q, path.qd, path.qdd)
-        write_output(outs["-o"], csv_line(["t"] + header(n_free(chain))) + format_rows(t, *parts),
-                     "path")
+        content["-o"] = csv_line(["t"] + header(n_free(chain))) + format_rows(t, *parts)
     if "--torques" in outs:
         tau = res.retimed_tau if res.retimed_tau is not None else res.tau
-        write_output(outs["--torques"], csv_line(["t"] + torque_columns(free_names(chain)))
-                     + format_rows(t, reduce_torques(chain, tau)), "torques")
+        content["--torques"] = (csv_line(["t"] + torque_columns(free_names(chain)))
+                                + format_rows(t, reduce_torques(chain, tau)))
+    return content
 
 
 # --- faults ---------------------------------------------------------------------------------------

@@ -548,6 +548,10 @@ class LookaheadOptions:
     plot: str | None = field(default=None, metadata=cli(
         "--plot", path=True, metavar="FILE.svg", help="Draw, per joint, torque over time against its "
         "limit, before and after --retime, as SVG."))
+    write_failed: bool = field(default=False, metadata=cli(
+        "--write-failed", help="With --check or --retime: write -o, --torques and --plot even when "
+        "the check or the retiming fails and the file exists (by default a failed run never "
+        "replaces an existing file)."))
 
     def check(self) -> None:
         """Required options and their rules."""
@@ -570,6 +574,10 @@ class LookaheadOptions:
         if self.output is not None and self.retime is None and self.accelerations is None:
             raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
                                   "--accelerations")
+        if self.write_failed and not ((self.check_torques or self.retime)
+                                      and (self.output or self.torques or self.plot)):
+            raise VampcUsageError("--write-failed applies with --check or --retime, and -o, "
+                                  "--torques or --plot")
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):

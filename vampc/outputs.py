@@ -268,6 +268,27 @@ def write_output(out: PlannedOutput, content: str | bytes, what: str) -> None:
         fh.write(content)
 
 
+def write_together(items) -> None:
+    """Write each (out, content, what) of `items`, each by the rules above, and put none in place
+    unless all were written: a failure or an interrupt while they are made leaves every existing
+    file as it was."""
+    pending: list[Pending] = []
+    try:
+        for out, content, what in items:
+            pending.append(Pending(out, what, isinstance(content, bytes)))
+            pending[-1].fh.write(content)
+    except OSError as exc:
+        for p in pending:
+            p.discard()
+        raise pending[-1].error(exc) from None
+    except BaseException:
+        for p in pending:
+            p.discard()
+        raise
+    for p in pending:
+        p.commit()
+
+
 def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
     """Plan one output (library callers that write a single file)."""
     return plan_outputs(inputs, {option: path})[option]
