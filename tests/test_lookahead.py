@@ -230,7 +230,7 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
                                   "--window", "64", "--limits", str(limits), "--torques", str(tau), *retime]
                            + (["-o", str(out)] if retime else []))
     assert r.exit_code == 1, r.output
-    assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow", r.output)
+    assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow: the robot.s or the state.s numbers are too large\)", r.output)
     assert "wrote no output file" in r.output and len(r.output.strip().splitlines()) == 1, r.output
     assert tau.read_text() == "before\n" and not out.exists()
 
@@ -289,3 +289,64 @@ def test_an_interrupt_while_the_outputs_are_made_leaves_every_file_as_it_was(set
     assert r.exit_code != 0
     assert out.read_text() == "before\n" and not tau.exists() and not (tmp_path / "p.svg").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]          # no temporary left
+
+
+@pytest.mark.parametrize("retime, what", [
+    (None, [""]),
+    ("uniform", ["", " in its gravity pass", " retimed"]),
+    ("window", ["", " in its gravity pass", " in its tangent pass", " retimed"]),
+])
+def test_every_pass_of_the_network_is_checked_for_a_torque_that_is_not_finite(retime, what):
+    """A nan in any pass of the network (the rows as given, the gravity and tangent passes, the
+    retimed rows) stops the run naming the pass, the row and the joint."""
+    from types import SimpleNamespace
+
+    from vampc.emulator.host import Trajectory
+    from vampc.errors import VampcError
+    from vampc.lookahead import Limits, run
+    chain = load_robot(PUMA)
+    ld = SimpleNamespace(chain=chain, arith=SimpleNamespace(name="float64"), path="p")
+    t, q, qd, qdd = sine_path()
+    limits = Limits((100.0, 600.0, 200.0, 10.0, 10.0, 10.0), (None,) * 6)
+    for k, name in enumerate(what):
+        calls = []
+
+        def rows(tr):                   # the reference's torques, a nan in the k-th pass
+            calls.append(tr)
+            tau = rnea(chain, tr.q, tr.qd, tr.qdd)
+            if len(calls) == k + 1:
+                tau[4, 2] = np.nan
+            return tau
+        with pytest.raises(VampcError, match=rf"^path\.csv: row 5{name}, joint 3 \(elbow\): the torque "
+                                             r"is nan \(float64 overflow"):
+            run(ld, Trajectory(q, qd, qdd, None, None), 64, limits, retime, rows, "path.csv", 1, 1000.0)
+        assert len(calls) == k + 1                     # it stopped at that pass
+
+
+@pytest.mark.parametrize("retime", ["uniform", "window"])
+@pytest.mark.parametrize("above, refused", [(1e-6, False), (1e-12, True), (-1e-6, True)])
+def test_gravity_near_a_limit_is_planned_inside_it_or_refused(setup, tmp_path, retime, above, refused):
+    """The shoulder's limit set just above (or below) the largest torque gravity alone needs on the
+    path. 1e-6 above: the retimed path keeps inside it (the uniform k's 1e-12 alone did not: the
+    network found a row over by 7e-15 of it); within the 1e-9 the retiming keeps, or beyond it: no
+    time scaling helps, and the message says which."""
+    folder, program, _, path = setup
+    t, q, qd, qdd = sine_path()
+    chain = load_robot(PUMA)
+    shoulder = float(np.abs(rnea(chain, q, 0 * qd, 0 * qdd))[:, 1].max()) * (1 + above)
+    limits = tmp_path / "lim.csv"
+    limits.write_text(LIMITS.replace("shoulder,60,", f"shoulder,{shoulder!r},"))
+    out = tmp_path / "out.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", retime,
+                                  "--check", "-o", str(out)])
+    if refused:
+        how = "beyond its limit" if above < 0 else "within 1e-09 of its limit"
+        assert r.exit_code == 1 and re.search(rf"row \d+: joint 'shoulder' needs \S+ at rest \(gravity "
+                                              rf"alone\), {how}.*no time scaling helps", r.output), r.output
+        assert not out.exists()
+        return
+    assert r.exit_code == 0, r.output
+    assert "retimed rows by the network: 0 violations" in r.output
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.abs(rnea(chain, got[:, 1:7], got[:, 7:13], got[:, 13:19]))[:, 1].max() <= shoulder

@@ -195,8 +195,8 @@ def rest_paths():
 
 @pytest.mark.parametrize("name", ["start", "end", "still"])
 def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
-    """Where the path stands still nothing bounds ṡ: the rows there took no time (the same t, and
-    q̇ = 0·∞ = nan) or the plan failed. They are run at MAX_SPEED, the rest as everywhere."""
+    """Where the path stands still nothing but MAX_SPEED bounds ṡ: the rows there took no time (the
+    same t, and q̇ = 0·∞ = nan) or the plan failed."""
     from vampc.lookahead import MAX_SPEED
     folder, program, limits, _ = setup
     t, q, qd, qdd = rest_paths()[name]
@@ -232,7 +232,8 @@ def test_a_narrower_word_plans_within_its_error_and_stays_within_every_limit(set
                                   "--check", "-o", str(out)])
     assert r.exit_code == 0, r.output
     assert "retimed rows by the reference: 0 violations" in r.output
-    assert re.search(rf"planned to effort limits (1e-5|0\.001) of each tighter: the error a {re.escape(word)}", r.output)
+    margin = {"float32": "1e-5", "q16.16": "0.001"}[word]
+    assert f"planned to effort limits {margin} of each tighter: the error a {word} network" in r.output
     got = np.loadtxt(out, delimiter=",", skiprows=1)
     tau = rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])
     assert (np.abs(tau) <= LIM).all()
@@ -269,3 +270,26 @@ def test_write_failed_applies_with_check_or_retime(setup):
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--torques", "x.csv", "--write-failed"])
     assert r.exit_code == 2 and "--write-failed applies with --check or --retime" in r.output, r.output
+
+
+def test_write_failed_to_standard_output_only_does_not_apply(setup):
+    """Standard output is never held back: --write-failed with no file output would do nothing."""
+    folder, program, limits, path = setup
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--check", "--torques", "-",
+                                  "--write-failed"])
+    assert r.exit_code == 2 and "standard output is never held back" in r.output, r.output
+
+
+def test_a_failed_retiming_leaves_the_passing_check_ok(setup, tmp_path, monkeypatch):
+    """The reference check of the rows as given says OK when it passes, though the run fails for
+    the retiming; and the message names both when both fail."""
+    import vampc.lookahead as la
+    monkeypatch.setattr(la, "PLAN_MARGIN", -0.01)
+    folder, program, limits, path = setup
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window", "--check",
+                                  "--torques", str(tmp_path / "t.csv")])
+    assert r.exit_code == 1
+    assert re.search(r"tolerance 1e-9: OK; retimed rows by the reference: \d+ violations FAILED", r.output), r.output
+    assert "written although the retiming and check failed" in r.output

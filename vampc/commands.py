@@ -652,7 +652,7 @@ def precision_text(rows: list[dict], own, chain) -> str:
 def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
                       params: dict, say) -> bool:
     """`vampc lookahead`: the torque shift register over a path (vampc.lookahead); False when
-    --check failed."""
+    --check failed or the network found a retimed row over a limit."""
     from vampc import lookahead as la
     from vampc.emulator import emulate
     from vampc.emulator.host import check_torques, read_trajectory
@@ -702,33 +702,38 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
             f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
-    ok = not res.retimed_violations       # a retiming the network finds over a limit has failed
+    failed = []                           # what failed: the retiming, the check
+    if res.retimed_violations:            # a retiming the network finds over a limit has failed
+        failed.append("retiming")
     if own.check_torques:
         tolerance = default_tolerance(ld.arith)
         if ld.word is None:
             check = check_torques(ld.chain, traj, res.tau)
-            ok, error = ok and check.ok, check.max_rel
+            same, error = check.ok, check.max_rel
         else:                         # a narrower word: errors against each joint's largest |τ|
             from vampc.emulator.host import word_check
             error = word_check(ld.chain, traj, res.tau).overall
-            ok = ok and error <= tolerance
+            same = error <= tolerance
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
-                f"{number_text(tolerance)}: {'OK' if ok else 'FAILED'}")
+                f"{number_text(tolerance)}: {'OK' if same else 'FAILED'}")
+        within = []
         if res.retimed is not None:
             from vampc.dynamics.reference import rnea
             new = res.retimed
             ref = rnea(ld.chain, new.q, new.qd, new.qdd)
             within = la.violations(ref, new.qd, limits)
-            ok = ok and not within
             line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
                      f"{'' if not within else ' FAILED'}")
         say(line, info)
+        if not same or within:
+            failed.append("check")
+    ok = not failed
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
         content["--plot"] = la.plot_svg(ld.chain.joints, times, res, limits,
                                         f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
                                         f"window {own.window}")
-    why = "retiming" if res.retimed_violations else "check"
+    why = " and ".join(failed)
     kept = [] if ok or own.write_failed else \
         [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
     for option in kept:
@@ -737,7 +742,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.outputs import write_together
     write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
     if not ok:
-        for option in (o for o in outs if o not in kept and not outs[o].is_stdout):
+        for option in (o for o in outs if o not in kept):
             say(f"{option} {outs[option].path} written although the {why} failed", True)
     return ok
 
@@ -770,19 +775,20 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
                      f"{times[-1] - times[0] + lam:.6g} s); ṡ (leaving out the rest at start and end) "
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
-                     f"{count(len(res.retimed_violations), 'violation')}{failed(res)}")
+                     f"{count(len(res.retimed_violations), 'violation')}{failed_mark(res)}")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
-                     f"k(1 + 1e-12)), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
+                     f"{res.k:.15g}, planned {number_text(res.margin)} of each effort limit inside "
+                     f"it), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
-                     f"{failed(res)}")
+                     f"{failed_mark(res)}")
     if res.retimed is not None and res.word_margin:
         lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
                      f"error a {ld.arith.name} network's --check allows")
     return "\n".join(lines)
 
 
-def failed(res) -> str:
+def failed_mark(res) -> str:
     """' FAILED' after the count of a retimed path's violations when there are any (exit 1)."""
     return " FAILED" if res.retimed_violations else ""
 

@@ -21,8 +21,10 @@ second, gravity-only pass. The smallest k keeping every row within |τ'| <= L an
                                              (q̇ / q̇_max)²),     d = τ - τ_g, g = τ_g,
 
 taken over the whole path (a uniform scaling is one k, so the host needs the whole path before motion
-starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form
-times (1 + 1e-12), so rounding never puts a torque over its limit.
+starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form on
+limits PLAN_MARGIN tighter (or by the word's error: `word_margin`), times (1 + 1e-12), so rounding
+never puts a torque over its limit, however close to it gravity comes (1e-12 of k alone did not:
+τ_g within rounding of L put τ' over it).
 
 `--retime window` (`window_plan`): the scaling varies along the path, decided row by row from what is
 in the register. The path's rows are its samples s_j (spacing Δ = λ of the path as given, q' = q̇,
@@ -93,7 +95,8 @@ class Lookahead:
     speed: np.ndarray | None = None   # ṡ at each row
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
-    word_margin: float = 0.0          # the effort limits planned to are this much (of each) tighter
+    word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
+    margin: float = 0.0               # how much (of each) inside the effort limits the retiming planned
 
 
 def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
@@ -242,20 +245,23 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         return out
     zero = np.zeros_like(traj.qd)
     g = torques(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
+    tangent = (torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
+               if retime == "window" else None)
+    margin = max(PLAN_MARGIN, word_margin)    # planned this much inside: rounding, the word's error
     try:
-        check_gravity(g, limits, ld.chain,
-                      word_margin if retime == "uniform" else max(PLAN_MARGIN, word_margin))
+        check_gravity(g, limits, ld.chain, margin)
         if retime == "uniform":
-            k = uniform_k(tau, g, traj.qd, tightened(limits, word_margin), ld.chain)
+            k = uniform_k(tau, g, traj.qd, limits, ld.chain)        # the closed form, as defined
+            used = uniform_k(tau, g, traj.qd, tightened(limits, margin), ld.chain)
         else:
-            tangent = torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
             x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
-                                  max(PLAN_MARGIN, word_margin))
+                                  margin)
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
+    out.margin = margin
     if retime == "uniform":
         out.k_closed_form = k
-        out.k = k * (1 + K_MARGIN) if k > 1 else 1.0
+        out.k = used * (1 + K_MARGIN) if used > 1 else 1.0
         out.retimed = Trajectory(traj.q, traj.qd / out.k, traj.qdd / out.k ** 2, None, None)
         out.retimed_t = np.arange(traj.count) * (out.k / rate)
         out.speed = np.full(traj.count, 1.0 / out.k)
@@ -270,18 +276,12 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
 
 
 def finite(tau: np.ndarray, ld, path: str, what: str = "") -> None:
-    """VampcError naming the first torque that is not finite (an overflow of the word format: the
-    robot's or the path's numbers are too large), and saying nothing was written: a non-finite
-    number is never a result."""
-    bad = ~np.isfinite(tau)
-    if bad.any():
-        r, j = (int(x) for x in np.argwhere(bad)[0])
-        joint = (f"joint {j + 1} ({ld.chain.joints[j].name})" if j < ld.chain.n
-                 else f"base wrench component {j - ld.chain.n + 1}")
-        row = f"row {r + 1}" + (f" {what}" if what else "")
-        raise VampcError(f"{path}: {row}, {joint}: the torque is {tau[r, j]} ({ld.arith.name} "
-                         "overflow: the robot's or the path's numbers are too large); the run "
-                         "stopped and wrote no output file")
+    """VampcError naming the first torque of a pass (`what`) that is not finite, as `vampc emulate`
+    says it (vampc.emulator.driver.non_finite): a non-finite number is never a result."""
+    from vampc.emulator.driver import non_finite
+    found = non_finite(ld, tau)
+    if found is not None:
+        raise VampcError(f"{path}: row {found[0] + 1}{f' {what}' if what else ''}, {found[1]}")
 
 
 def tightened(limits: Limits, margin: float) -> Limits:
@@ -293,15 +293,18 @@ def tightened(limits: Limits, margin: float) -> Limits:
 
 
 def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> None:
-    """VampcError where gravity alone (the torque at rest) is beyond a limit (less `margin` of it):
-    no time scaling helps there."""
+    """VampcError where gravity alone (the torque at rest) is beyond a limit, or within `margin` of
+    it (the retiming plans that much inside): no time scaling helps there."""
     lim = np.array(limits.tau)
     g = g[:, :len(lim)]
     alone = np.argwhere(np.abs(g) > lim * (1 - margin))
     if alone.size:
         r, j = (int(x) for x in alone[0])
-        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.6g} at rest "
-                         f"(gravity alone), beyond its limit {lim[j]:g}: no time scaling helps")
+        how = (f"beyond its limit {lim[j]:g}" if abs(g[r, j]) > lim[j] else
+               f"within {margin:g} of its limit {lim[j]:.12g}, the margin the retiming keeps for "
+               "rounding and the network's word")
+        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.12g} at rest "
+                         f"(gravity alone), {how}: no time scaling helps")
 
 
 PLAN_MARGIN = 1e-9

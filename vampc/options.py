@@ -574,10 +574,10 @@ class LookaheadOptions:
         if self.output is not None and self.retime is None and self.accelerations is None:
             raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
                                   "--accelerations")
-        if self.write_failed and not ((self.check_torques or self.retime)
-                                      and (self.output or self.torques or self.plot)):
+        files = [x for x in (self.output, self.torques, self.plot) if x is not None and x != "-"]
+        if self.write_failed and not ((self.check_torques or self.retime) and files):
             raise VampcUsageError("--write-failed applies with --check or --retime, and -o, "
-                                  "--torques or --plot")
+                                  "--torques or --plot to a file (standard output is never held back)")
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):

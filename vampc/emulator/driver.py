@@ -199,19 +199,27 @@ def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajec
 
 
 def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=()) -> None:
-    """VampcError naming the first torque that is not finite, and the cause: the injected faults
-    where there are any, else an overflow of the robot's or the state's numbers."""
+    """VampcError naming the first torque that is not finite, and the cause (non_finite)."""
+    found = non_finite(ld, tau, faults)
+    if found is not None:
+        raise VampcError(f"{ld.path}: set {start + found[0] + 1}, {found[1]}")
+
+
+def non_finite(ld: Loaded, tau: np.ndarray, faults=()) -> tuple[int, str] | None:
+    """The row of the first torque that is not finite and what to say of it (the joint or wrench
+    component, the value and the cause: the injected faults where there are any, else an overflow
+    of the robot's or the state's numbers; nothing was written); None if every torque is finite."""
     bad = ~np.isfinite(tau)
-    if bad.any():
-        r, j = (int(x) for x in np.argwhere(bad)[0])
-        from vampc.emulator.trajectory import WRENCH_COLUMNS
-        where = (f"joint {j + 1} ({ld.chain.joints[j].name}): the torque" if j < ld.chain.n
-                 else f"{WRENCH_COLUMNS[j - ld.chain.n]}: the base wrench")
-        cause = (f"{ld.arith.name} overflow under the injected fault{'s' if len(faults) > 1 else ''}"
-                 if faults else
-                 f"{ld.arith.name} overflow: the robot's or the state's numbers are too large")
-        raise VampcError(f"{ld.path}: set {start + r + 1}, {where} is {tau[r, j]} ({cause}); "
-                         "the run stopped and wrote no output file")
+    if not bad.any():
+        return None
+    r, j = (int(x) for x in np.argwhere(bad)[0])
+    from vampc.emulator.trajectory import WRENCH_COLUMNS
+    where = (f"joint {j + 1} ({ld.chain.joints[j].name}): the torque" if j < ld.chain.n
+             else f"{WRENCH_COLUMNS[j - ld.chain.n]}: the base wrench")
+    cause = (f"{ld.arith.name} overflow under the injected fault{'s' if len(faults) > 1 else ''}"
+             if faults else
+             f"{ld.arith.name} overflow: the robot's or the state's numbers are too large")
+    return r, f"{where} is {tau[r, j]} ({cause}); the run stopped and wrote no output file"
 
 
 def _merge(acc: CheckResult | None, new: CheckResult, start: int) -> CheckResult:
