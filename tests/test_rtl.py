@@ -76,11 +76,12 @@ def test_cosim_log_budget_and_rules(robot, options):
 
 
 # Folded networks of 1-4 joints are 30-36 VAMPs; systolic ones grow by about 30 VAMPs a joint (124
-# at n = 4, 10-20 s to elaborate here), so random systolic chains stop at 2 joints: every op and
-# slot kind is already in them, and planar2/Puma systolic run above and under -m slow.
+# at n = 4, 10-20 s to elaborate here), so random systolic chains are of 1 joint: every op and slot
+# kind is already in it, planar2 (2 joints) systolic runs above in two words, and Puma systolic
+# under -m slow. (At 2 joints one draw took up to 28 s of the suite's 4 minutes.)
 @settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(shape=st.one_of(st.tuples(st.just("folded"), st.integers(1, 4)),
-                       st.tuples(st.just("systolic"), st.integers(1, 2))),
+                       st.tuples(st.just("systolic"), st.just(1))),
        seed=st.integers(0, 10**6), word=st.sampled_from(["q16.16", "q12.20", "q20.12"]))
 def test_random_small_chains(shape, seed, word):
     layout, n = shape
