@@ -350,3 +350,25 @@ def test_gravity_near_a_limit_is_planned_inside_it_or_refused(setup, tmp_path, r
     assert "retimed rows by the network: 0 violations" in r.output
     got = np.loadtxt(out, delimiter=",", skiprows=1)
     assert np.abs(rnea(chain, got[:, 1:7], got[:, 7:13], got[:, 13:19]))[:, 1].max() <= shoulder
+
+
+def test_a_row_a_fixed_point_word_cannot_hold_is_refused_and_overflows_are_said(setup, tmp_path):
+    """A q̈ beyond q16.16's range was written as the word saturated it, the torques silently wrong.
+    As emulate: refused naming the row and column unless --overflow is given; then every pass's
+    overflows are counted and said, and they fail --check."""
+    folder, _, limits, _ = setup
+    program = tmp_path / "q.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
+    t, q, qd, qdd = sine_path()
+    qdd = qdd.copy()
+    qdd[5, 0] = 1e5
+    path = write_path(tmp_path, t, q, qd, qdd)
+    base = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "64",
+            "--limits", str(limits)]
+    r = CliRunner().invoke(main, base)
+    assert r.exit_code == 1 and re.search(r"path\.csv: row 6, column qdd1: 100000 is beyond q16\.16 words",
+                                          r.output), r.output
+    r = CliRunner().invoke(main, base + ["--overflow", "saturate", "--check"])
+    assert r.exit_code == 1, r.output
+    n = int(re.search(r"q16\.16 \(nearest, saturate\) words: (\d+) overflows?", r.output).group(1))
+    assert n > 0 and re.search(r"tolerance 0\.001: FAILED", r.output), r.output

@@ -688,8 +688,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                              f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
     # a narrower word than float64: plan within the error its --check allows (of each limit)
     margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
+    from vampc.emulator.stream import constant_overflows
+    ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
     res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
-                 source_path, own.futures or 1, rate, margin)
+                 source_path, own.futures or 1, rate, margin, "overflow" not in options.given)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
@@ -702,6 +704,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
             f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
+    overflows = ld.arith.overflows
+    if ld.word is not None:          # overflows are never silent (every pass of the network)
+        say(f"{ld.arith!r} words: {count(overflows, 'overflow')}", info)
     failed = []                           # what failed: the retiming, the check
     if res.retimed_violations:            # a retiming the network finds over a limit has failed
         failed.append("retiming")
@@ -713,7 +718,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         else:                         # a narrower word: errors against each joint's largest |τ|
             from vampc.emulator.host import word_check
             error = word_check(ld.chain, traj, res.tau).overall
-            same = error <= tolerance
+            same = error <= tolerance and not overflows
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                 f"{number_text(tolerance)}: {'OK' if same else 'FAILED'}")
         within = []

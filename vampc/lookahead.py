@@ -224,16 +224,25 @@ def check_window(window: int, traj) -> None:
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
-        path: str = "", futures: int = 1, rate: float = 1.0, word_margin: float = 0.0) -> Lookahead:
+        path: str = "", futures: int = 1, rate: float = 1.0, word_margin: float = 0.0,
+        word_range: bool = False) -> Lookahead:
     """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
     violations, and with `retime` ("uniform" or "window") the scaling and the retimed rows' torques.
     `path` names the trajectory in messages; `rate` is the rows' rate (Hz). `word_margin`: the
     error the network's word format may make, as a fraction of each effort limit (0 for float64);
-    the retiming plans to limits that much tighter, so the reference dynamics stays within them."""
+    the retiming plans to limits that much tighter, so the reference dynamics stays within them.
+    `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
+    does unless --overflow is given)."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj)
 
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
+        if word_range:
+            from vampc.emulator.host import check_word_range
+            try:
+                check_word_range(ld.arith, rows, path, ld.chain)
+            except VampcError as exc:
+                raise VampcError(f"{exc}{f' (the row {what})' if what else ''}") from None
         with np.errstate(all="ignore"):                # (an overflow is said once, below)
             tau = emulate_rows(rows)
         finite(tau, ld, path, what)
