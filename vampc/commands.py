@@ -719,8 +719,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             from vampc.emulator.host import word_check
             error = word_check(ld.chain, traj, res.tau).overall
             same = error <= tolerance and not overflows
+        over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
-                f"{number_text(tolerance)}: {'OK' if same else 'FAILED'}")
+                f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
         within = []
         if res.retimed is not None:
             from vampc.dynamics.reference import rnea
@@ -783,14 +784,20 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      f"{count(len(res.retimed_violations), 'violation')}{failed_mark(res)}")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
-                     f"{res.k:.15g}, planned {number_text(res.margin)} of each effort limit inside "
-                     f"it), duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
+                     f"{res.k:.15g}, on effort limits {number_text(res.margin)} of each tighter"
+                     f"{why_margin(ld, res)}), "
+                     f"duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
                      f"{failed_mark(res)}")
-    if res.retimed is not None and res.word_margin:
+    if res.retimed is not None and res.word_margin and res.k is None:
         lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
                      f"error a {ld.arith.name} network's --check allows")
     return "\n".join(lines)
+
+
+def why_margin(ld, res) -> str:
+    """Why the uniform k's limits are tighter than 1e-9 (a narrower word's error), or nothing."""
+    return (f": the error a {ld.arith.name} network's --check allows" if res.word_margin else "")
 
 
 def failed_mark(res) -> str:

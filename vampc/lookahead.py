@@ -239,10 +239,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
         if word_range:
             from vampc.emulator.host import check_word_range
-            try:
-                check_word_range(ld.arith, rows, path, ld.chain)
-            except VampcError as exc:
-                raise VampcError(f"{exc}{f' (the row {what})' if what else ''}") from None
+            check_word_range(ld.arith, rows, path, ld.chain, f" {what}" if what else "")
         with np.errstate(all="ignore"):                # (an overflow is said once, below)
             tau = emulate_rows(rows)
         finite(tau, ld, path, what)
@@ -279,7 +276,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
                                  traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
         out.retimed_t, out.speed = t, speed
-    out.retimed_tau = torques(out.retimed, "retimed")
+    out.retimed_tau = torques(out.retimed, "as retimed")
     out.retimed_violations = violations(out.retimed_tau, out.retimed.qd, limits)
     return out
 
@@ -309,9 +306,9 @@ def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> 
     alone = np.argwhere(np.abs(g) > lim * (1 - margin))
     if alone.size:
         r, j = (int(x) for x in alone[0])
-        how = (f"beyond its limit {lim[j]:g}" if abs(g[r, j]) > lim[j] else
-               f"within {margin:g} of its limit {lim[j]:.12g}, the margin the retiming keeps for "
-               "rounding and the network's word")
+        how = (f"beyond its limit {lim[j]:.12g}" if abs(g[r, j]) > lim[j] else
+               f"closer to its limit {lim[j]:.12g} than {margin:g} of it, the margin the retiming "
+               "keeps for rounding and the network's word")
         raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.12g} at rest "
                          f"(gravity alone), {how}: no time scaling helps")
 

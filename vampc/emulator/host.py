@@ -93,9 +93,11 @@ def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
                              f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")
 
 
-def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None) -> None:
+def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None,
+                     what: str = "") -> None:
     """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
-    range: the host writes them as they are), naming the row and column."""
+    range: the host writes them as they are), naming the row and column (and `what` row it is:
+    " as retimed" for the look-ahead's)."""
     from vampc.emulator.trajectory import header
     if not hasattr(word, "rounded"):                 # float words: nothing to refuse
         return
@@ -111,7 +113,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     bad = (raw < word.lo) | (raw > word.hi)
     if bad.any():
         row, col = (int(x) for x in np.argwhere(bad)[0])
-        raise VampcError(f"{path}: row {row + 1}, column {names[col]}: {values[row, col]:.12g} is "
+        raise VampcError(f"{path}: row {row + 1}{what}, column {names[col]}: {values[row, col]:.12g} is "
                          f"beyond {word.name} words, which hold [{-top:g}, {top:g}); give "
                          "--overflow saturate or --overflow wrap to run it anyway (each overflow "
                          "counted)")
