@@ -293,8 +293,8 @@ def test_an_interrupt_while_the_outputs_are_made_leaves_every_file_as_it_was(set
 
 @pytest.mark.parametrize("retime, what", [
     (None, [""]),
-    ("uniform", ["", " in its gravity pass", " retimed"]),
-    ("window", ["", " in its gravity pass", " in its tangent pass", " retimed"]),
+    ("uniform", ["", " in its gravity pass", " as retimed"]),
+    ("window", ["", " in its gravity pass", " in its tangent pass", " as retimed"]),
 ])
 def test_every_pass_of_the_network_is_checked_for_a_torque_that_is_not_finite(retime, what):
     """A nan in any pass of the network (the rows as given, the gravity and tangent passes, the
