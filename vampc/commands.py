@@ -10,6 +10,7 @@ main output (`err`: for standard error, because standard output carries data).
 from __future__ import annotations
 
 import functools
+import gc
 import math
 import shutil
 import time
@@ -18,6 +19,7 @@ from pathlib import Path
 
 from vampc import jsontext
 from vampc.errors import VampcError, VampcUsageError, VampcWarning
+from vampc.gcpause import gc_paused
 from vampc.options import (
     CompileCommand,
     CompileOptions,
@@ -34,7 +36,10 @@ from vampc.textio import count
 # likewise gets its check (Network.verify) there.
 BACKGROUND_CHECK_SLOTS = 20_000
 # A compile of more slots than this leaves without freeing its objects once it has succeeded
-# (vampc.launch.skip_teardown; 100 000 slots: about a million objects, 0.1 s to free).
+# (vampc.launch.skip_teardown; 100 000 slots: about a million objects, 0.1 s to free), and moves them
+# out of the cyclic collector's reach (gc.freeze) before it resumes: its first collection would
+# otherwise walk every tuple the compile made (0.5 s for a 4096-joint log network, finding nothing:
+# the IRs hold no cycles).
 BIG_NETWORK_SLOTS = 100_000
 
 
@@ -77,11 +82,13 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     robot_opts.check(robot)
     path = own.output if own.output is not None else Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",))["-o"]
-    c = compile_robot(robot, options, robot_opts)
-    write_program(program_chunks(c), out)
-    if c.network.slot_count >= BIG_NETWORK_SLOTS:     # millions of objects: not freed one by one
-        from vampc.launch import skip_teardown
-        skip_teardown()
+    with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
+        c = compile_robot(robot, options, robot_opts)
+        write_program(program_chunks(c), out)
+        if c.network.slot_count >= BIG_NETWORK_SLOTS:     # millions of objects: not freed one by one
+            from vampc.launch import skip_teardown
+            skip_teardown()
+            gc.freeze()       # nor walked by the collector once it resumes: they stay to the end
     s = c.schedule
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
@@ -455,7 +462,6 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
                    robot_opts: RobotOptions, params: dict) -> str:
     """`vampc report`: the report (or the trade-off sweep) as text in the format asked for, with
     its pictures written."""
-    from vampc.gcpause import gc_paused
     from vampc.outputs import plan_outputs
     own.check(options.given)
     if own.tradeoff:
