@@ -884,3 +884,25 @@ def test_a_big_compile_keeps_its_objects_from_the_cyclic_collector(tmp_path, mon
         assert (gc.get_freeze_count() > 0) == big and gc.isenabled()
     finally:
         gc.unfreeze()
+
+
+@pytest.mark.parametrize("big", [True, False])
+def test_a_big_report_keeps_its_objects_from_the_cyclic_collector_too(tmp_path, monkeypatch, big):
+    """A report of a big network freezes its objects as a big compile does (a 4096-joint chain's
+    report: 8.8-9.1 s before, 7.9-8.2 s after), and asks to leave without teardown; the report is
+    the same."""
+    import gc
+
+    import vampc.commands
+    from vampc import launch
+    monkeypatch.setattr(vampc.commands, "BIG_NETWORK_SLOTS", 0 if big else 10 ** 9)
+    monkeypatch.setattr(launch, "_SKIP_TEARDOWN", False)
+    gc.unfreeze()
+    try:
+        r = CliRunner().invoke(main, ["report", "examples/planar2.yaml"])
+        assert r.exit_code == 0, r.output
+        assert (gc.get_freeze_count() > 0) == big and launch._SKIP_TEARDOWN == big and gc.isenabled()
+    finally:
+        gc.unfreeze()
+    monkeypatch.setattr(vampc.commands, "BIG_NETWORK_SLOTS", 10 ** 9)
+    assert CliRunner().invoke(main, ["report", "examples/planar2.yaml"]).output == r.output

@@ -35,7 +35,7 @@ from vampc.textio import count
 # is built (about a third of the work for a 512-joint log program); a robot file's compiled network
 # likewise gets its check (Network.verify) there.
 BACKGROUND_CHECK_SLOTS = 20_000
-# A compile of more slots than this leaves without freeing its objects once it has succeeded
+# A compile (or report) of more slots than this leaves without freeing its objects once it has succeeded
 # (vampc.launch.skip_teardown; 100 000 slots: about a million objects, 0.1 s to free), and moves them
 # out of the cyclic collector's reach (gc.freeze) before it resumes: its first collection would
 # otherwise walk every tuple the compile made (0.5 s for a 4096-joint log network, finding nothing:
@@ -501,6 +501,10 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
             check.abandon()
             raise
         write_pictures(outs, content)
+        if c.network is not None and c.network.slot_count >= BIG_NETWORK_SLOTS:   # as a compile
+            from vampc.launch import skip_teardown
+            skip_teardown()
+            gc.freeze()
     if own.fmt == "json":
         return jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"
     from vampc.report.text import render, render_markdown
