@@ -43,6 +43,16 @@ BACKGROUND_CHECK_SLOTS = 20_000
 BIG_NETWORK_SLOTS = 100_000
 
 
+def leave_big(net) -> None:
+    """For a network of more than BIG_NETWORK_SLOTS slots, once the command's work is done (with the
+    collector paused): leave without freeing its millions of objects one by one, and keep them from
+    the collector's walks once it resumes; they stay to the end."""
+    if net is not None and net.slot_count >= BIG_NETWORK_SLOTS:
+        from vampc.launch import skip_teardown
+        skip_teardown()
+        gc.freeze()
+
+
 # --- compile --------------------------------------------------------------------------------------
 
 def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
@@ -85,10 +95,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
         c = compile_robot(robot, options, robot_opts)
         write_program(program_chunks(c), out)
-        if c.network.slot_count >= BIG_NETWORK_SLOTS:     # millions of objects: not freed one by one
-            from vampc.launch import skip_teardown
-            skip_teardown()
-            gc.freeze()       # nor walked by the collector once it resumes: they stay to the end
+        leave_big(c.network)
     s = c.schedule
     say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
@@ -501,10 +508,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
             check.abandon()
             raise
         write_pictures(outs, content)
-        if c.network is not None and c.network.slot_count >= BIG_NETWORK_SLOTS:   # as a compile
-            from vampc.launch import skip_teardown
-            skip_teardown()
-            gc.freeze()
+        leave_big(c.network)
     if own.fmt == "json":
         return jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"
     from vampc.report.text import render, render_markdown

@@ -96,7 +96,11 @@ class Lookahead:
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
     word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
-    margin: float = 0.0               # how much (of each) inside the effort limits the retiming planned
+
+    @property
+    def margin(self) -> float:
+        """How much (of each) inside the effort limits a retiming plans: rounding, the word's error."""
+        return max(PLAN_MARGIN, self.word_margin)
 
 
 def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
@@ -253,7 +257,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     g = torques(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
     tangent = (torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
                if retime == "window" else None)
-    margin = max(PLAN_MARGIN, word_margin)    # planned this much inside: rounding, the word's error
+    margin = out.margin
     try:
         check_gravity(g, limits, ld.chain, margin)
         if retime == "uniform":
@@ -264,7 +268,6 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
                                   margin)
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
-    out.margin = margin
     if retime == "uniform":
         out.k_closed_form = k
         out.k = used * (1 + K_MARGIN) if used > 1 else 1.0
