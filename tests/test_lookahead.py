@@ -417,3 +417,23 @@ def test_the_uniform_k_plans_inside_the_limits_however_close_gravity_comes():
     assert abs(res.k_closed_form / np.sqrt(6.25 / (limits[1] - 37.0)) - 1) <= 1e-9
     assert (np.abs(res.retimed_tau) <= limits * (1 - 0.9e-9)).all()
     assert np.abs(res.retimed_tau[:, 1]).max() >= limits[1] * (1 - 1.1e-9)     # and uses them
+
+
+def test_the_summary_gives_each_joints_worst_torque_over_its_limit_before_and_after(setup):
+    """Part 5's summary: per joint the largest |τ| over its effort limit, as given and retimed,
+    against the reference dynamics of the path and of the retimed path written."""
+    folder, program, limits, path = setup
+    out = folder / "worst.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
+                                  "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    chain = load_robot(PUMA)
+    lim = np.array([10, 60, 20, 1, 1, 1.0])
+    t, q, qd, qdd = sine_path()
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    for label, tau in (("worst |τ| / limit per joint: ", rnea(chain, q, qd, qdd)),
+                       ("  retimed: ", rnea(chain, got[:, 1:7], got[:, 7:13], got[:, 13:19]))):
+        line = next(x for x in r.output.splitlines() if x.startswith(label))
+        said = [float(part.split()[1]) for part in line[len(label):].split(", ")]
+        assert np.allclose(said, np.abs(tau).max(axis=0) / lim, rtol=1e-3), (line, np.abs(tau).max(axis=0) / lim)

@@ -717,7 +717,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
             f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
             f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
-    say(lookahead_summary(ld, traj, times, own.window, lam, res), info)
+    say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     if ld.word is not None:          # overflows are never silent (every pass of the network)
         say(f"{ld.arith!r} words: {count(overflows, 'overflow')}", info)
@@ -770,8 +770,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
 WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead's outputs
 
 
-def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
-    """The run in a few lines: rows, window, violations with how far ahead they were seen, k."""
+def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> str:
+    """The run in a few lines: rows, window, violations with how far ahead they were seen, each
+    joint's worst torque against its limit (as given and retimed), k."""
     from vampc.lookahead import ahead
     names = [j.name for j in ld.chain.joints]
     lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({times[-1] - times[0] + lam:.6g} s), "
@@ -784,6 +785,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
                      f"({early * lam * 1e3:.4g} ms) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
+    lines.append("worst |τ| / limit per joint: " + worst_ratios(names, res.tau, limits))
+    if res.retimed_tau is not None:
+        lines.append("  retimed: " + worst_ratios(names, res.retimed_tau, limits))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
@@ -807,6 +811,14 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res) -> str:
         lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
                      f"error a {ld.arith.name} network's --check allows")
     return "\n".join(lines)
+
+
+def worst_ratios(names, tau, limits) -> str:
+    """'waist 1.31, shoulder 0.523, ...': each joint's largest |τ| over its effort limit."""
+    import numpy as np
+    lim = np.array(limits.tau)
+    worst = np.max(np.abs(tau[:, :len(lim)]), axis=0, initial=0.0) / lim
+    return ", ".join(f"{name} {w:.4g}" for name, w in zip(names, worst))
 
 
 def why_margin(ld, res) -> str:
