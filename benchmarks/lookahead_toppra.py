@@ -11,6 +11,10 @@ as given, after `--retime uniform`, after `--retime window` with --window 64 and
 and TOPP-RA's time-optimal duration on the same samples and limits (toppra 0.6, gridpoints = the
 path's rows, collocation, starting and ending at rest as vampc's window retiming does), with each
 retimed path's violations checked by the reference dynamics. Needs `pip install toppra`.
+
+`--sweep 1,2,4,5,8` prints instead, per path, the window method's duration over TOPP-RA's with
+--window 64 and each --futures R given (64 R rows ahead): how far ahead the host must see to come
+within a given distance of the time-optimal duration (README, vampc lookahead).
 """
 from __future__ import annotations
 
@@ -126,6 +130,33 @@ def table() -> None:
               f"{w4:.3f} ({100 * (w4 / best - 1):+.0f}%) | {best:.3f} |")
 
 
+def sweep(futures: list[int]) -> None:
+    """Per path: `--retime window` over TOPP-RA for --window 64 and each --futures R."""
+    from vampc.lookahead import limits_of
+    from vampc.robot import load_robot
+    print("| robot | path | TOPP-RA (s) | " + " | ".join(f"R = {r} ({64 * r} rows)" for r in futures) + " |")
+    print("|---|---|---|" + "---|" * len(futures))
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        for name, spec in ROBOTS.items():
+            program = tmp / (spec["source"].stem + ".vamp.json")
+            subprocess.run(["vampc", "compile", str(spec["source"]), "-o", str(program)], check=True,
+                           capture_output=True)
+            chain = load_robot(str(spec["source"]))
+            chain = getattr(chain, "chain", chain)
+            lim = limits_of(chain, str(spec["limits"]) if spec["limits"] else None)
+            for kind, T in spec["T"].items():
+                t, q, qd, qdd = make_path(kind, T, spec["dq"], spec["amp"])
+                path = tmp / f"{spec['source'].stem}-{kind}.csv"
+                write_path(path, t, q, qd, qdd)
+                best = toppra_duration(chain, t, q, np.array(lim.tau), lim.qd)
+                cells = []
+                for r in futures:
+                    took, _ = lookahead(program, path, spec["limits"], "--retime", "window", "--futures", str(r))
+                    cells.append(f"{100 * (took / best - 1):+.1f}%")
+                print(f"| {name} | {kind} | {best:.3f} | " + " | ".join(cells) + " |", flush=True)
+
+
 def speed(rows: int, repeats: int = 3) -> None:
     """`vampc lookahead --retime window` on `rows` rows at 1 kHz, window 64: whole command, median."""
     spec = ROBOTS["Puma 560"]
@@ -149,7 +180,11 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--speed-only", action="store_true")
     parser.add_argument("--rows", type=int, default=10000)
+    parser.add_argument("--sweep", metavar="R,...", help="only the --futures sweep, for these R")
     args = parser.parse_args()
+    if args.sweep:
+        sweep([int(r) for r in args.sweep.split(",")])
+        return 0
     if not args.speed_only:
         table()
     speed(args.rows)
