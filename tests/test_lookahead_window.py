@@ -15,7 +15,7 @@ from test_lookahead import LIMITS, write_path
 
 from vampc.cli import main
 from vampc.dynamics.reference import rnea
-from vampc.lookahead import Limits, window_plan
+from vampc.lookahead import Limits, optimal_plan, window_plan
 from vampc.robot import load_robot
 
 PUMA = "examples/puma560.yaml"
@@ -130,6 +130,37 @@ def test_more_futures_see_further_and_are_never_slower(setup):
                                   "--window", "256", "--limits", str(limits), "--retime", "window", "-o", str(out)])
     assert r.exit_code == 0, r.output
     assert out.read_text() == (folder / "r4.csv").read_text()
+
+
+def test_the_summary_says_what_the_look_ahead_costs(setup):
+    """The summary gives the plan with the whole path in view (`optimal_plan`) beside the window's:
+    its duration is the window plan's when the window sees the whole path (bit for bit: the same
+    recursion, in one pass instead of one per step), never longer, and the cost printed is the
+    ratio of the two durations (the -o files' last t)."""
+    folder, program, limits, path = setup
+    rows = len(np.loadtxt(path, delimiter=",", skiprows=1))
+    costs = []
+    for futures, name in ((1, "c1.csv"), (-(-rows // 64), "call.csv")):
+        text, out, _ = retime(setup, "--futures", str(futures), name=name)
+        found = re.search(r"with the whole path in view \(the time-optimal plan on these rows and "
+                          r"limits\): (\S+) s; seeing (\d+) rows ahead costs ([+-][\d.]+)%", text)
+        assert found, text
+        best, cost = float(found[1]), float(found[3])
+        assert int(found[2]) == 64 * futures
+        assert abs(cost - round(100 * (out[-1, 0] / best - 1), 1)) < 0.06
+        costs.append(cost)
+        if futures > 1:                   # the whole path in view: the window's plan is the optimum
+            assert abs(out[-1, 0] - best) <= 1e-6 * best and cost == 0.0
+    assert costs[0] > 1.0                 # 64 rows cost something on this path
+    chain = load_robot(PUMA)
+    _, q, qd, qdd = bump_path()
+    z = np.zeros_like(q)
+    c = rnea(chain, q, z, z)
+    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
+    lim = Limits(tuple(LIM), (None,) * 5 + (4.0,))
+    for whole, one_pass in zip(window_plan(a, b, c, qd, lim, len(q), 1 / RATE),
+                               optimal_plan(a, b, c, qd, lim, 1 / RATE)):
+        assert np.array_equal(whole, one_pass)
 
 
 def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():

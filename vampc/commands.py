@@ -800,6 +800,10 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"{times[-1] - times[0] + lam:.6g} s); ṡ (leaving out the rest at start and end) "
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
                      f"{count(len(res.retimed_violations), 'violation')}{failed_mark(res)}")
+        best = res.optimal_duration
+        lines.append(f"  with the whole path in view (the time-optimal plan on these rows and limits): "
+                     f"{best:.6g} s; seeing {count(res.ahead_rows, 'row')} ahead costs "
+                     f"{100 * (res.retimed_t[-1] / best - 1):+.1f}%")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"{res.k:.15g}, on effort limits {number_text(res.margin)} of each tighter"

@@ -46,6 +46,8 @@ R·window rows ahead: each row is still computed once, as it enters (three passe
 R·window rows of register and the longer backward pass on the host. The rows of the retimed path come
 at their new times (the `t` column), not at λ: a row interval shorter than λ needs the network to
 keep up with it, which `--clock` checks.
+The summary also gives the plan with the whole path in view (`optimal_plan`: the same recursion in
+one backward pass, the time-optimal scaling on these rows), so what the look-ahead costs is said.
 
 `--accelerations`: q and q̇ integrated from a q̈ profile (`integrate`), each q̈ held for one λ.
 `--plot`: per joint, torque over time against its limit, before and after the retiming, and the speed
@@ -96,6 +98,7 @@ class Lookahead:
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
     word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
+    optimal_duration: float | None = None   # --retime window: the plan with the whole path in view
 
     @property
     def margin(self) -> float:
@@ -266,6 +269,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         else:
             x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
                                   margin)
+            out.optimal_duration = optimal_plan(tangent - g, tau - g, g, traj.qd, limits, 1.0 / rate,
+                                                margin)[2][-1]
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -355,6 +360,20 @@ def _largest_x(p, r, P, cap, H, two_d):
     return np.clip(np.minimum(cap, root.reshape(root.shape[:-2] + (-1,)).min(-1)), 0.0, None)
 
 
+def _bounds(a, b, c, qd, limits: Limits, margin: float):
+    """Each row's effort bounds on u (`_stage`, on limits `margin` tighter) and its cap on x: the
+    x-alone bound, MAX_SPEED and the speed limits."""
+    n = len(limits.tau)
+    a, b, c = a[:, :n], b[:, :n], c[:, :n]
+    p, r, P, cap = _stage(a, b, c, np.array(limits.tau) * (1 - margin))
+    cap = np.minimum(cap, MAX_SPEED ** 2)
+    for j, v in enumerate(limits.qd):
+        if v is not None:
+            with np.errstate(divide="ignore"):
+                cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
+    return p, r, P, cap
+
+
 def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
                 margin: float = PLAN_MARGIN):
     """The window-by-window scaling of the module docstring: per row x = ṡ², u = s̈ and the new row
@@ -364,16 +383,9 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     if ahead_rows < 3:
         raise VampcUsageError(f"--retime window sees {ahead_rows} row(s) ahead: it needs at least 3 "
                               "(--window × --futures) to start and still be able to stop")
-    n_rows, n = len(a), len(limits.tau)
-    a, b, c = a[:, :n], b[:, :n], c[:, :n]
-    L = np.array(limits.tau) * (1 - margin)
+    n_rows = len(a)
     two_d = 2.0 * lam
-    p, r, P, cap = _stage(a, b, c, L)
-    cap = np.minimum(cap, MAX_SPEED ** 2)
-    for j, v in enumerate(limits.qd):
-        if v is not None:
-            with np.errstate(divide="ignore"):
-                cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
+    p, r, P, cap = _bounds(a, b, c, qd, limits, margin)
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
     H = np.zeros(n_rows)                                    # per step: stop-able x at row end - d
@@ -385,6 +397,27 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
         jj = np.where(act, j, 0)
         H = np.where(act, _largest_x(p[jj], r[jj], P[jj], cap[jj], H, two_d), H)
     H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
+    return _forward(p, r, P, H, lam, f"{ahead_rows} rows it sees; give a longer --window or more "
+                    "--futures")
+
+
+def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
+    """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
+    these rows and limits (TOPP-RA's, tested), against which a window's plan is measured."""
+    n_rows = len(a)
+    two_d = 2.0 * lam
+    p, r, P, cap = _bounds(a, b, c, qd, limits, margin)
+    H = np.zeros(n_rows)              # H[i]: the top of the set at row i + 1 (0 at the last row)
+    for i in range(n_rows - 3, -1, -1):
+        k = slice(i + 1, i + 2)
+        H[i] = _largest_x(p[k], r[k], P[k], cap[k], H[i + 1:i + 2], two_d)[0]
+    return _forward(p, r, P, H, lam, "path")
+
+
+def _forward(p, r, P, H, lam: float, seen: str):
+    """From rest at the first row: each next x the largest reachable within the row's effort bounds
+    and at most H (the stop-able set's top at that row), so (x, u, row times)."""
+    n_rows, two_d = len(H), 2.0 * lam
     x, u = np.zeros(n_rows), np.zeros(n_rows)
     for i in range(n_rows - 1):
         xi = x[i]
@@ -402,8 +435,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     stuck = np.flatnonzero(~np.isfinite(steps))
     if stuck.size:
         raise VampcError(f"row {stuck[0] + 1}: the arm cannot move on within the limits while still "
-                         f"able to stop within the {ahead_rows} rows it sees; give a longer --window "
-                         "or more --futures")
+                         f"able to stop within the {seen}")
     return x, u, np.concatenate([[0.0], np.cumsum(steps)])
 
 
