@@ -20,7 +20,7 @@ LIMITS = "joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist
 
 def sine_path(rate: float = 1000.0, seconds: float = 0.5):
     t = np.arange(int(rate * seconds)) / rate
-    amp, w = np.array([1.0, 0.6, 0.8, 1.0, 0.7, 1.0]), np.array([3.0, 2.5, 4.0, 5.0, 6.0, 7.0])
+    amp, w = np.array([1.0, 0.6, 0.75, 1.0, 0.7, 1.0]), np.array([3.0, 2.5, 4.0, 5.0, 6.0, 7.0])  # within the position limits
     q = amp * np.sin(np.outer(t, w))
     return t, q, amp * w * np.cos(np.outer(t, w)), -amp * w ** 2 * np.sin(np.outer(t, w))
 
@@ -114,13 +114,25 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"--limits FILE", 1),       # named by the program file given, not the robot it was compiled from
     (None, ["--retime", "uniform", "-o", "r.npy"], r"-o writes CSV .*: give a \.csv file name", 2),
     (None, ["--torques", "t.npy"], r"--torques writes CSV .*: give a \.csv file name", 2),
+    (None, ["--plot", "-"], r"--plot -: standard output is not available for this output", 2),
+    (None, ["--retime", "window", "--futures", "8"],
+     r"--window 64 × --futures 8 = 512 rows: more than the trajectory \(500 rows\)", 2),
+    # the rate is served, but a row's torques (61 flops late) would reach the motors after the row
+    (None, ["--clock", "8kHz", "--window", "2"], r"a row's torques come 7625 µs after it enters \(the "
+     r"network's latency, 61 flops at 8kHz\); it reaches the motors 1000 µs after .* too late", 1),
+    (lambda t: t + 5.0, ["--q-out"], r"row 3: joint 3 \(elbow\) is outside its limits \(q=3, qd=\S+; "
+     r"limits q in \[-3\.92699, 0\.785398\]\); use --allow-out-of-limits", 1),
 ])
 def test_bad_input_is_one_line(setup, edit, args, message, code):
     folder, program, limits, _ = setup
     t, q, qd, qdd = sine_path()
+    rest = list(args)
+    if "--q-out" in rest:             # the elbow beyond its position range at row 3
+        rest.remove("--q-out")
+        q = q.copy()
+        q[2, 2] = 3.0
     path = write_path(folder, edit(t) if edit else t, q, qd, qdd, "bad.csv")
     options = {"--trajectory": str(path), "--rate": "1kHz", "--window": "64", "--limits": str(limits)}
-    rest = list(args)
     if "--no-limits" in rest:
         rest.remove("--no-limits")
         del options["--limits"]
@@ -174,6 +186,44 @@ def test_acceleration_usage(setup, args, message):
     program = setup[1]
     r = CliRunner().invoke(main, ["lookahead", str(program), "--rate", "1kHz", "--window", "8", *args])
     assert r.exit_code == 2 and message in r.output, r.output
+
+
+@pytest.mark.parametrize("text, message", [
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n", r"the header only: no accelerations"),    # (numpy's warning)
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,x,4,5,6\n", r"line 3, column qdd3: 'x' is not a number"),
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,3,4,5\n", r"line 3: 5 columns, expected 6"),
+    ("t,qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0,1_0\n", r"line 2, column qdd6: '1_0' is not a number"),
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n0,0,nan,0,0,0\n", r"line 3 \(state 2\), column qdd3: nan is not finite"),
+])
+def test_a_bad_accelerations_file_is_named_by_line_and_column(setup, tmp_path, text, message):
+    """Lines count from 1 with the header, as the trajectory reader counts them (numpy's loadtxt
+    said 'row 0')."""
+    folder, program, limits, _ = setup
+    path = tmp_path / "qdd.csv"
+    path.write_text(text)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--q0",
+                                  "0,0,0,0,0,0", "--rate", "1kHz", "--window", "1", "--limits", str(limits)])
+    assert r.exit_code == 1 and re.search(r"qdd\.csv: " + message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
+def test_a_path_outside_the_position_limits_runs_when_allowed_and_starts_where_it_did(setup, tmp_path):
+    """--allow-out-of-limits runs a path beyond a position limit (refused by default, as emulate
+    refuses it); the uniform retiming keeps the path's start time: t' = t0 + k (t - t0) (it wrote
+    k t, a path from t = 5 s began at 5 k)."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    q = q.copy()
+    q[2, 2] = 3.0
+    path = write_path(tmp_path, t + 5.0, q, qd, qdd)
+    out = tmp_path / "u.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "uniform", "-o", str(out),
+                                  "--allow-out-of-limits"])
+    assert r.exit_code == 0, r.output
+    k = float(re.search(r"k = (\S+) \(closed form; used (\S+),", r.output)[2])
+    got = np.loadtxt(out, delimiter=",", skiprows=1)[:, 0]
+    assert got[0] == 5.0 and np.allclose(got, 5.0 + k * t, rtol=0, atol=1e-12)
 
 
 def test_a_start_of_the_wrong_length_is_one_line(setup, tmp_path):
@@ -238,6 +288,11 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
 @pytest.mark.parametrize("text, message", [
     (LIMITS + "waist,1000,\n", r"line 8: joint 'waist' again \(line 2 gave its limits\)"),
     (LIMITS.replace("waist,10,", "waist,10,,junk"), r"line 2: 4 cells; expected joint,tau,qd"),
+    (LIMITS.replace("waist,10,", "waist,1_0,"), r"line 2: tau '1_0' is not a positive number"),
+    (LIMITS.replace("joint,tau,qd", "joint,tau,speed"), r"line 1: expected the header joint,tau,qd"),
+    ("joint,tau\nwaist,10,4\n", r"line 2: 3 cells; expected joint,tau"),
+    (LIMITS.replace("flange,1,4", "flange,1,1e-300"), r"joint 'flange': speed limit 1e-300 is below 1e-12: "
+     "too small to scale time by"),          # k was inf, and inf and nan times were written, exit 0
 ])
 def test_a_limits_file_that_says_two_things_is_refused(setup, tmp_path, text, message):
     """A joint given twice (the last one won, silently) or a row with more cells is one line."""
@@ -437,3 +492,42 @@ def test_the_summary_gives_each_joints_worst_torque_over_its_limit_before_and_af
         line = next(x for x in r.output.splitlines() if x.startswith(label))
         said = [float(part.split()[1]) for part in line[len(label):].split(", ")]
         assert np.allclose(said, np.abs(tau).max(axis=0) / lim, rtol=1e-3), (line, np.abs(tau).max(axis=0) / lim)
+
+
+def test_coupled_mimic_joints_are_limited_at_their_leaders_motor(tmp_path):
+    """With --mimic couple a follower has no motor: its leader's gives τ_l + m τ_f (the torque file's
+    column). The limits, the ratios, the retiming and its check all hold for that torque; they had
+    held for τ_l alone, and the retimed file went 55% over the leader's limit with 0 violations."""
+    text = open("examples/ur5.urdf").read()
+    start = text.index('<joint name="wrist_3_joint"')
+    end = text.index("</joint>", start)
+    urdf = tmp_path / "ur5m.urdf"
+    urdf.write_text(text[:start] + text[start:end].replace(
+        "<dynamics", '<mimic joint="wrist_2_joint" multiplier="2"/>\n    <dynamics') + text[end:])
+    t = np.arange(300) / 1000.0
+    amp, w = np.array([0.5, 0.4, 0.5, 1.0, 1.2]), np.array([3.0, 4.0, 5.0, 9.0, 11.0])
+    q = amp * np.sin(np.outer(t, w))
+    path = write_path(tmp_path, t, q, amp * w * np.cos(np.outer(t, w)), -amp * w ** 2 * np.sin(np.outer(t, w)))
+    lim = np.array([150, 150, 150, 28, 7.0])
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nshoulder_pan_joint,150,\nshoulder_lift_joint,150,\nelbow_joint,150,\n"
+                      "wrist_1_joint,28,\nwrist_2_joint,7,\n")
+    out = tmp_path / "tau.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(urdf), "--mimic", "couple", "--trajectory", str(path),
+                                  "--rate", "1kHz", "--window", "32", "--limits", str(limits),
+                                  "--retime", "window", "--check", "--torques", str(out)])
+    assert r.exit_code == 0, r.output
+    # as given, by the reference: the leader's motor carries τ_l + 2 τ_f
+    chain = load_robot(str(urdf), mimic="couple")
+    full = [np.column_stack([x, 2 * x[:, 4]]) for x in (q, amp * w * np.cos(np.outer(t, w)),
+                                                        -amp * w ** 2 * np.sin(np.outer(t, w)))]
+    tau = rnea(chain, *full)
+    motor = tau[:, :5].copy()
+    motor[:, 4] += 2 * tau[:, 5]
+    worst = np.max(np.abs(motor), axis=0) / lim
+    assert worst[4] > 1 and abs(np.max(np.abs(tau[:, 4])) / lim[4] - worst[4]) > 0.05   # τ_l alone differs
+    given = re.search(r"worst \|τ\| / limit per joint: (.*)", r.output)[1]
+    assert f"wrist_2_joint {worst[4]:.4g}" in given, given
+    retimed = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:]
+    assert np.all(np.abs(retimed) <= lim) and np.max(np.abs(retimed[:, 4])) > 0.999 * lim[4]
+    assert re.search(r"retimed: .*wrist_2_joint 1\b", r.output), r.output

@@ -47,11 +47,11 @@ def setup(tmp_path_factory):
     return folder, program, folder / "lim.csv", write_path(folder, *bump_path())
 
 
-def retime(setup, *extra, name="w.csv"):
+def retime(setup, *extra, name="w.csv", window=64):
     folder, program, limits, path = setup
     out, tau = folder / name, folder / ("tau-" + name)
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "window", "--check",
+                                  "--window", str(window), "--limits", str(limits), "--retime", "window", "--check",
                                   "-o", str(out), "--torques", str(tau), *extra])
     assert r.exit_code == 0, r.output
     return r.output, np.loadtxt(out, delimiter=",", skiprows=1), tau
@@ -122,6 +122,8 @@ def test_more_futures_see_further_and_are_never_slower(setup):
     text1, d1, _ = retime(setup, name="r1.csv")
     text4, d4, _ = retime(setup, "--futures", "4", name="r4.csv")
     assert "64 rows ahead (1 × window 64)" in text1 and "256 rows ahead (4 × window 64)" in text4
+    # a violation is seen as its row enters the top register: R × M - 1 steps ahead at most
+    assert "window 64 (63 ms ahead)" in text1 and "window 64 × 4 registers (255 ms ahead)" in text4
     assert d4[-1, 0] < d1[-1, 0]
     # R registers of M rows see what one of R·M rows sees: the same plan
     folder, program, limits, path = setup
@@ -140,16 +142,16 @@ def test_the_summary_says_what_the_look_ahead_costs(setup):
     folder, program, limits, path = setup
     rows = len(np.loadtxt(path, delimiter=",", skiprows=1))
     costs = []
-    for futures, name in ((1, "c1.csv"), (-(-rows // 64), "call.csv")):
-        text, out, _ = retime(setup, "--futures", str(futures), name=name)
+    for window, name in ((64, "c1.csv"), (rows, "call.csv")):
+        text, out, _ = retime(setup, name=name, window=window)
         found = re.search(r"with the whole path in view \(the time-optimal plan on these rows and "
                           r"limits\): (\S+) s; seeing (\d+) rows ahead costs ([+-][\d.]+)%", text)
         assert found, text
         best, cost = float(found[1]), float(found[3])
-        assert int(found[2]) == 64 * futures
+        assert int(found[2]) == window
         assert abs(cost - round(100 * (out[-1, 0] / best - 1), 1)) < 0.06
         costs.append(cost)
-        if futures > 1:                   # the whole path in view: the window's plan is the optimum
+        if window == rows:                # the whole path in view: the window's plan is the optimum
             assert abs(out[-1, 0] - best) <= 1e-6 * best and cost == 0.0
     assert costs[0] > 1.0                 # 64 rows cost something on this path
     chain = load_robot(PUMA)

@@ -689,7 +689,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate, *own.start(n_free(ld.chain)))
         traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
     times = la.check_path(traj, rate, source_path)
-    la.check_window(own.window, traj)
+    if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
+        from vampc.emulator.host import check_limits
+        check_limits(ld.chain, traj, source_path, speeds=False)
+    la.check_window(own.window, traj, own.futures or 1)
     limits = la.limits_of(ld.chain, own.limits, source)
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
@@ -713,10 +716,18 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{source}: the retimed path has rows {step * 1e6:.4g} µs apart; the "
                              f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
                              f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
+        late = ld.schedule.latency / clock                  # a row's torques, after it enters
+        early = (res.ahead_rows - 1) * step                 # its time in the register, at least
+        if late > early:
+            raise VampcError(f"{source}: a row's torques come {late * 1e6:.4g} µs after it enters "
+                             f"(the network's latency, {ld.schedule.latency} flops at {own.clock}); "
+                             f"it reaches the motors {early * 1e6:.4g} µs after ({res.ahead_rows - 1} "
+                             f"row(s) of {step * 1e6:.4g} µs): its torques would come too late; give "
+                             "a longer --window (or a faster --clock)")
         say(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
             f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
-            f"torques come {ld.schedule.latency / clock * 1e6:.4g} µs after it enters (the latency, "
-            f"{ld.schedule.latency / clock / lam:.3g} λ: the register's rows are computed ahead)", info)
+            f"torques come {late * 1e6:.4g} µs after it enters (the latency, {late / lam:.3g} λ), "
+            f"{(early - late) * 1e6:.4g} µs before the motors take it", info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     if ld.word is not None:          # overflows are never silent (every pass of the network)
@@ -739,9 +750,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         within = []
         if res.retimed is not None:
             from vampc.dynamics.reference import rnea
+            from vampc.robot.mimic import reduce_torques
             new = res.retimed
             ref = rnea(ld.chain, new.q, new.qd, new.qdd)
-            within = la.violations(ref, new.qd, limits)
+            within = la.violations(reduce_torques(ld.chain, ref), new.qd, limits)
             line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
                      f"{'' if not within else ' FAILED'}")
         say(line, info)
@@ -750,7 +762,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ok = not failed
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
-        content["--plot"] = la.plot_svg(ld.chain.joints, times, res, limits,
+        from vampc.robot.mimic import free_joints
+        content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
                                         f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
                                         f"window {own.window}")
     why = " and ".join(failed)
@@ -774,20 +787,25 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     """The run in a few lines: rows, window, violations with how far ahead they were seen, each
     joint's worst torque against its limit (as given and retimed), k."""
     from vampc.lookahead import ahead
+    from vampc.robot.mimic import free_names
     names = [j.name for j in ld.chain.joints]
+    motors = free_names(ld.chain)         # whose effort limits these are (a coupled follower: none)
+    seen = res.ahead_rows                 # rows in view: --window, times --futures
+    registers = f" × {res.futures} registers" if res.futures > 1 else ""
     lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({times[-1] - times[0] + lam:.6g} s), "
-             f"window {window} ({(window - 1) * lam * 1e3:.4g} ms ahead): "
+             f"window {window}{registers} ({(seen - 1) * lam * 1e3:.4g} ms ahead): "
              f"{count(len(res.violations), 'violation')}"]
     for v in res.violations[:5]:
-        step, early = ahead(v.row, window)
-        lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {names[v.joint]} {v.kind} "
+        step, early = ahead(v.row, seen)
+        name = (motors if v.kind == "torque" else names)[v.joint]
+        lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {name} {v.kind} "
                      f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {count(early, 'step')} "
                      f"({early * lam * 1e3:.4g} ms) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
-    lines.append("worst |τ| / limit per joint: " + worst_ratios(names, res.tau, limits))
-    if res.retimed_tau is not None:
-        lines.append("  retimed: " + worst_ratios(names, res.retimed_tau, limits))
+    lines.append("worst |τ| / limit per joint: " + worst_ratios(motors, res.effort, limits))
+    if res.retimed_effort is not None:
+        lines.append("  retimed: " + worst_ratios(motors, res.retimed_effort, limits))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
@@ -841,7 +859,7 @@ def _lookahead_outputs(outs: dict, chain, traj, times, res) -> dict:
     from vampc.robot.mimic import free_names, n_free, reduce_states, reduce_torques
     path, t = traj, times
     if res.k is not None:
-        path, t = res.retimed, times * res.k            # t' = k t
+        path, t = res.retimed, times[0] + (times - times[0]) * res.k     # t' = t0 + k (t - t0)
     elif res.retimed is not None:
         path, t = res.retimed, times[0] + res.retimed_t
     content = {}

@@ -99,6 +99,8 @@ class Lookahead:
     ahead_rows: int = 0               # rows the host sees with --retime window
     word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
     optimal_duration: float | None = None   # --retime window: the plan with the whole path in view
+    effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
+    retimed_effort: np.ndarray | None = None  # the same, retimed
 
     @property
     def margin(self) -> float:
@@ -108,24 +110,44 @@ class Lookahead:
 
 def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     """The robot's limits, or those of a --limits CSV file (header joint,tau,qd; a joint's row may
-    leave qd empty). Every joint needs an effort limit (VampcError naming the first that lacks one,
-    and the file it was looked for in: --limits FILE, else `source`, the robot or program file the
-    command was given)."""
+    leave qd empty). Every joint with a motor needs an effort limit (VampcError naming the first that
+    lacks one, and the file it was looked for in: --limits FILE, else `source`, the robot or program
+    file the command was given). Effort limits are per motor: with coupled mimic joints (`--mimic
+    couple`) a follower has none, its leader's motor drives both (vampc.robot.mimic: Gᵀτ), so
+    `Limits.tau` holds the independent joints' (a follower's is not used); speed limits are per
+    joint, followers included."""
+    from vampc.robot.mimic import free_joints
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
     if path is not None:
         tau, qd = _read_limits(path, chain, tau, qd)
+    free = set(free_joints(chain).tolist())
+    tau = [t if i in free else 0.0 for i, t in enumerate(tau)]      # (a follower: no motor)
     missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
+    where = path or source or chain.source or chain.name
     if missing:
-        where = path or source or chain.source or chain.name
         raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
                          + "; give --limits FILE (README, vampc lookahead)")
-    return Limits(tuple(float(t) for t in tau), tuple(None if v is None else float(v) for v in qd))
+    for i, (j, t, v) in enumerate(zip(chain.joints, tau, qd)):
+        for what, x in (("effort", t if i in free else None), ("speed", v)):
+            if x is not None and x < SMALLEST_LIMIT:
+                raise VampcError(f"{where}: joint '{j.name}': {what} limit {x:g} is below "
+                                 f"{SMALLEST_LIMIT:g}: too small to scale time by (the scaling "
+                                 "would not fit a float)")
+    return Limits(tuple(float(tau[i]) for i in sorted(free)),
+                  tuple(None if v is None else float(v) for v in qd))
+
+
+# The smallest effort or speed limit taken: the scalings are ratios of torques or speeds to their
+# limits (squared for the uniform k), and a limit of 1e-300 made k infinite.
+SMALLEST_LIMIT = 1e-12
 
 
 def _read_limits(path: str, chain, tau: list, qd: list):
     import csv
+
+    from vampc.emulator.trajectory import cell_number
     names = {j.name: i for i, j in enumerate(chain.joints)}
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:   # (a spreadsheet's BOM too)
@@ -134,7 +156,8 @@ def _read_limits(path: str, chain, tau: list, qd: list):
         raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
     except UnicodeDecodeError:
         raise VampcError(f"{path}: not UTF-8 text") from None
-    if not rows or [c.strip() for c in rows[0]][:2] != ["joint", "tau"]:
+    head = [c.strip() for c in rows[0]] if rows else []
+    if head not in (["joint", "tau"], ["joint", "tau", "qd"]):
         raise VampcError(f"{path}: line 1: expected the header joint,tau,qd")
     tau, qd = list(tau), list(qd)
     seen: dict[str, int] = {}
@@ -148,13 +171,13 @@ def _read_limits(path: str, chain, tau: list, qd: list):
             raise VampcError(f"{path}: line {line}: joint '{name}' again (line {seen[name]} gave "
                              "its limits)")
         seen[name] = line
-        if any(c.strip() for c in row[3:]):
-            raise VampcError(f"{path}: line {line}: {len(row)} cells; expected joint,tau,qd")
+        if any(c.strip() for c in row[len(head):]):
+            raise VampcError(f"{path}: line {line}: {len(row)} cells; expected {','.join(head)}")
         values = []
         for k, cell in enumerate(row[1:3]):
             cell = cell.strip()
             try:
-                x = float(cell) if cell else None
+                x = cell_number(cell) if cell else None
             except ValueError:
                 x = -1.0
             if x is not None and not (np.isfinite(x) and x > 0):
@@ -182,25 +205,40 @@ def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
 
 def read_accelerations(path: str, n: int, rate: float, q0, qd0):
     """A q̈ CSV (header qdd1..qddn, optional leading t) integrated into a Trajectory (VampcError
-    naming the row or column)."""
+    naming the line and column)."""
+    import csv
+
     from vampc.emulator.host import Trajectory
-    from vampc.emulator.trajectory import _check_finite
+    from vampc.emulator.trajectory import _check_finite, cell_number
     try:
-        with open(path, encoding="utf-8-sig") as fh:
-            head = fh.readline().strip().split(",")
-            want = [f"qdd{i}" for i in range(1, n + 1)]
-            has_t = head[:1] == ["t"]
-            if [c.strip() for c in head[has_t:]] != want:
-                raise VampcError(f"{path}: line 1: expected the header {'t,' if has_t else ''}"
-                                 f"{','.join(want)} (the program is for {n} joints)")
-            data = np.loadtxt(fh, delimiter=",", ndmin=2)
+        with open(path, newline="", encoding="utf-8-sig") as fh:   # (a spreadsheet's BOM too)
+            rows = list(csv.reader(fh))
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise VampcError(f"{path}: not a table of numbers ({' '.join(str(exc).split())[:120]})") from None
-    if data.shape[1] != n + has_t or not len(data):
-        raise VampcError(f"{path}: expected {n + has_t} columns in every row")
-    _check_finite(path, data, (['t'] if has_t else []) + want)
+    except UnicodeDecodeError:
+        raise VampcError(f"{path}: not UTF-8 text") from None
+    while rows and not "".join(rows[-1]).strip():
+        rows.pop()                    # trailing blank lines end the table
+    head = [c.strip() for c in rows[0]] if rows else []
+    want = [f"qdd{i}" for i in range(1, n + 1)]
+    has_t = head[:1] == ["t"]
+    columns = (["t"] if has_t else []) + want
+    if head != columns:
+        raise VampcError(f"{path}: line 1: expected the header {'t,' if has_t else ''}"
+                         f"{','.join(want)} (the program is for {n} joints)")
+    if len(rows) < 2:
+        raise VampcError(f"{path}: the header only: no accelerations")
+    data = np.empty((len(rows) - 1, len(columns)))
+    for line, row in enumerate(rows[1:], 2):
+        if len(row) != len(columns):
+            raise VampcError(f"{path}: line {line}: {len(row)} columns, expected {len(columns)}")
+        for c, cell in enumerate(row):
+            try:
+                data[line - 2, c] = cell_number(cell)
+            except ValueError:
+                raise VampcError(f"{path}: line {line}, column {columns[c]}: {cell.strip()!r} is not "
+                                 "a number") from None
+    _check_finite(path, data, columns, 2)
     qdd = data[:, has_t:]
     q, qd = integrate(qdd, q0, qd0, rate)
     return Trajectory(q, qd, qdd, data[:, 0] if has_t else None, None)
@@ -224,10 +262,13 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     return t
 
 
-def check_window(window: int, traj) -> None:
-    """A register no longer than the path (VampcUsageError)."""
+def check_window(window: int, traj, futures: int = 1) -> None:
+    """Registers no longer than the path, together (VampcUsageError)."""
     if window > traj.count:
         raise VampcUsageError(f"--window {window}: larger than the trajectory ({traj.count} rows)")
+    if window * futures > traj.count:
+        raise VampcUsageError(f"--window {window} × --futures {futures} = {window * futures} rows: "
+                              f"more than the trajectory ({traj.count} rows)")
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
@@ -241,7 +282,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
     does unless --overflow is given)."""
     from vampc.emulator.host import Trajectory
-    check_window(window, traj)
+    check_window(window, traj, futures)
 
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
         if word_range:
@@ -251,21 +292,27 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
             tau = emulate_rows(rows)
         finite(tau, ld, path, what)
         return tau
-    tau = torques(traj, "")
-    out = Lookahead(tau, violations(tau, traj.qd, limits), futures=futures, ahead_rows=window * futures,
+    from vampc.robot.mimic import free_names, reduce_torques
+    names = free_names(ld.chain)                     # the motors', whose effort limits these are
+
+    def effort(rows, what: str) -> np.ndarray:       # a pass's torques at the motors (Gᵀτ)
+        return reduce_torques(ld.chain, torques(rows, what))
+    out = Lookahead(torques(traj, ""), futures=futures, ahead_rows=window * futures,
                     word_margin=word_margin)
+    tau = out.effort = reduce_torques(ld.chain, out.tau)
+    out.violations = violations(tau, traj.qd, limits)
     if retime is None:
         return out
     zero = np.zeros_like(traj.qd)
-    g = torques(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
-    tangent = (torques(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
+    g = effort(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
+    tangent = (effort(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
                if retime == "window" else None)
     margin = out.margin
     try:
-        check_gravity(g, limits, ld.chain, margin)
+        check_gravity(g, limits, names, margin)
         if retime == "uniform":
-            k = uniform_k(tau, g, traj.qd, limits, ld.chain)        # the closed form, as defined
-            used = uniform_k(tau, g, traj.qd, tightened(limits, margin), ld.chain)
+            k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
+            used = uniform_k(tau, g, traj.qd, tightened(limits, margin), names)
         else:
             x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
                                   margin)
@@ -284,8 +331,13 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
                                  traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
         out.retimed_t, out.speed = t, speed
+    made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
+    if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
+        raise VampcError(f"{path}: the {retime} retiming gives a time or rate that is not a finite "
+                         "number")
     out.retimed_tau = torques(out.retimed, "as retimed")
-    out.retimed_violations = violations(out.retimed_tau, out.retimed.qd, limits)
+    out.retimed_effort = reduce_torques(ld.chain, out.retimed_tau)
+    out.retimed_violations = violations(out.retimed_effort, out.retimed.qd, limits)
     return out
 
 
@@ -306,7 +358,7 @@ def tightened(limits: Limits, margin: float) -> Limits:
     return Limits(tuple(t * (1 - margin) for t in limits.tau), limits.qd)
 
 
-def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> None:
+def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0) -> None:
     """VampcError where gravity alone (the torque at rest) is beyond a limit, or within `margin` of
     it (the retiming plans that much inside): no time scaling helps there."""
     lim = np.array(limits.tau)
@@ -317,7 +369,7 @@ def check_gravity(g: np.ndarray, limits: Limits, chain, margin: float = 0.0) -> 
         how = (f"beyond its limit {lim[j]:.12g}" if abs(g[r, j]) > lim[j] else
                f"closer to its limit {lim[j]:.12g} than {margin:g} of it, the margin the retiming "
                "keeps for rounding and the network's word")
-        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' needs {g[r, j]:.12g} at rest "
+        raise VampcError(f"row {r + 1}: joint '{names[j]}' needs {g[r, j]:.12g} at rest "
                          f"(gravity alone), {how}: no time scaling helps")
 
 
@@ -453,7 +505,7 @@ def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:
     return sorted(found, key=lambda x: (x.row, x.joint, x.kind))
 
 
-def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, chain) -> float:
+def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, names) -> float:
     """The smallest k of the module docstring (VampcError where gravity alone breaks a limit)."""
     n = len(limits.tau)
     lim = np.array(limits.tau)
@@ -464,7 +516,7 @@ def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, ch
     k2 = max(1.0, float(np.max(need, initial=0.0)))
     if not np.isfinite(k2):
         r, j = (int(x) for x in np.argwhere(~np.isfinite(need))[0])
-        raise VampcError(f"row {r + 1}: joint '{chain.joints[j].name}' sits at its limit {lim[j]:g} "
+        raise VampcError(f"row {r + 1}: joint '{names[j]}' sits at its limit {lim[j]:g} "
                          "at rest: no time scaling helps")
     for j, v in enumerate(limits.qd):
         if v is not None:
@@ -478,7 +530,7 @@ def ahead(row: int, window: int) -> tuple[int, int]:
 
 
 def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
-    """Per joint (the chain's `joints`), torque over time against ±its limit, in its unit (N·m
+    """Per motor (`joints`: the chain's independent joints), torque over time against ±its limit, in its unit (N·m
     revolute, N prismatic): the path as given, and the retimed one (its own time axis) when there
     is one, with a last panel of the speed ṡ over time. SVG text."""
     import io
@@ -490,13 +542,14 @@ def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: s
     panels = n + (res.retimed is not None)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 1.6 * panels + 0.8), sharex=True, squeeze=False)
     if res.retimed is not None:
-        new_t = times * res.k if res.k is not None else times[0] + res.retimed_t
+        new_t = (times[0] + (times - times[0]) * res.k if res.k is not None else
+                 times[0] + res.retimed_t)
         label = (f"uniform (k = {res.k_closed_form:.4g})" if res.k is not None else
                  f"window ({res.ahead_rows} rows ahead)")
     for j, ax in enumerate(axes[:n, 0]):
-        ax.plot(times, res.tau[:, j], lw=1, color="tab:red", label="as given")
+        ax.plot(times, res.effort[:, j], lw=1, color="tab:red", label="as given")
         if res.retimed is not None:
-            ax.plot(new_t, res.retimed_tau[:, j], lw=1, color="tab:blue", label=f"retimed, {label}")
+            ax.plot(new_t, res.retimed_effort[:, j], lw=1, color="tab:blue", label=f"retimed, {label}")
         for sign in (1, -1):
             ax.axhline(sign * limits.tau[j], color="black", lw=0.8, ls="--")
         ax.set_ylabel(f"{joints[j].name}\n({'N·m' if joints[j].sigma else 'N'})", fontsize=8)

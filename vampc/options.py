@@ -533,6 +533,10 @@ class LookaheadOptions:
         "--futures", range=(1, 1 << 16), metavar="R", help="With --retime window: R registers of "
         "--window rows chained end to end, so the host sees R × M rows ahead (default 1): a longer "
         "look-ahead (README, vampc lookahead)."))
+    allow_out_of_limits: bool = field(default=False, metadata=cli(
+        "--allow-out-of-limits", help="Run a path whose positions leave a joint's position limits "
+        "(refused by default, as vampc emulate refuses it: no time scaling brings them back; speed "
+        "limits are the look-ahead's own, reported and planned for)."))
     check_torques: bool = field(default=False, metadata=cli(
         "--check", help="Compare every row's torques with the reference Newton-Euler, and with "
         "--retime every retimed row's torques (by the reference) with the limits; exit 1 if not."))
@@ -594,8 +598,9 @@ class LookaheadOptions:
             if text is None:
                 out.append(np.zeros(n))
                 continue
+            from vampc.emulator.trajectory import cell_number
             try:
-                values = np.array([float(x) for x in text.split(",")])
+                values = np.array([cell_number(x) for x in text.split(",")])
             except ValueError:
                 raise VampcUsageError(f"--{name} {text!r}: give {n} comma-separated numbers") from None
             if len(values) != n or not np.all(np.isfinite(values)):

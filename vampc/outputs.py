@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Iterator
 
-from vampc.errors import VampcError, raise_if_terminated
+from vampc.errors import VampcError, VampcUsageError, raise_if_terminated
 
 STDOUT = "-"
 
@@ -75,7 +75,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
 def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     if path == STDOUT:
         if option not in stdout_ok:
-            raise VampcError(f"{option} -: standard output is not available for this output")
+            raise VampcUsageError(f"{option} -: standard output is not available for this output")
         return PlannedOutput(option, path, "stdout", None)
     target = Path(os.path.realpath(path))
     try:

@@ -70,9 +70,9 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
 
 
-def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
-    """Refuse states outside the joint limits (position and speed), naming the row and joint (a
-    coupled follower's by the leader column it is derived from)."""
+def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True) -> None:
+    """Refuse states outside the joint limits (position, and speed unless `speeds` is off), naming
+    the row and joint (a coupled follower's by the leader column it is derived from)."""
     from vampc.robot.mimic import column_names
     derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
                for m in chain.mimic}
@@ -81,13 +81,13 @@ def check_limits(chain: Chain, traj: Trajectory, path: str) -> None:
         bad = np.zeros(traj.count, bool)
         if lim.q:
             bad |= (traj.q[:, i] < lim.q[0]) | (traj.q[:, i] > lim.q[1])
-        if lim.qd is not None:
+        if lim.qd is not None and speeds:
             bad |= np.abs(traj.qd[:, i]) > lim.qd
         if bad.any():
             row = int(np.argmax(bad))
             via = f", {derived[i]} and the coupling" if i in derived else ""
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
-                ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None else [])
+                ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
             raise VampcError(f"{path}: row {row + 1}: joint {i + 1} ({j.name}) is outside its limits "
                              f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}; limits "
                              f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")

@@ -69,6 +69,14 @@ def _missing_base(path: Path, names: list[str], want: list[str]) -> None:
                          f"base's motion: {','.join(BASE_COLUMNS)} after the qdd columns)")
 
 
+def cell_number(cell: str) -> float:
+    """A cell of a table the user gives as a number, as float() reads it, but for 1_0: float() reads
+    it as 10, and in a table it is a typo, not a number (ValueError)."""
+    if "_" in cell:
+        raise ValueError(cell)
+    return float(cell)
+
+
 def _read_csv(path: Path, n: int, floating: bool = False):
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
@@ -105,9 +113,7 @@ def _read_csv(path: Path, n: int, floating: bool = False):
             raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
         for c, cell in enumerate(row):
             try:
-                if "_" in cell:          # float() reads 1_0 as 10: a typo, not a number
-                    raise ValueError(cell)
-                data[r - 2, c] = float(cell)
+                data[r - 2, c] = cell_number(cell)
             except ValueError:
                 raise VampcError(f"{path}: line {r}, column {want[c]}: {cell!r} is not a number") from None
     if data.shape[0] == 0:
