@@ -127,6 +127,12 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
     (lambda d: d.update(version=7), True, r"version 7 is not supported"),
     (lambda d: d["network"]["vamps"][0]["a"][0].__setitem__(0, ["vamp", 999, 0]), True,
      r"VAMP 0: operand A is wired to a missing vamp 999"),
+    # a stage on a tap other than a buffer's, and a fractional control field: the emulator read
+    # neither (the stage is not used, int() took 4097.5 as 4097), so both went unseen
+    (lambda d: d["network"]["vamps"][1]["a"][0][0].__setitem__(2, 999), True,
+     r"VAMP 1: operand A is wired to \w+ \d+ at stage 999 \(only a buffer has stages\)"),
+    (lambda d: d["program_stream"][0]["words"][0].__setitem__(1, d["program_stream"][0]["words"][0][1] + 0.5),
+     True, r"program stream of \w+ \d+, word 0: scalar \d+\.5 is not an integer"),
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
                 d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
                                                                                      delay_b=3)),

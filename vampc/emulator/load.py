@@ -192,6 +192,13 @@ def delivered_programs(net: Network, numbers, stream, path,
             raise VampcError(f"{path}: program stream of {entry.root}: {len(entry.words)} words but "
                              f"{len(entry.targets)} targets and {len(entry.depth)} depths")
         for k, word in enumerate(entry.words):
+            # the hardware takes a control field as an integer: a corrupted 4097.5 would be
+            # latched as 4097 and go unseen, so the file's words must hold integers
+            if word[1] != int(word[1]) or word[2] != int(word[2]):
+                x = word[1] if word[1] != int(word[1]) else word[2]
+                raise VampcError(f"{path}: program stream of {entry.root}, word {k}: scalar "
+                                 f"{float(x)!r} is not an integer (every scalar of a Program-Mode "
+                                 "word is)")
             v = index_of.get(word_number(word))
             if v is None or roots[v] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
@@ -303,9 +310,9 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
         for name, inputs in (("A", v.a), ("B", v.b)):
             for operand in inputs:
                 for tap in operand.taps:
-                    if _missing(net, sizes, tap):
-                        raise VampcError(f"{path}: VAMP {v.index}: operand {name} is wired to a "
-                                         f"missing {tap}")
+                    bad = _bad_tap(net, sizes, tap)
+                    if bad:
+                        raise VampcError(f"{path}: VAMP {v.index}: operand {name} is wired to {bad}")
         for k, s in enumerate(v.slots):
             if not 0 <= s.node < len(graph.nodes) or not graph.nodes[s.node].op.is_compute:
                 raise VampcError(f"{path}: programs[{v.index}] slot {k}: node {s.node} is not a "
@@ -316,8 +323,9 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
         if b.source >= len(net.vamps):
             raise VampcError(f"{path}: buffer {b.index} is fed by missing VAMP {b.source}")
     for j, w in enumerate(net.bus.writes if net.bus else ()):
-        if _missing(net, sizes, w.source):
-            raise VampcError(f"{path}: network.bus.writes[{j}] is driven by a missing {w.source}")
+        bad = _bad_tap(net, sizes, w.source)
+        if bad:
+            raise VampcError(f"{path}: network.bus.writes[{j}] is driven by {bad}")
         if w.counter >= net.period:
             raise VampcError(f"{path}: network.bus.writes[{j}]: counter {w.counter} never matches "
                              f"the Cycle-Counter (0..{net.period - 1})")
@@ -326,6 +334,13 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
             raise VampcError(f"{path}: τ{o.joint} is read from missing VAMP {o.vamp}")
 
 
-def _missing(net: Network, sizes, tap: Tap) -> bool:
-    return not tap.index < sizes[tap.kind] or (
-        tap.kind is TapKind.BUFFER and not 1 <= tap.stage <= net.buffers[tap.index].stages)
+def _bad_tap(net: Network, sizes, tap: Tap) -> str | None:
+    """What is wrong with `tap`, as "a missing vamp 7" (an index out of range, a buffer stage it does
+    not have) or a stage on anything but a buffer (only a buffer has stages: the emulator would not
+    read it, and a corrupted stage would go unseen); None when it names something that exists."""
+    if not tap.index < sizes[tap.kind] or (
+            tap.kind is TapKind.BUFFER and not 1 <= tap.stage <= net.buffers[tap.index].stages):
+        return f"a missing {tap}"
+    if tap.kind is not TapKind.BUFFER and tap.stage != 0:
+        return f"{tap.kind.value} {tap.index} at stage {tap.stage} (only a buffer has stages)"
+    return None
