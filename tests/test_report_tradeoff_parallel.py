@@ -153,3 +153,36 @@ def test_a_ctrl_c_while_the_workers_are_forked_waits_until_the_pool_knows_them()
     assert got["made"] == 8                 # raised after the last submission
     assert got["kept"] == []                # nothing kept for a later call (a notebook's)
     assert got["left"] == 0                 # every worker killed
+
+
+def _dies(context, item):
+    """A task whose worker is killed (as the kernel's out-of-memory killer would) on item 2."""
+    import os
+    import signal
+    if item == 2:
+        os.kill(os.getpid(), signal.SIGKILL)
+    return item
+
+
+def test_a_worker_that_dies_is_one_line():
+    """A worker killed mid-sweep was a BrokenProcessPool traceback and exit 3 (internal error)."""
+    from vampc.errors import VampcError
+    from vampc.parallel import run_tasks
+    with pytest.raises(VampcError, match=r"^a worker process ended before its task did \(.*\); "
+                                         r"nothing is written"):
+        run_tasks(_dies, None, list(range(6)), lambda i, r: None, workers=2)
+
+
+def test_the_cluster_librarys_own_log_is_quiet():
+    """What the cluster does wrong is one line (the module's): distributed's loggers, some of which
+    dask's configuration gives levels of their own, printed two tracebacks when the scheduler went
+    away mid-sweep."""
+    pytest.importorskip("distributed")
+    import logging
+
+    from vampc.errors import VampcError
+    from vampc.parallel import connect
+    with pytest.raises(VampcError, match="cannot reach a Dask scheduler there"):
+        connect("tcp://127.0.0.1:1", timeout="1s")
+    for name in ("distributed", "distributed.client", "distributed.core"):
+        assert logging.getLogger(name).getEffectiveLevel() > logging.CRITICAL, name

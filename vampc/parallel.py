@@ -27,6 +27,14 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         from distributed import Client
     except ImportError:
         raise VampcError("--scheduler needs dask.distributed: pip install \"vampc[dask]\"") from None
+    import logging
+    quiet = ("distributed", "tornado", "asyncio")
+    for name in [*quiet, *logging.root.manager.loggerDict]:
+        # what goes wrong on the cluster is said in one line (_on_cluster); its library's own log
+        # printed tracebacks when the scheduler went away mid-run (dask's configuration gives
+        # some of its loggers levels of their own: each is set)
+        if name.split(".")[0] in quiet:
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
     try:
         return Client(address, timeout=timeout)
     except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
@@ -70,7 +78,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
             if progress is not None:
                 progress(n, len(items))
         raise_if_terminated()
-    except BaseException:
+    except BaseException as exc:
         manager = getattr(pool, "_executor_manager_thread", None)
         for proc in list(getattr(pool, "_processes", {}).values()):     # do not wait for the queue
             proc.kill()
@@ -81,6 +89,11 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
             # a write racing the close printed "OSError: [Errno 9] Bad file descriptor" under a
             # Ctrl-C (1 run in about 50 on a loaded machine).
             manager.join(timeout=5)
+        from concurrent.futures.process import BrokenProcessPool
+        if isinstance(exc, BrokenProcessPool):       # a worker killed (a signal, out of memory)
+            raise VampcError(f"a worker process ended before its task did ({one_line(exc)}); "
+                             "nothing is written: run again, with fewer --workers if memory is "
+                             "short") from None
         raise
     pool.shutdown()
 
