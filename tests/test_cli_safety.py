@@ -195,6 +195,22 @@ def test_a_failed_check_does_not_replace_an_existing_torque_file(tmp_path, progr
     assert "although the check failed" in res.stderr
 
 
+def test_a_failed_check_replaces_no_existing_output(tmp_path, program, monkeypatch):
+    """Nor the states or the waveform beside the torques: the states file was replaced while the
+    torques were kept, a pair that no longer matched."""
+    _failing_check(monkeypatch)
+    files = {"--save-states": tmp_path / "states.csv", "--vcd": tmp_path / "w.vcd", "-o": tmp_path / "tau.csv"}
+    for path in files.values():
+        path.write_text("precious\n")
+    args = [x for option, path in files.items() for x in (option, path)]
+    res = run("emulate", program, "--random", 3, "--check", "--engine", "tick", *args)
+    assert res.exit_code == 1 and all(p.read_text() == "precious\n" for p in files.values())
+    for what in ("states", "waveform", "torques"):
+        assert f"{what} NOT written: the check failed and" in res.stderr, res.stderr
+    res = run("emulate", program, "--random", 3, "--check", "--engine", "tick", *args, "--write-failed")
+    assert res.exit_code == 1 and not any(p.read_text() == "precious\n" for p in files.values())
+
+
 def test_a_failed_check_writes_a_new_file_and_says_so(tmp_path, program, monkeypatch):
     _failing_check(monkeypatch)
     out = tmp_path / "tau.csv"

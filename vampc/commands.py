@@ -413,27 +413,27 @@ class Sinks:
                        *reduce_states(chain, traj.q, traj.qd, traj.qdd), traj.base)
 
     def finish_vcd(self) -> None:
-        """The waveform is complete: put it in place."""
+        """The waveform is complete (it is put in place with the others: `finish`)."""
         if self.vcd is not None:
             self.vcd.close()
-            self.vcd_out.commit()
 
     def finish(self, ok: bool, write_failed: bool, say) -> None:
-        """Put the states and torques in place; torques that failed their check never replace an
-        existing file unless asked (--write-failed)."""
-        if self.states is not None:
-            self.states.commit()
-        if self.tau is None:
-            return
-        out = self.tau.out
-        if not ok and not write_failed and out.kind == "file" and out.target.exists():
-            self.tau.discard()
-            say(f"torques NOT written: the check failed and {out.path} exists (it is unchanged; "
-                "--write-failed replaces it anyway)")
-            return
-        self.tau.commit()
-        if not ok:
-            say(f"torques written to {out.path} although the check failed")
+        """Put the states, the waveform and the torques in place. After a failed check none of them
+        replaces an existing file unless asked (--write-failed): a states file replaced beside the
+        torques kept made a pair that no longer matched. New files are written, and said so."""
+        for what, pending in (("states", self.states), ("waveform", self.vcd_out),
+                              ("torques", self.tau)):
+            if pending is None:
+                continue
+            out = pending.out
+            if not ok and not write_failed and out.kind == "file" and out.target.exists():
+                pending.discard()
+                say(f"{what} NOT written: the check failed and {out.path} exists (it is unchanged; "
+                    "--write-failed replaces it anyway)")
+                continue
+            pending.commit()
+            if not ok:
+                say(f"{what} written to {out.path} although the check failed")
 
     def discard(self) -> None:
         """A failed run: drop every output (existing files stay as they were)."""

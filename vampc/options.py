@@ -447,8 +447,9 @@ class EmulateOptions:
         "--save-states", path=True, dash=True, metavar="FILE", help="Write the states run as a "
         "trajectory CSV (the --trajectory format), to pair torques with their inputs."))
     write_failed: bool = field(default=False, metadata=cli(
-        "--write-failed", help="With --check: write -o even when the check fails and the file "
-        "exists (by default a failed check never replaces an existing torque file)."))
+        "--write-failed", help="With --check: write -o, --save-states and --vcd even when the "
+        "check fails and the file exists (by default a failed check never replaces an existing "
+        "output file)."))
     allow_out_of_limits: bool = field(default=False, metadata=cli(
         "--allow-out-of-limits", help="Run states outside the joint limits."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
@@ -476,8 +477,9 @@ class EmulateOptions:
             raise VampcUsageError("--tolerance applies with --check")
         if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
             raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
-        if self.write_failed and not (self.check_torques and self.output):
-            raise VampcUsageError("--write-failed applies with --check and -o")
+        if self.write_failed and not (self.check_torques and (self.output or self.save_states
+                                                              or self.vcd)):
+            raise VampcUsageError("--write-failed applies with --check and -o, --save-states or --vcd")
         if self.output and Path(self.output).suffix.lower() == ".npz":
             raise VampcUsageError("-o writes torques as CSV or, for a name ending in .npy, as a NumPy "
                                   "array: not .npz")
