@@ -721,6 +721,11 @@ class ReportOptions:
                 if name in compile_given:
                     raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, whose "
                                           "budgets are wired point to point")
+            for name in ("word", "rounding", "overflow", "error_correction", "check_cycles"):
+                if name in compile_given:
+                    raise VampcUsageError(f"{flag(name)} does not apply to --tradeoff, whose points "
+                                          "count VAMPs and flops: the same for every word format, "
+                                          "with or without checking")
         elif self.curve is not None:
             raise VampcUsageError("--curve applies with --tradeoff (it draws the trade-off sweep)")
         if self.focus is not None:
