@@ -922,3 +922,37 @@ def test_a_big_report_keeps_its_objects_from_the_cyclic_collector_too(tmp_path, 
         gc.unfreeze()
     monkeypatch.setattr(vampc.commands, "BIG_NETWORK_SLOTS", 10 ** 9)
     assert CliRunner().invoke(main, ["report", "examples/planar2.yaml"]).output == r.output
+
+
+SIGNAL_AFTER_FIRST_RENAME = """
+import os, signal, sys
+from vampc import launch
+real, done = os.replace, []
+def replace(a, b):                    # the first output is in place when a SIGTERM lands
+    real(a, b)
+    if not done:
+        done.append(1)
+        os.kill(os.getpid(), signal.SIGTERM)
+os.replace = replace
+sys.argv = ["vampc", *sys.argv[1:]]
+launch.main()
+"""
+
+
+def test_a_signal_once_the_outputs_are_being_put_in_place_lets_the_run_finish(tmp_path):
+    """A SIGTERM that lands after the first output has replaced its file comes too late to stop
+    the run: every output is put in place and the exit status is 0. It was 'terminated', exit 143,
+    with the first file new and the others old (vampc lookahead's three outputs here)."""
+    import subprocess
+    import sys
+    files = [tmp_path / "r.csv", tmp_path / "tau.csv", tmp_path / "p.svg"]
+    for f in files:
+        f.write_text("before\n")
+    done = subprocess.run(
+        [sys.executable, "-c", SIGNAL_AFTER_FIRST_RENAME, "lookahead", str(EXAMPLES / "puma560.yaml"),
+         "--trajectory", str(EXAMPLES / "puma560-path.csv"), "--rate", "1kHz", "--window", "64",
+         "--limits", str(EXAMPLES / "puma560-limits.csv"), "--retime", "uniform", "-o", str(files[0]),
+         "--torques", str(files[1]), "--plot", str(files[2])], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert all(f.read_text() != "before\n" for f in files)
+    assert not [p for p in tmp_path.iterdir() if p not in files]       # no temporary left

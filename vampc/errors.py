@@ -50,6 +50,19 @@ class Terminated(KeyboardInterrupt):
 _terminated: list[int] = []
 
 
+# Set once the command has begun to put its outputs in place (vampc.outputs.Pending.commit): a
+# termination signal or Ctrl-C from then on comes too late to stop it. Its handlers then let it
+# finish (exit 0, every output in place) instead of raising, which had left a run that reported
+# "terminated", exit 143, with its files already replaced, or only some of them.
+_committing: list[bool] = []
+
+
+def committing() -> None:
+    """The command puts its outputs in place from here on: a signal no longer stops it."""
+    if not _committing:
+        _committing.append(True)
+
+
 def remember(signum: int) -> None:
     """Keep the first termination signal or Ctrl-C of this command (raise_if_terminated raises it)."""
     if not _terminated:
@@ -57,14 +70,19 @@ def remember(signum: int) -> None:
 
 
 def terminate(signum: int):
-    """The SIGTERM/SIGHUP handler's work: remember the signal, raise Terminated."""
+    """The SIGTERM/SIGHUP handler's work: remember the signal, raise Terminated (nothing once the
+    outputs are being put in place: `committing`)."""
+    if _committing:
+        return
     remember(signum)
     raise Terminated(signum)
 
 
 def interrupt(signum: int):
     """The Ctrl-C (SIGINT) handler's work: remember it, raise KeyboardInterrupt as Python's own
-    handler does."""
+    handler does (nothing once the outputs are being put in place: `committing`)."""
+    if _committing:
+        return
     remember(signum)
     raise KeyboardInterrupt
 
@@ -91,6 +109,7 @@ def terminate_like_interrupt():
         terminate(signum)
     def ctrl_c(signum, frame):
         interrupt(signum)
+    _committing.clear()              # (a library call's outputs, before this command, do not count)
     previous = {}
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
@@ -102,4 +121,5 @@ def terminate_like_interrupt():
         for sig, old in previous.items():
             signal.signal(sig, old)
         _terminated.clear()          # a signal belongs to the command it ended, not to the next one
+        _committing.clear()
     return restore

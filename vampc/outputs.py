@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Iterator
 
-from vampc.errors import VampcError, VampcUsageError, raise_if_terminated
+from vampc.errors import VampcError, VampcUsageError, committing, raise_if_terminated
 
 STDOUT = "-"
 
@@ -218,6 +218,7 @@ class Pending:
             self.fh.close()
             raise_if_terminated()          # an interrupt swallowed on the way: not put in place
             if self.tmp is not None:
+                committing()               # from here a signal lets the command finish
                 os.chmod(self.tmp, _mode_for(self.out.target))
                 os.replace(self.tmp, self.out.target)
                 _TEMPORARIES.discard(self.tmp)    # after the rename: a signal between the two finds no file
