@@ -86,6 +86,23 @@ def test_a_gzip_bomb_is_refused():
     assert gunzip(bomb, "bomb.vamp.json.gz", limit=4 << 20) == b" " * (3 << 20)
 
 
+def test_a_big_text_that_is_no_program_is_held_once(tmp_path):
+    """64 MB of zeros, gzipped: refused, with the text held once, as it grows (it had been held
+    three times over: the pieces, their join and a decoded copy; 1.3 GB for 400 MB)."""
+    import tracemalloc
+    size = 64 << 20
+    path = tmp_path / "zeros.vamp.json.gz"
+    path.write_bytes(gzip.compress(bytes(size), 1))
+    tracemalloc.start()
+    try:
+        with pytest.raises(VampcError, match="not a vampc program file"):
+            read_program_file(path)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 2 * size, peak / size      # 1.5 times: the text, growing
+
+
 def test_members_one_after_another_are_one_text(programs, tmp_path):
     """As `cat a.gz b.gz` or bgzip make them (the review found them refused as 'trailing data')."""
     text = programs[0].read_bytes()

@@ -324,7 +324,10 @@ def read_program(path: str | Path) -> dict:
     return loads(_read(path)[1])
 
 
-def _read(path) -> tuple[ProgramFile, str]:
+def _read(path) -> tuple[ProgramFile, bytes]:
+    """The file's Structs and its bytes (decompressed; UTF-8, without a byte-order mark). The
+    bytes are held once: no copy of the text is made unless something is wrong with it (a 400 MB
+    file had taken three times its size)."""
     from vampc.textio import decode_utf8
     try:
         raw = Path(path).read_bytes()
@@ -333,14 +336,16 @@ def _read(path) -> tuple[ProgramFile, str]:
     packed = raw.startswith(GZIP_MAGIC)
     if packed:
         raw = gunzip(raw, path)
-    if not raw.strip():
+    if not raw or raw.isspace():
         raise VampcError(f"{path}: empty file, not a vampc program file (vampc compile writes one)")
-    text = decode_utf8(raw, path, "program file")     # checks it is UTF-8, for a clear message
-    data = raw.removeprefix(codecs.BOM_UTF8)      # msgspec reads the bytes faster than the text
+    if not raw.isascii():             # (ASCII is UTF-8: what vampc writes, checked without a copy)
+        decode_utf8(raw, path, "program file")        # UTF-8, or a clear message
+    # msgspec reads the bytes faster than the text
+    data = memoryview(raw)[len(codecs.BOM_UTF8):] if raw.startswith(codecs.BOM_UTF8) else raw
     try:
         doc = decode(data)
     except msgspec.ValidationError as exc:
-        _refuse_version(_untyped(text, path), path)
+        _refuse_version(_untyped(data, path), path)
         raise VampcError(f"{path}: {_where(exc)}") from None
     except msgspec.DecodeError as exc:
         if packed and "truncated" in str(exc):
@@ -348,7 +353,7 @@ def _read(path) -> tuple[ProgramFile, str]:
             # form has two)
             raise VampcError(f"{path}: compressed program file is truncated (its text ends "
                              "early, after a whole gzip member)") from None
-        _untyped(text, path)         # says why, when it is not JSON
+        _untyped(data, path)         # says why, when it is not JSON
         raise VampcError(f"{path}: not a vampc program file ({exc})") from None
     lacks = check_summary(doc)
     if lacks:
@@ -357,14 +362,15 @@ def _read(path) -> tuple[ProgramFile, str]:
             doc.checksum != checksum(loads(data)):
         raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged; recompile it "
                          "(vampc compile)")
-    return doc, text
+    return doc, data
 
 
 def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
     """A gzip-compressed program file's text, every member in turn (VampcError if it is damaged or
-    decompresses to more than `limit` bytes: read 16 MiB at a time, so a bomb stops there)."""
+    decompresses to more than `limit` bytes: read 16 MiB at a time, so a bomb stops there, and
+    held once, growing: no list of pieces joined at the end)."""
     import zlib
-    out, size, rest = [], 0, data
+    out, size, rest = bytearray(), 0, data
     try:
         while rest:
             d = zlib.decompressobj(wbits=31)            # one member: gzip header and trailer
@@ -374,7 +380,7 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
                 if size > limit:
                     raise VampcError(f"{path}: decompresses to more than {limit:,} bytes; not a "
                                      "program file vampc reads")
-                out.append(chunk)
+                out += chunk
                 if not d.unconsumed_tail:
                     break
                 chunk = d.decompress(d.unconsumed_tail, 1 << 24)
@@ -383,11 +389,12 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
             rest = d.unused_data
     except zlib.error as exc:
         raise VampcError(f"{path}: damaged compressed program file ({exc})") from None
-    return b"".join(out)
+    return out
 
 
-def _untyped(text: str, path):
+def _untyped(data, path):
     """The JSON value of a file whose typed decode failed (VampcError if it is not JSON)."""
+    text = bytes(data) if isinstance(data, memoryview) else data       # (bytes: no copy)
     try:
         return loads(text)
     except RecursionError:
@@ -425,9 +432,15 @@ def _laid_out_digest(data: bytes, stored: str) -> str | None:
     removed, they are the canonical JSON the checksum covers), which spares encoding a big document
     again; None for a file laid out otherwise (then the document is encoded: `checksum`)."""
     head = ('{\n"checksum":' + encode(stored) + ",").encode()
-    if not data.startswith(head):
+    if bytes(data[:len(head)]) != head:
         return None
-    return _stamp(hashlib.sha256(b"{" + data[len(head):].replace(b"\n", b"")))
+    digest, rest = hashlib.sha256(b"{"), memoryview(data)[len(head):]
+    for at in range(0, len(rest), DIGEST_PIECE):       # a piece at a time: no copy of the whole
+        digest.update(bytes(rest[at:at + DIGEST_PIECE]).replace(b"\n", b""))
+    return _stamp(digest)
+
+
+DIGEST_PIECE = 16 << 20
 
 
 def validate_program(doc, path) -> ProgramFile:
