@@ -102,6 +102,9 @@ def _bad(tmp_path, text, name="bad.csv"):
     ("q1,q2,qd1,qd2,qdd1\n1,2,3,4,5\n", r"header: 5 columns, expected 6 \(expected 6 columns "
      r"q1,q2...qdd2: the program is for 2 joints\)$"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,x,0,0,0\n", r"line 2, column qd1: 'x' is not a number"),
+    # float() (and np.loadtxt) read non-ASCII digits and spaces: they ran as 1
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,\u0661,0,0,0\n", r"line 2, column qd1: '\u0661' is not a number"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,\uff11,0,0,0\n", r"line 2, column qd1: '\uff11' is not a number"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,nan,0,0,0\n", r"line 2 \(state 1\), column qd1: nan is not finite"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,0\n", r"line 2: 5 columns, expected 6"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n", r"no states"),

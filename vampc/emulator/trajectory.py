@@ -70,9 +70,10 @@ def _missing_base(path: Path, names: list[str], want: list[str]) -> None:
 
 
 def cell_number(cell: str) -> float:
-    """A cell of a table the user gives as a number, as float() reads it, but for 1_0: float() reads
-    it as 10, and in a table it is a typo, not a number (ValueError)."""
-    if "_" in cell:
+    """A cell of a table the user gives as a number, as float() reads it, but for 1_0 and non-ASCII
+    digits or spaces: float() reads 1_0 as 10 and '١' (Arabic-Indic) or '１' (full width) as 1,
+    and in a table they are typos, not numbers (ValueError); the fast native parser takes neither."""
+    if "_" in cell or not cell.isascii():
         raise ValueError(cell)
     return float(cell)
 
@@ -88,7 +89,9 @@ def _read_csv(path: Path, n: int, floating: bool = False):
     text = None
     if fast is None:
         text = decode_utf8(raw, path, "trajectory")
-        fast = _read_csv_loadtxt(text, n, floating)
+        # (np.loadtxt reads '١' or '１' as 1, as float() does: a text beyond ASCII goes the slow
+        # way, which names the cell)
+        fast = _read_csv_loadtxt(text, n, floating) if text.isascii() else None
     if fast is not None:
         return fast
     # --- end of fast paths ---
