@@ -119,6 +119,33 @@ def test_bad_trajectory(tmp_path, program, body, message):
     assert list(tmp_path.iterdir()) == [tmp_path / "bad.csv"]
 
 
+@pytest.mark.parametrize("name, content, message", [
+    # np.load read any file as a pickle, and its refusal said "it holds Python objects"
+    ("g.npy", b"hello", r"not a numpy \.npy array file \(it does not start as numpy writes one: b'hello'\)"),
+    ("g.npz", b"q1,q2,qd1", r"not a numpy \.npz archive \(it does not start as numpy writes one"),
+    ("e.npy", b"", r"not a numpy \.npy array file .*, empty\)"),
+])
+def test_a_file_that_is_no_numpy_file_says_so(tmp_path, program, name, content, message):
+    path = tmp_path / name
+    path.write_bytes(content)
+    res = _run("emulate", program, "--trajectory", path)
+    assert res.exit_code == 1 and re.search(message, res.output), res.output
+
+
+def test_data_after_a_npy_array_is_refused(tmp_path, program):
+    """The bytes numpy would leave unread after the array its header announces (two files joined,
+    damage) were dropped without a word."""
+    saved = tmp_path / "s.npy"
+    assert _run("emulate", program, "--random", 5, "--save-states", saved).exit_code == 0
+    joined = tmp_path / "joined.npy"
+    joined.write_bytes(saved.read_bytes() + bytes(48))
+    res = _run("emulate", program, "--trajectory", joined)
+    assert res.exit_code == 1 and re.search(r"its header announces an array of shape \(5, 6\) \(240 bytes\) "
+                                            r"but the file holds 288 bytes of data \(damaged, or another "
+                                            r"file after it\)", res.output), res.output
+    assert _run("emulate", program, "--trajectory", saved).exit_code == 0
+
+
 def test_out_of_limits_allowed_on_request(tmp_path, program):
     src = _bad(tmp_path, "q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n")
     assert _run("emulate", program, "--trajectory", src, "--allow-out-of-limits", "--check").exit_code == 0

@@ -203,14 +203,39 @@ def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
     if dtype.hasobject:
         return
     need = math.prod(shape) * dtype.itemsize
-    if need > size - start:
+    if need != size - start:          # short: truncated; long: data numpy would leave unread
         what = f"{path}: array {member}" if member is not None else f"{path}"
+        why = "truncated or damaged" if need > size - start else "damaged, or another file after it"
         raise VampcError(f"{what}: its header announces an array of shape {tuple(shape)} "
                          f"({need:,} bytes) but the file holds {size - start:,} bytes of data "
-                         "(truncated or damaged)")
+                         f"({why})")
+
+
+NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"
+
+
+def _head(path: Path, size: int) -> bytes | None:
+    """The file's first `size` bytes (None if it cannot be read: np.load then says why)."""
+    try:
+        with open(path, "rb") as f:
+            return f.read(size)
+    except OSError:
+        return None
+
+
+def _magic(path: Path, what: str) -> None:
+    """VampcError unless the file starts as a .npy or a .npz does (either: a misnamed one is said
+    below): numpy's load reads any other file as a pickle, and its refusal said 'it holds Python
+    objects' of a text file."""
+    head = _head(path, len(NPY_MAGIC))
+    if head is not None and not (head.startswith(NPY_MAGIC) or head.startswith(ZIP_MAGIC)):
+        raise VampcError(f"{path}: not a {what} (it does not start as numpy writes one: "
+                         f"{head!r}{'' if head else ', empty'}); give a .npy or .npz that numpy "
+                         "saved, or a .csv")
 
 
 def _read_npy(path: Path, n: int, width: int):
+    _magic(path, "numpy .npy array file")
     _npy_fits(path)
     try:
         arr = np.load(path, allow_pickle=False)
@@ -227,6 +252,7 @@ def _read_npy(path: Path, n: int, width: int):
 
 
 def _read_npz(path: Path, n: int, floating: bool = False):
+    _magic(path, "numpy .npz archive")
     try:
         z = np.load(path, allow_pickle=False)
     except _NUMPY_ERRORS as exc:
