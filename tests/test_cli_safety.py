@@ -372,7 +372,8 @@ def _npz(path: Path, **arrays) -> Path:
     (lambda p: (np.save(p / "t.npy", np.zeros((2, 6), object)), p / "t.npy")[1],
      r"t\.npy: not a numpy array file \(it holds Python objects \(dtype object\); save plain "
      r"numbers\)$"),
-    (lambda p: _csv(p / "t.npz", "not a zip"), r"t\.npz: not a numpy \.npz file \("),
+    (lambda p: _csv(p / "t.npz", "not a zip"), r"t\.npz: not a numpy \.npz archive \(it does not start "
+     r"as numpy writes one: b'not a '\)"),
     (lambda p: _csv(p / "t.npy", b"\x93NUMPY\x01\x00v\x00{'descr': '<f8', 'fortran_order': False, "
                                  b"'shape': (2, 6), }" + b" " * 60 + b"\n" + b"\0" * 16),
      r"t\.npy: its header announces an array of shape \(2, 6\) \(96 bytes\) but the file holds "
