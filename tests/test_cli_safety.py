@@ -596,6 +596,20 @@ def test_save_states_writes_csv_or_npy_not_npz(tmp_path, program):
     assert run("emulate", program, "--random", 2, "--save-states", tmp_path / "s.npy").exit_code == 0
 
 
+@pytest.mark.parametrize("args, message", [
+    # a .gz name was written as plain CSV; --allow-out-of-limits with random states did nothing
+    (["-o", "tau.csv.gz"], "-o writes torques as CSV or, for a name ending in .npy, as a NumPy array: "
+                           "not .gz (compress the file afterwards)"),
+    (["--save-states", "s.csv.gz"], "--save-states writes a trajectory as CSV or, for a name ending in "
+                                    ".npy, as a NumPy array: not .gz"),
+    (["--allow-out-of-limits"], "--allow-out-of-limits applies with --trajectory"),
+])
+def test_emulate_options_it_would_not_honour_are_usage_errors(tmp_path, program, args, message):
+    res = run("emulate", program, "--random", 2, *[tmp_path / a if "." in a else a for a in args])
+    assert res.exit_code == 2 and message in res.output, res.output
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_program_file_given_to_compile(tmp_path, program):
     res = run("compile", program, "-o", tmp_path / "x.vamp.json")
     user_error(res, r"planar\.vamp\.json: planar\.vamp\.json is a vampc program file, not a robot "

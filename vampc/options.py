@@ -480,12 +480,16 @@ class EmulateOptions:
         if self.write_failed and not (self.check_torques and (self.output or self.save_states
                                                               or self.vcd)):
             raise VampcUsageError("--write-failed applies with --check and -o, --save-states or --vcd")
-        if self.output and Path(self.output).suffix.lower() == ".npz":
-            raise VampcUsageError("-o writes torques as CSV or, for a name ending in .npy, as a NumPy "
-                                  "array: not .npz")
-        if self.save_states and Path(self.save_states).suffix.lower() == ".npz":
-            raise VampcUsageError("--save-states writes a CSV trajectory or, for a name ending in .npy, "
-                                  "a NumPy array: not .npz")
+        for option, value, what in (("-o", self.output, "torques"),
+                                    ("--save-states", self.save_states, "a trajectory")):
+            suffix = Path(value).suffix.lower() if value else ""
+            if suffix in (".npz", ".gz"):      # (a .gz name was written uncompressed)
+                raise VampcUsageError(f"{option} writes {what} as CSV or, for a name ending in .npy, "
+                                      f"as a NumPy array: not {suffix}"
+                                      + (" (compress the file afterwards)" if suffix == ".gz" else ""))
+        if self.allow_out_of_limits and self.trajectory is None:
+            raise VampcUsageError("--allow-out-of-limits applies with --trajectory (random states are "
+                                  "drawn within the limits)")
 
 
 def frequency(text: str, option: str, noun: str = "clock rate") -> float:
@@ -587,7 +591,7 @@ class LookaheadOptions:
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):
-            if value is not None and Path(value).suffix.lower() in (".npy", ".npz"):
+            if value is not None and Path(value).suffix.lower() in (".npy", ".npz", ".gz"):
                 raise VampcUsageError(f"{option} writes CSV (README, Torque files and Output files): "
                                       "give a .csv file name")
 
