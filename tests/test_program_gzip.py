@@ -79,6 +79,18 @@ def test_a_damaged_compressed_file_is_one_line(programs, tmp_path, cut, message)
     assert r.exit_code == 1 and f"{bad}: {message}" in r.output, r.output
 
 
+@pytest.mark.parametrize("cut", [60, 3000])
+def test_a_truncated_compact_form_under_any_name_is_known_as_a_program(programs, tmp_path, cut):
+    """Cut within its first member (the checksum line) or its second, a compact program named
+    otherwise (t.gz) is still known by its content, and said to be truncated: it was called
+    'gzip-compressed data: decompress it first' (the content was read to the end, or only the
+    first member was looked at)."""
+    bad = tmp_path / "t.gz"
+    bad.write_bytes(programs[1].read_bytes()[:cut])
+    r = CliRunner().invoke(main, ["emulate", str(bad), "--random", "5"])
+    assert r.exit_code == 1 and f"{bad}: compressed program file is truncated" in r.output, r.output
+
+
 def test_a_gzip_bomb_is_refused():
     bomb = gzip.compress(b" " * (3 << 20))
     with pytest.raises(VampcError, match="decompresses to more than"):

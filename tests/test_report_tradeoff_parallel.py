@@ -50,6 +50,7 @@ def test_an_unreachable_scheduler_is_one_line(monkeypatch):
     (["--scheduler", "tcp://x:1"], "--scheduler applies with --tradeoff"),
     (["--tradeoff", "--workers", "2", "--scheduler", "tcp://x:1"], "--workers and --scheduler: give one"),
     (["--tradeoff", "--workers", "0"], "--workers"),
+    (["--tradeoff", "--scheduler", "http://127.0.0.1:8786"], "http:// is not a Dask address"),
     # options the sweep's points do not depend on were taken and ignored (the same output)
     (["--tradeoff", "--error-correction", "--check-cycles", "4"], "--error-correction does not apply to --tradeoff"),
     (["--tradeoff", "--word", "q8.8", "--rounding", "truncate"], "does not apply to --tradeoff, whose points"),

@@ -306,10 +306,18 @@ def check_bus(options) -> None:
                               f"not the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
+DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")     # dask.distributed's comms
+
+
 def check_parallel(options) -> None:
     """--workers and --scheduler against each other (report --tradeoff, faults)."""
     if options.scheduler is not None and not options.scheduler.strip():
         raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
+    scheme = (options.scheduler or "").partition("://")[0] if "://" in (options.scheduler or "") else None
+    if scheme is not None and scheme.lower() not in DASK_SCHEMES:
+        raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// is not a Dask address; "
+                              f"give {', '.join(s + '://' for s in DASK_SCHEMES)} (tcp://HOST:8786) "
+                              "or HOST:PORT")
     if options.workers is not None and options.scheduler is not None:
         raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
 
@@ -445,7 +453,8 @@ class EmulateOptions:
         "standard output. A name ending in .npy writes the same columns as a NumPy float64 array."))
     save_states: str | None = field(default=None, metadata=cli(
         "--save-states", path=True, dash=True, metavar="FILE", help="Write the states run as a "
-        "trajectory CSV (the --trajectory format), to pair torques with their inputs."))
+        "trajectory (the --trajectory format: CSV, or a NumPy array for a name ending in .npy), to "
+        "pair torques with their inputs."))
     write_failed: bool = field(default=False, metadata=cli(
         "--write-failed", help="With --check: write -o, --save-states and --vcd even when the "
         "check fails and the file exists (by default a failed check never replaces an existing "

@@ -26,7 +26,7 @@ def sniff(path) -> str | None:
         return None
     if head.startswith(b"\x1f\x8b"):               # gzip: a compact program file (or nothing we read)
         head = _gunzipped_head(path)
-        if b'"vampc-program"' not in head:
+        if not _program_text(head):
             return "gzip"
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
@@ -34,12 +34,18 @@ def sniff(path) -> str | None:
     if head.startswith(b"<"):
         return "urdf"
     if head.startswith((b"{", b"[")):
-        return "program" if b'"vampc-program"' in head else "json"
+        return "program" if _program_text(head) else "json"
     try:
         text = head.decode("utf-8")
     except UnicodeDecodeError:
         return None
     return "yaml" if ":" in text else None
+
+
+def _program_text(head: bytes) -> bool:
+    """Whether a text's start is a program file's: its format named, or the checksum line vampc
+    writes first (all a compact form's first member holds)."""
+    return b'"vampc-program"' in head or head.startswith(b'{\n"checksum":"sha256:')
 
 
 def is_program(path) -> bool:
@@ -49,14 +55,21 @@ def is_program(path) -> bool:
 
 
 def _gunzipped_head(path) -> bytes:
-    """The first HEAD bytes of a gzip file's content (b"" if it is not readable gzip)."""
-    import gzip
+    """The first HEAD bytes of a gzip file's content, as far as they go (b"" if it is not readable
+    gzip). A truncated file still shows its start: reading it whole to EOF had called a cut
+    program file "gzip-compressed data" (the reader then says it is truncated)."""
     import zlib
+    out = b""
     try:
-        with gzip.open(path, "rb") as fh:
-            return fh.read(HEAD)
-    except (OSError, EOFError, zlib.error):
-        return b""
+        with open(path, "rb") as fh:
+            packed = fh.read(1 << 16)
+        while packed and len(out) < HEAD:     # member after member (vampc's compact form has two)
+            d = zlib.decompressobj(wbits=31)
+            out += d.decompress(packed, HEAD - len(out))
+            packed = d.unused_data if d.eof else b""
+    except (OSError, zlib.error):
+        pass
+    return out
 
 
 def looks_like(path) -> str:
