@@ -151,7 +151,7 @@ def test_two_pictures_into_one_file_are_refused(tmp_path):
 
 
 def test_a_picture_to_stdout_is_refused(tmp_path):
-    one_line_error(run("report", PLANAR, "--timing", "-"), 1, r"standard output is not available")
+    one_line_error(run("report", PLANAR, "--timing", "-"), 2, r"standard output is not available")   # usage
 
 
 def test_compile_options_that_contradict_a_program_are_refused(program):
