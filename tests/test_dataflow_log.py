@@ -70,7 +70,7 @@ def latency(chain, **kwargs):
 
 # --- torques ----------------------------------------------------------------------------------------------
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=6, deadline=None)      # (new draws every run; 10 took 7.6 s of the suite)
 @given(st.integers(1, 40), st.integers(0, 10_000), st.sampled_from([0.0, 0.3, 1.0]), st.booleans())
 def test_torques_equal_rnea_for_every_shape_and_leaf_style(n, seed, prismatic, endpoints):
     chain = random_chain(n, seed, prismatic_fraction=prismatic, endpoints=endpoints)
