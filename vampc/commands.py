@@ -929,7 +929,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                     parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo],
                                        lambda _, r: store.add(*r),
                                        available_cores() if own.workers is None
-                                       else own.workers, own.scheduler, client, bar)
+                                       else own.workers, own.scheduler, client, bar,
+                                       kept=f"the runs finished are kept in {results} (a re-run "
+                                       "resumes from them)")
                 failed = False
             finally:
                 store.close(failed)

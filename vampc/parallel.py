@@ -44,9 +44,10 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
 
 def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
               workers: int = 1, scheduler: str | None = None, client=None, progress=None,
-              warn_stack: int = 3) -> None:
+              warn_stack: int = 3, kept: str = "nothing is written") -> None:
     """Run `task(context, item)` for every item (see the module docstring). `client`: a Client
-    already connected to `scheduler` (connect); `progress(done, total)` after each result."""
+    already connected to `scheduler` (connect); `progress(done, total)` after each result; `kept`:
+    what is left of a run a dead worker stops, for its message."""
     if scheduler is not None:
         _on_cluster(task, context, items, done, scheduler, client, progress)
         return
@@ -92,8 +93,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
         from concurrent.futures.process import BrokenProcessPool
         if isinstance(exc, BrokenProcessPool):       # a worker killed (a signal, out of memory)
             raise VampcError(f"a worker process ended before its task did ({one_line(exc)}); "
-                             "nothing is written: run again, with fewer --workers if memory is "
-                             "short") from None
+                             f"{kept}: run again, with fewer --workers if memory is short") from None
         raise
     pool.shutdown()
 
