@@ -119,7 +119,13 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"--window 64 × --futures 8 = 512 rows: more than the trajectory \(500 rows\)", 2),
     # the rate is served, but a row's torques (61 flops late) would reach the motors after the row
     (None, ["--clock", "8kHz", "--window", "2"], r"a row's torques come 7625 µs after it enters \(the "
-     r"network's latency, 61 flops at 8kHz\); it reaches the motors 1000 µs after .* too late", 1),
+     r"network's latency, 61 flops at 8kHz\); it reaches the motors 1000 µs after .* too late; give a "
+     r"longer --window, or a faster --clock$", 1),
+    # the gravity pass comes an interval after the first: 61 + 4 flops at 62 kHz is 1048 µs
+    (None, ["--clock", "62kHz", "--window", "2", "--retime", "uniform"], r"a row's torques come 1048 µs "
+     r"after it enters \(the network's latency, 61 flops at 62kHz, and 1 more pass\(es\) 4 flops apart\)", 1),
+    (None, ["--clock", "62kHz", "--window", "1"], r"it reaches the motors 0 µs after .* too late; give a "
+     r"longer --window$", 1),            # no clock helps a window of one row
     (lambda t: t + 5.0, ["--q-out"], r"row 3: joint 3 \(elbow\) is outside its limits \(q=3, qd=\S+; "
      r"limits q in \[-3\.92699, 0\.785398\]\); use --allow-out-of-limits", 1),
 ])

@@ -697,12 +697,15 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
     need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent
+    seen = own.window * (own.futures or 1)            # rows in view
     if clock is not None:
         period = ld.schedule.interval / clock         # one torque set per interval of flops
         if need * period > lam:
             raise VampcError(f"{source}: the network computes a torque set every {period * 1e6:.4g} µs "
                              f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
                              f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
+        if own.retime != "window":                    # rows λ apart: said before the run
+            _in_time(source, ld, own, clock, need, seen, lam)
     # a narrower word than float64: plan within the error its --check allows (of each limit)
     margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
     from vampc.emulator.stream import constant_overflows
@@ -716,18 +719,13 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{source}: the retimed path has rows {step * 1e6:.4g} µs apart; the "
                              f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
                              f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
-        late = ld.schedule.latency / clock                  # a row's torques, after it enters
-        early = (res.ahead_rows - 1) * step                 # its time in the register, at least
-        if late > early:
-            raise VampcError(f"{source}: a row's torques come {late * 1e6:.4g} µs after it enters "
-                             f"(the network's latency, {ld.schedule.latency} flops at {own.clock}); "
-                             f"it reaches the motors {early * 1e6:.4g} µs after ({res.ahead_rows - 1} "
-                             f"row(s) of {step * 1e6:.4g} µs): its torques would come too late; give "
-                             "a longer --window (or a faster --clock)")
+        late, early = _in_time(source, ld, own, clock, need, seen, step)
         say(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
             f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
-            f"torques come {late * 1e6:.4g} µs after it enters (the latency, {late / lam:.3g} λ), "
-            f"{(early - late) * 1e6:.4g} µs before the motors take it", info)
+            f"torques come {late * 1e6:.4g} µs after it enters (the latency, {late / lam:.3g} λ, "
+            f"with its {need} pass{'es' * (need != 1)}), {(early - late) * 1e6:.4g} µs before the "
+            "motors take it",
+            info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     if ld.word is not None:          # overflows are never silent (every pass of the network)
@@ -778,6 +776,25 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         for option in (o for o in outs if o not in kept):
             say(f"{option} {outs[option].path} written although the {why} failed", True)
     return ok
+
+
+def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -> tuple[float, float]:
+    """(when a row's last torque set comes after it enters: the latency, and an interval more for
+    each further pass; when the motors take it: after the rows ahead of it, `step` apart), or
+    VampcError when the first is later."""
+    late = (ld.schedule.latency + (need - 1) * ld.schedule.interval) / clock
+    early = (seen - 1) * step
+    if late > early:
+        longer = "--window or more --futures" if own.retime == "window" else "--window"
+        advice = (f"give a longer {longer}" if seen == 1 else
+                  f"give a longer {longer}, or a faster --clock")
+        raise VampcError(f"{source}: a row's torques come {late * 1e6:.4g} µs after it enters (the "
+                         f"network's latency, {ld.schedule.latency} flops at {own.clock}"
+                         + (f", and {need - 1} more pass(es) {ld.schedule.interval} flops apart"
+                            if need > 1 else "")
+                         + f"); it reaches the motors {early * 1e6:.4g} µs after ({seen - 1} row(s) of "
+                         f"{step * 1e6:.4g} µs): its torques would come too late; {advice}")
+    return late, early
 
 
 WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead's outputs
