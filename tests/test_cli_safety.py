@@ -971,3 +971,19 @@ def test_a_signal_once_the_outputs_are_being_put_in_place_lets_the_run_finish(tm
     assert done.returncode == 0, done.stderr
     assert all(f.read_text() != "before\n" for f in files)
     assert not [p for p in tmp_path.iterdir() if p not in files]       # no temporary left
+
+
+def test_a_summary_that_cannot_be_said_leaves_no_temporary_file(tmp_path):
+    """The summary line goes to standard output after the run; with its reader gone the command
+    fails (exit 1) and its outputs are dropped: their temporary files had stayed beside them."""
+    import subprocess
+    import sys
+    outs = ["-o", str(tmp_path / "tau.csv"), "--save-states", str(tmp_path / "s.csv"),
+            "--vcd", str(tmp_path / "w.vcd")]
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--random", "3",
+                             "--engine", "tick", *outs], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()               # the reader gone before the summary is said
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 1, err
+    assert "cannot write to standard output" in err
+    assert list(tmp_path.iterdir()) == []

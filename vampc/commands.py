@@ -231,21 +231,21 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                           check=own.check_torques, sink=sinks.chunk, progress=bar,
                           faults=tuple(parse_fault(text) for text in own.fault))
         sinks.finish_vcd()
-    except BaseException:
+        say(emulation_line(outcome, time.perf_counter() - begun), info)
+        if outcome.checking is not None:
+            say(checking_line(ld, outcome), info)
+        word = ld.arith
+        if ld.word is None:
+            ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
+                                           outcome.check.max_rel <= own.tolerance)
+        else:
+            tolerance = own.tolerance or default_tolerance(word)
+            ok = outcome.check is None or (outcome.check.overall <= tolerance
+                                           and not outcome.overflows)
+        sinks.finish(ok, own.write_failed, lambda text: say(text, True))
+    except BaseException:         # (a line that cannot be said, a failed commit: no temporaries left)
         sinks.discard()
         raise
-    say(emulation_line(outcome, time.perf_counter() - begun), info)
-    if outcome.checking is not None:
-        say(checking_line(ld, outcome), info)
-    word = ld.arith
-    if ld.word is None:
-        ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
-                                       outcome.check.max_rel <= own.tolerance)
-    else:
-        tolerance = own.tolerance or default_tolerance(word)
-        ok = outcome.check is None or (outcome.check.overall <= tolerance
-                                       and not outcome.overflows)
-    sinks.finish(ok, own.write_failed, lambda text: say(text, True))
     if ld.word is not None:          # overflows are never silent
         say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
             + "".join(f"\n  {site}" for site in outcome.overflow_sites), info)
