@@ -195,15 +195,15 @@ def test_acceleration_usage(setup, args, message):
 
 
 @pytest.mark.parametrize("text, message", [
-    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n", r"the header only: no accelerations"),    # (numpy's warning)
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n", r"the acceleration table has no rows"),    # (numpy's warning)
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,x,4,5,6\n", r"line 3, column qdd3: 'x' is not a number"),
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,3,4,5\n", r"line 3: 5 columns, expected 6"),
     ("t,qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0,1_0\n", r"line 2, column qdd6: '1_0' is not a number"),
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n0,0,nan,0,0,0\n", r"line 3 \(state 2\), column qdd3: nan is not finite"),
 ])
 def test_a_bad_accelerations_file_is_named_by_line_and_column(setup, tmp_path, text, message):
-    """Lines count from 1 with the header, as the trajectory reader counts them (numpy's loadtxt
-    said 'row 0')."""
+    """Read as a trajectory is (the same reader): lines count from 1 with the header (numpy's
+    loadtxt had said 'row 0')."""
     folder, program, limits, _ = setup
     path = tmp_path / "qdd.csv"
     path.write_text(text)
@@ -242,7 +242,8 @@ def test_a_start_of_the_wrong_length_is_one_line(setup, tmp_path):
     path.write_text("qdd1,qdd2\n0,0\n")
     r = CliRunner().invoke(main, ["lookahead", str(program), "--accelerations", str(path), "--q0",
                                   "0,0,0,0,0,0", "--rate", "1kHz", "--window", "1", "--limits", str(limits)])
-    assert r.exit_code == 1 and "line 1: expected the header qdd1,qdd2,qdd3,qdd4,qdd5,qdd6" in r.output
+    assert r.exit_code == 1 and ("header: 2 columns, expected 6 (expected 6 columns qdd1,qdd2...qdd6: "
+                                 "the program is for 6 joints)") in r.output, r.output
 
 
 def test_the_plot_has_a_panel_per_joint_with_its_limits_and_one_of_the_speed(setup, tmp_path):

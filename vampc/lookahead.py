@@ -205,43 +205,22 @@ def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
 
 def read_accelerations(path: str, n: int, rate: float, q0, qd0):
     """A q̈ CSV (header qdd1..qddn, optional leading t) integrated into a Trajectory (VampcError
-    naming the line and column)."""
-    import csv
+    naming the line and column): read as a trajectory is (vampc.emulator.trajectory.read_table)."""
+    from pathlib import Path
 
     from vampc.emulator.host import Trajectory
-    from vampc.emulator.trajectory import _check_finite, cell_number
+    from vampc.emulator.trajectory import _check_finite, read_table
+    columns = [f"qdd{i}" for i in range(1, n + 1)]
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:   # (a spreadsheet's BOM too)
-            rows = list(csv.reader(fh))
+        qdd, t = read_table(Path(path), columns, f"the program is for {n} joints",
+                            what="acceleration table")
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise VampcError(f"{path}: not UTF-8 text") from None
-    while rows and not "".join(rows[-1]).strip():
-        rows.pop()                    # trailing blank lines end the table
-    head = [c.strip() for c in rows[0]] if rows else []
-    want = [f"qdd{i}" for i in range(1, n + 1)]
-    has_t = head[:1] == ["t"]
-    columns = (["t"] if has_t else []) + want
-    if head != columns:
-        raise VampcError(f"{path}: line 1: expected the header {'t,' if has_t else ''}"
-                         f"{','.join(want)} (the program is for {n} joints)")
-    if len(rows) < 2:
-        raise VampcError(f"{path}: the header only: no accelerations")
-    data = np.empty((len(rows) - 1, len(columns)))
-    for line, row in enumerate(rows[1:], 2):
-        if len(row) != len(columns):
-            raise VampcError(f"{path}: line {line}: {len(row)} columns, expected {len(columns)}")
-        for c, cell in enumerate(row):
-            try:
-                data[line - 2, c] = cell_number(cell)
-            except ValueError:
-                raise VampcError(f"{path}: line {line}, column {columns[c]}: {cell.strip()!r} is not "
-                                 "a number") from None
-    _check_finite(path, data, columns, 2)
-    qdd = data[:, has_t:]
+    _check_finite(path, qdd, columns, 2)
+    if t is not None:
+        _check_finite(path, t[:, None], ["t"], 2)
     q, qd = integrate(qdd, q0, qd0, rate)
-    return Trajectory(q, qd, qdd, data[:, 0] if has_t else None, None)
+    return Trajectory(q, qd, qdd, t, None)
 
 
 def check_path(traj, rate: float, path: str) -> np.ndarray:

@@ -49,7 +49,8 @@ def read(path, n: int, floating: bool = False):
         elif suffix == ".npy":
             data, t = _read_npy(path, n, width)
         else:
-            data, t = _read_csv(path, n, floating)
+            data, t = read_table(path, header(n, floating), f"the program is for {n} joints",
+                                 floating)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     line = 2 if suffix not in (".npy", ".npz") else None       # a CSV's states start on line 2
@@ -78,20 +79,24 @@ def cell_number(cell: str) -> float:
     return float(cell)
 
 
-def _read_csv(path: Path, n: int, floating: bool = False):
+def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
+               what: str = "trajectory"):
+    """(data, t) of a CSV table whose header is `columns`, with an optional leading t (`why`: what
+    the columns follow from, for the header's message; `floating`: a floating base's columns may be
+    what is missing). VampcError naming the line and column of anything else."""
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
     raw = path.read_bytes()
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
-    fast = _read_csv_native(raw, n, floating)
+    fast = _read_csv_native(raw, columns)
     text = None
     if fast is None:
-        text = decode_utf8(raw, path, "trajectory")
+        text = decode_utf8(raw, path, what)
         # (np.loadtxt reads '١' or '１' as 1, as float() does: a text beyond ASCII goes the slow
         # way, which names the cell)
-        fast = _read_csv_loadtxt(text, n, floating) if text.isascii() else None
+        fast = _read_csv_loadtxt(text, columns) if text.isascii() else None
     if fast is not None:
         return fast
     # --- end of fast paths ---
@@ -99,17 +104,18 @@ def _read_csv(path: Path, n: int, floating: bool = False):
     while rows and not "".join(rows[-1]).strip():
         rows.pop()       # trailing blank lines end the table; they are not states
     if not rows:
-        raise VampcError(f"{path}: empty trajectory file")
+        raise VampcError(f"{path}: empty {what} file")
     names = [c.strip() for c in rows[0]]
     has_t = bool(names) and names[0] == "t"
-    want = (["t"] if has_t else []) + header(n, floating)
+    want = (["t"] if has_t else []) + list(columns)
     if names != want:
-        _missing_base(path, names, want)
+        if floating:
+            _missing_base(path, names, want)
         bad = next((k for k, (got, exp) in enumerate(zip(names, want)) if got != exp), None)
         which = (f"column {bad + 1} is {shown(names[bad])}, expected {want[bad]!r}" if bad is not None
                  else f"{len(names)} columns, expected {len(want)}")
         raise VampcError(f"{path}: header: {which} (expected {len(want)} columns "
-                         f"{','.join(want[:2])}...{want[-1]}: the program is for {n} joints)")
+                         f"{','.join(want[:2])}...{want[-1]}: {why})")
     data = np.empty((len(rows) - 1, len(want)))
     for r, row in enumerate(rows[1:], 2):
         if len(row) != len(want):
@@ -120,7 +126,7 @@ def _read_csv(path: Path, n: int, floating: bool = False):
             except ValueError:
                 raise VampcError(f"{path}: line {r}, column {want[c]}: {cell!r} is not a number") from None
     if data.shape[0] == 0:
-        raise VampcError(f"{path}: the trajectory has no states")
+        raise VampcError(f"{path}: the {what} has no {'states' if what == 'trajectory' else 'rows'}")
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
 
 
@@ -128,36 +134,36 @@ def _read_csv(path: Path, n: int, floating: bool = False):
 # table: the slow parser then reads it the same way or reports the precise error. Both give each cell
 # the value float() gives it.
 
-def _plain_header(head: str, n: int, floating: bool = False):
+def _plain_header(head: str, columns: list[str]):
     """Whether the header line has a t column (True/False), or None if it is not the expected one."""
     names = [c.strip() for c in head.split(",")]
     has_t = bool(names) and names[0] == "t"
-    return has_t if names == (["t"] if has_t else []) + header(n, floating) else None
+    return has_t if names == (["t"] if has_t else []) + list(columns) else None
 
 
-def _read_csv_native(raw: bytes, n: int, floating: bool = False):
+def _read_csv_native(raw: bytes, columns: list[str]):
     """vampc.emulator.native.parse_csv (strict decimal cells, Eisel-Lemire then strtod) on the bytes after
     the header, read in place."""
     end = raw.find(b"\n")                 # the body is read in place: no copy of a big file
     end = len(raw) if end < 0 else end
     try:
-        has_t = _plain_header(raw[:end].decode("ascii"), n, floating)
+        has_t = _plain_header(raw[:end].decode("ascii"), columns)
     except UnicodeDecodeError:
         return None
     if has_t is None:
         return None
     from vampc.emulator.native import parse_csv
-    data = parse_csv(raw, len(header(n, floating)) + has_t, start=min(end + 1, len(raw)))
+    data = parse_csv(raw, len(columns) + has_t, start=min(end + 1, len(raw)))
     if data is None:
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
 
 
-def _read_csv_loadtxt(text: str, n: int, floating: bool = False):
+def _read_csv_loadtxt(text: str, columns: list[str]):
     """np.loadtxt on the text after the header."""
     head, _, body = text.partition("\n")
-    has_t = _plain_header(head, n, floating)
-    data = None if has_t is None else _loadtxt(body, len(header(n, floating)) + has_t)
+    has_t = _plain_header(head, columns)
+    data = None if has_t is None else _loadtxt(body, len(columns) + has_t)
     if data is None:
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
