@@ -538,3 +538,23 @@ def test_coupled_mimic_joints_are_limited_at_their_leaders_motor(tmp_path):
     retimed = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:]
     assert np.all(np.abs(retimed) <= lim) and np.max(np.abs(retimed[:, 4])) > 0.999 * lim[4]
     assert re.search(r"retimed: .*wrist_2_joint 1\b", r.output), r.output
+
+
+def test_limits_are_blamed_on_the_file_they_came_from_and_a_trailing_empty_header_cell_is_taken(
+        setup, tmp_path):
+    """A speed limit below 1e-12 that the robot file gives is named by the robot file, not by the
+    --limits file that left it alone; a header 'joint,tau,qd,' (a spreadsheet's) is read as rows
+    with a trailing empty cell are."""
+    folder, program, limits, path = setup
+    robot = tmp_path / "tiny.yaml"
+    robot.write_text(open(PUMA).read().replace("limits: {q: [-2.792526803190927, 2.792526803190927]}",
+                                               "limits: {q: [-2.792526803190927, 2.792526803190927], "
+                                               "qd: 1.0e-13}", 1))
+    own = tmp_path / "lim.csv"
+    own.write_text(LIMITS.replace("joint,tau,qd", "joint,tau,qd,"))
+    r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(own)])
+    assert r.exit_code == 1 and f"{robot}: joint 'waist': speed limit 1e-13 is below 1e-12" in r.output, r.output
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(own)])
+    assert r.exit_code == 0, r.output

@@ -119,8 +119,9 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     from vampc.robot.mimic import free_joints
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
+    given: set = set()               # (joint, "effort" or "speed") the --limits file gave
     if path is not None:
-        tau, qd = _read_limits(path, chain, tau, qd)
+        tau, qd, given = _read_limits(path, chain, tau, qd)
     free = set(free_joints(chain).tolist())
     tau = [t if i in free else 0.0 for i, t in enumerate(tau)]      # (a follower: no motor)
     missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
@@ -129,10 +130,12 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
         raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
                          + "; give --limits FILE (README, vampc lookahead)")
+    robot = source or chain.source or chain.name
     for i, (j, t, v) in enumerate(zip(chain.joints, tau, qd)):
         for what, x in (("effort", t if i in free else None), ("speed", v)):
             if x is not None and x < SMALLEST_LIMIT:
-                raise VampcError(f"{where}: joint '{j.name}': {what} limit {x:g} is below "
+                came = path if (i, what) in given else robot      # the file the value came from
+                raise VampcError(f"{came}: joint '{j.name}': {what} limit {x:g} is below "
                                  f"{SMALLEST_LIMIT:g}: too small to scale time by (the scaling "
                                  "would not fit a float)")
     return Limits(tuple(float(tau[i]) for i in sorted(free)),
@@ -157,9 +160,11 @@ def _read_limits(path: str, chain, tau: list, qd: list):
     except UnicodeDecodeError:
         raise VampcError(f"{path}: not UTF-8 text") from None
     head = [c.strip() for c in rows[0]] if rows else []
+    while head and not head[-1]:
+        head.pop()                    # (a spreadsheet's trailing empty cells, as a row's are taken)
     if head not in (["joint", "tau"], ["joint", "tau", "qd"]):
         raise VampcError(f"{path}: line 1: expected the header joint,tau,qd")
-    tau, qd = list(tau), list(qd)
+    tau, qd, given = list(tau), list(qd), set()
     seen: dict[str, int] = {}
     for line, row in enumerate(rows[1:], 2):
         if not row or not any(c.strip() for c in row):
@@ -187,9 +192,11 @@ def _read_limits(path: str, chain, tau: list, qd: list):
         values += [None] * (2 - len(values))
         if values[0] is not None:
             tau[names[name]] = values[0]
+            given.add((names[name], "effort"))
         if values[1] is not None:
             qd[names[name]] = values[1]
-    return tau, qd
+            given.add((names[name], "speed"))
+    return tau, qd, given
 
 
 def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
