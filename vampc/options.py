@@ -306,7 +306,7 @@ def check_bus(options) -> None:
                               f"not the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
-DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")     # dask.distributed's comms
+DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ucxx", "ws", "wss")   # dask.distributed's comms
 
 
 def check_parallel(options) -> None:
