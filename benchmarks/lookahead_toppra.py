@@ -96,32 +96,38 @@ def toppra_duration(chain, t, q, tau_lim, qd_lim) -> float:
     return float(result.duration)
 
 
-def table() -> None:
+def paths(tmp: Path):
+    """Per robot and path of ROBOTS: (robot name, path kind, T, compiled program, path file,
+    limits file or None, TOPP-RA's duration)."""
     from vampc.lookahead import limits_of
     from vampc.robot import load_robot
+    for name, spec in ROBOTS.items():
+        program = tmp / (spec["source"].stem + ".vamp.json")
+        subprocess.run(["vampc", "compile", str(spec["source"]), "-o", str(program)], check=True,
+                       capture_output=True)
+        chain = load_robot(str(spec["source"]))
+        chain = getattr(chain, "chain", chain)
+        lim = limits_of(chain, str(spec["limits"]) if spec["limits"] else None)
+        for kind, T in spec["T"].items():
+            t, q, qd, qdd = make_path(kind, T, spec["dq"], spec["amp"])
+            path = tmp / f"{spec['source'].stem}-{kind}.csv"
+            write_path(path, t, q, qd, qdd)
+            best = toppra_duration(chain, t, q, np.array(lim.tau), lim.qd)
+            yield name, kind, T, program, path, spec["limits"], best
+
+
+def table() -> None:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
-        for name, spec in ROBOTS.items():
-            program = tmp / (spec["source"].stem + ".vamp.json")
-            subprocess.run(["vampc", "compile", str(spec["source"]), "-o", str(program)], check=True,
-                           capture_output=True)
-            chain = load_robot(str(spec["source"]))
-            chain = getattr(chain, "chain", chain)
-            lim = limits_of(chain, str(spec["limits"]) if spec["limits"] else None)
-            for kind, T in spec["T"].items():
-                t, q, qd, qdd = make_path(kind, T, spec["dq"], spec["amp"])
-                path = tmp / f"{spec['source'].stem}-{kind}.csv"
-                write_path(path, t, q, qd, qdd)
-                uniform, _ = lookahead(program, path, spec["limits"], "--retime", "uniform")
-                w1, text = lookahead(program, path, spec["limits"], "--retime", "window")
-                w4, _ = lookahead(program, path, spec["limits"], "--retime", "window", "--futures", "4")
-                violations = text.splitlines()[0].split(": ")[-1]
-                best = toppra_duration(chain, t, q, np.array(lim.tau), lim.qd)
-                rows.append((name, kind, T, violations, uniform, w1, w4, best))
-                print(f"{name} {kind}: as given {T:.3f} s ({violations}), uniform {uniform:.3f}, window R=1 "
-                      f"{w1:.3f} ({100 * (w1 / best - 1):+.1f}%), R=4 {w4:.3f} ({100 * (w4 / best - 1):+.1f}%), "
-                      f"TOPP-RA {best:.3f}", flush=True)
+        for name, kind, T, program, path, limits, best in paths(Path(tmp)):
+            uniform, _ = lookahead(program, path, limits, "--retime", "uniform")
+            w1, text = lookahead(program, path, limits, "--retime", "window")
+            w4, _ = lookahead(program, path, limits, "--retime", "window", "--futures", "4")
+            violations = text.splitlines()[0].split(": ")[-1]
+            rows.append((name, kind, T, violations, uniform, w1, w4, best))
+            print(f"{name} {kind}: as given {T:.3f} s ({violations}), uniform {uniform:.3f}, window R=1 "
+                  f"{w1:.3f} ({100 * (w1 / best - 1):+.1f}%), R=4 {w4:.3f} ({100 * (w4 / best - 1):+.1f}%), "
+                  f"TOPP-RA {best:.3f}", flush=True)
     print("\n| robot | path | as given (s) | violations as given (row, joint) | uniform (s) | window R = 1 (s) | "
           "window R = 4 (s) | TOPP-RA (s) |")
     print("|---|---|---|---|---|---|---|---|")
@@ -132,29 +138,15 @@ def table() -> None:
 
 def sweep(futures: list[int]) -> None:
     """Per path: `--retime window` over TOPP-RA for --window 64 and each --futures R."""
-    from vampc.lookahead import limits_of
-    from vampc.robot import load_robot
     print("| robot | path | TOPP-RA (s) | " + " | ".join(f"R = {r} ({64 * r} rows)" for r in futures) + " |")
     print("|---|---|---|" + "---|" * len(futures))
     with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
-        for name, spec in ROBOTS.items():
-            program = tmp / (spec["source"].stem + ".vamp.json")
-            subprocess.run(["vampc", "compile", str(spec["source"]), "-o", str(program)], check=True,
-                           capture_output=True)
-            chain = load_robot(str(spec["source"]))
-            chain = getattr(chain, "chain", chain)
-            lim = limits_of(chain, str(spec["limits"]) if spec["limits"] else None)
-            for kind, T in spec["T"].items():
-                t, q, qd, qdd = make_path(kind, T, spec["dq"], spec["amp"])
-                path = tmp / f"{spec['source'].stem}-{kind}.csv"
-                write_path(path, t, q, qd, qdd)
-                best = toppra_duration(chain, t, q, np.array(lim.tau), lim.qd)
-                cells = []
-                for r in futures:
-                    took, _ = lookahead(program, path, spec["limits"], "--retime", "window", "--futures", str(r))
-                    cells.append(f"{100 * (took / best - 1):+.1f}%")
-                print(f"| {name} | {kind} | {best:.3f} | " + " | ".join(cells) + " |", flush=True)
+        for name, kind, _, program, path, limits, best in paths(Path(tmp)):
+            cells = []
+            for r in futures:
+                took, _ = lookahead(program, path, limits, "--retime", "window", "--futures", str(r))
+                cells.append(f"{100 * (took / best - 1):+.1f}%")
+            print(f"| {name} | {kind} | {best:.3f} | " + " | ".join(cells) + " |", flush=True)
 
 
 def speed(rows: int, repeats: int = 3) -> None:

@@ -875,10 +875,8 @@ def _lookahead_outputs(outs: dict, chain, traj, times, res) -> dict:
     from vampc.emulator.trajectory import csv_line, format_rows, header, torque_columns
     from vampc.robot.mimic import free_names, n_free, reduce_states, reduce_torques
     path, t = traj, times
-    if res.k is not None:
-        path, t = res.retimed, times[0] + (times - times[0]) * res.k     # t' = t0 + k (t - t0)
-    elif res.retimed is not None:
-        path, t = res.retimed, times[0] + res.retimed_t
+    if res.retimed is not None:
+        path, t = res.retimed, res.new_times(times)
     content = {}
     if "-o" in outs:
         parts = reduce_states(chain, path.q, path.qd, path.qdd)

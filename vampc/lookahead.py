@@ -102,6 +102,13 @@ class Lookahead:
     effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
     retimed_effort: np.ndarray | None = None  # the same, retimed
 
+    def new_times(self, times: np.ndarray) -> np.ndarray:
+        """The retimed rows' times, from the path's first time (`times`: the rows' as given):
+        uniform t' = t0 + k (t - t0); window t0 + the planned times."""
+        if self.k is not None:
+            return times[0] + (times - times[0]) * self.k
+        return times[0] + self.retimed_t
+
     @property
     def margin(self) -> float:
         """How much (of each) inside the effort limits a retiming plans: rounding, the word's error."""
@@ -528,8 +535,7 @@ def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: s
     panels = n + (res.retimed is not None)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 1.6 * panels + 0.8), sharex=True, squeeze=False)
     if res.retimed is not None:
-        new_t = (times[0] + (times - times[0]) * res.k if res.k is not None else
-                 times[0] + res.retimed_t)
+        new_t = res.new_times(times)
         label = (f"uniform (k = {res.k_closed_form:.4g})" if res.k is not None else
                  f"window ({res.ahead_rows} rows ahead)")
     for j, ax in enumerate(axes[:n, 0]):
