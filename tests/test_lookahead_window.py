@@ -38,6 +38,17 @@ def bump_path(T: float = 0.6, centre: float = 0.3):
     return t, q, qd, qdd
 
 
+def affine_parts():
+    """a, b, c of the bump path's rows by the reference dynamics (the window plan's inputs), its
+    q', and the limits (the flange's speed limited too)."""
+    chain = load_robot(PUMA)
+    _, q, qd, qdd = bump_path()
+    z = np.zeros_like(q)
+    c = rnea(chain, q, z, z)
+    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
+    return a, b, c, qd, Limits(tuple(LIM), (None,) * 5 + (4.0,))
+
+
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     folder = tmp_path_factory.mktemp("law")
@@ -103,12 +114,7 @@ def test_the_retimed_rows_torques_are_emulates_bit_for_bit(setup):
 def test_a_decision_depends_on_no_row_beyond_the_look_ahead():
     """x at row j + 1 is decided at step j from rows j .. j + ahead - 1: changing every row from K on
     leaves x[0 .. K - ahead + 1] as it was, and changes later ones."""
-    chain = load_robot(PUMA)
-    _, q, qd, qdd = bump_path()
-    z = np.zeros_like(q)
-    c = rnea(chain, q, z, z)
-    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
-    limits = Limits(tuple(LIM), (None,) * 5 + (4.0,))
+    a, b, c, qd, limits = affine_parts()
     ahead, K = 64, 300
     x, _, _ = window_plan(a, b, c, qd, limits, ahead, 1 / RATE)
     b2 = b.copy()
@@ -154,13 +160,8 @@ def test_the_summary_says_what_the_look_ahead_costs(setup):
         if window == rows:                # the whole path in view: the window's plan is the optimum
             assert abs(out[-1, 0] - best) <= 1e-6 * best and cost == 0.0
     assert costs[0] > 1.0                 # 64 rows cost something on this path
-    chain = load_robot(PUMA)
-    _, q, qd, qdd = bump_path()
-    z = np.zeros_like(q)
-    c = rnea(chain, q, z, z)
-    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
-    lim = Limits(tuple(LIM), (None,) * 5 + (4.0,))
-    for whole, one_pass in zip(window_plan(a, b, c, qd, lim, len(q), 1 / RATE),
+    a, b, c, qd, lim = affine_parts()
+    for whole, one_pass in zip(window_plan(a, b, c, qd, lim, len(qd), 1 / RATE),
                                optimal_plan(a, b, c, qd, lim, 1 / RATE)):
         assert np.array_equal(whole, one_pass)
 
