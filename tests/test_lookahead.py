@@ -538,6 +538,13 @@ def test_coupled_mimic_joints_are_limited_at_their_leaders_motor(tmp_path):
     retimed = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:]
     assert np.all(np.abs(retimed) <= lim) and np.max(np.abs(retimed[:, 4])) > 0.999 * lim[4]
     assert re.search(r"retimed: .*wrist_2_joint 1\b", r.output), r.output
+    assert "warning" not in r.output
+    # the follower's effort limit given too: not used, and said so
+    limits.write_text(limits.read_text() + "wrist_3_joint,5,\n")
+    r = CliRunner().invoke(main, ["lookahead", str(urdf), "--mimic", "couple", "--trajectory", str(path),
+                                  "--rate", "1kHz", "--window", "32", "--limits", str(limits)])
+    assert r.exit_code == 0 and "joint 'wrist_3_joint' follows another (--mimic couple) and has no motor: " \
+        "its effort limit is not used" in r.output, r.output
 
 
 def test_limits_are_blamed_on_the_file_they_came_from_and_a_trailing_empty_header_cell_is_taken(

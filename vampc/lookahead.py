@@ -130,6 +130,14 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     if path is not None:
         tau, qd, given = _read_limits(path, chain, tau, qd)
     free = set(free_joints(chain).tolist())
+    unused = [chain.joints[i].name for i, what in sorted(given) if what == "effort" and i not in free]
+    if unused:                        # a value the file gives is never dropped without a word
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"{path}: joint '{unused[0]}' follows another (--mimic couple) and "
+                                   "has no motor: its effort limit is not used (its leader's motor "
+                                   "carries its torque, bounded by the leader's limit)"), stacklevel=2)
     tau = [t if i in free else 0.0 for i, t in enumerate(tau)]      # (a follower: no motor)
     missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
     where = path or source or chain.source or chain.name
