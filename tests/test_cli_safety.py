@@ -987,3 +987,28 @@ def test_a_summary_that_cannot_be_said_leaves_no_temporary_file(tmp_path):
     assert proc.wait(timeout=120) == 1, err
     assert "cannot write to standard output" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_after_the_outputs_are_in_place_the_console_script_ignores_signals_to_its_end(monkeypatch):
+    """The console script's process ends with its command: once its outputs were put in place, a
+    SIGTERM during Python's teardown killed it (exit 143, the files whole: a new user's run). Its
+    handlers are then left ignoring signals; a library caller gets its own back."""
+    import signal
+
+    from vampc import errors
+    before = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
+    try:
+        for leaving in (True, False):
+            monkeypatch.setattr(errors, "LEAVING_AFTER_COMMAND", leaving)
+            restore = errors.terminate_like_interrupt()
+            errors.committing()
+            restore()
+            for sig, old in before.items():
+                assert signal.getsignal(sig) == (signal.SIG_IGN if leaving else old)
+                signal.signal(sig, old)
+            restore = errors.terminate_like_interrupt()      # nothing committed: put back
+            restore()
+            assert all(signal.getsignal(s) == old for s, old in before.items())
+    finally:
+        for sig, old in before.items():
+            signal.signal(sig, old)

@@ -118,8 +118,16 @@ def terminate_like_interrupt():
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         previous[signal.SIGINT] = signal.signal(signal.SIGINT, ctrl_c)
     def restore():
+        # the console script's process ends with its command: once the outputs were put in place,
+        # a signal during Python's teardown must not kill it either (it did, exit 143)
+        leaving = _committing and LEAVING_AFTER_COMMAND
         for sig, old in previous.items():
-            signal.signal(sig, old)
+            signal.signal(sig, signal.SIG_IGN if leaving else old)
         _terminated.clear()          # a signal belongs to the command it ended, not to the next one
         _committing.clear()
     return restore
+
+
+# Set by the console script (vampc.launch): the process ends when its command does. Library callers
+# (tests running commands in process) get their own signal handlers back after each command.
+LEAVING_AFTER_COMMAND = False

@@ -30,6 +30,8 @@ def main() -> None:
     except KeyboardInterrupt:
         sys.stderr.write("vampc: interrupted\n")
         sys.exit(130)
+    from vampc import errors
+    errors.LEAVING_AFTER_COMMAND = True       # (signals after the outputs are in place: ignored)
     try:
         command_line()
     except SystemExit as done:
