@@ -369,3 +369,20 @@ def test_a_reader_that_goes_away_or_a_full_disk_is_one_line(command):
                                   stderr=subprocess.PIPE, text=True, env=env)
         assert done.returncode == 1 and done.stderr == \
             "vampc: error: cannot write to standard output: No space left on device\n"
+
+
+def test_numbers_a_loader_combines_past_a_float_are_one_line(tmp_path):
+    """Each number of the file finite, but a fixed link merged at an offset of 1e200 gives an
+    infinite inertia: one line naming the file and joint (it was 'a bug in vampc', exit 3); a DH
+    table whose torques overflow gives precision's one line (an OverflowError traceback)."""
+    from pathlib import Path
+    urdf = tmp_path / "big.urdf"
+    urdf.write_text(Path("examples/arm6.urdf").read_text().replace('xyz="0.10 0.06 0.03"',
+                                                                    'xyz="1e200 0.06 0.03"', 1))
+    code, err, _ = run("compile", urdf, "-o", tmp_path / "big.vamp.json")
+    assert code == 1 and one_line(err) and f"{urdf}: joint 'shoulder': its link's inertia is not a " \
+        "finite number" in err, err
+    dh = tmp_path / "huge.yaml"
+    dh.write_text(Path("examples/planar2.yaml").read_text().replace("a: 0.5", "a: 1.0e+160", 1))
+    code, err, _ = run("precision", dh, "--sets", 10)
+    assert code == 1 and one_line(err) and "the reference torques of random states are not finite" in err, err

@@ -612,7 +612,11 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     traj = random_states(chain, 0, own.sets, 0)        # accelerations within ±1: scaled to ±A
     traj = replace(traj, qdd=traj.qdd * own.acceleration)
-    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    with np.errstate(all="ignore"):
+        ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    if not np.all(np.isfinite(ref)):
+        raise VampcError(f"{source}: the reference torques of random states are not finite numbers "
+                         "(the robot's numbers overflow a float): no word holds them")
     scale = max(float(np.abs(ref).max(initial=0.0)), 1e-12)
     rows = []
     for bits in own.widths():

@@ -152,6 +152,8 @@ def fitted(graph: Graph, chain: Chain, bits: int, rounding_mode: Rounding,
     for integer in range(1, bits + 1):
         word = Fixed(integer, bits - integer, rounding_mode)
         analysis = analyse(graph, chain, word, ranges)
+        if not np.isfinite(analysis.peak):            # (no word of any width holds it)
+            return None
         if integer_bits(analysis.peak, word.fraction) <= integer:
             return word, analysis
     return None

@@ -36,11 +36,31 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
     freeze joints of a URDF tree; `floating` lets the base float (vampc.robot.chain); `mimic` says how
     a URDF's mimic joints are read and `accept_improper_inertia` whether an inertia that is not
     positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
+    import numpy as np
+    with np.errstate(over="ignore", invalid="ignore"):      # (overflows are said below, by joint)
+        chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia)
+    _check_finite(chain, path)
+    return chain
+
+
+def _check_finite(chain: Chain, path) -> None:
+    """VampcError naming the first joint whose link data is not a finite number: a file's numbers
+    each finite can overflow when a loader combines them (a fixed link merged into its parent at an
+    offset of 1e200 gave an infinite inertia, reported as a bug in vampc)."""
+    import numpy as np
+    for j in chain.joints:
+        for label, value in (("position", j.p_fixed), ("mass", j.mass), ("centre of mass", j.com),
+                             ("inertia", j.inertia), ("shift", j.shift)):
+            if value is not None and not np.all(np.isfinite(value)):
+                raise located(path, f"joint '{j.name}'", f"its link's {label} is not a finite number "
+                              "once the file's links are combined (numbers too large for a float)")
+
+
+def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improper_inertia: bool):
     from vampc.robot.dh import load_dh
     from vampc.robot.mjcf import is_mjcf, load_mjcf
     from vampc.robot.urdf import load_urdf
     from vampc.sniff import looks_like, suffix_mismatch
-    path = Path(path)
     suffix = path.suffix.lower()
     if suffix in URDF_SUFFIXES + YAML_SUFFIXES + JSON_SUFFIXES:
         mismatch = suffix_mismatch(path, "urdf" if suffix in URDF_SUFFIXES else "dh")
