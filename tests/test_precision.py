@@ -98,3 +98,11 @@ def test_precision_analyses_the_rounding_asked_for():
 def test_an_option_precision_does_not_use_is_refused(option):
     res = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), *option])
     assert res.exit_code == 2 and f"{option[0]} does not apply to vampc precision" in res.stderr
+
+
+@pytest.mark.parametrize("args", [["--layout", "folded"], ["--vamps", "5"], ["--bus", "mlb"],
+                                  ["--mult-latency", "3"], ["--error-correction"]])
+def test_network_options_do_not_apply(args):
+    """They were taken and the table was the same (a new user's run): the errors are the graph's."""
+    r = CliRunner().invoke(main, ["precision", "examples/planar2.yaml", "--sweep", "20:20", "--sets", "20", *args])
+    assert r.exit_code == 2 and f"{args[0]} does not apply to vampc precision" in r.output, r.output

@@ -607,6 +607,13 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                       ("overflow", "it names words nothing can overflow in")):
         if name in options.given:
             raise VampcUsageError(f"--{name} does not apply to vampc precision: {why}")
+    from vampc.options import flag
+    for name in ("layout", "share_passes", "vamps", "interval", "exact", "bus", "tiers",
+                 "mult_latency", "add_latency", "error_correction", "check_cycles"):
+        if name in options.given:     # (they were taken, and the table was the same)
+            raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: its errors are "
+                                  "the graph's (the recursion's and prefix's), whatever network, "
+                                  "timing or checking computes it")
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
