@@ -41,14 +41,16 @@ def test_snake64_stream_and_tick():
     assert np.array_equal(stream.tau[:40], tick.tau)
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# 8 draws and 20 sets through the tick engine (12 and 60 took 6.2 s of the suite; every run draws
+# new chains, and the tick engine's sets are bit for bit the stream engine's after its first few)
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(n=st.integers(1, 40), seed=st.integers(0, 10**6), frac=st.sampled_from([0.0, 0.3, 0.7]))
 def test_random_chains_both_engines(n, seed, frac):
     chain = random_chain(n, seed, prismatic_fraction=frac, endpoints=seed % 2 == 0)
     ld = loaded(chain)
-    traj, stream, tick = run_both(ld, 1000, seed=seed, tick_count=60)
+    traj, stream, tick = run_both(ld, 1000, seed=seed, tick_count=20)
     _assert_exact(traj, chain, stream.tau)
-    assert np.array_equal(stream.tau[:60], tick.tau)
+    assert np.array_equal(stream.tau[:20], tick.tau)
 
 
 def test_reference_is_independent_of_emulator_inputs():
