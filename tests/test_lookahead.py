@@ -33,6 +33,13 @@ def write_path(folder, t, q, qd, qdd, name="path.csv"):
     return path
 
 
+def run_lookahead(program, path, limits, *extra):
+    """`vampc lookahead PROGRAM --trajectory PATH --rate 1kHz --window 64 --limits LIMITS EXTRA...`,
+    in process: the click Result."""
+    return CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                     "--window", "64", "--limits", str(limits), *map(str, extra)])
+
+
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     folder = tmp_path_factory.mktemp("la")
@@ -57,8 +64,7 @@ def test_every_rows_torques_are_emulates_bit_for_bit(setup):
 
 def test_violations_are_seen_window_minus_one_rows_ahead(setup):
     folder, program, limits, path = setup
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits)])
+    r = run_lookahead(program, path, limits)
     assert r.exit_code == 0, r.output
     chain = load_robot(PUMA)
     t, q, qd, qdd = sine_path()
@@ -82,9 +88,7 @@ def test_a_row_is_seen_when_it_enters_the_register():
 def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setup):
     folder, program, limits, path = setup
     out = folder / "retimed.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform", "--check",
-                                  "-o", str(out)])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "--check", "-o", str(out))
     assert r.exit_code == 0, r.output
     k = float(re.search(r"k = (\S+) \(closed form", r.output).group(1))
     chain = load_robot(PUMA)
@@ -223,9 +227,7 @@ def test_a_path_outside_the_position_limits_runs_when_allowed_and_starts_where_i
     q[2, 2] = 3.0
     path = write_path(tmp_path, t + 5.0, q, qd, qdd)
     out = tmp_path / "u.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform", "-o", str(out),
-                                  "--allow-out-of-limits"])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "-o", str(out), "--allow-out-of-limits")
     assert r.exit_code == 0, r.output
     k = float(re.search(r"k = (\S+) \(closed form; used (\S+),", r.output)[2])
     got = np.loadtxt(out, delimiter=",", skiprows=1)[:, 0]
@@ -250,9 +252,7 @@ def test_the_plot_has_a_panel_per_joint_with_its_limits_and_one_of_the_speed(set
     import xml.etree.ElementTree as ET
     folder, program, limits, path = setup
     out = tmp_path / "torques.svg"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
-                                  "--plot", str(out)])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "--plot", str(out))
     assert r.exit_code == 0, r.output
     root = ET.parse(out).getroot()
     ids = [g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")]
@@ -267,8 +267,7 @@ def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path
     folder, _, limits, path = setup
     program = tmp_path / "q.vamp.json"
     assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--check"])
+    r = run_lookahead(program, path, limits, "--check")
     assert r.exit_code == 0 and "tolerance 0.001: OK" in r.output, r.output
 
 
@@ -283,9 +282,8 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
     path = write_path(tmp_path, t, q, qd, qdd)
     out, tau = tmp_path / "out.csv", tmp_path / "tau.csv"
     tau.write_text("before\n")
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--torques", str(tau), *retime]
-                           + (["-o", str(out)] if retime else []))
+    r = run_lookahead(program, path, limits, "--torques", str(tau), *retime,
+                      *(["-o", str(out)] if retime else []))
     assert r.exit_code == 1, r.output
     assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow: the robot.s or the state.s numbers are too large\)", r.output)
     assert "wrote no output file" in r.output and len(r.output.strip().splitlines()) == 1, r.output
@@ -306,8 +304,7 @@ def test_a_limits_file_that_says_two_things_is_refused(setup, tmp_path, text, me
     folder, program, _, path = setup
     limits = tmp_path / "lim.csv"
     limits.write_text(text)
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits)])
+    r = run_lookahead(program, path, limits)
     assert r.exit_code == 1 and re.search(r"lim\.csv: " + message, r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
 
@@ -328,9 +325,7 @@ def test_two_outputs_naming_one_file_are_one_error(setup, tmp_path, second):
     """-o and --torques naming one file exited 2, -o and --plot 1: both are the output rule's error."""
     folder, program, limits, path = setup
     same = tmp_path / "a.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
-                                  "-o", str(same), second, str(same)])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "-o", str(same), second, str(same))
     assert r.exit_code == 1 and re.search(rf"a\.csv: {second} and -o name the same file", r.output), r.output
     assert not same.exists()
 
@@ -345,9 +340,8 @@ def test_an_interrupt_while_the_outputs_are_made_leaves_every_file_as_it_was(set
     folder, program, limits, path = setup
     out, tau = tmp_path / "out.csv", tmp_path / "tau.csv"
     out.write_text("before\n")
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
-                                  "-o", str(out), "--torques", str(tau), "--plot", str(tmp_path / "p.svg")])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "-o", str(out), "--torques", str(tau),
+                      "--plot", str(tmp_path / "p.svg"))
     assert r.exit_code != 0
     assert out.read_text() == "before\n" and not tau.exists() and not (tmp_path / "p.svg").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]          # no temporary left
@@ -399,9 +393,7 @@ def test_gravity_near_a_limit_is_planned_inside_it_or_refused(setup, tmp_path, r
     limits = tmp_path / "lim.csv"
     limits.write_text(LIMITS.replace("shoulder,60,", f"shoulder,{shoulder!r},"))
     out = tmp_path / "out.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", retime,
-                                  "--check", "-o", str(out)])
+    r = run_lookahead(program, path, limits, "--retime", retime, "--check", "-o", str(out))
     if refused:
         how = "beyond its limit" if above < 0 else r"closer to its limit \S+ than 1e-09 of it"
         assert r.exit_code == 1 and re.search(rf"row \d+: joint 'shoulder' needs \S+ at rest \(gravity "
@@ -486,9 +478,7 @@ def test_the_summary_gives_each_joints_worst_torque_over_its_limit_before_and_af
     against the reference dynamics of the path and of the retimed path written."""
     folder, program, limits, path = setup
     out = folder / "worst.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "uniform",
-                                  "-o", str(out)])
+    r = run_lookahead(program, path, limits, "--retime", "uniform", "-o", str(out))
     assert r.exit_code == 0, r.output
     chain = load_robot(PUMA)
     lim = np.array([10, 60, 20, 1, 1, 1.0])
@@ -562,6 +552,5 @@ def test_limits_are_blamed_on_the_file_they_came_from_and_a_trailing_empty_heade
     r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(own)])
     assert r.exit_code == 1 and f"{robot}: joint 'waist': speed limit 1e-13 is below 1e-12" in r.output, r.output
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(own)])
+    r = run_lookahead(program, path, own)
     assert r.exit_code == 0, r.output
