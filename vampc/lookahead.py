@@ -138,10 +138,10 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
         warnings.warn(VampcWarning(f"{path}: joint '{unused[0]}' follows another (--mimic couple) and "
                                    "has no motor: its effort limit is not used (its leader's motor "
                                    "carries its torque, bounded by the leader's limit)"), stacklevel=2)
-    tau = [t if i in free else 0.0 for i, t in enumerate(tau)]      # (a follower: no motor)
-    missing = [j.name for j, t in zip(chain.joints, tau) if t is None]
-    where = path or source or chain.source or chain.name
+    motors = sorted(free)              # (a follower has no motor, and needs no effort limit)
+    missing = [chain.joints[i].name for i in motors if tau[i] is None]
     if missing:
+        where = path or source or chain.source or chain.name
         raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
                          + "; give --limits FILE (README, vampc lookahead)")
@@ -153,7 +153,7 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
                 raise VampcError(f"{came}: joint '{j.name}': {what} limit {x:g} is below "
                                  f"{SMALLEST_LIMIT:g}: too small to scale time by (the scaling "
                                  "would not fit a float)")
-    return Limits(tuple(float(tau[i]) for i in sorted(free)),
+    return Limits(tuple(float(tau[i]) for i in motors),
                   tuple(None if v is None else float(v) for v in qd))
 
 
@@ -531,9 +531,9 @@ def ahead(row: int, window: int) -> tuple[int, int]:
 
 
 def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
-    """Per motor (`joints`: the chain's independent joints), torque over time against ±its limit, in its unit (N·m
-    revolute, N prismatic): the path as given, and the retimed one (its own time axis) when there
-    is one, with a last panel of the speed ṡ over time. SVG text."""
+    """Per motor (`joints`: the chain's independent joints), torque over time against ±its limit,
+    in its unit (N·m revolute, N prismatic): the path as given, and the retimed one (its own time
+    axis) when there is one, with a last panel of the speed ṡ over time. SVG text."""
     import io
 
     import matplotlib
