@@ -1012,3 +1012,21 @@ def test_after_the_outputs_are_in_place_the_console_script_ignores_signals_to_it
     finally:
         for sig, old in before.items():
             signal.signal(sig, old)
+
+
+def test_an_output_that_cannot_be_put_in_place_leaves_no_temporary_of_the_others(tmp_path, monkeypatch):
+    """vampc.outputs.write_together: the second of three renames fails (a full or read-only
+    folder): one line, and the third output's temporary file is dropped too (it stayed)."""
+    from vampc.outputs import output_for, write_together
+    real, calls = os.replace, []
+
+    def replace(a, b):
+        calls.append(b)
+        if len(calls) == 2:
+            raise OSError(28, "No space left on device")
+        real(a, b)
+    monkeypatch.setattr(os, "replace", replace)
+    outs = [output_for(tmp_path / f"{k}.txt") for k in range(3)]
+    with pytest.raises(Exception, match=r"1\.txt: cannot write x: No space left on device"):
+        write_together([(out, "new\n", "x") for out in outs])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["0.txt"]

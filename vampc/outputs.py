@@ -286,8 +286,13 @@ def write_together(items) -> None:
         for p in pending:
             p.discard()
         raise
-    for p in pending:
-        p.commit()
+    for k, p in enumerate(pending):
+        try:
+            p.commit()
+        except BaseException:         # (one that cannot be put in place: drop the others' temporaries)
+            for rest in pending[k + 1:]:
+                rest.discard()
+            raise
 
 
 def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
