@@ -313,8 +313,8 @@ def check_parallel(options) -> None:
     """--workers and --scheduler against each other (report --tradeoff, faults)."""
     if options.scheduler is not None and not options.scheduler.strip():
         raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
-    scheme = (options.scheduler or "").partition("://")[0] if "://" in (options.scheduler or "") else None
-    if scheme is not None and scheme.lower() not in DASK_SCHEMES:
+    scheme, sep, _ = (options.scheduler or "").partition("://")
+    if sep and scheme.lower() not in DASK_SCHEMES:
         raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// is not a Dask address; "
                               f"give {', '.join(s + '://' for s in DASK_SCHEMES)} (tcp://HOST:8786) "
                               "or HOST:PORT")
