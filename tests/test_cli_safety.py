@@ -1030,3 +1030,44 @@ def test_an_output_that_cannot_be_put_in_place_leaves_no_temporary_of_the_others
     with pytest.raises(Exception, match=r"1\.txt: cannot write x: No space left on device"):
         write_together([(out, "new\n", "x") for out in outs])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["0.txt"]
+
+
+CLOSED_STDOUT = """
+import json, sys
+from vampc import launch
+assert sys.stdout is None               # (descriptor 1 closed before Python started)
+for argv in json.loads(sys.argv[1]):
+    sys.argv = ["vampc", *argv]
+    try:
+        launch.main()
+        code = 0
+    except SystemExit as done:
+        code = done.code
+    print(f"exit {code}", file=sys.stderr, flush=True)
+"""
+
+
+def test_a_result_for_a_closed_standard_output_is_an_error_before_any_work(tmp_path):
+    """With standard output closed (`vampc report ... >&-`: Python starts with sys.stdout None), a
+    command whose result goes there says so, exit 1, instead of dropping the report with exit 0
+    (report, precision, faults, the trade-off) or an internal error (`-o -`); it writes nothing. A
+    compile to a file still runs: its summary line is not its result."""
+    import subprocess
+    import sys
+    program = tmp_path / "p.vamp.json"
+    runs = [["report", str(PLANAR), "--timing", str(tmp_path / "timing.svg")],
+            ["report", str(PLANAR), "--tradeoff"],
+            ["precision", str(PLANAR)],
+            ["compile", str(PLANAR), "-o", "-"],
+            ["compile", str(PLANAR), "-o", str(program)],
+            ["emulate", str(program), "--random", "3", "-o", "-"],
+            ["faults", str(program), "--results", str(tmp_path / "r.jsonl")]]
+    done = subprocess.run([sys.executable, "-c", CLOSED_STDOUT, json.dumps(runs)], stderr=subprocess.PIPE,
+                          text=True, timeout=300, preexec_fn=lambda: os.close(1))
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.splitlines()
+    assert [line for line in lines if line.startswith("exit ")] == ["exit 1"] * 4 + ["exit 0"] + ["exit 1"] * 2
+    said = [line for line in lines if not line.startswith("exit ")]
+    assert len(said) == len(runs) - 1, lines
+    assert all(ERROR.match(line + "\n") and "standard output is closed" in line for line in said), said
+    assert program.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["p.vamp.json"]

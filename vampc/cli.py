@@ -35,7 +35,7 @@ from vampc.options import (
     RobotOptions,
     RtlOptions,
 )
-from vampc.outputs import discard_all
+from vampc.outputs import discard_all, need_stdout
 
 
 def handle_errors(f):
@@ -178,6 +178,7 @@ def report(ctx, source, **params):
     schedule and network). Pictures and pages go to the files named. With --tradeoff: the
     trade-off sweep instead."""
     from vampc.commands import report_command
+    need_stdout("vampc report")
     say(report_command(source, build(ReportOptions, ctx, params), build(CompileOptions, ctx, params),
                        build(RobotOptions, ctx, params), params), nl=False)
 
@@ -191,6 +192,7 @@ def precision(ctx, source, **params):
     """The narrowest fixed-point word for SOURCE: per width, the torque error bound analysed from the
     joint limits and the error observed on random states (README, Word formats)."""
     from vampc.commands import precision_command
+    need_stdout("vampc precision")
     say(precision_command(source, build(PrecisionOptions, ctx, params), build(
         CompileOptions, ctx, params), build(RobotOptions, ctx, params), params), nl=False)
 
@@ -221,6 +223,8 @@ def faults(ctx, source, **params):
     program compiled with --error-correction the checking of section VII runs (README, Error
     correction)."""
     from vampc.commands import faults_command
+    if params.get("output") in (None, "-"):
+        need_stdout("vampc faults")
     faults_command(source, build(FaultsOptions, ctx, params), build(CompileOptions, ctx, params),
                    build(RobotOptions, ctx, params), params, say)
 
@@ -236,6 +240,9 @@ def rtl(ctx, source, **params):
     SOURCE: a program compiled with a fixed-point word (--word qI.F), a program in another word
     given --word qI.F here, or a robot file compiled here with --word qI.F (README, RTL)."""
     from vampc.commands import rtl_command
+    if (params.get("cosim") is not None or params.get("synth") is not None) and \
+            params.get("output") != "-":        # their verdict and figures are its result
+        need_stdout("vampc rtl")
     if not rtl_command(source, build(RtlOptions, ctx, params), build(CompileOptions, ctx, params),
                        build(RobotOptions, ctx, params), params, say):
         sys.exit(1)

@@ -76,6 +76,7 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     if path == STDOUT:
         if option not in stdout_ok:
             raise VampcUsageError(f"{option} -: standard output is not available for this output")
+        need_stdout(f"{option} -")
         return PlannedOutput(option, path, "stdout", None)
     target = Path(os.path.realpath(path))
     try:
@@ -101,6 +102,16 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
     _probe_folder(path, target.parent)
     return PlannedOutput(option, path, "file", target)
+
+
+def need_stdout(what: str) -> None:
+    """VampcError when standard output is closed (Python starts with sys.stdout None when its file
+    descriptor 1 is: `vampc report ... >&-`) and `what`, the command's result, would go there: said
+    before any work, instead of a result dropped with exit status 0. The lines a command prints
+    beside its files (a compile's summary) are not its result, and are dropped then."""
+    if sys.stdout is None:
+        raise VampcError(f"{what}: standard output is closed, so the result has nowhere to go "
+                         "(redirect it to a file, or to /dev/null to drop it)")
 
 
 def _is_stdout(path: str) -> bool:
