@@ -106,3 +106,18 @@ def test_network_options_do_not_apply(args):
     """They were taken and the table was the same (a new user's run): the errors are the graph's."""
     r = CliRunner().invoke(main, ["precision", "examples/planar2.yaml", "--sweep", "20:20", "--sets", "20", *args])
     assert r.exit_code == 2 and f"{args[0]} does not apply to vampc precision" in r.output, r.output
+
+
+def test_the_options_precision_refuses_are_not_in_its_help():
+    """Its --help listed --word, --layout, --vamps and the other compile options it refuses (a
+    reader took them for choices); each name refused is a compile option (a misspelt one would
+    refuse nothing), and the help still lists what it takes (--rounding, --recursion)."""
+    from dataclasses import fields
+
+    from vampc.options import PRECISION_REFUSES
+    names = {f.name for f in fields(CompileOptions)}
+    assert set(PRECISION_REFUSES) <= names
+    text = CliRunner().invoke(main, ["precision", "--help"]).output
+    for name in PRECISION_REFUSES:
+        assert f"--{name.replace('_', '-')} " not in text and f"--{name.replace('_', '-')}\n" not in text, name
+    assert "--rounding" in text and "--recursion" in text

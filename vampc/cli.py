@@ -25,6 +25,7 @@ from vampc.errors import (
     terminate_like_interrupt,
 )
 from vampc.options import (
+    PRECISION_REFUSES,
     CompileCommand,
     CompileOptions,
     EmulateOptions,
@@ -185,7 +186,7 @@ def report(ctx, source, **params):
 
 @main.command()
 @click.argument("source", type=FilePath(dir_okay=False))
-@options_of(PrecisionOptions, CompileOptions, RobotOptions)
+@options_of(PrecisionOptions, CompileOptions, RobotOptions, hidden=PRECISION_REFUSES)
 @click.pass_context
 @handle_errors
 def precision(ctx, source, **params):

@@ -39,8 +39,10 @@ class Choices(click.Choice):
         pass
 
 
-def options_of(*classes):
-    """Decorator: one click option per field of the option classes (vampc.options)."""
+def options_of(*classes, hidden=()):
+    """Decorator: one click option per field of the option classes (vampc.options). Fields named
+    in `hidden` are left out of --help (a command that refuses them: they still parse, so giving
+    one is that command's usage error, not click's "no such option")."""
     def decorate(f):
         for cls in reversed(classes):
             for fl in reversed(cli_fields(cls)):
@@ -54,6 +56,8 @@ def options_of(*classes):
                     kw["type"] = FilePath(dir_okay=False, allow_dash=kw.pop("dash", False))
                 if fl.type in (bool, "bool") and "/" not in decls[0]:
                     kw["is_flag"] = True
+                if fl.name in hidden:
+                    kw["hidden"] = True
                 value = default(fl)
                 value = value.value if isinstance(value, enum.Enum) else value
                 f = click.option(*decls, fl.name, default=value if value != () else None,

@@ -21,6 +21,7 @@ from vampc import jsontext
 from vampc.errors import VampcError, VampcUsageError, VampcWarning
 from vampc.gcpause import gc_paused
 from vampc.options import (
+    PRECISION_REFUSES,
     CompileCommand,
     CompileOptions,
     EmulateOptions,
@@ -603,17 +604,9 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.machine.arith import Rounding
     from vampc.precision import Ranges, fitted
     own.check()
-    for name, why in (("word", "it tries every width of --sweep"),
-                      ("overflow", "it names words nothing can overflow in")):
+    for name, why in PRECISION_REFUSES.items():
         if name in options.given:
-            raise VampcUsageError(f"--{name} does not apply to vampc precision: {why}")
-    from vampc.options import flag
-    for name in ("layout", "share_passes", "vamps", "interval", "exact", "bus", "tiers",
-                 "mult_latency", "add_latency", "error_correction", "check_cycles"):
-        if name in options.given:     # (they were taken, and the table was the same)
-            raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: its errors are "
-                                  "the graph's (the recursion's and prefix's), whatever network, "
-                                  "timing or checking computes it")
+            raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: {why}")
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
