@@ -84,9 +84,13 @@ class _Deriver:
             self.emits.append(sorted(((p.delay_r + 1) % self.P, k) for k, p in enumerate(progs)))
         self.ports = [PortSchedule([e.block for e in p.entries], self.K) for p in ld.net.ports]
         self.sources: dict = {}  # (vamp, slot) -> operand_sources, each derived once
-        # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch
-        self.gaps = [tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
+        # per VAMP, per slot: ticks until the next dump, the next A latch and the next B latch (a
+        # one-slot VAMP's, the common case by far: P each, one tuple shared)
+        alone = ((self.P,),) * 3
+        self.gaps = [alone if len(progs) == 1 else
+                     tuple(cyclic_gaps([getattr(p, f) for p in progs], self.P)
                            for f in ("delay_r", "delay_a", "delay_b")) for progs in ld.programs]
+        self._rom_ticks: dict = {}  # ROM pointer -> (duration, reading_end), each worked out once
         bus = ld.net.bus                  # the Mostly-Local Bus: who drives each bus when
         self.drivers = (bus.drivers([b.source for b in ld.net.buffers], self.P)
                         if bus is not None else None)
@@ -150,6 +154,14 @@ class _Deriver:
             out.append(tap)
         return tuple(out)
 
+    def rom_ticks(self, rom: int) -> tuple[int, int]:
+        """(duration, reading_end) of a ROM entry on this program's timing (vampc.machine.interp)."""
+        got = self._rom_ticks.get(rom)
+        if got is None:
+            got = self._rom_ticks[rom] = (duration(rom, self.ld.timing),
+                                          reading_end(rom, self.ld.timing))
+        return got
+
     # --- absolute timing in dataflow order ------------------------------------------------------
     def next_emit(self, v: int, k: int, emit: float) -> float:
         return emit + (self.gaps[v][0][k] or self.P)
@@ -202,7 +214,7 @@ class _Deriver:
         (ta, sa), (tb, sb) = self.operand_sources(v, k)
         t_a, per_a = self.latch(v, k, "A", ta, sa, prog.delay_a, done)
         t_b, per_b = self.latch(v, k, "B", tb, sb, prog.delay_b, done)
-        d = duration(prog.rom, self.ld.timing)
+        d = self.rom_ticks(prog.rom)[0]
         if d > self.P:
             self.fail(v, k, f"a {d}-tick op does not fit a {self.P}-tick period")
         ready = max(t_a, t_b)
@@ -219,7 +231,8 @@ class _Deriver:
         """Operand registers hold what the slot latched until its last reading micro-step."""
         progs = self.ld.programs[v]
         prog = progs[k]
-        reader = last - duration(prog.rom, self.ld.timing) + reading_end(prog.rom, self.ld.timing)
+        d, reading = self.rom_ticks(prog.rom)
+        reader = last - d + reading
         for name, t, gaps, mine in (("A", t_a, self.gaps[v][1], prog.delay_a),
                                     ("B", t_b, self.gaps[v][2], prog.delay_b)):
             gap = gaps[k]

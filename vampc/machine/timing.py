@@ -100,6 +100,7 @@ class PortSchedule:
     def __init__(self, blocks, per_period: int):
         self.K = per_period
         self.order = sorted((b % per_period, j) for j, b in enumerate(blocks))
+        self._blocks = [b for b, _ in self.order]      # (bisected: ints compare faster than pairs)
         gaps = cyclic_gaps([b for b, _ in self.order], per_period)
         self.gap = {j: g or per_period for (_, j), g in zip(self.order, gaps)}   # blocks it shows
 
@@ -108,7 +109,7 @@ class PortSchedule:
         (None for a port without entries, a program port)."""
         if not self.order:
             return None
-        k = bisect_right(self.order, (block % self.K, math.inf)) - 1   # -1: the last, a period ago
+        k = bisect_right(self._blocks, block % self.K) - 1   # -1: the last, a period ago
         return self.order[k][1]
 
 
