@@ -386,3 +386,35 @@ def test_numbers_a_loader_combines_past_a_float_are_one_line(tmp_path):
     dh.write_text(Path("examples/planar2.yaml").read_text().replace("a: 0.5", "a: 1.0e+160", 1))
     code, err, _ = run("precision", dh, "--sets", 10)
     assert code == 1 and one_line(err) and "the reference torques of random states are not finite" in err, err
+
+
+def test_a_picture_never_replaces_the_rtl_figures_it_reads(tmp_path):
+    """`--html F --rtl F` wrote the page over the synthesis figures it had read (exit 0): --rtl is
+    an input like SOURCE."""
+    figures = tmp_path / "rg.json"
+    figures.write_text('{"kept": 1}')
+    code, err, _ = run("report", PLANAR, "--word", "q16.16", "--rtl", figures, "--html", figures)
+    assert code == 1 and one_line(err) and "--html is the input file" in err, err
+    assert figures.read_text() == '{"kept": 1}'
+
+
+@pytest.mark.parametrize("into", ["file", "pipe"])
+def test_a_picture_named_as_standard_output_is_refused(tmp_path, into):
+    """`report --timing /dev/stdout > out.json` replaced the report with the picture (or, into a
+    pipe, mixed the two), exit 0: a path that is standard output's own file is standard output,
+    which pictures may not take, as `--timing -` may not; a terminal or /dev/null is a device and
+    is written as a stream, with no warning about its name."""
+    cmd = [sys.executable, "-m", "vampc.cli", "report", str(PLANAR), "--format", "json", "--timing",
+           "/dev/stdout"]
+    env = {**os.environ, "VAMPC_PROGRESS": "0"}
+    if into == "file":
+        out = tmp_path / "out.json"
+        with open(out, "w") as fh:
+            proc = subprocess.run(cmd, stdout=fh, stderr=subprocess.PIPE, text=True, env=env)
+        assert out.read_text() == ""
+    else:
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        assert proc.stdout == ""
+    assert proc.returncode == 2 and one_line(proc.stderr) and "is standard output" in proc.stderr
+    code, err, out = run("report", PLANAR, "--timing", "/dev/null")
+    assert code == 0 and "warning" not in err and "Table O.1" in out + err

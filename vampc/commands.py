@@ -475,7 +475,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
     if own.tradeoff:
         return tradeoff_command(source, own, options, robot_opts, params)
     hz = own.clock_hz()
-    outs = plan_outputs([source], {flag(name): getattr(own, name) for name in own.PICTURES})
+    outs = plan_outputs([source, own.rtl], {flag(name): getattr(own, name) for name in own.PICTURES})
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
         c, figures, check = _report_compiled(source, options, robot_opts, params)
         try:

@@ -68,7 +68,8 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
                 raise VampcError(f"{path}: {option} and {other.option} name the same file")
         planned[option] = out
     for option, out in planned.items():          # accepted: say when the name misleads
-        _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})})
+        if out.kind == "file":                   # (a device or standard output has no suffix to mind)
+            _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})})
     return planned
 
 
@@ -86,10 +87,15 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         mode = None
     except OSError as exc:
         raise VampcError(f"{path}: cannot write: {exc.strerror}") from None
-    if mode is not None and option in stdout_ok and _is_stdout(path):
+    if mode is not None and _is_stdout(path):
         # /dev/stdout, /proc/self/fd/1: standard output's own file, whatever it is (a pipe, or a
         # file it is appended to, which a rename would replace)
-        return PlannedOutput(option, path, "stdout", None)
+        if option in stdout_ok:
+            return PlannedOutput(option, path, "stdout", None)
+        if not stat.S_ISCHR(mode):      # (a terminal, /dev/null: a stream, as any device)
+            raise VampcUsageError(f"{option} {path}: that is standard output, which carries the "
+                                  "command's own text; standard output is not available for "
+                                  "this output")
     if mode is not None and not stat.S_ISREG(mode):
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
             if not os.access(path, os.W_OK):
