@@ -285,3 +285,56 @@ def test_a_worker_that_dies_keeps_the_runs_finished_and_says_so(programs, tmp_pa
     assert f"the runs finished are kept in {results} (a re-run resumes from them)" in r.output
     kept = results.read_text().splitlines()
     assert 1 <= len(kept) < 9            # a header and the runs finished before (not all eight)
+
+
+def test_a_one_line_file_that_is_no_header_of_ours_is_refused_and_kept(programs, tmp_path):
+    """A file without a newline was taken for a header cut short and replaced (a user's minified
+    JSON, `{"keep":1}`, lost with exit 0); only the start of this campaign's own header is."""
+    ec, _, _ = programs
+    notes = tmp_path / "r.jsonl"
+    notes.write_bytes(b'{"keep":1}')
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(notes)])
+    assert r.exit_code == 1 and "not a results file of vampc faults" in r.output, r.output
+    assert notes.read_bytes() == b'{"keep":1}'
+
+
+def test_a_what_if_word_is_another_campaign(programs, tmp_path):
+    """The results of the program as compiled were read back for `--word q4.28` (the identity was
+    the file's digest alone) and summarised as that word's: a what-if option makes another
+    campaign, whose file is refused; the program as compiled still resumes. (q16.16 and q4.28
+    are both 32-bit words: the same faults, so the same header before.)"""
+    robot = tmp_path / "one.yaml"
+    robot.write_text(ONE_JOINT)
+    ec = tmp_path / "q16.vamp.json"
+    assert RUN(main, ["compile", str(robot), "--word", "q16.16", "--error-correction", "-o",
+                      str(ec)]).exit_code == 0
+    first = _campaign(ec, tmp_path, *QUICK)
+    before = (tmp_path / "r.jsonl").read_bytes()
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--word", "q4.28", "--results",
+                   str(tmp_path / "r.jsonl")])
+    assert r.exit_code == 1 and "another campaign" in r.output, r.output
+    assert (tmp_path / "r.jsonl").read_bytes() == before
+    assert _campaign(ec, tmp_path, *QUICK)["runs"] == first["runs"]
+    assert _campaign(ec, tmp_path, *QUICK, "--word", "q4.28", name="q.jsonl")["runs"]
+
+
+@pytest.mark.parametrize("edit", [('"class": "', '"class": "bogus'), ('"index": 0,', '"index": true,'),
+                                  ('"index": 0,', '"index": 1.5,'), ('"fault": "', '"fault": "x'),
+                                  ('"kind": "', '"kind": 3, "was": "')])
+def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path, edit):
+    """An edited line of the results file was a KeyError traceback (`"class": "bogus"`) or, with
+    `"index": true`, fault 0's run filed as fault 1's, exit 0: every line must be a run of this
+    campaign's list (its index, its fault's text, a class), or the command stops naming it."""
+    ec, _, _ = programs
+    _campaign(ec, tmp_path, *QUICK)
+    path = tmp_path / "r.jsonl"
+    lines = path.read_text().splitlines(keepends=True)
+    assert edit[0] in lines[1]
+    lines[1] = lines[1].replace(edit[0], edit[1], 1)
+    path.write_text("".join(lines))
+    before = path.read_bytes()
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and errors == [f"vampc: error: --results {path}: line 2 is not a run's "
+                                           "result (the file was edited; remove it to start over)"]
+    assert path.read_bytes() == before

@@ -930,6 +930,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
+    what_if = sorted(options.given & set(options.recorded()))
+    if is_program(source) and what_if:     # --word, --rounding...: another machine, other results
+        identity += ":" + jsontext.dumps({k: getattr(options, k) for k in what_if})
     header = {"vampc_faults": 1, "program": identity, "campaign": own.campaign, "sets": sets,
               "seed": own.seed, "faults": [f.text for f in faults]}
     store = cp.ResultsFile(str(outs["--results"].path), header)

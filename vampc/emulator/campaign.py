@@ -359,6 +359,21 @@ def _histogram(values: list[int], bins: int = 8) -> list[dict]:
 
 # --- the results file -------------------------------------------------------------------------
 
+def _a_run_of(run, faults) -> bool:
+    """Whether a results line is a run of this campaign's list `faults`, with the fields the
+    summary reads of the types it reads (an edited line was a KeyError, or filed under another
+    fault: `"index": true` counted as fault 1's)."""
+    def whole(x) -> bool:
+        return type(x) is int
+    if not isinstance(run, dict) or not whole(run.get("index")) or \
+            not 0 <= run["index"] < len(faults) or run.get("fault") != faults[run["index"]]:
+        return False
+    if run.get("class") not in CLASSES or not isinstance(run.get("kind"), str):
+        return False
+    return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
+        ("named_right" not in run or isinstance(run["named_right"], bool))
+
+
 class ResultsFile:
     """A campaign's results as JSON Lines: a header naming the campaign, then one line per run as it
     finishes (`index` into the campaign's faults). A re-run with the same header resumes: the runs
@@ -380,8 +395,11 @@ class ResultsFile:
                              "never written)")
         with open(self.path, "rb") as fh:
             data = fh.read()
-        if b"\n" not in data:                 # made, but stopped in its header: a new file
-            self._truncate = 0
+        if b"\n" not in data:
+            if not (jsontext.dumps(self.header).encode() + b"\n").startswith(data):
+                raise VampcError(f"--results {self.path}: it is not a results file of vampc faults "
+                                 "(never overwritten; give another --results file)")
+            self._truncate = 0                # made, but stopped in its header: a new file
             self._fresh = True
             return
         lines = data.split(b"\n")
@@ -399,7 +417,9 @@ class ResultsFile:
                 continue
             try:
                 run = jsontext.loads(line)
-                self.done[int(run["index"])] = run
+                if not _a_run_of(run, self.header["faults"]):
+                    raise ValueError(line)
+                self.done[run["index"]] = run
             except (ValueError, KeyError, TypeError):
                 if sum(len(x) + 1 for x in lines[:k]) <= good:      # not just a cut-short last line
                     raise VampcError(f"--results {self.path}: line {k} is not a run's result "
