@@ -418,3 +418,47 @@ def test_a_picture_named_as_standard_output_is_refused(tmp_path, into):
     assert proc.returncode == 2 and one_line(proc.stderr) and "is standard output" in proc.stderr
     code, err, out = run("report", PLANAR, "--timing", "/dev/null")
     assert code == 0 and "warning" not in err and "Table O.1" in out + err
+
+
+BIG_DH = """name: big
+joints:
+  - {name: j1, type: revolute, a: 1e308, alpha: 0, d: 0, theta: 0, mass: 1, com: [1e308, 0, 0],
+     inertia: [1, 1, 1, 0, 0, 0]}
+"""
+
+
+@pytest.mark.parametrize("command", [("compile", "-o", "{dir}/big.vamp.json"), ("report",),
+                                     ("report", "--recursion", "log", "--cpu-reference")])
+def test_numbers_that_overflow_once_combined_are_one_line_naming_the_file_and_joint(tmp_path, command):
+    """Every number of the table finite, but a + com overflows: compile was a traceback (a
+    constant of inf is no JSON number), report exit 0 with numpy's overflow warning (and NaN
+    torques timed with --cpu-reference). Now one line naming the file and the joint."""
+    robot = tmp_path / "big.yaml"
+    robot.write_text(BIG_DH)
+    code, err, _ = run(command[0], robot, *(a.format(dir=tmp_path) for a in command[1:]))
+    assert code == 1 and one_line(err), err
+    assert err.startswith(f"vampc: error: {robot}: ") and "(joint 1) is not a finite number" in err
+    assert list(tmp_path.iterdir()) == [robot]
+
+
+def test_an_inertia_that_overflows_in_mjcf_is_one_line():
+    """A geom of mass 1e308: its inertia overflows, and the eigenvalue check raised LinAlgError
+    (exit 3); now the link is named."""
+    pytest.importorskip("mujoco")
+    import tempfile
+    with tempfile.TemporaryDirectory() as folder:
+        model = Path(folder) / "m.xml"
+        model.write_text('<mujoco model="m"><worldbody><body name="b1"><joint name="h1" type="hinge" '
+                         'axis="0 0 1"/><geom type="sphere" size="0.1" mass="1e308"/></body>'
+                         '</worldbody></mujoco>')
+        code, err, _ = run("report", model)
+    assert code == 1 and one_line(err) and "link 'b1': its inertia is not a finite number" in err, err
+
+
+def test_a_compile_error_names_the_robot_file(tmp_path):
+    """A program-word or bus error of the compile named no file ("VAMP number 3 does not fit in a
+    2-bit Program-Mode word"): every error is FILE: WHERE: WHAT."""
+    code, err, _ = run("compile", PLANAR, "--word", "q1.1", "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {PLANAR}: VAMP number"), err
+    code, err, _ = run("report", PLANAR, "--bus", "mlb", "--tiers", "2")
+    assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {PLANAR}: the tiers"), err

@@ -220,6 +220,9 @@ def test_cli_verilog_and_cosim(programs, tmp_path):
     ("fixed", ["--pnr", "-o", "x.v"], 2, "--pnr applies to --synth"),
     ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)"),
     ("fixed", ["--cosim", "2", "--max-minutes", "0.0001"], 1, "beyond --max-minutes"),
+    # inf and 1e300 passed the > 0 check into a subprocess timeout: OverflowError tracebacks
+    ("fixed", ["--synth", "ecp5", "--max-minutes", "inf"], 2, "at most 10080 (a week)"),
+    ("fixed", ["--synth", "ecp5", "--max-minutes", "1e300"], 2, "at most 10080 (a week)"),
 ])
 def test_cli_refusals(programs, tmp_path, monkeypatch, name, args, code, message):
     monkeypatch.chdir(tmp_path)
@@ -367,3 +370,64 @@ def test_place_and_route_one_vamp():
     assert figures["utilization"]["TRELLIS_FF"]["used"] == figures["cells"]["flip_flops"]
     (fmax,) = figures["fmax_mhz"].values()
     assert 1 < fmax < 500
+
+
+GOOD_FIGURES = {"robot": "planar2", "word": "q16.16", "vamps": 30,
+                "synth": {"kinds": {"VA": {"vamps": 30, "LUT4": 1, "MULT18X18D": 1, "flip_flops": 1,
+                                           "pnr": {"fmax_mhz": {"clk": 100}}}},
+                          "network": {"LUT4": 1, "MULT18X18D": 1, "flip_flops": 1, "total": 3}}}
+
+
+@pytest.mark.parametrize("edit, says", [
+    (("kinds", "VA", "pnr", "fmax_mhz", "clk", -5), "fmax_mhz.clk is -5, not a clock rate"),
+    (("kinds", "VA", "pnr", "fmax_mhz", "clk", 0), "fmax_mhz.clk is 0, not a clock rate"),
+    (("kinds", "VA", "pnr", "fmax_mhz", "clk", "fast"), "fmax_mhz.clk is 'fast', not a clock rate"),
+    (("kinds", "VA", "LUT4", True), "synth.kinds.VA.LUT4 is True, not a count"),
+    (("network", "total", None), "synth.network.total is None, not a count"),
+    (("kinds", {}), "not the output of `vampc rtl --synth ecp5")])
+def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
+    """`report --rtl` took a negative Fmax as the clock ("clock -5e+06 Hz", exit 0), and a missing,
+    textual or zero figure was a KeyError, ValueError or ZeroDivisionError traceback: every figure
+    is checked, and the first wrong one named."""
+    import copy
+    figures = copy.deepcopy(GOOD_FIGURES)
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(figures))
+    program = str(programs / "planar2.vamp.json")
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(good)])
+    assert r.exit_code == 0 and "100 MHz" in r.stdout, r.output
+    table = figures["synth"]
+    for key in edit[:-2]:
+        table = table[key]
+    table[edit[-2]] = edit[-1]
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1 and says in r.stderr, r.output
+    assert r.stderr.startswith(f"vampc: error: {bad}: ")
+
+
+def test_a_failed_synthesis_leaves_no_amaranth_warning(programs, monkeypatch):
+    """A synthesis step that fails (yosys's timeout) was the error's line and then three lines of
+    Amaranth's "UnusedElaboratable ... created but never used" as the process ended: the design
+    the command makes carries Amaranth's own "used" switch. (The warning itself shows only after a
+    real yosys run times out, 25 s; checked by hand: `vampc rtl P --synth ecp5 --max-minutes
+    0.42` on a one-VAMP program, three lines before, none after.)"""
+    import vampc.commands
+    import vampc.rtl.design
+    from vampc.errors import VampcError
+    made = []
+
+    class Recorded(vampc.rtl.design.NetworkDesign):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            made.append(self)
+
+    def timed_out(*args, **kwargs):
+        raise VampcError("yosys did not finish in 27 s (--max-minutes)")
+    monkeypatch.setattr(vampc.rtl.design, "NetworkDesign", Recorded)
+    monkeypatch.setattr(vampc.commands, "_synth", timed_out)
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "--synth", "ecp5"])
+    assert r.exit_code == 1
+    assert r.stderr == "vampc: error: yosys did not finish in 27 s (--max-minutes)\n"
+    assert len(made) == 1 and made[0]._MustUse__silence is True

@@ -75,7 +75,13 @@ def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions 
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
         chain = load_chain(robot, options, robot_opts)
-        return compile_chain(chain, options, stage=stage, until=until, check_network=check_network)
+        try:
+            return compile_chain(chain, options, stage=stage, until=until,
+                                 check_network=check_network)
+        except VampcError as exc:          # (a usage error is about options, not the file)
+            if isinstance(exc, VampcUsageError) or str(exc).startswith(f"{robot}:"):
+                raise
+            raise VampcError(f"{robot}: {exc}") from None
 
 
 def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
@@ -1038,6 +1044,10 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     ok = True
     _preflight(ld, own, limit)         # every step's estimate and tool before any work
     design = NetworkDesign(ld)
+    # Amaranth warns, as the process ends, of an Elaboratable never elaborated: a step that fails
+    # (a tool's timeout) leaves this one so, and its three lines followed the error's one line.
+    # The design is used by whichever step runs; set Amaranth's own "used" switch.
+    design._MustUse__silence = True
     verilog = None
     if "-o" in outs:
         _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, note)

@@ -40,8 +40,11 @@ class Compiled:
 
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:
     """The dataflow graph for the chosen recursion (its builder in vampc.dataflow.registry)."""
+    import numpy as np
+
     from vampc.dataflow.registry import RECURSIONS
-    return RECURSIONS[options.recursion].build(chain, options)
+    with np.errstate(over="ignore", invalid="ignore"):   # every constant is checked finite instead
+        return RECURSIONS[options.recursion].build(chain, options)      # (GraphBuilder.const)
 
 
 

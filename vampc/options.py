@@ -900,6 +900,9 @@ class PrecisionOptions:
                 raise VampcUsageError(f"{flag(name)} {value}: give a positive number")
 
 
+MAX_MINUTES = 7 * 24 * 60      # --max-minutes at most: a week
+
+
 @dataclass(frozen=True)
 class RtlOptions:
     """`vampc rtl`'s own options."""
@@ -943,7 +946,8 @@ class RtlOptions:
             raise VampcUsageError("--seed applies to --cosim N")
         if self.pnr and self.synth is None:
             raise VampcUsageError("--pnr applies to --synth ecp5")
-        if not self.max_minutes > 0:
-            raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number")
+        if not 0 < self.max_minutes <= MAX_MINUTES:     # (inf was a timeout no clock can hold)
+            raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number of "
+                                  f"minutes, at most {MAX_MINUTES} (a week)")
         if self.output is None and self.cosim is None and self.synth is None:
             raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)")

@@ -6,11 +6,12 @@ allocation, emission) consumes. It is plain frozen data; networkx is used only f
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 
 from msgspec import Struct
 
-from vampc.errors import VampcInternalError
+from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Quantity, Recursion, Section
 from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 from vampc.memo import counting
@@ -189,6 +190,10 @@ class GraphBuilder:
     def const(self, value, name: str, group: int = 0) -> int:
         """A CONST node holding `value` (a 3-vector or 3x3 matrix); equal (name, value) pairs share."""
         flat = tuple(float(x) for x in _flatten(value))
+        if not all(map(math.isfinite, flat)):
+            where = f" (joint {group})" if group else ""
+            raise VampcError(f"the constant {name}{where} is not a finite number: the robot's "
+                             "numbers overflow a float once combined (a length or mass too large)")
         k = (name, flat)
         if k not in self._consts:
             node = Node(self._next_id(), Op.CONST, (), name, Section.IO, group, value=flat)

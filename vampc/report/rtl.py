@@ -17,7 +17,8 @@ def rtl_figures(path: str, c) -> dict:
     except ValueError as exc:
         raise VampcError(f"{path}: not JSON ({exc})") from None
     if not isinstance(doc, dict) or not isinstance(doc.get("synth"), dict) or \
-            not isinstance(doc["synth"].get("kinds"), dict) or "network" not in doc["synth"]:
+            not isinstance(doc["synth"].get("kinds"), dict) or not doc["synth"]["kinds"] or \
+            "network" not in doc["synth"]:
         raise VampcError(f"{path}: not the output of `vampc rtl --synth ecp5 --format json` (no "
                          "synth.kinds and synth.network)")
     word = c.options.word
@@ -27,19 +28,40 @@ def rtl_figures(path: str, c) -> dict:
         if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
                              f"program's {ours!r})")
+    def field(table, key: str, where: str):
+        """A count of the file: a whole number, at least 0 (VampcError naming it otherwise: a
+        missing or edited one was a KeyError, a ValueError or a ZeroDivisionError)."""
+        x = table.get(key) if isinstance(table, dict) else None
+        if type(x) is not int or x < 0:
+            raise VampcError(f"{path}: synth.{where}.{key} is {x!r}, not a count (the file is not "
+                             "`vampc rtl --synth ecp5 --format json`'s, or was edited)")
+        return x
+
+    def mhz(x, where: str) -> float:
+        """An Fmax: a number of MHz, the --clock range (1 mHz to 1 THz): a negative one had been
+        used as the clock."""
+        if type(x) not in (int, float) or not 1e-9 <= x <= 1e6:
+            raise VampcError(f"{path}: {where} is {x!r}, not a clock rate in MHz (1 mHz to 1 THz)")
+        return float(x)
     kinds, fmax = [], []
     for name, k in doc["synth"]["kinds"].items():
-        row = {"kind": name, "vamps": int(k["vamps"]), "LUT4": int(k["LUT4"]),
-               "MULT18X18D": int(k["MULT18X18D"]), "flip_flops": int(k["flip_flops"])}
-        clocks = (k.get("pnr") or {}).get("fmax_mhz") or {}
+        at = f"kinds.{name}"
+        row = {"kind": name, "vamps": field(k, "vamps", at), "LUT4": field(k, "LUT4", at),
+               "MULT18X18D": field(k, "MULT18X18D", at), "flip_flops": field(k, "flip_flops", at)}
+        pnr = k.get("pnr") if isinstance(k, dict) else None
+        clocks = (pnr.get("fmax_mhz") if isinstance(pnr, dict) else None) or {}
+        if not isinstance(clocks, dict):
+            raise VampcError(f"{path}: synth.{at}.pnr.fmax_mhz is not a table of clocks")
         if clocks:
-            row["fmax_mhz"] = float(min(clocks.values()))
+            row["fmax_mhz"] = min(mhz(v, f"synth.{at}.pnr.fmax_mhz.{c}") for c, v in clocks.items())
             fmax.append(row["fmax_mhz"])
         kinds.append(row)
     net = doc["synth"]["network"]
     out = {"file": str(path), "target": doc["synth"].get("target", "ecp5"), "kinds": kinds,
-           "network": {"LUT4": int(net["LUT4"]), "MULT18X18D": int(net["MULT18X18D"]),
-                       "flip_flops": int(net["flip_flops"]), "cells": int(net["total"])},
+           "network": {"LUT4": field(net, "LUT4", "network"),
+                       "MULT18X18D": field(net, "MULT18X18D", "network"),
+                       "flip_flops": field(net, "flip_flops", "network"),
+                       "cells": field(net, "total", "network")},
            "vamps_sum": {key: sum(r[key] * r["vamps"] for r in kinds)
                          for key in ("LUT4", "MULT18X18D", "flip_flops")},
            "fmax_mhz": min(fmax) if len(fmax) == len(kinds) and fmax else None}

@@ -613,7 +613,14 @@ _ACCEPT_IMPROPER: ContextVar[bool] = ContextVar("accept_improper_inertia", defau
 
 def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
     """Refuse the first inertia that is not symmetric positive semi-definite (checked as one stack);
-    one that misses by a rounding error (NEARLY_PSD) is taken, with a warning naming the link."""
+    one that misses by a rounding error (NEARLY_PSD) is taken, with a warning naming the link.
+    One that is not a finite number (a mass of 1e308 times a size squared) is refused first: the
+    eigenvalues of an infinite matrix do not converge."""
+    with np.errstate(invalid="ignore"):
+        infinite = np.flatnonzero(~np.isfinite(inertia.reshape(len(inertia), -1)).all(axis=1))
+    if infinite.size:
+        raise located(path, f"link '{names[infinite[0]]}'", "its inertia is not a finite number "
+                      "(numbers too large for a float once combined)")
     for i in np.flatnonzero(improper_inertias(inertia)):
         problem = inertia_problem(inertia[i])
         if not problem:
