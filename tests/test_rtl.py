@@ -431,3 +431,47 @@ def test_a_failed_synthesis_leaves_no_amaranth_warning(programs, monkeypatch):
     assert r.exit_code == 1
     assert r.stderr == "vampc: error: yosys did not finish in 27 s (--max-minutes)\n"
     assert len(made) == 1 and made[0]._MustUse__silence is True
+
+
+def test_module_names_are_ascii_and_never_a_reserved_word():
+    """A robot named `module` or `robot-ü` gave a top module Icarus Verilog refuses ("I give up"),
+    and one named `tb` collided with the testbench's module."""
+    from vampc.rtl.design import module_name
+    assert module_name("module") == "robot_module" and module_name("wire") == "robot_wire"
+    assert module_name("robot-ü") == "robot__" and module_name("6dof") == "robot_6dof"
+    assert module_name("puma560") == "puma560" and module_name("") == "network"
+
+
+def test_a_newline_in_the_robots_name_stays_in_the_header_comment(tmp_path):
+    """A newline in the robot's name ended the header's comment line: the rest of the name became
+    Verilog (exit 0, then a syntax error in any tool). The header is six comment lines, ASCII."""
+    from vampc.emulator.load import load_program
+    from vampc.rtl.design import NetworkDesign
+    from vampc.rtl.verilog import header
+    robot, program = tmp_path / "arm.yaml", tmp_path / "arm.vamp.json"
+    robot.write_text(ARM1.replace("name: arm1", 'name: "a\\nb"'))
+    r = CliRunner().invoke(main, ["compile", str(robot), "--word", "q16.16", "--vamps", "2", "-o",
+                                  str(program)])
+    assert r.exit_code == 0, r.output
+    design = NetworkDesign(load_program(str(program)))
+    design._MustUse__silence = True          # (not elaborated here)
+    lines = header(design).splitlines()
+    assert len(lines) == 6 and all(line.startswith("// ") for line in lines), lines
+    assert lines[1].startswith("// robot: a\\nb (1 joints)") and header(design).isascii()
+
+
+@pytest.mark.parametrize("name", ["tb", pytest.param("module", marks=pytest.mark.slow),
+                                  pytest.param('"robot-ü"', marks=pytest.mark.slow)])
+def test_any_robot_name_co_simulates_in_icarus(tmp_path, name):
+    """Reserved (`module`), non-ASCII (`robot-ü`) or clashing (`tb`, the testbench's own module)
+    names broke the Icarus co-simulation ("I give up", "already declared"). 6 s each: the first
+    runs here, the others under -m slow (module_name's own test covers their names)."""
+    import shutil
+    if shutil.which("iverilog") is None:
+        pytest.skip("Icarus Verilog (iverilog) is not installed")
+    robot = tmp_path / "arm.yaml"
+    robot.write_text(ARM1.replace("name: arm1", f"name: {name}"), encoding="utf-8")
+    out = tmp_path / "arm.v"
+    r = CliRunner().invoke(main, ["rtl", str(robot), "--word", "q16.16", "--vamps", "2", "-o", str(out),
+                                  "--cosim", "1", "--check", "--simulator", "icarus"])
+    assert r.exit_code == 0 and "bit for bit" in r.output, r.output

@@ -78,8 +78,8 @@ def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions 
         try:
             return compile_chain(chain, options, stage=stage, until=until,
                                  check_network=check_network)
-        except VampcError as exc:          # (a usage error is about options, not the file)
-            if isinstance(exc, VampcUsageError) or str(exc).startswith(f"{robot}:"):
+        except VampcError as exc:     # (a usage error, or one led by its option, is the options')
+            if isinstance(exc, VampcUsageError) or str(exc).startswith((f"{robot}:", "-")):
                 raise
             raise VampcError(f"{robot}: {exc}") from None
 

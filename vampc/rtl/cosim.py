@@ -133,7 +133,7 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
         sizes = [len(s) for s in design.host]
         widest = max(sizes + [2 + n_in])
         samples = sorted(run.samples.items())
-        tb = ["`timescale 1ns/1ps", "module tb;",
+        tb = ["`timescale 1ns/1ps", f"module tb_{top};",     # (never the design's own name)
               "  reg clk = 0; reg rst = 0;",
               "  reg program_mode = 1; reg global_reset = 1;",
               *[f"  reg [{s - 1}:0] host{k} = 0; reg host{k}_we = 0;" for k, s in enumerate(sizes)],

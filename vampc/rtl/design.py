@@ -476,10 +476,26 @@ def _any(terms):
     return out
 
 
+# Verilog-2005's reserved words (IEEE 1364-2005, annex B): no module may be named after one.
+VERILOG_KEYWORDS = frozenset("""
+always and assign automatic begin buf bufif0 bufif1 case casex casez cell cmos config deassign
+default defparam design disable edge else end endcase endconfig endfunction endgenerate endmodule
+endprimitive endspecify endtable endtask event for force forever fork function generate genvar
+highz0 highz1 if ifnone incdir include initial inout input instance integer join large liblist
+library localparam macromodule medium module nand negedge nmos nor noshowcancelled not notif0
+notif1 or output parameter pmos posedge primitive pull0 pull1 pulldown pullup
+pulsestyle_ondetect pulsestyle_onevent rcmos real realtime reg release repeat rnmos rpmos rtran
+rtranif0 rtranif1 scalared showcancelled signed small specify specparam strong0 strong1 supply0
+supply1 table task time tran tranif0 tranif1 tri tri0 tri1 triand trior trireg unsigned use
+uwire vectored wait wand weak0 weak1 while wire wor xnor xor""".split())
+
+
 def module_name(robot: str) -> str:
-    """A Verilog identifier for the top module, after the robot."""
-    name = re.sub(r"\W", "_", robot or "network")
-    return name if re.match(r"[A-Za-z_]", name) else f"robot_{name}"
+    """A Verilog identifier for the top module, after the robot: ASCII letters, digits and _ (a
+    robot named `robot-ü` kept its ü, which Icarus Verilog refuses), not starting with a digit, not
+    a reserved word (a robot named `module`)."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", robot or "network")
+    return name if re.match(r"[A-Za-z_]", name) and name not in VERILOG_KEYWORDS else f"robot_{name}"
 
 
 __all__ = ["Arith", "NetworkDesign", "Vamp", "VampChip", "kinds", "micro_program", "microcode",

@@ -24,7 +24,9 @@ def header(design) -> str:
         "tau<j> (the Result word holding joint j's torque).",
         "One clock cycle is one tick of `vampc emulate --engine tick`; see README \"RTL\".",
     ]
-    return "".join(f"// {line}\n" for line in lines)
+    # one comment line each, in ASCII: a newline in a robot's name or path ended the comment (the
+    # rest of the name became Verilog, a syntax error)
+    return "".join(f"// {line.encode('unicode_escape').decode('ascii')}\n" for line in lines)
 
 
 def verilog_text(design) -> str:
