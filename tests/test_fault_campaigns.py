@@ -185,6 +185,10 @@ def test_csv_and_text(programs, tmp_path):
     (["--campaign", "intermittent", "--rate", "1.5"], "--rate 1.5"),
     (["--workers", "2", "--scheduler", "tcp://x:1"], "give one"),
     (["--campaign", "transient", "--at", "5"], "--at applies"),
+    # taken and ignored: control and dead faults have no stuck bit of a word
+    (["--kinds", "control", "--bits", "5"], "--bits applies to the result, a and b kinds"),
+    (["--kinds", "dead", "--values", "0"], "--values applies to the result, a and b kinds"),
+    (["--bits", "٥"], "give bit numbers"),
 ])
 def test_usage_errors(programs, args, says):
     ec, _, _ = programs
@@ -338,3 +342,15 @@ def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path,
     assert r.exit_code == 1 and errors == [f"vampc: error: --results {path}: line 2 is not a run's "
                                            "result (the file was edited; remove it to start over)"]
     assert path.read_bytes() == before
+
+
+def test_a_kind_or_bit_named_twice_runs_once(programs, tmp_path):
+    """`--kinds dead,dead` ran every fault twice and counted it twice (`--bits 1,1` too), as
+    `--values 1,1` did not."""
+    from vampc.options import FaultsOptions
+    assert FaultsOptions(kinds="dead,result,dead").kind_list() == ["dead", "result"]
+    assert FaultsOptions(bits="3,1,3").bit_list() == [3, 1]
+    ec, _, _ = programs
+    twice = _campaign(ec, tmp_path, "--kinds", "dead,dead", "--sets", "3")
+    once = _campaign(ec, tmp_path, "--kinds", "dead", "--sets", "3", name="once.jsonl")
+    assert twice["runs"] == once["runs"] and len({r["fault"] for r in once["runs"]}) == len(once["runs"])

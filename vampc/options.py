@@ -821,6 +821,10 @@ class FaultsOptions:
             if name in self.given and self.campaign not in campaigns:
                 raise VampcUsageError(f"{flag(name)} applies to --campaign "
                                       f"{' or '.join(campaigns)}")
+        for name in ("bits", "values"):
+            if name in self.given and not {"result", "a", "b"} & set(kinds):
+                raise VampcUsageError(f"{flag(name)} applies to the result, a and b kinds (a "
+                                      f"stuck bit of a word); --kinds {self.kinds} has none")
         if "at" in self.given and self.campaign in ("transient", "random"):
             raise VampcUsageError(f"--at applies to --campaign single or intermittent (the "
                                   f"{self.campaign} campaign draws its ticks)")
@@ -833,16 +837,17 @@ class FaultsOptions:
             raise VampcUsageError(f"--values {self.values}: give 0, 1 or 0,1")
 
     def kind_list(self) -> list[str]:
-        return [k.strip() for k in self.kinds.split(",") if k.strip()]
+        """--kinds, each once (`dead,dead` ran every fault twice and counted it twice)."""
+        return list(dict.fromkeys(k.strip() for k in self.kinds.split(",") if k.strip()))
 
     def bit_list(self) -> list[int] | None:
         """--bits as numbers (VampcUsageError for a bad one); None: the default bit."""
         if self.bits is None:
             return None
         parts = [b.strip() for b in self.bits.split(",") if b.strip()]
-        if not parts or not all(b.isdigit() for b in parts):
+        if not parts or not all(b.isascii() and b.isdigit() for b in parts):
             raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
-        return [int(b) for b in parts]
+        return list(dict.fromkeys(int(b) for b in parts))     # (each once, as --values)
 
     def value_list(self) -> tuple[int, ...] | None:
         parts = sorted({v.strip() for v in self.values.split(",") if v.strip()})
