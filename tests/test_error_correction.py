@@ -306,3 +306,23 @@ def test_a_detection_after_the_last_set_names_no_set(tmp_path):
                      "vamp=37,stuck=result.z:20,value=1,at=100"])
     line = next(x for x in res.output.splitlines() if x.startswith("error correction:"))
     assert "found a mismatch at Data-Mode tick 453 and excised VAMP 37" in line and "(set " not in line, line
+
+
+@pytest.mark.parametrize("last, word, limit", [(16777215, None, 16777215), (32767, "q9.7", 32767)])
+def test_the_extraneous_vamps_number_must_fit(tmp_path, last, word, limit):
+    """The extraneous VAMP takes one past the largest number burned in: a numbering ending at
+    16777215 made it 16777216 (beyond the 24-bit numbers), and in q9.7 32768 (beyond the 16-bit
+    word; "0 overflows" said), each compiled with exit 0. Now refused; one less is taken."""
+    from vampc.program.emit import extraneous_number
+    from vampc.program.words import PACKING
+    assert extraneous_number((3, 1, 2), PACKING) == 4
+    numbers = tmp_path / "n.txt"
+    numbers.write_text("\n".join(map(str, [*range(1, 60), last])) + "\n")
+    args = ["compile", "examples/planar2.yaml", "--numbering", str(numbers), "--error-correction",
+            *(["--word", word] if word else []), "-o", str(tmp_path / "p.vamp.json")]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1, r.output
+    assert f"takes number {last + 1}" in r.stderr and f"at most {limit}" in r.stderr
+    assert not (tmp_path / "p.vamp.json").exists()
+    numbers.write_text("\n".join(map(str, [*range(1, 60), last - 1])) + "\n")
+    assert CliRunner().invoke(main, args).exit_code == 0

@@ -83,7 +83,12 @@ class CheckingTickEngine(TickEngine):
         self.pred = {s: p for p, s in self.succ.items()}
         self.w = self.checking.warmup
         self.k = self.checking.compare
-        self.e_number = max(ld.numbers) + 1
+        from vampc.program.emit import extraneous_number
+        from vampc.program.words import Packing
+        try:
+            self.e_number = extraneous_number(ld.numbers, Packing.of(ld.arith))
+        except VampcError as exc:
+            raise VampcError(f"{ld.path}: {exc}") from None
         super().__init__(ld, seed, vcd, faults, strict)
 
     # --- state --------------------------------------------------------------------------------

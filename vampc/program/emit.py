@@ -105,6 +105,20 @@ def default_numbering(net: Network) -> tuple[int, ...]:
     return counting(count + 1)[1:count + 1]       # (shared ints: vampc.memo)
 
 
+def extraneous_number(numbering, packing) -> int:
+    """The number error correction's extraneous VAMP takes, one past the largest burned in
+    (vampc.emulator.checking); VampcError when it does not fit a VAMP number or the word (a
+    numbering ending at 16777215 made it 16777216, and in q9.7 32768, with no word said)."""
+    largest = max(numbering)
+    limit = min(1 << 24, packing.limit)
+    if largest + 1 >= limit:
+        raise VampcError(f"with --error-correction the extraneous VAMP takes number {largest + 1}, "
+                         f"one past the largest burned in ({largest}), and VAMP numbers here are "
+                         f"at most {limit - 1} (24 bits, and the word's Program-Mode scalars): "
+                         "give smaller numbers (--numbering) or a wider --word")
+    return largest + 1
+
+
 def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
     """VAMP numbers from a text file, one positive integer per line (blank lines and #comments skipped)."""
     from vampc.textio import decode_utf8
