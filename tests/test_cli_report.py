@@ -176,3 +176,30 @@ def test_one_vamp_is_singular():
     res = run("compile", PLANAR, "--vamps", "1", "-o", "-")
     assert ", 1 VAMP, latency " in res.stderr, res.stderr
     assert "budget           1 VAMP used of 1 allowed" in run("report", PLANAR, "--vamps", "1").stdout
+
+
+@pytest.mark.parametrize("option, says", [
+    (["--prefix", "sklansky"], "--prefix applies to the log recursion only; .* was compiled with "
+                               "--recursion linear"),
+    (["--prefix", "serial"], "--prefix applies to the log recursion only"),
+    (["--rounding", "nearest"], "--rounding applies to fixed-point words .* computes in float64"),
+    (["--overflow", "saturate"], "--overflow applies to fixed-point words"),
+    (["--check-cycles", "1"], "--check-cycles applies with --error-correction; .* compiled without it")])
+def test_an_option_that_does_not_apply_to_the_program_is_refused(tmp_path, option, says):
+    """With a linear float64 program these passed unsaid (the file records no value for them, so
+    their defaults were compared), and `--prefix serial` said the program "was compiled with
+    --prefix sklansky"; each is a usage error for the robot file compiled so."""
+    program = tmp_path / "puma.vamp.json"
+    assert run("compile", PUMA, "-o", program).exit_code == 0
+    one_line_error(run("report", program, *option), 2, says)
+
+
+def test_the_trade_off_of_a_bus_program_says_it_sweeps_point_to_point(tmp_path):
+    """A program on the Mostly-Local Bus was swept wired point to point with no word (a robot
+    file's --bus is refused with --tradeoff)."""
+    program = tmp_path / "bus.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", "--recursion", "log", "--bus", "mlb", "-o",
+               program).exit_code == 0
+    res = run("report", program, "--tradeoff")
+    assert res.exit_code == 0 and res.stderr.startswith("vampc: warning: ")
+    assert "Mostly-Local Bus: the trade-off sweeps its robot's budgets wired point to point" in res.stderr

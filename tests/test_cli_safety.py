@@ -460,7 +460,9 @@ def test_tick_runs_that_cannot_fit_are_refused(program, monkeypatch):
     (["--recursion", "log"], r"--recursion log: .* was compiled with --recursion linear; compile "
                              r"options apply to robot files"),
     (["--mult-latency", "4"], r"--mult-latency 4: .* was compiled with --mult-latency 1"),
-    (["--prefix", "serial"], r"--prefix serial: .* was compiled with --prefix sklansky"),
+    # (the program is linear: it has no prefix; "was compiled with --prefix sklansky" misled)
+    (["--prefix", "serial"], r"--prefix applies to the log recursion only; .* was compiled with "
+                             r"--recursion linear"),
     (["--tip", "x"], r"--tip applies when compiling a robot file; .* is a program file"),
     (["--base", "x"], r"--base applies when compiling a robot file"),
     (["--lock", "j=1"], r"--lock applies when compiling a robot file"),

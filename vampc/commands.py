@@ -555,6 +555,10 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         c, _, check = program_compiled(source, options.given, params)
         check.wait()
         chain, options = c.chain, c.options
+        if c.network.bus is not None:      # (a robot file's --bus is refused with --tradeoff)
+            warnings.warn(VampcWarning(f"{source} runs on the Mostly-Local Bus: the trade-off sweeps "
+                                       "its robot's budgets wired point to point, not its bus"),
+                          stacklevel=1)
     else:
         chain = load_chain(source, options, robot_opts)
     with progress.counter("trade-off", 1, unit="budget") as bar:

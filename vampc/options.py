@@ -346,6 +346,7 @@ def check_program_options(given, params: dict, source: str, stored: dict,
             raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
     defaults = {f.name: f.default for f in fields(CompileOptions)}
+    _check_program_applies(given, params, source, stored, overrides, defaults)
     for name in CompileOptions.recorded():
         if name not in given or name in overrides:
             continue
@@ -360,6 +361,26 @@ def check_program_options(given, params: dict, source: str, stored: dict,
                 was = f"{flag(name)} {was}" if was is not None else f"no {flag(name)} (the default)"
             raise VampcUsageError(f"{given_text}: {source} was compiled with {was}; "
                                   "compile options apply to robot files (recompile to change them)")
+
+
+def _check_program_applies(given, params, source, stored, overrides, defaults) -> None:
+    """A compile option given with a program file that does not apply to it, as it would not to
+    the robot file compiled so: the file records no value for it, so the default was compared and
+    `--prefix sklansky` on a linear program, or `--rounding` on a float64 one, passed unsaid."""
+    recursion = str(stored.get("recursion", defaults["recursion"]))
+    word = params["word"] if "word" in given and "word" in overrides else \
+        stored.get("word", defaults["word"])
+    for name in ("prefix", "uniform_leaves"):
+        if name in given and recursion != "log":
+            raise VampcUsageError(f"{flag(name)} applies to the log recursion only; {source} was "
+                                  f"compiled with --recursion {recursion}")
+    for name in ("rounding", "overflow"):
+        if name in given and not str(word).startswith("q"):
+            raise VampcUsageError(f"{flag(name)} applies to fixed-point words (qI.F) only; "
+                                  f"{source} computes in {word}")
+    if "check_cycles" in given and not stored.get("error_correction", False):
+        raise VampcUsageError(f"--check-cycles applies with --error-correction; {source} was "
+                              "compiled without it")
 
 
 def check_ranges(options) -> None:
