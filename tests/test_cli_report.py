@@ -203,3 +203,24 @@ def test_the_trade_off_of_a_bus_program_says_it_sweeps_point_to_point(tmp_path):
     res = run("report", program, "--tradeoff")
     assert res.exit_code == 0 and res.stderr.startswith("vampc: warning: ")
     assert "Mostly-Local Bus: the trade-off sweeps its robot's budgets wired point to point" in res.stderr
+
+
+@pytest.mark.parametrize("args, section", [(["--recursion", "log", "--bus", "mlb"], "bus"),
+                                           (["--word", "q16.16", "--error-correction"], "error_correction")])
+def test_the_package_count_packs_the_pins_the_report_says_a_vamp_needs(tmp_path, args, section):
+    """A bus program's packages were counted at 9 pins a VAMP beside a bus section of 30, and an
+    error-correction program's at 8 for 180 VAMPs beside "181 in all, up to 17 pins": the count
+    now packs the pins those sections give, every VAMP (the extraneous one too)."""
+    import json
+    import math
+    program = tmp_path / "p.vamp.json"
+    assert run("compile", PLANAR, *args, "-o", program).exit_code == 0
+    rep = json.loads(run("report", program, "--format", "json").stdout)
+    own = next(row for row in rep["packages"]["rows"] if row["own"])["by_pins"][0]
+    pins = rep[section]["pins_per_vamp"]["bus" if section == "bus" else "with"]
+    vamps = rep[section]["vamps"] if section == "error_correction" else rep["vamps"]["backward"] + \
+        rep["vamps"]["forward"]
+    assert own["pins"] == 40 and own["max_pins_per_vamp"] == pins["max"]
+    total = round(pins["mean"] * vamps)               # every VAMP's pins, from the section's mean
+    assert math.ceil(total / 40) <= own["muxed_separate"] <= vamps
+    assert own["muxed_shared"] <= own["muxed_separate"]

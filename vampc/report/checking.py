@@ -30,6 +30,24 @@ CONTROL_PINS = ("Test-in", "Test-out", "Test-back-in", "Test-back-out", "Inhibit
 MODE_BITS = 3
 
 
+
+def checked_pins(net) -> list[int]:
+    """Each physical VAMP's pins with checking, wired separately, in chain order (the extraneous
+    VAMP E first): its own (the paper's budget with a pin per multiplexer input; E: power, clocks,
+    reset, Result), its successor's operand inputs and Result', and the Test and Inhibit pins. The
+    package count packs these (vampc.report.processors.network_pins)."""
+    ck, V = net.checking, len(net.vamps)
+    order = ck.order
+    succ = {order[i]: order[i + 1] for i in range(V)}
+    out = []
+    for p in order:
+        own = vamp_pins(net.vamps[p])["separate"] if p < V else 6
+        s = succ.get(p)
+        extra = len(CONTROL_PINS) + (len(net.vamps[s].a) + len(net.vamps[s].b) + 1 if s is not None
+                                     else 0)
+        out.append(own + extra)
+    return out
+
 def checking_figures(c) -> dict | None:
     """The error-correction section of a report of `c` (a vampc.compiler.Compiled); None without."""
     net = c.network
@@ -52,13 +70,7 @@ def checking_figures(c) -> dict | None:
     stage_bits = width(ck.warmup + ck.compare + 1)
     word = c.options.arith().bits
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
-    pins_after = []
-    for p in order:                          # E (index V) first: pins of its own and its successor's
-        own = vamp_pins(net.vamps[p])["separate"] if p < V else 6   # E: power, clocks, reset, Result
-        s = succ.get(p)
-        extra = len(CONTROL_PINS) + (len(net.vamps[s].a) + len(net.vamps[s].b) + 1 if s is not None
-                                     else 0)
-        pins_after.append(own + extra)
+    pins_after = checked_pins(net)
     shared = sum(len(net.vamps[s].a) + len(net.vamps[s].b) for s in succ.values())
     sweep = sweep_periods(V, ck.warmup, ck.compare)
     from vampc.network.checking import unnameable

@@ -58,7 +58,7 @@ def bus_figures(c) -> dict | None:
     register_bits = COUNTER_BITS + _stage_bits(net) + TIER_BITS
     p2p = wired(net)
     p2p_pins = [_p2p_pins(v) for v in p2p.vamps]
-    bus_pins = [_bus_pins(v, len(bus.tiers)) for v in net.vamps]
+    bus_pins = pins_on_bus(net)
     p2p_wires, p2p_length = _wires(p2p, bus.position)
     direct_wires, direct_length = _wires(net, bus.position)
     p2p_in = [_from_vamps(v) for v in p2p.vamps]
@@ -120,6 +120,13 @@ def _bus_pins(vamp, tiers: int) -> int:
     constant buffers, the Program-Mode wire)."""
     direct = sum(1 for op in vamp.a + vamp.b if not any(t.kind is TapKind.BUS for t in op.taps))
     return len(paper.PINS_SEPARATE) - 2 + tiers + direct
+
+
+def pins_on_bus(net) -> list[int]:
+    """Every VAMP's pins on the bus (_bus_pins), in logical order (the package count's too:
+    vampc.report.processors.network_pins)."""
+    tiers = len(net.bus.tiers)
+    return [_bus_pins(v, tiers) for v in net.vamps]
 
 
 def _wires(net, position) -> tuple[int, int]:

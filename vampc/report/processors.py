@@ -274,16 +274,36 @@ def vamp_pins(vamp) -> dict[str, int]:
             "shared": len(paper.PINS_SHARED_PER_VAMP) - 2 + inputs}
 
 
+def network_pins(network) -> list[int]:
+    """Each physical VAMP's pins wired separately, in packing order: the paper's budget with one
+    pin per multiplexer input (vamp_pins); on the Mostly-Local Bus one pin per tier and per input
+    still wired (vampc.report.mlb); with error correction's checking, the extraneous VAMP too and
+    each VAMP's checking pins (vampc.report.checking). The package count and the bus and checking
+    sections read these same figures (a bus program's packages had been counted at 9 pins a VAMP
+    beside a bus section of 30)."""
+    if network.checking is not None:
+        from vampc.report.checking import checked_pins
+        return checked_pins(network)
+    if network.bus is not None:
+        from vampc.report.mlb import pins_on_bus
+        return pins_on_bus(network)
+    base = len(paper.PINS_SEPARATE) - 2
+    return [base + len(v.a) + len(v.b) for v in network.vamps]   # (vamp_pins, inlined: 10⁵ VAMPs)
+
+
 def _packed(network, size: int) -> dict:
-    """VAMPs packed in logical order (neighbours share a package), each with its pins."""
-    inputs = [len(v.a) + len(v.b) for v in network.vamps]
+    """VAMPs packed in order (neighbours share a package), each with its pins (network_pins);
+    sharing clock, power, ground and reset per package takes the difference of the two budgets
+    off each VAMP."""
+    separate = network_pins(network)
+    saved = len(paper.PINS_SEPARATE) - len(paper.PINS_SHARED_PER_VAMP)
     out = {}
     for style in ("separate", "shared"):
         fixed = len(paper.PINS_SHARED_PER_PACKAGE) if style == "shared" else 0
-        base = (len(paper.PINS_SEPARATE) if style == "separate" else len(paper.PINS_SHARED_PER_VAMP)) - 2
+        less = saved if style == "shared" else 0
         count, used, ok = 0, size, True
-        for k in inputs:                 # vamp_pins, inlined: a big network has 10⁵ VAMPs
-            need = base + k
+        for pins in separate:
+            need = pins - less
             if need + fixed > size:
                 ok = False
                 break
@@ -291,7 +311,7 @@ def _packed(network, size: int) -> dict:
                 count, used = count + 1, fixed
             used += need
         out[f"muxed_{style}"] = count if ok else None
-    out["max_pins_per_vamp"] = len(paper.PINS_SEPARATE) - 2 + max(inputs, default=2)
+    out["max_pins_per_vamp"] = max(separate, default=len(paper.PINS_SEPARATE))
     return out
 
 
