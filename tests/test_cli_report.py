@@ -224,3 +224,20 @@ def test_the_package_count_packs_the_pins_the_report_says_a_vamp_needs(tmp_path,
     total = round(pins["mean"] * vamps)               # every VAMP's pins, from the section's mean
     assert math.ceil(total / 40) <= own["muxed_separate"] <= vamps
     assert own["muxed_shared"] <= own["muxed_separate"]
+
+
+def test_constants_a_word_cannot_hold_are_warned_of_at_compile_and_report(tmp_path):
+    """q3.13 cannot hold the Puma's link masses m2, m3 or gravity pdd0 (beyond ±4): compile and
+    report said nothing, and `vampc emulate` then counted them among its overflows. Both warn now,
+    naming them; q16.16 holds every constant and draws no warning."""
+    from vampc.emulator.load import load_program
+    from vampc.emulator.stream import constant_overflows
+    program = tmp_path / "q3.vamp.json"
+    res = run("compile", PUMA, "--word", "q3.13", "-o", program)
+    assert res.exit_code == 0
+    assert "3 constants beyond the range of q3.13 (pdd0, m2, m3): the host's conversion saturates" \
+        in res.stderr, res.stderr
+    assert constant_overflows(load_program(str(program))) > 0      # the emulator's own count
+    assert "beyond the range of q3.13 (pdd0, m2, m3)" in run("report", program).stderr
+    res = run("compile", PUMA, "--word", "q16.16", "-o", tmp_path / "q16.vamp.json")
+    assert res.exit_code == 0 and "warning" not in res.stderr

@@ -84,6 +84,20 @@ def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions 
             raise VampcError(f"{robot}: {exc}") from None
 
 
+def _warn_constants(robot: str, c) -> None:
+    """Warn of robot constants the program's fixed-point word cannot hold: they are known here, and
+    were first said by `vampc emulate` as overflows."""
+    from vampc.compiler import overflowing_constants
+    names = overflowing_constants(c.network, c.options.arith())
+    if names:
+        shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+        warnings.warn(VampcWarning(
+            f"{robot}: {count(len(names), 'constant')} beyond the range of {c.options.word} "
+            f"({shown}): the host's conversion {c.options.overflow}s "
+            f"{'them' if len(names) > 1 else 'it'}, and the torques are wrong; give a word with "
+            "more integer bits (vampc precision names one)"), stacklevel=1)
+
+
 def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
                     robot_opts: RobotOptions, say) -> str | None:
     """`vampc compile`: the IR dump asked for (returned), or the program file written (and a summary
@@ -101,6 +115,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",))["-o"]
     with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
         c = compile_robot(robot, options, robot_opts)
+        _warn_constants(robot, c)
         write_program(program_chunks(c), out)
         leave_big(c.network)
     s = c.schedule
@@ -484,6 +499,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
     outs = plan_outputs([source, own.rtl], {flag(name): getattr(own, name) for name in own.PICTURES})
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
         c, figures, check = _report_compiled(source, options, robot_opts, params)
+        _warn_constants(source, c)
         try:
             from vampc.report.build import build_report
             rtl = None

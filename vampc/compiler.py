@@ -38,6 +38,20 @@ class Compiled:
     layout: Layout | None = None
 
 
+def overflowing_constants(net, word) -> list[str]:
+    """The constant buffers whose values the word cannot hold (the host's conversion saturates or
+    wraps them: `vampc emulate` counts them as overflows), by name, in buffer order."""
+    if not getattr(word, "bits", None) or not str(getattr(word, "name", "")).startswith("q"):
+        return []
+    out = []
+    for c in net.consts:
+        w = word.fresh()
+        w.encode(c.value)
+        if w.overflows:
+            out.append(c.name)
+    return out
+
+
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:
     """The dataflow graph for the chosen recursion (its builder in vampc.dataflow.registry)."""
     import numpy as np
