@@ -354,3 +354,15 @@ def test_a_kind_or_bit_named_twice_runs_once(programs, tmp_path):
     twice = _campaign(ec, tmp_path, "--kinds", "dead,dead", "--sets", "3")
     once = _campaign(ec, tmp_path, "--kinds", "dead", "--sets", "3", name="once.jsonl")
     assert twice["runs"] == once["runs"] and len({r["fault"] for r in once["runs"]}) == len(once["runs"])
+
+
+def test_a_campaign_too_big_for_memory_names_what_faults_can_do(programs, tmp_path, monkeypatch):
+    """The advice was "use --engine stream", an option faults does not have."""
+    from vampc.emulator import driver
+    monkeypatch.setattr(driver, "_available_memory", lambda: 1 << 20)
+    ec, _, _ = programs
+    r = RUN(main, ["faults", str(ec), "--sets", "100000", "--results", str(tmp_path / "r.jsonl")])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and len(errors) == 1, r.output
+    assert errors[0].endswith("give fewer --sets (a fault campaign runs on the tick engine)")
+    assert "--engine" not in r.output and not (tmp_path / "r.jsonl").exists()

@@ -944,7 +944,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                    f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
     from vampc.emulator.driver import tick_memory_check
     from vampc.emulator.faults import check_faults
-    tick_memory_check(ld, sets)
+    tick_memory_check(ld, sets, "give fewer --sets (a fault campaign runs on the tick engine)")
     last = (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs)
     if own.at > last:
         raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "

@@ -87,14 +87,17 @@ def chunk_size(ld: Loaded) -> int:
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // max(per_set, 1))))
 
 
-def tick_memory_check(ld: Loaded, count: int) -> None:
-    """The tick engine holds every set's port values and torques: refuse a run that cannot fit."""
+STREAM_ADVICE = "run fewer sets or use --engine stream, which takes them in chunks"
+
+
+def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE) -> None:
+    """The tick engine holds every set's port values and torques: refuse a run that cannot fit.
+    `advice`: what the command can do instead (a fault campaign has only the tick engine)."""
     need = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
     avail = _available_memory()
     if avail is not None and need > avail // 2:
         raise VampcError(f"{ld.path}: {count} torque sets need about {need / 2**30:.1f} GiB in the "
-                         f"tick engine ({avail / 2**30:.1f} GiB available); run fewer sets or use "
-                         "--engine stream, which takes them in chunks")
+                         f"tick engine ({avail / 2**30:.1f} GiB available); {advice}")
 
 
 def _available_memory() -> int | None:
