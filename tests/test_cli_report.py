@@ -241,3 +241,16 @@ def test_constants_a_word_cannot_hold_are_warned_of_at_compile_and_report(tmp_pa
     assert "beyond the range of q3.13 (pdd0, m2, m3)" in run("report", program).stderr
     res = run("compile", PUMA, "--word", "q16.16", "-o", tmp_path / "q16.vamp.json")
     assert res.exit_code == 0 and "warning" not in res.stderr
+
+
+def test_a_control_rate_missed_by_a_hair_is_never_shown_as_met():
+    """At 609.9 kHz the Puma's 61-flop latency allows 9 998.4 Hz: 10 kHz is missed by 0.016%, and
+    the report said "not met (×1)", its JSON margin 1.0 beside met false."""
+    from vampc.report.clock import clock_figures, margin_text
+    fig = clock_figures(61, 4, 0, 609.9e3)
+    ten = next(r for r in fig["control_rates"] if r["hz"] == 10_000)
+    assert ten["met"] is False and ten["margin"] < 1 and ten["margin"] == pytest.approx(609.9e3 / 61 / 1e4)
+    assert margin_text(ten["margin"]) == "needs a ×1.00016 faster clock"
+    assert margin_text(0.5) == "needs a ×2 faster clock" and margin_text(3.44) == "×3.44"
+    exact = clock_figures(61, 4, 0, 610e3)["control_rates"][1]
+    assert exact["met"] is True and exact["margin"] == 1.0
