@@ -182,6 +182,9 @@ def test_tradeoff_json_and_csv():
     args = ["report", str(EXAMPLES / "planar2.yaml"), "--tradeoff"]
     doc = json.loads(CliRunner().invoke(main, [*args, "--format", "json"]).stdout)
     rows = doc["points"]
+    from schema_check import schema_errors      # the trade-off's own schema (it had none: the
+    assert schema_errors("tradeoff", doc) == []  # report's, which README pointed at, refused it)
+    assert schema_errors("report", doc) != []
     layouts = {r["layout"] for r in rows}
     assert {"systolic", "folded", "folded, shared passes"} <= layouts
     assert any(r["layout"].startswith("budget") for r in rows)
