@@ -75,7 +75,13 @@ def test_focus_past_the_last_position_and_a_device_name(tmp_path):
     assert r.exit_code == 0 and "positions 5 to 6 only" in out.read_text()
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--layout", "folded",
                                   "--network", str(out), "--focus", "bwd dev 0"])
-    assert r.exit_code == 0, r.output
+    assert r.exit_code == 0 and "warning" not in r.output, r.output   # (it warned of "--focus 1:8",
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"),  # a range never typed)
+                                  "--network", str(out), "--focus", "bwd 3"])
+    assert r.exit_code == 0 and "warning" not in r.output, r.output
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
+                                  "--focus", "bwd dev 0"])        # (systolic: node 0 is not drawn)
+    assert r.exit_code == 2 and "this drawing has no node 0 in section bwd" in r.output, r.output
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
                                   "--focus", "9:12"])
     assert r.exit_code == 2 and "--focus 9:12: no node there (positions 1 to 6)" in r.output

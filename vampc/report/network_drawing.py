@@ -114,9 +114,12 @@ def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
             from vampc.errors import VampcUsageError
             site = next((s for s in d.places if (s.section, s.index) == focus), None)
             if site is None:
-                raise VampcUsageError(f"--focus '{focus[0]} {focus[1]}': no such node in this drawing")
+                raise VampcUsageError(f"--focus: this drawing has no node {focus[1]} in section "
+                                      f"{focus[0]}")
             x = d.places[site][0] + 1
-            focus = (max(1, x - MAX_COLS // 2), x + MAX_COLS // 2 - 1)      # 16 positions
+            # 16 positions around it, within the drawing (a range made here, not typed: no warning
+            # about positions the user never named)
+            focus = (max(1, x - MAX_COLS // 2), min(d.cols, x + MAX_COLS // 2 - 1))
         d = focused(d, *focus)
     return aggregate(d) if d.cols > MAX_COLS else d
 
