@@ -189,6 +189,8 @@ def test_csv_and_text(programs, tmp_path):
     (["--kinds", "control", "--bits", "5"], "--bits applies to the result, a and b kinds"),
     (["--kinds", "dead", "--values", "0"], "--values applies to the result, a and b kinds"),
     (["--bits", "٥"], "give bit numbers"),
+    # said of the --fault made from it, exit 1 ("bit 99: the register has 64 bits")
+    (["--bits", "99"], "--bits 99: bit 99 is beyond the 64-bit words of float64"),
 ])
 def test_usage_errors(programs, args, says):
     ec, _, _ = programs
@@ -366,3 +368,17 @@ def test_a_campaign_too_big_for_memory_names_what_faults_can_do(programs, tmp_pa
     assert r.exit_code == 1 and len(errors) == 1, r.output
     assert errors[0].endswith("give fewer --sets (a fault campaign runs on the tick engine)")
     assert "--engine" not in r.output and not (tmp_path / "r.jsonl").exists()
+
+
+def test_a_results_link_is_refused_dangling_or_not(programs, tmp_path):
+    """A link to a results file was refused ("a link or a device is never written") but a dangling
+    one was written through, creating its target: both are refused now, and nothing is made."""
+    ec, _, _ = programs
+    for target in (tmp_path / "kept.jsonl", tmp_path / "missing.jsonl"):
+        link = tmp_path / f"to-{target.name}"
+        link.symlink_to(target)
+        if target.name == "kept.jsonl":
+            target.write_text("")
+        r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(link)])
+        assert r.exit_code == 1 and "not a regular file (a link or a device is never written)" in r.output
+    assert not (tmp_path / "missing.jsonl").exists() and (tmp_path / "kept.jsonl").read_text() == ""

@@ -949,6 +949,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     if own.at > last:
         raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "
                          "sets)")
+    width = ld.arith.bits
+    wide = [b for b in own.bit_list() or () if b >= width]
+    if wide:                   # (said of --bits, not of a --fault the user never wrote)
+        raise VampcUsageError(f"--bits {own.bits}: bit {wide[0]} is beyond the {width}-bit words "
+                              f"of {ld.arith!r} (0..{width - 1})")
     faults = cp.faults_of(ld, own.campaign, own.kind_list(), own.at, own.count, own.rate,
                           own.seed, sets, own.bit_list(), own.value_list())
     check_faults(faults, ld, last)      # a bit the word has not, control2 without checking

@@ -388,11 +388,12 @@ class ResultsFile:
     def load(self) -> None:
         """Read what an earlier run of this campaign left (VampcError for another campaign's file)."""
         from vampc import jsontext
-        if not os.path.exists(self.path):
-            return
-        if os.path.islink(self.path) or not os.path.isfile(self.path):
+        if os.path.islink(self.path) or os.path.exists(self.path) and not os.path.isfile(self.path):
+            # (a dangling link too: it had been written through, a link to a file refused)
             raise VampcError(f"--results {self.path}: not a regular file (a link or a device is "
                              "never written)")
+        if not os.path.exists(self.path):
+            return
         with open(self.path, "rb") as fh:
             data = fh.read()
         if b"\n" not in data:
