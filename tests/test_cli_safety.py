@@ -800,6 +800,8 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF and MJCF files only"),
     ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF and MJCF files only"),
     ((EXAMPLES / "quadruped.urdf", "--lock", "x=nan"), "the position must be a finite number"),
+    # given, though it is the default: taken unsaid, as --mimic couple was refused
+    ((PLANAR, "--mimic", "ordinary"), "--mimic applies to URDF and MJCF files only"),
 ])
 def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     res = run("compile", *args, "-o", tmp_path / "x.vamp.json")

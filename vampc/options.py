@@ -243,6 +243,7 @@ class RobotOptions:
         "--accept-improper-inertia", help="URDF and MJCF: take a link inertia that is not positive "
         "semi-definite as written, with a warning naming the link, as Pinocchio does (by default one "
         "that misses by more than a rounding error is refused)."))
+    given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
     def locks(self) -> dict[str, float]:
         """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
@@ -269,7 +270,7 @@ class RobotOptions:
         """--base, --tip and --lock name URDF or MJCF links and joints: a DH table is read whole."""
         from vampc.robot import URDF_SUFFIXES
         given = [flag(n) for n in ("base", "tip", "lock") if getattr(self, n)] + \
-            (["--mimic"] if self.mimic != "ordinary" else []) + \
+            (["--mimic"] if self.mimic != "ordinary" or "mimic" in self.given else []) + \
             (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
