@@ -322,11 +322,20 @@ def test_a_what_if_word_is_another_campaign(programs, tmp_path):
     assert (tmp_path / "r.jsonl").read_bytes() == before
     assert _campaign(ec, tmp_path, *QUICK)["runs"] == first["runs"]
     assert _campaign(ec, tmp_path, *QUICK, "--word", "q4.28", name="q.jsonl")["runs"]
+    # the program's own word said again is the same machine: it resumes (it was refused)
+    for same in (["--word", "q16.16"], ["--rounding", "nearest"], ["--mult-latency", "1"]):
+        r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", *same,
+                       "--results", str(tmp_path / "r.jsonl")])
+        assert r.exit_code == 0 and "8 run(s) read from" in r.output, r.output
+    assert _campaign(ec, tmp_path, *QUICK, "--word", "q4.28", "--rounding", "nearest",
+                     name="q.jsonl")["runs"]          # q4.28 said either way: one campaign
 
 
 @pytest.mark.parametrize("edit", [('"class": "', '"class": "bogus'), ('"index": 0,', '"index": true,'),
                                   ('"index": 0,', '"index": 1.5,'), ('"fault": "', '"fault": "x'),
-                                  ('"kind": "', '"kind": 3, "was": "')])
+                                  ('"kind": "', '"kind": 3, "was": "'),
+                                  ('"kind": "', '"kind": "made up", "was": "'),
+                                  ('"class": "', '"class": "detected-corrected", "was": "')])
 def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path, edit):
     """An edited line of the results file was a KeyError traceback (`"class": "bogus"`) or, with
     `"index": true`, fault 0's run filed as fault 1's, exit 0: every line must be a run of this

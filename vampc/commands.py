@@ -961,9 +961,10 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
-    what_if = sorted(options.given & set(options.recorded()))
-    if is_program(source) and what_if:     # --word, --rounding...: another machine, other results
-        identity += ":" + jsontext.dumps({k: getattr(options, k) for k in what_if})
+    if is_program(source) and repr(ld.arith) != _stored_word(ld):
+        identity += f":{ld.arith!r}"    # a what-if --word: another machine, other results (one
+        #                                 matching the program's own, or --rounding nearest said
+        #                                 again, is the same machine: the file still resumes)
     header = {"vampc_faults": 1, "program": identity, "campaign": own.campaign, "sets": sets,
               "seed": own.seed, "faults": [f.text for f in faults]}
     store = cp.ResultsFile(str(outs["--results"].path), header)
@@ -1011,6 +1012,15 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         write_output(outs["-o"], text + "\n", "report")
     else:
         say(text.rstrip("\n"))
+
+
+def _stored_word(ld) -> str:
+    """The word format the program file records, as its arith's repr ('q16.16 (nearest,
+    saturate)', 'float64'), whatever word this run computes in."""
+    from vampc.machine.arith import parse_word
+    o = ld.options
+    return repr(parse_word(o.get("word", "float64"), o.get("rounding", "nearest"),
+                           o.get("overflow", "saturate")))
 
 
 def _fault_task(setup, item):
