@@ -428,7 +428,8 @@ joints:
 
 
 @pytest.mark.parametrize("command", [("compile", "-o", "{dir}/big.vamp.json"), ("report",),
-                                     ("report", "--recursion", "log", "--cpu-reference")])
+                                     ("report", "--recursion", "log", "--cpu-reference"),
+                                     ("report", "--tradeoff")])       # (named no file there)
 def test_numbers_that_overflow_once_combined_are_one_line_naming_the_file_and_joint(tmp_path, command):
     """Every number of the table finite, but a + com overflows: compile was a traceback (a
     constant of inf is no JSON number), report exit 0 with numpy's overflow warning (and NaN
@@ -462,3 +463,17 @@ def test_a_compile_error_names_the_robot_file(tmp_path):
     assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {PLANAR}: VAMP number"), err
     code, err, _ = run("report", PLANAR, "--bus", "mlb", "--tiers", "2")
     assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {PLANAR}: the tiers"), err
+
+
+def test_a_numbering_files_errors_name_that_file_once(tmp_path):
+    """The robot file's name had been put before the --numbering file's own errors too
+    ("planar2.yaml: n.txt: line 3: ..."); the extraneous VAMP's number is the numbering file's."""
+    numbers = tmp_path / "n.txt"
+    numbers.write_text("1\n2\nx\n")
+    code, err, _ = run("compile", PLANAR, "--numbering", numbers, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and err == f"vampc: error: {numbers}: line 3: 'x' is not a VAMP number (1..16777215)\n"
+    numbers.write_text("\n".join(map(str, [*range(1, 60), 16777215])) + "\n")
+    code, err, _ = run("compile", PLANAR, "--numbering", numbers, "--error-correction", "-o",
+                       tmp_path / "p.vamp.json")
+    assert code == 1 and err.startswith(f"vampc: error: {numbers}: with --error-correction the "
+                                        "extraneous VAMP takes number 16777216"), err

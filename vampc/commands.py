@@ -9,6 +9,7 @@ main output (`err`: for standard error, because standard output carries data).
 """
 from __future__ import annotations
 
+import contextlib
 import functools
 import gc
 import math
@@ -75,13 +76,25 @@ def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions 
     with progress.stages(f"compiling {Path(robot).name}", ("load",) + STAGES) as stage:
         stage("load")
         chain = load_chain(robot, options, robot_opts)
-        try:
+        with naming(robot, options.numbering):
             return compile_chain(chain, options, stage=stage, until=until,
                                  check_network=check_network)
-        except VampcError as exc:     # (a usage error, or one led by its option, is the options')
-            if isinstance(exc, VampcUsageError) or str(exc).startswith((f"{robot}:", "-")):
-                raise
-            raise VampcError(f"{robot}: {exc}") from None
+
+
+@contextlib.contextmanager
+def naming(robot: str, *others):
+    """A compile error of the robot file names the file (the VAMP numbers a word cannot hold, the
+    bus tiers, a constant that overflows: FILE: WHERE: WHAT), unless it is a usage error, is led by
+    its option (--vamps K --interval T), or already names a file (`robot` or `others`: the
+    --numbering file)."""
+    try:
+        yield
+    except VampcError as exc:
+        text = str(exc)
+        named = tuple(f"{p}:" for p in (robot, *others) if p)
+        if isinstance(exc, VampcUsageError) or text.startswith(("-", *named)):
+            raise
+        raise VampcError(f"{robot}: {text}") from None
 
 
 def _warn_constants(robot: str, c) -> None:
@@ -577,7 +590,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
                           stacklevel=1)
     else:
         chain = load_chain(source, options, robot_opts)
-    with progress.counter("trade-off", 1, unit="budget") as bar:
+    with progress.counter("trade-off", 1, unit="budget") as bar, naming(source):
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     if outs:
         from vampc.report.tradeoff_chart import curve_svg

@@ -117,7 +117,12 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
         from vampc.network.checking import checking_for
         net = replace(net, checking=checking_for(net, progs, options.timing,
                                                  options.check_cycles))
-        emit.extraneous_number(numbering, Packing.of(options.arith()))
+        try:
+            emit.extraneous_number(numbering, Packing.of(options.arith()))
+        except VampcError as exc:        # (the numbers are the --numbering file's, when given)
+            if options.numbering:
+                raise VampcError(f"{options.numbering}: {exc}") from None
+            raise
     return Compiled(chain, options, graph, sched, net, numbering, progs,
                     emit.program_stream(net, progs, numbering, Packing.of(options.arith())),
                     layout)
