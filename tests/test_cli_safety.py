@@ -1059,18 +1059,22 @@ def test_a_result_for_a_closed_standard_output_is_an_error_before_any_work(tmp_p
     import subprocess
     import sys
     program = tmp_path / "p.vamp.json"
+    path = tmp_path.parent / f"{tmp_path.name}-path.csv"         # (outside: the folder must stay empty)
+    path.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "0,0,0,0,0,0\n" * 4)
     runs = [["report", str(PLANAR), "--timing", str(tmp_path / "timing.svg")],
             ["report", str(PLANAR), "--tradeoff"],
             ["precision", str(PLANAR)],
             ["compile", str(PLANAR), "-o", "-"],
             ["compile", str(PLANAR), "-o", str(program)],
             ["emulate", str(program), "--random", "3", "-o", "-"],
-            ["faults", str(program), "--results", str(tmp_path / "r.jsonl")]]
+            ["faults", str(program), "--results", str(tmp_path / "r.jsonl")],
+            ["compile", str(PLANAR), "--dump-after", "graph"],
+            ["lookahead", str(PLANAR), "--trajectory", str(path), "--rate", "1kHz", "--window", "2"]]
     done = subprocess.run([sys.executable, "-c", CLOSED_STDOUT, json.dumps(runs)], stderr=subprocess.PIPE,
                           text=True, timeout=300, preexec_fn=lambda: os.close(1))
     assert done.returncode == 0, done.stderr
     lines = done.stderr.splitlines()
-    assert [line for line in lines if line.startswith("exit ")] == ["exit 1"] * 4 + ["exit 0"] + ["exit 1"] * 2
+    assert [line for line in lines if line.startswith("exit ")] == ["exit 1"] * 4 + ["exit 0"] + ["exit 1"] * 4
     said = [line for line in lines if not line.startswith("exit ")]
     assert len(said) == len(runs) - 1, lines
     assert all(ERROR.match(line + "\n") and "standard output is closed" in line for line in said), said

@@ -146,6 +146,8 @@ def compile(ctx, robot, **params):
     """Compile ROBOT into a program file: dataflow graph, schedule, netlist, VAMP program words,
     Program-Mode stream and host I/O schedule."""
     from vampc.commands import compile_command
+    if params.get("dump_after"):                # (the IR's text is the result)
+        need_stdout("vampc compile --dump-after")
     dump = compile_command(robot, build(CompileCommand, ctx, params),
                            build(CompileOptions, ctx, params), build(RobotOptions, ctx, params), say)
     if dump is not None:
@@ -207,6 +209,8 @@ def lookahead(ctx, source, **params):
     """The torque shift register of section VIII over a path: every row's torques, limits seen before
     the arm gets there, and time scaling, uniform or window by window (README, vampc lookahead)."""
     from vampc.commands import lookahead_command
+    if all(params.get(name) is None for name in ("output", "torques", "plot")):
+        need_stdout("vampc lookahead")          # (its summary, the violations, is the result)
     if not lookahead_command(source, build(LookaheadOptions, ctx, params), build(
             CompileOptions, ctx, params), build(RobotOptions, ctx, params), params, say):
         sys.exit(1)
