@@ -254,3 +254,16 @@ def test_a_control_rate_missed_by_a_hair_is_never_shown_as_met():
     assert margin_text(0.5) == "needs a ×2 faster clock" and margin_text(3.44) == "×3.44"
     exact = clock_figures(61, 4, 0, 610e3)["control_rates"][1]
     assert exact["met"] is True and exact["margin"] == 1.0
+
+
+def test_the_option_that_decides_what_applies_is_blamed_first(tmp_path):
+    """`--word q16.16 --rounding truncate` on a float64 report blamed --rounding (dropping it only
+    led to --word's error); a what-if --word float64 with --rounding said the program computes in
+    float64 (it is q16.16; the --word asked for is not fixed point)."""
+    program, q16 = tmp_path / "puma.vamp.json", tmp_path / "q16.vamp.json"
+    assert run("compile", PUMA, "-o", program).exit_code == 0
+    assert run("compile", PUMA, "--word", "q16.16", "-o", q16).exit_code == 0
+    one_line_error(run("report", program, "--word", "q16.16", "--rounding", "truncate"), 2,
+                   r"^vampc: error: --word q16\.16: .* was compiled with --word float64")
+    one_line_error(run("emulate", q16, "--random", "2", "--word", "float64", "--rounding", "truncate"),
+                   2, r"--rounding applies to fixed-point words \(qI\.F\) only; --word float64 is not one")

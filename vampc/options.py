@@ -347,9 +347,21 @@ def check_program_options(given, params: dict, source: str, stored: dict,
             raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
     defaults = {f.name: f.default for f in fields(CompileOptions)}
-    _check_program_applies(given, params, source, stored, overrides, defaults)
+    # the options that decide what applies (--word, --recursion...) first: `--word q16.16
+    # --rounding truncate` on a float64 report is --word's error, not --rounding's
+    args = (given, params, source, stored, overrides, defaults)
+    _check_program_values(*args, lambda name: name not in _APPLIES)
+    _check_program_applies(*args)
+    _check_program_values(*args, lambda name: name in _APPLIES)
+
+
+_APPLIES = ("prefix", "uniform_leaves", "rounding", "overflow", "check_cycles")   # (conditional)
+
+
+def _check_program_values(given, params, source, stored, overrides, defaults, which) -> None:
+    """A compile option given with another value than the program file's (`which` names)."""
     for name in CompileOptions.recorded():
-        if name not in given or name in overrides:
+        if name not in given or name in overrides or not which(name):
             continue
         value = params[name]
         if stored.get(name, defaults[name]) != value:
@@ -377,8 +389,9 @@ def _check_program_applies(given, params, source, stored, overrides, defaults) -
                                   f"compiled with --recursion {recursion}")
     for name in ("rounding", "overflow"):
         if name in given and not str(word).startswith("q"):
-            raise VampcUsageError(f"{flag(name)} applies to fixed-point words (qI.F) only; "
-                                  f"{source} computes in {word}")
+            raise VampcUsageError(f"{flag(name)} applies to fixed-point words (qI.F) only; " + (
+                f"--word {word} is not one" if "word" in given and "word" in overrides
+                else f"{source} computes in {word}"))
     if "check_cycles" in given and not stored.get("error_correction", False):
         raise VampcUsageError(f"--check-cycles applies with --error-correction; {source} was "
                               "compiled without it")
