@@ -224,6 +224,19 @@ def test_the_package_count_packs_the_pins_the_report_says_a_vamp_needs(tmp_path,
     total = round(pins["mean"] * vamps)               # every VAMP's pins, from the section's mean
     assert math.ceil(total / 40) <= own["muxed_separate"] <= vamps
     assert own["muxed_shared"] <= own["muxed_separate"]
+    if section == "bus":
+        # worked out here from the wiring: a VAMP on the bus keeps the paper's 8 pins but its two
+        # operand pins, and has one per tier and one per operand input not on the bus; packed in
+        # order into 40-pin packages, a new package when the next VAMP does not fit
+        from vampc.emulator.load import load_program
+        from vampc.kinds import TapKind
+        net = load_program(str(program)).net
+        each = [8 - 2 + len(net.bus.tiers) + sum(not any(t.kind is TapKind.BUS for t in op.taps)
+                                                 for op in v.a + v.b) for v in net.vamps]
+        packages, used = 0, 40
+        for need in each:
+            packages, used = (packages + 1, need) if used + need > 40 else (packages, used + need)
+        assert own["muxed_separate"] == packages and max(each) == own["max_pins_per_vamp"]
 
 
 def test_constants_a_word_cannot_hold_are_warned_of_at_compile_and_report(tmp_path):
