@@ -44,12 +44,13 @@ def _cosim(ld, sets=3, seed=1, simulator="amaranth", design=None):
 
 # Amaranth elaborates and compiles a design for its simulator at about 0.1 s a VAMP: the Puma 560's
 # systolic network (180 VAMPs) takes 20-25 s. To keep the suite within its 4 minutes, the suite runs
-# planar2 systolic and folded and the Puma 560 folded, in q16.16 (the random small chains below
-# draw q12.20 and q20.12 too); the Puma's systolic runs and every q12.20 configuration are marked
-# slow (pytest -m slow), and benchmarks/rtl.py runs every configuration with 10 torque sets.
+# planar2 systolic and folded in q16.16 (the random small chains below draw q12.20 and q20.12 too);
+# the Puma's runs (its folded q16.16 one too: 7.7 s) and every q12.20 configuration are marked slow
+# (pytest -m slow), and benchmarks/rtl.py runs every configuration with 10 torque sets.
 CONFIGS = [(r, lay, w) for r in ("planar2", "puma560") for lay in ("systolic", "folded")
            for w in ("q16.16", "q12.20")]
 SLOW = {("puma560", "systolic", "q16.16"), ("puma560", "systolic", "q12.20"),
+        ("puma560", "folded", "q16.16"),
         ("puma560", "folded", "q12.20"), ("planar2", "folded", "q12.20"),
         ("planar2", "systolic", "q12.20")}
 
@@ -158,7 +159,11 @@ def test_datapath_arithmetic_is_the_integer_oracles(I, F, rounding, overflow):
 
 @pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog (iverilog) not installed")
 def test_icarus_gives_the_same_words():
-    ld = _loaded(random_chain(1, 5), vamps=2, word="q12.20")
+    """Icarus and Amaranth's simulator agree bit for bit; the robot is named `tb`, the name of the
+    testbench's module before it became tb_<top> ("Module tb was already declared")."""
+    from dataclasses import replace
+    ld = _loaded(replace(random_chain(1, 5), name="tb"), vamps=2, word="q12.20")
+    assert ld.chain.name == "tb"
     a, b = _cosim(ld, sets=2), _cosim(ld, sets=2, simulator="icarus")
     assert b.ok and np.array_equal(a.words, b.words)
 
@@ -462,12 +467,12 @@ def test_a_newline_in_the_robots_name_stays_in_the_header_comment(tmp_path):
     assert lines[1].startswith("// robot: a\\nb (1 joints)") and header(design).isascii()
 
 
-@pytest.mark.parametrize("name", ["tb", pytest.param("module", marks=pytest.mark.slow),
-                                  pytest.param('"robot-ü"', marks=pytest.mark.slow)])
+@pytest.mark.slow    # 6 s each; the run co-simulates a robot named tb in Icarus
+@pytest.mark.parametrize("name", ["tb", "module", '"robot-ü"'])   # (test_icarus_gives_the_same_words)
 def test_any_robot_name_co_simulates_in_icarus(tmp_path, name):
     """Reserved (`module`), non-ASCII (`robot-ü`) or clashing (`tb`, the testbench's own module)
-    names broke the Icarus co-simulation ("I give up", "already declared"). 6 s each: the first
-    runs here, the others under -m slow (module_name's own test covers their names)."""
+    names broke the Icarus co-simulation ("I give up", "already declared"); module_name's own test
+    covers every name in the run."""
     import shutil
     if shutil.which("iverilog") is None:
         pytest.skip("Icarus Verilog (iverilog) is not installed")
