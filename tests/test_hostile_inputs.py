@@ -477,3 +477,17 @@ def test_a_numbering_files_errors_name_that_file_once(tmp_path):
                        tmp_path / "p.vamp.json")
     assert code == 1 and err.startswith(f"vampc: error: {numbers}: with --error-correction the "
                                         "extraneous VAMP takes number 16777216"), err
+
+
+@pytest.mark.parametrize("engine", ["stream", "tick"])
+@pytest.mark.parametrize("edit, says", [
+    (lambda d: d["io"]["outputs"].pop(), "io.outputs: τ6 is read from no VAMP"),
+    (lambda d: d["io"]["outputs"].append(d["io"]["outputs"][0]),
+     "io.outputs: it reads joints [1, 1, 2, 3, 4, 5, 6], the graph gives [1, 2, 3, 4, 5, 6]")])
+def test_a_torque_read_by_no_vamp_is_refused(puma_program, tmp_path, edit, says, engine):
+    """An output dropped from io.outputs (checksum fixed): the stream engine wrote whatever memory
+    held as τ6 (2e+161, 6.9e-310), exit 0; the tick engine called it an overflow."""
+    edited = edited_program(puma_program, tmp_path, edit)
+    code, err, out = run("emulate", edited, "--random", 3, "--engine", engine, "-o", "-")
+    assert code == 1 and one_line(err) and err == f"vampc: error: {edited}: {says}\n", err
+    assert out == ""

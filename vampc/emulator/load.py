@@ -332,6 +332,15 @@ def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
     for o in net.outputs:
         if o.vamp >= len(net.vamps):
             raise VampcError(f"{path}: τ{o.joint} is read from missing VAMP {o.vamp}")
+    # every torque the graph gives is read once (an output dropped from io.outputs left its column
+    # unwritten: the stream engine returned whatever memory held, exit 0)
+    want = sorted(o.joint for o in graph.outputs)
+    got = sorted(o.joint for o in net.outputs)
+    if got != want:
+        missing = sorted(set(want) - set(got))
+        what = (f"τ{missing[0]} is read from no VAMP" if missing else
+                f"it reads joints {got}, the graph gives {want}")
+        raise VampcError(f"{path}: io.outputs: {what}")
 
 
 def _bad_tap(net: Network, sizes, tap: Tap) -> str | None:
