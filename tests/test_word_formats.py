@@ -116,3 +116,26 @@ def test_a_bad_word_on_the_command_line_names_the_value_once():
     res = CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q99.99", "-o", "-"])
     assert res.exit_code == 2 and res.stderr.count("q99.99") == 1, res.stderr
     assert "--word q99.99: a fixed-point word has at least 1 integer bit" in res.stderr
+
+
+@pytest.mark.parametrize("word", ["q4.60", "q3.61", "q2.62"])
+@pytest.mark.parametrize("overflow", ["saturate", "wrap"])
+def test_one_constant_beyond_a_64_bit_word_fits_by_its_rule(word, overflow):
+    """The host's conversion of one scalar beyond a 64-bit word (the generated C's literals, a run
+    of 20 000 sets or more) was an OverflowError traceback: np.minimum on a 0-d array of Python
+    integers returned a bare int, converted to a C long. Checked here against the rule itself,
+    worked out with Python's integers: saturate to the word's ends, or keep the low 64 bits."""
+    w = parse_word(word, "nearest", overflow).fresh()
+    F = w.fraction
+    for x in (1e30, -1e30, 1.5):
+        exact = round(Fraction(x) * 2 ** F)                 # (nearest; ties do not occur here)
+        lo, hi = -(1 << 63), (1 << 63) - 1
+        if overflow == "saturate":
+            want = min(max(exact, lo), hi)
+        else:
+            low = exact & ((1 << 64) - 1)
+            want = low - (1 << 64) if low > hi else low
+        assert int(w.encode(x)) == want, x
+    assert w.overflows == 2
+    from vampc.emulator.native import _literal
+    assert _literal(1e30, parse_word(word, "nearest", overflow)).startswith("((int64_t)")

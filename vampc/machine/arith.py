@@ -240,13 +240,17 @@ class Fixed(Float64):
     def _fit(self, r):
         """A result of any size (int64 or Python integers) in the word: saturated or wrapped
         (sign-extending its low W bits), counted."""
+        r = np.asarray(r)
         over = (r < self.lo) | (r > self.hi)
         if not np.any(over):
-            return np.asarray(r).astype(np.int64)
+            return r.astype(np.int64)
+        # (np.where, not np.minimum/np.maximum: on a 0-d array of Python integers those return a
+        # bare int, which the next call converts to a C long: an OverflowError for one constant
+        # beyond a 64-bit word, as the generated C's literals are made)
         if self.overflow is Overflow.SATURATE:
-            fitted = np.minimum(np.maximum(r, self.lo), self.hi)
+            fitted = np.where(r < self.lo, self.lo, np.where(r > self.hi, self.hi, r))
         else:
-            low = r & ((1 << self.bits) - 1)
+            low = np.asarray(r & ((1 << self.bits) - 1), dtype=object)
             fitted = np.where(low > self.hi, low - (1 << self.bits), low)
         return self._overflowed(np.asarray(fitted).astype(np.int64), over, None)
 
