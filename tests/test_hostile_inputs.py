@@ -491,3 +491,23 @@ def test_a_torque_read_by_no_vamp_is_refused(puma_program, tmp_path, edit, says,
     code, err, out = run("emulate", edited, "--random", 3, "--engine", engine, "-o", "-")
     assert code == 1 and one_line(err) and err == f"vampc: error: {edited}: {says}\n", err
     assert out == ""
+
+
+def test_lines_ended_by_cr_alone_are_read_and_a_stray_cr_is_one_line(puma_program, tmp_path):
+    """A CSV whose lines end with CR alone, or a CR inside a line, was csv's traceback ("new-line
+    character seen in unquoted field", exit 3). CR endings now read as LF and CRLF do (the same
+    torques); a stray CR splits its line, which is then named."""
+    good = tmp_path / "good.csv"
+    assert run("emulate", puma_program, "--random", 3, "--save-states", good, "-o", tmp_path / "a.csv")[0] == 0
+    cr = tmp_path / "cr.csv"
+    cr.write_bytes(good.read_bytes().replace(b"\n", b"\r"))
+    code, err, _ = run("emulate", puma_program, "--trajectory", cr, "-o", tmp_path / "b.csv")
+    assert code == 0, err
+    assert (tmp_path / "b.csv").read_bytes() == (tmp_path / "a.csv").read_bytes()
+    lines = good.read_bytes().split(b"\n")
+    lines[2] = lines[2].replace(b",", b"\r,", 1)
+    stray = tmp_path / "stray.csv"
+    stray.write_bytes(b"\n".join(lines))
+    code, err, _ = run("emulate", puma_program, "--trajectory", stray, "-o", tmp_path / "c.csv")
+    assert code == 1 and one_line(err) and f"{stray}: line 3: 1 columns, expected 18" in err, err
+    assert not (tmp_path / "c.csv").exists()

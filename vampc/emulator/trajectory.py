@@ -100,7 +100,13 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     if fast is not None:
         return fast
     # --- end of fast paths ---
-    rows = list(csv.reader(io.StringIO(text)))
+    # universal newlines: a file ending its lines with CR alone (old Mac tools) reads as CRLF and
+    # LF do; csv's own error was a traceback ("new-line character seen in unquoted field")
+    reader = csv.reader(io.StringIO(text, newline=None))
+    try:
+        rows = list(reader)
+    except csv.Error as exc:
+        raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
     while rows and not "".join(rows[-1]).strip():
         rows.pop()       # trailing blank lines end the table; they are not states
     if not rows:
