@@ -511,3 +511,17 @@ def test_lines_ended_by_cr_alone_are_read_and_a_stray_cr_is_one_line(puma_progra
     code, err, _ = run("emulate", puma_program, "--trajectory", stray, "-o", tmp_path / "c.csv")
     assert code == 1 and one_line(err) and f"{stray}: line 3: 1 columns, expected 18" in err, err
     assert not (tmp_path / "c.csv").exists()
+
+
+def test_a_late_overflow_with_standard_output_says_what_was_sent(puma_program, tmp_path):
+    """`-o -` streams the torques as they come: a set that overflows late stopped the run with
+    "wrote no output file" after thousands of rows had gone to standard output."""
+    states = np.tile(np.linspace(0.1, 0.2, 18), (3000, 1))
+    states[-1, :6], states[-1, 6], states[-1, 17] = 0.0, 1e200, 1e200
+    path = tmp_path / "late.npy"
+    np.save(path, states)
+    code, err, out = run("emulate", puma_program, "--trajectory", path, "-o", "-")
+    assert code == 1 and one_line(err), err
+    assert "set 3000" in err and "wrote no output file" not in err
+    assert "the run stopped there: -o - had sent the sets before it to standard output" in err
+    assert out.startswith("tau_waist,")

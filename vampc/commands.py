@@ -278,6 +278,15 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
             ok = outcome.check is None or (outcome.check.overall <= tolerance
                                            and not outcome.overflows)
         sinks.finish(ok, own.write_failed, lambda text: say(text, True))
+    except VampcError as exc:
+        sinks.discard()
+        streamed = [o.option for o in outs.values() if o.is_stdout]
+        if streamed and "wrote no output file" in str(exc):      # (driver.non_finite's words)
+            raise VampcError(str(exc).replace(
+                "the run stopped and wrote no output file",
+                f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
+                "to standard output, which ends with them")) from None
+        raise
     except BaseException:         # (a line that cannot be said, a failed commit: no temporaries left)
         sinks.discard()
         raise
