@@ -605,6 +605,10 @@ def test_save_states_writes_csv_or_npy_not_npz(tmp_path, program):
     (["--save-states", "s.csv.gz"], "--save-states writes a trajectory as CSV or, for a name ending in "
                                     ".npy, as a NumPy array: not .gz"),
     (["--allow-out-of-limits"], "--allow-out-of-limits applies with --trajectory"),
+    # written as plain CSV under a compressed file's name, as .gz had been
+    (["-o", "tau.csv.bz2"], "not .bz2 (compress the file afterwards)"),
+    (["-o", "tau.csv.xz"], "not .xz (compress the file afterwards)"),
+    (["--save-states", "s.zip"], "not .zip (compress the file afterwards)"),
 ])
 def test_emulate_options_it_would_not_honour_are_usage_errors(tmp_path, program, args, message):
     res = run("emulate", program, "--random", 2, *[tmp_path / a if "." in a else a for a in args])

@@ -337,6 +337,9 @@ def check_word(options) -> None:
                                       f"not to {options.word}")
 
 
+COMPRESSED = (".gz", ".bz2", ".xz", ".zip", ".zst", ".lzma", ".7z")   # suffixes of compressed files
+
+
 def check_program_options(given, params: dict, source: str, stored: dict,
                           overrides: tuple = ()) -> None:
     """Compile and robot options given with a program file must not contradict how it was compiled:
@@ -527,10 +530,10 @@ class EmulateOptions:
         for option, value, what in (("-o", self.output, "torques"),
                                     ("--save-states", self.save_states, "a trajectory")):
             suffix = Path(value).suffix.lower() if value else ""
-            if suffix in (".npz", ".gz"):      # (a .gz name was written uncompressed)
+            if suffix in (".npz",) + COMPRESSED:     # (a .gz name was written uncompressed)
                 raise VampcUsageError(f"{option} writes {what} as CSV or, for a name ending in .npy, "
                                       f"as a NumPy array: not {suffix}"
-                                      + (" (compress the file afterwards)" if suffix == ".gz" else ""))
+                                      + (" (compress the file afterwards)" if suffix != ".npz" else ""))
         if self.allow_out_of_limits and self.trajectory is None:
             raise VampcUsageError("--allow-out-of-limits applies with --trajectory (random states are "
                                   "drawn within the limits)")
