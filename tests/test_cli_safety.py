@@ -1083,3 +1083,18 @@ def test_a_result_for_a_closed_standard_output_is_an_error_before_any_work(tmp_p
     assert len(said) == len(runs) - 1, lines
     assert all(ERROR.match(line + "\n") and "standard output is closed" in line for line in said), said
     assert program.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["p.vamp.json"]
+
+
+@pytest.mark.parametrize("args", [
+    ["emulate", "{program}", "--random", "1_0"], ["emulate", "{program}", "--random", "١٠"],
+    ["precision", "{program}", "--sets", "1_0"], ["precision", "{program}", "--tolerance", "０.１"],
+    ["precision", "{program}", "--sweep", "２０:２１"],
+    ["emulate", "{program}", "--random", "2", "--engine", "tick", "--fault", "vamp=１,dead"],
+    ["emulate", "{program}", "--random", "2", "--engine", "tick", "--fault", "vamp=1,stuck=result.z:٣"]])
+def test_numbers_on_the_command_line_are_ascii_digits(program, args):
+    """int() and float() read '١٠', '６４' and '1_0': --random, --window, --sets, --tolerance,
+    --sweep and --fault took them while the file readers and --rate refused them."""
+    res = run(*[a.format(program=program) for a in args])
+    assert res.exit_code == 2 and res.stderr.count("\n") == 1, res.output
+    assert "not a number written in ASCII digits" in res.stderr or "give A:B" in res.stderr or \
+        "not a whole number" in res.stderr or "give REGISTER:BIT" in res.stderr, res.stderr

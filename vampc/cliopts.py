@@ -22,6 +22,31 @@ class FilePath(click.Path):
         return super().convert(value, param, ctx)
 
 
+def _plain_number(kind, value, param, ctx) -> None:
+    """A number on the command line is written in ASCII digits, without separators: Python's int()
+    and float() also take '١٠', '６４' and '1_0', which the file readers refuse (and --rate)."""
+    if isinstance(value, str) and (not value.isascii() or "_" in value):
+        kind.fail(f"{value!r} is not a number written in ASCII digits", param, ctx)
+
+
+class PlainInt(click.types.IntParamType):
+    def convert(self, value, param, ctx):
+        _plain_number(self, value, param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class PlainIntRange(click.IntRange):
+    def convert(self, value, param, ctx):
+        _plain_number(self, value, param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class PlainFloat(click.types.FloatParamType):
+    def convert(self, value, param, ctx):
+        _plain_number(self, value, param, ctx)
+        return super().convert(value, param, ctx)
+
+
 class Choices(click.Choice):
     """A choice among names a registry gives when the command line is parsed (a layout registered
     after import is a choice)."""
@@ -51,7 +76,11 @@ def options_of(*classes, hidden=()):
                 if "choices" in kw:
                     kw["type"] = Choices(kw.pop("choices"))
                 if "range" in kw:
-                    kw["type"] = click.IntRange(*kw.pop("range"))
+                    kw["type"] = PlainIntRange(*kw.pop("range"))
+                elif kw.get("type") is float or fl.type in (float, "float", "float | None"):
+                    kw["type"] = PlainFloat()
+                elif kw.get("type") is int or fl.type in (int, "int", "int | None"):
+                    kw["type"] = PlainInt()
                 if kw.pop("path", False):
                     kw["type"] = FilePath(dir_okay=False, allow_dash=kw.pop("dash", False))
                 if fl.type in (bool, "bool") and "/" not in decls[0]:

@@ -927,6 +927,8 @@ class PrecisionOptions:
         """The widths of --sweep (VampcUsageError if it is not A:B within 2..64)."""
         lo, sep, hi = self.sweep.partition(":")
         try:
+            if not self.sweep.isascii() or "_" in self.sweep:    # (int() reads '２０' and '2_0')
+                raise ValueError(self.sweep)
             a, b = int(lo), int(hi)
         except ValueError:
             a = b = 0
