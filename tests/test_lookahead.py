@@ -554,3 +554,18 @@ def test_limits_are_blamed_on_the_file_they_came_from_and_a_trailing_empty_heade
     assert r.exit_code == 1 and f"{robot}: joint 'waist': speed limit 1e-13 is below 1e-12" in r.output, r.output
     r = run_lookahead(program, path, own)
     assert r.exit_code == 0, r.output
+
+
+def test_unix_timestamps_are_a_path_at_their_rate():
+    """A path sampled at 1 kHz with Unix times (t = 1.7e9 s) was refused: "t steps by
+    0.0009999275207519531, not 1/rate", the float64 rounding of the times themselves. A step that
+    is really off (1.1 ms) is still refused."""
+    from types import SimpleNamespace
+
+    from vampc.errors import VampcError
+    from vampc.lookahead import check_path
+    t = 1.7e9 + np.arange(100) / 1000
+    assert np.array_equal(check_path(SimpleNamespace(t=t, count=100), 1000.0, "p.csv"), t)
+    t[50:] += 1e-4
+    with pytest.raises(VampcError, match=r"p\.csv: row 51: t steps by"):
+        check_path(SimpleNamespace(t=t, count=100), 1000.0, "p.csv")

@@ -246,7 +246,8 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0):
 
 
 def check_path(traj, rate: float, path: str) -> np.ndarray:
-    """The row times: the file's t column (strictly increasing, every step 1/rate to 1e-9), or j/rate."""
+    """The row times: the file's t column (strictly increasing, every step 1/rate to 1e-9 and the
+    times' own rounding), or j/rate."""
     lam = 1.0 / rate
     if traj.t is None:
         return np.arange(traj.count) * lam
@@ -256,7 +257,10 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     if bad.size:
         raise VampcError(f"{path}: row {bad[0] + 2}: t = {float(t[bad[0] + 1])!r} does not come after "
                          f"{float(t[bad[0]])!r} (not a path: time must increase)")
-    off = np.flatnonzero(np.abs(steps - lam) > 1e-9 * max(lam, 1.0))
+    # 1e-9, and the rounding of the times themselves: Unix timestamps (t = 1.7e9 s) hold a
+    # millisecond step only to 2.4e-7 s, and were refused as "t steps by 0.00099992752"
+    slack = 1e-9 * max(lam, 1.0) + 4 * np.finfo(float).eps * np.maximum(np.abs(t[1:]), np.abs(t[:-1]))
+    off = np.flatnonzero(np.abs(steps - lam) > slack)
     if off.size:
         raise VampcError(f"{path}: row {off[0] + 2}: t steps by {float(steps[off[0]])!r}, not 1/rate = "
                          f"{lam!r}; give the rate the rows were sampled at")
