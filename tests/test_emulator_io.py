@@ -113,3 +113,17 @@ def test_a_base_array_for_a_fixed_base_program_is_refused(tmp_path):
     with pytest.raises(VampcError, match=r"b\.npz: array base: the program has a fixed base"):
         read(path, 2)
     assert read(path, 2, floating=True).base.shape == (3, 9)
+
+
+def test_an_array_a_npz_holds_beside_the_states_is_refused(tmp_path):
+    """An .npz holding `T` (meant as `t`) ran without times and said nothing: every array is q,
+    qd, qdd, t or base, or the file is refused naming it."""
+    from vampc.emulator.trajectory import read
+    from vampc.errors import VampcError
+    path = tmp_path / "T.npz"
+    states = {k: np.zeros((3, 2)) for k in ("q", "qd", "qdd")}
+    np.savez(path, **states, T=np.arange(3.0))
+    with pytest.raises(VampcError, match=r"T\.npz: array 'T' is not read \(the arrays are q, qd, qdd"):
+        read(path, 2)
+    np.savez(path, **states, t=np.arange(3.0))
+    assert read(path, 2).t.tolist() == [0.0, 1.0, 2.0]

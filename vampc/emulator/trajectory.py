@@ -280,6 +280,10 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
     missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
     if missing:
         raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
+    extra = sorted(set(z.files) - {"q", "qd", "qdd", "t", "base"})
+    if extra:               # (a `T` for `t` ran without times, unsaid: never silently dropped)
+        raise VampcError(f"{path}: array {extra[0]!r} is not read (the arrays are q, qd, qdd, "
+                         "optional t, and base for a floating base)")
     parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
     t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
     for k, p in zip(("q", "qd", "qdd"), parts):
