@@ -525,3 +525,17 @@ def test_a_late_overflow_with_standard_output_says_what_was_sent(puma_program, t
     assert "set 3000" in err and "wrote no output file" not in err
     assert "the run stopped there: -o - had sent the sets before it to standard output" in err
     assert out.startswith("tau_waist,")
+
+
+def test_a_numpy_file_named_csv_and_a_program_without_version_say_so(puma_program, tmp_path):
+    """An .npy named .csv was "line 1: byte 0x93 is not UTF-8"; a program file without "version"
+    was "program format version None is not supported"."""
+    misnamed = tmp_path / "states.csv"
+    np.save(tmp_path / "s.npy", np.zeros((2, 18)))
+    misnamed.write_bytes((tmp_path / "s.npy").read_bytes())
+    code, err, _ = run("emulate", puma_program, "--trajectory", misnamed, "-o", tmp_path / "t.csv")
+    assert code == 1 and one_line(err), err
+    assert f"{misnamed}: a NumPy .npy array, not trajectory text; name it .npy" in err
+    edited = edited_program(puma_program, tmp_path, lambda d: d.pop("version"))
+    code, err, _ = run("emulate", edited, "--random", 2)
+    assert code == 1 and one_line(err) and 'the program file has no "version"' in err, err

@@ -19,6 +19,10 @@ def decode_utf8(raw: bytes, path, what: str) -> str:
     for bom, name in _OTHER_BOMS:
         if raw.startswith(bom):
             raise VampcError(f"{path}: {what} is {name} text; save it as UTF-8")
+    for magic, kind, suffix in ((b"\x93NUMPY", "a NumPy .npy array", ".npy"),
+                                (b"PK\x03\x04", "a zip archive (a NumPy .npz?)", ".npz")):
+        if raw.startswith(magic):     # (it said "byte 0x93 is not UTF-8")
+            raise VampcError(f"{path}: {kind}, not {what} text; name it {suffix} if it holds one")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -412,6 +412,9 @@ def _refuse_version(doc, path) -> None:
         raise VampcError(f"{path}: program format version 1 (one op per VAMP) is not read by this "
                          f"vampc, which writes version {VERSION} (VAMPs with slots); recompile the "
                          "robot with `vampc compile`")
+    if "version" not in doc:           # (it said "version None is not supported")
+        raise VampcError(f"{path}: the program file has no \"version\" (this vampc reads version "
+                         f"{VERSION}); was it edited?")
     if doc.get("version") != VERSION:
         raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
                          f"(this vampc reads version {VERSION})")
