@@ -569,3 +569,21 @@ def test_unix_timestamps_are_a_path_at_their_rate():
     t[50:] += 1e-4
     with pytest.raises(VampcError, match=r"p\.csv: row 51: t steps by"):
         check_path(SimpleNamespace(t=t, count=100), 1000.0, "p.csv")
+
+
+def test_a_limits_file_missing_a_tau_names_its_row(tmp_path):
+    """A --limits row naming a joint with no tau, or no row for a joint, said "give --limits FILE"
+    though one was given, and named no line."""
+    from vampc.errors import VampcError
+    from vampc.lookahead import limits_of
+    from vampc.robot import load_robot
+    chain = load_robot(PUMA)
+    path = tmp_path / "lim.csv"
+    path.write_text("joint,tau,qd\nwaist\nshoulder,100,2\n")
+    with pytest.raises(VampcError, match=rf"^{path}: line 2: joint 'waist' has no effort limit "
+                                         r"\(and 4 more\); give its tau in this row$"):
+        limits_of(chain, str(path))
+    path.write_text("joint,tau,qd\nshoulder,100,2\n")
+    with pytest.raises(VampcError, match=rf"^{path}: joint 'waist' has no effort limit \(and 4 more\); "
+                                         r"give it a row joint,tau\[,qd\] in this file$"):
+        limits_of(chain, str(path))

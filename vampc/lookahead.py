@@ -142,9 +142,13 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     missing = [chain.joints[i].name for i in motors if tau[i] is None]
     if missing:
         where = path or source or chain.source or chain.name
-        raise VampcError(f"{where}: joint '{missing[0]}' has no effort limit"
+        line = _limits_line(path, missing[0]) if path is not None else None
+        raise VampcError(f"{where}: " + (f"line {line}: " if line else "")
+                         + f"joint '{missing[0]}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
-                         + "; give --limits FILE (README, vampc lookahead)")
+                         + ("; give its tau in this row" if line else
+                            "; give it a row joint,tau[,qd] in this file" if path is not None else
+                            "; give --limits FILE (README, vampc lookahead)"))
     robot = source or chain.source or chain.name
     for i, (j, t, v) in enumerate(zip(chain.joints, tau, qd)):
         for what, x in (("effort", t if i in free else None), ("speed", v)):
@@ -160,6 +164,16 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
 # The smallest effort or speed limit taken: the scalings are ratios of torques or speeds to their
 # limits (squared for the uniform k), and a limit of 1e-300 made k infinite.
 SMALLEST_LIMIT = 1e-12
+
+
+def _limits_line(path: str, name: str) -> int | None:
+    """The line of the --limits file whose row names joint `name` (None: no row does)."""
+    import csv
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        for line, row in enumerate(csv.reader(fh), 1):
+            if line > 1 and row and row[0].strip() == name:
+                return line
+    return None
 
 
 def _read_limits(path: str, chain, tau: list, qd: list):
