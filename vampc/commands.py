@@ -280,11 +280,11 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.finish(ok, own.write_failed, lambda text: say(text, True))
     except VampcError as exc:
         sinks.discard()
+        from vampc.emulator.driver import STOPPED
         streamed = [o.option for o in outs.values() if o.is_stdout]
-        if streamed and "wrote no output file" in str(exc):      # (driver.non_finite's words)
+        if streamed and STOPPED in str(exc):                  # (driver.non_finite's words)
             raise VampcError(str(exc).replace(
-                "the run stopped and wrote no output file",
-                f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
+                STOPPED, f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
                 "to standard output, which ends with them")) from None
         raise
     except BaseException:         # (a line that cannot be said, a failed commit: no temporaries left)
@@ -983,7 +983,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
-    if is_program(source) and repr(ld.arith) != _stored_word(ld):
+    from vampc.emulator.load import recorded_word
+    if is_program(source) and repr(ld.word) != repr(recorded_word(ld.options, source)):
         identity += f":{ld.arith!r}"    # a what-if --word: another machine, other results (one
         #                                 matching the program's own, or --rounding nearest said
         #                                 again, is the same machine: the file still resumes)
@@ -1034,15 +1035,6 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         write_output(outs["-o"], text + "\n", "report")
     else:
         say(text.rstrip("\n"))
-
-
-def _stored_word(ld) -> str:
-    """The word format the program file records, as its arith's repr ('q16.16 (nearest,
-    saturate)', 'float64'), whatever word this run computes in."""
-    from vampc.machine.arith import parse_word
-    o = ld.options
-    return repr(parse_word(o.get("word", "float64"), o.get("rounding", "nearest"),
-                           o.get("overflow", "saturate")))
 
 
 def _fault_task(setup, item):

@@ -43,13 +43,8 @@ def overflowing_constants(net, word) -> list[str]:
     wraps them: `vampc emulate` counts them as overflows), by name, in buffer order."""
     if not getattr(word, "bits", None) or not str(getattr(word, "name", "")).startswith("q"):
         return []
-    out = []
-    for c in net.consts:
-        w = word.fresh()
-        w.encode(c.value)
-        if w.overflows:
-            out.append(c.name)
-    return out
+    from vampc.emulator.stream import conversion_overflows
+    return [c.name for c in net.consts if conversion_overflows(word, c.value)]
 
 
 def build_graph(chain: Chain, options: CompileOptions) -> Graph:

@@ -11,6 +11,9 @@ _OTHER_BOMS = ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
                (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"))
 
 
+NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"     # how a .npy and a .npz (a zip) start
+
+
 def decode_utf8(raw: bytes, path, what: str) -> str:
     """The text of a UTF-8 file (a leading byte-order mark, as Excel writes, is dropped). Anything
     else is one VampcError naming the line and the byte."""
@@ -19,8 +22,8 @@ def decode_utf8(raw: bytes, path, what: str) -> str:
     for bom, name in _OTHER_BOMS:
         if raw.startswith(bom):
             raise VampcError(f"{path}: {what} is {name} text; save it as UTF-8")
-    for magic, kind, suffix in ((b"\x93NUMPY", "a NumPy .npy array", ".npy"),
-                                (b"PK\x03\x04", "a zip archive (a NumPy .npz?)", ".npz")):
+    for magic, kind, suffix in ((NPY_MAGIC, "a NumPy .npy array", ".npy"),
+                                (ZIP_MAGIC, "a zip archive (a NumPy .npz?)", ".npz")):
         if raw.startswith(magic):     # (it said "byte 0x93 is not UTF-8")
             raise VampcError(f"{path}: {kind}, not {what} text; name it {suffix} if it holds one")
     try:

@@ -222,7 +222,10 @@ def non_finite(ld: Loaded, tau: np.ndarray, faults=()) -> tuple[int, str] | None
     cause = (f"{ld.arith.name} overflow under the injected fault{'s' if len(faults) > 1 else ''}"
              if faults else
              f"{ld.arith.name} overflow: the robot's or the state's numbers are too large")
-    return r, f"{where} is {tau[r, j]} ({cause}); the run stopped and wrote no output file"
+    return r, f"{where} is {tau[r, j]} ({cause}); {STOPPED}"
+
+
+STOPPED = "the run stopped and wrote no output file"     # (emulate says more when it streamed)
 
 
 def _merge(acc: CheckResult | None, new: CheckResult, start: int) -> CheckResult:

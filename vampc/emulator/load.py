@@ -110,7 +110,7 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     ld = _loaded(str(path), chain or chain_from_doc(doc.robot, graph, path), graph, sched, net,
                  numbers,
                  stream_from_doc(doc), listed or programs_from_doc(doc),
-                 tuple(sorted(doc.options.recorded().items())), _word(doc.options.recorded(), path))
+                 tuple(sorted(doc.options.recorded().items())), recorded_word(doc.options.recorded(), path))
     if doc.io.load_ticks != ld.load_ticks:
         raise VampcError(f"{path}: io.load_ticks {doc.io.load_ticks} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
@@ -124,7 +124,7 @@ def loaded_from_compiled(c, path: str = "<compiled>") -> Loaded:
     net = counter_network(c.network, c.programs)
     opts = c.options.record()
     return _loaded(path, c.chain, c.graph, c.schedule, net, c.numbering, c.stream, c.programs,
-                   tuple(sorted(opts.items())), _word(opts, path))
+                   tuple(sorted(opts.items())), recorded_word(opts, path))
 
 
 def counter_network(net: Network, programs) -> Network:
@@ -168,7 +168,7 @@ def in_word(ld: Loaded, word) -> Loaded:
     return ld
 
 
-def _word(options: dict, path):
+def recorded_word(options: dict, path):
     """The word format a program records (vampc.machine.arith); None for float64."""
     if options.get("word", "float64") == "float64":
         return None

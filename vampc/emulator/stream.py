@@ -170,12 +170,15 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
 def constant_overflows(ld: Loaded, consts=None) -> int:
     """How many scalars of the constant buffers (all, or `consts`) the host's conversion to the
     network's word overflows: counted once a run, as the host writes them once."""
-    total = 0
-    for c in ld.net.consts if consts is None else consts:
-        word = ld.arith.fresh()
-        word.encode(c.value)
-        total += word.overflows
-    return total
+    return sum(conversion_overflows(ld.arith, c.value)
+               for c in (ld.net.consts if consts is None else consts))
+
+
+def conversion_overflows(word, value) -> int:
+    """How many scalars of `value` the host's conversion to `word` overflows (a fresh count)."""
+    w = word.fresh()
+    w.encode(value)
+    return w.overflows
 
 
 def _sets(track: list, start: int) -> list[int]:

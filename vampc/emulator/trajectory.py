@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.errors import VampcError
-from vampc.textio import shown
+from vampc.textio import NPY_MAGIC, ZIP_MAGIC, shown
 
 BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
                 "base_ax", "base_ay", "base_az"]
@@ -223,7 +223,6 @@ def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
                          f"({why})")
 
 
-NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"
 
 
 def _head(path: Path, size: int) -> bytes | None:
