@@ -22,29 +22,27 @@ class FilePath(click.Path):
         return super().convert(value, param, ctx)
 
 
-def _plain_number(kind, value, param, ctx) -> None:
-    """A number on the command line is written in ASCII digits, without separators: Python's int()
-    and float() also take '١٠', '６４' and '1_0', which the file readers refuse (and --rate)."""
-    if isinstance(value, str) and (not value.isascii() or "_" in value):
-        kind.fail(f"{value!r} is not a number written in ASCII digits", param, ctx)
+class _Plain:
+    """A click number type that takes ASCII digits only, without separators (vampc.textio.
+    plain_number: int() and float() also read '١٠', '６４' and '1_0')."""
 
-
-class PlainInt(click.types.IntParamType):
     def convert(self, value, param, ctx):
-        _plain_number(self, value, param, ctx)
+        from vampc.textio import plain_number
+        if isinstance(value, str) and not plain_number(value):
+            self.fail(f"{value!r} is not a number written in ASCII digits", param, ctx)
         return super().convert(value, param, ctx)
 
 
-class PlainIntRange(click.IntRange):
-    def convert(self, value, param, ctx):
-        _plain_number(self, value, param, ctx)
-        return super().convert(value, param, ctx)
+class PlainInt(_Plain, click.types.IntParamType):
+    pass
 
 
-class PlainFloat(click.types.FloatParamType):
-    def convert(self, value, param, ctx):
-        _plain_number(self, value, param, ctx)
-        return super().convert(value, param, ctx)
+class PlainIntRange(_Plain, click.IntRange):
+    pass
+
+
+class PlainFloat(_Plain, click.types.FloatParamType):
+    pass
 
 
 class Choices(click.Choice):

@@ -883,7 +883,8 @@ class FaultsOptions:
         if self.bits is None:
             return None
         parts = [b.strip() for b in self.bits.split(",") if b.strip()]
-        if not parts or not all(b.isascii() and b.isdigit() for b in parts):
+        from vampc.textio import plain_number
+        if not parts or not all(plain_number(b) and b.isdigit() for b in parts):
             raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
         return list(dict.fromkeys(int(b) for b in parts))     # (each once, as --values)
 
@@ -927,7 +928,8 @@ class PrecisionOptions:
         """The widths of --sweep (VampcUsageError if it is not A:B within 2..64)."""
         lo, sep, hi = self.sweep.partition(":")
         try:
-            if not self.sweep.isascii() or "_" in self.sweep:    # (int() reads '２０' and '2_0')
+            from vampc.textio import plain_number
+            if not plain_number(self.sweep):         # (int() reads '２０' and '2_0')
                 raise ValueError(self.sweep)
             a, b = int(lo), int(hi)
         except ValueError:

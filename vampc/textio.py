@@ -11,6 +11,13 @@ _OTHER_BOMS = ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
                (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"))
 
 
+def plain_number(text: str) -> bool:
+    """Whether a number the user typed is in ASCII without separators: float() and int() also read
+    '1_0' as 10 and '١' (Arabic-Indic) or '１' (full width) as 1, and those are typos, not numbers
+    (the file readers, the command line, --fault and --sweep all refuse them)."""
+    return text.isascii() and "_" not in text
+
+
 NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"     # how a .npy and a .npz (a zip) start
 
 

@@ -117,7 +117,8 @@ def parse_fault(text: str) -> Fault:
 
 def _digits(text: str) -> bool:
     """ASCII digits only: str.isdigit() also takes '١' and '３' (and int() reads them)."""
-    return text.isascii() and text.isdigit()
+    from vampc.textio import plain_number
+    return plain_number(text) and text.isdigit()
 
 
 def _whole(value: str, key: str, text: str) -> int:

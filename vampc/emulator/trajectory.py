@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.errors import VampcError
-from vampc.textio import NPY_MAGIC, ZIP_MAGIC, shown
+from vampc.textio import NPY_MAGIC, ZIP_MAGIC, plain_number, shown
 
 BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
                 "base_ax", "base_ay", "base_az"]
@@ -74,7 +74,7 @@ def cell_number(cell: str) -> float:
     """A cell of a table the user gives as a number, as float() reads it, but for 1_0 and non-ASCII
     digits or spaces: float() reads 1_0 as 10 and '١' (Arabic-Indic) or '１' (full width) as 1,
     and in a table they are typos, not numbers (ValueError); the fast native parser takes neither."""
-    if "_" in cell or not cell.isascii():
+    if not plain_number(cell):
         raise ValueError(cell)
     return float(cell)
 
