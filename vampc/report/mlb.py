@@ -110,8 +110,9 @@ def _from_vamps(vamp) -> int:
 
 
 def _p2p_pins(vamp) -> int:
-    """A VAMP's pins with each multiplexer input a pin (vampc.report.processors.vamp_pins)."""
-    return len(paper.PINS_SEPARATE) - 2 + len(vamp.a) + len(vamp.b)
+    """A VAMP's pins with each multiplexer input a pin."""
+    from vampc.report.processors import vamp_pins
+    return vamp_pins(vamp)["separate"]
 
 
 def _bus_pins(vamp, tiers: int) -> int:
@@ -167,8 +168,7 @@ def _comparison(c) -> list[dict]:
             slots = sum(t.buses(len(net.vamps)) for t in net.bus.tiers) * net.period
             row.update({"tiers": [t.span for t in net.bus.tiers], "stretch": net.bus.stretch,
                         "wait": net.bus.wait, "utilisation": len(net.bus.writes) / slots,
-                        "max_pins_per_vamp": max(_bus_pins(v, len(net.bus.tiers))
-                                                 for v in net.vamps)})
+                        "max_pins_per_vamp": max(pins_on_bus(net))})
         rows.append(row)
     return rows
 
