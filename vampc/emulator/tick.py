@@ -57,6 +57,7 @@ from vampc.program.words import (
 )
 
 UNKNOWN, CONST = -1, -2
+count_nonzero = np.count_nonzero    # (a C function: ndarray.any() goes through Python)
 
 
 @dataclass
@@ -522,7 +523,7 @@ class TickEngine:
         word.track = None
         self.units[idx] = units
         if j == 0 and self.tagged:
-            self.utag[idx] = _combine(np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1))
+            self.utag[idx] = _combine2(self.tag_a[idx], self.tag_b[idx])
         if self.strict:
             slots = self._watched(slots)
             if slots.size:
@@ -538,20 +539,23 @@ class TickEngine:
 
     def _timing_checks(self, r: int, j: int, slots, idx, t: int) -> None:
         """VampcError on a timing violation the tags show at step j of these slots."""
-        if j < rom.operand_steps(r):
+        reading = rom.operand_steps(r)
+        if j < reading:
             self._check_owner(r, j, slots, idx, t)
-        if 0 < j < rom.operand_steps(r):
+        if 0 < j < reading:
             self._check_relatch(r, j, idx, t)
         if j == 0:
-            tags = np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)
-            mixed = (tags >= 0).all(axis=1) & (tags[:, 0] != tags[:, 1])
-            if self.steady[0] <= t < self.steady[1] and (tags == UNKNOWN).any():
-                v = int(idx[np.argmax((tags == UNKNOWN).any(axis=1))])
-                which = "A" if self.tag_a[v] == UNKNOWN else "B"
-                raise VampcError(f"{self.ld.path}: tick {t}: {self._name(v)} starts "
-                                 f"{ROM[r][0].value} with operand {which} holding no set's value "
-                                 "(a timing error)")
-            if mixed.any():
+            ta, tb = self.tag_a[idx], self.tag_b[idx]
+            mixed = (ta >= 0) & (tb >= 0) & (ta != tb)
+            if self.steady[0] <= t < self.steady[1]:
+                unknown = (ta == UNKNOWN) | (tb == UNKNOWN)
+                if count_nonzero(unknown):
+                    v = int(idx[np.argmax(unknown)])
+                    which = "A" if self.tag_a[v] == UNKNOWN else "B"
+                    raise VampcError(f"{self.ld.path}: tick {t}: {self._name(v)} starts "
+                                     f"{ROM[r][0].value} with operand {which} holding no set's "
+                                     "value (a timing error)")
+            if count_nonzero(mixed):
                 v = int(idx[np.argmax(mixed)])
                 raise VampcError(f"{self.ld.path}: tick {t}: {self._name(v)} starts "
                                  f"{ROM[r][0].value} with operand A of set {self.tag_a[v]} and "
@@ -561,8 +565,7 @@ class TickEngine:
         """Count an op's overflows once per torque set, as the stream engine computes each op once
         a set: not those on registers holding no set's value (the power-on state, the warm-up),
         nor an op run again on a set it has done."""
-        tags = _combine(np.stack([self.tag_a[idx], self.tag_b[idx]], axis=1)) if j == 0 \
-            else self.utag[idx]
+        tags = _combine2(self.tag_a[idx], self.tag_b[idx]) if j == 0 else self.utag[idx]
         fresh = (tags >= 0) & (tags > self.counted[slots])
         per_row = np.sum(np.stack(word.track), axis=0)
         word.overflows = before + int(per_row[fresh].sum())
@@ -577,7 +580,7 @@ class TickEngine:
             return
         for name, owner in (("A", self.owner_a[idx]), ("B", self.owner_b[idx])):
             bad = owner != slots
-            if bad.any():
+            if count_nonzero(bad):
                 i = int(np.argmax(bad))
                 v, k = int(idx[i]), int(slots[i])
                 other = int(owner[i])
@@ -595,7 +598,7 @@ class TickEngine:
         started = self.utag[idx]
         for name, tags in (("A", self.tag_a[idx]), ("B", self.tag_b[idx])):
             moved = (started >= 0) & (tags >= 0) & (tags != started)
-            if moved.any():
+            if count_nonzero(moved):
                 v = int(idx[np.argmax(moved)])
                 raise VampcError(f"{self.ld.path}: tick {t}: {self._name(v)} is in step "
                                  f"{j + 1} of {ROM[r][0].value} on set {self.utag[v]}, but operand "
@@ -634,6 +637,13 @@ def _by_counter(counters: np.ndarray, slots: np.ndarray):
 
 
 _BIG, _SMALL = np.iinfo(np.int64).max, np.iinfo(np.int64).min
+
+
+def _combine2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """_combine of two tags a value is computed from (an op's operands), without stacking them:
+    UNKNOWN if either is; the other if one is CONST; the common set if both are of one; else
+    UNKNOWN (UNKNOWN and CONST are distinct negative sentinels, sets are >= 0)."""
+    return np.where(a == CONST, b, np.where((b == CONST) | (a == b), a, UNKNOWN))
 
 
 def _combine(tags: np.ndarray) -> np.ndarray:

@@ -38,10 +38,7 @@ def _program(rom: int):
     return tuple(tuple((a.unit, a.fn, ref(a.x), ref(a.y)) for a in step) for step in entry.steps)
 
 
-ops.on_change(_views.cache_clear)
-ops.on_change(_program.cache_clear)
-
-
+@functools.lru_cache(maxsize=None)
 def steps(rom: int) -> int:
     """Number of micro-steps of a ROM entry."""
     return len(TABLE[ROM[rom][0]].steps)
@@ -62,9 +59,15 @@ def reading_end(rom: int, timing: Timing = Timing()) -> int:
     return timing.step_ends(rom)[operand_steps(rom) - 1]
 
 
+@functools.lru_cache(maxsize=None)
 def operand_steps(rom: int) -> int:
-    """How many leading micro-steps read the operand registers (OpDef.operand_steps)."""
+    """How many leading micro-steps read the operand registers (OpDef.operand_steps; the tick
+    engine asks this of every micro-step it runs, so it is worked out once per entry)."""
     return TABLE[ROM[rom][0]].operand_steps
+
+
+for _cached in (_views, _program, steps, operand_steps):     # (the op table can be changed)
+    ops.on_change(_cached.cache_clear)
 
 
 def result_unit(rom: int) -> int:
