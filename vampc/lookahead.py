@@ -178,16 +178,27 @@ def _limits_line(path: str, name: str) -> int | None:
 
 def _read_limits(path: str, chain, tau: list, qd: list):
     import csv
+    import io
+    from pathlib import Path
 
     from vampc.emulator.trajectory import cell_number
+    from vampc.textio import decode_utf8, shown
     names = {j.name: i for i, j in enumerate(chain.joints)}
+    # a cell names a joint as written, or with the spaces round it dropped (a CSV writer pads
+    # cells): the joint whose name is that once its own spaces round it are dropped, if only one is
+    padded: dict[str, list[str]] = {}
+    for j in chain.joints:
+        padded.setdefault(j.name.strip(), []).append(j.name)
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:   # (a spreadsheet's BOM too)
-            rows = list(csv.reader(fh))
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise VampcError(f"{path}: not UTF-8 text") from None
+    text = decode_utf8(raw, path, "limits file")     # (a spreadsheet's BOM dropped)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        rows = list(reader)
+    except csv.Error as exc:
+        raise VampcError(f"{path}: line {reader.line_num}: not CSV: {exc}") from None
     head = [c.strip() for c in rows[0]] if rows else []
     while head and not head[-1]:
         head.pop()                    # (a spreadsheet's trailing empty cells, as a row's are taken)
@@ -198,9 +209,15 @@ def _read_limits(path: str, chain, tau: list, qd: list):
     for line, row in enumerate(rows[1:], 2):
         if not row or not any(c.strip() for c in row):
             continue
-        name = row[0].strip()
+        name = row[0] if row[0] in names else row[0].strip()
         if name not in names:
-            raise VampcError(f"{path}: line {line}: no joint named '{name}'")
+            matches = padded.get(name, [])
+            if len(matches) != 1:
+                raise VampcError(f"{path}: line {line}: no joint named {shown(name)}"
+                                 + (f" (joints {', '.join(map(shown, matches))} differ only in "
+                                    "spaces round their names: write the name as the robot "
+                                    "file does, in quotes)" if matches else ""))
+            name = matches[0]
         if name in seen:
             raise VampcError(f"{path}: line {line}: joint '{name}' again (line {seen[name]} gave "
                              "its limits)")
@@ -552,11 +569,15 @@ def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: s
     """Per motor (`joints`: the chain's independent joints), torque over time against ±its limit,
     in its unit (N·m revolute, N prismatic): the path as given, and the retimed one (its own time
     axis) when there is one, with a last panel of the speed ṡ over time. SVG text."""
-    import io
-
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    with matplotlib.rc_context({"text.parse_math": False}):   # (a joint named 'a$_$' is text)
+        return _plot(plt, joints, times, res, limits, title)
+
+
+def _plot(plt, joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+    import io
     n = len(limits.tau)
     panels = n + (res.retimed is not None)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 1.6 * panels + 0.8), sharex=True, squeeze=False)

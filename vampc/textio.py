@@ -21,9 +21,11 @@ def plain_number(text: str) -> bool:
 NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"     # how a .npy and a .npz (a zip) start
 
 
-def decode_utf8(raw: bytes, path, what: str) -> str:
+def decode_utf8(raw: bytes, path, what: str, arrays: bool = False) -> str:
     """The text of a UTF-8 file (a leading byte-order mark, as Excel writes, is dropped). Anything
-    else is one VampcError naming the line and the byte."""
+    else is one VampcError naming the line and the byte. `arrays`: the reader also takes NumPy
+    files by their suffix (a trajectory), so an .npy or .npz given another name is told to rename
+    it; other readers say they take text only."""
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]
     for bom, name in _OTHER_BOMS:
@@ -32,7 +34,10 @@ def decode_utf8(raw: bytes, path, what: str) -> str:
     for magic, kind, suffix in ((NPY_MAGIC, "a NumPy .npy array", ".npy"),
                                 (ZIP_MAGIC, "a zip archive (a NumPy .npz?)", ".npz")):
         if raw.startswith(magic):     # (it said "byte 0x93 is not UTF-8")
-            raise VampcError(f"{path}: {kind}, not {what} text; name it {suffix} if it holds one")
+            if arrays:
+                raise VampcError(f"{path}: {kind}, not {what} text; name it {suffix} if it holds "
+                                 "one")
+            raise VampcError(f"{path}: {kind}; the {what} must be UTF-8 text")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -50,7 +50,7 @@ def read(path, n: int, floating: bool = False):
             data, t = _read_npy(path, n, width)
         else:
             data, t = read_table(path, header(n, floating), f"the program is for {n} joints",
-                                 floating)
+                                 floating, arrays=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     line = 2 if suffix not in (".npy", ".npz") else None       # a CSV's states start on line 2
@@ -80,10 +80,11 @@ def cell_number(cell: str) -> float:
 
 
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
-               what: str = "trajectory"):
+               what: str = "trajectory", arrays: bool = False):
     """(data, t) of a CSV table whose header is `columns`, with an optional leading t (`why`: what
     the columns follow from, for the header's message; `floating`: a floating base's columns may be
-    what is missing). VampcError naming the line and column of anything else."""
+    what is missing; `arrays`: the caller reads .npy and .npz files too, by their suffix).
+    VampcError naming the line and column of anything else."""
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
@@ -93,7 +94,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     fast = _read_csv_native(raw, columns)
     text = None
     if fast is None:
-        text = decode_utf8(raw, path, what)
+        text = decode_utf8(raw, path, what, arrays)
         # (np.loadtxt reads '١' or '１' as 1, as float() does: a text beyond ASCII goes the slow
         # way, which names the cell)
         fast = _read_csv_loadtxt(text, columns) if text.isascii() else None

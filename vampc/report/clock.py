@@ -14,7 +14,7 @@ _CLOCK = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*([a-zA-Z]*)\s*
 def parse_clock(text: str) -> float:
     """A clock rate in Hz from '20MHz', '20 MHz', '1.5GHz', '500kHz', '4e7Hz'; the unit's case
     does not matter, but it must be there ('20' could be 20 Hz or 20 MHz). ValueError with the
-    reason for anything else, below 1 mHz or above 1 THz."""
+    reason for anything else, below 0.001 Hz or above 1000 GHz (bounds said in units it takes)."""
     m = _CLOCK.match(text)
     unit = m.group(2).lower() if m else None
     if m and not unit:
@@ -27,7 +27,7 @@ def parse_clock(text: str) -> float:
     hz = float(m.group(1)) * UNITS[unit]
     if not math.isfinite(hz) or hz < 1e-3 or hz > 1e12:
         # (a rate of 1e-300 Hz made the times of a report infinite, and JSON has no such number)
-        raise ValueError(f"{text!r}: a clock rate must be at least 1 mHz and at most 1 THz")
+        raise ValueError(f"{text!r}: a clock rate must be at least 0.001 Hz and at most 1000 GHz")
     return hz
 
 

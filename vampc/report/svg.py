@@ -1,6 +1,6 @@
 """matplotlib, set up once for the report's pictures: imported only when a picture is asked for,
 the SVG backend without pyplot (no global figure state), and deterministic output — a fixed hash
-salt for the ids matplotlib derives, text kept as text, no date, a fixed creator — so the same IRs
+salt for the ids matplotlib derives, text kept as text (and never read as TeX), no date, a fixed creator — so the same IRs
 give the same bytes and tests can compare pictures."""
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from contextlib import contextmanager
 
 DPI = 72            # SVG user units are points: one inch is 72 of them
 SETTINGS = {"svg.hashsalt": "vampc", "svg.fonttype": "none", "svg.id": "vampc",
-            "font.family": "DejaVu Sans", "font.size": 8.0, "axes.unicode_minus": True}
+            "font.family": "DejaVu Sans", "font.size": 8.0, "axes.unicode_minus": True,
+            "text.parse_math": False}     # (names are text: a robot named 'cost$_$' is not TeX)
 METADATA = {"Date": None, "Creator": "vampc", "Format": None, "Type": None}
 
 

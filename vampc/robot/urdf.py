@@ -662,11 +662,21 @@ def _limits(j, path: Path) -> Limits:
             raise located(path, f"joint '{j.name}'", f"<limit> lower {lim.lower} is above upper {lim.upper}")
         q = (float(lim.lower), float(lim.upper))
     # URDF files often write velocity="0" effort="0" as placeholders: read those as "not given".
-    return Limits(q=q, qd=_positive(lim.velocity), tau=_positive(lim.effort))
+    return Limits(q=q, qd=_positive(lim.velocity, "velocity", j, path),
+                  tau=_positive(lim.effort, "effort", j, path))
 
 
-def _positive(value) -> float | None:
-    return float(value) if value is not None and value > 0 else None
+def _positive(value, name: str, j, path: Path) -> float | None:
+    """A <limit> bound: None for 0 (a placeholder, as many files write) or none given; a negative
+    or non-finite one is an error (it was read as "not given", and the look-ahead then asked for a
+    limit the file does give)."""
+    if value is None:
+        return None
+    value = float(value)
+    if not math.isfinite(value) or value < 0:
+        raise located(path, f"joint '{j.name}'", f"<limit> {name} {value:g} is not a positive "
+                      "number (0 means none given)")
+    return value if value > 0 else None
 
 
 # --- small rigid-body algebra (each also on stacks: leading axes are batch axes) ---------------------

@@ -1,0 +1,118 @@
+"""What a new user's robot and limits files met (the twelfth round's run): names with `$` in the
+pictures, joint names padded with spaces in a --limits file, negative URDF limits, NumPy files given
+where only text is read, a limits file that is not UTF-8, and rate bounds said in units one can type.
+Each test failed on the code before its fix."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from vampc.cli import main
+from vampc.report.clock import parse_clock
+
+JOINT = ("  - {{name: {name}, type: revolute, a: 0.5, alpha: 0, d: 0, theta: 0, mass: 1, "
+         "com: [-0.25, 0, 0], inertia: [0.01, 0.01, 0.01, 0, 0, 0], limits: {{tau: 50}}}}\n")
+STILL = "q1,q2,qd1,qd2,qdd1,qdd2\n" + "0,0,0,0,0,0\n" * 3
+
+
+def robot(folder, name: str, joints: list[str]):
+    path = folder / "robot.yaml"
+    path.write_text(f"name: {name}\ngravity: [0, -9.81, 0]\njoints:\n"
+                    + "".join(JOINT.format(name=j) for j in joints), encoding="utf-8")
+    (folder / "still.csv").write_text(STILL)
+    return path
+
+
+def run(*args):
+    r = CliRunner().invoke(main, [str(a) for a in args])
+    return r.exit_code, r.stderr, r.stdout
+
+
+def lookahead(folder, robot_file, *extra):
+    return run("lookahead", robot_file, "--trajectory", folder / "still.csv", "--rate", "100Hz",
+               "--window", "2", *extra)
+
+
+def test_names_with_dollar_signs_are_drawn_as_text(tmp_path):
+    """matplotlib read `$...$` in a title or label as TeX: 'cost$_$' was an internal error (exit 3)
+    in lookahead --plot and a traceback in report --timing; a name that parsed was drawn as maths."""
+    path = robot(tmp_path, '"cost$_$"', ["a", '"sh$\\\\frac{$x"'])
+    code, err, _ = lookahead(tmp_path, path, "--plot", tmp_path / "la.svg")
+    assert code == 0, err
+    assert "cost$_$" in (tmp_path / "la.svg").read_text()
+    code, err, _ = run("report", path, "--timing", tmp_path / "t.svg", "--network", tmp_path / "n.svg")
+    assert code == 0, err
+    assert "cost$_$" in (tmp_path / "t.svg").read_text()
+    assert "cost$_$" in (tmp_path / "n.svg").read_text()
+
+
+def test_a_joint_name_padded_with_spaces_takes_its_limit(tmp_path):
+    """The limits reader dropped the spaces round every cell, so a joint named ' épaule 2 ' could
+    never be given a limit ('no joint named 'épaule 2'')."""
+    path = robot(tmp_path, "padded", ['"a,b"', '" épaule 2 "'])
+    for cell in ('" épaule 2 "', "épaule 2"):
+        limits = tmp_path / "lim.csv"
+        limits.write_text(f'joint,tau,qd\n"a,b",1,\n{cell},0.5,\n', encoding="utf-8")
+        code, err, out = lookahead(tmp_path, path, "--limits", limits)
+        assert code == 0, err
+        # joint 2's gravity torque over a limit of 0.5 instead of the file's 50
+        worst = float(out.split("épaule 2 ")[-1].split()[0])
+        assert worst > 1.0, out
+
+
+def test_a_name_only_spaces_tell_apart_is_refused_saying_so(tmp_path):
+    path = robot(tmp_path, "twins", ['" a"', '"a "'])
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\na,1,\n")
+    code, err, _ = lookahead(tmp_path, path, "--limits", limits)
+    assert code == 1 and err.count("\n") == 1, err
+    assert "line 2: no joint named 'a'" in err and "differ only in spaces" in err
+
+
+@pytest.mark.parametrize("attribute", ["effort", "velocity"])
+def test_a_negative_urdf_limit_is_refused_naming_the_joint(tmp_path, attribute):
+    """A negative effort was read as "none given" without a word; lookahead then asked for the limit
+    the file gives."""
+    values = {"effort": "5", "velocity": "2", attribute: "-5"}
+    path = tmp_path / "arm.urdf"
+    path.write_text(
+        '<robot name="bl"><link name="base"/><link name="l1"><inertial><origin xyz="0.1 0 0"/>'
+        '<mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>'
+        '</inertial></link><joint name="j1" type="revolute"><parent link="base"/>'
+        '<child link="l1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" '
+        f'effort="{values["effort"]}" velocity="{values["velocity"]}"/></joint></robot>')
+    code, err, _ = run("emulate", path, "--random", 3)
+    assert code == 1 and err.count("\n") == 1, err
+    assert f"arm.urdf: joint 'j1': <limit> {attribute} -5 is not a positive number" in err
+
+
+def test_numpy_files_where_text_is_read_are_not_told_to_be_renamed(tmp_path):
+    """--accelerations reads CSV only: an .npy was told to be 'named .npy', which it was."""
+    path = robot(tmp_path, "two", ["a", "b"])
+    np.save(tmp_path / "acc.npy", np.ones((5, 2)))
+    code, err, _ = run("lookahead", path, "--accelerations", tmp_path / "acc.npy", "--q0", "0,0",
+                       "--rate", "100Hz", "--window", "2")
+    assert code == 1 and err.count("\n") == 1, err
+    assert "acc.npy: a NumPy .npy array; the acceleration table must be UTF-8 text" in err
+    assert "name it" not in err
+
+
+def test_a_limits_file_that_is_not_utf8_names_its_line_and_byte(tmp_path):
+    path = robot(tmp_path, "two", ["a", "b"])
+    (tmp_path / "lim.csv").write_bytes(b"joint,tau,qd\na,1\xff0,\n")
+    code, err, _ = lookahead(tmp_path, path, "--limits", tmp_path / "lim.csv")
+    assert code == 1 and err.count("\n") == 1, err
+    assert "lim.csv: line 2: byte 0xff is not UTF-8 (the limits file must be UTF-8 text)" in err
+
+
+def test_the_rate_bounds_are_said_in_units_one_can_type(tmp_path):
+    """'at least 1 mHz and at most 1 THz': mHz is refused as a slip for MHz and THz is no unit."""
+    path = robot(tmp_path, "two", ["a", "b"])
+    code, err, _ = run("lookahead", path, "--trajectory", tmp_path / "still.csv", "--rate", "0Hz",
+                       "--window", "2")
+    assert code == 2 and "at least 0.001 Hz and at most 1000 GHz" in err, err
+    assert parse_clock("0.001Hz") == 1e-3 and parse_clock("1000GHz") == 1e12
+    for beyond in ("0.0009Hz", "1001GHz"):
+        with pytest.raises(ValueError, match="at least 0.001 Hz and at most 1000 GHz"):
+            parse_clock(beyond)
