@@ -116,3 +116,12 @@ def test_the_rate_bounds_are_said_in_units_one_can_type(tmp_path):
     for beyond in ("0.0009Hz", "1001GHz"):
         with pytest.raises(ValueError, match="at least 0.001 Hz and at most 1000 GHz"):
             parse_clock(beyond)
+
+
+def test_a_padded_joints_row_without_tau_is_named_by_its_line(tmp_path):
+    path = robot(tmp_path, "padded", ["a", '" b "'])
+    path.write_text(path.read_text().replace(", limits: {tau: 50}", ""))   # (no effort limits)
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\na,1,\nb,,2\n")
+    code, err, _ = lookahead(tmp_path, path, "--limits", limits)
+    assert code == 1 and "lim.csv: line 3: joint ' b ' has no effort limit" in err, err

@@ -171,7 +171,7 @@ def _limits_line(path: str, name: str) -> int | None:
     import csv
     with open(path, newline="", encoding="utf-8-sig") as fh:
         for line, row in enumerate(csv.reader(fh), 1):
-            if line > 1 and row and row[0].strip() == name:
+            if line > 1 and row and row[0].strip() == name.strip():   # (as _read_limits reads)
                 return line
     return None
 

@@ -1,7 +1,7 @@
 """matplotlib, set up once for the report's pictures: imported only when a picture is asked for,
 the SVG backend without pyplot (no global figure state), and deterministic output — a fixed hash
-salt for the ids matplotlib derives, text kept as text (and never read as TeX), no date, a fixed creator — so the same IRs
-give the same bytes and tests can compare pictures."""
+salt for the ids matplotlib derives, text kept as text (and never read as TeX), no date, a fixed
+creator — so the same IRs give the same bytes and tests can compare pictures."""
 from __future__ import annotations
 
 import io
