@@ -236,7 +236,8 @@ def test_other_latencies_emulate_exactly(tmp_path):
 
 def test_programs_listing_must_match_the_stream(tmp_path, program):
     res = _run("emulate", edited_program(program, tmp_path,
-                                         lambda d: d["programs"][2]["slots"][0].update(rom=0)),
+                                         lambda d: d["programs"][2]["slots"][0].update(rom=0,
+                                                                                      op="VA")),
                "--random", 2)
     assert res.exit_code == 1 and ERROR.match(res.output)
     assert re.search(r"programs\[2\] slot 0 lists rom 0 but the program stream delivers 2",

@@ -44,6 +44,8 @@ def _set_field(v: int, k: int, field: str, value: int):
                 entry["targets"][first:last] = [v] * len(words)
                 entry["depth"][first:last] = [entry["depth"][first]] * len(words)
         doc["programs"][v]["slots"][k][field] = value
+        if field == "rom" and value < len(ROM):     # (the listing names the op its pointer runs)
+            doc["programs"][v]["slots"][k]["op"] = ROM[value][0].value
         doc["io"]["load_ticks"] = max(i + d + 1 for e in doc["program_stream"]
                                       for i, d in enumerate(e["depth"]))
     return change

@@ -146,7 +146,7 @@ def _loaded(path: str, chain, graph, sched, net, numbers, stream, listed, option
             word=None) -> Loaded:
     """The one loader both engines run from: indices checked, the programs the stream delivers
     (which must be the listed ones), the Program-Mode length."""
-    _check_indices(net, numbers, graph, path)
+    check_indices(net, numbers, graph, path)
     progs = delivered_programs(net, numbers, stream, path, Packing.of(word))
     _check_listing(listed, progs, path)
     from vampc.network.checking import check_checking
@@ -299,7 +299,7 @@ def _check_listing(listed, progs, path) -> None:
                                  f"{a.field(name)} but the program stream delivers {b.field(name)}")
 
 
-def _check_indices(net: Network, numbers, graph: Graph, path) -> None:
+def check_indices(net: Network, numbers, graph: Graph, path) -> None:
     """Taps must name existing VAMPs, buffers, stages, ports and constants; slots existing nodes."""
     if net.period % net.clock:
         raise VampcError(f"{path}: network.period {net.period} is not a multiple of network.clock "

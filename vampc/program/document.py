@@ -292,17 +292,25 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
             raise VampcError(f"{path}: network.vamps: VAMP {index} has no programs entry")
         out = []
         for r in progs[index].slots:
+            where = f"{path}: programs[{index}].slots[{len(out)}]"
             if r.op not in ops:
-                raise VampcError(f"{path}: programs[{index}].slots[{len(out)}].op: {r.op!r} is not "
-                                 f"a compute op ({', '.join(ops)})")
+                raise VampcError(f"{where}.op: {r.op!r} is not a compute op ({', '.join(ops)})")
             if r.rom >= rom_size:
-                raise VampcError(f"{path}: programs[{index}].slots[{len(out)}].rom: {r.rom} is not "
-                                 f"a ROM pointer (0..{rom_size - 1})")
+                raise VampcError(f"{where}.rom: {r.rom} is not a ROM pointer (0..{rom_size - 1})")
             name, column = ROM[r.rom]
+            if r.op != name.value:      # (the listing's op was read by nothing, so went unseen)
+                raise VampcError(f"{where}.op: {r.op!r}, but its ROM pointer {r.rom} runs "
+                                 f"{name.value}")
             out.append(slot(index, len(out), r, name, column))
         return tuple(out)
+    for section, rows in (("buffers", nd.buffers), ("ports", nd.ports), ("consts", nd.consts)):
+        for i, row in enumerate(rows):          # (taps name them by index: the position)
+            if row.index != i:
+                raise VampcError(f"{path}: network.{section}[{i}].index: {row.index}, but it is "
+                                 f"entry {i}")
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
+    _check_stages(nd, operands.values(), path)
     return Network(nd.period, nd.clock, vamps,
                    tuple(Buffer(b.index, b.source, b.stages) for b in nd.buffers),
                    tuple(Port(p.index, p.size, tuple(PortEntry(InputKey(e.quantity, e.joint),
@@ -314,6 +322,23 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path),
                    None if nd.error_correction is None
                    else checking_from_doc(nd.error_correction, len(vamps), path))
+
+
+def _check_stages(nd, operands, path) -> None:
+    """A buffer has as many stages as the deepest one a tap reads (`operands`: every distinct
+    multiplexer input; and the bus writes): an edited count beyond it is hardware nothing uses (a
+    report counted a billion stages, and the tick engine and the RTL tried to build them)."""
+    deepest = [0] * len(nd.buffers)
+    reads = [t for operand in operands for t in operand.taps]
+    if nd.bus is not None:
+        reads += [Tap(*w.source) for w in nd.bus.writes]
+    for t in reads:
+        if t.kind is TapKind.BUFFER and 0 <= t.index < len(deepest) and t.stage > deepest[t.index]:
+            deepest[t.index] = t.stage
+    for b, want in zip(nd.buffers, deepest):
+        if b.stages > want:
+            raise VampcError(f"{path}: network.buffers[{b.index}].stages: {b.stages}, but no tap "
+                             f"reads past stage {want}")
 
 
 def checking_from_doc(cd: F.CheckingDoc, vamps: int, path) -> Checking:
@@ -389,6 +414,11 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         graph.verify()
         sched = schedule_from_doc(doc.schedule, graph, path)
         net = scheduled_network_from_doc(doc, sched, path)
+        # (the emulator's loader's own index checks, before the network check indexes anything)
+        from vampc.emulator.load import check_indices
+        numbers = tuple(v.number for v in doc.network.vamps)
+        check_indices(net, numbers, graph, path)
+        _check_selects(net, numbers, path)
         if sched.interval != net.period:
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
@@ -408,6 +438,18 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     numbering = tuple(v.number for v in doc.network.vamps)
     return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def _check_selects(net: Network, numbers, path) -> None:
+    """Each slot's selects name inputs of its VAMP's multiplexers (as the emulator's loader says of
+    the programs the stream delivers; the network check indexed them unchecked: exit 3)."""
+    for v in net.vamps:
+        for k, s in enumerate(v.slots):
+            for name, sel, inputs in (("A", s.sel_a, v.a), ("B", s.sel_b, v.b)):
+                if sel >= len(inputs):
+                    raise VampcError(f"{path}: VAMP {v.index} (number {numbers[v.index]}) slot {k}: "
+                                     f"sel-{name.lower()} {sel} selects no input (operand {name} "
+                                     f"has {len(inputs)})")
 
 
 def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, path) -> None:

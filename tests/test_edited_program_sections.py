@@ -1,0 +1,75 @@
+"""Hand-edited program files (a new user's run, twelfth round): each edit below made `vampc report`
+an internal error (exit 3: an index out of range in the network check, which ran before the
+loader's checks that `emulate` has), or went through every command unsaid (a slot's op beside
+another ROM pointer; a buffer of a billion stages, which the report counted and the tick engine and
+the RTL tried to build; a constant's index that is not its place, an rtl traceback). Now `report`,
+`report --tradeoff` and `emulate` each refuse them in one line naming the place. Each test failed
+on the code before."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from program_util import edited_program
+
+from vampc.cli import main
+
+EXAMPLES = Path(__file__).parent.parent / "examples"
+
+
+def run(*args):
+    r = CliRunner().invoke(main, [str(a) for a in args])
+    return r.exit_code, r.stderr
+
+
+@pytest.fixture(scope="module")
+def program(tmp_path_factory):
+    path = tmp_path_factory.mktemp("p") / "planar2.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", "-o", path)[0] == 0
+    return path
+
+
+def _set(doc, keys, value):
+    for k in keys[:-1]:
+        doc = doc[k]
+    doc[keys[-1]] = value
+
+
+EDITS = {
+    "select": (lambda d: _set(d, ["programs", 3, "slots", 0, "sel_a"], 1),
+               {"report": "VAMP 3 (number 4) slot 0: sel-a 1 selects no input (operand A has 1)",
+                "emulate": "programs[3] slot 0 lists sel-a 1 but the program stream delivers 0"}),
+    "select-b": (lambda d: _set(d, ["programs", 3, "slots", 0, "sel_b"], 2),
+                 {"report": "VAMP 3 (number 4) slot 0: sel-b 2 selects no input (operand B has 1)",
+                  "emulate": "programs[3] slot 0 lists sel-b 2 but the program stream delivers 0"}),
+    "port tap": (lambda d: _set(d, ["network", "vamps", 1, "a", 0, 0], ["port", 99, 0]),
+                 "VAMP 1: operand A is wired to a missing port 99"),
+    "constant gone": (lambda d: d["network"]["consts"].pop(),
+                      "operand A is wired to a missing const 11"),
+    "port gone": (lambda d: d["network"]["ports"].pop(), "is wired to a missing port 11"),
+    "constant index": (lambda d: _set(d, ["network", "consts", 1, "index"], 5),
+                       "network.consts[1].index: 5, but it is entry 1"),
+    "stages": (lambda d: _set(d, ["network", "buffers", 2, "stages"], 10 ** 9),
+               "network.buffers[2].stages: 1000000000, but no tap reads past stage 2"),
+    "op": (lambda d: _set(d, ["programs", 3, "slots", 0, "op"], "SV"),
+           "programs[3].slots[0].op: 'SV', but its ROM pointer 0 runs VA"),
+}
+
+
+@pytest.mark.parametrize("edit", list(EDITS))
+def test_an_edited_section_is_refused_by_every_command(program, tmp_path, edit):
+    change, said = EDITS[edit]
+    path = edited_program(program, tmp_path, change)
+    for command in (["report", path], ["report", path, "--tradeoff", "--workers", "1"],
+                    ["emulate", path, "--random", 2]):
+        code, err = run(*command)
+        assert code == 1 and err.count("\n") == 1 and err.startswith("vampc: error: "), (command, err)
+        want = said[command[0]] if isinstance(said, dict) else said   # (emulate compares the
+        assert err.startswith(f"vampc: error: {path}: ") and want in err, (command, err)  # stream)
+
+
+def test_the_unedited_program_runs(program):
+    for command in (["report", program], ["emulate", program, "--random", 2, "--check"]):
+        code, err = run(*command)
+        assert code == 0, err
