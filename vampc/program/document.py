@@ -310,7 +310,7 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                                  f"entry {i}")
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
-    _check_stages(nd, operands.values(), path)
+    _check_stages(nd, taps.values(), path)
     return Network(nd.period, nd.clock, vamps,
                    tuple(Buffer(b.index, b.source, b.stages) for b in nd.buffers),
                    tuple(Port(p.index, p.size, tuple(PortEntry(InputKey(e.quantity, e.joint),
@@ -324,12 +324,12 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    else checking_from_doc(nd.error_correction, len(vamps), path))
 
 
-def _check_stages(nd, operands, path) -> None:
-    """A buffer has as many stages as the deepest one a tap reads (`operands`: every distinct
+def _check_stages(nd, taps, path) -> None:
+    """A buffer has as many stages as the deepest one a tap reads (`taps`: every distinct tap of a
     multiplexer input; and the bus writes): an edited count beyond it is hardware nothing uses (a
     report counted a billion stages, and the tick engine and the RTL tried to build them)."""
     deepest = [0] * len(nd.buffers)
-    reads = [t for operand in operands for t in operand.taps]
+    reads = list(taps)
     if nd.bus is not None:
         reads += [Tap(*w.source) for w in nd.bus.writes]
     for t in reads:
