@@ -73,3 +73,34 @@ def test_the_unedited_program_runs(program):
     for command in (["report", program], ["emulate", program, "--random", 2, "--check"]):
         code, err = run(*command)
         assert code == 0, err
+
+
+def _relabel(options: str | None, name: str | None):
+    def change(doc):
+        if options is not None:
+            doc["options"]["layout"] = options
+        if name is not None:
+            doc["layout"]["name"] = name
+    return change
+
+
+@pytest.mark.parametrize("options, name, said", [
+    (None, "folded", "layout.name: 'folded', but the file's options compile 'systolic'"),
+    ("folded", None, "layout.name: 'systolic', but the file's options compile 'folded'")])
+def test_a_layout_name_the_options_do_not_compile_is_refused(program, tmp_path, options, name,
+                                                             said):
+    """The report's wiring figures follow the layout's name: an edited one changed them (buses into
+    a node's VAMPs 24/20/16 -> 48/40/32), exit 0; an edited options.layout showed a systolic
+    network as folded."""
+    path = edited_program(program, tmp_path, _relabel(options, name))
+    code, err = run("report", path)
+    assert code == 1 and err.count("\n") == 1 and f"{path}: {said}" in err, err
+
+
+def test_a_systolic_label_on_a_network_of_several_slots_a_vamp_is_refused(tmp_path):
+    folded = tmp_path / "folded.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", "--layout", "folded", "-o", folded)[0] == 0
+    path = edited_program(folded, tmp_path, _relabel("systolic", "systolic"))
+    code, err = run("report", path)
+    assert code == 1 and err.count("\n") == 1, err
+    assert f"{path}: layout.name: 'systolic', but VAMP 0 runs 2 slots" in err

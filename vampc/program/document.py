@@ -410,6 +410,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         options.check()
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
+    _check_layout_names(doc, options, path)
     try:
         graph.verify()
         sched = schedule_from_doc(doc.schedule, graph, path)
@@ -438,6 +439,23 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     numbering = tuple(v.number for v in doc.network.vamps)
     return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def _check_layout_names(doc: F.ProgramFile, options, path) -> None:
+    """The layout section names what the options compile (a report's wiring figures follow the
+    name: an edited one changed them, exit 0), and a systolic layout runs one slot a VAMP."""
+    for where, got, want in (("layout.name", doc.layout.name, options.layout_name),
+                             ("layout.share_passes", doc.layout.share_passes,
+                              options.share_passes)):
+        if got != want:
+            raise VampcError(f"{path}: {where}: {got!r}, but the file's options compile "
+                             f"{want!r} (the file was edited); recompile it")
+    if doc.layout.name == "systolic":
+        several = next((p.vamp for p in doc.programs if len(p.slots) != 1), None)
+        if several is not None:
+            raise VampcError(f"{path}: layout.name: 'systolic', but VAMP {several} runs "
+                             f"{len(doc.programs[several].slots)} slots (a systolic VAMP runs one; "
+                             "the file was edited); recompile it")
 
 
 def _check_selects(net: Network, numbers, path) -> None:
