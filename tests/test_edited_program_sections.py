@@ -54,6 +54,8 @@ EDITS = {
                "network.buffers[2].stages: 1000000000, but no tap reads past stage 2"),
     "op": (lambda d: _set(d, ["programs", 3, "slots", 0, "op"], "SV"),
            "programs[3].slots[0].op: 'SV', but its ROM pointer 0 runs VA"),
+    "io clock": (lambda d: _set(d, ["io", "clock"], 8), "io.clock: 8, but network.clock is 4"),
+    "io period": (lambda d: _set(d, ["io", "period"], 8), "io.period: 8, but network.period is 4"),
 }
 
 

@@ -303,6 +303,9 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                                  f"{name.value}")
             out.append(slot(index, len(out), r, name, column))
         return tuple(out)
+    for name, got, want in (("period", doc.io.period, nd.period), ("clock", doc.io.clock, nd.clock)):
+        if got != want:             # (the host's side of the network's own figures)
+            raise VampcError(f"{path}: io.{name}: {got}, but network.{name} is {want}")
     for section, rows in (("buffers", nd.buffers), ("ports", nd.ports), ("consts", nd.consts)):
         for i, row in enumerate(rows):          # (taps name them by index: the position)
             if row.index != i:
