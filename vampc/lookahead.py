@@ -127,8 +127,9 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
     given: set = set()               # (joint, "effort" or "speed") the --limits file gave
+    lines: dict[int, int] = {}       # joint -> the line of the --limits file naming it
     if path is not None:
-        tau, qd, given = _read_limits(path, chain, tau, qd)
+        tau, qd, given, lines = _read_limits(path, chain, tau, qd)
     free = set(free_joints(chain).tolist())
     unused = [chain.joints[i].name for i, what in sorted(given) if what == "effort" and i not in free]
     if unused:                        # a value the file gives is never dropped without a word
@@ -139,12 +140,12 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
                                    "has no motor: its effort limit is not used (its leader's motor "
                                    "carries its torque, bounded by the leader's limit)"), stacklevel=2)
     motors = sorted(free)              # (a follower has no motor, and needs no effort limit)
-    missing = [chain.joints[i].name for i in motors if tau[i] is None]
+    missing = [i for i in motors if tau[i] is None]
     if missing:
         where = path or source or chain.source or chain.name
-        line = _limits_line(path, missing[0]) if path is not None else None
+        line = lines.get(missing[0])
         raise VampcError(f"{where}: " + (f"line {line}: " if line else "")
-                         + f"joint '{missing[0]}' has no effort limit"
+                         + f"joint '{chain.joints[missing[0]].name}' has no effort limit"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
                          + ("; give its tau in this row" if line else
                             "; give it a row joint,tau[,qd] in this file" if path is not None else
@@ -164,16 +165,6 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
 # The smallest effort or speed limit taken: the scalings are ratios of torques or speeds to their
 # limits (squared for the uniform k), and a limit of 1e-300 made k infinite.
 SMALLEST_LIMIT = 1e-12
-
-
-def _limits_line(path: str, name: str) -> int | None:
-    """The line of the --limits file whose row names joint `name` (None: no row does)."""
-    import csv
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        for line, row in enumerate(csv.reader(fh), 1):
-            if line > 1 and row and row[0].strip() == name.strip():   # (as _read_limits reads)
-                return line
-    return None
 
 
 def _read_limits(path: str, chain, tau: list, qd: list):
@@ -242,7 +233,7 @@ def _read_limits(path: str, chain, tau: list, qd: list):
         if values[1] is not None:
             qd[names[name]] = values[1]
             given.add((names[name], "speed"))
-    return tau, qd, given
+    return tau, qd, given, {names[name]: line for name, line in seen.items()}
 
 
 def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):

@@ -883,8 +883,8 @@ class FaultsOptions:
         if self.bits is None:
             return None
         parts = [b.strip() for b in self.bits.split(",") if b.strip()]
-        from vampc.textio import plain_number
-        if not parts or not all(plain_number(b) and b.isdigit() for b in parts):
+        from vampc.textio import ascii_digits
+        if not parts or not all(map(ascii_digits, parts)):
             raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
         return list(dict.fromkeys(int(b) for b in parts))     # (each once, as --values)
 

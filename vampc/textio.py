@@ -18,6 +18,11 @@ def plain_number(text: str) -> bool:
     return text.isascii() and "_" not in text
 
 
+def ascii_digits(text: str) -> bool:
+    """A whole number in ASCII digits (str.isdigit() also takes '١' and '３', and int() reads them)."""
+    return plain_number(text) and text.isdigit()
+
+
 NPY_MAGIC, ZIP_MAGIC = b"\x93NUMPY", b"PK\x03\x04"     # how a .npy and a .npz (a zip) start
 
 

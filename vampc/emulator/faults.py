@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vampc.program.words import FIELDS
+from vampc.textio import ascii_digits
 
 REGISTERS = ("result", "a", "b", "control", "control2")
 
@@ -115,14 +116,8 @@ def parse_fault(text: str) -> Fault:
                  at or 0, rate, text)
 
 
-def _digits(text: str) -> bool:
-    """ASCII digits only: str.isdigit() also takes '١' and '３' (and int() reads them)."""
-    from vampc.textio import plain_number
-    return plain_number(text) and text.isdigit()
-
-
 def _whole(value: str, key: str, text: str) -> int:
-    if not _digits(value):
+    if not ascii_digits(value):
         raise ValueError(f"--fault {text!r}: {key}={value!r} is not a whole number")
     return int(value)
 
@@ -130,18 +125,18 @@ def _whole(value: str, key: str, text: str) -> int:
 def _register(spec: str, text: str) -> tuple[str, int, int, int]:
     """(register, component, slot, bit) of REG:BIT."""
     reg, sep, bit = spec.partition(":")
-    if not sep or not _digits(bit):
+    if not sep or not ascii_digits(bit):
         raise ValueError(f"--fault {text!r}: give REGISTER:BIT, e.g. result.z:62")
     parts = reg.split(".")
     name = parts[0]
     if name == "result" and len(parts) == 2 and parts[1] in AXES:
         return "result", AXES[parts[1]], 0, int(bit)
-    if name in ("a", "b") and len(parts) == 2 and (parts[1] in AXES or _digits(parts[1])):
+    if name in ("a", "b") and len(parts) == 2 and (parts[1] in AXES or ascii_digits(parts[1])):
         k = AXES[parts[1]] if parts[1] in AXES else int(parts[1])
         if k < 9:
             return name, k, 0, int(bit)
     if name in ("control", "control2") and len(parts) in (2, 3) and parts[1] in FIELDS and (
-            len(parts) == 2 or _digits(parts[2])):
+            len(parts) == 2 or ascii_digits(parts[2])):
         return name, FIELDS.index(parts[1]), int(parts[2]) if len(parts) == 3 else 0, int(bit)
     raise NoSuchRegister(f"--fault {text!r}: {reg!r} is no register (result.x|y|z, a.K, b.K with K "
                      f"0..8 or x|y|z, control.FIELD[.SLOT] or, with error correction, control2.FIELD[.SLOT], "

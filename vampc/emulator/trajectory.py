@@ -224,8 +224,6 @@ def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
                          f"({why})")
 
 
-
-
 def _head(path: Path, size: int) -> bytes | None:
     """The file's first `size` bytes (None if it cannot be read: np.load then says why)."""
     try:

@@ -1,6 +1,7 @@
 """Conversion between the compiler's IRs and the program-file document (see vampc.program.file)."""
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterator
 
 import numpy as np
@@ -43,7 +44,7 @@ from vampc.program.words import ROM, Program
 from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
-from vampc.schedule.registry import LAYOUTS
+from vampc.schedule.registry import LAYOUTS, SYSTOLIC, is_layout
 
 
 def robot_doc(chain: Chain) -> F.RobotDoc:
@@ -332,10 +333,8 @@ def _check_stages(nd, taps, path) -> None:
     multiplexer input; and the bus writes): an edited count beyond it is hardware nothing uses (a
     report counted a billion stages, and the tick engine and the RTL tried to build them)."""
     deepest = [0] * len(nd.buffers)
-    reads = list(taps)
-    if nd.bus is not None:
-        reads += [Tap(*w.source) for w in nd.bus.writes]
-    for t in reads:
+    writes = (Tap(*w.source) for w in nd.bus.writes) if nd.bus is not None else ()
+    for t in itertools.chain(taps, writes):
         if t.kind is TapKind.BUFFER and 0 <= t.index < len(deepest) and t.stage > deepest[t.index]:
             deepest[t.index] = t.stage
     for b, want in zip(nd.buffers, deepest):
@@ -414,15 +413,15 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
     _check_layout_names(doc, options, path)
+    numbering = tuple(v.number for v in doc.network.vamps)
     try:
         graph.verify()
         sched = schedule_from_doc(doc.schedule, graph, path)
         net = scheduled_network_from_doc(doc, sched, path)
         # (the emulator's loader's own index checks, before the network check indexes anything)
         from vampc.emulator.load import check_indices
-        numbers = tuple(v.number for v in doc.network.vamps)
-        check_indices(net, numbers, graph, path)
-        _check_selects(net, numbers, path)
+        check_indices(net, numbering, graph, path)
+        _check_selects(net, numbering, path)
         if sched.interval != net.period:
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
@@ -439,7 +438,6 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
                        options.check_cycles)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
-    numbering = tuple(v.number for v in doc.network.vamps)
     return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
 
@@ -453,7 +451,7 @@ def _check_layout_names(doc: F.ProgramFile, options, path) -> None:
         if got != want:
             raise VampcError(f"{path}: {where}: {got!r}, but the file's options compile "
                              f"{want!r} (the file was edited); recompile it")
-    if doc.layout.name == "systolic":
+    if is_layout(doc.layout.name, SYSTOLIC):
         several = next((p.vamp for p in doc.programs if len(p.slots) != 1), None)
         if several is not None:
             raise VampcError(f"{path}: layout.name: 'systolic', but VAMP {several} runs "
