@@ -587,3 +587,23 @@ def test_a_limits_file_missing_a_tau_names_its_row(tmp_path):
     with pytest.raises(VampcError, match=rf"^{path}: joint 'waist' has no effort limit \(and 4 more\); "
                                          r"give it a row joint,tau\[,qd\] in this file$"):
         limits_of(chain, str(path))
+
+
+@pytest.mark.parametrize("retime", ["uniform", "window"])
+def test_every_duration_the_summary_gives_is_first_row_to_last(setup, tmp_path, retime):
+    """The path as given, the retimed one and the first line all measure from the first row's time
+    to the last's (the summary said rows × λ for the path as given and the uniform scaling, one row
+    more than the window's last-row time beside it)."""
+    folder, program, limits, path = setup
+    out = tmp_path / "out.csv"
+    r = run_lookahead(program, path, limits, "--retime", retime, "-o", str(out))
+    assert r.exit_code == 0, r.output
+    t = sine_path()[0]
+    retimed = np.loadtxt(out, delimiter=",", skiprows=1, usecols=0)
+    span = t[-1] - t[0]
+    first = r.output.splitlines()[0]
+    assert f"({span:.6g} s first to last)" in first, first
+    said = float(re.search(r"duration (\S+) s", r.output).group(1))
+    assert said == pytest.approx(retimed[-1] - retimed[0], rel=1e-5), r.output
+    if retime == "window":
+        assert f"(as given {span:.6g} s)" in r.output, r.output

@@ -861,7 +861,8 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     motors = free_names(ld.chain)         # whose effort limits these are (a coupled follower: none)
     seen = res.ahead_rows                 # rows in view: --window, times --futures
     registers = f" × {res.futures} registers" if res.futures > 1 else ""
-    lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({times[-1] - times[0] + lam:.6g} s), "
+    span = times[-1] - times[0]           # a path's duration: from its first row to its last
+    lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({span:.6g} s first to last), "
              f"window {window}{registers} ({(seen - 1) * lam * 1e3:.4g} ms ahead): "
              f"{count(len(res.violations), 'violation')}"]
     for v in res.violations[:5]:
@@ -884,7 +885,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      "per row")
         lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
-                     f"{times[-1] - times[0] + lam:.6g} s); ṡ (leaving out the rest at start and end) "
+                     f"{span:.6g} s); ṡ (leaving out the rest at start and end) "
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
                      f"{count(len(res.retimed_violations), 'violation')}{failed_mark(res)}")
         best = res.optimal_duration
@@ -895,7 +896,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"{res.k:.15g}, on effort limits {number_text(res.margin)} of each tighter"
                      f"{why_margin(ld, res)}), "
-                     f"duration {(times[-1] - times[0] + lam) * res.k:.6g} s; retimed "
+                     f"duration {span * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
                      f"{failed_mark(res)}")
     if res.retimed is not None and res.word_margin and res.k is None:
