@@ -8,6 +8,10 @@ import re
 
 UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9}
 CONTROL_RATES = (1_000, 10_000)
+# The clock rates vampc takes, in Hz (--clock, --rate, a synthesis report's Fmax): a rate of 1e-300 Hz
+# made the times of a report infinite, and JSON has no such number
+SLOWEST_HZ, FASTEST_HZ = 1e-3, 1e12
+RATE_RANGE_TEXT = "at least 0.001 Hz and at most 1000 GHz"      # (said in units parse_clock takes)
 _CLOCK = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*([a-zA-Z]*)\s*$")
 
 
@@ -25,9 +29,8 @@ def parse_clock(text: str) -> float:
         raise ValueError(f"{text!r} is not a clock rate (a number with Hz, kHz, MHz or GHz, "
                          "e.g. 20MHz)")
     hz = float(m.group(1)) * UNITS[unit]
-    if not math.isfinite(hz) or hz < 1e-3 or hz > 1e12:
-        # (a rate of 1e-300 Hz made the times of a report infinite, and JSON has no such number)
-        raise ValueError(f"{text!r}: a clock rate must be at least 0.001 Hz and at most 1000 GHz")
+    if not math.isfinite(hz) or hz < SLOWEST_HZ or hz > FASTEST_HZ:
+        raise ValueError(f"{text!r}: a clock rate must be {RATE_RANGE_TEXT}")
     return hz
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from vampc import jsontext
 from vampc.errors import VampcError
+from vampc.report.clock import FASTEST_HZ, RATE_RANGE_TEXT, SLOWEST_HZ
 
 
 def rtl_figures(path: str, c) -> dict:
@@ -38,10 +39,11 @@ def rtl_figures(path: str, c) -> dict:
         return x
 
     def mhz(x, where: str) -> float:
-        """An Fmax: a number of MHz, the --clock range (1 mHz to 1 THz): a negative one had been
-        used as the clock."""
-        if type(x) not in (int, float) or not 1e-9 <= x <= 1e6:
-            raise VampcError(f"{path}: {where} is {x!r}, not a clock rate in MHz (1 mHz to 1 THz)")
+        """An Fmax: a number of MHz in the --clock range (clock.SLOWEST_HZ to FASTEST_HZ): a
+        negative one had been used as the clock."""
+        if type(x) not in (int, float) or not SLOWEST_HZ / 1e6 <= x <= FASTEST_HZ / 1e6:
+            raise VampcError(f"{path}: {where} is {x!r}, not a clock rate in MHz (one "
+                             f"{RATE_RANGE_TEXT})")
         return float(x)
     kinds, fmax = [], []
     for name, k in doc["synth"]["kinds"].items():
