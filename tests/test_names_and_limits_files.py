@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from conftest import EXAMPLES
 
 from vampc.cli import main
 from vampc.report.clock import parse_clock
@@ -125,3 +126,41 @@ def test_a_padded_joints_row_without_tau_is_named_by_its_line(tmp_path):
     limits.write_text("joint,tau,qd\na,1,\nb,,2\n")
     code, err, _ = lookahead(tmp_path, path, "--limits", limits)
     assert code == 1 and "lim.csv: line 3: joint ' b ' has no effort limit" in err, err
+
+
+@pytest.mark.parametrize("name, joints, where", [
+    ('"two\\nlines"', ["a", "b"], "robot"), ("arm", ["a", '"el\\nbow"'], "joint 2"),
+    ("arm", ['"tab\\there"', "b"], "joint 1"), ("arm", ["a", '"para\\u2029graph"'], "joint 2")])
+def test_a_name_with_a_control_character_is_one_line_naming_it(tmp_path, name, joints, where):
+    """A newline in a joint's name split the text report's rows (and every one-line message naming
+    the joint); it is refused where the robot file is read, by the joint's number."""
+    path = robot(tmp_path, name, joints)
+    out = tmp_path / "r.vamp.json"
+    code, err, _ = run("compile", path, "-o", out)
+    assert code == 1 and err.startswith(f"vampc: error: {path}: {where}: its name ") and \
+        "control character" in err and err.count("\n") == 1, err
+    assert not out.exists()
+
+
+def test_a_urdf_joint_name_with_a_newline_is_refused(tmp_path):
+    text = (EXAMPLES / "ur5.urdf").read_text()
+    first = text.index('<joint name="') + len('<joint name="')
+    path = tmp_path / "arm.urdf"
+    path.write_text(text[:first] + "x&#10;" + text[first:])
+    code, err, _ = run("report", path)
+    assert code == 1 and f"{path}: joint " in err and "U+000A" in err and err.count("\n") == 1, err
+
+
+def test_a_program_file_edited_to_a_name_with_a_newline_is_refused(tmp_path):
+    from vampc.program.file import read_program, write_program
+    path = robot(tmp_path, "arm", ["a", "b"])
+    program = tmp_path / "r.vamp.json"
+    assert run("compile", path, "-o", program)[0] == 0
+    doc = read_program(program)
+    doc["robot"]["joints"][1]["name"] = "el\nbow"
+    write_program(doc, program)
+    for command in (["report", program], ["emulate", program, "--random", "2"]):
+        code, err, out = run(*command)
+        assert code == 1 and err == (f"vampc: error: {program}: robot.joints[1].name: its name "
+                                     "'el\\nbow' holds the control character U+000A: names are printed "
+                                     "in one-line messages, text reports and CSV headers\n"), err

@@ -69,6 +69,17 @@ def shown(text: str, limit: int = 60) -> str:
     return "'" + "".join(out).replace("'", "\\'") + more + "'"
 
 
+def name_problem(name: str) -> str | None:
+    """Why `name` (a robot's or a joint's) cannot be printed on one line, or None: a control
+    character or a line or paragraph separator (a newline in a joint's name split the text
+    report's rows and every one-line message naming it)."""
+    bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Zl", "Zp")), None)
+    if bad is None:
+        return None
+    return (f"its name {shown(name)} holds the control character U+{ord(bad):04X}: names are "
+            "printed in one-line messages, text reports and CSV headers")
+
+
 def one_line(text: str, limit: int = 300) -> str:
     """Collapse whitespace and cut very long messages (a parser's, or one quoting a whole value)."""
     text = " ".join(text.split())

@@ -83,6 +83,11 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     if graph is not None and graph.n != doc.n:
         raise VampcError(f"{path}: robot: {doc.n} joints, but the graph is of {graph.n} (the file "
                          "was edited); recompile it")
+    from vampc.textio import name_problem
+    for where, name in [("robot.name", doc.name)] + [(f"robot.joints[{i}].name", j.name)
+                                                      for i, j in enumerate(doc.joints)]:
+        if name_problem(name):
+            raise VampcError(f"{path}: {where}: {name_problem(name)}")
     joints = tuple(Joint(
         name=j.name, type=JointType(j.type), phi=np.array(j.phi), p_fixed=np.array(j.p_fixed),
         offset=j.offset, mass=j.mass, com=np.array(j.com), inertia=np.array(j.inertia),

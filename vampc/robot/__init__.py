@@ -40,7 +40,19 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
     with np.errstate(over="ignore", invalid="ignore"):      # (overflows are said below, by joint)
         chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia)
     _check_finite(chain, path)
+    _check_names(chain, path)
     return chain
+
+
+def _check_names(chain: Chain, path) -> None:
+    """VampcError where the robot's or a joint's name holds a control character (textio.name_problem),
+    the joint named by its number (from 1)."""
+    from vampc.textio import name_problem
+    for where, name in [("robot", chain.name)] + [(f"joint {i + 1}", j.name)
+                                                   for i, j in enumerate(chain.joints)]:
+        problem = name_problem(name)
+        if problem:
+            raise located(path, where, problem)
 
 
 def _check_finite(chain: Chain, path) -> None:
