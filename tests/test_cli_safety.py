@@ -1098,3 +1098,26 @@ def test_numbers_on_the_command_line_are_ascii_digits(program, args):
     assert res.exit_code == 2 and res.stderr.count("\n") == 1, res.output
     assert "not a number written in ASCII digits" in res.stderr or "give A:B" in res.stderr or \
         "not a whole number" in res.stderr or "give REGISTER:BIT" in res.stderr, res.stderr
+
+
+@pytest.mark.parametrize("command", [["compile", "{robot}"], ["report", "{robot}"],
+                                     ["emulate", "{robot}", "--trajectory", "{traj}"]])
+def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
+    """`vampc emulate ... --trajectory in.csv >> in.csv` appended the command's lines to the
+    trajectory it read: standard output onto an input file is refused and the file left as it was."""
+    import subprocess
+    import sys
+    robot = tmp_path / "planar2.yaml"
+    robot.write_bytes(PLANAR.read_bytes())
+    traj = tmp_path / "traj.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "0,0,0,0,0,0\n" * 3)
+    args = [a.format(robot=robot, traj=traj) for a in command]
+    victim = traj if "--trajectory" in command else robot
+    before = victim.read_bytes()
+    with open(victim, "ab") as fh:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdout=fh,
+                              stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    assert done.returncode == 1 and done.stderr == (
+        f"vampc: error: {victim}: standard output is this input file (redirected onto it); vampc "
+        "never writes over its inputs: send standard output elsewhere\n"), done.stderr
+    assert victim.read_bytes() == before

@@ -57,6 +57,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
     where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
     inputs = [Path(p) for p in inputs if p is not None]
+    _refuse_stdout_input(inputs)
     planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
         if path is None:
@@ -157,6 +158,26 @@ def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
                     "" if out.target == Path(os.path.realpath(src)) else " (a hard link to it)")
             raise VampcError(f"{out.path}: {out.option} is the input file {src}{link}; "
                              "vampc never writes over its inputs")
+
+
+def _refuse_stdout_input(inputs: list[Path]) -> None:
+    """VampcError when standard output is one of the input files (`vampc emulate p.vamp.json
+    --trajectory in.csv >> in.csv` appended the torques to the trajectory): every command prints
+    to standard output, its result or its summary."""
+    try:
+        there = os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):    # closed, or not a file (a test's capture)
+        return
+    if not stat.S_ISREG(there.st_mode):
+        return
+    for src in inputs:
+        try:
+            here = os.stat(src)
+        except OSError:
+            continue
+        if (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino):
+            raise VampcError(f"{src}: standard output is this input file (redirected onto it); "
+                             "vampc never writes over its inputs: send standard output elsewhere")
 
 
 def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
