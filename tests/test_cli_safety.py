@@ -1101,6 +1101,7 @@ def test_numbers_on_the_command_line_are_ascii_digits(program, args):
 
 
 @pytest.mark.parametrize("command", [["compile", "{robot}"], ["report", "{robot}"],
+                                     ["precision", "{robot}", "--sets", "2"],
                                      ["emulate", "{robot}", "--trajectory", "{traj}"]])
 def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
     """`vampc emulate ... --trajectory in.csv >> in.csv` appended the command's lines to the

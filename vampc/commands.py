@@ -650,8 +650,10 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.dynamics.reference import rnea
     from vampc.emulator.driver import random_states
     from vampc.machine.arith import Rounding
+    from vampc.outputs import plan_outputs
     from vampc.precision import Ranges, fitted
     own.check()
+    plan_outputs([source], {})        # (no file of its own: standard output onto the source is refused)
     for name, why in PRECISION_REFUSES.items():
         if name in options.given:
             raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: {why}")
