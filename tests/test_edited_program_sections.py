@@ -2,7 +2,8 @@
 an internal error (exit 3: an index out of range in the network check, which ran before the
 loader's checks that `emulate` has), or went through every command unsaid (a slot's op beside
 another ROM pointer; a buffer of a billion stages, which the report counted and the tick engine and
-the RTL tried to build; a constant's index that is not its place, an rtl traceback). Now `report`,
+the RTL tried to build; a constant's index that is not its place, an rtl traceback; a port's
+size that is not what its entries carry, counted as pins by the report). Now `report`,
 `report --tradeoff` and `emulate` each refuse them in one line naming the place. Each test failed
 on the code before."""
 from __future__ import annotations
@@ -56,6 +57,10 @@ EDITS = {
            "programs[3].slots[0].op: 'SV', but its ROM pointer 0 runs VA"),
     "io clock": (lambda d: _set(d, ["io", "clock"], 8), "io.clock: 8, but network.clock is 4"),
     "io period": (lambda d: _set(d, ["io", "period"], 8), "io.period: 8, but network.period is 4"),
+    "port size": (lambda d: _set(d, ["network", "ports", 0, "size"], 9),
+                  "network.ports[0].size: 9, but its entries are 3-scalar quantities"),
+    "port size A": (lambda d: _set(d, ["network", "ports", 1, "size"], 3),
+                    "network.ports[1].size: 3, but its entries are 9-scalar quantities"),
 }
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
 from vampc.errors import VampcError, VampcInternalError
 from vampc.gcpause import gc_paused
-from vampc.kinds import TapKind
+from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
@@ -317,6 +317,7 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
             if row.index != i:
                 raise VampcError(f"{path}: network.{section}[{i}].index: {row.index}, but it is "
                                  f"entry {i}")
+    _check_port_sizes(nd, path)
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
     _check_stages(nd, taps.values(), path)
@@ -331,6 +332,18 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path),
                    None if nd.error_correction is None
                    else checking_from_doc(nd.error_correction, len(vamps), path))
+
+
+def _check_port_sizes(nd, path) -> None:
+    """A port is as wide as what the host writes to it: 9 scalars for a matrix A_i (quantity A),
+    3 for a vector, and 3 for a program port (no entries): an edited size was counted by the report
+    as pins and wires nothing carries."""
+    for i, p in enumerate(nd.ports):
+        want = {9 if e.quantity is Quantity.A else 3 for e in p.entries} or {3}
+        if want != {p.size}:
+            need = (f"its entries are {' and '.join(f'{w}-scalar' for w in sorted(want))} "
+                    "quantities" if p.entries else "a program port (no entries) carries 3")
+            raise VampcError(f"{path}: network.ports[{i}].size: {p.size}, but {need}")
 
 
 def _check_stages(nd, taps, path) -> None:
