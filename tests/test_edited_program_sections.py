@@ -61,6 +61,9 @@ EDITS = {
                   "network.ports[0].size: 9, but its entries are 3-scalar quantities"),
     "port size A": (lambda d: _set(d, ["network", "ports", 1, "size"], 3),
                     "network.ports[1].size: 3, but its entries are 9-scalar quantities"),
+    "extra constant": (lambda d: d["network"]["consts"].append(
+        {**d["network"]["consts"][0], "index": len(d["network"]["consts"])}),
+        "network.consts[12] ('"),
 }
 
 

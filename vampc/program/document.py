@@ -45,6 +45,7 @@ from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 from vampc.schedule.registry import LAYOUTS, SYSTOLIC, is_layout
+from vampc.textio import shown
 
 
 def robot_doc(chain: Chain) -> F.RobotDoc:
@@ -349,7 +350,8 @@ def _check_port_sizes(nd, path) -> None:
 def _check_stages(nd, taps, path) -> None:
     """A buffer has as many stages as the deepest one a tap reads (`taps`: every distinct tap of a
     multiplexer input; and the bus writes): an edited count beyond it is hardware nothing uses (a
-    report counted a billion stages, and the tick engine and the RTL tried to build them)."""
+    report counted a billion stages, and the tick engine and the RTL tried to build them). So is a
+    constant no tap reads (an edited file's extra one was counted as a constant buffer)."""
     deepest = [0] * len(nd.buffers)
     writes = (Tap(*w.source) for w in nd.bus.writes) if nd.bus is not None else ()
     for t in itertools.chain(taps, writes):
@@ -359,6 +361,11 @@ def _check_stages(nd, taps, path) -> None:
         if b.stages > want:
             raise VampcError(f"{path}: network.buffers[{b.index}].stages: {b.stages}, but no tap "
                              f"reads past stage {want}")
+    read = {t.index for t in taps if t.kind is TapKind.CONST}
+    unread = next((c for c in nd.consts if c.index not in read), None)
+    if unread is not None:          # (the report counted it, a constant buffer nothing reads)
+        raise VampcError(f"{path}: network.consts[{unread.index}] ({shown(unread.name)}) is read by "
+                         "no tap")
 
 
 def checking_from_doc(cd: F.CheckingDoc, vamps: int, path) -> Checking:
