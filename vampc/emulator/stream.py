@@ -5,7 +5,9 @@ port entry or constant every operand latch holds, and proved that each holds the
 torque set, the network is a pure function per set: each slot's result is its ROM sequence applied to
 its operands. That function is the *flow*: the slots in dataflow order, each naming its operands'
 sources. This engine evaluates it vectorised over all sets, with the same ROM code as the tick engine,
-so the two agree bit for bit; the generated C (vampc.emulator.native) evaluates the same flow.
+so the two agree bit for bit; the generated C (vampc.emulator.native) evaluates the same flow. Big
+networks and short runs go in batches (`Batches`: every op of one level and ROM entry in one call),
+and the sets in chunks whose values fit in VALUE_BYTES.
 """
 from __future__ import annotations
 
@@ -77,24 +79,173 @@ class StreamEngine:
         from vampc.emulator.native import prepare
         self.ld, self.flow = ld, fl
         self.native = prepare(ld, fl, total)
+        self.batches = (Batches(fl) if self.native is None and batched_pays(fl, ld.arith, total)
+                        else None)
 
     def run(self, ports: dict, count: int, progress=None) -> np.ndarray:
         """Torques (count, n) of `count` sets given their input values, by input index."""
         if self.native is not None:
             return self.native.run(ports, count, progress)
-        return run_numpy(self.ld, self.flow, ports, count, progress)
+        return run_numpy(self.ld, self.flow, ports, count, progress, self.batches)
 
 
-def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None) -> np.ndarray:
-    """The numpy path: rom.run per op over chunks of sets."""
+def run_numpy(ld: Loaded, fl: Flow, ports: dict, count: int, progress=None,
+              plan: Batches | None = None) -> np.ndarray:
+    """The numpy path over chunks of sets, sized so the values of every op of a chunk fit in
+    VALUE_BYTES: one rom.run per op (each over the whole chunk) while a chunk holds at least
+    BATCHED_BELOW sets; below that (a big network, or a short run), the per-call cost of a
+    network's every op outweighs its arithmetic, and the flow runs in `Batches` (one rom.run per
+    level and ROM entry). `plan`: the flow's Batches, if already made."""
+    if batched_pays(fl, ld.arith, count):
+        plan = plan or Batches(fl)
+        if plan.plain:
+            return _chunks(ld, count, progress, plan.chunk(ld.arith), ports,
+                           lambda chunk, n, consts: plan.run(ld, chunk, n, consts))
+    return _chunks(ld, count, progress, _sets_per_chunk(len(fl.ops), ld.arith), ports,
+                   lambda chunk, n, consts: _run_chunk(ld, fl, chunk, n, consts))
+
+
+def _chunks(ld: Loaded, count: int, progress, size: int, ports: dict, run) -> np.ndarray:
+    """run(ports of a chunk, its sets, constants) over chunks of `size` sets, their torques."""
     outs = []
     consts: dict = {}       # each constant converted once a run, as the host writes it once
-    for lo in range(0, count, CHUNK):
-        chunk = {p: a[lo:lo + CHUNK] for p, a in ports.items()}
-        outs.append(_run_chunk(ld, fl, chunk, min(CHUNK, count - lo), consts))
+    for lo in range(0, count, size):
+        chunk = {p: a[lo:lo + size] for p, a in ports.items()}
+        outs.append(run(chunk, min(size, count - lo), consts))
         if progress is not None:
-            progress(min(lo + CHUNK, count), count)
+            progress(min(lo + size, count), count)
     return np.concatenate(outs, axis=0) if outs else np.zeros((0, ld.chain.n_outputs))
+
+
+def _sets_per_chunk(rows: int, arith) -> int:
+    """Sets whose values of `rows` rows of 3 words fit in VALUE_BYTES: at most CHUNK, at least 1."""
+    per_set = max(rows, 1) * 3 * np.dtype(arith.dtype).itemsize
+    return int(max(1, min(CHUNK, VALUE_BYTES // per_set)))
+
+
+def batched_pays(fl: Flow, arith, total: int) -> bool:
+    """Whether run_numpy runs a run of `total` sets of this flow in Batches."""
+    return min(_sets_per_chunk(len(fl.ops), arith), total) < BATCHED_BELOW
+
+
+def run_per_op(ld: Loaded, fl: Flow, ports: dict, count: int) -> np.ndarray:
+    """The flow one op at a time (rom.run per op, over every set at once): the plain reading of
+    the flow, against which the batched path is tested."""
+    return _run_chunk(ld, fl, ports, count, {})
+
+
+VALUE_BYTES = 256 << 20   # the values of every op for a chunk of sets, at most (a 1024-joint log
+# network's 215 042 ops took 5.2 MB a set: 4096 sets would have been 21 GB)
+BATCHED_BELOW = 512       # sets per chunk below which the flow runs in Batches (measured: above
+# it, one call per op over the chunk is as fast or faster, the batches' gathers copying the values)
+
+
+class Batches:
+    """The flow rearranged for batched evaluation. Every value is held in rows of 3 scalars of a
+    table (rows, sets, 3): an op's result (row = its index), an input or constant of 3 scalars (one
+    row) or of 9 (three rows, its columns: column j is scalars j, j+3, j+6, so that stacking
+    them back gives the 9 scalars, as `_operand` stacks an MM group's three columns). An operand
+    is 1 row (a vector) or 3 (a matrix by columns). Each op's level is one more than the highest
+    of the ops it reads (0: reads no op); the ops of one level and ROM entry, whose operands have
+    the same number of rows, are one batch, run in one rom.run call. Elementwise, the same
+    arithmetic in the same order per value as one op at a time: the same bits."""
+
+    def __init__(self, fl: Flow):
+        n_ops = len(fl.ops)
+        rows = n_ops
+        self.outputs = fl.outputs
+        self.inputs: list[tuple[int, int, int]] = []     # (input index, first row, rows)
+        self.consts: list[tuple[tuple, int, int]] = []   # (values, first row, rows)
+        placed_in: dict[int, int] = {}
+        placed_const: dict[tuple, int] = {}
+        sizes = {i: size for i, (_, _, size) in enumerate(fl.inputs)}
+
+        def rows_of(src) -> list[int]:
+            nonlocal rows
+            kind, what = src
+            if kind is FlowKind.OP:
+                return [what]
+            if kind is FlowKind.IN:
+                first = placed_in.get(what)
+                span = 3 if sizes[what] == 9 else 1
+                if first is None:
+                    first = placed_in[what] = rows
+                    self.inputs.append((what, first, span))
+                    rows += span
+            elif kind is FlowKind.CONST:
+                first = placed_const.get(what)
+                span = 3 if len(what) == 9 else 1
+                if first is None:
+                    first = placed_const[what] = rows
+                    self.consts.append((what, first, span))
+                    rows += span
+            else:
+                unhandled(kind)
+            return list(range(first, first + span))
+
+        level = [0] * n_ops
+        groups: dict[tuple, tuple[list, list, list]] = {}
+        OP = FlowKind.OP
+        self.plain = True        # False: an operand this layout cannot hold (run op by op)
+
+        def operand(x) -> tuple[tuple, int]:        # (its rows, the level of an op reading it)
+            if len(x) == 1:
+                kind, what = x[0]
+                if kind is OP:                       # (the common case by far)
+                    return (what,), level[what] + 1
+                return tuple(rows_of(x[0])), 0
+            if any(src[0] is not OP for src in x):
+                return (), -1                        # a matrix of columns not all op results
+            return tuple(what for _, what in x), max(level[what] for _, what in x) + 1
+        for i, (r, a, b) in enumerate(fl.ops):
+            ra, la = operand(a)
+            rb, lb = operand(b)
+            if la < 0 or lb < 0:
+                self.plain = False
+                return
+            deepest = level[i] = la if la > lb else lb
+            members, ras, rbs = groups.setdefault((deepest, r, len(ra), len(rb)), ([], [], []))
+            members.append(i)
+            ras.append(ra)
+            rbs.append(rb)
+        self.rows = rows
+        self.batches = tuple((r, np.array(members), np.array(ras), np.array(rbs))
+                             for (_, r, _, _), (members, ras, rbs) in sorted(groups.items()))
+
+    def chunk(self, arith) -> int:
+        """Sets per chunk: every row's values within VALUE_BYTES, at most CHUNK, at least 1."""
+        return _sets_per_chunk(self.rows, arith)
+
+    def run(self, ld: Loaded, ports, count: int, consts: dict) -> np.ndarray:
+        arith = ld.arith
+        table = np.zeros((self.rows, count, 3), dtype=arith.dtype)
+        for i, first, span in self.inputs:
+            value = ports[i]
+            if span == 1:
+                table[first] = value
+            else:
+                table[first:first + 3] = value.reshape(count, 3, 3).transpose(2, 0, 1)
+        for values, first, span in self.consts:
+            value = consts.get(values)
+            if value is None:        # converted by the host once a run: counted once
+                value = consts[values] = arith.fresh().encode(values)
+            table[first:first + span] = value.reshape(3, 3).T[:, None, :] if span == 3 else value
+        for r, members, ra, rb in self.batches:
+            out = rom.run(r, _gathered(table, ra, count), _gathered(table, rb, count), arith)
+            table[members] = out
+        tau = np.empty((count, ld.chain.n_outputs))
+        for joint, op, component in self.outputs:
+            tau[:, joint - 1] = arith.decode(table[op, :, component])
+        return tau
+
+
+def _gathered(table: np.ndarray, rows: np.ndarray, count: int) -> np.ndarray:
+    """A batch's operands (k, sets, 3) from rows (k, 1), or (k, sets, 9) from rows (k, 3), the
+    scalars of each matrix in the order `_operand` stacks its columns."""
+    if rows.shape[1] == 1:
+        return table[rows[:, 0]]
+    cols = table[rows]                               # (k, column, set, scalar)
+    return cols.transpose(0, 2, 3, 1).reshape(len(rows), count, 9)
 
 
 def _run_chunk(ld: Loaded, fl: Flow, ports, count, consts: dict) -> np.ndarray:
