@@ -121,3 +121,54 @@ def test_the_options_precision_refuses_are_not_in_its_help():
     for name in PRECISION_REFUSES:
         assert f"--{name.replace('_', '-')} " not in text and f"--{name.replace('_', '-')}\n" not in text, name
     assert "--rounding" in text and "--recursion" in text
+
+
+def _precision(*args):
+    return CliRunner().invoke(main, ["precision", *map(str, args)])
+
+
+def test_a_program_file_is_analysed_in_its_own_rounding(tmp_path):
+    """A program compiled with --rounding truncate was analysed as rounding to nearest: its bound
+    approved q10.16 at 1e-3, which the program's own rounding does not meet. Now the program's
+    rounding is the default; another --rounding is a what-if, said on stderr."""
+    program = tmp_path / "pt.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--word", "q10.16",
+                                     "--rounding", "truncate", "-o", str(program)]).exit_code == 0
+    args = ("--sweep", "26:26", "--sets", "200", "--format", "json")
+    own = _precision(program, *args)
+    robot = _precision(EXAMPLES / "puma560.yaml", "--rounding", "truncate", *args)
+    assert own.exit_code == 0 and own.stderr == "", own.stderr
+    got, want = loads(own.stdout), loads(robot.stdout)
+    assert got["rounding"] == "truncate" and got["rows"] == want["rows"]
+    assert got["rows"][0]["bound"] > 1e-3 and got["narrowest_bound"] is None
+    what_if = _precision(program, "--rounding", "nearest", *args)
+    assert what_if.exit_code == 0 and loads(what_if.stdout)["rounding"] == "nearest"
+    assert "pt.vamp.json rounds by truncate; --rounding nearest analyses" in what_if.stderr
+    assert loads(what_if.stdout)["rows"][0]["bound"] < got["rows"][0]["bound"]
+
+
+def test_an_error_over_the_tolerance_never_prints_as_within_it():
+    """q10.12's observed 1.014e-03 printed as 1.0e-03 beside a tolerance of 1e-3."""
+    args = (EXAMPLES / "puma560.yaml", "--sweep", "20:26")
+    text, data = _precision(*args), loads(_precision(*args, "--format", "json").stdout)
+    table = [line.split() for line in text.stdout.splitlines()[2:2 + len(data["rows"])]]
+    for cells, row in zip(table, data["rows"]):
+        for shown, value in ((cells[3], row["bound"]), (cells[4], row["observed"])):
+            assert (float(shown) <= 1e-3) == (value <= 1e-3), (shown, value)
+    assert any(abs(float(c[4]) - 1e-3) < 1e-4 for c in table)      # (the case that was wrong)
+
+
+def test_a_massless_robot_and_the_widest_sweep_are_said_as_they_are(tmp_path):
+    massless = tmp_path / "massless.yaml"
+    massless.write_text("name: massless\njoints:\n" + "  - {type: revolute, a: 0.5, alpha: 0, d: 0, "
+                        "theta: 0, mass: 0, com: [0,0,0], inertia: [0,0,0,0,0,0]}\n" * 2)
+    res = _precision(massless, "--sweep", "16:18", "--sets", "20")
+    assert res.exit_code == 1 and res.stderr == (
+        f"vampc: error: {massless}: every torque of the 20 random states is zero (the robot has no "
+        "mass): errors relative to the largest |τ| are not defined\n")
+    big = tmp_path / "big.yaml"
+    big.write_text((EXAMPLES / "planar2.yaml").read_text().replace("a: 0.5", "a: 1e12"))
+    res = _precision(big, "--sweep", "2:64", "--sets", "20")
+    assert res.exit_code == 0 and res.stdout.splitlines()[-2:] == [
+        "narrowest word meeting 0.001 by the analysed bound, with no possible overflow: none of up "
+        "to 64 bits", "narrowest word observed within 0.001 (among those): none of up to 64 bits"]

@@ -659,6 +659,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: {why}")
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
+    rounding = _precision_rounding(source, ld, options)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     traj = random_states(chain, 0, own.sets, 0)        # accelerations within ±1: scaled to ±A
     traj = replace(traj, qdd=traj.qdd * own.acceleration)
@@ -667,10 +668,13 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if not np.all(np.isfinite(ref)):
         raise VampcError(f"{source}: the reference torques of random states are not finite numbers "
                          "(the robot's numbers overflow a float): no word holds them")
-    scale = max(float(np.abs(ref).max(initial=0.0)), 1e-12)
+    scale = float(np.abs(ref).max(initial=0.0))
+    if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
+        raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the robot "
+                         "has no mass): errors relative to the largest |τ| are not defined")
     rows = []
     for bits in own.widths():
-        got = fitted(graph, chain, bits, Rounding(options.rounding), ranges)
+        got = fitted(graph, chain, bits, Rounding(rounding), ranges)
         if got is None:
             rows.append({"bits": bits, "word": None})
             continue
@@ -680,15 +684,30 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                      "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
                      "observed": float(np.abs(tau - ref).max(initial=0.0)) / scale,
                      "overflows": word.overflows})
-    return precision_text(rows, own, chain)
+    return precision_text(rows, own, chain, rounding)
 
 
-def precision_text(rows: list[dict], own, chain) -> str:
+def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
+    """The rounding `precision` analyses: --rounding if given, else a fixed-point program file's own
+    (a program compiled with --rounding truncate had been analysed as rounding to nearest, and a
+    word it fails approved), else nearest. A --rounding other than the program's is a what-if: said."""
+    from vampc.sniff import is_program
+    own = ld.options.get("rounding") if is_program(source) else None
+    if "rounding" not in options.given:
+        return own or options.rounding
+    if own is not None and own != options.rounding:
+        warnings.warn(VampcWarning(f"{source} rounds by {own}; --rounding {options.rounding} "
+                                   "analyses words that round otherwise (what if)"))
+    return options.rounding
+
+
+def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> str:
     """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance."""
     ok = [r for r in rows if r["word"] and r["bound"] <= own.tolerance]
     seen = [r for r in rows if r["word"] and r["observed"] <= own.tolerance and not r["overflows"]]
     if own.fmt == "json":
-        return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rows": rows,
+        return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rounding": rounding,
+                               "rows": rows,
                                "narrowest_bound": ok[0]["word"] if ok else None,
                                "narrowest_observed": seen[0]["word"] if seen else None},
                               indent=1) + "\n"
@@ -698,20 +717,26 @@ def precision_text(rows: list[dict], own, chain) -> str:
                  for r in rows]
         return "\n".join(",".join(line) for line in [head] + cells) + "\n"
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
-             f"overflow in (peak: the largest magnitude any register can hold); errors relative to "
-             f"the largest |τ| of {own.sets} random states",
+             f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
+             f"errors relative to the largest |τ| of {own.sets} random states",
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
+    def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)
+        for digits in range(1, 7):
+            text = f"{x:.{digits}e}"
+            if (float(text) <= own.tolerance) == (x <= own.tolerance):
+                return text
+        return repr(x)
     for r in rows:
-        lines.append(f"{r['bits']:>4}  " + (f"{r['word']:<8} {r['peak']:>10.4g}  {r['bound']:>8.1e}  "
-                                            f"{r['observed']:>8.1e}  {r['overflows']}" if r["word"]
+        lines.append(f"{r['bits']:>4}  " + (f"{r['word']:<8} {r['peak']:>10.4g}  {beside(r['bound']):>8}  "
+                                            f"{beside(r['observed']):>8}  {r['overflows']}" if r["word"]
                                             else "too narrow: no qI.F of this width holds the peak"))
     tol = number_text(own.tolerance)
+    none = ("none of up to 64 bits" if max(own.widths()) == 64 else
+            "none in the sweep (widen --sweep)")
     lines.append(f"narrowest word meeting {tol} by the analysed bound, with no possible overflow: "
-                 + (f"{ok[0]['word']} ({ok[0]['bits']} bits)" if ok else
-                    "none in the sweep (widen --sweep)"))
+                 + (f"{ok[0]['word']} ({ok[0]['bits']} bits)" if ok else none))
     lines.append(f"narrowest word observed within {tol} (among those): "
-                 + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else
-                    "none in the sweep (widen --sweep)"))
+                 + (f"{seen[0]['word']} ({seen[0]['bits']} bits)" if seen else none))
     return "\n".join(lines) + "\n"
 
 
