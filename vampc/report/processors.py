@@ -28,7 +28,7 @@ def processors(configs, chain, other_leaves: bool = True) -> dict:
                 for k in configs if k.options.layout_kind is FOLDED}
     return {"vamps": [_variant(graph, leaves, chain.n, _binder(graph, bindings))
                       for graph, leaves in graphs],
-            "ops_per_node": [_ops_row(graph, s) for graph, _ in graphs[:len(own)]
+            "ops_per_node": [_ops_row(graph, s, chain) for graph, _ in graphs[:len(own)]
                              for s in ("bwd", "npv", "fwd")]}
 
 
@@ -209,7 +209,7 @@ def _ops_by_node(graph) -> dict[str, dict[int, Counter]]:
     return out
 
 
-def _ops_row(graph, section: str) -> dict:
+def _ops_row(graph, section: str, chain=None) -> dict:
     """Ops of the busiest node of a section by kind, beside the paper's requirements per node (its
     MV covers vampc's MV and MTV)."""
     groups = _ops_by_node(graph).get(section, {})
@@ -222,19 +222,45 @@ def _ops_row(graph, section: str) -> dict:
     as_paper = {o: k for o, k in as_paper.items() if k}
     matches = as_paper == ref
     note = "matches the paper (its MV counts MV and MTV)" if matches else _ops_note(graph, section,
-                                                                                    as_paper, ref)
+                                                                                    as_paper, ref, chain)
     return {"recursion": graph.recursion, "section": section, "ops": ops,
             "total": sum(ops.values()), "paper": ref, "paper_total": sum(ref.values()),
             "matches": matches, "note": note}
 
 
-def _ops_note(graph, section: str, got: dict, ref: dict) -> str:
+def _ops_note(graph, section: str, got: dict, ref: dict, chain=None) -> str:
     diff = ", ".join(f"{o} {got.get(o, 0)} (paper {ref.get(o, 0)})" for o in sorted(set(got) | set(ref))
                      if got.get(o, 0) != ref.get(o, 0))
+    features = _beyond_the_paper(chain) if chain is not None else []
     if graph.recursion is Recursion.LOG and section == Section.FWD:
+        also = (f"; the robot also has {', '.join(features)}, beyond the paper's Table I.1 (README, "
+                "Trees and floating bases)" if features else "")
         return (f"differs: {diff}: no T20 = A_{{k+1}}ᵀ R_{{a,k}} with f, n referred to O_{{a-1}} "
-                "(README, Figures against the paper)")
-    return f"differs: {diff} (prismatic joints add the σ̄ terms of Table I.1)"
+                f"(README, Figures against the paper){also}")
+    if not features:        # (the paper's own kind of robot: a difference nothing here explains)
+        return (f"differs: {diff}; the robot is a fixed-base chain of revolute joints in DH frames, "
+                "as the paper's, so this is not explained")
+    return (f"differs: {diff}: the robot has {', '.join(features)}, beyond the paper's Table I.1 (a "
+            "fixed-base chain of revolute joints in DH frames; README, Trees and floating bases)")
+
+
+def _beyond_the_paper(chain) -> list[str]:
+    """What a robot has that the paper's node requirements (Table I.1) do not cover: prismatic
+    joints add the σ̄ terms; joint frames shifted or turned from their parent's (a URDF's) add
+    the origin's acceleration (H1..H5) and τ = u·n; a tree's branches, a floating base."""
+    from vampc.robot.chain import JointType
+    out = []
+    prismatic = [i + 1 for i, j in enumerate(chain.joints) if j.type is JointType.PRISMATIC]
+    if prismatic:
+        out.append(f"prismatic joints ({', '.join(map(str, prismatic[:6]))}"
+                   f"{', ...' if len(prismatic) > 6 else ''}: σ̄ terms)")
+    if any(j.shift is not None or j.pre is not None for j in chain.joints):
+        out.append("joint frames shifted or turned from their parent's (not DH)")
+    if chain.parents is not None:
+        out.append("branches (a tree)")
+    if chain.floating:
+        out.append("a floating base")
+    return out
 
 
 # --- packages ------------------------------------------------------------------------------------
