@@ -1110,7 +1110,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     outs = plan_outputs([source], {"-o": own.output}, stdout_ok=("-o",),
                         writes={"-o": ("Verilog", (".v", ".sv"))})
     ld = loaded(source, options, robot_opts, params)
-    rtl_supported(ld, source)
+    rtl_supported(ld, source, "word" in options.given)
     from vampc.rtl.design import NetworkDesign, kinds
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
@@ -1148,14 +1148,17 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     return ok or not own.compare
 
 
-def rtl_supported(ld, source: str) -> None:
-    """VampcUsageError for a program the RTL does not render (README, RTL: limits)."""
+def rtl_supported(ld, source: str, word_given: bool = False) -> None:
+    """VampcUsageError for a program the RTL does not render (README, RTL: limits). `word_given`:
+    the word is --word's (a program file's own otherwise, or float64 for a robot file)."""
     if ld.word is None or getattr(ld.word, "c_type", "") != "int64_t":
         from vampc.sniff import is_program
         name = "float64" if ld.word is None else ld.word.name
-        what = "this program computes" if is_program(source) else "compiled without --word, it computes"
+        what = (f"--word {name} is not one" if word_given else
+                f"this program computes in {name}" if is_program(source) else
+                f"compiled without --word, it computes in {name}")
         raise VampcUsageError(f"{source}: RTL needs a fixed-point word (--word qI.F, e.g. q16.16); "
-                              f"{what} in {name}")
+                              f"{what}")
     if ld.net.bus is not None:
         raise VampcUsageError(f"{source}: the Mostly-Local Bus (--bus mlb) is not rendered in RTL "
                               "yet; compile with the point-to-point wiring (--bus p2p)")
