@@ -378,9 +378,24 @@ def test_place_and_route_one_vamp():
 
 
 GOOD_FIGURES = {"robot": "planar2", "word": "q16.16", "vamps": 30,
-                "synth": {"kinds": {"VA": {"vamps": 30, "LUT4": 1, "MULT18X18D": 1, "flip_flops": 1,
-                                           "pnr": {"fmax_mhz": {"clk": 100}}}},
+                "synth": {"kinds": {},        # (the program's own kinds, made in the test; "VA": the first)
                           "network": {"LUT4": 1, "MULT18X18D": 1, "flip_flops": 1, "total": 3}}}
+
+
+def _figures_of(program: str) -> tuple[dict, str]:
+    """GOOD_FIGURES with the program's own kinds of VAMP, each with the same figures, and the
+    first kind's name."""
+    import copy
+
+    from vampc.emulator.load import load_program
+    from vampc.report.rtl import kind_name
+    from vampc.rtl.design import kinds
+    figures = copy.deepcopy(GOOD_FIGURES)
+    own = {kind_name(k): len(v) for k, v in kinds(load_program(program)).items()}
+    figures["synth"]["kinds"] = {name: {"vamps": count, "LUT4": 1, "MULT18X18D": 1, "flip_flops": 1,
+                                        "pnr": {"fmax_mhz": {"clk": 100}}}
+                                 for name, count in own.items()}
+    return figures, next(iter(own))
 
 
 @pytest.mark.parametrize("edit, says", [
@@ -394,11 +409,12 @@ def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
     """`report --rtl` took a negative Fmax as the clock ("clock -5e+06 Hz", exit 0), and a missing,
     textual or zero figure was a KeyError, ValueError or ZeroDivisionError traceback: every figure
     is checked, and the first wrong one named."""
-    import copy
-    figures = copy.deepcopy(GOOD_FIGURES)
+    program = str(programs / "planar2.vamp.json")
+    figures, first = _figures_of(program)
+    edit = tuple(first if key == "VA" else key for key in edit)
+    says = says.replace(".VA.", f".{first}.")
     good = tmp_path / "good.json"
     good.write_text(json.dumps(figures))
-    program = str(programs / "planar2.vamp.json")
     r = CliRunner().invoke(main, ["report", program, "--rtl", str(good)])
     assert r.exit_code == 0 and "100 MHz" in r.stdout, r.output
     table = figures["synth"]
@@ -410,6 +426,27 @@ def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
     r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
     assert r.exit_code == 1 and r.stderr.count("\n") == 1 and says in r.stderr, r.output
     assert r.stderr.startswith(f"vampc: error: {bad}: ")
+
+
+@pytest.mark.parametrize("edit, says", [
+    (lambda f, first: f["synth"]["kinds"].update({"99 slot(s), 9+9 inputs": f["synth"]["kinds"].pop(first)}),
+     "VAMPs of kind '"),
+    (lambda f, first: f["synth"]["kinds"][first].update(vamps=f["synth"]["kinds"][first]["vamps"] + 1),
+     "VAMPs of kind "),
+    (lambda f, first: f.update(rounding="truncate"), "(rounding 'truncate', this program's 'nearest')"),
+    (lambda f, first: f.update(mult_latency=3), "(mult latency 3, this program's 1)")])
+def test_figures_of_another_network_are_refused(programs, tmp_path, edit, says):
+    """Only the robot, word and VAMP count were compared: the figures of a network of other kinds
+    of VAMP (slots, multiplexer inputs), another rounding or other latencies were taken (a new
+    user's run, thirteenth round)."""
+    program = str(programs / "planar2.vamp.json")
+    figures, first = _figures_of(program)
+    edit(figures, first)
+    path = tmp_path / "other.json"
+    path.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(path)])
+    assert r.exit_code == 1 and r.stderr.startswith(
+        f"vampc: error: {path}: the figures are of another design (") and says in r.stderr, r.stderr
 
 
 SHORT_YOSYS = """

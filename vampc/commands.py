@@ -1117,6 +1117,9 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     note = functools.partial(say, err=True)
     limit = own.max_minutes * 60
     figures: dict = {"program": source, "robot": ld.chain.name, "word": ld.word.name,
+                     "rounding": ld.word.rounding.value, "overflow": ld.word.overflow.value,
+                     "mult_latency": ld.options.get("mult_latency", 1),
+                     "add_latency": ld.options.get("add_latency", 1),
                      "vamps": V, "kinds": {_kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
     _preflight(ld, own, limit)         # every step's estimate and tool before any work
@@ -1209,8 +1212,8 @@ def _cosim_estimate(ld, own) -> float:
 
 
 def _kind_name(kind) -> str:
-    slots, a, b = kind
-    return f"{slots} slot(s), {a}+{b} inputs"
+    from vampc.report.rtl import kind_name
+    return kind_name(kind)
 
 
 def _within(what: str, seconds: float, note) -> None:

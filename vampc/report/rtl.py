@@ -8,6 +8,13 @@ from vampc.errors import VampcError
 from vampc.report.clock import FASTEST_HZ, RATE_RANGE_TEXT, SLOWEST_HZ
 
 
+def kind_name(kind) -> str:
+    """A kind of VAMP (slots, operand-A inputs, operand-B inputs: vampc.rtl.design.vamp_kind) as
+    `vampc rtl`'s figures name it."""
+    slots, a, b = kind
+    return f"{slots} slot(s), {a}+{b} inputs"
+
+
 def rtl_figures(path: str, c) -> dict:
     """The report's `rtl` section from the JSON at `path`, checked to be this program's design."""
     try:
@@ -24,11 +31,17 @@ def rtl_figures(path: str, c) -> dict:
                          "synth.kinds and synth.network)")
     word = c.options.word
     vamps = len(c.network.vamps) if c.network is not None else None
-    for what, theirs, ours in (("robot", doc.get("robot"), c.chain.name),
-                               ("word", doc.get("word"), word), ("VAMPs", doc.get("vamps"), vamps)):
+    same = [("robot", doc.get("robot"), c.chain.name), ("word", doc.get("word"), word),
+            ("VAMPs", doc.get("vamps"), vamps)]
+    for key in ("rounding", "overflow", "mult_latency", "add_latency"):   # (files since 2026-12-03)
+        if key in doc:
+            same.append((key.replace("_", " "), doc[key], getattr(c.options, key)))
+    def another(what, theirs, ours) -> None:
         if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
                              f"program's {ours!r})")
+    for what, theirs, ours in same:
+        another(what, theirs, ours)
     def field(table, key: str, where: str):
         """A count of the file: a whole number, at least 0 (VampcError naming it otherwise: a
         missing or edited one was a KeyError, a ValueError or a ZeroDivisionError)."""
@@ -58,6 +71,17 @@ def rtl_figures(path: str, c) -> dict:
             row["fmax_mhz"] = min(mhz(v, f"synth.{at}.pnr.fmax_mhz.{c}") for c, v in clocks.items())
             fmax.append(row["fmax_mhz"])
         kinds.append(row)
+    if c.network is not None:
+        # the VAMPs of each kind (slots, multiplexer inputs) the figures are of, against this
+        # network's: a file of another network with the robot, word and VAMP count was taken
+        ours: dict[str, int] = {}
+        for v in c.network.vamps:
+            name = kind_name((len(v.slots), len(v.a), len(v.b)))
+            ours[name] = ours.get(name, 0) + 1
+        theirs = {r["kind"]: r["vamps"] for r in kinds}
+        odd = next((n for n in sorted(set(theirs) | set(ours)) if theirs.get(n) != ours.get(n)), None)
+        if odd is not None:
+            another(f"VAMPs of kind '{odd}'", theirs.get(odd, 0), ours.get(odd, 0))
     net = doc["synth"]["network"]
     out = {"file": str(path), "target": doc["synth"].get("target", "ecp5"), "kinds": kinds,
            "network": {"LUT4": field(net, "LUT4", "network"),
