@@ -57,6 +57,14 @@ class Drawing:
     inside: dict | None = None  # aggregated: site -> (nodes, buses within, positions "a–b")
     budget: bool = False       # a budget's VAMPs, by pass (vampc.report.network_drawing._budget_sites)
     first: int = 0             # a focused drawing: the position its left edge shows, less one
+    joints: int = 0            # outputs past this many are a floating base's wrench (0: none known)
+
+    def output_name(self, j: int) -> str:
+        """Output j's label: τj, or the base wrench's component (the torque file's column)."""
+        if self.joints and j > self.joints:
+            from vampc.emulator.trajectory import WRENCH_COLUMNS
+            return WRENCH_COLUMNS[j - self.joints - 1]
+        return f"τ{j}"
 
 
 def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None = None) -> Drawing:
@@ -103,12 +111,15 @@ def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
     buffered = {k: (n, deep, len(chains_of[k])) for k, (n, deep) in buffered.items()}
     ports = [(p.index, readers_of_port.get(p.index, []), _port_label(p)) for p in net.ports]
     outputs = [(o.joint, sites[o.vamp]) for o in net.outputs]
+    low = min(x for x, _ in places.values())
+    if low:          # (a floating base's node 0 was placed at -1: outside the plot, clipped)
+        places = {s: (x - low, y) for s, (x, y) in places.items()}
     xs = [x for x, _ in places.values()]
     ys = [y for _, y in places.values()]
     on_path = set(critical_path)
     critical = frozenset(sites[v.index] for v in net.vamps if any(sl.node in on_path for sl in v.slots))
     d = Drawing(places, labels, vamps, dict(buses), buffered, ports, outputs, max(ys) + 1, max(xs) + 1,
-                critical, budget=not layout.grouped)
+                critical, budget=not layout.grouped, joints=graph.n)
     if focus is not None:
         if isinstance(focus[0], str):                     # a node: the positions around it
             from vampc.errors import VampcUsageError
@@ -145,7 +156,7 @@ def focused(d: Drawing, first: int, last: int) -> Drawing:
     return Drawing(places, {s: d.labels[s] for s in keep}, Counter({s: d.vamps[s] for s in keep}),
                    pick(d.buses), pick(d.buffered), ports, [(j, s) for j, s in d.outputs if s in keep],
                    max(y for _, y in places.values()) + 1, max(x for x, _ in places.values()) + 1,
-                   frozenset(d.critical & keep), first=low)
+                   frozenset(d.critical & keep), first=low, joints=d.joints)
 
 
 class Group(NamedTuple):
@@ -204,7 +215,7 @@ def aggregate(d: Drawing) -> Drawing:
     outputs = [(min(js), g) for g, js in sorted(outs.items())]
     return Drawing(places, labels, vamps, dict(buses), buffered, port_list, outputs, d.rows,
                    -(-d.cols // per), frozenset(group[s] for s in d.critical), per,
-                   {**inside, "_outputs": {g: sorted(js) for g, js in outs.items()}})
+                   {**inside, "_outputs": {g: sorted(js) for g, js in outs.items()}}, joints=d.joints)
 
 
 def _budget_sites(graph, net):
@@ -349,7 +360,9 @@ def _draw(d: Drawing, title: str) -> str:
               "values; purple: both passes; orange: forward)" if any(s.section == "both" for s in d.labels)
               or d.budget else "circles: recursion or device nodes (V: VAMPs)")
              + "; red outline: on the critical path\nlines: vector buses (wider: more)\n"
-             "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i",
+             "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i"
+             + (" and the floating base's wrench (base_fx..base_nz)" if any(
+                 j > d.joints for j, _ in d.outputs) and d.joints else ""),
              fontsize=6.5, va="bottom")
     return svg.to_svg(fig, titles)
 
@@ -527,15 +540,16 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
         k, per = shown[key], column[key]
         shown[key] += 1
         ox = x + (k - (per - 1) / 2) * min(0.25, 0.9 / per)
+        name = d.output_name
         if d.grouped == 1:
-            shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"τ{joint} leaves "
+            shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"{name(joint)} leaves "
                                 f"{site.label}"))
-            texts.append(f"τ{joint}")
+            texts.append(name(joint))
         else:
             js = d.inside["_outputs"][site]
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}",
-                                f"τ{js[0]}–τ{js[-1]} ({len(js)} torques) leave {site.label}"))
-            texts.append(f"τ{js[0]}–{js[-1]}" if len(js) > 1 else f"τ{js[0]}")
+                                f"{name(js[0])}–{name(js[-1])} ({len(js)} outputs) leave {site.label}"))
+            texts.append(f"{name(js[0])}–{name(js[-1])}" if len(js) > 1 else name(js[0]))
         segments.append([(x, y), (ox, top)])
     _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)
     style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}

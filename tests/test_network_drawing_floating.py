@@ -1,0 +1,36 @@
+"""The network drawing of a floating-base robot (a new user's run, thirteenth round): the base's
+node 0 (fwd 0, npv 0) was placed at column -1, outside the plot area, so its circles and the six
+wrench outputs were clipped away (only their labels showed), and the wrench was labelled as
+torques τ13..τ18."""
+from __future__ import annotations
+
+import re
+
+import pytest
+from click.testing import CliRunner
+from conftest import EXAMPLES
+
+from vampc.cli import main
+
+
+@pytest.mark.parametrize("robot, args", [("quadruped.urdf", ["--floating-base"]),
+                                         ("planar2.yaml", ["--floating-base"]),
+                                         ("planar2.yaml", [])])
+def test_every_node_is_inside_the_plot_and_the_wrench_is_named(tmp_path, robot, args):
+    out = tmp_path / "n.svg"
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / robot), *args, "--network", str(out)])
+    assert res.exit_code == 0, res.stderr
+    text = out.read_text()
+    clip = re.search(r'<clipPath id="[^"]+">\s*<rect x="([\d.]+)" y="[\d.]+" width="([\d.]+)"', text)
+    left, right = float(clip.group(1)), float(clip.group(1)) + float(clip.group(2))
+    sites = re.findall(r'<g id="site-[^"]+">.*?<path d="M ([\d.]+) ', text, re.S)
+    assert sites and all(left <= float(x) <= right for x in sites), (left, right, sites)
+    outputs = re.findall(r'<g id="tau-(\d+)"><title>([^<]+)</title>', text)
+    floating = bool(args)
+    assert any(t.startswith("base_fx leaves ") for _, t in outputs) == floating
+    n = 12 if robot == "quadruped.urdf" else 2
+    assert not any(t.startswith(f"τ{n + 1} ") for _, t in outputs)          # (the wrench's first)
+    if floating:
+        focused = CliRunner().invoke(main, ["report", str(EXAMPLES / robot), *args, "--network",
+                                            str(out), "--focus", "fwd 0"])
+        assert focused.exit_code == 0 and 'id="site-fwd-0"' in out.read_text(), focused.stderr
