@@ -25,7 +25,7 @@ def counter(label: str, total: int, unit: str = "set"):
         yield lambda done, total: None
         return
     from tqdm import tqdm
-    with tqdm(total=total, desc=label, unit=unit, unit_scale=True, delay=DELAY, file=sys.stderr,
+    with tqdm(total=total, desc=label, unit=unit, delay=DELAY, file=sys.stderr,
               leave=False, dynamic_ncols=True) as bar:
         def update(done: int, total_now: int) -> None:
             if total_now != bar.total:

@@ -1,0 +1,32 @@
+"""`python -m vampc` runs the command line (there was no vampc/__main__.py), and progress bars count
+in whole numbers ('53.0/904' had been printed: tqdm's unit_scale)."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+from conftest import EXAMPLES
+
+
+def test_python_dash_m_vampc_runs(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "vampc", "--help"], capture_output=True, text=True)
+    assert done.returncode == 0 and done.stdout.startswith("Usage: python -m vampc "), done.stderr
+    out = tmp_path / "p.vamp.json"
+    done = subprocess.run([sys.executable, "-m", "vampc", "compile", str(EXAMPLES / "planar2.yaml"),
+                           "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0 and out.exists(), done.stderr
+    done = subprocess.run([sys.executable, "-m", "vampc", "compile"], capture_output=True, text=True)
+    assert done.returncode == 2 and "Missing argument 'ROBOT'" in done.stderr
+
+
+def test_a_progress_bar_counts_whole_runs(monkeypatch, capsys):
+    from vampc import progress
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    import time
+    with progress.counter("fault runs", 904, unit="run") as update:
+        update(52, 904)
+        time.sleep(0.3)                  # (tqdm redraws at most every 0.1 s)
+        update(53, 904)
+    err = capsys.readouterr().err
+    assert "53/904" in err and "53.0" not in err and "904.0" not in err, err
