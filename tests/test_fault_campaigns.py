@@ -391,3 +391,44 @@ def test_a_results_link_is_refused_dangling_or_not(programs, tmp_path):
         r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(link)])
         assert r.exit_code == 1 and "not a regular file (a link or a device is never written)" in r.output
     assert not (tmp_path / "missing.jsonl").exists() and (tmp_path / "kept.jsonl").read_text() == ""
+
+
+class _FillsUp:
+    """A results file's handle on a disk that fills after `room` bytes (ENOSPC, as a full disk)."""
+
+    def __init__(self, fh, room: int):
+        self.fh, self.room = fh, room
+
+    def write(self, data):
+        import errno
+        if len(data) > self.room:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        self.room -= len(data)
+        return self.fh.write(data)
+
+    def __getattr__(self, name):
+        return getattr(self.fh, name)
+
+
+def test_a_full_disk_under_the_results_file_is_one_line_and_resumes(programs, tmp_path, monkeypatch):
+    """A full disk while a campaign wrote its --results file was a traceback and 'internal
+    error' (exit 3): one line naming the file, exit 1; the runs written are kept and resumed."""
+    ec, _, _ = programs
+    whole = _campaign(ec, tmp_path, *QUICK, name="whole.jsonl")
+    real_open = cp.ResultsFile.open
+
+    def opened(self):
+        real_open(self)
+        self._fh = _FillsUp(self._fh, 1500)
+    monkeypatch.setattr(cp.ResultsFile, "open", opened)
+    path = tmp_path / "r.jsonl"
+    r = RUN(main, ["faults", str(ec), "--format", "json", "--results", str(path), "--workers", "1",
+                   *QUICK])
+    err = r.stderr.splitlines()[-1]          # (after the warning a short run draws)
+    assert r.exit_code == 1 and err.startswith(f"vampc: error: --results {path}: cannot write: No "
+                                               "space left on device (the results written before "
+                                               "are kept"), r.stderr
+    assert "Traceback" not in r.output and "internal error" not in r.output
+    monkeypatch.setattr(cp.ResultsFile, "open", real_open)
+    assert 1 < len(path.read_bytes().splitlines()) < len(whole["runs"]) + 1
+    assert _campaign(ec, tmp_path, *QUICK)["runs"] == whole["runs"]

@@ -434,27 +434,41 @@ class ResultsFile:
         from vampc import jsontext
         self.created = not os.path.exists(self.path)
         fresh = self.created or getattr(self, "_fresh", False)
-        self._fh = open(self.path, "ab")
-        if getattr(self, "_truncate", None) is not None:
-            self._fh.truncate(self._truncate)
-        if fresh:
-            self._fh.write(jsontext.dumps(self.header).encode() + b"\n")
-        self._fh.flush()
+        try:
+            self._fh = open(self.path, "ab")
+            if getattr(self, "_truncate", None) is not None:
+                self._fh.truncate(self._truncate)
+            if fresh:
+                self._fh.write(jsontext.dumps(self.header).encode() + b"\n")
+            self._fh.flush()
+        except OSError as exc:
+            raise self._cannot(exc) from None
         self.added = 0
 
     def add(self, index: int, run: dict) -> None:
         from vampc import jsontext
         run = {"index": index, **run}
         self.done[index] = run
-        self._fh.write(jsontext.dumps(run).encode() + b"\n")
-        self._fh.flush()
+        try:
+            self._fh.write(jsontext.dumps(run).encode() + b"\n")
+            self._fh.flush()
+        except OSError as exc:       # (a full disk: a traceback and "internal error", exit 3)
+            raise self._cannot(exc) from None
         self.added += 1
+
+    def _cannot(self, exc: OSError) -> VampcError:
+        return VampcError(f"--results {self.path}: cannot write: {exc.strerror or exc} (the results "
+                          "written before are kept: the same command resumes from them)")
 
     def close(self, failed: bool = False) -> None:
         """Close; a file this run made and added no result to is removed if it failed."""
         if self._fh is not None:
-            self._fh.close()
-            self._fh = None
+            fh, self._fh = self._fh, None
+            try:
+                fh.close()
+            except OSError as exc:       # (what a full disk kept in the buffer)
+                if not failed:
+                    raise self._cannot(exc) from None
             if failed and self.created and not self.added:
                 os.unlink(self.path)
 
