@@ -190,3 +190,27 @@ def test_the_cluster_librarys_own_log_is_quiet():
         connect("tcp://127.0.0.1:1", timeout="1s")
     for name in ("distributed", "distributed.client", "distributed.core"):
         assert logging.getLogger(name).getEffectiveLevel() > logging.CRITICAL, name
+
+
+def test_a_port_where_something_else_listens_is_one_line_within_the_deadline(monkeypatch):
+    """A port that accepts the connection and never answers Dask's handshake (a web server) left
+    Client waiting forever, its timeout unheeded: the connection now has an overall deadline."""
+    pytest.importorskip("distributed")
+    import socket
+    import time
+
+    from vampc import parallel
+    monkeypatch.setattr(tr, "SCHEDULER_TIMEOUT", "1s")
+    monkeypatch.setattr(parallel, "CONNECT_GRACE", 1.0, raising=False)
+    with socket.socket() as listener:
+        listener.bind(("127.0.0.1", 0))
+        listener.listen(4)                      # accepts (the kernel's backlog), never answers
+        address = f"tcp://127.0.0.1:{listener.getsockname()[1]}"
+        start = time.monotonic()
+        r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                      address])
+        took = time.monotonic() - start
+    assert r.exit_code == 1 and r.stderr == (
+        f"vampc: error: --scheduler {address}: cannot reach a Dask scheduler there (no Dask answer "
+        "in 2 s: does something else listen on that port?)\n"), r.stderr
+    assert took < 30

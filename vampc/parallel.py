@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 
 from vampc.errors import VampcError, raise_if_terminated
 
+CONNECT_GRACE = 5.0      # seconds past the timeout before connect gives up on a silent port
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 _CONTEXT = None                 # a forked worker's (task, context)
 
@@ -35,11 +36,30 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         # some of its loggers levels of their own: each is set)
         if name.split(".")[0] in quiet:
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
-    try:
-        return Client(address, timeout=timeout)
-    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
+    import threading
+    got: dict = {}
+
+    def reach() -> None:
+        try:
+            got["client"] = Client(address, timeout=timeout)
+        except BaseException as exc:  # noqa: BLE001 - OSError, TimeoutError, TypeError for tls:// ...
+            got["error"] = exc
+    # An overall deadline: a port where something else listens (a web server) accepts the
+    # connection and never answers Dask's handshake, and Client waited forever, its timeout unheeded
+    seconds = float(timeout.rstrip("s")) + CONNECT_GRACE
+    thread = threading.Thread(target=reach, name="vampc-dask-connect", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive():
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (no Dask "
+                         f"answer in {seconds:g} s: does something else listen on that port?)")
+    if "error" in got:
+        exc = got["error"]
+        if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+            raise exc
         raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
                          f"({type(exc).__name__}: {one_line(exc)})") from None
+    return got["client"]
 
 
 def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
