@@ -214,3 +214,41 @@ def test_a_port_where_something_else_listens_is_one_line_within_the_deadline(mon
         f"vampc: error: --scheduler {address}: cannot reach a Dask scheduler there (no Dask answer "
         "in 2 s: does something else listen on that port?)\n"), r.stderr
     assert took < 30
+
+
+@pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="PR_SET_PDEATHSIG")
+def test_workers_end_when_their_parent_is_killed_outright(tmp_path):
+    """A parent killed with SIGKILL (the out-of-memory killer) left its --workers processes
+    waiting forever, idle, their parent PID 1: they now end with it."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    snake = tmp_path / "snake32.yaml"
+    snake.write_text(subprocess.run([sys.executable, "examples/make_snake.py", "32"],
+                                    capture_output=True, text=True, check=True).stdout)
+    proc = subprocess.Popen([sys.executable, "-m", "vampc", "report", str(snake), "--tradeoff",
+                             "--workers", "2"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    def children() -> list[int]:
+        try:
+            with open(f"/proc/{proc.pid}/task/{proc.pid}/children") as fh:
+                return [int(x) for x in fh.read().split()]
+        except OSError:
+            return []
+    deadline = time.monotonic() + 60
+    while len(children()) < 2 and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.2)
+    workers = children()
+    assert len(workers) >= 2, "the sweep started no workers"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:
+        alive = [w for w in workers if os.path.exists(f"/proc/{w}") and
+                 open(f"/proc/{w}/stat").read().split()[2] != "Z"]
+        if not alive:
+            break
+        time.sleep(0.2)
+    assert not alive, f"workers {alive} outlived their parent"

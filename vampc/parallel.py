@@ -12,6 +12,7 @@ workers, a worker without vampc, a lost worker, an address it cannot use) is one
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Callable, Sequence
 
 from vampc.errors import VampcError, raise_if_terminated
@@ -89,7 +90,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
     from concurrent.futures import ProcessPoolExecutor, as_completed
     pool = ProcessPoolExecutor(min(workers, len(items)),
                                mp_context=multiprocessing.get_context("fork"),
-                               initializer=_worker_start, initargs=(task, context))
+                               initializer=_worker_start, initargs=(task, context, os.getpid()))
     try:
         with _ctrl_c_held():       # the workers are forked here: none takes Ctrl-C before it ignores it
             futures = {pool.submit(_worker_task, item): i for i, item in enumerate(items)}
@@ -157,18 +158,36 @@ class _ctrl_c_held:
             raise KeyboardInterrupt           # the Ctrl-C that came meanwhile, now that all is known
 
 
-def _worker_start(task, context) -> None:
+def _worker_start(task, context, parent: int | None = None) -> None:
     """A worker's start: keep the task and its context; leave Ctrl-C to the process that started
-    it."""
+    it; end with it (`parent`), however it ends."""
     import signal
     global _CONTEXT
     _CONTEXT = (task, context)
+    if parent is not None:
+        die_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):   # forked with it blocked (_ctrl_c_held): ignored now
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
+
+
+def die_with(parent: int) -> None:
+    """Have the kernel end this (forked) process with SIGTERM when `parent` ends (Linux's
+    PR_SET_PDEATHSIG): a parent killed outright (SIGKILL, the out-of-memory killer) left its
+    workers waiting forever, idle. Elsewhere nothing is done."""
+    import signal
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))   # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:          # it ended before the request was made
+        os._exit(1)
 
 
 def _worker_task(item):
