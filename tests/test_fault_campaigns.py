@@ -432,3 +432,25 @@ def test_a_full_disk_under_the_results_file_is_one_line_and_resumes(programs, tm
     monkeypatch.setattr(cp.ResultsFile, "open", real_open)
     assert 1 < len(path.read_bytes().splitlines()) < len(whole["runs"]) + 1
     assert _campaign(ec, tmp_path, *QUICK)["runs"] == whole["runs"]
+
+
+def test_a_what_if_word_is_said_and_csv_files_end_as_standard_output_does(programs, tmp_path):
+    """`faults PROGRAM --word q16.16` ran in another word format and neither the summary nor the
+    JSON said so; `--format csv -o FILE` ended with a blank line standard output did not have."""
+    ec, _, _ = programs
+    r = RUN(main, ["faults", str(ec), "--word", "q16.16", "--kinds", "result", "--sets", "3",
+                   "--results", str(tmp_path / "w.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0, r.output
+    assert "words q16.16 (nearest, saturate) (what if: not the program's own word)" in r.stdout
+    r = RUN(main, ["faults", str(ec), "--word", "q16.16", "--kinds", "result", "--sets", "3",
+                   "--results", str(tmp_path / "w.jsonl"), "--workers", "1", "--format", "json"])
+    got = _json(r.output)
+    assert got["word"] == "q16.16 (nearest, saturate)" and got["what_if_word"] is True
+    own = _campaign(ec, tmp_path, "--kinds", "control", "--sets", "3", name="own.jsonl")
+    assert own["word"] == "float64" and own["what_if_word"] is False
+    args = ["faults", str(ec), "--kinds", "control", "--sets", "3", "--results",
+            str(tmp_path / "c.jsonl"), "--workers", "1", "--format", "csv"]
+    out = tmp_path / "c.csv"
+    assert RUN(main, [*args, "-o", str(out)]).exit_code == 0
+    shown = RUN(main, args).stdout
+    assert out.read_text() == shown[shown.index("index,"):] and not out.read_text().endswith("\n\n")

@@ -1012,7 +1012,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
     from vampc.emulator.load import recorded_word
-    if is_program(source) and repr(ld.word) != repr(recorded_word(ld.options, source)):
+    what_if = is_program(source) and repr(ld.word) != repr(recorded_word(ld.options, source))
+    if what_if:
         identity += f":{ld.arith!r}"    # a what-if --word: another machine, other results (one
         #                                 matching the program's own, or --rounding nearest said
         #                                 again, is the same machine: the file still resumes)
@@ -1046,21 +1047,22 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     runs = [store.done[i] for i in range(len(faults))]
     summary = cp.summarise(ld, runs, sets)
     np.seterr(all="ignore")
+    word = f"{ld.arith!r}" + (" (what if: not the program's own word)" if what_if else "")
     head = (f"vampc faults: {source}, campaign {own.campaign}: {len(faults)} faults on "
-            f"{cp.physical_vamps(ld)} VAMPs, {sets} torque sets each, error correction "
-            f"{'on' if ld.net.checking is not None else 'off'}"
+            f"{cp.physical_vamps(ld)} VAMPs, {sets} torque sets each, words {word}, error "
+            f"correction {'on' if ld.net.checking is not None else 'off'}"
             + (f" ({len(faults) - len(todo)} run(s) read from {results})"
                if len(todo) < len(faults) else ""))
     if own.fmt == "json":
         text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
-                               "seed": own.seed, "results": results, "summary": summary,
-                               "runs": runs}, indent=1)
+                               "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
+                               "results": results, "summary": summary, "runs": runs}, indent=1)
     elif own.fmt == "csv":
         text = cp.render_csv(runs)
     else:
         text = cp.render_text(head, summary) + f"\nresults: {results} (a re-run resumes from it)"
-    if "-o" in outs and not outs["-o"].is_stdout:
-        write_output(outs["-o"], text + "\n", "report")
+    if "-o" in outs and not outs["-o"].is_stdout:      # (the CSV's own newline: not a second one)
+        write_output(outs["-o"], text.rstrip("\n") + "\n", "report")
     else:
         say(text.rstrip("\n"))
 
