@@ -252,3 +252,19 @@ def test_workers_end_when_their_parent_is_killed_outright(tmp_path):
             break
         time.sleep(0.2)
     assert not alive, f"workers {alive} outlived their parent"
+
+
+def test_a_programs_error_correction_and_word_are_said_to_be_left_out(tmp_path):
+    """A robot file's --error-correction and --word are refused with --tradeoff, but a program
+    compiled with them was swept without a word about either (a --bus mlb one was warned of)."""
+    for args, said in ((["--error-correction"], "has error correction: the trade-off sweeps its "
+                                                "robot's budgets without it"),
+                       (["--word", "q16.16"], "computes in q16.16: the trade-off's figures (flops, "
+                                              "VAMPs) are the same in every word"),
+                       ([], None)):
+        program = tmp_path / "p.vamp.json"
+        assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", *args, "-o",
+                                         str(program)]).exit_code == 0
+        r = CliRunner().invoke(main, ["report", str(program), "--tradeoff", "--workers", "1"])
+        assert r.exit_code == 0, r.stderr
+        assert (said in r.stderr) if said else r.stderr == "", r.stderr

@@ -597,6 +597,14 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
             warnings.warn(VampcWarning(f"{source} runs on the Mostly-Local Bus: the trade-off sweeps "
                                        "its robot's budgets wired point to point, not its bus"),
                           stacklevel=1)
+        if c.network.checking is not None:  # (and --error-correction, --word: they were unsaid)
+            warnings.warn(VampcWarning(f"{source} has error correction: the trade-off sweeps its "
+                                       "robot's budgets without it (no extraneous VAMP, no "
+                                       "checking cycles)"), stacklevel=1)
+        if c.options.word != "float64":
+            warnings.warn(VampcWarning(f"{source} computes in {c.options.word}: the trade-off's "
+                                       "figures (flops, VAMPs) are the same in every word"),
+                          stacklevel=1)
     else:
         chain = load_chain(source, options, robot_opts)
     with progress.counter("trade-off", 1, unit="budget") as bar, naming(source):
