@@ -368,8 +368,10 @@ def _a_run_of(run, faults) -> bool:
     if not isinstance(run, dict) or not whole(run.get("index")) or \
             not 0 <= run["index"] < len(faults) or run.get("fault") != faults[run["index"]]:
         return False
-    if run.get("class") not in CLASSES or run.get("kind") != _kind(parse_fault(run["fault"])):
-        return False          # (the kind follows from the fault: an edited one was counted apart)
+    fault = parse_fault(run["fault"])
+    if run.get("class") not in CLASSES or run.get("kind") != _kind(fault) or \
+            run.get("vamp") != fault.vamp:
+        return False          # (the kind and VAMP follow from the fault: edited ones were taken)
     if run["class"] == "detected-corrected" and "named_right" not in run:
         return False          # (the summary reads it of every corrected run: a KeyError)
     return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
