@@ -58,3 +58,18 @@ def test_a_picture_named_otherwise_is_written_with_a_warning(tmp_path):
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--reservation", str(out)])
     assert r.exit_code == 0 and "writes SVG, whatever the name says (name it .svg)" in r.output
     assert out.read_text().lstrip().startswith("<?xml")
+
+
+def test_a_grouped_tables_last_row_says_and_shades_the_units_it_holds(monkeypatch):
+    """Every grouped row was labelled '(per)' and shaded out of `per` units, the last one too though
+    it holds fewer: 1920 units in rows of 18 ended in a row of 12 labelled (18), fully busy ticks
+    shaded two thirds."""
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions())
+    units = len(reservation.rows(c.graph, c.layout, c.schedule))
+    monkeypatch.setattr(reservation, "MAX_ROWS", 7)
+    per = -(-units // 7)
+    last = units - per * (-(-units // per) - 1)
+    assert last < per                                        # (the case: a short last row)
+    svg = reservation.reservation_svg(c.graph, c.layout, c.schedule, "t")
+    labels = re.findall(r"… \((\d+)\)", svg)
+    assert labels[:-1] == [str(per)] * (len(labels) - 1) and labels[-1] == str(last), labels

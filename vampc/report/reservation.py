@@ -80,13 +80,16 @@ def _draw(graph, layout, sched, title: str) -> str:
         for t in range(int(dur.max(initial=0))):       # durations are a few ticks
             on = dur > t
             np.add.at(busy, (unit[on], (tick[on] + t) % P), 1)
+        # the units of each row: `per`, but the last row holds what is left (it was labelled and
+        # shaded as a full row: a fully busy last row of 12 units looked a third idle)
+        held = [min(per, len(table) - y * per) for y in range(shown)]
         for y in range(shown):
             for t in range(P):
                 if busy[y][t]:
                     polys.append([(t, y + 0.1), (t + 1, y + 0.1), (t + 1, y + 0.9), (t, y + 0.9)])
-                    faces.append((0.2, 0.35, 0.6, min(1.0, busy[y][t] / per)))
+                    faces.append((0.2, 0.35, 0.6, min(1.0, busy[y][t] / held[y])))
                     urls.append(None)
-        labels = [f"{table[y * per][0]} … ({per})" for y in range(shown)]
+        labels = [f"{table[y * per][0]} … ({held[y]})" for y in range(shown)]
     coll = PolyCollection(polys, facecolors=faces, edgecolors="#404040", linewidths=0.3,
                           urls=urls if not grouped else None)
     coll.set_gid("reservations")
