@@ -85,3 +85,22 @@ def test_focus_past_the_last_position_and_a_device_name(tmp_path):
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
                                   "--focus", "9:12"])
     assert r.exit_code == 2 and "--focus 9:12: no node there (positions 1 to 6)" in r.output
+
+
+def test_a_groups_outputs_are_a_range_only_where_they_run_without_a_gap():
+    """Grouped drawings labelled each group's torques by their lowest and highest ('τ1–64' for τ1,
+    τ2 and τ64; neighbouring 'ranges' overlapped): a range only where they run without a gap, else
+    how many, each named in the tooltip."""
+    from vampc.report.network_drawing import network_svg
+    from vampc.robot.random import random_chain as _chain
+    c = compile_chain(_chain(40, 3), CompileOptions(recursion="log", layout="folded"))
+    svg = network_svg(c.graph, c.layout, c.network, "t")
+    titles = re.findall(r'<g id="tau-\d+"><title>([^<]+) \((\d+) outputs?\) leave', svg)
+    assert titles and sum(int(k) for _, k in titles) == 40
+    for said, k in titles:
+        if "–" in said:
+            lo, hi = (int(x.lstrip("τ")) for x in said.split("–"))
+            assert hi - lo + 1 == int(k), said                       # a range: every one in it
+        else:
+            assert len(said.split(", ")) == int(k), said             # else each named
+    assert any("–" not in said and int(k) > 1 for said, k in titles)  # (the case that was wrong)

@@ -547,9 +547,15 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
             texts.append(name(joint))
         else:
             js = d.inside["_outputs"][site]
+            # a range only where the group's outputs run without a gap ('τ1–64' had labelled 3
+            # torques, τ1, τ33 and τ64): else how many, each named in the tooltip
+            running = js == list(range(js[0], js[-1] + 1))
+            listed = ", ".join(name(j) for j in js[:40]) + (", …" if len(js) > 40 else "")
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}",
-                                f"{name(js[0])}–{name(js[-1])} ({len(js)} outputs) leave {site.label}"))
-            texts.append(f"{name(js[0])}–{name(js[-1])}" if len(js) > 1 else name(js[0]))
+                                (f"{name(js[0])}–{name(js[-1])}" if running else listed)
+                                + f" ({len(js)} output{'s' * (len(js) != 1)}) leave {site.label}"))
+            texts.append(name(js[0]) if len(js) == 1 else
+                         f"{name(js[0])}–{name(js[-1])}" if running else f"{len(js)} outputs")
         segments.append([(x, y), (ox, top)])
     _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)
     style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
