@@ -268,3 +268,15 @@ def test_a_programs_error_correction_and_word_are_said_to_be_left_out(tmp_path):
         r = CliRunner().invoke(main, ["report", str(program), "--tradeoff", "--workers", "1"])
         assert r.exit_code == 0, r.stderr
         assert (said in r.stderr) if said else r.stderr == "", r.stderr
+
+
+@pytest.mark.parametrize("address, says", [
+    ("nonsense", "give the scheduler's host and port"), ("127.0.0.1", "give the scheduler's host and port"),
+    ("tcp://127.0.0.1:99999", "the port 1 to 65535"), ("tcp://:8786", "give the scheduler's host"),
+    ("inproc://x", "inproc:// is a scheduler inside this process")])
+def test_an_address_that_cannot_be_a_schedulers_is_a_usage_error(address, says):
+    """A name with no port, a port out of range or inproc:// waited for the connection's timeout
+    (10 s) or raised inside Dask, then said 'cannot reach', exit 1: a usage error at once."""
+    for command in (["report", "examples/planar2.yaml", "--tradeoff"], ["faults", "examples/planar2.yaml"]):
+        r = CliRunner().invoke(main, [*command, "--scheduler", address])
+        assert r.exit_code == 2 and says in r.stderr and r.stderr.count("\n") == 1, r.stderr

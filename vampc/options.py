@@ -319,6 +319,18 @@ def check_parallel(options) -> None:
         raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// is not a Dask address; "
                               f"give {', '.join(s + '://' for s in DASK_SCHEMES)} (tcp://HOST:8786) "
                               "or HOST:PORT")
+    if options.scheduler is not None and scheme.lower() == "inproc":
+        raise VampcUsageError(f"--scheduler {options.scheduler}: inproc:// is a scheduler inside "
+                              "this process, and there is none; give tcp://HOST:PORT")
+    if options.scheduler is not None and (not sep or scheme.lower() in ("tcp", "tls", "ws", "wss")):
+        # (a name with no port, or a port out of range, waited the whole timeout for a connection
+        # that could never be made, then said it could not reach it, exit 1)
+        host, colon, port = options.scheduler.partition("://")[2 if sep else 0].rstrip("/") \
+            .rpartition(":")
+        if not colon or not host or not port.isascii() or not port.isdigit() or \
+                not 1 <= int(port) <= 65535:
+            raise VampcUsageError(f"--scheduler {options.scheduler}: give the scheduler's host and "
+                                  "port (tcp://HOST:PORT, the port 1 to 65535; Dask's is 8786)")
     if options.workers is not None and options.scheduler is not None:
         raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
 
