@@ -455,3 +455,25 @@ def test_a_what_if_word_is_said_and_csv_files_end_as_standard_output_does(progra
     assert RUN(main, [*args, "-o", str(out)]).exit_code == 0
     shown = RUN(main, args).stdout
     assert out.read_text() == shown[shown.index("index,"):] and not out.read_text().endswith("\n\n")
+
+
+def test_drawing_a_big_random_campaign_shows_progress(programs, monkeypatch, capsys):
+    """A random campaign of a million faults spent minutes drawing them with nothing shown (the
+    README: work over 2 s shows a bar). The faults drawn are the same with the bar."""
+    import time
+
+    from vampc import progress
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    quiet = cp.faults_of(ld, "random", cp.KINDS, 0, 9000, 0.2, 7, 100)
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    real = cp._draw_random
+
+    def slowly(*args):                   # (tqdm redraws at most every 0.1 s)
+        drawn = args[-1]
+        real(*args[:-1], lambda done, total: (time.sleep(0.15), drawn(done, total)))
+    monkeypatch.setattr(cp, "_draw_random", slowly)
+    shown = cp.faults_of(ld, "random", cp.KINDS, 0, 9000, 0.2, 7, 100)
+    assert [f.text for f in shown] == [f.text for f in quiet]
+    assert "drawing faults" in capsys.readouterr().err

@@ -106,39 +106,50 @@ def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rat
         for v in range(V):
             specs.append(f"vamp={v},stuck=result.x:{hi},value=1,rate={rate},at={at}")
     elif campaign == "random":
-        for _ in range(count):
-            v = int(rng.integers(0, V))
-            kind = str(rng.choice(kinds))
-            t = int(rng.integers(0, last))
-            if kind == "dead":
-                specs.append(f"vamp={v},dead,at={t}")
-                continue
-            if kind == "control" and v >= len(ld.net.vamps):
-                kind = "result"             # the extraneous VAMP has no control registers
-            ck = ld.net.checking
-            if kind == "control2" and (ck is None or v == ck.order[-1]):
-                kind = "result"             # no second set there
-            how = str(rng.choice(["stuck", "flip", "intermittent"]))
-            if kind in ("control", "control2"):   # the low bits: a field's values are small
-                from vampc.program.words import FIELDS
-                field = str(rng.choice(FIELDS))
-                owner = v if kind == "control" else ck.order[ck.order.index(v) + 1]
-                reg = f"{kind}.{field}.{int(rng.integers(0, len(ld.programs[owner])))}"
-                bit = int(rng.integers(0, 12))
-            else:
-                reg = {"result": f"result.{'xyz'[int(rng.integers(0, 3))]}",
-                       "a": f"a.{int(rng.integers(0, 9))}", "b": f"b.{int(rng.integers(0, 9))}"}[kind]
-                bit = int(rng.integers(0, ld.arith.bits))
-            extra = "" if how == "flip" else f",value={int(rng.integers(0, 2))}"
-            if how == "intermittent":
-                if kind in ("control", "control2"):   # written once: no intermittent fault
-                    how, extra = "stuck", extra
-                else:
-                    how, extra = "stuck", extra + f",rate={float(rng.choice([0.05, 0.2, 0.5]))}"
-            specs.append(f"vamp={v},{how}={reg}:{bit}{extra},at={t}")
+        from vampc import progress
+        with progress.counter("drawing faults", count, unit="fault") as drawn:
+            _draw_random(ld, specs, rng, V, kinds, last, rate, count, drawn)
     else:
         raise VampcError(f"--campaign {campaign}: choose from {', '.join(CAMPAIGNS)}")
     return [parse_fault(s) for s in specs]
+
+
+def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, count: int,
+                 drawn) -> None:
+    """The random campaign's `count` faults, drawn in turn into `specs` (about 0.1 ms each: a
+    million took minutes, said by `drawn(done, total)`, a progress bar)."""
+    for done in range(count):
+        if done % 4096 == 0:
+            drawn(done, count)
+        v = int(rng.integers(0, V))
+        kind = str(rng.choice(kinds))
+        t = int(rng.integers(0, last))
+        if kind == "dead":
+            specs.append(f"vamp={v},dead,at={t}")
+            continue
+        if kind == "control" and v >= len(ld.net.vamps):
+            kind = "result"             # the extraneous VAMP has no control registers
+        ck = ld.net.checking
+        if kind == "control2" and (ck is None or v == ck.order[-1]):
+            kind = "result"             # no second set there
+        how = str(rng.choice(["stuck", "flip", "intermittent"]))
+        if kind in ("control", "control2"):   # the low bits: a field's values are small
+            from vampc.program.words import FIELDS
+            field = str(rng.choice(FIELDS))
+            owner = v if kind == "control" else ck.order[ck.order.index(v) + 1]
+            reg = f"{kind}.{field}.{int(rng.integers(0, len(ld.programs[owner])))}"
+            bit = int(rng.integers(0, 12))
+        else:
+            reg = {"result": f"result.{'xyz'[int(rng.integers(0, 3))]}",
+                   "a": f"a.{int(rng.integers(0, 9))}", "b": f"b.{int(rng.integers(0, 9))}"}[kind]
+            bit = int(rng.integers(0, ld.arith.bits))
+        extra = "" if how == "flip" else f",value={int(rng.integers(0, 2))}"
+        if how == "intermittent":
+            if kind in ("control", "control2"):   # written once: no intermittent fault
+                how, extra = "stuck", extra
+            else:
+                how, extra = "stuck", extra + f",rate={float(rng.choice([0.05, 0.2, 0.5]))}"
+        specs.append(f"vamp={v},{how}={reg}:{bit}{extra},at={t}")
 
 
 def _permanent(ld, v: int, kind: str, bit, at: int, value) -> str | None:
