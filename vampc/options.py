@@ -319,9 +319,6 @@ def check_parallel(options) -> None:
         raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// is not a Dask address; "
                               f"give {', '.join(s + '://' for s in DASK_SCHEMES)} (tcp://HOST:8786) "
                               "or HOST:PORT")
-    if options.scheduler is not None and scheme.lower() == "inproc":
-        raise VampcUsageError(f"--scheduler {options.scheduler}: inproc:// is a scheduler inside "
-                              "this process, and there is none; give tcp://HOST:PORT")
     if options.scheduler is not None and (not sep or scheme.lower() in ("tcp", "tls", "ws", "wss")):
         # (a name with no port, or a port out of range, waited the whole timeout for a connection
         # that could never be made, then said it could not reach it, exit 1)
