@@ -281,3 +281,20 @@ def test_dump_after_prints_the_ir_and_writes_nothing(tmp_path):
         assert result.exit_code == 0 and result.stdout == dump_after(stage, c)
     assert list(tmp_path.iterdir()) == []
     assert run("compile", PUMA, "--dump-after", "graph", "-o", tmp_path / "x.vamp.json").exit_code == 2
+
+
+def test_one_joint_is_said_in_the_singular(tmp_path):
+    """'1 joints' in compile's line, the report, its pictures' titles and the trade-off's."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text("name: one\njoints:\n  - {type: revolute, a: 0.5, alpha: 0, d: 0, theta: 0, "
+                     "mass: 1, com: [-0.25, 0, 0], inertia: [0.01, 0.01, 0.01, 0, 0, 0]}\n")
+    runner = CliRunner()
+    out = tmp_path / "one.vamp.json"
+    said = [runner.invoke(main, ["compile", str(robot), "-o", str(out)]).stdout,
+            runner.invoke(main, ["report", str(out)]).stdout,
+            runner.invoke(main, ["report", str(out), "--tradeoff", "--workers", "1", "--curve",
+                                 str(tmp_path / "c.svg")]).stdout,
+            (tmp_path / "c.svg").read_text()]
+    runner.invoke(main, ["report", str(out), "--timing", str(tmp_path / "t.svg")])
+    said.append((tmp_path / "t.svg").read_text())
+    assert all("1 joint" in text for text in said[:2]) and not any("1 joints" in t for t in said)

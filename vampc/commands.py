@@ -132,7 +132,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
         write_program(program_chunks(c), out)
         leave_big(c.network)
     s = c.schedule
-    say(f"{out.path}: {c.chain.n} joints, {c.graph.recursion} recursion, "
+    say(f"{out.path}: {count(c.chain.n, 'joint')}, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
         f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
         f"{count(s.interval, 'flop')}" + bus_note(c.network) + checking_note(c.network)
@@ -611,7 +611,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     if outs:
         from vampc.report.tradeoff_chart import curve_svg
-        title = f"{chain.name}: {options.recursion} recursion, {chain.n} joints"
+        title = f"{chain.name}: {options.recursion} recursion, {count(chain.n, 'joint')}"
         curve = curve_svg(rows, title)
         content = {"--curve": curve}
         if "--html" in outs:

@@ -256,7 +256,7 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0):
     from vampc.emulator.trajectory import _check_finite, read_table
     columns = [f"qdd{i}" for i in range(1, n + 1)]
     try:
-        qdd, t = read_table(Path(path), columns, f"the program is for {n} joints",
+        qdd, t = read_table(Path(path), columns, f"the program is for {n} joint{'s' * (n != 1)}",
                             what="acceleration table")
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None

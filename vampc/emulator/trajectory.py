@@ -49,7 +49,7 @@ def read(path, n: int, floating: bool = False):
         elif suffix == ".npy":
             data, t = _read_npy(path, n, width)
         else:
-            data, t = read_table(path, header(n, floating), f"the program is for {n} joints",
+            data, t = read_table(path, header(n, floating), f"the program is for {n} joint{'s' * (n != 1)}",
                                  floating, arrays=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None

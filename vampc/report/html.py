@@ -8,6 +8,7 @@ from vampc.report.sections import tables
 from vampc.report.svg import strip_prolog
 from vampc.report.table import html_text, render_html
 from vampc.report.text import summary_pairs
+from vampc.textio import count
 
 STYLE = """
 body { font-family: sans-serif; font-size: 13px; margin: 1.5em; color: #222; }
@@ -25,7 +26,7 @@ def page(rep: dict, timing_svg: str, network_svg: str, reservation_svg: str = ""
     esc = html.escape
     summary = "".join(f"<tr><th class=\"l\">{esc(label)}</th><td class=\"l\">{html_text(value)}</td></tr>\n"
                       for label, value in summary_pairs(rep))
-    body = [f"<h1>vampc report: {esc(rep['robot'])} ({rep['joints']} joints, {esc(rep['recursion'])} "
+    body = [f"<h1>vampc report: {esc(rep['robot'])} ({count(rep['joints'], 'joint')}, {esc(rep['recursion'])} "
             f"recursion, {esc(rep['layout'])} layout)</h1>",
             f'<section id="summary"><h2>Summary</h2><table>{summary}</table></section>',
             '<section id="timing"><h2>Timing chart</h2><div class="picture">'

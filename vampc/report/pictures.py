@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from vampc.gcpause import gc_paused
+from vampc.textio import count
 
 
 def title(rep: dict) -> str:
     """'puma560, 6 joints, linear recursion, systolic layout: latency 61 flops, interval 4'."""
     layout = rep["layout"] + (", shared passes" if rep.get("share_passes") else "")
-    return (f"{rep['robot']}, {rep['joints']} joints, {rep['recursion']} recursion, {layout} layout: "
+    return (f"{rep['robot']}, {count(rep['joints'], 'joint')}, {rep['recursion']} recursion, {layout} layout: "
             f"latency {rep['latency']['flops']} flops, a torque set every {rep['interval_flops']}")
 
 

@@ -36,7 +36,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     """The summary as (label, value) lines; a continuation line has an empty label."""
     lat, paper, v = rep["latency"], rep["paper"], rep["vamps"]
     pairs = [
-        ("robot", f"{rep['robot']} ({rep['joints']} joints"
+        ("robot", f"{rep['robot']} ({count(rep['joints'], 'joint')}"
          + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")")),
         ("joints", _joints(rep)),
         ("recursion", rep["recursion"] + (f" ({rep['prefix']})" if rep.get("prefix") else "")),
@@ -151,7 +151,7 @@ def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
     """A tree's shape and depths (counts.tree_summary, and the latencies `vampc report` adds)."""
     if not tree:
         return []
-    pairs = [("tree", f"{tree['joints']} joints, {tree['leaves']} leaves, height {tree['height']} "
+    pairs = [("tree", f"{count(tree['joints'], 'joint')}, {tree['leaves']} leaves, height {tree['height']} "
               f"(the level-by-level depth), {tree['heavy_paths']} heavy paths, at most "
               f"{tree['light_edges']} light edges on a path"
               + ("; floating base: 6 wrench outputs after the joints" if tree["floating"] else ""))]
