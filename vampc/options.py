@@ -847,7 +847,8 @@ class FaultsOptions:
     results: str | None = field(default=None, metadata=cli(
         "--results", path=True, metavar="FILE.jsonl", help="Where each run's result is kept as it "
         "finishes; a re-run of the same campaign resumes from it (default: beside the program, "
-        "PROGRAM.CAMPAIGN.faults.jsonl)."))
+        "PROGRAM.CAMPAIGN.faults.jsonl). It is appended to in place, so it must be a regular file: "
+        "a symlink or a device is refused."))
     fmt: str = field(default="text", metadata=cli(
         "--format", choices=lambda: ("text", "json", "csv"), show_default=True, help="text: the "
         "summary; json: the summary and every run; csv: one row per run."))
