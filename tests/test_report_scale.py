@@ -95,8 +95,9 @@ def test_a_groups_outputs_are_a_range_only_where_they_run_without_a_gap():
     from vampc.robot.random import random_chain as _chain
     c = compile_chain(_chain(40, 3), CompileOptions(recursion="log", layout="folded"))
     svg = network_svg(c.graph, c.layout, c.network, "t")
-    titles = re.findall(r'<g id="tau-\d+"><title>([^<]+) \((\d+) outputs?\) leave', svg)
-    assert titles and sum(int(k) for _, k in titles) == 40
+    titles = re.findall(r'<g id="tau-\d+"><title>([^<]+) \((\d+) outputs\) leave', svg)
+    single = re.findall(r'<g id="tau-\d+"><title>τ\d+ leaves', svg)
+    assert titles and sum(int(k) for _, k in titles) + len(single) == 40
     for said, k in titles:
         if "–" in said:
             lo, hi = (int(x.lstrip("τ")) for x in said.split("–"))
@@ -104,3 +105,14 @@ def test_a_groups_outputs_are_a_range_only_where_they_run_without_a_gap():
         else:
             assert len(said.split(", ")) == int(k), said             # else each named
     assert any("–" not in said and int(k) > 1 for said, k in titles)  # (the case that was wrong)
+
+
+def test_a_folded_devices_many_outputs_are_one_marker():
+    """A folded layout's forward device gives every torque: one marker each, squeezed into its
+    cell, overlapped from 16 joints (a smear at 32). More than PER_CELL get one marker together."""
+    from vampc.report.network_drawing import PER_CELL, network_svg
+    c = compile_chain(random_chain(20, 5), CompileOptions(layout="folded"))
+    svg = network_svg(c.graph, c.layout, c.network, "t")
+    outputs = re.findall(r'<g id="tau-(\d+)"><title>([^<]+)</title>', svg)
+    assert len(outputs) <= PER_CELL and any("(20 outputs) leave" in t or "outputs) leave" in t
+                                            for _, t in outputs), outputs

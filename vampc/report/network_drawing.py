@@ -34,6 +34,7 @@ NAMES = {**SECTION_NAMES, "both": "both passes"}
 CELL_PX, MARGIN_PX = 78, 80
 MIN_COLS = 7
 DETAIL = 600          # shapes of one kind drawn one by one (ids, titles, labels) up to this many
+PER_CELL = 8          # output markers of one node at most; more get one marker together
 MAX_COLS = 16         # cells across; beyond, positions are grouped (see the module docstring)
 MAX_PT = 1500         # the long side at most (cells shrink to fit), about 2 000 px
 
@@ -529,33 +530,43 @@ def _ports(ax, d: Drawing, titles: dict) -> None:
 
 def _outputs(ax, d: Drawing, titles: dict) -> None:
     """Torque outputs along the top edge, one column's spread over its cell (several nodes of one
-    column can give torques: the log recursion's forward tiers, a folded device)."""
+    column can give torques: the log recursion's forward tiers, a folded device); a node giving more
+    than PER_CELL, and an aggregated group, get one marker for all of theirs."""
     top = d.rows + 1.0
-    column = Counter(round(_xy(d, site)[0], 3) for _, site in d.outputs)
+    name = d.output_name
+    entries: list[tuple[int, list, object]] = []        # (first output, outputs, site)
+    if d.grouped == 1:
+        by_site: dict = {}
+        for joint, site in sorted(d.outputs, key=lambda o: o[0]):
+            by_site.setdefault(site, []).append(joint)
+        for site, js in by_site.items():
+            # (a folded device gives every torque: 16 markers and labels in one cell overlapped)
+            entries += [(js[0], js, site)] if len(js) > PER_CELL else [(j, [j], site) for j in js]
+    else:
+        entries = [(joint, d.inside["_outputs"][site], site) for joint, site in d.outputs]
+    entries.sort(key=lambda e: e[0])
+    column = Counter(round(_xy(d, site)[0], 3) for _, _, site in entries)
     shown: Counter = Counter()
     shapes, segments, texts = [], [], []
-    for joint, site in sorted(d.outputs, key=lambda o: o[0]):
+    for joint, js, site in entries:
         x, y = _xy(d, site)
         key = round(x, 3)
         k, per = shown[key], column[key]
         shown[key] += 1
         ox = x + (k - (per - 1) / 2) * min(0.25, 0.9 / per)
-        name = d.output_name
-        if d.grouped == 1:
+        if len(js) == 1:
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"{name(joint)} leaves "
                                 f"{site.label}"))
             texts.append(name(joint))
         else:
-            js = d.inside["_outputs"][site]
-            # a range only where the group's outputs run without a gap ('τ1–64' had labelled 3
-            # torques, τ1, τ33 and τ64): else how many, each named in the tooltip
+            # a range only where the outputs run without a gap ('τ1–64' had labelled 3 torques,
+            # τ1, τ33 and τ64): else how many, each named in the tooltip
             running = js == list(range(js[0], js[-1] + 1))
             listed = ", ".join(name(j) for j in js[:40]) + (", …" if len(js) > 40 else "")
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}",
                                 (f"{name(js[0])}–{name(js[-1])}" if running else listed)
-                                + f" ({len(js)} output{'s' * (len(js) != 1)}) leave {site.label}"))
-            texts.append(name(js[0]) if len(js) == 1 else
-                         f"{name(js[0])}–{name(js[-1])}" if running else f"{len(js)} outputs")
+                                + f" ({len(js)} outputs) leave {site.label}"))
+            texts.append(f"{name(js[0])}–{name(js[-1])}" if running else f"{len(js)} outputs")
         segments.append([(x, y), (ox, top)])
     _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)
     style = {"facecolor": "#fcbba1", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
