@@ -660,7 +660,7 @@ def test_progress_is_drawn_by_tqdm_when_asked(program, monkeypatch):
     monkeypatch.setenv("VAMPC_PROGRESS", "1")
     monkeypatch.setattr(progress, "DELAY", 0.0)
     res = run("emulate", program, "--random", 5000)
-    assert res.exit_code == 0 and "stream engine:" in res.stderr and "/5.00k" in res.stderr
+    assert res.exit_code == 0 and "stream engine:" in res.stderr and "/5000" in res.stderr  # (whole counts)
     res = run("compile", PLANAR, "-o", "-")
     assert "compiling planar2.yaml" in res.stderr
 
