@@ -77,3 +77,28 @@ def test_html_with_tradeoff_is_a_page_of_the_table_and_the_curve(tmp_path):
     assert curve.read_text()[curve.read_text().index("<svg"):] in text
     res = run("report", PLANAR, "--tradeoff", "--timing", tmp_path / "x.svg")
     assert res.exit_code == 2 and "--timing does not apply to --tradeoff (--html and --curve do)" in res.stderr
+
+
+def test_the_floor_is_on_the_axis_and_the_legend_shows_what_is_drawn(monkeypatch):
+    """The flat part of the front had no value on the axis (the Puma's 61: no 1-2-5 tick there), and
+    the legend drew the layouts as filled squares while dominated ones are hollow."""
+    from overlap_util import catch_figure, overlapping_texts
+
+    from vampc.report.tradeoff_chart import curve_svg
+    rows = [{"layout": "budget 2", "vamps": 2, "latency_flops": 90, "interval_flops": 60,
+             "latency_bound": 80, "interval_bound": 50, "buffer_stages": 1, "pareto": True,
+             "pareto_latency": True, "pareto_interval": True},
+            {"layout": "budget 9", "vamps": 9, "latency_flops": 61, "interval_flops": 17,
+             "latency_bound": 61, "interval_bound": 15, "buffer_stages": 3, "pareto": True,
+             "pareto_latency": True, "pareto_interval": True},
+            {"layout": "systolic", "vamps": 180, "latency_flops": 61, "interval_flops": 4,
+             "latency_bound": 61, "interval_bound": 4, "buffer_stages": 9, "pareto": True,
+             "pareto_latency": False, "pareto_interval": True}]
+    figures = catch_figure(monkeypatch)
+    svg = curve_svg(rows, "puma: linear recursion, 6 joints")
+    labels = [t.get_text() for t in figures[0].axes[0].get_yticklabels(minor=True) if t.get_text()]
+    assert labels == ["61"], labels
+    legend = [t.get_text() for t in figures[0].legends[0].get_texts()]
+    assert "folded / systolic layout, dominated" in legend
+    assert overlapping_texts(figures[0]) == []
+    assert "61" in svg

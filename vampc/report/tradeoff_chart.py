@@ -75,6 +75,11 @@ def _panel(ax, rows, key: str, name: str, titles: dict) -> None:
         axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
         axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:,.0f}" if v >= 1 else ""))
         axis.set_minor_formatter(NullFormatter())
+    lowest = min((r[key] for r in rows), default=None)
+    if lowest is not None and lowest >= 1:     # the floor the front flattens on, named on the axis
+        ax.set_yticks([lowest], minor=True)    # (no 1-2-5 tick fell there: the Puma's 61, 21 for
+        ax.yaxis.set_minor_formatter(          # one joint)
+            FuncFormatter(lambda v, _, low=lowest: f"{v:,.0f}" if v == low else ""))
     ax.set_ylabel(f"{name} (flops, log scale)")
     ax.grid(True, which="major", linewidth=0.3, color="#bbbbbb")
 
@@ -86,6 +91,8 @@ def _legend(ax):
             Line2D([], [], marker="o", color=BUDGET, markerfacecolor="white", linestyle="none",
                    label="VAMP budget, dominated (more VAMPs for no less time)"),
             Line2D([], [], marker="s", color=LAYOUT, markerfacecolor=LAYOUT, markeredgecolor=FRONT,
-                   linestyle="none", label="folded / systolic layout"),
+                   linestyle="none", label="folded / systolic layout on the panel's front"),
+            Line2D([], [], marker="s", color=LAYOUT, markerfacecolor="white", linestyle="none",
+                   label="folded / systolic layout, dominated"),
             Line2D([], [], color=FRONT, linewidth=1.0,
                    label="front: fewest VAMPs for each latency (top), interval (bottom)")]
