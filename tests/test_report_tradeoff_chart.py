@@ -102,3 +102,20 @@ def test_the_floor_is_on_the_axis_and_the_legend_shows_what_is_drawn(monkeypatch
     assert "folded / systolic layout, dominated" in legend
     assert overlapping_texts(figures[0]) == []
     assert "61" in svg
+
+
+def test_a_budget_slower_than_one_with_fewer_vamps_is_explained():
+    """A one-joint chain's budget 3 has latency 40, budget 2's 28: each budget runs at its smallest
+    interval (the documented rule), and the table gave no hint of it."""
+    from vampc.report.tradeoff import render_text
+    rows = [{"layout": f"budget {v}", "vamps": v, "latency_flops": lat, "latency_bound": 21,
+             "latency_gap_pct": 0.0, "interval_flops": 10, "interval_bound": 10,
+             "interval_gap_pct": 0.0, "buffer_stages": 1, "control_registers": 1, "mux_inputs": 1,
+             "host_writes_per_set": 1, "pareto": True, "pareto_latency": True,
+             "pareto_interval": True} for v, lat in ((1, 50), (2, 28), (3, 40), (4, 21))]
+    text = render_text(rows)
+    assert text.splitlines()[-1].startswith("budget 3: latency 40 flops, longer than budget 2's 28 "
+                                            "with fewer VAMPs: each budget is scheduled at its "
+                                            "smallest interval; `vampc compile --vamps 3 --interval I`")
+    rows[2]["latency_flops"] = 25
+    assert "longer than" not in render_text(rows)

@@ -186,4 +186,22 @@ def render_text(rows: list[dict]) -> str:
                      f"{r['interval_flops']:>10}{r['interval_bound']:>7}{r['interval_gap_pct']:>6}%"
                      f"{r['buffer_stages']:>9}{r['control_registers']:>11}{r['mux_inputs']:>8}"
                      f"{r['host_writes_per_set']:>9}")
+    slower = _slower_than_fewer(rows)
+    if slower:
+        more, fewer = slower
+        lines.append(f"{more['layout']}: latency {more['latency_flops']} flops, longer than "
+                     f"{fewer['layout']}'s {fewer['latency_flops']} with fewer VAMPs: each budget is "
+                     f"scheduled at its smallest interval; `vampc compile --vamps {more['vamps']} "
+                     "--interval I` with a longer interval may shorten its latency")
     return "\n".join(lines) + "\n"
+
+
+def _slower_than_fewer(rows: list[dict]):
+    """The first budget whose latency is longer than a budget's with fewer VAMPs, and that one (a
+    table read as 'more VAMPs, never slower' misleads there), or None."""
+    budgets = sorted((r for r in rows if r["layout"].startswith("budget")), key=lambda r: r["vamps"])
+    for k, r in enumerate(budgets):
+        fewer = [b for b in budgets[:k] if b["latency_flops"] < r["latency_flops"]]
+        if fewer:
+            return r, min(fewer, key=lambda b: b["latency_flops"])
+    return None
