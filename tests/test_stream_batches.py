@@ -104,3 +104,20 @@ def test_a_matrix_not_made_of_op_results_runs_op_by_op():
     edited = st.Flow(tuple(ops), fl.names, fl.inputs, fl.outputs)
     assert not st.Batches(edited).plain
     assert np.array_equal(st.run_numpy(ld, edited, ports, count), st.run_per_op(ld, edited, ports, count))
+
+
+def test_overflow_sites_are_found_chunk_by_chunk_alike(monkeypatch):
+    """overflow_sites ran a run's every set at once, one op at a time, keeping every op's values:
+    the memory the chunks above bound. Chunked, it finds the same first sites, in set order."""
+    chain = load_robot(EXAMPLES / "puma560.yaml")
+    ld, fl, _, count = _prepared(chain, count=40, word="q10.16")
+    traj = random_trajectory(ld.chain, count, 3)
+    fast = np.arange(count)[:, None] % 5 == 2             # sets 3, 8, 13, ...: fast, overflowing
+    traj.qd[:] = np.where(fast, traj.qd * 30.0, traj.qd)
+    traj.qdd[:] = np.where(fast, traj.qdd * 900.0, traj.qdd)
+    whole = st.overflow_sites(ld, fl, traj, limit=400)
+    sets = {int(w.split(",")[0].split()[1]) for w in whole}
+    assert len(sets) > 3 and min(sets) == 3, sorted(sets)
+    monkeypatch.setattr(st, "VALUE_BYTES", len(fl.ops) * 3 * 8 * 4)           # 4 sets a chunk
+    assert st.overflow_sites(ld, fl, traj, limit=400) == whole
+    assert st.overflow_sites(ld, fl, traj, limit=5) == whole[:5]

@@ -284,8 +284,22 @@ def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -
     """Where the first overflows of a run of `traj` happen, in set order, at most `limit`: the
     host's conversion of an input (its port and quantity, the set, the tick it is written) or an
     op's result (the VAMP, slot and op, the set, the tick it is dumped). The numpy path runs the
-    sets again with a copy of the word that notes which sets overflowed. `start`: the run's index
-    of traj's first set."""
+    sets again with a copy of the word that notes which sets overflowed, one op at a time over
+    chunks whose values fit in VALUE_BYTES (all of a run's sets at once had taken 1.5 GB for a
+    128-joint log program's 980 sets). `start`: the run's index of traj's first set."""
+    from dataclasses import replace
+    size = _sets_per_chunk(len(fl.ops), ld.arith)
+    found: list[str] = []
+    for lo in range(0, traj.count, size):
+        part = replace(traj, **{k: getattr(traj, k)[lo:lo + size] for k in ("q", "qd", "qdd", "t", "base")
+                                if getattr(traj, k) is not None})
+        found += _overflow_sites(ld, fl, part, limit - len(found), start + lo)
+        if len(found) >= limit:
+            break
+    return found[:limit]
+
+
+def _overflow_sites(ld: Loaded, fl: Flow, traj, limit: int, start: int) -> list[str]:
     from vampc.emulator.host import host_values
     word = ld.arith.fresh()
     word.track = []
