@@ -34,3 +34,18 @@ def test_every_node_is_inside_the_plot_and_the_wrench_is_named(tmp_path, robot, 
         focused = CliRunner().invoke(main, ["report", str(EXAMPLES / robot), *args, "--network",
                                             str(out), "--focus", "fwd 0"])
         assert focused.exit_code == 0 and 'id="site-fwd-0"' in out.read_text(), focused.stderr
+
+
+def test_a_grouped_drawings_key_names_the_wrench(tmp_path):
+    """The key said 'and the floating base's wrench' only when an output marker's first output was
+    past the joints: a grouped drawing's group holding the base also holds τ1, so it never did."""
+    import subprocess
+    import sys
+    snake = tmp_path / "snake24.yaml"
+    snake.write_text(subprocess.run([sys.executable, str(EXAMPLES / "make_snake.py"), "24"],
+                                    capture_output=True, text=True, check=True).stdout)
+    out = tmp_path / "s.svg"
+    res = CliRunner().invoke(main, ["report", str(snake), "--floating-base", "--network", str(out)])
+    assert res.exit_code == 0, res.stderr
+    text = out.read_text()
+    assert "groups of" in text and "base_fx" in text and "wrench" in text

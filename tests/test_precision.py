@@ -54,7 +54,8 @@ def test_precision_names_the_narrowest_words():
     res = run(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "16:18", "--format",
                      "csv"])
     lines = res.output.splitlines()
-    assert lines[0] == "bits,word,peak,bound,observed,overflows" and len(lines) == 4
+    assert lines[0] == "bits,word,peak,bound,observed,overflows,rounding" and len(lines) == 4
+    assert all(line.endswith(",nearest") for line in lines[1:])       # (the rounding analysed)
     doc = loads(run(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "16:40",
                            "--format", "json", "--tolerance", "1e-6"]).output)
     bound = doc["narrowest_bound"]

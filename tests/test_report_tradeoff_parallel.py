@@ -280,3 +280,10 @@ def test_an_address_that_cannot_be_a_schedulers_is_a_usage_error(address, says):
     for command in (["report", "examples/planar2.yaml", "--tradeoff"], ["faults", "examples/planar2.yaml"]):
         r = CliRunner().invoke(main, [*command, "--scheduler", address])
         assert r.exit_code == 2 and says in r.stderr and r.stderr.count("\n") == 1, r.stderr
+
+
+def test_an_ipv6_host_needs_its_brackets():
+    """tcp://::1 read as host ':' and port 1, taken, then 'cannot reach' after the timeout."""
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                  "tcp://::1"])
+    assert r.exit_code == 2 and "an IPv6 host in brackets, tcp://[::1]:8786" in r.stderr, r.stderr

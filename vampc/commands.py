@@ -720,10 +720,10 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
                                "narrowest_observed": seen[0]["word"] if seen else None},
                               indent=1) + "\n"
     head = ["bits", "word", "peak", "bound", "observed", "overflows"]
-    if own.fmt == "csv":
+    if own.fmt == "csv":            # (the rounding analysed: a what-if one looked like the own)
         cells = [[str(r["bits"]) if k == "bits" else str(r[k]) if r["word"] else "" for k in head]
-                 for r in rows]
-        return "\n".join(",".join(line) for line in [head] + cells) + "\n"
+                 + [rounding] for r in rows]
+        return "\n".join(",".join(line) for line in [head + ["rounding"]] + cells) + "\n"
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states",
@@ -1036,9 +1036,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             traj = random_states(ld.chain, 0, sets, own.seed)
             ports = port_values(ld, traj)
             setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, own.seed), sets, own.seed)
-            store.open()
             failed = True
             try:
+                store.open()      # (inside: a header it cannot write leaves no file it made)
                 with progress.counter("fault runs", len(todo), unit="run") as bar:
                     parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo],
                                        lambda _, r: store.add(*r),

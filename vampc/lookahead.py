@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vampc.errors import VampcError, VampcUsageError
+from vampc.textio import count
 
 K_MARGIN = 1e-12
 
@@ -256,7 +257,7 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0):
     from vampc.emulator.trajectory import _check_finite, read_table
     columns = [f"qdd{i}" for i in range(1, n + 1)]
     try:
-        qdd, t = read_table(Path(path), columns, f"the program is for {n} joint{'s' * (n != 1)}",
+        qdd, t = read_table(Path(path), columns, f"the program is for {count(n, 'joint')}",
                             what="acceleration table")
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None

@@ -325,9 +325,10 @@ def check_parallel(options) -> None:
         host, colon, port = options.scheduler.partition("://")[2 if sep else 0].rstrip("/") \
             .rpartition(":")
         if not colon or not host or not port.isascii() or not port.isdigit() or \
-                not 1 <= int(port) <= 65535:
+                not 1 <= int(port) <= 65535 or ":" in host and not host.startswith("["):
             raise VampcUsageError(f"--scheduler {options.scheduler}: give the scheduler's host and "
-                                  "port (tcp://HOST:PORT, the port 1 to 65535; Dask's is 8786)")
+                                  "port (tcp://HOST:PORT, the port 1 to 65535; Dask's is 8786; an "
+                                  "IPv6 host in brackets, tcp://[::1]:8786)")
     if options.workers is not None and options.scheduler is not None:
         raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
 

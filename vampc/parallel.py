@@ -164,14 +164,14 @@ def _worker_start(task, context, parent: int | None = None) -> None:
     import signal
     global _CONTEXT
     _CONTEXT = (task, context)
-    if parent is not None:
-        die_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):   # forked with it blocked (_ctrl_c_held): ignored now
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     for name in ("SIGTERM", "SIGHUP"):     # not vampc's handlers: a worker holds nothing to clean up
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if parent is not None:                 # (after SIGTERM's default is back: it is what ends it)
+        die_with(parent)
 
 
 def die_with(parent: int) -> None:

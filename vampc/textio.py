@@ -76,8 +76,9 @@ def name_problem(name: str) -> str | None:
     bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Zl", "Zp")), None)
     if bad is None:
         return None
-    return (f"its name {shown(name)} holds the control character U+{ord(bad):04X}: names are "
-            "printed in one-line messages, text reports and CSV headers")
+    what = "control character" if unicodedata.category(bad) == "Cc" else "line separator"
+    return (f"its name {shown(name)} holds the {what} U+{ord(bad):04X}: names are printed in "
+            "one-line messages, text reports and CSV headers")
 
 
 def one_line(text: str, limit: int = 300) -> str:

@@ -381,7 +381,7 @@ def _a_run_of(run, faults) -> bool:
         return False
     fault = parse_fault(run["fault"])
     if run.get("class") not in CLASSES or run.get("kind") != _kind(fault) or \
-            run.get("vamp") != fault.vamp:
+            not whole(run.get("vamp")) or run["vamp"] != fault.vamp:
         return False          # (the kind and VAMP follow from the fault: edited ones were taken)
     if run["class"] == "detected-corrected" and "named_right" not in run:
         return False          # (the summary reads it of every corrected run: a KeyError)
@@ -447,6 +447,7 @@ class ResultsFile:
         from vampc import jsontext
         self.created = not os.path.exists(self.path)
         fresh = self.created or getattr(self, "_fresh", False)
+        self.added = 0
         try:
             self._fh = open(self.path, "ab")
             if getattr(self, "_truncate", None) is not None:
@@ -456,7 +457,6 @@ class ResultsFile:
             self._fh.flush()
         except OSError as exc:
             raise self._cannot(exc) from None
-        self.added = 0
 
     def add(self, index: int, run: dict) -> None:
         from vampc import jsontext

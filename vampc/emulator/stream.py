@@ -86,6 +86,8 @@ class StreamEngine:
         """Torques (count, n) of `count` sets given their input values, by input index."""
         if self.native is not None:
             return self.native.run(ports, count, progress)
+        if self.batches is None and batched_pays(self.flow, self.ld.arith, count):
+            self.batches = Batches(self.flow)      # (a short last chunk of a long run: made once)
         return run_numpy(self.ld, self.flow, ports, count, progress, self.batches)
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.errors import VampcError
-from vampc.textio import NPY_MAGIC, ZIP_MAGIC, plain_number, shown
+from vampc.textio import NPY_MAGIC, ZIP_MAGIC, count, plain_number, shown
 
 BASE_COLUMNS = ["base_wx", "base_wy", "base_wz", "base_dwx", "base_dwy", "base_dwz",
                 "base_ax", "base_ay", "base_az"]
@@ -49,7 +49,7 @@ def read(path, n: int, floating: bool = False):
         elif suffix == ".npy":
             data, t = _read_npy(path, n, width)
         else:
-            data, t = read_table(path, header(n, floating), f"the program is for {n} joint{'s' * (n != 1)}",
+            data, t = read_table(path, header(n, floating), f"the program is for {count(n, 'joint')}",
                                  floating, arrays=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None

@@ -362,10 +362,17 @@ def _draw(d: Drawing, title: str) -> str:
               or d.budget else "circles: recursion or device nodes (V: VAMPs)")
              + "; red outline: on the critical path\nlines: vector buses (wider: more)\n"
              "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i"
-             + (" and the floating base's wrench (base_fx..base_nz)" if any(
-                 j > d.joints for j, _ in d.outputs) and d.joints else ""),
+             + (" and the floating base's wrench (base_fx..base_nz)" if d.joints and any(
+                 j > d.joints for j in _every_output(d)) else ""),
              fontsize=6.5, va="bottom")
     return svg.to_svg(fig, titles)
+
+
+def _every_output(d: Drawing) -> list[int]:
+    """Every output the drawing shows (an aggregated one keeps each group's under inside)."""
+    if d.grouped > 1:
+        return [j for js in d.inside["_outputs"].values() for j in js]
+    return [j for j, _ in d.outputs]
 
 
 def _lines(ax, segments, gid: str, colour: str, width: float, zorder: int) -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from vampc import jsontext
 from vampc.errors import VampcError
 from vampc.report.clock import FASTEST_HZ, RATE_RANGE_TEXT, SLOWEST_HZ
+from vampc.textio import shown
 
 
 def kind_name(kind) -> str:
@@ -81,7 +82,7 @@ def rtl_figures(path: str, c) -> dict:
         theirs = {r["kind"]: r["vamps"] for r in kinds}
         odd = next((n for n in sorted(set(theirs) | set(ours)) if theirs.get(n) != ours.get(n)), None)
         if odd is not None:
-            another(f"VAMPs of kind '{odd}'", theirs.get(odd, 0), ours.get(odd, 0))
+            another(f"VAMPs of kind {shown(odd)}", theirs.get(odd, 0), ours.get(odd, 0))
     net = doc["synth"]["network"]
     out = {"file": str(path), "target": doc["synth"].get("target", "ecp5"), "kinds": kinds,
            "network": {"LUT4": field(net, "LUT4", "network"),
