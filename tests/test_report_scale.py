@@ -116,3 +116,22 @@ def test_a_folded_devices_many_outputs_are_one_marker():
     outputs = re.findall(r'<g id="tau-(\d+)"><title>([^<]+)</title>', svg)
     assert len(outputs) <= PER_CELL and any("(20 outputs) leave" in t or "outputs) leave" in t
                                             for _, t in outputs), outputs
+
+
+def test_a_long_robot_name_wraps_in_the_pictures_titles(tmp_path):
+    """A long robot name ran the network and timing titles off the picture's right edge."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    name = ("a robot with a very long name given by a careful engineer who likes to describe "
+            "everything about the arm in its name field so that nobody forgets, not even about its "
+            "wrist, its elbow, its shoulder and the base it stands on in the cell")
+    robot = tmp_path / "long.yaml"
+    robot.write_text((EXAMPLES / "planar2.yaml").read_text().replace("name: planar2", f'name: "{name}"'))
+    res = CliRunner().invoke(main, ["report", str(robot), "--network", str(tmp_path / "n.svg"),
+                                    "--timing", str(tmp_path / "t.svg")])
+    assert res.exit_code == 0, res.stderr
+    for picture in ("n.svg", "t.svg"):
+        text = (tmp_path / picture).read_text()
+        first = re.search(r">(a robot with[^<]*)<", text).group(1)     # the title's first line
+        assert "a torque set every" not in first, (picture, first)         # (not the whole title)

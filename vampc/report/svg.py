@@ -49,6 +49,11 @@ def to_svg(fig, titles: dict[str, str] | None = None) -> str:
     id is a key of `titles`. Paths of a collection that carry a link to `#ID` (matplotlib wraps each
     in an <a>) become groups with that id: the way to give thousands of bars drawn as one collection
     an id each."""
+    for ax in fig.axes:       # a title longer than the figure (a long robot name) wraps at its
+        for t in (ax.title, ax._left_title, ax._right_title):    # spaces, not off the edge
+            # (not one with a '$': matplotlib measures the lines it wraps as maths, whatever
+            # text.parse_math says, and '$_$' in a robot's name failed to parse)
+            t.set_wrap("$" not in t.get_text())
     buf = io.StringIO()
     fig.savefig(buf, format="svg", metadata=METADATA)
     text = _links_to_groups(_round_paths(buf.getvalue()))
