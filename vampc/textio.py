@@ -81,6 +81,15 @@ def name_problem(name: str) -> str | None:
             "one-line messages, text reports and CSV headers")
 
 
+def first_name_problem(named) -> tuple[str, str] | None:
+    """The first (place, name_problem) of `named`, pairs (place, name), or None."""
+    for where, name in named:
+        problem = name_problem(name)
+        if problem:
+            return where, problem
+    return None
+
+
 def one_line(text: str, limit: int = 300) -> str:
     """Collapse whitespace and cut very long messages (a parser's, or one quoting a whole value)."""
     text = " ".join(text.split())

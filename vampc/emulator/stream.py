@@ -162,27 +162,21 @@ class Batches:
         placed_const: dict[tuple, int] = {}
         sizes = {i: size for i, (_, _, size) in enumerate(fl.inputs)}
 
-        def rows_of(src) -> list[int]:
+        def rows_of(src) -> list[int]:          # (an input's or a constant's: `operand` reads ops)
             nonlocal rows
             kind, what = src
-            if kind is FlowKind.OP:
-                return [what]
             if kind is FlowKind.IN:
-                first = placed_in.get(what)
-                span = 3 if sizes[what] == 9 else 1
-                if first is None:
-                    first = placed_in[what] = rows
-                    self.inputs.append((what, first, span))
-                    rows += span
+                placed, listed, scalars = placed_in, self.inputs, sizes[what]
             elif kind is FlowKind.CONST:
-                first = placed_const.get(what)
-                span = 3 if len(what) == 9 else 1
-                if first is None:
-                    first = placed_const[what] = rows
-                    self.consts.append((what, first, span))
-                    rows += span
+                placed, listed, scalars = placed_const, self.consts, len(what)
             else:
                 unhandled(kind)
+            span = 3 if scalars == 9 else 1
+            first = placed.get(what)
+            if first is None:
+                first = placed[what] = rows
+                listed.append((what, first, span))
+                rows += span
             return list(range(first, first + span))
 
         level = [0] * n_ops
@@ -195,7 +189,7 @@ class Batches:
                 kind, what = x[0]
                 if kind is OP:                       # (the common case by far)
                     return (what,), level[what] + 1
-                return tuple(rows_of(x[0])), 0
+                return tuple(rows_of(x[0])), 0       # (an input or a constant: level 0)
             if any(src[0] is not OP for src in x):
                 return (), -1                        # a matrix of columns not all op results
             return tuple(what for _, what in x), max(level[what] for _, what in x) + 1
@@ -228,9 +222,7 @@ class Batches:
             else:
                 table[first:first + 3] = value.reshape(count, 3, 3).transpose(2, 0, 1)
         for values, first, span in self.consts:
-            value = consts.get(values)
-            if value is None:        # converted by the host once a run: counted once
-                value = consts[values] = arith.fresh().encode(values)
+            value = _constant(values, consts, arith)
             table[first:first + span] = value.reshape(3, 3).T[:, None, :] if span == 3 else value
         for r, members, ra, rb in self.batches:
             out = rom.run(r, _gathered(table, ra, count), _gathered(table, rb, count), arith)
@@ -275,11 +267,18 @@ def _value(src, vals, ports, count, consts, arith) -> np.ndarray:
     if src[0] is FlowKind.IN:
         return ports[src[1]]
     if src[0] is FlowKind.CONST:
-        value = consts.get(src[1])
-        if value is None:        # converted by the host once a run: counted once (constant_overflows)
-            value = consts[src[1]] = arith.fresh().encode(src[1])
+        value = _constant(src[1], consts, arith)
         return np.broadcast_to(value, (count, value.size))
     return unhandled(src[0])
+
+
+def _constant(values: tuple, consts: dict, arith) -> np.ndarray:
+    """A constant's words, converted by the host once a run (`consts`: those converted so far):
+    its overflows counted once (constant_overflows)."""
+    value = consts.get(values)
+    if value is None:
+        value = consts[values] = arith.fresh().encode(values)
+    return value
 
 
 def overflow_sites(ld: Loaded, fl: Flow, traj, limit: int = 5, start: int = 0) -> list[str]:

@@ -127,6 +127,12 @@ class Vamp(Struct, frozen=True, gc=False):
         """The graph node of the first slot (for messages)."""
         return self.slots[0].node
 
+    @property
+    def kind(self) -> tuple[int, int, int]:
+        """(slots, operand-A inputs, operand-B inputs): the shape of its hardware (what `vampc rtl`
+        synthesizes once per kind, and its estimates and the report's --rtl check count)."""
+        return len(self.slots), len(self.a), len(self.b)
+
 
 class Buffer(Struct, frozen=True, gc=False):
     """A delay buffer of `stages` stages behind VAMP `source`."""

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from vampc.dataflow.graph import Graph, InputKey, Node, Output
-from vampc.errors import VampcError, VampcInternalError
+from vampc.errors import VampcError, VampcInternalError, located
 from vampc.gcpause import gc_paused
 from vampc.kinds import Quantity, TapKind
 from vampc.machine.ops import Op
@@ -84,11 +84,11 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     if graph is not None and graph.n != doc.n:
         raise VampcError(f"{path}: robot: {doc.n} joints, but the graph is of {graph.n} (the file "
                          "was edited); recompile it")
-    from vampc.textio import name_problem
-    for where, name in [("robot.name", doc.name)] + [(f"robot.joints[{i}].name", j.name)
-                                                      for i, j in enumerate(doc.joints)]:
-        if name_problem(name):
-            raise VampcError(f"{path}: {where}: {name_problem(name)}")
+    from vampc.textio import first_name_problem
+    found = first_name_problem([("robot.name", doc.name)] + [(f"robot.joints[{i}].name", j.name)
+                                                             for i, j in enumerate(doc.joints)])
+    if found:
+        raise located(path, *found)
     joints = tuple(Joint(
         name=j.name, type=JointType(j.type), phi=np.array(j.phi), p_fixed=np.array(j.p_fixed),
         offset=j.offset, mass=j.mass, com=np.array(j.com), inertia=np.array(j.inertia),

@@ -363,16 +363,25 @@ def _draw(d: Drawing, title: str) -> str:
              + "; red outline: on the critical path\nlines: vector buses (wider: more)\n"
              "squares: delay buffers (deepest stage)\nbottom: host ports; top: torques τ_i"
              + (" and the floating base's wrench (base_fx..base_nz)" if d.joints and any(
-                 j > d.joints for j in _every_output(d)) else ""),
+                 js[-1] > d.joints for _, js, _ in _output_markers(d)) else ""),
              fontsize=6.5, va="bottom")
     return svg.to_svg(fig, titles)
 
 
-def _every_output(d: Drawing) -> list[int]:
-    """Every output the drawing shows (an aggregated one keeps each group's under inside)."""
+def _output_markers(d: Drawing) -> list[tuple[int, list, object]]:
+    """The output markers, as (first output, its outputs in order, site), by first output: one an
+    output, but one for all of a node's past PER_CELL (a folded device gives every torque: 16
+    markers and labels in one cell overlapped) and one an aggregated group."""
     if d.grouped > 1:
-        return [j for js in d.inside["_outputs"].values() for j in js]
-    return [j for j, _ in d.outputs]
+        entries = [(joint, d.inside["_outputs"][site], site) for joint, site in d.outputs]
+    else:
+        by_site: dict = {}
+        for joint, site in sorted(d.outputs, key=lambda o: o[0]):
+            by_site.setdefault(site, []).append(joint)
+        entries = []
+        for site, js in by_site.items():
+            entries += [(js[0], js, site)] if len(js) > PER_CELL else [(j, [j], site) for j in js]
+    return sorted(entries, key=lambda e: e[0])
 
 
 def _lines(ax, segments, gid: str, colour: str, width: float, zorder: int) -> None:
@@ -541,17 +550,7 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
     than PER_CELL, and an aggregated group, get one marker for all of theirs."""
     top = d.rows + 1.0
     name = d.output_name
-    entries: list[tuple[int, list, object]] = []        # (first output, outputs, site)
-    if d.grouped == 1:
-        by_site: dict = {}
-        for joint, site in sorted(d.outputs, key=lambda o: o[0]):
-            by_site.setdefault(site, []).append(joint)
-        for site, js in by_site.items():
-            # (a folded device gives every torque: 16 markers and labels in one cell overlapped)
-            entries += [(js[0], js, site)] if len(js) > PER_CELL else [(j, [j], site) for j in js]
-    else:
-        entries = [(joint, d.inside["_outputs"][site], site) for joint, site in d.outputs]
-    entries.sort(key=lambda e: e[0])
+    entries = _output_markers(d)
     column = Counter(round(_xy(d, site)[0], 3) for _, _, site in entries)
     shown: Counter = Counter()
     shapes, segments, texts = [], [], []

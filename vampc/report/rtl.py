@@ -10,8 +10,8 @@ from vampc.textio import shown
 
 
 def kind_name(kind) -> str:
-    """A kind of VAMP (slots, operand-A inputs, operand-B inputs: vampc.rtl.design.vamp_kind) as
-    `vampc rtl`'s figures name it."""
+    """A kind of VAMP (slots, operand-A inputs, operand-B inputs: Vamp.kind) as `vampc rtl`'s
+    figures name it."""
     slots, a, b = kind
     return f"{slots} slot(s), {a}+{b} inputs"
 
@@ -75,10 +75,8 @@ def rtl_figures(path: str, c) -> dict:
     if c.network is not None:
         # the VAMPs of each kind (slots, multiplexer inputs) the figures are of, against this
         # network's: a file of another network with the robot, word and VAMP count was taken
-        ours: dict[str, int] = {}
-        for v in c.network.vamps:
-            name = kind_name((len(v.slots), len(v.a), len(v.b)))
-            ours[name] = ours.get(name, 0) + 1
+        from collections import Counter
+        ours = Counter(kind_name(v.kind) for v in c.network.vamps)
         theirs = {r["kind"]: r["vamps"] for r in kinds}
         odd = next((n for n in sorted(set(theirs) | set(ours)) if theirs.get(n) != ours.get(n)), None)
         if odd is not None:

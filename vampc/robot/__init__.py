@@ -47,12 +47,11 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
 def _check_names(chain: Chain, path) -> None:
     """VampcError where the robot's or a joint's name holds a control character (textio.name_problem),
     the joint named by its number (from 1)."""
-    from vampc.textio import name_problem
-    for where, name in [("robot", chain.name)] + [(f"joint {i + 1}", j.name)
-                                                   for i, j in enumerate(chain.joints)]:
-        problem = name_problem(name)
-        if problem:
-            raise located(path, where, problem)
+    from vampc.textio import first_name_problem
+    found = first_name_problem([("robot", chain.name)] + [(f"joint {i + 1}", j.name)
+                                                          for i, j in enumerate(chain.joints)])
+    if found:
+        raise located(path, *found)
 
 
 def _check_finite(chain: Chain, path) -> None:

@@ -455,9 +455,8 @@ class VampChip(Elaboratable):
 
 
 def vamp_kind(ld, index: int) -> tuple[int, int, int]:
-    """(slots, operand-A inputs, operand-B inputs) of a VAMP: its hardware's shape."""
-    v = ld.net.vamps[index]
-    return (len(ld.programs[index]), len(v.a), len(v.b))
+    """(slots, operand-A inputs, operand-B inputs) of a VAMP: its hardware's shape (Vamp.kind)."""
+    return ld.net.vamps[index].kind
 
 
 def kinds(ld) -> dict[tuple[int, int, int], list[int]]:
