@@ -4,7 +4,10 @@ the closed form computed from the reference dynamics, and the retimed path is wi
 the reference."""
 from __future__ import annotations
 
+import io
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -427,6 +430,46 @@ def test_a_row_a_fixed_point_word_cannot_hold_is_refused_and_overflows_are_said(
     assert r.exit_code == 1, r.output
     n = int(re.search(r"q16\.16 \(nearest, saturate\) words: (\d+) overflows?", r.output).group(1))
     assert n > 0 and re.search(rf"tolerance 0\.001, {n} overflows? in the run: FAILED", r.output), r.output
+
+
+@pytest.mark.parametrize("retime", [[], ["--retime", "window"]], ids=["check", "window"])
+def test_overflows_fail_the_run_without_check(tmp_path, retime):
+    """A new user's run: planar2 in q6.10 (torques up to 32), effort limits of 500, --overflow
+    saturate: the register held torques saturated at 32, so no row looked near a limit; the window
+    retiming ran the path fast, beyond the limits by the reference dynamics, and the run said 0
+    violations, exit 0, unless --check was given. Overflows now fail the run, saying why, and an
+    existing output is left as it was."""
+    program = tmp_path / "p2.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q6.10", "-o",
+                                     str(program)]).exit_code == 0
+    made = subprocess.run([sys.executable, "examples/make_path.py", "0.4", "1000"], check=True,
+                          capture_output=True, text=True).stdout            # the Puma's six joints
+    rows = np.loadtxt(io.StringIO(made), delimiter=",", skiprows=1)
+    path = write_path(tmp_path, rows[:, 0], rows[:, 1:3], rows[:, 7:9], rows[:, 13:15])
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nshoulder,500,\nelbow,500,\n")
+    out = tmp_path / "out.csv"
+    out.write_text("mine\n")
+    args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "16",
+            "--limits", str(limits), "--overflow", "saturate", "-o", str(out), *retime]
+    if not retime:
+        args.remove("-o")
+        args.remove(str(out))
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 1, r.output
+    judged = "the violations and the retiming" if retime else "the violations"
+    assert re.search(r"q6\.10 \(nearest, saturate\) words: \d+ overflows: " + judged +
+                     r" above are of the torques the word held, not the path's: FAILED", r.output), r.output
+    if retime:
+        assert out.read_text() == "mine\n"
+        assert "-o " + str(out) + " NOT written: the word's range failed" in r.output, r.output
+        written = tmp_path / "new.csv"
+        r = CliRunner().invoke(main, args[:-4] + ["-o", str(written), *retime])
+        assert r.exit_code == 1 and written.exists()
+        got = np.loadtxt(written, delimiter=",", skiprows=1)
+        chain = load_robot("examples/planar2.yaml")
+        worst = np.abs(rnea(chain, got[:, 1:3], got[:, 3:5], got[:, 5:7])).max()
+        assert worst > 500                  # what the plan on saturated torques gave
 
 
 def test_overflows_fail_the_check_even_when_the_error_is_within_tolerance(setup, tmp_path):

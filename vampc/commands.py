@@ -753,7 +753,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
 def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
                       params: dict, say) -> bool:
     """`vampc lookahead`: the torque shift register over a path (vampc.lookahead); False when
-    --check failed or the network found a retimed row over a limit."""
+    --check failed, the network found a retimed row over a limit, or a torque overflowed the
+    program's word (with --overflow: the register then held the word's torques, not the path's)."""
     from vampc import lookahead as la
     from vampc.emulator import emulate
     from vampc.emulator.host import check_torques, read_trajectory
@@ -815,9 +816,15 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
+    failed = []                           # what failed: the retiming, the check, the word's range
     if ld.word is not None:          # overflows are never silent (every pass of the network)
-        say(f"{ld.arith!r} words: {count(overflows, 'overflow')}", info)
-    failed = []                           # what failed: the retiming, the check
+        spoiled = ""
+        if overflows:                # the register held saturated (or wrapped) torques
+            failed.append("word's range")
+            judged = "the violations and the retiming" if res.retimed is not None else "the violations"
+            spoiled = (f": {judged} above are of the torques the word held, not the path's: FAILED "
+                       "(a wider word: vampc precision)")
+        say(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
     if res.retimed_violations:            # a retiming the network finds over a limit has failed
         failed.append("retiming")
     if own.check_torques:
