@@ -266,6 +266,16 @@ def test_the_plot_has_a_panel_per_joint_with_its_limits_and_one_of_the_speed(set
     assert text.count("(N·m)") == 6 and "or N" not in text     # the Puma's six revolute joints
 
 
+def test_the_same_plot_twice_is_the_same_bytes(setup, tmp_path):
+    """Its markers' and clips' ids were random (matplotlib's, without a salt): every run differed."""
+    folder, program, limits, path = setup
+    first, again = tmp_path / "a.svg", tmp_path / "b.svg"
+    for out in (first, again):
+        assert run_lookahead(program, path, limits, "--retime", "window", "--plot",
+                             str(out)).exit_code == 0
+    assert first.read_bytes() == again.read_bytes()
+
+
 def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path):
     folder, _, limits, path = setup
     program = tmp_path / "q.vamp.json"

@@ -564,7 +564,9 @@ def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: s
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    with matplotlib.rc_context({"text.parse_math": False}):   # (a joint named 'a$_$' is text)
+    # (a joint named 'a$_$' is text; the salt makes the ids of markers and clips, so the same run
+    # gives the same bytes, as the report's pictures do)
+    with matplotlib.rc_context({"text.parse_math": False, "svg.hashsalt": "vampc"}):
         return _plot(plt, joints, times, res, limits, title)
 
 
