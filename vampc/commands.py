@@ -798,8 +798,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
     from vampc.emulator.stream import constant_overflows
     ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
-    res = la.run(ld, traj, own.window, limits, own.retime, lambda tr: emulate(ld, tr, "stream").tau,
-                 source_path, own.futures or 1, rate, margin, "overflow" not in options.given)
+    from vampc import progress
+    with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES) as stage:
+        res = la.run(ld, traj, own.window, limits, own.retime,
+                     lambda tr: emulate(ld, tr, "stream").tau, source_path, own.futures or 1, rate,
+                     margin, "overflow" not in options.given, stage)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))

@@ -299,18 +299,24 @@ def check_window(window: int, traj, futures: int = 1) -> None:
                               f"more than the trajectory ({traj.count} rows)")
 
 
+# What a run does, in order (the progress bar's stages: vampc.progress.stages).
+STAGES = ("rows as given", "gravity pass", "tangent pass", "planning", "whole-path plan",
+          "rows as retimed")
+
+
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         path: str = "", futures: int = 1, rate: float = 1.0, word_margin: float = 0.0,
-        word_range: bool = False) -> Lookahead:
+        word_range: bool = False, stage=None) -> Lookahead:
     """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
     violations, and with `retime` ("uniform" or "window") the scaling and the retimed rows' torques.
     `path` names the trajectory in messages; `rate` is the rows' rate (Hz). `word_margin`: the
     error the network's word format may make, as a fraction of each effort limit (0 for float64);
     the retiming plans to limits that much tighter, so the reference dynamics stays within them.
     `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
-    does unless --overflow is given)."""
+    does unless --overflow is given). `stage(name)` is told as each of STAGES starts."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj, futures)
+    stage = stage or (lambda name: None)
 
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
         if word_range:
@@ -325,6 +331,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
 
     def effort(rows, what: str) -> np.ndarray:       # a pass's torques at the motors (Gᵀτ)
         return reduce_torques(ld.chain, torques(rows, what))
+    stage("rows as given")
     out = Lookahead(torques(traj, ""), futures=futures, ahead_rows=window * futures,
                     word_margin=word_margin)
     tau = out.effort = reduce_torques(ld.chain, out.tau)
@@ -332,9 +339,13 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     if retime is None:
         return out
     zero = np.zeros_like(traj.qd)
+    stage("gravity pass")
     g = effort(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
+    if retime == "window":
+        stage("tangent pass")
     tangent = (effort(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
                if retime == "window" else None)
+    stage("planning")
     margin = out.margin
     try:
         check_gravity(g, limits, names, margin)
@@ -344,6 +355,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         else:
             x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
                                   margin)
+            stage("whole-path plan")
             out.optimal_duration = optimal_plan(tangent - g, tau - g, g, traj.qd, limits, 1.0 / rate,
                                                 margin)[2][-1]
     except VampcError as exc:
@@ -363,6 +375,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
         raise VampcError(f"{path}: the {retime} retiming gives a time or rate that is not a finite "
                          "number")
+    stage("rows as retimed")
     out.retimed_tau = torques(out.retimed, "as retimed")
     out.retimed_effort = reduce_torques(ld.chain, out.retimed_tau)
     out.retimed_violations = violations(out.retimed_effort, out.retimed.qd, limits)
