@@ -109,6 +109,13 @@ def test_two_outputs_naming_one_file_are_refused(tmp_path, program):
     assert not (tmp_path / "x.csv").exists()
 
 
+def test_two_outputs_may_share_dev_null(tmp_path, program):
+    """/dev/null takes each write as it comes: '-o /dev/null --save-states /dev/null' was refused as
+    naming the same file (a new user's run)."""
+    res = run("emulate", program, "--random", 3, "-o", "/dev/null", "--save-states", "/dev/null")
+    assert res.exit_code == 0, res.output
+
+
 def test_a_symlink_output_is_written_through_and_stays_a_link(tmp_path, program):
     target, link = tmp_path / "tau.csv", tmp_path / "link.csv"
     target.write_text("old\n")

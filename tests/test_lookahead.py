@@ -113,7 +113,9 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
 
 @pytest.mark.parametrize("edit, args, message, code", [
     (lambda t: t[::-1], [], r"row 2: t = \S+ does not come after \S+ \(not a path: time must increase\)", 1),
-    (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005", 1),
+    (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005; give the rate the rows "
+     r"were sampled at \(times rounded to fewer digits, or held as float32, are off by their "
+     r"rounding: write them in full, or leave the t column out, and the rows are 1/rate apart\)", 1),
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
@@ -207,6 +209,8 @@ def test_acceleration_usage(setup, args, message):
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,3,4,5\n", r"line 3: 5 columns, expected 6"),
     ("t,qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0,1_0\n", r"line 2, column qdd6: '1_0' is not a number"),
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n0,0,nan,0,0,0\n", r"line 3 \(state 2\), column qdd3: nan is not finite"),
+    ("t," + ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7)) + "\n" + "0," * 18 + "0\n",
+     r"header: column 2 is 'q1', expected 'qdd1' .*; a path of q, qd and qdd is given as --trajectory"),
 ])
 def test_a_bad_accelerations_file_is_named_by_line_and_column(setup, tmp_path, text, message):
     """Read as a trajectory is (the same reader): lines count from 1 with the header (numpy's
@@ -307,6 +311,7 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
     (LIMITS + "waist,1000,\n", r"line 8: joint 'waist' again \(line 2 gave its limits\)"),
     (LIMITS.replace("waist,10,", "waist,10,,junk"), r"line 2: 4 cells; expected joint,tau,qd"),
     (LIMITS.replace("waist,10,", "waist,1_0,"), r"line 2: tau '1_0' is not a positive number"),
+    (LIMITS.replace("waist,10,", "waist,1e400,"), r"line 2: tau '1e400' is not a finite number"),
     (LIMITS.replace("joint,tau,qd", "joint,tau,speed"), r"line 1: expected the header joint,tau,qd"),
     ("joint,tau\nwaist,10,4\n", r"line 2: 3 cells; expected joint,tau"),
     (LIMITS.replace("flange,1,4", "flange,1,1e-300"), r"joint 'flange': speed limit 1e-300 is below 1e-12: "

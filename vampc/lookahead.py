@@ -224,8 +224,9 @@ def _read_limits(path: str, chain, tau: list, qd: list):
             except ValueError:
                 x = -1.0
             if x is not None and not (np.isfinite(x) and x > 0):
-                raise VampcError(f"{path}: line {line}: {'tau' if k == 0 else 'qd'} {cell!r} is not a "
-                                 "positive number")
+                what = "a finite number" if x is not None and np.isinf(x) else "a positive number"
+                raise VampcError(f"{path}: line {line}: {'tau' if k == 0 else 'qd'} {cell!r} is not "
+                                 f"{what}")
             values.append(x)
         values += [None] * (2 - len(values))
         if values[0] is not None:
@@ -261,6 +262,10 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0):
                             what="acceleration table")
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None
+    except VampcError as exc:
+        if "is 'q1'" in str(exc) or "is 'qd1'" in str(exc):     # a whole trajectory's header
+            raise VampcError(f"{exc}; a path of q, qd and qdd is given as --trajectory") from None
+        raise
     _check_finite(path, qdd, columns, 2)
     if t is not None:
         _check_finite(path, t[:, None], ["t"], 2)
@@ -286,7 +291,9 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     off = np.flatnonzero(np.abs(steps - lam) > slack)
     if off.size:
         raise VampcError(f"{path}: row {off[0] + 2}: t steps by {float(steps[off[0]])!r}, not 1/rate = "
-                         f"{lam!r}; give the rate the rows were sampled at")
+                         f"{lam!r}; give the rate the rows were sampled at (times rounded to fewer "
+                         "digits, or held as float32, are off by their rounding: write them in full, "
+                         "or leave the t column out, and the rows are 1/rate apart)")
     return t
 
 

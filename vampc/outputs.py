@@ -181,12 +181,24 @@ def _refuse_stdout_input(inputs: list[Path]) -> None:
 
 
 def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
+    """Whether two outputs would write one file (or both standard output). A character device
+    (/dev/null) takes each write as it comes, so two outputs may share one."""
     if a.is_stdout or b.is_stdout:
         return a.is_stdout and b.is_stdout
+    if a.kind == b.kind == "stream" and _character_device(a.target):
+        return False
     if a.target == b.target:
         return True
     try:
         return os.path.samefile(a.target, b.target)
+    except OSError:
+        return False
+
+
+def _character_device(path: Path) -> bool:
+    import stat
+    try:
+        return stat.S_ISCHR(os.stat(path).st_mode)
     except OSError:
         return False
 
