@@ -8,6 +8,7 @@ import io
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -665,3 +666,25 @@ def test_every_duration_the_summary_gives_is_first_row_to_last(setup, tmp_path, 
     assert said == pytest.approx(retimed[-1] - retimed[0], rel=1e-5), r.output
     if retime == "window":
         assert f"(as given {span:.6g} s)" in r.output, r.output
+
+
+def test_names_with_commas_or_spaces_round_them_are_quoted_in_the_summary(tmp_path):
+    """'worst |τ| / limit per joint: my shoulder, left 0.5326,  elbow  0.674': where each name ends
+    could not be told (a new user's run). Such names are quoted; plain ones are as they were."""
+    robot = tmp_path / "arm.yaml"
+    robot.write_text((Path("examples/planar2.yaml")).read_text()
+                     .replace("name: shoulder", 'name: "my shoulder, left"')
+                     .replace("name: elbow", 'name: " elbow "'))
+    t = np.arange(100) / 1000.0
+    q = np.stack([np.sin(20 * t), np.cos(20 * t)], axis=1)
+    qd = np.stack([20 * np.cos(20 * t), -20 * np.sin(20 * t)], axis=1)
+    path = write_path(tmp_path, t, q, qd, -400 * q)
+    r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "8"])
+    assert r.exit_code == 0, r.output
+    assert re.search(r"worst \|τ\| / limit per joint: 'my shoulder, left' \S+, ' elbow ' \S+$",
+                     r.output, re.M), r.output
+    assert re.search(r"joint 'my shoulder, left' speed \S+ beyond 3", r.output), r.output
+    plain = CliRunner().invoke(main, ["lookahead", str(Path("examples/planar2.yaml")), "--trajectory",
+                                      str(path), "--rate", "1kHz", "--window", "8"])
+    assert re.search(r"per joint: shoulder \S+, elbow \S+$", plain.output, re.M), plain.output

@@ -58,7 +58,7 @@ def test_a_joint_name_padded_with_spaces_takes_its_limit(tmp_path):
         code, err, out = lookahead(tmp_path, path, "--limits", limits)
         assert code == 0, err
         # joint 2's gravity torque over a limit of 0.5 instead of the file's 50
-        worst = float(out.split("épaule 2 ")[-1].split()[0])
+        worst = float(out.split("' épaule 2 ' ")[-1].split()[0])    # (quoted: spaces round it)
         assert worst > 1.0, out
 
 

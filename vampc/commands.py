@@ -31,7 +31,7 @@ from vampc.options import (
     check_program_options,
     flag,
 )
-from vampc.textio import count
+from vampc.textio import count, listed
 
 # Programs with more slots than this are statically checked in a forked process while the report
 # is built (about a third of the work for a 512-joint log program); a robot file's compiled network
@@ -913,7 +913,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     for v in res.violations[:5]:
         step, early = ahead(v.row, seen)
         name = (motors if v.kind == "torque" else names)[v.joint]
-        lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {name} {v.kind} "
+        lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {listed(name)} {v.kind} "
                      f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {count(early, 'step')} "
                      f"({early * lam * 1e3:.4g} ms) ahead")
     if len(res.violations) > 5:
@@ -955,7 +955,7 @@ def worst_ratios(names, tau, limits) -> str:
     import numpy as np
     lim = np.array(limits.tau)
     worst = np.max(np.abs(tau[:, :len(lim)]), axis=0, initial=0.0) / lim
-    return ", ".join(f"{name} {w:.4g}" for name, w in zip(names, worst))
+    return ", ".join(f"{listed(name)} {w:.4g}" for name, w in zip(names, worst))
 
 
 def why_margin(ld, res) -> str:

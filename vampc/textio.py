@@ -69,6 +69,15 @@ def shown(text: str, limit: int = 60) -> str:
     return "'" + "".join(out).replace("'", "\\'") + more + "'"
 
 
+def listed(name: str) -> str:
+    """A name as a list or a sentence shows it: as it is, or quoted (`shown`) when it holds a comma,
+    a quote or spaces round it, which would blur where it ends ('my shoulder, left 0.53')."""
+    if not name or name != name.strip() or any(c in name for c in ",'\"") or \
+            any(ch != " " and unicodedata.category(ch)[0] in "CZ" for ch in name):
+        return shown(name)
+    return name
+
+
 def name_problem(name: str) -> str | None:
     """Why `name` (a robot's or a joint's) cannot be printed on one line, or None: a control
     character or a line or paragraph separator (a newline in a joint's name split the text
