@@ -124,6 +124,8 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"--limits FILE", 1),       # named by the program file given, not the robot it was compiled from
     (None, ["--retime", "uniform", "-o", "r.npy"], r"-o writes CSV .*: give a \.csv file name", 2),
     (None, ["--torques", "t.npy"], r"--torques writes CSV .*: give a \.csv file name", 2),
+    (None, ["--torques", "t.csv.bz2"], r"--torques writes CSV .*: give a \.csv file name", 2),  # (was
+    (None, ["--retime", "uniform", "-o", "r.xz"], r"-o writes CSV .*: give a \.csv file name", 2),  # plain)
     (None, ["--plot", "-"], r"--plot -: standard output is not available for this output", 2),
     (None, ["--retime", "window", "--futures", "8"],
      r"--window 64 × --futures 8 = 512 rows: more than the trajectory \(500 rows\)", 2),

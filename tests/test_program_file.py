@@ -412,6 +412,16 @@ def test_an_empty_file_is_called_empty(tmp_path, text):
         read_program(path)
 
 
+def test_a_compressed_file_of_nothing_is_called_so(tmp_path):
+    """A gzip of nothing was called an 'empty file' (its 20 bytes are not empty)."""
+    import gzip
+    path = tmp_path / "empty.vamp.json.gz"
+    path.write_bytes(gzip.compress(b""))
+    with pytest.raises(VampcError, match=rf"^{path}: compressed file holding nothing, not a vampc "
+                                         r"program file \(vampc compile writes one\)$"):
+        read_program(path)
+
+
 @pytest.mark.parametrize("constant", ["NaN", "Infinity", "-Infinity"])
 def test_nan_in_a_file_is_refused(program_path, constant):
     text = program_path.read_text()

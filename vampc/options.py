@@ -649,7 +649,7 @@ class LookaheadOptions:
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):
-            if value is not None and Path(value).suffix.lower() in (".npy", ".npz", ".gz"):
+            if value is not None and Path(value).suffix.lower() in (".npy", ".npz") + COMPRESSED:
                 raise VampcUsageError(f"{option} writes CSV (README, Torque files and Output files): "
                                       "give a .csv file name")
 

@@ -342,7 +342,8 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     if packed:
         raw = gunzip(raw, path)
     if not raw or raw.isspace():
-        raise VampcError(f"{path}: empty file, not a vampc program file (vampc compile writes one)")
+        what = "compressed file holding nothing" if packed else "empty file"
+        raise VampcError(f"{path}: {what}, not a vampc program file (vampc compile writes one)")
     if not raw.isascii():             # (ASCII is UTF-8: what vampc writes, checked without a copy)
         decode_utf8(raw, path, "program file")        # UTF-8, or a clear message
     # msgspec reads the bytes faster than the text
