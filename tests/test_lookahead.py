@@ -690,3 +690,27 @@ def test_names_with_commas_or_spaces_round_them_are_quoted_in_the_summary(tmp_pa
     plain = CliRunner().invoke(main, ["lookahead", str(Path("examples/planar2.yaml")), "--trajectory",
                                       str(path), "--rate", "1kHz", "--window", "8"])
     assert re.search(r"per joint: shoulder \S+, elbow \S+$", plain.output, re.M), plain.output
+
+
+def test_a_limits_row_naming_a_locked_joint_is_passed_over_with_a_warning(tmp_path):
+    """A limits file for the whole arm, one joint locked with --lock: its row was refused as 'no
+    joint named' (a new user's run). It is passed over, and said so."""
+    made = subprocess.run([sys.executable, "examples/make_path.py", "0.05", "1000"], check=True,
+                          capture_output=True, text=True).stdout
+    rows = np.loadtxt(io.StringIO(made), delimiter=",", skiprows=1)
+    path = write_path(tmp_path, rows[:, 0], rows[:, 1:6], rows[:, 7:12], rows[:, 13:18])
+    names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
+             "wrist_2_joint", "wrist_3_joint"]
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\n" + "".join(f"{n},150,\n" for n in names))
+    r = CliRunner().invoke(main, ["lookahead", "examples/ur5.urdf", "--lock", "wrist_3_joint=0",
+                                  "--trajectory", str(path), "--rate", "1kHz", "--window", "8",
+                                  "--limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    assert f"vampc: warning: {limits}: line 7: joint 'wrist_3_joint' is locked (--lock): its limits " \
+           "are not used" in r.stderr, r.stderr
+    limits.write_text("joint,tau,qd\n" + "".join(f"{n},150,\n" for n in names + ["nosuch"]))
+    r = CliRunner().invoke(main, ["lookahead", "examples/ur5.urdf", "--lock", "wrist_3_joint=0",
+                                  "--trajectory", str(path), "--rate", "1kHz", "--window", "8",
+                                  "--limits", str(limits)])
+    assert r.exit_code == 1 and "line 8: no joint named 'nosuch'" in r.output, r.output

@@ -781,7 +781,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         from vampc.emulator.host import check_limits
         check_limits(ld.chain, traj, source_path, speeds=False)
     la.check_window(own.window, traj, own.futures or 1)
-    limits = la.limits_of(ld.chain, own.limits, source)
+    limits = la.limits_of(ld.chain, own.limits, source, robot_opts.locks())
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
     need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent

@@ -116,21 +116,22 @@ class Lookahead:
         return max(PLAN_MARGIN, self.word_margin)
 
 
-def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
+def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> Limits:
     """The robot's limits, or those of a --limits CSV file (header joint,tau,qd; a joint's row may
     leave qd empty). Every joint with a motor needs an effort limit (VampcError naming the first that
     lacks one, and the file it was looked for in: --limits FILE, else `source`, the robot or program
     file the command was given). Effort limits are per motor: with coupled mimic joints (`--mimic
     couple`) a follower has none, its leader's motor drives both (vampc.robot.mimic: Gᵀτ), so
     `Limits.tau` holds the independent joints' (a follower's is not used); speed limits are per
-    joint, followers included."""
+    joint, followers included. `locked`: joints --lock took out of the robot (a row naming one is
+    passed over with a warning)."""
     from vampc.robot.mimic import free_joints
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
     given: set = set()               # (joint, "effort" or "speed") the --limits file gave
     lines: dict[int, int] = {}       # joint -> the line of the --limits file naming it
     if path is not None:
-        tau, qd, given, lines = _read_limits(path, chain, tau, qd)
+        tau, qd, given, lines = _read_limits(path, chain, tau, qd, tuple(locked))
     free = set(free_joints(chain).tolist())
     unused = [chain.joints[i].name for i, what in sorted(given) if what == "effort" and i not in free]
     if unused:                        # a value the file gives is never dropped without a word
@@ -168,7 +169,7 @@ def limits_of(chain, path: str | None, source: str | None = None) -> Limits:
 SMALLEST_LIMIT = 1e-12
 
 
-def _read_limits(path: str, chain, tau: list, qd: list):
+def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     import csv
     import io
     from pathlib import Path
@@ -202,6 +203,13 @@ def _read_limits(path: str, chain, tau: list, qd: list):
         if not row or not any(c.strip() for c in row):
             continue
         name = row[0] if row[0] in names else row[0].strip()
+        if name not in names and (row[0] in locked or name in locked):
+            import warnings
+
+            from vampc.errors import VampcWarning
+            warnings.warn(VampcWarning(f"{path}: line {line}: joint {shown(name)} is locked (--lock): "
+                                       "its limits are not used"), stacklevel=3)
+            continue
         if name not in names:
             matches = padded.get(name, [])
             if len(matches) != 1:
