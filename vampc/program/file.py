@@ -61,11 +61,6 @@ FORMAT, VERSION = "vampc-program", 2
 GZIP_LEVEL = 3
 GZIP_MAGIC = b"\x1f\x8b"
 GUNZIP_LIMIT = 4 << 30          # 4 GiB: a 4096-joint log program is under 0.4 GB
-# Past GUNZIP_FLOOR bytes, a file may decompress to at most GUNZIP_RATIO times its size: vampc's
-# compact form is 8.5 times smaller than its text (the 4096-joint snake, the most repetitive robot
-# there is), and a gzip bomb of 18 MB had held 4 GiB before it was refused.
-GUNZIP_FLOOR = 256 << 20
-GUNZIP_RATIO = 32
 
 
 def canonical(doc) -> str:
@@ -373,16 +368,9 @@ def _read(path) -> tuple[ProgramFile, bytes]:
 
 def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
     """A gzip-compressed program file's text, every member in turn (VampcError if it is damaged or
-    decompresses to more than `limit` bytes, or, past GUNZIP_FLOOR, GUNZIP_RATIO times its own
-    size: read 16 MiB at a time, so a bomb stops there, and held once, growing: no list of pieces
-    joined at the end)."""
+    decompresses to more than `limit` bytes: read 16 MiB at a time, so a bomb stops there, and
+    held once, growing: no list of pieces joined at the end)."""
     import zlib
-    ratio_limit = max(GUNZIP_FLOOR, GUNZIP_RATIO * len(data))
-    if ratio_limit < limit:
-        limit, why = ratio_limit, (f", {GUNZIP_RATIO} times its compressed size (vampc's compact "
-                                   "form is about 8 times smaller than its text)")
-    else:
-        why = ""
     out, size, rest = bytearray(), 0, data
     try:
         while rest:
@@ -391,8 +379,8 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
             while True:
                 size += len(chunk)
                 if size > limit:
-                    raise VampcError(f"{path}: decompresses to more than {limit:,} bytes{why}; "
-                                     "not a program file vampc reads")
+                    raise VampcError(f"{path}: decompresses to more than {limit:,} bytes; not a "
+                                     "program file vampc reads")
                 out += chunk
                 if not d.unconsumed_tail:
                     break
