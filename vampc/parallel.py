@@ -37,7 +37,6 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         # some of its loggers levels of their own: each is set)
         if name.split(".")[0] in quiet:
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
-    _refused(address)
     import threading
     got: dict = {}
 
@@ -62,25 +61,6 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
                          f"({type(exc).__name__}: {one_line(exc)})") from None
     return got["client"]
-
-
-def _refused(address: str) -> None:
-    """VampcError at once if nothing listens at a tcp:// (or HOST:PORT) address: a refused
-    connection is certain, and Dask's Client tried again for its whole timeout (10 s) before
-    saying so. Other schemes, and a host that does not answer at all, are left to Client."""
-    import socket
-    scheme, sep, rest = address.partition("://")
-    if sep and scheme.lower() != "tcp":
-        return
-    host, _, port = (rest if sep else address).rstrip("/").rpartition(":")
-    try:
-        with socket.create_connection((host.strip("[]"), int(port)), timeout=1.0):
-            return
-    except ConnectionRefusedError:
-        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (the "
-                         "connection was refused: nothing listens on that port)") from None
-    except (OSError, ValueError):    # a name not found, a timeout: Client says what it finds
-        return
 
 
 def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
