@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
 from conftest import EXAMPLES
 
 
@@ -46,4 +47,25 @@ def test_lookahead_shows_its_stages(monkeypatch, tmp_path):
                                   "64", "--limits", str(EXAMPLES / "puma560-limits.csv"),
                                   "--retime", "window"])
     assert r.exit_code == 0, r.output
-    assert "look-ahead over puma560-path.csv" in r.stderr and "planning" in r.stderr, r.stderr
+    assert "look-ahead over puma560-path.csv: 0/6 stages" in r.stderr, r.stderr   # (window: six)
+
+
+@pytest.mark.parametrize("command", ["compile", "lookahead"])
+def test_no_bar_is_drawn_before_its_delay(monkeypatch, tmp_path, command):
+    """A stage's name was drawn at once (tqdm's set_postfix_str redraws, whatever its delay), and a
+    bar drawn that way was not cleared when it closed: every interactive run of lookahead left
+    'look-ahead over ...: 5/6 stages' on the line, its output glued to it (a review's run)."""
+    from click.testing import CliRunner
+
+    from vampc import progress
+    from vampc.cli import main
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 60.0)        # no bar at all within a minute
+    args = (["compile", str(EXAMPLES / "puma560.yaml"), "-o", str(tmp_path / "p.vamp.json")]
+            if command == "compile" else
+            ["lookahead", str(EXAMPLES / "puma560.yaml"), "--trajectory",
+             str(EXAMPLES / "puma560-path.csv"), "--rate", "1kHz", "--window", "64", "--limits",
+             str(EXAMPLES / "puma560-limits.csv"), "--retime", "window"])
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    assert "stages" not in r.stderr, r.stderr

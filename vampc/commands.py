@@ -799,7 +799,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.emulator.stream import constant_overflows
     ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
     from vampc import progress
-    with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES) as stage:
+    with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
         res = la.run(ld, traj, own.window, limits, own.retime,
                      lambda tr: emulate(ld, tr, "stream").tau, source_path, own.futures or 1, rate,
                      margin, "overflow" not in options.given, stage)

@@ -314,9 +314,11 @@ def check_window(window: int, traj, futures: int = 1) -> None:
                               f"more than the trajectory ({traj.count} rows)")
 
 
-# What a run does, in order (the progress bar's stages: vampc.progress.stages).
-STAGES = ("rows as given", "gravity pass", "tangent pass", "planning", "whole-path plan",
-          "rows as retimed")
+# What a run does, in order (the progress bar's stages: vampc.progress.stages), by --retime.
+STAGES = {None: ("rows as given",),
+          "uniform": ("rows as given", "gravity pass", "planning", "rows as retimed"),
+          "window": ("rows as given", "gravity pass", "tangent pass", "planning", "whole-path plan",
+                     "rows as retimed")}
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
@@ -328,7 +330,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     error the network's word format may make, as a fraction of each effort limit (0 for float64);
     the retiming plans to limits that much tighter, so the reference dynamics stays within them.
     `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
-    does unless --overflow is given). `stage(name)` is told as each of STAGES starts."""
+    does unless --overflow is given). `stage(name)` is told as each of STAGES[retime] starts."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj, futures)
     stage = stage or (lambda name: None)

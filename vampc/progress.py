@@ -45,7 +45,10 @@ def stages(label: str, names: tuple[str, ...]):
               leave=False, dynamic_ncols=True,
               bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}] {postfix}") as bar:
         def stage(name: str) -> None:
+            # (set_postfix_str's own redraw would draw the bar at once, before DELAY, and a bar
+            # tqdm drew that way is not cleared when it closes: it was left on the line, the
+            # command's output glued to it; update() draws only once DELAY has passed)
+            bar.set_postfix_str(name, refresh=False)
             if name in names:
-                bar.n = names.index(name)
-            bar.set_postfix_str(name)
+                bar.update(names.index(name) - bar.n)
         yield stage
