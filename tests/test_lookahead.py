@@ -476,11 +476,15 @@ def test_overflows_fail_the_run_without_check(tmp_path, retime):
     r = CliRunner().invoke(main, args)
     assert r.exit_code == 1, r.output
     judged = "the violations and the retiming" if retime else "the violations"
-    assert re.search(r"q6\.10 \(nearest, saturate\) words: \d+ overflows: " + judged +
-                     r" above are of the torques the word held, not the path's: FAILED", r.output), r.output
+    assert re.search(r"q6\.10 \(nearest, saturate\) words: \d+ overflows: the torques may not be "
+                     r"the path's, so " + judged + r" above cannot be trusted: FAILED", r.output), r.output
     if retime:
         assert out.read_text() == "mine\n"
-        assert "-o " + str(out) + " NOT written: the word's range failed" in r.output, r.output
+        assert "-o " + str(out) + " NOT written: the q6.10 words overflowed and it exists" in r.output, \
+            r.output
+        r = CliRunner().invoke(main, args + ["--write-failed"])     # (it said this would: it was refused)
+        assert r.exit_code == 1 and out.read_text() != "mine\n", r.output
+        assert "-o " + str(out) + " written although the q6.10 words overflowed" in r.output, r.output
         written = tmp_path / "new.csv"
         r = CliRunner().invoke(main, args[:-4] + ["-o", str(written), *retime])
         assert r.exit_code == 1 and written.exists()
@@ -488,6 +492,11 @@ def test_overflows_fail_the_run_without_check(tmp_path, retime):
         chain = load_robot("examples/planar2.yaml")
         worst = np.abs(rnea(chain, got[:, 1:3], got[:, 3:5], got[:, 5:7])).max()
         assert worst > 500                  # what the plan on saturated torques gave
+    else:
+        tau = tmp_path / "tau.csv"
+        tau.write_text("mine\n")
+        r = CliRunner().invoke(main, args + ["--torques", str(tau), "--write-failed"])
+        assert r.exit_code == 1 and tau.read_text() != "mine\n", r.output
 
 
 def test_overflows_fail_the_check_even_when_the_error_is_within_tolerance(setup, tmp_path):

@@ -768,6 +768,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
+    if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
+        # (nothing can fail: float64, neither check nor retiming)
+        from vampc.options import WRITE_FAILED_APPLIES
+        raise VampcUsageError(WRITE_FAILED_APPLIES)
     source_path = own.trajectory or own.accelerations
     if own.trajectory is not None:
         traj = read_trajectory(own.trajectory, ld.chain)
@@ -819,14 +823,13 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
-    failed = []                           # what failed: the retiming, the check, the word's range
+    failed = []                           # what failed: the retiming, the check
     if ld.word is not None:          # overflows are never silent (every pass of the network)
         spoiled = ""
-        if overflows:                # the register held saturated (or wrapped) torques
-            failed.append("word's range")
+        if overflows:                # values saturated (or wrapped) on the way to the torques
             judged = "the violations and the retiming" if res.retimed is not None else "the violations"
-            spoiled = (f": {judged} above are of the torques the word held, not the path's: FAILED "
-                       "(a wider word: vampc precision)")
+            spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
+                       "FAILED (a wider word: vampc precision)")
         say(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
     if res.retimed_violations:            # a retiming the network finds over a limit has failed
         failed.append("retiming")
@@ -854,24 +857,26 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         say(line, info)
         if not same or within:
             failed.append("check")
-    ok = not failed
+    ok = not failed and not (ld.word is not None and overflows)
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
         from vampc.robot.mimic import free_joints
         content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
                                         f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
                                         f"window {own.window}")
-    why = " and ".join(failed)
+    why = " and ".join(([f"the {ld.arith.name} words overflowed"] if not ok and overflows and
+                        ld.word is not None else []) +
+                       ([f"the {' and '.join(failed)} failed"] if failed else []))
     kept = [] if ok or own.write_failed else \
         [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
     for option in kept:
-        say(f"{option} {outs[option].path} NOT written: the {why} failed and it exists (it is "
+        say(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
             "unchanged; --write-failed replaces it anyway)", True)
     from vampc.outputs import write_together
     write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
     if not ok:
         for option in (o for o in outs if o not in kept):
-            say(f"{option} {outs[option].path} written although the {why} failed", True)
+            say(f"{option} {outs[option].path} written although {why}", True)
     return ok
 
 

@@ -307,6 +307,13 @@ def check_bus(options) -> None:
                               f"not the {options.layout_name} one (README, Mostly-Local Bus)")
 
 
+# (lookahead; with neither --check nor --retime it applies to a program in a narrower word only,
+# whose overflows fail the run: said once the program is read)
+WRITE_FAILED_APPLIES = ("--write-failed applies with --check or --retime (or a program in a narrower "
+                        "word than float64, whose overflows fail a run), and -o, --torques or --plot "
+                        "to a file (standard output is never held back)")
+
+
 DASK_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ucxx", "ws", "wss")   # dask.distributed's comms
 
 
@@ -643,9 +650,8 @@ class LookaheadOptions:
             raise VampcUsageError("-o writes the retimed (or integrated) path: give --retime or "
                                   "--accelerations")
         files = [x for x in (self.output, self.torques, self.plot) if x is not None and x != "-"]
-        if self.write_failed and not ((self.check_torques or self.retime) and files):
-            raise VampcUsageError("--write-failed applies with --check or --retime, and -o, "
-                                  "--torques or --plot to a file (standard output is never held back)")
+        if self.write_failed and not files:
+            raise VampcUsageError(WRITE_FAILED_APPLIES)
         if self.output == "-" and self.torques == "-":
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):
