@@ -115,8 +115,11 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
 @pytest.mark.parametrize("edit, args, message, code", [
     (lambda t: t[::-1], [], r"row 2: t = \S+ does not come after \S+ \(not a path: time must increase\)", 1),
     (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005; give the rate the rows "
-     r"were sampled at \(times rounded to fewer digits, or held as float32, are off by their "
-     r"rounding: write them in full, or leave the t column out, and the rows are 1/rate apart\)", 1),
+     r"were sampled at$", 1),
+    (lambda t: np.round(t / 3, 6), ["--rate", "3kHz"], r"t steps by 0\.000333, not 1/rate = "
+     r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits, or held "
+     r"as float32, are off by their rounding: write them in full, or leave the t column out, and "
+     r"the rows are 1/rate apart\)$", 1),             # (microseconds at 3 kHz: a new user's run)
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
@@ -315,6 +318,7 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
     (LIMITS.replace("waist,10,", "waist,10,,junk"), r"line 2: 4 cells; expected joint,tau,qd"),
     (LIMITS.replace("waist,10,", "waist,1_0,"), r"line 2: tau '1_0' is not a positive number"),
     (LIMITS.replace("waist,10,", "waist,1e400,"), r"line 2: tau '1e400' is not a finite number"),
+    (LIMITS.replace("waist,10,", "waist,nan,"), r"line 2: tau 'nan' is not a finite number"),
     (LIMITS.replace("joint,tau,qd", "joint,tau,speed"), r"line 1: expected the header joint,tau,qd"),
     ("joint,tau\nwaist,10,4\n", r"line 2: 3 cells; expected joint,tau"),
     (LIMITS.replace("flange,1,4", "flange,1,1e-300"), r"joint 'flange': speed limit 1e-300 is below 1e-12: "
@@ -723,3 +727,11 @@ def test_a_limits_row_naming_a_locked_joint_is_passed_over_with_a_warning(tmp_pa
                                   "--trajectory", str(path), "--rate", "1kHz", "--window", "8",
                                   "--limits", str(limits)])
     assert r.exit_code == 1 and "line 8: no joint named 'nosuch'" in r.output, r.output
+
+
+def test_a_long_quoted_name_is_shown_whole():
+    """Quoted names were cut at 60 characters: two long names differing at their ends read as one
+    (a review's run)."""
+    from vampc.textio import listed
+    a, b = ("left arm, shoulder pitch joint of the long robot description, part " + x for x in "AB")
+    assert listed(a) == f"'{a}'" and listed(b) == f"'{b}'" and listed("elbow") == "elbow"

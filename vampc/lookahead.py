@@ -232,7 +232,7 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
             except ValueError:
                 x = -1.0
             if x is not None and not (np.isfinite(x) and x > 0):
-                what = "a finite number" if x is not None and np.isinf(x) else "a positive number"
+                what = "a finite number" if x is not None and not np.isfinite(x) else "a positive number"
                 raise VampcError(f"{path}: line {line}: {'tau' if k == 0 else 'qd'} {cell!r} is not "
                                  f"{what}")
             values.append(x)
@@ -298,10 +298,13 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     slack = 1e-9 * max(lam, 1.0) + 4 * np.finfo(float).eps * np.maximum(np.abs(t[1:]), np.abs(t[:-1]))
     off = np.flatnonzero(np.abs(steps - lam) > slack)
     if off.size:
-        raise VampcError(f"{path}: row {off[0] + 2}: t steps by {float(steps[off[0]])!r}, not 1/rate = "
-                         f"{lam!r}; give the rate the rows were sampled at (times rounded to fewer "
-                         "digits, or held as float32, are off by their rounding: write them in full, "
-                         "or leave the t column out, and the rows are 1/rate apart)")
+        step = float(steps[off[0]])
+        rounded = abs(step - lam) <= 1e-3 * lam       # the right rate, times written short
+        raise VampcError(f"{path}: row {off[0] + 2}: t steps by {step!r}, not 1/rate = {lam!r}; "
+                         "give the rate the rows were sampled at"
+                         + (" (times rounded to fewer digits, or held as float32, are off by their "
+                            "rounding: write them in full, or leave the t column out, and the rows "
+                            "are 1/rate apart)" if rounded else ""))
     return t
 
 

@@ -74,7 +74,7 @@ def listed(name: str) -> str:
     a quote or spaces round it, which would blur where it ends ('my shoulder, left 0.53')."""
     if not name or name != name.strip() or any(c in name for c in ",'\"") or \
             any(ch != " " and unicodedata.category(ch)[0] in "CZ" for ch in name):
-        return shown(name)
+        return shown(name, len(name))          # (whole: two names cut alike would read as one)
     return name
 
 
