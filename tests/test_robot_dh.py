@@ -346,3 +346,41 @@ def test_loading_is_linear():
     assert chain_from_dh(docs[1], "big.json").n == 2000
     lines = [executed_lines(dh_loader, lambda doc=doc: chain_from_dh(doc, "t.json")) for doc in docs]
     assert lines[1] < 15 * lines[0], lines
+
+
+ONE_JOINT = ("name: y1\njoints:\n  - {{type: revolute, a: {a}, alpha: 0, d: 0.1, theta: 0, mass: 1.0, "
+             "com: [0, 0, 0], inertia: [0.1, 0.1, 0.1, 0, 0, 0]}}\n")
+
+
+@pytest.mark.parametrize("written, read", [("1:30", 90), ("010", 8), ("1_0", 10), ("0x10", 16),
+                                           ("1_0.5", 10.5), ("1:30.0", 90.0)])
+def test_a_number_yaml_11_reads_otherwise_is_refused(tmp_path, written, read):
+    """PyYAML reads YAML 1.1: 'a: 1:30' was 90 m (base 60), 'd: 010' 8 (octal), 'mass: 1_0' 10, and
+    the robot was built with those values without a word (a new user's run)."""
+    path = tmp_path / "y1.yaml"
+    path.write_text(ONE_JOINT.format(a=written))
+    with pytest.raises(Exception) as info:
+        load_robot(path)
+    assert f"y1.yaml: line 3: '{written}' is not a number as vampc reads one (YAML 1.1 reads " \
+           f"{read!r}: base 60, octal, hexadecimal or an underscore); write it in decimal digits" \
+           in str(info.value)
+
+
+@pytest.mark.parametrize("written, value", [("0.5", 0.5), ("5", 5.0), ("-0", 0.0), ("1e-1", 0.1),
+                                            ("2.", 2.0), ("1.5E+0", 1.5), ("0", 0.0)])
+def test_plain_numbers_are_read_as_written(tmp_path, written, value):
+    path = tmp_path / "y1.yaml"
+    path.write_text(ONE_JOINT.format(a=written))
+    assert load_robot(path).joints[0].p_fixed[0] == value            # (alpha 0: p* = (a, 0, d))
+
+
+def test_yaml_merge_keys_are_read(tmp_path):
+    """'<<: *anchor' (a row like another, but for its name) said 'could not determine a constructor
+    for the tag merge': the duplicate-key check skipped PyYAML's merging (a new user's run)."""
+    path = tmp_path / "m.yaml"
+    path.write_text("name: m\njoints:\n  - &j {name: one, type: revolute, a: 0.5, alpha: 0, d: 0, "
+                    "theta: 0, mass: 1.0, com: [0, 0, 0], inertia: [0.1, 0.1, 0.1, 0, 0, 0]}\n"
+                    "  - <<: *j\n    name: two\n    a: 0.25\n")
+    chain = load_robot(path)
+    assert [j.name for j in chain.joints] == ["one", "two"] and chain.joints[1].p_fixed[0] == 0.25
+    assert chain.joints[1].mass == 1.0

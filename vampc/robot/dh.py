@@ -206,12 +206,41 @@ _Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456
 
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
     seen = set()
-    for key_node, _ in node.value:
+    for key_node, _ in node.value:       # the keys written here (a merged mapping's may repeat)
+        if key_node.tag == "tag:yaml.org,2002:merge":
+            continue
         key = loader.construct_object(key_node, deep=deep)
         if key in seen:
             raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
         seen.add(key)
+    loader.flatten_mapping(node)          # merge keys (<<: *anchor), as yaml.safe_load takes them
     return loader.construct_mapping(node, deep=deep)
+
+
+# A number as it is written everywhere else (YAML 1.2, JSON, Python without underscores): YAML 1.1,
+# which PyYAML reads, takes 1:30 as 90 (base 60), 010 as 8 (octal), 1_0 as 10, 0x10 as 16, and a
+# robot was built with those values without a word.
+NOT_PLAIN = "is not a number as vampc reads one"
+_PLAIN_INT = re.compile(r"^[-+]?(?:0|[1-9][0-9]*)$")
+_PLAIN_FLOAT = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|"
+                          r"^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
+
+
+def _strict(plain: re.Pattern, read):
+    def construct(loader: _Loader, node: yaml.ScalarNode):
+        text = loader.construct_scalar(node)
+        if not plain.match(text):
+            raise yaml.constructor.ConstructorError(
+                None, None, f"{text!r} {NOT_PLAIN} (YAML 1.1 reads "
+                f"{read(loader, node)!r}: base 60, octal, hexadecimal or an underscore); write it in "
+                "decimal digits", node.start_mark)
+        return read(loader, node)
+    return construct
+
+
+_Loader.add_constructor("tag:yaml.org,2002:int", _strict(_PLAIN_INT, yaml.SafeLoader.construct_yaml_int))
+_Loader.add_constructor("tag:yaml.org,2002:float",
+                        _strict(_PLAIN_FLOAT, yaml.SafeLoader.construct_yaml_float))
 
 
 _Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
@@ -223,7 +252,10 @@ def _parse_yaml(text: str, path: Path):
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}" if mark else ""
-        raise located(path, where, f"not valid YAML: {exc.problem or exc.context}") from None
+        problem = exc.problem or exc.context
+        if NOT_PLAIN in (problem or ""):          # valid YAML, but not a number as written
+            raise located(path, where, problem) from None
+        raise located(path, where, f"not valid YAML: {problem}") from None
     except yaml.YAMLError as exc:
         raise located(path, "", f"not valid YAML: {one_line(str(exc))}") from None
     except RecursionError:
