@@ -236,7 +236,8 @@ def test_defaults_match_yourdfpy_kinematics(tmp_path):
     path = write(tmp_path, DEFAULTS)
     chain = load_urdf(path)
     assert [j.name for j in chain.joints] == ["j1", "j2", "j3"]
-    assert chain.joints[0].limits.q is None and chain.joints[0].limits.tau == 3.0  # no lower: no interval
+    # no lower: URDF's default, 0, as urdfdom and Pinocchio read it (it had been read as no interval)
+    assert chain.joints[0].limits.q == (0.0, 2.0) and chain.joints[0].limits.tau == 3.0
     check_frames(path, chain, "base", "l4", {1: ["l1"], 2: ["l2"], 3: ["l3"]})
 
 
@@ -572,3 +573,37 @@ def test_a_mimic_joint_is_an_ordinary_joint_as_pinocchio_reads_it_by_default(tmp
         chain = load_urdf(path)
     assert [j.name for j in chain.joints] == ["j1", "j2"]
     check_torques(path, chain)
+
+
+@pytest.mark.parametrize("given, expected", [('lower="-1"', (-1.0, 0.0)), ('upper="1"', (0.0, 1.0)),
+                                             ('lower="-1" upper="1"', (-1.0, 1.0)), ("", None)])
+def test_a_limit_with_one_bound_takes_urdfs_default_for_the_other(tmp_path, given, expected):
+    """<limit upper="1" effort velocity>: q = 2.5 was emulated and --random drew q in ±π (a new user's
+    run); the URDF default of a missing bound is 0, as Pinocchio reads it. A <limit> with neither
+    bound still gives no position interval (a common placeholder)."""
+    text = robot(link("b"), link("l1"),
+                 f'<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
+                 f'<axis xyz="0 0 1"/><limit {given} effort="1" velocity="1"/></joint>')
+    path = write(tmp_path, text)
+    chain = load_urdf(path)
+    assert chain.joints[0].limits.q == expected
+    try:
+        import pinocchio as pin
+    except ImportError:
+        return
+    model = pin.buildModelFromUrdf(str(path))
+    if expected is not None:
+        assert (model.lowerPositionLimit[0], model.upperPositionLimit[0]) == expected
+
+
+@pytest.mark.parametrize("value", ["1_0", "\uff11", "\u0663", "0x10", "1.5f"])
+def test_a_number_not_written_in_decimal_is_refused(tmp_path, value):
+    """float() took '1_0' as 10 and other scripts' digits ('１' as 1, '٣' as 3): a mass Pinocchio
+    reads as 0 was built as 10 (a new user's run)."""
+    text = robot(link("b"), link("l1").replace('value="1"', f'value="{value}"', 1),
+                 '<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
+                 '<axis xyz="0 0 1"/></joint>')
+    path = write(tmp_path, text)
+    assert f'value="{value}"' in path.read_text(encoding="utf-8")
+    with pytest.raises(VampcError, match=rf'<mass value="{value}">: expected a finite number'):
+        load_urdf(path)

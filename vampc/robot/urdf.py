@@ -316,6 +316,9 @@ def _named(el, kind: str, path: Path) -> str:
     return name
 
 
+_DECIMAL = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?(?:inf|nan)$", re.I)
+
+
 def _check_numbers(el, tag: str, where: str, path: Path) -> None:
     """Required attributes present; each numeric one (in file order) the right count of finite numbers."""
     missing = [a for a in _REQUIRED.get(tag, ()) if el.get(a) is None]
@@ -326,9 +329,11 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
         count = counts.get(attr)
         if count is None:
             continue
-        try:  # float() takes the one number with any spaces around it, as split() then float() would
-            values = (float(raw),) if count == 1 else tuple(map(float, raw.split()))
-        except ValueError:
+        # decimal numbers as written (float() also took '1_0' as 10 and other scripts' digits,
+        # '３' as 3, which Pinocchio reads as 0): one with any spaces round it, or `count` of them
+        words = raw.split()
+        values = tuple(map(float, words)) if words and all(map(_DECIMAL.match, words)) else ()
+        if count == 1 and len(values) != 1:
             values = ()
         if len(values) != count or not all(map(math.isfinite, values)):
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
@@ -374,11 +379,10 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is fixed; --lock {name}=... has no effect"),
                           stacklevel=2)
             continue
-        lim = joint.limit
-        if (joint.type != "continuous" and lim is not None and lim.lower is not None
-                and lim.upper is not None and not lim.lower <= number <= lim.upper):
+        lim = _position_range(joint)
+        if lim is not None and not lim[0] <= number <= lim[1]:
             raise located(path, f"lock {name}", f"{value} is outside the joint's limits "
-                          f"[{lim.lower!r}, {lim.upper!r}]")
+                          f"[{lim[0]!r}, {lim[1]!r}]")
         out[name] = number
     return out
 
@@ -656,14 +660,22 @@ def _limits(j, path: Path) -> Limits:
     lim = j.limit
     if lim is None:
         return Limits()
-    q = None
-    if j.type != "continuous" and lim.lower is not None and lim.upper is not None:
-        if lim.lower > lim.upper:
-            raise located(path, f"joint '{j.name}'", f"<limit> lower {lim.lower} is above upper {lim.upper}")
-        q = (float(lim.lower), float(lim.upper))
+    q = _position_range(j)
+    if q is not None and q[0] > q[1]:
+        raise located(path, f"joint '{j.name}'", f"<limit> lower {q[0]:g} is above upper {q[1]:g}")
     # URDF files often write velocity="0" effort="0" as placeholders: read those as "not given".
     return Limits(q=q, qd=_positive(lim.velocity, "velocity", j, path),
                   tau=_positive(lim.effort, "effort", j, path))
+
+
+def _position_range(j) -> tuple[float, float] | None:
+    """A joint's position limits: None for a continuous joint or a <limit> giving neither lower nor
+    upper; one of them given, the other is URDF's default, 0 (as urdfdom and Pinocchio read it: a
+    <limit upper="1"> had been read as no limits at all)."""
+    lim = j.limit
+    if j.type == "continuous" or lim is None or lim.lower is None and lim.upper is None:
+        return None
+    return (float(_or(lim.lower, 0.0)), float(_or(lim.upper, 0.0)))
 
 
 def _positive(value, name: str, j, path: Path) -> float | None:
