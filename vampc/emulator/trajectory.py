@@ -89,6 +89,8 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
     raw = path.read_bytes()
+    if raw.startswith(b"\x1f\x8b"):          # (was: 'line 1: byte 0x8b is not UTF-8')
+        raise VampcError(f"{path}: gzip-compressed; give the {what} as plain CSV (gunzip it first)")
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
     fast = _read_csv_native(raw, columns)
