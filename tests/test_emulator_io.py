@@ -127,3 +127,18 @@ def test_an_array_a_npz_holds_beside_the_states_is_refused(tmp_path):
         read(path, 2)
     np.savez(path, **states, t=np.arange(3.0))
     assert read(path, 2).t.tolist() == [0.0, 1.0, 2.0]
+
+
+def test_npz_arrays_of_different_lengths_are_said_to_be(tmp_path):
+    """q of 1 row and qdd of 2 was 'array qdd has shape (2, 2); expected (states, 2)', a shape that
+    fits that pattern (a new user's run)."""
+    from vampc.emulator.trajectory import read
+    from vampc.errors import VampcError
+    path = tmp_path / "d.npz"
+    np.savez(path, q=np.zeros((1, 2)), qd=np.zeros((1, 2)), qdd=np.zeros((2, 2)))
+    with pytest.raises(VampcError, match=r"d\.npz: array qdd has 2 rows and array q 1; the arrays hold "
+                                         r"one row per state$"):
+        read(path, 2)
+    np.savez(path, q=np.zeros((1, 2)), qd=np.zeros((1, 3)), qdd=np.zeros((1, 2)))
+    with pytest.raises(VampcError, match=r"array qd has shape \(1, 3\); expected \(states, 2\)$"):
+        read(path, 2)

@@ -287,6 +287,10 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
     parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
     t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
     for k, p in zip(("q", "qd", "qdd"), parts):
+        if p.ndim == 2 and p.shape[1] == n and p.shape[0] and p.shape[0] != parts[0].shape[0] and \
+                parts[0].ndim == 2 and parts[0].shape[1] == n:
+            raise VampcError(f"{path}: array {k} has {p.shape[0]} rows and array q "
+                             f"{parts[0].shape[0]}; the arrays hold one row per state")
         if p.ndim != 2 or p.shape != (parts[0].shape[0], n) or p.shape[0] == 0:
             raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n})")
     if t is not None and t.shape != (parts[0].shape[0],):
