@@ -142,3 +142,16 @@ def test_npz_arrays_of_different_lengths_are_said_to_be(tmp_path):
     np.savez(path, q=np.zeros((1, 2)), qd=np.zeros((1, 3)), qdd=np.zeros((1, 2)))
     with pytest.raises(VampcError, match=r"array qd has shape \(1, 3\); expected \(states, 2\)$"):
         read(path, 2)
+
+
+def test_a_t_column_last_is_told_to_come_first(tmp_path):
+    """'header: 19 columns, expected 18' did not say why (a new user's run)."""
+    from vampc.emulator.trajectory import read
+    from vampc.errors import VampcError
+    path = tmp_path / "tl.csv"
+    path.write_text("q1,q2,qd1,qd2,qdd1,qdd2,t\n" + "0," * 6 + "0\n")
+    with pytest.raises(VampcError, match=r"tl\.csv: header: 7 columns, expected 6 \(.*\); a t column "
+                                         r"comes first$"):
+        read(path, 2)
+    path.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "0," * 6 + "0\n")
+    assert read(path, 2).t.tolist() == [0.0]

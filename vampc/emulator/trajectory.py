@@ -123,8 +123,10 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
         bad = next((k for k, (got, exp) in enumerate(zip(names, want)) if got != exp), None)
         which = (f"column {bad + 1} is {shown(names[bad])}, expected {want[bad]!r}" if bad is not None
                  else f"{len(names)} columns, expected {len(want)}")
+        first = ("; a t column comes first" if "t" in names and names[0] != "t" and
+                 [c for c in names if c != "t"] == list(columns) else "")
         raise VampcError(f"{path}: header: {which} (expected {len(want)} columns "
-                         f"{','.join(want[:2])}...{want[-1]}: {why})")
+                         f"{','.join(want[:2])}...{want[-1]}: {why}){first}")
     data = np.empty((len(rows) - 1, len(want)))
     for r, row in enumerate(rows[1:], 2):
         if len(row) != len(want):
