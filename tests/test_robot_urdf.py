@@ -607,3 +607,25 @@ def test_a_number_not_written_in_decimal_is_refused(tmp_path, value):
     assert f'value="{value}"' in path.read_text(encoding="utf-8")
     with pytest.raises(VampcError, match=rf'<mass value="{value}">: expected a finite number'):
         load_urdf(path)
+
+
+FLOATING_ROOT = robot(link("world", None), link("trunk", 2.0), link("l1"),
+                      '<joint name="float" type="floating"><parent link="world"/><child link="trunk"/>'
+                      "</joint>",
+                      '<joint name="j1" type="revolute"><parent link="trunk"/><child link="l1"/>'
+                      '<axis xyz="0 0 1"/></joint>')
+
+
+def test_naming_the_root_of_a_floating_robot_as_base_is_as_leaving_it_out(tmp_path):
+    """--base world (the root, the default) refused the root's floating joint ('floating joints are
+    not supported'), where leaving --base out floats; --base trunk dropped the floating joint
+    without a word (a new user's run)."""
+    path = write(tmp_path, FLOATING_ROOT)
+    plain = load_urdf(path)
+    named = load_urdf(path, base="world")
+    assert plain.floating and named.floating and [j.name for j in named.joints] == ["j1"]
+    assert named.base_mass == plain.base_mass == 2.0
+    with pytest.warns(VampcWarning, match=r"base link 'trunk' hangs on floating joint 'float': it is "
+                                          r"taken as a fixed base \(--floating-base lets it float\)"):
+        fixed = load_urdf(path, base="trunk")
+    assert not fixed.floating

@@ -103,19 +103,36 @@ class Tree:
 
 
 def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False) -> tuple[str, bool]:
-    """The base link: `base` if given (it must exist), else the only root link, or the link a root joint
-    of type floating carries (the base then floats); and whether the base floats."""
+    """The base link: `base` if given (it must exist; the root link whose one joint floats is taken as
+    when it is not given, and a link hanging on a floating joint is a fixed base, said), else the only
+    root link, or the link a root joint of type floating carries (the base then floats); and whether
+    the base floats."""
     if base is not None:
         if base not in tree.links:
             raise located(path, "", f"unknown base link '{base}'")
+        if base not in tree.parent and _floating_child(tree, base):
+            return _floating_child(tree, base), True     # the root named: as without --base
+        above = tree.parent.get(base)
+        if above is not None and above.type == "floating" and not floating:
+            import warnings
+
+            from vampc.errors import VampcWarning
+            warnings.warn(VampcWarning(f"{path}: base link '{base}' hangs on floating joint "
+                                       f"'{above.name}': it is taken as a fixed base (--floating-base "
+                                       "lets it float)"), stacklevel=3)
         return base, floating
     roots = [name for name in tree.links if name not in tree.parent]
     if len(roots) != 1:
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
-    free = [j for j in tree.children[roots[0]] if j.type == "floating"]
-    if free and len(tree.children[roots[0]]) == 1:
-        return free[0].child, True
+    if _floating_child(tree, roots[0]):
+        return _floating_child(tree, roots[0]), True
     return roots[0], floating
+
+
+def _floating_child(tree: Tree, link: str) -> str | None:
+    """The link a root's one joint, of type floating, carries (the base that then floats), or None."""
+    free = [j for j in tree.children[link] if j.type == "floating"]
+    return free[0].child if free and len(tree.children[link]) == 1 else None
 
 
 def check_joint_types(tree: Tree, base: str, path: Path) -> None:
