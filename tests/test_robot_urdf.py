@@ -629,3 +629,23 @@ def test_naming_the_root_of_a_floating_robot_as_base_is_as_leaving_it_out(tmp_pa
                                           r"taken as a fixed base \(--floating-base lets it float\)"):
         fixed = load_urdf(path, base="trunk")
     assert not fixed.floating
+
+
+def test_locking_a_leader_where_its_follower_leaves_its_limits_is_refused(tmp_path):
+    """--mimic couple --lock lead=0.9 locked the follower at -2 * 0.9 + 0.1 = -1.7, outside its
+    [-1, 1], unsaid, where '--lock fol=-1.7' itself is refused (a new user's run)."""
+    limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    text = robot(link("b"), link("l1"), link("l2"), link("l3"),
+                 f'<joint name="lead" type="revolute"><parent link="b"/><child link="l1"/>'
+                 f'<axis xyz="0 1 0"/>{limit}</joint>',
+                 f'<joint name="fol" type="revolute"><parent link="l1"/><child link="l2"/>'
+                 f'<axis xyz="0 1 0"/>{limit}<mimic joint="lead" multiplier="-2" offset="0.1"/></joint>',
+                 f'<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>'
+                 f'<axis xyz="0 1 0"/>{limit}</joint>')
+    path = write(tmp_path, text)
+    with pytest.raises(VampcError, match=r"lock lead: locking 'lead' at 0\.9 locks its follower 'fol' "
+                                         r"\(--mimic couple\) at -1\.7\d*, outside that joint's limits "
+                                         r"\[-1\.0, 1\.0\]"):
+        load_urdf(path, mimic="couple", lock={"lead": 0.9})
+    chain = load_urdf(path, mimic="couple", lock={"lead": 0.2})
+    assert [j.name for j in chain.joints] == ["j3"]

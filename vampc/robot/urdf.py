@@ -184,6 +184,11 @@ def _lock_followers(leaders: dict, lock: dict, tree: Tree, path: Path) -> dict:
                 raise located(path, f"lock {follower}", f"joint '{follower}' follows joint '{leader}' "
                               f"(--mimic couple): locking '{leader}' at {lock[leader]!r} locks it at "
                               f"{derived!r}, not {lock[follower]!r}")
+            limits = _position_range(tree.joints[follower])
+            if limits is not None and not limits[0] <= derived <= limits[1]:    # (as a lock of it is)
+                raise located(path, f"lock {leader}", f"locking '{leader}' at {lock[leader]!r} locks "
+                              f"its follower '{follower}' (--mimic couple) at {derived!r}, outside "
+                              f"that joint's limits [{limits[0]!r}, {limits[1]!r}]")
             out[follower] = derived
     return out
 
