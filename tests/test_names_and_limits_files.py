@@ -165,3 +165,20 @@ def test_a_program_file_edited_to_a_name_with_a_newline_is_refused(tmp_path):
         assert code == 1 and err == (f"vampc: error: {program}: robot.joints[1].name: its name "
                                      "'el\\nbow' holds the control character U+000A: names are printed "
                                      "in one-line messages, text reports and CSV headers\n"), err
+
+
+def test_a_trajectory_of_every_joint_for_a_coupled_robot_is_told_to_give_the_independent_ones(tmp_path):
+    """'the program is for 1 joint' of a two-joint robot with a coupled follower, which report
+    calls two joints (a new user's run): the message says both, and which columns to give."""
+    urdf = tmp_path / "gr.urdf"
+    urdf.write_text("""<robot name="g"><link name="b"/>
+ <link name="l1"><inertial><mass value="1"/><origin xyz="0.1 0 0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+ <link name="l2"><inertial><mass value="1"/><origin xyz="0.1 0 0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+ <joint name="lead" type="revolute"><parent link="b"/><child link="l1"/><axis xyz="0 1 0"/></joint>
+ <joint name="fol" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.2 0 0"/><axis xyz="0 1 0"/><mimic joint="lead" multiplier="-2" offset="0.1"/></joint></robot>
+""")
+    states = tmp_path / "two.csv"
+    states.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0\n")
+    code, err, _ = run("emulate", urdf, "--mimic", "couple", "--trajectory", states)
+    assert code == 1 and "the program is for 2 joints, 1 independent (coupled followers follow their " \
+        "leaders: give the independent joints' columns)" in err, err

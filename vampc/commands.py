@@ -778,7 +778,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     else:                             # q and q̇ integrated from q̈ (vampc.lookahead.integrate)
         from vampc.emulator.host import Trajectory
         from vampc.robot.mimic import expand, n_free
-        free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate, *own.start(n_free(ld.chain)))
+        free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate,
+                                     *own.start(n_free(ld.chain)), of=ld.chain.n)
         traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
     times = la.check_path(traj, rate, source_path)
     if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own

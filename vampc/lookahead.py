@@ -61,7 +61,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vampc.errors import VampcError, VampcUsageError
-from vampc.textio import count
 
 K_MARGIN = 1e-12
 
@@ -257,17 +256,16 @@ def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
     return q0 + np.cumsum(step, axis=0), qd
 
 
-def read_accelerations(path: str, n: int, rate: float, q0, qd0):
+def read_accelerations(path: str, n: int, rate: float, q0, qd0, of: int | None = None):
     """A q̈ CSV (header qdd1..qddn, optional leading t) integrated into a Trajectory (VampcError
     naming the line and column): read as a trajectory is (vampc.emulator.trajectory.read_table)."""
     from pathlib import Path
 
     from vampc.emulator.host import Trajectory
-    from vampc.emulator.trajectory import _check_finite, read_table
+    from vampc.emulator.trajectory import _check_finite, program_joints, read_table
     columns = [f"qdd{i}" for i in range(1, n + 1)]
     try:
-        qdd, t = read_table(Path(path), columns, f"the program is for {count(n, 'joint')}",
-                            what="acceleration table")
+        qdd, t = read_table(Path(path), columns, program_joints(n, of), what="acceleration table")
     except OSError as exc:
         raise VampcError(f"{path}: cannot read accelerations: {exc.strerror or exc}") from None
     except VampcError as exc:

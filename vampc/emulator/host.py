@@ -64,7 +64,7 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     (vampc.robot.mimic), and the followers' states are derived from their leaders'."""
     from vampc.emulator.trajectory import read
     from vampc.robot.mimic import expand, n_free
-    traj = read(path, n_free(chain), chain.floating)
+    traj = read(path, n_free(chain), chain.floating, chain.n)
     if not chain.mimic:
         return traj
     return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)

@@ -36,9 +36,10 @@ def header(n: int, floating: bool = False) -> list[str]:
             + [f"qdd{i}" for i in range(1, n + 1)] + (BASE_COLUMNS if floating else []))
 
 
-def read(path, n: int, floating: bool = False):
+def read(path, n: int, floating: bool = False, of: int | None = None):
     """A Trajectory from a .csv, .npy or .npz file; VampcError naming the row and column on bad data.
-    `floating`: the states carry the base's motion (BASE_COLUMNS) too."""
+    `floating`: the states carry the base's motion (BASE_COLUMNS) too. `of`: the robot's joints when
+    the file gives only n of them (coupled mimic followers follow their leaders)."""
     from vampc.emulator.host import Trajectory
     path = Path(path)
     suffix = path.suffix.lower()
@@ -49,8 +50,8 @@ def read(path, n: int, floating: bool = False):
         elif suffix == ".npy":
             data, t = _read_npy(path, n, width)
         else:
-            data, t = read_table(path, header(n, floating), f"the program is for {count(n, 'joint')}",
-                                 floating, arrays=True)
+            data, t = read_table(path, header(n, floating), program_joints(n, of), floating,
+                                 arrays=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     line = 2 if suffix not in (".npy", ".npz") else None       # a CSV's states start on line 2
@@ -77,6 +78,14 @@ def cell_number(cell: str) -> float:
     if not plain_number(cell):
         raise ValueError(cell)
     return float(cell)
+
+
+def program_joints(n: int, of: int | None = None) -> str:
+    """'the program is for 6 joints', or for n independent joints of `of` (coupled followers)."""
+    if of is None or of == n:
+        return f"the program is for {count(n, 'joint')}"
+    return (f"the program is for {count(of, 'joint')}, {n} independent (coupled followers follow "
+            "their leaders: give the independent joints' columns)")
 
 
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
