@@ -478,8 +478,8 @@ class EmulateOptions:
         "(optional leading t), .npy or .npz."))
     random_count: int | None = field(default=None, metadata=cli(
         "--random", range=(1, 1 << 53), metavar="N", help="Run N random states (within the joint "
-        "limits, else ±π, ±1 rad/s, ±1 rad/s²); drawn and run in chunks, so memory does not grow "
-        "with N."))
+        "limits, else ±π, ±1 rad/s, ±1 rad/s²; a coupled mimic follower follows its leader whatever "
+        "its own limits); drawn and run in chunks, so memory does not grow with N."))
     seed: int = field(default=0, metadata=cli(
         "--seed", range=(0, None), show_default=True, help="Seed for --random and for the tick "
         "engine's random initial register contents."))
