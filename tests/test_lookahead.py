@@ -735,3 +735,23 @@ def test_a_long_quoted_name_is_shown_whole():
     from vampc.textio import listed
     a, b = ("left arm, shoulder pitch joint of the long robot description, part " + x for x in "AB")
     assert listed(a) == f"'{a}'" and listed(b) == f"'{b}'" and listed("elbow") == "elbow"
+
+
+def test_an_error_found_on_overflowed_torques_says_so(tmp_path):
+    """Under --overflow wrap, the gravity check refused the path ('no time scaling helps') on torques
+    the word had wrapped, and said nothing of the overflows (a review)."""
+    program = tmp_path / "p2.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q6.10", "-o",
+                                     str(program)]).exit_code == 0
+    made = subprocess.run([sys.executable, "examples/make_path.py", "0.4", "1000"], check=True,
+                          capture_output=True, text=True).stdout
+    rows = np.loadtxt(io.StringIO(made), delimiter=",", skiprows=1)
+    path = write_path(tmp_path, rows[:, 0], rows[:, 1:3], rows[:, 7:9], rows[:, 13:15])
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nshoulder,0.1,\nelbow,5,\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate",
+                                  "1kHz", "--window", "16", "--limits", str(limits), "--overflow",
+                                  "wrap", "--retime", "uniform"])
+    assert r.exit_code == 1 and re.search(r"no time scaling helps \(q6\.10 \(nearest, wrap\) words: "
+                                          r"\d+ overflows before it: the torques may not be the "
+                                          r"path's\)$", r.output.strip()), r.output

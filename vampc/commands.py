@@ -805,9 +805,15 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
     from vampc import progress
     with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
-        res = la.run(ld, traj, own.window, limits, own.retime,
-                     lambda tr: emulate(ld, tr, "stream").tau, source_path, own.futures or 1, rate,
-                     margin, "overflow" not in options.given, stage)
+        try:
+            res = la.run(ld, traj, own.window, limits, own.retime,
+                         lambda tr: emulate(ld, tr, "stream").tau, source_path, own.futures or 1,
+                         rate, margin, "overflow" not in options.given, stage)
+        except VampcError as exc:      # found on torques an overflow may have spoiled: said so
+            if ld.word is None or not ld.arith.overflows:
+                raise
+            raise VampcError(f"{exc} ({ld.arith!r} words: {count(ld.arith.overflows, 'overflow')} "
+                             "before it: the torques may not be the path's)") from None
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
