@@ -361,26 +361,36 @@ def test_a_number_yaml_11_reads_otherwise_is_refused(tmp_path, written, read):
     path.write_text(ONE_JOINT.format(a=written))
     with pytest.raises(Exception) as info:
         load_robot(path)
-    assert f"y1.yaml: line 3: '{written}' is not a number as vampc reads one (YAML 1.1 reads " \
-           f"{read!r}: base 60, octal, hexadecimal or an underscore); write it in decimal digits" \
-           in str(info.value)
+    assert f"y1.yaml: line 3: '{written}' is a number YAML 1.1 reads as {read!r} (base 60, octal, " \
+           "hexadecimal or an underscore); write it in decimal digits" in str(info.value)
 
 
 @pytest.mark.parametrize("written, value", [("0.5", 0.5), ("5", 5.0), ("-0", 0.0), ("1e-1", 0.1),
-                                            ("2.", 2.0), ("1.5E+0", 1.5), ("0", 0.0)])
+                                            ("2.", 2.0), ("1.5E+0", 1.5), ("0", 0.0), ("+5", 5.0),
+                                            ("01", 1.0)])
 def test_plain_numbers_are_read_as_written(tmp_path, written, value):
     path = tmp_path / "y1.yaml"
     path.write_text(ONE_JOINT.format(a=written))
     assert load_robot(path).joints[0].p_fixed[0] == value            # (alpha 0: p* = (a, 0, d))
 
 
-def test_yaml_merge_keys_are_read(tmp_path):
-    """'<<: *anchor' (a row like another, but for its name) said 'could not determine a constructor
-    for the tag merge': the duplicate-key check skipped PyYAML's merging (a new user's run)."""
+def test_annotations_are_free_whatever_yaml_11_makes_of_them(tmp_path):
+    """The check is on what the robot is built from: `x-` keys are free for annotations (a part
+    number 0123, a time 12:30 loaded before the check and must still: a review)."""
+    path = tmp_path / "y1.yaml"
+    path.write_text("x-part: 0123\nx-updated: 12:30\nx-colour: 0xFF00FF\n" + ONE_JOINT.format(a="0.5"))
+    assert load_robot(path).joints[0].p_fixed[0] == 0.5
+
+
+def test_yaml_merge_keys_are_refused_naming_the_line(tmp_path):
+    """'<<: *anchor' said 'could not determine a constructor for the tag merge'. Reading them was
+    tried and dropped: a merged mapping repeats every entry it merges, so a 600-byte file nesting
+    merges took 11 s and 218 MB before its keys collapsed, past every size check (a review)."""
     path = tmp_path / "m.yaml"
     path.write_text("name: m\njoints:\n  - &j {name: one, type: revolute, a: 0.5, alpha: 0, d: 0, "
                     "theta: 0, mass: 1.0, com: [0, 0, 0], inertia: [0.1, 0.1, 0.1, 0, 0, 0]}\n"
-                    "  - <<: *j\n    name: two\n    a: 0.25\n")
-    chain = load_robot(path)
-    assert [j.name for j in chain.joints] == ["one", "two"] and chain.joints[1].p_fixed[0] == 0.25
-    assert chain.joints[1].mass == 1.0
+                    "  - <<: *j\n    name: two\n")
+    with pytest.raises(Exception, match=r"m\.yaml: line 4: YAML merge keys \(<<\) are not read: write "
+                                        r"the row's fields out \(an alias of a whole row or value is "
+                                        r"read\)"):
+        load_robot(path)

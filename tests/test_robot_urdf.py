@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -631,9 +632,10 @@ def test_naming_the_root_of_a_floating_robot_as_base_is_as_leaving_it_out(tmp_pa
     assert not fixed.floating
 
 
-def test_locking_a_leader_where_its_follower_leaves_its_limits_is_refused(tmp_path):
+def test_locking_a_leader_where_its_follower_leaves_its_limits_is_said(tmp_path):
     """--mimic couple --lock lead=0.9 locked the follower at -2 * 0.9 + 0.1 = -1.7, outside its
-    [-1, 1], unsaid, where '--lock fol=-1.7' itself is refused (a new user's run)."""
+    [-1, 1], unsaid (a new user's run). Said in a warning, not refused: the PR2 gripper's couplings
+    and limits disagree, and its leader locked open must still load (a review)."""
     limit = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
     text = robot(link("b"), link("l1"), link("l2"), link("l3"),
                  f'<joint name="lead" type="revolute"><parent link="b"/><child link="l1"/>'
@@ -643,9 +645,22 @@ def test_locking_a_leader_where_its_follower_leaves_its_limits_is_refused(tmp_pa
                  f'<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>'
                  f'<axis xyz="0 1 0"/>{limit}</joint>')
     path = write(tmp_path, text)
-    with pytest.raises(VampcError, match=r"lock lead: locking 'lead' at 0\.9 locks its follower 'fol' "
-                                         r"\(--mimic couple\) at -1\.7\d*, outside that joint's limits "
-                                         r"\[-1\.0, 1\.0\]"):
-        load_urdf(path, mimic="couple", lock={"lead": 0.9})
-    chain = load_urdf(path, mimic="couple", lock={"lead": 0.2})
+    with pytest.warns(VampcWarning, match=r"locking 'lead' at 0\.9 locks its follower 'fol' "
+                                          r"\(--mimic couple\) at -1\.7\d*, outside that joint's "
+                                          r"limits \[-1\.0, 1\.0\]"):
+        load_urdf(path, mimic="couple", lock={"lead": 0.9})   # (said, not refused: PR2's gripper)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chain = load_urdf(path, mimic="couple", lock={"lead": 0.2})
     assert [j.name for j in chain.joints] == ["j3"]
+
+
+def test_a_one_bound_limit_beyond_the_default_names_the_default(tmp_path):
+    """<limit upper="-0.5"> with no lower: 'lower 0 is above upper -0.5' named a lower bound the
+    file does not have (a review)."""
+    text = robot(link("b"), link("l1"),
+                 '<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
+                 '<axis xyz="0 0 1"/><limit upper="-0.5" effort="1" velocity="1"/></joint>')
+    with pytest.raises(VampcError, match=r"joint 'j1': <limit> lower not given \(URDF's default, 0\) "
+                                         r"is above upper -0\.5"):
+        load_urdf(write(tmp_path, text))

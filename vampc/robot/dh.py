@@ -206,56 +206,76 @@ _Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456
 
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
     seen = set()
-    for key_node, _ in node.value:       # the keys written here (a merged mapping's may repeat)
-        if key_node.tag == "tag:yaml.org,2002:merge":
-            continue
+    for key_node, _ in node.value:
         key = loader.construct_object(key_node, deep=deep)
         if key in seen:
             raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
         seen.add(key)
-    loader.flatten_mapping(node)          # merge keys (<<: *anchor), as yaml.safe_load takes them
     return loader.construct_mapping(node, deep=deep)
-
-
-# A number as it is written everywhere else (YAML 1.2, JSON, Python without underscores): YAML 1.1,
-# which PyYAML reads, takes 1:30 as 90 (base 60), 010 as 8 (octal), 1_0 as 10, 0x10 as 16, and a
-# robot was built with those values without a word.
-NOT_PLAIN = "is not a number as vampc reads one"
-_PLAIN_INT = re.compile(r"^[-+]?(?:0|[1-9][0-9]*)$")
-_PLAIN_FLOAT = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|"
-                          r"^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
-
-
-def _strict(plain: re.Pattern, read):
-    def construct(loader: _Loader, node: yaml.ScalarNode):
-        text = loader.construct_scalar(node)
-        if not plain.match(text):
-            raise yaml.constructor.ConstructorError(
-                None, None, f"{text!r} {NOT_PLAIN} (YAML 1.1 reads "
-                f"{read(loader, node)!r}: base 60, octal, hexadecimal or an underscore); write it in "
-                "decimal digits", node.start_mark)
-        return read(loader, node)
-    return construct
-
-
-_Loader.add_constructor("tag:yaml.org,2002:int", _strict(_PLAIN_INT, yaml.SafeLoader.construct_yaml_int))
-_Loader.add_constructor("tag:yaml.org,2002:float",
-                        _strict(_PLAIN_FLOAT, yaml.SafeLoader.construct_yaml_float))
 
 
 _Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
 
+# A number as it is written everywhere else (YAML 1.2, JSON, Python without underscores): YAML 1.1,
+# which PyYAML reads, takes 1:30 as 90 (base 60), 010 as 8 (octal), 1_0 as 10, 0x10 as 16, and a
+# robot was built with those values without a word. Checked on the parsed nodes, before they are
+# made into values, on what the robot is built from (not under `x-` keys, free for annotations, nor
+# a name, which must be text: the schema says so).
+_PLAIN = {"tag:yaml.org,2002:int": re.compile(r"^[-+]?(?:0|[1-9][0-9]*)$"),
+          "tag:yaml.org,2002:float": re.compile(
+              r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|"
+              r"^\.(?:nan|NaN|NAN)$")}
+_MERGE = "tag:yaml.org,2002:merge"
+
+
+def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
+    """VampcError naming the line of the first number YAML 1.1 reads as another value (see above),
+    or of a merge key (`<<: *row`: not read; merged mappings repeat every entry they merge, so a
+    small file nesting them grows without bound before its keys collapse)."""
+    stack, seen = [root], set()
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:            # (an alias: its node is checked once)
+            continue
+        seen.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            for key, value in node.value:
+                if key.tag == _MERGE:
+                    raise located(path, f"line {key.start_mark.line + 1}", "YAML merge keys (<<) "
+                                  "are not read: write the row's fields out (an alias of a whole "
+                                  "row or value is read)")
+                text = key.value if isinstance(key, yaml.ScalarNode) else None
+                if not (isinstance(text, str) and (text.startswith("x-") or text == "name")):
+                    stack.append(value)
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+        elif isinstance(node, yaml.ScalarNode) and node.tag in _PLAIN and \
+                not _PLAIN[node.tag].match(node.value.strip()):
+            digits = node.value.strip().lstrip("+-")
+            if node.tag.endswith("int") and re.fullmatch(r"0[0-7]+", digits) and \
+                    int(digits, 8) == int(digits):
+                continue                # (01, 007: the same number either way)
+            value = loader.construct_object(node)
+            raise located(path, f"line {node.start_mark.line + 1}",
+                          f"{node.value!r} is a number YAML 1.1 reads as {value!r} (base 60, octal, "
+                          "hexadecimal or an underscore); write it in decimal digits")
+
 
 def _parse_yaml(text: str, path: Path):
     try:
-        return yaml.load(text, Loader=_Loader)  # noqa: S506 - _Loader is a yaml.SafeLoader
+        loader = _Loader(text)
+        try:
+            root = loader.get_single_node()
+            if root is None:
+                return None
+            _refuse_other_numbers(loader, root, path)
+            return loader.construct_document(root)
+        finally:
+            loader.dispose()
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}" if mark else ""
-        problem = exc.problem or exc.context
-        if NOT_PLAIN in (problem or ""):          # valid YAML, but not a number as written
-            raise located(path, where, problem) from None
-        raise located(path, where, f"not valid YAML: {problem}") from None
+        raise located(path, where, f"not valid YAML: {exc.problem or exc.context}") from None
     except yaml.YAMLError as exc:
         raise located(path, "", f"not valid YAML: {one_line(str(exc))}") from None
     except RecursionError:

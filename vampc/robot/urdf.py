@@ -185,10 +185,15 @@ def _lock_followers(leaders: dict, lock: dict, tree: Tree, path: Path) -> dict:
                               f"(--mimic couple): locking '{leader}' at {lock[leader]!r} locks it at "
                               f"{derived!r}, not {lock[follower]!r}")
             limits = _position_range(tree.joints[follower])
-            if limits is not None and not limits[0] <= derived <= limits[1]:    # (as a lock of it is)
-                raise located(path, f"lock {leader}", f"locking '{leader}' at {lock[leader]!r} locks "
-                              f"its follower '{follower}' (--mimic couple) at {derived!r}, outside "
-                              f"that joint's limits [{limits[0]!r}, {limits[1]!r}]")
+            slack = 1e-12 * max(1.0, abs(derived))        # (0.1 * 3 is 0.30000000000000004)
+            if limits is not None and not limits[0] - slack <= derived <= limits[1] + slack:
+                # said, not refused: a file's couplings and limits can disagree (PR2's gripper: a
+                # follower at -1 times its leader, both limited to [0, 0.548]), and the torques
+                # are the model's either way
+                warnings.warn(VampcWarning(f"{path}: locking '{leader}' at {lock[leader]!r} locks its "
+                                           f"follower '{follower}' (--mimic couple) at {derived!r}, "
+                                           f"outside that joint's limits [{limits[0]!r}, "
+                                           f"{limits[1]!r}]"), stacklevel=4)
             out[follower] = derived
     return out
 
@@ -667,7 +672,9 @@ def _limits(j, path: Path) -> Limits:
         return Limits()
     q = _position_range(j)
     if q is not None and q[0] > q[1]:
-        raise located(path, f"joint '{j.name}'", f"<limit> lower {q[0]:g} is above upper {q[1]:g}")
+        lower = f"lower {q[0]:g}" if lim.lower is not None else "lower not given (URDF's default, 0)"
+        upper = f"upper {q[1]:g}" if lim.upper is not None else "upper not given (URDF's default, 0)"
+        raise located(path, f"joint '{j.name}'", f"<limit> {lower} is above {upper}")
     # URDF files often write velocity="0" effort="0" as placeholders: read those as "not given".
     return Limits(q=q, qd=_positive(lim.velocity, "velocity", j, path),
                   tau=_positive(lim.effort, "effort", j, path))
