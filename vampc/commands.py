@@ -830,10 +830,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             info)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
+    overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
     failed = []                           # what failed: the retiming, the check
     if ld.word is not None:          # overflows are never silent (every pass of the network)
         spoiled = ""
-        if overflows:                # values saturated (or wrapped) on the way to the torques
+        if overflowed:               # values saturated (or wrapped) on the way to the torques
             judged = "the violations and the retiming" if res.retimed is not None else "the violations"
             spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
                        "FAILED (a wider word: vampc precision)")
@@ -864,15 +865,14 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         say(line, info)
         if not same or within:
             failed.append("check")
-    ok = not failed and not (ld.word is not None and overflows)
+    ok = not failed and not overflowed
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
         from vampc.robot.mimic import free_joints
         content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
                                         f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
                                         f"window {own.window}")
-    why = " and ".join(([f"the {ld.arith.name} words overflowed"] if not ok and overflows and
-                        ld.word is not None else []) +
+    why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
                        ([f"the {' and '.join(failed)} failed"] if failed else []))
     kept = [] if ok or own.write_failed else \
         [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]

@@ -50,6 +50,7 @@ from vampc.robot.urdf_tree import (
     choose_tip,
     quoted,
 )
+from vampc.textio import plain_number
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
@@ -326,9 +327,6 @@ def _named(el, kind: str, path: Path) -> str:
     return name
 
 
-_DECIMAL = re.compile(r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?(?:inf|nan)$", re.I)
-
-
 def _check_numbers(el, tag: str, where: str, path: Path) -> None:
     """Required attributes present; each numeric one (in file order) the right count of finite numbers."""
     missing = [a for a in _REQUIRED.get(tag, ()) if el.get(a) is None]
@@ -339,11 +337,11 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
         count = counts.get(attr)
         if count is None:
             continue
-        # decimal numbers as written (float() also took '1_0' as 10 and other scripts' digits,
-        # '３' as 3, which Pinocchio reads as 0): one with any spaces round it, or `count` of them
-        words = raw.split()
-        values = tuple(map(float, words)) if words and all(map(_DECIMAL.match, words)) else ()
-        if count == 1 and len(values) != 1:
+        # numbers as typed (textio.plain_number: float() also took '1_0' as 10 and other scripts'
+        # digits, '３' as 3, which Pinocchio reads as 0), split at spaces
+        try:
+            values = tuple(map(float, raw.split())) if plain_number(raw) else ()
+        except ValueError:
             values = ()
         if len(values) != count or not all(map(math.isfinite, values)):
             noun = "a finite number" if count == 1 else f"{count} finite numbers"

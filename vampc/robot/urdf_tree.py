@@ -110,8 +110,9 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     if base is not None:
         if base not in tree.links:
             raise located(path, "", f"unknown base link '{base}'")
-        if base not in tree.parent and _floating_child(tree, base):
-            return _floating_child(tree, base), True     # the root named: as without --base
+        carried = _floating_child(tree, base) if base not in tree.parent else None
+        if carried:
+            return carried, True                         # the root named: as without --base
         above = tree.parent.get(base)
         if above is not None and above.type == "floating" and not floating:
             import warnings
@@ -124,9 +125,8 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     roots = [name for name in tree.links if name not in tree.parent]
     if len(roots) != 1:
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
-    if _floating_child(tree, roots[0]):
-        return _floating_child(tree, roots[0]), True
-    return roots[0], floating
+    carried = _floating_child(tree, roots[0])
+    return (carried, True) if carried else (roots[0], floating)
 
 
 def _floating_child(tree: Tree, link: str) -> str | None:
