@@ -1132,3 +1132,17 @@ def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
         f"vampc: error: {victim}: standard output is this input file (redirected onto it); vampc "
         "never writes over its inputs: send standard output elsewhere\n"), done.stderr
     assert victim.read_bytes() == before
+
+
+@pytest.mark.parametrize("args, name", [
+    (["compile", PLANAR], "planar.vamp.json.gz/"),
+    (["emulate", "PROGRAM", "--random", "2"], "tau.npy/"),
+    (["report", PLANAR, "--tradeoff", "--curve"], "curve.svg/"),
+])
+def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, program, args, name):
+    """A name ending in '/' names a folder: the file would be made by the name without it, in
+    another format than the name says (x.gz/ was plain text in x.gz, tau.npy/ CSV in tau.npy)."""
+    args = [program if a == "PROGRAM" else a for a in args]
+    res = run(*args, *([] if args[-1] == "--curve" else ["-o"]), f"{tmp_path}/{name}")
+    user_error(res, r"ends in '/', as a folder's name does; give a file name for (-o|--curve)")
+    assert list(tmp_path.iterdir()) == []

@@ -97,6 +97,11 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
             raise VampcUsageError(f"{option} {path}: that is standard output, which carries the "
                                   "command's own text; standard output is not available for "
                                   "this output")
+    if mode is None and path.endswith(("/", os.sep)):
+        # (a new file under it would be made by the name without the slash, in another format
+        # than the name says: 'x.gz/' wrote plain text to x.gz)
+        raise VampcError(f"{path}: ends in '/', as a folder's name does; give a file name for "
+                         f"{option}")
     if mode is not None and not stat.S_ISREG(mode):
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
             if not os.access(path, os.W_OK):
