@@ -287,3 +287,25 @@ def test_an_ipv6_host_needs_its_brackets():
     r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
                                   "tcp://::1"])
     assert r.exit_code == 2 and "an IPv6 host in brackets, tcp://[::1]:8786" in r.stderr, r.stderr
+
+
+def test_verify_given_runs_the_stage_checks_on_every_budget(monkeypatch):
+    """--verify was taken and ignored by --tradeoff (every stage ran with verify=False): given, the
+    sweep checks each budget's network (a check made to fail says so); by default, or with
+    --no-verify, it does not; the points are the same."""
+    from vampc.errors import VampcInternalError
+    from vampc.network.model import Network
+    args = ["report", "examples/planar2.yaml", "--tradeoff", "--format", "csv", "--workers", "1"]
+    plain = CliRunner().invoke(main, args)
+    checked = CliRunner().invoke(main, [*args, "--verify"])
+    assert plain.exit_code == 0 and checked.exit_code == 0 and checked.output == plain.output
+    calls = []
+
+    def failing(self, graph, sched):
+        calls.append(len(self.vamps))
+        raise VampcInternalError("the check ran")
+    monkeypatch.setattr(Network, "verify", failing)
+    assert CliRunner().invoke(main, args).exit_code == 0 and not calls
+    assert CliRunner().invoke(main, [*args, "--no-verify"]).exit_code == 0 and not calls
+    r = CliRunner().invoke(main, [*args, "--verify"])
+    assert r.exit_code != 0 and "the check ran" in r.output and calls, r.output

@@ -82,7 +82,8 @@ class CompileOptions:
         "limit (about 30 s per interval)."))
     verify: bool = field(default=True, metadata=cli(
         "--verify/--no-verify", show_default=True,
-        help="Check every IR's invariants at each stage boundary."))
+        help="Check every IR's invariants at each stage boundary (`report --tradeoff` runs its "
+        "budgets without these checks unless --verify is given: they would double its time)."))
     word: str = field(default="float64", metadata=cli(
         "--word", metavar="FORMAT", show_default=True, help="The VAMPs' word format: float64, "
         "float32, or signed fixed point qI.F (I integer bits including the sign, F fraction bits, "

@@ -58,15 +58,18 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
              scheduler: str | None = None) -> list[dict]:
     """One row per point (see the module docstring), in order of VAMPs; `workers` processes compute
     the budgets (1, the default: this process; None: one per available core, as `vampc report`
-    does), or the Dask cluster whose scheduler is at `scheduler`."""
-    graph = build_graph(chain, replace(options, verify=False))
+    does), or the Dask cluster whose scheduler is at `scheduler`. The stage checks run only when
+    --verify is given (options.given): by default the sweep runs without them, as they would double
+    its time."""
+    verify = options.verify and "verify" in options.given
+    graph = build_graph(chain, replace(options, verify=verify))
     timing = options.timing
     largest = vamp_ops(graph)
     ks = budgets(smallest_network(graph), largest)
     thorough = largest <= THOROUGH_UP_TO
     workers = min(available_cores() if workers is None else workers, len(ks))
     rows, seen = [], set()
-    computed = _budget_rows(graph, timing, ks, thorough, workers, scheduler, progress)
+    computed = _budget_rows(graph, timing, ks, thorough, workers, scheduler, progress, verify)
     for row in computed:
         figures = tuple(row[c] for c in FIGURES)
         if figures not in seen:            # a larger budget the schedule did not use
@@ -74,30 +77,32 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
             rows.append(row)
     for label, name, share in compared_layouts():     # the registry's (vampc.schedule.registry)
         layout, sched = layout_and_schedule(graph, timing, name,
-                                            LayoutRequest(share, verify=False))
-        rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count)))
+                                            LayoutRequest(share, verify=verify))
+        rows.append(_row(label, graph, sched, layout, bounds(graph, timing, layout.vamp_count),
+                         verify))
     _mark_pareto(rows)
     return sorted(rows, key=lambda r: (r["vamps"], r["interval_flops"], r["latency_flops"]))
 
 
-def _budget_row(graph, timing, k: int, thorough: bool) -> dict:
-    layout, sched, b = budget_schedule(graph, timing, k, verify=False, thorough=thorough)
-    return _row(f"budget {k}", graph, sched, layout, b)
+def _budget_row(graph, timing, k: int, thorough: bool, verify: bool = False) -> dict:
+    layout, sched, b = budget_schedule(graph, timing, k, verify=verify, thorough=thorough)
+    return _row(f"budget {k}", graph, sched, layout, b, verify)
 
 
 def _budget_task(context, k: int) -> dict:
-    graph, timing, thorough = context
-    return _budget_row(graph, timing, k, thorough)
+    graph, timing, thorough, verify = context
+    return _budget_row(graph, timing, k, thorough, verify)
 
 
-def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, scheduler, progress):
+def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, scheduler, progress,
+                 verify: bool = False):
     """The budgets' rows in budget order, computed here, by `workers` forked processes or on the
     Dask cluster at `scheduler` (vampc.parallel)."""
     from vampc import parallel
     out = [None] * len(ks)
     client = parallel.connect(scheduler, SCHEDULER_TIMEOUT) if scheduler is not None else None
     try:
-        parallel.run_tasks(_budget_task, (graph, timing, thorough), ks, out.__setitem__, workers,
+        parallel.run_tasks(_budget_task, (graph, timing, thorough, verify), ks, out.__setitem__, workers,
                            scheduler, client, progress, warn_stack=5)
     finally:
         if client is not None:
@@ -108,8 +113,8 @@ def _budget_rows(graph, timing, ks: list, thorough: bool, workers: int, schedule
 SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 
 
-def _row(label, graph, sched, layout, b) -> dict:
-    net = allocate(graph, sched, layout, verify=False)
+def _row(label, graph, sched, layout, b, verify: bool = False) -> dict:
+    net = allocate(graph, sched, layout, verify=verify)
     plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
     ib = b.interval_bound
     return {"layout": label, "vamps": len(net.vamps), "latency_flops": sched.latency,
