@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -40,6 +41,9 @@ BEFORE = {"compile4096": "42–47 s, 2.7 GiB", "program": "370 MB", "report4096"
 TARGET = {"compile4096": "< 15 s, < 1 GiB", "program": "< 100 MB compact", "report4096": "< 15 s",
           "report16000": "< 60 s", "emulate_csv": "≥ 2×", "emulate_npy": "≥ 5×", "tradeoff": "< 45 s",
           "suite": "< 240 s"}
+
+
+NAMES = ("compile4096", "program", "report4096", "report16000", "emulate", "tradeoff")
 
 
 def measure(cmd: list, cwd: Path) -> dict:
@@ -68,10 +72,21 @@ def urdf(n: int, folder: Path) -> Path:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--only", default="", help="comma-separated measure names")
+    parser.add_argument("--only", default="", metavar="NAME,...",
+                        help=f"comma-separated measure names: {', '.join(NAMES)} (emulate_csv and "
+                        "emulate_npy are emulate's two rows)")
     parser.add_argument("--suite", action="store_true", help="also time the test suite")
     args = parser.parse_args()
     only = {x.strip() for x in args.only.split(",") if x.strip()}
+    only = {"emulate" if x in ("emulate_csv", "emulate_npy") else x for x in only}
+    unknown = sorted(only - set(NAMES))
+    if unknown:
+        parser.error(f"--only {', '.join(unknown)}: no such measure (choose from {', '.join(NAMES)})")
+    from emulate_io import vampc_script
+    vampc = vampc_script()       # the console script beside this Python, not a shim found first
+    if shutil.which(vampc) is None:
+        raise SystemExit(f"scale.py: no vampc beside {sys.executable} nor on PATH: install vampc "
+                         "into this Python's environment first (README, Quick start)")
 
     def wanted(name: str) -> bool:
         return not only or name in only
@@ -80,16 +95,16 @@ def main() -> int:
         folder = Path(tmp)
         if wanted("compile4096") or wanted("program"):
             program = folder / "s4096.vamp.json"
-            got = measure(["vampc", "compile", snake(4096, folder), "--recursion", "log", "-o", program], folder)
+            got = measure([vampc, "compile", snake(4096, folder), "--recursion", "log", "-o", program], folder)
             now["compile4096"] = f"{got['seconds']:.1f} s, {got['peak_mib'] / 1024:.2f} GiB"
-            packed = measure(["vampc", "compile", snake(4096, folder), "--recursion", "log", "-o",
+            packed = measure([vampc, "compile", snake(4096, folder), "--recursion", "log", "-o",
                               str(program) + ".gz"], folder) if wanted("program") else None
             if packed:
                 now["program"] = (f"{program.stat().st_size / 1e6:.0f} MB plain, "
                                   f"{Path(str(program) + '.gz').stat().st_size / 1e6:.0f} MB .gz")
         for n in (4096, 16000):
             if wanted(f"report{n}"):
-                got = measure(["vampc", "report", urdf(n, folder)], folder)
+                got = measure([vampc, "report", urdf(n, folder)], folder)
                 now[f"report{n}"] = f"{got['seconds']:.1f} s, {got['peak_mib'] / 1024:.2f} GiB"
         if wanted("emulate"):
             out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "emulate_io.py")],
@@ -102,7 +117,7 @@ def main() -> int:
             else:
                 now["emulate_csv"] = now["emulate_npy"] = "not measured (" + (out.strip()[-60:] or "?") + ")"
         if wanted("tradeoff"):
-            got = measure(["vampc", "report", snake(64, folder), "--recursion", "log", "--tradeoff",
+            got = measure([vampc, "report", snake(64, folder), "--recursion", "log", "--tradeoff",
                            "--workers", "2"], folder)
             now["tradeoff"] = f"{got['seconds']:.1f} s"
         if args.suite:
