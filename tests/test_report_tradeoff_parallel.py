@@ -309,3 +309,18 @@ def test_verify_given_runs_the_stage_checks_on_every_budget(monkeypatch):
     assert CliRunner().invoke(main, [*args, "--no-verify"]).exit_code == 0 and not calls
     r = CliRunner().invoke(main, [*args, "--verify"])
     assert r.exit_code != 0 and "the check ran" in r.output and calls, r.output
+
+
+@pytest.mark.parametrize("address, says", [
+    (" tcp://127.0.0.1:8786", "spaces round the address"),
+    ("tcp://user@127.0.0.1:8786", "a Dask address has no user part"),
+    ("tls://127.0.0.1:8786", "tls:// needs TLS certificates"),
+    ("inproc://x", "an inproc:// address is an in-process cluster's own"),
+    ("TCP://127.0.0.1:8786", "Dask reads the scheme in lower case only; give tcp://127.0.0.1:8786"),
+])
+def test_an_address_dask_would_fail_on_is_a_usage_error(address, says):
+    """These passed the address check and failed in Dask with its exception's text, exit 1, after
+    a wait for some ('tcp:// is not a Dask address' for the one with a space before it)."""
+    for command in (["report", "examples/planar2.yaml", "--tradeoff"], ["faults", "examples/planar2.yaml"]):
+        r = CliRunner().invoke(main, [*command, "--scheduler", address])
+        assert r.exit_code == 2 and says in r.stderr and r.stderr.count("\n") == 1, r.stderr

@@ -322,12 +322,38 @@ def check_parallel(options) -> None:
     """--workers and --scheduler against each other (report --tradeoff, faults)."""
     if options.scheduler is not None and not options.scheduler.strip():
         raise VampcUsageError("--scheduler: give the scheduler's address (tcp://HOST:8786)")
-    scheme, sep, _ = (options.scheduler or "").partition("://")
-    if sep and scheme.lower() not in DASK_SCHEMES:
-        raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// is not a Dask address; "
-                              f"give {', '.join(s + '://' for s in DASK_SCHEMES)} (tcp://HOST:8786) "
+    if options.scheduler is not None and options.scheduler != options.scheduler.strip():
+        # (' tcp://H:P' was read as the scheme ' tcp', said as "tcp:// is not a Dask address")
+        raise VampcUsageError(f"--scheduler {options.scheduler!r}: spaces round the address; give "
+                              "it without them")
+    given, sep, rest = (options.scheduler or "").partition("://")
+    scheme = given.lower()
+    if sep and given != scheme and scheme in DASK_SCHEMES:
+        raise VampcUsageError(f"--scheduler {options.scheduler}: Dask reads the scheme in lower "
+                              f"case only; give {scheme}://{rest}")
+    if sep and scheme in ("tls", "wss"):
+        raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// needs TLS "
+                              "certificates, which vampc does not take; give the scheduler's "
+                              "tcp:// address")
+    if sep and scheme in ("ucx", "ucxx"):
+        import importlib.util
+        if importlib.util.find_spec("ucp" if scheme == "ucx" else "ucxx") is None:
+            raise VampcUsageError(f"--scheduler {options.scheduler}: {scheme}:// needs the UCX "
+                                  f"library's Python package ({'ucx-py' if scheme == 'ucx' else 'ucxx'}"
+                                  "), not installed; give the scheduler's tcp:// address")
+    if sep and scheme == "inproc" and len(rest.split("/")) != 3:
+        # (an in-process cluster's own address, HOST/PID/N: anything else failed with a ValueError)
+        raise VampcUsageError(f"--scheduler {options.scheduler}: an inproc:// address is an "
+                              "in-process cluster's own (inproc://HOST/PID/N, as its "
+                              "scheduler_address says)")
+    if sep and "@" in rest:
+        raise VampcUsageError(f"--scheduler {options.scheduler}: a Dask address has no user part; "
+                              "give tcp://HOST:PORT")
+    if sep and scheme not in DASK_SCHEMES:
+        raise VampcUsageError(f"--scheduler {options.scheduler}: {given}:// is not a Dask address; "
+                              f"give tcp://HOST:PORT (Dask's port is 8786; ws://, ucx:// and inproc:// are taken too) "
                               "or HOST:PORT")
-    if options.scheduler is not None and (not sep or scheme.lower() in ("tcp", "tls", "ws", "wss")):
+    if options.scheduler is not None and (not sep or scheme in ("tcp", "tls", "ws", "wss")):
         # (a name with no port, or a port out of range, waited the whole timeout for a connection
         # that could never be made, then said it could not reach it, exit 1)
         host, colon, port = options.scheduler.partition("://")[2 if sep else 0].rstrip("/") \
