@@ -371,7 +371,7 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
     decompresses to more than `limit` bytes: read 16 MiB at a time, so a bomb stops there, and
     held once, growing: no list of pieces joined at the end)."""
     import zlib
-    out, size, rest = bytearray(), 0, data
+    out, size, rest, begun = bytearray(), 0, data, False
     try:
         while rest:
             d = zlib.decompressobj(wbits=31)            # one member: gzip header and trailer
@@ -382,6 +382,8 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
                     raise VampcError(f"{path}: decompresses to more than {limit:,} bytes; not a "
                                      "program file vampc reads")
                 out += chunk
+                if not begun:                           # (a bomb of zeros stops at its first chunk)
+                    begun = _starts_as_json_object(chunk, size == len(chunk), path)
                 if not d.unconsumed_tail:
                     break
                 chunk = d.decompress(d.unconsumed_tail, 1 << 24)
@@ -391,6 +393,17 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
     except zlib.error as exc:
         raise VampcError(f"{path}: damaged compressed program file ({exc})") from None
     return out
+
+
+def _starts_as_json_object(chunk: bytes, first: bool, path) -> bool:
+    """Whether a decompressed program's `chunk` (the `first` one: a byte-order mark may lead) comes,
+    past whitespace, to the '{' a program file starts with (False: whitespace only, so far);
+    VampcError if it comes to anything else."""
+    body = (chunk.removeprefix(b"\xef\xbb\xbf") if first else chunk).lstrip(b" \t\r\n")
+    if body and body[:1] != b"{":
+        raise VampcError(f"{path}: decompressed, it is not a vampc program file (a program file is a JSON "
+                         f"object; this starts {body[:12]!r})")
+    return bool(body)
 
 
 def _untyped(data, path):
