@@ -172,13 +172,13 @@ def test_the_compact_form_to_a_file_and_to_a_pipe_is_the_same_and_a_failure_leav
     assert out.read_bytes() == b"earlier" and [p.name for p in tmp_path.iterdir()] == [out.name]
 
 
-@pytest.mark.parametrize("text, starts", [(b"\0" * (64 << 20), r"b'\\x00"), (b"\n [1, 2]" * 10, r"b'\[1, 2\]")])
-def test_a_text_that_cannot_be_a_program_stops_at_its_first_chunk(text, starts):
+@pytest.mark.parametrize("kind, starts", [("zeros", r"b'\\x00"), ("array", r"b'\[1, 2\]")])
+def test_a_text_that_cannot_be_a_program_stops_at_its_first_chunk(kind, starts):
     """A program file is a JSON object: text that comes, past whitespace, to anything but '{' is
     refused as its first 16 MiB come out. A 4.5 GB bomb of zeros (20 MB gzipped) was decompressed to
     the 4 GiB limit, 4.3 GB of memory and 11 s, before its refusal (a new user's run)."""
     import tracemalloc
-    bomb = gzip.compress(text, 1)
+    bomb = gzip.compress(bytes(64 << 20) if kind == "zeros" else b"\n [1, 2]" * 10, 1)
     tracemalloc.start()
     try:
         with pytest.raises(VampcError, match=f"decompressed, it is not a vampc program file .*starts {starts}"):
