@@ -334,7 +334,7 @@ def test_the_program_file_keeps_the_permissions_of_the_file_it_replaces(tmp_path
     ((HEAD + ROW).encode("utf-32"), r"bad\.csv: trajectory is UTF-32 text; save it as UTF-8$"),
     (HEAD.encode() + "0.1,0.2,0,0,0,é\n".encode("latin-1"), r"line 2: byte 0xe9 is not UTF-8"),
     (__import__("gzip").compress((HEAD + ROW).encode(), mtime=0), r"bad\.csv: gzip-compressed; give the "
-     r"trajectory as plain CSV \(gunzip it first\)$"),   # (mtime 0: the same test id on every
+     r"trajectory as plain CSV \(decompress it first\)$"),   # (mtime 0: the same test id on every
     # xdist worker; gzip's header holds the time) (was: 'byte 0x8b is not UTF-8')
 ])
 def test_trajectory_not_utf8(tmp_path, program, raw, pattern):
@@ -1146,3 +1146,27 @@ def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, program, args, na
     res = run(*args, *([] if args[-1] == "--curve" else ["-o"]), f"{tmp_path}/{name}")
     user_error(res, r"ends in '/', as a folder's name does; give a file name for (-o|--curve)")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name, pack, as_trajectory, says", [
+    ("p.vamp.json.xz", "xz", False, r"xz-compressed; vampc reads a program file gzip-compressed \(\.gz\)"),
+    ("p.vamp.json.bz2", "bz2", False, r"bzip2-compressed; vampc reads a program file gzip-compressed"),
+    ("states.npy", "gzip", True, r"gzip-compressed; give the numpy \.npy array file as numpy saved it"),
+    ("states.csv", "bz2", True, r"bzip2-compressed; give the trajectory as plain CSV"),
+])
+def test_a_compressed_file_is_said_to_be_one(tmp_path, program, name, pack, as_trajectory, says):
+    """An .xz or .bz2 program was 'unknown robot file extension', a gzipped .npy 'does not start as
+    numpy writes one: b'\\x1f\\x8b...'', a bzip2 CSV 'byte ... is not UTF-8' (a new user's run)."""
+    import bz2
+    import gzip
+    import lzma
+    if as_trajectory:
+        plain = tmp_path / ("plain" + Path(name).suffix)
+        assert run("emulate", program, "--random", "3", "--save-states", plain, "-o", tmp_path / "t.csv").exit_code == 0
+        raw = plain.read_bytes()
+    else:
+        raw = program.read_bytes()
+    packed = tmp_path / name
+    packed.write_bytes({"xz": lzma.compress, "bz2": bz2.compress, "gzip": gzip.compress}[pack](raw))
+    res = run("emulate", program, "--trajectory", packed) if as_trajectory else run("report", packed)
+    user_error(res, says)

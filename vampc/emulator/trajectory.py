@@ -98,8 +98,11 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
     raw = path.read_bytes()
-    if raw.startswith(b"\x1f\x8b"):          # (was: 'line 1: byte 0x8b is not UTF-8')
-        raise VampcError(f"{path}: gzip-compressed; give the {what} as plain CSV (gunzip it first)")
+    from vampc.sniff import compression
+    packed = compression(raw[:8])
+    if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')
+        raise VampcError(f"{path}: {packed}-compressed; give the {what} as plain CSV (decompress it "
+                         "first)")
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
     fast = _read_csv_native(raw, columns)
@@ -251,6 +254,10 @@ def _magic(path: Path, what: str) -> None:
     below): numpy's load reads any other file as a pickle, and its refusal said 'it holds Python
     objects' of a text file."""
     head = _head(path, len(NPY_MAGIC))
+    from vampc.sniff import compression
+    if head is not None and compression(head):
+        raise VampcError(f"{path}: {compression(head)}-compressed; give the {what} as numpy saved "
+                         "it (decompress it first)")
     if head is not None and not (head.startswith(NPY_MAGIC) or head.startswith(ZIP_MAGIC)):
         raise VampcError(f"{path}: not a {what} (it does not start as numpy writes one: "
                          f"{head!r}{'' if head else ', empty'}); give a .npy or .npz that numpy "
