@@ -1170,3 +1170,17 @@ def test_a_compressed_file_is_said_to_be_one(tmp_path, program, name, pack, as_t
     packed.write_bytes({"xz": lzma.compress, "bz2": bz2.compress, "gzip": gzip.compress}[pack](raw))
     res = run("emulate", program, "--trajectory", packed) if as_trajectory else run("report", packed)
     user_error(res, says)
+
+
+def test_an_environment_switch_of_another_value_is_said_once(monkeypatch, tmp_path):
+    """VAMPC_PROGRESS=yes showed no bar and VAMPC_FORK=maybe ran as unset, without a word."""
+    from vampc import errors
+    monkeypatch.setattr(errors, "_SAID_SWITCHES", set())
+    monkeypatch.setenv("VAMPC_PROGRESS", "yes")
+    res = run("compile", PLANAR, "-o", tmp_path / "p.vamp.json")
+    assert res.exit_code == 0
+    assert res.stderr.count("vampc: warning: VAMPC_PROGRESS='yes': give 1 (on) or 0 (off); taken as "
+                            "unset") == 1, res.stderr
+    monkeypatch.setenv("VAMPC_PROGRESS", " 0 ")
+    monkeypatch.setattr(errors, "_SAID_SWITCHES", set())
+    assert errors.env_switch("VAMPC_PROGRESS") == "0"

@@ -15,7 +15,7 @@ import os
 import pickle
 import traceback
 
-from vampc.errors import VampcError, VampcInternalError
+from vampc.errors import VampcError, VampcInternalError, env_switch
 
 
 def available_cores() -> int:
@@ -69,7 +69,7 @@ class Deferred:
 
 def in_background(fn, *args, inline: bool = False) -> Deferred:
     """Start fn(*args) in a forked child (see the module docstring)."""
-    if inline or not hasattr(os, "fork") or os.environ.get("VAMPC_FORK") == "0":
+    if inline or not hasattr(os, "fork") or env_switch("VAMPC_FORK") == "0":
         fn(*args)
         return Deferred()
     read, write = os.pipe()

@@ -131,3 +131,22 @@ def terminate_like_interrupt():
 # Set by the console script (vampc.launch): the process ends when its command does. Library callers
 # (tests running commands in process) get their own signal handlers back after each command.
 LEAVING_AFTER_COMMAND = False
+
+
+_SAID_SWITCHES: set = set()
+
+
+def env_switch(name: str) -> str:
+    """An environment switch of vampc's (VAMPC_PROGRESS, VAMPC_NATIVE, VAMPC_FORK): "0", "1", or ""
+    when unset, empty or any other value, which is said once, in a warning (VAMPC_PROGRESS=yes
+    had shown no bar, without a word)."""
+    import os
+    value = os.environ.get(name, "")
+    if value.strip() in ("0", "1"):
+        return value.strip()
+    if value and name not in _SAID_SWITCHES:
+        _SAID_SWITCHES.add(name)
+        import warnings
+        warnings.warn(VampcWarning(f"{name}={value!r}: give 1 (on) or 0 (off); taken as unset"),
+                      stacklevel=2)
+    return ""

@@ -4,7 +4,6 @@ nothing at all unless stderr is a terminal or VAMPC_PROGRESS=1 (so logs and pipe
 from __future__ import annotations
 
 import contextlib
-import os
 import sys
 
 DELAY = 2.0   # seconds before a bar appears
@@ -12,8 +11,9 @@ DELAY = 2.0   # seconds before a bar appears
 
 def enabled() -> bool:
     """Whether progress is shown at all."""
-    flag = os.environ.get("VAMPC_PROGRESS")
-    if flag is not None:
+    from vampc.errors import env_switch
+    flag = env_switch("VAMPC_PROGRESS")
+    if flag:
         return flag == "1"
     return sys.stderr.isatty()
 

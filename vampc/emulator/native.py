@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.emulator.load import Loaded
+from vampc.errors import env_switch
 from vampc.kinds import FlowKind, unhandled
 from vampc.machine import ops
 from vampc.machine.arith import FLOAT64
@@ -78,7 +79,7 @@ def prepare(ld: Loaded, fl, total: int):
     """The native program for a run of `total` sets, or None where numpy should do the work (the
     native path off, failed, or costing more than it saves; VAMPC_NATIVE=1 turns a failure into
     NativeError instead). A run fed in chunks prepares once and runs each chunk."""
-    mode = os.environ.get("VAMPC_NATIVE", "")
+    mode = env_switch("VAMPC_NATIVE")
     if mode == "0" or (mode != "1" and total < MIN_SETS_TO_COMPILE):
         return None     # short runs: numpy is quick, and generating the source would cost more
     try:
@@ -499,7 +500,7 @@ def csv_source() -> str:
 def _csv_function(name: str, argtypes: tuple):
     """A function of the compiled csv_source(), returning a C long; None when the native path is off
     (VAMPC_NATIVE=0) or unavailable, and the NativeError raised when it is required (=1)."""
-    mode = os.environ.get("VAMPC_NATIVE", "")
+    mode = env_switch("VAMPC_NATIVE")
     if mode == "0":
         return None
     try:

@@ -13,7 +13,8 @@ graphs of fewer than MIN_NODES compute nodes stay in Python (no compiler is run 
 from __future__ import annotations
 
 import ctypes
-import os
+
+from vampc.errors import env_switch
 
 MIN_NODES = 50_000
 
@@ -103,7 +104,7 @@ _LIB: list = []
 def wanted(compute_nodes: int) -> bool:
     """Whether a graph of this many compute nodes is scheduled in C (VAMPC_NATIVE: 0 never, 1
     always)."""
-    mode = os.environ.get("VAMPC_NATIVE", "")
+    mode = env_switch("VAMPC_NATIVE")
     return mode == "1" or (mode != "0" and compute_nodes >= MIN_NODES)
 
 
@@ -116,7 +117,7 @@ def _library():
     try:
         lib = _load(compile_cached(SOURCE))
     except NativeError:
-        if os.environ.get("VAMPC_NATIVE", "") == "1":
+        if env_switch("VAMPC_NATIVE") == "1":
             raise
         lib = None
     if lib is not None:
