@@ -38,7 +38,7 @@ class PlainInt(_Plain, click.types.IntParamType):
 
 
 class PlainIntRange(_Plain, click.IntRange):
-    pass
+    name = "integer"      # (click's "'abc' is not a valid integer range." read as if ranges were given)
 
 
 class PlainFloat(_Plain, click.types.FloatParamType):
