@@ -1184,3 +1184,12 @@ def test_an_environment_switch_of_another_value_is_said_once(monkeypatch, tmp_pa
     monkeypatch.setenv("VAMPC_PROGRESS", " 0 ")
     monkeypatch.setattr(errors, "_SAID_SWITCHES", set())
     assert errors.env_switch("VAMPC_PROGRESS") == "0"
+
+
+def test_a_text_starting_as_a_magic_number_does_is_not_called_compressed():
+    """'BZh' starts a bzip2 file, and may start a text: the block or end marker after it decides."""
+    import bz2
+
+    from vampc.sniff import compression
+    assert compression(bz2.compress(b"q1\n1\n")[:16]) == compression(bz2.compress(b"")[:16]) == "bzip2"
+    assert compression(b"BZh: 1\nBZh9 x") is None and compression(b"BZh91AY") is None

@@ -25,7 +25,11 @@ COMPRESSIONS = ((b"\x1f\x8b", "gzip"), (b"\xfd7zXZ\x00", "xz"), (b"BZh", "bzip2"
 def compression(head: bytes) -> str | None:
     """'gzip', 'xz', 'bzip2', 'zstd', '7-zip' or 'lzma': how a file whose first bytes are `head` is
     compressed (None: it is not, as far as these show; a zip, numpy's .npz, is not listed)."""
-    return next((name for magic, name in COMPRESSIONS if head.startswith(magic)), None)
+    name = next((name for magic, name in COMPRESSIONS if head.startswith(magic)), None)
+    if name == "bzip2" and not (head[3:4] in b"123456789" and head[3:4]
+                                and head[4:10] in (b"1AY&SY", b"\x17rE8P\x90")):
+        return None          # ('BZh' alone may start a text: bzip2's block or end marker follows)
+    return name
 
 
 def sniff(path) -> str | None:

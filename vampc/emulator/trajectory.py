@@ -99,7 +99,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     from vampc.textio import decode_utf8
     raw = path.read_bytes()
     from vampc.sniff import compression
-    packed = compression(raw[:8])
+    packed = compression(raw[:16])
     if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')
         raise VampcError(f"{path}: {packed}-compressed; give the {what} as plain CSV (decompress it "
                          "first)")
@@ -253,11 +253,12 @@ def _magic(path: Path, what: str) -> None:
     """VampcError unless the file starts as a .npy or a .npz does (either: a misnamed one is said
     below): numpy's load reads any other file as a pickle, and its refusal said 'it holds Python
     objects' of a text file."""
-    head = _head(path, len(NPY_MAGIC))
+    head = _head(path, 16)
     from vampc.sniff import compression
     if head is not None and compression(head):
         raise VampcError(f"{path}: {compression(head)}-compressed; give the {what} as numpy saved "
                          "it (decompress it first)")
+    head = None if head is None else head[:len(NPY_MAGIC)]
     if head is not None and not (head.startswith(NPY_MAGIC) or head.startswith(ZIP_MAGIC)):
         raise VampcError(f"{path}: not a {what} (it does not start as numpy writes one: "
                          f"{head!r}{'' if head else ', empty'}); give a .npy or .npz that numpy "
