@@ -334,9 +334,8 @@ def test_the_program_file_keeps_the_permissions_of_the_file_it_replaces(tmp_path
     ((HEAD + ROW).encode("utf-32"), r"bad\.csv: trajectory is UTF-32 text; save it as UTF-8$"),
     (HEAD.encode() + "0.1,0.2,0,0,0,é\n".encode("latin-1"), r"line 2: byte 0xe9 is not UTF-8"),
     (__import__("gzip").compress((HEAD + ROW).encode(), mtime=0), r"bad\.csv: gzip-compressed; give the "
-     r"trajectory as plain CSV \(decompress it first\)$"),   # (mtime 0: the same test id on every
-    # xdist worker; gzip's header holds the time) (was: 'byte 0x8b is not UTF-8')
-])
+     r"trajectory as plain CSV \(decompress it first\)$"),   # (was: 'byte 0x8b is not UTF-8')
+], ids=["byte-ff", "utf-16", "utf-32", "latin-1", "gzip"])     # (ids: the bytes made poor names)
 def test_trajectory_not_utf8(tmp_path, program, raw, pattern):
     res = run("emulate", program, "--trajectory", _csv(tmp_path / "bad.csv", raw))
     user_error(res, pattern)
@@ -1138,7 +1137,7 @@ def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
     (["compile", PLANAR], "planar.vamp.json.gz/"),
     (["emulate", "PROGRAM", "--random", "2"], "tau.npy/"),
     (["report", PLANAR, "--tradeoff", "--curve"], "curve.svg/"),
-])
+], ids=["compile", "emulate", "curve"])
 def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, program, args, name):
     """A name ending in '/' names a folder: the file would be made by the name without it, in
     another format than the name says (x.gz/ was plain text in x.gz, tau.npy/ CSV in tau.npy)."""
@@ -1153,7 +1152,7 @@ def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, program, args, na
     ("p.vamp.json.bz2", "bz2", False, r"bzip2-compressed; vampc reads a program file gzip-compressed"),
     ("states.npy", "gzip", True, r"gzip-compressed; give the numpy \.npy array file as numpy saved it"),
     ("states.csv", "bz2", True, r"bzip2-compressed; give the trajectory as plain CSV"),
-])
+], ids=["xz-program", "bz2-program", "gz-npy", "bz2-csv"])
 def test_a_compressed_file_is_said_to_be_one(tmp_path, program, name, pack, as_trajectory, says):
     """An .xz or .bz2 program was 'unknown robot file extension', a gzipped .npy 'does not start as
     numpy writes one: b'\\x1f\\x8b...'', a bzip2 CSV 'byte ... is not UTF-8' (a new user's run)."""

@@ -98,6 +98,14 @@ def test_a_gzip_bomb_is_refused():
     assert gunzip(bomb, "bomb.vamp.json.gz", limit=4 << 20) == b" " * (3 << 20)
 
 
+def test_a_bomb_of_whitespace_stops_at_16_mib():
+    """Whitespace may lead a program's text, but not 16 MiB of it: a bomb of spaces was read to the
+    4 GiB limit (the review of the change that stops other texts at their first chunk)."""
+    bomb = gzip.compress(b" " * (40 << 20), 1)
+    with pytest.raises(VampcError, match=r"decompressed, its first 16,777,216 bytes are blank"):
+        gunzip(bomb, "bomb.vamp.json.gz")
+
+
 def test_a_big_text_that_is_no_program_is_held_once(tmp_path):
     """64 MB of zeros, gzipped: refused, with the text held once, as it grows (it had been held
     three times over: the pieces, their join and a decoded copy; 1.3 GB for 400 MB)."""
@@ -172,7 +180,8 @@ def test_the_compact_form_to_a_file_and_to_a_pipe_is_the_same_and_a_failure_leav
     assert out.read_bytes() == b"earlier" and [p.name for p in tmp_path.iterdir()] == [out.name]
 
 
-@pytest.mark.parametrize("kind, starts", [("zeros", r"b'\\x00"), ("array", r"b'\[1, 2\]")])
+@pytest.mark.parametrize("kind, starts", [("zeros", r"b'\\x00"), ("array", r"b'\[1, 2\]")],
+                         ids=["zeros", "array"])
 def test_a_text_that_cannot_be_a_program_stops_at_its_first_chunk(kind, starts):
     """A program file is a JSON object: text that comes, past whitespace, to anything but '{' is
     refused as its first 16 MiB come out. A 4.5 GB bomb of zeros (20 MB gzipped) was decompressed to

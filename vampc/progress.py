@@ -4,6 +4,7 @@ nothing at all unless stderr is a terminal or VAMPC_PROGRESS=1 (so logs and pipe
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 
 DELAY = 2.0   # seconds before a bar appears
@@ -15,6 +16,8 @@ def enabled() -> bool:
     flag = env_switch("VAMPC_PROGRESS")
     if flag:
         return flag == "1"
+    if os.environ.get("VAMPC_PROGRESS") == "":       # (set empty: off, as it always was)
+        return False
     return sys.stderr.isatty()
 
 

@@ -366,6 +366,9 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     return doc, data
 
 
+BLANK_LIMIT = 1 << 24     # leading whitespace a compressed program may have (vampc writes none)
+
+
 def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
     """A gzip-compressed program file's text, every member in turn (VampcError if it is damaged or
     decompresses to more than `limit` bytes: read 16 MiB at a time, so a bomb stops there, and
@@ -384,6 +387,9 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
                 out += chunk
                 if not begun:                           # (a bomb of zeros stops at its first chunk)
                     begun = _starts_as_json_object(chunk, size == len(chunk), path)
+                    if not begun and size >= BLANK_LIMIT:    # (and one of spaces at 16 MiB)
+                        raise VampcError(f"{path}: decompressed, its first {size:,} bytes are blank: "
+                                         "not a vampc program file")
                 if not d.unconsumed_tail:
                     break
                 chunk = d.decompress(d.unconsumed_tail, 1 << 24)

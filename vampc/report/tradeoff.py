@@ -58,10 +58,9 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
              scheduler: str | None = None) -> list[dict]:
     """One row per point (see the module docstring), in order of VAMPs; `workers` processes compute
     the budgets (1, the default: this process; None: one per available core, as `vampc report`
-    does), or the Dask cluster whose scheduler is at `scheduler`. The stage checks run only when
-    --verify is given (options.given): by default the sweep runs without them, as they would double
-    its time."""
-    verify = options.verify and "verify" in options.given
+    does), or the Dask cluster whose scheduler is at `scheduler`. Every stage of every point is
+    checked as a compile's is (options.verify: --verify, the default; --no-verify leaves them out)."""
+    verify = options.verify
     graph = build_graph(chain, replace(options, verify=verify))
     timing = options.timing
     largest = vamp_ops(graph)
