@@ -862,6 +862,16 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             within = la.violations(reduce_torques(ld.chain, ref), new.qd, limits)
             line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
                      f"{'' if not within else ' FAILED'}")
+            if res.k is None:           # the window retiming: the s̈ arriving at each row too
+                import numpy as np
+                came = la.arriving(traj, res)
+                tau = reduce_torques(ld.chain, rnea(ld.chain, came.q, came.qd, came.qdd))
+                lim = np.array(limits.tau)
+                ratio = np.abs(tau[:, :len(lim)]) / lim
+                over = int((ratio > 1).any(axis=1).sum())
+                line += (f"; with the s̈ arriving at each row (not yet planned for: README, vampc "
+                         f"lookahead): {count(over, 'row')} over an effort limit"
+                         + (f", worst {ratio.max():.3g} × it" if over else ""))
         say(line, info)
         if not same or within:
             failed.append("check")

@@ -41,6 +41,9 @@ within the limits), so no row goes over a limit; the limits used are 1e-9 tighte
 either (a narrower word than float64: tighter by the error its --check allows, `word_margin`, for
 both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
+Each row is kept within the limits with the s̈ of the interval leaving it (TOPP-RA's collocation);
+with the s̈ arriving at it a row may be over (`arriving`, said by --check; README): not yet
+planned for.
 `--futures R` chains R registers of `window` rows end to end, so the host sees
 R·window rows ahead: each row is still computed once, as it enters (three passes), and R costs
 R·window rows of register and the longer backward pass on the host. The rows of the retimed path come
@@ -95,6 +98,7 @@ class Lookahead:
     retimed: object = None            # the retimed Trajectory (q, q̇, q̈)
     retimed_t: np.ndarray | None = None   # its row times, from 0
     speed: np.ndarray | None = None   # ṡ at each row
+    accel: np.ndarray | None = None   # --retime window: s̈ of the interval leaving each row
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
     word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
@@ -388,7 +392,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         speed = np.sqrt(x)
         out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
                                  traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
-        out.retimed_t, out.speed = t, speed
+        out.retimed_t, out.speed, out.accel = t, speed, u
     made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
     if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
         raise VampcError(f"{path}: the {retime} retiming gives a time or rate that is not a finite "
@@ -548,6 +552,16 @@ def _forward(p, r, P, H, lam: float, seen: str):
         raise VampcError(f"row {stuck[0] + 1}: the arm cannot move on within the limits while still "
                          f"able to stop within the {seen}")
     return x, u, np.concatenate([[0.0], np.cumsum(steps)])
+
+
+def arriving(traj, res: Lookahead):
+    """--retime window: each retimed row as the arm arrives at it, with the s̈ of the interval before
+    it (the written row's q̈ is the s̈ leaving it; the first row is at rest), a Trajectory."""
+    from vampc.emulator.host import Trajectory
+    before = np.concatenate([[0.0], res.accel[:-1]])
+    x = res.speed ** 2
+    return Trajectory(traj.q, traj.qd * res.speed[:, None],
+                      traj.qdd * x[:, None] + traj.qd * before[:, None], None, None)
 
 
 def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:
