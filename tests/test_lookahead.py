@@ -755,3 +755,37 @@ def test_an_error_found_on_overflowed_torques_says_so(tmp_path):
     assert r.exit_code == 1 and re.search(r"no time scaling helps \(q6\.10 \(nearest, wrap\) words: "
                                           r"\d+ overflows before it: the torques may not be the "
                                           r"path's\)$", r.output.strip()), r.output
+
+
+def test_accelerations_that_overflow_are_one_line(tmp_path):
+    """q̈ and --qd0 near the float range: numpy's overflow warnings came out as three more lines and
+    the error blamed the position limits (q=inf), advising --allow-out-of-limits."""
+    program = tmp_path / "arm6.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/arm6.urdf", "-o", str(program)]).exit_code == 0
+    acc = tmp_path / "big.csv"
+    acc.write_text("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n1.7e308,0,0,0,0,0\n1.7e308,0,0,0,0,0\n0,0,0,0,0,0\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--rate", "1Hz", "--window", "3",
+                                  "--accelerations", str(acc), "--q0", "0,0,0,0,0,0", "--qd0",
+                                  "1.7e308,0,0,0,0,0"])
+    assert r.exit_code == 1 and r.stderr == (f"vampc: error: {acc}: row 2: integrating the accelerations "
+                                             "from --q0 and --qd0, qd1 overflows (it is inf): no path "
+                                             "the arm can follow\n"), r.stderr
+
+
+def test_an_effort_limit_near_the_float_range_plans_without_a_warning(tmp_path):
+    """tau: 1e300 on a one-link arm: 'RuntimeWarning: overflow encountered in divide' came out of
+    the planner (its bound is inf, as it should be) before a run that then succeeded."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text("name: one\ngravity: [0.0, -9.81, 0.0]\njoints:\n  - name: j\n    type: revolute\n"
+                     "    a: 0.5\n    alpha: 0.0\n    d: 0.0\n    theta: 0.0\n    mass: 2.0\n"
+                     "    com: [-0.25, 0.0, 0.0]\n    inertia: [0.000833, 0.041667, 0.041667, 0.0, 0.0, 0.0]\n"
+                     "    limits: {q: [-3.2, 3.2], qd: 3.0, tau: 1e300}\n")
+    t = np.arange(301) / 1000.0
+    q = (0.5 - 0.5 * np.cos(np.pi * t / 0.3))[:, None]
+    qd = (0.5 * np.pi / 0.3 * np.sin(np.pi * t / 0.3))[:, None]
+    qdd = (0.5 * (np.pi / 0.3) ** 2 * np.cos(np.pi * t / 0.3))[:, None]
+    path = write_path(tmp_path, t, q, qd, qdd)
+    r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "300", "--retime", "window", "--check", "-o",
+                                  str(tmp_path / "w.csv")])
+    assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr

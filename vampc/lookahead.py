@@ -279,7 +279,15 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0, of: int | None =
     _check_finite(path, qdd, columns, 2)
     if t is not None:
         _check_finite(path, t[:, None], ["t"], 2)
-    q, qd = integrate(qdd, q0, qd0, rate)
+    with np.errstate(over="ignore", invalid="ignore"):      # (said below, once, naming the place)
+        q, qd = integrate(qdd, q0, qd0, rate)
+    for name, values in (("qd", qd), ("q", q)):
+        bad = np.argwhere(~np.isfinite(values))
+        if bad.size:
+            r, j = (int(v) for v in bad[0])
+            raise VampcError(f"{path}: row {r + 1}: integrating the accelerations from --q0 and --qd0, "
+                             f"{name}{j + 1} overflows (it is {values[r, j]}): no path the arm can "
+                             "follow")
     return Trajectory(q, qd, qdd, t, None)
 
 
@@ -480,7 +488,8 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float):
     x-alone bound, MAX_SPEED and the speed limits."""
     n = len(limits.tau)
     a, b, c = a[:, :n], b[:, :n], c[:, :n]
-    p, r, P, cap = _stage(a, b, c, np.array(limits.tau) * (1 - margin))
+    with np.errstate(over="ignore"):     # (a limit near the float range: its bound is inf, as it is)
+        p, r, P, cap = _stage(a, b, c, np.array(limits.tau) * (1 - margin))
     cap = np.minimum(cap, MAX_SPEED ** 2)
     for j, v in enumerate(limits.qd):
         if v is not None:
