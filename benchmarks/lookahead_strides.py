@@ -67,7 +67,9 @@ def x_range(p, r, P, cap, top, D, need):
 def stride_plan(a, b, c, qd, limits, M: int, R: int, lam: float, variant: str):
     """(rows stepped on, x, u, times) of the module docstring's plan."""
     n = len(a)
-    p, r, P, cap = _bounds(a, b, c, qd, limits, 1e-9)
+    lo, up, cap = _bounds(a, b, c, qd, limits, 1e-9, 2 * lam)
+    J = len(limits.tau)          # each row's own bounds: the collocation the planner had then
+    p, r, P = lo[0][:, :J], lo[1][:, :J], up[0][:, :J]
     edges = {}                                       # per step i: [(d, lo, hi, top at the target)]
     for rho in range(min(2 ** (R - 1), n)):
         steps = np.arange(rho, n, 2 ** (R - 1))

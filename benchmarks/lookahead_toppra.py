@@ -9,7 +9,7 @@ one late, one slow everywhere. Each path is q(s) = q0 + s Δq + w(s) A sin(2π·
 Gaussian bump centred early (0.2), late (0.8) or in the middle (0.5). For each it prints the duration
 as given, after `--retime uniform`, after `--retime window` with --window 64 and --futures 1 and 4,
 and TOPP-RA's time-optimal duration on the same samples and limits (toppra 0.6, gridpoints = the
-path's rows, collocation, starting and ending at rest as vampc's window retiming does), with each
+path's rows, interpolation (each interval's s̈ checked at both its rows, as vampc plans), starting and ending at rest as vampc's window retiming does), with each
 retimed path's violations checked by the reference dynamics. Needs `pip install toppra`.
 
 `--sweep 1,2,4,5,8` prints instead, per path, the window method's duration over TOPP-RA's with
@@ -85,7 +85,7 @@ def toppra_duration(chain, t, q, tau_lim, qd_lim) -> float:
     path = ta.SplineInterpolator(t, q)
     cons = [constraint.JointTorqueConstraint(
         lambda a, b, c: rnea(chain, a[None], b[None], c[None])[0], np.column_stack([-tau_lim, tau_lim]),
-        np.zeros(len(tau_lim)), discretization_scheme=constraint.DiscretizationType.Collocation)]
+        np.zeros(len(tau_lim)), discretization_scheme=constraint.DiscretizationType.Interpolation)]
     if any(v is not None for v in qd_lim):
         v = np.array([np.inf if x is None else x for x in qd_lim])
         cons.append(constraint.JointVelocityConstraint(np.column_stack([-v, v])))

@@ -89,12 +89,13 @@ def test_velocity_is_continuous_and_the_times_agree_with_it(setup):
     time Δ at constant s̈ takes 2Δ / (ṡ_i + ṡ_i+1)) and each row's q̈ = q'' ṡ² + q' s̈."""
     _, data, _ = retime(setup)
     t, qd, qdd = data[:, 0], data[:, 7:13], data[:, 13:19]
-    dt = np.diff(t)[:, None]
-    jump = np.abs(np.diff(qd, axis=0))
-    bound = np.maximum(np.abs(qdd[:-1]), np.abs(qdd[1:])) * dt
-    assert np.all(jump <= 2 * bound + 1e-12)
     _, _, d1, d2 = bump_path()
     speed = np.einsum("ij,ij->i", qd, d1) / np.einsum("ij,ij->i", d1, d1)
+    came = d2[1:] * speed[1:, None] ** 2 + d1[1:] * (np.diff(speed ** 2) / (2 / RATE))[:, None]
+    dt = np.diff(t)[:, None]             # q̈ through an interval: from the row's to the arriving one
+    jump = np.abs(np.diff(qd, axis=0))
+    bound = np.maximum(np.abs(qdd[:-1]), np.abs(came)) * dt
+    assert np.all(jump <= 2 * bound + 1e-12)
     assert np.allclose(qd, d1 * speed[:, None], rtol=1e-12, atol=1e-15)     # along the path
     lam = 1 / RATE
     assert np.allclose(np.diff(t), 2 * lam / (speed[:-1] + speed[1:]), rtol=1e-9)
@@ -158,7 +159,7 @@ def test_the_summary_says_what_the_look_ahead_costs(setup):
         assert abs(cost - round(100 * (out[-1, 0] / best - 1), 1)) < 0.06
         costs.append(cost)
         if window == rows:                # the whole path in view: the window's plan is the optimum
-            assert abs(out[-1, 0] - best) <= 1e-6 * best and cost == 0.0
+            assert abs(out[-1, 0] - best) <= 3e-6 * best and cost == 0.0    # (best: 6 digits)
     assert costs[0] > 1.0                 # 64 rows cost something on this path
     a, b, c, qd, lim = affine_parts()
     for whole, one_pass in zip(window_plan(a, b, c, qd, lim, len(qd), 1 / RATE),
@@ -168,7 +169,8 @@ def test_the_summary_says_what_the_look_ahead_costs(setup):
 
 def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():
     """TOPP-RA (an independent implementation: its own spline of the path, its own LP solver) on the
-    same rows and limits, starting and ending at rest: the window method seeing the whole path finds
+    same rows and limits, starting and ending at rest, each interval's s̈ checked at both its rows
+    (its interpolation discretization, as vampc plans): the window method seeing the whole path finds
     the same time-optimal duration (to 1%: the spline and the samples differ slightly)."""
     toppra = pytest.importorskip("toppra")
     import toppra.algorithm as algo
@@ -182,7 +184,7 @@ def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():
     x, _, times = window_plan(a, b, c, qd, Limits(tuple(LIM), (None,) * 6), len(t), 1 / RATE)
     cons = [constraint.JointTorqueConstraint(
         lambda p, v, acc: rnea(chain, p[None], v[None], acc[None])[0], np.column_stack([-LIM, LIM]),
-        np.zeros(6), discretization_scheme=constraint.DiscretizationType.Collocation)]
+        np.zeros(6), discretization_scheme=constraint.DiscretizationType.Interpolation)]
     best = algo.TOPPRA(cons, toppra.SplineInterpolator(t, q), gridpoints=t,
                        parametrizer="ParametrizeConstAccel").compute_trajectory(0, 0)
     assert best is not None
@@ -329,11 +331,12 @@ def test_a_failed_retiming_leaves_the_passing_check_ok(setup, tmp_path, monkeypa
     assert "written although the retiming and check failed" in r.output
 
 
-def test_check_says_the_rows_over_a_limit_with_the_acceleration_arriving_at_them(setup):
-    """Each written row's q̈ is the s̈ of the interval leaving it, which the plan keeps within the
-    limits; with the s̈ of the interval arriving at it (s̈ is constant between rows) a row may be
-    over (a new user's run: up to 1.7 times). --check says how many, worked out here from the
-    written file alone: ṡ from q̇ against the path's q', the arriving s̈ from ṡ² of two rows."""
+def test_no_row_is_over_a_limit_with_the_acceleration_arriving_at_it_either(setup):
+    """Each written row's q̈ is the s̈ of the interval leaving it; s̈ jumps at the rows, and with the
+    s̈ of the interval arriving at it a row was over a limit (a new user's run: up to 1.7 times,
+    while --check said 0 violations). The plan keeps both rows of every interval within the limits
+    now, and --check says so; worked out here from the written file alone: ṡ from q̇ against the
+    path's q', the arriving s̈ from ṡ² of two rows."""
     text, data, _ = retime(setup, name="arr.csv")
     q, qd = data[:, 1:7], data[:, 7:13]
     _, _, d1, d2 = bump_path()
@@ -343,7 +346,7 @@ def test_check_says_the_rows_over_a_limit_with_the_acceleration_arriving_at_them
     tau = rnea(load_robot(PUMA), q, d1 * speed[:, None], d2 * x[:, None] + d1 * came[:, None])
     over = int((np.abs(tau) > LIM * (1 + 1e-9)).any(axis=1).sum())
     near = int((np.abs(tau) > LIM * (1 - 1e-9)).any(axis=1).sum())
-    said = re.search(r"with the s̈ arriving at each row \(not yet planned for: README, vampc lookahead\): "
-                     r"(\d+) rows? over an effort limit", text)
+    said = re.search(r"with the s̈ arriving at each row: (\d+) violations?", text)
     assert said, text
-    assert over <= int(said.group(1)) <= near and over > 0, (said.group(1), over, near)
+    assert over == int(said.group(1)) == 0, (said.group(1), over)
+    assert near > 0                      # (the arriving s̈ meets a limit: the plan uses them)

@@ -853,7 +853,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
         line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                 f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
-        within = []
+        within, arrived = [], 0
         if res.retimed is not None:
             from vampc.dynamics.reference import rnea
             from vampc.robot.mimic import reduce_torques
@@ -869,11 +869,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 lim = np.array(limits.tau)
                 ratio = np.abs(tau[:, :len(lim)]) / lim
                 over = int((ratio > 1).any(axis=1).sum())
-                line += (f"; with the s̈ arriving at each row (not yet planned for: README, vampc "
-                         f"lookahead): {count(over, 'row')} over an effort limit"
-                         + (f", worst {ratio.max():.3g} × it" if over else ""))
+                line += (f"; with the s̈ arriving at each row: {count(over, 'violation')}"
+                         + (f" (worst {ratio.max():.3g} × a limit) FAILED" if over else ""))
+                arrived = over
         say(line, info)
-        if not same or within:
+        if not same or within or arrived:
             failed.append("check")
     ok = not failed and not overflowed
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)

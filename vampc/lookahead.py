@@ -41,9 +41,9 @@ within the limits), so no row goes over a limit; the limits used are 1e-9 tighte
 either (a narrower word than float64: tighter by the error its --check allows, `word_margin`, for
 both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
-Each row is kept within the limits with the s̈ of the interval leaving it (TOPP-RA's collocation);
-with the s̈ arriving at it a row may be over (`arriving`, said by --check; README): not yet
-planned for.
+Each interval's s̈ is kept within the limits at both its rows (`_bounds`: TOPP-RA's interpolation
+discretization): s̈ jumps at a row, and the torque both with the s̈ leaving it (the written q̈) and
+with the s̈ arriving at it (`arriving`, which --check checks too) is within them.
 `--futures R` chains R registers of `window` rows end to end, so the host sees
 R·window rows ahead: each row is still computed once, as it enters (three passes), and R costs
 R·window rows of register and the longer backward pass on the host. The rows of the retimed path come
@@ -466,26 +466,49 @@ def _stage(a, b, c, L):
     return p, r, P, np.min(alone, axis=-1)
 
 
-def _largest_x(p, r, P, cap, H, two_d):
-    """Per row (leading axes): the largest x in [0, cap] with some u within the effort bounds and
-    0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval holding 0, so its top
-    is the least root among the pairs (lower bound, upper bound) that cross."""
-    shape = p.shape[:-1] + (1,)
-    lp = np.concatenate([p, np.zeros(shape)], -1)
-    lr = np.concatenate([r, np.full(shape, -1.0 / two_d)], -1)
-    up = np.concatenate([P, (H / two_d)[..., None]], -1)
-    ur = np.concatenate([r, np.full(shape, -1.0 / two_d)], -1)
-    gap = lp[..., :, None] - up[..., None, :]
-    slope = lr[..., :, None] - ur[..., None, :]
+def _largest_x(lo, up, cap, H, two_d):
+    """Per row (leading axes): the largest x in [0, cap] with some u within the bounds
+    u d >= n + s x (`lo`) and u d <= n + s x (`up`), each a triple (n, s, d) of arrays over its
+    last axis, d >= 0, and 0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval
+    holding 0, so its top is the least root among the pairs (lower, upper) that cross, each pair
+    compared without dividing by d (a bound of the next row can have d near 0, where it is a bound
+    on x alone)."""
+    shape = lo[0].shape[:-1] + (1,)
+    ln = np.concatenate([lo[0], np.zeros(shape)], -1)
+    ls = np.concatenate([lo[1], np.full(shape, -1.0)], -1)
+    ld = np.concatenate([lo[2], np.full(shape, two_d)], -1)
+    un = np.concatenate([up[0], H[..., None]], -1)
+    us = np.concatenate([up[1], np.full(shape, -1.0)], -1)
+    ud = np.concatenate([up[2], np.full(shape, two_d)], -1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        gap = ud[..., None, :] * ln[..., :, None] - ld[..., :, None] * un[..., None, :]
+        slope = ud[..., None, :] * ls[..., :, None] - ld[..., :, None] * us[..., None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
         root = np.where(slope > 0, -gap / slope, np.inf)
     root = np.where(np.isnan(root), np.inf, root)
     return np.clip(np.minimum(cap, root.reshape(root.shape[:-2] + (-1,)).min(-1)), 0.0, None)
 
 
-def _bounds(a, b, c, qd, limits: Limits, margin: float):
-    """Each row's effort bounds on u (`_stage`, on limits `margin` tighter) and its cap on x: the
-    x-alone bound, MAX_SPEED and the speed limits."""
+def _top_under(lo, base, H, two_d):
+    """`_largest_x(lo, up, cap, H, two_d)` from `base`, the same with H = inf (computed once per
+    row): only the pairs of a lower bound with the bound x + 2Δu <= H depend on H, so a step of the
+    backward pass works out those, not every pair (the same roots, the same numbers)."""
+    n, sl, d = lo
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        gap = two_d * n - d * H[..., None]
+        slope = two_d * sl + d
+        root = np.where(slope > 0, -gap / slope, np.inf)
+    root = np.where(np.isnan(root), np.inf, root)
+    return np.clip(np.minimum(base, root.min(-1)), 0.0, None)
+
+
+def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
+    """The bounds on the s̈ u of the interval leaving each row, lp + lr x <= u <= up + ur x in the
+    row's x: the effort limits (`_stage`, `margin` tighter) at that row and at the next, where the
+    arm arrives with the same u at x + 2Δu (`two_d` = 2Δ), so the torque at both rows of every
+    interval is within them (TOPP-RA's interpolation discretization; the row alone, its collocation,
+    left the s̈ arriving at a row unchecked: up to 1.5 times a limit there). And each row's cap on x:
+    the x-alone bound, MAX_SPEED and the speed limits."""
     n = len(limits.tau)
     a, b, c = a[:, :n], b[:, :n], c[:, :n]
     with np.errstate(over="ignore"):     # (a limit near the float range: its bound is inf, as it is)
@@ -495,7 +518,18 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float):
         if v is not None:
             with np.errstate(divide="ignore"):
                 cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
-    return p, r, P, cap
+    # the next row's p' + r' x' <= u <= P' + r' x' with x' = x + 2Δu: u m >= p' + r' x and
+    # u m <= P' + r' x, m = 1 - 2Δ r'; where m < 0 both are negated, which swaps them
+    nxt = lambda v, fill: np.concatenate([v[1:], np.full((1, v.shape[1]), fill)])   # noqa: E731
+    p1, r1, P1 = nxt(p, -np.inf), nxt(r, 0.0), nxt(P, np.inf)
+    m = 1.0 - two_d * r1
+    neg = m < 0
+    one = np.ones_like(p)
+    lo = (np.concatenate([p, np.where(neg, -P1, p1)], 1), np.concatenate([r, np.where(neg, -r1, r1)], 1),
+          np.concatenate([one, np.abs(m)], 1))
+    up = (np.concatenate([P, np.where(neg, -p1, P1)], 1), np.concatenate([r, np.where(neg, -r1, r1)], 1),
+          np.concatenate([one, np.abs(m)], 1))
+    return lo, up, cap
 
 
 def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
@@ -509,7 +543,8 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
                               "(--window × --futures) to start and still be able to stop")
     n_rows = len(a)
     two_d = 2.0 * lam
-    p, r, P, cap = _bounds(a, b, c, qd, limits, margin)
+    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
+    base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)    # every pair but H's, once
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
     H = np.zeros(n_rows)                                    # per step: stop-able x at row end - d
@@ -519,9 +554,9 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
         if not act.any():
             break
         jj = np.where(act, j, 0)
-        H = np.where(act, _largest_x(p[jj], r[jj], P[jj], cap[jj], H, two_d), H)
+        H = np.where(act, _top_under(tuple(v[jj] for v in lo), base[jj], H, two_d), H)
     H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
-    return _forward(p, r, P, H, lam, f"{ahead_rows} rows it sees; give a longer --window or more "
+    return _forward(lo, up, H, lam, f"{ahead_rows} rows it sees; give a longer --window or more "
                     "--futures")
 
 
@@ -530,26 +565,31 @@ def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_M
     these rows and limits (TOPP-RA's, tested), against which a window's plan is measured."""
     n_rows = len(a)
     two_d = 2.0 * lam
-    p, r, P, cap = _bounds(a, b, c, qd, limits, margin)
+    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
+    base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)
     H = np.zeros(n_rows)              # H[i]: the top of the set at row i + 1 (0 at the last row)
     for i in range(n_rows - 3, -1, -1):
         k = slice(i + 1, i + 2)
-        H[i] = _largest_x(p[k], r[k], P[k], cap[k], H[i + 1:i + 2], two_d)[0]
-    return _forward(p, r, P, H, lam, "path")
+        H[i] = _top_under(tuple(v[k] for v in lo), base[k], H[i + 1:i + 2], two_d)[0]
+    return _forward(lo, up, H, lam, "path")
 
 
-def _forward(p, r, P, H, lam: float, seen: str):
-    """From rest at the first row: each next x the largest reachable within the row's effort bounds
-    and at most H (the stop-able set's top at that row), so (x, u, row times)."""
+def _forward(lo, up, H, lam: float, seen: str):
+    """From rest at the first row: each next x the largest reachable within the row's bounds on u
+    (`_bounds`: a bound of d near 0 bounds x alone, which H already holds, and is left out here) and
+    at most H (the stop-able set's top at that row), so (x, u, row times)."""
     n_rows, two_d = len(H), 2.0 * lam
     x, u = np.zeros(n_rows), np.zeros(n_rows)
     for i in range(n_rows - 1):
         xi = x[i]
-        up = float(np.min(P[i] + r[i] * xi))
-        low = float(np.max(p[i] + r[i] * xi))
-        nxt = max(0.0, min(xi + two_d * up, float(H[i])))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            lows = (lo[0][i] + lo[1][i] * xi) / lo[2][i]
+            tops = (up[0][i] + up[1][i] * xi) / up[2][i]
+        low = float(np.max(np.where(lo[2][i] > 1e-9, lows, -np.inf)))
+        top = float(np.min(np.where(up[2][i] > 1e-9, tops, np.inf)))
+        nxt = max(0.0, min(xi + two_d * top, float(H[i])))
         ui = (nxt - xi) / two_d
-        if ui < low - 1e-9 * max(1.0, abs(low)):
+        if ui < low - 1e-7 * max(1.0, abs(low)):      # (rounding: the network checks every row)
             raise VampcError(f"row {i + 1}: no speed keeps every joint within its limit here "
                              "(the look-ahead found no way through)")
         x[i + 1], u[i] = nxt, ui
