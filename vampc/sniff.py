@@ -8,18 +8,18 @@ from pathlib import Path
 HEAD = 4096
 PROGRAM_SUFFIX = ".vamp.json"
 
-DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
-                "gzip": "gzip-compressed data: decompress it first (gunzip)",
-                "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
-                **{name: f"{name}-compressed data" for name in ("xz", "bzip2", "zstd", "7-zip", "lzma")}}
-OTHER_COMPRESSION = ("vampc reads a program file gzip-compressed (.gz) and no other compressed "
-                     "file: decompress it first")
-
-
 # Compressed files by their first bytes (gzip's: vampc reads a program file's compact form)
 COMPRESSIONS = ((b"\x1f\x8b", "gzip"), (b"\xfd7zXZ\x00", "xz"), (b"BZh", "bzip2"),
                 (b"\x28\xb5\x2f\xfd", "zstd"), (b"7z\xbc\xaf\x27\x1c", "7-zip"),
                 (b"\x5d\x00\x00", "lzma"))
+OTHER_COMPRESSIONS = tuple(name for _, name in COMPRESSIONS if name != "gzip")   # none read
+OTHER_COMPRESSION = ("vampc reads a program file gzip-compressed (.gz) and no other compressed "
+                     "file: decompress it first")
+
+DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
+                "gzip": "gzip-compressed data: decompress it first (gunzip)",
+                "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
+                **{name: f"{name}-compressed data" for name in OTHER_COMPRESSIONS}}
 
 
 def compression(head: bytes) -> str | None:
@@ -47,8 +47,8 @@ def sniff(path) -> str | None:
         head = _gunzipped_head(path)
         if not _program_text(head):
             return "gzip"
-    elif compression(head):
-        return compression(head)
+    elif packed := compression(head):
+        return packed                 # (one of OTHER_COMPRESSIONS)
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
@@ -108,7 +108,7 @@ def suffix_mismatch(path, expected: str) -> str | None:
                 "`vampc emulate` or `vampc report` with it")
     if kind == "gzip":
         return f"{name} is gzip-compressed; decompress it first (gunzip)"
-    if kind in DESCRIPTIONS and kind not in ("program", "urdf", "json", "yaml"):
+    if kind in OTHER_COMPRESSIONS:
         return f"{name} is {kind}-compressed; decompress it first"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"

@@ -255,9 +255,10 @@ def _magic(path: Path, what: str) -> None:
     objects' of a text file."""
     head = _head(path, 16)
     from vampc.sniff import compression
-    if head is not None and compression(head):
-        raise VampcError(f"{path}: {compression(head)}-compressed; give the {what} as numpy saved "
-                         "it (decompress it first)")
+    packed = None if head is None else compression(head)
+    if packed:
+        raise VampcError(f"{path}: {packed}-compressed; give the {what} as numpy saved it "
+                         "(decompress it first)")
     head = None if head is None else head[:len(NPY_MAGIC)]
     if head is not None and not (head.startswith(NPY_MAGIC) or head.startswith(ZIP_MAGIC)):
         raise VampcError(f"{path}: not a {what} (it does not start as numpy writes one: "

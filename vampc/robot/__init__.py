@@ -88,9 +88,9 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
             raise located(path, "", "base, tip, lock, mimic and accept_improper_inertia apply to URDF and "
                                     "MJCF files only (a DH table is read whole)")
         return load_dh(path, floating=floating)
-    from vampc.sniff import OTHER_COMPRESSION, sniff
+    from vampc.sniff import OTHER_COMPRESSION, OTHER_COMPRESSIONS, sniff
     kind = sniff(path)
-    if kind in ("xz", "bzip2", "zstd", "7-zip", "lzma"):
+    if kind in OTHER_COMPRESSIONS:
         raise located(path, "", f"{kind}-compressed; {OTHER_COMPRESSION}")
     raise located(path, "", f"unknown robot file extension {path.suffix!r}{looks_like(path)} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")
