@@ -503,8 +503,9 @@ def _top_under(lo, base, H, two_d):
 
 
 def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
-    """The bounds on the s̈ u of the interval leaving each row, lp + lr x <= u <= up + ur x in the
-    row's x: the effort limits (`_stage`, `margin` tighter) at that row and at the next, where the
+    """The bounds on the s̈ u of the interval leaving each row, (lower, upper), each a triple (n, s, d)
+    of arrays (rows × bounds): u d >= n + s x and u d <= n + s x in the row's x (`_largest_x`):
+    the effort limits (`_stage`, `margin` tighter) at that row and at the next, where the
     arm arrives with the same u at x + 2Δu (`two_d` = 2Δ), so the torque at both rows of every
     interval is within them (TOPP-RA's interpolation discretization; the row alone, its collocation,
     left the s̈ arriving at a row unchecked: up to 1.5 times a limit there). And each row's cap on x:
@@ -524,12 +525,10 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
     p1, r1, P1 = nxt(p, -np.inf), nxt(r, 0.0), nxt(P, np.inf)
     m = 1.0 - two_d * r1
     neg = m < 0
-    one = np.ones_like(p)
-    lo = (np.concatenate([p, np.where(neg, -P1, p1)], 1), np.concatenate([r, np.where(neg, -r1, r1)], 1),
-          np.concatenate([one, np.abs(m)], 1))
-    up = (np.concatenate([P, np.where(neg, -p1, P1)], 1), np.concatenate([r, np.where(neg, -r1, r1)], 1),
-          np.concatenate([one, np.abs(m)], 1))
-    return lo, up, cap
+    slope = np.concatenate([r, np.where(neg, -r1, r1)], 1)          # (a lower and an upper bound
+    scale = np.concatenate([np.ones_like(p), np.abs(m)], 1)         # of one row share these)
+    return ((np.concatenate([p, np.where(neg, -P1, p1)], 1), slope, scale),
+            (np.concatenate([P, np.where(neg, -p1, P1)], 1), slope, scale), cap)
 
 
 def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,

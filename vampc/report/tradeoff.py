@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import csv
 import io
-from dataclasses import replace
 
 from vampc.background import available_cores
 from vampc.compiler import CompileOptions, build_graph
@@ -61,7 +60,7 @@ def tradeoff(chain, options: CompileOptions, progress=None, workers: int | None 
     does), or the Dask cluster whose scheduler is at `scheduler`. Every stage of every point is
     checked as a compile's is (options.verify: --verify, the default; --no-verify leaves them out)."""
     verify = options.verify
-    graph = build_graph(chain, replace(options, verify=verify))
+    graph = build_graph(chain, options)
     timing = options.timing
     largest = vamp_ops(graph)
     ks = budgets(smallest_network(graph), largest)
