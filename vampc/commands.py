@@ -799,8 +799,15 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                              f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
         if own.retime != "window":                    # rows λ apart: said before the run
             _in_time(source, ld, own, clock, need, seen, lam)
-    # a narrower word than float64: plan within the error its --check allows (of each limit)
+    # a narrower word than float64: plan within the error its --check allows (of the largest |τ|)
     margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
+    if own.retime is not None:
+        from vampc.robot.mimic import free_names
+        try:
+            la.check_word_error(limits, free_names(ld.chain), margin * max(limits.tau, default=0.0),
+                                ld.arith.name)
+        except VampcError as exc:
+            raise VampcError(f"{own.limits or source}: {exc}") from None
     from vampc.emulator.stream import constant_overflows
     ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
     from vampc import progress
@@ -839,7 +846,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
                        "FAILED (a wider word: vampc precision)")
         say(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
-    if res.retimed_violations:            # a retiming the network finds over a limit has failed
+    if res.retimed_violations or res.arriving_violations:   # the network finds a row over: failed
         failed.append("retiming")
     if own.check_torques:
         tolerance = default_tolerance(ld.arith)
@@ -868,7 +875,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                     ld.chain, came.q, came.qd, came.qdd)), came.qd, limits) if v.kind == "torque"]
                 worst = max((abs(v.value) / v.limit for v in arrived), default=0.0)
                 line += (f"; with the s̈ arriving at each row: {count(len(arrived), 'violation')}"
-                         + (f" (worst {worst:.3g} × a limit) FAILED" if arrived else ""))
+                         + (f" (worst {ratio_text(worst)} × a limit) FAILED" if arrived else ""))
         say(line, info)
         if not same or within or arrived:
             failed.append("check")
@@ -951,21 +958,20 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s (as given "
                      f"{span:.6g} s); ṡ (leaving out the rest at start and end) "
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
-                     f"{count(len(res.retimed_violations), 'violation')}{failed_mark(res)}")
+                     f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
+                     f"{failed_mark(res)}")
         best = res.optimal_duration
         lines.append(f"  with the whole path in view (the time-optimal plan on these rows and limits): "
                      f"{best:.6g} s; seeing {count(res.ahead_rows, 'row')} ahead costs "
                      f"{100 * (res.retimed_t[-1] / best - 1):+.1f}%")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
-                     f"{res.k:.15g}, on effort limits {number_text(res.margin)} of each tighter"
-                     f"{why_margin(ld, res)}), "
+                     f"{res.k:.15g}, on effort limits {margin_text(ld, res)}), "
                      f"duration {span * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
                      f"{failed_mark(res)}")
-    if res.retimed is not None and res.word_margin and res.k is None:
-        lines.append(f"planned to effort limits {number_text(res.word_margin)} of each tighter: the "
-                     f"error a {ld.arith.name} network's --check allows")
+    if res.retimed is not None and res.word_error and res.k is None:
+        lines.append(f"planned to effort limits {margin_text(ld, res)}")
     return "\n".join(lines)
 
 
@@ -977,14 +983,36 @@ def worst_ratios(names, tau, limits) -> str:
     return ", ".join(f"{listed(name)} {w:.4g}" for name, w in zip(names, worst))
 
 
-def why_margin(ld, res) -> str:
-    """Why the uniform k's limits are tighter than 1e-9 (a narrower word's error), or nothing."""
-    return (f": the error a {ld.arith.name} network's --check allows" if res.word_margin else "")
+def margin_text(ld, res) -> str:
+    """How much tighter than the effort limits a retiming plans, and why: 1e-9 of each (rounding);
+    a narrower word than float64 also the error its --check allows."""
+    from vampc.lookahead import PLAN_MARGIN
+    if not res.word_error:
+        return f"{number_text(PLAN_MARGIN)} of each tighter"
+    return (f"{res.word_error:.3g} tighter, and {number_text(PLAN_MARGIN)} of each: the error a "
+            f"{ld.arith.name} network's --check allows ({number_text(res.word_tolerance)} of the "
+            f"largest |τ|, taken of the largest effort limit, {res.word_error / res.word_tolerance:.12g})")
 
 
 def failed_mark(res) -> str:
     """' FAILED' after the count of a retimed path's violations when there are any (exit 1)."""
-    return " FAILED" if res.retimed_violations else ""
+    return " FAILED" if res.retimed_violations or res.arriving_violations else ""
+
+
+def arriving_text(res) -> str:
+    """The window retiming's rows over a limit with the s̈ arriving at them, by the network's three
+    passes (its rounding: the plan keeps none), when there are any."""
+    if not res.arriving_violations:
+        return ""
+    worst = max(abs(v.value) / v.limit for v in res.arriving_violations)
+    return (f", with the s̈ arriving at each row {count(len(res.arriving_violations), 'violation')} "
+            f"(worst {ratio_text(worst)} × a limit)")
+
+
+def ratio_text(x: float) -> str:
+    """A torque over its limit, to 3 digits, or as many as show it is over (1.00000000803)."""
+    text = f"{x:.3g}"
+    return text if float(text) != 1.0 or x <= 1.0 else f"{x:.12g}"
 
 
 def _lookahead_outputs(outs: dict, chain, traj, times, res) -> dict:

@@ -22,7 +22,7 @@ second, gravity-only pass. The smallest k keeping every row within |τ'| <= L an
 
 taken over the whole path (a uniform scaling is one k, so the host needs the whole path before motion
 starts). Where |τ_g| > L no scaling helps, and the command says so. The k used is the closed form on
-limits PLAN_MARGIN tighter (or by the word's error: `word_margin`), times (1 + 1e-12), so rounding
+limits PLAN_MARGIN tighter (and by the word's error: `word_error`), times (1 + 1e-12), so rounding
 never puts a torque over its limit, however close to it gravity comes (1e-12 of k alone did not:
 τ_g within rounding of L put τ' over it).
 
@@ -38,8 +38,8 @@ x at each row from which the arm can still stop (x = 0) at that last row within 
 limit, then forwards one row: the largest x reachable within the limits and inside that set. The plan
 is recursively feasible (a row the arm can stop at, it can also rest at, since gravity alone is
 within the limits), so no row goes over a limit; the limits used are 1e-9 tighter so rounding cannot
-either (a narrower word than float64: tighter by the error its --check allows, `word_margin`, for
-both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
+either (a narrower word than float64: each limit tighter by the error its --check allows, `word_error`,
+for both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
 Each interval's s̈ is kept within the limits at both its rows (`_bounds`: TOPP-RA's interpolation
 discretization): s̈ jumps at a row, and the torque both with the s̈ leaving it (the written q̈) and
@@ -95,13 +95,15 @@ class Lookahead:
     k_closed_form: float | None = None
     retimed_tau: np.ndarray | None = None
     retimed_violations: list = field(default_factory=list)
+    arriving_violations: list = field(default_factory=list)   # window: effort, with the s̈ arriving
     retimed: object = None            # the retimed Trajectory (q, q̇, q̈)
     retimed_t: np.ndarray | None = None   # its row times, from 0
     speed: np.ndarray | None = None   # ṡ at each row
     accel: np.ndarray | None = None   # --retime window: s̈ of the interval leaving each row
     futures: int = 1
     ahead_rows: int = 0               # rows the host sees with --retime window
-    word_margin: float = 0.0          # the error the network's word may make (of each effort limit)
+    word_tolerance: float = 0.0       # the error the network's word may make, of the largest |τ|
+    word_error: float = 0.0           # that error, as a torque: of the largest effort limit
     optimal_duration: float | None = None   # --retime window: the plan with the whole path in view
     effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
     retimed_effort: np.ndarray | None = None  # the same, retimed
@@ -113,10 +115,10 @@ class Lookahead:
             return times[0] + (times - times[0]) * self.k
         return times[0] + self.retimed_t
 
-    @property
-    def margin(self) -> float:
-        """How much (of each) inside the effort limits a retiming plans: rounding, the word's error."""
-        return max(PLAN_MARGIN, self.word_margin)
+    def planned(self, limits: Limits) -> Limits:
+        """The effort limits a retiming plans to: `word_error` inside each, and PLAN_MARGIN (of each)
+        more for rounding."""
+        return tightened(Limits(tuple(t - self.word_error for t in limits.tau), limits.qd), PLAN_MARGIN)
 
 
 def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> Limits:
@@ -335,13 +337,15 @@ STAGES = {None: ("rows as given",),
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
-        path: str = "", futures: int = 1, rate: float = 1.0, word_margin: float = 0.0,
+        path: str = "", futures: int = 1, rate: float = 1.0, word_tolerance: float = 0.0,
         word_range: bool = False, stage=None) -> Lookahead:
     """The register over the trajectory: every row's torques (emulate_rows(traj) -> tau), the
     violations, and with `retime` ("uniform" or "window") the scaling and the retimed rows' torques.
-    `path` names the trajectory in messages; `rate` is the rows' rate (Hz). `word_margin`: the
-    error the network's word format may make, as a fraction of each effort limit (0 for float64);
-    the retiming plans to limits that much tighter, so the reference dynamics stays within them.
+    `path` names the trajectory in messages; `rate` is the rows' rate (Hz). `word_tolerance`: the
+    error the network's word format may make (0 for float64), as its --check bounds it: a fraction
+    of the run's largest |τ| of any joint, which on a path within the limits is at most the largest
+    effort limit; the retiming plans to each limit that much of the largest limit tighter
+    (`word_error`), so the reference dynamics stays within them.
     `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
     does unless --overflow is given). `stage(name)` is told as each of STAGES[retime] starts."""
     from vampc.emulator.host import Trajectory
@@ -363,7 +367,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         return reduce_torques(ld.chain, torques(rows, what))
     stage("rows as given")
     out = Lookahead(torques(traj, ""), futures=futures, ahead_rows=window * futures,
-                    word_margin=word_margin)
+                    word_tolerance=word_tolerance,
+                    word_error=word_tolerance * max(limits.tau, default=0.0))
     tau = out.effort = reduce_torques(ld.chain, out.tau)
     out.violations = violations(tau, traj.qd, limits)
     if retime is None:
@@ -376,18 +381,19 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     tangent = (effort(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
                if retime == "window" else None)
     stage("planning")
-    margin = out.margin
+    planned = out.planned(limits)
     try:
-        check_gravity(g, limits, names, margin)
+        check_word_error(limits, names, out.word_error, ld.arith.name)     # (said before, by the command)
+        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name)
         if retime == "uniform":
             k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
-            used = uniform_k(tau, g, traj.qd, tightened(limits, margin), names)
+            used = uniform_k(tau, g, traj.qd, planned, names)
         else:
-            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, limits, window * futures, 1.0 / rate,
-                                  margin)
+            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, planned, window * futures,
+                                  1.0 / rate, 0.0)
             stage("whole-path plan")
-            out.optimal_duration = optimal_plan(tangent - g, tau - g, g, traj.qd, limits, 1.0 / rate,
-                                                margin)[2][-1]
+            out.optimal_duration = optimal_plan(tangent - g, tau - g, g, traj.qd, planned,
+                                                1.0 / rate, 0.0)[2][-1]
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -401,6 +407,11 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
                                  traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
         out.retimed_t, out.speed, out.accel = t, speed, u
+        # each row with the s̈ arriving at it too, from the network's three passes (τ = a u + b x
+        # + c, exact): the plan keeps it within the limits, so a row over is its rounding's
+        before = np.concatenate([[0.0], u[:-1]])
+        came = (tangent - g) * before[:, None] + (tau - g) * x[:, None] + g
+        out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
     made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
     if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
         raise VampcError(f"{path}: the {retime} retiming gives a time or rate that is not a finite "
@@ -429,17 +440,33 @@ def tightened(limits: Limits, margin: float) -> Limits:
     return Limits(tuple(t * (1 - margin) for t in limits.tau), limits.qd)
 
 
-def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0) -> None:
-    """VampcError where gravity alone (the torque at rest) is beyond a limit, or within `margin` of
-    it (the retiming plans that much inside): no time scaling helps there."""
+def check_word_error(limits: Limits, names, error: float, word: str) -> None:
+    """VampcError where an effort limit is no larger than `error`, the torque a `word` network may
+    be off by: no retiming can promise to keep it."""
+    for name, lim in zip(names, limits.tau):
+        if lim <= error:
+            raise VampcError(f"joint '{name}': its effort limit {lim:.12g} is within the error a "
+                             f"{word} network's --check allows ({error:.3g}: of the largest effort "
+                             f"limit, {max(limits.tau):.12g}): no retiming can promise to keep it "
+                             "(a wider word: vampc precision names one)")
+
+
+def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, error: float = 0.0,
+                  word: str | None = None) -> None:
+    """VampcError where gravity alone (the torque at rest) is beyond a limit, or inside it by less
+    than the retiming keeps: `error` (the torque a `word` network may be off by) and `margin` of the
+    rest: no time scaling helps there."""
     lim = np.array(limits.tau)
     g = g[:, :len(lim)]
-    alone = np.argwhere(np.abs(g) > lim * (1 - margin))
+    alone = np.argwhere(np.abs(g) > (lim - error) * (1 - margin))
     if alone.size:
         r, j = (int(x) for x in alone[0])
+        kept = f"{margin:g} of it" if not error else f"{error:.3g} and {margin:g} of the rest"
+        why = (f"rounding and the error a {word} network's --check allows" if error else
+               "rounding and the network's word")
         how = (f"beyond its limit {lim[j]:.12g}" if abs(g[r, j]) > lim[j] else
-               f"closer to its limit {lim[j]:.12g} than {margin:g} of it, the margin the retiming "
-               "keeps for rounding and the network's word")
+               f"closer to its limit {lim[j]:.12g} than {kept}, the margin the retiming keeps for "
+               f"{why}")
         raise VampcError(f"row {r + 1}: joint '{names[j]}' needs {g[r, j]:.12g} at rest "
                          f"(gravity alone), {how}: no time scaling helps")
 
@@ -456,7 +483,11 @@ def _stage(a, b, c, L):
     (±inf where a joint's a is zero; both bounds of a joint share the slope r = -b/a), and the
     bound on x alone from those joints."""
     lo, hi = -L - c, L - c
-    tiny = np.abs(a) <= 1e-12 * (np.abs(b) + np.abs(c) + L)
+    # a joint's a is taken for zero only within the rounding of the tangent pass less the gravity
+    # pass it is (of c, the torque at rest, and of the limit): not of b, which a u need not be
+    # small against (a row of the path with a q̇ or q̈ of 1e12 has b a million million times a, and
+    # its s̈ was left unbounded, the arm going over a limit: a new user's find, 2026-12-04)
+    tiny = np.abs(a) <= 1e-12 * (np.abs(c) + L)
     sa = np.where(tiny, 1.0, a)
     r = np.where(tiny, 0.0, -b / sa)
     p = np.where(tiny, -np.inf, np.where(a > 0, lo, hi) / sa)
