@@ -101,7 +101,7 @@ class CheckingTickEngine(TickEngine):
         self.units = np.concatenate([self.units, word.random(rng, (1, 3, 3))])
         for name in ("tag_a", "tag_b", "utag"):
             setattr(self, name, np.append(getattr(self, name), UNKNOWN))
-        for name in ("owner_a", "owner_b"):
+        for name in ("owner_a", "owner_b", "uslot"):
             setattr(self, name, np.append(getattr(self, name), -1))
         self.res = word.random(rng, (V + 1, 9), 1e3)
         self.res_tag = np.full(V + 1, UNKNOWN, dtype=np.int64)

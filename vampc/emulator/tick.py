@@ -176,6 +176,7 @@ class TickEngine:
         self.owner_b = np.full(V, -1, dtype=np.int64)
         self.units = word.random(rng, (V, 3, 3))
         self.utag = np.full(V, UNKNOWN, dtype=np.int64)
+        self.uslot = np.full(V, -1, dtype=np.int64)     # the slot whose op's first step set utag
         self.tables = [[self._random_row() for _ in range(int(rng.integers(1, 4)))] for _ in range(V)]
         # bus-write registers (a bus network's): power-on garbage until a compact word clears them
         self.wtables = [[[int(x) for x in rng.integers(0, 4096, size=2)]
@@ -524,6 +525,7 @@ class TickEngine:
         self.units[idx] = units
         if j == 0 and self.tagged:
             self.utag[idx] = _combine2(self.tag_a[idx], self.tag_b[idx])
+            self.uslot[idx] = slots
         if self.strict:
             slots = self._watched(slots)
             if slots.size:
@@ -564,9 +566,13 @@ class TickEngine:
     def _count_overflows(self, r: int, j: int, slots, idx, word, before: int) -> None:
         """Count an op's overflows once per torque set, as the stream engine computes each op once
         a set: not those on registers holding no set's value (the power-on state, the warm-up),
-        nor an op run again on a set it has done."""
+        nor an op run again on a set it has done, nor a later step of an op whose first step this
+        slot did not run (its units hold another op's values: error correction's checker taking
+        up its successor's program mid-op counted overflows the stream engine has not)."""
         tags = _combine2(self.tag_a[idx], self.tag_b[idx]) if j == 0 else self.utag[idx]
         fresh = (tags >= 0) & (tags > self.counted[slots])
+        if j > 0:
+            fresh &= self.uslot[idx] == slots
         per_row = np.sum(np.stack(word.track), axis=0)
         word.overflows = before + int(per_row[fresh].sum())
         if j == rom.steps(r) - 1:
