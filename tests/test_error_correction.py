@@ -6,6 +6,8 @@ compiled without checking (its torques, bit for bit), the reference Newton-Euler
 the test injected (which VAMP, from which tick)."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -294,6 +296,11 @@ def test_the_report_counts_what_the_checking_adds():
     assert (c.schedule.latency, c.schedule.interval) == (plain.schedule.latency, plain.schedule.interval)
     assert ec["sweep_periods"] == sweep_periods(V, net.checking.warmup)
     assert checking_pairs(ec)[0][0] == "error correction"
+    # every package count packs the V + 1 VAMPs (the paper's budget had packed V beside muxed
+    # counts of V + 1: 36 and 91 packages for the Puma's 181; a new user's run)
+    own = rep["packages"]["rows"][0]["by_pins"][0]
+    assert (own["paper_separate"], own["paper_shared"]) == (math.ceil((V + 1) / 5), math.ceil((V + 1) / 12))
+    assert rep["packages_40pin"] == {"separate": own["paper_separate"], "shared": own["paper_shared"]}
 
 
 def test_a_detection_after_the_last_set_names_no_set(tmp_path):
@@ -348,3 +355,26 @@ def test_both_engines_count_the_same_overflows_of_a_checked_fixed_point_program(
             line = next(s for s in r.output.splitlines() if " overflow" in s and "words:" in s)
             said[engine] = (r.exit_code, line, out.read_bytes())
         assert said["tick"] == said["stream"], (seed, said["tick"][:2], said["stream"][:2])
+
+
+def test_a_checked_program_of_before_the_package_fix_is_not_called_edited(tmp_path):
+    """Programs compiled before the extraneous VAMP was packaged store the 40-pin packages of the
+    network's own VAMPs: read back, that figure is not taken for an edit; another one is."""
+    import json
+
+    from vampc.program.file import checksum
+    program = tmp_path / "ec.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--error-correction",
+                                     "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    V = doc["summary"]["vamps"]["total"]
+    for stored, warned in (({"separate": math.ceil(V / 5), "shared": math.ceil(V / 12)}, False),
+                           ({"separate": 99, "shared": 99}, True)):
+        doc["summary"]["packages_40pin"] = stored
+        doc["checksum"] = checksum(doc)
+        old = tmp_path / "old.vamp.json"
+        old.write_text(json.dumps(doc))
+        r = CliRunner().invoke(main, ["report", str(old)])
+        assert r.exit_code == 0, r.output
+        assert ("the stored summary disagrees with the file's graph, schedule and network "
+                "(packages_40pin)" in r.output) == warned, r.output

@@ -493,6 +493,35 @@ def test_a_torque_read_by_no_vamp_is_refused(puma_program, tmp_path, edit, says,
     assert out == ""
 
 
+@pytest.mark.parametrize("command", ["emulate-stream", "emulate-tick", "report"])
+@pytest.mark.parametrize("edit, says", [
+    (lambda d: d["io"]["outputs"][0].__setitem__("component", 1),
+     "io.outputs: τ1 is read from component 1 of VAMP 179 (number 180, fwd1.n)'s result, the graph's "
+     "is component 2 of node"),
+    (lambda d: d["graph"]["outputs"][0].__setitem__(2, 1),
+     "io.outputs: τ1 is read from component 2 of VAMP 179 (number 180, fwd1.n)'s result, the graph's "
+     "is component 1 of node"),
+    (lambda d: d["io"]["port_writes"][0].__setitem__("joint", 2),
+     "io.port_writes[0]: port 0 zqd2 at tick 0, but network.ports give port 0 zqd1 at tick 0"),
+    (lambda d: d["io"]["port_writes"][1].__setitem__("quantity", "zqdd"),
+     "io.port_writes[1]: port 1 zqdd1 at tick 0, but network.ports give port 1 A1 at tick 0"),
+    (lambda d: d["io"]["port_writes"].pop(),
+     "io.port_writes: 35 writes, but network.ports have 36 entries")],
+    ids=["component", "graph-component", "write-joint", "write-quantity", "write-dropped"])
+def test_an_edited_output_component_or_port_write_is_refused(puma_program, tmp_path, edit, says,
+                                                              command):
+    """The component a torque is read from (io.outputs) was checked against nothing: edited (checksum
+    fixed) to 1, τ1 came out 0 in every set, exit 0, by both engines and the report; and
+    io.port_writes, the host's write schedule, was read by nothing (the engines work it out from
+    network.ports): any edit went unseen (a new user's run)."""
+    edited = edited_program(puma_program, tmp_path, edit)
+    args = (["report", edited] if command == "report" else
+            ["emulate", edited, "--random", 3, "--engine", command.split("-")[1], "-o", "-"])
+    code, err, out = run(*args)
+    assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {edited}: {says}"), err
+    assert out == ""
+
+
 def test_lines_ended_by_cr_alone_are_read_and_a_stray_cr_is_one_line(puma_program, tmp_path):
     """A CSV whose lines end with CR alone, or a CR inside a line, was csv's traceback ("new-line
     character seen in unquoted field", exit 3). CR endings now read as LF and CRLF do (the same
@@ -513,18 +542,29 @@ def test_lines_ended_by_cr_alone_are_read_and_a_stray_cr_is_one_line(puma_progra
     assert not (tmp_path / "c.csv").exists()
 
 
-def test_a_late_overflow_with_standard_output_says_what_was_sent(puma_program, tmp_path):
-    """`-o -` streams the torques as they come: a set that overflows late stopped the run with
-    "wrote no output file" after thousands of rows had gone to standard output."""
+@pytest.mark.parametrize("chunk", [1000, None], ids=["chunks", "one-chunk"])
+def test_a_late_overflow_with_standard_output_says_what_was_sent(puma_program, tmp_path, monkeypatch,
+                                                                 chunk):
+    """`-o -` streams the torques as they come, a chunk of sets at a time: a set that overflows
+    late stopped the run with "wrote no output file" after thousands of rows had gone to standard
+    output. In the chunk that overflows nothing of it goes out: a run of one chunk sends nothing,
+    not even the header line (it had, before its static check or its first rows were done)."""
+    if chunk:
+        import vampc.emulator.driver as driver
+        monkeypatch.setattr(driver, "MAX_CHUNK", chunk)
     states = np.tile(np.linspace(0.1, 0.2, 18), (3000, 1))
     states[-1, :6], states[-1, 6], states[-1, 17] = 0.0, 1e200, 1e200
     path = tmp_path / "late.npy"
     np.save(path, states)
     code, err, out = run("emulate", puma_program, "--trajectory", path, "-o", "-")
     assert code == 1 and one_line(err), err
-    assert "set 3000" in err and "wrote no output file" not in err
-    assert "the run stopped there: -o - had sent the sets before it to standard output" in err
-    assert out.startswith("tau_waist,")
+    assert "set 3000" in err
+    if chunk:
+        assert "wrote no output file" not in err
+        assert "the run stopped there: -o - had sent the sets before it to standard output" in err
+        assert out.startswith("tau_waist,") and out.count("\n") == 1 + 2000
+    else:
+        assert "the run stopped and wrote no output file" in err and out == ""
 
 
 def test_a_numpy_file_named_csv_and_a_program_without_version_say_so(puma_program, tmp_path):
@@ -539,3 +579,59 @@ def test_a_numpy_file_named_csv_and_a_program_without_version_say_so(puma_progra
     edited = edited_program(puma_program, tmp_path, lambda d: d.pop("version"))
     code, err, _ = run("emulate", edited, "--random", 2)
     assert code == 1 and one_line(err) and 'the program file has no "version"' in err, err
+
+
+def test_a_numbering_too_wide_for_the_word_names_its_file_line_and_vamp(tmp_path):
+    """A --numbering number the Program-Mode word cannot carry was named only by the robot file
+    ("planar2.yaml: VAMP number 70000 does not fit ..."): now by the numbering file, line and VAMP."""
+    numbers = tmp_path / "n.txt"
+    numbers.write_text("\n".join("70000" if k == 6 else str(k) for k in range(1, 61)) + "\n")
+    code, err, _ = run("compile", PLANAR, "--word", "q8.8", "--numbering", numbers, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and err == (f"vampc: error: {numbers}: line 6: VAMP number 70000 (VAMP 5) does not "
+                                 "fit in a 16-bit Program-Mode word (at most 32767); give a wider --word\n"), err
+    assert not (tmp_path / "p.vamp.json").exists()
+
+
+def test_a_compressed_waveform_name_is_refused(puma_program, tmp_path):
+    """--vcd v.vcd.gz wrote plain VCD text under a .gz name (-o x.csv.gz is refused)."""
+    code, err, _ = run("emulate", puma_program, "--random", 2, "--engine", "tick", "--vcd",
+                       tmp_path / "v.vcd.gz", "-o", tmp_path / "t.csv")
+    assert code == 2 and "--vcd writes a VCD text file: not .gz (compress the file afterwards)" in err, err
+    assert not (tmp_path / "v.vcd.gz").exists() and not (tmp_path / "t.csv").exists()
+
+
+def test_a_one_joint_header_is_said_in_full(tmp_path):
+    """A header of one expected column was said as 'expected 1 columns qdd1...qdd1'."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text("name: one\ngravity: [0, 0, -9.81]\njoints:\n  - {name: j, type: revolute, a: 0.5, "
+                     "alpha: 0, d: 0, theta: 0, mass: 1, com: [-0.25, 0, 0], inertia: [0.01, 0.01, "
+                     "0.01, 0, 0, 0]}\n")
+    states = tmp_path / "s.csv"
+    states.write_text("q1,qd1\n0,0\n")
+    code, err, _ = run("emulate", robot, "--trajectory", states, "-o", tmp_path / "t.csv")
+    assert code == 1 and "(expected 3 columns q1,qd1,qdd1: " in err, err
+
+
+@pytest.mark.parametrize("command", ["emulate", "report"])
+@pytest.mark.parametrize("edit, says", [
+    (lambda d: d["options"].__setitem__("mult_latency", 2),
+     "options.mult_latency: 2, but schedule.mult_latency is 1 (the file was edited)"),
+    (lambda d: d["options"].__setitem__("recursion", "log"),
+     "options.recursion: log, but the graph is linear (the file was edited)"),
+    (lambda d: d["options"].__setitem__("layout", "folded"),
+     "layout.name: 'systolic', but the file's options compile 'folded'"),
+    (lambda d: d["schedule"].__setitem__("latency", 30), "schedule.latency is not the schedule"),
+    (lambda d: d["schedule"].__setitem__("mults", 9), "schedule.critical_path is not a critical path"),
+    (lambda d: d["schedule"].__setitem__("interval", 5), "schedule.interval 5 is not the network's period 4")],
+    ids=["mult-latency", "recursion", "layout", "latency", "mults", "interval"])
+def test_emulate_and_report_refuse_the_same_edited_options_and_schedule(puma_program, tmp_path, edit,
+                                                                       says, command):
+    """`emulate` took edits of the schedule and options sections that `report` refused, and both
+    took options that disagree with the schedule's latencies or the graph's recursion (a report
+    then compared configurations at 2-flop Mults the file's schedule does not have): one verdict
+    now, from the same checks (a new user's run)."""
+    edited = edited_program(puma_program, tmp_path, edit)
+    args = ["report", edited] if command == "report" else ["emulate", edited, "--random", 2, "-o", "-"]
+    code, err, out = run(*args)
+    assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {edited}: {says}"), err
+    assert out == ""

@@ -215,6 +215,9 @@ def test_acceleration_usage(setup, args, message):
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n1,2,3,4,5\n", r"line 3: 5 columns, expected 6"),
     ("t,qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0,1_0\n", r"line 2, column qdd6: '1_0' is not a number"),
     ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n0,0,nan,0,0,0\n", r"line 3 \(state 2\), column qdd3: nan is not finite"),
+    ("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n0,0,0,0,0,0\n0,0,1e400,0,0,0\n",    # (it said "inf is not finite")
+     r"line 3 \(state 2\), column qdd3: inf is not finite \(written so, or a number beyond float64's "
+     r"range, about 1\.8e308\)"),
     ("t," + ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7)) + "\n" + "0," * 18 + "0\n",
      r"header: column 2 is 'q1', expected 'qdd1' .*; a path of q, qd and qdd is given as --trajectory"),
 ])

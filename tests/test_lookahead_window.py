@@ -418,3 +418,28 @@ def test_a_limit_within_a_fixed_point_words_error_is_refused_naming_it(setup, tm
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(limits)])
     assert r.exit_code == 0, r.output          # (without a retiming, the limits are only reported)
+
+
+def test_retimed_times_float64_cannot_tell_apart_are_refused_and_rough_ones_said(setup, tmp_path):
+    """A path whose t starts at 1.7e9 (a Unix time) and rows 1e-5 s apart: the window retiming's
+    rows (as short as λ/100) came out at equal times, exit 0, and the file written could not be
+    read back ("does not come after"); at 1 kHz their intervals were off by up to 2% (a new
+    user's run). Refused, naming the rows, with nothing written; warned."""
+    folder, program, limits, _ = setup
+    rows = 50
+    zero = np.zeros((rows, 6))
+    out = tmp_path / "out.csv"
+    for rate, step in (("100kHz", 1e-5), ("1kHz", 1e-3)):
+        path = write_path(tmp_path, 1.7e9 + np.arange(rows) * step, zero, zero, zero)
+        r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", rate,
+                                      "--window", "10", "--limits", str(limits), "--retime", "window",
+                                      "-o", str(out)])
+        if rate == "100kHz":
+            assert r.exit_code == 1 and "float64 cannot tell them apart from a t starting at 1700000000" in r.output
+            assert not out.exists()
+        else:
+            assert r.exit_code == 0, r.output
+            assert re.search(r"the retimed rows' times, from t = 1700000000, hold their intervals only "
+                             r"to [\d.]+% in float64", r.output), r.output
+            t = np.loadtxt(out, delimiter=",", skiprows=1)[:, 0]
+            assert (np.diff(t) > 0).all()

@@ -48,9 +48,14 @@ def test_hz_text():
 
 
 def test_a_rate_without_a_unit_is_refused():
-    """'--clock 20' could be 20 Hz or 20 MHz: it needs a unit."""
+    """'--clock 20' could be 20 Hz or 20 MHz: it needs a unit. '0' (or 1e20) is no rate with any
+    unit: it had been told to try '0MHz' (a new user's run), which was then refused in turn."""
     with pytest.raises(ValueError, match="'20' has no unit: give Hz, kHz, MHz or GHz"):
         parse_clock("20")
+    for text in ("0", "1e20", "1e-300"):
+        with pytest.raises(ValueError, match=rf"'{text}' has no unit, and no unit \(Hz, kHz, MHz, GHz\) "
+                                             "makes it a rate at least 0.001 Hz and at most 1000 GHz"):
+            parse_clock(text)
 
 
 @pytest.mark.parametrize("us_value, text", [(3.05, "3.05 µs"), (0.2, "200 ns"), (0.00266667, "2.667 ns"),

@@ -215,12 +215,21 @@ def program_compiled(source: str, given, params: dict):
         check = in_background(_static_check, doc, source, c,
                               inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
     fresh = jsontext.loads(jsontext.dumps(summary(c)))
-    edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v)
+    edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v
+                    and not _counted_before(k, v, c))
     if edited:
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
                                    f"schedule and network ({', '.join(edited)}): the file was "
                                    "edited; showing figures recomputed from them"), stacklevel=1)
     return c, fresh, check
+
+
+def _counted_before(key: str, stored, c) -> bool:
+    """A stored summary figure that an earlier vampc counted otherwise, not an edit: the 40-pin
+    packages of a checked network without its extraneous VAMP (until 2026-12-04)."""
+    from vampc.report.counts import packages
+    return (key == "packages_40pin" and c.network.checking is not None
+            and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 
 
 def _static_check(doc, source, c) -> None:
@@ -248,6 +257,11 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                                                    "--save-states": own.save_states},
                         stdout_ok=("-o", "--vcd", "--save-states"))
     ld = loaded(source, options, robot_opts, params)
+    bits = getattr(ld.arith, "bits", 0)
+    if "--vcd" in outs and ld.word is not None and bits > 53:
+        warnings.warn(VampcWarning(f"--vcd: {ld.arith.name} words have {bits} bits; the waveform's "
+                                   "real values are the nearest float64 to them (53 significant "
+                                   "bits), not every bit of the words"), stacklevel=1)
     traj = None
     if own.trajectory:
         traj = read_trajectory(own.trajectory, ld.chain)
@@ -282,7 +296,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.discard()
         from vampc.emulator.driver import STOPPED
         streamed = [o.option for o in outs.values() if o.is_stdout]
-        if streamed and STOPPED in str(exc):                  # (driver.non_finite's words)
+        if streamed and sinks.sent and STOPPED in str(exc):   # (driver.non_finite's words)
             raise VampcError(str(exc).replace(
                 STOPPED, f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
                 "to standard output, which ends with them")) from None
@@ -414,8 +428,17 @@ class Sinks:
         from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating
-        self._head(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count)
-        self._head(self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)
+        # the tables' headers go out with the first rows (or at the end: no rows), not before the
+        # run: its static check may still refuse the program, and `-o -` had sent a header line
+        self.sent = False         # any rows written (to standard output: sent, whatever comes)
+        self._heads = [(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count),
+                       (self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)]
+
+    def _headed(self) -> None:
+        """The tables' headers, once."""
+        heads, self._heads = self._heads, []
+        for head in heads:
+            self._head(*head)
 
     def _head(self, pending, npy: bool, columns: list[str], count: int) -> None:
         """A table's start: the CSV header line, or the .npy header of (count, its columns)."""
@@ -450,6 +473,8 @@ class Sinks:
         """One chunk's torques and states."""
         from vampc.robot.mimic import reduce_states, reduce_torques
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
+        self._headed()
+        self.sent = True
         if self.tau is not None:
             self._rows(self.tau, self.npy, traj.t, reduce_torques(chain, tau))
         if self.states is not None:
@@ -465,6 +490,7 @@ class Sinks:
         """Put the states, the waveform and the torques in place. After a failed check none of them
         replaces an existing file unless asked (--write-failed): a states file replaced beside the
         torques kept made a pair that no longer matched. New files are written, and said so."""
+        self._headed()
         for what, pending in (("states", self.states), ("waveform", self.vcd_out),
                               ("torques", self.tau)):
             if pending is None:
@@ -821,6 +847,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 raise
             raise VampcError(f"{exc} ({ld.arith!r} words: {count(ld.arith.overflows, 'overflow')} "
                              "before it: the torques may not be the path's)") from None
+    if res.retimed is not None:
+        la.check_new_times(res, times, source_path)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))

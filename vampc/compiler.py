@@ -103,7 +103,8 @@ def compile_graph(chain: Chain, graph: Graph, options: CompileOptions = CompileO
     if until == "allocate":
         return Compiled(chain, options, graph, sched, net, layout=layout)
     stage("emit")
-    numbering = (emit.read_numbering(options.numbering, len(net.vamps)) if options.numbering
+    numbering = (emit.read_numbering(options.numbering, len(net.vamps),
+                                     Packing.of(options.arith()).limit) if options.numbering
                  else emit.default_numbering(net))
     progs = emit.programs(net)
     if options.error_correction:

@@ -423,6 +423,31 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     return out
 
 
+def check_new_times(res: Lookahead, times: np.ndarray, path: str) -> None:
+    """The retimed rows' times as written (from the path's first time): VampcError where two
+    cannot be told apart in float64 (a path whose t starts at 1.7e9, rows 1e-8 s apart: the file
+    written could not be read back), and a warning where the intervals are held only roughly."""
+    import warnings
+
+    from vampc.errors import VampcWarning
+    new = res.new_times(times)
+    planned = np.diff(res.retimed_t if res.k is None else (times - times[0]) * res.k)
+    got = np.diff(new)
+    if (got <= 0).any():
+        i = int(np.argmax(got <= 0))
+        raise VampcError(f"{path}: rows {i + 1} and {i + 2} as retimed, {planned[i]:.3g} s apart, "
+                         f"both come at t = {float(new[i])!r}: float64 cannot tell them apart from a t "
+                         f"starting at {times[0]:.12g}; give the path a t column starting near 0")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = np.abs(got - planned) / planned
+    worst = float(np.max(off[planned > 0], initial=0.0))
+    if worst > 1e-6:
+        warnings.warn(VampcWarning(
+            f"{path}: the retimed rows' times, from t = {times[0]:.12g}, hold their intervals "
+            f"only to {100 * worst:.2g}% in float64; a t column starting near 0 holds them "
+            "exactly"), stacklevel=1)
+
+
 def finite(tau: np.ndarray, ld, path: str, what: str = "") -> None:
     """VampcError naming the first torque of a pass (`what`) that is not finite, as `vampc emulate`
     says it (vampc.emulator.driver.non_finite): a non-finite number is never a result."""

@@ -569,6 +569,10 @@ class EmulateOptions:
                 raise VampcUsageError(f"{option} writes {what} as CSV or, for a name ending in .npy, "
                                       f"as a NumPy array: not {suffix}"
                                       + (" (compress the file afterwards)" if suffix != ".npz" else ""))
+        suffix = Path(self.vcd).suffix.lower() if self.vcd else ""
+        if suffix in COMPRESSED:              # (a .gz name was written as plain text)
+            raise VampcUsageError(f"--vcd writes a VCD text file: not {suffix} (compress the file "
+                                  "afterwards)")
         if self.allow_out_of_limits and self.trajectory is None:
             raise VampcUsageError("--allow-out-of-limits applies with --trajectory (random states are "
                                   "drawn within the limits)")

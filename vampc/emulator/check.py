@@ -119,11 +119,16 @@ def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
                     raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: operand {name} holds "
                                      f"{_describe(ld, sources[0])}, not graph node {arg} "
                                      f"({nodes[arg].name})")
-    want = {o.joint: o.node for o in ld.graph.outputs}
+    want = {o.joint: o for o in ld.graph.outputs}
     for o, (v, k) in zip(ld.net.outputs, timing.outputs):
-        if ld.net.vamps[v].slots[k].node != want.get(o.joint):
+        node = want[o.joint].node if o.joint in want else None
+        if ld.net.vamps[v].slots[k].node != node:
             raise VampcError(f"{ld.path}: τ{o.joint} is read from {ld.vamp_name(v, k)}, "
-                             f"not from graph node {want.get(o.joint)}")
+                             f"not from graph node {node}")
+        if o.component != want[o.joint].component:
+            raise VampcError(f"{ld.path}: io.outputs: τ{o.joint} is read from component {o.component} of "
+                             f"{ld.vamp_name(v, k)}'s result, the graph's is component "
+                             f"{want[o.joint].component} of node {node}")
 
 
 def _carried(ld: Loaded, src):

@@ -105,7 +105,15 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     doc = typed(doc, path)
     chain, graph, net, listed = decoded or (None, graph_from_doc(doc.graph, path),
                                             network_from_doc(doc, path), None)
-    sched = schedule_of(doc.schedule)
+    if decoded is None:       # (a report's decoded IRs were checked so: compiled_from_doc)
+        from vampc.program.document import recorded_options, schedule_from_doc
+        recorded_options(doc, graph, path)
+        sched = schedule_from_doc(doc.schedule, graph, path)
+        if sched.interval != net.period:
+            raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
+                             f"period {net.period}")
+    else:
+        sched = schedule_of(doc.schedule)
     numbers = tuple(v.number for v in doc.network.vamps)
     ld = _loaded(str(path), chain or chain_from_doc(doc.robot, graph, path), graph, sched, net,
                  numbers,
@@ -114,6 +122,8 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     if doc.io.load_ticks != ld.load_ticks:
         raise VampcError(f"{path}: io.load_ticks {doc.io.load_ticks} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
+    from vampc.program.document import check_port_writes
+    check_port_writes(doc.network, doc.io.port_writes, path)   # (last: a missing port said first)
     return ld
 
 

@@ -137,8 +137,9 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                  else f"{len(names)} columns, expected {len(want)}")
         first = ("; a t column comes first" if "t" in names and names[0] != "t" and
                  [c for c in names if c != "t"] == list(columns) else "")
-        raise VampcError(f"{path}: header: {which} (expected {len(want)} columns "
-                         f"{','.join(want[:2])}...{want[-1]}: {why}){first}")
+        listed = ",".join(want) if len(want) <= 3 else f"{','.join(want[:2])}...{want[-1]}"
+        raise VampcError(f"{path}: header: {which} (expected {count(len(want), 'column')} "
+                         f"{listed}: {why}){first}")
     data = np.empty((len(rows) - 1, len(want)))
     for r, row in enumerate(rows[1:], 2):
         if len(row) != len(want):
@@ -370,7 +371,9 @@ def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
         r, c = (int(x) for x in np.argwhere(bad)[0])
         column = columns[c] if columns is not None and c < len(columns) else c + 1
         where = f"state {r + 1}" if first_line is None else f"line {r + first_line} (state {r + 1})"
-        raise VampcError(f"{path}: {where}, column {column}: {data[r, c]} is not finite")
+        why = (" (written so, or a number beyond float64's range, about 1.8e308)"
+               if np.isinf(data[r, c]) else "")
+        raise VampcError(f"{path}: {where}, column {column}: {data[r, c]} is not finite{why}")
 
 
 def torque_columns(names, floating: bool = False) -> list[str]:

@@ -335,6 +335,23 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    else checking_from_doc(nd.error_correction, len(vamps), path))
 
 
+def check_port_writes(nd, writes, path) -> None:
+    """io.port_writes is the host's write schedule of network.ports (each entry: its port, key and
+    block's first tick, in the ports' order), which the engines and the RTL host work out from the
+    ports themselves: an edited schedule was read by nothing and went unseen."""
+    want = [(p.index, e.quantity, e.joint, e.block * nd.clock) for p in nd.ports for e in p.entries]
+    got = [(w.port, w.quantity, w.joint, w.tick) for w in writes]
+    if got == want:
+        return
+    k = next((i for i, (a, b) in enumerate(zip(got, want)) if a != b), min(len(got), len(want)))
+    if k >= len(got) or k >= len(want):
+        raise VampcError(f"{path}: io.port_writes: {len(got)} writes, but network.ports have "
+                         f"{len(want)} entries")
+    port, quantity, joint, tick = want[k]
+    raise VampcError(f"{path}: io.port_writes[{k}]: port {got[k][0]} {got[k][1]}{got[k][2]} at tick "
+                     f"{got[k][3]}, but network.ports give port {port} {quantity}{joint} at tick {tick}")
+
+
 def _check_port_sizes(nd, path) -> None:
     """A port is as wide as what the host writes to it: 9 scalars for a matrix A_i (quantity A),
     3 for a vector, and 3 for a program port (no entries): an edited size was counted by the report
@@ -429,15 +446,10 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     the section that disagrees); only an exact solver's proof, which no check can redo, is read
     from it."""
 
-    from vampc.compiler import Compiled, CompileOptions
+    from vampc.compiler import Compiled
     doc = typed(doc, path)
     graph = graph_from_doc(doc.graph, path)
-    try:
-        options = CompileOptions(**doc.options.recorded())
-        options.check()
-    except VampcError as exc:          # a usage error on the command line is the file's here
-        raise VampcError(f"{path}: options: {exc}") from None
-    _check_layout_names(doc, options, path)
+    options = recorded_options(doc, graph, path)
     numbering = tuple(v.number for v in doc.network.vamps)
     try:
         graph.verify()
@@ -447,6 +459,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         from vampc.emulator.load import check_indices
         check_indices(net, numbering, graph, path)
         _check_selects(net, numbering, path)
+        check_port_writes(doc.network, doc.io.port_writes, path)
         if sched.interval != net.period:
             raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                              f"period {net.period}")
@@ -465,6 +478,28 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
     return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def recorded_options(doc: F.ProgramFile, graph: Graph, path):
+    """The CompileOptions a file records, checked against what its sections hold: the layout it
+    names, the recursion of its graph, the latencies of its schedule (an edited options section
+    was taken by `emulate` without a word, and a report compared configurations at its
+    latencies, not the file's)."""
+    from vampc.compiler import CompileOptions
+    try:
+        options = CompileOptions(**doc.options.recorded())
+        options.check()
+    except VampcError as exc:          # a usage error on the command line is the file's here
+        raise VampcError(f"{path}: options: {exc}") from None
+    _check_layout_names(doc, options, path)
+    for where, got, want, section in (
+            ("recursion", options.recursion, graph.recursion, "the graph is"),
+            ("mult_latency", options.mult_latency, doc.schedule.mult_latency, "schedule.mult_latency is"),
+            ("add_latency", options.add_latency, doc.schedule.add_latency, "schedule.add_latency is")):
+        if got != want:
+            raise VampcError(f"{path}: options.{where}: {got}, but {section} {want} "
+                             "(the file was edited); recompile it")
+    return options
 
 
 def _check_layout_names(doc: F.ProgramFile, options, path) -> None:

@@ -119,8 +119,9 @@ def extraneous_number(numbering, packing) -> int:
     return largest + 1
 
 
-def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
-    """VAMP numbers from a text file, one positive integer per line (blank lines and #comments skipped)."""
+def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tuple[int, ...]:
+    """VAMP numbers from a text file, one positive integer per line (blank lines and #comments
+    skipped); `limit`: the Program-Mode word's (a number the network uses must be below it)."""
     from vampc.textio import decode_utf8
     numbers = []
     try:
@@ -134,6 +135,10 @@ def read_numbering(path: str | Path, count: int) -> tuple[int, ...]:
             continue
         if not text.isdigit() or int(text) < 1 or int(text) >= 2**24:
             raise VampcError(f"{path}: line {lineno}: {text!r} is not a VAMP number (1..16777215)")
+        if limit is not None and int(text) >= limit and len(numbers) < count:
+            raise VampcError(f"{path}: line {lineno}: VAMP number {text} (VAMP {len(numbers)}) does "
+                             f"not fit in a {limit.bit_length()}-bit Program-Mode word (at most "
+                             f"{limit - 1}); give a wider --word")
         numbers.append(int(text))
     if len(numbers) < count:
         raise VampcError(f"{path}: {len(numbers)} VAMP numbers given, the network needs {count}")

@@ -22,6 +22,10 @@ def parse_clock(text: str) -> float:
     m = _CLOCK.match(text)
     unit = m.group(2).lower() if m else None
     if m and not unit:
+        x = float(m.group(1))
+        if not any(SLOWEST_HZ <= x * scale <= FASTEST_HZ for scale in UNITS.values()):
+            raise ValueError(f"{text!r} has no unit, and no unit (Hz, kHz, MHz, GHz) makes it a rate "
+                             f"{RATE_RANGE_TEXT}")
         raise ValueError(f"{text!r} has no unit: give Hz, kHz, MHz or GHz (e.g. {m.group(1)}MHz)")
     if m and m.group(2) == "mHz":             # millihertz, or a slip for MHz: say which
         raise ValueError(f"{text!r}: mHz is millihertz; write MHz for megahertz")

@@ -66,6 +66,13 @@ def serial_work(graph) -> dict:
     return {"mults": mults, "adds": adds}
 
 
+def physical_vamps(net) -> int:
+    """The VAMPs a network is built of: its own and, with error correction's checking, the
+    extraneous ones at the head of the checking chain (`order` holds every VAMP it checks and
+    them). Package counts pack these."""
+    return len(net.checking.order) if net.checking is not None else len(net.vamps)
+
+
 def packages(vamps: int) -> dict:
     """40-pin packages needed, per packaging style."""
     return {style: math.ceil(vamps / per) for style, per in VAMPS_PER_PACKAGE.items()}
@@ -101,7 +108,7 @@ def summary(c) -> dict:
                     "scalars": 3 * c.network.buffer_stages},
         "ports": len(c.network.ports), "constants": len(c.network.consts),
         "input_buffer_scalars": input_buffer_scalars(c),
-        "packages_40pin": packages(len(c.network.vamps)),
+        "packages_40pin": packages(physical_vamps(c.network)),
         "serial_work": serial_work(c.graph),
         "serial_reference": serial_reference(c.chain.n),
         "ops": dict(sorted(Counter(nd.op.value for nd in c.graph.compute_nodes()).items())),
