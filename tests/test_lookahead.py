@@ -792,3 +792,20 @@ def test_an_effort_limit_near_the_float_range_plans_without_a_warning(tmp_path):
                                   "--window", "300", "--retime", "window", "--check", "-o",
                                   str(tmp_path / "w.csv")])
     assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr
+
+
+def test_a_path_without_times_run_at_another_rate_than_its_own_is_warned_of(setup, tmp_path):
+    """A 1 kHz path without a t column run at --rate 2kHz: its positions move twice what its
+    velocities say at that rate, and the run planned for half the speed the arm would go, without a
+    word (a new user's run). Warned, with the rate that fits; at its own rate, nothing."""
+    folder, program, limits, _ = setup
+    data = np.loadtxt("examples/puma560-path.csv", delimiter=",", skiprows=1)[:, 1:]
+    path = tmp_path / "untimed.csv"
+    np.savetxt(path, data, delimiter=",", comments="", fmt="%.17g",
+               header=",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7)))
+    for rate, said in (("2kHz", True), ("1kHz", False), ("500Hz", True)):
+        r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", rate,
+                                      "--window", "8", "--limits", str(limits)])
+        assert r.exit_code == 0, r.output
+        assert ("is --rate the rate the rows were sampled at? (about 1000 Hz would fit them)"
+                in r.output) == said, (rate, r.output)

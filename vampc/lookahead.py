@@ -298,6 +298,7 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     times' own rounding), or j/rate."""
     lam = 1.0 / rate
     if traj.t is None:
+        _check_rate_against_speeds(traj, lam, rate, path)
         return np.arange(traj.count) * lam
     t = traj.t
     steps = np.diff(t)
@@ -318,6 +319,28 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
                             "rounding: write them in full, or leave the t column out, and the rows "
                             "are 1/rate apart)" if rounded else ""))
     return t
+
+
+def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None:
+    """A path without a t column: a warning where its positions move other than its velocities say
+    at this rate (the trapezoid rule, over all rows and joints), by more than a quarter: a 1 kHz
+    path run at --rate 2kHz was planned for half the speed the arm would go, without a word (a new
+    user's run)."""
+    if traj.count < 3:
+        return
+    moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
+    said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
+    if moved <= 0 or said <= 0 or not np.isfinite(moved / said):
+        return
+    ratio = moved / said
+    if not 0.8 <= ratio <= 1.25:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(
+            f"{path}: its positions move {ratio:.3g} times what its velocities give at "
+            f"{rate:g} Hz (the rows 1/rate apart): is --rate the rate the rows were sampled at? "
+            f"(about {rate / ratio:.4g} Hz would fit them)"), stacklevel=1)
 
 
 def check_window(window: int, traj, futures: int = 1) -> None:

@@ -109,9 +109,6 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
         from vampc.program.document import recorded_options, schedule_from_doc
         recorded_options(doc, graph, path)
         sched = schedule_from_doc(doc.schedule, graph, path)
-        if sched.interval != net.period:
-            raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
-                             f"period {net.period}")
     else:
         sched = schedule_of(doc.schedule)
     numbers = tuple(v.number for v in doc.network.vamps)
@@ -122,6 +119,9 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     if doc.io.load_ticks != ld.load_ticks:
         raise VampcError(f"{path}: io.load_ticks {doc.io.load_ticks} is not the {ld.load_ticks} "
                          "ticks the program stream takes")
+    if sched.interval != net.period:           # (after the network's own checks: said first)
+        raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
+                         f"period {net.period}")
     from vampc.program.document import check_port_writes
     check_port_writes(doc.network, doc.io.port_writes, path)   # (last: a missing port said first)
     return ld
