@@ -635,3 +635,46 @@ def test_emulate_and_report_refuse_the_same_edited_options_and_schedule(puma_pro
     code, err, out = run(*args)
     assert code == 1 and one_line(err) and err.startswith(f"vampc: error: {edited}: {says}"), err
     assert out == ""
+
+
+def test_a_fixed_point_check_failed_by_an_injected_fault_does_not_advise_a_wider_word(tmp_path):
+    """A q16.16 run spoiled by an injected stuck bit failed --check with '(a wider --word would do
+    better; vampc precision finds one)': the fault is the cause, and a wider word no cure."""
+    program = tmp_path / "q.vamp.json"
+    assert run("compile", PLANAR, "--word", "q16.16", "-o", program)[0] == 0
+    code, err, out = run("emulate", program, "--random", 20, "--engine", "tick", "--fault",
+                         "vamp=5,stuck=result.z:30,value=1", "--check", "-o", tmp_path / "t.csv")
+    assert code == 1
+    line = next(s for s in (out + err).splitlines() if s.startswith("max error"))
+    assert line.endswith("FAILED (the injected --fault: a wider word would not undo it)"), line
+    assert "wider --word would do better" not in out + err
+
+
+@pytest.mark.parametrize("args, names", [
+    (["compile", PLANAR, "-o", "a.vamp.json", "-o", "b.vamp.json"], "-o / --output"),
+    (["emulate", PLANAR, "--random", "2", "--random", "3"], "--random"),
+    (["report", PLANAR, "--verify", "--no-verify"], "--verify / --no-verify")],
+    ids=["compile-o", "emulate-random", "report-verify"])
+def test_an_option_of_one_value_given_twice_is_a_usage_error(tmp_path, monkeypatch, args, names):
+    """click keeps the last of a repeated option: `--limits a.csv --limits b.csv` dropped a.csv,
+    `compile -o a -o b` wrote only b, without a word (a new user's run)."""
+    monkeypatch.chdir(tmp_path)
+    code, err, out = run(*args)
+    assert code == 2 and one_line(err) and f"{names} given more than once: give it once" in err, err
+    assert out == "" and not list(tmp_path.iterdir())
+    code, err, _ = run("emulate", PLANAR, "--random", "2", "--engine", "tick", "--fault", "vamp=3,dead",
+                       "--fault", "vamp=4,dead", "-o", "t.csv")
+    assert code == 0, err                      # (--fault takes several: its help says so)
+
+
+def test_a_waveform_streamed_before_an_overflow_is_said_to_have_been_sent(tmp_path):
+    """--vcd - streams the waveform as the tick engine runs: a later overflow's message said "wrote
+    no output file" after the waveform had gone to standard output (a reviewer's find)."""
+    program = tmp_path / "p.vamp.json"
+    assert run("compile", PLANAR, "-o", program)[0] == 0
+    states = tmp_path / "huge.csv"
+    states.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0.3,0.4,0.5,0.6\n0.1,0.2,1e200,1e200,0.5,0.6\n")
+    code, err, out = run("emulate", program, "--trajectory", states, "--allow-out-of-limits", "--engine",
+                         "tick", "--vcd", "-")
+    assert code == 1 and one_line(err), err
+    assert "--vcd - had sent the sets before it to standard output" in err and "$enddefinitions" in out

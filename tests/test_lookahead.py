@@ -157,9 +157,14 @@ def test_bad_input_is_one_line(setup, edit, args, message, code):
     if "--no-limits" in rest:
         rest.remove("--no-limits")
         del options["--limits"]
-    while rest and rest[0] in options:      # an override of one of the above
+    kept = []                               # an option of the above given again overrides it
+    while rest:                             # (an option given twice is a usage error)
         key = rest.pop(0)
-        options[key] = rest.pop(0)
+        if key in options and rest:
+            options[key] = rest.pop(0)
+        else:
+            kept.append(key)
+    rest = kept
     cmd = ["lookahead", str(program)] + [x for kv in options.items() for x in kv] + rest
     r = CliRunner().invoke(main, cmd)
     assert r.exit_code == code, r.output

@@ -198,8 +198,9 @@ def test_with_the_whole_path_in_view_the_duration_is_topp_ras_optimum():
 ])
 def test_window_usage(setup, args, message):
     folder, program, limits, path = setup
+    window = [] if "--window" in args else ["--window", "64"]     # (an option given twice: refused)
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), *args])
+                                  *window, "--limits", str(limits), *args])
     assert r.exit_code == 2 and re.search(message, r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
 
@@ -443,3 +444,26 @@ def test_retimed_times_float64_cannot_tell_apart_are_refused_and_rough_ones_said
                              r"to [\d.]+% in float64", r.output), r.output
             t = np.loadtxt(out, delimiter=",", skiprows=1)[:, 0]
             assert (np.diff(t) > 0).all()
+
+
+def test_a_wide_fixed_point_word_plans_to_the_tolerance_given(tmp_path, setup):
+    """The word's margin is --check's tolerance of the largest limit (1e-3 for any fixed point):
+    a q32.32 program's flange limit of 0.05 N·m is within it and refused, though the word errs by
+    7e-10 of the largest |τ|; --tolerance 1e-8 plans to that, and --check holds the run to it (a
+    reviewer's find). --tolerance on a float64 program is a usage error."""
+    folder, program, _, path = setup
+    wide = tmp_path / "q32.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q32.32", "-o", str(wide)]).exit_code == 0
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\n"
+                      "flange,0.05,4\n")
+    args = ["lookahead", str(wide), "--trajectory", str(path), "--rate", "1kHz", "--window", "64",
+            "--limits", str(limits), "--retime", "window", "--check"]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 1 and "joint 'flange': its effort limit 0.05 is within the error" in r.output
+    r = CliRunner().invoke(main, args + ["--tolerance", "1e-8"])
+    assert r.exit_code == 0, r.output
+    assert "tolerance 1e-8: OK; retimed rows by the reference: 0 violations" in r.output
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--tolerance", "1e-8"])
+    assert r.exit_code == 2 and "--tolerance applies to a program in a narrower word" in r.output

@@ -95,9 +95,35 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                          f"{exc.strerror or exc}") from None
 
 
+class _Command(click.Command):
+    """A vampc command: an option that takes one value given twice is a usage error (click keeps
+    the last, and `--limits a.csv --limits b.csv` dropped a.csv without a word; options that take
+    several, such as --fault and --lock, say so in their help)."""
+
+    def make_parser(self, ctx):
+        parser = super().make_parser(ctx)
+        parse = parser.parse_args
+
+        def once(args):
+            opts, rest, order = parse(args)
+            seen = set()
+            for param in order:
+                if isinstance(param, click.Option) and not param.multiple and not param.count:
+                    if param.name in seen:
+                        names = " / ".join(param.opts + param.secondary_opts)
+                        raise click.UsageError(f"{names} given more than once: give it once",
+                                               ctx)
+                    seen.add(param.name)
+            return opts, rest, order
+        parser.parse_args = once
+        return parser
+
+
 class _Vampc(click.Group):
     """The command group: a usage error is one line on stderr, `vampc: error: ...` with the help to
     read, exit 2, like every other error."""
+
+    command_class = _Command
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:

@@ -296,7 +296,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.discard()
         from vampc.emulator.driver import STOPPED
         streamed = [o.option for o in outs.values() if o.is_stdout]
-        if streamed and sinks.sent and STOPPED in str(exc):   # (driver.non_finite's words)
+        sent = sinks.sent or sinks.vcd is not None and sinks.vcd.sampled
+        if streamed and sent and STOPPED in str(exc):         # (driver.non_finite's words)
             raise VampcError(str(exc).replace(
                 STOPPED, f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
                 "to standard output, which ends with them")) from None
@@ -314,7 +315,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
             f"{number_text(own.tolerance or default_tolerance(word))}: "
             f"{'OK' if ok else 'FAILED'}", info)
     elif outcome.check is not None:
-        say(word_check_text(ld, outcome, tolerance, ok), info)
+        say(word_check_text(ld, outcome, tolerance, ok, faulted=bool(own.fault)), info)
     return ok
 
 
@@ -350,11 +351,12 @@ def number_text(x: float) -> str:
 
 def default_tolerance(word) -> float:
     """--check's tolerance for a word format (README, Word formats): 1e-9 for float64 (of each
-    set's largest |τ|), 1e-5 for float32, 1e-3 for fixed point (of each joint's largest |τ|)."""
+    set's largest |τ|), 1e-5 for float32, 1e-3 for fixed point (of the run's largest |τ| of any
+    joint: WordCheck.overall)."""
     return {"float64": 1e-9, "float32": 1e-5}.get(word.name, 1e-3)
 
 
-def word_check_text(ld, outcome, tolerance: float, ok: bool) -> str:
+def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = False) -> str:
     """The check of a run in a word other than float64: per joint, then the verdict."""
     res = outcome.check
     from vampc.emulator.trajectory import torque_columns
@@ -367,7 +369,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool) -> str:
     over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
     lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}), tolerance "
                  f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}"
-                 + ("" if ok else _word_hint(ld, outcome)))
+                 + ("" if ok else " (the injected --fault: a wider word would not undo it)" if faulted
+                    else _word_hint(ld, outcome)))
     return "\n".join(lines)
 
 
@@ -517,9 +520,11 @@ class _Guarded:
 
     def __init__(self, writer, pending):
         self.writer, self.pending = writer, pending
+        self.sampled = False           # any tick written (to standard output: sent)
 
     def sample(self, tick, values) -> None:
         """As VcdWriter.sample."""
+        self.sampled = True
         try:
             self.writer.sample(tick, values)
         except OSError as exc:
@@ -826,7 +831,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         if own.retime != "window":                    # rows λ apart: said before the run
             _in_time(source, ld, own, clock, need, seen, lam)
     # a narrower word than float64: plan within the error its --check allows (of the largest |τ|)
-    margin = 0.0 if ld.arith.name == "float64" else default_tolerance(ld.arith)
+    if own.tolerance is not None and ld.arith.name == "float64":
+        raise VampcUsageError("--tolerance applies to a program in a narrower word than float64 (its "
+                              "float64 torques are held to 1e-9)")
+    margin = 0.0 if ld.arith.name == "float64" else own.tolerance or default_tolerance(ld.arith)
     if own.retime is not None:
         from vampc.robot.mimic import free_names
         try:
@@ -877,7 +885,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if res.retimed_violations or res.arriving_violations:   # the network finds a row over: failed
         failed.append("retiming")
     if own.check_torques:
-        tolerance = default_tolerance(ld.arith)
+        tolerance = own.tolerance or default_tolerance(ld.arith)
         if ld.word is None:
             check = check_torques(ld.chain, traj, res.tau)
             same, error = check.ok, check.max_rel

@@ -496,7 +496,8 @@ def check_word_error(limits: Limits, names, error: float, word: str) -> None:
             raise VampcError(f"joint '{name}': its effort limit {lim:.12g} is within the error a "
                              f"{word} network's --check allows ({error:.3g}: of the largest effort "
                              f"limit, {max(limits.tau):.12g}): no retiming can promise to keep it "
-                             "(a wider word: vampc precision names one)")
+                             "(give the word's error as a smaller --tolerance, if --check finds it "
+                             "within that, or use a wider word: vampc precision names one)")
 
 
 def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, error: float = 0.0,

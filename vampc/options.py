@@ -632,6 +632,11 @@ class LookaheadOptions:
     check_torques: bool = field(default=False, metadata=cli(
         "--check", help="Compare every row's torques with the reference Newton-Euler, and with "
         "--retime every retimed row's torques (by the reference) with the limits; exit 1 if not."))
+    tolerance: float | None = field(default=None, metadata=cli(
+        "--tolerance", type=float, metavar="X", help="A program in a narrower word than float64: "
+        "the error its torques may make, of the run's largest |τ| (default: --check's, 1e-5 for "
+        "float32 and 1e-3 for fixed point); --retime plans each effort limit that much of the "
+        "largest limit inside, and --check holds the run to it (README, vampc lookahead)."))
     clock: str | None = field(default=None, metadata=cli(
         "--clock", metavar="F", help="The network's clock (one flop per tick: 20MHz): say whether it "
         "keeps up with the rows, and refuse a rate it cannot serve."))
@@ -663,6 +668,11 @@ class LookaheadOptions:
                 raise VampcUsageError(f"--{name} applies with --accelerations")
         if self.futures is not None and self.retime != "window":
             raise VampcUsageError("--futures applies with --retime window")
+        if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
+            raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
+        if self.tolerance is not None and self.tolerance >= 1:
+            raise VampcUsageError(f"--tolerance {self.tolerance}: give an error below 1 (of the "
+                                  "largest |τ|)")
         if self.retime == "window" and self.window is not None and self.window * (self.futures or 1) < 3:
             raise VampcUsageError(f"--retime window sees {self.window * (self.futures or 1)} row(s) ahead: "
                                   "it needs at least 3 (--window × --futures) to start and still be "
