@@ -395,6 +395,16 @@ def test_a_row_whose_speed_or_acceleration_dwarfs_its_tangent_is_never_silently_
         assert r.exit_code == 0, r.output
 
 
+def _word_program_and_limits(tmp_path, word: str, flange: str):
+    """The Puma compiled in `word`, and LIM's limits but the flange's (`tau,qd` of its row)."""
+    program = tmp_path / f"{word}.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\n"
+                      f"flange,{flange}\n")
+    return program, limits
+
+
 def test_a_limit_within_a_fixed_point_words_error_is_refused_naming_it(setup, tmp_path):
     """A q16.16 network's torques are off by up to 1e-3 of the run's largest |τ| (--check's
     tolerance: of the largest of any joint), not of each joint's: planned 1e-3 of each limit inside,
@@ -402,11 +412,7 @@ def test_a_limit_within_a_fixed_point_words_error_is_refused_naming_it(setup, tm
     found over (a new user's run) that the reference did not. Such a limit cannot be kept by any
     plan: the command says so before the run, naming the limits file and the joint."""
     folder, _, _, path = setup
-    program = tmp_path / "q.vamp.json"
-    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
-    limits = tmp_path / "lim.csv"
-    limits.write_text("joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\n"
-                      "flange,0.0005,\n")
+    program, limits = _word_program_and_limits(tmp_path, "q16.16", "0.0005,")
     out = tmp_path / "out.csv"
     for how in ("uniform", "window"):
         r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
@@ -452,11 +458,7 @@ def test_a_wide_fixed_point_word_plans_to_the_tolerance_given(tmp_path, setup):
     7e-10 of the largest |τ|; --tolerance 1e-8 plans to that, and --check holds the run to it (a
     reviewer's find). --tolerance on a float64 program is a usage error."""
     folder, program, _, path = setup
-    wide = tmp_path / "q32.vamp.json"
-    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q32.32", "-o", str(wide)]).exit_code == 0
-    limits = tmp_path / "lim.csv"
-    limits.write_text("joint,tau,qd\nwaist,10,\nshoulder,60,\nelbow,20,\nwrist_roll,1,\nwrist_bend,1,\n"
-                      "flange,0.05,4\n")
+    wide, limits = _word_program_and_limits(tmp_path, "q32.32", "0.05,4")
     args = ["lookahead", str(wide), "--trajectory", str(path), "--rate", "1kHz", "--window", "64",
             "--limits", str(limits), "--retime", "window", "--check"]
     r = CliRunner().invoke(main, args)
