@@ -168,6 +168,30 @@ class CheckingTickEngine(TickEngine):
         for p in np.flatnonzero(self.mode == FILL):
             self.driver[self.succ[int(p)]] = p
 
+    _CHECKING_STATE = ("mode", "since", "phase", "stage", "left", "detections", "stalled", "sweeps",
+                       "checked", "active", "driver")
+
+    def _finish_dead_ops(self, ports: dict, count: int, last_tick: int) -> None:
+        """TickEngine's, with what the checking has done kept as it was at the last torque: the
+        ops finish, and what the run reports of its checks (status, Maintenance Mode) is as
+        before."""
+        import copy
+        kept = {name: copy.deepcopy(getattr(self, name)) for name in self._CHECKING_STATE}
+        try:
+            super()._finish_dead_ops(ports, count, last_tick)
+        finally:
+            for name, value in kept.items():
+                setattr(self, name, value)
+
+    def _drives(self, slots):
+        """A slot computes the data path's values where its VAMP drives the Result line of the
+        program it runs: its own (normal), or its successor's (filling in for it); a checker's
+        copy of its successor's op, compared and dropped, does not (its overflows were counted a
+        second time: a --vamps 7 Puma in q5.11 said 63 where the stream engine said 47)."""
+        role = self.slot_role[slots]
+        driver = self.driver[np.minimum(role, self.V - 1)]
+        return (role < self.V) & (driver == self.slot_vamp[slots])
+
     def _watched(self, slots):
         """Slots of VAMPs past the warm-up of the table they run (a VAMP that has just switched
         tables runs ops on operands the other table's slots latched, by design)."""

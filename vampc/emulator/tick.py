@@ -289,6 +289,8 @@ class TickEngine:
             if until is not None and (t + 1) % P == 0 and until(t, tau, seen):
                 last_tick = t
                 break
+        else:
+            self._finish_dead_ops(ports, count, last_tick)
         self.last_seen = (seen >= 0).all(axis=1)
         stats.data_ticks = last_tick + 1
         stats.appear = [int(s.max()) for s in seen]
@@ -570,13 +572,41 @@ class TickEngine:
         slot did not run (its units hold another op's values: error correction's checker taking
         up its successor's program mid-op counted overflows the stream engine has not)."""
         tags = _combine2(self.tag_a[idx], self.tag_b[idx]) if j == 0 else self.utag[idx]
-        fresh = (tags >= 0) & (tags > self.counted[slots])
+        fresh = (tags >= 0) & (tags > self.counted[slots]) & self._drives(slots)
         if j > 0:
             fresh &= self.uslot[idx] == slots
         per_row = np.sum(np.stack(word.track), axis=0)
         word.overflows = before + int(per_row[fresh].sum())
         if j == rom.steps(r) - 1:
             self.counted[slots[fresh]] = tags[fresh]
+
+    # whether a run goes on past the last torque until every op of the last sets has finished
+    FINISHES_DEAD_OPS = True
+
+    def _finish_dead_ops(self, ports: dict, count: int, last_tick: int) -> None:
+        """A fixed-point word's run goes on past the last torque until every op of the last sets
+        has finished: ops no torque reads (a log recursion's padding) may be scheduled after the
+        torques are out, and their overflows, which the stream engine counts (each op once a
+        set), went uncounted (a --vamps 9 log Puma in q8.16: 2 overflows against 4). Nothing else
+        of the run changes: no torque is read, the waveform ends with the last torque, and the
+        emulated time is the torques'. (Not with faults or the checking engine: their ticks are
+        counted and their checks would run on.)"""
+        if self.ld.word is None or self.faults or not count or not self.FINISHES_DEAD_OPS:
+            return
+        end = (count - 1) * self.P + max(self.ld.schedule.finish, default=0)
+        vcd, self.vcd = self.vcd, None
+        try:
+            for t in range(last_tick + 1, end + 1):
+                if t % self.B == 0:
+                    self._write_ports(ports, t // self.B, count)
+                self._data_tick(t % self.P, t)
+        finally:
+            self.vcd = vcd
+
+    def _drives(self, slots):
+        """Which of these slots compute the data path's values (every one here; with error
+        correction's checking, not a checker's copy of its successor's op)."""
+        return True
 
     def _check_owner(self, r: int, j: int, slots, idx, t: int) -> None:
         """An op reads the operands its own slot latched (in data mode, once data flows): not what
