@@ -362,110 +362,194 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
 
 #endif
 
-/* The cell [p, stop), already checked to be [+-]d[.d][(e|E)[+-]d]: 1 with *x its double where
-   Eisel-Lemire decides it; 0 where strtod is to (at most 19 significant digits, and an undecided
-   case or an exponent beyond 100000); -1 for more than 19 significant digits, which this reader
-   refuses (parse_csv's caller then converts the table with Python's own, correctly rounded,
-   conversion: glibc's strtod misrounds some decimals of hundreds of digits). */
-static int fast_decimal(const char *p, const char *stop, double *x) {
-  unsigned long long man = 0;
-  long e10 = 0, ex = 0;
-  int neg = 0, nd = 0, eneg = 0;
-  if (*p == '+' || *p == '-') { neg = *p == '-'; p++; }
-  for (; p < stop && *p >= '0' && *p <= '9'; p++) {
-    if (man == 0 && *p == '0') continue;                /* leading zeros */
-    if (nd == 19) return -1;                            /* more digits than 64 bits hold */
-    man = man * 10 + (unsigned long long)(*p - '0');
-    nd++;
-  }
-  if (p < stop && *p == '.') {
-    for (p++; p < stop && *p >= '0' && *p <= '9'; p++) {
-      if (man == 0 && *p == '0') { e10--; continue; }
-      if (nd == 19) return -1;
-      man = man * 10 + (unsigned long long)(*p - '0');
-      nd++;
-      e10--;
-    }
-  }
-  if (p < stop) {                                       /* e or E */
-    p++;
-    if (*p == '+' || *p == '-') { eneg = *p == '-'; p++; }
-    for (; p < stop; p++) {
-      ex = ex * 10 + (*p - '0');
-      if (ex > 100000) return 0;                        /* strtod: 0, inf or what the zeros leave */
-    }
-  }
-#ifdef __SIZEOF_INT128__
-  return eisel_lemire(man, e10 + (eneg ? -ex : ex), neg, x);
-#else
-  (void)x;
-  return 0;
-#endif
-}
-
-static int digits(const char **p, const char *end) {
-  const char *start = *p;
-  while (*p < end && **p >= '0' && **p <= '9') ++*p;
-  return *p > start;
-}
-
-/* Parse the cell [p, end) into *x if it is, between spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at
-   least one digit in the mantissa; return 0 otherwise. */
-static int cell(const char *p, const char *end, double *x) {
-  const char *num, *stop;
-  char *got;
-  int mant, fast;
-  while (p < end && (*p == ' ' || *p == '\t')) p++;
-  while (end > p && (end[-1] == ' ' || end[-1] == '\t')) end--;
-  num = p;
-  if (p < end && (*p == '+' || *p == '-')) p++;
-  mant = digits(&p, end);
-  if (p < end && *p == '.') { p++; mant |= digits(&p, end); }
-  if (!mant) return 0;
-  if (p < end && (*p == 'e' || *p == 'E')) {
-    p++;
-    if (p < end && (*p == '+' || *p == '-')) p++;
-    if (!digits(&p, end)) return 0;
-  }
-  stop = p;
-  if (stop != end) return 0;
-  fast = fast_decimal(num, stop, x);
-  if (fast != 0) return fast > 0;
-  *x = strtod(num, &got);
-  return got == stop;
-}
-
-/* Rows of `cols` cells separated by ',' and ended by '\n' (the last newline optional) into out;
-   the number of rows, or -1 on anything else (an empty line, a ragged row, a cell that is not a
-   plain number, more than rows_max rows). */
+/* Rows of `cols` cells separated by ',' and ended by '\n' (or "\r\n", as in Python's text mode; the
+   last line end optional) into out, in one pass over the bytes; the number of rows, or -1 on
+   anything else (an empty line, a ragged row, more than rows_max rows, a cell that is not, between
+   spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at least one digit in the mantissa, or one of more
+   than 19 significant digits, which this reader refuses: the caller then converts the table with
+   Python's own, correctly rounded, conversion, as glibc's strtod misrounds some decimals of
+   hundreds of digits). A cell is converted by Eisel-Lemire, or by strtod where that cannot decide
+   (a halfway case, a subnormal or infinite result, an exponent beyond 100000 or the table). */
 long parse_csv(const char *p, long len, long cols, long rows_max, double *out) {
-  const char *end = p + len, *q;
-  long r = 0, c;
-  int crlf;
+  const char *end = p + len, *num, *stop, *ed;
+  char *got;
+  unsigned long long man;
+  long r = 0, c, e10, ex;
+  int neg, nd, eneg, mant, fast;
+  double x;
   while (p < end) {
     if (r == rows_max) return -1;
     for (c = 0; c < cols; c++) {
-      for (q = p; q < end && *q != ',' && *q != '\n'; q++) {}
-      /* a CRLF line end reads as LF, as in Python's text mode */
-      crlf = c == cols - 1 && q < end && q > p && q[-1] == '\r';
-      if (!cell(p, q - crlf, out + r * cols + c)) return -1;
-      if (c < cols - 1 ? (q == end || *q != ',') : (q < end && *q != '\n')) return -1;
-      p = q + 1;
+      man = 0; e10 = 0; ex = 0; neg = 0; nd = 0; eneg = 0; mant = 0; fast = 0;
+      while (p < end && (*p == ' ' || *p == '\t')) p++;
+      num = p;
+      if (p < end && (*p == '+' || *p == '-')) { neg = *p == '-'; p++; }
+      for (; p < end && *p >= '0' && *p <= '9'; p++) {
+        mant = 1;
+        if (man == 0 && *p == '0') continue;            /* leading zeros */
+        if (nd == 19) return -1;                        /* more digits than 64 bits hold */
+        man = man * 10 + (unsigned long long)(*p - '0');
+        nd++;
+      }
+      if (p < end && *p == '.') {
+        for (p++; p < end && *p >= '0' && *p <= '9'; p++) {
+          mant = 1;
+          if (man == 0 && *p == '0') { e10--; continue; }
+          if (nd == 19) return -1;
+          man = man * 10 + (unsigned long long)(*p - '0');
+          nd++;
+          e10--;
+        }
+      }
+      if (!mant) return -1;
+      if (p < end && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < end && (*p == '+' || *p == '-')) { eneg = *p == '-'; p++; }
+        for (ed = p; p < end && *p >= '0' && *p <= '9'; p++)
+          if (ex <= 100000) ex = ex * 10 + (*p - '0');  /* past it: strtod (0, inf, or what the zeros leave) */
+        if (p == ed) return -1;
+      }
+      stop = p;
+#ifdef __SIZEOF_INT128__
+      if (ex <= 100000) fast = eisel_lemire(man, e10 + (eneg ? -ex : ex), neg, &x);
+#endif
+      if (!fast) {                                      /* the cell ends before a byte strtod stops at */
+        x = strtod(num, &got);
+        if (got != stop) return -1;
+      }
+      out[r * cols + c] = x;
+      while (p < end && (*p == ' ' || *p == '\t')) p++;
+      if (c < cols - 1) {
+        if (p == end || *p != ',') return -1;
+        p++;
+      } else if (p < end) {
+        if (*p == '\r' && p + 1 < end && p[1] == '\n') p++;
+        if (*p != '\n') return -1;
+        p++;
+      }
     }
     r++;
   }
   return r;
 }
 
-/* rows x cols doubles as CSV text, each "%.17g" (C's printf rounds correctly, as Python's does), ','
-   between cells and '\n' after each row, into out (at least rows * cols * 25 bytes: the longest
+/* The number of '\n' in [p, p + len). */
+long count_lines(const char *p, long len) {
+  const char *end = p + len;
+  long n = 0;
+  while (p < end && (p = memchr(p, '\n', (size_t)(end - p))) != NULL) { n++; p++; }
+  return n;
+}
+
+#ifdef __SIZEOF_INT128__
+/* POW5[k] = 5^k, k = 0..55, as {high, low} 64-bit halves (5^55 < 2^128). */
+static const unsigned long long POW5[][2] = {
+@POW5@
+};
+
+/* D = x * 10^k rounded to the nearest integer, ties to even, from x = m * 2^e2 exactly (m * 5^k
+   * 2^(e2 + k), or m * 2^(e2 + k) / 5^-k), in 128-bit integers; 0 where they cannot hold it. */
+static int scaled_round(unsigned long long m, long e2, long k, unsigned long long *d) {
+  unsigned __int128 n, q, rem, half, den;
+  long sh = e2 + k;
+  if (k >= 0) {
+    if (k > 32) return 0;                               /* 2^53 * 5^32 < 2^128 */
+    n = (unsigned __int128)m * (((unsigned __int128)POW5[k][0] << 64) | POW5[k][1]);
+    if (sh >= 0) {
+      if (sh > 60 || n >> (64 - sh) != 0) return 0;
+      q = n << sh;
+    } else {
+      if (-sh >= 128) return 0;
+      q = n >> -sh;
+      rem = n - (q << -sh);
+      half = (unsigned __int128)1 << (-sh - 1);
+      if (rem > half || (rem == half && (q & 1))) q++;
+    }
+  } else {
+    if (-k > 55 || sh < 0 || sh > 74) return 0;         /* m * 2^sh < 2^128 */
+    den = ((unsigned __int128)POW5[-k][0] << 64) | POW5[-k][1];
+    n = (unsigned __int128)m << sh;
+    q = n / den;
+    rem = n - q * den;
+    if (rem > den - rem || (rem == den - rem && (q & 1))) q++;
+  }
+  if (q >> 64) return 0;
+  *d = (unsigned long long)q;
+  return 1;
+}
+
+/* x (finite) as C's and Python's "%.17g" write it, into out; the number of bytes. Its 17 significant
+   digits are x * 10^(16 - X) rounded to nearest, ties to even (X the decimal exponent after
+   rounding), worked out exactly in 128-bit integers; sprintf where they cannot hold it. */
+static int format_g17(double x, char *out) {
+  unsigned long long bits, m, d;
+  long e2, xp, i, last;
+  int be, neg, tries;
+  char dig[17], *p = out;
+  memcpy(&bits, &x, sizeof bits);
+  neg = (int)(bits >> 63);
+  be = (int)((bits >> 52) & 0x7FF);
+  m = bits & 0x000FFFFFFFFFFFFFULL;
+  if (be == 0 && m == 0) {
+    if (neg) *p++ = '-';
+    *p++ = '0';
+    return (int)(p - out);
+  }
+  if (be == 0x7FF) return sprintf(out, "%.17g", x);
+  if (be == 0) e2 = -1074; else { m |= 1ULL << 52; e2 = be - 1075; }
+  /* floor(log10 x) is xp or xp + 1: 2^(bits - 1 + e2) <= x < 2^(bits + e2) */
+  {
+    double t = (double)(63 - __builtin_clzll(m) + e2) * 0.30102999566398120;
+    xp = (long)t;
+    if (t < (double)xp) xp--;
+  }
+  for (tries = 0;; tries++) {
+    if (tries == 3 || !scaled_round(m, e2, 16 - xp, &d)) return sprintf(out, "%.17g", x);
+    if (d < 10000000000000000ULL) { xp--; continue; }
+    if (d > 100000000000000000ULL) { xp++; continue; }
+    if (d == 100000000000000000ULL) { xp++; d = 10000000000000000ULL; }   /* rounded up to 10^17 */
+    break;
+  }
+  for (i = 16; i >= 0; i--) { dig[i] = (char)('0' + d % 10); d /= 10; }
+  if (neg) *p++ = '-';
+  if (xp < -4 || xp >= 17) {                            /* d.ddde+XX */
+    *p++ = dig[0];
+    for (last = 16; last > 0 && dig[last] == '0'; last--) {}
+    if (last > 0) { *p++ = '.'; memcpy(p, dig + 1, (size_t)last); p += last; }
+    *p++ = 'e';
+    *p++ = xp < 0 ? '-' : '+';
+    if (xp < 0) xp = -xp;
+    if (xp >= 100) { *p++ = (char)('0' + xp / 100); xp %= 100; }
+    *p++ = (char)('0' + xp / 10);
+    *p++ = (char)('0' + xp % 10);
+  } else if (xp >= 0) {                                 /* ddd.ddd */
+    memcpy(p, dig, (size_t)(xp + 1));
+    p += xp + 1;
+    for (last = 16; last > xp && dig[last] == '0'; last--) {}
+    if (last > xp) { *p++ = '.'; memcpy(p, dig + xp + 1, (size_t)(last - xp)); p += last - xp; }
+  } else {                                              /* 0.000ddd */
+    *p++ = '0';
+    *p++ = '.';
+    for (i = 0; i < -xp - 1; i++) *p++ = '0';
+    for (last = 16; dig[last] == '0'; last--) {}
+    memcpy(p, dig, (size_t)(last + 1));
+    p += last + 1;
+  }
+  return (int)(p - out);
+}
+#else
+static int format_g17(double x, char *out) { return sprintf(out, "%.17g", x); }
+#endif
+
+/* rows x cols doubles as CSV text, each "%.17g" (format_g17; C's printf and Python round correctly),
+   ',' between cells and '\n' after each row, into out (at least rows * cols * 25 bytes: the longest
    "%.17g" is 24 characters); the number of bytes written. */
 long format_csv(const double *data, long rows, long cols, char *out) {
   char *p = out;
   long r, c;
   for (r = 0; r < rows; r++) {
     for (c = 0; c < cols; c++) {
-      p += sprintf(p, "%.17g", data[r * cols + c]);
+      p += format_g17(data[r * cols + c], p);
       *p++ = c == cols - 1 ? '\n' : ',';
     }
   }
@@ -493,8 +577,10 @@ def csv_source() -> str:
     """The C of the CSV reader and writer, with its table of powers of ten."""
     lo, hi = POW10_RANGE
     rows = ",\n".join("  {0x%016XULL, 0x%016XULL}" % _pow10_128(e) for e in range(lo, hi + 1))
+    pow5 = ",\n".join("  {0x%016XULL, 0x%016XULL}" % (5 ** k >> 64, 5 ** k & (2 ** 64 - 1))
+                       for k in range(56))
     return (_CSV_TEMPLATE.replace("@POW10_MIN@", str(lo)).replace("@POW10_MAX@", str(hi))
-            .replace("@POW10@", rows))
+            .replace("@POW10@", rows).replace("@POW5@", pow5))
 
 
 def _csv_function(name: str, argtypes: tuple):
@@ -522,11 +608,14 @@ def parse_csv(body: bytes, cols: int, start: int = 0):
     Python's float() does (tested against float(), bit for bit, on cells of every form)."""
     fn = _csv_function("parse_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long,
                                      ctypes.c_void_p))
-    if fn is None:
+    lines = _csv_function("count_lines", (ctypes.c_void_p, ctypes.c_long))
+    if fn is None or lines is None:
         return None
-    lines = body.count(b"\n", start) + 1
-    # split at line ends into one piece per thread (ctypes lets go of the GIL during each call)
-    cuts, count = [start], workers(lines)
+    # split at line ends into one piece per thread (ctypes lets go of the GIL during each call, so
+    # the pieces' lines are counted and parsed in parallel; the thread count from the first line's
+    # length, not from counting every line here, which holds the GIL)
+    first = body.find(b"\n", start)
+    cuts, count = [start], workers((len(body) - start) // (first - start + 1) + 1 if first >= 0 else 1)
     for k in range(1, count):
         at = body.find(b"\n", max(start + (len(body) - start) * k // count, cuts[-1]))
         if at < 0:
@@ -537,9 +626,8 @@ def parse_csv(body: bytes, cols: int, start: int = 0):
 
     def part(k: int):
         lo, hi = cuts[k], cuts[k + 1]
-        rows_max = body.count(b"\n", lo, hi) + 1
-        out = np.empty((rows_max, cols))
-        rows = fn(base + lo, hi - lo, cols, rows_max, out.ctypes.data) if hi > lo else 0
+        out = np.empty((lines(base + lo, hi - lo) + 1, cols))
+        rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data) if hi > lo else 0
         return out[:rows] if rows > 0 or hi == lo else None
     pieces = _threaded(part, len(cuts) - 1)
     if any(p is None for p in pieces) or not sum(len(p) for p in pieces):
