@@ -414,7 +414,6 @@ class Sinks:
 
     def __init__(self, ld, outs, has_t: bool, count: int = 0):
         from vampc.emulator.trajectory import header, torque_columns
-        from vampc.emulator.vcd import VcdWriter, vamp_names
         from vampc.outputs import Pending
         self.ld, self.outs = ld, outs
         # -o NAME.npy: a float64 array (count, [t,] torques); --save-states NAME.npy: the states in
@@ -426,8 +425,10 @@ class Sinks:
         self.states = Pending(outs["--save-states"], "states", self.states_npy) \
             if "--save-states" in outs else None
         self.vcd_out = Pending(outs["--vcd"], "waveform", False) if "--vcd" in outs else None
-        self.vcd = (_Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
-                    if self.vcd_out else None)
+        self.vcd = None
+        if self.vcd_out:          # (pyvcd only imported for a waveform)
+            from vampc.emulator.vcd import VcdWriter, vamp_names
+            self.vcd = _Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
         from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating

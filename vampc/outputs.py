@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
-import secrets
 import stat
 import sys
 from dataclasses import dataclass
@@ -221,7 +220,7 @@ def _new_temporary(target: Path) -> tuple[int, str]:
     """Create a new temporary file beside `target` (mode 0o600) with the name in the registry
     first; (its descriptor, its name)."""
     for _ in range(100):
-        name = str(target.parent / f".{target.name}.{secrets.token_hex(8)}.tmp")
+        name = str(target.parent / f".{target.name}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)
         try:
             return os.open(name, os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o600), name
