@@ -294,6 +294,23 @@ def test_overlapping_slots_are_rejected():
         verify_network(broken, graph, sched)
 
 
+def test_a_programmed_network_is_refused_by_its_check():
+    """Slots as a program holds them (Cycle-Counter values, not ticks) are refused by name, whichever
+    VAMP holds the first of them (a VAMP in the middle here, the others scheduled)."""
+    from vampc.network.model import ProgrammedSlot
+    graph, sched, net = build(4, layout="folded")
+    k = len(net.vamps) // 2
+    v = net.vamps[k]
+    s = v.slots[0]
+    programmed = ProgrammedSlot(s.node, s.op, s.column, s.sel_a, s.sel_b, 0, 0, 0)
+    vamps = list(net.vamps)
+    vamps[k] = msgspec.structs.replace(v, slots=(programmed,) + v.slots[1:])
+    broken = dataclasses.replace(net, vamps=tuple(vamps))
+    for check in (lambda: verify_network(broken, graph, sched), lambda: broken.verify(graph, sched)):
+        with pytest.raises(VampcInternalError, match="^a programmed network holds Cycle-Counter values"):
+            check()
+
+
 def test_tap_past_the_end_of_a_buffer_is_rejected():
     graph, sched, net = build(4)
     v, _, _, name, _, operand = next(x for x in reads(net) if x[5].taps[0].kind == "buffer")

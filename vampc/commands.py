@@ -49,7 +49,7 @@ def leave_big(net) -> None:
     """For a network of more than BIG_NETWORK_SLOTS slots, once the command's work is done (with the
     collector paused): leave without freeing its millions of objects one by one, and keep them from
     the collector's walks once it resumes; they stay to the end."""
-    if net is not None and net.slot_count >= BIG_NETWORK_SLOTS:
+    if net is not None and net.has_slots(BIG_NETWORK_SLOTS):
         from vampc.launch import skip_teardown
         skip_teardown()
         gc.freeze()
@@ -213,7 +213,7 @@ def program_compiled(source: str, given, params: dict):
     check = Deferred()
     if (doc.schedule.mult_latency, doc.schedule.add_latency) == (1, 1):
         check = in_background(_static_check, doc, source, c,
-                              inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
+                              inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
     fresh = jsontext.loads(jsontext.dumps(summary(c)))
     edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v
                     and not _counted_before(k, v, c))
@@ -605,7 +605,7 @@ def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, 
     if not options.verify:
         return c, None, Deferred()
     return c, None, in_background(_network_check, c,
-                                  inline=c.network.slot_count <= BACKGROUND_CHECK_SLOTS)
+                                  inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
 
 
 def _network_check(c) -> None:
