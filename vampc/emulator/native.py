@@ -362,7 +362,9 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
 
 #endif
 
-/* Rows of `cols` cells separated by ',' and ended by '\n' (or "\r\n", as in Python's text mode; the
+/* The byte at p[len] must be NUL or one that cannot continue a number (a caller's bytes object ends
+   in NUL): strtod, where it decides a cell, reads on until the number ends.
+   Rows of `cols` cells separated by ',' and ended by '\n' (or "\r\n", as in Python's text mode; the
    last line end optional) into out, in one pass over the bytes; the number of rows, or -1 on
    anything else (an empty line, a ragged row, more than rows_max rows, a cell that is not, between
    spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at least one digit in the mantissa, or one of more
@@ -624,7 +626,9 @@ def parse_csv(body: bytes, cols: int, start: int = 0):
     cuts.append(len(body))
     base = ctypes.cast(ctypes.c_char_p(body), ctypes.c_void_p).value
 
-    def part(k: int):
+    def part(k: int, body=body):
+        # (`body` held here: a thread still reading it keeps it alive, though a signal has ended
+        # parse_csv on the calling thread; its address alone would not)
         lo, hi = cuts[k], cuts[k + 1]
         out = np.empty((lines(base + lo, hi - lo) + 1, cols))
         rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data) if hi > lo else 0
