@@ -108,7 +108,7 @@ def _bad(tmp_path, text, name="bad.csv"):
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,nan,0,0,0\n", r"line 2 \(state 1\), column qd1: nan is not finite"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,0\n", r"line 2: 5 columns, expected 6"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n", r"no states"),
-    ("q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n", r"row 1: joint 1 \(.*\) is outside its limits"),
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n", r"line 2 \(state 1\): joint 1 \(.*\) is outside its limits"),
 ])
 def test_bad_trajectory(tmp_path, program, body, message):
     out = tmp_path / "tau.csv"

@@ -522,7 +522,7 @@ def test_absurd_but_finite_inputs_give_an_error_not_nan_torques(tmp_path, edit):
     out = tmp_path / "tau.csv"
     res = run("emulate", big, "--trajectory", _csv(tmp_path / "t.csv", HEAD + "0,0,1e200,1e200,0,0\n"),
               "--allow-out-of-limits", "-o", out)
-    user_error(res, r"big\.yaml: set 1, joint \d \((shoulder|elbow)\): the torque is -?(nan|inf) "
+    user_error(res, r"big\.yaml: set 1 \(line 2 of \S*t\.csv\), joint \d \((shoulder|elbow)\): the torque is -?(nan|inf) "
                     r"\(float64 overflow")
     assert not out.exists()
 

@@ -233,13 +233,13 @@ def test_trajectory_messages_name_the_files_columns(tmp_path):
     head = ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 5))
     states.write_text(head + "\n" + ",".join(["0"] * 7 + ["300"] + ["0"] * 4) + "\n")
     r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--allow-out-of-limits"])
-    assert r.exit_code == 1 and "row 1, column qd4: 300 is beyond q8.8 words" in r.output, r.output
+    assert r.exit_code == 1 and "line 2 (state 1), column qd4: 300 is beyond q8.8 words" in r.output, r.output
     triple = write(tmp_path, gripper('<mimic joint="f1"/>', '<mimic joint="t1" multiplier="3"/>'), "t.urdf")
     assert runner.invoke(main, ["compile", str(triple), "--mimic", "couple", "--word", "q8.8", "-o",
                                 str(program)]).exit_code == 0
     states.write_text(head + "\n" + ",".join(["0"] * 7 + ["100"] + ["0"] * 4) + "\n")
     r = runner.invoke(main, ["emulate", str(program), "--trajectory", str(states), "--allow-out-of-limits"])
-    assert r.exit_code == 1 and ("row 1, column qd of joint 't2' (derived from qd4): 300 is beyond"
+    assert r.exit_code == 1 and ("line 2 (state 1), column qd of joint 't2' (derived from qd4): 300 is beyond"
                                  in r.output), r.output
 
 

@@ -142,7 +142,7 @@ def test_the_first_overflows_are_located(tmp_path):
     args = ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory", str(traj), "--word",
             "q9.12"]
     res = CliRunner().invoke(main, args)
-    assert res.exit_code == 1 and "row 2, column qdd2: 300 is beyond q9.12 words, which hold " \
+    assert res.exit_code == 1 and "line 3 (state 2), column qdd2: 300 is beyond q9.12 words, which hold " \
         "[-256, 256)" in res.stderr and res.stderr.count("\n") == 1, res.stderr
     res = CliRunner().invoke(main, args + ["--overflow", "saturate", "--engine", "tick"])
     assert res.exit_code == 0, res.output

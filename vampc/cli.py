@@ -65,6 +65,12 @@ def handle_errors(f):
             sys.exit(130)
         except (click.exceptions.Exit, click.ClickException, SystemExit):
             raise
+        except MemoryError:
+            discard_all()
+            click.echo("vampc: error: out of memory: this run needs more memory than the process "
+                       "may have (fewer states or a smaller robot at a time, or more memory); no "
+                       "output file was written", err=True)
+            sys.exit(1)
         except Exception:
             import traceback
             traceback.print_exc()

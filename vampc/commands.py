@@ -269,7 +269,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
             check_limits(ld.chain, traj, own.trajectory)
         if "overflow" not in options.given:
             check_word_range(ld.arith, traj, own.trajectory, ld.chain)
-        states = States(traj.count, traj)
+        states = States(traj.count, traj, source=own.trajectory)
     else:
         states = States.random(own.random_count, own.seed)
     sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None, count=states.count)

@@ -62,6 +62,7 @@ class States:
     count: int
     trajectory: Trajectory | None = None
     seed: int = 0
+    source: str | None = None     # the trajectory's file, for messages naming a state's place
 
     @staticmethod
     def random(count: int, seed: int) -> "States":
@@ -166,7 +167,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, fau
         seconds += em.wall_seconds
         if ld.arith.overflows and len(sites) < SITES:     # where, for the first few
             sites += _sites(ld, stream, traj, SITES - len(sites), start)
-        _check_finite(ld, em.tau, start, faults)
+        _check_finite(ld, em.tau, start, faults, states.source)
         if check and ld.word is None:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
         elif check:      # another word: its error against float64, joint by joint
@@ -201,11 +202,17 @@ def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajec
         yield start, states.chunk(ld.chain, start, min(size, states.count - start))
 
 
-def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=()) -> None:
-    """VampcError naming the first torque that is not finite, and the cause (non_finite)."""
+def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=(), source=None) -> None:
+    """VampcError naming the first torque that is not finite, and the cause (non_finite); with the
+    state's place in its trajectory file `source`, where given (the numbers too large may be the
+    state's)."""
     found = non_finite(ld, tau, faults)
     if found is not None:
-        raise VampcError(f"{ld.path}: set {start + found[0] + 1}, {found[1]}")
+        k, where = start + found[0] + 1, ""
+        if source is not None:         # (a CSV's states start on its line 2)
+            npy = str(source).lower().endswith((".npy", ".npz"))
+            where = f" ({'state' if npy else 'line'} {k if npy else k + 1} of {source})"
+        raise VampcError(f"{ld.path}: set {k}{where}, {found[1]}")
 
 
 def non_finite(ld: Loaded, tau: np.ndarray, faults=()) -> tuple[int, str] | None:

@@ -70,6 +70,14 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
 
 
+def state_at(path, row: int) -> str:
+    """Where state `row` (from 0) of a trajectory file is: its line in a CSV (the states start on
+    line 2, as every other message about a CSV's cells says), its number in a NumPy file."""
+    if str(path).lower().endswith((".npy", ".npz")):
+        return f"state {row + 1}"
+    return f"line {row + 2} (state {row + 1})"
+
+
 def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True) -> None:
     """Refuse states outside the joint limits (position, and speed unless `speeds` is off), naming
     the row and joint (a coupled follower's by the leader column it is derived from)."""
@@ -88,7 +96,7 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True)
             via = f", {derived[i]} and the coupling" if i in derived else ""
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
                 ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
-            raise VampcError(f"{path}: row {row + 1}: joint {i + 1} ({j.name}) is outside its limits "
+            raise VampcError(f"{path}: {state_at(path, row)}: joint {i + 1} ({j.name}) is outside its limits "
                              f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}; limits "
                              f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")
 
@@ -113,7 +121,8 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     bad = (raw < word.lo) | (raw > word.hi)
     if bad.any():
         row, col = (int(x) for x in np.argwhere(bad)[0])
-        raise VampcError(f"{path}: row {row + 1}{what}, column {names[col]}: {values[row, col]:.12g} is "
+        where = f"row {row + 1}{what}" if what else state_at(path, row)
+        raise VampcError(f"{path}: {where}, column {names[col]}: {values[row, col]:.12g} is "
                          f"beyond {word.name} words, which hold [{-top:g}, {top:g}); give "
                          "--overflow saturate or --overflow wrap to run it anyway (each overflow "
                          "counted)")

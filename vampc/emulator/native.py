@@ -371,15 +371,17 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
    than 19 significant digits, which this reader refuses: the caller then converts the table with
    Python's own, correctly rounded, conversion, as glibc's strtod misrounds some decimals of
    hundreds of digits). A cell is converted by Eisel-Lemire, or by strtod where that cannot decide
-   (a halfway case, a subnormal or infinite result, an exponent beyond 100000 or the table). */
-long parse_csv(const char *p, long len, long cols, long rows_max, double *out) {
-  const char *end = p + len, *num, *stop, *ed;
+   (a halfway case, a subnormal or infinite result, an exponent beyond 100000 or the table). On a
+   refusal *bad is the offset of the line's first byte. */
+long parse_csv(const char *p, long len, long cols, long rows_max, double *out, long *bad) {
+  const char *begin = p, *end = p + len, *num, *stop, *ed;
   char *got;
   unsigned long long man;
   long r = 0, c, e10, ex;
   int neg, nd, eneg, mant, fast;
   double x;
   while (p < end) {
+    *bad = p - begin;                                   /* the line a refusal is in */
     if (r == rows_max) return -1;
     for (c = 0; c < cols; c++) {
       man = 0; e10 = 0; ex = 0; neg = 0; nd = 0; eneg = 0; mant = 0; fast = 0;
@@ -601,29 +603,34 @@ def _csv_function(name: str, argtypes: tuple):
     return fn
 
 
-def parse_csv(body: bytes, cols: int, start: int = 0):
+def parse_csv(body: bytes, cols: int, start: int = 0, refused: list | None = None,
+              stop: int | None = None):
     """The rows of a trajectory CSV from byte `start` of `body` (the line after its header) as an
     array (rows, cols), or None if they are not a plain table of decimal numbers, or if the native
     path is off or unavailable (the caller then parses them otherwise). A cell of more than 19
     significant digits is refused too (glibc's strtod misrounds some decimals of hundreds of
     digits); up to 19, Eisel-Lemire, and strtod where it cannot decide, round correctly as
-    Python's float() does (tested against float(), bit for bit, on cells of every form)."""
+    Python's float() does (tested against float(), bit for bit, on cells of every form).
+    `refused`: a list given gets the offset in `body` of the first line refused, if one was.
+    `stop`: where the rows end (default the end of `body`); the byte there must not continue a
+    number (a blank, a line end)."""
     fn = _csv_function("parse_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long,
-                                     ctypes.c_void_p))
+                                     ctypes.c_void_p, ctypes.POINTER(ctypes.c_long)))
     lines = _csv_function("count_lines", (ctypes.c_void_p, ctypes.c_long))
     if fn is None or lines is None:
         return None
     # split at line ends into one piece per thread (ctypes lets go of the GIL during each call, so
     # the pieces' lines are counted and parsed in parallel; the thread count from the first line's
     # length, not from counting every line here, which holds the GIL)
-    first = body.find(b"\n", start)
-    cuts, count = [start], workers((len(body) - start) // (first - start + 1) + 1 if first >= 0 else 1)
+    stop = len(body) if stop is None else stop
+    first = body.find(b"\n", start, stop)
+    cuts, count = [start], workers((stop - start) // (first - start + 1) + 1 if first >= 0 else 1)
     for k in range(1, count):
-        at = body.find(b"\n", max(start + (len(body) - start) * k // count, cuts[-1]))
+        at = body.find(b"\n", max(start + (stop - start) * k // count, cuts[-1]), stop)
         if at < 0:
             break
         cuts.append(at + 1)
-    cuts.append(len(body))
+    cuts.append(stop)
     base = ctypes.cast(ctypes.c_char_p(body), ctypes.c_void_p).value
 
     def part(k: int, body=body):
@@ -631,10 +638,14 @@ def parse_csv(body: bytes, cols: int, start: int = 0):
         # parse_csv on the calling thread; its address alone would not)
         lo, hi = cuts[k], cuts[k + 1]
         out = np.empty((lines(base + lo, hi - lo) + 1, cols))
-        rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data) if hi > lo else 0
-        return out[:rows] if rows > 0 or hi == lo else None
+        bad = ctypes.c_long(0)
+        rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data, ctypes.byref(bad)) if hi > lo else 0
+        return out[:rows] if rows > 0 or hi == lo else lo + bad.value
     pieces = _threaded(part, len(cuts) - 1)
-    if any(p is None for p in pieces) or not sum(len(p) for p in pieces):
+    failed = [p for p in pieces if isinstance(p, int)]
+    if failed and refused is not None:
+        refused.append(failed[0])         # the first refused line's first byte, in `body`
+    if failed or not sum(len(p) for p in pieces):
         return None
     return np.concatenate(pieces) if len(pieces) > 1 else pieces[0]
 

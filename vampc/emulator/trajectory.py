@@ -14,6 +14,7 @@ import codecs
 import csv
 import io
 import math
+import sys
 import zipfile
 from pathlib import Path
 
@@ -97,7 +98,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
-    raw = path.read_bytes()
+    raw = sys.stdin.buffer.read() if str(path) == "-" else path.read_bytes()   # (-: standard input)
     from vampc.sniff import compression
     packed = compression(raw[:16])
     if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')
@@ -105,7 +106,10 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                          "first)")
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[len(codecs.BOM_UTF8):]     # Excel writes one
-    fast = _read_csv_native(raw, columns)
+    refused: list = []
+    fast = _read_csv_native(raw, columns, refused)
+    if refused:                 # one line the native reader refused: wrong for the slow parser too?
+        _refused_line(path, *refused[0], columns)
     text = None
     if fast is None:
         text = decode_utf8(raw, path, what, arrays)
@@ -118,15 +122,11 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # universal newlines: a file ending its lines with CR alone (old Mac tools) reads as CRLF and
     # LF do; csv's own error was a traceback ("new-line character seen in unquoted field")
     reader = csv.reader(io.StringIO(text, newline=None))
-    try:
-        rows = list(reader)
-    except csv.Error as exc:
-        raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
-    while rows and not "".join(rows[-1]).strip():
-        rows.pop()       # trailing blank lines end the table; they are not states
-    if not rows:
+    rows = _rows(path, reader)
+    head = next(rows, None)
+    if head is None:
         raise VampcError(f"{path}: empty {what} file")
-    names = [c.strip() for c in rows[0]]
+    names = [c.strip() for c in head]
     has_t = bool(names) and names[0] == "t"
     want = (["t"] if has_t else []) + list(columns)
     if names != want:
@@ -140,18 +140,66 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
         listed = ",".join(want) if len(want) <= 3 else f"{','.join(want[:2])}...{want[-1]}"
         raise VampcError(f"{path}: header: {which} (expected {count(len(want), 'column')} "
                          f"{listed}: {why}){first}")
-    data = np.empty((len(rows) - 1, len(want)))
-    for r, row in enumerate(rows[1:], 2):
-        if len(row) != len(want):
-            raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
-        for c, cell in enumerate(row):
-            try:
-                data[r - 2, c] = cell_number(cell)
-            except ValueError:
-                raise VampcError(f"{path}: line {r}, column {want[c]}: {cell!r} is not a number") from None
+    # row by row into blocks of an array (a list of every row's strings took 7.9 GB for a 730 MB file)
+    blocks, block, k = [], np.empty((4096, len(want))), 0
+    for r, row in enumerate(rows, 2):
+        if k == len(block):
+            blocks.append(block)
+            block, k = np.empty((len(block) * 2, len(want))), 0
+        block[k] = _row_values(path, row, r, want)
+        k += 1
+    data = np.concatenate(blocks + [block[:k]])
     if data.shape[0] == 0:
         raise VampcError(f"{path}: the {what} has no {'states' if what == 'trajectory' else 'rows'}")
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
+
+
+def _rows(path: Path, reader):
+    """The csv reader's rows, one at a time, but for the blank ones that end the table (trailing
+    blank lines are no states; a blank row with rows after it is given as it is)."""
+    blank = []
+    try:
+        for row in reader:
+            if not "".join(row).strip():
+                blank.append(row)
+                continue
+            yield from blank
+            blank.clear()
+            yield row
+    except csv.Error as exc:
+        raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
+
+
+def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[float]:
+    """Line r's cells as numbers (VampcError naming the line and the column otherwise)."""
+    if len(row) != len(want):
+        raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
+    out = []
+    for c, cell in enumerate(row):
+        try:
+            out.append(cell_number(cell))
+        except ValueError:
+            raise VampcError(f"{path}: line {r}, column {want[c]}: {shown(cell)} is not a "
+                             "number") from None
+    return out
+
+
+def _refused_line(path: Path, raw: bytes, at: int, columns: list[str]) -> None:
+    """The line at byte `at` of `raw`, which the native reader refused after reading every line
+    before it: the slow parser's error for it, said now, if it has one (a bad cell on the millionth
+    line of a big file took 40 s and 7.9 GB to name through the slow parser). A line the slow
+    parser could read otherwise (quotes, more than 19 digits, characters beyond ASCII) is left to
+    it."""
+    nl = raw.find(b"\n", at)
+    line = raw[at:len(raw) if nl < 0 else nl]
+    if line.endswith(b"\r"):
+        line = line[:-1]
+    if b'"' in line or b"\r" in line or not line.isascii() or not line.strip():
+        return
+    head = raw.find(b"\n")
+    has_t = raw[:head].split(b",", 1)[0].strip() == b"t"
+    want = (["t"] if has_t else []) + list(columns)
+    _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want)
 
 
 # The fast paths return (data, t), or None whenever the file is anything but a plain well-formed
@@ -165,11 +213,15 @@ def _plain_header(head: str, columns: list[str]):
     return has_t if names == (["t"] if has_t else []) + list(columns) else None
 
 
-def _read_csv_native(raw: bytes, columns: list[str]):
+def _read_csv_native(raw: bytes, columns: list[str], refused: list | None = None):
     """vampc.emulator.native.parse_csv (strict decimal cells, Eisel-Lemire then strtod) on the bytes after
-    the header, read in place."""
+    the header, read in place; trailing blank lines are no states, and a file whose lines end in a
+    CR alone (old Mac tools) reads as the slow parser's universal newlines read it. `refused`: a
+    list given gets the first byte of the first line refused (in `raw`), when one was."""
     end = raw.find(b"\n")                 # the body is read in place: no copy of a big file
     end = len(raw) if end < 0 else end
+    if b"\r" in raw[:end]:
+        return _read_csv_native(_universal(raw), columns, refused)
     try:
         has_t = _plain_header(raw[:end].decode("ascii"), columns)
     except UnicodeDecodeError:
@@ -177,10 +229,25 @@ def _read_csv_native(raw: bytes, columns: list[str]):
     if has_t is None:
         return None
     from vampc.emulator.native import parse_csv
-    data = parse_csv(raw, len(columns) + has_t, start=min(end + 1, len(raw)))
+    start, stop = min(end + 1, len(raw)), len(raw)
+    while stop > start and raw[stop - 1] in b" \t\r\n":
+        stop -= 1                          # (a cell's trailing blanks are allowed anyway)
+    cols = len(columns) + has_t
+    where: list = []
+    data = parse_csv(raw, cols, start=start, refused=where, stop=stop)
+    if data is None and where and b"\r" in raw[where[0]:] and \
+            b"\r" in raw[where[0]:].replace(b"\r\n", b"\n"):
+        return _read_csv_native(_universal(raw), columns, refused)   # a CR alone ends a line
     if data is None:
+        if where and refused is not None:
+            refused.append((raw, where[0]))
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
+
+
+def _universal(raw: bytes) -> bytes:
+    """The bytes with CRLF and CR line ends made LF, as Python's universal newlines read them."""
+    return raw.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
 
 
 def _read_csv_loadtxt(text: str, columns: list[str]):
