@@ -172,6 +172,10 @@ def _rows(path: Path, reader):
 
 def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[float]:
     """Line r's cells as numbers (VampcError naming the line and the column otherwise)."""
+    if not "".join(row).strip():      # (a CRLF file saved again as text ends its lines \r\r\n)
+        raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table (lines "
+                         "ended CR CR LF, as a CRLF file saved again as text ends them, read as a "
+                         "blank line after each)")
     if len(row) != len(want):
         raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
     out = []
