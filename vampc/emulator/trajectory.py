@@ -224,7 +224,7 @@ def _read_csv_native(raw: bytes, columns: list[str], refused: list | None = None
     list given gets the first byte of the first line refused (in `raw`), when one was."""
     end = raw.find(b"\n")                 # the body is read in place: no copy of a big file
     end = len(raw) if end < 0 else end
-    if b"\r" in raw[:end]:
+    if _lone_cr(raw, 0, end + 1):         # (a CRLF header is read as it is)
         return _read_csv_native(_universal(raw), columns, refused)
     try:
         has_t = _plain_header(raw[:end].decode("ascii"), columns)
@@ -239,14 +239,18 @@ def _read_csv_native(raw: bytes, columns: list[str], refused: list | None = None
     cols = len(columns) + has_t
     where: list = []
     data = parse_csv(raw, cols, start=start, refused=where, stop=stop)
-    if data is None and where and b"\r" in raw[where[0]:] and \
-            b"\r" in raw[where[0]:].replace(b"\r\n", b"\n"):
+    if data is None and where and _lone_cr(raw, where[0], len(raw)):
         return _read_csv_native(_universal(raw), columns, refused)   # a CR alone ends a line
     if data is None:
         if where and refused is not None:
             refused.append((raw, where[0]))
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
+
+
+def _lone_cr(raw: bytes, start: int, end: int) -> bool:
+    """Whether raw[start:end] holds a CR that is not part of a CRLF (counted in C, not copied)."""
+    return raw.count(b"\r", start, end) != raw.count(b"\r\n", start, end)
 
 
 def _universal(raw: bytes) -> bytes:
