@@ -263,3 +263,19 @@ def test_out_of_memory_is_one_line_and_no_output(tmp_path, monkeypatch):
     res = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--trajectory", str(states), "-o", str(out)])
     assert res.exit_code == 1 and res.output.startswith("vampc: error: out of memory") and \
         res.output.count("\n") == 1 and not out.exists(), res.output
+
+
+def test_more_long_cells_than_a_piece_converts_go_the_slow_way(tmp_path, monkeypatch):
+    """Cells of more than 19 significant digits are converted by float() on the native path, up to
+    LONG_CELLS a piece; past that the file is read the slow way: the same values either way."""
+    rows = [",".join(["0.12345678901234567890123", "1", "2", "3", "4", "5"]) for _ in range(5)]
+    path = tmp_path / "t.csv"
+    path.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "\n".join(rows) + "\n")
+    want = np.array([[float("0.12345678901234567890123"), 1, 2, 3, 4, 5]] * 5)
+    for limit in (native.LONG_CELLS, 2):
+        monkeypatch.setattr(native, "LONG_CELLS", limit)
+        body = path.read_bytes()
+        got = native.parse_csv(body, 6, start=body.index(b"\n") + 1)
+        assert (got is None) == (limit == 2)
+        for read_got in _read_both(path, monkeypatch):
+            assert np.array_equal(read_got, want)

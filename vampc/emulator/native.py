@@ -367,31 +367,33 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
    Rows of `cols` cells separated by ',' and ended by '\n' (or "\r\n", as in Python's text mode; the
    last line end optional) into out, in one pass over the bytes; the number of rows, or -1 on
    anything else (an empty line, a ragged row, more than rows_max rows, a cell that is not, between
-   spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at least one digit in the mantissa, or one of more
-   than 19 significant digits, which this reader refuses: the caller then converts the table with
-   Python's own, correctly rounded, conversion, as glibc's strtod misrounds some decimals of
-   hundreds of digits). A cell is converted by Eisel-Lemire, or by strtod where that cannot decide
-   (a halfway case, a subnormal or infinite result, an exponent beyond 100000 or the table). On a
-   refusal *bad is the offset of the line's first byte. */
-long parse_csv(const char *p, long len, long cols, long rows_max, double *out, long *bad) {
+   spaces or tabs, [+-]d[.d][(e|E)[+-]d] with at least one digit in the mantissa, or more than
+   longs_max cells of more than 19 significant digits). A cell is converted by Eisel-Lemire, or by
+   strtod where that cannot decide (a halfway case, a subnormal or infinite result, an exponent
+   beyond 100000 or the table); a cell of more than 19 significant digits is left to the caller,
+   which converts it as Python's float() does (glibc's strtod misrounds some decimals of hundreds
+   of digits): longs[3k..3k+2] = its index in out, its offset and its length, *n_longs of them. On
+   a refusal *bad is the offset of the line's first byte. */
+long parse_csv(const char *p, long len, long cols, long rows_max, double *out, long *bad,
+               long *longs, long longs_max, long *n_longs) {
   const char *begin = p, *end = p + len, *num, *stop, *ed;
   char *got;
   unsigned long long man;
   long r = 0, c, e10, ex;
-  int neg, nd, eneg, mant, fast;
+  int neg, nd, eneg, mant, fast, lng;
   double x;
   while (p < end) {
     *bad = p - begin;                                   /* the line a refusal is in */
     if (r == rows_max) return -1;
     for (c = 0; c < cols; c++) {
-      man = 0; e10 = 0; ex = 0; neg = 0; nd = 0; eneg = 0; mant = 0; fast = 0;
+      man = 0; e10 = 0; ex = 0; neg = 0; nd = 0; eneg = 0; mant = 0; fast = 0; lng = 0;
       while (p < end && (*p == ' ' || *p == '\t')) p++;
       num = p;
       if (p < end && (*p == '+' || *p == '-')) { neg = *p == '-'; p++; }
       for (; p < end && *p >= '0' && *p <= '9'; p++) {
         mant = 1;
         if (man == 0 && *p == '0') continue;            /* leading zeros */
-        if (nd == 19) return -1;                        /* more digits than 64 bits hold */
+        if (nd == 19) { lng = 1; continue; }            /* more digits than 64 bits hold */
         man = man * 10 + (unsigned long long)(*p - '0');
         nd++;
       }
@@ -399,7 +401,7 @@ long parse_csv(const char *p, long len, long cols, long rows_max, double *out, l
         for (p++; p < end && *p >= '0' && *p <= '9'; p++) {
           mant = 1;
           if (man == 0 && *p == '0') { e10--; continue; }
-          if (nd == 19) return -1;
+          if (nd == 19) { lng = 1; continue; }
           man = man * 10 + (unsigned long long)(*p - '0');
           nd++;
           e10--;
@@ -414,8 +416,17 @@ long parse_csv(const char *p, long len, long cols, long rows_max, double *out, l
         if (p == ed) return -1;
       }
       stop = p;
+      if (lng) {                      /* for the caller to convert: its place in out, bytes, length */
+        if (*n_longs == longs_max) return -1;
+        longs[3 * *n_longs] = r * cols + c;
+        longs[3 * *n_longs + 1] = num - begin;
+        longs[3 * *n_longs + 2] = stop - num;
+        ++*n_longs;
+        x = 0.0;
+        fast = 1;
+      }
 #ifdef __SIZEOF_INT128__
-      if (ex <= 100000) fast = eisel_lemire(man, e10 + (eneg ? -ex : ex), neg, &x);
+      if (!fast && ex <= 100000) fast = eisel_lemire(man, e10 + (eneg ? -ex : ex), neg, &x);
 #endif
       if (!fast) {                                      /* the cell ends before a byte strtod stops at */
         x = strtod(num, &got);
@@ -603,19 +614,24 @@ def _csv_function(name: str, argtypes: tuple):
     return fn
 
 
+LONG_CELLS = 1 << 16    # cells of more than 19 digits a piece converts in Python (more: the slow way)
+
+
 def parse_csv(body: bytes, cols: int, start: int = 0, refused: list | None = None,
               stop: int | None = None):
     """The rows of a trajectory CSV from byte `start` of `body` (the line after its header) as an
     array (rows, cols), or None if they are not a plain table of decimal numbers, or if the native
     path is off or unavailable (the caller then parses them otherwise). A cell of more than 19
-    significant digits is refused too (glibc's strtod misrounds some decimals of hundreds of
-    digits); up to 19, Eisel-Lemire, and strtod where it cannot decide, round correctly as
-    Python's float() does (tested against float(), bit for bit, on cells of every form).
+    significant digits is converted by float() (glibc's strtod misrounds some decimals of hundreds
+    of digits; more than LONG_CELLS of them in a piece: refused); up to 19, Eisel-Lemire, and
+    strtod where it cannot decide, round correctly as Python's float() does (tested against
+    float(), bit for bit, on cells of every form).
     `refused`: a list given gets the offset in `body` of the first line refused, if one was.
     `stop`: where the rows end (default the end of `body`); the byte there must not continue a
     number (a blank, a line end)."""
     fn = _csv_function("parse_csv", (ctypes.c_void_p, ctypes.c_long, ctypes.c_long, ctypes.c_long,
-                                     ctypes.c_void_p, ctypes.POINTER(ctypes.c_long)))
+                                     ctypes.c_void_p, ctypes.POINTER(ctypes.c_long), ctypes.c_void_p,
+                                     ctypes.c_long, ctypes.POINTER(ctypes.c_long)))
     lines = _csv_function("count_lines", (ctypes.c_void_p, ctypes.c_long))
     if fn is None or lines is None:
         return None
@@ -638,9 +654,16 @@ def parse_csv(body: bytes, cols: int, start: int = 0, refused: list | None = Non
         # parse_csv on the calling thread; its address alone would not)
         lo, hi = cuts[k], cuts[k + 1]
         out = np.empty((lines(base + lo, hi - lo) + 1, cols))
-        bad = ctypes.c_long(0)
-        rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data, ctypes.byref(bad)) if hi > lo else 0
-        return out[:rows] if rows > 0 or hi == lo else lo + bad.value
+        bad, count = ctypes.c_long(0), ctypes.c_long(0)
+        longs = np.empty(3 * LONG_CELLS, dtype=f"i{ctypes.sizeof(ctypes.c_long)}")   # C longs
+        rows = fn(base + lo, hi - lo, cols, len(out), out.ctypes.data, ctypes.byref(bad),
+                  longs.ctypes.data, LONG_CELLS, ctypes.byref(count)) if hi > lo else 0
+        if rows <= 0 and hi > lo:
+            return lo + bad.value
+        flat = out.reshape(-1)
+        for k, at, size in longs[:3 * count.value].reshape(-1, 3).tolist():
+            flat[k] = float(body[lo + at:lo + at + size])    # correctly rounded, as the slow path
+        return out[:rows]
     pieces = _threaded(part, len(cuts) - 1)
     failed = [p for p in pieces if isinstance(p, int)]
     if failed and refused is not None:
