@@ -814,3 +814,24 @@ def test_a_path_without_times_run_at_another_rate_than_its_own_is_warned_of(setu
         assert r.exit_code == 0, r.output
         assert ("is --rate the rate the rows were sampled at? (about 1000 Hz would fit them)"
                 in r.output) == said, (rate, r.output)
+
+
+@pytest.mark.parametrize("edit, where", [
+    (lambda t, q, qd, qdd: qd.__setitem__((slice(None), 2), 0.0), "line 2 to 3: q3 changes by"),   # q alone
+    (lambda t, q, qd, qdd: qd.__setitem__((200, 0), 50 * qd[200, 0]), "line 201 to 202: q1 changes by"),
+    (lambda t, q, qd, qdd: qdd.__setitem__((slice(300, None), 1), 0.0), "line 301 to 302: qd2 changes by"),
+])
+def test_rows_whose_q_qd_qdd_disagree_are_warned_of_naming_the_line(setup, tmp_path, edit, where):
+    """The look-ahead plans the motion the qd and qdd columns give: a path whose q moves otherwise
+    (q alone with qd zero, a qd fifty times too large at one row, qdd zero from a row on) was
+    retimed 'within the limits' while the arm, following the rows' q, went up to 5.7 times over
+    a limit (a new user's run): a warning names the first such line; a path of one motion has
+    none."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path(seconds=0.4)
+    assert "warning" not in run_lookahead(program, write_path(tmp_path, t, q, qd, qdd, "one.csv"),
+                                          limits, "--retime", "window").stderr
+    edit(t, q, qd, qdd)
+    r = run_lookahead(program, write_path(tmp_path, t, q, qd, qdd), limits, "--retime", "window")
+    warned = [line for line in r.stderr.splitlines() if line.startswith("vampc: warning:")]
+    assert r.exit_code == 0 and len(warned) == 1 and f"path.csv: {where}" in warned[0], r.stderr

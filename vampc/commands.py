@@ -814,6 +814,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                                      *own.start(n_free(ld.chain)), of=ld.chain.n)
         traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
     times = la.check_path(traj, rate, source_path)
+    # said once the run has gone through (an error before it stays one line); integrated from q̈,
+    # q and q̇ are one motion by their rule
+    disagree = None if own.trajectory is None else la.check_consistent(traj, 1.0 / rate, own.trajectory)
     if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
         from vampc.emulator.host import check_limits
         check_limits(ld.chain, traj, source_path, speeds=False)
@@ -872,6 +875,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"with its {need} pass{'es' * (need != 1)}), {(early - late) * 1e6:.4g} µs before the "
             "motors take it",
             info)
+    if disagree is not None:
+        warnings.warn(VampcWarning(disagree), stacklevel=1)
     say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)

@@ -343,6 +343,33 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
             f"(about {rate / ratio:.4g} Hz would fit them)"), stacklevel=1)
 
 
+def check_consistent(traj, lam: float, path: str, names=None) -> str | None:
+    """The warning to give (None: none) at the first row where a joint's q moves, or its q̇ changes, otherwise than its
+    q̇, or q̈, say over the step λ (the trapezoid rule; by more than a quarter of the larger, plus
+    1% of the joint's largest step): the look-ahead plans the motion the q̇ and q̈ columns give,
+    and the arm, going through the rows' q, would not keep to the torques planned (a new user's
+    paths: a reversal written with q̈ = 0, a q̇ fifty times too large at one row, q alone with q̇
+    and q̈ zero, retimed 'within the limits' while their own finite differences were up to 5.7
+    times a limit)."""
+    if traj.count < 2:
+        return None
+    for what, x, dx, d2 in (("q", traj.q, traj.qd, "qd"), ("qd", traj.qd, traj.qdd, "qdd")):
+        step = np.diff(x, axis=0)
+        said = (dx[1:] + dx[:-1]) * (lam / 2)
+        size = np.maximum(np.abs(step), np.abs(said))
+        with np.errstate(invalid="ignore"):
+            off = np.abs(step - said) > 0.25 * size + 0.01 * size.max(axis=0)
+        if off.any():
+            r, j = (int(v) for v in np.argwhere(off)[0])
+            joint = f"{what}{j + 1}" + (f" ({names[j]})" if names is not None else "")
+            return (f"{path}: line {r + 2} to {r + 3}: {joint} changes by {float(step[r, j]):.6g} "
+                    f"but {d2}{j + 1} gives {float(said[r, j]):.6g} over the step 1/rate: the "
+                    "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
+                    "or qd disagree with them, the arm going through the rows may not keep to its "
+                    "limits (write q, qd and qdd of one motion)")
+    return None
+
+
 def check_window(window: int, traj, futures: int = 1) -> None:
     """Registers no longer than the path, together (VampcUsageError)."""
     if window > traj.count:
