@@ -469,3 +469,24 @@ def test_a_wide_fixed_point_word_plans_to_the_tolerance_given(tmp_path, setup):
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(limits), "--tolerance", "1e-8"])
     assert r.exit_code == 2 and "--tolerance applies to a program in a narrower word" in r.output
+
+
+def test_a_window_that_sees_the_whole_path_plans_the_whole_path_plan():
+    """A register of at least the path's rows sees to the last row at every step: its plan is the
+    whole-path plan bit for bit, from one backward pass (a 20 000-row path with --window 20000
+    took 62.6 s with a backward pass per step, 1.6 s now; the same 95.483 s duration), and one row
+    fewer in view is another plan."""
+    rng = np.random.default_rng(0)
+    n = 300
+    s = np.linspace(0, 1, n)
+    a = 1 + 0.5 * np.sin(np.outer(s, [3, 5, 7]) + rng.uniform(0, 3, 3))
+    b = np.cos(np.outer(s, [2, 4, 6])) * rng.uniform(0.2, 2, 3)
+    c = 0.3 * np.sin(np.outer(s, [1, 2, 3]))
+    qd = np.cos(np.outer(s, [1, 2, 3]))
+    limits = Limits((2.0, 2.5, 3.0), (None, None, None))
+    whole = optimal_plan(a, b, c, qd, limits, 1e-3)
+    for ahead in (n, n + 7):
+        got = window_plan(a, b, c, qd, limits, ahead, 1e-3)
+        assert all(np.array_equal(g.view(np.uint64), w.view(np.uint64)) for g, w in zip(got, whole))
+    shorter = window_plan(a, b, c, qd, limits, n // 4, 1e-3)
+    assert shorter[2][-1] > whole[2][-1]

@@ -651,6 +651,9 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     two_d = 2.0 * lam
     lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
     base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)    # every pair but H's, once
+    seen = f"{ahead_rows} rows it sees; give a longer --window or more --futures"
+    if ahead_rows >= n_rows:     # every step sees to the last row: one backward pass serves them all
+        return _forward(lo, up, _backward(lo, base, n_rows, two_d), lam, seen)   # (the same numbers)
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
     H = np.zeros(n_rows)                                    # per step: stop-able x at row end - d
@@ -662,8 +665,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
         jj = np.where(act, j, 0)
         H = np.where(act, _top_under(tuple(v[jj] for v in lo), base[jj], H, two_d), H)
     H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
-    return _forward(lo, up, H, lam, f"{ahead_rows} rows it sees; give a longer --window or more "
-                    "--futures")
+    return _forward(lo, up, H, lam, seen)
 
 
 def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
@@ -673,11 +675,17 @@ def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_M
     two_d = 2.0 * lam
     lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
     base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)
-    H = np.zeros(n_rows)              # H[i]: the top of the set at row i + 1 (0 at the last row)
+    return _forward(lo, up, _backward(lo, base, n_rows, two_d), lam, "path")
+
+
+def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:
+    """The stop-able sets' tops with the whole path in view, one backward pass: H[i], the top of
+    the set at row i + 1 (0 at the last row)."""
+    H = np.zeros(n_rows)
     for i in range(n_rows - 3, -1, -1):
         k = slice(i + 1, i + 2)
         H[i] = _top_under(tuple(v[k] for v in lo), base[k], H[i + 1:i + 2], two_d)[0]
-    return _forward(lo, up, H, lam, "path")
+    return H
 
 
 def _forward(lo, up, H, lam: float, seen: str):
