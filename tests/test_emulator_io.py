@@ -208,6 +208,7 @@ def _read_both(path, monkeypatch):
      None),
     (lambda lines: lines.__setitem__(30_000, '"1.5",' + lines[30_000].split(",", 1)[1]), None),
     (lambda lines: lines.append("\n  \n"), None),
+    (lambda lines: lines.append(" , ,,\t,,"), None),        # a trailing line of commas and blanks
 ])
 def test_a_line_the_native_reader_refuses_is_read_or_refused_as_the_slow_parser_does(tmp_path, monkeypatch,
                                                                                       change, want):

@@ -816,7 +816,13 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     times = la.check_path(traj, rate, source_path)
     # said once the run has gone through (an error before it stays one line); integrated from q̈,
     # q and q̇ are one motion by their rule
-    disagree = None if own.trajectory is None else la.check_consistent(traj, 1.0 / rate, own.trajectory)
+    disagree = None
+    if own.trajectory is not None:
+        columns = None
+        if ld.chain.mimic:            # (the file's columns: a follower by its leader's)
+            from vampc.robot.mimic import column_names
+            columns = {w: column_names(ld.chain, w) for w in ("q", "qd", "qdd")}
+        disagree = la.check_consistent(traj, 1.0 / rate, own.trajectory, columns)
     if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
         from vampc.emulator.host import check_limits
         check_limits(ld.chain, traj, source_path, speeds=False)

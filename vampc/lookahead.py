@@ -304,7 +304,8 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     steps = np.diff(t)
     bad = np.flatnonzero(~(steps > 0))
     if bad.size:
-        raise VampcError(f"{path}: row {bad[0] + 2}: t = {float(t[bad[0] + 1])!r} does not come after "
+        from vampc.emulator.host import state_at
+        raise VampcError(f"{path}: {state_at(path, bad[0] + 1)}: t = {float(t[bad[0] + 1])!r} does not come after "
                          f"{float(t[bad[0]])!r} (not a path: time must increase)")
     # 1e-9, and the rounding of the times themselves: Unix timestamps (t = 1.7e9 s) hold a
     # millisecond step only to 2.4e-7 s, and were refused as "t steps by 0.00099992752"
@@ -313,7 +314,8 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     if off.size:
         step = float(steps[off[0]])
         rounded = abs(step - lam) <= 1e-3 * lam       # the right rate, times written short
-        raise VampcError(f"{path}: row {off[0] + 2}: t steps by {step!r}, not 1/rate = {lam!r}; "
+        from vampc.emulator.host import state_at
+        raise VampcError(f"{path}: {state_at(path, off[0] + 1)}: t steps by {step!r}, not 1/rate = {lam!r}; "
                          "give the rate the rows were sampled at"
                          + (" (times rounded to fewer digits, or held as float32, are off by their "
                             "rounding: write them in full, or leave the t column out, and the rows "
@@ -343,27 +345,43 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
             f"(about {rate / ratio:.4g} Hz would fit them)"), stacklevel=1)
 
 
-def check_consistent(traj, lam: float, path: str, names=None) -> str | None:
-    """The warning to give (None: none) at the first row where a joint's q moves, or its q̇ changes, otherwise than its
-    q̇, or q̈, say over the step λ (the trapezoid rule; by more than a quarter of the larger, plus
-    1% of the joint's largest step): the look-ahead plans the motion the q̇ and q̈ columns give,
-    and the arm, going through the rows' q, would not keep to the torques planned (a new user's
-    paths: a reversal written with q̈ = 0, a q̇ fifty times too large at one row, q alone with q̇
-    and q̈ zero, retimed 'within the limits' while their own finite differences were up to 5.7
-    times a limit)."""
+def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
+    """The warning to give (None: none) at the first row where a joint's q moves, or its q̇
+    changes, otherwise than its q̇, or q̈, say over the step λ by the rule the path follows best
+    over all its rows, of the trapezoid rule, the value held from the row before, or the one held
+    to the row after (vampc's own --accelerations paths hold q̈ over a step; a sampled bang-bang
+    profile switches at a row), by more than a quarter of the larger plus 1% of the joint's usual
+    step (its 95th percentile) and 1e-12 (rounding): the
+    look-ahead plans the motion the q̇ and q̈ columns give, and the arm, going through the rows' q,
+    would not keep to the torques planned (a new user's paths: a reversal written with q̈ = 0, a
+    q̇ fifty times too large at one row, q alone with q̇ and q̈ zero, retimed 'within the limits'
+    while their own finite differences were up to 5.7 times a limit). `columns`: the file's name
+    of each joint's q, qd and qdd ({"q": [...], ...}; coupled followers are named by their
+    leader's column), else q1.., qd1.., qdd1... None too where the positions move other than the
+    velocities say over the whole path: a wrong --rate, which check_path warns of."""
     if traj.count < 2:
         return None
+    if traj.t is None:
+        moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
+        said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
+        if moved > 0 and said > 0 and not 0.8 <= moved / said <= 1.25:
+            return None
     for what, x, dx, d2 in (("q", traj.q, traj.qd, "qd"), ("qd", traj.qd, traj.qdd, "qdd")):
         step = np.diff(x, axis=0)
-        said = (dx[1:] + dx[:-1]) * (lam / 2)
-        size = np.maximum(np.abs(step), np.abs(said))
+        rules = ((dx[1:] + dx[:-1]) * (lam / 2), dx[:-1] * lam, dx[1:] * lam)
+        size = np.maximum.reduce([np.abs(step)] + [np.abs(r) for r in rules])
+        # 1% of a joint's usual step (its 95th percentile: a spike would hide the rest)
+        tol = 0.25 * size + 0.01 * np.percentile(size, 95, axis=0) + 1e-12
         with np.errstate(invalid="ignore"):
-            off = np.abs(step - said) > 0.25 * size + 0.01 * size.max(axis=0)
+            offs = [np.abs(step - r) > tol for r in rules]
+        off = min(offs, key=lambda o: int(o.sum()))    # the rule the path follows best, all rows
         if off.any():
             r, j = (int(v) for v in np.argwhere(off)[0])
-            joint = f"{what}{j + 1}" + (f" ({names[j]})" if names is not None else "")
+            names = columns or {}
+            joint = names[what][j] if what in names else f"{what}{j + 1}"
+            other = names[d2][j] if d2 in names else f"{d2}{j + 1}"
             return (f"{path}: line {r + 2} to {r + 3}: {joint} changes by {float(step[r, j]):.6g} "
-                    f"but {d2}{j + 1} gives {float(said[r, j]):.6g} over the step 1/rate: the "
+                    f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate: the "
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
                     "limits (write q, qd and qdd of one motion)")

@@ -198,8 +198,9 @@ def _refused_line(path: Path, raw: bytes, at: int, columns: list[str]) -> None:
     line = raw[at:len(raw) if nl < 0 else nl]
     if line.endswith(b"\r"):
         line = line[:-1]
-    if b'"' in line or b"\r" in line or not line.isascii() or not line.strip():
-        return
+    if b'"' in line or b"\r" in line or not line.isascii() or \
+            not line.decode("ascii").replace(",", "").strip():
+        return                        # (a blank line, commas and spaces too: the slow parser's)
     head = raw.find(b"\n")
     has_t = raw[:head].split(b",", 1)[0].strip() == b"t"
     want = (["t"] if has_t else []) + list(columns)
