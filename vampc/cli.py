@@ -68,8 +68,8 @@ def handle_errors(f):
         except MemoryError:
             discard_all()
             click.echo("vampc: error: out of memory: this run needs more memory than the process "
-                       "may have (fewer states or a smaller robot at a time, or more memory); no "
-                       "output file was written", err=True)
+                       "may have (fewer states or a smaller robot at a time, or more memory); an "
+                       "output not finished is not written", err=True)
             sys.exit(1)
         except Exception:
             import traceback
