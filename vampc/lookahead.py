@@ -300,11 +300,11 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     if traj.t is None:
         _check_rate_against_speeds(traj, lam, rate, path)
         return np.arange(traj.count) * lam
+    from vampc.emulator.trajectory import state_at
     t = traj.t
     steps = np.diff(t)
     bad = np.flatnonzero(~(steps > 0))
     if bad.size:
-        from vampc.emulator.host import state_at
         raise VampcError(f"{path}: {state_at(path, bad[0] + 1)}: t = {float(t[bad[0] + 1])!r} does not come after "
                          f"{float(t[bad[0]])!r} (not a path: time must increase)")
     # 1e-9, and the rounding of the times themselves: Unix timestamps (t = 1.7e9 s) hold a
@@ -314,7 +314,6 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     if off.size:
         step = float(steps[off[0]])
         rounded = abs(step - lam) <= 1e-3 * lam       # the right rate, times written short
-        from vampc.emulator.host import state_at
         raise VampcError(f"{path}: {state_at(path, off[0] + 1)}: t steps by {step!r}, not 1/rate = {lam!r}; "
                          "give the rate the rows were sampled at"
                          + (" (times rounded to fewer digits, or held as float32, are off by their "
@@ -330,12 +329,8 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
     user's run)."""
     if traj.count < 3:
         return
-    moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
-    said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
-    if moved <= 0 or said <= 0 or not np.isfinite(moved / said):
-        return
-    ratio = moved / said
-    if not 0.8 <= ratio <= 1.25:
+    ratio = _speed_ratio(traj, lam)
+    if ratio is not None and not 0.8 <= ratio <= 1.25:
         import warnings
 
         from vampc.errors import VampcWarning
@@ -343,6 +338,16 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
             f"{path}: its positions move {ratio:.3g} times what its velocities give at "
             f"{rate:g} Hz (the rows 1/rate apart): is --rate the rate the rows were sampled at? "
             f"(about {rate / ratio:.4g} Hz would fit them)"), stacklevel=1)
+
+
+def _speed_ratio(traj, lam: float) -> float | None:
+    """How far the positions move over what the velocities give at step λ (the trapezoid rule,
+    over all rows and joints); None where either is nothing (or not finite)."""
+    moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
+    said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
+    if moved <= 0 or said <= 0 or not np.isfinite(moved / said):
+        return None
+    return moved / said
 
 
 def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
@@ -361,10 +366,9 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
     velocities say over the whole path: a wrong --rate, which check_path warns of."""
     if traj.count < 2:
         return None
-    if traj.t is None:
-        moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
-        said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
-        if moved > 0 and said > 0 and not 0.8 <= moved / said <= 1.25:
+    if traj.t is None:                 # (as _check_rate_against_speeds judges it)
+        ratio = _speed_ratio(traj, lam)
+        if ratio is not None and not 0.8 <= ratio <= 1.25:
             return None
     for what, x, dx, d2 in (("q", traj.q, traj.qd, "qd"), ("qd", traj.qd, traj.qdd, "qdd")):
         step = np.diff(x, axis=0)

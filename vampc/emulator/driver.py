@@ -210,7 +210,8 @@ def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=(), source=Non
     if found is not None:
         k, where = start + found[0] + 1, ""
         if source is not None:         # (a CSV's states start on its line 2)
-            npy = str(source).lower().endswith((".npy", ".npz"))
+            from vampc.emulator.trajectory import numpy_file
+            npy = numpy_file(source)
             where = f" ({'state' if npy else 'line'} {k if npy else k + 1} of {source})"
         raise VampcError(f"{ld.path}: set {k}{where}, {found[1]}")
 

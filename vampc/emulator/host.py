@@ -70,17 +70,10 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
 
 
-def state_at(path, row: int) -> str:
-    """Where state `row` (from 0) of a trajectory file is: its line in a CSV (the states start on
-    line 2, as every other message about a CSV's cells says), its number in a NumPy file."""
-    if str(path).lower().endswith((".npy", ".npz")):
-        return f"state {row + 1}"
-    return f"line {row + 2} (state {row + 1})"
-
-
 def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True) -> None:
     """Refuse states outside the joint limits (position, and speed unless `speeds` is off), naming
     the row and joint (a coupled follower's by the leader column it is derived from)."""
+    from vampc.emulator.trajectory import state_at
     from vampc.robot.mimic import column_names
     derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
                for m in chain.mimic}
@@ -106,7 +99,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
     range: the host writes them as they are), naming the row and column (and `what` row it is:
     " as retimed" for the look-ahead's)."""
-    from vampc.emulator.trajectory import header
+    from vampc.emulator.trajectory import header, state_at
     if not hasattr(word, "rounded"):                 # float words: nothing to refuse
         return
     top = (word.hi + 1) * 2.0 ** -word.fraction     # the range is [-top, top)

@@ -661,8 +661,8 @@ def parse_csv(body: bytes, cols: int, start: int = 0, refused: list | None = Non
         if rows <= 0 and hi > lo:
             return lo + bad.value
         flat = out.reshape(-1)
-        for k, at, size in longs[:3 * count.value].reshape(-1, 3).tolist():
-            flat[k] = float(body[lo + at:lo + at + size])    # correctly rounded, as the slow path
+        for cell, at, size in longs[:3 * count.value].reshape(-1, 3).tolist():
+            flat[cell] = float(body[lo + at:lo + at + size])   # correctly rounded, as the slow path
         return out[:rows]
     pieces = _threaded(part, len(cuts) - 1)
     failed = [p for p in pieces if isinstance(p, int)]

@@ -55,7 +55,7 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
                                  arrays=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
-    line = 2 if suffix not in (".npy", ".npz") else None       # a CSV's states start on line 2
+    line = None if numpy_file(path) else 2       # a CSV's states start on line 2
     _check_finite(path, data, header(n, floating), line)
     if t is not None:
         t = np.asarray(t, dtype=float)
@@ -109,7 +109,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     refused: list = []
     fast = _read_csv_native(raw, columns, refused)
     if refused:                 # one line the native reader refused: wrong for the slow parser too?
-        _refused_line(path, *refused[0], columns)
+        _refused_line(path, *refused[0])
     text = None
     if fast is None:
         text = decode_utf8(raw, path, what, arrays)
@@ -188,8 +188,8 @@ def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[flo
     return out
 
 
-def _refused_line(path: Path, raw: bytes, at: int, columns: list[str]) -> None:
-    """The line at byte `at` of `raw`, which the native reader refused after reading every line
+def _refused_line(path: Path, raw: bytes, at: int, want: list[str]) -> None:
+    """The line at byte `at` of `raw` (its columns `want`), which the native reader refused after reading every line
     before it: the slow parser's error for it, said now, if it has one (a bad cell on the millionth
     line of a big file took 40 s and 7.9 GB to name through the slow parser). A line the slow
     parser could read otherwise (quotes, characters beyond ASCII, more cells of over 19 digits
@@ -201,9 +201,6 @@ def _refused_line(path: Path, raw: bytes, at: int, columns: list[str]) -> None:
     if b'"' in line or b"\r" in line or not line.isascii() or \
             not line.decode("ascii").replace(",", "").strip():
         return                        # (a blank line, commas and spaces too: the slow parser's)
-    head = raw.find(b"\n")
-    has_t = raw[:head].split(b",", 1)[0].strip() == b"t"
-    want = (["t"] if has_t else []) + list(columns)
     _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want)
 
 
@@ -244,7 +241,7 @@ def _read_csv_native(raw: bytes, columns: list[str], refused: list | None = None
         return _read_csv_native(_universal(raw), columns, refused)   # a CR alone ends a line
     if data is None:
         if where and refused is not None:
-            refused.append((raw, where[0]))
+            refused.append((raw, where[0], (["t"] if has_t else []) + list(columns)))
         return None
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
 
@@ -438,6 +435,22 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
     return np.asarray(arr, dtype=float)
 
 
+def numpy_file(path) -> bool:
+    """Whether a trajectory file is read as a NumPy .npy or .npz (by its suffix), not as CSV."""
+    return str(path).lower().endswith((".npy", ".npz"))
+
+
+def state_at(path, row: int) -> str:
+    """Where state `row` (from 0) of a trajectory file is: its line in a CSV (the states start on
+    line 2, as every message about a CSV's cells says), its number in a NumPy file."""
+    return _place(row, None if numpy_file(path) else 2)
+
+
+def _place(row: int, first_line: int | None) -> str:
+    """State `row` (from 0), with its line where the states start on `first_line` of a text."""
+    return f"state {row + 1}" if first_line is None else f"line {row + first_line} (state {row + 1})"
+
+
 def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
                   first_line: int | None = None) -> None:
     """VampcError naming the first state (from 1; with its line where the states start on
@@ -446,7 +459,7 @@ def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
     if bad.any():
         r, c = (int(x) for x in np.argwhere(bad)[0])
         column = columns[c] if columns is not None and c < len(columns) else c + 1
-        where = f"state {r + 1}" if first_line is None else f"line {r + first_line} (state {r + 1})"
+        where = _place(r, first_line)
         why = (" (written so, or a number beyond float64's range, about 1.8e308)"
                if np.isinf(data[r, c]) else "")
         raise VampcError(f"{path}: {where}, column {column}: {data[r, c]} is not finite{why}")

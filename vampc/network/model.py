@@ -292,8 +292,8 @@ class Network:
         vampc.machine.timing; slots of a VAMP never overlap (VampcInternalError otherwise, naming
         the VAMP, the slot, the tick and the operand). `graph`, `sched`: what it was allocated from."""
         from vampc.network.verify import verify_network
-        # (a programmed network's slots, ProgrammedSlot, are refused by verify_network as it reaches
-        # them: a walk of their own over a million slots took 0.13 s)
+        # (a programmed network's slots, ProgrammedSlot, are refused by verify_network in its first
+        # walk over the VAMPs: a walk of their own over a million slots took 0.13 s)
         if self.bus is not None:          # the bus network checked as the wires it implements
             from vampc.network.bus import resolved
             verify_network(resolved(self), graph, sched)

@@ -21,6 +21,10 @@ from vampc.machine.timing import (
 from vampc.network.model import Network, Slot, Vamp
 from vampc.schedule.asap import Schedule
 
+# (slots as a program holds them, ProgrammedSlot: refused by _Shown, which walks every VAMP first)
+_PROGRAMMED = ("a programmed network holds Cycle-Counter values: verify the network at the "
+               "schedule's ticks (scheduled_network_from_doc)")
+
 
 class _Shown:
     """(VAMP, node) -> (emit, next emit): the ticks the VAMP's Result shows that node's value (set
@@ -31,11 +35,15 @@ class _Shown:
         self.vamps, self.P = net.vamps, net.period
         self.multi = {}         # (VAMP, node) -> (window, column), for VAMPs of several slots
         for v in net.vamps:
-            if len(v.slots) > 1:
-                _scheduled(v)
-                windows = result_windows([s.dump for s in v.slots], net.period)
-                self.multi.update({(v.index, s.node): (w, s.column)
-                                   for s, w in zip(v.slots, windows)})
+            slots = v.slots
+            if len(slots) < 2:                     # (one slot, the common case: in line)
+                if slots and type(slots[0]) is not Slot:
+                    raise VampcInternalError(_PROGRAMMED)
+                continue
+            if not all(type(s) is Slot for s in slots):
+                raise VampcInternalError(_PROGRAMMED)
+            windows = result_windows([s.dump for s in slots], net.period)
+            self.multi.update({(v.index, s.node): (w, s.column) for s, w in zip(slots, windows)})
 
     def column(self, v: int, node: int) -> int | None:
         """The column of `node` that VAMP `v` computes (None for a whole vector; `get` first)."""
@@ -110,31 +118,14 @@ def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B:
     return n > 0
 
 
-_PROGRAMMED = ("a programmed network holds Cycle-Counter values: verify the network at the "
-               "schedule's ticks (scheduled_network_from_doc)")
-
-
-def _scheduled(v: Vamp) -> None:
-    """A VAMP's slots are at ticks (Slot), not as a program holds them (ProgrammedSlot)."""
-    for s in v.slots:
-        if type(s) is not Slot:
-            raise VampcInternalError(_PROGRAMMED)
-
-
 def _verify_slots(v: Vamp, P: int) -> None:
-    """Each slot is at ticks (`_scheduled`), its latch..dump fits in a period and no two slots'
-    spans meet (cyclically)."""
-    slots = v.slots
-    if len(slots) == 1 and type(slots[0]) is not Slot:      # (the common case: one slot, in line)
-        raise VampcInternalError(_PROGRAMMED)
-    if len(slots) > 1:
-        _scheduled(v)
-    for s in slots:
+    """Each slot's latch..dump fits in a period and no two slots' spans meet (cyclically)."""
+    for s in v.slots:
         if not s.latch_a <= s.dump < s.latch_a + P:
             raise VampcInternalError(f"VAMP {v.index}: slot latched at {s.latch_a} dumps at {s.dump}")
-    if len(slots) < 2:
+    if len(v.slots) < 2:
         return
-    met = overlapping_spans([(s.latch_a, s.dump - s.latch_a + 1) for s in slots], P)
+    met = overlapping_spans([(s.latch_a, s.dump - s.latch_a + 1) for s in v.slots], P)
     if met is not None:
         raise VampcInternalError(f"VAMP {v.index}: slots {met[0]} and {met[1]} overlap")
 
