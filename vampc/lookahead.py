@@ -404,7 +404,7 @@ def check_window(window: int, traj, futures: int = 1) -> None:
 # What a run does, in order (the progress bar's stages: vampc.progress.stages), by --retime.
 STAGES = {None: ("rows as given",),
           "uniform": ("rows as given", "gravity pass", "planning", "rows as retimed"),
-          "window": ("rows as given", "gravity pass", "tangent pass", "planning", "whole-path plan",
+          "window": ("rows as given", "gravity pass", "tangent pass", "planning",
                      "rows as retimed")}
 
 
@@ -461,11 +461,9 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
             k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
             used = uniform_k(tau, g, traj.qd, planned, names)
         else:
-            x, u, t = window_plan(tangent - g, tau - g, g, traj.qd, planned, window * futures,
-                                  1.0 / rate, 0.0)
-            stage("whole-path plan")
-            out.optimal_duration = optimal_plan(tangent - g, tau - g, g, traj.qd, planned,
-                                                1.0 / rate, 0.0)[2][-1]
+            (x, u, t), optimal = plans(tangent - g, tau - g, g, traj.qd, planned, window * futures,
+                                       1.0 / rate, 0.0)
+            out.optimal_duration = optimal[2][-1]
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -666,6 +664,27 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
     row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included);
     margin: how much (of each) tighter than the effort limits to plan."""
+    return plans(a, b, c, qd, limits, ahead_rows, lam, margin)[0]
+
+
+def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
+    """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
+    these rows and limits (TOPP-RA's, tested), against which a window's plan is measured."""
+    two_d = 2.0 * lam
+    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
+    base = _largest_x(lo, up, cap, np.full(len(a), np.inf), two_d)
+    return _forward(lo, up, _backward(lo, base, len(a), two_d), lam, "path")
+
+
+def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN):
+    """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass.
+
+    Each step's backward pass runs from the last row it sees towards its own row; where it meets
+    the whole path's pass (the same top at the same row: both at a row's cap, say) the two are the
+    same recursion from there on, so the step takes the whole pass's value at its row and stops.
+    The same numbers as a pass per step to the end (tested). Planning with 4000 rows in view took
+    3.1 s instead of 6.5 s on a 10 000-row path, 0.8 s instead of 4.8 s on an 8001-row one (the
+    benchmark's early and slow Puma paths at 10 s and 8 s); at 64 rows about the same."""
     if ahead_rows < 3:
         raise VampcUsageError(f"--retime window sees {ahead_rows} row(s) ahead: it needs at least 3 "
                               "(--window × --futures) to start and still be able to stop")
@@ -673,31 +692,30 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     two_d = 2.0 * lam
     lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
     base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)    # every pair but H's, once
+    whole = _backward(lo, base, n_rows, two_d)       # whole[i]: the set's top at row i + 1
     seen = f"{ahead_rows} rows it sees; give a longer --window or more --futures"
-    if ahead_rows >= n_rows:     # every step sees to the last row: one backward pass serves them all
-        return _forward(lo, up, _backward(lo, base, n_rows, two_d), lam, seen)   # (the same numbers)
+    if ahead_rows >= n_rows:     # every step sees to the last row: the whole pass serves them all
+        window = _forward(lo, up, whole, lam, seen)
+        return window, window                    # (the same numbers: the optimum)
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
-    H = np.zeros(n_rows)                                    # per step: stop-able x at row end - d
+    H = whole.copy()               # per step: its top at its row + 1 (the whole pass's, once met)
+    step = np.flatnonzero(end < n_rows - 1)      # (a step that sees the last row is the whole pass)
+    h = np.zeros(step.size)                      # each step's top at row end - d: 0 at its end
     for d in range(1, ahead_rows - 1):
-        j = end - d
-        act = j >= rows + 1
-        if not act.any():
+        j = end[step] - d
+        done = j < step + 1                      # reached its own row + 1: h is its top there
+        H[step[done]] = h[done]
+        step, h, j = step[~done], h[~done], j[~done]
+        if not step.size:
             break
-        jj = np.where(act, j, 0)
-        H = np.where(act, _top_under(tuple(v[jj] for v in lo), base[jj], H, two_d), H)
-    H = np.where(rows + 1 <= end, H, 0.0)                   # H[i]: the set's top at row i + 1
-    return _forward(lo, up, H, lam, seen)
-
-
-def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
-    """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
-    these rows and limits (TOPP-RA's, tested), against which a window's plan is measured."""
-    n_rows = len(a)
-    two_d = 2.0 * lam
-    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
-    base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)
-    return _forward(lo, up, _backward(lo, base, n_rows, two_d), lam, "path")
+        h = _top_under(tuple(v[j] for v in lo), base[j], h, two_d)
+        met = h == whole[j - 1]                  # the whole pass's top at row j: the same from here
+        step, h = step[~met], h[~met]
+    H[step] = h
+    H = np.where(rows + 1 <= end, H, 0.0)        # a step at the last row it sees stops there
+    window = _forward(lo, up, H, lam, seen)      # (its failure said first, as before)
+    return window, _forward(lo, up, whole, lam, "path")
 
 
 def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:
