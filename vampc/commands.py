@@ -1371,7 +1371,8 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     first = result.first_mismatch()
     entry = {"simulator": own.simulator, "sets": own.cosim, "seed": own.seed,
              "ticks": result.ticks, "words": int(result.words.size),
-             "mismatches": result.mismatches, "seconds": round(result.seconds, 1)}
+             "mismatches": result.mismatches, "overflows": result.overflows,
+             "seconds": round(result.seconds, 1)}
     if first is not None:
         s, k = first
         o = ld.net.outputs[k]
@@ -1379,7 +1380,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
                                    "design": int(result.words[s, k]),
                                    "emulate": int(result.expected[s, k])}
     figures["cosim"] = entry
-    return result.ok
+    return result.ok and not result.overflows     # (overflowed: the words are not the torques)
 
 
 def _synth(ld, design, own, figures, limit, note) -> None:
@@ -1422,6 +1423,9 @@ def _synth(ld, design, own, figures, limit, note) -> None:
                                                                        timeout=limit)
 
 
+PAST = {"saturate": "saturated", "wrap": "wrapped"}
+
+
 def _rtl_text(figures: dict) -> str:
     lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {figures['vamps']} VAMPs, "
              f"word {figures['word']}",
@@ -1440,6 +1444,13 @@ def _rtl_text(figures: dict) -> str:
             lines.append(head + f"{c['mismatches']} differ from vampc emulate's; the first: set "
                          f"{f['set']}, output {f['output']}: design {f['design']}, emulate "
                          f"{f['emulate']}")
+        # overflows are never silent: equal words that overflowed are the word's, not the torques
+        word = f"{figures['word']} ({figures['rounding']}, {figures['overflow']})"
+        lines.append(f"  {word} words: {count(c['overflows'], 'overflow')} in vampc emulate's run "
+                     "of the same sets" + (f" (the words compared are the word's "
+                                          f"{PAST[figures['overflow']]} values, not the torques: "
+                                          "a wider --word; --check fails)"
+                                          if c["overflows"] else ""))
     if "synth" in figures:
         s = figures["synth"]
         for kind, e in s["kinds"].items():

@@ -1010,7 +1010,8 @@ class RtlOptions:
         "--cosim", range=(1, 1 << 20), metavar="N", help="Simulate the design on N random torque "
         "sets and compare every torque word with `vampc emulate` in the same word format."))
     compare: bool = field(default=False, metadata=cli(
-        "--check", help="With --cosim: exit 1 unless every torque word is equal, bit for bit."))
+        "--check", help="With --cosim: exit 1 unless every torque word is equal, bit for bit, "
+        "and none overflowed the word (the emulator's count over the same sets)."))
     simulator: str = field(default="amaranth", metadata=cli(
         "--simulator", choices=lambda: ("amaranth", "icarus"), show_default=True, help="With "
         "--cosim: amaranth (Amaranth's simulator, pip only) or icarus (Icarus Verilog on the "

@@ -29,6 +29,8 @@ class CosimResult:
     expected: np.ndarray       # the same from `vampc emulate` (the stream engine)
     ticks: int
     seconds: float
+    overflows: int = 0         # the emulator's run of the same sets: results and host words
+                               # beyond the word, counted (both then hold the word's values)
 
     @property
     def mismatches(self) -> int:
@@ -43,13 +45,17 @@ class CosimResult:
         return None if not bad.size else (int(bad[0][0]), int(bad[0][1]))
 
 
-def expected_words(ld, traj) -> np.ndarray:
-    """The emulator's torque words for `traj` (stream engine), as raw integers, output by output."""
+def expected_words(ld, traj) -> tuple[np.ndarray, int]:
+    """The emulator's torque words for `traj` (stream engine), as raw integers, output by output,
+    and how many overflows its run counted (the constants' conversion included, as `vampc
+    emulate` counts them)."""
     from vampc.emulator import emulate
+    from vampc.emulator.stream import constant_overflows
+    ld.arith.overflows = constant_overflows(ld)   # the word counts this run's overflows from here
     tau = emulate(ld, traj, engine="stream").tau
     raw = tau * 2.0 ** ld.word.fraction           # exact: a W-bit word, W <= 64, F fraction bits
     cols = [o.joint - 1 for o in ld.net.outputs]
-    return np.rint(raw[:, cols]).astype(np.int64)
+    return np.rint(raw[:, cols]).astype(np.int64), int(ld.arith.overflows)
 
 
 def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None,
@@ -68,7 +74,8 @@ def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None
     else:
         raise VampcError(f"unknown simulator {simulator!r} ({', '.join(SIMULATORS)})")
     seconds = time.perf_counter() - start
-    return CosimResult(simulator, words, expected_words(ld, traj), run.ticks, seconds)
+    expected, overflows = expected_words(ld, traj)
+    return CosimResult(simulator, words, expected, run.ticks, seconds, overflows)
 
 
 def _amaranth(design, run: HostRun, progress=None) -> np.ndarray:
