@@ -17,6 +17,7 @@ from vampc.errors import VampcError
 from vampc.jsontext import loads
 from vampc.machine.arith import Rounding
 from vampc.precision import Ranges, analyse, fitted
+from vampc.robot import load_robot
 
 ROBOTS = ["planar2.yaml", "puma560.yaml", "stanford.yaml", "arm6.urdf", "quadruped.urdf",
           "snake64.yaml"]
@@ -173,3 +174,30 @@ def test_a_massless_robot_and_the_widest_sweep_are_said_as_they_are(tmp_path):
     assert res.exit_code == 0 and res.stdout.splitlines()[-2:] == [
         "narrowest word meeting 0.001 by the analysed bound, with no possible overflow: none of up "
         "to 64 bits", "narrowest word observed within 0.001 (among those): none of up to 64 bits"]
+
+
+def test_the_states_are_taken_in_chunks_with_the_same_figures(monkeypatch):
+    """Every op's value of every set at once took 15 kB a set for the Puma (--sets 10000000 went
+    past 22 GB, a new user's run): the states go through in chunks, and the figures (the largest
+    error and |τ| over all the sets, the overflows) are those of one chunk of them all, here in
+    chunks of 7 sets and a last of 5; and in words of 4 integer bits fewer than the analysis asks
+    for, whose overflows (the constants' among them, which the host writes once a run) add up."""
+    from vampc import commands, precision
+    from vampc.machine.arith import Fixed
+    args = ["precision", str(EXAMPLES / "planar2.yaml"), "--sets", "47", "--sweep", "13:16",
+            "--format", "json"]
+    nodes = len(compile_chain(load_robot(str(EXAMPLES / "planar2.yaml")), CompileOptions()).graph.nodes)
+    right = precision.fitted
+    narrow = lambda *a: (lambda w, an: (Fixed(w.integer - 4, w.fraction + 4, w.rounding), an))(   # noqa: E731
+        *right(*a))
+    runs = []
+    for fit in (right, narrow):
+        monkeypatch.setattr(precision, "fitted", fit)
+        for chunk in (1 << 40, 72 * nodes * 7):
+            monkeypatch.setattr(commands, "PRECISION_CHUNK_BYTES", chunk)
+            r = CliRunner().invoke(main, args)
+            assert r.exit_code == 0, r.output
+            runs.append(r.stdout)
+    assert runs[0] == runs[1] and runs[2] == runs[3]
+    overflows = [row["overflows"] for row in loads(runs[2])["rows"]]
+    assert all(n > 0 for n in overflows) and overflows != [row["overflows"] for row in loads(runs[0])["rows"]]

@@ -687,8 +687,10 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     import numpy as np
 
     from vampc.dataflow.evaluate import evaluate
+    from vampc.dataflow.ops import Op
     from vampc.dynamics.reference import rnea
     from vampc.emulator.driver import random_states
+    from vampc.emulator.stream import conversion_overflows
     from vampc.machine.arith import Rounding
     from vampc.outputs import plan_outputs
     from vampc.precision import Ranges, fitted
@@ -701,30 +703,61 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     rounding = _precision_rounding(source, ld, options)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
-    traj = random_states(chain, 0, own.sets, 0)        # accelerations within ±1: scaled to ±A
-    traj = replace(traj, qdd=traj.qdd * own.acceleration)
-    with np.errstate(all="ignore"):
-        ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
-    if not np.all(np.isfinite(ref)):
-        raise VampcError(f"{source}: the reference torques of random states are not finite numbers "
-                         "(the robot's numbers overflow a float): no word holds them")
-    scale = float(np.abs(ref).max(initial=0.0))
+    # the states in chunks (every op's value of every set at once took 15 kB a set for the Puma:
+    # --sets 10000000 went past 22 GB); maxima over the chunks are the run's, overflows their sums
+    chunk = max(1, PRECISION_CHUNK_BYTES // (72 * len(graph.nodes)))    # (a node: 9 doubles at most)
+    starts = range(0, own.sets, chunk)
+
+    def states(start: int):
+        traj = random_states(chain, start, min(chunk, own.sets - start), 0)
+        return replace(traj, qdd=traj.qdd * own.acceleration)     # accelerations ±1: scaled to ±A
+    refs = []
+    scale = 0.0
+    for start in starts:
+        traj = states(start)
+        with np.errstate(all="ignore"):
+            ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+        if not np.all(np.isfinite(ref)):
+            raise VampcError(f"{source}: the reference torques of random states are not finite "
+                             "numbers (the robot's numbers overflow a float): no word holds them")
+        scale = max(scale, float(np.abs(ref).max(initial=0.0)))
+        if len(starts) == 1:
+            refs.append((traj, ref))                    # (one chunk: kept, not computed again)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
         raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the robot "
                          "has no mass): errors relative to the largest |τ| are not defined")
     rows = []
-    for bits in own.widths():
-        got = fitted(graph, chain, bits, Rounding(rounding), ranges)
-        if got is None:
-            rows.append({"bits": bits, "word": None})
-            continue
-        word, analysis = got
-        tau = evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
-        rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
-                     "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
-                     "observed": float(np.abs(tau - ref).max(initial=0.0)) / scale,
-                     "overflows": word.overflows})
+    fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
+    total = own.sets * sum(got is not None for got in fits.values())
+    from vampc import progress
+    with progress.counter("sets evaluated", total) as advance:
+        done = 0
+        for bits, got in fits.items():
+            if got is None:
+                rows.append({"bits": bits, "word": None})
+                continue
+            word, analysis = got
+            consts = sum(conversion_overflows(word, nd.value) for nd in graph.nodes
+                         if nd.op is Op.CONST)           # counted by each chunk's evaluation
+            error = 0.0
+            for k, start in enumerate(starts):
+                traj, ref = refs[0] if refs else (states(start), None)
+                if ref is None:
+                    with np.errstate(all="ignore"):
+                        ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+                tau = evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
+                error = max(error, float(np.abs(tau - ref).max(initial=0.0)))
+                if k:
+                    word.overflows -= consts             # (the host writes them once a run)
+                done += traj.count
+                advance(done, total)
+            rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
+                         "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
+                         "observed": error / scale, "overflows": word.overflows})
     return precision_text(rows, own, chain, rounding)
+
+
+PRECISION_CHUNK_BYTES = 256 << 20     # the node values of one chunk of states (as evaluate holds them)
 
 
 def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
