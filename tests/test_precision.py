@@ -3,6 +3,8 @@ on the torque error is never below what random states within the analysed ranges
 example robot and both recursions; the command names the narrowest words."""
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -201,3 +203,30 @@ def test_the_states_are_taken_in_chunks_with_the_same_figures(monkeypatch):
     assert runs[0] == runs[1] and runs[2] == runs[3]
     overflows = [row["overflows"] for row in loads(runs[2])["rows"]]
     assert all(n > 0 for n in overflows) and overflows != [row["overflows"] for row in loads(runs[0])["rows"]]
+
+
+@pytest.mark.parametrize("change, says", [
+    # the robot edited, its checksum made again: observed 3.4e-01 against bounds down to 7.7e-03,
+    # exit 0 ("the bound is never below an observation")
+    (lambda d: d["robot"]["joints"][0].update(mass=5.0),
+     r"the program's graph does not compute its robot's dynamics: in float64 its torques differ "
+     r"from the reference Newton-Euler's by \S+ of the largest \|τ\| \(random state \d+, joint \d\)"),
+    # an output read at the wrong tick: refused by report and emulate, analysed by precision
+    (lambda d: d["io"]["outputs"][0].update(tick=28), r"τ1 is read from VAMP \d+ .* at tick 28"),
+])
+def test_an_edited_program_file_is_refused_as_report_and_emulate_refuse_it(tmp_path, change, says):
+    """(A new user's finds.) The file's network is checked as `vampc emulate` checks it, and its
+    graph against its robot, in float64, before any word is measured."""
+    from program_util import edited_program
+    program = tmp_path / "p.vamp.json"
+    assert _precision_compile(program).exit_code == 0
+    edited = edited_program(program, tmp_path, change)
+    r = CliRunner().invoke(main, ["precision", str(edited), "--sweep", "16:16", "--sets", "20"])
+    assert r.exit_code == 1 and re.match(rf"vampc: error: {re.escape(str(edited))}: {says}", r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+    ok = CliRunner().invoke(main, ["precision", str(program), "--sweep", "16:16", "--sets", "20"])
+    assert ok.exit_code == 0, ok.output
+
+
+def _precision_compile(program):
+    return CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)])

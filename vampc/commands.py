@@ -702,6 +702,14 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     rounding = _precision_rounding(source, ld, options)
+    from vampc.sniff import is_program
+    if is_program(source):     # its network as report and emulate check it: a corrupt file is said
+        from vampc.emulator.check import check_program
+        try:
+            check_program(ld)
+        except VampcError as exc:
+            text = str(exc)
+            raise VampcError(text if text.startswith(f"{source}:") else f"{source}: {text}") from None
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     # the states in chunks (every op's value of every set at once took 15 kB a set for the Puma:
     # --sets 10000000 went past 22 GB); maxima over the chunks are the run's, overflows their sums
@@ -723,9 +731,22 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
         scale = max(scale, float(np.abs(ref).max(initial=0.0)))
         if len(starts) == 1:
             refs.append((traj, ref))                    # (one chunk: kept, not computed again)
+        if not start:          # the graph in float64 against the reference, on the first chunk
+            with np.errstate(all="ignore"):
+                apart = np.abs(evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base) - ref)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
         raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the robot "
                          "has no mass): errors relative to the largest |τ| are not defined")
+    worst = float(np.nanmax(apart, initial=0.0)) if np.isfinite(apart).all() else np.inf
+    if worst > GRAPH_AGREES * scale:
+        # (a program file whose robot was edited, its checksum made again: the observed errors were
+        # the edit's, over the analysed bound, and said nothing)
+        set_, joint = np.unravel_index(np.argmax(np.nan_to_num(apart, nan=np.inf)), apart.shape)
+        raise VampcError(f"{source}: the program's graph does not compute its robot's dynamics: in "
+                         f"float64 its torques differ from the reference Newton-Euler's by "
+                         f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, joint "
+                         f"{joint + 1}), so the errors observed would not be the word's; was the "
+                         "file's robot or graph edited? Compile the robot again")
     rows = []
     fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
     total = own.sets * sum(got is not None for got in fits.values())
@@ -758,6 +779,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
 
 
 PRECISION_CHUNK_BYTES = 256 << 20     # the node values of one chunk of states (as evaluate holds them)
+GRAPH_AGREES = 1e-9     # the graph in float64 against the reference: `vampc emulate --check`'s default
 
 
 def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
