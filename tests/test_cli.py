@@ -283,6 +283,29 @@ def test_dump_after_prints_the_ir_and_writes_nothing(tmp_path):
     assert run("compile", PUMA, "--dump-after", "graph", "-o", tmp_path / "x.vamp.json").exit_code == 2
 
 
+@pytest.mark.parametrize("stage, args, said", [
+    ("graph", ["--vamps", "3", "--interval", "2"], "--vamps, --interval do not apply to --dump-after "
+     "graph: they shape a later stage"),
+    ("graph", ["--layout", "folded", "--error-correction", "--word", "q8.8"],
+     "--layout, --word, --error-correction do not apply"),
+    ("allocate", ["--word", "q8.8", "--rounding", "truncate"], "--word, --rounding do not apply to "
+     "--dump-after allocate: they shape a later stage, so nothing printed changes"),
+])
+def test_an_option_of_a_later_stage_than_the_dump_is_warned_of(stage, args, said):
+    """(A new user's find.) `--dump-after graph --vamps 3 --interval 2` printed the graph, exit 0,
+    saying nothing, where the compile refuses that interval: the options were taken and changed
+    nothing. They are still taken (the stage before a failing one can be dumped with the same
+    command line), and the dump is the one without them."""
+    plain = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", stage)
+    r = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", stage, *args)
+    assert r.exit_code == 0 and r.stdout == plain.stdout
+    assert r.stderr == f"vampc: warning: {said}" + r.stderr.split(said, 1)[1]
+    assert len(r.stderr.splitlines()) == 1 and not plain.stderr
+    if "--interval" not in args:            # (an interval of 2 fails the schedule: refused there)
+        last = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", "emit", *args)
+        assert last.exit_code == 0 and not last.stderr     # every option shapes the last stage
+
+
 def test_one_joint_is_said_in_the_singular(tmp_path):
     """'1 joints' in compile's line, the report, its pictures' titles and the trade-off's."""
     robot = tmp_path / "one.yaml"

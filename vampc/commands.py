@@ -118,7 +118,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     from vampc.compiler import program_chunks
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
-    own.check()           # (options.numbering is own.numbering: both are built from --numbering)
+    own.check(options.given)   # (options.numbering is own.numbering: both from --numbering)
     if own.dump_after:
         from vampc.dump import dump_after
         return dump_after(own.dump_after, compile_robot(robot, options, robot_opts, own.dump_after))

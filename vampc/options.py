@@ -461,6 +461,13 @@ def default(f):
 
 STAGES = ("graph", "schedule", "allocate", "emit")   # the compile stages, in order: a progress
                                                     # display names them, --dump-after takes them
+# the stage each compile option first shapes (the others, and the robot options, shape the graph):
+# a --dump-after before it would take the option and print the same IR (README, vampc compile)
+FIRST_SHAPES = {**{name: "schedule" for name in ("mult_latency", "add_latency", "layout",
+                                                 "share_passes", "vamps", "interval", "exact",
+                                                 "bus", "tiers")},
+                **{name: "emit" for name in ("numbering", "word", "rounding", "overflow",
+                                             "error_correction", "check_cycles")}}
 
 
 @dataclass(frozen=True)
@@ -479,11 +486,25 @@ class CompileCommand:
         "text (graph; layout and schedule; network; programs and Program-Mode stream) and stop: no "
         "program file is written."))
 
-    def check(self) -> None:
-        """--dump-after prints instead of writing."""
+    def check(self, given=frozenset()) -> None:
+        """--dump-after prints instead of writing; an option of a later stage is warned of (`given`:
+        the options the user gave): it changes nothing printed (kept, not refused: the stage before
+        one that fails with it can still be dumped with the same command line)."""
         if self.dump_after and self.output is not None:
             raise VampcUsageError("--dump-after prints to standard output and writes no program "
                                   "file: leave out -o")
+        if self.dump_after:
+            late = [name for name, at in FIRST_SHAPES.items() if name in given
+                    and STAGES.index(at) > STAGES.index(self.dump_after)]
+            if late:
+                import warnings
+
+                from vampc.errors import VampcWarning
+                one = len(late) == 1
+                warnings.warn(VampcWarning(
+                    f"{', '.join(flag(name) for name in late)} {'does' if one else 'do'} not "
+                    f"apply to --dump-after {self.dump_after}: {'it shapes' if one else 'they shape'} "
+                    "a later stage, so nothing printed changes"), stacklevel=2)
 
 
 @dataclass(frozen=True)
