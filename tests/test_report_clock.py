@@ -88,3 +88,14 @@ def test_margins_read_as_words():
     from vampc.report.clock import margin_text
     assert [margin_text(m) for m in (32.8, 328.0, 0.000328, 0.5)] == [
         "×32.8", "×328", "needs a ×3,049 faster clock", "needs a ×2 faster clock"]
+
+
+def test_a_count_per_second_printed_whole_is_that_count():
+    """22.6 MHz / 18 ticks = 1 255 555.6 sets a second: 6 significant digits gave 1 255 560, which
+    the text prints as '1,255,560' (a new user's find); whole counts are rounded to the unit, and
+    below 100 a second to 6 significant digits as before."""
+    from vampc.report.clock import rate, sets_text
+    fig = clock_figures(41, 18, 15, 22.6e6)
+    assert fig["sets_per_second"] == 1255556 and sets_text(fig["sets_per_second"]) == "1,255,556"
+    assert clock_figures(52, 18, 15, 50e6)["sets_per_second"] == 2777778
+    assert rate(2 / 3) == 0.666667 and rate(99.99994) == 99.9999 and rate(100.5) == 100

@@ -110,8 +110,15 @@ def us(flops: float, hz: float) -> float:
 
 
 def per_second(flops: float, hz: float) -> float:
-    """How many times per second something taking `flops` ticks happens at `hz`."""
-    return float(f"{hz / flops:.6g}")
+    """How many times per second something taking `flops` ticks happens at `hz` (`rate`)."""
+    return rate(hz / flops)
+
+
+def rate(count: float) -> float:
+    """A count per second as the report gives it: to the nearest whole one from 100 on (text shows
+    it with thousands separators, '1,255,556', so it must be that number: 6 significant digits
+    printed '1,255,560' for 22.6 MHz / 18), else to 6 significant digits."""
+    return float(round(count)) if count >= 100 else float(f"{count:.6g}")
 
 
 def clock_figures(latency: int, interval: int, load_ticks: int, hz: float) -> dict:

@@ -33,11 +33,11 @@ def engineering(c, clock_hz: float | None = None) -> dict:
           "bits_out_per_set": bits["host_read_bits_per_set"], "word_bits": bits["bits"]}
     if clock_hz is not None:
         sets = clock_hz / interval
-        io.update(sets_per_second=float(f"{sets:.6g}"),
-                  scalars_in_per_second=float(f"{inputs * sets:.6g}"),
-                  scalars_out_per_second=float(f"{outputs * sets:.6g}"),
-                  bits_in_per_second=float(f"{bits['host_write_bits_per_set'] * sets:.6g}"),
-                  bits_out_per_second=float(f"{bits['host_read_bits_per_set'] * sets:.6g}"))
+        from vampc.report.clock import rate
+        io.update(sets_per_second=rate(sets), scalars_in_per_second=rate(inputs * sets),
+                  scalars_out_per_second=rate(outputs * sets),
+                  bits_in_per_second=rate(bits["host_write_bits_per_set"] * sets),
+                  bits_out_per_second=rate(bits["host_read_bits_per_set"] * sets))
     path = [{"node": i, "label": f"{graph.nodes[i].name}·{graph.nodes[i].section} {graph.nodes[i].group}",
              "op": graph.nodes[i].op.value,
              "start": sched.start[i], "flops": duration[graph.nodes[i].op]} for i in sched.critical_path]
