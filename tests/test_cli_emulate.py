@@ -163,6 +163,11 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
      r"VAMP 1: operand A is wired to \w+ \d+ at stage 999 \(only a buffer has stages\)"),
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(1, d["program_stream"][0]["words"][0][1] + 0.5),
      True, r"program stream of \w+ \d+, word 0: scalar \d+\.5 is not an integer"),
+    # a scalar beyond the packing: 1e300 unpacked into a 300-digit delay-R, which the error printed
+    # whole (424 characters: a new user's find)
+    (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 1e300), True,
+     r"program stream of \w+ \d+, word 0: scalar 1e\+300 is beyond the Program-Mode words of 24 "
+     r"bits this program packs \(every scalar is below 16777216 in magnitude\)$"),
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
                 d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
                                                                                      delay_b=3)),
