@@ -230,3 +230,12 @@ def test_an_edited_program_file_is_refused_as_report_and_emulate_refuse_it(tmp_p
 
 def _precision_compile(program):
     return CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)])
+
+
+def test_an_acceleration_past_the_float_range_is_no_word_without_a_numpy_warning():
+    """--acceleration 1e300: the analysis overflows a float, so no width holds the peak; NumPy's
+    own 'RuntimeWarning: overflow encountered in dot' was printed as vampc's warning."""
+    r = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--acceleration",
+                                  "1e300", "--sweep", "20:21", "--sets", "10"])
+    assert r.exit_code == 0 and not r.stderr, r.output
+    assert r.stdout.count("too narrow: no qI.F of this width holds the peak") == 2

@@ -748,7 +748,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                          f"{joint + 1}), so the errors observed would not be the word's; was the "
                          "file's robot or graph edited? Compile the robot again")
     rows = []
-    fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
+    with np.errstate(over="ignore", invalid="ignore"):   # (a peak past the float range: no fit)
+        fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
     total = own.sets * sum(got is not None for got in fits.values())
     from vampc import progress
     with progress.counter("sets evaluated", total) as advance:
