@@ -97,7 +97,7 @@ def test_default_tiers_double_every_second_tier_then_span_the_line():
     assert t.carries(2, 5) and not t.carries(1, 2)
 
 
-@pytest.mark.parametrize("text", ["2,x", "0,2", "", "2,,4", "auto,2", "-1"])
+@pytest.mark.parametrize("text", ["2,x", "0,2", "", "2,,4", "auto,2", "-1", "2,٢", "2,１"])   # (other scripts' digits)
 def test_malformed_tiers_are_usage_errors(text):
     with pytest.raises(ValueError):
         parse_tiers(text)

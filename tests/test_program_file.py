@@ -147,7 +147,10 @@ def test_numbering_file_sets_the_burned_in_numbers(tmp_path):
 
 
 @pytest.mark.parametrize("text,message", [
-    ("1\n2\n2\n", "VAMP number 2 appears twice"),
+    ("1\n2\n\n2\n", "line 4: VAMP number 2 appears twice (first on line 2)"),
+    # digits of other scripts: '٣' is a digit to str.isdigit() (read as 3), '²' too (int() raised)
+    ("1\n2\n٣\n", "line 3: '٣' is not a VAMP number (1..16777215)"),
+    ("1\n2\n²\n", "line 3: '²' is not a VAMP number (1..16777215)"),
     ("1\n2\n", "2 VAMP numbers given, the network needs 3"),
     ("1\nabc\n3\n", "line 2: 'abc' is not a VAMP number (1..16777215)"),
     ("1\n2.5\n3\n", "line 2: '2.5' is not a VAMP number (1..16777215)"),

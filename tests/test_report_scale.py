@@ -135,3 +135,15 @@ def test_a_long_robot_name_wraps_in_the_pictures_titles(tmp_path):
         text = (tmp_path / picture).read_text()
         first = re.search(r">(a robot with[^<]*)<", text).group(1)     # the title's first line
         assert "a torque set every" not in first, (picture, first)         # (not the whole title)
+
+
+@pytest.mark.parametrize("focus", ["fwd ٢", "bwd ３", "١:3", "1:1_0"])
+def test_focus_in_other_scripts_digits_is_refused(tmp_path, focus):
+    """'fwd ٢' was read as fwd 2 (\\d and int() take any script's digits), as the file readers and
+    the other options do not."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--network",
+                                  str(tmp_path / "f.svg"), "--focus", focus])
+    assert r.exit_code == 2 and "give A:B, two positions" in r.output, r.output

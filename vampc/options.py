@@ -812,11 +812,16 @@ class ReportOptions:
         import re
         if self.focus is None:
             return None
-        node = re.fullmatch(r"\s*(bwd|npv|fwd|both)\s*(?:dev\s*)?(\d+)\s*", self.focus)
+        # (ASCII digits: \d and int() also took 'fwd ٢' and '١:3')
+        node = re.fullmatch(r"\s*(bwd|npv|fwd|both)\s*(?:dev\s*)?(\d+)\s*", self.focus, re.ASCII)
         if node:
             return node.group(1), int(node.group(2))
+        from vampc.textio import ascii_digits
         try:
-            a, b = (int(x) for x in self.focus.split(":"))
+            parts = [x.strip() for x in self.focus.split(":")]
+            if not all(ascii_digits(x) for x in parts):
+                raise ValueError(self.focus)
+            a, b = (int(x) for x in parts)
         except ValueError:
             raise VampcUsageError(f"--focus {self.focus!r}: give A:B, two positions (e.g. 1:32), or a "
                                   "node (e.g. 'bwd 300')") from None

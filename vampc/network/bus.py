@@ -72,6 +72,7 @@ from vampc.network.model import (
 )
 from vampc.schedule.asap import Schedule, schedule_asap
 from vampc.schedule.layout import Layout, systolic_layout
+from vampc.textio import ascii_digits
 
 LAYOUTS = ("systolic", "folded")   # the layouts a bus is built for
 
@@ -113,7 +114,7 @@ def parse_tiers(text: str) -> list[int] | str:
     parts = [p.strip() for p in text.split(",")]
     spans = []
     for p in parts:
-        if not p.isdigit() or int(p) < 1:
+        if not ascii_digits(p) or int(p) < 1:        # (ASCII: '٢' is a digit to isdigit())
             raise ValueError(f"{text!r}: a tier's span is a whole number of VAMPs, at least 1 "
                              f"(got {p!r}); give spans like 2,2,4,4,8 or 'auto'")
         if int(p) > 16_777_215:

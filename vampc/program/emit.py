@@ -122,8 +122,9 @@ def extraneous_number(numbering, packing) -> int:
 def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tuple[int, ...]:
     """VAMP numbers from a text file, one positive integer per line (blank lines and #comments
     skipped); `limit`: the Program-Mode word's (a number the network uses must be below it)."""
-    from vampc.textio import decode_utf8
+    from vampc.textio import ascii_digits, decode_utf8
     numbers = []
+    first: dict[int, int] = {}           # each number's line
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:
@@ -133,12 +134,17 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
         text = line.split("#", 1)[0].strip()
         if not text:
             continue
-        if not text.isdigit() or int(text) < 1 or int(text) >= 2**24:
+        # (ASCII digits: str.isdigit() took '٣٣٣' for 333, and '²' to int() raised ValueError)
+        if not ascii_digits(text) or int(text) < 1 or int(text) >= 2**24:
             raise VampcError(f"{path}: line {lineno}: {text!r} is not a VAMP number (1..16777215)")
         if limit is not None and int(text) >= limit and len(numbers) < count:
             raise VampcError(f"{path}: line {lineno}: VAMP number {text} (VAMP {len(numbers)}) does "
                              f"not fit in a {limit.bit_length()}-bit Program-Mode word (at most "
                              f"{limit - 1}); give a wider --word")
+        if int(text) in first:
+            raise VampcError(f"{path}: line {lineno}: VAMP number {int(text)} appears twice (first "
+                             f"on line {first[int(text)]})")
+        first[int(text)] = lineno
         numbers.append(int(text))
     if len(numbers) < count:
         raise VampcError(f"{path}: {len(numbers)} VAMP numbers given, the network needs {count}")
@@ -149,9 +155,6 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
         warnings.warn(VampcWarning(f"{path}: {len(numbers)} VAMP numbers given, the network has "
                                    f"{count} VAMPs: the last {len(numbers) - count} are not used"),
                       stacklevel=2)
-    if len(set(numbers)) != len(numbers):
-        dup = next(x for x in numbers if numbers.count(x) > 1)
-        raise VampcError(f"{path}: VAMP number {dup} appears twice")
     return tuple(numbers[:count])
 
 
