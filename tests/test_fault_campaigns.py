@@ -209,6 +209,12 @@ def test_too_few_sets_for_the_sweep_is_said(programs, tmp_path):
     r = RUN(main, ["faults", str(ec), "--campaign", "random", "--count", "2", "--sets", "20",
                    "--results", str(tmp_path / "r.jsonl"), "--workers", "1"])
     assert r.exit_code == 0 and "reaches only part of the chain" in r.output
+    # an error in the options is said alone, not after this warning (two lines for one error)
+    for bad, code in ((["--at", "999999999"], 1), (["--bits", "64"], 2)):
+        r = RUN(main, ["faults", str(ec), "--sets", "20", "--results", str(tmp_path / "b.jsonl"),
+                       *bad])
+        assert r.exit_code == code and len(r.output.strip().splitlines()) == 1, r.output
+        assert "reaches only part" not in r.output
 
 
 def test_the_results_file_is_never_the_program(programs):

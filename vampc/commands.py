@@ -1157,10 +1157,6 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",))
     ld = loaded(source, options, robot_opts, params)
     sets = own.sets or cp.default_sets(ld)
-    if own.sets is not None and ld.net.checking is not None and own.sets < cp.default_sets(ld):
-        warnings.warn(VampcWarning(f"--sets {own.sets}: the checking reaches only part of the "
-                                   f"chain in that many sets; faults past it cannot be detected "
-                                   f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
     from vampc.emulator.driver import tick_memory_check
     from vampc.emulator.faults import check_faults
     tick_memory_check(ld, sets, "give fewer --sets (a fault campaign runs on the tick engine)")
@@ -1178,6 +1174,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     check_faults(faults, ld, last)      # a bit the word has not, control2 without checking
     if not faults:
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
+    # (warned once the options are known good: it came before their error, two lines for one)
+    if own.sets is not None and ld.net.checking is not None and own.sets < cp.default_sets(ld):
+        warnings.warn(VampcWarning(f"--sets {own.sets}: the checking reaches only part of the "
+                                   f"chain in that many sets; faults past it cannot be detected "
+                                   f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
     from vampc.emulator.load import recorded_word
