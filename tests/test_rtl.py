@@ -544,5 +544,6 @@ def test_overflows_are_said_and_fail_the_check(programs):
     r = CliRunner().invoke(main, ["rtl", robot, *args, "--cosim", "2", "--check", "-o", str(out)])
     assert r.exit_code == 1 and not out.exists()
     assert "every word equal to vampc emulate's, bit for bit" in r.stdout
-    assert (f"q4.12 (nearest, saturate) words: {said} overflows in vampc emulate's run of the same "
-            "sets (the words compared are the word's saturated values, not the torques") in r.stdout
+    assert r.stdout.startswith(f"vampc rtl: {robot}: arm1, 2 VAMPs, word q4.12 (nearest, saturate)\n")
+    assert (f"q4.12 words: {said} overflows in vampc emulate's run of the same sets (the words "
+            "compared are the word's saturated values, not the torques") in r.stdout

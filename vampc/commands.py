@@ -1485,7 +1485,7 @@ PAST = {"saturate": "saturated", "wrap": "wrapped"}
 
 def _rtl_text(figures: dict) -> str:
     lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {figures['vamps']} VAMPs, "
-             f"word {figures['word']}",
+             f"word {figures['word']} ({figures['rounding']}, {figures['overflow']})",
              "  VAMP kinds: " + "; ".join(f"{n} × {k}" for k, n in figures["kinds"].items())]
     if "verilog" in figures:
         v = figures["verilog"]
@@ -1502,8 +1502,7 @@ def _rtl_text(figures: dict) -> str:
                          f"{f['set']}, output {f['output']}: design {f['design']}, emulate "
                          f"{f['emulate']}")
         # overflows are never silent: equal words that overflowed are the word's, not the torques
-        word = f"{figures['word']} ({figures['rounding']}, {figures['overflow']})"
-        lines.append(f"  {word} words: {count(c['overflows'], 'overflow')} in vampc emulate's run "
+        lines.append(f"  {figures['word']} words: {count(c['overflows'], 'overflow')} in vampc emulate's run "
                      "of the same sets" + (f" (the words compared are the word's "
                                           f"{PAST[figures['overflow']]} values, not the torques: "
                                           "a wider --word; --check fails)"
