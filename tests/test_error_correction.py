@@ -301,6 +301,14 @@ def test_the_report_counts_what_the_checking_adds():
     own = rep["packages"]["rows"][0]["by_pins"][0]
     assert (own["paper_separate"], own["paper_shared"]) == (math.ceil((V + 1) / 5), math.ceil((V + 1) / 12))
     assert rep["packages_40pin"] == {"separate": own["paper_separate"], "shared": own["paper_shared"]}
+    # and the table says so: its VAMPs column said V beside counts for V + 1 (a new user's find)
+    row = rep["packages"]["rows"][0]
+    assert (row["vamps"], row["packaged_vamps"]) == (V, V + 1)
+    from vampc.report.sections import packages
+    table = packages(rep)
+    assert table.rows[0][1] == f"{V} + 1 extraneous"
+    assert any(n.startswith("+ extraneous: error correction's extraneous VAMP") for n in table.notes)
+    assert "packaged_vamps" not in build_report(plain)["packages"]["rows"][0]
 
 
 def test_a_detection_after_the_last_set_names_no_set(tmp_path):

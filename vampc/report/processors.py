@@ -276,6 +276,8 @@ def packages(configs, pins: int | None) -> dict:
         # (with error correction the extraneous VAMP is a VAMP to package too: the muxed counts
         # pack it, and the paper's budget counted without it, 36 packages beside 91 for 181)
         chips = k.vamps if k.network is None else physical_vamps(k.network)
+        if chips != k.vamps:
+            row["packaged_vamps"] = chips       # (the table said 180 beside counts for 181)
         for size in sizes:
             entry = {"pins": size, **{f"paper_{s}": v for s, v in
                                       paper.paper_packages(chips, size).items()}}

@@ -348,7 +348,10 @@ def packages(rep: dict) -> Table:
     cols.append("most pins a VAMP needs")
     rows = []
     for r in p["rows"]:
-        row = [r["configuration"] + (" (this report)" if r["own"] else ""), num(r["vamps"])]
+        packed = r.get("packaged_vamps", r["vamps"])
+        row = [r["configuration"] + (" (this report)" if r["own"] else ""),
+               num(r["vamps"]) + (f" + {num(packed - r['vamps'])} extraneous" if packed != r["vamps"]
+                                  else "")]
         for e in r["by_pins"]:
             muxed = (f"{_fit(e['muxed_separate'])} / {_fit(e['muxed_shared'])}"
                      if "muxed_separate" in e else DASH)
@@ -366,6 +369,9 @@ def packages(rep: dict) -> Table:
                                          if any(e.get("muxed_separate", 0) is None
                                                 or e.get("muxed_shared", 0) is None
                                                 for r in p["rows"] for e in r["by_pins"]) else "")]
+    if any("packaged_vamps" in r for r in p["rows"]):
+        notes.append("+ extraneous: error correction's extraneous VAMP (section VII), packaged with "
+                     "the others: every count of the row is for both")
     if p.get("paper_check"):
         check = p["paper_check"]
         notes.append("section VII: \"11 such 40-pin packages would implement the full systolic "
