@@ -4,6 +4,7 @@ cluster giving the same results, and bad input as one line."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -484,3 +485,26 @@ def test_drawing_a_big_random_campaign_shows_progress(programs, monkeypatch, cap
     shown = cp.faults_of(ld, "random", cp.KINDS, 0, 9000, 0.2, 7, 100)
     assert [f.text for f in shown] == [f.text for f in quiet]
     assert "drawing faults" in capsys.readouterr().err
+
+
+def test_the_fault_free_runs_overflows_are_said(tmp_path):
+    """A word too narrow for the robot (q4.12 cannot hold g = 9.81): every run was classified
+    against the fault-free run's saturated torques and the summary said nothing of it (a new
+    user's find). It says the fault-free run's overflow count, `vampc emulate --engine tick`'s on
+    the same sets, on a resumed campaign too; float64 says none (JSON null)."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text(ONE_JOINT)
+    program = tmp_path / "q.vamp.json"
+    assert RUN(main, ["compile", str(robot), "--word", "q4.12", "-o", str(program)]).exit_code == 0
+    em = RUN(main, ["emulate", str(program), "--random", "12", "--engine", "tick"])
+    said = int(re.search(r"q4\.12 \(nearest, saturate\) words: (\d+) overflows", em.output)[1])
+    assert said > 0
+    for _ in range(2):                        # run, then resumed from the results file
+        r = RUN(main, ["faults", str(program), "--sets", "12", "--kinds", "dead", "--workers", "1",
+                       "--results", str(tmp_path / "r.jsonl")])
+        assert r.exit_code == 0, r.output
+        assert f"the fault-free run overflowed the word {said} times: its torques are the word's" in r.output
+    assert _campaign(program, tmp_path, "--sets", "12", "--kinds", "dead")["reference_overflows"] == said
+    plain = tmp_path / "p.vamp.json"
+    assert RUN(main, ["compile", str(robot), "-o", str(plain)]).exit_code == 0
+    assert _campaign(plain, tmp_path, "--sets", "12", "--kinds", "dead", name="p.jsonl")["reference_overflows"] is None

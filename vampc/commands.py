@@ -1194,10 +1194,17 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     client = parallel.connect(own.scheduler) if own.scheduler is not None else None
     try:
         todo = [i for i in range(len(faults)) if i not in store.done]
-        if todo:
+        overflows = None             # the fault-free run's, in a fixed-point word (never silent)
+        if todo or ld.word is not None:
+            from vampc.emulator.stream import constant_overflows
             traj = random_states(ld.chain, 0, sets, own.seed)
             ports = port_values(ld, traj)
-            setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, own.seed), sets, own.seed)
+            ld.arith.overflows = constant_overflows(ld)   # (the word counts the run's from here)
+            reference = cp.reference_run(ld, ports, sets, own.seed)
+            if ld.word is not None:
+                overflows = int(ld.arith.overflows)
+        if todo:
+            setup = cp.Setup(ld, ports, reference, sets, own.seed)
             failed = True
             try:
                 store.open()      # (inside: a header it cannot write leaves no file it made)
@@ -1223,9 +1230,16 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             f"correction {'on' if ld.net.checking is not None else 'off'}"
             + (f" ({len(faults) - len(todo)} run(s) read from {results})"
                if len(todo) < len(faults) else ""))
+    if overflows:
+        # (the runs are classified against torques the word saturated or wrapped: a new user's
+        # q4.12 campaign said nothing of the fault-free run's overflows)
+        head += (f"\n  the fault-free run overflowed the word {count(overflows, 'time')}: its "
+                 f"torques are the word's, not the robot's, and every run is classified against "
+                 "them (vampc emulate --engine tick says where; a wider --word)")
     if own.fmt == "json":
         text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
                                "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
+                               "reference_overflows": overflows,
                                "results": results, "summary": summary, "runs": runs}, indent=1)
     elif own.fmt == "csv":
         text = cp.render_csv(runs)
