@@ -477,6 +477,13 @@ def test_a_numbering_files_errors_name_that_file_once(tmp_path):
                        tmp_path / "p.vamp.json")
     assert code == 1 and err.startswith(f"vampc: error: {numbers}: with --error-correction the "
                                         "extraneous VAMP takes number 16777216"), err
+    # numbers are 24 bits whatever the word: "or a wider --word" cannot help here (it was said);
+    # in q9.7, whose scalars stop at 32767, it can
+    assert err.endswith("give smaller numbers (--numbering)\n"), err
+    numbers.write_text("\n".join(map(str, [*range(1, 60), 32767])) + "\n")
+    code, err, _ = run("compile", PLANAR, "--numbering", numbers, "--error-correction", "--word",
+                       "q9.7", "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and err.endswith("give smaller numbers (--numbering) or a wider --word\n"), err
 
 
 @pytest.mark.parametrize("engine", ["stream", "tick"])

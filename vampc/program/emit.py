@@ -112,10 +112,12 @@ def extraneous_number(numbering, packing) -> int:
     largest = max(numbering)
     limit = min(1 << 24, packing.limit)
     if largest + 1 >= limit:
+        # (a wider word helps only where the word's scalars, not the 24 bits, are the bound)
+        wider = " or a wider --word" if packing.limit < 1 << 24 else ""
         raise VampcError(f"with --error-correction the extraneous VAMP takes number {largest + 1}, "
                          f"one past the largest burned in ({largest}), and VAMP numbers here are "
                          f"at most {limit - 1} (24 bits, and the word's Program-Mode scalars): "
-                         "give smaller numbers (--numbering) or a wider --word")
+                         f"give smaller numbers (--numbering){wider}")
     return largest + 1
 
 
