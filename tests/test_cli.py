@@ -321,3 +321,14 @@ def test_one_joint_is_said_in_the_singular(tmp_path):
     runner.invoke(main, ["report", str(out), "--timing", str(tmp_path / "t.svg")])
     said.append((tmp_path / "t.svg").read_text())
     assert all("1 joint" in text for text in said[:2]) and not any("1 joints" in t for t in said)
+
+
+def test_a_program_file_named_as_something_else_is_warned_of(tmp_path):
+    """`compile -o r.urdf` wrote a program under a robot file's name, saying nothing, where the
+    other commands' outputs warn of a name that says otherwise (a new user's find)."""
+    for name, warned in (("r.urdf", True), ("r.yaml", True), ("r.vamp.json", False),
+                         ("r.json", False), ("r.vamp.json.gz", False)):
+        r = run("compile", str(EXAMPLES / "planar2.yaml"), "-o", tmp_path / name)
+        assert r.exit_code == 0 and (tmp_path / name).exists(), r.output
+        said = f"vampc: warning: -o {tmp_path / name}: writes a program file, whatever the name says (name it .vamp.json)"
+        assert (said in r.stderr) == warned and len(r.stderr.splitlines()) == int(warned), r.stderr
