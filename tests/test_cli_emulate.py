@@ -280,3 +280,17 @@ def test_messages_a_new_user_read_wrongly(tmp_path):
     assert res.exit_code == 0 and "stream engine: 1 torque set;" in res.output, res.output
     res = _run("emulate", prog, "--random", 20, "--word", "q64.0", "--check")
     assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output
+
+
+@pytest.mark.parametrize("word", [[], ["--word", "q16.16"]])
+def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
+    """A program file whose robot gravity was edited to 1e308 (checksum made again): the network's
+    torques are finite, the reference's overflow; the check said 'max abs error nan' and, in a
+    narrower word, advised a wider one (a new user's find). It fails saying why."""
+    edited = edited_program(program, tmp_path, lambda d: d["robot"].update(gravity=[0.0, -1e308, 0.0]))
+    res = _run("emulate", edited, "--random", 3, "--check", *word)
+    assert res.exit_code == 1, res.output
+    assert re.search(r"check against reference RNEA: the reference torques are not finite numbers "
+                     r"\(the robot's numbers overflow a float\): nothing to compare "
+                     r"with: FAILED\n", res.stdout), res.output
+    assert "nan" not in res.output and "wider --word" not in res.output

@@ -309,7 +309,13 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     if ld.word is not None:          # overflows are never silent
         say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
             + "".join(f"\n  {site}" for site in outcome.overflow_sites), info)
-    if outcome.check is not None and ld.word is None:
+    if outcome.check is not None and not _reference_finite(outcome.check):
+        # (the emulated torques are finite, or the run had stopped: the reference is not, which
+        # said "max abs error nan" and, in a narrower word, advised a wider one)
+        say("check against reference RNEA: the reference torques are not finite numbers (the "
+            "robot's numbers overflow a float): nothing to compare "
+            "with: FAILED", info)
+    elif outcome.check is not None and ld.word is None:
         res = outcome.check
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
             f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
@@ -355,6 +361,12 @@ def default_tolerance(word) -> float:
     set's largest |τ|), 1e-5 for float32, 1e-3 for fixed point (of the run's largest |τ| of any
     joint: WordCheck.overall)."""
     return {"float64": 1e-9, "float32": 1e-5}.get(word.name, 1e-3)
+
+
+def _reference_finite(res) -> bool:
+    """Whether a run's check had finite reference torques (a CheckResult, or a WordCheck)."""
+    import numpy as np
+    return bool(np.all(np.isfinite(res.max_abs)) and np.all(np.isfinite(getattr(res, "max_ref", 0.0))))
 
 
 def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = False) -> str:
