@@ -301,6 +301,9 @@ def test_an_option_of_a_later_stage_than_the_dump_is_warned_of(stage, args, said
     assert r.exit_code == 0 and r.stdout == plain.stdout
     assert r.stderr == f"vampc: warning: {said}" + r.stderr.split(said, 1)[1]
     assert len(r.stderr.splitlines()) == 1 and not plain.stderr
+    alone = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", stage, "--exact")
+    assert alone.exit_code == 2 and "--exact applies with --vamps K" in alone.stderr
+    assert "apply to --dump-after" not in alone.stderr       # (one line for one error)
     if "--interval" not in args:            # (an interval of 2 fails the schedule: refused there)
         last = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", "emit", *args)
         assert last.exit_code == 0 and not last.stderr     # every option shapes the last stage

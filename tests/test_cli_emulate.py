@@ -166,8 +166,8 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
     # a scalar beyond the packing: 1e300 unpacked into a 300-digit delay-R, which the error printed
     # whole (424 characters: a new user's find)
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 1e300), True,
-     r"program stream of \w+ \d+, word 0: scalar 1e\+300 is beyond the Program-Mode words of 24 "
-     r"bits this program packs \(every scalar is below 16777216 in magnitude\)$"),
+     r"program stream of \w+ \d+, word 0: scalar 1e\+300 does not fit in a 25-bit Program-Mode "
+     r"word \(at most 16777215 in magnitude, as this program packs them\)$"),
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
                 d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
                                                                                      delay_b=3)),

@@ -855,3 +855,26 @@ def test_paths_of_one_motion_by_other_rules_are_not_warned_of(setup, tmp_path):
             q[i + 1, 0] = q[i, 0] + lam * qd[i, 0] + lam * lam / 2 * qdd[i, 0]
         r = run_lookahead(program, write_path(tmp_path, t, q, qd, qdd), limits, "--retime", "window")
         assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("retime", [[], ["--retime", "window"]])
+def test_a_reference_that_is_not_finite_is_said_so(tmp_path, retime):
+    """A program whose robot gravity was edited to 1e308 (checksum made again): the network's
+    torques are finite, the reference's are not; --check printed NumPy's warnings and 'max relative
+    error nan', and the retimed rows by that reference '0 violations' (a review's find). It fails
+    saying why, and claims nothing of the retimed rows."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).parent))
+    from program_util import edited_program
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "-o", str(program)]).exit_code == 0
+    edited = edited_program(program, tmp_path, lambda d: d["robot"].update(gravity=[0, 0, -1e308]))
+    (tmp_path / "l.csv").write_text(LIMITS)
+    r = CliRunner().invoke(main, ["lookahead", str(edited), "--trajectory", "examples/puma560-path.csv",
+                                  "--rate", "1kHz", "--window", "8", "--limits",
+                                  str(tmp_path / "l.csv"), "--check", *retime])
+    assert r.exit_code == 1 and not r.stderr, r.output
+    assert r.stdout.endswith("check against reference RNEA: the reference torques are not finite "
+                             "numbers (the robot's numbers overflow a float): nothing to compare "
+                             "with: FAILED\n"), r.stdout
+    assert "nan" not in r.stdout

@@ -108,6 +108,7 @@ def test_a_float64_program_keeps_its_bytes_and_a_word_is_recorded_only_when_give
 @pytest.mark.parametrize("args, said", [
     (["--word", "q0.0"], "--word q0.0"), (["--word", "q70.70"], "--word q70.70"),
     (["--word", "float16"], "--word float16"), (["--word", "q16.-1"], "--word q16.-1"),
+    (["--word", "q١٦.١٦"], "--word q١٦.١٦"),       # (other scripts' digits: it was q16.16)
     (["--word", "float32", "--overflow", "wrap"], "--overflow applies to fixed-point words"),
     (["--tolerance", "-1", "--check"], "--tolerance -1.0: give a positive number"),
 ])

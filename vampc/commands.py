@@ -118,6 +118,8 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     from vampc.compiler import program_chunks
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
+    if own.dump_after:
+        options.check()        # (an option's usage error alone: not after the dump's warning of it)
     own.check(options.given)   # (options.numbering is own.numbering: both from --numbering)
     if own.dump_after:
         from vampc.dump import dump_after
@@ -967,18 +969,26 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         failed.append("retiming")
     if own.check_torques:
         tolerance = own.tolerance or default_tolerance(ld.arith)
-        if ld.word is None:
-            check = check_torques(ld.chain, traj, res.tau)
-            same, error = check.ok, check.max_rel
-        else:                         # a narrower word: errors against each joint's largest |τ|
-            from vampc.emulator.host import word_check
-            error = word_check(ld.chain, traj, res.tau).overall
-            same = error <= tolerance and not overflows
+        import numpy as np
+        with np.errstate(all="ignore"):      # (a reference past the float range: said below)
+            if ld.word is None:
+                check = check_torques(ld.chain, traj, res.tau)
+                same, error = check.ok, check.max_rel
+            else:                     # a narrower word: errors against each joint's largest |τ|
+                from vampc.emulator.host import word_check
+                check = word_check(ld.chain, traj, res.tau)
+                error = check.overall
+                same = error <= tolerance and not overflows
         over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
-        line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
-                f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
+        if not _reference_finite(check):      # (it said "max relative error nan", as emulate did)
+            same = False
+            line = ("check against reference RNEA: the reference torques are not finite numbers "
+                    "(the robot's numbers overflow a float): nothing to compare with: FAILED")
+        else:
+            line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
+                    f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
         within, arrived = [], []
-        if res.retimed is not None:
+        if res.retimed is not None and _reference_finite(check):   # (else nothing to check by)
             from vampc.dynamics.reference import rnea
             from vampc.robot.mimic import reduce_torques
             new = res.retimed
@@ -1207,7 +1217,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     client = parallel.connect(own.scheduler) if own.scheduler is not None else None
     try:
         todo = [i for i in range(len(faults)) if i not in store.done]
-        overflows = None             # the fault-free run's, in a fixed-point word (never silent)
+        overflows = None             # the fault-free run's, in a word narrower than float64 (said)
         if todo or ld.word is not None:
             from vampc.emulator.stream import constant_overflows
             traj = random_states(ld.chain, 0, sets, own.seed)
@@ -1313,7 +1323,8 @@ def _size(ld, kind=None, sim: bool = False) -> float:
 def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
                 params: dict, say) -> bool:
     """`vampc rtl`: the network's Verilog, its co-simulation against the emulator and its synthesis
-    figures (vampc.rtl). False when --check found a torque word that differs."""
+    figures (vampc.rtl). False when --check found a torque word that differs, or one that
+    overflowed in the emulator's run of the same sets."""
     import importlib.util
 
     from vampc.outputs import plan_outputs, write_output

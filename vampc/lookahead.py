@@ -664,7 +664,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
     times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
     row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included);
     margin: how much (of each) tighter than the effort limits to plan."""
-    return plans(a, b, c, qd, limits, ahead_rows, lam, margin)[0]
+    return plans(a, b, c, qd, limits, ahead_rows, lam, margin, optimal=False)[0]
 
 
 def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
@@ -676,8 +676,11 @@ def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_M
     return _forward(lo, up, _backward(lo, base, len(a), two_d), lam, "path")
 
 
-def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN):
-    """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass.
+def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN,
+          optimal: bool = True):
+    """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass
+    (`optimal` False: the window's plan alone, None for the other, whose forward pass may fail
+    where the window's does not).
 
     Each step's backward pass runs from the last row it sees towards its own row; where it meets
     the whole path's pass (the same top at the same row: both at a row's cap, say) the two are the
@@ -696,7 +699,7 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     seen = f"{ahead_rows} rows it sees; give a longer --window or more --futures"
     if ahead_rows >= n_rows:     # every step sees to the last row: the whole pass serves them all
         window = _forward(lo, up, whole, lam, seen)
-        return window, window                    # (the same numbers: the optimum)
+        return window, window if optimal else None     # (the same numbers: the optimum)
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
     H = whole.copy()               # per step: its top at its row + 1 (the whole pass's, once met)
@@ -715,7 +718,7 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     H[step] = h
     H = np.where(rows + 1 <= end, H, 0.0)        # a step at the last row it sees stops there
     window = _forward(lo, up, H, lam, seen)      # (its failure said first, as before)
-    return window, _forward(lo, up, whole, lam, "path")
+    return window, _forward(lo, up, whole, lam, "path") if optimal else None
 
 
 def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:

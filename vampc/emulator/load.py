@@ -213,9 +213,9 @@ def delivered_programs(net: Network, numbers, stream, path,
                 # (a 1e300 unpacked into a field of 300 digits, which the error then printed)
                 x = word[1] if not abs(word[1]) < packing.limit else word[2]
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: scalar "
-                                 f"{float(x):.6g} is beyond the Program-Mode words of "
-                                 f"{(packing.limit - 1).bit_length()} bits this program packs (every "
-                                 f"scalar is below {packing.limit} in magnitude)")
+                                 f"{float(x):.6g} does not fit in a {packing.limit.bit_length()}-bit "
+                                 f"Program-Mode word (at most {packing.limit - 1} in magnitude, "
+                                 "as this program packs them)")
             v = index_of.get(word_number(word))
             if v is None or roots[v] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "

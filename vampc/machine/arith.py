@@ -354,7 +354,7 @@ def _tracked(word, over) -> None:
 
 
 FLOAT64 = Float64()
-_Q = re.compile(r"q(\d+)\.(\d+)")
+_Q = re.compile(r"q(\d+)\.(\d+)", re.ASCII)     # ('q١٦.١٦' was q16.16: \d takes any digits)
 
 
 def parse_word(text: str, rounding: str = "nearest", overflow: str = "saturate"):
