@@ -1088,9 +1088,14 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
                      f"{failed_mark(res)}")
         best = res.optimal_duration
-        lines.append(f"  with the whole path in view (the time-optimal plan on these rows and limits): "
-                     f"{best:.6g} s; seeing {count(res.ahead_rows, 'row')} ahead costs "
-                     f"{100 * (res.retimed_t[-1] / best - 1):+.1f}%")
+        if best is None:
+            lines.append("  with the whole path in view: that plan found no way through these rows "
+                         "(rounding where the window's plan got through), so what seeing only "
+                         "the register's rows costs is not said")
+        else:
+            lines.append(f"  with the whole path in view (the time-optimal plan on these rows and "
+                         f"limits): {best:.6g} s; seeing {count(res.ahead_rows, 'row')} ahead "
+                         f"costs {100 * (res.retimed_t[-1] / best - 1):+.1f}%")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
                      f"{res.k:.15g}, on effort limits {margin_text(ld, res)}), "

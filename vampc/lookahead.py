@@ -463,7 +463,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         else:
             (x, u, t), optimal = plans(tangent - g, tau - g, g, traj.qd, planned, window * futures,
                                        1.0 / rate, 0.0)
-            out.optimal_duration = optimal[2][-1]
+            out.optimal_duration = None if optimal is None else optimal[2][-1]
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -718,7 +718,12 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     H[step] = h
     H = np.where(rows + 1 <= end, H, 0.0)        # a step at the last row it sees stops there
     window = _forward(lo, up, H, lam, seen)      # (its failure said first, as before)
-    return window, _forward(lo, up, whole, lam, "path") if optimal else None
+    if not optimal:
+        return window, None
+    try:                 # (the whole path's plan is a comparison: where its forward pass finds no
+        return window, _forward(lo, up, whole, lam, "path")   # way through, rounding in a path
+    except VampcError:   # the window's plan got through, that plan is not said, not the run failed)
+        return window, None
 
 
 def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:
