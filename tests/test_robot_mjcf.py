@@ -345,3 +345,55 @@ def test_an_equality_about_reference_positions_is_coupled_as_mujoco_means_it(tmp
         mujoco.mj_forward(m, d)
         rows = d.efc_type == int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
         assert rows.sum() == 1 and abs(d.efc_pos[rows][0]) < 1e-12
+
+
+TILTED = """<mujoco model="tilted">
+  <worldbody>
+    {top}
+      <body name="mount" pos="0.1 0.2 0.3" euler="{euler}">
+        <geom type="box" size="0.1 0.1 0.1" mass="1"/>
+        <body name="l1" pos="0 0 0.1">
+          <joint name="j1" axis="0 0 1"/>
+          <inertial pos="0.3 0.02 0" mass="1.3" diaginertia="0.01 0.02 0.03"/>
+          <body name="l2" pos="0.4 0 0">
+            <joint name="j2" axis="0 1 0"/>
+            <inertial pos="0.2 0 0.01" mass="0.7" diaginertia="0.01 0.01 0.02"/>
+          </body>
+        </body>
+      </body>
+    {end}
+  </worldbody>
+</mujoco>"""
+
+
+@pytest.mark.parametrize("euler, top", [("90 0 0", False), ("30 40 50", False), ("30 40 50", True)])
+def test_a_base_body_tilted_in_the_world_feels_gravity_in_its_frame(tmp_path, euler, top):
+    """--base BODY on a body welded to the world at a tilt read MuJoCo's world gravity as its own
+    frame's: torques wrong, and --check, on the same model, said OK (a new user's find). Against
+    mj_inverse: the arm below the tilted mount; with a hinge above the mount (cut away by --base,
+    at its reference position) the same, and a warning says so."""
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    path = tmp_path / "tilted.xml"
+    path.write_text(TILTED.format(euler=euler, top='<body name="top" euler="10 -20 5"><joint '
+                                  'name="h" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>'
+                                  if top else "", end="</body>" if top else ""))
+    if top:
+        with pytest.warns(VampcWarning, match=r"--base mount: the joints above it \(h\) are cut "
+                                              r"away; gravity is taken in mount's frame with them "
+                                              r"at their reference positions \(qpos0\)"):
+            chain = load_robot(path, base="mount")
+    else:
+        chain = load_robot(path, base="mount")
+    assert [j.name for j in chain.joints] == ["j1", "j2"]
+    traj = random_trajectory(chain, 6, 1)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    want = []
+    for s in range(traj.count):
+        d.qpos[:], d.qvel[:], d.qacc[:] = 0, 0, 0
+        d.qpos[-2:], d.qvel[-2:], d.qacc[-2:] = traj.q[s], traj.qd[s], traj.qdd[s]
+        mujoco.mj_inverse(m, d)
+        want.append(d.qfrc_inverse[-2:].copy())
+    got = rnea(chain, traj.q, traj.qd, traj.qdd)
+    assert np.max(np.abs(got - np.array(want))) <= 1e-9 * np.max(np.abs(want))

@@ -15,7 +15,8 @@ origin is X T(c_1), j_i's (i > 1) T(c_i - c_{i-1}) in a massless link between th
 link sits at T(c_k) from the body frame: its inertial and its children's poses are shifted by
 T(-c_k). A free joint on a body the world carries makes it the floating base (its pose in the world is
 then the base's motion, the host's input); gravity is MuJoCo's, in the world frame, with the base at
-the world's orientation for a floating base. Bodies welded to their parent (no joint) merge into it.
+the world's orientation for a floating base, and turned into the base body's frame for a fixed
+`--base` (`_in_base`). Bodies welded to their parent (no joint) merge into it.
 Children are numbered in file order, as Pinocchio's MJCF reader numbers them.
 
 A joint's q is MuJoCo's qpos: a joint with a reference position `ref` (the file's pose is at qpos =
@@ -80,6 +81,7 @@ class _Robot:
     name: str
     links: list
     joints: list
+    bodies: tuple = ()        # each MuJoCo body's link name, by body id (named or made up)
 
 
 def is_mjcf(path) -> bool:
@@ -108,6 +110,8 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
     model = _compiled(path)
     with gc_paused():
         robot, gravity, held = _robot(model, path, base)
+        if base is not None and not floating:
+            gravity = _in_base(model, path, robot, base, gravity)
         tree = Tree.build(robot, path, gravity=gravity, by_name=False)
         lock = dict(lock or {})
         for name, value in held.items():
@@ -121,6 +125,32 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                 lock[name] = value
         return chain_of(robot, tree, path, base, tip, lock, floating, mimic,
                         accept_improper_inertia=accept_improper_inertia)
+
+
+def _in_base(model, path: Path, robot, base: str, gravity):
+    """MuJoCo's gravity (world frame) in the frame of the body `base` names, where --base fixes the
+    robot: the chain's gravity is its base's (a base tilted by a weld in the world read the world's
+    vector as its own: wrong torques that --check, on the same model, could not see). The body's
+    orientation is its pose at the model's reference positions (qpos0); joints above it, which
+    --base cuts away, are said to be taken so."""
+    import mujoco
+    if base not in robot.bodies[1:]:
+        return gravity              # (the world, or no body: chain_of says so of an unknown --base)
+    b = robot.bodies.index(base)
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
+    moved, above = [], int(model.body_parentid[b])
+    while above > 0:
+        first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
+        moved += [j for j in range(first, first + count)]
+        above = int(model.body_parentid[above])
+    if moved:
+        named = [model.joint(j).name or f"joint{j}" for j in moved]
+        warnings.warn(VampcWarning(
+            f"{path}: --base {base}: the joints above it ({', '.join(named)}) are cut away; gravity "
+            f"is taken in {base}'s frame with them at their reference positions (qpos0)"), stacklevel=3)
+    rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
+    return tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
 
 
 def _compiled(path: Path):
@@ -192,7 +222,8 @@ def _robot(model, path: Path, base: str | None = None):
                       stacklevel=3)
         name = path.stem
     held = _equalities(model, path, joints, joint_name)
-    return _Robot(name, links, joints), tuple(float(g) for g in model.opt.gravity), held
+    return (_Robot(name, links, joints, tuple(body_name)), tuple(float(g) for g in model.opt.gravity),
+            held)
 
 
 class _Names:
