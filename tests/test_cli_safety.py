@@ -813,6 +813,9 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF and MJCF files only"),
     ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF and MJCF files only"),
     ((EXAMPLES / "quadruped.urdf", "--lock", "x=nan"), "the position must be a finite number"),
+    # float() read '1_0' as 10 and '١' as 1, which every other number option refuses
+    ((EXAMPLES / "arm6.urdf", "--lock", "waist=1_0"), "'waist=1_0': '1_0' is not a number written in ASCII digits"),
+    ((EXAMPLES / "arm6.urdf", "--lock", "waist=١"), "'waist=١': '١' is not a number written in ASCII digits"),
     # given, though it is the default: taken unsaid, as --mimic couple was refused
     ((PLANAR, "--mimic", "ordinary"), "--mimic applies to URDF and MJCF files only"),
 ])

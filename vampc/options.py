@@ -254,6 +254,9 @@ class RobotOptions:
         for item in self.lock:
             name, sep, value = item.partition("=")
             name = name.strip()
+            from vampc.textio import plain_number
+            if sep and not plain_number(value):     # (float() reads '1_0' as 10 and '١' as 1)
+                raise bad(f"{item!r}: {value.strip()!r} is not a number written in ASCII digits")
             try:
                 number = float(value)
             except ValueError:
