@@ -1195,3 +1195,31 @@ def test_a_text_starting_as_a_magic_number_does_is_not_called_compressed():
     from vampc.sniff import compression
     assert compression(bz2.compress(b"q1\n1\n")[:16]) == compression(bz2.compress(b"")[:16]) == "bzip2"
     assert compression(b"BZh: 1\nBZh9 x") is None and compression(b"BZh91AY") is None
+
+
+CONT = """<robot name="cont">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.3 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="hand"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="{first}" type="{kind}"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/></joint>
+  <joint name="j2" type="continuous"><parent link="arm"/><child link="hand"/><origin xyz="0.3 0 0"/><axis xyz="0 1 0"/></joint>
+</robot>"""
+
+
+@pytest.mark.parametrize("kind, first, args, said", [
+    ("continuous", "j1", ["--base", "arm", "--lock", "j1=0.5"],
+     "joint 'j1' is above the base link 'arm', which cuts it away; --lock j1=... has no effect"),
+    ("floating", "float", ["--lock", "float=0.5"],
+     "joint 'float' is the floating base's own joint (its motion is the host's input); --lock "
+     "float=... has no effect"),
+])
+def test_a_lock_of_a_joint_not_in_the_robot_is_warned_of(tmp_path, kind, first, args, said):
+    """(A new user's finds.) A --lock of a joint --base cuts away, or of the floating base's own
+    joint, was taken and ignored, saying nothing; the program is the one without it."""
+    robot = tmp_path / "r.urdf"
+    robot.write_text(CONT.format(kind=kind, first=first))
+    res = run("compile", robot, *args, "-o", tmp_path / "a.vamp.json")
+    assert res.exit_code == 0 and res.stderr == f"vampc: warning: {robot}: {said}\n", res.stderr
+    plain = [a for a in args if not a.startswith(("--lock", f"{first}="))]
+    assert run("compile", robot, *plain, "-o", tmp_path / "b.vamp.json").exit_code == 0
+    assert (tmp_path / "a.vamp.json").read_bytes() == (tmp_path / "b.vamp.json").read_bytes()

@@ -114,6 +114,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
+    lock = _locks_below(lock, tree, base, path)
     tip = choose_tip(tree, base, tip, lock, path)
     if tip is None:
         chain = _load_tree(robot.name, tree, base, lock, floating, path)
@@ -393,6 +394,21 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
                           f"[{lim[0]!r}, {lim[1]!r}]")
         out[name] = number
     return out
+
+
+def _locks_below(lock: dict, tree: Tree, base: str, path: Path) -> dict:
+    """The locks of joints below the base; one of a joint above it (cut away by the base, the
+    floating base's own joint among them) is dropped with a warning, as a fixed joint's is: it was
+    taken and ignored, saying nothing (a new user's find)."""
+    below = {j.name for j in tree.below(base)}
+    for name in [n for n in lock if n not in below]:
+        kind = tree.joints[name].type
+        why = ("the floating base's own joint (its motion is the host's input)" if kind == "floating"
+               else f"above the base link '{base}', which cuts it away")
+        warnings.warn(VampcWarning(f"{path}: joint '{name}' is {why}; --lock {name}=... has no "
+                                   "effect"), stacklevel=4)
+        del lock[name]
+    return lock
 
 
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
