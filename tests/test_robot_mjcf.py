@@ -397,3 +397,22 @@ def test_a_base_body_tilted_in_the_world_feels_gravity_in_its_frame(tmp_path, eu
         want.append(d.qfrc_inverse[-2:].copy())
     got = rnea(chain, traj.q, traj.qd, traj.qdd)
     assert np.max(np.abs(got - np.array(want))) <= 1e-9 * np.max(np.abs(want))
+
+
+def test_mimic_couple_says_it_has_no_effect_only_where_it_has_none(tmp_path):
+    """--mimic couple warned "no joint has a <mimic>" (URDF's words) of a model whose equality
+    holding a joint it had just locked (a new user's find); a model without joint equalities is
+    told in MJCF's words."""
+    import warnings
+    held = tmp_path / "held.xml"
+    held.write_text(ARM.replace("</mujoco>", '<equality><joint joint1="j4" polycoef="0.05 0 0 0 0"/>'
+                                             "</equality></mujoco>"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chain = load_robot(held, mimic="couple")
+    assert "j4" not in [j.name for j in chain.joints]
+    plain = tmp_path / "plain.xml"
+    plain.write_text(ARM)
+    with pytest.warns(VampcWarning, match=r"no joint has a joint equality \(<equality><joint>\); "
+                                          r"--mimic couple has no effect"):
+        load_robot(plain, mimic="couple")

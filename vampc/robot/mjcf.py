@@ -90,9 +90,10 @@ def is_mjcf(path) -> bool:
     says what is wrong."""
     from lxml import etree
     try:
-        for _, element in etree.iterparse(str(path), events=("start",), resolve_entities=False,
-                                          no_network=True, load_dtd=False):
-            return etree.QName(element).localname == "mujoco"
+        with open(path, "rb") as stream:     # (closed: iterparse left its file open when left early)
+            for _, element in etree.iterparse(stream, events=("start",), resolve_entities=False,
+                                              no_network=True, load_dtd=False):
+                return etree.QName(element).localname == "mujoco"
     except (etree.XMLSyntaxError, OSError, ValueError):
         return False
     return False
@@ -124,7 +125,10 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
             else:
                 lock[name] = value
         return chain_of(robot, tree, path, base, tip, lock, floating, mimic,
-                        accept_improper_inertia=accept_improper_inertia)
+                        accept_improper_inertia=accept_improper_inertia,
+                        # (an equality holding a joint is --mimic couple's doing too: it warned
+                        # "no joint has a <mimic>" of a model whose equality it had just locked)
+                        mimic_said=None if held else "joint equality (<equality><joint>)")
 
 
 def _in_base(model, path: Path, robot, base: str, gravity):

@@ -94,23 +94,26 @@ MIMIC_MODES = ("ordinary", "couple")
 
 def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
              lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
-             accept_improper_inertia: bool = False) -> Chain:
+             accept_improper_inertia: bool = False, mimic_said: str | None = "<mimic>") -> Chain:
     """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
-    too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them."""
+    too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them.
+    `mimic_said`: what a file's mimic joints are called, for the warning that --mimic couple finds
+    none (None: no warning, the caller's --mimic couple has done something already)."""
     token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
     try:
-        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic)
+        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said)
     finally:
         _ACCEPT_IMPROPER.reset(token)
 
 
 def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
-              lock: dict[str, float] | None, floating: bool, mimic: str) -> Chain:
+              lock: dict[str, float] | None, floating: bool, mimic: str,
+              mimic_said: str | None = "<mimic>") -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
-    if mimic == "couple" and not leaders and not problems:
-        warnings.warn(VampcWarning(f"{path}: no joint has a <mimic>; --mimic couple has no effect"),
-                      stacklevel=3)
+    if mimic == "couple" and not leaders and not problems and mimic_said:
+        warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic couple has no "
+                                   "effect"), stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
