@@ -1223,3 +1223,17 @@ def test_a_lock_of_a_joint_not_in_the_robot_is_warned_of(tmp_path, kind, first, 
     plain = [a for a in args if not a.startswith(("--lock", f"{first}="))]
     assert run("compile", robot, *plain, "-o", tmp_path / "b.vamp.json").exit_code == 0
     assert (tmp_path / "a.vamp.json").read_bytes() == (tmp_path / "b.vamp.json").read_bytes()
+
+
+@pytest.mark.parametrize("suffix", [".urdf", ".yaml", ".mjcf"])
+def test_an_mjcf_model_under_another_name_is_told_its_name(tmp_path, suffix):
+    """An MJCF model named .urdf was told its root must be <robot> 'or <mujoco>' (it is <mujoco>),
+    named .yaml to name it .urdf (which then failed), .mjcf that it looks like a URDF (a new user's
+    finds). It is told what it is and what to name it; nothing is written."""
+    model = tmp_path / f"m{suffix}"
+    model.write_text('<mujoco model="m"><worldbody><body name="a"><joint name="j"/>'
+                     '<geom type="sphere" size="0.1"/></body></worldbody></mujoco>')
+    res = run("compile", model, "-o", tmp_path / "x.vamp.json")
+    assert res.exit_code == 1 and res.stderr == (f"vampc: error: {model}: this is an MJCF model (a "
+                                                 "<mujoco> root); name it .xml to load it as one\n")
+    assert not (tmp_path / "x.vamp.json").exists()

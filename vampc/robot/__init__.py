@@ -73,6 +73,9 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
     from vampc.robot.urdf import load_urdf
     from vampc.sniff import looks_like, suffix_mismatch
     suffix = path.suffix.lower()
+    if suffix != ".xml" and is_mjcf(path):    # (it was told it is a URDF, or to name it .urdf)
+        raise located(path, "", "this is an MJCF model (a <mujoco> root); name it .xml to load it as "
+                                "one")
     if suffix in URDF_SUFFIXES + YAML_SUFFIXES + JSON_SUFFIXES:
         mismatch = suffix_mismatch(path, "urdf" if suffix in URDF_SUFFIXES else "dh")
         if mismatch:

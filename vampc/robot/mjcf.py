@@ -89,6 +89,8 @@ def is_mjcf(path) -> bool:
     neither loaded nor resolved). False for anything else, unreadable or not XML: the URDF loader then
     says what is wrong."""
     from lxml import etree
+    if not Path(path).is_file():             # (a FIFO would block it; the loaders say what it is)
+        return False
     try:
         with open(path, "rb") as stream:     # (closed: iterparse left its file open when left early)
             for _, element in etree.iterparse(stream, events=("start",), resolve_entities=False,
