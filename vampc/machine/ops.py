@@ -37,7 +37,8 @@ Non-compute nodes: INPUT (a value the host writes every cycle, e.g. A_i or z q̇
 sitting in a constant input buffer, e.g. p*_i or m_i).
 
 New ops are added with `register` (or, for a test, the `registered` context manager): the ROM grows by
-one pointer per column and every engine runs the op from its entry. See README "Adding an op".
+one pointer per column and every engine runs the op from its entry (tests/test_machine_ops.py adds
+one and runs it on every engine).
 """
 from __future__ import annotations
 

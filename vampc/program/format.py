@@ -316,7 +316,7 @@ SUMMARY_KEYS = ("interval_flops", "joints", "latency", "recursion", "vamps")
 class ProgramFile(Struct, gc=False, forbid_unknown_fields=True):
     """A compiled VAMP network: robot data for the host, dataflow graph, schedule, layout, netlist
     with operand multiplexers, per-VAMP slot programs (delay-A/B/R, ROM pointer, multiplexer
-    selects), the Program Mode stream and I/O timing (README, Program files)."""
+    selects), the Program Mode stream and I/O timing (README, Program file)."""
 
     format: Literal["vampc-program"]
     version: Literal[2]

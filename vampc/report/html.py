@@ -57,7 +57,7 @@ def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
                          f"{r['control_registers']:,}", f"{r['mux_inputs']:,}",
                          f"{r['host_writes_per_set']:,}") for r in rows),
                   ("front: L on the latency-VAMP front, I on the interval-VAMP front, * Pareto-optimal "
-                   "in VAMPs, latency, interval and buffer stages (README, Scheduling on a VAMP budget)",),
+                   "in VAMPs, latency, interval and buffer stages (README, VAMP budgets and the trade-off)",),
                   align="llrrrrrrrrrrr")
     body = [f"<h1>vampc trade-off: {esc(title)}</h1>",
             '<section id="curve"><h2>Curve</h2><div class="picture">'

@@ -5,8 +5,8 @@ A layout kind is a name, a help text and a builder `build(graph, timing, request
 Schedule)`; `grouped` says its VAMPs form fixed units (vampc.schedule.layout.Layout), `by_budget`
 that it is made by --vamps / --interval rather than named with --layout, `compared` that the report
 lays every robot out in it for its layout comparison, `shares_passes` that it takes --share-passes.
-A new layout is added with `register_layout` (a test registers a round-robin one; README "Adding a
-layout").
+A new layout is added with `register_layout` (tests/test_layout_registry.py registers a round-robin
+one).
 """
 from __future__ import annotations
 
