@@ -416,3 +416,16 @@ def test_mimic_couple_says_it_has_no_effect_only_where_it_has_none(tmp_path):
     with pytest.warns(VampcWarning, match=r"no joint has a joint equality \(<equality><joint>\); "
                                           r"--mimic couple has no effect"):
         load_robot(plain, mimic="couple")
+
+
+def test_inactive_equalities_are_named_as_the_errors_name_them(tmp_path):
+    """An inactive equality is left out with a warning; an unnamed one was '#1' there (numbered
+    from 0) where an error says '<equality> number 2 (unnamed)' (a new user's find)."""
+    path = tmp_path / "inactive.xml"
+    path.write_text(ARM.replace("</mujoco>", '<equality><joint name="e1" joint1="j4" active="false"/>'
+                                             '<joint joint1="j2" joint2="j3" active="false"/>'
+                                             "</equality></mujoco>"))
+    with pytest.warns(VampcWarning, match=r"inactive equality 'e1', <equality> number 2 \(unnamed\) "
+                                          r"left out"):
+        chain = load_robot(path)
+    assert [j.name for j in chain.joints] == ["j1", "j2", "j3", "j4", "j5", "j6"]

@@ -321,7 +321,7 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
     for e in range(model.neq):
         where = _element("equality", model.equality(e).name, e)
         if not model.eq_active0[e]:
-            inactive.append(model.equality(e).name or f"#{e}")
+            inactive.append(_element("equality", model.equality(e).name, e))   # (it said '#0')
             continue
         kind = int(model.eq_type[e])
         if kind != int(mujoco.mjtEq.mjEQ_JOINT):
@@ -341,8 +341,7 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
         x0 = float(model.qpos0[model.jnt_qposadr[two]])
         by_name[follower].mimic = _Mimic(joint_name[two], c[1], y0 + c[0] - c[1] * x0)
     if inactive:
-        warnings.warn(VampcWarning(f"{path}: inactive equality {', '.join(repr(n) for n in inactive)} "
-                                   "left out"), stacklevel=4)
+        warnings.warn(VampcWarning(f"{path}: inactive {', '.join(inactive)} left out"), stacklevel=4)
     return held
 
 
