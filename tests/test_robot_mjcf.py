@@ -279,9 +279,19 @@ def test_two_free_bodies_are_refused(tmp_path):
     path.write_text(QUADRUPED.replace("</worldbody>", second + "</worldbody>"))
     assert_error(lambda: load_robot(path), path,
                  r"body 'trunk': has a free joint \(a floating base\) but the world also carries 'b_trunk' "
-                 r"with joints of its own: one robot per file \(choose one with --base BODY --floating-base\)")
+                 r"with joints of its own: one robot per file \(choose one with --base trunk --floating-base "
+                 r"or --base b_trunk --floating-base\)")
     chain = load_robot(path, base="b_trunk", floating=True)
     assert chain.n == 12 and chain.joints[0].name.startswith("b_")
+    # a hinged body and a free one on the world, neither with joints below its own: no --base helps
+    # (the advice had been --base BODY --floating-base, which then failed either way: a new user's find)
+    alone = tmp_path / "alone.xml"
+    alone.write_text('<mujoco model="m"><worldbody><body name="a"><joint name="h"/><geom type="sphere" '
+                     'size="0.1"/></body><body name="b"><freejoint/><geom type="sphere" size="0.1"/>'
+                     "</body></worldbody></mujoco>")
+    assert_error(lambda: load_robot(alone), alone, r"body 'b': .* one robot per file \(none has joints "
+                                                   r"below its own for --base to keep: give each its own "
+                                                   r"file\)")
 
 
 def test_a_model_without_a_name_is_named_after_its_file(tmp_path):

@@ -259,9 +259,17 @@ def _static_beside_free(model, path: Path, body_name: list) -> set:
     moving = [b for b in children if b not in free and np.any(model.body_jntnum[root == b])]
     if len(free) > 1 or moving:
         others = [body_name[b] for b in free[1:] + moving]
+        # the advice names only bodies --base can take: one with joints below its own (a body on a
+        # hinge to the world, --base cuts that hinge away; the suggestion had failed so)
+        below = [b for b in free + moving if any(model.body_jntnum[d] for d in range(1, model.nbody)
+                                                 if root[d] == b and d != b)]
+        how = ("choose one with " + " or ".join(f"--base {body_name[b]}"
+                                               + (" --floating-base" if b in free else "")
+                                               for b in below)
+               if below else "none has joints below its own for --base to keep: give each its own file")
         raise located(path, f"body '{body_name[free[0]]}'", f"has a free joint (a floating base) but the "
                       f"world also carries {', '.join(repr(n) for n in others)} with joints of its own: "
-                      "one robot per file (choose one with --base BODY --floating-base)")
+                      f"one robot per file ({how})")
     return {b for b in range(1, model.nbody) if root[b] in children and root[b] not in free}
 
 
