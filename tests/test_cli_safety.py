@@ -1237,3 +1237,24 @@ def test_an_mjcf_model_under_another_name_is_told_its_name(tmp_path, suffix):
     assert res.exit_code == 1 and res.stderr == (f"vampc: error: {model}: this is an MJCF model (a "
                                                  "<mujoco> root); name it .xml to load it as one\n")
     assert not (tmp_path / "x.vamp.json").exists()
+
+
+def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
+    """--base below every <mimic> follower left --mimic couple with nothing to couple, saying
+    nothing (a new user's find); with the pair inside the robot it couples, unwarned."""
+    inertial = ('<inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" '
+                'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="{n}">{inertial}</link>' for n in ("base", "l1", "l2", "l3", "l4"))
+    joints = "".join(f'<joint name="{j}" type="continuous"><parent link="{p}"/><child link="{c}"/>'
+                     f'<origin xyz="0.2 0 0"/><axis xyz="0 0 1"/>{extra}</joint>'
+                     for j, p, c, extra in (("j1", "base", "l1", ""),
+                                            ("j2", "l1", "l2", '<mimic joint="j1" multiplier="2"/>'),
+                                            ("j3", "l2", "l3", ""), ("j4", "l3", "l4", "")))
+    robot = tmp_path / "m.urdf"
+    robot.write_text(f'<robot name="m">{links}{joints}</robot>')
+    res = run("compile", robot, "--base", "l2", "--mimic", "couple", "-o", tmp_path / "a.vamp.json")
+    assert res.exit_code == 0 and res.stderr == (f"vampc: warning: {robot}: no joint below the base "
+                                                 "link 'l2' has a <mimic>; --mimic couple has no "
+                                                 "effect\n"), res.stderr
+    res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
+    assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output

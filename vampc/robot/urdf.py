@@ -118,6 +118,11 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     lock = _locks_below(lock, tree, base, path)
+    below = {j.name for j in tree.below(base)}
+    if leaders and not any(f in below for f in leaders) and mimic_said:
+        # (the file has <mimic> pairs, but --base cut every follower away: it said nothing)
+        warnings.warn(VampcWarning(f"{path}: no joint below the base link '{base}' has a "
+                                   f"{mimic_said}; --mimic couple has no effect"), stacklevel=3)
     tip = choose_tip(tree, base, tip, lock, path)
     if tip is None:
         chain = _load_tree(robot.name, tree, base, lock, floating, path)
