@@ -320,3 +320,22 @@ def test_the_64_joint_snake_on_a_small_budget_emulates_exactly(recursion):
     traj, stream, tick = run_both(ld, 20, tick_count=2)
     assert check_torques(ld.chain, traj, stream.tau).ok
     assert np.array_equal(stream.tau[:2], tick.tau)
+
+
+def test_a_budget_of_both_or_of_an_interval_keeps_what_vamps_alone_reaches():
+    """(A new user's finds.) --vamps 7 --interval 48 took the first placement at exactly 48 flops,
+    latency 100, where --vamps 7 alone reaches interval 48 at latency 66; --interval 18 took 19
+    VAMPs where --vamps 18 reaches interval 18 (the search one placement at a time missed it).
+    Both now keep what the --vamps search reaches within the interval asked for."""
+    graph = build_graph(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions())
+    timing = CompileOptions().timing
+
+    def got(**budget):
+        layout, sched, _ = budget_schedule(graph, timing, **budget)
+        return len({v for p in layout.placement for v in p}), sched.interval, sched.latency
+    for k in (7, 9, 18):
+        alone = got(k=k)
+        assert got(k=k, interval=alone[1]) == alone
+        assert got(k=k, interval=alone[1] + 3) == alone        # (a set at least every T flops)
+        fewest = got(interval=alone[1])
+        assert fewest[0] <= k and fewest[1] <= alone[1], (k, alone, fewest)

@@ -424,12 +424,12 @@ def test_fastest_budget_prose():
 
 
 def test_interval_40_prose():
-    """"--interval T on the Puma: K VAMPs at interval I, latency L, which --vamps K also gives; the
-    interval alone would cost latency L2" (--vamps K --interval T)."""
+    """"--interval T on the Puma: K VAMPs at interval I, latency L, which --vamps K also gives, and
+    --vamps K --interval T too"."""
     no, m = prose(BUDGETS, r"`--interval (\d+)` on the Puma:\s+(\d+) VAMPs at interval (\d+), latency (\d+), "
-                           r"which `--vamps (\d+)` also gives; the interval alone would cost latency\s+(\d+)\)")
-    t, k, interval, lat, k2, alone = ints(m)
-    assert k == k2
+                           r"which `--vamps (\d+)` also gives, and `--vamps (\d+) --interval (\d+)` too;")
+    t, k, interval, lat, k2, k3, t2 = ints(m)
+    assert k == k2 == k3 and t == t2
     rep = report(PUMA, "--interval", str(t))
     got = (rep["budget"]["vamps_used"], rep["interval_flops"], rep["latency"]["flops"])
     assert got == (k, interval, lat), f"README.md:{no}: --interval {t}: vampc {got}"
@@ -437,8 +437,8 @@ def test_interval_40_prose():
     got = (rep["budget"]["vamps_used"], rep["interval_flops"], rep["latency"]["flops"])
     assert got == (k, interval, lat), f"README.md:{no}: --vamps {k}: vampc {got}"
     rep = report(PUMA, "--vamps", str(k), "--interval", str(t))
-    got = (rep["interval_flops"], rep["latency"]["flops"])
-    assert got == (t, alone), f"README.md:{no}: --vamps {k} --interval {t}: vampc {got}"
+    got = (rep["budget"]["vamps_used"], rep["interval_flops"], rep["latency"]["flops"])
+    assert got == (k, interval, lat), f"README.md:{no}: --vamps {k} --interval {t}: vampc {got}"
 
 
 def test_budgets_on_the_folded_vamp_counts():
