@@ -444,3 +444,28 @@ def test_a_program_on_its_own_tiers_is_compared_too():
     assert [r["wiring"] for r in rows][-1] == "bus, these tiers"
     assert rows[-1]["tiers"] == [t.span for t in c.network.bus.tiers]
     assert rows[-1]["interval_flops"] == c.schedule.interval
+
+
+def test_a_prefix_shape_the_programs_tiers_cannot_carry_leaves_the_report(tmp_path):
+    """A program that compiles and emulates on its own tiers could not be reported: the prefix
+    comparison compiles the other shapes on those tiers, Kogge-Stone's traffic did not fit, and its
+    error (naming no file) ended the report (a new user's find). The shape is said not feasible,
+    with the compiler's reason, the other rows stand, and the JSON keeps to its schema."""
+    import json
+
+    from schema_check import schema_errors
+    program = tmp_path / "p.vamp.json"
+    tiers = "4,8,16,32,64,128,256,512,512,512,512,512,512"
+    r = CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "--recursion", "log",
+                                  "--uniform-leaves", "--tiers", tiers, "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["report", str(program), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    rep = json.loads(r.stdout)
+    assert not schema_errors("report", rep)
+    shown = {row["prefix"] for row in rep["prefix_comparison"]}
+    cannot = {row["prefix"]: row["why"] for row in rep["prefix_comparison_infeasible"]}
+    assert "sklansky" in shown and set(cannot) == {"kogge-stone"} and not shown & set(cannot)
+    assert cannot["kogge-stone"].startswith("the tiers cannot carry node")
+    text = CliRunner().invoke(main, ["report", str(program)]).stdout
+    assert "  * kogge-stone: not feasible with these options (the tiers cannot carry node" in text

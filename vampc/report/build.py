@@ -33,7 +33,10 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     rep["report_version"] = REPORT_VERSION
     rep["layout_comparison"] = layout_rows(configs, c.graph.recursion)
     if c.graph.recursion is Recursion.LOG and not big:
-        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options)
+        infeasible: list = []
+        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options, infeasible=infeasible)
+        if infeasible:
+            rep["prefix_comparison_infeasible"] = infeasible
     rep["table_o1"] = table_o1(configs, c.chain)
     rep["processors"] = processors(configs, c.chain, other_leaves=not big)
     rep["packages"] = packages(configs, pins)

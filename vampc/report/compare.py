@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from vampc.compiler import CompileOptions, build_graph, compile_chain
+from vampc.errors import VampcError
 from vampc.kinds import Prefix, TapKind
 
 
@@ -25,10 +26,14 @@ def max_fan_out(network) -> int:
     return max(readers, default=0)
 
 
-def compare_prefixes(chain, options: CompileOptions, limit: int | None = None) -> list[dict]:
+def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
+                     infeasible: list | None = None) -> list[dict]:
     """Latency, VAMPs, buffer stages and fan-out of every prefix shape, other options as given. A
     shape whose graph has more than `limit` ops (default: vampc.report.configs.ALLOCATE_LIMIT) is
-    scheduled but not allocated: its row has latency and VAMPs only."""
+    scheduled but not allocated: its row has latency and VAMPs only. A shape these options cannot
+    compile (the program's own --tiers too few for another shape's bus traffic) has no row; it is
+    appended to `infeasible` as {"prefix", "why"} (its error made the whole report fail, naming
+    no file: a new user's find)."""
     from vampc.report.configs import ALLOCATE_LIMIT
     from vampc.schedule.layout import layout_and_schedule
     from vampc.schedule.registry import LayoutRequest
@@ -43,7 +48,13 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None) -
             rows.append({"prefix": shape, "latency_flops": s.latency, "mults": s.mults,
                          "adds": s.adds, "vamps": lay.vamp_count})
             continue
-        c = compile_chain(chain, opts)
+        try:
+            c = compile_chain(chain, opts)
+        except VampcError as exc:
+            if infeasible is None or shape == options.prefix:
+                raise
+            infeasible.append({"prefix": shape, "why": str(exc)})
+            continue
         rows.append({"prefix": shape, "latency_flops": c.schedule.latency,
                      "mults": c.schedule.mults, "adds": c.schedule.adds,
                      "vamps": len(c.network.vamps), "buffer_stages": c.network.buffer_stages,

@@ -257,6 +257,8 @@ def prefixes(rep: dict) -> Table:
                   num(r.get("buffer_stages")), num(r.get("max_fan_out")))
                  for r in rep["prefix_comparison"])
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
+    notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
+              for r in rep.get("prefix_comparison_infeasible", ())]
     return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
                  "and options)", ("prefix", "latency", "= M + A", "VAMPs", "buffer stages",
                                   "fan-out"), rows, tuple(notes), align="lrlrrr")
