@@ -469,3 +469,15 @@ def test_a_prefix_shape_the_programs_tiers_cannot_carry_leaves_the_report(tmp_pa
     assert cannot["kogge-stone"].startswith("the tiers cannot carry node")
     text = CliRunner().invoke(main, ["report", str(program)]).stdout
     assert "  * kogge-stone: not feasible with these options (the tiers cannot carry node" in text
+
+
+def test_a_damaged_bus_program_is_named_by_report_as_by_emulate(tmp_path):
+    """A bus program whose tiers were edited (checksum made again): report said '<network>: VAMP 3
+    slot 0: ...' where emulate names the file (a new user's find)."""
+    from program_util import edited_program
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "-o", str(program)]).exit_code == 0
+    edited = edited_program(program, tmp_path, lambda d: d["network"]["bus"]["tiers"].__setitem__(0, [2, 1]))
+    r = CliRunner().invoke(main, ["report", str(edited)])
+    assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {edited}: VAMP 3 slot 0: "), r.stderr
+    assert len(r.stderr.splitlines()) == 1
