@@ -84,3 +84,18 @@ def test_a_vamp_that_needs_more_pins_than_a_package_has_gets_none():
     at64 = json.loads(wide.output)["packages"]["rows"]
     own = next(r for r in at64 if r["own"])["by_pins"]
     assert own[0]["muxed_separate"] is None and own[1]["pins"] == 64 and own[1]["muxed_separate"] >= 1
+
+
+def test_a_cpu_reference_of_torques_past_the_float_range_is_said(tmp_path):
+    """A robot whose masses overflow the reference's arithmetic (1.7e308): --cpu-reference printed
+    five of NumPy's own overflow lines and a time for work that gave NaN, saying nothing of it (a
+    new user's find). One warning says so; the report goes on."""
+    robot = tmp_path / "huge.yaml"
+    robot.write_text((EXAMPLES / "planar2.yaml").read_text().replace("mass: 2.0", "mass: 1.7e308"))
+    assert "1.7e308" in robot.read_text()
+    r = CliRunner().invoke(main, ["report", str(robot), "--cpu-reference", "--clock", "1MHz"])
+    assert r.exit_code == 0, r.output
+    assert r.stderr == ("vampc: warning: --cpu-reference: the reference torques of the timed states "
+                        "are not finite numbers (the robot's numbers overflow a float): the times are "
+                        "of that arithmetic\n"), r.stderr
+    assert "CPU reference" in r.stdout

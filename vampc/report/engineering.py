@@ -71,10 +71,19 @@ def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:
                 fn(k)
             runs.append((time.perf_counter() - start) / sets)
         return sorted(runs)[1]
+    with np.errstate(all="ignore"):     # (NumPy's own overflow lines were printed as warnings)
+        finite = bool(np.isfinite(rnea(chain, q[:1], qd[:1], qdd[:1])).all())
+        seconds = median_per_set(lambda k: rnea(chain, q[k:k + 1], qd[k:k + 1], qdd[k:k + 1]))
+    if not finite:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning("--cpu-reference: the reference torques of the timed states are "
+                                   "not finite numbers (the robot's numbers overflow a float): the "
+                                   "times are of that arithmetic"), stacklevel=2)
     out = {"sets": sets, "machine": _machine(),
            "measured": [{"what": "vampc's reference Newton-Euler (numpy), one set at a time",
-                         "seconds_per_set": median_per_set(
-                             lambda k: rnea(chain, q[k:k + 1], qd[k:k + 1], qdd[k:k + 1]))}]}
+                         "seconds_per_set": seconds}]}
     model, why = _pinocchio_model(chain)
     if model is None:
         out["not_measured"] = f"Pinocchio: not measured ({why})"
