@@ -79,7 +79,8 @@ class CompileOptions:
     exact: bool = field(default=False, metadata=cli(
         "--exact", help="With --vamps: place the ops with OR-Tools CP-SAT (pip install "
         "\"vampc[exact]\"), proving the best interval and latency for small graphs within a time "
-        "limit (about 30 s per interval)."))
+        "limit (the solver's deterministic limit per interval, not seconds: minutes on a small "
+        "robot)."))
     verify: bool = field(default=True, metadata=cli(
         "--verify/--no-verify", show_default=True,
         help="Check every IR's invariants at each stage boundary (with `report --tradeoff`, of "
