@@ -481,3 +481,23 @@ def test_a_damaged_bus_program_is_named_by_report_as_by_emulate(tmp_path):
     r = CliRunner().invoke(main, ["report", str(edited)])
     assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {edited}: VAMP 3 slot 0: "), r.stderr
     assert len(r.stderr.splitlines()) == 1
+
+
+def test_the_bus_wiring_says_inputs_and_connections_apart():
+    """On the bus one node's VAMPs have 71 / 27 / 30 multiplexer inputs (their tiers beside the
+    wires still point to point) beside the paper's ≤ 50 / 20 / 50, which counts connections, and
+    the report said nothing more (a new user's find). The connections are now given too: the
+    point-to-point network's own figure, as a point-to-point compile reports it."""
+    import json
+    runner = CliRunner()
+    bus = json.loads(runner.invoke(main, ["report", str(PUMA), "--recursion", "log", "--bus", "mlb",
+                                          "--format", "json"]).stdout)["wiring"]["buses"]
+    p2p = json.loads(runner.invoke(main, ["report", str(PUMA), "--recursion", "log", "--format",
+                                          "json"]).stdout)["wiring"]["buses"]
+    assert bus["internal_max_connections"] == p2p["internal_max"]
+    assert "internal_max_connections" not in p2p
+    assert all(bus["internal_max"][s] >= bus["internal_max_connections"][s] for s in ("bwd", "npv", "fwd"))
+    text = runner.invoke(main, ["report", str(PUMA), "--recursion", "log", "--bus", "mlb"]).stdout
+    c = bus["internal_max_connections"]
+    assert (f"the connections they carry, the paper's measure, are the point-to-point network's: "
+            f"{c['bwd']} / {c['npv']} / {c['fwd']}") in text

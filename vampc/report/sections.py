@@ -469,6 +469,13 @@ def wiring(rep: dict) -> Table:
     notes = ["a bus is a vector bus three scalars wide (section VI): vectors counts the results a "
              "node receives (a matrix as three), wires the taps (a value read at two buffer stages "
              "twice); a folded layout's recursion variables return through its own multiplexers"]
+    if "internal_max_connections" in b:        # (71 / 27 / 30 beside ≤ 50 / 20 / 50, unexplained)
+        wired = b["internal_max_connections"]
+        notes.append("on the Mostly-Local Bus a VAMP's multiplexer inputs are the bus tiers it reads "
+                     "beside the wires still point to point, so one node's VAMPs count "
+                     f"{internal['bwd']} / {internal['npv']} / {internal['fwd']} inputs; the "
+                     "connections they carry, the paper's measure, are the point-to-point "
+                     f"network's: {wired['bwd']} / {wired['npv']} / {wired['fwd']}")
     return Table("wiring", f"Wiring (section VI) of {w['configuration']}, measured",
                  ("figure", "measured", "paper"), tuple(rows), tuple(notes), align="lrl")
 
