@@ -314,9 +314,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     if outcome.check is not None and not _reference_finite(outcome.check):
         # (the emulated torques are finite, or the run had stopped: the reference is not, which
         # said "max abs error nan" and, in a narrower word, advised a wider one)
-        say("check against reference RNEA: the reference torques are not finite numbers (the "
-            "robot's numbers overflow a float): nothing to compare "
-            "with: FAILED", info)
+        say(REFERENCE_NOT_FINITE, info)
     elif outcome.check is not None and ld.word is None:
         res = outcome.check
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
@@ -363,6 +361,10 @@ def default_tolerance(word) -> float:
     set's largest |τ|), 1e-5 for float32, 1e-3 for fixed point (of the run's largest |τ| of any
     joint: WordCheck.overall)."""
     return {"float64": 1e-9, "float32": 1e-5}.get(word.name, 1e-3)
+
+
+REFERENCE_NOT_FINITE = ("check against reference RNEA: the reference torques are not finite numbers "
+                        "(the robot's numbers overflow a float): nothing to compare with: FAILED")
 
 
 def _reference_finite(res) -> bool:
@@ -720,11 +722,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.sniff import is_program
     if is_program(source):     # its network as report and emulate check it: a corrupt file is said
         from vampc.emulator.check import check_program
-        try:
-            check_program(ld)
-        except VampcError as exc:
-            text = str(exc)
-            raise VampcError(text if text.startswith(f"{source}:") else f"{source}: {text}") from None
+        check_program(ld)          # (its errors name the file)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     # the states in chunks (every op's value of every set at once took 15 kB a set for the Puma:
     # --sets 10000000 went past 22 GB); maxima over the chunks are the run's, overflows their sums
@@ -734,12 +732,15 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     def states(start: int):
         traj = random_states(chain, start, min(chunk, own.sets - start), 0)
         return replace(traj, qdd=traj.qdd * own.acceleration)     # accelerations ±1: scaled to ±A
+
+    def reference(traj):
+        with np.errstate(all="ignore"):
+            return rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     refs = []
     scale = 0.0
     for start in starts:
         traj = states(start)
-        with np.errstate(all="ignore"):
-            ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+        ref = reference(traj)
         if not np.all(np.isfinite(ref)):
             raise VampcError(f"{source}: the reference torques of random states are not finite "
                              "numbers (the robot's numbers overflow a float): no word holds them")
@@ -778,10 +779,11 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                          if nd.op is Op.CONST)           # counted by each chunk's evaluation
             error = 0.0
             for k, start in enumerate(starts):
-                traj, ref = refs[0] if refs else (states(start), None)
-                if ref is None:
-                    with np.errstate(all="ignore"):
-                        ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+                if refs:
+                    traj, ref = refs[0]
+                else:
+                    traj = states(start)
+                    ref = reference(traj)
                 tau = evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
                 error = max(error, float(np.abs(tau - ref).max(initial=0.0)))
                 if k:
@@ -923,8 +925,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                                 ld.arith.name)
         except VampcError as exc:
             raise VampcError(f"{own.limits or source}: {exc}") from None
-    from vampc.emulator.stream import constant_overflows
-    ld.arith.overflows = constant_overflows(ld)   # the word counts the run's overflows from here
+    from vampc.emulator.stream import count_overflows_from_here
+    count_overflows_from_here(ld)
     from vampc import progress
     with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
         try:
@@ -982,8 +984,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
         if not _reference_finite(check):      # (it said "max relative error nan", as emulate did)
             same = False
-            line = ("check against reference RNEA: the reference torques are not finite numbers "
-                    "(the robot's numbers overflow a float): nothing to compare with: FAILED")
+            line = REFERENCE_NOT_FINITE
         else:
             line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                     f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
@@ -1224,10 +1225,10 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         todo = [i for i in range(len(faults)) if i not in store.done]
         overflows = None             # the fault-free run's, in a word narrower than float64 (said)
         if todo or ld.word is not None:
-            from vampc.emulator.stream import constant_overflows
+            from vampc.emulator.stream import count_overflows_from_here
             traj = random_states(ld.chain, 0, sets, own.seed)
             ports = port_values(ld, traj)
-            ld.arith.overflows = constant_overflows(ld)   # (the word counts the run's from here)
+            count_overflows_from_here(ld)
             reference = cp.reference_run(ld, ports, sets, own.seed)
             if ld.word is not None:
                 overflows = int(ld.arith.overflows)

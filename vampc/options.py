@@ -251,11 +251,11 @@ class RobotOptions:
         """--lock JOINT=VALUE items as {joint: position} (VampcUsageError naming a bad item)."""
         def bad(what: str) -> VampcUsageError:
             return VampcUsageError(f"Invalid value for '--lock': {what}")
+        from vampc.textio import plain_number
         out: dict[str, float] = {}
         for item in self.lock:
             name, sep, value = item.partition("=")
             name = name.strip()
-            from vampc.textio import plain_number
             if sep and not plain_number(value):     # (float() reads '1_0' as 10 and '١' as 1)
                 raise bad(f"{item!r}: {value.strip()!r} is not a number written in ASCII digits")
             try:

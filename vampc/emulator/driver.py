@@ -145,8 +145,8 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
             size = chunk_size(ld)
         case _:
             unhandled(engine)
-    from vampc.emulator.stream import constant_overflows
-    ld.arith.overflows = constant_overflows(ld)   # the word counts this run's overflows from here
+    from vampc.emulator.stream import count_overflows_from_here
+    count_overflows_from_here(ld)
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
         return _run(ld, states, engine, seed, vcd, check, sink, progress, size, faults)
 

@@ -340,6 +340,13 @@ def constant_overflows(ld: Loaded, consts=None) -> int:
                for c in (ld.net.consts if consts is None else consts))
 
 
+def count_overflows_from_here(ld: Loaded) -> None:
+    """Start a run's overflow count on the network's word: the constants' conversion, which the
+    host writes once a run, then every result and host word the run overflows (ld.arith.overflows
+    after it)."""
+    ld.arith.overflows = constant_overflows(ld)
+
+
 def conversion_overflows(word, value) -> int:
     """How many scalars of `value` the host's conversion to `word` overflows (a fresh count)."""
     w = word.fresh()

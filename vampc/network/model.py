@@ -287,15 +287,16 @@ class Network:
         """Buffer-clock blocks per period."""
         return self.period // self.clock
 
-    def verify(self, graph, sched) -> None:
+    def verify(self, graph, sched, path: str = "<network>") -> None:
         """Every slot's operands show its graph node's operands at its latch ticks, by the rules of
         vampc.machine.timing; slots of a VAMP never overlap (VampcInternalError otherwise, naming
-        the VAMP, the slot, the tick and the operand). `graph`, `sched`: what it was allocated from."""
+        the VAMP, the slot, the tick and the operand). `graph`, `sched`: what it was allocated from;
+        `path`: the file it was read from, which a bus without a writer is said of."""
         from vampc.network.verify import verify_network
         # (a programmed network's slots, ProgrammedSlot, are refused by verify_network in its first
         # walk over the VAMPs: a walk of their own over a million slots took 0.13 s)
         if self.bus is not None:          # the bus network checked as the wires it implements
             from vampc.network.bus import resolved
-            verify_network(resolved(self), graph, sched)
+            verify_network(resolved(self, path), graph, sched)
             return
         verify_network(self, graph, sched)

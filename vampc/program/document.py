@@ -468,10 +468,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         layout = layout_from_network(doc.layout, net, graph, LAYOUTS[doc.layout.name].grouped,
                                      proof)
         layout.verify(graph)
-        if net.bus is not None:       # (its bus resolved first, naming the file: it said <network>)
-            from vampc.network.bus import resolved
-            resolved(net, path)
-        net.verify(graph, sched)
+        net.verify(graph, sched, path)    # (a bus without a writer named the file as <network>)
         if net.bus is not None:
             _check_bus_figures(net, graph, sched, doc.layout, path)
         from vampc.network.checking import check_checking

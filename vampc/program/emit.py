@@ -137,17 +137,18 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
         if not text:
             continue
         # (ASCII digits: str.isdigit() took '٣٣٣' for 333, and '²' to int() raised ValueError)
-        if not ascii_digits(text) or int(text) < 1 or int(text) >= 2**24:
+        number = int(text) if ascii_digits(text) else 0
+        if not 1 <= number < 2**24:
             raise VampcError(f"{path}: line {lineno}: {text!r} is not a VAMP number (1..16777215)")
-        if limit is not None and int(text) >= limit and len(numbers) < count:
+        if limit is not None and number >= limit and len(numbers) < count:
             raise VampcError(f"{path}: line {lineno}: VAMP number {text} (VAMP {len(numbers)}) does "
                              f"not fit in a {limit.bit_length()}-bit Program-Mode word (at most "
                              f"{limit - 1}); give a wider --word")
-        if int(text) in first:
-            raise VampcError(f"{path}: line {lineno}: VAMP number {int(text)} appears twice (first "
-                             f"on line {first[int(text)]})")
-        first[int(text)] = lineno
-        numbers.append(int(text))
+        if number in first:
+            raise VampcError(f"{path}: line {lineno}: VAMP number {number} appears twice (first "
+                             f"on line {first[number]})")
+        first[number] = lineno
+        numbers.append(number)
     if len(numbers) < count:
         raise VampcError(f"{path}: {len(numbers)} VAMP numbers given, the network needs {count}")
     if len(numbers) > count:

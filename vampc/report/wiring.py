@@ -224,13 +224,13 @@ def buses(graph, layout, net) -> dict:
         return int(per_site[site_section == sections.index(section)].max(initial=0))
     out = {"between_nodes": {s: {"vectors": most(vectors, s), "wires": most(wires, s)}
                              for s in ("bwd", "fwd")},
-            "backward_to_forward": {"vectors": int(weight[b2f_args].sum()), "wires": b2f_wires},
-            "internal_max": _internal(sites, vamp_units(layout), net),
-            "paper_between_nodes": exhaustive({
-                Recursion.LINEAR: dict(paper.LINEAR_INTER_NODE_BUSES),
-                Recursion.LOG: {"bwd": paper.LOG_INTER_NODE_BUSES, "fwd": paper.LOG_INTER_NODE_BUSES},
-            }, Recursion)[graph.recursion],
-            "paper_internal": dict(paper.INTERNAL_BUS_BOUNDS)}
+           "backward_to_forward": {"vectors": int(weight[b2f_args].sum()), "wires": b2f_wires},
+           "internal_max": _internal(sites, vamp_units(layout), net),
+           "paper_between_nodes": exhaustive({
+               Recursion.LINEAR: dict(paper.LINEAR_INTER_NODE_BUSES),
+               Recursion.LOG: {"bwd": paper.LOG_INTER_NODE_BUSES, "fwd": paper.LOG_INTER_NODE_BUSES},
+           }, Recursion)[graph.recursion],
+           "paper_internal": dict(paper.INTERNAL_BUS_BOUNDS)}
     if net.bus is not None:
         # on the bus a VAMP's multiplexer inputs are its tiers beside the wires still point to
         # point, more than the paper's bound, which counts connections: those too, on the

@@ -82,6 +82,7 @@ class _Robot:
     links: list
     joints: list
     bodies: tuple = ()        # each MuJoCo body's link name, by body id (named or made up)
+    joint_names: tuple = ()   # each MuJoCo joint's name, by joint id (named or made up)
 
 
 def is_mjcf(path) -> bool:
@@ -148,12 +149,11 @@ def _in_base(model, path: Path, robot, base: str, gravity):
     moved, above = [], int(model.body_parentid[b])
     while above > 0:
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
-        moved += [j for j in range(first, first + count)]
+        moved += robot.joint_names[first:first + count]
         above = int(model.body_parentid[above])
     if moved:
-        named = [model.joint(j).name or f"joint{j}" for j in moved]
         warnings.warn(VampcWarning(
-            f"{path}: --base {base}: the joints above it ({', '.join(named)}) are cut away; gravity "
+            f"{path}: --base {base}: the joints above it ({', '.join(moved)}) are cut away; gravity "
             f"is taken in {base}'s frame with them at their reference positions (qpos0)"), stacklevel=3)
     rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
     return tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
@@ -228,8 +228,8 @@ def _robot(model, path: Path, base: str | None = None):
                       stacklevel=3)
         name = path.stem
     held = _equalities(model, path, joints, joint_name)
-    return (_Robot(name, links, joints, tuple(body_name)), tuple(float(g) for g in model.opt.gravity),
-            held)
+    return (_Robot(name, links, joints, tuple(body_name), tuple(joint_name)),
+            tuple(float(g) for g in model.opt.gravity), held)
 
 
 class _Names:

@@ -117,8 +117,8 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
-    lock = _locks_below(lock, tree, base, path)
     below = {j.name for j in tree.below(base)}
+    lock = _locks_below(lock, tree, base, below, path)
     if leaders and not any(f in below for f in leaders) and mimic_said:
         # (the file has <mimic> pairs, but --base cut every follower away: it said nothing)
         warnings.warn(VampcWarning(f"{path}: no joint below the base link '{base}' has a "
@@ -404,11 +404,10 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
     return out
 
 
-def _locks_below(lock: dict, tree: Tree, base: str, path: Path) -> dict:
-    """The locks of joints below the base; one of a joint above it (cut away by the base, the
-    floating base's own joint among them) is dropped with a warning, as a fixed joint's is: it was
-    taken and ignored, saying nothing (a new user's find)."""
-    below = {j.name for j in tree.below(base)}
+def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path) -> dict:
+    """The locks of joints below the base (`below`: their names); one of a joint above it (cut away
+    by the base, the floating base's own joint among them) is dropped with a warning, as a fixed
+    joint's is: it was taken and ignored, saying nothing (a new user's find)."""
     for name in [n for n in lock if n not in below]:
         kind = tree.joints[name].type
         why = ("the floating base's own joint (its motion is the host's input)" if kind == "floating"

@@ -50,8 +50,8 @@ def expected_words(ld, traj) -> tuple[np.ndarray, int]:
     and how many overflows its run counted (the constants' conversion included, as `vampc
     emulate` counts them)."""
     from vampc.emulator import emulate
-    from vampc.emulator.stream import constant_overflows
-    ld.arith.overflows = constant_overflows(ld)   # the word counts this run's overflows from here
+    from vampc.emulator.stream import count_overflows_from_here
+    count_overflows_from_here(ld)
     tau = emulate(ld, traj, engine="stream").tau
     raw = tau * 2.0 ** ld.word.fraction           # exact: a W-bit word, W <= 64, F fraction bits
     cols = [o.joint - 1 for o in ld.net.outputs]

@@ -438,7 +438,7 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             placed = best
         # fewer VAMPs: the search one attempt at a time missed some that --vamps K's portfolio
         # reaches the interval with (--interval 18 took 19 VAMPs where --vamps 18 reaches 18)
-        floor = max(smallest, -(-work(graph, timing) // interval))
+        floor = _vamps_floor(graph, timing, interval, smallest)
         while thorough and k - 1 >= floor:
             fewer = _for_vamps(graph, timing, k - 1, asap, thorough)
             if fewer.interval > interval:
@@ -674,10 +674,15 @@ def _smallest_interval(graph, timing, k, asap, floor: int) -> Placed:
         ii += 1
 
 
+def _vamps_floor(graph, timing, interval: int, smallest: int) -> int:
+    """The fewest VAMPs that could reach `interval`: ⌈W/T⌉, and the smallest network."""
+    return max(smallest, -(-work(graph, timing) // interval))
+
+
 def _fewest_vamps(graph, timing, interval, asap, smallest) -> tuple[int, Placed]:
     """The fewest VAMPs at which the scheduler reaches `interval` (binary search from ⌈W/T⌉ up to
     one VAMP per VAMP-op, where it always does)."""
-    lo = max(smallest, -(-work(graph, timing) // interval))
+    lo = _vamps_floor(graph, timing, interval, smallest)
     hi = vamp_ops(graph)
     best = modulo_schedule(graph, timing, hi, interval, asap)
     if best is None:      # a VAMP per VAMP-op is always free: only a bug gets here
