@@ -993,9 +993,11 @@ def test_a_signal_once_the_outputs_are_being_put_in_place_lets_the_run_finish(tm
     assert not [p for p in tmp_path.iterdir() if p not in files]       # no temporary left
 
 
-def test_a_summary_that_cannot_be_said_leaves_no_temporary_file(tmp_path):
-    """The summary line goes to standard output after the run; with its reader gone the command
-    fails (exit 1) and its outputs are dropped: their temporary files had stayed beside them."""
+def test_a_summary_whose_reader_went_away_is_dropped_and_the_files_written(tmp_path):
+    """The summary line goes to standard output after the run; with its reader gone (`vampc
+    emulate ... -o tau.csv | head -1`) it is dropped, as with standard output closed, and the files
+    are written whole, exit 0 (the run failed with "cannot write to standard output" and dropped the
+    files the user asked for; before that their temporary files had stayed beside them)."""
     import subprocess
     import sys
     outs = ["-o", str(tmp_path / "tau.csv"), "--save-states", str(tmp_path / "s.csv"),
@@ -1004,9 +1006,24 @@ def test_a_summary_that_cannot_be_said_leaves_no_temporary_file(tmp_path):
                              "--engine", "tick", *outs], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     proc.stdout.close()               # the reader gone before the summary is said
     err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 0 and err == "", err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.csv", "tau.csv", "w.vcd"]
+    tau = np.loadtxt(tmp_path / "tau.csv", delimiter=",", skiprows=1)
+    assert tau.shape[0] == 3 and np.isfinite(tau).all()
+    assert "$enddefinitions" in (tmp_path / "w.vcd").read_text()
+
+
+def test_a_check_that_fails_still_says_so_by_exit_status_with_the_reader_gone(tmp_path):
+    """The summary dropped with its reader gone: the exit status is still the --check's."""
+    import subprocess
+    import sys
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--random", "3",
+                             "--engine", "tick", "--fault", "vamp=9,dead", "--check", "-o",
+                             str(tmp_path / "tau.csv")], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 1, err
-    assert "cannot write to standard output" in err
-    assert list(tmp_path.iterdir()) == []
+    assert "cannot write to standard output" not in err
 
 
 def test_after_the_outputs_are_in_place_the_console_script_ignores_signals_to_its_end(monkeypatch):

@@ -36,13 +36,14 @@ from vampc.options import (
     RobotOptions,
     RtlOptions,
 )
-from vampc.outputs import discard_all, need_stdout
+from vampc.outputs import command_begins, discard_all, need_stdout, result_on_stdout
 
 
 def handle_errors(f):
     """One line per error, the exit status of its kind (see the module docstring)."""
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
+        command_begins()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("always", VampcWarning)
@@ -88,15 +89,20 @@ def _show_warning(message, category, *rest):
 
 
 def say(text: str, err: bool = False, nl: bool = True) -> None:
-    """Print a command's text (to stderr when stdout carries data); a stream that cannot take it
-    (a reader gone, a full disk) is the command's one-line error. A Ctrl-C or signal whose
-    exception was swallowed on the way (in a finaliser) is raised again first."""
+    """Print a command's text (to stderr when stdout carries data). A stream that cannot take the
+    command's result (a reader gone, a full disk) is the command's one-line error. Lines printed
+    beside the files a command writes (a summary) whose reader went away (`vampc emulate ... -o
+    tau.csv | head -1`) are dropped, as with standard output closed: the files are still written
+    and the exit status is the run's. A Ctrl-C or signal whose exception was swallowed on the way
+    (in a finaliser) is raised again first."""
     raise_if_terminated()
     try:
         click.echo(text, err=err, nl=nl)
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())
+            if err or not result_on_stdout():
+                return
         raise VampcError(f"cannot write to standard {'error' if err else 'output'}: "
                          f"{exc.strerror or exc}") from None
 

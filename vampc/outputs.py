@@ -115,11 +115,28 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     return PlannedOutput(option, path, "file", target)
 
 
+_RESULT_ON_STDOUT = False
+
+
+def command_begins() -> None:
+    """A command starts: nothing of its result goes to standard output yet (see need_stdout)."""
+    global _RESULT_ON_STDOUT
+    _RESULT_ON_STDOUT = False
+
+
+def result_on_stdout() -> bool:
+    """Whether this command's result goes to standard output (need_stdout was asked): then a reader
+    that goes away loses it; otherwise standard output has only the lines beside its files."""
+    return _RESULT_ON_STDOUT
+
+
 def need_stdout(what: str) -> None:
     """VampcError when standard output is closed (Python starts with sys.stdout None when its file
     descriptor 1 is: `vampc report ... >&-`) and `what`, the command's result, would go there: said
     before any work, instead of a result dropped with exit status 0. The lines a command prints
     beside its files (a compile's summary) are not its result, and are dropped then."""
+    global _RESULT_ON_STDOUT
+    _RESULT_ON_STDOUT = True
     if sys.stdout is None:
         raise VampcError(f"{what}: standard output is closed, so the result has nowhere to go "
                          "(redirect it to a file, or to /dev/null to drop it)")
