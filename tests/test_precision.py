@@ -57,8 +57,14 @@ def test_precision_names_the_narrowest_words():
     res = run(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "16:18", "--format",
                      "csv"])
     lines = res.output.splitlines()
-    assert lines[0] == "bits,word,peak,bound,observed,overflows,rounding" and len(lines) == 4
-    assert all(line.endswith(",nearest") for line in lines[1:])       # (the rounding analysed)
+    assert lines[0] == "bits,word,peak,bound,observed,overflows,rounding,note" and len(lines) == 4
+    assert all(line.endswith(",nearest,") for line in lines[1:])      # (the rounding analysed)
+    narrow = run(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "11:13", "--format",
+                        "csv", "--sets", "20"]).output.splitlines()
+    # a width no word holds the peak in says so, as the text table does (its cells had been empty)
+    assert narrow[1:3] == ["11,,,,,,nearest,no qI.F of this width holds the peak",
+                          "12,,,,,,nearest,no qI.F of this width holds the peak"] and \
+        narrow[3].startswith("13,q9.4,") and narrow[3].endswith(",nearest,"), narrow
     doc = loads(run(main, ["precision", str(EXAMPLES / "planar2.yaml"), "--sweep", "16:40",
                            "--format", "json", "--tolerance", "1e-6"]).output)
     bound = doc["narrowest_bound"]

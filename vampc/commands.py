@@ -814,6 +814,9 @@ def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
     return options.rounding
 
 
+TOO_NARROW = "no qI.F of this width holds the peak"
+
+
 def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> str:
     """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance."""
     ok = [r for r in rows if r["word"] and r["bound"] <= own.tolerance]
@@ -827,8 +830,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     head = ["bits", "word", "peak", "bound", "observed", "overflows"]
     if own.fmt == "csv":            # (the rounding analysed: a what-if one looked like the own)
         cells = [[str(r["bits"]) if k == "bits" else str(r[k]) if r["word"] else "" for k in head]
-                 + [rounding] for r in rows]
-        return "\n".join(",".join(line) for line in [head + ["rounding"]] + cells) + "\n"
+                 + [rounding, "" if r["word"] else TOO_NARROW] for r in rows]
+        return "\n".join(",".join(line) for line in [head + ["rounding", "note"]] + cells) + "\n"
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states",
@@ -842,7 +845,7 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     for r in rows:
         lines.append(f"{r['bits']:>4}  " + (f"{r['word']:<8} {r['peak']:>10.4g}  {beside(r['bound']):>8}  "
                                             f"{beside(r['observed']):>8}  {r['overflows']}" if r["word"]
-                                            else "too narrow: no qI.F of this width holds the peak"))
+                                            else f"too narrow: {TOO_NARROW}"))
     tol = number_text(own.tolerance)
     none = ("none of up to 64 bits" if max(own.widths()) == 64 else
             "none in the sweep (widen --sweep)")
