@@ -1275,3 +1275,37 @@ def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
                                                  "effect\n"), res.stderr
     res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output
+
+
+@pytest.mark.parametrize("outs", [["-o", "{in}"], ["--save-states", "{in}", "-o", "{other}"],
+                                  ["-o", "-", ">>"], [">>"]])
+def test_an_output_onto_the_file_standard_input_reads_is_refused(tmp_path, outs):
+    """`vampc emulate p --trajectory - -o in.csv < in.csv` replaced the states with the torques (exit
+    0; --trajectory /dev/stdin was refused); so did --save-states, and standard output appended onto
+    it (a new user's find). Each is refused, the file unchanged."""
+    import subprocess
+    import sys
+    states = tmp_path / "in.csv"
+    before = "q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0.3,0.4,0.5,0.6\n"
+    states.write_text(before)
+    append = outs[-1] == ">>"
+    args = [a.format(**{"in": states, "other": tmp_path / "tau.csv"}) for a in outs if a != ">>"]
+    with open(states) as stdin, open(states, "a") if append else open(os.devnull, "w") as stdout:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--trajectory",
+                               "-", *args], stdin=stdin, stdout=stdout, stderr=subprocess.PIPE,
+                              text=True, timeout=120)
+    assert done.returncode == 1 and done.stderr.count("\n") == 1, done.stderr
+    assert "the file standard input reads" in done.stderr and "never writes over its inputs" in done.stderr
+    assert states.read_text() == before and not (tmp_path / "tau.csv").exists()
+
+
+def test_an_input_from_standard_input_by_pipe_is_read_and_the_output_written(tmp_path):
+    """Standard input a pipe (or another file): no refusal, the torques written."""
+    import subprocess
+    import sys
+    states = "q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0.3,0.4,0.5,0.6\n"
+    done = subprocess.run([sys.executable, "-m", "vampc.cli", "lookahead", str(PLANAR), "--trajectory", "-",
+                           "--rate", "1kHz", "--window", "1", "--torques", str(tmp_path / "t.csv")],
+                          input=states, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "t.csv").read_text().count("\n") == 2

@@ -31,6 +31,7 @@ from typing import IO, Iterator
 from vampc.errors import VampcError, VampcUsageError, committing, raise_if_terminated
 
 STDOUT = "-"
+STDIN = "-"          # (an input given as -: standard input)
 
 
 @dataclass(frozen=True)
@@ -55,14 +56,24 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
     `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
     where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
-    inputs = [Path(p) for p in inputs if p is not None]
+    reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
+    inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
     _refuse_stdout_input(inputs)
+    stdin = _stdin_file() if reads_stdin else None
+    if stdin is not None and _same_stat(stdin, sys.stdout):
+        raise VampcError("standard output is the file standard input reads (an input given as -, "
+                         "redirected onto it); vampc never writes over its inputs: send standard "
+                         "output elsewhere")
     planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
         if path is None:
             continue
         out = _plan(option, str(path), stdout_ok)
         _refuse_input(out, inputs)
+        if stdin is not None and out.target is not None and out.target.exists() and \
+                _same_stat(stdin, out.target):
+            raise VampcError(f"{out.path}: {option} is the file standard input reads (an input "
+                             "given as -); vampc never writes over its inputs")
         for other in planned.values():
             if _same(out, other):
                 raise VampcError(f"{path}: {option} and {other.option} name the same file")
@@ -164,6 +175,25 @@ def _probe_folder(path: str, folder: Path) -> None:
     os.close(fd)
     os.unlink(tmp)
     _TEMPORARIES.discard(tmp)
+
+
+def _stdin_file() -> os.stat_result | None:
+    """The status of the regular file standard input reads (`< in.csv`), or None (a pipe, a
+    terminal, closed): an input given as `-` that an output must not replace."""
+    try:
+        here = os.fstat(sys.stdin.fileno())
+    except (OSError, ValueError, AttributeError):
+        return None
+    return here if stat.S_ISREG(here.st_mode) else None
+
+
+def _same_stat(here: os.stat_result, other) -> bool:
+    """Whether `other` (a path, or a stream with a file descriptor) is the file of `here`."""
+    try:
+        there = os.fstat(other.fileno()) if hasattr(other, "fileno") else os.stat(other)
+    except (OSError, ValueError, AttributeError):
+        return False
+    return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
 
 
 def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
