@@ -685,3 +685,37 @@ def test_a_waveform_streamed_before_an_overflow_is_said_to_have_been_sent(tmp_pa
                          "tick", "--vcd", "-")
     assert code == 1 and one_line(err), err
     assert "--vcd - had sent the sets before it to standard output" in err and "$enddefinitions" in out
+
+
+@pytest.mark.parametrize("limits, said", [
+    ({"q": [1.0, -1.0]}, "robot.joints[0].limits.q: lower limit 1.0 is above upper limit -1.0"),
+    ({"qd": -1.0}, "robot.joints[0].limits.qd: expected `float` >= 0.0"),
+    ({"tau": -3.0}, "robot.joints[0].limits.tau: expected `float` >= 0.0")])
+def test_a_program_files_limits_out_of_range_are_the_files_error(puma_program, tmp_path, limits, said):
+    """A program file's robot limits edited (a reversed position range, a negative speed bound)
+    crashed `emulate --random` with NumPy's ValueError (exit 3, a new user's mutation fuzzer)."""
+    path = edited_program(puma_program, tmp_path,
+                          lambda d: d["robot"]["joints"][0]["limits"].update(limits))
+    for args in (("emulate", path, "--random", 3, "--check"), ("precision", path, "--sets", 5)):
+        code, err, _ = run(*args)
+        assert code == 1 and one_line(err) and said in err, err
+
+
+@pytest.mark.parametrize("edit", [("q: [-3.14159, 3.14159]", "q: [-1.0e308, 1.0e308]"),
+                                  ("q: [-3.14159, 3.14159]", "q: [-1.0e308, 1.0]")])
+def test_limits_wider_than_a_float_are_drawn_within(tmp_path, edit):
+    """Position limits of ±1e308 (a limit meaning none): random states within them crashed with
+    NumPy's OverflowError (high - low out of range; exit 3) in emulate, precision and faults."""
+    robot = tmp_path / "wide.yaml"
+    robot.write_text(PLANAR.read_text().replace(*edit, 1))
+    assert "1.0e308" in robot.read_text()
+    from vampc.robot import load_robot
+    from vampc.robot.random import random_state
+    chain = load_robot(robot)
+    q, _, _ = random_state(chain, 1000, 3)
+    lo, hi = chain.joints[0].limits.q
+    assert np.isfinite(q).all() and (lo <= q[:, 0]).all() and (q[:, 0] <= hi).all()
+    middle = lo / 2 + hi / 2
+    assert (q[:, 0] > middle).any() and (q[:, 0] < middle).any() and q[:, 0].min() < -1e307
+    code, err, out = run("emulate", robot, "--random", 3, "--check")
+    assert code == 0 and "OK" in out + err, err

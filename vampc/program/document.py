@@ -89,6 +89,11 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
                                                              for i, j in enumerate(doc.joints)])
     if found:
         raise located(path, *found)
+    for i, j in enumerate(doc.joints):
+        q = j.limits.q
+        if q is not None and not q[0] <= q[1]:
+            raise located(path, f"robot.joints[{i}].limits.q", f"lower limit {q[0]!r} is above upper "
+                          f"limit {q[1]!r} (the file was edited)")
     joints = tuple(Joint(
         name=j.name, type=JointType(j.type), phi=np.array(j.phi), p_fixed=np.array(j.p_fixed),
         offset=j.offset, mass=j.mass, com=np.array(j.com), inertia=np.array(j.inertia),

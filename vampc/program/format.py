@@ -42,8 +42,8 @@ Vector = Annotated[list[float], Meta(min_length=3, max_length=9)]
 
 class Limits(Struct, gc=False, forbid_unknown_fields=True):
     q: Annotated[list[float], Meta(min_length=2, max_length=2)] | None
-    qd: float | None
-    tau: float | None
+    qd: Annotated[float, Meta(ge=0)] | None
+    tau: Annotated[float, Meta(ge=0)] | None
 
 
 class JointDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True):

@@ -127,8 +127,17 @@ def random_state(chain: Chain, count: int, rng: np.random.Generator | int = 0):
     qd = np.empty((count, n))
     for i, j in enumerate(chain.joints):
         lo, hi = j.limits.q if j.limits.q else (-np.pi, np.pi)
-        q[:, i] = rng.uniform(lo, hi, count)
+        q[:, i] = _uniform(rng, lo, hi, count)
         vmax = j.limits.qd if j.limits.qd else 1.0
-        qd[:, i] = rng.uniform(-vmax, vmax, count)
+        qd[:, i] = _uniform(rng, -vmax, vmax, count)
     qdd = rng.uniform(-1.0, 1.0, (count, n))
     return q, qd, qdd
+
+
+def _uniform(rng: np.random.Generator, lo: float, hi: float, count: int) -> np.ndarray:
+    """rng.uniform(lo, hi, count), the same numbers, also for a range wider than float64 holds
+    (limits of ±1e308: NumPy raised OverflowError)."""
+    if np.isfinite(float(hi) - float(lo)):
+        return rng.uniform(lo, hi, count)
+    u = rng.random(count)
+    return lo * (1.0 - u) + hi * u
