@@ -1225,6 +1225,8 @@ CONT = """<robot name="cont">
 
 @pytest.mark.parametrize("kind, first, args, said", [
     ("continuous", "j1", ["--base", "arm", "--lock", "j1=0.5"],
+     "--base arm: the joints above it (j1) are cut away; gravity is taken in arm's frame with them "
+     "at position 0\nvampc: warning: {robot}: "
      "joint 'j1' is above the base link 'arm', which cuts it away; --lock j1=... has no effect"),
     ("floating", "float", ["--lock", "float=0.5"],
      "joint 'float' is the floating base's own joint (its motion is the host's input); --lock "
@@ -1236,6 +1238,7 @@ def test_a_lock_of_a_joint_not_in_the_robot_is_warned_of(tmp_path, kind, first, 
     robot = tmp_path / "r.urdf"
     robot.write_text(CONT.format(kind=kind, first=first))
     res = run("compile", robot, *args, "-o", tmp_path / "a.vamp.json")
+    said = said.format(robot=robot)
     assert res.exit_code == 0 and res.stderr == f"vampc: warning: {robot}: {said}\n", res.stderr
     plain = [a for a in args if not a.startswith(("--lock", f"{first}="))]
     assert run("compile", robot, *plain, "-o", tmp_path / "b.vamp.json").exit_code == 0

@@ -150,7 +150,11 @@ def check_frames(path: Path, chain, base: str, tip: str, bodies: dict, frozen: d
         np.testing.assert_allclose(poses[-1], world(tip), atol=1e-10)
         for k, names in bodies.items():
             check_body(chain.joints[k - 1], poses[k], [(links[n].inertial, world(n)) for n in names])
-    np.testing.assert_allclose(chain.gravity, w0[:3, :3].T @ [0, 0, -9.81], atol=1e-12)
+    # gravity is the root link's -z (Pinocchio's reading), in O_0: the base link's pose in the root
+    # with the joints above it (cut away) at 0
+    urdf.update_cfg({j.name: 0.0 for j in urdf.robot.joints if j.type != "fixed" and j.mimic is None})
+    above = urdf.get_transform(base, urdf.base_link)[:3, :3]
+    np.testing.assert_allclose(chain.gravity, w0[:3, :3].T @ above.T @ [0, 0, -9.81], atol=1e-12)
 
 
 def check_body(j, pose: np.ndarray, parts: list) -> None:
@@ -664,3 +668,38 @@ def test_a_one_bound_limit_beyond_the_default_names_the_default(tmp_path):
     with pytest.raises(VampcError, match=r"joint 'j1': <limit> lower not given \(URDF's default, 0\) "
                                          r"is above upper -0\.5"):
         load_urdf(write(tmp_path, text))
+
+
+TILTED_MOUNT = """<robot name="tilted">
+  <link name="world"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="pedestal"/>
+    <origin xyz="0.1 0 0.2" rpy="0.5 -0.3 0.2"/></joint>
+  <link name="pedestal"/>
+  <joint name="j1" type="revolute"><parent link="pedestal"/><child link="a"/><axis xyz="0 1 0"/>
+    <origin xyz="0 0 0.1"/><limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+  <link name="a"><inertial><origin xyz="0.2 0 0"/><mass value="1.5"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>
+    <origin xyz="0.4 0 0" rpy="0.3 0 0"/><limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+  <link name="b"><inertial><origin xyz="0.1 0.05 0"/><mass value="0.7"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>"""
+
+
+@pytest.mark.parametrize("base", [None, "pedestal"])
+def test_a_base_on_a_tilted_mount_feels_the_roots_gravity(tmp_path, base):
+    """--base LINK on a link fixed to the root at a tilt read [0, 0, -9.81] in LINK's own frame:
+    torques 0.99 N·m off Pinocchio's rnea on the same file (a new user's find). Gravity is the root's,
+    turned into LINK's frame: against Pinocchio, with and without --base."""
+    pin = pytest.importorskip("pinocchio")
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    path = write(tmp_path, TILTED_MOUNT)
+    chain = load_urdf(path, base=base)
+    assert [j.name for j in chain.joints] == ["j1", "j2"]
+    traj = random_trajectory(chain, 8, 5)
+    pm = pin.buildModelFromUrdf(str(path))
+    data = pm.createData()
+    want = np.array([pin.rnea(pm, data, traj.q[s], traj.qd[s], traj.qdd[s]) for s in range(traj.count)])
+    got = rnea(chain, traj.q, traj.qd, traj.qdd)
+    assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))

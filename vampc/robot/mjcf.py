@@ -24,8 +24,9 @@ ref) gets the offset -ref (vampc.robot.chain: A = Rz(q + offset) Φ). Refused, o
 joint or element: ball joints, free joints below the root, tendons that exert forces, equality
 constraints other than joint equalities of degree 1, and what MuJoCo itself refuses (an unreadable
 `<include>`, a bad attribute: its message, with the file).
-Ignored with a warning: joint armature, damping, friction loss and springs (not rigid-body inverse
-dynamics; Pinocchio's rnea leaves them out too).
+Ignored with a warning: joint armature, damping, friction loss and springs, bodies' gravity
+compensation (gravcomp) and fluid forces (not rigid-body inverse dynamics: MuJoCo's mj_inverse includes
+them, Pinocchio's MJCF reader the armature). Gravity disabled by `<flag gravity="disable"/>` is zero.
 """
 from __future__ import annotations
 
@@ -116,7 +117,7 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
         robot, gravity, held = _robot(model, path, base)
         if base is not None and not floating:
             gravity = _in_base(model, path, robot, base, gravity)
-        tree = Tree.build(robot, path, gravity=gravity, by_name=False)
+        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base)
         lock = dict(lock or {})
         for name, value in held.items():
             if mimic == "ordinary":
@@ -146,10 +147,10 @@ def _in_base(model, path: Path, robot, base: str, gravity):
     b = robot.bodies.index(base)
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
-    moved, above = [], int(model.body_parentid[b])
+    moved, above = [], b           # (the body's own joints, to its parent, are cut away too)
     while above > 0:
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
-        moved += robot.joint_names[first:first + count]
+        moved = list(robot.joint_names[first:first + count]) + moved     # (root first)
         above = int(model.body_parentid[above])
     if moved:
         warnings.warn(VampcWarning(
@@ -228,8 +229,9 @@ def _robot(model, path: Path, base: str | None = None):
                       stacklevel=3)
         name = path.stem
     held = _equalities(model, path, joints, joint_name)
-    return (_Robot(name, links, joints, tuple(body_name), tuple(joint_name)),
-            tuple(float(g) for g in model.opt.gravity), held)
+    gravity = (0.0, 0.0, 0.0) if model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY else \
+        tuple(float(g) for g in model.opt.gravity)        # (<flag gravity="disable"/>: MuJoCo's none)
+    return _Robot(name, links, joints, tuple(body_name), tuple(joint_name)), gravity, held
 
 
 class _Names:
@@ -286,9 +288,16 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
     extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
                                         ("frictionloss", model.dof_frictionloss),
                                         ("stiffness", model.jnt_stiffness)) if np.any(values)]
-    if extras:
-        warnings.warn(VampcWarning(f"{path}: joint {', '.join(extras)} ignored: not part of rigid-body "
-                                   "inverse dynamics (nor of Pinocchio's rnea)"), stacklevel=4)
+    passive = [what for what, there in (
+        ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp)),
+        ("fluid forces (<option> density, viscosity)", model.opt.density > 0 or model.opt.viscosity > 0))
+        if there]
+    if extras or passive:
+        said = ([f"joint {', '.join(extras)}"] if extras else []) + passive
+        warnings.warn(VampcWarning(
+            f"{path}: {'; '.join(said)} ignored: vampc's torques are the rigid bodies' inverse dynamics "
+            "alone (MuJoCo's mj_inverse includes armature·q̈ and the passive forces, Pinocchio's MJCF "
+            "reader armature·q̈)"), stacklevel=4)
 
 
 def _tendons(model, path: Path) -> None:

@@ -10,8 +10,9 @@ M_k(q) = R_{a_k} Rz(q) R_{a_k}ᵀ (revolute) or a translation q a_k (prismatic).
     A_k = Rz(q) Φ_k,   Φ_k = R_{a_k}ᵀ Rot(G_k),   p*_k = Φ_kᵀ R_{a_k}ᵀ t(G_k)   (+ q Φ_kᵀ e_z if prismatic)
 
 with offset 0. Links hanging on link k through fixed (or locked) joints form one rigid body with it: their
-inertials are summed into link k by the parallel-axis theorem. Gravity is [0, 0, -9.81] in the base link
-frame, referred to O_0.
+inertials are summed into link k by the parallel-axis theorem. Gravity is [0, 0, -9.81] in the root link's
+frame (Pinocchio's reading), turned into the base link's frame through the joints above it at position 0
+when --base names a link below the root, and referred to O_0.
 
 The file is parsed by lxml with entities off and refused if it declares any (entity bombs, external
 entities) before yourdfpy sees it; the structure and numbers vampc relies on are checked on that lxml tree
@@ -28,6 +29,7 @@ refused. Every problem is a one-line VampcError "FILE: joint 'x': WHAT", "FILE: 
 """
 from __future__ import annotations
 
+import dataclasses
 import io
 import math
 import re
@@ -89,6 +91,30 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
                         accept_improper_inertia)
 
 
+def _gravity_at_base(tree: Tree, base: str, floating: bool, path: Path) -> Tree:
+    """The tree with its gravity ([0, 0, -9.81] in the root link's frame, as Pinocchio reads a URDF)
+    turned into the frame of the link `--base` names, through the joints above it at position 0: a
+    base on a tilted mount had read the root's vector as its own (wrong torques, said by nothing).
+    Movable joints above it, which --base cuts away, are said to be taken at 0. A floating base keeps
+    the world's orientation (its motion is the host's input), and so its gravity."""
+    if floating or tree.gravity_in == base:        # (MJCF's: turned by MuJoCo's own kinematics)
+        return tree
+    above = list(tree.ancestors(base))[::-1]          # root first
+    if not above:
+        return tree
+    rotation = np.eye(3)
+    for j in above:
+        rotation = rotation @ _origin(j)[:3, :3]
+    # (a floating joint above, the base taken as fixed: choose_base says so)
+    moved = [j.name for j in above if j.type not in ("fixed", "floating")]
+    if moved:
+        warnings.warn(VampcWarning(
+            f"{path}: --base {base}: the joints above it ({', '.join(moved)}) are cut away; gravity is "
+            f"taken in {base}'s frame with them at position 0"), stacklevel=3)
+    gravity = rotation.T @ np.asarray(tree.gravity, dtype=float)
+    return dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
+
+
 MIMIC_MODES = ("ordinary", "couple")
 
 
@@ -124,6 +150,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
         warnings.warn(VampcWarning(f"{path}: no joint below the base link '{base}' has a "
                                    f"{mimic_said}; --mimic couple has no effect"), stacklevel=3)
     tip = choose_tip(tree, base, tip, lock, path)
+    tree = _gravity_at_base(tree, base, floating, path)
     if tip is None:
         chain = _load_tree(robot.name, tree, base, lock, floating, path)
     else:

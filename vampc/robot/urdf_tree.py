@@ -35,11 +35,13 @@ class Tree:
     joints: dict
     parent: dict
     children: dict
-    gravity: tuple = (0.0, 0.0, -9.81)   # in the root link's frame
+    gravity: tuple = (0.0, 0.0, -9.81)   # in the frame of the link gravity_in names (None: the root's)
     by_name: bool = True                 # Pinocchio numbers a URDF's children by name, an MJCF's in order
+    gravity_in: str | None = None
 
     @staticmethod
-    def build(robot, path: Path, gravity=(0.0, 0.0, -9.81), by_name: bool = True) -> Tree:
+    def build(robot, path: Path, gravity=(0.0, 0.0, -9.81), by_name: bool = True,
+              gravity_in: str | None = None) -> Tree:
         """Index the robot (yourdfpy's `Robot`, or vampc.robot.mjcf's of the same shape); refuse dangling
         links, links with two parents and closed loops."""
         links = {link.name: link for link in robot.links}
@@ -54,7 +56,8 @@ class Tree:
                                                          "closed loops are not supported")
             parent[j.child] = j
             children[j.parent].append(j)
-        tree = Tree(links, {j.name: j for j in robot.joints}, parent, children, tuple(gravity), by_name)
+        tree = Tree(links, {j.name: j for j in robot.joints}, parent, children, tuple(gravity), by_name,
+                    gravity_in)
         tree.check_loops(path)
         return tree
 
