@@ -719,3 +719,81 @@ def test_limits_wider_than_a_float_are_drawn_within(tmp_path, edit):
     assert (q[:, 0] > middle).any() and (q[:, 0] < middle).any() and q[:, 0].min() < -1e307
     code, err, out = run("emulate", robot, "--random", 3, "--check")
     assert code == 0 and "OK" in out + err, err
+
+
+def test_a_path_whose_positions_barely_move_is_no_division_by_zero(puma_program, tmp_path):
+    """Positions moving 5e-324 a row while the velocities say 1 rad per ms: the rate check's ratio
+    underflowed to 0 and its advice divided by it (ZeroDivisionError, exit 3; a new user's find).
+    Huge velocities (an --accelerations integration near the float range) made it overflow with
+    NumPy's warnings first."""
+    path = tmp_path / "zr.csv"
+    path.write_text("q1,q2,q3,q4,q5,q6,qd1,qd2,qd3,qd4,qd5,qd6,qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n"
+                    + "".join(f"{q},0,0,0,0,0,1000,0,0,0,0,0,0,0,0,0,0,0\n" for q in ("0", "0", "5e-324")))
+    limits = tmp_path / "l.csv"
+    limits.write_text("joint,tau,qd\n" + "".join(f"{j},1e6,\n" for j in
+                                                 ("waist", "shoulder", "elbow", "wrist_roll", "wrist_bend", "flange")))
+    code, err, out = run("lookahead", puma_program, "--trajectory", path, "--rate", "1kHz", "--window", 2,
+                         "--limits", limits)
+    assert code == 0 and "Traceback" not in err and "RuntimeWarning" not in err, err
+    assert "violations" in out
+
+
+def test_numpys_own_warnings_do_not_reach_the_user(puma_program, tmp_path):
+    """Three runs that printed NumPy's RuntimeWarnings beside (or instead of) vampc's own line (a new
+    user's find): --check of a robot whose reference overflows (inf / inf), a long-double .npy past
+    float64 (its cast), and the window plan with limits of 1e308 (squares and quotients past a
+    float, harmless there)."""
+    long = tmp_path / "long.yaml"
+    long.write_text(PLANAR.read_text().replace("a: 0.5", "a: 1.0e200", 1))
+    code, err, out = run("emulate", long, "--random", 3, "--word", "q16.16", "--check")
+    assert code == 1 and "RuntimeWarning" not in err and "reference torques are not finite" in out, err
+    ld = tmp_path / "ld.npy"
+    np.save(ld, np.full((3, 18), 1e400, dtype=np.longdouble))
+    if np.isfinite(np.load(ld)).all():
+        pytest.skip("long double is float64 here")
+    code, err, _ = run("emulate", puma_program, "--trajectory", ld, "-o", tmp_path / "x.npy")
+    assert code == 1 and one_line(err) and "beyond float64's range" in err, err
+    limits = tmp_path / "huge.csv"
+    limits.write_text("joint,tau,qd\n" + "".join(f"{j},1e308,1e308\n" for j in
+                                                 ("waist", "shoulder", "elbow", "wrist_roll", "wrist_bend", "flange")))
+    code, err, out = run("lookahead", puma_program, "--trajectory", EXAMPLES / "puma560-path.csv", "--rate",
+                         "1kHz", "--window", 8, "--limits", limits, "--retime", "window", "-o", tmp_path / "r.csv")
+    assert code == 0 and err == "", err
+    assert np.isfinite(np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)).all()
+
+
+def test_a_timedelta_npy_is_not_numbers(puma_program, tmp_path):
+    """timedelta64 is an integer to NumPy: its .npy was taken as states (exit 0; datetime64 was
+    refused)."""
+    path = tmp_path / "td.npy"
+    np.save(path, np.zeros((3, 18), "m8[s]"))
+    code, err, _ = run("emulate", puma_program, "--trajectory", path, "-o", tmp_path / "x.npy")
+    assert code == 1 and one_line(err) and "holds timedelta64[s] values, not numbers" in err, err
+    assert not (tmp_path / "x.npy").exists()
+
+
+def test_a_source_that_is_not_there_is_said_so_whatever_its_name(tmp_path):
+    """A program file may have any name: a missing one without a known extension was "unknown robot
+    file extension ''" (a new user's find), and so was a FIFO."""
+    for command in (["emulate", tmp_path / "nonexist", "--random", 1], ["report", tmp_path / "nonexist"]):
+        code, err, _ = run(*command)
+        assert code == 1 and one_line(err) and err.endswith("nonexist: no such file\n"), err
+    fifo = tmp_path / "ff"
+    os.mkfifo(fifo)
+    code, err, _ = run("report", fifo)
+    assert code == 1 and one_line(err) and "ff: not a regular file" in err, err
+
+
+def test_a_number_past_float64_in_a_dh_json_names_the_joint(tmp_path):
+    """1e400 in a DH table's JSON was "not valid JSON: Number out of range - at `$[...][0][...]`"
+    (msgspec hides the keys); in YAML it names the joint. Now JSON does too."""
+    import yaml
+    text = json.dumps(yaml.safe_load(PLANAR.read_text()))
+    path = tmp_path / "e.json"
+    path.write_text(text.replace('"mass": 2.0', '"mass": 1e400', 1))
+    assert "1e400" in path.read_text()
+    code, err, _ = run("compile", path, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and "joints[0].mass (joint 1): inf is not a finite number" in err, err
+    path.write_text(text.replace('"mass": 2.0', '"mass": 2.0,,', 1))     # other JSON errors: as before
+    code, err, _ = run("compile", path, "-o", tmp_path / "p.vamp.json")
+    assert code == 1 and one_line(err) and "not valid JSON" in err, err

@@ -342,12 +342,16 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
 
 def _speed_ratio(traj, lam: float) -> float | None:
     """How far the positions move over what the velocities give at step λ (the trapezoid rule,
-    over all rows and joints); None where either is nothing (or not finite)."""
-    moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
-    said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
-    if moved <= 0 or said <= 0 or not np.isfinite(moved / said):
+    over all rows and joints); None where either is nothing, or the ratio is not a finite positive
+    number (sums past a float, or positions moving 5e-324 a row: the ratio underflowed to 0 and the
+    rate it advised was a division by zero)."""
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
+        said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
+        ratio = moved / said if moved > 0 and said > 0 else None
+    if ratio is None or not 0 < ratio < np.inf or not np.isfinite(1 / ratio):
         return None
-    return moved / said
+    return ratio
 
 
 def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
@@ -644,7 +648,7 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
     cap = np.minimum(cap, MAX_SPEED ** 2)
     for j, v in enumerate(limits.qd):
         if v is not None:
-            with np.errstate(divide="ignore"):
+            with np.errstate(divide="ignore", over="ignore"):    # (inf: no bound, as MAX_SPEED caps)
                 cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
     # the next row's p' + r' x' <= u <= P' + r' x' with x' = x + 2Δu: u m >= p' + r' x and
     # u m <= P' + r' x, m = 1 - 2Δ r'; where m < 0 both are negated, which swaps them

@@ -145,13 +145,15 @@ class WordCheck:
     @property
     def rel(self) -> np.ndarray:
         """Per joint: the largest error relative to that joint's largest |τ| over the run."""
-        return self.max_abs / np.maximum(self.max_ref, 1e-12)
+        with np.errstate(invalid="ignore", over="ignore"):     # (a reference not finite: nan, said)
+            return self.max_abs / np.maximum(self.max_ref, 1e-12)
 
     @property
     def overall(self) -> float:
         """The largest error of any joint relative to the largest |τ| of any joint over the run
         (what --check's tolerance bounds: a joint that barely moves is not its own yardstick)."""
-        return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), 1e-12))
+        with np.errstate(invalid="ignore", over="ignore"):     # (a reference not finite: nan, said)
+            return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), 1e-12))
 
     @property
     def rms(self) -> np.ndarray:

@@ -430,9 +430,10 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
     what = f"array {name}" if name else "the array"
     if np.issubdtype(arr.dtype, np.complexfloating):
         raise VampcError(f"{path}: {what} is complex ({arr.dtype}); states must be real numbers")
-    if not (np.issubdtype(arr.dtype, np.floating) or np.issubdtype(arr.dtype, np.integer)):
+    if arr.dtype.kind not in "fiu":     # (timedelta64 is an integer to NumPy: refused as datetime64 is)
         raise VampcError(f"{path}: {what} holds {arr.dtype.name} values, not numbers")
-    return np.asarray(arr, dtype=float)
+    with np.errstate(over="ignore"):    # (a long double past float64: inf, said by the finiteness check)
+        return np.asarray(arr, dtype=float)
 
 
 def numpy_file(path) -> bool:
