@@ -1225,9 +1225,9 @@ CONT = """<robot name="cont">
 
 @pytest.mark.parametrize("kind, first, args, said", [
     ("continuous", "j1", ["--base", "arm", "--lock", "j1=0.5"],
-     "--base arm: the joints above it (j1) are cut away; gravity is taken in arm's frame with them "
-     "at position 0\nvampc: warning: {robot}: "
-     "joint 'j1' is above the base link 'arm', which cuts it away; --lock j1=... has no effect"),
+     "joint 'j1' is above the base link 'arm', which cuts it away; --lock j1=... has no effect"
+     "\nvampc: warning: {robot}: --base arm: the joints above it (j1) are cut away; gravity is taken "
+     "in arm's frame with them at position 0"),
     ("floating", "float", ["--lock", "float=0.5"],
      "joint 'float' is the floating base's own joint (its motion is the host's input); --lock "
      "float=... has no effect"),
