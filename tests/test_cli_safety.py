@@ -1275,7 +1275,10 @@ def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
     res = run("compile", robot, "--base", "l2", "--mimic", "couple", "-o", tmp_path / "a.vamp.json")
     assert res.exit_code == 0 and res.stderr == (f"vampc: warning: {robot}: no joint below the base "
                                                  "link 'l2' has a <mimic>; --mimic couple has no "
-                                                 "effect\n"), res.stderr
+                                                 f"effect\nvampc: warning: {robot}: --base l2: the "
+                                                 "joints above it (j1, j2) are cut away; gravity is "
+                                                 "taken in l2's frame with them at position 0\n"), \
+        res.stderr
     res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output
 
