@@ -423,14 +423,31 @@ TILTED = """<mujoco model="tilted">
 </mujoco>"""
 
 
+def assert_as_mj_inverse_with_the_rest_at_qpos0(path, chain):
+    """The chain's torques (its joints MuJoCo's last ones) equal mj_inverse's with every other joint
+    at qpos 0, still."""
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    k = chain.n
+    traj = random_trajectory(chain, 6, 1)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    want = []
+    for s in range(traj.count):
+        d.qpos[:], d.qvel[:], d.qacc[:] = 0, 0, 0
+        d.qpos[-k:], d.qvel[-k:], d.qacc[-k:] = traj.q[s], traj.qd[s], traj.qdd[s]
+        mujoco.mj_inverse(m, d)
+        want.append(d.qfrc_inverse[-k:].copy())
+    got = rnea(chain, traj.q, traj.qd, traj.qdd)
+    assert np.max(np.abs(got - np.array(want))) <= 1e-9 * np.max(np.abs(want))
+
+
 @pytest.mark.parametrize("euler, top", [("90 0 0", False), ("30 40 50", False), ("30 40 50", True)])
 def test_a_base_body_tilted_in_the_world_feels_gravity_in_its_frame(tmp_path, euler, top):
     """--base BODY on a body welded to the world at a tilt read MuJoCo's world gravity as its own
     frame's: torques wrong, and --check, on the same model, said OK (a new user's find). Against
     mj_inverse: the arm below the tilted mount; with a hinge above the mount (cut away by --base,
     at its reference position) the same, and a warning says so."""
-    from vampc.dynamics.reference import rnea
-    from vampc.emulator.host import random_trajectory
     path = tmp_path / "tilted.xml"
     path.write_text(TILTED.format(euler=euler, top='<body name="top" euler="10 -20 5"><joint '
                                   'name="h" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>'
@@ -443,25 +460,13 @@ def test_a_base_body_tilted_in_the_world_feels_gravity_in_its_frame(tmp_path, eu
     else:
         chain = load_robot(path, base="mount")
     assert [j.name for j in chain.joints] == ["j1", "j2"]
-    traj = random_trajectory(chain, 6, 1)
-    m = mujoco.MjModel.from_xml_path(str(path))
-    d = mujoco.MjData(m)
-    want = []
-    for s in range(traj.count):
-        d.qpos[:], d.qvel[:], d.qacc[:] = 0, 0, 0
-        d.qpos[-2:], d.qvel[-2:], d.qacc[-2:] = traj.q[s], traj.qd[s], traj.qdd[s]
-        mujoco.mj_inverse(m, d)
-        want.append(d.qfrc_inverse[-2:].copy())
-    got = rnea(chain, traj.q, traj.qd, traj.qdd)
-    assert np.max(np.abs(got - np.array(want))) <= 1e-9 * np.max(np.abs(want))
+    assert_as_mj_inverse_with_the_rest_at_qpos0(path, chain)
 
 
 def test_a_base_bodys_own_joints_are_named_among_those_cut_away(tmp_path):
     """--base l1 cuts away l1's own joint j1 (to its parent) too; the warning named only the joints
     of the bodies above l1 (none here: nothing said; a new user's find). Against mj_inverse with j1 at
     its reference position."""
-    from vampc.dynamics.reference import rnea
-    from vampc.emulator.host import random_trajectory
     path = tmp_path / "tilted.xml"
     path.write_text(TILTED.format(euler="30 40 50", top='<body name="top" euler="10 -20 5"><joint '
                                   'name="h" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>',
@@ -469,17 +474,7 @@ def test_a_base_bodys_own_joints_are_named_among_those_cut_away(tmp_path):
     with pytest.warns(VampcWarning, match=r"--base l1: the joints above it \(h, j1\) are cut away"):
         chain = load_robot(path, base="l1")
     assert [j.name for j in chain.joints] == ["j2"]
-    traj = random_trajectory(chain, 6, 1)
-    m = mujoco.MjModel.from_xml_path(str(path))
-    d = mujoco.MjData(m)
-    want = []
-    for s in range(traj.count):
-        d.qpos[:], d.qvel[:], d.qacc[:] = 0, 0, 0
-        d.qpos[-1:], d.qvel[-1:], d.qacc[-1:] = traj.q[s], traj.qd[s], traj.qdd[s]
-        mujoco.mj_inverse(m, d)
-        want.append(d.qfrc_inverse[-1:].copy())
-    got = rnea(chain, traj.q, traj.qd, traj.qdd)
-    assert np.max(np.abs(got - np.array(want))) <= 1e-9 * np.max(np.abs(want))
+    assert_as_mj_inverse_with_the_rest_at_qpos0(path, chain)
 
 
 def test_mimic_couple_says_it_has_no_effect_only_where_it_has_none(tmp_path):
