@@ -1224,17 +1224,14 @@ CONT = """<robot name="cont">
 
 
 @pytest.mark.parametrize("kind, first, args, said", [
-    ("continuous", "j1", ["--base", "arm", "--lock", "j1=0.5"],
-     "joint 'j1' is above the base link 'arm', which cuts it away; --lock j1=... has no effect"
-     "\nvampc: warning: {robot}: --base arm: the joints above it (j1) are cut away; gravity is taken "
-     "in arm's frame with them at position 0"),
     ("floating", "float", ["--lock", "float=0.5"],
      "joint 'float' is the floating base's own joint (its motion is the host's input); --lock "
      "float=... has no effect"),
 ])
 def test_a_lock_of_a_joint_not_in_the_robot_is_warned_of(tmp_path, kind, first, args, said):
-    """(A new user's finds.) A --lock of a joint --base cuts away, or of the floating base's own
-    joint, was taken and ignored, saying nothing; the program is the one without it."""
+    """(A new user's find.) A --lock of the floating base's own joint was taken and ignored, saying
+    nothing; the program is the one without it. (One of a joint --base cuts away places it where
+    gravity is turned into the base's frame: tests/test_robot_urdf.py.)"""
     robot = tmp_path / "r.urdf"
     robot.write_text(CONT.format(kind=kind, first=first))
     res = run("compile", robot, *args, "-o", tmp_path / "a.vamp.json")
@@ -1276,9 +1273,10 @@ def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
     assert res.exit_code == 0 and res.stderr == (f"vampc: warning: {robot}: no joint below the base "
                                                  "link 'l2' has a <mimic>; --mimic couple has no "
                                                  f"effect\nvampc: warning: {robot}: --base l2: the "
-                                                 "joints above it (j1, j2) are cut away; gravity is "
-                                                 "taken in l2's frame with them at position 0\n"), \
-        res.stderr
+                                                 "joints above it are cut away (j1 at 0, j2 at 0: by "
+                                                 "--lock, by a coupled mimic's leader, or 0 by "
+                                                 "default); gravity is turned into l2's frame through "
+                                                 "them there\n"), res.stderr
     res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output
 
@@ -1305,6 +1303,35 @@ def test_an_output_onto_the_file_standard_input_reads_is_refused(tmp_path, outs)
     assert states.read_text() == before and not (tmp_path / "tau.csv").exists()
 
 
+def test_standard_input_or_output_closed_beside_an_input_given_as_dash(tmp_path):
+    """With standard output closed, the check of standard input's file crashed (os.stat(None): exit
+    3; a review's find); with standard input closed, --trajectory - crashed (sys.stdin None). A file
+    named - given to --limits is an input as any other (a review's find: it was overwritten)."""
+    import subprocess
+    import sys
+    states = tmp_path / "in.csv"
+    states.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0.3,0.4,0.5,0.6\n")
+    cmd = [sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--trajectory", "-", "-o",
+           str(tmp_path / "out.csv")]
+    with open(states) as stdin:
+        done = subprocess.run(cmd, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                              text=True, timeout=120, pass_fds=(), close_fds=True,
+                              preexec_fn=lambda: os.close(1))
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    assert (tmp_path / "out.csv").read_text().count("\n") == 2
+    done = subprocess.run(cmd[:-1] + [str(tmp_path / "out2.csv")], stdin=subprocess.DEVNULL,
+                          capture_output=True, text=True, timeout=120, preexec_fn=lambda: os.close(0))
+    assert done.returncode == 1 and done.stderr.count("\n") == 1, done.stderr
+    assert "-: standard input is closed" in done.stderr and not (tmp_path / "out2.csv").exists()
+    limits = tmp_path / "-"
+    limits.write_text("joint,tau,qd\nshoulder,50,\nelbow,25,\n")
+    done = subprocess.run([sys.executable, "-m", "vampc.cli", "lookahead", str(PLANAR), "--trajectory",
+                           str(states), "--rate", "1kHz", "--window", "1", "--limits", "-", "--torques",
+                           "./-"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1 and "--torques is the input file -" in done.stderr, done.stderr
+    assert limits.read_text().startswith("joint,tau,qd")
+
+
 def test_an_input_from_standard_input_by_pipe_is_read_and_the_output_written(tmp_path):
     """Standard input a pipe (or another file): no refusal, the torques written."""
     import subprocess
@@ -1315,3 +1342,16 @@ def test_an_input_from_standard_input_by_pipe_is_read_and_the_output_written(tmp
                           input=states, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "t.csv").read_text().count("\n") == 2
+
+
+def test_a_warning_whose_reader_went_away_is_dropped_and_the_file_written(tmp_path):
+    """A warning to a standard error whose reader had gone failed the run silently (exit 1, nothing
+    said, no file; a review's find): warnings go as the summary does, dropped, the run goes on."""
+    import subprocess
+    import sys
+    out = tmp_path / "w.vamp.json"
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", "compile", str(EXAMPLES / "arm6.urdf"), "--base",
+                             "link2", "-o", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc.stderr.close()               # the reader gone before the warning is said
+    assert proc.wait(timeout=120) == 0
+    assert json.loads(out.read_text())["robot"]["name"]

@@ -719,6 +719,11 @@ def test_limits_wider_than_a_float_are_drawn_within(tmp_path, edit):
     assert (q[:, 0] > middle).any() and (q[:, 0] < middle).any() and q[:, 0].min() < -1e307
     code, err, out = run("emulate", robot, "--random", 3, "--check")
     assert code == 0 and "OK" in out + err, err
+    code, err, out = run("precision", robot, "--sets", 5, "--sweep", "20:21")
+    assert code == 0 and "narrowest word" in out, err
+    code, err, out = run("faults", robot, "--campaign", "random", "--count", 1, "--sets", 2, "--workers", 1,
+                         "--results", tmp_path / "r.jsonl")
+    assert code == 0 and "Traceback" not in err, err
 
 
 def test_a_path_whose_positions_barely_move_is_no_division_by_zero(puma_program, tmp_path):

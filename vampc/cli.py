@@ -82,10 +82,11 @@ def handle_errors(f):
 
 
 def _show_warning(message, category, *rest):
+    """One line on stderr (through say: a reader gone drops it, the run goes on)."""
     if issubclass(category, VampcWarning):
-        click.echo(f"vampc: warning: {message}", err=True)
+        say(f"vampc: warning: {message}", err=True)
     else:   # a library's own warning (numpy's, say): not ours to silence, but one line
-        click.echo(f"vampc: warning: {category.__name__}: {message}", err=True)
+        say(f"vampc: warning: {category.__name__}: {message}", err=True)
 
 
 def say(text: str, err: bool = False, nl: bool = True) -> None:

@@ -334,22 +334,26 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
         import warnings
 
         from vampc.errors import VampcWarning
+        with np.errstate(over="ignore", divide="ignore"):
+            fits = rate / ratio if ratio > 0 else np.inf
+        advice = (f"(about {fits:.4g} Hz would fit them)" if np.isfinite(fits) and ratio > 0 else
+                  "(no rate would fit them: its positions and velocities are not of one motion)")
         warnings.warn(VampcWarning(
             f"{path}: its positions move {ratio:.3g} times what its velocities give at "
             f"{rate:g} Hz (the rows 1/rate apart): is --rate the rate the rows were sampled at? "
-            f"(about {rate / ratio:.4g} Hz would fit them)"), stacklevel=1)
+            f"{advice}"), stacklevel=1)
 
 
 def _speed_ratio(traj, lam: float) -> float | None:
     """How far the positions move over what the velocities give at step λ (the trapezoid rule,
-    over all rows and joints); None where either is nothing, or the ratio is not a finite positive
-    number (sums past a float, or positions moving 5e-324 a row: the ratio underflowed to 0 and the
-    rate it advised was a division by zero)."""
+    over all rows and joints); None where either is nothing, or the ratio is not finite (sums past
+    a float). Positions moving 5e-324 a row give 0 (underflowed): the rate check advises no rate
+    then (it divided by zero)."""
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         moved = float(np.abs(np.diff(traj.q, axis=0)).sum())
         said = float(np.abs((traj.qd[1:] + traj.qd[:-1]) * (lam / 2)).sum())
         ratio = moved / said if moved > 0 and said > 0 else None
-    if ratio is None or not 0 < ratio < np.inf or not np.isfinite(1 / ratio):
+    if ratio is None or not 0 <= ratio < np.inf:
         return None
     return ratio
 

@@ -56,8 +56,10 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
     `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
     where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
+    # (an input given as -, standard input for a trajectory: also a file named - for --limits,
+    # which is kept among the inputs as such)
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
-    inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
+    inputs = [Path(p) for p in inputs if p is not None]
     _refuse_stdout_input(inputs)
     stdin = _stdin_file() if reads_stdin else None
     if stdin is not None and _same_stat(stdin, sys.stdout):
@@ -189,6 +191,8 @@ def _stdin_file() -> os.stat_result | None:
 
 def _same_stat(here: os.stat_result, other) -> bool:
     """Whether `other` (a path, or a stream with a file descriptor) is the file of `here`."""
+    if other is None:                    # (standard output closed: Python's sys.stdout is None)
+        return False
     try:
         there = os.fstat(other.fileno()) if hasattr(other, "fileno") else os.stat(other)
     except (OSError, ValueError, AttributeError):

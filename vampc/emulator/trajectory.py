@@ -98,7 +98,11 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.textio import decode_utf8
-    raw = sys.stdin.buffer.read() if str(path) == "-" else path.read_bytes()   # (-: standard input)
+    from vampc.outputs import STDIN
+    if str(path) == STDIN and sys.stdin is None:
+        raise VampcError(f"-: standard input is closed, so the {what} has nowhere to come from "
+                         "(give it as a file, or redirect standard input from one)")
+    raw = sys.stdin.buffer.read() if str(path) == STDIN else path.read_bytes()  # (-: standard input)
     from vampc.sniff import compression
     packed = compression(raw[:16])
     if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')

@@ -115,9 +115,6 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
     model = _compiled(path)
     with gc_paused():
         robot, gravity, held = _robot(model, path, base)
-        if base is not None and not floating:
-            gravity = _in_base(model, path, robot, base, gravity)
-        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base)
         lock = dict(lock or {})
         for name, value in held.items():
             if mimic == "ordinary":
@@ -128,36 +125,53 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                                                     "(--mimic couple)")
             else:
                 lock[name] = value
-        return chain_of(robot, tree, path, base, tip, lock, floating, mimic,
-                        accept_improper_inertia=accept_improper_inertia,
-                        # (an equality holding a joint is --mimic couple's doing too: it warned
-                        # "no joint has a <mimic>" of a model whose equality it had just locked)
-                        mimic_said=None if held else "joint equality (<equality><joint>)")
+        turned = None
+        if base is not None and not floating:
+            gravity, turned = _in_base(model, robot, base, gravity, lock, path)
+        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base)
+        chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
+                         accept_improper_inertia=accept_improper_inertia,
+                         # (an equality holding a joint is --mimic couple's doing too: it warned
+                         # "no joint has a <mimic>" of a model whose equality it had just locked)
+                         mimic_said=None if held else "joint equality (<equality><joint>)")
+        if turned:                   # (said once the robot is made: an error comes alone)
+            warnings.warn(VampcWarning(turned), stacklevel=2)
+        return chain
 
 
-def _in_base(model, path: Path, robot, base: str, gravity):
+def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
     """MuJoCo's gravity (world frame) in the frame of the body `base` names, where --base fixes the
     robot: the chain's gravity is its base's (a base tilted by a weld in the world read the world's
     vector as its own: wrong torques that --check, on the same model, could not see). The body's
-    orientation is its pose at the model's reference positions (qpos0); joints above it, which
-    --base cuts away, are said to be taken so."""
+    orientation is its pose with the joints above it, which --base cuts away, at their --lock
+    values (`lock`), else at the model's reference positions (qpos0); and the warning that says
+    so (None when no joint is above it)."""
     import mujoco
     if base not in robot.bodies[1:]:
-        return gravity              # (the world, or no body: chain_of says so of an unknown --base)
+        return gravity, None        # (the world, or no body: chain_of says so of an unknown --base)
     b = robot.bodies.index(base)
     data = mujoco.MjData(model)
-    mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
     moved, above = [], b           # (the body's own joints, to its parent, are cut away too)
     while above > 0:
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
-        moved = list(robot.joint_names[first:first + count]) + moved     # (root first)
+        moved = list(range(first, first + count)) + moved     # (root first)
         above = int(model.body_parentid[above])
-    if moved:
-        warnings.warn(VampcWarning(
-            f"{path}: --base {base}: the joints above it ({', '.join(moved)}) are cut away; gravity "
-            f"is taken in {base}'s frame with them at their reference positions (qpos0)"), stacklevel=3)
+    said = []
+    for j in moved:
+        name, at = robot.joint_names[j], int(model.jnt_qposadr[j])
+        if name in lock and int(model.jnt_type[j]) != FREE:
+            data.qpos[at] = lock[name]
+        said.append(f"{name} (free) at qpos0" if int(model.jnt_type[j]) == FREE else
+                    f"{name} at {float(data.qpos[at]):.6g}")
+    mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
     rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
-    return tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
+    turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
+    if not said:
+        return turned, None
+    shown = ", ".join(said[:10]) + (f" and {len(said) - 10} more" if len(said) > 10 else "")
+    return turned, (f"{path}: --base {base}: the joints above it are cut away ({shown}: by --lock, "
+                    f"or their reference positions, qpos0); gravity is turned into {base}'s frame "
+                    "through them there")
 
 
 def _compiled(path: Path):

@@ -11,8 +11,9 @@ M_k(q) = R_{a_k} Rz(q) R_{a_k}ᵀ (revolute) or a translation q a_k (prismatic).
 
 with offset 0. Links hanging on link k through fixed (or locked) joints form one rigid body with it: their
 inertials are summed into link k by the parallel-axis theorem. Gravity is [0, 0, -9.81] in the root link's
-frame (Pinocchio's reading), turned into the base link's frame through the joints above it at position 0
-when --base names a link below the root, and referred to O_0.
+frame (Pinocchio's reading), turned into the base link's frame through the joints above it (at their
+--lock values, else 0) when --base names a link below the root (a floating base is not turned: it keeps
+the world's orientation), and referred to O_0.
 
 The file is parsed by lxml with entities off and refused if it declares any (entity bombs, external
 entities) before yourdfpy sees it; the structure and numbers vampc relies on are checked on that lxml tree
@@ -91,28 +92,54 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
                         accept_improper_inertia)
 
 
-def _gravity_at_base(tree: Tree, base: str, floating: bool, path: Path) -> Tree:
+def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, leaders: dict,
+                     path: Path) -> tuple[Tree, str | None]:
     """The tree with its gravity ([0, 0, -9.81] in the root link's frame, as Pinocchio reads a URDF)
-    turned into the frame of the link `--base` names, through the joints above it at position 0: a
-    base on a tilted mount had read the root's vector as its own (wrong torques, said by nothing).
-    Movable joints above it, which --base cuts away, are said to be taken at 0. A floating base keeps
-    the world's orientation (its motion is the host's input), and so its gravity."""
+    turned into the frame of the link `--base` names, through the joints above it: a base on a
+    tilted mount had read the root's vector as its own (wrong torques, said by nothing). Joints
+    above it, which --base cuts away, are at their --lock values (`above_locks`), a --mimic couple
+    follower at its leader's multiple plus offset (`leaders`), others at 0; and the warning that
+    says so (None when only fixed joints are above). A floating base keeps the world's orientation
+    (its motion is the host's input), and so its gravity."""
     if floating or tree.gravity_in == base:        # (MJCF's: turned by MuJoCo's own kinematics)
-        return tree
+        return tree, None
     above = list(tree.ancestors(base))[::-1]          # root first
     if not above:
-        return tree
-    rotation = np.eye(3)
+        return tree, None
+    at = dict(above_locks)
     for j in above:
-        rotation = rotation @ _origin(j)[:3, :3]
-    # (a floating joint above, the base taken as fixed: choose_base says so)
-    moved = [j.name for j in above if j.type not in ("fixed", "floating")]
-    if moved:
-        warnings.warn(VampcWarning(
-            f"{path}: --base {base}: the joints above it ({', '.join(moved)}) are cut away; gravity is "
-            f"taken in {base}'s frame with them at position 0"), stacklevel=3)
+        if j.name not in at and j.name in leaders:
+            leader, mult, off = leaders[j.name]
+            at[j.name] = mult * at.get(leader, 0.0) + off
+    rotation, said = np.eye(3), []
+    for j in above:
+        pose = _origin(j)[:3, :3]
+        q = at.get(j.name, 0.0)
+        if j.type in ("revolute", "continuous") and q != 0:
+            axis = np.asarray(j.axis, dtype=float)
+            if not np.linalg.norm(axis) > 0:
+                raise located(path, f"joint '{j.name}'", "its axis is zero: no position of it turns "
+                                                        "gravity (--lock gave it one)")
+            pose = pose @ _axis_rotation(_unit(axis), q)
+        rotation = rotation @ pose
+        if j.type == "floating" and j.child != base:     # (the base's own: choose_base says so)
+            said.append(f"{j.name} (floating) at its <origin>")
+        elif j.type in MOVABLE:
+            said.append(f"{j.name} at {q:.6g}")
     gravity = rotation.T @ np.asarray(tree.gravity, dtype=float)
-    return dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
+    turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
+    if not said:
+        return turned, None
+    shown = ", ".join(said[:10]) + (f" and {len(said) - 10} more" if len(said) > 10 else "")
+    return turned, (f"{path}: --base {base}: the joints above it are cut away ({shown}: by --lock, "
+                    f"by a coupled mimic's leader, or 0 by default); gravity is turned into {base}'s "
+                    "frame through them there")
+
+
+def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """The rotation by `angle` about the unit `axis` (Rodrigues)."""
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
 
 
 MIMIC_MODES = ("ordinary", "couple")
@@ -144,13 +171,16 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     below = {j.name for j in tree.below(base)}
-    lock = _locks_below(lock, tree, base, below, path)
-    if leaders and not any(f in below for f in leaders) and mimic_said:
+    lock, above_locks = _locks_below(lock, tree, base, below, path)
+    above = set() if floating else {j.name for j in tree.ancestors(base)}
+    placed = [f for f, (leader, mult, off) in leaders.items()    # (where gravity is turned: not at 0)
+              if f in above and mult * above_locks.get(leader, 0.0) + off != 0]
+    if leaders and not placed and not any(f in below for f in leaders) and mimic_said:
         # (the file has <mimic> pairs, but --base cut every follower away: it said nothing)
         warnings.warn(VampcWarning(f"{path}: no joint below the base link '{base}' has a "
                                    f"{mimic_said}; --mimic couple has no effect"), stacklevel=3)
     tip = choose_tip(tree, base, tip, lock, path)
-    tree = _gravity_at_base(tree, base, floating, path)
+    tree, turned = _gravity_at_base(tree, base, floating, above_locks, leaders, path)
     if tip is None:
         chain = _load_tree(robot.name, tree, base, lock, floating, path)
     else:
@@ -166,7 +196,10 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     for j in chain.joints:           # a bad <mimic> matters on the robot's joints only
         if j.name in problems:
             raise located(path, *problems[j.name])
-    return _coupled(chain, leaders, path) if leaders else chain
+    chain = _coupled(chain, leaders, path) if leaders else chain
+    if turned:                       # (said once the robot is made: an error comes alone)
+        warnings.warn(VampcWarning(turned), stacklevel=3)
+    return chain
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
@@ -431,18 +464,21 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
     return out
 
 
-def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path) -> dict:
-    """The locks of joints below the base (`below`: their names); one of a joint above it (cut away
-    by the base, the floating base's own joint among them) is dropped with a warning, as a fixed
-    joint's is: it was taken and ignored, saying nothing (a new user's find)."""
+def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path) -> tuple[dict, dict]:
+    """(the locks of joints below the base (`below`: their names), those of joints above it): a
+    joint above it, cut away by the base, is at its --lock value where gravity is turned into the
+    base's frame (`_gravity_at_base`, which says so). A floating joint's lock is dropped with a
+    warning, as a fixed joint's is: it was taken and ignored, saying nothing (a new user's find)."""
+    above = {}
     for name in [n for n in lock if n not in below]:
-        kind = tree.joints[name].type
-        why = ("the floating base's own joint (its motion is the host's input)" if kind == "floating"
-               else f"above the base link '{base}', which cuts it away")
-        warnings.warn(VampcWarning(f"{path}: joint '{name}' is {why}; --lock {name}=... has no "
-                                   "effect"), stacklevel=4)
+        if tree.joints[name].type == "floating":
+            warnings.warn(VampcWarning(f"{path}: joint '{name}' is the floating base's own joint (its "
+                                       f"motion is the host's input); --lock {name}=... has no "
+                                       "effect"), stacklevel=4)
+        else:
+            above[name] = lock[name]
         del lock[name]
-    return lock
+    return lock, above
 
 
 def _check_chain(chain: list, base: str, tip: str, path: Path) -> None:
