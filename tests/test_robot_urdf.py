@@ -762,3 +762,19 @@ def test_an_error_after_the_base_comes_without_the_gravity_warning(tmp_path):
         warnings.simplefilter("error")
         assert_error(lambda: load_urdf(path, base="pedestal", tip="pedestal"), path,
                      "no movable joints between base link 'pedestal' and tip link 'pedestal'")
+
+
+def test_a_joint_above_the_base_at_0_outside_its_limits_is_said_so(tmp_path):
+    """A joint above the base taken at 0 where 0 is outside its limits (a quadruped's calf, say):
+    the warning says so, since --lock gives it a position within them (a new user's find)."""
+    path = write(tmp_path, ABOVE_THE_MOUNT.replace('<limit lower="-3" upper="3" effort="10" velocity="3"/></joint>\n'
+                                                   '  <link name="x">',
+                                                   '<limit lower="0.2" upper="1" effort="10" velocity="3"/></joint>\n'
+                                                   '  <link name="x">', 1))
+    assert 'lower="0.2"' in path.read_text()
+    with pytest.warns(VampcWarning, match=r"\(w0 at 0, outside its limits \[0\.2, 1\], w at 0:"):
+        load_urdf(path, base="pedestal")
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        load_urdf(path, base="pedestal", lock={"w0": 0.5})
+    assert ["outside" not in str(w.message) for w in said] == [True] * len(said) and said

@@ -158,11 +158,18 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
         above = int(model.body_parentid[above])
     said = []
     for j in moved:
-        name, at = robot.joint_names[j], int(model.jnt_qposadr[j])
-        if name in lock and int(model.jnt_type[j]) != FREE:
+        name, at, free = robot.joint_names[j], int(model.jnt_qposadr[j]), int(model.jnt_type[j]) == FREE
+        if free:
+            if int(model.jnt_bodyid[j]) != b:      # (the base's own: choose_base says so)
+                said.append(f"{name} (free) at qpos0")
+            continue
+        if name in lock:
             data.qpos[at] = lock[name]
-        said.append(f"{name} (free) at qpos0" if int(model.jnt_type[j]) == FREE else
-                    f"{name} at {float(data.qpos[at]):.6g}")
+        q = float(data.qpos[at])
+        lo, hi = (float(x) for x in model.jnt_range[j])
+        outside = bool(model.jnt_limited[j]) and not lo <= q <= hi
+        said.append(f"{name} at {q:.6g}" + (f", outside its range [{lo:.6g}, {hi:.6g}]" if outside
+                                            else ""))
     mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
     rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
     turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))

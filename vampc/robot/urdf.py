@@ -125,7 +125,10 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
         if j.type == "floating" and j.child != base:     # (the base's own: choose_base says so)
             said.append(f"{j.name} (floating) at its <origin>")
         elif j.type in MOVABLE:
-            said.append(f"{j.name} at {q:.6g}")
+            limits = _position_range(j)
+            outside = limits is not None and not limits[0] <= q <= limits[1]
+            said.append(f"{j.name} at {q:.6g}" + (f", outside its limits [{limits[0]:.6g}, "
+                                                   f"{limits[1]:.6g}]" if outside else ""))
     gravity = rotation.T @ np.asarray(tree.gravity, dtype=float)
     turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
     if not said:
