@@ -175,10 +175,8 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
     turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
     if not said:
         return turned, None
-    shown = ", ".join(said[:10]) + (f" and {len(said) - 10} more" if len(said) > 10 else "")
-    return turned, (f"{path}: --base {base}: the joints above it are cut away ({shown}: by --lock, "
-                    f"or their reference positions, qpos0); gravity is turned into {base}'s frame "
-                    "through them there")
+    from vampc.robot.urdf_tree import cut_away
+    return turned, cut_away(path, base, said, "by --lock, or their reference positions, qpos0")
 
 
 def _compiled(path: Path):

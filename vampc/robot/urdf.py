@@ -51,6 +51,7 @@ from vampc.robot.urdf_tree import (
     check_joint_types,
     choose_base,
     choose_tip,
+    cut_away,
     quoted,
 )
 from vampc.textio import plain_number
@@ -133,10 +134,7 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
     if not said:
         return turned, None
-    shown = ", ".join(said[:10]) + (f" and {len(said) - 10} more" if len(said) > 10 else "")
-    return turned, (f"{path}: --base {base}: the joints above it are cut away ({shown}: by --lock, "
-                    f"by a coupled mimic's leader, or 0 by default); gravity is turned into {base}'s "
-                    "frame through them there")
+    return turned, cut_away(path, base, said, "by --lock, by a coupled mimic's leader, or 0 by default")
 
 
 def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:

@@ -22,9 +22,21 @@ MOVABLE = {"revolute": JointType.REVOLUTE, "continuous": JointType.REVOLUTE,
 
 def quoted(items, most: int = 10) -> str:
     """Quoted names for a message; past `most`, a count of the rest (a message stays one readable line)."""
+    return listed((f"'{n}'" for n in items), most)
+
+
+def listed(items, most: int = 10) -> str:
+    """Texts for a message, comma separated; past `most`, a count of the rest."""
     items = list(items)
-    shown = ", ".join(f"'{n}'" for n in items[:most])
+    shown = ", ".join(items[:most])
     return shown if len(items) <= most else f"{shown} and {len(items) - most} more"
+
+
+def cut_away(path, base: str, said: list, placed_by: str) -> str:
+    """The warning that --base cut away the joints above it, `said` (each with where it is, placed
+    as `placed_by` says), through which gravity is turned into the base's frame."""
+    return (f"{path}: --base {base}: the joints above it are cut away ({listed(said)}: {placed_by}); "
+            f"gravity is turned into {base}'s frame through them there")
 
 
 @dataclass(frozen=True)
