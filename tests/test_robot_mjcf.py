@@ -4,6 +4,8 @@ and compared with Pinocchio's MJCF model (pin.buildModelFromMJCF) and with MuJoC
 dynamics (mj_inverse); and what is refused, one line each."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from errors_util import assert_error
@@ -234,6 +236,14 @@ def test_gravity_disabled_by_a_flag_is_none(tmp_path):
     assert np.max(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd) - want)) <= 1e-12 * np.abs(want).max()
     zero = np.zeros((1, 2))
     assert np.all(rnea(chain, zero, zero, zero) == 0)          # at rest, no gravity: no torque
+    # gravity compensation without gravity compensates nothing: not warned of, the same torques
+    path.write_text(path.read_text().replace('<body name="a"', '<body name="a" gravcomp="1"', 1))
+    assert 'gravcomp="1"' in path.read_text()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chain = load_robot(path)
+    want = mujoco_reference(path, traj)
+    assert np.max(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd) - want)) <= 1e-12 * np.abs(want).max()
 
 
 # A gripper as the Menagerie's panda has one: two fingers an inert tendon pulls together and a joint

@@ -308,7 +308,8 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
                                         ("frictionloss", model.dof_frictionloss),
                                         ("stiffness", model.jnt_stiffness)) if np.any(values)]
     passive = [what for what, there in (
-        ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp)),
+        ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp) and not    # (none
+         model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY),                 # without gravity)
         ("fluid forces (<option> density, viscosity)", model.opt.density > 0 or model.opt.viscosity > 0))
         if there]
     if extras or passive:
