@@ -780,3 +780,27 @@ def test_a_joint_above_the_base_at_0_outside_its_limits_is_said_so(tmp_path):
         warnings.simplefilter("always")
         load_urdf(path, base="pedestal", lock={"w0": 0.5})
     assert ["outside" not in str(w.message) for w in said] == [True] * len(said) and said
+
+
+def test_a_follower_above_the_base_of_a_leader_below_it(tmp_path):
+    """--mimic couple, a follower above --base whose leader is one of the robot's joints below it:
+    the base would move with the leader; it was taken with the leader at 0, saying nothing (a
+    review's find). Refused; with the leader locked, the follower is placed where the lock puts it,
+    and --mimic couple is not said to have no effect."""
+    inertial = ('<inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" '
+                'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="{n}">{inertial}</link>' for n in ("root", "base", "l1", "l2"))
+    joints = "".join(f'<joint name="{j}" type="continuous"><parent link="{p}"/><child link="{c}"/>'
+                     f'<origin xyz="0.2 0 0" rpy="0.3 0 0"/><axis xyz="1 0 0"/>{extra}</joint>'
+                     for j, p, c, extra in (("w", "root", "base", '<mimic joint="j1" multiplier="2"/>'),
+                                            ("j1", "base", "l1", ""), ("j2", "l1", "l2", "")))
+    path = write(tmp_path, f'<robot name="b">{links}{joints}</robot>')
+    assert_error(lambda: load_urdf(path, base="base", mimic="couple"), path,
+                 r"joint 'w': above the base link 'base', follows joint 'j1' below it \(--mimic couple\): "
+                 r"the base would move with it; lock 'j1', or choose another --base")
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        chain = load_urdf(path, base="base", mimic="couple", lock={"j1": 0.5})
+    texts = [str(w.message) for w in said]
+    assert [j.name for j in chain.joints] == ["j2"]
+    assert not any("no effect" in t for t in texts) and any("(w at 1:" in t for t in texts), texts

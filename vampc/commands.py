@@ -866,11 +866,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc import lookahead as la
     from vampc.emulator import emulate
     from vampc.emulator.host import check_torques, read_trajectory
-    from vampc.outputs import plan_outputs
+    from vampc.outputs import named_file, plan_outputs
     own.check()
     rate = own.rate_hz()
     clock = own.clock_hz()
-    outs = plan_outputs([source, own.trajectory, own.accelerations, own.limits],
+    outs = plan_outputs([source, own.trajectory, own.accelerations, named_file(own.limits)],
                         {"-o": own.output, "--torques": own.torques, "--plot": own.plot},
                         stdout_ok=("-o", "--torques"))
     ld = loaded(source, options, robot_opts, params)

@@ -50,16 +50,22 @@ class PlannedOutput:
         return self.kind == "stdout"
 
 
+def named_file(path):
+    """An input path of an option that reads files only (`--limits -` reads the file named -), as
+    plan_outputs takes it: not standard input."""
+    return os.path.join(os.curdir, path) if path is not None and str(path) == STDIN else path
+
+
 def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
                  writes: dict | None = None) -> dict[str, PlannedOutput]:
     """Check every output against the rules above and return them by option name. `inputs` are the
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
     `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
     where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
-    # (an input given as -, standard input for a trajectory: also a file named - for --limits,
-    # which is kept among the inputs as such)
+    # (an input given as - is standard input; a file so named, given to an option that reads
+    # files only, comes as ./-: `named_file`)
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
-    inputs = [Path(p) for p in inputs if p is not None]
+    inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
     _refuse_stdout_input(inputs)
     stdin = _stdin_file() if reads_stdin else None
     if stdin is not None and _same_stat(stdin, sys.stdout):

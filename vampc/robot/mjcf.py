@@ -125,30 +125,33 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                                                     "(--mimic couple)")
             else:
                 lock[name] = value
-        turned = None
+        turned, placed = None, False
         if base is not None and not floating:
-            gravity, turned = _in_base(model, robot, base, gravity, lock, path)
+            gravity, turned, placed = _in_base(model, robot, base, gravity, lock, path, mimic == "couple")
         tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base)
         chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
                          accept_improper_inertia=accept_improper_inertia,
                          # (an equality holding a joint is --mimic couple's doing too: it warned
                          # "no joint has a <mimic>" of a model whose equality it had just locked)
-                         mimic_said=None if held else "joint equality (<equality><joint>)")
+                         # (nor of one whose follower above the base it placed, turning gravity)
+                         mimic_said=None if held or placed else "joint equality (<equality><joint>)")
         if turned:                   # (said once the robot is made: an error comes alone)
             warnings.warn(VampcWarning(turned), stacklevel=2)
         return chain
 
 
-def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
+def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: bool = False):
     """MuJoCo's gravity (world frame) in the frame of the body `base` names, where --base fixes the
     robot: the chain's gravity is its base's (a base tilted by a weld in the world read the world's
     vector as its own: wrong torques that --check, on the same model, could not see). The body's
     orientation is its pose with the joints above it, which --base cuts away, at their --lock
-    values (`lock`), else at the model's reference positions (qpos0); and the warning that says
-    so (None when no joint is above it)."""
+    values (`lock`), a joint equality's follower (`couple`: --mimic couple) where its leader puts
+    it, else at the model's reference positions (qpos0); and the warning that says so (None when
+    no joint is above it), and whether a follower was placed off 0 so. A follower above whose leader
+    is below is refused, as for a URDF."""
     import mujoco
     if base not in robot.bodies[1:]:
-        return gravity, None        # (the world, or no body: chain_of says so of an unknown --base)
+        return gravity, None, False  # (the world, or no body: chain_of says so of an unknown --base)
     b = robot.bodies.index(base)
     data = mujoco.MjData(model)
     moved, above = [], b           # (the body's own joints, to its parent, are cut away too)
@@ -156,15 +159,26 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
         moved = list(range(first, first + count)) + moved     # (root first)
         above = int(model.body_parentid[above])
-    said = []
+    said, placed = [], False
     for j in moved:
         name, at, free = robot.joint_names[j], int(model.jnt_qposadr[j]), int(model.jnt_type[j]) == FREE
         if free:
             if int(model.jnt_bodyid[j]) != b:      # (the base's own: choose_base says so)
                 said.append(f"{name} (free) at qpos0")
             continue
+        follows = couple and next((jt.mimic for jt in robot.joints if jt.name == name), None)
         if name in lock:
             data.qpos[at] = lock[name]
+        elif follows:
+            leader = robot.joint_names.index(follows.joint)
+            if leader not in moved and follows.joint not in lock:
+                raise located(path, f"joint '{name}'", f"above the base link '{base}', follows joint "
+                                                       f"'{follows.joint}' below it (--mimic couple): the "
+                                                       f"base would move with it; lock '{follows.joint}', "
+                                                       "or choose another --base")
+            value = lock.get(follows.joint, float(data.qpos[int(model.jnt_qposadr[leader])]))
+            data.qpos[at] = follows.offset + follows.multiplier * value
+            placed = placed or data.qpos[at] != 0
         q = float(data.qpos[at])
         lo, hi = (float(x) for x in model.jnt_range[j])
         outside = bool(model.jnt_limited[j]) and not lo <= q <= hi
@@ -174,9 +188,10 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path):
     rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
     turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
     if not said:
-        return turned, None
+        return turned, None, placed
     from vampc.robot.urdf_tree import cut_away
-    return turned, cut_away(path, base, said, "by --lock, or their reference positions, qpos0")
+    return turned, cut_away(path, base, said, "by --lock, by a coupled equality's leader, or their "
+                                               "reference positions, qpos0"), placed
 
 
 def _compiled(path: Path):

@@ -94,23 +94,30 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
 
 
 def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, leaders: dict,
-                     path: Path) -> tuple[Tree, str | None]:
+                     below: set, path: Path) -> tuple[Tree, str | None, dict]:
     """The tree with its gravity ([0, 0, -9.81] in the root link's frame, as Pinocchio reads a URDF)
     turned into the frame of the link `--base` names, through the joints above it: a base on a
     tilted mount had read the root's vector as its own (wrong torques, said by nothing). Joints
     above it, which --base cuts away, are at their --lock values (`above_locks`), a --mimic couple
     follower at its leader's multiple plus offset (`leaders`), others at 0; and the warning that
-    says so (None when only fixed joints are above). A floating base keeps the world's orientation
-    (its motion is the host's input), and so its gravity."""
+    says so (None when only fixed joints are above), and the joints' positions. A follower above
+    the base whose leader is a moving joint below it (`below`) is refused: the base would move with
+    it. A floating base keeps the world's orientation (its motion is the host's input), and so its
+    gravity."""
     if floating or tree.gravity_in == base:        # (MJCF's: turned by MuJoCo's own kinematics)
-        return tree, None
+        return tree, None, {}
     above = list(tree.ancestors(base))[::-1]          # root first
     if not above:
-        return tree, None
+        return tree, None, {}
     at = dict(above_locks)
     for j in above:
         if j.name not in at and j.name in leaders:
             leader, mult, off = leaders[j.name]
+            if leader in below:
+                raise located(path, f"joint '{j.name}'", f"above the base link '{base}', follows joint "
+                                                         f"'{leader}' below it (--mimic couple): the base "
+                                                         f"would move with it; lock '{leader}', or choose "
+                                                         "another --base")
             at[j.name] = mult * at.get(leader, 0.0) + off
     rotation, said = np.eye(3), []
     for j in above:
@@ -133,8 +140,8 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     gravity = rotation.T @ np.asarray(tree.gravity, dtype=float)
     turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
     if not said:
-        return turned, None
-    return turned, cut_away(path, base, said, "by --lock, by a coupled mimic's leader, or 0 by default")
+        return turned, None, at
+    return turned, cut_away(path, base, said, "by --lock, by a coupled mimic's leader, or 0 by default"), at
 
 
 def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -173,15 +180,14 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     check_joint_types(tree, base, path)
     below = {j.name for j in tree.below(base)}
     lock, above_locks = _locks_below(lock, tree, base, below, path)
-    above = set() if floating else {j.name for j in tree.ancestors(base)}
-    placed = [f for f, (leader, mult, off) in leaders.items()    # (where gravity is turned: not at 0)
-              if f in above and mult * above_locks.get(leader, 0.0) + off != 0]
-    if leaders and not placed and not any(f in below for f in leaders) and mimic_said:
+    tip = choose_tip(tree, base, tip, lock, path)
+    tree, turned, at = _gravity_at_base(tree, base, floating, above_locks, leaders, below, path)
+    # (a follower above the base that the coupling placed off 0, where gravity is turned, is an effect)
+    if leaders and not any(at.get(f, 0.0) != 0 for f in leaders) and \
+            not any(f in below for f in leaders) and mimic_said:
         # (the file has <mimic> pairs, but --base cut every follower away: it said nothing)
         warnings.warn(VampcWarning(f"{path}: no joint below the base link '{base}' has a "
                                    f"{mimic_said}; --mimic couple has no effect"), stacklevel=3)
-    tip = choose_tip(tree, base, tip, lock, path)
-    tree, turned = _gravity_at_base(tree, base, floating, above_locks, leaders, path)
     if tip is None:
         chain = _load_tree(robot.name, tree, base, lock, floating, path)
     else:
