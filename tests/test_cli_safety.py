@@ -1330,6 +1330,14 @@ def test_standard_input_or_output_closed_beside_an_input_given_as_dash(tmp_path)
                            "./-"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert done.returncode == 1 and "--torques is the input file -" in done.stderr, done.stderr
     assert limits.read_text().startswith("joint,tau,qd")
+    # with a file named - in the folder, --trajectory - is still standard input (a review's find:
+    # "-o is the input file -")
+    with open(states) as stdin:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--trajectory", "-",
+                               "-o", "./-"], stdin=stdin, cwd=tmp_path, capture_output=True, text=True,
+                              timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert limits.read_text().startswith("tau_shoulder,tau_elbow")
 
 
 def test_an_input_from_standard_input_by_pipe_is_read_and_the_output_written(tmp_path):
