@@ -336,7 +336,7 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
         from vampc.errors import VampcWarning
         with np.errstate(over="ignore", divide="ignore"):
             fits = rate / ratio if ratio > 0 else np.inf
-        advice = (f"(about {fits:.4g} Hz would fit them)" if np.isfinite(fits) and ratio > 0 else
+        advice = (f"(about {fits:.4g} Hz would fit them)" if np.isfinite(fits) else
                   "(no rate would fit them: its positions and velocities are not of one motion)")
         warnings.warn(VampcWarning(
             f"{path}: its positions move {ratio:.3g} times what its velocities give at "

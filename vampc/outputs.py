@@ -67,7 +67,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
     inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
     _refuse_stdout_input(inputs)
-    stdin = _stdin_file() if reads_stdin else None
+    stdin = _regular_file(sys.stdin) if reads_stdin else None   # (an output must not replace it)
     if stdin is not None and _same_stat(stdin, sys.stdout):
         raise VampcError("standard output is the file standard input reads (an input given as -, "
                          "redirected onto it); vampc never writes over its inputs: send standard "
@@ -165,10 +165,10 @@ def _is_stdout(path: str) -> bool:
     """Whether `path` is the file standard output writes to: then it is written as `-` is, and
     the command's own lines go to stderr instead of into the data."""
     try:
-        here, there = os.stat(path), os.fstat(sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):
+        here = os.stat(path)
+    except OSError:
         return False
-    return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
+    return _same_stat(here, sys.stdout)
 
 
 def _probe_folder(path: str, folder: Path) -> None:
@@ -185,11 +185,11 @@ def _probe_folder(path: str, folder: Path) -> None:
     _TEMPORARIES.discard(tmp)
 
 
-def _stdin_file() -> os.stat_result | None:
-    """The status of the regular file standard input reads (`< in.csv`), or None (a pipe, a
-    terminal, closed): an input given as `-` that an output must not replace."""
+def _regular_file(stream) -> os.stat_result | None:
+    """The status of the regular file a standard stream reads or writes (`< in.csv`, `>> in.csv`),
+    or None (a pipe, a terminal, closed)."""
     try:
-        here = os.fstat(sys.stdin.fileno())
+        here = os.fstat(stream.fileno())
     except (OSError, ValueError, AttributeError):
         return None
     return here if stat.S_ISREG(here.st_mode) else None
@@ -225,18 +225,11 @@ def _refuse_stdout_input(inputs: list[Path]) -> None:
     """VampcError when standard output is one of the input files (`vampc emulate p.vamp.json
     --trajectory in.csv >> in.csv` appended the torques to the trajectory): every command prints
     to standard output, its result or its summary."""
-    try:
-        there = os.fstat(sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):    # closed, or not a file (a test's capture)
-        return
-    if not stat.S_ISREG(there.st_mode):
+    there = _regular_file(sys.stdout)        # (None: closed, a pipe, a test's capture)
+    if there is None:
         return
     for src in inputs:
-        try:
-            here = os.stat(src)
-        except OSError:
-            continue
-        if (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino):
+        if _same_stat(there, src):
             raise VampcError(f"{src}: standard output is this input file (redirected onto it); "
                              "vampc never writes over its inputs: send standard output elsewhere")
 

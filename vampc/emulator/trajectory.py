@@ -193,11 +193,11 @@ def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[flo
 
 
 def _refused_line(path: Path, raw: bytes, at: int, want: list[str]) -> None:
-    """The line at byte `at` of `raw` (its columns `want`), which the native reader refused after reading every line
-    before it: the slow parser's error for it, said now, if it has one (a bad cell on the millionth
-    line of a big file took 40 s and 7.9 GB to name through the slow parser). A line the slow
-    parser could read otherwise (quotes, characters beyond ASCII, more cells of over 19 digits
-    than the native reader converts) is left to it."""
+    """The line at byte `at` of `raw` (its columns `want`), which the native reader refused after
+    reading every line before it: the slow parser's error for it, said now, if it has one (a bad
+    cell on the millionth line of a big file took 40 s and 7.9 GB to name through the slow
+    parser). A line the slow parser could read otherwise (quotes, characters beyond ASCII, more
+    cells of over 19 digits than the native reader converts) is left to it."""
     nl = raw.find(b"\n", at)
     line = raw[at:len(raw) if nl < 0 else nl]
     if line.endswith(b"\r"):

@@ -159,6 +159,7 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
         moved = list(range(first, first + count)) + moved     # (root first)
         above = int(model.body_parentid[above])
+    mimics = {jt.name: jt.mimic for jt in robot.joints if jt.mimic is not None} if couple else {}
     said, placed = [], False
     for j in moved:
         name, at, free = robot.joint_names[j], int(model.jnt_qposadr[j]), int(model.jnt_type[j]) == FREE
@@ -166,16 +167,14 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
             if int(model.jnt_bodyid[j]) != b:      # (the base's own: choose_base says so)
                 said.append(f"{name} (free) at qpos0")
             continue
-        follows = couple and next((jt.mimic for jt in robot.joints if jt.name == name), None)
+        follows = mimics.get(name)
         if name in lock:
             data.qpos[at] = lock[name]
         elif follows:
             leader = robot.joint_names.index(follows.joint)
             if leader not in moved and follows.joint not in lock:
-                raise located(path, f"joint '{name}'", f"above the base link '{base}', follows joint "
-                                                       f"'{follows.joint}' below it (--mimic couple): the "
-                                                       f"base would move with it; lock '{follows.joint}', "
-                                                       "or choose another --base")
+                from vampc.robot.urdf_tree import follows_from_below
+                raise follows_from_below(path, name, base, follows.joint)
             value = lock.get(follows.joint, float(data.qpos[int(model.jnt_qposadr[leader])]))
             data.qpos[at] = follows.offset + follows.multiplier * value
             placed = placed or data.qpos[at] != 0
@@ -263,8 +262,7 @@ def _robot(model, path: Path, base: str | None = None):
                       stacklevel=3)
         name = path.stem
     held = _equalities(model, path, joints, joint_name)
-    gravity = (0.0, 0.0, 0.0) if model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY else \
-        tuple(float(g) for g in model.opt.gravity)        # (<flag gravity="disable"/>: MuJoCo's none)
+    gravity = (0.0, 0.0, 0.0) if _gravity_off(model) else tuple(float(g) for g in model.opt.gravity)
     return _Robot(name, links, joints, tuple(body_name), tuple(joint_name)), gravity, held
 
 
@@ -323,8 +321,7 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
                                         ("frictionloss", model.dof_frictionloss),
                                         ("stiffness", model.jnt_stiffness)) if np.any(values)]
     passive = [what for what, there in (
-        ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp) and not    # (none
-         model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY),                 # without gravity)
+        ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp) and not _gravity_off(model)),
         ("fluid forces (<option> density, viscosity)", model.opt.density > 0 or model.opt.viscosity > 0))
         if there]
     if extras or passive:
@@ -333,6 +330,12 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
             f"{path}: {'; '.join(said)} ignored: vampc's torques are the rigid bodies' inverse dynamics "
             "alone (MuJoCo's mj_inverse includes armature·q̈ and the passive forces, Pinocchio's MJCF "
             "reader armature·q̈)"), stacklevel=4)
+
+
+def _gravity_off(model) -> bool:
+    """Whether `<flag gravity="disable"/>` turns MuJoCo's gravity off (and so gravity compensation)."""
+    import mujoco
+    return bool(model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY)
 
 
 def _tendons(model, path: Path) -> None:

@@ -52,6 +52,7 @@ from vampc.robot.urdf_tree import (
     choose_base,
     choose_tip,
     cut_away,
+    follows_from_below,
     quoted,
 )
 from vampc.textio import plain_number
@@ -114,22 +115,15 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
         if j.name not in at and j.name in leaders:
             leader, mult, off = leaders[j.name]
             if leader in below:
-                raise located(path, f"joint '{j.name}'", f"above the base link '{base}', follows joint "
-                                                         f"'{leader}' below it (--mimic couple): the base "
-                                                         f"would move with it; lock '{leader}', or choose "
-                                                         "another --base")
+                raise follows_from_below(path, j.name, base, leader)
             at[j.name] = mult * at.get(leader, 0.0) + off
     rotation, said = np.eye(3), []
     for j in above:
-        pose = _origin(j)[:3, :3]
         q = at.get(j.name, 0.0)
-        if j.type in ("revolute", "continuous") and q != 0:
-            axis = np.asarray(j.axis, dtype=float)
-            if not np.linalg.norm(axis) > 0:
-                raise located(path, f"joint '{j.name}'", "its axis is zero: no position of it turns "
-                                                        "gravity (--lock gave it one)")
-            pose = pose @ _axis_rotation(_unit(axis), q)
-        rotation = rotation @ pose
+        if q and not np.linalg.norm(np.asarray(j.axis, dtype=float)) > 0:
+            raise located(path, f"joint '{j.name}'", "its axis is zero: no position of it turns "
+                                                    "gravity (--lock gave it one)")
+        rotation = rotation @ (_origin(j) @ _motion(j, q) if q else _origin(j))[:3, :3]
         if j.type == "floating" and j.child != base:     # (the base's own: choose_base says so)
             said.append(f"{j.name} (floating) at its <origin>")
         elif j.type in MOVABLE:
@@ -142,12 +136,6 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     if not said:
         return turned, None, at
     return turned, cut_away(path, base, said, "by --lock, by a coupled mimic's leader, or 0 by default"), at
-
-
-def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    """The rotation by `angle` about the unit `axis` (Rodrigues)."""
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
 
 
 MIMIC_MODES = ("ordinary", "couple")

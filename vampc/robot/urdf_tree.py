@@ -39,6 +39,13 @@ def cut_away(path, base: str, said: list, placed_by: str) -> str:
             f"gravity is turned into {base}'s frame through them there")
 
 
+def follows_from_below(path, name: str, base: str, leader: str):
+    """The error for a --mimic couple follower above the base whose leader moves below it."""
+    return located(path, f"joint '{name}'", f"above the base link '{base}', follows joint '{leader}' "
+                                           f"below it (--mimic couple): the base would move with it; "
+                                           f"lock '{leader}', or choose another --base")
+
+
 @dataclass(frozen=True)
 class Tree:
     """Links and joints by name, each link's parent joint and each link's child joints (file order)."""
