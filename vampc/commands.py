@@ -928,13 +928,16 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                                 ld.arith.name)
         except VampcError as exc:
             raise VampcError(f"{own.limits or source}: {exc}") from None
+    if own.engine == "tick":           # (it holds every row's port values and torques)
+        from vampc.emulator.driver import tick_memory_check
+        tick_memory_check(ld, traj.count, "give --engine stream (the same torques, bit for bit)")
     from vampc.emulator.stream import count_overflows_from_here
     count_overflows_from_here(ld)
     from vampc import progress
     with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
         try:
             res = la.run(ld, traj, own.window, limits, own.retime,
-                         lambda tr: emulate(ld, tr, "stream").tau, source_path, own.futures or 1,
+                         lambda tr: emulate(ld, tr, own.engine).tau, source_path, own.futures or 1,
                          rate, margin, "overflow" not in options.given, stage)
         except VampcError as exc:      # found on torques an overflow may have spoiled: said so
             if ld.word is None or not ld.arith.overflows:

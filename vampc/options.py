@@ -665,6 +665,11 @@ class LookaheadOptions:
     clock: str | None = field(default=None, metadata=cli(
         "--clock", metavar="F", help="The network's clock (one flop per tick: 20MHz): say whether it "
         "keeps up with the rows, and refuse a rate it cannot serve."))
+    engine: str = field(default="stream", metadata=cli(
+        "--engine", choices=Engine.names, show_default=True,
+        help="The engine that runs the register's rows through the network: stream, vectorised; "
+        "tick, one flop at a time from Program Mode, for short runs (the hardware specification; "
+        "slower). They agree bit for bit."))
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="With --retime or --accelerations: write "
         "the retimed or integrated path (CSV with t first)."))
