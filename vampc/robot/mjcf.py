@@ -150,13 +150,21 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
     no joint is above it), and whether a follower was placed off 0 so. A follower above whose leader
     is below is refused, as for a URDF."""
     import mujoco
-    if base not in robot.bodies[1:]:
-        return gravity, None, False  # (the world, or no body: chain_of says so of an unknown --base)
-    b = robot.bodies.index(base)
+    if base in robot.bodies[1:]:
+        b, last = robot.bodies.index(base), None
+    else:        # a link between two joints of one body (`BODY__JOINT`: the child of JOINT)
+        owner = next((jt.name for jt in robot.joints if jt.child == base and jt.name in robot.joint_names),
+                     None)
+        if owner is None:    # (the world, or no link: chain_of says so of an unknown --base)
+            return gravity, None, False
+        last = robot.joint_names.index(owner)
+        b = int(model.jnt_bodyid[last])
     data = mujoco.MjData(model)
     moved, above = [], b           # (the body's own joints, to its parent, are cut away too)
     while above > 0:
         first, count = int(model.body_jntadr[above]), int(model.body_jntnum[above])
+        if above == b and last is not None:
+            count = last - first + 1          # (its joints after JOINT stay: they are below the base)
         moved = list(range(first, first + count)) + moved     # (root first)
         above = int(model.body_parentid[above])
     mimics = {jt.name: jt.mimic for jt in robot.joints if jt.mimic is not None} if couple else {}
@@ -184,7 +192,9 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
         said.append(f"{name} at {q:.6g}" + (f", outside its range [{lo:.6g}, {hi:.6g}]" if outside
                                             else ""))
     mujoco.mj_kinematics(model, data)                     # (qpos starts at qpos0)
-    rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)    # body frame -> world
+    # body frame -> world; for BODY__JOINT, the body's joints after JOINT are at qpos0, where they
+    # turn nothing: the body's frame is then the link's
+    rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)
     turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
     if not said:
         return turned, None, placed
