@@ -757,6 +757,43 @@ def test_joints_above_the_base_turn_gravity_where_they_are_locked(tmp_path, mimi
     assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
 
 
+# A planar joint, its frame tilted, carries the mount.
+PLANAR_ABOVE = TILTED_MOUNT.replace(
+    """  <joint name="mount" type="fixed"><parent link="world"/><child link="pedestal"/>""",
+    """  <joint name="p" type="planar"><parent link="world"/><child link="cart"/><axis xyz="0 0 1"/>
+    <origin rpy="1.2 0 0"/></joint>
+  <link name="cart"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="mount" type="fixed"><parent link="cart"/><child link="pedestal"/>""")
+
+
+def test_a_planar_joint_above_the_base_is_said_and_cannot_be_locked(tmp_path):
+    """A planar joint above --base was cut away saying nothing, and --lock p=0.5 was taken and
+    ignored (its one position cannot place three degrees of freedom; noticed in a review). It is
+    named at its <origin>, where Pinocchio's neutral configuration has it (against Pinocchio), and
+    its lock is refused."""
+    pin = pytest.importorskip("pinocchio")
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    path = write(tmp_path, PLANAR_ABOVE)
+    with pytest.warns(VampcWarning, match=r"--base pedestal: the joints above it are cut away \(p \(planar\) "
+                                          r"at its <origin>:"):
+        chain = load_urdf(path, base="pedestal")
+    traj = random_trajectory(chain, 6, 5)
+    pm = pin.buildModelFromUrdf(str(path))
+    data = pm.createData()
+    want = []
+    for s in range(traj.count):
+        q, v, a = pin.neutral(pm), np.zeros(pm.nv), np.zeros(pm.nv)
+        q[-2:], v[-2:], a[-2:] = traj.q[s], traj.qd[s], traj.qdd[s]
+        want.append(pin.rnea(pm, data, q, v, a)[-2:])
+    got = rnea(chain, traj.q, traj.qd, traj.qdd)
+    assert np.max(np.abs(got - np.array(want))) <= 1e-12 * np.max(np.abs(want))
+    assert_error(lambda: load_urdf(path, base="pedestal", lock={"p": 0.5}), path,
+                 r"lock p: a planar joint moves in three degrees of freedom; --lock gives one position "
+                 r"\(above --base it is held at its <origin>\)")
+
+
 def test_an_error_after_the_base_comes_without_the_gravity_warning(tmp_path):
     """The gravity warning is said once the robot is made: an error about the tip is one line."""
     path = write(tmp_path, ABOVE_THE_MOUNT)

@@ -126,6 +126,8 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
         rotation = rotation @ (_origin(j) @ _motion(j, q) if q else _origin(j))[:3, :3]
         if j.type == "floating" and j.child != base:     # (the base's own: choose_base says so)
             said.append(f"{j.name} (floating) at its <origin>")
+        elif j.type == "planar":
+            said.append(f"{j.name} (planar) at its <origin>")
         elif j.type in MOVABLE:
             limits = _position_range(j)
             outside = limits is not None and not limits[0] <= q <= limits[1]
@@ -447,6 +449,9 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
         if not math.isfinite(number):
             raise located(path, f"lock {name}", f"value {value!r} is not a finite number")
         joint = tree.joints[name]
+        if joint.type == "planar":        # (its one position was taken and ignored, saying nothing)
+            raise located(path, f"lock {name}", "a planar joint moves in three degrees of freedom; "
+                          "--lock gives one position (above --base it is held at its <origin>)")
         if joint.type == "fixed":
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is fixed; --lock {name}=... has no effect"),
                           stacklevel=2)
