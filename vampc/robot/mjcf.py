@@ -249,11 +249,16 @@ def _robot(model, path: Path, base: str | None = None):
                                  np.array([0.0, 0.0, 1.0])))
             shift[b] = np.eye(4)
         else:
+            # --base BODY: BODY's link frame is its body frame, its origin the body's (the joints
+            # above it, which --base cuts away, end in a link at the last one's anchor, fixed to it);
+            # it had been the last joint's anchor, where a floating base's motion was then read
+            anchored = body_name[b] == base
             at, previous, link = x, np.zeros(3), body_name[parent]
             for i, j in enumerate(range(first, first + count)):
                 c = np.array(model.jnt_pos[j], dtype=float)
-                child = body_name[b] if i == count - 1 else links_taken.new(f"{body_name[b]}__{joint_name[j]}")
-                if i < count - 1:
+                inner = i < count - 1 or anchored
+                child = links_taken.new(f"{body_name[b]}__{joint_name[j]}") if inner else body_name[b]
+                if inner:
                     links.append(_Link(child, None))
                 kind = KINDS[int(model.jnt_type[j])]
                 if kind == "revolute" and not model.jnt_limited[j]:
@@ -262,6 +267,10 @@ def _robot(model, path: Path, base: str | None = None):
                                      at @ _translation(c - previous), np.array(model.jnt_axis[j], dtype=float),
                                      _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]])))
                 at, previous, link = np.eye(4), c, child
+            if anchored:
+                joints.append(_Joint(joints_taken.new(f"{body_name[b]}_origin"), "fixed", link, body_name[b],
+                                     _translation(-previous), np.array([0.0, 0.0, 1.0])))
+                previous = np.zeros(3)
             shift[b] = _translation(-previous)
         if inertial is not None:
             inertial.origin = shift[b] @ inertial.origin
@@ -327,19 +336,55 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
         if int(model.jnt_type[j]) == FREE and int(model.body_jntnum[model.jnt_bodyid[j]]) > 1:
             raise located(path, f"joint '{joint_name[j]}'", "a free joint must be its body's only joint")
     _tendons(model, path)
-    extras = [what for what, values in (("armature", model.dof_armature), ("damping", model.dof_damping),
-                                        ("frictionloss", model.dof_frictionloss),
-                                        ("stiffness", model.jnt_stiffness)) if np.any(values)]
+    _flexes(model, path)
+    # (MuJoCo 4 takes several values in damping="..." and stiffness="...": the terms past the first
+    # are in the *poly arrays; a joint with damping="0 2" was left out, saying nothing)
+    extras = [what for what, values in (
+        ("armature", [model.dof_armature]),
+        ("damping", [model.dof_damping, _field(model, "dof_dampingpoly")]),
+        ("frictionloss", [model.dof_frictionloss]),
+        ("stiffness", [model.jnt_stiffness, _field(model, "jnt_stiffnesspoly")])) if _any(values)]
+    moved = [what for what, values in (         # (an actuator's are its joint's: gear² times them)
+        ("armature", [_field(model, "actuator_armature")]),
+        ("damping", [_field(model, "actuator_damping"), _field(model, "actuator_dampingpoly")]))
+        if _any(values)]
     passive = [what for what, there in (
         ("body gravcomp (gravity compensation)", np.any(model.body_gravcomp) and not _gravity_off(model)),
         ("fluid forces (<option> density, viscosity)", model.opt.density > 0 or model.opt.viscosity > 0))
         if there]
-    if extras or passive:
-        said = ([f"joint {', '.join(extras)}"] if extras else []) + passive
+    if extras or moved or passive:
+        said = ([f"joint {', '.join(extras)}"] if extras else []) + \
+            ([f"actuator {', '.join(moved)}"] if moved else []) + passive
         warnings.warn(VampcWarning(
             f"{path}: {'; '.join(said)} ignored: vampc's torques are the rigid bodies' inverse dynamics "
             "alone (MuJoCo's mj_inverse includes armature·q̈ and the passive forces, Pinocchio's MJCF "
             "reader armature·q̈)"), stacklevel=4)
+
+
+def _field(model, name: str):
+    """An array of the model's that older MuJoCo versions lack (None then)."""
+    return getattr(model, name, None)
+
+
+def _any(values) -> bool:
+    return any(v is not None and np.any(v) for v in values)
+
+
+def _flexes(model, path: Path) -> None:
+    """A flex (<flex>, <flexcomp>: a deformable) is refused: its vertices are bodies on slide joints
+    whose elastic forces couple them, which rigid-body inverse dynamics leaves out (a rope of three
+    vertices was taken as six independent joints, 345 N where mj_inverse's rope pulled)."""
+    import mujoco
+    if int(getattr(model, "nflex", 0)):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_FLEX, 0) or ""
+        raise located(path, _element("flex", name), "deformable (flex) objects are not supported "
+                                                    "(the network computes rigid bodies in an open tree)")
+
+
+def _rows(model, name: str, k: int) -> list:
+    """Row k of an array older MuJoCo versions lack (none then)."""
+    values = _field(model, name)
+    return [] if values is None else [values[k]]
 
 
 def _gravity_off(model) -> bool:
@@ -354,9 +399,10 @@ def _tendons(model, path: Path) -> None:
     inert = []
     for t in range(model.ntendon):
         forces = [what for what, value in (
-            ("stiffness", model.tendon_stiffness[t]), ("damping", model.tendon_damping[t]),
-            ("frictionloss", model.tendon_frictionloss[t]), ("armature", model.tendon_armature[t]),
-            ("a limit", model.tendon_limited[t])) if np.any(value)]
+            ("stiffness", [model.tendon_stiffness[t]] + _rows(model, "tendon_stiffnesspoly", t)),
+            ("damping", [model.tendon_damping[t]] + _rows(model, "tendon_dampingpoly", t)),
+            ("frictionloss", [model.tendon_frictionloss[t]]), ("armature", [model.tendon_armature[t]]),
+            ("a limit", [model.tendon_limited[t]])) if _any(value)]
         if forces:
             raise located(path, _element("tendon", model.tendon(t).name, t),
                           f"has {', '.join(forces)}: tendons that exert forces are not supported (the "
