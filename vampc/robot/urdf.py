@@ -537,8 +537,10 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
                     beyond.add(j.name)
             else:
                 if j.type in MOVABLE and j.name not in lock:
-                    at_zero.append(j.name)             # below a locked branch: frozen at 0, unasked
-                frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
+                    at_zero.append(j.name)   # below a locked branch: frozen in the file's pose, unasked
+                # (the file's pose: q = 0 for a URDF joint, MuJoCo's reference position qpos0 for an
+                # MJCF one, where --base holds the joints it cuts away; it had been qpos = 0)
+                frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, -_offset(j)))
                 body_of[j.child] = body_of[link]
                 stack.append((j.child, frozen or (j.name in lock and j.name not in route), past_tip))
     if stray or at_zero:                 # named in file order
@@ -554,8 +556,10 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
         at_zero.sort(key=order)
         more = f" (and {len(at_zero) - 1} more)" if len(at_zero) > 1 else ""
+        first = tree.joints[at_zero[0]]
+        where = "0" if not _offset(first) else f"{-_offset(first):.6g} (its reference position, qpos0)"
         warnings.warn(VampcWarning(f"{path}: joint '{at_zero[0]}'{more}, below a locked joint, is frozen "
-                                   f"at 0; give --lock {at_zero[0]}=VALUE for another position"),
+                                   f"at {where}; give --lock {at_zero[0]}=VALUE for another position"),
                       stacklevel=3)
     return frames, body_of
 
