@@ -686,3 +686,24 @@ def test_a_joint_frozen_below_a_locked_branch_is_in_the_files_pose(tmp_path):
         chain = load_robot(path, tip="rhand", lock={"ls1": 0.2})
     assert [j.name for j in chain.joints] == ["rs1", "re"]
     assert_as_mj_inverse_with_the_rest_at_qpos0(path, chain, {0: 0.2, 1: -0.3})
+
+
+def test_an_unnamed_joint_or_body_in_an_error_is_said_to_be_unnamed(tmp_path):
+    """An error about an unnamed joint said "joint 'joint2'" (vampc's name for MuJoCo's joint 2, the
+    third), which reads as a name in the file (a new user's find): its place and vampc's name."""
+    path = tmp_path / "un.xml"
+    path.write_text('<mujoco model="un"><worldbody><body name="a"><joint axis="0 1 0"/><geom size="0.1"/>'
+                    '<body pos="0.2 0 0"><joint/><geom size="0.1"/><body pos="0.2 0 0"><joint type="ball"/>'
+                    '<geom size="0.1"/></body></body></body></worldbody></mujoco>')
+    assert_error(lambda: load_robot(path), path, r"<joint> number 3 \(unnamed; vampc calls it 'joint2'\): "
+                                                 r"ball joints are not supported \(one degree of freedom per "
+                                                 r"joint: use three hinges\)")
+    path.write_text('<mujoco model="un"><worldbody><body name="a"><freejoint/><geom size="0.1"/>'
+                    '<body pos="0.2 0 0"><joint/><geom size="0.1"/></body></body>'
+                    '<body pos="0 1 0"><freejoint/><geom size="0.1"/></body></worldbody></mujoco>')
+    assert_error(lambda: load_robot(path), path, r"body 'a': has a free joint \(a floating base\) but the "
+                                                 r"world also carries 'body3' .*")
+    path.write_text(path.read_text().replace('<body name="a">', "<body>"))
+    assert_error(lambda: load_robot(path), path, r"<body> number 1 \(unnamed; vampc calls it 'body1'\): has "
+                                                 r"a free joint \(a floating base\) but the world also carries "
+                                                 r"'body3' .*")

@@ -243,7 +243,7 @@ def _robot(model, path: Path, base: str | None = None):
             shift[b] = np.eye(4)
         elif kinds == [FREE]:
             if parent != 0:
-                raise located(path, f"joint '{joint_name[first]}'", "a free joint is the floating base; "
+                raise located(path, _named(model, "joint", first, joint_name), "a free joint is the floating base; "
                                                                    "only a body the world carries may have one")
             joints.append(_Joint(joint_name[first], "floating", body_name[parent], body_name[b], x,
                                  np.array([0.0, 0.0, 1.0])))
@@ -320,7 +320,7 @@ def _static_beside_free(model, path: Path, body_name: list) -> set:
                                                + (" --floating-base" if b in free else "")
                                                for b in below)
                if below else "none has joints below its own for --base to keep: give each its own file")
-        raise located(path, f"body '{body_name[free[0]]}'", f"has a free joint (a floating base) but the "
+        raise located(path, _named(model, "body", free[0], body_name), f"has a free joint (a floating base) but the "
                       f"world also carries {', '.join(repr(n) for n in others)} with joints of its own: "
                       f"one robot per file ({how})")
     return {b for b in range(1, model.nbody) if root[b] in children and root[b] not in free}
@@ -331,10 +331,10 @@ def _refuse(model, path: Path, joint_name: list, mujoco) -> None:
     forces; and a warning for what rigid-body inverse dynamics leaves out."""
     for j in range(model.njnt):
         if int(model.jnt_type[j]) == BALL:
-            raise located(path, f"joint '{joint_name[j]}'", "ball joints are not supported (one degree "
+            raise located(path, _named(model, "joint", j, joint_name), "ball joints are not supported (one degree "
                                                             "of freedom per joint: use three hinges)")
         if int(model.jnt_type[j]) == FREE and int(model.body_jntnum[model.jnt_bodyid[j]]) > 1:
-            raise located(path, f"joint '{joint_name[j]}'", "a free joint must be its body's only joint")
+            raise located(path, _named(model, "joint", j, joint_name), "a free joint must be its body's only joint")
     _tendons(model, path)
     _flexes(model, path)
     # (MuJoCo 4 takes several values in damping="..." and stiffness="...": the terms past the first
@@ -454,6 +454,14 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
     if inactive:
         warnings.warn(VampcWarning(f"{path}: inactive {', '.join(inactive)} left out"), stacklevel=4)
     return held
+
+
+def _named(model, kind: str, k: int, names: list) -> str:
+    """Where an error is: a joint or body by its name in the file, or, unnamed there, by its place
+    among its kind and the name vampc gives it (joint2 was read as a name the file had)."""
+    given = (model.joint(k) if kind == "joint" else model.body(k)).name
+    place = k + 1 if kind == "joint" else k          # (body 0 is the world, no <body> of the file)
+    return f"{kind} '{given}'" if given else f"<{kind}> number {place} (unnamed; vampc calls it '{names[k]}')"
 
 
 def _element(kind: str, name: str, index: int = 0) -> str:
