@@ -1100,8 +1100,12 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                          "(rounding where the window's plan got through), so what seeing only "
                          "the register's rows costs is not said")
         else:
-            lines.append(f"  with the whole path in view (the time-optimal plan on these rows and "
-                         f"limits): {best:.6g} s; seeing {count(res.ahead_rows, 'row')} ahead "
+            what = ("the time-optimal plan on these rows and limits" if not res.optimal_held else
+                    f"the fastest plan found on these rows and limits; not proven time-optimal, "
+                    f"since at {count(res.optimal_held, 'row')} the fastest speed would have braked "
+                    "the next row and a slower one was taken: README, vampc lookahead")
+            lines.append(f"  with the whole path in view ({what}): {best:.6g} s; seeing "
+                         f"{count(res.ahead_rows, 'row')} ahead "
                          f"costs {100 * (res.retimed_t[-1] / best - 1):+.1f}%")
     if res.k is not None:
         lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "

@@ -105,6 +105,7 @@ class Lookahead:
     word_tolerance: float = 0.0       # the error the network's word may make, of the largest |τ|
     word_error: float = 0.0           # that error, as a torque: of the largest effort limit
     optimal_duration: float | None = None   # --retime window: the plan with the whole path in view
+    optimal_held: int = 0                   # its steps held short of their top (_short_of_a_cliff)
     effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
     retimed_effort: np.ndarray | None = None  # the same, retimed
 
@@ -469,9 +470,11 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
             k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
             used = uniform_k(tau, g, traj.qd, planned, names)
         else:
+            held = []
             (x, u, t), optimal = plans(tangent - g, tau - g, g, traj.qd, planned, window * futures,
-                                       1.0 / rate, 0.0)
+                                       1.0 / rate, 0.0, held=held)
             out.optimal_duration = None if optimal is None else optimal[2][-1]
+            out.optimal_held = len(held)
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
@@ -685,7 +688,7 @@ def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_M
 
 
 def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN,
-          optimal: bool = True):
+          optimal: bool = True, held: list | None = None):
     """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass
     (`optimal` False: the window's plan alone, None for the other, whose forward pass may fail
     where the window's does not).
@@ -706,7 +709,7 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     whole = _backward(lo, base, n_rows, two_d)       # whole[i]: the set's top at row i + 1
     seen = f"{ahead_rows} rows it sees; give a longer --window or more --futures"
     if ahead_rows >= n_rows:     # every step sees to the last row: the whole pass serves them all
-        window = _forward(lo, up, whole, lam, seen)
+        window = _forward(lo, up, whole, lam, seen, held)
         return window, window if optimal else None     # (the same numbers: the optimum)
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
@@ -729,7 +732,7 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     if not optimal:
         return window, None
     try:                 # (the whole path's plan is a comparison: where its forward pass finds no
-        return window, _forward(lo, up, whole, lam, "path")   # way through, rounding in a path
+        return window, _forward(lo, up, whole, lam, "path", held)   # way through, rounding in a path
     except VampcError:   # the window's plan got through, that plan is not said, not the run failed)
         return window, None
 
@@ -744,7 +747,7 @@ def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:
     return H
 
 
-def _forward(lo, up, H, lam: float, seen: str):
+def _forward(lo, up, H, lam: float, seen: str, held: list | None = None):
     """From rest at the first row: each next x the largest reachable within the row's bounds on u
     (`_bounds`: a bound of d near 0 bounds x alone, which H already holds, and is left out here) and
     at most H (the stop-able set's top at that row), so (x, u, row times)."""
@@ -760,8 +763,11 @@ def _forward(lo, up, H, lam: float, seen: str):
         top = float(np.min(np.where(up[2][i] > 1e-9, tops, np.inf)))
         nxt = max(0.0, min(xi + two_d * top, float(H[i])))
         if i + 2 < n_rows:
-            nxt = _short_of_a_cliff(pieces[0][i + 1], pieces[1][i + 1], float(H[i + 1]), float(xi),
-                                    max(0.0, xi + two_d * low), nxt)
+            short = _short_of_a_cliff(pieces[0][i + 1], pieces[1][i + 1], float(H[i + 1]), float(xi),
+                                      max(0.0, xi + two_d * low), nxt)
+            if short < nxt and held is not None:
+                held.append(i + 1)         # (the row, from 0, whose speed was held short)
+            nxt = short
         ui = (nxt - xi) / two_d
         if ui < low - 1e-7 * max(1.0, abs(low)):      # (rounding: the network checks every row)
             raise VampcError(f"row {i + 1}: no speed keeps every joint within its limit here "
