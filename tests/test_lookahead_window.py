@@ -602,16 +602,17 @@ def test_a_step_at_the_top_of_its_speeds_does_not_brake_the_next_row_to_a_stop()
 def test_the_summary_says_when_the_whole_path_plan_held_a_step_short(setup):
     """Where a step was held short of its top speed, the whole path's plan is not proven time-optimal
     (the greedy pass is where no step is): the summary said "the time-optimal plan" all the same.
-    A five-row Puma path whose q̇ and q̈ (eight times too large) disagree with its q; the retimed
-    rows within every limit by the reference (--check)."""
+    A five-row Puma path whose q̇ and q̈ (sixteen times too large) disagree with its q, which the
+    plan before it could not retime at all (row 4: "the arm cannot move on"); the retimed rows
+    within every limit by the reference (--check)."""
     folder = setup[0]
     T, w = 0.004, 6 * np.pi
     t = np.arange(5) / RATE
     s = t / T
     dq, amp = np.array([1.2, 0.8, -1.0, 1.0, 1.2, -1.5]) * 0.3, np.array([0.5, 0.6, 0.6, 0.7, 0.6, 0.8]) * 0.3
     q = np.outer(s, dq) + np.outer(np.sin(w * s), amp)
-    qd = 8 * (np.outer(np.full_like(s, 1 / T), dq) + np.outer(w / T * np.cos(w * s), amp))
-    qdd = 8 * np.outer(-(w / T) ** 2 * np.sin(w * s), amp)
+    qd = 16 * (np.outer(np.full_like(s, 1 / T), dq) + np.outer(w / T * np.cos(w * s), amp))
+    qdd = 16 * np.outer(-(w / T) ** 2 * np.sin(w * s), amp)
     path = write_path(folder, t, q, qd, qdd, name="cliff.csv")
     r = CliRunner().invoke(main, ["lookahead", str(setup[1]), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "5", "--limits", str(setup[2]), "--retime", "window", "--check",
@@ -619,5 +620,5 @@ def test_the_summary_says_when_the_whole_path_plan_held_a_step_short(setup):
     assert r.exit_code == 0, r.output
     assert ("with the whole path in view (the fastest plan found on these rows and limits; not proven "
             "time-optimal, since at 1 row the fastest speed would have braked the next row and a slower "
-            "one was taken: README, vampc lookahead): 16.5671 s") in r.output
+            "one was taken: README, vampc lookahead): 24.8095 s") in r.output
     assert "retimed rows by the reference: 0 violations; with the s̈ arriving at each row: 0 violations" in r.output
