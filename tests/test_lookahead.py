@@ -82,6 +82,33 @@ def test_violations_are_seen_window_minus_one_rows_ahead(setup):
                      r"0 steps \(0 ms\) ahead", r.output), r.output
 
 
+def test_a_path_within_its_limits_says_how_fast_a_uniform_scaling_could_run_it(setup):
+    """A path within its limits: k = 1, printed as "the closed form" (the max(1, ...) in it) though
+    Hollerbach's k is below 1 (a new user's find: misleading). Said: that k, computed here from the
+    reference dynamics, and that a uniform scaling does not speed a path up; the path as given."""
+    folder, program, _, path = setup
+    wide = folder / "wide.csv"
+    wide.write_text("joint,tau,qd\nwaist,1000,\nshoulder,6000,\nelbow,2000,\nwrist_roll,100,\n"
+                    "wrist_bend,100,\nflange,100,400\n")
+    out = folder / "as-given.csv"
+    r = run_lookahead(program, path, wide, "--retime", "uniform", "-o", out)
+    assert r.exit_code == 0, r.output
+    found = re.search(r"uniform time scaling: k = 1 \(closed form; the path is within its limits as "
+                      r"given, and would be at k = (\S+), faster, which a uniform scaling here does not "
+                      r"do; used 1, on effort limits", r.output)
+    assert found, r.output
+    chain = load_robot(PUMA)
+    t, q, qd, qdd = sine_path()
+    tau, g = rnea(chain, q, qd, qdd), rnea(chain, q, 0 * qd, 0 * qdd)
+    lim = np.array([1000, 6000, 2000, 100, 100, 100.0])
+    d = tau - g
+    need = np.where(d > 0, d / (lim - g), np.where(d < 0, -d / (lim + g), 0.0))
+    faster = np.sqrt(max(need.max(), ((qd[:, 5] / 400) ** 2).max()))
+    assert faster < 1 and abs(float(found[1]) - faster) <= 1e-5 * faster     # (printed to 6 digits)
+    assert np.array_equal(np.loadtxt(out, delimiter=",", skiprows=1)[:, 1:], np.loadtxt(
+        path, delimiter=",", skiprows=1)[:, 1:])
+
+
 def test_a_row_is_seen_when_it_enters_the_register():
     """Row r (0-based) enters at step r - window + 1 and is seen window - 1 steps ahead; the first
     window rows are filled before motion starts."""

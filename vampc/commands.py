@@ -1108,7 +1108,11 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                          f"{count(res.ahead_rows, 'row')} ahead "
                          f"costs {100 * (res.retimed_t[-1] / best - 1):+.1f}%")
     if res.k is not None:
-        lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form; used "
+        faster = ("" if res.k_faster is None or res.k_faster >= 1 else
+                  "; the path is within its limits as given, and would be at any speed" if res.k_faster == 0
+                  else f"; the path is within its limits as given, and would be at k = {res.k_faster:.6g}, "
+                       "faster, which a uniform scaling here does not do")
+        lines.append(f"uniform time scaling: k = {res.k_closed_form:.12g} (closed form{faster}; used "
                      f"{res.k:.15g}, on effort limits {margin_text(ld, res)}), "
                      f"duration {span * res.k:.6g} s; retimed "
                      f"rows by the network: {count(len(res.retimed_violations), 'violation')}"

@@ -93,6 +93,7 @@ class Lookahead:
     violations: list = field(default_factory=list)
     k: float | None = None
     k_closed_form: float | None = None
+    k_faster: float | None = None       # the closed form without its max(1, ...), where below 1
     retimed_tau: np.ndarray | None = None
     retimed_violations: list = field(default_factory=list)
     arriving_violations: list = field(default_factory=list)   # window: effort, with the s̈ arriving
@@ -479,6 +480,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         raise VampcError(f"{path}: {exc}") from None
     if retime == "uniform":
         out.k_closed_form = k
+        if k == 1.0:                   # (said: a uniform scaling does not speed a path up)
+            out.k_faster = uniform_k(tau, g, traj.qd, limits, names, floor=0.0)
         out.k = used * (1 + K_MARGIN) if used > 1 else 1.0
         out.retimed = Trajectory(traj.q, traj.qd / out.k, traj.qdd / out.k ** 2, None, None)
         out.retimed_t = np.arange(traj.count) * (out.k / rate)
@@ -865,15 +868,17 @@ def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:
     return sorted(found, key=lambda x: (x.row, x.joint, x.kind))
 
 
-def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, names) -> float:
-    """The smallest k of the module docstring (VampcError where gravity alone breaks a limit)."""
+def uniform_k(tau: np.ndarray, g: np.ndarray, qd: np.ndarray, limits: Limits, names,
+              floor: float = 1.0) -> float:
+    """The smallest k of the module docstring (VampcError where gravity alone breaks a limit);
+    `floor` 0: without its max(1, ...), the k that would run a path within its limits faster."""
     n = len(limits.tau)
     lim = np.array(limits.tau)
     tau, g = tau[:, :n], g[:, :n]
     d = tau - g
     with np.errstate(divide="ignore", invalid="ignore"):
         need = np.where(d > 0, d / (lim - g), np.where(d < 0, -d / (lim + g), 0.0))
-    k2 = max(1.0, float(np.max(need, initial=0.0)))
+    k2 = max(floor, float(np.max(need, initial=0.0)))
     if not np.isfinite(k2):
         r, j = (int(x) for x in np.argwhere(~np.isfinite(need))[0])
         raise VampcError(f"row {r + 1}: joint '{names[j]}' sits at its limit {lim[j]:g} "
