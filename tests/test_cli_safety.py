@@ -1363,3 +1363,93 @@ def test_a_warning_whose_reader_went_away_is_dropped_and_the_file_written(tmp_pa
     proc.stderr.close()               # the reader gone before the warning is said
     assert proc.wait(timeout=120) == 0
     assert json.loads(out.read_text())["robot"]["name"]
+
+
+def test_every_byte_is_written_or_the_run_fails(program, tmp_path):
+    """A buffered file's write() may take part of a long piece and say how much, with no error (a
+    file-size limit or a full disk reached mid-piece): 251 594 bytes of torques sent to standard
+    output under `ulimit -f 100` left 102 400 and exit 0 (a new user's find). In a child process
+    under that limit: standard output, /dev/stdout and a regular file each fail in one line, and
+    the regular file is not left behind; without the limit the same bytes arrive whole."""
+    import resource
+    import subprocess
+    import sys
+    states = tmp_path / "s.npy"
+    assert run("emulate", program, "--random", 6000, "--save-states", states, "-o", "/dev/null").exit_code == 0
+    whole = run("emulate", program, "--trajectory", states, "-o", "-").stdout_bytes
+    assert len(whole) > 200_000
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (100_000, 100_000))
+    for target in ("-", "/dev/stdout", str(tmp_path / "tau.csv")):
+        with open(tmp_path / "stdout.bin", "wb") as sink:
+            done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program), "--trajectory",
+                                   str(states), "-o", target], stdout=sink, stderr=subprocess.PIPE, text=True,
+                                  preexec_fn=limited)
+        assert done.returncode == 1, (target, done.stderr)
+        assert re.fullmatch(rf"vampc: error: {re.escape(target)}: cannot write torques: File too large\n",
+                            done.stderr), done.stderr
+        assert not (tmp_path / "tau.csv").exists()
+    done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program), "--trajectory",
+                           str(states), "-o", "-"], capture_output=True)
+    assert done.returncode == 0 and done.stdout == whole
+
+
+def test_the_outputs_are_all_written_out_before_any_is_put_in_place(program, tmp_path):
+    """-o onto a full device failed after --save-states had replaced the states file, or made a new
+    one (a new user's find): a failed run leaves every existing file as it was and makes none."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    kept, new = tmp_path / "kept.csv", tmp_path / "new.csv"
+    kept.write_text("previous\n")
+    for states in (kept, new):
+        res = run("emulate", program, "--random", 20, "-o", "/dev/full", "--save-states", states)
+        user_error(res, r"^vampc: error: /dev/full: cannot write torques: No space left on device$")
+    assert kept.read_text() == "previous\n" and not new.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.csv"]      # (no temporary left)
+
+
+@pytest.mark.parametrize("suffix", [".npy", ".npz", ".csv"])
+def test_a_trajectory_from_a_fifo_is_read_once(program, tmp_path, suffix):
+    """A FIFO named .npy was opened three times (its magic, its size, then numpy's load): the second
+    open waited for a writer long gone, for good (a new user's find). Read once, as a file would be:
+    the same torques."""
+    states = tmp_path / "s.npy"
+    assert run("emulate", program, "--random", 50, "--save-states", states, "-o", "/dev/null").exit_code == 0
+    data = np.load(states)
+    source = tmp_path / f"states{suffix}"
+    if suffix == ".npz":
+        np.savez(source, q=data[:, :2], qd=data[:, 2:4], qdd=data[:, 4:6])
+    elif suffix == ".csv":
+        np.savetxt(source, data, delimiter=",", header="q1,q2,qd1,qd2,qdd1,qdd2", comments="", fmt="%.17g")
+    else:
+        np.save(source, data)
+    fifo = tmp_path / f"fifo{suffix}"
+    os.mkfifo(fifo)
+    feeder = threading.Thread(target=lambda: fifo.write_bytes(source.read_bytes()), daemon=True)
+    feeder.start()
+    res = run("emulate", program, "--trajectory", fifo, "-o", "-")
+    feeder.join(10)
+    assert res.exit_code == 0, res.stderr
+    assert res.stdout == run("emulate", program, "--trajectory", states, "-o", "-").stdout
+
+
+@pytest.mark.parametrize("where", ["--trajectory", "--limits", "robot"])
+def test_a_character_device_with_no_end_is_not_read(program, tmp_path, where):
+    """--trajectory /dev/zero read 10 GB in 15 s, and SIGTERM did not stop it (a new user's find): a
+    character device other than /dev/null is refused, also as a limits file and as a robot."""
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero here")
+    if where == "--trajectory":
+        res = run("emulate", program, "--trajectory", "/dev/zero", "-o", tmp_path / "t.csv")
+        user_error(res, r"^vampc: error: /dev/zero: cannot read trajectory: it is a character device, which "
+                        r"has no end: give a file or a pipe$")
+    elif where == "--limits":
+        path = tmp_path / "p.csv"
+        path.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "".join(f"{k / 1000},0,0,0,0,0,0\n" for k in range(8)))
+        res = run("lookahead", program, "--trajectory", path, "--rate", "1kHz", "--window", 4,
+                  "--limits", "/dev/zero")
+        user_error(res, r"^vampc: error: /dev/zero: cannot read limits: it is a character device")
+    else:
+        user_error(run("compile", "/dev/zero", "-o", tmp_path / "x.vamp.json"), r"^vampc: error: /dev/zero: ")
+    assert not (tmp_path / "t.csv").exists()

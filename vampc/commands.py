@@ -512,12 +512,20 @@ class Sinks:
         replaces an existing file unless asked (--write-failed): a states file replaced beside the
         torques kept made a pair that no longer matched. New files are written, and said so."""
         self._headed()
-        for what, pending in (("states", self.states), ("waveform", self.vcd_out),
-                              ("torques", self.tau)):
-            if pending is None:
-                continue
+        outputs = [(what, pending, ok or write_failed or pending.out.kind != "file"
+                    or not pending.out.target.exists())
+                   for what, pending in (("states", self.states), ("waveform", self.vcd_out),
+                                         ("torques", self.tau)) if pending is not None]
+        try:                  # (all written out before any is put in place: one failing, none is)
+            for _, pending, kept in outputs:
+                if kept:
+                    pending.prepare()
+        except BaseException:
+            self.discard()
+            raise
+        for what, pending, kept in outputs:
             out = pending.out
-            if not ok and not write_failed and out.kind == "file" and out.target.exists():
+            if not kept:
                 pending.discard()
                 say(f"{what} NOT written: the check failed and {out.path} exists (it is unchanged; "
                     "--write-failed replaces it anyway)")

@@ -179,7 +179,6 @@ SMALLEST_LIMIT = 1e-12
 def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     import csv
     import io
-    from pathlib import Path
 
     from vampc.emulator.trajectory import cell_number
     from vampc.textio import decode_utf8, shown
@@ -190,7 +189,8 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     for j in chain.joints:
         padded.setdefault(j.name.strip(), []).append(j.name)
     try:
-        raw = Path(path).read_bytes()
+        from vampc.textio import read_whole
+        raw = read_whole(path)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
     text = decode_utf8(raw, path, "limits file")     # (a spreadsheet's BOM dropped)

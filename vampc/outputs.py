@@ -287,6 +287,46 @@ def discard_all() -> None:
         _TEMPORARIES.discard(tmp)
 
 
+class _Whole:
+    """A binary file (the output's) whose write() takes all it is given or raises the OSError that
+    stopped it. A buffered file's write() may take part of a long piece and return how much, with no
+    error (a file-size limit or a full disk reached mid-piece; the next write raises), and text files
+    drop that count: 251 594 bytes of torques sent to standard output under a file-size limit left
+    102 400 and exit status 0 (a new user's find). Text (`binary` False) is encoded here, as a text
+    file would encode it (the locale's encoding; standard output's own); anything else of the file
+    (seek, flush, close) is its own."""
+
+    def __init__(self, file, binary: bool, encoding: str | None = None, errors: str | None = None):
+        import locale
+        self._file = file
+        self._encoding = None if binary else (encoding or locale.getpreferredencoding(False))
+        self._errors = errors or "strict"
+
+    def write(self, data) -> int:
+        if isinstance(data, str):
+            if self._encoding is None:
+                raise TypeError("a binary output takes bytes, not str")
+            given = len(data)
+            if os.linesep != "\n":
+                data = data.replace("\n", os.linesep)
+            data = data.encode(self._encoding, self._errors)
+        else:
+            given = None
+        view = memoryview(data).cast("B")
+        total = len(view)
+        while view:
+            n = self._file.write(view)
+            if n is None:                    # (a non-blocking stream that would block)
+                raise BlockingIOError(errno.EAGAIN, "the output would block")
+            if n <= 0:
+                raise OSError(errno.EIO, "the output took nothing")
+            view = view[n:]
+        return total if given is None else given
+
+    def __getattr__(self, name):
+        return getattr(self._file, name)
+
+
 class Pending:
     """An output being written: `fh` takes the content; `commit()` puts it in place, `discard()`
     drops it (a regular file's previous content stays). Used by `writing`."""
@@ -294,15 +334,15 @@ class Pending:
     def __init__(self, out: PlannedOutput, what: str, binary: bool):
         self.out, self.what, self.tmp = out, what, None
         raise_if_terminated()              # an interrupt swallowed on the way: nothing begun
-        mode = "wb" if binary else "w"
         try:
             if out.kind == "stdout":
-                self.fh = sys.stdout.buffer if binary else sys.stdout
+                sys.stdout.flush()                  # (what was printed before goes first)
+                self.fh = _Whole(sys.stdout.buffer, binary, sys.stdout.encoding, sys.stdout.errors)
             elif out.kind == "stream":
-                self.fh = open(out.target, mode)    # noqa: SIM115 - closed in commit/discard
+                self.fh = _Whole(open(out.target, "wb"), binary)   # noqa: SIM115 - closed in commit/discard
             else:
                 fd, self.tmp = _new_temporary(out.target)
-                self.fh = os.fdopen(fd, mode)
+                self.fh = _Whole(os.fdopen(fd, "wb"), binary)
         except OSError as exc:
             raise self.error(exc) from None
 
@@ -312,6 +352,20 @@ class Pending:
         kept = " (the previous file is unchanged)" if self.out.kind == "file" and \
             self.out.target.exists() else ""
         return VampcError(f"{self.out.path}: cannot write {self.what}: {reason}{kept}")
+
+    def prepare(self) -> None:
+        """Everything written out (a stream flushed; a new file's temporary closed, as far as the
+        disk takes it) but nothing put in place: an output that fails here has replaced nothing,
+        and neither have the others made with it (commit each once all are prepared: an -o onto a
+        full device had failed after --save-states was put in place; a new user's find)."""
+        try:
+            if self.out.kind == "file":
+                self.fh.close()
+            else:
+                self.fh.flush()
+        except OSError as exc:
+            self.discard()
+            raise self.error(exc) from None
 
     def commit(self) -> None:
         """Flush and put the content in place (rename over the target for a regular file)."""
@@ -382,6 +436,12 @@ def write_together(items) -> None:
         for out, content, what in items:
             pending.append(Pending(out, what, isinstance(content, bytes)))
             pending[-1].fh.write(content)
+        for p in pending:
+            p.prepare()
+    except VampcError:
+        for p in pending:
+            p.discard()
+        raise
     except OSError as exc:
         for p in pending:
             p.discard()

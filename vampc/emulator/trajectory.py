@@ -11,6 +11,7 @@ array `base` (count, 9). Its torque files end with the base wrench (WRENCH_COLUM
 from __future__ import annotations
 
 import codecs
+import contextlib
 import csv
 import io
 import math
@@ -46,13 +47,17 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
     suffix = path.suffix.lower()
     width = len(header(n, floating))
     try:
+        source = None        # a pipe or FIFO: its bytes, read once (a second open waited for good)
+        if str(path) != "-" and not path.is_file():
+            from vampc.textio import read_whole
+            source = io.BytesIO(read_whole(path))
         if suffix == ".npz":
-            data, t = _read_npz(path, n, floating)
+            data, t = _read_npz(path, n, floating, source)
         elif suffix == ".npy":
-            data, t = _read_npy(path, n, width)
+            data, t = _read_npy(path, n, width, source)
         else:
             data, t = read_table(path, header(n, floating), program_joints(n, of), floating,
-                                 arrays=True)
+                                 arrays=True, source=source)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     line = None if numpy_file(path) else 2       # a CSV's states start on line 2
@@ -90,7 +95,7 @@ def program_joints(n: int, of: int | None = None) -> str:
 
 
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
-               what: str = "trajectory", arrays: bool = False):
+               what: str = "trajectory", arrays: bool = False, source=None):
     """(data, t) of a CSV table whose header is `columns`, with an optional leading t (`why`: what
     the columns follow from, for the header's message; `floating`: a floating base's columns may be
     what is missing; `arrays`: the caller reads .npy and .npz files too, by their suffix).
@@ -102,7 +107,8 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     if str(path) == STDIN and sys.stdin is None:
         raise VampcError(f"-: standard input is closed, so the {what} has nowhere to come from "
                          "(give it as a file, or redirect standard input from one)")
-    raw = sys.stdin.buffer.read() if str(path) == STDIN else path.read_bytes()  # (-: standard input)
+    from vampc.textio import read_whole
+    raw = read_whole(path) if source is None else source.getvalue()   # (-: standard input)
     from vampc.sniff import compression
     packed = compression(raw[:16])
     if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')
@@ -290,21 +296,24 @@ def _loadtxt(body: str, cols: int):
 _NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
 
 
-def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
+def _npy_fits(path: Path, member: str | None = None, z=None, source=None) -> None:
     """A .npy file (or member `member` of the .npz `z`) holds the data its header announces
     (VampcError otherwise), read before numpy allocates the array the header asks for, whatever
     size that claims."""
     try:
-        if member is None:
+        if member is None and source is not None:    # (kept open: np.load reads it next)
+            source.seek(0)
+            f, size = contextlib.nullcontext(source), len(source.getbuffer())
+        elif member is None:
             f, size = open(path, "rb"), path.stat().st_size
         else:
             f, size = z.zip.open(f"{member}.npy"), z.zip.getinfo(f"{member}.npy").file_size
-        with f:
-            version = np.lib.format.read_magic(f)
+        with f as g:
+            version = np.lib.format.read_magic(g)
             read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
                     else np.lib.format.read_array_header_2_0)
-            shape, _, dtype = read(f)
-            start = f.tell()
+            shape, _, dtype = read(g)
+            start = g.tell()
     except (OSError, AttributeError, *_NUMPY_ERRORS):
         return                      # np.load says why
     if dtype.hasobject:
@@ -318,8 +327,10 @@ def _npy_fits(path: Path, member: str | None = None, z=None) -> None:
                          f"({why})")
 
 
-def _head(path: Path, size: int) -> bytes | None:
+def _head(path: Path, size: int, source=None) -> bytes | None:
     """The file's first `size` bytes (None if it cannot be read: np.load then says why)."""
+    if source is not None:
+        return source.getvalue()[:size]
     try:
         with open(path, "rb") as f:
             return f.read(size)
@@ -327,11 +338,11 @@ def _head(path: Path, size: int) -> bytes | None:
         return None
 
 
-def _magic(path: Path, what: str) -> None:
+def _magic(path: Path, what: str, source=None) -> None:
     """VampcError unless the file starts as a .npy or a .npz does (either: a misnamed one is said
     below): numpy's load reads any other file as a pickle, and its refusal said 'it holds Python
     objects' of a text file."""
-    head = _head(path, 16)
+    head = _head(path, 16, source)
     from vampc.sniff import compression
     packed = None if head is None else compression(head)
     if packed:
@@ -344,11 +355,13 @@ def _magic(path: Path, what: str) -> None:
                          "saved, or a .csv")
 
 
-def _read_npy(path: Path, n: int, width: int):
-    _magic(path, "numpy .npy array file")
-    _npy_fits(path)
+def _read_npy(path: Path, n: int, width: int, source=None):
+    _magic(path, "numpy .npy array file", source)
+    _npy_fits(path, source=source)
+    if source is not None:
+        source.seek(0)
     try:
-        arr = np.load(path, allow_pickle=False)
+        arr = np.load(path if source is None else source, allow_pickle=False)
     except _NUMPY_ERRORS as exc:
         raise VampcError(f"{path}: not a numpy array file ({_numpy_reason(exc)})") from None
     if not isinstance(arr, np.ndarray):
@@ -361,10 +374,12 @@ def _read_npy(path: Path, n: int, width: int):
     return (arr[:, 1:], arr[:, 0]) if arr.shape[1] == width + 1 else (arr, None)
 
 
-def _read_npz(path: Path, n: int, floating: bool = False):
-    _magic(path, "numpy .npz archive")
+def _read_npz(path: Path, n: int, floating: bool = False, source=None):
+    _magic(path, "numpy .npz archive", source)
+    if source is not None:
+        source.seek(0)
     try:
-        z = np.load(path, allow_pickle=False)
+        z = np.load(path if source is None else source, allow_pickle=False)
     except _NUMPY_ERRORS as exc:
         raise VampcError(f"{path}: not a numpy .npz file ({_numpy_reason(exc)})") from None
     if not isinstance(z, np.lib.npyio.NpzFile):

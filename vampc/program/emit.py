@@ -128,7 +128,8 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
     numbers = []
     first: dict[int, int] = {}           # each number's line
     try:
-        raw = Path(path).read_bytes()
+        from vampc.textio import read_whole
+        raw = read_whole(path)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}") from None
     lines = decode_utf8(raw, path, "numbering file").splitlines()

@@ -330,7 +330,8 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     file had taken three times its size)."""
     from vampc.textio import decode_utf8
     try:
-        raw = Path(path).read_bytes()
+        from vampc.textio import read_whole
+        raw = read_whole(path)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
     packed = raw.startswith(GZIP_MAGIC)

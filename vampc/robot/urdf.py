@@ -305,7 +305,8 @@ def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, pat
 def _parse_xml(path: Path):
     """Parse without resolving entities or touching the network, and refuse any entity at all."""
     try:
-        data = path.read_bytes()
+        from vampc.textio import read_whole
+        data = read_whole(path)
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except OSError as exc:
