@@ -1453,3 +1453,28 @@ def test_a_character_device_with_no_end_is_not_read(program, tmp_path, where):
     else:
         user_error(run("compile", "/dev/zero", "-o", tmp_path / "x.vamp.json"), r"^vampc: error: /dev/zero: ")
     assert not (tmp_path / "t.csv").exists()
+
+
+def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):
+    """Integer arrays are read as float64: nanosecond times 2**53 + 1, + 2, ... were rounded, saying
+    nothing, some to repeats (a new user's find); so were int64 positions with --allow-out-of-limits.
+    Refused, naming the array, the state and the value; integers float64 holds exactly still read."""
+    z = np.zeros((5, 2))
+    odd = tmp_path / "odd.npz"
+    np.savez(odd, q=z, qd=z, qdd=z, t=np.arange(5, dtype=np.int64) + 2 ** 53 + 1)
+    user_error(run("emulate", program, "--trajectory", odd, "-o", tmp_path / "t.csv"),
+               r"^vampc: error: .*odd\.npz: array t, state 1: the integer 9007199254740993 is not a float64 "
+               r"\(vampc computes in float64, where it is 9007199254740992\.0\); give it as a float, or in a "
+               r"unit that keeps it within 2\*\*53$")
+    states = np.zeros((5, 7), dtype=np.uint64)
+    states[:, 0] = np.arange(5)
+    states[3, 2] = 2 ** 64 - 1
+    np.save(tmp_path / "big.npy", states)
+    user_error(run("emulate", program, "--trajectory", tmp_path / "big.npy", "-o", tmp_path / "t.csv",
+                   "--allow-out-of-limits"), r"the array, state 4, column 3: the integer 18446744073709551615 ")
+    even = tmp_path / "even.npz"
+    np.savez(even, q=z, qd=z, qdd=z, t=np.arange(5, dtype=np.int64) * 2 + 2 ** 53)
+    res = run("emulate", program, "--trajectory", even, "-o", "-")
+    assert res.exit_code == 0, res.stderr
+    assert [line.split(",")[0] for line in res.stdout.splitlines()[1:]] == [str(2 ** 53 + 2 * k) for k in range(5)]
+    assert not (tmp_path / "t.csv").exists()

@@ -452,7 +452,32 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
     if arr.dtype.kind not in "fiu":     # (timedelta64 is an integer to NumPy: refused as datetime64 is)
         raise VampcError(f"{path}: {what} holds {arr.dtype.name} values, not numbers")
     with np.errstate(over="ignore"):    # (a long double past float64: inf, said by the finiteness check)
-        return np.asarray(arr, dtype=float)
+        out = np.asarray(arr, dtype=float)
+    if arr.dtype.kind in "iu":
+        _exact_integers(path, what, arr, out)
+    return out
+
+
+def _exact_integers(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
+    """VampcError at the first integer that float64 cannot hold (past 2**53, an odd one, say): it was
+    rounded, saying nothing (nanosecond times 2**53 + 1, + 2, + 3 read as 2**53, 2**53 + 2, 2**53 + 4,
+    repeats among them; a new user's find)."""
+    big = np.abs(out) >= 2.0 ** 53
+    if not big.any():
+        return
+    values, rounded = arr[big], out[big]
+    top = 2.0 ** (arr.dtype.itemsize * 8 - (arr.dtype.kind == "i"))
+    fits = np.abs(rounded) < top             # (a rounding up to 2**63 is no int64: inexact)
+    exact = np.zeros(values.shape, dtype=bool)
+    exact[fits] = rounded[fits].astype(arr.dtype) == values[fits]
+    if exact.all():
+        return
+    k = int(np.flatnonzero(~exact)[0])
+    at = np.argwhere(big)[k]
+    place = f"state {at[0] + 1}" + (f", column {at[1] + 1}" if len(at) > 1 else "")
+    raise VampcError(f"{path}: {what}, {place}: the integer {int(values[k])} is not a float64 (vampc "
+                     f"computes in float64, where it is {float(rounded[k])!r}); give it as a float, or in a "
+                     "unit that keeps it within 2**53")
 
 
 def numpy_file(path) -> bool:
