@@ -1478,3 +1478,20 @@ def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):
     assert res.exit_code == 0, res.stderr
     assert [line.split(",")[0] for line in res.stdout.splitlines()[1:]] == [str(2 ** 53 + 2 * k) for k in range(5)]
     assert not (tmp_path / "t.csv").exists()
+
+
+def test_a_failed_check_writes_no_new_file_beside_one_it_keeps(tmp_path, program, monkeypatch):
+    """--check failed, --save-states onto an existing file (kept) and -o a new one: the new torques
+    were written beside the old states, which they do not match (a new user's find). Neither now;
+    with --write-failed, both."""
+    _failing_check(monkeypatch)
+    states, tau = tmp_path / "states.csv", tmp_path / "tau.csv"
+    states.write_text("old states\n")
+    res = run("emulate", program, "--random", 3, "--check", "-o", tau, "--save-states", states)
+    assert res.exit_code == 1
+    assert states.read_text() == "old states\n" and not tau.exists()
+    assert (f"torques NOT written: the check failed and {states} is kept, which a new {tau} would not "
+            "match (--write-failed writes them all)") in res.stderr
+    res = run("emulate", program, "--random", 3, "--check", "-o", tau, "--save-states", states,
+              "--write-failed")
+    assert res.exit_code == 1 and tau.exists() and states.read_text().startswith("q1,")

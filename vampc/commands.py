@@ -516,6 +516,11 @@ class Sinks:
                     or not pending.out.target.exists())
                    for what, pending in (("states", self.states), ("waveform", self.vcd_out),
                                          ("torques", self.tau)) if pending is not None]
+        # a new file beside an existing one kept would not match it (new torques, old states: a new
+        # user's find): none of the files then
+        kept_old = next((p.out.path for _, p, kept in outputs if not kept), None)
+        if kept_old is not None:
+            outputs = [(what, p, False if p.out.kind == "file" else kept) for what, p, kept in outputs]
         try:                  # (all written out before any is put in place: one failing, none is)
             for _, pending, kept in outputs:
                 if kept:
@@ -527,8 +532,12 @@ class Sinks:
             out = pending.out
             if not kept:
                 pending.discard()
-                say(f"{what} NOT written: the check failed and {out.path} exists (it is unchanged; "
-                    "--write-failed replaces it anyway)")
+                if out.target.exists():
+                    say(f"{what} NOT written: the check failed and {out.path} exists (it is "
+                        "unchanged; --write-failed replaces it anyway)")
+                else:
+                    say(f"{what} NOT written: the check failed and {kept_old} is kept, which a new "
+                        f"{out.path} would not match (--write-failed writes them all)")
                 continue
             pending.commit()
             if not ok:
