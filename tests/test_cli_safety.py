@@ -2,6 +2,7 @@
 no silently ignored option, no silently wrong number, named joints in every file."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -1495,3 +1496,20 @@ def test_a_failed_check_writes_no_new_file_beside_one_it_keeps(tmp_path, program
     res = run("emulate", program, "--random", 3, "--check", "-o", tau, "--save-states", states,
               "--write-failed")
     assert res.exit_code == 1 and tau.exists() and states.read_text().startswith("q1,")
+
+
+def test_an_npz_holding_one_array_twice_is_refused(program, tmp_path):
+    """A zip holding q.npy twice ran on the last copy, saying nothing (a new user's find)."""
+    import io
+    z = np.zeros((3, 2))
+    path = tmp_path / "twice.npz"
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, value in (("q", z), ("qd", z), ("qdd", z), ("q", z + 1)):
+            buffer = io.BytesIO()
+            np.save(buffer, value)
+            with pytest.warns(UserWarning, match="Duplicate name") if name == "q" and value[0, 0] else \
+                    contextlib.nullcontext():
+                archive.writestr(f"{name}.npy", buffer.getvalue())
+    user_error(run("emulate", program, "--trajectory", path, "-o", tmp_path / "t.csv"),
+               r"twice\.npz: the archive holds 'q\.npy' more than once \(which is the array\?\); save it "
+               r"again with numpy\.savez$")

@@ -385,6 +385,11 @@ def _read_npz(path: Path, n: int, floating: bool = False, source=None):
     if not isinstance(z, np.lib.npyio.NpzFile):
         raise VampcError(f"{path}: a .npy array, not a .npz archive; rename it .npy")
     with z:
+        names = z.zip.namelist()
+        twice = sorted({m for m in names if names.count(m) > 1})
+        if twice:          # (numpy reads the last, zip tools the first: it ran on the last, unsaid)
+            raise VampcError(f"{path}: the archive holds {twice[0]!r} more than once (which is the "
+                             "array?); save it again with numpy.savez")
         return _npz_arrays(path, z, n, floating)
 
 
