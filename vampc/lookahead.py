@@ -717,10 +717,13 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
     rows = np.arange(n_rows)
     end = np.minimum(rows + ahead_rows - 1, n_rows - 1)     # the last row each step sees
     H = whole.copy()               # per step: its top at its row + 1 (the whole pass's, once met)
+    H2 = np.concatenate([whole[1:], [0.0]])      # and at its row + 2 (`_short_of_a_cliff`'s)
     step = np.flatnonzero(end < n_rows - 1)      # (a step that sees the last row is the whole pass)
     h = np.zeros(step.size)                      # each step's top at row end - d: 0 at its end
     for d in range(1, ahead_rows - 1):
         j = end[step] - d
+        second = j == step + 1                   # h is its top at its own row + 2
+        H2[step[second]] = h[second]
         done = j < step + 1                      # reached its own row + 1: h is its top there
         H[step[done]] = h[done]
         step, h, j = step[~done], h[~done], j[~done]
@@ -731,7 +734,8 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
         step, h = step[~met], h[~met]
     H[step] = h
     H = np.where(rows + 1 <= end, H, 0.0)        # a step at the last row it sees stops there
-    window = _forward(lo, up, H, lam, seen)      # (its failure said first, as before)
+    H2 = np.where(rows + 2 <= end, H2, 0.0)
+    window = _forward(lo, up, H, lam, seen, H2=H2)     # (its failure said first, as before)
     if not optimal:
         return window, None
     try:                 # (the whole path's plan is a comparison: where its forward pass finds no
@@ -750,13 +754,16 @@ def _backward(lo, base, n_rows: int, two_d: float) -> np.ndarray:
     return H
 
 
-def _forward(lo, up, H, lam: float, seen: str, held: list | None = None):
+def _forward(lo, up, H, lam: float, seen: str, held: list | None = None, H2=None):
     """From rest at the first row: each next x the largest reachable within the row's bounds on u
     (`_bounds`: a bound of d near 0 bounds x alone, which H already holds, and is left out here) and
     at most H (the stop-able set's top at that row), so (x, u, row times)."""
     n_rows, two_d = len(H), 2.0 * lam
     x, u = np.zeros(n_rows), np.zeros(n_rows)
     pieces = _reach_pieces(up, two_d)
+    # H2[i]: the top at row i + 2 as the step at row i sees it (the whole path's H, shifted, when
+    # it sees the whole path; never a later step's view: the decision would see past its rows)
+    H2 = np.concatenate([H[1:], [0.0]]) if H2 is None else H2
     for i in range(n_rows - 1):
         xi = x[i]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -766,7 +773,7 @@ def _forward(lo, up, H, lam: float, seen: str, held: list | None = None):
         top = float(np.min(np.where(up[2][i] > 1e-9, tops, np.inf)))
         nxt = max(0.0, min(xi + two_d * top, float(H[i])))
         if i + 2 < n_rows:
-            short = _short_of_a_cliff(pieces[0][i + 1], pieces[1][i + 1], float(H[i + 1]), float(xi),
+            short = _short_of_a_cliff(pieces[0][i + 1], pieces[1][i + 1], float(H2[i]), float(xi),
                                       max(0.0, xi + two_d * low), nxt)
             if short < nxt and held is not None:
                 held.append(i + 1)         # (the row, from 0, whose speed was held short)
@@ -814,8 +821,8 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
     to g(x), take the least time. Elsewhere `most`, as before. Held wherever g merely falls, the
     step made 2 of 1800 plans on random affine parts slower, one 25 000 times (a lower speed now
     led the plan onto a stop further on); held only before a stop, 2 slower (1.3 and 1.6 times)
-    and about 170 faster, 12 of them more than 10 times, and 6 that had found no way through find
-    one. None of the README's paths meets such a row: their outputs are the same bytes."""
+    and 145 faster, 9 of them more than 10 times, and 5 that had found no way through find one.
+    None of the README's paths meets such a row: their outputs are the same bytes."""
     if not most - least > 1e-9 * most:     # (a choice within rounding: no choice, and none made)
         return most
     with np.errstate(invalid="ignore", over="ignore"):
