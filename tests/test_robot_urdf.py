@@ -794,6 +794,27 @@ def test_a_planar_joint_above_the_base_is_said_and_cannot_be_locked(tmp_path):
                  r"\(above --base it is held at its <origin>\)")
 
 
+def test_a_lock_that_places_nothing_is_said_to_have_no_effect(tmp_path):
+    """--lock of a joint on another branch than the one up to --base (a leg, when the base is the
+    torso), or above a floating base, was taken and ignored, saying nothing (a new user's find)."""
+    side = ABOVE_THE_MOUNT.replace("</robot>", """  <joint name="s" type="revolute"><parent link="world"/><child link="side"/>
+    <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+  <link name="side"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>""")
+    path = write(tmp_path, side)
+    with pytest.warns(VampcWarning) as said:
+        chain = load_urdf(path, base="pedestal", lock={"s": 0.3, "w0": 0.5})
+    texts = [str(w.message) for w in said]
+    assert f"{path}: joint 's' is neither below the base link 'pedestal' nor on the way up to it (--base " \
+           "cuts its branch away); --lock s=... has no effect" in texts
+    assert any("the joints above it are cut away (w0 at 0.5, w at 0:" in t for t in texts)   # (w0's placed)
+    assert [j.name for j in chain.joints] == ["j1", "j2"]
+    with pytest.warns(VampcWarning, match=r"joint 'w0' is above the floating base 'pedestal' \(whose motion "
+                                          r"is the host's input\); --lock w0=\.\.\. has no effect"):
+        load_urdf(path, base="pedestal", lock={"w0": 0.5}, floating=True)
+
+
 def test_an_error_after_the_base_comes_without_the_gravity_warning(tmp_path):
     """The gravity warning is said once the robot is made: an error about the tip is one line."""
     path = write(tmp_path, ABOVE_THE_MOUNT)

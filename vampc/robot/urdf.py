@@ -169,7 +169,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     below = {j.name for j in tree.below(base)}
-    lock, above_locks = _locks_below(lock, tree, base, below, path)
+    lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders)
     tip = choose_tip(tree, base, tip, lock, path)
     tree, turned, at = _gravity_at_base(tree, base, floating, above_locks, leaders, below, path)
     # (a follower above the base that the coupling placed off 0, where gravity is turned, is an effect)
@@ -465,17 +465,32 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
     return out
 
 
-def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path) -> tuple[dict, dict]:
+def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path, floating: bool = False,
+                 leaders: dict | None = None) -> tuple[dict, dict]:
     """(the locks of joints below the base (`below`: their names), those of joints above it): a
     joint above it, cut away by the base, is at its --lock value where gravity is turned into the
     base's frame (`_gravity_at_base`, which says so). A floating joint's lock is dropped with a
     warning, as a fixed joint's is: it was taken and ignored, saying nothing (a new user's find)."""
     above = {}
+    up = {j.name for j in tree.ancestors(base)}
+    # a lock counts above the base where it places a joint on the way up to it, or the leader of a
+    # --mimic couple follower there; one anywhere else (a leg when --base is the torso) was taken
+    # and ignored, saying nothing (a new user's find); so is any above a floating base, whose
+    # motion is the host's
+    placing = up | {leaders[f][0] for f in up if f in (leaders or {})}
     for name in [n for n in lock if n not in below]:
         if tree.joints[name].type == "floating":
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is the floating base's own joint (its "
                                        f"motion is the host's input); --lock {name}=... has no "
                                        "effect"), stacklevel=4)
+        elif floating and name in up:
+            warnings.warn(VampcWarning(f"{path}: joint '{name}' is above the floating base '{base}' "
+                                       f"(whose motion is the host's input); --lock {name}=... has "
+                                       "no effect"), stacklevel=4)
+        elif name not in placing:
+            warnings.warn(VampcWarning(f"{path}: joint '{name}' is neither below the base link "
+                                       f"'{base}' nor on the way up to it (--base cuts its branch "
+                                       f"away); --lock {name}=... has no effect"), stacklevel=4)
         else:
             above[name] = lock[name]
         del lock[name]
