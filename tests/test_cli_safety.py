@@ -1513,3 +1513,19 @@ def test_an_npz_holding_one_array_twice_is_refused(program, tmp_path):
     user_error(run("emulate", program, "--trajectory", path, "-o", tmp_path / "t.csv"),
                r"twice\.npz: the archive holds 'q\.npy' more than once \(which is the array\?\); save it "
                r"again with numpy\.savez$")
+
+
+def test_a_floating_bases_columns_for_a_fixed_base_say_what_to_give(program, tmp_path):
+    """A floating-base trajectory given to a fixed-base robot said only "15 columns, expected 6"
+    (a new user's find): the CSV's and the .npy's messages name --floating-base."""
+    from vampc.emulator.trajectory import BASE_COLUMNS
+    head = ["q1", "q2", "qd1", "qd2", "qdd1", "qdd2"] + BASE_COLUMNS
+    path = _csv(tmp_path / "f.csv", ",".join(head) + "\n" + ",".join(["0"] * 15) + "\n")
+    user_error(run("emulate", program, "--trajectory", path, "-o", tmp_path / "t.csv"),
+               r"header: 15 columns, expected 6 \(expected 6 columns q1,q2\.\.\.qdd2: the program is for 2 "
+               r"joints\); the base columns are a floating base's: give the robot --floating-base \(README, "
+               r"Trees and floating bases\)$")
+    np.save(tmp_path / "f.npy", np.zeros((3, 15)))
+    user_error(run("emulate", program, "--trajectory", tmp_path / "f.npy", "-o", tmp_path / "t.csv"),
+               r"array of shape \(3, 15\); expected \(states, 6\) or \(states, 7\) with t first; 9 more "
+               r"columns are a floating base's: give the robot --floating-base")

@@ -147,6 +147,9 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                  else f"{len(names)} columns, expected {len(want)}")
         first = ("; a t column comes first" if "t" in names and names[0] != "t" and
                  [c for c in names if c != "t"] == list(columns) else "")
+        if not floating and names[len(want):] == BASE_COLUMNS and names[:len(want)] == want:
+            first += ("; the base columns are a floating base's: give the robot --floating-base "
+                      "(README, Trees and floating bases)")
         listed = ",".join(want) if len(want) <= 3 else f"{','.join(want[:2])}...{want[-1]}"
         raise VampcError(f"{path}: header: {which} (expected {count(len(want), 'column')} "
                          f"{listed}: {why}){first}")
@@ -367,7 +370,9 @@ def _read_npy(path: Path, n: int, width: int, source=None):
     if not isinstance(arr, np.ndarray):
         raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
     if arr.ndim != 2 or arr.shape[1] not in (width, width + 1) or arr.shape[0] == 0:
-        base = " (a floating base: q, qd, qdd, then the 9 base columns)" if width > 3 * n else ""
+        base = (" (a floating base: q, qd, qdd, then the 9 base columns)" if width > 3 * n else
+                "; 9 more columns are a floating base's: give the robot --floating-base (README, Trees "
+                "and floating bases)" if arr.ndim == 2 and arr.shape[1] in (width + 9, width + 10) else "")
         raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {width}) or "
                          f"(states, {width + 1}) with t first{base}")
     arr = _as_float(path, arr)
