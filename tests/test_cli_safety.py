@@ -398,9 +398,9 @@ def test_numpy_files_of_the_wrong_kind(tmp_path, program, make, pattern):
 
 @pytest.mark.filterwarnings("ignore:Duplicate name")
 def test_a_damaged_npz_member(tmp_path, program):
-    path = _npz(tmp_path / "t.npz", q=np.zeros((1, 2)), qd=np.zeros((1, 2)), qdd=np.zeros((1, 2)))
-    with zipfile.ZipFile(path, "a") as z:      # a second q.npy that is not an array
-        z.writestr("q.npy", b"garbage")
+    path = _npz(tmp_path / "t.npz", qd=np.zeros((1, 2)), qdd=np.zeros((1, 2)))
+    with zipfile.ZipFile(path, "a") as z:      # a q.npy that is not an array (a second one: refused
+        z.writestr("q.npy", b"garbage")        # as such, test_an_npz_holding_one_array_twice...)
     res = run("emulate", program, "--trajectory", path)
     user_error(res, r"t\.npz: (array q: |not a numpy \.npz file)")
 
