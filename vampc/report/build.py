@@ -19,27 +19,39 @@ from vampc.report.wiring import wiring
 REPORT_VERSION = 2
 
 
+REPORT_STAGES = ("configurations", "prefix shapes", "Table O.1", "processors", "packages", "wiring",
+                 "engineering")
+
+
 @gc_paused()
 def build_report(c, clock_hz: float | None = None, pins: int | None = None,
-                 figures: dict | None = None, cpu_reference: bool = False) -> dict:
+                 figures: dict | None = None, cpu_reference: bool = False, stage=None) -> dict:
     """The report of `c` (a vampc.compiler.Compiled), with times at `clock_hz` when given and
     packages of `pins` pins beside the 40-pin ones. Above ALLOCATE_LIMIT ops the comparisons that
     would each compile the robot again (prefix shapes, the log graph with the other leaf style)
     are left out and `allocation.omitted` names them. `figures`: summary(c) if already made.
-    `cpu_reference`: measure a CPU's time per set here (vampc.report.engineering.cpu_reference)."""
+    `cpu_reference`: measure a CPU's time per set here (vampc.report.engineering.cpu_reference).
+    `stage(name)` is told as each of REPORT_STAGES starts (a progress bar's)."""
+    stage = stage or (lambda name: None)
     rep = dict(figures) if figures is not None else summary(c)
+    stage("configurations")
     configs = configurations(c)
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT
     rep["report_version"] = REPORT_VERSION
     rep["layout_comparison"] = layout_rows(configs, c.graph.recursion)
     if c.graph.recursion is Recursion.LOG and not big:
+        stage("prefix shapes")
         infeasible: list = []
         rep["prefix_comparison"] = compare_prefixes(c.chain, c.options, infeasible=infeasible)
         if infeasible:
             rep["prefix_comparison_infeasible"] = infeasible
+    stage("Table O.1")
     rep["table_o1"] = table_o1(configs, c.chain)
+    stage("processors")
     rep["processors"] = processors(configs, c.chain, other_leaves=not big)
+    stage("packages")
     rep["packages"] = packages(configs, pins)
+    stage("wiring")
     rep["wiring"] = wiring(configs, c.chain)
     rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT, "ops": len(c.graph.compute_nodes()),
                          "allocated": [k.name for k in configs if k.network is not None],
@@ -55,6 +67,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
         rep["tree"]["latency_flops"] = tree_latencies(c.chain, c.options)
     from vampc.report.engineering import cpu_reference as measure_cpu
     from vampc.report.engineering import engineering
+    stage("engineering")
     rep["engineering"] = engineering(c, clock_hz)
     if c.network is not None and c.network.bus is not None:
         from vampc.report.mlb import bus_figures
