@@ -50,7 +50,8 @@ R·window rows of register and the longer backward pass on the host. The rows of
 at their new times (the `t` column), not at λ: a row interval shorter than λ needs the network to
 keep up with it, which `--clock` checks.
 The summary also gives the plan with the whole path in view (`optimal_plan`: the same recursion in
-one backward pass, the time-optimal scaling on these rows), so what the look-ahead costs is said.
+one backward pass, the time-optimal scaling on these rows where no step is held short of its top
+(`_short_of_a_cliff`; the summary says so where one is), so what the look-ahead costs is said.
 
 `--accelerations`: q and q̇ integrated from a q̈ profile (`integrate`), each q̈ held for one λ.
 `--plot`: per joint, torque over time against its limit, before and after the retiming, and the speed
@@ -683,7 +684,8 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
 
 def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
     """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
-    these rows and limits (TOPP-RA's, tested), against which a window's plan is measured."""
+    these rows and limits (TOPP-RA's, tested) where no step is held short of its top
+    (`_short_of_a_cliff`), against which a window's plan is measured."""
     two_d = 2.0 * lam
     lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
     base = _largest_x(lo, up, cap, np.full(len(a), np.inf), two_d)

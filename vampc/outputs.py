@@ -337,7 +337,11 @@ class Pending:
         try:
             if out.kind == "stdout":
                 sys.stdout.flush()                  # (what was printed before goes first)
-                self.fh = _Whole(sys.stdout.buffer, binary, sys.stdout.encoding, sys.stdout.errors)
+                buffer = getattr(sys.stdout, "buffer", None)
+                # (a standard output without bytes underneath, Jupyter's, say: text as it takes it)
+                self.fh = sys.stdout if buffer is None and not binary else \
+                    _Whole(buffer if buffer is not None else sys.stdout, binary,
+                           getattr(sys.stdout, "encoding", None), getattr(sys.stdout, "errors", None))
             elif out.kind == "stream":
                 self.fh = _Whole(open(out.target, "wb"), binary)   # noqa: SIM115 - closed in commit/discard
             else:

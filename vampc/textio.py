@@ -11,34 +11,46 @@ _OTHER_BOMS = ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
                (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"))
 
 
-def read_whole(path) -> bytes:
+def read_whole(path, stdin: bool = False) -> bytes:
     """The bytes of a user's input, read once: a regular file as Path.read_bytes reads it (into
     one buffer of its size), a pipe or FIFO in pieces, between which a termination signal or Ctrl-C
     ends the read (in one C call Python's handlers do not run: `yes | vampc emulate ... -` could
     not be stopped but by SIGKILL). A character device other than /dev/null (/dev/zero,
     /dev/urandom: no end; 10 GB read in 15 s) is refused with an OSError, which each caller's
-    'cannot read' line words; `-` is standard input, a terminal included."""
+    'cannot read' line words. `stdin`: `-` is standard input (a terminal included), for a reader
+    that takes it so (a trajectory); elsewhere `-` is a file of that name."""
     import errno
     import os
     import stat
     import sys
-    stdin = str(path) == "-"
-    fd = sys.stdin.fileno() if stdin else os.open(path, os.O_RDONLY)
+    if stdin and str(path) == "-":
+        try:
+            fd = sys.stdin.fileno()
+        except (AttributeError, OSError, ValueError):   # (a stream without one: a test's, Jupyter's)
+            data = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read()
+            return data.encode() if isinstance(data, str) else data
+        return _pieces(fd)
+    fd = os.open(path, os.O_RDONLY)
     try:
         mode = os.fstat(fd).st_mode
         if stat.S_ISREG(mode):
             with open(fd, "rb", closefd=False) as f:
                 return f.read()
-        if stat.S_ISCHR(mode) and not stdin and not _null(fd):
+        if stat.S_ISCHR(mode) and not _null(fd):
             raise OSError(errno.EINVAL, "it is a character device, which has no end: give a file "
                                         "or a pipe")
-        pieces = []
-        while piece := os.read(fd, 1 << 20):
-            pieces.append(piece)
-        return b"".join(pieces)
+        return _pieces(fd)
     finally:
-        if not stdin:
-            os.close(fd)
+        os.close(fd)
+
+
+def _pieces(fd: int) -> bytes:
+    """What a descriptor gives until its end, a MiB at a time (signal handlers run between)."""
+    import os
+    pieces = []
+    while piece := os.read(fd, 1 << 20):
+        pieces.append(piece)
+    return b"".join(pieces)
 
 
 def _null(fd: int) -> bool:

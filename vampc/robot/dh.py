@@ -150,8 +150,9 @@ def depth_first(parents: list[int]) -> list[int]:
 
 def read_text(path: Path) -> str:
     """The file's text, or a VampcError saying why it cannot be read."""
+    from vampc.textio import read_whole
     try:
-        return path.read_text(encoding="utf-8")
+        return read_whole(path).decode("utf-8")
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except UnicodeDecodeError as exc:
