@@ -1540,8 +1540,9 @@ def test_a_floating_bases_columns_for_a_fixed_base_say_what_to_give(program, tmp
 
 
 def test_integers_past_2_53_in_a_csv_or_at_int64s_end(program, tmp_path):
-    """The CSV reader rounded an integer cell past 2**53 as the .npy reader had (review): refused,
-    naming the line and column; an exact one reads. int64's least value, -2**63, is a float64 and
+    """The CSV reader rounded a t cell written as an integer past 2**53 as the .npy reader had
+    (review): refused, naming the line and column; an exact one reads (other cells are decimals,
+    rounded as float() rounds them: tests/test_emulator_native.py). int64's least value, -2**63, is a float64 and
     was refused (review): it reads (as a position out of limits, here allowed)."""
     bad = _csv(tmp_path / "t.csv", "t," + HEAD + "9007199254740993," + ROW + "9007199254740994," + ROW)
     user_error(run("emulate", program, "--trajectory", bad, "-o", tmp_path / "o.csv"),

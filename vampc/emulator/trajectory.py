@@ -96,9 +96,11 @@ def program_joints(n: int, of: int | None = None) -> str:
 
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                what: str = "trajectory", arrays: bool = False, source=None):
-    """`_read_table`, and every cell written as an integer past 2**53 held exactly by its float64
+    """`_read_table`, and a t cell written as an integer past 2**53 held exactly by its float64
     (nanosecond times 2**53 + 1 .. + 4 read as ...992, ...994, ...996, ...996: repeats, unsaid; a
-    new user's find): VampcError naming the line and column otherwise."""
+    new user's find): VampcError naming the line otherwise. (Other cells are decimals, read as
+    float() reads them, rounded to the nearest float64 as 0.1 is; a time carried over is the
+    user's own, not a quantity.)"""
     if source is None:
         from vampc.textio import read_whole
         if str(path) == "-" and sys.stdin is None:
@@ -110,10 +112,11 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
 
 
 def _exact_csv_integers(path, raw: bytes, data: np.ndarray, t, columns: list[str]) -> None:
-    values = data if t is None else np.column_stack([t, data])
-    names = list(columns) if t is None else ["t", *columns]
+    if t is None:
+        return
+    names = ["t"]
     with np.errstate(invalid="ignore"):
-        rows, cols = np.nonzero(np.abs(values) >= 2.0 ** 53)
+        rows, cols = np.nonzero(np.abs(np.asarray(t, dtype=float))[:, None] >= 2.0 ** 53)
     if not rows.size:
         return
     import re
