@@ -86,3 +86,28 @@ def test_a_tree_forward_node_spans_its_own_subtree():
     d = nd.drawing(c.graph, c.layout, c.network)
     fwd = {s.index: label.split("\n")[1] for s, label in d.labels.items() if s.section == "fwd"}
     assert fwd[1] == "(1,3)" and fwd[4] == "(4,6)" and fwd[3] == "(3,3)"
+
+
+@pytest.mark.parametrize("options", [dict(), dict(recursion="log"), dict(layout="folded")])
+def test_a_buffer_square_says_how_the_buffering_table_counts_its_chains(puma, options):
+    """The picture's squares are buses between sites (the forward node holding values it computes
+    ahead from backward results: "from fwd 1 to fwd 1"), the buffering table counts by the values'
+    pass (backward to forward): they seemed to disagree (a new user's find). Each square says how
+    the table counts its chains, and over the picture those add up to the table's."""
+    import re
+
+    from vampc.report.network_drawing import FLOW_WORDS
+    from vampc.report.wiring import delay_buffers
+    c = compile_chain(puma, CompileOptions(**options))
+    svg = nd.network_svg(c.graph, c.layout, c.network, "t")
+    titles = [t.text for t in ET.fromstring(svg).iter(f"{SVG}title") if t.text and "delay buffers" in t.text]
+    assert titles
+    said: Counter = Counter()
+    for text in titles:
+        chains = int(re.search(r": (\d+) chains?,", text)[1])
+        parts = re.search(r"in the buffering table: (.*)$", text)[1].split(", ")
+        counts = {words: int(k) for k, words in (p.split(" ", 1) for p in parts)}
+        assert sum(counts.values()) == chains
+        said.update(counts)
+    table = delay_buffers(c.graph, c.network)["by_flow"]
+    assert dict(said) == {FLOW_WORDS[f]: v["chains"] for f, v in table.items() if v["chains"]}

@@ -39,6 +39,11 @@ MAX_COLS = 16         # cells across; beyond, positions are grouped (see the mod
 MAX_PT = 1500         # the long side at most (cells shrink to fit), about 2 000 px
 
 
+FLOW_WORDS = {"within_backward": "within backward", "backward_to_forward": "backward to forward",
+              "within_forward": "within forward"}
+FLOW_ORDER = {f: k for k, f in enumerate(FLOW_WORDS)}
+
+
 @dataclass(frozen=True)
 class Drawing:
     """What the picture shows, before any drawing: sites with their grid place, label and VAMPs;
@@ -48,7 +53,7 @@ class Drawing:
     labels: dict               # Site -> text
     vamps: Counter             # Site -> VAMPs
     buses: dict                # (from Site, to Site) -> vector buses read straight off a Result
-    buffered: dict             # (from Site, to Site) -> (buses, deepest stage, chains)
+    buffered: dict             # (from Site, to Site) -> (buses, deepest stage, Counter of chains by flow)
     ports: list                # (port index, [Site], label)
     outputs: list              # (joint, Site)
     rows: int
@@ -109,7 +114,10 @@ def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
                         pass
                     case other:
                         unhandled(other)
-    buffered = {k: (n, deep, len(chains_of[k])) for k, (n, deep) in buffered.items()}
+    from vampc.report.wiring import buffer_flows
+    flows = buffer_flows(graph, net) if buffered else {}
+    buffered = {k: (n, deep, Counter(flows.get(i, "within_backward") for i in chains_of[k]))
+                for k, (n, deep) in buffered.items()}
     ports = [(p.index, readers_of_port.get(p.index, []), _port_label(p)) for p in net.ports]
     outputs = [(o.joint, sites[o.vamp]) for o in net.outputs]
     low = min(x for x, _ in places.values())
@@ -194,7 +202,7 @@ def aggregate(d: Drawing) -> Drawing:
     buffered: dict = {}
     for (a, b), (n, deep, chains) in d.buffered.items():
         key = (group[a], group[b])
-        got = buffered.get(key, (0, 0, 0))
+        got = buffered.get(key, (0, 0, Counter()))
         buffered[key] = (got[0] + n, max(got[1], deep), got[2] + chains)
     inside, labels = {}, {}
     for g, ss in members.items():
@@ -511,9 +519,15 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
             x, y = _free_spot(x, y, dx, dy, taken, circles, max(d.cols, MIN_COLS))
             taken.append((x, y))
         segments += [[(xa, ya), (x, y)], [(x, y), (xb, yb)]]
+        count = sum(chains.values())
+        # (by the flow of the values they hold, as the buffering table counts them: a forward
+        # node's VAMP holding values computed ahead from backward results is backward to forward
+        # there; the table and this picture had seemed to disagree: a new user's find)
+        flows = ", ".join(f"{k} {FLOW_WORDS[f]}" for f, k in sorted(chains.items(), key=lambda fk: FLOW_ORDER[fk[0]]))
         shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
-                            f"delay buffers from {a.label} to {b.label}: {chains} chain{'s' * (chains != 1)}, "
-                            f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}"))
+                            f"delay buffers from {a.label} to {b.label}: {count} chain{'s' * (count != 1)}, "
+                            f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}; in the "
+                            f"buffering table: {flows}"))
     _lines(ax, segments, "wires-buffered", "#8c6d31", 0.6, 1)
     style = {"facecolor": "#fff7bc", "edgecolor": "#8c6d31", "linewidth": 0.6, "zorder": 2}
     if _shapes(ax, shapes, "buffers", style, titles):

@@ -153,6 +153,23 @@ def delay_buffers(graph, net) -> dict:
     pass (with its non-propagated variables), backward to forward (values computed from the
     backward pass and held for the forward one), within the forward pass. A chain counts where its
     deepest stage is read (the first such read, in the order of reads_table)."""
+    kind = buffer_flows(graph, net)
+    classes = {k: {"chains": 0, "stages": 0, "scalars": 0} for k in FLOWS}
+    for b in net.buffers:
+        cls = classes[kind.get(b.index, "within_backward")]
+        cls["chains"] += 1
+        cls["stages"] += b.stages
+        cls["scalars"] += 3 * b.stages
+    return {"chains": len(net.buffers), "stages": net.buffer_stages,
+            "scalars": 3 * net.buffer_stages, "by_flow": classes,
+            "max_stages": max((b.stages for b in net.buffers), default=0)}
+
+
+def buffer_flows(graph, net) -> dict[int, str]:
+    """Each buffer chain's flow (FLOWS), as delay_buffers counts it: by the pass of the value held
+    (a forward node computing ahead from backward results alone holds backward-to-forward traffic,
+    wherever its VAMP sits: the network picture, which draws buses between sites, says so too).
+    A chain missing here is read at no stage past 0: within the backward pass."""
     import numpy as np
     early = early_forward(graph)
     t = reads_table(graph, net)
@@ -166,15 +183,7 @@ def delay_buffers(graph, net) -> dict:
     for i, row in zip(index[first].tolist(), buffered[first].tolist()):
         src, node = int(t.arg[row]), int(t.node[row])
         kind[i] = _flow(origin_pass(graph, early, src), Pass.of(graph.nodes[node].section))
-    classes = {k: {"chains": 0, "stages": 0, "scalars": 0} for k in FLOWS}
-    for b in net.buffers:
-        cls = classes[kind.get(b.index, "within_backward")]
-        cls["chains"] += 1
-        cls["stages"] += b.stages
-        cls["scalars"] += 3 * b.stages
-    return {"chains": len(net.buffers), "stages": net.buffer_stages,
-            "scalars": 3 * net.buffer_stages, "by_flow": classes,
-            "max_stages": max((b.stages for b in net.buffers), default=0)}
+    return kind
 
 
 def _flow(src: str, dst: str) -> str:
