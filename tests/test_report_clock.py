@@ -99,3 +99,13 @@ def test_a_count_per_second_printed_whole_is_that_count():
     assert fig["sets_per_second"] == 1255556 and sets_text(fig["sets_per_second"]) == "1,255,556"
     assert clock_figures(52, 18, 15, 50e6)["sets_per_second"] == 2777778
     assert rate(2 / 3) == 0.666667 and rate(99.99994) == 99.9999 and rate(100.5) == 100
+
+
+def test_sets_that_do_not_overlap_are_not_said_to_be_pipelined():
+    """A folded layout's interval (64 flops) is at least its latency (61): its sets run one after
+    another, and the sentence said "when sets are pipelined" (a new user's find)."""
+    folded = control_sentence(clock_figures(61, 64, 19, 1e6))
+    assert folded.endswith("15,625 torque sets per second one after another (the interval is at least "
+                           "the latency: sets do not overlap)")
+    systolic = control_sentence(clock_figures(61, 4, 19, 1e6))
+    assert systolic.endswith("250,000 torque sets per second when sets are pipelined")

@@ -156,10 +156,14 @@ def control_sentence(fig: dict) -> str:
     if missed:
         parts.append(f"does not meet {' and '.join(missed)} control")
     bound = fig["latency_us"] if fig["limited_by"] == "latency" else fig["interval_us"]
+    # (a folded layout's interval is at least its latency: its sets do not overlap, and "when sets
+    # are pipelined" read as if they could; a new user's find)
+    how = ("when sets are pipelined" if fig["interval_us"] < fig["latency_us"] else
+           "one after another (the interval is at least the latency: sets do not overlap)")
     return (f"at {fig['text']} the design {', '.join(parts)}: one torque set within each control "
             f"period up to {hz_text(fig['max_control_rate_hz'])} (bound by its {fig['limited_by']}, "
             f"{time_text(bound)}), and {sets_text(fig['sets_per_second'])} torque sets per second "
-            "when sets are pipelined")
+            f"{how}")
 
 
 def sets_text(per_second: float) -> str:
