@@ -335,3 +335,11 @@ def test_a_program_file_named_as_something_else_is_warned_of(tmp_path):
         assert r.exit_code == 0 and (tmp_path / name).exists(), r.output
         said = f"vampc: warning: -o {tmp_path / name}: writes a program file, whatever the name says (name it .vamp.json)"
         assert (said in r.stderr) == warned and len(r.stderr.splitlines()) == int(warned), r.stderr
+
+
+def test_the_command_list_gives_each_command_whole():
+    """`vampc --help` cut each command's description at "..." (a new user's find): a one-line
+    summary each, none cut."""
+    res = CliRunner().invoke(main, ["--help"])
+    listed = res.output.split("Commands:\n", 1)[1].splitlines()
+    assert len(listed) == len(main.commands) and not any(line.endswith("...") for line in listed)

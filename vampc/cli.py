@@ -176,7 +176,7 @@ def main():
     """
 
 
-@main.command()
+@main.command(short_help="Compile a robot file into a program file for a network of VAMPs.")
 @click.argument("robot", type=FilePath(dir_okay=False))
 @options_of(CompileCommand, CompileOptions, RobotOptions)
 @click.pass_context
@@ -193,7 +193,7 @@ def compile(ctx, robot, **params):
         say(dump, nl=False)
 
 
-@main.command()
+@main.command(short_help="Run a program (or a robot file) in the emulator: joint torques.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(EmulateOptions, CompileOptions, RobotOptions)
 @click.pass_context
@@ -208,7 +208,7 @@ def emulate(ctx, source, **params):
         sys.exit(1)
 
 
-@main.command()
+@main.command(short_help="Flop, latency, VAMP, buffer, package and clock figures; pictures.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(ReportOptions, CompileOptions, RobotOptions)
 @click.pass_context
@@ -225,7 +225,7 @@ def report(ctx, source, **params):
                        build(RobotOptions, ctx, params), params), nl=False)
 
 
-@main.command()
+@main.command(short_help="The narrowest fixed-point word for a robot, bounded and observed.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(PrecisionOptions, CompileOptions, RobotOptions, hidden=PRECISION_REFUSES)
 @click.pass_context
@@ -239,7 +239,7 @@ def precision(ctx, source, **params):
         CompileOptions, ctx, params), build(RobotOptions, ctx, params), params), nl=False)
 
 
-@main.command()
+@main.command(short_help="Torque shift register over a path: limits ahead, retiming.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(LookaheadOptions, CompileOptions, RobotOptions)
 @click.pass_context
@@ -255,7 +255,7 @@ def lookahead(ctx, source, **params):
         sys.exit(1)
 
 
-@main.command()
+@main.command(short_help="Fault campaigns on the tick engine: what each fault does.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(FaultsOptions, CompileOptions, RobotOptions)
 @click.pass_context
@@ -273,7 +273,7 @@ def faults(ctx, source, **params):
                    build(RobotOptions, ctx, params), params, say)
 
 
-@main.command()
+@main.command(short_help="The network as Verilog: co-simulation, synthesis figures.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(RtlOptions, CompileOptions, RobotOptions)
 @click.pass_context
