@@ -285,6 +285,11 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                 "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
                 "torques (README, Exactness convention)")]
     n = rep["joints"]
+    if rep.get("tree"):     # (the residual below would be all of a tree's difference: not a reason)
+        reasons.append(("a tree: its depth, not n",
+                        "the paper's formula is for a serial chain of n joints on a fixed base; a "
+                        "tree's or a floating base's latency follows its depth, not n (README, Trees "
+                        "and floating bases)"))
     # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
     # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
     if Recursion(rep["recursion"]) is Recursion.LOG and n & (n - 1) == 0 and \
