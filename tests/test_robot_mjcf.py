@@ -198,11 +198,20 @@ def test_what_inverse_dynamics_leaves_out_is_a_warning(tmp_path):
     (('<option gravity="0 0 -9.81"/>', '<option gravity="0 0 -9.81" density="1.2" viscosity="0"/>'),
      r"fluid forces \(<option> density, viscosity\) ignored"),
     (('<option gravity="0 0 -9.81"/>', '<option gravity="0 0 -9.81" viscosity="0.01"/>'),
-     r"fluid forces \(<option> density, viscosity\) ignored")])
+     r"fluid forces \(<option> density, viscosity\) ignored"),
+    (('name="j1"', 'name="j1" damping="0 2"'), r"joint damping ignored"),
+    (('name="j1"', 'name="j1" stiffness="0 0 3"'), r"joint stiffness ignored"),
+    (("</worldbody>", '</worldbody><actuator><motor joint="j1" gear="2" armature="0.3"/></actuator>'),
+     r"actuator armature ignored"),
+    (("</worldbody>", '</worldbody><actuator><motor joint="j1" gear="2" damping="2"/></actuator>'),
+     r"actuator damping ignored")])
 def test_passive_forces_left_out_are_a_warning_that_mj_inverse_differs_by(tmp_path, edit, said):
     """A body's gravcomp and fluid forces are passive forces MuJoCo's mj_inverse subtracts: vampc's
     torques differed from it (by 0.36 of the torque on a two-link arm), saying nothing (a new user's
-    find). Said; without them, the torques equal mj_inverse's."""
+    find). So were MuJoCo 4's polynomial damping and stiffness (damping="0 2": all but the first
+    term in dof_dampingpoly, jnt_stiffnesspoly) and an actuator's armature and damping, which act on
+    its joint (up to 224 times the torque; a new user's find). Said; without them, the torques equal
+    mj_inverse's."""
     from vampc.emulator.host import random_trajectory
     plain = model("d", body("a", "0 0 0.1", [("j1", "hinge", "0 1 0", "0 0 0", None)],
                             inner=body("b", "0.3 0 0", [("j2", "hinge", "0 1 0", "0 0 0", None)])))
@@ -582,34 +591,6 @@ def test_a_base_between_two_joints_of_one_body_feels_gravity_in_its_frame(tmp_pa
         chain = load_robot(path, base="B__jb1", lock=lock)
     assert [j.name for j in chain.joints] == ["jb2", "jc"]
     assert_as_mj_inverse_with_the_rest_at_qpos0(path, chain, {0: lock.get("j0", 0), 1: lock.get("jb1", 0)})
-
-
-@pytest.mark.parametrize("edit, said", [
-    (('name="j1"', 'name="j1" damping="0 2"'), r"joint damping ignored"),
-    (('name="j1"', 'name="j1" stiffness="0 0 3"'), r"joint stiffness ignored"),
-    (("</worldbody>", '</worldbody><actuator><motor joint="j1" gear="2" armature="0.3"/></actuator>'),
-     r"actuator armature ignored"),
-    (("</worldbody>", '</worldbody><actuator><motor joint="j1" gear="2" damping="2"/></actuator>'),
-     r"actuator damping ignored")])
-def test_polynomial_springs_and_actuator_armature_are_warned_of(tmp_path, edit, said):
-    """MuJoCo 4 takes several values in damping="..." and stiffness="..." (all but the first in
-    dof_dampingpoly, jnt_stiffnesspoly), and an actuator's armature and damping act on its joint:
-    all were left out saying nothing, where mj_inverse differs by up to 224 times the torque (a new
-    user's find). Said; without them, the torques equal mj_inverse's."""
-    from vampc.dynamics.reference import rnea
-    from vampc.emulator.host import random_trajectory
-    plain = model("d", body("a", "0 0 0.1", [("j1", "hinge", "0 1 0", "0 0 0", None)],
-                            inner=body("b", "0.3 0 0", [("j2", "hinge", "0 1 0", "0 0 0", None)])))
-    path = tmp_path / "d.xml"
-    path.write_text(plain.replace(*edit, 1))
-    assert path.read_text() != plain
-    with pytest.warns(VampcWarning, match=said):
-        chain = load_robot(path)
-    (tmp_path / "plain.xml").write_text(plain)
-    traj = random_trajectory(chain, 5, 2)
-    want = mujoco_reference(tmp_path / "plain.xml", traj)
-    assert np.max(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd) - want)) <= 1e-12 * np.abs(want).max()
-    assert np.max(np.abs(mujoco_reference(path, traj) - want)) > 1e-3      # (the file's: they matter)
 
 
 def test_a_tendon_with_polynomial_stiffness_and_a_flex_are_refused(tmp_path):
