@@ -79,3 +79,28 @@ def test_a_trees_rows_say_the_formula_is_a_chains():
     for row in table_o1(configurations(c), c.chain)["measured"]:
         if "difference" in row and row.get("measure") == "latency":
             assert "a tree: its depth, not n" in row["note"] and "not explained" not in row["note"], row
+
+
+@pytest.mark.parametrize("prefix", ["brent-kung", "kogge-stone", "ladner-fischer", "serial"])
+def test_another_prefix_is_a_reason_not_an_unexplained_difference(prefix):
+    """The paper's log formula counts Sklansky's prefix: another shape's depth is the reason its
+    rows differ, not an unexplained remainder (review: '+112 M, +336 A not explained' for serial)."""
+    from vampc.compiler import CompileOptions
+    c = compile_chain(random_chain(13, 21, prismatic_fraction=0.0), CompileOptions(recursion="log", prefix=prefix))
+    rows = {r["configuration"]: r for r in table_o1(configurations(c), c.chain)["measured"]}
+    note = rows["log, systolic"]["note"]
+    assert f"a {prefix} prefix" in note and "not explained" not in note, note
+
+
+def test_a_floating_chain_is_not_called_a_tree_nor_saves_a_tier():
+    """A floating-base serial chain was labelled 'a tree: its depth, not n', and a tree or floating
+    base at n a power of two was given the fixed base's 'one tier less' (review)."""
+    from dataclasses import replace
+
+    from vampc.compiler import CompileOptions
+    chain = replace(random_chain(8, 21, prismatic_fraction=0.0), floating=True)
+    c = compile_chain(chain, CompileOptions(recursion="log"))
+    for row in table_o1(configurations(c), c.chain)["measured"]:
+        if row.get("measure") == "latency" and "difference" in row:
+            assert "a floating base" in row["note"] and "tree" not in row["note"], row["note"]
+            assert "one tier less" not in row["note"] and "not explained" not in row["note"]

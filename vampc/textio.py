@@ -29,6 +29,8 @@ def read_whole(path, stdin: bool = False) -> bytes:
         except (AttributeError, OSError, ValueError):   # (a stream without one: a test's, Jupyter's)
             data = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read()
             return data.encode() if isinstance(data, str) else data
+        if stat.S_ISREG(os.fstat(fd).st_mode):    # (a file redirected in: one buffer of its size)
+            return sys.stdin.buffer.read()
         return _pieces(fd)
     fd = os.open(path, os.O_RDONLY)
     try:

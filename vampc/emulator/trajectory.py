@@ -96,44 +96,6 @@ def program_joints(n: int, of: int | None = None) -> str:
 
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                what: str = "trajectory", arrays: bool = False, source=None):
-    """`_read_table`, and a t cell written as an integer past 2**53 held exactly by its float64
-    (nanosecond times 2**53 + 1 .. + 4 read as ...992, ...994, ...996, ...996: repeats, unsaid; a
-    new user's find): VampcError naming the line otherwise. (Other cells are decimals, read as
-    float() reads them, rounded to the nearest float64 as 0.1 is; a time carried over is the
-    user's own, not a quantity.)"""
-    if source is None:
-        from vampc.textio import read_whole
-        if str(path) == "-" and sys.stdin is None:
-            return _read_table(path, columns, why, floating, what, arrays)     # (it says so)
-        source = io.BytesIO(read_whole(path, stdin=True))
-    data, t = _read_table(path, columns, why, floating, what, arrays, source)
-    _exact_csv_integers(path, source.getvalue(), data, t, columns)
-    return data, t
-
-
-def _exact_csv_integers(path, raw: bytes, data: np.ndarray, t, columns: list[str]) -> None:
-    if t is None:
-        return
-    names = ["t"]
-    with np.errstate(invalid="ignore"):
-        rows, cols = np.nonzero(np.abs(np.asarray(t, dtype=float))[:, None] >= 2.0 ** 53)
-    if not rows.size:
-        return
-    import re
-    lines = raw.decode("utf-8", "replace").lstrip("\ufeff").splitlines()
-    for r, c in zip(rows.tolist(), cols.tolist()):
-        try:
-            cell = next(csv.reader([lines[r + 1]]))[c].strip()
-        except (IndexError, StopIteration, csv.Error):
-            continue
-        if re.fullmatch(r"[+-]?[0-9]+", cell) and int(cell) != float(cell):
-            raise VampcError(f"{path}: line {r + 2}, column {names[c]}: the integer {cell} is not a "
-                             f"float64 (vampc computes in float64, where it is {float(cell)!r}); give "
-                             "it as a float, or in a unit that keeps it within 2**53")
-
-
-def _read_table(path: Path, columns: list[str], why: str, floating: bool = False,
-                what: str = "trajectory", arrays: bool = False, source=None):
     """(data, t) of a CSV table whose header is `columns`, with an optional leading t (`why`: what
     the columns follow from, for the header's message; `floating`: a floating base's columns may be
     what is missing; `arrays`: the caller reads .npy and .npz files too, by their suffix).

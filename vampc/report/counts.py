@@ -262,8 +262,7 @@ def latency_note(rep: dict) -> list[str]:
     """Sentences explaining where the achieved latency differs from the paper's formula, and why."""
     got, paper = rep["latency"], rep["paper"]
     if rep.get("tree"):
-        return ["the paper's formula is for a serial chain of n joints on a fixed base; a tree's or a "
-                "floating base's latency follows its depth, not n (README, Trees and floating bases)"]
+        return [TREE_SENTENCE]
     dm, da = got["mults"] - paper["mults"], got["adds"] - paper["adds"]
     expected = paper_flops(rep)
     if (dm, da) == (0, 0) and got["flops"] == expected:
@@ -275,32 +274,40 @@ def latency_note(rep: dict) -> list[str]:
     return notes + [long for _, long in latency_reasons(rep)]
 
 
+CORRECTION = "output correction, +1 M + 2 A"
+TIER = "one tier less each way (n a power of 2)"
+UNIFORM = "uniform leaves, +2 A"
+TREE_SENTENCE = ("the paper's formula is for a serial chain of n joints on a fixed base; a tree's or a "
+                 "floating base's latency follows its depth, not n (README, Trees and floating bases)")
+# what each itemised reason accounts for, (Mults, Addns) on the path: what is left of a difference
+# from the paper's formula is said to be unexplained (`latency_reasons`)
+ACCOUNTED = {CORRECTION: (1, 2), TIER: (-2, -6), UNIFORM: (0, 2)}
+
+
 def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     """Why a latency differs from the paper's formula, each reason as (short, sentence); `rep` holds
-    the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints."""
+    the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints,
+    and optionally tree (a tree or floating base: "tree" or "floating") and prefix (its shape)."""
     got, paper = rep["latency"], rep["paper"]
-    reasons = [("output correction, +1 M + 2 A",
+    reasons = [(CORRECTION,
                 "includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
                 "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "
                 "I), so f and n are carried referred to O_{i-1} with one more MV on the path to the "
                 "torques (README, Exactness convention)")]
     n = rep["joints"]
-    if rep.get("tree"):     # (the residual below would be all of a tree's difference: not a reason)
-        reasons.append(("a tree: its depth, not n",
-                        "the paper's formula is for a serial chain of n joints on a fixed base; a "
-                        "tree's or a floating base's latency follows its depth, not n (README, Trees "
-                        "and floating bases)"))
+    log = Recursion(rep["recursion"]) is Recursion.LOG
+    if rep.get("tree"):     # (neither a tier a power of two saves nor a residual: its depth counts)
+        reasons.append(("a tree: its depth, not n" if rep["tree"] == "tree" else
+                        "a floating base", TREE_SENTENCE))
     # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
     # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
-    if Recursion(rep["recursion"]) is Recursion.LOG and n & (n - 1) == 0 and \
-            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3:
-        reasons.append(("one tier less each way (n a power of 2)",
+    elif log and n & (n - 1) == 0 and got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3:
+        reasons.append((TIER,
                         "log recursion: grounded in O_0 when the base does not rotate (section VI), "
                         "the prefix network spans n leaves instead of n + 1, which saves a whole tier "
                         "each way (8 flops) when n is a power of 2"))
-    if Recursion(rep["recursion"]) is Recursion.LOG and rep.get("uniform_leaves"):
-        reasons.append(("uniform leaves, +2 A",
-                        "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
+    if log and rep.get("uniform_leaves"):
+        reasons.append((UNIFORM, "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
         reasons.append(("Mult/Addn latencies ≠ 1 flop",
                         "the paper assumes 1 Mult = 1 Addn = 1 flop; its formula is compared at the "
@@ -310,14 +317,16 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         reasons.append(("σ̄ terms of prismatic joints",
                         f"prismatic joints {rep['prismatic_joints']} add the σ̄ terms of Table I.1 (the "
                         "paper's formula is for a general rotary arm)"))
+    if log and rep.get("prefix", "sklansky") != "sklansky":
+        reasons.append((f"a {rep['prefix']} prefix",
+                        f"the paper's formula counts Sklansky's prefix network; a {rep['prefix']} "
+                        "prefix has other depths (README, Prefix shapes)"))
     # what the reasons above account for, where each is a known count: anything left is said to be
     # unexplained (the log recursion at n = 1 showed 2 Addns fewer than the reasons gave, its row
     # saying only the reasons: a new user's find)
-    known = {"output correction, +1 M + 2 A": (1, 2), "one tier less each way (n a power of 2)": (-2, -6),
-             "uniform leaves, +2 A": (0, 2)}
-    if all(short in known for short, _ in reasons):
-        left_m = got["mults"] - paper["mults"] - sum(known[short][0] for short, _ in reasons)
-        left_a = got["adds"] - paper["adds"] - sum(known[short][1] for short, _ in reasons)
+    if all(short in ACCOUNTED for short, _ in reasons):
+        left_m = got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons)
+        left_a = got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons)
         if (left_m, left_a) != (0, 0):
             left = ", ".join(f"{v:+d} {unit}".replace("-", "−") for v, unit in ((left_m, "M"), (left_a, "A"))
                              if v)

@@ -72,7 +72,8 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "joints": n, "recursion": k.recursion, "uniform_leaves": k.options.uniform_leaves,
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0],
-        "tree": not chain.is_chain or chain.floating})
+        "tree": "tree" if not chain.is_chain else "floating" if chain.floating else None,
+        "prefix": str(getattr(k.options.prefix, "value", k.options.prefix))})
     short = [r[0] for r in reasons]
     on_bus = k.network is not None and k.network.bus is not None
     if s.waits and on_bus:
