@@ -161,6 +161,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               lock: dict[str, float] | None, floating: bool, mimic: str,
               mimic_said: str | None = "<mimic>") -> Chain:
     lock = _check_lock(lock or {}, tree, path)
+    given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic == "couple" and not leaders and not problems and mimic_said:
         warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic couple has no "
@@ -169,7 +170,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     below = {j.name for j in tree.below(base)}
-    lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders)
+    lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders, given)
     tip = choose_tip(tree, base, tip, lock, path)
     tree, turned, at = _gravity_at_base(tree, base, floating, above_locks, leaders, below, path)
     # (a follower above the base that the coupling placed off 0, where gravity is turned, is an effect)
@@ -466,7 +467,7 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
 
 
 def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path, floating: bool = False,
-                 leaders: dict | None = None) -> tuple[dict, dict]:
+                 leaders: dict | None = None, given=None) -> tuple[dict, dict]:
     """(the locks of joints below the base (`below`: their names), those of joints above it): a
     joint above it, cut away by the base, is at its --lock value where gravity is turned into the
     base's frame (`_gravity_at_base`, which says so). A floating joint's lock is dropped with a
@@ -483,6 +484,8 @@ def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path, floa
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is the floating base's own joint (its "
                                        f"motion is the host's input); --lock {name}=... has no "
                                        "effect"), stacklevel=4)
+        elif given is not None and name not in given and (floating or name not in placing):
+            pass            # (a coupled follower's lock, derived from its leader's: not the user's)
         elif floating and name in up:
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is above the floating base '{base}' "
                                        f"(whose motion is the host's input); --lock {name}=... has "
