@@ -1535,8 +1535,8 @@ def test_a_floating_bases_columns_for_a_fixed_base_say_what_to_give(program, tmp
                r"Trees and floating bases\)$")
     np.save(tmp_path / "f.npy", np.zeros((3, 15)))
     user_error(run("emulate", program, "--trajectory", tmp_path / "f.npy", "-o", tmp_path / "t.csv"),
-               r"array of shape \(3, 15\); expected \(states, 6\) or \(states, 7\) with t first; 9 more "
-               r"columns are a floating base's: give the robot --floating-base")
+               r"array of shape \(3, 15\); expected \(states, 6\) or \(states, 7\) with t first; if the "
+               r"last 9 columns are a floating base's, give the robot --floating-base")
 
 
 def test_int64s_least_value_is_a_float64(program, tmp_path):
@@ -1568,3 +1568,20 @@ def test_a_yaml_robot_that_is_a_character_device_is_not_read(tmp_path):
     link.symlink_to("/dev/zero")
     user_error(run("compile", link, "-o", tmp_path / "z.vamp.json"),
                r"z\.yaml: cannot read: it is a character device, which has no end: give a file or a pipe$")
+
+
+def test_bytes_for_a_standard_output_that_takes_only_text_are_one_line(program, tmp_path, monkeypatch):
+    """With standard output replaced by a text-only stream (Jupyter's, a library caller's), a program
+    file (bytes) sent there ended in a TypeError (review): one line; text still goes there."""
+    import io
+    import sys
+
+    from vampc.errors import VampcError
+    from vampc.outputs import plan_outputs, write_output
+    monkeypatch.setattr(sys, "stdout", io.StringIO())
+    out = plan_outputs([], {"-o": "-"}, stdout_ok=("-o",))["-o"]
+    with pytest.raises(VampcError, match=r"^-: standard output here takes text, not the program file "
+                                         r"\(bytes\): write it to a file$"):
+        write_output(out, b"{}", "program file")
+    write_output(out, "text\n", "report")
+    assert sys.stdout.getvalue() == "text\n"

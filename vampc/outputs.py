@@ -338,10 +338,14 @@ class Pending:
             if out.kind == "stdout":
                 sys.stdout.flush()                  # (what was printed before goes first)
                 buffer = getattr(sys.stdout, "buffer", None)
-                # (a standard output without bytes underneath, Jupyter's, say: text as it takes it)
-                self.fh = sys.stdout if buffer is None and not binary else \
-                    _Whole(buffer if buffer is not None else sys.stdout, binary,
-                           getattr(sys.stdout, "encoding", None), getattr(sys.stdout, "errors", None))
+                # (a standard output without bytes underneath, Jupyter's, say: text as it takes it,
+                # bytes refused in one line; a TypeError had ended the command)
+                if buffer is None and binary:
+                    raise VampcError(f"{out.path}: standard output here takes text, not the "
+                                     f"{what} (bytes): write it to a file")
+                self.fh = sys.stdout if buffer is None else \
+                    _Whole(buffer, binary, getattr(sys.stdout, "encoding", None),
+                           getattr(sys.stdout, "errors", None))
             elif out.kind == "stream":
                 self.fh = _Whole(open(out.target, "wb"), binary)   # noqa: SIM115 - closed in commit/discard
             else:

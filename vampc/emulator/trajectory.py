@@ -371,8 +371,9 @@ def _read_npy(path: Path, n: int, width: int, source=None):
         raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
     if arr.ndim != 2 or arr.shape[1] not in (width, width + 1) or arr.shape[0] == 0:
         base = (" (a floating base: q, qd, qdd, then the 9 base columns)" if width > 3 * n else
-                "; 9 more columns are a floating base's: give the robot --floating-base (README, Trees "
-                "and floating bases)" if arr.ndim == 2 and arr.shape[1] in (width + 9, width + 10) else "")
+                "; if the last 9 columns are a floating base's, give the robot --floating-base "
+                "(README, Trees and floating bases)" if arr.ndim == 2 and arr.shape[1] in (width + 9, width + 10)
+                else "")
         raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {width}) or "
                          f"(states, {width + 1}) with t first{base}")
     arr = _as_float(path, arr)
