@@ -688,3 +688,30 @@ def test_an_unnamed_joint_or_body_in_an_error_is_said_to_be_unnamed(tmp_path):
     assert_error(lambda: load_robot(path), path, r"<body> number 1 \(unnamed; vampc calls it 'body1'\): has "
                                                  r"a free joint \(a floating base\) but the world also carries "
                                                  r"'body3' .*")
+
+
+def test_mujocos_own_warnings_are_one_line_each_and_leave_no_log(tmp_path, monkeypatch):
+    """MuJoCo's compiler warning (a flex without constraints) printed two lines of its own ahead of
+    vampc's error and wrote MUJOCO_LOG.TXT into the folder (a new user's find): the error comes
+    alone, no file is left; on a model vampc takes, MuJoCo's warning is one vampc warning."""
+    monkeypatch.chdir(tmp_path)
+    arm = model("d", body("a", "0 0 0.1", [("j1", "hinge", "0 1 0", "0 0 0", None)]))
+    path = tmp_path / "cloth.xml"
+    path.write_text(arm.replace("</worldbody>", '<flexcomp name="cloth" type="grid" count="3 3 1" '
+                                'spacing="0.1 0.1 0.1" pos="0 0 2" dim="2" radius="0.01" mass="0.3"/>'
+                                "</worldbody>"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert_error(lambda: load_robot(path), path, r"flex 'cloth': deformable \(flex\) objects are not "
+                                                     r"supported \(the network computes rigid bodies in an "
+                                                     r"open tree\)")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cloth.xml"]
+    real = mujoco.MjModel.from_xml_path
+
+    def warning_first(name):
+        mujoco.get_mju_user_warning()("something odd\nElement name 'a', id 1")
+        return real(name)
+    monkeypatch.setattr(mujoco.MjModel, "from_xml_path", staticmethod(warning_first))
+    (tmp_path / "arm.xml").write_text(arm)
+    with pytest.warns(VampcWarning, match=r"arm\.xml: MuJoCo warns: something odd Element name 'a', id 1$"):
+        assert load_robot(tmp_path / "arm.xml").n == 1

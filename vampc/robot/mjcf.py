@@ -112,7 +112,7 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
     from vampc.robot.urdf import chain_of
     from vampc.robot.urdf_tree import Tree
     path = Path(path)
-    model = _compiled(path)
+    model, heard = _compiled(path)
     with gc_paused():
         robot, gravity, held = _robot(model, path, base)
         lock = dict(lock or {})
@@ -137,6 +137,8 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                          mimic_said=None if held or placed else "joint equality (<equality><joint>)")
         if turned:                   # (said once the robot is made: an error comes alone)
             warnings.warn(VampcWarning(turned), stacklevel=2)
+        for message in heard:
+            warnings.warn(VampcWarning(f"{path}: MuJoCo warns: {message}"), stacklevel=2)
         return chain
 
 
@@ -211,10 +213,20 @@ def _compiled(path: Path):
                          "pip install \"vampc[mjcf]\"") from None
     if not path.is_file():
         raise located(path, "", "no such file" if not path.exists() else "not a regular file")
+    # MuJoCo's own warnings printed two lines of their own on stderr ahead of vampc's and wrote
+    # MUJOCO_LOG.TXT into the folder (a new user's find): taken here, said once the robot is made
+    heard: list[str] = []
+    previous = getattr(mujoco, "get_mju_user_warning", lambda: None)()
+    hear = getattr(mujoco, "set_mju_user_warning", None)
+    if hear is not None:
+        hear(lambda message: heard.append(" ".join(str(message).split())))
     try:
-        return mujoco.MjModel.from_xml_path(str(path))
+        return mujoco.MjModel.from_xml_path(str(path)), heard
     except ValueError as exc:            # MuJoCo's parser and compiler errors
         raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
+    finally:
+        if hear is not None:
+            hear(previous)
 
 
 def _robot(model, path: Path, base: str | None = None):
