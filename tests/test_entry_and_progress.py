@@ -69,3 +69,20 @@ def test_no_bar_is_drawn_before_its_delay(monkeypatch, tmp_path, command):
     r = CliRunner().invoke(main, args)
     assert r.exit_code == 0, r.output
     assert "stages" not in r.stderr, r.stderr
+
+
+def test_a_bar_waits_for_the_command_not_for_itself(monkeypatch):
+    """Each bar waited its own 2 s: a report's bar, after the compile's, left 2 s blank in the middle
+    of a run (a new user's find). A bar appears once the command has run DELAY seconds."""
+    import time
+
+    from vampc import progress
+    clock = [100.0]
+    monkeypatch.setattr(time, "monotonic", lambda: clock[0])
+    monkeypatch.setattr(progress, "DELAY", 2.0)
+    progress.begin()
+    assert progress._delay() == 2.0
+    clock[0] = 101.5
+    assert progress._delay() == 0.5
+    clock[0] = 104.0
+    assert progress._delay() == 0.0            # (a later bar: at once)

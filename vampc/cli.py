@@ -44,6 +44,8 @@ def handle_errors(f):
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
         command_begins()
+        from vampc import progress
+        progress.begin()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("always", VampcWarning)

@@ -7,7 +7,20 @@ import contextlib
 import os
 import sys
 
-DELAY = 2.0   # seconds before a bar appears
+DELAY = 2.0   # seconds into a command before a bar appears
+_BEGUN: list[float] = []     # when the command began (`begin`), monotonic seconds
+
+
+def begin() -> None:
+    """A command begins: its bars appear once it has run DELAY seconds, not each DELAY seconds after
+    it starts (a report's second bar, after the compile's, left 2 s blank: a new user's find)."""
+    import time
+    _BEGUN[:] = [time.monotonic()]
+
+
+def _delay() -> float:
+    import time
+    return DELAY if not _BEGUN else max(0.0, DELAY - (time.monotonic() - _BEGUN[0]))
 
 
 def enabled() -> bool:
@@ -28,7 +41,7 @@ def counter(label: str, total: int, unit: str = "set"):
         yield lambda done, total: None
         return
     from tqdm import tqdm
-    with tqdm(total=total, desc=label, unit=unit, delay=DELAY, file=sys.stderr,
+    with tqdm(total=total, desc=label, unit=unit, delay=_delay(), file=sys.stderr,
               leave=False, dynamic_ncols=True) as bar:
         def update(done: int, total_now: int) -> None:
             if total_now != bar.total:
@@ -44,7 +57,7 @@ def stages(label: str, names: tuple[str, ...]):
         yield lambda name: None
         return
     from tqdm import tqdm
-    with tqdm(total=len(names), desc=label, unit="stage", delay=DELAY, file=sys.stderr,
+    with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(), file=sys.stderr,
               leave=False, dynamic_ncols=True,
               bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}] {postfix}") as bar:
         def stage(name: str) -> None:
