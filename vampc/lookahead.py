@@ -395,8 +395,13 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
             names = columns or {}
             joint = names[what][j] if what in names else f"{what}{j + 1}"
             other = names[d2][j] if d2 in names else f"{d2}{j + 1}"
+            # (how far it goes: one line named of a path whose every step disagreed read as a
+            # slip in one row; a new user's find)
+            rows, joints = int(off.any(axis=1).sum()), int(off.any(axis=0).sum())
+            extent = "" if off.sum() == 1 else \
+                f" ({rows} of its {len(step)} steps disagree so, in {joints} joint{'s' * (joints != 1)})"
             return (f"{path}: line {r + 2} to {r + 3}: {joint} changes by {float(step[r, j]):.6g} "
-                    f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate: the "
+                    f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate{extent}: the "
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
                     "limits (write q, qd and qdd of one motion)")
