@@ -509,6 +509,7 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
     shapes, segments = [], []
     taken: list = []
     circles = [_xy(d, s) for s in d.places] if len(d.buffered) <= DETAIL else []
+    seen: dict[str, int] = {}
     for (a, b), (buses, deepest, chains) in sorted(d.buffered.items()):
         (xa, ya), (xb, yb) = _xy(d, a), _xy(d, b)
         if a == b:                                        # feedback within a node or device
@@ -524,10 +525,15 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
         # node's VAMP holding values computed ahead from backward results is backward to forward
         # there; the table and this picture had seemed to disagree: a new user's find)
         flows = ", ".join(f"{k} {FLOW_WORDS[f]}" for f, k in sorted(chains.items(), key=lambda fk: FLOW_ORDER[fk[0]]))
-        shapes.append(Shape("square", x, y, 0.11, f"buffer-{a.section}{a.index}-{b.section}{b.index}",
+        name = f"buffer-{a.section}{a.index}-{b.section}{b.index}"
+        seen[name] = seen.get(name, 0) + 1      # (a grouped drawing's sites share section and
+        if seen[name] > 1:                      # index across rows: one id each, not one for all)
+            name += f"-{seen[name]}"
+        shapes.append(Shape("square", x, y, 0.11, name,
                             f"delay buffers from {a.label} to {b.label}: {count} chain{'s' * (count != 1)}, "
-                            f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}; in the "
-                            f"buffering table: {flows}"))
+                            f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}; the buffering "
+                            f"table counts these chains as {flows} (a chain read at several sites is "
+                            "drawn at each, and counted once there)"))
     _lines(ax, segments, "wires-buffered", "#8c6d31", 0.6, 1)
     style = {"facecolor": "#fff7bc", "edgecolor": "#8c6d31", "linewidth": 0.6, "zorder": 2}
     if _shapes(ax, shapes, "buffers", style, titles):
