@@ -715,3 +715,12 @@ def test_mujocos_own_warnings_are_one_line_each_and_leave_no_log(tmp_path, monke
     (tmp_path / "arm.xml").write_text(arm)
     with pytest.warns(VampcWarning, match=r"arm\.xml: MuJoCo warns: something odd Element name 'a', id 1$"):
         assert load_robot(tmp_path / "arm.xml").n == 1
+
+
+def test_the_link_after_a_bodys_last_joint_is_the_body(tmp_path):
+    """--base B__jb2, after B's last joint, was only an 'unknown base link' (a new user's find): the
+    message says that link is B itself."""
+    path = tmp_path / "two.xml"
+    path.write_text(TWO_HINGES)
+    assert_error(lambda: load_robot(path, base="B__jb2"), path,
+                 r"unknown base link 'B__jb2' \(the link after jb2, B's last joint, is B itself\)")

@@ -227,7 +227,7 @@ def report(ctx, source, **params):
                        build(RobotOptions, ctx, params), params), nl=False)
 
 
-@main.command(short_help="The narrowest fixed-point word for a robot, bounded and observed.")
+@main.command(short_help="The narrowest fixed-point word for a robot or program: bound, run.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(PrecisionOptions, CompileOptions, RobotOptions, hidden=PRECISION_REFUSES)
 @click.pass_context

@@ -131,7 +131,13 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     the base floats."""
     if base is not None:
         if base not in tree.links:
-            raise located(path, "", f"unknown base link '{base}'")
+            # (an MJCF body's link after its last joint is the body itself: 'arm__j2' for the body
+            # arm on j1, j2 was only 'unknown'; a new user's find)
+            last = next((j.child for j in tree.joints.values() if "__" in base
+                         and base == f"{j.child}__{j.name}"), None)
+            hint = f" (the link after {base.split('__')[-1]}, {last}'s last joint, is {last} itself)" \
+                if last else ""
+            raise located(path, "", f"unknown base link '{base}'{hint}")
         carried = _floating_child(tree, base) if base not in tree.parent else None
         if carried:
             return carried, True                         # the root named: as without --base
