@@ -340,6 +340,6 @@ def test_a_program_file_named_as_something_else_is_warned_of(tmp_path):
 def test_the_command_list_gives_each_command_whole():
     """`vampc --help` cut each command's description at "..." (a new user's find): a one-line
     summary each, none cut."""
-    res = CliRunner().invoke(main, ["--help"])
+    res = CliRunner().invoke(main, ["--help"], terminal_width=78)     # (a terminal's, not 80)
     listed = res.output.split("Commands:\n", 1)[1].splitlines()
     assert len(listed) == len(main.commands) and not any(line.endswith("...") for line in listed)

@@ -80,9 +80,21 @@ def test_a_bar_waits_for_the_command_not_for_itself(monkeypatch):
     clock = [100.0]
     monkeypatch.setattr(time, "monotonic", lambda: clock[0])
     monkeypatch.setattr(progress, "DELAY", 2.0)
+    monkeypatch.setattr(progress, "_BEGUN", [])
     progress.begin()
     assert progress._delay() == 2.0
     clock[0] = 101.5
     assert progress._delay() == 0.5
     clock[0] = 104.0
     assert progress._delay() == 0.0            # (a later bar: at once)
+    # a command begins the clock and ends it: a library caller's bar afterwards waits its own
+    # DELAY (review: the first command's start had been kept for good)
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    begun = []
+    real = progress.begin
+    monkeypatch.setattr(progress, "begin", lambda: (begun.append(1), real()))
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "-o", "-"]).exit_code == 0
+    clock[0] = 110.0                           # (later: a bar of its own waits its own 2 s)
+    assert begun == [1] and progress._delay() == 2.0

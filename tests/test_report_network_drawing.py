@@ -113,8 +113,8 @@ def test_a_buffer_square_says_how_the_buffering_table_counts_its_chains(puma, op
         said.update(counts)
     table = {FLOW_WORDS[f]: v["chains"] for f, v in delay_buffers(c.graph, c.network)["by_flow"].items()
              if v["chains"]}
-    assert set(said) == set(table)
-    if not options:
+    assert set(said) == set(table) and all(said[k] >= v for k, v in table.items())
+    if "vamps" not in options:          # (each chain read at one site: they add up exactly)
         assert dict(said) == table
 
 

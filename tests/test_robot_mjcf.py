@@ -724,3 +724,15 @@ def test_the_link_after_a_bodys_last_joint_is_the_body(tmp_path):
     path.write_text(TWO_HINGES)
     assert_error(lambda: load_robot(path, base="B__jb2"), path,
                  r"unknown base link 'B__jb2' \(the link after jb2, B's last joint, is B itself\)")
+
+
+def test_the_link_after_a_last_joint_named_with_underscores_and_as_tip(tmp_path):
+    """The hint took the joint's name from the text after the last '__' ('k__2' read as '2'), and
+    --tip had none (review)."""
+    path = tmp_path / "two.xml"
+    path.write_text(TWO_HINGES.replace('name="jb2"', 'name="k__2"'))
+    assert_error(lambda: load_robot(path, base="B__k__2"), path,
+                 r"unknown base link 'B__k__2' \(the link after k__2, B's last joint, is B itself\)")
+    assert_error(lambda: load_robot(path, tip="B__k__2"), path,
+                 r"unknown tip link 'B__k__2' \(the link after k__2, B's last joint, is B itself\)")
+    assert mujoco.get_mju_user_warning() is None       # (MuJoCo's handler put back)

@@ -866,3 +866,23 @@ def test_a_follower_above_the_base_of_a_leader_below_it(tmp_path):
     texts = [str(w.message) for w in said]
     assert [j.name for j in chain.joints] == ["j2"]
     assert not any("no effect" in t for t in texts) and any("(w at 1:" in t for t in texts), texts
+
+
+def test_a_lock_of_a_cut_away_leader_whose_follower_is_kept_is_not_said_to_do_nothing(tmp_path):
+    """A --mimic couple leader on a branch --base cuts away, whose follower is below the base: its
+    lock places the follower, and without it the load asks for it; the warning called it useless
+    (review)."""
+    inertial = ('<inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" '
+                'izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="{n}">{inertial}</link>' for n in ("world", "torso", "leg", "arm", "hand"))
+    joints = "".join(f'<joint name="{j}" type="continuous"><parent link="{p}"/><child link="{c}"/>'
+                     f'<origin xyz="0.2 0 0"/><axis xyz="1 0 0"/>{extra}</joint>'
+                     for j, p, c, extra in (("j0", "world", "torso", ""), ("L", "world", "leg", ""),
+                                            ("A", "torso", "arm", '<mimic joint="L" multiplier="2"/>'),
+                                            ("B", "arm", "hand", "")))
+    path = write(tmp_path, f'<robot name="m">{links}{joints}</robot>')
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        chain = load_urdf(path, base="torso", lock={"L": 0.3}, mimic="couple")
+    assert [j.name for j in chain.joints] == ["B"]
+    assert not any("--lock L=" in str(w.message) for w in said), [str(w.message) for w in said]

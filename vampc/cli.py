@@ -80,6 +80,8 @@ def handle_errors(f):
             click.echo("vampc: internal error: this is a bug in vampc, not in your input; please "
                        "report it with the command line and the input file", err=True)
             sys.exit(3)
+        finally:
+            progress.end()
     return wrapper
 
 
@@ -227,7 +229,7 @@ def report(ctx, source, **params):
                        build(RobotOptions, ctx, params), params), nl=False)
 
 
-@main.command(short_help="The narrowest fixed-point word for a robot or program: bound, run.")
+@main.command(short_help="The narrowest fixed-point word for a robot or program.")
 @click.argument("source", type=FilePath(dir_okay=False))
 @options_of(PrecisionOptions, CompileOptions, RobotOptions, hidden=PRECISION_REFUSES)
 @click.pass_context

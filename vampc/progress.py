@@ -18,6 +18,11 @@ def begin() -> None:
     _BEGUN[:] = [time.monotonic()]
 
 
+def end() -> None:
+    """The command has ended: later bars (a library caller's) wait DELAY seconds of their own."""
+    _BEGUN.clear()
+
+
 def _delay() -> float:
     import time
     return DELAY if not _BEGUN else max(0.0, DELAY - (time.monotonic() - _BEGUN[0]))

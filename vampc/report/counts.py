@@ -320,7 +320,7 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     if log and rep.get("prefix", "sklansky") != "sklansky":
         reasons.append((f"a {rep['prefix']} prefix",
                         f"the paper's formula counts Sklansky's prefix network; a {rep['prefix']} "
-                        "prefix has other depths (the report's Prefix shapes table)"))
+                        "prefix has other depths (compile with --prefix sklansky to compare)"))
     # what the reasons above account for, where each is a known count: anything left is said to be
     # unexplained (the log recursion at n = 1 showed 2 Addns fewer than the reasons gave, its row
     # saying only the reasons: a new user's find)

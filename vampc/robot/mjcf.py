@@ -30,6 +30,7 @@ them, Pinocchio's MJCF reader the armature). Gravity disabled by `<flag gravity=
 """
 from __future__ import annotations
 
+import threading
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -216,17 +217,21 @@ def _compiled(path: Path):
     # MuJoCo's own warnings printed two lines of their own on stderr ahead of vampc's and wrote
     # MUJOCO_LOG.TXT into the folder (a new user's find): taken here, said once the robot is made
     heard: list[str] = []
-    previous = getattr(mujoco, "get_mju_user_warning", lambda: None)()
-    hear = getattr(mujoco, "set_mju_user_warning", None)
-    if hear is not None:
-        hear(lambda message: heard.append(" ".join(str(message).split())))
-    try:
-        return mujoco.MjModel.from_xml_path(str(path)), heard
-    except ValueError as exc:            # MuJoCo's parser and compiler errors
-        raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
-    finally:
+    with _HANDLER:                # (the handler is the process's: one model compiles at a time)
+        previous = getattr(mujoco, "get_mju_user_warning", lambda: None)()
+        hear = getattr(mujoco, "set_mju_user_warning", None)
         if hear is not None:
-            hear(previous)
+            hear(lambda message: heard.append(" ".join(str(message).split())))
+        try:
+            return mujoco.MjModel.from_xml_path(str(path)), list(dict.fromkeys(heard))
+        except ValueError as exc:            # MuJoCo's parser and compiler errors
+            raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
+        finally:
+            if hear is not None:
+                hear(previous)
+
+
+_HANDLER = threading.Lock()
 
 
 def _robot(model, path: Path, base: str | None = None):

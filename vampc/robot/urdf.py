@@ -478,7 +478,9 @@ def _locks_below(lock: dict, tree: Tree, base: str, below: set, path: Path, floa
     # --mimic couple follower there; one anywhere else (a leg when --base is the torso) was taken
     # and ignored, saying nothing (a new user's find); so is any above a floating base, whose
     # motion is the host's
-    placing = up | {leaders[f][0] for f in up if f in (leaders or {})}
+    placing = up | {leaders[f][0] for f in up | below if f in (leaders or {})}   # (a leader cut away
+    # whose follower the robot keeps is locked so that the follower is: said to have no effect
+    # though the error without it asks for it; review)
     for name in [n for n in lock if n not in below]:
         if tree.joints[name].type == "floating":
             warnings.warn(VampcWarning(f"{path}: joint '{name}' is the floating base's own joint (its "

@@ -131,13 +131,7 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     the base floats."""
     if base is not None:
         if base not in tree.links:
-            # (an MJCF body's link after its last joint is the body itself: 'arm__j2' for the body
-            # arm on j1, j2 was only 'unknown'; a new user's find)
-            last = next((j.child for j in tree.joints.values() if "__" in base
-                         and base == f"{j.child}__{j.name}"), None)
-            hint = f" (the link after {base.split('__')[-1]}, {last}'s last joint, is {last} itself)" \
-                if last else ""
-            raise located(path, "", f"unknown base link '{base}'{hint}")
+            raise located(path, "", f"unknown base link '{base}'{_after_last_joint(tree, base)}")
         carried = _floating_child(tree, base) if base not in tree.parent else None
         if carried:
             return carried, True                         # the root named: as without --base
@@ -155,6 +149,16 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
     carried = _floating_child(tree, roots[0])
     return (carried, True) if carried else (roots[0], floating)
+
+
+def _after_last_joint(tree: Tree, link: str) -> str:
+    """For an unknown link named BODY__JOINT where JOINT is an MJCF body's last joint: the hint that
+    that link is BODY itself ('arm__j2' for the body arm on j1, j2 was only 'unknown'; a new user's
+    find); else nothing."""
+    last = next((j for j in tree.joints.values() if "__" in link and link == f"{j.child}__{j.name}"),
+                None)
+    return f" (the link after {last.name}, {last.child}'s last joint, is {last.child} itself)" \
+        if last else ""
 
 
 def _floating_child(tree: Tree, link: str) -> str | None:
@@ -181,7 +185,7 @@ def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -
     there are several branches (the robot is taken whole, as a tree)."""
     if tip is not None:
         if tip not in tree.links:
-            raise located(path, "", f"unknown tip link '{tip}'")
+            raise located(path, "", f"unknown tip link '{tip}'{_after_last_joint(tree, tip)}")
         if tip != base and base not in {j.parent for j in tree.ancestors(tip)}:
             raise located(path, "", f"no path from base link '{base}' down to tip link '{tip}'")
         return tip
