@@ -717,7 +717,7 @@ class LookaheadOptions:
             raise VampcUsageError("-o - and --torques -: only one can be standard output")
         for option, value in (("-o", self.output), ("--torques", self.torques)):
             if value is not None and Path(value).suffix.lower() in (".npy", ".npz") + COMPRESSED:
-                raise VampcUsageError(f"{option} writes CSV (README, Torque files and Output files): "
+                raise VampcUsageError(f"{option} writes CSV (README, vampc lookahead): "
                                       "give a .csv file name")
 
     def start(self, n: int) -> tuple:
