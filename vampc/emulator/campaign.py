@@ -304,6 +304,9 @@ def _silent_reason(ld, fault: Fault, run_sets: int, engine) -> str:
         return f"the check did not reach the VAMP after the fault within the run's {run_sets} sets"
     if fault.kind == "flip" or fault.rate is not None:
         return "not active in the compare periods that checked the VAMP"
+    if fault.register == "control2":     # (not the data: a new user's find)
+        return ("a fault in the checking circuitry's copy of the successor's control: the compare "
+                "periods saw equal results, yet the torques were spoiled")
     return "the fault left the checked results equal in the compare periods (the data masked it)"
 
 
