@@ -835,9 +835,12 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
     same bytes."""
     if not most - least > 1e-9 * most:     # (a choice within rounding: no choice, and none made)
         return most
-    with np.errstate(invalid="ignore", over="ignore"):
-        at = alpha + beta * most
-    at = np.where(np.isnan(at), np.inf, at)
+
+    def pieces_at(x: float) -> np.ndarray:      # (g(x) is min(h, their least); nan: no bound)
+        with np.errstate(invalid="ignore", over="ignore"):
+            at = alpha + beta * x
+        return np.where(np.isnan(at), np.inf, at)
+    at = pieces_at(most)
     least_at = float(np.min(at))
     if not least_at <= NEAR_STOP * most or h <= least_at:   # (no stop after it, or h holds it)
         return most
@@ -853,9 +856,8 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
                     points.append(x)
 
     def time(x: float) -> float:       # (of the two intervals, per 2Δ)
+        after = max(0.0, min(h, float(np.min(pieces_at(x)))))
         with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-            after = max(0.0, min(h, float(np.min(np.where(np.isnan(alpha + beta * x), np.inf,
-                                                           alpha + beta * x)))))
             return 1.0 / (np.sqrt(now) + np.sqrt(x)) + 1.0 / (np.sqrt(x) + np.sqrt(after))
     best = min(points, key=lambda x: (time(x), -x))
     return best if time(best) < time(most) * (1 - 1e-9) else most

@@ -103,11 +103,10 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     # --- fast paths: native code on the raw bytes, else np.loadtxt on the text; whatever neither
     # takes goes through the cell-by-cell parser below, which names the bad line and column ---
     from vampc.outputs import STDIN
-    from vampc.textio import decode_utf8
+    from vampc.textio import decode_utf8, read_whole
     if str(path) == STDIN and sys.stdin is None:
         raise VampcError(f"-: standard input is closed, so the {what} has nowhere to come from "
                          "(give it as a file, or redirect standard input from one)")
-    from vampc.textio import read_whole
     raw = read_whole(path, stdin=True) if source is None else source.getvalue()   # (-: standard input)
     from vampc.sniff import compression
     packed = compression(raw[:16])
