@@ -180,6 +180,17 @@ def test_csv_and_text(programs, tmp_path):
     assert "detected and corrected" in r.output and "read from" in r.output
 
 
+def test_coverage_without_checking_says_nothing_checks(programs, tmp_path):
+    # 0.0% without error correction is not a measured failure of the checking: there is none
+    ec, plain, _ = programs
+    r = RUN(main, ["faults", str(plain), *QUICK, "--results", str(tmp_path / "p.jsonl"), "--workers", "1"])
+    line = next(x for x in r.output.splitlines() if x.startswith("coverage"))
+    assert "error correction off: nothing checks" in line, r.output
+    r = RUN(main, ["faults", str(ec), *QUICK, "--results", str(tmp_path / "e.jsonl"), "--workers", "1"])
+    line = next(x for x in r.output.splitlines() if x.startswith("coverage"))
+    assert "error correction off" not in line, r.output
+
+
 @pytest.mark.parametrize("args, says", [
     (["--count", "5"], "--count applies to --campaign random"),
     (["--kinds", "bogus"], "--kinds bogus"),

@@ -520,7 +520,10 @@ def render_text(head: str, summary: dict) -> str:
         lines.append(f"  {LABELS[c]:<26}{k:>6}  ({pct(k)})")
     if summary["coverage"] is not None:
         lines.append(f"coverage (detected and corrected, of the faults not masked): "
-                     f"{100 * summary['coverage']:.1f}%")
+                     f"{100 * summary['coverage']:.1f}%" + (
+                         "" if summary["error_correction"] else
+                         " (error correction off: nothing checks; a program compiled with "
+                         "--error-correction does, README Error correction)"))
     lines.append(f"silent corruption: {summary['classes']['silent-corruption']} of {n} runs "
                  f"({pct(summary['classes']['silent-corruption'])})")
     if summary["error_correction"]:
