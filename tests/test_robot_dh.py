@@ -394,3 +394,31 @@ def test_yaml_merge_keys_are_refused_naming_the_line(tmp_path):
                                         r"the row's fields out \(an alias of a whole row or value is "
                                         r"read\)"):
         load_robot(path)
+
+
+def _tree_rows(*order):
+    row = {"a": "a", "b": "b", "c": "c"}
+    spec = {"a": dict(parent=0, a=0.3, alpha=0.5, d=0.1), "b": dict(parent=0, a=0.2, alpha=1.0, d=0.0),
+            "c": dict(parent="a", a=0.2, alpha=0.0, d=0.0)}
+    return [{"name": row[k], "type": "revolute", "theta": 0.0, "mass": 1.0, "com": [0.1, 0, 0],
+             "inertia": [0.01, 0.01, 0.01, 0, 0, 0], **spec[k]} for k in order]
+
+
+def test_a_tip_load_on_a_tree_acts_on_the_last_joint_depth_first_or_is_refused():
+    """The README said a tree's tip load acts on the last row's link; it acted on the last joint in
+    depth-first order ('b' of rows a, b, c with c a child of a), and --check, whose reference reads
+    the table the same way, passed (a new user's find against Pinocchio: 1.41 N·m on a 7-joint
+    tree). A load whose last row is not that joint is refused, naming both."""
+    tip = {"force": [0, 10, 0], "torque": [0, 0, 0]}
+    with pytest.raises(Exception) as err:
+        chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c"), "tip": tip}, "t.yaml")
+    assert str(err.value) == ("t.yaml: tip: on a tree the tip load acts on link n, the last joint in "
+                              "depth-first order: 'b' (row 2), not the last row's 'c' (row 3); list "
+                              "the loaded link's branch last (README, DH table)")
+    # the loaded branch last: the load acts on the last row's link, b
+    chain = chain_from_dh({"name": "t", "joints": _tree_rows("a", "c", "b"), "tip": tip}, "t.yaml")
+    assert [j.name for j in chain.joints] == ["a", "c", "b"]
+    # no load (or an all-zero one) acts nowhere: any row order
+    chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c"),
+                   "tip": {"force": [0, 0, 0]}}, "t.yaml")
+    chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c")}, "t.yaml")

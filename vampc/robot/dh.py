@@ -68,6 +68,13 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
     tree = {} if order == list(range(len(rows))) and parents == list(range(-1, len(rows) - 1)) else \
         {"parents": tuple(new.get(parents[old], 0) for old in order)}
     base, tip = doc.get("base", {}), doc.get("tip", {})
+    if tree and order[-1] != len(rows) - 1 and any(
+            float(x) != 0.0 for key in ("force", "torque") for x in tip.get(key, ())):
+        last = order[-1]
+        raise located(source, "tip", f"on a tree the tip load acts on link n, the last joint in "
+                      f"depth-first order: {joints[last].name!r} (row {last + 1}), not the last "
+                      f"row's {joints[-1].name!r} (row {len(rows)}); list the loaded link's branch "
+                      "last (README, DH table)")
     return Chain(name=doc["name"], joints=tuple(joints[old] for old in order),
                  gravity=_vec(doc.get("gravity", [0.0, 0.0, -9.81])),
                  base_omega=_vec(base.get("omega", [0, 0, 0])),
