@@ -201,6 +201,29 @@ def test_short_runs_stay_on_numpy(small, cache, monkeypatch):
     assert len(list(cache.glob("*.so"))) == 1
 
 
+@needs_cc
+def test_a_middle_run_uses_a_cached_program_and_compiles_none(small, cache, monkeypatch):
+    """Runs under MIN_SETS_TO_COMPILE stayed on numpy although the cache held their program (a run of
+    20 000 sets had compiled it): from CACHED_FROM sets a cached program runs; none is compiled."""
+    ld, fl, ports = small
+    monkeypatch.delenv("VAMPC_NATIVE", raising=False)
+    middle = native.CACHED_FROM
+    assert native.CACHED_FROM < native.MIN_SETS_TO_COMPILE
+    monkeypatch.setattr(native, "_compile", _must_not_compile)
+    assert native.prepare(ld, fl, middle) is None                 # nothing cached: numpy
+    assert not list(cache.glob("*.so"))
+    monkeypatch.undo()
+    monkeypatch.setenv("XDG_CACHE_HOME", str(cache.parent))
+    monkeypatch.delenv("VAMPC_NATIVE", raising=False)
+    assert native.prepare(ld, fl, native.MIN_SETS_TO_COMPILE) is not None    # a long run compiles
+    monkeypatch.setattr(native, "_compile", _must_not_compile)
+    program = native.prepare(ld, fl, middle)                      # now cached: used, not compiled
+    assert program is not None
+    assert np.array_equal(program.run(ports, 10), run_numpy(ld, fl, ports, 10))
+    monkeypatch.setattr(native, "generate_source", _must_not_compile)
+    assert native.prepare(ld, fl, middle - 1) is None             # below: nothing generated
+
+
 def _must_not_compile(*args):
     raise AssertionError("compiled although the cache holds the object or the run is short")
 

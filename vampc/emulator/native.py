@@ -14,8 +14,10 @@ over the block, and the output components are copied into the torque array.
 
 The shared object is cached under $XDG_CACHE_HOME/vampc (default ~/.cache/vampc; a private temp folder
 if that is not writable), named by a hash of the source, compiler and flags; it is never committed.
-Compiling costs more than numpy on short runs, so runs of fewer than MIN_SETS_TO_COMPILE sets stay on
-numpy (property tests that emulate many small random robots never compile anything).
+Compiling costs more than numpy on short runs, so runs of fewer than MIN_SETS_TO_COMPILE sets are not
+compiled for; from CACHED_FROM sets on they run a program the cache already holds (a run of 20 000
+sets has compiled it, say), and below that they stay on numpy without generating anything (property
+tests that emulate many small random robots never generate or compile anything).
 
 VAMPC_NATIVE=0 forces the numpy path; VAMPC_NATIVE=1 compiles whatever the run length and makes any
 failure here an error (for tests); otherwise a failure (no compiler, a failed compile) falls back
@@ -49,8 +51,16 @@ from vampc.machine.ops import ROM
 
 BLOCK = 64          # states per block: all VAMP rows of a Puma (180 x 3 x 64 doubles) fit in L2
 CHUNK = 1 << 16     # states per native call, between progress reports
-# gcc takes about 5 ms per VAMP, numpy about 0.15 µs per VAMP and set: shorter runs stay on numpy
+# gcc takes about 5 ms per VAMP, numpy about 0.15 µs per VAMP and set: shorter runs are not compiled
+# for (measured 2026-12-04 on a loaded 2-core machine, fresh cache, whole process: a UR5's 180 VAMPs
+# 1.55 s numpy against 2.88 s compiling at 20 000 sets, 3.10 against 2.91 s at 60 000; an 8578-VAMP
+# log snake 31 against 64 s, 80 against 82 s: a first compile pays for itself from about 60 000
+# sets, every later run at once: the cache is what 20 000 buys)
 MIN_SETS_TO_COMPILE = 20_000
+# generating the source (to look the program up in the cache) costs about as much as numpy running
+# 500 sets (0.013 s for the UR5, 0.37 s for the snake), and a cached program runs 2 000 sets in a few
+# ms: from here on a cached program is used
+CACHED_FROM = 2_000
 PART = 32           # VAMP loops per C function: gcc's compile time grows faster than linearly in
                     # the length of a function (alias walks in PRE), so big networks are split
 CFLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off", "-fno-fast-math")
@@ -80,10 +90,10 @@ def prepare(ld: Loaded, fl, total: int):
     native path off, failed, or costing more than it saves; VAMPC_NATIVE=1 turns a failure into
     NativeError instead). A run fed in chunks prepares once and runs each chunk."""
     mode = env_switch("VAMPC_NATIVE")
-    if mode == "0" or (mode != "1" and total < MIN_SETS_TO_COMPILE):
+    if mode == "0" or (mode != "1" and total < CACHED_FROM):
         return None     # short runs: numpy is quick, and generating the source would cost more
     try:
-        return build(ld, fl)
+        return build(ld, fl, compile_now=mode == "1" or total >= MIN_SETS_TO_COMPILE)
     except NativeError:
         if mode == "1":
             raise
@@ -127,10 +137,24 @@ def _port_array(ports, index: int, size: int, count: int, dtype=np.float64) -> n
     return arr
 
 
-def build(ld: Loaded, fl) -> NativeProgram:
-    """The native program of `ld`'s flow, compiled now unless the cache holds it."""
+def build(ld: Loaded, fl, compile_now: bool = True) -> NativeProgram | None:
+    """The native program of `ld`'s flow, compiled now unless the cache holds it (None when it does
+    not and not `compile_now`)."""
     layout = Scratch.of(fl)
-    lib = _load(compile_cached(generate_source(ld, fl, layout)))
+    source = generate_source(ld, fl, layout)
+    if compile_now:
+        from vampc import progress
+        from vampc.textio import count
+        # (gcc says nothing while it runs: an 8578-VAMP network took 30 s before the first set)
+        with progress.stages(f"compiling the stream engine's C for {count(len(ld.net.vamps), 'VAMP')} "
+                             "(once: it is cached)", ("gcc",)) as stage:
+            stage("gcc")
+            path = compile_cached(source)
+    else:
+        path = compile_cached(source, compile_now=False)
+        if path is None:
+            return None
+    lib = _load(path)
     fn = getattr(lib, ENTRY)
     fn.argtypes = (ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
     fn.restype = None
@@ -760,14 +784,17 @@ def cache_dir() -> Path:
     raise NativeError("no writable cache folder for compiled programs")
 
 
-def compile_cached(source: str) -> Path:
-    """The shared object for `source`, compiled now unless the cache already holds it."""
+def compile_cached(source: str, compile_now: bool = True) -> Path | None:
+    """The shared object for `source`, compiled now unless the cache already holds it (None when it
+    does not and not `compile_now`)."""
     cc = compiler()
     if cc is None:
         raise NativeError("no C compiler found (cc, gcc or clang)")
     key = hashlib.sha256("\0".join((cc, *CFLAGS, source)).encode()).hexdigest()[:32]
     target = cache_dir() / f"vampc-{key}.so"
     if not target.exists():
+        if not compile_now:
+            return None
         _compile(cc, source, target)
     return target
 
