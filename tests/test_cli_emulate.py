@@ -282,6 +282,26 @@ def test_messages_a_new_user_read_wrongly(tmp_path):
     assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output
 
 
+def test_a_check_that_fails_in_float64_too_does_not_advise_a_wider_word(tmp_path):
+    """A fixed-point program whose robot was edited (a mass 10% up, checksum made again) failed its
+    check 'a wider --word would do better; `vampc precision` finds one', and precision then
+    refused the file: the graph misses in float64 too (a new user's find). It says so."""
+    prog = tmp_path / "p.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "--word", "q16.16", "-o", prog).exit_code == 0
+    res = _run("emulate", prog, "--random", 20, "--check")
+    assert res.exit_code == 0, res.output                      # as compiled: within its word
+    edited = edited_program(prog, tmp_path, lambda d: d["robot"]["joints"][1].update(
+        mass=d["robot"]["joints"][1]["mass"] * 1.1))
+    res = _run("emulate", edited, "--random", 20, "--check")
+    assert res.exit_code == 1 and "wider --word" not in res.output, res.output
+    assert re.search(r": FAILED \(not the word's: in float64 the program's graph differs from the "
+                     r"reference Newton-Euler's by \d\.\de-02 of the largest \|τ\| too; was the "
+                     r"file's robot or graph edited\? Compile the robot again\)\n", res.output), res.output
+    # a word too narrow for the robot still gets the advice
+    res = _run("emulate", prog, "--random", 20, "--check", "--word", "q16.4")
+    assert res.exit_code == 1 and "a wider --word would do better" in res.output, res.output
+
+
 @pytest.mark.parametrize("word", [[], ["--word", "q16.16"]])
 def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
     """A program file whose robot gravity was edited to 1e308 (checksum made again): the network's

@@ -393,12 +393,38 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
 
 def _word_hint(ld, outcome) -> str:
     """What to try after a word's failed check: a wider word, or, at 64 bits without overflow,
-    more of them for the fraction."""
+    more of them for the fraction; or neither, where the graph in float64 misses too (a program
+    whose constants were edited, its checksum made again: a wider word was suggested, and
+    `vampc precision` then refused the file)."""
     from vampc.machine.arith import Fixed
+    apart = _graph_apart(ld)
+    if apart is not None:
+        return (f" (not the word's: in float64 the program's graph differs from the reference "
+                f"Newton-Euler's by {apart:.1e} of the largest |τ| too; was the file's robot or "
+                "graph edited? Compile the robot again)")
     if isinstance(ld.arith, Fixed) and ld.arith.bits == 64 and not outcome.overflows:
         return " (64 bits is the widest word: more of them for the fraction would do better; " \
                "`vampc precision` finds the split)"
     return " (a wider --word would do better; `vampc precision` finds one)"
+
+
+def _graph_apart(ld, sets: int = 16) -> float | None:
+    """The program's graph in float64 against the reference on `sets` random states: the largest
+    difference relative to the largest |τ| when over GRAPH_AGREES, else None (it agrees)."""
+    import numpy as np
+
+    from vampc.dataflow.evaluate import evaluate
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.driver import random_states
+    traj = random_states(ld.chain, 0, sets, 0)
+    with np.errstate(all="ignore"):
+        ref = rnea(ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
+        got = evaluate(ld.graph, ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
+    scale = float(np.abs(ref).max(initial=0.0))
+    if not (np.isfinite(ref).all() and np.isfinite(got).all()) or scale == 0.0:
+        return None
+    worst = float(np.abs(got - ref).max(initial=0.0)) / scale
+    return worst if worst > GRAPH_AGREES else None
 
 
 def emulation_line(r, whole_seconds: float) -> str:
