@@ -124,6 +124,24 @@ def test_the_campaign_resumes_from_its_results_file(programs, tmp_path, monkeypa
     assert _campaign(ec, tmp_path, *args)["runs"] == first["runs"] and not calls
 
 
+def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs, tmp_path):
+    """After a default campaign, `--kinds control2` (the README's command) was refused with
+    '--results P.single.faults.jsonl: ...', an option the user never gave (a new user's find)."""
+    ec, _, _ = programs
+    program = tmp_path / "ec.vamp.json"
+    program.write_bytes(ec.read_bytes())
+    r = RUN(main, ["faults", str(program), *QUICK, "--workers", "1"])
+    assert r.exit_code == 0, r.output
+    default = tmp_path / "ec.random.faults.jsonl"
+    kept = default.read_bytes()
+    r = RUN(main, ["faults", str(program), *QUICK, "--kinds", "dead", "--workers", "1"])
+    assert r.exit_code == 1, r.output
+    assert r.output.splitlines()[-1] + "\n" == (f"vampc: error: {default}, the default results file, holds the results of "
+                        "another campaign of this program (other --kinds, --sets, --seed or faults): "
+                        "give --results FILE for this one, or remove it to start over\n")
+    assert default.read_bytes() == kept
+
+
 def test_another_campaigns_results_file_is_refused_and_kept(programs, tmp_path):
     ec, _, _ = programs
     _campaign(ec, tmp_path, *QUICK)

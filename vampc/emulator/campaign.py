@@ -398,8 +398,9 @@ class ResultsFile:
     on file are kept and not run again; a last line cut short (a run interrupted mid-write) is
     dropped. A file holding another campaign is refused, never overwritten."""
 
-    def __init__(self, path: str, header: dict):
+    def __init__(self, path: str, header: dict, default: bool = False):
         self.path, self.header = path, header
+        self.default = default          # the path is the default one, not the user's --results
         self.done: dict[int, dict] = {}
         self._fh = None
 
@@ -429,6 +430,12 @@ class ResultsFile:
         except ValueError:
             head = None
         if head != self.header:
+            if self.default:      # (the user gave no --results: "--results X" named an option
+                #                    they never wrote, after a default run with other --kinds)
+                raise VampcError(f"{self.path}, the default results file, holds the results of "
+                                 "another campaign of this program (other --kinds, --sets, --seed "
+                                 "or faults): give --results FILE for this one, or remove it to "
+                                 "start over")
             raise VampcError(f"--results {self.path}: it holds the results of another campaign or "
                              "program (give another --results file, or remove it to start over)")
         for k, line in enumerate(lines[1:], 2):
