@@ -173,7 +173,14 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
                                                                                      delay_b=3)),
      True,
      r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
-     r"before the micro-step at tick 6 that still reads it \(delay-R 3\)$"),
+     r"before the micro-step at tick 6 that still reads it \(delay-R 3; the op waits for operand B, "
+     r"latched at tick 5\)$"),
+    # operand B wired to a later VAMP: said of operand A alone, a field the user never touched (a
+    # new user's find); the later operand is named
+    (lambda d: d["network"]["vamps"][1].update(b=[[["vamp", 2, 0]]]), True,
+     r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
+     r"before the micro-step at tick 6 that still reads it \(delay-R 3; the op waits for operand B, "
+     r"latched at tick 5\)$"),
 ])
 def test_bad_program_file(tmp_path, program, change, fix, message):
     out = tmp_path / "tau.csv"

@@ -238,9 +238,14 @@ class _Deriver:
             gap = gaps[k]
             if t is not None and t != -INF:
                 if reader - t >= gap:
+                    # (the cause may be the other operand, latched later: an operand-B source edited
+                    # to a later VAMP was said of operand A alone, a field the user never touched)
+                    other, t_other = ("B", t_b) if name == "A" else ("A", t_a)
+                    waits = (f"; the op waits for operand {other}, latched at tick {t_other:g}"
+                             if t_other is not None and t_other != -INF and t_other > t else "")
                     self.fail(v, k, f"operand {name} latched at tick {t:g} is re-latched at tick "
                                     f"{t + gap:g}, before the micro-step at tick {reader:g} that "
-                                    f"still reads it (delay-R {prog.delay_r})")
+                                    f"still reads it (delay-R {prog.delay_r}{waits})")
                 continue
             if (reader - mine) % self.P >= gap:
                 self.fail(v, k, f"operand {name} latched at counter {mine} is re-latched at counter "
