@@ -172,6 +172,21 @@ def test_an_unwritable_location_is_refused_before_any_work(tmp_path, program, mo
     assert res.exit_code == 2           # a folder is not an output file (click says so)
 
 
+def test_a_path_through_a_missing_folder_is_not_shortened_as_text(tmp_path, program, monkeypatch):
+    """'nosuchdir/../x.csv' was resolved as text to './x.csv' and written there, exit 0, while
+    the kernel opens no such path (a tester's find). An existing folder's '..' is followed."""
+    monkeypatch.chdir(tmp_path)
+    res = run("emulate", program, "--random", 3, "-o", "nosuchdir/../x.csv")
+    user_error(res, r"nosuchdir/\.\./x\.csv: folder nosuchdir/\.\. does not exist$")
+    assert not (tmp_path / "x.csv").exists()
+    res = run("compile", PLANAR, "-o", "nosuchdir/../y.vamp.json")
+    user_error(res, r"folder nosuchdir/\.\. does not exist$")
+    assert not (tmp_path / "y.vamp.json").exists()
+    (tmp_path / "real").mkdir()
+    res = run("emulate", program, "--random", 3, "-o", "real/../x.csv")
+    assert res.exit_code == 0 and (tmp_path / "x.csv").exists(), res.output
+
+
 @pytest.mark.skipif(IS_ROOT, reason="root writes in read-only folders")
 def test_a_read_only_folder_is_refused_before_any_work(tmp_path, program):
     folder = tmp_path / "ro"

@@ -130,6 +130,13 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     if mode is not None and (not mode & stat.S_IWUSR or not os.access(target, os.W_OK)):
         # the owner's write bit, too: root may write anything, but a file made read-only is kept
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
+    if mode is None:
+        # the folder as the kernel finds it: realpath drops 'nosuchdir/..' as text, and the output
+        # went to the folder above a folder that does not exist (a tester's find; an open() of
+        # the path fails there)
+        given = os.path.dirname(path) or "."
+        if not os.path.isdir(given):
+            raise VampcError(f"{path}: folder {given} does not exist")
     _probe_folder(path, target.parent)
     return PlannedOutput(option, path, "file", target)
 
