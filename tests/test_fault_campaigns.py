@@ -373,7 +373,10 @@ def test_a_what_if_word_is_another_campaign(programs, tmp_path):
                                   ('"kind": "', '"kind": "made up", "was": "'),
                                   ('"class": "', '"class": "detected-corrected", "was": "'),
                                   ('"vamp": ', '"vamp": 99999, "was": '),
-                                  ('"vamp": ', '"vamp": true, "was": ')])
+                                  ('"vamp": ', '"vamp": true, "was": '),
+                                  # counts no run of 40 sets can have (a tester's: taken, reported)
+                                  ('"sets_run": ', '"sets_run": -4, "was": '),
+                                  ('"sets_run": ', '"sets_run": 1000000, "was": ')])
 def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path, edit):
     """An edited line of the results file was a KeyError traceback (`"class": "bogus"`) or, with
     `"index": true`, fault 0's run filed as fault 1's, exit 0: every line must be a run of this

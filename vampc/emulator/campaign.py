@@ -373,12 +373,23 @@ def _histogram(values: list[int], bins: int = 8) -> list[dict]:
 
 # --- the results file -------------------------------------------------------------------------
 
-def _a_run_of(run, faults) -> bool:
+SET_COUNTS = ("sets_run", "corrupted", "corrupted_before", "corrupted_after")
+TICK_COUNTS = ("detected_tick", "maintenance_ticks")
+
+
+def _a_run_of(run, faults, sets: int | None = None) -> bool:
     """Whether a results line is a run of this campaign's list `faults`, with the fields the
     summary reads of the types it reads (an edited line was a KeyError, or filed under another
-    fault: `"index": true` counted as fault 1's)."""
+    fault: `"index": true` counted as fault 1's), and its counts possible: a count of torque sets
+    within the campaign's `sets`, a tick at least 0 (an edited "sets_run": -4 and "corrupted":
+    1000000 of 197 sets were taken and reported)."""
     def whole(x) -> bool:
         return type(x) is int
+    if isinstance(run, dict) and any(
+            k in run and not (whole(run[k]) and 0 <= run[k] and (sets is None or run[k] <= sets))
+            for k in SET_COUNTS) or isinstance(run, dict) and any(
+            k in run and not (whole(run[k]) and run[k] >= 0) for k in TICK_COUNTS):
+        return False
     if not isinstance(run, dict) or not whole(run.get("index")) or \
             not 0 <= run["index"] < len(faults) or run.get("fault") != faults[run["index"]]:
         return False
@@ -443,7 +454,7 @@ class ResultsFile:
                 continue
             try:
                 run = jsontext.loads(line)
-                if not _a_run_of(run, self.header["faults"]):
+                if not _a_run_of(run, self.header["faults"], self.header.get("sets")):
                     raise ValueError(line)
                 self.done[run["index"]] = run
             except (ValueError, KeyError, TypeError):
