@@ -515,6 +515,18 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
 
 
+def test_a_what_if_word_is_warned(programs):
+    """`vampc rtl P --rounding truncate` on a program that rounds by nearest rendered the what-if
+    without a word, where precision and faults say so (a tester's find)."""
+    fixed = str(programs / "fixed.vamp.json")
+    r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1", "--rounding", "truncate"])
+    assert r.exit_code == 0, r.output
+    assert f"vampc: warning: {fixed} computes in q16.16 (nearest, saturate); the design is rendered " \
+        "in q16.16 (truncate, saturate) (what if: not the program's own word)\n" in r.stderr, r.stderr
+    r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1", "--rounding", "nearest"])
+    assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr      # its own word, said again
+
+
 SHORT_YOSYS = """
 import sys
 import vampc.rtl.synth as synth

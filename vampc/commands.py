@@ -1416,6 +1416,15 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                         writes={"-o": ("Verilog", (".v", ".sv"))})
     ld = loaded(source, options, robot_opts, params)
     rtl_supported(ld, source, "word" in options.given)
+    from vampc.sniff import is_program
+    if is_program(source):
+        from vampc.emulator.load import recorded_word
+        own_word = recorded_word(ld.options, source)
+        if repr(own_word) != repr(ld.word):     # (precision and faults said a what-if; rtl did not)
+            mine = "float64" if own_word is None else repr(own_word)
+            warnings.warn(VampcWarning(f"{source} computes in {mine}; the design is rendered in "
+                                       f"{ld.word!r} (what if: not the program's own word)"),
+                          stacklevel=1)
     from vampc.rtl.design import NetworkDesign, kinds
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
