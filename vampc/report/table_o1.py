@@ -68,7 +68,8 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
     reasons = latency_reasons({
-        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds}, "paper": ref,
+        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits},
+        "paper": ref,
         "joints": n, "recursion": k.recursion, "uniform_leaves": k.options.uniform_leaves,
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0],
