@@ -114,3 +114,45 @@ def test_a_systolic_label_on_a_network_of_several_slots_a_vamp_is_refused(tmp_pa
     code, err = run("report", path)
     assert code == 1 and err.count("\n") == 1, err
     assert f"{path}: layout.name: 'systolic', but VAMP 0 runs 2 slots" in err
+
+
+EVERY_READER = {   # each command that reads a program file, with what it needs besides
+    "emulate": ["--random", 2, "--check"], "precision": ["--sets", 2],
+    "lookahead": ["--trajectory", "{trajectory}", "--rate", "1kHz", "--window", 2],
+    "rtl": ["--word", "q16.16", "-o", "{out}/net.v"], "faults": ["--results", "{out}/r.jsonl"],
+    "report": []}
+
+WHOLE_FILE_EDITS = {
+    "operand after": (lambda d: _set(d, ["graph", "nodes", 80, "args", 0], 81),
+                      "node fwd1.n: operand 81 not before it (the file was edited); recompile it"),
+    "operand huge": (lambda d: _set(d, ["graph", "nodes", 80, "args", 0], 10 ** 400),
+                     f"node fwd1.n: operand {10 ** 400} not before it (the file was edited); "
+                     "recompile it"),
+    "id": (lambda d: _set(d, ["graph", "nodes", 13, "id"], 500),
+           "node bwd1.T7: id 500 at position 13 (the file was edited); recompile it"),
+    "duplicate id": (lambda d: _set(d, ["graph", "nodes", 6, "id"], 5),
+                     "node io1.p_star1: id 5 at position 6 (the file was edited); recompile it"),
+    "input key": (lambda d: d["graph"]["nodes"][3].pop("key"),
+                  "node io1.A1: missing input key / constant value (the file was edited); "
+                  "recompile it"),
+    "constant value": (lambda d: d["graph"]["nodes"][0].pop("value"),
+                       "node io0.omega0: missing input key / constant value (the file was "
+                       "edited); recompile it"),
+}
+
+
+@pytest.mark.parametrize("edit", list(WHOLE_FILE_EDITS))
+def test_an_edited_file_is_refused_alike_by_every_reader(program, tmp_path, edit):
+    """A tester's hand edits of the graph (checksum recomputed) made `emulate` and `precision` an
+    internal error (exit 3: an index past the graph's nodes, a missing key read as None) or, a
+    repeated node id, ran them with exit 0, while `report` refused each in one line (it verified
+    the graph; they did not). Now the loading path every command shares verifies it: each command
+    refuses each edit in the same line. Failed on the code before."""
+    change, said = WHOLE_FILE_EDITS[edit]
+    path = edited_program(program, tmp_path, change)
+    trajectory = tmp_path / "path.csv"
+    trajectory.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0\n0,0,0,0,0,0\n")
+    for command, extra in EVERY_READER.items():
+        args = [str(a).format(trajectory=trajectory, out=tmp_path) for a in extra]
+        code, err = run(command, path, *args)
+        assert (code, err) == (1, f"vampc: error: {path}: {said}\n"), command

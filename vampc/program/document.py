@@ -139,7 +139,8 @@ def graph_doc(g: Graph) -> F.GraphDoc:
 
 
 def graph_from_doc(d: F.GraphDoc, path="<program>") -> Graph:
-    """Inverse of graph_doc (VampcError naming the node whose op the table does not know)."""
+    """Inverse of graph_doc, verified (Graph.verify: ids, operand order, arities, shapes, keys and
+    values); VampcError naming the node that fails, or whose op the table does not know."""
     ops = _ops(graph=True)
     nodes = []
     for r in d.nodes:
@@ -154,8 +155,13 @@ def graph_from_doc(d: F.GraphDoc, path="<program>") -> Graph:
         if not 0 <= node < len(nodes) or not 1 <= joint or not 0 <= component <= 2:
             raise VampcError(f"{path}: graph.outputs[{k}]: [{joint}, {node}, {component}] names no "
                              "torque of the graph (the file was edited); recompile it")
-    return Graph(tuple(nodes), tuple(Output(*o) for o in d.outputs), d.n, d.recursion,
-                 tuple(sorted(d.meta.items())))
+    graph = Graph(tuple(nodes), tuple(Output(*o) for o in d.outputs), d.n, d.recursion,
+                  tuple(sorted(d.meta.items())))
+    try:          # every reader's: the schedule and emulator checks index the graph by its ids
+        graph.verify()
+    except VampcInternalError as exc:
+        raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
+    return graph
 
 
 def _ops(graph: bool) -> dict[str, Op]:
@@ -457,7 +463,6 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     options = recorded_options(doc, graph, path)
     numbering = tuple(v.number for v in doc.network.vamps)
     try:
-        graph.verify()
         sched = schedule_from_doc(doc.schedule, graph, path)
         net = scheduled_network_from_doc(doc, sched, path)
         # (the emulator's loader's own index checks, before the network check indexes anything)
