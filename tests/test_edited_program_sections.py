@@ -138,16 +138,27 @@ WHOLE_FILE_EDITS = {
     "constant value": (lambda d: d["graph"]["nodes"][0].pop("value"),
                        "node io0.omega0: missing input key / constant value (the file was "
                        "edited); recompile it"),
+    "phi entry": (lambda d: _set(d, ["robot", "joints", 1, "phi", 0, 0], 2 ** 31),
+                  "robot.joints[1].phi: not a proper rotation (the file was edited); recompile it"),
+    "phi scaled": (lambda d: _set(d, ["robot", "joints", 1, "phi"],
+                                  [[2, 0, 0], [0, 2, 0], [0, 0, 2]]),
+                   "robot.joints[1].phi: not a proper rotation (the file was edited); recompile it"),
+    "joint name": (lambda d: _set(d, ["robot", "joints", 1, "name"], "shoulder"),
+                   "robot.joints[1].name: duplicate joint name 'shoulder' (the file was edited); "
+                   "recompile it"),
 }
 
 
 @pytest.mark.parametrize("edit", list(WHOLE_FILE_EDITS))
 def test_an_edited_file_is_refused_alike_by_every_reader(program, tmp_path, edit):
-    """A tester's hand edits of the graph (checksum recomputed) made `emulate` and `precision` an
+    """A tester's hand edits (checksum recomputed). The graph ones made `emulate` and `precision` an
     internal error (exit 3: an index past the graph's nodes, a missing key read as None) or, a
     repeated node id, ran them with exit 0, while `report` refused each in one line (it verified
-    the graph; they did not). Now the loading path every command shares verifies it: each command
-    refuses each edit in the same line. Failed on the code before."""
+    the graph; they did not). A robot section whose Φ is not a rotation (`emulate --check` passed:
+    its reference used the same Φ; `lookahead` printed a 1.87e9 torque) or whose joint names
+    repeat (two torque columns of one name; `compile` refuses that in a DH table) went through
+    every command. Now the loading path every command shares checks both: each command refuses
+    each edit in the same line. Failed on the code before."""
     change, said = WHOLE_FILE_EDITS[edit]
     path = edited_program(program, tmp_path, change)
     trajectory = tmp_path / "path.csv"

@@ -41,7 +41,7 @@ from vampc.program.file import (
     rendered,
 )
 from vampc.program.words import ROM, Program
-from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic
+from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic, rotation_problem
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 from vampc.schedule.registry import LAYOUTS, SYSTOLIC, is_layout
@@ -89,6 +89,7 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
                                                              for i, j in enumerate(doc.joints)])
     if found:
         raise located(path, *found)
+    _check_joints(doc, path)
     for i, j in enumerate(doc.joints):
         q = j.limits.q
         if q is not None and not q[0] <= q[1]:
@@ -124,6 +125,23 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
         except VampcInternalError as exc:
             raise VampcError(f"{path}: robot.mimic: {exc}") from None
     return chain
+
+
+def _check_joints(doc: F.RobotDoc, path) -> None:
+    """Joint names are distinct (the torque columns are named after them; compile refuses a
+    repeated one) and each Φ, and a tree joint's pre-rotation, is a proper rotation as
+    Chain.verify requires (an edited Φ was emulated, and checked against a reference using it)."""
+    seen = set()
+    for i, j in enumerate(doc.joints):
+        if j.name in seen:
+            raise located(path, f"robot.joints[{i}].name", f"duplicate joint name {shown(j.name)} "
+                          "(the file was edited); recompile it")
+        seen.add(j.name)
+        for field, m in (("phi", j.phi), ("pre", j.pre)):
+            problem = None if m is None else rotation_problem(np.array(m, dtype=float))
+            if problem:
+                raise located(path, f"robot.joints[{i}].{field}", f"{problem} (the file was "
+                              "edited); recompile it")
 
 
 def graph_doc(g: Graph) -> F.GraphDoc:

@@ -290,7 +290,16 @@ class Chain:
 
 
 def _check_rotation(m: np.ndarray, label: str) -> None:
+    problem = rotation_problem(m)
+    if problem:
+        raise VampcInternalError(f"{label} is {problem}")
+
+
+def rotation_problem(m) -> str | None:
+    """What keeps `m` from being a proper rotation ("not a finite 3x3 matrix", "not a proper
+    rotation"), or None: Chain.verify's test, which a program file's Φ must pass as well."""
     if np.shape(m) != (3, 3) or not np.all(np.isfinite(m)):
-        raise VampcInternalError(f"{label} is not a finite 3x3 matrix")
+        return "not a finite 3x3 matrix"
     if not np.allclose(m @ m.T, np.eye(3), atol=1e-9) or np.linalg.det(m) < 0:
-        raise VampcInternalError(f"{label} is not a proper rotation")
+        return "not a proper rotation"
+    return None
