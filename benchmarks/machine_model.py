@@ -101,7 +101,8 @@ def main() -> None:
         from vampc.program.file import read_program
     from vampc.robot import load_robot
     from vampc.robot.random import random_chain
-    examples = Path(vampc.__file__).resolve().parent.parent / "examples"
+    # the examples of this script's checkout (an installed vampc has none beside it)
+    examples = Path(__file__).resolve().parent.parent / "examples"
     print(f"vampc from {Path(vampc.__file__).parent}")
     puma = load_robot(examples / "puma560.yaml")
     runner = CliRunner()
