@@ -126,8 +126,9 @@ WHOLE_FILE_EDITS = {
     "operand after": (lambda d: _set(d, ["graph", "nodes", 80, "args", 0], 81),
                       "node fwd1.n: operand 81 not before it (the file was edited); recompile it"),
     "operand huge": (lambda d: _set(d, ["graph", "nodes", 80, "args", 0], 10 ** 400),
-                     f"node fwd1.n: operand {10 ** 400} not before it (the file was edited); "
-                     "recompile it"),
+                     # (the whole 401-digit number had been the line)
+                     "node fwd1.n: operand 100000000000... (401 digits) not before it (the file "
+                     "was edited); recompile it"),
     "id": (lambda d: _set(d, ["graph", "nodes", 13, "id"], 500),
            "node bwd1.T7: id 500 at position 13 (the file was edited); recompile it"),
     "duplicate id": (lambda d: _set(d, ["graph", "nodes", 6, "id"], 5),

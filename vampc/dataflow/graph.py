@@ -145,7 +145,8 @@ def _verify_node(g: Graph, nd: Node, shapes: list[str]) -> None:
         raise VampcInternalError(f"node {nd.label}: {nd.op.value} needs 2 operands")
     for arg, want in zip(nd.args, OPERAND_SHAPES[nd.op]):
         if not 0 <= arg < nd.id:
-            raise VampcInternalError(f"node {nd.label}: operand {arg} not before it")
+            text = str(arg) if len(str(arg)) <= 20 else f"{str(arg)[:12]}... ({len(str(arg))} digits)"
+            raise VampcInternalError(f"node {nd.label}: operand {text} not before it")
         if shapes[arg] != want:
             raise VampcInternalError(f"node {nd.label}: operand {g.nodes[arg].label} is not '{want}'")
 
