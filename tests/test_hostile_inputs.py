@@ -371,6 +371,57 @@ def test_a_reader_that_goes_away_or_a_full_disk_is_one_line(command):
             "vampc: error: cannot write to standard output: No space left on device\n"
 
 
+BIG_RESULTS = [["compile", str(EXAMPLES / "snake64.yaml"), "--dump-after", "graph"],   # ~90 kB
+               ["report", str(PUMA), "--format", "json"]]                             # ~32 kB
+
+
+def _env(unbuffered: bool) -> dict:
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    return {**env, "VAMPC_PROGRESS": "0", **({"PYTHONUNBUFFERED": "1"} if unbuffered else {})}
+
+
+@pytest.mark.parametrize("unbuffered", [True, False], ids=["unbuffered", "buffered"])
+@pytest.mark.parametrize("command", BIG_RESULTS, ids=["dump-after", "report"])
+def test_a_result_cut_by_a_file_size_limit_is_one_line(tmp_path, command, unbuffered):
+    """`ulimit -f 8; vampc report ... > r.json`: with Python unbuffered (`python -u`,
+    PYTHONUNBUFFERED) its text stream dropped the part of the write the file did not take, and
+    the result was cut at the limit with exit status 0 and nothing said (a tester's find). Now
+    one line, exit 1; without the limit the same command writes it whole."""
+    import resource
+    import signal
+    limit = 8192
+
+    def limited():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)        # (the write fails with EFBIG instead)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+    whole = subprocess.run([sys.executable, "-m", "vampc.cli", *command], capture_output=True,
+                           env=_env(unbuffered), timeout=120)
+    assert whole.returncode == 0 and len(whole.stdout) > 2 * limit, whole.stderr
+    with open(tmp_path / "out", "wb") as sink:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", *command], stdout=sink,
+                              stderr=subprocess.PIPE, text=True, env=_env(unbuffered),
+                              preexec_fn=limited, timeout=120)
+    assert (done.returncode, done.stderr) == \
+        (1, "vampc: error: cannot write to standard output: File too large\n")
+    assert whole.stdout.startswith((tmp_path / "out").read_bytes())
+
+
+@pytest.mark.parametrize("unbuffered", [True, False], ids=["unbuffered", "buffered"])
+def test_a_result_whose_reader_goes_away_mid_way_is_one_line(unbuffered):
+    """`vampc compile ... --dump-after graph | head -c 10`: the reader leaves after part of the
+    result, so the rest is lost: one line, exit 1, as `vampc emulate ... -o - | head -1` says
+    '-: cannot write torques: Broken pipe' (it was exit 0 and nothing said with Python
+    unbuffered; a summary line beside written files is still dropped quietly, see
+    test_cli_safety)."""
+    proc = subprocess.Popen([sys.executable, "-m", "vampc.cli", *BIG_RESULTS[0]],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=_env(unbuffered))
+    assert len(proc.stdout.read(10)) == 10       # (more than a pipe holds is being written)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert (proc.wait(timeout=120), err) == \
+        (1, "vampc: error: cannot write to standard output: Broken pipe\n")
+
+
 def test_numbers_a_loader_combines_past_a_float_are_one_line(tmp_path):
     """Each number of the file finite, but a fixed link merged at an offset of 1e200 gives an
     infinite inertia: one line naming the file and joint (it was 'a bug in vampc', exit 3); a DH

@@ -37,7 +37,13 @@ from vampc.options import (
     RobotOptions,
     RtlOptions,
 )
-from vampc.outputs import command_begins, discard_all, need_stdout, result_on_stdout
+from vampc.outputs import (
+    WholeText,
+    command_begins,
+    discard_all,
+    need_stdout,
+    result_on_stdout,
+)
 
 
 def handle_errors(f):
@@ -98,12 +104,18 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
     command's result (a reader gone, a full disk) is the command's one-line error. Lines printed
     beside the files a command writes (a summary) whose reader went away (`vampc emulate ... -o
     tau.csv | head -1`) are dropped, as with standard output closed: the files are still written
-    and the exit status is the run's. A Ctrl-C or signal whose exception was swallowed on the way
-    (in a finaliser) is raised again first."""
+    and the exit status is the run's. Every byte is written or that is the error: a write the
+    stream took only part of (a file-size limit reached, Python unbuffered) is not a result cut
+    short with exit status 0. A Ctrl-C or signal whose exception was swallowed on the way (in a
+    finaliser) is raised again first."""
     raise_if_terminated()
+    name = "stderr" if err else "stdout"
+    if getattr(sys, name) is None:      # (closed: dropped, as click.echo drops it; need_stdout has
+        return                          # refused a result before any work)
     try:
         with progress.aside():
-            click.echo(text, err=err, nl=nl)
+            # (the stream click.echo would pick; its errors left as the stream's, as echo's are)
+            click.echo(text, file=WholeText(click.get_text_stream(name, errors=None)), nl=nl)
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())

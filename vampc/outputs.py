@@ -334,6 +334,37 @@ class _Whole:
         return getattr(self._file, name)
 
 
+class WholeText:
+    """A standard text stream (vampc.cli.say's: a command's text) whose write() puts all it is
+    given or raises the OSError that stopped it, as `_Whole` does for the outputs. A text stream
+    drops the count its file's write() returns, and with Python unbuffered (`python -u`,
+    PYTHONUNBUFFERED) that file is the raw one, which takes part of a long piece when a file-size
+    limit or a full disk is reached or the reader goes away mid-way: a 700 kB report cut at the
+    limit with exit status 0 and nothing said (a tester's find). The text goes to the bytes
+    beneath, encoded as the stream would (what the stream holds goes first); a stream without
+    bytes beneath (a StringIO, Jupyter's) takes it as it does."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        buffer = getattr(stream, "buffer", None)
+        self._whole = None if buffer is None else _Whole(
+            buffer, False, getattr(stream, "encoding", None), getattr(stream, "errors", None))
+
+    def write(self, text: str) -> int:
+        if self._whole is None:
+            return self._stream.write(text)
+        self._stream.flush()
+        return self._whole.write(text)
+
+    def flush(self) -> None:
+        self._stream.flush()
+        if self._whole is not None:
+            self._whole.flush()
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 class Pending:
     """An output being written: `fh` takes the content; `commit()` puts it in place, `discard()`
     drops it (a regular file's previous content stays). Used by `writing`."""
