@@ -68,7 +68,8 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
     reasons = latency_reasons({
-        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits},
+        "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits,
+                    "data_path": _data_path(k) if s.waits else None},
         "paper": ref,
         "joints": n, "recursion": k.recursion, "uniform_leaves": k.options.uniform_leaves,
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
@@ -91,6 +92,12 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         _add(notes, sentence)
     row["note"] = "; ".join(short)
     return row
+
+
+def _data_path(k) -> int:
+    """The longest data path of a configuration's graph in flops (the ASAP schedule's latency)."""
+    from vampc.schedule.asap import schedule_asap
+    return schedule_asap(k.graph, k.schedule.timing, verify=False).latency
 
 
 def _add(notes: list[str], sentence: str) -> None:
