@@ -137,3 +137,41 @@ def test_rtl_shows_its_steps(monkeypatch, tmp_path):
                                   "-o", str(tmp_path / "p.v")])
     assert r.exit_code == 0, r.output
     assert "vampc rtl of planar2.yaml: 0/1 stages" in r.stderr and ", Verilog" in r.stderr, r.stderr
+
+
+def test_a_line_said_within_a_bars_delay_draws_no_bar(monkeypatch, capsys):
+    """A line said while a bar was within its DELAY drew the bar at once (tqdm's external_write_mode
+    redraws every bar), and a bar drawn that way is not cleared when it closes: the command's result
+    was glued to '... 0/2 stages [00:00], one' (a review's find)."""
+    from vampc import progress
+    from vampc.cli import say
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 60.0)
+    with progress.stages("work", ("one", "two")) as stage:
+        stage("one")
+        say("vampc rtl: a note", err=True)
+    say("the result", err=True)
+    err = capsys.readouterr().err
+    assert err == "vampc rtl: a note\nthe result\n", repr(err)
+
+
+def test_a_long_stage_shows_its_bar_once_the_delay_has_passed(monkeypatch, capsys):
+    """A bar is drawn by tqdm only when it is updated: one long stage (rtl's Verilog, 76 s) showed
+    nothing. It appears once DELAY has passed, its elapsed time moving, and is cleared at the end."""
+    import time
+
+    from vampc import progress
+    from vampc.cli import say
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.2)
+    progress.begin()
+    try:
+        with progress.stages("work", ("one",)) as stage:
+            stage("one")
+            time.sleep(0.6)                # one long step, no update
+        say("the result", err=True)
+    finally:
+        progress.end()
+    err = capsys.readouterr().err
+    assert "work: 0/1 stages [00:00], one" in err, repr(err)
+    assert err.split("\n")[-2].split("\r")[-1] == "the result", repr(err)    # cleared, not glued

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import threading
 
 DELAY = 2.0   # seconds into a command before a bar appears
 _BEGUN: list[float] = []     # when the command began (`begin`), monotonic seconds
@@ -72,17 +73,53 @@ def stages(label: str, names: tuple[str, ...]):
             bar.set_postfix_str(name, refresh=False)
             if name in names:
                 bar.update(names.index(name) - bar.n)
-        yield stage
+        # tqdm draws a delayed bar only when it is updated: a stage that runs long (rtl's Verilog,
+        # 76 s for the Puma) showed nothing at all; a clock draws it once DELAY has passed, and
+        # every second after, so its elapsed time moves
+        stop = threading.Event()
+
+        def tick() -> None:
+            if stop.wait(max(0.0, bar.start_t + bar.delay - bar._time())):
+                return
+            while True:
+                with bar.get_lock():
+                    if stop.is_set():
+                        return
+                    bar.refresh(nolock=True)
+                    bar.last_print_t = bar._time()   # (drawn: its close() clears it, as update's)
+                if stop.wait(1.0):
+                    return
+        clock = threading.Thread(target=tick, name="vampc-progress", daemon=True)
+        clock.start()
+        try:
+            yield stage
+        finally:
+            stop.set()
+            clock.join()
 
 
 @contextlib.contextmanager
 def aside():
     """A line printed while a bar is drawn: the bar is cleared first and drawn again below it (a
-    line printed over a drawn bar was glued to its end: `vampc rtl`'s step estimates, a warning)."""
+    line printed over a drawn bar was glued to its end: `vampc rtl`'s step estimates, a warning).
+    A bar not yet shown (within its DELAY) is left alone: tqdm's external_write_mode drew it at
+    once, and a bar drawn that way is not cleared when it closes (a review's find)."""
     tqdm = sys.modules.get("tqdm")
     if tqdm is None or not getattr(tqdm.tqdm, "_instances", None):
         yield
         return
-    with tqdm.tqdm.external_write_mode(file=sys.stderr):
-        yield
+    with tqdm.tqdm.get_lock():
+        shown = [bar for bar in list(tqdm.tqdm._instances) if _shown(bar)]
+        for bar in shown:
+            bar.clear(nolock=True)
+        try:
+            yield
+        finally:
+            for bar in shown:
+                bar.refresh(nolock=True)
 
+
+def _shown(bar) -> bool:
+    """Whether tqdm has drawn `bar` (what its close() asks before clearing it)."""
+    return (hasattr(bar, "last_print_t") and not bar.disable
+            and bar.last_print_t >= bar.start_t + bar.delay)
