@@ -480,6 +480,7 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     monkeypatch.setattr(verilog, "convert", no_verilog)
     cache = tmp_path / "yowasp"
     monkeypatch.setenv("YOWASP_CACHE_DIR", str(cache))       # never run here: cold
+    monkeypatch.setattr(synth, "_wasm_files", lambda package: [(f"{package}.wasm", b"v1")])
     assert synth.first_run(synth.YOSYS) == synth.FIRST_RUN
     program = str(programs / "planar2.vamp.json")    # folded: 30 VAMPs of 4 kinds, 31-44 s each
     # the first kind: 31 s + the tools' first run, 180 s: beyond 3 minutes, refused before any work
@@ -487,10 +488,15 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 1 and "synthesizing a VAMP of kind 2 slot(s), 1+1 inputs is estimated at " \
         "4 min, beyond --max-minutes 3" in r.output, r.output
     assert calls == []
+    import hashlib
     for tool in (synth.YOSYS, synth.NEXTPNR):                           # both run here before: warm
-        (cache / tool / "m").mkdir(parents=True)
-        (cache / tool / "m" / "digest").write_bytes(b"x")
+        (cache / tool / f"{tool}.wasm").mkdir(parents=True)
+        (cache / tool / f"{tool}.wasm" / hashlib.sha1(b"v1").hexdigest()).write_bytes(b"x")
         assert synth.first_run(tool) == 0.0
+    # another version of a tool (pip upgraded) is compiled again: cold
+    monkeypatch.setattr(synth, "_wasm_files", lambda package: [(f"{package}.wasm", b"v2")])
+    assert synth.first_run(synth.YOSYS) == synth.FIRST_RUN
+    monkeypatch.setattr(synth, "_wasm_files", lambda package: [(f"{package}.wasm", b"v1")])
     # each kind's place and route is 5-7 minutes; the network's synthesis 18
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--pnr", "--max-minutes", "8",
                                   "--format", "json"])
@@ -513,6 +519,13 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 0 and "the network's synthesis was left out by --max-minutes" in r.output
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "8"])
     assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
+    # with the time for it, the network's place and route runs on its synthesis's netlist too (it
+    # had synthesized the network a second time)
+    calls.clear()
+    r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--pnr", "--max-minutes",
+                                  "10080", "--format", "json"])
+    assert r.exit_code == 0, r.output
+    assert [c[0] for c in calls] == ["synth", "pnr"] * 5 and all(c[2] for c in calls[1::2]), calls
 
 
 def test_a_what_if_word_is_warned(programs):
@@ -525,6 +538,11 @@ def test_a_what_if_word_is_warned(programs):
         "in q16.16 (truncate, saturate) (what if: not the program's own word)\n" in r.stderr, r.stderr
     r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1", "--rounding", "nearest"])
     assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr      # its own word, said again
+    # a refused step is the one line: the what-if is said once the steps are known good
+    r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1000000", "--rounding", "truncate",
+                                  "--max-minutes", "0.01"])
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1 and "beyond --max-minutes" in r.stderr, \
+        r.stderr
 
 
 SHORT_YOSYS = """

@@ -1416,15 +1416,6 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                         writes={"-o": ("Verilog", (".v", ".sv"))})
     ld = loaded(source, options, robot_opts, params)
     rtl_supported(ld, source, "word" in options.given)
-    from vampc.sniff import is_program
-    if is_program(source):
-        from vampc.emulator.load import recorded_word
-        own_word = recorded_word(ld.options, source)
-        if repr(own_word) != repr(ld.word):     # (precision and faults said a what-if; rtl did not)
-            mine = "float64" if own_word is None else repr(own_word)
-            warnings.warn(VampcWarning(f"{source} computes in {mine}; the design is rendered in "
-                                       f"{ld.word!r} (what if: not the program's own word)"),
-                          stacklevel=1)
     from vampc.rtl.design import NetworkDesign, kinds
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
@@ -1437,6 +1428,15 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
     _preflight(ld, own, limit)         # every step's estimate and tool before any work
+    from vampc.sniff import is_program
+    if is_program(source):    # (said once the steps are known good: it came before their error)
+        from vampc.emulator.load import recorded_word
+        own_word = recorded_word(ld.options, source)
+        if repr(own_word) != repr(ld.word):     # (precision and faults said a what-if; rtl did not)
+            mine = "float64" if own_word is None else repr(own_word)
+            warnings.warn(VampcWarning(f"{source} computes in {mine}; the design is rendered in "
+                                       f"{ld.word!r} (what if: not the program's own word)"),
+                          stacklevel=1)
     design = NetworkDesign(ld)
     # Amaranth warns, as the process ends, of an Elaboratable never elaborated: a step that fails
     # (a tool's timeout) leaves this one so, and its three lines followed the error's one line.
@@ -1618,20 +1618,22 @@ def _synth(ld, design, own, figures, limit, note, stage=lambda name: None) -> No
     _within(f"synthesizing the network of {V} VAMPs", estimate, note)
     stage(f"synthesizing the network of {V} VAMPs")
     text = verilog_text(design)
-    cells = synth.synthesize(text, design.name, timeout=limit)
-    figures["synth"]["network"] = cells.as_dict()
-    if own.pnr:          # the network's place and route when it fits the time
-        estimate = synth.PNR_PER_VAMP * _size(ld)
-        if estimate > limit:
-            figures["synth"]["network"]["pnr"] = None
-            note(f"vampc rtl: the network's place and route is estimated at {_duration(estimate)}, "
-                 f"beyond --max-minutes {own.max_minutes:g}: left out (give a larger "
-                 "--max-minutes to run it)")
-        else:
-            _within(f"placing and routing the network of {V} VAMPs", estimate, note)
-            stage(f"placing and routing the network of {V} VAMPs")
-            figures["synth"]["network"]["pnr"] = synth.place_and_route(text, design.name,
-                                                                       timeout=limit)
+    with tempfile.TemporaryDirectory(prefix="vampc-synth-") as workdir:
+        cells = synth.synthesize(text, design.name, workdir, timeout=limit)
+        figures["synth"]["network"] = cells.as_dict()
+        if own.pnr:          # the network's place and route when it fits the time
+            estimate = synth.PNR_PER_VAMP * _size(ld)
+            if estimate > limit:
+                figures["synth"]["network"]["pnr"] = None
+                note(f"vampc rtl: the network's place and route is estimated at "
+                     f"{_duration(estimate)}, beyond --max-minutes {own.max_minutes:g}: left out "
+                     "(give a larger --max-minutes to run it)")
+            else:
+                _within(f"placing and routing the network of {V} VAMPs", estimate, note)
+                stage(f"placing and routing the network of {V} VAMPs")
+                # (on the netlist just made, as each kind's: it had synthesized the network again)
+                figures["synth"]["network"]["pnr"] = synth.place_and_route(
+                    text, design.name, workdir, timeout=limit, cells=cells)
 
 
 PAST = {"saturate": "saturated", "wrap": "wrapped"}

