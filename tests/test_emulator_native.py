@@ -222,6 +222,8 @@ def test_a_middle_run_uses_a_cached_program_and_compiles_none(small, cache, monk
     assert np.array_equal(program.run(ports, 10), run_numpy(ld, fl, ports, 10))
     monkeypatch.setattr(native, "generate_source", _must_not_compile)
     assert native.prepare(ld, fl, middle - 1) is None             # below: nothing generated
+    monkeypatch.setattr(native, "compiler", lambda: None)
+    assert native.prepare(ld, fl, middle) is None       # no compiler: nothing generated either
 
 
 def _must_not_compile(*args):

@@ -137,8 +137,9 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     r = RUN(main, ["faults", str(program), *QUICK, "--kinds", "dead", "--workers", "1"])
     assert r.exit_code == 1, r.output
     assert r.output.splitlines()[-1] + "\n" == (f"vampc: error: {default}, the default results file, holds the results of "
-                        "another campaign of this program (other --kinds, --sets, --seed or faults): "
-                        "give --results FILE for this one, or remove it to start over\n")
+                        "another campaign (another program or robot file by that name, or other "
+                        "--kinds, --sets, --seed, faults or compile options): give --results FILE "
+                        "for this one, or remove it to start over\n")
     assert default.read_bytes() == kept
 
 

@@ -422,3 +422,16 @@ def test_a_tip_load_on_a_tree_acts_on_the_last_joint_depth_first_or_is_refused()
     chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c"),
                    "tip": {"force": [0, 0, 0]}}, "t.yaml")
     chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c")}, "t.yaml")
+
+
+def test_a_chain_listed_out_of_order_keeps_its_tip_load_at_its_end():
+    """A chain whose rows name their parents out of order is no tree: its tip load acts on its last
+    joint, 'b' here, and is not refused as a tree's (a review's find)."""
+    rows = [{"name": "b", "parent": "a", "type": "revolute", "a": 0.2, "alpha": 0.0, "d": 0.0,
+             "theta": 0.0, "mass": 1.0, "com": [0.1, 0, 0], "inertia": [0.01, 0.01, 0.01, 0, 0, 0]},
+            {"name": "a", "parent": 0, "type": "revolute", "a": 0.3, "alpha": 0.5, "d": 0.1,
+             "theta": 0.0, "mass": 1.0, "com": [0.1, 0, 0], "inertia": [0.01, 0.01, 0.01, 0, 0, 0]}]
+    tip = {"force": [0, 10, 0], "torque": [0, 0, 0]}
+    chain = chain_from_dh({"name": "t", "joints": rows, "tip": tip}, "t.yaml")
+    assert [j.name for j in chain.joints] == ["a", "b"] and chain.is_chain
+    assert list(chain.tip_force) == [0, 10, 0]

@@ -444,9 +444,9 @@ class ResultsFile:
             if self.default:      # (the user gave no --results: "--results X" named an option
                 #                    they never wrote, after a default run with other --kinds)
                 raise VampcError(f"{self.path}, the default results file, holds the results of "
-                                 "another campaign of this program (other --kinds, --sets, --seed "
-                                 "or faults): give --results FILE for this one, or remove it to "
-                                 "start over")
+                                 "another campaign (another program or robot file by that name, "
+                                 "or other --kinds, --sets, --seed, faults or compile options): "
+                                 "give --results FILE for this one, or remove it to start over")
             raise VampcError(f"--results {self.path}: it holds the results of another campaign or "
                              "program (give another --results file, or remove it to start over)")
         for k, line in enumerate(lines[1:], 2):

@@ -92,6 +92,8 @@ def prepare(ld: Loaded, fl, total: int):
     mode = env_switch("VAMPC_NATIVE")
     if mode == "0" or (mode != "1" and total < CACHED_FROM):
         return None     # short runs: numpy is quick, and generating the source would cost more
+    if mode != "1" and total < MIN_SETS_TO_COMPILE and compiler() is None:
+        return None     # (nothing can be cached without a compiler: nothing generated, no folder)
     try:
         return build(ld, fl, compile_now=mode == "1" or total >= MIN_SETS_TO_COMPILE)
     except NativeError:

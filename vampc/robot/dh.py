@@ -68,7 +68,9 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
     tree = {} if order == list(range(len(rows))) and parents == list(range(-1, len(rows) - 1)) else \
         {"parents": tuple(new.get(parents[old], 0) for old in order)}
     base, tip = doc.get("base", {}), doc.get("tip", {})
-    if tree and order[-1] != len(rows) - 1 and any(
+    branches = len(set(parents)) < len(parents)     # (a parent of two: a chain listed out of
+    #                                                   order is no tree, and its tip is its end)
+    if branches and order[-1] != len(rows) - 1 and any(
             float(x) != 0.0 for key in ("force", "torque") for x in tip.get(key, ())):
         last = order[-1]
         raise located(source, "tip", f"on a tree the tip load acts on link n, the last joint in "
