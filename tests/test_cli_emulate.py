@@ -289,6 +289,25 @@ def test_messages_a_new_user_read_wrongly(tmp_path):
     assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output
 
 
+def test_a_failed_float64_check_of_an_edited_robot_says_why(tmp_path):
+    """A float64 program whose robot mass was edited (checksum made again) failed its check with
+    nothing said, emulate and lookahead alike; precision said why (a new user's find)."""
+    prog = tmp_path / "p.vamp.json"
+    assert _run("compile", EXAMPLES / "planar2.yaml", "-o", prog).exit_code == 0
+    edited = edited_program(prog, tmp_path, lambda d: d["robot"]["joints"][1].update(mass=3.0))
+    hint = re.compile(r": FAILED \(the program's graph differs from the reference Newton-Euler's by "
+                      r"\d\.\de-01 of the largest \|τ\| too: was the file's robot or graph edited\? "
+                      r"Compile the robot again\)\n")
+    res = _run("emulate", edited, "--random", 5, "--check")
+    assert res.exit_code == 1 and hint.search(res.output), res.output
+    path = tmp_path / "path.csv"
+    path.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0.3,0.4,0.5,0.6\n0.1,0.2,0.3,0.4,0.5,0.6\n")
+    res = _run("lookahead", edited, "--trajectory", path, "--rate", "1kHz", "--window", 1, "--check")
+    assert res.exit_code == 1 and hint.search(res.output), res.output
+    res = _run("emulate", prog, "--random", 5, "--check", "--tolerance", "1e-300")   # rounding only
+    assert "was the file's robot" not in res.output, res.output
+
+
 def test_a_check_that_fails_in_float64_too_does_not_advise_a_wider_word(tmp_path):
     """A fixed-point program whose robot was edited (a mass 10% up, checksum made again) failed its
     check 'a wider --word would do better; `vampc precision` finds one', and precision then

@@ -321,7 +321,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
             f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
             f"{number_text(own.tolerance or default_tolerance(word))}: "
-            f"{'OK' if ok else 'FAILED'}", info)
+            f"{'OK' if ok else 'FAILED'}" + ("" if ok or own.fault else _edited_hint(ld)), info)
     elif outcome.check is not None:
         say(word_check_text(ld, outcome, tolerance, ok, faulted=bool(own.fault)), info)
     return ok
@@ -390,6 +390,16 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
                  + ("" if ok else " (the injected --fault: a wider word would not undo it)" if faulted
                     else _word_hint(ld, outcome)))
     return "\n".join(lines)
+
+
+def _edited_hint(ld) -> str:
+    """After a failed float64 check: where the program's graph itself misses the reference, the
+    file's robot or constants were edited (a mass edit, checksum made again, failed 'FAILED' with
+    nothing said: a new user's find; precision said why)."""
+    apart = _graph_apart(ld)
+    return ("" if apart is None else
+            f" (the program's graph differs from the reference Newton-Euler's by {apart:.1e} of the "
+            "largest |τ| too: was the file's robot or graph edited? Compile the robot again)")
 
 
 def _word_hint(ld, outcome) -> str:
@@ -1050,7 +1060,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             line = REFERENCE_NOT_FINITE
         else:
             line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
-                    f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}")
+                    f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}"
+                    + ("" if same or overflows else _edited_hint(ld)))
         within, arrived = [], []
         if res.retimed is not None and _reference_finite(check):   # (else nothing to check by)
             from vampc.dynamics.reference import rnea
