@@ -143,6 +143,25 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     assert default.read_bytes() == kept
 
 
+def test_kinds_and_bits_in_another_order_are_the_same_campaign(programs, tmp_path):
+    """`--kinds control,dead` refused the results of `--kinds dead,control` (and the other way),
+    though they are the same faults (a new user's find): kinds and bits are sets."""
+    ec, _, _ = programs
+    path = str(tmp_path / "r.jsonl")
+    first = RUN(main, ["faults", str(ec), *QUICK, "--kinds", "dead,result", "--workers", "1",
+                       "--results", path])
+    assert first.exit_code == 0, first.output
+    again = RUN(main, ["faults", str(ec), *QUICK, "--kinds", "result,dead", "--workers", "1",
+                       "--results", path])
+    assert again.exit_code == 0 and "8 run(s) read from" in again.output, again.output
+    path = str(tmp_path / "s.jsonl")
+    for bits in ("62,52", "52,62"):
+        r = RUN(main, ["faults", str(ec), "--kinds", "result", "--bits", bits, "--sets", "40",
+                       "--workers", "1", "--results", path])
+        assert r.exit_code == 0, r.output
+    assert "read from" in r.output, r.output
+
+
 def test_another_campaigns_results_file_is_refused_and_kept(programs, tmp_path):
     ec, _, _ = programs
     _campaign(ec, tmp_path, *QUICK)

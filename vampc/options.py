@@ -959,8 +959,12 @@ class FaultsOptions:
             raise VampcUsageError(f"--values {self.values}: give 0, 1 or 0,1")
 
     def kind_list(self) -> list[str]:
-        """--kinds, each once (`dead,dead` ran every fault twice and counted it twice)."""
-        return list(dict.fromkeys(k.strip() for k in self.kinds.split(",") if k.strip()))
+        """--kinds, each once (`dead,dead` ran every fault twice and counted it twice), in the
+        campaign's own order: a set of kinds, so `control,dead` is the campaign `dead,control` is
+        (each had refused the other's results file: a new user's find)."""
+        from vampc.emulator.campaign import KINDS
+        given = {k.strip() for k in self.kinds.split(",") if k.strip()}
+        return [k for k in KINDS if k in given] + sorted(given - set(KINDS))
 
     def bit_list(self) -> list[int] | None:
         """--bits as numbers (VampcUsageError for a bad one); None: the default bit."""
@@ -970,7 +974,8 @@ class FaultsOptions:
         from vampc.textio import ascii_digits
         if not parts or not all(map(ascii_digits, parts)):
             raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
-        return list(dict.fromkeys(int(b) for b in parts))     # (each once, as --values)
+        return sorted({int(b) for b in parts}, reverse=True)  # (each once, as --values; a set:
+        #                                                       62,52 is the campaign 52,62 is)
 
     def value_list(self) -> tuple[int, ...] | None:
         parts = sorted({v.strip() for v in self.values.split(",") if v.strip()})
