@@ -184,8 +184,11 @@ def test_failed_compile_falls_back(small, cache, monkeypatch, capsys):
     assert capsys.readouterr() == ("", "")
     assert not list(cache.iterdir())     # no half-written object left behind
     monkeypatch.setenv("VAMPC_NATIVE", "1")
-    with pytest.raises(native.NativeError, match=r"failed \(exit \d+\)"):
+    with pytest.raises(native.NativeError, match=r"failed \(exit \d+\)") as err:
         native.run_native(ld, fl, ports, 10)
+    # one line (gcc's whole stderr had been the message), and a user error, not a traceback
+    assert "\n" not in str(err.value) and isinstance(err.value, native.VampcError)
+    assert not list(cache.iterdir())     # gcc's scratch folder removed too
 
 
 @needs_cc

@@ -189,3 +189,51 @@ def test_the_tick_engines_bar_counts_torque_sets():
     run(ld, States.random(600, 0), engine="tick", progress=lambda done, total: seen.append((done, total)))
     assert seen and all(total == 600 and 0 <= done <= 600 for done, total in seen), seen[-3:]
     assert seen[-1][0] >= 500, seen[-3:]
+
+
+def test_a_bar_whose_reader_is_gone_is_dropped_not_the_run(monkeypatch, tmp_path):
+    """With progress on and standard error's reader gone (`2> >(head -c 150)`), a bar's redraw raised
+    a broken pipe, in the clock thread and then in the command: exit 1, no file written (a review's
+    find). The bars are dropped, as a warning is, and the run goes on."""
+    import sys
+    import time
+
+    from vampc import progress
+
+    class Gone:
+        def __init__(self):
+            self.fd = open(tmp_path / "stderr", "w")          # noqa: SIM115 (a real descriptor)
+
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def fileno(self):
+            return self.fd.fileno()
+
+        def isatty(self):
+            return False
+    monkeypatch.setattr(sys, "stderr", Gone())
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    with progress.stages("work", ("one", "two")) as stage:
+        stage("one")
+        time.sleep(1.2)                   # the clock redraws
+        stage("two")
+    with progress.counter("sets", 10) as update:
+        update(5, 10)
+    # standard error closed (2>&-): no bar at all, where isatty of None was an internal error
+    monkeypatch.setattr(sys, "stderr", None)
+    assert progress.enabled() is False
+
+
+def test_an_encoding_that_cannot_hold_the_report_is_one_line(tmp_path):
+    """PYTHONIOENCODING=latin-1 made `vampc report` an internal error (τ, µ): one line, exit 1."""
+    import os
+    done = subprocess.run([sys.executable, "-m", "vampc", "report", str(EXAMPLES / "planar2.yaml")],
+                          capture_output=True, env={**os.environ, "PYTHONIOENCODING": "latin-1"})
+    assert done.returncode == 1 and done.stdout == b"", done.stderr
+    assert done.stderr == (b"vampc: error: cannot write to standard output: its encoding (latin-1) "
+                           b"cannot hold '\\u03c4'; use a UTF-8 locale or PYTHONIOENCODING=utf-8\n")

@@ -115,7 +115,18 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
     try:
         with progress.aside():
             # (the stream click.echo would pick; its errors left as the stream's, as echo's are)
-            click.echo(text, file=WholeText(click.get_text_stream(name, errors=None)), nl=nl)
+            stream = click.get_text_stream(name, errors=None)
+            try:
+                click.echo(text, file=WholeText(stream), nl=nl)
+            except UnicodeEncodeError as exc:
+                # an encoding that cannot hold τ or µ (PYTHONIOENCODING=latin-1): the report was an
+                # internal error. A message is said with escapes; a result is refused, whole
+                if not err:
+                    raise VampcError(f"cannot write to standard output: its encoding "
+                                     f"({exc.encoding}) cannot hold {exc.object[exc.start]!r}; use "
+                                     "a UTF-8 locale or PYTHONIOENCODING=utf-8") from None
+                escaped = text.encode(exc.encoding, "backslashreplace").decode(exc.encoding)
+                click.echo(escaped, file=WholeText(stream), nl=nl)
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())

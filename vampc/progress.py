@@ -32,12 +32,50 @@ def _delay() -> float:
 def enabled() -> bool:
     """Whether progress is shown at all."""
     from vampc.errors import env_switch
+    if sys.stderr is None:            # (closed, `2>&-`: isatty of None was an internal error)
+        return False
     flag = env_switch("VAMPC_PROGRESS")
     if flag:
         return flag == "1"
     if os.environ.get("VAMPC_PROGRESS") == "":       # (set empty: off, as it always was)
         return False
     return sys.stderr.isatty()
+
+
+class _Stderr:
+    """Where bars are drawn: standard error, whose reader going away (`2> >(head -c 150)`) drops the
+    bars, as say() drops a warning, instead of failing the run (the bar's redraw raised a broken
+    pipe in the clock thread and then in the command: exit 1, no file written: a review's find)."""
+
+    def __init__(self, stream):
+        self._stream, self._gone = stream, False
+
+    def write(self, text: str) -> int:
+        if self._gone:
+            return len(text)
+        try:
+            return self._stream.write(text)
+        except (BrokenPipeError, ValueError):       # (ValueError: the stream closed)
+            self._drop()
+            return len(text)
+
+    def flush(self) -> None:
+        if self._gone:
+            return
+        try:
+            self._stream.flush()
+        except (BrokenPipeError, ValueError):
+            self._drop()
+
+    def _drop(self) -> None:
+        self._gone = True
+        try:                      # nothing more reaches it, at exit either (as say() does)
+            os.dup2(os.open(os.devnull, os.O_WRONLY), self._stream.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
 
 
 @contextlib.contextmanager
@@ -47,7 +85,8 @@ def counter(label: str, total: int, unit: str = "set"):
         yield lambda done, total: None
         return
     from tqdm import tqdm
-    with tqdm(total=total, desc=label, unit=unit, delay=_delay(), file=sys.stderr,
+    with tqdm(total=total, desc=label, unit=unit, delay=_delay(),
+              file=_Stderr(sys.stderr),
               leave=False, dynamic_ncols=True) as bar:
         def update(done: int, total_now: int) -> None:
             if total_now != bar.total:
@@ -63,7 +102,8 @@ def stages(label: str, names: tuple[str, ...]):
         yield lambda name: None
         return
     from tqdm import tqdm
-    with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(), file=sys.stderr,
+    with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(),
+              file=_Stderr(sys.stderr),
               leave=False, dynamic_ncols=True,
               bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}") as bar:
         def stage(name: str) -> None:
@@ -95,7 +135,9 @@ def stages(label: str, names: tuple[str, ...]):
             yield stage
         finally:
             stop.set()
-            clock.join()
+            # (not for ever: a signal raised in the middle of a redraw can leave tqdm's lock held,
+            # and the clock, waiting for it, would hold the command's exit; it is a daemon)
+            clock.join(timeout=2.0)
 
 
 @contextlib.contextmanager

@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from vampc.emulator.load import Loaded
-from vampc.errors import env_switch
+from vampc.errors import VampcError, env_switch
 from vampc.kinds import FlowKind, unhandled
 from vampc.machine import ops
 from vampc.machine.arith import FLOAT64
@@ -72,8 +72,9 @@ _C_TYPES = {np.dtype(np.float64): "double", np.dtype(np.float32): "float",
             np.dtype(np.int64): "int64_t"}
 
 
-class NativeError(RuntimeError):
-    """The native path cannot run this program here (no compiler, a failed compile, a bad port)."""
+class NativeError(VampcError):
+    """The native path cannot run this program here (no compiler, a failed compile, a bad port):
+    numpy runs instead, or, with VAMPC_NATIVE=1, one line of error (it was a traceback, exit 3)."""
 
 
 # --- entry point --------------------------------------------------------------------------------
@@ -813,13 +814,19 @@ def _compile(cc: str, source: str, target: Path) -> None:
     """Compile from stdin to a temporary name, then rename: concurrent runs never load half a file."""
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=".so", dir=target.parent)
     os.close(fd)
+    # gcc's own temporaries in a folder of ours, removed whatever happens: a SIGTERM kills the
+    # driver, which then cannot remove them (a review found /tmp/ccXXXXXX.s left behind)
+    scratch = tempfile.mkdtemp(prefix=".vampc-cc.", dir=target.parent)
     try:
         proc = subprocess.run([cc, *CFLAGS, "-x", "c", "-", "-o", tmp], input=source, text=True,
-                              capture_output=True, check=False)
+                              capture_output=True, check=False, env={**os.environ, "TMPDIR": scratch})
         if proc.returncode != 0:
-            raise NativeError(f"{cc} failed (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
+            lines = proc.stderr.strip().splitlines() or [""]
+            said = next((x for x in lines if "error" in x), lines[-1]).strip()[:300]   # (one line)
+            raise NativeError(f"{cc} failed (exit {proc.returncode}): {said}")
         os.replace(tmp, target)
     except OSError as exc:
         raise NativeError(f"cannot compile with {cc}: {exc}") from None
     finally:
         Path(tmp).unlink(missing_ok=True)
+        shutil.rmtree(scratch, ignore_errors=True)
