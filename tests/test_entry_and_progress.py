@@ -237,3 +237,24 @@ def test_an_encoding_that_cannot_hold_the_report_is_one_line(tmp_path):
     assert done.returncode == 1 and done.stdout == b"", done.stderr
     assert done.stderr == (b"vampc: error: cannot write to standard output: its encoding (latin-1) "
                            b"cannot hold '\\u03c4'; use a UTF-8 locale or PYTHONIOENCODING=utf-8\n")
+
+
+def test_a_warning_raised_while_a_warning_is_said_does_not_recurse(monkeypatch):
+    """click 8.5 deprecates get_text_stream, which say() called: the DeprecationWarning was said
+    through say(), which warned again, without end: every command was an internal error in a fresh
+    install (CI). A library's warning raised while one is said is dropped; the first is said."""
+    import warnings
+
+    from click.testing import CliRunner
+
+    from vampc import cli
+    real = cli.WholeText
+
+    class Warns(real):
+        def write(self, text):
+            warnings.warn("a library's deprecation", DeprecationWarning, stacklevel=1)
+            return super().write(text)
+    monkeypatch.setattr(cli, "WholeText", Warns)
+    r = CliRunner().invoke(cli.main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", "-"])
+    assert r.exit_code == 0, r.output
+    assert "vampc: warning: DeprecationWarning: a library's deprecation" in r.stderr, r.stderr

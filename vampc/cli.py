@@ -91,12 +91,24 @@ def handle_errors(f):
     return wrapper
 
 
+_WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
+
+
 def _show_warning(message, category, *rest):
-    """One line on stderr (through say: a reader gone drops it, the run goes on)."""
-    if issubclass(category, VampcWarning):
-        say(f"vampc: warning: {message}", err=True)
-    else:   # a library's own warning (numpy's, say): not ours to silence, but one line
-        say(f"vampc: warning: {category.__name__}: {message}", err=True)
+    """One line on stderr (through say: a reader gone drops it, the run goes on). A warning raised
+    while one is said is dropped: click 8.5 warned of get_text_stream inside say(), whose warning
+    was said through say() again, without end (every command an internal error in a fresh
+    install)."""
+    if _WARNING:
+        return
+    _WARNING.append(True)
+    try:
+        if issubclass(category, VampcWarning):
+            say(f"vampc: warning: {message}", err=True)
+        else:   # a library's own warning (numpy's, say): not ours to silence, but one line
+            say(f"vampc: warning: {category.__name__}: {message}", err=True)
+    finally:
+        _WARNING.clear()
 
 
 def say(text: str, err: bool = False, nl: bool = True) -> None:
@@ -114,8 +126,9 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
         return                          # refused a result before any work)
     try:
         with progress.aside():
-            # (the stream click.echo would pick; its errors left as the stream's, as echo's are)
-            stream = click.get_text_stream(name, errors=None)
+            # (the standard stream itself, as click.echo takes it on a sound locale: click 8.5
+            # deprecates get_text_stream, and its warning, said through say(), recursed)
+            stream = getattr(sys, name)
             try:
                 click.echo(text, file=WholeText(stream), nl=nl)
             except UnicodeEncodeError as exc:
