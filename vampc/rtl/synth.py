@@ -38,13 +38,15 @@ def first_run(package: str) -> float:
     import os
     import pathlib
     try:
-        import platformdirs
         wasm = _wasm_files(package)
+        # (as yowasp_runtime reads it: a set but empty YOWASP_CACHE_DIR is the working directory)
+        base = os.environ.get("YOWASP_CACHE_DIR")
+        if base is None:
+            import platformdirs
+            base = platformdirs.user_cache_dir("YoWASP", appauthor=False)
     except (ImportError, OSError):      # (not installed: require() has said so, or will)
         return FIRST_RUN
-    # (as yowasp_runtime reads it: a set but empty YOWASP_CACHE_DIR is the working directory)
-    base = pathlib.Path(os.environ.get("YOWASP_CACHE_DIR",
-                                       platformdirs.user_cache_dir("YoWASP", appauthor=False)))
+    base = pathlib.Path(base)
     for name, binary in wasm:
         if not (base / package / name / hashlib.sha1(binary).hexdigest()).is_file():
             return FIRST_RUN
