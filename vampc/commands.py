@@ -1438,7 +1438,8 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "add_latency": ld.options.get("add_latency", 1),
                      "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
-    _preflight(ld, own, limit)         # every step's estimate and tool before any work
+    estimates = _kind_estimates(ld, own) if own.synth is not None else None
+    _preflight(ld, own, limit, estimates)      # every step's estimate and tool before any work
     from vampc.sniff import is_program
     if is_program(source):    # (said once the steps are known good: it came before their error)
         from vampc.emulator.load import recorded_word
@@ -1474,7 +1475,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
             ok = _cosim(ld, design, own, figures, limit, note)
         if own.synth is not None:
             stage("synthesis")
-            _synth(ld, design, own, figures, limit, note, stage)
+            _synth(ld, design, own, figures, limit, note, estimates, stage)
     if verilog is not None and (ok or not own.compare):   # written last: nothing when a step fails
         write_output(outs["-o"], verilog, "Verilog")
     if own.fmt == "json":
@@ -1505,12 +1506,10 @@ def rtl_supported(ld, source: str, word_given: bool = False) -> None:
                               "rendered in RTL yet; compile without it")
 
 
-def _preflight(ld, own, limit: float) -> None:
+def _preflight(ld, own, limit: float, estimates) -> None:
     """Refuse, before any work, a step beyond --max-minutes, a missing simulator, or a word the
-    co-simulation cannot compare exactly."""
+    co-simulation cannot compare exactly. `estimates`: `_kind_estimates`'s, with --synth."""
     from vampc.report.rtl import kind_name
-    from vampc.rtl import synth
-    from vampc.rtl.design import kinds
     V = len(ld.net.vamps)
     steps = []
     if own.output is not None:
@@ -1525,18 +1524,13 @@ def _preflight(ld, own, limit: float) -> None:
                              "PATH; apt-get install iverilog)")
         steps.append((f"co-simulating {own.cosim} torque set(s) with {own.simulator}",
                       _cosim_estimate(ld, own)))
-    if own.synth is not None:
-        cold = {synth.YOSYS: synth.first_run(synth.YOSYS),
-                synth.NEXTPNR: synth.first_run(synth.NEXTPNR) if own.pnr else 0.0}
-        for kind in kinds(ld):
-            steps.append((f"synthesizing a VAMP of kind {kind_name(kind)}",
-                          synth.SYNTH_PER_VAMP * _size(ld, kind) + cold.pop(synth.YOSYS, 0.0)))
-            if own.pnr:
-                steps.append((f"placing and routing a VAMP of kind {kind_name(kind)}",
-                              synth.PNR_PER_VAMP * _size(ld, kind) + cold.pop(synth.NEXTPNR, 0.0)))
-        # (the network's synthesis, and its place and route, are left out, said on stderr, when
-        # beyond --max-minutes: a one-joint robot's network is estimated at 12 minutes, so the
-        # VAMPs' own figures, which the report's clock comes from, were refused with it)
+    for kind, synth_s, pnr_s in estimates or ():
+        steps.append((f"synthesizing a VAMP of kind {kind_name(kind)}", synth_s))
+        if pnr_s is not None:
+            steps.append((f"placing and routing a VAMP of kind {kind_name(kind)}", pnr_s))
+    # (the network's synthesis, and its place and route, are left out, said on stderr, when beyond
+    # --max-minutes: a one-joint robot's network is estimated at 12 minutes, so the VAMPs' own
+    # figures, which the report's clock comes from, were refused with it)
     for what, seconds in steps:
         if seconds > limit:
             raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond "
@@ -1589,7 +1583,22 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     return result.ok and not result.overflows     # (overflowed: the words are not the torques)
 
 
-def _synth(ld, design, own, figures, limit, note, stage=lambda name: None) -> None:
+def _kind_estimates(ld, own) -> list[tuple]:
+    """(kind, synthesis seconds, place-and-route seconds or None without --pnr) for one VAMP of each
+    kind, in the order the steps run: each tool's first run here (its WebAssembly compiled, once)
+    added to the first step that runs it. Worked out once, for the refusals before any work and
+    for what each step says as it starts."""
+    from vampc.rtl import synth
+    from vampc.rtl.design import kinds
+    cold = {synth.YOSYS: synth.first_run(synth.YOSYS),
+            synth.NEXTPNR: synth.first_run(synth.NEXTPNR) if own.pnr else 0.0}
+    return [(kind, synth.SYNTH_PER_VAMP * _size(ld, kind) + cold.pop(synth.YOSYS, 0.0),
+             synth.PNR_PER_VAMP * _size(ld, kind) + cold.pop(synth.NEXTPNR, 0.0) if own.pnr
+             else None)
+            for kind in kinds(ld)]
+
+
+def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: None) -> None:
     from amaranth.back import verilog
 
     from vampc.report.rtl import kind_name
@@ -1599,20 +1608,17 @@ def _synth(ld, design, own, figures, limit, note, stage=lambda name: None) -> No
     groups = kinds(ld)
     V = len(ld.net.vamps)
     per_kind = {}
-    cold = {synth.YOSYS: synth.first_run(synth.YOSYS),
-            synth.NEXTPNR: synth.first_run(synth.NEXTPNR) if own.pnr else 0.0}
-    for kind, members in groups.items():
+    for kind, synth_s, pnr_s in estimates:
+        members = groups[kind]
         chip = VampChip(ld, members[0])
         text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
-        _within(f"synthesizing a VAMP of kind {kind_name(kind)}",
-                synth.SYNTH_PER_VAMP * _size(ld, kind) + cold.pop(synth.YOSYS, 0.0), note)
+        _within(f"synthesizing a VAMP of kind {kind_name(kind)}", synth_s, note)
         stage(f"synthesizing a VAMP of kind {kind_name(kind)}")
         with tempfile.TemporaryDirectory(prefix="vampc-synth-") as workdir:
             cells = synth.synthesize(text, chip.name, workdir, timeout=limit)
             entry = {"vamps": len(members), **cells.as_dict()}
             if own.pnr:
-                _within(f"placing and routing a VAMP of kind {kind_name(kind)}",
-                        synth.PNR_PER_VAMP * _size(ld, kind) + cold.pop(synth.NEXTPNR, 0.0), note)
+                _within(f"placing and routing a VAMP of kind {kind_name(kind)}", pnr_s, note)
                 stage(f"placing and routing a VAMP of kind {kind_name(kind)}")
                 # (on Yosys's netlist of the step before: it had synthesized the VAMP again)
                 entry["pnr"] = synth.place_and_route(text, chip.name, workdir, timeout=limit,
