@@ -385,13 +385,11 @@ def _a_run_of(run, faults, sets: int | None = None) -> bool:
     1000000 of 197 sets were taken and reported)."""
     def whole(x) -> bool:
         return type(x) is int
-    if isinstance(run, dict) and any(
-            k in run and not (whole(run[k]) and 0 <= run[k] and (sets is None or run[k] <= sets))
-            for k in SET_COUNTS) or isinstance(run, dict) and any(
-            k in run and not (whole(run[k]) and run[k] >= 0) for k in TICK_COUNTS):
-        return False
     if not isinstance(run, dict) or not whole(run.get("index")) or \
             not 0 <= run["index"] < len(faults) or run.get("fault") != faults[run["index"]]:
+        return False
+    if any(k in run and not (whole(run[k]) and run[k] >= 0) for k in SET_COUNTS + TICK_COUNTS) or \
+            sets is not None and any(run.get(k, 0) > sets for k in SET_COUNTS):
         return False
     fault = parse_fault(run["fault"])
     if run.get("class") not in CLASSES or run.get("kind") != _kind(fault) or \

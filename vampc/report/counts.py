@@ -332,26 +332,26 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     if all(short in ACCOUNTED for short, _ in reasons):
         left_m = got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons)
         left_a = got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons)
-        ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
-        waits = got.get("waits") or 0
-        longest = got.get("data_path")          # the graph's longest data path (flops), if known
         if (left_m, left_a) != (0, 0):
             left = ", ".join(f"{v:+d} {unit}".replace("-", "−") for v, unit in ((left_m, "M"), (left_a, "A"))
                              if v)
-        if (left_m, left_a) != (0, 0) and waits and longest is not None and \
-                longest > got["mults"] * ml + got["adds"] * al and left_m <= 0 and left_a <= 0:
-            # (a budget schedule's critical path can be a shorter route that waited: the exact
-            # solver's Puma, 14 M + 42 A + 5 waiting = 61 on a route other than the 61-flop data
-            # path, was "-2 M, -3 A not explained"; where the route is the longest data path, a
-            # remainder stays unexplained: a one-joint log arm on 2 VAMPs, -2 A)
-            reasons.append((f"{left} on a route that waits",
-                            f"{left}: the schedule's critical path is another route than the "
-                            f"longest data path, with fewer ops and {count(waits, 'flop')} of "
-                            "waiting; the longest data path ends within the same latency"))
-        elif (left_m, left_a) != (0, 0):
-            reasons.append((f"{left} not explained",
-                            f"{left} on the path beyond what the reasons above account for: not "
-                            "explained yet (README, Figures against the paper)"))
+            ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
+            waits = got.get("waits") or 0
+            longest = got.get("data_path")          # the graph's longest data path (flops), if known
+            if waits and longest is not None and longest > got["mults"] * ml + got["adds"] * al \
+                    and left_m <= 0 and left_a <= 0:
+                # (a budget schedule's critical path can be a shorter route that waited: the exact
+                # solver's Puma, 14 M + 42 A + 5 waiting = 61 on a route other than the 61-flop data
+                # path, was "-2 M, -3 A not explained"; where the route is the longest data path, a
+                # remainder stays unexplained: a one-joint log arm on 2 VAMPs, -2 A)
+                reasons.append((f"{left} on a route that waits",
+                                f"{left}: the schedule's critical path is another route than the "
+                                f"longest data path, with fewer ops and {count(waits, 'flop')} of "
+                                "waiting; the longest data path ends within the same latency"))
+            else:
+                reasons.append((f"{left} not explained",
+                                f"{left} on the path beyond what the reasons above account for: "
+                                "not explained yet (README, Figures against the paper)"))
     return reasons
 
 
