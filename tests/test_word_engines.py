@@ -90,10 +90,16 @@ def test_a_program_records_its_word_and_emulate_checks_against_float64(tmp_path)
     res = run(main, ["emulate", str(prog), "--random", "300", "--check"])
     assert res.exit_code == 0, res.output
     assert "q16.16 (nearest, saturate) words: 0 overflows" in res.output
+    assert "what if" not in res.stderr          # its own word
     assert "tau_shoulder:" in res.output and "tolerance 0.001: OK" in res.output
     # a what-if in a narrower word overflows: counted, reported, and the check fails
     res = run(main, ["emulate", str(prog), "--random", "300", "--check", "--word", "q6.12"])
     assert res.exit_code == 1 and "overflows" in res.output and "FAILED" in res.output
+    # said as a what-if, as precision, faults and rtl say it (emulate named the word alone)
+    assert f"vampc: warning: {prog} computes in q16.16 (nearest, saturate); it is emulated in " \
+        "q6.12 (nearest, saturate) (what if: not the program's own word)\n" in res.stderr, res.stderr
+    res = run(main, ["emulate", str(prog), "--random", "3", "--word", "float64"])
+    assert res.exit_code == 0 and "; it is emulated in float64 (what if" in res.stderr, res.stderr
 
 
 def test_a_float64_program_keeps_its_bytes_and_a_word_is_recorded_only_when_given(tmp_path):

@@ -203,6 +203,22 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
     return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
 
 
+def warn_what_if(source: str, ld, doing: str) -> None:
+    """Warn when a program file runs in a word other than the one it records (--word, --rounding,
+    --overflow given: a what-if). precision and faults say so in their reports; rtl and emulate
+    said nothing of it (emulate's check named the word alone)."""
+    from vampc.sniff import is_program
+    if not is_program(source):
+        return
+    from vampc.emulator.load import recorded_word
+    own_word = recorded_word(ld.options, source)
+    if repr(own_word) != repr(ld.word):
+        mine = "float64" if own_word is None else repr(own_word)
+        theirs = "float64" if ld.word is None else repr(ld.word)
+        warnings.warn(VampcWarning(f"{source} computes in {mine}; {doing} {theirs} (what if: not "
+                                   "the program's own word)"), stacklevel=1)
+
+
 def program_compiled(source: str, given, params: dict):
     """A program file's IRs, checked against each other (nothing is scheduled again) and against
     its stored summary; their summary figures; and the static check that the network implements the
@@ -261,6 +277,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                                                    "--save-states": own.save_states},
                         stdout_ok=("-o", "--vcd", "--save-states"))
     ld = loaded(source, options, robot_opts, params)
+    warn_what_if(source, ld, "it is emulated in")
     bits = getattr(ld.arith, "bits", 0)
     if "--vcd" in outs and ld.word is not None and bits > 53:
         warnings.warn(VampcWarning(f"--vcd: {ld.arith.name} words have {bits} bits; the waveform's "
@@ -1440,15 +1457,8 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     ok = True
     estimates = _kind_estimates(ld, own) if own.synth is not None else None
     _preflight(ld, own, limit, estimates)      # every step's estimate and tool before any work
-    from vampc.sniff import is_program
-    if is_program(source):    # (said once the steps are known good: it came before their error)
-        from vampc.emulator.load import recorded_word
-        own_word = recorded_word(ld.options, source)
-        if repr(own_word) != repr(ld.word):     # (precision and faults said a what-if; rtl did not)
-            mine = "float64" if own_word is None else repr(own_word)
-            warnings.warn(VampcWarning(f"{source} computes in {mine}; the design is rendered in "
-                                       f"{ld.word!r} (what if: not the program's own word)"),
-                          stacklevel=1)
+    warn_what_if(source, ld, "the design is rendered in")     # (once the steps are known good:
+    #                                                          it came before their error)
     design = NetworkDesign(ld)
     # Amaranth warns, as the process ends, of an Elaboratable never elaborated: a step that fails
     # (a tool's timeout) leaves this one so, and its three lines followed the error's one line.
