@@ -332,6 +332,12 @@ def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path
     assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
     r = run_lookahead(program, path, limits, "--check")
     assert r.exit_code == 0 and "tolerance 0.001: OK" in r.output, r.output
+    assert "what if" not in r.output                      # its own word
+    # another word is a what-if, and said so, as emulate, precision, faults and rtl say it
+    r = run_lookahead(program, path, limits, "--check", "--word", "q20.20")
+    assert r.exit_code == 0 and f"vampc: warning: {program} computes in q16.16 (nearest, " \
+        "saturate); the register's network runs in q20.20 (nearest, saturate) (what if: not the " \
+        "program's own word)\n" in r.output, r.output
 
 
 @pytest.mark.parametrize("retime", [[], ["--retime", "uniform"], ["--retime", "window"]])

@@ -205,8 +205,8 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
 
 def warn_what_if(source: str, ld, doing: str) -> None:
     """Warn when a program file runs in a word other than the one it records (--word, --rounding,
-    --overflow given: a what-if). precision and faults say so in their reports; rtl and emulate
-    said nothing of it (emulate's check named the word alone)."""
+    --overflow given: a what-if). precision and faults say so in their reports; rtl, emulate and
+    lookahead said nothing of it (emulate's check named the word alone)."""
     from vampc.sniff import is_program
     if not is_program(source):
         return
@@ -960,6 +960,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
+    warn_what_if(source, ld, "the register's network runs in")
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES
