@@ -58,6 +58,8 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
                          "scheduled_only": [k.name for k in configs if k.network is None],
                          "omitted": (["prefix_comparison"] * (c.graph.recursion is Recursion.LOG)
                                      + ["other leaf style"]) if big else []}
+    from vampc.report.counts import path_conditions
+    rep.update(path_conditions(c.chain))     # (the latency's reasons read them: latency_note)
     if c.chain.mimic:            # coupled mimic joints (vampc.robot.mimic): the host's, not the network's
         names = [j.name for j in c.chain.joints]
         rep["mimic"] = [{"follower": names[m.follower - 1], "leader": names[m.leader - 1],

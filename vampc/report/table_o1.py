@@ -7,7 +7,12 @@ from vampc.dataflow.registry import RECURSIONS
 from vampc.kinds import Recursion, exhaustive
 from vampc.machine.ops import Op
 from vampc.report import paper
-from vampc.report.counts import latency_reasons, paper_latency, serial_work
+from vampc.report.counts import (
+    latency_reasons,
+    paper_latency,
+    path_conditions,
+    serial_work,
+)
 from vampc.schedule.registry import SYSTOLIC
 from vampc.textio import count
 
@@ -75,7 +80,8 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0],
         "tree": "tree" if not chain.is_chain else "floating" if chain.floating else None,
-        "prefix": str(getattr(k.options.prefix, "value", k.options.prefix))})
+        "prefix": str(getattr(k.options.prefix, "value", k.options.prefix)),
+        **path_conditions(chain)})
     short = [r[0] for r in reasons]
     on_bus = k.network is not None and k.network.bus is not None
     if s.waits and on_bus:
