@@ -149,7 +149,7 @@ def test_a_remainder_on_the_longest_data_path_stays_unexplained_under_a_budget(t
 @pytest.mark.parametrize("rotating, tip", [(True, False), (False, True), (True, True)])
 def test_a_rotating_base_and_a_tip_load_are_given_with_their_counts(n, rotating, tip):
     """A rotating base grounds the base-to-tip pass in O_{-1} (n + 1 leaves), so only the
-    tip-to-base pass saves its tier when n is a power of 2, and a tip load is one VA on the path:
+    tip-to-base pass saves its tier when n is a power of 2, and a tip force is one VA on the path:
     the report said "one tier less each way" of a rotating base (1 M + 3 A unsaid) and "+1 A not
     explained" of a tip load (a new user's finds). The counts are the graph's measured latency
     against the same chain with a still base and a free tip; the reasons must add up to the
@@ -175,11 +175,45 @@ def test_a_rotating_base_and_a_tip_load_are_given_with_their_counts(n, rotating,
     rows = {r["configuration"]: r for r in table_o1(configurations(compile_chain(chain, log)),
                                                     chain)["measured"]}
     note = rows["log, systolic"]["note"]
-    assert ("tip load, +1 A" in note) == tip, note
+    assert ("tip force, +1 A" in note) == tip, note
     assert ("one tier less tip to base" in note) == (rotating and power), note
     assert ("one tier less each way" in note) == (power and not rotating), note
     if n == 2 and rotating:
         assert note.endswith("; −1 A not explained"), note
     else:
         assert "not explained" not in note, note
-    assert "tip load" not in rows["linear, systolic"]["note"]
+    assert "tip force" not in rows["linear, systolic"]["note"]
+
+
+def test_the_summary_gives_the_same_reasons_and_the_json_names_the_conditions():
+    """The report's summary (latency_note) reads the conditions from the report's keys, which the
+    schema allows (present only when true)."""
+    import json
+    from dataclasses import replace
+
+    import numpy as np
+    from schema_check import schema_errors
+
+    from vampc import jsontext
+    from vampc.compiler import CompileOptions
+    from vampc.report.build import build_report
+    from vampc.report.counts import latency_note
+    arm = random_chain(8, 7, prismatic_fraction=0.0)
+    log = CompileOptions(recursion="log")
+    chain = replace(arm, base_omega=np.array([0.0, 0.0, 1.0]), tip_force=np.array([0.0, 0.5, 0.0]))
+    rep = json.loads(jsontext.dumps(build_report(compile_chain(chain, log))))
+    assert rep["base_rotates"] is True and rep["tip_force"] is True
+    assert schema_errors("report", rep) == []
+    notes = " ".join(latency_note(rep))      # (13 M + 34 A: the reasons cancel, as the formula)
+    assert notes == "equals the paper's formula", notes
+    for extra, said in (({"base_omega": np.array([0.0, 0.0, 1.0])}, "the tip-to-base pass spans n"),
+                        ({"tip_force": np.array([0.0, 0.5, 0.0])}, "folded into leaf n")):
+        notes = " ".join(latency_note(build_report(compile_chain(replace(arm, **extra), log))))
+        assert said in notes and "not explained" not in notes, notes
+        assert ("each way" in notes) == ("tip_force" in extra), notes
+    plain = build_report(compile_chain(random_chain(4, 7, prismatic_fraction=0.0),
+                                       CompileOptions(recursion="log")))
+    assert "base_rotates" not in plain and "tip_force" not in plain
+    torque = replace(random_chain(4, 7, prismatic_fraction=0.0), tip_torque=np.array([0.0, 0.5, 0.0]))
+    rep = build_report(compile_chain(torque, CompileOptions(recursion="log")))  # (added off the path)
+    assert "tip_force" not in rep and "not explained" not in " ".join(latency_note(rep))

@@ -282,7 +282,7 @@ def latency_note(rep: dict) -> list[str]:
 CORRECTION = "output correction, +1 M + 2 A"
 TIER = "one tier less each way (n a power of 2)"
 TIER_TIP_TO_BASE = "one tier less tip to base (n a power of 2)"
-TIP = "tip load, +1 A"
+TIP = "tip force, +1 A"
 UNIFORM = "uniform leaves, +2 A"
 TREE_SENTENCE = ("the paper's formula is for a serial chain of n joints on a fixed base; a tree's or a "
                  "floating base's latency follows its depth, not n (README, Trees and floating bases)")
@@ -299,10 +299,11 @@ def base_rotates(chain) -> bool:
     return bool(np.any(chain.base_omega) or np.any(chain.base_omega_dot))
 
 
-def tip_load(chain) -> bool:
-    """Whether a load acts at the tip: the log recursion folds it into leaf n, one VA on the path."""
+def tip_force(chain) -> bool:
+    """Whether a force acts at the tip: the log recursion folds it into leaf n, one VA on the path
+    (a torque alone at the tip is added off it: measured, README, Figures against the paper)."""
     import numpy as np
-    return bool(np.any(chain.tip_force) or np.any(chain.tip_torque))
+    return bool(np.any(chain.tip_force))
 
 
 def path_conditions(chain) -> dict:
@@ -311,14 +312,14 @@ def path_conditions(chain) -> dict:
     if not chain.is_chain or chain.floating:     # (a tree's latency follows its depth: not itemised)
         return {}
     return {**({"base_rotates": True} if base_rotates(chain) else {}),
-            **({"tip_load": True} if tip_load(chain) else {})}
+            **({"tip_force": True} if tip_force(chain) else {})}
 
 
 def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     """Why a latency differs from the paper's formula, each reason as (short, sentence); `rep` holds
     the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints,
     and optionally tree (a tree or floating base: "tree" or "floating"), prefix (its shape),
-    base_rotates and tip_load (path_conditions)."""
+    base_rotates and tip_force (path_conditions)."""
     got, paper = rep["latency"], rep["paper"]
     reasons = [(CORRECTION,
                 "includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
@@ -333,7 +334,7 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
     # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
     elif log and n & (n - 1) == 0 and rep.get("base_rotates") and \
-            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + rep.get("tip_load", 0):
+            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + rep.get("tip_force", 0):
         # (the base rotating, a tier was still said saved each way: 1 M + 3 A of the difference
         # went unexplained, and unsaid: a new user's find)
         reasons.append((TIER_TIP_TO_BASE,
@@ -342,15 +343,16 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                         "tip-to-base pass spans n leaves, which saves a whole tier there (4 flops) "
                         "when n is a power of 2"))
     elif log and n & (n - 1) == 0 and \
-            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + rep.get("tip_load", 0):
+            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + rep.get("tip_force", 0):
         reasons.append((TIER,
                         "log recursion: grounded in O_0 when the base does not rotate (section VI), "
                         "the prefix network spans n leaves instead of n + 1, which saves a whole tier "
                         "each way (8 flops) when n is a power of 2"))
-    if log and rep.get("tip_load") and not rep.get("tree"):
+    if log and rep.get("tip_force") and not rep.get("tree"):
         # (it was "+1 A not explained", naming a README section that says nothing of loads)
-        reasons.append((TIP, "the load at the tip is folded into leaf n (F_n + f_{n+1}, N_n + n_{n+1} "
-                             "− r*_n × f_{n+1}): one VA on the path; the paper's arm has a free tip"))
+        reasons.append((TIP, "the force at the tip is folded into leaf n (F_n + f_{n+1}): one VA on "
+                             "the path (a torque at the tip is added off it); the paper's arm has a "
+                             "free tip"))
     if log and rep.get("uniform_leaves"):
         reasons.append((UNIFORM, "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
