@@ -95,3 +95,57 @@ def test_vamps_by_op_kind_add_up(report):
     log = next(v for v in proc["vamps"] if v["leaves"] == "separate")["by_op"]
     systolic = next(k for k in configs if k.name == "log, systolic")
     assert sum(log["systolic"].values()) == systolic.vamps and log["systolic"]["MM"] % 3 == 0
+
+
+def _forward_and_backward_notes(chain, recursion):
+    rep = processors(configurations(compile_chain(chain, CompileOptions(recursion=recursion))), chain)
+    out = {}
+    for variant in rep["vamps"]:
+        for row in variant["rows"]:
+            out[(variant["recursion"], variant["leaves"], row["section"])] = (row["per_node"],
+                                                                              row["note"])
+    return out
+
+
+@pytest.mark.parametrize("tip", [{"tip_force": [1.0, -2.0, 5.0]}, {"tip_torque": [0.1, 0.2, 0.3]}])
+def test_a_tip_loaded_leaf_n_is_said_to_be_the_busiest_forward_node(tip):
+    """With uniform leaves leaf n is a whole combining node and folds in the tip load besides (its
+    VAs): the busiest forward node, 14 (a force: F and N both get a VA) or 13 (a torque alone). The
+    row said "forward node 12 VAMPs, not 13" beside 14, and "matches the paper" beside the 13 (a new
+    user's find)."""
+    from dataclasses import replace
+
+    import numpy as np
+    arm = random_chain(7, 3, prismatic_fraction=0.0)
+    notes = _forward_and_backward_notes(replace(arm, **{k: np.array(v) for k, v in tip.items()}),
+                                        "log")
+    per, note = notes[("log", "uniform", "fwd")]
+    extra = 2 if "tip_force" in tip else 1
+    assert per == 12 + extra, (per, note)
+    assert note.endswith(f"the busiest is leaf n, {12 + extra}: it folds in the tip load, "
+                         f"{extra} VA{'s' if extra > 1 else ''} more"), note
+    assert note.startswith("differs in per node" if extra == 2 else "per node as the paper's, for "
+                           "another reason"), note
+    per, note = notes[("log", "separate", "fwd")]          # (a leaf of its own: smaller than 12)
+    assert per == 12 and "leaf n" not in note
+    plain = _forward_and_backward_notes(arm, "log")[("log", "uniform", "fwd")]
+    assert plain[0] == 12 and "leaf n" not in plain[1]
+
+
+def test_a_trees_per_node_rows_say_why_they_differ():
+    """A tree's per-node rows said "see README, Layouts" (no reason) and its log forward row
+    "forward node 12 VAMPs, not 13" beside 6 (a new user's find)."""
+    from conftest import EXAMPLES
+
+    from vampc.robot import load_robot
+    tree = load_robot(str(EXAMPLES / "quadruped.urdf"))
+    for recursion in ("linear", "log"):
+        for key, (per, note) in _forward_and_backward_notes(tree, recursion).items():
+            assert "see README, Layouts" not in note and "12 VAMPs, not 13" not in note, (key, note)
+            if note.startswith("differs"):
+                assert "(README, Trees and floating bases)" in note, (key, note)
+    notes = _forward_and_backward_notes(tree, "linear")
+    assert notes[("linear", None, "bwd")][0] == 12 + 5 and "H1..H5" in notes[("linear", None, "bwd")][1]
+    assert "sums their f' and n'" in notes[("linear", None, "fwd")][1]
+    per, note = _forward_and_backward_notes(tree, "log")[("log", "separate", "fwd")]
+    assert f"its busiest node has {per} VAMPs" in note and "addition levels" in note

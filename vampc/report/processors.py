@@ -7,6 +7,8 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import replace
 
+import numpy as np
+
 from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.memo import keep_last
@@ -15,6 +17,7 @@ from vampc.report.counts import physical_vamps
 from vampc.report.sites import node_table, unit_firsts
 from vampc.schedule.layout import folded_binding
 from vampc.schedule.registry import FOLDED, SYSTOLIC
+from vampc.textio import count
 
 COLUMNS = ("per_node", "per_tier", "single_device", "systolic")
 
@@ -27,7 +30,7 @@ def processors(configs, chain, other_leaves: bool = True) -> dict:
     own = list(dict.fromkeys(k.recursion for k in configs))
     bindings = {(id(k.graph), k.options.share_passes): (k.layout.units, k.layout.unit_vamps)
                 for k in configs if k.options.layout_kind is FOLDED}
-    return {"vamps": [_variant(graph, leaves, chain.n, _binder(graph, bindings))
+    return {"vamps": [_variant(graph, leaves, chain, _binder(graph, bindings))
                       for graph, leaves in graphs],
             "ops_per_node": [_ops_row(graph, s, chain) for graph, _ in graphs[:len(own)]
                              for s in ("bwd", "npv", "fwd")]}
@@ -66,9 +69,10 @@ def _binder(graph, bindings: dict):
     return lambda share: bindings.get((id(graph), share)) or folded_binding(graph, share)
 
 
-def _variant(graph, leaves, n: int, binding) -> dict:
+def _variant(graph, leaves, chain, binding) -> dict:
     """One recursion's VAMP table: rows bwd (propagated), npv, bwd total, fwd; paper beside.
     `binding(share_passes)` gives the folded binding (vampc.schedule.layout.folded_binding)."""
+    n = chain.n
     per_node = _per_node(graph)
     single = _by_section(graph, binding(False))
     tier = _per_tier(graph, single)
@@ -85,7 +89,7 @@ def _variant(graph, leaves, n: int, binding) -> dict:
                "single_device": sum(single[p] for p in parts),
                "systolic": sum(systolic[p] for p in parts)}
         row["paper"] = _paper_row(graph.recursion, sec, n)
-        row["note"] = _vamp_note(graph.recursion, sec, leaves, row, n)
+        row["note"] = _vamp_note(graph.recursion, sec, leaves, row, n, chain)
         rows.append(row)
     return {"recursion": graph.recursion, "leaves": leaves, "prefix": dict(graph.meta).get("prefix"),
             "rows": rows, "shared_passes": shared, "paper_shared_passes":
@@ -182,23 +186,61 @@ def _paper_shared(recursion: str, n: int, leaves) -> int | None:
     return max(t[(recursion, "bwd")]["single_device"], t[(recursion, "fwd")]["single_device"])
 
 
-def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int) -> str:
+def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int, chain=None) -> str:
     """Whether the row matches the paper, and why not where it does not."""
     ref = row["paper"]
     diff = [c for c in COLUMNS if ref.get(c) is not None and row[c] != ref[c]]
-    if not diff:
+    log_fwd = Recursion(recursion) is Recursion.LOG and sec == Section.FWD
+    tip = chain is not None and chain.is_chain and not chain.floating and \
+        bool(np.any(chain.tip_force) or np.any(chain.tip_torque))
+    odd = log_fwd and row["per_node"] != 12 and tip      # (13 = 12 and a tip torque's VA)
+    if not diff and not odd:
         return "matches the paper" if any(ref.get(c) is not None for c in COLUMNS) else ""
     why = []
-    if Recursion(recursion) is Recursion.LOG and sec == Section.FWD:
-        why.append("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
-                   "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
+    if log_fwd:
+        why.append(_log_forward_why(row["per_node"], chain, tip))
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "systolic" in diff:
         why.append("Table IV.1's leaves are cheaper than the uniform nodes section VI counts "
                    "(--uniform-leaves to compare)")
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "single_device" in diff:
         why.append("the single device also runs the leaves, on device nodes of their own roles")
-    return f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " + ("; ".join(why) or
-                                                                          "see README, Layouts")
+    if not why and chain is not None and not chain.is_chain:
+        # (it said "see README, Layouts" of every per-node count of a tree that differs)
+        why.append(_tree_why(recursion, sec, row, ref))
+    head = (f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " if diff else
+            "per node as the paper's, for another reason: ")
+    return head + ("; ".join(why) or "see README, Layouts")
+
+
+def _tree_why(recursion: str, sec: str, row: dict, ref: dict) -> str:
+    """Why a tree's per-node VAMPs differ from the paper's chain (README, Trees and floating
+    bases): measured for the linear recursion, said in general otherwise."""
+    linear = Recursion(recursion) is Recursion.LINEAR
+    if linear and sec == Section.FWD:
+        return ("the robot has branches (a tree): a joint with several children sums their f' and "
+                "n' (VA trees), beyond the paper's Table I.1 (README, Trees and floating bases)")
+    if linear and sec in (Section.BWD, "bwd_total") and ref.get("per_node") is not None and \
+            row["per_node"] - ref["per_node"] == 5:
+        return ("the robot has branches (a tree): a joint whose frame is shifted from its parent's "
+                "(at a branch, o_i ≠ 0) first forms its origin's acceleration, H1..H5 = 3 VC + 2 VA, "
+                "5 VAMPs more (README, Trees and floating bases)")
+    return ("the robot has branches (a tree), beyond the paper's Table I.1 (README, Trees and "
+            "floating bases)")
+
+
+def _log_forward_why(per_node: int, chain, tip: bool) -> str:
+    """Why the log recursion's busiest forward node is not the paper's 13 VAMPs: it said "12, not
+    13" beside a tree's 6 and a tip-loaded leaf's 14 (a new user's find)."""
+    if chain is not None and (not chain.is_chain or chain.floating):
+        return (f"a tree's forward pass adds its subtrees' forces and moments in addition levels, "
+                f"not through the paper's combining nodes: its busiest node has {per_node} VAMPs "
+                "(README, Trees and floating bases)")
+    why = ("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
+           "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
+    if per_node > 12 and tip:
+        why += (f"; the busiest is leaf n, {per_node}: it folds in the tip load, "
+                f"{count(per_node - 12, 'VA')} more")
+    return why
 
 
 @keep_last()
