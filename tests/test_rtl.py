@@ -355,6 +355,13 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     assert schema_errors("report", rep) == []
     r = CliRunner().invoke(main, ["report", str(programs / "planar2.vamp.json"), "--rtl", str(path)])
     assert r.exit_code == 0 and "the slowest VAMP's Fmax" in r.output
+    # the sum over the VAMPs in the text too (the JSON's vamps_sum; the README says the section
+    # gives it): summed here from the rtl figures, not read from the report's JSON
+    total = {key: sum(k[key] * k["vamps"] for k in kinds.values())
+             for key in ("LUT4", "MULT18X18D", "flip_flops")}
+    assert (f"  every VAMP     {total['LUT4']} LUT4, {total['MULT18X18D']} MULT18X18D, "
+            f"{total['flip_flops']} flip-flops (each kind's cells × its number of VAMPs)") in r.output, \
+        r.output
     # another program's figures, a faster --clock, --tradeoff
     r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--word", "q12.20", "--rtl",
                                   str(path)])
