@@ -152,7 +152,8 @@ def test_the_summary_says_what_the_look_ahead_costs(setup):
     for window, name in ((64, "c1.csv"), (rows, "call.csv")):
         text, out, _ = retime(setup, name=name, window=window)
         found = re.search(r"with the whole path in view \(the time-optimal plan on these rows and "
-                          r"limits\): (\S+) s; seeing (\d+) rows ahead costs ([+-][\d.]+)%", text)
+                          r"limits, from rest to rest\): (\S+) s; seeing (\d+) rows ahead costs "
+                          r"([+-][\d.]+)%", text)
         assert found, text
         best, cost = float(found[1]), float(found[3])
         assert int(found[2]) == window
@@ -620,7 +621,8 @@ def test_the_summary_says_when_the_whole_path_plan_held_a_step_short(setup):
                                   "--window", "5", "--limits", str(setup[2]), "--retime", "window", "--check",
                                   "-o", str(folder / "cliff-out.csv")])
     assert r.exit_code == 0, r.output
-    found = re.search(r"with the whole path in view \(the fastest plan found on these rows and limits; not "
+    found = re.search(r"with the whole path in view \(the fastest plan found on these rows and limits, "
+                      r"from rest to rest; not "
                       r"proven time-optimal, since at 1 row the fastest speed would have braked the next "
                       r"row and a slower one was taken: README, vampc lookahead\): (\S+) s", r.output)
     assert found, r.output        # (its duration the window's: the window holds the whole path)

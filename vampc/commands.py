@@ -1186,8 +1186,12 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                          "(rounding where the window's plan got through), so what seeing only "
                          "the register's rows costs is not said")
         else:
-            what = ("the time-optimal plan on these rows and limits" if not res.optimal_held else
-                    f"the fastest plan found on these rows and limits; not proven time-optimal, "
+            # (from rest to rest, as the window's: a path that starts moving, its uniform scaling
+            # faster, read as a slower "time-optimal" plan: a new user's find)
+            what = ("the time-optimal plan on these rows and limits, from rest to rest" if not
+                    res.optimal_held else
+                    f"the fastest plan found on these rows and limits, from rest to rest; not proven "
+                    f"time-optimal, "
                     f"since at {count(res.optimal_held, 'row')} the fastest speed would have braked "
                     "the next row and a slower one was taken: README, vampc lookahead")
             lines.append(f"  with the whole path in view ({what}): {best:.6g} s; seeing "
