@@ -381,7 +381,8 @@ URDF_ERRORS = [
     (robot(*ARM), {"lock": {"j9": 0.0}}, r"lock j9: no joint named 'j9'"),
     (robot(*ARM), {"lock": {"j1": float("nan")}}, r"lock j1: value nan is not a finite number"),
     (TREE, {"tip": "left_hand"},
-     r"joint 'right_1' branches off the chain; lock it with --lock right_1=VALUE or choose --tip"),
+     r"joint 'right_1' branches off the chain from base link '\w+' to tip link 'left_hand'; lock it "
+     r"with --lock right_1=VALUE, or leave out --tip to take the whole robot \(a tree\)$"),
     (TREE, {"tip": "chest"}, r"joint 'left_1' moves below the tip link 'chest'; choose a tip further out "
                              r"or lock it with --lock left_1=VALUE \(also 'right_1'\)"),   # not a branch
 ]

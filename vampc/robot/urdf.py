@@ -572,8 +572,11 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
         if stray[0] in beyond:
             raise located(path, "", f"joint '{stray[0]}' moves below the tip link '{tip}'; choose a tip "
                                     f"further out or lock it with --lock {stray[0]}=VALUE{more}")
-        raise located(path, "", f"joint '{stray[0]}' branches off the chain; lock it with "
-                                f"--lock {stray[0]}=VALUE or choose --tip{more}")
+        # (it said "or choose --tip" to a user who had: a tip is given whenever joints stray here,
+        # for without one a robot of several branches is taken whole, as a tree)
+        raise located(path, "", f"joint '{stray[0]}' branches off the chain from base link '{base}' to "
+                                f"tip link '{tip}'; lock it with --lock {stray[0]}=VALUE{more}, or "
+                                "leave out --tip to take the whole robot (a tree)")
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
         at_zero.sort(key=order)
         more = f" (and {len(at_zero) - 1} more)" if len(at_zero) > 1 else ""
