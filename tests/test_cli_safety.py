@@ -246,6 +246,16 @@ def test_write_failed_needs_check_and_output(program):
     assert run("emulate", program, "--random", 3, "--write-failed").exit_code == 2
 
 
+@pytest.mark.parametrize("outputs", [["-o", "-"], ["--save-states", "-"],
+                                     ["--engine", "tick", "--vcd", "-"]])
+def test_write_failed_to_standard_output_only_does_not_apply(program, outputs):
+    """Standard output is written whether the check fails or not, so --write-failed changed nothing
+    there and was taken silently (lookahead refused it: an options audit's find)."""
+    res = run("emulate", program, "--random", 3, "--check", *outputs, "--write-failed")
+    assert res.exit_code == 2 and "to a file (standard output is never held back)" in res.stderr, \
+        res.stderr
+
+
 @pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])
 def test_a_full_device_is_one_line(program, option):
     if not os.path.exists("/dev/full"):

@@ -584,9 +584,11 @@ class EmulateOptions:
             raise VampcUsageError("--tolerance applies with --check")
         if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
             raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
-        if self.write_failed and not (self.check_torques and (self.output or self.save_states
-                                                              or self.vcd)):
-            raise VampcUsageError("--write-failed applies with --check and -o, --save-states or --vcd")
+        files = [x for x in (self.output, self.save_states, self.vcd) if x is not None and x != "-"]
+        if self.write_failed and not (self.check_torques and files):
+            # (to standard output alone it changed nothing, and was taken: lookahead refused it)
+            raise VampcUsageError("--write-failed applies with --check and -o, --save-states or "
+                                  "--vcd to a file (standard output is never held back)")
         for option, value, what in (("-o", self.output, "torques"),
                                     ("--save-states", self.save_states, "a trajectory")):
             suffix = Path(value).suffix.lower() if value else ""
