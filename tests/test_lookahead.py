@@ -333,6 +333,9 @@ def test_check_of_a_fixed_point_program_uses_its_words_tolerance(setup, tmp_path
     r = run_lookahead(program, path, limits, "--check")
     assert r.exit_code == 0 and "tolerance 0.001: OK" in r.output, r.output
     assert "what if" not in r.output                      # its own word
+    # without --check or --retime nothing reads --tolerance: it was taken silently (an options audit)
+    r = run_lookahead(program, path, limits, "--tolerance", "1e-4")
+    assert r.exit_code == 2 and "--tolerance applies with --check or --retime" in r.output, r.output
     # another word is a what-if, and said so, as emulate, precision, faults and rtl say it
     r = run_lookahead(program, path, limits, "--check", "--word", "q20.20")
     assert r.exit_code == 0 and f"vampc: warning: {program} computes in q16.16 (nearest, " \
@@ -950,3 +953,17 @@ def test_the_tick_engine_runs_the_register_bit_for_bit(tmp_path, monkeypatch):
         outs[engine] = (out.read_bytes(), tau.read_bytes())
     assert used.count("tick") == 4 and used.count("stream") == 4, used    # (as given, 2 passes, retimed)
     assert outs["tick"] == outs["stream"]
+
+
+def test_error_correction_is_said_not_to_run_here(setup, tmp_path):
+    """A program with error correction (or --error-correction on a robot file) ran without a word of
+    it: lookahead never runs the checking (an options audit's find); a warning says so."""
+    _, _, limits, path = setup
+    program = tmp_path / "ec.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--error-correction", "-o",
+                                     str(program)]).exit_code == 0
+    for source in ([program], [PUMA, "--error-correction"]):
+        r = run_lookahead(*source[:1], path, limits, *source[1:])
+        assert r.exit_code == 0 and "its error correction is not run by vampc lookahead" in r.output, \
+            r.output
+    assert "error correction" not in run_lookahead(PUMA, path, limits).output

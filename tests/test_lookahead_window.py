@@ -468,7 +468,8 @@ def test_a_wide_fixed_point_word_plans_to_the_tolerance_given(tmp_path, setup):
     assert r.exit_code == 0, r.output
     assert "tolerance 1e-8: OK; retimed rows by the reference: 0 violations" in r.output
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--tolerance", "1e-8"])
+                                  "--window", "64", "--limits", str(limits), "--tolerance", "1e-8",
+                                  "--check"])
     assert r.exit_code == 2 and "--tolerance applies to a program in a narrower word" in r.output
 
 

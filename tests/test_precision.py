@@ -76,6 +76,8 @@ def test_precision_names_the_narrowest_words():
     (["--sweep", "1:70"], "--sweep 1:70: give A:B"), (["--sweep", "x"], "--sweep x: give A:B"),
     (["--tolerance", "0"], "--tolerance 0.0: give a positive number"),
     (["--acceleration", "-1"], "--acceleration -1.0: give a positive number"),
+    # (the CSV is the table alone: --tolerance was taken, and changed nothing: an options audit)
+    (["--tolerance", "1e-4", "--format", "csv"], "--tolerance applies with --format text or json"),
 ])
 def test_a_precision_option_that_makes_no_sense_is_a_usage_error(args, said):
     res = CliRunner().invoke(main, ["precision", str(EXAMPLES / "planar2.yaml"), *args])

@@ -304,6 +304,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         say(emulation_line(outcome, time.perf_counter() - begun), info)
         if outcome.checking is not None:
             say(checking_line(ld, outcome), info)
+        elif ld.net.checking is not None:       # (it said nothing: --error-correction looked taken)
+            say("error correction: not run by the stream engine, which computes the same torques "
+                "without it; --engine tick runs the checking (README, Error correction)", info)
         word = ld.arith
         if ld.word is None:
             ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
@@ -800,6 +803,9 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     for name, why in PRECISION_REFUSES.items():
         if name in options.given:
             raise VampcUsageError(f"{flag(name)} does not apply to vampc precision: {why}")
+    if "tolerance" in options.given and own.fmt == "csv":     # (it was taken, and changed nothing)
+        raise VampcUsageError("--tolerance applies with --format text or json: it names the "
+                              "narrowest words meeting it, and the CSV is the table alone")
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     rounding = _precision_rounding(source, ld, options)
@@ -961,6 +967,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
     warn_what_if(source, ld, "the register's network runs in")
+    if ld.net.checking is not None:          # (--error-correction was taken, and nothing said)
+        warnings.warn(VampcWarning(f"{source}: its error correction is not run by vampc lookahead, "
+                                   "whose torques are the same without it; vampc emulate --engine "
+                                   "tick runs the checking (README, Error correction)"), stacklevel=1)
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES

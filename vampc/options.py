@@ -702,6 +702,9 @@ class LookaheadOptions:
             raise VampcUsageError("--futures applies with --retime window")
         if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
             raise VampcUsageError(f"--tolerance {self.tolerance}: give a positive number")
+        if self.tolerance is not None and not (self.check_torques or self.retime):
+            # (without either nothing reads it: it was taken silently on a narrower word)
+            raise VampcUsageError("--tolerance applies with --check or --retime")
         if self.tolerance is not None and self.tolerance >= 1:
             raise VampcUsageError(f"--tolerance {self.tolerance}: give an error below 1 (of the "
                                   "largest |τ|)")
