@@ -501,7 +501,7 @@ def test_tick_runs_that_cannot_fit_are_refused(program, monkeypatch):
     (["--tip", "x"], r"--tip applies when compiling a robot file; .* is a program file"),
     (["--base", "x"], r"--base applies when compiling a robot file"),
     (["--lock", "j=1"], r"--lock applies when compiling a robot file"),
-    (["--no-verify"], r"--verify applies when compiling a robot file"),
+    (["--no-verify"], r"--no-verify applies when compiling a robot file"),   # (as typed: it said --verify)
 ])
 def test_compile_options_on_a_program_file(program, command, args, pattern):
     extra = ["--random", "2"] if command == "emulate" else []
@@ -844,6 +844,12 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     ((EXAMPLES / "arm6.urdf", "--lock", "waist=١"), "'waist=١': '١' is not a number written in ASCII digits"),
     # given, though it is the default: taken unsaid, as --mimic couple was refused
     ((PLANAR, "--mimic", "ordinary"), "--mimic applies to URDF and MJCF files only"),
+    # each with its own reason (the joints' one was given for --mimic and the inertia: an audit)
+    ((PLANAR, "--mimic", "couple"), "is a DH table, which has no mimic joints"),
+    ((PLANAR, "--accept-improper-inertia"), "is a DH table, which has its inertias refused when "
+                                             "improper (correct the table's numbers)"),
+    ((PLANAR, "--tip", "b"), "is a DH table, which has all its joints read (a chain, or a tree by "
+                             "their parent fields)"),
 ])
 def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     res = run("compile", *args, "-o", tmp_path / "x.vamp.json")

@@ -228,11 +228,13 @@ class RobotOptions:
         "the base wrench (a URDF whose root joint is floating floats anyway)."))
     lock: tuple = field(default=(), metadata=cli(
         "--lock", multiple=True, metavar="JOINT=VALUE",
-        help="URDF: lock a joint at a position (radians or metres); repeatable."))
+        help="URDF and MJCF: lock a joint at a position (radians or metres); repeatable."))
     tip: str | None = field(default=None, metadata=cli("--tip", metavar="LINK",
-                                                       help="URDF: last link of the chain."))
+                                                       help="URDF and MJCF: last link of the "
+                                                       "chain."))
     base: str | None = field(default=None, metadata=cli(
-        "--base", metavar="LINK", help="URDF: first link of the chain (default: root)."))
+        "--base", metavar="LINK", help="URDF and MJCF: first link of the chain (default: "
+        "root)."))
 
     mimic: str = field(default="ordinary", metadata=cli(
         "--mimic", choices=lambda: ("ordinary", "couple"),
@@ -278,9 +280,13 @@ class RobotOptions:
             (["--mimic"] if self.mimic != "ordinary" or "mimic" in self.given else []) + \
             (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
+            # (each option's own reason: the joints' one was given for --mimic and the inertia too)
+            why = {"--mimic": "has no mimic joints",
+                   "--accept-improper-inertia": "has its inertias refused when improper (correct "
+                   "the table's numbers)"}.get(given[0], "has all its joints read (a chain, or a "
+                                                          "tree by their parent fields)")
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
-                                  f"URDF and MJCF files only; {robot} is a DH table, whose joints (a "
-                                  "chain, or a tree by their parent fields) are all read")
+                                  f"URDF and MJCF files only; {robot} is a DH table, which {why}")
 
         self.locks()
 
@@ -385,8 +391,9 @@ def check_program_options(given, params: dict, source: str, stored: dict,
     a robot option, or a compile option with another value than the file's, is a usage error (but
     for `overrides`, which a command may run the program with: emulate's word format)."""
     for name in tuple(f.name for f in fields(RobotOptions)) + ("verify",):
-        if name in given:
-            raise VampcUsageError(f"{flag(name)} applies when compiling a robot file; {source} is a "
+        if name in given:       # (--no-verify as typed: it said --verify)
+            shown = "--no-verify" if name == "verify" and params.get("verify") is False else flag(name)
+            raise VampcUsageError(f"{shown} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
     defaults = {f.name: f.default for f in fields(CompileOptions)}
     # the options that decide what applies (--word, --recursion...) first: `--word q16.16
