@@ -296,7 +296,10 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None, count=states.count)
     info = any(o.is_stdout for o in outs.values())       # keep stdout for the data
     try:
-        with progress.counter(f"{own.engine} engine", states.count) as bar:
+        # (the check runs chunk by chunk beside the engine: its bar said "stream engine" alone, for
+        # 3.6 s against the engine's 0.52 s of 300 000 sets: a new user's find)
+        label = f"{own.engine} engine" + (" and check" if own.check_torques else "")
+        with progress.counter(label, states.count) as bar:
             outcome = run(ld, states, engine=own.engine, seed=own.seed, vcd=sinks.vcd,
                           check=own.check_torques, sink=sinks.chunk, progress=bar,
                           faults=tuple(parse_fault(text) for text in own.fault))
