@@ -510,6 +510,16 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 0, r.output
     assert "vampc rtl: the network's synthesis is estimated at 18 min, beyond --max-minutes 8: " \
         "left out" in r.stderr, r.stderr
+    # the whole run's estimate before any step (a user read --max-minutes as the whole run's bound,
+    # and the network's being left out was said only at the end): the sum of each step's own
+    import re
+    whole = re.search(r"^vampc rtl: 8 steps estimated at (\d+) min in all \(--max-minutes 8 bounds "
+                      r"each step, not the whole run\); the network's synthesis, estimated at 18 min, "
+                      r"is beyond --max-minutes and will be left out$", r.stderr, re.M)
+    assert whole and r.stderr.index(whole[0]) < r.stderr.index("(estimated"), r.stderr
+    each = [float(x) * (60 if unit == "min" else 1)
+            for x, unit in re.findall(r"\(estimated (\d+) (s|min)\)", r.stderr)]
+    assert len(each) == 8 and abs(int(whole[1]) * 60 - sum(each)) <= 8 * 30 + 30, (whole[1], each)
     figures = json.loads(r.stdout.strip().splitlines()[-1])
     assert figures["synth"]["network"] is None and len(figures["synth"]["kinds"]) == 4
     assert all(k["pnr"]["fmax_mhz"] == {"clk": 50.0} for k in figures["synth"]["kinds"].values())

@@ -1474,9 +1474,12 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()}}
     ok = True
     estimates = _kind_estimates(ld, own) if own.synth is not None else None
-    _preflight(ld, own, limit, estimates)      # every step's estimate and tool before any work
+    steps = _preflight(ld, own, limit, estimates)     # every step's estimate and tool before any work
     warn_what_if(source, ld, "the design is rendered in")     # (once the steps are known good:
     #                                                          it came before their error)
+    whole = _run_estimate(ld, own, limit, steps)
+    if whole is not None:
+        note(whole)
     design = NetworkDesign(ld)
     # Amaranth warns, as the process ends, of an Elaboratable never elaborated: a step that fails
     # (a tool's timeout) leaves this one so, and its three lines followed the error's one line.
@@ -1534,7 +1537,7 @@ def rtl_supported(ld, source: str, word_given: bool = False) -> None:
                               "rendered in RTL yet; compile without it")
 
 
-def _preflight(ld, own, limit: float, estimates) -> None:
+def _preflight(ld, own, limit: float, estimates) -> list:
     """Refuse, before any work, a step beyond --max-minutes, a missing simulator, or a word the
     co-simulation cannot compare exactly. `estimates`: `_kind_estimates`'s, with --synth."""
     from vampc.report.rtl import kind_name
@@ -1564,6 +1567,29 @@ def _preflight(ld, own, limit: float, estimates) -> None:
             raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond "
                              f"--max-minutes {limit / 60:g}; give a larger --max-minutes to run it "
                              "anyway")
+    return steps
+
+
+def _run_estimate(ld, own, limit: float, steps: list) -> str | None:
+    """What the whole run is estimated at, said before any work when it is a minute or more: a
+    user read --max-minutes as a bound on the whole run (it bounds each step: eleven one-VAMP
+    syntheses ran 6 minutes under --max-minutes 8, the network's left out said only at the end)."""
+    from vampc.rtl import synth
+    total = sum(seconds for _, seconds in steps)
+    out = ""
+    if own.synth is not None:
+        network = synth.SYNTH_PER_VAMP * _size(ld)
+        if network > limit:
+            out = (f"; the network's synthesis, estimated at {_duration(network)}, is beyond "
+                   "--max-minutes and will be left out")
+        else:
+            total += network
+            pnr = synth.PNR_PER_VAMP * _size(ld) if own.pnr else 0.0
+            total += pnr if pnr <= limit else 0.0
+    if total < 60:
+        return None
+    return (f"vampc rtl: {count(len(steps), 'step')} estimated at {_duration(total)} in all "
+            f"(--max-minutes {own.max_minutes:g} bounds each step, not the whole run){out}")
 
 
 def _cosim_estimate(ld, own) -> float:
