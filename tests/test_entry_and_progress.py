@@ -24,13 +24,16 @@ def test_a_progress_bar_counts_whole_runs(monkeypatch, capsys):
     from vampc import progress
     monkeypatch.setenv("VAMPC_PROGRESS", "1")
     monkeypatch.setattr(progress, "DELAY", 0.0)
+    import re
     import time
     with progress.counter("fault runs", 904, unit="run") as update:
         update(52, 904)
         time.sleep(0.3)                  # (tqdm redraws at most every 0.1 s)
         update(53, 904)
     err = capsys.readouterr().err
-    assert "53/904" in err and "53.0" not in err and "904.0" not in err, err
+    # 53 is drawn, or 52 when a stall of 0.1 s before the first update drew that one (tqdm then
+    # raises its minimum step and skips 53): either way a count, whole
+    assert re.search(r"\b5[23]/904\b", err) and not re.search(r"\b(5[23]|904)\.0", err), err
 
 
 def test_lookahead_shows_its_stages(monkeypatch, tmp_path):
@@ -103,6 +106,7 @@ def test_a_bar_waits_for_the_command_not_for_itself(monkeypatch):
 def test_a_line_said_over_a_bar_starts_its_own_line(monkeypatch, capsys):
     """A line printed while a bar was drawn was glued to the bar's end (`vampc rtl`'s step estimates
     as '... stages [00:20] , co-simulationvampc rtl: co-simulating ...')."""
+    import re
     import time
 
     from vampc import progress
@@ -117,7 +121,8 @@ def test_a_line_said_over_a_bar_starts_its_own_line(monkeypatch, capsys):
     err = capsys.readouterr().err
     line = next(x for x in err.split("\n") if "a note" in x)
     assert line.split("\r")[-1] == "vampc rtl: a note", repr(err)
-    assert "work: 1/2 stages [00:00], two" in err, repr(err)    # (not "[00:00] , two")
+    # (not "[00:00] , two"; the elapsed time is whatever a loaded machine took)
+    assert re.search(r"work: 1/2 stages \[\d\d:\d\d\], two", err), repr(err)
 
 
 def test_rtl_shows_its_steps(monkeypatch, tmp_path):
@@ -158,22 +163,30 @@ def test_a_line_said_within_a_bars_delay_draws_no_bar(monkeypatch, capsys):
 def test_a_long_stage_shows_its_bar_once_the_delay_has_passed(monkeypatch, capsys):
     """A bar is drawn by tqdm only when it is updated: one long stage (rtl's Verilog, 76 s) showed
     nothing. It appears once DELAY has passed, its elapsed time moving, and is cleared at the end."""
+    import re
     import time
 
     from vampc import progress
     from vampc.cli import say
     monkeypatch.setenv("VAMPC_PROGRESS", "1")
     monkeypatch.setattr(progress, "DELAY", 0.2)
+    drawn = re.compile(r"work: 0/1 stages \[\d\d:\d\d\], one")
+    err = ""
     progress.begin()
     try:
         with progress.stages("work", ("one",)) as stage:
             stage("one")
-            time.sleep(0.6)                # one long step, no update
+            # one long step, no update: wait for the clock's draw, due 0.2 s in (a fixed 0.6 s
+            # sleep saw no bar when a stall of the process outlasted it: the step ended first)
+            deadline = time.monotonic() + 60
+            while not drawn.search(err) and time.monotonic() < deadline:
+                time.sleep(0.05)
+                err += capsys.readouterr().err
         say("the result", err=True)
     finally:
         progress.end()
-    err = capsys.readouterr().err
-    assert "work: 0/1 stages [00:00], one" in err, repr(err)
+    err += capsys.readouterr().err
+    assert drawn.search(err), repr(err)
     assert err.split("\n")[-2].split("\r")[-1] == "the result", repr(err)    # cleared, not glued
 
 
