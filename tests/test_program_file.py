@@ -15,7 +15,7 @@ import msgspec
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from hypothesis import given
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from json_mutation import json_values
 
@@ -46,6 +46,11 @@ from vampc.program.words import (
     vamp_words,
 )
 from vampc.robot.random import random_chain
+
+# Hypothesis's default deadline (200 ms an example) and its too_slow health check (1 s to draw
+# the first examples) time the machine, not the code: a stall of the process, or a loaded
+# machine, fails a run whose examples all pass. What each test checks is unchanged.
+UNTIMED = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 fields = st.integers(0, FIELD - 1)
 programs = st.builds(Program, fields, fields, fields, fields)
@@ -79,6 +84,7 @@ def test_word_packing_is_the_documented_one():
     assert decode((7.0, 4098.0, 12292.0)) == (7, Program(1, 2, 3, 4))
 
 
+@UNTIMED
 @given(number=st.integers(1, 2**24 - 1), prog=programs)
 def test_words_roundtrip_and_are_exact_in_binary32(number, prog):
     word = encode(number, prog)
@@ -99,6 +105,7 @@ slot_programs = st.builds(Program, st.integers(0, 2**24 - 1), st.integers(0, 2**
                           st.integers(0, 100), st.integers(0, 100))
 
 
+@UNTIMED
 @given(number=st.integers(1, 2**24 - 1), slots=st.lists(slot_programs, min_size=1, max_size=5))
 def test_slot_words_rebuild_the_table_and_are_exact(number, slots):
     table = None
@@ -250,6 +257,7 @@ def test_written_netlist_is_the_compiled_one(compiled, program_path):
            (want.buffers, want.ports, want.consts, want.outputs)
 
 
+@UNTIMED
 @given(st.dictionaries(st.text(max_size=6), json_values, max_size=5))
 def test_layout_only_adds_newlines_to_the_canonical_json(doc):
     text = layout(doc)
@@ -257,6 +265,7 @@ def test_layout_only_adds_newlines_to_the_canonical_json(doc):
     assert json.loads(text) == doc
 
 
+@UNTIMED
 @given(st.dictionaries(st.text(max_size=6), json_values, max_size=5))
 def test_canonical_json_is_what_the_standard_library_writes(doc):
     """The encoder (msgspec, floats written as Python's repr, non-ASCII escaped) writes exactly the
