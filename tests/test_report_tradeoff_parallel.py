@@ -83,10 +83,27 @@ def test_ctrl_c_stops_the_workers_at_once(tmp_path):
                              "examples/stanford.yaml", "--mult-latency", "3", "--tradeoff", "--workers", "2"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
                             preexec_fn=_ctrl_c_as_at_a_terminal)
-    time.sleep(3)
-    sent = time.perf_counter()
-    os.killpg(proc.pid, signal.SIGINT)                  # as a terminal's Ctrl-C does
-    assert proc.wait(timeout=30) == 130
+
+    def workers() -> list[str]:
+        try:
+            with open(f"/proc/{proc.pid}/task/{proc.pid}/children") as fh:
+                return fh.read().split()
+        except OSError:
+            return []
+    # Ctrl-C once the sweep's two workers run (a fixed 3 s wait could, on a loaded machine, land
+    # while Python was still importing, before vampc's handler: a traceback, not 130)
+    try:
+        deadline = time.monotonic() + 120
+        while len(workers()) < 2 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(workers()) >= 2, "the sweep started no workers"
+        sent = time.perf_counter()
+        os.killpg(proc.pid, signal.SIGINT)              # as a terminal's Ctrl-C does
+        assert proc.wait(timeout=30) == 130
+    finally:
+        if proc.poll() is None:                         # (a failed check leaves no sweep running)
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
     assert time.perf_counter() - sent < 3
     assert b"vampc: interrupted" in proc.stderr.read()
     time.sleep(0.3)
