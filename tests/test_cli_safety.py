@@ -846,10 +846,10 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     ((PLANAR, "--mimic", "ordinary"), "--mimic applies to URDF and MJCF files only"),
     # each with its own reason (the joints' one was given for --mimic and the inertia: an audit)
     ((PLANAR, "--mimic", "couple"), "is a DH table, which has no mimic joints"),
-    ((PLANAR, "--accept-improper-inertia"), "is a DH table, which has its inertias refused when "
+    ((PLANAR, "--accept-improper-inertia"), "is a DH table, whose inertias are refused when "
                                              "improper (correct the table's numbers)"),
-    ((PLANAR, "--tip", "b"), "is a DH table, which has all its joints read (a chain, or a tree by "
-                             "their parent fields)"),
+    ((PLANAR, "--tip", "b"), "is a DH table, whose joints (a chain, or a tree by their parent "
+                             "fields) are all read"),
 ])
 def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     res = run("compile", *args, "-o", tmp_path / "x.vamp.json")

@@ -281,12 +281,12 @@ class RobotOptions:
             (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             # (each option's own reason: the joints' one was given for --mimic and the inertia too)
-            why = {"--mimic": "has no mimic joints",
-                   "--accept-improper-inertia": "has its inertias refused when improper (correct "
-                   "the table's numbers)"}.get(given[0], "has all its joints read (a chain, or a "
-                                                          "tree by their parent fields)")
+            why = {"--mimic": "which has no mimic joints",
+                   "--accept-improper-inertia": "whose inertias are refused when improper (correct "
+                   "the table's numbers)"}.get(given[0], "whose joints (a chain, or a tree by their "
+                                                          "parent fields) are all read")
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
-                                  f"URDF and MJCF files only; {robot} is a DH table, which {why}")
+                                  f"URDF and MJCF files only; {robot} is a DH table, {why}")
 
         self.locks()
 
