@@ -217,3 +217,25 @@ def test_the_summary_gives_the_same_reasons_and_the_json_names_the_conditions():
     torque = replace(random_chain(4, 7, prismatic_fraction=0.0), tip_torque=np.array([0.0, 0.5, 0.0]))
     rep = build_report(compile_chain(torque, CompileOptions(recursion="log")))  # (added off the path)
     assert "tip_force" not in rep and "not explained" not in " ".join(latency_note(rep))
+
+
+@pytest.mark.parametrize("prefix", ["kogge-stone", "brent-kung", "ladner-fischer"])
+@pytest.mark.parametrize("n, uniform", [(3, False), (6, False), (12, True), (16, True)])
+def test_a_tip_force_is_no_reason_with_another_prefix(prefix, n, uniform):
+    """With another prefix than Sklansky's a tip force is often off the path (Kogge-Stone at n = 3:
+    no cost), yet its row said 'tip force, +1 A', and the threshold it raised could add 'one tier
+    less each way' (a review's find). It is counted with Sklansky's prefix only: another prefix's
+    rows give the prefix as the reason, with or without the force."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from vampc.compiler import CompileOptions
+    arm = random_chain(n, 5, prismatic_fraction=0.0)
+    options = CompileOptions(recursion="log", prefix=prefix, uniform_leaves=uniform)
+    notes = []
+    for chain in (arm, replace(arm, tip_force=np.array([0.0, 0.0, -10.0]))):
+        rows = table_o1(configurations(compile_chain(chain, options)), chain)["measured"]
+        notes.append(next(r for r in rows if r["configuration"] == "log, systolic")["note"])
+    assert "tip force" not in notes[1] and f"a {prefix} prefix" in notes[1], notes
+    assert ("each way" in notes[1]) == ("each way" in notes[0]), notes
