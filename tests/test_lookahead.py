@@ -964,6 +964,23 @@ def test_error_correction_is_said_not_to_run_here(setup, tmp_path):
                                      str(program)]).exit_code == 0
     for source in ([program], [PUMA, "--error-correction"]):
         r = run_lookahead(*source[:1], path, limits, *source[1:])
-        assert r.exit_code == 0 and "its error correction is not run by vampc lookahead" in r.output, \
-            r.output
+        assert r.exit_code == 0 and "its error correction is not run by the stream engine, whose " \
+            "torques are the same without it; vampc emulate --engine tick reports the checking" \
+            in r.output, r.output
+    # the tick engine runs it (its checking network), but lookahead says nothing of what it did
+    from vampc.emulator.checking import CheckingTickEngine
+    ran = []
+    real = CheckingTickEngine.run
+    def run(self, *args, **kwargs):
+        ran.append(1)
+        return real(self, *args, **kwargs)
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(CheckingTickEngine, "run", run)
+        short = tmp_path / "short.csv"                  # (the tick engine is slow: 39 rows)
+        short.write_text("".join(path.read_text().splitlines(keepends=True)[:40]))
+        r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(short),
+                                      "--rate", "1kHz", "--window", "8", "--limits", str(limits),
+                                      "--engine", "tick"])
+    assert r.exit_code == 0 and ran and "its error correction runs on the tick engine, but vampc " \
+        "lookahead does not report it" in r.output, r.output
     assert "error correction" not in run_lookahead(PUMA, path, limits).output

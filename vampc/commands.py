@@ -971,9 +971,13 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
     warn_what_if(source, ld, "the register's network runs in")
     if ld.net.checking is not None:          # (--error-correction was taken, and nothing said)
-        warnings.warn(VampcWarning(f"{source}: its error correction is not run by vampc lookahead, "
-                                   "whose torques are the same without it; vampc emulate --engine "
-                                   "tick runs the checking (README, Error correction)"), stacklevel=1)
+        from vampc.kinds import Engine
+        done = ("runs on the tick engine, but vampc lookahead does not report it" if
+                Engine(own.engine) is Engine.TICK else "is not run by the stream engine, whose "
+                "torques are the same without it")
+        warnings.warn(VampcWarning(f"{source}: its error correction {done}; vampc emulate --engine "
+                                   "tick reports the checking (README, Error correction)"),
+                      stacklevel=1)
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES
