@@ -514,8 +514,9 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     # and the network's being left out was said only at the end): the sum of each step's own
     import re
     whole = re.search(r"^vampc rtl: 8 steps estimated at (\d+) min in all \(--max-minutes 8 bounds "
-                      r"each step, not the whole run\); the network's synthesis, estimated at 18 min, "
-                      r"is beyond --max-minutes and will be left out$", r.stderr, re.M)
+                      r"each step, not the whole run\); the network's synthesis \(18 min\), beyond "
+                      r"--max-minutes, will be left out, and its place and route with it$", r.stderr,
+                      re.M)
     assert whole and r.stderr.index(whole[0]) < r.stderr.index("(estimated"), r.stderr
     each = [float(x) * (60 if unit == "min" else 1)
             for x, unit in re.findall(r"\(estimated (\d+) (s|min)\)", r.stderr)]
@@ -536,6 +537,19 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 0 and "the network's synthesis was left out by --max-minutes" in r.output
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "8"])
     assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
+    # the network's synthesis within the time and its place and route beyond it: both said up front,
+    # and counted among the steps (it said "2 steps" of 4: a review's find)
+    r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--pnr", "--max-minutes", "30"])
+    assert r.exit_code == 0, r.output
+    whole = re.search(r"^vampc rtl: 9 steps estimated at (\d+) min in all \(--max-minutes 30 bounds "
+                      r"each step, not the whole run\); the network's place and route \((\d+ min)\), "
+                      r"beyond --max-minutes, will be left out$", r.stderr, re.M)
+    assert whole and r.stderr.index(whole[0]) < r.stderr.index("(estimated"), r.stderr
+    assert f"the network's place and route is estimated at {whole[2]}, beyond --max-minutes 30: " \
+        "left out" in r.stderr, r.stderr                  # (the notice where it is left out)
+    each = [float(x) * (60 if unit == "min" else 1)
+            for x, unit in re.findall(r"\(estimated (\d+) (s|min)\)", r.stderr)]
+    assert len(each) == 9 and abs(int(whole[1]) * 60 - sum(each)) <= 9 * 30 + 30, (whole[1], each)
     # with the time for it, the network's place and route runs on its synthesis's netlist too (it
     # had synthesized the network a second time)
     calls.clear()

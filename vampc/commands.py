@@ -1579,17 +1579,18 @@ def _run_estimate(ld, own, limit: float, steps: list) -> str | None:
     user read --max-minutes as a bound on the whole run (it bounds each step: eleven one-VAMP
     syntheses ran 6 minutes under --max-minutes 8, the network's left out said only at the end)."""
     from vampc.rtl import synth
+    steps, out = list(steps), ""
+    if own.synth is not None:       # the network's steps, as _synth runs or leaves them out
+        network = [("synthesis", synth.SYNTH_PER_VAMP * _size(ld))] + \
+            ([("place and route", synth.PNR_PER_VAMP * _size(ld))] if own.pnr else [])
+        for k, (what, seconds) in enumerate(network):
+            if seconds > limit:     # (and what follows it: place and route needs the synthesis)
+                out = (f"; the network's {what} ({_duration(seconds)}), beyond --max-minutes, will "
+                       "be left out" + (", and its place and route with it"
+                                        if k + 1 < len(network) else ""))
+                break
+            steps.append((f"the network's {what}", seconds))
     total = sum(seconds for _, seconds in steps)
-    out = ""
-    if own.synth is not None:
-        network = synth.SYNTH_PER_VAMP * _size(ld)
-        if network > limit:
-            out = (f"; the network's synthesis, estimated at {_duration(network)}, is beyond "
-                   "--max-minutes and will be left out")
-        else:
-            total += network
-            pnr = synth.PNR_PER_VAMP * _size(ld) if own.pnr else 0.0
-            total += pnr if pnr <= limit else 0.0
     if total < 60:
         return None
     return (f"vampc rtl: {count(len(steps), 'step')} estimated at {_duration(total)} in all "
