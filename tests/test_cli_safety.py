@@ -850,6 +850,8 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
                                              "improper (correct the table's numbers)"),
     ((PLANAR, "--tip", "b"), "is a DH table, whose joints (a chain, or a tree by their parent "
                              "fields) are all read"),
+    ((PLANAR, "--tip", "b", "--accept-improper-inertia"), "is a DH table, whose joints (a chain, or "
+     "a tree by their parent fields) are all read and whose inertias are refused when improper"),
 ])
 def test_lock_base_tip_misuse_is_a_usage_error(args, message, tmp_path):
     res = run("compile", *args, "-o", tmp_path / "x.vamp.json")

@@ -149,3 +149,22 @@ def test_a_trees_per_node_rows_say_why_they_differ():
     assert "sums their f' and n'" in notes[("linear", None, "fwd")][1]
     per, note = _forward_and_backward_notes(tree, "log")[("log", "separate", "fwd")]
     assert f"its busiest node has {per} VAMPs" in note and "addition levels" in note
+
+
+def test_a_one_joint_arm_and_a_floating_chain_say_why_their_nodes_differ():
+    """One joint has no combining node: its log forward row said "forward node 12 VAMPs, not 13"
+    beside 4 (6 with a tip force); a floating serial chain's rows said "see README, Layouts" or
+    "a tree's forward pass" (a review's finds)."""
+    from dataclasses import replace
+
+    import numpy as np
+    one = replace(random_chain(1, 3, prismatic_fraction=0.0), tip_force=np.array([0.0, 0.0, -5.0]))
+    for (rec, leaves, sec), (per, note) in _forward_and_backward_notes(one, "log").items():
+        if rec == "log" and sec == "fwd":
+            assert note == ("differs in per node: one joint: its leaf is the only forward node, "
+                            f"{per} VAMPs (no combining node to compare with the paper's)"), note
+    floating = replace(random_chain(4, 3, prismatic_fraction=0.0), floating=True)
+    for recursion in ("linear", "log"):
+        for key, (per, note) in _forward_and_backward_notes(floating, recursion).items():
+            assert "see README, Layouts" not in note and "12 VAMPs, not 13" not in note, (key, note)
+            assert "a tree's forward" not in note, (key, note)

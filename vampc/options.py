@@ -281,10 +281,11 @@ class RobotOptions:
             (["--accept-improper-inertia"] if self.accept_improper_inertia else [])
         if given and Path(robot).suffix.lower() not in URDF_SUFFIXES:
             # (each option's own reason: the joints' one was given for --mimic and the inertia too)
-            why = {"--mimic": "which has no mimic joints",
-                   "--accept-improper-inertia": "whose inertias are refused when improper (correct "
-                   "the table's numbers)"}.get(given[0], "whose joints (a chain, or a tree by their "
-                                                          "parent fields) are all read")
+            reasons = {"--mimic": "which has no mimic joints",
+                       "--accept-improper-inertia": "whose inertias are refused when improper "
+                       "(correct the table's numbers)"}
+            joints = "whose joints (a chain, or a tree by their parent fields) are all read"
+            why = " and ".join(dict.fromkeys(reasons.get(g, joints) for g in given))   # each once
             raise VampcUsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to "
                                   f"URDF and MJCF files only; {robot} is a DH table, {why}")
 

@@ -204,18 +204,21 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int, chain=None) 
                    "(--uniform-leaves to compare)")
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "single_device" in diff:
         why.append("the single device also runs the leaves, on device nodes of their own roles")
-    if not why and chain is not None and not chain.is_chain:
+    if not why and chain is not None and (not chain.is_chain or chain.floating):
         # (it said "see README, Layouts" of every per-node count of a tree that differs)
-        why.append(_tree_why(recursion, sec, row, ref))
+        why.append(_tree_why(recursion, sec, row, ref, chain))
     head = (f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " if diff else
             "per node as the paper's, for another reason: ")
     return head + ("; ".join(why) or "see README, Layouts")
 
 
-def _tree_why(recursion: str, sec: str, row: dict, ref: dict) -> str:
+def _tree_why(recursion: str, sec: str, row: dict, ref: dict, chain) -> str:
     """Why a tree's per-node VAMPs differ from the paper's chain (README, Trees and floating
     bases): measured for the linear recursion, said in general otherwise."""
     linear = Recursion(recursion) is Recursion.LINEAR
+    if chain.is_chain:               # a floating base on a serial chain
+        return ("the base floats: its motion and wrench are the network's inputs and outputs, "
+                "beyond the paper's fixed base (README, Trees and floating bases)")
     if linear and sec == Section.FWD:
         return ("the robot has branches (a tree): a joint with several children sums their f' and "
                 "n' (VA trees), beyond the paper's Table I.1 (README, Trees and floating bases)")
@@ -224,17 +227,20 @@ def _tree_why(recursion: str, sec: str, row: dict, ref: dict) -> str:
         return ("the robot has branches (a tree): a joint whose frame is shifted from its parent's "
                 "(at a branch, o_i ≠ 0) first forms its origin's acceleration, H1..H5 = 3 VC + 2 VA, "
                 "5 VAMPs more (README, Trees and floating bases)")
-    return ("the robot has branches (a tree), beyond the paper's Table I.1 (README, Trees and "
-            "floating bases)")
+    return ("the robot has branches (a tree): its nodes are not the paper's chain's (README, "
+            "Trees and floating bases)")
 
 
 def _log_forward_why(per_node: int, chain, tip: bool) -> str:
     """Why the log recursion's busiest forward node is not the paper's 13 VAMPs: it said "12, not
     13" beside a tree's 6 and a tip-loaded leaf's 14 (a new user's find)."""
     if chain is not None and (not chain.is_chain or chain.floating):
-        return (f"a tree's forward pass adds its subtrees' forces and moments in addition levels, "
-                f"not through the paper's combining nodes: its busiest node has {per_node} VAMPs "
-                "(README, Trees and floating bases)")
+        return (f"a tree's or floating base's forward pass adds its subtrees' forces and moments in "
+                f"addition levels, not through the paper's combining nodes: its busiest node has "
+                f"{per_node} VAMPs (README, Trees and floating bases)")
+    if chain is not None and chain.n == 1:   # (it said "12, not 13" beside 4, or 6 with a tip force)
+        return (f"one joint: its leaf is the only forward node, {per_node} VAMPs (no combining "
+                "node to compare with the paper's)")
     why = ("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
            "T20 = A_{k+1}ᵀ R_{a,k} is not needed (README, Figures against the paper)")
     if per_node > 12 and tip:
