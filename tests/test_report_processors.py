@@ -168,3 +168,26 @@ def test_a_one_joint_arm_and_a_floating_chain_say_why_their_nodes_differ():
         for key, (per, note) in _forward_and_backward_notes(floating, recursion).items():
             assert "see README, Layouts" not in note and "12 VAMPs, not 13" not in note, (key, note)
             assert "a tree's forward" not in note, (key, note)
+
+
+def test_a_prismatic_joints_rows_give_the_sigma_terms_and_its_log_forward_node_is_the_rotary_one():
+    """The Stanford arm's linear rows (14 [12]) said "see README, Layouts"; its log forward node,
+    the Puma's ops exactly (T20 alone), was said to differ for its prismatic joint too; the notes
+    called the paper's Table I.1 revolute-only, which has translational joints (a check against the
+    paper)."""
+    from conftest import EXAMPLES
+
+    from vampc.robot import load_robot
+    stanford = load_robot(str(EXAMPLES / "stanford.yaml"))
+    assert [i for i, j in enumerate(stanford.joints, 1) if j.sigma == 0] == [3]
+    c = compile_chain(stanford, CompileOptions(recursion="log"))
+    rep = processors(configurations(c), stanford)
+    for variant in rep["vamps"]:
+        for row in variant["rows"]:
+            assert "see README, Layouts" not in row["note"], row
+    linear = next(v for v in rep["vamps"] if v["recursion"] == "linear")
+    bwd = next(r for r in linear["rows"] if r["section"] == "bwd")
+    assert bwd["per_node"] == 14 and "prismatic joints [3] add the σ̄ terms" in bwd["note"], bwd
+    log_fwd = next(r for r in rep["ops_per_node"] if (r["recursion"], r["section"]) == ("log", "fwd"))
+    assert "no T20" in log_fwd["note"] and "prismatic" not in log_fwd["note"], log_fwd
+    assert all("Table I.1 (a" not in r["note"] for r in rep["ops_per_node"]), rep["ops_per_node"]

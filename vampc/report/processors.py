@@ -207,6 +207,10 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int, chain=None) 
     if not why and chain is not None and (not chain.is_chain or chain.floating):
         # (it said "see README, Layouts" of every per-node count of a tree that differs)
         why.append(_tree_why(recursion, sec, row, ref, chain))
+    prismatic = [] if chain is None else [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]
+    if not why and prismatic:      # (the Stanford arm's 14 [12] said "see README, Layouts")
+        why.append(f"prismatic joints {prismatic} add the σ̄ terms (Table I.1's translational case; "
+                   "section VI counts a rotary arm)")
     head = (f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " if diff else
             "per node as the paper's, for another reason: ")
     return head + ("; ".join(why) or "see README, Layouts")
@@ -282,15 +286,20 @@ def _ops_note(graph, section: str, got: dict, ref: dict, chain=None) -> str:
                      if got.get(o, 0) != ref.get(o, 0))
     features = _beyond_the_paper(chain) if chain is not None else []
     if graph.recursion is Recursion.LOG and section == Section.FWD:
-        also = (f"; the robot also has {', '.join(features)}, beyond the paper's Table I.1 (README, "
-                "Trees and floating bases)" if features else "")
+        # (the robot's features said only where they change the node beyond T20: a Stanford arm's
+        # forward node is the Puma's, and was said to differ for its prismatic joint too)
+        t20 = {o: k - (o == "MV") for o, k in ref.items() if k - (o == "MV")}
+        also = (f"; the robot also has {', '.join(features)}, beyond the paper's counts (README, "
+                "Trees and floating bases)" if features and got != t20 else "")
         return (f"differs: {diff}: no T20 = A_{{k+1}}ᵀ R_{{a,k}} with f, n referred to O_{{a-1}} "
                 f"(README, Figures against the paper){also}")
     if not features:        # (the paper's own kind of robot: a difference nothing here explains)
         return (f"differs: {diff}; the robot is a fixed-base chain of revolute joints in DH frames, "
                 "as the paper's, so this is not explained")
-    return (f"differs: {diff}: the robot has {', '.join(features)}, beyond the paper's Table I.1 (a "
-            "fixed-base chain of revolute joints in DH frames; README, Trees and floating bases)")
+    # (the paper's Table I.1 has translational joints; its per-node counts are a rotary arm's)
+    return (f"differs: {diff}: the robot has {', '.join(features)}, beyond the paper's per-node "
+            "counts (a fixed-base chain of revolute joints in DH frames; README, Trees and floating "
+            "bases)")
 
 
 def _beyond_the_paper(chain) -> list[str]:
