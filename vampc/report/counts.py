@@ -283,13 +283,14 @@ CORRECTION = "output correction, +1 M + 2 A"
 TIER = "one tier less each way (n a power of 2)"
 TIER_TIP_TO_BASE = "one tier less tip to base (n a power of 2)"
 TIP = "tip force, +1 A"
+LEAF = "leaf p̈ unpadded, −2 A"
 UNIFORM = "uniform leaves, +2 A"
 TREE_SENTENCE = ("the paper's formula is for a serial chain of n joints on a fixed base; a tree's or a "
                  "floating base's latency follows its depth, not n (README, Trees and floating bases)")
 # what each itemised reason accounts for, (Mults, Addns) on the path: what is left of a difference
 # from the paper's formula is said to be unexplained (`latency_reasons`)
 ACCOUNTED = {CORRECTION: (1, 2), TIER: (-2, -6), TIER_TIP_TO_BASE: (-1, -3), TIP: (0, 1),
-             UNIFORM: (0, 2)}
+             LEAF: (0, -2), UNIFORM: (0, 2)}
 
 
 def base_rotates(chain) -> bool:
@@ -356,6 +357,13 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         reasons.append((TIP, "the force at the tip is folded into leaf n (F_n + f_{n+1}): one VA on "
                              "the path (a torque at the tip is added off it); the paper's arm has a "
                              "free tip"))
+    if log and n == 1 and not rep.get("tree") and not rep.get("base_rotates") and \
+            not rep.get("uniform_leaves") and not rep["prismatic_joints"]:
+        # (one joint: no combining node follows the leaf, so its p̈ is on the path; it was "-2 A
+        # not explained" until a check against Appendix C)
+        reasons.append((LEAF, "one joint: the leaf's p̈ is on the path, at MV + 2 VC + VA, where "
+                              "Appendix C pads it to MV + 2 VC + 3 VA (a VA for a prismatic joint's "
+                              "σ̄ term, none for a revolute one, and one for its delay conditions)"))
     if log and rep.get("uniform_leaves"):
         reasons.append((UNIFORM, "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
