@@ -450,10 +450,14 @@ def wiring(rep: dict) -> Table:
     what = exhaustive({Recursion.LINEAR: "nodes", Recursion.LOG: "nodes of the tiers"},
                       Recursion)[Recursion(rep["recursion"])]
     rows = []
+    log = Recursion(rep["recursion"]) is Recursion.LOG
     for sec in ("bwd", "fwd"):
         x = b["between_nodes"][sec]
+        # (the paper's log figure is a bound, "at most 18": the forward node's 12 read as a
+        # difference, with no word; a check against the paper)
         rows.append((f"vector buses into a {SECTION_NAMES[sec]} node from other {what}",
-                     f"{x['vectors']} vectors on {x['wires']} wires", f"{pb[sec]} vectors"))
+                     f"{x['vectors']} vectors on {x['wires']} wires",
+                     f"{'at most ' if log else ''}{pb[sec]} vectors"))
     rows.append(("vector buses, backward to forward (in all)",
                  f"{b['backward_to_forward']['vectors']} vectors on "
                  f"{b['backward_to_forward']['wires']} wires", "F_i, N_i of each joint"))
@@ -469,6 +473,11 @@ def wiring(rep: dict) -> Table:
     notes = ["a bus is a vector bus three scalars wide (section VI): vectors counts the results a "
              "node receives (a matrix as three), wires the taps (a value read at two buffer stages "
              "twice); a folded layout's recursion variables return through its own multiplexers"]
+    linear_bwd = b["between_nodes"]["bwd"]["vectors"]
+    if not log and linear_bwd != pb["bwd"]:    # (3 against 4 with no word: a check against the paper)
+        notes.append(f"a backward node receives {linear_bwd} vectors from the node before it "
+                     f"(the linear recursion passes ω, ω̇ and p̈ of node i − 1); the paper says "
+                     f"{pb['bwd']} and does not list them")
     if "internal_max_connections" in b:        # (71 / 27 / 30 beside ≤ 50 / 20 / 50, unexplained)
         wired = b["internal_max_connections"]
         notes.append("on the Mostly-Local Bus a VAMP's multiplexer inputs are the bus tiers it reads "
