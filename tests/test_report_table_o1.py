@@ -254,3 +254,16 @@ def test_a_tip_force_is_no_reason_with_another_prefix(prefix, n, uniform):
         notes.append(next(r for r in rows if r["configuration"] == "log, systolic")["note"])
     assert "tip force" not in notes[1] and f"a {prefix} prefix" in notes[1], notes
     assert ("each way" in notes[1]) == ("each way" in notes[0]), notes
+
+
+def test_one_joints_log_work_is_not_said_traded_for_depth():
+    """At n = 1 the log graph has no combining node and does less work than the linear one, yet its
+    serial row said "work traded for depth" (a check against the paper)."""
+    c = compile_chain(random_chain(1, 21, prismatic_fraction=0.0))
+    rows = {r["configuration"]: r for r in table_o1(configurations(c), c.chain)["measured"]}
+    log, linear = rows["log graph, serial work"], rows["linear graph, serial work"]
+    assert log["flops"] < linear["flops"], (log, linear)             # measured: less work
+    assert log["note"] == "no combining node (n = 1)" and "trades" not in log["explanation"]
+    c = compile_chain(random_chain(2, 21, prismatic_fraction=0.0))
+    rows = {r["configuration"]: r for r in table_o1(configurations(c), c.chain)["measured"]}
+    assert rows["log graph, serial work"]["note"] == "work traded for depth"

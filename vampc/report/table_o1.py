@@ -51,7 +51,12 @@ def _serial_row(graph, n: int) -> dict:
         Recursion.LOG: (
             "work traded for depth",
             "log graph, serial work: the log recursion trades work for depth, every combining "
-            "node composing whole relational parameters (Table V.1)"),
+            "node composing whole relational parameters (Table V.1)") if n > 1 else (
+            # (one joint has no combining node, and its log graph does less work than the linear
+            # one: "work traded for depth" was said of it: a check against the paper)
+            "no combining node (n = 1)",
+            "log graph, serial work: one joint, no combining node: the leaves' ops, counted op by "
+            "op, against Luh-Walker-Paul's accounting of their own formulation"),
     }, Recursion)[graph.recursion]
     return {"configuration": f"{graph.recursion} graph, serial work", "recursion": graph.recursion,
             "measure": "serial", "mults": work["mults"], "adds": work["adds"],
