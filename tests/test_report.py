@@ -100,7 +100,8 @@ def test_note_for_prismatic_joints_and_other_latencies():
     expected = (2 * 4 + 3) * 2 + (6 * 4 + 7) * 3
     assert notes[0].startswith(f"{rep['latency']['flops'] - expected:+d} flops (")
     assert notes[0].endswith("against the paper's formula at these latencies")
-    assert any(s.startswith(f"prismatic joints {prismatic} add the σ̄ terms") for s in notes)
+    assert any(s.startswith(f"prismatic joints {prismatic}: Table I.1's σ̄ terms add ops but no "
+                            "latency") for s in notes)
 
 
 def test_note_when_equal_to_the_paper(rotary6):
