@@ -13,7 +13,7 @@ from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.memo import keep_last
 from vampc.report import paper
-from vampc.report.counts import physical_vamps
+from vampc.report.counts import physical_vamps, prismatic_joints
 from vampc.report.sites import node_table, unit_firsts
 from vampc.schedule.layout import folded_binding
 from vampc.schedule.registry import FOLDED, SYSTOLIC
@@ -89,7 +89,7 @@ def _variant(graph, leaves, chain, binding) -> dict:
                "single_device": sum(single[p] for p in parts),
                "systolic": sum(systolic[p] for p in parts)}
         row["paper"] = _paper_row(graph.recursion, sec, n)
-        row["note"] = _vamp_note(graph.recursion, sec, leaves, row, n, chain)
+        row["note"] = _vamp_note(graph.recursion, sec, leaves, row, chain)
         rows.append(row)
     return {"recursion": graph.recursion, "leaves": leaves, "prefix": dict(graph.meta).get("prefix"),
             "rows": rows, "shared_passes": shared, "paper_shared_passes":
@@ -186,28 +186,28 @@ def _paper_shared(recursion: str, n: int, leaves) -> int | None:
     return max(t[(recursion, "bwd")]["single_device"], t[(recursion, "fwd")]["single_device"])
 
 
-def _vamp_note(recursion: str, sec: str, leaves, row: dict, n: int, chain=None) -> str:
+def _vamp_note(recursion: str, sec: str, leaves, row: dict, chain) -> str:
     """Whether the row matches the paper, and why not where it does not."""
     ref = row["paper"]
     diff = [c for c in COLUMNS if ref.get(c) is not None and row[c] != ref[c]]
     log_fwd = Recursion(recursion) is Recursion.LOG and sec == Section.FWD
-    tip = chain is not None and chain.is_chain and not chain.floating and \
-        bool(np.any(chain.tip_force) or np.any(chain.tip_torque))
+    tree = not chain.is_chain or chain.floating
+    tip = not tree and bool(np.any(chain.tip_force) or np.any(chain.tip_torque))
     odd = log_fwd and row["per_node"] != 12 and tip      # (13 = 12 and a tip torque's VA)
     if not diff and not odd:
         return "matches the paper" if any(ref.get(c) is not None for c in COLUMNS) else ""
     why = []
     if log_fwd:
-        why.append(_log_forward_why(row["per_node"], chain, tip))
+        why.append(_log_forward_why(row["per_node"], chain, tree, tip))
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "systolic" in diff:
         why.append("Table IV.1's leaves are cheaper than the uniform nodes section VI counts "
                    "(--uniform-leaves to compare)")
     if Recursion(recursion) is Recursion.LOG and leaves == "separate" and "single_device" in diff:
         why.append("the single device also runs the leaves, on device nodes of their own roles")
-    if not why and chain is not None and (not chain.is_chain or chain.floating):
+    if not why and tree:
         # (it said "see README, Layouts" of every per-node count of a tree that differs)
         why.append(_tree_why(recursion, sec, row, ref, chain))
-    prismatic = [] if chain is None else [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]
+    prismatic = prismatic_joints(chain)
     if not why and prismatic:      # (the Stanford arm's 14 [12] said "see README, Layouts")
         why.append(f"prismatic joints {prismatic} add the σ̄ terms (Table I.1's translational case; "
                    "section VI counts a rotary arm)")
@@ -235,14 +235,14 @@ def _tree_why(recursion: str, sec: str, row: dict, ref: dict, chain) -> str:
             "Trees and floating bases)")
 
 
-def _log_forward_why(per_node: int, chain, tip: bool) -> str:
+def _log_forward_why(per_node: int, chain, tree: bool, tip: bool) -> str:
     """Why the log recursion's busiest forward node is not the paper's 13 VAMPs: it said "12, not
     13" beside a tree's 6 and a tip-loaded leaf's 14 (a new user's find)."""
-    if chain is not None and (not chain.is_chain or chain.floating):
+    if tree:
         return (f"a tree's or floating base's forward pass adds its subtrees' forces and moments in "
                 f"addition levels, not through the paper's combining nodes: its busiest node has "
                 f"{per_node} VAMPs (README, Trees and floating bases)")
-    if chain is not None and chain.n == 1:   # (it said "12, not 13" beside 4, or 6 with a tip force)
+    if chain.n == 1:   # (it said "12, not 13" beside 4, or 6 with a tip force)
         return (f"one joint: its leaf is the only forward node, {per_node} VAMPs (no combining "
                 "node to compare with the paper's)")
     why = ("forward node 12 VAMPs, not 13: with f, n referred to O_{a-1} the paper's "
