@@ -332,13 +332,14 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     # a tip force's Addn is on Sklansky's path (measured, n = 1..33); with another prefix it often
     # is not (Kogge-Stone n = 3, 5, 6, 12: no cost), so it is counted with Sklansky's only
     tip = bool(rep.get("tip_force")) and rep.get("prefix", "sklansky") in (None, "sklansky")
+    # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
+    # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
+    tier_saved = log and n & (n - 1) == 0 and \
+        got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + tip
     if rep.get("tree"):     # (neither a tier a power of two saves nor a residual: its depth counts)
         reasons.append(("a tree: its depth, not n" if rep["tree"] == "tree" else
                         "a floating base", TREE_SENTENCE))
-    # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
-    # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
-    elif log and n & (n - 1) == 0 and rep.get("base_rotates") and \
-            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + tip:
+    elif tier_saved and rep.get("base_rotates"):
         # (the base rotating, a tier was still said saved each way: 1 M + 3 A of the difference
         # went unexplained, and unsaid: a new user's find)
         reasons.append((TIER_TIP_TO_BASE,
@@ -346,8 +347,7 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                         "O_{-1} and spans n + 1 leaves, as the paper's formula counts; the "
                         "tip-to-base pass spans n leaves, which saves a whole tier there (4 flops) "
                         "when n is a power of 2"))
-    elif log and n & (n - 1) == 0 and \
-            got["mults"] + got["adds"] < paper["mults"] + paper["adds"] + 3 + tip:
+    elif tier_saved:
         reasons.append((TIER,
                         "log recursion: grounded in O_0 when the base does not rotate (section VI), "
                         "the prefix network spans n leaves instead of n + 1, which saves a whole tier "
