@@ -170,6 +170,33 @@ def test_a_one_joint_arm_and_a_floating_chain_say_why_their_nodes_differ():
             assert "a tree's forward" not in note, (key, note)
 
 
+@pytest.mark.parametrize("rotating", [False, True])
+def test_a_one_joint_arms_ops_rows_say_each_pass_is_a_leaf(rotating):
+    """One joint on a still base: the log backward pass is joint 1's leaf alone (8 ops against a
+    combining node's 24), and its ops row said "the robot is a fixed-base chain of revolute joints
+    in DH frames, as the paper's, so this is not explained"; its forward row put 4 ops against 11
+    down to the missing T20 alone. On a rotating base the backward pass has a combining node (leaf 0
+    joined to leaf 1) and matches; the forward pass is still a leaf."""
+    from dataclasses import replace
+
+    import numpy as np
+    one = random_chain(1, 3, prismatic_fraction=0.0)
+    if rotating:
+        one = replace(one, base_omega=np.array([0.1, 0.2, 0.3]))
+    rep = processors(configurations(compile_chain(one, CompileOptions(recursion="log"))), one)
+    rows = {(r["recursion"], r["section"]): r for r in rep["ops_per_node"]}
+    bwd, fwd = rows[("log", "bwd")], rows[("log", "fwd")]
+    leaf = "one joint: this pass is its leaf alone (Table IV.1's a = b form)"
+    assert fwd["total"] == 4 and leaf in fwd["note"] and "T20" not in fwd["note"], fwd
+    if rotating:
+        assert bwd["matches"] and bwd["total"] == 24, bwd
+    else:
+        assert bwd["total"] == 8 and "MM" not in bwd["ops"], bwd
+        assert leaf in bwd["note"] and "not explained" not in bwd["note"], bwd
+    for r in rep["ops_per_node"]:
+        assert "not explained" not in r["note"], r
+
+
 def test_a_prismatic_joints_rows_give_the_sigma_terms_and_its_log_forward_node_is_the_rotary_one():
     """The Stanford arm's linear rows (14 [12]) said "see README, Layouts"; its log forward node,
     the Puma's ops exactly (T20 alone), was said to differ for its prismatic joint too; the notes

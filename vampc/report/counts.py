@@ -284,13 +284,14 @@ TIER = "one tier less each way (n a power of 2)"
 TIER_TIP_TO_BASE = "one tier less tip to base (n a power of 2)"
 TIP = "tip force, +1 A"
 LEAF = "leaf p̈ unpadded, −2 A"
+LEAF_S = "leaf S unpadded, −1 A"
 UNIFORM = "uniform leaves, +2 A"
 TREE_SENTENCE = ("the paper's formula is for a serial chain of n joints on a fixed base; a tree's or a "
                  "floating base's latency follows its depth, not n (README, Trees and floating bases)")
 # what each itemised reason accounts for, (Mults, Addns) on the path: what is left of a difference
 # from the paper's formula is said to be unexplained (`latency_reasons`)
 ACCOUNTED = {CORRECTION: (1, 2), TIER: (-2, -6), TIER_TIP_TO_BASE: (-1, -3), TIP: (0, 1),
-             LEAF: (0, -2), UNIFORM: (0, 2)}
+             LEAF: (0, -2), LEAF_S: (0, -1), UNIFORM: (0, 2)}
 
 
 def base_rotates(chain) -> bool:
@@ -331,7 +332,9 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     log = Recursion(rep["recursion"]) is Recursion.LOG
     # a tip force's Addn is on Sklansky's path (measured, n = 1..33); with another prefix it often
     # is not (Kogge-Stone n = 3, 5, 6, 12: no cost), so it is counted with Sklansky's only
-    tip = bool(rep.get("tip_force")) and rep.get("prefix", "sklansky") in (None, "sklansky")
+    sklansky = rep.get("prefix", "sklansky") in (None, "sklansky")     # (the paper's prefix)
+    tip = bool(rep.get("tip_force")) and sklansky
+    unit_timing = rep["timing"]["mult_latency"] == 1 and rep["timing"]["add_latency"] == 1
     # (Mults and Addns on the path, not flops: a folded layout's waits had hidden the saving there,
     # its row giving only the output correction beside the same -1 M, -4 A: a new user's find)
     tier_saved = log and n & (n - 1) == 0 and \
@@ -364,9 +367,18 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         reasons.append((LEAF, "one joint: the leaf's p̈ is on the path, at MV + 2 VC + VA, where "
                               "Appendix C pads it to MV + 2 VC + 3 VA (a VA for a prismatic joint's "
                               "σ̄ term, none for a revolute one, and one for its delay conditions)"))
+    if log and n <= 2 and rep.get("base_rotates") and not rep.get("tree") and sklansky and \
+            not rep.get("uniform_leaves") and not rep["prismatic_joints"] and unit_timing:
+        # (the first combining node joins leaf 0's constants to joint 1's leaf, so the route into
+        # its p̈ starts at that leaf's S; measured on the critical path, n = 1 and 2: ω, S, then the
+        # node's T11, T12, ... p̈. It was "−1 A not explained" until a check against Appendix C)
+        reasons.append((LEAF_S, "the base rotates and n ≤ 2: the first combining node joins leaf 0's "
+                                "constants (ω0, ω̇0, gravity) to joint 1's leaf, so the path into its "
+                                "p̈ starts at that leaf's S, ready at MV + VC, where Appendix C pads "
+                                "S_{a,a} to MV + VC + VA"))
     if log and rep.get("uniform_leaves"):
         reasons.append((UNIFORM, "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
-    if rep["timing"]["mult_latency"] != 1 or rep["timing"]["add_latency"] != 1:
+    if not unit_timing:
         reasons.append(("Mult/Addn latencies ≠ 1 flop",
                         "the paper assumes 1 Mult = 1 Addn = 1 flop; its formula is compared at the "
                         "given latencies, and a slower Mult can move the critical path onto another "
