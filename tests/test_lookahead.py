@@ -204,6 +204,28 @@ def test_bad_input_is_one_line(setup, edit, args, message, code):
     assert len(r.output.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize("args, message, code", [
+    (["--clock", "1kHz"], r"it cannot keep up", 1),
+    (["--tolerance", "1e-6", "--check"], r"--tolerance applies to a program in a narrower word", 2),
+])
+def test_what_the_network_and_options_decide_is_said_before_the_path_is_read(setup, monkeypatch,
+                                                                            args, message, code):
+    """A network that cannot keep up, or an option that does not apply, was refused only after the
+    whole path had been read and checked (a long path's seconds for a refusal that needed none of
+    it); a bad path then hid the refusal. The path is not read at all now."""
+    from vampc.emulator import host
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    path = write_path(folder, t[::-1], q, qd, qdd, "backwards.csv")     # (not a path either)
+
+    def unread(*_args, **_kw):
+        raise AssertionError("the path was read")
+    monkeypatch.setattr(host, "read_trajectory", unread)
+    r = run_lookahead(program, path, limits, *args)
+    assert r.exit_code == code and re.search(message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1, r.output
+
+
 def test_accelerations_are_integrated_exactly_for_a_held_profile(setup, tmp_path):
     """Each q̈ held for one λ: the positions and velocities are those of that piecewise-constant
     profile, computed here step by step (independent of the vectorised rule), and no position

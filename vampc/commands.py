@@ -982,29 +982,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES
         raise VampcUsageError(WRITE_FAILED_APPLIES)
-    source_path = own.trajectory or own.accelerations
-    if own.trajectory is not None:
-        traj = read_trajectory(own.trajectory, ld.chain)
-    else:                             # q and q̇ integrated from q̈ (vampc.lookahead.integrate)
-        from vampc.emulator.host import Trajectory
-        from vampc.robot.mimic import expand, n_free
-        free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate,
-                                     *own.start(n_free(ld.chain)), of=ld.chain.n)
-        traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
-    times = la.check_path(traj, rate, source_path)
-    # said once the run has gone through (an error before it stays one line); integrated from q̈,
-    # q and q̇ are one motion by their rule
-    disagree = None
-    if own.trajectory is not None:
-        columns = None
-        if ld.chain.mimic:            # (the file's columns: a follower by its leader's)
-            from vampc.robot.mimic import column_names
-            columns = {w: column_names(ld.chain, w) for w in ("q", "qd", "qdd")}
-        disagree = la.check_consistent(traj, 1.0 / rate, own.trajectory, columns)
-    if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
-        from vampc.emulator.host import check_limits
-        check_limits(ld.chain, traj, source_path, speeds=False)
-    la.check_window(own.window, traj, own.futures or 1)
+    # what the network, the limits and the options decide, before the path is read (a long path's
+    # read and checks came first, then a one-line refusal that needed none of it)
     limits = la.limits_of(ld.chain, own.limits, source, robot_opts.locks())
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
@@ -1030,6 +1009,29 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                                 ld.arith.name)
         except VampcError as exc:
             raise VampcError(f"{own.limits or source}: {exc}") from None
+    source_path = own.trajectory or own.accelerations
+    if own.trajectory is not None:
+        traj = read_trajectory(own.trajectory, ld.chain)
+    else:                             # q and q̇ integrated from q̈ (vampc.lookahead.integrate)
+        from vampc.emulator.host import Trajectory
+        from vampc.robot.mimic import expand, n_free
+        free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate,
+                                     *own.start(n_free(ld.chain)), of=ld.chain.n)
+        traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
+    times = la.check_path(traj, rate, source_path)
+    # said once the run has gone through (an error before it stays one line); integrated from q̈,
+    # q and q̇ are one motion by their rule
+    disagree = None
+    if own.trajectory is not None:
+        columns = None
+        if ld.chain.mimic:            # (the file's columns: a follower by its leader's)
+            from vampc.robot.mimic import column_names
+            columns = {w: column_names(ld.chain, w) for w in ("q", "qd", "qdd")}
+        disagree = la.check_consistent(traj, 1.0 / rate, own.trajectory, columns)
+    if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
+        from vampc.emulator.host import check_limits
+        check_limits(ld.chain, traj, source_path, speeds=False)
+    la.check_window(own.window, traj, own.futures or 1)
     if own.engine == "tick":           # (it holds every row's port values and torques)
         from vampc.emulator.driver import tick_memory_check
         tick_memory_check(ld, traj.count, "give --engine stream (the same torques, bit for bit)")
