@@ -72,6 +72,38 @@ def test_precision_names_the_narrowest_words():
                          r["bits"] < int(bound[1:].split(".")[0]) + int(bound.split(".")[1]))
 
 
+def test_the_seed_draws_emulates_random_states(tmp_path):
+    """The observed errors were measured on seed 0's states only (no --seed, where emulate, faults
+    and rtl have one). With --seed S they are `vampc emulate --random N --seed S`'s: the bound,
+    analysed from the limits alone, is the same number of N·m whatever the states, so relative to
+    each run's largest |τ| (computed here from emulate's saved states by the reference) it scales
+    as those."""
+    run = CliRunner().invoke
+    robot = str(EXAMPLES / "planar2.yaml")
+    chain = load_robot(robot)
+    docs, scales = {}, {}
+    for seed in (0, 3):
+        res = run(main, ["precision", robot, "--sweep", "16:18", "--sets", "300", "--format", "json"]
+                  + (["--seed", str(seed)] if seed else []))
+        assert res.exit_code == 0, res.output
+        docs[seed] = loads(res.output)
+        assert (docs[seed]["seed"], docs[seed]["sets"]) == (seed, 300)
+        saved = tmp_path / f"states{seed}.npy"
+        res = run(main, ["emulate", robot, "--random", "300", "--seed", str(seed), "--save-states",
+                         str(saved), "-o", str(tmp_path / f"tau{seed}.csv")])
+        assert res.exit_code == 0, res.output
+        states = np.load(saved)
+        n = chain.n
+        scales[seed] = float(np.abs(rnea(chain, states[:, :n], states[:, n:2 * n],
+                                         states[:, 2 * n:3 * n])).max())
+    assert scales[0] != scales[3]
+    for r0, r3 in zip(docs[0]["rows"], docs[3]["rows"]):
+        assert r0["word"] == r3["word"]
+        assert r0["bound"] * scales[0] == pytest.approx(r3["bound"] * scales[3], rel=1e-12), (r0, r3)
+    text = run(main, ["precision", robot, "--sweep", "16:16", "--sets", "50", "--seed", "3"]).output
+    assert "of 50 random states (seed 3)" in text.splitlines()[0], text
+
+
 @pytest.mark.parametrize("args, said", [
     (["--sweep", "1:70"], "--sweep 1:70: give A:B"), (["--sweep", "x"], "--sweep x: give A:B"),
     (["--tolerance", "0"], "--tolerance 0.0: give a positive number"),

@@ -823,7 +823,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     starts = range(0, own.sets, chunk)
 
     def states(start: int):
-        traj = random_states(chain, start, min(chunk, own.sets - start), 0)
+        traj = random_states(chain, start, min(chunk, own.sets - start), own.seed)
         return replace(traj, qdd=traj.qdd * own.acceleration)     # accelerations ±1: scaled to ±A
 
     def reference(traj):
@@ -916,7 +916,7 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     seen = [r for r in rows if r["word"] and r["observed"] <= own.tolerance and not r["overflows"]]
     if own.fmt == "json":
         return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rounding": rounding,
-                               "rows": rows,
+                               "sets": own.sets, "seed": own.seed, "rows": rows,
                                "narrowest_bound": ok[0]["word"] if ok else None,
                                "narrowest_observed": seen[0]["word"] if seen else None},
                               indent=1) + "\n"
@@ -927,7 +927,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
         return "\n".join(",".join(line) for line in [head + ["rounding", "note"]] + cells) + "\n"
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
-             f"errors relative to the largest |τ| of {own.sets} random states",
+             f"errors relative to the largest |τ| of {own.sets} random states"
+             + (f" (seed {own.seed})" if own.seed else ""),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)
         for digits in range(1, 7):

@@ -1022,6 +1022,9 @@ class PrecisionOptions:
     acceleration: float = field(default=1.0, metadata=cli(
         "--acceleration", type=float, metavar="A", show_default=True, help="The joint acceleration "
         "bound analysed and drawn (rad/s², m/s²)."))
+    seed: int = field(default=0, metadata=cli(
+        "--seed", range=(0, None), show_default=True, help="Seed for the random states (those of "
+        "vampc emulate --random --seed, accelerations scaled to --acceleration)."))
     fmt: str = field(default="text", metadata=cli(
         "--format", choices=lambda: ("text", "csv", "json"), show_default=True,
         help="text: a table and the narrowest words; csv: the table; json: both."))
