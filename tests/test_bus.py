@@ -498,6 +498,8 @@ def test_the_bus_wiring_says_inputs_and_connections_apart():
     assert "internal_max_connections" not in p2p
     assert all(bus["internal_max"][s] >= bus["internal_max_connections"][s] for s in ("bwd", "npv", "fwd"))
     text = runner.invoke(main, ["report", str(PUMA), "--recursion", "log", "--bus", "mlb"]).stdout
-    c = bus["internal_max_connections"]
-    assert (f"the connections they carry, the paper's measure, are the point-to-point network's: "
-            f"{c['bwd']} / {c['npv']} / {c['fwd']}") in text
+    c, w = bus["internal_max_connections"], bus["internal_max_wires"]
+    assert w == p2p["internal_max_wires"]                # (the wires the bus implements)
+    assert f"counting operands, two an operator as the paper does: {c['bwd']} / {c['npv']} / {c['fwd']}" in text
+    assert f"{w['bwd']} / {w['npv']} / {w['fwd']}  ≤ 50 / 20 / 50" in text, text
+    assert "the connections they carry are the point-to-point network's (the row" in text

@@ -75,7 +75,7 @@ def test_a_vamp_that_needs_more_pins_than_a_package_has_gets_none():
     package holds it, and the line and table say so rather than the paper budget's 2 / 1 alone."""
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--vamps", "7"])
     line = next(x for x in r.output.splitlines() if x.startswith("40-pin packages"))
-    assert line.startswith("40-pin packages  none: with each multiplexer input a pin, a VAMP here "
+    assert line.startswith("40-pin packages  none: with each operand wire a pin, a VAMP here "
                            "needs up to 45 pins, more than a 40-pin package has")
     rows = [x for x in r.output.splitlines() if x.startswith("linear, budget, 7 VAMPs (this")]
     assert "none / none" in rows[-1]                         # the packages table's row and "none: a VAMP needs more pins than the package has" in r.output

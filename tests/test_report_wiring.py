@@ -152,3 +152,86 @@ def test_the_wiring_tables_paper_column_says_what_the_paper_says(recursion):
         assert rows[0].endswith("3 vectors on 3 wires  4 vectors"), rows
         assert "  * a backward node receives 3 vectors from the node before it (the linear recursion " \
             "passes ω, ω̇ and p̈ of node i − 1); the paper says 4 and does not list them" in r.output
+
+
+def _program_doc(tmp_path, *args):
+    """`vampc compile` of the Puma 560 with `args`, read back as plain JSON (no vampc structure)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    out = tmp_path / "p.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", str(out), *args])
+    assert r.exit_code == 0, r.output
+    return json.loads(out.read_text())
+
+
+def test_a_matrix_from_an_mm_group_takes_three_pins_and_three_buses(tmp_path):
+    """A matrix operand whose columns an MM group's three VAMPs make is latched from three Results
+    at one tick (README, Timing model): three wires. The pin count took it as one (the Puma's log
+    systolic VAMPs at 8 pins, 78 packages; the report said a systolic VAMP needs exactly the
+    paper's budget), and the buses into one node 2 an operator (48 beside the paper's ≤ 50), while
+    the wiring table counted taps (a check against the paper). Counted here from the program file
+    alone: a VAMP's pins are the paper's 6 other than its operands plus one per tap, packed in order
+    into 40-pin packages (5 pins a VAMP fewer and 4 a package when clock, power, ground and reset are
+    shared); a node's buses are each operator's distinct taps."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    doc = _program_doc(tmp_path, "--recursion", "log")
+    vamps = doc["network"]["vamps"]
+    pins = [6 + sum(map(len, v["a"])) + sum(map(len, v["b"])) for v in vamps]
+    assert max(pins) == 12                      # an MM reading two matrices from MM groups
+
+    def packed(less: int, fixed: int) -> int:
+        count, used = 0, 40
+        for p in pins:
+            if used + p - less > 40:
+                count, used = count + 1, fixed
+            used += p - less
+        return count
+    rep = json.loads(CliRunner().invoke(main, ["report", str(tmp_path / "p.vamp.json"), "--format",
+                                               "json"]).output)
+    row = next(r for r in rep["packages"]["rows"] if r["own"])["by_pins"][0]
+    assert (row["muxed_separate"], row["muxed_shared"], row["max_pins_per_vamp"]) == \
+        (packed(0, 0), packed(5, 4), 12) == (84, 37, 12)
+    # each operator's distinct taps, per recursion node (section, group), the most per section
+    nodes = doc["graph"]["nodes"]
+    per_node: dict = {}
+    for prog in doc["programs"]:
+        v = vamps[prog["vamp"]]
+        for slot in prog["slots"]:
+            nd = nodes[slot["node"]]
+            site = per_node.setdefault((nd["section"], nd["group"]), {})
+            site.setdefault(slot["node"], set()).update(
+                tuple(t) for t in v["a"][slot["sel_a"]] + v["b"][slot["sel_b"]])
+    most: dict = {}
+    for (section, _), ops in per_node.items():
+        most[section] = max(most.get(section, 0), sum(map(len, ops.values())))
+    buses = rep["wiring"]["buses"]
+    assert buses["internal_max_wires"] == most == {"bwd": 64, "npv": 20, "fwd": 32}
+    assert buses["internal_max"] == {"bwd": 48, "npv": 20, "fwd": 20}     # 2 an operator
+    text = CliRunner().invoke(main, ["report", str(tmp_path / "p.vamp.json")]).output
+    assert "64 / 20 / 32  ≤ 50 / 20 / 50" in text and "as the paper does: 48 / 20 / 20" in text
+    assert "exactly the paper's budget" not in text
+
+
+def test_the_linear_recursions_pins_and_buses_are_the_papers(tmp_path):
+    """The linear recursion has no MM: every operand one wire, 8 pins a VAMP, and the buses into a
+    node the paper's two an operator (24 / 20 / 16)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    doc = _program_doc(tmp_path)
+    assert all(len(i) == 1 for v in doc["network"]["vamps"] for i in v["a"] + v["b"])
+    rep = json.loads(CliRunner().invoke(main, ["report", str(tmp_path / "p.vamp.json"), "--format",
+                                               "json"]).output)
+    buses = rep["wiring"]["buses"]
+    assert buses["internal_max_wires"] == buses["internal_max"] == {"bwd": 24, "npv": 20, "fwd": 16}
+    row = next(r for r in rep["packages"]["rows"] if r["own"])["by_pins"][0]
+    assert row["max_pins_per_vamp"] == 8 and (row["muxed_separate"], row["muxed_shared"]) == (36, 15)

@@ -8,10 +8,10 @@ vampc.emulator.checking).
   counts them), the mode (normal, warm, check, fill, inhibited: 3 bits) and a stage counter of
   ⌈log2(warmup + compare + 1)⌉ bits; its own Result register holds its copy of the successor's
   result, and a comparator of three words sets it beside the Result' line.
-- Pins per VAMP: Operand-A' and Operand-B' (one per multiplexer input of its successor, as its own
-  operand inputs are counted), Result' (one), and six one-bit pins: Test-in, Test-out,
+- Pins per VAMP: Operand-A' and Operand-B' (one per wire into its successor's operand
+  multiplexers, as its own are counted: a matrix an MM group makes is three), Result' (one), and six one-bit pins: Test-in, Test-out,
   Test-back-in, Test-back-out, Inhibit-in, Inhibit-out.
-- Wires: to each VAMP's successor, one per successor input the primed inputs share, the Result'
+- Wires: to each VAMP's successor, one per successor operand wire the primed inputs share, the Result'
   line, and the three control lines (Test, Test-back, Inhibit); the chain runs in logical order, so
   these are neighbours' wires (one VAMP pitch each) plus, for each shared input, the wire already
   reaching the successor extended by one pitch.
@@ -24,7 +24,7 @@ vampc.emulator.checking).
 """
 from __future__ import annotations
 
-from vampc.report.processors import vamp_pins
+from vampc.report.processors import operand_wires, vamp_pins
 
 CONTROL_PINS = ("Test-in", "Test-out", "Test-back-in", "Test-back-out", "Inhibit-in", "Inhibit-out")
 MODE_BITS = 3
@@ -33,8 +33,8 @@ MODE_BITS = 3
 
 def checked_pins(net) -> list[int]:
     """Each physical VAMP's pins with checking, wired separately, in chain order (the extraneous
-    VAMP E first): its own (the paper's budget with a pin per multiplexer input; E: power, clocks,
-    reset, Result), its successor's operand inputs and Result', and the Test and Inhibit pins. The
+    VAMP E first): its own (the paper's budget with a pin per operand wire; E: power, clocks,
+    reset, Result), its successor's operand wires and Result', and the Test and Inhibit pins. The
     package count packs these (vampc.report.processors.network_pins)."""
     ck, V = net.checking, len(net.vamps)
     order = ck.order
@@ -43,8 +43,7 @@ def checked_pins(net) -> list[int]:
     for p in order:
         own = vamp_pins(net.vamps[p])["separate"] if p < V else 6
         s = succ.get(p)
-        extra = len(CONTROL_PINS) + (len(net.vamps[s].a) + len(net.vamps[s].b) + 1 if s is not None
-                                     else 0)
+        extra = len(CONTROL_PINS) + (operand_wires(net.vamps[s]) + 1 if s is not None else 0)
         out.append(own + extra)
     return out
 
@@ -71,7 +70,7 @@ def checking_figures(c) -> dict | None:
     word = c.options.arith().bits
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
     pins_after = checked_pins(net)
-    shared = sum(len(net.vamps[s].a) + len(net.vamps[s].b) for s in succ.values())
+    shared = sum(operand_wires(net.vamps[s]) for s in succ.values())
     sweep = sweep_periods(V, ck.warmup, ck.compare)
     from vampc.network.checking import unnameable
     unnamed = unnameable(net)
@@ -115,9 +114,9 @@ def checking_pairs(ck: dict | None) -> list[tuple[str, str]]:
                                        f"comparators of {r['comparator_bits'] // max(1, r['comparators'])} bits"),
         ("  pins per VAMP", f"up to {pins['with']['max']} (mean {pins['with']['mean']:.1f}) with "
                             f"checking, {pins['without']['max']} (mean {pins['without']['mean']:.1f}) "
-                            f"without: Operand-A', Operand-B' per successor input, Result', and "
+                            f"without: Operand-A', Operand-B' per successor operand wire, Result', and "
                             f"{pins['control']} Test and Inhibit pins"),
-        ("  successor wires", f"{wires['total']}: {wires['successor_inputs']} shared operand inputs, "
+        ("  successor wires", f"{wires['total']}: {wires['successor_inputs']} shared operand wires, "
                               f"{wires['result_prime']} Result', {wires['control']} control lines"),
         ("  sweep", f"every VAMP checked once in {sweep}; a permanent fault found within "
                     f"{ck['worst_detection_periods']} periods of its start"),

@@ -110,16 +110,17 @@ def _from_vamps(vamp) -> int:
 
 
 def _p2p_pins(vamp) -> int:
-    """A VAMP's pins with each multiplexer input a pin."""
+    """A VAMP's pins with each operand wire a pin (a matrix's three columns, three)."""
     from vampc.report.processors import vamp_pins
     return vamp_pins(vamp)["separate"]
 
 
 def _bus_pins(vamp, tiers: int) -> int:
     """A VAMP's pins on the bus: the paper's budget without its two operand pins, one pin per tier
-    (reading and driving the bus in front of it), and one per input still wired (host ports,
-    constant buffers, the Program-Mode wire)."""
-    direct = sum(1 for op in vamp.a + vamp.b if not any(t.kind is TapKind.BUS for t in op.taps))
+    (reading and driving the bus in front of it), and one per wire not on the bus (host ports,
+    constant buffers, the Program-Mode wire; a matrix's three columns three wires, as
+    vampc.report.processors.operand_wires counts them)."""
+    direct = sum(1 for op in vamp.a + vamp.b for t in op.taps if t.kind is not TapKind.BUS)
     return len(paper.PINS_SEPARATE) - 2 + tiers + direct
 
 

@@ -330,7 +330,7 @@ def _beyond_the_paper(chain) -> list[str]:
 
 def packages(configs, pins: int | None) -> dict:
     """Packages per configuration by the paper's pin budget (section VII) at 40 pins and at `pins`;
-    for an allocated configuration also with each multiplexer input as a pin of its own."""
+    for an allocated configuration also with each operand wire as a pin of its own (vamp_pins)."""
     sizes = [40] + ([pins] if pins and pins != 40 else [])
     rows = []
     for k in configs:
@@ -360,18 +360,26 @@ def budget(sizes) -> dict:
             "vamps_per_package": {str(p): paper.vamps_per_package(p) for p in sizes}}
 
 
+def operand_wires(vamp) -> int:
+    """The wires into a VAMP's operand multiplexers: one per tap, so three for a matrix whose
+    columns three VAMPs (an MM group) make, latched at one tick (README, Timing model)."""
+    return sum([len(o.taps) for o in vamp.a]) + sum([len(o.taps) for o in vamp.b])
+
+
 def vamp_pins(vamp) -> dict[str, int]:
-    """Pins one VAMP needs: the paper's budget with one pin per multiplexer input (a systolic VAMP
-    has one input per operand: 8 separate, 3 shared)."""
-    inputs = len(vamp.a) + len(vamp.b)
-    return {"separate": len(paper.PINS_SEPARATE) - 2 + inputs,
-            "shared": len(paper.PINS_SHARED_PER_VAMP) - 2 + inputs}
+    """Pins one VAMP needs: the paper's budget with one pin per wire into its operand multiplexers
+    (operand_wires: a systolic VAMP reading a vector, a host port or a constant on each operand
+    needs the paper's 8 separate, 3 shared; a matrix an MM group makes is three wires, three pins:
+    until 2026-12-05 it was counted as one, a log VAMP reading two such matrices at 8 pins, not 12)."""
+    wires = operand_wires(vamp)
+    return {"separate": len(paper.PINS_SEPARATE) - 2 + wires,
+            "shared": len(paper.PINS_SHARED_PER_VAMP) - 2 + wires}
 
 
 def network_pins(network) -> list[int]:
     """Each physical VAMP's pins wired separately, in packing order: the paper's budget with one
-    pin per multiplexer input (vamp_pins); on the Mostly-Local Bus one pin per tier and per input
-    still wired (vampc.report.mlb); with error correction's checking, the extraneous VAMP too and
+    pin per wire into its operand multiplexers (vamp_pins); on the Mostly-Local Bus one pin per tier
+    and per wire not on the bus (vampc.report.mlb); with error correction's checking, the extraneous VAMP too and
     each VAMP's checking pins (vampc.report.checking). The package count and the bus and checking
     sections read these same figures (a bus program's packages had been counted at 9 pins a VAMP
     beside a bus section of 30)."""
@@ -382,7 +390,7 @@ def network_pins(network) -> list[int]:
         from vampc.report.mlb import pins_on_bus
         return pins_on_bus(network)
     base = len(paper.PINS_SEPARATE) - 2
-    return [base + len(v.a) + len(v.b) for v in network.vamps]   # (vamp_pins, inlined: 10⁵ VAMPs)
+    return [base + operand_wires(v) for v in network.vamps]
 
 
 def _packed(network, size: int) -> dict:

@@ -365,8 +365,9 @@ def packages(rep: dict) -> Table:
              f"({', '.join(b['separate']['signals'])}); {b['shared']['pins_per_vamp']} when "
              f"{', '.join(b['shared']['package_signals'])} take {b['shared']['pins_per_package']} "
              f"pins per package ({', '.join(b['shared']['signals'])} per VAMP)",
-             "mux pins: VAMPs packed in order, each multiplexer input a pin of its own (a folded "
-             "VAMP reads several wires; a systolic one needs exactly the paper's budget); "
+             "mux pins: VAMPs packed in order, each wire into an operand multiplexer a pin of its "
+             "own (a folded VAMP reads several wires; a systolic one the paper's budget, but a "
+             "matrix that an MM's three VAMPs make is three wires, three pins); "
              f"{DASH}: not allocated" + ("; none: a VAMP needs more pins than the package has"
                                          if any(e.get("muxed_separate", 0) is None
                                                 or e.get("muxed_shared", 0) is None
@@ -380,7 +381,7 @@ def packages(rep: dict) -> Table:
                      f"pipeline for the linear case of n = 6\" — measured {check['measured']}: "
                      f"{check['note']}")
     return Table("packages", "Packages (section VII): by the paper's pin budget, and with each "
-                 "multiplexer input a pin", tuple(cols), tuple(rows), tuple(notes))
+                 "operand wire a pin", tuple(cols), tuple(rows), tuple(notes))
 
 
 # --- buffering and wiring ------------------------------------------------------------------------
@@ -462,9 +463,10 @@ def wiring(rep: dict) -> Table:
                  f"{b['backward_to_forward']['vectors']} vectors on "
                  f"{b['backward_to_forward']['wires']} wires", "F_i, N_i of each joint"))
     internal = b["internal_max"]
+    inwires = b["internal_max_wires"]
     bound = pi["shared_passes"] if rep.get("share_passes") else pi["module"]
     rows.append(("buses into one node's VAMPs, most (backward / npv / forward)",
-                 f"{internal['bwd']} / {internal['npv']} / {internal['fwd']}",
+                 f"{inwires['bwd']} / {inwires['npv']} / {inwires['fwd']}",
                  f"≤ {bound} / {pi['npv']} / {bound}"))
     rows.append(("maximum fan-out (inputs one Result drives)", num(w["max_fan_out"]), DASH))
     p = w["program"]
@@ -478,13 +480,24 @@ def wiring(rep: dict) -> Table:
         notes.append(f"a backward node receives {linear_bwd} vectors from the node before it "
                      f"(the linear recursion passes ω, ω̇ and p̈ of node i − 1); the paper says "
                      f"{pb['bwd']} and does not list them")
+    operands = b.get("internal_max_connections", internal)      # (the point-to-point network's)
+    if inwires != operands:
+        # (the row gave 48 / 20 / 20 beside ≤ 50, 2 per operator, the paper's own arithmetic, while
+        # the log node's matrices from MM groups take three wires each: a check against the paper)
+        over = [s for s in ("bwd", "npv", "fwd") if inwires[s] > (pi["npv"] if s == "npv" else bound)]
+        notes.append("buses into one node: the distinct sources each operator reads (a bus fanning "
+                     "out to an MM's three VAMPs once), so a matrix whose columns an MM's three "
+                     "VAMPs make is three buses (three Results; buses are not multiplexed) and a "
+                     "host port's or a constant's matrix one; counting operands, two an operator "
+                     f"as the paper does: {operands['bwd']} / {operands['npv']} / {operands['fwd']}"
+                     + (", within its bound, which counts a matrix operand as one bus" if over
+                        else ""))
     if "internal_max_connections" in b:        # (71 / 27 / 30 beside ≤ 50 / 20 / 50, unexplained)
-        wired = b["internal_max_connections"]
         notes.append("on the Mostly-Local Bus a VAMP's multiplexer inputs are the bus tiers it reads "
                      "beside the wires still point to point, so one node's VAMPs count "
                      f"{internal['bwd']} / {internal['npv']} / {internal['fwd']} inputs; the "
-                     "connections they carry, the paper's measure, are the point-to-point "
-                     f"network's: {wired['bwd']} / {wired['npv']} / {wired['fwd']}")
+                     "connections they carry are the point-to-point network's (the row, and the "
+                     "paper's count of them in the note above)")
     return Table("wiring", f"Wiring (section VI) of {w['configuration']}, measured",
                  ("figure", "measured", "paper"), tuple(rows), tuple(notes), align="lrl")
 

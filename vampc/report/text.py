@@ -166,8 +166,9 @@ def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
 
 
 def _packages_line(rep: dict) -> str:
-    """40-pin packages with each multiplexer input a pin (what the network needs), beside the
-    paper's pin budget when the two differ (a folded or budget VAMP reads several wires)."""
+    """40-pin packages with each operand wire a pin (what the network needs), beside the paper's
+    pin budget when the two differ (a folded or budget VAMP reads several wires, a VAMP reading a
+    matrix that an MM's three VAMPs make three)."""
     paper = (f"{rep['packages_40pin']['separate']} (5 VAMPs each, separate pins) or "
              f"{rep['packages_40pin']['shared']} (12 each, shared clock/power/reset)")
     own = next((r for r in rep.get("packages", {}).get("rows", []) if r.get("own")), None)
@@ -177,12 +178,12 @@ def _packages_line(rep: dict) -> str:
         return paper
     most = at40["max_pins_per_vamp"]
     if at40["muxed_separate"] is None and at40["muxed_shared"] is None:
-        return (f"none: with each multiplexer input a pin, a VAMP here needs up to {most} pins, "
+        return (f"none: with each operand wire a pin, a VAMP here needs up to {most} pins, "
                 f"more than a 40-pin package has (--pins N counts other packages); by the paper's "
                 f"budget of 8 or 3 pins a VAMP: {paper}")
 
     def count(n) -> str:
         return "none (a VAMP needs too many pins)" if n is None else str(n)
     return (f"{count(at40['muxed_separate'])} with separate pins or {count(at40['muxed_shared'])} "
-            f"with shared clock/power/reset, each multiplexer input a pin (a VAMP here needs up to "
+            f"with shared clock/power/reset, each operand wire a pin (a VAMP here needs up to "
             f"{most}); by the paper's budget of 8 or 3 pins a VAMP: {paper}")

@@ -2,8 +2,10 @@
 stages by where their values go (within a pass, backward to forward), vector buses between nodes or
 tiers and inside a node, fan-out, and the Program-Mode stream.
 
-A "bus" is the paper's vector bus three scalars wide: one multiplexer input of a VAMP (a matrix
-operand of an MM group counts once: the group's three VAMPs share it). A site is a recursion node or
+A "bus" is the paper's vector bus three scalars wide, carrying one source's value (a host port's or
+a constant's matrix serially, as the paper's one Operand-A pin carries it): one tap of a VAMP's
+operand multiplexer, so a matrix whose columns an MM group's three VAMPs make is three buses (an MM
+group's shared operands count once: its three VAMPs share them). A site is a recursion node or
 device node (vampc.report.sites).
 """
 from __future__ import annotations
@@ -207,6 +209,8 @@ def buses(graph, layout, net) -> dict:
     pass_code = {p: k for k, p in enumerate(Pass)}
     site_pass = np.array([pass_code.get(Pass.of(x[0]), -1) for x in site_list], dtype=np.int64)
     t = reads_table(graph, net)
+    from vampc.network.bus import wired
+    wired_net = wired(net)           # (a bus network: the point-to-point wires it implements)
     source = np.array([b.source for b in net.buffers], dtype=np.int64)
     vamp = t.kind == _KIND_CODES[TapKind.VAMP]
     buffer = t.kind == _KIND_CODES[TapKind.BUFFER]
@@ -235,6 +239,7 @@ def buses(graph, layout, net) -> dict:
                              for s in ("bwd", "fwd")},
            "backward_to_forward": {"vectors": int(weight[b2f_args].sum()), "wires": b2f_wires},
            "internal_max": _internal(sites, vamp_units(layout), net),
+           "internal_max_wires": _internal(sites, vamp_units(layout), wired_net, per_tap=True),
            "paper_between_nodes": exhaustive({
                Recursion.LINEAR: dict(paper.LINEAR_INTER_NODE_BUSES),
                Recursion.LOG: {"bwd": paper.LOG_INTER_NODE_BUSES, "fwd": paper.LOG_INTER_NODE_BUSES},
@@ -245,17 +250,25 @@ def buses(graph, layout, net) -> dict:
         # point, more than the paper's bound, which counts connections: those too, on the
         # point-to-point network the bus implements (the report said 71 / 27 / 30 beside
         # ≤ 50 / 20 / 50 and nothing more: a new user's find)
-        from vampc.network.bus import wired
-        out["internal_max_connections"] = _internal(sites, vamp_units(layout), wired(net))
+        out["internal_max_connections"] = _internal(sites, vamp_units(layout), wired_net)
     return out
 
 
-def _internal(sites, units, net) -> dict:
-    """Per section, the most multiplexer inputs (buses) into the VAMPs of one site, an MM group's
-    shared operands counted once."""
+def _internal(sites, units, net, per_tap: bool = False) -> dict:
+    """Per section, the most multiplexer inputs into the VAMPs of one site (the paper's count: an
+    operand a bus; an MM group's counted once, its three VAMPs sharing them), or with `per_tap`
+    the wires (buses) into them: each operator's distinct taps, so a matrix that an MM group's
+    three VAMPs make is three, and an MM group's operand B, a column into each of its VAMPs, three."""
     per_site: Counter = Counter()
+    if per_tap:
+        taps: dict = {}
+        for v in net.vamps:
+            unit = taps.setdefault(units[v.index], (sites[v.index], set()))[1]
+            unit.update(t for o in v.a + v.b for t in o.taps)
+        for site, unit in taps.values():
+            per_site[site] += len(unit)
     counted = set()
-    for v in net.vamps:
+    for v in net.vamps if not per_tap else ():
         if units[v.index] in counted:
             continue
         counted.add(units[v.index])
