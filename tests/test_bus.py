@@ -503,3 +503,18 @@ def test_the_bus_wiring_says_inputs_and_connections_apart():
     assert f"counting operands, two an operator as the paper does: {c['bwd']} / {c['npv']} / {c['fwd']}" in text
     assert f"{w['bwd']} / {w['npv']} / {w['fwd']}  ≤ 50 / 20 / 50" in text, text
     assert "the connections they carry are the point-to-point network's (the row" in text
+
+
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_a_bus_report_keeps_its_own_recursions_storage_comparison(recursion):
+    """The buffering note sets systolic storage beside folded for both recursions (the paper's
+    "factor of n" and ⌈log₂ n⌉); a bus program's own row is named "..., systolic, Mostly-Local Bus",
+    and the note dropped its own recursion's comparison (a check against the paper). It gives the
+    bus program's own delay-buffer scalars."""
+    import json
+    args = ["report", str(PUMA), "--recursion", recursion, "--bus", "mlb"]
+    text = CliRunner().invoke(main, args).output
+    rep = json.loads(CliRunner().invoke(main, args + ["--format", "json"]).output)
+    line = next(x for x in text.splitlines() if "intermediate storage" in x)
+    own = rep["wiring"]["delay_buffers"]["scalars"]
+    assert f"{recursion}: systolic {own} against folded" in line, (own, line)

@@ -218,3 +218,39 @@ def test_a_prismatic_joints_rows_give_the_sigma_terms_and_its_log_forward_node_i
     log_fwd = next(r for r in rep["ops_per_node"] if (r["recursion"], r["section"]) == ("log", "fwd"))
     assert "no T20" in log_fwd["note"] and "prismatic" not in log_fwd["note"], log_fwd
     assert all("Table I.1 (a" not in r["note"] for r in rep["ops_per_node"]), rep["ops_per_node"]
+
+
+def test_the_stanford_arms_packages_note_accounts_for_all_its_extra_packages():
+    """Section VII's 11 packages of 12 for the linear n = 6 pipeline cover a rotary arm's 132
+    backward VAMPs: the Stanford arm's 16 were put down to its forward 48 alone (4 more, so 15), its
+    prismatic joint's 2 backward VAMPs unsaid (a check against the paper)."""
+    import math
+
+    from conftest import EXAMPLES
+
+    from vampc.report.processors import packages
+    from vampc.robot import load_robot
+    stanford = load_robot(str(EXAMPLES / "stanford.yaml"))
+    configs = configurations(compile_chain(stanford))
+    check = packages(configs, None, stanford)["paper_check"]
+    assert check["vamps"] == 134 + 48 and check["measured"] == math.ceil(182 / 12) == 16
+    assert "the backward recursion has 134 (+2: prismatic joints (3: σ̄ terms)) and the forward 48: " \
+        "⌈182 / 12⌉ = 16" in check["note"], check["note"]
+    puma = load_robot(str(EXAMPLES / "puma560.yaml"))
+    note = packages(configurations(compile_chain(puma)), None, puma)["paper_check"]["note"]
+    assert note.endswith("covers only the backward recursion's VAMPs (its forward 48 need 4 more)"), note
+
+
+def test_a_folded_all_revolute_arm_is_not_told_of_prismatic_joints():
+    """The folded layout's single-device note said "prismatic joints add VAMPs for their σ̄ terms"
+    of every robot, the Puma's all-revolute arm too (a new user's find); it names the robot's
+    prismatic joints where it has some."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    puma = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--layout", "folded"])
+    note = next(x for x in puma.output.splitlines() if "single device (section VI" in x)
+    assert note.endswith("paper 22 + 8 for a general rotary arm") and "σ̄" not in note, note
+    stanford = CliRunner().invoke(main, ["report", str(EXAMPLES / "stanford.yaml"), "--layout", "folded"])
+    assert "prismatic joints [3] add VAMPs for their σ̄ terms" in stanford.output

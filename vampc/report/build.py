@@ -50,7 +50,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     stage("processors")
     rep["processors"] = processors(configs, c.chain, other_leaves=not big)
     stage("packages")
-    rep["packages"] = packages(configs, pins)
+    rep["packages"] = packages(configs, pins, c.chain)
     stage("wiring")
     rep["wiring"] = wiring(configs, c.chain)
     rep["allocation"] = {"limit_ops": ALLOCATE_LIMIT, "ops": len(c.graph.compute_nodes()),

@@ -450,8 +450,10 @@ def _layout_notes(rep: dict) -> list[str]:
         return []
     if Recursion(rep["recursion"]) is Recursion.LINEAR:
         paper = "22 with the passes sharing processors" if rep.get("share_passes") else "22 + 8"
-        return [f"single device (section VI, Figure VI.1): paper {paper} for a general rotary arm; "
-                "prismatic joints add VAMPs for their σ̄ terms"]
+        # (the σ̄ clause was said of all-revolute arms too: a new user's find)
+        prismatic = rep.get("prismatic_joints")
+        return [f"single device (section VI, Figure VI.1): paper {paper} for a general rotary arm"
+                + (f"; prismatic joints {prismatic} add VAMPs for their σ̄ terms" if prismatic else "")]
     notes = ["single device (section VI, n = 6): paper 98 + 39, a tier of 3 nodes (26 + 10 "
              "backward, 13 forward each); vampc binds each tier position's ops by name"]
     if not rep.get("uniform_leaves"):

@@ -328,7 +328,7 @@ def _beyond_the_paper(chain) -> list[str]:
 
 # --- packages ------------------------------------------------------------------------------------
 
-def packages(configs, pins: int | None) -> dict:
+def packages(configs, pins: int | None, chain=None) -> dict:
     """Packages per configuration by the paper's pin budget (section VII) at 40 pins and at `pins`;
     for an allocated configuration also with each operand wire as a pin of its own (vamp_pins)."""
     sizes = [40] + ([pins] if pins and pins != 40 else [])
@@ -347,7 +347,7 @@ def packages(configs, pins: int | None) -> dict:
                 entry.update(_packed(k.network, size))
             row["by_pins"].append(entry)
         rows.append(row)
-    return {"pins": sizes, "budget": budget(sizes), "rows": rows, "paper_check": _paper_check(configs)}
+    return {"pins": sizes, "budget": budget(sizes), "rows": rows, "paper_check": _paper_check(configs, chain)}
 
 
 def budget(sizes) -> dict:
@@ -417,13 +417,25 @@ def _packed(network, size: int) -> dict:
     return out
 
 
-def _paper_check(configs) -> dict | None:
+def _paper_check(configs, chain=None) -> dict | None:
     """Section VII: '11 such 40-pin packages would implement the full systolic pipeline for the
     linear case of n = 6' — set beside the count for the linear systolic configuration."""
     k = next((k for k in configs if k.recursion is Recursion.LINEAR and k.options.layout_kind is SYSTOLIC), None)
     if k is None or k.graph.n != 6:
         return None
     got = paper.paper_packages(k.vamps)["shared"]
+    from vampc.report.counts import vamp_counts
+    counts = vamp_counts(k)
+    bwd, fwd = counts["backward"], counts["forward"]
+    rotary = 11 * 12                  # (section VI: 12 + 10 backward VAMPs a joint, 6 joints)
+    if bwd == rotary:
+        why = f"(its forward {fwd} need {got - 11} more)"
+    else:   # (the Stanford arm's 16 was put down to the forward 48 alone, 4 of its 5 more: a check
+        # against the paper)
+        features = _beyond_the_paper(chain) if chain is not None else []
+        why = (f"of a rotary arm, 22 a joint; here the backward recursion has {bwd} "
+               f"({bwd - rotary:+d}" + (f": {', '.join(features)}" if features else "") +
+               f") and the forward {fwd}: ⌈{k.vamps} / 12⌉ = {got}")
     return {"paper": paper.PAPER_PACKAGES_LINEAR_N6, "measured": got, "vamps": k.vamps,
             "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 covers only "
-                    "the backward recursion's VAMPs (its forward 48 need 4 more)"}
+                    f"the backward recursion's VAMPs {why}"}

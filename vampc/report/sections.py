@@ -431,9 +431,12 @@ def _flow_paper(rep: dict, flow: str) -> str:
 
 def _factor_note(rep: dict) -> str:
     rows = {r["configuration"]: r for r in rep["wiring"]["by_configuration"]}
+    # (the report's own systolic row may carry its bus: "linear, systolic, Mostly-Local Bus", whose
+    # comparison was dropped, looked up by the plain name: a check against the paper)
+    bus = {name.removesuffix(", Mostly-Local Bus"): r for name, r in rows.items()}
     parts = []
     for rec, factor in (("linear", "n"), ("log", "⌈log₂ n⌉")):
-        s, f = rows.get(f"{rec}, systolic"), rows.get(f"{rec}, folded")
+        s, f = bus.get(f"{rec}, systolic"), rows.get(f"{rec}, folded")
         if s and f and f["scalars"]:
             parts.append(f"{rec}: systolic {num(s['scalars'])} against folded {num(f['scalars'])} "
                          f"scalars, ×{s['scalars'] / f['scalars']:.1f} (paper: about a factor of "
