@@ -254,3 +254,36 @@ def test_a_folded_all_revolute_arm_is_not_told_of_prismatic_joints():
     assert note.endswith("paper 22 + 8 for a general rotary arm") and "σ̄" not in note, note
     stanford = CliRunner().invoke(main, ["report", str(EXAMPLES / "stanford.yaml"), "--layout", "folded"])
     assert "prismatic joints [3] add VAMPs for their σ̄ terms" in stanford.output
+
+
+@pytest.mark.parametrize("recursion, want", [("linear", (2, 2)), ("log", (84, 64))])
+def test_the_vamps_no_torque_needs_are_said_beside_the_vamp_count(tmp_path, recursion, want):
+    """A log chain's network carries the prefix's W, Q, R, S of every X_{0,b} and W, R of every
+    final suffix (the paper's nodes kept whole), which no torque reads: 101 of a 7-joint arm's 486
+    VAMPs, said only in the error-correction section (a new user's find). Counted here from the
+    program file alone: the ops no output depends on (walking back from the outputs), and the
+    VAMPs all of whose slots are such ops."""
+    import json
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    prog = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--recursion", recursion,
+                                     "-o", str(prog)]).exit_code == 0
+    doc = json.loads(prog.read_text())
+    nodes = doc["graph"]["nodes"]
+    live = {node for _joint, node, _component in doc["graph"]["outputs"]}
+    for nd in reversed(nodes):
+        if nd["id"] in live:
+            live.update(nd["args"])
+    dead = {nd["id"] for nd in nodes if nd["op"] not in ("INPUT", "CONST") and nd["id"] not in live}
+    idle = sum(all(s["node"] in dead for s in p["slots"]) for p in doc["programs"])
+    assert (idle, len(dead)) == want
+    rep = json.loads(CliRunner().invoke(main, ["report", str(prog), "--format", "json"]).output)
+    assert rep["vamps"]["unused"] == {"vamps": idle, "ops": len(dead)}
+    text = CliRunner().invoke(main, ["report", str(prog)]).output
+    line = next(x for x in text.splitlines() if x.startswith("  unused"))
+    assert f"{idle} VAMPs run only those: {len(dead)} ops compute values no torque reads" in line
+    assert line.endswith(f"the torques need {rep['vamps']['total'] - idle}"), line

@@ -11,7 +11,7 @@ from vampc.kinds import Recursion
 from vampc.report.clock import add_clock
 from vampc.report.compare import compare_prefixes, layout_rows
 from vampc.report.configs import ALLOCATE_LIMIT, configurations
-from vampc.report.counts import summary
+from vampc.report.counts import summary, unused_vamps
 from vampc.report.processors import packages, processors
 from vampc.report.table_o1 import table_o1
 from vampc.report.wiring import wiring
@@ -34,6 +34,8 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     `stage(name)` is told as each of REPORT_STAGES starts (a progress bar's)."""
     stage = stage or (lambda name: None)
     rep = dict(figures) if figures is not None else summary(c)
+    unused, dead_ops = unused_vamps(c)
+    rep["vamps"] = {**rep["vamps"], "unused": {"vamps": unused, "ops": dead_ops}}
     stage("configurations")
     configs = configurations(c)
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT

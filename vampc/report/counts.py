@@ -47,6 +47,24 @@ def vamp_counts(c) -> dict:
             "by_op": dict(sorted(by_op.items())), "per_node": per_node}
 
 
+def unused_vamps(c) -> tuple[int, int]:
+    """(VAMPs all of whose ops compute values no torque reads, those ops): the graph keeps the
+    paper's nodes whole (the log prefix's W, Q, R, S of every X_{0,b}, W and R of every final
+    suffix; the linear forward node 1's T19 and f), so a network built from it carries them. A
+    sizing figure: a new user counted 101 of a 7-joint log arm's 486 VAMPs, said nowhere but in
+    the error-correction section. The report's (vamps.unused), not the program file's summary,
+    whose figures stay as they were."""
+    live = {o.node for o in c.graph.outputs}
+    for nd in reversed(c.graph.nodes):
+        if nd.id in live:
+            live.update(nd.args)
+    dead = [nd.id for nd in c.graph.nodes if nd.op.is_compute and nd.id not in live]
+    if not dead:
+        return 0, 0
+    gone = set(dead)
+    return sum(all(s.node in gone for s in v.slots) for v in c.network.vamps), len(dead)
+
+
 def _per_node(c) -> dict:
     """VAMPs of the busiest recursion node of each section ('bwd', 'npv', 'fwd')."""
     groups: dict[tuple[str, int], int] = Counter()
