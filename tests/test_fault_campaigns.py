@@ -430,6 +430,44 @@ def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path,
     assert path.read_bytes() == before
 
 
+@pytest.mark.parametrize("line, edit", [(3, ('"class": "silent-corruption"', '"class": "masked"')),
+                                        (2, ('"class": "masked"', '"class": "silent-corruption"')),
+                                        (2, ('"class": "masked"', '"class": "hang"')),
+                                        (6, ('"class": "detected-corrected"',
+                                             '"class": "detected-not-corrected"'))])
+def test_a_class_its_runs_fields_do_not_give_is_refused(programs, tmp_path, line, edit):
+    """A line whose class was edited (a corrupted run's `"class": "masked"`) was taken, and the
+    campaign said so: the class must be the one the line's counts and detection give."""
+    ec, _, _ = programs
+    _campaign(ec, tmp_path, *QUICK)
+    path = tmp_path / "r.jsonl"
+    lines = path.read_text().splitlines(keepends=True)
+    assert edit[0] in lines[line - 1]
+    lines[line - 1] = lines[line - 1].replace(edit[0], edit[1], 1)
+    path.write_text("".join(lines))
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and errors == [f"vampc: error: --results {path}: line {line} is not a "
+                                           "run's result (the file was edited; remove it to start "
+                                           "over)"]
+
+
+def test_a_run_on_two_lines_is_refused_naming_both(programs, tmp_path):
+    """A run's line said again (or a second, edited one) silently replaced the first."""
+    ec, _, _ = programs
+    _campaign(ec, tmp_path, *QUICK)
+    path = tmp_path / "r.jsonl"
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join(lines + [lines[2]]))
+    before = path.read_bytes()
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and errors == [f"vampc: error: --results {path}: lines 3 and 10 are "
+                                           "both run 1's result (the file was edited; remove it "
+                                           "to start over)"]
+    assert path.read_bytes() == before
+
+
 def test_a_kind_or_bit_named_twice_runs_once(programs, tmp_path):
     """`--kinds dead,dead` ran every fault twice and counted it twice (`--bits 1,1` too), as
     `--values 1,1` did not."""

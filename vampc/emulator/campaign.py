@@ -239,19 +239,30 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
         out["named"] = m["named"]
         out["maintenance_ticks"] = m["ticks"]
         out["named_right"] = m["named"] == [fault.vamp]
-        out["class"] = "detected-corrected" if out["corrupted_after"] == 0 and \
-            d["excised"] == fault.vamp else "detected-not-corrected"
+        out["class"] = run_class(out, fault.vamp)
         if out["class"] == "detected-not-corrected" or not out["named_right"]:
             out["reason"] = _escape_reason(ld, fault, d, out, m)
     else:
         out["corrupted"] = int(bad.sum())
-        out["class"] = "silent-corruption" if bad.any() else "masked"
+        out["class"] = run_class(out, fault.vamp)
         if bad.any() and ec:
             out["reason"] = _silent_reason(ld, fault, run_sets, engine)
         elif ec and engine.stalled is not None:     # no torque spoiled, but the checking is lost
             out["stalled"] = engine.stalled
             out["reason"] = _stall_reason(engine.stalled)
     return out
+
+
+def run_class(run: dict, vamp: int) -> str:
+    """The class of a run with a fault on VAMP `vamp`, from its other fields (a run that stopped
+    with an error has no `sets_run`; a detected one its `detected_tick`). A results line's class
+    is checked against it."""
+    if "sets_run" not in run:
+        return "hang"
+    if "detected_tick" in run:
+        return "detected-corrected" if run["corrupted_after"] == 0 and \
+            run["excised"] == vamp else "detected-not-corrected"
+    return "silent-corruption" if run["corrupted"] else "masked"
 
 
 def _differs(tau: np.ndarray, ref_bits: np.ndarray) -> np.ndarray:
@@ -397,6 +408,8 @@ def _a_run_of(run, faults, sets: int | None = None) -> bool:
         return False          # (the kind and VAMP follow from the fault: edited ones were taken)
     if run["class"] == "detected-corrected" and "named_right" not in run:
         return False          # (the summary reads it of every corrected run: a KeyError)
+    if run["class"] != run_class(run, fault.vamp):
+        return False          # (an edited "class": "masked" of a corrupted run was counted masked)
     return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
         ("named_right" not in run or isinstance(run["named_right"], bool))
 
@@ -447,6 +460,7 @@ class ResultsFile:
                                  "give --results FILE for this one, or remove it to start over")
             raise VampcError(f"--results {self.path}: it holds the results of another campaign or "
                              "program (give another --results file, or remove it to start over)")
+        line_of: dict[int, int] = {}
         for k, line in enumerate(lines[1:], 2):
             if not line.strip():
                 continue
@@ -454,11 +468,17 @@ class ResultsFile:
                 run = jsontext.loads(line)
                 if not _a_run_of(run, self.header["faults"], self.header.get("sets")):
                     raise ValueError(line)
-                self.done[run["index"]] = run
             except (ValueError, KeyError, TypeError):
                 if sum(len(x) + 1 for x in lines[:k]) <= good:      # not just a cut-short last line
                     raise VampcError(f"--results {self.path}: line {k} is not a run's result "
                                      "(the file was edited; remove it to start over)") from None
+                continue
+            if run["index"] in line_of:       # (the later line silently replaced the earlier one)
+                raise VampcError(f"--results {self.path}: lines {line_of[run['index']]} and {k} are "
+                                 f"both run {run['index']}'s result (the file was edited; remove it "
+                                 "to start over)")
+            line_of[run["index"]] = k
+            self.done[run["index"]] = run
         self._truncate = good
 
     def open(self) -> None:
