@@ -130,14 +130,17 @@ def test_a_padded_joints_row_without_tau_is_named_by_its_line(tmp_path):
 
 @pytest.mark.parametrize("name, joints, where", [
     ('"two\\nlines"', ["a", "b"], "robot"), ("arm", ["a", '"el\\nbow"'], "joint 2"),
-    ("arm", ['"tab\\there"', "b"], "joint 1"), ("arm", ["a", '"para\\u2029graph"'], "joint 2")])
+    ("arm", ['"tab\\there"', "b"], "joint 1"), ("arm", ["a", '"para\\u2029graph"'], "joint 2"),
+    ("arm", ["a", '"el\\u202ebow"'], "joint 2"), ('"r\\u200bobot"', ["a", "b"], "robot")])
 def test_a_name_with_a_control_character_is_one_line_naming_it(tmp_path, name, joints, where):
     """A newline in a joint's name split the text report's rows (and every one-line message naming
-    the joint); it is refused where the robot file is read, by the joint's number."""
+    the joint); it is refused where the robot file is read, by the joint's number. So is a format
+    character: a U+202E right-to-left override reversed the text printed after it."""
     path = robot(tmp_path, name, joints)
     out = tmp_path / "r.vamp.json"
     code, err, _ = run("compile", path, "-o", out)
-    what = "line separator" if "u2029" in joints[-1] else "control character"
+    what = "line separator" if "u2029" in joints[-1] else \
+        "format character" if "u20" in joints[-1] + name else "control character"
     assert code == 1 and err.startswith(f"vampc: error: {path}: {where}: its name ") and \
         f"holds the {what} U+" in err and err.count("\n") == 1, err
     assert not out.exists()
@@ -150,6 +153,23 @@ def test_a_urdf_joint_name_with_a_newline_is_refused(tmp_path):
     path.write_text(text[:first] + "x&#10;" + text[first:])
     code, err, _ = run("report", path)
     assert code == 1 and f"{path}: joint " in err and "U+000A" in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("element, line", [("link", 22), ("joint", 44)])
+def test_a_urdf_name_with_a_right_to_left_override_is_refused(tmp_path, element, line):
+    """A U+202E in a URDF link's or joint's name was taken and printed as it is, reversing the text
+    after it; it is refused by the element's line, the character escaped."""
+    old = {"link": "shoulder_link", "joint": "elbow_joint"}[element]
+    text = (EXAMPLES / "ur5.urdf").read_text()
+    assert f'<{element} name="{old}"' in text and text.count("\n", 0, text.index(
+        f'<{element} name="{old}"')) == line - 1
+    path = tmp_path / "arm.urdf"
+    path.write_text(text.replace(f'"{old}"', f'"{old[:2]}&#x202E;{old[2:]}"'))
+    code, err, _ = run("report", path)
+    assert code == 1 and err == (f"vampc: error: {path}: {element} on line {line}: its name "
+                                 f"'{old[:2]}\\u202e{old[2:]}' holds the format character U+202E: "
+                                 "names are printed in one-line messages, text reports and CSV "
+                                 "headers\n"), err
 
 
 def test_a_program_file_edited_to_a_name_with_a_newline_is_refused(tmp_path):

@@ -131,13 +131,15 @@ def listed(name: str) -> str:
 
 
 def name_problem(name: str) -> str | None:
-    """Why `name` (a robot's or a joint's) cannot be printed on one line, or None: a control
-    character or a line or paragraph separator (a newline in a joint's name split the text
-    report's rows and every one-line message naming it)."""
-    bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Zl", "Zp")), None)
+    """Why `name` (a robot's, a joint's or a link's) cannot be printed on one line as it is, or None:
+    a control character, a format character or a line or paragraph separator (a newline in a
+    joint's name split the text report's rows and every one-line message naming it; a U+202E
+    right-to-left override reversed the text after it)."""
+    bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Cf", "Zl", "Zp")), None)
     if bad is None:
         return None
-    what = "control character" if unicodedata.category(bad) == "Cc" else "line separator"
+    what = {"Cc": "control character", "Cf": "format character"}.get(unicodedata.category(bad),
+                                                                     "line separator")
     return (f"its name {shown(name)} holds the {what} U+{ord(bad):04X}: names are printed in "
             "one-line messages, text reports and CSV headers")
 

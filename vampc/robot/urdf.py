@@ -55,7 +55,7 @@ from vampc.robot.urdf_tree import (
     follows_from_below,
     quoted,
 )
-from vampc.textio import plain_number
+from vampc.textio import name_problem, plain_number
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
@@ -362,6 +362,9 @@ def _check_xml(root, path: Path) -> None:
         seen = set()
         for el in root.iterchildren(kind):
             name = _named(el, kind, path)
+            problem = name_problem(name)      # (before any message quotes it: a link's was printed)
+            if problem:
+                raise located(path, f"{kind} on line {el.sourceline}", problem)
             if name in seen:
                 raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
             seen.add(name)
