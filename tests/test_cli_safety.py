@@ -1522,6 +1522,31 @@ def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):
     assert not (tmp_path / "t.csv").exists()
 
 
+def test_a_long_double_a_float64_cannot_hold_is_refused(program, tmp_path):
+    """A long-double (float128) array is read as float64: 1 + 2**-60 was rounded to 1.0, saying
+    nothing, as integers past 2**53 were. Refused, naming the array, the state and the column; long
+    doubles float64 holds exactly still read, to the torques of the same float64 states."""
+    if np.finfo(np.longdouble).nmant <= 52:
+        pytest.skip("long double is float64 here")
+    states = np.full((5, 6), 0.1).astype(np.longdouble)
+    exact = tmp_path / "exact.npy"
+    np.save(exact, states)
+    states[1, 2] = np.longdouble(1) + np.longdouble(2) ** -60
+    np.save(tmp_path / "fine.npy", states)
+    user_error(run("emulate", program, "--trajectory", tmp_path / "fine.npy", "-o", tmp_path / "t.csv"),
+               r"^vampc: error: .*fine\.npy: the array, state 2, column 3: the long double "
+               r"1\.0000000000000000009 is not a float64 \(vampc computes in float64, where it is 1\.0\); "
+               r"save the array as float64 if that rounding will do$")
+    np.savez(tmp_path / "fine.npz", q=states[:, :2], qd=states[:, 2:4], qdd=states[:, 4:])
+    user_error(run("emulate", program, "--trajectory", tmp_path / "fine.npz", "-o", tmp_path / "t.csv"),
+               r"^vampc: error: .*fine\.npz: array qd, state 2, column 1: the long double ")
+    assert not (tmp_path / "t.csv").exists()
+    np.save(tmp_path / "f64.npy", np.full((5, 6), 0.1))
+    res, res64 = (run("emulate", program, "--trajectory", tmp_path / f, "-o", "-")
+                  for f in ("exact.npy", "f64.npy"))
+    assert res.exit_code == 0 and res.stdout == res64.stdout and res.stdout.count("\n") == 6, res.stderr
+
+
 def test_a_failed_check_writes_no_new_file_beside_one_it_keeps(tmp_path, program, monkeypatch):
     """--check failed, --save-states onto an existing file (kept) and -o a new one: the new torques
     were written beside the old states, which they do not match (a new user's find). Neither now;

@@ -465,6 +465,8 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
         out = np.asarray(arr, dtype=float)
     if arr.dtype.kind in "iu":
         _exact_integers(path, what, arr, out)
+    elif arr.dtype.itemsize > 8:        # a long double (float128): more bits than float64's 53
+        _exact_long_doubles(path, what, arr, out)
     return out
 
 
@@ -483,11 +485,28 @@ def _exact_integers(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
     if exact.all():
         return
     k = int(np.flatnonzero(~exact)[0])
-    at = np.argwhere(big)[k]
-    place = f"state {at[0] + 1}" + (f", column {at[1] + 1}" if len(at) > 1 else "")
+    place = _cell(np.argwhere(big)[k])
     raise VampcError(f"{path}: {what}, {place}: the integer {int(values[k])} is not a float64 (vampc "
                      f"computes in float64, where it is {float(rounded[k])!r}); give it as a float, or in a "
                      "unit that keeps it within 2**53")
+
+
+def _exact_long_doubles(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
+    """VampcError at the first long double that float64 does not hold exactly: 1 + 2**-60 was
+    rounded to 1.0, saying nothing, as integers past 2**53 were (one past float64's range is inf
+    in `out`, refused as not finite)."""
+    lost = np.isfinite(out) & (out.astype(arr.dtype) != arr)
+    if not lost.any():
+        return
+    at = np.argwhere(lost)[0]
+    raise VampcError(f"{path}: {what}, {_cell(at)}: the long double {arr[tuple(at)]!s} is not a "
+                     f"float64 (vampc computes in float64, where it is {float(out[tuple(at)])!r}); "
+                     "save the array as float64 if that rounding will do")
+
+
+def _cell(at) -> str:
+    """Where index `at` of a NumPy trajectory array is: its state (from 1) and its column."""
+    return f"state {at[0] + 1}" + (f", column {at[1] + 1}" if len(at) > 1 else "")
 
 
 def numpy_file(path) -> bool:
