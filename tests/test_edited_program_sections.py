@@ -79,6 +79,25 @@ def test_an_edited_section_is_refused_by_every_command(program, tmp_path, edit):
         assert err.startswith(f"vampc: error: {path}: ") and want in err, (command, err)  # stream)
 
 
+NAMED_EDITS = {
+    "vamp number": (lambda d: _set(d, ["network", "vamps", 7, "number"], 4),
+                    "VAMPs 3 and 7 share the number 4 (the file was edited); recompile it"),
+}
+
+
+@pytest.mark.parametrize("edit", list(NAMED_EDITS))
+def test_an_edited_network_entry_is_named_with_what_it_clashes_with(program, tmp_path, edit):
+    """Three edits whose messages did not name the place: two VAMPs of one number ("two VAMPs share
+    a number": which?), a constant's value ("operand B holds constant pdd0, not graph node 2
+    (pdd0)"), a VAMP's index repeated (said as a delay-A timing error of the VAMP it replaced)."""
+    change, said = NAMED_EDITS[edit]
+    path = edited_program(program, tmp_path, change)
+    for command in (["report", path], ["report", path, "--tradeoff", "--workers", "1"],
+                    ["emulate", path, "--random", 2]):
+        want = said[command[0]] if isinstance(said, dict) else said
+        assert run(*command) == (1, f"vampc: error: {path}: {want}\n"), command
+
+
 def test_the_unedited_program_runs(program):
     for command in (["report", program], ["emulate", program, "--random", 2, "--check"]):
         code, err = run(*command)

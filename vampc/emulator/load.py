@@ -334,8 +334,12 @@ def check_indices(net: Network, numbers, graph: Graph, path) -> None:
             if not 0 <= s.node < len(graph.nodes) or not graph.nodes[s.node].op.is_compute:
                 raise VampcError(f"{path}: programs[{v.index}] slot {k}: node {s.node} is not a "
                                  "compute node of the graph")
-    if len(set(numbers)) != len(net.vamps):
-        raise VampcError(f"{path}: two VAMPs share a number")
+    first: dict[int, int] = {}            # number -> the first VAMP burned with it
+    for v, number in enumerate(numbers):
+        if number in first:
+            raise VampcError(f"{path}: VAMPs {first[number]} and {v} share the number {number} "
+                             "(the file was edited); recompile it")
+        first[number] = v
     for b in net.buffers:
         if b.source >= len(net.vamps):
             raise VampcError(f"{path}: buffer {b.index} is fed by missing VAMP {b.source}")
