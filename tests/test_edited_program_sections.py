@@ -82,6 +82,13 @@ def test_an_edited_section_is_refused_by_every_command(program, tmp_path, edit):
 NAMED_EDITS = {
     "vamp number": (lambda d: _set(d, ["network", "vamps", 7, "number"], 4),
                     "VAMPs 3 and 7 share the number 4 (the file was edited); recompile it"),
+    "constant value": (lambda d: _set(d, ["network", "consts", 2, "value"], [0, 9.82, 0]),
+                       {"report": "VAMP 10 slot 0: operand B is wired to const 2 (pdd0), whose value "
+                                  "differs from node io0.pdd0's (the file was edited); recompile it",
+                        "emulate": "VAMP 10 (number 11, bwd1.T11): operand B holds constant pdd0 "
+                                   "(network.consts[2]), whose value [0.0, 9.82, 0.0] differs from "
+                                   "graph node 2's [-0.0, 9.81, -0.0] (the file was edited); "
+                                   "recompile it"}),
 }
 
 

@@ -117,8 +117,7 @@ def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
                 carried = {_carried(ld, src) for src in sources}
                 if carried != {_expected(nodes[arg])}:
                     raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: operand {name} holds "
-                                     f"{_describe(ld, sources[0])}, not graph node {arg} "
-                                     f"({nodes[arg].name})")
+                                     + _not_node(ld, sources[0], nodes[arg]))
     want = {o.joint: o for o in ld.graph.outputs}
     for o, (v, k) in zip(ld.net.outputs, timing.outputs):
         node = want[o.joint].node if o.joint in want else None
@@ -141,6 +140,21 @@ def _carried(ld: Loaded, src):
     if src[0] is SourceKind.CONST:
         return ("const", tuple(ld.net.consts[src[1]].value))
     return unhandled(src[0])
+
+
+def _not_node(ld: Loaded, src, node) -> str:
+    """What an operand holds instead of graph node `node`: a constant of the node's name whose value
+    was edited is said so (it read as another constant, named as the node is)."""
+    if src[0] is SourceKind.CONST and node.op is Op.CONST and \
+            ld.net.consts[src[1]].name == node.name:
+        return (f"constant {node.name} (network.consts[{src[1]}]), whose value "
+                f"{_vector(ld.net.consts[src[1]].value)} differs from graph node {node.id}'s "
+                f"{_vector(node.value)} (the file was edited); recompile it")
+    return f"{_describe(ld, src)}, not graph node {node.id} ({node.name})"
+
+
+def _vector(value) -> str:
+    return "[" + ", ".join(repr(float(x)) for x in value) + "]"
 
 
 def _describe(ld: Loaded, src) -> str:

@@ -160,6 +160,10 @@ def _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B
             lo, hi = -math.inf, math.inf
         else:
             unhandled(kind)
+        if not ok and kind is TapKind.CONST and src.op is Op.CONST and \
+                net.consts[tap.index].name == src.name:     # (an edited value: said as one)
+            raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap} "
+                                     f"({src.name}), whose value differs from node {src.label}'s")
         if not ok:
             raise VampcInternalError(f"VAMP {v.index} slot {k}: operand {name} is wired to {tap}, "
                                      f"which does not carry node {src.label}")
