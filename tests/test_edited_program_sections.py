@@ -82,6 +82,9 @@ def test_an_edited_section_is_refused_by_every_command(program, tmp_path, edit):
 NAMED_EDITS = {
     "vamp number": (lambda d: _set(d, ["network", "vamps", 7, "number"], 4),
                     "VAMPs 3 and 7 share the number 4 (the file was edited); recompile it"),
+    "vamp index": (lambda d: _set(d, ["network", "vamps", 2, "index"], 1),
+                   "network.vamps[2].index: 1, but it is entry 2 (network.vamps[1] has index 1 "
+                   "too)"),
     "constant value": (lambda d: _set(d, ["network", "consts", 2, "value"], [0, 9.82, 0]),
                        {"report": "VAMP 10 slot 0: operand B is wired to const 2 (pdd0), whose value "
                                   "differs from node io0.pdd0's (the file was edited); recompile it",

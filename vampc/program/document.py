@@ -342,11 +342,11 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
     for name, got, want in (("period", doc.io.period, nd.period), ("clock", doc.io.clock, nd.clock)):
         if got != want:             # (the host's side of the network's own figures)
             raise VampcError(f"{path}: io.{name}: {got}, but network.{name} is {want}")
-    for section, rows in (("buffers", nd.buffers), ("ports", nd.ports), ("consts", nd.consts)):
+    for section, rows in (("vamps", nd.vamps), ("buffers", nd.buffers), ("ports", nd.ports),
+                          ("consts", nd.consts)):
         for i, row in enumerate(rows):          # (taps name them by index: the position)
             if row.index != i:
-                raise VampcError(f"{path}: network.{section}[{i}].index: {row.index}, but it is "
-                                 f"entry {i}")
+                raise _misplaced(section, rows, i, path)
     _check_port_sizes(nd, path)
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
@@ -362,6 +362,16 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path),
                    None if nd.error_correction is None
                    else checking_from_doc(nd.error_correction, len(vamps), path))
+
+
+def _misplaced(section: str, rows, i: int, path) -> VampcError:
+    """Entry `i` of network.`section` holds another index: said with the entry that holds it too,
+    if one does (a VAMP's index repeated ran the programs of the VAMP it names twice, which was
+    said as a timing error of the VAMP it replaced)."""
+    index = rows[i].index
+    again = next((k for k, row in enumerate(rows) if row.index == index and k != i), None)
+    twice = "" if again is None else f" (network.{section}[{again}] has index {index} too)"
+    return VampcError(f"{path}: network.{section}[{i}].index: {index}, but it is entry {i}{twice}")
 
 
 def check_port_writes(nd, writes, path) -> None:
