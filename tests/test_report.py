@@ -98,7 +98,7 @@ def test_note_for_prismatic_joints_and_other_latencies():
                             "at the given latencies") for n in notes)
     # the paper's 2n + 3 Mults and 6n + 7 Addns (n = 4), at 2 and 3 flops each
     expected = (2 * 4 + 3) * 2 + (6 * 4 + 7) * 3
-    assert notes[0].startswith(f"{rep['latency']['flops'] - expected:+d} flops (")
+    assert notes[0].startswith(f"{rep['latency']['flops'] - expected:+d} flops (".replace("-", "−"))
     assert notes[0].endswith("against the paper's formula at these latencies")
     assert any(s.startswith(f"prismatic joints {prismatic}: Table I.1's σ̄ terms add ops but no "
                             "latency") for s in notes)

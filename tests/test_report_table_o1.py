@@ -317,3 +317,34 @@ def test_a_prismatic_joints_reason_says_it_costs_no_latency(n, seed):
         assert "prismatic joints (σ̄ terms)" in row["note"], row["note"]
     assert any("add ops but no latency" in x for x in
                table_o1(configurations(compile_chain(chain)), chain)["notes"])
+
+
+def test_a_slower_mult_is_explained_by_the_shared_steps_it_counts_as_mults():
+    """At --mult-latency 3 --add-latency 2 the Puma's path is the same route as at 1 and 1 (the same
+    ops), yet the difference from the formula went from +1 M + 2 A to +13 M − 10 A, put down to "a
+    slower Mult can move the critical path onto another route" (a new user's find). It is the
+    middle micro-step of each MV, MTV and MM on the path, run beside the adder, counted as the
+    slower unit: +k Mults, −k Addns for k such ops; the note says so, and a negative difference is
+    written with a minus sign as the tables write it."""
+    import json
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+
+    def report(*extra):
+        r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), *extra, "--format", "json"])
+        return json.loads(r.output)
+    unit, slow = report(), report("--mult-latency", "3", "--add-latency", "2")
+    route = [(s["op"], s["label"]) for s in unit["engineering"]["critical_path"]]
+    assert route == [(s["op"], s["label"]) for s in slow["engineering"]["critical_path"]]
+    k = sum(op in ("MV", "MTV", "MM") for op, _ in route)
+    assert k > 0
+    assert (slow["latency"]["mults"] - unit["latency"]["mults"],
+            slow["latency"]["adds"] - unit["latency"]["adds"]) == (k, -k)
+    text = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--mult-latency", "3",
+                                     "--add-latency", "2"]).output
+    assert "here the Mult is the slower, so those count as Mults" in text
+    assert f"(+{1 + k} Mults, −{k - 2} Addns)" in text, text
+    assert "another route with fewer Mults" not in text

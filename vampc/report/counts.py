@@ -287,7 +287,9 @@ def latency_note(rep: dict) -> list[str]:
     if (dm, da) == (0, 0) and got["flops"] == expected:
         return ["equals the paper's formula"]
     scaled = "" if expected == paper["flops"] else " at these latencies"
-    notes = [f"{got['flops'] - expected:+d} flops ({dm:+d} Mults, {da:+d} Addns"
+    def signed(v: int) -> str:      # (a minus sign, as the tables write it, not a hyphen)
+        return f"{v:+d}".replace("-", "−")
+    notes = [f"{signed(got['flops'] - expected)} flops ({signed(dm)} Mults, {signed(da)} Addns"
              + (f", {got['waits']} waiting" if got.get("waits") else "")
              + f") against the paper's formula{scaled}"]
     # the longest data path, where a budget's bounds give it (a route that waited may be shorter)
@@ -397,10 +399,18 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     if log and rep.get("uniform_leaves"):
         reasons.append((UNIFORM, "Appendix D's uniform leaves cost 2 Addns more than Table IV.1's leaves"))
     if not unit_timing:
+        # (it said only that a slower Mult can move the path onto another route: a new user found
+        # the same 38 ops on the path at 3 and 2 flops as at 1 and 1, its +15 M −12 A against the
+        # formula being the shared steps counted as Mults)
+        shared = ("; here the Mult is the slower, so those count as Mults where the paper's MV is "
+                  "1 Mult + 2 Addns, which moves Addns to Mults in the difference"
+                  if rep["timing"]["mult_latency"] > rep["timing"]["add_latency"] else "")
         reasons.append(("Mult/Addn latencies ≠ 1 flop",
                         "the paper assumes 1 Mult = 1 Addn = 1 flop; its formula is compared at the "
-                        "given latencies, and a slower Mult can move the critical path onto another "
-                        "route with fewer Mults and more Addns"))
+                        "given latencies with its own Mult and Addn counts. A micro-step running the "
+                        "multiplier beside the adder (the middle step of MV, MTV and MM) lasts as long "
+                        f"as the slower unit and counts as that unit{shared}; a slower unit can also "
+                        "move the critical path onto another route"))
     if rep["prismatic_joints"]:
         # (measured against the same arms all revolute, 47 random chains of 1-9 joints: never a
         # longer path, the same or 1 M + 2 to 4 A shorter; "add the σ̄ terms" read as a cost)
