@@ -282,3 +282,25 @@ def test_an_acceleration_past_the_float_range_is_no_word_without_a_numpy_warning
                                       "--acceleration", "1e300", "--sweep", "20:21", "--sets", "10"])
     assert r.exit_code == 0 and not r.stderr, r.output
     assert r.stdout.count("too narrow: no qI.F of this width holds the peak") == 2
+
+
+def test_a_narrowest_word_at_the_sweeps_first_width_says_a_narrower_one_may_meet_it_too():
+    """--sweep 30:34 named q10.20 (30 bits) the narrowest word meeting 1e-3 for the Puma, where the
+    default sweep names q10.16 by the bound and a narrower one by observation: the widths below the
+    sweep were not tried. A narrowest word at the sweep's first width says so (the text, and the
+    JSON's at_sweep_start); one above it (q10.16 in 20:30) does not."""
+    robot = EXAMPLES / "puma560.yaml"
+    text = _precision(robot, "--sweep", "30:34", "--sets", "200").stdout.splitlines()
+    said = ", the sweep's narrowest: a narrower word may meet it too (widen --sweep)"
+    assert text[-2:] == [
+        "narrowest word meeting 0.001 by the analysed bound, with no possible overflow: q10.20 "
+        "(30 bits)" + said, "narrowest word observed within 0.001 (among those): q10.20 (30 bits)"
+        + said], text
+    doc = loads(_precision(robot, "--sweep", "30:34", "--sets", "200", "--format", "json").stdout)
+    assert (doc["narrowest_bound"], doc["narrowest_observed"]) == ("q10.20", "q10.20")
+    assert doc["at_sweep_start"] == {"bound": True, "observed": True}
+    doc = loads(_precision(robot, "--sweep", "20:30", "--sets", "200", "--format", "json").stdout)
+    assert doc["narrowest_bound"] == "q10.16" and doc["rows"][0]["bits"] == 20
+    assert doc["at_sweep_start"] == {"bound": False, "observed": False}, doc["narrowest_observed"]
+    text = _precision(robot, "--sweep", "20:30", "--sets", "200").stdout
+    assert "q10.16 (26 bits)\n" in text and "the sweep's narrowest" not in text
