@@ -339,3 +339,32 @@ def test_a_budget_of_both_or_of_an_interval_keeps_what_vamps_alone_reaches():
         assert got(k=k, interval=alone[1] + 3) == alone        # (a set at least every T flops)
         fewest = got(interval=alone[1])
         assert fewest[0] <= k and fewest[1] <= alone[1], (k, alone, fewest)
+
+
+@pytest.mark.parametrize("robot, intervals", [("planar2.yaml", (19, 20, 30, 36)),
+                                              ("puma560.yaml", (37, 40, 48))])
+def test_an_interval_budget_is_the_shorter_of_t_itself_and_what_vamps_k_reaches(robot, intervals):
+    """What --interval T does (README, VAMP budgets; its help said "the best latency found on
+    them for any interval up to T", which it is not): the fewest VAMPs K found that reach T (K VAMPs
+    at least ⌈W/T⌉, and K − 1 VAMPs' --vamps search over T), and on them the shorter latency of
+    two placements: one at exactly T, and what --vamps K reaches if its interval is T or less. The
+    intervals between are not tried: planar2's --interval 20 gives 6 VAMPs, interval 20, latency
+    37, where --vamps 6 --interval 19 gives interval 19, latency 36 (a new user's find)."""
+    graph = build_graph(load_robot(EXAMPLES / robot), CompileOptions())
+    timing = CompileOptions().timing
+
+    def got(**budget):
+        layout, sched, _ = budget_schedule(graph, timing, **budget)
+        return len({v for p in layout.placement for v in p}), sched.interval, sched.latency
+    for t in intervals:
+        k, interval, latency = got(interval=t)
+        assert interval <= t and k >= -(-work(graph, timing) // t), (t, k, interval)
+        if k > 1:
+            assert got(k=k - 1)[1] > t, (t, k)
+        alone = got(k=k)
+        at_t = modulo_schedule(graph, timing, k, t)
+        shorter = [(p.interval, max(p.finish[o.node] for o in graph.outputs)) for p in [at_t]
+                   if p is not None] + [alone[1:]] * (alone[1] <= t)
+        assert (interval, latency) == min(shorter, key=lambda p: (p[1], p[0])), (t, shorter)
+    if robot == "planar2.yaml":
+        assert got(interval=20) == (6, 20, 37) and got(k=6, interval=19) == (6, 19, 36)

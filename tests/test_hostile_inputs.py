@@ -250,8 +250,9 @@ def test_a_csv_number_with_an_underscore_is_refused(puma_program, tmp_path):
 @pytest.mark.parametrize("robot,intervals", [("puma", (37, 40, 48, 60)), ("chain32", (120,)),
                                              pytest.param("chain32", (200,), marks=pytest.mark.slow)])
 def test_an_interval_budget_is_never_beaten_by_the_vamps_budget_of_its_size(robot, intervals):
-    """--interval T gives the fewest VAMPs reaching T, and on them the best latency found at any
-    interval up to T: --vamps K with that K never beats it on both latency and interval."""
+    """--interval T gives the fewest VAMPs reaching T, and on them the placement at exactly T or
+    what --vamps K reaches within T, whichever is shorter: --vamps K with that K never beats it on
+    both latency and interval."""
     from vampc.compiler import CompileOptions, compile_chain
     from vampc.robot import load_robot
     from vampc.robot.random import random_chain

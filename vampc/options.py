@@ -73,9 +73,10 @@ class CompileOptions:
         "VAMP-ops are never used (K is capped there). At most 16777215: VAMP numbers are 24-bit."))
     interval: int | None = field(default=None, metadata=cli(
         "--interval", range=(1, FIELD_MAX), metavar="T", help="A rate: a new torque set at least "
-        "every T flops, on the fewest VAMPs that reach it, at the best latency found on them for "
-        "any interval up to T (with --vamps: K VAMPs, or an error saying what is feasible). At most "
-        "16777215: the Cycle-Counter is 24-bit."))
+        "every T flops, on the fewest VAMPs found that reach it (K); on those, of a placement at "
+        "exactly T and what --vamps K alone reaches (if its interval is T or less), the one of "
+        "shorter latency: no other interval below T is tried (with --vamps: K VAMPs, or an error "
+        "saying what is feasible). At most 16777215: the Cycle-Counter is 24-bit."))
     exact: bool = field(default=False, metadata=cli(
         "--exact", help="With --vamps: place the ops with OR-Tools CP-SAT (pip install "
         "\"vampc[exact]\"), proving the best interval and latency for small graphs within a time "

@@ -431,7 +431,8 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             or "not proven optimal (the solver's time limit)"
     elif k is None:
         k, placed = _fewest_vamps(graph, timing, interval, asap, smallest)
-        # on those K VAMPs, the best latency found at any interval up to the one asked for
+        # on those K VAMPs, what --vamps K reaches where its interval is within T and its latency
+        # shorter than the placement's at exactly T (the intervals between are not tried)
         best = _for_vamps(graph, timing, k, asap, thorough)
         if best.interval <= asked and (_latency(graph, best), best.interval) < (
                 _latency(graph, placed), placed.interval):
