@@ -82,3 +82,56 @@ def test_the_budget_commands_quoted_are_accepted():
     """The budget-18 point is quoted with the options that make it, --exact needing --vamps."""
     text = " ".join(README.split())
     assert "`--vamps 18 --interval 18`" in text and "`--exact --vamps 18 --interval 18`" in text
+
+
+def _readme_report_keys() -> dict[str, set[str] | None]:
+    """The report JSON's keys README's "vampc report" section lists (from "The JSON report keeps
+    every key it had" to "The schema says what each holds"): each top-level key, with the set of
+    its sub-keys where it is written `key{a,b,...}` (a sub-key's own braces skipped), else None."""
+    text = " ".join(README.split())
+    start = text.index("The JSON report keeps every key it had")
+    part = text[start:text.index("The schema says what each holds", start)]
+    keys: dict[str, set[str] | None] = {}
+    for token in re.findall(r"`([^`]+)`", part):
+        name = re.match(r"[a-z_0-9]+", token)
+        if not name or (name.end() < len(token) and token[name.end()] != "{"):
+            continue                             # an option, a number, a dotted path
+        subs = None
+        if name.end() < len(token):
+            subs, depth, word = set(), 0, ""
+            for ch in token[name.end() + 1:-1] + ",":
+                if ch == "{":
+                    depth += 1
+                elif ch == "}":
+                    depth -= 1
+                elif ch == "," and depth == 0:
+                    subs.add(word.strip())
+                    word = ""
+                elif depth == 0:
+                    word += ch
+        keys.setdefault(name.group(), subs)
+    return keys
+
+
+def _object_properties(schema: dict) -> set[str] | None:
+    """The fixed sub-keys of a report key's schema (through anyOf/oneOf), None if it has none."""
+    for alt in [schema, *schema.get("anyOf", ()), *schema.get("oneOf", ())]:
+        if alt.get("properties"):
+            return set(alt["properties"])
+    return None
+
+
+def test_the_report_keys_listed_are_the_schemas():
+    """README listed the report JSON's keys without tip_force, prefix, uniform_leaves, base_rotates,
+    mimic, error_correction, word, rtl and tree.log2 (a new user's find). Every top-level key of
+    schemas/report.schema.json is listed, and every key with fixed sub-keys is written
+    `key{...}` with exactly the schema's."""
+    from schema_check import load_schema
+    schema = load_schema("report")["properties"]
+    listed = _readme_report_keys()
+    assert sorted(set(schema) - set(listed)) == []
+    for key, sub in schema.items():
+        want = _object_properties(sub)
+        if want is not None:
+            assert listed[key] == want, (key, sorted(want - (listed[key] or set())),
+                                         sorted((listed[key] or set()) - want))
