@@ -518,3 +518,18 @@ def test_a_bus_report_keeps_its_own_recursions_storage_comparison(recursion):
     line = next(x for x in text.splitlines() if "intermediate storage" in x)
     own = rep["wiring"]["delay_buffers"]["scalars"]
     assert f"{recursion}: systolic {own} against folded" in line, (own, line)
+
+
+def test_table_o1s_bus_row_says_why_its_interval_is_longer():
+    """The log bus program's Table O.1 row gave interval 8 beside the paper's 1 M + 3 A with the
+    latency's reasons alone (a check against the paper): the stretch, the bus section's own figure,
+    is its reason; a bus that does not stretch the cycle (the linear Puma) says nothing of it."""
+    import json
+    for recursion in ("log", "linear"):
+        args = ["report", str(PUMA), "--recursion", recursion, "--bus", "mlb"]
+        rep = json.loads(CliRunner().invoke(main, args + ["--format", "json"]).output)
+        row = next(r for r in rep["table_o1"]["measured"] if r.get("own"))
+        stretch = rep["bus"]["stretch"]
+        assert row["interval_flops"] == 4 + stretch
+        said = f"interval +{stretch} flops: the cycle stretched for the bus"
+        assert (said in row["note"]) == (stretch > 0) and (stretch > 0) == (recursion == "log"), row
