@@ -402,3 +402,19 @@ def test_a_checked_program_of_before_the_package_fix_is_not_called_edited(tmp_pa
         assert r.exit_code == 0, r.output
         assert ("the stored summary disagrees with the file's graph, schedule and network "
                 "(packages_40pin)" in r.output) == warned, r.output
+
+
+def test_the_vamp_count_line_gives_the_extraneous_vamp_too():
+    """With --error-correction the report's VAMP line said 60 while its packages and its error-
+    correction line counted 61, the extraneous VAMP included (a new user's find); the line gives
+    both, the extraneous VAMP counted from the report's own error-correction figures."""
+    import json
+    args = ["report", "examples/planar2.yaml", "--error-correction"]
+    rep = json.loads(CliRunner().invoke(main, args + ["--format", "json"]).output)
+    text = CliRunner().invoke(main, args).output
+    line = next(x for x in text.splitlines() if x.startswith("VAMPs  "))
+    assert rep["error_correction"]["vamps"] == rep["vamps"]["total"] + 1
+    assert line.endswith(f"and 1 extraneous VAMP for the error correction "
+                         f"({rep['error_correction']['vamps']} in all)"), line
+    plain = CliRunner().invoke(main, ["report", "examples/planar2.yaml"]).output
+    assert "extraneous" not in next(x for x in plain.splitlines() if x.startswith("VAMPs  "))

@@ -91,7 +91,10 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
         pairs.append(("", control_sentence(c)))
     pairs += [
         ("VAMPs", f"{v['total']} = {v['backward']} backward + {v['forward']} forward"
-         + (f" + {v['shared']} shared by both passes" if v.get("shared") else "")),
+         + (f" + {v['shared']} shared by both passes" if v.get("shared") else "")
+         # (the packages and the error-correction line counted 61 beside this 60: a new user's find)
+         + (f", and 1 extraneous VAMP for the error correction ({v['total'] + 1} in all)"
+            if rep.get("error_correction") else "")),
         ("  per node", f"backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
          f"non-propagated, forward {v['per_node']['fwd']}"),
         ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
