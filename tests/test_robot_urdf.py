@@ -887,3 +887,34 @@ def test_a_lock_of_a_cut_away_leader_whose_follower_is_kept_is_not_said_to_do_no
         chain = load_urdf(path, base="torso", lock={"L": 0.3}, mimic="couple")
     assert [j.name for j in chain.joints] == ["B"]
     assert not any("--lock L=" in str(w.message) for w in said), [str(w.message) for w in said]
+
+
+def test_a_moving_joint_without_a_limit_is_read_with_a_warning(tmp_path):
+    """The URDF specification requires <limit> of revolute and prismatic joints, and Pinocchio
+    refuses a file without; vampc, which says it reads URDF as Pinocchio does, took one silently
+    (a new user's find). It warns once, naming the first and counting the others; a continuous
+    joint needs none."""
+    def joint(name, kind, parent, child, limit=True):
+        lim = '<limit lower="-1" upper="1" effort="5" velocity="2"/>' if limit else ""
+        return (f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+                f'<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>{lim}</joint>')
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+                'ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="l{k}">{inertial}</link>' for k in range(4))
+    for limits, said in (((True, True, True), None), ((True, False, False), "'j2' (prismatic) and 1 more have")):
+        kinds = ("continuous", "prismatic", "revolute")
+        body = "".join(joint(f"j{k + 1}", kinds[k], f"l{k}", f"l{k + 1}", limits[k] or kinds[k] == "continuous")
+                       for k in range(3))
+        path = tmp_path / "arm.urdf"
+        path.write_text(f'<robot name="arm">{links}{body}</robot>')
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            chain = load_robot(path)
+        told = [str(w.message) for w in caught if issubclass(w.category, VampcWarning)]
+        assert chain.n == 3
+        if said is None:
+            assert not any("<limit>" in t for t in told), told
+        else:
+            assert told == [f"{path}: joint {said} no <limit>, which the URDF specification "
+                            "requires of revolute and prismatic joints (Pinocchio refuses the file); "
+                            "read as unlimited"], told

@@ -598,6 +598,7 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     phi = _transposed(r_a) @ g[1:, :3, :3]
     p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
+    _warn_no_limit(chain, path)
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
@@ -624,6 +625,7 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     phi = _transposed(r_a) @ g[1:, :3, :3]
     p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
+    _warn_no_limit(joints, path)
     built = []
     for k, j in enumerate(joints):
         frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
@@ -779,6 +781,19 @@ def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, ine
     out = np.zeros((n, 3, 3))
     np.add.at(out, body, inertia + mass[:, None, None] * shift)
     return total, centre, out
+
+
+def _warn_no_limit(joints, path: Path) -> None:
+    """One warning naming the revolute and prismatic joints without <limit>, which the URDF
+    specification requires of them: Pinocchio refuses such a file, vampc reads them as unlimited
+    (it took one silently, saying it reads URDF as Pinocchio does: a new user's find)."""
+    bare = [j for j in joints if j.type in ("revolute", "prismatic") and j.limit is None]
+    if bare:
+        have = f" and {len(bare) - 1} more have" if len(bare) > 1 else " has"
+        warnings.warn(VampcWarning(f"{path}: joint '{bare[0].name}' ({bare[0].type}){have} no "
+                                   "<limit>, which the URDF specification requires of revolute and "
+                                   "prismatic joints (Pinocchio refuses the file); read as unlimited"),
+                      stacklevel=3)
 
 
 def _limits(j, path: Path) -> Limits:
