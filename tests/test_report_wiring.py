@@ -235,3 +235,22 @@ def test_the_linear_recursions_pins_and_buses_are_the_papers(tmp_path):
     assert buses["internal_max_wires"] == buses["internal_max"] == {"bwd": 24, "npv": 20, "fwd": 16}
     row = next(r for r in rep["packages"]["rows"] if r["own"])["by_pins"][0]
     assert row["max_pins_per_vamp"] == 8 and (row["muxed_separate"], row["muxed_shared"]) == (36, 15)
+
+
+def test_the_program_streams_row_sets_the_papers_program_mode_beside_it():
+    """Section VII's Program Mode writes every module's pair to every input port (at least one word
+    a tick a port, so as many ticks as words); the row's paper column was "—" (a check against the
+    paper). The program file's stream, read as plain JSON: each word in exactly one input buffer."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    text = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml")]).output
+    row = next(x for x in text.splitlines() if x.startswith("program stream"))
+    assert row.endswith("180 words into 49 input buffers, loaded in 15 ticks  every word to each "
+                        "port: 180 a port, ≥ 180 ticks"), row
+    assert "section VII writes \"to each input port, one such number-program pair" in text
+    prog = json.loads(CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", "-"]).stdout)
+    per_buffer = [len(e["words"]) for e in prog["program_stream"]]
+    assert (len(per_buffer), sum(per_buffer)) == (49, 180)

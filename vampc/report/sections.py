@@ -473,9 +473,15 @@ def wiring(rep: dict) -> Table:
                  f"≤ {bound} / {pi['npv']} / {bound}"))
     rows.append(("maximum fan-out (inputs one Result drives)", num(w["max_fan_out"]), DASH))
     p = w["program"]
+    # (the paper's Program Mode writes every pair to every input port; its figure stood as "—": a
+    # check against the paper)
     rows.append(("program stream", f"{num(p['words'])} words into {p['input_buffers']} input "
-                 f"buffers, loaded in {num(p['load_ticks'])} ticks", DASH))
-    notes = ["a bus is a vector bus three scalars wide (section VI): vectors counts the results a "
+                 f"buffers, loaded in {num(p['load_ticks'])} ticks",
+                 f"every word to each port: {num(p['words'])} a port, ≥ {num(p['words'])} ticks"))
+    notes = ["program stream: section VII writes \"to each input port, one such number-program pair "
+             "for each module\"; vampc writes each word into the one input buffer whose operand-A "
+             "path reaches its VAMP (README, Program file), so the words go in side by side",
+             "a bus is a vector bus three scalars wide (section VI): vectors counts the results a "
              "node receives (a matrix as three), wires the taps (a value read at two buffer stages "
              "twice); a folded layout's recursion variables return through its own multiplexers"]
     linear_bwd = b["between_nodes"]["bwd"]["vectors"]
