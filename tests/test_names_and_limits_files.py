@@ -131,19 +131,32 @@ def test_a_padded_joints_row_without_tau_is_named_by_its_line(tmp_path):
 @pytest.mark.parametrize("name, joints, where", [
     ('"two\\nlines"', ["a", "b"], "robot"), ("arm", ["a", '"el\\nbow"'], "joint 2"),
     ("arm", ['"tab\\there"', "b"], "joint 1"), ("arm", ["a", '"para\\u2029graph"'], "joint 2"),
-    ("arm", ["a", '"el\\u202ebow"'], "joint 2"), ('"r\\u200bobot"', ["a", "b"], "robot")])
+    ("arm", ["a", '"el\\u202ebow"'], "joint 2"), ('"r\\u200fobot"', ["a", "b"], "robot")])
 def test_a_name_with_a_control_character_is_one_line_naming_it(tmp_path, name, joints, where):
     """A newline in a joint's name split the text report's rows (and every one-line message naming
-    the joint); it is refused where the robot file is read, by the joint's number. So is a format
-    character: a U+202E right-to-left override reversed the text printed after it."""
+    the joint); it is refused where the robot file is read, by the joint's number. So is a
+    bidirectional control: a U+202E right-to-left override reversed the text printed after it."""
     path = robot(tmp_path, name, joints)
     out = tmp_path / "r.vamp.json"
     code, err, _ = run("compile", path, "-o", out)
     what = "line separator" if "u2029" in joints[-1] else \
-        "format character" if "u20" in joints[-1] + name else "control character"
+        "bidirectional control" if "u20" in joints[-1] + name else "control character"
     assert code == 1 and err.startswith(f"vampc: error: {path}: {where}: its name ") and \
         f"holds the {what} U+" in err and err.count("\n") == 1, err
     assert not out.exists()
+
+
+def test_a_name_with_a_zero_width_joiner_or_non_joiner_is_taken(tmp_path):
+    """Refusing every format character (Unicode Cf) refused the zero-width non-joiner and joiner
+    that names in Persian and Indic scripts need (a review's find): only the bidirectional controls
+    are refused; the name comes through to the program file as written."""
+    import json
+    path = robot(tmp_path, "arm", ["a", '"\u0645\u06cc\u200c\u062e\u0648\u0627\u0647\u0645"'])
+    out = tmp_path / "r.vamp.json"
+    code, err, _ = run("compile", path, "-o", out)
+    assert code == 0, err
+    names = [j["name"] for j in json.loads(out.read_text())["robot"]["joints"]]
+    assert names[1] == "\u0645\u06cc\u200c\u062e\u0648\u0627\u0647\u0645", names
 
 
 def test_a_urdf_joint_name_with_a_newline_is_refused(tmp_path):
@@ -167,7 +180,7 @@ def test_a_urdf_name_with_a_right_to_left_override_is_refused(tmp_path, element,
     path.write_text(text.replace(f'"{old}"', f'"{old[:2]}&#x202E;{old[2:]}"'))
     code, err, _ = run("report", path)
     assert code == 1 and err == (f"vampc: error: {path}: {element} on line {line}: its name "
-                                 f"'{old[:2]}\\u202e{old[2:]}' holds the format character U+202E: "
+                                 f"'{old[:2]}\\u202e{old[2:]}' holds the bidirectional control U+202E: "
                                  "names are printed in one-line messages, text reports and CSV "
                                  "headers\n"), err
 

@@ -130,16 +130,22 @@ def listed(name: str) -> str:
     return name
 
 
+# the characters that reorder the text around them (Unicode's bidirectional controls and marks)
+BIDI_CONTROLS = frozenset([0x061C, 0x200E, 0x200F, *range(0x202A, 0x202F), *range(0x2066, 0x206A)])
+
+
 def name_problem(name: str) -> str | None:
     """Why `name` (a robot's, a joint's or a link's) cannot be printed on one line as it is, or None:
-    a control character, a format character or a line or paragraph separator (a newline in a
+    a control character, a bidirectional control or a line or paragraph separator (a newline in a
     joint's name split the text report's rows and every one-line message naming it; a U+202E
-    right-to-left override reversed the text after it)."""
-    bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Cf", "Zl", "Zp")), None)
+    right-to-left override reversed the text after it). Other format characters are taken: the
+    zero-width joiners and the soft hyphen belong in names written in Persian or Indic scripts."""
+    bad = next((ch for ch in name if unicodedata.category(ch) in ("Cc", "Zl", "Zp")
+                or ord(ch) in BIDI_CONTROLS), None)
     if bad is None:
         return None
-    what = {"Cc": "control character", "Cf": "format character"}.get(unicodedata.category(bad),
-                                                                     "line separator")
+    what = {"Cc": "control character", "Cf": "bidirectional control"}.get(unicodedata.category(bad),
+                                                                          "line separator")
     return (f"its name {shown(name)} holds the {what} U+{ord(bad):04X}: names are printed in "
             "one-line messages, text reports and CSV headers")
 
