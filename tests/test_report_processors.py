@@ -281,9 +281,14 @@ def test_the_vamps_no_torque_needs_are_said_beside_the_vamp_count(tmp_path, recu
     dead = {nd["id"] for nd in nodes if nd["op"] not in ("INPUT", "CONST") and nd["id"] not in live}
     idle = sum(all(s["node"] in dead for s in p["slots"]) for p in doc["programs"])
     assert (idle, len(dead)) == want
+    names: dict = {}
+    for i in dead:
+        names[nodes[i]["name"]] = names.get(nodes[i]["name"], 0) + 1
     rep = json.loads(CliRunner().invoke(main, ["report", str(prog), "--format", "json"]).output)
-    assert rep["vamps"]["unused"] == {"vamps": idle, "ops": len(dead)}
+    assert rep["vamps"]["unused"] == {"vamps": idle, "ops": len(dead), "names": names}
     text = CliRunner().invoke(main, ["report", str(prog)]).output
     line = next(x for x in text.splitlines() if x.startswith("  unused"))
     assert f"{idle} VAMPs run only those: {len(dead)} ops compute values no torque reads" in line
+    # (each name the graph gives them, with its count: a fixed list had named only some)
+    assert all(f"{name} {k}" in line for name, k in names.items()), line
     assert line.endswith(f"the torques need {rep['vamps']['total'] - idle}"), line

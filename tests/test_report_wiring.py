@@ -254,3 +254,35 @@ def test_the_program_streams_row_sets_the_papers_program_mode_beside_it():
     prog = json.loads(CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", "-"]).stdout)
     per_buffer = [len(e["words"]) for e in prog["program_stream"]]
     assert (len(per_buffer), sum(per_buffer)) == (49, 180)
+
+
+@pytest.mark.parametrize("args", [["--vamps", "20"], ["--layout", "folded"],
+                                  ["--layout", "folded", "--recursion", "log"],
+                                  ["--layout", "folded", "--share-passes", "--recursion", "log"],
+                                  ["--recursion", "log"], ["--bus", "mlb"]])
+def test_the_buses_note_says_within_the_bound_only_of_counts_within_it(args):
+    """The note on the buses into one node said "within its bound" of 105 / 126 / 76 (a budget),
+    35 / 43 / 38 (folded) and others over it, and put every difference down to MM matrices, which a
+    folded linear layout has none of (a review's find). "Within its bound" is said only where each
+    operand count is within its bound; the MM sentence only of a systolic layout; a bus program's
+    note names the counts it points to."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    base = ["report", str(EXAMPLES / "puma560.yaml"), *args]
+    text = CliRunner().invoke(main, base).output
+    rep = json.loads(CliRunner().invoke(main, base + ["--format", "json"]).output)
+    b = rep["wiring"]["buses"]
+    operands = b.get("internal_max_connections", b["internal_max"])
+    bound = b["paper_internal"]["shared_passes" if rep.get("share_passes") else "module"]
+    limit = {"bwd": bound, "npv": b["paper_internal"]["npv"], "fwd": bound}
+    notes = [x for x in text.splitlines() if x.startswith("  * buses into one node")]
+    if "within its bound" in " ".join(notes):
+        assert all(operands[s] <= limit[s] for s in limit), (operands, notes)
+    if rep["layout"] != "systolic":
+        assert not any("each operator reads" in x for x in notes), notes
+    if "--bus" in args:
+        line = next(x for x in text.splitlines() if "on the Mostly-Local Bus a VAMP's" in x)
+        assert "note above" not in line or notes, line

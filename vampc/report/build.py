@@ -34,8 +34,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     `stage(name)` is told as each of REPORT_STAGES starts (a progress bar's)."""
     stage = stage or (lambda name: None)
     rep = dict(figures) if figures is not None else summary(c)
-    unused, dead_ops = unused_vamps(c)
-    rep["vamps"] = {**rep["vamps"], "unused": {"vamps": unused, "ops": dead_ops}}
+    rep["vamps"] = {**rep["vamps"], "unused": unused_vamps(c)}
     stage("configurations")
     configs = configurations(c)
     big = len(c.graph.compute_nodes()) > ALLOCATE_LIMIT

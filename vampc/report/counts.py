@@ -47,10 +47,11 @@ def vamp_counts(c) -> dict:
             "by_op": dict(sorted(by_op.items())), "per_node": per_node}
 
 
-def unused_vamps(c) -> tuple[int, int]:
-    """(VAMPs all of whose ops compute values no torque reads, those ops): the graph keeps the
-    paper's nodes whole (the log prefix's W, Q, R, S of every X_{0,b}, W and R of every final
-    suffix; the linear forward node 1's T19 and f), so a network built from it carries them. A
+def unused_vamps(c) -> dict:
+    """{vamps: VAMPs all of whose ops compute values no torque reads, ops: those ops, names: how
+    many of each name}: the graph keeps the paper's nodes whole (the log prefix's W, Q, R, S of
+    every X_{0,b}, W and R of every final suffix; forward T19 and f where τ reads n alone; a tree's
+    Y1, Y2), so a network built from it carries them. A
     sizing figure: a new user counted 101 of a 7-joint log arm's 486 VAMPs, said nowhere but in
     the error-correction section. The report's (vamps.unused), not the program file's summary,
     whose figures stay as they were."""
@@ -58,11 +59,13 @@ def unused_vamps(c) -> tuple[int, int]:
     for nd in reversed(c.graph.nodes):
         if nd.id in live:
             live.update(nd.args)
-    dead = [nd.id for nd in c.graph.nodes if nd.op.is_compute and nd.id not in live]
+    dead = [nd for nd in c.graph.nodes if nd.op.is_compute and nd.id not in live]
     if not dead:
-        return 0, 0
-    gone = set(dead)
-    return sum(all(s.node in gone for s in v.slots) for v in c.network.vamps), len(dead)
+        return {"vamps": 0, "ops": 0, "names": {}}
+    gone = {nd.id for nd in dead}
+    names = Counter(nd.name for nd in dead)
+    return {"vamps": sum(all(s.node in gone for s in v.slots) for v in c.network.vamps),
+            "ops": len(dead), "names": dict(sorted(names.items(), key=lambda kv: (-kv[1], kv[0])))}
 
 
 def _per_node(c) -> dict:

@@ -363,7 +363,14 @@ def budget(sizes) -> dict:
 def operand_wires(vamp) -> int:
     """The wires into a VAMP's operand multiplexers: one per tap, so three for a matrix whose
     columns three VAMPs (an MM group) make, latched at one tick (README, Timing model)."""
-    return sum([len(o.taps) for o in vamp.a]) + sum([len(o.taps) for o in vamp.b])
+    n = len(vamp.a) + len(vamp.b)
+    for o in vamp.a:         # (most inputs are one tap: a million VAMPs in a big log report)
+        if len(o.taps) != 1:
+            n += len(o.taps) - 1
+    for o in vamp.b:
+        if len(o.taps) != 1:
+            n += len(o.taps) - 1
+    return n
 
 
 def vamp_pins(vamp) -> dict[str, int]:
@@ -434,7 +441,7 @@ def _paper_check(configs, chain=None) -> dict | None:
         # against the paper)
         features = _beyond_the_paper(chain) if chain is not None else []
         why = (f"of a rotary arm, 22 a joint; here the backward recursion has {bwd} "
-               f"({bwd - rotary:+d}" + (f": {', '.join(features)}" if features else "") +
+               f"({bwd - rotary:+d}".replace("-", "−") + (f": {', '.join(features)}" if features else "") +
                f") and the forward {fwd}: ⌈{k.vamps} / 12⌉ = {got}")
     return {"paper": paper.PAPER_PACKAGES_LINEAR_N6, "measured": got, "vamps": k.vamps,
             "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 covers only "

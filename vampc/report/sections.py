@@ -438,9 +438,14 @@ def _factor_note(rep: dict) -> str:
     for rec, factor in (("linear", "n"), ("log", "⌈log₂ n⌉")):
         s, f = bus.get(f"{rec}, systolic"), rows.get(f"{rec}, folded")
         if s and f and f["scalars"]:
+            # (a bus program's delay buffers hold less: values also wait in its bus-write
+            # registers, which the figure leaves out; the log Puma's ×0.8 stood unexplained: a review)
+            held = (f"; its bus also holds values in {num(rep['bus']['registers']['bus_write'])} "
+                    "bus-write registers, not counted here" if rep.get("bus") and
+                    s["configuration"].endswith(", Mostly-Local Bus") else "")
             parts.append(f"{rec}: systolic {num(s['scalars'])} against folded {num(f['scalars'])} "
                          f"scalars, ×{s['scalars'] / f['scalars']:.1f} (paper: about a factor of "
-                         f"{factor})")
+                         f"{factor}{held})")
     if not parts:
         return ""
     return "systolic pipelining needs more intermediate storage — " + "; ".join(parts)
@@ -490,23 +495,38 @@ def wiring(rep: dict) -> Table:
                      f"(the linear recursion passes ω, ω̇ and p̈ of node i − 1); the paper says "
                      f"{pb['bwd']} and does not list them")
     operands = b.get("internal_max_connections", internal)      # (the point-to-point network's)
-    if inwires != operands:
+    limit = {"bwd": bound, "npv": pi["npv"], "fwd": bound}
+    counts = f"{operands['bwd']} / {operands['npv']} / {operands['fwd']}"
+    systolic = is_layout(rep.get("layout"), SYSTOLIC)
+    said = False
+    if systolic and any(inwires[s] > operands[s] for s in limit):
         # (the row gave 48 / 20 / 20 beside ≤ 50, 2 per operator, the paper's own arithmetic, while
-        # the log node's matrices from MM groups take three wires each: a check against the paper)
-        over = [s for s in ("bwd", "npv", "fwd") if inwires[s] > (pi["npv"] if s == "npv" else bound)]
+        # the log node's matrices from MM groups take three wires each: a check against the paper;
+        # "within its bound" is said only of counts within it, a review's find)
+        within = all(operands[s] <= limit[s] for s in limit) and \
+            any(inwires[s] > limit[s] for s in limit)
         notes.append("buses into one node: the distinct sources each operator reads (a bus fanning "
                      "out to an MM's three VAMPs once), so a matrix whose columns an MM's three "
                      "VAMPs make is three buses (three Results; buses are not multiplexed) and a "
-                     "host port's or a constant's matrix one; counting operands, two an operator "
-                     f"as the paper does: {operands['bwd']} / {operands['npv']} / {operands['fwd']}"
-                     + (", within its bound, which counts a matrix operand as one bus" if over
+                     "host port's or a constant's matrix one (vampc sends it serially on one, as the "
+                     "paper's one Operand-A pin takes it); counting operands, two an operator as "
+                     f"the paper does: {counts}"
+                     + (", within its bound, which counts a matrix operand as one bus" if within
                         else ""))
+        said = True
+    elif inwires != operands:
+        # (a folded or budget VAMP runs several ops: its multiplexer inputs are not the paper's two
+        # an operator, and a source read on two of them is one bus)
+        notes.append("buses into one node: the distinct sources its VAMPs read (a source read on "
+                     "several multiplexer inputs once, a matrix whose columns an MM's three VAMPs "
+                     f"make three); their multiplexer inputs count {counts}")
+        said = True
     if "internal_max_connections" in b:        # (71 / 27 / 30 beside ≤ 50 / 20 / 50, unexplained)
         notes.append("on the Mostly-Local Bus a VAMP's multiplexer inputs are the bus tiers it reads "
                      "beside the wires still point to point, so one node's VAMPs count "
                      f"{internal['bwd']} / {internal['npv']} / {internal['fwd']} inputs; the "
-                     "connections they carry are the point-to-point network's (the row, and the "
-                     "paper's count of them in the note above)")
+                     "connections they carry are the point-to-point network's: the row"
+                     + (" and the note above" if said else f", {counts} counting operands"))
     return Table("wiring", f"Wiring (section VI) of {w['configuration']}, measured",
                  ("figure", "measured", "paper"), tuple(rows), tuple(notes), align="lrl")
 

@@ -2,7 +2,6 @@
 markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
-from vampc.kinds import Recursion
 from vampc.report.counts import latency_note, latency_terms, paper_flops, vamp_notes
 from vampc.schedule.registry import SYSTOLIC, is_layout
 from vampc.textio import count
@@ -98,7 +97,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
         ("  per node", f"backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
          f"non-propagated, forward {v['per_node']['fwd']}"),
         ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
-        *([("  unused", _unused_text(v["unused"], v["total"], rep["recursion"]))]
+        *([("  unused", _unused_text(v["unused"], v["total"]))]
           if v.get("unused", {}).get("ops") else []),        # (a report's: build_report)
         *[("", note) for note in vamp_notes(rep)],
         ("buffers", f"{count(rep['buffers']['stages'], 'stage')} in {count(rep['buffers']['chains'], 'chain')} "
@@ -171,11 +170,12 @@ def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
     return pairs
 
 
-def _unused_text(unused: dict, total: int, recursion: str) -> str:
-    """The VAMPs (and ops) that compute values no torque reads (vampc.report.counts.unused_vamps)."""
-    what = ("the prefix network's W, Q, R, S of every X_{0,b}, W and R of every final suffix"
-            if Recursion(recursion) is Recursion.LOG else
-            "forward node 1's T19 and f: τ_1 reads its moment alone")
+def _unused_text(unused: dict, total: int) -> str:
+    """The VAMPs (and ops) that compute values no torque reads (vampc.report.counts.unused_vamps),
+    named from the graph (a fixed list had named only the log prefix's, where forward T19 and f and
+    a tree's Y1, Y2 are among them too: a review's find)."""
+    names = list(unused.get("names", {}).items())
+    what = ", ".join(f"{name} {k}" for name, k in names[:10]) + (", …" if len(names) > 10 else "")
     ops = f"{count(unused['ops'], 'op')} compute values no torque reads, kept as the paper's nodes " \
           f"have them ({what})"
     if not unused["vamps"]:

@@ -261,10 +261,19 @@ def _internal(sites, units, net, per_tap: bool = False) -> dict:
     three VAMPs make is three, and an MM group's operand B, a column into each of its VAMPs, three."""
     per_site: Counter = Counter()
     if per_tap:
+        members = Counter(units[v.index] for v in net.vamps)
         taps: dict = {}
         for v in net.vamps:
+            a, b = v.a, v.b
+            if members[units[v.index]] == 1 and len(a) == 1 and len(b) == 1:
+                ta, tb = a[0].taps, b[0].taps     # (most VAMPs: one input an operand, one tap)
+                if len(ta) == 1 and len(tb) == 1:
+                    per_site[sites[v.index]] += 1 if ta[0] == tb[0] else 2
+                else:
+                    per_site[sites[v.index]] += len(set(ta) | set(tb))
+                continue
             unit = taps.setdefault(units[v.index], (sites[v.index], set()))[1]
-            unit.update(t for o in v.a + v.b for t in o.taps)
+            unit.update(t for o in a + b for t in o.taps)
         for site, unit in taps.values():
             per_site[site] += len(unit)
     counted = set()
