@@ -348,3 +348,29 @@ def test_a_slower_mult_is_explained_by_the_shared_steps_it_counts_as_mults():
     assert "here the Mult is the slower, so those count as Mults" in text
     assert f"(+{1 + k} Mults, −{k - 2} Addns)" in text, text
     assert "another route with fewer Mults" not in text
+
+
+@pytest.mark.parametrize("n", [1, 2])
+@pytest.mark.parametrize("options", [{"uniform_leaves": True}, {"prefix": "kogge-stone"},
+                                     {"mult_latency": 2}, {"prismatic": True}])
+def test_the_leafs_unpadded_s_is_not_given_where_it_was_not_measured(n, options):
+    """'leaf S unpadded, −1 A' is given where it was measured (Sklansky, separate leaves, unit
+    latencies, no prismatic joint): uniform leaves pad the leaf (a whole combining node), another
+    prefix or other latencies have reasons of their own, and a prismatic first joint takes another
+    route (a review asked for the reason's absence to be tested). Uniform leaves' remainder adds up
+    without it."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from vampc.compiler import CompileOptions
+    opts = dict(options)
+    prismatic = opts.pop("prismatic", False)
+    chain = replace(random_chain(n, 21, prismatic_fraction=1.0 if prismatic else 0.0),
+                    base_omega=np.array([0.1, -0.2, 0.3]))
+    c = compile_chain(chain, CompileOptions(recursion="log", **opts))
+    note = {r["configuration"]: r for r in table_o1(configurations(c), chain)["measured"]}[
+        "log, systolic"]["note"]
+    assert "leaf S unpadded" not in note, note
+    if opts.get("uniform_leaves"):
+        assert "not explained" not in note, note
