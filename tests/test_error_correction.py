@@ -6,6 +6,7 @@ compiled without checking (its torques, bit for bit), the reference Newton-Euler
 the test injected (which VAMP, from which tick)."""
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -235,7 +236,14 @@ def test_emulate_reports_the_checking(tmp_path):
     r = run(main, ["emulate", str(prog), "--random", "80", "--engine", "tick", "--fault",
                    f"vamp={victim},dead"])
     assert r.exit_code == 0, r.output
-    assert f"excised VAMP {victim}" in r.output and f"naming its successor, VAMP {victim}" in r.output
+    assert f"excised VAMP {victim}" in r.output and \
+        f"naming its successor in the chain, VAMP {victim}" in r.output
+    # the finder's burned-in number with its index, not beside another VAMP's index as if one name
+    # ("the finder's VAMP-number 7 (VAMP 6) ..., VAMP 7": a new user's find)
+    doc = json.loads(prog.read_text())
+    finder = victim - 1               # (the chain runs in logical order: a VAMP checks the next)
+    number = doc["network"]["vamps"][finder]["number"]
+    assert f"VAMP {finder}'s burned-in number, {number}, emerges" in r.output, r.output
     r = run(main, ["emulate", str(prog), "--random", "80", "--engine", "tick"])
     assert "no mismatch" in r.output and "not run by the stream engine" not in r.output
     # the stream engine (the default) computes the torques without the checking: said, where it

@@ -364,9 +364,11 @@ def checking_line(ld, outcome) -> str:
         return f"error correction: no mismatch ({done})"
     d = ck["detections"][0]
     m = ck["maintenance"]
-    named = (f"in Maintenance Mode the finder's VAMP-number {', '.join(map(str, m['numbers']))} "
-             f"(VAMP {d['finder']}) emerges at the torque outputs after "
-             f"{count(m['ticks'], 'tick')}, naming its successor, VAMP "
+    # ("the finder's VAMP-number 5 (VAMP 4) ... naming its successor, VAMP 5" read as two names
+    # for one VAMP: a new user's find; a burned-in number counts from 1, a VAMP's index from 0)
+    named = (f"in Maintenance Mode VAMP {d['finder']}'s burned-in number, "
+             f"{', '.join(map(str, m['numbers']))}, emerges at the torque outputs after "
+             f"{count(m['ticks'], 'tick')}, naming its successor in the chain, VAMP "
              f"{', '.join(map(str, m['named']))}" if m["named"] else
              "Maintenance Mode cannot name it: its line reaches no torque output")
     # no set number: tick // period is not the set a VAMP held then (that depends on its place in
