@@ -197,3 +197,18 @@ def test_an_edited_file_is_refused_alike_by_every_reader(program, tmp_path, edit
         args = [str(a).format(trajectory=trajectory, out=tmp_path) for a in extra]
         code, err = run(command, path, *args)
         assert (code, err) == (1, f"vampc: error: {path}: {said}\n"), command
+
+
+def test_an_output_tick_moved_within_its_hold_window_is_refused(program, tmp_path):
+    """io.outputs[].tick moved from 29 to 30, within the ticks τ1 holds, read the same torques and
+    went through: emulate printed "first set after 30 flops" beside the report's latency 29 (an
+    audit's find). The tick must be the one the torque appears at, where the compiler reads it."""
+    import json
+    doc = json.loads(program.read_text())
+    first = doc["io"]["outputs"][0]
+    assert first["tick"] == doc["summary"]["latency"]["flops"] == 29
+    path = edited_program(program, tmp_path, lambda d: _set(d, ["io", "outputs", 0, "tick"], 30))
+    code, err = run("emulate", path, "--random", 2)
+    assert code == 1 and err.startswith(f"vampc: error: {path}: τ{first['joint']} is read from VAMP "), err
+    assert "at tick 30, but it appears at tick 29, where the compiler reads it (the file was edited); " \
+        "recompile it" in err and err.count("\n") == 1, err

@@ -326,4 +326,10 @@ def _output(ld: Loaded, der: _Deriver, o, done) -> tuple[int, int]:
     if not t.periodic and not t.emit <= o.tick < t.next_emit:
         raise VampcError(f"{ld.path}: τ{o.joint} is read from {ld.vamp_name(o.vamp, k)} at tick "
                          f"{o.tick}, but it shows set 0 during ticks [{t.emit:g}, {t.next_emit:g})")
+    if not t.periodic and o.tick != t.emit:
+        # (a tick moved within the hold window read the same torques, but the latency printed was
+        # the edited tick: an audit's find)
+        raise VampcError(f"{ld.path}: τ{o.joint} is read from {ld.vamp_name(o.vamp, k)} at tick "
+                         f"{o.tick}, but it appears at tick {t.emit:g}, where the compiler reads it "
+                         "(the file was edited); recompile it")
     return (o.vamp, k)
