@@ -1643,3 +1643,24 @@ def test_bytes_for_a_standard_output_that_takes_only_text_are_one_line(program, 
         write_output(out, b"{}", "program file")
     write_output(out, "text\n", "report")
     assert sys.stdout.getvalue() == "text\n"
+
+
+def test_a_sigterm_while_vampc_is_imported_is_one_line():
+    """A SIGTERM in the first tenth of a second, while the console script imported vampc.cli,
+    ended the process by the signal, nothing said (an audit's find); Ctrl-C there was already one
+    line. The signal here comes as click, which only vampc.cli imports, is looked up."""
+    import subprocess
+    import sys
+    code = (
+        "import importlib.abc, os, signal, sys\n"
+        "sys.argv = ['vampc', '--version']\n"
+        "class Hook(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path, target=None):\n"
+        "        if name == 'click':\n"
+        "            os.kill(os.getpid(), signal.SIGTERM)\n"
+        "        return None\n"
+        "sys.meta_path.insert(0, Hook())\n"
+        "from vampc.launch import main\n"
+        "main()\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert (r.returncode, r.stderr, r.stdout) == (143, "vampc: terminated (SIGTERM)\n", ""), r

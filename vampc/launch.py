@@ -22,14 +22,34 @@ def skip_teardown() -> None:
     _SKIP_TEARDOWN = True
 
 
+class _Ended(BaseException):
+    """SIGTERM or SIGHUP while vampc.cli is being imported (before its own handlers are in)."""
+
+
+def _ended(signum, frame):
+    raise _Ended(signum)
+
+
 def main() -> None:
     global _SKIP_TEARDOWN
     _SKIP_TEARDOWN = False            # (asked for by this run's command only)
+    import signal
+    # (a SIGTERM in the first tenth of a second, while the imports ran, ended the process by the
+    # signal with nothing said: an audit's find; Python's own start-up before this line stays so)
+    early = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    previous = {sig: signal.signal(sig, _ended) for sig in early}
     try:
         from vampc.cli import main as command_line
     except KeyboardInterrupt:
         sys.stderr.write("vampc: interrupted\n")
         sys.exit(130)
+    except _Ended as ended:
+        signum = ended.args[0]
+        sys.stderr.write(f"vampc: terminated ({signal.Signals(signum).name})\n")
+        sys.exit(128 + signum)
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
     from vampc import errors
     errors.LEAVING_AFTER_COMMAND = True       # (signals after the outputs are in place: ignored)
     try:
