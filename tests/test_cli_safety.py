@@ -1664,3 +1664,36 @@ def test_a_sigterm_while_vampc_is_imported_is_one_line():
         "main()\n")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert (r.returncode, r.stderr, r.stdout) == (143, "vampc: terminated (SIGTERM)\n", ""), r
+
+
+def test_outputs_are_put_in_place_under_their_folders_lock(tmp_path):
+    """Two runs writing the same -o and --save-states at once had left one run's torques beside
+    another's states (each file replaced whole, the pair not: an audit's find). The outputs are put
+    in place holding an exclusive lock on their folder: while another process holds it, the run
+    waits with its outputs written aside, and puts both in place once it is released."""
+    import fcntl
+    import os
+    import subprocess
+    import sys
+    import time
+    out = tmp_path / "out"
+    out.mkdir()
+    fd = os.open(out, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        proc = subprocess.Popen([sys.executable, "-m", "vampc", "emulate", "examples/planar2.yaml",
+                                 "--random", "50", "-o", str(out / "tau.csv"), "--save-states",
+                                 str(out / "states.csv")], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        deadline = time.monotonic() + 60
+        while len(list(out.iterdir())) < 2 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)              # (both written aside: two temporaries in the folder)
+        time.sleep(0.5)
+        assert proc.poll() is None, proc.communicate()          # waiting for the folder
+        assert not (out / "tau.csv").exists() and not (out / "states.csv").exists()
+    finally:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        os.close(fd)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 0, stderr
+    assert sorted(p.name for p in out.iterdir()) == ["states.csv", "tau.csv"]

@@ -590,6 +590,12 @@ class Sinks:
         except BaseException:
             self.discard()
             raise
+        from vampc.outputs import placing
+        with placing([pending for _, pending, kept in outputs if kept]):
+            self._put_in_place(outputs, ok, kept_old, say)
+
+    @staticmethod
+    def _put_in_place(outputs, ok: bool, kept_old, say) -> None:
         for what, pending, kept in outputs:
             out = pending.out
             if not kept:

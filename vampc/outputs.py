@@ -442,6 +442,41 @@ class Pending:
             self.tmp = None
 
 
+@contextlib.contextmanager
+def placing(pending) -> Iterator[None]:
+    """Hold an exclusive lock on the folder of each file output of `pending` while they are put in
+    place, so that two runs writing the same files put theirs in place one after the other: the
+    files on disk are one run's set (two runs writing -o and --save-states at once had left the
+    torques of one beside the states of another: an audit's find). Where folders cannot be locked
+    (no fcntl, a file system without locks) the outputs are put in place without."""
+    try:
+        import fcntl
+    except ImportError:                 # (not POSIX)
+        yield
+        return
+    folders = sorted({str(p.out.target.parent) for p in pending
+                      if p.out.kind == "file" and p.tmp is not None})
+    held = []
+    try:
+        for folder in folders:
+            try:
+                fd = os.open(folder, os.O_RDONLY)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX)
+            except OSError:
+                os.close(fd)
+                continue
+            held.append(fd)
+        yield
+    finally:
+        for fd in held:
+            with contextlib.suppress(OSError):
+                fcntl.flock(fd, fcntl.LOCK_UN)
+            os.close(fd)
+
+
 def _mode_for(target: Path) -> int:
     try:
         return stat.S_IMODE(os.stat(target).st_mode)
@@ -496,13 +531,14 @@ def write_together(items) -> None:
         for p in pending:
             p.discard()
         raise
-    for k, p in enumerate(pending):
-        try:
-            p.commit()
-        except BaseException:         # (one that cannot be put in place: drop the others' temporaries)
-            for rest in pending[k + 1:]:
-                rest.discard()
-            raise
+    with placing(pending):
+        for k, p in enumerate(pending):
+            try:
+                p.commit()
+            except BaseException:     # (one that cannot be put in place: drop the others' temporaries)
+                for rest in pending[k + 1:]:
+                    rest.discard()
+                raise
 
 
 def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
