@@ -107,6 +107,15 @@ class Graph:
                 g.add_edge(a, nd.id)
         return g
 
+    def live_nodes(self) -> set[int]:
+        """The ids of the nodes some torque output depends on (the outputs' and, back through the
+        operands, theirs): what a pruned graph keeps, and what a report counts the rest against."""
+        live = {o.node for o in self.outputs}
+        for nd in reversed(self.nodes):
+            if nd.id in live:
+                live.update(nd.args)
+        return live
+
     def consumers(self) -> dict[int, list[int]]:
         """Map node id -> ids of the nodes reading it."""
         out: dict[int, list[int]] = {nd.id: [] for nd in self.nodes}

@@ -417,7 +417,7 @@ def relational_nodes(graph: Graph) -> dict[str, list[list[int | None]]]:
 @_collector_paused()
 def prune_dead(graph: Graph) -> Graph:
     """`graph` without the nodes no torque output depends on (ids renumbered, order kept)."""
-    live = _live(graph)
+    live = graph.live_nodes()
     new = {old: i for i, old in enumerate(sorted(live))}
     # Node(...) rather than dataclasses.replace: the latter is ~10x slower on a million nodes.
     nodes = tuple(Node(new[nd.id], nd.op, tuple(new[a] for a in nd.args), nd.name, nd.section, nd.group,
@@ -431,11 +431,3 @@ def prune_dead(graph: Graph) -> Graph:
     pruned = Graph(nodes, outputs, graph.n, graph.recursion, tuple(sorted(meta.items())))
     pruned.verify()
     return pruned
-
-
-def _live(graph: Graph) -> set[int]:
-    live = {o.node for o in graph.outputs}
-    for nd in reversed(graph.nodes):
-        if nd.id in live:
-            live.update(nd.args)
-    return live

@@ -55,10 +55,7 @@ def unused_vamps(c) -> dict:
     sizing figure: a new user counted 101 of a 7-joint log arm's 486 VAMPs, said nowhere but in
     the error-correction section. The report's (vamps.unused), not the program file's summary,
     whose figures stay as they were."""
-    live = {o.node for o in c.graph.outputs}
-    for nd in reversed(c.graph.nodes):
-        if nd.id in live:
-            live.update(nd.args)
+    live = c.graph.live_nodes()
     dead = [nd for nd in c.graph.nodes if nd.op.is_compute and nd.id not in live]
     if not dead:
         return {"vamps": 0, "ops": 0, "names": {}}
