@@ -277,6 +277,12 @@ def latency_terms(rep: dict, lat: dict) -> str:
     return text + (f" + {lat['waits']} waiting" if lat.get("waits") else "")
 
 
+def plus_minus(v: int) -> str:
+    """An integer with its sign, a minus sign as the tables write it, not a hyphen ('+3', '−2',
+    '+0'; vampc.report.sections.signed writes 0 bare and groups thousands)."""
+    return f"{v:+d}".replace("-", "−")
+
+
 def latency_note(rep: dict) -> list[str]:
     """Sentences explaining where the achieved latency differs from the paper's formula, and why."""
     got, paper = rep["latency"], rep["paper"]
@@ -287,9 +293,8 @@ def latency_note(rep: dict) -> list[str]:
     if (dm, da) == (0, 0) and got["flops"] == expected:
         return ["equals the paper's formula"]
     scaled = "" if expected == paper["flops"] else " at these latencies"
-    def signed(v: int) -> str:      # (a minus sign, as the tables write it, not a hyphen)
-        return f"{v:+d}".replace("-", "−")
-    notes = [f"{signed(got['flops'] - expected)} flops ({signed(dm)} Mults, {signed(da)} Addns"
+    notes = [f"{plus_minus(got['flops'] - expected)} flops ({plus_minus(dm)} Mults, "
+             f"{plus_minus(da)} Addns"
              + (f", {got['waits']} waiting" if got.get("waits") else "")
              + f") against the paper's formula{scaled}"]
     # the longest data path, where a budget's bounds give it (a route that waited may be shorter)
@@ -429,7 +434,7 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         left_m = got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons)
         left_a = got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons)
         if (left_m, left_a) != (0, 0):
-            left = ", ".join(f"{v:+d} {unit}".replace("-", "−") for v, unit in ((left_m, "M"), (left_a, "A"))
+            left = ", ".join(f"{plus_minus(v)} {unit}" for v, unit in ((left_m, "M"), (left_a, "A"))
                              if v)
             ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
             waits = got.get("waits") or 0

@@ -13,7 +13,7 @@ from vampc.kinds import Recursion, Section, unhandled
 from vampc.machine.ops import VAMPS_PER_OP, Op
 from vampc.memo import keep_last
 from vampc.report import paper
-from vampc.report.counts import physical_vamps, prismatic_joints
+from vampc.report.counts import physical_vamps, plus_minus, prismatic_joints
 from vampc.report.sites import node_table, unit_firsts
 from vampc.schedule.layout import folded_binding
 from vampc.schedule.registry import FOLDED, SYSTOLIC
@@ -441,7 +441,7 @@ def _paper_check(configs, chain=None) -> dict | None:
         # against the paper)
         features = _beyond_the_paper(chain) if chain is not None else []
         why = (f"of a rotary arm, 22 a joint; here the backward recursion has {bwd} "
-               f"({bwd - rotary:+d}".replace("-", "−") + (f": {', '.join(features)}" if features else "") +
+               f"({plus_minus(bwd - rotary)}" + (f": {', '.join(features)}" if features else "") +
                f") and the forward {fwd}: ⌈{k.vamps} / 12⌉ = {got}")
     return {"paper": paper.PAPER_PACKAGES_LINEAR_N6, "measured": got, "vamps": k.vamps,
             "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 covers only "
