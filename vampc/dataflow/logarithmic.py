@@ -182,7 +182,7 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
     prune: drop the ops no torque depends on (the uniform nodes' unused W, Q, R, S).
     verify: check the graph's invariants (Graph.verify) before returning it.
     """
-    if not chain.is_chain or chain.floating:
+    if not chain.is_fixed_chain:
         from vampc.dataflow.logtree import build_log_tree
         return build_log_tree(chain, prefix, uniform_leaves, ground_o0, verify)
     ground0 = _check_ground(chain, ground_o0)

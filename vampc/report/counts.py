@@ -134,7 +134,7 @@ def summary(c) -> dict:
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "uniform_leaves": c.options.uniform_leaves if c.graph.recursion is Recursion.LOG else None,
         "prefix": c.options.prefix if c.graph.recursion is Recursion.LOG else None,
-        **({"tree": tree_summary(c.chain, c.options.prefix)} if not c.chain.is_chain or c.chain.floating
+        **({"tree": tree_summary(c.chain, c.options.prefix)} if not c.chain.is_fixed_chain
            else {}),
         **({"word": word_bits(c)} if c.options.word != "float64" else {}),
     }
@@ -336,7 +336,7 @@ def tip_force(chain) -> bool:
 def path_conditions(chain) -> dict:
     """The report's keys for what moves the log recursion's latency off the paper's formula beyond
     its own reasons (latency_reasons): present only when true, so other reports keep their bytes."""
-    if not chain.is_chain or chain.floating:     # (a tree's latency follows its depth: not itemised)
+    if not chain.is_fixed_chain:     # (a tree's latency follows its depth: not itemised)
         return {}
     return {**({"base_rotates": True} if base_rotates(chain) else {}),
             **({"tip_force": True} if tip_force(chain) else {})}

@@ -191,7 +191,7 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, chain) -> str:
     ref = row["paper"]
     diff = [c for c in COLUMNS if ref.get(c) is not None and row[c] != ref[c]]
     log_fwd = Recursion(recursion) is Recursion.LOG and sec == Section.FWD
-    tree = not chain.is_chain or chain.floating
+    tree = not chain.is_fixed_chain
     tip = not tree and bool(np.any(chain.tip_force) or np.any(chain.tip_torque))
     odd = log_fwd and row["per_node"] != 12 and tip      # (13 = 12 and a tip torque's VA)
     if not diff and not odd:

@@ -194,6 +194,13 @@ class Chain:
         return self.parents is None or tuple(self.parents) == tuple(range(self.n))
 
     @property
+    def is_fixed_chain(self) -> bool:
+        """A serial chain on a fixed base, the paper's kind of robot: the log recursion builds it
+        with section IV's prefix networks (anything else as a tree: vampc.dataflow.logtree), and
+        the paper's formulas and per-node counts are for it."""
+        return self.is_chain and not self.floating
+
+    @property
     def children(self) -> tuple[tuple[int, ...], ...]:
         """children[p]: the joints whose parent is p (0 = the base), in joint order."""
         out: list[list[int]] = [[] for _ in range(self.n + 1)]
