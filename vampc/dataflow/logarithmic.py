@@ -198,7 +198,7 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
 
 
 def _check_ground(chain: Chain, ground_o0: bool | None) -> bool:
-    still = not np.any(chain.base_omega) and not np.any(chain.base_omega_dot)
+    still = not chain.base_rotates
     if ground_o0 and not still:
         raise VampcError(f"{chain.name}: cannot ground the log recursion in O_0: the base rotates "
                          f"(ω0 or ω̇0 nonzero)")

@@ -319,13 +319,6 @@ ACCOUNTED = {CORRECTION: (1, 2), TIER: (-2, -6), TIER_TIP_TO_BASE: (-1, -3), TIP
              LEAF: (0, -2), LEAF_S: (0, -1), UNIFORM: (0, 2)}
 
 
-def base_rotates(chain) -> bool:
-    """Whether the base rotates (ω0 or ω̇0 nonzero): the log recursion's base-to-tip pass is then
-    grounded in O_{-1}, over n + 1 leaves (vampc.dataflow.logarithmic)."""
-    import numpy as np
-    return bool(np.any(chain.base_omega) or np.any(chain.base_omega_dot))
-
-
 def tip_force(chain) -> bool:
     """Whether a force acts at the tip: the log recursion folds it into leaf n, one VA on the path
     (a torque alone at the tip is added off it: measured, README, Figures against the paper)."""
@@ -338,7 +331,7 @@ def path_conditions(chain) -> dict:
     its own reasons (latency_reasons): present only when true, so other reports keep their bytes."""
     if not chain.is_fixed_chain:     # (a tree's latency follows its depth: not itemised)
         return {}
-    return {**({"base_rotates": True} if base_rotates(chain) else {}),
+    return {**({"base_rotates": True} if chain.base_rotates else {}),
             **({"tip_force": True} if tip_force(chain) else {})}
 
 

@@ -201,6 +201,13 @@ class Chain:
         return self.is_chain and not self.floating
 
     @property
+    def base_rotates(self) -> bool:
+        """Whether the base rotates (ω0 or ω̇0 nonzero): the log recursion's base-to-tip pass is
+        then grounded in O_{-1}, over n + 1 leaves (vampc.dataflow.logarithmic), and the report
+        says what that moves in its latency (vampc.report.counts.path_conditions)."""
+        return bool(np.any(self.base_omega) or np.any(self.base_omega_dot))
+
+    @property
     def children(self) -> tuple[tuple[int, ...], ...]:
         """children[p]: the joints whose parent is p (0 = the base), in joint order."""
         out: list[list[int]] = [[] for _ in range(self.n + 1)]
