@@ -678,3 +678,29 @@ def test_a_step_held_short_of_a_stop_decides_from_its_own_rows_only(monkeypatch)
         if checked == 25:
             break
     assert checked == 25
+
+
+def test_a_slow_path_where_every_joint_turns_back_at_once_is_planned_within_its_limits():
+    """q = Δq (1 - cos(2π t / 8 s)) / 2 on the Puma: within its limits as given, every joint at rest
+    in the middle (q' = 0). Near that row the next row's bound on s̈ hardly depends on it (d of
+    4.5e-7), and the plan said "row 3998: no speed keeps every joint within its limit here", with
+    any window, the whole path's too (a new user's find, 2026-12-05: rounding of 1e-6 in s̈,
+    compared after dividing by d). Planned now, faster than as given, within every limit by the
+    reference dynamics with the s̈ leaving each row and with the s̈ arriving at it."""
+    chain = load_robot(PUMA)
+    t = np.arange(8001) / RATE
+    dq, w = np.array([.5, .4, .3, .2, .3, .2]), 2 * np.pi / 8
+    q = np.outer(1 - np.cos(w * t), dq) / 2
+    qd, qdd = np.outer(np.sin(w * t), dq) * w / 2, np.outer(np.cos(w * t), dq) * w * w / 2
+    z = np.zeros_like(q)
+    c = rnea(chain, q, z, z)
+    a, b = rnea(chain, q, z, qd) - c, rnea(chain, q, qd, qdd) - c
+    limits = Limits(tuple(LIM), (None,) * 5 + (4.0,))
+    assert np.all(np.abs(b + c) <= LIM)                              # within its limits as given
+    for plan in (window_plan(a, b, c, qd, limits, 64, 1 / RATE), optimal_plan(a, b, c, qd, limits, 1 / RATE)):
+        x, u, times = plan
+        assert times[-1] < 8.0
+        leaving = a * u[:, None] + b * x[:, None] + c
+        arriving = a * np.concatenate([[0.0], u[:-1]])[:, None] + b * x[:, None] + c
+        assert np.all(np.abs(leaving) <= LIM) and np.all(np.abs(arriving) <= LIM)
+        assert np.all(np.abs(qd[:, 5] * np.sqrt(x)) <= 4.0)

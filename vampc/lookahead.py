@@ -788,7 +788,7 @@ def _forward(lo, up, H, lam: float, seen: str, held: list | None = None, H2=None
                 held.append(i + 1)         # (the row, from 0, whose speed was held short)
             nxt = short
         ui = (nxt - xi) / two_d
-        if ui < low - 1e-7 * max(1.0, abs(low)):      # (rounding: the network checks every row)
+        if ui < low - 1e-7 * max(1.0, abs(low)) and not _within_rounding(lo, i, xi, ui):
             raise VampcError(f"row {i + 1}: no speed keeps every joint within its limit here "
                              "(the look-ahead found no way through)")
         x[i + 1], u[i] = nxt, ui
@@ -800,6 +800,23 @@ def _forward(lo, up, H, lam: float, seen: str, held: list | None = None, H2=None
         raise VampcError(f"row {stuck[0] + 1}: the arm cannot move on within the limits while still "
                          f"able to stop within the {seen}")
     return x, u, np.concatenate([[0.0], np.cumsum(steps)])
+
+
+def _within_rounding(lo, i: int, x: float, u: float) -> bool:
+    """Whether u keeps row i's lower bounds u d >= n + s x (those `_forward` uses, d > 1e-9) within
+    the rounding of their own terms, compared without dividing by d. A bound of the next row whose
+    d is small but not 1e-9 (a' + 2Δb' near 0: the next row's torque hardly depends on u) divides
+    the rounding of n + s x, two large terms that nearly cancel, by d: on a slow path where every
+    joint turns back at once (q' = 0 at one row) 4.5e-7 of d made 2e-9 of x a 1e-6 miss in u, and
+    the plan said no speed kept the limits, on a path within them as given (a new user's find,
+    2026-12-05). Within 1e-12 of the terms, the torque misses its planned limit (PLAN_MARGIN inside
+    the limit) by far less than that margin."""
+    n, s, d = lo[0][i], lo[1][i], lo[2][i]
+    keep = (d > 1e-9) & np.isfinite(n)
+    with np.errstate(invalid="ignore", over="ignore"):
+        over = np.where(keep, n + s * x - d * u, 0.0)
+        scale = np.where(keep, np.abs(n) + np.abs(s * x) + np.abs(d * u), 0.0)
+    return bool(np.all(over <= 1e-12 * scale))
 
 
 NEAR_STOP = 1e-6        # a next row's fastest x this small against the step's own: braked to a stop
