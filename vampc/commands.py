@@ -1401,6 +1401,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             f"correction {'on' if ld.net.checking is not None else 'off'}"
             + (f" ({len(faults) - len(todo)} run(s) read from {results})"
                if len(todo) < len(faults) else ""))
+    skipped = cp.not_run(ld, own.kind_list()) if own.campaign == "single" else []
+    if skipped:
+        head += "\n  no such fault: " + "; ".join(skipped)
     if overflows:
         # (the runs are classified against torques the word saturated or wrapped: a new user's
         # q4.12 campaign said nothing of the fault-free run's overflows)
@@ -1410,7 +1413,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     if own.fmt == "json":
         text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
                                "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
-                               "reference_overflows": overflows,
+                               "reference_overflows": overflows, "not_run": skipped,
                                "results": results, "summary": summary, "runs": runs}, indent=1)
     elif own.fmt == "csv":
         text = cp.render_csv(runs)
