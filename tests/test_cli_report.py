@@ -281,3 +281,12 @@ def test_the_option_that_decides_what_applies_is_blamed_first(tmp_path):
                    r"^vampc: error: --word q16\.16: .* was compiled with --word float64")
     one_line_error(run("emulate", q16, "--random", "2", "--word", "float64", "--rounding", "truncate"),
                    2, r"--rounding applies to fixed-point words \(qI\.F\) only; --word float64 is not one")
+
+
+def test_clock_help_and_refusal_agree_on_tradeoff():
+    """--clock's help says it does not apply to --tradeoff, which refuses it (it said "adds times
+    ... to every figure" and nothing of the sweep)."""
+    help_text = " ".join(run("report", "--help").stdout.split())
+    assert "torque sets per second to every figure. Does not apply to --tradeoff." in help_text
+    one_line_error(run("report", PLANAR, "--tradeoff", "--clock", "50MHz"), 2,
+                   r"--clock does not apply to --tradeoff \(see")
