@@ -435,3 +435,28 @@ def test_a_chain_listed_out_of_order_keeps_its_tip_load_at_its_end():
     chain = chain_from_dh({"name": "t", "joints": rows, "tip": tip}, "t.yaml")
     assert [j.name for j in chain.joints] == ["a", "b"] and chain.is_chain
     assert list(chain.tip_force) == [0, 10, 0]
+
+
+def test_an_angle_in_degrees_is_warned_about_once(tmp_path):
+    """A DH angle beyond 2π is degrees read as radians, most likely: one warning naming the file,
+    the first such place and how many more (`alpha: 90` was taken as 90 rad without a word)."""
+    from vampc.errors import VampcWarning
+    path = tmp_path / "degrees.yaml"
+    path.write_text(yaml.safe_dump({"name": "x", "joints": [
+        row(), row(alpha=90), row(type="prismatic", alpha=-90, theta=180)]}))
+    with pytest.warns(VampcWarning) as said:
+        chain = load_dh(path)
+    assert [str(w.message) for w in said] == [
+        f"{path}: joints[1].alpha (joint 2): alpha 90 is more than 2π: DH angles are radians "
+        "(90° is 1.5708) (and 2 more)"]
+    assert chain.n == 3                      # (taken as written: a warning, not a refusal)
+
+
+def test_an_angle_within_2pi_is_not_warned_about(tmp_path):
+    import warnings
+    path = tmp_path / "radians.yaml"
+    path.write_text(yaml.safe_dump({"name": "x", "joints": [
+        row(alpha=6), row(theta=-6), row(type="prismatic", alpha=-2 * math.pi, theta=6.2)]}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_dh(path)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +29,7 @@ import numpy as np
 import yaml
 
 from vampc import jsontext
-from vampc.errors import VampcError, located
+from vampc.errors import VampcError, VampcWarning, located
 from vampc.gcpause import gc_paused
 from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES  # noqa: F401 - re-exported, used below
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
@@ -77,6 +78,7 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
                       f"depth-first order: {joints[last].name!r} (row {last + 1}), not the last "
                       f"row's {joints[-1].name!r} (row {len(rows)}); list the loaded link's branch "
                       "last (README, DH table)")
+    _warn_degrees(rows, source)
     return Chain(name=doc["name"], joints=tuple(joints[old] for old in order),
                  gravity=_vec(doc.get("gravity", [0.0, 0.0, -9.81])),
                  base_omega=_vec(base.get("omega", [0, 0, 0])),
@@ -395,6 +397,22 @@ def _finite(value) -> bool:
         return math.isfinite(value)
     except OverflowError:
         return False
+
+
+def _warn_degrees(rows: list, source: str) -> None:
+    """One warning for the constant DH angles (alpha, theta) beyond 2π in size, the first named and
+    the others counted: degrees, most likely, read as radians (`alpha: 90` was 90 rad, unsaid)."""
+    found = [(i, key) for i, row in enumerate(rows) for key in ("alpha", "theta")
+             if abs(float(row[key])) > 2 * math.pi]
+    if not found:
+        return
+    i, key = found[0]
+    value = float(rows[i][key])
+    more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
+    warnings.warn(VampcWarning(f"{source}: {_where(('joints', i, key))}: {key} {value:g} is "
+                               f"{'more than 2π' if value > 0 else 'less than -2π'}: DH angles are "
+                               f"radians ({value:g}° is {math.radians(value):.5g}){more}"),
+                  stacklevel=3)
 
 
 def _check_names(rows: list, source: str) -> None:
