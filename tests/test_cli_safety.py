@@ -1187,6 +1187,30 @@ def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
     assert victim.read_bytes() == before
 
 
+@pytest.mark.parametrize("stdin", [False, True], ids=["named", "standard-input"])
+def test_standard_output_onto_an_input_says_the_shell_emptied_it(tmp_path, stdin):
+    """`vampc precision a.yaml > a.yaml`: the shell empties a.yaml before vampc starts, so "vampc
+    never writes over its inputs" alone read as if the file were safe; the refusal says it is empty
+    now. (An input read through standard input, `--trajectory - < t.csv > t.csv`, likewise.)"""
+    import subprocess
+    import sys
+    robot = tmp_path / "planar2.yaml"
+    robot.write_bytes(PLANAR.read_bytes())
+    victim = tmp_path / "traj.csv" if stdin else robot
+    victim.write_text("")                                  # as `>` leaves it
+    args = ["emulate", str(robot), "--trajectory", "-"] if stdin else ["precision", str(robot)]
+    with open(victim, "rb") as given, open(victim, "wb") as fh:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdin=given, stdout=fh,
+                              stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    said = ("standard output is the file standard input reads (an input given as -, redirected "
+            "onto it)" if stdin else f"{robot}: standard output is this input file (redirected "
+            "onto it)")
+    assert done.returncode == 1 and done.stderr == (
+        f"vampc: error: {said}; vampc never writes over its inputs: send standard output "
+        "elsewhere (the file is empty now: the shell empties a file it redirects to with > before "
+        "vampc starts)\n"), done.stderr
+
+
 @pytest.mark.parametrize("args, name", [
     (["compile", PLANAR], "planar.vamp.json.gz/"),
     (["emulate", "PROGRAM", "--random", "2"], "tau.npy/"),

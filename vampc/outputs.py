@@ -71,7 +71,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     if stdin is not None and _same_stat(stdin, sys.stdout):
         raise VampcError("standard output is the file standard input reads (an input given as -, "
                          "redirected onto it); vampc never writes over its inputs: send standard "
-                         "output elsewhere")
+                         "output elsewhere" + _emptied(stdin))
     planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
         if path is None:
@@ -238,7 +238,16 @@ def _refuse_stdout_input(inputs: list[Path]) -> None:
     for src in inputs:
         if _same_stat(there, src):
             raise VampcError(f"{src}: standard output is this input file (redirected onto it); "
-                             "vampc never writes over its inputs: send standard output elsewhere")
+                             "vampc never writes over its inputs: send standard output elsewhere"
+                             + _emptied(there))
+
+
+def _emptied(here: os.stat_result) -> str:
+    """What to add to the refusal of standard output onto an input when that input is empty now:
+    `vampc precision a.urdf > a.urdf` had its input emptied by the shell before vampc started, and
+    "never writes over its inputs" read as if the file were safe."""
+    return (" (the file is empty now: the shell empties a file it redirects to with > before "
+            "vampc starts)") if here.st_size == 0 else ""
 
 
 def _same(a: PlannedOutput, b: PlannedOutput) -> bool:
