@@ -165,3 +165,29 @@ def test_faults_on_the_command_line(tmp_path):
     assert res.exit_code == 1 and len(res.stderr.splitlines()) == 1, res.stderr
     assert "float64 overflow under the injected fault)" in res.stderr, res.stderr
     assert "robot's or the state's numbers" not in res.stderr
+
+
+@pytest.mark.parametrize("specs,says", [
+    (("vamp=5,stuck=result.z:62,value=1", "vamp=5,stuck=result.z:62,value=0"), "same bit of VAMP 5"),
+    (("vamp=5,dead", "vamp=5,stuck=result.z:62,value=1"), "a dead VAMP has no other fault"),
+    (("vamp=5,stuck=a.x:3", "vamp=5,flip=a.0:3,at=4"), "same bit of VAMP 5"),
+    (("vamp=5,flip=a.x:3,at=4", "at=4,vamp=5,flip=a.x:3"), "two flips of the same bit"),
+    (("vamp=5,dead", "vamp=5,dead"), "given twice"),
+])
+def test_conflicting_faults_are_usage_errors(tmp_path, specs, says):
+    """Two faults whose outcome depends on their order (the last given had won in silence: a
+    stuck-at 1 and a stuck-at 0 on one bit, a dead VAMP and a stuck bit on it) are refused, naming
+    both; faults on other VAMPs or bits, or flips of one bit at other ticks, run."""
+    prog = tmp_path / "p.vamp.json"
+    run = CliRunner().invoke
+    assert run(main, ["compile", "examples/planar2.yaml", "-o", str(prog)]).exit_code == 0
+    args = ["emulate", str(prog), "--random", "2", "--engine", "tick", "-o", str(tmp_path / "t.csv")]
+    res = run(main, args + [x for spec in specs for x in ("--fault", spec)])
+    assert res.exit_code == 2 and len(res.stderr.splitlines()) == 1, res.stderr
+    assert says in res.stderr and specs[0] in res.stderr and res.stdout == ""
+    assert not (tmp_path / "t.csv").exists()
+    for fine in (("vamp=5,stuck=result.z:62,value=1", "vamp=6,stuck=result.z:62,value=0"),
+                 ("vamp=5,stuck=result.z:62,value=1", "vamp=5,stuck=result.z:61,value=0"),
+                 ("vamp=5,flip=a.x:3,at=4", "vamp=5,flip=a.x:3,at=8")):
+        res = run(main, args + [x for spec in fine for x in ("--fault", spec)])
+        assert res.exit_code == 0, res.stderr

@@ -116,6 +116,31 @@ def parse_fault(text: str) -> Fault:
                  at or 0, rate, text)
 
 
+def check_conflicts(faults) -> None:
+    """ValueError naming two faults whose effect would depend on the order they are given in (the
+    engine applies them in turn, so the last had won in silence): two on one VAMP when either is
+    dead, two on one register bit of one VAMP when either is stuck, two flips of one bit at one tick
+    (which cancel); a fault given twice is one of these."""
+    for k, f in enumerate(faults):
+        for g in faults[:k]:
+            if f.vamp != g.vamp:
+                continue
+            both = f"--fault {g.text!r} and --fault {f.text!r}"
+            if f.text == g.text:
+                raise ValueError(f"--fault {f.text!r} given twice (a fault is injected once)")
+            if "dead" in (f.kind, g.kind):
+                raise ValueError(f"{both}: a dead VAMP has no other fault (its outputs are "
+                                 f"tri-stated); give one of them for VAMP {f.vamp}")
+            if (f.register, f.component, f.slot, f.bit) != (g.register, g.component, g.slot, g.bit):
+                continue
+            if "stuck" in (f.kind, g.kind):
+                raise ValueError(f"{both}: both on the same bit of VAMP {f.vamp}, where the one "
+                                 "given last would win; give one of them")
+            if f.at == g.at:
+                raise ValueError(f"{both}: two flips of the same bit of VAMP {f.vamp} at one tick "
+                                 "cancel; give one of them")
+
+
 def _whole(value: str, key: str, text: str) -> int:
     if not ascii_digits(value):
         raise ValueError(f"--fault {text!r}: {key}={value!r} is not a whole number")
