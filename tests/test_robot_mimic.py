@@ -220,6 +220,22 @@ def test_couple_without_mimic_joints_warns(tmp_path):
         assert load_urdf(path, mimic="couple").mimic == ()
 
 
+def test_an_explicit_mimic_ordinary_without_mimic_joints_warns(tmp_path):
+    """--mimic ordinary, given, on a file without <mimic> was taken in silence where --mimic couple
+    warned that it has no effect (an audit's find); by default nothing is said, and a file with
+    mimic joints is told how they are read, not that the option did nothing."""
+    runner = CliRunner()
+    out = tmp_path / "u.vamp.json"
+    said = "no joint has a <mimic>; --mimic ordinary has no effect"
+    r = runner.invoke(main, ["compile", "examples/ur5.urdf", "--mimic", "ordinary", "-o", str(out)])
+    assert r.exit_code == 0 and said in r.stderr, r.stderr
+    r = runner.invoke(main, ["compile", "examples/ur5.urdf", "-o", str(out)])
+    assert r.exit_code == 0 and "mimic" not in r.stderr, r.stderr
+    path = write(tmp_path, COUPLED)
+    r = runner.invoke(main, ["compile", str(path), "--mimic", "ordinary", "-o", str(out)])
+    assert r.exit_code == 0 and "has no effect" not in r.stderr and "taken as ordinary" in r.stderr
+
+
 def test_trajectory_messages_name_the_files_columns(tmp_path):
     """With 4 independent joints in the file, a fixed-point overflow in the file's qd4 (t1) is named
     qd4, and one of t2 = 3 t1, derived from it, says so (the review found 'column qd5' for a 4-column

@@ -65,7 +65,8 @@ def load_chain(robot: str, options: CompileOptions, robot_opts: RobotOptions):
     robot_opts.check(robot)
     return load_robot(robot, base=robot_opts.base, tip=robot_opts.tip, lock=robot_opts.locks(),
                       floating=robot_opts.floating_base, mimic=robot_opts.mimic,
-                      accept_improper_inertia=robot_opts.accept_improper_inertia)
+                      accept_improper_inertia=robot_opts.accept_improper_inertia,
+                      mimic_given="mimic" in robot_opts.given)
 
 
 def compile_robot(robot: str, options: CompileOptions, robot_opts: RobotOptions = RobotOptions(),

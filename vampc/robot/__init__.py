@@ -31,14 +31,17 @@ __all__ = ["Chain", "Joint", "JointType", "Limits", "chain_from_dh", "load_dh", 
 
 def load_robot(path, base: str | None = None, tip: str | None = None,
                lock: dict[str, float] | None = None, floating: bool = False,
-               mimic: str = "ordinary", accept_improper_inertia: bool = False) -> Chain:
+               mimic: str = "ordinary", accept_improper_inertia: bool = False,
+               mimic_given: bool = False) -> Chain:
     """Load a robot description as a Chain (a tree when the file is one); base, tip and lock select and
     freeze joints of a URDF tree; `floating` lets the base float (vampc.robot.chain); `mimic` says how
-    a URDF's mimic joints are read and `accept_improper_inertia` whether an inertia that is not
+    a URDF's mimic joints are read (`mimic_given`: the user named it, so a file without mimic joints
+    warns that it has no effect) and `accept_improper_inertia` whether an inertia that is not
     positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
     import numpy as np
     with np.errstate(over="ignore", invalid="ignore"):      # (overflows are said below, by joint)
-        chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia)
+        chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia,
+                      mimic_given)
     _check_finite(chain, path)
     _check_names(chain, path)
     return chain
@@ -67,7 +70,8 @@ def _check_finite(chain: Chain, path) -> None:
                               "once the file's links are combined (numbers too large for a float)")
 
 
-def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improper_inertia: bool):
+def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improper_inertia: bool,
+          mimic_given: bool = False):
     from vampc.robot.dh import load_dh
     from vampc.robot.mjcf import is_mjcf, load_mjcf
     from vampc.robot.urdf import load_urdf
@@ -82,10 +86,11 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
             raise located(path, "", mismatch)
     if suffix == ".xml" and is_mjcf(path):
         return load_mjcf(path, base=base, tip=tip, lock=lock, floating=floating,
-                         accept_improper_inertia=accept_improper_inertia, mimic=mimic)
+                         accept_improper_inertia=accept_improper_inertia, mimic=mimic,
+                         mimic_given=mimic_given)
     if suffix in URDF_SUFFIXES:
         return load_urdf(path, base=base, tip=tip, lock=lock, floating=floating, mimic=mimic,
-                         accept_improper_inertia=accept_improper_inertia)
+                         accept_improper_inertia=accept_improper_inertia, mimic_given=mimic_given)
     if suffix in YAML_SUFFIXES + JSON_SUFFIXES:
         if base is not None or tip is not None or lock or mimic != "ordinary" or accept_improper_inertia:
             raise located(path, "", "base, tip, lock, mimic and accept_improper_inertia apply to URDF and "

@@ -106,7 +106,8 @@ def is_mjcf(path) -> bool:
 
 def load_mjcf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None, floating: bool = False,
-              accept_improper_inertia: bool = False, mimic: str = "ordinary") -> object:
+              accept_improper_inertia: bool = False, mimic: str = "ordinary",
+              mimic_given: bool = False) -> object:
     """Read an MJCF file as a Chain (see the module docstring); base, tip, lock, floating and mimic
     as vampc.robot.urdf.load_urdf takes them (links are MuJoCo's bodies; joint equalities are its
     mimic joints)."""
@@ -135,7 +136,8 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                          # (an equality holding a joint is --mimic couple's doing too: it warned
                          # "no joint has a <mimic>" of a model whose equality it had just locked)
                          # (nor of one whose follower above the base it placed, turning gravity)
-                         mimic_said=None if held or placed else "joint equality (<equality><joint>)")
+                         mimic_said=None if held or placed else "joint equality (<equality><joint>)",
+                         mimic_given=mimic_given)
         if turned:                   # (said once the robot is made: an error comes alone)
             warnings.warn(VampcWarning(turned), stacklevel=2)
         for message in heard:

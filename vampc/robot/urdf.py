@@ -74,7 +74,8 @@ _IDENTITY.flags.writeable = False  # shared by every missing <origin> and every 
 
 def load_urdf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None, floating: bool = False,
-              mimic: str = "ordinary", accept_improper_inertia: bool = False) -> Chain:
+              mimic: str = "ordinary", accept_improper_inertia: bool = False,
+              mimic_given: bool = False) -> Chain:
     """Read a URDF and return its robot: the chain of movable joints from link `base` (default: the root)
     to link `tip` when `tip` is given or the movable joints form one branch, else the whole tree (every
     movable joint below `base`, numbered depth-first, children in Pinocchio's order: vampc.robot.urdf_tree).
@@ -82,7 +83,8 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     joint off the chain freezes everything below it too. Locking a fixed joint has no effect and warns
     (VampcWarning). `floating`, or a root joint of type floating, lets the base link float. `mimic`:
     "ordinary" reads a `<mimic>` joint as an ordinary joint (Pinocchio's default), "couple" couples it
-    to its leader (vampc.robot.mimic; a follower of a locked leader is locked with it).
+    to its leader (vampc.robot.mimic; a follower of a locked leader is locked with it); either, when
+    `mimic_given` (the user named it), warns that it has no effect on a file without mimic joints.
     `accept_improper_inertia` takes an inertia that is not positive semi-definite as written, with a
     warning naming the link, however far it misses (Pinocchio does not check)."""
     path = Path(path)
@@ -91,7 +93,7 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
         robot = _read_robot(path)
         return chain_of(robot, Tree.build(robot, path), path, base, tip, lock, floating, mimic,
-                        accept_improper_inertia)
+                        accept_improper_inertia, mimic_given=mimic_given)
 
 
 def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, leaders: dict,
@@ -145,26 +147,33 @@ MIMIC_MODES = ("ordinary", "couple")
 
 def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
              lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
-             accept_improper_inertia: bool = False, mimic_said: str | None = "<mimic>") -> Chain:
+             accept_improper_inertia: bool = False, mimic_said: str | None = "<mimic>",
+             mimic_given: bool = False) -> Chain:
     """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
     too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them.
     `mimic_said`: what a file's mimic joints are called, for the warning that --mimic couple finds
-    none (None: no warning, the caller's --mimic couple has done something already)."""
+    none (None: no warning, the caller's --mimic couple has done something already); `mimic_given`:
+    the user named --mimic (an explicit --mimic ordinary warns so too)."""
     token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
     try:
-        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said)
+        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said, mimic_given)
     finally:
         _ACCEPT_IMPROPER.reset(token)
 
 
 def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               lock: dict[str, float] | None, floating: bool, mimic: str,
-              mimic_said: str | None = "<mimic>") -> Chain:
+              mimic_said: str | None = "<mimic>", mimic_given: bool = False) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic == "couple" and not leaders and not problems and mimic_said:
         warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic couple has no "
+                                   "effect"), stacklevel=3)
+    # (an explicit --mimic ordinary on a file without mimic joints was taken in silence)
+    if mimic == "ordinary" and mimic_given and mimic_said and \
+            not any(j.mimic is not None and j.type in MOVABLE for j in tree.joints.values()):
+        warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic ordinary has no "
                                    "effect"), stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
