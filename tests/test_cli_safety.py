@@ -265,6 +265,28 @@ def test_a_full_device_is_one_line(program, option):
     user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
 
 
+@pytest.mark.parametrize("command,option", [("emulate", "-o"), ("emulate", "--vcd"),
+                                            ("emulate", "--save-states"), ("lookahead", "--torques"),
+                                            ("lookahead", "-o")])
+def test_a_full_device_prints_no_result(tmp_path, program, command, option):
+    """An output that cannot be written ends the run with its error alone: the emulation's summary
+    line and lookahead's violations report were on standard output before it (an audit's find;
+    compile -o and report --timing already said nothing)."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    if command == "emulate":
+        extra = ["--engine", "tick"] if option == "--vcd" else []
+        res = run("emulate", program, "--random", 2, option, "/dev/full", *extra)
+    else:
+        puma = tmp_path / "puma.vamp.json"
+        assert run("compile", EXAMPLES / "puma560.yaml", "-o", puma).exit_code == 0
+        res = run("lookahead", puma, "--trajectory", EXAMPLES / "puma560-path.csv", "--rate", "1kHz",
+                  "--window", 8, "--limits", EXAMPLES / "puma560-limits.csv", option, "/dev/full",
+                  *(["--retime", "uniform"] if option == "-o" else []))
+    user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
+    assert res.stdout == "", res.stdout
+
+
 @pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])
 def test_a_full_disk_leaves_nothing_partial(tmp_path, program, monkeypatch, option):
     out = tmp_path / ("w.vcd" if option == "--vcd" else "out.csv")

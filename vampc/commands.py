@@ -305,12 +305,6 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                           check=own.check_torques, sink=sinks.chunk, progress=bar,
                           faults=tuple(parse_fault(text) for text in own.fault))
         sinks.finish_vcd()
-        say(emulation_line(outcome, time.perf_counter() - begun), info)
-        if outcome.checking is not None:
-            say(checking_line(ld, outcome), info)
-        elif ld.net.checking is not None:       # (it said nothing: --error-correction looked taken)
-            say("error correction: not run by the stream engine, which computes the same torques "
-                "without it; --engine tick runs the checking (README, Error correction)", info)
         word = ld.arith
         if ld.word is None:
             ok = outcome.check is None or (outcome.check.ok if own.tolerance is None else
@@ -319,7 +313,18 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
             tolerance = own.tolerance or default_tolerance(word)
             ok = outcome.check is None or (outcome.check.overall <= tolerance
                                            and not outcome.overflows)
-        sinks.finish(ok, own.write_failed, lambda text: say(text, True))
+        # every output in place before a line is said: a file that cannot be written (-o /dev/full)
+        # ends the run with its error alone (the summary had gone out before it)
+        notes: list[str] = []
+        sinks.finish(ok, own.write_failed, notes.append)
+        say(emulation_line(outcome, time.perf_counter() - begun), info)
+        if outcome.checking is not None:
+            say(checking_line(ld, outcome), info)
+        elif ld.net.checking is not None:       # (it said nothing: --error-correction looked taken)
+            say("error correction: not run by the stream engine, which computes the same torques "
+                "without it; --engine tick runs the checking (README, Error correction)", info)
+        for note in notes:
+            say(note, True)
     except VampcError as exc:
         sinks.discard()
         from vampc.emulator.driver import STOPPED
@@ -981,6 +986,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc.emulator.host import check_torques, read_trajectory
     from vampc.outputs import named_file, plan_outputs
     own.check()
+    told: list[tuple[str, bool]] = []     # said once every output is written (below)
+
+    def tell(text: str, err: bool = False) -> None:
+        told.append((text, err))
+
     rate = own.rate_hz()
     clock = own.clock_hz()
     outs = plan_outputs([source, own.trajectory, own.accelerations, named_file(own.limits)],
@@ -1078,7 +1088,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                              f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
                              f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
         late, early = _in_time(source, ld, own, clock, need, seen, step)
-        say(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
+        tell(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
             f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
             f"torques come {late * 1e6:.4g} µs after it enters (the latency, {late / lam:.3g} λ, "
             f"with its {need} pass{'es' * (need != 1)}), {(early - late) * 1e6:.4g} µs before the "
@@ -1086,7 +1096,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             info)
     if disagree is not None:
         warnings.warn(VampcWarning(disagree), stacklevel=1)
-    say(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
+    tell(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
     failed = []                           # what failed: the retiming, the check
@@ -1096,7 +1106,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             judged = "the violations and the retiming" if res.retimed is not None else "the violations"
             spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
                        "FAILED (a wider word: vampc precision)")
-        say(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
+        tell(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
     if res.retimed_violations or res.arriving_violations:   # the network finds a row over: failed
         failed.append("retiming")
     if own.check_torques:
@@ -1135,7 +1145,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 worst = max((abs(v.value) / v.limit for v in arrived), default=0.0)
                 line += (f"; with the s̈ arriving at each row: {count(len(arrived), 'violation')}"
                          + (f" (worst {ratio_text(worst)} × a limit) FAILED" if arrived else ""))
-        say(line, info)
+        tell(line, info)
         if not same or within or arrived:
             failed.append("check")
     ok = not failed and not overflowed
@@ -1150,13 +1160,17 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     kept = [] if ok or own.write_failed else \
         [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
     for option in kept:
-        say(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
+        tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
             "unchanged; --write-failed replaces it anyway)", True)
     from vampc.outputs import write_together
     write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
     if not ok:
         for option in (o for o in outs if o not in kept):
-            say(f"{option} {outs[option].path} written although {why}", True)
+            tell(f"{option} {outs[option].path} written although {why}", True)
+    # (the report had gone out before an output that could not be written: --torques /dev/full
+    # ended with exit status 1 after it)
+    for text, err in told:
+        say(text, err)
     return ok
 
 
