@@ -337,6 +337,37 @@ def test_a_program_file_named_as_something_else_is_warned_of(tmp_path):
         assert (said in r.stderr) == warned and len(r.stderr.splitlines()) == int(warned), r.stderr
 
 
+def test_data_outputs_named_as_another_format_are_warned_of(tmp_path):
+    """emulate -o t.json (CSV written), --save-states s.json, --vcd v.svg, lookahead --torques
+    tq.json and -o o.svg, faults --format json -o f.csv and --format csv -o f.json were written
+    without a word, where compile -o and the pictures warn (an audit's find). A table (CSV) is
+    warned of under another format's name only: .txt or .dat is a table's name too."""
+    program, puma = tmp_path / "p.vamp.json", tmp_path / "puma.vamp.json"
+    assert run("compile", str(EXAMPLES / "planar2.yaml"), "-o", program).exit_code == 0
+    assert run("compile", str(EXAMPLES / "puma560.yaml"), "-o", puma).exit_code == 0
+    path = ["--trajectory", str(EXAMPLES / "puma560-path.csv"), "--rate", "1kHz", "--window", "8",
+            "--limits", str(EXAMPLES / "puma560-limits.csv")]
+    emulate = ["emulate", str(program), "--random", "2"]
+    faults = ["faults", str(program), "--campaign", "random", "--count", "2", "--sets", "2",
+              "--results", str(tmp_path / "r.jsonl")]
+    for args, option, name, kind, right in (
+            (emulate, "-o", "t.json", "CSV", ".csv"), (emulate, "-o", "t.txt", None, None),
+            (emulate, "-o", "t.npy", None, None), (emulate, "--save-states", "s.json", "CSV", ".csv"),
+            (emulate + ["--engine", "tick"], "--vcd", "v.svg", "VCD", ".vcd"),
+            (emulate + ["--engine", "tick"], "--vcd", "v.vcd", None, None),
+            (["lookahead", str(puma)] + path, "--torques", "tq.json", "CSV", ".csv"),
+            (["lookahead", str(puma)] + path, "--torques", "tq.dat", None, None),
+            (["lookahead", str(puma), "--retime", "uniform"] + path, "-o", "o.svg", "CSV", ".csv"),
+            (faults + ["--format", "json"], "-o", "f.csv", "JSON", ".json"),
+            (faults + ["--format", "csv"], "-o", "f.json", "CSV", ".csv"),
+            (faults + ["--format", "csv"], "-o", "f.csv", None, None)):
+        (tmp_path / "r.jsonl").unlink(missing_ok=True)
+        r = run(*args, option, tmp_path / name)
+        assert r.exit_code == 0 and (tmp_path / name).exists(), (args, name, r.stderr)
+        said = f"vampc: warning: {option} {tmp_path / name}: writes {kind}, whatever the name says (name it {right})"
+        assert (said in r.stderr) if kind else "whatever the name says" not in r.stderr, (name, r.stderr)
+
+
 def test_the_command_list_gives_each_command_whole():
     """`vampc --help` cut each command's description at "..." (a new user's find): a one-line
     summary each, none cut."""

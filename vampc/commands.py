@@ -271,12 +271,14 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     from vampc.emulator.driver import States, run
     from vampc.emulator.faults import parse_fault
     from vampc.emulator.host import check_limits, check_word_range, read_trajectory
-    from vampc.outputs import plan_outputs
+    from vampc.outputs import CSV_TABLE, plan_outputs
     begun = time.perf_counter()
     own.check()
+    table = ("CSV", (".csv", ".npy"), CSV_TABLE[2])       # (a name ending in .npy: a NumPy array)
     outs = plan_outputs([source, own.trajectory], {"-o": own.output, "--vcd": own.vcd,
                                                    "--save-states": own.save_states},
-                        stdout_ok=("-o", "--vcd", "--save-states"))
+                        stdout_ok=("-o", "--vcd", "--save-states"),
+                        writes={"-o": table, "--save-states": table, "--vcd": ("VCD", (".vcd",))})
     ld = loaded(source, options, robot_opts, params)
     warn_what_if(source, ld, "it is emulated in")
     bits = getattr(ld.arith, "bits", 0)
@@ -984,7 +986,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc import lookahead as la
     from vampc.emulator import emulate
     from vampc.emulator.host import check_torques, read_trajectory
-    from vampc.outputs import named_file, plan_outputs
+    from vampc.outputs import CSV_TABLE, named_file, plan_outputs
     own.check()
     told: list[tuple[str, bool]] = []     # said once every output is written (below)
 
@@ -995,7 +997,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     clock = own.clock_hz()
     outs = plan_outputs([source, own.trajectory, own.accelerations, named_file(own.limits)],
                         {"-o": own.output, "--torques": own.torques, "--plot": own.plot},
-                        stdout_ok=("-o", "--torques"))
+                        stdout_ok=("-o", "--torques"), writes={"-o": CSV_TABLE, "--torques": CSV_TABLE})
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
@@ -1336,11 +1338,14 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     from vampc.emulator import campaign as cp
     from vampc.emulator.driver import random_states
     from vampc.emulator.host import port_values
-    from vampc.outputs import plan_outputs, write_output
+    from vampc.outputs import CSV_TABLE, plan_outputs, write_output
     from vampc.sniff import is_program
     own.check()
     results = own.results or f"{_stem(source)}.{own.campaign}.faults.jsonl"
-    outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",))
+    report = {"json": ("JSON", (".json",)), "csv": CSV_TABLE,
+              "text": ("text", (".txt",), CSV_TABLE[2])}[own.fmt]
+    outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",),
+                        writes={"-o": report})
     ld = loaded(source, options, robot_opts, params)
     sets = own.sets or cp.default_sets(ld)
     from vampc.emulator.driver import tick_memory_check

@@ -561,12 +561,24 @@ WRITES = {"--timing": ("SVG", (".svg",)), "--network": ("SVG", (".svg",)),
           "--html": ("HTML", (".html", ".htm")), "--dot": ("Graphviz DOT", (".dot", ".gv"))}
 
 
+# names that say a format: a table (CSV) or text going to one of them is warned of (t.json gets
+# CSV), to a name of none (.txt, .dat, no suffix), as tables often have, is not
+OTHER_FORMATS = (".json", ".jsonl", ".yaml", ".yml", ".xml", ".urdf", ".html", ".htm", ".svg",
+                 ".png", ".jpg", ".jpeg", ".pdf", ".dot", ".gv", ".vcd", ".v", ".sv", ".npy", ".npz",
+                 ".csv")
+CSV_TABLE = ("CSV", (".csv",), OTHER_FORMATS)
+
+
 def _warn_suffix(option: str, path: str, writes: dict) -> None:
-    """A one-line warning when an output goes to a name that says otherwise (x.png gets SVG)."""
+    """A one-line warning when an output goes to a name that says otherwise (x.png gets SVG). An
+    entry of `writes` with a third item, the names of other formats, is warned of only for those
+    (CSV_TABLE: a table named .txt or .dat is not misnamed)."""
     import warnings
 
     from vampc.errors import VampcWarning
     kind = writes.get(option)
-    if kind and path.strip() not in ("", "-") and not path.lower().endswith(kind[1]):
+    name = path.lower()
+    if kind and path.strip() not in ("", "-") and not name.endswith(kind[1]) and \
+            (len(kind) < 3 or name.endswith(kind[2])):
         warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
                                    f"(name it {kind[1][0]})"))
