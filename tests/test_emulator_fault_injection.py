@@ -191,3 +191,16 @@ def test_conflicting_faults_are_usage_errors(tmp_path, specs, says):
                  ("vamp=5,flip=a.x:3,at=4", "vamp=5,flip=a.x:3,at=8")):
         res = run(main, args + [x for spec in fine for x in ("--fault", spec)])
         assert res.exit_code == 0, res.stderr
+
+
+def test_every_fault_example_of_the_help_is_taken():
+    """`emulate --help` gave `rate=0.1` as a --fault example, which is refused ("give one of
+    stuck=REG:BIT, flip=REG:BIT or dead": rate= makes a stuck fault intermittent; an audit's
+    find): each example it gives parses."""
+    import re
+    res = CliRunner().invoke(main, ["emulate", "--help"], terminal_width=1000)
+    text = res.output.split("--fault SPEC", 1)[1].split("repeatable", 1)[0]
+    examples = re.findall(r"(\S+=\S+) \(", text)
+    assert len(examples) == 4, examples
+    for spec in examples:
+        assert parse_fault(spec).vamp >= 0, spec

@@ -552,8 +552,8 @@ class EmulateOptions:
     fault: tuple = field(default=(), metadata=cli(
         "--fault", multiple=True, metavar="SPEC", help="Tick engine: inject a fault, e.g. "
         "vamp=37,stuck=result.z:62,value=1,at=300 (a stuck bit), vamp=5,flip=a.x:51,at=120 (one "
-        "bit flipped once), vamp=9,dead (outputs tri-stated), rate=0.1 (a stuck fault in a random "
-        "tenth of the cycles); repeatable. README, Faults."))
+        "bit flipped once), vamp=9,dead (outputs tri-stated), vamp=60,stuck=a.0:50,rate=0.1 (a "
+        "stuck bit in a random tenth of the cycles); repeatable. README, Faults."))
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="Write torques as CSV: a t column if the "
         "trajectory has one, then tau_<joint name> per joint (N·m revolute, N prismatic); - for "
