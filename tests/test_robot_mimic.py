@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from conftest import EXAMPLES
 from errors_util import assert_error
 from pinocchio_util import load_pin_urdf, pin_torques
 from test_robot_urdf import joint, link, robot, write
@@ -234,6 +235,27 @@ def test_an_explicit_mimic_ordinary_without_mimic_joints_warns(tmp_path):
     path = write(tmp_path, COUPLED)
     r = runner.invoke(main, ["compile", str(path), "--mimic", "ordinary", "-o", str(out)])
     assert r.exit_code == 0 and "has no effect" not in r.stderr and "taken as ordinary" in r.stderr
+
+
+def test_a_coupled_follower_below_the_tip_is_locked_by_its_leader(tmp_path):
+    """A coupled follower that moves below --tip was to be locked with --lock FOLLOWER=VALUE, which
+    is refused ("lock 'LEADER' instead"; an audit's find): the advice names the leader, and taking
+    it compiles. Without --mimic couple the follower is an ordinary joint, locked by its own name."""
+    import re
+    text = (EXAMPLES / "ur5.urdf").read_text()
+    end = text.index("</joint>", text.index('<joint name="wrist_3_joint"'))
+    path = tmp_path / "ur5mimic.urdf"
+    path.write_text(text[:end] + '<mimic joint="wrist_2_joint"/>' + text[end:])
+    runner = CliRunner()
+    for mimic, lock in (("couple", "wrist_2_joint"), ("ordinary", "wrist_3_joint")):
+        args = ["compile", str(path), "--mimic", mimic, "--tip", "wrist_2_link", "-o",
+                str(tmp_path / "u.vamp.json")]
+        r = runner.invoke(main, args)
+        assert r.exit_code == 1, r.stderr
+        said = re.search(r"--lock (\S+)=VALUE", r.stderr)
+        assert said and said[1] == lock, r.stderr
+        r = runner.invoke(main, args + ["--lock", f"{lock}=0"])
+        assert r.exit_code == 0, r.stderr
 
 
 def test_trajectory_messages_name_the_files_columns(tmp_path):

@@ -194,7 +194,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
         route = tree.route(base, tip)
         joints = [j for j in route if j.type in MOVABLE and j.name not in lock]
         _check_chain(joints, base, tip, path)
-        frames, body_of = _bodies(tree, base, joints, {j.name for j in route}, lock, path, tip)
+        frames, body_of = _bodies(tree, base, joints, {j.name for j in route}, lock, path, tip, leaders)
         chain = build_tree(robot.name, tree, joints, list(range(len(joints))), frames, body_of, True, path,
                            leaf_link=tip) if floating else \
             _build(robot.name, tree, joints, frames, body_of, tip, path)
@@ -549,12 +549,13 @@ def _check_mimics(joints, tree: Tree, path: Path) -> None:
 # --- rigid bodies ------------------------------------------------------------------------------------
 
 def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Path,
-            tip: str | None = None):
+            tip: str | None = None, leaders: dict | None = None):
     """Assign every link below `base` to a body 0..n (the chain link it is rigidly attached to) and give its
     pose in that body's reference frame (body 0: the base link; body k: the child link of chain joint k).
 
     Off-chain joints must be fixed, locked or below a locked off-chain joint (frozen at their lock value
-    or 0); any other movable joint branches off the chain and is refused."""
+    or 0); any other movable joint branches off the chain and is refused (`leaders`: --mimic couple's
+    followers, which are locked by their leader's --lock, not their own)."""
     index = {j.name: k for k, j in enumerate(chain, 1)}
     frames, body_of, stray, at_zero, beyond = {base: _IDENTITY}, {base: 0}, [], [], set()
     stack = [(base, False, base == tip)]
@@ -581,13 +582,19 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
     if stray:
         stray.sort(key=order)
         more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
+        # (a coupled follower is locked by its leader: "lock it with --lock FOLLOWER=VALUE" was
+        # then refused, "lock 'LEADER' instead"; an audit's find)
+        leader = (leaders or {}).get(stray[0], (None,))[0]
+        lock_it = (f"lock it with --lock {stray[0]}=VALUE" if leader is None else
+                   f"lock its leader with --lock {leader}=VALUE (it follows joint '{leader}', "
+                   "--mimic couple)")
         if stray[0] in beyond:
             raise located(path, "", f"joint '{stray[0]}' moves below the tip link '{tip}'; choose a tip "
-                                    f"further out or lock it with --lock {stray[0]}=VALUE{more}")
+                                    f"further out or {lock_it}{more}")
         # (it said "or choose --tip" to a user who had: a tip is given whenever joints stray here,
         # for without one a robot of several branches is taken whole, as a tree)
         raise located(path, "", f"joint '{stray[0]}' branches off the chain from base link '{base}' to "
-                                f"tip link '{tip}'; lock it with --lock {stray[0]}=VALUE{more}, or "
+                                f"tip link '{tip}'; {lock_it}{more}, or "
                                 "leave out --tip to take the whole robot (a tree)")
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
         at_zero.sort(key=order)
