@@ -1383,6 +1383,29 @@ def test_an_output_onto_the_file_standard_input_reads_is_refused(tmp_path, outs)
     assert states.read_text() == before and not (tmp_path / "tau.csv").exists()
 
 
+@pytest.mark.parametrize("name", ["/dev/stdin", "/dev/fd/0", "/proc/self/fd/0", "link"])
+def test_an_output_named_as_standard_input_is_refused(tmp_path, name):
+    """`vampc emulate p --random 2 -o /dev/stdin < keep.csv` replaced keep.csv with the torques
+    (through /proc/self/fd/0), exit 0 (an audit's find): an output naming standard input, or a
+    symlink to it, is a usage error, the file unchanged."""
+    import subprocess
+    import sys
+    if not os.path.exists("/dev/stdin") or not os.path.exists("/proc/self/fd/0"):
+        pytest.skip("no /dev/stdin or /proc here")
+    keep = tmp_path / "keep.csv"
+    keep.write_text("keep\n")
+    if name == "link":
+        name = str(tmp_path / "link")
+        os.symlink("/dev/stdin", name)
+    with open(keep) as stdin:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(PLANAR), "--random",
+                               "2", "-o", name], stdin=stdin, capture_output=True, text=True,
+                              timeout=120)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert f"-o {name}: that is standard input" in done.stderr and done.stdout == ""
+    assert keep.read_text() == "keep\n"
+
+
 def test_standard_input_or_output_closed_beside_an_input_given_as_dash(tmp_path):
     """With standard output closed, the check of standard input's file crashed (os.stat(None): exit
     3; a review's find); with standard input closed, --trajectory - crashed (sys.stdin None). A file

@@ -98,6 +98,11 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
             raise VampcUsageError(f"{option} -: standard output is not available for this output")
         need_stdout(f"{option} -")
         return PlannedOutput(option, path, "stdout", None)
+    if _names_stdin(path):
+        # (through /proc/self/fd/0 it is the file the shell redirected into the command: `-o
+        # /dev/stdin < keep.csv` replaced keep.csv with the torques, exit status 0)
+        raise VampcUsageError(f"{option} {path}: that is standard input, which vampc never writes "
+                              f"to; give a file name for {option}")
     target = Path(os.path.realpath(path))
     try:
         # through any symlink: /dev/stdout resolves to /proc/PID/fd/pipe:[N], a name, not a path
@@ -166,6 +171,22 @@ def need_stdout(what: str) -> None:
     if sys.stdout is None:
         raise VampcError(f"{what}: standard output is closed, so the result has nowhere to go "
                          "(redirect it to a file, or to /dev/null to drop it)")
+
+
+def _names_stdin(path: str) -> bool:
+    """Whether `path` names standard input: /dev/stdin, /dev/fd/0, /proc/self/fd/0 (or this
+    process's number for self), or a symlink to one of them."""
+    aliases = {os.path.join(os.sep, "dev", "stdin"), os.path.join(os.sep, "proc", "self", "fd", "0"),
+               os.path.join(os.sep, "proc", str(os.getpid()), "fd", "0")}
+    here = os.path.abspath(path)
+    for _ in range(40):                  # (a loop of links ends the walk: the kernel's limit)
+        name = os.path.join(os.path.realpath(os.path.dirname(here)), os.path.basename(here))
+        if here in aliases or name in aliases:
+            return True
+        if not os.path.islink(name):
+            return False
+        here = os.path.normpath(os.path.join(os.path.dirname(name), os.readlink(name)))
+    return False
 
 
 def _is_stdout(path: str) -> bool:
