@@ -704,3 +704,57 @@ def test_a_slow_path_where_every_joint_turns_back_at_once_is_planned_within_its_
         arriving = a * np.concatenate([[0.0], u[:-1]])[:, None] + b * x[:, None] + c
         assert np.all(np.abs(leaving) <= LIM) and np.all(np.abs(arriving) <= LIM)
         assert np.all(np.abs(qd[:, 5] * np.sqrt(x)) <= 4.0)
+
+
+def minimum_jerk_path(T: float = 3.0):
+    """q = Δq (10 s³ - 15 s⁴ + 6 s⁵), s = t / T: a rest-to-rest path whose q' is near 0 at both
+    ends, exact derivatives."""
+    t = np.arange(int(round(T * RATE)) + 1) / RATE
+    s, dq = t / T, np.array([1.5, 0.7, -1.2, 2.0, 1.5, 2.0])
+    h, hd = 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5, (30 * s ** 2 - 60 * s ** 3 + 30 * s ** 4) / T
+    hdd = (60 * s - 180 * s ** 2 + 120 * s ** 3) / T ** 2
+    return t, np.outer(h, dq), np.outer(hd, dq), np.outer(hdd, dq)
+
+
+@pytest.mark.parametrize("word", ["float32", "q16.16"])
+def test_a_narrower_words_error_in_a_and_b_is_not_multiplied_past_a_limit(setup, tmp_path, word):
+    """Near the ends of a rest-to-rest path q' is near 0, so a (the tangent pass less the gravity
+    pass) is small and s̈ large: the word's error in a, multiplied by s̈, took the retimed path
+    1.25 times over a limit by the reference in q16.16 and 1.005 times in float32 (a look-ahead
+    stress test's find, 2026-12-05; the run failed, said FAILED). Planned for every a and b within
+    the word's error of the network's, the reference finds none over."""
+    _, _, limits, _ = setup
+    path = write_path(tmp_path, *minimum_jerk_path())
+    program = tmp_path / f"{word}.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
+    out = tmp_path / "out.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(limits), "--retime", "window",
+                                  "--check", "-o", str(out)])
+    assert r.exit_code == 0, r.output          # (with the s̈ arriving at each row too, by --check)
+    assert "with the s̈ arriving at each row: 0 violations" in r.output
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    tau = rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])
+    assert (np.abs(tau) <= LIM).all(), np.max(np.abs(tau) / LIM)
+
+
+def test_float64_rounding_in_a_is_not_multiplied_past_a_limit_either(tmp_path):
+    """A 7-joint arm (tests/data/arm7.urdf), bang-coast-bang accelerations at 8 kHz integrated on
+    the box: where the integrated path nearly stops (q' about 1e-7) s̈ is about 1e7, and float64's
+    rounding in a, so multiplied, took joint2 1.85e-9 over its limit by the reference, beyond the
+    1e-9 the plan keeps inside (a look-ahead stress test's find, 2026-12-05: the run failed).
+    Planned for every a and b within FLOAT64_SPREAD of a row's largest torque, none is over."""
+    rate, n, rows = 8000, 7, 4000
+    acc = np.zeros((rows, n))
+    for j in range(n):
+        a = 0.6 * (1 + j % 3) * (-1) ** j
+        acc[: rows // 4, j], acc[rows // 2: 3 * rows // 4, j] = a, -a
+        acc[3 * rows // 4:, j] = 0.3 * a * np.sin(np.linspace(0, 6, rows - 3 * rows // 4))
+    path = tmp_path / "acc.csv"
+    np.savetxt(path, np.column_stack([np.arange(rows) / rate, acc]), delimiter=",", comments="",
+               header="t," + ",".join(f"qdd{j + 1}" for j in range(n)), fmt="%.17g")
+    r = CliRunner().invoke(main, ["lookahead", "tests/data/arm7.urdf", "--accelerations", str(path),
+                                  "--q0", "0,0,0,-1.5,0,1.5,0.7", "--qd0", "0,0,0,0,0,0,0", "--rate", "8000Hz",
+                                  "--window", "64", "--retime", "window", "--check", "-o", str(tmp_path / "o.csv")])
+    assert r.exit_code == 0, r.output
+    assert "retimed rows by the reference: 0 violations; with the s̈ arriving at each row: 0 violations" in r.output

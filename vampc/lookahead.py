@@ -39,7 +39,9 @@ limit, then forwards one row: the largest x reachable within the limits and insi
 is recursively feasible (a row the arm can stop at, it can also rest at, since gravity alone is
 within the limits), so no row goes over a limit; the limits used are 1e-9 tighter so rounding cannot
 either (a narrower word than float64: each limit tighter by the error its --check allows, `word_error`,
-for both retimings). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
+for both retimings; and since a and b, differences of two passes, carry twice that error, which s̈
+and ṡ² multiply, the plan keeps every limit for every a and b that far from the network's:
+`_spread`, in float64 FLOAT64_SPREAD of a row's largest torque). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
 Each interval's s̈ is kept within the limits at both its rows (`_bounds`: TOPP-RA's interpolation
 discretization): s̈ jumps at a row, and the torque both with the s̈ leaving it (the written q̈) and
@@ -67,6 +69,7 @@ import numpy as np
 from vampc.errors import VampcError, VampcUsageError
 
 K_MARGIN = 1e-12
+FLOAT64_SPREAD = 4e-15    # a float64 pass's rounding, of a row's largest torque (`_spread`)
 
 
 @dataclass(frozen=True)
@@ -480,8 +483,15 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
             used = uniform_k(tau, g, traj.qd, planned, names)
         else:
             held = []
+            # a and b are differences of two passes, each within the word's error, a fraction of
+            # the run's largest |τ| (--check's), or in float64 its rounding, FLOAT64_SPREAD of the
+            # row's largest: the plan keeps the limits for every a and b that far from the
+            # network's (`_spread`)
+            largest = np.max(np.abs(np.concatenate([tau, g, tangent], 1)), axis=1, keepdims=True)
+            spread = (2 * word_tolerance * float(np.max(largest, initial=0.0)) if word_tolerance
+                      else FLOAT64_SPREAD * largest)
             (x, u, t), optimal = plans(tangent - g, tau - g, g, traj.qd, planned, window * futures,
-                                       1.0 / rate, 0.0, held=held)
+                                       1.0 / rate, 0.0, held=held, spread=spread)
             out.optimal_duration = None if optimal is None else optimal[2][-1]
             out.optimal_held = len(held)
     except VampcError as exc:
@@ -651,7 +661,23 @@ def _top_under(lo, base, H, two_d):
     return np.clip(np.minimum(base, root.min(-1)), 0.0, None)
 
 
-def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
+def _spread(a, b, c, L, spread: float):
+    """The affine parts and limits as four copies of each joint, a ± `spread` and b ± `spread`: a
+    scaling within the limits of all four is within them for every a, b within `spread` of those
+    the network gave (a u + b x is largest at a corner of that box), so the error the network's
+    word may make in a pass is not multiplied by s̈ or ṡ² past the limits. Where the path nearly
+    stands still (q' near 0: its ends, a pause) a is small and s̈ can be large: planned on a and b
+    as given, a q16.16 network's retiming of a rest-to-rest spline went 1.24 times over the
+    Puma's waist limit by the reference dynamics, a float32 one 1.0003 times, a float64 one
+    1.85e-9 over its limit at 8 kHz (a look-ahead stress test's finds, 2026-12-05)."""
+    if not np.any(spread):
+        return a, b, c, L
+    return (np.concatenate([a + spread, a - spread, a + spread, a - spread], 1),
+            np.concatenate([b + spread, b + spread, b - spread, b - spread], 1),
+            np.tile(c, 4), np.tile(L, 4))
+
+
+def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float, spread: float = 0.0):
     """The bounds on the s̈ u of the interval leaving each row, (lower, upper), each a triple (n, s, d)
     of arrays (rows × bounds): u d >= n + s x and u d <= n + s x in the row's x (`_largest_x`):
     the effort limits (`_stage`, `margin` tighter) at that row and at the next, where the
@@ -660,9 +686,9 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
     left the s̈ arriving at a row unchecked: up to 1.5 times a limit there). And each row's cap on x:
     the x-alone bound, MAX_SPEED and the speed limits."""
     n = len(limits.tau)
-    a, b, c = a[:, :n], b[:, :n], c[:, :n]
+    a, b, c, L = _spread(a[:, :n], b[:, :n], c[:, :n], np.array(limits.tau) * (1 - margin), spread)
     with np.errstate(over="ignore"):     # (a limit near the float range: its bound is inf, as it is)
-        p, r, P, cap = _stage(a, b, c, np.array(limits.tau) * (1 - margin))
+        p, r, P, cap = _stage(a, b, c, L)
     cap = np.minimum(cap, MAX_SPEED ** 2)
     for j, v in enumerate(limits.qd):
         if v is not None:
@@ -681,26 +707,27 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float):
 
 
 def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
-                margin: float = PLAN_MARGIN):
+                margin: float = PLAN_MARGIN, spread: float = 0.0):
     """The window-by-window scaling of the module docstring: per row x = ṡ², u = s̈ and the new row
     times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
     row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included);
     margin: how much (of each) tighter than the effort limits to plan."""
-    return plans(a, b, c, qd, limits, ahead_rows, lam, margin, optimal=False)[0]
+    return plans(a, b, c, qd, limits, ahead_rows, lam, margin, optimal=False, spread=spread)[0]
 
 
-def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN):
+def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN,
+                 spread: float = 0.0):
     """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
     these rows and limits (TOPP-RA's, tested) where no step is held short of its top
     (`_short_of_a_cliff`), against which a window's plan is measured."""
     two_d = 2.0 * lam
-    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
+    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d, spread)
     base = _largest_x(lo, up, cap, np.full(len(a), np.inf), two_d)
     return _forward(lo, up, _backward(lo, base, len(a), two_d), lam, "path")
 
 
 def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN,
-          optimal: bool = True, held: list | None = None):
+          optimal: bool = True, held: list | None = None, spread: float = 0.0):
     """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass
     (`optimal` False: the window's plan alone, None for the other, whose forward pass may fail
     where the window's does not).
@@ -716,7 +743,7 @@ def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: floa
                               "(--window × --futures) to start and still be able to stop")
     n_rows = len(a)
     two_d = 2.0 * lam
-    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d)
+    lo, up, cap = _bounds(a, b, c, qd, limits, margin, two_d, spread)
     base = _largest_x(lo, up, cap, np.full(n_rows, np.inf), two_d)    # every pair but H's, once
     whole = _backward(lo, base, n_rows, two_d)       # whole[i]: the set's top at row i + 1
     seen = f"{ahead_rows} rows it sees; give a longer --window or more --futures"
