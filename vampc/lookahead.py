@@ -477,7 +477,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     planned = out.planned(limits)
     try:
         check_word_error(limits, names, out.word_error, ld.arith.name)     # (said before, by the command)
-        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name)
+        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, retime)
         if retime == "uniform":
             k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
             used = uniform_k(tau, g, traj.qd, planned, names)
@@ -580,10 +580,13 @@ def check_word_error(limits: Limits, names, error: float, word: str) -> None:
 
 
 def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, error: float = 0.0,
-                  word: str | None = None) -> None:
+                  word: str | None = None, retime: str = "uniform") -> None:
     """VampcError where gravity alone (the torque at rest) is beyond a limit, or inside it by less
     than the retiming keeps: `error` (the torque a `word` network may be off by) and `margin` of the
-    rest: no time scaling helps there."""
+    rest. No uniform scaling helps there; the window retiming (`retime` "window") plans to be able
+    to stop at any row it sees, so it needs every row restable, though a path braking through such
+    rows may exist (a look-ahead stress test's Puma shoulder swinging through 46 N·m of gravity
+    against 44: the message had said no time scaling helps)."""
     lim = np.array(limits.tau)
     g = g[:, :len(lim)]
     alone = np.argwhere(np.abs(g) > (lim - error) * (1 - margin))
@@ -595,8 +598,12 @@ def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, err
         how = (f"beyond its limit {lim[j]:.12g}" if abs(g[r, j]) > lim[j] else
                f"closer to its limit {lim[j]:.12g} than {kept}, the margin the retiming keeps for "
                f"{why}")
+        then = ("no time scaling helps" if retime == "uniform" else
+                "the window retiming plans to be able to stop at every row it sees, so it "
+                "needs the arm able to rest at each (a path braking through such rows is not "
+                "planned)")
         raise VampcError(f"row {r + 1}: joint '{names[j]}' needs {g[r, j]:.12g} at rest "
-                         f"(gravity alone), {how}: no time scaling helps")
+                         f"(gravity alone), {how}: {then}")
 
 
 PLAN_MARGIN = 1e-9
