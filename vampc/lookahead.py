@@ -41,7 +41,7 @@ within the limits), so no row goes over a limit; the limits used are 1e-9 tighte
 either (a narrower word than float64: each limit tighter by the error its --check allows, `word_error`,
 for both retimings; and since a and b, differences of two passes, carry twice that error, which s̈
 and ṡ² multiply, the plan keeps every limit for every a and b that far from the network's:
-`_spread`, in float64 FLOAT64_SPREAD of a row's largest torque). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
+`_spread`; in float64 a alone, by FLOAT64_SPREAD of a row's largest torque). The retimed path starts and ends at rest (ṡ = 0, as TOPP-RA's defaults) and its velocity is
 continuous (x is); ṡ is at most MAX_SPEED (where the path stands still nothing else bounds it).
 Each interval's s̈ is kept within the limits at both its rows (`_bounds`: TOPP-RA's interpolation
 discretization): s̈ jumps at a row, and the torque both with the s̈ leaving it (the written q̈) and
@@ -488,8 +488,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
             # row's largest: the plan keeps the limits for every a and b that far from the
             # network's (`_spread`)
             largest = np.max(np.abs(np.concatenate([tau, g, tangent], 1)), axis=1, keepdims=True)
-            spread = (2 * word_tolerance * float(np.max(largest, initial=0.0)) if word_tolerance
-                      else FLOAT64_SPREAD * largest)
+            e = 2 * word_tolerance * float(np.max(largest, initial=0.0))
+            spread = (e, e) if word_tolerance else (FLOAT64_SPREAD * largest, 0.0)
             (x, u, t), optimal = plans(tangent - g, tau - g, g, traj.qd, planned, window * futures,
                                        1.0 / rate, 0.0, held=held, spread=spread)
             out.optimal_duration = None if optimal is None else optimal[2][-1]
@@ -668,23 +668,29 @@ def _top_under(lo, base, H, two_d):
     return np.clip(np.minimum(base, root.min(-1)), 0.0, None)
 
 
-def _spread(a, b, c, L, spread: float):
-    """The affine parts and limits as four copies of each joint, a ± `spread` and b ± `spread`: a
-    scaling within the limits of all four is within them for every a, b within `spread` of those
-    the network gave (a u + b x is largest at a corner of that box), so the error the network's
-    word may make in a pass is not multiplied by s̈ or ṡ² past the limits. Where the path nearly
-    stands still (q' near 0: its ends, a pause) a is small and s̈ can be large: planned on a and b
-    as given, a q16.16 network's retiming of a rest-to-rest spline went 1.24 times over the
-    Puma's waist limit by the reference dynamics, a float32 one 1.0003 times, a float64 one
-    1.85e-9 over its limit at 8 kHz (a look-ahead stress test's finds, 2026-12-05)."""
-    if not np.any(spread):
+def _spread(a, b, c, L, spread):
+    """The affine parts and limits as copies of each joint, a ± ea (and b ± eb where eb is not 0),
+    `spread` = (ea, eb), each a number or a column of one per row: a scaling within the limits of
+    every copy is within them for every a, b within (ea, eb) of those the network gave (a u + b x is
+    largest at a corner of that box), so the error the network's word may make in a pass is not
+    multiplied by s̈ or ṡ² past the limits. Where the path nearly stands still (q' near 0: its ends,
+    a pause) a is small and s̈ can be large: planned on a and b as given, a q16.16 network's
+    retiming of a rest-to-rest path went 1.25 times over the Puma's waist limit by the reference
+    dynamics, a float32 one 1.005 times, a float64 one 1.85e-9 over its limit at 8 kHz (a
+    look-ahead stress test's finds, 2026-12-05). (float64 spreads a alone: b's rounding, of the
+    row's largest torque, times x is rounding of b x, which is within the limits.)"""
+    ea, eb = spread
+    if not np.any(ea) and not np.any(eb):
         return a, b, c, L
-    return (np.concatenate([a + spread, a - spread, a + spread, a - spread], 1),
-            np.concatenate([b + spread, b + spread, b - spread, b - spread], 1),
-            np.tile(c, 4), np.tile(L, 4))
+    a, b = np.concatenate([a + ea, a - ea], 1), np.concatenate([b, b], 1)
+    c, L = np.tile(c, 2), np.tile(L, 2)
+    if np.any(eb):
+        a, b = np.concatenate([a, a], 1), np.concatenate([b + eb, b - eb], 1)
+        c, L = np.tile(c, 2), np.tile(L, 2)
+    return a, b, c, L
 
 
-def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float, spread: float = 0.0):
+def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float, spread=(0.0, 0.0)):
     """The bounds on the s̈ u of the interval leaving each row, (lower, upper), each a triple (n, s, d)
     of arrays (rows × bounds): u d >= n + s x and u d <= n + s x in the row's x (`_largest_x`):
     the effort limits (`_stage`, `margin` tighter) at that row and at the next, where the
@@ -714,7 +720,7 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float, spread: fl
 
 
 def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
-                margin: float = PLAN_MARGIN, spread: float = 0.0):
+                margin: float = PLAN_MARGIN, spread=(0.0, 0.0)):
     """The window-by-window scaling of the module docstring: per row x = ṡ², u = s̈ and the new row
     times (from 0). a, b, c: the affine parts of each row's torque (rows × joints); qd: q' of each
     row (for the speed limits); ahead_rows: how many rows the host sees (the row leaving included);
@@ -723,7 +729,7 @@ def window_plan(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float,
 
 
 def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_MARGIN,
-                 spread: float = 0.0):
+                 spread=(0.0, 0.0)):
     """`window_plan` with the whole path in view, in one backward pass: the time-optimal scaling on
     these rows and limits (TOPP-RA's, tested) where no step is held short of its top
     (`_short_of_a_cliff`), against which a window's plan is measured."""
@@ -734,7 +740,7 @@ def optimal_plan(a, b, c, qd, limits: Limits, lam: float, margin: float = PLAN_M
 
 
 def plans(a, b, c, qd, limits: Limits, ahead_rows: int, lam: float, margin: float = PLAN_MARGIN,
-          optimal: bool = True, held: list | None = None, spread: float = 0.0):
+          optimal: bool = True, held: list | None = None, spread=(0.0, 0.0)):
     """(`window_plan`, `optimal_plan`), sharing their bounds and the whole path's backward pass
     (`optimal` False: the window's plan alone, None for the other, whose forward pass may fail
     where the window's does not).
