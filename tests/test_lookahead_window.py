@@ -254,6 +254,14 @@ def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
     assert np.allclose(got[:, 1:7], q)                                   # the same path
     ref = rnea(load_robot(PUMA), got[:, 1:7], retimed_qd, got[:, 13:19])
     assert (np.abs(ref) <= LIM).all() and (np.abs(retimed_qd[:, 5]) <= 4).all()
+    # the summary says the wait is not kept, and how long it took, from the file's own times (it
+    # gave only the ṡ range: 0.3 s of a pause became 3 ms unsaid, a look-ahead stress test found)
+    pause = ~qd[:-1].any(axis=1) & ~qd[1:].any(axis=1)
+    said = re.search(r"the path stands still \(q' = 0\) over (\d+) intervals?, (\S+) ms as given: retimed at "
+                     r"ṡ up to 100 × the path's speed, (\S+) ms \(a time scaling cannot keep a wait", r.output)
+    assert said and int(said[1]) == pause.sum() > 0, r.output
+    assert float(said[2]) == pytest.approx(pause.sum())
+    assert float(said[3]) == pytest.approx(steps[pause].sum() * 1e3, rel=1e-3)
 
 
 @pytest.mark.parametrize("word", ["float32", "q16.16"])

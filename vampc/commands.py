@@ -1235,6 +1235,17 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
                      f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
                      f"{failed_mark(res)}")
+        # (a wait in the path, q' = 0, is run at the speed cap: 0.3 s became 3 ms, and the summary
+        # gave only the ṡ range, a look-ahead stress test found)
+        import numpy as np
+        still = np.all(traj.qd == 0, axis=1)
+        pause = still[:-1] & still[1:]
+        if pause.any():
+            from vampc.lookahead import MAX_SPEED
+            lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
+                         f"{pause.sum() * lam * 1e3:.4g} ms as given: retimed at ṡ up to {MAX_SPEED:g} "
+                         f"× the path's speed, {np.diff(res.retimed_t)[pause].sum() * 1e3:.4g} ms (a "
+                         "time scaling cannot keep a wait: add it back to the retimed path)")
         best = res.optimal_duration
         if best is None:
             lines.append("  with the whole path in view: that plan found no way through these rows "
