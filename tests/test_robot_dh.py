@@ -456,7 +456,7 @@ def test_an_angle_within_2pi_is_not_warned_about(tmp_path):
     import warnings
     path = tmp_path / "radians.yaml"
     path.write_text(yaml.safe_dump({"name": "x", "joints": [
-        row(alpha=6), row(theta=-6), row(type="prismatic", alpha=-2 * math.pi, theta=6.2)]}))
+        row(alpha=6), row(theta=-6.2832), row(type="prismatic", alpha=-2 * math.pi, theta=6.2832)]}))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_dh(path)
