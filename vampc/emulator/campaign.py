@@ -154,15 +154,22 @@ def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, co
 
 def not_run(ld, kinds) -> list[str]:
     """The single campaign's (VAMP, kind) pairs that have no such fault (`_permanent` gives None),
-    each said with why: they are left out of the count, and the summary says so (a new user found
-    305 faults on 153 VAMPs for two kinds and nothing saying which was missing)."""
-    out = []
-    if "control" in kinds and physical_vamps(ld) > len(ld.net.vamps):
-        out.append(f"control on VAMP {len(ld.net.vamps)} (the extraneous VAMP has no control "
-                   "registers of its own)")
-    ck = ld.net.checking
-    if "control2" in kinds and ck is not None:
-        out.append(f"control2 on VAMP {ck.order[-1]} (the last in the check order: no second set)")
+    by kind, each said with why: they are left out of the count, and the summary says so (a new
+    user found 305 faults on 153 VAMPs for two kinds and nothing saying which was missing; a
+    review, control2 on every VAMP of a program without error correction)."""
+    V, out = physical_vamps(ld), []
+    for kind in kinds:
+        if kind not in ("control", "control2"):       # (the others have a fault on every VAMP)
+            continue
+        none = [v for v in range(V) if _permanent(ld, v, kind, None, 0, None) is None]
+        if not none:
+            continue
+        where = "every VAMP" if len(none) == V else \
+            f"VAMP{'s' * (len(none) > 1)} {', '.join(map(str, none))}"
+        why = ("the extraneous VAMP has no control registers of its own" if kind == "control" else
+               "no error correction: no VAMP has a second set" if ld.net.checking is None else
+               "the last in the check order: no second set")
+        out.append(f"{kind} on {where} ({why})")
     return out
 
 
