@@ -118,9 +118,12 @@ def parse_fault(text: str) -> Fault:
 
 def check_conflicts(faults) -> None:
     """ValueError naming two faults whose effect would depend on the order they are given in (the
-    engine applies them in turn, so the last had won in silence): two on one VAMP when either is
-    dead, two on one register bit of one VAMP when either is stuck, two flips of one bit at one tick
-    (which cancel); a fault given twice is one of these."""
+    engine applies them in turn, so the last had won in silence) or one of which would do nothing:
+    a fault on a VAMP from the tick it is dead on (its outputs tri-stated); two stuck faults on one
+    register bit of one VAMP at different values; a flip of a bit at or after the tick it is stuck
+    from; two flips of one bit at one tick (which cancel); a fault given twice. Faults on one bit
+    or VAMP at different times run: a stuck bit before the VAMP dies, a flip before the bit sticks
+    (a review: these had been refused as well)."""
     for k, f in enumerate(faults):
         for g in faults[:k]:
             if f.vamp != g.vamp:
@@ -129,16 +132,28 @@ def check_conflicts(faults) -> None:
             if f.text == g.text:
                 raise ValueError(f"--fault {f.text!r} given twice (a fault is injected once)")
             if "dead" in (f.kind, g.kind):
-                raise ValueError(f"{both}: a dead VAMP has no other fault (its outputs are "
-                                 f"tri-stated); give one of them for VAMP {f.vamp}")
+                dead, other = (f, g) if f.kind == "dead" else (g, f)
+                if other.kind == "dead" or other.at >= dead.at:
+                    raise ValueError(f"{both}: VAMP {f.vamp} is dead from tick {dead.at} (its outputs "
+                                     "tri-stated), so the other does nothing; give it an earlier at= "
+                                     "or leave it out")
+                continue
             if (f.register, f.component, f.slot, f.bit) != (g.register, g.component, g.slot, g.bit):
                 continue
-            if "stuck" in (f.kind, g.kind):
-                raise ValueError(f"{both}: both on the same bit of VAMP {f.vamp}, where the one "
-                                 "given last would win; give one of them")
-            if f.at == g.at:
-                raise ValueError(f"{both}: two flips of the same bit of VAMP {f.vamp} at one tick "
-                                 "cancel; give one of them")
+            if f.kind == g.kind == "stuck":
+                if f.value != g.value:
+                    raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at 0 and at 1, "
+                                     "where the one given last would win; give one of them")
+            elif f.kind == g.kind == "flip":
+                if f.at == g.at:
+                    raise ValueError(f"{both}: two flips of the same bit of VAMP {f.vamp} at one "
+                                     "tick cancel; give one of them")
+            else:
+                stuck, flip = (f, g) if f.kind == "stuck" else (g, f)
+                if flip.at >= stuck.at:
+                    raise ValueError(f"{both}: the bit of VAMP {f.vamp} is stuck from tick "
+                                     f"{stuck.at}, where a flip at tick {flip.at} depends on which "
+                                     "is given last; flip it before the tick it sticks, or give one")
 
 
 def _whole(value: str, key: str, text: str) -> int:
