@@ -287,6 +287,28 @@ def test_a_full_device_prints_no_result(tmp_path, program, command, option):
     assert res.stdout == "", res.stdout
 
 
+def test_a_path_warning_comes_only_once_the_outputs_are_written(tmp_path):
+    """lookahead's warning that a path's q̇ disagrees with its q came before an output that could
+    not be written, beside the error (a review's find): with --torques /dev/full the error alone."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    import numpy as np
+    rows = np.loadtxt(EXAMPLES / "puma560-path.csv", delimiter=",", skiprows=1)
+    rows[:, 8] = 3 * rows[:, 8] + 0.5                  # qd2 no longer q2's rate of change
+    path = tmp_path / "dis.csv"
+    head = (EXAMPLES / "puma560-path.csv").read_text().splitlines()[0]
+    np.savetxt(path, rows, delimiter=",", header=head, comments="", fmt="%.17g")
+    puma = tmp_path / "puma.vamp.json"
+    assert run("compile", EXAMPLES / "puma560.yaml", "-o", puma).exit_code == 0
+    args = ("lookahead", puma, "--trajectory", path, "--rate", "1kHz", "--window", 8, "--limits",
+            EXAMPLES / "puma560-limits.csv")
+    said = run(*args)
+    assert said.exit_code == 0 and "qd2" in said.stderr, said.stderr     # (it does disagree)
+    res = run(*args, "--torques", "/dev/full")
+    user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
+    assert res.stdout == "", res.stdout
+
+
 @pytest.mark.parametrize("option", ["-o", "--vcd", "--save-states"])
 def test_a_full_disk_leaves_nothing_partial(tmp_path, program, monkeypatch, option):
     out = tmp_path / ("w.vcd" if option == "--vcd" else "out.csv")

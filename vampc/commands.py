@@ -1096,8 +1096,6 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             f"with its {need} pass{'es' * (need != 1)}), {(early - late) * 1e6:.4g} µs before the "
             "motors take it",
             info)
-    if disagree is not None:
-        warnings.warn(VampcWarning(disagree), stacklevel=1)
     tell(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
@@ -1170,7 +1168,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         for option in (o for o in outs if o not in kept):
             tell(f"{option} {outs[option].path} written although {why}", True)
     # (the report had gone out before an output that could not be written: --torques /dev/full
-    # ended with exit status 1 after it)
+    # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
+    if disagree is not None:
+        warnings.warn(VampcWarning(disagree), stacklevel=1)
     for text, err in told:
         say(text, err)
     return ok
