@@ -849,8 +849,11 @@ def _within_rounding(lo, i: int, x: float, u: float) -> bool:
     the rounding of n + s x, two large terms that nearly cancel, by d: on a slow path where every
     joint turns back at once (q' = 0 at one row) 4.5e-7 of d made 2e-9 of x a 1e-6 miss in u, and
     the plan said no speed kept the limits, on a path within them as given (a new user's find,
-    2026-12-05). Within 1e-12 of the terms, the torque misses its planned limit (PLAN_MARGIN inside
-    the limit) by far less than that margin."""
+    2026-12-05). In torque, the miss allowed is 1e-12 of |L ± c| + |b x| + |a u| (the next row's
+    likewise): where those terms are a few limits, as in that case, far under PLAN_MARGIN; where
+    they are large and cancel (running at the speed cap towards a rest) it can be more, but there
+    the test in u before this one already allows more still. Either way a row over a limit is
+    found by the network's pass over the retimed rows (FAILED), not passed in silence."""
     n, s, d = lo[0][i], lo[1][i], lo[2][i]
     keep = (d > 1e-9) & np.isfinite(n)
     with np.errstate(invalid="ignore", over="ignore"):
