@@ -116,44 +116,61 @@ def parse_fault(text: str) -> Fault:
                  at or 0, rate, text)
 
 
+def canonical(faults) -> tuple:
+    """The faults in the order the tick engine applies them, whatever order they were given in
+    (each draws its intermittent cycles by its place, and two acting on one register in one tick
+    act in turn: swapping two --fault options changed the torques, a review found): by VAMP and
+    register, a dead VAMP's fault last, so its undriven outputs hide a bit stuck before it died,
+    as the hardware's would."""
+    return tuple(sorted(faults, key=lambda f: (f.kind == "dead", f.vamp, f.register, f.component,
+                                               f.slot, f.bit, f.kind, f.at, f.value, f.rate or 0.0)))
+
+
 def check_conflicts(faults) -> None:
-    """ValueError naming two faults whose effect would depend on the order they are given in (the
-    engine applies them in turn, so the last had won in silence) or one of which would do nothing:
-    a fault on a VAMP from the tick it is dead on (its outputs tri-stated); two stuck faults on one
-    register bit of one VAMP at different values; a flip of a bit at or after the tick it is stuck
-    from; two flips of one bit at one tick (which cancel); a fault given twice. Faults on one bit
-    or VAMP at different times run: a stuck bit before the VAMP dies, a flip before the bit sticks
-    (a review: these had been refused as well)."""
+    """ValueError naming two faults that fight over one thing at one time, or one of which does
+    nothing: a fault on a VAMP from the tick it is dead on (its outputs tri-stated; a second dead
+    fault, later, too); one bit stuck at 0 and at 1 (a control field's, at one tick: those are
+    set once, at their tick); a bit stuck from the same tick or earlier at the same value, for good
+    (the later does nothing); a flip of a bit at or after the tick it is stuck from; a fault given
+    twice, however spelled (two flips of one bit at one tick, which cancel). Faults on one bit or VAMP at other
+    times run (a review: a stuck bit before the VAMP dies, a flip before the bit sticks had been
+    refused), in the order `canonical` gives, so the order given does not matter."""
+    from dataclasses import replace
     for k, f in enumerate(faults):
         for g in faults[:k]:
             if f.vamp != g.vamp:
                 continue
             both = f"--fault {g.text!r} and --fault {f.text!r}"
-            if f.text == g.text:
-                raise ValueError(f"--fault {f.text!r} given twice (a fault is injected once)")
+            if replace(f, text="") == replace(g, text=""):
+                raise ValueError(f"{both}: the same fault given twice (a fault is injected once)")
             if "dead" in (f.kind, g.kind):
-                dead, other = (f, g) if f.kind == "dead" else (g, f)
-                if other.kind == "dead" or other.at >= dead.at:
+                dead, other = (f, g) if f.kind == "dead" and (g.kind != "dead" or f.at <= g.at) \
+                    else (g, f)
+                if other.at >= dead.at:
                     raise ValueError(f"{both}: VAMP {f.vamp} is dead from tick {dead.at} (its outputs "
-                                     "tri-stated), so the other does nothing; give it an earlier at= "
-                                     "or leave it out")
+                                     f"tri-stated), so --fault {other.text!r} does nothing; give it "
+                                     "an earlier at= or leave it out")
                 continue
             if (f.register, f.component, f.slot, f.bit) != (g.register, g.component, g.slot, g.bit):
                 continue
+            control = f.register in ("control", "control2")     # (set once, at the fault's tick)
+            first, then = (f, g) if (f.at, f.rate is not None) <= (g.at, g.rate is not None) else (g, f)
+            if f.kind == g.kind == "flip" or (control and f.at != g.at):
+                continue             # (at other ticks, one after the other: at one, given twice)
             if f.kind == g.kind == "stuck":
                 if f.value != g.value:
-                    raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at 0 and at 1, "
-                                     "where the one given last would win; give one of them")
-            elif f.kind == g.kind == "flip":
-                if f.at == g.at:
-                    raise ValueError(f"{both}: two flips of the same bit of VAMP {f.vamp} at one "
-                                     "tick cancel; give one of them")
+                    raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at 0 and at 1"
+                                     + (" at one tick" if control else "") + "; give one of them")
+                if first.rate is None:
+                    raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at {f.value} "
+                                     f"from tick {first.at}, so --fault {then.text!r} does nothing; "
+                                     "give one of them")
             else:
                 stuck, flip = (f, g) if f.kind == "stuck" else (g, f)
                 if flip.at >= stuck.at:
                     raise ValueError(f"{both}: the bit of VAMP {f.vamp} is stuck from tick "
-                                     f"{stuck.at}, where a flip at tick {flip.at} depends on which "
-                                     "is given last; flip it before the tick it sticks, or give one")
+                                     f"{stuck.at}, so a flip at tick {flip.at} does nothing or "
+                                     "fights it; flip it before the tick it sticks, or give one")
 
 
 def _whole(value: str, key: str, text: str) -> int:

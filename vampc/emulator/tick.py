@@ -77,7 +77,8 @@ class TickEngine:
         self.ld, self.P, self.B = ld, ld.net.period, ld.net.clock
         self.rng = np.random.default_rng(seed)
         self.vcd = vcd
-        self.faults = tuple(faults)        # injected in Data Mode (vampc.emulator.faults)
+        from vampc.emulator.faults import canonical
+        self.faults = canonical(faults)    # injected in Data Mode (vampc.emulator.faults)
         # timing violations seen in the set tags are errors; with faults injected they are what
         # the faults do, and the torques say what came of them
         self.strict = not self.faults if strict is None else strict
