@@ -264,18 +264,23 @@ def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
     assert float(said[3]) == pytest.approx(steps[pause].sum() * 1e3, rel=1e-3)
 
 
+def word_retime(tmp_path, word: str, path, limits):
+    """The Puma compiled in `word`, the path window-retimed on it with --check: (result, output)."""
+    program = tmp_path / f"{word}.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
+    out = tmp_path / "out.csv"
+    return CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                     "--window", "64", "--limits", str(limits), "--retime", "window",
+                                     "--check", "-o", str(out)]), out
+
+
 @pytest.mark.parametrize("word", ["float32", "q16.16"])
 def test_a_narrower_word_plans_within_its_error_and_stays_within_every_limit(setup, tmp_path, word):
     """The network's torques in a narrower word are off by up to the error its --check allows: the
     plan keeps that much inside each effort limit, so the reference finds none over (planning
     1e-9 inside, as for float64, went over by 1e-6 of a limit in float32 and 6e-5 in q16.16)."""
     folder, _, limits, path = setup
-    program = tmp_path / f"{word}.vamp.json"
-    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
-    out = tmp_path / "out.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "window",
-                                  "--check", "-o", str(out)])
+    r, out = word_retime(tmp_path, word, path, limits)
     assert r.exit_code == 0, r.output
     assert "retimed rows by the reference: 0 violations" in r.output
     margin, tolerance = {"float32": ("0.0006", "1e-5"), "q16.16": ("0.06", "0.001")}[word]
@@ -733,12 +738,7 @@ def test_a_narrower_words_error_in_a_and_b_is_not_multiplied_past_a_limit(setup,
     the word's error of the network's, the reference finds none over."""
     _, _, limits, _ = setup
     path = write_path(tmp_path, *minimum_jerk_path())
-    program = tmp_path / f"{word}.vamp.json"
-    assert CliRunner().invoke(main, ["compile", PUMA, "--word", word, "-o", str(program)]).exit_code == 0
-    out = tmp_path / "out.csv"
-    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "64", "--limits", str(limits), "--retime", "window",
-                                  "--check", "-o", str(out)])
+    r, out = word_retime(tmp_path, word, path, limits)
     assert r.exit_code == 0, r.output          # (with the s̈ arriving at each row too, by --check)
     assert "with the s̈ arriving at each row: 0 violations" in r.output
     got = np.loadtxt(out, delimiter=",", skiprows=1)
