@@ -400,8 +400,9 @@ def _finite(value) -> bool:
 
 
 def _warn_degrees(rows: list, source: str) -> None:
-    """One warning for the constant DH angles (alpha, theta) beyond 2π + 1e-3 in size, the first named and
-    the others counted: degrees, most likely, read as radians (`alpha: 90` was 90 rad, unsaid)."""
+    """One warning for the constant DH angles (alpha, theta) beyond 2π + 1e-3 in size, the first
+    named and the others counted: degrees, most likely, read as radians (`alpha: 90` was 90 rad,
+    unsaid)."""
     found = [(i, key) for i, row in enumerate(rows) for key in ("alpha", "theta")
              if abs(float(row[key])) > 2 * math.pi + 1e-3]    # (2π rounded, 6.2832, is radians)
     if not found:
