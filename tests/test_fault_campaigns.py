@@ -660,3 +660,23 @@ def test_a_kind_a_vamp_has_no_fault_of_is_said_not_dropped(programs, tmp_path):
     # on every VAMP, unsaid (a review's find)
     assert _campaign(plain, tmp_path, "--kinds", "control2,dead", "--sets", "40", name="q.jsonl")["not_run"] == [
         "control2 on every VAMP (no error correction: no VAMP has a second set)"]
+
+
+def test_a_random_campaign_runs_only_the_kinds_asked_for(programs, tmp_path):
+    """A random draw of a control fault on the extraneous VAMP (no control registers of its own), or
+    of control2 on the last VAMP of the check order, became a result fault, unsaid, in a campaign
+    of --kinds control (a review's find): it is drawn on a VAMP that has the register now. Without
+    error correction, control2 alone is refused, beside other kinds left out with a warning."""
+    ec, plain, _ = programs
+    got = _campaign(ec, tmp_path, "--campaign", "random", "--count", "60", "--sets", "40", "--kinds",
+                    "control,control2")
+    regs = {r["fault"].split(",")[1].split("=")[1].split(".")[0] for r in got["runs"]}
+    assert regs == {"control", "control2"}, regs
+    V = len(load_program(str(ec)).net.vamps)
+    assert all(r["vamp"] < V for r in got["runs"] if ",stuck=control." in r["fault"])
+    r = RUN(main, ["faults", str(plain), "--campaign", "random", "--count", "4", "--kinds", "control2",
+                   "--results", str(tmp_path / "c2.jsonl")])
+    assert r.exit_code == 2 and "no second set of control registers" in r.stderr, r.output
+    r = RUN(main, ["faults", str(plain), "--campaign", "random", "--count", "4", "--sets", "40",
+                   "--kinds", "control2,dead", "--workers", "1", "--results", str(tmp_path / "c3.jsonl")])
+    assert r.exit_code == 0 and "--kinds control2: left out" in r.stderr, r.output

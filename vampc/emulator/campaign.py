@@ -35,12 +35,13 @@ from __future__ import annotations
 import hashlib
 import math
 import os
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from vampc.emulator.faults import Fault, parse_fault
-from vampc.errors import VampcError
+from vampc.errors import VampcError, VampcUsageError, VampcWarning
 
 CAMPAIGNS = ("single", "transient", "intermittent", "random")
 KINDS = ("result", "a", "b", "control", "dead", "control2")
@@ -117,7 +118,16 @@ def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rat
 def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, count: int,
                  drawn) -> None:
     """The random campaign's `count` faults, drawn in turn into `specs` (about 0.1 ms each: a
-    million took minutes, said by `drawn(done, total)`, a progress bar)."""
+    million took minutes, said by `drawn(done, total)`, a progress bar). control2 without error
+    correction (no second set) is left out of the kinds, with a warning, or refused alone (its
+    draws had become result faults, unsaid)."""
+    if "control2" in kinds and ld.net.checking is None:
+        kinds = [k for k in kinds if k != "control2"]
+        if not kinds:
+            raise VampcUsageError("--kinds control2: a program without error correction has no "
+                                  "second set of control registers (compile --error-correction)")
+        warnings.warn(VampcWarning("--kinds control2: left out, a program without error correction "
+                                   "has no second set of control registers"), stacklevel=2)
     for done in range(count):
         if done % 4096 == 0:
             drawn(done, count)
@@ -127,11 +137,14 @@ def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, co
         if kind == "dead":
             specs.append(f"vamp={v},dead,at={t}")
             continue
+        # a kind a VAMP has no register of is drawn on another VAMP that has it (it had become a
+        # result fault, unsaid: a --kinds control campaign ran result faults too, a review found)
         if kind == "control" and v >= len(ld.net.vamps):
-            kind = "result"             # the extraneous VAMP has no control registers
+            v = int(rng.integers(0, len(ld.net.vamps)))      # (the extraneous VAMP has none)
         ck = ld.net.checking
-        if kind == "control2" and (ck is None or v == ck.order[-1]):
-            kind = "result"             # no second set there
+        if kind == "control2" and ck is not None and v == ck.order[-1]:
+            v = int(ck.order[int(rng.integers(0, len(ck.order) - 1))])    # (no second set there)
+
         how = str(rng.choice(["stuck", "flip", "intermittent"]))
         if kind in ("control", "control2"):   # the low bits: a field's values are small
             from vampc.program.words import FIELDS
