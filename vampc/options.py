@@ -580,15 +580,16 @@ class EmulateOptions:
             raise VampcUsageError("--fault needs --engine tick (faults are injected into its "
                                   "registers)")
         from vampc.emulator.faults import NoSuchRegister, check_conflicts, parse_fault
+        parsed = []
         for text in self.fault:
             try:
-                parse_fault(text)
+                parsed.append(parse_fault(text))
             except NoSuchRegister as exc:      # well formed, naming what no VAMP has: exit 1
                 raise VampcError(str(exc)) from None
             except ValueError as exc:
                 raise VampcUsageError(str(exc)) from None
         try:             # (two on one VAMP's bit: the last given had won in silence)
-            check_conflicts([parse_fault(text) for text in self.fault])
+            check_conflicts(parsed)
         except ValueError as exc:
             raise VampcUsageError(str(exc)) from None
         if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:

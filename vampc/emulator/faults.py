@@ -132,9 +132,9 @@ def check_conflicts(faults) -> None:
     fault, later, too); one bit stuck at 0 and at 1 (a control field's, at one tick: those are
     set once, at their tick); a bit stuck from the same tick or earlier at the same value, for good
     (the later does nothing); a flip of a bit at or after the tick it is stuck from; a fault given
-    twice, however spelled (two flips of one bit at one tick, which cancel). Faults on one bit or VAMP at other
-    times run (a review: a stuck bit before the VAMP dies, a flip before the bit sticks had been
-    refused), in the order `canonical` gives, so the order given does not matter."""
+    twice, however spelled (two flips of one bit at one tick, which cancel). Faults on one bit or
+    VAMP at other times run (a review: a stuck bit before the VAMP dies, a flip before the bit
+    sticks had been refused), in the order `canonical` gives, so the order given does not matter."""
     from dataclasses import replace
     for k, f in enumerate(faults):
         for g in faults[:k]:
@@ -154,13 +154,14 @@ def check_conflicts(faults) -> None:
             if (f.register, f.component, f.slot, f.bit) != (g.register, g.component, g.slot, g.bit):
                 continue
             control = f.register in ("control", "control2")     # (set once, at the fault's tick)
-            first, then = (f, g) if (f.at, f.rate is not None) <= (g.at, g.rate is not None) else (g, f)
             if f.kind == g.kind == "flip" or (control and f.at != g.at):
                 continue             # (at other ticks, one after the other: at one, given twice)
             if f.kind == g.kind == "stuck":
                 if f.value != g.value:
                     raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at 0 and at 1"
                                      + (" at one tick" if control else "") + "; give one of them")
+                first, then = (f, g) if (f.at, f.rate is not None) <= (g.at, g.rate is not None) \
+                    else (g, f)
                 if first.rate is None:
                     raise ValueError(f"{both}: the same bit of VAMP {f.vamp} stuck at {f.value} "
                                      f"from tick {first.at}, so --fault {then.text!r} does nothing; "

@@ -364,12 +364,10 @@ def operand_wires(vamp) -> int:
     """The wires into a VAMP's operand multiplexers: one per tap, so three for a matrix whose
     columns three VAMPs (an MM group) make, latched at one tick (README, Timing model)."""
     n = len(vamp.a) + len(vamp.b)
-    for o in vamp.a:         # (most inputs are one tap: a million VAMPs in a big log report)
-        if len(o.taps) != 1:
-            n += len(o.taps) - 1
-    for o in vamp.b:
-        if len(o.taps) != 1:
-            n += len(o.taps) - 1
+    for operand in (vamp.a, vamp.b):     # (most inputs are one tap: a million VAMPs in a big report)
+        for o in operand:
+            if len(o.taps) != 1:
+                n += len(o.taps) - 1
     return n
 
 
