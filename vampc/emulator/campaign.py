@@ -128,6 +128,10 @@ def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, co
                                   "second set of control registers (compile --error-correction)")
         warnings.warn(VampcWarning("--kinds control2: left out, a program without error correction "
                                    "has no second set of control registers"), stacklevel=2)
+    lacking = {k: set(_lacking(ld, k)) for k in ("control", "control2") if k in kinds}
+    # the VAMPs that have each: control2's in the check order (each holds its successor's copy)
+    homes = {k: [w for w in (ld.net.checking.order if k == "control2" else range(V))
+                 if w not in lacking[k]] for k in lacking}
     for done in range(count):
         if done % 4096 == 0:
             drawn(done, count)
@@ -139,12 +143,9 @@ def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, co
             continue
         # a kind a VAMP has no register of is drawn on another VAMP that has it (it had become a
         # result fault, unsaid: a --kinds control campaign ran result faults too, a review found)
-        if kind == "control" and v >= len(ld.net.vamps):
-            v = int(rng.integers(0, len(ld.net.vamps)))      # (the extraneous VAMP has none)
+        if v in lacking.get(kind, ()):
+            v = int(homes[kind][int(rng.integers(0, len(homes[kind])))])
         ck = ld.net.checking
-        if kind == "control2" and ck is not None and v == ck.order[-1]:
-            v = int(ck.order[int(rng.integers(0, len(ck.order) - 1))])    # (no second set there)
-
         how = str(rng.choice(["stuck", "flip", "intermittent"]))
         if kind in ("control", "control2"):   # the low bits: a field's values are small
             from vampc.program.words import FIELDS
@@ -172,9 +173,7 @@ def not_run(ld, kinds) -> list[str]:
     review, control2 on every VAMP of a program without error correction)."""
     V, out = physical_vamps(ld), []
     for kind in kinds:
-        if kind not in ("control", "control2"):       # (the others have a fault on every VAMP)
-            continue
-        none = [v for v in range(V) if _permanent(ld, v, kind, None, 0, None) is None]
+        none = _lacking(ld, kind)
         if not none:
             continue
         where = "every VAMP" if len(none) == V else \
@@ -184,6 +183,14 @@ def not_run(ld, kinds) -> list[str]:
                "the last in the check order: no second set")
         out.append(f"{kind} on {where} ({why})")
     return out
+
+
+def _lacking(ld, kind: str) -> list[int]:
+    """The VAMPs that have no fault of `kind` (`_permanent` gives None): the extraneous VAMP no
+    control, the last of the check order no control2 (every VAMP without error correction)."""
+    if kind not in ("control", "control2"):       # (the others have one on every VAMP)
+        return []
+    return [v for v in range(physical_vamps(ld)) if _permanent(ld, v, kind, None, 0, None) is None]
 
 
 def _permanent(ld, v: int, kind: str, bit, at: int, value) -> str | None:
