@@ -1201,7 +1201,7 @@ WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead'
 def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> str:
     """The run in a few lines: rows, window, violations with how far ahead they were seen, each
     joint's worst torque against its limit (as given and retimed), k."""
-    from vampc.lookahead import ahead
+    from vampc.lookahead import MAX_SPEED, ahead
     from vampc.robot.mimic import free_names
     names = [j.name for j in ld.chain.joints]
     motors = free_names(ld.chain)         # whose effort limits these are (a coupled follower: none)
@@ -1241,7 +1241,6 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         still = np.all(traj.qd == 0, axis=1)
         pause = still[:-1] & still[1:]
         if pause.any():
-            from vampc.lookahead import MAX_SPEED
             lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
                          f"{pause.sum() * lam * 1e3:.4g} ms as given: retimed at ṡ up to {MAX_SPEED:g} "
                          f"× the path's speed, {np.diff(res.retimed_t)[pause].sum() * 1e3:.4g} ms (a "
