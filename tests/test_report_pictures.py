@@ -20,8 +20,12 @@ def test_only_what_is_asked_for_and_each_drawing_once(monkeypatch):
     assert set(pictures.make(c, rep, {"--dot"})) == {"--dot"} and drawn == ["dot"]
     drawn.clear()
     out = pictures.make(c, rep, {"--html", "--timing"})
-    assert set(out) == {"--html", "--timing", "--network", "--reservation"}
+    assert set(out) == {"--html", "--timing"}
     assert sorted(drawn) == ["network", "timing"]
+    drawn.clear()       # a PNG's drawing is not the page's SVG: drawn for each
+    out = pictures.make(c, rep, {"--html": "p.html", "--timing": "t.png"})
+    assert out["--timing"].startswith(b"\x89PNG") and "<svg" in out["--html"]
+    assert sorted(drawn) == ["network", "timing", "timing"]
 
 
 def test_title_names_robot_layout_latency_and_interval():

@@ -54,9 +54,11 @@ def test_the_option_and_the_page(tmp_path):
 
 
 def test_a_picture_named_otherwise_is_written_with_a_warning(tmp_path):
-    out = tmp_path / "r.png"
+    """(.png and .pdf are drawn in those formats: tests/test_picture_formats.py)"""
+    out = tmp_path / "r.jpg"
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--reservation", str(out)])
-    assert r.exit_code == 0 and "writes SVG, whatever the name says (name it .svg)" in r.output
+    assert r.exit_code == 0 and "writes SVG, whatever the name says (name it .svg, or .png or " \
+        ".pdf for that format)" in r.output
     assert out.read_text().lstrip().startswith("<?xml")
 
 

@@ -765,10 +765,14 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     with progress.counter("trade-off", 1, unit="budget") as bar, naming(source):
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     if outs:
+        from vampc.report.svg import drawn_as, format_of
         from vampc.report.tradeoff_chart import curve_svg
         title = f"{chain.name}: {options.recursion} recursion, {count(chain.n, 'joint')}"
-        curve = curve_svg(rows, title)
+        curve = curve_svg(rows, title)          # (SVG: the page's, and --curve's if so named)
         content = {"--curve": curve}
+        if "--curve" in outs and format_of(outs["--curve"].path) != "svg":
+            with drawn_as(format_of(outs["--curve"].path)):
+                content["--curve"] = curve_svg(rows, title)
         if "--html" in outs:
             from vampc.report.html import tradeoff_page
             content["--html"] = tradeoff_page(rows, title, curve)
@@ -786,7 +790,7 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
     if not outs:
         return {}
     from vampc.report import pictures
-    return pictures.make(c, rep, set(outs), focus)
+    return pictures.make(c, rep, {o: out.path for o, out in outs.items()}, focus)
 
 
 def write_pictures(outs: dict, content: dict) -> None:
@@ -1151,10 +1155,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     ok = not failed and not overflowed
     content = _lookahead_outputs(outs, ld.chain, traj, times, res)
     if "--plot" in outs:
+        from vampc.report.svg import format_of
         from vampc.robot.mimic import free_joints
         content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
                                         f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                        f"window {own.window}")
+                                        f"window {own.window}", format_of(outs["--plot"].path))
     why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
                        ([f"the {' and '.join(failed)} failed"] if failed else []))
     kept = [] if ok or own.write_failed else \

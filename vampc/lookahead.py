@@ -973,20 +973,23 @@ def ahead(row: int, window: int) -> tuple[int, int]:
     return max(0, row - window + 1), min(row, window - 1)
 
 
-def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+def plot_svg(joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str,
+             fmt: str = "svg") -> str | bytes:
     """Per motor (`joints`: the chain's independent joints), torque over time against ±its limit,
     in its unit (N·m revolute, N prismatic): the path as given, and the retimed one (its own time
-    axis) when there is one, with a last panel of the speed ṡ over time. SVG text."""
+    axis) when there is one, with a last panel of the speed ṡ over time. SVG text (`fmt` "png" or
+    "pdf": those bytes, as the report's pictures: vampc.report.svg.rendered)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     # (a joint named 'a$_$' is text; the salt makes the ids of markers and clips, so the same run
     # gives the same bytes, as the report's pictures do)
     with matplotlib.rc_context({"text.parse_math": False, "svg.hashsalt": "vampc"}):
-        return _plot(plt, joints, times, res, limits, title)
+        return _plot(plt, joints, times, res, limits, title, fmt)
 
 
-def _plot(plt, joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str) -> str:
+def _plot(plt, joints, times: np.ndarray, res: Lookahead, limits: Limits, title: str,
+          fmt: str = "svg") -> str | bytes:
     import io
     n = len(limits.tau)
     panels = n + (res.retimed is not None)
@@ -1013,6 +1016,12 @@ def _plot(plt, joints, times: np.ndarray, res: Lookahead, limits: Limits, title:
     axes[-1, 0].set_xlabel("time (s)")
     fig.suptitle(title, fontsize=9)
     fig.tight_layout()
+    if fmt != "svg":
+        from vampc.report.svg import rendered
+        try:
+            return rendered(fig, fmt)
+        finally:
+            plt.close(fig)
     out = io.StringIO()
     fig.savefig(out, format="svg", metadata={"Date": None})
     plt.close(fig)

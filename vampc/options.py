@@ -694,7 +694,7 @@ class LookaheadOptions:
         "--retime), CSV with t first."))
     plot: str | None = field(default=None, metadata=cli(
         "--plot", path=True, metavar="FILE.svg", help="Draw, per joint, torque over time against its "
-        "limit, before and after --retime, as SVG."))
+        "limit, before and after --retime, as SVG (PNG or PDF for a name ending .png or .pdf)."))
     write_failed: bool = field(default=False, metadata=cli(
         "--write-failed", help="With --check or --retime: write -o, --torques and --plot even when "
         "the check or the retiming fails and the file exists (by default a failed run never "
@@ -797,7 +797,7 @@ class ReportOptions:
         "installed), beside the network's: a few seconds, and the figures vary from run to run."))
     timing: str | None = field(default=None, metadata=cli(
         "--timing", path=True, metavar="FILE.svg", help="Write the timing chart (Table III.2 style) "
-        "as SVG."))
+        "as SVG (PNG or PDF for a name ending .png or .pdf, as every picture)."))
     network: str | None = field(default=None, metadata=cli(
         "--network", path=True, metavar="FILE.svg", help="Write a drawing of the network (Figures "
         "III.1, IV.2, VI.3) as SVG."))

@@ -577,8 +577,9 @@ def output_for(path, option: str = "-o", inputs=()) -> PlannedOutput:
 
 
 # what each picture option writes, and the names that say so
-WRITES = {"--timing": ("SVG", (".svg",)), "--network": ("SVG", (".svg",)),
-          "--reservation": ("SVG", (".svg",)), "--bus-chart": ("SVG", (".svg",)), "--curve": ("SVG", (".svg",)), "--plot": ("SVG", (".svg",)),
+PICTURE = ("SVG", (".svg", ".png", ".pdf"))     # (PNG, PDF by those names: vampc.report.svg)
+WRITES = {"--timing": PICTURE, "--network": PICTURE, "--reservation": PICTURE,
+          "--bus-chart": PICTURE, "--curve": PICTURE, "--plot": PICTURE,
           "--html": ("HTML", (".html", ".htm")), "--dot": ("Graphviz DOT", (".dot", ".gv"))}
 
 
@@ -601,5 +602,6 @@ def _warn_suffix(option: str, path: str, writes: dict) -> None:
     name = path.lower()
     if kind and path.strip() not in ("", "-") and not name.endswith(kind[1]) and \
             (len(kind) < 3 or name.endswith(kind[2])):
+        also = f", or {' or '.join(kind[1][1:])} for that format" if kind is PICTURE else ""
         warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
-                                   f"(name it {kind[1][0]})"))
+                                   f"(name it {kind[1][0]}{also})"))

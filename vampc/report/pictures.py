@@ -38,23 +38,31 @@ def dot(c, rep: dict) -> str:
 
 
 @gc_paused()
-def make(c, rep: dict, wanted: set[str], focus=None) -> dict[str, str]:
+def make(c, rep: dict, wanted, focus=None) -> dict[str, str | bytes]:
     """The content of every output option in `wanted` (--timing, --network, --reservation, --dot,
-    --html); each
-    picture is drawn once even when the page needs it too. `focus`: --focus A:B for the drawing."""
-    out: dict[str, str] = {}
-    if wanted & {"--timing", "--html"}:
-        out["--timing"] = timing(c, rep)
-    if wanted & {"--network", "--html"}:
-        out["--network"] = network(c, rep, focus)
-    if wanted & {"--reservation", "--html"}:
-        out["--reservation"] = reservation(c, rep)
-    if "--dot" in wanted:
-        out["--dot"] = dot(c, rep)
+    --html, --bus-chart: a set, or a dict of each to its path, whose name says the picture's format:
+    `svg.format_of`); each picture is drawn once even when the page needs it too (twice where it
+    goes to a PNG or PDF: the page holds SVG). `focus`: --focus A:B for the drawing."""
+    from vampc.report import svg
+    formats = {o: svg.format_of(p) for o, p in wanted.items()} if isinstance(wanted, dict) else {}
+    wanted = set(wanted)
+    drawers = {"--timing": lambda: timing(c, rep), "--network": lambda: network(c, rep, focus),
+               "--reservation": lambda: reservation(c, rep)}
     if "--bus-chart" in wanted:
         from vampc.report.bus_chart import bus_chart_svg
-        out["--bus-chart"] = bus_chart_svg(c.network, title(rep))
+        drawers["--bus-chart"] = lambda: bus_chart_svg(c.network, title(rep))
+    out: dict[str, str | bytes] = {}
+    page: dict[str, str] = {}
+    for option, draw in drawers.items():
+        fmt = formats.get(option, "svg")
+        if option in wanted:
+            with svg.drawn_as(fmt):
+                out[option] = draw()
+        if "--html" in wanted and option != "--bus-chart":
+            page[option] = out[option] if option in wanted and fmt == "svg" else draw()
+    if "--dot" in wanted:
+        out["--dot"] = dot(c, rep)
     if "--html" in wanted:
-        from vampc.report.html import page
-        out["--html"] = page(rep, out["--timing"], out["--network"], out["--reservation"])
+        from vampc.report.html import page as html_page
+        out["--html"] = html_page(rep, page["--timing"], page["--network"], page["--reservation"])
     return out

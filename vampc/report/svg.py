@@ -4,6 +4,7 @@ salt for the ids matplotlib derives, text kept as text (and never read as TeX), 
 creator — so the same IRs give the same bytes and tests can compare pictures."""
 from __future__ import annotations
 
+import contextvars
 import io
 import re
 from contextlib import contextmanager
@@ -13,6 +14,42 @@ SETTINGS = {"svg.hashsalt": "vampc", "svg.fonttype": "none", "svg.id": "vampc",
             "font.family": "DejaVu Sans", "font.size": 8.0, "axes.unicode_minus": True,
             "text.parse_math": False}     # (names are text: a robot named 'cost$_$' is not TeX)
 METADATA = {"Date": None, "Creator": "vampc", "Format": None, "Type": None}
+# A picture whose name ends so is drawn in that format instead (README "Pictures"): the same
+# drawing, without the SVG's tooltips; deterministic too (no date, no software version)
+FORMATS = {".png": "png", ".pdf": "pdf"}
+RASTER_DPI = 144             # a PNG's pixels per inch: twice the SVG's points
+RASTER_MOST = 32000          # pixels along either side at most (the Agg renderer stops at 2^16)
+OTHER_METADATA = {"png": {"Software": None},
+                  "pdf": {"Creator": "vampc", "Producer": None, "CreationDate": None}}
+_FORMAT = contextvars.ContextVar("vampc_picture_format", default="svg")
+
+
+def format_of(path) -> str:
+    """The format a picture named `path` is drawn in: "png", "pdf" or "svg" (any other name)."""
+    name = str(path).lower()
+    return next((fmt for end, fmt in FORMATS.items() if name.endswith(end)), "svg")
+
+
+@contextmanager
+def drawn_as(fmt: str):
+    """Pictures drawn inside come out in `fmt` ("svg", "png", "pdf"): `to_svg` gives bytes for the
+    last two."""
+    token = _FORMAT.set(fmt)
+    try:
+        yield
+    finally:
+        _FORMAT.reset(token)
+
+
+def rendered(fig, fmt: str) -> bytes:
+    """The figure as PNG or PDF bytes, the same for the same drawing (no date, no version). A PNG
+    is drawn at RASTER_DPI, less where a side would pass RASTER_MOST pixels (a big network's
+    drawing: the SVG has no such limit)."""
+    buf = io.BytesIO()
+    width, height = fig.get_size_inches()
+    dpi = min(RASTER_DPI, RASTER_MOST / max(width, height, 1e-9)) if fmt == "png" else DPI
+    fig.savefig(buf, format=fmt, dpi=dpi, metadata=OTHER_METADATA[fmt])
+    return buf.getvalue()
 
 
 def figure(width_px: float, height_px: float):
@@ -44,8 +81,8 @@ def settings():
         yield
 
 
-def to_svg(fig, titles: dict[str, str] | None = None) -> str:
-    """The figure as SVG text, with a <title> (a tooltip in browsers) added inside each group whose
+def to_svg(fig, titles: dict[str, str] | None = None) -> str | bytes:
+    """The figure as SVG text (inside `drawn_as("png")` or "pdf": those bytes, `rendered`), with a <title> (a tooltip in browsers) added inside each group whose
     id is a key of `titles`. Paths of a collection that carry a link to `#ID` (matplotlib wraps each
     in an <a>) become groups with that id: the way to give thousands of bars drawn as one collection
     an id each."""
@@ -54,6 +91,8 @@ def to_svg(fig, titles: dict[str, str] | None = None) -> str:
             # (not one with a '$': matplotlib measures the lines it wraps as maths, whatever
             # text.parse_math says, and '$_$' in a robot's name failed to parse)
             t.set_wrap("$" not in t.get_text())
+    if _FORMAT.get() != "svg":
+        return rendered(fig, _FORMAT.get())
     buf = io.StringIO()
     fig.savefig(buf, format="svg", metadata=METADATA)
     text = _links_to_groups(_round_paths(buf.getvalue()))
