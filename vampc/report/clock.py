@@ -139,9 +139,11 @@ def clock_figures(latency: int, interval: int, load_ticks: int, hz: float) -> di
 
 
 def _margin(m: float) -> float:
-    """A control rate's margin to 3 digits, or more where 3 would round a miss up to 1 (at 609.9
-    kHz the Puma's 10 kHz is missed by 0.016%: "not met (×1)", margin 1.0 beside met false)."""
-    for digits in (3, 6):
+    """A control rate's margin to 6 significant digits, as the other rates, or more where 6 would
+    round a miss up to 1 (at 609.9 kHz the Puma's 10 kHz is missed by 0.016%: at 3 digits "not met
+    (×1)", margin 1.0 beside met false). (3 digits gave 312 000 for 18.75 MHz / 60 over 1 kHz, in
+    the JSON and as "×312,000" in the text: a new user's find, 2026-12-05.)"""
+    for digits in (6, 12):
         shown = float(f"{m:.{digits}g}")
         if (shown >= 1) == (m >= 1):
             return shown
