@@ -374,3 +374,20 @@ def test_the_command_list_gives_each_command_whole():
     res = CliRunner().invoke(main, ["--help"], terminal_width=78)     # (a terminal's, not 80)
     listed = res.output.split("Commands:\n", 1)[1].splitlines()
     assert len(listed) == len(main.commands) and not any(line.endswith("...") for line in listed)
+
+
+def test_an_option_of_another_command_is_said_to_be_one():
+    """`vampc compile --clock` was asked "Did you mean '--lock'?" and `vampc precision --check` was
+    offered --check-cycles, which precision then refuses (a new user's find): an unknown option
+    that another command takes says which; a misspelt one keeps click's guesses."""
+    for args, said in (
+            (["compile", PUMA, "--clock", "20MHz"], "No such option '--clock' for vampc compile: "
+             "it is an option of vampc lookahead and report (see 'vampc compile --help')"),
+            (["precision", PUMA, "--check"], "No such option '--check' for vampc precision: it is "
+             "an option of vampc emulate, lookahead and rtl (see 'vampc precision --help')"),
+            (["emulate", PUMA, "--tradeoff"], "No such option '--tradeoff' for vampc emulate: it "
+             "is an option of vampc report (see 'vampc emulate --help')")):
+        r = run(*args)
+        assert r.exit_code == 2 and r.stderr == f"vampc: error: {said}\n", r.stderr
+    r = run("emulate", PUMA, "--chekc")
+    assert r.exit_code == 2 and "Did you mean one of: '--check'" in r.stderr

@@ -191,6 +191,8 @@ class _Vampc(click.Group):
                 sys.exit(2)
             where = exc.ctx.command_path if exc.ctx is not None else "vampc"
             message = " ".join(exc.format_message().split())
+            if isinstance(exc, click.NoSuchOption) and exc.ctx is not None:
+                message = self._taken_elsewhere(exc, where) or message
             click.echo(f"vampc: error: {message} (see '{where} --help')", err=True)
             sys.exit(2)
         except click.ClickException as exc:
@@ -202,6 +204,19 @@ class _Vampc(click.Group):
         finally:
             restore()
         sys.exit(code if isinstance(code, int) else 0)
+
+    def _taken_elsewhere(self, exc, where: str) -> str | None:
+        """An unknown option that another command takes, said so instead of click's guesses
+        (`vampc compile --clock` was asked "Did you mean '--lock'?", `vampc precision --check`
+        offered --check-cycles, which precision refuses: a new user's find)."""
+        takers = [name for name, cmd in sorted(self.commands.items())
+                  if cmd is not exc.ctx.command and any(exc.option_name in p.opts + p.secondary_opts
+                                                        for p in cmd.params)]
+        if not takers:
+            return None
+        names = takers[0] if len(takers) == 1 else f"{', '.join(takers[:-1])} and {takers[-1]}"
+        return (f"No such option '{exc.option_name}' for {where}: it is an option of vampc "
+                f"{names}")
 
 
 @click.group(cls=_Vampc, context_settings={"help_option_names": ["-h", "--help"]})
