@@ -387,7 +387,7 @@ def test_an_option_of_another_command_is_said_to_be_one():
              "an option of vampc emulate, lookahead and rtl (see 'vampc precision --help')"),
             (["emulate", PUMA, "--tradeoff"], "No such option '--tradeoff' for vampc emulate: it "
              "is an option of vampc report (see 'vampc emulate --help')")):
-        r = run(*args)
+        r = CliRunner().invoke(main, args, prog_name="vampc")
         assert r.exit_code == 2 and r.stderr == f"vampc: error: {said}\n", r.stderr
     r = run("emulate", PUMA, "--chekc")
     assert r.exit_code == 2 and "Did you mean one of: '--check'" in r.stderr
