@@ -75,3 +75,6 @@ def test_a_grouped_tables_last_row_says_and_shades_the_units_it_holds(monkeypatc
     svg = reservation.reservation_svg(c.graph, c.layout, c.schedule, "t")
     labels = re.findall(r"… \((\d+)\)", svg)
     assert labels[:-1] == [str(per)] * (len(labels) - 1) and labels[-1] == str(last), labels
+    # the shades have a key (a new user's find: they had none)
+    for name in ("¼", "½", "¾", "all"):
+        assert f"{name} of the row's units busy" in svg

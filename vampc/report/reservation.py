@@ -18,6 +18,7 @@ from vampc.report.sites import unit_nodes, unit_sizes
 MAX_ROWS = 110          # rows drawn one by one at most: 110 × 12 pt keeps the table within 1 500 pt
 ROW_PT, LEFT_PT, TOP_PT, BOTTOM_PT, RIGHT_PT, MAX_PLOT_PT = 12, 150, 70, 40, 30, 1200.0
 FONT = 6.0
+SHADE = (0.2, 0.35, 0.6)   # a grouped row's colour, its opacity the share of its units busy
 
 
 def reservation_svg(graph, layout, sched, title: str) -> str:
@@ -87,7 +88,7 @@ def _draw(graph, layout, sched, title: str) -> str:
             for t in range(P):
                 if busy[y][t]:
                     polys.append([(t, y + 0.1), (t + 1, y + 0.1), (t + 1, y + 0.9), (t, y + 0.9)])
-                    faces.append((0.2, 0.35, 0.6, min(1.0, busy[y][t] / held[y])))
+                    faces.append((*SHADE, min(1.0, busy[y][t] / held[y])))
                     urls.append(None)
         labels = [f"{table[y * per][0]} … ({held[y]})" for y in range(shown)]
     coll = PolyCollection(polys, facecolors=faces, edgecolors="#404040", linewidths=0.3,
@@ -112,7 +113,11 @@ def _draw(graph, layout, sched, title: str) -> str:
         head += f"; {per} units a row, shaded by how many are busy"
     ax.set_title(head if width > 900 else head.replace(" — ", "\n", 1), loc="left", fontsize=8, pad=14)
     handles = [Rectangle((0, 0), 1, 1, facecolor=c, edgecolor="#404040", linewidth=0.4, label=op)
-               for op, c in colours().items()] if not grouped else []     # grouped: shaded, not by op
+               for op, c in colours().items()]
+    if grouped:         # shaded by the share of the row's units busy, not by op: its key (it had none)
+        handles = [Rectangle((0, 0), 1, 1, facecolor=(*SHADE, share), edgecolor="#404040",
+                             linewidth=0.4, label=f"{name} of the row's units busy")
+                   for share, name in ((0.25, "¼"), (0.5, "½"), (0.75, "¾"), (1.0, "all"))]
     if handles:
         fig.legend(handles=handles, loc="upper left", ncols=10, fontsize=6.5, frameon=False,
                    bbox_to_anchor=(LEFT_PT / width, 1 - 2 / height))
