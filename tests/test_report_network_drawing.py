@@ -125,3 +125,46 @@ def test_a_grouped_drawings_buffer_squares_have_ids_of_their_own():
     svg = nd.network_svg(c.graph, c.layout, c.network, "t")
     ids = [e.get("id") for e in ET.fromstring(svg).iter() if (e.get("id") or "").startswith("buffer-")]
     assert len(ids) > 100 and len(set(ids)) == len(ids)
+
+
+TREE = """<robot name="fork">
+ <link name="base"/>
+ {links}
+ {joints}
+</robot>"""
+
+
+def _fork_urdf(tmp_path):
+    """base - j1 - l1, whose two children are j2 - l2 - j3 - l3 and j4 - l4: joint 1's bus to
+    joint 4 passes joints 2 and 3 on its row (depth-first order 1, 2, 3, 4)."""
+    inertial = ('<inertial><mass value="1"/><origin xyz="0 0 0.1"/>'
+                '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="l{i}">{inertial}</link>' for i in range(1, 5))
+    joints = "".join(
+        f'<joint name="j{i}" type="revolute"><parent link="{p}"/><child link="l{i}"/>'
+        f'<origin xyz="0 0 0.2"/><axis xyz="0 1 0"/>'
+        f'<limit effort="10" velocity="1" lower="-1" upper="1"/></joint>'
+        for i, p in ((1, "base"), (2, "l1"), (3, "l2"), (4, "l1")))
+    path = tmp_path / "fork.urdf"
+    path.write_text(TREE.format(links=links, joints=joints))
+    return path
+
+
+def test_a_bus_past_nodes_of_its_row_is_drawn_as_a_curve_over_them(tmp_path, puma):
+    """A tree's bus from a node to a child further along its row ran straight behind the nodes
+    between, and the tree looked a chain (a new user's find): it is a curve (SVG 'Q'), and a
+    chain's buses stay straight."""
+    c = compile_chain(load_robot(_fork_urdf(tmp_path)))
+    d = nd.drawing(c.graph, c.layout, c.network)
+    places = {s: d.places[s] for s in d.places}
+    far = [(a, b) for a, b in d.buses if a != b and places[a][1] == places[b][1]
+           and abs(places[a][0] - places[b][0]) > 1]
+    assert far, "the fork has a bus past nodes of its row"
+    svg = nd.network_svg(c.graph, c.layout, c.network, "t")
+    buses = [p.get("d") for g in ET.fromstring(svg).iter(f"{SVG}g")
+             if (g.get("id") or "").startswith("wires-buses") for p in g.iter(f"{SVG}path")]
+    assert sum(path.count("Q") for path in buses) == len(far)
+    c = compile_chain(puma)
+    svg = nd.network_svg(c.graph, c.layout, c.network, "t")
+    assert not any("Q" in (p.get("d") or "") for g in ET.fromstring(svg).iter(f"{SVG}g")
+                   if (g.get("id") or "").startswith("wires-buses") for p in g.iter(f"{SVG}path"))

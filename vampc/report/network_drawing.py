@@ -351,7 +351,7 @@ def _draw(d: Drawing, title: str) -> str:
     by_width: dict[float, list] = {}
     for (a, b), k in d.buses.items():
         if a != b:
-            by_width.setdefault(min(0.4 + 0.4 * (k // 3), 3.0), []).append([_xy(d, a), _xy(d, b)])
+            by_width.setdefault(min(0.4 + 0.4 * (k // 3), 3.0), []).append(_bus_line(d, a, b))
     for w, segments in sorted(by_width.items()):
         _lines(ax, segments, f"wires-buses-{w:g}", "#555555", w, 1)
     _buffers(ax, d, titles)
@@ -392,14 +392,30 @@ def _output_markers(d: Drawing) -> list[tuple[int, list, object]]:
     return sorted(entries, key=lambda e: e[0])
 
 
+ARC_RISE = 0.8      # a same-row bus past its neighbours: its curve's control point, rows above
+
+
+def _bus_line(d: Drawing, a, b) -> list:
+    """A bus as a segment [start, end], or, between two nodes of one row with others between them
+    (a tree's bus from a node to a child further along: torso's bwd 1 to bwd 6), a curve [start,
+    control, end] rising ARC_RISE / 2 rows over them at its top: drawn straight, it ran behind
+    the nodes between, and the tree looked a chain (a new user's find)."""
+    (x0, y0), (x1, y1) = _xy(d, a), _xy(d, b)
+    if y0 != y1 or abs(x1 - x0) <= 1.0:
+        return [(x0, y0), (x1, y1)]
+    return [(x0, y0), ((x0 + x1) / 2, y0 + ARC_RISE), (x1, y1)]
+
+
 def _lines(ax, segments, gid: str, colour: str, width: float, zorder: int) -> None:
-    """Line segments as one SVG path (one element however many: a big drawing has thousands)."""
+    """Line segments as one SVG path (one element however many: a big drawing has thousands); a
+    segment of three points is a quadratic curve through its middle one's pull."""
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path
     if not segments:
         return
     verts = [p for seg in segments for p in seg]
-    codes = [Path.MOVETO, Path.LINETO] * len(segments)
+    codes = [c for seg in segments for c in ([Path.MOVETO, Path.LINETO] if len(seg) == 2 else
+                                             [Path.MOVETO, Path.CURVE3, Path.CURVE3])]
     patch = PathPatch(Path(verts, codes), facecolor="none", edgecolor=colour, linewidth=width,
                       zorder=zorder)
     patch.set_gid(gid)
