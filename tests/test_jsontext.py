@@ -79,3 +79,26 @@ def test_number_rows_from_a_flat_array_are_the_rows_written_one_by_one():
     for bad in (float("nan"), float("inf")):
         with pytest.raises(ValueError, match="not a JSON number"):
             jsontext.number_rows(Words(array("d", [1.0, bad, 2.0])))
+
+
+def test_json_nested_too_deeply_is_not_json_for_every_reader(tmp_path):
+    """`vampc report --rtl` and `faults --results` given a 2000-deep array ended in a traceback
+    (exit 3: msgspec's RecursionError; a hostile-input audit's find): loads raises a DecodeError,
+    which every reader says as not JSON, that is a RecursionError too (the readers that said
+    "nested too deeply" still do)."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    deep = "[" * 2000 + "]" * 2000
+    for caught in (jsontext.DecodeError, ValueError, RecursionError):
+        with pytest.raises(caught, match="nested too deeply"):
+            jsontext.loads(deep)
+    figures = tmp_path / "deep.json"
+    figures.write_text(deep)
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--rtl", str(figures)])
+    assert r.exit_code == 1 and r.stderr == f"vampc: error: {figures}: not JSON (nested too deeply)\n"
+    program = tmp_path / "p.vamp.json"
+    program.write_text(deep)
+    r = CliRunner().invoke(main, ["emulate", str(program), "--random", "1"])
+    assert r.exit_code == 1 and "nested too deeply" in r.stderr and len(r.stderr.splitlines()) == 1

@@ -138,10 +138,20 @@ def decode_problem(exc: DecodeError, text: str | bytes) -> str:
     return f"{what} (line {line}, column {column})"
 
 
+class NestedTooDeeply(DecodeError, RecursionError):
+    """JSON nested more deeply than the decoder goes: a DecodeError, so a caller that says "not
+    JSON" says so of it too (`vampc report --rtl` and `faults --results` given a 2000-deep array
+    ended in a traceback, exit 3: a hostile-input audit's find), and a RecursionError, as before."""
+
+
 def loads(text: str | bytes):
     """The value of JSON text: dicts, lists and scalars (DecodeError if it is not JSON, NaN and
-    infinities included; RecursionError if nested too deeply)."""
-    return _DECODER.decode(text)
+    infinities included; NestedTooDeeply, a DecodeError and a RecursionError, if nested too
+    deeply)."""
+    try:
+        return _DECODER.decode(text)
+    except RecursionError:
+        raise NestedTooDeeply("nested too deeply") from None
 
 
 _TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]:]')
