@@ -40,6 +40,26 @@ def programs(tmp_path_factory):
     return ec, plain, planar
 
 
+@pytest.fixture(scope="module")
+def _quick_file(programs, tmp_path_factory) -> bytes:
+    """The results file of the QUICK campaign on the one-joint arm with checking, run once for the
+    module. The campaign is deterministic (its seed; the program is named by its digest, not its
+    path), so these are the bytes the same command writes in any test's own folder."""
+    ec, _, _ = programs
+    d = tmp_path_factory.mktemp("quick")
+    _campaign(ec, d, *QUICK)
+    return (d / "r.jsonl").read_bytes()
+
+
+@pytest.fixture
+def quick_results(_quick_file, tmp_path):
+    """tmp_path / r.jsonl: a fresh copy of the QUICK campaign's results file (for the tests that
+    edit one or resume from one; each had run the campaign itself to make it)."""
+    path = tmp_path / "r.jsonl"
+    path.write_bytes(_quick_file)
+    return path
+
+
 def _campaign(program, tmp_path, *args, name="r.jsonl"):
     r = RUN(main, ["faults", str(program), "--format", "json", "--results", str(tmp_path / name),
                    "--workers", "1", *args])
@@ -162,14 +182,13 @@ def test_kinds_and_bits_in_another_order_are_the_same_campaign(programs, tmp_pat
     assert "read from" in r.output, r.output
 
 
-def test_another_campaigns_results_file_is_refused_and_kept(programs, tmp_path):
+def test_another_campaigns_results_file_is_refused_and_kept(programs, quick_results):
     ec, _, _ = programs
-    _campaign(ec, tmp_path, *QUICK)
-    before = (tmp_path / "r.jsonl").read_bytes()
-    r = RUN(main, ["faults", str(ec), *QUICK[:-1], "41", "--results", str(tmp_path / "r.jsonl")])
+    before = quick_results.read_bytes()      # the QUICK campaign's results (made once)
+    r = RUN(main, ["faults", str(ec), *QUICK[:-1], "41", "--results", str(quick_results)])
     errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
     assert r.exit_code == 1 and "another campaign" in r.output and len(errors) == 1
-    assert (tmp_path / "r.jsonl").read_bytes() == before
+    assert quick_results.read_bytes() == before
 
 
 def test_workers_give_the_results_one_process_gives(programs, tmp_path):
@@ -411,13 +430,12 @@ def test_a_what_if_word_is_another_campaign(programs, tmp_path):
                                   # counts no run of 40 sets can have (a tester's: taken, reported)
                                   ('"sets_run": ', '"sets_run": -4, "was": '),
                                   ('"sets_run": ', '"sets_run": 1000000, "was": ')])
-def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path, edit):
+def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, quick_results, edit):
     """An edited line of the results file was a KeyError traceback (`"class": "bogus"`) or, with
     `"index": true`, fault 0's run filed as fault 1's, exit 0: every line must be a run of this
     campaign's list (its index, its fault's text, a class), or the command stops naming it."""
     ec, _, _ = programs
-    _campaign(ec, tmp_path, *QUICK)
-    path = tmp_path / "r.jsonl"
+    path = quick_results                     # the QUICK campaign's results (made once)
     lines = path.read_text().splitlines(keepends=True)
     assert edit[0] in lines[1]
     lines[1] = lines[1].replace(edit[0], edit[1], 1)
@@ -435,12 +453,11 @@ def test_an_edited_run_line_is_one_line_and_the_file_is_kept(programs, tmp_path,
                                         (2, ('"class": "masked"', '"class": "hang"')),
                                         (6, ('"class": "detected-corrected"',
                                              '"class": "detected-not-corrected"'))])
-def test_a_class_its_runs_fields_do_not_give_is_refused(programs, tmp_path, line, edit):
+def test_a_class_its_runs_fields_do_not_give_is_refused(programs, quick_results, line, edit):
     """A line whose class was edited (a corrupted run's `"class": "masked"`) was taken, and the
     campaign said so: the class must be the one the line's counts and detection give."""
     ec, _, _ = programs
-    _campaign(ec, tmp_path, *QUICK)
-    path = tmp_path / "r.jsonl"
+    path = quick_results                     # the QUICK campaign's results (made once)
     lines = path.read_text().splitlines(keepends=True)
     assert edit[0] in lines[line - 1]
     lines[line - 1] = lines[line - 1].replace(edit[0], edit[1], 1)
@@ -452,11 +469,10 @@ def test_a_class_its_runs_fields_do_not_give_is_refused(programs, tmp_path, line
                                            "over)"]
 
 
-def test_a_run_on_two_lines_is_refused_naming_both(programs, tmp_path):
+def test_a_run_on_two_lines_is_refused_naming_both(programs, quick_results):
     """A run's line said again (or a second, edited one) silently replaced the first."""
     ec, _, _ = programs
-    _campaign(ec, tmp_path, *QUICK)
-    path = tmp_path / "r.jsonl"
+    path = quick_results                     # the QUICK campaign's results (made once)
     lines = path.read_text().splitlines(keepends=True)
     path.write_text("".join(lines + [lines[2]]))
     before = path.read_bytes()
