@@ -187,7 +187,7 @@ def programs(tmp_path_factory):
     run = CliRunner().invoke
     for name, robot, args in (
             ("fixed", "arm1", ["--word", "q16.16", "--vamps", "2"]),
-            ("float", "arm1", []),
+            ("float", "arm1", ["--vamps", "2"]),     # (systolic: 30 VAMPs, 4x the co-simulation)
             ("planar2", "planar2", ["--word", "q16.16", "--layout", "folded"]),
             ("bus", "planar2", ["--word", "q16.16", "--layout", "folded", "--bus", "mlb"]),
             ("ec", "arm1", ["--word", "q16.16", "--error-correction"])):
