@@ -14,7 +14,7 @@ SETTINGS = {"svg.hashsalt": "vampc", "svg.fonttype": "none", "svg.id": "vampc",
             "font.family": "DejaVu Sans", "font.size": 8.0, "axes.unicode_minus": True,
             "text.parse_math": False}     # (names are text: a robot named 'cost$_$' is not TeX)
 METADATA = {"Date": None, "Creator": "vampc", "Format": None, "Type": None}
-# A picture whose name ends so is drawn in that format instead (README "Pictures"): the same
+# A picture whose name ends so is drawn in that format instead (README "Report pictures"): the same
 # drawing, without the SVG's tooltips; deterministic too (no date, no software version)
 FORMATS = {".png": "png", ".pdf": "pdf"}
 RASTER_DPI = 144             # a PNG's pixels per inch: twice the SVG's points
