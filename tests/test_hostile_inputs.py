@@ -505,7 +505,40 @@ def test_an_inertia_that_overflows_in_mjcf_is_one_line():
                          'axis="0 0 1"/><geom type="sphere" size="0.1" mass="1e308"/></body>'
                          '</worldbody></mujoco>')
         code, err, _ = run("report", model)
-    assert code == 1 and one_line(err) and "link 'b1': its inertia is not a finite number" in err, err
+    # (named since 2026-12-05 as MuJoCo compiled it, before the link is built: `_finite_model`)
+    assert code == 1 and one_line(err) and "body 'b1': its inertia is not finite once MuJoCo " \
+        "compiled it" in err, err
+
+
+MJCF_ONE = ("<mujoco model='m'><option gravity='{gravity}'/><worldbody><body name='{body}' "
+            "pos='0 0 .1'{quat}><joint name='h' type='hinge' axis='0 0 1'{joint}/><inertial "
+            "pos='{ipos}' mass='1' diaginertia='.01 .01 .01'/></body></worldbody></mujoco>")
+
+
+@pytest.mark.parametrize("edit, said", [
+    (dict(gravity="0 0 -inf"), "line 1: <option> gravity: '-inf' is not a finite number"),
+    (dict(ipos="nan 0 0"), "line 1: <inertial> pos: 'nan' is not a finite number"),
+    (dict(joint=" ref='nan'"), "line 1: <joint name='h'> ref: 'nan' is not a finite number"),
+    (dict(joint=" range='0 inf' limited='true'"),
+     "line 1: <joint name='h'> range: 'inf' is not a finite number"),
+    (dict(ipos="1e400 0 0"), "line 1: <inertial> pos: '1e400' is not a finite number"),
+    (dict(quat=" quat='1e308 0 0 1'"), "body 'b': its quat is not a rotation once MuJoCo compiled it "
+     "(norm 0: a quaternion too large or too small to normalize?)")])
+def test_an_mjcf_number_that_is_not_finite_is_one_line_naming_it(tmp_path, edit, said):
+    """MuJoCo reads NaN as 0 (an inertial pos of nan gave the torques of pos 0, exit 0, only
+    MuJoCo's "XML contains a 'NaN'" said), and an inf gravity, a nan ref or range, or a quaternion
+    too large to normalize ended in a traceback, exit 3 (a hostile-input audit's finds): each is
+    refused, naming the element and attribute. A body named 'inf' is a name, not a number."""
+    pytest.importorskip("mujoco")
+    fields = dict(gravity="0 0 -9.81", body="b", quat="", joint="", ipos="0 0 0")
+    model = tmp_path / "m.xml"
+    model.write_text(MJCF_ONE.format(**{**fields, **edit}))
+    code, err, _ = run("compile", model, "-o", tmp_path / "m.vamp.json")
+    assert code == 1 and one_line(err) and err == f"vampc: error: {model}: {said}\n", err
+    assert not (tmp_path / "m.vamp.json").exists()
+    model.write_text(MJCF_ONE.format(**{**fields, "body": "inf"}))
+    code, err, _ = run("compile", model, "-o", tmp_path / "m.vamp.json")
+    assert code == 0, err
 
 
 def test_a_compile_error_names_the_robot_file(tmp_path):

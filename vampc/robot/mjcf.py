@@ -224,8 +224,11 @@ def _compiled(path: Path):
         hear = getattr(mujoco, "set_mju_user_warning", None)
         if hear is not None:
             hear(lambda message: heard.append(" ".join(str(message).split())))
+        _finite_attributes(path)
         try:
-            return mujoco.MjModel.from_xml_path(str(path)), list(dict.fromkeys(heard))
+            model = mujoco.MjModel.from_xml_path(str(path))
+            _finite_model(model, path)
+            return model, list(dict.fromkeys(heard))
         except ValueError as exc:            # MuJoCo's parser and compiler errors
             raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
         finally:
@@ -234,6 +237,75 @@ def _compiled(path: Path):
 
 
 _HANDLER = threading.Lock()
+
+# attributes that hold names, not numbers ('inf' or 'nan' may name a body)
+NAME_ATTRIBUTES = frozenset("name class childclass joint joint1 joint2 body body1 body2 site site1 site2 "
+                            "geom geom1 geom2 mesh material texture hfield target tendon actuator "
+                            "objname refname prefix file key model".split())
+
+
+def _finite_attributes(path: Path) -> None:
+    """Refuse a number of the file that is not finite (nan, inf, 1e400), naming its element and
+    attribute: MuJoCo reads NaN as 0, saying only "XML contains a 'NaN'" (an inertial pos of nan
+    gave the torques of 0), and an inf gravity or pose, or a nan range or ref, ended vampc in a
+    traceback, exit 3 (a hostile-input audit's finds). A file that is not XML is left to MuJoCo,
+    which says so; an included file's numbers are checked once compiled (`_finite_model`)."""
+    import math
+
+    from lxml import etree
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    try:
+        root = etree.parse(str(path), parser).getroot()
+    except (etree.XMLSyntaxError, OSError, ValueError):
+        return
+    for element in root.iter():
+        if not isinstance(element.tag, str):             # (comments, processing instructions)
+            continue
+        for attribute, value in element.attrib.items():
+            if attribute in NAME_ATTRIBUTES:
+                continue
+            for token in value.split():
+                try:
+                    number = float(token)
+                except ValueError:
+                    continue
+                if not math.isfinite(number):
+                    name = element.get("name")
+                    tag = etree.QName(element).localname
+                    raise located(path, f"line {element.sourceline}: <{tag}"
+                                  + (f" name='{name}'" if name else "") + f"> {attribute}",
+                                  f"'{token}' is not a finite number")
+
+
+def _finite_model(model, path: Path) -> None:
+    """Refuse a compiled model whose poses, inertias, joints or gravity are not finite numbers (a
+    body quat of 1e308 0 0 1, or an included file's nan), naming the body or joint."""
+    arrays = (("body", ("body_pos", "body_quat", "body_ipos", "body_iquat", "body_mass", "body_inertia"),
+               model.nbody),
+              ("joint", ("jnt_pos", "jnt_axis", "jnt_range"), model.njnt))
+    for kind, fields, n in arrays:
+        for name in fields:
+            bad = ~np.isfinite(np.asarray(getattr(model, name), dtype=float).reshape(n, -1)).all(1)
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                given = (model.body(k) if kind == "body" else model.joint(k)).name
+                raise located(path, _element(kind, given, k - 1 if kind == "body" else k),
+                              f"its {name.split('_', 1)[1]} is not finite once MuJoCo compiled it")
+    for name in ("body_quat", "body_iquat"):      # (1e308 0 0 1: MuJoCo's normalizing gives 0 0 0 0)
+        norms = np.linalg.norm(np.asarray(getattr(model, name), dtype=float).reshape(model.nbody, 4), axis=1)
+        bad = np.flatnonzero(~(np.abs(norms - 1.0) <= 1e-6))
+        if bad.size:
+            k = int(bad[0])
+            raise located(path, _element("body", model.body(k).name, k - 1),
+                          f"its {name.split('_', 1)[1]} is not a rotation once MuJoCo compiled it "
+                          f"(norm {norms[k]:.6g}: a quaternion too large or too small to normalize?)")
+    for j in range(model.njnt):
+        at = int(model.jnt_qposadr[j])
+        if not np.isfinite(model.qpos0[at]):
+            raise located(path, _element("joint", model.joint(j).name, j),
+                          "its ref is not finite once MuJoCo compiled it")
+    if not np.isfinite(model.opt.gravity).all():
+        raise located(path, "option gravity", "not finite once MuJoCo compiled it")
 
 
 def _robot(model, path: Path, base: str | None = None):
