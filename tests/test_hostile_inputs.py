@@ -887,3 +887,22 @@ def test_a_number_past_float64_in_a_dh_json_names_the_joint(tmp_path):
     path.write_text(text.replace('"mass": 2.0', '"mass": 2.0,,', 1))     # other JSON errors: as before
     code, err, _ = run("compile", path, "-o", tmp_path / "p.vamp.json")
     assert code == 1 and one_line(err) and "not valid JSON" in err, err
+
+
+def test_an_edited_program_whose_operand_a_path_loops_names_the_file(tmp_path):
+    """A shared-pass program edited so that a VAMP's Operand-A path runs through itself (checksum
+    made again) was refused without the file's name ("VAMP 16: its Operand-A path loops back",
+    a hostile-input audit's find): FILE: WHERE: WHAT, as every other edit."""
+    import json
+
+    from vampc.program.file import checksum
+    program = tmp_path / "p.vamp.json"
+    code, err, _ = run("compile", PLANAR, "--layout", "folded", "--share-passes", "-o", program)
+    assert code == 0, err
+    doc = json.loads(program.read_text())
+    doc["network"]["vamps"][16]["a"] = [[["vamp", 16, 0]]]
+    doc["checksum"] = checksum(doc)
+    program.write_text(json.dumps(doc))
+    code, err, _ = run("emulate", program, "--random", "3")
+    assert code == 1 and one_line(err) and err.startswith(
+        f"vampc: error: {program}: VAMP 16: its Operand-A path loops back through VAMP 16"), err

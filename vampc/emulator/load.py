@@ -194,7 +194,10 @@ def delivered_programs(net: Network, numbers, stream, path,
                        packing=PACKING) -> tuple[tuple[Program, ...], ...]:
     """The slot table each VAMP holds after Program Mode; VampcError if one gets none or a bad one."""
     index_of = {n: v for v, n in enumerate(numbers)}
-    roots, depths = a_roots(net)
+    try:
+        roots, depths = a_roots(net)
+    except VampcError as exc:    # (an edited file's A path that loops: said with the file's name)
+        raise VampcError(f"{path}: {exc}") from None
     tables: list[list | None] = [None] * len(net.vamps)
     writes: list[list] = [[] for _ in net.vamps]          # bus-write registers (the bus's)
     for entry in stream:
