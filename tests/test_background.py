@@ -143,38 +143,3 @@ def test_a_failing_network_check_is_reported_before_a_report_that_then_crashed(m
     monkeypatch.setattr(build, "build_report", crash)
     res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml")])
     assert res.exit_code == 1 and res.stderr == "vampc: error: VAMP 3: operand A is not wired\n"
-
-
-@pytest.mark.skipif(not FORKS, reason="no os.fork here")
-@pytest.mark.parametrize("big", [False, True], ids=["inline", "forked"])
-@pytest.mark.parametrize("name", ["p.vamp.json", "p.vamp.json.gz"])
-def test_compile_puts_no_program_in_place_when_its_network_check_fails(tmp_path, monkeypatch, big,
-                                                                        name):
-    """`vampc compile` runs a big network's check beside the program's writing (the report's way:
-    a 4096-joint log chain's compile 15.1 s -> 13.6 s, median of 3 alternated, 2026-12-05): a
-    network that fails it leaves the output as it was (plain and .gz), its error names the robot,
-    and the check ran in a child only when big."""
-    import vampc.commands as commands
-    from vampc.network.model import Network
-    if big:
-        monkeypatch.setattr(commands, "BACKGROUND_CHECK_SLOTS", 0)
-    runs = []
-    real = Network.verify
-
-    def broken(self, graph, sched):
-        real(self, graph, sched)
-        runs.append(os.getpid())
-        raise VampcError("VAMP 3: operand A is not wired")
-    robot, out = EXAMPLES / "planar2.yaml", tmp_path / name
-    out.write_bytes(b"kept")
-    runner = CliRunner()
-    with monkeypatch.context() as m:
-        m.setattr(Network, "verify", broken)
-        res = runner.invoke(main, ["compile", str(robot), "-o", str(out)])
-    assert res.exit_code == 1 and res.stderr == f"vampc: error: {robot}: VAMP 3: operand A is not wired\n"
-    assert out.read_bytes() == b"kept" and sorted(os.listdir(tmp_path)) == [name]
-    assert runs == ([] if big else [os.getpid()])        # a forked check ran in the child
-    good = runner.invoke(main, ["compile", str(robot), "-o", str(out)])
-    assert good.exit_code == 0 and out.read_bytes() != b"kept"
-    from vampc.program.file import read_program
-    assert read_program(out)["summary"]["joints"] == 2

@@ -132,25 +132,9 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",),
                        writes={"-o": ("a program file", (".vamp.json", ".json", ".gz"))})["-o"]
     with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
-        # the network's check (Network.verify) runs beside the writing for a big network, as the
-        # report's does: the file is put in place only once it has passed (a 4096-joint log chain:
-        # its 2.9 s of 21.5 s, on a loaded machine, off the wall time)
-        c = compile_robot(robot, options, robot_opts, check_network=False)
-        with naming(robot, options.numbering):          # (a small network's: in line, at once)
-            check = _network_check_beside(c)
-
-        def passed() -> None:
-            with naming(robot, options.numbering):      # (its error names the robot, as in line)
-                check.wait()
+        c = compile_robot(robot, options, robot_opts)
         _warn_constants(robot, c)
-        try:
-            write_program(program_chunks(c), out, ready=passed)
-        except KeyboardInterrupt:   # Ctrl-C, SIGTERM: stop the check too
-            check.abandon()
-            raise
-        except BaseException:
-            passed()                # a failing check says what is wrong: its error first
-            raise
+        write_program(program_chunks(c), out)
         leave_big(c.network)
     s = c.schedule
     say(f"{out.path}: {count(c.chain.n, 'joint')}, {c.graph.recursion} recursion, "
@@ -736,21 +720,15 @@ def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, 
     a program's static check, or a robot's network check (Network.verify, which compile runs in
     line), both in a forked process beside the report for a network of more than
     BACKGROUND_CHECK_SLOTS slots."""
+    from vampc.background import Deferred, in_background
     from vampc.sniff import is_program
     if is_program(source):
         return program_compiled(source, options.given, params)
     c = compile_robot(source, options, robot_opts, check_network=False)
-    return c, None, _network_check_beside(c)
-
-
-def _network_check_beside(c):
-    """The network's check of a robot compiled without it (`check_network=False`), started: in a
-    forked process for a network of more than BACKGROUND_CHECK_SLOTS slots, at once for a smaller
-    one, not at all without --verify's checks (a Deferred to wait on, as in_background's)."""
-    from vampc.background import Deferred, in_background
-    if not c.options.verify:
-        return Deferred()
-    return in_background(_network_check, c, inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
+    if not options.verify:
+        return c, None, Deferred()
+    return c, None, in_background(_network_check, c,
+                                  inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
 
 
 def _network_check(c) -> None:

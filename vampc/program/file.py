@@ -195,7 +195,7 @@ def write_text_atomic(path, text: str, what: str = "output") -> None:
 
 
 @gc_paused()
-def write_program(doc, path, ready=None) -> None:
+def write_program(doc, path) -> None:
     """Stamp the checksum and write the document atomically, laid out by `layout`. `doc` is a document,
     its text as layout made it, or that text as ASCII byte pieces (layout_chunks; what
     vampc.program.document.program_chunks gives): either way it is serialised once, and the
@@ -207,9 +207,7 @@ def write_program(doc, path, ready=None) -> None:
     is never held. A regular file gets a placeholder checksum of the same length, filled in at the
     end; the compact form is two gzip members, the first line with the checksum and then the rest,
     which read as one text (module docstring); standard output and devices get the text once it is
-    all made. `ready()`, when given, is called once the text is made and before any of it is put
-    in place or sent (a check running beside the writing: what it raises leaves no file)."""
-    ready = ready or (lambda: None)
+    all made."""
     if isinstance(doc, str):
         pieces = iter((doc.encode(),))
     elif isinstance(doc, dict):
@@ -234,7 +232,6 @@ def write_program(doc, path, ready=None) -> None:
             with _aside(out) as spool:      # the rest's member, until the checksum's is written
                 _overlapped(rest, digest, lambda piece: spool.write(packer.compress(piece)))
                 spool.write(packer.compress(b"\n") + packer.flush())
-                ready()
                 fh.write(zlib.compress(head(), GZIP_LEVEL, wbits=31))
                 spool.seek(0)
                 shutil.copyfileobj(spool, fh, 1 << 20)
@@ -244,11 +241,9 @@ def write_program(doc, path, ready=None) -> None:
             fh.write(b"\n")
             fh.seek(0)
             fh.write(head())
-            ready()
         else:
             held: list[bytes] = []
             _overlapped(rest, digest, held.append)
-            ready()
             fh.write(head())
             _write_each(fh, held)
             fh.write(b"\n")
