@@ -117,6 +117,31 @@ def test_a_robot_reports_network_check_failure_stops_the_report(tmp_path, monkey
 
 
 @pytest.mark.skipif(not FORKS, reason="no os.fork here")
+def test_a_wait_interrupted_then_abandoned_stops_the_child_without_an_error():
+    """SIGTERM (an interrupt) while the report waited on its check: the pipe was closed by wait's
+    `with`, and abandon closed it again: OSError EBADF, a traceback and exit 3 (a review's find)."""
+    import signal
+    import time
+
+    def interrupt(*_):
+        raise KeyboardInterrupt
+    pending = background.in_background(time.sleep, 60)
+    pid = pending.pid
+    before = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with pytest.raises(KeyboardInterrupt):
+            pending.wait()
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, before)
+    pending.abandon()                                # (raised OSError: Bad file descriptor)
+    assert pending.pid is None
+    with pytest.raises(ChildProcessError):
+        os.waitpid(pid, os.WNOHANG)
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
 def test_a_check_killed_before_it_reports_says_so():
     import signal
     import time

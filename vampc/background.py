@@ -34,9 +34,12 @@ class Deferred:
         if self.pid is None:
             return
         chunks = []
-        with os.fdopen(self.fd, "rb") as pipe:
-            while chunk := pipe.read(1 << 16):
-                chunks.append(chunk)
+        try:
+            with os.fdopen(self.fd, "rb") as pipe:
+                while chunk := pipe.read(1 << 16):
+                    chunks.append(chunk)
+        finally:      # (closed: an interrupt here then abandons the child, which closed it again,
+            self.fd = None       # EBADF, a traceback and exit 3 for a SIGTERM: a review's find)
         _, status = os.waitpid(self.pid, 0)
         self.pid = None
         code = os.waitstatus_to_exitcode(status)
@@ -63,8 +66,9 @@ class Deferred:
         except ProcessLookupError:
             pass
         os.waitpid(self.pid, 0)
-        os.close(self.fd)
-        self.pid = None
+        if self.fd is not None:
+            os.close(self.fd)
+        self.pid, self.fd = None, None
 
 
 def in_background(fn, *args, inline: bool = False) -> Deferred:
