@@ -102,6 +102,9 @@ def test_clock_says_which_control_rates_are_met():
     assert "at 20 MHz the design meets 60 Hz, 1 kHz and 10 kHz control" in out
     # 20 MHz / 61 flops / 60 Hz = 5 464.5 (to 3 digits, ×5,460, until 2026-12-05)
     assert "60 Hz control   met (×5,464); the paper's \"about 60Hz or faster\" (section I)" in out
+    # 2 GHz / 29 flops / 60 Hz = 1 149 425.3: a whole number (6 digits gave ×1,149,430)
+    out = run("report", EXAMPLES / "planar2.yaml", "--clock", "2GHz").stdout
+    assert "60 Hz control   met (×1,149,425);" in out
 
 
 @pytest.mark.parametrize("value", ["fast", "20 MHzz", "0Hz", "-1MHz"])

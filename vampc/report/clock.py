@@ -143,6 +143,8 @@ def _margin(m: float) -> float:
     round a miss up to 1 (at 609.9 kHz the Puma's 10 kHz is missed by 0.016%: at 3 digits "not met
     (×1)", margin 1.0 beside met false). (3 digits gave 312 000 for 18.75 MHz / 60 over 1 kHz, in
     the JSON and as "×312,000" in the text: a new user's find, 2026-12-05.)"""
+    if m >= 100:                 # (a whole number, as `rate`: 6 digits printed ×1,149,430
+        return float(round(m))   # for 1,149,425: a review's find)
     for digits in (6, 12):
         shown = float(f"{m:.{digits}g}")
         if (shown >= 1) == (m >= 1):
