@@ -215,7 +215,8 @@ class _Vampc(click.Group):
         if not takers:
             return None
         names = takers[0] if len(takers) == 1 else f"{', '.join(takers[:-1])} and {takers[-1]}"
-        return (f"No such option '{exc.option_name}' for {where}: it is an option of vampc "
+        root = exc.ctx.find_root().command_path      # (vampc, or python -m vampc as run)
+        return (f"No such option '{exc.option_name}' for {where}: it is an option of {root} "
                 f"{names}")
 
 
