@@ -102,3 +102,14 @@ def test_json_nested_too_deeply_is_not_json_for_every_reader(tmp_path):
     program.write_text(deep)
     r = CliRunner().invoke(main, ["emulate", str(program), "--random", "1"])
     assert r.exit_code == 1 and "nested too deeply" in r.stderr and len(r.stderr.splitlines()) == 1
+    # a fault campaign's results file whose first line is that deep (exit 3 before)
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o",
+                                     str(program)]).exit_code == 0
+    results = tmp_path / "r.jsonl"
+    results.write_text(deep + "\n")
+    r = CliRunner().invoke(main, ["faults", str(program), "--kinds", "dead", "--workers", "1",
+                                  "--results", str(results)])
+    assert r.exit_code == 1 and r.stderr == (
+        f"vampc: error: --results {results}: it holds the results of another campaign or program "
+        "(give another --results file, or remove it to start over)\n"), r.stderr
+    assert results.read_text() == deep + "\n"

@@ -65,8 +65,9 @@ def test_tradeoff_curve_and_lookahead_plot(tmp_path):
 
 
 def test_a_png_too_big_for_the_renderer_is_drawn_smaller():
-    """The Agg renderer stops at 2^16 pixels a side; a big network's drawing is wider than that at
-    144 pixels an inch, so its PNG is drawn at fewer (the SVG has no such limit)."""
+    """The Agg renderer stops at 2^16 pixels a side; a picture wider than that at 144 pixels an
+    inch (a lookahead --plot of some hundreds of joints is that tall) is drawn at fewer (the SVG has
+    no such limit)."""
     from matplotlib.figure import Figure
 
     from vampc.report import svg

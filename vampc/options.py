@@ -800,17 +800,17 @@ class ReportOptions:
         "as SVG (PNG or PDF for a name ending .png or .pdf, as every picture)."))
     network: str | None = field(default=None, metadata=cli(
         "--network", path=True, metavar="FILE.svg", help="Write a drawing of the network (Figures "
-        "III.1, IV.2, VI.3) as SVG."))
+        "III.1, IV.2, VI.3) as SVG (PNG or PDF by the name)."))
     reservation: str | None = field(default=None, metadata=cli(
         "--reservation", path=True, metavar="FILE.svg", help="Write the modulo reservation table as "
-        "SVG: each unit's ops in the ticks of one interval, every torque set's (the steady state "
+        "SVG (PNG or PDF by the name): each unit's ops in the ticks of one interval, every torque set's (the steady state "
         "beside the timing chart's first set)."))
     dot: str | None = field(default=None, metadata=cli(
         "--dot", path=True, metavar="FILE.dot", help="Write the network and the dataflow graph as "
         "Graphviz digraphs."))
     bus_chart: str | None = field(default=None, metadata=cli(
         "--bus-chart", path=True, metavar="FILE.svg", help="A program on the Mostly-Local Bus "
-        "(compile --bus mlb): write the bus chart as SVG, tiers and their buses down, the ticks "
+        "(compile --bus mlb): write the bus chart as SVG (PNG or PDF by the name), tiers and their buses down, the ticks "
         "of one cycle across, each write with its writer and readers."))
     html: str | None = field(default=None, metadata=cli(
         "--html", path=True, metavar="FILE.html", help="Write one self-contained HTML page: the "
@@ -829,7 +829,7 @@ class ReportOptions:
         "--clock, times at the slowest VAMP's Fmax (README, RTL)."))
     curve: str | None = field(default=None, metadata=cli(
         "--curve", path=True, metavar="FILE.svg", help="With --tradeoff: write the trade-off curve "
-        "as SVG (latency and interval against VAMPs, Pareto-optimal points marked, the folded and "
+        "as SVG, or PNG or PDF by the name (latency and interval against VAMPs, Pareto-optimal points marked, the folded and "
         "systolic layouts labelled)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
 
