@@ -541,6 +541,22 @@ def test_an_mjcf_number_that_is_not_finite_is_one_line_naming_it(tmp_path, edit,
     assert code == 0, err
 
 
+def test_a_nan_in_an_included_mjcf_file_names_that_file(tmp_path):
+    """An included file's nan was read as 0 by MuJoCo and compiled (exit 0): the included files
+    are read for numbers that are not finite too, from the main file's folder as MuJoCo reads them."""
+    pytest.importorskip("mujoco")
+    (tmp_path / "part.xml").write_text(
+        "<mujocoinclude><body name='b' pos='0 0 .1'><joint name='h' type='hinge' axis='0 0 1'/>"
+        "<inertial pos='nan 0 0' mass='1' diaginertia='.01 .01 .01'/></body></mujocoinclude>")
+    model = tmp_path / "m.xml"
+    model.write_text("<mujoco model='m'><worldbody><include file='part.xml'/></worldbody></mujoco>")
+    code, err, _ = run("compile", model, "-o", tmp_path / "m.vamp.json")
+    assert code == 1 and one_line(err), err
+    assert err == f"vampc: error: {tmp_path / 'part.xml'}: line 1: <inertial> pos: 'nan' is not a " \
+        "finite number\n", err
+    assert not (tmp_path / "m.vamp.json").exists()
+
+
 def test_a_compile_error_names_the_robot_file(tmp_path):
     """A program-word or bus error of the compile named no file ("VAMP number 3 does not fit in a
     2-bit Program-Mode word"): every error is FILE: WHERE: WHAT."""

@@ -244,15 +244,21 @@ NAME_ATTRIBUTES = frozenset("name class childclass joint joint1 joint2 body body
                             "objname refname prefix file key model".split())
 
 
-def _finite_attributes(path: Path) -> None:
-    """Refuse a number of the file that is not finite (nan, inf, 1e400), naming its element and
-    attribute: MuJoCo reads NaN as 0, saying only "XML contains a 'NaN'" (an inertial pos of nan
-    gave the torques of 0), and an inf gravity or pose, or a nan range or ref, ended vampc in a
-    traceback, exit 3 (a hostile-input audit's finds). A file that is not XML is left to MuJoCo,
-    which says so; an included file's numbers are checked once compiled (`_finite_model`)."""
+def _finite_attributes(path: Path, folder: Path | None = None, seen: set | None = None) -> None:
+    """Refuse a number of the file, or of a file it includes (`<include file>`, from the main
+    file's `folder`, as MuJoCo reads it), that is not finite (nan, inf, 1e400), naming its file,
+    element and attribute: MuJoCo reads NaN as 0, saying only "XML contains a 'NaN'" (an inertial
+    pos of nan gave the torques of 0), and an inf gravity or pose, or a nan range or ref, ended
+    vampc in a traceback, exit 3 (a hostile-input audit's finds). A file that is not XML, or
+    cannot be read, is left to MuJoCo, which says so."""
     import math
 
     from lxml import etree
+    folder = path.parent if folder is None else folder
+    seen = set() if seen is None else seen
+    if path.resolve() in seen:                    # (a file included twice, or itself: read once)
+        return
+    seen.add(path.resolve())
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
     try:
         root = etree.parse(str(path), parser).getroot()
@@ -261,6 +267,8 @@ def _finite_attributes(path: Path) -> None:
     for element in root.iter():
         if not isinstance(element.tag, str):             # (comments, processing instructions)
             continue
+        if etree.QName(element).localname == "include" and element.get("file"):
+            _finite_attributes(folder / element.get("file"), folder, seen)
         for attribute, value in element.attrib.items():
             if attribute in NAME_ATTRIBUTES:
                 continue
@@ -278,8 +286,9 @@ def _finite_attributes(path: Path) -> None:
 
 
 def _finite_model(model, path: Path) -> None:
-    """Refuse a compiled model whose poses, inertias, joints or gravity are not finite numbers (a
-    body quat of 1e308 0 0 1, or an included file's nan), naming the body or joint."""
+    """Refuse a compiled model whose poses, inertias, joints or gravity are not finite numbers,
+    though the file's are (a geom of mass 1e308, whose inertia overflows; a body quat of 1e308 0 0
+    1, which MuJoCo normalizes to 0 0 0 0), naming the body or joint."""
     arrays = (("body", ("body_pos", "body_quat", "body_ipos", "body_iquat", "body_mass", "body_inertia"),
                model.nbody),
               ("joint", ("jnt_pos", "jnt_axis", "jnt_range"), model.njnt))
