@@ -440,6 +440,43 @@ def test_numbers_a_loader_combines_past_a_float_are_one_line(tmp_path):
     assert code == 1 and one_line(err) and "the reference torques of random states are not finite" in err, err
 
 
+def _urdf(links: int, extra: str = "", mimic: dict[int, str] | None = None) -> str:
+    """A URDF chain base, l1..l{links} of revolute joints j1..; `mimic` {joint: <mimic .../>}."""
+    inertial = ('<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" '
+                'iyz="0"/></inertial>')
+    text = f'<robot name="r"><link name="base">{inertial}</link>{extra}'
+    for i in range(1, links + 1):
+        parent = "base" if i == 1 else f"l{i - 1}"
+        text += (f'<link name="l{i}">{inertial}</link><joint name="j{i}" type="revolute">'
+                 f'<parent link="{parent}"/><child link="l{i}"/><origin xyz="0 0 0.1"/>'
+                 '<axis xyz="0 0 1"/><limit effort="1" velocity="1" lower="-1" upper="1"/>'
+                 f'{(mimic or {}).get(i, "")}</joint>')
+    return text + "</robot>"
+
+
+@pytest.mark.parametrize("case", ["floating base", "mimic of a mimic"])
+def test_a_base_or_coupling_a_loader_combines_past_a_float_is_one_line(tmp_path, case):
+    """Each number of the file finite, but combined past a float: a floating base's fixed link at
+    1e300 with a mass of 1e300 gives an infinite centre of mass; j3 mimicking j2 mimicking j1, each
+    times 1e200, an infinite multiplier. One line naming the file and the place (each was 'a bug in
+    vampc', exit 3: only the links' numbers were checked, not the rest of Chain.verify's)."""
+    urdf = tmp_path / "r.urdf"
+    if case == "floating base":
+        far = ('<link name="far"><inertial><origin xyz="1e300 0 0"/><mass value="1e300"/><inertia '
+               'ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="fx" '
+               'type="fixed"><parent link="base"/><child link="far"/><origin xyz="1e300 0 0"/></joint>')
+        urdf.write_text(_urdf(2, extra=far))
+        options, said = ["--floating-base"], "the base: its centre of mass is not a finite number"
+    else:
+        urdf.write_text(_urdf(3, mimic={2: '<mimic joint="j1" multiplier="1e200"/>',
+                                        3: '<mimic joint="j2" multiplier="1e200"/>'}))
+        options, said = ["--mimic", "couple"], "joint 'j3': its mimic multiplier is not a finite number"
+    out = tmp_path / "r.vamp.json"
+    code, err, _ = run("compile", urdf, *options, "-o", out)
+    assert code == 1 and one_line(err) and f"{urdf}: {said}" in err, err
+    assert not out.exists()
+
+
 def test_a_picture_never_replaces_the_rtl_figures_it_reads(tmp_path):
     """`--html F --rtl F` wrote the page over the synthesis figures it had read (exit 0): --rtl is
     an input like SOURCE."""

@@ -58,16 +58,15 @@ def _check_names(chain: Chain, path) -> None:
 
 
 def _check_finite(chain: Chain, path) -> None:
-    """VampcError naming the first joint whose link data is not a finite number: a file's numbers
-    each finite can overflow when a loader combines them (a fixed link merged into its parent at an
-    offset of 1e200 gave an infinite inertia, reported as a bug in vampc)."""
-    import numpy as np
-    for j in chain.joints:
-        for label, value in (("position", j.p_fixed), ("mass", j.mass), ("centre of mass", j.com),
-                             ("inertia", j.inertia), ("shift", j.shift)):
-            if value is not None and not np.all(np.isfinite(value)):
-                raise located(path, f"joint '{j.name}'", f"its link's {label} is not a finite number "
-                              "once the file's links are combined (numbers too large for a float)")
+    """VampcError naming the first place (joint, the base, the robot) whose number is not finite
+    (Chain.first_non_finite): a file's numbers each finite can overflow when a loader combines them
+    (a fixed link merged into its parent at an offset of 1e200 gave an infinite inertia, a floating
+    base's merged links an infinite centre of mass, each reported as a bug in vampc)."""
+    found = chain.first_non_finite()
+    if found:
+        place, what = found
+        raise located(path, place, f"{what} is not a finite number once the file's numbers are "
+                      "combined (numbers too large for a float)")
 
 
 def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improper_inertia: bool,

@@ -252,6 +252,34 @@ class Chain:
         """σ_i for i = 1..n as an int array."""
         return np.array([j.sigma for j in self.joints], dtype=int)
 
+    def first_non_finite(self) -> tuple[str, str] | None:
+        """The first number of the chain that is not finite, as (place, what): place "joint 'name'"
+        or "the robot", what "its link's inertia", "the base's centre of mass", ... Or None. These are
+        Chain.verify's finite invariants, which a loader's numbers, each finite in its file, can break
+        once combined (a fixed link merged at an offset of 1e200, a floating base's centre of mass),
+        so the loaders say this to the user instead of verify's internal error."""
+        for j in self.joints:
+            for label, value in (("rotation", j.phi), ("pre-rotation", j.pre), ("position", j.p_fixed),
+                                 ("mass", j.mass), ("centre of mass", j.com), ("inertia", j.inertia),
+                                 ("shift", j.shift)):
+                if value is not None and not np.all(np.isfinite(value)):
+                    return f"joint '{j.name}'", f"its link's {label}"
+        for label, value in (("gravity", self.gravity), ("base's angular velocity", self.base_omega),
+                             ("base's angular acceleration", self.base_omega_dot),
+                             ("tip force", self.tip_force), ("tip torque", self.tip_torque)):
+            if not np.all(np.isfinite(value)):
+                return "the robot", f"its {label}"
+        if self.floating:
+            for label, value in (("mass", self.base_mass), ("centre of mass", self.base_com),
+                                 ("inertia", self.base_inertia)):
+                if not np.all(np.isfinite(value)):
+                    return "the base", f"its {label}"
+        for m in self.mimic:
+            for label, value in (("multiplier", m.multiplier), ("offset", m.offset)):
+                if not np.isfinite(value) and 1 <= m.follower <= self.n:
+                    return f"joint '{self.joints[m.follower - 1].name}'", f"its mimic {label}"
+        return None
+
     def verify(self) -> None:
         """Check the invariants every later stage relies on; raise VampcInternalError if broken."""
         if self.n == 0:
