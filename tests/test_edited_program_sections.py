@@ -173,6 +173,11 @@ WHOLE_FILE_EDITS = {
     "phi scaled": (lambda d: _set(d, ["robot", "joints", 1, "phi"],
                                   [[2, 0, 0], [0, 2, 0], [0, 0, 2]]),
                    "robot.joints[1].phi: not a proper rotation (the file was edited); recompile it"),
+    # (the axis is Φ's last row: an edited one was read by nobody, the same torques, exit 0)
+    "axis": (lambda d: _set(d, ["robot", "joints", 1, "axis"], [0, 1, 0]),
+             "robot.joints[1].axis: [0.0, 1.0, 0.0] is not the joint's axis, Φ's last row [0.0, "
+             "0.0, 1.0] (the file was edited; the axis is written for readers and follows from Φ); "
+             "recompile it"),
     "joint name": (lambda d: _set(d, ["robot", "joints", 1, "name"], "shoulder"),
                    "robot.joints[1].name: duplicate joint name 'shoulder' (the file was edited); "
                    "recompile it"),

@@ -129,8 +129,9 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
 
 def _check_joints(doc: F.RobotDoc, path) -> None:
     """Joint names are distinct (the torque columns are named after them; compile refuses a
-    repeated one) and each Φ, and a tree joint's pre-rotation, is a proper rotation as
-    Chain.verify requires (an edited Φ was emulated, and checked against a reference using it)."""
+    repeated one), each Φ, and a tree joint's pre-rotation, is a proper rotation as Chain.verify
+    requires (an edited Φ was emulated, and checked against a reference using it), and each axis is
+    Φ's last row (an edited axis was read by nobody: the answer stayed the same, exit 0)."""
     seen = set()
     for i, j in enumerate(doc.joints):
         if j.name in seen:
@@ -142,6 +143,15 @@ def _check_joints(doc: F.RobotDoc, path) -> None:
             if problem:
                 raise located(path, f"robot.joints[{i}].{field}", f"{problem} (the file was "
                               "edited); recompile it")
+        if list(j.axis) != list(j.phi[2]):    # (written from Φ's last row, exactly)
+            raise located(path, f"robot.joints[{i}].axis", f"{_shown_numbers(j.axis)} is not the "
+                          f"joint's axis, Φ's last row {_shown_numbers(j.phi[2])} (the file was "
+                          "edited; the axis is written for readers and follows from Φ); recompile it")
+
+
+def _shown_numbers(xs) -> str:
+    """A list of numbers as the file writes them: [0.0, 1.0, 6.1e-17]."""
+    return "[" + ", ".join(map(repr, map(float, xs))) + "]"
 
 
 def graph_doc(g: Graph) -> F.GraphDoc:
