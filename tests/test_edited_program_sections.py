@@ -8,6 +8,7 @@ size that is not what its entries carry, counted as pins by the report). Now `re
 on the code before."""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -173,6 +174,9 @@ WHOLE_FILE_EDITS = {
     "phi scaled": (lambda d: _set(d, ["robot", "joints", 1, "phi"],
                                   [[2, 0, 0], [0, 2, 0], [0, 0, 2]]),
                    "robot.joints[1].phi: not a proper rotation (the file was edited); recompile it"),
+    "graph meta": (lambda d: _set(d, ["graph", "meta", "convention"], "mine"),
+                   "graph.meta.convention: 'mine', but the file's options compile 'f, n referred "
+                   "to O_{i-1}' (the file was edited); recompile it"),
     # (the axis is Φ's last row: an edited one was read by nobody, the same torques, exit 0)
     "axis": (lambda d: _set(d, ["robot", "joints", 1, "axis"], [0, 1, 0]),
              "robot.joints[1].axis: [0.0, 1.0, 0.0] is not the joint's axis, Φ's last row [0.0, "
@@ -217,3 +221,63 @@ def test_an_output_tick_moved_within_its_hold_window_is_refused(program, tmp_pat
     assert code == 1 and err.startswith(f"vampc: error: {path}: τ{first['joint']} is read from VAMP "), err
     assert "at tick 30, but it appears at tick 29, where the compiler reads it (the file was edited); " \
         "recompile it" in err and err.count("\n") == 1, err
+
+
+@pytest.fixture(scope="module")
+def log_programs(tmp_path_factory):
+    """A log chain's program (the Puma's, Sklansky) and a log tree's (the quadruped's)."""
+    out = {}
+    for name, robot in (("chain", EXAMPLES / "puma560.yaml"), ("tree", EXAMPLES / "quadruped.urdf")):
+        out[name] = tmp_path_factory.mktemp("log") / f"{name}.vamp.json"
+        assert run("compile", robot, "--recursion", "log", "-o", out[name])[0] == 0
+    return out
+
+
+def _meta(key, change):
+    def edit(doc):
+        meta = doc["graph"]["meta"]
+        if change is None:
+            meta.pop(key)
+        else:
+            meta[key] = change(meta.get(key))
+    return edit
+
+
+META_EDITS = {
+    "prefix name": ("chain", _meta("prefix", lambda v: "brent-kung"),
+                    "graph.meta.prefix: 'brent-kung', but the file's options compile 'sklansky'"),
+    "tier": ("chain", _meta("fwd_nodes", lambda v: v.replace("[13, 1, 2, 6, 3]", "[13, 1, 2, 6, 9]")),
+             "graph.meta.fwd_nodes: row 12 is [13, 1, 2, 6, 9], but the sklansky network over 6 "
+             "joints opens [13, 1, 2, 6, 3] there"),
+    "table gone": ("chain", _meta("fwd_nodes", None),
+                   "graph.meta.fwd_nodes: missing, but the compiler writes it"),
+    "table short": ("chain", _meta("bwd_nodes", lambda v: "[[1, 2]]"),
+                    "graph.meta.bwd_nodes: row 0 '[1, 2]' is not [group 1, a, k, b, tier]"),
+    "not JSON": ("chain", _meta("bwd_nodes", lambda v: "x"), "graph.meta.bwd_nodes: 'x' is not JSON"),
+    "extra key": ("chain", _meta("mine", lambda v: "1"),
+                  "graph.meta.mine: not a key the compiler writes"),
+    "node ids": ("chain", _meta("prefixes", lambda v: "[]"),
+                 "graph.meta.prefixes: not 6 rows of 3 node ids (or null)"),
+    "leaves": ("chain", _meta("leaves", lambda v: "uniform (Appendix D)"),
+               "graph.meta.leaves: 'uniform (Appendix D)', but the file's options compile "
+               "'separate (Table IV.1)'"),
+    "tree row gone": ("tree", _meta("bwd_nodes", lambda v: json.dumps(json.loads(v)[:-1])),
+                      "graph.meta.bwd_nodes: no row for group"),
+    "tree not pruned": ("tree", _meta("pruned", None),
+                        "graph.meta.pruned: missing, but the compiler writes it"),
+}
+
+
+@pytest.mark.parametrize("edit", list(META_EDITS))
+def test_an_edited_log_graph_meta_is_refused(log_programs, tmp_path, edit):
+    """A log graph's meta: its tables of recursion nodes, which the report places and counts VAMPs
+    by, and the prefix network it names. Removing or mangling a table made `report` an internal
+    error (exit 3); a changed tier changed the folded layouts' figures and a changed prefix name the
+    report's recursion line (exit 0); the rest was read by nobody. Each failed before."""
+    which, change, said = META_EDITS[edit]
+    path = edited_program(log_programs[which], tmp_path, change)
+    for command in (["report", path], ["emulate", path, "--random", 2]):
+        code, err = run(*command)
+        assert code == 1 and err.startswith(f"vampc: error: {path}: {said}") and \
+            err.endswith(" (the file was edited); recompile it\n") and err.count("\n") == 1, \
+            (command, err)

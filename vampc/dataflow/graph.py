@@ -74,6 +74,17 @@ class Output:
     component: int = 2
 
 
+# graph.meta's fixed words, as the builders write them (and program files are checked against):
+# the linear graph's whole meta; a log graph's leaves (by uniform_leaves), ground (by ground in O_0)
+# and convention (of a chain, of a tree), beside its prefix, tables and node ids (vampc.dataflow.
+# logarithmic._meta)
+LINEAR_META = (("convention", "f, n referred to O_{i-1}"), ("recursion", "linear"))
+LOG_LEAVES = {False: "separate (Table IV.1)", True: "uniform (Appendix D)"}
+LOG_GROUNDS = {True: "O_0", False: "O_-1"}
+LOG_CONVENTION = "forward f, n referred to O_{i-1}"
+LOG_TREE_CONVENTION = "forward f, n referred to O_{i-1}; subtree sums in O_0"
+
+
 @dataclass(frozen=True)
 class Graph:
     """A dataflow graph for one robot: nodes in topological order, and the torque outputs."""

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vampc.dataflow.graph import Graph, GraphBuilder
+from vampc.dataflow.graph import LINEAR_META, Graph, GraphBuilder
 from vampc.machine.ops import Op
 from vampc.robot.chain import Chain, JointType
 
@@ -61,7 +61,7 @@ def build_linear(chain: Chain, verify: bool = True) -> Graph:
         incoming.setdefault(chain.parent(i), []).insert(0, _passed_up(b, chain, i, fp, np_))
     if chain.floating:
         _base_wrench(b, chain, base_loads, incoming.get(0, []))
-    return b.build({"recursion": "linear", "convention": "f, n referred to O_{i-1}"}, verify)
+    return b.build(dict(LINEAR_META), verify)
 
 
 def base_motion(b: GraphBuilder, chain: Chain) -> tuple[int, int, int]:

@@ -107,10 +107,18 @@ from typing import NamedTuple
 import numpy as np
 
 from vampc import jsontext
-from vampc.dataflow.graph import Graph, GraphBuilder, Node, Output
+from vampc.dataflow.graph import (
+    LOG_CONVENTION,
+    LOG_GROUNDS,
+    LOG_LEAVES,
+    Graph,
+    GraphBuilder,
+    Node,
+    Output,
+)
 from vampc.dataflow.linear import _nonpropagated, _p_star, _s_star
-from vampc.dataflow.prefix import prefix_tiers, suffix_tiers
-from vampc.errors import VampcError
+from vampc.dataflow.prefix import chain_table, prefix_tiers, suffix_tiers
+from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import Op
 from vampc.robot.chain import Chain, JointType
 
@@ -193,8 +201,11 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
     suffixes = _forward(ctx, prefix, loads)
     for i, x in enumerate(suffixes, 1):
         ctx.b.output(i, x.f if ctx.joint(i).type is JointType.PRISMATIC else x.n)
+    if verify and ctx.table != chain_table(prefix, chain.n, ground0):
+        raise VampcInternalError(f"{chain.name}: the recursion nodes are not chain_table's")
     graph = ctx.b.build(_meta(ctx, prefix, ground0, prefixes, suffixes), verify)
     return prune_dead(graph) if prune else graph
+
 
 
 def _check_ground(chain: Chain, ground_o0: bool | None) -> bool:
@@ -395,10 +406,8 @@ def _fwd_combine(ctx: _Ctx, x: FwdIds, y: FwdIds) -> FwdIds:
 def _meta(ctx: _Ctx, prefix: str, ground0: bool, prefixes, suffixes) -> dict:
     """What later stages and tests may want to know: the recursion nodes and where X_{0,i}, X_{i,n} are."""
     return {
-        "recursion": "log", "prefix": prefix,
-        "leaves": "uniform (Appendix D)" if ctx.uniform else "separate (Table IV.1)",
-        "ground": "O_0" if ground0 else "O_-1",
-        "convention": "forward f, n referred to O_{i-1}",
+        "recursion": "log", "prefix": prefix, "leaves": LOG_LEAVES[ctx.uniform],
+        "ground": LOG_GROUNDS[ground0], "convention": LOG_CONVENTION,
         "bwd_nodes": jsontext.dumps(ctx.table["bwd"]), "fwd_nodes": jsontext.dumps(ctx.table["fwd"]),
         "prefixes": jsontext.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
         "suffixes": jsontext.dumps([[x.f, x.n] for x in suffixes]),

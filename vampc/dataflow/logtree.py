@@ -32,7 +32,7 @@ from __future__ import annotations
 import heapq
 
 from vampc import jsontext
-from vampc.dataflow.graph import Graph
+from vampc.dataflow.graph import LOG_GROUNDS, LOG_LEAVES, LOG_TREE_CONVENTION, Graph
 from vampc.dataflow.linear import add_tree, link_loads
 from vampc.dataflow.logarithmic import (
     BackIds,
@@ -209,9 +209,8 @@ def _meta(ctx: _Ctx, prefix: str, ground0: bool, prefixes, suffixes) -> dict:
     depths = tree_depths(ctx.chain.parent_of, prefix, not ground0)
     return {
         "recursion": "log", "prefix": prefix, "tree": jsontext.dumps(depths),
-        "leaves": "uniform (Appendix D)" if ctx.uniform else "separate (Table IV.1)",
-        "ground": "O_0" if ground0 else "O_-1",
-        "convention": "forward f, n referred to O_{i-1}; subtree sums in O_0",
+        "leaves": LOG_LEAVES[ctx.uniform], "ground": LOG_GROUNDS[ground0],
+        "convention": LOG_TREE_CONVENTION,
         "bwd_nodes": jsontext.dumps(ctx.table["bwd"]), "fwd_nodes": jsontext.dumps(ctx.table["fwd"]),
         "prefixes": jsontext.dumps([[x.omega, x.omega_dot, x.pdd] for x in prefixes]),
         "suffixes": jsontext.dumps([[f, n] for f, n in suffixes]),

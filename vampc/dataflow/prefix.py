@@ -166,6 +166,21 @@ def suffix_tiers(shape: str, m: int) -> Tiers:
     return tiers
 
 
+def chain_table(prefix: str, n: int, ground0: bool) -> dict[str, list[tuple[int, int, int, int, int]]]:
+    """The recursion nodes of a chain's log graph, per pass, as graph.meta's bwd_nodes and fwd_nodes
+    record them: (group, a, k, b, tier) in the order the build opens them (each pass's leaves, then
+    its prefix network tier by tier). A program file's are checked against it: the report places
+    VAMPs by them (vampc.program.document.check_meta)."""
+    first = 1 if ground0 else 0
+    bwd = [(a, a, a, 0) for a in range(max(first, 1), n + 1)]
+    bwd += [(a + first, k + first, b + first, t)
+            for t, tier in enumerate(prefix_tiers(prefix, n + 1 - first), 1) for a, k, b in tier]
+    fwd = [(i, i, i, 0) for i in range(1, n + 1)]
+    fwd += [(a + 1, k + 1, b + 1, t) for t, tier in enumerate(suffix_tiers(prefix, n), 1)
+            for a, k, b in tier]
+    return {section: [(g, *row) for g, row in enumerate(rows, 1)]
+            for section, rows in (("bwd", bwd), ("fwd", fwd))}
+
 def verify(tiers: Tiers, m: int, suffix: bool = False) -> None:
     """Replay the tiers: operands exist before their tier, no range twice, all prefixes (suffixes) made."""
     have = {(i, i) for i in range(m)}

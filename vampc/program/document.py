@@ -6,10 +6,20 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from vampc.dataflow.graph import Graph, InputKey, Node, Output
+from vampc.dataflow.graph import (
+    LINEAR_META,
+    LOG_CONVENTION,
+    LOG_GROUNDS,
+    LOG_LEAVES,
+    LOG_TREE_CONVENTION,
+    Graph,
+    InputKey,
+    Node,
+    Output,
+)
 from vampc.errors import VampcError, VampcInternalError, located
 from vampc.gcpause import gc_paused
-from vampc.kinds import Quantity, TapKind
+from vampc.kinds import Quantity, Recursion, TapKind
 from vampc.machine.ops import Op
 from vampc.network.model import (
     Buffer,
@@ -547,7 +557,91 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
         if got != want:
             raise VampcError(f"{path}: options.{where}: {got}, but {section} {want} "
                              "(the file was edited); recompile it")
+    check_meta(graph, options, path)
     return options
+
+
+def check_meta(graph: Graph, options, path) -> None:
+    """graph.meta as the compiler writes it for the file's options: a report reads a log graph's
+    tables of recursion nodes to place and count VAMPs, and names its prefix network (an edited
+    table was an internal error, exit 3, or changed the folded layouts' figures, exit 0; an edited
+    prefix name was printed as the recursion's). A chain's tables are the ones its prefix network
+    opens (vampc.dataflow.prefix.chain_table); a tree's are checked for their shape and groups."""
+    meta = dict(graph.meta)
+
+    def refuse(key: str, why: str):
+        return VampcError(f"{path}: graph.meta.{key}: {why} (the file was edited); recompile it")
+    if graph.recursion is Recursion.LINEAR:
+        fixed = dict(LINEAR_META)
+    else:
+        tree = "tree" in meta
+        fixed = {"recursion": "log", "prefix": options.prefix,
+                 "leaves": LOG_LEAVES[bool(options.uniform_leaves)],
+                 "convention": LOG_TREE_CONVENTION if tree else LOG_CONVENTION}
+        if meta.get("ground") not in LOG_GROUNDS.values():
+            raise refuse("ground", f"{shown(str(meta.get('ground')))} is not "
+                         f"{' or '.join(map(repr, LOG_GROUNDS.values()))}")
+        fixed["ground"] = meta["ground"]
+        fixed.update({key: meta.get(key) for key in ("bwd_nodes", "fwd_nodes", "prefixes", "suffixes")
+                      + (("tree",) if tree else ())})
+        if tree:             # (a tree's graph is built pruned: vampc.dataflow.logtree)
+            fixed["pruned"] = "yes"
+    for key in sorted(set(meta) | set(fixed)):
+        if key not in fixed:
+            raise refuse(key, "not a key the compiler writes")
+        if key not in meta:
+            raise refuse(key, "missing, but the compiler writes it")
+        if meta[key] != fixed[key] and fixed[key] is not None:
+            raise refuse(key, f"{shown(meta[key])}, but the file's options compile {shown(fixed[key])}")
+    if graph.recursion is Recursion.LOG:
+        _check_log_tables(graph, meta, options, refuse)
+
+
+def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
+    """A log graph's bwd_nodes and fwd_nodes (chain_table's, for a chain), prefixes and suffixes
+    (per joint, node ids or null), and a tree's depth figures: JSON of the right shape."""
+    from vampc import jsontext
+
+    def decoded(key: str):
+        try:
+            return jsontext.loads(meta[key])
+        except (jsontext.DecodeError, ValueError):
+            raise refuse(key, f"{shown(meta[key])} is not JSON") from None
+    if "tree" in meta:
+        decoded("tree")
+    if "tree" not in meta:
+        from vampc.dataflow.prefix import chain_table
+        want = chain_table(options.prefix, graph.n, meta["ground"] == "O_0")
+    groups = {"bwd": set(), "fwd": set()}
+    for nd in graph.nodes if "tree" in meta else ():    # (a chain's: its prefix network's)
+        if nd.section in groups:
+            groups[nd.section].add(nd.group)
+    for section in ("bwd", "fwd"):
+        key, rows = f"{section}_nodes", decoded(f"{section}_nodes")
+        if not isinstance(rows, list):
+            raise refuse(key, "not a list of rows")
+        for r, row in enumerate(rows):
+            if not (isinstance(row, list) and len(row) == 5 and all(type(x) is int for x in row)
+                    and row[0] == r + 1 and all(0 <= x <= graph.n for x in row[1:4]) and row[4] >= 0):
+                raise refuse(key, f"row {r} {shown(jsontext.dumps(row))} is not [group {r + 1}, a, k, b, tier] "
+                             f"with a, k, b joints of 0..{graph.n} and a tier from 0")
+            if "tree" not in meta and r < len(want[section]) and tuple(row) != want[section][r]:
+                raise refuse(key, f"row {r} is {row}, but the {options.prefix} network over "
+                             f"{graph.n} joints opens {list(want[section][r])} there")
+        if "tree" not in meta and len(rows) != len(want[section]):
+            raise refuse(key, f"{len(rows)} rows, but the {options.prefix} network over {graph.n} "
+                         f"joints opens {len(want[section])}")
+        missing = sorted(groups[section] - {row[0] for row in rows})
+        if missing:
+            raise refuse(key, f"no row for group {missing[0]}, which the graph's {section} nodes use")
+    for key, width in (("prefixes", 3), ("suffixes", 2)):
+        rows = decoded(key)
+        if not (isinstance(rows, list) and len(rows) == graph.n and all(
+                isinstance(row, list) and len(row) == width and all(
+                    x is None or (type(x) is int and 0 <= x < len(graph.nodes)) for x in row)
+                for row in rows)):
+            raise refuse(key, f"not {graph.n} rows of {width} node ids (or null) of the graph's "
+                         f"{len(graph.nodes)} nodes")
 
 
 def _check_layout_names(doc: F.ProgramFile, options, path) -> None:
