@@ -674,3 +674,26 @@ def test_overflows_are_said_and_fail_the_check(programs):
     assert r.stdout.startswith(f"vampc rtl: {robot}: arm1, 2 VAMPs, word q4.12 (nearest, saturate)\n")
     assert (f"q4.12 words: {said} overflows in vampc emulate's run of the same sets (the words "
             "compared are the word's saturated values, not the torques") in r.stdout
+
+
+@pytest.mark.parametrize("name, has", [("ec", "error correction's checking (--error-correction)"),
+                                       ("bus", "the Mostly-Local Bus (--bus mlb)")])
+def test_rtl_figures_are_refused_for_a_program_the_rtl_does_not_render(programs, tmp_path, name,
+                                                                       has):
+    """`report P --rtl F` of a program with error correction took figures whose robot, word, VAMP
+    count and kinds are its own (the checking adds none to the network's VAMPs), and printed them
+    as the design's, with none of the checking's registers, comparators or pins (a new user, exit
+    0): `vampc rtl` renders neither the checking nor the bus, so no figures are of such a
+    program."""
+    from vampc.emulator.load import load_program
+    program = str(programs / f"{name}.vamp.json")
+    ld = load_program(program)
+    figures, _ = _figures_of(program)
+    figures.update(robot=ld.chain.name, vamps=len(ld.net.vamps))
+    path = tmp_path / "figures.json"
+    path.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(path)])
+    assert (r.exit_code, r.stderr) == (1, f"vampc: error: {path}: the figures are of another design: "
+                                          f"this program has {has}, which `vampc rtl` does not "
+                                          "render, so its hardware is not in them (README, RTL: "
+                                          "Limits)\n")
