@@ -294,3 +294,15 @@ def test_clock_help_and_refusal_agree_on_tradeoff():
     assert "torque sets per second to every figure. Does not apply to --tradeoff." in help_text
     one_line_error(run("report", PLANAR, "--tradeoff", "--clock", "50MHz"), 2,
                    r"--clock does not apply to --tradeoff \(see")
+
+
+def test_packages_say_the_rtl_moves_words_in_parallel():
+    """The packages count section VII's pins, a word serially on one pin per operand wire; a new
+    user read them as the packages of `vampc rtl`'s Verilog, whose VAMPs take three words in
+    parallel on each operand input (26-bit ports, three to an input): the note says so, in the
+    report's own word."""
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--word", "q12.14"])
+    assert r.exit_code == 0, r.output
+    assert ("the Verilog of `vampc rtl` moves them in parallel, three 26-bit words on each operand "
+            "input and on the Result (78 wires each), so its VAMPs are not these packages "
+            "(README, RTL)") in r.stdout

@@ -701,3 +701,23 @@ def test_a_random_campaign_runs_only_the_kinds_asked_for(programs, tmp_path):
     r = RUN(main, ["faults", str(plain), "--campaign", "random", "--count", "4", "--sets", "40",
                    "--kinds", "control2,dead", "--workers", "1", "--results", str(tmp_path / "c3.jsonl")])
     assert r.exit_code == 0 and "--kinds control2: left out" in r.stderr, r.output
+
+
+def test_drawn_faults_start_where_the_checking_reaches_them_before_the_run_ends(programs, tmp_path):
+    """A random campaign of the default length drew start ticks over the whole run, and the faults
+    drawn late were counted as silent corruption "the check did not reach the VAMP after the fault
+    within the run's 565 sets" (a new user's: 1 of 4 on the Puma). Now a drawn fault starts in all
+    but the run's last reach_sets, a whole sweep there and back and the network's drain, and the
+    default run adds those to default_sets: next_check reaches every VAMP in time."""
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    doc = _campaign(ec, tmp_path, "--campaign", "random", "--count", "12", "--seed", "3")
+    sets, P = doc["sets"], ld.period
+    assert sets == cp.default_sets(ld) + cp.reach_sets(ld) > cp.default_sets(ld)
+    drain = -(-max(o.tick for o in ld.net.outputs) // P) + cp.TAIL + 1   # (sets to leave the network)
+    for run in doc["runs"]:
+        fault = parse_fault(run["fault"])
+        if fault.vamp < len(ld.net.vamps):
+            assert fault.at < cp.draw_sets(ld, sets) * P
+            assert cp.next_check(ld, fault.vamp, fault.at // P) + drain <= sets, run
+        assert "did not reach" not in run.get("reason", ""), run

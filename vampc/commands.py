@@ -1373,7 +1373,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",),
                         writes={"-o": report})
     ld = loaded(source, options, robot_opts, params)
-    sets = own.sets or cp.default_sets(ld)
+    sets = own.sets or cp.campaign_sets(ld, own.campaign)
     from vampc.emulator.driver import tick_memory_check
     from vampc.emulator.faults import check_faults
     tick_memory_check(ld, sets, "give fewer --sets (a fault campaign runs on the tick engine)")

@@ -83,13 +83,45 @@ def default_sets(ld) -> int:
     return check_periods(len(ld.net.vamps), w, k) + math.ceil(latency / ld.period) + TAIL + 1
 
 
+DRAWN = ("transient", "random")    # the campaigns that draw each fault's start tick
+
+
+def reach_sets(ld) -> int:
+    """Sets from any start to the end of the compare periods that next check every VAMP (a whole
+    sweep, there and back: a fault may start just after its VAMP's check), and for the sets after
+    them to leave the network; without error correction, only the latter."""
+    from vampc.emulator.checking import sweep_periods
+    from vampc.network.checking import warmup
+    latency = max(o.tick for o in ld.net.outputs)
+    drain = math.ceil(latency / ld.period) + TAIL + 1
+    if ld.net.checking is None:
+        return drain
+    w = warmup(ld.programs, ld.timing, ld.period)
+    return sweep_periods(len(ld.net.vamps), w, ld.net.checking.compare) + drain
+
+
+def campaign_sets(ld, campaign: str) -> int:
+    """Sets a campaign runs by default: default_sets; for one that draws its faults' start ticks
+    (DRAWN), default_sets for them to start in and reach_sets after (draw_sets)."""
+    return default_sets(ld) + (reach_sets(ld) if campaign in DRAWN else 0)
+
+
+def draw_sets(ld, sets: int) -> int:
+    """The sets a drawn fault may start in: all but the last reach_sets(ld) of the run, so the
+    checking reaches every fault before the run ends (one starting later had been counted as
+    silent corruption: a new user's random campaign of the default length had a quarter of its
+    faults so); the whole run when it is shorter."""
+    reach = reach_sets(ld)
+    return sets - reach if sets > reach else sets
+
+
 def faults_of(ld, campaign: str, kinds=KINDS, at: int = 0, count: int = 100, rate: float = 0.2,
               seed: int = 0, sets: int = 100, bits=None, values=(1,)) -> list[Fault]:
     """The campaign's faults, in a fixed order (the results file's keys). `bits`, `values`: of
     the single campaign's stuck data bits (default: the word's highest magnitude bit, stuck at
-    1)."""
+    1). A drawn start tick is in the first draw_sets(ld, sets) sets."""
     V, hi, P = physical_vamps(ld), high_bit(ld.arith), ld.period
-    last = sets * P - 1
+    last = draw_sets(ld, sets) * P - 1
     rng = np.random.default_rng([seed, 0xCA])
     specs: list[str] = []
     if campaign == "single":
