@@ -304,3 +304,27 @@ def test_a_narrowest_word_at_the_sweeps_first_width_says_a_narrower_one_may_meet
     assert doc["at_sweep_start"] == {"bound": False, "observed": False}, doc["narrowest_observed"]
     text = _precision(robot, "--sweep", "20:30", "--sets", "200").stdout
     assert "q10.16 (26 bits)\n" in text and "the sweep's narrowest" not in text
+
+
+def test_the_states_analysed_are_said_with_the_answer(tmp_path):
+    """The narrowest word holds for the states analysed only: --acceleration moved the Puma's from
+    q10.16 to q12.17, and neither the text nor the JSON said the acceleration, nor that the Puma
+    file has no speed limit, so ±1 was taken (a new user's). A joint given a speed limit is
+    analysed within it; the others are named."""
+    run = CliRunner().invoke
+    res = run(main, ["precision", str(EXAMPLES / "puma560.yaml"), "--sweep", "26:27", "--sets", "20",
+                     "--acceleration", "20"])
+    assert res.exit_code == 0, res.output
+    assert res.output.splitlines()[0].endswith(
+        "random states; states analysed: positions within their limits; speeds within ±1 (the robot file gives no "
+        "joint a limit); accelerations within ±20 (--acceleration)")
+    dh = tmp_path / "p.yaml"          # (the elbow without a speed limit)
+    dh.write_text((EXAMPLES / "planar2.yaml").read_text().replace("qd: 3.0, tau: 25.0", "tau: 25.0"))
+    res = run(main, ["precision", str(dh), "--sweep", "20:20", "--sets", "20"])
+    assert res.output.splitlines()[0].endswith(
+        "states analysed: positions within their limits; speeds within their limits, else ±1 "
+        "(joint elbow: no limit given); accelerations within ±1 (--acceleration)"), res.output
+    doc = loads(run(main, ["precision", str(EXAMPLES / "ur5.urdf"), "--sweep", "30:30", "--sets",
+                           "20", "--format", "json"]).output)
+    assert doc["states"] == {"acceleration": 1.0, "no_position_limit": [], "no_speed_limit": [],
+                             "floating_base": False}

@@ -943,6 +943,7 @@ TOO_NARROW = "no qI.F of this width holds the peak"
 
 def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> str:
     """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance."""
+    from vampc.precision import states_analysed, states_line
     ok = [r for r in rows if r["word"] and r["bound"] <= own.tolerance]
     seen = [r for r in rows if r["word"] and r["observed"] <= own.tolerance and not r["overflows"]]
     # the narrowest found is the sweep's first width: a narrower one, not tried, may meet it too
@@ -952,6 +953,7 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     if own.fmt == "json":
         return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rounding": rounding,
                                "sets": own.sets, "seed": own.seed, "rows": rows,
+                               "states": states_analysed(chain, own.acceleration),
                                "narrowest_bound": ok[0]["word"] if ok else None,
                                "narrowest_observed": seen[0]["word"] if seen else None,
                                "at_sweep_start": start},
@@ -964,7 +966,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states"
-             + (f" (seed {own.seed})" if own.seed else ""),
+             + (f" (seed {own.seed})" if own.seed else "") + "; "
+             + states_line(states_analysed(chain, own.acceleration), chain.n),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)
         for digits in range(1, 7):

@@ -58,6 +58,31 @@ class Ranges:
         return (-self.qdd, self.qdd)
 
 
+def states_analysed(chain: Chain, qdd: float) -> dict:
+    """What `Ranges` takes for each state variable, said with the answer (a word is narrowest only
+    for these states): the acceleration bound, and the joints whose position or speed limit the
+    robot file does not give (±π, ±1 taken instead); a floating base's motions within ±1."""
+    return {"acceleration": qdd,
+            "no_position_limit": [j.name for j in chain.joints if not j.limits.q],
+            "no_speed_limit": [j.name for j in chain.joints if not j.limits.qd],
+            "floating_base": bool(chain.floating)}
+
+
+def states_line(states: dict, joints: int) -> str:
+    """states_analysed as the text output's line."""
+    def which(names: list[str], default: str) -> str:
+        if not names:
+            return "within their limits"
+        if len(names) == joints:
+            return f"within {default} (the robot file gives no joint a limit)"
+        return (f"within their limits, else {default} (joint{'s' if len(names) > 1 else ''} "
+                f"{', '.join(names)}: no limit given)")
+    return (f"states analysed: positions {which(states['no_position_limit'], '±π')}; speeds "
+            f"{which(states['no_speed_limit'], '±1')}; accelerations within "
+            f"±{states['acceleration']:g} (--acceleration)"
+            + ("; the floating base's motions within ±1" if states["floating_base"] else ""))
+
+
 def rounding(word, magnitude: float) -> float:
     """The most one rounding in `word` moves a value of at most this magnitude."""
     if isinstance(word, Fixed):
