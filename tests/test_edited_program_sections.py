@@ -177,6 +177,11 @@ WHOLE_FILE_EDITS = {
     "graph meta": (lambda d: _set(d, ["graph", "meta", "convention"], "mine"),
                    "graph.meta.convention: 'mine', but the file's options compile 'f, n referred "
                    "to O_{i-1}' (the file was edited); recompile it"),
+    # (a floating base adds the base wrench's 6 outputs: emulate read past the graph's, exit 3)
+    "floating on": (lambda d: d["robot"].update(floating=True, base_mass=1.0, base_com=[0, 0, 0],
+                                                base_inertia=[[1, 0, 0], [0, 1, 0], [0, 0, 1]]),
+                    "robot.floating: true, but the graph has 2 outputs, not the 8 of 2 torques and "
+                    "the base wrench (the file was edited); recompile it"),
     # (the axis is Φ's last row: an edited one was read by nobody, the same torques, exit 0)
     "axis": (lambda d: _set(d, ["robot", "joints", 1, "axis"], [0, 1, 0]),
              "robot.joints[1].axis: [0.0, 1.0, 0.0] is not the joint's axis, Φ's last row [0.0, "
@@ -281,3 +286,30 @@ def test_an_edited_log_graph_meta_is_refused(log_programs, tmp_path, edit):
         assert code == 1 and err.startswith(f"vampc: error: {path}: {said}") and \
             err.endswith(" (the file was edited); recompile it\n") and err.count("\n") == 1, \
             (command, err)
+
+
+ROBOT_EDITS = {
+    "tip load": ("chain", lambda d: _set(d, ["robot", "tip_force"], [0, 0, -10]),
+                 "graph.nodes: 412 nodes, where it compiles to 414"),
+    "base motion": ("chain", lambda d: _set(d, ["robot", "base_omega"], [0, 0, 0.5]),
+                    "graph.nodes: 412 nodes, where it compiles to"),
+    "tree tiers": ("tree", _meta("bwd_nodes", lambda v: json.dumps(
+        [row[:4] + [min(row[4], 1)] for row in json.loads(v)])), "graph.meta.bwd_nodes: '[["),
+}
+
+
+@pytest.mark.parametrize("edit", list(ROBOT_EDITS))
+def test_a_report_refuses_a_robot_section_or_tree_table_its_graph_is_not_compiled_from(
+        log_programs, tmp_path, edit):
+    """`report` compares configurations compiled from the robot section and places a tree's VAMPs by
+    its graph's tables: a tip load or base motion edited into the robot section (388 log systolic
+    VAMPs became 389 or 438), or a tree's tiers all set to 1 (170 VAMPs of the shared-passes row
+    became 374), changed its figures with exit 0 (a hostile-input audit's). The graph is now built
+    again from the robot section and compared. `emulate --check` refused them already: its
+    reference is the robot section's."""
+    which, change, said = ROBOT_EDITS[edit]
+    path = edited_program(log_programs[which], tmp_path, change)
+    code, err = run("report", path)
+    assert code == 1 and err.startswith(f"vampc: error: {path}: {said}") and err.endswith(
+        ", not what the robot section compiles to with the file's options (the file was edited); "
+        "recompile it\n") and err.count("\n") == 1, err

@@ -125,6 +125,11 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
     chain = Chain(doc.name, joints, np.array(doc.gravity), np.array(doc.base_omega),
                   np.array(doc.base_omega_dot), np.array(doc.tip_force),
                   np.array(doc.tip_torque), doc.source, **tree)
+    if graph is not None and len(graph.outputs) != chain.n_outputs:
+        raise VampcError(f"{path}: robot.floating: {str(bool(doc.floating)).lower()}, but the graph "
+                         f"has {len(graph.outputs)} outputs, not the {chain.n_outputs} of "
+                         f"{chain.n} torques{' and the base wrench' if chain.floating else ''} "
+                         "(the file was edited); recompile it")
     if tree:      # the host walks the tree: parents must be a depth-first tree of n joints
         try:
             chain._verify_tree()
@@ -509,6 +514,8 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     doc = typed(doc, path)
     graph = graph_from_doc(doc.graph, path)
     options = recorded_options(doc, graph, path)
+    chain = chain_from_doc(doc.robot, graph, path)
+    check_graph_of(graph, chain, options, path)
     numbering = tuple(v.number for v in doc.network.vamps)
     try:
         sched = schedule_from_doc(doc.schedule, graph, path)
@@ -534,8 +541,36 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
                        options.check_cycles)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
-    return Compiled(chain_from_doc(doc.robot, graph, path), options, graph, sched, net,
+    return Compiled(chain, options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
+
+
+def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
+    """The file's graph is the one its robot section compiles to with its options (built again: a
+    second or so for a 4096-joint log chain): a report compares configurations compiled from the
+    robot section and places a tree's VAMPs by its graph's tables, so an edited robot section (a
+    tip load, a base motion, parents) or an edited tree table changed the report's figures with
+    exit 0 (`emulate --check` refuses such a file: its reference is the robot section's)."""
+    from dataclasses import replace
+
+    from vampc.compiler import build_graph
+    built = build_graph(chain, replace(options, verify=False))
+    if built == graph:
+        return
+    def refuse(where: str, why: str):
+        return VampcError(f"{path}: {where}: {why}, not what the robot section compiles to with the "
+                          "file's options (the file was edited); recompile it")
+    if len(built.nodes) != len(graph.nodes):
+        raise refuse("graph.nodes", f"{len(graph.nodes)} nodes, where it compiles to "
+                     f"{len(built.nodes)}")
+    for i, (mine, theirs) in enumerate(zip(graph.nodes, built.nodes)):
+        if mine != theirs:
+            raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
+    if graph.outputs != built.outputs:
+        raise refuse("graph.outputs", "the torque outputs")
+    mine, theirs = dict(graph.meta), dict(built.meta)
+    key = next(k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k))
+    raise refuse(f"graph.meta.{key}", shown(str(mine.get(key))))
 
 
 def recorded_options(doc: F.ProgramFile, graph: Graph, path):
@@ -566,7 +601,8 @@ def check_meta(graph: Graph, options, path) -> None:
     tables of recursion nodes to place and count VAMPs, and names its prefix network (an edited
     table was an internal error, exit 3, or changed the folded layouts' figures, exit 0; an edited
     prefix name was printed as the recursion's). A chain's tables are the ones its prefix network
-    opens (vampc.dataflow.prefix.chain_table); a tree's are checked for their shape and groups."""
+    opens (vampc.dataflow.prefix.chain_table); a tree's are checked for their shape and groups here,
+    and as a whole where a report reads them (check_graph_of builds the graph again)."""
     meta = dict(graph.meta)
 
     def refuse(key: str, why: str):
