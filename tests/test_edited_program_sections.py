@@ -177,6 +177,9 @@ WHOLE_FILE_EDITS = {
     "graph meta": (lambda d: _set(d, ["graph", "meta", "convention"], "mine"),
                    "graph.meta.convention: 'mine', but the file's options compile 'f, n referred "
                    "to O_{i-1}' (the file was edited); recompile it"),
+    # (a torque column 'tau_': a robot file's blank joint name is refused)
+    "joint name blank": (lambda d: _set(d, ["robot", "joints", 1, "name"], ""),
+                         "robot.joints[1].name: '' is blank (the file was edited); recompile it"),
     # (a floating base adds the base wrench's 6 outputs: emulate read past the graph's, exit 3)
     "floating on": (lambda d: d["robot"].update(floating=True, base_mass=1.0, base_com=[0, 0, 0],
                                                 base_inertia=[[1, 0, 0], [0, 1, 0], [0, 0, 1]]),

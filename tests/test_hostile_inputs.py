@@ -477,6 +477,18 @@ def test_a_base_or_coupling_a_loader_combines_past_a_float_is_one_line(tmp_path,
     assert not out.exists()
 
 
+def test_a_blank_joint_name_is_one_line(tmp_path):
+    """A URDF joint named ' ' was compiled, its torque column headed 'tau_ ' (a DH table refuses an
+    empty name; a hostile-input audit found a program file's taken too)."""
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(_urdf(2).replace('name="j2"', 'name=" "'))
+    out = tmp_path / "r.vamp.json"
+    code, err, _ = run("compile", urdf, "-o", out)
+    assert (code, err) == (1, f"vampc: error: {urdf}: joint 2: its name ' ' is blank: a joint's name "
+                              "heads its torque column and names it in messages\n")
+    assert not out.exists()
+
+
 def test_a_picture_never_replaces_the_rtl_figures_it_reads(tmp_path):
     """`--html F --rtl F` wrote the page over the synthesis figures it had read (exit 0): --rtl is
     an input like SOURCE."""

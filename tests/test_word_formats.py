@@ -139,3 +139,24 @@ def test_one_constant_beyond_a_64_bit_word_fits_by_its_rule(word, overflow):
     assert w.overflows == 2
     from vampc.emulator.native import _literal
     assert _literal(1e30, parse_word(word, "nearest", overflow)).startswith("((int64_t)")
+
+
+def test_an_rms_error_is_never_above_the_largest_error_when_squares_overflow(tmp_path):
+    """`emulate --word q16.16 --check` of a robot of mass 1e300: errors of about 7e300, each finite,
+    printed an RMS error of inf beside them (their squares overflowed a float; a hostile-input
+    audit's). Squares are summed in long double: the RMS is finite and at most the largest."""
+    from pathlib import Path
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    robot = tmp_path / "heavy.yaml"
+    robot.write_text((Path(__file__).parent.parent / "examples" / "planar2.yaml").read_text()
+                     .replace("mass: 2.0", "mass: 1.0e+300"))
+    r = CliRunner().invoke(main, ["emulate", str(robot), "--word", "q16.16", "--check", "--random",
+                                  "5", "-o", str(tmp_path / "tau.csv")])
+    rows = [line.split(":")[1].split(",") for line in r.stdout.splitlines()
+            if line.startswith("  tau_")]
+    assert r.exit_code == 1 and len(rows) == 2, r.output
+    worst, rms = (float(rows[0][0]), float(rows[0][2]))
+    assert 1e299 < worst < 1e305 and 0 < rms <= worst, rows

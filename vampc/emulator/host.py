@@ -157,8 +157,8 @@ class WordCheck:
 
     @property
     def rms(self) -> np.ndarray:
-        """Per joint: the root-mean-square error."""
-        return np.sqrt(self.sum_sq / max(self.count, 1))
+        """Per joint: the root-mean-square error (at most the largest error, as it is said)."""
+        return np.minimum(np.sqrt(self.sum_sq / max(self.count, 1)).astype(float), self.max_abs)
 
     def merged(self, other: WordCheck | None) -> WordCheck:
         """The check over both runs (chunks) of sets."""
@@ -174,8 +174,9 @@ def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
     from vampc.dynamics.reference import rnea
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
+    # (squares summed in long double: errors of 1e300, each finite, had an RMS of inf beside them)
     return WordCheck(err.max(axis=0, initial=0.0), np.abs(ref).max(axis=0, initial=0.0),
-                     (err ** 2).sum(axis=0), len(tau))
+                     (err.astype(np.longdouble) ** 2).sum(axis=0), len(tau))
 
 
 def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:

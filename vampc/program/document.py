@@ -149,6 +149,9 @@ def _check_joints(doc: F.RobotDoc, path) -> None:
     Φ's last row (an edited axis was read by nobody: the answer stayed the same, exit 0)."""
     seen = set()
     for i, j in enumerate(doc.joints):
+        if not j.name.strip():      # (a torque column 'tau_': a robot file refuses such a name)
+            raise located(path, f"robot.joints[{i}].name", f"{shown(j.name)} is blank (the file "
+                          "was edited); recompile it")
         if j.name in seen:
             raise located(path, f"robot.joints[{i}].name", f"duplicate joint name {shown(j.name)} "
                           "(the file was edited); recompile it")
@@ -610,7 +613,7 @@ def check_meta(graph: Graph, options, path) -> None:
     if graph.recursion is Recursion.LINEAR:
         fixed = dict(LINEAR_META)
     else:
-        tree = "tree" in meta
+        tree = "tree" in meta or meta.get("convention") == LOG_TREE_CONVENTION
         fixed = {"recursion": "log", "prefix": options.prefix,
                  "leaves": LOG_LEAVES[bool(options.uniform_leaves)],
                  "convention": LOG_TREE_CONVENTION if tree else LOG_CONVENTION}

@@ -49,12 +49,17 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
 
 def _check_names(chain: Chain, path) -> None:
     """VampcError where the robot's or a joint's name holds a control character (textio.name_problem),
-    the joint named by its number (from 1)."""
+    or a joint's is blank, the joint named by its number (from 1)."""
     from vampc.textio import first_name_problem
     found = first_name_problem([("robot", chain.name)] + [(f"joint {i + 1}", j.name)
                                                           for i, j in enumerate(chain.joints)])
     if found:
         raise located(path, *found)
+    blank = next((i for i, j in enumerate(chain.joints) if not j.name.strip()), None)
+    if blank is not None:          # (a torque column 'tau_ ', and messages naming ' ')
+        from vampc.textio import shown
+        raise located(path, f"joint {blank + 1}", f"its name {shown(chain.joints[blank].name)} is "
+                      "blank: a joint's name heads its torque column and names it in messages")
 
 
 def _check_finite(chain: Chain, path) -> None:
