@@ -62,6 +62,9 @@ EDITS = {
                   "network.ports[0].size: 9, but its entries are 3-scalar quantities"),
     "port size A": (lambda d: _set(d, ["network", "ports", 1, "size"], 3),
                     "network.ports[1].size: 3, but its entries are 9-scalar quantities"),
+    # (the report lists the constant buffers by name: a renamed one was listed so, exit 0)
+    "constant name": (lambda d: _set(d, ["network", "consts", 2, "name"], "zzz"),
+                      "network.consts[2].name: 'zzz' names no constant of the graph with its value"),
     "extra constant": (lambda d: d["network"]["consts"].append(
         {**d["network"]["consts"][0], "index": len(d["network"]["consts"])}),
         "network.consts[12] ('"),

@@ -15,7 +15,7 @@ from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 from vampc.kinds import TapKind
-from vampc.machine.ops import Timing
+from vampc.machine.ops import Op, Timing
 from vampc.network.model import Network, Tap
 from vampc.program.document import (
     chain_from_doc,
@@ -39,6 +39,7 @@ from vampc.program.words import (
 )
 from vampc.robot.chain import Chain
 from vampc.schedule.asap import Schedule
+from vampc.textio import shown
 
 
 @dataclass(frozen=True)
@@ -356,6 +357,16 @@ def check_indices(net: Network, numbers, graph: Graph, path) -> None:
     for o in net.outputs:
         if o.vamp >= len(net.vamps):
             raise VampcError(f"{path}: τ{o.joint} is read from missing VAMP {o.vamp}")
+    if net.consts:   # each constant is named after a graph constant of its value (the report
+        named: dict[tuple, set] = {}          # lists them by name; an edited value is said below)
+        for nd in graph.nodes:
+            if nd.op is Op.CONST:
+                named.setdefault(nd.value, set()).add(nd.name)
+        for c in net.consts:
+            if c.name not in named.get(tuple(c.value), {c.name}):
+                raise VampcError(f"{path}: network.consts[{c.index}].name: {shown(c.name)} names no "
+                                 "constant of the graph with its value (the file was edited); "
+                                 "recompile it")
     # every torque the graph gives is read once (an output dropped from io.outputs left its column
     # unwritten: the stream engine returned whatever memory held, exit 0)
     want = sorted(o.joint for o in graph.outputs)
