@@ -697,11 +697,11 @@ def test_emulate_options_it_would_not_honour_are_usage_errors(tmp_path, program,
 
 def test_a_program_file_given_to_compile(tmp_path, program):
     res = run("compile", program, "-o", tmp_path / "x.vamp.json")
-    user_error(res, r"planar\.vamp\.json: planar\.vamp\.json is a vampc program file, not a robot "
+    user_error(res, r"planar\.vamp\.json: this is a vampc program file, not a robot "
                     r"description; use `vampc emulate` or `vampc report` with it$")
     renamed = tmp_path / "prog.json"
     renamed.write_bytes(program.read_bytes())
-    user_error(run("compile", renamed), r"prog\.json is a vampc program file, not a robot")
+    user_error(run("compile", renamed), r"prog\.json: this is a vampc program file, not a robot")
 
 
 def test_a_program_file_without_its_suffix_still_runs(tmp_path, program):

@@ -141,7 +141,7 @@ def test_a_compressed_robot_file_says_so(tmp_path):
     robot = tmp_path / "arm.urdf"
     robot.write_bytes(gzip.compress(open("examples/arm6.urdf", "rb").read()))
     r = CliRunner().invoke(main, ["compile", str(robot)])
-    assert r.exit_code == 1 and "arm.urdf is gzip-compressed; decompress it first (gunzip)" in r.output
+    assert r.exit_code == 1 and "arm.urdf: this is gzip-compressed; decompress it first (gunzip)" in r.output
 
 
 def test_the_compact_form_to_a_file_and_to_a_pipe_is_the_same_and_a_failure_leaves_nothing(

@@ -227,7 +227,7 @@ def test_cli_verilog_and_cosim(programs, tmp_path):
     ("ec", ["-o", "x.v"], 2, "error correction"),
     ("fixed", ["--check"], 2, "--check applies to --cosim"),
     ("fixed", ["--pnr", "-o", "x.v"], 2, "--pnr applies to --synth"),
-    ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)"),
+    ("fixed", [], 2, "give -o FILE.v, --cosim N or --synth ecp5: what to do with the network (README, RTL)"),
     ("fixed", ["--cosim", "2", "--max-minutes", "0.0001"], 1, "beyond --max-minutes"),
     # inf and 1e300 passed the > 0 check into a subprocess timeout: OverflowError tracebacks
     ("fixed", ["--synth", "ecp5", "--max-minutes", "inf"], 2, "at most 10080 (a week)"),

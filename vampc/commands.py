@@ -235,6 +235,9 @@ def program_compiled(source: str, given, params: dict):
     if (doc.schedule.mult_latency, doc.schedule.add_latency) == (1, 1):
         check = in_background(_static_check, doc, source, c,
                               inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
+    else:
+        from vampc.program.document import check_graph_of
+        check_graph_of(c.graph, c.chain, c.options, source)
     fresh = jsontext.loads(jsontext.dumps(summary(c)))
     edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v
                     and not _counted_before(k, v, c))
@@ -254,12 +257,15 @@ def _counted_before(key: str, stored, c) -> bool:
 
 
 def _static_check(doc, source, c) -> None:
-    """The emulator's static checks of a program file: the network implements the graph."""
+    """The emulator's static checks of a program file: the network implements the graph, and the
+    graph is the robot section's."""
     from vampc.emulator import check_program, loaded_from_doc
     from vampc.emulator.load import counter_network
+    from vampc.program.document import check_graph_of
     check_program(loaded_from_doc(doc, source, decoded=(c.chain, c.graph,
                                                         counter_network(c.network, c.programs),
                                                         c.programs)))
+    check_graph_of(c.graph, c.chain, c.options, source)   # (the report's figures are built from it)
 
 
 # --- emulate --------------------------------------------------------------------------------------

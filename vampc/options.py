@@ -1112,4 +1112,4 @@ class RtlOptions:
             raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number of "
                                   f"minutes, at most {MAX_MINUTES} (a week)")
         if self.output is None and self.cosim is None and self.synth is None:
-            raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5 (see README, RTL)")
+            raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5: what to do with the network (README, RTL)")

@@ -102,14 +102,13 @@ def looks_like(path) -> str:
 def suffix_mismatch(path, expected: str) -> str | None:
     """Why a robot file's content does not match its extension's loader ("urdf" or "dh"), or None."""
     kind = sniff(path)
-    name = Path(path).name
     if kind == "program":
-        return (f"{name} is a vampc program file, not a robot description; use "
+        return ("this is a vampc program file, not a robot description; use "
                 "`vampc emulate` or `vampc report` with it")
     if kind == "gzip":
-        return f"{name} is gzip-compressed; decompress it first (gunzip)"
+        return "this is gzip-compressed; decompress it first (gunzip)"
     if kind in OTHER_COMPRESSIONS:
-        return f"{name} is {kind}-compressed; decompress it first"
+        return f"this is {kind}-compressed; decompress it first"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
     if expected == "urdf" and kind in ("json", "yaml"):

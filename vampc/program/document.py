@@ -518,7 +518,6 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
     graph = graph_from_doc(doc.graph, path)
     options = recorded_options(doc, graph, path)
     chain = chain_from_doc(doc.robot, graph, path)
-    check_graph_of(graph, chain, options, path)
     numbering = tuple(v.number for v in doc.network.vamps)
     try:
         sched = schedule_from_doc(doc.schedule, graph, path)
@@ -550,7 +549,8 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
 
 def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
     """The file's graph is the one its robot section compiles to with its options (built again: a
-    second or so for a 4096-joint log chain): a report compares configurations compiled from the
+    second or so for a 4096-joint log chain; vampc.commands.program_compiled runs it after the
+    static checks, whose messages say more): a report compares configurations compiled from the
     robot section and places a tree's VAMPs by its graph's tables, so an edited robot section (a
     tip load, a base motion, parents) or an edited tree table changed the report's figures with
     exit 0 (`emulate --check` refuses such a file: its reference is the robot section's)."""

@@ -69,7 +69,7 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
                       f"{hw['slots']} slots on {count(v['total'], 'VAMP')} (period {hw['period']}, "
                       f"buffer clock {flops(hw['buffer_clock'])}); {hw['control_registers']} control "
                       f"registers, {hw['mux_inputs']} multiplexer inputs beyond the first (at most "
-                      f"{hw['max_mux_inputs']} on one operand), {hw['host_writes_per_set']} host "
+                      f"{hw['max_mux_inputs']} inputs on one operand), {hw['host_writes_per_set']} host "
                       f"writes per set, {hw['program_words']} program words loaded in "
                       f"{hw['load_ticks']} ticks"))
     w = rep.get("word")
