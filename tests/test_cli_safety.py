@@ -1788,3 +1788,18 @@ def test_outputs_are_put_in_place_under_their_folders_lock(tmp_path):
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 0, stderr
     assert sorted(p.name for p in out.iterdir()) == ["states.csv", "tau.csv"]
+
+
+def test_a_tick_run_of_a_network_too_big_is_refused_whatever_its_sets(program, monkeypatch):
+    """A 5000-joint chain's tick run took 16.3 GB with two sets: the check counted only the sets'
+    values, not the engine's row of registers for each of its 50 million delay-buffer stages."""
+    from vampc.emulator import load_program
+    ld = load_program(str(program))
+    stages = sum(b.stages for b in ld.net.buffers)
+    monkeypatch.setattr(driver, "_available_memory", lambda: 4 * driver.TICK_BYTES_PER_STAGE * stages)
+    assert run("emulate", program, "--random", 1, "--engine", "tick").exit_code == 0
+    monkeypatch.setattr(driver, "_available_memory", lambda: driver.TICK_BYTES_PER_STAGE * stages)
+    res = run("emulate", program, "--random", 1, "--engine", "tick")
+    user_error(res, rf"planar\.vamp\.json: 1 torque set and the network's {stages:,} delay-buffer "
+                    r"stages need about [\d.]+ GiB in the tick engine \([\d.]+ GiB available\); run "
+                    r"fewer sets or use --engine stream")

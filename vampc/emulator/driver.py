@@ -91,14 +91,26 @@ def chunk_size(ld: Loaded) -> int:
 STREAM_ADVICE = "run fewer sets or use --engine stream, which takes them in chunks"
 
 
+# The tick engine's own tables per delay-buffer stage (a row of nine registers and its indexes):
+# 345-370 bytes measured on 250-, 500- and 1000-joint chains (0.12, 0.5 and 2 million stages: 117,
+# 255 and 773 MB peak for one set); a 5000-joint chain's 50 million stages took 16.3 GB, which the
+# check, counting only the sets' values, had let start.
+TICK_BYTES_PER_STAGE = 400
+
+
 def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE) -> None:
-    """The tick engine holds every set's port values and torques: refuse a run that cannot fit.
-    `advice`: what the command can do instead (a fault campaign has only the tick engine)."""
-    need = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
+    """The tick engine holds every set's port values and torques, and a row of registers per
+    delay-buffer stage: refuse a run that cannot fit. `advice`: what the command can do instead (a
+    fault campaign has only the tick engine)."""
+    stages = sum(b.stages for b in ld.net.buffers)
+    sets = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
+    need = sets + TICK_BYTES_PER_STAGE * stages
     avail = _available_memory()
     if avail is not None and need > avail // 2:
-        raise VampcError(f"{ld.path}: {count} torque sets need about {need / 2**30:.1f} GiB in the "
-                         f"tick engine ({avail / 2**30:.1f} GiB available); {advice}")
+        network = (f" and the network's {stages:,} delay-buffer stages"
+                   if TICK_BYTES_PER_STAGE * stages > sets else "")
+        raise VampcError(f"{ld.path}: {count} torque set{'s' if count != 1 else ''}{network} need about {need / 2**30:.1f} "
+                         f"GiB in the tick engine ({avail / 2**30:.1f} GiB available); {advice}")
 
 
 def _available_memory() -> int | None:
