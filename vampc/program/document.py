@@ -557,6 +557,8 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
     from dataclasses import replace
 
     from vampc.compiler import build_graph
+    if not graph.meta:      # a graph of the user's own (check_meta: linear), built by no builder
+        return
     built = build_graph(chain, replace(options, verify=False))
     if built == graph:
         return
@@ -603,13 +605,17 @@ def check_meta(graph: Graph, options, path) -> None:
     """graph.meta as the compiler writes it for the file's options: a report reads a log graph's
     tables of recursion nodes to place and count VAMPs, and names its prefix network (an edited
     table was an internal error, exit 3, or changed the folded layouts' figures, exit 0; an edited
-    prefix name was printed as the recursion's). A chain's tables are the ones its prefix network
-    opens (vampc.dataflow.prefix.chain_table); a tree's are checked for their shape and groups here,
-    and as a whole where a report reads them (check_graph_of builds the graph again)."""
+    prefix name was printed as the recursion's). A linear graph without meta is one the user built
+    (vampc.compiler.compile_graph; a log graph cannot be compiled without its tables). A chain's
+    tables are the ones its prefix network opens (vampc.dataflow.prefix.chain_table); a tree's are
+    checked for their shape and groups here, and as a whole where a report reads them
+    (check_graph_of builds the graph again)."""
     meta = dict(graph.meta)
 
     def refuse(key: str, why: str):
         return VampcError(f"{path}: graph.meta.{key}: {why} (the file was edited); recompile it")
+    if graph.recursion is Recursion.LINEAR and not meta:
+        return          # a graph of the user's own (vampc.compiler.compile_graph): no builder's
     if graph.recursion is Recursion.LINEAR:
         fixed = dict(LINEAR_META)
     else:
