@@ -288,10 +288,14 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     ld = loaded(source, options, robot_opts, params)
     warn_what_if(source, ld, "it is emulated in")
     bits = getattr(ld.arith, "bits", 0)
-    if "--vcd" in outs and ld.word is not None and bits > 53:
+    if own.vcd_as == "word" and getattr(ld.arith, "c_type", "") != "int64_t":
+        raise VampcUsageError(f"--vcd-as word writes fixed-point words; {source} computes in "
+                              f"{'float64' if ld.word is None else ld.word.name} (compile with "
+                              "--word qI.F, or give it with a robot file)")
+    if "--vcd" in outs and ld.word is not None and bits > 53 and own.vcd_as == "real":
         warnings.warn(VampcWarning(f"--vcd: {ld.arith.name} words have {bits} bits; the waveform's "
                                    "real values are the nearest float64 to them (53 significant "
-                                   "bits), not every bit of the words"), stacklevel=1)
+                                   "bits), not every bit of the words (--vcd-as word writes them all)"), stacklevel=1)
     traj = None
     if own.trajectory:
         traj = read_trajectory(own.trajectory, ld.chain)
@@ -302,7 +306,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         states = States(traj.count, traj, source=own.trajectory)
     else:
         states = States.random(own.random_count, own.seed)
-    sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None, count=states.count)
+    sinks = Sinks(ld, outs, has_t=traj is not None and traj.t is not None, count=states.count,
+                  vcd_as=own.vcd_as)
     info = any(o.is_stdout for o in outs.values())       # keep stdout for the data
     try:
         # (the check runs chunk by chunk beside the engine: its bar said "stream engine" alone, for
@@ -505,7 +510,7 @@ def _npy_output(outs: dict, option: str) -> bool:
 class Sinks:
     """The emulate command's output files, written as the chunks of a run arrive."""
 
-    def __init__(self, ld, outs, has_t: bool, count: int = 0):
+    def __init__(self, ld, outs, has_t: bool, count: int = 0, vcd_as: str = "real"):
         from vampc.emulator.trajectory import header, torque_columns
         from vampc.outputs import Pending
         self.ld, self.outs = ld, outs
@@ -521,7 +526,8 @@ class Sinks:
         self.vcd = None
         if self.vcd_out:          # (pyvcd only imported for a waveform)
             from vampc.emulator.vcd import VcdWriter, vamp_names
-            self.vcd = _Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld)), self.vcd_out)
+            bits = ld.arith.bits if vcd_as == "word" else None
+            self.vcd = _Guarded(VcdWriter(self.vcd_out.fh, vamp_names(ld), bits), self.vcd_out)
         from vampc.robot.mimic import free_names, n_free
         t = ["t"] if has_t else []
         floating = ld.chain.floating
@@ -638,6 +644,7 @@ class _Guarded:
     def __init__(self, writer, pending):
         self.writer, self.pending = writer, pending
         self.sampled = False           # any tick written (to standard output: sent)
+        self.words = writer.words
 
     def sample(self, tick, values) -> None:
         """As VcdWriter.sample."""

@@ -549,6 +549,11 @@ class EmulateOptions:
     vcd: str | None = field(default=None, metadata=cli(
         "--vcd", path=True, dash=True, help="Tick engine: write every VAMP's Result as a VCD "
         "waveform (GTKWave)."))
+    vcd_as: str = field(default="real", metadata=cli(
+        "--vcd-as", choices=lambda: ("real", "word"), show_default=True, help="With --vcd: each "
+        "Result scalar as a real (its value), or as the fixed-point word the network holds, a "
+        "two's-complement bit vector of the word's width, as `vampc rtl`'s Verilog carries it "
+        "(needs a fixed-point word)."))
     fault: tuple = field(default=(), metadata=cli(
         "--fault", multiple=True, metavar="SPEC", help="Tick engine: inject a fault, e.g. "
         "vamp=37,stuck=result.z:62,value=1,at=300 (a stuck bit), vamp=5,flip=a.x:51,at=120 (one "
@@ -576,6 +581,8 @@ class EmulateOptions:
             raise VampcUsageError("give exactly one of --trajectory FILE or --random N")
         if self.vcd and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--vcd needs --engine tick")
+        if "vcd_as" in self.given and not self.vcd:
+            raise VampcUsageError("--vcd-as applies with --vcd")
         if self.fault and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--fault needs --engine tick (faults are injected into its "
                                   "registers)")

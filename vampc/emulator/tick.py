@@ -662,7 +662,9 @@ class TickEngine:
 
     def _vcd_dump(self) -> None:
         if self.vcd is not None:
-            self.vcd.sample(self.tick + 1, self.ld.arith.decode(self.bus[:self.V, :3]))
+            words = self.bus[:self.V, :3]
+            raw = getattr(self.vcd, "words", False)      # (a writer of the words themselves)
+            self.vcd.sample(self.tick + 1, words if raw else self.ld.arith.decode(words))
 
 
 def _by_counter(counters: np.ndarray, slots: np.ndarray):

@@ -1,7 +1,8 @@
 """Value Change Dump output of a tick-engine run (readable by GTKWave), written with pyvcd.
 
 One scope per VAMP (inside a top scope `network`), named after its number and graph node, holding its
-Result as three `real` signals x, y, z; one tick of the emulator is 1 ns of VCD time. The dump starts at
+Result as three `real` signals x, y, z (or, for a fixed-point word with `bits`, three `wire` vectors
+holding the words' two's-complement bits); one tick of the emulator is 1 ns of VCD time. The dump starts at
 the first sampled tick, whose `$dumpvars` holds every Result; after it only changes are written. Every
 value is written with the shortest decimal that reads back as the same float64 (Python's repr), so a
 reader gets the emulator's Results bit for bit; NaN and ±inf are written as `nan`, `inf`, `-inf` (what C's
@@ -70,26 +71,42 @@ def _changed(new: np.ndarray, old: np.ndarray) -> np.ndarray:
 
 
 class VcdWriter:
-    """Streams the Results of a tick-engine run to `stream` as VCD; `names[v]` names VAMP v's scope."""
+    """Streams the Results of a tick-engine run to `stream` as VCD; `names[v]` names VAMP v's scope.
+    `bits`: write each scalar as the fixed-point word the network holds, a two's-complement vector
+    of that many bits (a `wire`, as the RTL's ports carry it: `vampc emulate --vcd-as word`), not
+    as a real."""
 
-    def __init__(self, stream: TextIO, names: Sequence[str]):
+    def __init__(self, stream: TextIO, names: Sequence[str], bits: int | None = None):
         self._stream = stream
         self._scopes = scope_names(names)
         self._vcd: VCDWriter | None = None
         self._vars: list[list] = []
+        self._bits = bits
         self._last = np.full((len(names), 3), np.nan)
         self._tick = 0
 
     def sample(self, tick: int, values: np.ndarray) -> None:
-        """Record the Results visible from `tick` on (`values`: (V, 3), every VAMP's x, y, z). Ticks
-        must not decrease."""
+        """Record the Results visible from `tick` on (`values`: (V, 3), every VAMP's x, y, z: the
+        words, int64, when the writer has `bits`; else their values). Ticks must not decrease."""
         if self._vcd is None:
             self._start(tick, values)
+        elif self._bits:
+            for v, c in np.argwhere(values != self._last).tolist():
+                self._vcd.change(self._vars[v][c], tick, self._word(values[v, c]))
         else:
             for v, c in np.argwhere(_changed(values, self._last)).tolist():
                 self._vcd.change(self._vars[v][c], tick, _Exact(values[v, c]))
-        self._last[...] = values
+        self._last = values.copy()
         self._tick = tick
+
+    @property
+    def words(self) -> bool:
+        """Whether `sample` takes the words themselves (a writer with `bits`)."""
+        return self._bits is not None
+
+    def _word(self, word) -> int:
+        """A word as its `bits`-bit two's-complement pattern."""
+        return int(word) & ((1 << self._bits) - 1)
 
     def _start(self, tick: int, values: np.ndarray) -> None:
         """The header and, at `tick`, the `$dumpvars` of `values` (pyvcd writes both when time first
@@ -97,6 +114,14 @@ class VcdWriter:
         self._vcd = VCDWriter(self._stream, timescale="1 ns", date="", version="vampc",
                               comment="vampc tick engine: every VAMP's Result; 1 tick = 1 ns",
                               init_timestamp=tick)
+        if self._bits:          # (no sample: every bit unknown)
+            def init(v, c):
+                return "x" if np.isnan(values[v, c]) else self._word(values[v, c])
+            self._vars = [[self._vcd.register_var(("network", scope), axis, "wire", size=self._bits,
+                                                  init=init(v, c))
+                           for c, axis in enumerate("xyz")]
+                          for v, scope in enumerate(self._scopes)]
+            return
         self._vars = [[self._vcd.register_var(("network", scope), axis, "real",
                                               init=_Exact(values[v, c]))
                        for c, axis in enumerate("xyz")]
