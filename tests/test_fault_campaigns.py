@@ -161,10 +161,16 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     kept = default.read_bytes()
     r = RUN(main, ["faults", str(program), *QUICK, "--kinds", "dead", "--workers", "1"])
     assert r.exit_code == 1, r.output
+    # (what differs is said: an earlier vampc's default random campaign, 565 sets a run where it
+    # is now 1488, was refused as if --sets had been given: a review's find)
     assert r.output.splitlines()[-1] + "\n" == (f"vampc: error: {default}, the default results file, holds the results of "
-                        "another campaign (another program or robot file by that name, or other "
-                        "--kinds, --sets, --seed, faults or compile options): give --results FILE "
-                        "for this one, or remove it to start over\n")
+                        "another campaign (other faults): give --results FILE for this one, or "
+                        "remove it to start over\n")
+    r = RUN(main, ["faults", str(program), *QUICK[:-1], "41", "--workers", "1"])
+    assert r.output.splitlines()[-1] == (f"vampc: error: {default}, the default results file, holds "
+                                         "the results of another campaign (40 sets a run, not 41, "
+                                         "other faults): give --results FILE for this one, or "
+                                         "remove it to start over"), r.output
     assert default.read_bytes() == kept
 
 
@@ -282,6 +288,9 @@ def test_too_few_sets_for_the_sweep_is_said(programs, tmp_path):
     _, _, ec = programs
     r = RUN(main, ["faults", str(ec), "--campaign", "random", "--count", "2", "--sets", "20",
                    "--results", str(tmp_path / "r.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0 and "those that start late cannot be detected" in r.output
+    r = RUN(main, ["faults", str(ec), "--kinds", "dead", "--sets", "20", "--results",
+                   str(tmp_path / "s.jsonl"), "--workers", "1"])
     assert r.exit_code == 0 and "reaches only part of the chain" in r.output
     # an error in the options is said alone, not after this warning (two lines for one error)
     for bad, code in ((["--at", "999999999"], 1), (["--bits", "64"], 2)):
@@ -509,7 +518,8 @@ def test_a_campaign_too_big_for_memory_names_what_faults_can_do(programs, tmp_pa
     r = RUN(main, ["faults", str(ec), "--sets", "100000", "--results", str(tmp_path / "r.jsonl")])
     errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
     assert r.exit_code == 1 and len(errors) == 1, r.output
-    assert errors[0].endswith("give fewer --sets (a fault campaign runs on the tick engine)")
+    assert errors[0].endswith("give fewer --sets or --workers (a fault campaign runs on the tick "
+                              "engine)")
     assert "--engine" not in r.output and not (tmp_path / "r.jsonl").exists()
 
 
@@ -721,3 +731,44 @@ def test_drawn_faults_start_where_the_checking_reaches_them_before_the_run_ends(
             assert fault.at < cp.draw_sets(ld, sets) * P
             assert cp.next_check(ld, fault.vamp, fault.at // P) + drain <= sets, run
         assert "did not reach" not in run.get("reason", ""), run
+
+
+def test_a_drawn_campaign_shorter_than_its_default_says_where_its_faults_start(programs, tmp_path):
+    """--sets below a drawn campaign's default: past reach_sets the faults start in the first
+    sets - reach_sets (warned: they had been drawn over the whole run, unsaid, and those drawn late
+    counted as silent corruption); at or below it, anywhere, and those late cannot be detected (a
+    review's: no warning came, since it compared with the single campaign's default)."""
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    reach, whole = cp.reach_sets(ld), cp.campaign_sets(ld, "transient")
+    assert reach < whole
+    r = RUN(main, ["faults", str(ec), "--campaign", "transient", "--sets", str(reach + 3),
+                   "--results", str(tmp_path / "a.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0 and (
+        f"vampc: warning: --sets {reach + 3}: the faults start in its first 3 sets, so that the "
+        f"checking reaches each before the run ends (give --sets {whole} for starts over a whole "
+        "first sweep)") in r.stderr, r.output
+    r = RUN(main, ["faults", str(ec), "--campaign", "transient", "--sets", "20",
+                   "--results", str(tmp_path / "b.jsonl"), "--workers", "1"])
+    assert r.exit_code == 0 and (
+        f"vampc: warning: --sets 20: the faults start anywhere in the run, and the checking reaches "
+        f"a fault within {reach} sets of it: those that start late cannot be detected (give --sets "
+        f"{whole} or more)") in r.stderr, r.output
+
+
+def test_a_campaign_counts_the_memory_of_each_local_worker(programs, tmp_path, monkeypatch):
+    """Each local worker runs a tick engine of its own: two that do not fit where one does are
+    refused before anything runs, saying --workers helps (the check counted one engine)."""
+    from vampc.emulator import driver
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    sets = cp.default_sets(ld)
+    one = driver.TICK_BYTES_PER_STAGE * sum(b.stages for b in ld.net.buffers) + 8 * sets * (
+        sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
+    monkeypatch.setattr(driver, "_available_memory", lambda: 3 * one)     # (half: 1.5 engines)
+    args = ["faults", str(ec), "--kinds", "dead", "--sets", str(sets), "--results"]
+    r = RUN(main, args + [str(tmp_path / "a.jsonl"), "--workers", "2"])
+    assert r.exit_code == 1 and "need about" in r.stderr and "in the tick engines of 2 workers" \
+        in r.stderr and "give fewer --sets or --workers" in r.stderr, r.output
+    assert not (tmp_path / "a.jsonl").exists()
+    assert RUN(main, args + [str(tmp_path / "b.jsonl"), "--workers", "1"]).exit_code == 0

@@ -159,4 +159,31 @@ def test_an_rms_error_is_never_above_the_largest_error_when_squares_overflow(tmp
             if line.startswith("  tau_")]
     assert r.exit_code == 1 and len(rows) == 2, r.output
     worst, rms = (float(rows[0][0]), float(rows[0][2]))
-    assert 1e299 < worst < 1e305 and 0 < rms <= worst, rows
+    assert 1e299 < worst < 1e305 and 0 < rms < worst, rows       # (5 errors, not all equal)
+
+
+def test_the_rms_of_chunks_merged_is_the_rms_of_the_whole_run():
+    """A run's word check is merged chunk by chunk; its RMS error, kept as squares over the largest
+    (which cannot overflow), equals the RMS of every error at once, computed here with the errors
+    scaled by hand, at 1e300 as at 1e-3."""
+    from pathlib import Path
+
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import Trajectory, random_trajectory, word_check
+    from vampc.robot import load_robot
+    chain = load_robot(Path(__file__).parent.parent / "examples" / "planar2.yaml")
+    traj = random_trajectory(chain, 40, 3)
+    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    noise = np.random.default_rng(1).uniform(0.5, 2.0, size=ref.shape)
+    for scale in (1e300, 1e-3):
+        tau = ref + noise * scale
+        whole = word_check(chain, traj, tau)
+        def part(lo, hi):
+            return Trajectory(traj.q[lo:hi], traj.qd[lo:hi], traj.qdd[lo:hi])
+        half = word_check(chain, part(0, 17), tau[:17]).merged(
+            word_check(chain, part(17, 40), tau[17:]))
+        err = np.abs(tau - ref) / scale
+        want = np.sqrt((err ** 2).mean(axis=0)) * scale
+        np.testing.assert_allclose(whole.rms, want, rtol=1e-12)
+        np.testing.assert_allclose(half.rms, want, rtol=1e-12)
+        assert half.count == whole.count == 40

@@ -1392,7 +1392,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     sets = own.sets or cp.campaign_sets(ld, own.campaign)
     from vampc.emulator.driver import tick_memory_check
     from vampc.emulator.faults import check_faults
-    tick_memory_check(ld, sets, "give fewer --sets (a fault campaign runs on the tick engine)")
+    tick_memory_check(ld, sets, "give fewer --sets or --workers (a fault campaign runs on the tick "
+                      "engine)", copies=1 if own.scheduler else
+                      (available_cores() if own.workers is None else own.workers),
+                      whole="a fault campaign runs on the tick engine: give --workers 1, or run "
+                      "it on a machine with more memory (--scheduler)")
     last = (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs)
     if own.at > last:
         raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "
@@ -1408,10 +1412,24 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     if not faults:
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     # (warned once the options are known good: it came before their error, two lines for one)
-    if own.sets is not None and ld.net.checking is not None and own.sets < cp.default_sets(ld):
-        warnings.warn(VampcWarning(f"--sets {own.sets}: the checking reaches only part of the "
-                                   f"chain in that many sets; faults past it cannot be detected "
-                                   f"(give --sets {cp.default_sets(ld)} or more)"), stacklevel=1)
+    drawn = own.campaign in cp.DRAWN
+    if own.sets is not None and ld.net.checking is not None and \
+            own.sets < cp.campaign_sets(ld, own.campaign):
+        whole = cp.campaign_sets(ld, own.campaign)
+        if drawn and own.sets > cp.reach_sets(ld):
+            first = cp.draw_sets(ld, own.sets)
+            said = (f"the faults start in its first {first} sets" if first > 1 else
+                    "the faults start in its first set") + (
+                    f", so that the checking reaches each before the run ends (give --sets {whole} "
+                    "for starts over a whole first sweep)")
+        elif drawn:
+            said = (f"the faults start anywhere in the run, and the checking reaches a fault within "
+                    f"{cp.reach_sets(ld)} sets of it: those that start late cannot be detected "
+                    f"(give --sets {whole} or more)")
+        else:
+            said = (f"the checking reaches only part of the chain in that many sets; faults past "
+                    f"it cannot be detected (give --sets {whole} or more)")
+        warnings.warn(VampcWarning(f"--sets {own.sets}: {said}"), stacklevel=1)
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
     from vampc.emulator.load import recorded_word

@@ -916,8 +916,9 @@ class FaultsOptions:
     sets: int | None = field(default=None, metadata=cli(
         "--sets", range=(1, 1 << 24), metavar="N", help="Torque sets each run (default: enough for "
         "the checking to reach the last VAMP and the sets after to leave the network; for transient "
-        "and random, whose faults start at drawn ticks, a whole sweep more, so that it reaches "
-        "each fault before the run ends)."))
+        "and random, whose faults start at drawn ticks, as many more as the checking needs to "
+        "reach a fault from anywhere, a whole sweep, and the sets after it to leave, so that "
+        "each is reached before the run ends)."))
     kinds: str = field(default="result,a,b,control,dead", metadata=cli(
         "--kinds", metavar="K,...", show_default=True, help="Which permanent faults (single, "
         "random): result, a, b (a stuck bit of the Result or an operand register), control (a "

@@ -46,14 +46,16 @@ class Ranges:
     """The states analysed (see the module docstring)."""
 
     qdd: float = 1.0
+    Q_UNLIMITED = math.pi        # |q| and |q̇| of a joint the robot file gives no limit of
+    QD_UNLIMITED = 1.0
 
     def of(self, chain: Chain, key: InputKey, name: str) -> tuple[float, float]:
         """The range of state variable `name` ("q", "qd", "qdd") of the key's joint."""
         j = chain.joints[key.joint - 1]
         if name == "q":
-            return j.limits.q if j.limits.q else (-np.pi, np.pi)
+            return j.limits.q if j.limits.q else (-self.Q_UNLIMITED, self.Q_UNLIMITED)
         if name == "qd":
-            v = j.limits.qd if j.limits.qd else 1.0
+            v = j.limits.qd if j.limits.qd else self.QD_UNLIMITED
             return (-v, v)
         return (-self.qdd, self.qdd)
 
@@ -77,8 +79,9 @@ def states_line(states: dict, joints: int) -> str:
             return f"within {default} (the robot file gives no joint a limit)"
         return (f"within their limits, else {default} (joint{'s' if len(names) > 1 else ''} "
                 f"{', '.join(names)}: no limit given)")
-    return (f"states analysed: positions {which(states['no_position_limit'], '±π')}; speeds "
-            f"{which(states['no_speed_limit'], '±1')}; accelerations within "
+    q = "±π" if Ranges.Q_UNLIMITED == math.pi else f"±{Ranges.Q_UNLIMITED:g}"
+    return (f"states analysed: positions {which(states['no_position_limit'], q)}; speeds "
+            f"{which(states['no_speed_limit'], f'±{Ranges.QD_UNLIMITED:g}')}; accelerations within "
             f"±{states['acceleration']:g} (--acceleration)"
             + ("; the floating base's motions within ±1" if states["floating_base"] else ""))
 

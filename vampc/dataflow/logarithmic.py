@@ -207,7 +207,6 @@ def build_log(chain: Chain, prefix: str = "sklansky", uniform_leaves: bool = Fal
     return prune_dead(graph) if prune else graph
 
 
-
 def _check_ground(chain: Chain, ground_o0: bool | None) -> bool:
     still = not chain.base_rotates
     if ground_o0 and not still:

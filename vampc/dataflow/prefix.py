@@ -181,6 +181,7 @@ def chain_table(prefix: str, n: int, ground0: bool) -> dict[str, list[tuple[int,
     return {section: [(g, *row) for g, row in enumerate(rows, 1)]
             for section, rows in (("bwd", bwd), ("fwd", fwd))}
 
+
 def verify(tiers: Tiers, m: int, suffix: bool = False) -> None:
     """Replay the tiers: operands exist before their tier, no range twice, all prefixes (suffixes) made."""
     have = {(i, i) for i in range(m)}

@@ -525,14 +525,17 @@ class ResultsFile:
         except ValueError:
             head = None
         if head != self.header:
+            what = _differing(head, self.header)
             if self.default:      # (the user gave no --results: "--results X" named an option
                 #                    they never wrote, after a default run with other --kinds)
                 raise VampcError(f"{self.path}, the default results file, holds the results of "
-                                 "another campaign (another program or robot file by that name, "
-                                 "or other --kinds, --sets, --seed, faults or compile options): "
-                                 "give --results FILE for this one, or remove it to start over")
+                                 "another campaign (" + (what or "another program or robot file "
+                                 "by that name, or other --kinds, --sets, --seed, faults or "
+                                 "compile options") + "): give --results FILE for this one, or "
+                                 "remove it to start over")
             raise VampcError(f"--results {self.path}: it holds the results of another campaign or "
-                             "program (give another --results file, or remove it to start over)")
+                             "program (" + (f"{what}; " if what else "") + "give another --results "
+                             "file, or remove it to start over)")
         line_of: dict[int, int] = {}
         for k, line in enumerate(lines[1:], 2):
             if not line.strip():
@@ -606,6 +609,18 @@ CSV_COLUMNS = ("index", "fault", "vamp", "kind", "class", "sets_run", "detected_
 LABELS = {"masked": "masked", "detected-corrected": "detected and corrected",
           "detected-not-corrected": "detected, not corrected",
           "silent-corruption": "silent corruption", "hang": "hang"}
+
+
+def _differing(head, header: dict) -> str | None:
+    """What a results file's header and this campaign's differ in, said ("565 sets a run, not
+    1488, other faults"): a default random campaign's file of an earlier vampc, whose
+    default length was shorter, was refused as if --sets had been given. None if it is no header."""
+    if not isinstance(head, dict) or head.get("vampc_faults") != header.get("vampc_faults"):
+        return None
+    said = {"program": "another program", "campaign": f"the {head.get('campaign')} campaign, not "
+            f"{header['campaign']}", "sets": f"{head.get('sets')} sets a run, not {header['sets']}",
+            "seed": f"seed {head.get('seed')}, not {header['seed']}", "faults": "other faults"}
+    return ", ".join(text for key, text in said.items() if head.get(key) != header.get(key)) or None
 
 
 def render_csv(runs: list[dict]) -> str:

@@ -98,19 +98,26 @@ STREAM_ADVICE = "run fewer sets or use --engine stream, which takes them in chun
 TICK_BYTES_PER_STAGE = 400
 
 
-def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE) -> None:
+def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE, copies: int = 1,
+                      whole: str = "use --engine stream, which holds no register per stage") -> None:
     """The tick engine holds every set's port values and torques, and a row of registers per
-    delay-buffer stage: refuse a run that cannot fit. `advice`: what the command can do instead (a
-    fault campaign has only the tick engine)."""
+    delay-buffer stage: refuse a run that cannot fit, `copies` engines at once (a fault campaign's
+    local workers). `advice`: what the command can do instead (a fault campaign has only the tick
+    engine); `whole`: what it can do when the network alone does not fit, whatever the sets."""
     stages = sum(b.stages for b in ld.net.buffers)
     sets = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
-    need = sets + TICK_BYTES_PER_STAGE * stages
+    need = copies * (sets + TICK_BYTES_PER_STAGE * stages)
     avail = _available_memory()
-    if avail is not None and need > avail // 2:
-        network = (f" and the network's {stages:,} delay-buffer stages"
-                   if TICK_BYTES_PER_STAGE * stages > sets else "")
-        raise VampcError(f"{ld.path}: {count} torque set{'s' if count != 1 else ''}{network} need about {need / 2**30:.1f} "
-                         f"GiB in the tick engine ({avail / 2**30:.1f} GiB available); {advice}")
+    if avail is None or need <= avail // 2:
+        return
+    engines = f" in the tick engines of {copies} workers" if copies > 1 else " in the tick engine"
+    if copies * TICK_BYTES_PER_STAGE * stages > avail // 2:
+        raise VampcError(f"{ld.path}: the network's {stages:,} delay-buffer stages need about "
+                         f"{copies * TICK_BYTES_PER_STAGE * stages / 2**30:.1f} GiB{engines}, "
+                         f"whatever the sets ({avail / 2**30:.1f} GiB available); {whole}")
+    raise VampcError(f"{ld.path}: {count} torque set{'s' if count != 1 else ''} need about "
+                     f"{need / 2**30:.1f} GiB{engines} ({avail / 2**30:.1f} GiB available); "
+                     f"{advice}")
 
 
 def _available_memory() -> int | None:

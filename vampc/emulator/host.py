@@ -135,11 +135,13 @@ class CheckResult:
 class WordCheck:
     """Torques computed in a word format narrower than float64 against the float64 reference, per
     joint (torque column) over a whole run: the largest |error|, the largest |τ| of the reference
-    (the scale of the relative error), the sum of squared errors, and the sets compared."""
+    (the scale of the relative error), the sum of the squared errors each over the largest squared
+    (so it cannot overflow: errors of 7e300, each finite, had an RMS of inf beside them), and the
+    sets compared."""
 
     max_abs: np.ndarray
     max_ref: np.ndarray
-    sum_sq: np.ndarray
+    sq_scaled: np.ndarray
     count: int
 
     @property
@@ -157,16 +159,24 @@ class WordCheck:
 
     @property
     def rms(self) -> np.ndarray:
-        """Per joint: the root-mean-square error (at most the largest error, as it is said)."""
-        return np.minimum(np.sqrt(self.sum_sq / max(self.count, 1)).astype(float), self.max_abs)
+        """Per joint: the root-mean-square error."""
+        return self.max_abs * np.sqrt(self.sq_scaled / max(self.count, 1))
 
     def merged(self, other: WordCheck | None) -> WordCheck:
         """The check over both runs (chunks) of sets."""
         if other is None:
             return self
-        return WordCheck(np.maximum(self.max_abs, other.max_abs),
-                         np.maximum(self.max_ref, other.max_ref), self.sum_sq + other.sum_sq,
-                         self.count + other.count)
+        top = np.maximum(self.max_abs, other.max_abs)
+        return WordCheck(top, np.maximum(self.max_ref, other.max_ref),
+                         _rescaled(self.sq_scaled, self.max_abs, top)
+                         + _rescaled(other.sq_scaled, other.max_abs, top), self.count + other.count)
+
+
+def _rescaled(sq_scaled: np.ndarray, scale: np.ndarray, top: np.ndarray) -> np.ndarray:
+    """Squares over scale² as squares over top² (top ≥ scale; 0 where top is 0)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(top > 0, scale / np.where(top > 0, top, 1.0), 0.0)
+    return sq_scaled * ratio ** 2
 
 
 def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
@@ -174,9 +184,11 @@ def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
     from vampc.dynamics.reference import rnea
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
-    # (squares summed in long double: errors of 1e300, each finite, had an RMS of inf beside them)
-    return WordCheck(err.max(axis=0, initial=0.0), np.abs(ref).max(axis=0, initial=0.0),
-                     (err.astype(np.longdouble) ** 2).sum(axis=0), len(tau))
+    top = err.max(axis=0, initial=0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scaled = np.where(top > 0, err / np.where(top > 0, top, 1.0), 0.0)
+    return WordCheck(top, np.abs(ref).max(axis=0, initial=0.0), (scaled ** 2).sum(axis=0),
+                     len(tau))
 
 
 def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:

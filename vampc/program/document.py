@@ -572,7 +572,13 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
         if mine != theirs:
             raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
     if graph.outputs != built.outputs:
-        raise refuse("graph.outputs", "the torque outputs")
+        k, o, b = next((k, o, b) for k, (o, b) in enumerate(zip(graph.outputs, built.outputs))
+                       if o != b) if len(graph.outputs) == len(built.outputs) else \
+            (None, None, None)
+        raise refuse("graph.outputs", f"{len(graph.outputs)} torques, where it compiles to "
+                     f"{len(built.outputs)}") if k is None else refuse(
+            f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node {o.node}, "
+            f"where it compiles to τ{b.joint} from component {b.component} of node {b.node}")
     mine, theirs = dict(graph.meta), dict(built.meta)
     key = next(k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k))
     raise refuse(f"graph.meta.{key}", shown(str(mine.get(key))))

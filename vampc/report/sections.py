@@ -372,14 +372,18 @@ def packages(rep: dict) -> Table:
                                          if any(e.get("muxed_separate", 0) is None
                                                 or e.get("muxed_shared", 0) is None
                                                 for r in p["rows"] for e in r["by_pins"]) else "")]
-    bits = (rep.get("word") or {}).get("bits")
+    word = rep.get("word") or {}
+    bits = word.get("bits") if str(word.get("format", "")).startswith("q") else None
     words = (f"three {bits}-bit words on each operand input and on the Result ({3 * bits} wires "
-             "each)" if bits else "three words of its fixed-point word (--word qI.F) on each "
+             "each)" if bits else "three words of a fixed-point word (--word qI.F) on each "
              "operand input and on the Result")
-    notes.append("a pin per operand wire is section VII's serial off-module communication (a word's "
-                 "bits, and a vector's three scalars, one after another on one wire); the Verilog "
-                 f"of `vampc rtl` moves them in parallel, {words}, so its VAMPs are not these "
-                 "packages (README, RTL)")
+    serial = ("a pin per operand wire is section VII's serial off-module communication (a word's "
+              "bits, and a vector's three scalars, one after another on one wire)")
+    if rep.get("bus") or rep.get("error_correction"):    # (which `vampc rtl` does not render)
+        notes.append(serial)
+    else:
+        notes.append(f"{serial}; the Verilog of `vampc rtl` moves them in parallel, {words}, so "
+                     "its VAMPs are not these packages (README, RTL)")
     if any("packaged_vamps" in r for r in p["rows"]):
         notes.append("+ extraneous: error correction's extraneous VAMP (section VII), packaged with "
                      "the others: every count of the row is for both")
