@@ -272,6 +272,10 @@ META_EDITS = {
     "leaves": ("chain", _meta("leaves", lambda v: "uniform (Appendix D)"),
                "graph.meta.leaves: 'uniform (Appendix D)', but the file's options compile "
                "'separate (Table IV.1)'"),
+    # (a rotating base grounds the recursion in O_-1: an edited base motion, a review's)
+    "base motion": ("chain", lambda d: _set(d, ["robot", "base_omega"], [0, 0, 0.5]),
+                    "graph.meta.ground: 'O_0', but the robot section's base, which floats or "
+                    "rotates, compiles 'O_-1'"),
     "tree row gone": ("tree", _meta("bwd_nodes", lambda v: json.dumps(json.loads(v)[:-1])),
                       "graph.meta.bwd_nodes: no row for group"),
     "tree not pruned": ("tree", _meta("pruned", None),
@@ -297,8 +301,6 @@ def test_an_edited_log_graph_meta_is_refused(log_programs, tmp_path, edit):
 ROBOT_EDITS = {
     "tip load": ("chain", lambda d: _set(d, ["robot", "tip_force"], [0, 0, -10]),
                  "graph.nodes: 412 nodes, where it compiles to 414"),
-    "base motion": ("chain", lambda d: _set(d, ["robot", "base_omega"], [0, 0, 0.5]),
-                    "graph.nodes: 412 nodes, where it compiles to"),
     "tree tiers": ("tree", _meta("bwd_nodes", lambda v: json.dumps(
         [row[:4] + [min(row[4], 1)] for row in json.loads(v)])), "graph.meta.bwd_nodes: '[["),
 }

@@ -603,11 +603,14 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
         if got != want:
             raise VampcError(f"{path}: options.{where}: {got}, but {section} {want} "
                              "(the file was edited); recompile it")
-    check_meta(graph, options, path)
+    r = doc.robot
+    check_meta(graph, options, path, tree=r.parents is not None or bool(r.floating),
+               ground0=not (r.floating or any(r.base_omega) or any(r.base_omega_dot)))
     return options
 
 
-def check_meta(graph: Graph, options, path) -> None:
+def check_meta(graph: Graph, options, path, tree: bool | None = None,
+               ground0: bool | None = None) -> None:
     """graph.meta as the compiler writes it for the file's options: a report reads a log graph's
     tables of recursion nodes to place and count VAMPs, and names its prefix network (an edited
     table was an internal error, exit 3, or changed the folded layouts' figures, exit 0; an edited
@@ -615,7 +618,9 @@ def check_meta(graph: Graph, options, path) -> None:
     (vampc.compiler.compile_graph; a log graph cannot be compiled without its tables). A chain's
     tables are the ones its prefix network opens (vampc.dataflow.prefix.chain_table); a tree's are
     checked for their shape and groups here, and as a whole where a report reads them
-    (check_graph_of builds the graph again)."""
+    (check_graph_of builds the graph again). `tree`, `ground0`: the robot section's robot is built
+    as a tree (a tree or a floating base), and grounded in O_0 (its base neither floats nor
+    rotates), which decide the meta the compiler writes."""
     meta = dict(graph.meta)
 
     def refuse(key: str, why: str):
@@ -625,14 +630,18 @@ def check_meta(graph: Graph, options, path) -> None:
     if graph.recursion is Recursion.LINEAR:
         fixed = dict(LINEAR_META)
     else:
-        tree = "tree" in meta or meta.get("convention") == LOG_TREE_CONVENTION
+        if tree is None:      # (the robot section says: a tree or a floating base, logtree's)
+            tree = "tree" in meta or meta.get("convention") == LOG_TREE_CONVENTION
         fixed = {"recursion": "log", "prefix": options.prefix,
                  "leaves": LOG_LEAVES[bool(options.uniform_leaves)],
                  "convention": LOG_TREE_CONVENTION if tree else LOG_CONVENTION}
-        if meta.get("ground") not in LOG_GROUNDS.values():
+        if ground0 is not None:   # (grounded in O_0 unless the base floats or rotates)
+            fixed["ground"] = LOG_GROUNDS[ground0]
+        elif meta.get("ground") not in LOG_GROUNDS.values():
             raise refuse("ground", f"{shown(str(meta.get('ground')))} is not "
                          f"{' or '.join(map(repr, LOG_GROUNDS.values()))}")
-        fixed["ground"] = meta["ground"]
+        else:
+            fixed["ground"] = meta["ground"]
         fixed.update({key: meta.get(key) for key in ("bwd_nodes", "fwd_nodes", "prefixes", "suffixes")
                       + (("tree",) if tree else ())})
         if tree:             # (a tree's graph is built pruned: vampc.dataflow.logtree)
@@ -643,7 +652,10 @@ def check_meta(graph: Graph, options, path) -> None:
         if key not in meta:
             raise refuse(key, "missing, but the compiler writes it")
         if meta[key] != fixed[key] and fixed[key] is not None:
-            raise refuse(key, f"{shown(meta[key])}, but the file's options compile {shown(fixed[key])}")
+            by = ("the robot section's base, which "
+                  + ("neither floats nor rotates, compiles" if ground0 else "floats or rotates, compiles")
+                  if key == "ground" and ground0 is not None else "the file's options compile")
+            raise refuse(key, f"{shown(meta[key])}, but {by} {shown(fixed[key])}")
     if graph.recursion is Recursion.LOG:
         _check_log_tables(graph, meta, options, refuse)
 
