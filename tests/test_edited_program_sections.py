@@ -321,3 +321,14 @@ def test_a_report_refuses_a_robot_section_or_tree_table_its_graph_is_not_compile
     assert code == 1 and err.startswith(f"vampc: error: {path}: {said}") and err.endswith(
         ", not what the robot section compiles to with the file's options (the file was edited); "
         "recompile it\n") and err.count("\n") == 1, err
+
+
+def test_a_report_names_the_constant_an_edited_mass_changed(log_programs, tmp_path):
+    """An edited mass was named only as 'graph.nodes[253]: node io2.m2' (a new user's): the
+    constant's two values are said, and what is baked into the constants."""
+    path = edited_program(log_programs["chain"], tmp_path,
+                          lambda d: _set(d, ["robot", "joints", 1, "mass"], 30.0))
+    assert run("report", path) == (1, f"vampc: error: {path}: graph.nodes[253]: constant io2.m2 is "
+                                      "[17.4, 0.0, 0.0], where the robot section gives [30.0, 0.0, "
+                                      "0.0] (a mass, inertia or link vector is baked into the "
+                                      "graph's constants; the file was edited); recompile it\n")

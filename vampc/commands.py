@@ -290,8 +290,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     bits = getattr(ld.arith, "bits", 0)
     if own.vcd_as == "word" and getattr(ld.arith, "c_type", "") != "int64_t":
         raise VampcUsageError(f"--vcd-as word writes fixed-point words; {source} computes in "
-                              f"{'float64' if ld.word is None else ld.word.name} (compile with "
-                              "--word qI.F, or give it with a robot file)")
+                              f"{'float64' if ld.word is None else ld.word.name} (give --word qI.F)")
     if "--vcd" in outs and ld.word is not None and bits > 53 and own.vcd_as == "real":
         warnings.warn(VampcWarning(f"--vcd: {ld.arith.name} words have {bits} bits; the waveform's "
                                    "real values are the nearest float64 to them (53 significant "

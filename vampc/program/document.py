@@ -570,6 +570,12 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
                      f"{len(built.nodes)}")
     for i, (mine, theirs) in enumerate(zip(graph.nodes, built.nodes)):
         if mine != theirs:
+            if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
+                raise VampcError(f"{path}: graph.nodes[{i}]: constant {mine.label} is "
+                                 f"{_shown_numbers(mine.value)}, where the robot section gives "
+                                 f"{_shown_numbers(theirs.value)} (a mass, inertia or link vector "
+                                 "is baked into the graph's constants; the file was edited); "
+                                 "recompile it")
             raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
     if graph.outputs != built.outputs:
         k, o, b = next((k, o, b) for k, (o, b) in enumerate(zip(graph.outputs, built.outputs))

@@ -18,6 +18,12 @@ def kind_name(kind) -> str:
 
 def rtl_figures(path: str, c) -> dict:
     """The report's `rtl` section from the JSON at `path`, checked to be this program's design."""
+    if c.network is not None and (c.network.checking is not None or c.network.bus is not None):
+        what = ("error correction's checking (--error-correction)" if c.network.checking is not None
+                else "the Mostly-Local Bus (--bus mlb)")
+        raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
+                         "which `vampc rtl` does not render, so its hardware is not in them "
+                         "(README, RTL: Limits)")
     try:
         with open(path, encoding="utf-8") as f:
             doc = jsontext.loads(f.read())
@@ -30,12 +36,6 @@ def rtl_figures(path: str, c) -> dict:
             "network" not in doc["synth"]:
         raise VampcError(f"{path}: not the output of `vampc rtl --synth ecp5 --format json` (no "
                          "synth.kinds and synth.network)")
-    if c.network is not None and (c.network.checking is not None or c.network.bus is not None):
-        what = ("error correction's checking (--error-correction)" if c.network.checking is not None
-                else "the Mostly-Local Bus (--bus mlb)")
-        raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
-                         "which `vampc rtl` does not render, so its hardware is not in them "
-                         "(README, RTL: Limits)")
     word = c.options.word
     vamps = len(c.network.vamps) if c.network is not None else None
     same = [("robot", doc.get("robot"), c.chain.name), ("word", doc.get("word"), word),
