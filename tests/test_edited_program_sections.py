@@ -300,7 +300,8 @@ def test_an_edited_log_graph_meta_is_refused(log_programs, tmp_path, edit):
 
 ROBOT_EDITS = {
     "tip load": ("chain", lambda d: _set(d, ["robot", "tip_force"], [0, 0, -10]),
-                 "graph.nodes: 412 nodes, where it compiles to 414"),
+                 "graph.nodes: 412 nodes, where the robot section compiles to 414 with the file's "
+                 "options"),
     "tree tiers": ("tree", _meta("bwd_nodes", lambda v: json.dumps(
         [row[:4] + [min(row[4], 1)] for row in json.loads(v)])), "graph.meta.bwd_nodes: '[["),
 }
@@ -319,8 +320,7 @@ def test_a_report_refuses_a_robot_section_or_tree_table_its_graph_is_not_compile
     path = edited_program(log_programs[which], tmp_path, change)
     code, err = run("report", path)
     assert code == 1 and err.startswith(f"vampc: error: {path}: {said}") and err.endswith(
-        ", not what the robot section compiles to with the file's options (the file was edited); "
-        "recompile it\n") and err.count("\n") == 1, err
+        " (the file was edited); recompile it\n") and err.count("\n") == 1, err
 
 
 def test_a_report_names_the_constant_an_edited_mass_changed(log_programs, tmp_path):
@@ -332,3 +332,12 @@ def test_a_report_names_the_constant_an_edited_mass_changed(log_programs, tmp_pa
                                       "[17.4, 0.0, 0.0], where the robot section gives [30.0, 0.0, "
                                       "0.0] (a mass, inertia or link vector is baked into the "
                                       "graph's constants; the file was edited); recompile it\n")
+
+
+def test_a_report_says_the_node_count_the_robot_section_compiles_to(log_programs, tmp_path):
+    """Parents edited into a chain's robot section: a tree of another size of graph."""
+    path = edited_program(log_programs["chain"], tmp_path,
+                          lambda d: d["robot"].update(parents=[0, 1, 1, 3, 4, 5]))
+    code, err = run("report", path)
+    assert code == 1 and err.startswith(f"vampc: error: {path}: graph.") and err.endswith(
+        " (the file was edited); recompile it\n") and err.count("\n") == 1, err

@@ -566,8 +566,9 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
         return VampcError(f"{path}: {where}: {why}, not what the robot section compiles to with the "
                           "file's options (the file was edited); recompile it")
     if len(built.nodes) != len(graph.nodes):
-        raise refuse("graph.nodes", f"{len(graph.nodes)} nodes, where it compiles to "
-                     f"{len(built.nodes)}")
+        raise VampcError(f"{path}: graph.nodes: {len(graph.nodes)} nodes, where the robot section "
+                         f"compiles to {len(built.nodes)} with the file's options (the file was "
+                         "edited); recompile it")
     for i, (mine, theirs) in enumerate(zip(graph.nodes, built.nodes)):
         if mine != theirs:
             if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
@@ -581,8 +582,9 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
         k, o, b = next((k, o, b) for k, (o, b) in enumerate(zip(graph.outputs, built.outputs))
                        if o != b) if len(graph.outputs) == len(built.outputs) else \
             (None, None, None)
-        raise refuse("graph.outputs", f"{len(graph.outputs)} torques, where it compiles to "
-                     f"{len(built.outputs)}") if k is None else refuse(
+        raise VampcError(f"{path}: graph.outputs: {len(graph.outputs)} torques, where the robot "
+                         f"section compiles to {len(built.outputs)} (the file was edited); "
+                         "recompile it") if k is None else refuse(
             f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node {o.node}, "
             f"where it compiles to τ{b.joint} from component {b.component} of node {b.node}")
     mine, theirs = dict(graph.meta), dict(built.meta)
