@@ -588,7 +588,9 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
             f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node {o.node}, "
             f"where it compiles to τ{b.joint} from component {b.component} of node {b.node}")
     mine, theirs = dict(graph.meta), dict(built.meta)
-    key = next(k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k))
+    key = next((k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k)), None)
+    if key is None:                  # (n and the recursion are the options' and robot's already)
+        raise refuse("graph", f"n {graph.n}, recursion {graph.recursion}")
     raise refuse(f"graph.meta.{key}", shown(str(mine.get(key))))
 
 
@@ -660,8 +662,8 @@ def check_meta(graph: Graph, options, path, tree: bool | None = None,
         if key not in meta:
             raise refuse(key, "missing, but the compiler writes it")
         if meta[key] != fixed[key] and fixed[key] is not None:
-            by = ("the robot section's base, which "
-                  + ("neither floats nor rotates, compiles" if ground0 else "floats or rotates, compiles")
+            by = ("the robot section's base, which " + ("neither floats nor rotates, compiles"
+                                                        if ground0 else "floats or rotates, compiles")
                   if key == "ground" and ground0 is not None else "the file's options compile")
             raise refuse(key, f"{shown(meta[key])}, but {by} {shown(fixed[key])}")
     if graph.recursion is Recursion.LOG:
@@ -694,8 +696,8 @@ def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
         for r, row in enumerate(rows):
             if not (isinstance(row, list) and len(row) == 5 and all(type(x) is int for x in row)
                     and row[0] == r + 1 and all(0 <= x <= graph.n for x in row[1:4]) and row[4] >= 0):
-                raise refuse(key, f"row {r} {shown(jsontext.dumps(row))} is not [group {r + 1}, a, k, b, tier] "
-                             f"with a, k, b joints of 0..{graph.n} and a tier from 0")
+                raise refuse(key, f"row {r} {shown(jsontext.dumps(row))} is not [group {r + 1}, "
+                             f"a, k, b, tier] with a, k, b joints of 0..{graph.n} and a tier from 0")
             if "tree" not in meta and r < len(want[section]) and tuple(row) != want[section][r]:
                 raise refuse(key, f"row {r} is {row}, but the {options.prefix} network over "
                              f"{graph.n} joints opens {list(want[section][r])} there")
