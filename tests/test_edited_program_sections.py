@@ -341,3 +341,17 @@ def test_a_report_says_the_node_count_the_robot_section_compiles_to(log_programs
     code, err = run("report", path)
     assert code == 1 and err.startswith(f"vampc: error: {path}: graph.") and err.endswith(
         " (the file was edited); recompile it\n") and err.count("\n") == 1, err
+
+
+def test_a_bus_programs_tiers_option_is_its_networks(tmp_path):
+    """options.tiers edited to 2,2,4 beside the network's default tiers: the report added a 'bus,
+    these tiers' row of a network never compiled, exit 0 (a hostile-input audit's)."""
+    program = tmp_path / "bus.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", "--bus", "mlb", "--layout", "folded", "-o",
+               program)[0] == 0
+    path = edited_program(program, tmp_path, lambda d: _set(d, ["options", "tiers"], "2,2,4"))
+    for command in (["report", path], ["emulate", path, "--random", 2]):
+        code, err = run(*command)
+        assert (code, err) == (1, f"vampc: error: {path}: options.tiers: --tiers 2,2,4 mean 3 "
+                                  "tiers, but network.bus.tiers has 14 (the file was edited); "
+                                  "recompile it\n"), command

@@ -123,8 +123,11 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     if sched.interval != net.period:           # (after the network's own checks: said first)
         raise VampcError(f"{path}: schedule.interval {sched.interval} is not the network's "
                          f"period {net.period}")
-    from vampc.program.document import check_port_writes
+    from vampc.program.document import check_port_writes, check_tiers
     check_port_writes(doc.network, doc.io.port_writes, path)   # (last: a missing port said first)
+    if decoded is None:       # (a report's: compiled_from_doc)
+        from vampc.compiler import CompileOptions
+        check_tiers(doc, CompileOptions(**doc.options.recorded()), path)
     return ld
 
 

@@ -543,6 +543,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
                        options.check_cycles)
     except VampcInternalError as exc:
         raise VampcError(f"{path}: {exc} (the file was edited); recompile it") from None
+    check_tiers(doc, options, path)           # (last: an edited network is said by its checks)
     return Compiled(chain, options, graph, sched, net,
                     numbering, programs_from_doc(doc), stream_from_doc(doc), layout)
 
@@ -715,6 +716,29 @@ def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
                 for row in rows)):
             raise refuse(key, f"not {graph.n} rows of {width} node ids (or null) of the graph's "
                          f"{len(graph.nodes)} nodes")
+
+
+def check_tiers(doc: F.ProgramFile, options, path) -> None:
+    """A bus program's tiers are the ones its --tiers gives (the default's, or the spans given; a
+    tuned set, 'auto', is the tuner's): an edited options.tiers added a 'bus, these tiers' row of
+    other spans to the report, exit 0 (a hostile-input audit's)."""
+    bus = doc.network.bus
+    if bus is None or options.tiers == "auto":
+        return
+    from vampc.network.bus import default_spans, parse_tiers, tiers_of
+    V = len(doc.network.vamps)
+    spans = default_spans(V) if options.tiers is None else parse_tiers(options.tiers)
+    want = [(t.span, t.offset) for t in tiers_of(spans, V)]
+    got = [(t.span, t.offset) for t in bus.tiers]
+    if want != got:
+        given = "the default tiers" if options.tiers is None else f"--tiers {options.tiers}"
+        if len(want) != len(got):
+            raise VampcError(f"{path}: options.tiers: {given} mean {len(want)} tiers, but "
+                             f"network.bus.tiers has {len(got)} (the file was edited); recompile it")
+        k = next(k for k, (a, b) in enumerate(zip(want, got)) if a != b)
+        raise VampcError(f"{path}: network.bus.tiers[{k}]: [{got[k][0]}, {got[k][1]}], where "
+                         f"{given} mean [{want[k][0]}, {want[k][1]}] (span, offset; the file was "
+                         "edited); recompile it")
 
 
 def _check_layout_names(doc: F.ProgramFile, options, path) -> None:
