@@ -477,6 +477,23 @@ def test_a_base_or_coupling_a_loader_combines_past_a_float_is_one_line(tmp_path,
     assert not out.exists()
 
 
+def test_fixed_links_whose_offsets_overflow_are_said_as_the_position(tmp_path):
+    """Two fixed joints each at 1e308 beyond the last link: their sum overflows, and the merged
+    frame's rotation comes out NaN too; the message named the rotation (an audit's), where the
+    position is what the file's numbers made too large."""
+    inertial = ('<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" '
+                'iyz="0"/></inertial>')
+    far = (f'<link name="f1">{inertial}</link><link name="f2">{inertial}</link>'
+           '<joint name="x1" type="fixed"><parent link="l2"/><child link="f1"/>'
+           '<origin xyz="1e308 0 0"/></joint><joint name="x2" type="fixed"><parent link="f1"/>'
+           '<child link="f2"/><origin xyz="1e308 0 0"/></joint>')
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text(_urdf(2).replace("</robot>", far + "</robot>"))
+    code, err, _ = run("compile", urdf, "-o", tmp_path / "r.vamp.json")
+    assert code == 1 and one_line(err) and f"{urdf}: joint 'j2': its link's position is not a " \
+        "finite number" in err, err
+
+
 def test_a_blank_joint_name_is_one_line(tmp_path):
     """A URDF joint named ' ' was compiled, its torque column headed 'tau_ ' (a DH table refuses an
     empty name; a hostile-input audit found a program file's taken too)."""

@@ -259,7 +259,8 @@ class Chain:
         once combined (a fixed link merged at an offset of 1e200, a floating base's centre of mass),
         so the loaders say this to the user instead of verify's internal error."""
         for j in self.joints:
-            for label, value in (("rotation", j.phi), ("pre-rotation", j.pre), ("position", j.p_fixed),
+            # (the position first: fixed links merged far away overflow it, and NaN the rotation)
+            for label, value in (("position", j.p_fixed), ("rotation", j.phi), ("pre-rotation", j.pre),
                                  ("mass", j.mass), ("centre of mass", j.com), ("inertia", j.inertia),
                                  ("shift", j.shift)):
                 if value is not None and not np.all(np.isfinite(value)):
