@@ -1014,3 +1014,12 @@ def test_error_correction_is_said_not_to_run_here(setup, tmp_path):
     assert r.exit_code == 0 and ran and "its error correction runs on the tick engine, but vampc " \
         "lookahead does not report it" in r.output, r.output
     assert "error correction" not in run_lookahead(PUMA, path, limits).output
+
+
+def test_a_worst_ratio_past_a_float_is_said_as_such():
+    """A torque of 7e300 over an effort limit of 1e-10 printed 'j1 inf' (an audit's)."""
+    from vampc.commands import worst_ratios
+    from vampc.lookahead import Limits
+    tau = np.array([[7e300, 2.0], [-1.0, -3.0]])
+    limits = Limits(tau=(1e-10, 2.0), qd=(None, None))
+    assert worst_ratios(["j1", "j2"], tau, limits) == "j1 over 1.8e308, j2 1.5"

@@ -1312,8 +1312,10 @@ def worst_ratios(names, tau, limits) -> str:
     """'waist 1.31, shoulder 0.523, ...': each joint's largest |τ| over its effort limit."""
     import numpy as np
     lim = np.array(limits.tau)
-    worst = np.max(np.abs(tau[:, :len(lim)]), axis=0, initial=0.0) / lim
-    return ", ".join(f"{listed(name)} {w:.4g}" for name, w in zip(names, worst))
+    with np.errstate(over="ignore"):     # (7e300 over a limit of 1e-10 is past a float: said so)
+        worst = np.max(np.abs(tau[:, :len(lim)]), axis=0, initial=0.0) / lim
+    return ", ".join(f"{listed(name)} {w:.4g}" if np.isfinite(w) else f"{listed(name)} over 1.8e308"
+                     for name, w in zip(names, worst))
 
 
 def margin_text(ld, res) -> str:
