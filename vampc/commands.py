@@ -1638,12 +1638,11 @@ def rtl_supported(ld, source: str, word_given: bool = False) -> None:
                 f"compiled without --word, it computes in {name}")
         raise VampcUsageError(f"{source}: RTL needs a fixed-point word (--word qI.F, e.g. q16.16); "
                               f"{what}")
-    if ld.net.bus is not None:
-        raise VampcUsageError(f"{source}: the Mostly-Local Bus (--bus mlb) is not rendered in RTL "
-                              "yet; compile with the point-to-point wiring (--bus p2p)")
-    if ld.net.checking is not None:
-        raise VampcUsageError(f"{source}: error correction's checking (--error-correction) is not "
-                              "rendered in RTL yet; compile without it")
+    from vampc.report.rtl import unrendered
+    missing = unrendered(ld.net)
+    if missing:
+        what, instead = missing
+        raise VampcUsageError(f"{source}: {what} is not rendered in RTL yet; {instead}")
 
 
 def _preflight(ld, own, limit: float, estimates) -> list:

@@ -16,11 +16,21 @@ def kind_name(kind) -> str:
     return f"{slots} slot(s), {a}+{b} inputs"
 
 
+def unrendered(net) -> tuple[str, str] | None:
+    """What of the network `vampc rtl` does not render yet (README, RTL: Limits), and how to compile
+    without it; None if it renders it all."""
+    if net.bus is not None:
+        return "the Mostly-Local Bus (--bus mlb)", "compile with the point-to-point wiring (--bus p2p)"
+    if net.checking is not None:
+        return "error correction's checking (--error-correction)", "compile without it"
+    return None
+
+
 def rtl_figures(path: str, c) -> dict:
     """The report's `rtl` section from the JSON at `path`, checked to be this program's design."""
-    if c.network is not None and (c.network.checking is not None or c.network.bus is not None):
-        what = ("error correction's checking (--error-correction)" if c.network.checking is not None
-                else "the Mostly-Local Bus (--bus mlb)")
+    missing = unrendered(c.network) if c.network is not None else None
+    if missing:
+        what, _ = missing
         raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
                          "which `vampc rtl` does not render, so its hardware is not in them "
                          "(README, RTL: Limits)")
