@@ -121,6 +121,11 @@ def shown(text: str, limit: int = 60) -> str:
     return "'" + "".join(out).replace("'", "\\'") + more + "'"
 
 
+def numbers_shown(xs) -> str:
+    """A list of numbers as a program file writes them, each its shortest repr: [0.0, 1.0, 6.1e-17]."""
+    return "[" + ", ".join(repr(float(x)) for x in xs) + "]"
+
+
 def listed(name: str) -> str:
     """A name as a list or a sentence shows it: as it is, or quoted (`shown`) when it holds a comma,
     a quote or spaces round it, which would blur where it ends ('my shoulder, left 0.53')."""

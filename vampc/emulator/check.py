@@ -15,6 +15,7 @@ from vampc.kinds import SourceKind, TapKind, unhandled
 from vampc.machine.ops import Op
 from vampc.memo import keep_last
 from vampc.program.words import ROM
+from vampc.textio import numbers_shown
 
 
 @keep_last(2)
@@ -148,13 +149,9 @@ def _not_node(ld: Loaded, src, node) -> str:
     if src[0] is SourceKind.CONST and node.op is Op.CONST and \
             ld.net.consts[src[1]].name == node.name:
         return (f"constant {node.name} (network.consts[{src[1]}]), whose value "
-                f"{_vector(ld.net.consts[src[1]].value)} differs from graph node {node.id}'s "
-                f"{_vector(node.value)} (the file was edited); recompile it")
+                f"{numbers_shown(ld.net.consts[src[1]].value)} differs from graph node {node.id}'s "
+                f"{numbers_shown(node.value)} (the file was edited); recompile it")
     return f"{_describe(ld, src)}, not graph node {node.id} ({node.name})"
-
-
-def _vector(value) -> str:
-    return "[" + ", ".join(repr(float(x)) for x in value) + "]"
 
 
 def _describe(ld: Loaded, src) -> str:

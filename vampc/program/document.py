@@ -55,7 +55,7 @@ from vampc.robot.chain import Chain, Joint, JointType, Limits, Mimic, rotation_p
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
 from vampc.schedule.registry import LAYOUTS, SYSTOLIC, is_layout
-from vampc.textio import shown
+from vampc.textio import numbers_shown, shown
 
 
 def robot_doc(chain: Chain) -> F.RobotDoc:
@@ -162,14 +162,9 @@ def _check_joints(doc: F.RobotDoc, path) -> None:
                 raise located(path, f"robot.joints[{i}].{field}", f"{problem} (the file was "
                               "edited); recompile it")
         if list(j.axis) != list(j.phi[2]):    # (written from Φ's last row, exactly)
-            raise located(path, f"robot.joints[{i}].axis", f"{_shown_numbers(j.axis)} is not the "
-                          f"joint's axis, Φ's last row {_shown_numbers(j.phi[2])} (the file was "
+            raise located(path, f"robot.joints[{i}].axis", f"{numbers_shown(j.axis)} is not the "
+                          f"joint's axis, Φ's last row {numbers_shown(j.phi[2])} (the file was "
                           "edited; the axis is written for readers and follows from Φ); recompile it")
-
-
-def _shown_numbers(xs) -> str:
-    """A list of numbers as the file writes them: [0.0, 1.0, 6.1e-17]."""
-    return "[" + ", ".join(map(repr, map(float, xs))) + "]"
 
 
 def graph_doc(g: Graph) -> F.GraphDoc:
@@ -574,8 +569,8 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
         if mine != theirs:
             if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
                 raise VampcError(f"{path}: graph.nodes[{i}]: constant {mine.label} is "
-                                 f"{_shown_numbers(mine.value)}, where the robot section gives "
-                                 f"{_shown_numbers(theirs.value)} (a mass, inertia or link vector "
+                                 f"{numbers_shown(mine.value)}, where the robot section gives "
+                                 f"{numbers_shown(theirs.value)} (a mass, inertia or link vector "
                                  "is baked into the graph's constants; the file was edited); "
                                  "recompile it")
             raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
