@@ -173,10 +173,14 @@ class WordCheck:
 
 
 def _rescaled(sq_scaled: np.ndarray, scale: np.ndarray, top: np.ndarray) -> np.ndarray:
-    """Squares over scale² as squares over top² (top ≥ scale; 0 where top is 0)."""
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = np.where(top > 0, scale / np.where(top > 0, top, 1.0), 0.0)
-    return sq_scaled * ratio ** 2
+    """Squares over scale² as squares over top² (top ≥ scale)."""
+    return sq_scaled * _over(scale, top) ** 2
+
+
+def _over(x: np.ndarray, top: np.ndarray) -> np.ndarray:
+    """x / top, 0 where top is 0 (a joint without error)."""
+    with np.errstate(invalid="ignore", divide="ignore"):     # (an infinite error: said elsewhere)
+        return np.where(top > 0, x / np.where(top > 0, top, 1.0), 0.0)
 
 
 def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
@@ -185,9 +189,7 @@ def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
     top = err.max(axis=0, initial=0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        scaled = np.where(top > 0, err / np.where(top > 0, top, 1.0), 0.0)
-    return WordCheck(top, np.abs(ref).max(axis=0, initial=0.0), (scaled ** 2).sum(axis=0),
+    return WordCheck(top, np.abs(ref).max(axis=0, initial=0.0), (_over(err, top) ** 2).sum(axis=0),
                      len(tau))
 
 
