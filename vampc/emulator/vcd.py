@@ -96,7 +96,7 @@ class VcdWriter:
         else:
             for v, c in np.argwhere(_changed(values, self._last)).tolist():
                 self._vcd.change(self._vars[v][c], tick, _Exact(values[v, c]))
-        self._last = values.copy()
+        self._last[...] = values
         self._tick = tick
 
     @property
@@ -114,6 +114,7 @@ class VcdWriter:
         self._vcd = VCDWriter(self._stream, timescale="1 ns", date="", version="vampc",
                               comment="vampc tick engine: every VAMP's Result; 1 tick = 1 ns",
                               init_timestamp=tick)
+        self._last = np.array(values)          # (of the samples' type: words or their values)
         if self._bits:          # (no sample: every bit unknown)
             def init(v, c):
                 return "x" if np.isnan(values[v, c]) else self._word(values[v, c])
