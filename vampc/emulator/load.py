@@ -108,7 +108,7 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
                                             network_from_doc(doc, path), None)
     if decoded is None:       # (a report's decoded IRs were checked so: compiled_from_doc)
         from vampc.program.document import recorded_options, schedule_from_doc
-        recorded_options(doc, graph, path)
+        options = recorded_options(doc, graph, path)
         sched = schedule_from_doc(doc.schedule, graph, path)
     else:
         sched = schedule_of(doc.schedule)
@@ -126,8 +126,7 @@ def loaded_from_doc(doc, path: str = "<program>", decoded=None) -> Loaded:
     from vampc.program.document import check_port_writes, check_tiers
     check_port_writes(doc.network, doc.io.port_writes, path)   # (last: a missing port said first)
     if decoded is None:       # (a report's: compiled_from_doc)
-        from vampc.compiler import CompileOptions
-        check_tiers(doc, CompileOptions(**doc.options.recorded()), path)
+        check_tiers(doc, options, path)
     return ld
 
 
