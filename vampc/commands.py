@@ -1390,7 +1390,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",),
                         writes={"-o": report})
     ld = loaded(source, options, robot_opts, params)
-    sets = own.sets or cp.campaign_sets(ld, own.campaign)
+    whole = cp.campaign_sets(ld, own.campaign)       # (the default run)
+    sets = own.sets or whole
     from vampc.emulator.driver import tick_memory_check
     from vampc.emulator.faults import check_faults
     tick_memory_check(ld, sets, "give fewer --sets or --workers (a fault campaign runs on the tick "
@@ -1413,11 +1414,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     if not faults:
         raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
     # (warned once the options are known good: it came before their error, two lines for one)
-    drawn = own.campaign in cp.DRAWN
-    if own.sets is not None and ld.net.checking is not None and \
-            own.sets < cp.campaign_sets(ld, own.campaign):
-        whole = cp.campaign_sets(ld, own.campaign)
-        if drawn and own.sets > cp.reach_sets(ld):
+    if own.sets is not None and ld.net.checking is not None and own.sets < whole:
+        drawn, reach = own.campaign in cp.DRAWN, cp.reach_sets(ld)
+        if drawn and own.sets > reach:
             first = cp.draw_sets(ld, own.sets)
             said = (f"the faults start in its first {first} sets" if first > 1 else
                     "the faults start in its first set") + (
@@ -1425,7 +1424,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                     "for starts over a whole first sweep)")
         elif drawn:
             said = (f"the faults start anywhere in the run, and the checking reaches a fault within "
-                    f"{cp.reach_sets(ld)} sets of it: those that start late cannot be detected "
+                    f"{reach} sets of it: those that start late cannot be detected "
                     f"(give --sets {whole} or more)")
         else:
             said = (f"the checking reaches only part of the chain in that many sets; faults past "
