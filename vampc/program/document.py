@@ -574,15 +574,15 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
                                  "is baked into the graph's constants; the file was edited); "
                                  "recompile it")
             raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
-    if graph.outputs != built.outputs:
-        k, o, b = next((k, o, b) for k, (o, b) in enumerate(zip(graph.outputs, built.outputs))
-                       if o != b) if len(graph.outputs) == len(built.outputs) else \
-            (None, None, None)
+    if len(graph.outputs) != len(built.outputs):
         raise VampcError(f"{path}: graph.outputs: {len(graph.outputs)} torques, where the robot "
                          f"section compiles to {len(built.outputs)} (the file was edited); "
-                         "recompile it") if k is None else refuse(
-            f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node {o.node}, "
-            f"where it compiles to τ{b.joint} from component {b.component} of node {b.node}")
+                         "recompile it")
+    for k, (o, b) in enumerate(zip(graph.outputs, built.outputs)):
+        if o != b:
+            raise refuse(f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node "
+                         f"{o.node}, where it compiles to τ{b.joint} from component {b.component} "
+                         f"of node {b.node}")
     mine, theirs = dict(graph.meta), dict(built.meta)
     key = next((k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k)), None)
     if key is None:                  # (n and the recursion are the options' and robot's already)
@@ -615,8 +615,7 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
     return options
 
 
-def check_meta(graph: Graph, options, path, tree: bool | None = None,
-               ground0: bool | None = None) -> None:
+def check_meta(graph: Graph, options, path, tree: bool, ground0: bool) -> None:
     """graph.meta as the compiler writes it for the file's options: a report reads a log graph's
     tables of recursion nodes to place and count VAMPs, and names its prefix network (an edited
     table was an internal error, exit 3, or changed the folded layouts' figures, exit 0; an edited
@@ -636,18 +635,10 @@ def check_meta(graph: Graph, options, path, tree: bool | None = None,
     if graph.recursion is Recursion.LINEAR:
         fixed = dict(LINEAR_META)
     else:
-        if tree is None:      # (the robot section says: a tree or a floating base, logtree's)
-            tree = "tree" in meta or meta.get("convention") == LOG_TREE_CONVENTION
         fixed = {"recursion": "log", "prefix": options.prefix,
                  "leaves": LOG_LEAVES[bool(options.uniform_leaves)],
-                 "convention": LOG_TREE_CONVENTION if tree else LOG_CONVENTION}
-        if ground0 is not None:   # (grounded in O_0 unless the base floats or rotates)
-            fixed["ground"] = LOG_GROUNDS[ground0]
-        elif meta.get("ground") not in LOG_GROUNDS.values():
-            raise refuse("ground", f"{shown(str(meta.get('ground')))} is not "
-                         f"{' or '.join(map(repr, LOG_GROUNDS.values()))}")
-        else:
-            fixed["ground"] = meta["ground"]
+                 "convention": LOG_TREE_CONVENTION if tree else LOG_CONVENTION,
+                 "ground": LOG_GROUNDS[ground0]}
         fixed.update({key: meta.get(key) for key in ("bwd_nodes", "fwd_nodes", "prefixes", "suffixes")
                       + (("tree",) if tree else ())})
         if tree:             # (a tree's graph is built pruned: vampc.dataflow.logtree)
@@ -660,13 +651,13 @@ def check_meta(graph: Graph, options, path, tree: bool | None = None,
         if meta[key] != fixed[key] and fixed[key] is not None:
             by = ("the robot section's base, which " + ("neither floats nor rotates, compiles"
                                                         if ground0 else "floats or rotates, compiles")
-                  if key == "ground" and ground0 is not None else "the file's options compile")
+                  if key == "ground" else "the file's options compile")
             raise refuse(key, f"{shown(meta[key])}, but {by} {shown(fixed[key])}")
     if graph.recursion is Recursion.LOG:
-        _check_log_tables(graph, meta, options, refuse)
+        _check_log_tables(graph, meta, options, refuse, tree, ground0)
 
 
-def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
+def _check_log_tables(graph: Graph, meta: dict, options, refuse, tree: bool, ground0: bool) -> None:
     """A log graph's bwd_nodes and fwd_nodes (chain_table's, for a chain), prefixes and suffixes
     (per joint, node ids or null), and a tree's depth figures: JSON of the right shape."""
     from vampc import jsontext
@@ -676,13 +667,13 @@ def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
             return jsontext.loads(meta[key])
         except (jsontext.DecodeError, ValueError):
             raise refuse(key, f"{shown(meta[key])} is not JSON") from None
-    if "tree" in meta:
+    if tree:
         decoded("tree")
-    if "tree" not in meta:
+    else:
         from vampc.dataflow.prefix import chain_table
-        want = chain_table(options.prefix, graph.n, meta["ground"] == "O_0")
+        want = chain_table(options.prefix, graph.n, ground0)
     groups = {"bwd": set(), "fwd": set()}
-    for nd in graph.nodes if "tree" in meta else ():    # (a chain's: its prefix network's)
+    for nd in graph.nodes if tree else ():    # (a chain's: its prefix network's)
         if nd.section in groups:
             groups[nd.section].add(nd.group)
     for section in ("bwd", "fwd"):
@@ -694,10 +685,10 @@ def _check_log_tables(graph: Graph, meta: dict, options, refuse) -> None:
                     and row[0] == r + 1 and all(0 <= x <= graph.n for x in row[1:4]) and row[4] >= 0):
                 raise refuse(key, f"row {r} {shown(jsontext.dumps(row))} is not [group {r + 1}, "
                              f"a, k, b, tier] with a, k, b joints of 0..{graph.n} and a tier from 0")
-            if "tree" not in meta and r < len(want[section]) and tuple(row) != want[section][r]:
+            if not tree and r < len(want[section]) and tuple(row) != want[section][r]:
                 raise refuse(key, f"row {r} is {row}, but the {options.prefix} network over "
                              f"{graph.n} joints opens {list(want[section][r])} there")
-        if "tree" not in meta and len(rows) != len(want[section]):
+        if not tree and len(rows) != len(want[section]):
             raise refuse(key, f"{len(rows)} rows, but the {options.prefix} network over {graph.n} "
                          f"joints opens {len(want[section])}")
         missing = sorted(groups[section] - {row[0] for row in rows})
