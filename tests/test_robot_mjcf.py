@@ -736,3 +736,17 @@ def test_the_link_after_a_last_joint_named_with_underscores_and_as_tip(tmp_path)
     assert_error(lambda: load_robot(path, tip="B__k__2"), path,
                  r"unknown tip link 'B__k__2' \(the link after k__2, B's last joint, is B itself\)")
     assert mujoco.get_mju_user_warning() is None       # (MuJoCo's handler put back)
+
+
+def test_a_slide_without_a_range_is_unlimited_without_a_warning(tmp_path):
+    """An MJCF joint without a range is unlimited by MuJoCo's rules: a slide so was warned of in
+    the URDF specification's words ("no <limit>, which the URDF specification requires", a
+    README audit's find). The model still reads it as unlimited."""
+    path = tmp_path / "slide.xml"
+    path.write_text(model("slide", body("a", "0 0 0.1", [("j1", "hinge", "0 0 1", "0 0 0", "-1 1")], inner=body(
+        "b", "0 0 0.2", [("j2", "slide", "1 0 0", "0 0 0", None)]))))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chain = load_robot(path)
+    assert [j.name for j in chain.joints] == ["j1", "j2"]
+    assert chain.joints[1].limits.q is None

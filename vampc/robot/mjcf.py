@@ -130,7 +130,7 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
         turned, placed = None, False
         if base is not None and not floating:
             gravity, turned, placed = _in_base(model, robot, base, gravity, lock, path, mimic == "couple")
-        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base)
+        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base, limits_required=False)
         chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
                          accept_improper_inertia=accept_improper_inertia,
                          # (an equality holding a joint is --mimic couple's doing too: it warned

@@ -614,7 +614,7 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     phi = _transposed(r_a) @ g[1:, :3, :3]
     p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
-    _warn_no_limit(chain, path)
+    _warn_no_limit(tree, chain, path)
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
@@ -641,7 +641,7 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     phi = _transposed(r_a) @ g[1:, :3, :3]
     p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
-    _warn_no_limit(joints, path)
+    _warn_no_limit(tree, joints, path)
     built = []
     for k, j in enumerate(joints):
         frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
@@ -799,10 +799,14 @@ def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, ine
     return total, centre, out
 
 
-def _warn_no_limit(joints, path: Path) -> None:
+def _warn_no_limit(tree: Tree, joints, path: Path) -> None:
     """One warning naming the revolute and prismatic joints without <limit>, which the URDF
     specification requires of them: Pinocchio refuses such a file, vampc reads them as unlimited
-    (it took one silently, saying it reads URDF as Pinocchio does: a new user's find)."""
+    (it took one silently, saying it reads URDF as Pinocchio does: a new user's find). Not for an
+    MJCF model, whose joints without a range are unlimited by its own rules (it was warned of in
+    the URDF's words)."""
+    if not tree.limits_required:
+        return
     bare = [j for j in joints if j.type in ("revolute", "prismatic") and j.limit is None]
     if bare:
         have = f" and {len(bare) - 1} more have" if len(bare) > 1 else " has"

@@ -57,10 +57,12 @@ class Tree:
     gravity: tuple = (0.0, 0.0, -9.81)   # in the frame of the link gravity_in names (None: the root's)
     by_name: bool = True                 # Pinocchio numbers a URDF's children by name, an MJCF's in order
     gravity_in: str | None = None
+    limits_required: bool = True         # URDF requires a revolute or prismatic joint's <limit>;
+    #                                      an MJCF joint without a range is simply unlimited
 
     @staticmethod
     def build(robot, path: Path, gravity=(0.0, 0.0, -9.81), by_name: bool = True,
-              gravity_in: str | None = None) -> Tree:
+              gravity_in: str | None = None, limits_required: bool = True) -> Tree:
         """Index the robot (yourdfpy's `Robot`, or vampc.robot.mjcf's of the same shape); refuse dangling
         links, links with two parents and closed loops."""
         links = {link.name: link for link in robot.links}
@@ -76,7 +78,7 @@ class Tree:
             parent[j.child] = j
             children[j.parent].append(j)
         tree = Tree(links, {j.name: j for j in robot.joints}, parent, children, tuple(gravity), by_name,
-                    gravity_in)
+                    gravity_in, limits_required)
         tree.check_loops(path)
         return tree
 
