@@ -150,3 +150,36 @@ def test_the_report_keys_listed_are_the_schemas():
         if want is not None:
             assert listed[key] == want, (key, sorted(want - (listed[key] or set())),
                                          sorted((listed[key] or set()) - want))
+
+
+def _command_sections() -> dict[str, str]:
+    """Each `### \\`vampc NAME ...\\`` section of the README, up to the next heading."""
+    parts = re.split(r"^(#{2,3} .*)$", README, flags=re.M)
+    return {m.group(1): body for head, body in zip(parts[1::2], parts[2::2])
+            if (m := re.match(r"### `vampc (\w+) ", head))}
+
+
+def _table_options(section: str) -> set[str]:
+    cells = [re.split(r"(?<!\\)\|", line)[1] for line in section.splitlines() if line.startswith("| `")]
+    return {name for cell in cells for name in re.findall(r"`(--?[a-z][a-z0-9-]*)", cell)} | \
+           {name for cell in cells for name in re.findall(r", (--[a-z][a-z0-9-]*)", cell)}
+
+
+def test_each_commands_own_options_are_in_its_readme_table():
+    """Every option a command has beyond the compile options is a row of its section's table (by
+    any of its names), and every option a table names is the command's (the report's --tradeoff
+    and every option of `vampc faults` had no row: a README audit's find)."""
+    import click
+    sections = _command_sections()
+    assert set(sections) == set(main.commands), sorted(set(main.commands) - set(sections))
+    def options(command) -> list[set[str]]:
+        return [set(p.opts + p.secondary_opts) for p in command.params if isinstance(p, click.Option)]
+    own_of_compile = {"--output", "--numbering", "--dump-after"}
+    shared = [o for o in options(main.commands["compile"]) if not o & own_of_compile]
+    for name, command in main.commands.items():
+        documented = _table_options(sections[name])
+        own = options(command) if name == "compile" else [o for o in options(command) if o not in shared]
+        missing = [sorted(o) for o in own if not o & documented]
+        assert not missing, (name, missing)
+        every = set().union(*options(command))
+        assert documented <= every, (name, sorted(documented - every))
