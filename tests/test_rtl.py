@@ -415,7 +415,9 @@ def _figures_of(program: str) -> tuple[dict, str]:
     (("kinds", "VA", "pnr", "fmax_mhz", "clk", "fast"), "fmax_mhz.clk is 'fast', not a clock rate"),
     (("kinds", "VA", "LUT4", True), "synth.kinds.VA.LUT4 is True, not a count"),
     (("network", "total", None), "synth.network.total is None, not a count"),
-    (("kinds", {}), "not the output of `vampc rtl --synth ecp5")])
+    (("kinds", {}), "not the output of `vampc rtl --synth ecp5"),
+    (("target", 5), "synth.target is 5, not 'ecp5'"),         # (exit 3 in the text report)
+    (("target", None), "synth.target is None, not 'ecp5'")])
 def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
     """`report --rtl` took a negative Fmax as the clock ("clock -5e+06 Hz", exit 0), and a missing,
     textual or zero figure was a KeyError, ValueError or ZeroDivisionError traceback: every figure
@@ -437,6 +439,23 @@ def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
     r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
     assert r.exit_code == 1 and r.stderr.count("\n") == 1 and says in r.stderr, r.output
     assert r.stderr.startswith(f"vampc: error: {bad}: ")
+
+
+@pytest.mark.parametrize("key, value", [("vamps", 30.0), ("mult_latency", True), ("add_latency", 1.0)])
+def test_rtl_figures_of_another_type_are_another_design(programs, tmp_path, key, value):
+    """A count written as 30.0 or a latency as true passed Python's == against 30 and 1 (an
+    audit's find): the figures' design is compared by type too."""
+    program = str(programs / "planar2.vamp.json")
+    figures, _ = _figures_of(program)
+    figures.update({"mult_latency": 1, "add_latency": 1})
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(figures))
+    assert CliRunner().invoke(main, ["report", program, "--rtl", str(good)]).exit_code == 0
+    figures[key] = value
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
+    assert r.exit_code == 1 and "the figures are of another design" in r.stderr, r.output
 
 
 @pytest.mark.parametrize("edit, says", [

@@ -54,7 +54,8 @@ def rtl_figures(path: str, c) -> dict:
         if key in doc:
             same.append((key.replace("_", " "), doc[key], getattr(c.options, key)))
     def another(what, theirs, ours) -> None:
-        if theirs != ours:
+        # (of one type too: true for 1 and 60.0 for 60 passed Python's ==, an audit's find)
+        if type(theirs) is not type(ours) or theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
                              f"program's {ours!r})")
     for what, theirs, ours in same:
@@ -97,8 +98,12 @@ def rtl_figures(path: str, c) -> dict:
         odd = next((n for n in sorted(set(theirs) | set(ours)) if theirs.get(n) != ours.get(n)), None)
         if odd is not None:
             another(f"VAMPs of kind {shown(odd)}", theirs.get(odd, 0), ours.get(odd, 0))
+    target = doc["synth"].get("target", "ecp5")
+    if target != "ecp5":     # (the one `vampc rtl --synth` has; a number here was exit 3)
+        raise VampcError(f"{path}: synth.target is {target!r}, not 'ecp5', the one target of "
+                         "`vampc rtl --synth` (the file was edited, or is not its output)")
     net = doc["synth"]["network"]          # (null: its synthesis left out by --max-minutes)
-    out = {"file": str(path), "target": doc["synth"].get("target", "ecp5"), "kinds": kinds,
+    out = {"file": str(path), "target": target, "kinds": kinds,
            "network": None if net is None else {
                "LUT4": field(net, "LUT4", "network"),
                "MULT18X18D": field(net, "MULT18X18D", "network"),
