@@ -795,11 +795,56 @@ def compile_cached(source: str, compile_now: bool = True) -> Path | None:
         raise NativeError("no C compiler found (cc, gcc or clang)")
     key = hashlib.sha256("\0".join((cc, *CFLAGS, source)).encode()).hexdigest()[:32]
     target = cache_dir() / f"vampc-{key}.so"
-    if not target.exists():
+    if not _intact(target):
         if not compile_now:
             return None
         _compile(cc, source, target)
     return target
+
+
+def _digest_file(target: Path) -> Path:
+    return target.with_suffix(".sha256")
+
+
+def _intact(target: Path) -> bool:
+    """Whether the cache holds `target` as it was compiled: its SHA-256 is the one written beside
+    it when it was. A cut-short object (a crash or power loss before its blocks reached the disk)
+    was loaded as it was and killed the process with SIGBUS, nothing said, and an empty one sent
+    every run to numpy in silence (an audit's finds). A damaged one is said and compiled again; one
+    without the digest (an earlier vampc's cache) is compiled again without a word."""
+    try:
+        data = target.read_bytes()
+    except OSError:
+        return False
+    try:
+        kept = _digest_file(target).read_text(encoding="ascii").strip()
+    except (OSError, ValueError):
+        return False
+    if hashlib.sha256(data).hexdigest() == kept:
+        return True
+    import warnings
+
+    from vampc.errors import VampcWarning
+    warnings.warn(VampcWarning(f"{target}: the cached compiled program is damaged (not the bytes "
+                               "compiled); it is compiled again"), stacklevel=3)
+    try:
+        target.unlink()                 # (said once: a run that does not compile leaves it gone)
+    except OSError:
+        pass
+    return False
+
+
+def _write_digest(path: Path, digest: str) -> None:
+    """The digest beside its object, written to a temporary name and renamed (atomic)."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="ascii") as f:
+            f.write(digest + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        Path(tmp).unlink(missing_ok=True)
 
 
 def _load(path: Path) -> ctypes.CDLL:
@@ -824,6 +869,10 @@ def _compile(cc: str, source: str, target: Path) -> None:
             lines = proc.stderr.strip().splitlines() or [""]
             said = next((x for x in lines if "error" in x), lines[-1]).strip()[:300]   # (one line)
             raise NativeError(f"{cc} failed (exit {proc.returncode}): {said}")
+        with open(tmp, "rb") as f:            # on the disk before it is named (`_intact`)
+            data = f.read()
+            os.fsync(f.fileno())
+        _write_digest(_digest_file(target), hashlib.sha256(data).hexdigest())
         os.replace(tmp, target)
     except OSError as exc:
         raise NativeError(f"cannot compile with {cc}: {exc}") from None
