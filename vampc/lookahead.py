@@ -443,6 +443,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     does unless --overflow is given). `stage(name)` is told as each of STAGES[retime] starts."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj, futures)
+    check_memory(traj.count, ld.chain.n_outputs, retime, path)
     stage = stage or (lambda name: None)
 
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
@@ -523,6 +524,28 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     out.retimed_effort = reduce_torques(ld.chain, out.retimed_tau)
     out.retimed_violations = violations(out.retimed_effort, out.retimed.qd, limits)
     return out
+
+
+# Peak memory per row and torque column (bytes), by retiming: the passes' rows and torques, and
+# for the window retiming the plan's bounds (four copies of each joint's, at the row and the next).
+# Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
+# with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
+# rounded up.
+BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000}
+
+
+def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None:
+    """Refuse, before any pass, a path whose run would not fit in half the memory available (a
+    300 000-row path was killed by the system at 23 GB, nothing said, before the plan's bounds were
+    taken in blocks; a longer one still can be)."""
+    from vampc.emulator import driver
+    need = rows * columns * BYTES_PER_ROW_COLUMN[retime]
+    avail = driver._available_memory()
+    if avail is None or need <= avail // 2:
+        return
+    how = {None: "", "uniform": " with --retime uniform", "window": " with --retime window"}[retime]
+    raise VampcError(f"{path}: {rows:,} rows need about {need / 2**30:.1f} GiB{how} "
+                     f"({avail / 2**30:.1f} GiB available); run the path in parts")
 
 
 def check_new_times(res: Lookahead, times: np.ndarray, path: str) -> None:
@@ -632,13 +655,24 @@ def _stage(a, b, c, L):
     return p, r, P, np.min(alone, axis=-1)
 
 
+LARGEST_X_ROWS = 2048        # rows of `_largest_x`'s pairs at a time (about 40 MB a temporary)
+
+
 def _largest_x(lo, up, cap, H, two_d):
     """Per row (leading axes): the largest x in [0, cap] with some u within the bounds
     u d >= n + s x (`lo`) and u d <= n + s x (`up`), each a triple (n, s, d) of arrays over its
     last axis, d >= 0, and 0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval
     holding 0, so its top is the least root among the pairs (lower, upper) that cross, each pair
     compared without dividing by d (a bound of the next row can have d near 0, where it is a bound
-    on x alone)."""
+    on x alone). Rows are taken LARGEST_X_ROWS at a time: every pair of bounds of a row is a
+    temporary (a 6-joint arm's 49 × 49 per row, several times over), and the whole path's at once
+    took about 84 kB a row (a 300 000-row path at 1 kHz was killed at 23 GB: an audit's find)."""
+    if lo[0].ndim == 2 and len(lo[0]) > LARGEST_X_ROWS:
+        return np.concatenate([
+            _largest_x(tuple(v[k:k + LARGEST_X_ROWS] for v in lo),
+                       tuple(v[k:k + LARGEST_X_ROWS] for v in up),
+                       cap[k:k + LARGEST_X_ROWS], H[k:k + LARGEST_X_ROWS], two_d)
+            for k in range(0, len(lo[0]), LARGEST_X_ROWS)])
     shape = lo[0].shape[:-1] + (1,)
     ln = np.concatenate([lo[0], np.zeros(shape)], -1)
     ls = np.concatenate([lo[1], np.full(shape, -1.0)], -1)
