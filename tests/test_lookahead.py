@@ -1023,3 +1023,19 @@ def test_a_worst_ratio_past_a_float_is_said_as_such():
     tau = np.array([[7e300, 2.0], [-1.0, -3.0]])
     limits = Limits(tau=(1e-10, 2.0), qd=(None, None))
     assert worst_ratios(["j1", "j2"], tau, limits) == "j1 over 1.8e308, j2 1.5"
+
+
+def test_options_that_shape_only_the_network_are_warned_of_without_clock(setup, tmp_path):
+    """On a robot file, --vamps 7, --layout folded, --bus mlb or a latency ran with the same torques
+    and plan and nothing said (an options audit's find): only --clock uses the network's shape."""
+    _, _, limits, path = setup
+    plain = run_lookahead(PUMA, path, limits, "--retime", "window")
+    assert plain.exit_code == 0 and "warning" not in plain.output, plain.output
+    for extra, said in ((["--vamps", "7"], "--vamps shapes only the network"),
+                        (["--layout", "folded", "--bus", "mlb", "--mult-latency", "2"],
+                         "--layout, --bus and --mult-latency shape only the network")):
+        r = run_lookahead(PUMA, path, limits, "--retime", "window", *extra)
+        assert r.exit_code == 0 and r.stdout == plain.stdout, r.output
+        assert r.stderr.count("warning") == 1 and said in r.stderr and "without --clock" in r.stderr, r.stderr
+        with_clock = run_lookahead(PUMA, path, limits, *extra, "--clock", "20MHz")
+        assert with_clock.exit_code == 0 and "shape" not in with_clock.stderr, with_clock.output

@@ -23,6 +23,7 @@ from vampc import jsontext
 from vampc.errors import VampcError, VampcUsageError, VampcWarning
 from vampc.gcpause import gc_paused
 from vampc.options import (
+    NETWORK_SHAPE,
     PRECISION_REFUSES,
     CompileCommand,
     CompileOptions,
@@ -1040,6 +1041,18 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         warnings.warn(VampcWarning(f"{source}: its error correction {done}; vampc emulate --engine "
                                    "tick reports the checking (README, Error correction)"),
                       stacklevel=1)
+    shaping = [name for name in NETWORK_SHAPE if name in options.given]
+    from vampc.sniff import is_program
+    if shaping and clock is None and not is_program(source):
+        # (a robot file's --vamps 7 or --layout folded ran, the same torques and plan, unsaid: an
+        # options audit's find; precision refuses them, for the same reason)
+        flags = ["--" + name.replace("_", "-") for name in shaping]
+        flags = " and ".join(filter(None, (", ".join(flags[:-1]), flags[-1])))
+        many = len(shaping) > 1
+        warnings.warn(VampcWarning(f"{flags} {'shape' if many else 'shapes'} only the network, "
+                                   "whose torques are the same whatever its shape: without --clock "
+                                   "(whether that network keeps up) the look-ahead does not use "
+                                   f"{'them' if many else 'it'}"), stacklevel=1)
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES

@@ -1013,14 +1013,17 @@ class FaultsOptions:
         return tuple(int(v) for v in parts) if parts and set(parts) <= {"0", "1"} else None
 
 
+# The compile options that shape only the network (its VAMPs, timing and wiring), not the graph: a
+# program's torques are the same whatever they are.
+NETWORK_SHAPE = ("layout", "share_passes", "vamps", "interval", "exact", "bus", "tiers", "mult_latency",
+                 "add_latency")
 _NETWORK = ("its errors are the graph's (the recursion's and prefix's), whatever network, timing or "
             "checking computes it")
 # The compile options `vampc precision` refuses (and leaves out of its --help), and why.
 PRECISION_REFUSES = {"word": "it tries every width of --sweep",
                      "overflow": "it names words nothing can overflow in",
                      **{name: _NETWORK for name in (
-                         "layout", "share_passes", "vamps", "interval", "exact", "bus", "tiers",
-                         "mult_latency", "add_latency", "error_correction", "check_cycles")}}
+                         *NETWORK_SHAPE, "error_correction", "check_cycles")}}
 
 
 @dataclass(frozen=True)
