@@ -264,7 +264,9 @@ def test_a_damaged_cached_object_is_said_and_compiled_again(small, cache):
         spoiled = obj.with_name("spoiled")
         spoiled.write_bytes(damaged)
         os.replace(spoiled, obj)
-        with pytest.warns(VampcWarning, match=r"the cached compiled program is damaged"):
+        with pytest.warns(VampcWarning, match=r"the cached compiled program does not match the "
+                                              r"digest kept beside it \(vampc-\w+\.sha256\): one of "
+                                              r"them is damaged; it is compiled again"):
             program = native.build(ld, fl)
         assert obj.read_bytes() == good
         assert np.array_equal(program.run(ports, 10), run_numpy(ld, fl, ports, 10))

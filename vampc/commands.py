@@ -1050,9 +1050,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         flags = " and ".join(filter(None, (", ".join(flags[:-1]), flags[-1])))
         many = len(shaping) > 1
         warnings.warn(VampcWarning(f"{flags} {'shape' if many else 'shapes'} only the network, "
-                                   "whose torques are the same whatever its shape: without --clock "
-                                   "(whether that network keeps up) the look-ahead does not use "
-                                   f"{'them' if many else 'it'}"), stacklevel=1)
+                                   "whose torques are the same whatever its shape: the look-ahead "
+                                   f"uses {'them' if many else 'it'} only with --clock, which checks "
+                                   "whether that network keeps up"), stacklevel=1)
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES

@@ -825,8 +825,9 @@ def _intact(target: Path) -> bool:
     import warnings
 
     from vampc.errors import VampcWarning
-    warnings.warn(VampcWarning(f"{target}: the cached compiled program is damaged (not the bytes "
-                               "compiled); it is compiled again"), stacklevel=3)
+    warnings.warn(VampcWarning(f"{target}: the cached compiled program does not match the digest "
+                               f"kept beside it ({_digest_file(target).name}): one of them is "
+                               "damaged; it is compiled again"), stacklevel=3)
     try:
         target.unlink()                 # (said once: a run that does not compile leaves it gone)
     except OSError:
