@@ -165,13 +165,13 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
     (None, ["--retime", "window", "--futures", "8"],
      r"--window 64 × --futures 8 = 512 rows: more than the trajectory \(500 rows\)", 2),
     # the rate is served, but a row's torques (61 flops late) would reach the motors after the row
-    (None, ["--clock", "8kHz", "--window", "2"], r"a row's torques come 7625 µs after it enters \(the "
-     r"network's latency, 61 flops at 8kHz\); it reaches the motors 1000 µs after .* too late; give a "
+    (None, ["--clock", "8kHz", "--window", "2"], r"a row's torques come 7\.625 ms after it enters \(the "
+     r"network's latency, 61 flops at 8kHz\); it reaches the motors 1 ms after .* too late; give a "
      r"longer --window, or a faster --clock$", 1),
     # the gravity pass comes an interval after the first: 61 + 4 flops at 62 kHz is 1048 µs
-    (None, ["--clock", "62kHz", "--window", "2", "--retime", "uniform"], r"a row's torques come 1048 µs "
+    (None, ["--clock", "62kHz", "--window", "2", "--retime", "uniform"], r"a row's torques come 1\.048 ms "
      r"after it enters \(the network's latency, 61 flops at 62kHz, and 1 more pass\(es\) 4 flops apart\)", 1),
-    (None, ["--clock", "62kHz", "--window", "1"], r"it reaches the motors 0 µs after .* too late; give a "
+    (None, ["--clock", "62kHz", "--window", "1"], r"it reaches the motors 0 s after .* too late; give a "
      r"longer --window$", 1),            # no clock helps a window of one row
     (lambda t: t + 5.0, ["--q-out"], r"line 4 \(state 3\): joint 3 \(elbow\) is outside its limits \(q=3, qd=\S+; "
      r"limits q in \[-3\.92699, 0\.785398\]\); use --allow-out-of-limits", 1),
@@ -1040,3 +1040,16 @@ def test_options_that_shape_only_the_network_are_warned_of_without_clock(setup, 
             "checks whether that network keeps up" in r.stderr, r.stderr
         with_clock = run_lookahead(PUMA, path, limits, *extra, "--clock", "20MHz")
         assert with_clock.exit_code == 0 and "shape" not in with_clock.stderr, with_clock.output
+
+
+def test_the_clock_line_names_the_network_in_engineering_units(setup):
+    """--clock said "6.299e+04 µs before the motors take it" of a network it did not name (a new
+    user's find): the line names the network's VAMPs and interval, and its times take a prefix."""
+    _, program, limits, path = setup
+    r = run_lookahead(program, path, limits, "--clock", "20MHz")
+    assert r.exit_code == 0, r.output
+    line = next(x for x in r.output.splitlines() if x.startswith("network of "))
+    assert re.fullmatch(r"network of 180 VAMPs: one torque set every 4 flops, 200 ns at 20MHz; the "
+                        r"one pass of each row, every 1 ms, use 0\.02% of it: keeps up; a row's "
+                        r"torques come 3\.05 µs after it enters \(the latency, 0\.00305 λ, with the one "
+                        r"pass\), 63 ms before the motors take it", line), line

@@ -1133,12 +1133,17 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                              f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
                              f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
         late, early = _in_time(source, ld, own, clock, need, seen, step)
-        tell(f"network: one torque set every {period * 1e6:.4g} µs; {need} pass{'es' * (need != 1)} of each row "
-            f"every {step * 1e6:.4g} µs use {100 * need * period / step:.3g}% of it: keeps up; a row's "
-            f"torques come {late * 1e6:.4g} µs after it enters (the latency, {late / lam:.3g} λ, "
-            f"with its {need} pass{'es' * (need != 1)}), {(early - late) * 1e6:.4g} µs before the "
-            "motors take it",
-            info)
+        from vampc.report.clock import time_text
+        passes = "the one pass" if need == 1 else f"the {need} passes"
+        # (in engineering units, and naming the network judged: "6.299e+04 µs before the motors
+        # take it", of a network it did not name, a new user's find)
+        tell(f"network of {count(len(ld.net.vamps), 'VAMP')}: one torque set every "
+             f"{ld.schedule.interval} flops, {time_text(period * 1e6)} at {own.clock}; {passes} of "
+             f"each row, every {time_text(step * 1e6)}, use {100 * need * period / step:.3g}% of it: "
+             f"keeps up; a row's torques come {time_text(late * 1e6)} after it enters (the latency, "
+             f"{late / lam:.3g} λ, with {passes}), {time_text((early - late) * 1e6)} before the "
+             "motors take it",
+             info)
     tell(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
     overflows = ld.arith.overflows
     overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
@@ -1230,12 +1235,13 @@ def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -
         longer = "--window or more --futures" if own.retime == "window" else "--window"
         advice = (f"give a longer {longer}" if seen == 1 else
                   f"give a longer {longer}, or a faster --clock")
-        raise VampcError(f"{source}: a row's torques come {late * 1e6:.4g} µs after it enters (the "
+        from vampc.report.clock import time_text
+        raise VampcError(f"{source}: a row's torques come {time_text(late * 1e6)} after it enters (the "
                          f"network's latency, {ld.schedule.latency} flops at {own.clock}"
                          + (f", and {need - 1} more pass(es) {ld.schedule.interval} flops apart"
                             if need > 1 else "")
-                         + f"); it reaches the motors {early * 1e6:.4g} µs after ({seen - 1} row(s) of "
-                         f"{step * 1e6:.4g} µs): its torques would come too late; {advice}")
+                         + f"); it reaches the motors {time_text(early * 1e6)} after ({seen - 1} row(s) "
+                         f"of {time_text(step * 1e6)}): its torques would come too late; {advice}")
     return late, early
 
 
