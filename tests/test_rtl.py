@@ -361,8 +361,8 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     # gives it): summed here from the rtl figures, not read from the report's JSON
     total = {key: sum(k[key] * k["vamps"] for k in kinds.values())
              for key in ("LUT4", "MULT18X18D", "flip_flops")}
-    assert (f"  every VAMP     {total['LUT4']} LUT4, {total['MULT18X18D']} MULT18X18D, "
-            f"{total['flip_flops']} flip-flops (each kind's cells × its number of VAMPs)") in r.output, \
+    assert (f"  every VAMP     {total['LUT4']:,} LUT4, {total['MULT18X18D']:,} MULT18X18D, "
+            f"{total['flip_flops']:,} flip-flops (each kind's cells × its number of VAMPs)") in r.output, \
         r.output
     # another program's figures, a faster --clock, --tradeoff
     r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--word", "q12.20", "--rtl",
@@ -416,6 +416,8 @@ def _figures_of(program: str) -> tuple[dict, str]:
     (("kinds", "VA", "LUT4", True), "synth.kinds.VA.LUT4 is True, not a count"),
     (("network", "total", None), "synth.network.total is None, not a count"),
     (("kinds", {}), "not the output of `vampc rtl --synth ecp5"),
+    (("kinds", "VA", "pnr", "x"), "synth.kinds.VA.pnr.fmax_mhz is not a table of clocks"),
+    (("kinds", "VA", "pnr", "fmax_mhz", {}), "synth.kinds.VA.pnr.fmax_mhz is not a table of clocks"),
     (("target", 5), "synth.target is 5, not 'ecp5'"),         # (exit 3 in the text report)
     (("target", None), "synth.target is None, not 'ecp5'")])
 def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
@@ -441,10 +443,14 @@ def test_edited_rtl_figures_are_one_line(programs, tmp_path, edit, says):
     assert r.stderr.startswith(f"vampc: error: {bad}: ")
 
 
-@pytest.mark.parametrize("key, value", [("vamps", 30.0), ("mult_latency", True), ("add_latency", 1.0)])
-def test_rtl_figures_of_another_type_are_another_design(programs, tmp_path, key, value):
+@pytest.mark.parametrize("key, value, says", [
+    ("vamps", 30.0, "vamps is 30.0, not a count"), ("mult_latency", True, "mult_latency is True, not a count"),
+    ("add_latency", 1.0, "add_latency is 1.0, not a count"), ("word", 16, "word is 16, not a name"),
+    ("robot", None, "no robot")])
+def test_rtl_figures_of_another_type_are_refused_naming_the_key(programs, tmp_path, key, value, says):
     """A count written as 30.0 or a latency as true passed Python's == against 30 and 1 (an
-    audit's find): the figures' design is compared by type too."""
+    audit's find), and 30.0 then read "VAMPs 30.0, this program's 30", a missing robot "robot None"
+    (a new user's): each is refused naming the key and what it should be."""
     program = str(programs / "planar2.vamp.json")
     figures, _ = _figures_of(program)
     figures.update({"mult_latency": 1, "add_latency": 1})
@@ -455,7 +461,43 @@ def test_rtl_figures_of_another_type_are_another_design(programs, tmp_path, key,
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(figures))
     r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
-    assert r.exit_code == 1 and "the figures are of another design" in r.stderr, r.output
+    assert r.exit_code == 1 and r.stderr == f"vampc: error: {bad}: {says} (the file is not `vampc rtl " \
+        "--synth ecp5 --format json`'s, or was edited)\n", r.output
+
+
+def test_place_and_route_figures_of_some_kinds_only_are_refused(programs, tmp_path):
+    """`vampc rtl --pnr` places and routes every kind; a file with one kind's figures left out gave a
+    report with no clock and no times, unsaid (a new user's find)."""
+    program = str(programs / "planar2.vamp.json")
+    figures, first = _figures_of(program)
+    assert len(figures["synth"]["kinds"]) > 1
+    del figures["synth"]["kinds"][first]["pnr"]
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
+    assert r.exit_code == 1 and f"synth.kinds.{first} has no pnr where other kinds have one" in r.stderr, r.output
+    for kind in figures["synth"]["kinds"].values():          # none: the report says no clock from it
+        kind.pop("pnr", None)
+    bad.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(bad)])
+    assert r.exit_code == 0 and "slowest VAMP's Fmax" not in r.stdout, r.output
+
+
+def test_the_rtl_lines_keep_to_the_summary_column(programs, tmp_path):
+    """"synthesized (ecp5) the network 135472 LUT4": the labels ran into the figures and the counts
+    had no separators, unlike the rest of the report (a new user's find)."""
+    program = str(programs / "planar2.vamp.json")
+    figures, first = _figures_of(program)
+    figures["synth"]["network"]["LUT4"] = 135472
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(good)])
+    assert r.exit_code == 0, r.output
+    lines = [x for x in r.stdout.splitlines() if x.startswith(("RTL synthesis", "  a VAMP kind", "  every VAMP"))]
+    assert len(lines) == 2 + len(figures["synth"]["kinds"])
+    assert all(x[15:17] == "  " and x[17] != " " for x in lines), lines       # (the figures at 17)
+    assert lines[0] == f"RTL synthesis    ecp5: the network 135,472 LUT4, 1 MULT18X18D, 1 flip-flops ({good})"
+    assert f"  a VAMP kind    {first}: 1 LUT4, 1 MULT18X18D, 1 flip-flops, Fmax 100 MHz (" in r.stdout
 
 
 @pytest.mark.parametrize("edit, says", [
@@ -555,7 +597,7 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     from schema_check import schema_errors
     assert schema_errors("report", rep) == []
     r = CliRunner().invoke(main, ["report", program, "--rtl", str(path)])
-    assert r.exit_code == 0 and "the network's synthesis was left out by --max-minutes" in r.output
+    assert r.exit_code == 0 and "the network's synthesis is not in the file (`vampc rtl` leaves it out beyond --max-minutes)" in r.output
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "8"])
     assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
     # the network's synthesis within the time and its place and route beyond it: both said up front,

@@ -48,17 +48,23 @@ def rtl_figures(path: str, c) -> dict:
                          "synth.kinds and synth.network)")
     word = c.options.word
     vamps = len(c.network.vamps) if c.network is not None else None
-    same = [("robot", doc.get("robot"), c.chain.name), ("word", doc.get("word"), word),
-            ("VAMPs", doc.get("vamps"), vamps)]
-    for key in ("rounding", "overflow", "mult_latency", "add_latency"):   # (files since 2026-12-03)
-        if key in doc:
-            same.append((key.replace("_", " "), doc[key], getattr(c.options, key)))
+    same = [("robot", "robot", c.chain.name), ("word", "word", word), ("vamps", "VAMPs", vamps)]
+    same += [(key, key.replace("_", " "), getattr(c.options, key))      # (files since 2026-12-03)
+             for key in ("rounding", "overflow", "mult_latency", "add_latency") if key in doc]
     def another(what, theirs, ours) -> None:
-        # (of one type too: true for 1 and 60.0 for 60 passed Python's ==, an audit's find)
-        if type(theirs) is not type(ours) or theirs != ours:
+        if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
                              f"program's {ours!r})")
-    for what, theirs, ours in same:
+    for key, what, ours in same:
+        theirs = doc.get(key)
+        # (of the type `vampc rtl` writes: true for 1 and 60.0 for 60 passed Python's ==, and a
+        # missing key was said as "VAMPs None": an audit's and a new user's finds)
+        if ours is not None and type(theirs) is not type(ours):
+            kind = "a count" if type(ours) is int else "a name"
+            raise VampcError(f"{path}: " + (f"no {key}" if theirs is None else
+                                            f"{key} is {theirs!r}, not {kind}")
+                             + " (the file is not `vampc rtl --synth ecp5 --format json`'s, or was "
+                             "edited)")
         another(what, theirs, ours)
     def field(table, key: str, where: str):
         """A count of the file: a whole number, at least 0 (VampcError naming it otherwise: a
@@ -81,14 +87,19 @@ def rtl_figures(path: str, c) -> dict:
         at = f"kinds.{name}"
         row = {"kind": name, "vamps": field(k, "vamps", at), "LUT4": field(k, "LUT4", at),
                "MULT18X18D": field(k, "MULT18X18D", at), "flip_flops": field(k, "flip_flops", at)}
-        pnr = k.get("pnr") if isinstance(k, dict) else None
-        clocks = (pnr.get("fmax_mhz") if isinstance(pnr, dict) else None) or {}
-        if not isinstance(clocks, dict):
-            raise VampcError(f"{path}: synth.{at}.pnr.fmax_mhz is not a table of clocks")
-        if clocks:
+        if "pnr" in k:          # (`vampc rtl --pnr`'s: every kind's, each with its clocks)
+            clocks = k["pnr"].get("fmax_mhz") if isinstance(k["pnr"], dict) else None
+            if not isinstance(clocks, dict) or not clocks:
+                # (a pnr of "x" or clocks {} were taken as no place and route, and the report
+                # gave no times, unsaid: a new user's find)
+                raise VampcError(f"{path}: synth.{at}.pnr.fmax_mhz is not a table of clocks")
             row["fmax_mhz"] = min(mhz(v, f"synth.{at}.pnr.fmax_mhz.{c}") for c, v in clocks.items())
             fmax.append(row["fmax_mhz"])
         kinds.append(row)
+    if 0 < len(fmax) < len(kinds):
+        bare = next(r["kind"] for r in kinds if "fmax_mhz" not in r)
+        raise VampcError(f"{path}: synth.kinds.{bare} has no pnr where other kinds have one (the "
+                         "file was edited)")
     if c.network is not None:
         # the VAMPs of each kind (slots, multiplexer inputs) the figures are of, against this
         # network's: a file of another network with the robot, word and VAMP count was taken
@@ -111,8 +122,12 @@ def rtl_figures(path: str, c) -> dict:
                "cells": field(net, "total", "network")},
            "vamps_sum": {key: sum(r[key] * r["vamps"] for r in kinds)
                          for key in ("LUT4", "MULT18X18D", "flip_flops")},
-           "fmax_mhz": min(fmax) if len(fmax) == len(kinds) and fmax else None}
+           "fmax_mhz": min(fmax) if fmax else None}
     return out
+
+
+def _cells(t: dict) -> str:
+    return f"{t['LUT4']:,} LUT4, {t['MULT18X18D']:,} MULT18X18D, {t['flip_flops']:,} flip-flops"
 
 
 def rtl_pairs(r: dict | None) -> list[tuple[str, str]]:
@@ -120,19 +135,18 @@ def rtl_pairs(r: dict | None) -> list[tuple[str, str]]:
     if not r:
         return []
     n = r["network"]
-    out = [("synthesized (" + r["target"] + ")",
-            (f"the network {n['LUT4']} LUT4, {n['MULT18X18D']} MULT18X18D, {n['flip_flops']} "
-             f"flip-flops ({r['file']})") if n is not None else
-            f"each kind of VAMP; the network's synthesis was left out by --max-minutes ({r['file']})")]
+    # (labels within the summary's column, numbers with separators as every other count of the
+    # report: "synthesized (ecp5) the network 135472 LUT4" ran label into figures, a new user's find)
+    out = [("RTL synthesis",
+            f"{r['target']}: " + (f"the network {_cells(n)} ({r['file']})" if n is not None else
+                                  "each kind of VAMP; the network's synthesis is not in the file "
+                                  f"(`vampc rtl` leaves it out beyond --max-minutes) ({r['file']})"))]
     for k in r["kinds"]:
         fmax = f", Fmax {k['fmax_mhz']:g} MHz" if "fmax_mhz" in k else ""
-        out.append((f"  a VAMP, {k['kind']}", f"{k['LUT4']} LUT4, {k['MULT18X18D']} MULT18X18D, "
-                                               f"{k['flip_flops']} flip-flops{fmax} "
-                                               f"({k['vamps']} such)"))
-    t = r["vamps_sum"]       # (in the JSON only: the text left out the one whole-design figure
-    #                          a network's synthesis left out by --max-minutes leaves: a new user's find)
-    out.append(("  every VAMP", f"{t['LUT4']} LUT4, {t['MULT18X18D']} MULT18X18D, {t['flip_flops']} "
-                                "flip-flops (each kind's cells × its number of VAMPs)"))
+        out.append(("  a VAMP kind", f"{k['kind']}: {_cells(k)}{fmax} ({k['vamps']:,} such)"))
+    # (in the JSON only: the text left out the one whole-design figure a network's synthesis
+    # left out by --max-minutes leaves: a new user's find)
+    out.append(("  every VAMP", f"{_cells(r['vamps_sum'])} (each kind's cells × its number of VAMPs)"))
     if r["fmax_mhz"] is not None:
         out.append(("  clock", f"{r['fmax_mhz']:g} MHz, the slowest VAMP's Fmax (one VAMP placed "
                                "and routed on its own: the network's wiring may lower it)"))
