@@ -275,6 +275,13 @@ def test_a_damaged_cached_object_is_said_and_compiled_again(small, cache):
         warnings.simplefilter("error")
         native.build(ld, fl)
     assert obj.with_suffix(".sha256").exists()
+    # a run too short to compile for (a cached program runs; none is compiled) compiles a damaged
+    # one again too: it had been said "compiled again", removed, and the run left on numpy
+    spoiled.write_bytes(good[:5000])
+    os.replace(spoiled, obj)
+    with pytest.warns(VampcWarning, match=r"one of them is damaged; it is compiled again"):
+        program = native.build(ld, fl, compile_now=False)
+    assert program is not None and obj.read_bytes() == good
 
 
 def test_unwritable_cache_falls_back_to_temp(tmp_path, monkeypatch):

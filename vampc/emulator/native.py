@@ -796,7 +796,9 @@ def compile_cached(source: str, compile_now: bool = True) -> Path | None:
     key = hashlib.sha256("\0".join((cc, *CFLAGS, source)).encode()).hexdigest()[:32]
     target = cache_dir() / f"vampc-{key}.so"
     if not _intact(target):
-        if not compile_now:
+        # (one the cache holds but damaged, or kept by an earlier vampc without its digest, is
+        # compiled again at once, even for a run too short to compile for: it was compiled once)
+        if not compile_now and not target.exists():
             return None
         _compile(cc, source, target)
     return target
@@ -810,8 +812,10 @@ def _intact(target: Path) -> bool:
     """Whether the cache holds `target` as it was compiled: its SHA-256 is the one written beside
     it when it was. A cut-short object (a crash or power loss before its blocks reached the disk)
     was loaded as it was and killed the process with SIGBUS, nothing said, and an empty one sent
-    every run to numpy in silence (an audit's finds). A damaged one is said and compiled again; one
-    without the digest (an earlier vampc's cache) is compiled again without a word."""
+    every run to numpy in silence (an audit's finds). A damaged one is said, and compiled again by
+    `compile_cached`; one without the digest (an earlier vampc's cache), the same without a word.
+    The damaged file is left for the compile's rename to replace: removed here, it could be the good
+    one another run had just put in its place."""
     try:
         data = target.read_bytes()
     except OSError:
@@ -828,10 +832,6 @@ def _intact(target: Path) -> bool:
     warnings.warn(VampcWarning(f"{target}: the cached compiled program does not match the digest "
                                f"kept beside it ({_digest_file(target).name}): one of them is "
                                "damaged; it is compiled again"), stacklevel=3)
-    try:
-        target.unlink()                 # (said once: a run that does not compile leaves it gone)
-    except OSError:
-        pass
     return False
 
 
