@@ -1040,6 +1040,10 @@ def test_options_that_shape_only_the_network_are_warned_of_without_clock(setup, 
             "checks whether that network keeps up" in r.stderr, r.stderr
         with_clock = run_lookahead(PUMA, path, limits, *extra, "--clock", "20MHz")
         assert with_clock.exit_code == 0 and "shape" not in with_clock.stderr, with_clock.output
+    bad = tmp_path / "bad.csv"                    # an error stays one line: the warning comes after
+    bad.write_text("joint,tau\nwaist,abc\n")       # the run (it came before the error: a review's)
+    r = run_lookahead(PUMA, path, bad, "--vamps", "7")
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1 and "warning" not in r.stderr, r.output
 
 
 def test_the_clock_line_names_the_network_in_engineering_units(setup):

@@ -1033,26 +1033,25 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
     warn_what_if(source, ld, "the register's network runs in")
+    later = []              # warnings said once the run has gone through (an error stays one line)
     if ld.net.checking is not None:          # (--error-correction was taken, and nothing said)
         from vampc.kinds import Engine
         done = ("runs on the tick engine, but vampc lookahead does not report it" if
                 Engine(own.engine) is Engine.TICK else "is not run by the stream engine, whose "
                 "torques are the same without it")
-        warnings.warn(VampcWarning(f"{source}: its error correction {done}; vampc emulate --engine "
-                                   "tick reports the checking (README, Error correction)"),
-                      stacklevel=1)
+        later.append(f"{source}: its error correction {done}; vampc emulate --engine tick reports "
+                     "the checking (README, Error correction)")
     shaping = [name for name in NETWORK_SHAPE if name in options.given]
     from vampc.sniff import is_program
     if shaping and clock is None and not is_program(source):
         # (a robot file's --vamps 7 or --layout folded ran, the same torques and plan, unsaid: an
         # options audit's find; precision refuses them, for the same reason)
-        flags = ["--" + name.replace("_", "-") for name in shaping]
+        flags = [flag(name) for name in shaping]
         flags = " and ".join(filter(None, (", ".join(flags[:-1]), flags[-1])))
         many = len(shaping) > 1
-        warnings.warn(VampcWarning(f"{flags} {'shape' if many else 'shapes'} only the network, "
-                                   "whose torques are the same whatever its shape: the look-ahead "
-                                   f"uses {'them' if many else 'it'} only with --clock, which checks "
-                                   "whether that network keeps up"), stacklevel=1)
+        later.append(f"{flags} {'shape' if many else 'shapes'} only the network, whose torques are "
+                     f"the same whatever its shape: the look-ahead uses {'them' if many else 'it'} "
+                     "only with --clock, which checks whether that network keeps up")
     if own.write_failed and not (own.check_torques or own.retime) and ld.word is None:
         # (nothing can fail: float64, neither check nor retiming)
         from vampc.options import WRITE_FAILED_APPLIES
@@ -1218,8 +1217,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             tell(f"{option} {outs[option].path} written although {why}", True)
     # (the report had gone out before an output that could not be written: --torques /dev/full
     # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
-    if disagree is not None:
-        warnings.warn(VampcWarning(disagree), stacklevel=1)
+    for text in later + ([disagree] if disagree is not None else []):
+        warnings.warn(VampcWarning(text), stacklevel=1)
     for text, err in told:
         say(text, err)
     return ok
