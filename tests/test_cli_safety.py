@@ -1804,3 +1804,38 @@ def test_a_tick_run_of_a_network_too_big_is_refused_whatever_its_sets(program, m
     user_error(res, rf"planar\.vamp\.json: the network's {stages:,} delay-buffer stages need about "
                     r"[\d.]+ GiB in the tick engine, whatever the sets \([\d.]+ GiB available\); use "
                     r"--engine stream, which holds no register per stage")
+
+
+def test_the_memory_available_is_memavailable_within_a_cgroups_limit(tmp_path):
+    """The memory checks read the free pages alone (SC_AVPHYS_PAGES), which leave out the page
+    cache the system can reclaim, and no container's limit (a review's find): MemAvailable, within
+    what a cgroup v2 or v1 limit leaves."""
+    from vampc.emulator import driver
+    meminfo = tmp_path / "meminfo"
+    meminfo.write_text("MemTotal:       24000000 kB\nMemFree:          500000 kB\n"
+                       "MemAvailable:   20000000 kB\n")
+    assert driver.mem_available(str(meminfo)) == 20000000 * 1024
+    meminfo.write_text("MemTotal:       24000000 kB\n")
+    assert driver.mem_available(str(meminfo)) is None
+    assert driver.mem_available(str(tmp_path / "none")) is None
+    root, own = tmp_path / "cgroup", tmp_path / "self"
+    (root / "user" / "job").mkdir(parents=True)
+    own.write_text("0::/user/job\n")
+    assert driver.cgroup_room(str(root), str(own)) is None                  # no limit files
+    (root / "user" / "job" / "memory.max").write_text("max\n")
+    assert driver.cgroup_room(str(root), str(own)) is None
+    (root / "user" / "job" / "memory.max").write_text("3000000000\n")
+    (root / "user" / "job" / "memory.current").write_text("1000000000\n")
+    assert driver.cgroup_room(str(root), str(own)) == 2000000000
+    own.write_text("0::/\n")                        # a container's own: at the root
+    (root / "memory.max").write_text("1000\n")
+    (root / "memory.current").write_text("4000\n")
+    assert driver.cgroup_room(str(root), str(own)) == 0
+    v1 = tmp_path / "v1"
+    (v1 / "memory" / "box").mkdir(parents=True)
+    own.write_text("4:memory:/box\n0::/\n")
+    (v1 / "memory" / "box" / "memory.limit_in_bytes").write_text("5000\n")
+    (v1 / "memory" / "box" / "memory.usage_in_bytes").write_text("1000\n")
+    assert driver.cgroup_room(str(v1), str(own)) == 4000
+    (v1 / "memory" / "box" / "memory.limit_in_bytes").write_text(f"{2 ** 63 - 4096}\n")  # v1's none
+    assert driver.cgroup_room(str(v1), str(own)) is None

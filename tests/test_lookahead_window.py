@@ -771,29 +771,37 @@ def test_float64_rounding_in_a_is_not_multiplied_past_a_limit_either(tmp_path):
     assert "retimed rows by the reference: 0 violations; with the s̈ arriving at each row: 0 violations" in r.output
 
 
-def test_the_bounds_are_taken_in_blocks_of_rows_with_the_same_numbers(monkeypatch):
-    """`_largest_x` worked out every pair of bounds of every row at once: about 84 kB a row, so a
-    300 000-row path (5 minutes at 1 kHz) was killed by the system at 23 GB with nothing said (an
-    audit's find). Now in blocks of LARGEST_X_ROWS rows: the same plan bit for bit at any block
-    size, and a 6 000-row plan's numpy memory stays small."""
+def test_the_bounds_are_taken_in_blocks_with_the_same_numbers(monkeypatch):
+    """`_largest_x` worked out every pair of bounds of every row at once: about 84 kB a row on the
+    Puma, so a 300 000-row path (5 minutes at 1 kHz) was killed by the system at 23 GB with nothing
+    said (an audit's find); then in blocks of 2048 rows, which for a 16-joint arm's 129 × 129 pairs
+    a row still made 1.1 GB of temporaries (a review's). Now in blocks of LARGEST_X_PAIRS pairs:
+    the same plan bit for bit at any block size, and the numpy memory of a 6 000-row plan of 6
+    joints and a 2 500-row plan of 16 stays small."""
     import tracemalloc
 
     from vampc import lookahead
     a, b, c, qd, limits = affine_parts()
     whole = window_plan(a, b, c, qd, limits, 64, 1 / RATE, spread=(1e-9, 1e-9))
     for rows in (1, 7, 256):
-        monkeypatch.setattr(lookahead, "LARGEST_X_ROWS", rows)
+        monkeypatch.setattr(lookahead, "LARGEST_X_PAIRS", rows * 49 * 49)
         got = window_plan(a, b, c, qd, limits, 64, 1 / RATE, spread=(1e-9, 1e-9))
         assert all(np.array_equal(g.view(np.uint64), w.view(np.uint64)) for g, w in zip(got, whole))
     monkeypatch.undo()
-    long = [np.tile(v, (10, 1)) for v in (a, b, c, qd)]          # 6 010 rows
-    tracemalloc.start()
-    try:
-        window_plan(*long, limits, 64, 1 / RATE, spread=(1e-9, 1e-9))
-        peak = tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-    assert peak < 350e6, peak        # (176 MB; 500 MB when every row's pairs were made at once)
+    six = [np.tile(v, (10, 1)) for v in (a, b, c, qd)]          # 6 010 rows
+    s = np.linspace(0, 1, 2500)[:, None]
+    k = np.arange(1, 17)
+    sixteen = [1 + 0.5 * np.sin(3 * s * k), 0.5 * np.cos(2 * s * k), 0.3 * np.sin(s * k), np.cos(s * k)]
+    for parts, lim in ((six, limits), (sixteen, Limits((2.0,) * 16, (None,) * 16))):
+        tracemalloc.start()
+        try:
+            window_plan(*parts, lim, 64, 1 / RATE, spread=(1e-9, 1e-9))
+            peak = tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+        # (about 180 MB each; 500 MB and 1.1 GB when the pairs of every row, or of 2048 rows,
+        # were made at once)
+        assert peak < 350e6, (len(parts[0][0]), peak)
 
 
 def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_path, monkeypatch):
@@ -802,7 +810,8 @@ def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_pa
     from vampc.emulator import driver
     folder, program, limits, path = setup
     rows = len(path.read_text().splitlines()) - 1
-    monkeypatch.setattr(driver, "_available_memory", lambda: 2 * rows * 6 * 1000 - 2)
+    from vampc.lookahead import pairs_bytes
+    monkeypatch.setattr(driver, "_available_memory", lambda: 2 * (rows * 6 * 1000 + pairs_bytes()) - 2)
     out = tmp_path / "o.csv"
     for retime, refused in (("window", True), ("uniform", False)):
         r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate",
@@ -810,7 +819,7 @@ def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_pa
                                       retime, "-o", str(out)])
         if refused:
             assert r.exit_code == 1 and r.stderr.count("\n") == 1 and not out.exists(), r.output
-            assert re.search(rf"{path}: {rows:,} rows need about 0\.0 GiB with --retime window "
-                             r"\(0\.0 GiB available\); run the path in parts", r.stderr), r.stderr
+            assert re.search(rf"{path}: {rows:,} rows need about 0\.2 GiB with --retime window "
+                             r"\(0\.4 GiB available\); run the path in parts", r.stderr), r.stderr
         else:
             assert r.exit_code == 0, r.output

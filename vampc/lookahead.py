@@ -530,8 +530,14 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
 # for the window retiming the plan's bounds (four copies of each joint's, at the row and the next).
 # Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
 # with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
-# rounded up.
+# rounded up. The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
+# of LARGEST_X_PAIRS numbers (176 MB measured, the Puma).
 BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000}
+
+
+def pairs_bytes() -> int:
+    """The window retiming's block of pairs, on top of its rows: six temporaries' worth."""
+    return 6 * 8 * LARGEST_X_PAIRS
 
 
 def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None:
@@ -539,7 +545,7 @@ def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None
     300 000-row path was killed by the system at 23 GB, nothing said, before the plan's bounds were
     taken in blocks; a longer one still can be)."""
     from vampc.emulator import driver
-    need = rows * columns * BYTES_PER_ROW_COLUMN[retime]
+    need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + (pairs_bytes() if retime == "window" else 0)
     avail = driver._available_memory()
     if avail is None or need <= avail // 2:
         return
@@ -655,7 +661,9 @@ def _stage(a, b, c, L):
     return p, r, P, np.min(alone, axis=-1)
 
 
-LARGEST_X_ROWS = 2048        # rows of `_largest_x`'s pairs at a time (about 40 MB a temporary)
+# pairs of bounds `_largest_x` takes at a time: 2048 rows of a 6-joint arm, about 40 MB a temporary
+# (a review found 2048 rows of a 64-joint chain's 513 × 513 pairs, 18 GB, when blocks were of rows)
+LARGEST_X_PAIRS = 2048 * 49 * 49
 
 
 def _largest_x(lo, up, cap, H, two_d):
@@ -664,15 +672,16 @@ def _largest_x(lo, up, cap, H, two_d):
     last axis, d >= 0, and 0 <= x + 2Δu <= H. The bounds are affine in x, the feasible x an interval
     holding 0, so its top is the least root among the pairs (lower, upper) that cross, each pair
     compared without dividing by d (a bound of the next row can have d near 0, where it is a bound
-    on x alone). Rows are taken LARGEST_X_ROWS at a time: every pair of bounds of a row is a
-    temporary (a 6-joint arm's 49 × 49 per row, several times over), and the whole path's at once
-    took about 84 kB a row (a 300 000-row path at 1 kHz was killed at 23 GB: an audit's find)."""
-    if lo[0].ndim == 2 and len(lo[0]) > LARGEST_X_ROWS:
+    on x alone). Rows are taken a block at a time, of at most LARGEST_X_PAIRS pairs: every pair
+    of bounds of a row is a temporary (a 6-joint arm's 49 × 49 per row, a 64-joint one's 513 × 513,
+    several times over), and the whole path's at once took about 84 kB a row on the Puma (a
+    300 000-row path at 1 kHz was killed at 23 GB: an audit's find)."""
+    rows = max(1, LARGEST_X_PAIRS // ((lo[0].shape[-1] + 1) * (up[0].shape[-1] + 1)))
+    if lo[0].ndim == 2 and len(lo[0]) > rows:
         return np.concatenate([
-            _largest_x(tuple(v[k:k + LARGEST_X_ROWS] for v in lo),
-                       tuple(v[k:k + LARGEST_X_ROWS] for v in up),
-                       cap[k:k + LARGEST_X_ROWS], H[k:k + LARGEST_X_ROWS], two_d)
-            for k in range(0, len(lo[0]), LARGEST_X_ROWS)])
+            _largest_x(tuple(v[k:k + rows] for v in lo), tuple(v[k:k + rows] for v in up),
+                       cap[k:k + rows], H[k:k + rows], two_d)
+            for k in range(0, len(lo[0]), rows)])
     shape = lo[0].shape[:-1] + (1,)
     ln = np.concatenate([lo[0], np.zeros(shape)], -1)
     ls = np.concatenate([lo[1], np.full(shape, -1.0)], -1)

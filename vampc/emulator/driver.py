@@ -121,10 +121,66 @@ def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE, copie
 
 
 def _available_memory() -> int | None:
+    """The memory a run can take: Linux's MemAvailable (free memory and the page cache it can
+    reclaim), or where there is none the free pages; and within a cgroup v2 limit (a container's),
+    what the limit leaves. The free pages alone can read little on a machine with gigabytes of
+    reclaimable cache, refusing runs that fit, and a container's limit was not seen (a review's
+    finds)."""
+    avail = mem_available()
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
+        except (ValueError, OSError, AttributeError):
+            return None
+    room = cgroup_room()
+    return avail if room is None else min(avail, room)
+
+
+def mem_available(meminfo: str = "/proc/meminfo") -> int | None:
+    """MemAvailable in bytes, None where the file or the line is not there."""
     try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return None
+        with open(meminfo, encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+V2 = ("memory.max", "memory.current")
+V1 = ("memory.limit_in_bytes", "memory.usage_in_bytes")
+
+
+def cgroup_room(root: str = "/sys/fs/cgroup", own: str = "/proc/self/cgroup") -> int | None:
+    """What this process's cgroup memory limit leaves (the limit less the usage), None where no
+    limit is found: cgroup v2's memory.max and memory.current, v1's memory.limit_in_bytes and
+    memory.usage_in_bytes (2^62 or more: none), each in this process's own folder (from `own`:
+    the line "0::/path", or v1's "N:memory:/path") or else at its hierarchy's root (a
+    container's own cgroup is mounted there)."""
+    v2_path = v1_path = ""
+    try:
+        with open(own, encoding="ascii") as f:
+            for line in f:
+                number, controllers, path = (line.rstrip("\n").split(":", 2) + ["", ""])[:3]
+                if number == "0" and not controllers:
+                    v2_path = path.rstrip("/")
+                elif "memory" in controllers.split(","):
+                    v1_path = path.rstrip("/")
+    except OSError:
+        pass
+    v1 = os.path.join(root, "memory")
+    for folder, (limit_file, usage_file) in ((root + v2_path, V2), (root, V2), (v1 + v1_path, V1), (v1, V1)):
+        try:
+            with open(os.path.join(folder, limit_file), encoding="ascii") as f:
+                limit = f.read().strip()
+            if limit == "max" or int(limit) >= 1 << 62:
+                return None
+            with open(os.path.join(folder, usage_file), encoding="ascii") as f:
+                return max(0, int(limit) - int(f.read().strip()))
+        except (OSError, ValueError):
+            continue
+    return None
 
 
 @dataclass(frozen=True)
