@@ -163,14 +163,18 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     assert r.exit_code == 1, r.output
     # (what differs is said: an earlier vampc's default random campaign, 565 sets a run where it
     # is now 1488, was refused as if --sets had been given: a review's find)
-    assert r.output.splitlines()[-1] + "\n" == (f"vampc: error: {default}, the default results file, holds the results of "
-                        "another campaign (other faults): give --results FILE for this one, or "
-                        "remove it to start over\n")
+    # (and which faults: "other faults" alone left a new user to guess)
+    faults = r"other faults, 8 in the file and 8 here; the first that differs is fault 1: 'vamp=[^']+' " \
+             r"in the file, 'vamp=[^']+' here"
+    assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds the "
+                        rf"results of another campaign \({faults}\): give --results FILE for this one, "
+                        r"or remove it to start over", r.output.splitlines()[-1]), r.output
+    assert "dead" in r.output.splitlines()[-1].split(" here)")[0].split("in the file, ")[-1]
     r = RUN(main, ["faults", str(program), *QUICK[:-1], "41", "--workers", "1"])
-    assert r.output.splitlines()[-1] == (f"vampc: error: {default}, the default results file, holds "
-                                         "the results of another campaign (40 sets a run, not 41, "
-                                         "other faults): give --results FILE for this one, or "
-                                         "remove it to start over"), r.output
+    assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds "
+                        rf"the results of another campaign \(40 sets a run, not 41, {faults}\): give "
+                        r"--results FILE for this one, or remove it to start over",
+                        r.output.splitlines()[-1]), r.output
     assert default.read_bytes() == kept
 
 
@@ -356,7 +360,13 @@ def test_a_stall_is_listed_among_the_escapes(programs):
     V = len(ld.net.vamps)
     e = cp.run_fault(setup, parse_fault(f"vamp={V},dead"))      # the extraneous VAMP
     assert e["class"] == "masked" and e["stalled"]["vamp"] == V
-    assert [x["fault"] for x in cp.summarise(ld, [e], sets)["escapes"]] == [e["fault"]]
+    summary = cp.summarise(ld, [e], sets)
+    assert [x["fault"] for x in summary["escapes"]] == [e["fault"]]
+    # (what an escape is, said: a new user read this "masked" run under "escapes" as a mistake)
+    text = cp.render_text("head", summary)
+    assert "escapes (1): runs the checking did not handle in full (a torque spoiled unflagged, a " \
+        "fault not corrected, the faulty VAMP not named, or the checking stalled)\n  " \
+        f"{e['fault']}: masked: " in text, text
 
 
 # Run in a process of its own: a worker killed inside a pytest-xdist worker's pool crashed that

@@ -619,8 +619,24 @@ def _differing(head, header: dict) -> str | None:
         return None
     said = {"program": "another program", "campaign": f"the {head.get('campaign')} campaign, not "
             f"{header['campaign']}", "sets": f"{head.get('sets')} sets a run, not {header['sets']}",
-            "seed": f"seed {head.get('seed')}, not {header['seed']}", "faults": "other faults"}
+            "seed": f"seed {head.get('seed')}, not {header['seed']}", "faults": _other_faults(head, header)}
     return ", ".join(text for key, text in said.items() if head.get(key) != header.get(key)) or None
+
+
+def _other_faults(head: dict, header: dict) -> str:
+    """How the file's faults differ from this campaign's: their counts and the first that differs
+    ("other faults" alone left a new user to guess: another --kinds, a subset of them)."""
+    theirs = head.get("faults") if isinstance(head.get("faults"), list) else []
+    ours = header["faults"]
+    n = min(len(theirs), len(ours))
+    k = next((i for i in range(n) if theirs[i] != ours[i]), n)
+    said = f"other faults, {len(theirs)} in the file and {len(ours)} here"
+    if k < n:
+        return f"{said}; the first that differs is fault {k + 1}: {theirs[k]!r} in the file, {ours[k]!r} here"
+    if len(theirs) != len(ours):
+        longer, where = (theirs, "in the file") if len(theirs) > n else (ours, "here")
+        return f"{said}; fault {k + 1} on, {longer[k]!r} first, only {where}"
+    return said
 
 
 def render_csv(runs: list[dict]) -> str:
@@ -670,7 +686,11 @@ def render_text(head: str, summary: dict) -> str:
         lines.append("  " + kind.ljust(width) + "".join(f"{counts[c]:>26}" for c in CLASSES))
     esc = summary.get("escapes")
     if esc:
-        lines.append(f"escapes ({len(esc)}):")
+        # (what an escape is, said: a new user read "detected and corrected" and "masked" runs
+        # listed as escapes as a mistake)
+        lines.append(f"escapes ({len(esc)}): runs the checking did not handle in full (a torque "
+                     "spoiled unflagged, a fault not corrected, the faulty VAMP not named, or the "
+                     "checking stalled)")
         for e in esc:
             lines.append(f"  {e['fault']}: {LABELS[e['class']]}: {e['reason']}")
     elif summary["error_correction"]:
