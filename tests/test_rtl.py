@@ -521,6 +521,22 @@ def test_figures_of_another_network_are_refused(programs, tmp_path, edit, says):
         f"vampc: error: {path}: the figures are of another design (") and says in r.stderr, r.stderr
 
 
+def test_every_kind_of_vamp_that_differs_is_named_at_once(programs, tmp_path):
+    """A hand-made figures file's kinds were refused one a run (a new user took four runs to find
+    the folded planar2's four kinds): every kind that differs is said in the one line."""
+    program = str(programs / "planar2.vamp.json")
+    figures, _ = _figures_of(program)
+    own = dict(figures["synth"]["kinds"])
+    assert len(own) > 1
+    figures["synth"]["kinds"] = {"1 slot(s), 1+1 inputs": dict(next(iter(own.values())), vamps=30)}
+    path = tmp_path / "other.json"
+    path.write_text(json.dumps(figures))
+    r = CliRunner().invoke(main, ["report", program, "--rtl", str(path)])
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1, r.output
+    for name, k in own.items():
+        assert f"VAMPs of kind {name!r} 0, this program's {k['vamps']}" in r.stderr, r.stderr
+
+
 def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(programs, tmp_path,
                                                                              monkeypatch):
     """--synth refused the whole run when the network's synthesis was beyond --max-minutes (a
