@@ -187,3 +187,27 @@ def test_the_rms_of_chunks_merged_is_the_rms_of_the_whole_run():
         np.testing.assert_allclose(whole.rms, want, rtol=1e-12)
         np.testing.assert_allclose(half.rms, want, rtol=1e-12)
         assert half.count == whole.count == 40
+
+
+@pytest.mark.parametrize("I, F", [(3, 60), (1, 62), (33, 30), (32, 31), (33, 0), (16, 16), (32, 32), (1, 63)],
+                         ids=lambda x: str(x))
+@pytest.mark.parametrize("rounding, overflow", MODES, ids=lambda m: m.value)
+def test_one_scalar_wraps_or_saturates_as_the_oracle_at_every_width(I, F, rounding, overflow):
+    """One scalar (a 0-d array: the generated C's literals, the host's conversion of a constant)
+    in a 63-bit word with wrap: 1 << 63 is past int64, and a q3.60 constant of 4.0 was an
+    OverflowError, exit 3 (an independent oracle's find); so were one op's 0-d operands in 33- to
+    64-bit words. Each against the oracle above, with the overflow counted."""
+    bits = I + F
+    lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+    for fn in Fn:
+        for a, b in ((hi, 1), (lo, 1), (hi, hi), (lo, lo), (lo, hi), (hi, -1), (lo, -1), (1 << (bits - 2), 2)):
+            b = max(lo, min(hi, b))
+            word = Fixed(I, F, rounding, overflow)
+            got = word.apply(fn, np.int64(a), np.int64(b))
+            want, over = oracle(fn, a, b, I, F, rounding, overflow)
+            assert int(got) == want and word.overflows == int(over), (fn, a, b)
+    word = Fixed(I, F, rounding, overflow)
+    for x in (2.0 ** (I - 1), -(2.0 ** (I - 1)) - 2.0 ** -F, 2.0 ** (I + 1), 0.5):
+        exact = math.floor(Fraction(x) * 2 ** F + Fraction(1, 2)) if rounding is Rounding.NEAREST \
+            else math.floor(Fraction(x) * 2 ** F)
+        assert int(word.encode(x)) == fit(exact, bits, overflow)[0], x

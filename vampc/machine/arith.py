@@ -249,8 +249,17 @@ class Fixed(Float64):
         # beyond a 64-bit word, as the generated C's literals are made)
         if self.overflow is Overflow.SATURATE:
             fitted = np.where(r < self.lo, self.lo, np.where(r > self.hi, self.hi, r))
+        elif r.dtype == np.int64:
+            # int64 (a word under 64 bits: one of 64 holds every int64): wrapped without leaving
+            # int64, 1 << W taken off in two halves (for a 63-bit word 1 << 63 is past int64: a
+            # q3.60 constant of 4.0 was an OverflowError, exit 3, an independent oracle's find)
+            half = 1 << (self.bits - 1)
+            low = r & ((1 << self.bits) - 1)
+            fitted = np.where(low > self.hi, (low - half) - half, low)
         else:
-            low = np.asarray(r & ((1 << self.bits) - 1), dtype=object)
+            # Python integers of any size (np.asarray makes 2**63 a uint64 and 2**64 an object),
+            # each made one (a 0-d array could hold a numpy int64)
+            low = np.array([int(v) & ((1 << self.bits) - 1) for v in r.flat], dtype=object).reshape(r.shape)
             fitted = np.where(low > self.hi, low - (1 << self.bits), low)
         return self._overflowed(np.asarray(fitted).astype(np.int64), over, None)
 
