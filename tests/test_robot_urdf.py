@@ -918,3 +918,31 @@ def test_a_moving_joint_without_a_limit_is_read_with_a_warning(tmp_path):
             assert told == [f"{path}: joint {said} no <limit>, which the URDF specification "
                             "requires of revolute and prismatic joints (Pinocchio refuses the file); "
                             "read as unlimited"], told
+
+
+def test_a_limit_without_effort_or_velocity_is_read_with_a_warning(tmp_path):
+    """A <limit> must give effort and velocity (Pinocchio refuses a file whose <limit> lacks
+    either); one without velocity was read as no speed limit in silence, and the look-ahead planned
+    without it (a look-ahead audit's find). One warning names the first and what it lacks."""
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+                'ixz="0" iyz="0"/></inertial>')
+    links = "".join(f'<link name="l{k}">{inertial}</link>' for k in range(3))
+    def joint(name, parent, child, limit):
+        return (f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+                f'<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" {limit}/></joint>')
+    for limits, said in ((('effort="5" velocity="2"', 'effort="5" velocity="2"'), None),
+                         (('effort="5"', 'effort="5" velocity="2"'), "joint 'j1' has a <limit> without "
+                          "velocity, which the URDF specification requires (Pinocchio refuses the "
+                          "file); read as no speed limit"),
+                         (('', 'velocity="2"'), "joint 'j1' (and 1 more joint) has a <limit> without "
+                          "effort or velocity, which the URDF specification requires (Pinocchio "
+                          "refuses the file); read as no effort limit and no speed limit")):
+        path = tmp_path / "arm.urdf"
+        path.write_text(f'<robot name="arm">{links}{joint("j1", "l0", "l1", limits[0])}'
+                        f'{joint("j2", "l1", "l2", limits[1])}</robot>')
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            chain = load_robot(path)
+        told = [str(w.message) for w in caught if issubclass(w.category, VampcWarning)]
+        assert told == ([] if said is None else [f"{path}: {said}"]), told
+        assert chain.joints[0].limits.qd == (2.0 if 'velocity="2"' in limits[0] else None)

@@ -814,6 +814,18 @@ def _warn_no_limit(tree: Tree, joints, path: Path) -> None:
                                    "<limit>, which the URDF specification requires of revolute and "
                                    "prismatic joints (Pinocchio refuses the file); read as unlimited"),
                       stacklevel=3)
+    # a <limit> without its effort or velocity attribute (both required) was read as no such limit,
+    # unsaid: the look-ahead then planned without it (a look-ahead audit's find)
+    partial = [(j, [a for a in ("effort", "velocity") if getattr(j.limit, a, None) is None])
+               for j in joints if j.limit is not None]
+    partial = [(j, missing) for j, missing in partial if missing]
+    if partial:
+        j, missing = partial[0]
+        more = f" (and {len(partial) - 1} more joint{'s' if len(partial) > 2 else ''})" if len(partial) > 1 else ""
+        none = " and ".join({"effort": "no effort limit", "velocity": "no speed limit"}[a] for a in missing)
+        warnings.warn(VampcWarning(f"{path}: joint '{j.name}'{more} has a <limit> without "
+                                   f"{' or '.join(missing)}, which the URDF specification requires "
+                                   f"(Pinocchio refuses the file); read as {none}"), stacklevel=3)
 
 
 def _limits(j, path: Path) -> Limits:
