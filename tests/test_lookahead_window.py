@@ -463,10 +463,32 @@ def test_retimed_times_float64_cannot_tell_apart_are_refused_and_rough_ones_said
             assert not out.exists()
         else:
             assert r.exit_code == 0, r.output
-            assert re.search(r"the retimed rows' times, from t = 1700000000, hold their intervals only "
-                             r"to [\d.]+% in float64", r.output), r.output
+            assert re.search(r"the retimed rows' times hold their intervals only to [\d.]+% in float64, "
+                             r"from t = 1700000000; a t column starting near 0 holds them exactly",
+                             r.output), r.output
             t = np.loadtxt(out, delimiter=",", skiprows=1)[:, 0]
             assert (np.diff(t) > 0).all()
+
+
+def test_retimed_times_too_long_for_float64_blame_the_plan_not_the_first_t(setup, tmp_path):
+    """A speed limit of 1e-12 (the least a limits file takes) made a plan of about 1e12 s whose rows
+    float64 could not tell apart, and the advice was to start the path's t near 0, which it did (a
+    look-ahead audit's find): the plan's own length is said, and the limits suspected."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = bump_path()
+    still = 20                                   # the path ends standing still for 20 rows
+    path = write_path(tmp_path, np.concatenate([t, t[-1] + np.arange(1, still + 1) / RATE]),
+                      np.vstack([q, np.repeat(q[-1:], still, 0)]), np.vstack([qd, np.zeros((still, 6))]),
+                      np.vstack([qdd, np.zeros((still, 6))]))
+    tiny = tmp_path / "tiny.csv"
+    tiny.write_text(limits.read_text().rstrip("\n").rsplit("\n", 1)[0] + "\nflange,1,1e-12\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "64", "--limits", str(tiny), "--retime", "window"])
+    assert r.exit_code == 1 and re.search(r"float64 cannot tell them apart at that size: the retimed "
+                                          r"path runs [\d.e+]+ s from its first row to its last, so "
+                                          r"long for limits far below what the path asks \(check them, "
+                                          r"the speed limits above all\)$", r.stderr.strip()), r.output
+    assert "starting near 0" not in r.output
 
 
 def test_a_wide_fixed_point_word_plans_to_the_tolerance_given(tmp_path, setup):

@@ -564,19 +564,29 @@ def check_new_times(res: Lookahead, times: np.ndarray, path: str) -> None:
     new = res.new_times(times)
     planned = np.diff(res.retimed_t if res.k is None else (times - times[0]) * res.k)
     got = np.diff(new)
+    # what makes the times large: the path's first t, or the retimed path's own length (a speed
+    # limit of 1e-12 made a plan of 1.5e12 s, and the advice to start t near 0 was for a t that did:
+    # a look-ahead audit's find)
+    span = float(new[-1] - new[0])
+    own = abs(times[0]) <= span
     if (got <= 0).any():
         i = int(np.argmax(got <= 0))
+        why = (f"at that size: the retimed path runs {span:.3g} s from its first row to its last, "
+               "so long for limits far below what the path asks (check them, the speed limits "
+               "above all)" if own else
+               f"from a t starting at {times[0]:.12g}; give the path a t column starting near 0")
         raise VampcError(f"{path}: rows {i + 1} and {i + 2} as retimed, {planned[i]:.3g} s apart, "
-                         f"both come at t = {float(new[i])!r}: float64 cannot tell them apart from a t "
-                         f"starting at {times[0]:.12g}; give the path a t column starting near 0")
+                         f"both come at t = {float(new[i])!r}: float64 cannot tell them apart {why}")
     with np.errstate(divide="ignore", invalid="ignore"):
         off = np.abs(got - planned) / planned
     worst = float(np.max(off[planned > 0], initial=0.0))
     if worst > 1e-6:
+        why = (f"over the retimed path's {span:.3g} s (limits far below what the path asks make it "
+               "so long)" if own else f"from t = {times[0]:.12g}; a t column starting near 0 holds "
+               "them exactly")
         warnings.warn(VampcWarning(
-            f"{path}: the retimed rows' times, from t = {times[0]:.12g}, hold their intervals "
-            f"only to {100 * worst:.2g}% in float64; a t column starting near 0 holds them "
-            "exactly"), stacklevel=1)
+            f"{path}: the retimed rows' times hold their intervals only to {100 * worst:.2g}% in "
+            f"float64, {why}"), stacklevel=1)
 
 
 def finite(tau: np.ndarray, ld, path: str, what: str = "") -> None:
