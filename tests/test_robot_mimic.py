@@ -219,6 +219,15 @@ def test_couple_without_mimic_joints_warns(tmp_path):
     path = write(tmp_path, gripper("", ""))
     with pytest.warns(VampcWarning, match="no joint has a <mimic>; --mimic couple has no effect"):
         assert load_urdf(path, mimic="couple").mimic == ()
+    # <mimic> tags on fixed joints only (talos_left_arm's six) were "no joint has a <mimic>": a
+    # look-ahead audit's find
+    fixed = gripper('<mimic joint="f1"/>', "").replace('name="f2" type="prismatic"', 'name="f2" type="fixed"')
+    assert 'name="f2" type="fixed"' in fixed
+    path = write(tmp_path, fixed)
+    with pytest.warns(VampcWarning, match=r"no joint that moves has a <mimic> \(the fixed joint 'f2' "
+                                          r"has one, and a fixed joint does not move\); --mimic couple "
+                                          r"has no effect"):
+        assert load_urdf(path, mimic="couple").mimic == ()
 
 
 def test_an_explicit_mimic_ordinary_without_mimic_joints_warns(tmp_path):

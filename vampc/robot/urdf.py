@@ -168,8 +168,14 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic == "couple" and not leaders and not problems and mimic_said:
-        warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic couple has no "
-                                   "effect"), stacklevel=3)
+        # (a file whose <mimic> tags are all on fixed joints was told it has none: a look-ahead
+        # audit's find on talos_left_arm)
+        fixed = [j.name for j in tree.joints.values() if j.mimic is not None and j.type not in MOVABLE]
+        named = ", ".join(map(repr, fixed[:3])) + (f" and {len(fixed) - 3} more" if len(fixed) > 3 else "")
+        where = (f"no joint that moves has a {mimic_said} (the fixed joint{'s' if len(fixed) > 1 else ''} "
+                 f"{named} {'have' if len(fixed) > 1 else 'has'} one, and a fixed joint does not move)"
+                 if fixed else f"no joint has a {mimic_said}")
+        warnings.warn(VampcWarning(f"{path}: {where}; --mimic couple has no effect"), stacklevel=3)
     # (an explicit --mimic ordinary on a file without mimic joints was taken in silence)
     if mimic == "ordinary" and mimic_given and mimic_said and \
             not any(j.mimic is not None and j.type in MOVABLE for j in tree.joints.values()):
