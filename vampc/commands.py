@@ -1290,10 +1290,13 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         still = np.all(traj.qd == 0, axis=1)
         pause = still[:-1] & still[1:]
         if pause.any():
+            # (with prefixes: a 10 s wait read "1e+04 ms", an audit's find)
+            from vampc.report.clock import time_text
             lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
-                         f"{pause.sum() * lam * 1e3:.4g} ms as given: retimed at ṡ up to {MAX_SPEED:g} "
-                         f"× the path's speed, {np.diff(res.retimed_t)[pause].sum() * 1e3:.4g} ms (a "
-                         "time scaling cannot keep a wait: add it back to the retimed path)")
+                         f"{time_text(pause.sum() * lam * 1e6)} as given: retimed at ṡ up to "
+                         f"{MAX_SPEED:g} × the path's speed, "
+                         f"{time_text(np.diff(res.retimed_t)[pause].sum() * 1e6)} (a time scaling "
+                         "cannot keep a wait: add it back to the retimed path)")
         best = res.optimal_duration
         if best is None:
             lines.append("  with the whole path in view: that plan found no way through these rows "
