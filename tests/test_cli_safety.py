@@ -1809,7 +1809,8 @@ def test_a_tick_run_of_a_network_too_big_is_refused_whatever_its_sets(program, m
 def test_the_memory_available_is_memavailable_within_a_cgroups_limit(tmp_path):
     """The memory checks read the free pages alone (SC_AVPHYS_PAGES), which leave out the page
     cache the system can reclaim, and no container's limit (a review's find): MemAvailable, within
-    what a cgroup v2 or v1 limit leaves."""
+    what every cgroup limit from the process's own up to the root leaves (a parent's applies below
+    it: a second review's find), its usage without the reclaimable cache. Worked out here by hand."""
     from vampc.emulator import driver
     meminfo = tmp_path / "meminfo"
     meminfo.write_text("MemTotal:       24000000 kB\nMemFree:          500000 kB\n"
@@ -1819,23 +1820,32 @@ def test_the_memory_available_is_memavailable_within_a_cgroups_limit(tmp_path):
     assert driver.mem_available(str(meminfo)) is None
     assert driver.mem_available(str(tmp_path / "none")) is None
     root, own = tmp_path / "cgroup", tmp_path / "self"
-    (root / "user" / "job").mkdir(parents=True)
+    job = root / "user" / "job"
+    job.mkdir(parents=True)
     own.write_text("0::/user/job\n")
     assert driver.cgroup_room(str(root), str(own)) is None                  # no limit files
-    (root / "user" / "job" / "memory.max").write_text("max\n")
+    (job / "memory.max").write_text("max\n")
     assert driver.cgroup_room(str(root), str(own)) is None
-    (root / "user" / "job" / "memory.max").write_text("3000000000\n")
-    (root / "user" / "job" / "memory.current").write_text("1000000000\n")
+    (job / "memory.max").write_text("3000000000\n")
+    (job / "memory.current").write_text("1000000000\n")
     assert driver.cgroup_room(str(root), str(own)) == 2000000000
-    own.write_text("0::/\n")                        # a container's own: at the root
-    (root / "memory.max").write_text("1000\n")
+    (job / "memory.stat").write_text("anon 1\ninactive_file 400000000\nactive_file 5\n")
+    assert driver.cgroup_room(str(root), str(own)) == 2400000000          # the cache reclaimable
+    (job / "memory.max").write_text("max\n")                               # a parent's limit only
+    (root / "user" / "memory.max").write_text("1500000000\n")
+    (root / "user" / "memory.current").write_text("1000000000\n")
+    assert driver.cgroup_room(str(root), str(own)) == 500000000
+    (root / "memory.max").write_text("1000\n")                             # the least of all
     (root / "memory.current").write_text("4000\n")
+    assert driver.cgroup_room(str(root), str(own)) == 0
+    own.write_bytes(b"0::/us\xe9r/job\n")                                   # odd bytes: no crash
     assert driver.cgroup_room(str(root), str(own)) == 0
     v1 = tmp_path / "v1"
     (v1 / "memory" / "box").mkdir(parents=True)
     own.write_text("4:memory:/box\n0::/\n")
     (v1 / "memory" / "box" / "memory.limit_in_bytes").write_text("5000\n")
     (v1 / "memory" / "box" / "memory.usage_in_bytes").write_text("1000\n")
-    assert driver.cgroup_room(str(v1), str(own)) == 4000
+    (v1 / "memory" / "box" / "memory.stat").write_text("cache 600\ntotal_inactive_file 300\n")
+    assert driver.cgroup_room(str(v1), str(own)) == 4300
     (v1 / "memory" / "box" / "memory.limit_in_bytes").write_text(f"{2 ** 63 - 4096}\n")  # v1's none
     assert driver.cgroup_room(str(v1), str(own)) is None

@@ -122,10 +122,10 @@ def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE, copie
 
 def _available_memory() -> int | None:
     """The memory a run can take: Linux's MemAvailable (free memory and the page cache it can
-    reclaim), or where there is none the free pages; and within a cgroup v2 limit (a container's),
-    what the limit leaves. The free pages alone can read little on a machine with gigabytes of
-    reclaimable cache, refusing runs that fit, and a container's limit was not seen (a review's
-    finds)."""
+    reclaim), or where there is none the free pages; and within a cgroup's memory limit (v2 or v1:
+    a container's, a systemd slice's), what the limit leaves. The free pages alone can read little
+    on a machine with gigabytes of reclaimable cache, refusing runs that fit, and a container's
+    limit was not seen (a review's finds)."""
     avail = mem_available()
     if avail is None:
         try:
@@ -139,7 +139,7 @@ def _available_memory() -> int | None:
 def mem_available(meminfo: str = "/proc/meminfo") -> int | None:
     """MemAvailable in bytes, None where the file or the line is not there."""
     try:
-        with open(meminfo, encoding="ascii") as f:
+        with open(meminfo, encoding="ascii", errors="replace") as f:
             for line in f:
                 if line.startswith("MemAvailable:"):
                     return int(line.split()[1]) * 1024
@@ -148,39 +148,62 @@ def mem_available(meminfo: str = "/proc/meminfo") -> int | None:
     return None
 
 
-V2 = ("memory.max", "memory.current")
-V1 = ("memory.limit_in_bytes", "memory.usage_in_bytes")
+# (the limit, the usage, and in memory.stat the reclaimable page cache the usage counts)
+V2 = ("memory.max", "memory.current", "inactive_file")
+V1 = ("memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file")
 
 
 def cgroup_room(root: str = "/sys/fs/cgroup", own: str = "/proc/self/cgroup") -> int | None:
-    """What this process's cgroup memory limit leaves (the limit less the usage), None where no
-    limit is found: cgroup v2's memory.max and memory.current, v1's memory.limit_in_bytes and
-    memory.usage_in_bytes (2^62 or more: none), each in this process's own folder (from `own`:
-    the line "0::/path", or v1's "N:memory:/path") or else at its hierarchy's root (a
-    container's own cgroup is mounted there)."""
-    v2_path = v1_path = ""
+    """What this process's cgroup memory limits leave, None where none is found: at every level
+    from its own cgroup up to the hierarchy's root (a limit applies to everything below it), the
+    limit less the usage, the usage without the inactive page cache the system can reclaim; the
+    least of them. cgroup v2's memory.max and memory.current, else v1's memory.limit_in_bytes and
+    memory.usage_in_bytes (2^62 or more: no limit). The own cgroup comes from `own` (the line
+    "0::/path", or v1's "N:memory:/path"); a folder that is not there (a container's own cgroup
+    is mounted at the root) is passed over."""
+    paths = {"v2": "", "v1": ""}
     try:
-        with open(own, encoding="ascii") as f:
+        with open(own, encoding="ascii", errors="replace") as f:
             for line in f:
                 number, controllers, path = (line.rstrip("\n").split(":", 2) + ["", ""])[:3]
                 if number == "0" and not controllers:
-                    v2_path = path.rstrip("/")
+                    paths["v2"] = path.rstrip("/")
                 elif "memory" in controllers.split(","):
-                    v1_path = path.rstrip("/")
-    except OSError:
+                    paths["v1"] = path.rstrip("/")
+    except (OSError, ValueError):
         pass
-    v1 = os.path.join(root, "memory")
-    for folder, (limit_file, usage_file) in ((root + v2_path, V2), (root, V2), (v1 + v1_path, V1), (v1, V1)):
-        try:
-            with open(os.path.join(folder, limit_file), encoding="ascii") as f:
-                limit = f.read().strip()
-            if limit == "max" or int(limit) >= 1 << 62:
-                return None
-            with open(os.path.join(folder, usage_file), encoding="ascii") as f:
-                return max(0, int(limit) - int(f.read().strip()))
-        except (OSError, ValueError):
-            continue
+    for base, files, path in ((root, V2, paths["v2"]), (os.path.join(root, "memory"), V1, paths["v1"])):
+        parts = [p for p in path.split("/") if p]
+        rooms = [room for k in range(len(parts), -1, -1)
+                 if (room := _room(os.path.join(base, *parts[:k]), files)) is not None]
+        if rooms:
+            return min(rooms)
     return None
+
+
+def _room(folder: str, files: tuple[str, str, str]) -> int | None:
+    """One cgroup's limit less its usage (the reclaimable cache left out), None without a limit."""
+    limit_file, usage_file, cache_key = files
+    try:
+        with open(os.path.join(folder, limit_file), encoding="ascii", errors="replace") as f:
+            limit = f.read().strip()
+        if limit == "max" or int(limit) >= 1 << 62:
+            return None
+        with open(os.path.join(folder, usage_file), encoding="ascii", errors="replace") as f:
+            usage = int(f.read().strip())
+    except (OSError, ValueError):
+        return None
+    cache = 0
+    try:
+        with open(os.path.join(folder, "memory.stat"), encoding="ascii", errors="replace") as f:
+            for line in f:
+                key, _, value = line.partition(" ")
+                if key == cache_key:
+                    cache = int(value)
+                    break
+    except (OSError, ValueError):
+        pass
+    return max(0, int(limit) - max(0, usage - cache))
 
 
 @dataclass(frozen=True)
