@@ -531,13 +531,22 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
 # Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
 # with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
 # rounded up. The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
-# of LARGEST_X_PAIRS numbers (176 MB measured, the Puma).
+# of its pairs (176 MB measured, the Puma: LARGEST_X_PAIRS of them).
 BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000}
 
 
-def pairs_bytes() -> int:
-    """The window retiming's block of pairs, on top of its rows: six temporaries' worth."""
-    return 6 * 8 * LARGEST_X_PAIRS
+def pairs_bytes(rows: int, columns: int) -> int:
+    """The window retiming's block of pairs of bounds (`_largest_x`), on top of its rows: six
+    temporaries of the block's pairs (each row's bounds are four copies of each joint's, at the
+    row and the next: 8 a column, and one more)."""
+    per_row = (8 * columns + 1) ** 2
+    return 6 * 8 * min(rows, _block_rows(per_row)) * per_row
+
+
+def _block_rows(pairs_per_row: int) -> int:
+    """Rows of `_largest_x`'s block: LARGEST_X_PAIRS pairs, at least one row (a chain of more than
+    277 joints has more pairs in one row)."""
+    return max(1, LARGEST_X_PAIRS // pairs_per_row)
 
 
 def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None:
@@ -545,7 +554,8 @@ def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None
     300 000-row path was killed by the system at 23 GB, nothing said, before the plan's bounds were
     taken in blocks; a longer one still can be)."""
     from vampc.emulator import driver
-    need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + (pairs_bytes() if retime == "window" else 0)
+    need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + \
+        (pairs_bytes(rows, columns) if retime == "window" else 0)
     avail = driver._available_memory()
     if avail is None or need <= avail // 2:
         return
@@ -565,7 +575,7 @@ def check_new_times(res: Lookahead, times: np.ndarray, path: str) -> None:
     planned = np.diff(res.retimed_t if res.k is None else (times - times[0]) * res.k)
     got = np.diff(new)
     # what makes the times large: the path's first t, or the retimed path's own length (a speed
-    # limit of 1e-12 made a plan of 1.5e12 s, and the advice to start t near 0 was for a t that did:
+    # limit of 1e-12 made a plan of 1.3e12 s, and the advice to start t near 0 was for a t that did:
     # a look-ahead audit's find)
     span = float(new[-1] - new[0])
     own = abs(times[0]) <= span
@@ -575,8 +585,9 @@ def check_new_times(res: Lookahead, times: np.ndarray, path: str) -> None:
                "so long for limits far below what the path asks (check them, the speed limits "
                "above all)" if own else
                f"from a t starting at {times[0]:.12g}; give the path a t column starting near 0")
-        raise VampcError(f"{path}: rows {i + 1} and {i + 2} as retimed, {planned[i]:.3g} s apart, "
-                         f"both come at t = {float(new[i])!r}: float64 cannot tell them apart {why}")
+        apart = f" {planned[i]:.3g} s apart," if planned[i] > 0 else ""     # (the plan's own: "0 s")
+        raise VampcError(f"{path}: rows {i + 1} and {i + 2} as retimed,{apart} both come at t = "
+                         f"{float(new[i])!r}: float64 cannot tell them apart {why}")
     with np.errstate(divide="ignore", invalid="ignore"):
         off = np.abs(got - planned) / planned
     worst = float(np.max(off[planned > 0], initial=0.0))
@@ -686,7 +697,7 @@ def _largest_x(lo, up, cap, H, two_d):
     of bounds of a row is a temporary (a 6-joint arm's 49 × 49 per row, a 64-joint one's 513 × 513,
     several times over), and the whole path's at once took about 84 kB a row on the Puma (a
     300 000-row path at 1 kHz was killed at 23 GB: an audit's find)."""
-    rows = max(1, LARGEST_X_PAIRS // ((lo[0].shape[-1] + 1) * (up[0].shape[-1] + 1)))
+    rows = _block_rows((lo[0].shape[-1] + 1) * (up[0].shape[-1] + 1))
     if lo[0].ndim == 2 and len(lo[0]) > rows:
         return np.concatenate([
             _largest_x(tuple(v[k:k + rows] for v in lo), tuple(v[k:k + rows] for v in up),
