@@ -153,7 +153,7 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"as float32, are off by their rounding: write them in full, or leave the t column out, and "
      r"the rows are 1/rate apart\)$", 1),             # (microseconds at 3 kHz: a new user's run)
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
-    (None, ["--clock", "1kHz"], r"the network computes a torque set every 4000 µs .* it cannot keep up", 1),
+    (None, ["--clock", "1kHz"], r"the network computes a torque set every 4 ms .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
     (None, ["--no-limits"], r"puma\.vamp\.json: joint 'waist' has no effort limit \(and 5 more\); give "
      r"--limits FILE", 1),       # named by the program file given, not the robot it was compiled from

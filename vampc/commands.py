@@ -1066,9 +1066,12 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if clock is not None:
         period = ld.schedule.interval / clock         # one torque set per interval of flops
         if need * period > lam:
-            raise VampcError(f"{source}: the network computes a torque set every {period * 1e6:.4g} µs "
+            # (times with prefixes: "4e+04 µs" at 100 Hz, a review's find)
+            from vampc.report.clock import time_text
+            raise VampcError(f"{source}: the network computes a torque set every {time_text(period * 1e6)} "
                              f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
-                             f"{lam * 1e6:.4g} µs need {need * period * 1e6:.4g} µs: it cannot keep up")
+                             f"{time_text(lam * 1e6)} need {time_text(need * period * 1e6)}: it cannot "
+                             "keep up")
         if own.retime != "window":                    # rows λ apart: said before the run
             _in_time(source, ld, own, clock, need, seen, lam)
     # a narrower word than float64: plan within the error its --check allows (of the largest |τ|)
@@ -1127,12 +1130,12 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
-        if need * period > step:
-            raise VampcError(f"{source}: the retimed path has rows {step * 1e6:.4g} µs apart; the "
-                             f"network needs {need * period * 1e6:.4g} µs for the {need} passes of a row "
-                             f"({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
-        late, early = _in_time(source, ld, own, clock, need, seen, step)
         from vampc.report.clock import time_text
+        if need * period > step:
+            raise VampcError(f"{source}: the retimed path has rows {time_text(step * 1e6)} apart; the "
+                             f"network needs {time_text(need * period * 1e6)} for the {need} passes of a "
+                             f"row ({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
+        late, early = _in_time(source, ld, own, clock, need, seen, step)
         passes = "the one pass" if need == 1 else f"the {need} passes"
         # (in engineering units, and naming the network judged: "6.299e+04 µs before the motors
         # take it", of a network it did not name, a new user's find)
@@ -1257,15 +1260,17 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     seen = res.ahead_rows                 # rows in view: --window, times --futures
     registers = f" × {res.futures} registers" if res.futures > 1 else ""
     span = times[-1] - times[0]           # a path's duration: from its first row to its last
-    lines = [f"{count(traj.count, 'row')} at λ = {lam * 1e3:.4g} ms ({span:.6g} s first to last), "
-             f"window {window}{registers} ({(seen - 1) * lam * 1e3:.4g} ms ahead): "
+    # (times with prefixes: a fixed ms read "6.3e+04 ms" at 1 Hz, a review's find)
+    from vampc.report.clock import time_text
+    lines = [f"{count(traj.count, 'row')} at λ = {time_text(lam * 1e6)} ({span:.6g} s first to last), "
+             f"window {window}{registers} ({time_text((seen - 1) * lam * 1e6)} ahead): "
              f"{count(len(res.violations), 'violation')}"]
     for v in res.violations[:5]:
         step, early = ahead(v.row, seen)
         name = (motors if v.kind == "torque" else names)[v.joint]
         lines.append(f"  row {v.row + 1} (t = {times[v.row]:.6g} s): joint {listed(name)} {v.kind} "
                      f"{v.value:.6g} beyond {v.limit:g}, seen at step {step + 1}, {count(early, 'step')} "
-                     f"({early * lam * 1e3:.4g} ms) ahead")
+                     f"({time_text(early * lam * 1e6) if early else '0 ms'}) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
     lines.append("worst |τ| / limit per joint: " + worst_ratios(motors, res.effort, limits))
