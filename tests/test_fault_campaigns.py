@@ -365,7 +365,7 @@ def test_a_stall_is_listed_among_the_escapes(programs):
     # (what an escape is, said: a new user read this "masked" run under "escapes" as a mistake)
     text = cp.render_text("head", summary)
     assert "escapes (1): runs the checking did not handle in full (a torque spoiled unflagged, a " \
-        "fault not corrected, the faulty VAMP not named, or the checking stalled)\n  " \
+        "fault not corrected, the faulty VAMP not named, the checking stalled, or the run hung)\n  " \
         f"{e['fault']}: masked: " in text, text
 
 

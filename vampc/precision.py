@@ -15,7 +15,8 @@ ulp of the largest value it can hold). An output scalar's error is at most the r
 
 The host inputs' norms come from the states analysed (`Ranges`: joint positions within their limits,
 else ±π; speeds within their limits, else ±1; accelerations within ±`qdd`, default 1 as random
-states use; a floating base's motions within ±1): a rotation A_i has norm 1, and every other input is
+states use; a floating base's motions within ±1; a coupled follower's, its leader's through the
+coupling, as the random states move it): a rotation A_i has norm 1, and every other input is
 affine in one state variable, so its norm is largest at one end of that variable's range. Each is
 converted by the host (its rounding, and a few ulps of float64 before it); a constant is exact plus
 its conversion. Every register value is at most a product's |A| |B| or a sum's |A| + |B| (a partial

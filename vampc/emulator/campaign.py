@@ -689,8 +689,8 @@ def render_text(head: str, summary: dict) -> str:
         # (what an escape is, said: a new user read "detected and corrected" and "masked" runs
         # listed as escapes as a mistake)
         lines.append(f"escapes ({len(esc)}): runs the checking did not handle in full (a torque "
-                     "spoiled unflagged, a fault not corrected, the faulty VAMP not named, or the "
-                     "checking stalled)")
+                     "spoiled unflagged, a fault not corrected, the faulty VAMP not named, the "
+                     "checking stalled, or the run hung)")
         for e in esc:
             lines.append(f"  {e['fault']}: {LABELS[e['class']]}: {e['reason']}")
     elif summary["error_correction"]:

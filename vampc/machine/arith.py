@@ -258,8 +258,8 @@ class Fixed(Float64):
             fitted = np.where(low > self.hi, (low - half) - half, low)
         else:
             # Python integers of any size (np.asarray makes 2**63 a uint64 and 2**64 an object),
-            # each made one (a 0-d array could hold a numpy int64)
-            low = np.array([int(v) & ((1 << self.bits) - 1) for v in r.flat], dtype=object).reshape(r.shape)
+            # each made one by astype (a 0-d array could hold a numpy int64)
+            low = np.asarray(r.astype(object) & ((1 << self.bits) - 1), dtype=object)
             fitted = np.where(low > self.hi, low - (1 << self.bits), low)
         return self._overflowed(np.asarray(fitted).astype(np.int64), over, None)
 
