@@ -801,8 +801,8 @@ def test_the_bounds_are_taken_in_blocks_with_the_same_numbers(monkeypatch):
     Puma, so a 300 000-row path (5 minutes at 1 kHz) was killed by the system at 23 GB with nothing
     said (an audit's find); then in blocks of 2048 rows, which for a 16-joint arm's 129 × 129 pairs
     a row still made 1.1 GB of temporaries (a review's). Now in blocks of LARGEST_X_PAIRS pairs:
-    the same plan bit for bit at any block size, and the numpy memory of a 6 000-row plan of 6
-    joints and a 2 500-row plan of 16 stays small."""
+    the same plan bit for bit at any block size, and the numpy memory of a 2 500-row plan of 16
+    joints stays small."""
     import tracemalloc
 
     from vampc import lookahead
@@ -813,20 +813,18 @@ def test_the_bounds_are_taken_in_blocks_with_the_same_numbers(monkeypatch):
         got = window_plan(a, b, c, qd, limits, 64, 1 / RATE, spread=(1e-9, 1e-9))
         assert all(np.array_equal(g.view(np.uint64), w.view(np.uint64)) for g, w in zip(got, whole))
     monkeypatch.undo()
-    six = [np.tile(v, (10, 1)) for v in (a, b, c, qd)]          # 6 010 rows
+    # (16 joints: both the pairs of every row at once, 1.6 GB, and blocks of 2048 rows, 1.1 GB, go
+    # past the bound here; a block of pairs takes 174 MB)
     s = np.linspace(0, 1, 2500)[:, None]
     k = np.arange(1, 17)
     sixteen = [1 + 0.5 * np.sin(3 * s * k), 0.5 * np.cos(2 * s * k), 0.3 * np.sin(s * k), np.cos(s * k)]
-    for parts, lim in ((six, limits), (sixteen, Limits((2.0,) * 16, (None,) * 16))):
-        tracemalloc.start()
-        try:
-            window_plan(*parts, lim, 64, 1 / RATE, spread=(1e-9, 1e-9))
-            peak = tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
-        # (about 180 MB each; 500 MB and 1.1 GB when the pairs of every row, or of 2048 rows,
-        # were made at once)
-        assert peak < 350e6, (len(parts[0][0]), peak)
+    tracemalloc.start()
+    try:
+        window_plan(*sixteen, Limits((2.0,) * 16, (None,) * 16), 64, 1 / RATE, spread=(1e-9, 1e-9))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 350e6, peak
 
 
 def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_path, monkeypatch):
