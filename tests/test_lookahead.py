@@ -1054,6 +1054,6 @@ def test_the_clock_line_names_the_network_in_engineering_units(setup):
     assert r.exit_code == 0, r.output
     line = next(x for x in r.output.splitlines() if x.startswith("network of "))
     assert re.fullmatch(r"network of 180 VAMPs: one torque set every 4 flops, 200 ns at 20MHz; the "
-                        r"one pass of each row, every 1 ms, use 0\.02% of it: keeps up; a row's "
+                        r"one pass of each row, every 1 ms, uses 0\.02% of its time: keeps up; a row's "
                         r"torques come 3\.05 µs after it enters \(the latency, 0\.00305 λ, with the one "
                         r"pass\), 63 ms before the motors take it", line), line

@@ -1141,7 +1141,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # take it", of a network it did not name, a new user's find)
         tell(f"network of {count(len(ld.net.vamps), 'VAMP')}: one torque set every "
              f"{ld.schedule.interval} flops, {time_text(period * 1e6)} at {own.clock}; {passes} of "
-             f"each row, every {time_text(step * 1e6)}, use {100 * need * period / step:.3g}% of it: "
+             f"each row, every {time_text(step * 1e6)}, {'uses' if need == 1 else 'use'} "
+             f"{100 * need * period / step:.3g}% of its time: "
              f"keeps up; a row's torques come {time_text(late * 1e6)} after it enters (the latency, "
              f"{late / lam:.3g} λ, with {passes}), {time_text((early - late) * 1e6)} before the "
              "motors take it",

@@ -688,7 +688,7 @@ class LookaheadOptions:
         "largest limit inside, and --check holds the run to it (README, vampc lookahead)."))
     clock: str | None = field(default=None, metadata=cli(
         "--clock", metavar="F", help="The network's clock (one flop per tick: 20MHz): say whether it "
-        "keeps up with the rows, and refuse a rate it cannot serve."))
+        "keeps up with the rows, and refuse a rate or a window it cannot serve."))
     engine: str = field(default="stream", metadata=cli(
         "--engine", choices=Engine.names, show_default=True,
         help="The engine that runs the register's rows through the network: stream, vectorised; "
@@ -704,9 +704,9 @@ class LookaheadOptions:
         "--plot", path=True, metavar="FILE.svg", help="Draw, per joint, torque over time against its "
         "limit, before and after --retime, as SVG (PNG or PDF for a name ending .png or .pdf)."))
     write_failed: bool = field(default=False, metadata=cli(
-        "--write-failed", help="With --check or --retime: write -o, --torques and --plot even when "
-        "the check or the retiming fails and the file exists (by default a failed run never "
-        "replaces an existing file)."))
+        "--write-failed", help="With --check or --retime (or a program in a narrower word than "
+        "float64, whose overflows fail a run): write -o, --torques and --plot even when the run "
+        "fails and the file exists (by default a failed run never replaces an existing file)."))
 
     def check(self) -> None:
         """Required options and their rules."""
@@ -911,9 +911,9 @@ class FaultsOptions:
     campaign: str = field(default="single", metadata=cli(
         "--campaign", choices=lambda: ("single", "transient", "intermittent", "random"),
         show_default=True, help="single: every single permanent fault of each --kinds on every "
-        "VAMP; transient: every VAMP's Result bit flipped once; intermittent: every VAMP's Result "
-        "bit stuck in a random fraction (--rate) of cycles; random: --count faults of every sort "
-        "(README, Error correction)."))
+        "VAMP; transient: every VAMP's Result bit flipped once, at a drawn tick; intermittent: "
+        "every VAMP's Result bit stuck in a random fraction (--rate) of cycles; random: --count "
+        "faults of every sort (README, vampc faults; Error correction)."))
     sets: int | None = field(default=None, metadata=cli(
         "--sets", range=(1, 1 << 24), metavar="N", help="Torque sets each run (default: enough for "
         "the checking to reach the last VAMP and the sets after to leave the network; for transient "
