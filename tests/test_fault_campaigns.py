@@ -605,7 +605,12 @@ def test_a_what_if_word_is_said_and_csv_files_end_as_standard_output_does(progra
     args = ["faults", str(ec), "--kinds", "control", "--sets", "3", "--results",
             str(tmp_path / "c.jsonl"), "--workers", "1", "--format", "csv"]
     out = tmp_path / "c.csv"
-    assert RUN(main, [*args, "-o", str(out)]).exit_code == 0
+    written = RUN(main, [*args, "-o", str(out)])
+    assert written.exit_code == 0 and written.stdout == ""
+    # (and says where it went: a campaign with -o ended in silence, a new user's find)
+    assert re.fullmatch(rf"vampc faults: \d+ runs \(single\); the csv report in {re.escape(str(out))}, "
+                        rf"each run's result in {re.escape(str(tmp_path / 'c.jsonl'))}",
+                        written.stderr.splitlines()[-1]), written.stderr
     shown = RUN(main, args).stdout
     assert out.read_text() == shown[shown.index("index,"):] and not out.read_text().endswith("\n\n")
 

@@ -1528,6 +1528,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         text = cp.render_text(head, summary) + f"\nresults: {results} (a re-run resumes from it)"
     if "-o" in outs and not outs["-o"].is_stdout:      # (the CSV's own newline: not a second one)
         write_output(outs["-o"], text.rstrip("\n") + "\n", "report")
+        # (a campaign's end said nothing with -o: a new user's find; stderr, as rtl says its -o)
+        say(f"vampc faults: {count(summary['runs'], 'run')} ({own.campaign}); the {own.fmt} report in "
+            f"{outs['-o'].path}, each run's result in {results}", True)
     else:
         say(text.rstrip("\n"))
 
