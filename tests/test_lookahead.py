@@ -641,6 +641,13 @@ def test_the_summary_gives_each_joints_worst_torque_over_its_limit_before_and_af
         line = next(x for x in r.output.splitlines() if x.startswith(label))
         said = [float(part.split()[1]) for part in line[len(label):].split(", ")]
         assert np.allclose(said, np.abs(tau).max(axis=0) / lim, rtol=1e-3), (line, np.abs(tau).max(axis=0) / lim)
+    # and each speed limited, over its limit (the flange's 4 rad/s): as given and retimed, from the
+    # path and the file written (a speed 1.79 times its limit was in the row list alone: an audit's)
+    line = next(x for x in r.output.splitlines() if x.startswith("worst |q̇| / speed limit: "))
+    given, retimed = (float(part.split()[-1]) for part in line.split("; "))
+    assert line.startswith("worst |q̇| / speed limit: flange ") and "; retimed: flange " in line, line
+    assert given == pytest.approx(np.abs(qd[:, 5]).max() / 4, rel=1e-3)
+    assert retimed == pytest.approx(np.abs(got[:, 12]).max() / 4, rel=1e-3) and retimed <= 1
 
 
 def test_coupled_mimic_joints_are_limited_at_their_leaders_motor(tmp_path):

@@ -1254,6 +1254,8 @@ WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead'
 def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> str:
     """The run in a few lines: rows, window, violations with how far ahead they were seen, each
     joint's worst torque against its limit (as given and retimed), k."""
+    import numpy as np
+
     from vampc.lookahead import MAX_SPEED, ahead
     from vampc.robot.mimic import free_names
     names = [j.name for j in ld.chain.joints]
@@ -1277,6 +1279,15 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     lines.append("worst |τ| / limit per joint: " + worst_ratios(motors, res.effort, limits))
     if res.retimed_effort is not None:
         lines.append("  retimed: " + worst_ratios(motors, res.retimed_effort, limits))
+    # (the speeds too, where limited: a path's speed 1.79 times its limit was in the row list
+    # alone, a look-ahead audit's find)
+    limited = [j for j, v in enumerate(limits.qd) if v is not None]
+    if limited:
+        speed = lambda qd: ", ".join(                                     # noqa: E731
+            f"{listed(names[j])} {float(np.max(np.abs(qd[:, j]), initial=0.0)) / limits.qd[j]:.4g}"
+            for j in limited)
+        lines.append("worst |q̇| / speed limit: " + speed(traj.qd)
+                     + (f"; retimed: {speed(res.retimed.qd)}" if res.retimed is not None else ""))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
@@ -1292,7 +1303,6 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"{failed_mark(res)}")
         # (a wait in the path, q' = 0, is run at the speed cap: 0.3 s became 3 ms, and the summary
         # gave only the ṡ range, a look-ahead stress test found)
-        import numpy as np
         still = np.all(traj.qd == 0, axis=1)
         pause = still[:-1] & still[1:]
         if pause.any():
