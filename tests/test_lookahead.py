@@ -769,6 +769,19 @@ def test_every_duration_the_summary_gives_is_first_row_to_last(setup, tmp_path, 
                          r.output), r.output
 
 
+def test_a_path_at_rest_within_rounding_is_not_said_to_move():
+    """A path ending at sin(3π), whose q̇ is 2e-15 there, was said to end moving (a look-ahead
+    audit's find): an end speed within 1e-12 of the path's largest is rest."""
+    from vampc.commands import _end_speeds
+    from vampc.emulator.host import Trajectory
+    qd = np.ones((5, 2))
+    for first, last, said in ((0.0, 2e-15, ""), (0.5, 0.0, ", which starts moving"),
+                              (1e-13, 0.5, ", which ends moving"), (0.5, 2e-11, ", which starts and ends moving")):
+        qd[0], qd[-1] = first, last
+        assert _end_speeds(Trajectory(np.zeros((5, 2)), qd.copy(), np.zeros((5, 2)), None, None)) == said, \
+            (first, last)
+
+
 def test_names_with_commas_or_spaces_round_them_are_quoted_in_the_summary(tmp_path):
     """'worst |τ| / limit per joint: my shoulder, left 0.5326,  elbow  0.674': where each name ends
     could not be told (a new user's run). Such names are quoted; plain ones are as they were."""

@@ -755,7 +755,10 @@ def _end_speeds(traj) -> str:
     duration is not the given one's sped up or slowed down alone (a new user read the window's
     0.84 s against the uniform 0.44 s as the time-optimal plan being slower)."""
     import numpy as np
-    ends = [bool(np.any(traj.qd[k] != 0)) for k in (0, -1)]
+    # (at rest within rounding: a path ending at sin(3π), q̇ = 2e-15, was said to end moving, a
+    # look-ahead audit's find)
+    still = 1e-12 * float(np.max(np.abs(traj.qd), initial=0.0))
+    ends = [bool(np.any(np.abs(traj.qd[k]) > still)) for k in (0, -1)]
     moving = " and ".join(w for w, m in zip(("starts", "ends"), ends) if m)
     return f", which {moving} moving" if moving else ""
 
