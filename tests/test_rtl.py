@@ -774,3 +774,33 @@ def test_rtl_figures_are_refused_for_a_program_the_rtl_does_not_render(programs,
                                           f"this program has {has}, which `vampc rtl` does not "
                                           "render, so its hardware is not in them (README, RTL: "
                                           "Limits)\n")
+
+
+def test_a_budget_vamp_of_many_slots_cosimulates(tmp_path):
+    """A VAMP of 90 slots and 48 inputs on an operand (the Stanford arm on 2 VAMPs) nests its
+    multiplexer past Python's 1 000 frames in Amaranth's simulator: a RecursionError, exit 3 (an
+    audit's find; a 248-slot VAMP's Verilog likewise). Co-simulated now, bit for bit."""
+    program = tmp_path / "st2.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(EX / "stanford.yaml"), "--vamps", "2", "--word", "q16.16",
+                                  "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["rtl", str(program), "--cosim", "1", "--check"])
+    assert r.exit_code == 0 and "1 × 90 slot(s)" in r.output, r.output
+    assert "every word equal to vampc emulate's, bit for bit" in r.output, r.output
+
+
+def test_deep_runs_a_recursion_past_pythons_limit_and_hands_back_what_it_raised():
+    """vampc.rtl.deep: a call in a thread with a large stack and recursion limit, its result or its
+    exception given to the caller, the limit put back after."""
+    import sys
+
+    from vampc.rtl.deep import deep
+    def down(n):
+        return 0 if n == 0 else 1 + down(n - 1)
+    limit = sys.getrecursionlimit()
+    with pytest.raises(RecursionError):
+        down(20_000)
+    assert deep(down, 20_000) == 20_000 and sys.getrecursionlimit() == limit
+    with pytest.raises(ValueError, match="its own"):
+        deep(lambda: (_ for _ in ()).throw(ValueError("its own")))
+    assert sys.getrecursionlimit() == limit

@@ -1817,6 +1817,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
 
     from vampc.report.rtl import kind_name
     from vampc.rtl import synth
+    from vampc.rtl.deep import deep
     from vampc.rtl.design import VampChip, kinds
     from vampc.rtl.verilog import verilog_text
     groups = kinds(ld)
@@ -1825,7 +1826,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
     for kind, synth_s, pnr_s in estimates:
         members = groups[kind]
         chip = VampChip(ld, members[0])
-        text = verilog.convert(chip, name=chip.name, ports=chip.ports(), emit_src=False)
+        text = deep(verilog.convert, chip, name=chip.name, ports=chip.ports(), emit_src=False)
         _within(f"synthesizing a VAMP of kind {kind_name(kind)}", synth_s, note)
         stage(f"synthesizing a VAMP of kind {kind_name(kind)}")
         with tempfile.TemporaryDirectory(prefix="vampc-synth-") as workdir:

@@ -68,7 +68,8 @@ def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None
     run = host_run(ld, traj, design.inputs)
     start = time.perf_counter()
     if simulator == "amaranth":
-        words = _amaranth(design, run, progress)
+        from vampc.rtl.deep import deep
+        words = deep(_amaranth, design, run, progress)
     elif simulator == "icarus":
         words = _icarus(design, run, workdir)
     else:

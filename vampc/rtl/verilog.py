@@ -44,5 +44,7 @@ def _wrench(chain) -> str:
 def verilog_text(design) -> str:
     """The whole Verilog file for `design` (a vampc.rtl.design.NetworkDesign)."""
     from amaranth.back import verilog
-    text = verilog.convert(design, name=design.name, ports=design.ports(), emit_src=False)
+
+    from vampc.rtl.deep import deep
+    text = deep(verilog.convert, design, name=design.name, ports=design.ports(), emit_src=False)
     return header(design) + text
