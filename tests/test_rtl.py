@@ -804,3 +804,22 @@ def test_deep_runs_a_recursion_past_pythons_limit_and_hands_back_what_it_raised(
     with pytest.raises(ValueError, match="its own"):
         deep(lambda: (_ for _ in ()).throw(ValueError("its own")))
     assert sys.getrecursionlimit() == limit
+
+
+def test_a_failed_check_says_the_verilog_was_not_written(programs, tmp_path):
+    """`rtl -o new.v --cosim 2 --check` whose check fails (a q4.4 word overflows) wrote no file, as
+    every step's failure leaves the outputs, but its summary named the file with its size, as
+    written (a hostile audit's find): it says NOT written, and the JSON `written` false."""
+    program = tmp_path / "q44.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(programs / "arm1.yaml"), "--word", "q4.4", "--vamps",
+                                  "2", "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    new = tmp_path / "new.v"
+    r = CliRunner().invoke(main, ["rtl", str(program), "-o", str(new), "--cosim", "2", "--check"])
+    assert r.exit_code == 1 and not new.exists(), r.output
+    assert re.search(rf"Verilog: {re.escape(str(new))} \([\d.]+ MB, [\d.]+ s\), NOT written: the "
+                     r"co-simulation's check failed", r.output), r.output
+    r = CliRunner().invoke(main, ["rtl", str(program), "-o", str(new), "--cosim", "2", "--check",
+                                  "--format", "json"])
+    assert r.exit_code == 1 and not new.exists()
+    assert json.loads(r.stdout)["verilog"]["written"] is False, r.stdout

@@ -1658,8 +1658,10 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
         if own.synth is not None:
             stage("synthesis")
             _synth(ld, design, own, figures, limit, note, estimates, stage)
-    if verilog is not None and (ok or not own.compare):   # written last: nothing when a step fails
-        write_output(outs["-o"], verilog, "Verilog")
+    if verilog is not None:           # written last: nothing when a step fails
+        figures["verilog"]["written"] = bool(ok or not own.compare)
+        if figures["verilog"]["written"]:
+            write_output(outs["-o"], verilog, "Verilog")
     if own.fmt == "json":
         text = jsontext.dumps(figures) + "\n"
     else:
@@ -1876,7 +1878,10 @@ def _rtl_text(figures: dict) -> str:
              "  VAMP kinds: " + "; ".join(f"{n} × {k}" for k, n in figures["kinds"].items())]
     if "verilog" in figures:
         v = figures["verilog"]
-        lines.append(f"  Verilog: {v['file']} ({v['bytes'] / 1e6:.1f} MB, {v['seconds']} s)")
+        # (a failed --check left the file unwritten, and this line named it all the same: a
+        # hostile audit's find)
+        kept = "" if v.get("written", True) else ", NOT written: the co-simulation's check failed"
+        lines.append(f"  Verilog: {v['file']} ({v['bytes'] / 1e6:.1f} MB, {v['seconds']} s){kept}")
     if "cosim" in figures:
         c = figures["cosim"]
         head = (f"  co-simulation ({c['simulator']}): {c['sets']} torque set(s), {c['ticks']} "
