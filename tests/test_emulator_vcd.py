@@ -209,3 +209,12 @@ def test_vcd_as_word_writes_the_fixed_point_words_as_the_reals_say(tmp_path):
     r = run(main, ["emulate", robot, "--random", "3", "--engine", "tick", "--vcd",
                    str(tmp_path / "f.vcd"), "--vcd-as", "word"])
     assert r.exit_code == 2 and "--vcd-as word writes fixed-point words" in r.stderr
+    # a fixed-point program run as a float32 what-if: one line, saying the word is --word's (it
+    # said the program "computes in float32" after a warning that it computes in q12.14)
+    program = tmp_path / "q.vamp.json"
+    assert run(main, ["compile", robot, "--word", "q12.14", "-o", str(program)]).exit_code == 0
+    r = run(main, ["emulate", str(program), "--word", "float32", "--random", "1", "--engine", "tick",
+                   "--vcd", str(tmp_path / "g.vcd"), "--vcd-as", "word"])
+    assert r.exit_code == 2 and r.stderr.count("\n") == 1 and r.stderr.startswith(
+        f"vampc: error: --vcd-as word writes fixed-point words; {program} is emulated in float32 "
+        "(--word float32) (give --word qI.F)"), r.stderr

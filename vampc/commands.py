@@ -287,11 +287,18 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                         stdout_ok=("-o", "--vcd", "--save-states"),
                         writes={"-o": table, "--save-states": table, "--vcd": ("VCD", (".vcd",))})
     ld = loaded(source, options, robot_opts, params)
-    warn_what_if(source, ld, "it is emulated in")
     bits = getattr(ld.arith, "bits", 0)
     if own.vcd_as == "word" and getattr(ld.arith, "c_type", "") != "int64_t":
-        raise VampcUsageError(f"--vcd-as word writes fixed-point words; {source} computes in "
-                              f"{'float64' if ld.word is None else ld.word.name} (give --word qI.F)")
+        # (before the what-if's warning, and saying the word is --word's: "computes in float32"
+        # of a q16.16 program run with --word float32 came after a warning that it is q16.16, a
+        # hostile audit's find)
+        name = "float64" if ld.word is None else ld.word.name
+        from vampc.sniff import is_program
+        what = (f"is emulated in {name} (--word {name})" if "word" in options.given and is_program(source)
+                else f"computes in {name}")
+        raise VampcUsageError(f"--vcd-as word writes fixed-point words; {source} {what} (give --word "
+                              "qI.F)")
+    warn_what_if(source, ld, "it is emulated in")
     if "--vcd" in outs and ld.word is not None and bits > 53 and own.vcd_as == "real":
         warnings.warn(VampcWarning(f"--vcd: {ld.arith.name} words have {bits} bits; the waveform's "
                                    "real values are the nearest float64 to them (53 significant "
