@@ -24,10 +24,13 @@ def deep(fn, *args, **kwargs):
             result.append(fn(*args, **kwargs))
         except BaseException as exc:          # (handed to the caller, as if raised there)
             failure.append(exc)
+    try:
+        previous = threading.stack_size(STACK_BYTES)
+    except (ValueError, RuntimeError):       # (a platform without that stack: as before, inline)
+        return fn(*args, **kwargs)
     limit = sys.getrecursionlimit()
     sys.setrecursionlimit(max(limit, RECURSION_LIMIT))
     try:
-        previous = threading.stack_size(STACK_BYTES)
         try:
             worker = threading.Thread(target=run, name="vampc-rtl", daemon=True)
             worker.start()
