@@ -561,28 +561,28 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
     def refuse(where: str, why: str):
         return VampcError(f"{path}: {where}: {why}, not what the robot section compiles to with the "
                           "file's options (the file was edited); recompile it")
-    if len(built.nodes) != len(graph.nodes):
-        raise VampcError(f"{path}: graph.nodes: {len(graph.nodes)} nodes, where the robot section "
-                         f"compiles to {len(built.nodes)} with the file's options (the file was "
-                         "edited); recompile it")
-    for i, (mine, theirs) in enumerate(zip(graph.nodes, built.nodes)):
-        if mine != theirs:
-            if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
-                raise VampcError(f"{path}: graph.nodes[{i}]: constant {mine.label} is "
-                                 f"{numbers_shown(mine.value)}, where the robot section gives "
-                                 f"{numbers_shown(theirs.value)} (a mass, inertia or link vector "
-                                 "is baked into the graph's constants; the file was edited); "
-                                 "recompile it")
-            raise refuse(f"graph.nodes[{i}]", f"node {mine.label}")
-    if len(graph.outputs) != len(built.outputs):
-        raise VampcError(f"{path}: graph.outputs: {len(graph.outputs)} torques, where the robot "
-                         f"section compiles to {len(built.outputs)} (the file was edited); "
-                         "recompile it")
-    for k, (o, b) in enumerate(zip(graph.outputs, built.outputs)):
-        if o != b:
-            raise refuse(f"graph.outputs[{k}]", f"τ{o.joint} from component {o.component} of node "
-                         f"{o.node}, where it compiles to τ{b.joint} from component {b.component} "
-                         f"of node {b.node}")
+
+    def node_differs(where: str, mine, theirs):
+        if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
+            return VampcError(f"{path}: {where}: constant {mine.label} is "
+                              f"{numbers_shown(mine.value)}, where the robot section gives "
+                              f"{numbers_shown(theirs.value)} (a mass, inertia or link vector is "
+                              "baked into the graph's constants; the file was edited); recompile it")
+        return refuse(where, f"node {mine.label}")
+
+    def output_differs(where: str, o, b):
+        return refuse(where, f"τ{o.joint} from component {o.component} of node {o.node}, where it "
+                      f"compiles to τ{b.joint} from component {b.component} of node {b.node}")
+    # the nodes, then the torques: how many, then the first that differs
+    for where, noun, how, mine, theirs, differs in (
+            ("graph.nodes", "nodes", " with the file's options", graph.nodes, built.nodes, node_differs),
+            ("graph.outputs", "torques", "", graph.outputs, built.outputs, output_differs)):
+        if len(mine) != len(theirs):
+            raise VampcError(f"{path}: {where}: {len(mine)} {noun}, where the robot section compiles "
+                             f"to {len(theirs)}{how} (the file was edited); recompile it")
+        i = next((i for i, (a, b) in enumerate(zip(mine, theirs)) if a != b), None)
+        if i is not None:
+            raise differs(f"{where}[{i}]", mine[i], theirs[i])
     mine, theirs = dict(graph.meta), dict(built.meta)
     key = next((k for k in sorted(set(mine) | set(theirs)) if mine.get(k) != theirs.get(k)), None)
     if key is None:                  # (n and the recursion are the options' and robot's already)
