@@ -556,8 +556,8 @@ def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None
     from vampc.emulator import driver
     need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + \
         (pairs_bytes(rows, columns) if retime == "window" else 0)
-    avail = driver._available_memory()
-    if avail is None or need <= avail // 2:
+    avail = driver.short_of_memory(need)
+    if avail is None:
         return
     how = {None: "", "uniform": " with --retime uniform", "window": " with --retime window"}[retime]
     raise VampcError(f"{path}: {rows:,} rows need about {need / 2**30:.1f} GiB{how} "

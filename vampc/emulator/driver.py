@@ -107,8 +107,8 @@ def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE, copie
     stages = sum(b.stages for b in ld.net.buffers)
     sets = 8 * count * (sum(p.size for p in ld.net.ports) + 2 * ld.chain.n_outputs)
     need = copies * (sets + TICK_BYTES_PER_STAGE * stages)
-    avail = _available_memory()
-    if avail is None or need <= avail // 2:
+    avail = short_of_memory(need)
+    if avail is None:
         return
     engines = f" in the tick engines of {copies} workers" if copies > 1 else " in the tick engine"
     if copies * TICK_BYTES_PER_STAGE * stages > avail // 2:
@@ -118,6 +118,14 @@ def tick_memory_check(ld: Loaded, count: int, advice: str = STREAM_ADVICE, copie
     raise VampcError(f"{ld.path}: {count} torque set{'s' if count != 1 else ''} need about "
                      f"{need / 2**30:.1f} GiB{engines} ({avail / 2**30:.1f} GiB available); "
                      f"{advice}")
+
+
+def short_of_memory(need: int) -> int | None:
+    """The memory available when a run needing `need` bytes does not fit in half of it (the memory
+    checks' rule, leaving the rest to the system and the run's own overheads); None when it fits, or
+    when the memory available cannot be read."""
+    avail = _available_memory()
+    return None if avail is None or need <= avail // 2 else avail
 
 
 def _available_memory() -> int | None:
