@@ -1073,11 +1073,12 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     lam = 1.0 / rate
     need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent
     seen = own.window * (own.futures or 1)            # rows in view
+    # (times said with prefixes: "4e+04 µs" at 100 Hz, "6.299e+04 µs" ahead: a review's and a new
+    # user's finds)
+    from vampc.report.clock import time_text
     if clock is not None:
         period = ld.schedule.interval / clock         # one torque set per interval of flops
         if need * period > lam:
-            # (times with prefixes: "4e+04 µs" at 100 Hz, a review's find)
-            from vampc.report.clock import time_text
             raise VampcError(f"{source}: the network computes a torque set every {time_text(period * 1e6)} "
                              f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
                              f"{time_text(lam * 1e6)} need {time_text(need * period * 1e6)}: it cannot "
@@ -1140,7 +1141,6 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
-        from vampc.report.clock import time_text
         if need * period > step:
             raise VampcError(f"{source}: the retimed path has rows {time_text(step * 1e6)} apart; the "
                              f"network needs {time_text(need * period * 1e6)} for the {need} passes of a "
@@ -1315,9 +1315,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         # gave only the ṡ range, a look-ahead stress test found)
         still = np.all(traj.qd == 0, axis=1)
         pause = still[:-1] & still[1:]
-        if pause.any():
-            # (with prefixes: a 10 s wait read "1e+04 ms", an audit's find)
-            from vampc.report.clock import time_text
+        if pause.any():        # (with prefixes: a 10 s wait read "1e+04 ms", an audit's find)
             lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
                          f"{time_text(pause.sum() * lam * 1e6)} as given: retimed at ṡ up to "
                          f"{MAX_SPEED:g} × the path's speed, "
