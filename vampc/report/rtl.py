@@ -55,24 +55,23 @@ def rtl_figures(path: str, c) -> dict:
         if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
                              f"program's {ours!r})")
+    def not_its_output(what: str) -> VampcError:
+        return VampcError(f"{path}: {what} (the file is not `vampc rtl --synth ecp5 --format "
+                          "json`'s, or was edited)")
     for key, what, ours in same:
         theirs = doc.get(key)
         # (of the type `vampc rtl` writes: true for 1 and 60.0 for 60 passed Python's ==, and a
         # missing key was said as "VAMPs None": an audit's and a new user's finds)
         if ours is not None and type(theirs) is not type(ours):
             kind = "a count" if type(ours) is int else "a name"
-            raise VampcError(f"{path}: " + (f"no {key}" if theirs is None else
-                                            f"{key} is {theirs!r}, not {kind}")
-                             + " (the file is not `vampc rtl --synth ecp5 --format json`'s, or was "
-                             "edited)")
+            raise not_its_output(f"no {key}" if theirs is None else f"{key} is {theirs!r}, not {kind}")
         another(what, theirs, ours)
     def field(table, key: str, where: str):
         """A count of the file: a whole number, at least 0 (VampcError naming it otherwise: a
         missing or edited one was a KeyError, a ValueError or a ZeroDivisionError)."""
         x = table.get(key) if isinstance(table, dict) else None
         if type(x) is not int or x < 0:
-            raise VampcError(f"{path}: synth.{where}.{key} is {x!r}, not a count (the file is not "
-                             "`vampc rtl --synth ecp5 --format json`'s, or was edited)")
+            raise not_its_output(f"synth.{where}.{key} is {x!r}, not a count")
         return x
 
     def mhz(x, where: str) -> float:
