@@ -374,3 +374,50 @@ def test_the_leafs_unpadded_s_is_not_given_where_it_was_not_measured(n, options)
     assert "leaf S unpadded" not in note, note
     if opts.get("uniform_leaves"):
         assert "not explained" not in note, note
+
+
+def test_every_flops_of_table_o1_is_at_the_reports_latencies():
+    """With --mult-latency 2 the summary gave the paper's formula as 73 flops (15 Mults × 2 + 43
+    Addns) and Table O.1 as 15 + 43 = 58, its difference as 89 − 58 = 31 flops, the serial rows and
+    every formula's time at 1 flop an op (the paper's systolic row 200 ns at 20 MHz beside this
+    network's 300 ns), and the layout table headed '= M + A + wait' over '28 + 33 + 0' for 89 (an
+    audit of the figures). Each flops is now Mults × 2 + Addns, the Mult and Addn counts taken from
+    the report at 1 and 1 (they do not depend on the latencies)."""
+    import json
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+
+    def report(*extra, fmt=("--format", "json")):
+        r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--clock", "20MHz",
+                                      *extra, *fmt])
+        assert r.exit_code == 0, r.output
+        return json.loads(r.output) if fmt else r.output
+    unit, slow = report(), report("--mult-latency", "2")
+    t1, t2 = unit["table_o1"], slow["table_o1"]
+    for f1, f2 in zip(t1["formulas"], t2["formulas"]):
+        assert (f2["mults"], f2["adds"]) == (f1["mults"], f1["adds"])
+        assert f2["flops"] == 2 * f1["mults"] + f1["adds"], f2["method"]
+        assert f2["time_us"] == pytest.approx(f2["flops"] / 20.0)
+    systolic = next(f for f in t2["formulas"] if f["measure"] == "interval")
+    assert (systolic["flops"], systolic["sets_per_second"]) == (5, 4e6)   # 1 Mult × 2 + 3 Addns
+    for r1, r2 in zip(t1["measured"], t2["measured"]):
+        if r1["measure"] == "serial":
+            assert (r2["mults"], r2["adds"]) == (r1["mults"], r1["adds"])
+            assert r2["flops"] == 2 * r1["mults"] + r1["adds"]
+        else:
+            ref = r2["paper"]
+            assert ref["flops"] == 2 * r1["paper"]["mults"] + r1["paper"]["adds"]
+            assert r2["difference"]["flops"] == r2["flops"] - ref["flops"]
+            assert r2["flops"] == 2 * r2["mults"] + r2["adds"] + r2["waits"]
+    lin = next(r for r in t2["measured"] if r["configuration"] == "linear, systolic")
+    assert (lin["paper"]["flops"], lin["difference"]["flops"]) == (73, 16)
+    text = report("--mult-latency", "2", fmt=())
+    assert "15×2 + 43 = 73" in text and "= M×2 + A + wait" in text and "28×2 + 33 + 0" in text
+    assert "250 ns (4,000,000 sets/s)" in text
+    # at 1 and 1 the tables read as before
+    plain = report(fmt=())
+    assert "15 + 43 = 58" in plain and "= M + A + wait" in plain and "16 + 45 + 0" in plain
+    assert "M×" not in plain and "Mult of" not in plain

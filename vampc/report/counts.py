@@ -16,11 +16,13 @@ from vampc.textio import count
 VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
 
 
-def paper_latency(n: int, recursion: str) -> dict:
-    """The paper's latency formula for a general rotary arm of n joints: Mults, Addns, flops."""
+def paper_latency(n: int, recursion: str, timing=None) -> dict:
+    """The paper's latency formula for a general rotary arm of n joints: Mults, Addns, and flops at
+    `timing`'s Mult and Addn latencies (a vampc.machine.ops.Timing; the paper's 1 and 1 if None)."""
     from vampc.dataflow.registry import RECURSIONS
     mults, adds = RECURSIONS[Recursion(recursion)].paper_latency(n)
-    return {"flops": mults + adds, "mults": mults, "adds": adds}
+    m, a = (timing.mult, timing.add) if timing is not None else (1, 1)
+    return {"flops": mults * m + adds * a, "mults": mults, "adds": adds}
 
 
 def serial_reference(n: int) -> dict:

@@ -150,6 +150,25 @@ def _measure(f: dict) -> str:
     return what + (f" ({f['qualifier']})" if f.get("qualifier") else "")
 
 
+def _weights(rep: dict) -> tuple[str, str]:
+    """How a Mult's and an Addn's count is written beside its latency: ('', '') at the paper's 1
+    flop each, ('×2', '') with --mult-latency 2."""
+    t = rep["timing"]
+    return tuple(f"×{t[k]}" if t[k] != 1 else "" for k in ("mult_latency", "add_latency"))
+
+
+def _terms(rep: dict, mults, adds, *more) -> str:
+    """'15 + 43', '15×2 + 43' at a Mult of 2 flops; `more` (waits) added as they are."""
+    wm, wa = _weights(rep)
+    return " + ".join([f"{num(mults)}{wm}", f"{num(adds)}{wa}", *(num(x) for x in more)])
+
+
+def _terms_head(rep: dict, *more: str) -> str:
+    """The heading of a column of `_terms`: '= M + A + wait', '= M×2 + A + wait'."""
+    wm, wa = _weights(rep)
+    return "= " + " + ".join([f"M{wm}", f"A{wa}", *more])
+
+
 def o1_at_n(rep: dict) -> Table:
     """The formulas evaluated at this robot's n; for n = 6 the printed column O.1b beside them."""
     t = rep["table_o1"]
@@ -175,6 +194,11 @@ def o1_at_n(rep: dict) -> Table:
         rows.append(tuple(row))
     title = (f"Table O.1 at n = {n}, from the paper's formulas (not measured)"
              + ("; the paper's printed column O.1b beside them" if six else ""))
+    if any(_weights(rep)):
+        tm = rep["timing"]
+        notes.append(f"flops: the Mults and Addns at {num(tm['mult_latency'])} and "
+                     f"{num(tm['add_latency'])} flops each, this report's latencies (the paper "
+                     "counts 1 and 1)")
     if not six:
         notes.append("the paper prints values for n = 6 only (Table O.1b)")
     fractional = [f["method"] for f in t["formulas"]
@@ -199,13 +223,15 @@ def o1_measured(rep: dict) -> Table:
     for i, r in enumerate(t["measured"]):
         ref = r["paper"]
         d = r["difference"]
-        interval = (f"{r['interval_flops']} = {r['interval']['mults']} M + {r['interval']['adds']} A"
+        wm, wa = _weights(rep)
+        interval = (f"{r['interval_flops']} = {r['interval']['mults']} M{wm} + "
+                    f"{r['interval']['adds']} A{wa}"
                     if "interval" in r else num(r.get("interval_flops")))
         label = r["configuration"] + (" (this report)" if r.get("own") else "")
         row = (label, num(r["mults"]), num(r["adds"]), num(r.get("waits")), num(r["flops"]), interval,
                num(r.get("vamps")),
-               f"{num(ref['mults'])} + {num(ref['adds'])}"
-               + (" LWP" if r["measure"] == "serial" else f" = {num(ref['flops'])}"),
+               (f"{num(ref['mults'])} + {num(ref['adds'])} LWP" if r["measure"] == "serial"
+                else f"{_terms(rep, ref['mults'], ref['adds'])} = {num(ref['flops'])}"),
                f"{signed(d['mults'])} M, {signed(d['adds'])} A", r["note"])
         if clk:
             row += (times[i], sets_text(r["sets_per_second"]) if "sets_per_second" in r else DASH)
@@ -226,12 +252,12 @@ def layouts(rep: dict) -> Table:
     clk = rep.get("clock")
     if clk:
         unit, times = time_column([r["latency_us"] for r in rep["layout_comparison"]])
-    cols = ("layout", "latency", "= M + A + wait", "interval", "VAMPs", "buffer stages",
+    cols = ("layout", "latency", _terms_head(rep, "wait"), "interval", "VAMPs", "buffer stages",
             "mux inputs", "control regs", "host writes", "load ticks") + \
         ((f"latency {unit}".strip(), "sets/s") if clk else ())
     rows = []
     for i, r in enumerate(rep["layout_comparison"]):
-        row = (r["layout"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']} + {r['waits']}",
+        row = (r["layout"], num(r["latency_flops"]), _terms(rep, r["mults"], r["adds"], r["waits"]),
                num(r["interval_flops"]), num(r["vamps"]), num(r.get("buffer_stages")),
                num(r.get("mux_inputs")), num(r.get("control_registers")),
                num(r.get("host_writes_per_set")), num(r.get("load_ticks")))
@@ -253,14 +279,15 @@ def _unallocated(rep: dict) -> str:
 
 def prefixes(rep: dict) -> Table:
     """The prefix-shape comparison (log recursion)."""
-    rows = tuple((r["prefix"], num(r["latency_flops"]), f"{r['mults']} + {r['adds']}", num(r["vamps"]),
+    rows = tuple((r["prefix"], num(r["latency_flops"]), _terms(rep, r["mults"], r["adds"]),
+                  num(r["vamps"]),
                   num(r.get("buffer_stages")), num(r.get("max_fan_out")))
                  for r in rep["prefix_comparison"])
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
     notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
               for r in rep.get("prefix_comparison_infeasible", ())]
     return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
-                 "and options)", ("prefix", "latency", "= M + A", "VAMPs", "buffer stages",
+                 "and options)", ("prefix", "latency", _terms_head(rep), "VAMPs", "buffer stages",
                                   "fan-out"), rows, tuple(notes), align="lrlrrr")
 
 

@@ -20,14 +20,23 @@ from vampc.textio import count
 def table_o1(configs, chain) -> dict:
     """The whole table: {"n", "formulas": [...], "measured": [...], "notes": [...]}."""
     n = chain.n
+    timing = configs[0].schedule.timing   # (every configuration of a report has the same latencies)
     measured, notes = [], []
     for rec in _recursions(configs):
         graph = next(k.graph for k in configs if k.recursion == rec)
-        measured.append(_serial_row(graph, n))
+        measured.append(_serial_row(graph, n, timing))
         _add(notes, measured[-1]["explanation"])
     for k in configs:
         measured.append(_config_row(k, chain, notes))
-    return {"n": n, "formulas": [paper.o1_row(f, n) for f in paper.TABLE_O1],
+    if (timing.mult, timing.add) != (1, 1):
+        # (with a Mult of 2 flops the paper's formula was 58 flops in this table and 73 in the
+        # summary, and the serial rows' times were at 1 flop an op: an audit of the figures)
+        _add(notes, f"flops at a Mult of {count(timing.mult, 'flop')} and an Addn of "
+                    f"{count(timing.add, 'flop')}, the paper's figures as well (its formulas "
+                    "count Mults and Addns at 1 flop each); a serial row's flops are its ops one "
+                    "after another at those latencies")
+    return {"n": n, "formulas": [paper.o1_row(f, n, timing.mult, timing.add)
+                                 for f in paper.TABLE_O1],
             "measured": measured, "notes": notes}
 
 
@@ -35,8 +44,9 @@ def _recursions(configs) -> list[str]:
     return list(dict.fromkeys(k.recursion for k in configs))
 
 
-def _serial_row(graph, n: int) -> dict:
-    """The graph's ops done one after another, beside Luh-Walker-Paul's serial Newton-Euler."""
+def _serial_row(graph, n: int, timing) -> dict:
+    """The graph's ops done one after another, beside Luh-Walker-Paul's serial Newton-Euler; its
+    flops at `timing`'s Mult and Addn latencies."""
     work = serial_work(graph)
     lwp = paper.formulation("luh_walker_paul")
     ref = {"mults": paper.number(lwp.mults(n)), "adds": paper.number(lwp.adds(n))}
@@ -60,7 +70,8 @@ def _serial_row(graph, n: int) -> dict:
     }, Recursion)[graph.recursion]
     return {"configuration": f"{graph.recursion} graph, serial work", "recursion": graph.recursion,
             "measure": "serial", "mults": work["mults"], "adds": work["adds"],
-            "flops": work["mults"] + work["adds"], "compare": lwp.key, "paper": ref,
+            "flops": work["mults"] * timing.mult + work["adds"] * timing.add, "compare": lwp.key,
+            "paper": ref,
             "difference": {"mults": work["mults"] - ref["mults"], "adds": work["adds"] - ref["adds"]},
             "note": short, "explanation": why}
 
@@ -68,7 +79,7 @@ def _serial_row(graph, n: int) -> dict:
 def _config_row(k, chain, notes: list[str]) -> dict:
     """A compiled configuration's latency and interval beside the paper's formula."""
     s, n = k.schedule, chain.n
-    ref = paper_latency(n, k.recursion)
+    ref = paper_latency(n, k.recursion, s.timing)
     row = {"configuration": k.name, "recursion": k.recursion, "layout": k.options.layout,
            "share_passes": k.options.share_passes, "own": k.own, "measure": "latency",
            "mults": s.mults, "adds": s.adds, "waits": s.waits, "flops": s.latency,
