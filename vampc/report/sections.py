@@ -444,7 +444,7 @@ def buffering(rep: dict) -> Table:
         rows.append((f"  {r['configuration']}", f"{num(r['stages'])} stages, {num(r['scalars'])} "
                      f"scalars", DASH, f"backward to forward {num(r['backward_to_forward_scalars'])} "
                      "scalars"))
-    notes = [_input_note(ib)] + ([_factor_note(rep)] if _factor_note(rep) else [])
+    notes = [_input_note(ib)] + [x for x in (_factor_note(rep), _log_between_nodes_note(rep)) if x]
     others = "; the other configurations below it" if len(w["by_configuration"]) > 1 else ""
     return Table("buffering", f"Buffering (section VI) of {w['configuration']}, measured{others}",
                  ("figure", "measured", "paper", "note"),
@@ -465,7 +465,25 @@ def _flow_paper(rep: dict, flow: str) -> str:
     if Recursion(rep["recursion"]) is Recursion.LINEAR and is_layout(rep["layout"], SYSTOLIC):
         return ("only between backward and forward" if flow == "backward_to_forward" else
                 "none (\"only required between backward and forward\")")
+    if Recursion(rep["recursion"]) is Recursion.LOG and flow != "backward_to_forward":
+        # (section VI's "about 54 scalars per node in the logarithmic case" stood as "—": an audit)
+        return "≈ 54 scalars a node, ≈ 27 latched"
     return DASH
+
+
+def _log_between_nodes_note(rep: dict) -> str:
+    """Section VI's buffering between the log recursion's nodes beside what vampc measures."""
+    if Recursion(rep["recursion"]) is not Recursion.LOG:
+        return ""
+    b = rep["wiring"]["buses"]["between_nodes"]
+    return ("log, between nodes: section VI's \"about 54 scalars per node\" (\"nearly halved\" if "
+            "outputs are latched) is its 18 vectors into a node (its Communication: \"at most 18 vectors (54 "
+            f"scalars) per node\"); measured, at most {b['bwd']['vectors']} vectors "
+            f"({3 * b['bwd']['vectors']} scalars) into a backward node and {b['fwd']['vectors']} "
+            f"({3 * b['fwd']['vectors']}) into a forward one (Wiring, below). Every VAMP latches its "
+            "Result, which holds until the VAMP's next dump (README, Timing model), so a value takes "
+            "delay stages only where it must outlast that; the stages above are per network, with "
+            "the sets a systolic layout has in flight")
 
 
 def _factor_note(rep: dict) -> str:
