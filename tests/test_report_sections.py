@@ -74,3 +74,18 @@ def test_the_log_buffering_between_nodes_has_the_papers_figure_beside_it():
             "scalars) into a backward node") in table
     linear = run().split("\nBuffering (section VI)")[1].split("\nWiring")[0]
     assert "54 scalars" not in linear
+
+
+def test_two_pin_budgets_with_the_same_vamps_a_package_have_different_headings():
+    """At --pins 8 both of the paper's budgets put 1 VAMP in a package, and the packages table had
+    two columns headed '8 pins, 1 each' (an audit): they now say which is which."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--pins", "8"])
+    assert r.exit_code == 0, r.output
+    head = r.output.split("\nPackages (section VII)")[1].splitlines()[1]
+    assert "8 pins, 1 each sep." in head and "8 pins, 1 each shared" in head
+    assert "40 pins, 5 each " in head and "sep. " not in head.split("8 pins")[0]

@@ -372,8 +372,10 @@ def packages(rep: dict) -> Table:
     cols = ["configuration", "VAMPs"]
     for size in p["pins"]:
         per = p["budget"]["vamps_per_package"][str(size)]
-        cols += [f"{size} pins, {per['separate']} each", f"{size} pins, {per['shared']} each",
-                 f"{size} pins, mux pins sep./shared"]
+        # (at 8 pins both budgets give 1 VAMP a package: two columns headed '8 pins, 1 each', an audit)
+        tell = ((" sep.", " shared") if per["separate"] == per["shared"] else ("", ""))
+        cols += [f"{size} pins, {per['separate']} each{tell[0]}",
+                 f"{size} pins, {per['shared']} each{tell[1]}", f"{size} pins, mux pins sep./shared"]
     cols.append("most pins a VAMP needs")
     rows = []
     for r in p["rows"]:
