@@ -577,7 +577,7 @@ def test_packages_linear_systolic_row():
         f"README.md:{no}: vampc {got}"
     check = rep["packages"]["paper_check"]
     assert (check["paper"], per["shared"]) == ints(cell(no, paper, r"(\d+) \((\d+) VAMPs each\)"))
-    assert ints(re.search(r"(\d+) × (\d+) = (\d+) covers only the backward", why)) == (
+    assert ints(re.search(r"(\d+) × (\d+) = (\d+) equals the backward", why)) == (
         check["paper"], per["shared"], rep["vamps"]["backward"]), f"README.md:{no}"
 
 

@@ -442,5 +442,7 @@ def _paper_check(configs, chain=None) -> dict | None:
                f"({plus_minus(bwd - rotary)}" + (f": {', '.join(features)}" if features else "") +
                f") and the forward {fwd}: ⌈{k.vamps} / 12⌉ = {got}")
     return {"paper": paper.PAPER_PACKAGES_LINEAR_N6, "measured": got, "vamps": k.vamps,
-            "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 covers only "
-                    f"the backward recursion's VAMPs {why}"}
+            # (it said the paper's 132 "covers only" the backward VAMPs, an inference put as the
+            # paper's word: an audit)
+            "note": f"{got} packages of 12 for {k.vamps} VAMPs; the paper's 11 × 12 = 132 equals "
+                    f"the backward recursion's VAMPs, so it seems to count those alone {why}"}
