@@ -12,8 +12,8 @@ from pinocchio_util import IMPROPER_INERTIA, check_against_pinocchio, erd_urdfs
 pytest.importorskip("pinocchio")
 
 ROBOTS = erd_urdfs()
-# Pinocchio refuses ur3.urdf (no robot name; vampc takes it, named after the file); it has no movable
-# joint in iris_simple and quadrotor_base. Pinocchio's mimic=True model refuses alex_psyonic_hands
+# ur3.urdf has no link (Pinocchio refuses its missing name, vampc its missing links); there is no
+# movable joint in iris_simple and quadrotor_base. Pinocchio's mimic=True model refuses alex_psyonic_hands
 # (its leaders are not in the file), and so does --mimic couple.
 PIN_SKIPS = {"ur3.urdf", "iris_simple.urdf", "quadrotor_base.urdf"}
 COUPLE_REFUSED = {"alex_psyonic_hands.urdf"}

@@ -372,6 +372,9 @@ URDF_ERRORS = [
     (robot(*[link(f"r{i}") for i in range(12)]), {},
      r"several root links \('r0', 'r1', 'r2', 'r3', 'r4', 'r5', 'r6', 'r7', 'r8', 'r9' and 2 more\); "
      r"choose one with --base"),
+    # (it said "several root links ()": a new user's find, on example-robot-data's ur3.urdf)
+    ('<?xml version="1.0"?>\n<robot name="empty">\n  <!-- a comment alone -->\n</robot>\n', {},
+     r"no <link>: the robot has nothing to compile$"),
     (robot(*ARM), {"base": "nope"}, r"unknown base link 'nope'"),
     (robot(*ARM), {"tip": "nope"}, r"unknown tip link 'nope'"),
     (robot(*ARM), {"base": "l2", "tip": "l1"}, r"no path from base link 'l2' down to tip link 'l1'"),

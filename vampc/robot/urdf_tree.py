@@ -147,6 +147,8 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
                                        "lets it float)"), stacklevel=3)
         return base, floating
     roots = [name for name in tree.links if name not in tree.parent]
+    if not roots:   # (a <robot> with no <link> was "several root links ()": a new user's find)
+        raise located(path, "", "no <link>: the robot has nothing to compile")
     if len(roots) != 1:
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
     carried = _floating_child(tree, roots[0])
