@@ -552,6 +552,26 @@ def test_an_inertia_off_by_a_rounding_error_is_taken_with_a_warning(tmp_path):
     check_torques(path, chain)
 
 
+def test_an_inertia_off_by_a_negligible_part_of_the_robots_is_taken_without_a_word(tmp_path):
+    """iCub's files write ixz="1.35525e-20" beside a zero diagonal (eigenvalues -1.4e-20, 0,
+    1.4e-20), six links of it, each warned of on every command (a new user's find). Off by at most
+    1e-12 of the robot's largest inertia entry (here 0.01) it is taken silently; the same link in a
+    robot whose inertias are all that small is still warned of."""
+    import warnings as w
+    noise = (0, 0, 1.35525e-20, 0, 0, 0)
+    path = write(tmp_path, robot(link("base"), link("l1", 1.0, inertia=noise), link("l2"), *ARM[3:]))
+    with w.catch_warnings():
+        w.simplefilter("error")
+        chain = load_urdf(path)
+    check_torques(path, chain)
+    tiny = write(tmp_path, robot(link("base", 1.0, inertia=(1e-20, 0, 0, 1e-20, 0, 1e-20)),
+                                 link("l1", 1.0, inertia=noise),
+                                 link("l2", 1.0, inertia=(1e-20, 0, 0, 1e-20, 0, 1e-20)), *ARM[3:]),
+                 name="tiny.urdf")
+    with pytest.warns(VampcWarning, match=r"link 'l1': inertia is not positive semi-definite"):
+        load_urdf(tiny)
+
+
 def test_an_improper_inertia_is_taken_as_written_when_asked(tmp_path):
     """romeo_laas_small's hip link has eigenvalues (-0.0027, 0.040, 0.054), far beyond a rounding
     error: refused by default (URDF_ERRORS), taken with a warning by --accept-improper-inertia, and

@@ -759,6 +759,10 @@ def _check_mass(inertial, link: str, path: Path) -> None:
 # rounding error of the file (exported models print a few digits): taken as it is, with a warning.
 NEARLY_PSD = 1e-4
 NEARLY_PSD_ABS = 1e-7
+# One that misses by at most this much of the robot's largest inertia entry is taken without a word:
+# iCub's files write ixz="2.40741e-35" beside a zero diagonal, six links of it, each warned of on
+# every command (a new user's find); a millionth of a millionth of any link's inertia moves no torque.
+NEGLIGIBLE_PSD = 1e-12
 # --accept-improper-inertia, for the load under way (a context variable: the checks sit deep in the
 # body computations, and a load in one thread must not change another's).
 _ACCEPT_IMPROPER: ContextVar[bool] = ContextVar("accept_improper_inertia", default=False)
@@ -774,9 +778,11 @@ def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
     if infinite.size:
         raise located(path, f"link '{names[infinite[0]]}'", "its inertia is not a finite number "
                       "(numbers too large for a float once combined)")
-    for i in np.flatnonzero(improper_inertias(inertia)):
+    improper = np.flatnonzero(improper_inertias(inertia))
+    negligible = NEGLIGIBLE_PSD * float(np.abs(inertia).max(initial=0.0))
+    for i in improper:
         problem = inertia_problem(inertia[i])
-        if not problem:
+        if not problem or inertia_problem(inertia[i], floor=negligible) is None:
             continue
         if inertia_problem(inertia[i], tolerance=NEARLY_PSD, floor=NEARLY_PSD_ABS) is None:
             warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}, by less than "
