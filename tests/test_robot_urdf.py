@@ -924,7 +924,7 @@ def test_a_moving_joint_without_a_limit_is_read_with_a_warning(tmp_path):
     inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
                 'ixz="0" iyz="0"/></inertial>')
     links = "".join(f'<link name="l{k}">{inertial}</link>' for k in range(4))
-    for limits, said in (((True, True, True), None), ((True, False, False), "'j2' (prismatic) and 1 more have")):
+    for limits, said in (((True, True, True), None), ((True, False, False), "'j2' (prismatic) and 'j3' have")):
         kinds = ("continuous", "prismatic", "revolute")
         body = "".join(joint(f"j{k + 1}", kinds[k], f"l{k}", f"l{k + 1}", limits[k] or kinds[k] == "continuous")
                        for k in range(3))
@@ -957,7 +957,7 @@ def test_a_limit_without_effort_or_velocity_is_read_with_a_warning(tmp_path):
                          (('effort="5"', 'effort="5" velocity="2"'), "joint 'j1' has a <limit> without "
                           "velocity, which the URDF specification requires (Pinocchio refuses the "
                           "file); read as no speed limit"),
-                         (('', 'velocity="2"'), "joint 'j1' (and 1 more joint) has a <limit> without "
+                         (('', 'velocity="2"'), "joint 'j1' (and 'j2') has a <limit> without "
                           "effort or velocity, which the URDF specification requires (Pinocchio "
                           "refuses the file); read as no effort limit and no speed limit")):
         path = tmp_path / "arm.urdf"

@@ -157,9 +157,14 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
     if missing:
         where = path or source or chain.source or chain.name
         line = lines.get(missing[0])
+        from vampc.robot.urdf_tree import quoted
+
+        # (every joint is named, up to 10: "joint 'j1' has no effort limit (and 4 more)" left a
+        # user of a 32-joint robot guessing which: a new user's find)
         raise VampcError(f"{where}: " + (f"line {line}: " if line else "")
-                         + f"joint '{chain.joints[missing[0]].name}' has no effort limit"
-                         + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else "")
+                         + (f"joint '{chain.joints[missing[0]].name}' has" if len(missing) == 1 else
+                            f"joints {quoted(chain.joints[i].name for i in missing)} have")
+                         + " no effort limit"
                          + ("; give its tau in this row" if line else
                             "; give it a row joint,tau[,qd] in this file" if path is not None else
                             "; give --limits FILE (README, vampc lookahead)"))

@@ -604,7 +604,7 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
                                 "leave out --tip to take the whole robot (a tree)")
     if at_zero:              # their positions move the locked branch's mass: never assumed silently
         at_zero.sort(key=order)
-        more = f" (and {len(at_zero) - 1} more)" if len(at_zero) > 1 else ""
+        more = f" (and {quoted(at_zero[1:])})" if len(at_zero) > 1 else ""
         first = tree.joints[at_zero[0]]
         where = "0" if not _offset(first) else f"{-_offset(first):.6g} (its reference position, qpos0)"
         warnings.warn(VampcWarning(f"{path}: joint '{at_zero[0]}'{more}, below a locked joint, is frozen "
@@ -821,7 +821,7 @@ def _warn_no_limit(tree: Tree, joints, path: Path) -> None:
         return
     bare = [j for j in joints if j.type in ("revolute", "prismatic") and j.limit is None]
     if bare:
-        have = f" and {len(bare) - 1} more have" if len(bare) > 1 else " has"
+        have = f" and {quoted(j.name for j in bare[1:])} have" if len(bare) > 1 else " has"
         warnings.warn(VampcWarning(f"{path}: joint '{bare[0].name}' ({bare[0].type}){have} no "
                                    "<limit>, which the URDF specification requires of revolute and "
                                    "prismatic joints (Pinocchio refuses the file); read as unlimited"),
@@ -833,7 +833,7 @@ def _warn_no_limit(tree: Tree, joints, path: Path) -> None:
     partial = [(j, missing) for j, missing in partial if missing]
     if partial:
         j, missing = partial[0]
-        more = f" (and {len(partial) - 1} more joint{'s' if len(partial) > 2 else ''})" if len(partial) > 1 else ""
+        more = f" (and {quoted(j.name for j, _ in partial[1:])})" if len(partial) > 1 else ""
         none = " and ".join({"effort": "no effort limit", "velocity": "no speed limit"}[a] for a in missing)
         warnings.warn(VampcWarning(f"{path}: joint '{j.name}'{more} has a <limit> without "
                                    f"{' or '.join(missing)}, which the URDF specification requires "
