@@ -173,7 +173,8 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"after it enters \(the network's latency, 61 flops at 62kHz, and 1 more pass\(es\) 4 flops apart\)", 1),
     (None, ["--clock", "62kHz", "--window", "1"], r"it reaches the motors 0 s after .* too late; give a "
      r"longer --window$", 1),            # no clock helps a window of one row
-    (lambda t: t + 5.0, ["--q-out"], r"line 4 \(state 3\): joint 3 \(elbow\) is outside its limits \(q=3, qd=\S+; "
+    (lambda t: t + 5.0, ["--q-out"], r"line 4 \(state 3\): joint 3 \(elbow\) is outside its limits: position 3 outside "
+     r"\[-3\.92699, 0\.785398\] \(q=3, qd=\S+; "
      r"limits q in \[-3\.92699, 0\.785398\]\); use --allow-out-of-limits", 1),
 ])
 def test_bad_input_is_one_line(setup, edit, args, message, code):

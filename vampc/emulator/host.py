@@ -87,10 +87,17 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True)
         if bad.any():
             row = int(np.argmax(bad))
             via = f", {derived[i]} and the coupling" if i in derived else ""
+            q, qd = traj.q[row, i], traj.qd[row, i]
+            # (which limit is broken, said first: a new user compared the numbers by hand on seven
+            # robots, each time a speed limit they had not known --trajectory checks)
+            broken = ([f"position {q:g} outside [{lim.q[0]:g}, {lim.q[1]:g}]"]
+                      if lim.q and not lim.q[0] <= q <= lim.q[1] else []) + \
+                ([f"speed |qd| = {abs(qd):g} beyond {lim.qd:g}"]
+                 if lim.qd is not None and speeds and abs(qd) > lim.qd else [])
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
                 ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
-            raise VampcError(f"{path}: {state_at(path, row)}: joint {i + 1} ({j.name}) is outside its limits "
-                             f"(q={traj.q[row, i]:g}, qd={traj.qd[row, i]:g}{via}; limits "
+            raise VampcError(f"{path}: {state_at(path, row)}: joint {i + 1} ({j.name}) is outside "
+                             f"its limits: {' and '.join(broken)} (q={q:g}, qd={qd:g}{via}; limits "
                              f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")
 
 
