@@ -60,3 +60,33 @@ def test_a_reversed_stream_gets_one_verdict_from_both_engines(tmp_path, opts):
                                         "--engine", engine])
         verdicts.add((res.exit_code, res.stderr))
     assert len(verdicts) == 1 and next(iter(verdicts))[0] == 1, verdicts
+
+
+@pytest.mark.parametrize("how", ["split", "duplicate"])
+def test_two_entries_for_one_input_buffer_are_refused_by_both_engines(tmp_path, how):
+    """One input buffer's words split into two entries with the same root were run by the stream
+    engine with an 8-tick load no buffer could deliver (one word a tick; it needed 13), refused by
+    the tick engine, and a whole entry listed twice was taken by both, the report counting 20 input
+    buffers for 19 (a hardware audit). The loader refuses a root listed twice, for both engines."""
+    import json
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    doc = copy.deepcopy(program_document(compile_chain(chain)))
+    stream = doc["program_stream"]
+    if how == "split":
+        i = max(range(len(stream)), key=lambda k: len(stream[k]["words"]))
+        e, k = stream[i], len(stream[i]["words"]) // 2
+        stream[i:i + 1] = [{**e, **{x: e[x][:k] for x in ("words", "targets", "depth")}},
+                           {**e, **{x: e[x][k:] for x in ("words", "targets", "depth")}}]
+        doc["io"]["load_ticks"] = max(max(j + 1 + d for j, d in enumerate(e["depth"])) for e in stream)
+    else:
+        stream.append(copy.deepcopy(stream[0]))
+    doc["checksum"] = checksum(doc)
+    with pytest.raises(VampcError, match=r"program stream: .* has two entries"):
+        loaded_from_doc(doc)
+    path = tmp_path / f"{how}.vamp.json"
+    path.write_text(json.dumps(doc))
+    for engine in ("stream", "tick"):
+        res = CliRunner().invoke(main, ["emulate", str(path), "--random", "5", "--engine", engine])
+        assert res.exit_code == 1 and "has two entries" in res.stderr, (engine, res.stderr)
+    res = CliRunner().invoke(main, ["report", str(path)])
+    assert res.exit_code == 1 and "has two entries" in res.stderr, res.stderr

@@ -203,7 +203,15 @@ def delivered_programs(net: Network, numbers, stream, path,
         raise VampcError(f"{path}: {exc}") from None
     tables: list[list | None] = [None] * len(net.vamps)
     writes: list[list] = [[] for _ in net.vamps]          # bus-write registers (the bus's)
+    seen: set = set()
     for entry in stream:
+        # one input buffer, one entry: two for one root were run by the stream engine as if the
+        # buffer took two words a tick, refused by the tick engine, and counted as two buffers by
+        # the report (a hardware audit)
+        if entry.root in seen:
+            raise VampcError(f"{path}: program stream: {entry.root} has two entries (an input "
+                             "buffer takes its words as one sequence, one a tick)")
+        seen.add(entry.root)
         if not len(entry.words) == len(entry.targets) == len(entry.depth):
             raise VampcError(f"{path}: program stream of {entry.root}: {len(entry.words)} words but "
                              f"{len(entry.targets)} targets and {len(entry.depth)} depths")
