@@ -426,3 +426,35 @@ def test_the_vamp_count_line_gives_the_extraneous_vamp_too():
                          f"({rep['error_correction']['vamps']} in all)"), line
     plain = CliRunner().invoke(main, ["report", "examples/planar2.yaml"]).output
     assert "extraneous" not in next(x for x in plain.splitlines() if x.startswith("VAMPs  "))
+
+
+def test_a_chain_in_another_order_has_its_wires_measured_not_priced_as_neighbours(tmp_path):
+    """The loader takes any order of the chain and the emulator runs it, but the report gave the
+    wires' length as if each VAMP's successor were its neighbour: 360 pitches for planar2 with two
+    VAMPs swapped, whose links 2 -> 4 and 3 -> 5 are two pitches each (a hardware audit). Each
+    link is now as long as its VAMPs are apart, counted here from the program file's own lists:
+    a link carries its successor's operand wires (an input of several taps, one wire each), the
+    Result' line and three control lines."""
+    from vampc.program.file import checksum
+    doc = document(PLANAR, error_correction=True)
+    chain = doc["network"]["error_correction"]["chain"]
+    chain[3], chain[4] = chain[4], chain[3]
+    doc["checksum"] = checksum(doc)
+    path = tmp_path / "swapped.vamp.json"
+    path.write_text(json.dumps(doc))
+    r = CliRunner().invoke(main, ["report", str(path), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    wires = json.loads(r.output)["error_correction"]["wires"]
+    vamps = {v["index"]: v for v in doc["network"]["vamps"]}
+
+    def into(s):
+        return sum(len(taps) for operand in ("a", "b") for taps in vamps[s][operand])
+    V = len(vamps)
+    place = {**{v: v for v in range(V)}, V: -1}
+    order = [V, *chain]
+    want = sum((into(s) + 4) * abs(place[p] - place[s]) for p, s in zip(order, order[1:]))
+    assert wires["length_pitches"] == want > wires["total"]
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--error-correction", "--format",
+                                  "json"])
+    plain = json.loads(r.output)["error_correction"]["wires"]
+    assert plain["length_pitches"] == plain["total"] == wires["total"]

@@ -14,7 +14,8 @@ vampc.emulator.checking).
 - Wires: to each VAMP's successor, one per successor operand wire the primed inputs share, the Result'
   line, and the three control lines (Test, Test-back, Inhibit); the chain runs in logical order, so
   these are neighbours' wires (one VAMP pitch each) plus, for each shared input, the wire already
-  reaching the successor extended by one pitch.
+  reaching the successor extended by one pitch; a chain in another order (a file edited: the
+  emulator runs it) has each link as long as its two VAMPs are apart on the line.
 - Time: no latency, interval or Program-Mode tick is added (the checker runs its successor's slots
   at their ticks, on the same wires; the program stream is the same). A sweep checks every VAMP
   once in V·(warmup + compare) + (V - 1)·warmup periods: a permanent fault is found at most that
@@ -71,6 +72,11 @@ def checking_figures(c) -> dict | None:
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
     pins_after = checked_pins(net)
     shared = sum(operand_wires(net.vamps[s]) for s in succ.values())
+    # Each link's wires run from a VAMP to its successor: one pitch between neighbours on the line
+    # of VAMPs (the logical order the compiler writes, the extraneous VAMP just before VAMP 0). A
+    # chain in another order (a program edited) was priced as if neighbours: its length is measured.
+    place = {**{v: v for v in range(V)}, V: -1}
+    length = sum((operand_wires(net.vamps[s]) + 4) * abs(place[p] - place[s]) for p, s in succ.items())
     sweep = sweep_periods(V, ck.warmup, ck.compare)
     from vampc.network.checking import unnameable
     unnamed = unnameable(net)
@@ -89,7 +95,7 @@ def checking_figures(c) -> dict | None:
                                       "mean": sum(pins_before) / len(pins_before)},
                           "control": len(CONTROL_PINS)},
         "wires": {"successor_inputs": shared, "result_prime": V, "control": 3 * V,
-                  "total": shared + 4 * V, "length_pitches": shared + 4 * V},
+                  "total": shared + 4 * V, "length_pitches": length},
         "added": {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0},
         "sweep_periods": sweep,
         "worst_detection_periods": sweep + ck.warmup + ck.compare,
