@@ -9,6 +9,7 @@ import re
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from conftest import EXAMPLES
 
 from vampc.cli import main
 from vampc.emulator import campaign as cp
@@ -787,3 +788,33 @@ def test_a_campaign_counts_the_memory_of_each_local_worker(programs, tmp_path, m
         in r.stderr and "give fewer --sets or --workers" in r.stderr, r.output
     assert not (tmp_path / "a.jsonl").exists()
     assert RUN(main, args + [str(tmp_path / "b.jsonl"), "--workers", "1"]).exit_code == 0
+
+
+def test_a_silent_run_whose_first_wrong_set_is_not_finite_is_said(tmp_path):
+    """A run whose one torque set was inf was counted as silent corruption and nothing more, though
+    `vampc emulate` refuses a non-finite torque, naming the set (a hardware audit). It stays silent
+    (nothing checked it), and the run and the summary say so; each such run, emulated with its fault
+    on the same states, is refused for a non-finite torque, and a silent run of one set without the
+    flag runs to its end."""
+    program = tmp_path / "planar2.vamp.json"
+    assert RUN(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o", str(program)]).exit_code == 0
+    r = RUN(main, ["faults", str(program), "--kinds", "a", "--sets", "8", "--workers", "1",
+                   "--format", "json", "--results", str(tmp_path / "r.jsonl")])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.output[r.output.index("{"):])
+    silent = [x for x in out["runs"] if x["class"] == "silent-corruption"]
+    flagged = [x for x in silent if x.get("first_wrong_non_finite")]
+    assert out["summary"]["silent_non_finite"] == len(flagged) > 0
+    plain = [x for x in silent if not x.get("first_wrong_non_finite") and x["sets_run"] == 1]
+    assert plain
+    for x in flagged[:3] + plain[:3]:
+        e = RUN(main, ["emulate", str(program), "--engine", "tick", "--random", str(x["sets_run"]),
+                       "--seed", "0", "--fault", x["fault"], "-o", str(tmp_path / "t.csv")])
+        if x in flagged:
+            assert e.exit_code == 1 and re.search(r"the torque is (nan|-?inf)", e.output), e.output
+        else:
+            assert e.exit_code == 0, e.output
+    text = RUN(main, ["faults", str(program), "--kinds", "a", "--sets", "8", "--results",
+                      str(tmp_path / "r.jsonl")]).output
+    assert (f"in {len(flagged)} of them the first wrong torque set holds an inf or NaN, which a host "
+            "that checks its torques sees") in text

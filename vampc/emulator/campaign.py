@@ -317,6 +317,11 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
             out["reason"] = _escape_reason(ld, fault, d, out, m)
     else:
         out["corrupted"] = int(bad.sum())
+        if bad.any() and not np.isfinite(tau[int(np.argmax(bad))]).all():
+            # (a run whose one torque set was inf was silent corruption and nothing more, though
+            # vampc emulate refuses a non-finite torque: a hardware audit) still silent, for no
+            # checking flagged it, but a host that checks its torques would see it: said
+            out["first_wrong_non_finite"] = True
         out["class"] = run_class(out, fault.vamp)
         if bad.any() and ec:
             out["reason"] = _silent_reason(ld, fault, run_sets, engine)
@@ -420,7 +425,9 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
     out = {"runs": len(runs), "classes": by,
            "error_correction": ld.net.checking is not None, "sets": sets,
            "coverage": (by["detected-corrected"] / effective) if effective else None,
-           "silent_corruption_rate": by["silent-corruption"] / len(runs) if runs else None}
+           "silent_corruption_rate": by["silent-corruption"] / len(runs) if runs else None,
+           "silent_non_finite": sum(1 for r in runs if r.get("class") == "silent-corruption"
+                                    and r.get("first_wrong_non_finite"))}
     if ld.net.checking is not None:
         out["named_right"] = sum(1 for r in runs if r.get("named_right"))
         out["detected"] = len(lat)
@@ -605,7 +612,7 @@ class ResultsFile:
 
 CSV_COLUMNS = ("index", "fault", "vamp", "kind", "class", "sets_run", "detected_tick",
                "latency_cycles", "finder", "excised", "named", "named_right", "corrupted_before",
-               "corrupted_after", "corrupted", "maintenance_ticks", "reason")
+               "corrupted_after", "corrupted", "maintenance_ticks", "reason", "first_wrong_non_finite")
 LABELS = {"masked": "masked", "detected-corrected": "detected and corrected",
           "detected-not-corrected": "detected, not corrected",
           "silent-corruption": "silent corruption", "hang": "hang"}
@@ -664,8 +671,11 @@ def render_text(head: str, summary: dict) -> str:
                          "" if summary["error_correction"] else
                          " (error correction off: nothing checks; a program compiled with "
                          "--error-correction does, README Error correction)"))
+    seen = summary.get("silent_non_finite", 0)
     lines.append(f"silent corruption: {summary['classes']['silent-corruption']} of {n} runs "
-                 f"({pct(summary['classes']['silent-corruption'])})")
+                 f"({pct(summary['classes']['silent-corruption'])})"
+                 + (f"; in {seen} of them the first wrong torque set holds an inf or NaN, which a "
+                    "host that checks its torques sees (vampc emulate refuses it)" if seen else ""))
     if summary["error_correction"]:
         lines.append(f"faulty VAMP named in Maintenance Mode: {summary['named_right']} of "
                      f"{summary['detected']} detected")
