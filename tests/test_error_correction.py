@@ -458,3 +458,24 @@ def test_a_chain_in_another_order_has_its_wires_measured_not_priced_as_neighbour
                                   "json"])
     plain = json.loads(r.output)["error_correction"]["wires"]
     assert plain["length_pitches"] == plain["total"] == wires["total"]
+
+
+def test_a_refused_non_finite_torque_still_says_what_the_checking_did(tmp_path):
+    """planar2 with checking, operand B's top exponent bit stuck at 1 on VAMP 6: a campaign finds it
+    at tick 81 and excises VAMP 6, but `vampc emulate` of the same fault stopped at set 3's NaN
+    torque with no word of the checking (a hardware audit). The checking's line now comes before
+    the refusal, and what it says is the campaign's run of that fault."""
+    prog = tmp_path / "p.vamp.json"
+    run = CliRunner().invoke
+    assert run(main, ["compile", "examples/planar2.yaml", "--error-correction", "-o",
+                      str(prog)]).exit_code == 0
+    fault = "vamp=6,stuck=b.0:62,value=1,at=0"
+    r = run(main, ["faults", str(prog), "--kinds", "b", "--workers", "1", "--format", "json",
+                   "--results", str(tmp_path / "r.jsonl")])
+    found = next(x for x in json.loads(r.output[r.output.index("{"):])["runs"] if x["fault"] == fault)
+    r = run(main, ["emulate", str(prog), "--engine", "tick", "--random", str(found["sets_run"]),
+                   "--fault", fault, "-o", str(tmp_path / "t.csv")])
+    lines = r.stderr.strip().splitlines()
+    assert r.exit_code == 1 and "the torque is nan" in lines[-1] and not (tmp_path / "t.csv").exists()
+    assert (f"error correction: VAMP {found['finder']} found a mismatch at Data-Mode tick "
+            f"{found['detected_tick']} and excised VAMP {found['excised']}") in lines[-2], lines

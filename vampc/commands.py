@@ -347,6 +347,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
             say(note, True)
     except VampcError as exc:
         sinks.discard()
+        if getattr(exc, "checking", None) is not None:     # (a torque refused: what checking did)
+            from types import SimpleNamespace
+            say(checking_line(ld, SimpleNamespace(checking=exc.checking)), True)
         from vampc.emulator.driver import STOPPED
         streamed = [o.option for o in outs.values() if o.is_stdout]
         sent = sinks.sent or sinks.vcd is not None and sinks.vcd.sampled

@@ -273,7 +273,14 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, fau
         seconds += em.wall_seconds
         if ld.arith.overflows and len(sites) < SITES:     # where, for the first few
             sites += _sites(ld, stream, traj, SITES - len(sites), start)
-        _check_finite(ld, em.tau, start, faults, states.source)
+        try:
+            _check_finite(ld, em.tau, start, faults, states.source)
+        except VampcError as exc:
+            # what the error-correction checking had done by then goes with the refusal (emulate
+            # says it): a NaN torque had stopped the run with no word of it, though a campaign
+            # found the fault corrected at tick 81 (a hardware audit)
+            exc.checking = em.checking
+            raise
         if check and ld.word is None:
             merged = _merge(merged, check_torques(ld.chain, traj, em.tau), start)
         elif check:      # another word: its error against float64, joint by joint
