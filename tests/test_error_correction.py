@@ -285,6 +285,13 @@ def test_a_register_no_vamp_has_is_exit_1():
     r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--engine", "tick", "--random",
                                   "3", "--fault", "vamp=1,stuck=control2.rom:0"])
     assert r.exit_code == 1 and "compile --error-correction" in r.output
+    # the chain's last VAMP of a checked program was told to compile --error-correction, as it had
+    # (a hardware audit): it has no successor, said
+    last = len(compile_chain(PLANAR, CompileOptions(error_correction=True)).network.vamps) - 1
+    r = CliRunner().invoke(main, ["emulate", "examples/planar2.yaml", "--error-correction", "--engine",
+                                  "tick", "--random", "3", "--fault", f"vamp={last},stuck=control2.rom:0"])
+    assert r.exit_code == 1 and f"VAMP {last} is the last of the chain, with no successor" in r.output \
+        and "compile --error-correction" not in r.output, r.output
 
 
 def test_the_report_counts_what_the_checking_adds():

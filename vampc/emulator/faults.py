@@ -223,10 +223,13 @@ def check_faults(faults, ld, last_tick: int) -> None:
         if f.register == "control2":
             order = ld.net.checking.order if ld.net.checking is not None else ()
             if f.vamp not in order[:-1]:
+                # (the last VAMP of a checked network was told to compile --error-correction, as
+                # it had: a hardware audit) which case it is, said
+                why = ("this program has no error correction (compile --error-correction)"
+                       if not order else f"VAMP {f.vamp} is the last of the chain, with no successor"
+                       if f.vamp == order[-1] else f"there is no VAMP {f.vamp}")
                 raise VampcError(f"{where}: control2 is the second set of control registers a "
-                                 "VAMP with a successor holds under error correction "
-                                 "(compile --error-correction): VAMP "
-                                 f"{f.vamp} has none")
+                                 f"VAMP with a successor holds under error correction: {why}")
             succ = order[order.index(f.vamp) + 1]
             if f.slot >= len(ld.programs[succ]):
                 raise VampcError(f"{where}: VAMP {f.vamp}'s second set copies VAMP {succ}'s "
