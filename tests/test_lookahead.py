@@ -1081,3 +1081,21 @@ def test_the_clock_line_names_the_network_in_engineering_units(setup):
                         r"one pass of each row, every 1 ms, uses 0\.02% of its time: keeps up; a row's "
                         r"torques come 3\.05 µs after it enters \(the latency, 0\.00305 λ, with the one "
                         r"pass\), 63 ms before the motors take it", line), line
+
+
+def test_a_long_per_joint_list_is_cut_into_lines_without_cutting_a_joint():
+    """On a 32-joint humanoid the summary's per-joint lines ran to 807 to 1 658 characters (a new
+    user's find). Past 160 characters a list is cut after its commas into indented lines of at most
+    100; each joint's name and figure stay together, in order; a short list stays on its line."""
+    from vampc.commands import wrapped
+    items = [f"{side}_leg_{k}_joint {0.1 * k + (side == 'right'):.4g}" for side in ("left", "right")
+             for k in range(16)]
+    text = wrapped("worst |τ| / limit per joint: ", ", ".join(items))
+    lines = text.splitlines()
+    assert len(lines) > 5 and all(len(x) <= 100 for x in lines)
+    assert lines[0].startswith("worst |τ| / limit per joint: left_leg_0_joint 0,")
+    assert all(x.startswith("    ") and not x.startswith("     ") for x in lines[1:])
+    assert " ".join(x.strip() for x in lines).removeprefix("worst |τ| / limit per joint: ") \
+        == ", ".join(items)
+    short = ", ".join(items[:6])
+    assert wrapped("worst |τ| / limit per joint: ", short) == "worst |τ| / limit per joint: " + short

@@ -1289,9 +1289,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                      f"({time_text(early * lam * 1e6) if early else '0 ms'}) ahead")
     if len(res.violations) > 5:
         lines.append(f"  ... {len(res.violations)} in all")
-    lines.append("worst |τ| / limit per joint: " + worst_ratios(motors, res.effort, limits))
+    lines.append(wrapped("worst |τ| / limit per joint: ", worst_ratios(motors, res.effort, limits)))
     if res.retimed_effort is not None:
-        lines.append("  retimed: " + worst_ratios(motors, res.retimed_effort, limits))
+        lines.append(wrapped("  retimed: ", worst_ratios(motors, res.retimed_effort, limits)))
     # (the speeds too, where limited: a path's speed 1.79 times its limit was in the row list
     # alone, a look-ahead audit's find)
     limited = [j for j, v in enumerate(limits.qd) if v is not None]
@@ -1299,8 +1299,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         speed = lambda qd: ", ".join(                                     # noqa: E731
             f"{listed(names[j])} {float(np.max(np.abs(qd[:, j]), initial=0.0)) / limits.qd[j]:.4g}"
             for j in limited)
-        lines.append("worst |q̇| / speed limit: " + speed(traj.qd)
-                     + (f"; retimed: {speed(res.retimed.qd)}" if res.retimed is not None else ""))
+        lines.append(wrapped("worst |q̇| / speed limit: ", speed(traj.qd)
+                             + (f"; retimed: {speed(res.retimed.qd)}" if res.retimed is not None
+                                else "")))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
@@ -1354,6 +1355,26 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     if res.retimed is not None and res.word_error and res.k is None:
         lines.append(f"planned to effort limits {margin_text(ld, res)}")
     return "\n".join(lines)
+
+
+WRAP_OVER, WRAP_AT = 160, 100   # a list line longer than WRAP_OVER is cut into lines of WRAP_AT
+
+
+def wrapped(head: str, items: str) -> str:
+    """`head` + a comma-separated list, on one line, or cut after its commas into lines of at most
+    WRAP_AT characters, indented, when the one line would be longer than WRAP_OVER (a humanoid's
+    32 joints made lines of 800 to 1 658 characters: a new user's find); an item is never cut."""
+    if len(head) + len(items) <= WRAP_OVER:
+        return head + items
+    parts = items.split(", ")
+    lines, line = [], head.rstrip()
+    for k, part in enumerate(parts):
+        text = part + ("," if k < len(parts) - 1 else "")
+        if len(line) + 1 + len(text) > WRAP_AT:
+            lines.append(line)
+            line = "   "
+        line += " " + text
+    return "\n".join(lines + [line])
 
 
 def worst_ratios(names, tau, limits) -> str:
