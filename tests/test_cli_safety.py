@@ -1849,3 +1849,34 @@ def test_the_memory_available_is_memavailable_within_a_cgroups_limit(tmp_path):
     assert driver.cgroup_room(str(v1), str(own)) == 4300
     (v1 / "memory" / "box" / "memory.limit_in_bytes").write_text(f"{2 ** 63 - 4096}\n")  # v1's none
     assert driver.cgroup_room(str(v1), str(own)) is None
+
+
+def test_standard_errors_own_file_is_never_replaced_by_an_output(tmp_path):
+    """`-o /dev/stderr 2>>log.txt` (or /proc/self/fd/2) replaced the log with the torques by a
+    rename, exit 0, and later messages went to the deleted file (a file-safety audit): standard
+    error's own regular file is refused, exit 2, the log kept and the message appended to it."""
+    import subprocess
+    import sys
+    log = tmp_path / "log.txt"
+    log.write_text("line 1 of my build log\n")
+    for name in ("/dev/stderr", "/proc/self/fd/2"):
+        with open(log, "a") as err:
+            r = subprocess.run([sys.executable, "-m", "vampc", "emulate", str(EXAMPLES / "planar2.yaml"),
+                                "--random", "2", "-o", name], stderr=err, stdout=subprocess.PIPE,
+                               cwd=tmp_path)
+        text = log.read_text()
+        assert r.returncode == 2 and text.startswith("line 1 of my build log\n"), text
+        assert f"-o {name}: that is standard error" in text.splitlines()[-1]
+
+
+def test_a_long_output_name_is_written_though_its_temporary_would_be_too_long(tmp_path):
+    """A name of 234 to 255 bytes made a temporary ('.NAME.<16 hex>.tmp') past the file system's
+    255 bytes, and the output failed after all the work ('File name too long'), an existing file of
+    that name never replaced (a file-safety audit): the temporary keeps a shorter part of the name."""
+    name = tmp_path / ("t" * 240 + ".csv")
+    for _ in range(2):                          # written, then replaced
+        r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "2",
+                                      "-o", str(name)])
+        assert r.exit_code == 0, r.output
+        assert name.read_text().startswith("tau_shoulder,tau_elbow\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name.name]

@@ -120,6 +120,11 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
             raise VampcUsageError(f"{option} {path}: that is standard output, which carries the "
                                   "command's own text; standard output is not available for "
                                   "this output")
+    if mode is not None and stat.S_ISREG(mode) and _same_file(path, sys.stderr):
+        # (/dev/stderr, /proc/self/fd/2 with 2>>log.txt: the rename replaced the log with the
+        # output, exit 0, and later messages went to the deleted file: a file-safety audit)
+        raise VampcUsageError(f"{option} {path}: that is standard error, which carries the "
+                              "command's messages; give another file")
     if mode is None and path.endswith(("/", os.sep)):
         # (a new file under it would be made by the name without the slash, in another format
         # than the name says: 'x.gz/' wrote plain text to x.gz)
@@ -192,11 +197,16 @@ def _names_stdin(path: str) -> bool:
 def _is_stdout(path: str) -> bool:
     """Whether `path` is the file standard output writes to: then it is written as `-` is, and
     the command's own lines go to stderr instead of into the data."""
+    return _same_file(path, sys.stdout)
+
+
+def _same_file(path: str, stream) -> bool:
+    """Whether `path` is the file `stream` (sys.stdout, sys.stderr) writes to."""
     try:
         here = os.stat(path)
     except OSError:
         return False
-    return _same_stat(here, sys.stdout)
+    return _same_stat(here, stream)
 
 
 def _probe_folder(path: str, folder: Path) -> None:
@@ -303,11 +313,17 @@ def _character_device(path: Path) -> bool:
 _TEMPORARIES: set[str] = set()
 
 
+TEMPORARY_STEM = 200    # bytes of an output's name its temporary keeps (+ 22: '.', 16 hex, '.tmp')
+
+
 def _new_temporary(target: Path) -> tuple[int, str]:
     """Create a new temporary file beside `target` (mode 0o600) with the name in the registry
     first; (its descriptor, its name)."""
+    # (a name of 234 to 255 bytes made a temporary past the file system's 255, and the output
+    # failed after all the work: a file-safety audit) the target's name cut to fit, by bytes
+    stem = os.fsencode(target.name)[:TEMPORARY_STEM].decode(errors="ignore")
     for _ in range(100):
-        name = str(target.parent / f".{target.name}.{os.urandom(8).hex()}.tmp")
+        name = str(target.parent / f".{stem}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)
         try:
             return os.open(name, os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o600), name
