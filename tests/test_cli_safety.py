@@ -1880,3 +1880,34 @@ def test_a_long_output_name_is_written_though_its_temporary_would_be_too_long(tm
         assert r.exit_code == 0, r.output
         assert name.read_text().startswith("tau_shoulder,tau_elbow\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == [name.name]
+
+
+def test_the_files_an_mjcf_model_reads_are_inputs_too(tmp_path):
+    """`vampc compile main.xml -o body.xml`, body.xml being the file main.xml includes, replaced it
+    with the program file, exit 0 (a file-safety audit): an MJCF model's includes, and the meshes,
+    skins, textures and height fields it names (from <compiler meshdir|texturedir|assetdir>), are
+    refused as outputs like the model itself. A URDF's mesh files are not read, nor guarded."""
+    from vampc.errors import VampcError
+    from vampc.outputs import plan_outputs
+    (tmp_path / "m").mkdir()
+    (tmp_path / "main.xml").write_text(
+        '<mujoco model="two"><compiler meshdir="m" texturedir="t"/><include file="body.xml"/>'
+        '<asset><mesh file="link.stl"/><texture file="skin.png" type="2d"/></asset></mujoco>')
+    (tmp_path / "body.xml").write_text(
+        '<mujoco><worldbody><body name="a"><joint name="j1" type="hinge" axis="0 0 1"/>'
+        '<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.01 0.01"/></body></worldbody>'
+        '<asset><hfield file="ground.png" size="1 1 1 1"/></asset></mujoco>')
+    (tmp_path / "t").mkdir()
+    read = ["body.xml", "m/link.stl", "t/skin.png", "t/ground.png"]
+    for name in read[1:]:
+        (tmp_path / name).write_bytes(b"keep me")
+    before = {name: (tmp_path / name).read_bytes() for name in read}
+    for name in read:
+        with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
+            plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / name)})
+        assert (tmp_path / name).read_bytes() == before[name]
+    plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / "p.vamp.json")})   # others are free
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text('<robot name="r"><link name="a"><visual><geometry><mesh filename="m/link.stl"/>'
+                    '</geometry></visual></link></robot>')
+    plan_outputs([urdf], {"-o": str(tmp_path / "m" / "link.stl")})

@@ -66,6 +66,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     # files only, comes as ./-: `named_file`)
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
     inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
+    inputs += _files_read_with(inputs)
     _refuse_stdout_input(inputs)
     stdin = _regular_file(sys.stdin) if reads_stdin else None   # (an output must not replace it)
     if stdin is not None and _same_stat(stdin, sys.stdout):
@@ -242,6 +243,15 @@ def _same_stat(here: os.stat_result, other) -> bool:
     except (OSError, ValueError, AttributeError):
         return False
     return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
+
+
+def _files_read_with(inputs: list[Path]) -> list[Path]:
+    """The files an input reads in turn: an MJCF model's includes and assets (vampc.robot.mjcf)."""
+    xml = [p for p in inputs if p.suffix.lower() == ".xml"]
+    if not xml:
+        return []
+    from vampc.robot.mjcf import files_read
+    return [f for p in xml for f in files_read(p)]
 
 
 def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:

@@ -104,6 +104,49 @@ def is_mjcf(path) -> bool:
     return False
 
 
+# Elements whose `file` MuJoCo reads, and the <compiler> folder it is found in (assetdir the fallback)
+_FILE_DIRS = {"include": None, "mesh": "meshdir", "skin": "meshdir", "texture": "texturedir",
+              "hfield": "texturedir"}
+
+
+def files_read(path) -> list[Path]:
+    """The other files MuJoCo reads for the MJCF model `path` ([] for anything else): its
+    <include>s, found from the main file's folder, and the meshes, skins, textures and height fields
+    they name, from <compiler meshdir|texturedir|assetdir> (an output was written over an included
+    file, exit 0: a file-safety audit; these are inputs like the model)."""
+    if not is_mjcf(path):
+        return []
+    from lxml import etree
+    folder = Path(path).parent
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    files, dirs, todo, seen = [], {}, [Path(path)], set()
+    while todo:
+        here = todo.pop()
+        if here.resolve() in seen:
+            continue
+        seen.add(here.resolve())
+        try:
+            root = etree.parse(str(here), parser).getroot()
+        except (etree.XMLSyntaxError, OSError, ValueError):
+            continue
+        for element in root.iter():
+            if not isinstance(element.tag, str):
+                continue
+            tag = etree.QName(element).localname
+            if tag == "compiler":
+                dirs.update({k: v for k in ("meshdir", "texturedir", "assetdir")
+                             if (v := element.get(k))})
+            elif tag in _FILE_DIRS and element.get("file"):
+                files.append((tag, element.get("file")))
+                if tag == "include":
+                    todo.append(folder / element.get("file"))
+    out = []
+    for tag, name in files:
+        sub = dirs.get(_FILE_DIRS[tag] or "", dirs.get("assetdir", "")) if tag != "include" else ""
+        out.append(folder / sub / name)
+    return out
+
+
 def load_mjcf(path, base: str | None = None, tip: str | None = None,
               lock: dict[str, float] | None = None, floating: bool = False,
               accept_improper_inertia: bool = False, mimic: str = "ordinary",
