@@ -168,3 +168,33 @@ def test_a_failing_network_check_is_reported_before_a_report_that_then_crashed(m
     monkeypatch.setattr(build, "build_report", crash)
     res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml")])
     assert res.exit_code == 1 and res.stderr == "vampc: error: VAMP 3: operand A is not wired\n"
+
+
+@pytest.mark.skipif(not FORKS, reason="no os.fork here")
+@pytest.mark.parametrize("how", ["terminated", "error", "interrupted"])
+def test_a_command_that_ends_early_stops_the_check_it_started(how):
+    """A SIGTERM while `report --tradeoff` waited for its check (or during the summary, before
+    the report's own abandon) left the forked check running, orphaned, for 45 s at up to 4.7 GB (a
+    file-safety audit): every command's ending stops and reaps the checks still running."""
+    import time
+
+    import click
+
+    from vampc.cli import handle_errors
+    from vampc.errors import Terminated
+    started = []
+
+    @click.command()
+    @handle_errors
+    def command():
+        started.append(background.in_background(time.sleep, 60).pid)
+        if how == "terminated":
+            raise Terminated(15)
+        if how == "interrupted":
+            raise KeyboardInterrupt
+        raise VampcError("something else went wrong")
+    r = CliRunner().invoke(command, [])
+    assert r.exit_code == {"terminated": 143, "error": 1, "interrupted": 130}[how], r.output
+    with pytest.raises(ChildProcessError):          # reaped: no child of that number is left
+        os.waitpid(started[0], os.WNOHANG)
+    assert not background._LIVE

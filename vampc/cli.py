@@ -87,6 +87,11 @@ def handle_errors(f):
                        "report it with the command line and the input file", err=True)
             sys.exit(3)
         finally:
+            # a check still running beside the command, which ended early (a SIGTERM during
+            # report --tradeoff left it running, orphaned: a file-safety audit); the module is
+            # loaded only where a check was started
+            if "vampc.background" in sys.modules:
+                sys.modules["vampc.background"].abandon_all()
             progress.end()
     return wrapper
 
