@@ -15,6 +15,7 @@ from vampc.cli import main
 from vampc.emulator import campaign as cp
 from vampc.emulator import load_program
 from vampc.emulator.faults import parse_fault
+from vampc.errors import VampcError
 
 RUN = CliRunner().invoke
 
@@ -818,3 +819,33 @@ def test_a_silent_run_whose_first_wrong_set_is_not_finite_is_said(tmp_path):
                       str(tmp_path / "r.jsonl")]).output
     assert (f"in {len(flagged)} of them the first wrong torque set holds an inf or NaN, which a host "
             "that checks its torques sees") in text
+
+
+def test_a_results_file_another_run_holds_or_wrote_to_since_is_refused(programs, tmp_path):
+    """Two campaigns given one results file at once both ran, 244 lines for 122 runs, and the next
+    run called the file edited (a file-safety audit). A run holds its file while it appends: a
+    second is refused at once, and one that read the file before another wrote to it is refused
+    rather than appending its runs again; the file is the first run's, and resumes."""
+    import fcntl
+    ec, _, _ = programs
+    path = tmp_path / "r.jsonl"
+    args = ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)]
+    assert RUN(main, args).exit_code == 0
+    whole = path.read_bytes()
+    lines = whole.splitlines(keepends=True)
+    path.write_bytes(b"".join(lines[:-2]))          # two runs to go: a re-run resumes
+    with open(path, "ab") as other:                 # another run holding it
+        fcntl.flock(other.fileno(), fcntl.LOCK_EX)
+        r = RUN(main, args)
+        assert r.exit_code == 1 and "is being written by another vampc faults run now" in r.output
+    assert path.read_bytes() == b"".join(lines[:-2])
+    store = cp.ResultsFile(str(path), json.loads(lines[0]))
+    store.load()
+    with open(path, "ab") as other:                 # another run wrote to it after this one read it
+        other.write(lines[-2])
+    with pytest.raises(VampcError, match="was written by another vampc faults run after this one "
+                                         "read it: run the command again"):
+        store.open()
+    assert path.read_bytes() == b"".join(lines[:-1])
+    r = RUN(main, args)
+    assert r.exit_code == 0 and path.read_bytes() == whole, r.output

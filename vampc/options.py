@@ -953,7 +953,7 @@ class FaultsOptions:
         "--results", path=True, metavar="FILE.jsonl", help="Where each run's result is kept as it "
         "finishes; a re-run of the same campaign resumes from it (default: beside the program, "
         "PROGRAM.CAMPAIGN.faults.jsonl). It is appended to in place, so it must be a regular file: "
-        "a symlink or a device is refused."))
+        "a symlink or a device is refused; one run at a time (a second is refused)."))
     fmt: str = field(default="text", metadata=cli(
         "--format", choices=lambda: ("text", "json", "csv"), show_default=True, help="text: the "
         "summary; json: the summary and every run; csv: one row per run."))
