@@ -1911,3 +1911,20 @@ def test_the_files_an_mjcf_model_reads_are_inputs_too(tmp_path):
     urdf.write_text('<robot name="r"><link name="a"><visual><geometry><mesh filename="m/link.stl"/>'
                     '</geometry></visual></link></robot>')
     plan_outputs([urdf], {"-o": str(tmp_path / "m" / "link.stl")})
+
+
+def test_a_line_break_in_a_name_keeps_the_error_and_the_warning_on_one_line(tmp_path):
+    """A file name holding a line break made the one-line error two or three lines (a file-safety
+    audit): it is written as \\n, so a script reading the last line of stderr gets all of it."""
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "2", "-o",
+                                  str(tmp_path / "nodir\nx" / "a.csv")])
+    assert r.exit_code == 1 and r.stderr.count("\n") == 1, r.stderr
+    assert "nodir\\nx/a.csv: folder " in r.stderr
+    r = CliRunner().invoke(main, ["compile", str(tmp_path / "no\nsuch.yaml")])
+    assert r.exit_code == 1 and r.stderr == f"vampc: error: {tmp_path}/no\\nsuch.yaml: no such file\n"
+    robot = tmp_path / "a\nb.yaml"             # alpha: 90, degrees: a warning naming the file
+    robot.write_text((EXAMPLES / "planar2.yaml").read_text().replace("alpha: 0.0", "alpha: 90.0", 1))
+    r = CliRunner().invoke(main, ["compile", str(robot), "-o", str(tmp_path / "p.vamp.json")])
+    lines = r.stderr.splitlines()
+    assert r.exit_code == 0 and len(lines) == 1 and lines[0].startswith("vampc: warning: ") \
+        and "a\\nb.yaml" in lines[0] and "DH angles are radians" in lines[0], r.stderr

@@ -62,7 +62,7 @@ def handle_errors(f):
         except VampcUsageError as exc:
             raise click.UsageError(str(exc)) from None
         except VampcError as exc:
-            click.echo(f"vampc: error: {exc}", err=True)
+            click.echo(f"vampc: error: {one_line(str(exc))}", err=True)
             sys.exit(1)
         except Terminated as exc:
             discard_all()
@@ -99,6 +99,13 @@ def handle_errors(f):
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
 
 
+def one_line(text: str) -> str:
+    """An error or warning on one line: a line break in it (a file name holding one, as the user
+    gave it) written as \\n or \\r (`-o $'nodir\\nx/a.csv'` gave an error of three lines: a
+    file-safety audit)."""
+    return text.replace("\r", "\\r").replace("\n", "\\n")
+
+
 def _show_warning(message, category, *rest):
     """One line on stderr (through say: a reader gone drops it, the run goes on). A warning raised
     while one is said is dropped: click 8.5 warned of get_text_stream inside say(), whose warning
@@ -109,9 +116,9 @@ def _show_warning(message, category, *rest):
     _WARNING.append(True)
     try:
         if issubclass(category, VampcWarning):
-            say(f"vampc: warning: {message}", err=True)
+            say(f"vampc: warning: {one_line(str(message))}", err=True)
         else:   # a library's own warning (numpy's, say): not ours to silence, but one line
-            say(f"vampc: warning: {category.__name__}: {message}", err=True)
+            say(f"vampc: warning: {category.__name__}: {one_line(str(message))}", err=True)
     finally:
         _WARNING.clear()
 
