@@ -484,8 +484,10 @@ def test_every_path_reads_the_same(tmp_path, monkeypatch, mode, newline):
 
 
 @pytest.mark.parametrize("body, message", [
-    ("1,2,3,4,5,6\n\n1,2,3,4,5,6\n", r"line 3 is blank: blank lines can only end the table"),
-    ("1,2,3,4,5,6\r\r\n1,2,3,4,5,6\r\r\n", r"line 3 is blank: blank lines can only end the table"),
+    # (the CR CR LF explanation only where the lines end so: it was given for a plain blank line)
+    ("1,2,3,4,5,6\n\n1,2,3,4,5,6\n", r"line 3 is blank: blank lines can only end the table$"),
+    ("1,2,3,4,5,6\r\r\n1,2,3,4,5,6\r\r\n", r"line 3 is blank: blank lines can only end the table "
+     r"\(lines ended CR CR LF, as a CRLF file saved again as text ends them"),
     ("1,2,3,4,5,6\n1,2,3\n", r"line 3: 3 columns, expected 6$"),
     ("1,2,3,4,x,6\n", r"line 2, column qdd1: 'x' is not a number$"),
     ("1,2,3,4,nan,6\n", r"line 2 \(state 1\), column qdd1: nan is not finite$"),

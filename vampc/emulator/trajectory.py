@@ -182,12 +182,22 @@ def _rows(path: Path, reader):
         raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
 
 
+def _ends_cr_cr_lf(path: Path) -> bool:
+    """Whether the file's lines end CR CR LF (the explanation of a blank line: said of every blank
+    line until 2026-12-05, though the file held no CR at all, a file-safety audit's find)."""
+    try:
+        with open(path, "rb") as fh:
+            return b"\r\r\n" in fh.read(1 << 20)
+    except OSError:                   # (standard input, read already: not said)
+        return False
+
+
 def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[float]:
     """Line r's cells as numbers (VampcError naming the line and the column otherwise)."""
     if not "".join(row).strip():      # (a CRLF file saved again as text ends its lines \r\r\n)
-        raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table (lines "
-                         "ended CR CR LF, as a CRLF file saved again as text ends them, read as a "
-                         "blank line after each)")
+        raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table" + (
+            " (lines ended CR CR LF, as a CRLF file saved again as text ends them, read as a "
+            "blank line after each)" if _ends_cr_cr_lf(path) else ""))
     if len(row) != len(want):
         raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
     out = []
