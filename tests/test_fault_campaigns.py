@@ -849,3 +849,24 @@ def test_a_results_file_another_run_holds_or_wrote_to_since_is_refused(programs,
     assert path.read_bytes() == b"".join(lines[:-1])
     r = RUN(main, args)
     assert r.exit_code == 0 and path.read_bytes() == whole, r.output
+
+
+@pytest.mark.parametrize("default", [False, True], ids=["given", "default"])
+def test_a_results_file_of_something_else_is_called_so_and_kept(programs, tmp_path, default):
+    """Binary garbage or UTF-16 text in the default results file was "the results of another
+    campaign (another program ...)" (a file-safety audit): a file whose first line is no header of
+    vampc faults is not a results file, said so, and kept."""
+    ec, _, _ = programs
+    program = tmp_path / "ec.vamp.json"
+    program.write_bytes(ec.read_bytes())
+    results = tmp_path / ("ec.random.faults.jsonl" if default else "r.jsonl")
+    body = "notes\nmore notes\n".encode("utf-16")
+    results.write_bytes(body)
+    r = RUN(main, ["faults", str(program), *QUICK, "--workers", "1",
+                   *([] if default else ["--results", str(results)])])
+    said = (f"{results}, the default results file, is not a results file of vampc faults (never "
+            "overwritten; give --results FILE)" if default else
+            f"--results {results} is not a results file of vampc faults (never overwritten; give "
+            "another --results file)")
+    assert r.exit_code == 1 and said in r.output, r.output
+    assert results.read_bytes() == body

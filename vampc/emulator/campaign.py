@@ -506,6 +506,11 @@ class ResultsFile:
         self.done: dict[int, dict] = {}
         self._fh = None
 
+    @property
+    def called(self) -> str:
+        """The file as messages name it: the option the user gave, or that it is the default."""
+        return f"{self.path}, the default results file," if self.default else f"--results {self.path}"
+
     def load(self) -> None:
         """Read what an earlier run of this campaign left (VampcError for another campaign's file)."""
         from vampc import jsontext
@@ -518,10 +523,12 @@ class ResultsFile:
         with open(self.path, "rb") as fh:
             data = fh.read()
         self._read = len(data)            # (open checks that nobody wrote to it since)
+        not_ours = VampcError(f"{self.called} is not a results file of vampc faults (never "
+                              "overwritten; give " + ("--results FILE" if self.default else
+                                                      "another --results file") + ")")
         if b"\n" not in data:
             if not (jsontext.dumps(self.header).encode() + b"\n").startswith(data):
-                raise VampcError(f"--results {self.path}: it is not a results file of vampc faults "
-                                 "(never overwritten; give another --results file)")
+                raise not_ours
             self._truncate = 0                # made, but stopped in its header: a new file
             self._fresh = True
             return
@@ -532,6 +539,10 @@ class ResultsFile:
             head = jsontext.loads(lines[0]) if lines and lines[0] else None
         except ValueError:
             head = None
+        if not isinstance(head, dict) or "vampc_faults" not in head:
+            # (binary or UTF-16 text in the default file was "the results of another campaign
+            # (another program ...)": a file-safety audit)
+            raise not_ours
         if head != self.header:
             what = _differing(head, self.header)
             if self.default:      # (the user gave no --results: "--results X" named an option
@@ -600,8 +611,7 @@ class ResultsFile:
         fh, self._fh = self._fh, None
         fh.close()
         self.created = False                 # (the other run's file, whoever made it: kept)
-        which = f"{self.path}, the default results file," if self.default else f"--results {self.path}"
-        raise VampcError(f"{which} " + (
+        raise VampcError(f"{self.called} " + (
             "is being written by another vampc faults run now: wait for it to end (a re-run then "
             "resumes from its results), or give another --results file" if changed is None else
             "was written by another vampc faults run after this one read it: run the command again "
