@@ -870,3 +870,18 @@ def test_a_results_file_of_something_else_is_called_so_and_kept(programs, tmp_pa
             "another --results file)")
     assert r.exit_code == 1 and said in r.output, r.output
     assert results.read_bytes() == body
+
+
+def test_o_onto_the_default_results_file_names_it_as_the_default(programs, tmp_path):
+    """`faults P -o P.single.faults.jsonl` said "--results and -o name the same file", though no
+    --results was given (a file-safety audit)."""
+    ec, _, _ = programs
+    program = tmp_path / "ec.vamp.json"
+    program.write_bytes(ec.read_bytes())
+    default = tmp_path / "ec.single.faults.jsonl"
+    r = RUN(main, ["faults", str(program), "-o", str(default)])
+    assert r.exit_code == 1 and r.output.strip().endswith(
+        f"{default}: the default results file and -o name the same file"), r.output
+    r = RUN(main, ["faults", str(program), "-o", str(default), "--results", str(default)])
+    assert r.exit_code == 1 and "--results and -o name the same file" in r.output
+    assert not default.exists()

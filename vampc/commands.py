@@ -1456,8 +1456,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     results = own.results or f"{_stem(source)}.{own.campaign}.faults.jsonl"
     report = {"json": ("JSON", (".json",)), "csv": CSV_TABLE,
               "text": ("text", (".txt",), CSV_TABLE[2])}[own.fmt]
+    # (-o onto the default results file was "--results and -o name the same file", --results never
+    # given: a file-safety audit)
     outs = plan_outputs([source], {"-o": own.output, "--results": results}, stdout_ok=("-o",),
-                        writes={"-o": report})
+                        writes={"-o": report},
+                        labels={} if own.results else {"--results": "the default results file"})
     ld = loaded(source, options, robot_opts, params)
     whole = cp.campaign_sets(ld, own.campaign)       # (the default run)
     sets = own.sets or whole

@@ -57,11 +57,13 @@ def named_file(path):
 
 
 def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
-                 writes: dict | None = None) -> dict[str, PlannedOutput]:
+                 writes: dict | None = None, labels: dict | None = None) -> dict[str, PlannedOutput]:
     """Check every output against the rules above and return them by option name. `inputs` are the
     command's input paths (None entries ignored), `outputs` maps an option name to its path or None,
     `stdout_ok` names the options that may be `-`, `writes` what an option of this command writes
-    where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog)."""
+    where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog),
+    `labels` how an output the user did not give is called ('the default results file')."""
+    labels = labels or {}
     # (an input given as - is standard input; a file so named, given to an option that reads
     # files only, comes as ./-: `named_file`)
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
@@ -85,7 +87,8 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
                              "given as -); vampc never writes over its inputs")
         for other in planned.values():
             if _same(out, other):
-                raise VampcError(f"{path}: {option} and {other.option} name the same file")
+                raise VampcError(f"{path}: {labels.get(option, option)} and "
+                                 f"{labels.get(other.option, other.option)} name the same file")
         planned[option] = out
     for option, out in planned.items():          # accepted: say when the name misleads
         if out.kind == "file":                   # (a device or standard output has no suffix to mind)
