@@ -1928,3 +1928,12 @@ def test_a_line_break_in_a_name_keeps_the_error_and_the_warning_on_one_line(tmp_
     lines = r.stderr.splitlines()
     assert r.exit_code == 0 and len(lines) == 1 and lines[0].startswith("vampc: warning: ") \
         and "a\\nb.yaml" in lines[0] and "DH angles are radians" in lines[0], r.stderr
+
+
+def test_two_outputs_to_standard_output_are_a_usage_error_in_every_command(tmp_path):
+    """`emulate -o - --save-states -` was exit 1 ('name the same file'), `lookahead -o - --torques -`
+    exit 2 (a file-safety audit): the same mistake, options alone, is a usage error in both."""
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "2", "-o",
+                                  "-", "--save-states", "-"])
+    assert r.exit_code == 2 and "-o - and --save-states -: only one can be standard output" \
+        in r.output, r.output

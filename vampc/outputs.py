@@ -86,6 +86,10 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
             raise VampcError(f"{out.path}: {option} is the file standard input reads (an input "
                              "given as -); vampc never writes over its inputs")
         for other in planned.values():
+            if out.kind == other.kind == "stdout":
+                # (a usage error, exit 2, as lookahead's options say it: it was exit 1 here)
+                raise VampcUsageError(f"{other.option} {other.path} and {option} {out.path}: only "
+                                      "one can be standard output")
             if _same(out, other):
                 raise VampcError(f"{path}: {labels.get(option, option)} and "
                                  f"{labels.get(other.option, other.option)} name the same file")
