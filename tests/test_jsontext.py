@@ -110,6 +110,6 @@ def test_json_nested_too_deeply_is_not_json_for_every_reader(tmp_path):
     r = CliRunner().invoke(main, ["faults", str(program), "--kinds", "dead", "--workers", "1",
                                   "--results", str(results)])
     assert r.exit_code == 1 and r.stderr == (
-        f"vampc: error: --results {results}: it holds the results of another campaign or program "
-        "(give another --results file, or remove it to start over)\n"), r.stderr
+        f"vampc: error: --results {results} is not a results file of vampc faults (never "
+        "overwritten; give another --results file)\n"), r.stderr
     assert results.read_text() == deep + "\n"

@@ -941,6 +941,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 done += traj.count
                 advance(done, total)
             rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
+                         "peak_at": analysis.peak_at,
                          "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
                          "observed": error / scale, "overflows": word.overflows})
     return precision_text(rows, own, chain, rounding)
@@ -986,9 +987,14 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
                               indent=1) + "\n"
     head = ["bits", "word", "peak", "bound", "observed", "overflows"]
     if own.fmt == "csv":            # (the rounding analysed: a what-if one looked like the own)
+        import csv
+        import io
         cells = [[str(r["bits"]) if k == "bits" else str(r[k]) if r["word"] else "" for k in head]
-                 + [rounding, "" if r["word"] else TOO_NARROW] for r in rows]
-        return "\n".join(",".join(line) for line in [head + ["rounding", "note"]] + cells) + "\n"
+                 + [rounding, "" if r["word"] else TOO_NARROW, r["peak_at"] if r["word"] else ""]
+                 for r in rows]
+        buf = io.StringIO()           # (a quoted cell: the peak's value holds a comma's neighbours)
+        csv.writer(buf, lineterminator="\n").writerows([head + ["rounding", "note", "peak_at"]] + cells)
+        return buf.getvalue()
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states"
@@ -1014,6 +1020,11 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
         return f"{found[0]['word']} ({found[0]['bits']} bits)" + (
             ", the sweep's narrowest: a narrower word may meet it too (widen --sweep)"
             if start[key] else "")
+    held = [r for r in rows if r["word"]]
+    if held:             # (what sets the integer bits: a new user asked which quantity the peak was)
+        places = list(dict.fromkeys(r["peak_at"] for r in held))
+        lines.append(f"peak: the bound of {places[-1]}" + (
+                         f", of {', '.join(places[:-1])} in narrower words" if len(places) > 1 else ""))
     lines.append(f"narrowest word meeting {tol} by the analysed bound, with no possible overflow: "
                  + named(ok, "bound"))
     lines.append(f"narrowest word observed within {tol} (among those): " + named(seen, "observed"))

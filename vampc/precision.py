@@ -127,6 +127,7 @@ class Analysis:
     peak: float
     tau_max: np.ndarray
     tau_error: np.ndarray
+    peak_at: str = ""        # the value whose bound it is (a node's label: 'T16·bwd 11', 'A·3')
 
 
 def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Analysis:
@@ -134,14 +135,19 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
     op without a norm rule)."""
     norm: list[float] = []
     err: list[float] = []
-    peak = 0.0
+    peak, at = 0.0, -1
+
+    def held(value: float, node: int) -> None:        # (which value sets it: a new user asked)
+        nonlocal peak, at
+        if value > peak:
+            peak, at = value, node
     for nd in graph.nodes:
         if nd.op is Op.INPUT:
             size, scalar = _input_bound(chain, nd.key, ranges)
             e = rounding(word, scalar) + 4 * 2.0 ** -53 * scalar     # float64 first, then the word
             norm.append(size)
             err.append((3.0 if nd.shape == "m" else ROOT3) * e)
-            peak = max(peak, scalar + e)
+            held(scalar + e, nd.id)
             continue
         if nd.op is Op.CONST:
             v = np.asarray(nd.value, dtype=float)
@@ -149,7 +155,7 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
             norm.append(float(np.linalg.norm(v.reshape(3, 3), 2) if v.size == 9 else
                               np.linalg.norm(v)))
             err.append((3.0 if v.size == 9 else ROOT3) * e)
-            peak = max(peak, float(np.max(np.abs(v))) + e)
+            held(float(np.max(np.abs(v))) + e, nd.id)
             continue
         entry = TABLE[nd.op]
         if entry.norm is None:
@@ -166,10 +172,20 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
         own = rounded * rounding(word, scalar + spread)
         norm.append(size)
         err.append(spread + (3.0 if entry.columns == 3 else ROOT3) * own)
-        peak = max(peak, scalar + err[-1])
+        held(scalar + err[-1], nd.id)
     tau_max = np.array([norm[o.node] for o in graph.outputs])
     tau_error = np.array([err[o.node] for o in graph.outputs])
-    return Analysis(peak, tau_max, tau_error)
+    return Analysis(peak, tau_max, tau_error, _named(graph.nodes[at]) if at >= 0 else "")
+
+
+_PASS = {"bwd": "the backward pass's node", "npv": "the non-propagated part of node",
+         "fwd": "the forward pass's node", "io": "the input of joint"}
+
+
+def _named(nd) -> str:
+    """A graph value in words, with its label: "f of the forward pass's node 1 (fwd1.f)"."""
+    what = str(nd.key.quantity) if nd.op is Op.INPUT and nd.key is not None else nd.name
+    return f"{what or nd.op.value} of {_PASS.get(str(nd.section), str(nd.section))} {nd.group} ({nd.label})"
 
 
 def _input_bound(chain: Chain, key: InputKey, ranges: Ranges) -> tuple[float, float]:
