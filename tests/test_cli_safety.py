@@ -1937,3 +1937,25 @@ def test_two_outputs_to_standard_output_are_a_usage_error_in_every_command(tmp_p
                                   "-", "--save-states", "-"])
     assert r.exit_code == 2 and "-o - and --save-states -: only one can be standard output" \
         in r.output, r.output
+
+
+def test_a_blank_line_in_a_piped_trajectory_is_said_at_once(tmp_path):
+    """Whether a blank line came of CR CR LF line ends was asked by opening the trajectory again by
+    name: a FIFO's writer was gone by then and the run hung for good (a review's find); it is read
+    off the bytes already in memory, also for standard input."""
+    import subprocess
+    import sys
+    import threading
+    fifo = tmp_path / "states"
+    os.mkfifo(fifo)
+    body = b"q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0\n\n0,0,0,0,0,0\n"
+    writer = threading.Thread(target=lambda: fifo.write_bytes(body), daemon=True)
+    writer.start()
+    r = subprocess.run([sys.executable, "-m", "vampc", "emulate", str(EXAMPLES / "planar2.yaml"),
+                        "--trajectory", str(fifo)], capture_output=True, timeout=60)
+    assert r.returncode == 1 and r.stderr.decode().endswith(
+        "line 3 is blank: blank lines can only end the table\n"), r.stderr
+    crcr = body.replace(b"\n", b"\r\r\n")
+    r = subprocess.run([sys.executable, "-m", "vampc", "emulate", str(EXAMPLES / "planar2.yaml"),
+                        "--trajectory", "-"], input=crcr, capture_output=True, timeout=60)
+    assert r.returncode == 1 and b"(lines ended CR CR LF" in r.stderr, r.stderr

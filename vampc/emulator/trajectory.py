@@ -158,7 +158,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
         if k == len(block):
             blocks.append(block)
             block, k = np.empty((len(block) * 2, len(want))), 0
-        block[k] = _row_values(path, row, r, want)
+        block[k] = _row_values(path, row, r, want, raw)
         k += 1
     data = np.concatenate(blocks + [block[:k]])
     if data.shape[0] == 0:
@@ -182,22 +182,15 @@ def _rows(path: Path, reader):
         raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
 
 
-def _ends_cr_cr_lf(path: Path) -> bool:
-    """Whether the file's lines end CR CR LF (the explanation of a blank line: said of every blank
-    line until 2026-12-05, though the file held no CR at all, a file-safety audit's find)."""
-    try:
-        with open(path, "rb") as fh:
-            return b"\r\r\n" in fh.read(1 << 20)
-    except OSError:                   # (standard input, read already: not said)
-        return False
-
-
-def _row_values(path: Path, row: list[str], r: int, want: list[str]) -> list[float]:
-    """Line r's cells as numbers (VampcError naming the line and the column otherwise)."""
+def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes = b"") -> list[float]:
+    """Line r's cells as numbers (VampcError naming the line and the column otherwise); `raw`, the
+    file's bytes, says whether a blank line comes of lines ended CR CR LF (read in memory: a FIFO
+    or standard input cannot be opened again, and a run hung on it, a review's find)."""
     if not "".join(row).strip():      # (a CRLF file saved again as text ends its lines \r\r\n)
+        # (the CR CR LF reason only where the lines end so: it was said of every blank line)
         raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table" + (
             " (lines ended CR CR LF, as a CRLF file saved again as text ends them, read as a "
-            "blank line after each)" if _ends_cr_cr_lf(path) else ""))
+            "blank line after each)" if b"\r\r\n" in raw else ""))
     if len(row) != len(want):
         raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
     out = []
@@ -223,7 +216,7 @@ def _refused_line(path: Path, raw: bytes, at: int, want: list[str]) -> None:
     if b'"' in line or b"\r" in line or not line.isascii() or \
             not line.decode("ascii").replace(",", "").strip():
         return                        # (a blank line, commas and spaces too: the slow parser's)
-    _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want)
+    _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want, raw)
 
 
 # The fast paths return (data, t), or None whenever the file is anything but a plain well-formed
