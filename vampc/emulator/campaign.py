@@ -317,11 +317,12 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
             out["reason"] = _escape_reason(ld, fault, d, out, m)
     else:
         out["corrupted"] = int(bad.sum())
-        if bad.any() and not np.isfinite(tau[int(np.argmax(bad))]).all():
+        if bad.any():
             # (a run whose one torque set was inf was silent corruption and nothing more, though
             # vampc emulate refuses a non-finite torque: a hardware audit) still silent, for no
-            # checking flagged it, but a host that checks its torques would see it: said
-            out["first_wrong_non_finite"] = True
+            # checking flagged it, but a host that checks its torques would see it: said. Written
+            # for every corrupted run, so a run kept from an older results file is told apart
+            out["first_wrong_non_finite"] = not bool(np.isfinite(tau[int(np.argmax(bad))]).all())
         out["class"] = run_class(out, fault.vamp)
         if bad.any() and ec:
             out["reason"] = _silent_reason(ld, fault, run_sets, engine)
@@ -427,7 +428,11 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
            "coverage": (by["detected-corrected"] / effective) if effective else None,
            "silent_corruption_rate": by["silent-corruption"] / len(runs) if runs else None,
            "silent_non_finite": sum(1 for r in runs if r.get("class") == "silent-corruption"
-                                    and r.get("first_wrong_non_finite"))}
+                                    and r.get("first_wrong_non_finite")),
+           # (runs kept from a results file of an older vampc, which did not look: said, not
+           # counted as finite, a review's find)
+           "silent_not_examined": sum(1 for r in runs if r.get("class") == "silent-corruption"
+                                      and "first_wrong_non_finite" not in r)}
     if ld.net.checking is not None:
         out["named_right"] = sum(1 for r in runs if r.get("named_right"))
         out["detected"] = len(lat)
@@ -491,7 +496,7 @@ def _a_run_of(run, faults, sets: int | None = None) -> bool:
     if run["class"] != run_class(run, fault.vamp):
         return False          # (an edited "class": "masked" of a corrupted run was counted masked)
     return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
-        ("named_right" not in run or isinstance(run["named_right"], bool))
+        all(isinstance(run[k], bool) for k in ("named_right", "first_wrong_non_finite") if k in run)
 
 
 class ResultsFile:
@@ -509,14 +514,14 @@ class ResultsFile:
     @property
     def called(self) -> str:
         """The file as messages name it: the option the user gave, or that it is the default."""
-        return f"{self.path}, the default results file," if self.default else f"--results {self.path}"
+        return f"{self.path} (the default results file)" if self.default else f"--results {self.path}"
 
     def load(self) -> None:
         """Read what an earlier run of this campaign left (VampcError for another campaign's file)."""
         from vampc import jsontext
         if os.path.islink(self.path) or os.path.exists(self.path) and not os.path.isfile(self.path):
             # (a dangling link too: it had been written through, a link to a file refused)
-            raise VampcError(f"--results {self.path}: not a regular file (a link or a device is "
+            raise VampcError(f"{self.called}: not a regular file (a link or a device is "
                              "never written)")
         if not os.path.exists(self.path):
             return
@@ -565,11 +570,11 @@ class ResultsFile:
                     raise ValueError(line)
             except (ValueError, KeyError, TypeError):
                 if sum(len(x) + 1 for x in lines[:k]) <= good:      # not just a cut-short last line
-                    raise VampcError(f"--results {self.path}: line {k} is not a run's result "
+                    raise VampcError(f"{self.called}: line {k} is not a run's result "
                                      "(the file was edited; remove it to start over)") from None
                 continue
             if run["index"] in line_of:       # (the later line silently replaced the earlier one)
-                raise VampcError(f"--results {self.path}: lines {line_of[run['index']]} and {k} are "
+                raise VampcError(f"{self.called}: lines {line_of[run['index']]} and {k} are "
                                  f"both run {run['index']}'s result (the file was edited; remove it "
                                  "to start over)")
             line_of[run["index"]] = k
@@ -601,19 +606,21 @@ class ResultsFile:
             import fcntl
         except ImportError:                  # (no fcntl, as on Windows: unguarded)
             return
+        held = False
         try:
             fcntl.flock(self._fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-            changed = os.fstat(self._fh.fileno()).st_size != getattr(self, "_read", 0)
-        except OSError:
-            changed = None
-        if changed is False:
+        except BlockingIOError:
+            held = True                      # another run holds it
+        except OSError:                      # (no locks on this file system, NFS without lockd or
+            pass                             # some FUSE mounts: not another run's, unguarded)
+        if not held and os.fstat(self._fh.fileno()).st_size == getattr(self, "_read", 0):
             return
         fh, self._fh = self._fh, None
         fh.close()
         self.created = False                 # (the other run's file, whoever made it: kept)
         raise VampcError(f"{self.called} " + (
             "is being written by another vampc faults run now: wait for it to end (a re-run then "
-            "resumes from its results), or give another --results file" if changed is None else
+            "resumes from its results), or give another --results file" if held else
             "was written by another vampc faults run after this one read it: run the command again "
             "to resume from what it holds now"))
 
@@ -629,7 +636,7 @@ class ResultsFile:
         self.added += 1
 
     def _cannot(self, exc: OSError) -> VampcError:
-        return VampcError(f"--results {self.path}: cannot write: {exc.strerror or exc} (the results "
+        return VampcError(f"{self.called}: cannot write: {exc.strerror or exc} (the results "
                           "written before are kept: the same command resumes from them)")
 
     def close(self, failed: bool = False) -> None:
@@ -708,11 +715,13 @@ def render_text(head: str, summary: dict) -> str:
                          "" if summary["error_correction"] else
                          " (error correction off: nothing checks; a program compiled with "
                          "--error-correction does, README Error correction)"))
-    seen = summary.get("silent_non_finite", 0)
+    seen, unseen = summary.get("silent_non_finite", 0), summary.get("silent_not_examined", 0)
     lines.append(f"silent corruption: {summary['classes']['silent-corruption']} of {n} runs "
                  f"({pct(summary['classes']['silent-corruption'])})"
                  + (f"; in {seen} of them the first wrong torque set holds an inf or NaN, which a "
-                    "host that checks its torques sees (vampc emulate refuses it)" if seen else ""))
+                    "host that checks its torques sees (vampc emulate refuses it)" if seen else "")
+                 + (f"; {unseen} read from a results file of an older vampc were not examined for "
+                    "an inf or NaN" if unseen else ""))
     if summary["error_correction"]:
         lines.append(f"faulty VAMP named in Maintenance Mode: {summary['named_right']} of "
                      f"{summary['detected']} detected")
