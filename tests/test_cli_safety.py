@@ -1959,3 +1959,27 @@ def test_a_blank_line_in_a_piped_trajectory_is_said_at_once(tmp_path):
     r = subprocess.run([sys.executable, "-m", "vampc", "emulate", str(EXAMPLES / "planar2.yaml"),
                         "--trajectory", "-"], input=crcr, capture_output=True, timeout=60)
     assert r.returncode == 1 and b"(lines ended CR CR LF" in r.stderr, r.stderr
+
+
+def test_an_include_of_an_include_and_its_assets_are_inputs_where_mujoco_finds_them(tmp_path):
+    """MuJoCo finds an include's include, and the meshes an included file names, beside the
+    including file; they were looked for beside the model only, and `compile main.xml -o
+    sub/b.xml` replaced the nested include, exit 0 (a review's find). A cube texture's six files
+    (fileright ... fileback) are inputs too."""
+    from vampc.errors import VampcError
+    from vampc.outputs import plan_outputs
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "main.xml").write_text('<mujoco model="nested"><include file="sub/a.xml"/></mujoco>')
+    (tmp_path / "sub" / "a.xml").write_text(
+        '<mujoco><include file="b.xml"/><asset><mesh file="m.obj"/>'
+        '<texture type="skybox" fileright="r.png" fileleft="l.png" fileup="u.png" filedown="d.png" '
+        'filefront="f.png" fileback="k.png"/></asset></mujoco>')
+    (tmp_path / "sub" / "b.xml").write_text('<mujoco><worldbody/></mujoco>')
+    read = ["sub/b.xml", "sub/m.obj", *(f"sub/{c}.png" for c in "rludfk")]
+    for name in read[1:]:
+        (tmp_path / name).write_bytes(b"keep me")
+    before = {name: (tmp_path / name).read_bytes() for name in read}
+    for name in read:
+        with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
+            plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / name)})
+        assert (tmp_path / name).read_bytes() == before[name]

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import threading
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -104,31 +105,58 @@ def is_mjcf(path) -> bool:
     return False
 
 
-# Elements whose `file` MuJoCo reads, and the <compiler> folder it is found in (assetdir the fallback)
-_FILE_DIRS = {"include": None, "mesh": "meshdir", "skin": "meshdir", "texture": "texturedir",
-              "hfield": "texturedir"}
+# Elements whose files MuJoCo reads (their attributes), and the <compiler> folder each is found in
+# (assetdir the fallback; an <include> from the including file's folder)
+_FILE_ATTRIBUTES = {
+    "include": (("file",), None), "mesh": (("file",), "meshdir"), "skin": (("file",), "meshdir"),
+    "hfield": (("file",), "texturedir"), "flexcomp": (("file",), "meshdir"),
+    "model": (("file",), None),
+    "texture": (("file", "fileright", "fileleft", "fileup", "filedown", "filefront", "fileback"),
+                "texturedir")}
 
 
-def files_read(path) -> list[Path]:
-    """The other files MuJoCo reads for the MJCF model `path` ([] for anything else): its
-    <include>s, found from the main file's folder, and the meshes, skins, textures and height fields
-    they name, from <compiler meshdir|texturedir|assetdir> (an output was written over an included
-    file, exit 0: a file-safety audit; these are inputs like the model)."""
-    if not is_mjcf(path):
-        return []
+def _model_files(path) -> Iterator[tuple[Path, object]]:
+    """Each XML file of the MJCF model `path` with its parsed root: the model, then its
+    <include>s, each found where MuJoCo finds it (the including file's folder, else the model's;
+    an include of an include had been looked for in the model's folder only: a review's find).
+    Entities are neither loaded nor resolved; a file that cannot be read or parsed is skipped
+    (MuJoCo's own load says what is wrong with it)."""
     from lxml import etree
-    folder = Path(path).parent
+    main = Path(path).parent
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
-    files, dirs, todo, seen = [], {}, [Path(path)], set()
+    todo, seen = [Path(path)], set()
     while todo:
-        here = todo.pop()
-        if here.resolve() in seen:
+        here = todo.pop(0)
+        if here.resolve() in seen:            # (a file included twice, or itself: read once)
             continue
         seen.add(here.resolve())
         try:
             root = etree.parse(str(here), parser).getroot()
         except (etree.XMLSyntaxError, OSError, ValueError):
             continue
+        yield here, root
+        for element in root.iter("{*}include", "include"):
+            if element.get("file"):
+                todo.append(_found(element.get("file"), here.parent, main))
+
+
+def _found(name: str, *folders: Path) -> Path:
+    """`name` in the first of `folders` that has it (the first if none does)."""
+    return next((f / name for f in folders if (f / name).exists()), folders[0] / name)
+
+
+def files_read(path) -> list[Path]:
+    """The other files MuJoCo reads for the MJCF model `path` ([] for anything else): its
+    <include>s and the meshes, skins, textures, height fields and models they name, each in every
+    folder MuJoCo may look in (from <compiler meshdir|texturedir|assetdir>, under the model's folder
+    and the naming file's). An output was written over an included file, exit 0 (a file-safety
+    audit): these are inputs like the model."""
+    if not is_mjcf(path):
+        return []
+    from lxml import etree
+    main = Path(path).parent
+    files, dirs = [], {}
+    for here, root in _model_files(path):
         for element in root.iter():
             if not isinstance(element.tag, str):
                 continue
@@ -136,15 +164,14 @@ def files_read(path) -> list[Path]:
             if tag == "compiler":
                 dirs.update({k: v for k in ("meshdir", "texturedir", "assetdir")
                              if (v := element.get(k))})
-            elif tag in _FILE_DIRS and element.get("file"):
-                files.append((tag, element.get("file")))
-                if tag == "include":
-                    todo.append(folder / element.get("file"))
+            elif tag in _FILE_ATTRIBUTES:
+                names, where = _FILE_ATTRIBUTES[tag]
+                files += [(here.parent, where, element.get(a)) for a in names if element.get(a)]
     out = []
-    for tag, name in files:
-        sub = dirs.get(_FILE_DIRS[tag] or "", dirs.get("assetdir", "")) if tag != "include" else ""
-        out.append(folder / sub / name)
-    return out
+    for folder, where, name in files:
+        sub = dirs.get(where, dirs.get("assetdir", "")) if where else ""
+        out += [main / sub / name, folder / sub / name, folder / name, main / name]
+    return list(dict.fromkeys(out))
 
 
 def load_mjcf(path, base: str | None = None, tip: str | None = None,
@@ -287,45 +314,34 @@ NAME_ATTRIBUTES = frozenset("name class childclass joint joint1 joint2 body body
                             "objname refname prefix file key model".split())
 
 
-def _finite_attributes(path: Path, folder: Path | None = None, seen: set | None = None) -> None:
-    """Refuse a number of the file, or of a file it includes (`<include file>`, from the main
-    file's `folder`, as MuJoCo reads it), that is not finite (nan, inf, 1e400), naming its file,
-    element and attribute: MuJoCo reads NaN as 0, saying only "XML contains a 'NaN'" (an inertial
-    pos of nan gave the torques of 0), and an inf gravity or pose, or a nan range or ref, ended
-    vampc in a traceback, exit 3 (a hostile-input audit's finds). A file that is not XML, or
-    cannot be read, is left to MuJoCo, which says so."""
+def _finite_attributes(path: Path) -> None:
+    """Refuse a number of the file, or of a file it includes (found as MuJoCo finds it:
+    _model_files), that is not finite (nan, inf, 1e400), naming its file, element and attribute:
+    MuJoCo reads NaN as 0, saying only "XML contains a 'NaN'" (an inertial pos of nan gave the
+    torques of 0), and an inf gravity or pose, or a nan range or ref, ended vampc in a traceback,
+    exit 3 (a hostile-input audit's finds). A file that is not XML, or cannot be read, is left to
+    MuJoCo, which says so."""
     import math
 
     from lxml import etree
-    folder = path.parent if folder is None else folder
-    seen = set() if seen is None else seen
-    if path.resolve() in seen:                    # (a file included twice, or itself: read once)
-        return
-    seen.add(path.resolve())
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
-    try:
-        root = etree.parse(str(path), parser).getroot()
-    except (etree.XMLSyntaxError, OSError, ValueError):
-        return
-    for element in root.iter():
-        if not isinstance(element.tag, str):             # (comments, processing instructions)
-            continue
-        if etree.QName(element).localname == "include" and element.get("file"):
-            _finite_attributes(folder / element.get("file"), folder, seen)
-        for attribute, value in element.attrib.items():
-            if attribute in NAME_ATTRIBUTES:
+    for here, root in _model_files(path):
+        for element in root.iter():
+            if not isinstance(element.tag, str):             # (comments, processing instructions)
                 continue
-            for token in value.split():
-                try:
-                    number = float(token)
-                except ValueError:
+            for attribute, value in element.attrib.items():
+                if attribute in NAME_ATTRIBUTES:
                     continue
-                if not math.isfinite(number):
-                    name = element.get("name")
-                    tag = etree.QName(element).localname
-                    raise located(path, f"line {element.sourceline}: <{tag}"
-                                  + (f" name='{name}'" if name else "") + f"> {attribute}",
-                                  f"'{token}' is not a finite number")
+                for token in value.split():
+                    try:
+                        number = float(token)
+                    except ValueError:
+                        continue
+                    if not math.isfinite(number):
+                        name = element.get("name")
+                        tag = etree.QName(element).localname
+                        raise located(here, f"line {element.sourceline}: <{tag}"
+                                      + (f" name='{name}'" if name else "") + f"> {attribute}",
+                                      f"'{token}' is not a finite number")
 
 
 def _finite_model(model, path: Path) -> None:
