@@ -109,10 +109,13 @@ def _bad(tmp_path, text, name="bad.csv"):
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0.1,0.2,0,0,0\n", r"line 2: 5 columns, expected 6"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n", r"no states"),
     ("q1,q2,qd1,qd2,qdd1,qdd2\n9,0,0,0,0,0\n", r"line 2 \(state 1\): joint 1 \(.*\) is outside its limits: "
-     r"position 9 outside \[-\S+, \S+\] \(q=9"),
+     r"position 9 above \S+ \(limits q in \[-\S+, \S+\], \|qd\| <= \S+\)"),
     # (which limit, said: a new user compared the numbers by hand, each time a speed limit)
     ("q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,99,0,0\n", r"line 2 \(state 1\): joint 2 \(.*\) is outside its limits: "
-     r"speed \|qd\| = 99 beyond \S+ \(q=0, qd=99; limits q in \[\S+, \S+\], \|qd\| <= \S+\)"),
+     r"speed \|qd\| = 99 beyond \S+ \(limits q in \[\S+, \S+\], \|qd\| <= \S+\)"),
+    # (value and limit with the digits that tell them apart: 'speed 3 beyond 3', a review's find)
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0,0,3.0000000001,0,0,0\n", r"joint 1 \(.*\) is outside its limits: "
+     r"speed \|qd\| = 3\.0000000001 beyond 3 \("),
 ])
 def test_bad_trajectory(tmp_path, program, body, message):
     out = tmp_path / "tau.csv"

@@ -156,18 +156,26 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
     missing = [i for i in motors if tau[i] is None]
     if missing:
         where = path or source or chain.source or chain.name
-        line = lines.get(missing[0])
         from vampc.robot.urdf_tree import quoted
 
         # (every joint is named, up to 10: "joint 'j1' has no effort limit (and 4 more)" left a
-        # user of a 32-joint robot guessing which: a new user's find)
-        raise VampcError(f"{where}: " + (f"line {line}: " if line else "")
-                         + (f"joint '{chain.joints[missing[0]].name}' has" if len(missing) == 1 else
-                            f"joints {quoted(chain.joints[i].name for i in missing)} have")
-                         + " no effort limit"
-                         + ("; give its tau in this row" if line else
-                            "; give it a row joint,tau[,qd] in this file" if path is not None else
-                            "; give --limits FILE (README, vampc lookahead)"))
+        # user of a 32-joint robot guessing which: a new user's find); the line of each that has
+        # a row, which the first alone had been, for all (a review's find)
+        rows = [lines.get(i) for i in missing]
+        if len(missing) == 1:
+            said = f"joint '{chain.joints[missing[0]].name}' has no effort limit"
+        else:
+            said = f"joints {quoted(chain.joints[i].name for i in missing)} have no effort limit"
+        if len(missing) == 1 and rows[0]:
+            said = f"line {rows[0]}: {said}; give its tau in this row"
+        elif any(rows):
+            at = ", ".join(f"'{chain.joints[i].name}' line {r}" for i, r in zip(missing, rows) if r)
+            said += f"; give each its tau in its row ({at})" + (
+                "" if all(rows) else ", or a row joint,tau[,qd] for the others")
+        else:
+            said += ("; give it a row joint,tau[,qd] in this file" if path is not None else
+                     "; give --limits FILE (README, vampc lookahead)")
+        raise VampcError(f"{where}: {said}")
     robot = source or chain.source or chain.name
     for i, (j, t, v) in enumerate(zip(chain.joints, tau, qd)):
         for what, x in (("effort", t if i in free else None), ("speed", v)):

@@ -86,19 +86,33 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True)
             bad |= np.abs(traj.qd[:, i]) > lim.qd
         if bad.any():
             row = int(np.argmax(bad))
-            via = f", {derived[i]} and the coupling" if i in derived else ""
+            via = f"from {derived[i]} and the coupling; " if i in derived else ""
             q, qd = traj.q[row, i], traj.qd[row, i]
             # (which limit is broken, said first: a new user compared the numbers by hand on seven
             # robots, each time a speed limit they had not known --trajectory checks)
-            broken = ([f"position {q:g} outside [{lim.q[0]:g}, {lim.q[1]:g}]"]
-                      if lim.q and not lim.q[0] <= q <= lim.q[1] else []) + \
-                ([f"speed |qd| = {abs(qd):g} beyond {lim.qd:g}"]
-                 if lim.qd is not None and speeds and abs(qd) > lim.qd else [])
+            broken = []
+            if lim.q and not lim.q[0] <= q <= lim.q[1]:
+                side = lim.q[0] if q < lim.q[0] else lim.q[1]
+                shown, bound = apart(q, side)
+                broken.append(f"position {shown} {'below' if q < side else 'above'} {bound}")
+            if lim.qd is not None and speeds and abs(qd) > lim.qd:
+                shown, bound = apart(abs(qd), lim.qd)
+                broken.append(f"speed |qd| = {shown} beyond {bound}")
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
                 ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
             raise VampcError(f"{path}: {state_at(path, row)}: joint {i + 1} ({j.name}) is outside "
-                             f"its limits: {' and '.join(broken)} (q={q:g}, qd={qd:g}{via}; limits "
-                             f"{', '.join(limits)}); use --allow-out-of-limits to run anyway")
+                             f"its limits: {' and '.join(broken)} ({via}limits {', '.join(limits)}); "
+                             "use --allow-out-of-limits to run anyway")
+
+
+def apart(x: float, limit: float) -> tuple[str, str]:
+    """Two numbers written with as few digits (6 at least) as tell them apart: 'speed 3 beyond 3'
+    was said of 3.0000000001 (a review's find)."""
+    for digits in range(6, 18):
+        a, b = f"{x:.{digits}g}", f"{limit:.{digits}g}"
+        if a != b:
+            return a, b
+    return repr(x), repr(limit)
 
 
 def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None,
