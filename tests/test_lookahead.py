@@ -1058,7 +1058,7 @@ def test_a_worst_ratio_past_a_float_is_said_as_such():
     from vampc.lookahead import Limits
     tau = np.array([[7e300, 2.0], [-1.0, -3.0]])
     limits = Limits(tau=(1e-10, 2.0), qd=(None, None))
-    assert worst_ratios(["j1", "j2"], tau, limits) == "j1 over 1.8e308, j2 1.5"
+    assert worst_ratios(["j1", "j2"], tau, limits) == ["j1 over 1.8e308", "j2 1.5"]
 
 
 def test_options_that_shape_only_the_network_are_warned_of_without_clock(setup, tmp_path):
@@ -1098,16 +1098,20 @@ def test_the_clock_line_names_the_network_in_engineering_units(setup):
 def test_a_long_per_joint_list_is_cut_into_lines_without_cutting_a_joint():
     """On a 32-joint humanoid the summary's per-joint lines ran to 807 to 1 658 characters (a new
     user's find). Past 160 characters a list is cut after its commas into indented lines of at most
-    100; each joint's name and figure stay together, in order; a short list stays on its line."""
+    100; each joint's name and figure stay together, in order, a name holding ', ' too (a review's
+    find: the list had been split at every ', '); a short list stays on its line."""
     from vampc.commands import wrapped
     items = [f"{side}_leg_{k}_joint {0.1 * k + (side == 'right'):.4g}" for side in ("left", "right")
              for k in range(16)]
-    text = wrapped("worst |τ| / limit per joint: ", ", ".join(items))
+    items[3] = "'left leg, knee' 0.3"
+    text = wrapped("worst |τ| / limit per joint: ", items)
     lines = text.splitlines()
     assert len(lines) > 5 and all(len(x) <= 100 for x in lines)
     assert lines[0].startswith("worst |τ| / limit per joint: left_leg_0_joint 0,")
     assert all(x.startswith("    ") and not x.startswith("     ") for x in lines[1:])
     assert " ".join(x.strip() for x in lines).removeprefix("worst |τ| / limit per joint: ") \
         == ", ".join(items)
-    short = ", ".join(items[:6])
-    assert wrapped("worst |τ| / limit per joint: ", short) == "worst |τ| / limit per joint: " + short
+    assert any("'left leg, knee' 0.3" in x for x in lines)
+    short = items[:6]
+    assert wrapped("worst |τ| / limit per joint: ", short) == \
+        "worst |τ| / limit per joint: " + ", ".join(short)

@@ -1307,12 +1307,14 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     # alone, a look-ahead audit's find)
     limited = [j for j, v in enumerate(limits.qd) if v is not None]
     if limited:
-        speed = lambda qd: ", ".join(                                     # noqa: E731
+        speed = lambda qd: [                                              # noqa: E731
             f"{listed(names[j])} {float(np.max(np.abs(qd[:, j]), initial=0.0)) / limits.qd[j]:.4g}"
-            for j in limited)
-        lines.append(wrapped("worst |q̇| / speed limit: ", speed(traj.qd)
-                             + (f"; retimed: {speed(res.retimed.qd)}" if res.retimed is not None
-                                else "")))
+            for j in limited]
+        items = speed(traj.qd)
+        if res.retimed is not None:             # 'a 1.75; retimed: a 0.73', one item across the ';'
+            after = speed(res.retimed.qd)
+            items = items[:-1] + [f"{items[-1]}; retimed: {after[0]}"] + after[1:]
+        lines.append(wrapped("worst |q̇| / speed limit: ", items))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
         slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
@@ -1371,13 +1373,13 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
 WRAP_OVER, WRAP_AT = 160, 100   # a list line longer than WRAP_OVER is cut into lines of WRAP_AT
 
 
-def wrapped(head: str, items: str) -> str:
-    """`head` + a comma-separated list, on one line, or cut after its commas into lines of at most
-    WRAP_AT characters, indented, when the one line would be longer than WRAP_OVER (a humanoid's
-    32 joints made lines of 800 to 1 658 characters: a new user's find); an item is never cut."""
-    if len(head) + len(items) <= WRAP_OVER:
-        return head + items
-    parts = items.split(", ")
+def wrapped(head: str, parts: list[str]) -> str:
+    """`head` + the items `parts`, comma-separated, on one line, or cut after a comma into lines of
+    at most WRAP_AT characters, indented, when the one line would be longer than WRAP_OVER (a
+    humanoid's 32 joints made lines of 800 to 1 658 characters: a new user's find); an item is never
+    cut, a name holding ', ' neither (the items come as a list: a review's find)."""
+    if len(head) + len(", ".join(parts)) <= WRAP_OVER:
+        return head + ", ".join(parts)
     lines, line = [], head.rstrip()
     for k, part in enumerate(parts):
         text = part + ("," if k < len(parts) - 1 else "")
@@ -1388,14 +1390,14 @@ def wrapped(head: str, items: str) -> str:
     return "\n".join(lines + [line])
 
 
-def worst_ratios(names, tau, limits) -> str:
-    """'waist 1.31, shoulder 0.523, ...': each joint's largest |τ| over its effort limit."""
+def worst_ratios(names, tau, limits) -> list[str]:
+    """['waist 1.31', 'shoulder 0.523', ...]: each joint's largest |τ| over its effort limit."""
     import numpy as np
     lim = np.array(limits.tau)
     with np.errstate(over="ignore"):     # (7e300 over a limit of 1e-10 is past a float: said so)
         worst = np.max(np.abs(tau[:, :len(lim)]), axis=0, initial=0.0) / lim
-    return ", ".join(f"{listed(name)} {w:.4g}" if np.isfinite(w) else f"{listed(name)} over 1.8e308"
-                     for name, w in zip(names, worst))
+    return [f"{listed(name)} {w:.4g}" if np.isfinite(w) else f"{listed(name)} over 1.8e308"
+            for name, w in zip(names, worst)]
 
 
 def margin_text(ld, res) -> str:
