@@ -89,3 +89,31 @@ def test_two_pin_budgets_with_the_same_vamps_a_package_have_different_headings()
     head = r.output.split("\nPackages (section VII)")[1].splitlines()[1]
     assert "8 pins, 1 each sep." in head and "8 pins, 1 each shared" in head
     assert "40 pins, 5 each " in head and "sep. " not in head.split("8 pins")[0]
+
+
+def test_the_prefix_table_of_a_layout_that_waits_adds_up():
+    """The folded log Puma's prefix table had '44' beside '12 + 30' (its 2 flops waiting for busy
+    VAMPs left out: a review's find): the rows carry their waits and the column adds them, and
+    each row's latency is the sum of its terms."""
+    import json
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+
+    def run(*extra):
+        r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--recursion", "log",
+                                      *extra])
+        assert r.exit_code == 0, r.output
+        return r.output
+    rows = json.loads(run("--layout", "folded", "--format", "json"))["prefix_comparison"]
+    assert all(r["latency_flops"] == r["mults"] + r["adds"] + r["waits"] for r in rows)
+    assert any(r["waits"] for r in rows)
+    table = run("--layout", "folded").split("\nPrefix shapes")[1].split("\n\n")[0].splitlines()
+    assert "= M + A + wait" in table[1]
+    for r in rows:
+        line = next(x for x in table if x.startswith(r["prefix"] + " "))
+        assert f"{r['mults']} + {r['adds']} + {r['waits']}" in line
+    systolic = run().split("\nPrefix shapes")[1].split("\n\n")[0]
+    assert "= M + A " in systolic and "wait" not in systolic

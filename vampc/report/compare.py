@@ -46,7 +46,7 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
             lay, s = layout_and_schedule(graph, opts.timing, opts.layout,
                                          LayoutRequest(opts.share_passes, verify=False))
             rows.append({"prefix": shape, "latency_flops": s.latency, "mults": s.mults,
-                         "adds": s.adds, "vamps": lay.vamp_count})
+                         "adds": s.adds, "waits": s.waits, "vamps": lay.vamp_count})
             continue
         try:
             c = compile_chain(chain, opts)
@@ -56,7 +56,7 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
             infeasible.append({"prefix": shape, "why": str(exc)})
             continue
         rows.append({"prefix": shape, "latency_flops": c.schedule.latency,
-                     "mults": c.schedule.mults, "adds": c.schedule.adds,
+                     "mults": c.schedule.mults, "adds": c.schedule.adds, "waits": c.schedule.waits,
                      "vamps": len(c.network.vamps), "buffer_stages": c.network.buffer_stages,
                      "max_fan_out": max_fan_out(c.network)})
     return rows

@@ -279,15 +279,18 @@ def _unallocated(rep: dict) -> str:
 
 def prefixes(rep: dict) -> Table:
     """The prefix-shape comparison (log recursion)."""
-    rows = tuple((r["prefix"], num(r["latency_flops"]), _terms(rep, r["mults"], r["adds"]),
-                  num(r["vamps"]),
-                  num(r.get("buffer_stages")), num(r.get("max_fan_out")))
+    # (a folded layout's waits: '44' beside '12 + 30' did not add up, a review's find)
+    waits = any(r.get("waits") for r in rep["prefix_comparison"])
+    rows = tuple((r["prefix"], num(r["latency_flops"]),
+                  _terms(rep, r["mults"], r["adds"], *([r.get("waits", 0)] if waits else [])),
+                  num(r["vamps"]), num(r.get("buffer_stages")), num(r.get("max_fan_out")))
                  for r in rep["prefix_comparison"])
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
     notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
               for r in rep.get("prefix_comparison_infeasible", ())]
     return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
-                 "and options)", ("prefix", "latency", _terms_head(rep), "VAMPs", "buffer stages",
+                 "and options)", ("prefix", "latency", _terms_head(rep, *(["wait"] if waits else [])),
+                                  "VAMPs", "buffer stages",
                                   "fan-out"), rows, tuple(notes), align="lrlrrr")
 
 
