@@ -62,7 +62,7 @@ def handle_errors(f):
         except VampcUsageError as exc:
             raise click.UsageError(str(exc)) from None
         except VampcError as exc:
-            click.echo(f"vampc: error: {one_line(str(exc))}", err=True)
+            click.echo(f"vampc: error: {unbroken(str(exc))}", err=True)
             sys.exit(1)
         except Terminated as exc:
             discard_all()
@@ -99,7 +99,7 @@ def handle_errors(f):
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
 
 
-def one_line(text: str) -> str:
+def unbroken(text: str) -> str:
     """An error or warning on one line: a line break in it (a file name holding one, as the user
     gave it) written as \\n or \\r (`-o $'nodir\\nx/a.csv'` gave an error of three lines: a
     file-safety audit)."""
@@ -116,9 +116,9 @@ def _show_warning(message, category, *rest):
     _WARNING.append(True)
     try:
         if issubclass(category, VampcWarning):
-            say(f"vampc: warning: {one_line(str(message))}", err=True)
+            say(f"vampc: warning: {unbroken(str(message))}", err=True)
         else:   # a library's own warning (numpy's, say): not ours to silence, but one line
-            say(f"vampc: warning: {category.__name__}: {one_line(str(message))}", err=True)
+            say(f"vampc: warning: {category.__name__}: {unbroken(str(message))}", err=True)
     finally:
         _WARNING.clear()
 

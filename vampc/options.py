@@ -42,7 +42,7 @@ def not_positive(option: str, value: float) -> str:
     """The message for a number that must be positive and finite; a 0 that was written as a number
     too small for float64 (1e-400, echoed as "0.0": a file-safety audit) is said to be one."""
     return (f"{option} {value:g}: give a positive number" + (
-        " (one smaller than about 5e-324 reads as 0)" if value == 0 else ""))
+        " (a number below about 5e-324 also reads as 0)" if value == 0 else ""))
 
 def flag(name: str) -> str:
     """'--share-passes' for 'share_passes'."""

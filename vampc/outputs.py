@@ -338,7 +338,11 @@ def _new_temporary(target: Path) -> tuple[int, str]:
     first; (its descriptor, its name)."""
     # (a name of 234 to 255 bytes made a temporary past the file system's 255, and the output
     # failed after all the work: a file-safety audit) the target's name cut to fit, by bytes
-    stem = os.fsencode(target.name)[:TEMPORARY_STEM].decode(errors="ignore")
+    try:                              # (eCryptfs allows 143 bytes, not 255: its own limit)
+        room = os.pathconf(target.parent, "PC_NAME_MAX") - 22
+    except (OSError, ValueError):
+        room = 255 - 22
+    stem = os.fsencode(target.name)[:max(1, min(TEMPORARY_STEM, room))].decode(errors="ignore")
     for _ in range(100):
         name = str(target.parent / f".{stem}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)

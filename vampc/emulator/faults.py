@@ -226,8 +226,7 @@ def check_faults(faults, ld, last_tick: int) -> None:
                 # (the last VAMP of a checked network was told to compile --error-correction, as
                 # it had: a hardware audit) which case it is, said
                 why = ("this program has no error correction (compile --error-correction)"
-                       if not order else f"VAMP {f.vamp} is the last of the chain, with no successor"
-                       if f.vamp == order[-1] else f"there is no VAMP {f.vamp}")
+                       if not order else f"VAMP {f.vamp} is the last of the chain, with no successor")
                 raise VampcError(f"{where}: control2 is the second set of control registers a "
                                  f"VAMP with a successor holds under error correction: {why}")
             succ = order[order.index(f.vamp) + 1]
