@@ -68,7 +68,7 @@ def test_the_log_buffering_between_nodes_has_the_papers_figure_beside_it():
         return r.output
     text = run("--recursion", "log")
     table = text.split("\nBuffering (section VI)")[1].split("\nWiring")[0]
-    assert table.count("≈ 54 scalars a node, ≈ 27 latched") == 2
+    assert table.count("≈ 54 scalars a node (note)") == 2
     between = json.loads(run("--recursion", "log", "--format", "json"))["wiring"]["buses"]["between_nodes"]
     assert (f"measured, at most {between['bwd']['vectors']} vectors ({3 * between['bwd']['vectors']} "
             "scalars) into a backward node") in table

@@ -339,7 +339,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         sinks.finish(ok, own.write_failed, notes.append)
         say(emulation_line(outcome, time.perf_counter() - begun), info)
         if outcome.checking is not None:
-            say(checking_line(ld, outcome), info)
+            say(checking_line(ld, outcome.checking), info)
         elif ld.net.checking is not None:       # (it said nothing: --error-correction looked taken)
             say("error correction: not run by the stream engine, which computes the same torques "
                 "without it; --engine tick runs the checking (README, Error correction)", info)
@@ -348,8 +348,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     except VampcError as exc:
         sinks.discard()
         if getattr(exc, "checking", None) is not None:     # (a torque refused: what checking did)
-            from types import SimpleNamespace
-            say(checking_line(ld, SimpleNamespace(checking=exc.checking)), True)
+            say(checking_line(ld, exc.checking), True)
         from vampc.emulator.driver import STOPPED
         streamed = [o.option for o in outs.values() if o.is_stdout]
         sent = sinks.sent or sinks.vcd is not None and sinks.vcd.sampled
@@ -379,9 +378,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     return ok
 
 
-def checking_line(ld, outcome) -> str:
-    """What the error-correction checking did in a tick-engine run."""
-    ck = outcome.checking
+def checking_line(ld, ck: dict) -> str:
+    """What the error-correction checking did in a tick-engine run (its Outcome.checking)."""
     done = (f"{count(ck['sweeps'], 'whole sweep')}, {ck['checked']} of {len(ld.net.vamps)} VAMPs "
             "checked")
     if not ck["detections"]:

@@ -472,7 +472,9 @@ def _flow_paper(rep: dict, flow: str) -> str:
                 "none (\"only required between backward and forward\")")
     if Recursion(rep["recursion"]) is Recursion.LOG and flow != "backward_to_forward":
         # (section VI's "about 54 scalars per node in the logarithmic case" stood as "—": an audit)
-        return "≈ 54 scalars a node, ≈ 27 latched"
+        # (per node, beside a network's stages: the note sets them side by side; "≈ 27 latched"
+        # was an inference of "nearly halved" put as the paper's figure, a review's find)
+        return "≈ 54 scalars a node (note)"
     return DASH
 
 
