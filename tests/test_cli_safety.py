@@ -1983,3 +1983,30 @@ def test_an_include_of_an_include_and_its_assets_are_inputs_where_mujoco_finds_t
         with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
             plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / name)})
         assert (tmp_path / name).read_bytes() == before[name]
+
+
+def test_vampcs_own_outputs_given_as_a_robot_are_named(tmp_path):
+    """`vampc emulate report.json` said "Additional properties are not allowed ('allocation' was
+    unexpected)", a faults results file 'JSON (a DH table?)', a picture 'XML (a URDF)' (a new
+    user's finds): each of vampc's own outputs given where a robot is expected is named."""
+    run = CliRunner().invoke
+    planar = str(EXAMPLES / "planar2.yaml")
+    outs = {
+        "report.json": (["report", planar, "--format", "json"], "a vampc report (vampc report --format json)"),
+        "tradeoff.json": (["report", planar, "--tradeoff", "--format", "json"], "a vampc report --tradeoff"),
+        "precision.json": (["precision", planar, "--sweep", "20:21", "--format", "json"],
+                           "a vampc precision report"),
+    }
+    for name, (args, said) in outs.items():
+        r = run(main, args)
+        assert r.exit_code == 0, r.output
+        (tmp_path / name).write_text(r.stdout)
+        e = run(main, ["compile", str(tmp_path / name)])
+        assert e.exit_code == 1 and f"this is {said}" in e.stderr and "not a robot description" in \
+            e.stderr, e.stderr
+    (tmp_path / "r.jsonl").write_text('{"vampc_faults": 1, "program": "x"}\n')
+    e = run(main, ["compile", str(tmp_path / "r.jsonl")])
+    assert "it looks like a results file of vampc faults" in e.stderr, e.stderr
+    assert run(main, ["report", planar, "--timing", str(tmp_path / "t.svg")]).exit_code == 0
+    e = run(main, ["compile", str(tmp_path / "t.svg")])
+    assert "it looks like an SVG picture" in e.stderr, e.stderr

@@ -17,6 +17,8 @@ OTHER_COMPRESSION = ("vampc reads a program file gzip-compressed (.gz) and no ot
                      "file: decompress it first")
 
 DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
+                "faults-results": "a results file of vampc faults",
+                "svg": "an SVG picture (vampc report's pictures write them)",
                 "gzip": "gzip-compressed data: decompress it first (gunzip)",
                 "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
                 **{name: f"{name}-compressed data" for name in OTHER_COMPRESSIONS}}
@@ -53,8 +55,10 @@ def sniff(path) -> str | None:
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
     if head.startswith(b"<"):
-        return "urdf"
+        return "svg" if b"<svg" in head[:HEAD] and b"<robot" not in head else "urdf"
     if head.startswith((b"{", b"[")):
+        if head.startswith(b'{"vampc_faults":'):       # (a results file: "JSON (a DH table?)")
+            return "faults-results"
         return "program" if _program_text(head) else "json"
     try:
         text = head.decode("utf-8")
