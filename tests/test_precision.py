@@ -382,3 +382,11 @@ def test_the_summary_says_which_value_sets_the_peak():
     import csv
     table = list(csv.DictReader(run(main, [*args, "--format", "csv"]).output.splitlines()))
     assert [r["peak_at"] for r in table] == [r["peak_at"] for r in rows]
+    # where the value changes with the width, each is said with its widths (", of n ... in narrower
+    # words" read as both at once: a new user's find); the UR5's narrowest word's peak is n's
+    ur5 = json.loads(run(main, ["precision", str(EXAMPLES / "ur5.urdf"), "--sweep", "17:19",
+                                "--format", "json"]).output)["rows"]
+    places = [r["peak_at"] for r in ur5]
+    assert places[0] != places[1] == places[2]
+    text = run(main, ["precision", str(EXAMPLES / "ur5.urdf"), "--sweep", "17:19"]).output
+    assert f"peak: the bound of {places[0]} at 17 bits; of {places[1]} at 18 to 19 bits\n" in text

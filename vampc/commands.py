@@ -1020,9 +1020,17 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
             if start[key] else "")
     held = [r for r in rows if r["word"]]
     if held:             # (what sets the integer bits: a new user asked which quantity the peak was)
-        places = list(dict.fromkeys(r["peak_at"] for r in held))
-        lines.append(f"peak: the bound of {places[-1]}" + (
-                         f", of {', '.join(places[:-1])} in narrower words" if len(places) > 1 else ""))
+        runs: list[list] = []                # [place, first bits, last bits], widths in order
+        for r in held:
+            if runs and runs[-1][0] == r["peak_at"]:
+                runs[-1][2] = r["bits"]
+            else:
+                runs.append([r["peak_at"], r["bits"], r["bits"]])
+        # (one place for every width; else each with its widths: "f ..., of n ... in narrower
+        # words" read as both at once, a new user's find)
+        lines.append("peak: the bound of " + (runs[0][0] if len(runs) == 1 else "; of ".join(
+            f"{place} at {a} bits" if a == b else f"{place} at {a} to {b} bits"
+            for place, a, b in runs)))
     lines.append(f"narrowest word meeting {tol} by the analysed bound, with no possible overflow: "
                  + named(ok, "bound"))
     lines.append(f"narrowest word observed within {tol} (among those): " + named(seen, "observed"))
