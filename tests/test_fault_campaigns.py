@@ -369,6 +369,13 @@ def test_a_stall_is_listed_among_the_escapes(programs):
     assert "escapes (1): runs the checking did not handle in full (a torque spoiled unflagged, a " \
         "fault not corrected, the faulty VAMP not named, the checking stalled, or the run hung)\n  " \
         f"{e['fault']}: masked: " in text, text
+    # a masked run with coverage at 100%, the checking lost: said beside the coverage (a new
+    # user's find), and counted
+    assert summary["stalled"] == 1 and summary["coverage"] is None
+    assert "checking stalled: in 1 of 1 runs nothing was checked after a point" in text
+    quiet = cp.summarise(ld, [cp.run_fault(setup, parse_fault("vamp=0,stuck=result.x:62,value=1"))],
+                         sets)
+    assert quiet["stalled"] == 0 and "checking stalled" not in cp.render_text("head", quiet)
 
 
 # Run in a process of its own: a worker killed inside a pytest-xdist worker's pool crashed that

@@ -436,6 +436,9 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
     if ld.net.checking is not None:
         out["named_right"] = sum(1 for r in runs if r.get("named_right"))
         out["detected"] = len(lat)
+        # (a dead checker stalls the checking for the rest of the run with no torque spoiled: a
+        # masked run, and coverage said 100%, a new user's find: counted and said beside it)
+        out["stalled"] = sum(1 for r in runs if r.get("stalled"))
         if lat:
             out["latency_cycles"] = {"min": lat[0], "median": lat[len(lat) // 2],
                                      "p90": lat[min(len(lat) - 1, int(0.9 * len(lat)))],
@@ -716,6 +719,9 @@ def render_text(head: str, summary: dict) -> str:
                          " (error correction off: nothing checks; a program compiled with "
                          "--error-correction does, README Error correction)"))
     seen, unseen = summary.get("silent_non_finite", 0), summary.get("silent_not_examined", 0)
+    if summary.get("stalled"):
+        lines.append(f"checking stalled: in {summary['stalled']} of {n} runs nothing was checked after "
+                     "a point (a dead VAMP's Test signal; escapes below), which coverage does not show")
     lines.append(f"silent corruption: {summary['classes']['silent-corruption']} of {n} runs "
                  f"({pct(summary['classes']['silent-corruption'])})"
                  + (f"; in {seen} of them the first wrong torque set holds an inf or NaN, which a "
@@ -733,8 +739,10 @@ def render_text(head: str, summary: dict) -> str:
             bars = "  ".join(f"{b['from']}-{b['to']}: {b['runs']}" for b in lat["histogram"])
             lines.append(f"  runs by latency: {bars}")
             cb = summary["corrupted_before_correction"]
-            lines.append(f"torque sets corrupted before correction: max {cb['max']}, mean "
-                         f"{cb['mean']:.1f}")
+            # (over every detected run, corrected or not: it read as the corrected runs' alone,
+            # a new user's find)
+            lines.append(f"torque sets corrupted before the detection, over the "
+                         f"{summary['detected']} detected runs: max {cb['max']}, mean {cb['mean']:.1f}")
     lines.append("by kind:")
     width = max((len(k) for k in summary["by_kind"]), default=4) + 2
     lines.append("  " + "kind".ljust(width) + "".join(f"{LABELS[c]:>26}" for c in CLASSES))
