@@ -1882,12 +1882,25 @@ def test_a_long_output_name_is_written_though_its_temporary_would_be_too_long(tm
     assert sorted(p.name for p in tmp_path.iterdir()) == [name.name]
 
 
+def _each_refused_and_kept(folder, read: list[str]) -> None:
+    """Each of `read` (the first an XML file the model includes, the others written here) refused
+    as -o of main.xml's command, and left as it was."""
+    from vampc.errors import VampcError
+    from vampc.outputs import plan_outputs
+    for name in read[1:]:
+        (folder / name).write_bytes(b"keep me")
+    before = {name: (folder / name).read_bytes() for name in read}
+    for name in read:
+        with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
+            plan_outputs([folder / "main.xml"], {"-o": str(folder / name)})
+        assert (folder / name).read_bytes() == before[name]
+
+
 def test_the_files_an_mjcf_model_reads_are_inputs_too(tmp_path):
     """`vampc compile main.xml -o body.xml`, body.xml being the file main.xml includes, replaced it
     with the program file, exit 0 (a file-safety audit): an MJCF model's includes, and the meshes,
     skins, textures and height fields it names (from <compiler meshdir|texturedir|assetdir>), are
     refused as outputs like the model itself. A URDF's mesh files are not read, nor guarded."""
-    from vampc.errors import VampcError
     from vampc.outputs import plan_outputs
     (tmp_path / "m").mkdir()
     (tmp_path / "main.xml").write_text(
@@ -1899,13 +1912,7 @@ def test_the_files_an_mjcf_model_reads_are_inputs_too(tmp_path):
         '<asset><hfield file="ground.png" size="1 1 1 1"/></asset></mujoco>')
     (tmp_path / "t").mkdir()
     read = ["body.xml", "m/link.stl", "t/skin.png", "t/ground.png"]
-    for name in read[1:]:
-        (tmp_path / name).write_bytes(b"keep me")
-    before = {name: (tmp_path / name).read_bytes() for name in read}
-    for name in read:
-        with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
-            plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / name)})
-        assert (tmp_path / name).read_bytes() == before[name]
+    _each_refused_and_kept(tmp_path, read)
     plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / "p.vamp.json")})   # others are free
     urdf = tmp_path / "r.urdf"
     urdf.write_text('<robot name="r"><link name="a"><visual><geometry><mesh filename="m/link.stl"/>'
@@ -1966,8 +1973,6 @@ def test_an_include_of_an_include_and_its_assets_are_inputs_where_mujoco_finds_t
     including file; they were looked for beside the model only, and `compile main.xml -o
     sub/b.xml` replaced the nested include, exit 0 (a review's find). A cube texture's six files
     (fileright ... fileback) are inputs too."""
-    from vampc.errors import VampcError
-    from vampc.outputs import plan_outputs
     (tmp_path / "sub").mkdir()
     (tmp_path / "main.xml").write_text('<mujoco model="nested"><include file="sub/a.xml"/></mujoco>')
     (tmp_path / "sub" / "a.xml").write_text(
@@ -1976,13 +1981,7 @@ def test_an_include_of_an_include_and_its_assets_are_inputs_where_mujoco_finds_t
         'filefront="f.png" fileback="k.png"/></asset></mujoco>')
     (tmp_path / "sub" / "b.xml").write_text('<mujoco><worldbody/></mujoco>')
     read = ["sub/b.xml", "sub/m.obj", *(f"sub/{c}.png" for c in "rludfk")]
-    for name in read[1:]:
-        (tmp_path / name).write_bytes(b"keep me")
-    before = {name: (tmp_path / name).read_bytes() for name in read}
-    for name in read:
-        with pytest.raises(VampcError, match=r"is the input file .*; vampc never writes over its inputs"):
-            plan_outputs([tmp_path / "main.xml"], {"-o": str(tmp_path / name)})
-        assert (tmp_path / name).read_bytes() == before[name]
+    _each_refused_and_kept(tmp_path, read)
 
 
 def test_vampcs_own_outputs_given_as_a_robot_are_named(tmp_path):
