@@ -925,3 +925,25 @@ def test_a_file_system_without_locks_runs_the_campaign(programs, tmp_path, monke
     r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
     assert r.exit_code == 0 and "another vampc faults run" not in r.output, r.output
     assert len(path.read_text().splitlines()) == 1 + 8
+
+
+def test_an_interrupted_campaign_says_the_runs_it_keeps(programs, tmp_path, monkeypatch):
+    """Ctrl-C during `faults` said "vampc: interrupted" alone, though the runs finished are kept and
+    a re-run resumes from them (a new user's find): the line says how many and where."""
+    ec, _, _ = programs
+    path = tmp_path / "r.jsonl"
+    real = cp.ResultsFile.add
+
+    def add(self, index, run):
+        real(self, index, run)
+        if self.added == 3:
+            raise KeyboardInterrupt
+    monkeypatch.setattr(cp.ResultsFile, "add", add)
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    assert r.exit_code == 130 and r.stderr.strip().splitlines()[-1] == (
+        f"vampc: interrupted; 3 runs finished this time kept in {path} (a re-run resumes from "
+        "them)"), r.stderr
+    assert len(path.read_text().splitlines()) == 1 + 3
+    monkeypatch.setattr(cp.ResultsFile, "add", real)
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    assert r.exit_code == 0 and "(3 run(s) read from" in r.output, r.output

@@ -66,11 +66,11 @@ def handle_errors(f):
             sys.exit(1)
         except Terminated as exc:
             discard_all()
-            click.echo(f"vampc: terminated ({exc})", err=True)
+            click.echo(f"vampc: terminated ({exc})" + _kept(exc), err=True)
             sys.exit(128 + exc.signum)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             discard_all()
-            click.echo("vampc: interrupted", err=True)
+            click.echo("vampc: interrupted" + _kept(exc), err=True)
             sys.exit(130)
         except (click.exceptions.Exit, click.ClickException, SystemExit):
             raise
@@ -97,6 +97,12 @@ def handle_errors(f):
 
 
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
+
+
+def _kept(exc: BaseException) -> str:
+    """What an interrupted command kept, where it says so (`exc.note`: a fault campaign's runs)."""
+    note = getattr(exc, "note", "")
+    return f"; {note}" if note else ""
 
 
 def unbroken(text: str) -> str:

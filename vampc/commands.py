@@ -1558,6 +1558,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                        kept=f"the runs finished are kept in {results} (a re-run "
                                        "resumes from them)")
                 failed = False
+            except KeyboardInterrupt as exc:     # (Ctrl-C, SIGTERM: "interrupted" alone, though
+                if store.added:                  # the runs finished are kept: a new user's find)
+                    exc.note = (f"{count(store.added, 'run')} finished this time kept in {results} "
+                                "(a re-run resumes from them)")
+                raise
             finally:
                 store.close(failed)
     finally:
