@@ -2009,3 +2009,31 @@ def test_vampcs_own_outputs_given_as_a_robot_are_named(tmp_path):
     assert run(main, ["report", planar, "--timing", str(tmp_path / "t.svg")]).exit_code == 0
     e = run(main, ["compile", str(tmp_path / "t.svg")])
     assert "it looks like an SVG picture" in e.stderr, e.stderr
+
+
+def test_a_misspelled_value_gets_the_name_it_is_closest_to(tmp_path):
+    """A misspelled option name gets click's "Did you mean", a misspelled value nothing (`--kinds
+    dea`, a limits row `waste`: a new user's finds): where a name is chosen from a list, the
+    closest is offered, and nothing when none is close."""
+    run = CliRunner().invoke
+    ur5 = str(EXAMPLES / "ur5.urdf")
+    for args, said in (
+            (["compile", ur5, "--tip", "wrist_3_lnk"], "unknown tip link 'wrist_3_lnk' (did you mean "
+                                                       "'wrist_3_link'?)"),
+            (["compile", ur5, "--base", "base_lnk"], "unknown base link 'base_lnk' (did you mean "
+                                                     "'base_link'?)"),
+            (["compile", ur5, "--lock", "shoulder_pan=0"], "no joint named 'shoulder_pan' (did you "
+                                                            "mean 'shoulder_pan_joint'?)"),
+            (["faults", str(EXAMPLES / "planar2.yaml"), "--kinds", "dea"],
+             "(did you mean 'dead'?)")):
+        r = run(main, [*args, "-o", str(tmp_path / "x.out")] if args[0] == "compile" else args)
+        assert r.exit_code in (1, 2) and said in r.output, r.output
+    r = run(main, ["compile", ur5, "--tip", "zzzz"])
+    assert r.exit_code == 1 and "did you mean" not in r.output
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nwaste,10,1\n")
+    path = tmp_path / "path.csv"
+    path.write_text((EXAMPLES / "puma560-path.csv").read_text())
+    r = run(main, ["lookahead", str(EXAMPLES / "puma560.yaml"), "--trajectory", str(path), "--rate",
+                   "1kHz", "--window", "8", "--limits", str(limits)])
+    assert r.exit_code == 1 and "no joint named 'waste' (did you mean 'waist'?)" in r.output, r.output

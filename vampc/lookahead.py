@@ -237,10 +237,11 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
         if name not in names:
             matches = padded.get(name, [])
             if len(matches) != 1:
+                from vampc.textio import did_you_mean
                 raise VampcError(f"{path}: line {line}: no joint named {shown(name)}"
                                  + (f" (joints {', '.join(map(shown, matches))} differ only in "
                                     "spaces round their names: write the name as the robot "
-                                    "file does, in quotes)" if matches else ""))
+                                    "file does, in quotes)" if matches else did_you_mean(name, names)))
             name = matches[0]
         if name in seen:
             raise VampcError(f"{path}: line {line}: joint '{name}' again (line {seen[name]} gave "

@@ -974,7 +974,9 @@ class FaultsOptions:
         kinds = self.kind_list()
         bad = [k for k in kinds if k not in KINDS]
         if bad or not kinds:
-            raise VampcUsageError(f"--kinds {self.kinds}: give some of {','.join(KINDS)}")
+            from vampc.textio import did_you_mean
+            raise VampcUsageError(f"--kinds {self.kinds}: give some of {','.join(KINDS)}"
+                                  + (did_you_mean(bad[0], KINDS) if bad else ""))
         for name, campaigns in (("count", ("random",)), ("rate", ("intermittent",)),
                                 ("kinds", ("single", "random")), ("bits", ("single",)),
                                 ("values", ("single",))):

@@ -168,3 +168,11 @@ def one_line(text: str, limit: int = 300) -> str:
     """Collapse whitespace and cut very long messages (a parser's, or one quoting a whole value)."""
     text = " ".join(text.split())
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def did_you_mean(word: str, choices) -> str:
+    """' (did you mean 'dead'?)' for a word close to one of `choices` (difflib's), else '': a
+    misspelled value got no hint where a misspelled option name does (a new user's find)."""
+    import difflib
+    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""

@@ -461,7 +461,9 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
     out = {}
     for name, value in lock.items():
         if name not in tree.joints:
-            raise located(path, f"lock {name}", f"no joint named '{name}'")
+            from vampc.textio import did_you_mean
+            raise located(path, f"lock {name}", f"no joint named '{name}'"
+                          + did_you_mean(name, tree.joints))
         try:
             number = float(value)
         except (TypeError, ValueError):

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from vampc.errors import located
 from vampc.robot.chain import JointType
+from vampc.textio import did_you_mean
 
 MOVABLE = {"revolute": JointType.REVOLUTE, "continuous": JointType.REVOLUTE,
            "prismatic": JointType.PRISMATIC}
@@ -133,7 +134,8 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     the base floats."""
     if base is not None:
         if base not in tree.links:
-            raise located(path, "", f"unknown base link '{base}'{_after_last_joint(tree, base)}")
+            raise located(path, "", f"unknown base link '{base}'"
+                          + (_after_last_joint(tree, base) or did_you_mean(base, tree.links)))
         carried = _floating_child(tree, base) if base not in tree.parent else None
         if carried:
             return carried, True                         # the root named: as without --base
@@ -189,7 +191,8 @@ def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -
     there are several branches (the robot is taken whole, as a tree)."""
     if tip is not None:
         if tip not in tree.links:
-            raise located(path, "", f"unknown tip link '{tip}'{_after_last_joint(tree, tip)}")
+            raise located(path, "", f"unknown tip link '{tip}'"
+                          + (_after_last_joint(tree, tip) or did_you_mean(tip, tree.links)))
         if tip != base and base not in {j.parent for j in tree.ancestors(tip)}:
             raise located(path, "", f"no path from base link '{base}' down to tip link '{tip}'")
         return tip
