@@ -240,8 +240,10 @@ def o1_measured(rep: dict) -> Table:
              "Luh-Walker-Paul (LWP); configuration rows: latency on the critical path as Mults + "
              "Addns (+ flops waiting for a busy VAMP), beside the paper's formula for the recursion; "
              "the systolic interval beside the paper's 1 Mult + 3 Addns"] + list(t["notes"])
+    # (the interval and waits columns had no unit: a paper audit)
     return Table("o1-measured", f"Table O.1, vampc's figures for {rep['robot']} (measured from "
-                 "its compiled graphs and schedules)", cols, tuple(rows), tuple(notes),
+                 "its compiled graphs and schedules; waits, flops and interval in flops)", cols,
+                 tuple(rows), tuple(notes),
                  align="lrrrrrrrll" + ("rr" if clk else ""))
 
 
