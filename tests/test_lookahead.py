@@ -1112,3 +1112,21 @@ def test_a_long_per_joint_list_is_cut_into_lines_without_cutting_a_joint():
     short = items[:6]
     assert wrapped("worst |τ| / limit per joint: ", short) == \
         "worst |τ| / limit per joint: " + ", ".join(short)
+
+
+def test_a_clock_just_too_slow_gives_times_that_differ():
+    """At 3.999 kHz a set takes 1.00025 ms, one row's λ is 1 ms: the refusal said "1 row(s) every
+    λ = 1 ms need 1 ms: it cannot keep up" (a look-ahead audit's find). The two times are written
+    with the digits that tell them apart, the count in words; at 4 kHz it keeps up."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    args = ["lookahead", str(EXAMPLES / "puma560.yaml"), "--trajectory",
+            str(EXAMPLES / "puma560-path.csv"), "--rate", "1kHz", "--limits",
+            str(EXAMPLES / "puma560-limits.csv")]
+    r = CliRunner().invoke(main, [*args, "--window", "17", "--clock", "3.999kHz"])
+    assert r.exit_code == 1 and "1 row every λ = 1 ms need 1.0003 ms: it cannot keep up" in r.output, \
+        r.output
+    r = CliRunner().invoke(main, [*args, "--window", "17", "--clock", "4kHz"])
+    assert r.exit_code == 0, r.output

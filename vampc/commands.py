@@ -1099,10 +1099,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if clock is not None:
         period = ld.schedule.interval / clock         # one torque set per interval of flops
         if need * period > lam:
+            from vampc.report.clock import times_apart
+            every, needs = times_apart(lam * 1e6, need * period * 1e6)
             raise VampcError(f"{source}: the network computes a torque set every {time_text(period * 1e6)} "
-                             f"({ld.schedule.interval} flops at {own.clock}); {need} row(s) every λ = "
-                             f"{time_text(lam * 1e6)} need {time_text(need * period * 1e6)}: it cannot "
-                             "keep up")
+                             f"({ld.schedule.interval} flops at {own.clock}); {count(need, 'row')} every "
+                             f"λ = {every} need {needs}: it cannot keep up")
         if own.retime != "window":                    # rows λ apart: said before the run
             _in_time(source, ld, own, clock, need, seen, lam)
     # a narrower word than float64: plan within the error its --check allows (of the largest |τ|)
@@ -1162,9 +1163,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
         if need * period > step:
-            raise VampcError(f"{source}: the retimed path has rows {time_text(step * 1e6)} apart; the "
-                             f"network needs {time_text(need * period * 1e6)} for the {need} passes of a "
-                             f"row ({ld.schedule.interval} flops at {own.clock}): it cannot keep up")
+            from vampc.report.clock import times_apart
+            apart, needs = times_apart(step * 1e6, need * period * 1e6)
+            raise VampcError(f"{source}: the retimed path has rows {apart} apart; the network needs "
+                             f"{needs} for the {need} passes of a row ({ld.schedule.interval} flops at "
+                             f"{own.clock}): it cannot keep up")
         late, early = _in_time(source, ld, own, clock, need, seen, step)
         passes = "the one pass" if need == 1 else f"the {need} passes"
         # (in engineering units, and naming the network judged: "6.299e+04 µs before the motors
@@ -1268,12 +1271,13 @@ def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -
         longer = "--window or more --futures" if own.retime == "window" else "--window"
         advice = (f"give a longer {longer}" if seen == 1 else
                   f"give a longer {longer}, or a faster --clock")
-        from vampc.report.clock import time_text
-        raise VampcError(f"{source}: a row's torques come {time_text(late * 1e6)} after it enters (the "
+        from vampc.report.clock import time_text, times_apart
+        late_text, early_text = times_apart(late * 1e6, early * 1e6)
+        raise VampcError(f"{source}: a row's torques come {late_text} after it enters (the "
                          f"network's latency, {ld.schedule.latency} flops at {own.clock}"
                          + (f", and {need - 1} more pass(es) {ld.schedule.interval} flops apart"
                             if need > 1 else "")
-                         + f"); it reaches the motors {time_text(early * 1e6)} after ({seen - 1} row(s) "
+                         + f"); it reaches the motors {early_text} after ({count(seen - 1, 'row')} "
                          f"of {time_text(step * 1e6)}): its torques would come too late; {advice}")
     return late, early
 
