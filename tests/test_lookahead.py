@@ -1130,3 +1130,23 @@ def test_a_clock_just_too_slow_gives_times_that_differ():
         r.output
     r = CliRunner().invoke(main, [*args, "--window", "17", "--clock", "4kHz"])
     assert r.exit_code == 0, r.output
+
+
+def test_a_start_outside_the_limits_is_put_down_to_q0_not_the_file(tmp_path):
+    """With --accelerations the first state's position is --q0's, and an out-of-limits --q0 was
+    refused as the accelerations file's line 2 (a look-ahead audit's find): it is said of --q0, and
+    a later state's of the file's line, integrated from --q0 and --qd0."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    acc = tmp_path / "acc.csv"
+    acc.write_text("qdd1,qdd2,qdd3,qdd4,qdd5,qdd6\n" + "0,0,0,0,0,0\n" * 3)
+    args = ["lookahead", str(EXAMPLES / "puma560.yaml"), "--accelerations", str(acc), "--rate",
+            "1kHz", "--window", "2", "--limits", str(EXAMPLES / "puma560-limits.csv")]
+    r = CliRunner().invoke(main, [*args, "--q0", "0,0,0,0,0,10"])
+    assert r.exit_code == 1 and r.stderr.startswith("vampc: error: --q0: joint 6 (flange) is outside "
+                                                    "its limits: position 10 above"), r.stderr
+    r = CliRunner().invoke(main, [*args, "--q0", "0,0,0,0,0,0", "--qd0", "0,0,0,0,0,5000"])
+    assert r.exit_code == 1 and f"{acc}: line 3 (state 2), integrated from --q0 and --qd0: joint 6 " \
+        "(flange) is outside its limits: position 5 above" in r.stderr, r.stderr

@@ -1139,7 +1139,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         disagree = la.check_consistent(traj, 1.0 / rate, own.trajectory, columns)
     if not own.allow_out_of_limits:               # positions: speeds are the look-ahead's own
         from vampc.emulator.host import check_limits
-        check_limits(ld.chain, traj, source_path, speeds=False)
+        check_limits(ld.chain, traj, source_path, speeds=False,
+                     integrated=own.accelerations is not None)
     la.check_window(own.window, traj, own.futures or 1)
     if own.engine == "tick":           # (it holds every row's port values and torques)
         from vampc.emulator.driver import tick_memory_check

@@ -70,9 +70,12 @@ def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
     return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
 
 
-def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True) -> None:
+def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
+                 integrated: bool = False) -> None:
     """Refuse states outside the joint limits (position, and speed unless `speeds` is off), naming
-    the row and joint (a coupled follower's by the leader column it is derived from)."""
+    the row and joint (a coupled follower's by the leader column it is derived from). `integrated`:
+    the states are q̈'s of `path` integrated from --q0 and --qd0 (the first state's position is
+    --q0's, the others' come of the integration: a look-ahead audit found --q0's blamed on the file)."""
     from vampc.emulator.trajectory import state_at
     from vampc.robot.mimic import column_names
     derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
@@ -100,7 +103,10 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True)
                 broken.append(f"speed |qd| = {shown} beyond {bound}")
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
                 ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
-            raise VampcError(f"{path}: {state_at(path, row)}: joint {i + 1} ({j.name}) is outside "
+            where = ("--q0" if integrated and row == 0 else
+                     f"{path}: {state_at(path, row)}" + (", integrated from --q0 and --qd0"
+                                                        if integrated else ""))
+            raise VampcError(f"{where}: joint {i + 1} ({j.name}) is outside "
                              f"its limits: {' and '.join(broken)} ({via}limits {', '.join(limits)}); "
                              "use --allow-out-of-limits to run anyway")
 
