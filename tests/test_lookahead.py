@@ -147,7 +147,10 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
 @pytest.mark.parametrize("edit, args, message, code", [
     (lambda t: t[::-1], [], r"line 3 \(state 2\): t = \S+ does not come after \S+ \(not a path: time must increase\)", 1),
     (None, ["--rate", "2kHz"], r"t steps by 0\.001, not 1/rate = 0\.0005; give the rate the rows "
-     r"were sampled at$", 1),
+     r"were sampled at \(every step is 0\.001: 1000 Hz\)$", 1),
+    # (an even path at a rate 0.01% off was told its times were rounded: a look-ahead audit's find)
+    (None, ["--rate", "999.9Hz"], r"t steps by 0\.001, not 1/rate = 0\.00100010001\d*; give the "
+     r"rate the rows were sampled at \(every step is 0\.001: 1000 Hz\)$", 1),
     (lambda t: np.round(t / 3, 6), ["--rate", "3kHz"], r"t steps by 0\.000333, not 1/rate = "
      r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits, or held "
      r"as float32, are off by their rounding: write them in full, or leave the t column out, and "

@@ -334,9 +334,13 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     if off.size:
         step = float(steps[off[0]])
         rounded = abs(step - lam) <= 1e-3 * lam       # the right rate, times written short
+        # (rows evenly apart at another step: the rate given is off, not the times; the rounding
+        # hint had been given of --rate 999.9Hz beside exact times, a look-ahead audit's find)
+        even = float(np.ptp(steps)) <= 2 * float(slack.max())
         raise VampcError(f"{path}: {state_at(path, off[0] + 1)}: t steps by {step!r}, not 1/rate = {lam!r}; "
                          "give the rate the rows were sampled at"
-                         + (" (times rounded to fewer digits, or held as float32, are off by their "
+                         + (f" (every step is {step!r}: {1.0 / step:.9g} Hz)" if even else
+                            " (times rounded to fewer digits, or held as float32, are off by their "
                             "rounding: write them in full, or leave the t column out, and the rows "
                             "are 1/rate apart)" if rounded else ""))
     return t
