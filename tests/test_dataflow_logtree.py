@@ -95,3 +95,32 @@ def test_random_trees_emulate_exactly(n, recursion):
         assert check_torques(chain, traj, stream.tau).max_rel < 1e-12
         if n <= 11:
             assert np.array_equal(emulate(ld, _head(traj, 2), "tick", seed=1).tau, stream.tau[:2])
+
+
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+@pytest.mark.parametrize("legs", [3, 4, 8])
+def test_the_reports_backward_tiers_are_the_graphs(tmp_path, legs, floating):
+    """The report counted a ground leaf at position 0 on every tree, and gave a fixed-base tree one
+    backward tier more than its graph wherever the heavy path from the base has 2, 4, 8 ... joints
+    (two 4-joint legs: 3 against the graph's 2; talos_reduced from its torso: 4 against 3: a trees
+    audit). The report's figure is the tier count of the built log graph's backward nodes."""
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.report.counts import summary
+    from vampc.robot import load_robot
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+                'ixz="0" iyz="0"/></inertial>')
+    links, joints = [f'<link name="trunk">{inertial}</link>'], []
+    for side in ("l", "r"):
+        parent = "trunk"
+        for k in range(legs):
+            links.append(f'<link name="{side}{k}">{inertial}</link>')
+            joints.append(f'<joint name="{side}j{k}" type="revolute"><parent link="{parent}"/>'
+                          f'<child link="{side}{k}"/><origin xyz="0 0.1 -0.1"/><axis xyz="0 1 0"/>'
+                          '<limit lower="-1" upper="1" effort="10" velocity="2"/></joint>')
+            parent = f"{side}{k}"
+    path = tmp_path / "legs.urdf"
+    path.write_text(f'<robot name="legs">{"".join(links)}{"".join(joints)}</robot>')
+    chain = load_robot(path, floating=floating)
+    c = compile_chain(chain, CompileOptions(recursion="log"))
+    tiers = max(r[4] for r in json.loads(dict(c.graph.meta)["bwd_nodes"]))
+    assert summary(c)["tree"]["backward_tiers"] == tiers

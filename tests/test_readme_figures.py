@@ -333,7 +333,7 @@ def depth_row(shape: str, n: int, recursions: tuple[str, ...]) -> tuple[int, ...
     """What benchmarks/tree_depth.py prints for one tree: height, light edges, backward tiers,
     forward levels, ⌈log2(n+1)⌉, then the ASAP latencies of `recursions` (linear, log)."""
     tree = random_tree(n, 0, shape, prismatic_fraction=0.0)
-    d = tree_depths(tree.parent_of, "sklansky", ground=True)
+    d = tree_depths(tree.parent_of, "sklansky", ground=tree.floating or tree.base_rotates)
     out = (d["height"], d["light_edges"], d["backward_tiers"], d["forward_levels"], d["log2"])
     return out + tuple(schedule_asap(build_graph(tree, CompileOptions(recursion=r, verify=False)),
                                      verify=False).latency for r in recursions)

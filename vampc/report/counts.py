@@ -187,7 +187,11 @@ def tree_summary(chain, prefix: str) -> dict:
     depth of the level-by-level, linear recursion), the log recursion's backward ⊗ tiers (heavy paths
     plus light edges) and forward addition levels, beside ⌈log2(n+1)⌉; the base wrench's outputs."""
     from vampc.dataflow.treeprefix import tree_depths
-    depths = tree_depths(chain.parent_of, prefix, ground=True)
+    # a ground leaf at position 0 only where the log builders put one: a floating or rotating base
+    # (the builders' ground0 is a fixed base standing still); with it always, a fixed-base tree's
+    # tiers were one more than its graph's wherever its heavy path from the base has 2, 4, 8 ...
+    # joints (a trees audit: talos_reduced 4 against 3)
+    depths = tree_depths(chain.parent_of, prefix, ground=chain.floating or chain.base_rotates)
     return {**depths, "log2_n_plus_1": (chain.n).bit_length(), "floating": chain.floating,
             "outputs": chain.n_outputs, "parents": list(chain.parent_of)}
 
