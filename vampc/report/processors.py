@@ -224,8 +224,17 @@ def _tree_why(recursion: str, sec: str, row: dict, ref: dict, chain) -> str:
         return ("the base floats: its motion and wrench are the network's inputs and outputs, "
                 "beyond the paper's fixed base (README, Trees and floating bases)")
     if linear and sec == Section.FWD:
-        return ("the robot has branches (a tree): a joint with several children sums their f' and "
-                "n' (VA trees), beyond the paper's Table I.1 (README, Trees and floating bases)")
+        # (the sums were given as the reason on a quadruped, whose joints have one child each: its
+        # busiest node is a hip on the trunk, a trees audit's find)
+        kids = [0] * (chain.n + 1)
+        for p in chain.parent_of:
+            kids[p] += 1
+        several = any(k > 1 for k in kids[1:])
+        return ("the robot has branches (a tree): " + (
+            "a joint with several children sums their f' and n' (VA trees), " if several else "") +
+            "a child whose frame is shifted from its parent's carries its moment over (Y1, Y2: "
+            "VC + VA) and a joint whose axis is not its parent frame's z takes τ = u·n' (VD), beyond "
+            "the paper's Table I.1 (README, Trees and floating bases)")
     if linear and sec in (Section.BWD, "bwd_total") and ref.get("per_node") is not None and \
             row["per_node"] - ref["per_node"] == 5:
         return ("the robot has branches (a tree): a joint whose frame is shifted from its parent's "

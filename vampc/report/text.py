@@ -176,8 +176,12 @@ def _unused_text(unused: dict, total: int) -> str:
     a tree's Y1, Y2 are among them too: a review's find)."""
     names = list(unused.get("names", {}).items())
     what = ", ".join(f"{name} {k}" for name, k in names[:10]) + (", …" if len(names) > 10 else "")
-    ops = f"{count(unused['ops'], 'op')} compute values no torque reads, kept as the paper's nodes " \
-          f"have them ({what})"
+    # (Y1, Y2 are a tree's ops, not the paper's: they were said kept "as the paper's nodes have
+    # them", a trees audit's find)
+    tree = [name for name, _ in names if name in ("Y1", "Y2")]
+    ops = f"{count(unused['ops'], 'op')} compute values no torque reads, kept as " + (
+        "the nodes are built (the paper's whole, and a tree's Y1, Y2 at each shifted child)"
+        if tree else "the paper's nodes have them") + f" ({what})"
     if not unused["vamps"]:
         return f"{ops}, on VAMPs that run others too: none to spare"
     return (f"{count(unused['vamps'], 'VAMP')} run only those: {ops}; the torques need "
