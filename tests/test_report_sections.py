@@ -117,3 +117,21 @@ def test_the_prefix_table_of_a_layout_that_waits_adds_up():
         assert f"{r['mults']} + {r['adds']} + {r['waits']}" in line
     systolic = run().split("\nPrefix shapes")[1].split("\n\n")[0]
     assert "= M + A " in systolic and "wait" not in systolic
+
+
+def test_a_trees_counts_of_one_are_singular(tmp_path):
+    """'1 leaves', '1 heavy paths' on a leg taken alone (a trees audit)."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+                'ixz="0" iyz="0"/></inertial>')
+    path = tmp_path / "one.urdf"
+    path.write_text(f'<robot name="one"><link name="base">{inertial}</link><link name="a">{inertial}'
+                    '</link><joint name="j" type="revolute"><parent link="base"/><child link="a"/>'
+                    '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                    '</joint></robot>')
+    r = CliRunner().invoke(main, ["report", str(path), "--floating-base"])
+    assert r.exit_code == 0, r.output
+    line = next(x for x in r.output.splitlines() if x.startswith("tree "))
+    assert "1 joint, 1 leaf, height 1" in line and "1 heavy path, at most 0 light edges" in line, line

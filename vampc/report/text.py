@@ -156,12 +156,14 @@ def _tree_pairs(tree: dict | None) -> list[tuple[str, str]]:
     """A tree's shape and depths (counts.tree_summary, and the latencies `vampc report` adds)."""
     if not tree:
         return []
-    pairs = [("tree", f"{count(tree['joints'], 'joint')}, {tree['leaves']} leaves, height {tree['height']} "
-              f"(the level-by-level depth), {tree['heavy_paths']} heavy paths, at most "
-              f"{tree['light_edges']} light edges on a path"
+    # ("1 leaves", "1 heavy paths" on a leg taken alone: a trees audit)
+    leaves = f"{tree['leaves']} {'leaf' if tree['leaves'] == 1 else 'leaves'}"
+    pairs = [("tree", f"{count(tree['joints'], 'joint')}, {leaves}, height {tree['height']} "
+              f"(the level-by-level depth), {count(tree['heavy_paths'], 'heavy path')}, at most "
+              f"{count(tree['light_edges'], 'light edge')} on a path"
               + ("; floating base: 6 wrench outputs after the joints" if tree["floating"] else ""))]
-    pairs.append(("  log depth", f"backward {tree['backward_tiers']} combining tiers, forward "
-                  f"{tree['forward_levels']} addition levels; ⌈log2(n+1)⌉ = "
+    pairs.append(("  log depth", f"backward {count(tree['backward_tiers'], 'combining tier')}, forward "
+                  f"{count(tree['forward_levels'], 'addition level')}; ⌈log2(n+1)⌉ = "
                   f"{tree['log2_n_plus_1']}, height {tree['height']}"))
     lat = tree.get("latency_flops")
     if lat:
