@@ -175,6 +175,10 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 1e300), True,
      r"program stream of \w+ \d+, word 0: scalar 1e\+300 does not fit in a 25-bit Program-Mode "
      r"word \(at most 16777215 in magnitude, as this program packs them\)$"),
+    # (an integer just past the packing read "1.67772e+07": a hardware audit)
+    (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 16777216.0), True,
+     r"program stream of \w+ \d+, word 0: scalar 16777216 does not fit in a 25-bit Program-Mode "
+     r"word \(at most 16777215 in magnitude, as this program packs them\)$"),
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
                 d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
                                                                                      delay_b=3)),

@@ -193,6 +193,13 @@ def recorded_word(options: dict, path):
         raise VampcError(f"{path}: options.word: {exc}") from None
 
 
+def _whole(x) -> str:
+    """A word's scalar as written: an integer in full (16777216 read '1.67772e+07': a hardware
+    audit), anything else with 6 significant digits."""
+    x = float(x)
+    return str(int(x)) if x.is_integer() and abs(x) < 1e18 else f"{x:.6g}"
+
+
 def delivered_programs(net: Network, numbers, stream, path,
                        packing=PACKING) -> tuple[tuple[Program, ...], ...]:
     """The slot table each VAMP holds after Program Mode; VampcError if one gets none or a bad one."""
@@ -227,13 +234,13 @@ def delivered_programs(net: Network, numbers, stream, path,
                 # (a 1e300 unpacked into a field of 300 digits, which the error then printed)
                 x = word[1] if not abs(word[1]) < packing.limit else word[2]
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: scalar "
-                                 f"{float(x):.6g} does not fit in a {packing.limit.bit_length()}-bit "
+                                 f"{_whole(x)} does not fit in a {packing.limit.bit_length()}-bit "
                                  f"Program-Mode word (at most {packing.limit - 1} in magnitude, "
                                  "as this program packs them)")
             v = index_of.get(word_number(word))
             if v is None or roots[v] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
-                                 f"{word[0]:g} matches no VAMP on that input's Operand-A paths")
+                                 f"{_whole(word[0])} matches no VAMP on that input's Operand-A paths")
             # the listing says where each word goes and how deep; Program Mode lasts as long as
             # it says the deepest word needs, so it must be the network's truth (the tick engine
             # clocks the words by it)
