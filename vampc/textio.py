@@ -176,3 +176,14 @@ def did_you_mean(word: str, choices) -> str:
     import difflib
     close = difflib.get_close_matches(word, [str(c) for c in choices], n=1, cutoff=0.6)
     return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def apart(x: float, y: float, least: int = 6) -> tuple[str, str]:
+    """Two numbers written with as few significant digits (`least` at least) as tell them apart:
+    'speed 3 beyond 3' was said of 3.0000000001, a clock's '1 ms need 1 ms' of 1.00025 (a review's
+    and a look-ahead audit's finds)."""
+    for digits in range(least, 18):
+        a, b = f"{x:.{digits}g}", f"{y:.{digits}g}"
+        if a != b:
+            return a, b
+    return repr(x), repr(y)

@@ -12,6 +12,7 @@ from vampc.dataflow.host import input_value
 from vampc.emulator.load import Loaded
 from vampc.errors import VampcError
 from vampc.robot.chain import Chain
+from vampc.textio import apart
 
 
 @dataclass(frozen=True)
@@ -109,16 +110,6 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
             raise VampcError(f"{where}: joint {i + 1} ({j.name}) is outside "
                              f"its limits: {' and '.join(broken)} ({via}limits {', '.join(limits)}); "
                              "use --allow-out-of-limits to run anyway")
-
-
-def apart(x: float, limit: float) -> tuple[str, str]:
-    """Two numbers written with as few digits (6 at least) as tell them apart: 'speed 3 beyond 3'
-    was said of 3.0000000001 (a review's find)."""
-    for digits in range(6, 18):
-        a, b = f"{x:.{digits}g}", f"{limit:.{digits}g}"
-        if a != b:
-            return a, b
-    return repr(x), repr(limit)
 
 
 def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None,

@@ -81,15 +81,13 @@ def times_apart(a_us: float, b_us: float) -> tuple[str, str]:
     """Two times given in µs, each as time_text writes it, with more digits where 4 would make them
     read the same: a refusal said a set "every 1 ms" could not keep up with rows "every 1 ms"
     (1.00025 against 1: a look-ahead audit's find)."""
+    from vampc.textio import apart
     a, b = time_text(a_us), time_text(b_us)
     if a != b or a_us == b_us:
         return a, b
     unit, scale = _prefix(max(abs(a_us), abs(b_us)))
-    for digits in range(5, 17):
-        a, b = (f"{float(f'{x / scale:.{digits}g}'):g} {unit}" for x in (a_us, b_us))
-        if a != b:
-            break
-    return a, b
+    a, b = apart(a_us / scale, b_us / scale, least=5)
+    return f"{a} {unit}", f"{b} {unit}"
 
 
 def time_column(values_us) -> tuple[str, list[str]]:
