@@ -37,12 +37,13 @@ def cli(*decls: str, help: str, **click: object) -> dict:
     return {"cli": (decls, help, click)}
 
 
-
-def not_positive(option: str, value: float) -> str:
-    """The message for a number that must be positive and finite; a 0 that was written as a number
+def check_positive(option: str, value: float) -> None:
+    """VampcUsageError unless `value` is a positive finite number; a 0 that was written as a number
     too small for float64 (1e-400, echoed as "0.0": a file-safety audit) is said to be one."""
-    return (f"{option} {value:g}: give a positive number" + (
-        " (a number below about 5e-324 also reads as 0)" if value == 0 else ""))
+    if not (value > 0 and math.isfinite(value)):
+        raise VampcUsageError(f"{option} {value:g}: give a positive number" + (
+            " (a number below about 5e-324 also reads as 0)" if value == 0 else ""))
+
 
 def flag(name: str) -> str:
     """'--share-passes' for 'share_passes'."""
@@ -611,8 +612,8 @@ class EmulateOptions:
             raise VampcUsageError("--seed applies to --random and to the tick engine")
         if self.tolerance is not None and not self.check_torques:
             raise VampcUsageError("--tolerance applies with --check")
-        if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
-            raise VampcUsageError(not_positive("--tolerance", self.tolerance))
+        if self.tolerance is not None:
+            check_positive("--tolerance", self.tolerance)
         files = [x for x in (self.output, self.save_states, self.vcd) if x is not None and x != "-"]
         if self.write_failed and not (self.check_torques and files):
             # (to standard output alone it changed nothing, and was taken: lookahead refused it)
@@ -729,8 +730,8 @@ class LookaheadOptions:
                 raise VampcUsageError(f"--{name} applies with --accelerations")
         if self.futures is not None and self.retime != "window":
             raise VampcUsageError("--futures applies with --retime window")
-        if self.tolerance is not None and not (self.tolerance > 0 and math.isfinite(self.tolerance)):
-            raise VampcUsageError(not_positive("--tolerance", self.tolerance))
+        if self.tolerance is not None:
+            check_positive("--tolerance", self.tolerance)
         if self.tolerance is not None and not (self.check_torques or self.retime):
             # (without either nothing reads it: it was taken silently on a narrower word)
             raise VampcUsageError("--tolerance applies with --check or --retime")
@@ -1077,9 +1078,7 @@ class PrecisionOptions:
         """Every rule between precision options."""
         self.widths()
         for name in ("tolerance", "acceleration"):
-            value = getattr(self, name)
-            if not (value > 0 and math.isfinite(value)):
-                raise VampcUsageError(not_positive(flag(name), value))
+            check_positive(flag(name), getattr(self, name))
 
 
 MAX_MINUTES = 7 * 24 * 60      # --max-minutes at most: a week
