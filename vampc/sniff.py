@@ -55,7 +55,7 @@ def sniff(path) -> str | None:
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
     if head.startswith(b"<"):
-        return "svg" if b"<svg" in head[:HEAD] and b"<robot" not in head else "urdf"
+        return "svg" if b"<svg" in head and b"<robot" not in head else "urdf"
     if head.startswith((b"{", b"[")):
         if head.startswith(b'{"vampc_faults":'):       # (a results file: "JSON (a DH table?)")
             return "faults-results"
@@ -95,6 +95,22 @@ def _gunzipped_head(path) -> bytes:
     except (OSError, zlib.error):
         pass
     return out
+
+
+def vampc_output(doc) -> str | None:
+    """What a parsed JSON document is when it is one of vampc's own outputs ('a vampc report (JSON)'),
+    by the keys each has; None otherwise. `vampc emulate report.json` said "Additional properties
+    are not allowed ('allocation' was unexpected)" (a new user's find)."""
+    if not isinstance(doc, dict):
+        return None
+    for keys, what in ((("report_version", "table_o1"), "a vampc report (vampc report --format json)"),
+                       (("campaign", "runs", "summary"), "a vampc faults report (--format json)"),
+                       (("vampc_faults",), "the header of a vampc faults results file"),
+                       (("rows", "narrowest_bound"), "a vampc precision report (--format json)"),
+                       (("robot", "recursion", "points"), "a vampc report --tradeoff (JSON)")):
+        if all(k in doc for k in keys):
+            return what
+    return None
 
 
 def looks_like(path) -> str:

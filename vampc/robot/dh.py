@@ -57,6 +57,7 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
     if doc is None or doc == "":
         raise VampcError(f"{source}: the robot file is empty (a DH table is a mapping with "
                          "`joints`; README, DH table)")
+    from vampc.sniff import vampc_output
     output = vampc_output(doc)
     if output:       # (one of vampc's own outputs: a schema error had named its first key)
         raise VampcError(f"{source}: this is {output}, not a robot description (a DH table, URDF "
@@ -90,22 +91,6 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
                  tip_force=_vec(tip.get("force", [0, 0, 0])),
                  tip_torque=_vec(tip.get("torque", [0, 0, 0])), source=source,
                  **tree, **_floating_base(base, floating, source))
-
-
-def vampc_output(doc) -> str | None:
-    """What a parsed JSON document is when it is one of vampc's own outputs ('a vampc report (JSON)'),
-    by the keys each has; None otherwise. `vampc emulate report.json` said "Additional properties
-    are not allowed ('allocation' was unexpected)" (a new user's find)."""
-    if not isinstance(doc, dict):
-        return None
-    for keys, what in ((("report_version", "table_o1"), "a vampc report (vampc report --format json)"),
-                       (("campaign", "runs", "summary"), "a vampc faults report (--format json)"),
-                       (("vampc_faults",), "the header of a vampc faults results file"),
-                       (("rows", "narrowest_bound"), "a vampc precision report (--format json)"),
-                       (("robot", "recursion", "points"), "a vampc report --tradeoff (JSON)")):
-        if all(k in doc for k in keys):
-            return what
-    return None
 
 
 def _floating_base(base: dict, floating: bool, source: str) -> dict:
