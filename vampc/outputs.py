@@ -330,19 +330,17 @@ def _character_device(path: Path) -> bool:
 _TEMPORARIES: set[str] = set()
 
 
-TEMPORARY_STEM = 200    # bytes of an output's name its temporary keeps (+ 22: '.', 16 hex, '.tmp')
-
-
 def _new_temporary(target: Path) -> tuple[int, str]:
     """Create a new temporary file beside `target` (mode 0o600) with the name in the registry
     first; (its descriptor, its name)."""
     # (a name of 234 to 255 bytes made a temporary past the file system's 255, and the output
-    # failed after all the work: a file-safety audit) the target's name cut to fit, by bytes
-    try:                              # (eCryptfs allows 143 bytes, not 255: its own limit)
+    # failed after all the work: a file-safety audit) the target's name cut to what the folder's
+    # own name limit leaves beside '.', 16 hex digits and '.tmp' (eCryptfs allows 143 bytes)
+    try:
         room = os.pathconf(target.parent, "PC_NAME_MAX") - 22
     except (OSError, ValueError):
         room = 255 - 22
-    stem = os.fsencode(target.name)[:max(1, min(TEMPORARY_STEM, room))].decode(errors="ignore")
+    stem = os.fsencode(target.name)[:max(1, room)].decode(errors="ignore")
     for _ in range(100):
         name = str(target.parent / f".{stem}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)
