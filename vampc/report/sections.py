@@ -220,10 +220,10 @@ def o1_measured(rep: dict) -> Table:
     cols = ("vampc, measured", "Mults", "Addns", "waits", "flops", "interval", "VAMPs", "paper",
             "difference", "why") + ((f"{unit or 'time'} at {clk['text']}", "sets/s") if clk else ())
     rows = []
+    wm, wa = _weights(rep)
     for i, r in enumerate(t["measured"]):
         ref = r["paper"]
         d = r["difference"]
-        wm, wa = _weights(rep)
         interval = (f"{r['interval_flops']} = {r['interval']['mults']} M{wm} + "
                     f"{r['interval']['adds']} A{wa}"
                     if "interval" in r else num(r.get("interval_flops")))
