@@ -537,3 +537,41 @@ def test_table_o1s_bus_row_says_why_its_interval_is_longer():
         assert row["interval_flops"] == 4 + stretch
         said = f"interval +{stretch} flops: the cycle stretched for the bus"
         assert (said in row["note"]) == (stretch > 0) and (stretch > 0) == (recursion == "log"), row
+
+
+@pytest.mark.parametrize("options", [dict(layout="folded"), dict(layout="folded", share_passes=True),
+                                     dict(recursion="log", layout="folded")],
+                         ids=["folded", "shared", "log-folded"])
+def test_a_slot_damaged_to_read_program_modes_wire_is_reported(options):
+    """On the bus, operand A's input 0 of a VAMP reading a Result or a buffer stage is the wire
+    Program Mode passes words along. A slot's sel-A damaged to select it (in its extended word
+    and the listing) read the same value over that wire as over the bus on most of the folded
+    Puma's VAMPs 6 to 8: accepted by both engines, torques unchanged (an audit's)."""
+    from vampc.program.words import FIELDS
+    chain = load_robot(PUMA)
+    doc = document(chain, bus="mlb", **options)
+    traj = random_trajectory(chain, 2, 5)
+    good = emulate(loaded_from_doc(doc), traj, "stream").tau
+    sel_a = FIELDS.index("sel_a")
+    cases = [(v, k) for v, (vamp, prog) in enumerate(zip(doc["network"]["vamps"], doc["programs"]))
+             if vamp["a"][0][0][0] in ("vamp", "buffer") and len(prog["slots"]) > 1
+             for k, slot in enumerate(prog["slots"]) if slot["sel_a"] != 0]
+    assert len(cases) >= 10
+    silent = []
+    for v, k in cases[:40]:
+        number = doc["network"]["vamps"][v]["number"]
+        def change(d):
+            d["programs"][v]["slots"][k]["sel_a"] = 0
+            words = [w for e in d["program_stream"] for w in e["words"]
+                     if w[0] == -number and w[1] == k * 8 + sel_a]
+            assert len(words) == 1
+            words[0][2] = 0.0
+        for engine in ("stream", "tick"):
+            try:
+                got = emulate(loaded_from_doc(mutated(doc, change)), traj, engine).tau
+            except VampcError as exc:
+                assert "Program Mode's wire" in str(exc) or "selected by no slot" in str(exc)
+                continue
+            if np.array_equal(got, good):
+                silent.append((v, k, engine))
+    assert silent == []

@@ -16,7 +16,7 @@ from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 from vampc.kinds import TapKind
 from vampc.machine.ops import Op, Timing
-from vampc.network.model import Network, Tap
+from vampc.network.model import PROGRAM_WIRE_READ, Network, Tap, program_wire
 from vampc.program.document import (
     chain_from_doc,
     graph_from_doc,
@@ -286,14 +286,19 @@ def _check_inputs_used(net: Network, numbers, progs, path) -> None:
     program port as operand A's input 0: so a damaged select that happens to reach a wire carrying
     the same value still leaves an unused input behind, and is reported."""
     for v, (vamp, slots) in enumerate(zip(net.vamps, progs)):
+        if net.bus is not None and program_wire(vamp):
+            k = next((k for k, p in enumerate(slots) if p.sel_a == 0), None)
+            if k is not None:
+                raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}) slot {k}: "
+                                 f"{PROGRAM_WIRE_READ}")
         for name, inputs, used in (("A", vamp.a, {p.sel_a for p in slots}),
                                    ("B", vamp.b, {p.sel_b for p in slots})):
             for k in range(len(inputs)):
                 tap = inputs[k].taps[0]
                 program_port = (name == "A" and k == 0 and tap.kind is TapKind.PORT
                                 and not net.ports[tap.index].entries)
-                program_wire = name == "A" and k == 0 and net.bus is not None   # (Program Mode's)
-                if k not in used and not program_port and not program_wire:
+                on_wire = name == "A" and k == 0 and net.bus is not None   # (Program Mode's)
+                if k not in used and not program_port and not on_wire:
                     raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}): input {k} of operand "
                                      f"{name}'s multiplexer ({tap}) is selected by no slot")
 

@@ -70,6 +70,22 @@ _VAMP, _BUFFER, _PORT, _CONST, _BUS = (TapKind.VAMP, TapKind.BUFFER, TapKind.POR
                                       TapKind.BUS)
 
 
+# On the Mostly-Local Bus, operand A's input 0 of a VAMP reading a Result or a buffer stage is
+# the point-to-point wire Program Mode passes words along (the bus-write registers are empty until
+# programmed): the compiler never selects it in Data Mode, whose results travel on the bus, so a
+# select of it is a damaged word (it read the same value over the wire, answer unchanged: an
+# audit's).
+PROGRAM_WIRE_READ = ("sel-a 0 reads operand A's input 0, Program Mode's wire, which a network on "
+                     "the Mostly-Local Bus reads in Program Mode only (results reach their readers "
+                     "over the bus)")
+
+
+def program_wire(vamp) -> bool:
+    """Whether `vamp`'s operand-A input 0 is Program Mode's wire alone, on a bus network (a VAMP's
+    Result or a buffer stage, not a host port or constant buffer, which Data Mode reads too)."""
+    return bool(vamp.a) and vamp.a[0].taps[0].kind in (TapKind.VAMP, TapKind.BUFFER)
+
+
 class Operand(Struct, frozen=True, gc=False):
     """One multiplexer input: one tap, or three taps carrying the columns of a matrix made by an MM
     group."""

@@ -18,7 +18,7 @@ from vampc.machine.timing import (
     result_window,
     result_windows,
 )
-from vampc.network.model import Network, Slot, Vamp
+from vampc.network.model import PROGRAM_WIRE_READ, Network, Slot, Vamp, program_wire
 from vampc.schedule.asap import Schedule
 
 # (slots as a program holds them, ProgrammedSlot: refused by _Shown, which walks every VAMP first)
@@ -77,9 +77,12 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     ports = _PortIndex(net)
     P, B = net.period, net.clock
     nodes, count = graph.nodes, len(net.vamps)
+    bus = net.bus is not None
     for v in net.vamps:
         _verify_slots(v, P)
         for k, s in enumerate(v.slots):
+            if bus and s.sel_a == 0 and program_wire(v):
+                raise VampcInternalError(f"VAMP {v.index} slot {k}: {PROGRAM_WIRE_READ}")
             arg_a, arg_b = nodes[s.node].args
             a, b = v.a[s.sel_a], v.b[s.sel_b]
             if not _on_results(a.taps, arg_a, s.latch_a, net, count, P, B):
