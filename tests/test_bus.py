@@ -575,3 +575,31 @@ def test_a_slot_damaged_to_read_program_modes_wire_is_reported(options):
             if np.array_equal(got, good):
                 silent.append((v, k, engine))
     assert silent == []
+
+
+def test_an_edited_placement_or_tuned_tier_is_refused_by_the_report(tmp_path):
+    """An edited bus placement (two neighbours on the line swapped) or tuned tier (a span doubled)
+    that the buses still carry ran on both engines, and the report gave the edited wire lengths and
+    bus counts as the program's, exit 0 (an audit's): the placement is the compiler's, and the
+    tiers of `--tiers auto` are the tuner's, worked out again."""
+    from program_util import edited_program
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(PUMA), "--bus", "mlb", "--tiers", "auto",
+                                     "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    tiers = doc["network"]["bus"]["tiers"]
+    k = tiers.index([64, 0])
+
+    def swap(d):
+        p = d["network"]["bus"]["position"]
+        i, j = p.index(0), p.index(1)
+        p[i], p[j] = 1, 0
+    for edit, said in ((lambda d: d["network"]["bus"]["tiers"].__setitem__(k, [128, 0]),
+                        f"network.bus.tiers[{k}]: [128, 0], where --tiers auto tunes [64, 0]"),
+                       (swap, "where the compiler places it at 0")):
+        edited = edited_program(program, tmp_path, edit)
+        assert CliRunner().invoke(main, ["emulate", str(edited), "--random", "2", "--check",
+                                         "-o", str(tmp_path / "t.csv")]).exit_code == 0
+        res = CliRunner().invoke(main, ["report", str(edited)])
+        assert res.exit_code == 1 and said in res.stderr and "the file was edited" in res.stderr
+        assert len(res.stderr.splitlines()) == 1 and res.stdout == ""

@@ -532,7 +532,7 @@ def compiled_from_doc(doc: F.ProgramFile | dict, path):
         layout.verify(graph)
         net.verify(graph, sched, path)    # (a bus without a writer named the file as <network>)
         if net.bus is not None:
-            _check_bus_figures(net, graph, sched, doc.layout, path)
+            _check_bus_figures(net, graph, sched, doc.layout, options.tiers, path)
         from vampc.network.checking import check_checking
         check_checking(net, programs_from_doc(doc), sched.timing, options.error_correction, path,
                        options.check_cycles)
@@ -756,16 +756,37 @@ def _check_selects(net: Network, numbers, path) -> None:
                                      f"has {len(inputs)})")
 
 
-def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, path) -> None:
+def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, tiers, path) -> None:
     """network.bus.stretch and .wait must be what the bus costs against the same layout wired point
-    to point (scheduled again here: a report prints them)."""
-    from vampc.network.bus import baseline
-    _, base = baseline(graph, sched.timing, layout.name, layout.share_passes)
+    to point (scheduled again here: a report prints them); its positions the compiler's placement
+    on the line, and the tiers of a program compiled `--tiers auto` the tuner's (tuned again here):
+    an edited placement or tuned tier ran, where the buses still carried every write, and the report
+    gave the edited wire lengths and bus counts as the program's (an audit's)."""
+    from vampc.network.bus import _Problem, _tuned
+    problem = _Problem(graph, sched.timing, layout.name, layout.share_passes, verify=False)
+    base = problem.base_sched
     for name, got, want in (("stretch", net.bus.stretch, sched.interval - base.interval),
                             ("wait", net.bus.wait, sched.latency - base.latency)):
         if got != want:
             raise VampcError(f"{path}: network.bus.{name} is {got}, but the bus costs {want} ticks "
                              f"against the same layout wired point to point (the file was edited)")
+    got, want = net.bus.position, problem.position
+    if tuple(got) != tuple(want):
+        v = next(v for v, (a, b) in enumerate(zip(got, want)) if a != b)
+        raise VampcError(f"{path}: network.bus.position[{v}]: VAMP {v} at place {got[v]} on the "
+                         f"line, where the compiler places it at {want[v]} (the file was edited); "
+                         "recompile it")
+    if tiers == "auto":
+        want = [(t.span, t.offset) for t in _tuned(problem, None)[2].tiers]
+        got = [(t.span, t.offset) for t in net.bus.tiers]
+        if len(want) != len(got):
+            raise VampcError(f"{path}: network.bus.tiers has {len(got)} tiers, but --tiers auto "
+                             f"tunes {len(want)} (the file was edited); recompile it")
+        if want != got:
+            k = next(k for k, (a, b) in enumerate(zip(want, got)) if a != b)
+            raise VampcError(f"{path}: network.bus.tiers[{k}]: [{got[k][0]}, {got[k][1]}], where "
+                             f"--tiers auto tunes [{want[k][0]}, {want[k][1]}] (span, offset; the "
+                             "file was edited); recompile it")
 
 
 def schedule_of(stored: F.ScheduleDoc) -> Schedule:
