@@ -354,3 +354,18 @@ def test_an_address_dask_would_fail_on_is_a_usage_error(address, says):
     for command in (["report", "examples/planar2.yaml", "--tradeoff"], ["faults", "examples/planar2.yaml"]):
         r = CliRunner().invoke(main, [*command, "--scheduler", address])
         assert r.exit_code == 2 and says in r.stderr and r.stderr.count("\n") == 1, r.stderr
+
+
+def test_a_port_where_nothing_listens_is_said_to_refuse(monkeypatch):
+    """Dask retried a refused connection for its whole timeout, then said it had timed out (12 s on
+    tcp://127.0.0.1:1, an audit's): a refused connection is said as such, before Dask is asked."""
+    pytest.importorskip("distributed")
+    import socket
+    monkeypatch.setattr(tr, "SCHEDULER_TIMEOUT", "3s")
+    with socket.socket() as s:              # a port just freed: nothing listens there
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                  f"tcp://127.0.0.1:{port}"])
+    assert r.exit_code == 1 and len(r.output.strip().splitlines()) == 1
+    assert "cannot reach a Dask scheduler there (the connection was refused" in r.output

@@ -22,6 +22,24 @@ SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 _CONTEXT = None                 # a forked worker's (task, context)
 
 
+def _refused(address: str) -> None:
+    """A tcp:// address where nothing listens is said at once (Dask retried a refused connection
+    for its whole timeout, then said it had timed out: 12 s, an audit's)."""
+    import re
+    import socket
+    m = re.fullmatch(r"tcp://(\[[^\]]+\]|[^:/\[\]]+):(\d+)/?", address.strip())
+    if m is None or not 0 < int(m.group(2)) < 65536:
+        return                      # (other protocols and forms: Dask says what it makes of them)
+    host = m.group(1).strip("[]")
+    try:
+        socket.create_connection((host, int(m.group(2))), timeout=2).close()
+    except ConnectionRefusedError:
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (the "
+                         "connection was refused: nothing listens on that port)") from None
+    except OSError:
+        return                      # (a name that does not resolve, a timeout: Dask says it)
+
+
 def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
     """A dask.distributed Client of the scheduler at `address` (VampcError, one line, if there is
     none or dask.distributed is missing)."""
@@ -37,6 +55,7 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         # some of its loggers levels of their own: each is set)
         if name.split(".")[0] in quiet:
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+    _refused(address)
     import threading
     got: dict = {}
 
