@@ -354,3 +354,35 @@ def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
                      r"\(the robot's numbers overflow a float\): nothing to compare "
                      r"with: FAILED\n", res.stdout), res.output
     assert "nan" not in res.output and "wider --word" not in res.output
+
+
+@pytest.mark.parametrize("text, said", [
+    ("# t,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0,0\n",
+     "the header line starts with '#', which is all that is wrong with it (numpy.savetxt"),
+    ("# q1,q2,qd1\n0,0,0\n", "the header line starts with '#', which is no part of a column's name"),
+    ("0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n", "the first line is numbers: the header line is missing"),
+    ("t,tau_j1,tau_j2\n0,1,2\n", "the file looks like torques (vampc emulate's output), not states"),
+    ("joint,tau,qd\nj1,1,2\n", "the file looks like a limits file (joint,tau,qd)"),
+    ('{"format": "vampc-program"}\n', "the file looks like JSON (a program file?), not a CSV"),
+    ('<?xml version="1.0"?>\n<robot name="r"/>\n', "the file looks like XML (a URDF?), not a CSV"),
+])
+def test_a_header_that_is_not_the_trajectorys_is_said_what_it_seems(tmp_path, text, said):
+    """numpy.savetxt's '# t,q1,...' was said to have 't' where 'q1' was expected, as if the t
+    column were wrong; a headerless table, a torque file, a limits file, a program file or a URDF
+    given as the trajectory were said to start with the wrong column (a new user's find)."""
+    traj = tmp_path / "traj.csv"
+    traj.write_text(text)
+    out = tmp_path / "tau.csv"
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory",
+                                  str(traj), "-o", str(out)])
+    assert r.exit_code == 1 and ERROR.match(r.stderr), r.stderr
+    assert "header:" in r.stderr and said in r.stderr and not out.exists()
+
+
+@pytest.mark.parametrize("name, said", [("tau.csv", "a CSV table is a trajectory (for --trajectory)"),
+                                        ("tau.npy", "a NumPy array is a trajectory (for --trajectory)")])
+def test_a_table_given_as_the_robot_is_said_to_be_one(tmp_path, name, said):
+    table = tmp_path / name
+    table.write_text("t,tau_j1,tau_j2\n0,1,2\n")
+    r = CliRunner().invoke(main, ["emulate", str(table), "--random", "3"])
+    assert r.exit_code == 1 and ERROR.match(r.stderr) and said in r.stderr

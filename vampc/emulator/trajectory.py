@@ -94,6 +94,41 @@ def program_joints(n: int, of: int | None = None) -> str:
             "their leaders: give the independent joints' columns)")
 
 
+def _header_hint(names: list[str], columns: list[str]) -> str:
+    """What a header line that is not the expected one seems to be, for its message ('' if
+    nothing): its column 1 was said to be '# t' where only numpy.savetxt's '# ' was wrong, and a
+    program file, a URDF, a torque file or a limits file was said to start with the wrong column
+    (a new user's find)."""
+    if not names:
+        return ""
+    head = names[0]
+    if head.startswith("#"):
+        fixed = [head.lstrip("#").strip(), *names[1:]]
+        right = fixed in (list(columns), ["t", *columns])
+        return ("; the header line starts with '#', " + ("which is all that is wrong with it"
+                if right else "which is no part of a column's name")
+                + " (numpy.savetxt writes one before its header unless given comments='')")
+    if head.startswith(("{", "[")):
+        return "; the file looks like JSON (a program file?), not a CSV table"
+    if head.startswith("<"):
+        return "; the file looks like XML (a URDF?), not a CSV table"
+    if all(_is_number(c) for c in names):
+        return "; the first line is numbers: the header line is missing"
+    if any(c.startswith("tau_") for c in names):
+        return "; the file looks like torques (vampc emulate's output), not states"
+    if head == "joint" and names[1:2] == ["tau"]:
+        return "; the file looks like a limits file (joint,tau,qd)"
+    return ""
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return bool(cell.strip())
+
+
 def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
                what: str = "trajectory", arrays: bool = False, source=None):
     """(data, t) of a CSV table whose header is `columns`, with an optional leading t (`why`: what
@@ -150,6 +185,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
             first += ("; the base columns are a floating base's: give the robot --floating-base "
                       "(README, Trees and floating bases)")
         listed = ",".join(want) if len(want) <= 3 else f"{','.join(want[:2])}...{want[-1]}"
+        first += _header_hint(names, columns)
         raise VampcError(f"{path}: header: {which} (expected {count(len(want), 'column')} "
                          f"{listed}: {why}){first}")
     # row by row into blocks of an array (a list of every row's strings took 7.9 GB for a 730 MB file)

@@ -107,5 +107,9 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
     kind = sniff(path)
     if kind in OTHER_COMPRESSIONS:
         raise located(path, "", f"{kind}-compressed; {OTHER_COMPRESSION}")
-    raise located(path, "", f"unknown robot file extension {path.suffix!r}{looks_like(path)} "
+    suffix = path.suffix.lower()            # (a new user gave their torque CSV as the robot)
+    table = (": a CSV table is a trajectory (for --trajectory), torques or limits, not a robot"
+             if suffix == ".csv" else ": a NumPy array is a trajectory (for --trajectory) or "
+             "torques, not a robot" if suffix in (".npy", ".npz") else looks_like(path))
+    raise located(path, "", f"unknown robot file extension {path.suffix!r}{table} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")
