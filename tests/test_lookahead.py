@@ -1153,3 +1153,21 @@ def test_a_start_outside_the_limits_is_put_down_to_q0_not_the_file(tmp_path):
     r = CliRunner().invoke(main, [*args, "--q0", "0,0,0,0,0,0", "--qd0", "0,0,0,0,0,5000"])
     assert r.exit_code == 1 and f"{acc}: line 3 (state 2), integrated from --q0 and --qd0: joint 6 " \
         "(flange) is outside its limits: position 5 above" in r.stderr, r.stderr
+
+
+def test_a_speed_limit_in_degrees_per_second_is_warned_of(tmp_path):
+    """A limits file's qd 180/π times the URDF's own speed limit (deg/s for rad/s) was taken without
+    a word, and the speed violations went unsaid (a new user's find); one within a few percent of
+    it, or of a prismatic joint, is a limit like any other."""
+    chain = load_robot(EXAMPLES / "ur5.urdf")
+    own = chain.joints[0].limits.qd
+    t, q, qd, qdd = sine_path(seconds=0.1)
+    path = write_path(tmp_path, t, 0.1 * q, 0.1 * qd, 0.1 * qdd)
+    for value, warned in ((own * 180 / np.pi, True), (own * 180 / np.pi * 1.05, False), (own, False)):
+        limits = tmp_path / "lim.csv"
+        limits.write_text(f"joint,tau,qd\n{chain.joints[0].name},150,{value!r}\n")
+        r = run_lookahead(EXAMPLES / "ur5.urdf", path, limits)
+        assert r.exit_code == 0, r.output
+        said = (f"lim.csv: line 2: joint '{chain.joints[0].name}': qd {value:g} is 180/π times the "
+                f"robot's own speed limit {own:g} rad/s: degrees per second?")
+        assert (said in r.stderr) is warned, r.stderr

@@ -266,9 +266,24 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
             tau[names[name]] = values[0]
             given.add((names[name], "effort"))
         if values[1] is not None:
-            qd[names[name]] = values[1]
-            given.add((names[name], "speed"))
+            i = names[name]
+            own = qd[i]
+            if own is not None and chain.joints[i].sigma != 0 and \
+                    abs(values[1] / own - DEGREES) < 0.005 * DEGREES:
+                import warnings
+
+                from vampc.errors import VampcWarning
+                # (a new user's deg/s limits took 57 times the arm's speed, violations unsaid)
+                warnings.warn(VampcWarning(
+                    f"{path}: line {line}: joint '{name}': qd {values[1]:g} is 180/π times the "
+                    f"robot's own speed limit {own:g} rad/s: degrees per second? (qd is in rad/s)"),
+                    stacklevel=3)
+            qd[i] = values[1]
+            given.add((i, "speed"))
     return tau, qd, given, {names[name]: line for name, line in seen.items()}
+
+
+DEGREES = 180 / np.pi       # a speed limit this many times the robot's own: written in deg/s?
 
 
 def integrate(qdd: np.ndarray, q0: np.ndarray, qd0: np.ndarray, rate: float):
