@@ -103,6 +103,21 @@ def test_velocity_is_continuous_and_the_times_agree_with_it(setup):
     assert np.allclose(qdd, d2 * speed[:, None] ** 2 + d1 * accel[:, None], rtol=1e-6, atol=1e-9)
 
 
+def test_the_summary_names_the_rows_of_the_slowest_and_fastest_speed(setup):
+    """The summary's ṡ range names its rows, read back here from the -o file's q̇ against the path's
+    q' (its lowest was often the first step off rest, which a new user took for the path's slowest
+    stretch)."""
+    text, data, _ = retime(setup)
+    _, _, d1, _ = bump_path()
+    speed = np.einsum("ij,ij->i", data[:, 7:13], d1) / np.einsum("ij,ij->i", d1, d1)
+    found = re.search(r"ṡ \(leaving out the rest at start and end\) (\S+) \(row (\d+)\) to (\S+) "
+                      r"\(row (\d+)\) × the path's speed", text)
+    assert found, text
+    low, high = 1 + int(np.argmin(speed[1:-1])), int(np.argmax(speed))
+    assert (int(found[2]), int(found[4])) == (low + 1, high + 1)
+    assert float(found[1]) == float(f"{speed[low]:.3g}") and float(found[3]) == float(f"{speed[high]:.3g}")
+
+
 def test_the_retimed_rows_torques_are_emulates_bit_for_bit(setup):
     folder, program, _, _ = setup
     _, _, tau = retime(setup)

@@ -1328,7 +1328,11 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         lines.append(wrapped("worst |q̇| / speed limit: ", items))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
-        slowest = float(fast[1:-1].min()) if len(fast) > 2 else 0.0
+        # (the rows named: the slowest is often the first step off rest, which a new user took
+        # for the path's slowest stretch)
+        low = 1 + int(np.argmin(fast[1:-1])) if len(fast) > 2 else 0
+        slowest = float(fast[low]) if len(fast) > 2 else 0.0
+        high = int(np.argmax(fast))
         n = len(ld.chain.joints)
         lines.append(f"register: {res.futures} × {window} rows, each q, q', q'' and three torque sets "
                      f"(as given, gravity, tangent: {3 * n} + {3 * n} words); 3 passes of the network "
@@ -1336,7 +1340,8 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
                      f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s from rest to "
                      f"rest (as given {span:.6g} s{_end_speeds(traj)}); ṡ (leaving out the rest at start and end) "
-                     f"{slowest:.3g} to {fast.max():.3g} × the path's speed; retimed rows by the network: "
+                     f"{slowest:.3g} (row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the "
+                     "path's speed; retimed rows by the network: "
                      f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
                      f"{failed_mark(res)}")
         # (a wait in the path, q' = 0, is run at the speed cap: 0.3 s became 3 ms, and the summary
