@@ -162,6 +162,46 @@ def test_the_first_overflows_are_located(tmp_path):
     assert lines[at + 2].startswith("  set 2, tick 11: VAMP ") and "the result of VA" in lines[at + 2]
 
 
+SLIDE = """name: slide
+gravity: [0.0, 0.0, -9.81]
+joints:
+  - {name: s1, type: prismatic, a: 0.0, alpha: 0.0, d: 0.0, theta: 0.0, mass: 1.0,
+     com: [0.0, 0.0, -0.1], inertia: [0.01, 0.01, 0.01, 0.0, 0.0, 0.0], limits: {q: [0.0, 200.0], qd: 1.0}}
+  - {name: r2, type: revolute, a: 0.5, alpha: 0.0, d: 0.0, theta: 0.0, mass: 1.0,
+     com: [-0.25, 0.0, 0.0], inertia: [0.01, 0.02, 0.02, 0.0, 0.0, 0.0], limits: {q: [-3, 3], qd: 1.0}}
+"""
+
+
+def test_a_prismatic_position_whose_host_inputs_a_word_cannot_hold_is_refused(tmp_path):
+    """A slide's q = 150 (within its limits) gives p* = [0, 0, 150], which q8.8 words cannot hold:
+    it ran, its overflows counted, exit 0, where a q̈ of 150 is refused (an audit's). Refused
+    the same way, naming the row and the q column; with --overflow it runs, and each value the
+    host converts is one overflow, said once with the ports it is written to."""
+    robot = tmp_path / "slide.yaml"
+    robot.write_text(SLIDE)
+    traj = tmp_path / "t.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n1,0.5,0,0.5,0,0\n150,0.5,0,0.5,0,0\n")
+    out = tmp_path / "tau.csv"
+    args = ["emulate", str(robot), "--trajectory", str(traj), "--word", "q8.8", "-o", str(out)]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.output
+    assert ("line 3 (state 2), column q1: 150 gives p*_1 = [0, 0, 150] (the host's input for "
+            "prismatic joint 1), beyond q8.8 words, which hold [-128, 128)") in res.stderr
+    assert not out.exists()
+    chain = load_robot(robot)
+    assert chain.joints[0].p_star(np.array([150.0]))[0, 2] == 150.0     # (what the host writes)
+    for engine in ("stream", "tick"):
+        res = CliRunner().invoke(main, args + ["--overflow", "saturate", "--engine", engine])
+        assert res.exit_code == 0, res.output
+        lines = res.output.splitlines()
+        at = lines.index("q8.8 (nearest, saturate) words: 2 overflows")
+        sites = [x for x in lines[at + 1:] if x.startswith("  set ")]
+        assert len(sites) == 2 and any(x.endswith("p_star1 for ports 1 and 13") for x in sites), sites
+    # a position the word holds runs as before
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n1,0.5,0,0.5,0,0\n100,0.5,0,0.5,0,0\n")
+    assert CliRunner().invoke(main, args).exit_code == 0
+
+
 def test_the_tick_engine_counts_the_overflows_the_stream_engine_counts(puma, monkeypatch):
     """Once per torque set and op: not the power-on registers' nor an op run again on its set."""
     monkeypatch.setenv("VAMPC_NATIVE", "0")

@@ -309,7 +309,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if not own.allow_out_of_limits:
             check_limits(ld.chain, traj, own.trajectory)
         if "overflow" not in options.given:
-            check_word_range(ld.arith, traj, own.trajectory, ld.chain)
+            check_word_range(ld.arith, traj, own.trajectory, ld.chain, keys=ld.graph.input_keys())
         states = States(traj.count, traj, source=own.trajectory)
     else:
         states = States.random(own.random_count, own.seed)

@@ -479,10 +479,12 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     check_memory(traj.count, ld.chain.n_outputs, retime, path)
     stage = stage or (lambda name: None)
 
+    keys = ld.graph.input_keys() if word_range else ()
+
     def torques(rows, what: str) -> np.ndarray:       # a pass of the network, every torque finite
         if word_range:
             from vampc.emulator.host import check_word_range
-            check_word_range(ld.arith, rows, path, ld.chain, f" {what}" if what else "")
+            check_word_range(ld.arith, rows, path, ld.chain, f" {what}" if what else "", keys)
         with np.errstate(all="ignore"):                # (an overflow is said once, below)
             tau = emulate_rows(rows)
         finite(tau, ld, path, what)

@@ -108,6 +108,10 @@ class Graph:
     def _compute_nodes(self) -> tuple[Node, ...]:
         return tuple(nd for nd in self.nodes if nd.op.is_compute)
 
+    def input_keys(self) -> tuple[InputKey, ...]:
+        """The host quantities the graph reads (its INPUT nodes' keys, in node order)."""
+        return tuple(nd.key for nd in self.nodes if nd.key is not None)
+
     def to_networkx(self):
         """A networkx DiGraph with an edge producer -> consumer per operand (for analysis only)."""
         import networkx as nx  # imported here: it costs ~0.1 s of start-up and only analysis needs it

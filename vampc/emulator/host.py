@@ -113,10 +113,11 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
 
 
 def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None,
-                     what: str = "") -> None:
+                     what: str = "", keys=()) -> None:
     """Refuse a state a fixed-point word cannot hold (a q̇, q̈ or base motion beyond the word's
-    range: the host writes them as they are), naming the row and column (and `what` row it is:
-    " as retimed" for the look-ahead's)."""
+    range: the host writes them as they are; and of the host's inputs `keys`, those it works out of
+    a state that a state can take beyond any word: a prismatic joint's p* and s*, a floating base's
+    p̈_0), naming the row and column (and `what` row it is: " as retimed" for the look-ahead's)."""
     from vampc.emulator.trajectory import header, state_at
     if not hasattr(word, "rounded"):                 # float words: nothing to refuse
         return
@@ -130,13 +131,44 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     values = np.concatenate(columns, axis=1)
     raw = word.rounded(values)                       # as the host's conversion rounds them
     bad = (raw < word.lo) | (raw > word.hi)
+    said = ("give --overflow saturate or --overflow wrap to run it anyway (each overflow "
+            "counted)")
     if bad.any():
         row, col = (int(x) for x in np.argwhere(bad)[0])
         where = f"row {row + 1}{what}" if what else state_at(path, row)
         raise VampcError(f"{path}: {where}, column {names[col]}: {values[row, col]:.12g} is "
-                         f"beyond {word.name} words, which hold [{-top:g}, {top:g}); give "
-                         "--overflow saturate or --overflow wrap to run it anyway (each overflow "
-                         "counted)")
+                         f"beyond {word.name} words, which hold [{-top:g}, {top:g}); {said}")
+    # what the host works out of the state and writes too: a prismatic joint's p*_i and s*_i from
+    # its q (a slide's q = 150 within its limits ran in q8.8, its overflows counted, exit 0: an
+    # audit's), a floating base's p̈_0 = a_0 − g
+    from vampc.dataflow.host import input_value
+    from vampc.kinds import Quantity
+    derived = sorted((k for k in keys if k.quantity in (Quantity.P_STAR, Quantity.S_STAR,
+                                                        Quantity.PDD0)),
+                     key=lambda k: (k.joint, k.quantity.value))
+    q_names = header(n, traj.base is not None)[:n]
+    if chain is not None and chain.mimic:
+        from vampc.robot.mimic import column_names
+        q_names = column_names(chain, "q")
+    for key in derived:
+        value = input_value(chain, key, traj.q, traj.qd, traj.qdd, traj.base).reshape(traj.count, -1)
+        raw = word.rounded(value)
+        bad = ((raw < word.lo) | (raw > word.hi)).any(axis=1)
+        if bad.any():
+            row = int(np.argmax(bad))
+            where = f"row {row + 1}{what}" if what else state_at(path, row)
+            shown = ", ".join(f"{x:.6g}" for x in value[row])
+            if key.quantity is Quantity.PDD0:
+                column = "base_ax..base_az"
+                given = ", ".join(f"{x:.6g}" for x in traj.base[row, 6:9])
+                why = f"[{given}] gives p̈_0 = a_0 − g = [{shown}] (the host's input for the base)"
+            else:
+                column = q_names[key.joint - 1]
+                name = "p*" if key.quantity is Quantity.P_STAR else "s*"
+                why = (f"{traj.q[row, key.joint - 1]:.12g} gives {name}_{key.joint} = [{shown}] "
+                       f"(the host's input for prismatic joint {key.joint})")
+            raise VampcError(f"{path}: {where}, column {column}: {why}, beyond {word.name} words, "
+                             f"which hold [{-top:g}, {top:g}); {said}")
 
 
 @dataclass(frozen=True)

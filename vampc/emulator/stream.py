@@ -307,14 +307,23 @@ def _overflow_sites(ld: Loaded, fl: Flow, traj, limit: int, start: int) -> list[
     P, B = ld.net.period, ld.net.clock
     found: list[tuple[int, int, str]] = []          # (set, tick, what)
     ports = {}
+    # one value the host converts once and writes to several ports is one overflow (as counted),
+    # said once with its ports (2 overflows had been listed in 3 places: an audit's)
+    written: dict[tuple, list] = {}       # (set, quantity, joint) -> [first tick, ports]
     for i, (p, e, _) in enumerate(fl.inputs):
         entry = ld.net.ports[p].entries[e]
         word.track.clear()
         ports[i] = word.encode(host_values(ld, traj, entry.key))
         for s in _sets(word.track, start)[:limit]:
             tick = s * P + entry.block * B
-            found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {entry.key.quantity}"
-                                   f"{entry.key.joint} for port {p}"))
+            site = written.setdefault((s, str(entry.key.quantity), entry.key.joint), [tick, []])
+            site[0] = min(site[0], tick)
+            site[1].append(p)
+    for (s, quantity, joint), (tick, where) in written.items():
+        listed = (f"port {where[0]}" if len(where) == 1 else
+                  f"ports {', '.join(map(str, where[:-1]))} and {where[-1]}")
+        found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {quantity}{joint} for "
+                               f"{listed}"))
     for c in ld.net.consts if start == 0 else ():     # written once, before the first set
         if constant_overflows(ld, (c,)):
             found.append((start, 0, f"set {start + 1}, tick 0: the host's constant {c.name}"))
