@@ -375,3 +375,30 @@ def test_a_value_that_rounds_beyond_the_word_is_refused(tmp_path):
     res = CliRunner().invoke(main, args)
     assert res.exit_code == 1 and "column qdd2: 255.9999 is beyond q9.12 words" in res.stderr
     assert CliRunner().invoke(main, args + ["--rounding", "truncate"]).exit_code == 0
+
+
+def test_a_float32_constant_beyond_its_range_is_warned_of_and_said_alike_by_both_paths(tmp_path,
+                                                                                      monkeypatch):
+    """A gravity of 1e39 is inf in float32: compile said nothing (only fixed-point constants were
+    looked at), and the generated C had the literal 'inf', which gcc refused ('inf' undeclared),
+    where the numpy path said the torque was nan (an audit's)."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text("name: one\ngravity: [0.0, 0.0, 1.0e39]\njoints:\n  - {name: j1, type: "
+                     "revolute, a: 0.3, alpha: 1.5707963267948966, d: 0.1, theta: 0.0, mass: 1.7, "
+                     "com: [-0.15, 0.02, 0.01], inertia: [0.01, 0.02, 0.015, 0.001, 0.0, 0.002], "
+                     "limits: {q: [-3, 3], qd: 2}}\n")
+    program = tmp_path / "one.vamp.json"
+    res = CliRunner().invoke(main, ["compile", str(robot), "--word", "float32", "-o", str(program)])
+    assert res.exit_code == 0, res.output
+    assert ("1 constant beyond the range of float32 (pdd0): the host's conversion makes it "
+            "infinite, and the torques are wrong; give float64") in res.stderr
+    said = {}
+    for mode in ("0", "1"):
+        monkeypatch.setenv("VAMPC_NATIVE", mode)
+        res = CliRunner().invoke(main, ["emulate", str(program), "--random", "3"])
+        assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.stderr
+        said[mode] = res.stderr
+    assert said["0"] == said["1"] and "the torque is nan (float32 overflow" in said["1"]
+    word = parse_word("float32", "nearest", "saturate")
+    assert [word.c_literal(x) for x in (1e39, -1e39, float("nan"))] == [
+        "((float)INFINITY)", "(-(float)INFINITY)", "((float)NAN)"]

@@ -107,11 +107,15 @@ def _warn_constants(robot: str, c) -> None:
     names = overflowing_constants(c.network, c.options.arith())
     if names:
         shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+        them = "them" if len(names) > 1 else "it"
+        fixed = str(c.options.word).startswith("q")
+        done = (f"the host's conversion {c.options.overflow}s {them}" if fixed else
+                f"the host's conversion makes {them} infinite")
+        wider = ("a word with more integer bits (vampc precision names one)" if fixed else
+                 "float64")
         warnings.warn(VampcWarning(
             f"{robot}: {count(len(names), 'constant')} beyond the range of {c.options.word} "
-            f"({shown}): the host's conversion {c.options.overflow}s "
-            f"{'them' if len(names) > 1 else 'it'}, and the torques are wrong; give a word with "
-            "more integer bits (vampc precision names one)"), stacklevel=1)
+            f"({shown}): {done}, and the torques are wrong; give {wider}"), stacklevel=1)
 
 
 def compile_command(robot: str, own: CompileCommand, options: CompileOptions,

@@ -41,8 +41,8 @@ class Compiled:
 def overflowing_constants(net, word) -> list[str]:
     """The constant buffers whose values the word cannot hold (the host's conversion saturates or
     wraps them: `vampc emulate` counts them as overflows), by name, in buffer order."""
-    if not getattr(word, "bits", None) or not str(getattr(word, "name", "")).startswith("q"):
-        return []
+    if word is None or not hasattr(word, "overflows"):     # (float64: none; float32 and qI.F
+        return []                                           # count theirs: 1e39 is inf in float32)
     from vampc.emulator.stream import conversion_overflows
     return [c.name for c in net.consts if conversion_overflows(word, c.value)]
 

@@ -156,7 +156,11 @@ class Float32(Float64):
         return "#include <math.h>\nlong vamp_overflows;\n" + ops
 
     def c_literal(self, value: float) -> str:
-        return f"((float){float(self.fresh().encode(value)).hex()})"
+        x = float(self.fresh().encode(value))
+        if not math.isfinite(x):      # (float.hex writes 'inf', which no C compiler reads: an
+            #                            audit's float32 gravity of 1e39 failed in gcc)
+            return "((float)NAN)" if x != x else f"({'-' if x < 0 else ''}(float)INFINITY)"
+        return f"((float){x.hex()})"
 
     def c_decode(self, x: str) -> str:
         return f"(double)({x})"
