@@ -301,6 +301,13 @@ def test_messages_a_new_user_read_wrongly(tmp_path):
     assert res.exit_code == 0 and "stream engine: 1 torque set;" in res.output, res.output
     res = _run("emulate", prog, "--random", 20, "--word", "q64.0", "--check")
     assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output
+    # overflows: more integer bits, not a wider word (q2.62 was told to widen; an audit's)
+    for word, fewer in (("q2.62", " and fewer for the fraction (64 bits is the widest)"),
+                        ("q2.30", "")):
+        res = _run("emulate", prog, "--random", 3, "--word", word, "--check")
+        assert res.exit_code == 1 and "overflows: FAILED (the values outgrew the word's 2 integer " \
+            f"bits: a word with more of them{fewer} would hold them; `vampc precision` finds " \
+            "one)" in res.output and "wider --word" not in res.output, res.output
 
 
 def test_a_failed_float64_check_of_an_edited_robot_says_why(tmp_path):

@@ -469,7 +469,13 @@ def _word_hint(ld, outcome) -> str:
         return (f" (not the word's: in float64 the program's graph differs from the reference "
                 f"Newton-Euler's by {apart:.1e} of the largest |τ| too; was the file's robot or "
                 "graph edited? Compile the robot again)")
-    if isinstance(ld.arith, Fixed) and ld.arith.bits == 64 and not outcome.overflows:
+    if isinstance(ld.arith, Fixed) and outcome.overflows:
+        # (the values outgrew the integer bits: q2.62, already the widest word, was told a wider
+        # one would do better, where q16.16 passes; an audit's)
+        fewer = " and fewer for the fraction (64 bits is the widest)" if ld.arith.bits == 64 else ""
+        return (f" (the values outgrew the word's {ld.arith.integer} integer bits: a word with "
+                f"more of them{fewer} would hold them; `vampc precision` finds one)")
+    if isinstance(ld.arith, Fixed) and ld.arith.bits == 64:
         return " (64 bits is the widest word: more of them for the fraction would do better; " \
                "`vampc precision` finds the split)"
     return " (a wider --word would do better; `vampc precision` finds one)"
