@@ -823,3 +823,22 @@ def test_a_failed_check_says_the_verilog_was_not_written(programs, tmp_path):
                                   "--format", "json"])
     assert r.exit_code == 1 and not new.exists()
     assert json.loads(r.stdout)["verilog"]["written"] is False, r.stdout
+
+
+def test_place_and_route_on_given_cells_does_not_repeat_them(tmp_path, monkeypatch):
+    """`--pnr --format json` gave each VAMP kind's synthesis cells twice, the second time inside
+    its pnr record (an audit's): on cells Yosys has made already, place and route gives its own
+    figures only."""
+    import json as _json
+
+    from vampc.rtl import synth
+
+    def fake_tool(tool, args, workdir, timeout, name):
+        (Path(workdir) / "report.json").write_text(_json.dumps(
+            {"fmax": {"clk": {"achieved": 40.0}}, "utilization": {"TRELLIS_FF": {"used": 9}}}))
+        return ""
+    monkeypatch.setattr(synth, "_tool", fake_tool)
+    cells = synth.Cells({"LUT4": 1, "TRELLIS_FF": 9}, 1.0)
+    got = synth.place_and_route("", "top", str(tmp_path), cells=cells)
+    assert "cells" not in got and got["fmax_mhz"] == {"clk": 40.0}
+    assert got["utilization"] == {"TRELLIS_FF": {"used": 9}}

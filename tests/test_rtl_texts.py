@@ -68,3 +68,20 @@ def test_estimates_count_a_vamps_slots_and_inputs(tmp_path):
     own = SimpleNamespace(cosim=1, simulator="amaranth")
     assert _cosim_estimate(ld, own) == pytest.approx(
         ELABORATE_PER_VAMP * V + SIMULATE_PER_VAMP_TICK * V * run_ticks(ld, 1))
+
+
+@pytest.mark.parametrize("options, said", [
+    ({"interval": 50}, "layout: budget for an interval of 50 ticks"),
+    ({"vamps": 1}, "layout: budget of 1 VAMP\n"),
+    ({"layout": "folded", "share_passes": True}, "layout: folded, passes shared\n"),
+    ({"layout": "folded"}, "layout: folded\n")])
+def test_the_header_names_the_programs_layout(options, said):
+    """An --interval program (a budget layout on 3 VAMPs) was headed 'layout: systolic', and one
+    VAMP was '1 VAMPs' (an audit's)."""
+    from vampc.rtl.verilog import header
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    c = compile_chain(chain, CompileOptions(word="q16.16", **options))
+    text = header(SimpleNamespace(ld=loaded_from_compiled(c, "<test>"), name="planar2"))
+    assert said in text, text
+    V = len(c.network.vamps)
+    assert f"; {V} VAMP{'s' if V != 1 else ''}, period {c.network.period} ticks" in text

@@ -1722,7 +1722,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     with progress.stages(f"vampc rtl of {Path(source).name}", names) as stage:
         if "-o" in outs:
             stage("Verilog")
-            _within(f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld), note)
+            _within(f"writing the Verilog of {count(V, 'VAMP')}", VERILOG_PER_VAMP * _size(ld), note)
             from vampc.rtl.verilog import verilog_text
             start = time.perf_counter()
             verilog = verilog_text(design)
@@ -1772,7 +1772,7 @@ def _preflight(ld, own, limit: float, estimates) -> list:
     V = len(ld.net.vamps)
     steps = []
     if own.output is not None:
-        steps.append((f"writing the Verilog of {V} VAMPs", VERILOG_PER_VAMP * _size(ld)))
+        steps.append((f"writing the Verilog of {count(V, 'VAMP')}", VERILOG_PER_VAMP * _size(ld)))
     if own.cosim is not None:
         if ld.word.bits > 53:
             raise VampcUsageError(f"--cosim compares torque words of at most 53 bits (exact in the "
@@ -1925,7 +1925,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
              f"--max-minutes {own.max_minutes:g}: left out, with its place and route (give a "
              "larger --max-minutes to run it); each VAMP kind's figures are above")
         return
-    _within(f"synthesizing the network of {V} VAMPs", estimate, note)
+    _within(f"synthesizing the network of {count(V, 'VAMP')}", estimate, note)
     stage(f"synthesizing the network of {V} VAMPs")
     text = verilog_text(design)
     with tempfile.TemporaryDirectory(prefix="vampc-synth-") as workdir:
@@ -1938,7 +1938,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
                      f"{_duration(pnr_estimate)}, beyond --max-minutes {own.max_minutes:g}: left "
                      "out (give a larger --max-minutes to run it)")
             else:
-                _within(f"placing and routing the network of {V} VAMPs", pnr_estimate, note)
+                _within(f"placing and routing the network of {count(V, 'VAMP')}", pnr_estimate, note)
                 stage(f"placing and routing the network of {V} VAMPs")
                 # (on the netlist just made, as each kind's: it had synthesized the network again)
                 figures["synth"]["network"]["pnr"] = synth.place_and_route(
@@ -1949,7 +1949,7 @@ PAST = {"saturate": "saturated", "wrap": "wrapped"}
 
 
 def _rtl_text(figures: dict) -> str:
-    lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {figures['vamps']} VAMPs, "
+    lines = [f"vampc rtl: {figures['program']}: {figures['robot']}, {count(figures['vamps'], 'VAMP')}, "
              f"word {figures['word']} ({figures['rounding']}, {figures['overflow']})",
              "  VAMP kinds: " + "; ".join(f"{n} × {k}" for k, n in figures["kinds"].items())]
     if "verilog" in figures:

@@ -126,10 +126,12 @@ def place_and_route(verilog: str, top: str, workdir: str | None = None,
                     timeout: float | None = None, device: str = "85k",
                     package: str = "CABGA381", cells: Cells | None = None) -> dict:
     """Yosys, then nextpnr-ecp5 on `device`, out of context (no I/O buffers: a VAMP's ports are
-    wider than any package): Fmax (MHz) of the clock and the utilisation. `cells`: Yosys has
-    already run on this `verilog` in `workdir` (its design.json there), not run again."""
+    wider than any package): Fmax (MHz) of the clock and the utilisation (and Yosys's cells, unless
+    `cells` are given: Yosys has already run on this `verilog` in `workdir`, its design.json there,
+    and is not run again)."""
     own = workdir is None
     workdir = workdir or tempfile.mkdtemp(prefix="vampc-pnr-")
+    synthesized = cells is None      # (given: the caller has them beside; not repeated, an audit's)
     try:
         if cells is None:
             cells = synthesize(verilog, top, workdir, timeout)
@@ -143,8 +145,8 @@ def place_and_route(verilog: str, top: str, workdir: str | None = None,
         fmax = {k: round(v["achieved"], 2) for k, v in report.get("fmax", {}).items()}
         util = {k: v for k, v in report.get("utilization", {}).items() if v.get("used")}
         del out
-        return {"cells": cells.as_dict(), "fmax_mhz": fmax, "utilization": util,
-                "device": f"LFE5U-{device.upper()} {package}",
+        return {**({"cells": cells.as_dict()} if synthesized else {}), "fmax_mhz": fmax,
+                "utilization": util, "device": f"LFE5U-{device.upper()} {package}",
                 "seconds": round(time.perf_counter() - start, 1)}
     finally:
         if own:
