@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 pytest.importorskip("amaranth")
 
+from conftest import EXAMPLES  # noqa: E402
 from test_word_formats import oracle  # noqa: E402
 
 from vampc.cli import main  # noqa: E402
@@ -842,3 +843,60 @@ def test_place_and_route_on_given_cells_does_not_repeat_them(tmp_path, monkeypat
     got = synth.place_and_route("", "top", str(tmp_path), cells=cells)
     assert "cells" not in got and got["fmax_mhz"] == {"clk": 40.0}
     assert got["utilization"] == {"TRELLIS_FF": {"used": 9}}
+
+
+@pytest.mark.parametrize("options", [dict(layout="folded"), dict(), dict(vamps=3),
+                                     dict(recursion="log", layout="folded")],
+                         ids=["folded", "systolic", "budget3", "log-folded"])
+def test_the_reports_storage_bits_are_the_designs_registers(options):
+    """The report's storage (data and control registers, delay lines, constant and input buffers)
+    counted against the registers of the Amaranth design itself (every signal it drives in the
+    sync domain), less the select registers of one-input multiplexers, which nothing reads and
+    synthesis drops. The report had left out each VAMP's Cycle-Counter, the slots' valid bits and
+    the buffers' counter, and counted the delay fields a bit short where P is a power of two: 426
+    of planar2 folded's 33 192 flip-flops (README, RTL: Yosys's count), an audit's."""
+    from amaranth.hdl import Fragment
+
+    from vampc.report.counts import word_bits
+    from vampc.rtl.design import NetworkDesign
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(word="q16.16", **options))
+    ld = loaded_from_compiled(c)
+    registers: dict[int, object] = {}
+
+    def walk(fragment):
+        for signal in (s for stmt in fragment.statements.get("sync", ()) for s in stmt._lhs_signals()):
+            registers[id(signal)] = signal
+        for sub, *_ in fragment.subfragments:
+            walk(sub)
+    walk(Fragment.get(NetworkDesign(ld), None))
+    unread = sum(1 for v in c.network.vamps for _ in v.slots for inputs in (v.a, v.b)
+                 if len(inputs) == 1)
+    bits = word_bits(c)
+    W = bits["bits"]
+    counted = (bits["data_register_bits"] + bits["control_register_bits"] + bits["delay_line_bits"]
+               + bits["constant_bits"] + W * sum(p.size for p in c.network.ports))
+    assert sum(len(s) for s in registers.values()) - unread == counted
+    if options == dict(layout="folded"):
+        assert counted == 33_192            # Yosys's flip-flops of this network (README, RTL)
+
+
+def test_a_word_program_compiled_before_the_counters_were_counted_is_not_called_edited(tmp_path):
+    """Programs compiled before 2026-12-05 store control register bits without the Cycle-Counters
+    and valid bits (delay fields at ceil(log2 P) bits): read back, that figure is not taken for an
+    edit; another one is."""
+    from vampc.program.file import checksum
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                     "--layout", "folded", "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    assert doc["summary"]["word"]["control_register_bits"] == 1608
+    # the old count of planar2 folded (README, RTL: 33 192 flip-flops less 426): 1182
+    for stored, warned in ((1182, False), (1183, True)):
+        doc["summary"]["word"]["control_register_bits"] = stored
+        doc["checksum"] = checksum(doc)
+        old = tmp_path / "old.vamp.json"
+        old.write_text(json.dumps(doc))
+        r = CliRunner().invoke(main, ["report", str(old)])
+        assert r.exit_code == 0, r.output
+        assert ("the stored summary disagrees with the file's graph, schedule and network (word)"
+                in r.stderr) == warned, r.stderr

@@ -253,9 +253,12 @@ def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
     assert w["data_register_bits"] == (9 + 9 + 9 + 3) * 32 * V       # A, B, 3 x 3 units, Result
     assert w["delay_line_bits"] == 3 * 32 * sum(b.stages for b in c.net.buffers)
     assert w["host_read_bits_per_set"] == 32 * 6
-    # every slot: delay-A, -B, -R of log2(P) bits, a ROM pointer, no select for a one-input mux
-    counter, rom = (c.net.period - 1).bit_length(), (len(ops.ROM) - 1).bit_length()
-    assert w["control_register_bits"] == sum(len(v.slots) * (3 * counter + rom) for v in c.net.vamps)
+    # every VAMP: a Cycle-Counter counting 0..P; every slot: a valid bit, delay-A, -B, -R as wide
+    # as the counter, a ROM pointer, no select for a one-input mux; the buffers' counter (the RTL's
+    # registers: tests/test_rtl.py counts them in the design itself)
+    counter, rom = c.net.period.bit_length(), (len(ops.ROM) - 1).bit_length()
+    assert w["control_register_bits"] == sum(counter + len(v.slots) * (1 + 3 * counter + rom)
+                                             for v in c.net.vamps) + counter
     text = run(main, ["report", str(prog)]).output
     assert "q12.20 (nearest, saturate): 32 bits;" in text
     plain = tmp_path / "f.vamp.json"

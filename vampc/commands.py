@@ -255,8 +255,20 @@ def program_compiled(source: str, given, params: dict):
 
 def _counted_before(key: str, stored, c) -> bool:
     """A stored summary figure that an earlier vampc counted otherwise, not an edit: the 40-pin
-    packages of a checked network without its extraneous VAMP (until 2026-12-04)."""
-    from vampc.report.counts import packages
+    packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's control
+    register bits without the Cycle-Counters and the slots' valid bits, the delay fields at
+    ceil(log2 P) bits (until 2026-12-05)."""
+    from vampc.report.counts import packages, word_bits
+    if key == "word" and isinstance(stored, dict) and c.options.word != "float64":
+        from vampc.machine import ops
+        net = c.network
+
+        def width(values: int) -> int:
+            return (values - 1).bit_length()
+        before = sum(len(v.slots) * (3 * width(net.period) + width(len(ops.ROM)) + width(len(v.a))
+                                     + width(len(v.b))) for v in net.vamps)
+        now = jsontext.loads(jsontext.dumps(word_bits(c)))
+        return {**now, "control_register_bits": before} == stored
     return (key == "packages_40pin" and c.network.checking is not None
             and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 

@@ -55,16 +55,14 @@ def checking_figures(c) -> dict | None:
     if ck is None:
         return None
     from vampc.emulator.checking import sweep_periods
-    from vampc.machine import ops
     V = len(net.vamps)
     order = ck.order
     succ = {order[i]: order[i + 1] for i in range(V)}
 
     def width(values: int) -> int:
         return (values - 1).bit_length()
-    counter = width(net.period)
-    table_bits = {v.index: len(v.slots) * (3 * counter + width(len(ops.ROM)) + width(len(v.a))
-                                           + width(len(v.b))) for v in net.vamps}
+    from vampc.report.counts import slot_table_bits
+    table_bits = {v.index: slot_table_bits(v, net.period) for v in net.vamps}
     plain = {v.index: 4 if len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1
              else 6 * len(v.slots) for v in net.vamps}
     stage_bits = width(ck.warmup + ck.compare + 1)

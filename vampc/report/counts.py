@@ -150,22 +150,39 @@ DATA_WORDS_PER_VAMP = 9 + 9 + 9 + 3
 ROM_BITS_PER_ASSIGNMENT = 2 + 2 + 4 + 4
 
 
+def counter_bits(period: int) -> int:
+    """A Cycle-Counter's bits, as vampc.rtl.design builds it: it counts 0 .. P (P in the tick before
+    Global-Reset returns it to 0), so P.bit_length() bits."""
+    return max(1, int(period).bit_length())
+
+
+def slot_table_bits(v, period: int) -> int:
+    """A VAMP's slot table in bits, as vampc.rtl.design builds it: per slot a valid bit, delay-A,
+    delay-B and delay-R (each as wide as the Cycle-Counter it is compared with), the ROM pointer and
+    the multiplexer selects (none for a multiplexer of one input: never read, synthesis drops it)."""
+    from vampc.machine import ops
+
+    def width(values: int) -> int:          # bits to tell `values` things apart (0 for one)
+        return (values - 1).bit_length()
+    return len(v.slots) * (1 + 3 * counter_bits(period) + width(len(ops.ROM)) + width(len(v.a))
+                           + width(len(v.b)))
+
+
 def word_bits(c) -> dict:
     """What the program's word format costs in bits (README, Word formats): the word width, every
     VAMP's data registers, control registers and microcode ROM, the delay lines, the constant
     buffers, the host's writes and reads per torque set and the Program-Mode stream. Control
-    registers hold Cycle-Counter values (⌈log2 P⌉ bits each for delay-A, delay-B, delay-R), a ROM
-    pointer and the multiplexer selects; the ROM holds the op table's micro-steps (12 bits per
-    assignment, ROM_BITS_PER_ASSIGNMENT), one copy per VAMP."""
+    registers are each VAMP's Cycle-Counter and slot table (counter_bits, slot_table_bits) and the
+    buffers' own Cycle-Counter; the ROM holds the op table's micro-steps (12 bits per assignment,
+    ROM_BITS_PER_ASSIGNMENT), one copy per VAMP. (The Cycle-Counters and the slots' valid bits had
+    been left out, and the delay fields counted at ceil(log2 P) bits, one fewer than the RTL's where
+    P is a power of two: 426 of planar2 folded's 33 192 flip-flops, an audit's.)"""
     from vampc.machine import ops
     word, net = c.options.arith(), c.network
     W = word.bits
-
-    def width(values: int) -> int:          # bits to tell `values` things apart (0 for one)
-        return (values - 1).bit_length()
-    counter = width(net.period)
-    control = sum(len(v.slots) * (3 * counter + width(len(ops.ROM)) + width(len(v.a))
-                                  + width(len(v.b))) for v in net.vamps)
+    counter = counter_bits(net.period)
+    control = sum(counter + slot_table_bits(v, net.period) for v in net.vamps) \
+        + (counter if net.buffers else 0)
     rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
                                         for step in ops.entry(r)[0].steps)
     inputs = sum(p.size for p in net.ports for _ in p.entries)
