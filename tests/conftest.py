@@ -5,6 +5,7 @@ Golden files under tests/golden/ are compared byte for byte; they are rewritten 
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -12,6 +13,12 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 GOLDEN = Path(__file__).resolve().parent / "golden"
+
+# Tests name the examples as the README does ("examples/planar2.yaml", some when their module is
+# imported): they run from the repository's root wherever pytest is started (`pytest
+# /path/to/tests/test_x.py` from another folder failed at collection, a tests audit's). Each test
+# that writes files writes them under its own tmp_path.
+os.chdir(ROOT)
 
 # The example robots the README and the design card promise (DESIGN §1, README).
 EXPECTED_EXAMPLES = ("planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml", "arm6.urdf")

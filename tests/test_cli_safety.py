@@ -21,6 +21,7 @@ from vampc.cli import main
 from vampc.dynamics.reference import rnea
 from vampc.emulator import driver
 from vampc.emulator.host import CheckResult
+from vampc.errors import VampcError
 from vampc.robot import load_robot
 
 PLANAR = EXAMPLES / "planar2.yaml"
@@ -1142,7 +1143,7 @@ def test_an_output_that_cannot_be_put_in_place_leaves_no_temporary_of_the_others
         real(a, b)
     monkeypatch.setattr(os, "replace", replace)
     outs = [output_for(tmp_path / f"{k}.txt") for k in range(3)]
-    with pytest.raises(Exception, match=r"1\.txt: cannot write x: No space left on device"):
+    with pytest.raises(VampcError, match=r"1\.txt: cannot write x: No space left on device"):
         write_together([(out, "new\n", "x") for out in outs])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["0.txt"]
 

@@ -14,6 +14,7 @@ from vampc.dynamics.reference import rnea
 from vampc.emulator import emulate
 from vampc.emulator.host import check_torques, port_values, random_trajectory
 from vampc.emulator.tick import TickEngine, TickStats
+from vampc.errors import VampcError
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain
 
@@ -75,7 +76,7 @@ def test_program_mode_from_any_state(seed):
 def test_program_mode_needs_the_whole_stream():
     ld = loaded(random_chain(4, 2))
     engine = TickEngine(ld, seed=0)
-    with pytest.raises(Exception, match="saw no word with their number"):
+    with pytest.raises(VampcError, match="saw no word with their number"):
         engine.program(ticks=1)
 
 

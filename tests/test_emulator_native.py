@@ -4,7 +4,6 @@ fast paths it serves (vampc.emulator.trajectory).
 """
 from __future__ import annotations
 
-import importlib.util
 import platform
 import re
 import shutil
@@ -27,7 +26,6 @@ from vampc.robot.random import random_chain
 
 EXAMPLES = sorted(p for p in (Path(__file__).resolve().parent.parent / "examples").iterdir()
                   if p.suffix in (".yaml", ".urdf"))
-HAS_LOG = importlib.util.find_spec("vampc.dataflow.logarithmic") is not None
 FMA = re.compile(r"\b(v?fn?m(add|sub)\w*|fml[as])\b")   # x86 FMA3/FMA4, AArch64 fmadd/fmla
 
 
@@ -92,7 +90,6 @@ def test_other_layouts_and_latencies_native_equals_numpy_and_tick(opts):
 
 
 @needs_cc
-@pytest.mark.skipif(not HAS_LOG, reason="no logarithmic recursion yet")
 @pytest.mark.parametrize("prefix", ["sklansky", "kogge-stone"])
 def test_log_recursion_native_equals_numpy_and_tick(prefix):
     chain = random_chain(5, 3, prismatic_fraction=0.5, endpoints=True)
@@ -100,7 +97,6 @@ def test_log_recursion_native_equals_numpy_and_tick(prefix):
 
 
 @needs_cc
-@pytest.mark.skipif(not HAS_LOG, reason="no logarithmic recursion yet")
 def test_puma_log_recursion_native_equals_numpy():
     ld = _loaded(load_robot(EXAMPLES[[p.name for p in EXAMPLES].index("puma560.yaml")]),
                  recursion="log")

@@ -449,7 +449,7 @@ def test_nan_is_never_written(compiled, tmp_path):
     doc = program_document(compiled)
     doc["robot"]["gravity"] = [0.0, float("nan"), 0.0]
     path = tmp_path / "nan.vamp.json"
-    with pytest.raises(Exception):
+    with pytest.raises(ValueError, match="nan is not a JSON number"):
         write_program(doc, path)
     assert list(tmp_path.iterdir()) == []
 

@@ -13,6 +13,7 @@ from frames_util import chain_frames
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from vampc.errors import VampcError
 from vampc.robot import JointType, chain_from_dh, load_dh, load_robot
 from vampc.robot import dh as dh_loader
 
@@ -359,7 +360,7 @@ def test_a_number_yaml_11_reads_otherwise_is_refused(tmp_path, written, read):
     the robot was built with those values without a word (a new user's run)."""
     path = tmp_path / "y1.yaml"
     path.write_text(ONE_JOINT.format(a=written))
-    with pytest.raises(Exception) as info:
+    with pytest.raises(VampcError) as info:
         load_robot(path)
     assert f"y1.yaml: line 3: '{written}' is a number YAML 1.1 reads as {read!r} (base 60, octal, " \
            "hexadecimal or an underscore); write it in decimal digits" in str(info.value)
@@ -390,7 +391,7 @@ def test_yaml_merge_keys_are_refused_naming_the_line(tmp_path):
     path.write_text("name: m\njoints:\n  - &j {name: one, type: revolute, a: 0.5, alpha: 0, d: 0, "
                     "theta: 0, mass: 1.0, com: [0, 0, 0], inertia: [0.1, 0.1, 0.1, 0, 0, 0]}\n"
                     "  - <<: *j\n    name: two\n")
-    with pytest.raises(Exception, match=r"m\.yaml: line 4: YAML merge keys \(<<\) are not read: write "
+    with pytest.raises(VampcError, match=r"m\.yaml: line 4: YAML merge keys \(<<\) are not read: write "
                                         r"the row's fields out \(an alias of a whole row or value is "
                                         r"read\)"):
         load_robot(path)
@@ -410,7 +411,7 @@ def test_a_tip_load_on_a_tree_acts_on_the_last_joint_depth_first_or_is_refused()
     the table the same way, passed (a new user's find against Pinocchio: 1.41 N·m on a 7-joint
     tree). A load whose last row is not that joint is refused, naming both."""
     tip = {"force": [0, 10, 0], "torque": [0, 0, 0]}
-    with pytest.raises(Exception) as err:
+    with pytest.raises(VampcError) as err:
         chain_from_dh({"name": "t", "joints": _tree_rows("a", "b", "c"), "tip": tip}, "t.yaml")
     assert str(err.value) == ("t.yaml: tip: on a tree the tip load acts on link n, the last joint in "
                               "depth-first order: 'b' (row 2), not the last row's 'c' (row 3); list "
