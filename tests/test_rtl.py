@@ -681,7 +681,8 @@ def test_a_failed_synthesis_leaves_no_amaranth_warning(programs):
                           env={**__import__("os").environ, "VAMPC_PROGRESS": "0"})
     errors = [line for line in done.stderr.splitlines() if not line.startswith("vampc rtl: ")]
     assert done.returncode == 1, done.stderr
-    assert errors == ["vampc: error: yosys did not finish in 0 s (--max-minutes)"], done.stderr
+    assert errors == ["vampc: error: yosys did not finish in 0 s, the --max-minutes each step may "
+                      "take: stopped, and nothing written (give a larger --max-minutes)"], done.stderr
 
 
 def test_module_names_are_ascii_and_never_a_reserved_word():

@@ -181,7 +181,11 @@ def _tool(code: str, args, cwd: str, timeout, name: str) -> str:
         done = subprocess.run([sys.executable, "-c", code, *args], cwd=cwd, capture_output=True,
                               text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        raise VampcError(f"{name} did not finish in {timeout:.0f} s (--max-minutes)") from None
+        # (the run stops here: its figures so far are not written, as on any failure; an audit
+        # found the stop unsaid by the README, which spoke only of refusing a step before it starts)
+        raise VampcError(f"{name} did not finish in {timeout:.0f} s, the --max-minutes each step "
+                         "may take: stopped, and nothing written (give a larger --max-minutes)") \
+            from None
     if done.returncode:
         last = (done.stderr or done.stdout).strip().splitlines()[-3:]
         raise VampcError(f"{name} failed: {' / '.join(last)}")
