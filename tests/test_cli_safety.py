@@ -1376,10 +1376,10 @@ def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
     assert res.exit_code == 0 and res.stderr == (f"vampc: warning: {robot}: no joint below the base "
                                                  "link 'l2' has a <mimic>; --mimic couple has no "
                                                  f"effect\nvampc: warning: {robot}: --base l2: the "
-                                                 "joints above it are cut away (j1 at 0, j2 at 0: by "
-                                                 "--lock, by a coupled mimic's leader, or 0 by "
-                                                 "default); gravity is turned into l2's frame through "
-                                                 "them there\n"), res.stderr
+                                                 "joints above it are cut away (j1 at 0, j2 at 0: j2 "
+                                                 "by a coupled mimic's leader; j1 by default); "
+                                                 "gravity is turned into l2's frame through them "
+                                                 "there\n"), res.stderr
     res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output
 

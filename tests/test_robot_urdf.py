@@ -283,6 +283,25 @@ def test_random_urdf_matches_yourdfpy_and_pinocchio(tmp_path, seed):
     check_torques(path, chain)
 
 
+def test_the_joints_cut_away_say_how_each_was_placed():
+    """Each joint above --base is said placed as it was (--lock, or 0 by default), where every
+    possible cause was listed for each (a new user's find)."""
+    with pytest.warns(VampcWarning) as seen:
+        load_urdf(ARM6, base="link2", tip="link5", lock={"flange": 0.3})
+    said = [str(w.message) for w in seen if "cut away" in str(w.message)]
+    assert len(said) == 1 and "(waist at 0, shoulder at 0: 0 by default);" in said[0], said
+    with pytest.warns(VampcWarning) as seen:
+        load_urdf(ARM6, base="link2", tip="link5", lock={"flange": 0.3, "waist": 0.5})
+    said = [str(w.message) for w in seen if "cut away" in str(w.message)]
+    assert len(said) == 1 and "(waist at 0.5, shoulder at 0: waist by --lock; shoulder by " \
+        "default);" in said[0], said
+    with pytest.warns(VampcWarning) as seen:
+        load_urdf(ARM6, base="link2", tip="link5", lock={"flange": 0.3, "waist": 0.5,
+                                                           "shoulder": -0.2})
+    said = [str(w.message) for w in seen if "cut away" in str(w.message)]
+    assert len(said) == 1 and "(waist at 0.5, shoulder at -0.2: by --lock);" in said[0], said
+
+
 def test_base_below_the_root():
     # The flange hangs below the chosen tip, so it must be locked; the tool then rides on link 5.
     with pytest.warns(VampcWarning, match=r"--base link2: the joints above it are cut away \(waist at 0, "

@@ -244,6 +244,7 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
         above = int(model.body_parentid[above])
     mimics = {jt.name: jt.mimic for jt in robot.joints if jt.mimic is not None} if couple else {}
     said, placed = [], False
+    causes = {}
     for j in moved:
         name, at, free = robot.joint_names[j], int(model.jnt_qposadr[j]), int(model.jnt_type[j]) == FREE
         if free:
@@ -251,6 +252,7 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
                 said.append(f"{name} (free) at qpos0")
             continue
         follows = mimics.get(name)
+        causes[name] = "lock" if name in lock else "leader" if follows else "default"
         if name in lock:
             data.qpos[at] = lock[name]
         elif follows:
@@ -273,9 +275,10 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
     turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
     if not said:
         return turned, None, placed
-    from vampc.robot.urdf_tree import cut_away
-    return turned, cut_away(path, base, said, "by --lock, by a coupled equality's leader, or their "
-                                               "reference positions, qpos0"), placed
+    from vampc.robot.urdf_tree import cut_away, placed_by
+    how = placed_by(causes, "a coupled equality's leader", "at their reference positions, qpos0",
+                    "at qpos0") if causes else "at qpos0"
+    return turned, cut_away(path, base, said, how), placed
 
 
 def _compiled(path: Path):

@@ -113,7 +113,14 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     if not above:
         return tree, None, {}
     at = dict(above_locks)
+    causes = {}
     for j in above:
+        if j.name in above_locks:
+            causes[j.name] = "lock"
+        elif j.name in leaders:
+            causes[j.name] = "leader"
+        else:
+            causes[j.name] = "default"
         if j.name not in at and j.name in leaders:
             leader, mult, off = leaders[j.name]
             if leader in below:
@@ -139,7 +146,11 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
     if not said:
         return turned, None, at
-    return turned, cut_away(path, base, said, "by --lock, by a coupled mimic's leader, or 0 by default"), at
+    from vampc.robot.urdf_tree import placed_by
+    moved = {j.name: causes[j.name] for j in above if j.type in MOVABLE}
+    how = placed_by(moved, "a coupled mimic's leader", "0 by default", "by default") if moved \
+        else "at their <origin>"
+    return turned, cut_away(path, base, said, how), at
 
 
 MIMIC_MODES = ("ordinary", "couple")

@@ -40,6 +40,21 @@ def cut_away(path, base: str, said: list, placed_by: str) -> str:
             f"gravity is turned into {base}'s frame through them there")
 
 
+def placed_by(causes: dict, leader: str, default: str, default_each: str) -> str:
+    """How the cut-away joints were placed, said of each (`causes`: name -> 'lock', 'leader' or
+    'default'): 'by --lock' where all were alike, else 'j2 by --lock; j1 by default'. Every cause
+    that could be had been listed for each ('by --lock, by a coupled mimic's leader, or 0 by
+    default' of a joint at 0 by default: a new user's find)."""
+    groups: dict[str, list] = {"lock": [], "leader": [], "default": []}
+    for name, cause in causes.items():
+        groups[cause].append(name)
+    used = [k for k in groups if groups[k]]
+    if len(used) == 1:
+        return {"lock": "by --lock", "leader": f"by {leader}", "default": default}[used[0]]
+    each = {"lock": "by --lock", "leader": f"by {leader}", "default": default_each}
+    return "; ".join(f"{listed(groups[k])} {each[k]}" for k in used)
+
+
 def follows_from_below(path, name: str, base: str, leader: str):
     """The error for a --mimic couple follower above the base whose leader moves below it."""
     return located(path, f"joint '{name}'", f"above the base link '{base}', follows joint '{leader}' "
