@@ -399,6 +399,11 @@ class Timing:
     mult: int = 1
     add: int = 1
 
+    def flops(self, mults: int, adds: int) -> int:
+        """The flops of `mults` Mults and `adds` Addns at these latencies (the one weighting every
+        figure of Mults and Addns uses: the paper's formulas, Table O.1's rows, a path's counts)."""
+        return mults * self.mult + adds * self.add
+
     def step(self, units: frozenset) -> int:
         """Duration of one micro-step: its slowest active unit."""
         return max(self.mult if u == "M" else self.add for u in units)

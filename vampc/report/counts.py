@@ -20,9 +20,9 @@ def paper_latency(n: int, recursion: str, timing=None) -> dict:
     """The paper's latency formula for a general rotary arm of n joints: Mults, Addns, and flops at
     `timing`'s Mult and Addn latencies (a vampc.machine.ops.Timing; the paper's 1 and 1 if None)."""
     from vampc.dataflow.registry import RECURSIONS
+    from vampc.machine.ops import Timing
     mults, adds = RECURSIONS[Recursion(recursion)].paper_latency(n)
-    m, a = (timing.mult, timing.add) if timing is not None else (1, 1)
-    return {"flops": mults * m + adds * a, "mults": mults, "adds": adds}
+    return {"flops": (timing or Timing()).flops(mults, adds), "mults": mults, "adds": adds}
 
 
 def serial_reference(n: int) -> dict:
@@ -287,8 +287,9 @@ def prismatic_joints(chain) -> list[int]:
 def paper_flops(rep: dict) -> int:
     """The paper's formula in flops at the report's Mult and Addn latencies (the paper's own figure
     when both are 1 flop)."""
+    from vampc.machine.ops import Timing
     t, paper = rep["timing"], rep["paper"]
-    return paper["mults"] * t["mult_latency"] + paper["adds"] * t["add_latency"]
+    return Timing(t["mult_latency"], t["add_latency"]).flops(paper["mults"], paper["adds"])
 
 
 def latency_terms(rep: dict, lat: dict) -> str:
@@ -455,7 +456,9 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
             ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
             waits = got.get("waits") or 0
             longest = got.get("data_path")          # the graph's longest data path (flops), if known
-            if waits and longest is not None and longest > got["mults"] * ml + got["adds"] * al \
+            from vampc.machine.ops import Timing
+            if waits and longest is not None and longest > Timing(ml, al).flops(got["mults"],
+                                                                                got["adds"]) \
                     and left_m <= 0 and left_a <= 0:
                 # (a budget schedule's critical path can be a shorter route that waited: the exact
                 # solver's Puma, 14 M + 42 A + 5 waiting = 61 on a route other than the 61-flop data

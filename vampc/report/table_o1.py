@@ -69,7 +69,7 @@ def _serial_row(graph, n: int, timing) -> dict:
     }, Recursion)[graph.recursion]
     return {"configuration": f"{graph.recursion} graph, serial work", "recursion": graph.recursion,
             "measure": "serial", "mults": work["mults"], "adds": work["adds"],
-            "flops": work["mults"] * timing.mult + work["adds"] * timing.add, "compare": lwp.key,
+            "flops": timing.flops(work["mults"], work["adds"]), "compare": lwp.key,
             "paper": ref,
             "difference": {"mults": work["mults"] - ref["mults"], "adds": work["adds"] - ref["adds"]},
             "note": short, "explanation": why}

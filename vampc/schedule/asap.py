@@ -40,7 +40,7 @@ class Schedule:
     @property
     def waits(self) -> int:
         """Flops on the critical path spent waiting for a VAMP (0 for an ASAP schedule)."""
-        return self.latency - self.mults * self.timing.mult - self.adds * self.timing.add
+        return self.latency - self.timing.flops(self.mults, self.adds)
 
     def verify(self, graph: Graph) -> None:
         """Every node starts after its operands finish and lasts its op's duration."""
