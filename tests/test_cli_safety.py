@@ -2038,3 +2038,20 @@ def test_a_misspelled_value_gets_the_name_it_is_closest_to(tmp_path):
     r = run(main, ["lookahead", str(EXAMPLES / "puma560.yaml"), "--trajectory", str(path), "--rate",
                    "1kHz", "--window", "8", "--limits", str(limits)])
     assert r.exit_code == 1 and "no joint named 'waste' (did you mean 'waist'?)" in r.output, r.output
+
+
+@pytest.mark.parametrize("extra, option", [([], "--network"), (["--tradeoff"], "--curve")])
+def test_a_report_whose_text_cannot_be_written_leaves_its_pictures_old_files(tmp_path, extra,
+                                                                             option):
+    """`report --network n.svg > /dev/full` exited 1 with n.svg already replaced (the pictures were
+    put in place before the text was written; an audit's): the text goes first."""
+    import subprocess
+    import sys
+    picture = tmp_path / "n.svg"
+    picture.write_text("OLD\n")
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([sys.executable, "-m", "vampc", "report", "examples/planar2.yaml",
+                               *extra, option, str(picture)], stdout=full, stderr=subprocess.PIPE,
+                              text=True, env={**os.environ, "VAMPC_PROGRESS": "0"})
+    assert done.returncode == 1 and "cannot write to standard output" in done.stderr, done.stderr
+    assert picture.read_text() == "OLD\n" and sorted(p.name for p in tmp_path.iterdir()) == ["n.svg"]

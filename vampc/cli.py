@@ -296,8 +296,9 @@ def report(ctx, source, **params):
     trade-off sweep instead."""
     from vampc.commands import report_command
     need_stdout("vampc report")
-    say(report_command(source, build(ReportOptions, ctx, params), build(CompileOptions, ctx, params),
-                       build(RobotOptions, ctx, params), params), nl=False)
+    # (the text written before the pictures are put in place: see report_command)
+    report_command(source, build(ReportOptions, ctx, params), build(CompileOptions, ctx, params),
+                   build(RobotOptions, ctx, params), params, emit=lambda text: say(text, nl=False))
 
 
 @main.command(short_help="The narrowest fixed-point word for a robot or program.")

@@ -695,13 +695,15 @@ class _Guarded:
 # --- report ---------------------------------------------------------------------------------------
 
 def report_command(source: str, own: ReportOptions, options: CompileOptions,
-                   robot_opts: RobotOptions, params: dict) -> str:
+                   robot_opts: RobotOptions, params: dict, emit=None) -> str:
     """`vampc report`: the report (or the trade-off sweep) as text in the format asked for, with
-    its pictures written."""
+    its pictures written. `emit(text)`: the text is handed to it (standard output) before the
+    pictures are put in place, and '' returned: a text that cannot be written (a full disk) fails
+    the run with the pictures' old files as they were (they had been replaced first: an audit's)."""
     from vampc.outputs import plan_outputs
     own.check(options.given)
     if own.tradeoff:
-        return tradeoff_command(source, own, options, robot_opts, params)
+        return tradeoff_command(source, own, options, robot_opts, params, emit)
     hz = own.clock_hz()
     outs = plan_outputs([source, own.rtl], {flag(name): getattr(own, name) for name in own.PICTURES})
     from vampc import progress
@@ -713,12 +715,17 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         with progress.stages(f"report of {Path(source).name}", REPORT_STAGES + (
                 "pictures", "network check")) as stage:
             rep, content = _report_figures(c, own, outs, hz, figures, check, stage)
+        if own.fmt == "json":
+            text = jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"
+        else:
+            from vampc.report.text import render, render_markdown
+            text = render_markdown(rep) if own.fmt == "markdown" else render(rep)
+        if emit is not None:
+            emit(text)
+            text = ""
         write_pictures(outs, content)
         leave_big(c.network)
-    if own.fmt == "json":
-        return jsontext.dumps(rep, indent=1, sort_keys=True) + "\n"
-    from vampc.report.text import render, render_markdown
-    return render_markdown(rep) if own.fmt == "markdown" else render(rep)
+    return text
 
 
 def _report_figures(c, own: ReportOptions, outs: dict, hz, figures, check, stage):
@@ -794,7 +801,7 @@ def _end_speeds(traj) -> str:
 
 
 def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
-                     robot_opts: RobotOptions, params: dict) -> str:
+                     robot_opts: RobotOptions, params: dict, emit=None) -> str:
     """The trade-off sweep of a robot or program, as text, JSON or CSV (and --curve's picture)."""
     from vampc import progress
     from vampc.outputs import plan_outputs
@@ -821,6 +828,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         chain = load_chain(source, options, robot_opts)
     with progress.counter("trade-off", 1, unit="budget") as bar, naming(source):
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
+    content: dict = {}
     if outs:
         from vampc.report.svg import drawn_as, format_of
         from vampc.report.tradeoff_chart import curve_svg
@@ -833,13 +841,19 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         if "--html" in outs:
             from vampc.report.html import tradeoff_page
             content["--html"] = tradeoff_page(rows, title, curve)
-        write_pictures(outs, {k: v for k, v in content.items() if k in outs})
     if own.fmt == "json":
-        return jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
-                           "points": rows}, indent=1) + "\n"
-    if own.fmt == "markdown":
-        return tr.render_markdown(rows)
-    return tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
+        text = jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
+                               "points": rows}, indent=1) + "\n"
+    elif own.fmt == "markdown":
+        text = tr.render_markdown(rows)
+    else:
+        text = tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
+    if emit is not None:            # (before the pictures: see report_command)
+        emit(text)
+        text = ""
+    if outs:
+        write_pictures(outs, {k: v for k, v in content.items() if k in outs})
+    return text
 
 
 def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
