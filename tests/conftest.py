@@ -14,11 +14,14 @@ ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 GOLDEN = Path(__file__).resolve().parent / "golden"
 
-# Tests name the examples as the README does ("examples/planar2.yaml", some when their module is
-# imported): they run from the repository's root wherever pytest is started (`pytest
-# /path/to/tests/test_x.py` from another folder failed at collection, a tests audit's). Each test
-# that writes files writes them under its own tmp_path.
-os.chdir(ROOT)
+
+def pytest_sessionstart(session):
+    """Tests name the examples as the README does ("examples/planar2.yaml", some when their module
+    is imported): they run from the repository's root wherever pytest is started (`pytest
+    /path/to/tests/test_x.py` from another folder failed at collection, a tests audit's). Each test
+    that writes files writes them under its own tmp_path. (Here, after pytest has resolved the
+    paths it was given, such as --junitxml's, against the folder it was started in: a review's.)"""
+    os.chdir(ROOT)
 
 # The example robots the README and the design card promise (DESIGN §1, README).
 EXPECTED_EXAMPLES = ("planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml", "arm6.urdf")

@@ -393,3 +393,7 @@ def test_a_table_given_as_the_robot_is_said_to_be_one(tmp_path, name, said):
     table.write_text("t,tau_j1,tau_j2\n0,1,2\n")
     r = CliRunner().invoke(main, ["emulate", str(table), "--random", "3"])
     assert r.exit_code == 1 and ERROR.match(r.stderr) and said in r.stderr
+    # a robot file saved under such a name is said by its content, as before (a review's)
+    table.write_text((EXAMPLES / "ur5.urdf").read_text())
+    r = CliRunner().invoke(main, ["emulate", str(table), "--random", "3"])
+    assert r.exit_code == 1 and "(it looks like XML (a URDF))" in r.stderr and said not in r.stderr

@@ -71,7 +71,7 @@ def test_estimates_count_a_vamps_slots_and_inputs(tmp_path):
 
 
 @pytest.mark.parametrize("options, said", [
-    ({"interval": 50}, "layout: budget for an interval of 50 ticks"),
+    ({"interval": 50}, "layout: budget for an interval of at most 50 ticks"),
     ({"vamps": 1}, "layout: budget of 1 VAMP\n"),
     ({"layout": "folded", "share_passes": True}, "layout: folded, passes shared\n"),
     ({"layout": "folded"}, "layout: folded\n")])

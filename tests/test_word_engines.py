@@ -187,6 +187,10 @@ def test_a_prismatic_position_whose_host_inputs_a_word_cannot_hold_is_refused(tm
     assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.output
     assert ("line 3 (state 2), column q1: 150 gives p*_1 = [0, 0, 150] (the host's input for "
             "prismatic joint 1), beyond q8.8 words, which hold [-128, 128)") in res.stderr
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n127.999,0.5,0,0.5,0,0\n")    # rounds to 128
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 1 and "127.999 gives p*_1 = [0, 0, 127.999] (" in res.stderr, res.stderr
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n1,0.5,0,0.5,0,0\n150,0.5,0,0.5,0,0\n")
     assert not out.exists()
     chain = load_robot(robot)
     assert chain.joints[0].p_star(np.array([150.0]))[0, 2] == 150.0     # (what the host writes)

@@ -27,7 +27,7 @@ def _refused(address: str) -> None:
     for its whole timeout, then said it had timed out: 12 s, an audit's)."""
     import re
     import socket
-    m = re.fullmatch(r"tcp://(\[[^\]]+\]|[^:/\[\]]+):(\d+)/?", address.strip())
+    m = re.fullmatch(r"(?:tcp://)?(\[[^\]]+\]|[^:/\[\]]+):(\d+)/?", address.strip())
     if m is None or not 0 < int(m.group(2)) < 65536:
         return                      # (other protocols and forms: Dask says what it makes of them)
     host = m.group(1).strip("[]")

@@ -157,10 +157,10 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
         if bad.any():
             row = int(np.argmax(bad))
             where = f"row {row + 1}{what}" if what else state_at(path, row)
-            shown = ", ".join(f"{x:.6g}" for x in value[row])
+            shown = ", ".join(f"{x:.12g}" for x in value[row])
             if key.quantity is Quantity.PDD0:
                 column = "base_ax..base_az"
-                given = ", ".join(f"{x:.6g}" for x in traj.base[row, 6:9])
+                given = ", ".join(f"{x:.12g}" for x in traj.base[row, 6:9])
                 why = f"[{given}] gives p̈_0 = a_0 − g = [{shown}] (the host's input for the base)"
             else:
                 column = q_names[key.joint - 1]

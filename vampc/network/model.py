@@ -77,7 +77,7 @@ _VAMP, _BUFFER, _PORT, _CONST, _BUS = (TapKind.VAMP, TapKind.BUFFER, TapKind.POR
 # audit's).
 PROGRAM_WIRE_READ = ("sel-a 0 reads operand A's input 0, Program Mode's wire, which a network on "
                      "the Mostly-Local Bus reads in Program Mode only (results reach their readers "
-                     "over the bus)")
+                     "over the bus): the file was damaged; recompile it")
 
 
 def program_wire(vamp) -> bool:

@@ -108,8 +108,9 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
     if kind in OTHER_COMPRESSIONS:
         raise located(path, "", f"{kind}-compressed; {OTHER_COMPRESSION}")
     suffix = path.suffix.lower()            # (a new user gave their torque CSV as the robot)
-    table = (": a CSV table is a trajectory (for --trajectory), torques or limits, not a robot"
-             if suffix == ".csv" else ": a NumPy array is a trajectory (for --trajectory) or "
-             "torques, not a robot" if suffix in (".npy", ".npz") else looks_like(path))
+    table = looks_like(path) or (
+        ": a CSV table is a trajectory (for --trajectory), torques or limits, not a robot"
+        if suffix == ".csv" else ": a NumPy array is a trajectory (for --trajectory) or torques, "
+        "not a robot" if suffix in (".npy", ".npz") else "")     # (a robot saved as .csv: its content)
     raise located(path, "", f"unknown robot file extension {path.suffix!r}{table} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")
