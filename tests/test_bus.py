@@ -603,3 +603,39 @@ def test_an_edited_placement_or_tuned_tier_is_refused_by_the_report(tmp_path):
         res = CliRunner().invoke(main, ["report", str(edited)])
         assert res.exit_code == 1 and said in res.stderr and "the file was edited" in res.stderr
         assert len(res.stderr.splitlines()) == 1 and res.stdout == ""
+
+
+def test_the_bus_charts_grouped_rows_are_shaded_by_the_buses_they_hold(tmp_path):
+    """A tier drawn a few buses a row shades each cell by the share of the row's buses driven then;
+    a last row holding fewer buses (planar2's tier 2: 15 buses, 2 a row, the last one bus, driven
+    at Cycle-Counter 0) was shaded as if it held a full row (0.625 where it is fully busy: an
+    audit's). The shades, counted from the program's bus writes here, are the SVG's."""
+    from collections import Counter
+
+    from vampc.report.bus_chart import MAX_ROWS_PER_TIER
+    chart = tmp_path / "b.svg"
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--bus", "mlb",
+                                    "--bus-chart", str(chart)])
+    assert res.exit_code == 0, res.output
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(bus="mlb"))
+    net = c.network
+    bus, V = net.bus, len(net.vamps)
+    sources = [b.source for b in net.buffers]
+    driven: dict = {}
+    for w in bus.writes:
+        tier = bus.tiers[w.tier]
+        driven.setdefault((w.tier, tier.bus_at(bus.writer_position(w.source, sources)),
+                           w.counter % net.period), 1)
+    want = Counter()
+    shade: dict = {}
+    for (k, b, counter) in driven:
+        buses = bus.tiers[k].buses(V)
+        per = -(-buses // MAX_ROWS_PER_TIER)
+        if per > 1:
+            row = (b - bus.tiers[k].bus_at(0)) // per
+            shade.setdefault((k, row, counter), [0, min(per, buses - row * per)])[0] += 1
+    for n, held in shade.values():
+        if n < held:
+            want[round(0.25 + 0.75 * n / held, 6)] += 1
+    got = Counter(round(float(x), 6) for x in re.findall(r"fill-opacity: ([0-9.]+)", chart.read_text()))
+    assert want and got == want

@@ -83,7 +83,11 @@ def _draw(net, title: str) -> str:
         yy = top + row
         polys.append([(c, yy + 0.1), (c + 1, yy + 0.1), (c + 1, yy + 0.9), (c, yy + 0.9)])
         colour = cmap(k % 20)
-        faces.append((*colour[:3], 0.25 + 0.75 * n / per))
+        # over the buses the row holds: a tier's last row may hold fewer than `per` (a fully busy
+        # last row of one bus had been shaded as a quarter busy: an audit's, as the reservation
+        # table's once was)
+        held = min(per, bus.tiers[k].buses(V) - row * per)
+        faces.append((*colour[:3], 0.25 + 0.75 * n / held))
         urls.append(None)
     if polys:
         coll = PolyCollection(polys, facecolors=faces, edgecolors="none", urls=urls)
