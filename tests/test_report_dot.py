@@ -44,3 +44,22 @@ def test_graphviz_reads_both_graphs(compiled, tmp_path):
 
 def test_quote():
     assert quote('a "b"\\c\nd') == '"a \\"b\\"\\\\c\\nd"'
+
+
+@pytest.mark.parametrize("aggregate", [False, True])
+def test_a_floating_bases_wrench_outputs_are_named_as_the_torque_files_columns(aggregate,
+                                                                             monkeypatch):
+    """The quadruped on a floating base has 12 joints and 18 outputs: the DOT labelled the last six
+    τ13..τ18, joints it does not have, where the drawing and the torque file say base_fx..base_nz
+    (an audit's)."""
+    from vampc.emulator.trajectory import WRENCH_COLUMNS
+    from vampc.report import dot
+    if aggregate:
+        monkeypatch.setattr(dot, "DETAIL_VAMPS", 1)
+    chain = load_robot(EXAMPLES / "quadruped.urdf", floating=True)
+    c = compile_chain(chain, CompileOptions())
+    text = report_dot(c.graph, c.layout, c.network, chain.name)
+    labels = dict(re.findall(r"  tau(\d+) \[shape=house[^]]*label=\"([^\"]+)\"", text))
+    assert sorted(map(int, labels)) == list(range(1, 19))
+    assert [labels[str(j)].rstrip("…") for j in range(13, 19)] == list(WRENCH_COLUMNS)
+    assert all(labels[str(j)].rstrip("…") == f"τ{j}" for j in range(1, 13))

@@ -55,7 +55,8 @@ def aggregated_dot(graph, layout, net, name: str, critical_path=()) -> str:
             lines.append(f"  p{index} [shape=invtriangle, style=solid, label={quote(label)}];")
             lines += [f"  p{index} -> {ids[r]};" for r in readers]
     for joint, site in d.outputs:
-        lines.append(f"  tau{joint} [shape=house, style=solid, label={quote(f'τ{joint}…' if d.grouped > 1 else f'τ{joint}')}]; "
+        name = d.output_name(joint)
+        lines.append(f"  tau{joint} [shape=house, style=solid, label={quote(name + '…' if d.grouped > 1 else name)}]; "
                      f"{ids[site]} -> tau{joint};")
     return "\n".join(lines) + "\n}\n"
 
@@ -89,7 +90,7 @@ def network_dot(graph, layout, net, name: str) -> str:
     lines += [f"  k{c.index} [shape=box, style=dashed, label={quote(c.name)}];" for c in net.consts]
     lines += _network_edges(net)
     for o in net.outputs:
-        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; "
+        lines.append(f"  tau{o.joint} [shape=house, label={quote(_output(graph, o.joint))}]; "
                      f"v{o.vamp} -> tau{o.joint};")
     return "\n".join(lines) + "\n}\n"
 
@@ -128,6 +129,16 @@ def dataflow_dot(graph, name: str) -> str:
     for nd in graph.nodes:
         lines += [f"  n{a} -> n{nd.id};" for a in nd.args]
     for o in graph.outputs:
-        lines.append(f"  tau{o.joint} [shape=house, label={quote(f'τ{o.joint}')}]; "
+        lines.append(f"  tau{o.joint} [shape=house, label={quote(_output(graph, o.joint))}]; "
                      f"n{o.node} -> tau{o.joint};")
     return "\n".join(lines) + "\n}\n"
+
+
+def _output(graph, j: int) -> str:
+    """Output j's label: τj, or past the joints a floating base's wrench component, named as the
+    torque file's column and the network drawing name it (the DOT had τ13..τ18 on a 12-joint
+    quadruped: an audit's)."""
+    if j > graph.n:
+        from vampc.emulator.trajectory import WRENCH_COLUMNS
+        return WRENCH_COLUMNS[j - graph.n - 1]
+    return f"τ{j}"
