@@ -639,3 +639,32 @@ def test_the_bus_charts_grouped_rows_are_shaded_by_the_buses_they_hold(tmp_path)
             want[round(0.25 + 0.75 * n / held, 6)] += 1
     got = Counter(round(float(x), 6) for x in re.findall(r"fill-opacity: ([0-9.]+)", chart.read_text()))
     assert want and got == want
+
+
+def test_a_bus_chart_of_a_robot_compiled_without_the_bus_is_refused_before_the_compile(
+        tmp_path, monkeypatch):
+    """`report ROBOT --bus-chart` without --bus mlb was refused only once the whole report was built
+    (2.9 s for a 256-joint log chain; an audit's): the options say it before any work."""
+    import vampc.commands
+    def no_compile(*a, **k):
+        raise AssertionError("compiled")
+    monkeypatch.setattr(vampc.commands, "_report_compiled", no_compile)
+    res = CliRunner().invoke(main, ["report", str(PUMA), "--bus-chart", str(tmp_path / "b.svg")])
+    assert res.exit_code == 2 and "--bus-chart applies to a program on the Mostly-Local Bus" in \
+        res.stderr and not (tmp_path / "b.svg").exists()
+
+
+def test_the_drawings_of_a_bus_or_checked_program_say_what_they_leave_out(tmp_path):
+    """A bus or error-correction program's network drawing and DOT were byte for byte the plain
+    program's, saying nothing (an audit's): a warning says the bus is drawn as the wires its
+    transfers stand for, and the checking is left out."""
+    for extra, said in ((["--bus", "mlb"], "the network is drawn wired point to point"),
+                        (["--error-correction"], "the network is drawn without its error "
+                                                 "correction")):
+        res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), *extra, "--dot",
+                                        str(tmp_path / "d.dot"), "--network", str(tmp_path / "n.svg")])
+        assert res.exit_code == 0, res.output
+        assert f"vampc: warning: --network, --dot: {said}" in res.stderr, res.stderr
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--network",
+                                    str(tmp_path / "n.svg")])
+    assert res.exit_code == 0 and "warning" not in res.stderr

@@ -708,6 +708,9 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
     outs = plan_outputs([source, own.rtl], {flag(name): getattr(own, name) for name in own.PICTURES})
     from vampc import progress
     from vampc.report.build import REPORT_STAGES
+    from vampc.sniff import is_program
+    if "--bus-chart" in outs and options.bus != "mlb" and not is_program(source):
+        raise _no_bus_chart()              # (known before the compile: said after it, an audit's)
     with gc_paused():       # millions of small acyclic objects for a big network; freed at exit
         c, figures, check = _report_compiled(source, options, robot_opts, params)
         _warn_constants(source, c)
@@ -728,6 +731,11 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
     return text
 
 
+def _no_bus_chart() -> VampcUsageError:
+    return VampcUsageError("--bus-chart applies to a program on the Mostly-Local Bus (compile --bus "
+                           "mlb, or give --bus mlb with a robot file)")
+
+
 def _report_figures(c, own: ReportOptions, outs: dict, hz, figures, check, stage):
     """The report's figures and pictures, once the background check (`check`) has passed."""
     try:
@@ -746,8 +754,7 @@ def _report_figures(c, own: ReportOptions, outs: dict, hz, figures, check, stage
         if rtl is not None:
             rep["rtl"] = rtl
         if "--bus-chart" in outs and c.network.bus is None:
-            raise VampcUsageError("--bus-chart applies to a program on the Mostly-Local Bus "
-                                  "(compile --bus mlb, or give --bus mlb with a robot file)")
+            raise _no_bus_chart()
         stage("pictures")
         content = _pictures(c, rep, outs, own.focus_range())
     except KeyboardInterrupt:   # Ctrl-C, SIGTERM: stop the check too
@@ -860,6 +867,17 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
     """The content of every picture and page asked for."""
     if not outs:
         return {}
+    # (a bus or error-correction program's pictures were byte for byte the plain program's, and
+    # nothing said so: an audit's)
+    drawn = [o for o in ("--network", "--dot", "--html") if o in outs]
+    if drawn and c.network.bus is not None:
+        warnings.warn(VampcWarning(f"{', '.join(drawn)}: the network is drawn wired point to point, "
+                                   "each bus transfer as the wire it stands for; --bus-chart draws "
+                                   "the buses"), stacklevel=1)
+    if drawn and c.network.checking is not None:
+        warnings.warn(VampcWarning(f"{', '.join(drawn)}: the network is drawn without its error "
+                                   "correction (the extraneous VAMP and the checking wires; the "
+                                   "report's error-correction lines count them)"), stacklevel=1)
     from vampc.report import pictures
     return pictures.make(c, rep, {o: out.path for o, out in outs.items()}, focus)
 
