@@ -32,3 +32,32 @@ def test_title_names_robot_layout_latency_and_interval():
     c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"))
     assert pictures.title(build_report(c)) == ("planar2, 2 joints, linear recursion, systolic layout: "
                                               "latency 29 flops, a torque set every 4")
+
+
+def test_every_svg_group_id_is_unique_and_each_piece_has_its_tooltip(tmp_path):
+    """An op drawn in pieces (a reservation bar wrapping past the interval; an MM on three VAMP rows
+    of a budget's timing chart) had one group id per piece, the same (planar2's reservation table:
+    14 ids twice; an audit's). Later pieces are -2, -3, each with the op's tooltip."""
+    import collections
+    import re as _re
+    program = tmp_path / "b.vamp.json"
+    from click.testing import CliRunner as _Runner
+
+    from vampc.cli import main as _main
+    assert _Runner().invoke(_main, ["compile", "examples/puma560.yaml", "--recursion", "log",
+                                    "--vamps", "40", "-o", str(program)]).exit_code == 0
+    for source, option in (("examples/planar2.yaml", "--reservation"), (str(program), "--timing"),
+                           (str(program), "--reservation")):
+        out = tmp_path / "p.svg"
+        res = _Runner().invoke(_main, ["report", source, option, str(out)])
+        assert res.exit_code == 0, res.output
+        text = out.read_text()
+        ids = _re.findall(r'<g id="([^"]+)">', text)
+        assert [k for k, v in collections.Counter(ids).items() if v > 1] == []
+        pieces = [i for i in ids if _re.fullmatch(r"(op|res)-\d+(-critical)?-\d+", i)]
+        assert pieces, (source, option)
+        for piece in pieces:
+            base = piece.rsplit("-", 1)[0]
+            first = _re.search(rf'<g id="{base}"><title>([^<]+)</title>', text)
+            again = _re.search(rf'<g id="{piece}"><title>([^<]+)</title>', text)
+            assert first and again and first.group(1) == again.group(1), piece

@@ -102,9 +102,18 @@ def to_svg(fig, titles: dict[str, str] | None = None) -> str | bytes:
 
 
 def _links_to_groups(text: str) -> str:
+    """Each linked shape a group named by its link; a name drawn again (an op in several pieces:
+    an MM on its three VAMPs' rows, a bar wrapping past the interval) is suffixed -2, -3, ... so
+    every id is unique (the pieces had shared one, which SVG does not allow: an audit's)."""
     if '<a xlink:href="#' not in text:
         return text
-    text = re.sub(r'<a xlink:href="#([^"]+)"(?: target="_blank")?>', r'<g id="\1">', text)
+    seen: dict[str, int] = {}
+
+    def group(m: re.Match) -> str:
+        name = m.group(1)
+        seen[name] = seen.get(name, 0) + 1
+        return f'<g id="{name}">' if seen[name] == 1 else f'<g id="{name}-{seen[name]}">'
+    text = re.sub(r'<a xlink:href="#([^"]+)"(?: target="_blank")?>', group, text)
     return text.replace("</a>", "</g>")
 
 
@@ -113,6 +122,8 @@ def _add_titles(text: str, titles: dict[str, str]) -> str:
 
     def title(m: re.Match) -> str:
         what = titles.get(m.group(1))
+        if what is None and (piece := re.fullmatch(r"(.+)-\d+", m.group(1))):
+            what = titles.get(piece.group(1))        # (a later piece of a shape: its title too)
         return m.group(0) if what is None else f'{m.group(0)}<title>{escape(what)}</title>'
     return re.sub(r'<g id="([^"]+)">', title, text)
 
