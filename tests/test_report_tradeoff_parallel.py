@@ -370,3 +370,18 @@ def test_a_port_where_nothing_listens_is_said_to_refuse(monkeypatch):
                                       "--scheduler", address])
         assert r.exit_code == 1 and len(r.output.strip().splitlines()) == 1
         assert "cannot reach a Dask scheduler there (the connection was refused" in r.output
+
+
+def test_a_scheduler_host_name_that_does_not_resolve_is_said_so(monkeypatch):
+    """A host name that does not resolve (7 ms) was said as Dask's 10 s time-out (a new user's)."""
+    pytest.importorskip("distributed")
+    import socket
+
+    def no_name(*a, **k):
+        raise socket.gaierror(-2, "Name or service not known")
+    monkeypatch.setattr(socket, "create_connection", no_name)
+    r = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                  "tcp://nosuchhost.invalid:8786"])
+    assert r.exit_code == 1 and len(r.output.strip().splitlines()) == 1
+    assert "(the host name 'nosuchhost.invalid' does not resolve: Name or service not known)" \
+        in r.output, r.output

@@ -185,6 +185,9 @@ def doc_with(**joint_over) -> dict:
 YAML_ERRORS = [
     ("name: [1, 2\n", r"line 2: not valid YAML: .+"),
     ("- just\n- a list\n", r'\["just","a list"\] is not of type "object"'),
+    ("tau_a,tau_b\n1,2\n", r"this is not a DH table: it reads as a CSV table \(a trajectory, "
+                            r"torques or limits\?\), where a DH table is a mapping .+"),
+    ("42\n", r"this is not a DH table: it reads as one value, .+"),
     ("", r"the robot file is empty .+"),
     ("name: x\njoints: []\n", r"joints: \[\] has less than 1 item"),
     ("!!python/object/apply:os.system ['echo hi']\n",

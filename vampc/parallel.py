@@ -36,8 +36,11 @@ def _refused(address: str) -> None:
     except ConnectionRefusedError:
         raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (the "
                          "connection was refused: nothing listens on that port)") from None
+    except socket.gaierror as exc:   # (said as a 10 s time-out by Dask: a new user's)
+        raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (the host "
+                         f"name {host!r} does not resolve: {exc.strerror or exc})") from None
     except OSError:
-        return                      # (a name that does not resolve, a timeout: Dask says it)
+        return                      # (a time-out, no route: Dask says it)
 
 
 def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):

@@ -57,6 +57,13 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
     if doc is None or doc == "":
         raise VampcError(f"{source}: the robot file is empty (a DH table is a mapping with "
                          "`joints`; README, DH table)")
+    if not isinstance(doc, (dict, list)):
+        # (a CSV named .yaml reads as one text: the schema error quoted it, cut short, and said
+        # nothing else; a new user's torque file)
+        what = ("a CSV table (a trajectory, torques or limits?)" if isinstance(doc, str) and ","
+                in doc.split(" ", 1)[0] else "one value")
+        raise VampcError(f"{source}: this is not a DH table: it reads as {what}, where a DH table "
+                         "is a mapping with `name` and `joints` (README, DH table)")
     from vampc.sniff import vampc_output
     output = vampc_output(doc)
     if output:       # (one of vampc's own outputs: a schema error had named its first key)
