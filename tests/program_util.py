@@ -17,3 +17,17 @@ def edited_program(program, tmp_path: Path, change, fix_checksum: bool = True) -
     path = tmp_path / "edited.vamp.json"
     path.write_text(json.dumps(doc))
     return path
+
+
+def reported_with_summary(doc: dict, tmp_path: Path):
+    """`vampc report` of the program document `doc` (its summary edited by the caller), its
+    checksum made again: the click Result, asserted to exit 0."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    doc["checksum"] = checksum(doc)
+    old = tmp_path / "old.vamp.json"
+    old.write_text(json.dumps(doc))
+    r = CliRunner().invoke(main, ["report", str(old)])
+    assert r.exit_code == 0, r.output
+    return r
