@@ -409,3 +409,26 @@ def test_a_float32_constant_beyond_its_range_is_warned_of_and_said_alike_by_both
     word = parse_word("float32", "nearest", "saturate")
     assert [word.c_literal(x) for x in (1e39, -1e39, float("nan"))] == [
         "((float)INFINITY)", "(-(float)INFINITY)", "((float)NAN)"]
+
+
+def test_joint_limits_a_word_cannot_hold_are_warned_of_at_compile(tmp_path):
+    """A slide whose travel reaches q = 200 compiled in q8.8 without a word, its states refused only
+    when they came (a new user's q6.10 program of a 40 m slide). Compile warns, naming the joint;
+    the warning's bound is the host's own: s*_i at the travel's ends, checked here by the chain."""
+    robot = tmp_path / "slide.yaml"
+    robot.write_text(SLIDE)
+    chain = load_robot(robot)
+    ends = np.array(chain.joints[0].limits.q)
+    assert np.abs(np.concatenate([chain.joints[0].p_star(ends), chain.joints[0].s_star(ends)])).max() > 128
+    for word, warned in (("q8.8", True), ("q9.8", False)):
+        res = CliRunner().invoke(main, ["compile", str(robot), "--word", word, "-o",
+                                        str(tmp_path / "s.vamp.json")])
+        assert res.exit_code == 0, res.output
+        said = (f"slide.yaml: joint limits beyond {word} words, which hold [-128, 128): 's1' travel "
+                "[0, 200] (its p*1, s*1); states near them are refused")
+        assert (said in res.stderr) is warned, res.stderr
+    slow = tmp_path / "fast.yaml"                       # a speed limit beyond the word
+    slow.write_text(SLIDE.replace("qd: 1.0}}\n  - {name: r2", "qd: 300.0}}\n  - {name: r2"))
+    res = CliRunner().invoke(main, ["compile", str(slow), "--word", "q9.8", "-o",
+                                    str(tmp_path / "f.vamp.json")])
+    assert "'s1' speed limit 300" in res.stderr, res.stderr

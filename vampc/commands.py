@@ -116,6 +116,38 @@ def _warn_constants(robot: str, c) -> None:
         warnings.warn(VampcWarning(
             f"{robot}: {count(len(names), 'constant')} beyond the range of {c.options.word} "
             f"({shown}): {done}, and the torques are wrong; give {wider}"), stacklevel=1)
+    _warn_limits_beyond_word(robot, c)
+
+
+def _warn_limits_beyond_word(robot: str, c) -> None:
+    """Warn of joint limits whose states a fixed-point word cannot hold: a speed limit beyond its
+    range (the host writes q̇ as it is), a prismatic joint's travel whose p*, s* are beyond it. Such
+    states are refused when they come (vampc.emulator.host.check_word_range); the limits are known
+    at compile (a new user's q6.10 program of a 40 m slide compiled without a word)."""
+    import numpy as np
+    word = c.options.arith()
+    if not hasattr(word, "rounded"):
+        return
+    top = (word.hi + 1) * 2.0 ** -word.fraction
+
+    def beyond(values) -> bool:
+        raw = word.rounded(np.asarray(values, dtype=float))
+        return bool(((raw < word.lo) | (raw > word.hi)).any())
+    said = []
+    for i, j in enumerate(c.chain.joints, 1):
+        lim = j.limits
+        if lim.qd is not None and beyond([lim.qd, -lim.qd]):
+            said.append(f"'{j.name}' speed limit {lim.qd:g}")
+        if j.sigma == 0 and lim.q is not None:
+            ends = np.asarray(lim.q, dtype=float)
+            if beyond(np.concatenate([j.p_star(ends).ravel(), j.s_star(ends).ravel()])):
+                said.append(f"'{j.name}' travel [{lim.q[0]:g}, {lim.q[1]:g}] (its p*{i}, s*{i})")
+    if said:
+        shown = ", ".join(said[:5]) + (f" and {len(said) - 5} more" if len(said) > 5 else "")
+        warnings.warn(VampcWarning(
+            f"{robot}: joint limits beyond {c.options.word} words, which hold [{-top:g}, {top:g}): "
+            f"{shown}; states near them are refused (or, with --overflow, overflow); give a word "
+            "with more integer bits (vampc precision names one)"), stacklevel=1)
 
 
 def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
