@@ -394,6 +394,10 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
     (LIMITS.replace("waist,10,", "waist,1e400,"), r"line 2: tau '1e400' is not a finite number"),
     (LIMITS.replace("waist,10,", "waist,nan,"), r"line 2: tau 'nan' is not a finite number"),
     (LIMITS.replace("joint,tau,qd", "joint,tau,speed"), r"line 1: expected the header joint,tau,qd"),
+    ("t,tau_waist,tau_shoulder\n0,1,2\n", r"line 1: expected the header joint,tau,qd; the file "
+     r"looks like torques \(vampc emulate's output\), not limits"),      # (a new user's)
+    ("q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0\n", r"line 1: expected the header joint,tau,qd; the "
+     r"file looks like a trajectory, not limits"),
     ("joint,tau\nwaist,10,4\n", r"line 2: 3 cells; expected joint,tau"),
     (LIMITS.replace("flange,1,4", "flange,1,1e-300"), r"joint 'flange': speed limit 1e-300 is below 1e-12: "
      "too small to scale time by"),          # k was inf, and inf and nan times were written, exit 0

@@ -220,7 +220,11 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     while head and not head[-1]:
         head.pop()                    # (a spreadsheet's trailing empty cells, as a row's are taken)
     if head not in (["joint", "tau"], ["joint", "tau", "qd"]):
-        raise VampcError(f"{path}: line 1: expected the header joint,tau,qd")
+        # (what the file seems to be, as a trajectory's header says: a new user's torque file)
+        seems = ("; the file looks like torques (vampc emulate's output), not limits"
+                 if any(c.startswith("tau_") for c in head) else
+                 "; the file looks like a trajectory, not limits" if "q1" in head else "")
+        raise VampcError(f"{path}: line 1: expected the header joint,tau,qd{seems}")
     tau, qd, given = list(tau), list(qd), set()
     seen: dict[str, int] = {}
     for line, row in enumerate(rows[1:], 2):
