@@ -366,7 +366,8 @@ def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
 @pytest.mark.parametrize("text, said", [
     ("# t,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0,0\n",
      "the header line starts with '#', which is all that is wrong with it (numpy.savetxt"),
-    ("# q1,q2,qd1\n0,0,0\n", "the header line starts with '#', which is no part of a column's name"),
+    ("# q1,q2,qd1\n0,0,0\n", "the first line starts with '#': no line is a comment here, the first "
+                             "is the header"),
     ("0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n", "the first line is numbers: the header line is missing"),
     ("t,tau_j1,tau_j2\n0,1,2\n", "the file looks like torques (vampc emulate's output), not states"),
     ("joint,tau,qd\nj1,1,2\n", "the file looks like a limits file (joint,tau,qd)"),

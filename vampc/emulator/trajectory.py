@@ -105,9 +105,11 @@ def _header_hint(names: list[str], columns: list[str]) -> str:
     if head.startswith("#"):
         fixed = [head.lstrip("#").strip(), *names[1:]]
         right = fixed in (list(columns), ["t", *columns])
-        return ("; the header line starts with '#', " + ("which is all that is wrong with it"
-                if right else "which is no part of a column's name")
-                + " (numpy.savetxt writes one before its header unless given comments='')")
+        if right:
+            return ("; the header line starts with '#', which is all that is wrong with it "
+                    "(numpy.savetxt writes one before its header unless given comments='')")
+        return ("; the first line starts with '#': no line is a comment here, the first is the "
+                "header (numpy.savetxt writes '# ' before its header unless given comments='')")
     if head.startswith(("{", "[")):
         return "; the file looks like JSON (a program file?), not a CSV table"
     if head.startswith("<"):
