@@ -280,3 +280,30 @@ def test_more_long_cells_than_a_piece_converts_go_the_slow_way(tmp_path, monkeyp
         assert (got is None) == (limit == 2)
         for read_got in _read_both(path, monkeypatch):
             assert np.array_equal(read_got, want)
+
+
+def test_a_damaged_compressed_npz_and_a_npy_on_standard_input_are_one_line(tmp_path):
+    """A byte damaged inside a compressed .npz member was a zlib traceback, exit 3; a .npy piped to
+    `--trajectory -` was told to be named .npy, which standard input cannot be (an audit's)."""
+    import zipfile
+
+    from conftest import EXAMPLES
+    rng = np.random.default_rng(0)
+    bad = tmp_path / "bad.npz"
+    np.savez_compressed(bad, q=rng.uniform(-1, 1, (50, 2)), qd=rng.uniform(-1, 1, (50, 2)),
+                        qdd=rng.uniform(-1, 1, (50, 2)))
+    data = bytearray(bad.read_bytes())
+    info = zipfile.ZipFile(bad).getinfo("q.npy")
+    data[info.header_offset + 30 + len("q.npy") + 100] ^= 0xFF
+    bad.write_bytes(bytes(data))
+    out = tmp_path / "tau.csv"
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory",
+                                  str(bad), "-o", str(out)])
+    assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {bad}: array q: ")
+    assert r.stderr.count("\n") == 1 and not out.exists()
+    good = tmp_path / "good.npy"
+    np.save(good, np.zeros((3, 6)))
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory", "-",
+                                  "-o", str(out)], input=good.read_bytes())
+    assert r.exit_code == 1 and "-: a NumPy .npy array on standard input, which takes trajectory " \
+        "text (CSV) only; give the array as a file named .npy" in r.stderr, r.stderr

@@ -320,3 +320,21 @@ def test_a_bad_mimic_off_the_robot_does_not_matter(tmp_path):
     assert [(m.follower, m.leader) for m in chain.mimic] == [(4, 3)]
     assert_error(lambda: load_urdf(path, mimic="couple"), path,
                  r"joint 'f2': mimics joint 'f9', which the file does not have")
+
+
+def test_a_followers_limit_is_said_of_the_leader_column_it_comes_from(tmp_path):
+    """A coupled follower beyond its limit was said 'from derived from q4 and the coupling' (an
+    audit's): the column it comes from, once."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    path = write(tmp_path, gripper('<mimic joint="f1"/>', '<mimic joint="t1" multiplier="3"/>'))
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(path), "--mimic", "couple", "-o",
+                                     str(program)]).exit_code == 0
+    states = tmp_path / "s.csv"
+    head = ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 5))
+    states.write_text(head + "\n" + ",".join(["0"] * 3 + ["0.5"] + ["0"] * 8) + "\n")
+    r = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(states)])
+    assert r.exit_code == 1 and "(derived from q4 and the coupling;" in r.stderr, r.stderr
+    assert "from derived" not in r.stderr

@@ -91,6 +91,9 @@ def decode_utf8(raw: bytes, path, what: str, arrays: bool = False) -> str:
     for magic, kind, suffix in ((NPY_MAGIC, "a NumPy .npy array", ".npy"),
                                 (ZIP_MAGIC, "a zip archive (a NumPy .npz?)", ".npz")):
         if raw.startswith(magic):     # (it said "byte 0x93 is not UTF-8")
+            if arrays and str(path) == "-":     # (standard input has no name to change)
+                raise VampcError(f"-: {kind} on standard input, which takes {what} text (CSV) "
+                                 f"only; give the array as a file named {suffix}")
             if arrays:
                 raise VampcError(f"{path}: {kind}, not {what} text; name it {suffix} if it holds "
                                  "one")

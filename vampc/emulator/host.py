@@ -90,7 +90,7 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
             bad |= np.abs(traj.qd[:, i]) > lim.qd
         if bad.any():
             row = int(np.argmax(bad))
-            via = f"from {derived[i]} and the coupling; " if i in derived else ""
+            via = f"{derived[i]} and the coupling; " if i in derived else ""   # ('from derived from')
             q, qd = traj.q[row, i], traj.qd[row, i]
             # (which limit is broken, said first: a new user compared the numbers by hand on seven
             # robots, each time a speed limit they had not known --trajectory checks)

@@ -17,6 +17,7 @@ import io
 import math
 import sys
 import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -336,7 +337,8 @@ def _loadtxt(body: str, cols: int):
 
 # What np.load raises on a damaged or unexpected file: a truncated array (EOFError, ValueError), an
 # object array (ValueError: pickles are refused), a file that is not a zip (BadZipFile), a bad member.
-_NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError)
+_NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError,
+                 zlib.error)    # (a damaged compressed member: a traceback, exit 3, an audit's)
 
 
 def _npy_fits(path: Path, member: str | None = None, z=None, source=None) -> None:
