@@ -104,9 +104,10 @@ def _warn_constants(robot: str, c) -> None:
     """Warn of robot constants the program's fixed-point word cannot hold: they are known here, and
     were first said by `vampc emulate` as overflows."""
     from vampc.compiler import overflowing_constants
+    from vampc.robot.urdf_tree import listed
     names = overflowing_constants(c.network, c.options.arith())
     if names:
-        shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+        shown = listed(names, 5)
         them = "them" if len(names) > 1 else "it"
         fixed = str(c.options.word).startswith("q")
         done = (f"the host's conversion {c.options.overflow}s {them}" if fixed else
@@ -125,28 +126,25 @@ def _warn_limits_beyond_word(robot: str, c) -> None:
     states are refused when they come (vampc.emulator.host.check_word_range); the limits are known
     at compile (a new user's q6.10 program of a 40 m slide compiled without a word)."""
     import numpy as np
+
+    from vampc.emulator.stream import conversion_overflows
+    from vampc.robot.urdf_tree import listed
     word = c.options.arith()
     if not hasattr(word, "rounded"):
         return
-    top = (word.hi + 1) * 2.0 ** -word.fraction
-
-    def beyond(values) -> bool:
-        raw = word.rounded(np.asarray(values, dtype=float))
-        return bool(((raw < word.lo) | (raw > word.hi)).any())
     said = []
     for i, j in enumerate(c.chain.joints, 1):
         lim = j.limits
-        if lim.qd is not None and beyond([lim.qd, -lim.qd]):
+        if lim.qd is not None and conversion_overflows(word, np.array([lim.qd, -lim.qd])):
             said.append(f"'{j.name}' speed limit {lim.qd:g}")
         if j.sigma == 0 and lim.q is not None:
             ends = np.asarray(lim.q, dtype=float)
-            if beyond(np.concatenate([j.p_star(ends).ravel(), j.s_star(ends).ravel()])):
+            if conversion_overflows(word, np.concatenate([j.p_star(ends), j.s_star(ends)])):
                 said.append(f"'{j.name}' travel [{lim.q[0]:g}, {lim.q[1]:g}] (its p*{i}, s*{i})")
     if said:
-        shown = ", ".join(said[:5]) + (f" and {len(said) - 5} more" if len(said) > 5 else "")
         warnings.warn(VampcWarning(
-            f"{robot}: joint limits beyond {c.options.word} words, which hold [{-top:g}, {top:g}): "
-            f"{shown}; states near them are refused (or, with --overflow, overflow); give a word "
+            f"{robot}: joint limits beyond {c.options.word} words, which hold [{-word.top:g}, "
+            f"{word.top:g}): {listed(said, 5)}; states near them are refused (or, with --overflow, overflow); give a word "
             "with more integer bits (vampc precision names one)"), stacklevel=1)
 
 
@@ -290,15 +288,13 @@ def _counted_before(key: str, stored, c) -> bool:
     packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's control
     register bits without the Cycle-Counters and the slots' valid bits, the delay fields at
     ceil(log2 P) bits (until 2026-12-05)."""
-    from vampc.report.counts import packages, word_bits
+    from vampc.report.counts import packages, values_bits, word_bits
     if key == "word" and isinstance(stored, dict) and c.options.word != "float64":
         from vampc.machine import ops
         net = c.network
-
-        def width(values: int) -> int:
-            return (values - 1).bit_length()
-        before = sum(len(v.slots) * (3 * width(net.period) + width(len(ops.ROM)) + width(len(v.a))
-                                     + width(len(v.b))) for v in net.vamps)
+        before = sum(len(v.slots) * (3 * values_bits(net.period) + values_bits(len(ops.ROM))
+                                     + values_bits(len(v.a)) + values_bits(len(v.b)))
+                     for v in net.vamps)
         now = jsontext.loads(jsontext.dumps(word_bits(c)))
         return {**now, "control_register_bits": before} == stored
     return (key == "packages_40pin" and c.network.checking is not None

@@ -121,7 +121,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     from vampc.emulator.trajectory import header, state_at
     if not hasattr(word, "rounded"):                 # float words: nothing to refuse
         return
-    top = (word.hi + 1) * 2.0 ** -word.fraction     # the range is [-top, top)
+    top = word.top
     n = traj.q.shape[1]
     columns = [traj.qd, traj.qdd] + ([traj.base] if traj.base is not None else [])
     names = header(n, traj.base is not None)[n:]

@@ -198,6 +198,11 @@ class Fixed(Float64):
         self.lo, self.hi = -(1 << (self.bits - 1)), (1 << (self.bits - 1)) - 1
         self.name = f"q{integer}.{fraction}"
 
+    @property
+    def top(self) -> float:
+        """The word holds the values [-top, top)."""
+        return (self.hi + 1) * 2.0 ** -self.fraction
+
     def fresh(self):
         return Fixed(self.integer, self.fraction, self.rounding, self.overflow)
 

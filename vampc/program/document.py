@@ -714,17 +714,24 @@ def check_tiers(doc: F.ProgramFile, options, path) -> None:
     from vampc.network.bus import default_spans, parse_tiers, tiers_of
     V = len(doc.network.vamps)
     spans = default_spans(V) if options.tiers is None else parse_tiers(options.tiers)
-    want = [(t.span, t.offset) for t in tiers_of(spans, V)]
-    got = [(t.span, t.offset) for t in bus.tiers]
-    if want != got:
-        given = "the default tiers" if options.tiers is None else f"--tiers {options.tiers}"
-        if len(want) != len(got):
-            raise VampcError(f"{path}: options.tiers: {given} mean {len(want)} tiers, but "
-                             f"network.bus.tiers has {len(got)} (the file was edited); recompile it")
-        k = next(k for k, (a, b) in enumerate(zip(want, got)) if a != b)
-        raise VampcError(f"{path}: network.bus.tiers[{k}]: [{got[k][0]}, {got[k][1]}], where "
-                         f"{given} mean [{want[k][0]}, {want[k][1]}] (span, offset; the file was "
-                         "edited); recompile it")
+    given = "the default tiers" if options.tiers is None else f"--tiers {options.tiers}"
+    _same_tiers(tiers_of(spans, V), bus.tiers, f"{given} mean", path)
+
+
+def _same_tiers(want, got, given: str, path) -> None:
+    """network.bus.tiers (`got`) are `want`, the tiers `given` says ('--tiers auto tunes'), span
+    and offset, or VampcError naming the first that differs."""
+    want = [(t.span, t.offset) for t in want]
+    got = [(t.span, t.offset) for t in got]
+    if want == got:
+        return
+    if len(want) != len(got):
+        raise VampcError(f"{path}: options.tiers: {given} {len(want)} tiers, but "
+                         f"network.bus.tiers has {len(got)} (the file was edited); recompile it")
+    k = next(k for k, (a, b) in enumerate(zip(want, got)) if a != b)
+    raise VampcError(f"{path}: network.bus.tiers[{k}]: [{got[k][0]}, {got[k][1]}], where "
+                     f"{given} [{want[k][0]}, {want[k][1]}] (span, offset; the file was "
+                     "edited); recompile it")
 
 
 def _check_layout_names(doc: F.ProgramFile, options, path) -> None:
@@ -777,16 +784,7 @@ def _check_bus_figures(net, graph, sched, layout: F.LayoutDoc, tiers, path) -> N
                          f"line, where the compiler places it at {want[v]} (the file was edited); "
                          "recompile it")
     if tiers == "auto":
-        want = [(t.span, t.offset) for t in _tuned(problem, None)[2].tiers]
-        got = [(t.span, t.offset) for t in net.bus.tiers]
-        if len(want) != len(got):
-            raise VampcError(f"{path}: network.bus.tiers has {len(got)} tiers, but --tiers auto "
-                             f"tunes {len(want)} (the file was edited); recompile it")
-        if want != got:
-            k = next(k for k, (a, b) in enumerate(zip(want, got)) if a != b)
-            raise VampcError(f"{path}: network.bus.tiers[{k}]: [{got[k][0]}, {got[k][1]}], where "
-                             f"--tiers auto tunes [{want[k][0]}, {want[k][1]}] (span, offset; the "
-                             "file was edited); recompile it")
+        _same_tiers(_tuned(problem, None)[2].tiers, net.bus.tiers, "--tiers auto tunes", path)
 
 
 def schedule_of(stored: F.ScheduleDoc) -> Schedule:

@@ -59,13 +59,11 @@ def checking_figures(c) -> dict | None:
     order = ck.order
     succ = {order[i]: order[i + 1] for i in range(V)}
 
-    def width(values: int) -> int:
-        return (values - 1).bit_length()
-    from vampc.report.counts import slot_table_bits
+    from vampc.report.counts import slot_table_bits, values_bits
     table_bits = {v.index: slot_table_bits(v, net.period) for v in net.vamps}
     plain = {v.index: 4 if len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1
              else 6 * len(v.slots) for v in net.vamps}
-    stage_bits = width(ck.warmup + ck.compare + 1)
+    stage_bits = values_bits(ck.warmup + ck.compare + 1)
     word = c.options.arith().bits
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
     pins_after = checked_pins(net)

@@ -150,6 +150,11 @@ DATA_WORDS_PER_VAMP = 9 + 9 + 9 + 3
 ROM_BITS_PER_ASSIGNMENT = 2 + 2 + 4 + 4
 
 
+def values_bits(values: int) -> int:
+    """Bits to tell `values` things apart (0 for one): a ROM pointer's, a select's."""
+    return (values - 1).bit_length()
+
+
 def counter_bits(period: int) -> int:
     """A Cycle-Counter's bits, as vampc.rtl.design builds it: it counts 0 .. P (P in the tick before
     Global-Reset returns it to 0), so P.bit_length() bits."""
@@ -161,11 +166,8 @@ def slot_table_bits(v, period: int) -> int:
     delay-B and delay-R (each as wide as the Cycle-Counter it is compared with), the ROM pointer and
     the multiplexer selects (none for a multiplexer of one input: never read, synthesis drops it)."""
     from vampc.machine import ops
-
-    def width(values: int) -> int:          # bits to tell `values` things apart (0 for one)
-        return (values - 1).bit_length()
-    return len(v.slots) * (1 + 3 * counter_bits(period) + width(len(ops.ROM)) + width(len(v.a))
-                           + width(len(v.b)))
+    return len(v.slots) * (1 + 3 * counter_bits(period) + values_bits(len(ops.ROM))
+                           + values_bits(len(v.a)) + values_bits(len(v.b)))
 
 
 def word_bits(c) -> dict:

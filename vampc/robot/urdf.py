@@ -115,12 +115,8 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     at = dict(above_locks)
     causes = {}
     for j in above:
-        if j.name in above_locks:
-            causes[j.name] = "lock"
-        elif j.name in leaders:
-            causes[j.name] = "leader"
-        else:
-            causes[j.name] = "default"
+        causes[j.name] = "lock" if j.name in above_locks else "leader" if j.name in leaders \
+            else "default"
         if j.name not in at and j.name in leaders:
             leader, mult, off = leaders[j.name]
             if leader in below:
