@@ -1173,8 +1173,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     limits = la.limits_of(ld.chain, own.limits, source, robot_opts.locks())
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
-    need = {None: 1, "uniform": 2, "window": 3}[own.retime]   # passes per row: as given, gravity, tangent
-    seen = own.window * (own.futures or 1)            # rows in view
+    # passes per row as it enters: as given, gravity, tangent (the envelope's candidates: below)
+    need = {None: 1, "uniform": 2, "window": 3, "envelope": 2}[own.retime]
+    envelope = own.retime == "envelope"
+    futures = own.futures or (la.ENVELOPE_FUTURES if envelope else 1)
+    seen = own.window * (1 if envelope else futures)            # rows in view
     # (times said with prefixes: "4e+04 µs" at 100 Hz, "6.299e+04 µs" ahead: a review's and a new
     # user's finds)
     from vampc.report.clock import time_text
@@ -1186,7 +1189,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{source}: the network computes a torque set every {time_text(period * 1e6)} "
                              f"({ld.schedule.interval} flops at {own.clock}); {count(need, 'row')} every "
                              f"λ = {every} need {needs}: it cannot keep up")
-        if own.retime != "window":                    # rows λ apart: said before the run
+        if own.retime not in ("window", "envelope"):  # rows λ apart: said before the run
             _in_time(source, ld, own, clock, need, seen, lam)
     # a narrower word than float64: plan within the error its --check allows (of the largest |τ|)
     if own.tolerance is not None and ld.arith.name == "float64":
@@ -1223,17 +1226,21 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         from vampc.emulator.host import check_limits
         check_limits(ld.chain, traj, source_path, speeds=False,
                      integrated=own.accelerations is not None)
-    la.check_window(own.window, traj, own.futures or 1)
+    la.check_window(own.window, traj, 1 if envelope else futures)
     if own.engine == "tick":           # (it holds every row's port values and torques)
         from vampc.emulator.driver import tick_memory_check
         tick_memory_check(ld, traj.count, "give --engine stream (the same torques, bit for bit)")
     from vampc.emulator.stream import count_overflows_from_here
     count_overflows_from_here(ld)
     from vampc import progress
+    network = lambda tr: emulate(ld, tr, own.engine).tau            # noqa: E731
+    if envelope and own.engine == "stream":      # (many short calls: the engine prepared once)
+        from vampc.emulator import prepare_stream
+        prepared = prepare_stream(ld, traj.count * futures * own.window)
+        network = lambda tr: emulate(ld, tr, "stream", stream=prepared).tau    # noqa: E731
     with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
         try:
-            res = la.run(ld, traj, own.window, limits, own.retime,
-                         lambda tr: emulate(ld, tr, own.engine).tau, source_path, own.futures or 1,
+            res = la.run(ld, traj, own.window, limits, own.retime, network, source_path, futures,
                          rate, margin, "overflow" not in options.given, stage)
         except VampcError as exc:      # found on torques an overflow may have spoiled: said so
             if ld.word is None or not ld.arith.overflows:
@@ -1242,9 +1249,12 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                              "before it: the torques may not be the path's)") from None
     if res.retimed is not None:
         la.check_new_times(res, times, source_path)
+    if clock is not None and envelope:
+        tell(_envelope_in_time(source, ld, own, clock, res), info)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
-        step = lam if own.retime != "window" else min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
+        step = lam if own.retime not in ("window", "envelope") else \
+            min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
         if need * period > step:
             from vampc.report.clock import times_apart
             apart, needs = times_apart(step * 1e6, need * period * 1e6)
@@ -1365,6 +1375,81 @@ def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -
     return late, early
 
 
+def _window_lines(res, window: int, n: int, slowest: float, low: int, fast, high: int, span: float,
+                  traj) -> list[str]:
+    """The summary's lines of --retime window: the register, the duration."""
+    return [f"register: {res.futures} × {window} rows, each q, q', q'' and three torque sets "
+            f"(as given, gravity, tangent: {3 * n} + {3 * n} words); 3 passes of the network per "
+            "row",
+            f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
+            f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s from rest to "
+            f"rest (as given {span:.6g} s{_end_speeds(traj)}); ṡ (leaving out the rest at start and "
+            f"end) {slowest:.3g} (row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the "
+            "path's speed; retimed rows by the network: "
+            f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
+            f"{failed_mark(res)}"]
+
+
+def _envelope_lines(res, window: int, n: int, slowest: float, low: int, fast, high: int, span: float,
+                    traj) -> list[str]:
+    """The summary's lines of --retime envelope: the registers, what the network computed for the
+    candidate futures, what the host took, the duration."""
+    import numpy as np
+    env, R = res.envelope, res.futures
+    steps = len(env.rows) - 1                       # (rows left: the last is the end)
+    kept = int(np.sum(env.chosen[:-1] < 0))
+    waited = int(np.sum(env.tries > 1))
+    lines = [f"register: {R} × {window} rows side by side, each the rows ahead as one candidate "
+             f"future runs them (q, q̇, q̈ and one torque set: {3 * n} + {n} words); the network "
+             f"computed {env.rows.sum():,} candidate rows, {env.rows.sum() / steps:.4g} a row of the "
+             f"path ({int(env.rows.max())} at most), besides its 2 passes of each row as it "
+             "enters (as given, gravity) and 2 of the retimed rows"]
+    took = np.bincount(env.chosen[:-1][env.chosen[:-1] >= 0], minlength=R)
+    lines.append("envelope time scaling: took candidate " +
+                 ", ".join(f"{r + 1} at {count(int(took[r]), 'row')}" for r in range(R)) +
+                 f" (the fastest is {R}), kept the plan taken before at {count(kept, 'row')} "
+                 "(no candidate within the limits)" +
+                 (f", waited at rest at {count(waited, 'row')} for a slower one" if waited else "") +
+                 f"; duration {res.retimed_t[-1]:.6g} s from rest to rest (as given {span:.6g} s"
+                 f"{_end_speeds(traj)}); ṡ (leaving out the rest at start and end) {slowest:.3g} "
+                 f"(row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the path's speed; retimed "
+                 f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
+                 f"{arriving_text(res)}{failed_mark(res)}")
+    if env.refused:
+        lines.append(f"  candidate rows the network's words could not hold or overflowed on: "
+                     f"{env.refused:,} (refused, so not counted as the run's overflows)")
+    return lines
+
+
+def _envelope_in_time(source, ld, own, clock: float, res) -> str:
+    """--retime envelope with --clock: the candidates of each row come while the arm runs the
+    interval before it (those of the first row, and of a row where it waits at rest, before it
+    goes on): their last torque set after the latency and an interval more for each further row.
+    The line to say, or VampcError where a row's come later than the arm."""
+    import numpy as np
+
+    from vampc.report.clock import time_text, times_apart
+    env = res.envelope
+    need = (ld.schedule.latency + (env.rows - 1) * ld.schedule.interval) / clock    # per row
+    ran = np.diff(res.retimed_t)                     # the interval before row i + 1
+    waited = env.tries > 1
+    use = np.where(waited[1:-1], 0.0, need[1:-1] / ran[:-1]) if len(ran) > 1 else np.zeros(0)
+    worst = int(np.argmax(use)) if use.size else -1
+    if worst >= 0 and use[worst] > 1:
+        i = worst + 1
+        late, early = times_apart(need[i] * 1e6, ran[i - 1] * 1e6)
+        raise VampcError(f"{source}: row {i + 1} as retimed: the network computes its "
+                         f"{count(int(env.rows[i]), 'candidate row')} in {late} ({ld.schedule.latency} "
+                         f"flops of latency and {ld.schedule.interval} a row at {own.clock}), and the "
+                         f"arm runs the interval before it in {early}: it cannot keep up; give a "
+                         "shorter --window, fewer --futures or a faster --clock")
+    most = f"{100 * float(use[worst]):.3g}% (row {worst + 2})" if use.size else "0%"
+    return (f"network of {count(len(ld.net.vamps), 'VAMP')} at {own.clock}: each row's candidate "
+            f"futures ({int(env.rows.max())} rows at most) take {time_text(float(need.max()) * 1e6)} "
+            f"at most; they come while the arm runs the interval before the row, using at most {most} "
+            "of it: keeps up")
+
+
 WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead's outputs
 
 
@@ -1378,7 +1463,8 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     names = [j.name for j in ld.chain.joints]
     motors = free_names(ld.chain)         # whose effort limits these are (a coupled follower: none)
     seen = res.ahead_rows                 # rows in view: --window, times --futures
-    registers = f" × {res.futures} registers" if res.futures > 1 else ""
+    registers = (f", {res.futures} registers side by side" if res.retime == "envelope" else
+                 f" × {res.futures} registers" if res.futures > 1 else "")
     span = times[-1] - times[0]           # a path's duration: from its first row to its last
     # (times with prefixes: a fixed ms read "6.3e+04 ms" at 1 Hz, a review's find)
     from vampc.report.clock import time_text
@@ -1416,16 +1502,10 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         slowest = float(fast[low]) if len(fast) > 2 else 0.0
         high = int(np.argmax(fast))
         n = len(ld.chain.joints)
-        lines.append(f"register: {res.futures} × {window} rows, each q, q', q'' and three torque sets "
-                     f"(as given, gravity, tangent: {3 * n} + {3 * n} words); 3 passes of the network "
-                     "per row")
-        lines.append(f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
-                     f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s from rest to "
-                     f"rest (as given {span:.6g} s{_end_speeds(traj)}); ṡ (leaving out the rest at start and end) "
-                     f"{slowest:.3g} (row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the "
-                     "path's speed; retimed rows by the network: "
-                     f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
-                     f"{failed_mark(res)}")
+        if res.retime == "envelope":
+            lines += _envelope_lines(res, window, n, slowest, low, fast, high, span, traj)
+        else:
+            lines += _window_lines(res, window, n, slowest, low, fast, high, span, traj)
         # (a wait in the path, q' = 0, is run at the speed cap: 0.3 s became 3 ms, and the summary
         # gave only the ṡ range, a look-ahead stress test found)
         still = np.all(traj.qd == 0, axis=1)
@@ -1437,7 +1517,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
                          f"{time_text(np.diff(res.retimed_t)[pause].sum() * 1e6)} (a time scaling "
                          "cannot keep a wait: add it back to the retimed path)")
         best = res.optimal_duration
-        if best is None:
+        if res.retime == "envelope":
+            pass                       # (no whole-path plan: the envelope has no tangent pass)
+        elif best is None:
             lines.append("  with the whole path in view: that plan found no way through these rows "
                          "(rounding where the window's plan got through), so what seeing only "
                          "the register's rows costs is not said")

@@ -113,6 +113,8 @@ class Lookahead:
     optimal_held: int = 0                   # its steps held short of their top (_short_of_a_cliff)
     effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
     retimed_effort: np.ndarray | None = None  # the same, retimed
+    retime: str | None = None                 # "uniform", "window" or "envelope"
+    envelope: object = None                   # --retime envelope: what each step did (Envelope)
 
     def new_times(self, times: np.ndarray) -> np.ndarray:
         """The retimed rows' times, from the path's first time (`times`: the rows' as given):
@@ -463,7 +465,8 @@ def check_window(window: int, traj, futures: int = 1) -> None:
 STAGES = {None: ("rows as given",),
           "uniform": ("rows as given", "gravity pass", "planning", "rows as retimed"),
           "window": ("rows as given", "gravity pass", "tangent pass", "planning",
-                     "rows as retimed")}
+                     "rows as retimed"),
+          "envelope": ("rows as given", "gravity pass", "candidate futures", "rows as retimed")}
 
 
 def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
@@ -479,7 +482,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     `word_range`: refuse a row of any pass that a fixed-point word cannot hold (as `vampc emulate`
     does unless --overflow is given). `stage(name)` is told as each of STAGES[retime] starts."""
     from vampc.emulator.host import Trajectory
-    check_window(window, traj, futures)
+    check_window(window, traj, 1 if retime == "envelope" else futures)   # (envelope: side by side)
     check_memory(traj.count, ld.chain.n_outputs, retime, path)
     stage = stage or (lambda name: None)
 
@@ -499,7 +502,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     def effort(rows, what: str) -> np.ndarray:       # a pass's torques at the motors (Gᵀτ)
         return reduce_torques(ld.chain, torques(rows, what))
     stage("rows as given")
-    out = Lookahead(torques(traj, ""), futures=futures, ahead_rows=window * futures,
+    out = Lookahead(torques(traj, ""), futures=futures, retime=retime,
+                    ahead_rows=window if retime == "envelope" else window * futures,
                     word_tolerance=word_tolerance,
                     word_error=word_tolerance * max(limits.tau, default=0.0))
     tau = out.effort = reduce_torques(ld.chain, out.tau)
@@ -509,6 +513,9 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     zero = np.zeros_like(traj.qd)
     stage("gravity pass")
     g = effort(Trajectory(traj.q, zero, zero, None, None), "in its gravity pass")
+    if retime == "envelope":
+        return _envelope(out, ld, traj, g, window, limits, futures, rate, emulate_rows, effort,
+                         torques, names, word_range, stage, path)
     if retime == "window":
         stage("tangent pass")
     tangent = (effort(Trajectory(traj.q, zero, traj.qd, None, None), "in its tangent pass")
@@ -565,13 +572,86 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     return out
 
 
+def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures: int, rate: float,
+              network, effort, torques, names, word_range: bool, stage, path: str) -> Lookahead:
+    """`run`'s --retime envelope: the candidate futures (`envelope_plan`), then the retimed rows,
+    with the s̈ leaving each row and with the s̈ arriving at it, through the network."""
+    from vampc.emulator.host import Trajectory
+    from vampc.robot.mimic import reduce_torques
+    planned = out.planned(limits)
+    try:
+        check_word_error(limits, names, out.word_error, ld.arith.name)
+        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, "envelope")
+    except VampcError as exc:
+        raise VampcError(f"{path}: {exc}") from None
+    word = ld.arith
+
+    def evaluate(rows):
+        """The network's effort torques of candidate rows, and the rows to refuse: those a
+        narrower word cannot hold, or on which it overflows (or a float32's is not finite);
+        neither is counted as the run's overflow, since no such row is run."""
+        refused = np.zeros(rows.count, bool)
+        if word_range:
+            refused |= beyond_word(word, rows)
+        ok = np.flatnonzero(~refused)
+        tau = np.zeros((rows.count, len(names)))
+        if ok.size:
+            part = Trajectory(rows.q[ok], rows.qd[ok], rows.qdd[ok], None, None)
+            before = word.overflows
+            with np.errstate(all="ignore"):
+                got = reduce_torques(ld.chain, network(part))
+            if word.overflows != before:     # which rows: each again, alone
+                word.overflows = before
+                bad = np.zeros(ok.size, bool)
+                for k in range(ok.size):
+                    one = Trajectory(part.q[k:k + 1], part.qd[k:k + 1], part.qdd[k:k + 1], None, None)
+                    with np.errstate(all="ignore"):
+                        network(one)
+                    bad[k] = word.overflows != before
+                    word.overflows = before
+                refused[ok[bad]] = True
+            tau[ok] = got
+            refused |= ~np.isfinite(tau).all(axis=1)
+        return tau, refused
+
+    stage("candidate futures")
+    env = envelope_plan(traj, evaluate, planned, window, futures, 1.0 / rate,
+                        lambda i: stage(f"candidate futures, row {i + 1} of {traj.count}"))
+    out.envelope = env
+    x, u, t = env.x, env.u, env.t
+    speed = np.sqrt(x)
+    out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
+                             traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
+    out.retimed_t, out.speed, out.accel = t, speed, u
+    made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
+    if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
+        raise VampcError(f"{path}: the envelope retiming gives a time or rate that is not a finite "
+                         "number")
+    stage("rows as retimed")
+    out.retimed_tau = torques(out.retimed, "as retimed")
+    out.retimed_effort = reduce_torques(ld.chain, out.retimed_tau)
+    out.retimed_violations = violations(out.retimed_effort, out.retimed.qd, limits)
+    came = effort(arriving(traj, out), "as retimed, with the s̈ arriving at it")
+    out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
+    return out
+
+
+def beyond_word(word, rows) -> np.ndarray:
+    """Per row: whether a fixed-point `word` cannot hold its q̇ or q̈ (`check_word_range`'s refusal,
+    as a mask; the inputs it works out of q alone, p* and s*, are the path's, checked as given)."""
+    if not hasattr(word, "rounded"):
+        return np.zeros(rows.count, bool)
+    raw = word.rounded(np.concatenate([rows.qd, rows.qdd], axis=1))
+    return ((raw < word.lo) | (raw > word.hi)).any(axis=1)
+
+
 # Peak memory per row and torque column (bytes), by retiming: the passes' rows and torques, and
 # for the window retiming the plan's bounds (four copies of each joint's, at the row and the next).
 # Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
 # with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
 # rounded up. The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
 # of its pairs (176 MB measured, the Puma: LARGEST_X_PAIRS of them).
-BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000}
+BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000, "envelope": 1000}
 
 
 def pairs_bytes(rows: int, columns: int) -> int:
@@ -598,7 +678,7 @@ def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None
     avail = driver.short_of_memory(need)
     if avail is None:
         return
-    how = {None: "", "uniform": " with --retime uniform", "window": " with --retime window"}[retime]
+    how = f" with --retime {retime}" if retime else ""
     raise VampcError(f"{path}: {rows:,} rows need about {need / 2**30:.1f} GiB{how} "
                      f"({avail / 2**30:.1f} GiB available); run the path in parts")
 
@@ -688,7 +768,7 @@ def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, err
                f"closer to its limit {lim[j]:.12g} than {kept}, the margin the retiming keeps for "
                f"{why}")
         then = ("no time scaling helps" if retime == "uniform" else
-                "the window retiming plans to be able to stop at every row it sees, so it "
+                f"the {retime} retiming plans to be able to stop at every row it sees, so it "
                 "needs the arm able to rest at each (a path braking through such rows is not "
                 "planned)")
         raise VampcError(f"row {r + 1}: joint '{names[j]}' needs {g[r, j]:.12g} at rest "
@@ -1026,6 +1106,144 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
     return best if time(best) < time(most) * (1 - 1e-9) else most
 
 
+# --retime envelope: the R candidate futures of a step leave the arm's row with s̈ u_r = U (2 (r + 1) / R
+# - 1), r = 0 .. R - 1 (R = 4: -U/2, 0, U/2 and U), or from rest U (r + 1) / R; U doubles after a step
+# whose fastest candidate was within the limits and halves after one where none was (from
+# ENVELOPE_U). Chosen by measuring against other families: README, vampc lookahead.
+ENVELOPE_U = 1.0
+ENVELOPE_FUTURES = 4       # --futures' default with --retime envelope
+# A row where the arm stands at rest and no candidate is within the limits: it waits there and
+# tries again with U halved, at most this many times, then the path is refused.
+ENVELOPE_TRIES = 64
+
+
+@dataclass
+class Envelope:
+    """What `envelope_plan` did at each row of the path (the arm leaving it)."""
+
+    x: np.ndarray          # ṡ² at the row
+    u: np.ndarray          # s̈ of the interval leaving it
+    t: np.ndarray          # the row's new time, from 0
+    rows: np.ndarray       # rows of candidate futures the network computed to decide it
+    tries: np.ndarray      # candidate sets tried (more than 1: the arm waited there, at rest)
+    chosen: np.ndarray     # the taken candidate (0 .. R - 1); -1: the plan taken before, kept
+    refused: int = 0       # candidate rows a narrower word could not hold or overflowed on
+
+
+def candidates(x0: float, U: float, cap: np.ndarray, futures: int, lam: float) -> np.ndarray:
+    """The R candidate futures from a row where the arm runs at x0 = ṡ², over the m rows of `cap`
+    (each row's cap on x; the first is the row leaving, the last the register's last): candidate r
+    leaves the row with s̈ u_r (ENVELOPE_U), then slows at one constant s̈ to rest (x = 0) at the
+    last row, the gentlest such stop, all under the caps. x of each (R × m); a candidate whose
+    next row would be at rest or beyond (x <= 0 there) is nan."""
+    m = len(cap)
+    r = np.arange(futures) + 1.0
+    u = U * r / futures if x0 == 0 else U * (2.0 * r / futures - 1.0)
+    x1 = x0 + 2.0 * lam * u
+    x = x1[:, None] * (m - 1 - np.arange(m)) / max(m - 2, 1)
+    x = np.minimum(x, cap)
+    x[:, 0], x[:, -1] = x0, 0.0
+    x[x1 <= 0] = np.nan
+    return x
+
+
+def speed_caps(qd: np.ndarray, limits: Limits) -> np.ndarray:
+    """Each row's cap on x = ṡ²: MAX_SPEED and the speed limits (PLAN_MARGIN inside)."""
+    cap = np.full(len(qd), MAX_SPEED ** 2)
+    for j, v in enumerate(limits.qd):
+        if v is not None:
+            with np.errstate(divide="ignore", over="ignore"):    # (inf: no bound, as MAX_SPEED caps)
+                cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
+    return cap
+
+
+def candidate_rows(traj, first: int, x: np.ndarray, lam: float):
+    """The rows of candidate futures `x` (R × m, from row `first`) the network computes: each row
+    but the last with the s̈ leaving it, and with the s̈ arriving at it where that differs (always
+    at the last, where the arm comes to rest; the last's own torque at rest is gravity's, and the
+    first's arriving s̈ is the committed one). (Trajectory, the candidate of each row)."""
+    from vampc.emulator.host import Trajectory
+    R, m = x.shape
+    u = np.diff(x, axis=1) / (2.0 * lam)                       # R × (m - 1)
+    rows = np.arange(first, first + m)
+    leave_r, leave_j = np.divmod(np.arange(R * (m - 1)), m - 1)
+    came = np.ones((R, m - 1), bool)                           # arriving at rows 1 .. m - 1
+    came[:, :-1] = u[:, 1:] != u[:, :-1]
+    come_r, come_j = np.nonzero(came)
+    come_j = come_j + 1
+    r = np.concatenate([leave_r, come_r])
+    j = np.concatenate([leave_j, come_j])
+    s2 = x[r, j]
+    s2dot = np.concatenate([u[leave_r, leave_j], u[come_r, come_j - 1]])
+    i = rows[j]
+    ds = np.sqrt(s2)[:, None]
+    return Trajectory(traj.q[i], traj.qd[i] * ds, traj.qdd[i] * s2[:, None] + traj.qd[i] * s2dot[:, None],
+                      None, None), r
+
+
+def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam: float,
+                  progress=None) -> Envelope:
+    """--retime envelope: R registers of `window` rows side by side, each holding the rows the host
+    sees (the arm's row and the next window - 1) as one candidate future runs them (`candidates`:
+    the same rows at another speed). Every step the network computes every candidate's rows
+    (`candidate_rows`) and the host takes the fastest candidate whose every torque is within
+    `limits` (|τ| <= L: the limits the run plans to), its speeds within their caps by making;
+    where none is, it keeps the plan it took before (a candidate of an earlier step, which comes to
+    rest within the rows it saw then). A step at rest with no candidate within the limits waits
+    there and tries again, slower (ENVELOPE_TRIES). Every plan kept was computed by the network
+    whole, each of its rows as the arm will run it, so the arm never runs a row the network has not
+    found within the limits, and never needs to (it can always stop within the rows it saw).
+    `evaluate(rows)`: the network's effort torques of a Trajectory's rows and a mask of the rows
+    to refuse (a narrower word that could not hold or overflowed on them). `progress(i)`: told the
+    row every so often."""
+    n_rows = traj.count
+    L = np.array(limits.tau, float)
+    cap = speed_caps(traj.qd, limits)
+    out = Envelope(np.zeros(n_rows), np.zeros(n_rows), np.zeros(n_rows), np.zeros(n_rows, int),
+                   np.zeros(n_rows, int), np.zeros(n_rows, int))
+    plan = np.zeros(1)           # the committed plan's x from this row on: at rest, nowhere to go
+    U = ENVELOPE_U
+    for i in range(n_rows - 1):
+        if progress is not None and i % 256 == 0:
+            progress(i)
+        m = min(window, n_rows - i)
+        x0 = out.x[i]
+        for _ in range(ENVELOPE_TRIES):
+            out.tries[i] += 1
+            xs = candidates(x0, U, cap[i:i + m], futures, lam)
+            bad = np.isnan(xs[:, 1])
+            if not bad.all():
+                rows, of = candidate_rows(traj, i, np.nan_to_num(xs[~bad]), lam)
+                of = np.flatnonzero(~bad)[of]
+                tau, refused = evaluate(rows)
+                out.rows[i] += rows.count
+                out.refused += int(refused.sum())
+                over = np.any(np.abs(tau[:, :len(L)]) > L, axis=1) | refused
+                np.logical_or.at(bad, of, over)
+            U = U * 2 if not bad[-1] else U / 2 if bad.all() else U
+            if not bad.all():
+                r = int(np.flatnonzero(~bad)[-1])     # the fastest within the limits
+                plan = xs[r]
+                out.chosen[i] = r
+                break
+            out.chosen[i] = -1
+            if x0 > 0 or (len(plan) > 1 and plan[1] > 0):
+                break                    # none: the plan taken before
+        else:
+            raise VampcError(f"row {i + 1}: the arm is at rest and no candidate future is within "
+                             f"the limits, down to an s̈ of {U:.3g} leaving it")
+        if x0 == 0 and plan[1] == 0:    # (one interval left: no s̈ starts and stops in it)
+            raise VampcError(f"row {i + 1}: the arm came to rest one row before the last, where no "
+                             "constant s̈ can start it and stop it again; give a longer --window")
+        out.x[i + 1] = plan[1]
+        out.u[i] = (plan[1] - plan[0]) / (2.0 * lam)
+        plan = plan[1:]
+    speed = np.sqrt(out.x)
+    with np.errstate(divide="ignore"):
+        out.t[1:] = np.cumsum(2.0 * lam / (speed[:-1] + speed[1:]))
+    return out
+
+
 def arriving(traj, res: Lookahead):
     """--retime window: each retimed row as the arm arrives at it, with the s̈ of the interval before
     it (the written row's q̈ is the s̈ leaving it; the first row is at rest), a Trajectory."""
@@ -1100,7 +1318,8 @@ def _plot(plt, joints, times: np.ndarray, res: Lookahead, limits: Limits, title:
     if res.retimed is not None:
         new_t = res.new_times(times)
         label = (f"uniform (k = {res.k_closed_form:.4g})" if res.k is not None else
-                 f"window ({res.ahead_rows} rows ahead)")
+                 f"envelope ({res.futures} futures of {res.ahead_rows} rows)" if res.retime == "envelope"
+                 else f"window ({res.ahead_rows} rows ahead)")
     for j, ax in enumerate(axes[:n, 0]):
         ax.plot(times, res.effort[:, j], lw=1, color="tab:red", label="as given")
         if res.retimed is not None:

@@ -673,15 +673,18 @@ class LookaheadOptions:
         "--limits", path=True, metavar="FILE", help="Limits per joint, CSV with header joint,tau,qd "
         "(N·m or N, rad/s or m/s; qd may be empty); default: the robot file's."))
     retime: str | None = field(default=None, metadata=cli(
-        "--retime", choices=lambda: ("uniform", "window"), help="uniform: Hollerbach's uniform time "
-        "scaling, the smallest k keeping every torque and speed within its limit (needs the whole "
-        "path); window: the speed varies along the path, decided row by row from the rows in the "
-        "register, slowing before a violation and speeding up below the limits (README, vampc "
-        "lookahead)."))
+        "--retime", choices=lambda: ("uniform", "window", "envelope"), help="uniform: Hollerbach's "
+        "uniform time scaling, the smallest k keeping every torque and speed within its limit "
+        "(needs the whole path); window: the speed varies along the path, decided row by row from "
+        "the rows in the register, slowing before a violation and speeding up below the limits; "
+        "envelope: as window, but each row the host writes --futures candidate futures (the rows "
+        "at other speeds) into registers side by side and takes the fastest the network finds "
+        "within the limits (README, vampc lookahead)."))
     futures: int | None = field(default=None, metadata=cli(
         "--futures", range=(1, 1 << 16), metavar="R", help="With --retime window: R registers of "
         "--window rows chained end to end, so the host sees R × M rows ahead (default 1): a longer "
-        "look-ahead (README, vampc lookahead)."))
+        "look-ahead. With --retime envelope: R registers of --window rows side by side, each the "
+        "same rows at another speed, to choose among (default 4) (README, vampc lookahead)."))
     allow_out_of_limits: bool = field(default=False, metadata=cli(
         "--allow-out-of-limits", help="Run a path whose positions leave a joint's position limits "
         "(refused by default, as vampc emulate refuses it: no time scaling brings them back; speed "
@@ -728,8 +731,8 @@ class LookaheadOptions:
         for name in ("q0", "qd0"):
             if getattr(self, name) is not None and self.accelerations is None:
                 raise VampcUsageError(f"--{name} applies with --accelerations")
-        if self.futures is not None and self.retime != "window":
-            raise VampcUsageError("--futures applies with --retime window")
+        if self.futures is not None and self.retime not in ("window", "envelope"):
+            raise VampcUsageError("--futures applies with --retime window or envelope")
         if self.tolerance is not None:
             check_positive("--tolerance", self.tolerance)
         if self.tolerance is not None and not (self.check_torques or self.retime):
@@ -738,6 +741,9 @@ class LookaheadOptions:
         if self.tolerance is not None and self.tolerance >= 1:
             raise VampcUsageError(f"--tolerance {self.tolerance}: give an error below 1 (of the "
                                   "largest |τ|)")
+        if self.retime == "envelope" and self.window is not None and self.window < 3:
+            raise VampcUsageError(f"--retime envelope sees {self.window} row(s) ahead: it needs at "
+                                  "least 3 (--window) to start and still be able to stop")
         if self.retime == "window" and self.window is not None and self.window * (self.futures or 1) < 3:
             raise VampcUsageError(f"--retime window sees {self.window * (self.futures or 1)} row(s) ahead: "
                                   "it needs at least 3 (--window × --futures) to start and still be "
