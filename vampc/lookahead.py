@@ -1127,6 +1127,7 @@ class Envelope:
     rows: np.ndarray       # rows of candidate futures the network computed to decide it
     tries: np.ndarray      # candidate sets tried (more than 1: the arm waited there, at rest)
     chosen: np.ndarray     # the taken candidate (0 .. R - 1); -1: the plan taken before, kept
+    scale: np.ndarray      # U of the candidates taken (`candidates`), at the last try
     refused: int = 0       # candidate rows a narrower word could not hold or overflowed on
 
 
@@ -1200,7 +1201,7 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
     L = np.array(limits.tau, float)
     cap = speed_caps(traj.qd, limits)
     out = Envelope(np.zeros(n_rows), np.zeros(n_rows), np.zeros(n_rows), np.zeros(n_rows, int),
-                   np.zeros(n_rows, int), np.zeros(n_rows, int))
+                   np.zeros(n_rows, int), np.zeros(n_rows, int), np.zeros(n_rows))
     plan = np.zeros(1)           # the committed plan's x from this row on: at rest, nowhere to go
     U = ENVELOPE_U
     for i in range(n_rows - 1):
@@ -1210,6 +1211,7 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
         x0 = out.x[i]
         for _ in range(ENVELOPE_TRIES):
             out.tries[i] += 1
+            out.scale[i] = U
             xs = candidates(x0, U, cap[i:i + m], futures, lam)
             bad = np.isnan(xs[:, 1])
             if not bad.all():

@@ -1,0 +1,239 @@
+"""`vampc lookahead --retime envelope` (issue "Trajectory look-ahead", part 3: "--futures R runs R
+registers with different scalings side by side and chooses among them; count what R costs the
+network"). Checked by the reference dynamics (not by the network) that every retimed row is within
+its limits, with the s̈ leaving it and the s̈ arriving at it; that the path is the same, its velocity
+continuous; that the rows the network computed for the candidates are the rows counted; that the
+candidate taken was the fastest within the limits, its faster ones over one (the candidates made
+here again from the README's description); and that the retimed rows' torques are `vampc
+emulate`'s bit for bit."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from test_lookahead_window import LIM, PUMA, RATE, bump_path, setup  # noqa: F401 (a fixture)
+
+from vampc.cli import main
+from vampc.dynamics.reference import rnea
+from vampc.robot import load_robot
+
+
+def envelope(setup, *extra, name="e.csv", window=32):  # noqa: F811
+    folder, program, limits, path = setup
+    out, tau = folder / name, folder / ("tau-" + name)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", str(window), "--limits", str(limits), "--retime", "envelope",
+                                  "--check", "-o", str(out), "--torques", str(tau), *extra])
+    assert r.exit_code == 0, r.output
+    return r.output, np.loadtxt(out, delimiter=",", skiprows=1), tau
+
+
+@pytest.fixture(scope="module")
+def default(setup):  # noqa: F811
+    """One run with --futures left to its default, shared by the tests that read it."""
+    return envelope(setup)
+
+
+def speeds(data):
+    """ṡ of each row of an -o file, read back from its q̇ against the path's q'; and s̈ of the
+    interval leaving each row (0 at the last)."""
+    _, _, d1, _ = bump_path()
+    speed = np.einsum("ij,ij->i", data[:, 7:13], d1) / np.einsum("ij,ij->i", d1, d1)
+    return speed, np.append(np.diff(speed ** 2) / (2 / RATE), 0.0)
+
+
+def test_the_envelope_path_is_the_same_path_within_every_limit_by_the_reference(default):
+    text, data, _ = default
+    t, q, qd, qdd = data[:, 0], data[:, 1:7], data[:, 7:13], data[:, 13:19]
+    _, q0, qd0, qdd0 = bump_path()
+    chain = load_robot(PUMA)
+    assert (np.abs(rnea(chain, q0, qd0, qdd0)) > LIM).any()          # the path as given is over
+    assert np.array_equal(q, q0)
+    assert np.all(np.abs(rnea(chain, q, qd, qdd)) <= LIM) and np.all(np.abs(qd[:, 5]) <= 4)
+    # each row as the arm arrives at it, with the s̈ of the interval before
+    speed, accel = speeds(data)
+    _, _, d1, d2 = bump_path()
+    before = np.concatenate([[0.0], accel[:-1]])
+    came = rnea(chain, q, d1 * speed[:, None], d2 * speed[:, None] ** 2 + d1 * before[:, None])
+    assert np.all(np.abs(came) <= LIM * (1 + 1e-9))
+    assert np.max(np.abs(rnea(chain, q, qd, qdd)) / LIM) > 0.9       # and it goes near them
+    assert speed[0] == 0 and abs(speed[-1]) < 1e-12 and (np.diff(t) > 0).all()
+    assert "check against reference RNEA" in text and "with the s̈ arriving at each row: 0 violations" in text
+
+
+def test_velocity_is_continuous_and_the_times_agree_with_it(default):
+    _, data, _ = default
+    t, qd, qdd = data[:, 0], data[:, 7:13], data[:, 13:19]
+    _, _, d1, d2 = bump_path()
+    speed, accel = speeds(data)
+    assert np.allclose(qd, d1 * speed[:, None], rtol=1e-12, atol=1e-15)       # along the path
+    assert np.allclose(np.diff(t), 2 / RATE / (speed[:-1] + speed[1:]), rtol=1e-9)
+    assert np.allclose(qdd, d2 * speed[:, None] ** 2 + d1 * accel[:, None], rtol=1e-6, atol=1e-9)
+    came = d2[1:] * speed[1:, None] ** 2 + d1[1:] * accel[:-1, None]
+    jump = np.abs(np.diff(qd, axis=0))                 # no step: at most q̈ Δt through an interval
+    assert np.all(jump <= 2 * np.maximum(np.abs(qdd[:-1]), np.abs(came)) * np.diff(t)[:, None] + 1e-12)
+
+
+def test_the_retimed_rows_torques_are_emulates_bit_for_bit(setup, default):  # noqa: F811
+    folder, program, _, _ = setup
+    _, _, tau = default
+    em = folder / "em-e.csv"
+    r = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(folder / "e.csv"), "-o", str(em)])
+    assert r.exit_code == 0, r.output
+    assert em.read_text() == tau.read_text()
+
+
+def run_counted(setup, futures: int, window: int = 32):  # noqa: F811
+    """lookahead.run on the envelope with the network's every call counted by stage: (result, rows
+    per stage, the rows of each candidate call)."""
+    from vampc import lookahead as la
+    from vampc.emulator import emulate
+    from vampc.emulator.host import read_trajectory
+    from vampc.emulator.load import load_program
+    folder, program, limits, path = setup
+    ld = load_program(str(program))
+    traj = read_trajectory(str(path), ld.chain)
+    lim = la.limits_of(ld.chain, str(limits))
+    current, rows, calls = [""], {}, []
+
+    def network(tr):
+        rows[current[0]] = rows.get(current[0], 0) + tr.count
+        if current[0] == "candidate futures":
+            calls.append(tr)
+        return emulate(ld, tr).tau
+
+    def stage(name):
+        current[0] = name.split(",")[0]
+    res = la.run(ld, traj, window, lim, "envelope", network, str(path), futures, RATE, stage=stage)
+    return res, rows, calls, traj, lim
+
+
+@pytest.fixture(scope="module")
+def counted(setup):  # noqa: F811
+    return run_counted(setup, 4)
+
+
+def test_the_candidate_rows_the_network_computed_are_the_rows_counted(setup, counted, default):  # noqa: F811
+    res, rows, _, traj, _ = counted
+    env = res.envelope
+    assert rows["candidate futures"] == env.rows.sum() > 0
+    # the passes of each row as it enters (as given, gravity) and of the retimed rows (leaving,
+    # arriving): 2 + 2 a row, as the summary says
+    assert rows["rows as given"] == rows["gravity pass"] == traj.count
+    assert rows["rows as retimed"] == 2 * traj.count
+    # R candidates of the window's rows but its last, and the rows where s̈ changes arriving
+    assert (env.rows[:-1] >= 4 * (np.minimum(32, traj.count - np.arange(traj.count)) - 1)[:-1]).all()
+    text, data, _ = default                               # (--futures 4 by default)
+    assert np.array_equal(data[:, 0], res.new_times(traj.t))       # the same run
+    said = re.search(r"the network computed ([\d,]+) candidate rows, ([\d.]+) a row of the path \((\d+) at "
+                     r"most\)", text)
+    assert said, text
+    assert int(said[1].replace(",", "")) == env.rows.sum() and int(said[3]) == env.rows.max()
+    assert "register: 4 × 32 rows side by side" in text
+    one, _, _, _, _ = run_counted(setup, 1)
+    assert one.envelope.rows.sum() < env.rows.sum()       # what R costs the network: more rows
+
+
+def own_candidates(x0, U, cap, R, lam):
+    """The README's candidates, made again here: candidate r leaves the row with s̈ U (2 (r + 1) / R
+    - 1) (from rest U (r + 1) / R), then slows at one constant s̈ to rest at the register's last row,
+    under the caps."""
+    m = len(cap)
+    out = []
+    for r in range(R):
+        u = U * (r + 1) / R if x0 == 0 else U * (2 * (r + 1) / R - 1)
+        x1 = x0 + 2 * lam * u
+        x = [x0] + [min(x1 * (m - 1 - j) / (m - 2), cap[j]) for j in range(1, m - 1)] + [0.0]
+        out.append(None if x1 <= 0 else np.array(x))
+    return out
+
+
+def worst_ratio(chain, q, d1, d2, x, lam):
+    """Of candidate rows x from row 0 of q: the largest |τ| / limit by the reference, each row with
+    the s̈ leaving it and the s̈ arriving at it."""
+    u = np.diff(x) / (2 * lam)
+    s = np.sqrt(x)
+    leave = rnea(chain, q[:-1], d1[:-1] * s[:-1, None], d2[:-1] * x[:-1, None] + d1[:-1] * u[:, None])
+    come = rnea(chain, q[1:], d1[1:] * s[1:, None], d2[1:] * x[1:, None] + d1[1:] * u[:, None])
+    return float(max(np.max(np.abs(leave) / LIM), np.max(np.abs(come) / LIM)))
+
+
+def test_the_candidate_taken_is_the_fastest_within_the_limits(counted):
+    """At every row: the taken candidate's rows are within the limits by the reference, and every
+    faster candidate goes over one (or the plan taken before is kept where every candidate does)."""
+    res, _, _, traj, _ = counted
+    env, chain, lam = res.envelope, load_robot(PUMA), 1 / RATE
+    _, q, d1, d2 = bump_path()
+    with np.errstate(divide="ignore"):
+        cap = np.minimum(100.0 ** 2, (4 * (1 - 1e-9) / np.abs(d1[:, 5])) ** 2)
+    taken = kept = 0
+    for i in range(0, traj.count - 1, 7):
+        m = min(32, traj.count - i)
+        if m < 3 or env.tries[i] > 1:
+            continue
+        mine = own_candidates(env.x[i], env.scale[i], cap[i:i + m], 4, lam)
+        ratios = [np.inf if x is None else worst_ratio(chain, q[i:i + m], d1[i:i + m], d2[i:i + m], x, lam)
+                  for x in mine]
+        r = env.chosen[i]
+        if r >= 0:
+            taken += 1
+            assert ratios[r] <= 1 + 1e-9, (i, ratios)
+            assert env.x[i + 1] == pytest.approx(mine[r][1], rel=1e-12)      # the arm ran it
+            assert all(v > 1 - 1e-9 for v in ratios[r + 1:]), (i, ratios)
+        else:
+            kept += 1
+            assert all(v > 1 - 1e-9 for v in ratios), (i, ratios)
+    assert taken > 20 and kept > 0              # (both cases met on this path)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--retime", "uniform", "--futures", "2"], r"--futures applies with --retime window or envelope"),
+    (["--retime", "envelope", "--window", "2"],
+     r"--retime envelope sees 2 row\(s\) ahead: it needs at least 3 \(--window\)"),
+])
+def test_envelope_usage(setup, args, message):  # noqa: F811
+    folder, program, limits, path = setup
+    window = [] if "--window" in args else ["--window", "64"]
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  *window, "--limits", str(limits), *args])
+    assert r.exit_code == 2 and re.search(message, r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
+def test_registers_side_by_side_see_one_window_whatever_r(setup):  # noqa: F811
+    """--futures R with --retime envelope: R registers of the same rows, not R × M rows ahead (the
+    window retiming's chain); more than the path is fine."""
+    text, _, _ = envelope(setup, "--futures", "8", window=100)
+    assert "window 100, 8 registers side by side (99 ms ahead)" in text
+    assert "register: 8 × 100 rows side by side" in text
+
+
+def test_a_clock_that_cannot_compute_the_candidates_in_time_is_refused(setup, tmp_path):  # noqa: F811
+    folder, program, limits, path = setup
+    out = tmp_path / "never.csv"
+    args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "32",
+            "--limits", str(limits), "--retime", "envelope", "-o", str(out)]
+    r = CliRunner().invoke(main, [*args, "--clock", "200kHz"])
+    assert r.exit_code == 1 and not out.exists(), r.output
+    assert re.search(r"row \d+ as retimed: the network computes its \d+ candidate rows in .* the arm runs "
+                     r"the interval before it in .*: it cannot keep up", r.output), r.output
+    assert len(r.output.strip().splitlines()) == 1
+    r = CliRunner().invoke(main, [*args, "--clock", "20MHz"])
+    assert r.exit_code == 0 and re.search(r"each row's candidate futures \(\d+ rows at most\) take .* keeps up",
+                                          r.output), r.output
+
+
+def test_a_narrower_word_keeps_every_limit_by_the_reference(setup, tmp_path):  # noqa: F811
+    folder, _, limits, path = setup
+    program = tmp_path / "q.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
+    out = tmp_path / "q.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "32", "--limits", str(limits), "--retime", "envelope", "--check",
+                                  "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "q16.16 (nearest, saturate) words: 0 overflows" in r.output and "retimed rows by the reference: 0 violations" in r.output
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert (np.abs(rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])) <= LIM).all()
