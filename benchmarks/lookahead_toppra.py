@@ -12,6 +12,10 @@ and TOPP-RA's time-optimal duration on the same samples and limits (toppra 0.6, 
 path's rows, interpolation (each interval's s̈ checked at both its rows, as vampc plans), starting and ending at rest as vampc's window retiming does), with each
 retimed path's violations checked by the reference dynamics. Needs `pip install toppra`.
 
+`--envelope 1,2,4,8` prints instead, per path, `--retime envelope`'s duration over TOPP-RA's for each
+--futures R (R candidate futures side by side, --window 64), beside `--retime window`'s at R = 1 (the
+same rows in view), with the network's candidate rows a row of the path and the command's time.
+
 `--sweep 1,2,4,5,8` prints instead, per path, the window method's duration over TOPP-RA's with
 --window 64 and each --futures R given (64 R rows ahead): how far ahead the host must see to come
 within a given distance of the time-optimal duration (README, vampc lookahead).
@@ -19,6 +23,7 @@ within a given distance of the time-optimal duration (README, vampc lookahead).
 from __future__ import annotations
 
 import argparse
+import re
 import statistics
 import subprocess
 import sys
@@ -149,6 +154,26 @@ def sweep(futures: list[int]) -> None:
             print(f"| {name} | {kind} | {best:.3f} | " + " | ".join(cells) + " |", flush=True)
 
 
+def envelope(futures: list[int]) -> None:
+    """Per path: `--retime envelope` (R candidate futures side by side, --window 64) over TOPP-RA
+    for each --futures R, beside `--retime window` (R = 1, the same 64 rows in view); the network's
+    candidate rows a row of the path (the summary's), and the whole command's time."""
+    print("| robot | path | TOPP-RA (s) | window, R = 1 | "
+          + " | ".join(f"envelope, R = {r}" for r in futures) + " |")
+    print("|---|---|---|---|" + "---|" * len(futures))
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, kind, _, program, path, limits, best in paths(Path(tmp)):
+            w1, _ = lookahead(program, path, limits, "--retime", "window")
+            cells = [f"{100 * (w1 / best - 1):+.1f}%"]
+            for r in futures:
+                start = time.perf_counter()
+                took, text = lookahead(program, path, limits, "--retime", "envelope", "--futures", str(r))
+                spent = time.perf_counter() - start
+                rows = re.search(r"computed [\d,]+ candidate rows, ([\d.]+) a row", text)[1]
+                cells.append(f"{100 * (took / best - 1):+.1f}% ({rows} rows a row, {spent:.1f} s)")
+            print(f"| {name} | {kind} | {best:.3f} | " + " | ".join(cells) + " |", flush=True)
+
+
 def speed(rows: int, repeats: int = 3) -> None:
     """`vampc lookahead --retime window` on `rows` rows at 1 kHz, window 64: whole command, median."""
     spec = ROBOTS["Puma 560"]
@@ -173,7 +198,11 @@ def main() -> int:
     parser.add_argument("--speed-only", action="store_true")
     parser.add_argument("--rows", type=int, default=10000)
     parser.add_argument("--sweep", metavar="R,...", help="only the --futures sweep, for these R")
+    parser.add_argument("--envelope", metavar="R,...", help="only --retime envelope, for these R")
     args = parser.parse_args()
+    if args.envelope:
+        envelope([int(r) for r in args.envelope.split(",")])
+        return 0
     if args.sweep:
         sweep([int(r) for r in args.sweep.split(",")])
         return 0

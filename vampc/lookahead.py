@@ -55,6 +55,17 @@ The summary also gives the plan with the whole path in view (`optimal_plan`: the
 one backward pass, the time-optimal scaling on these rows where no step is held short of its top
 (`_short_of_a_cliff`; the summary says so where one is), so what the look-ahead costs is said.
 
+`--retime envelope` (`envelope_plan`): the paper's "several such shift registers ... exploring in
+parallel possible futures". `--futures R` registers of `window` rows side by side hold the rows the
+host sees as R candidate futures run them (`candidates`: each leaves the arm's row with its own s̈,
+then slows at one constant s̈ to rest at the register's last row); the network computes every row
+of each (with the s̈ leaving it and, where that changes, the s̈ arriving at it: `candidate_rows`),
+and the host takes the fastest candidate it finds within the limits, or keeps the plan taken before
+(which stops within the rows it saw) where none is. No torque is interpolated: every row the arm
+runs is one the network computed, so a narrower word's error is not multiplied by s̈ or ṡ² (the
+window retiming's `_spread`). R costs R (window - 1) rows and more per row of the path, counted in
+the summary and held to --clock.
+
 `--accelerations`: q and q̇ integrated from a q̈ profile (`integrate`), each q̈ held for one λ.
 `--plot`: per joint, torque over time against its limit, before and after the retiming, and the speed
 ṡ over time (`plot_svg`).
@@ -1107,9 +1118,10 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
 
 
 # --retime envelope: the R candidate futures of a step leave the arm's row with s̈ u_r = U (2 (r + 1) / R
-# - 1), r = 0 .. R - 1 (R = 4: -U/2, 0, U/2 and U), or from rest U (r + 1) / R; U doubles after a step
-# whose fastest candidate was within the limits and halves after one where none was (from
-# ENVELOPE_U). Chosen by measuring against other families: README, vampc lookahead.
+# - 1), r = 0 .. R - 1 (R = 4: -U/2, 0, U/2 and U), or from rest U (r + 1) / R; U doubles after a
+# try whose fastest candidate was within the limits and halves after one where it was not (from
+# ENVELOPE_U), so the fastest candidate follows the largest s̈ the limits allow. Chosen by measuring
+# against other families (README, vampc lookahead: The envelope of futures).
 ENVELOPE_U = 1.0
 ENVELOPE_FUTURES = 4       # --futures' default with --retime envelope
 # A row where the arm stands at rest and no candidate is within the limits: it waits there and
@@ -1222,7 +1234,7 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
                 out.refused += int(refused.sum())
                 over = np.any(np.abs(tau[:, :len(L)]) > L, axis=1) | refused
                 np.logical_or.at(bad, of, over)
-            U = U * 2 if not bad[-1] else U / 2 if bad.all() else U
+            U = U * 2 if not bad[-1] else U / 2
             if not bad.all():
                 r = int(np.flatnonzero(~bad)[-1])     # the fastest within the limits
                 plan = xs[r]
