@@ -660,7 +660,8 @@ def beyond_word(word, rows) -> np.ndarray:
 # for the window retiming the plan's bounds (four copies of each joint's, at the row and the next).
 # Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
 # with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
-# rounded up. The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
+# rounded up. --retime envelope is given the window's: its passes are the uniform's and one more,
+# its candidates a step's at a time (68 MB peak, the whole process, at 10 000 rows). The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
 # of its pairs (176 MB measured, the Puma: LARGEST_X_PAIRS of them).
 BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000, "envelope": 1000}
 
