@@ -875,10 +875,39 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
     bits = word_bits(c)
     W = bits["bits"]
     counted = (bits["data_register_bits"] + bits["control_register_bits"] + bits["delay_line_bits"]
-               + bits["constant_bits"] + W * sum(p.size for p in c.network.ports))
+               + bits["constant_bits"] + bits["input_port_bits"])
     assert sum(len(s) for s in registers.values()) - unread == counted
+    assert bits["input_port_bits"] == W * sum(p.size for p in c.network.ports) > 0
     if options == dict(layout="folded"):
         assert counted == 33_192            # Yosys's flip-flops of this network (README, RTL)
+
+
+@pytest.mark.parametrize("checked", [False, True], ids=["plain", "error-correction"])
+def test_a_word_program_stored_without_its_input_ports_is_not_called_edited(tmp_path, checked):
+    """Programs compiled before the input ports and the extraneous VAMP were counted store word
+    figures without them: read back, those are not taken for an edit; another one is."""
+    from program_util import reported_with_summary
+    program = tmp_path / "p.vamp.json"
+    extra = ["--error-correction"] if checked else ["--layout", "folded"]
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                     *extra, "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    word = doc["summary"]["word"]
+    V = len(doc["network"]["vamps"])
+    W, counter = 32, word["control_register_bits"]
+    assert word["data_register_bits"] == 30 * W * (V + checked)      # the extraneous VAMP's too
+    assert word["rom_bits"] == word["rom_bits_per_vamp"] * (V + checked)
+    del word["input_port_bits"]
+    if checked:                  # as counted then: without the extraneous VAMP
+        word["data_register_bits"] = 30 * W * V
+        word["rom_bits"] = word["rom_bits_per_vamp"] * V
+        P = doc["network"]["period"]
+        word["control_register_bits"] = counter - P.bit_length()
+    for edit, warned in ((0, False), (1, True)):
+        word["delay_line_bits"] += edit
+        r = reported_with_summary(doc, tmp_path)
+        assert ("the stored summary disagrees with the file's graph, schedule and network (word)"
+                in r.stderr) == warned, r.stderr
 
 
 def test_a_word_program_compiled_before_the_counters_were_counted_is_not_called_edited(tmp_path):
@@ -891,6 +920,8 @@ def test_a_word_program_compiled_before_the_counters_were_counted_is_not_called_
                                      "--layout", "folded", "-o", str(program)]).exit_code == 0
     doc = json.loads(program.read_text())
     assert doc["summary"]["word"]["control_register_bits"] == 1608
+    # (nor was the input ports' figure stored then: below)
+    assert doc["summary"]["word"].pop("input_port_bits") == 768
     # the old count of planar2 folded (README, RTL: 33 192 flip-flops less 426): 1182
     for stored, warned in ((1182, False), (1183, True)):
         doc["summary"]["word"]["control_register_bits"] = stored

@@ -285,18 +285,25 @@ def program_compiled(source: str, given, params: dict):
 
 def _counted_before(key: str, stored, c) -> bool:
     """A stored summary figure that an earlier vampc counted otherwise, not an edit: the 40-pin
-    packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's control
-    register bits without the Cycle-Counters and the slots' valid bits, the delay fields at
-    ceil(log2 P) bits (until 2026-12-05)."""
-    from vampc.report.counts import packages, values_bits, word_bits
+    packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's figures
+    without its input ports, the extraneous VAMP's data registers, ROM and Cycle-Counter (until
+    2026-12-05, later), and before that its control register bits without the Cycle-Counters and
+    the slots' valid bits, the delay fields at ceil(log2 P) bits (until 2026-12-05)."""
+    from vampc.report.counts import counter_bits, packages, values_bits, word_bits
     if key == "word" and isinstance(stored, dict) and c.options.word != "float64":
         from vampc.machine import ops
         net = c.network
+        now = jsontext.loads(jsontext.dumps(word_bits(c)))
+        extra = (len(net.checking.order) - len(net.vamps)) if net.checking is not None else 0
+        earlier = {k: v for k, v in now.items() if k != "input_port_bits"}
+        earlier.update(data_register_bits=now["data_register_bits"] // (len(net.vamps) + extra)
+                       * len(net.vamps), rom_bits=now["rom_bits_per_vamp"] * len(net.vamps),
+                       control_register_bits=now["control_register_bits"]
+                       - extra * counter_bits(net.period))
         before = sum(len(v.slots) * (3 * values_bits(net.period) + values_bits(len(ops.ROM))
                                      + values_bits(len(v.a)) + values_bits(len(v.b)))
                      for v in net.vamps)
-        now = jsontext.loads(jsontext.dumps(word_bits(c)))
-        return {**now, "control_register_bits": before} == stored
+        return stored in (earlier, {**earlier, "control_register_bits": before})
     return (key == "packages_40pin" and c.network.checking is not None
             and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 

@@ -172,8 +172,10 @@ def slot_table_bits(v, period: int) -> int:
 
 def word_bits(c) -> dict:
     """What the program's word format costs in bits (README, Word formats): the word width, every
-    VAMP's data registers, control registers and microcode ROM, the delay lines, the constant
-    buffers, the host's writes and reads per torque set and the Program-Mode stream. Control
+    VAMP's data registers, control registers and microcode ROM (with error correction the
+    extraneous VAMP's too), the delay lines, the constant buffers, the host's input ports, the
+    host's writes and reads per torque set and the Program-Mode stream. (The ports had been left
+    out, and the extraneous VAMP's registers and ROM: an audit's.) Control
     registers are each VAMP's Cycle-Counter and slot table (counter_bits, slot_table_bits) and the
     buffers' own Cycle-Counter; the ROM holds the op table's micro-steps (12 bits per assignment,
     ROM_BITS_PER_ASSIGNMENT), one copy per VAMP. (The Cycle-Counters and the slots' valid bits had
@@ -183,17 +185,22 @@ def word_bits(c) -> dict:
     word, net = c.options.arith(), c.network
     W = word.bits
     counter = counter_bits(net.period)
+    # with error correction, the extraneous VAMP is built as the others: data registers, a ROM, a
+    # Cycle-Counter (its slot table is the second table the checking counts: vampc.report.checking)
+    physical = physical_vamps(net)
     control = sum(counter + slot_table_bits(v, net.period) for v in net.vamps) \
-        + (counter if net.buffers else 0)
+        + (counter if net.buffers else 0) + counter * (physical - len(net.vamps))
     rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
                                         for step in ops.entry(r)[0].steps)
     inputs = sum(p.size for p in net.ports for _ in p.entries)
     out = {"format": c.options.word, "bits": W,
-           "data_register_bits": DATA_WORDS_PER_VAMP * W * len(net.vamps),
+           "data_register_bits": DATA_WORDS_PER_VAMP * W * physical,
            "control_register_bits": control, "rom_bits_per_vamp": rom,
-           "rom_bits": rom * len(net.vamps),
+           "rom_bits": rom * physical,
            "delay_line_bits": 3 * W * net.buffer_stages,
            "constant_bits": W * sum(len(k.value) for k in net.consts),
+           # each host port is a register of its size (vampc.rtl.design), written once a set
+           "input_port_bits": W * sum(p.size for p in net.ports),
            "host_write_bits_per_set": W * inputs, "host_read_bits_per_set": W * c.chain.n_outputs,
            "program_bits": 3 * W * sum(len(e.words) for e in c.stream)}
     if c.options.word.startswith("q"):

@@ -110,7 +110,8 @@ def engineering(rep: dict) -> Table:
     rows.append(("storage", f"data registers {_bits(bits['data_register_bits'])}, control registers "
                  f"{_bits(bits['control_register_bits'])}, microcode ROM {_bits(bits['rom_bits'])}, delay "
                  f"lines {_bits(bits['delay_line_bits'])}, constants {_bits(bits['constant_bits'])}, "
-                 f"program {_bits(bits['program_bits'])} ({bits['bits']}-bit words)"))
+                 f"input ports {_bits(bits['input_port_bits'])}, program {_bits(bits['program_bits'])} "
+                 f"({bits['bits']}-bit words)"))
     notes = ["utilisation: a VAMP's ops' durations once per set over the interval; host I/O: what the "
              "host writes into the ports and reads off the outputs each set (constants are loaded once, "
              "in Program Mode); the whole critical path is in --format json (engineering.critical_path)"]

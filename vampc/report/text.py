@@ -78,7 +78,8 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
         pairs.append(("word", f"{w['format']}{modes}: {w['bits']} bits; {w['data_register_bits']:,} "
                       f"bits of data registers, {w['control_register_bits']:,} of control registers, "
                       f"{w['rom_bits']:,} of microcode ROM ({w['rom_bits_per_vamp']:,} a VAMP), "
-                      f"{w['delay_line_bits']:,} of delay lines, {w['constant_bits']:,} of constants; "
+                      f"{w['delay_line_bits']:,} of delay lines, {w['constant_bits']:,} of constants, "
+                      f"{w['input_port_bits']:,} of input ports; "
                       f"the host writes {w['host_write_bits_per_set']:,} and reads "
                       f"{w['host_read_bits_per_set']:,} bits a torque set, and loads "
                       f"{w['program_bits']:,} bits in Program Mode"))
