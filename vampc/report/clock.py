@@ -108,15 +108,24 @@ def _four(x: float) -> str:
     return f"{float(f'{x:.4g}'):g}" if x else "0"
 
 
-def margin_text(margin: float) -> str:
-    """How far a control rate is met or missed: '×3.4', '×1,639', 'needs a ×3,050 faster clock'."""
+def margin_text(margin: float, need: float | None = None) -> str:
+    """How far a control rate is met or missed: '×3.4', '×1,639', 'needs a ×3,050 faster clock'.
+    A miss is said as the factor `need` (1 / margin unless given exactly) rounded up, so a clock that
+    much faster meets the rate (×20.3 had been said where 20.33 was needed, an audit's find)."""
     if margin >= 1:
         return f"×{margin:,.0f}" if margin >= 100 else f"×{margin:.3g}"
-    need = 1 / margin
+    need = 1 / margin if need is None else need
     if need >= 100:
-        return f"needs a ×{need:,.0f} faster clock"
-    digits = f"{need:.3g}"
-    return f"needs a ×{digits if digits != '1' else f'{need:.6g}'} faster clock"   # (×1.00016)
+        return f"needs a ×{math.ceil(need - 1e-9 * need):,} faster clock"
+    digits = 3 if need >= 1.1 else 6                # (×1.00016, not ×1.01)
+    step = 10.0 ** (math.floor(math.log10(need)) - digits + 1)
+    return f"needs a ×{math.ceil(need / step - 1e-9) * step:.{digits}g} faster clock"
+
+
+def control_need(fig: dict, hz: float, latency: int, interval: int) -> float:
+    """The factor a clock must be multiplied by to meet the control rate `hz`: the rate times the
+    flops it waits on (the larger of latency and interval), over the clock, exactly."""
+    return hz * max(latency, interval) / fig["hz"]
 
 
 def us(flops: float, hz: float) -> float:

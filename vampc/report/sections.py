@@ -5,6 +5,7 @@ from __future__ import annotations
 from vampc.kinds import Recursion, exhaustive
 from vampc.machine.ops import report_kinds
 from vampc.report.clock import (
+    control_need,
     control_sentence,
     hz_text,
     margin_text,
@@ -601,13 +602,14 @@ def wiring(rep: dict) -> Table:
 def clock(rep: dict) -> Table:
     """Times at the clock rate given."""
     c = rep["clock"]
+    flops = rep["latency"]["flops"], rep["interval_flops"]
     rows = (("clock", f"{c['text']} ({time_text(c['tick_ns'] / 1e3)} per flop)"),
             ("latency", f"{time_text(c['latency_us'])} ({rep['latency']['flops']} flops)"),
             ("interval", f"{time_text(c['interval_us'])} ({rep['interval_flops']} flops): "
                          f"{sets_text(c['sets_per_second'])} torque sets per second"),
             ("program load", f"{time_text(c['load_us'])} ({rep['hardware']['load_ticks']} ticks)"),
             *((f"{hz_text(r['hz'])} control", ("met" if r["met"] else "not met")
-               + f" ({margin_text(r['margin'])})"
+               + f" ({margin_text(r['margin'], control_need(c, r['hz'], *flops))})"
                + ("; the paper's \"about 60Hz or faster\" (section I)" if r["hz"] == 60 else ""))
               for r in c["control_rates"]))
     return Table("clock", f"At {c['text']}, one flop per tick", ("figure", "value"), rows,
