@@ -369,6 +369,14 @@ def test_synth_figures_reach_the_report(programs, tmp_path, monkeypatch):
     r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--word", "q12.20", "--rtl",
                                   str(path)])
     assert r.exit_code == 1 and "figures are of another design (word" in r.output
+    # a float program, which `vampc rtl` does not render, its word edited into the figures to match
+    # (the report took them, and their Fmax as its clock: an audit's)
+    floated = json.loads(json.dumps(figures))
+    floated["word"] = "float64"
+    (tmp_path / "float.json").write_text(json.dumps(floated))
+    r = CliRunner().invoke(main, ["report", str(EX / "planar2.yaml"), "--rtl", str(tmp_path / "float.json")])
+    assert r.exit_code == 1 and "this program's words are float64, and `vampc rtl` renders fixed-point" \
+        in r.output and len(r.output.strip().splitlines()) == 1, r.output
     r = CliRunner().invoke(main, ["report", str(programs / "planar2.vamp.json"), "--rtl",
                                   str(path), "--clock", "1GHz"])
     assert r.exit_code == 0 and "above the synthesized Fmax" in r.output

@@ -29,6 +29,10 @@ def unrendered(net) -> tuple[str, str] | None:
 def rtl_figures(path: str, c) -> dict:
     """The report's `rtl` section from the JSON at `path`, checked to be this program's design."""
     missing = unrendered(c.network) if c.network is not None else None
+    if not c.options.word.startswith("q"):   # (a float program's report took them: an audit's)
+        raise VampcError(f"{path}: the figures are of another design: this program's words are "
+                         f"{c.options.word}, and `vampc rtl` renders fixed-point words only (README, "
+                         "RTL)")
     if missing:
         what, _ = missing
         raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
