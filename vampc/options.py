@@ -803,8 +803,8 @@ class ReportOptions:
         "and gaps, Pareto-optimal points marked."))
     clock: str | None = field(default=None, metadata=cli(
         "--clock", metavar="F", help="Clock rate, one flop per tick, with its unit (Hz, kHz, MHz, GHz: "
-        "20MHz; a bare number is refused): adds times and torque sets per second to every figure. Does "
-        "not apply to --tradeoff."))
+        "20MHz; a bare number is refused; 0.001 Hz to 1000 GHz): adds times and torque sets per second "
+        "to every figure. Does not apply to --tradeoff."))
     pins: int | None = field(default=None, metadata=cli(
         "--pins", range=(8, 1_000_000), metavar="N", help="Also count packages of N pins (beside "
         "the paper's 40)."))

@@ -343,8 +343,11 @@ def vamps_by_op(rep: dict) -> Table:
             got = v["by_op"][layout]
             rows.append((f"{what}, {label}", *(num(got.get(k)) if got.get(k) else "" for k in report_kinds()),
                          num(sum(got.values()))))
+    # (a VAMP of a layout that shares VAMPs may run ops of several kinds: said, an audit's find)
     return Table("vamps-by-op", "VAMPs by op kind (an MM takes three), measured", ("configuration",
-                 *report_kinds(), "total"), tuple(rows))
+                 *report_kinds(), "total"), tuple(rows),
+                 ("a VAMP that runs ops of several kinds (on one device, or both passes on one) is "
+                  "counted under the kind of its first op",))
 
 
 def _paired(got, paper) -> str:

@@ -96,7 +96,10 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
          + (f", and 1 extraneous VAMP for the error correction ({v['total'] + 1} in all)"
             if rep.get("error_correction") else "")),
         ("  per node", f"backward {v['per_node']['bwd']} propagated + {v['per_node']['npv']} "
-         f"non-propagated, forward {v['per_node']['fwd']}"),
+         f"non-propagated, forward {v['per_node']['fwd']}"
+         # (more than the network's VAMPs on a budget: they are the busiest node's ops, an audit's)
+         + (" (the busiest node's ops, one a VAMP as the paper counts them; this layout's VAMPs run "
+            "several)" if sum(v["by_op"].values()) > v["total"] else "")),
         ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
         *([("  unused", _unused_text(v["unused"], v["total"]))]
           if v.get("unused", {}).get("ops") else []),        # (a report's: build_report)
