@@ -249,7 +249,7 @@ def test_the_states_are_taken_in_chunks_with_the_same_figures(monkeypatch):
     # the robot edited, its checksum made again: observed 3.4e-01 against bounds down to 7.7e-03,
     # exit 0 ("the bound is never below an observation")
     (lambda d: d["robot"]["joints"][0].update(mass=5.0),
-     r"the program's graph does not compute its robot's dynamics: in float64 its torques differ "
+     r"the program's graph misses its robot's dynamics: in float64 its torques differ "
      r"from the reference Newton-Euler's by \S+ of the largest \|τ\| \(random state \d+, joint \d\)"),
     # an output read at the wrong tick: refused by report and emulate, analysed by precision
     (lambda d: d["io"]["outputs"][0].update(tick=28), r"τ1 is read from VAMP \d+ .* at tick 28"),
@@ -390,3 +390,36 @@ def test_the_summary_says_which_value_sets_the_peak():
     assert places[0] != places[1] == places[2]
     text = run(main, ["precision", str(EXAMPLES / "ur5.urdf"), "--sweep", "17:19"]).output
     assert f"peak: the bound of {places[0]} at 17 bits; of {places[1]} at 18 to 19 bits\n" in text
+
+
+SPINDLE = """<robot name="spindle">
+  <link name="base"/>
+  <joint name="a1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+  <link name="l1"><inertial><origin xyz="0.2 0 0"/><mass value="2"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="spin" type="revolute"><parent link="base"/><child link="rotor"/><origin xyz="100 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="10000" effort="100"/></joint>
+  <link name="rotor"><inertial><origin xyz="0.01 0 0"/><mass value="1"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+</robot>
+"""
+
+
+def test_the_log_recursions_rounding_on_a_far_fast_branch_is_not_called_an_edit(tmp_path):
+    """A rotor 100 m from the base spinning at up to 10 000 rad/s: the log recursion's forward pass
+    sums forces about the base and loses digits (README, The log recursion's rounding on trees). The
+    program, just compiled, had been said to be an edited file (an audit's)."""
+    robot = tmp_path / "spindle.urdf"
+    robot.write_text(SPINDLE)
+    program = tmp_path / "sp.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(robot), "--recursion", "log", "-o", str(program)]).exit_code == 0
+    r = CliRunner().invoke(main, ["precision", str(program)])
+    assert r.exit_code == 1 and len(r.output.strip().splitlines()) == 1, r.output
+    assert "the log recursion's float64 rounding (it sums a tree's forces about the base" in r.output
+    assert "compare --recursion linear" in r.output
+    # the linear recursion computes it within 1e-9: no such refusal
+    linear = tmp_path / "lin.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(robot), "-o", str(linear)]).exit_code == 0
+    r = CliRunner().invoke(main, ["emulate", str(linear), "--random", "100", "--check"])
+    assert r.exit_code == 0 and ": OK" in r.output, r.output

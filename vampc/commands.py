@@ -502,7 +502,18 @@ def _edited_hint(ld) -> str:
     apart = _graph_apart(ld)
     return ("" if apart is None else
             f" (the program's graph differs from the reference Newton-Euler's by {apart:.1e} of the "
-            "largest |τ| too: was the file's robot or graph edited? Compile the robot again)")
+            f"largest |τ| too: {_graph_cause(ld.graph)})")
+
+
+def _graph_cause(graph) -> str:
+    """Why a program's graph in float64 misses the reference: the log recursion's rounding on a
+    tree (README, The log recursion's rounding on trees), or an edit of the file. (A spindle 100 m
+    from an arm's base was told its file was edited, compiled on the fly: an audit's.)"""
+    from vampc.kinds import Recursion
+    own = ("the log recursion's float64 rounding (it sums a tree's forces about the base: a fast "
+           "branch far from it loses digits; compare --recursion linear), or "
+           if graph.recursion is Recursion.LOG else "")
+    return f"{own}was the file's robot or graph edited? Compile the robot again"
 
 
 def _word_hint(ld, outcome) -> str:
@@ -995,11 +1006,11 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # (a program file whose robot was edited, its checksum made again: the observed errors were
         # the edit's, over the analysed bound, and said nothing)
         set_, joint = np.unravel_index(np.argmax(np.nan_to_num(apart, nan=np.inf)), apart.shape)
-        raise VampcError(f"{source}: the program's graph does not compute its robot's dynamics: in "
+        raise VampcError(f"{source}: the program's graph misses its robot's dynamics: in "
                          f"float64 its torques differ from the reference Newton-Euler's by "
                          f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, joint "
-                         f"{joint + 1}), so the errors observed would not be the word's; was the "
-                         "file's robot or graph edited? Compile the robot again")
+                         f"{joint + 1}), so the errors observed would not be the word's: "
+                         f"{_graph_cause(graph)}")
     rows = []
     with np.errstate(over="ignore", invalid="ignore"):   # (a peak past the float range: no fit)
         fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
