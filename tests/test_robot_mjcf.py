@@ -148,6 +148,11 @@ def test_the_command_line_compiles_an_mjcf_model(tmp_path):
 
 
 MJCF_ERRORS = [
+    # no joint at all: a body, none, or welded bodies (numpy's reshape error had been said as
+    # MuJoCo's "cannot read it": a robots audit's)
+    ('<mujoco model="n"><worldbody><body name="b"><inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>'
+     '</body></worldbody></mujoco>', "", r"no movable joints below base link 'world'"),
+    ('<mujoco model="e"/>', "", r"no movable joints below base link 'world'"),
     (model("u", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
            extra='<equality><joint joint1="j1" joint2="j2"/><weld body1="b"/></equality>'), "",
