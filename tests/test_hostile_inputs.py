@@ -985,3 +985,17 @@ def test_an_edited_program_whose_operand_a_path_loops_names_the_file(tmp_path):
     code, err, _ = run("emulate", program, "--random", "3")
     assert code == 1 and one_line(err) and err.startswith(
         f"vampc: error: {program}: VAMP 16: its Operand-A path loops back through VAMP 16"), err
+
+
+@pytest.mark.parametrize("name", ["d.urdf", "dd", "d.yaml"])
+@pytest.mark.parametrize("command", ["compile", "report", "precision", "emulate", "faults"])
+def test_a_folder_given_as_the_robot_is_one_line_and_exit_1(tmp_path, name, command):
+    """A folder is bad input, as /dev/null or a FIFO is: one line, exit 1 (click's own message and
+    exit 2 had said it, or "cannot read: Is a directory" for a folder named .urdf: a robots
+    audit's)."""
+    folder = tmp_path / name
+    folder.mkdir()
+    extra = {"emulate": ["--random", 1]}.get(command, [])
+    code, err, _ = run(command, folder, *extra)
+    assert code == 1 and one_line(err), err
+    assert err.endswith(f"{name}: not a regular file (a robot or program file is read from one)\n"), err

@@ -252,7 +252,7 @@ def main():
 
 
 @main.command(short_help="Compile a robot file into a program file for a network of VAMPs.")
-@click.argument("robot", type=FilePath(dir_okay=False))
+@click.argument("robot", type=FilePath())
 @options_of(CompileCommand, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors
@@ -269,7 +269,7 @@ def compile(ctx, robot, **params):
 
 
 @main.command(short_help="Run a program (or a robot file) in the emulator: joint torques.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(EmulateOptions, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors
@@ -284,7 +284,7 @@ def emulate(ctx, source, **params):
 
 
 @main.command(short_help="Flop, latency, VAMP, buffer, package and clock figures; pictures.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(ReportOptions, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors
@@ -302,7 +302,7 @@ def report(ctx, source, **params):
 
 
 @main.command(short_help="The narrowest fixed-point word for a robot or program.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(PrecisionOptions, CompileOptions, RobotOptions, hidden=PRECISION_REFUSES)
 @click.pass_context
 @handle_errors
@@ -316,7 +316,7 @@ def precision(ctx, source, **params):
 
 
 @main.command(short_help="Torque shift register over a path: limits ahead, retiming.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(LookaheadOptions, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors
@@ -332,7 +332,7 @@ def lookahead(ctx, source, **params):
 
 
 @main.command(short_help="Fault campaigns on the tick engine: what each fault does.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(FaultsOptions, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors
@@ -350,7 +350,7 @@ def faults(ctx, source, **params):
 
 
 @main.command(short_help="The network as Verilog: co-simulation, synthesis figures.")
-@click.argument("source", type=FilePath(dir_okay=False))
+@click.argument("source", type=FilePath())
 @options_of(RtlOptions, CompileOptions, RobotOptions)
 @click.pass_context
 @handle_errors

@@ -81,6 +81,8 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
     from vampc.robot.urdf import load_urdf
     from vampc.sniff import looks_like, suffix_mismatch
     suffix = path.suffix.lower()
+    if path.is_dir():    # (click's own message and exit 2 for a folder, "cannot read" for d.urdf)
+        raise located(path, "", "not a regular file (a robot or program file is read from one)")
     if suffix != ".xml" and is_mjcf(path):    # (it was told it is a URDF, or to name it .urdf)
         raise located(path, "", "this is an MJCF model (a <mujoco> root); name it .xml to load it as "
                                 "one")
