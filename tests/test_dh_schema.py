@@ -66,3 +66,20 @@ def test_annotations_are_free_both_ways():
     doc = {"name": "r", "x-note": 1, "joints": [_row(**{"x-cad": "a"})], "tip": {"x-by": "me"}}
     assert not schema_errors("dh-table", doc)
     dh_format.check(doc, "r.yaml")
+
+
+@pytest.mark.parametrize("suffix", [".json", ".yaml"])
+def test_a_table_with_a_byte_order_mark_reads_as_without(tmp_path, suffix):
+    """A UTF-8 byte-order mark before a JSON table had been refused ("not valid JSON: invalid
+    character (line 1, column 1)") while YAML's took it: an audit's."""
+    from vampc.robot import load_robot
+    text = Path("examples/planar2.yaml").read_text(encoding="utf-8")
+    if suffix == ".json":
+        import json
+        text = json.dumps(yaml.safe_load(text))
+    plain, marked = tmp_path / f"p{suffix}", tmp_path / f"m{suffix}"
+    plain.write_text(text, encoding="utf-8")
+    marked.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    a, b = load_robot(plain), load_robot(marked)
+    assert [j.name for j in a.joints] == [j.name for j in b.joints] and a.n == b.n == 2
+    assert all(x.mass == y.mass and (x.com == y.com).all() for x, y in zip(a.joints, b.joints))

@@ -172,10 +172,12 @@ def depth_first(parents: list[int]) -> list[int]:
 
 
 def read_text(path: Path) -> str:
-    """The file's text, or a VampcError saying why it cannot be read."""
+    """The file's text (a leading byte-order mark, as some editors write, dropped: JSON's parser
+    had refused it at line 1, column 1, where YAML's took it: an audit's), or a VampcError saying
+    why it cannot be read."""
     from vampc.textio import read_whole
     try:
-        return read_whole(path).decode("utf-8")
+        return read_whole(path).decode("utf-8").removeprefix("\ufeff")
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except UnicodeDecodeError as exc:
