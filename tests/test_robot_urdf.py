@@ -561,6 +561,30 @@ def test_a_robot_with_no_mass_at_all_is_taken_with_a_warning(tmp_path):
     assert all(j.mass == 0.0 for j in chain.joints)
 
 
+def test_a_robot_given_mass_0_and_inertia_0_everywhere_is_taken_with_the_same_warning(tmp_path):
+    """Zeros written out had gone unsaid, where leaving out the <inertial> warned (an audit's); a
+    DH table of zeros is said the same way."""
+    zero = dict(mass=0.0, inertia=(0, 0, 0, 0, 0, 0))
+    path = write(tmp_path, robot(link("base"), link("l1", **zero), link("l2", **zero), *ARM[3:]))
+    with pytest.warns(VampcWarning, match="every link moved by a joint has mass 0 and inertia 0: every "
+                                          "body is massless"):
+        load_urdf(path)
+    one = write(tmp_path, robot(link("base"), link("l1", **zero), link("l2"), *ARM[3:]), "one.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")               # (one massive body: nothing said)
+        load_urdf(one)
+    import yaml
+
+    from vampc.robot import load_robot
+    table = yaml.safe_load((EXAMPLES / "planar2.yaml").read_text())
+    for row in table["joints"]:
+        row["mass"], row["inertia"] = 0, [0] * 6
+    (tmp_path / "z.yaml").write_text(yaml.safe_dump(table))
+    with pytest.warns(VampcWarning, match="every joint's link has mass 0 and inertia 0: every body is "
+                                          "massless"):
+        load_robot(tmp_path / "z.yaml")
+
+
 def test_an_inertia_off_by_a_rounding_error_is_taken_with_a_warning(tmp_path):
     """Eigenvalues (-1e-7, 0.01, 0.02): negative by 5e-6 of the largest entry, under NEARLY_PSD."""
     skew = (0.01, 0, 0, 0.02, 0, -1e-7)

@@ -48,7 +48,15 @@ def load_dh(path, floating: bool = False) -> Chain:
     text = read_text(path)
     with gc_paused():  # a big table is millions of objects: the collector would walk them again and again
         doc = _parse_yaml(text, path) if suffix in YAML_SUFFIXES else _parse_json(text, path)
-        return chain_from_dh(doc, str(path), floating)
+        chain = chain_from_dh(doc, str(path), floating)
+    if all(j.mass == 0 and not np.any(j.inertia) for j in chain.joints):
+        # (as a URDF's without any <inertial> is: said where the table gives every mass 0, an
+        # audit's find)
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"{path}: every joint's link has mass 0 and inertia 0: every body "
+                                   "is massless, so every torque is zero but for the tip's load"),
+                      stacklevel=2)
+    return chain
 
 
 def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:

@@ -748,10 +748,13 @@ def _inertial_parts(tree: Tree, members: dict, n: int, path: Path):
                 body.append(k - 1)
                 names.append(name)
                 parts.append(inertial)
-    if not parts:       # massless bodies are Pinocchio's reading too; all of them is a bad sign
-        warnings.warn(VampcWarning(f"{path}: no link moved by a joint has an <inertial>: every body "
-                                   "is massless, so every torque is zero but for the tip's load"),
-                      stacklevel=2)
+    # massless bodies are Pinocchio's reading too; all of them is a bad sign, however the file says
+    # it (mass 0 and inertia 0 given had gone unsaid: an audit's)
+    if not parts or all(not p.mass and not np.any(p.inertia) for p in parts):
+        how = ("no link moved by a joint has an <inertial>" if not parts else
+               "every link moved by a joint has mass 0 and inertia 0")
+        warnings.warn(VampcWarning(f"{path}: {how}: every body is massless, so every torque is zero "
+                                   "but for the tip's load"), stacklevel=2)
     return np.array(body, dtype=int), names, parts
 
 
