@@ -60,13 +60,24 @@ IMPROPER_INERTIA = {"romeo_laas_small.urdf"}
 
 
 def erd_urdfs() -> dict:
-    """File name -> path of every URDF of the installed example-robot-data ({} when absent)."""
+    """File name -> path of every URDF of the installed example-robot-data ({} when absent). A name
+    two robots share (anymal.urdf: ANYmal B's and C's) is given with its robot's folder,
+    `anymal_b_simple_description/anymal.urdf` (keyed by name alone, C's had replaced B's, which no
+    test ran: an audit's)."""
+    from collections import Counter
     try:
         from importlib.metadata import PackageNotFoundError, files
-        listed = files("example-robot-data") or ()
+        listed = [f for f in files("example-robot-data") or () if f.suffix == ".urdf"]
     except PackageNotFoundError:
         return {}
-    return dict(sorted((f.name, f.locate()) for f in listed if f.suffix == ".urdf"))
+    shared = Counter(f.name for f in listed)
+
+    def named(f) -> str:
+        if shared[f.name] == 1:
+            return f.name
+        robot = next((part for part in f.parts if part.endswith("_description")), f.parent.name)
+        return f"{robot}/{f.name}"
+    return dict(sorted((named(f), f.locate()) for f in listed))
 
 
 def coupled_matrix(chain) -> np.ndarray:

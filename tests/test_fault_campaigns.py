@@ -947,3 +947,27 @@ def test_an_interrupted_campaign_says_the_runs_it_keeps(programs, tmp_path, monk
     monkeypatch.setattr(cp.ResultsFile, "add", real)
     r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
     assert r.exit_code == 0 and "(3 run(s) read from" in r.output, r.output
+
+
+def test_a_stall_that_spoils_torques_is_counted_as_stalled_too(programs):
+    """A VAMP that dies after the sweep has passed it stalls the checking when the sweep comes back,
+    and its torques stay wrong: the run is silent corruption, and the checking stalled. Only the
+    stalled runs with no torque spoiled had been counted (2 of 33 in a late dead-VAMP campaign: an
+    audit's)."""
+    from vampc.emulator.checking import sweep_periods
+    from vampc.emulator.driver import random_states
+    from vampc.emulator.host import port_values
+    ec, _, _ = programs
+    ld = load_program(str(ec))
+    ck = ld.net.checking
+    sweep = sweep_periods(len(ld.net.vamps), ck.warmup, ck.compare)
+    sets = 3 * sweep
+    ports = port_values(ld, random_states(ld.chain, 0, sets, 0))
+    setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, 0), sets, 0)
+    runs = [cp.run_fault(setup, parse_fault(f"vamp={v},dead,at={ld.period * sweep // 2}"))
+            for v in range(0, len(ld.net.vamps), 4)]
+    spoiled = [r for r in runs if r["class"] == "silent-corruption" and "stalled at tick" in r.get("reason", "")]
+    assert spoiled, [r.get("reason") for r in runs]          # (the case, met on this program)
+    assert all(r["stalled"]["tick"] >= ld.period * sweep // 2 for r in spoiled)
+    stalled = [r for r in runs if "the checking stalled at tick" in r.get("reason", "")]
+    assert cp.summarise(ld, runs, sets)["stalled"] == len(stalled) == sum(1 for r in runs if r.get("stalled"))
