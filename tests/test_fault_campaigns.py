@@ -971,3 +971,34 @@ def test_a_stall_that_spoils_torques_is_counted_as_stalled_too(programs):
     assert all(r["stalled"]["tick"] >= ld.period * sweep // 2 for r in spoiled)
     stalled = [r for r in runs if "the checking stalled at tick" in r.get("reason", "")]
     assert cp.summarise(ld, runs, sets)["stalled"] == len(stalled) == sum(1 for r in runs if r.get("stalled"))
+
+
+def test_a_fixed_point_run_that_overflowed_says_so(programs, tmp_path):
+    """A stuck bit that saturates a q16.16 value: the run's overflows (the network counts them) are
+    recorded, and the silent runs that overflowed are said. A run whose fault saturated values was
+    silent corruption with no word of it (a faults audit's); `vampc emulate --fault` of the same
+    fault, a separate run, counts overflows too."""
+    _, plain, _ = programs
+    program = tmp_path / "q.vamp.json"
+    assert RUN(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16", "-o", str(program)]).exit_code == 0
+    ld = load_program(str(program))
+    from vampc.emulator.driver import random_states
+    from vampc.emulator.host import port_values
+    sets = 20
+    ports = port_values(ld, random_states(ld.chain, 0, sets, 0))
+    setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, 0), sets, 0)
+    clean = ld.arith.overflows
+    fault = "vamp=0,stuck=result.x:30,value=1"
+    run = cp.run_fault(setup, parse_fault(fault))
+    assert run["class"] == "silent-corruption" and run["overflows"] > 0
+    assert ld.arith.overflows == clean                      # (not carried into the next run)
+    quiet = cp.run_fault(setup, parse_fault("vamp=0,stuck=result.x:0,value=1"))
+    assert quiet["overflows"] == 0
+    summary = cp.summarise(ld, [run, quiet], sets)
+    assert summary["silent_overflowed"] == 1
+    assert "in 1 of them the word overflowed, which the network's overflow count shows" in \
+        cp.render_text("head", summary)
+    assert "silent_overflowed" not in cp.summarise(load_program(str(plain)), [], sets)   # float64
+    r = RUN(main, ["emulate", str(program), "--engine", "tick", "--random", str(sets), "--fault", fault])
+    said = re.search(r"q16\.16 \(nearest, saturate\) words: (\d+) overflows", r.output)
+    assert said and int(said[1]) > 0, r.output

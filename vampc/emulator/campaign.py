@@ -287,6 +287,7 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
         done = (seen >= 0).all(axis=1)
         return bool((done & _differs(tau, ref_bits)).any())
 
+    before = ld.arith.overflows
     try:
         engine.program()
         with np.errstate(all="ignore"):
@@ -294,6 +295,12 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
     except VampcError as exc:
         out.update({"class": "hang", "reason": str(exc).split(": ", 1)[-1]})
         return out
+    finally:
+        if ld.word is not None:
+            # a fixed-point word's overflows in the run, which the network counts (a run whose
+            # fault saturated 23 values was silent and said nothing of them: a faults audit's)
+            out["overflows"] = ld.arith.overflows - before
+            ld.arith.overflows = before
     done = engine.last_seen
     run_sets = int(done.sum())
     bad = done & _differs(tau, ref_bits)
@@ -436,6 +443,9 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
            # counted as finite, a review's find)
            "silent_not_examined": sum(1 for r in runs if r.get("class") == "silent-corruption"
                                       and "first_wrong_non_finite" not in r)}
+    if ld.word is not None:      # the silent runs whose word overflowed: the network's count shows them
+        out["silent_overflowed"] = sum(1 for r in runs if r.get("class") == "silent-corruption"
+                                       and r.get("overflows"))
     if ld.net.checking is not None:
         out["named_right"] = sum(1 for r in runs if r.get("named_right"))
         out["detected"] = len(lat)
@@ -729,6 +739,9 @@ def render_text(head: str, summary: dict) -> str:
                  f"({pct(summary['classes']['silent-corruption'])})"
                  + (f"; in {seen} of them the first wrong torque set holds an inf or NaN, which a "
                     "host that checks its torques sees (vampc emulate refuses it)" if seen else "")
+                 + (f"; in {summary['silent_overflowed']} of them the word overflowed, which the "
+                    "network's overflow count shows (vampc emulate says it)"
+                    if summary.get("silent_overflowed") else "")
                  + (f"; {unseen} read from a results file of an older vampc were not examined for "
                     "an inf or NaN" if unseen else ""))
     if summary["error_correction"]:
