@@ -334,6 +334,16 @@ def test_a_report_names_the_constant_an_edited_mass_changed(log_programs, tmp_pa
                                       "graph's constants; the file was edited); recompile it\n")
 
 
+def test_a_report_names_the_field_of_a_node_that_was_edited(log_programs, tmp_path):
+    """A constant node's group edited: it had been said as its constant, with two equal values (a
+    faults audit's); the field is named, with both values."""
+    path = edited_program(log_programs["chain"], tmp_path,
+                          lambda d: _set(d, ["graph", "nodes", 253, "group"], 0))
+    assert run("report", path) == (1, f"vampc: error: {path}: graph.nodes[253]: node io2.m2's group is "
+                                      "'0', where the robot section compiles to '2' (the file was "
+                                      "edited); recompile it\n")
+
+
 def test_a_report_says_the_node_count_the_robot_section_compiles_to(log_programs, tmp_path):
     """Parents edited into a chain's robot section: a tree of another size of graph."""
     path = edited_program(log_programs["chain"], tmp_path,

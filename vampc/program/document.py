@@ -563,11 +563,18 @@ def check_graph_of(graph: Graph, chain: Chain, options, path) -> None:
                           "file's options (the file was edited); recompile it")
 
     def node_differs(where: str, mine, theirs):
-        if mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
+        # the first field that differs, named (a node's edited group had been said as its constant,
+        # the two values printed alike: a faults audit's)
+        field = next((f for f in mine.__struct_fields__ if getattr(mine, f) != getattr(theirs, f)), None)
+        if field == "value" and mine.op is Op.CONST and theirs.op is Op.CONST and mine.name == theirs.name:
             return VampcError(f"{path}: {where}: constant {mine.label} is "
                               f"{numbers_shown(mine.value)}, where the robot section gives "
                               f"{numbers_shown(theirs.value)} (a mass, inertia or link vector is "
                               "baked into the graph's constants; the file was edited); recompile it")
+        if field is not None:
+            return VampcError(f"{path}: {where}: node {theirs.label}'s {field} is "
+                              f"{shown(str(getattr(mine, field)))}, where the robot section compiles to "
+                              f"{shown(str(getattr(theirs, field)))} (the file was edited); recompile it")
         return refuse(where, f"node {mine.label}")
 
     def output_differs(where: str, o, b):
