@@ -97,8 +97,9 @@ class CompileOptions:
     word: str = field(default="float64", metadata=cli(
         "--word", metavar="FORMAT", show_default=True, help="The VAMPs' word format: float64, "
         "float32, or signed fixed point qI.F (I integer bits including the sign, F fraction bits, "
-        "I + F from 2 to 64; e.g. q16.16). The program records it; `vampc emulate PROGRAM --word` "
-        "runs a program in another one (a what-if). README, Word formats."))
+        "I + F from 2 to 64; e.g. q16.16). The program records it; given with a program file, "
+        "`vampc emulate`, `faults`, `lookahead` and `rtl` run the program in another one (a what-if). "
+        "README, Word formats."))
     rounding: str = field(default="nearest", metadata=cli(
         "--rounding", choices=lambda: WORD_ROUNDING, show_default=True, help="Fixed-point words: "
         "how a product drops its extra fraction bits (nearest: ties up; truncate: towards -inf)."))
@@ -926,8 +927,9 @@ class FaultsOptions:
         "--campaign", choices=lambda: ("single", "transient", "intermittent", "random"),
         show_default=True, help="single: every single permanent fault of each --kinds on every "
         "VAMP; transient: every VAMP's Result bit flipped once, at a drawn tick; intermittent: "
-        "every VAMP's Result bit stuck in a random fraction (--rate) of cycles; random: --count "
-        "faults of every sort (README, vampc faults; Error correction)."))
+        "every VAMP's Result bit stuck in a random fraction (--rate) of cycles (both: the x "
+        "component's highest magnitude bit, 62 of binary64); random: --count faults of every sort "
+        "(README, vampc faults; Error correction)."))
     sets: int | None = field(default=None, metadata=cli(
         "--sets", range=(1, 1 << 24), metavar="N", help="Torque sets each run (default: enough for "
         "the checking to reach the last VAMP and the sets after to leave the network; for transient "
