@@ -394,8 +394,10 @@ def gunzip(data: bytes, path, limit: int = GUNZIP_LIMIT) -> bytes:
                 if not d.unconsumed_tail:
                     break
                 chunk = d.decompress(d.unconsumed_tail, 1 << 24)
-            if not d.eof:
-                raise VampcError(f"{path}: compressed program file is truncated")
+            if not d.eof:     # (cut short, or a damaged header or block reads on past the end:
+                # "truncated" alone was said of 48 single-bit flips, a faults audit's)
+                raise VampcError(f"{path}: compressed program file is truncated or damaged (its "
+                                 "compressed data ends before a gzip member does)")
             rest = d.unused_data
     except zlib.error as exc:
         raise VampcError(f"{path}: damaged compressed program file ({exc})") from None
