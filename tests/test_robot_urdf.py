@@ -1012,3 +1012,19 @@ def test_a_limit_without_effort_or_velocity_is_read_with_a_warning(tmp_path):
         told = [str(w.message) for w in caught if issubclass(w.category, VampcWarning)]
         assert told == ([] if said is None else [f"{path}: {said}"]), told
         assert chain.joints[0].limits.qd == (2.0 if 'velocity="2"' in limits[0] else None)
+
+
+def test_a_number_with_a_space_after_it_is_read_with_a_warning(tmp_path):
+    """urdfdom refuses '2.0 ' ("not a float"), and Pinocchio drops that <inertial>: vampc read it as 2
+    without a word (an audit's). A space before the number is urdfdom's reading too: no warning."""
+    text = robot(link("base"), link("l1", mass=2.0), link("l2"), *ARM[3:])
+    path = write(tmp_path, text.replace('<mass value="2"', '<mass value="2 "', 1))
+    assert '<mass value="2 "' in path.read_text()
+    with pytest.warns(VampcWarning, match=r"link 'l1': <mass value=\"2 \">: a space after the number, which "
+                                          r"urdfdom \(Pinocchio's URDF reader\) refuses; read here as 2"):
+        chain = load_urdf(path)
+    assert chain.joints[0].mass == 2.0
+    before = write(tmp_path, text.replace('<mass value="2"', '<mass value=" 2"', 1), "b.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_urdf(before)

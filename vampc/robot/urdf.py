@@ -439,6 +439,13 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
         if len(values) != count or not all(map(math.isfinite, values)):
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
             raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
+        if count == 1 and raw[-1:].isspace():
+            # urdfdom reads one number to the end of the text: a space after it is "not a float"
+            # there, and Pinocchio drops that <inertial> (a mass of '2.0 ' gave torques of 2 kg
+            # here, 0 there, unsaid: an audit's)
+            warnings.warn(VampcWarning(f"{path}: {where}: <{tag} {attr}=\"{raw}\">: a space after the "
+                                       f"number, which urdfdom (Pinocchio's URDF reader) refuses; read "
+                                       f"here as {values[0]:g}"), stacklevel=2)
 
 
 def _read_robot(path: Path):
