@@ -29,10 +29,6 @@ def unrendered(net) -> tuple[str, str] | None:
 def rtl_figures(path: str, c) -> dict:
     """The report's `rtl` section from the JSON at `path`, checked to be this program's design."""
     missing = unrendered(c.network) if c.network is not None else None
-    if not c.options.word.startswith("q"):   # (a float program's report took them: an audit's)
-        raise VampcError(f"{path}: the figures are of another design: this program's words are "
-                         f"{c.options.word}, and `vampc rtl` renders fixed-point words only (README, "
-                         "RTL)")
     if missing:
         what, _ = missing
         raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
@@ -51,6 +47,9 @@ def rtl_figures(path: str, c) -> dict:
         raise VampcError(f"{path}: not the output of `vampc rtl --synth ecp5 --format json` (no "
                          "synth.kinds and synth.network)")
     word = c.options.word
+    if not word.startswith("q"):   # (a float program's report took them: an audit's)
+        raise VampcError(f"{path}: the figures are of another design: this program's words are "
+                         f"{word}, and `vampc rtl` renders fixed-point words only (README, RTL)")
     vamps = len(c.network.vamps) if c.network is not None else None
     same = [("robot", "robot", c.chain.name), ("word", "word", word), ("vamps", "VAMPs", vamps)]
     same += [(key, key.replace("_", " "), getattr(c.options, key))      # (files since 2026-12-03)
