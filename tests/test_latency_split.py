@@ -79,3 +79,24 @@ def test_a_budget_that_waits_says_so_against_the_paper():
     assert r.exit_code == 0, r.output
     assert "67 flops = 16 Mults + 45 Addns + 6 waiting" in r.output
     assert "(+1 Mults, +2 Addns, 6 waiting) against the paper's formula" in r.output
+
+
+def test_another_prefix_is_sized_where_the_other_reasons_are_counts():
+    """Kogge-Stone on 1 and 3 joints: its reason gives the rest of the difference from the paper's
+    formula, so the reasons add up to the difference (they had come to -1 A against -2 A on one
+    joint with a rotating base, and a 3-joint arm's -1 M -3 A had no size: a report audit's)."""
+    from vampc.report.counts import ACCOUNTED, latency_reasons
+    base = dict(paper={"mults": 9, "adds": 22}, recursion="log", uniform_leaves=False,
+                timing={"mult_latency": 1, "add_latency": 1}, prismatic_joints=[])
+    for n, got, extra, size in ((3, (9, 21), {}, "−1 M, −3 A"),
+                                (1, (7, 14), {"base_rotates": True}, "−1 A")):
+        rep = dict(base, joints=n, latency={"mults": got[0], "adds": got[1]}, prefix="kogge-stone",
+                   **extra)
+        if n == 1:
+            rep["paper"] = {"mults": 7, "adds": 16}
+        shorts = [short for short, _ in latency_reasons(rep)]
+        assert shorts[-1] == f"a kogge-stone prefix, {size}", shorts
+        counted = [ACCOUNTED[s] for s in shorts[:-1]]
+        m = sum(c[0] for c in counted) + (-1 if "M" in size else 0)
+        a = sum(c[1] for c in counted) + int(size.split()[-2].replace("−", "-"))
+        assert (m, a) == (got[0] - rep["paper"]["mults"], got[1] - rep["paper"]["adds"])

@@ -450,9 +450,20 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                         "no latency, and the path is the same as with revolute joints or shorter "
                         "(the paper's formula is for a general rotary arm)"))
     if log and rep.get("prefix", "sklansky") != "sklansky":
-        reasons.append((f"a {rep['prefix']} prefix",
+        # sized where every other reason is a known count: the rest of the difference is the
+        # prefix's, with what Sklansky's leaves would have saved (a Kogge-Stone row's parts had come
+        # to -1 A against -2 A, and a 3-joint one's -1 M -3 A had no size: a report audit's)
+        size = ""
+        if all(short in ACCOUNTED for short, _ in reasons):
+            rest = (got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons),
+                    got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons))
+            size = ", ".join(f"{plus_minus(v)} {unit}" for v, unit in zip(rest, ("M", "A")) if v) \
+                or "no change"
+        reasons.append((f"a {rep['prefix']} prefix" + (f", {size}" if size else ""),
                         f"the paper's formula counts Sklansky's prefix network; a {rep['prefix']} "
-                        "prefix has other depths (compile with --prefix sklansky to compare)"))
+                        "prefix has other depths" + (f" ({size} on the path here, the rest of the "
+                                                     "difference)" if size else "")
+                        + " (compile with --prefix sklansky to compare)"))
     # what the reasons above account for, where each is a known count: anything left is said to be
     # unexplained (the log recursion at n = 1 showed 2 Addns fewer than the reasons gave, its row
     # saying only the reasons: a new user's find)
