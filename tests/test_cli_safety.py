@@ -815,7 +815,8 @@ def test_urdf_floating_joint_not_at_the_root(tmp_path):
     robot = _urdf(tmp_path, '<robot name="r">' + LINK % "a" + LINK % "b" + LINK % "c"
                   + JOINT % ("j1", "revolute", "a", "b") + JOINT % ("free", "floating", "b", "c") + "</robot>")
     user_error(run("compile", robot, "-o", tmp_path / "r.vamp.json"),
-               r"robot\.urdf: joint 'free': floating joints are not supported$")
+               r"robot\.urdf: joint 'free': a floating joint is taken only as the one joint of the root "
+               r"link \(the base then floats; README, Trees and floating bases\), and this one is not$")
     assert not (tmp_path / "r.vamp.json").exists()
 
 

@@ -357,7 +357,8 @@ URDF_ERRORS = [
      r"<mujoco> \(an MJCF model\)"),
     (robot(link("a", None)), {}, r"no movable joints below base link 'a'"),
     (robot(*ARM[:4], joint("j2", "floating", "l1", "l2")), {},
-     r"joint 'j2': floating joints are not supported"),
+     r"joint 'j2': a floating joint is taken only as the one joint of the root link \(the base then "
+     r"floats; README, Trees and floating bases\), and this one is not"),
     (robot(*ARM[:4], joint("j2", "planar", "l1", "l2")), {}, r"joint 'j2': planar joints are not supported"),
     (robot(*ARM[:4], joint("j2", "ball", "l1", "l2")), {}, r"joint 'j2': unsupported joint type 'ball'"),
     (robot(link("base"), link("l1", -2.0), link("l2"), *ARM[3:]), {}, r"link 'l1': negative mass -2\.0"),

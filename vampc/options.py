@@ -243,8 +243,8 @@ class RobotOptions:
                                                        help="URDF and MJCF: last link of the "
                                                        "chain."))
     base: str | None = field(default=None, metadata=cli(
-        "--base", metavar="LINK", help="URDF and MJCF: first link of the chain (default: "
-        "root)."))
+        "--base", metavar="LINK", help="URDF and MJCF: the link the chain or tree starts from (default: "
+        "the root, or the link a floating root joint carries; README, Trees and floating bases)."))
 
     mimic: str = field(default="ordinary", metadata=cli(
         "--mimic", choices=lambda: ("ordinary", "couple"),

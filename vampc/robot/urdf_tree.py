@@ -192,7 +192,13 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
     """Refuse floating joints below the base (a floating joint is only the root's), planar and unknown
     joint types, and movable joints with a zero axis."""
     for j in tree.below(base):
-        if j.type in ("floating", "planar"):   # a floating root joint was taken by choose_base
+        if j.type == "floating":    # a floating root joint was taken by choose_base
+            # (why this one is not, said: a root with a floating and a fixed joint had been told
+            # floating joints are not supported, an audit's)
+            raise located(path, f"joint '{j.name}'", "a floating joint is taken only as the one joint "
+                          "of the root link (the base then floats; README, Trees and floating "
+                          "bases), and this one is not")
+        if j.type == "planar":
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
