@@ -563,15 +563,30 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         out.retimed_t = np.arange(traj.count) * (out.k / rate)
         out.speed = np.full(traj.count, 1.0 / out.k)
     else:
-        speed = np.sqrt(x)
-        out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
-                                 traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
-        out.retimed_t, out.speed, out.accel = t, speed, u
+        _scaled(out, traj, x, u, t)
         # each row with the s̈ arriving at it too, from the network's three passes (τ = a u + b x
         # + c, exact): the plan keeps it within the limits, so a row over is its rounding's
         before = np.concatenate([[0.0], u[:-1]])
         came = (tangent - g) * before[:, None] + (tau - g) * x[:, None] + g
         out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
+    return _run_retimed(out, ld, limits, torques, stage, path, retime)
+
+
+def _scaled(out: Lookahead, traj, x, u, t) -> None:
+    """The retimed path of a scaling varying along it (window, envelope): each row at ṡ² = x with
+    the s̈ u leaving it, at times t."""
+    from vampc.emulator.host import Trajectory
+    speed = np.sqrt(x)
+    out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
+                             traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
+    out.retimed_t, out.speed, out.accel = t, speed, u
+
+
+def _run_retimed(out: Lookahead, ld, limits: Limits, torques, stage, path: str,
+                 retime: str) -> Lookahead:
+    """The retimed rows through the network (`torques`), their torques at the motors and the
+    violations; VampcError first where a time or rate is not finite."""
+    from vampc.robot.mimic import reduce_torques
     made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
     if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
         raise VampcError(f"{path}: the {retime} retiming gives a time or rate that is not a finite "
@@ -629,19 +644,8 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
     env = envelope_plan(traj, evaluate, planned, window, futures, 1.0 / rate,
                         lambda i: stage(f"candidate futures, row {i + 1} of {traj.count}"))
     out.envelope = env
-    x, u, t = env.x, env.u, env.t
-    speed = np.sqrt(x)
-    out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
-                             traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
-    out.retimed_t, out.speed, out.accel = t, speed, u
-    made = (out.retimed_t, out.speed, out.retimed.qd, out.retimed.qdd)
-    if not all(np.isfinite(a).all() for a in made):    # (a safety net: the limits are bounded below)
-        raise VampcError(f"{path}: the envelope retiming gives a time or rate that is not a finite "
-                         "number")
-    stage("rows as retimed")
-    out.retimed_tau = torques(out.retimed, "as retimed")
-    out.retimed_effort = reduce_torques(ld.chain, out.retimed_tau)
-    out.retimed_violations = violations(out.retimed_effort, out.retimed.qd, limits)
+    _scaled(out, traj, env.x, env.u, env.t)
+    _run_retimed(out, ld, limits, torques, stage, path, "envelope")
     came = effort(arriving(traj, out), "as retimed, with the s̈ arriving at it")
     out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
     return out
