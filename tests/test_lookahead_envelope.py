@@ -13,6 +13,7 @@ import re
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from test_lookahead import write_path
 from test_lookahead_window import LIM, PUMA, RATE, bump_path, setup  # noqa: F401 (a fixture)
 
 from vampc.cli import main
@@ -123,8 +124,14 @@ def test_the_candidate_rows_the_network_computed_are_the_rows_counted(setup, cou
     # arriving): 2 + 2 a row, as the summary says
     assert rows["rows as given"] == rows["gravity pass"] == traj.count
     assert rows["rows as retimed"] == 2 * traj.count
-    # R candidates of the window's rows but its last, and the rows where s̈ changes arriving
-    assert (env.rows[:-1] >= 4 * (np.minimum(32, traj.count - np.arange(traj.count)) - 1)[:-1]).all()
+    # per try, at least one candidate's rows but the window's last, at most R candidates' rows
+    # both leaving and arriving
+    m = np.minimum(32, traj.count - np.arange(traj.count))[:-1]
+    assert (env.rows[:-1] >= (m - 2) * env.tries[:-1]).all()
+    assert (env.rows[:-1] <= 4 * 2 * (m - 1) * env.tries[:-1]).all()
+    # a constant s̈ is one: its arriving rows are the few where it changes (the stop's start, the
+    # caps), not every row its rounding differs at (57% of the rows had been so)
+    assert env.rows[:-1].mean() < 4 * 31 * 1.25
     text, data, _ = default                               # (--futures 4 by default)
     assert np.array_equal(data[:, 0], res.new_times(traj.t))       # the same run
     said = re.search(r"the network computed ([\d,]+) candidate rows, ([\d.]+) a row of the path \((\d+) at "
@@ -192,6 +199,11 @@ def test_the_candidate_taken_is_the_fastest_within_the_limits(counted):
     (["--retime", "uniform", "--futures", "2"], r"--futures applies with --retime window or envelope"),
     (["--retime", "envelope", "--window", "2"],
      r"--retime envelope sees 2 row\(s\) ahead: it needs at least 3 \(--window\)"),
+    # 3 rows of a longer path: a plan could stop the arm one row before the last (the example path
+    # had been refused at its row 249: an audit's)
+    (["--retime", "envelope", "--window", "3"],
+     r"--window 3: --retime envelope needs at least 4 rows \(or the whole path\): with 3, a plan may "
+     r"stop the arm one row before the last"),
 ])
 def test_envelope_usage(setup, args, message):  # noqa: F811
     folder, program, limits, path = setup
@@ -221,8 +233,9 @@ def test_a_clock_that_cannot_compute_the_candidates_in_time_is_refused(setup, tm
                      r"the interval before it in .*: it cannot keep up", r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
     r = CliRunner().invoke(main, [*args, "--clock", "20MHz"])
-    assert r.exit_code == 0 and re.search(r"each row's candidate futures \(\d+ rows at most\) take .* keeps up",
-                                          r.output), r.output
+    assert r.exit_code == 0 and re.search(r"each row's candidate futures \(\d+ rows at most\) take .* of what "
+                                          r"the rows entering the register leave of it \([\d.]+%\): keeps "
+                                          r"up", r.output), r.output
 
 
 def test_a_narrower_word_keeps_every_limit_by_the_reference(setup, tmp_path):  # noqa: F811
@@ -237,3 +250,39 @@ def test_a_narrower_word_keeps_every_limit_by_the_reference(setup, tmp_path):  #
     assert "q16.16 (nearest, saturate) words: 0 overflows" in r.output and "retimed rows by the reference: 0 violations" in r.output
     got = np.loadtxt(out, delimiter=",", skiprows=1)
     assert (np.abs(rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])) <= LIM).all()
+
+
+def test_a_pause_in_the_path_does_not_leave_the_move_after_it_crawling(setup, tmp_path):  # noqa: F811
+    """The path stands still (q' = 0) for 150 rows, then moves: every candidate is within the limits
+    at the top speed there, and U, doubling each row, had grown to 2^100 (or, braking before the move,
+    halved to 1e-12), so the move took hours or was refused (an audit's: 386 s against the window
+    retiming's 0.43 s on a UR5). Now within three times the window retiming's duration."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = bump_path()
+    hold = 150
+    still = lambda a, v: np.concatenate([np.repeat(a[:1] * v, hold, axis=0), a])   # noqa: E731
+    path = write_path(tmp_path, np.arange(hold + len(t)) / RATE, still(q, 1), still(qd, 0),
+                      still(qdd, 0), "pause.csv")
+    took = {}
+    for retime in ("window", "envelope"):
+        out = tmp_path / f"{retime}.csv"
+        r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                      "--window", "32", "--limits", str(limits), "--retime", retime, "--check",
+                                      "-o", str(out)])
+        assert r.exit_code == 0, r.output
+        took[retime] = np.loadtxt(out, delimiter=",", skiprows=1)[-1, 0]
+    assert took["envelope"] < 3 * took["window"], took
+
+
+def test_many_futures_are_refused_before_any_pass_where_they_would_not_fit(setup, monkeypatch):  # noqa: F811
+    """--futures 65536 ran out of memory (an audit's): R × M candidate rows a step are counted."""
+    from vampc.emulator import driver
+    folder, program, limits, path = setup
+    monkeypatch.setattr(driver, "_available_memory", lambda: 2 * 10 ** 9)
+    args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "64",
+            "--limits", str(limits), "--retime", "envelope"]
+    r = CliRunner().invoke(main, [*args, "--futures", "8192"])
+    assert r.exit_code == 1 and re.search(r"524,288 rows of candidates a step \(--futures × --window\) and the "
+                                          r"path's 601 need about [\d.]+ GiB with --retime envelope \([\d.]+ "
+                                          r"GiB available\); give fewer --futures or a shorter --window",
+                                          r.output), r.output

@@ -1450,8 +1450,12 @@ def _envelope_in_time(source, ld, own, clock: float, res) -> str:
     env = res.envelope
     need = (ld.schedule.latency + (env.rows - 1) * ld.schedule.interval) / clock    # per row
     ran = np.diff(res.retimed_t)                     # the interval before row i + 1
+    # the rows entering the register take their 2 passes every λ of that time as well (judged apart,
+    # the two had each kept up where together they used 100.2% of the network: an audit's)
+    spare = 1.0 - 2 * ld.schedule.interval / clock * own.rate_hz()
     waited = env.tries > 1
-    use = np.where(waited[1:-1], 0.0, need[1:-1] / ran[:-1]) if len(ran) > 1 else np.zeros(0)
+    use = (np.where(waited[1:-1], 0.0, need[1:-1] / (ran[:-1] * spare)) if len(ran) > 1
+           else np.zeros(0))
     worst = int(np.argmax(use)) if use.size else -1
     if worst >= 0 and use[worst] > 1:
         i = worst + 1
@@ -1459,13 +1463,14 @@ def _envelope_in_time(source, ld, own, clock: float, res) -> str:
         raise VampcError(f"{source}: row {i + 1} as retimed: the network computes its "
                          f"{count(int(env.rows[i]), 'candidate row')} in {late} ({ld.schedule.latency} "
                          f"flops of latency and {ld.schedule.interval} a row at {own.clock}), and the "
-                         f"arm runs the interval before it in {early}: it cannot keep up; give a "
+                         f"arm runs the interval before it in {early}, {100 * (1 - spare):.3g}% of "
+                         "which the rows entering the register take: it cannot keep up; give a "
                          "shorter --window, fewer --futures or a faster --clock")
     most = f"{100 * float(use[worst]):.3g}% (row {worst + 2})" if use.size else "0%"
     return (f"network of {count(len(ld.net.vamps), 'VAMP')} at {own.clock}: each row's candidate "
             f"futures ({int(env.rows.max())} rows at most) take {time_text(float(need.max()) * 1e6)} "
             f"at most; they come while the arm runs the interval before the row, using at most {most} "
-            "of it: keeps up")
+            f"of what the rows entering the register leave of it ({100 * spare:.4g}%): keeps up")
 
 
 WHAT = {"-o": "path", "--torques": "torques", "--plot": "plot"}     # lookahead's outputs

@@ -494,7 +494,15 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     does unless --overflow is given). `stage(name)` is told as each of STAGES[retime] starts."""
     from vampc.emulator.host import Trajectory
     check_window(window, traj, 1 if retime == "envelope" else futures)   # (envelope: side by side)
-    check_memory(traj.count, ld.chain.n_outputs, retime, path)
+    if retime == "envelope" and window < min(4, traj.count):
+        # (a register of 3 rows may stop the arm one row before the last, where no constant s̈
+        # starts and stops it: the example path was refused at its row 249, an envelope audit's;
+        # from 4 rows no plan stops there: `envelope_plan`)
+        raise VampcUsageError(f"--window {window}: --retime envelope needs at least 4 rows (or the "
+                              "whole path): with 3, a plan may stop the arm one row before the last, "
+                              "where no constant s̈ can start it and stop it again")
+    check_memory(traj.count, ld.chain.n_outputs, retime, path,
+                 futures * window if retime == "envelope" else 0)
     stage = stage or (lambda name: None)
 
     keys = ld.graph.input_keys() if word_range else ()
@@ -641,8 +649,11 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
         return tau, refused
 
     stage("candidate futures")
-    env = envelope_plan(traj, evaluate, planned, window, futures, 1.0 / rate,
-                        lambda i: stage(f"candidate futures, row {i + 1} of {traj.count}"))
+    try:
+        env = envelope_plan(traj, evaluate, planned, window, futures, 1.0 / rate,
+                            lambda i: stage(f"candidate futures, row {i + 1} of {traj.count}"))
+    except VampcError as exc:       # (the path named, as every other look-ahead error names it)
+        raise VampcError(f"{path}: {exc}") from None
     out.envelope = env
     _scaled(out, traj, env.x, env.u, env.t)
     _run_retimed(out, ld, limits, torques, stage, path, "envelope")
@@ -684,17 +695,31 @@ def _block_rows(pairs_per_row: int) -> int:
     return max(1, LARGEST_X_PAIRS // pairs_per_row)
 
 
-def check_memory(rows: int, columns: int, retime: str | None, path: str) -> None:
+# --retime envelope: the peak of a step's candidate rows (at most 2 a register row: leaving and
+# arriving), per row and torque column: 632 MB measured for --futures 4096 --window 64 on the Puma
+# (6 columns, 2026-12-05: about 200 bytes), taken twice over.
+ENVELOPE_BYTES_PER_ROW_COLUMN = 400
+
+
+def check_memory(rows: int, columns: int, retime: str | None, path: str,
+                 register_rows: int = 0) -> None:
     """Refuse, before any pass, a path whose run would not fit in half the memory available (a
     300 000-row path was killed by the system at 23 GB, nothing said, before the plan's bounds were
-    taken in blocks; a longer one still can be)."""
+    taken in blocks; a longer one still can be). `register_rows`: --retime envelope's R × M rows of
+    candidates a step (--futures 65536 ran out of memory: an audit's)."""
     from vampc.emulator import driver
     need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + \
-        (pairs_bytes(rows, columns) if retime == "window" else 0)
+        (pairs_bytes(rows, columns) if retime == "window" else 0) + \
+        2 * register_rows * columns * ENVELOPE_BYTES_PER_ROW_COLUMN
     avail = driver.short_of_memory(need)
     if avail is None:
         return
     how = f" with --retime {retime}" if retime else ""
+    if register_rows * 2 * columns * ENVELOPE_BYTES_PER_ROW_COLUMN > need / 2:
+        raise VampcError(f"{path}: {register_rows:,} rows of candidates a step (--futures × "
+                         f"--window) and the path's {rows:,} need about {need / 2**30:.1f} GiB"
+                         f"{how} ({avail / 2**30:.1f} GiB available); give fewer --futures or a "
+                         "shorter --window")
     raise VampcError(f"{path}: {rows:,} rows need about {need / 2**30:.1f} GiB{how} "
                      f"({avail / 2**30:.1f} GiB available); run the path in parts")
 
@@ -1152,8 +1177,8 @@ def candidates(x0: float, U: float, cap: np.ndarray, futures: int, lam: float) -
     """The R candidate futures from a row where the arm runs at x0 = ṡ², over the m rows of `cap`
     (each row's cap on x; the first is the row leaving, the last the register's last): candidate r
     leaves the row with s̈ u_r (ENVELOPE_U), then slows at one constant s̈ to rest (x = 0) at the
-    last row, the gentlest such stop, all under the caps. x of each (R × m); a candidate whose
-    next row would be at rest or beyond (x <= 0 there) is nan."""
+    last row, the gentlest such stop, all under the caps. x of each (R × m); a candidate whose next
+    row would be at rest or beyond (x <= 0 there) is nan."""
     m = len(cap)
     r = np.arange(futures) + 1.0
     u = U * r / futures if x0 == 0 else U * (2.0 * r / futures - 1.0)
@@ -1186,7 +1211,10 @@ def candidate_rows(traj, first: int, x: np.ndarray, lam: float):
     rows = np.arange(first, first + m)
     leave_r, leave_j = np.divmod(np.arange(R * (m - 1)), m - 1)
     came = np.ones((R, m - 1), bool)                           # arriving at rows 1 .. m - 1
-    came[:, :-1] = u[:, 1:] != u[:, :-1]
+    # (a constant s̈ taken from x's differences differs in its last bits: not a row of its own,
+    # 57% of a run's rows had been such, an envelope audit's; the limits are planned 1e-9 inside,
+    # so 1e-12 of a·s̈ cannot cross one)
+    came[:, :-1] = ~np.isclose(u[:, 1:], u[:, :-1], rtol=1e-12, atol=0.0)
     come_r, come_j = np.nonzero(came)
     come_j = come_j + 1
     r = np.concatenate([leave_r, come_r])
@@ -1221,14 +1249,23 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
                    np.zeros(n_rows, int), np.zeros(n_rows, int), np.zeros(n_rows))
     plan = np.zeros(1)           # the committed plan's x from this row on: at rest, nowhere to go
     U = ENVELOPE_U
+    top = MAX_SPEED ** 2 / (2.0 * lam)     # the s̈ to the top speed from rest in one row: U's most
     for i in range(n_rows - 1):
         if progress is not None and i % 256 == 0:
             progress(i)
         m = min(window, n_rows - i)
         x0 = out.x[i]
+        if i + m - 1 == n_rows - 2 and (x0 > 0 or m >= 4):
+            # no plan stops at the last row but one, where the arm at rest could not go on: a
+            # constant s̈ cannot start and stop it in the one interval left (a register ending
+            # there had left the arm so, the path refused: an envelope audit's). With a window of
+            # 4 rows or more (`run`) no plan does: from rest at row n - 4 the register reaches the
+            # last row
+            m -= 1
         for _ in range(ENVELOPE_TRIES):
             out.tries[i] += 1
             out.scale[i] = U
+            kept = (plan[1] - plan[0]) / (2.0 * lam) if len(plan) > 1 else 0.0   # (its s̈)
             xs = candidates(x0, U, cap[i:i + m], futures, lam)
             bad = np.isnan(xs[:, 1])
             if not bad.all():
@@ -1239,7 +1276,15 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
                 out.refused += int(refused.sum())
                 over = np.any(np.abs(tau[:, :len(L)]) > L, axis=1) | refused
                 np.logical_or.at(bad, of, over)
-            U = U * 2 if not bad[-1] else U / 2
+            # U doubles where the fastest was within the limits and not held by a cap at its next
+            # row (where the path stands still every candidate is, at the top speed: U had grown
+            # to 2^100 in a pause, and the move after it was refused or slowed 900 times: an
+            # envelope audit's), halves where it was over
+            held = xs[-1, 1] < x0 + 2.0 * lam * U * (1 - 1e-9)
+            # (and not below the s̈ of the plan taken before: braking, U had halved every row to
+            # 1e-12, and took 40 rows of hours each to grow back: an envelope audit's)
+            U = min(U * 2, top) if not bad[-1] and not held else U if not bad[-1] else \
+                max(U / 2, abs(kept))
             if not bad.all():
                 r = int(np.flatnonzero(~bad)[-1])     # the fastest within the limits
                 plan = xs[r]
