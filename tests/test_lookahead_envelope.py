@@ -252,17 +252,41 @@ def test_a_narrower_word_keeps_every_limit_by_the_reference(setup, tmp_path):  #
     assert (np.abs(rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])) <= LIM).all()
 
 
+def pause_path(tmp_path, hold: int = 150):
+    """The bump path after `hold` rows standing still at its first position (q' = 0)."""
+    t, q, qd, qdd = bump_path()
+    still = lambda a, v: np.concatenate([np.repeat(a[:1] * v, hold, axis=0), a])   # noqa: E731
+    return write_path(tmp_path, np.arange(hold + len(t)) / RATE, still(q, 1), still(qd, 0),
+                      still(qdd, 0), "pause.csv")
+
+
+def test_candidate_rows_a_fixed_point_word_cannot_hold_are_refused_not_run(setup, tmp_path):  # noqa: F811
+    """Out of a pause at 100 times the path's speed, candidates' q̈ (q'' ṡ² + q' s̈) go past q16.16's
+    range: those rows are refused as candidates, counted, and no overflow is the run's; every
+    retimed row within its limits by the reference."""
+    folder, _, limits, _ = setup
+    program = tmp_path / "q.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q16.16", "-o", str(program)]).exit_code == 0
+    out = tmp_path / "q.csv"
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(pause_path(tmp_path)),
+                                  "--rate", "1kHz", "--window", "32", "--limits", str(limits), "--retime",
+                                  "envelope", "--check", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    said = re.search(r"candidate rows the network's words could not hold or overflowed on: ([\d,]+) "
+                     r"\(refused, so not counted as the run's overflows\)", r.output)
+    assert said and int(said[1].replace(",", "")) > 0, r.output
+    assert "q16.16 (nearest, saturate) words: 0 overflows" in r.output
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert (np.abs(rnea(load_robot(PUMA), got[:, 1:7], got[:, 7:13], got[:, 13:19])) <= LIM).all()
+
+
 def test_a_pause_in_the_path_does_not_leave_the_move_after_it_crawling(setup, tmp_path):  # noqa: F811
     """The path stands still (q' = 0) for 150 rows, then moves: every candidate is within the limits
     at the top speed there, and U, doubling each row, had grown to 2^100 (or, braking before the move,
     halved to 1e-12), so the move took hours or was refused (an audit's: 386 s against the window
     retiming's 0.43 s on a UR5). Now within three times the window retiming's duration."""
     folder, program, limits, _ = setup
-    t, q, qd, qdd = bump_path()
-    hold = 150
-    still = lambda a, v: np.concatenate([np.repeat(a[:1] * v, hold, axis=0), a])   # noqa: E731
-    path = write_path(tmp_path, np.arange(hold + len(t)) / RATE, still(q, 1), still(qd, 0),
-                      still(qdd, 0), "pause.csv")
+    path = pause_path(tmp_path)
     took = {}
     for retime in ("window", "envelope"):
         out = tmp_path / f"{retime}.csv"
@@ -286,3 +310,21 @@ def test_many_futures_are_refused_before_any_pass_where_they_would_not_fit(setup
                                           r"path's 601 need about [\d.]+ GiB with --retime envelope \([\d.]+ "
                                           r"GiB available\); give fewer --futures or a shorter --window",
                                           r.output), r.output
+
+
+def test_the_retimed_worst_ratio_counts_the_torques_arriving_at_each_row_too(default):
+    """The summary's retimed worst |τ| / limit had been of the written rows only (the s̈ leaving
+    them): 0.01429 said where 0.0143 was reached with the s̈ arriving (a new user's). Read back
+    here by the reference from the -o file."""
+    text, data, _ = default
+    speed, accel = speeds(data)
+    _, q, d1, d2 = bump_path()
+    chain = load_robot(PUMA)
+    before = np.concatenate([[0.0], accel[:-1]])
+    leave = rnea(chain, q, d1 * speed[:, None], d2 * speed[:, None] ** 2 + d1 * accel[:, None])
+    come = rnea(chain, q, d1 * speed[:, None], d2 * speed[:, None] ** 2 + d1 * before[:, None])
+    worst = np.maximum(np.abs(leave), np.abs(come)).max(axis=0) / LIM
+    said = re.search(r"retimed \(with the s̈ leaving and arriving at each row\): ([^\n]*)", text)[1]
+    names = ("waist", "shoulder", "elbow", "wrist_roll", "wrist_bend", "flange")
+    got = dict(item.rsplit(" ", 1) for item in said.split(", "))
+    assert [float(got[n]) for n in names] == [float(f"{w:.4g}") for w in worst], (said, worst)

@@ -1418,14 +1418,16 @@ def _envelope_lines(res, window: int, n: int, slowest: float, low: int, fast, hi
     kept = int(np.sum(env.chosen[:-1] < 0))
     waited = int(np.sum(env.tries > 1))
     lines = [f"register: {R} × {window} rows side by side, each the rows ahead as one candidate "
-             f"future runs them (q, q̇, q̈ and one torque set: {3 * n} + {n} words); the network "
+             f"future runs them (q, q̇, q̈ and one torque set: {3 * n} + {n} words; a row where its "
+             f"s̈ changes, a second q̈ and torque set); the network "
              f"computed {env.rows.sum():,} candidate rows, {env.rows.sum() / steps:.4g} a row of the "
              f"path ({int(env.rows.max())} at most), besides its 2 passes of each row as it "
              "enters (as given, gravity) and 2 of the retimed rows"]
     took = np.bincount(env.chosen[:-1][env.chosen[:-1] >= 0], minlength=R)
+    # (the candidates taken, not every one: --futures 65536 made a line of a megabyte, a review's)
     lines.append("envelope time scaling: took candidate " +
-                 ", ".join(f"{r + 1} at {count(int(took[r]), 'row')}" for r in range(R)) +
-                 f" (the fastest is {R}), kept the plan taken before at {count(kept, 'row')} "
+                 ", ".join(f"{r + 1} at {count(int(took[r]), 'row')}" for r in np.flatnonzero(took)) +
+                 f" (of {R}, the fastest {R}), kept the plan taken before at {count(kept, 'row')} "
                  "(no candidate within the limits)" +
                  (f", waited at rest at {count(waited, 'row')} for a slower one" if waited else "") +
                  f"; duration {res.retimed_t[-1]:.6g} s from rest to rest (as given {span:.6g} s"
@@ -1486,7 +1488,7 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
     names = [j.name for j in ld.chain.joints]
     motors = free_names(ld.chain)         # whose effort limits these are (a coupled follower: none)
     seen = res.ahead_rows                 # rows in view: --window, times --futures
-    registers = (f", {res.futures} registers side by side" if res.retime == "envelope" else
+    registers = (f", {count(res.futures, 'register')} side by side" if res.retime == "envelope" else
                  f" × {res.futures} registers" if res.futures > 1 else "")
     span = times[-1] - times[0]           # a path's duration: from its first row to its last
     # (times with prefixes: a fixed ms read "6.3e+04 ms" at 1 Hz, a review's find)
@@ -1504,7 +1506,13 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         lines.append(f"  ... {len(res.violations)} in all")
     lines.append(wrapped("worst |τ| / limit per joint: ", worst_ratios(motors, res.effort, limits)))
     if res.retimed_effort is not None:
-        lines.append(wrapped("  retimed: ", worst_ratios(motors, res.retimed_effort, limits)))
+        # (with the s̈ arriving at each row too, where the retiming has one: the figure had left
+        # those torques out, 0.01429 said where 0.0143 was reached: a new user's find)
+        both = (res.retimed_effort if res.arriving_effort is None else
+                np.maximum(np.abs(res.retimed_effort), np.abs(res.arriving_effort)))
+        lines.append(wrapped("  retimed" + (" (with the s̈ leaving and arriving at each row)" if
+                                            res.arriving_effort is not None else "") + ": ",
+                             worst_ratios(motors, both, limits)))
     # (the speeds too, where limited: a path's speed 1.79 times its limit was in the row list
     # alone, a look-ahead audit's find)
     limited = [j for j, v in enumerate(limits.qd) if v is not None]
@@ -1620,8 +1628,9 @@ def failed_mark(res) -> str:
 
 
 def arriving_text(res) -> str:
-    """The window retiming's rows over a limit with the s̈ arriving at them, by the network's three
-    passes (its rounding: the plan keeps none), when there are any."""
+    """The window or envelope retiming's rows over a limit with the s̈ arriving at them (the window's
+    by the network's three passes; the envelope's by a pass of those rows), when there are any: the
+    plans keep none."""
     if not res.arriving_violations:
         return ""
     worst = max(abs(v.value) / v.limit for v in res.arriving_violations)

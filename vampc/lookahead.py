@@ -124,6 +124,7 @@ class Lookahead:
     optimal_held: int = 0                   # its steps held short of their top (_short_of_a_cliff)
     effort: np.ndarray | None = None          # the motors' torques (Gᵀτ: `tau` unless coupled mimics)
     retimed_effort: np.ndarray | None = None  # the same, retimed
+    arriving_effort: np.ndarray | None = None  # window, envelope: the same with the s̈ arriving at each row
     retime: str | None = None                 # "uniform", "window" or "envelope"
     envelope: object = None                   # --retime envelope: what each step did (Envelope)
 
@@ -575,7 +576,7 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         # each row with the s̈ arriving at it too, from the network's three passes (τ = a u + b x
         # + c, exact): the plan keeps it within the limits, so a row over is its rounding's
         before = np.concatenate([[0.0], u[:-1]])
-        came = (tangent - g) * before[:, None] + (tau - g) * x[:, None] + g
+        came = out.arriving_effort = (tangent - g) * before[:, None] + (tau - g) * x[:, None] + g
         out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
     return _run_retimed(out, ld, limits, torques, stage, path, retime)
 
@@ -657,7 +658,7 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
     out.envelope = env
     _scaled(out, traj, env.x, env.u, env.t)
     _run_retimed(out, ld, limits, torques, stage, path, "envelope")
-    came = effort(arriving(traj, out), "as retimed, with the s̈ arriving at it")
+    came = out.arriving_effort = effort(arriving(traj, out), "as retimed, with the s̈ arriving at it")
     out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
     return out
 
@@ -926,11 +927,7 @@ def _bounds(a, b, c, qd, limits: Limits, margin: float, two_d: float, spread=(0.
     a, b, c, L = _spread(a[:, :n], b[:, :n], c[:, :n], np.array(limits.tau) * (1 - margin), spread)
     with np.errstate(over="ignore"):     # (a limit near the float range: its bound is inf, as it is)
         p, r, P, cap = _stage(a, b, c, L)
-    cap = np.minimum(cap, MAX_SPEED ** 2)
-    for j, v in enumerate(limits.qd):
-        if v is not None:
-            with np.errstate(divide="ignore", over="ignore"):    # (inf: no bound, as MAX_SPEED caps)
-                cap = np.minimum(cap, (v * (1 - PLAN_MARGIN) / np.abs(qd[:, j])) ** 2)
+    cap = np.minimum(cap, speed_caps(qd, limits))
     # the next row's p' + r' x' <= u <= P' + r' x' with x' = x + 2Δu: u m >= p' + r' x and
     # u m <= P' + r' x, m = 1 - 2Δ r'; where m < 0 both are negated, which swaps them
     nxt = lambda v, fill: np.concatenate([v[1:], np.full((1, v.shape[1]), fill)])   # noqa: E731
@@ -1293,9 +1290,9 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
             out.chosen[i] = -1
             if x0 > 0 or (len(plan) > 1 and plan[1] > 0):
                 break                    # none: the plan taken before
-        else:
+        else:                   # (the slowest tried: U / R of the last try, not U halved after it)
             raise VampcError(f"row {i + 1}: the arm is at rest and no candidate future is within "
-                             f"the limits, down to an s̈ of {U:.3g} leaving it")
+                             f"the limits, down to an s̈ of {out.scale[i] / futures:.3g} leaving it")
         if x0 == 0 and plan[1] == 0:    # (one interval left: no s̈ starts and stops in it)
             raise VampcError(f"row {i + 1}: the arm came to rest one row before the last, where no "
                              "constant s̈ can start it and stop it again; give a longer --window")
@@ -1309,8 +1306,9 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
 
 
 def arriving(traj, res: Lookahead):
-    """--retime window: each retimed row as the arm arrives at it, with the s̈ of the interval before
-    it (the written row's q̈ is the s̈ leaving it; the first row is at rest), a Trajectory."""
+    """--retime window or envelope: each retimed row as the arm arrives at it, with the s̈ of the
+    interval before it (the written row's q̈ is the s̈ leaving it; the first row is at rest), a
+    Trajectory."""
     from vampc.emulator.host import Trajectory
     before = np.concatenate([[0.0], res.accel[:-1]])
     x = res.speed ** 2

@@ -669,7 +669,7 @@ class LookaheadOptions:
         "the motors every λ = 1/rate."))
     window: int | None = field(default=None, metadata=cli(
         "--window", range=(1, 1 << 24), metavar="M", help="Rows in the shift register: how far ahead "
-        "the host sees."))
+        "the host sees (required)."))
     limits: str | None = field(default=None, metadata=cli(
         "--limits", path=True, metavar="FILE", help="Limits per joint, CSV with header joint,tau,qd "
         "(N·m or N, rad/s or m/s; qd may be empty); default: the robot file's."))

@@ -446,6 +446,10 @@ def summarise(ld, runs: list[dict], sets: int) -> dict:
     if ld.word is not None:      # the silent runs whose word overflowed: the network's count shows them
         out["silent_overflowed"] = sum(1 for r in runs if r.get("class") == "silent-corruption"
                                        and r.get("overflows"))
+        # (runs kept from an older vampc's results file, which did not count them: said apart, as
+        # silent_not_examined is, not counted as without overflow: a review's find)
+        out["silent_overflows_not_examined"] = sum(1 for r in runs if r.get("class") ==
+                                                   "silent-corruption" and "overflows" not in r)
     if ld.net.checking is not None:
         out["named_right"] = sum(1 for r in runs if r.get("named_right"))
         out["detected"] = len(lat)
@@ -742,6 +746,9 @@ def render_text(head: str, summary: dict) -> str:
                  + (f"; in {summary['silent_overflowed']} of them the word overflowed, which the "
                     "network's overflow count shows (vampc emulate says it)"
                     if summary.get("silent_overflowed") else "")
+                 + (f"; {summary['silent_overflows_not_examined']} read from a results file of an "
+                    "older vampc were not examined for overflows"
+                    if summary.get("silent_overflows_not_examined") else "")
                  + (f"; {unseen} read from a results file of an older vampc were not examined for "
                     "an inf or NaN" if unseen else ""))
     if summary["error_correction"]:
