@@ -322,7 +322,8 @@ def precision(ctx, source, **params):
 @handle_errors
 def lookahead(ctx, source, **params):
     """The torque shift register of section VIII over a path: every row's torques, limits seen before
-    the arm gets there, and time scaling, uniform or window by window (README, vampc lookahead)."""
+    the arm gets there, and time scaling: uniform, window by window, or chosen among candidate
+    futures side by side (README, vampc lookahead)."""
     from vampc.commands import lookahead_command
     if all(params.get(name) is None for name in ("output", "torques", "plot")):
         need_stdout("vampc lookahead")          # (its summary, the violations, is the result)

@@ -1542,11 +1542,14 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         still = np.all(traj.qd == 0, axis=1)
         pause = still[:-1] & still[1:]
         if pause.any():        # (with prefixes: a 10 s wait read "1e+04 ms", an audit's find)
+            spent = float(np.diff(res.retimed_t)[pause].sum())
+            # (the advice only where the wait got shorter: an envelope arm braking for the move
+            # after it spent 13 times the wait there, an audit's)
             lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
                          f"{time_text(pause.sum() * lam * 1e6)} as given: retimed at ṡ up to "
-                         f"{MAX_SPEED:g} × the path's speed, "
-                         f"{time_text(np.diff(res.retimed_t)[pause].sum() * 1e6)} (a time scaling "
-                         "cannot keep a wait: add it back to the retimed path)")
+                         f"{MAX_SPEED:g} × the path's speed, {time_text(spent * 1e6)}"
+                         + (" (a time scaling cannot keep a wait: add it back to the retimed path)"
+                            if spent < pause.sum() * lam else ""))
         best = res.optimal_duration
         if res.retime == "envelope":
             pass                       # (no whole-path plan: the envelope has no tangent pass)
