@@ -677,8 +677,10 @@ def beyond_word(word, rows) -> np.ndarray:
 # Measured 2026-12-05 on the Puma 560 (6 columns), 30 000 to 300 000 rows: about 5.3 kB a row
 # with --retime window (1.66 GB at 300 000), 2.6 kB with uniform, 1.1 kB without; these are
 # rounded up. --retime envelope is given the window's: its passes are the uniform's and one more,
-# its candidates a step's at a time (68 MB peak, the whole process, at 10 000 rows). The window retiming's block of pairs (`_largest_x`) comes on top: a few temporaries
-# of its pairs (176 MB measured, the Puma: LARGEST_X_PAIRS of them).
+# its candidates a step's at a time (68 MB peak, the whole process, at 10 000 rows;
+# ENVELOPE_BYTES_PER_ROW_COLUMN counts the candidates). The window retiming's block of pairs
+# (`_largest_x`) comes on top: a few temporaries of its pairs (176 MB measured, the Puma:
+# LARGEST_X_PAIRS of them).
 BYTES_PER_ROW_COLUMN = {None: 250, "uniform": 500, "window": 1000, "envelope": 1000}
 
 
@@ -1145,10 +1147,12 @@ def _short_of_a_cliff(alpha, beta, h: float, now: float, least: float, most: flo
 
 
 # --retime envelope: the R candidate futures of a step leave the arm's row with s̈ u_r = U (2 (r + 1) / R
-# - 1), r = 0 .. R - 1 (R = 4: -U/2, 0, U/2 and U), or from rest U (r + 1) / R; U doubles after a
-# try whose fastest candidate was within the limits and halves after one where it was not (from
-# ENVELOPE_U), so the fastest candidate follows the largest s̈ the limits allow. Chosen by measuring
-# against other families (README, vampc lookahead: The envelope of futures).
+# - 1), r = 0 .. R - 1 (R = 4: -U/2, 0, U/2 and U), or from rest U (r + 1) / R. U starts at
+# ENVELOPE_U, doubles after a try whose fastest candidate was within the limits (unless a speed cap
+# held it, and at most to the s̈ reaching the top speed in one row), and halves after one where it
+# was not (though not below the s̈ of the plan the arm keeps), so the fastest candidate follows the
+# largest s̈ the limits allow. Chosen by measuring against other families (README, vampc
+# lookahead: The envelope of futures).
 ENVELOPE_U = 1.0
 ENVELOPE_FUTURES = 4       # --futures' default with --retime envelope
 # A row where the arm stands at rest and no candidate is within the limits: it waits there and
