@@ -277,7 +277,7 @@ def test_a_path_standing_still_is_run_at_most_max_speed(setup, tmp_path, name):
     pause = ~qd[:-1].any(axis=1) & ~qd[1:].any(axis=1)
     # (each time with its prefix: a 10 s wait read "1e+04 ms", an audit's find)
     said = re.search(r"the path stands still \(q' = 0\) over (\d+) intervals?, ([\d.]+) (s|ms|µs) as given: "
-                     r"retimed at ṡ up to 100 × the path's speed, ([\d.]+) (s|ms|µs) \(a time scaling cannot "
+                     r"retimed at ṡ up to 100 × the path's speed \(at most 100\), ([\d.]+) (s|ms|µs) \(a time scaling cannot "
                      r"keep a wait", r.output)
     unit = {"s": 1.0, "ms": 1e-3, "µs": 1e-6}
     assert said and int(said[1]) == pause.sum() > 0, r.output

@@ -1545,9 +1545,12 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
             spent = float(np.diff(res.retimed_t)[pause].sum())
             # (the advice only where the wait got shorter: an envelope arm braking for the move
             # after it spent 13 times the wait there, an audit's)
+            # (the speed reached there, not the cap: "up to 100" was said where 0.249 was reached)
+            reached = float(np.max(np.maximum(fast[:-1], fast[1:])[pause]))
             lines.append(f"  the path stands still (q' = 0) over {count(int(pause.sum()), 'interval')}, "
                          f"{time_text(pause.sum() * lam * 1e6)} as given: retimed at ṡ up to "
-                         f"{MAX_SPEED:g} × the path's speed, {time_text(spent * 1e6)}"
+                         f"{reached:.3g} × the path's speed (at most {MAX_SPEED:g}), "
+                         f"{time_text(spent * 1e6)}"
                          + (" (a time scaling cannot keep a wait: add it back to the retimed path)"
                             if spent < pause.sum() * lam else ""))
         best = res.optimal_duration
