@@ -581,14 +581,20 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
     return _run_retimed(out, ld, limits, torques, stage, path, retime)
 
 
+def at_scaling(q, d1, d2, x, u, speed=None):
+    """Rows of the path (q, q' = d1, q'' = d2) run at ṡ² = x with s̈ = u: the Trajectory (q, q' ṡ,
+    q'' ṡ² + q' s̈); `speed`: ṡ, where it is already known (√x otherwise)."""
+    from vampc.emulator.host import Trajectory
+    speed = np.sqrt(x) if speed is None else speed
+    return Trajectory(q, d1 * speed[:, None], d2 * x[:, None] + d1 * u[:, None], None, None)
+
+
 def _scaled(out: Lookahead, traj, x, u, t) -> None:
     """The retimed path of a scaling varying along it (window, envelope): each row at ṡ² = x with
     the s̈ u leaving it, at times t."""
-    from vampc.emulator.host import Trajectory
-    speed = np.sqrt(x)
-    out.retimed = Trajectory(traj.q, traj.qd * speed[:, None],
-                             traj.qdd * x[:, None] + traj.qd * u[:, None], None, None)
-    out.retimed_t, out.speed, out.accel = t, speed, u
+    out.speed = np.sqrt(x)
+    out.retimed = at_scaling(traj.q, traj.qd, traj.qdd, x, u, out.speed)
+    out.retimed_t, out.accel = t, u
 
 
 def _run_retimed(out: Lookahead, ld, limits: Limits, torques, stage, path: str,
@@ -666,10 +672,9 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
 def beyond_word(word, rows) -> np.ndarray:
     """Per row: whether a fixed-point `word` cannot hold its q̇ or q̈ (`check_word_range`'s refusal,
     as a mask; the inputs it works out of q alone, p* and s*, are the path's, checked as given)."""
-    if not hasattr(word, "rounded"):
+    if not hasattr(word, "beyond"):
         return np.zeros(rows.count, bool)
-    raw = word.rounded(np.concatenate([rows.qd, rows.qdd], axis=1))
-    return ((raw < word.lo) | (raw > word.hi)).any(axis=1)
+    return word.beyond(np.concatenate([rows.qd, rows.qdd], axis=1)).any(axis=1)
 
 
 # Peak memory per row and torque column (bytes), by retiming: the passes' rows and torques, and
@@ -1206,7 +1211,6 @@ def candidate_rows(traj, first: int, x: np.ndarray, lam: float):
     but the last with the s̈ leaving it, and with the s̈ arriving at it where that differs (always
     at the last, where the arm comes to rest; the last's own torque at rest is gravity's, and the
     first's arriving s̈ is the committed one). (Trajectory, the candidate of each row)."""
-    from vampc.emulator.host import Trajectory
     R, m = x.shape
     u = np.diff(x, axis=1) / (2.0 * lam)                       # R × (m - 1)
     rows = np.arange(first, first + m)
@@ -1220,12 +1224,9 @@ def candidate_rows(traj, first: int, x: np.ndarray, lam: float):
     come_j = come_j + 1
     r = np.concatenate([leave_r, come_r])
     j = np.concatenate([leave_j, come_j])
-    s2 = x[r, j]
-    s2dot = np.concatenate([u[leave_r, leave_j], u[come_r, come_j - 1]])
     i = rows[j]
-    ds = np.sqrt(s2)[:, None]
-    return Trajectory(traj.q[i], traj.qd[i] * ds, traj.qdd[i] * s2[:, None] + traj.qd[i] * s2dot[:, None],
-                      None, None), r
+    return at_scaling(traj.q[i], traj.qd[i], traj.qdd[i], x[r, j],
+                      np.concatenate([u[leave_r, leave_j], u[come_r, come_j - 1]])), r
 
 
 def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam: float,
@@ -1318,11 +1319,8 @@ def arriving(traj, res: Lookahead):
     """--retime window or envelope: each retimed row as the arm arrives at it, with the s̈ of the
     interval before it (the written row's q̈ is the s̈ leaving it; the first row is at rest), a
     Trajectory."""
-    from vampc.emulator.host import Trajectory
-    before = np.concatenate([[0.0], res.accel[:-1]])
-    x = res.speed ** 2
-    return Trajectory(traj.q, traj.qd * res.speed[:, None],
-                      traj.qdd * x[:, None] + traj.qd * before[:, None], None, None)
+    return at_scaling(traj.q, traj.qd, traj.qdd, res.speed ** 2,
+                      np.concatenate([[0.0], res.accel[:-1]]), res.speed)
 
 
 def violations(tau: np.ndarray, qd: np.ndarray, limits: Limits) -> list:

@@ -119,7 +119,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
     a state that a state can take beyond any word: a prismatic joint's p* and s*, a floating base's
     p̈_0), naming the row and column (and `what` row it is: " as retimed" for the look-ahead's)."""
     from vampc.emulator.trajectory import header, state_at
-    if not hasattr(word, "rounded"):                 # float words: nothing to refuse
+    if not hasattr(word, "beyond"):                  # float words: nothing to refuse
         return
     top = word.top
     n = traj.q.shape[1]
@@ -129,8 +129,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
         from vampc.robot.mimic import column_names
         names = column_names(chain, "qd") + column_names(chain, "qdd") + names[2 * n:]
     values = np.concatenate(columns, axis=1)
-    raw = word.rounded(values)                       # as the host's conversion rounds them
-    bad = (raw < word.lo) | (raw > word.hi)
+    bad = word.beyond(values)                        # as the host's conversion rounds them
     said = ("give --overflow saturate or --overflow wrap to run it anyway (each overflow "
             "counted)")
     if bad.any():
@@ -152,8 +151,7 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
         q_names = column_names(chain, "q")
     for key in derived:
         value = input_value(chain, key, traj.q, traj.qd, traj.qdd, traj.base).reshape(traj.count, -1)
-        raw = word.rounded(value)
-        bad = ((raw < word.lo) | (raw > word.hi)).any(axis=1)
+        bad = word.beyond(value).any(axis=1)
         if bad.any():
             row = int(np.argmax(bad))
             where = f"row {row + 1}{what}" if what else state_at(path, row)

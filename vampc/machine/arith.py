@@ -333,6 +333,12 @@ class Fixed(Float64):
                 r = r + (v - r >= 0.5)
         return r
 
+    def beyond(self, values) -> np.ndarray:
+        """Which values (a mask of their shape) the host's conversion cannot hold: rounded past
+        the word's range."""
+        raw = self.rounded(values)
+        return (raw < self.lo) | (raw > self.hi)
+
     def encode(self, values) -> np.ndarray:
         x = np.asarray(values, dtype=np.float64)
         r = self.rounded(x)
