@@ -1393,23 +1393,32 @@ def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -
     return late, early
 
 
-def _window_lines(res, window: int, n: int, slowest: float, low: int, fast, high: int, span: float,
-                  traj) -> list[str]:
+def _duration_text(res, span: float, traj) -> str:
+    """The window and envelope retimings' duration, speed range and rows over a limit."""
+    import numpy as np
+    fast = res.speed                      # the first and last rows are at rest
+    # (the rows named: the slowest is often the first step off rest, which a new user took for
+    # the path's slowest stretch)
+    low = 1 + int(np.argmin(fast[1:-1])) if len(fast) > 2 else 0
+    slowest = float(fast[low]) if len(fast) > 2 else 0.0
+    high = int(np.argmax(fast))
+    return (f"duration {res.retimed_t[-1]:.6g} s from rest to rest (as given {span:.6g} s"
+            f"{_end_speeds(traj)}); ṡ (leaving out the rest at start and end) {slowest:.3g} (row "
+            f"{low + 1}) to {fast[high]:.3g} (row {high + 1}) × the path's speed; retimed rows by "
+            f"the network: {count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
+            f"{failed_mark(res)}")
+
+
+def _window_lines(res, window: int, n: int, span: float, traj) -> list[str]:
     """The summary's lines of --retime window: the register, the duration."""
     return [f"register: {res.futures} × {window} rows, each q, q', q'' and three torque sets "
             f"(as given, gravity, tangent: {3 * n} + {3 * n} words); 3 passes of the network per "
             "row",
             f"window time scaling: {count(res.ahead_rows, 'row')} ahead "
-            f"({res.futures} × window {window}); duration {res.retimed_t[-1]:.6g} s from rest to "
-            f"rest (as given {span:.6g} s{_end_speeds(traj)}); ṡ (leaving out the rest at start and "
-            f"end) {slowest:.3g} (row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the "
-            "path's speed; retimed rows by the network: "
-            f"{count(len(res.retimed_violations), 'violation')}{arriving_text(res)}"
-            f"{failed_mark(res)}"]
+            f"({res.futures} × window {window}); {_duration_text(res, span, traj)}"]
 
 
-def _envelope_lines(res, window: int, n: int, slowest: float, low: int, fast, high: int, span: float,
-                    traj) -> list[str]:
+def _envelope_lines(res, window: int, n: int, span: float, traj) -> list[str]:
     """The summary's lines of --retime envelope: the registers, what the network computed for the
     candidate futures, what the host took, the duration."""
     import numpy as np
@@ -1430,11 +1439,7 @@ def _envelope_lines(res, window: int, n: int, slowest: float, low: int, fast, hi
                  f" (of {R}, the fastest {R}), kept the plan taken before at {count(kept, 'row')} "
                  "(no candidate within the limits)" +
                  (f", waited at rest at {count(waited, 'row')} for a slower one" if waited else "") +
-                 f"; duration {res.retimed_t[-1]:.6g} s from rest to rest (as given {span:.6g} s"
-                 f"{_end_speeds(traj)}); ṡ (leaving out the rest at start and end) {slowest:.3g} "
-                 f"(row {low + 1}) to {fast[high]:.3g} (row {high + 1}) × the path's speed; retimed "
-                 f"rows by the network: {count(len(res.retimed_violations), 'violation')}"
-                 f"{arriving_text(res)}{failed_mark(res)}")
+                 f"; {_duration_text(res, span, traj)}")
     if env.refused:
         lines.append(f"  candidate rows the network's words could not hold or overflowed on: "
                      f"{env.refused:,} (refused, so not counted as the run's overflows)")
@@ -1527,16 +1532,9 @@ def lookahead_summary(ld, traj, times, window: int, lam: float, res, limits) -> 
         lines.append(wrapped("worst |q̇| / speed limit: ", items))
     if res.retimed is not None and res.k is None:
         fast = res.speed                      # the first and last rows are at rest
-        # (the rows named: the slowest is often the first step off rest, which a new user took
-        # for the path's slowest stretch)
-        low = 1 + int(np.argmin(fast[1:-1])) if len(fast) > 2 else 0
-        slowest = float(fast[low]) if len(fast) > 2 else 0.0
-        high = int(np.argmax(fast))
         n = len(ld.chain.joints)
-        if res.retime == "envelope":
-            lines += _envelope_lines(res, window, n, slowest, low, fast, high, span, traj)
-        else:
-            lines += _window_lines(res, window, n, slowest, low, fast, high, span, traj)
+        lines += (_envelope_lines if res.retime == "envelope" else _window_lines)(res, window, n,
+                                                                                  span, traj)
         # (a wait in the path, q' = 0, is run at the speed cap: 0.3 s became 3 ms, and the summary
         # gave only the ṡ range, a look-ahead stress test found)
         still = np.all(traj.qd == 0, axis=1)
