@@ -525,8 +525,7 @@ def _word_hint(ld, outcome) -> str:
     apart = _graph_apart(ld)
     if apart is not None:
         return (f" (not the word's: in float64 the program's graph differs from the reference "
-                f"Newton-Euler's by {apart:.1e} of the largest |τ| too; was the file's robot or "
-                "graph edited? Compile the robot again)")
+                f"Newton-Euler's by {apart:.1e} of the largest |τ| too; {_graph_cause(ld.graph)})")
     if isinstance(ld.arith, Fixed) and outcome.overflows:
         # (the values outgrew the integer bits: q2.62, already the widest word, was told a wider
         # one would do better, where q16.16 passes; an audit's)
