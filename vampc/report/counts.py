@@ -368,6 +368,20 @@ def path_conditions(chain) -> dict:
             **({"tip_force": True} if tip_force(chain) else {})}
 
 
+def _unaccounted(got: dict, paper: dict, reasons) -> tuple[int, int] | None:
+    """The (Mults, Addns) of a latency's difference from the paper's formula that `reasons` do not
+    account for, where each is a known count (ACCOUNTED); None where one is not."""
+    if not all(short in ACCOUNTED for short, _ in reasons):
+        return None
+    return (got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons),
+            got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons))
+
+
+def _sized(mults: int, adds: int) -> str:
+    """'−1 M, −3 A' (the nonzero parts)."""
+    return ", ".join(f"{plus_minus(v)} {unit}" for v, unit in ((mults, "M"), (adds, "A")) if v)
+
+
 def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     """Why a latency differs from the paper's formula, each reason as (short, sentence); `rep` holds
     the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints,
@@ -453,12 +467,8 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         # sized where every other reason is a known count: the rest of the difference is the
         # prefix's, with what Sklansky's leaves would have saved (a Kogge-Stone row's parts had come
         # to -1 A against -2 A, and a 3-joint one's -1 M -3 A had no size: a report audit's)
-        size = ""
-        if all(short in ACCOUNTED for short, _ in reasons):
-            rest = (got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons),
-                    got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons))
-            size = ", ".join(f"{plus_minus(v)} {unit}" for v, unit in zip(rest, ("M", "A")) if v) \
-                or "no change"
+        rest = _unaccounted(got, paper, reasons)
+        size = "" if rest is None else _sized(*rest) or "no change"
         reasons.append((f"a {rep['prefix']} prefix" + (f", {size}" if size else ""),
                         f"the paper's formula counts Sklansky's prefix network; a {rep['prefix']} "
                         "prefix has other depths" + (f" ({size} on the path here, the rest of the "
@@ -467,31 +477,29 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     # what the reasons above account for, where each is a known count: anything left is said to be
     # unexplained (the log recursion at n = 1 showed 2 Addns fewer than the reasons gave, its row
     # saying only the reasons: a new user's find)
-    if all(short in ACCOUNTED for short, _ in reasons):
-        left_m = got["mults"] - paper["mults"] - sum(ACCOUNTED[short][0] for short, _ in reasons)
-        left_a = got["adds"] - paper["adds"] - sum(ACCOUNTED[short][1] for short, _ in reasons)
-        if (left_m, left_a) != (0, 0):
-            left = ", ".join(f"{plus_minus(v)} {unit}" for v, unit in ((left_m, "M"), (left_a, "A"))
-                             if v)
-            ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
-            waits = got.get("waits") or 0
-            longest = got.get("data_path")          # the graph's longest data path (flops), if known
-            from vampc.machine.ops import Timing
-            if waits and longest is not None and longest > Timing(ml, al).flops(got["mults"],
-                                                                                got["adds"]) \
-                    and left_m <= 0 and left_a <= 0:
-                # (a budget schedule's critical path can be a shorter route that waited: the exact
-                # solver's Puma, 14 M + 42 A + 5 waiting = 61 on a route other than the 61-flop data
-                # path, was "-2 M, -3 A not explained"; where the route is the longest data path, a
-                # remainder stays unexplained: a one-joint log arm on 2 VAMPs, -2 A)
-                reasons.append((f"{left} on a route that waits",
-                                f"{left}: the schedule's critical path is another route than the "
-                                f"longest data path, with fewer ops and {count(waits, 'flop')} of "
-                                "waiting; the longest data path ends within the same latency"))
-            else:
-                reasons.append((f"{left} not explained",
-                                f"{left} on the path beyond what the reasons above account for: "
-                                "not explained yet (README, Figures against the paper)"))
+    rest = _unaccounted(got, paper, reasons)
+    if rest is not None and rest != (0, 0):
+        left_m, left_a = rest
+        left = _sized(left_m, left_a)
+        ml, al = rep["timing"]["mult_latency"], rep["timing"]["add_latency"]
+        waits = got.get("waits") or 0
+        longest = got.get("data_path")          # the graph's longest data path (flops), if known
+        from vampc.machine.ops import Timing
+        if waits and longest is not None and longest > Timing(ml, al).flops(got["mults"],
+                                                                            got["adds"]) \
+                and left_m <= 0 and left_a <= 0:
+            # (a budget schedule's critical path can be a shorter route that waited: the exact
+            # solver's Puma, 14 M + 42 A + 5 waiting = 61 on a route other than the 61-flop data
+            # path, was "-2 M, -3 A not explained"; where the route is the longest data path, a
+            # remainder stays unexplained: a one-joint log arm on 2 VAMPs, -2 A)
+            reasons.append((f"{left} on a route that waits",
+                            f"{left}: the schedule's critical path is another route than the "
+                            f"longest data path, with fewer ops and {count(waits, 'flop')} of "
+                            "waiting; the longest data path ends within the same latency"))
+        else:
+            reasons.append((f"{left} not explained",
+                            f"{left} on the path beyond what the reasons above account for: "
+                            "not explained yet (README, Figures against the paper)"))
     return reasons
 
 
