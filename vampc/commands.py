@@ -127,7 +127,6 @@ def _warn_limits_beyond_word(robot: str, c) -> None:
     at compile (a new user's q6.10 program of a 40 m slide compiled without a word)."""
     import numpy as np
 
-    from vampc.emulator.stream import conversion_overflows
     from vampc.robot.urdf_tree import listed
     word = c.options.arith()
     if not hasattr(word, "rounded"):
@@ -135,11 +134,11 @@ def _warn_limits_beyond_word(robot: str, c) -> None:
     said = []
     for i, j in enumerate(c.chain.joints, 1):
         lim = j.limits
-        if lim.qd is not None and conversion_overflows(word, np.array([lim.qd, -lim.qd])):
+        if lim.qd is not None and np.any(word.beyond(np.array([lim.qd, -lim.qd]))):
             said.append(f"'{j.name}' speed limit {lim.qd:g}")
         if j.sigma == 0 and lim.q is not None:
             ends = np.asarray(lim.q, dtype=float)
-            if conversion_overflows(word, np.concatenate([j.p_star(ends), j.s_star(ends)])):
+            if np.any(word.beyond(np.concatenate([j.p_star(ends), j.s_star(ends)]))):
                 said.append(f"'{j.name}' travel [{lim.q[0]:g}, {lim.q[1]:g}] (its p*{i}, s*{i})")
     if said:
         warnings.warn(VampcWarning(
