@@ -542,9 +542,8 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
                if retime == "window" else None)
     stage("planning")
     planned = out.planned(limits)
+    _check_plannable(out, ld, g, limits, names, retime, path)
     try:
-        check_word_error(limits, names, out.word_error, ld.arith.name)     # (said before, by the command)
-        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, retime)
         if retime == "uniform":
             k = uniform_k(tau, g, traj.qd, limits, names)        # the closed form, as defined
             used = uniform_k(tau, g, traj.qd, planned, names)
@@ -579,6 +578,17 @@ def run(ld, traj, window: int, limits: Limits, retime: str | None, emulate_rows,
         came = out.arriving_effort = (tangent - g) * before[:, None] + (tau - g) * x[:, None] + g
         out.arriving_violations = violations(came, np.zeros_like(traj.qd), limits)
     return _run_retimed(out, ld, limits, torques, stage, path, retime)
+
+
+def _check_plannable(out: Lookahead, ld, g, limits: Limits, names, retime: str, path: str) -> None:
+    """Refuse, naming the path, limits the word's error leaves no room under, or a row whose torque
+    at rest (`g`, the gravity pass) is over a limit: no retiming (`retime`) keeps such a path within
+    them."""
+    try:
+        check_word_error(limits, names, out.word_error, ld.arith.name)     # (said before, by the command)
+        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, retime)
+    except VampcError as exc:
+        raise VampcError(f"{path}: {exc}") from None
 
 
 def at_scaling(q, d1, d2, x, u, speed=None):
@@ -620,11 +630,7 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
     from vampc.emulator.host import Trajectory
     from vampc.robot.mimic import reduce_torques
     planned = out.planned(limits)
-    try:
-        check_word_error(limits, names, out.word_error, ld.arith.name)
-        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, "envelope")
-    except VampcError as exc:
-        raise VampcError(f"{path}: {exc}") from None
+    _check_plannable(out, ld, g, limits, names, "envelope", path)
     word = ld.arith
 
     def evaluate(rows):
