@@ -284,7 +284,9 @@ def test_a_pause_in_the_path_does_not_leave_the_move_after_it_crawling(setup, tm
     """The path stands still (q' = 0) for 150 rows, then moves: every candidate is within the limits
     at the top speed there, and U, doubling each row, had grown to 2^100 (or, braking before the move,
     halved to 1e-12), so the move took hours or was refused (an audit's: 386 s against the window
-    retiming's 0.43 s on a UR5). Now within three times the window retiming's duration."""
+    retiming's 0.43 s on a UR5). Now within 1.25 times the window retiming's duration (1.14 times
+    measured; 1.74 times with U let fall below the kept plan's s̈ again, which three times, this
+    test's bound before, let pass: a tests audit's)."""
     folder, program, limits, _ = setup
     path = pause_path(tmp_path)
     took = {}
@@ -295,14 +297,18 @@ def test_a_pause_in_the_path_does_not_leave_the_move_after_it_crawling(setup, tm
                                       "-o", str(out)])
         assert r.exit_code == 0, r.output
         took[retime] = np.loadtxt(out, delimiter=",", skiprows=1)[-1, 0]
-    assert took["envelope"] < 3 * took["window"], took
+    assert took["envelope"] < 1.25 * took["window"], took
 
 
 def test_many_futures_are_refused_before_any_pass_where_they_would_not_fit(setup, monkeypatch):  # noqa: F811
-    """--futures 65536 ran out of memory (an audit's): R × M candidate rows a step are counted."""
+    """--futures 65536 ran out of memory (an audit's): R × M candidate rows a step are counted, before
+    the network runs any pass (`finite` sees every pass's torques; none is run here)."""
+    from vampc import lookahead
     from vampc.emulator import driver
     folder, program, limits, path = setup
     monkeypatch.setattr(driver, "_available_memory", lambda: 2 * 10 ** 9)
+    passes = []
+    monkeypatch.setattr(lookahead, "finite", lambda *a, **k: passes.append(a[-1] if len(a) > 3 else ""))
     args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "64",
             "--limits", str(limits), "--retime", "envelope"]
     r = CliRunner().invoke(main, [*args, "--futures", "8192"])
@@ -310,6 +316,7 @@ def test_many_futures_are_refused_before_any_pass_where_they_would_not_fit(setup
                                           r"path's 601 need about [\d.]+ GiB with --retime envelope \([\d.]+ "
                                           r"GiB available\); give fewer --futures or a shorter --window",
                                           r.output), r.output
+    assert passes == [], passes
 
 
 def test_the_retimed_worst_ratio_counts_the_torques_arriving_at_each_row_too(default):
@@ -346,4 +353,25 @@ def test_a_path_standing_still_runs_at_the_top_speed_as_the_window_retimings_doe
         assert r.exit_code == 0, r.output
         took[retime] = np.loadtxt(tmp_path / f"{retime}.csv", delimiter=",", skiprows=1)[-1, 0]
         assert "retimed at ṡ up to 100 × the path's speed (at most 100)" in r.output, r.output
-    assert took["envelope"] < 3 * took["window"], took
+    assert took["envelope"] < 1.25 * took["window"], took
+
+
+def test_the_rows_entering_the_register_are_counted_against_the_clock(setup, tmp_path):  # noqa: F811
+    """At 365 kHz the candidates alone would come in time (1.603 ms against 1.62 ms), but with the
+    rows entering the register (2 passes a row at 1 kHz, 4 flops each: 2.19% of the clock) they do
+    not: refused, and the figures said are the program's (61 flops of latency, 4 a row) and the
+    clock's, worked out here (a tests audit found the entering rows' share removable with the
+    200 kHz and 20 MHz runs above still passing)."""
+    folder, program, limits, path = setup
+    clock = 365e3
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "32", "--limits", str(limits), "--retime", "envelope",
+                                  "-o", str(tmp_path / "never.csv"), "--clock", "365kHz"])
+    got = re.search(r"computes its (\d+) candidate rows in ([\d.]+) ms \(61 flops of latency and 4 a row at "
+                    r"365kHz\), and the arm runs the interval before it in ([\d.]+) ms, ([\d.]+)% of which the "
+                    r"rows entering the register take: it cannot keep up", r.output)
+    assert r.exit_code == 1 and got, r.output
+    rows, need, ran, share = int(got[1]), float(got[2]), float(got[3]), float(got[4]) / 100
+    assert need == pytest.approx((61 + (rows - 1) * 4) / clock * 1e3, abs=6e-4)     # (4 digits said)
+    assert share == pytest.approx(2 * 4 * 1e3 / clock, abs=6e-5)
+    assert ran * (1 - share) < need <= ran          # the share is what leaves it short
