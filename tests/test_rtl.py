@@ -854,6 +854,22 @@ def test_place_and_route_on_given_cells_does_not_repeat_them(tmp_path, monkeypat
     assert got["utilization"] == {"TRELLIS_FF": {"used": 9}}
 
 
+def _design_registers(c) -> dict:
+    """Every signal the Amaranth design of compiled program `c` drives in the sync domain (by id)."""
+    from amaranth.hdl import Fragment
+
+    from vampc.rtl.design import NetworkDesign
+    registers: dict[int, object] = {}
+
+    def walk(fragment):
+        for signal in (s for stmt in fragment.statements.get("sync", ()) for s in stmt._lhs_signals()):
+            registers[id(signal)] = signal
+        for sub, *_ in fragment.subfragments:
+            walk(sub)
+    walk(Fragment.get(NetworkDesign(loaded_from_compiled(c)), None))
+    return registers
+
+
 @pytest.mark.parametrize("options", [dict(layout="folded"), dict(), dict(vamps=3),
                                      dict(recursion="log", layout="folded")],
                          ids=["folded", "systolic", "budget3", "log-folded"])
@@ -864,20 +880,9 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
     synthesis drops. The report had left out each VAMP's Cycle-Counter, the slots' valid bits and
     the buffers' counter, and counted the delay fields a bit short where P is a power of two: 426
     of planar2 folded's 33 192 flip-flops (README, RTL: Yosys's count), an audit's."""
-    from amaranth.hdl import Fragment
-
     from vampc.report.counts import word_bits
-    from vampc.rtl.design import NetworkDesign
     c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(word="q16.16", **options))
-    ld = loaded_from_compiled(c)
-    registers: dict[int, object] = {}
-
-    def walk(fragment):
-        for signal in (s for stmt in fragment.statements.get("sync", ()) for s in stmt._lhs_signals()):
-            registers[id(signal)] = signal
-        for sub, *_ in fragment.subfragments:
-            walk(sub)
-    walk(Fragment.get(NetworkDesign(ld), None))
+    registers = _design_registers(c)
     unread = sum(1 for v in c.network.vamps for _ in v.slots for inputs in (v.a, v.b)
                  if len(inputs) == 1)
     bits = word_bits(c)
@@ -888,6 +893,28 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
     assert bits["input_port_bits"] == W * sum(p.size for p in c.network.ports) > 0
     if options == dict(layout="folded"):
         assert counted == 33_192            # Yosys's flip-flops of this network (README, RTL)
+
+
+def test_the_extraneous_vamp_is_counted_as_one_vamp_of_the_design():
+    """With error correction the report counts one VAMP more (the extraneous one, built as the
+    others, section VII): its data registers and Cycle-Counter are those of a VAMP of the plain
+    network's Amaranth design (VAMP 0's: operands a, b, the units' products and the result; `cc`),
+    and its ROM one more copy. (The RTL does not render the checking, so the plain design is the
+    independent count; a tests audit found the extraneous Cycle-Counter removable with every test
+    passing, the one below taking its expected figure from the stored file.)"""
+    from vampc.report.counts import word_bits
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    plain = compile_chain(chain, CompileOptions(word="q16.16"))
+    checked = compile_chain(chain, CompileOptions(word="q16.16", error_correction=True))
+    assert len(checked.network.vamps) == len(plain.network.vamps)
+    assert checked.network.period == plain.network.period
+    vamp0 = {s.name: len(s) for s in _design_registers(plain).values() if s.name.startswith("v0_")}
+    data = sum(w for name, w in vamp0.items() if re.fullmatch(r"v0_(a\d|b\d|u\dm\d|result\d)", name))
+    a, b = word_bits(plain), word_bits(checked)
+    assert data == 30 * 32
+    assert b["data_register_bits"] - a["data_register_bits"] == data
+    assert b["control_register_bits"] - a["control_register_bits"] == vamp0["v0_cc"] == 3
+    assert b["rom_bits"] - a["rom_bits"] == a["rom_bits_per_vamp"] > 0
 
 
 @pytest.mark.parametrize("checked", [False, True], ids=["plain", "error-correction"])
