@@ -5,6 +5,7 @@ the reference."""
 from __future__ import annotations
 
 import io
+import json
 import re
 import subprocess
 import sys
@@ -847,6 +848,19 @@ def test_a_limits_row_naming_a_locked_joint_is_passed_over_with_a_warning(tmp_pa
                                   "--trajectory", str(path), "--rate", "1kHz", "--window", "8",
                                   "--limits", str(limits)])
     assert r.exit_code == 1 and "line 8: no joint named 'nosuch'" in r.output, r.output
+    # the same from the program compiled with that --lock (README's workflow: compile, then look
+    # ahead): the program keeps which joints were locked; the row had been refused there, "no joint
+    # named 'wrist_3_joint' (did you mean 'wrist_2_joint'?)" (a README audit's)
+    program = tmp_path / "u5.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/ur5.urdf", "--lock", "wrist_3_joint=0", "-o",
+                                     str(program)]).exit_code == 0
+    assert json.loads(program.read_text())["robot"]["locked"] == ["wrist_3_joint"]
+    limits.write_text("joint,tau,qd\n" + "".join(f"{n},150,\n" for n in names))
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "8", "--limits", str(limits)])
+    assert r.exit_code == 0, r.output
+    assert f"vampc: warning: {limits}: line 7: joint 'wrist_3_joint' is locked (--lock): its limits " \
+           "are not used" in r.stderr, r.stderr
 
 
 def test_a_long_quoted_name_is_shown_whole():

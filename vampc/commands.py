@@ -1186,7 +1186,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         raise VampcUsageError(WRITE_FAILED_APPLIES)
     # what the network, the limits and the options decide, before the path is read (a long path's
     # read and checks came first, then a one-line refusal that needed none of it)
-    limits = la.limits_of(ld.chain, own.limits, source, robot_opts.locks())
+    # (a program keeps the joints its robot file's --lock took out: ld.chain.locked)
+    limits = la.limits_of(ld.chain, own.limits, source, (*robot_opts.locks(), *ld.chain.locked))
     info = any(o.is_stdout for o in outs.values())
     lam = 1.0 / rate
     # passes per row as it enters: as given, gravity, tangent (the envelope's candidates: below)

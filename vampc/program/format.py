@@ -95,6 +95,10 @@ class RobotDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True)
                                                 "host derives each follower's inputs from its leader "
                                                 "and adds its torque, times the multiplier, to the "
                                                 "leader's; absent when there are none.")] = None
+    locked: Annotated[list[str] | None, Meta(description="The joints --lock took out of the robot "
+                                             "file (their names, as given), so that a limits file "
+                                             "naming one is passed over with a warning; absent "
+                                             "when there are none.")] = None
 
 
 class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):

@@ -44,6 +44,9 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
                       mimic_given)
     _check_finite(chain, path)
     _check_names(chain, path)
+    if lock:
+        import dataclasses
+        chain = dataclasses.replace(chain, locked=tuple(lock))
     return chain
 
 

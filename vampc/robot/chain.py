@@ -168,6 +168,9 @@ class Chain:
     base_com: np.ndarray = field(default_factory=lambda: np.zeros(3))
     base_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     mimic: tuple[Mimic, ...] = ()            # coupled joints, by follower (vampc.robot.mimic)
+    # the joints --lock took out of the robot file (their names, as given): a program file keeps
+    # them, so that a limits file naming one is passed over as it is with the robot file
+    locked: tuple[str, ...] = ()
 
     @property
     def n(self) -> int:
