@@ -317,7 +317,7 @@ def test_a_failed_float64_check_of_an_edited_robot_says_why(tmp_path):
     assert _run("compile", EXAMPLES / "planar2.yaml", "-o", prog).exit_code == 0
     edited = edited_program(prog, tmp_path, lambda d: d["robot"]["joints"][1].update(mass=3.0))
     hint = re.compile(r": FAILED \(the program's graph differs from the reference Newton-Euler's by "
-                      r"\d\.\de-01 of the largest \|τ\| too: was the file's robot or graph edited\? "
+                      r"\d\.\de-01 of a set's largest \|τ\| too: was the file's robot or graph edited\? "
                       r"Compile the robot again\)\n")
     res = _run("emulate", edited, "--random", 5, "--check")
     assert res.exit_code == 1 and hint.search(res.output), res.output

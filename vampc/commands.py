@@ -422,7 +422,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
             f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
             f"{number_text(own.tolerance or default_tolerance(word))}: "
-            f"{'OK' if ok else 'FAILED'}" + ("" if ok or own.fault else _edited_hint(ld)), info)
+            f"{'OK' if ok else 'FAILED'}"
+            + ("" if ok or own.fault else _edited_hint(ld, states.chunk(ld.chain, res.worst_row, 1))),
+            info)
     elif outcome.check is not None:
         say(word_check_text(ld, outcome, tolerance, ok, faulted=bool(own.fault)), info)
     return ok
@@ -494,14 +496,24 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
     return "\n".join(lines)
 
 
-def _edited_hint(ld) -> str:
+def _edited_hint(ld, worst=None) -> str:
     """After a failed float64 check: where the program's graph itself misses the reference, the
     file's robot or constants were edited (a mass edit, checksum made again, failed 'FAILED' with
-    nothing said: a new user's find; precision said why)."""
-    apart = _graph_apart(ld)
+    nothing said: a new user's find; precision said why), or the log recursion rounds. `worst`:
+    the state the check found worst (a Trajectory of one), tried with the graph's own random
+    states, each against its own largest |τ| as the check measures it (the graph was tried on 16
+    states against their largest |τ| alone: a set of small torques, 4e-9 of its own by the log
+    recursion's rounding, failed the check with nothing said, a fuzz audit's)."""
+    apart = _graph_apart(ld, also=worst)
     return ("" if apart is None else
-            f" (the program's graph differs from the reference Newton-Euler's by {apart:.1e} of the "
-            f"largest |τ| too: {_graph_cause(ld.graph)})")
+            f" (the program's graph differs from the reference Newton-Euler's by {apart:.1e} of a "
+            f"set's largest |τ| too: {_graph_cause(ld.graph)})")
+
+
+def _state(traj, k: int):
+    """State k of a trajectory, as a trajectory of one."""
+    from vampc.emulator.driver import States
+    return States(traj.count, traj).chunk(None, k, 1)
 
 
 def _graph_cause(graph) -> str:
@@ -509,8 +521,8 @@ def _graph_cause(graph) -> str:
     tree (README, The log recursion's rounding on trees), or an edit of the file. (A spindle 100 m
     from an arm's base was told its file was edited, compiled on the fly: an audit's.)"""
     from vampc.kinds import Recursion
-    own = ("the log recursion's float64 rounding (it sums a tree's forces about the base: a fast "
-           "branch far from it loses digits; compare --recursion linear), or "
+    own = ("the log recursion's float64 rounding (it sums forces and moments about the base: a "
+           "fast branch, or a mass, far from it loses digits; compare --recursion linear), or "
            if graph.recursion is Recursion.LOG else "")
     return f"{own}was the file's robot or graph edited? Compile the robot again"
 
@@ -537,22 +549,31 @@ def _word_hint(ld, outcome) -> str:
     return " (a wider --word would do better; `vampc precision` finds one)"
 
 
-def _graph_apart(ld, sets: int = 16) -> float | None:
+def _graph_apart(ld, sets: int = 16, also=None) -> float | None:
     """The program's graph in float64 against the reference on `sets` random states: the largest
-    difference relative to the largest |τ| when over GRAPH_AGREES, else None (it agrees)."""
+    difference relative to the largest |τ| when over GRAPH_AGREES, else None (it agrees). `also`:
+    more states (a Trajectory), and then each state's difference is taken relative to its own
+    largest |τ|, as emulate's float64 --check takes it (vampc.emulator.host.check_torques)."""
     import numpy as np
 
     from vampc.dataflow.evaluate import evaluate
     from vampc.dynamics.reference import rnea
     from vampc.emulator.driver import random_states
+    from vampc.emulator.host import Trajectory
     traj = random_states(ld.chain, 0, sets, 0)
+    if also is not None:
+        traj = Trajectory(*(np.concatenate([a, b]) for a, b in
+                            ((traj.q, also.q), (traj.qd, also.qd), (traj.qdd, also.qdd))),
+                          None, None if traj.base is None else np.concatenate([traj.base, also.base]))
     with np.errstate(all="ignore"):
         ref = rnea(ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
         got = evaluate(ld.graph, ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
-    scale = float(np.abs(ref).max(initial=0.0))
-    if not (np.isfinite(ref).all() and np.isfinite(got).all()) or scale == 0.0:
+    scale = (np.abs(ref).max(axis=1, keepdims=True) if also is not None else
+             float(np.abs(ref).max(initial=0.0)))
+    if not (np.isfinite(ref).all() and np.isfinite(got).all()) or np.max(scale) == 0.0:
         return None
-    worst = float(np.abs(got - ref).max(initial=0.0)) / scale
+    with np.errstate(all="ignore"):
+        worst = float(np.max(np.abs(got - ref) / np.maximum(scale, 1e-12)))
     return worst if worst > GRAPH_AGREES else None
 
 
@@ -1322,7 +1343,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         else:
             line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
                     f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}"
-                    + ("" if same or overflows else _edited_hint(ld)))
+                    + ("" if same or overflows else
+                       _edited_hint(ld, _state(traj, check.worst_row) if ld.word is None else None)))
         within, arrived = [], []
         if res.retimed is not None and _reference_finite(check):   # (else nothing to check by)
             from vampc.dynamics.reference import rnea
