@@ -586,7 +586,8 @@ def _check_plannable(out: Lookahead, ld, g, limits: Limits, names, retime: str, 
     them."""
     try:
         check_word_error(limits, names, out.word_error, ld.arith.name)     # (said before, by the command)
-        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, retime)
+        check_gravity(g, limits, names, PLAN_MARGIN, out.word_error, ld.arith.name, retime,
+                      at_rest(ld.chain))
     except VampcError as exc:
         raise VampcError(f"{path}: {exc}") from None
 
@@ -803,12 +804,25 @@ def check_word_error(limits: Limits, names, error: float, word: str) -> None:
                              "within that, or use a wider word: vampc precision names one)")
 
 
+def at_rest(chain) -> str:
+    """What makes a robot's torque at rest (its gravity pass, q̇ = q̈ = 0), for messages: "gravity
+    alone", or gravity, the tip load and the base's motion as the robot has them (a tip load on
+    a robot without gravity had been called "gravity alone": a fuzz audit's)."""
+    parts = [what for what, values in (("gravity", [chain.gravity]),
+                                       ("the tip load", [chain.tip_force, chain.tip_torque]),
+                                       ("the base's motion", [chain.base_omega, chain.base_omega_dot]))
+             if any(np.any(v) for v in values)]
+    if len(parts) <= 1:
+        return f"{parts[0] if parts else 'gravity'} alone"
+    return ", ".join(parts[:-1]) + f" and {parts[-1]}"
+
+
 def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, error: float = 0.0,
-                  word: str | None = None, retime: str = "uniform") -> None:
-    """VampcError where gravity alone (the torque at rest) is beyond a limit, or inside it by less
-    than the retiming keeps: `error` (the torque a `word` network may be off by) and `margin` of the
-    rest. No uniform scaling helps there; the window retiming (`retime` "window") plans to be able
-    to stop at any row it sees, so it needs every row restable, though a path braking through such
+                  word: str | None = None, retime: str = "uniform", rest: str = "gravity alone") -> None:
+    """VampcError where the torque at rest (gravity alone, or what `rest` says makes it: `at_rest`)
+    is beyond a limit, or inside it by less than the retiming keeps: `error` (the torque a `word`
+    network may be off by) and `margin` of the rest. No uniform scaling helps there; the window
+    retiming (`retime` "window") plans to be able to stop at any row it sees, so it needs every row restable, though a path braking through such
     rows may exist (a look-ahead stress test's Puma shoulder swinging through 46 N·m of gravity
     against 44: the message had said no time scaling helps)."""
     lim = np.array(limits.tau)
@@ -827,7 +841,7 @@ def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, err
                 "needs the arm able to rest at each (a path braking through such rows is not "
                 "planned)")
         raise VampcError(f"row {r + 1}: joint '{names[j]}' needs {g[r, j]:.12g} at rest "
-                         f"(gravity alone), {how}: {then}")
+                         f"({rest}), {how}: {then}")
 
 
 PLAN_MARGIN = 1e-9
