@@ -44,9 +44,9 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
                       mimic_given)
     _check_finite(chain, path)
     _check_names(chain, path)
-    if lock:
+    if chain.locked:     # (the user's --lock only: not a joint an MJCF equality held)
         import dataclasses
-        chain = dataclasses.replace(chain, locked=tuple(lock))
+        chain = dataclasses.replace(chain, locked=tuple(n for n in chain.locked if n in (lock or {})))
     return chain
 
 

@@ -219,7 +219,10 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     chain = _coupled(chain, leaders, path) if leaders else chain
     if turned:                       # (said once the robot is made: an error comes alone)
         warnings.warn(VampcWarning(turned), stacklevel=3)
-    return chain
+    # the locks that took a joint out (below the base) or placed one (above it), in the order given;
+    # not one said to have no effect, so that its program is the one without it
+    taken = tuple(name for name in given if name in lock or name in above_locks)
+    return dataclasses.replace(chain, locked=taken) if taken else chain
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
