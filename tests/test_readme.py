@@ -1,6 +1,7 @@
-"""The README cannot drift: every command of its code blocks runs (exit 0) from a fresh folder holding
-the examples, the files its prose uses are made by commands it gives, and the figures it quotes
-beside the paper's are the report's."""
+"""The README cannot drift: every command of its code blocks runs (exit 0) from a folder holding the
+examples and the programs its compile commands make (each read only after a command that makes it),
+the files its prose uses are made by commands it gives, and the figures it quotes beside the
+paper's are the report's."""
 from __future__ import annotations
 
 import json
@@ -49,6 +50,21 @@ def readme_folder(tmp_path_factory):
     finally:
         os.chdir(here)
     return folder
+
+
+def test_each_program_a_readme_command_reads_is_made_by_a_command_before_it():
+    """The commands run as cases of their own, from a folder holding every program the README's
+    compile commands make (below); in the README's order, each program a command reads must have
+    been made by an earlier one, as a reader running them one by one needs (the single test that
+    ran them in order had checked that)."""
+    made = set()
+    for command in code_block_commands():
+        words = shlex.split(command)
+        out = {words[k + 1] for k, w in enumerate(words[:-1]) if w in ("-o", "--output")}
+        read = {w for w in words if w.endswith((".vamp.json", ".vamp.json.gz")) and w not in out}
+        assert read <= made, f"{command}: reads {sorted(read - made)} before a command makes it"
+        made |= {w for w in out if w.endswith((".vamp.json", ".vamp.json.gz"))}
+    assert len(made) >= 5
 
 
 # one case a command, so that the two test workers share them (the whole README in one test took

@@ -1191,11 +1191,12 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # (a fuzz audit's DH arm on a base turning at 3 rad/s: the window plan went 1.22 times over
         # a limit by the reference dynamics, the uniform k 1.22 times, neither said until the
         # network's pass over the retimed rows failed)
-        raise VampcError(f"{source}: the base turns (base omega {list(map(float, ld.chain.base_omega))} "
-                         f"rad/s), which adds to each torque a term in the path's speed ṡ itself, not "
-                         f"only in ṡ² and s̈; --retime {own.retime} plans on τ = a s̈ + b ṡ² + c "
-                         "and cannot keep the limits here: --retime envelope, which runs every "
-                         "candidate through the network, can")
+        model = ("τ_g + (τ - τ_g)/k²" if own.retime == "uniform" else "τ = a s̈ + b ṡ² + c")
+        raise VampcUsageError(f"--retime {own.retime}: {source}: the base turns (base omega "
+                              f"{list(map(float, ld.chain.base_omega))} rad/s), which adds to each "
+                              "torque a term in the path's speed ṡ itself, not only in ṡ² and s̈; "
+                              f"this retiming plans on {model} and cannot keep the limits here: "
+                              "--retime envelope, which runs every candidate through the network, can")
     warn_what_if(source, ld, "the register's network runs in")
     later = []              # warnings said once the run has gone through (an error stays one line)
     if ld.net.checking is not None:          # (--error-correction was taken, and nothing said)

@@ -1120,11 +1120,12 @@ class RtlOptions:
         "--max-minutes: Fmax and utilisation."))
     max_minutes: float = field(default=30.0, metadata=cli(
         "--max-minutes", type=float, metavar="M", show_default=True, help="What each step may "
-        "take: one estimated longer (a co-simulation; the synthesis, or place and route, of each "
-        "kind of VAMP) is refused before it starts; the whole network's synthesis and place and "
-        "route are left out instead (said on stderr, null in the JSON). A step still running after M minutes is stopped: the run "
-        "ends with exit 1 and writes nothing, the figures of the steps before included (README, "
-        "vampc rtl)."))
+        "take (0 < M <= 10080, a week). A step estimated longer (writing the Verilog, a "
+        "co-simulation, the synthesis or place and route of each kind of VAMP) is refused before it "
+        "starts, exit 1; the whole network's synthesis and place and route are not refused but left "
+        "out (said on stderr, null in the JSON). A step still running after M minutes is stopped: "
+        "the run ends with exit 1 and writes nothing, the figures of the steps before included "
+        "(README, vampc rtl)."))
     fmt: str = field(default="text", metadata=cli(
         "--format", choices=lambda: ("text", "json"), show_default=True, help="text or json "
         "(the figures of --cosim, --synth and --pnr)."))
