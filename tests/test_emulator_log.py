@@ -29,9 +29,11 @@ EXAMPLES = Path(__file__).parent.parent / "examples"
 def test_every_shape_puma_1000_states(prefix, uniform):
     ld = loaded(load_robot(EXAMPLES / "puma560.yaml"), recursion="log", prefix=prefix,
                 uniform_leaves=uniform)
-    traj, stream, tick = run_both(ld, 1000, tick_count=200)
+    # (the tick engine on 60 sets: the Puma's log network holds 11 in flight, so the pipeline is
+    # full from the 12th; 200 had taken 5 s of the suite's 4 minutes for ten shapes)
+    traj, stream, tick = run_both(ld, 1000, tick_count=60)
     assert check_torques(ld.chain, traj, stream.tau).ok
-    assert np.array_equal(stream.tau[:200], tick.tau)
+    assert np.array_equal(stream.tau[:60], tick.tau)
 
 
 def _every_shape(n, seed, prefix, uniform):

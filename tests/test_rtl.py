@@ -46,12 +46,13 @@ def _cosim(ld, sets=3, seed=1, simulator="amaranth", design=None):
 
 # Amaranth elaborates and compiles a design for its simulator at about 0.1 s a VAMP: the Puma 560's
 # systolic network (180 VAMPs) takes 20-25 s. To keep the suite within its 4 minutes, the suite runs
-# planar2 systolic and folded in q16.16 (the random small chains below draw q12.20 and q20.12 too);
-# the Puma's runs (its folded q16.16 one too: 7.7 s) and every q12.20 configuration are marked slow
+# planar2 folded in q16.16 and a one-joint systolic network (test_cosim_log_budget_and_rules; the
+# random small chains below draw q12.20 and q20.12 too); planar2's systolic run (60 VAMPs, 6 s), the
+# Puma's runs (its folded q16.16 one too: 7.7 s) and every q12.20 configuration are marked slow
 # (pytest -m slow), and benchmarks/rtl.py runs every configuration with 10 torque sets.
 CONFIGS = [(r, lay, w) for r in ("planar2", "puma560") for lay in ("systolic", "folded")
            for w in ("q16.16", "q12.20")]
-SLOW = {("puma560", "systolic", "q16.16"), ("puma560", "systolic", "q12.20"),
+SLOW = {("planar2", "systolic", "q16.16"), ("puma560", "systolic", "q16.16"), ("puma560", "systolic", "q12.20"),
         ("puma560", "folded", "q16.16"),
         ("puma560", "folded", "q12.20"), ("planar2", "folded", "q12.20"),
         ("planar2", "systolic", "q12.20")}
@@ -68,14 +69,16 @@ def test_cosim_bit_equal(robot, layout, word):
 
 
 # planar2's log network on 6 VAMPs (1.9 s) runs every op of the log recursion; its systolic one (80
-# VAMPs, 8.4 s) and its folded one run under -m slow (the suite's 4 minutes)
+# VAMPs, 8.4 s) and its folded one run under -m slow (the suite's 4 minutes); a one-joint systolic
+# network stands for planar2's (60 VAMPs, 6 s, under -m slow with the other systolic ones)
 @pytest.mark.parametrize("robot, options", [
     pytest.param("planar2", dict(recursion="log"), marks=pytest.mark.slow),
     ("planar2", dict(recursion="log", vamps=6)), ("planar2", dict(vamps=6)),
     pytest.param("planar2", dict(layout="folded", recursion="log"), marks=pytest.mark.slow),
     (random_chain(1, 11), dict(rounding="truncate", overflow="wrap", vamps=2)),
-    (random_chain(1, 13), dict(mult_latency=2, add_latency=3, vamps=2))],
-    ids=["log", "log-budget6", "budget6", "folded-log", "truncate-wrap", "latencies"])
+    (random_chain(1, 13), dict(mult_latency=2, add_latency=3, vamps=2)),
+    (random_chain(1, 5, prismatic_fraction=0.5), dict())],
+    ids=["log", "log-budget6", "budget6", "folded-log", "truncate-wrap", "latencies", "systolic1"])
 def test_cosim_log_budget_and_rules(robot, options):
     ld = _loaded(robot, word="q16.16", **options)
     r = _cosim(ld)
