@@ -823,8 +823,9 @@ def check_gravity(g: np.ndarray, limits: Limits, names, margin: float = 0.0, err
     is beyond a limit, or inside it by less than the retiming keeps: `error` (the torque a `word`
     network may be off by) and `margin` of the rest. No uniform scaling helps there; the window
     retiming (`retime` "window") plans to be able to stop at any row it sees, so it needs every row
-    restable, though a path braking through such rows may exist (a look-ahead stress test's Puma shoulder swinging through 46 N·m of gravity
-    against 44: the message had said no time scaling helps)."""
+    restable, though a path braking through such rows may exist (a look-ahead stress test's Puma
+    shoulder swinging through 46 N·m of gravity against 44: the message had said no time scaling
+    helps)."""
     lim = np.array(limits.tau)
     g = g[:, :len(lim)]
     alone = np.argwhere(np.abs(g) > (lim - error) * (1 - margin))
