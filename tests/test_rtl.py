@@ -89,7 +89,8 @@ def test_cosim_log_budget_and_rules(robot, options):
 # at n = 4, 10-20 s to elaborate here), so random systolic chains are of 1 joint: every op and slot
 # kind is already in it, planar2 (2 joints) systolic runs above (q12.20 under -m slow), and Puma systolic
 # under -m slow. (At 2 joints one draw took up to 28 s of the suite's 4 minutes.)
-@settings(max_examples=2, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# (one draw a run, about 3 s, for the suite's 4 minutes; the fixed cases above cover each layout)
+@settings(max_examples=1, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(shape=st.one_of(st.tuples(st.just("folded"), st.integers(1, 4)),
                        st.tuples(st.just("systolic"), st.just(1))),
        seed=st.integers(0, 10**6), word=st.sampled_from(["q16.16", "q12.20", "q20.12"]))
