@@ -454,3 +454,17 @@ def test_a_failed_float64_check_names_the_log_recursions_rounding_on_the_set_it_
         "Newton-Euler's by" in r.output, r.output
     assert "of a set's largest |τ| too: the log recursion's float64 rounding" in r.output
     assert CliRunner().invoke(main, args).exit_code == 0
+
+
+def test_a_robot_compiled_in_the_run_is_not_told_to_be_compiled_again(tmp_path):
+    """The hint after a failed check named an edited file and "Compile the robot again" where the
+    command had just compiled the robot file itself (a new user's); a program file still hears it."""
+    robot = tmp_path / "farcom2.yaml"
+    robot.write_text(FAR_MASS)
+    r = CliRunner().invoke(main, ["emulate", str(robot), "--recursion", "log", "--random", "1000", "--check"])
+    assert r.exit_code == 1 and "the log recursion's float64 rounding" in r.output, r.output
+    assert "edited" not in r.output and "Compile the robot again" not in r.output, r.output
+    program = tmp_path / "fc.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(robot), "--recursion", "log", "-o", str(program)]).exit_code == 0
+    r = CliRunner().invoke(main, ["emulate", str(program), "--random", "1000", "--check"])
+    assert r.exit_code == 1 and "or was the file's robot or graph edited? Compile the robot again" in r.output

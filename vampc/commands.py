@@ -508,7 +508,7 @@ def _edited_hint(ld, worst=None) -> str:
     of = "a set's largest |τ|" if worst is not None else "the largest |τ|"
     return ("" if apart is None else
             f" (the program's graph differs from the reference Newton-Euler's by {apart:.1e} of "
-            f"{of} too: {_graph_cause(ld.graph)})")
+            f"{of} too: {_graph_cause(ld.graph, ld.path)})")
 
 
 def _state(traj, k: int):
@@ -517,15 +517,21 @@ def _state(traj, k: int):
     return States(traj.count, traj).chunk(None, k, 1)
 
 
-def _graph_cause(graph) -> str:
+def _graph_cause(graph, source: str | None = None) -> str:
     """Why a program's graph in float64 misses the reference: the log recursion's rounding on a
     tree (README, The log recursion's rounding on trees), or an edit of the file. (A spindle 100 m
-    from an arm's base was told its file was edited, compiled on the fly: an audit's.)"""
+    from an arm's base was told its file was edited, compiled on the fly: an audit's.) `source`:
+    a robot file compiled in this run has no program to have been edited (a new user was told to
+    compile again the robot the command had just compiled)."""
     from vampc.kinds import Recursion
-    own = ("the log recursion's float64 rounding (it sums forces and moments about the base: a "
-           "fast branch, or a mass, far from it loses digits; compare --recursion linear), or "
-           if graph.recursion is Recursion.LOG else "")
-    return f"{own}was the file's robot or graph edited? Compile the robot again"
+    from vampc.sniff import is_program
+    log = graph.recursion is Recursion.LOG
+    rounding = ("the log recursion's float64 rounding (it sums forces and moments about the base: a "
+                "fast branch, or a mass, far from it loses digits; compare --recursion linear)")
+    from pathlib import Path
+    if source is not None and Path(source).is_file() and not is_program(source):
+        return rounding if log else "the robot was compiled in this run: a fault in vampc, please report it"
+    return f"{rounding + ', or ' if log else ''}was the file's robot or graph edited? Compile the robot again"
 
 
 def _word_hint(ld, outcome) -> str:
@@ -537,7 +543,7 @@ def _word_hint(ld, outcome) -> str:
     apart = _graph_apart(ld)
     if apart is not None:
         return (f" (not the word's: in float64 the program's graph differs from the reference "
-                f"Newton-Euler's by {apart:.1e} of the largest |τ| too; {_graph_cause(ld.graph)})")
+                f"Newton-Euler's by {apart:.1e} of the largest |τ| too; {_graph_cause(ld.graph, ld.path)})")
     if isinstance(ld.arith, Fixed) and outcome.overflows:
         # (the values outgrew the integer bits: q2.62, already the widest word, was told a wider
         # one would do better, where q16.16 passes; an audit's)
@@ -1035,7 +1041,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                          f"float64 its torques differ from the reference Newton-Euler's by "
                          f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, joint "
                          f"{joint + 1}), so the errors observed would not be the word's: "
-                         f"{_graph_cause(graph)}")
+                         f"{_graph_cause(graph, source)}")
     rows = []
     with np.errstate(over="ignore", invalid="ignore"):   # (a peak past the float range: no fit)
         fits = {bits: fitted(graph, chain, bits, Rounding(rounding), ranges) for bits in own.widths()}
