@@ -129,7 +129,7 @@ def _warn_limits_beyond_word(robot: str, c) -> None:
 
     from vampc.robot.urdf_tree import listed
     word = c.options.arith()
-    if not hasattr(word, "rounded"):
+    if not hasattr(word, "beyond"):                  # float words: nothing beyond them
         return
     said = []
     for i, j in enumerate(c.chain.joints, 1):
@@ -288,12 +288,18 @@ def _counted_before(key: str, stored, c) -> bool:
     without its input ports, the extraneous VAMP's data registers, ROM and Cycle-Counter (until
     2026-12-05, later), and before that its control register bits without the Cycle-Counters and
     the slots' valid bits, the delay fields at ceil(log2 P) bits (until 2026-12-05)."""
-    from vampc.report.counts import counter_bits, packages, values_bits, word_bits
+    from vampc.report.counts import (
+        counter_bits,
+        packages,
+        physical_vamps,
+        values_bits,
+        word_bits,
+    )
     if key == "word" and isinstance(stored, dict) and c.options.word != "float64":
         from vampc.machine import ops
         net = c.network
         now = jsontext.loads(jsontext.dumps(word_bits(c)))
-        extra = (len(net.checking.order) - len(net.vamps)) if net.checking is not None else 0
+        extra = physical_vamps(net) - len(net.vamps)
         earlier = {k: v for k, v in now.items() if k != "input_port_bits"}
         earlier.update(data_register_bits=now["data_register_bits"] // (len(net.vamps) + extra)
                        * len(net.vamps), rom_bits=now["rom_bits_per_vamp"] * len(net.vamps),
@@ -528,7 +534,6 @@ def _graph_cause(graph, source: str | None = None) -> str:
     log = graph.recursion is Recursion.LOG
     rounding = ("the log recursion's float64 rounding (it sums forces and moments about the base: a "
                 "fast branch, or a mass, far from it loses digits; compare --recursion linear)")
-    from pathlib import Path
     if source is not None and Path(source).is_file() and not is_program(source):
         return rounding if log else "the robot was compiled in this run: a fault in vampc, please report it"
     return f"{rounding + ', or ' if log else ''}was the file's robot or graph edited? Compile the robot again"

@@ -723,14 +723,14 @@ def check_memory(rows: int, columns: int, retime: str | None, path: str,
     taken in blocks; a longer one still can be). `register_rows`: --retime envelope's R × M rows of
     candidates a step (--futures 65536 ran out of memory: an audit's)."""
     from vampc.emulator import driver
+    candidates = 2 * register_rows * columns * ENVELOPE_BYTES_PER_ROW_COLUMN
     need = rows * columns * BYTES_PER_ROW_COLUMN[retime] + \
-        (pairs_bytes(rows, columns) if retime == "window" else 0) + \
-        2 * register_rows * columns * ENVELOPE_BYTES_PER_ROW_COLUMN
+        (pairs_bytes(rows, columns) if retime == "window" else 0) + candidates
     avail = driver.short_of_memory(need)
     if avail is None:
         return
     how = f" with --retime {retime}" if retime else ""
-    if register_rows * 2 * columns * ENVELOPE_BYTES_PER_ROW_COLUMN > need / 2:
+    if candidates > need / 2:
         raise VampcError(f"{path}: {register_rows:,} rows of candidates a step (--futures × "
                          f"--window) and the path's {rows:,} need about {need / 2**30:.1f} GiB"
                          f"{how} ({avail / 2**30:.1f} GiB available); give fewer --futures or a "
@@ -1311,8 +1311,10 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
             held = xs[-1, 1] < x0 + 2.0 * lam * U * (1 - 1e-9)
             # (and not below the s̈ of the plan taken before: braking, U had halved every row to
             # 1e-12, and took 40 rows of hours each to grow back: an envelope audit's)
-            U = min(U * 2, top) if not bad[-1] and not held else U if not bad[-1] else \
-                max(U / 2, abs(kept))
+            if bad[-1]:
+                U = max(U / 2, abs(kept))
+            elif not held:
+                U = min(U * 2, top)
             if not bad.all():
                 r = int(np.flatnonzero(~bad)[-1])     # the fastest within the limits
                 plan = xs[r]
