@@ -388,6 +388,12 @@ class TickEngine:
                                                     for i in range(3))
         self.gb_rows, self.gb_cols, self.gb_taps = (np.array([g[i] for g in gb], dtype=np.int64)
                                                     for i in range(3))
+        # per slot: whether each operand's three tag rows are one row (a vector's: its set tag
+        # is that row's, _combine of three equal tags), and the unit its op's result is in
+        self.ga_single, self.gb_single = ((taps[:, 0] == taps[:, 1]) & (taps[:, 1] == taps[:, 2])
+                                          for taps in (self.ga_taps.reshape(-1, 3),
+                                                       self.gb_taps.reshape(-1, 3)))
+        self.s_result = np.array([rom.result_unit(int(r)) for r in self.s_rom], dtype=np.int64)
         self.step_at = {}               # counter -> [(rom, step, slots)]
         timing = self.ld.timing
         for r in range(len(ROM)):
@@ -404,11 +410,11 @@ class TickEngine:
     def _dump(self, dumps, regs, tags) -> None:
         """The slots `dumps` drive their VAMPs' result registers `regs` (and set tags `tags`): a
         broken slot's with garbage."""
+        if dumps.size > 1:      # by ROM entry, stably: of two slots dumping into one VAMP
+            dumps = dumps[np.argsort(self.s_rom[dumps], kind="stable")]    # the later one's
         v = self.slot_vamp[dumps]
-        for r in np.unique(self.s_rom[dumps]):
-            sel = v[self.s_rom[dumps] == r]
-            regs[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
-            regs[sel, 3:] = 0
+        regs[v, :3] = self.units[v, self.s_result[dumps], :]
+        regs[v, 3:] = 0
         tags[v] = self.utag[v]
         bad = self.broken[dumps]
         if bad.any():
@@ -514,12 +520,15 @@ class TickEngine:
         v = self.slot_vamp[slots]
         (self.op_a if which == "a" else self.op_b)[v] = self.bus[rows[slots], cols[slots]]
         if self.tagged:
-            (self.tag_a if which == "a" else self.tag_b)[v] = _combine(self.tag[taps[slots]])
+            single = (self.ga_single if which == "a" else self.gb_single)[slots]
+            # a vector's tag rows are one row: its tag is that row's (_combine of three equal)
+            tags = self.tag[taps[slots, 0]] if single.all() else _combine(self.tag[taps[slots]])
+            (self.tag_a if which == "a" else self.tag_b)[v] = tags
             (self.owner_a if which == "a" else self.owner_b)[v] = slots
 
     def _step(self, r: int, j: int, slots, t: int) -> None:
         idx = self.slot_vamp[slots]
-        am, bm = rom.registers(r, self.op_a[idx], self.op_b[idx])
+        am, bm = rom.registers(r, self.op_a, self.op_b, idx)
         units = self.units[idx]
         word = self.word
         before, word.track = word.overflows, []
@@ -551,7 +560,9 @@ class TickEngine:
             self._check_owner(r, j, slots, idx, t)
         if 0 < j < reading:
             self._check_relatch(r, j, idx, t)
-        if j == 0:
+        # the tag the op's first step took (_combine2 of its operands') is UNKNOWN where an operand
+        # holds no set's value or the two hold different sets: else neither check below can fail
+        if j == 0 and count_nonzero(self.utag[idx] == UNKNOWN):
             ta, tb = self.tag_a[idx], self.tag_b[idx]
             mixed = (ta >= 0) & (tb >= 0) & (ta != tb)
             if self.steady[0] <= t < self.steady[1]:

@@ -75,10 +75,14 @@ def result_unit(rom: int) -> int:
     return TABLE[ROM[rom][0]].result
 
 
-def registers(rom: int, op_a: np.ndarray, op_b: np.ndarray):
-    """Each module's operand registers: two arrays (..., 3 modules, 3 registers)."""
+def registers(rom: int, op_a: np.ndarray, op_b: np.ndarray, rows: np.ndarray | None = None):
+    """Each module's operand registers: two arrays (..., 3 modules, 3 registers); with `rows`, of
+    those rows of op_a and op_b (2-D) only, gathered at once (the tick engine's VAMPs)."""
     va, vb = _views(rom)
-    return op_a[..., va], op_b[..., vb]
+    if rows is None:
+        return op_a[..., va], op_b[..., vb]
+    r = rows[:, None, None]
+    return op_a[r, va], op_b[r, vb]
 
 
 def step(rom: int, k: int, am: np.ndarray, bm: np.ndarray, units: np.ndarray,
