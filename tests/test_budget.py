@@ -243,17 +243,35 @@ def test_random_budgets_both_engines(n, seed, k, recursion, frac):
 
 # --- the exact solver (OR-Tools CP-SAT; optional) ----------------------------------------------------
 
-def test_exact_proves_the_optimum_of_a_small_graph(tmp_path):
+ARM1 = """name: arm1
+joints:
+  - {name: shoulder, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, theta: 0.0, mass: 2.0,
+     com: [-0.25, 0.01, 0.0], inertia: [0.0008, 0.04, 0.04, 0.0, 0.0, 0.0]}
+"""
+
+
+# planar2's graph takes CP-SAT about 5 s (under -m slow); a one-joint arm's, about 1 s
+@pytest.mark.parametrize("robot, interval, latency", [
+    ("arm1", 11, 21),     # W = 54 flops on 5 VAMPs: II >= 11; the critical path is 21 flops
+    pytest.param("planar2", 22, 29, marks=pytest.mark.slow)])   # W = 108: II >= 22; 29 flops
+def test_exact_proves_the_optimum_of_a_small_graph(tmp_path, robot, interval, latency):
     pytest.importorskip("ortools")
+    path = EXAMPLES / f"{robot}.yaml"
+    if robot == "arm1":
+        path = tmp_path / "arm1.yaml"
+        path.write_text(ARM1)
     prog = tmp_path / "p5.vamp.json"
-    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--vamps", "5",
-                                    "--exact", "-o", str(prog)])
+    res = CliRunner().invoke(main, ["compile", str(path), "--vamps", "5", "--exact", "-o", str(prog)])
     assert res.exit_code == 0, res.output
     rep = json.loads(CliRunner().invoke(main, ["report", str(prog), "--format", "json"]).stdout)
     b = rep["budget"]
-    # planar2 on 5 VAMPs: W = 108, so II >= 22; the critical path is 29 flops: both bounds met
-    assert (rep["interval_flops"], rep["latency"]["flops"]) == (22, 29)
+    # on 5 VAMPs both bounds are met: the interval is the work over the VAMPs, rounded up, and the
+    # latency the critical path
+    assert (rep["interval_flops"], rep["latency"]["flops"]) == (interval, latency)
     assert b["proof"] == "interval proven optimal, latency proven optimal"
+    assert (b["work"] + 4) // 5 == interval
+    free = json.loads(CliRunner().invoke(main, ["report", str(path), "--format", "json"]).stdout)
+    assert free["latency"]["flops"] == latency          # the critical path: a network without budget
     ok = CliRunner().invoke(main, ["emulate", str(prog), "--random", "50", "--check"])
     assert ok.exit_code == 0 and "OK" in ok.stdout
 

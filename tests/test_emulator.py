@@ -27,12 +27,15 @@ def _assert_exact(traj, chain, tau):
     assert res.ok, f"max relative error {res.max_rel:.3e}"
 
 
+# the stream engine on 1000 states, checked against the reference; the tick engine on the first
+# 100 of them, bit for bit (1000 through the tick engine took 7 s of the suite's 4 minutes: after
+# the pipeline fills, each set runs the same ops on other values)
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
 def test_examples_both_engines_1000_states(path):
     ld = loaded(load_robot(path))
-    traj, stream, tick = run_both(ld, 1000)
+    traj, stream, tick = run_both(ld, 1000, tick_count=100)
     _assert_exact(traj, ld.chain, stream.tau)
-    assert np.array_equal(stream.tau, tick.tau)
+    assert np.array_equal(stream.tau[:100], tick.tau)
 
 
 def test_snake64_stream_and_tick():
