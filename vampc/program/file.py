@@ -286,7 +286,7 @@ def _overlapped(pieces, digest, put, in_flight: int = 4) -> None:
     with ThreadPoolExecutor(1, thread_name_prefix="vampc-write") as pool:
         pending: deque = deque()
         try:
-            for piece in pieces:
+            for piece in _runs(pieces):
                 if len(pending) == in_flight:
                     pending.popleft().result()
                 pending.append(pool.submit(take, piece))
@@ -295,6 +295,26 @@ def _overlapped(pieces, digest, put, in_flight: int = 4) -> None:
         except BaseException:
             pool.shutdown(cancel_futures=True)
             raise
+
+
+RUN_BYTES = 1 << 18      # the least bytes _overlapped hands its thread at once (but the last)
+
+
+def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
+    """The pieces, in order, joined into runs of at least `least` bytes (the last may be shorter; a
+    piece that long goes alone, uncopied). The same bytes: hashing, compressing and writing a run
+    give what its pieces give one by one. (A small program is hundreds of short pieces, a key or
+    a section each, and handing each to the writing thread took 13 ms of a 2-joint compile's 17.)"""
+    run: list[bytes] = []
+    size = 0
+    for piece in pieces:
+        run.append(piece)
+        size += len(piece)
+        if size >= least:
+            yield run[0] if len(run) == 1 else b"".join(run)
+            run, size = [], 0
+    if run:
+        yield run[0] if len(run) == 1 else b"".join(run)
 
 
 def _after_open_brace(pieces) -> Iterator[bytes]:
