@@ -342,7 +342,8 @@ def depth_row(shape: str, n: int, recursions: tuple[str, ...]) -> tuple[int, ...
 SHAPES = {"chain": "chain", "binary": "binary", "star of chains": "star"}
 
 
-@pytest.mark.parametrize("n", [64, 512, 4096])
+# the 4096-joint rows (3.7 s) under -m slow: the same check as the 64- and 512-joint rows'
+@pytest.mark.parametrize("n", [64, 512, pytest.param(4096, marks=pytest.mark.slow)])
 def test_depth_against_n(n):
     """The "Depth against n" rows of size n (n = 4096: all but the log latency, whose graphs take
     minutes), and forward levels = ⌈log2 n⌉ as the prose says."""
