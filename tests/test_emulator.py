@@ -31,7 +31,7 @@ def _assert_exact(traj, chain, tau):
 # 100 of them, bit for bit (1000 through the tick engine took 7 s of the suite's 4 minutes: after
 # the pipeline fills, each set runs the same ops on other values)
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
-def test_examples_both_engines_1000_states(path):
+def test_examples_1000_states_and_the_tick_engine_on_100(path):
     ld = loaded(load_robot(path))
     traj, stream, tick = run_both(ld, 1000, tick_count=100)
     _assert_exact(traj, ld.chain, stream.tau)

@@ -406,15 +406,24 @@ class TickEngine:
         self.latch_a_at = dict(_by_counter(self.s_da, every))
         self.latch_b_at = dict(_by_counter(self.s_db, every))
         self.dump_at = dict(_by_counter(self.s_dr, every))
+        # whether two slots of one VAMP dump at one counter (a damaged table's doing, or error
+        # correction's two tables): _dump then looks for such a pair among the slots it dumps
+        self.dump_shared = any(np.unique(self.slot_vamp[g]).size < g.size
+                               for g in self.dump_at.values())
 
     def _dump(self, dumps, regs, tags) -> None:
         """The slots `dumps` drive their VAMPs' result registers `regs` (and set tags `tags`): a
         broken slot's with garbage."""
-        if dumps.size > 1:      # by ROM entry, stably: of two slots dumping into one VAMP
-            dumps = dumps[np.argsort(self.s_rom[dumps], kind="stable")]    # the later one's
         v = self.slot_vamp[dumps]
-        regs[v, :3] = self.units[v, self.s_result[dumps], :]
-        regs[v, 3:] = 0
+        if self.dump_shared and np.unique(v).size < v.size:
+            # each ROM entry's slots in turn: the later entry's result stays
+            for r in np.unique(self.s_rom[dumps]):
+                sel = v[self.s_rom[dumps] == r]
+                regs[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
+                regs[sel, 3:] = 0
+        else:                     # one slot a VAMP: each its op's result unit, in one gather
+            regs[v, :3] = self.units[v, self.s_result[dumps], :]
+            regs[v, 3:] = 0
         tags[v] = self.utag[v]
         bad = self.broken[dumps]
         if bad.any():

@@ -308,10 +308,16 @@ def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
     run: list[bytes] = []
     size = 0
     for piece in pieces:
+        if len(piece) >= least:             # alone, after the run before it
+            if run:
+                yield run[0] if len(run) == 1 else b"".join(run)
+                run, size = [], 0
+            yield piece
+            continue
         run.append(piece)
         size += len(piece)
         if size >= least:
-            yield run[0] if len(run) == 1 else b"".join(run)
+            yield b"".join(run)
             run, size = [], 0
     if run:
         yield run[0] if len(run) == 1 else b"".join(run)
