@@ -570,3 +570,20 @@ def test_compiled_stream_words_read_as_tuples_of_floats(compiled):
     import pickle
     for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
         assert pickle.loads(pickle.dumps(entry, protocol)) == entry
+
+
+@settings(max_examples=60, deadline=None)
+@given(sizes=st.lists(st.integers(0, 40), max_size=30), least=st.integers(1, 30))
+def test_the_writers_runs_are_its_pieces_joined_in_order(sizes, least):
+    """The program writer hands its thread runs of pieces (vampc.program.file._runs): the same
+    bytes in order, none empty; a piece of `least` bytes or more alone and not copied; every other
+    run at least `least` bytes, but the last and one cut short by such a piece."""
+    from vampc.program.file import _runs
+    pieces = [bytes([65 + k % 26]) * n for k, n in enumerate(sizes)]
+    runs = list(_runs(iter(pieces), least))
+    assert b"".join(runs) == b"".join(pieces)
+    assert all(runs)
+    big = [piece for piece in pieces if len(piece) >= least]
+    assert [r for r in runs if len(r) >= least and any(r is p for p in big)] == big
+    for k, r in enumerate(runs[:-1]):
+        assert len(r) >= least or any(runs[k + 1] is p for p in big), (k, runs)

@@ -301,17 +301,18 @@ RUN_BYTES = 1 << 18      # the least bytes _overlapped hands its thread at once 
 
 
 def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
-    """The pieces, in order, joined into runs of at least `least` bytes (the last may be shorter; a
-    piece that long goes alone, uncopied). The same bytes: hashing, compressing and writing a run
-    give what its pieces give one by one. (A small program is hundreds of short pieces, a key or
-    a section each, and handing each to the writing thread took 13 ms of a 2-joint compile's 17.)"""
+    """The pieces, in order, joined into runs of at least `least` bytes: a piece that long goes
+    alone, uncopied, after the run before it (which, as the last, may be shorter); empty pieces
+    make no run. The same bytes: hashing, compressing and writing a run give what its pieces give
+    one by one. (A small program is hundreds of short pieces, a key or a section each, and handing
+    each to the writing thread took 13 ms of a 2-joint compile's 17.)"""
     run: list[bytes] = []
     size = 0
     for piece in pieces:
         if len(piece) >= least:             # alone, after the run before it
-            if run:
+            if size:
                 yield run[0] if len(run) == 1 else b"".join(run)
-                run, size = [], 0
+            run, size = [], 0
             yield piece
             continue
         run.append(piece)
@@ -319,7 +320,7 @@ def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
         if size >= least:
             yield b"".join(run)
             run, size = [], 0
-    if run:
+    if size:                                # (empty pieces alone make no run)
         yield run[0] if len(run) == 1 else b"".join(run)
 
 
