@@ -14,6 +14,14 @@ ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 GOLDEN = Path(__file__).resolve().parent / "golden"
 
+# a one-joint arm (DH YAML): the smallest robot of the RTL and exact-solver tests
+ARM1 = """name: arm1
+gravity: [0.0, -9.81, 0.0]
+joints:
+  - {name: shoulder, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, theta: 0.0, mass: 2.0,
+     com: [-0.25, 0.01, 0.0], inertia: [0.0008, 0.04, 0.04, 0.0, 0.0, 0.0]}
+"""
+
 
 def pytest_sessionstart(session):
     """Tests name the examples as the README does ("examples/planar2.yaml", some when their module

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from conftest import ARM1
 from emulator_util import loaded, run_both
 
 from vampc.cli import main
@@ -242,13 +243,6 @@ def test_random_budgets_both_engines(n, seed, k, recursion, frac):
 
 
 # --- the exact solver (OR-Tools CP-SAT; optional) ----------------------------------------------------
-
-ARM1 = """name: arm1
-joints:
-  - {name: shoulder, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, theta: 0.0, mass: 2.0,
-     com: [-0.25, 0.01, 0.0], inertia: [0.0008, 0.04, 0.04, 0.0, 0.0, 0.0]}
-"""
-
 
 # planar2's graph takes CP-SAT about 5 s (under -m slow); a one-joint arm's, about 1 s
 @pytest.mark.parametrize("robot, interval, latency", [

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 pytest.importorskip("amaranth")
 
-from conftest import EXAMPLES  # noqa: E402
+from conftest import ARM1, EXAMPLES  # noqa: E402
 from test_word_formats import oracle  # noqa: E402
 
 from vampc.cli import main  # noqa: E402
@@ -180,14 +180,6 @@ def test_icarus_gives_the_same_words():
 
 
 # --- the command ----------------------------------------------------------------------------------
-
-ARM1 = """name: arm1
-gravity: [0.0, -9.81, 0.0]
-joints:
-  - {name: shoulder, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, theta: 0.0, mass: 2.0,
-     com: [-0.25, 0.01, 0.0], inertia: [0.0008, 0.04, 0.04, 0.0, 0.0, 0.0]}
-"""
-
 
 @pytest.fixture(scope="module")
 def programs(tmp_path_factory):
