@@ -37,8 +37,8 @@ def pytest_sessionstart(session):
 
 # The cyclic garbage collector, in each test process. A test process holds some 400 000 objects
 # that live to its end (modules, pytest's items, Amaranth, Pinocchio, kept answers), and every
-# full collection walked them all: 54.7 s of a whole run's 563 s of CPU went to the collector,
-# 44.8 s of it to full collections (2026-12-06, gc.callbacks timing each collection).
+# full collection walked them all: a tenth of a run's CPU went to the collector (2026-12-06,
+# gc.callbacks timing each collection: 54.7 s in a slow hour, 44.8 s of it in full collections).
 # So at the start of each test module what is alive is collected and then frozen (gc.freeze: left
 # out of later collections; it is freed by reference counting as before, and only a cycle among
 # frozen objects would stay to the end), and the youngest generation is collected every GC_YOUNG
