@@ -24,28 +24,19 @@ joints:
 """
 
 
-def pytest_sessionstart(session):
-    """Tests name the examples as the README does ("examples/planar2.yaml", some when their module
-    is imported): they run from the repository's root wherever pytest is started (`pytest
-    /path/to/tests/test_x.py` from another folder failed at collection, a tests audit's). Each test
-    that writes files writes them under its own tmp_path. (Here, after pytest has resolved the
-    paths it was given, such as --junitxml's, against the folder it was started in: a review's.)"""
-    os.chdir(ROOT)
-    # (the collector: below)
-    gc.set_threshold(GC_YOUNG, *gc.get_threshold()[1:])
-
-
 # The cyclic garbage collector, in each test process. A test process holds some 400 000 objects
-# that live to its end (modules, pytest's items, Amaranth, Pinocchio, kept answers), and every
-# full collection walked them all: a tenth of a run's CPU went to the collector (2026-12-06,
-# gc.callbacks timing each collection: 54.7 s in a slow hour, 44.8 s of it in full collections).
-# So at the start of each test module what is alive is collected and then frozen (gc.freeze: left
-# out of later collections; it is freed by reference counting as before, and only a cycle among
-# frozen objects would stay to the end), and the youngest generation is collected every GC_YOUNG
-# new containers, not 700. Measured one after the other later that day: the collector 12.3 s
-# against 43.7 s, the run 206 s against 224 s (390 s of CPU against 424 s). Only the test
-# processes are set so, not vampc; the tests of vampc's own use of gc.freeze (test_cli_safety)
-# unfreeze first.
+# that live to its end (modules, pytest's items, Amaranth, Pinocchio, kept answers), and each full
+# collection walked them all: a tenth of the suite's CPU went to the collector (2026-12-06,
+# gc.callbacks timing each collection: 43.7 s of 424 s; in a slower hour 54.7 s, 44.8 s of it in
+# full collections). So whenever a test process moves on to another module's tests (once a module,
+# or more under --dist worksteal, which can hand a module's tests back and forth), what is alive is
+# collected and then frozen (gc.freeze: left out of later collections, still freed by reference
+# counting), and the youngest generation is collected every GC_YOUNG net new containers, not 700:
+# the collector then took 12.3 s of 390 s. A cycle that reaches a frozen object is not collected
+# while frozen, so its finalizers would not run; at the session's end everything is unfrozen, and
+# pytest's last collections then free such cycles and report what their finalizers raise. Only the
+# test processes are set so, not vampc; the tests of vampc's own use of gc.freeze (test_cli_safety)
+# unfreeze first, and the rest of their module runs unfrozen.
 GC_YOUNG = 10_000
 _last_module: list = [None]
 
@@ -56,6 +47,21 @@ def pytest_runtest_setup(item):
         _last_module[0] = module
         gc.collect()
         gc.freeze()
+
+
+def pytest_sessionfinish(session):
+    gc.unfreeze()
+
+
+def pytest_sessionstart(session):
+    """Tests name the examples as the README does ("examples/planar2.yaml", some when their module
+    is imported): they run from the repository's root wherever pytest is started (`pytest
+    /path/to/tests/test_x.py` from another folder failed at collection, a tests audit's). Each test
+    that writes files writes them under its own tmp_path. (Here, after pytest has resolved the
+    paths it was given, such as --junitxml's, against the folder it was started in: a review's.)"""
+    os.chdir(ROOT)
+    gc.set_threshold(GC_YOUNG, *gc.get_threshold()[1:])       # (the collector: above)
+
 
 # The example robots the README and the design card promise (DESIGN §1, README).
 EXPECTED_EXAMPLES = ("planar2.yaml", "puma560.yaml", "stanford.yaml", "snake64.yaml", "arm6.urdf")
