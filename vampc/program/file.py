@@ -311,7 +311,7 @@ def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
     for piece in pieces:
         if len(piece) >= least:             # alone, after the run before it
             if size:
-                yield run[0] if len(run) == 1 else b"".join(run)
+                yield b"".join(run)
             run, size = [], 0
             yield piece
             continue
@@ -321,7 +321,7 @@ def _runs(pieces, least: int = RUN_BYTES) -> Iterator[bytes]:
             yield b"".join(run)
             run, size = [], 0
     if size:                                # (empty pieces alone make no run)
-        yield run[0] if len(run) == 1 else b"".join(run)
+        yield b"".join(run)
 
 
 def _after_open_brace(pieces) -> Iterator[bytes]:
