@@ -81,6 +81,61 @@ def test_number_rows_from_a_flat_array_are_the_rows_written_one_by_one():
             jsontext.number_rows(Words(array("d", [1.0, bad, 2.0])))
 
 
+_WHOLE = st.one_of(st.integers(0, 10**7).map(float),      # VAMP numbers and fields, mostly
+                   st.integers(-2**53 + 1, 2**53 - 1).map(float),
+                   st.sampled_from([0.0, 1.0, -1.0, 9.0, 10.0, 99.0, 100.0, 2.0**32 - 1, 2.0**32,
+                                    2.0**32 + 1, -2.0**32, 2.0**53 - 1, -2.0**53 + 1,
+                                    9999999999999998.0]))
+_ANY = st.one_of(_WHOLE, st.sampled_from([-0.0, 2.0**53, -2.0**53, 1e16, 1e22, 0.5, -2.5e-7,
+                                          1e-300, float("inf"), float("-inf"), float("nan")]),
+                 st.floats(allow_nan=True, allow_infinity=True))
+
+
+def _entries(values):
+    return st.lists(st.lists(st.tuples(values, values, values), max_size=6), max_size=6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(entries=st.one_of(_entries(_WHOLE), _entries(_ANY)), as_tuples=st.booleans())
+def test_number_rows_each_writes_what_python_repr_writes(entries, as_tuples):
+    """The program stream's words of a batch written at once (NumPy writing whole numbers' digits)
+    are, entry by entry, the bytes number_rows writes value by value with Python's float repr, or
+    the same ValueError for a value that is not a JSON number: whole numbers of every length and
+    sign, about 2^32 and 2^53, -0.0, fractions, infinities and NaN, empty entries, and rows given
+    as tuples rather than a flat array."""
+    from array import array
+
+    from vampc.program.emit import Words
+    given = [tuple(rows) if as_tuples else Words(array("d", [x for row in rows for x in row]))
+             for rows in entries]
+    try:
+        want = [bytes(jsontext.number_rows(e)) for e in given]
+    except ValueError as exc:
+        with pytest.raises(ValueError, match="not a JSON number"):
+            jsontext.number_rows_each(given)
+        assert "not a JSON number" in str(exc)
+        return
+    assert [bytes(r) for r in jsontext.number_rows_each(given)] == want
+
+
+def test_number_rows_each_of_whole_numbers_is_repr_on_a_program_stream_s_scale():
+    """A batch as big as the writer makes (8192 words), of whole numbers of one to eight digits
+    and a few negative ones, against Python's repr of each value."""
+    import random
+    from array import array
+
+    from vampc.program.emit import Words
+    rng = random.Random(7)
+    entries = []
+    for _ in range(300):
+        values = [float(rng.choice([rng.randrange(10**rng.randrange(1, 9)), -rng.randrange(1, 99)]))
+                  for _ in range(3 * rng.randrange(1, 50))]
+        entries.append(Words(array("d", values)))
+    want = [("[" + ",".join("[" + ",".join(repr(x) for x in w) + "]" for w in e) + "]").encode()
+            for e in entries]
+    assert [bytes(r) for r in jsontext.number_rows_each(entries)] == want
+
+
 def test_json_nested_too_deeply_is_not_json_for_every_reader(tmp_path):
     """`vampc report --rtl` and `faults --results` given a 2000-deep array ended in a traceback
     (exit 3: msgspec's RecursionError; a hostile-input audit's find): loads raises a DecodeError,

@@ -56,6 +56,73 @@ def number_rows(rows) -> msgspec.Raw:
     return msgspec.Raw(f"[{text}]".encode())
 
 
+def number_rows_each(entries) -> list[msgspec.Raw]:
+    """number_rows of each of `entries`, made at once. Where each entry's rows are one flat
+    array("d") (`flat`, `width` floats a row, as vampc.program.emit.Words holds them) and every
+    value is a whole number below 2^53 in magnitude, none -0.0 (a program stream's VAMP numbers
+    and fields), NumPy writes their digits: repr writes such a float as its integer and ".0" (a
+    4096-joint log program's three million values took 0.74 s an entry at a time, 0.26 s so).
+    Otherwise each entry is number_rows', value by value."""
+    flats = [getattr(e, "flat", None) for e in entries]
+    widths = {getattr(e, "width", None) for e in entries}
+    if not entries or None in widths or len(widths) != 1 or \
+            any(getattr(f, "typecode", None) != "d" for f in flats):      # (array("d") only)
+        return [number_rows(e) for e in entries]
+    import numpy as np
+    width = widths.pop()
+    sizes = np.fromiter(map(len, flats), dtype=np.int64, count=len(flats))
+    if width < 1 or not sizes.all() or (sizes % width).any():
+        return [number_rows(e) for e in entries]
+    x = np.frombuffer(b"".join(flats), dtype=np.float64)
+    if not (np.abs(x) < 2.0 ** 53).all():                  # (NaN and infinities too)
+        return [number_rows(e) for e in entries]
+    ints = x.astype(np.int64)
+    if (ints != x).any() or (np.signbit(x) & (x == 0)).any():     # a fraction, or -0.0
+        return [number_rows(e) for e in entries]
+    # A row of a character table per value: open, open, sign, its digits right-aligned, ".", "0",
+    # close, close; and which of its characters are written. The first value of an entry opens it
+    # and its first row ("[["); a row's first value after that, ",["; any other value, ",".
+    m = np.abs(ints)
+    top = int(m.max())
+    m = m.astype(np.uint32) if top < 2 ** 32 else m         # (a narrower division: 3 times faster)
+    digits = len(str(top))
+    count = len(x)
+    first = np.zeros(count, dtype=bool)          # a row's first value, and its last
+    first[::width] = True
+    last = np.zeros(count, dtype=bool)
+    last[width - 1::width] = True
+    ends = np.cumsum(sizes)
+    entry_first = np.zeros(count, dtype=bool)
+    entry_first[ends - sizes] = True
+    entry_last = np.zeros(count, dtype=bool)
+    entry_last[ends - 1] = True
+    table = np.empty((count, digits + 7), dtype=np.uint8)
+    shown = np.empty((count, digits + 7), dtype=bool)
+    table[:, 0] = np.where(entry_first, ord("["), ord(","))
+    shown[:, 0] = first
+    table[:, 1] = np.where(first, ord("["), ord(","))
+    shown[:, 1] = True
+    table[:, 2] = ord("-")
+    shown[:, 2] = negative = ints < 0
+    length = first.astype(np.int64) + negative + 3        # each value's characters
+    left = m
+    for place in range(digits):                           # the units first, rightmost
+        tens = left // 10
+        table[:, 2 + digits - place] = left - tens * 10 + ord("0")
+        shown[:, 2 + digits - place] = written = m >= 10 ** place if place else True
+        length += written
+        left = tens
+    table[:, digits + 3] = ord(".")
+    table[:, digits + 4] = ord("0")
+    shown[:, digits + 3:digits + 5] = True
+    table[:, digits + 5:digits + 7] = ord("]")
+    shown[:, digits + 5] = last
+    shown[:, digits + 6] = entry_last
+    text = np.compress(shown.ravel(), table.ravel()).tobytes()     # value by value, in order
+    bounds = np.cumsum(length + last + entry_last)[ends - 1].tolist()
+    return [msgspec.Raw(text[a:b]) for a, b in zip([0] + bounds[:-1], bounds)]
+
+
 def _reprs(xs) -> str:
     try:
         return ",".join(map(float.__repr__, xs))

@@ -46,7 +46,7 @@ from vampc.program.file import (
     Rows,
     layout_chunks,
     number,
-    number_rows,
+    number_rows_each,
     numbers,
     rendered,
 )
@@ -264,8 +264,10 @@ def stream_doc(stream) -> Rows:
     """The program_stream section: per input buffer, the words the host writes in Program Mode,
     made as the writer reaches them (Rows)."""
     def rows(lo: int, hi: int) -> list[F.StreamDoc]:
+        entries = stream[lo:hi]
         return [F.StreamDoc(F.RootDoc(e.root.kind, e.root.index), list(e.targets),
-                            list(e.depth), number_rows(e.words)) for e in stream[lo:hi]]
+                            list(e.depth), words)
+                for e, words in zip(entries, number_rows_each([e.words for e in entries]))]
     return Rows(len(stream), rows, [len(e.words) for e in stream])
 
 

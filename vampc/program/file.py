@@ -42,7 +42,7 @@ import numpy as np
 
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
-from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the writer's, from here
+from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows(_each): the writer's, from here
     DecodeError,
     ascii_bytes,
     ascii_text,
@@ -52,6 +52,7 @@ from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the w
     loads,
     number,
     number_rows,
+    number_rows_each,
     numbers,
     rendered,
 )
