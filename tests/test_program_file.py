@@ -227,6 +227,29 @@ def test_programs_are_period_relative(compiled, layout):
             assert ROM[p.rom] == (s.op, s.column) and (p.sel_a, p.sel_b) == (s.sel_a, s.sel_b)
 
 
+@pytest.mark.parametrize("layout", ["systolic", "folded", "k-vamp"])
+def test_programs_section_text_is_each_row_encoded_alone(compiled, layout, monkeypatch):
+    """The programs section's rows, written from each one-slot listing's text with its node and
+    VAMP put in, are the bytes of each row's Struct encoded on its own (a folded network's
+    several-slot VAMPs among them), and so are the rows when no text may be kept."""
+    options = {"systolic": CompileOptions(), "folded": CompileOptions(layout="folded"),
+               "k-vamp": CompileOptions(vamps=7)}[layout]
+    c = compiled if layout == "systolic" else compile_chain(compiled.chain, options)
+    net, progs = c.network, c.programs
+    want = b"".join(msgspec.json.encode(
+        msgspec.structs.asdict(document.F.ProgramDoc(v.index, [
+            document.F.SlotDoc(s.node, s.op.value, p.delay_a, p.delay_b, p.delay_r, p.rom,
+                               p.sel_a, p.sel_b) for s, p in zip(v.slots, ps)])),
+        order="sorted") + b"\n" for v, ps in zip(net.vamps, progs))
+    several = sum(len(v.slots) > 1 for v in net.vamps)
+    assert (several > 0) == (layout != "systolic")
+    for kept in (document.TEMPLATES, 0):
+        monkeypatch.setattr(document, "TEMPLATES", kept)
+        rows = document.programs_doc(net, progs)
+        assert b"".join(rows.make(lo, min(lo + 5, len(rows))) for lo in range(0, len(rows), 5)) \
+            == want
+
+
 # --- the program file ----------------------------------------------------------------------------------
 
 def test_program_file_roundtrip(compiled, program_path):

@@ -114,7 +114,8 @@ ROW_BATCH = 8192     # rows encoded at once: bounded pieces, however big the sec
 
 class Rows:
     """A list of rows (Structs) made a batch at a time, as the writer reaches them: `make(lo, hi)`
-    gives rows lo..hi-1. The big sections of a program file are written this way (a 4096-joint log
+    gives rows lo..hi-1, as Structs or as their text already encoded (bytes, a line a row, each
+    ended by a newline: vampc.program.document.programs_doc). The big sections of a program file are written this way (a 4096-joint log
     program has about a million VAMPs; holding every row's Struct, and the whole text, at once
     doubled the compile's peak memory). Only `layout_chunks` reads it: a row list at the depth
     where `layout` puts one row per line. `weights`, if given, is each row's size in items (a
@@ -178,7 +179,8 @@ def layout_chunks(doc) -> Iterator[bytes]:
             for batch in value.batches():
                 if held is not None:
                     yield held
-                held = ascii_bytes(encode_lines(batch)).replace(b"\n", b",\n")
+                lines = batch if isinstance(batch, bytes) else encode_lines(batch)
+                held = ascii_bytes(lines).replace(b"\n", b",\n")
             yield held[:-2]
             yield b"\n]"
         elif isinstance(value, Rows):
