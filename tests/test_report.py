@@ -131,6 +131,27 @@ def test_render_names_prismatic_joints():
     assert text.splitlines()[0] == f"robot            {chain.name} (3 joints, prismatic [1, 2, 3])"
 
 
+@pytest.mark.parametrize("recursion", ["linear", "log"])
+def test_graph_figures_are_those_of_a_walk_over_its_nodes(recursion):
+    """The serial work, the ops and the busiest recursion node's VAMPs, counted once by (section,
+    group, op), are what a walk over every compute node gives."""
+    from collections import Counter
+
+    from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
+    from vampc.report.counts import _per_node, serial_work
+    c = compile_chain(random_chain(5, 2), CompileOptions(recursion=recursion))
+    nodes = c.graph.compute_nodes()
+    assert serial_work(c.graph) == {"mults": sum(SERIAL_WORK[nd.op][0] for nd in nodes),
+                                    "adds": sum(SERIAL_WORK[nd.op][1] for nd in nodes)}
+    assert summary(c)["ops"] == dict(sorted(Counter(nd.op.value for nd in nodes).items()))
+    groups = Counter()
+    for nd in nodes:
+        groups[(nd.section, nd.group)] += VAMPS_PER_OP[nd.op]
+    assert _per_node(c) == {s: max([k for (t, _), k in groups.items() if t == s], default=0)
+                            for s in ("bwd", "npv", "fwd")}
+    assert c.graph.compute_kinds() is not c.graph.compute_kinds()     # (a copy each time)
+
+
 def test_vamp_counts_of_plain_and_unusual_vamps():
     """VAMP counts by pass and op, and control registers (4 for a plain one-slot VAMP, 6 per slot
     otherwise), counted one VAMP at a time here and compared with the bulk counts, also for a

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import functools
 import math
+import operator
+from collections import Counter
 from dataclasses import dataclass
 
 from msgspec import Struct
@@ -15,6 +17,8 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.kinds import Quantity, Recursion, Section
 from vampc.machine.ops import OPERAND_SHAPES, Op, result_shape
 from vampc.memo import counting
+
+_SECTION, _GROUP, _OP = (operator.attrgetter(name) for name in ("section", "group", "op"))
 
 
 @dataclass(frozen=True)
@@ -107,6 +111,16 @@ class Graph:
     @functools.cached_property
     def _compute_nodes(self) -> tuple[Node, ...]:
         return tuple(nd for nd in self.nodes if nd.op.is_compute)
+
+    def compute_kinds(self) -> Counter:
+        """How many compute nodes there are of each (section, group, op): what the cost figures
+        count by (vampc.report.counts; one walk over the nodes for all of them, not one each)."""
+        return Counter(self._compute_kinds)
+
+    @functools.cached_property
+    def _compute_kinds(self) -> Counter:
+        return Counter(zip(map(_SECTION, self._compute_nodes), map(_GROUP, self._compute_nodes),
+                           map(_OP, self._compute_nodes)))
 
     def input_keys(self) -> tuple[InputKey, ...]:
         """The host quantities the graph reads (its INPUT nodes' keys, in node order)."""

@@ -4,13 +4,19 @@ Everything here is read off the Chain, Graph, Schedule and Network; nothing is r
 """
 from __future__ import annotations
 
+import itertools
 import math
+import operator
 from collections import Counter
 
 from vampc.kinds import Pass, Recursion
 from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
 from vampc.schedule.registry import BUDGET, FOLDED, is_layout
 from vampc.textio import count
+
+_SLOTS, _A, _B, _NODE, _OP, _SECTION = (operator.attrgetter(name) for name in (
+    "slots", "a", "b", "node", "op", "section"))
+_FIRST = operator.itemgetter(0)
 
 # A 40-pin package holds 5 VAMPs with all pins separate, 12 with shared clock/power/reset (section VII).
 VAMPS_PER_PACKAGE = {"separate": 5, "shared": 12}
@@ -34,15 +40,17 @@ def vamp_counts(c) -> dict:
     """VAMPs in total, on the backward (incl. non-propagated) and forward recursions, and by op."""
     nodes, vamps = c.graph.nodes, c.network.vamps
     by_section, by_op = Counter(), Counter()
-    alone = [v.slots[0] for v in vamps if len(v.slots) == 1]   # most VAMPs: counted in bulk
-    for section, k in Counter(nodes[s.node].section for s in alone).items():
+    slots = list(map(_SLOTS, vamps))
+    one = list(map((1).__eq__, map(len, slots)))
+    alone = list(map(_FIRST, itertools.compress(slots, one)))   # most VAMPs: counted in bulk
+    for section, k in Counter(map(_SECTION, map(nodes.__getitem__, map(_NODE, alone)))).items():
         by_section[Pass.of(section)] += k
-    by_op.update(s.op.value for s in alone)
-    for v in vamps:
-        if len(v.slots) != 1:
-            kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
-            by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
-            by_op.update([s.op.value for s in v.slots])
+    for op, k in Counter(map(_OP, alone)).items():
+        by_op[op.value] += k
+    for v in itertools.compress(vamps, map(operator.not_, one)) if not all(one) else ():
+        kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
+        by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
+        by_op.update([s.op.value for s in v.slots])
     per_node = _per_node(c)
     return {"total": len(vamps), "backward": by_section["backward"],
             "forward": by_section["forward"], "shared": by_section["shared"],
@@ -70,8 +78,7 @@ def unused_vamps(c) -> dict:
 def _per_node(c) -> dict:
     """VAMPs of the busiest recursion node of each section ('bwd', 'npv', 'fwd')."""
     groups: dict[tuple[str, int], int] = Counter()
-    kinds = Counter((nd.section, nd.group, nd.op) for nd in c.graph.compute_nodes())
-    for (section, group, op), k in kinds.items():
+    for (section, group, op), k in c.graph.compute_kinds().items():
         groups[(section, group)] += k * VAMPS_PER_OP[op]
     out = {}
     for section in ("bwd", "npv", "fwd"):
@@ -82,9 +89,17 @@ def _per_node(c) -> dict:
 
 def serial_work(graph) -> dict:
     """Total scalar operations of the graph executed one after another."""
-    mults = sum(SERIAL_WORK[nd.op][0] for nd in graph.compute_nodes())
-    adds = sum(SERIAL_WORK[nd.op][1] for nd in graph.compute_nodes())
-    return {"mults": mults, "adds": adds}
+    ops = op_counts(graph)
+    return {"mults": sum(SERIAL_WORK[op][0] * k for op, k in ops.items()),
+            "adds": sum(SERIAL_WORK[op][1] * k for op, k in ops.items())}
+
+
+def op_counts(graph) -> Counter:
+    """The graph's compute nodes of each op."""
+    ops: Counter = Counter()
+    for (_, _, op), k in graph.compute_kinds().items():
+        ops[op] += k
+    return ops
 
 
 def physical_vamps(net) -> int:
@@ -132,7 +147,7 @@ def summary(c) -> dict:
         "packages_40pin": packages(physical_vamps(c.network)),
         "serial_work": serial_work(c.graph),
         "serial_reference": serial_reference(c.chain.n),
-        "ops": dict(sorted(Counter(nd.op.value for nd in c.graph.compute_nodes()).items())),
+        "ops": dict(sorted((op.value, k) for op, k in op_counts(c.graph).items())),
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "uniform_leaves": c.options.uniform_leaves if c.graph.recursion is Recursion.LOG else None,
         "prefix": c.options.prefix if c.graph.recursion is Recursion.LOG else None,
@@ -243,9 +258,9 @@ def hardware_counts(c) -> dict:
     beyond the first of each operand, program ports, host writes per torque set, the period and
     buffer clock, program words and Program-Mode load time."""
     net = c.network
-    slots = [len(v.slots) for v in net.vamps]
-    ins_a = [len(v.a) for v in net.vamps]
-    ins_b = [len(v.b) for v in net.vamps]
+    slots = list(map(len, map(_SLOTS, net.vamps)))
+    ins_a = list(map(len, map(_A, net.vamps)))
+    ins_b = list(map(len, map(_B, net.vamps)))
     if min(slots) == max(slots) == max(ins_a) == max(ins_b) == 1:   # all plain (systolic): at once
         control = 4 * len(slots)
     else:
