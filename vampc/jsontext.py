@@ -138,8 +138,13 @@ def rendered(value):
     if isinstance(value, dict):
         return {k: rendered(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
+        if _AS_THEY_ARE.issuperset(map(type, value)):   # (a row of ints, say: nothing to write)
+            return list(value)
         return [rendered(v) for v in value]
     return value
+
+
+_AS_THEY_ARE = frozenset({int, str, bool, type(None)})    # what rendered leaves as it is
 
 
 def ascii_text(out: bytes) -> str:

@@ -157,9 +157,17 @@ class Graph:
         """Check ids, topological order, arities and operand shapes; raise VampcInternalError."""
         result = {op: result_shape(op) for op in {nd.op for nd in self.nodes} if op.is_compute}
         shapes: list[str] = []      # per node checked, its result's shape
+        operands = {op: OPERAND_SHAPES[op] for op in result if len(OPERAND_SHAPES[op]) == 2}
         for i, nd in enumerate(self.nodes):
             if nd.id != i:
                 raise VampcInternalError(f"node {nd.label}: id {nd.id} at position {i}")
+            want = operands.get(nd.op)
+            args = nd.args
+            # (_verify_node's checks of a compute node of two operands, in line: a million nodes)
+            if want is not None and len(args) == 2 and 0 <= args[0] < i and 0 <= args[1] < i \
+                    and shapes[args[0]] == want[0] and shapes[args[1]] == want[1]:
+                shapes.append(result[nd.op])
+                continue
             _verify_node(self, nd, shapes)
             shapes.append(result.get(nd.op) or nd.shape)
         joints = sorted(o.joint for o in self.outputs)
@@ -214,8 +222,15 @@ class GraphBuilder:
         return self._ids[k]
 
     def op(self, op: Op, a: int, b: int, name: str) -> int:
-        """Add a compute node and return its id."""
-        return self._add(Node(self._next_id(), op, (a, b), name, self.section, self.group))
+        """Add a compute node and return its id (_next_id and _add in line: a 4096-joint log
+        graph adds a million)."""
+        nodes = self.nodes
+        k = len(nodes)
+        if k >= len(self._ids):
+            self._ids = counting(k + 1)
+        node = self._ids[k]
+        nodes.append(Node(node, op, (a, b), name, self.section, self.group))
+        return node
 
     def input(self, quantity: str, joint: int) -> int:
         """The (shared) INPUT node for a host quantity of a joint."""
