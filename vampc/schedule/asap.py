@@ -47,10 +47,14 @@ class Schedule:
         duration = self.timing.durations
         start, finish = self.start, self.finish
         for nd in graph.nodes:
-            if finish[nd.id] - start[nd.id] != duration[nd.op]:
+            i = nd.id
+            if finish[i] - start[i] != duration[nd.op]:
                 raise VampcInternalError(f"node {nd.label}: duration mismatch")
-            for a in nd.args:
-                if finish[a] > start[nd.id]:
+            args = nd.args
+            if len(args) == 2 and finish[args[0]] <= start[i] and finish[args[1]] <= start[i]:
+                continue            # (a compute node: its two operands, in line)
+            for a in args:
+                if finish[a] > start[i]:
                     raise VampcInternalError(f"node {nd.label} starts before operand {a} ends")
         if self.latency != max(self.finish[o.node] for o in graph.outputs):
             raise VampcInternalError("latency is not the last output's finish")
@@ -81,10 +85,18 @@ def _schedule_asap(graph: Graph, timing: Timing, verify: bool) -> Schedule:
     start, finish = [], []
     duration = timing.durations
     for nd in graph.nodes:
-        s = 0
-        for a in nd.args:        # (a loop, not max() of a list: a million nodes)
-            if finish[a] > s:
-                s = finish[a]
+        args = nd.args
+        if len(args) == 2:       # (a compute node's two operands in line: a million nodes)
+            s, t = finish[args[0]], finish[args[1]]
+            if t > s:
+                s = t
+            if s < 0:
+                s = 0
+        else:
+            s = 0
+            for a in args:
+                if finish[a] > s:
+                    s = finish[a]
         start.append(s)
         finish.append(s + duration[nd.op])
     last = max(graph.outputs, key=lambda o: (finish[o.node], o.joint))
@@ -104,8 +116,7 @@ def _delay_source_ops(graph: Graph, timing: Timing, start: list[int], finish: li
     is_compute = compute.__getitem__
     source = [c and not any(map(is_compute, nd.args)) for c, nd in zip(compute, nodes)]
     latest: dict[int, int] = {}
-    for nd in nodes:
-        t = start[nd.id]
+    for nd, t in zip(nodes, start):
         for a in nd.args:
             if source[a] and latest.get(a, t) >= t:
                 latest[a] = t

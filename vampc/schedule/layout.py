@@ -118,7 +118,8 @@ class Layout:
         wants = {op: VAMPS_PER_OP[op] if op.is_compute else 0 for op in {nd.op for nd in graph.nodes}}
         for nd, where in zip(graph.nodes, self.placement):
             want = wants[nd.op]
-            if len(where) != want or want and (min(where) < 0 or want > 1 and len(set(where)) < want):
+            if len(where) != want or (where[0] < 0 if want == 1 else want and (
+                    min(where) < 0 or len(set(where)) < want)):
                 raise VampcInternalError(f"node {nd.label}: placed on {where}")
         if self.grouped:        # units: two placements share a VAMP only if they are the same
             units = dict.fromkeys(self.placement)     # (in the placement's order: read fast)
