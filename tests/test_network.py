@@ -341,15 +341,16 @@ def _with_operand(net, v, k, name, operand):
     return dataclasses.replace(net, vamps=net.vamps[:v] + (vamp,) + net.vamps[v + 1:])
 
 
-@pytest.mark.parametrize("change", ["reversed", "cut", "repeated", "none"])
+@pytest.mark.parametrize("change", ["reversed", "cut", "first", "last", "repeated", "none"])
 def test_a_matrix_operand_needs_its_three_columns_in_order(change):
     """An operand reading an MM's result (a matrix made by three VAMPs, a column each) has one tap
-    per column, in column order; an operand with no tap at all carries nothing."""
+    per column, in column order (one tap, of the first column or the last, is not the matrix);
+    an operand with no tap at all carries nothing."""
     graph, sched, net = build(3, log=True)
     v, k, _, name, _, operand = next(x for x in reads(net) if len(x[5].taps) == 3)
     taps = operand.taps
-    wrong = {"reversed": taps[::-1], "cut": taps[:2], "repeated": (taps[0],) * 3,
-             "none": ()}[change]
+    wrong = {"reversed": taps[::-1], "cut": taps[:2], "first": taps[:1], "last": taps[2:],
+             "repeated": (taps[0],) * 3, "none": ()}[change]
     broken = _with_operand(net, v.index, k, name, type(operand)(wrong))
     message = (rf"operand {name}'s tap \d \(.*\) carries column \d of node "
                if change in ("reversed", "repeated") else
