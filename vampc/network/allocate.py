@@ -135,12 +135,18 @@ class _Allocator:
         # (two lists, not a pair per node: a 4096-joint log graph's pairs took 60 MB)
         reads_a: list[tuple[Operand] | None] = [None] * len(self.g.nodes)
         reads_b: list[tuple[Operand] | None] = [None] * len(self.g.nodes)
+        result = self._result
         for nd in self.g.compute_nodes():
             i = nd.id
             t = start[i]
             a, b = nd.args
-            reads_a[i] = read(a, t)
-            reads_b[i] = read(b, t)
+            # read's common case in line: a result still on its Result, its operand made before
+            n = nxt[a]
+            reads_a[i] = (at_result[a] or result(a, 0, t)) if n is not None and \
+                finish[a] <= t < n else read(a, t)
+            n = nxt[b]
+            reads_b[i] = (at_result[b] or result(b, 0, t)) if n is not None and \
+                finish[b] <= t < n else read(b, t)
         return self._network(reads_a, reads_b)
 
     def _operand(self, arg: int, t: int) -> tuple[Operand]:
@@ -162,13 +168,15 @@ class _Allocator:
         `buffered`)."""
         vamps = self.place[arg]
         emit = self.s.finish[arg]
-        if stage == 0:
-            taps = tuple([Tap(_VAMP, v) for v in vamps])
+        if stage == 0:         # (one VAMP, most nodes: its tap without a list)
+            taps = (Tap(_VAMP, vamps[0]),) if len(vamps) == 1 else \
+                tuple([Tap(_VAMP, v) for v in vamps])
         elif t < emit or buffer_window(emit, self.next_emit[arg], stage, self.B)[0] > t:
             raise VampcInternalError(f"VAMP {vamps[0]}: node {arg}'s result (shown from tick "
                                      f"{emit}) is gone at tick {t}: nothing buffered it")
         else:
-            taps = tuple([self._buffer_tap(v, stage) for v in vamps])
+            taps = (self._buffer_tap(vamps[0], stage),) if len(vamps) == 1 else \
+                tuple([self._buffer_tap(v, stage) for v in vamps])
         operand = (Operand(taps),)
         if stage == 0:
             self.at_result[arg] = operand
@@ -201,7 +209,9 @@ class _Allocator:
         return p
 
     def _buffer_tap(self, vamp: int, stage: int) -> Tap:
-        self.stages[vamp] = max(self.stages.get(vamp, 0), stage)
+        stages = self.stages
+        if stages.get(vamp, 0) < stage:
+            stages[vamp] = stage
         buf = self.buffer_of.setdefault(vamp, len(self.buffer_of))
         return Tap(_BUFFER, buf, stage)
 
