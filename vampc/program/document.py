@@ -171,9 +171,10 @@ def _check_joints(doc: F.RobotDoc, path) -> None:
 
 def graph_doc(g: Graph) -> F.GraphDoc:
     """The graph section: one row per node, made as the writer reaches them (vampc.program.file.Rows:
-    a big program's rows are never all held at once)."""
+    a big program's rows are never all held at once). A node's operands are written from its tuple
+    (the encoder writes a tuple as a list), not copied into a list."""
     def rows(lo: int, hi: int) -> list[F.NodeDoc]:
-        return [F.NodeDoc(nd.id, nd.op.value, list(nd.args), nd.name, nd.section, nd.group,
+        return [F.NodeDoc(nd.id, nd.op.value, nd.args, nd.name, nd.section, nd.group,
                           (nd.key.quantity, nd.key.joint) if nd.key else None,
                           numbers(nd.value) if nd.value is not None else None)
                 for nd in g.nodes[lo:hi]]
@@ -224,8 +225,8 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
     buffers are made as the writer reaches them (Rows)."""
     def vamps(lo: int, hi: int) -> list[F.VampDoc]:
         # an operand is written as its taps, and a Tap (array-like) as [kind, index, stage]
-        return [F.VampDoc(v.index, numbering[v.index], [op.taps for op in v.a],
-                          [op.taps for op in v.b]) for v in net.vamps[lo:hi]]
+        return [F.VampDoc(v.index, numbering[v.index], _taps(v.a), _taps(v.b))
+                for v in net.vamps[lo:hi]]
     return F.NetworkDoc(
         net.period, net.clock, Rows(len(net.vamps), vamps),
         Rows(len(net.buffers), lambda lo, hi: [F.BufferDoc(b.index, b.source, b.stages)
@@ -237,6 +238,11 @@ def network_doc(net: Network, numbering) -> F.NetworkDoc:
         None if net.checking is None else F.CheckingDoc(list(net.checking.chain),
                                                          net.checking.warmup,
                                                          net.checking.compare))
+
+
+def _taps(inputs) -> list:
+    """A multiplexer's inputs as the program file writes them: each operand's taps."""
+    return [inputs[0].taps] if len(inputs) == 1 else [op.taps for op in inputs]
 
 
 def bus_doc(bus) -> F.BusDoc:
