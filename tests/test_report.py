@@ -150,6 +150,7 @@ def test_graph_figures_are_those_of_a_walk_over_its_nodes(recursion):
     assert _per_node(c) == {s: max([k for (t, _), k in groups.items() if t == s], default=0)
                             for s in ("bwd", "npv", "fwd")}
     assert c.graph.compute_kinds() is not c.graph.compute_kinds()     # (a copy each time)
+    assert c.graph.compute_ops() is not c.graph.compute_ops()
 
 
 def test_vamp_counts_of_plain_and_unusual_vamps():

@@ -122,6 +122,14 @@ class Graph:
         return Counter(zip(map(_SECTION, self._compute_nodes), map(_GROUP, self._compute_nodes),
                            map(_OP, self._compute_nodes)))
 
+    def compute_ops(self) -> Counter:
+        """How many compute nodes there are of each op."""
+        return Counter(self._compute_ops)
+
+    @functools.cached_property
+    def _compute_ops(self) -> Counter:
+        return Counter(map(_OP, self._compute_nodes))
+
     def input_keys(self) -> tuple[InputKey, ...]:
         """The host quantities the graph reads (its INPUT nodes' keys, in node order)."""
         return tuple(nd.key for nd in self.nodes if nd.key is not None)

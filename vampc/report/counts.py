@@ -96,10 +96,7 @@ def serial_work(graph) -> dict:
 
 def op_counts(graph) -> Counter:
     """The graph's compute nodes of each op."""
-    ops: Counter = Counter()
-    for (_, _, op), k in graph.compute_kinds().items():
-        ops[op] += k
-    return ops
+    return graph.compute_ops()
 
 
 def physical_vamps(net) -> int:
