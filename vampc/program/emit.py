@@ -200,6 +200,10 @@ def a_roots(net: Network) -> tuple[list[Tap], list[int]]:
         if roots[vamp] is not None:
             continue
         tap = vamps[vamp].a[0].taps[0]
+        if tap.kind is _VAMP and roots[tap.index] is not None:    # (the next case, in line, for
+            roots[vamp] = roots[tap.index]                        # a Result's tap: 1 register)
+            depths[vamp] = depths[tap.index] + 1
+            continue
         src = tap_source(tap, sources)
         if src is not None and roots[src] is not None:    # one step to a known root: most VAMPs
             roots[vamp] = roots[src]
