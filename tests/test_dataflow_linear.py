@@ -126,6 +126,19 @@ def test_verify_rejects_an_operand_of_the_wrong_shape(source):
         broken.verify()
 
 
+def test_verify_says_the_first_operand_s_shape_before_looking_at_the_second():
+    """A node whose operand A has the wrong shape and whose operand B is not a node at all: the
+    check names operand A, as it checks A before B (a review found the in-line check of a
+    compute node raising a TypeError on B first)."""
+    from vampc.dataflow.graph import InputKey, Node, Output
+    from vampc.kinds import Section
+    a = Node(0, Op.INPUT, (), "A1", Section.IO, 1, key=InputKey("A", 1))          # a matrix
+    z = Node(1, Op.INPUT, (), "zqd1", Section.IO, 1, key=InputKey("zqd", 1))
+    bad = Node(2, Op.VA, (0, None), "T", Section("bwd"), 1)
+    with pytest.raises(VampcInternalError, match=r"^node bwd1\.T: operand io1\.A1 is not 'v'$"):
+        Graph((a, z, bad), (Output(1, 2),), 1).verify()
+
+
 def test_verify_rejects_a_missing_output():
     graph = build_linear(random_chain(3, 1))
     broken = Graph(graph.nodes, graph.outputs[1:], graph.n)

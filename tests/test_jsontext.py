@@ -118,6 +118,25 @@ def test_number_rows_each_writes_what_python_repr_writes(entries, as_tuples):
     assert [bytes(r) for r in jsontext.number_rows_each(given)] == want
 
 
+def test_number_rows_each_of_rows_of_unequal_or_odd_widths_is_number_rows_of_each():
+    """Entries whose widths differ (3 and 3.0 among them: equal, but not the same int) or are
+    not ints are written entry by entry, as number_rows writes them, errors and all."""
+    from array import array
+
+    class Rows:
+        def __init__(self, values, width):
+            self.flat, self.width = array("d", values), width
+    for widths in ((3, 3.0), (3.0, 3.0), (True, True)):
+        entries = [Rows([1.0, 2.0, 3.0], widths[0]), Rows([4.0, 5.0, 6.0], widths[1])]
+        try:
+            want = [bytes(jsontext.number_rows(e)) for e in entries]
+        except TypeError:
+            with pytest.raises(TypeError):
+                jsontext.number_rows_each(entries)
+        else:
+            assert [bytes(r) for r in jsontext.number_rows_each(entries)] == want
+
+
 def test_number_rows_each_of_whole_numbers_is_repr_on_a_program_stream_s_scale():
     """A batch as big as the writer makes (8192 words), of whole numbers of one to eight digits
     and a few negative ones, against Python's repr of each value."""

@@ -136,3 +136,22 @@ def test_mults_and_adds_add_up_to_the_latency_when_mults_are_slower():
     graph = build_linear(rotary(6))
     s = schedule_asap(graph, Timing(mult=3, add=2))
     assert s.latency == paper_flops(6, 3, 2) == 3 * s.mults + 2 * s.adds
+
+
+def test_an_unchecked_schedule_starts_a_node_as_the_loop_over_its_operands_does():
+    """Unverified, a schedule under latencies that are not numbers (NaN) starts each node at the
+    latest of 0 and its operands' finishes that compare greater, as a loop over them does: a NaN
+    finish is passed over (a review found the in-line two-operand case taking it)."""
+    graph = build_linear(random_chain(2, 1))
+    timing = Timing(mult=float("nan"))
+    sched = schedule_asap(graph, timing, verify=False)
+    finish, durations = [], timing.durations
+    for nd in graph.nodes:
+        s = 0
+        for a in nd.args:
+            if finish[a] > s:
+                s = finish[a]
+        finish.append(s + durations[nd.op])
+    import math
+    assert [math.isnan(x) for x in sched.finish] == [math.isnan(x) for x in finish]
+    assert [x for x in sched.finish if not math.isnan(x)] == [x for x in finish if not math.isnan(x)]

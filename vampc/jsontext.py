@@ -64,12 +64,12 @@ def number_rows_each(entries) -> list[msgspec.Raw]:
     4096-joint log program's three million values took 0.74 s an entry at a time, 0.26 s so).
     Otherwise each entry is number_rows', value by value."""
     flats = [getattr(e, "flat", None) for e in entries]
-    widths = {getattr(e, "width", None) for e in entries}
-    if not entries or None in widths or len(widths) != 1 or \
+    widths = {(type(w), w) for w in (getattr(e, "width", None) for e in entries)}
+    if not entries or len(widths) != 1 or next(iter(widths))[0] is not int or \
             any(getattr(f, "typecode", None) != "d" for f in flats):      # (array("d") only)
         return [number_rows(e) for e in entries]
     import numpy as np
-    width = widths.pop()
+    width = widths.pop()[1]
     sizes = np.fromiter(map(len, flats), dtype=np.int64, count=len(flats))
     if width < 1 or not sizes.all() or (sizes % width).any():
         return [number_rows(e) for e in entries]

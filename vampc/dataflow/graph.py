@@ -171,9 +171,10 @@ class Graph:
                 raise VampcInternalError(f"node {nd.label}: id {nd.id} at position {i}")
             want = operands.get(nd.op)
             args = nd.args
-            # (_verify_node's checks of a compute node of two operands, in line: a million nodes)
-            if want is not None and len(args) == 2 and 0 <= args[0] < i and 0 <= args[1] < i \
-                    and shapes[args[0]] == want[0] and shapes[args[1]] == want[1]:
+            # (_verify_node's checks of a compute node of two operands, in line and in its order:
+            # a million nodes; it says what is wrong)
+            if want is not None and len(args) == 2 and 0 <= args[0] < i and \
+                    shapes[args[0]] == want[0] and 0 <= args[1] < i and shapes[args[1]] == want[1]:
                 shapes.append(result[nd.op])
                 continue
             _verify_node(self, nd, shapes)

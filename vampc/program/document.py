@@ -282,9 +282,10 @@ def programs_doc(net: Network, progs) -> Rows:
         add = lines.append
         for v, ps in zip(net.vamps[lo:hi], progs[lo:hi]):
             slots = v.slots
-            if len(slots) == 1 == len(ps):
-                s = slots[0]
-                key = (id(ps), id(s.op))          # (an Enum's own hash is Python's: slow)
+            s = slots[0] if len(slots) == 1 == len(ps) else None
+            # (a template's %d writes a node and an index as msgspec does if they are ints)
+            if s is not None and type(s.node) is int and type(v.index) is int:
+                key = (id(ps), id(s.op))    # (by identity: hashing the listing's Programs is slow)
                 hit = made.get(key)
                 if hit is None and len(made) < TEMPLATES:
                     hit = made[key] = (ps, template(v, ps))
@@ -300,7 +301,7 @@ def programs_doc(net: Network, progs) -> Rows:
 
 
 TEMPLATES = 1 << 16      # the row texts programs_doc keeps at most (a program's listings: hundreds)
-_NODE_MARK, _VAMP_MARK = -73400012345671, -73400076543217    # (no field of a row is negative)
+_NODE_MARK, _VAMP_MARK = -73400012345671, -73400076543217    # (a template has each once, or none)
 
 
 def stream_doc(stream) -> Rows:

@@ -87,11 +87,11 @@ def _schedule_asap(graph: Graph, timing: Timing, verify: bool) -> Schedule:
     for nd in graph.nodes:
         args = nd.args
         if len(args) == 2:       # (a compute node's two operands in line: a million nodes)
-            s, t = finish[args[0]], finish[args[1]]
-            if t > s:
-                s = t
-            if s < 0:
-                s = 0
+            s = 0
+            if finish[args[0]] > s:
+                s = finish[args[0]]
+            if finish[args[1]] > s:
+                s = finish[args[1]]
         else:
             s = 0
             for a in args:
