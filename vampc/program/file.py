@@ -42,7 +42,7 @@ import numpy as np
 
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
-from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows(_each): the writer's, from here
+from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the writer's, from here
     DecodeError,
     ascii_bytes,
     ascii_text,
@@ -115,10 +115,10 @@ ROW_BATCH = 8192     # rows encoded at once: bounded pieces, however big the sec
 class Rows:
     """A list of rows (Structs) made a batch at a time, as the writer reaches them: `make(lo, hi)`
     gives rows lo..hi-1, as Structs or as their text already encoded (bytes, a line a row, each
-    ended by a newline: vampc.program.document.programs_doc). The big sections of a program file are written this way (a 4096-joint log
-    program has about a million VAMPs; holding every row's Struct, and the whole text, at once
-    doubled the compile's peak memory). Only `layout_chunks` reads it: a row list at the depth
-    where `layout` puts one row per line. `weights`, if given, is each row's size in items (a
+    ended by a newline: vampc.program.document.programs_doc). The big sections of a program file
+    are written this way (a 4096-joint log program has about a million VAMPs; holding every row's
+    Struct, and the whole text, at once doubled the compile's peak memory). Only `layout_chunks`
+    reads it: a row list at the depth where `layout` puts one row per line. `weights`, if given, is each row's size in items (a
     stream entry's words): a batch then holds at most ROW_BATCH items, or one row (a 4096-joint log
     program's 8192 stream entries took 100 MB of text at once)."""
 
