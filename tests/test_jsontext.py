@@ -95,7 +95,7 @@ def _entries(values):
     return st.lists(st.lists(st.tuples(values, values, values), max_size=6), max_size=6)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(entries=st.one_of(_entries(_WHOLE), _entries(_ANY)), as_tuples=st.booleans())
 def test_number_rows_each_writes_what_python_repr_writes(entries, as_tuples):
     """The program stream's words of a batch written at once (NumPy writing whole numbers' digits)
