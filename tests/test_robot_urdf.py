@@ -239,7 +239,10 @@ def as_pose(origin) -> np.ndarray:
 
 def test_defaults_match_yourdfpy_kinematics(tmp_path):
     path = write(tmp_path, DEFAULTS)
-    chain = load_urdf(path)
+    with pytest.warns(VampcWarning, match=r"joint 'j2' \(prismatic\) has no <limit>, which the URDF "
+                      r"specification requires"), \
+            pytest.warns(VampcWarning, match=r"joint 'j1' has a <limit> without velocity"):
+        chain = load_urdf(path)
     assert [j.name for j in chain.joints] == ["j1", "j2", "j3"]
     # no lower: URDF's default, 0, as urdfdom and Pinocchio read it (it had been read as no interval)
     assert chain.joints[0].limits.q == (0.0, 2.0) and chain.joints[0].limits.tau == 3.0
@@ -696,12 +699,15 @@ def test_naming_the_root_of_a_floating_robot_as_base_is_as_leaving_it_out(tmp_pa
     not supported'), where leaving --base out floats; --base trunk dropped the floating joint
     without a word (a new user's run)."""
     path = write(tmp_path, FLOATING_ROOT)
-    plain = load_urdf(path)
-    named = load_urdf(path, base="world")
+    with pytest.warns(VampcWarning, match=r"joint 'j1' \(revolute\) has no <limit>"):
+        plain = load_urdf(path)
+    with pytest.warns(VampcWarning, match=r"joint 'j1' \(revolute\) has no <limit>"):
+        named = load_urdf(path, base="world")
     assert plain.floating and named.floating and [j.name for j in named.joints] == ["j1"]
     assert named.base_mass == plain.base_mass == 2.0
     with pytest.warns(VampcWarning, match=r"base link 'trunk' hangs on floating joint 'float': it is "
-                                          r"taken as a fixed base \(--floating-base lets it float\)"):
+                                          r"taken as a fixed base \(--floating-base lets it float\)"), \
+            pytest.warns(VampcWarning, match=r"joint 'j1' \(revolute\) has no <limit>"):
         fixed = load_urdf(path, base="trunk")
     assert not fixed.floating
 
