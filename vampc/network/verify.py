@@ -78,44 +78,17 @@ def verify_network(net: Network, graph: Graph, sched: Schedule) -> None:
     P, B = net.period, net.clock
     nodes, count = graph.nodes, len(net.vamps)
     bus = net.bus is not None
-    vamps, buffers = net.vamps, net.buffers
-    for v in vamps:
-        slots = v.slots
-        if len(slots) != 1 or not slots[0].latch_a <= slots[0].dump < slots[0].latch_a + P:
-            _verify_slots(v, P)             # (a one-slot VAMP's span, in line: a million VAMPs)
-        for k, s in enumerate(slots):
+    for v in net.vamps:
+        _verify_slots(v, P)
+        for k, s in enumerate(v.slots):
             if bus and s.sel_a == 0 and program_wire(v):
                 raise VampcInternalError(f"VAMP {v.index} slot {k}: {PROGRAM_WIRE_READ}")
             arg_a, arg_b = nodes[s.node].args
-            for name, operand, arg, latch in (("A", v.a[s.sel_a], arg_a, s.latch_a),
-                                              ("B", v.b[s.sel_b], arg_b, s.latch_b)):
-                taps = operand.taps
-                if len(taps) == 1:          # _on_results of one tap, in line
-                    t = taps[0]
-                    kind = t.kind
-                    if kind is _VAMP:
-                        source = t.index
-                        if 0 <= source < count:
-                            shows = vamps[source].slots
-                            if len(shows) == 1 and shows[0].node == arg and \
-                                    shows[0].column is None:
-                                emit = shows[0].dump + 1
-                                if emit <= latch < emit + P:
-                                    continue
-                    elif kind is _BUFFER and 0 <= t.index < len(buffers):
-                        buffer = buffers[t.index]
-                        source = buffer.source
-                        if 1 <= t.stage <= buffer.stages and 0 <= source < count:
-                            shows = vamps[source].slots
-                            if len(shows) == 1 and shows[0].node == arg and \
-                                    shows[0].column is None:
-                                emit = shows[0].dump + 1
-                                lo, hi = buffer_window(emit, emit + P, t.stage, B)
-                                if lo <= latch < hi:
-                                    continue
-                elif _on_results(taps, arg, latch, net, count, P, B):
-                    continue
-                _verify_operand(net, graph, shown, ports, v, k, name, operand, latch, arg, B)
+            a, b = v.a[s.sel_a], v.b[s.sel_b]
+            if not _on_results(a.taps, arg_a, s.latch_a, net, count, P, B):
+                _verify_operand(net, graph, shown, ports, v, k, "A", a, s.latch_a, arg_a, B)
+            if not _on_results(b.taps, arg_b, s.latch_b, net, count, P, B):
+                _verify_operand(net, graph, shown, ports, v, k, "B", b, s.latch_b, arg_b, B)
 
 
 def _on_results(taps, arg: int, latch: int, net: Network, count: int, P: int, B: int) -> bool:
