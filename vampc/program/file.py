@@ -118,9 +118,10 @@ class Rows:
     ended by a newline: vampc.program.document.programs_doc). The big sections of a program file
     are written this way (a 4096-joint log program has about a million VAMPs; holding every row's
     Struct, and the whole text, at once doubled the compile's peak memory). Only `layout_chunks`
-    reads it: a row list at the depth where `layout` puts one row per line. `weights`, if given, is each row's size in items (a
-    stream entry's words): a batch then holds at most ROW_BATCH items, or one row (a 4096-joint log
-    program's 8192 stream entries took 100 MB of text at once)."""
+    reads it: a row list at the depth where `layout` puts one row per line. `weights`, if given,
+    is each row's size in items (a stream entry's words): a batch then holds at most ROW_BATCH
+    items, or one row (a 4096-joint log program's 8192 stream entries took 100 MB of text at
+    once)."""
 
     __slots__ = ("count", "make", "weights")
 

@@ -47,7 +47,7 @@ def vamp_counts(c) -> dict:
         by_section[Pass.of(section)] += k
     for op, k in Counter(map(_OP, alone)).items():
         by_op[op.value] += k
-    for v in itertools.compress(vamps, map(operator.not_, one)) if not all(one) else ():
+    for v in itertools.compress(vamps, map(operator.not_, one)):
         kinds = {Pass.of(nodes[s.node].section) for s in v.slots}
         by_section[kinds.pop() if len(kinds) == 1 else "shared"] += 1
         by_op.update([s.op.value for s in v.slots])
@@ -89,14 +89,9 @@ def _per_node(c) -> dict:
 
 def serial_work(graph) -> dict:
     """Total scalar operations of the graph executed one after another."""
-    ops = op_counts(graph)
+    ops = graph.compute_ops()
     return {"mults": sum(SERIAL_WORK[op][0] * k for op, k in ops.items()),
             "adds": sum(SERIAL_WORK[op][1] * k for op, k in ops.items())}
-
-
-def op_counts(graph) -> Counter:
-    """The graph's compute nodes of each op."""
-    return graph.compute_ops()
 
 
 def physical_vamps(net) -> int:
@@ -144,7 +139,7 @@ def summary(c) -> dict:
         "packages_40pin": packages(physical_vamps(c.network)),
         "serial_work": serial_work(c.graph),
         "serial_reference": serial_reference(c.chain.n),
-        "ops": dict(sorted((op.value, k) for op, k in op_counts(c.graph).items())),
+        "ops": dict(sorted((op.value, k) for op, k in c.graph.compute_ops().items())),
         "timing": {"mult_latency": s.timing.mult, "add_latency": s.timing.add},
         "uniform_leaves": c.options.uniform_leaves if c.graph.recursion is Recursion.LOG else None,
         "prefix": c.options.prefix if c.graph.recursion is Recursion.LOG else None,

@@ -86,14 +86,13 @@ def _schedule_asap(graph: Graph, timing: Timing, verify: bool) -> Schedule:
     duration = timing.durations
     for nd in graph.nodes:
         args = nd.args
+        s = 0
         if len(args) == 2:       # (a compute node's two operands in line: a million nodes)
-            s = 0
             if finish[args[0]] > s:
                 s = finish[args[0]]
             if finish[args[1]] > s:
                 s = finish[args[1]]
         else:
-            s = 0
             for a in args:
                 if finish[a] > s:
                     s = finish[a]
