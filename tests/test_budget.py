@@ -270,6 +270,38 @@ def test_exact_proves_the_optimum_of_a_small_graph(tmp_path, robot, interval, la
     assert ok.exit_code == 0 and "OK" in ok.stdout
 
 
+def test_exact_says_which_interval_its_solver_is_at(tmp_path, monkeypatch):
+    """The progress bar of `compile --exact` says the interval being solved and each latency the
+    solver finds there (minutes on the Puma or on planar2 with 3 VAMPs, the bar saying only
+    "schedule" before); the program is the same bytes with the bar as without it."""
+    pytest.importorskip("ortools")
+    from vampc import progress
+    notes = []
+    monkeypatch.setattr(progress, "note", notes.append)
+    path = tmp_path / "arm1.yaml"
+    path.write_text(ARM1)
+    made = {}
+    for shown in ("0", "1"):
+        monkeypatch.setenv("VAMPC_PROGRESS", shown)
+        notes.clear()
+        prog = tmp_path / f"p{shown}.vamp.json"
+        res = CliRunner().invoke(main, ["compile", str(path), "--vamps", "5", "--exact", "-o",
+                                        str(prog)])
+        assert res.exit_code == 0, res.output
+        made[shown] = (prog.read_bytes(), list(notes))
+    assert made["0"][0] == made["1"][0]
+    assert made["0"][1] == ["--exact at interval 11 (from 11)"]      # the bound, solved at once
+    first, *found = made["1"][1]
+    assert first == "--exact at interval 11 (from 11)" and found, made["1"][1]
+    assert all(n.startswith(first + ": latency ") for n in found), found
+    assert found[-1] == first + ": latency 21 flops found so far"    # the optimum (the test above)
+    notes.clear()
+    res = CliRunner().invoke(main, ["compile", str(path), "--vamps", "5", "--interval", "12",
+                                    "--exact", "-o", str(tmp_path / "q.vamp.json")])
+    assert res.exit_code == 0, res.output
+    assert notes[0] == "--exact at interval 12", notes
+
+
 def test_exact_needs_a_budget():
     res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--exact", "-o", "-"])
     assert res.exit_code == 2 and "--exact applies with --vamps K" in res.stderr

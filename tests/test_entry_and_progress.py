@@ -294,3 +294,33 @@ def test_emulates_bar_says_when_it_counts_the_check_too(monkeypatch, check):
                                   *(["--check"] if check else [])])
     assert r.exit_code == 0, r.output
     assert labels == (["stream engine and check"] if check else ["stream engine"]), labels
+
+
+def test_a_note_says_what_the_running_stage_is_doing(monkeypatch, capsys):
+    """`vampc compile --exact` spends minutes in its schedule stage, the solver at one interval
+    after another; the bar said only "schedule". A note is drawn beside the stage's name, and the
+    next stage's name replaces both; outside a bar a note is nothing."""
+    import re
+    import time
+
+    from vampc import progress
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    progress.note("no bar: nothing")
+    err = ""
+    noted = re.compile(r"work: 0/2 stages \[\d\d:\d\d\], one: --exact at interval 12")
+    with progress.stages("work", ("one", "two")) as stage:
+        stage("one")
+        progress.note("--exact at interval 12")
+        deadline = time.monotonic() + 60       # the clock draws it within a second
+        while not noted.search(err) and time.monotonic() < deadline:
+            time.sleep(0.05)
+            err += capsys.readouterr().err
+        stage("two")
+        drawn = re.compile(r"work: 1/2 stages \[\d\d:\d\d\], two(?!:)")
+        while not drawn.search(err) and time.monotonic() < deadline:
+            time.sleep(0.05)
+            err += capsys.readouterr().err
+    err += capsys.readouterr().err
+    assert noted.search(err) and drawn.search(err), repr(err)
+    assert "no bar" not in err and progress._NOTES == []

@@ -10,6 +10,7 @@ import threading
 
 DELAY = 2.0   # seconds into a command before a bar appears
 _BEGUN: list[float] = []     # when the command began (`begin`), monotonic seconds
+_NOTES: list = []            # the drawn stages bars' `note` callables, innermost last
 
 
 def begin() -> None:
@@ -95,9 +96,18 @@ def counter(label: str, total: int, unit: str = "set"):
         yield update
 
 
+def note(text: str) -> None:
+    """Say what the running stage is doing now, beside its name on the innermost stages bar (`vampc
+    compile --exact`'s solver at one interval after another: minutes in one stage that said only
+    "schedule"); nothing where no bar is drawn."""
+    if _NOTES:
+        _NOTES[-1](text)
+
+
 @contextlib.contextmanager
 def stages(label: str, names: tuple[str, ...]):
-    """A callable `stage(name)` that shows which of the named stages is running."""
+    """A callable `stage(name)` that shows which of the named stages is running (and `note`, what it
+    is doing)."""
     if not enabled():
         yield lambda name: None
         return
@@ -106,13 +116,19 @@ def stages(label: str, names: tuple[str, ...]):
               file=_Stderr(sys.stderr),
               leave=False, dynamic_ncols=True,
               bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}") as bar:
+        running = [""]          # the stage's name, which a note follows
+
         def stage(name: str) -> None:
             # (set_postfix_str's own redraw would draw the bar at once, before DELAY, and a bar
             # tqdm drew that way is not cleared when it closes: it was left on the line, the
             # command's output glued to it; update() draws only once DELAY has passed)
             bar.set_postfix_str(name, refresh=False)
+            running[0] = name
             if name in names:
                 bar.update(names.index(name) - bar.n)
+
+        def noted(text: str) -> None:
+            bar.set_postfix_str(f"{running[0]}: {text}" if running[0] else text, refresh=False)
         # tqdm draws a delayed bar only when it is updated: a stage that runs long (rtl's Verilog,
         # 76 s for the Puma) showed nothing at all; a clock draws it once DELAY has passed, and
         # every second after, so its elapsed time moves
@@ -131,9 +147,11 @@ def stages(label: str, names: tuple[str, ...]):
                     return
         clock = threading.Thread(target=tick, name="vampc-progress", daemon=True)
         clock.start()
+        _NOTES.append(noted)
         try:
             yield stage
         finally:
+            _NOTES.remove(noted)
             stop.set()
             # (not for ever: a signal raised in the middle of a redraw can leave tqdm's lock held,
             # and the clock, waiting for it, would hold the command's exit; it is a daemon)

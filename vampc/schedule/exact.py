@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vampc import progress
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
@@ -39,8 +40,20 @@ def _solver():
     return cp_model
 
 
-def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: float):
-    """(status, Placed or None, latency proven optimal) for one interval."""
+def _noting(cp_model, text: str):
+    """A solution callback that puts each latency the solver finds on the progress bar after `text`
+    (only where a bar is drawn; what the solver finds is the same with it or without)."""
+    class Noting(cp_model.CpSolverSolutionCallback):
+        def on_solution_callback(self) -> None:
+            progress.note(f"{text}: latency {self.ObjectiveValue():.0f} flops found so far")
+        OnSolutionCallback = on_solution_callback      # (the name OR-Tools before 9.8 calls)
+    return Noting()
+
+
+def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: float,
+          note: str = ""):
+    """(status, Placed or None, latency proven optimal) for one interval; `note`: what the progress
+    bar says meanwhile, with the latencies found."""
     cp_model = _solver()
     d = timing.durations
     ops = graph.compute_nodes()
@@ -78,7 +91,9 @@ def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: 
     solver.parameters.max_deterministic_time = seconds
     solver.parameters.num_workers = 1
     solver.parameters.random_seed = 0
-    status = solver.Solve(model)
+    if note:
+        progress.note(note)
+    status = solver.Solve(model, _noting(cp_model, note) if note and progress.enabled() else None)
     if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
         return status, None, False
     starts = [0] * len(graph.nodes)
@@ -106,14 +121,16 @@ def exact_budget(graph: Graph, timing: Timing, k: int, seconds: float = EFFORT,
     horizon = work + max(t for t in tail if t is not None)
     ii, proven = b.interval_bound, True
     if interval is not None:
-        status, placed, optimal = solve(graph, timing, k, interval, horizon, seconds)
+        status, placed, optimal = solve(graph, timing, k, interval, horizon, seconds,
+                                        f"--exact at interval {interval}")
         if placed is None:
             raise VampcError(f"--exact: no placement of {k} VAMPs at interval {interval} was found "
                              + ("(proven impossible)" if status == cp_model.INFEASIBLE else
                                 "within the solver's time limit"))
         return Exact(placed, False, optimal)
     while True:
-        status, placed, optimal = solve(graph, timing, k, ii, horizon, seconds)
+        status, placed, optimal = solve(graph, timing, k, ii, horizon, seconds,
+                                        f"--exact at interval {ii} (from {b.interval_bound})")
         if placed is not None:
             return Exact(placed, proven, optimal)
         if status != cp_model.INFEASIBLE:
