@@ -353,6 +353,7 @@ def test_data_outputs_named_as_another_format_are_warned_of(tmp_path):
     for args, option, name, kind, right in (
             (emulate, "-o", "t.json", "CSV", ".csv"), (emulate, "-o", "t.txt", None, None),
             (emulate, "-o", "t.npy", None, None), (emulate, "--save-states", "s.json", "CSV", ".csv"),
+            (emulate, "-o", "t.tsv", "CSV", ".csv"),      # (tab-separated by name: a new user's)
             (emulate + ["--engine", "tick"], "--vcd", "v.svg", "VCD", ".vcd"),
             (emulate + ["--engine", "tick"], "--vcd", "v.vcd", None, None),
             (["lookahead", str(puma)] + path, "--torques", "tq.json", "CSV", ".csv"),
@@ -366,6 +367,22 @@ def test_data_outputs_named_as_another_format_are_warned_of(tmp_path):
         assert r.exit_code == 0 and (tmp_path / name).exists(), (args, name, r.stderr)
         said = f"vampc: warning: {option} {tmp_path / name}: writes {kind}, whatever the name says (name it {right})"
         assert (said in r.stderr) if kind else "whatever the name says" not in r.stderr, (name, r.stderr)
+
+
+def test_an_input_named_dash_where_it_is_a_files_name_says_so(tmp_path, monkeypatch):
+    """`-` is standard input for a trajectory only; elsewhere it is a file's name, and a missing one
+    said only "-: no such file" (a new user gave `--limits - < lim.csv`)."""
+    monkeypatch.chdir(tmp_path)
+    hint = ("(standard input is read as `-` only for a trajectory, --trajectory or --accelerations; "
+            "give this file's name)")
+    for args, said in ((["compile", "-", "-o", "p.vamp.json"], "-: no such file "),
+                       (["emulate", "-", "--random", "2"], "-: no such file "),
+                       (["report", "-"], "-: no such file "),
+                       (["compile", str(EXAMPLES / "planar2.yaml"), "--numbering", "-", "-o",
+                         "p.vamp.json"], "-: cannot read numbering file: No such file or directory ")):
+        r = run(*args)
+        assert r.exit_code == 1 and r.stderr == f"vampc: error: {said}{hint}\n", (args, r.stderr)
+    assert not (tmp_path / "p.vamp.json").exists()
 
 
 def test_the_command_list_gives_each_command_whole():

@@ -156,6 +156,12 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits, or held "
      r"as float32, are off by their rounding: write them in full, or leave the t column out, and "
      r"the rows are 1/rate apart\)$", 1),             # (microseconds at 3 kHz: a new user's run)
+    # 4 or 5 decimals at 3 kHz: steps of 0.0003 and 0.0004 (10% off), each row within half a step
+    # of the grid; told only that the rate was wrong before (a new user's)
+    (lambda t: np.round(t / 3, 4), ["--rate", "3kHz"], r"t steps by 0\.0003, not 1/rate = "
+     r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits", 1),
+    (lambda t: np.round(t / 3, 5), ["--rate", "3kHz"], r"t steps by 0\.00033, not 1/rate = "
+     r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits", 1),
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4 ms .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
@@ -166,6 +172,10 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
     (None, ["--torques", "t.csv.bz2"], r"--torques writes CSV .*: give a \.csv file name", 2),  # (was
     (None, ["--retime", "uniform", "-o", "r.xz"], r"-o writes CSV .*: give a \.csv file name", 2),  # plain)
     (None, ["--plot", "-"], r"--plot -: standard output is not available for this output", 2),
+    # `-` is a file's name here (said only "No such file or directory" to a new user's `--limits -`)
+    (None, ["--limits", "-"], r"^vampc: error: -: cannot read limits: No such file or directory "
+     r"\(standard input is read as `-` only for a trajectory, --trajectory or --accelerations; "
+     r"give this file's name\)$", 1),
     (None, ["--retime", "window", "--futures", "8"],
      r"--window 64 × --futures 8 = 512 rows: more than the trajectory \(500 rows\)", 2),
     # the rate is served, but a row's torques (61 flops late) would reach the motors after the row
@@ -206,6 +216,16 @@ def test_bad_input_is_one_line(setup, edit, args, message, code):
     assert r.exit_code == code, r.output
     assert re.search(message, r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+def test_a_window_longer_than_a_one_row_path_says_one_row(setup):
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    path = write_path(folder, t[:1], q[:1], qd[:1], qdd[:1], "one.csv")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate",
+                                  "1kHz", "--window", "4", "--limits", str(limits)])
+    assert r.exit_code == 2 and r.output.startswith(      # ("(1 rows)": a new user's)
+        "vampc: error: --window 4: larger than the trajectory (1 row) (see "), r.output
 
 
 @pytest.mark.parametrize("args, message, code", [

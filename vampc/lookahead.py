@@ -220,10 +220,11 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     for j in chain.joints:
         padded.setdefault(j.name.strip(), []).append(j.name)
     try:
-        from vampc.textio import read_whole
+        from vampc.textio import read_whole, stdin_hint
         raw = read_whole(path)
     except OSError as exc:
-        raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}") from None
+        raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}"
+                         f"{stdin_hint(path, exc)}") from None
     text = decode_utf8(raw, path, "limits file")     # (a spreadsheet's BOM dropped)
     reader = csv.reader(io.StringIO(text, newline=""))
     try:
@@ -366,7 +367,11 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
     off = np.flatnonzero(np.abs(steps - lam) > slack)
     if off.size:
         step = float(steps[off[0]])
-        rounded = abs(step - lam) <= 1e-3 * lam       # the right rate, times written short
+        # the right rate, times written short: a step within 0.1% of 1/rate, or every row within
+        # half a step of a grid 1/rate apart (3 kHz times of 4 or 5 decimals step by 0.0003 and
+        # 0.0004, 0.00033 and 0.00034, and were told only that the rate was wrong: a new user's)
+        rounded = abs(step - lam) <= 1e-3 * lam or \
+            float(np.ptp(t - np.arange(traj.count) * lam)) <= lam
         # (rows evenly apart at another step: the rate given is off, not the times; the rounding
         # hint had been given of --rate 999.9Hz beside exact times, a look-ahead audit's find)
         even = float(np.ptp(steps)) <= 2 * float(slack.max())
@@ -466,11 +471,13 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
 
 def check_window(window: int, traj, futures: int = 1) -> None:
     """Registers no longer than the path, together (VampcUsageError)."""
+    from vampc.textio import count
     if window > traj.count:
-        raise VampcUsageError(f"--window {window}: larger than the trajectory ({traj.count} rows)")
+        raise VampcUsageError(f"--window {window}: larger than the trajectory "
+                              f"({count(traj.count, 'row')})")
     if window * futures > traj.count:
         raise VampcUsageError(f"--window {window} × --futures {futures} = {window * futures} rows: "
-                              f"more than the trajectory ({traj.count} rows)")
+                              f"more than the trajectory ({count(traj.count, 'row')})")
 
 
 # What a run does, in order (the progress bar's stages: vampc.progress.stages), by --retime.

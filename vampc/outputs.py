@@ -622,7 +622,8 @@ WRITES = {"--timing": PICTURE, "--network": PICTURE, "--reservation": PICTURE,
 # CSV), to a name of none (.txt, .dat, no suffix), as tables often have, is not
 OTHER_FORMATS = (".json", ".jsonl", ".yaml", ".yml", ".xml", ".urdf", ".html", ".htm", ".svg",
                  ".png", ".jpg", ".jpeg", ".pdf", ".dot", ".gv", ".vcd", ".v", ".sv", ".npy", ".npz",
-                 ".csv")
+                 ".csv", ".tsv", ".tab", ".xlsx", ".xls", ".ods", ".parquet", ".feather", ".h5",
+                 ".hdf5", ".mat")
 CSV_TABLE = ("CSV", (".csv",), OTHER_FORMATS)
 
 

@@ -11,6 +11,17 @@ _OTHER_BOMS = ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
                (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"))
 
 
+def stdin_hint(path, exc: BaseException | None = None) -> str:
+    """What follows "no such file" (`exc`: the error of opening it, if that is how it was found
+    missing) for an input named `-` where `-` is a file's name: standard input is read for a
+    trajectory only (`--limits - < lim.csv` said only "-: cannot read limits: No such file or
+    directory": a new user's)."""
+    if str(path) == "-" and (exc is None or isinstance(exc, FileNotFoundError)):
+        return (" (standard input is read as `-` only for a trajectory, --trajectory or "
+                "--accelerations; give this file's name)")
+    return ""
+
+
 def read_whole(path, stdin: bool = False) -> bytes:
     """The bytes of a user's input, read once: a regular file as Path.read_bytes reads it (into
     one buffer of its size), a pipe or FIFO in pieces, between which a termination signal or Ctrl-C

@@ -128,10 +128,11 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
     numbers = []
     first: dict[int, int] = {}           # each number's line
     try:
-        from vampc.textio import read_whole
+        from vampc.textio import read_whole, stdin_hint
         raw = read_whole(path)
     except OSError as exc:
-        raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}") from None
+        raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}"
+                         f"{stdin_hint(path, exc)}") from None
     lines = decode_utf8(raw, path, "numbering file").splitlines()
     for lineno, line in enumerate(lines, 1):
         text = line.split("#", 1)[0].strip()

@@ -107,7 +107,8 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
         return load_dh(path, floating=floating)
     from vampc.sniff import OTHER_COMPRESSION, OTHER_COMPRESSIONS, sniff
     if not path.is_file():        # (any name may be a program file's: not a question of extension)
-        raise located(path, "", "no such file" if not path.exists() else
+        from vampc.textio import stdin_hint
+        raise located(path, "", f"no such file{stdin_hint(path)}" if not path.exists() else
                       "not a regular file (a robot or program file is read from one)")
     kind = sniff(path)
     if kind in OTHER_COMPRESSIONS:
