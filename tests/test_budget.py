@@ -302,6 +302,60 @@ def test_exact_says_which_interval_its_solver_is_at(tmp_path, monkeypatch):
     assert notes[0] == "--exact at interval 12", notes
 
 
+def test_exact_refuses_an_interval_below_the_bound_at_once():
+    """--exact --interval T below ⌈W/K⌉ (or the longest op) is impossible: refused at once, as the
+    heuristic refuses it, where the solver had searched for minutes (a new user's)."""
+    pytest.importorskip("ortools")
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--exact",
+                                    "--vamps", "5", "--interval", "21", "-o", "-"])
+    assert res.exit_code == 1 and res.stdout == "", res.output
+    assert res.stderr == ("vampc: error: --exact: no placement of 5 VAMPs at interval 21 (proven "
+                          "impossible: no interval is below 22 flops, the work of 108 VAMP-ticks "
+                          "over 5 VAMPs, rounded up)\n")
+
+
+@pytest.mark.parametrize("sig, code, said", [("SIGINT", 130, "vampc: interrupted"),
+                                             ("SIGTERM", 143, "vampc: terminated (SIGTERM)")])
+def test_a_signal_stops_exact_at_once_and_keeps_the_old_file(tmp_path, sig, code, said):
+    """CP-SAT's own SIGINT handler ended the search as if its time were up: Ctrl-C wrote the
+    placement found so far over the old file, exit 0; SIGTERM waited two minutes for the solver's
+    limit (a new user's). Both now end the command within a second or so, the file as it was.
+    planar2 on 4 VAMPs takes the solver over two minutes; the signal comes once the bar says the
+    solver is at its interval."""
+    pytest.importorskip("ortools")
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    out = tmp_path / "p.vamp.json"
+    out.write_text("old")
+    proc = subprocess.Popen([sys.executable, "-m", "vampc", "compile", str(EXAMPLES / "planar2.yaml"),
+                             "--exact", "--vamps", "4", "-o", str(out)],
+                            env={**os.environ, "VAMPC_PROGRESS": "1"}, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    seen = b""
+    try:
+        os.set_blocking(proc.stderr.fileno(), False)
+        deadline = time.monotonic() + 60
+        while b"--exact at interval" not in seen and time.monotonic() < deadline:
+            time.sleep(0.1)
+            seen += proc.stderr.read() or b""
+        assert b"--exact at interval" in seen, seen
+        sent = time.monotonic()
+        proc.send_signal(getattr(signal, sig))
+        assert proc.wait(timeout=30) == code
+        assert time.monotonic() - sent < 20          # (the solver's limit had taken 2 minutes)
+    finally:
+        proc.kill()
+        proc.wait()
+    os.set_blocking(proc.stderr.fileno(), True)
+    seen += proc.stderr.read()
+    assert seen.decode().replace("\r", "\n").strip().endswith(said), seen
+    assert out.read_text() == "old" and proc.stdout.read() == b""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.vamp.json"]
+
+
 def test_exact_needs_a_budget():
     res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--exact", "-o", "-"])
     assert res.exit_code == 2 and "--exact applies with --vamps K" in res.stderr

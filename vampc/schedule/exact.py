@@ -91,9 +91,15 @@ def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: 
     solver.parameters.max_deterministic_time = seconds
     solver.parameters.num_workers = 1
     solver.parameters.random_seed = 0
+    # Ctrl-C and SIGTERM end the command at once: CP-SAT's own SIGINT handler had ended the search
+    # as if its time were up and the command had written that placement, exit 0, and a SIGTERM
+    # waited for the solver's limit (two minutes: a new user's); the search runs on a thread while
+    # this one waits where Python's handlers run, and is stopped when they raise
+    solver.parameters.catch_sigint_signal = False
     if note:
         progress.note(note)
-    status = solver.Solve(model, _noting(cp_model, note) if note and progress.enabled() else None)
+    status = _solve_stoppably(solver, model,
+                              _noting(cp_model, note) if note and progress.enabled() else None)
     if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
         return status, None, False
     starts = [0] * len(graph.nodes)
@@ -105,6 +111,30 @@ def solve(graph: Graph, timing: Timing, k: int, ii: int, horizon: int, seconds: 
         placement[nd.id] = tuple(v for v in range(k) if solver.Value(on[(nd.id, v)]))
     return status, Placed(tuple(starts), tuple(finish), tuple(placement), ii), \
         status == cp_model.OPTIMAL
+
+
+def _solve_stoppably(solver, model, callback):
+    """solver.Solve(model, callback) on a thread, stopped when this thread is interrupted."""
+    import threading
+    done: list = []
+
+    def search() -> None:
+        try:
+            done.append(solver.Solve(model, callback))
+        except BaseException as exc:       # raised again on the calling thread
+            done.append(exc)
+    worker = threading.Thread(target=search, name="vampc-cp-sat", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(0.1)
+    except BaseException:
+        (getattr(solver, "stop_search", None) or solver.StopSearch)()
+        worker.join()
+        raise
+    if isinstance(done[0], BaseException):
+        raise done[0]
+    return done[0]
 
 
 EFFORT = 30.0     # the solver's deterministic time limit per interval (about seconds)
@@ -121,6 +151,11 @@ def exact_budget(graph: Graph, timing: Timing, k: int, seconds: float = EFFORT,
     horizon = work + max(t for t in tail if t is not None)
     ii, proven = b.interval_bound, True
     if interval is not None:
+        if interval < ii:         # (the solver had searched minutes for what cannot be: a new user's)
+            raise VampcError(f"--exact: no placement of {k} VAMPs at interval {interval} (proven "
+                             f"impossible: no interval is below {ii} flops, "
+                             + ("the longest op)" if ii > b.interval else
+                                f"the work of {b.work} VAMP-ticks over {k} VAMPs, rounded up)"))
         status, placed, optimal = solve(graph, timing, k, interval, horizon, seconds,
                                         f"--exact at interval {interval}")
         if placed is None:
