@@ -46,7 +46,7 @@ def _noting(cp_model, text: str):
     class Noting(cp_model.CpSolverSolutionCallback):
         def on_solution_callback(self) -> None:
             progress.note(f"{text}: latency {self.ObjectiveValue():.0f} flops found so far")
-        OnSolutionCallback = on_solution_callback      # (the name OR-Tools before 9.8 calls)
+        OnSolutionCallback = on_solution_callback      # (the name older OR-Tools calls)
     return Noting()
 
 
