@@ -283,6 +283,26 @@ def test_dump_after_prints_the_ir_and_writes_nothing(tmp_path):
     assert run("compile", PUMA, "--dump-after", "graph", "-o", tmp_path / "x.vamp.json").exit_code == 2
 
 
+def test_the_emit_dump_shows_error_corrections_chain():
+    """`--dump-after emit --error-correction` printed what the plain compile prints, with no word,
+    where the program holds the chain of VAMPs and its periods (a new user's)."""
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.dump import dump_after
+    from vampc.robot import load_robot
+    plain = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", "emit").stdout
+    r = run("compile", str(EXAMPLES / "planar2.yaml"), "--dump-after", "emit", "--error-correction",
+            "--check-cycles", "3")
+    assert r.exit_code == 0 and r.stderr == "" and r.stdout != plain
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"),
+                      CompileOptions(error_correction=True, check_cycles=3))
+    assert r.stdout == dump_after("emit", c)
+    said = [line for line in r.stdout.splitlines() if line.startswith("error correction")]
+    chain = " ".join(map(str, c.network.checking.chain))
+    assert said == [f"error correction: extraneous vamp 60, then chain {chain}; warm-up "
+                    f"{c.network.checking.warmup} periods, compare 3"]
+    assert sorted(c.network.checking.chain) == list(range(60))
+
+
 @pytest.mark.parametrize("stage, args, said", [
     ("graph", ["--vamps", "3", "--interval", "2"], "--vamps, --interval do not apply to --dump-after "
      "graph: they shape a later stage"),

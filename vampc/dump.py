@@ -79,12 +79,17 @@ def _word(w) -> str:
 
 
 def dump_program(c) -> str:
-    """The programs (per VAMP: number and slot fields) and the Program-Mode stream (per root input:
-    target and word, one per tick)."""
+    """The programs (per VAMP: number and slot fields), error correction's chain where the network
+    has one, and the Program-Mode stream (per root input: target and word, one per tick)."""
     lines = ["# programs: vamp number, then per slot " + " ".join(FIELDS)]
     for v, (number, progs) in enumerate(zip(c.numbering, c.programs)):
         slots = "; ".join(" ".join(str(p.field(f)) for f in FIELDS) for p in progs)
         lines.append(f"vamp {v} #{number}: {slots}")
+    checking = c.network.checking
+    if checking is not None:     # (--error-correction's chain had not been printed: a new user's)
+        lines.append(f"error correction: extraneous vamp {len(checking.chain)}, then chain "
+                     f"{' '.join(map(str, checking.chain))}; warm-up {checking.warmup} periods, "
+                     f"compare {checking.compare}")
     for e in c.stream:
         lines.append(f"stream {e.root}: {len(e.words)} words")
         lines += [f"  {k} -> vamp {t} depth {d} {_word(w)}"

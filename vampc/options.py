@@ -506,7 +506,8 @@ class CompileCommand:
         "order."))
     dump_after: str | None = field(default=None, metadata=cli(
         "--dump-after", choices=lambda: STAGES, help="Print the IR that STAGE hands on as canonical "
-        "text (graph; layout and schedule; network; programs and Program-Mode stream) and stop: no "
+        "text (graph; layout and schedule; network; programs, error correction's chain and "
+        "Program-Mode stream) and stop: no "
         "program file is written."))
 
     def check(self, given=frozenset()) -> None:
