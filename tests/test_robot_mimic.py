@@ -338,3 +338,24 @@ def test_a_followers_limit_is_said_of_the_leader_column_it_comes_from(tmp_path):
     r = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(states)])
     assert r.exit_code == 1 and "(derived from q4 and the coupling;" in r.stderr, r.stderr
     assert "from derived" not in r.stderr
+
+
+def test_every_joint_below_the_base_locked_through_its_leader_says_so(tmp_path):
+    """--mimic couple --base l2 --lock j2=0.4 (j3 follows j2, f1 j3 and f2 f1, all below l2): "no
+    movable joints below base link 'l2'", where three are there, locked through their leader (a
+    new user's, who had been told to lock j2)."""
+    from vampc.robot import load_urdf
+    follow = '<mimic joint="{}"/>'
+    path = write(tmp_path, robot(
+        link("b"), link("l1"), link("l2"), link("l3"), link("f1l"), link("f2l"),
+        joint("j1", "revolute", "b", "l1"), joint("j2", "revolute", "l1", "l2"),
+        joint("j3", "revolute", "l2", "l3", extra=follow.format("j2")),
+        joint("f1", "prismatic", "l3", "f1l", extra=follow.format("j3")),
+        joint("f2", "prismatic", "f1l", "f2l", extra=follow.format("f1"))))
+    assert_error(lambda: load_urdf(path, base="l2", mimic="couple"), path,
+                 r"joint 'j3': mimics joint 'j2', which is not one of the robot's joints \(choose "
+                 r"--base, or lock it\)")
+    assert_error(lambda: load_urdf(path, base="l2", mimic="couple", lock={"j2": 0.4}), path,
+                 r"no free joint below base link 'l2': its 3 movable joints \('j3', 'f1', 'f2'\) "
+                 r"are all locked, by --lock or, under --mimic couple, as a follower of a locked "
+                 r"joint")
