@@ -97,4 +97,7 @@ def main(quick: bool) -> None:
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv[1:])
+    import argparse
+    ap = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    ap.add_argument("--quick", action="store_true", help="the Puma and the 32-joint chain only")
+    main(ap.parse_args().quick)

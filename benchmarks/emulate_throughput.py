@@ -145,19 +145,28 @@ def whole_process(folder: Path, repeat: int, model, ref_states: int) -> dict:
     return out
 
 
+def native_program(ld, values: dict):
+    """The stream engine's native program and its inputs (one per (port, entry) its flow reads) from
+    the host's port values."""
+    from vampc.emulator import check_program, native
+    from vampc.emulator.stream import flow
+    fl = flow(ld, check_program(ld))
+    return native.build(ld, fl), {i: values[(p, e)] for i, (p, e, _) in enumerate(fl.inputs)}
+
+
 def compute_only(folder: Path, chain, model, repeat: int) -> dict:
     """(d): seconds of each engine on the whole trajectory, in this process, median of `repeat`."""
     from vampc.dynamics.reference import rnea
-    from vampc.emulator import load_program, native
+    from vampc.emulator import check_program, load_program
     from vampc.emulator.host import port_values, read_trajectory
-    from vampc.emulator.stream import run_numpy
+    from vampc.emulator.stream import flow, run_numpy
     ld = load_program(str(folder / "puma.vamp.json"))
     traj = read_trajectory(folder / "traj.csv", ld.chain)
     out = {"ports": median_time(lambda: port_values(ld, traj), repeat)}
-    ports = out["ports"][1]
-    prog = native.build(ld)          # compiled (or found in the cache) once, outside the timing
-    out["native"] = median_time(lambda: prog.run(ports, traj.count), repeat)
-    out["numpy"] = median_time(lambda: run_numpy(ld, ports, traj.count), repeat)
+    prog, ports = native_program(ld, out["ports"][1])   # (compiled or found in the cache once,
+    out["native"] = median_time(lambda: prog.run(ports, traj.count), repeat)    # outside the timing)
+    fl = flow(ld, check_program(ld))
+    out["numpy"] = median_time(lambda: run_numpy(ld, fl, ports, traj.count), repeat)
     out["reference"] = median_time(lambda: rnea(chain, traj.q, traj.qd, traj.qdd), repeat)
     if model is not None:
         out["pinocchio"] = median_time(lambda: pinocchio_loop(model, traj), repeat)
@@ -239,9 +248,9 @@ def check_results(folder: Path, d: dict, w: dict, tick) -> None:
     if "b" in w:
         pin_tau = np.load(folder / "pin.npy")
         print(f"max |stream - pinocchio|: {np.abs(native - pin_tau).max():.3e}")
-    seconds, ld, ports = tick
-    from vampc.emulator import native
-    same = np.array_equal(seconds[1], native.build(ld).run(ports, seconds[1].shape[0]))
+    seconds, ld, values = tick
+    prog, ports = native_program(ld, values)
+    same = np.array_equal(seconds[1], prog.run(ports, seconds[1].shape[0]))
     print(f"tick == native stream on its {seconds[1].shape[0]} sets (bit for bit): {same}")
 
 

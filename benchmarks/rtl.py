@@ -37,17 +37,31 @@ def run(cmd, cwd) -> tuple[float, str]:
 
 
 def main() -> None:
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    quick = "--quick" in sys.argv
-    synth_only = "--synth" in sys.argv
-    out = Path(args[0] if args else "rtl-results.jsonl").resolve()
-    work = Path(tempfile.mkdtemp(prefix="vampc-rtl-bench-"))
+    import argparse
+    ap = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    ap.add_argument("results", nargs="?", default="rtl-results.jsonl",
+                    help="JSON lines appended as each result comes (default: rtl-results.jsonl)")
+    what = ap.add_mutually_exclusive_group()
+    what.add_argument("--quick", action="store_true", help="co-simulation only (about 10 minutes)")
+    what.add_argument("--synth", action="store_true", help="synthesis only (parts 2 and 3)")
+    args = ap.parse_args()
+    quick, synth_only = args.quick, args.synth
+    out = Path(args.results).resolve()
+    with tempfile.TemporaryDirectory(prefix="vampc-rtl-bench-") as folder:   # (it was left behind)
+        measure(out, Path(folder), quick, synth_only)
+
+
+def measure(out: Path, work: Path, quick: bool, synth_only: bool) -> None:
+    """Each step's figures appended to `out` as it finishes; the programs and Verilog in `work`."""
 
     def record(entry):
         print(json.dumps(entry), flush=True)
         with open(out, "a") as f:
             f.write(json.dumps(entry) + "\n")
 
+    from datetime import datetime, timezone       # (a rerun's lines follow the last run's)
+    record({"step": "start", "utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "quick": quick, "synth": synth_only})
     programs = {}
     for robot, layout, word, extra in (
             ("planar2", "systolic", "q16.16", []), ("planar2", "folded", "q16.16", []),

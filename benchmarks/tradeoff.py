@@ -51,7 +51,7 @@ def one(label: str, chain, recursion: str) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--only", choices=["puma", "32", "64"])
     args = parser.parse_args()
     cases = {"puma": ("Puma 560", lambda: load_robot(ROOT / "examples" / "puma560.yaml")),

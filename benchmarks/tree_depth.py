@@ -10,7 +10,6 @@ A chain runs the chain builders (the paper's networks); the other shapes the tre
 """
 from __future__ import annotations
 
-import sys
 import time
 
 from vampc.dataflow.linear import build_linear
@@ -31,6 +30,15 @@ def row(n: int, shape: str) -> str:
             f"{d['forward_levels']:8} {d['log2']:10} {linear:9} {log:7}   ({time.perf_counter() - start:.1f} s)")
 
 
+def parse(argv=None) -> list[int]:
+    """The sizes asked (a traceback for `--help` before: a new user's)."""
+    import argparse
+    ap = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    ap.add_argument("sizes", nargs="*", type=int, metavar="N",
+                    help="joints of each tree (default: 64 512 4096)")
+    return ap.parse_args(argv).sizes or [64, 512, 4096]
+
+
 def main(sizes) -> None:
     print("shape       n height light bwd-tier fwd-lvls ⌈log2(n+1)⌉ linear-fl  log-fl")
     for n in sizes:
@@ -39,4 +47,4 @@ def main(sizes) -> None:
 
 
 if __name__ == "__main__":
-    main([int(a) for a in sys.argv[1:]] or [64, 512, 4096])
+    main(parse())

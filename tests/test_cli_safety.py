@@ -727,6 +727,15 @@ def test_a_robot_file_with_the_wrong_extension_says_what_it_looks_like(tmp_path,
     user_error(run("compile", path, "-o", tmp_path / "x.vamp.json"), pattern)
 
 
+def test_a_waveform_given_as_the_program_says_it_is_one(tmp_path, program):
+    """`vampc emulate w.vcd` said the waveform looked like YAML (a DH table?) (a new user's)."""
+    vcd = tmp_path / "w.vcd"
+    assert run("emulate", program, "--random", 2, "--engine", "tick", "--vcd", vcd).exit_code == 0
+    for args in (("emulate", vcd, "--random", 2), ("report", vcd)):
+        user_error(run(*args), r"w\.vcd: unknown robot file extension '\.vcd' \(it looks "
+                   r"like a VCD waveform \(vampc emulate --vcd writes them\)\)")
+
+
 def test_the_printed_times_say_what_they_cover(program):
     res = run("emulate", program, "--random", 3)
     assert re.search(r"engine wall time [\d.]+ s \([\d,]+ sets/s\); whole command [\d.]+ s$",

@@ -19,6 +19,7 @@ OTHER_COMPRESSION = ("vampc reads a program file gzip-compressed (.gz) and no ot
 DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
                 "faults-results": "a results file of vampc faults",
                 "svg": "an SVG picture (vampc report's pictures write them)",
+                "vcd": "a VCD waveform (vampc emulate --vcd writes them)",
                 "gzip": "gzip-compressed data: decompress it first (gunzip)",
                 "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
                 **{name: f"{name}-compressed data" for name in OTHER_COMPRESSIONS}}
@@ -35,9 +36,9 @@ def compression(head: bytes) -> str | None:
 
 
 def sniff(path) -> str | None:
-    """"program", "urdf", "json", "yaml" or "gzip" (compressed, not a program) by content; None if
-    unreadable or none of these (the loaders then say what is wrong). Only a regular file is looked
-    at: a FIFO's first bytes, once read, are gone, and the loader must read them."""
+    """"program", "urdf", "json", "yaml", "vcd" or "gzip" (compressed, not a program) by content;
+    None if unreadable or none of these (the loaders then say what is wrong). Only a regular file is
+    looked at: a FIFO's first bytes, once read, are gone, and the loader must read them."""
     try:
         if not Path(path).is_file():
             return None
@@ -56,6 +57,8 @@ def sniff(path) -> str | None:
     head = head.lstrip()
     if head.startswith(b"<"):
         return "svg" if b"<svg" in head and b"<robot" not in head else "urdf"
+    if head.startswith(b"$") and b"$end" in head:    # (a waveform: "YAML (a DH table?)", a new user's)
+        return "vcd"
     if head.startswith((b"{", b"[")):
         if head.startswith(b'{"vampc_faults":'):       # (a results file: "JSON (a DH table?)")
             return "faults-results"
