@@ -59,7 +59,8 @@ def measure(out: Path, work: Path, quick: bool, synth_only: bool) -> None:
         with open(out, "a") as f:
             f.write(json.dumps(entry) + "\n")
 
-    from datetime import datetime, timezone       # (a rerun's lines follow the last run's)
+    # each run begins with its time and options: a rerun's lines follow the last run's
+    from datetime import datetime, timezone
     record({"step": "start", "utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "quick": quick, "synth": synth_only})
     programs = {}
