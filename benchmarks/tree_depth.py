@@ -3,7 +3,7 @@
 depth), the log recursion's backward combining tiers and forward addition levels beside ⌈log2(n+1)⌉, and
 the ASAP latencies (flops, 1 Mult = 1 Addn) of the linear and log graphs.
 
-    python benchmarks/tree_depth.py            # all three sizes (the 4096-joint log graphs take minutes)
+    python benchmarks/tree_depth.py            # all three sizes (about 6 s on 2 cores, 2026-12-06)
     python benchmarks/tree_depth.py 64 512     # chosen sizes
 
 A chain runs the chain builders (the paper's networks); the other shapes the tree builders.
