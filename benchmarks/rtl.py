@@ -47,8 +47,15 @@ def main() -> None:
     args = ap.parse_args()
     quick, synth_only = args.quick, args.synth
     out = Path(args.results).resolve()
-    with tempfile.TemporaryDirectory(prefix="vampc-rtl-bench-") as folder:   # (it was left behind)
-        measure(out, Path(folder), quick, synth_only)
+    # the programs and Verilog: removed after a whole run (they had been left behind), kept to
+    # look into where a step failed
+    work = Path(tempfile.mkdtemp(prefix="vampc-rtl-bench-"))
+    try:
+        measure(out, work, quick, synth_only)
+    except BaseException:
+        print(f"rtl.py: the programs and Verilog so far are kept in {work}", file=sys.stderr)
+        raise
+    shutil.rmtree(work)
 
 
 def measure(out: Path, work: Path, quick: bool, synth_only: bool) -> None:

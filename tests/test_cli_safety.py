@@ -731,6 +731,10 @@ def test_a_waveform_given_as_the_program_says_it_is_one(tmp_path, program):
     """`vampc emulate w.vcd` said the waveform looked like YAML (a DH table?) (a new user's)."""
     vcd = tmp_path / "w.vcd"
     assert run("emulate", program, "--random", 2, "--engine", "tick", "--vcd", vcd).exit_code == 0
+    named = tmp_path / "w.urdf"
+    named.write_bytes(vcd.read_bytes())
+    user_error(run("compile", named), r"w\.urdf: this is a VCD waveform \(vampc emulate --vcd "
+               r"writes them\), not a robot description")
     for args in (("emulate", vcd, "--random", 2), ("report", vcd)):
         user_error(run(*args), r"w\.vcd: unknown robot file extension '\.vcd' \(it looks "
                    r"like a VCD waveform \(vampc emulate --vcd writes them\)\)")

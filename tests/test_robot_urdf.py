@@ -1054,9 +1054,18 @@ def test_a_xacro_file_is_refused_not_read_as_fewer_joints(tmp_path):
     body = [link("base"), link("l1"), joint("j1", "revolute", "base", "l1")]
     text = robot(seg, *body, '<xacro:seg n="2" parent="l1"/>').replace("<robot ", f"<robot {ns} ")
     path = write(tmp_path, text)
+    # (into another name: `xacro r.urdf > r.urdf` would empty the file before xacro read it)
     assert_error(lambda: load_robot(path), path, r"line 3: <xacro:macro>: a xacro element, which "
-                 r"no URDF reader expands; run xacro first \(xacro r\.urdf > robot\.urdf\) and "
-                 r"give the URDF")
+                 r"no URDF reader expands; run xacro first \(xacro r\.urdf > r-expanded\.urdf\) "
+                 r"and give the URDF")
+    # PR2-era files bind xacro: to Gazebo's interface schema; a file that never binds it
+    pr2 = write(tmp_path, text.replace("http://www.ros.org/wiki/xacro", "http://playerstage."
+                                       "sourceforge.net/gazebo/xmlschema/#interface"), "pr2.urdf")
+    assert_error(lambda: load_robot(pr2), pr2, r"line 3: <xacro:macro>: a xacro element.*")
+    unbound = write(tmp_path, text.replace(f" {ns}", ""), "u.urdf")
+    assert_error(lambda: load_robot(unbound), unbound, r"line 3: not well-formed XML: Namespace "
+                 r"prefix xacro .* \(a xacro file: run xacro first \(xacro u\.urdf > "
+                 r"u-expanded\.urdf\) and give the URDF\)")
     included = write(tmp_path, robot(*body, '<xacro:include filename="$(find arm)/a.xacro"/>')
                      .replace("<robot ", f"<robot {ns} "), "i.urdf")
     assert_error(lambda: load_robot(included), included, r"line 6: <xacro:include>: a xacro element.*")
@@ -1065,4 +1074,8 @@ def test_a_xacro_file_is_refused_not_read_as_fewer_joints(tmp_path):
     named = write(tmp_path, text, "arm.urdf.xacro")
     assert_error(lambda: load_robot(named), named, r"unknown robot file extension '\.xacro': a xacro "
                  r"file, which expands to a URDF: run xacro first \(xacro arm\.urdf\.xacro > "
-                 r"robot\.urdf\) and give the URDF \(expected .*\)")
+                 r"arm\.urdf\) and give the URDF \(expected .*\)")
+    bare = write(tmp_path, text, "arm.xacro")
+    assert_error(lambda: load_robot(bare), bare, r"unknown robot file extension '\.xacro': a xacro "
+                 r"file, which expands to a URDF: run xacro first \(xacro arm\.xacro > arm\.urdf\) "
+                 r"and give the URDF \(expected .*\)")

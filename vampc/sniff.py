@@ -132,6 +132,8 @@ def suffix_mismatch(path, expected: str) -> str | None:
         return "this is gzip-compressed; decompress it first (gunzip)"
     if kind in OTHER_COMPRESSIONS:
         return f"this is {kind}-compressed; decompress it first"
+    if kind == "vcd":
+        return f"this is {DESCRIPTIONS['vcd']}, not a robot description"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
     if expected == "urdf" and kind in ("json", "yaml"):

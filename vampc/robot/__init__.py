@@ -119,7 +119,7 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
         if suffix == ".csv" else ": a NumPy array is a trajectory (for --trajectory) or torques, "
         "not a robot" if suffix in (".npy", ".npz") else "")     # (a robot saved as .csv: its content)
     if suffix == ".xacro":          # (a new user's arm.urdf.xacro: "it looks like XML (a URDF)")
-        table = f": a xacro file, which expands to a URDF: run xacro first (xacro {path.name} > " \
-            "robot.urdf) and give the URDF"
+        from vampc.robot.urdf import run_xacro
+        table = f": a xacro file, which expands to a URDF: {run_xacro(path)}"
     raise located(path, "", f"unknown robot file extension {path.suffix!r}{table} "
                             "(expected .urdf, .xml, .yaml, .yml or .json)")

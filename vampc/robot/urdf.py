@@ -343,7 +343,8 @@ def _parse_xml(path: Path):
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as exc:
-        raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}") from None
+        hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
+        raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
     _refuse_entities(root, path)
     _check_xml(root, path)
     return root
@@ -409,12 +410,22 @@ def _refuse_xacro(root, path: Path) -> None:
     readers skip elements they do not know, so a xacro file read as a URDF lost every joint its
     macros make without a word (3 joints read as 1: a new user's; Pinocchio reads 1 too). Only
     where the root declares a xacro namespace, which xacro's own output keeps, unused."""
-    for uri in {u for u in root.nsmap.values() if u and "xacro" in u}:
+    # by the prefix too: PR2-era files bind xacro: to another address (Gazebo's interface schema)
+    for uri in {u for p, u in root.nsmap.items() if u and (p == "xacro" or "xacro" in u.lower())}:
         for el in root.iter(f"{{{uri}}}*"):
             raise located(path, f"line {el.sourceline}",
                           f"<xacro:{etree.QName(el).localname}>: a xacro element, which no URDF "
-                          f"reader expands; run xacro first (xacro {path.name} > robot.urdf) and "
-                          "give the URDF")
+                          f"reader expands; {run_xacro(path)}")
+
+
+def run_xacro(path: Path) -> str:
+    """The advice to expand a xacro file, into a file of another name (`xacro robot.urdf >
+    robot.urdf` would have emptied it before xacro read it: a review's find)."""
+    name = Path(path).name
+    out = name[:-len(".xacro")] if name.lower().endswith(".xacro") else name
+    if out == name or not out.lower().endswith(".urdf"):
+        out = f"{Path(out).stem}-expanded.urdf" if out == name else f"{out}.urdf"
+    return f"run xacro first (xacro {name} > {out}) and give the URDF"
 
 
 def _check_children(el, kind: str, where: str, path: Path) -> None:

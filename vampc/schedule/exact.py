@@ -124,13 +124,17 @@ def _solve_stoppably(solver, model, callback):
         except BaseException as exc:       # raised again on the calling thread
             done.append(exc)
     worker = threading.Thread(target=search, name="vampc-cp-sat", daemon=True)
-    worker.start()
+    stop = getattr(solver, "stop_search", None) or solver.StopSearch
     try:
+        worker.start()
         while worker.is_alive():
             worker.join(0.1)
     except BaseException:
-        (getattr(solver, "stop_search", None) or solver.StopSearch)()
-        worker.join()
+        # asked again until the search ends: a request made before the solver has set itself up
+        # is lost (a review's find: a signal in that gap waited out the solver's limit)
+        while worker.is_alive():
+            stop()
+            worker.join(0.1)
         raise
     if isinstance(done[0], BaseException):
         raise done[0]
