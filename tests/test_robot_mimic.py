@@ -357,5 +357,4 @@ def test_every_joint_below_the_base_locked_through_its_leader_says_so(tmp_path):
                  r"--base, or lock it\)")
     assert_error(lambda: load_urdf(path, base="l2", mimic="couple", lock={"j2": 0.4}), path,
                  r"no free joint below base link 'l2': its 3 movable joints \('j3', 'f1', 'f2'\) "
-                 r"are all locked, by --lock or, under --mimic couple, as a follower of a locked "
-                 r"joint")
+                 r"are all locked$")

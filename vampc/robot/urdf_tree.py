@@ -228,9 +228,9 @@ def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -
                       + ("its one movable joint" if len(movable) == 1 else
                          f"its {len(movable)} movable joints")
                       + f" ({listed(_quoted(movable), 5)}) "
-                      + ("is" if len(movable) == 1 else "are all")
-                      + " locked, by --lock or, under --mimic couple, as a follower of a locked "
-                        "joint")
+                      + ("is" if len(movable) == 1 else "are all") + " locked")
+        # (not said how: by --lock, by an MJCF equality, or as a follower of a locked leader under
+        # --mimic couple; the review of the first wording found it named ways that did not apply)
     if not free:
         raise located(path, "", f"no movable joints below base link '{base}'")
     ends = [_descend(tree, j.child) for j in _lowest(tree, free)]
