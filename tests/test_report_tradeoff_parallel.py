@@ -7,6 +7,7 @@ from click.testing import CliRunner
 
 from vampc.cli import main
 from vampc.compiler import CompileOptions
+from vampc.errors import VampcError
 from vampc.report import tradeoff as tr
 from vampc.robot import load_robot
 
@@ -245,6 +246,68 @@ def test_a_port_where_something_else_listens_is_one_line_within_the_deadline(mon
         f"vampc: error: --scheduler {address}: cannot reach a Dask scheduler there (no Dask answer "
         "in 2 s: does something else listen on that port?)\n"), r.stderr
     assert took < 30
+
+
+def test_a_port_where_another_protocol_answers_says_so(monkeypatch):
+    """A web server's 400 read by Dask as a frame length: "cannot reach a Dask scheduler there
+    (MemoryError: Unable to allocate 3.07 EiB ...)" (a new user's). It says what answers is not
+    Dask."""
+    pytest.importorskip("distributed")
+    import socket
+    import threading
+
+    from vampc import parallel
+    monkeypatch.setattr(tr, "SCHEDULER_TIMEOUT", "5s")
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(4)
+    address = f"tcp://127.0.0.1:{listener.getsockname()[1]}"
+    stop = threading.Event()
+
+    def answer() -> None:
+        listener.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                conn, _ = listener.accept()
+            except OSError:
+                continue
+            with conn:
+                conn.settimeout(1.0)
+                try:
+                    conn.recv(65536)
+                    conn.sendall(b"HTTP/1.1 400 Bad Request\r\nconnection: close\r\n"
+                                 b"content-length: 0\r\n\r\n")
+                except OSError:
+                    pass
+    server = threading.Thread(target=answer, daemon=True)
+    server.start()
+    try:
+        with pytest.raises(VampcError) as info:
+            parallel.connect(address, "5s")
+    finally:
+        stop.set()
+        server.join()
+        listener.close()
+    assert str(info.value) == (f"--scheduler {address}: cannot reach a Dask scheduler there (what "
+                               "answers is not Dask: does something else listen on that port?)")
+
+
+def test_a_cluster_that_fails_mid_run_says_what_is_kept(monkeypatch):
+    """A campaign whose scheduler went away said only Dask's words, while its runs were kept (a new
+    user's): the message says what is kept, as a dead local worker's does."""
+    from vampc import parallel
+
+    class Gone:
+        def scatter(self, *args, **kwargs):
+            raise OSError("scheduler-connection-lost")
+
+        def close(self):
+            pass
+    with pytest.raises(VampcError) as info:
+        parallel.run_tasks(lambda c, i: i, None, [1, 2], lambda *a: None, scheduler="tcp://h:1",
+                           client=Gone(), kept="the runs finished are kept in r.jsonl")
+    assert str(info.value) == ("--scheduler tcp://h:1: the cluster failed (OSError: "
+                               "scheduler-connection-lost); the runs finished are kept in r.jsonl")
 
 
 @pytest.mark.skipif(not __import__("sys").platform.startswith("linux"), reason="PR_SET_PDEATHSIG")

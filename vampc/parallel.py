@@ -80,6 +80,11 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
         exc = got["error"]
         if isinstance(exc, (KeyboardInterrupt, SystemExit)):
             raise exc
+        if isinstance(exc, MemoryError):   # (Dask reading another protocol's answer as a frame
+            # length: "Unable to allocate 3.07 EiB", a new user's, of a web server's 400)
+            raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there (what "
+                             "answers is not Dask: does something else listen on that port?)") \
+                from None
         raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
                          f"({type(exc).__name__}: {one_line(exc)})") from None
     return got["client"]
@@ -92,7 +97,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
     already connected to `scheduler` (connect); `progress(done, total)` after each result; `kept`:
     what is left of a run a dead worker stops, for its message."""
     if scheduler is not None:
-        _on_cluster(task, context, items, done, scheduler, client, progress)
+        _on_cluster(task, context, items, done, scheduler, client, progress, kept)
         return
     import multiprocessing
     if workers > 1 and not hasattr(os, "fork"):
@@ -217,7 +222,8 @@ def _worker_task(item):
     return task(context, item)
 
 
-def _on_cluster(task, context, items, done, address: str, client, progress) -> None:
+def _on_cluster(task, context, items, done, address: str, client, progress,
+                kept: str = "nothing is written") -> None:
     own = client is None
     client = client or connect(address)
     try:
@@ -232,8 +238,10 @@ def _on_cluster(task, context, items, done, address: str, client, progress) -> N
     except VampcError:
         raise
     except Exception as exc:  # noqa: BLE001 - whatever the cluster raises
+        # (what is kept said, as for a dead local worker: a campaign whose scheduler went away
+        # said only Dask's words, and its runs were kept: a new user's)
         raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
-                         f"{one_line(exc)})") from None
+                         f"{one_line(exc)}); {kept}") from None
     finally:
         if own:
             client.close()
