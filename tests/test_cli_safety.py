@@ -188,6 +188,32 @@ def test_a_path_through_a_missing_folder_is_not_shortened_as_text(tmp_path, prog
     assert res.exit_code == 0 and (tmp_path / "x.csv").exists(), res.output
 
 
+def test_a_default_output_in_a_folder_it_cannot_write_says_how_to_put_it_elsewhere(
+        tmp_path, program, monkeypatch):
+    """`vampc faults` in a read-only folder: "cannot write in folder ...: Read-only file system",
+    its results file a default the user had not named (a new user's): it says to give --results.
+    The same for compile's default program file; a name the user gave is told as before. (The
+    folder is made read-only by the probe's own failure, as root writes where modes forbid.)"""
+    import errno
+
+    from vampc import outputs
+
+    def read_only(path):
+        raise OSError(errno.EROFS, "Read-only file system")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(outputs, "_new_temporary", read_only)
+    for args, said in (
+            (("compile", PLANAR), r"planar2\.vamp\.json: cannot write in folder \S+: Read-only file "
+             r"system \(the default program file: give -o FILE to write it elsewhere\)$"),
+            (("faults", program, "--campaign", "random", "--count", 2, "--sets", 2),
+             r"\.random\.faults\.jsonl: cannot write in folder \S+: Read-only file system \(the "
+             r"default results file: give --results FILE to write it elsewhere\)$"),
+            (("compile", PLANAR, "-o", "p.vamp.json"), r"p\.vamp\.json: cannot write in folder "
+             r"\S+: Read-only file system$")):
+        user_error(run(*args), said)
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.skipif(IS_ROOT, reason="root writes in read-only folders")
 def test_a_read_only_folder_is_refused_before_any_work(tmp_path, program):
     folder = tmp_path / "ro"

@@ -164,6 +164,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     robot_opts.check(robot)
     path = own.output if own.output is not None else Path(robot).stem + ".vamp.json"
     out = plan_outputs([robot, own.numbering], {"-o": path}, stdout_ok=("-o",),
+                       labels={} if own.output is not None else {"-o": "the default program file"},
                        writes={"-o": ("a program file", (".vamp.json", ".json", ".gz"))})["-o"]
     with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
         c = compile_robot(robot, options, robot_opts)

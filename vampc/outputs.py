@@ -79,7 +79,15 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     for option, path in outputs.items():
         if path is None:
             continue
-        out = _plan(option, str(path), stdout_ok)
+        try:
+            out = _plan(option, str(path), stdout_ok)
+        except VampcError as exc:
+            if option not in labels or isinstance(exc, VampcUsageError):
+                raise
+            # (a default name in a folder it cannot write: say how to put it elsewhere: a new
+            # user's, of `vampc faults` in a read-only folder)
+            raise VampcError(f"{exc} ({labels[option]}: give {option} FILE to write it "
+                             "elsewhere)") from None
         _refuse_input(out, inputs)
         if stdin is not None and out.target is not None and out.target.exists() and \
                 _same_stat(stdin, out.target):
