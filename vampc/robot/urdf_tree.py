@@ -206,10 +206,6 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
             raise located(path, f"joint '{j.name}'", "axis is zero")
 
 
-def _quoted(joints) -> list[str]:
-    return [f"'{j.name}'" for j in joints]
-
-
 def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -> str:
     """The tip link: `tip` if given (it must lie below `base`), else the end of the only branch of free
     (movable, unlocked) joints below `base`, followed down through single fixed children; None when
@@ -223,14 +219,14 @@ def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -
         return tip
     movable = [j for j in tree.below(base) if j.type in MOVABLE]
     free = [j for j in movable if j.name not in lock]
-    if not free and movable:       # (said "no movable joints" of three locked through their leader)
+    # (said "no movable joints" of three locked through their leader; not said how they are locked:
+    # by --lock, by an MJCF equality, or as a follower of a locked leader under --mimic couple)
+    if not free and movable:
         raise located(path, "", f"no free joint below base link '{base}': "
                       + ("its one movable joint" if len(movable) == 1 else
                          f"its {len(movable)} movable joints")
-                      + f" ({listed(_quoted(movable), 5)}) "
+                      + f" ({quoted((j.name for j in movable), 5)}) "
                       + ("is" if len(movable) == 1 else "are all") + " locked")
-        # (not said how: by --lock, by an MJCF equality, or as a follower of a locked leader under
-        # --mimic couple; the review of the first wording found it named ways that did not apply)
     if not free:
         raise located(path, "", f"no movable joints below base link '{base}'")
     ends = [_descend(tree, j.child) for j in _lowest(tree, free)]
