@@ -361,11 +361,10 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     file had taken three times its size)."""
     from vampc.textio import decode_utf8
     try:
-        from vampc.textio import read_whole, stdin_hint
+        from vampc.textio import read_whole
         raw = read_whole(path)
     except OSError as exc:
-        raise VampcError(f"{path}: cannot read program file: {exc.strerror}"
-                         f"{stdin_hint(path, exc)}") from None
+        raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
     packed = raw.startswith(GZIP_MAGIC)
     if packed:
         raw = gunzip(raw, path)

@@ -183,11 +183,11 @@ def read_text(path: Path) -> str:
     """The file's text (a leading byte-order mark, as some editors write, dropped: JSON's parser
     had refused it at line 1, column 1, where YAML's took it: an audit's), or a VampcError saying
     why it cannot be read."""
-    from vampc.textio import read_whole, stdin_hint
+    from vampc.textio import read_whole
     try:
         return read_whole(path).decode("utf-8").removeprefix("\ufeff")
-    except FileNotFoundError as exc:
-        raise located(path, "", f"no such file{stdin_hint(path, exc)}") from None
+    except FileNotFoundError:
+        raise located(path, "", "no such file") from None
     except UnicodeDecodeError as exc:
         raise located(path, "", f"not UTF-8 text (byte {exc.start})") from None
     except OSError as exc:

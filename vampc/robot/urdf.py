@@ -331,10 +331,10 @@ def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, pat
 def _parse_xml(path: Path):
     """Parse without resolving entities or touching the network, and refuse any entity at all."""
     try:
-        from vampc.textio import read_whole, stdin_hint
+        from vampc.textio import read_whole
         data = read_whole(path)
-    except FileNotFoundError as exc:
-        raise located(path, "", f"no such file{stdin_hint(path, exc)}") from None
+    except FileNotFoundError:
+        raise located(path, "", "no such file") from None
     except OSError as exc:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
     _refuse_declared_entities(data, path)
