@@ -222,8 +222,7 @@ def _worker_task(item):
     return task(context, item)
 
 
-def _on_cluster(task, context, items, done, address: str, client, progress,
-                kept: str = "nothing is written") -> None:
+def _on_cluster(task, context, items, done, address: str, client, progress, kept: str) -> None:
     own = client is None
     client = client or connect(address)
     try:

@@ -422,9 +422,11 @@ def run_xacro(path: Path) -> str:
     """The advice to expand a xacro file, into a file of another name (`xacro robot.urdf >
     robot.urdf` would have emptied it before xacro read it: a review's find)."""
     name = Path(path).name
-    out = name[:-len(".xacro")] if name.lower().endswith(".xacro") else name
-    if out == name or not out.lower().endswith(".urdf"):
-        out = f"{Path(out).stem}-expanded.urdf" if out == name else f"{out}.urdf"
+    if name.lower().endswith(".xacro"):          # arm.urdf.xacro > arm.urdf, arm.xacro > arm.urdf
+        out = name[:-len(".xacro")]
+        out += "" if out.lower().endswith(".urdf") else ".urdf"
+    else:                                        # robot.urdf > robot-expanded.urdf
+        out = f"{Path(name).stem}-expanded.urdf"
     return f"run xacro first (xacro {name} > {out}) and give the URDF"
 
 
