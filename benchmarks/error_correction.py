@@ -143,10 +143,8 @@ def elsewhere(kept: dict, folder: Path) -> None:
 
 def main() -> None:
     import argparse
-    ap = argparse.ArgumentParser(description="Limited automatic error correction (README, Error "
-                                 "correction), measured: the fault-free programs bit for bit, the "
-                                 "Puma 560 fault campaigns, and the linear one on a local Dask "
-                                 "cluster (about 40 minutes on 2 cores)")
+    ap = argparse.ArgumentParser(description=__doc__,          # (its parts, as the file says them)
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="part 1 on the small examples and the "
                     "linear campaigns only")
     quick = ap.parse_args().quick
