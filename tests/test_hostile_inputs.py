@@ -586,7 +586,7 @@ def test_an_inertia_that_overflows_in_mjcf_is_one_line():
 
 
 MJCF_ONE = ("<mujoco model='m'><option gravity='{gravity}'/><worldbody><body name='{body}' "
-            "pos='0 0 .1'{quat}><joint name='h' type='hinge' axis='0 0 1'{joint}/><inertial "
+            "pos='0 0 .1'{quat}><joint name='h' type='hinge' axis='{axis}'{joint}/><inertial "
             "pos='{ipos}' mass='1' diaginertia='.01 .01 .01'/></body></worldbody></mujoco>")
 
 
@@ -598,14 +598,17 @@ MJCF_ONE = ("<mujoco model='m'><option gravity='{gravity}'/><worldbody><body nam
      "line 1: <joint name='h'> range: 'inf' is not a finite number"),
     (dict(ipos="1e400 0 0"), "line 1: <inertial> pos: '1e400' is not a finite number"),
     (dict(quat=" quat='1e308 0 0 1'"), "body 'b': its quat is not a rotation once MuJoCo compiled it "
-     "(norm 0: a quaternion too large or too small to normalize?)")])
+     "(norm 0: a quaternion too large or too small to normalize?)"),
+    # (MuJoCo normalizes 1e200 1e200 0 to 0 0 0: it was said as "axis is zero")
+    (dict(axis="1e200 1e200 0"), "joint 'h': its axis is not a direction once MuJoCo compiled it "
+     "(length 0: an axis too large or too small to normalize?)")])
 def test_an_mjcf_number_that_is_not_finite_is_one_line_naming_it(tmp_path, edit, said):
     """MuJoCo reads NaN as 0 (an inertial pos of nan gave the torques of pos 0, exit 0, only
     MuJoCo's "XML contains a 'NaN'" said), and an inf gravity, a nan ref or range, or a quaternion
     too large to normalize ended in a traceback, exit 3 (a hostile-input audit's finds): each is
     refused, naming the element and attribute. A body named 'inf' is a name, not a number."""
     pytest.importorskip("mujoco")
-    fields = dict(gravity="0 0 -9.81", body="b", quat="", joint="", ipos="0 0 0")
+    fields = dict(gravity="0 0 -9.81", body="b", quat="", joint="", ipos="0 0 0", axis="0 0 1")
     model = tmp_path / "m.xml"
     model.write_text(MJCF_ONE.format(**{**fields, **edit}))
     code, err, _ = run("compile", model, "-o", tmp_path / "m.vamp.json")

@@ -380,6 +380,10 @@ URDF_ERRORS = [
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", rpy=(float("nan"), 0, 0))), {},
      r"joint 'j2': <origin rpy=\"nan 0 0\">: expected 3 finite numbers"),
     (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(0, 0, 0))), {}, r"joint 'j2': axis is zero"),
+    # (said to be zero: a new user's find)
+    (robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(0, 1e-170, 1e-170))), {},
+     r"joint 'j2': its axis is 1\.41e-170 long: too short to be told from zero \(at least 1e-9; only "
+     r"its direction counts: give a unit vector\)"),
     (robot(link("base"), link("l1", xyz=(float("inf"), 0, 0)), link("l2"), *ARM[3:]), {},
      r"link 'l1': <origin xyz=\"inf 0 0\">: expected 3 finite numbers"),
     (robot(*ARM).replace('<inertia ixx="0.01" ', "<inertia "), {}, r"link 'base': <inertia> lacks ixx"),
@@ -1077,3 +1081,92 @@ def test_a_xacro_file_is_refused_not_read_as_fewer_joints(tmp_path):
     assert_error(lambda: load_robot(bare), bare, r"unknown robot file extension '\.xacro': a xacro "
                  r"file, which expands to a URDF: run xacro first \(xacro arm\.xacro > arm\.urdf\) "
                  r"and give the URDF \(expected .*\)")
+
+
+def test_an_axis_too_long_to_square_turns_about_its_direction(tmp_path):
+    """The squares of an axis of 1e200 1e200 0 overflowed in normalizing it, and the joint turned
+    about -z instead, without a word, `--check` passing (a new user's find): it turns about its
+    direction, as 1 1 0, whose torques are Pinocchio's."""
+    unit = write(tmp_path, robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(1, 1, 0))), "u.urdf")
+    huge = write(tmp_path, robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(1e200, 1e200, 0))),
+                 "h.urdf")
+    want, got = load_urdf(unit), load_urdf(huge)
+    for a, b in zip(want.joints, got.joints):
+        np.testing.assert_allclose(b.phi, a.phi, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(b.p_fixed, a.p_fixed, rtol=0, atol=1e-15)
+    check_torques(unit, got)
+
+
+@pytest.mark.parametrize("edit, said", [
+    (('<origin xyz="0 0 0.10000000000000001"', '<origin xyz="1 0 0"/><origin xyz="0 0 0.10000000000000001"'),
+     r"joint 'j1': a second <origin> \(line \d+\) is not read \(the first is, as by urdfdom, Pinocchio's "
+     r"reader\)"),
+    (('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/><axis xyz="1 0 0"/>'), r"joint 'j1': a second <axis>"),
+    (('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/><mimic joint="j2"/><mimic joint="j2" multiplier="5"/>'),
+     r"joint 'j1': a second <mimic>"),
+    (("</inertial></link>", '</inertial><inertial><mass value="50"/><inertia ixx="1" ixy="0" ixz="0" '
+      'iyy="1" iyz="0" izz="1"/></inertial></link>'),
+     r"link 'base': a second <inertial> \(line \d+\) is not read"),
+    (('<mass value="1"/>', '<mass value="1"/><mass value="9"/>'), r"link 'base' <inertial>: a second <mass>"),
+    (('<origin xyz="0 0 0.10000000000000001"', '<origin xzy="0 0 0.10000000000000001"'),
+     r"joint 'j1': <origin xzy=...> \(line \d+\) is not a URDF attribute \(did you mean xyz\?\); it is "
+     r"not read"),
+    (('<axis xyz="0 0 1"/>', '<axes xyz="0 0 1"/>'),
+     r"joint 'j1': <axes> \(line \d+\) is not a URDF element there \(did you mean <axis>\?\); it is not "
+     r"read"),
+    (('effort="1"', 'efort="1"'), r"joint 'j1': <limit efort=...> .* \(did you mean effort\?\)"),
+    ((link("l2"), link("l2").replace("inertial>", "inertal>")), r"link 'l2': <inertal> \(line \d+\) is not read \(did you mean "
+     r"<inertial>\?\): a link's mass and inertia are read inside its <inertial>"),
+    (('<link name="l2">', '<link name="l2"><mass value="3"/>'), r"link 'l2': <mass> \(line \d+\) is not "
+     r"read: a link's mass and inertia are read inside its <inertial>")])
+def test_what_urdfdom_leaves_out_is_said(tmp_path, edit, said):
+    """A second <origin>, <axis>, <mimic>, <inertial> or <mass>, an attribute or element misspelt: urdfdom
+    (and so Pinocchio and yourdfpy) reads the first and skips what it does not know, and so had vampc,
+    without a word (a second <inertial> of 50 kg; <origin xzy=...> read as the origin 0; a new
+    user's finds). One warning, naming the joint or link and the line."""
+    text = robot(*ARM)
+    assert edit[0] in text
+    path = write(tmp_path, text.replace(edit[0], edit[1], 1))
+    with pytest.warns(VampcWarning) as said_:
+        load_urdf(path)
+    texts = [str(w.message) for w in said_ if "not read" in str(w.message)]
+    assert len(texts) == 1 and re.search(said, texts[0]), [str(w.message) for w in said_]
+
+
+def test_what_a_vendor_adds_is_read_without_a_word(tmp_path):
+    """Elements of another namespace, a link's other elements (<contact>, Gazebo's <gravity>) and a
+    <limit>'s vendor attributes (ANYmal's command_effort) are not URDF's to read: no warning."""
+    text = robot(*ARM).replace('effort="1"', 'effort="1" command_effort="2" gear_velocity="3"', 1).replace(
+        "</link>", "<contact><lateral_friction value='1'/></contact><gravity>true</gravity></link>", 1)
+    text = text.replace('<robot name="r">', '<robot name="r" xmlns:ext="http://example.org/ext">').replace(
+        '<axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/><ext:gain value="2"/>', 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_urdf(write(tmp_path, text))
+
+
+def test_the_turn_of_a_floating_roots_origin_is_said_to_be_unused(tmp_path):
+    """A floating root joint's <origin rpy> turned the base at Pinocchio's neutral pose; vampc takes the
+    floating base at the world's orientation and dropped it without a word (a new user's find)."""
+    turned = FLOATING_ROOT.replace("<child link=\"trunk\"/>", '<child link="trunk"/><origin xyz="0.5 0 1" '
+                                   'rpy="0.3 0.4 0.5"/>')
+    with pytest.warns(VampcWarning) as said:
+        load_urdf(write(tmp_path, turned))
+    assert any(re.search(r"joint 'float' \(floating\): the turn of its <origin> \(rpy\) is not used: the "
+                         r"floating base is taken at the world's orientation", str(w.message)) for w in said)
+    moved = FLOATING_ROOT.replace("<child link=\"trunk\"/>", '<child link="trunk"/><origin xyz="0.5 0 1"/>')
+    with pytest.warns(VampcWarning) as said:
+        load_urdf(write(tmp_path, moved, "m.urdf"))
+    assert not any("origin" in str(w.message) for w in said)
+
+
+def test_mimic_ordinary_on_mimics_of_fixed_joints_says_they_do_not_move(tmp_path):
+    """--mimic ordinary on a file whose one <mimic> is a fixed joint's said "no joint has a <mimic>"
+    (a new user's find); --mimic couple said it right."""
+    text = robot(*ARM, link("l3", None), joint("f", "fixed", "l2", "l3", extra='<mimic joint="j1"/>'))
+    path = write(tmp_path, text)
+    for mode in ("ordinary", "couple"):
+        with pytest.warns(VampcWarning, match=r"no joint that moves has a <mimic> \(the fixed joint 'f' has "
+                                              rf"one, and a fixed joint does not move\); --mimic {mode} has "
+                                              r"no effect"):
+            load_urdf(path, mimic=mode, mimic_given=True)

@@ -372,7 +372,13 @@ def _finite_model(model, path: Path) -> None:
             raise located(path, _element("body", model.body(k).name, k - 1),
                           f"its {name.split('_', 1)[1]} is not a rotation once MuJoCo compiled it "
                           f"(norm {norms[k]:.6g}: a quaternion too large or too small to normalize?)")
+    axes = np.linalg.norm(np.asarray(model.jnt_axis, dtype=float).reshape(model.njnt, 3), axis=1)
     for j in range(model.njnt):
+        if int(model.jnt_type[j]) in (2, 3) and not abs(axes[j] - 1.0) <= 1e-6:   # slide, hinge
+            # (1e200 1e200 0: MuJoCo's normalizing gives 0 0 0, which was said as "axis is zero")
+            raise located(path, _element("joint", model.joint(j).name, j),
+                          f"its axis is not a direction once MuJoCo compiled it (length "
+                          f"{axes[j]:.6g}: an axis too large or too small to normalize?)")
         at = int(model.jnt_qposadr[j])
         if not np.isfinite(model.qpos0[at]):
             raise located(path, _element("joint", model.joint(j).name, j),

@@ -168,29 +168,48 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
         _ACCEPT_IMPROPER.reset(token)
 
 
+def _no_mimic(tree: Tree, said: str) -> str:
+    """Why --mimic has nothing to do: no joint has a <mimic> (`said`), or only fixed joints do."""
+    fixed = [j.name for j in tree.joints.values() if j.mimic is not None and j.type not in MOVABLE]
+    if not fixed:
+        return f"no joint has a {said}"
+    named = ", ".join(map(repr, fixed[:3])) + (f" and {len(fixed) - 3} more" if len(fixed) > 3 else "")
+    return (f"no joint that moves has a {said} (the fixed joint{'s' if len(fixed) > 1 else ''} "
+            f"{named} {'have' if len(fixed) > 1 else 'has'} one, and a fixed joint does not move)")
+
+
+def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path) -> None:
+    """A floating base's joint whose <origin> turns the base: the turn is not used (the base is at
+    the world's orientation, its tilt the host's input), said (it was dropped in silence, and the
+    torques differed from Pinocchio's at that joint's neutral pose: a new user's find)."""
+    j = tree.parent.get(base)
+    if not floating or j is None or j.type != "floating" or \
+            np.allclose(_origin(j)[:3, :3], np.eye(3), rtol=0, atol=1e-12):
+        return
+    warnings.warn(VampcWarning(
+        f"{path}: joint '{j.name}' (floating): the turn of its <origin> (rpy) is not used: the "
+        "floating base is taken at the world's orientation, gravity in its own frame, and a tilted "
+        "base's gravity goes in the base columns (README, Trees and floating bases)"), stacklevel=4)
+
+
 def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               lock: dict[str, float] | None, floating: bool, mimic: str,
               mimic_said: str | None = "<mimic>", mimic_given: bool = False) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
-    if mimic == "couple" and not leaders and not problems and mimic_said:
+    if mimic_said and (mimic == "couple" and not leaders and not problems
+                       or mimic == "ordinary" and mimic_given
+                       and not any(j.mimic is not None and j.type in MOVABLE for j in tree.joints.values())):
         # (a file whose <mimic> tags are all on fixed joints was told it has none: a look-ahead
-        # audit's find on talos_left_arm)
-        fixed = [j.name for j in tree.joints.values() if j.mimic is not None and j.type not in MOVABLE]
-        named = ", ".join(map(repr, fixed[:3])) + (f" and {len(fixed) - 3} more" if len(fixed) > 3 else "")
-        where = (f"no joint that moves has a {mimic_said} (the fixed joint{'s' if len(fixed) > 1 else ''} "
-                 f"{named} {'have' if len(fixed) > 1 else 'has'} one, and a fixed joint does not move)"
-                 if fixed else f"no joint has a {mimic_said}")
-        warnings.warn(VampcWarning(f"{path}: {where}; --mimic couple has no effect"), stacklevel=3)
-    # (an explicit --mimic ordinary on a file without mimic joints was taken in silence)
-    if mimic == "ordinary" and mimic_given and mimic_said and \
-            not any(j.mimic is not None and j.type in MOVABLE for j in tree.joints.values()):
-        warnings.warn(VampcWarning(f"{path}: no joint has a {mimic_said}; --mimic ordinary has no "
+        # audit's find on talos_left_arm; and under --mimic ordinary, a new user's; an explicit
+        # --mimic ordinary on a file without mimic joints was taken in silence)
+        warnings.warn(VampcWarning(f"{path}: {_no_mimic(tree, mimic_said)}; --mimic {mimic} has no "
                                    "effect"), stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
+    _warn_floating_origin(tree, base, floating, path)
     below = {j.name for j in tree.below(base)}
     lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders, given)
     tip = choose_tip(tree, base, tip, lock, path)
@@ -385,6 +404,7 @@ def _check_xml(root, path: Path) -> None:
         warnings.warn(VampcWarning(f"{path}: <robot> has no name; calling it {path.stem!r}"),
                       stacklevel=2)
         root.set("name", path.stem)
+    unread: list[str] = []      # what urdfdom's reading (and so vampc's) leaves out: said below
     for kind in ("link", "joint"):
         seen = set()
         for el in root.iterchildren(kind):
@@ -395,7 +415,10 @@ def _check_xml(root, path: Path) -> None:
             if name in seen:
                 raise located(path, f"{kind} '{name}'", f"defined twice (again on line {el.sourceline})")
             seen.add(name)
-            _check_children(el, kind, f"{kind} '{name}'", path)
+            _check_children(el, kind, f"{kind} '{name}'", path, unread)
+    if unread:
+        more = f" (and {len(unread) - 1} more such)" if len(unread) > 1 else ""
+        warnings.warn(VampcWarning(f"{path}: {unread[0]}{more}"), stacklevel=2)
     for el in root.iterchildren("joint"):
         for mimic in el.iterchildren("mimic"):
             if not mimic.get("joint"):
@@ -430,15 +453,69 @@ def run_xacro(path: Path) -> str:
     return f"run xacro first (xacro {name} > {out}) and give the URDF"
 
 
-def _check_children(el, kind: str, where: str, path: Path) -> None:
-    """Check the numbers of a link's <inertial> or of a joint. One pass over the children: path searches
-    (findall("inertial/origin") and the like) took a quarter of a 100 000-joint load."""
-    children = (sub for inertial in el.iterchildren("inertial") for sub in inertial) if kind == "link" else el
+# The elements a joint, a link's <inertial> and a link read, each once (urdfdom, and so Pinocchio
+# and yourdfpy, take the first of two and skip an element they do not know: a second <inertial> of
+# 50 kg, a second <mimic>, <origin xzy="..."> and <axes> were left out without a word, a new user's
+# find). A link holds many other elements (<contact>, Gazebo's <gravity>...): only a misspelt
+# <inertial>, or its <mass> or <inertia> outside one, is said there; a <limit> holds vendors'
+# attributes (ANYmal's command_effort): only one close to a read one is said.
+_ONCE = {"joint": {"parent", "child", "origin", "axis", "calibration", "dynamics", "limit", "mimic",
+                   "safety_controller"},
+         "inertial": {"origin", "mass", "inertia"}}
+_ATTRIBUTES = {**{tag: set(numbers) for tag, numbers in _NUMBERS.items()},
+               "mimic": {"joint", *_NUMBERS["mimic"]}}
+
+
+def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) -> None:
+    """Check the numbers of a link's <inertial> or of a joint, and note in `unread` what the reading
+    leaves out (_ONCE). One pass over the children: path searches (findall("inertial/origin") and
+    the like) took a quarter of a 100 000-joint load."""
+    if kind == "link":
+        inertials = []
+        for sub in el:
+            tag = sub.tag
+            if tag == "inertial":
+                inertials.append(sub)
+            elif isinstance(tag, str) and (tag in ("mass", "inertia") or _close(tag, ("inertial",), 0.8)):
+                unread.append(f"{where}: <{tag}> (line {sub.sourceline}) is not read"
+                              f"{_close(f'<{tag}>', ('<inertial>',), 0.8)}: a link's mass and inertia "
+                              "are read inside its <inertial>")
+        if len(inertials) > 1:
+            unread.append(f"{where}: a second <inertial> (line {inertials[1].sourceline}) is not read "
+                          "(the first is, as by urdfdom, Pinocchio's reader)")
+        groups = [("inertial", inertial, f"{where} <inertial>") for inertial in inertials]
+    else:
+        groups = [("joint", el, where)]
     tags = _NUMBER_TAGS[kind]
-    for sub in children:
-        tag = sub.tag
-        if tag in tags:
-            _check_numbers(sub, tag, where, path)
+    for group, parent, here in groups:
+        once, met = _ONCE[group], set()
+        for sub in parent:
+            tag = sub.tag
+            if tag in tags:
+                _check_numbers(sub, tag, where, path)
+            if tag in once:
+                if tag in met:
+                    unread.append(f"{here}: a second <{tag}> (line {sub.sourceline}) is not read (the "
+                                  "first is, as by urdfdom, Pinocchio's reader)")
+                    continue
+                met.add(tag)
+                known = _ATTRIBUTES.get(tag)
+                if known is not None and not known.issuperset(sub.keys()):
+                    for attribute in sub.keys():
+                        if attribute not in known and "}" not in attribute and \
+                                (tag != "limit" or _close(attribute, known, 0.8)):
+                            unread.append(f"{here}: <{tag} {attribute}=...> (line {sub.sourceline}) is "
+                                          f"not a URDF attribute{_close(attribute, known)}; it is not read")
+            elif isinstance(tag, str) and "}" not in tag:    # (not a comment, nor an extension's)
+                unread.append(f"{here}: <{tag}> (line {sub.sourceline}) is not a URDF element "
+                              f"there{_close(f'<{tag}>', [f'<{t}>' for t in once])}; it is not read")
+
+
+def _close(word: str, choices, cutoff: float = 0.6) -> str:
+    """' (did you mean xyz?)' where `word` is close to one of `choices` (difflib's), else ''."""
+    import difflib
+    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=cutoff)
+    return f" (did you mean {close[0]}?)" if close else ""
 
 
 def _named(el, kind: str, path: Path) -> str:
@@ -951,7 +1028,16 @@ def _motion(j, q: float) -> np.ndarray:
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+    """Unit vectors along the rows of v. Where the squares of a row are out of float64's range, each
+    row is scaled by its largest component first: the squares of an axis of 1e200 1e200 0 overflowed
+    and the joint turned about another axis, without a word (a new user's find). Only then: scaling
+    changes the last bit of other axes, and so every program made from them."""
+    with np.errstate(over="ignore", under="ignore"):
+        norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    if not np.all((norm > 1e-150) & (norm < 1e150)):
+        v = v / np.max(np.abs(v), axis=-1, keepdims=True)
+        norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    return v / norm
 
 
 def _transposed(m: np.ndarray) -> np.ndarray:

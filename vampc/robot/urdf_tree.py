@@ -202,8 +202,11 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
-        if j.type in MOVABLE and not math.hypot(*j.axis) > 1e-9:
-            raise located(path, f"joint '{j.name}'", "axis is zero")
+        length = math.hypot(*j.axis) if j.type in MOVABLE else 1.0
+        if not length > 1e-9:       # (an axis of 1e-170 was said to be zero: a new user's find)
+            raise located(path, f"joint '{j.name}'", "axis is zero" if not length else
+                          f"its axis is {length:.3g} long: too short to be told from zero (at "
+                          "least 1e-9; only its direction counts: give a unit vector)")
 
 
 def choose_tip(tree: Tree, base: str, tip: str | None, lock: dict, path: Path) -> str:
