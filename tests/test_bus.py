@@ -668,3 +668,27 @@ def test_the_drawings_of_a_bus_or_checked_program_say_what_they_leave_out(tmp_pa
     res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--network",
                                     str(tmp_path / "n.svg")])
     assert res.exit_code == 0 and "warning" not in res.stderr
+
+
+def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
+    """The word line's control registers left out the bus's bus-write registers (planar2's 72, 2 304
+    bits in the bus section and in no total; and their Cycle-Counter field was 24 bits where the
+    VAMPs' are P.bit_length(): a new user's find). Counted from the program file: each register a
+    counter of P.bit_length() bits, a source of enough bits for the deepest buffer's stages, and a
+    6-bit tier; the word line is the point-to-point program's plus those."""
+    robot = EXAMPLES / "planar2.yaml"
+    totals = {}
+    for name, extra in (("p2p", []), ("bus", ["--bus", "mlb"])):
+        program = tmp_path / f"{name}.vamp.json"
+        r = CliRunner().invoke(main, ["compile", str(robot), "--word", "q16.16", "-o", str(program), *extra])
+        assert r.exit_code == 0, r.output
+        rep = json.loads(CliRunner().invoke(main, ["report", str(program), "--format", "json"]).output)
+        totals[name] = rep["word"]["control_register_bits"]
+        net = json.loads(program.read_text())["network"]
+    writes = net["bus"]["writes"]
+    deepest = max(b["stages"] for b in net["buffers"])
+    each = int(net["period"]).bit_length() + max(1, deepest.bit_length()) + 6
+    assert rep["bus"]["registers"]["bits_each"] == each and rep["bus"]["registers"]["bus_write"] == len(writes)
+    # (the tier selects the bus adds to the slot tables: an operand's inputs are its tiers and wires)
+    selects = totals["bus"] - totals["p2p"] - len(writes) * each
+    assert 0 < selects < len(writes) * each, (totals, len(writes), each)

@@ -14,12 +14,20 @@ from vampc.report import paper
 
 COMPARE_LIMIT = 4000      # VAMPs up to which the report compiles the other wirings to compare
 TIER_BITS = 6             # a tier select (at most 64 tiers)
-COUNTER_BITS = 24         # a Cycle-Counter value
 
 
 def _reads(net):
     """Per (tier, bus, counter): the places of the VAMPs latching it then."""
     return {key: [net.bus.position[v] for v in vamps] for key, vamps in latched(net).items()}
+
+
+def write_register_bits(net) -> int:
+    """Bits of one bus-write register: a Cycle-Counter value (as wide as the VAMPs' Cycle-Counters
+    and delay fields: vampc.report.counts.counter_bits; it was 24 bits here beside the word line's
+    P.bit_length()), its source and its tier. The word line's control registers count them (they
+    were left out: 72 registers of planar2's bus, 2 304 bits, a new user's find)."""
+    from vampc.report.counts import counter_bits
+    return counter_bits(net.period) + _stage_bits(net) + TIER_BITS
 
 
 def _stage_bits(net) -> int:
@@ -55,7 +63,7 @@ def bus_figures(c) -> dict | None:
     for w in bus.writes:
         u = tap_source(w.source, sources)
         writers[u] = writers.get(u, 0) + 1
-    register_bits = COUNTER_BITS + _stage_bits(net) + TIER_BITS
+    register_bits = write_register_bits(net)
     p2p = wired(net)
     p2p_pins = [_p2p_pins(v) for v in p2p.vamps]
     bus_pins = pins_on_bus(net)
