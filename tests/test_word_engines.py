@@ -6,6 +6,7 @@ reported joint by joint and every overflow counted."""
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -432,3 +433,40 @@ def test_joint_limits_a_word_cannot_hold_are_warned_of_at_compile(tmp_path):
     res = CliRunner().invoke(main, ["compile", str(slow), "--word", "q9.8", "-o",
                                     str(tmp_path / "f.vamp.json")])
     assert "'s1' speed limit 300" in res.stderr, res.stderr
+
+
+def test_each_located_overflow_says_how_many_scalars_it_counts(tmp_path):
+    """The count is of scalars, the list of places: a VC overflowing in two components was listed
+    once beside a count one more than its lines (5 overflows, 4 places: a new user's find). Each
+    place says how many scalars overflowed there, and over the sets listed they add up to the
+    count (checked where the first five places are all the run has)."""
+    robot = EXAMPLES / "planar2.yaml"
+    traj = tmp_path / "t.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.3,0.2,20,20,1,1\n")
+    res = CliRunner().invoke(main, ["emulate", str(robot), "--trajectory", str(traj), "--word", "q8.8",
+                                    "--allow-out-of-limits", "--engine", "tick"])
+    lines = res.output.splitlines()
+    at = next(i for i, x in enumerate(lines) if x.startswith("q8.8 (nearest, saturate) words: "))
+    count = int(re.search(r"words: (\d+) overflows", lines[at]).group(1))
+    places = [x for x in lines[at + 1:] if x.startswith("  set ")]
+    scalars = [int(m.group(1)) if (m := re.search(r"\((\d+) scalars\)$", x)) else 1 for x in places]
+    assert any(n > 1 for n in scalars), places
+    assert len(places) < 5 and sum(scalars) == count, (count, places)
+
+
+def test_a_float32_run_stopped_by_an_overflow_says_where_it_began(tmp_path):
+    """A float32 overflow ends in a torque that is not finite, which stops the run: it said neither
+    the count nor where, where a fixed-point word's run lists them (a new user's find)."""
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "float32",
+                                     "-o", str(program)]).exit_code == 0
+    traj = tmp_path / "t.csv"
+    traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n0.3,0.2,1,1,1,1\n0.3,0.2,1e20,1,1,1\n")
+    res = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(traj),
+                                    "--allow-out-of-limits", "-o", str(tmp_path / "tau.csv")])
+    assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.stderr
+    assert re.search(r"set 2 \(line 3 of .*t\.csv\), joint \d \(\w+\): the torque is (nan|-?inf) \(float32 "
+                     r"overflow: the robot's or the state's numbers are too large; \d+ overflows by then, "
+                     r"the first in set 2, tick \d+: VAMP \d+ \(number \d+, [\w.]+\), the result of \w+",
+                     res.stderr), res.stderr
+    assert not (tmp_path / "tau.csv").exists()

@@ -274,7 +274,7 @@ def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, fau
         if ld.arith.overflows and len(sites) < SITES:     # where, for the first few
             sites += _sites(ld, stream, traj, SITES - len(sites), start)
         try:
-            _check_finite(ld, em.tau, start, faults, states.source)
+            _check_finite(ld, em.tau, start, faults, states.source, sites)
         except VampcError as exc:
             # what the error-correction checking had done by then goes with the refusal (emulate
             # says it): a NaN torque had stopped the run with no word of it, though a campaign
@@ -315,11 +315,13 @@ def _chunks(ld: Loaded, states: States, size: int) -> Iterator[tuple[int, Trajec
         yield start, states.chunk(ld.chain, start, min(size, states.count - start))
 
 
-def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=(), source=None) -> None:
+def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=(), source=None,
+                  sites=()) -> None:
     """VampcError naming the first torque that is not finite, and the cause (non_finite); with the
     state's place in its trajectory file `source`, where given (the numbers too large may be the
-    state's)."""
-    found = non_finite(ld, tau, faults)
+    state's), and the overflows counted by then with the first of `sites` (a float32 run that
+    overflowed stopped naming neither, where a fixed-point word's lists them: a new user's find)."""
+    found = non_finite(ld, tau, faults, sites[0] if sites else None)
     if found is not None:
         k, where = start + found[0] + 1, ""
         if source is not None:         # (a CSV's states start on its line 2)
@@ -329,10 +331,12 @@ def _check_finite(ld: Loaded, tau: np.ndarray, start: int, faults=(), source=Non
         raise VampcError(f"{ld.path}: set {k}{where}, {found[1]}")
 
 
-def non_finite(ld: Loaded, tau: np.ndarray, faults=()) -> tuple[int, str] | None:
+def non_finite(ld: Loaded, tau: np.ndarray, faults=(), first: str | None = None) \
+        -> tuple[int, str] | None:
     """The row of the first torque that is not finite and what to say of it (the joint or wrench
     component, the value and the cause: the injected faults where there are any, else an overflow
-    of the robot's or the state's numbers; nothing was written); None if every torque is finite."""
+    of the robot's or the state's numbers, with the run's count and the `first` place where given;
+    nothing was written); None if every torque is finite."""
     bad = ~np.isfinite(tau)
     if not bad.any():
         return None
@@ -343,6 +347,9 @@ def non_finite(ld: Loaded, tau: np.ndarray, faults=()) -> tuple[int, str] | None
     cause = (f"{ld.arith.name} overflow under the injected fault{'s' if len(faults) > 1 else ''}"
              if faults else
              f"{ld.arith.name} overflow: the robot's or the state's numbers are too large")
+    if first is not None and not faults:
+        n = ld.arith.overflows
+        cause += f"; {n} overflow{'s' if n != 1 else ''} by then, the first in {first.strip()}"
     return r, f"{where} is {tau[r, j]} ({cause}); {STOPPED}"
 
 

@@ -314,19 +314,20 @@ def _overflow_sites(ld: Loaded, fl: Flow, traj, limit: int, start: int) -> list[
         entry = ld.net.ports[p].entries[e]
         word.track.clear()
         ports[i] = word.encode(host_values(ld, traj, entry.key))
-        for s in _sets(word.track, start)[:limit]:
+        for s, n in _sets(word.track, start)[:limit]:
             tick = s * P + entry.block * B
-            site = written.setdefault((s, str(entry.key.quantity), entry.key.joint), [tick, []])
+            site = written.setdefault((s, str(entry.key.quantity), entry.key.joint), [tick, [], n])
             site[0] = min(site[0], tick)
             site[1].append(p)
-    for (s, quantity, joint), (tick, where) in written.items():
+    for (s, quantity, joint), (tick, where, n) in written.items():
         listed = (f"port {where[0]}" if len(where) == 1 else
                   f"ports {', '.join(map(str, where[:-1]))} and {where[-1]}")
         found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {quantity}{joint} for "
-                               f"{listed}"))
+                               f"{listed}{_scalars(n)}"))
     for c in ld.net.consts if start == 0 else ():     # written once, before the first set
-        if constant_overflows(ld, (c,)):
-            found.append((start, 0, f"set {start + 1}, tick 0: the host's constant {c.name}"))
+        n = constant_overflows(ld, (c,))
+        if n:
+            found.append((start, 0, f"set {start + 1}, tick 0: the host's constant {c.name}{_scalars(n)}"))
     consts: dict = {}
     vals: list[np.ndarray] = []
     for i, (r, a, b) in enumerate(fl.ops):
@@ -335,10 +336,10 @@ def _overflow_sites(ld: Loaded, fl: Flow, traj, limit: int, start: int) -> list[
                             _operand(b, vals, ports, traj.count, consts, word), word))
         v, k = fl.names[i]
         dump = ld.schedule.finish[ld.net.vamps[v].slots[k].node] - 1     # set 0's, absolute
-        for s in _sets(word.track, start)[:limit]:
+        for s, n in _sets(word.track, start)[:limit]:
             found.append((s, s * P + dump, f"set {s + 1}, tick {s * P + dump}: "
                                            f"{ld.vamp_name(v, k)}, the result of "
-                                           f"{ROM[r][0].value}"))
+                                           f"{ROM[r][0].value}{_scalars(n)}"))
     return [what for _, _, what in sorted(found)[:limit]]
 
 
@@ -363,8 +364,16 @@ def conversion_overflows(word, value) -> int:
     return w.overflows
 
 
-def _sets(track: list, start: int) -> list[int]:
-    """The sets (rows, numbered from `start`) any of the noted calls overflowed in."""
+def _sets(track: list, start: int) -> list[tuple[int, int]]:
+    """The sets (rows, numbered from `start`) any of the noted calls overflowed in, each with how
+    many scalars overflowed there (the run's count is of scalars: a VC overflowing in two
+    components had been listed once beside a count of 2, a new user's find)."""
     if not track:
         return []
-    return [start + int(s) for s in np.flatnonzero(np.sum(np.stack(track), axis=0))]
+    per = np.sum(np.stack(track), axis=0)
+    return [(start + int(s), int(per[s])) for s in np.flatnonzero(per)]
+
+
+def _scalars(n: int) -> str:
+    """' (2 scalars)' where a site overflowed in more than one scalar, else ''."""
+    return f" ({n} scalars)" if n > 1 else ""
