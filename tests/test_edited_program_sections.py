@@ -9,6 +9,7 @@ on the code before."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -65,6 +66,12 @@ EDITS = {
     # (the report lists the constant buffers by name: a renamed one was listed so, exit 0)
     "constant name": (lambda d: _set(d, ["network", "consts", 2, "name"], "zzz"),
                       "network.consts[2].name: 'zzz' names no constant of the graph with its value"),
+    # (an option the compiler never writes for a float64 program: taken unseen, and used by a
+    # what-if --word run; --rounding on the command line is refused: a new user's find)
+    "rounding of a float word": (lambda d: _set(d, ["options", "rounding"], "truncate"),
+                                 "options.rounding: 'truncate', which the compiler records only where "
+                                 "it applies, and it does not with these options (the file was "
+                                 "edited); recompile it"),
     "extra constant": (lambda d: d["network"]["consts"].append(
         {**d["network"]["consts"][0], "index": len(d["network"]["consts"])}),
         "network.consts[12] ('"),
@@ -365,3 +372,51 @@ def test_a_bus_programs_tiers_option_is_its_networks(tmp_path):
         assert (code, err) == (1, f"vampc: error: {path}: options.tiers: --tiers 2,2,4 mean 3 "
                                   "tiers, but network.bus.tiers has 14 (the file was edited); "
                                   "recompile it\n"), command
+
+
+@pytest.fixture(scope="module")
+def log_program(tmp_path_factory):
+    path = tmp_path_factory.mktemp("log") / "puma-log.vamp.json"
+    assert run("compile", EXAMPLES / "puma560.yaml", "--recursion", "log", "--word", "q16.16",
+               "-o", path)[0] == 0
+    return path
+
+
+def _matrix_operand(doc, reaching: bool):
+    """(VAMP index, operand, taps) of a matrix operand of three taps: on a VAMP whose result reaches
+    a torque (the backward pass's), or on one none does (a forward node's unused W product)."""
+    for v in doc["network"]["vamps"]:
+        for side in ("a", "b"):
+            for taps in v[side]:
+                if len(taps) == 3 and (v["index"] == 145 if reaching else v["index"] == 342):
+                    return v["index"], side, taps
+    raise AssertionError("no matrix operand")
+
+
+@pytest.mark.parametrize("reaching", [True, False])
+def test_swapped_matrix_columns_are_refused_by_every_command(log_program, tmp_path, reaching):
+    """Two taps of a matrix operand swapped (checksum recomputed): `report` refused the file, but
+    `emulate` (both engines) and `lookahead` ran it, computing with the matrix's columns swapped
+    (exit 0; a waist torque of -3.3185 for -3.2573), `faults` ran its campaign on it, and on a
+    VAMP whose result reaches no torque even `emulate --check` and `rtl --cosim --check` passed (a
+    new user's find). Every command refuses it now, in one line naming the VAMP and the tap."""
+    def swap(doc):
+        _, _, taps = _matrix_operand(doc, reaching)
+        taps[0], taps[1] = taps[1], taps[0]
+    edited = edited_program(log_program, tmp_path, swap)
+    said = (r"VAMP 145 \(number 146, bwd11\.T1\): operand A's tap 0 carries column 1 of node bwd8\.W, "
+            r"where column 0 belongs \(the file was edited\)" if reaching else
+            r"VAMP 342 \(number 343, fwd10\.W\): operand B's tap 0 carries column 1 of node fwd7\.W, "
+            r"where column 0 belongs \(the file was edited\)")
+    ex = EXAMPLES
+    for args in (["emulate", edited, "--random", "3"], ["emulate", edited, "--random", "3", "--engine", "tick"],
+                 ["lookahead", edited, "--trajectory", ex / "puma560-path.csv", "--rate", "1kHz", "--window",
+                  "64", "--limits", ex / "puma560-limits.csv"],
+                 ["faults", edited, "--campaign", "random", "--count", "2", "--workers", "1", "--results",
+                  tmp_path / "r.jsonl"],
+                 ["precision", edited], ["rtl", edited, "--cosim", "1"]):
+        code, err = run(*args)
+        assert code == 1 and err.count("\n") == 1 and re.search(said, err), (args[0], err)
+    assert not (tmp_path / "r.jsonl").exists()
+    code, err = run("report", edited)
+    assert code == 1 and "(the file was edited)" in err, err

@@ -239,6 +239,17 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
     return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
 
 
+def check_file_network(source: str, ld) -> None:
+    """A program file's network checked as emulate and report check it, before a command's own
+    long work: precision, faults and rtl (whose co-simulation found a file with two matrix taps
+    swapped only after 46 s, and faults ran its campaign on it: a new user's find). A robot
+    compiled here needs none."""
+    from vampc.sniff import is_program
+    if is_program(source):
+        from vampc.emulator.check import check_program
+        check_program(ld)          # (its errors name the file)
+
+
 def warn_what_if(source: str, ld, doing: str) -> None:
     """Warn when a program file runs in a word other than the one it records (--word, --rounding,
     --overflow given: a what-if). precision and faults say so in their reports; rtl, emulate and
@@ -1004,10 +1015,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
     # --rounding chooses the rounding analysed here, whatever word the robot compiles in
     ld = loaded(source, replace(options, given=options.given - {"rounding"}), robot_opts, params)
     rounding = _precision_rounding(source, ld, options)
-    from vampc.sniff import is_program
-    if is_program(source):     # its network as report and emulate check it: a corrupt file is said
-        from vampc.emulator.check import check_program
-        check_program(ld)          # (its errors name the file)
+    check_file_network(source, ld)
     chain, graph, ranges = ld.chain, ld.graph, Ranges(own.acceleration)
     # the states in chunks (every op's value of every set at once took 15 kB a set for the Puma:
     # --sets 10000000 went past 22 GB); maxima over the chunks are the run's, overflows their sums
@@ -1740,6 +1748,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                         writes={"-o": report},
                         labels={} if own.results else {"--results": "the default results file"})
     ld = loaded(source, options, robot_opts, params)
+    check_file_network(source, ld)
     whole = cp.campaign_sets(ld, own.campaign)       # (the default run)
     sets = own.sets or whole
     from vampc.emulator.driver import tick_memory_check
@@ -1928,6 +1937,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                         writes={"-o": ("Verilog", (".v", ".sv"))})
     ld = loaded(source, options, robot_opts, params)
     rtl_supported(ld, source, "word" in options.given)
+    check_file_network(source, ld)
     from vampc.rtl.design import NetworkDesign, kinds
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"

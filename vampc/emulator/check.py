@@ -119,6 +119,8 @@ def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
                 if carried != {_expected(nodes[arg])}:
                     raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: operand {name} holds "
                                      + _not_node(ld, sources[0], nodes[arg]))
+                if len(sources) > 1:
+                    _check_columns(ld, v, k, name, sources, nodes[arg])
     want = {o.joint: o for o in ld.graph.outputs}
     for o, (v, k) in zip(ld.net.outputs, timing.outputs):
         node = want[o.joint].node if o.joint in want else None
@@ -129,6 +131,19 @@ def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
             raise VampcError(f"{ld.path}: io.outputs: τ{o.joint} is read from component {o.component} of "
                              f"{ld.vamp_name(v, k)}'s result, the graph's is component "
                              f"{want[o.joint].component} of node {node}")
+
+
+def _check_columns(ld: Loaded, v: int, k: int, name: str, sources, node) -> None:
+    """A matrix operand's taps carry its producer's columns in order: tap j column j, the column
+    the producing slot's ROM entry computes (checked against the graph above). Two swapped taps
+    had passed, the torques computed with the matrix's columns swapped, exit 0; on VAMPs no torque
+    reads, even --check passed; `vampc report` refused the file (a new user's find)."""
+    for j, src in enumerate(sources):
+        col = ROM[ld.programs[src[1]][src[2]].rom][1] if src[0] is SourceKind.SLOT else j
+        if col != j:
+            raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: operand {name}'s tap {j} carries "
+                             f"column {col} of node {node.label}, where column {j} belongs (the "
+                             "file was edited)")
 
 
 def _carried(ld: Loaded, src):

@@ -656,6 +656,7 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
         options.check()
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
+    _check_unwritten(doc.options.recorded(), options, path)
     _check_layout_names(doc, options, path)
     for where, got, want, section in (
             ("recursion", options.recursion, graph.recursion, "the graph is"),
@@ -668,6 +669,24 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
     check_meta(graph, options, path, tree=r.parents is not None or bool(r.floating),
                ground0=not (r.floating or any(r.base_omega) or any(r.base_omega_dot)))
     return options
+
+
+def _check_unwritten(recorded: dict, options, path) -> None:
+    """Refuse an option the compiler does not write for the file's other options (rounding or
+    overflow beside a float word, tiers without the bus, check_cycles without error correction),
+    where its value is not the default: the command line refuses it (--rounding on a float64
+    program), and a float64 file's edited options.rounding was taken unseen by the report and
+    used by a what-if --word run (a new user's find). A default's value changes nothing."""
+    from dataclasses import fields
+
+    from vampc.compiler import CompileOptions
+    defaults = {f.name: f.default for f in fields(CompileOptions)}
+    written = options.record()
+    for key, value in recorded.items():
+        if key not in written and value != defaults.get(key):
+            raise VampcError(f"{path}: options.{key}: {value!r}, which the compiler records only "
+                             f"where it applies, and it does not with these options (the file was "
+                             "edited); recompile it")
 
 
 def check_meta(graph: Graph, options, path, tree: bool, ground0: bool) -> None:
