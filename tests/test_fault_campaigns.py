@@ -1010,6 +1010,12 @@ def test_a_fixed_point_run_that_overflowed_says_so(programs, tmp_path):
     assert "in 1 of them the word overflowed, which the network's overflow count shows" in \
         cp.render_text("head", summary)
     assert "silent_overflowed" not in cp.summarise(load_program(str(plain)), [], sets)   # float64
+    # where the fault-free run overflowed too, the count does not single the run out ("which the
+    # network's overflow count shows" had been said of such runs: a new user's find)
+    both = cp.summarise(ld, [run, quiet], sets, reference_overflows=579)
+    assert both["silent_overflowed"] == 1 and both["reference_overflows"] == 579
+    assert "in 1 of them the word overflowed, but so did the fault-free run, so the network's " \
+        "overflow count does not single them out" in cp.render_text("head", both)
     # a run kept from an older vampc's results file, which did not count them: said apart
     older = {k: v for k, v in run.items() if k != "overflows"}
     kept = cp.summarise(ld, [older, quiet], sets)

@@ -1837,7 +1837,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         if client is not None:
             client.close()
     runs = [store.done[i] for i in range(len(faults))]
-    summary = cp.summarise(ld, runs, sets)
+    summary = cp.summarise(ld, runs, sets, overflows or 0)
     np.seterr(all="ignore")
     word = f"{ld.arith!r}" + (" (what if: not the program's own word)" if what_if else "")
     head = (f"vampc faults: {source}, campaign {own.campaign}: {len(faults)} faults on "

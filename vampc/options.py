@@ -1143,7 +1143,7 @@ class RtlOptions:
         if self.pnr and self.synth is None:
             raise VampcUsageError("--pnr applies to --synth ecp5")
         if not 0 < self.max_minutes <= MAX_MINUTES:     # (inf was a timeout no clock can hold)
-            raise VampcUsageError(f"--max-minutes {self.max_minutes}: give a positive number of "
+            raise VampcUsageError(f"--max-minutes {self.max_minutes:g}: give a positive number of "
                                   f"minutes, at most {MAX_MINUTES} (a week)")
         if self.output is None and self.cosim is None and self.synth is None:
             raise VampcUsageError("give -o FILE.v, --cosim N or --synth ecp5: what to do with the network (README, RTL)")
