@@ -167,3 +167,25 @@ def test_the_report_says_the_faster_clock_that_meets_each_missed_rate(clock, tex
         unit = Fraction(1, 10 ** len(digits.partition(".")[2]))     # of its last digit
         f = Fraction(digits)
         assert f - unit < need <= f, (rate, factor, float(need))      # the need, rounded up
+
+
+@pytest.mark.parametrize("latency, interval, hz", [(61, 4, 20e6), (44, 48, 20e6), (61, 4, 5e5),
+                                                   (64, 64, 20e6)])
+def test_a_margin_met_is_rounded_down_as_a_miss_is_rounded_up(latency, interval, hz):
+    """A margin of 327.87 was said as ×328 and stored as 328.0; 312.5 as 312 and 136.6 as 137
+    (rounding to nearest, half to even): a rate met is never said to be met by more than it is, in
+    the JSON (whole from 100 on, else 6 significant digits) and the text (3 digits below 100)."""
+    import math
+
+    from vampc.report.clock import margin_text
+    fig = clock_figures(latency, interval, 10, hz)
+    for r in fig["control_rates"]:
+        exact = hz / max(latency, interval) / r["hz"]
+        if exact >= 100:
+            assert r["margin"] == math.floor(exact), (exact, r)
+        else:
+            assert r["margin"] <= exact < r["margin"] * (1 + 1e-5), (exact, r)
+        if exact >= 1:
+            shown = float(margin_text(r["margin"])[1:].replace(",", ""))
+            assert shown <= exact and (exact - shown) / exact < (1e-2 if exact < 100 else 1 / exact), \
+                (exact, shown)

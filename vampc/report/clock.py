@@ -112,8 +112,8 @@ def margin_text(margin: float, need: float | None = None) -> str:
     """How far a control rate is met or missed: '×3.4', '×1,639', 'needs a ×3,050 faster clock'.
     A miss is said as the factor `need` (1 / margin unless given exactly) rounded up, so a clock that
     much faster meets the rate (×20.3 had been said where 20.33 was needed, an audit's find)."""
-    if margin >= 1:
-        return f"×{margin:,.0f}" if margin >= 100 else f"×{margin:.3g}"
+    if margin >= 1:      # rounded down, as a miss is rounded up (×328 was said of 327.87)
+        return f"×{down(margin, 0):,.0f}" if margin >= 100 else f"×{down(margin, 3):.3g}"
     need = 1 / margin if need is None else need
     if need >= 100:
         return f"needs a ×{math.ceil(need - 1e-9 * need):,} faster clock"
@@ -161,17 +161,24 @@ def clock_figures(latency: int, interval: int, load_ticks: int, hz: float) -> di
 
 
 def _margin(m: float) -> float:
-    """A control rate's margin to 6 significant digits, as the other rates, or more where 6 would
-    round a miss up to 1 (at 609.9 kHz the Puma's 10 kHz is missed by 0.016%: at 3 digits "not met
-    (×1)", margin 1.0 beside met false). (3 digits gave 312 000 for 18.75 MHz / 60 over 1 kHz, in
-    the JSON and as "×312,000" in the text: a new user's find, 2026-12-05.)"""
-    if m >= 100:                 # (a whole number, as `rate`: 6 digits printed ×1,149,430
-        return float(round(m))   # for 1,149,425: a review's find)
-    for digits in (6, 12):
-        shown = float(f"{m:.{digits}g}")
-        if (shown >= 1) == (m >= 1):
-            return shown
-    return m
+    """A control rate's margin to 6 significant digits, as the other rates, rounded down, so a miss
+    stays below 1 (at 609.9 kHz the Puma's 10 kHz is missed by 0.016%: rounded to 3 digits it was
+    "not met (×1)", margin 1.0 beside met false) and a rate met is never said to be met by more than
+    it is (×328 of 327.87; 312 of 312.5 and 137 of 136.6, rounded half to even and up: a review's
+    find, 2026-12-06). (3 digits gave 312 000 for 18.75 MHz / 60 over 1 kHz: a new user's find.)"""
+    if m >= 100:                       # (a whole number, as `rate`: 6 digits printed ×1,149,430
+        return down(m, 0)              # for 1,149,425: a review's find)
+    return down(m, 6)
+
+
+def down(x: float, digits: int) -> float:
+    """x > 0 rounded down to `digits` significant digits (0: to a whole number), read back as the
+    decimal it prints as; a value one rounding error below a boundary (327.99999999999994 for 328)
+    is taken as the boundary."""
+    if digits == 0:
+        return float(math.floor(x * (1 + 1e-12)))
+    step = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return float(f"{math.floor(x / step * (1 + 1e-12)) * step:.{digits}g}")
 
 
 def control_sentence(fig: dict) -> str:
