@@ -481,8 +481,11 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         size = "" if rest is None else _sized(*rest) or "no change"
         reasons.append((f"a {rep['prefix']} prefix" + (f", {size}" if size else ""),
                         f"the paper's formula counts Sklansky's prefix network; a {rep['prefix']} "
-                        "prefix has other depths" + (f" ({size} on the path here, the rest of the "
-                                                     "difference)" if size else "")
+                        # (not "other depths": at n = 6 both have 3 tiers; a review's find)
+                        "prefix joins other pairs of partial results, on other sides of Table V.1's "
+                        "combining node, which is not symmetric (X_{a,k}'s vectors are turned by "
+                        "W_{k+1,b}, an MV before the VA that adds X_{k+1,b}'s)"
+                        + (f" ({size} on the path here, the rest of the difference)" if size else "")
                         + " (compile with --prefix sklansky to compare)"))
     # what the reasons above account for, where each is a known count: anything left is said to be
     # unexplained (the log recursion at n = 1 showed 2 Addns fewer than the reasons gave, its row
