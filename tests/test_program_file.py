@@ -11,6 +11,7 @@ import dataclasses
 import gzip
 import json
 import os
+from pathlib import Path
 
 import msgspec
 import numpy as np
@@ -427,6 +428,25 @@ def test_wrong_version(program_path):
         read_program(program_path)
     assert str(err.value) == (f"{program_path}: program format version 3 is not supported "
                               "(this vampc reads version 2)")
+
+
+@pytest.mark.parametrize("version, said", [("2", "str '2'"), (2.0, "float 2.0")])
+def test_a_version_written_as_a_string_is_said_so(program_path, version, said):
+    """"version": "2" was said as "version '2' is not supported (this vampc reads version 2)" (a new
+    user's find)."""
+    rewrite(program_path, lambda d: d.__setitem__("version", version))
+    with pytest.raises(VampcError) as err:
+        read_program(program_path)
+    assert str(err.value) == f'{program_path}: "version" must be the number 2, not {said} (was it edited?)'
+
+
+def test_a_robot_file_named_as_a_program_says_what_it_looks_like(tmp_path):
+    """A DH table named *.vamp.json was "invalid JSON: invalid character (line 1, column 1)"."""
+    path = tmp_path / "arm.vamp.json"
+    path.write_text((Path(__file__).parent.parent / "examples" / "planar2.yaml").read_text())
+    with pytest.raises(VampcError) as err:
+        read_program(path)
+    assert str(err.value) == f"{path}: not a vampc program file (it looks like YAML (a DH table?))"
 
 
 def test_version_1_says_to_recompile(program_path):

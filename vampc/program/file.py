@@ -454,6 +454,11 @@ def _untyped(data, path):
     except RecursionError:
         raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
     except DecodeError as exc:         # NaN and infinities included: JSON has no such number
+        from vampc.sniff import looks_like, sniff
+        # (a DH table named *.vamp.json was "invalid JSON: invalid character": a new user's find)
+        kind = sniff(path) if isinstance(path, (str, Path)) else None
+        if kind not in (None, "program", "json"):
+            raise VampcError(f"{path}: not a vampc program file{looks_like(path)}") from None
         raise VampcError(f"{path}: not a vampc program file (invalid JSON: "
                          f"{decode_problem(exc, text)})") from None
 
@@ -469,8 +474,13 @@ def _refuse_version(doc, path) -> None:
     if "version" not in doc:           # (it said "version None is not supported")
         raise VampcError(f"{path}: the program file has no \"version\" (this vampc reads version "
                          f"{VERSION}); was it edited?")
-    if doc.get("version") != VERSION:
-        raise VampcError(f"{path}: program format version {doc.get('version')!r} is not supported "
+    version = doc.get("version")
+    if type(version) is not int and str(version).strip() in (str(VERSION), f"{VERSION}.0"):
+        # ("2" was "version '2' is not supported (this vampc reads version 2)": a new user's find)
+        raise VampcError(f"{path}: \"version\" must be the number {VERSION}, not "
+                         f"{type(version).__name__} {version!r} (was it edited?)")
+    if version != VERSION:
+        raise VampcError(f"{path}: program format version {version!r} is not supported "
                          f"(this vampc reads version {VERSION})")
 
 
