@@ -263,7 +263,7 @@ def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
     # registers: tests/test_rtl.py counts them in the design itself)
     counter, rom = c.net.period.bit_length(), (len(ops.ROM) - 1).bit_length()
     assert w["control_register_bits"] == sum(counter + len(v.slots) * (1 + 3 * counter + rom)
-                                             for v in c.net.vamps) + counter
+                                             for v in c.net.vamps) + counter + 1   # (the overflow flag)
     text = run(main, ["report", str(prog)]).output
     assert "q12.20 (nearest, saturate): 32 bits;" in text
     plain = tmp_path / "f.vamp.json"

@@ -299,7 +299,8 @@ def _counted_before(key: str, stored, c) -> bool:
     packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's figures
     without its input ports, the extraneous VAMP's data registers, ROM and Cycle-Counter (until
     2026-12-05, later), and before that its control register bits without the Cycle-Counters and
-    the slots' valid bits, the delay fields at ceil(log2 P) bits (until 2026-12-05)."""
+    the slots' valid bits, the delay fields at ceil(log2 P) bits (until 2026-12-05); and each of
+    those without the network's overflow flag and the bus-write registers (until 2026-12-06)."""
     from vampc.report.counts import (
         counter_bits,
         packages,
@@ -311,6 +312,13 @@ def _counted_before(key: str, stored, c) -> bool:
         from vampc.machine import ops
         net = c.network
         now = jsontext.loads(jsontext.dumps(word_bits(c)))
+        if stored == now:
+            return True
+        from vampc.report.mlb import write_register_bits
+        now["control_register_bits"] -= (1 if c.options.word.startswith("q") else 0) + (
+            len(net.bus.writes) * write_register_bits(net) if net.bus is not None else 0)
+        if stored == now:         # (before 2026-12-06: no overflow flag, no bus-write registers)
+            return True
         extra = physical_vamps(net) - len(net.vamps)
         earlier = {k: v for k, v in now.items() if k != "input_port_bits"}
         earlier.update(data_register_bits=now["data_register_bits"] // (len(net.vamps) + extra)
@@ -2104,6 +2112,7 @@ def _cosim(ld, design, own, figures, limit, note) -> bool:
     entry = {"simulator": own.simulator, "sets": own.cosim, "seed": own.seed,
              "ticks": result.ticks, "words": int(result.words.size),
              "mismatches": result.mismatches, "overflows": result.overflows,
+             "result_overflows": result.result_overflows, "overflow_output": result.flag,
              "seconds": round(result.seconds, 1)}
     if first is not None:
         s, k = first
@@ -2224,6 +2233,13 @@ def _rtl_text(figures: dict) -> str:
                                           f"{PAST[figures['overflow']]} values, not the torques: "
                                           "a wider --word; --check fails)"
                                           if c["overflows"] else ""))
+        if "overflow_output" in c:
+            results = c["result_overflows"]
+            agree = c["overflow_output"] == (results > 0)
+            said = f"{count(results, 'VAMP result')} overflowed" if results else "no VAMP result overflowed"
+            lines.append(f"  the design's overflow output: {'raised' if c['overflow_output'] else 'low'} "
+                         f"after the run, {'as' if agree else 'but'} {said} in vampc emulate's run"
+                         + ("" if agree else ": they disagree"))
     if "synth" in figures:
         s = figures["synth"]
         for kind, e in s["kinds"].items():

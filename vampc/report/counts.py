@@ -184,7 +184,8 @@ def word_bits(c) -> dict:
     host's writes and reads per torque set and the Program-Mode stream. (The ports had been left
     out, and the extraneous VAMP's registers and ROM: an audit's.) Control
     registers are each VAMP's Cycle-Counter and slot table (counter_bits, slot_table_bits), the
-    buffers' own Cycle-Counter and, on the Mostly-Local Bus, the bus-write registers; the ROM holds the op table's micro-steps (12 bits per assignment,
+    buffers' own Cycle-Counter, on the Mostly-Local Bus the bus-write registers, and in a
+    fixed-point word the network's overflow flag; the ROM holds the op table's micro-steps (12 bits per assignment,
     ROM_BITS_PER_ASSIGNMENT), one copy per VAMP. (The Cycle-Counters and the slots' valid bits had
     been left out, and the delay fields counted at ceil(log2 P) bits, one fewer than the RTL's where
     P is a power of two: 426 of planar2 folded's 33 192 flip-flops, an audit's.)"""
@@ -200,6 +201,8 @@ def word_bits(c) -> dict:
     if net.bus is not None:                 # (its bus-write registers: vampc.report.mlb)
         from vampc.report.mlb import write_register_bits
         control += len(net.bus.writes) * write_register_bits(net)
+    if c.options.word.startswith("q"):     # the network's overflow flag (vampc.rtl.design: README, RTL)
+        control += 1
     rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
                                         for step in ops.entry(r)[0].steps)
     inputs = sum(p.size for p in net.ports for _ in p.entries)

@@ -31,31 +31,45 @@ class CosimResult:
     seconds: float
     overflows: int = 0         # the emulator's run of the same sets: results and host words
                                # beyond the word, counted (both then hold the word's values)
+    result_overflows: int = 0  # of those, the VAMPs' results (the host's conversions left out)
+    flag: bool = False         # the design's overflow output after the run (NetworkDesign)
 
     @property
     def mismatches(self) -> int:
         return int(np.count_nonzero(self.words != self.expected))
 
     @property
+    def flag_agrees(self) -> bool:
+        """The design raised its overflow output exactly when a VAMP's result overflowed in the
+        emulator's run of the same sets."""
+        return self.flag == (self.result_overflows > 0)
+
+    @property
     def ok(self) -> bool:
-        return self.mismatches == 0
+        return self.mismatches == 0 and self.flag_agrees
 
     def first_mismatch(self) -> tuple[int, int] | None:
         bad = np.argwhere(self.words != self.expected)
         return None if not bad.size else (int(bad[0][0]), int(bad[0][1]))
 
 
-def expected_words(ld, traj) -> tuple[np.ndarray, int]:
-    """The emulator's torque words for `traj` (stream engine), as raw integers, output by output,
-    and how many overflows its run counted (the constants' conversion included, as `vampc
-    emulate` counts them)."""
+def expected_words(ld, traj) -> tuple[np.ndarray, int, int]:
+    """The emulator's torque words for `traj` (stream engine), as raw integers, output by output;
+    how many overflows its run counted (the constants' conversion included, as `vampc emulate`
+    counts them); and how many of them were the VAMPs' results (the run's less the host's
+    conversions of the constants and of the inputs, each value once, as the run counts them)."""
     from vampc.emulator import emulate
-    from vampc.emulator.stream import count_overflows_from_here
+    from vampc.emulator.host import port_values
+    from vampc.emulator.stream import count_overflows_from_here, constant_overflows
+    ld.arith.overflows = 0
+    port_values(ld, traj)
+    host = int(ld.arith.overflows) + constant_overflows(ld)
     count_overflows_from_here(ld)
     tau = emulate(ld, traj, engine="stream").tau
     raw = tau * 2.0 ** ld.word.fraction           # exact: a W-bit word, W <= 64, F fraction bits
     cols = [o.joint - 1 for o in ld.net.outputs]
-    return np.rint(raw[:, cols]).astype(np.int64), int(ld.arith.overflows)
+    total = int(ld.arith.overflows)
+    return np.rint(raw[:, cols]).astype(np.int64), total, total - host
 
 
 def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None,
@@ -75,8 +89,9 @@ def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None
     else:
         raise VampcError(f"unknown simulator {simulator!r} ({', '.join(SIMULATORS)})")
     seconds = time.perf_counter() - start
-    expected, overflows = expected_words(ld, traj)
-    return CosimResult(simulator, words, expected, run.ticks, seconds, overflows)
+    words, flag = words
+    expected, overflows, results = expected_words(ld, traj)
+    return CosimResult(simulator, words, expected, run.ticks, seconds, overflows, results, flag)
 
 
 def _amaranth(design, run: HostRun, progress=None) -> np.ndarray:
@@ -103,10 +118,12 @@ def _amaranth(design, run: HostRun, progress=None) -> np.ndarray:
             if progress is not None and T % 256 == 0:
                 progress(T + 1, run.ticks)
             await ctx.tick()
+        flag.append(bool(ctx.get(design.overflow)))
 
+    flag: list[bool] = []
     sim.add_testbench(bench)
     sim.run()
-    return words
+    return words, flag[0]
 
 
 def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
@@ -146,11 +163,13 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
               "  reg program_mode = 1; reg global_reset = 1;",
               *[f"  reg [{s - 1}:0] host{k} = 0; reg host{k}_we = 0;" for k, s in enumerate(sizes)],
               *[f"  wire signed [{W - 1}:0] tau{i};" for i in range(len(design.tau))],
+              "  wire overflow;",
               f"  reg [{widest - 1}:0] mem [0:{len(lines) - 1}];",
               "  integer T, p, out;",
               f"  {top} dut(.clk(clk), .rst(rst), .program_mode(program_mode), .global_reset(global_reset),",
               *[f"    .host{k}(host{k}), .host{k}_we(host{k}_we)," for k in range(n_in)],
-              "    " + ", ".join(f".{t.name}(tau{i})" for i, t in enumerate(design.tau)) + ");",
+              "    " + ", ".join(f".{t.name}(tau{i})" for i, t in enumerate(design.tau))
+              + ", .overflow(overflow));",
               "  initial begin",
               '    $readmemh("stim.hex", mem);',
               '    out = $fopen("tau.txt", "w");',
@@ -167,6 +186,7 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
               '      $fwrite(out, "\\n");',
               "      clk = 1; #1; clk = 0;",
               "    end",
+              '    $fwrite(out, "overflow %0d\\n", overflow);',
               "    $fclose(out); $finish;",
               "  end",
               "endmodule", ""]
@@ -175,16 +195,19 @@ def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
             f.write("\n".join(tb))
         _run(["iverilog", "-g2005", "-o", "sim.vvp", "tb.v", "design.v"], workdir)
         _run(["vvp", "-n", "sim.vvp"], workdir)
-        values = {}
+        values, flag = {}, False
         with open(os.path.join(workdir, "tau.txt")) as f:
             for line in f:
                 parts = line.split()
+                if parts[0] == "overflow":
+                    flag = parts[1] == "1"
+                    continue
                 values[int(parts[0])] = [int(x) for x in parts[1:]]
         words = np.zeros((run.count, len(design.tau)), dtype=np.int64)
         for T, reads in run.samples.items():
             for k, s in reads:
                 words[s, k] = values[T][k]
-        return words
+        return words, flag
     finally:
         if own:
             shutil.rmtree(workdir, ignore_errors=True)

@@ -67,14 +67,17 @@ class Arith:
         self.rounding, self.overflow = word.rounding, word.overflow
 
     def fit(self, m: Module, r, name: str):
-        """A result of any width as a W-bit word: saturated or wrapped (the low W bits)."""
+        """A result of any width as a W-bit word: saturated or wrapped (the low W bits); and
+        whether it overflowed (`name`_ov: beyond the word, as the emulator counts it)."""
         out = Signal(signed(self.W), name=name)
+        ov = Signal(name=f"{name}_ov")
         low = r[:self.W].as_signed()
+        m.d.comb += ov.eq((r > self.hi) | (r < self.lo))
         if self.overflow is Overflow.SATURATE:
             m.d.comb += out.eq(Mux(r > self.hi, self.hi, Mux(r < self.lo, self.lo, low)))
         else:
             m.d.comb += out.eq(low)
-        return out
+        return out, ov
 
     def product(self, m: Module, x, y, name: str):
         p = Signal(signed(2 * self.W + 1), name=f"{name}_p")
@@ -140,6 +143,8 @@ class Vamp(Elaboratable):
         self.a_in, self.b_in, self.word_in = a_in, b_in, word_in
         self.arith, self.P, self.timing, self.packing = arith, period, timing, packing
         self.program, self.global_reset, self.result = program, global_reset, result
+        # true in a Data-Mode tick whose micro-step writes a result beyond the word (README, RTL)
+        self.overflow = Signal(name=f"v{index}_overflow")
 
     @staticmethod
     def of(ld, index: int, a_in, b_in, arith: Arith, program, global_reset, result) -> "Vamp":
@@ -240,8 +245,9 @@ class Vamp(Elaboratable):
                 m.d.comb += code.eq(step)
         units_now = [[Signal(signed(W), name=f"{n}_u{u}m{mod}_now") for mod in range(3)]
                      for u in range(3)]
-        for mod in range(3):
-            self._module(m, mod, code, rom_table, a_now, b_now, units, units_now)
+        overflows = [self._module(m, mod, code, rom_table, a_now, b_now, units, units_now)
+                     for mod in range(3)]
+        m.d.comb += self.overflow.eq(_any(overflows))
         # the dump: the Result takes the dumping slot's result unit as this tick left it
         for s in range(S):
             da, db, dr, rom, sa, sb = fields[s]
@@ -253,7 +259,9 @@ class Vamp(Elaboratable):
 
     def _module(self, m, mod, code, rom_table, a_now, b_now, units, units_now):
         """Primitive module `mod`: two multipliers and an adder/subtractor, their operands and the
-        unit registers each writes chosen by the step code (rows of the microcode's tables)."""
+        unit registers each writes chosen by the step code (rows of the microcode's tables). Returns
+        whether a result a unit register takes this tick overflowed (a physical unit's result no
+        register takes is not a result: the units run on whatever their inputs select)."""
         A, n = self.arith, f"v{self.index}m{mod}"
         sources = Array(a_now + b_now + [units[u][mod] for u in range(3)])
         table = rom_table.modules[mod]
@@ -265,12 +273,17 @@ class Vamp(Elaboratable):
         xs = [sources[looked_up(table.x[k], f"xsel{k}")] for k in range(3)]
         ys = [sources[looked_up(table.y[k], f"ysel{k}")] for k in range(3)]
         subtract = looked_up(table.subtract, "sub", 1)
-        outs = [A.product(m, xs[0], ys[0], f"{n}_mul0"), A.product(m, xs[1], ys[1], f"{n}_mul1"),
-                A.sum(m, xs[2], ys[2], subtract, f"{n}_add")]
+        fitted = [A.product(m, xs[0], ys[0], f"{n}_mul0"), A.product(m, xs[1], ys[1], f"{n}_mul1"),
+                  A.sum(m, xs[2], ys[2], subtract, f"{n}_add")]
+        outs = [out for out, _ in fitted]
+        taken = []
         for u in range(3):
             now = units_now[u][mod]
-            m.d.comb += now.eq(Array([units[u][mod]] + outs)[looked_up(table.write[u], f"w{u}", range(4))])
+            write = looked_up(table.write[u], f"w{u}", range(4))
+            m.d.comb += now.eq(Array([units[u][mod]] + outs)[write])
             m.d.sync += units[u][mod].eq(now)
+            taken += [(write == k + 1) & ov for k, (_, ov) in enumerate(fitted)]
+        return _any(taken)
 
 
 @dataclass(frozen=True)
@@ -356,10 +369,13 @@ class NetworkDesign(Elaboratable):
         self.host = [Signal(size * W, name=f"host{k}") for k, (_, _, size) in enumerate(self.inputs)]
         self.host_we = [Signal(name=f"host{k}_we") for k in range(len(self.inputs))]
         self.tau = [Signal(signed(W), name=f"tau{o.joint}") for o in net.outputs]
+        # sticky: a VAMP's result overflowed the word since Program Mode ended (the emulator counts
+        # and locates them; the chip had said nothing: a hardware user's find, README RTL)
+        self.overflow = Signal(name="overflow")
 
     def ports(self):
         """The top module's ports, inputs first."""
-        return [self.program, self.global_reset, *self.host, *self.host_we, *self.tau]
+        return [self.program, self.global_reset, *self.host, *self.host_we, *self.tau, self.overflow]
 
     def elaborate(self, platform):
         m = Module()
@@ -401,10 +417,14 @@ class NetworkDesign(Elaboratable):
                 return [r[j][i] for i in range(3) for j in range(3)]
             return r[0][:9]
 
+        vamps = []
         for v in net.vamps:
-            m.submodules[f"vamp{v.index}"] = Vamp.of(
-                ld, v.index, [gather(o) for o in v.a], [gather(o) for o in v.b], A, self.program,
-                self.global_reset, results[v.index])
+            vamps.append(Vamp.of(ld, v.index, [gather(o) for o in v.a], [gather(o) for o in v.b], A,
+                                 self.program, self.global_reset, results[v.index]))
+            m.submodules[f"vamp{v.index}"] = vamps[-1]
+        # (cleared in Program Mode and by the reset, not by Global-Reset, which the host gives
+        # every period in Data Mode)
+        m.d.sync += self.overflow.eq(Mux(self.program, 0, self.overflow | _any(x.overflow for x in vamps)))
         # the buffer clock: every tick in Program Mode, at each block's last tick in Data Mode
         cc = Signal(width(net.period), name="buffer_cc")
         c = Mux(self.global_reset, 0, cc)
@@ -438,9 +458,10 @@ class VampChip(Elaboratable):
         self.a_in = [Signal(9 * W, name=f"a_in{k}") for k in range(len(v.a))]
         self.b_in = [Signal(9 * W, name=f"b_in{k}") for k in range(len(v.b))]
         self.result = [Signal(signed(W), name=f"result{k}") for k in range(3)]
+        self.overflow = Signal(name="overflow")
 
     def ports(self):
-        return [self.program, self.global_reset, *self.a_in, *self.b_in, *self.result]
+        return [self.program, self.global_reset, *self.a_in, *self.b_in, *self.result, self.overflow]
 
     def elaborate(self, platform):
         m = Module()
@@ -448,9 +469,10 @@ class VampChip(Elaboratable):
 
         def words(x):
             return [x[i * W:(i + 1) * W].as_signed() for i in range(9)]
-        m.submodules.vamp = Vamp.of(ld, self.index, [words(x) for x in self.a_in],
-                                    [words(x) for x in self.b_in], self.arith, self.program,
-                                    self.global_reset, self.result)
+        m.submodules.vamp = vamp = Vamp.of(ld, self.index, [words(x) for x in self.a_in],
+                                           [words(x) for x in self.b_in], self.arith, self.program,
+                                           self.global_reset, self.result)
+        m.d.comb += self.overflow.eq(vamp.overflow)
         return m
 
 

@@ -38,8 +38,12 @@ class HostRun:
 
 def run_ticks(ld, count: int) -> int:
     """All ticks a run of `count` torque sets takes, Program Mode and Data Mode: up to the tick
-    the last set's last torque is sampled."""
-    return ld.load_ticks + (count - 1) * ld.net.period + max(o.tick for o in ld.net.outputs) + 1
+    the last set's last torque is sampled, or its last op dumps where that is later (an op no
+    torque reads may end after the last torque: its overflow, which the emulator counts, was
+    never run in the design, and the overflow outputs disagreed)."""
+    last_dump = max(ld.schedule.finish) - 1
+    return ld.load_ticks + (count - 1) * ld.net.period + \
+        max(max(o.tick for o in ld.net.outputs), last_dump) + 1
 
 
 def host_run(ld, traj, inputs) -> HostRun:
@@ -49,7 +53,7 @@ def host_run(ld, traj, inputs) -> HostRun:
     L, P, B = ld.load_ticks, net.period, net.clock
     count = traj.count
     run = HostRun(L, run_ticks(ld, count), count=count, period=P)
-    last = run.ticks - L - 1                     # the last Data-Mode tick: the last torque's sample
+    last = run.ticks - L - 1                     # the last Data-Mode tick (run_ticks)
     where = {(kind, index): k for k, (kind, index, _) in enumerate(inputs)}
     size = [s for _, _, s in inputs]
 
