@@ -60,7 +60,7 @@ def expected_words(ld, traj) -> tuple[np.ndarray, int, int]:
     conversions of the constants and of the inputs, each value once, as the run counts them)."""
     from vampc.emulator import emulate
     from vampc.emulator.host import port_values
-    from vampc.emulator.stream import count_overflows_from_here, constant_overflows
+    from vampc.emulator.stream import constant_overflows, count_overflows_from_here
     ld.arith.overflows = 0
     port_values(ld, traj)
     host = int(ld.arith.overflows) + constant_overflows(ld)
