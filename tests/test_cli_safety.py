@@ -7,6 +7,7 @@ import json
 import os
 import re
 import stat
+import sys
 import threading
 import zipfile
 from pathlib import Path
@@ -2095,3 +2096,45 @@ def test_a_report_whose_text_cannot_be_written_leaves_its_pictures_old_files(tmp
                               text=True, env={**os.environ, "VAMPC_PROGRESS": "0"})
     assert done.returncode == 1 and "cannot write to standard output" in done.stderr, done.stderr
     assert picture.read_text() == "OLD\n" and sorted(p.name for p in tmp_path.iterdir()) == ["n.svg"]
+
+
+def _vampc(*args, **kw):
+    """vampc as a process, its standard streams as given (the tests below need real ones)."""
+    import subprocess
+    return subprocess.run([sys.executable, "-m", "vampc", *map(str, args)], capture_output=False,
+                          text=True, **kw)
+
+
+def test_a_summary_standard_output_cannot_take_is_dropped_with_the_files_written(tmp_path, program):
+    """`emulate -o a.csv --save-states b.csv > /dev/full` (and `compile`, `lookahead`) replaced the
+    files, then said "cannot write to standard output", exit 1: new files beside a failed status
+    (a new user's find). The summary lines are dropped, said once on standard error; the files
+    are written and the exit status is the run's. A result on standard output (report) is still
+    an error."""
+    import subprocess
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    a.write_text("old\n")
+    b.write_text("old\n")
+    with open("/dev/full", "w") as full:
+        done = _vampc("emulate", program, "--random", 5, "-o", a, "--save-states", b, stdout=full,
+                      stderr=subprocess.PIPE)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr == ("vampc: warning: standard output cannot take the summary lines (No space "
+                           "left on device): they are dropped; files are written as without them\n")
+    assert a.read_text().startswith("tau_") and b.read_text().startswith("q1,")
+    with open("/dev/full", "w") as full:
+        done = _vampc("report", program, stdout=full, stderr=subprocess.PIPE)
+    assert done.returncode == 1 and "cannot write to standard output: No space left" in done.stderr
+
+
+def test_standard_errors_own_pipe_is_not_an_output(tmp_path, program):
+    """`-o /dev/stderr 2>&1 | cat` wrote the torques into the pipe that carries the messages, exit 0
+    (refused only where standard error was a regular file: a new user's find)."""
+    import subprocess
+    done = subprocess.run(f"{sys.executable} -m vampc emulate {program} --random 2 -o /dev/stderr "
+                          "2>&1 >/dev/null | cat; exit ${PIPESTATUS[0]}", shell=True, text=True,
+                          capture_output=True, executable="/bin/bash")
+    assert done.returncode == 2 and "-o /dev/stderr: that is standard error, which carries the " \
+        "command's messages" in done.stdout, (done.stdout, done.stderr)

@@ -163,6 +163,15 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())
             if err or not result_on_stdout():
                 return
+        elif not err and not result_on_stdout():
+            # a summary line standard output cannot take (> /dev/full): dropped, said once on
+            # standard error; the files are written (the summary comes once they are) and the
+            # exit status is the run's (it was exit 1 beside files already replaced: a new user's)
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            say(f"vampc: warning: standard output cannot take the summary lines "
+                f"({exc.strerror or exc}): they are dropped; files are written as without them",
+                err=True)
+            return
         raise VampcError(f"cannot write to standard {'error' if err else 'output'}: "
                          f"{exc.strerror or exc}") from None
 
