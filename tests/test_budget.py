@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -137,18 +138,33 @@ def test_an_interval_shorter_than_an_op():
         budget_schedule(g, Timing(), interval=2)
 
 
-@pytest.mark.parametrize("k, interval", [(4, 20), (12, 20)])
-def test_vamps_and_interval_that_contradict(k, interval):
-    # the interval named is the one `--vamps K` alone compiles to (at K = 12 an unheld search
-    # stops at 28, the held one reaches 27)
-    alone = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", str(k),
-                                      "-o", "-"])
-    reached = json.loads(alone.stdout)["schedule"]["interval"]
-    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", str(k),
-                                    "--interval", str(interval), "-o", "-"])
-    assert res.exit_code == 1
-    assert res.stderr == (f"vampc: error: --vamps {k} --interval {interval}: with {k} VAMPs the "
-                          f"smallest interval this scheduler reaches is {reached} flops\n")
+@pytest.mark.parametrize("robot, k, interval", [("puma560.yaml", 4, 20), ("puma560.yaml", 12, 20),
+                                                ("planar2.yaml", 3, 35), ("puma560.yaml", 3, 107)])
+def test_vamps_and_interval_that_contradict(robot, k, interval):
+    """The interval named is one `--vamps K --interval T` itself compiles at (it named the interval
+    of --vamps K alone: 37 for planar2 on 3 VAMPs, where --interval 36 works: a new user's find),
+    the first from T up; and T below ⌈W/K⌉ (counted here from the graph: every op's duration, an
+    MM's three times) is said so."""
+    import math
+
+    from vampc.machine.ops import VAMPS_PER_OP
+    path = str(EXAMPLES / robot)
+    res = CliRunner().invoke(main, ["compile", path, "--vamps", str(k), "--interval", str(interval),
+                                    "-o", "-"])
+    assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.stderr
+    reached = int(re.search(r"the smallest interval from there it reaches is (\d+) flops\n$",
+                            res.stderr)[1])
+    assert reached > interval
+    ok = CliRunner().invoke(main, ["compile", path, "--vamps", str(k), "--interval", str(reached),
+                                   "-o", "-"])
+    assert ok.exit_code == 0 and json.loads(ok.stdout)["schedule"]["interval"] <= reached, ok.stderr
+    g = build_graph(load_robot(EXAMPLES / robot), CompileOptions())
+    w = sum(Timing().durations[nd.op] * VAMPS_PER_OP[nd.op] for nd in g.compute_nodes())
+    floor = math.ceil(w / k)
+    said = f": below ⌈W/K⌉ = {floor} flops, the least any schedule on {k} VAMPs reaches"
+    assert (said in res.stderr) == (interval < floor), res.stderr
+    assert res.stderr.startswith(f"vampc: error: --vamps {k} --interval {interval}: this scheduler "
+                                 f"places no torque set every {interval} flops on {k} VAMPs")
 
 
 @pytest.mark.parametrize("extra", [["--layout", "folded"], ["--layout", "systolic"]])

@@ -454,9 +454,17 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
         # a latency of 100 where --vamps 7 alone reaches 48 and 66), or where T failed
         best = _for_vamps(graph, timing, k, asap, thorough)
         if placed is None and best.interval > interval:
-            raise VampcError(f"--vamps {asked_k} --interval {asked}: with {k} VAMPs the "
-                             f"smallest interval this scheduler reaches is {best.interval} "
-                             "flops")
+            # the interval it does reach from T up, tried one at a time (it had named --vamps K's
+            # own interval, 37 where --vamps 3 --interval 36 works: a new user's find), and the
+            # bound no schedule beats, where T is below it
+            found = next((t for t in range(interval + 1, min(best.interval, interval + 64))
+                          if modulo_schedule(graph, timing, k, t, asap) is not None), best.interval)
+            floor = bounds(graph, timing, k).interval_bound
+            below = (f": below ⌈W/K⌉ = {floor} flops, the least any schedule on {k} VAMPs "
+                     "reaches" if interval < floor else "")
+            raise VampcError(f"--vamps {asked_k} --interval {asked}: this scheduler places no "
+                             f"torque set every {interval} flops on {k} VAMPs{below}; the smallest "
+                             f"interval from there it reaches is {found} flops")
         if best.interval <= interval and (placed is None or (_latency(graph, best), best.interval)
                                           < (_latency(graph, placed), placed.interval)):
             placed = best          # a set at least every T flops, as --interval promises
