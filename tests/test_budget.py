@@ -167,6 +167,21 @@ def test_vamps_and_interval_that_contradict(robot, k, interval):
                                  f"places no torque set every {interval} flops on {k} VAMPs")
 
 
+@pytest.mark.parametrize("command", ["report", "emulate"])
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_a_layout_given_with_a_budget_program_is_a_usage_error(tmp_path, command, layout):
+    """`report v3.vamp.json --layout systolic` passed unsaid (the file records layout "systolic"
+    beside its budget), and --layout folded was said to contradict "--layout systolic" (a new
+    user's find): a budget program makes its own layout, as with a robot file."""
+    program = tmp_path / "v3.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--vamps", "3", "-o",
+                                     str(program)]).exit_code == 0
+    res = CliRunner().invoke(main, [command, str(program), "--layout", layout,
+                                    *(["--random", "2"] if command == "emulate" else [])])
+    assert res.exit_code == 2 and f"--layout {layout}: {program} was compiled with --vamps 3, which " \
+        "makes its own (budgeted) layout: leave out --layout" in res.stderr, res.stderr
+
+
 @pytest.mark.parametrize("extra", [["--layout", "folded"], ["--layout", "systolic"]])
 def test_a_budget_with_a_layout_is_a_usage_error(extra):
     res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12",

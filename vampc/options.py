@@ -406,6 +406,14 @@ def check_program_options(given, params: dict, source: str, stored: dict,
             shown = "--no-verify" if name == "verify" and params.get("verify") is False else flag(name)
             raise VampcUsageError(f"{shown} applies when compiling a robot file; {source} is a "
                                   "program file, already compiled")
+    budget = [f"{flag(n)} {stored[n]}" for n in ("vamps", "interval") if stored.get(n) is not None]
+    if "layout" in given and budget:
+        # (--layout systolic passed unsaid, the file's recorded layout name being "systolic", and
+        # --layout folded was said to contradict "--layout systolic": a new user's find)
+        raise VampcUsageError(f"--layout {params['layout']}: {source} was compiled with "
+                              f"{' '.join(budget)}, which "
+                              + ("make their" if len(budget) > 1 else "makes its")
+                              + " own (budgeted) layout: leave out --layout")
     defaults = {f.name: f.default for f in fields(CompileOptions)}
     # the options that decide what applies (--word, --recursion...) first: `--word q16.16
     # --rounding truncate` on a float64 report is --word's error, not --rounding's
