@@ -1170,3 +1170,29 @@ def test_mimic_ordinary_on_mimics_of_fixed_joints_says_they_do_not_move(tmp_path
                                               rf"one, and a fixed joint does not move\); --mimic {mode} has "
                                               r"no effect"):
             load_urdf(path, mimic=mode, mimic_given=True)
+
+
+@pytest.mark.parametrize("base, said", [(None, True), ("world", True), ("trunk", False)])
+def test_floating_base_on_a_robot_that_floats_already_is_said_to_do_nothing(tmp_path, base, said):
+    """--floating-base on a URDF whose root joint floats was taken unsaid (a new user's find, on a
+    DH table's base.floating): it has no effect but where --base names the link the floating joint
+    carries, which is otherwise a fixed base."""
+    path = write(tmp_path, FLOATING_ROOT)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        chain = load_urdf(path, base=base, floating=True)
+    assert chain.floating
+    texts = [str(w.message) for w in seen]
+    assert any("the base 'trunk' floats on the file's own floating joint 'float'; --floating-base has "
+               "no effect" in t for t in texts) == said, texts
+
+
+def test_floating_base_on_a_dh_table_that_floats_already_is_said_to_do_nothing(tmp_path):
+    text = (EXAMPLES / "planar2.yaml").read_text().replace("name:", "base: {floating: true}\nname:", 1)
+    path = write(tmp_path, text, "fl.yaml")
+    with pytest.warns(VampcWarning, match=r"base\.floating is true already; --floating-base has no "
+                                          r"effect"):
+        assert load_robot(path, floating=True).floating
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_robot(path).floating

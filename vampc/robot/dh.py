@@ -110,6 +110,9 @@ def chain_from_dh(doc: dict, source: str, floating: bool = False) -> Chain:
 
 def _floating_base(base: dict, floating: bool, source: str) -> dict:
     """The Chain fields of a floating base: its link's mass, centre of mass and inertia (default none)."""
+    if floating and base.get("floating"):     # (taken unsaid: a new user's find)
+        warnings.warn(VampcWarning(f"{source}: base.floating is true already; --floating-base has no "
+                                   "effect"), stacklevel=4)
     if not (floating or base.get("floating")):
         for key in ("mass", "com", "inertia"):
             if key in base:

@@ -207,9 +207,17 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
         warnings.warn(VampcWarning(f"{path}: {_no_mimic(tree, mimic_said)}; --mimic {mimic} has no "
                                    "effect"), stacklevel=3)
     lock = _lock_followers(leaders, lock, tree, path)
+    named, asked = base, floating
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
     _warn_floating_origin(tree, base, floating, path)
+    root_joint = tree.parent.get(base)
+    if asked and root_joint is not None and root_joint.type == "floating" and \
+            named in (None, root_joint.parent):
+        # (it floats by the file's own joint: the option was taken unsaid, a new user's find)
+        warnings.warn(VampcWarning(f"{path}: the base '{base}' floats on the file's own floating "
+                                   f"joint '{root_joint.name}'; --floating-base has no effect"),
+                      stacklevel=3)
     below = {j.name for j in tree.below(base)}
     lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders, given)
     tip = choose_tip(tree, base, tip, lock, path)
