@@ -2138,3 +2138,15 @@ def test_standard_errors_own_pipe_is_not_an_output(tmp_path, program):
                           capture_output=True, executable="/bin/bash")
     assert done.returncode == 2 and "-o /dev/stderr: that is standard error, which carries the " \
         "command's messages" in done.stdout, (done.stdout, done.stderr)
+
+
+@pytest.mark.parametrize("extra", [[], ["--tradeoff", "--workers", "1", "--curve"]])
+def test_a_picture_that_cannot_be_written_leaves_no_report_text(extra):
+    """`report --reservation /dev/full` printed the whole report, then failed on the picture, exit 1
+    (a new user's find): "a full disk is one line naming the file, exit 1, and nothing else"."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    picture = [] if extra else ["--reservation"]
+    res = run("report", EXAMPLES / "planar2.yaml", *extra, *picture, "/dev/full")
+    user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
+    assert res.stdout == "", res.stdout[:200]

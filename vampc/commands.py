@@ -825,10 +825,7 @@ def report_command(source: str, own: ReportOptions, options: CompileOptions,
         else:
             from vampc.report.text import render, render_markdown
             text = render_markdown(rep) if own.fmt == "markdown" else render(rep)
-        if emit is not None:
-            emit(text)
-            text = ""
-        write_pictures(outs, content)
+        text = emit_with_pictures(text, emit, outs, content)
         leave_big(c.network)
     return text
 
@@ -957,12 +954,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
         text = tr.render_markdown(rows)
     else:
         text = tr.render_csv(rows) if own.fmt == "csv" else tr.render_text(rows)
-    if emit is not None:            # (before the pictures: see report_command)
-        emit(text)
-        text = ""
-    if outs:
-        write_pictures(outs, {k: v for k, v in content.items() if k in outs})
-    return text
+    return emit_with_pictures(text, emit, outs, content)
 
 
 def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
@@ -984,10 +976,25 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
     return pictures.make(c, rep, {o: out.path for o, out in outs.items()}, focus)
 
 
-def write_pictures(outs: dict, content: dict) -> None:
-    """Write every picture (each atomically); none is committed unless all were written."""
-    from vampc.outputs import write_together
-    write_together([(out, content[option], option.lstrip("-")) for option, out in outs.items()])
+def emit_with_pictures(text: str, emit, outs: dict, content: dict) -> str:
+    """A report's pictures (`content` by option, for `outs`) written out but not put in place, then
+    `text` handed to `emit` (standard output), then the pictures put in place: a text that cannot
+    be written leaves the pictures' old files as they were (they had been replaced first: an
+    audit's), and a picture that cannot be written leaves no text (the whole report had been
+    printed before `--reservation /dev/full` failed: a new user's find). Without `emit`, the
+    pictures are put in place and `text` returned."""
+    from vampc.outputs import commit_together, discard_together, prepare_together
+    pending = prepare_together([(out, content[option], option.lstrip("-"))
+                                for option, out in outs.items()])
+    if emit is not None:
+        try:
+            emit(text)
+        except BaseException:
+            discard_together(pending)
+            raise
+        text = ""
+    commit_together(pending)
+    return text
 
 
 __all__ = ["VampcError", "compile_command", "emulate_command", "report_command", "compile_robot",

@@ -587,6 +587,15 @@ def write_together(items) -> None:
     """Write each (out, content, what) of `items`, each by the rules above, and put none in place
     unless all were written: a failure or an interrupt while they are made leaves every existing
     file as it was."""
+    commit_together(prepare_together(items))
+
+
+def prepare_together(items) -> list[Pending]:
+    """Each (out, content, what) of `items` written out and prepared (Pending.prepare), none put in
+    place: commit_together puts them, discard_together drops them (a command's text can be printed
+    between, so that neither a text nor a picture that cannot be written leaves the other: a
+    report's picture on a full device had failed after the whole text was printed, a new user's
+    find). A failure here drops every one."""
     pending: list[Pending] = []
     try:
         for out, content, what in items:
@@ -595,17 +604,24 @@ def write_together(items) -> None:
         for p in pending:
             p.prepare()
     except VampcError:
-        for p in pending:
-            p.discard()
+        discard_together(pending)
         raise
     except OSError as exc:
-        for p in pending:
-            p.discard()
+        discard_together(pending)
         raise pending[-1].error(exc) from None
     except BaseException:
-        for p in pending:
-            p.discard()
+        discard_together(pending)
         raise
+    return pending
+
+
+def discard_together(pending: list[Pending]) -> None:
+    for p in pending:
+        p.discard()
+
+
+def commit_together(pending: list[Pending]) -> None:
+    """Put every prepared output in place (prepare_together)."""
     with placing(pending):
         for k, p in enumerate(pending):
             try:
