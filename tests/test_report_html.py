@@ -32,7 +32,39 @@ def test_the_page_holds_every_table_and_the_three_pictures(made):
     assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3     # chart, drawing, table
     for t in tables(rep):
         assert f'<section id="{t.key}">' in page
-    assert out["--timing"][out["--timing"].index("<svg"):] in page      # the same drawing, inline
+    timing = out["--timing"][out["--timing"].index("<svg"):]
+    # the same drawing, inline, its ids given the section's prefix (test_every_id_is_unique...)
+    assert re.sub(r'(\sid="|href="#|url\(#)', r"\1timing-", timing) in page
+
+
+def test_every_id_is_unique_and_every_reference_lands_in_its_own_picture(made):
+    """Three pictures inline had 264 ids twice (matplotlib's figure_1, axes_1, ...; each picture's
+    own root id), invalid HTML whose links could land in another picture (a new user's find)."""
+    from collections import Counter
+    from html.parser import HTMLParser
+
+    class Ids(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.ids, self.refs, self.section = Counter(), [], None
+
+        def handle_starttag(self, tag, attrs):
+            attrs = dict(attrs)
+            if tag == "section":
+                self.section = attrs.get("id")
+            if "id" in attrs:
+                self.ids[attrs["id"]] += 1
+            for key in ("href", "xlink:href"):
+                if (attrs.get(key) or "").startswith("#"):
+                    self.refs.append((self.section, attrs[key][1:]))
+    page = made[1]["--html"]
+    parser = Ids()
+    parser.feed(page)
+    assert [k for k, n in parser.ids.items() if n > 1] == []
+    refs = parser.refs + [(None, r) for r in re.findall(r"url\(#([^)]+)\)", page)]
+    assert refs and all(r in parser.ids for _, r in refs)
+    assert all(r.startswith(f"{section}-") for section, r in parser.refs if section in
+               ("timing", "network", "reservation"))
 
 
 def test_nothing_is_fetched(made):

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import re
 import xml.etree.ElementTree as ET
 
 from click.testing import CliRunner
@@ -74,7 +75,8 @@ def test_html_with_tradeoff_is_a_page_of_the_table_and_the_curve(tmp_path):
     text = page.read_text()
     assert text.startswith("<!DOCTYPE html>") and text.count("<svg") == 1
     assert text.count("<tr>") == len(rows) + 1                     # the header and a row per point
-    assert curve.read_text()[curve.read_text().index("<svg"):] in text
+    svg = curve.read_text()[curve.read_text().index("<svg"):]
+    assert re.sub(r'(\sid="|href="#|url\(#)', r"\1curve-", svg) in text     # (ids prefixed)
     res = run("report", PLANAR, "--tradeoff", "--timing", tmp_path / "x.svg")
     assert res.exit_code == 2 and "--timing does not apply to --tradeoff (--html and --curve do)" in res.stderr
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import html
 
 from vampc.report.sections import tables
-from vampc.report.svg import strip_prolog
+from vampc.report.svg import inline
 from vampc.report.table import html_text, render_html
 from vampc.report.text import summary_pairs
 from vampc.textio import count
@@ -30,11 +30,11 @@ def page(rep: dict, timing_svg: str, network_svg: str, reservation_svg: str = ""
             f"recursion, {esc(rep['layout'])} layout)</h1>",
             f'<section id="summary"><h2>Summary</h2><table>{summary}</table></section>',
             '<section id="timing"><h2>Timing chart</h2><div class="picture">'
-            f"{strip_prolog(timing_svg)}</div></section>",
+            f"{inline(timing_svg, 'timing')}</div></section>",
             '<section id="network"><h2>Network</h2><div class="picture">'
-            f"{strip_prolog(network_svg)}</div></section>",
+            f"{inline(network_svg, 'network')}</div></section>",
             *(['<section id="reservation"><h2>Steady state: the modulo reservation table</h2>'
-               f'<div class="picture">{strip_prolog(reservation_svg)}</div></section>']
+               f'<div class="picture">{inline(reservation_svg, "reservation")}</div></section>']
               if reservation_svg else []),
             "<h2>Tables</h2>", *[render_html(t) for t in tables(rep)]]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
@@ -61,7 +61,7 @@ def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
                   align="llrrrrrrrrrrr")
     body = [f"<h1>vampc trade-off: {esc(title)}</h1>",
             '<section id="curve"><h2>Curve</h2><div class="picture">'
-            f"{strip_prolog(curve_svg)}</div></section>", render_html(table)]
+            f"{inline(curve_svg, 'curve')}</div></section>", render_html(table)]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>vampc trade-off: {esc(title)}</title><style>{STYLE}</style></head>\n<body>\n"
             + "\n".join(body) + "\n</body></html>\n")

@@ -133,6 +133,20 @@ def strip_prolog(svg: str) -> str:
     return svg[svg.index("<svg"):]
 
 
+_ID = re.compile(r'(\sid=")([^"]+)"')
+_REF = re.compile(r'(href="#|url\(#)([^")]+)')
+
+
+def inline(svg: str, prefix: str) -> str:
+    """The <svg> element alone (strip_prolog) with every id, and every reference to one (an
+    xlink:href, a url(#...)), given `prefix`: a page of several pictures had hundreds of ids twice
+    (matplotlib's figure_1, axes_1, ...; each picture's own `vampc`), invalid HTML whose links
+    could land in another picture (a new user's find)."""
+    body = strip_prolog(svg)
+    body = _ID.sub(lambda m: f'{m.group(1)}{prefix}-{m.group(2)}"', body)
+    return _REF.sub(lambda m: f"{m.group(1)}{prefix}-{m.group(2)}", body)
+
+
 _PATH = re.compile(r' d="([^"]*)"')
 _NUMBER = re.compile(r"-?\d+\.\d+")
 
