@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 import re
+from decimal import Decimal
+from fractions import Fraction
 
 UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9}
 # the paper's "about 60Hz or faster" (section I: a manipulator's resonances near 10 Hz), then two
@@ -156,29 +158,42 @@ def clock_figures(latency: int, interval: int, load_ticks: int, hz: float) -> di
             "sets_per_second": per_second(interval, hz), "load_us": us(load_ticks, hz),
             "max_control_rate_hz": float(f"{fastest:.6g}"),
             "limited_by": "latency" if latency >= interval else "interval",
-            "control_rates": [{"hz": r, "met": r <= fastest, "margin": _margin(fastest / r)}
-                              for r in CONTROL_RATES]}
+            "control_rates": [{"hz": r, "met": r * bound <= exact(hz),
+                               "margin": _margin(exact(hz) / (bound * r))} for r in CONTROL_RATES]}
 
 
-def _margin(m: float) -> float:
-    """A control rate's margin to 6 significant digits, as the other rates, rounded down, so a miss
-    stays below 1 (at 609.9 kHz the Puma's 10 kHz is missed by 0.016%: rounded to 3 digits it was
-    "not met (×1)", margin 1.0 beside met false) and a rate met is never said to be met by more than
-    it is (×328 of 327.87; 312 of 312.5 and 137 of 136.6, rounded half to even and up: a review's
-    find, 2026-12-06). (3 digits gave 312 000 for 18.75 MHz / 60 over 1 kHz: a new user's find.)"""
+def _margin(m: Fraction) -> float:
+    """A control rate's margin (exact: the clock over the rate's flops) to 6 significant digits, as
+    the other rates, rounded down, so a miss stays below 1 (at 609.9 kHz the Puma's 10 kHz is
+    missed by 0.016%: rounded to 3 digits it was "not met (×1)", margin 1.0 beside met false) and a
+    rate met is never said to be met by more than it is (×328 of 327.87; 312 of 312.5 and 137 of
+    136.6, rounded half to even and up: a review's find, 2026-12-06; a float's rounding below a
+    boundary, 0.99999999999994 read as 1, a review's too). (3 digits gave 312 000 for 18.75 MHz / 60
+    over 1 kHz: a new user's find.)"""
     if m >= 100:                       # (a whole number, as `rate`: 6 digits printed ×1,149,430
         return down(m, 0)              # for 1,149,425: a review's find)
     return down(m, 6)
 
 
-def down(x: float, digits: int) -> float:
-    """x > 0 rounded down to `digits` significant digits (0: to a whole number), read back as the
-    decimal it prints as; a value one rounding error below a boundary (327.99999999999994 for 328)
-    is taken as the boundary."""
+def exact(x: float) -> Fraction:
+    """A float as the decimal it prints as, exactly (32.8, not 32.799999999999997): the numbers the
+    user gave (a clock of 609999.99999994 Hz) and the report's own decimals."""
+    return Fraction(Decimal(repr(float(x))))
+
+
+def down(x: float | Fraction, digits: int) -> float:
+    """x > 0 (exact, or a float taken as the decimal it prints as: exact) rounded down to `digits`
+    significant digits (0: to a whole number), as the float that prints as that decimal."""
+    q = x if isinstance(x, Fraction) else exact(x)
     if digits == 0:
-        return float(math.floor(x * (1 + 1e-12)))
-    step = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
-    return float(f"{math.floor(x / step * (1 + 1e-12)) * step:.{digits}g}")
+        return float(math.floor(q))
+    e = math.floor(math.log10(q))          # (near a power of ten the float log may be one off)
+    while Fraction(10) ** e > q:
+        e -= 1
+    while Fraction(10) ** (e + 1) <= q:
+        e += 1
+    step = Fraction(10) ** (e - digits + 1)
+    return float(math.floor(q / step) * step)
 
 
 def control_sentence(fig: dict) -> str:
