@@ -2150,3 +2150,19 @@ def test_a_picture_that_cannot_be_written_leaves_no_report_text(extra):
     res = run("report", EXAMPLES / "planar2.yaml", *extra, *picture, "/dev/full")
     user_error(res, r"^vampc: error: /dev/full: cannot write \w+: No space left on device$")
     assert res.stdout == "", res.stdout[:200]
+
+
+def test_rtl_figures_standard_output_cannot_take_leave_the_old_verilog(tmp_path):
+    """`rtl -o out.v --cosim 1 > /dev/full` put the Verilog in place, then failed on its figures,
+    exit 1 (a review's find): the figures are printed before the file is put in place."""
+    import subprocess
+    pytest.importorskip("amaranth")
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    out = tmp_path / "out.v"
+    out.write_text("OLD\n")
+    with open("/dev/full", "w") as full:
+        done = _vampc("rtl", EXAMPLES / "planar2.yaml", "--word", "q16.16", "--vamps", 3, "-o", out,
+                      "--cosim", 1, stdout=full, stderr=subprocess.PIPE)
+    assert done.returncode == 1 and "cannot write to standard output: No space left" in done.stderr
+    assert out.read_text() == "OLD\n"

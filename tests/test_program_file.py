@@ -449,6 +449,17 @@ def test_a_robot_file_named_as_a_program_says_what_it_looks_like(tmp_path):
     assert str(err.value) == f"{path}: not a vampc program file (it looks like YAML (a DH table?))"
 
 
+def test_a_damaged_compact_program_is_said_to_be_invalid_json_not_compressed(tmp_path):
+    """A .vamp.json.gz whose JSON is damaged was told to be decompressed first (a review's find on
+    the what-it-looks-like message): vampc decompresses it itself."""
+    path = tmp_path / "bad.vamp.json.gz"
+    path.write_bytes(gzip.compress(b'{"version": 2, "kind": x}\n'))
+    with pytest.raises(VampcError) as err:
+        read_program(path)
+    assert str(err.value) == f"{path}: not a vampc program file (invalid JSON: invalid character " \
+        "(line 1, column 24))"
+
+
 def test_version_1_says_to_recompile(program_path):
     rewrite(program_path, lambda d: d.__setitem__("version", 1))
     with pytest.raises(VampcError) as err:

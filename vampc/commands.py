@@ -1940,7 +1940,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     overflowed in the emulator's run of the same sets."""
     import importlib.util
 
-    from vampc.outputs import plan_outputs, write_output
+    from vampc.outputs import plan_outputs
     from vampc.report.rtl import kind_name
     own.check()
     if importlib.util.find_spec("amaranth") is None:
@@ -1998,16 +1998,23 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
         if own.synth is not None:
             stage("synthesis")
             _synth(ld, design, own, figures, limit, note, estimates, stage)
+    from vampc.outputs import commit_together, discard_together, prepare_together
+    pending = []
     if verilog is not None:           # written last: nothing when a step fails
         figures["verilog"]["written"] = bool(ok or not own.compare)
         if figures["verilog"]["written"]:
-            write_output(outs["-o"], verilog, "Verilog")
+            pending = prepare_together([(outs["-o"], verilog, "Verilog")])
     if own.fmt == "json":
         text = jsontext.dumps(figures) + "\n"
     else:
         text = _rtl_text(figures)
-    if text.strip():
-        say(text.rstrip("\n"), err=to_stdout)
+    try:             # the figures before the file is put in place: a text standard output cannot
+        if text.strip():      # take had failed the run beside a replaced file (a review's find)
+            say(text.rstrip("\n"), err=to_stdout)
+    except BaseException:
+        discard_together(pending)
+        raise
+    commit_together(pending)
     return ok or not own.compare
 
 

@@ -454,11 +454,14 @@ def _untyped(data, path):
     except RecursionError:
         raise VampcError(f"{path}: not a vampc program file (JSON nested too deeply)") from None
     except DecodeError as exc:         # NaN and infinities included: JSON has no such number
-        from vampc.sniff import looks_like, sniff
-        # (a DH table named *.vamp.json was "invalid JSON: invalid character": a new user's find)
+        from vampc.sniff import DESCRIPTIONS, sniff
+        # (a DH table named *.vamp.json was "invalid JSON: invalid character": a new user's find;
+        # not a gzip file, which this reader decompressed itself: a damaged compact program was
+        # told to be decompressed, a review's find)
         kind = sniff(path) if isinstance(path, (str, Path)) else None
-        if kind not in (None, "program", "json"):
-            raise VampcError(f"{path}: not a vampc program file{looks_like(path)}") from None
+        if kind not in (None, "program", "json", "gzip"):
+            raise VampcError(f"{path}: not a vampc program file (it looks like "
+                             f"{DESCRIPTIONS[kind]})") from None
         raise VampcError(f"{path}: not a vampc program file (invalid JSON: "
                          f"{decode_problem(exc, text)})") from None
 
