@@ -303,6 +303,7 @@ def _counted_before(key: str, stored, c) -> bool:
     those without the network's overflow flag and the bus-write registers (until 2026-12-06)."""
     from vampc.report.counts import (
         counter_bits,
+        network_control_bits,
         packages,
         physical_vamps,
         values_bits,
@@ -312,13 +313,12 @@ def _counted_before(key: str, stored, c) -> bool:
         from vampc.machine import ops
         net = c.network
         now = jsontext.loads(jsontext.dumps(word_bits(c)))
-        if stored == now:
-            return True
-        from vampc.report.mlb import write_register_bits
-        now["control_register_bits"] -= (1 if c.options.word.startswith("q") else 0) + (
-            len(net.bus.writes) * write_register_bits(net) if net.bus is not None else 0)
-        if stored == now:         # (before 2026-12-06: no overflow flag, no bus-write registers)
-            return True
+        flag, bus = network_control_bits(c)
+        # (stored before the overflow flag was counted, and before that the bus-write registers)
+        for less in (flag, flag + bus):
+            if stored == {**now, "control_register_bits": now["control_register_bits"] - less}:
+                return True
+        now["control_register_bits"] -= flag + bus
         extra = physical_vamps(net) - len(net.vamps)
         earlier = {k: v for k, v in now.items() if k != "input_port_bits"}
         earlier.update(data_register_bits=now["data_register_bits"] // (len(net.vamps) + extra)

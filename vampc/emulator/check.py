@@ -137,7 +137,9 @@ def _check_columns(ld: Loaded, v: int, k: int, name: str, sources, node) -> None
     """A matrix operand's taps carry its producer's columns in order: tap j column j, the column
     the producing slot's ROM entry computes (checked against the graph above). Two swapped taps
     had passed, the torques computed with the matrix's columns swapped, exit 0; on VAMPs no torque
-    reads, even --check passed; `vampc report` refused the file (a new user's find)."""
+    reads, even --check passed; `vampc report` refused the file (a new user's find). A tap from a
+    port or constant buffer is not checked here: a matrix the host writes is one 9-scalar entry, one
+    tap (a port of three column taps would need its columns checked too)."""
     for j, src in enumerate(sources):
         col = ROM[ld.programs[src[1]][src[2]].rom][1] if src[0] is SourceKind.SLOT else j
         if col != j:

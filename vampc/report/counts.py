@@ -177,6 +177,18 @@ def slot_table_bits(v, period: int) -> int:
                            + values_bits(len(v.a)) + values_bits(len(v.b)))
 
 
+def network_control_bits(c) -> tuple[int, int]:
+    """The network's control registers beside its VAMPs' and buffers' (word_bits): (the overflow
+    flag of a fixed-point word, vampc.rtl.design: 1 or 0; the Mostly-Local Bus's bus-write
+    registers, vampc.report.mlb). Counted since 2026-12-06, the bus registers before the flag."""
+    net = c.network
+    flag = 1 if c.options.word.startswith("q") else 0
+    if net.bus is None:
+        return flag, 0
+    from vampc.report.mlb import write_register_bits
+    return flag, len(net.bus.writes) * write_register_bits(net)
+
+
 def word_bits(c) -> dict:
     """What the program's word format costs in bits (README, Word formats): the word width, every
     VAMP's data registers, control registers and microcode ROM (with error correction the
@@ -198,11 +210,7 @@ def word_bits(c) -> dict:
     physical = physical_vamps(net)
     control = sum(counter + slot_table_bits(v, net.period) for v in net.vamps) \
         + (counter if net.buffers else 0) + counter * (physical - len(net.vamps))
-    if net.bus is not None:                 # (its bus-write registers: vampc.report.mlb)
-        from vampc.report.mlb import write_register_bits
-        control += len(net.bus.writes) * write_register_bits(net)
-    if c.options.word.startswith("q"):     # the network's overflow flag (vampc.rtl.design: README, RTL)
-        control += 1
+    control += sum(network_control_bits(c))
     rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
                                         for step in ops.entry(r)[0].steps)
     inputs = sum(p.size for p in net.ports for _ in p.entries)
