@@ -11,6 +11,7 @@ from vampc.kinds import TapKind
 from vampc.network.bus import latched, wired
 from vampc.network.model import tap_source
 from vampc.report import paper
+from vampc.report.processors import read_taps
 
 COMPARE_LIMIT = 4000      # VAMPs up to which the report compiles the other wirings to compare
 TIER_BITS = 6             # a tier select (at most 64 tiers)
@@ -112,13 +113,15 @@ def _tier_length(tier, vamps: int) -> int:
 
 
 def _from_vamps(vamp) -> int:
-    """A VAMP's multiplexer inputs wired from other VAMPs' Results or buffers."""
-    return sum(1 for op in vamp.a + vamp.b for t in op.taps
+    """A VAMP's multiplexer inputs wired from other VAMPs' Results or buffers (the taps it reads:
+    vampc.report.processors.read_taps)."""
+    return sum(1 for taps in read_taps(vamp) for t in taps
                if t.kind in (TapKind.VAMP, TapKind.BUFFER))
 
 
 def _p2p_pins(vamp) -> int:
-    """A VAMP's pins with each operand wire a pin (a matrix's three columns, three)."""
+    """A VAMP's pins with each operand wire a pin (a matrix's three columns, three; the one column
+    an MM member reads of its operand B, one)."""
     from vampc.report.processors import vamp_pins
     return vamp_pins(vamp)["separate"]
 
@@ -128,7 +131,7 @@ def _bus_pins(vamp, tiers: int) -> int:
     (reading and driving the bus in front of it), and one per wire not on the bus (host ports,
     constant buffers, the Program-Mode wire; a matrix's three columns three wires, as
     vampc.report.processors.operand_wires counts them)."""
-    direct = sum(1 for op in vamp.a + vamp.b for t in op.taps if t.kind is not TapKind.BUS)
+    direct = sum(1 for taps in read_taps(vamp) for t in taps if t.kind is not TapKind.BUS)
     return len(paper.PINS_SEPARATE) - 2 + tiers + direct
 
 
@@ -145,8 +148,8 @@ def _wires(net, position) -> tuple[int, int]:
     sources = [b.source for b in net.buffers]
     count = length = 0
     for v in net.vamps:
-        for op in v.a + v.b:
-            for tap in op.taps:
+        for taps in read_taps(v):
+            for tap in taps:
                 if tap.kind in (TapKind.VAMP, TapKind.BUFFER):
                     count += 1
                     length += abs(position[tap_source(tap, sources)] - position[v.index])

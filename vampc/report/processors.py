@@ -370,21 +370,40 @@ def budget(sizes) -> dict:
 
 
 def operand_wires(vamp) -> int:
-    """The wires into a VAMP's operand multiplexers: one per tap, so three for a matrix whose
-    columns three VAMPs (an MM group) make, latched at one tick (README, Timing model)."""
+    """The wires into a VAMP's operand multiplexers: one per tap it reads (read_taps), so three for
+    a matrix whose columns three VAMPs (an MM group) make, latched at one tick (README, Timing
+    model), but one where the VAMP reads one column of it (an MM member's operand B)."""
     n = len(vamp.a) + len(vamp.b)
     for operand in (vamp.a, vamp.b):     # (most inputs are one tap: a million VAMPs in a big report)
         for o in operand:
             if len(o.taps) != 1:
-                n += len(o.taps) - 1
+                return sum(len(taps) for taps in read_taps(vamp))
     return n
+
+
+def read_taps(vamp):
+    """The taps each multiplexer input of `vamp` carries that its slots read, operand A's inputs
+    then B's: every tap, but of a matrix operand that every slot selecting it reads through
+    View.BCOLUMN (an MM member computing column c: A times column c of B) only the columns read.
+    The VAMP computing column c of A·B needs column c of B, one wire, not three: a review counted
+    12 pins where the Puma's log VAMPs need 10 (84 packages of 40 pins for 83)."""
+    from vampc.machine.ops import TABLE, View
+    for side, inputs in ((0, vamp.a), (1, vamp.b)):
+        for i, o in enumerate(inputs):
+            taps = o.taps
+            if len(taps) > 1:
+                users = [s for s in vamp.slots if (s.sel_a, s.sel_b)[side] == i]
+                if users and all(TABLE[s.op].views[side] is View.BCOLUMN for s in users):
+                    taps = tuple(taps[c] for c in sorted({s.column for s in users}))
+            yield taps
 
 
 def vamp_pins(vamp) -> dict[str, int]:
     """Pins one VAMP needs: the paper's budget with one pin per wire into its operand multiplexers
     (operand_wires: a systolic VAMP reading a vector, a host port or a constant on each operand
-    needs the paper's 8 separate, 3 shared; a matrix an MM group makes is three wires, three pins:
-    until 2026-12-05 it was counted as one, a log VAMP reading two such matrices at 8 pins, not 12)."""
+    needs the paper's 8 separate, 3 shared; a matrix an MM group makes is three wires, three pins
+    (the one column an MM member reads of its operand B, one: read_taps). Until 2026-12-05 such a
+    matrix was counted as one, a log VAMP at 8 pins; until 2026-12-06 operand B's three, 12 for 10)."""
     wires = operand_wires(vamp)
     return {"separate": len(paper.PINS_SEPARATE) - 2 + wires,
             "shared": len(paper.PINS_SHARED_PER_VAMP) - 2 + wires}

@@ -406,7 +406,8 @@ def packages(rep: dict) -> Table:
              f"pins per package ({', '.join(b['shared']['signals'])} per VAMP)",
              "mux pins: VAMPs packed in order, each wire into an operand multiplexer a pin of its "
              "own (a folded VAMP reads several wires; a systolic one the paper's budget, but a "
-             "matrix that an MM's three VAMPs make is three wires, three pins); "
+             "matrix that an MM's three VAMPs make is three wires, three pins, and one column "
+             "of it, which an MM member reads as operand B, one); "
              f"{DASH}: not allocated" + ("; none: a VAMP needs more pins than the package has"
                                          if any(e.get("muxed_separate", 0) is None
                                                 or e.get("muxed_shared", 0) is None
