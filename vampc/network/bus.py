@@ -16,7 +16,7 @@ What each VAMP holds (loaded with its program, counted by the report):
 - a reader selects a tier as a multiplexer input: its slot's sel-A / sel-B field picks an input
   that is a tier (a `bus` tap) at its delay-A / delay-B tick, as any other input;
 - a writer has one bus-write register per (tick, source, tier) it drives: a Cycle-Counter value
-  (24 bits), what it drives (its Result, or a stage of the delay buffer behind it) and a tier.
+  (as wide as the VAMPs' Cycle-Counter: vampc.report.mlb.write_register_bits), what it drives (its Result, or a stage of the delay buffer behind it) and a tier.
 
 Decisions where the paper is silent:
 

@@ -29,6 +29,7 @@ from vampc.report.processors import operand_wires, vamp_pins
 
 CONTROL_PINS = ("Test-in", "Test-out", "Test-back-in", "Test-back-out", "Inhibit-in", "Inhibit-out")
 MODE_BITS = 3
+LOOP_BACKS = 2      # the chain's two ends: a VAMP's Test line fed back to itself
 
 
 
@@ -90,8 +91,12 @@ def checking_figures(c) -> dict | None:
                           "without": {"max": max(pins_before),
                                       "mean": sum(pins_before) / len(pins_before)},
                           "control": len(CONTROL_PINS)},
-        "wires": {"successor_inputs": shared, "result_prime": V, "control": 3 * V,
-                  "total": shared + 4 * V, "length_pitches": length},
+        # control: Test, Test-back and Inhibit of each link, and the two loop-backs at the chain's
+        # ends (the last VAMP's Test-out to its own Test-back-in, the extraneous VAMP's
+        # Test-back-out to its own Test-in, within a VAMP: no length), which were left out (a
+        # review's find, from section VII's description)
+        "wires": {"successor_inputs": shared, "result_prime": V, "control": 3 * V + LOOP_BACKS,
+                  "total": shared + 4 * V + LOOP_BACKS, "length_pitches": length},
         "added": {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0},
         "sweep_periods": sweep,
         "worst_detection_periods": sweep + ck.warmup + ck.compare,
@@ -120,8 +125,11 @@ def checking_pairs(ck: dict | None) -> list[tuple[str, str]]:
                             f"{pins['control']} Test and Inhibit pins"),
         ("  successor wires", f"{wires['total']}: {wires['successor_inputs']} shared operand wires, "
                               f"{wires['result_prime']} Result', {wires['control']} control lines"),
-        ("  sweep", f"every VAMP checked once in {sweep}; a permanent fault found within "
-                    f"{ck['worst_detection_periods']} periods of its start"),
+        # (it said "a permanent fault found within", of faults the compared values may mask for a
+        # sweep or more, and of a dead VAMP that stalls the sweep: a review's find)
+        ("  sweep", f"every VAMP checked once in {sweep}; a permanent fault that shows in the "
+                    f"compared values found within {ck['worst_detection_periods']} periods of its "
+                    "start (one they mask waits for a later sweep; a dead VAMP can stall it)"),
     ]
     if ck["unnameable_vamps"]:
         out.append(("  Maintenance Mode", f"{len(ck['unnameable_vamps'])} VAMP(s) whose results "

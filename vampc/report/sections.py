@@ -510,10 +510,14 @@ def _factor_note(rep: dict) -> str:
     for rec, factor in (("linear", "n"), ("log", "⌈log₂ n⌉")):
         s, f = bus.get(f"{rec}, systolic"), rows.get(f"{rec}, folded")
         if s and f and f["scalars"]:
-            # (a bus program's delay buffers hold less: values also wait in its bus-write
-            # registers, which the figure leaves out; the log Puma's ×0.8 stood unexplained: a review)
-            held = (f"; its bus also holds values in {num(rep['bus']['registers']['bus_write'])} "
-                    "bus-write registers, not counted here" if rep.get("bus") and
+            # (a bus program's delay buffers hold less where its bus stretches the cycle: fewer
+            # sets in flight, each value waiting in fewer stages of a slower buffer clock; the log
+            # Puma's ×0.8 stood unexplained, and then was put down to the bus-write registers,
+            # which hold a counter, a source and a tier, not values: two reviews)
+            mlb = rep.get("bus")
+            held = (f"; its bus stretches the cycle by {mlb['stretch']} to {mlb['interval_flops']} "
+                    "flops, so fewer sets are in flight and its values wait in fewer stages"
+                    if mlb and mlb["stretch"] > 0 and
                     s["configuration"].endswith(", Mostly-Local Bus") else "")
             parts.append(f"{rec}: systolic {num(s['scalars'])} against folded {num(f['scalars'])} "
                          f"scalars, ×{s['scalars'] / f['scalars']:.1f} (paper: about a factor of "
