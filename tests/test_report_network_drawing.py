@@ -53,6 +53,16 @@ def test_folded_draws_device_nodes_with_feedback_buffers(puma):
     assert any(a == b for a, b in d.buffered)                   # a device feeding itself
 
 
+def test_a_folded_drawings_tooltips_name_its_nodes_as_its_circles_do(puma):
+    """The circles of a folded drawing say 'bwd dev 0'; the tooltips of its buffers, ports and
+    outputs said 'bwd 0' (a new user's find): each names a node as its circle does."""
+    import re
+    c = compile_chain(puma, CompileOptions(layout="folded"))
+    svg = nd.network_svg(c.graph, c.layout, c.network, "t")
+    said = re.findall(r"(?:read by|delay buffers from|to|leave[s]?) ((?:bwd|npv|fwd)(?: dev)? \d+)", svg)
+    assert said and all(" dev " in name for name in said), sorted(set(said))[:8]
+
+
 def test_a_big_drawing_uses_one_path_per_kind(puma, monkeypatch):
     c = compile_chain(puma, CompileOptions(recursion="log"))
     monkeypatch.setattr(nd, "DETAIL", 3)

@@ -65,6 +65,12 @@ class Drawing:
     first: int = 0             # a focused drawing: the position its left edge shows, less one
     joints: int = 0            # outputs past this many are a floating base's wrench (0: none known)
 
+    def name(self, site) -> str:
+        """A site's name as its circle shows it (its label's first line: 'bwd dev 0' on a folded
+        layout, where the tooltips had said 'bwd 0': a new user's find), else its own label."""
+        text = self.labels.get(site)
+        return text.split("\n")[0] if text else site.label
+
     def output_name(self, j: int) -> str:
         """Output j's label: τj, or the base wrench's component (the torque file's column)."""
         if self.joints and j > self.joints:
@@ -546,7 +552,7 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
         if seen[name] > 1:                      # index across rows: one id each, not one for all)
             name += f"-{seen[name]}"
         shapes.append(Shape("square", x, y, 0.11, name,
-                            f"delay buffers from {a.label} to {b.label}: {count} chain{'s' * (count != 1)}, "
+                            f"delay buffers from {d.name(a)} to {d.name(b)}: {count} chain{'s' * (count != 1)}, "
                             f"{buses} tap{'s' * (buses != 1)}, up to stage {deepest}; the buffering "
                             f"table counts these chains as {flows} (a chain read at several sites is "
                             "drawn at each, and counted once there)"))
@@ -569,7 +575,7 @@ def _ports(ax, d: Drawing, titles: dict) -> None:
         stack[round(x, 3)] += 1
         px, py = x - 0.3 + 0.2 * (k % 4), 0.1
         shapes.append(Shape("triangle", px, py, 0.09, f"port-{index}", f"host port {index}: {label}, "
-                            "read by " + ", ".join(r.label for r in readers)))
+                            "read by " + ", ".join(d.name(r) for r in readers)))
         segments += [[(px, py), _xy(d, r)] for r in readers]
         if k < 4:
             labels.append((px, py - 0.16, label))
@@ -598,7 +604,7 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
         ox = x + (k - (per - 1) / 2) * min(0.25, 0.9 / per)
         if len(js) == 1:
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}", f"{name(joint)} leaves "
-                                f"{site.label}"))
+                                f"{d.name(site)}"))
             texts.append(name(joint))
         else:
             # a range only where the outputs run without a gap ('τ1–64' had labelled 3 torques,
@@ -607,7 +613,7 @@ def _outputs(ax, d: Drawing, titles: dict) -> None:
             listed = ", ".join(name(j) for j in js[:40]) + (", …" if len(js) > 40 else "")
             shapes.append(Shape("triangle-down", ox, top, 0.1, f"tau-{joint}",
                                 (f"{name(js[0])}–{name(js[-1])}" if running else listed)
-                                + f" ({len(js)} outputs) leave {site.label}"))
+                                + f" ({len(js)} outputs) leave {d.name(site)}"))
             texts.append(f"{name(js[0])}–{name(js[-1])}" if running else f"{len(js)} outputs")
         segments.append([(x, y), (ox, top)])
     _lines(ax, segments, "wires-outputs", "#d94801", 0.4, 0)

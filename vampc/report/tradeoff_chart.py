@@ -12,6 +12,7 @@ can find each point; the output is deterministic (vampc.report.svg).
 from __future__ import annotations
 
 from vampc.report import svg
+from vampc.textio import count
 
 WIDTH, HEIGHT = 760.0, 580.0
 BUDGET, LAYOUT, FRONT = "#1f77b4", "#d62728", "#2ca02c"
@@ -53,7 +54,7 @@ def _panel(ax, rows, key: str, name: str, titles: dict) -> None:
                            markerfacecolor=colour if on else "white", linestyle="none", zorder=3)
         gid = f"{name}-{i}" + ("-pareto" if on else "")
         point.set_gid(gid)
-        titles[gid] = (f"{r['layout']}: {r['vamps']} VAMPs, latency {r['latency_flops']} flops "
+        titles[gid] = (f"{r['layout']}: {count(r['vamps'], 'VAMP')}, latency {r['latency_flops']} flops "
                        f"(bound {r['latency_bound']}), interval {r['interval_flops']} flops (bound "
                        f"{r['interval_bound']}), {r['buffer_stages']} buffer stages"
                        + (f"; on the {name}-VAMP front" if on else "")
