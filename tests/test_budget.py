@@ -498,3 +498,16 @@ def test_an_interval_budget_is_the_shorter_of_t_itself_and_what_vamps_k_reaches(
         assert (interval, latency) == min(shorter, key=lambda p: (p[1], p[0])), (t, shorter)
     if robot == "planar2.yaml":
         assert got(interval=20) == (6, 20, 37) and got(k=6, interval=19) == (6, 19, 36)
+
+
+def test_the_search_says_the_interval_it_tries(monkeypatch):
+    """A 256-joint log chain's --vamps 2000 sat minutes under a bar saying "schedule" alone (a new
+    user's find): each attempt notes its VAMPs, interval and latency bound on the bar."""
+    from vampc import progress
+    said = []
+    monkeypatch.setattr(progress, "note", said.append)
+    g = build_graph(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions())
+    budget_schedule(g, Timing(), 3)
+    assert said and all(re.fullmatch(r"3 VAMPs, interval \d+(, latency ≤ \d+)?", s) for s in said)
+    assert any("latency ≤" in s for s in said) and any(s.endswith("interval 36") or
+                                                        ", interval 3" in s for s in said)

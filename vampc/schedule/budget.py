@@ -29,6 +29,7 @@ import heapq
 import math
 from dataclasses import dataclass
 
+from vampc import progress
 from vampc.dataflow.graph import Graph
 from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
@@ -152,6 +153,10 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
     networks the urgency order cannot."""
     effort, scan, seed, swing, pack, big = (attempt.effort, attempt.scan, attempt.seed,
                                             attempt.swing, attempt.pack, attempt.big)
+    # (the bar of a 256-joint log chain's --vamps 2000 said "schedule" alone for minutes: a new
+    # user's find; each attempt says what it tries, as --exact's solver does)
+    progress.note(f"{k} VAMPs, interval {ii}" + (f", latency ≤ {latency}" if latency is not None
+                                                  else ""))
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
     nodes = graph.nodes
