@@ -92,6 +92,8 @@ def counter(label: str, total: int, unit: str = "set"):
         def update(done: int, total_now: int) -> None:
             if total_now != bar.total:
                 bar.total = total_now
+            if done == 0 == bar.n:    # (work starts now: what came before is not the sets' time;
+                bar.start_t = bar.last_print_t = bar._time()   # not reset(), which draws at once)
             bar.update(done - bar.n)
         yield update
 
