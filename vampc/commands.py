@@ -151,6 +151,7 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
                     robot_opts: RobotOptions, say) -> str | None:
     """`vampc compile`: the IR dump asked for (returned), or the program file written (and a summary
     line said)."""
+    from vampc import progress
     from vampc.compiler import program_chunks
     from vampc.outputs import plan_outputs
     from vampc.program.file import write_program
@@ -169,7 +170,11 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     with gc_paused():    # one pause for the compile and the file (vampc.gcpause; BIG_NETWORK_SLOTS)
         c = compile_robot(robot, options, robot_opts)
         _warn_constants(robot, c)
-        write_program(program_chunks(c), out)
+        # (a 4096-joint log program's 7 s of writing showed nothing after the compile's bar had
+        # stopped at "4/5 stages, emit": a new user's find)
+        with progress.stages(f"writing {Path(str(out.path)).name}", ("program file",)) as stage:
+            stage("program file")
+            write_program(program_chunks(c), out)
         leave_big(c.network)
     s = c.schedule
     say(f"{out.path}: {count(c.chain.n, 'joint')}, {c.graph.recursion} recursion, "
