@@ -366,7 +366,7 @@ def test_a_what_if_in_a_word_too_narrow_for_the_programs_words_is_one_line(tmp_p
     # (the advice to compile with --word q1.1 failed on them: a new user's find)
     res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q2.2"])
     assert res.exit_code == 1 and res.stderr.count("\n") == 1 and \
-        re.search(r"--word q2\.2: VAMP number \d+ does not fit in its 4-bit Program-Mode words \(at most 7\): "
+        re.search(r"--word q2\.2: VAMP number \d+ does not fit in a 4-bit Program-Mode word \(at most 7\): "
                   r"no program of this network can be packed for that word$", res.stderr.strip()), res.stderr
     res = run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12", "--word", "q2.2",
                      "-o", str(tmp_path / "q.vamp.json")])

@@ -175,11 +175,11 @@ def in_word(ld: Loaded, word) -> Loaded:
     packed for the word it records, must travel in the new one (ValueError saying why not), so
     both engines take or refuse it alike."""
     from dataclasses import replace
-    packing, top = Packing.of(word), max(ld.numbers, default=0)
-    if top >= packing.limit:     # (the advice to compile for the word failed on this: a new user's)
-        raise ValueError(f"VAMP number {top} does not fit in its {packing.limit.bit_length()}-bit "
-                         f"Program-Mode words (at most {packing.limit - 1}): no program of this "
-                         "network can be packed for that word")
+
+    from vampc.program.words import number_problem
+    problem = number_problem(max(ld.numbers, default=1), Packing.of(word))
+    if problem:     # (the advice to compile for the word failed on this: a new user's find)
+        raise ValueError(f"{problem}: no program of this network can be packed for that word")
     ld = replace(ld, word=word)
     for entry in ld.stream:
         ld.arith.program_words(entry.words)

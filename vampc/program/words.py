@@ -83,12 +83,20 @@ class Program(Struct, frozen=True, gc=False):
         return getattr(self, name)
 
 
+def number_problem(number: int, packing: Packing = PACKING) -> str | None:
+    """Why VAMP number `number` cannot travel in the packing's Program-Mode words, or None."""
+    if 0 < number < packing.limit:
+        return None
+    return (f"VAMP number {number} does not fit in a {packing.limit.bit_length()}-bit Program-Mode "
+            f"word (at most {packing.limit - 1})")
+
+
 def encode(number: int, prog: Program, packing: Packing = PACKING) -> tuple[float, float, float]:
     """The compact Program-Mode word carrying `prog` (delays below the packing's field) for VAMP
     `number`."""
-    if not 0 < number < packing.limit:
-        raise VampcError(f"VAMP number {number} does not fit in a {packing.limit.bit_length()}-bit "
-                         f"Program-Mode word (at most {packing.limit - 1}); give a wider --word")
+    problem = number_problem(number, packing)
+    if problem:
+        raise VampcError(f"{problem}; give a wider --word")
     fields = compact_fields(prog, packing)
     if fields is None:
         name = next(n for n in ("delay_a", "delay_b", "delay_r", "rom")
