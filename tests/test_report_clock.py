@@ -193,3 +193,25 @@ def test_a_margin_met_is_rounded_down_as_a_miss_is_rounded_up(latency, interval,
             shown = float(margin_text(r["margin"])[1:].replace(",", ""))
             assert shown <= exact and (exact - shown) / exact < (1e-2 if exact < 100 else 1 / exact), \
                 (exact, shown)
+
+
+@pytest.mark.parametrize("clock", [41999.9999999999, 609999.99999994, 20e6, 42000.0])
+def test_a_rate_just_missed_needs_a_faster_clock_and_the_fastest_rate_is_not_rounded_up(clock):
+    """A clock 10⁻¹⁵ short of meeting 1 kHz (42-flop latency) was told it "needs a ×1 faster
+    clock", and the sentence below said "up to 1 kHz" beside "does not meet 1 kHz"; at 20 MHz
+    "up to 476.2 kHz" where 476.19 is the rate (a new user's finds). A factor said is above 1, and
+    the fastest rate said, in the JSON and in the sentence, is no faster than the clock allows."""
+    from fractions import Fraction
+
+    from vampc.report.clock import control_need, margin_text
+    bound = 42
+    fig = clock_figures(bound, 4, 10, clock)
+    fastest = Fraction(clock) / bound            # (the clock as the float it is, exactly)
+    assert fig["max_control_rate_hz"] <= fastest
+    said = re.search(r"up to ([\d.]+) (k?)Hz", control_sentence(fig))
+    assert float(said[1]) * (1000 if said[2] else 1) <= fastest, said[0]
+    for r in fig["control_rates"]:
+        if not r["met"]:
+            text = margin_text(r["margin"], control_need(fig, r["hz"], bound, 4))
+            factor = Fraction(re.search(r"×([\d,.]+) faster", text)[1].replace(",", ""))
+            assert factor > 1 and factor * Fraction(clock) / bound >= r["hz"], text

@@ -1196,3 +1196,15 @@ def test_floating_base_on_a_dh_table_that_floats_already_is_said_to_do_nothing(t
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert load_robot(path).floating
+
+
+def test_a_urdf_with_a_default_namespace_is_read_as_urdfdom_reads_it(tmp_path):
+    """<robot xmlns="..."> (Drake-style) put every element in that namespace, and the file was said
+    to have "no <link>" (a new user's find): read by the elements' own names, as urdfdom does, its
+    torques are Pinocchio's on the same file."""
+    text = robot(*ARM).replace('<robot name="r">', '<robot name="r" xmlns="http://www.ros.org/urdf">')
+    path = write(tmp_path, text)
+    chain = load_urdf(path)
+    plain = load_urdf(write(tmp_path, robot(*ARM), "plain.urdf"))
+    assert [j.name for j in chain.joints] == [j.name for j in plain.joints] == ["j1", "j2"]
+    check_torques(path, chain)

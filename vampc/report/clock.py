@@ -59,6 +59,14 @@ def hz_text(hz: float) -> str:
     return si_text(hz, "Hz")
 
 
+def hz_text_down(hz: float) -> str:
+    """hz_text rounded down: a rate met up to it (476.19 kHz is 'up to 476.1 kHz': 476.2 was said,
+    and 'up to 1 kHz' of a clock that does not meet 1 kHz, a new user's find)."""
+    for prefix, scale in SI:
+        if hz >= scale or not prefix:
+            return f"{down(exact(hz) / Fraction(scale), 4):g} {prefix}Hz"
+
+
 PREFIXES = (("s", 1e6), ("ms", 1e3), ("µs", 1.0), ("ns", 1e-3), ("ps", 1e-6))
 
 
@@ -116,18 +124,41 @@ def margin_text(margin: float, need: float | None = None) -> str:
     much faster meets the rate (×20.3 had been said where 20.33 was needed, an audit's find)."""
     if margin >= 1:      # rounded down, as a miss is rounded up (×328 was said of 327.87)
         return f"×{down(margin, 0):,.0f}" if margin >= 100 else f"×{down(margin, 3):.3g}"
-    need = 1 / margin if need is None else need
+    need = 1 / exact(margin) if need is None else Fraction(need)
     if need >= 100:
-        return f"needs a ×{math.ceil(need - 1e-9 * need):,} faster clock"
-    digits = 3 if need >= 1.1 else 6                # (×1.00016, not ×1.01)
-    step = 10.0 ** (math.floor(math.log10(need)) - digits + 1)
-    return f"needs a ×{math.ceil(need / step - 1e-9) * step:.{digits}g} faster clock"
+        return f"needs a ×{math.ceil(need):,} faster clock"
+    # 3 digits, or as many as tell the factor from 1 (×1.00016, not ×1.01; a clock 10⁻¹⁵ short of
+    # one that meets the rate was told it "needs a ×1 faster clock", a new user's find)
+    digits = 3 if need >= Fraction(11, 10) else 6
+    while True:
+        shown = up(need, digits)
+        if shown > 1 or digits >= 17:
+            return f"needs a ×{shown:.{digits}g} faster clock"
+        digits += 1
 
 
-def control_need(fig: dict, hz: float, latency: int, interval: int) -> float:
+def up(x: Fraction, digits: int) -> float:
+    """x > 0 rounded up to `digits` significant digits, as the float that prints as that decimal."""
+    e = _exponent(x)
+    step = Fraction(10) ** (e - digits + 1)
+    return float(math.ceil(x / step) * step)
+
+
+def _exponent(q: Fraction) -> int:
+    """floor(log10(q)) for q > 0, exactly (near a power of ten the float log may be one off)."""
+    e = math.floor(math.log10(q))
+    while Fraction(10) ** e > q:
+        e -= 1
+    while Fraction(10) ** (e + 1) <= q:
+        e += 1
+    return e
+
+
+def control_need(fig: dict, hz: float, latency: int, interval: int) -> Fraction:
     """The factor a clock must be multiplied by to meet the control rate `hz`: the rate times the
-    flops it waits on (the larger of latency and interval), over the clock, exactly."""
-    return hz * max(latency, interval) / fig["hz"]
+    flops it waits on (the larger of latency and interval), over the clock (as its float prints),
+    exactly."""
+    return Fraction(hz) * max(latency, interval) / exact(fig["hz"])
 
 
 def us(flops: float, hz: float) -> float:
@@ -152,11 +183,11 @@ def clock_figures(latency: int, interval: int, load_ticks: int, hz: float) -> di
     design meets: a control loop at rate R needs each set's torques within 1/R of its state, and a
     new set every 1/R, so R ≤ clock / max(latency, interval)."""
     bound = max(latency, interval)
-    fastest = hz / bound
     return {"hz": hz, "text": hz_text(hz), "tick_ns": float(f"{1e9 / hz:.6g}"),
             "latency_us": us(latency, hz), "interval_us": us(interval, hz),
             "sets_per_second": per_second(interval, hz), "load_us": us(load_ticks, hz),
-            "max_control_rate_hz": float(f"{fastest:.6g}"),
+            # (rounded down: "up to 1 kHz" had been said of a clock that does not meet 1 kHz)
+            "max_control_rate_hz": down(exact(hz) / bound, 6),
             "limited_by": "latency" if latency >= interval else "interval",
             "control_rates": [{"hz": r, "met": r * bound <= exact(hz),
                                "margin": _margin(exact(hz) / (bound * r))} for r in CONTROL_RATES]}
@@ -177,7 +208,9 @@ def _margin(m: Fraction) -> float:
 
 def exact(x: float) -> Fraction:
     """A float as the decimal it prints as, exactly (32.8, not 32.799999999999997): the numbers the
-    user gave (a clock of 609999.99999994 Hz) and the report's own decimals."""
+    user gave (a clock of 609999.99999994 Hz; one of more digits than a float holds,
+    419.99999999999999999 kHz, is read as the float 420 kHz, as every figure is) and the report's
+    own decimals."""
     return Fraction(Decimal(repr(float(x))))
 
 
@@ -187,12 +220,7 @@ def down(x: float | Fraction, digits: int) -> float:
     q = x if isinstance(x, Fraction) else exact(x)
     if digits == 0:
         return float(math.floor(q))
-    e = math.floor(math.log10(q))          # (near a power of ten the float log may be one off)
-    while Fraction(10) ** e > q:
-        e -= 1
-    while Fraction(10) ** (e + 1) <= q:
-        e += 1
-    step = Fraction(10) ** (e - digits + 1)
+    step = Fraction(10) ** (_exponent(q) - digits + 1)
     return float(math.floor(q / step) * step)
 
 
@@ -213,7 +241,7 @@ def control_sentence(fig: dict) -> str:
     how = ("when sets are pipelined" if fig["interval_us"] < fig["latency_us"] else
            "one after another (the interval is at least the latency: sets do not overlap)")
     return (f"at {fig['text']} the design {', '.join(parts)}: one torque set within each control "
-            f"period up to {hz_text(fig['max_control_rate_hz'])} (bound by its {fig['limited_by']}, "
+            f"period up to {hz_text_down(fig['max_control_rate_hz'])} (bound by its {fig['limited_by']}, "
             f"{time_text(bound)}), and {sets_text(fig['sets_per_second'])} torque sets per second "
             f"{how}")
 

@@ -407,6 +407,7 @@ def _check_xml(root, path: Path) -> None:
     if etree.QName(root).localname != "robot":
         raise located(path, f"line {root.sourceline}", "the root element must be <robot name=\"...\"> "
                                                        "(a URDF) or <mujoco> (an MJCF model)")
+    _drop_default_namespace(root)
     _refuse_xacro(root, path)
     if not root.get("name"):           # xacro output often has none; Pinocchio loads it
         warnings.warn(VampcWarning(f"{path}: <robot> has no name; calling it {path.stem!r}"),
@@ -434,6 +435,20 @@ def _check_xml(root, path: Path) -> None:
         for tag in ("parent", "child"):
             if el.find(tag) is None or el.find(tag).get("link") is None:
                 raise located(path, f"joint '{el.get('name')}'", f"missing <{tag} link=\"...\"/>")
+
+
+def _drop_default_namespace(root) -> None:
+    """A <robot xmlns="..."> (Drake's and some exporters' URDFs) read as urdfdom reads it, by the
+    elements' own names: every element was in that namespace, and the file was said to have "no
+    <link>" (a new user's find). Elements of a prefixed namespace (an extension's) keep theirs."""
+    default = root.nsmap.get(None)
+    if not default:
+        return
+    prefix = f"{{{default}}}"
+    for el in root.iter():
+        if isinstance(el.tag, str) and el.tag.startswith(prefix):
+            el.tag = el.tag[len(prefix):]
+    etree.cleanup_namespaces(root)
 
 
 def _refuse_xacro(root, path: Path) -> None:

@@ -25,7 +25,8 @@ def header(design) -> str:
         f"top module {design.name}: clk, rst (synchronous), program_mode (Program Mode: Global-Reset "
         "held), global_reset (pulse at each period's first tick),",
         "host<k>/host<k>_we (input buffer k: ports then constant buffers, word 0 in the low bits), "
-        "tau<j> (the Result word holding joint j's torque" + _wrench(ld.chain) + ").",
+        "tau<j> (the Result word holding joint j's torque" + _wrench(ld.chain) + "), overflow "
+        "(a result overflowed the word since Program Mode ended).",
         "One clock cycle is one tick of `vampc emulate --engine tick`; see README \"RTL\".",
     ]
     # one comment line each, in ASCII: a newline in a robot's name or path ended the comment (the
