@@ -139,8 +139,8 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
     if mode is not None and not stat.S_ISCHR(mode) and _same_file(path, sys.stderr):
         # (/dev/stderr, /proc/self/fd/2 with 2>>log.txt: the rename replaced the log with the
         # output, exit 0, and later messages went to the deleted file: a file-safety audit; and
-        # with 2>&1 | cat, a pipe, the warnings went into the torque CSV: a new user's find. A
-        # terminal is a stream, as for standard output)
+        # with 2>&1 >/dev/null | cat, a pipe, the warnings went into the torque CSV: a new user's
+        # find. A terminal is a stream, as for standard output)
         raise VampcUsageError(f"{option} {path}: that is standard error, which carries the "
                               "command's messages; give another file")
     if mode is None and path.endswith(("/", os.sep)):
