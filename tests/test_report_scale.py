@@ -81,7 +81,13 @@ def test_focus_past_the_last_position_and_a_device_name(tmp_path):
     assert r.exit_code == 0 and "warning" not in r.output, r.output
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
                                   "--focus", "bwd dev 0"])        # (systolic: node 0 is not drawn)
-    assert r.exit_code == 2 and "this drawing has no node 0 in section bwd" in r.output, r.output
+    # (with what it has: it said only "no node 0 in section bwd", a new user's find)
+    assert r.exit_code == 2 and "this drawing has no node 0 in section bwd (its nodes there: bwd 1 " \
+        "to 6)" in r.output, r.output
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--layout", "folded",
+                                  "--share-passes", "--network", str(out), "--focus", "fwd 0"])
+    assert r.exit_code == 2 and "no node 0 in section fwd (its sections: bwd, npv)" in r.output, \
+        r.output
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--network", str(out),
                                   "--focus", "9:12"])
     assert r.exit_code == 2 and "--focus 9:12: no node there (positions 1 to 6)" in r.output

@@ -139,9 +139,15 @@ def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
         if isinstance(focus[0], str):                     # a node: the positions around it
             from vampc.errors import VampcUsageError
             site = next((s for s in d.places if (s.section, s.index) == focus), None)
-            if site is None:
+            if site is None:     # (what it has, said: "bwd dev 0" on a systolic drawing was "no
+                # node 0 in section bwd", whose nodes run from 1: a new user's find)
+                have = sorted({s.index for s in d.places if s.section == focus[0]})
+                names = {s.section: d.name(s).rsplit(" ", 1)[0] for s in d.places}
+                there = (f"its nodes there: {names[focus[0]]} {have[0]} to {have[-1]}"
+                         if len(have) > 1 else f"its one node there: {names[focus[0]]} {have[0]}"
+                         if have else f"its sections: {', '.join(sorted(names))}")
                 raise VampcUsageError(f"--focus: this drawing has no node {focus[1]} in section "
-                                      f"{focus[0]}")
+                                      f"{focus[0]} ({there})")
             x = d.places[site][0] + 1
             # 16 positions around it, within the drawing (a range made here, not typed: no warning
             # about positions the user never named)
