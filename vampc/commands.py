@@ -986,23 +986,14 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
 
 def emit_with_pictures(text: str, emit, outs: dict, content: dict) -> str:
     """A report's pictures (`content` by option, for `outs`) written out but not put in place, then
-    `text` handed to `emit` (standard output), then the pictures put in place: a text that cannot
-    be written leaves the pictures' old files as they were (they had been replaced first: an
-    audit's), and a picture that cannot be written leaves no text (the whole report had been
-    printed before `--reservation /dev/full` failed: a new user's find). Without `emit`, the
-    pictures are put in place and `text` returned."""
-    from vampc.outputs import commit_together, discard_together, prepare_together
-    pending = prepare_together([(out, content[option], option.lstrip("-"))
-                                for option, out in outs.items()])
-    if emit is not None:
-        try:
-            emit(text)
-        except BaseException:
-            discard_together(pending)
-            raise
-        text = ""
-    commit_together(pending)
-    return text
+    `text` handed to `emit` (standard output), then the pictures put in place (outputs.
+    write_together): a text that cannot be written leaves the pictures' old files as they were
+    (they had been replaced first: an audit's), and a picture that cannot be written leaves no text.
+    Without `emit`, the pictures are put in place and `text` returned."""
+    from vampc.outputs import write_together
+    write_together([(out, content[option], option.lstrip("-")) for option, out in outs.items()],
+                   None if emit is None else lambda: emit(text))
+    return text if emit is None else ""
 
 
 __all__ = ["VampcError", "compile_command", "emulate_command", "report_command", "compile_robot",
@@ -2006,23 +1997,19 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
         if own.synth is not None:
             stage("synthesis")
             _synth(ld, design, own, figures, limit, note, estimates, stage)
-    from vampc.outputs import commit_together, discard_together, prepare_together
-    pending = []
+    from vampc.outputs import write_together
+    items = []
     if verilog is not None:           # written last: nothing when a step fails
         figures["verilog"]["written"] = bool(ok or not own.compare)
         if figures["verilog"]["written"]:
-            pending = prepare_together([(outs["-o"], verilog, "Verilog")])
+            items = [(outs["-o"], verilog, "Verilog")]
     if own.fmt == "json":
         text = jsontext.dumps(figures) + "\n"
     else:
         text = _rtl_text(figures)
-    try:             # the figures before the file is put in place: a text standard output cannot
-        if text.strip():      # take had failed the run beside a replaced file (a review's find)
-            say(text.rstrip("\n"), err=to_stdout)
-    except BaseException:
-        discard_together(pending)
-        raise
-    commit_together(pending)
+    # the figures before the file is put in place: a text standard output cannot take had failed
+    # the run beside a replaced file (a review's find)
+    write_together(items, lambda: say(text.rstrip("\n"), err=to_stdout) if text.strip() else None)
     return ok or not own.compare
 
 

@@ -583,19 +583,26 @@ def write_output(out: PlannedOutput, content: str | bytes, what: str) -> None:
         fh.write(content)
 
 
-def write_together(items) -> None:
+def write_together(items, between=None) -> None:
     """Write each (out, content, what) of `items`, each by the rules above, and put none in place
     unless all were written: a failure or an interrupt while they are made leaves every existing
-    file as it was."""
-    commit_together(prepare_together(items))
+    file as it was. `between()`, where given, runs once they are written and before any is put in
+    place (a command's text on standard output: neither a text nor a file that cannot be written
+    leaves the other, a report's picture on a full device had failed after the whole text was
+    printed, a new user's find); if it raises, none is put in place."""
+    pending = _prepare_together(items)
+    if between is not None:
+        try:
+            between()
+        except BaseException:
+            _discard_together(pending)
+            raise
+    _commit_together(pending)
 
 
-def prepare_together(items) -> list[Pending]:
+def _prepare_together(items) -> list[Pending]:
     """Each (out, content, what) of `items` written out and prepared (Pending.prepare), none put in
-    place: commit_together puts them, discard_together drops them (a command's text can be printed
-    between, so that neither a text nor a picture that cannot be written leaves the other: a
-    report's picture on a full device had failed after the whole text was printed, a new user's
-    find). A failure here drops every one."""
+    place. A failure here drops every one."""
     pending: list[Pending] = []
     try:
         for out, content, what in items:
@@ -604,24 +611,24 @@ def prepare_together(items) -> list[Pending]:
         for p in pending:
             p.prepare()
     except VampcError:
-        discard_together(pending)
+        _discard_together(pending)
         raise
     except OSError as exc:
-        discard_together(pending)
+        _discard_together(pending)
         raise pending[-1].error(exc) from None
     except BaseException:
-        discard_together(pending)
+        _discard_together(pending)
         raise
     return pending
 
 
-def discard_together(pending: list[Pending]) -> None:
+def _discard_together(pending: list[Pending]) -> None:
     for p in pending:
         p.discard()
 
 
-def commit_together(pending: list[Pending]) -> None:
-    """Put every prepared output in place (prepare_together)."""
+def _commit_together(pending: list[Pending]) -> None:
+    """Put every prepared output in place (_prepare_together)."""
     with placing(pending):
         for k, p in enumerate(pending):
             try:
