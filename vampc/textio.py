@@ -184,12 +184,15 @@ def one_line(text: str, limit: int = 300) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def did_you_mean(word: str, choices) -> str:
-    """' (did you mean 'dead'?)' for a word close to one of `choices` (difflib's), else '': a
-    misspelled value got no hint where a misspelled option name does (a new user's find)."""
+def did_you_mean(word: str, choices, cutoff: float = 0.6, quote: bool = True) -> str:
+    """' (did you mean 'dead'?)' for a word close to one of `choices` (difflib's, at least `cutoff`
+    alike; unquoted where `quote` is false: ' (did you mean <axis>?)'), else '': a misspelled value
+    got no hint where a misspelled option name does (a new user's find)."""
     import difflib
-    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1, cutoff=cutoff)
+    if not close:
+        return ""
+    return f" (did you mean {close[0]!r}?)" if quote else f" (did you mean {close[0]}?)"
 
 
 def apart(x: float, y: float, least: int = 6) -> tuple[str, str]:

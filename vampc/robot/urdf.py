@@ -55,7 +55,7 @@ from vampc.robot.urdf_tree import (
     follows_from_below,
     quoted,
 )
-from vampc.textio import name_problem, plain_number
+from vampc.textio import did_you_mean, name_problem, plain_number
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
@@ -173,7 +173,7 @@ def _no_mimic(tree: Tree, said: str) -> str:
     fixed = [j.name for j in tree.joints.values() if j.mimic is not None and j.type not in MOVABLE]
     if not fixed:
         return f"no joint has a {said}"
-    named = ", ".join(map(repr, fixed[:3])) + (f" and {len(fixed) - 3} more" if len(fixed) > 3 else "")
+    named = quoted(fixed, 3)
     return (f"no joint that moves has a {said} (the fixed joint{'s' if len(fixed) > 1 else ''} "
             f"{named} {'have' if len(fixed) > 1 else 'has'} one, and a fixed joint does not move)")
 
@@ -499,10 +499,12 @@ def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) ->
             tag = sub.tag
             if tag == "inertial":
                 inertials.append(sub)
-            elif isinstance(tag, str) and (tag in ("mass", "inertia") or _close(tag, ("inertial",), 0.8)):
-                unread.append(f"{where}: <{tag}> (line {sub.sourceline}) is not read"
-                              f"{_close(f'<{tag}>', ('<inertial>',), 0.8)}: a link's mass and inertia "
-                              "are read inside its <inertial>")
+            elif isinstance(tag, str):
+                near = _close(tag, ("inertial",), 0.8)
+                if tag in ("mass", "inertia") or near:
+                    unread.append(f"{where}: <{tag}> (line {sub.sourceline}) is not read"
+                                  f"{' (did you mean <inertial>?)' if near else ''}: a link's mass "
+                                  "and inertia are read inside its <inertial>")
         if len(inertials) > 1:
             unread.append(f"{where}: a second <inertial> (line {inertials[1].sourceline}) is not read "
                           "(the first is, as by urdfdom, Pinocchio's reader)")
@@ -535,10 +537,9 @@ def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) ->
 
 
 def _close(word: str, choices, cutoff: float = 0.6) -> str:
-    """' (did you mean xyz?)' where `word` is close to one of `choices` (difflib's), else ''."""
-    import difflib
-    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=cutoff)
-    return f" (did you mean {close[0]}?)" if close else ""
+    """' (did you mean xyz?)', unquoted as an element or attribute is written (textio.did_you_mean),
+    where `word` is close to one of `choices`, else ''."""
+    return did_you_mean(word, sorted(choices), cutoff, quote=False)
 
 
 def _named(el, kind: str, path: Path) -> str:
@@ -605,7 +606,6 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
     out = {}
     for name, value in lock.items():
         if name not in tree.joints:
-            from vampc.textio import did_you_mean
             raise located(path, f"lock {name}", f"no joint named '{name}'"
                           + did_you_mean(name, tree.joints))
         try:
