@@ -45,13 +45,14 @@ def parse_clock(text: str) -> float:
 SI = (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0))
 
 
-def si_text(x: float, unit: str) -> str:
-    """x with a G, M or k prefix to `unit` and at most 4 significant digits: si_text(2e7, "Hz") is
-    '20 MHz', si_text(1.26e9, " scalars/s") '1.26 G scalars/s', si_text(12, " scalars/s")
-    '12 scalars/s'."""
+def si_text(x: float, unit: str, rounded_down: bool = False) -> str:
+    """x with a G, M or k prefix to `unit` and at most 4 significant digits (rounded down where
+    asked: a rate met up to it): si_text(2e7, "Hz") is '20 MHz', si_text(1.26e9, " scalars/s")
+    '1.26 G scalars/s', si_text(12, " scalars/s") '12 scalars/s'."""
     for prefix, scale in SI:
         if x >= scale or not prefix:
-            return f"{float(f'{x / scale:.4g}'):g} {(prefix + unit).strip()}"
+            shown = down(exact(x) / Fraction(scale), 4) if rounded_down else float(f"{x / scale:.4g}")
+            return f"{shown:g} {(prefix + unit).strip()}"
 
 
 def hz_text(hz: float) -> str:
@@ -62,9 +63,7 @@ def hz_text(hz: float) -> str:
 def hz_text_down(hz: float) -> str:
     """hz_text rounded down: a rate met up to it (476.19 kHz is 'up to 476.1 kHz': 476.2 was said,
     and 'up to 1 kHz' of a clock that does not meet 1 kHz, a new user's find)."""
-    for prefix, scale in SI:
-        if hz >= scale or not prefix:
-            return f"{down(exact(hz) / Fraction(scale), 4):g} {prefix}Hz"
+    return si_text(hz, "Hz", rounded_down=True)
 
 
 PREFIXES = (("s", 1e6), ("ms", 1e3), ("µs", 1.0), ("ns", 1e-3), ("ps", 1e-6))

@@ -81,20 +81,19 @@ def cosimulate(ld, traj, simulator: str = "amaranth", design=None, progress=None
     design = design or NetworkDesign(ld)
     run = host_run(ld, traj, design.inputs)
     start = time.perf_counter()
-    if simulator == "amaranth":
+    if simulator == "amaranth":      # (each: the torque words, and the overflow output at the end)
         from vampc.rtl.deep import deep
-        words = deep(_amaranth, design, run, progress)
+        words, flag = deep(_amaranth, design, run, progress)
     elif simulator == "icarus":
-        words = _icarus(design, run, workdir)
+        words, flag = _icarus(design, run, workdir)
     else:
         raise VampcError(f"unknown simulator {simulator!r} ({', '.join(SIMULATORS)})")
     seconds = time.perf_counter() - start
-    words, flag = words
     expected, overflows, results = expected_words(ld, traj)
     return CosimResult(simulator, words, expected, run.ticks, seconds, overflows, results, flag)
 
 
-def _amaranth(design, run: HostRun, progress=None) -> np.ndarray:
+def _amaranth(design, run: HostRun, progress=None) -> tuple[np.ndarray, bool]:
     from amaranth.sim import Simulator
     W = design.arith.W
     words = np.zeros((run.count, len(design.tau)), dtype=np.int64)
@@ -126,7 +125,7 @@ def _amaranth(design, run: HostRun, progress=None) -> np.ndarray:
     return words, flag[0]
 
 
-def _icarus(design, run: HostRun, workdir: str | None) -> np.ndarray:
+def _icarus(design, run: HostRun, workdir: str | None) -> tuple[np.ndarray, bool]:
     """Icarus Verilog on the design's Verilog and a testbench that replays the host's run from
     memory files and prints every sampled torque word."""
     if shutil.which("iverilog") is None or shutil.which("vvp") is None:
