@@ -62,6 +62,16 @@ def test_a_fault_starting_later_leaves_the_earlier_sets_alone():
     assert np.array_equal(changed[6:], _changed(_run(f"vamp={v},{STUCK}"))[6:])
 
 
+def test_a_result_fault_acts_after_the_dumps_of_its_own_tick():
+    # README, Faults: "A Result fault acts after the tick's dumps (the register holds it until the
+    # next dump)". Starting at the tick set 5 is dumped, it holds set 5's value stuck before anyone
+    # reads it; a tick later set 5 has been read. (A fault starting a tick late passed the test above.)
+    v = LD.net.outputs[0].vamp
+    _, dump = _uses(v)
+    assert list(_changed(_run(f"vamp={v},{STUCK},at={dump + 5 * P}")))[:7] == [False] * 5 + [True] * 2
+    assert list(_changed(_run(f"vamp={v},{STUCK},at={dump + 5 * P + 1}")))[:7] == [False] * 6 + [True]
+
+
 def test_a_transient_flip_spoils_one_set():
     # operand B's high bits flipped in the tick a systolic VAMP latches set 4's: that set only
     v = LD.net.outputs[0].vamp
@@ -108,6 +118,35 @@ def test_float64_bits_are_the_ieee_pattern(bit):
     want = struct.unpack("<d", struct.pack("<Q", raw ^ (1 << bit)))[0]
     got = set_bit(word, x, bit, "flip")[0]
     assert got == want or (np.isnan(got) and np.isnan(want))
+
+
+@pytest.mark.parametrize("bit", [0, 7, 22, 23, 30, 31])
+@pytest.mark.parametrize("how", ["flip", "set", "clear"])
+def test_float32_bits_are_the_ieee_binary32_pattern(bit, how):
+    # README, Faults: "the IEEE binary64 or binary32 pattern"; the oracle is struct's binary32
+    word = parse_word("float32")
+    for x in (1.2345e3, -3.0e-2, 7.0):
+        (raw,) = struct.unpack("<I", struct.pack("<f", x))
+        pattern = {"flip": raw ^ (1 << bit), "set": raw | (1 << bit), "clear": raw & ~(1 << bit)}[how]
+        want = struct.unpack("<f", struct.pack("<I", pattern))[0]
+        got = set_bit(word, np.array([x], dtype=np.float32), bit, how)[0]
+        assert got == want or (np.isnan(got) and np.isnan(want)), (x, bit, how)
+
+
+@pytest.mark.parametrize("fmt,bit", [("q3.8", 0), ("q3.8", 9), ("q3.8", 10), ("q12.20", 31),
+                                     ("q32.32", 0), ("q32.32", 31), ("q32.32", 62), ("q32.32", 63),
+                                     ("q31.32", 62)])
+@pytest.mark.parametrize("how", ["flip", "set", "clear"])
+def test_fixed_point_bits_of_every_width_are_twos_complement(fmt, bit, how):
+    # the width's own sign bit included (bit 63 of a 64-bit word is int64's sign); the oracle is
+    # Python's unbounded integers, not numpy's
+    word = parse_word(fmt)
+    w = word.bits
+    for raw in (-(1 << (w - 1)) + 5, -1, 0, (1 << (w - 2)) + 3, (1 << (w - 1)) - 1):
+        u = raw % (1 << w)
+        pattern = {"flip": u ^ (1 << bit), "set": u | (1 << bit), "clear": u & ~(1 << bit)}[how]
+        want = pattern - (1 << w) if pattern >= 1 << (w - 1) else pattern
+        assert int(set_bit(word, np.array([raw], dtype=np.int64), bit, how)[0]) == want, (fmt, raw, bit)
 
 
 @pytest.mark.parametrize("bit", [0, 5, 16, 30, 31])

@@ -246,8 +246,9 @@ def set_bit(word, values: np.ndarray, bit: int, how: str) -> np.ndarray:
         raw = values.astype(np.int64) & np.int64((1 << width) - 1 if width < 64 else -1)
         mask = np.int64(1 << bit) if bit < 63 else np.int64(-(1 << 63))
         raw = _apply(raw, mask, how)
-        if width < 64:
-            raw = np.where(raw >= (1 << (width - 1)), raw - (1 << width), raw)
+        if width < 64:                               # sign-extend from bit width - 1 (at 63 bits,
+            shift = np.int64(64 - width)             # raw - 2**63 was out of int64's reach)
+            raw = (raw << shift) >> shift
         return raw.astype(np.int64)
     if word.bits == 32:
         u = values.astype(np.float32).view(np.uint32)
