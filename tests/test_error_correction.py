@@ -276,6 +276,22 @@ def test_a_fault_in_the_checkers_copy_excises_a_healthy_successor():
     held = ld.programs[healthy][0].rom & 1                  # another op in the copy
     _, engine, _ = _faulty_run(ld, f"vamp={checker},stuck=control2.rom:0,value={1 - held}", 60)
     assert engine.detections[0]["finder"] == checker and engine.detections[0]["excised"] == healthy
+    # the campaign's class: the faulty VAMP (the checker) was not the one excised, so the fault is
+    # not corrected, whatever the torques after it (README, Error correction: "corrected (the
+    # faulty VAMP excised and no set entering after the detection differs)")
+    from vampc.emulator import campaign as cp
+    sets = 60
+    ports = port_values(ld, random_trajectory(ld.chain, sets, 5))
+    setup = cp.Setup(ld, ports, cp.reference_run(ld, ports, sets, 5), sets, 5)
+    run = cp.run_fault(setup, parse_fault(f"vamp={checker},stuck=control2.rom:0,value={1 - held}"))
+    assert run["excised"] == healthy and run["class"] == "detected-not-corrected", run
+    # one whose later sets all come out right (the spare plays the healthy VAMP's role): still not
+    # corrected, the faulty checker left in place
+    checker, healthy = chain[2], chain[3]
+    held = ld.programs[healthy][0].rom & 1
+    run = cp.run_fault(setup, parse_fault(f"vamp={checker},stuck=control2.rom:0,value={1 - held}"))
+    assert run["excised"] == healthy and run["corrupted_after"] == 0, run
+    assert run["class"] == "detected-not-corrected", run
 
 
 def test_a_register_no_vamp_has_is_exit_1():

@@ -20,8 +20,9 @@ request, `control2` (the same bit of the second set of control registers, the ch
 copy of the successor's table).
 
 Each run is classified: `masked` (every torque set as the fault-free run's, nothing flagged),
-`detected-corrected` (a checker flagged a mismatch and no set entering after it differs),
-`detected-not-corrected` (flagged, but sets entering after it still differ), `silent-corruption`
+`detected-corrected` (a checker flagged a mismatch, the faulty VAMP is the one it excised, and no set
+entering after it differs), `detected-not-corrected` (flagged, but a healthy VAMP excised or sets
+entering after it still differ), `silent-corruption`
 (a torque differs and nothing flagged it) or `hang` (the run stopped with an error: what the
 emulator cannot run, named). Beside it: the tick and the cycles from the fault's start to the
 detection, the sets corrupted before and after it, and the VAMP Maintenance Mode names; without a
