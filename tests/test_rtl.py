@@ -1014,3 +1014,42 @@ def test_the_designs_overflow_output_rises_exactly_when_a_result_overflows(progr
         seen.append(cosim["overflow_output"])
     assert True in seen and False in seen
     assert seen[-1] is True and cosim["result_overflows"] == 1
+
+
+def test_figures_of_the_other_layout_with_the_same_kinds_are_refused(tmp_path):
+    """A one-joint arm's folded network has the systolic one's robot, word, VAMP count and kinds
+    (30 of 1 slot, 1+1 inputs), so its figures (flip-flops of a 5-bit Cycle-Counter, Fmax of the
+    folded design) were reported as the systolic program's (a new user's find). `vampc rtl` now
+    writes the period and latency, and the report compares them."""
+    robot = tmp_path / "one.yaml"
+    robot.write_text("name: onejoint\njoints:\n  - {name: j1, type: revolute, a: 1.0, alpha: 1.5707963, "
+                     "d: 0.2, theta: 0, mass: 3.0, com: [-0.5, 0, 0], inertia: [0.01, 0.25, 0.25, 0, 0, 0]}\n")
+    progs = {}
+    for layout in ("systolic", "folded"):
+        progs[layout] = tmp_path / f"{layout}.vamp.json"
+        r = CliRunner().invoke(main, ["compile", str(robot), "--word", "q16.16", "--layout", layout,
+                                      "-o", str(progs[layout])])
+        assert r.exit_code == 0, r.output
+    from vampc.emulator.load import load_program
+    ld = {k: load_program(str(p)) for k, p in progs.items()}
+    assert len(ld["systolic"].net.vamps) == len(ld["folded"].net.vamps)
+    assert ld["systolic"].net.period != ld["folded"].net.period
+    # what `vampc rtl --format json` writes of each program (its figures without synthesis),
+    # with synthesis figures of that program's kinds
+    for layout, other in (("folded", "systolic"), ("systolic", "folded")):
+        r = CliRunner().invoke(main, ["rtl", str(progs[layout]), "--cosim", "1", "--format", "json"])
+        assert r.exit_code == 0, r.output
+        written = json.loads(r.stdout.strip().splitlines()[-1])
+        assert written["period"] == ld[layout].net.period
+        figures, _ = _figures_of(str(progs[layout]))
+        assert set(figures["synth"]["kinds"]) == set(_figures_of(str(progs[other]))[0]["synth"]["kinds"])
+        figures.update({k: written[k] for k in ("robot", "word", "vamps", "rounding", "overflow",
+                                                 "mult_latency", "add_latency", "period", "latency_ticks")})
+        path = tmp_path / f"{layout}-rtl.json"
+        path.write_text(json.dumps(figures))
+        r = CliRunner().invoke(main, ["report", str(progs[layout]), "--rtl", str(path)])
+        assert r.exit_code == 0, r.output
+        r = CliRunner().invoke(main, ["report", str(progs[other]), "--rtl", str(path)])
+        assert r.exit_code == 1 and r.stderr == (
+            f"vampc: error: {path}: the figures are of another design (period in ticks "
+            f"{ld[layout].net.period}, this program's {ld[other].net.period})\n"), r.output

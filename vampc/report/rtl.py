@@ -50,10 +50,16 @@ def rtl_figures(path: str, c) -> dict:
     if not word.startswith("q"):   # (a float program's report took them: an audit's)
         raise VampcError(f"{path}: the figures are of another design: this program's words are "
                          f"{word}, and `vampc rtl` renders fixed-point words only (README, RTL)")
-    vamps = len(c.network.vamps) if c.network is not None else None
+    net = c.network
+    vamps = len(net.vamps) if net is not None else None
     same = [("robot", "robot", c.chain.name), ("word", "word", word), ("vamps", "VAMPs", vamps)]
     same += [(key, key.replace("_", " "), getattr(c.options, key))      # (files since 2026-12-03)
              for key in ("rounding", "overflow", "mult_latency", "add_latency") if key in doc]
+    if net is not None:     # (files since 2026-12-06: a one-joint arm's folded figures, its kinds
+        #                     and count those of the systolic network, were taken for it)
+        same += [(key, what, ours) for key, what, ours in (
+            ("period", "period in ticks", net.period),
+            ("latency_ticks", "latency in ticks", max(o.tick for o in net.outputs))) if key in doc]
     def another(what, theirs, ours) -> None:
         if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
