@@ -106,12 +106,21 @@ def test_margins_read_as_words():
 
 def test_a_count_per_second_printed_whole_is_that_count():
     """22.6 MHz / 18 ticks = 1 255 555.6 sets a second: 6 significant digits gave 1 255 560, which
-    the text prints as '1,255,560' (a new user's find); whole counts are rounded to the unit, and
-    below 100 a second to 6 significant digits as before."""
+    the text prints as '1,255,560' (a new user's find); whole counts are given to the unit, and
+    below 100 a second to 6 significant digits. A throughput is rounded down, never said to be more
+    than it is (20 MHz / 27 = 740 740.74 had been 740,741, a new user's find): the expected counts
+    are Python's integer floor division of the clock by the interval."""
     from vampc.report.clock import rate, sets_text
     fig = clock_figures(41, 18, 15, 22.6e6)
-    assert fig["sets_per_second"] == 1255556 and sets_text(fig["sets_per_second"]) == "1,255,556"
-    assert clock_figures(52, 18, 15, 50e6)["sets_per_second"] == 2777778
+    assert fig["sets_per_second"] == 22_600_000 // 18 == 1255555
+    assert sets_text(fig["sets_per_second"]) == "1,255,555"
+    assert clock_figures(52, 18, 15, 50e6)["sets_per_second"] == 50_000_000 // 18
+    assert clock_figures(67, 27, 15, 20e6)["sets_per_second"] == 20_000_000 // 27 == 740740
+    assert clock_figures(61, 20, 15, 20e6)["sets_per_second"] == 1_000_000       # exact: as it is
+    slow = clock_figures(3, 3, 15, 2.0)["sets_per_second"]                    # 0.666...
+    assert slow == 0.666666 and sets_text(slow) == "0.6666"
+    assert sets_text(7812.5) == "7,812" and sets_text(99.99995) == "99.99"
+    # (the host's traffic, what a link must carry, is still to the nearest)
     assert rate(2 / 3) == 0.666667 and rate(99.99994) == 99.9999 and rate(100.5) == 100
 
 

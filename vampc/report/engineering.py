@@ -33,8 +33,8 @@ def engineering(c, clock_hz: float | None = None) -> dict:
           "bits_out_per_set": bits["host_read_bits_per_set"], "word_bits": bits["bits"]}
     if clock_hz is not None:
         sets = clock_hz / interval
-        from vampc.report.clock import rate
-        io.update(sets_per_second=rate(sets), scalars_in_per_second=rate(inputs * sets),
+        from vampc.report.clock import per_second, rate
+        io.update(sets_per_second=per_second(interval, clock_hz), scalars_in_per_second=rate(inputs * sets),
                   scalars_out_per_second=rate(outputs * sets),
                   bits_in_per_second=rate(bits["host_write_bits_per_set"] * sets),
                   bits_out_per_second=rate(bits["host_read_bits_per_set"] * sets))
