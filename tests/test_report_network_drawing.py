@@ -178,3 +178,22 @@ def test_a_bus_past_nodes_of_its_row_is_drawn_as_a_curve_over_them(tmp_path, pum
     svg = nd.network_svg(c.graph, c.layout, c.network, "t")
     assert not any("Q" in (p.get("d") or "") for g in ET.fromstring(svg).iter(f"{SVG}g")
                    if (g.get("id") or "").startswith("wires-buses") for p in g.iter(f"{SVG}path"))
+
+
+@pytest.mark.parametrize("robot, opts", [("planar2.yaml", {}), ("stanford.yaml", {}),
+                                         ("puma560.yaml", {"recursion": "log"})])
+def test_every_host_port_is_drawn_where_it_can_be_seen(robot, opts):
+    """Ports under one column were stacked four places wide: the fifth and later were drawn on the
+    first ones (planar2: 12 ports at 8 places, port 10 nowhere to be seen; a new user's find). Each
+    port's triangle has its own apex now, read from the SVG, and the ports are spread under their
+    column."""
+    import re
+    c = compile_chain(load_robot(EXAMPLES / robot), CompileOptions(**opts))
+    d = nd.drawing(c.graph, c.layout, c.network)
+    text = nd.network_svg(c.graph, c.layout, c.network, "t")
+    apex = dict(re.findall(r'<g id="port-(\d+)"><title>[^<]*</title>\s*<path d="M ([\d.]+ [\d.]+)', text))
+    wanted = [str(index) for index, readers, _ in d.ports if readers]
+    assert sorted(apex) == sorted(wanted) and len(wanted) > 8
+    assert len(set(apex.values())) == len(apex), Counter(apex.values()).most_common(3)
+    per = Counter(round(nd._xy(d, readers[0])[0], 3) for _, readers, _ in d.ports if readers)
+    assert max(per.values()) > 4                      # (the case that had hidden ports)

@@ -368,7 +368,7 @@ def _draw(d: Drawing, title: str) -> str:
         _lines(ax, segments, f"wires-buses-{w:g}", "#555555", w, 1)
     _buffers(ax, d, titles)
     _sites(ax, d, titles)
-    _ports(ax, d, titles)
+    _ports(ax, d, titles, cell)
     _outputs(ax, d, titles)
     if d.grouped > 1:
         title += (f" — {sum(i[0] for k, i in d.inside.items() if k != '_outputs'):,} nodes in "
@@ -569,21 +569,29 @@ def _buffers(ax, d: Drawing, titles: dict) -> None:
             ax.text(sh.x, sh.y, str(deepest), fontsize=5, ha="center", va="center", zorder=3)
 
 
-def _ports(ax, d: Drawing, titles: dict) -> None:
-    """Host ports along the bottom edge, a thin line to each node that reads them."""
+PORT_LABEL_PT = 4.5        # the least room a port's label (4-point text, turned upright) is given
+
+
+def _ports(ax, d: Drawing, titles: dict, cell: float) -> None:
+    """Host ports along the bottom edge, a thin line to each node that reads them: up to four under
+    a column 0.2 apart, more spread over its cell (each port where it can be seen: the fifth had
+    been drawn on the first, a new user's find), labelled where a label has room (`cell` points a
+    unit), each named in its tooltip."""
+    column = Counter(round(_xy(d, readers[0])[0], 3) for _, readers, _ in d.ports if readers)
     stack: Counter = Counter()
     shapes, segments, labels = [], [], []
     for index, readers, label in d.ports:
         if not readers:
             continue
         x, _ = _xy(d, readers[0])
-        k = stack[round(x, 3)]
+        k, per = stack[round(x, 3)], column[round(x, 3)]
         stack[round(x, 3)] += 1
-        px, py = x - 0.3 + 0.2 * (k % 4), 0.1
+        step = 0.2 if per <= 4 else 0.9 / (per - 1)
+        px, py = (x - 0.3 + 0.2 * k if per <= 4 else x - 0.45 + step * k), 0.1
         shapes.append(Shape("triangle", px, py, 0.09, f"port-{index}", f"host port {index}: {label}, "
                             "read by " + ", ".join(d.name(r) for r in readers)))
         segments += [[(px, py), _xy(d, r)] for r in readers]
-        if k < 4:
+        if per <= 4 or step * cell >= PORT_LABEL_PT:
             labels.append((px, py - 0.16, label))
     _lines(ax, segments, "wires-ports", "#bbbbbb", 0.3, 0)
     style = {"facecolor": "#ffffff", "edgecolor": "#333333", "linewidth": 0.5, "zorder": 3}
