@@ -502,6 +502,35 @@ def test_a_class_its_runs_fields_do_not_give_is_refused(programs, quick_results,
                                            "over)"]
 
 
+@pytest.mark.parametrize("line, edit", [
+    # detected at tick 104 of a 4-tick period, fault at tick 60, 36 sets run: at most 27 sets
+    # entered before the detection's cycle ended, and (104 - 60) // 4 = 11 whole cycles
+    (6, ('"corrupted_before": 12', '"corrupted_before": 30')),
+    (6, ('"corrupted_before": 12', '"corrupted_before": 37')),
+    (6, ('"latency_cycles": 11', '"latency_cycles": 12')),
+    (6, ('"corrupted_after": 0', '"corrupted_after": 25, "was": 0')),
+    (3, ('"sets_run": 40', '"sets_run": 3'))])           # 4 sets corrupted of 3 run
+def test_counts_a_run_cannot_have_are_refused(programs, quick_results, line, edit):
+    """A line's counts were checked against the campaign's sets alone: an edited
+    "corrupted_before": 83 of a run of 12 sets, or a latency of 7 cycles for 2, were taken and moved
+    the summary's means (a new user's find). The counts must agree with the run's own sets and
+    detection tick, by run_fault's rules (worked out by hand in the parameters)."""
+    ec, _, _ = programs
+    path = quick_results
+    lines = path.read_text().splitlines(keepends=True)
+    assert edit[0] in lines[line - 1], lines[line - 1]
+    assert '"detected_tick": 104' in lines[5] and '"at=60"' not in lines[5] and ",at=60" in lines[5]
+    lines[line - 1] = lines[line - 1].replace(edit[0], edit[1], 1)
+    path.write_text("".join(lines))
+    before = path.read_bytes()
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
+    errors = [x for x in r.output.splitlines() if not x.startswith("vampc: warning")]
+    assert r.exit_code == 1 and errors == [f"vampc: error: --results {path}: line {line} is not a "
+                                           "run's result (the file was edited; remove it to start "
+                                           "over)"], r.output
+    assert path.read_bytes() == before
+
+
 def test_a_run_on_two_lines_is_refused_naming_both(programs, quick_results):
     """A run's line said again (or a second, edited one) silently replaced the first."""
     ec, _, _ = programs

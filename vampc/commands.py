@@ -1813,7 +1813,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         #                                 again, is the same machine: the file still resumes)
     header = {"vampc_faults": 1, "program": identity, "campaign": own.campaign, "sets": sets,
               "seed": own.seed, "faults": [f.text for f in faults]}
-    store = cp.ResultsFile(str(outs["--results"].path), header, default=own.results is None)
+    store = cp.ResultsFile(str(outs["--results"].path), header, default=own.results is None,
+                           period=ld.period)
     store.load()
     client = parallel.connect(own.scheduler) if own.scheduler is not None else None
     try:

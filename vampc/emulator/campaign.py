@@ -498,12 +498,15 @@ SET_COUNTS = ("sets_run", "corrupted", "corrupted_before", "corrupted_after")
 TICK_COUNTS = ("detected_tick", "maintenance_ticks")
 
 
-def _a_run_of(run, faults, sets: int | None = None) -> bool:
+def _a_run_of(run, faults, sets: int | None = None, period: int | None = None) -> bool:
     """Whether a results line is a run of this campaign's list `faults`, with the fields the
     summary reads of the types it reads (an edited line was a KeyError, or filed under another
     fault: `"index": true` counted as fault 1's), and its counts possible: a count of torque sets
     within the campaign's `sets`, a tick at least 0 (an edited "sets_run": -4 and "corrupted":
-    1000000 of 197 sets were taken and reported)."""
+    1000000 of 197 sets were taken and reported), and the counts of one run consistent with each
+    other and, given the program's `period`, with its detection tick (an edited
+    "corrupted_before": 83 of a run of 12 sets, or "latency_cycles" 7 for 2, were taken and moved
+    the summary's means: a new user's find)."""
     def whole(x) -> bool:
         return type(x) is int
     if not isinstance(run, dict) or not whole(run.get("index")) or \
@@ -520,6 +523,15 @@ def _a_run_of(run, faults, sets: int | None = None) -> bool:
         return False          # (the summary reads it of every corrected run: a KeyError)
     if run["class"] != run_class(run, fault.vamp):
         return False          # (an edited "class": "masked" of a corrupted run was counted masked)
+    if "sets_run" in run and (run.get("corrupted", 0) > run["sets_run"] or
+                              run.get("corrupted_before", 0) + run.get("corrupted_after", 0) > run["sets_run"]):
+        return False
+    if period is not None and "detected_tick" in run:
+        # run_fault's own rules: the sets entering before the detection's cycle ends, and the
+        # whole cycles from the fault's start to it
+        if run.get("corrupted_before", 0) > run["detected_tick"] // period + 1 or \
+                run.get("latency_cycles") != (run["detected_tick"] - fault.at) // period:
+            return False
     return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
         all(isinstance(run[k], bool) for k in ("named_right", "first_wrong_non_finite") if k in run)
 
@@ -530,8 +542,9 @@ class ResultsFile:
     on file are kept and not run again; a last line cut short (a run interrupted mid-write) is
     dropped. A file holding another campaign is refused, never overwritten."""
 
-    def __init__(self, path: str, header: dict, default: bool = False):
+    def __init__(self, path: str, header: dict, default: bool = False, period: int | None = None):
         self.path, self.header = path, header
+        self.period = period            # the program's: a run's counts checked against its ticks
         self.default = default          # the path is the default one, not the user's --results
         self.done: dict[int, dict] = {}
         self._fh = None
@@ -591,7 +604,7 @@ class ResultsFile:
                 continue
             try:
                 run = jsontext.loads(line)
-                if not _a_run_of(run, self.header["faults"], self.header.get("sets")):
+                if not _a_run_of(run, self.header["faults"], self.header.get("sets"), self.period):
                     raise ValueError(line)
             except (ValueError, KeyError, TypeError):
                 if sum(len(x) + 1 for x in lines[:k]) <= good:      # not just a cut-short last line
