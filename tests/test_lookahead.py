@@ -81,6 +81,20 @@ def test_violations_are_seen_window_minus_one_rows_ahead(setup):
     first = min(row for row, _ in over)             # row 1: entered at the first step, 0 ahead
     assert re.search(rf"row {first + 1} \(t = 0 s\): joint waist torque \S+ beyond 10, seen at step 1, "
                      r"0 steps \(0 ms\) ahead", r.output), r.output
+    # a short window, so listed rows enter after the first step and ahead of it: README's rule
+    # worked here (rows 1..W in view at step 1; row R enters at step R - W + 1 and arrives at
+    # step R; 1 ms a step at 1 kHz) against every line listed (only 0 ahead had been tested)
+    for window in (2, 3):
+        r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate",
+                                      "1kHz", "--window", str(window), "--limits", str(limits)])
+        assert r.exit_code == 0, r.output
+        listed = re.findall(r"row (\d+) \(t = \S+ s\): .* seen at step (\d+), (\d+) steps? \((\S+ ms)\) ahead",
+                            r.output)
+        assert len(listed) == 5 and max(int(x[0]) for x in listed) > 2, r.output    # (step 2 at W = 2)
+        for row, step, early, ms in listed:
+            want = max(1, int(row) - window + 1)
+            assert (int(step), int(early)) == (want, int(row) - want), (row, step, early)
+            assert ms == f"{int(early)} ms", (row, ms)
 
 
 def hollerbach_k(limits, flange_speed: float, floor: float = 1.0) -> float:
