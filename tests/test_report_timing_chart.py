@@ -58,6 +58,33 @@ def test_one_bar_per_op_and_the_critical_path_marked(puma, opts):
     assert "on the critical path" in title
 
 
+@pytest.mark.parametrize("opts", [dict(), dict(layout="folded"), dict(recursion="log")],
+                         ids=["systolic", "folded", "log"])
+def test_each_bar_spans_its_ops_flops(puma, opts):
+    """Where a bar is drawn, not only that it is: its left and right edges, read from the SVG path,
+    at the op's start and finish flops on the axes' scale (the plot area's rectangle spans flops 0
+    to the chart's span). A chart drawing every bar a flop late passed every chart test (a test
+    audit's find)."""
+    c = compile_chain(puma, CompileOptions(**opts))
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    rects = re.findall(r'<clipPath id="[^"]+">\s*<rect x="([\d.]+)" y="[\d.]+" width="([\d.]+)"', svg)
+    assert len(set(rects)) == 1, rects
+    x0, width = map(float, rects[0])
+    per_flop = width / timing_chart.chart(c.graph, c.layout, c.schedule).span
+    checked = 0
+    for gid, g in groups(svg).items():
+        m = re.fullmatch(r"op-(\d+)(-critical)?", gid)
+        if not m:
+            continue
+        xs = [float(x) for x in re.findall(r"[ML] ([\d.]+) [\d.]+", g.find(f"{SVG}path").get("d"))]
+        i = int(m.group(1))
+        want = (x0 + c.schedule.start[i] * per_flop, x0 + c.schedule.finish[i] * per_flop)
+        assert min(xs) == pytest.approx(want[0], abs=0.06) and max(xs) == pytest.approx(want[1], abs=0.06), \
+            (gid, xs, want)
+        checked += 1
+    assert checked == len(list(c.graph.compute_nodes()))
+
+
 def test_successive_torque_sets_are_visible(puma):
     systolic = compile_chain(puma)
     sets = [k for k in groups(timing_chart.timing_svg(systolic.graph, systolic.layout,
