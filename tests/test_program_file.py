@@ -11,6 +11,7 @@ import dataclasses
 import gzip
 import json
 import os
+import re
 from pathlib import Path
 
 import msgspec
@@ -392,6 +393,27 @@ def test_a_file_laid_out_otherwise_still_verifies(program_path, tmp_path):
     other = tmp_path / "pretty.vamp.json"
     other.write_text(json.dumps(doc, indent=2).replace("\n", "\r\n"))
     assert read_program(other) == doc
+
+
+@pytest.mark.parametrize("layout", ["vampc's", "pretty"])
+def test_a_key_put_in_twice_is_an_edit(program_path, tmp_path, layout):
+    """A key put in before its own ("load_ticks": 99, "load_ticks": 13) left the document the same,
+    its last value winning, so the checksum of the document matched and the edit passed unseen
+    (an audit's find); it is refused, naming the line."""
+    text = program_path.read_text()
+    if layout == "pretty":
+        text = json.dumps(json.loads(text), indent=1)
+    m = re.search(r'"load_ticks": ?(\d+)', text)
+    assert m
+    edited = text[:m.start()] + '"load_ticks": 99, ' + text[m.start():]
+    line = text.count("\n", 0, m.start()) + 1
+    assert json.loads(edited) == json.loads(text)            # the same document
+    path = tmp_path / "dup.vamp.json"
+    path.write_text(edited)
+    r = CliRunner().invoke(main, ["emulate", str(path), "--random", "2"])
+    assert r.exit_code == 1 and r.stderr == (
+        f"vampc: error: {path}: line {line}: duplicate key 'load_ticks': the file was edited (vampc "
+        "writes each key once); recompile it (vampc compile)\n"), r.output
 
 
 def test_flipped_byte_fails_the_checksum_with_exit_1(program_path):

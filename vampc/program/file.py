@@ -391,10 +391,19 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     lacks = check_summary(doc)
     if lacks:
         raise VampcError(f"{path}: {lacks}")
-    if doc.checksum != _laid_out_digest(data, doc.checksum) and \
-            doc.checksum != checksum(loads(data)):
-        raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged; recompile it "
-                         "(vampc compile)")
+    if doc.checksum != _laid_out_digest(data, doc.checksum):
+        # not as vampc lays it out (reformatted, or edited): its checksum is over the document the
+        # text gives, where a key said twice is its last value, so a key put in before its own
+        # passed unseen (an audit's find); refused as an edit
+        if doc.checksum != checksum(loads(data)):
+            raise VampcError(f"{path}: checksum mismatch: the file was modified or damaged; "
+                             "recompile it (vampc compile)")
+        from vampc.jsontext import duplicate_key
+        twice = duplicate_key(bytes(data).decode("utf-8"))
+        if twice is not None:
+            key, line = twice
+            raise VampcError(f"{path}: line {line}: duplicate key {key!r}: the file was edited (vampc "
+                             "writes each key once); recompile it (vampc compile)")
     return doc, data
 
 
