@@ -236,6 +236,25 @@ class _Loader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
     of 6.8 s on a 4096-joint table) that also refuses duplicate keys and reads `1e-3` as a number:
     YAML 1.1 (PyYAML) wants a dot in the mantissa, so a bare `1e-3` would otherwise be text."""
 
+    def construct_object(self, node, deep=False):
+        """A value, or a YAML error at its line: PyYAML's constructors raise Python's own errors
+        for a tagged value they cannot make (`!!float abc`, `!!bool maybe`, `!!int ""`), which had
+        been internal errors (an audit's)."""
+        try:
+            return super().construct_object(node, deep=deep)
+        except yaml.YAMLError:
+            raise
+        except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError):
+            raise yaml.constructor.ConstructorError(
+                None, None, f"{node.value!r} cannot be read as {_tag_text(node.tag)}"
+                if isinstance(node, yaml.ScalarNode) else f"this {_tag_text(node.tag)} cannot be read",
+                node.start_mark) from None
+
+
+def _tag_text(tag: str) -> str:
+    """'!!float' for YAML's own tags, the tag itself for others."""
+    return "!!" + tag[len("tag:yaml.org,2002:"):] if tag.startswith("tag:yaml.org,2002:") else tag
+
 
 _FLOAT = re.compile(r"""^[-+]?(?:[0-9][0-9_]*)?(?:\.[0-9_]*)?[eE][-+]?[0-9]+$""")
 _Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456789."))
@@ -244,6 +263,10 @@ _Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
     seen = set()
     for key_node, _ in node.value:
+        if not isinstance(key_node, yaml.ScalarNode):       # (`? [x]`: unhashable, an internal error)
+            what = "list" if isinstance(key_node, yaml.SequenceNode) else "mapping"
+            raise yaml.constructor.ConstructorError(None, None, f"a key is a {what}; keys are names",
+                                                    key_node.start_mark)
         key = loader.construct_object(key_node, deep=deep)
         if key in seen:
             raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
@@ -263,31 +286,42 @@ _PLAIN = {"tag:yaml.org,2002:int": re.compile(r"^[-+]?(?:0|[1-9][0-9]*)$"),
               r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|"
               r"^\.(?:nan|NaN|NAN)$")}
 _MERGE = "tag:yaml.org,2002:merge"
+# the tags a DH table's values resolve to untagged (a name may be any text: not checked)
+_PLAIN_TAGS = {"tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")}
 
 
 def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
     """VampcError naming the line of the first number YAML 1.1 reads as another value (see above),
     or of a merge key (`<<: *row`: not read; merged mappings repeat every entry they merge, so a
     small file nesting them grows without bound before its keys collapse)."""
-    stack, seen = [root], set()
+    stack, seen = [(root, True)], set()
     while stack:
-        node = stack.pop()
-        if id(node) in seen:            # (an alias: its node is checked once)
+        node, robot = stack.pop()       # robot: what the robot is built from (not an annotation)
+        if (id(node), robot) in seen:   # (an alias: its node is checked once)
             continue
-        seen.add(id(node))
+        seen.add((id(node), robot))
+        if robot and node.tag not in _PLAIN_TAGS:
+            # (`com: !!set {...}` passed the schema as a list and was an internal error; `!!omap`)
+            raise located(path, f"line {node.start_mark.line + 1}", f"a value tagged "
+                          f"{_tag_text(node.tag)} is not read: write it untagged")
         if isinstance(node, yaml.MappingNode):
             for key, value in node.value:
-                if key.tag == _MERGE:
+                if key.tag == _MERGE:   # (under an annotation too: PyYAML's own words were said)
                     raise located(path, f"line {key.start_mark.line + 1}", "YAML merge keys (<<) "
                                   "are not read: write the row's fields out (an alias of a whole "
                                   "row or value is read)")
                 text = key.value if isinstance(key, yaml.ScalarNode) else None
-                if not (isinstance(text, str) and (text.startswith("x-") or text == "name")):
-                    stack.append(value)
+                stack.append((value, robot and not (isinstance(text, str) and
+                                                    (text.startswith("x-") or text == "name"))))
         elif isinstance(node, yaml.SequenceNode):
-            stack.extend(node.value)
-        elif isinstance(node, yaml.ScalarNode) and node.tag in _PLAIN and \
+            stack.extend((v, robot) for v in node.value)
+        elif robot and isinstance(node, yaml.ScalarNode) and node.tag in _PLAIN and \
                 not _PLAIN[node.tag].match(node.value.strip()):
+            if loader.resolve(yaml.ScalarNode, node.value, (True, False)) != node.tag:
+                # tagged by hand (`!!float nan`, `!!float '0x10'`): not a YAML 1.1 reading
+                raise located(path, f"line {node.start_mark.line + 1}",
+                              f"{node.value!r} is tagged {_tag_text(node.tag)}; numbers are read "
+                              "untagged, in decimal digits")
             digits = node.value.strip().lstrip("+-")
             if node.tag.endswith("int") and re.fullmatch(r"0[0-7]+", digits) and \
                     int(digits, 8) == int(digits):
