@@ -900,6 +900,43 @@ def test_a_limits_row_naming_a_locked_joint_is_passed_over_with_a_warning(tmp_pa
            "are not used" in r.stderr, r.stderr
 
 
+def test_a_limits_row_naming_a_joint_the_program_leaves_out_is_passed_over(tmp_path):
+    """A limits file for the whole robot used with a sub-chain, or naming a fixed joint: such a row
+    was refused as 'no joint named', with another leg's joint suggested (a new user's run on
+    Talos's left arm). A joint of the robot file the chain does not hold (above --base, off the
+    --tip's chain, fixed) is passed over with a warning, from the robot file or its program, which
+    keeps their names; a name the robot file does not have is still an error."""
+    t = np.arange(50) / 1000
+    q = np.full((50, 2), 0.1)
+    path = write_path(tmp_path, t, q, 0 * q, 0 * q)
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nFL_HAA,150,\nFL_HFE,150,\nFL_KFE,150,\nFR_HAA,150,\nFL_ANKLE,5,\n")
+    pick = ["--base", "FL_hip", "--tip", "FL_foot"]           # FL_HFE and FL_KFE
+    program = tmp_path / "leg.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/quadruped.urdf", *pick, "-o",
+                                     str(program)]).exit_code == 0
+    urdf_joints = re.findall(r'<joint name="([^"]+)"', Path("examples/quadruped.urdf").read_text())
+    assert json.loads(program.read_text())["robot"]["left_out"] == [
+        n for n in urdf_joints if n not in ("FL_HFE", "FL_KFE")]
+    for source, extra in (("examples/quadruped.urdf", pick), (str(program), [])):
+        r = CliRunner().invoke(main, ["lookahead", source, *extra, "--trajectory", str(path), "--rate",
+                                      "1kHz", "--window", "8", "--limits", str(limits)])
+        assert r.exit_code == 0, r.output
+        for line, name in ((2, "FL_HAA"), (5, "FR_HAA"), (6, "FL_ANKLE")):
+            assert f"vampc: warning: {limits}: line {line}: joint '{name}' of the robot file is not one " \
+                   "the program holds (a fixed joint, or one the base, the tip or a locked joint " \
+                   "leaves out): its limits are not used" in r.stderr, r.stderr
+        assert r.stderr.count("its limits are not used") == 3
+    limits.write_text("joint,tau,qd\nFL_HFE,150,\nFL_KFE,150,\nFR_HAX,150,\n")
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "8", "--limits", str(limits)])
+    assert r.exit_code == 1 and "line 4: no joint named 'FR_HAX'" in r.output, r.output
+    # a program of the whole robot holds every movable joint: its fixed ones alone are left out
+    whole = tmp_path / "whole.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/quadruped.urdf", "-o", str(whole)]).exit_code == 0
+    assert json.loads(whole.read_text())["robot"]["left_out"] == [n for n in urdf_joints if "ANKLE" in n]
+
+
 def test_a_long_quoted_name_is_shown_whole():
     """Quoted names were cut at 60 characters: two long names differing at their ends read as one
     (a review's run)."""

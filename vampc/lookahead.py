@@ -214,6 +214,7 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
     from vampc.emulator.trajectory import cell_number
     from vampc.textio import decode_utf8, shown
     names = {j.name: i for i, j in enumerate(chain.joints)}
+    left_out = set(chain.left_out)
     # a cell names a joint as written, or with the spaces round it dropped (a CSV writer pads
     # cells): the joint whose name is that once its own spaces round it are dropped, if only one is
     padded: dict[str, list[str]] = {}
@@ -252,6 +253,17 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
             from vampc.errors import VampcWarning
             warnings.warn(VampcWarning(f"{path}: line {line}: joint {shown(name)} is locked (--lock): "
                                        "its limits are not used"), stacklevel=3)
+            continue
+        if name not in names and (row[0] in left_out or name in left_out):
+            # (a limits file for the whole robot, used with a sub-chain or naming a fixed joint:
+            # "no joint named", and another arm's joint suggested, a new user's find)
+            import warnings
+
+            from vampc.errors import VampcWarning
+            warnings.warn(VampcWarning(
+                f"{path}: line {line}: joint {shown(row[0] if row[0] in left_out else name)} of the "
+                "robot file is not one the program holds (a fixed joint, or one the base, the tip or "
+                "a locked joint leaves out): its limits are not used"), stacklevel=3)
             continue
         if name not in names:
             matches = padded.get(name, [])

@@ -85,6 +85,8 @@ def robot_doc(chain: Chain) -> F.RobotDoc:
                      for m in chain.mimic]
     if chain.locked:
         out.locked = list(chain.locked)
+    if chain.left_out:
+        out.left_out = list(chain.left_out)
     return out
 
 
@@ -126,7 +128,8 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
         tree["mimic"] = tuple(Mimic(m.follower, m.leader, m.multiplier, m.offset) for m in doc.mimic)
     chain = Chain(doc.name, joints, np.array(doc.gravity), np.array(doc.base_omega),
                   np.array(doc.base_omega_dot), np.array(doc.tip_force),
-                  np.array(doc.tip_torque), doc.source, locked=tuple(doc.locked or ()), **tree)
+                  np.array(doc.tip_torque), doc.source, locked=tuple(doc.locked or ()),
+                  left_out=tuple(doc.left_out or ()), **tree)
     if graph is not None and len(graph.outputs) != chain.n_outputs:
         raise VampcError(f"{path}: robot.floating: {str(bool(doc.floating)).lower()}, but the graph "
                          f"has {len(graph.outputs)} outputs, not the {chain.n_outputs} of "

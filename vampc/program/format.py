@@ -99,6 +99,11 @@ class RobotDoc(Struct, gc=False, omit_defaults=True, forbid_unknown_fields=True)
                                              "file (their names, as given), so that a limits file "
                                              "naming one is passed over with a warning; absent "
                                              "when there are none.")] = None
+    left_out: Annotated[list[str] | None, Meta(description="The robot file's other joints the "
+                                               "program does not hold (fixed ones, and those the "
+                                               "base, the tip or a locked joint leaves out), so that "
+                                               "a limits file naming one is passed over with a "
+                                               "warning; absent when there are none.")] = None
 
 
 class OptionsDoc(Struct, gc=False, forbid_unknown_fields=True):

@@ -171,6 +171,9 @@ class Chain:
     # the joints --lock took out of the robot file (their names, as given): a program file keeps
     # them, so that a limits file naming one is passed over as it is with the robot file
     locked: tuple[str, ...] = ()
+    # the robot file's other joints the chain does not hold (fixed ones, and those the base, the tip
+    # or a locked joint leaves out), kept likewise: a limits file for the whole robot names them
+    left_out: tuple[str, ...] = ()
 
     @property
     def n(self) -> int:

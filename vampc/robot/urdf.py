@@ -197,6 +197,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               mimic_said: str | None = "<mimic>", mimic_given: bool = False) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
+    every_joint = list(tree.joints)  # (the file's, in its order: the tree is turned below)
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic_said and (mimic == "couple" and not leaders and not problems
                        or mimic == "ordinary" and mimic_given
@@ -249,7 +250,9 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     # the locks that took a joint out (below the base) or placed one (above it), in the order given;
     # not one said to have no effect, so that its program is the one without it
     taken = tuple(name for name in given if name in lock or name in above_locks)
-    return dataclasses.replace(chain, locked=taken) if taken else chain
+    held = {j.name for j in chain.joints}
+    left_out = tuple(name for name in every_joint if name not in held and name not in taken)
+    return dataclasses.replace(chain, locked=taken, left_out=left_out) if taken or left_out else chain
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
