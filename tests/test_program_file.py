@@ -678,3 +678,24 @@ def test_the_writers_runs_are_its_pieces_joined_in_order(sizes, least):
     assert [r for r in runs if len(r) >= least and any(r is p for p in big)] == big
     for k, r in enumerate(runs[:-1]):
         assert len(r) >= least or any(runs[k + 1] is p for p in big), (k, runs)
+
+
+def test_a_dh_table_named_like_a_program_says_what_it_is(tmp_path):
+    """`vampc compile arm.vamp.json` takes a DH table so named (by its .json); emulate, report and
+    lookahead said only "format is not 'vampc-program'" (a new user's find): they say it looks like a
+    DH table and how to name it."""
+    import yaml
+    table = yaml.safe_load(Path("examples/planar2.yaml").read_text())
+    path = tmp_path / "arm.vamp.json"
+    path.write_text(json.dumps(table))
+    said = (f"vampc: error: {path}: not a vampc program file (it looks like a DH table in JSON: a "
+            "robot file is named .json, .yaml or .yml, not .vamp.json, the program files' name; "
+            "rename it and it compiles on the fly)\n")
+    for args in (["emulate", str(path), "--random", "2"], ["report", str(path)],
+                 ["lookahead", str(path), "--trajectory", "examples/puma560-path.csv", "--rate", "1kHz",
+                  "--window", "8"]):
+        r = CliRunner().invoke(main, args)
+        assert (r.exit_code, r.stderr) == (1, said), (args, r.output)
+    renamed = tmp_path / "arm.json"                 # as the message says
+    renamed.write_text(path.read_text())
+    assert CliRunner().invoke(main, ["emulate", str(renamed), "--random", "2", "--check"]).exit_code == 0

@@ -478,7 +478,16 @@ def _untyped(data, path):
 def _refuse_version(doc, path) -> None:
     """A document that is not a program file of this version, said as such (VampcError)."""
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise VampcError(f"{path}: not a vampc program file (format is not {FORMAT!r})")
+        from vampc.sniff import vampc_output
+        what = vampc_output(doc)
+        if what is None and isinstance(doc, dict) and "format" not in doc and \
+                isinstance(doc.get("joints"), list):
+            # (`vampc compile arm.vamp.json` took a DH table so named, by its .json; emulate,
+            # report and lookahead said only "format is not 'vampc-program'": a new user's find)
+            what = ("a DH table in JSON: a robot file is named .json, .yaml or .yml, not .vamp.json, "
+                    "the program files' name; rename it and it compiles on the fly")
+        raise VampcError(f"{path}: not a vampc program file (" + (f"it looks like {what}" if what else
+                                                                   f"format is not {FORMAT!r}") + ")")
     if doc.get("version") == 1:
         raise VampcError(f"{path}: program format version 1 (one op per VAMP) is not read by this "
                          f"vampc, which writes version {VERSION} (VAMPs with slots); recompile the "
