@@ -438,7 +438,7 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
      r"file looks like a trajectory, not limits"),
     ("joint,tau\nwaist,10,4\n", r"line 2: 3 cells; expected joint,tau"),
     (LIMITS.replace("flange,1,4", "flange,1,1e-300"), r"joint 'flange': speed limit 1e-300 is below 1e-12: "
-     "too small to scale time by"),          # k was inf, and inf and nan times were written, exit 0
+     "too small to measure speeds against or to scale time by"),          # k was inf, and inf and nan times were written, exit 0
 ])
 def test_a_limits_file_that_says_two_things_is_refused(setup, tmp_path, text, message):
     """A joint given twice (the last one won, silently) or a row with more cells is one line."""
@@ -448,6 +448,27 @@ def test_a_limits_file_that_says_two_things_is_refused(setup, tmp_path, text, me
     r = run_lookahead(program, path, limits)
     assert r.exit_code == 1 and re.search(r"lim\.csv: " + message, r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("field, what, noun", [("tau", "effort", "torques"), ("qd", "speed", "speeds")])
+def test_a_dh_tables_zero_limit_names_its_field_and_what_it_is_for(tmp_path, field, what, noun):
+    """A DH table's `tau: 0` (or `qd: 0`), on a run without --retime, was 'too small to scale time
+    by', not naming the table's field (a new user's find): the ratios to the limits are what every
+    run measures."""
+    import yaml
+    table = yaml.safe_load(Path("examples/planar2.yaml").read_text())
+    table["joints"][0]["limits"][field] = 0
+    robot = tmp_path / "p0.yaml"
+    robot.write_text(yaml.safe_dump(table))
+    t = np.arange(20) / 1000
+    q = np.full((20, 2), 0.1)
+    path = write_path(tmp_path, t, q, 0 * q, 0 * q)
+    r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "8"])
+    assert r.exit_code == 1 and r.stderr == (
+        f"vampc: error: {robot}: joint 'shoulder': {what} limit 0 (its limits.{field}) is below 1e-12: "
+        f"too small to measure {noun} against or to scale time by (their ratios would not fit a "
+        "float); give the joint's limit in --limits FILE\n"), r.output
 
 
 def test_a_limits_file_with_a_byte_order_mark_is_read(setup, tmp_path):

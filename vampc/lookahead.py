@@ -195,9 +195,17 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
         for what, x in (("effort", t if i in free else None), ("speed", v)):
             if x is not None and x < SMALLEST_LIMIT:
                 came = path if (i, what) in given else robot      # the file the value came from
-                raise VampcError(f"{came}: joint '{j.name}': {what} limit {x:g} is below "
-                                 f"{SMALLEST_LIMIT:g}: too small to scale time by (the scaling "
-                                 "would not fit a float)")
+                # (a DH table's `tau: 0` was told of time scaling on a run without --retime, and
+                # not where in the table it stands: a new user's find)
+                ours = (i, what) not in given
+                table = ours and str(came).endswith((".yaml", ".yml", ".json")) and \
+                    not str(came).endswith(".vamp.json")
+                field = f" (its limits.{'tau' if what == 'effort' else 'qd'})" if table else ""
+                raise VampcError(f"{came}: joint '{j.name}': {what} limit {x:g}{field} is below "
+                                 f"{SMALLEST_LIMIT:g}: too small to measure "
+                                 f"{'torques' if what == 'effort' else 'speeds'} against or to scale "
+                                 "time by (their ratios would not fit a float)"
+                                 + ("; give the joint's limit in --limits FILE" if ours else ""))
     return Limits(tuple(float(tau[i]) for i in motors),
                   tuple(None if v is None else float(v) for v in qd))
 
