@@ -4,6 +4,7 @@ fast paths it serves (vampc.emulator.trajectory).
 """
 from __future__ import annotations
 
+import os
 import platform
 import re
 import shutil
@@ -522,3 +523,40 @@ def test_write_torques_round_trips(tmp_path):
     assert lines[0] == "tau1,tau2,tau3" and len(lines) == 21
     back = np.array([[float(c) for c in line.split(",")] for line in lines[1:]])
     assert np.array_equal(back, tau) and np.signbit(back[0, 0])
+
+
+def test_an_interrupted_compile_kills_the_compilers_whole_group(tmp_path):
+    """A SIGTERM while gcc ran killed the driver only: its cc1, owned by init, went on compiling
+    after vampc had exited (an audit's find). The compiler runs in a process group of its own, and
+    the whole group is killed when the run stops waiting for it; here a shell stands for the driver
+    and a sleep for cc1."""
+    import signal
+    import time
+
+    from vampc.emulator import native
+    pidfile = tmp_path / "pid"
+
+    def interrupt(*_):
+        raise KeyboardInterrupt
+    old = signal.signal(signal.SIGALRM, interrupt)
+    signal.setitimer(signal.ITIMER_REAL, 0.5)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            native._run_compiler(["sh", "-c", f"sleep 30 & echo $! > {pidfile}; wait"], "",
+                                 dict(os.environ))
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    pid = int(pidfile.read_text())
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except FileNotFoundError:
+            break                                  # gone
+        if state in ("Z", "X"):                    # dead, not yet reaped by its new parent
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(pid, signal.SIGKILL)
+        raise AssertionError(f"the compiler's child {pid} still runs")
