@@ -508,3 +508,27 @@ def test_an_angle_within_2pi_is_not_warned_about(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_dh(path)
+
+
+def test_a_file_of_another_kind_says_what_it_looks_like(tmp_path):
+    """A YAML table named .json was 'not valid JSON: invalid character (line 1, column 1)' alone, and
+    a .npy array named .yaml 'not UTF-8 text (byte 0)' (an audit's find): each says what it looks
+    like."""
+    yaml_named_json = tmp_path / "planar2.json"
+    yaml_named_json.write_text(Path("examples/planar2.yaml").read_text())
+    with pytest.raises(VampcError) as err:
+        load_robot(yaml_named_json)
+    assert str(err.value) == (f"{yaml_named_json}: not valid JSON: invalid character (line 1, column 1); "
+                              "it looks like YAML: a DH table in YAML is named .yaml or .yml")
+    npy_named_yaml = tmp_path / "robot.yaml"
+    np.save(tmp_path / "t.npy", np.zeros((3, 6)))
+    npy_named_yaml.write_bytes((tmp_path / "t.npy").read_bytes())
+    with pytest.raises(VampcError) as err:
+        load_robot(npy_named_yaml)
+    assert str(err.value) == (f"{npy_named_yaml}: not UTF-8 text (byte 0) (it looks like a NumPy array "
+                              "(.npy: a trajectory or torques?))")
+    broken_json = tmp_path / "bad.json"                 # JSON, broken: no hint
+    broken_json.write_text('{"name": "x", joints: []}')
+    with pytest.raises(VampcError) as err:
+        load_robot(broken_json)
+    assert str(err.value) == f"{broken_json}: not valid JSON: object keys must be strings (line 1, column 15)"

@@ -22,6 +22,7 @@ DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
                 "vcd": "a VCD waveform (vampc emulate --vcd writes them)",
                 "gzip": "gzip-compressed data: decompress it first (gunzip)",
                 "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
+                "npy": "a NumPy array (.npy: a trajectory or torques?)",
                 **{name: f"{name}-compressed data" for name in OTHER_COMPRESSIONS}}
 
 
@@ -55,6 +56,8 @@ def sniff(path) -> str | None:
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
+    if head.startswith(b"\x93NUMPY"):               # (a robot file's "not UTF-8 text (byte 0)")
+        return "npy"
     if head.startswith(b"<"):
         return "svg" if b"<svg" in head and b"<robot" not in head else "urdf"
     if head.startswith(b"$") and b"$end" in head:    # (a waveform: "YAML (a DH table?)", a new user's)
