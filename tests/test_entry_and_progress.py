@@ -2,6 +2,7 @@
 in whole numbers ('53.0/904' had been printed: tqdm's unit_scale)."""
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -343,3 +344,37 @@ def test_a_counters_clock_starts_with_the_work_it_counts(monkeypatch, capsys):
         update(10, 10)
     err = capsys.readouterr().err
     assert re.search(r"10/10 \[00:00", err) and not re.search(r"10/10 \[00:0[2-9]", err), err
+
+
+def test_a_bar_is_drawn_on_a_terminal_that_says_it_has_no_columns():
+    """A pty left at 0 × 0 (as `script` makes one): tqdm, told to follow the terminal's width, drew
+    nothing, and a 104-second run showed no bar (a new user's find). It draws 80 columns there."""
+    import fcntl
+    import pty
+    import select
+    import struct
+    import termios
+    master, slave = pty.openpty()
+    assert struct.unpack("HHHH", fcntl.ioctl(slave, termios.TIOCGWINSZ, b"\0" * 8))[:2] == (0, 0)
+    code = ("import time\nimport vampc.progress as p\np.DELAY = 0\n"
+            "with p.counter('sets', 20) as update:\n"
+            "    for i in range(21):\n        update(i, 20)\n        time.sleep(0.02)\n")
+    env = {k: v for k, v in os.environ.items() if k not in ("VAMPC_PROGRESS", "COLUMNS", "LINES")}
+    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=slave,
+                            stderr=slave, env=env)
+    os.close(slave)
+    out = b""
+    while True:
+        ready, _, _ = select.select([master], [], [], 10)
+        if not ready:
+            break
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:                       # (the pty closed: Linux says EIO)
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.close(master)
+    assert proc.wait() == 0
+    assert b"sets:" in out and b"20/20" in out, out[-400:]

@@ -43,6 +43,17 @@ def enabled() -> bool:
     return sys.stderr.isatty()
 
 
+def _width() -> dict:
+    """tqdm's width options: the terminal's, followed as it is resized, or 80 columns where the
+    terminal says it has none (a pty left at 0 × 0, as `script` makes: tqdm then drew nothing, a
+    104-second run without a bar, a new user's find)."""
+    try:
+        columns = os.get_terminal_size(sys.stderr.fileno()).columns
+    except (OSError, ValueError, AttributeError):
+        columns = None
+    return {"ncols": 80} if columns == 0 else {"dynamic_ncols": True}
+
+
 class _Stderr:
     """Where bars are drawn: standard error, whose reader going away (`2> >(head -c 150)`) drops the
     bars, as say() drops a warning, instead of failing the run (the bar's redraw raised a broken
@@ -88,7 +99,7 @@ def counter(label: str, total: int, unit: str = "set"):
     from tqdm import tqdm
     with tqdm(total=total, desc=label, unit=unit, delay=_delay(),
               file=_Stderr(sys.stderr),
-              leave=False, dynamic_ncols=True) as bar:
+              leave=False, **_width()) as bar:
         def update(done: int, total_now: int) -> None:
             if total_now != bar.total:
                 bar.total = total_now
@@ -116,7 +127,7 @@ def stages(label: str, names: tuple[str, ...]):
     from tqdm import tqdm
     with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(),
               file=_Stderr(sys.stderr),
-              leave=False, dynamic_ncols=True,
+              leave=False, **_width(),
               bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}") as bar:
         running = [""]          # the stage's name, which a note follows
 
