@@ -754,3 +754,23 @@ def test_a_slide_without_a_range_is_unlimited_without_a_warning(tmp_path):
         chain = load_robot(path)
     assert [j.name for j in chain.joints] == ["j1", "j2"]
     assert chain.joints[1].limits.q is None
+
+
+def test_the_joints_a_program_leaves_out_are_the_ones_the_file_names(tmp_path):
+    """The robot's left_out (the file's joints the chain does not hold, which a limits file may name)
+    lists the MJCF's named joints only: not the fixed joints vampc makes for a welded body or a body's
+    origin, nor an unnamed joint's made-up 'jointK'."""
+    welded = tmp_path / "weld.xml"
+    welded.write_text(
+        '<mujoco model="w"><worldbody><body name="a" pos="0 0 0.1"><joint name="ja" axis="0 0 1"/>'
+        '<geom type="sphere" size="0.05" mass="1"/><body name="w" pos="0.1 0 0"><geom type="sphere" '
+        'size="0.05" mass="1"/><body name="b" pos="0.1 0 0"><joint axis="0 1 0"/><geom type="sphere" '
+        'size="0.05" mass="1"/></body></body></body></worldbody></mujoco>')
+    assert load_robot(welded).left_out == ()
+    two = tmp_path / "two.xml"
+    two.write_text(TWO_HINGES)
+    assert load_robot(two).left_out == ()
+    cut = load_robot(two, base="A", tip="C")               # j0 above the base
+    assert [j.name for j in cut.joints] == ["jb1", "jb2", "jc"] and cut.left_out == ("j0",)
+    locked = load_robot(two, base="A", tip="B", lock={"jc": 0.1})     # a lock's joint is its own
+    assert locked.locked == ("jc",) and locked.left_out == ("j0",)

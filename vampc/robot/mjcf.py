@@ -77,6 +77,8 @@ class _Joint:
     limit: _Limit | None = None
     mimic: object = None
     offset: float = 0.0           # -ref: the motion from the file's pose is qpos - ref
+    named: bool = True            # the file names it (not a weld or origin joint made here, nor an
+    #                               unnamed joint's "jointK"): a limits file can name it
 
 
 @dataclass
@@ -409,14 +411,14 @@ def _robot(model, path: Path, base: str | None = None):
         inertial = _inertial(model, b)
         if count == 0:
             joints.append(_Joint(joints_taken.new(f"{body_name[b]}_weld"), "fixed", body_name[parent], body_name[b], x,
-                                 np.array([0.0, 0.0, 1.0])))
+                                 np.array([0.0, 0.0, 1.0]), named=False))
             shift[b] = np.eye(4)
         elif kinds == [FREE]:
             if parent != 0:
                 raise located(path, _named(model, "joint", first, joint_name), "a free joint is the floating base; "
                                                                    "only a body the world carries may have one")
             joints.append(_Joint(joint_name[first], "floating", body_name[parent], body_name[b], x,
-                                 np.array([0.0, 0.0, 1.0])))
+                                 np.array([0.0, 0.0, 1.0]), named=bool(model.joint(first).name)))
             shift[b] = np.eye(4)
         else:
             # --base BODY: BODY's link frame is its body frame, its origin the body's (the joints
@@ -435,11 +437,12 @@ def _robot(model, path: Path, base: str | None = None):
                     kind = "continuous"
                 joints.append(_Joint(joint_name[j], kind, link, child,
                                      at @ _translation(c - previous), np.array(model.jnt_axis[j], dtype=float),
-                                     _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]])))
+                                     _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]]),
+                                     named=bool(model.joint(j).name)))
                 at, previous, link = np.eye(4), c, child
             if anchored:
                 joints.append(_Joint(joints_taken.new(f"{body_name[b]}_origin"), "fixed", link, body_name[b],
-                                     _translation(-previous), np.array([0.0, 0.0, 1.0])))
+                                     _translation(-previous), np.array([0.0, 0.0, 1.0]), named=False))
                 previous = np.zeros(3)
             shift[b] = _translation(-previous)
         if inertial is not None:

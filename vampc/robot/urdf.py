@@ -197,7 +197,8 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               mimic_said: str | None = "<mimic>", mimic_given: bool = False) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
-    every_joint = list(tree.joints)  # (the file's, in its order: the tree is turned below)
+    # the joints the file names, in its order (not an MJCF weld's made-up one; the tree is turned below)
+    every_joint = [name for name, j in tree.joints.items() if getattr(j, "named", True)]
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
     if mimic_said and (mimic == "couple" and not leaders and not problems
                        or mimic == "ordinary" and mimic_given
