@@ -301,8 +301,12 @@ def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
         if (id(node), robot) in seen:   # (an alias: its node is checked once)
             continue
         seen.add((id(node), robot))
-        if robot and node.tag not in _PLAIN_TAGS:
-            # (`com: !!set {...}` passed the schema as a list and was an internal error; `!!omap`)
+        if robot and node.tag not in _PLAIN_TAGS and (
+                not isinstance(node, yaml.ScalarNode) or
+                loader.resolve(yaml.ScalarNode, node.value, (True, False)) != node.tag):
+            # a tag the user wrote (`com: !!set {...}` passed the schema as a list and was an
+            # internal error; `!!omap`); an untagged date or `=`, which YAML 1.1 resolves to its
+            # own types, goes on to be said by the schema or the constructor, not called tagged
             raise located(path, f"line {node.start_mark.line + 1}", f"a value tagged "
                           f"{_tag_text(node.tag)} is not read: write it untagged")
         if isinstance(node, yaml.MappingNode):
