@@ -952,6 +952,21 @@ def test_a_limits_row_naming_a_joint_the_program_leaves_out_is_passed_over(tmp_p
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "8", "--limits", str(limits)])
     assert r.exit_code == 1 and "line 4: no joint named 'FR_HAX'" in r.output, r.output
+    assert "recompile" not in r.output                  # (the program lists what it leaves out)
+    # a program compiled before left_out was written (the field taken out, its checksum made
+    # again): its robot file's other joints are unknown, and the message says to recompile
+    from vampc.program.file import checksum
+    doc = json.loads(program.read_text())
+    del doc["robot"]["left_out"]
+    doc["checksum"] = checksum(doc)
+    older = tmp_path / "older.vamp.json"
+    older.write_text(json.dumps(doc))
+    limits.write_text("joint,tau,qd\nFL_HFE,150,\nFR_HAA,150,\n")
+    r = CliRunner().invoke(main, ["lookahead", str(older), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "8", "--limits", str(limits)])
+    assert r.exit_code == 1 and r.stderr.endswith(
+        "line 3: no joint named 'FR_HAA'; a program compiled before 2026-12-06 "
+        "does not list the joints its robot file leaves out: recompile it, if this is one\n"), r.output
     # a program of the whole robot holds every movable joint: its fixed ones alone are left out
     whole = tmp_path / "whole.vamp.json"
     assert CliRunner().invoke(main, ["compile", "examples/quadruped.urdf", "-o", str(whole)]).exit_code == 0

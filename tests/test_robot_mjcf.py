@@ -774,3 +774,20 @@ def test_the_joints_a_program_leaves_out_are_the_ones_the_file_names(tmp_path):
     assert [j.name for j in cut.joints] == ["jb1", "jb2", "jc"] and cut.left_out == ("j0",)
     locked = load_robot(two, base="A", tip="B", lock={"jc": 0.1})     # a lock's joint is its own
     assert locked.locked == ("jc",) and locked.left_out == ("j0",)
+
+
+def test_a_joint_an_equality_holds_is_left_out_not_lost(tmp_path):
+    """--mimic couple locks a joint an MJCF <equality> holds at a value; it was dropped from
+    `locked` (the user's --lock only) and not put in `left_out`, so a limits file naming it was
+    'no joint named' (a review's find)."""
+    robot = tmp_path / "eq.xml"
+    robot.write_text(
+        '<mujoco model="eq"><worldbody><body name="a" pos="0 0 0.1"><joint name="j1" axis="0 0 1"/>'
+        '<geom type="sphere" size="0.05" mass="1"/><body name="b" pos="0.1 0 0"><joint name="j2" '
+        'axis="0 1 0"/><geom type="sphere" size="0.05" mass="1"/><body name="c" pos="0.1 0 0"><joint '
+        'name="j3" axis="0 1 0"/><geom type="sphere" size="0.05" mass="1"/></body></body></body>'
+        '</worldbody><equality><joint joint1="j2" polycoef="0.3 0 0 0 0"/></equality></mujoco>')
+    held = load_robot(robot, mimic="couple")
+    assert [j.name for j in held.joints] == ["j1", "j3"] and held.locked == () and held.left_out == ("j2",)
+    mine = load_robot(robot, mimic="couple", lock={"j3": 0.1})        # the user's own lock stays one
+    assert mine.locked == ("j3",) and mine.left_out == ("j2",)

@@ -44,9 +44,11 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
                       mimic_given)
     _check_finite(chain, path)
     _check_names(chain, path)
-    if chain.locked:     # (the user's --lock only: not a joint an MJCF equality held)
+    if chain.locked:     # (the user's --lock only: a joint an MJCF equality held is left out)
         import dataclasses
-        chain = dataclasses.replace(chain, locked=tuple(n for n in chain.locked if n in (lock or {})))
+        held = tuple(n for n in chain.locked if n not in (lock or {}))
+        chain = dataclasses.replace(chain, locked=tuple(n for n in chain.locked if n in (lock or {})),
+                                    left_out=chain.left_out + held)
     return chain
 
 
