@@ -469,6 +469,16 @@ def test_a_dh_tables_zero_limit_names_its_field_and_what_it_is_for(tmp_path, fie
         f"vampc: error: {robot}: joint 'shoulder': {what} limit 0 (its limits.{field}) is below 1e-12: "
         f"too small to measure {noun} against or to scale time by (their ratios would not fit a "
         "float); give the joint's limit in --limits FILE\n"), r.output
+    # the field is said of a DH table whatever the case of its suffix, and not of a program, even
+    # one named .json (it had been guessed from the name: a review's find)
+    upper = tmp_path / "P0.YAML"
+    upper.write_text(robot.read_text())
+    program = tmp_path / "prog.json"
+    assert CliRunner().invoke(main, ["compile", str(robot), "-o", str(program)]).exit_code == 0
+    for source, field_said in ((upper, True), (program, False)):
+        r = CliRunner().invoke(main, ["lookahead", str(source), "--trajectory", str(path), "--rate",
+                                      "1kHz", "--window", "8"])
+        assert r.exit_code == 1 and (f"(its limits.{field})" in r.stderr) == field_said, r.output
 
 
 def test_a_limits_file_with_a_byte_order_mark_is_read(setup, tmp_path):

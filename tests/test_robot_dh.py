@@ -521,15 +521,21 @@ def test_a_file_of_another_kind_says_what_it_looks_like(tmp_path):
     yaml_named_json.write_text(Path("examples/planar2.yaml").read_text())
     with pytest.raises(VampcError) as err:
         load_robot(yaml_named_json)
-    assert str(err.value) == (f"{yaml_named_json}: not valid JSON: invalid character (line 1, column 1); "
-                              "it looks like YAML: a DH table in YAML is named .yaml or .yml")
+    assert str(err.value) == (f"{yaml_named_json}: this is YAML, not JSON; a DH table in YAML is named "
+                              ".yaml or .yml")
     npy_named_yaml = tmp_path / "robot.yaml"
     np.save(tmp_path / "t.npy", np.zeros((3, 6)))
     npy_named_yaml.write_bytes((tmp_path / "t.npy").read_bytes())
     with pytest.raises(VampcError) as err:
         load_robot(npy_named_yaml)
-    assert str(err.value) == (f"{npy_named_yaml}: not UTF-8 text (byte 0) (it looks like a NumPy array "
-                              "(.npy: a trajectory or torques?))")
+    assert str(err.value) == (f"{npy_named_yaml}: this is a NumPy array (.npy: a trajectory or "
+                              "torques?), not a robot description")
+    npy_named_urdf = tmp_path / "robot.urdf"           # (the same said by sniff for every robot suffix)
+    npy_named_urdf.write_bytes((tmp_path / "t.npy").read_bytes())
+    with pytest.raises(VampcError) as err:
+        load_robot(npy_named_urdf)
+    assert str(err.value) == (f"{npy_named_urdf}: this is a NumPy array (.npy: a trajectory or "
+                              "torques?), not a robot description")
     broken_json = tmp_path / "bad.json"                 # JSON, broken: no hint
     broken_json.write_text('{"name": "x", joints: []}')
     with pytest.raises(VampcError) as err:

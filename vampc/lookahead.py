@@ -198,8 +198,12 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
                 # (a DH table's `tau: 0` was told of time scaling on a run without --retime, and
                 # not where in the table it stands: a new user's find)
                 ours = (i, what) not in given
-                table = ours and str(came).endswith((".yaml", ".yml", ".json")) and \
-                    not str(came).endswith(".vamp.json")
+                from pathlib import Path
+
+                from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES
+                from vampc.sniff import is_program
+                table = ours and Path(str(came)).suffix.lower() in YAML_SUFFIXES + JSON_SUFFIXES \
+                    and not is_program(came)        # (a program named prog.json has no such field)
                 field = f" (its limits.{'tau' if what == 'effort' else 'qd'})" if table else ""
                 raise VampcError(f"{came}: joint '{j.name}': {what} limit {x:g}{field} is below "
                                  f"{SMALLEST_LIMIT:g}: too small to measure "

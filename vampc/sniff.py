@@ -137,8 +137,13 @@ def suffix_mismatch(path, expected: str) -> str | None:
         return f"this is {kind}-compressed; decompress it first"
     if kind == "vcd":
         return f"this is {DESCRIPTIONS['vcd']}, not a robot description"
+    if kind == "npy":        # (a DH table's "not UTF-8 text (byte 0)", a URDF's "not well-formed")
+        return f"this is {DESCRIPTIONS['npy']}, not a robot description"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
+    if expected == "dh" and kind == "yaml" and Path(path).suffix.lower() == ".json":
+        # (it was "not valid JSON: invalid character (line 1, column 1)" alone: an audit's find)
+        return "this is YAML, not JSON; a DH table in YAML is named .yaml or .yml"
     if expected == "urdf" and kind in ("json", "yaml"):
         return f"this is {kind.upper()}, not XML; a DH table is named .yaml, .yml or .json"
     return None

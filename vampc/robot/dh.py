@@ -192,8 +192,7 @@ def read_text(path: Path) -> str:
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except UnicodeDecodeError as exc:
-        from vampc.sniff import looks_like
-        raise located(path, "", f"not UTF-8 text (byte {exc.start}){looks_like(path)}") from None
+        raise located(path, "", f"not UTF-8 text (byte {exc.start})") from None
     except OSError as exc:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
 
@@ -364,13 +363,7 @@ def _parse_json(text: str, path: Path):
             doc = jsontext.loads(text)
         except jsontext.DecodeError as exc:
             if not str(exc).startswith("Number out of range"):
-                from vampc.sniff import sniff
-                # (a YAML table named .json was "invalid character (line 1, column 1)" alone: an
-                # audit's find; the other way round is said by the YAML reader's caller)
-                seems = ("; it looks like YAML: a DH table in YAML is named .yaml or .yml"
-                         if sniff(path) == "yaml" else "")
-                raise located(path, "", f"not valid JSON: {jsontext.decode_problem(exc, text)}"
-                              f"{seems}") from None
+                raise located(path, "", f"not valid JSON: {jsontext.decode_problem(exc, text)}") from None
             # 1e400: read as inf, as YAML reads it, so the checks name the joint (msgspec's path
             # hides the keys: `$[...][0][...]`)
             import json
