@@ -525,28 +525,33 @@ def test_write_torques_round_trips(tmp_path):
     assert np.array_equal(back, tau) and np.signbit(back[0, 0])
 
 
-def test_an_interrupted_compile_kills_the_compilers_whole_group(tmp_path):
+@pytest.mark.parametrize("how", ["signal", "timeout"])
+def test_an_interrupted_tool_is_killed_with_what_it_started(tmp_path, how):
     """A SIGTERM while gcc ran killed the driver only: its cc1, owned by init, went on compiling
-    after vampc had exited (an audit's find). The compiler runs in a process group of its own, and
-    the whole group is killed when the run stops waiting for it; here a shell stands for the driver
-    and a sleep for cc1."""
+    after vampc had exited (an audit's find); iverilog's ivlpp and ivl likewise (a review's).
+    Outside tools run in a process group of their own (background.run_tool), killed whole when the
+    run stops waiting: a signal's handler raising, or a timeout. A shell stands for the driver and
+    a sleep for what it started."""
     import signal
     import time
 
-    from vampc.emulator import native
+    from vampc.background import run_tool
     pidfile = tmp_path / "pid"
-
-    def interrupt(*_):
-        raise KeyboardInterrupt
-    old = signal.signal(signal.SIGALRM, interrupt)
-    signal.setitimer(signal.ITIMER_REAL, 0.5)
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            native._run_compiler(["sh", "-c", f"sleep 30 & echo $! > {pidfile}; wait"], "",
-                                 dict(os.environ))
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+    cmd = ["sh", "-c", f"sleep 30 & echo $! > {pidfile}; wait"]
+    if how == "signal":
+        def interrupt(*_):
+            raise KeyboardInterrupt
+        old = signal.signal(signal.SIGALRM, interrupt)
+        signal.setitimer(signal.ITIMER_REAL, 0.5)
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                run_tool(cmd, input="")
+        finally:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, old)
+    else:
+        with pytest.raises(subprocess.TimeoutExpired):
+            run_tool(cmd, timeout=0.5)
     pid = int(pidfile.read_text())
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:
@@ -559,4 +564,4 @@ def test_an_interrupted_compile_kills_the_compilers_whole_group(tmp_path):
         time.sleep(0.05)
     else:
         os.kill(pid, signal.SIGKILL)
-        raise AssertionError(f"the compiler's child {pid} still runs")
+        raise AssertionError(f"the tool's child {pid} still runs")

@@ -112,3 +112,25 @@ def in_background(fn, *args, inline: bool = False) -> Deferred:
             os._exit(code)
     os.close(write)
     return Deferred(pid, read)
+
+
+def run_tool(cmd: list, *, input: str | None = None, cwd=None, env: dict | None = None,
+             timeout: float | None = None):
+    """An outside tool run to its end (a subprocess.CompletedProcess of text), in a process group of
+    its own, the whole group killed if this process stops waiting for it: a signal or Ctrl-C (the
+    handlers raise), or `timeout` seconds (subprocess.TimeoutExpired, as subprocess.run raises).
+    Killing the tool alone left the processes it had started running, owned by init, after vampc
+    had exited: gcc's cc1 (an audit's find), iverilog's ivlpp and ivl (a review's)."""
+    import signal
+    import subprocess
+    proc = subprocess.Popen(cmd, stdin=subprocess.PIPE if input is not None else subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
+                            env=env, start_new_session=True)
+    try:
+        out, err = proc.communicate(input, timeout=timeout)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        raise
+    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)

@@ -34,7 +34,6 @@ import hashlib
 import math
 import os
 import shutil
-import subprocess
 import sysconfig
 import tempfile
 from dataclasses import dataclass
@@ -856,25 +855,6 @@ def _load(path: Path) -> ctypes.CDLL:
         raise NativeError(f"cannot load {path}: {exc}") from None
 
 
-def _run_compiler(cmd: list, source: str, env: dict) -> subprocess.CompletedProcess:
-    """The compiler run on `source` (stdin), in a process group of its own, the whole group killed if
-    this process stops waiting for it (a signal, an interrupt): killing the driver alone left its
-    cc1 running, owned by init, after vampc had exited (an audit's find)."""
-    proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
-    try:
-        out, err = proc.communicate(source)
-    except BaseException:
-        import signal
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)
-        except OSError:
-            pass
-        proc.wait()
-        raise
-    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
-
-
 def _compile(cc: str, source: str, target: Path) -> None:
     """Compile from stdin to a temporary name, then rename: concurrent runs never load half a file."""
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=".so", dir=target.parent)
@@ -883,8 +863,9 @@ def _compile(cc: str, source: str, target: Path) -> None:
     # driver, which then cannot remove them (a review found /tmp/ccXXXXXX.s left behind)
     scratch = tempfile.mkdtemp(prefix=".vampc-cc.", dir=target.parent)
     try:
-        proc = _run_compiler([cc, *CFLAGS, "-x", "c", "-", "-o", tmp], source,
-                             {**os.environ, "TMPDIR": scratch})
+        from vampc.background import run_tool
+        proc = run_tool([cc, *CFLAGS, "-x", "c", "-", "-o", tmp], input=source,
+                        env={**os.environ, "TMPDIR": scratch})
         if proc.returncode != 0:
             lines = proc.stderr.strip().splitlines() or [""]
             said = next((x for x in lines if "error" in x), lines[-1]).strip()[:300]   # (one line)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
 import tempfile
 from dataclasses import dataclass
 
@@ -213,7 +212,8 @@ def _icarus(design, run: HostRun, workdir: str | None) -> tuple[np.ndarray, bool
 
 
 def _run(cmd, cwd) -> None:
-    done = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    from vampc.background import run_tool
+    done = run_tool(cmd, cwd=cwd)
     if done.returncode:
         last = (done.stderr or done.stdout).strip().splitlines()[-1:]
         raise VampcError(f"{cmd[0]} failed: {' / '.join(last)}")

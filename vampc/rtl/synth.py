@@ -178,8 +178,8 @@ def _escape(name: str) -> str:
 
 def _tool(code: str, args, cwd: str, timeout, name: str) -> str:
     try:
-        done = subprocess.run([sys.executable, "-c", code, *args], cwd=cwd, capture_output=True,
-                              text=True, timeout=timeout)
+        from vampc.background import run_tool
+        done = run_tool([sys.executable, "-c", code, *args], cwd=cwd, timeout=timeout)
     except subprocess.TimeoutExpired:
         # (the run stops here: its figures so far are not written, as on any failure; an audit
         # found the stop unsaid by the README, which spoke only of refusing a step before it starts)
