@@ -270,6 +270,18 @@ def reference_run(ld, ports, sets: int, seed: int) -> np.ndarray:
     return tau
 
 
+def first_set_after(tick: int, period: int) -> int:
+    """The first torque set entering after a detection at Data-Mode tick `tick`: the sets before it
+    entered by the end of that cycle (run_fault's split of corrupted sets, and a results line's
+    check of it)."""
+    return tick // period + 1
+
+
+def latency_cycles(tick: int, at: int, period: int) -> int:
+    """Whole cycles from a fault's start (tick `at`) to its detection at `tick`."""
+    return (tick - at) // period
+
+
 def run_fault(setup: Setup, fault: Fault) -> dict:
     """One run with `fault`, classified (see the module docstring)."""
     ld, P = setup.ld, setup.ld.period
@@ -283,7 +295,7 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
         if ec:
             if not engine.detections:
                 return False
-            first_after = engine.detections[0]["tick"] // P + 1        # the first set after it
+            first_after = first_set_after(engine.detections[0]["tick"], P)
             return t >= (first_after + TAIL) * P + latency
         done = (seen >= 0).all(axis=1)
         return bool((done & _differs(tau, ref_bits)).any())
@@ -309,10 +321,10 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
     detections = getattr(engine, "detections", [])
     if detections:
         d = detections[0]
-        after = d["tick"] // P + 1
+        after = first_set_after(d["tick"], P)
         entered = np.arange(len(bad))
         out.update({"detected_tick": d["tick"],
-                    "latency_cycles": (d["tick"] - fault.at) // P,
+                    "latency_cycles": latency_cycles(d["tick"], fault.at, P),
                     "finder": d["finder"], "excised": d["excised"],
                     "corrupted_before": int((bad & (entered < after)).sum()),
                     "corrupted_after": int((bad & (entered >= after)).sum())})
@@ -529,8 +541,8 @@ def _a_run_of(run, faults, sets: int | None = None, period: int | None = None) -
     if period is not None and "detected_tick" in run:
         # run_fault's own rules: the sets entering before the detection's cycle ends, and the
         # whole cycles from the fault's start to it
-        if run.get("corrupted_before", 0) > run["detected_tick"] // period + 1 or \
-                run.get("latency_cycles") != (run["detected_tick"] - fault.at) // period:
+        if run.get("corrupted_before", 0) > first_set_after(run["detected_tick"], period) or \
+                run.get("latency_cycles") != latency_cycles(run["detected_tick"], fault.at, period):
             return False
     return all(whole(run[k]) for k in ("latency_cycles", "corrupted_before") if k in run) and \
         all(isinstance(run[k], bool) for k in ("named_right", "first_wrong_non_finite") if k in run)
