@@ -688,9 +688,8 @@ def test_a_dh_table_named_like_a_program_says_what_it_is(tmp_path):
     table = yaml.safe_load(Path("examples/planar2.yaml").read_text())
     path = tmp_path / "arm.vamp.json"
     path.write_text(json.dumps(table))
-    said = (f"vampc: error: {path}: not a vampc program file (it looks like a DH table in JSON: a "
-            "robot file is named .json, .yaml or .yml, not .vamp.json, the program files' name; "
-            "rename it and it compiles on the fly)\n")
+    said = (f"vampc: error: {path}: not a vampc program file (it looks like a DH table in JSON: named "
+            ".vamp.json, it is taken for a program file; name it .json and it compiles on the fly)\n")
     for args in (["emulate", str(path), "--random", "2"], ["report", str(path)],
                  ["lookahead", str(path), "--trajectory", "examples/puma560-path.csv", "--rate", "1kHz",
                   "--window", "8"]):

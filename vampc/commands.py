@@ -1963,7 +1963,7 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "mult_latency": ld.options.get("mult_latency", 1),
                      "add_latency": ld.options.get("add_latency", 1),
                      "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()},
-                     "period": ld.net.period, "latency_ticks": max(o.tick for o in ld.net.outputs)}
+                     "period": ld.net.period, "latency_ticks": ld.net.latency}
     ok = True
     estimates = _kind_estimates(ld, own) if own.synth is not None else None
     steps = _preflight(ld, own, limit, estimates)     # every step's estimate and tool before any work

@@ -484,8 +484,8 @@ def _refuse_version(doc, path) -> None:
                 isinstance(doc.get("joints"), list):
             # (`vampc compile arm.vamp.json` took a DH table so named, by its .json; emulate,
             # report and lookahead said only "format is not 'vampc-program'": a new user's find)
-            what = ("a DH table in JSON: a robot file is named .json, .yaml or .yml, not .vamp.json, "
-                    "the program files' name; rename it and it compiles on the fly")
+            what = ("a DH table in JSON: named .vamp.json, it is taken for a program file; name it "
+                    ".json and it compiles on the fly")
         raise VampcError(f"{path}: not a vampc program file (" + (f"it looks like {what}" if what else
                                                                    f"format is not {FORMAT!r}") + ")")
     if doc.get("version") == 1:

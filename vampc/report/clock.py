@@ -174,9 +174,10 @@ def per_second(flops: float, hz: float) -> float:
 
 
 def rate(count: float) -> float:
-    """A count per second as the report gives it: to the nearest whole one from 100 on (text shows
-    it with thousands separators, '1,255,556', so it must be that number: 6 significant digits
-    printed '1,255,560' for 22.6 MHz / 18), else to 6 significant digits."""
+    """A host traffic rate as the report gives it (what a link must carry: to the nearest; a
+    throughput is `per_second`'s, rounded down): to the nearest whole one from 100 on (text shows
+    it with thousands separators, so it must be that number: 6 significant digits printed
+    '1,255,560' for 1,255,555.6), else to 6 significant digits."""
     return float(round(count)) if count >= 100 else float(f"{count:.6g}")
 
 

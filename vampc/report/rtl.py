@@ -59,7 +59,8 @@ def rtl_figures(path: str, c) -> dict:
         #                     and count those of the systolic network, were taken for it)
         same += [(key, what, ours) for key, what, ours in (
             ("period", "period in ticks", net.period),
-            ("latency_ticks", "latency in ticks", max(o.tick for o in net.outputs))) if key in doc]
+            ("latency_ticks", "latency in ticks", net.latency)) if key in doc]
+
     def another(what, theirs, ours) -> None:
         if theirs != ours:
             raise VampcError(f"{path}: the figures are of another design ({what} {theirs!r}, this "
@@ -133,6 +134,14 @@ def rtl_figures(path: str, c) -> dict:
            "vamps_sum": {key: sum(r[key] * r["vamps"] for r in kinds)
                          for key in ("LUT4", "MULT18X18D", "flip_flops")},
            "fmax_mhz": min(fmax) if fmax else None}
+    if c.network is not None and "period" not in doc:    # (an older file: taken, not in silence)
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(
+            f"{path}: written before `vampc rtl` gave the period and latency, so they are not "
+            "compared: the figures are taken as this network's by its robot, word and kinds of "
+            "VAMP alone"), stacklevel=2)
     return out
 
 
