@@ -787,7 +787,8 @@ def test_limits_are_blamed_on_the_file_they_came_from_and_a_trailing_empty_heade
     own.write_text(LIMITS.replace("joint,tau,qd", "joint,tau,qd,"))
     r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "64", "--limits", str(own)])
-    assert r.exit_code == 1 and f"{robot}: joint 'waist': speed limit 1e-13 is below 1e-12" in r.output, r.output
+    assert r.exit_code == 1 and f"{robot}: joint 'waist': speed limit 1e-13 (its limits.qd) is below 1e-12" \
+        in r.output, r.output
     r = run_lookahead(program, path, own)
     assert r.exit_code == 0, r.output
 
