@@ -770,9 +770,11 @@ def test_the_joints_a_program_leaves_out_are_the_ones_the_file_names(tmp_path):
     two = tmp_path / "two.xml"
     two.write_text(TWO_HINGES)
     assert load_robot(two).left_out == ()
-    cut = load_robot(two, base="A", tip="C")               # j0 above the base
+    with pytest.warns(Warning, match="--base A: the joints above it are cut away"):
+        cut = load_robot(two, base="A", tip="C")               # j0 above the base
     assert [j.name for j in cut.joints] == ["jb1", "jb2", "jc"] and cut.left_out == ("j0",)
-    locked = load_robot(two, base="A", tip="B", lock={"jc": 0.1})     # a lock's joint is its own
+    with pytest.warns(Warning, match="--base A: the joints above it are cut away"):
+        locked = load_robot(two, base="A", tip="B", lock={"jc": 0.1})     # a lock's joint is its own
     assert locked.locked == ("jc",) and locked.left_out == ("j0",)
 
 
