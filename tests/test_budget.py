@@ -511,3 +511,29 @@ def test_the_search_says_the_interval_it_tries(monkeypatch):
     assert said and all(re.fullmatch(r"3 VAMPs, interval \d+(, latency ≤ \d+)?", s) for s in said)
     assert any("latency ≤" in s for s in said) and any(s.endswith("interval 36") or
                                                         ", interval 3" in s for s in said)
+
+
+def test_the_cheap_searchs_last_fallback_places_the_graph(monkeypatch):
+    """The trade-off sweep of a big graph (over 2000 VAMP-ops) uses _quick_for; its last fallback
+    passed dicts where modulo_schedule takes Attempts (a leftover of an older interface), so a
+    100-joint chain's `report --tradeoff` ended in an internal error where every cheaper try
+    failed (a new user's find). Here every earlier try is made to fail, on the Puma's graph: the
+    fallback runs for real and places the graph held to the latency target."""
+    from vampc.schedule import budget
+    graph = build_graph(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions())
+    timing = Timing(1, 1)
+    k = 20
+    real = budget._first_held
+    calls = []
+
+    def first_held(graph, timing, k, asap, intervals, attempts, latency):
+        calls.append(attempts)
+        if attempts is budget.BIG or attempts is budget.QUICK or len(attempts) == 1:
+            return None                               # the earlier tries fail
+        return real(graph, timing, k, asap, intervals, attempts, latency)
+    monkeypatch.setattr(budget, "_first_held", first_held)
+    monkeypatch.setattr(budget, "_latency", lambda graph, placed: 10 ** 9)   # the first one's too long
+    from vampc.schedule.asap import schedule_asap
+    placed = budget._quick_for(graph, timing, k, schedule_asap(graph, timing))
+    assert all(isinstance(a, budget.Attempt) for a in calls[-1])
+    assert placed is not None and placed.interval >= budget.bounds(graph, timing, k).interval_bound

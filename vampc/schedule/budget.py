@@ -614,7 +614,7 @@ def _quick_for(graph, timing, k, asap) -> Placed:
         placed = _first_held(graph, timing, k, asap, intervals, QUICK, target)
     if placed is None:
         placed = _first_held(graph, timing, k, asap, [max(first.interval, limit)],
-                             ({"swing": True}, {}), target)
+                             (Attempt(swing=True), Attempt()), target)
     return placed or first
 
 
