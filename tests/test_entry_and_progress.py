@@ -378,3 +378,25 @@ def test_a_bar_is_drawn_on_a_terminal_that_says_it_has_no_columns():
     os.close(master)
     assert proc.wait() == 0
     assert b"sets:" in out and b"20/20" in out, out[-400:]
+
+
+@pytest.mark.parametrize("command", ["emulate", "report"])
+def test_reading_a_program_and_preparing_the_engine_show_bars(monkeypatch, tmp_path, command):
+    """A 1000-joint log program: reading it took 4 s and the stream engine's static check and
+    data flow 10 s more, under no bar (report) or a sets bar at 0 that said nothing of them
+    (emulate; a new user's find). Each now has its bar."""
+    from click.testing import CliRunner
+
+    from vampc import progress
+    from vampc.cli import main
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "-o",
+                                     str(program)]).exit_code == 0
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    args = ["--random", "3"] if command == "emulate" else []
+    r = CliRunner().invoke(main, [command, str(program), *args])
+    assert r.exit_code == 0, r.output
+    assert "reading p.vamp.json: 0/1 stages" in r.stderr, r.stderr
+    if command == "emulate":
+        assert "preparing the stream engine: 0/1 stages" in r.stderr, r.stderr

@@ -224,8 +224,13 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
     from vampc.emulator.load import loaded_from_compiled
     from vampc.sniff import is_program
     if is_program(source):
+        from vampc import progress
         from vampc.options import WORD_OPTIONS
-        ld = load_program(source)
+        # (a 1000-joint log program took 4 s to read and 22 s before a report's first bar, with
+        # nothing on stderr: a new user's find)
+        with progress.stages(f"reading {Path(source).name}", ("program file",)) as stage:
+            stage("program file")
+            ld = load_program(source)
         check_program_options(options.given, params, source, ld.options, overrides=WORD_OPTIONS)
         if options.given & set(WORD_OPTIONS):        # a what-if: the program in another word
             from dataclasses import replace
@@ -887,7 +892,10 @@ def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, 
     from vampc.background import Deferred, in_background
     from vampc.sniff import is_program
     if is_program(source):
-        return program_compiled(source, options.given, params)
+        from vampc import progress
+        with progress.stages(f"reading {Path(source).name}", ("program file",)) as stage:
+            stage("program file")
+            return program_compiled(source, options.given, params)
     c = compile_robot(source, options, robot_opts, check_network=False)
     if not options.verify:
         return c, None, Deferred()
