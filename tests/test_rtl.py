@@ -1036,11 +1036,15 @@ def test_figures_of_the_other_layout_with_the_same_kinds_are_refused(tmp_path):
     assert ld["systolic"].net.period != ld["folded"].net.period
     # what `vampc rtl --format json` writes of each program (its figures without synthesis),
     # with synthesis figures of that program's kinds
+    # (one co-simulation of one set, 2.5 s: the systolic figures' keys as rtl writes them, checked
+    # against the folded run's)
+    r = CliRunner().invoke(main, ["rtl", str(progs["folded"]), "--cosim", "1", "--format", "json"])
+    assert r.exit_code == 0, r.output
+    run = json.loads(r.stdout.strip().splitlines()[-1])
+    assert (run["period"], run["latency_ticks"]) == (ld["folded"].net.period, ld["folded"].net.latency)
     for layout, other in (("folded", "systolic"), ("systolic", "folded")):
-        r = CliRunner().invoke(main, ["rtl", str(progs[layout]), "--cosim", "1", "--format", "json"])
-        assert r.exit_code == 0, r.output
-        written = json.loads(r.stdout.strip().splitlines()[-1])
-        assert written["period"] == ld[layout].net.period
+        written = run if layout == "folded" else {
+            **run, "period": ld[layout].net.period, "latency_ticks": ld[layout].net.latency}
         figures, _ = _figures_of(str(progs[layout]))
         assert set(figures["synth"]["kinds"]) == set(_figures_of(str(progs[other]))[0]["synth"]["kinds"])
         figures.update({k: written[k] for k in ("robot", "word", "vamps", "rounding", "overflow",
