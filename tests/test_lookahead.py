@@ -956,8 +956,9 @@ def test_a_limits_row_naming_a_joint_the_program_leaves_out_is_passed_over(tmp_p
         assert r.exit_code == 0, r.output
         for line, name in ((2, "FL_HAA"), (5, "FR_HAA"), (6, "FL_ANKLE")):
             assert f"vampc: warning: {limits}: line {line}: joint '{name}' of the robot file is not one " \
-                   "the program holds (a fixed joint, or one the base, the tip or a locked joint " \
-                   "leaves out): its limits are not used" in r.stderr, r.stderr
+                   "of the joints compiled (a fixed joint, one the base, the tip or a locked joint " \
+                   "leaves out, or one an MJCF equality holds): its limits are not used" in r.stderr, \
+                   r.stderr
         assert r.stderr.count("its limits are not used") == 3
     limits.write_text("joint,tau,qd\nFL_HFE,150,\nFL_KFE,150,\nFR_HAX,150,\n")
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
@@ -976,8 +977,16 @@ def test_a_limits_row_naming_a_joint_the_program_leaves_out_is_passed_over(tmp_p
     r = CliRunner().invoke(main, ["lookahead", str(older), "--trajectory", str(path), "--rate", "1kHz",
                                   "--window", "8", "--limits", str(limits)])
     assert r.exit_code == 1 and r.stderr.endswith(
-        "line 3: no joint named 'FR_HAA'; a program compiled before 2026-12-06 "
-        "does not list the joints its robot file leaves out: recompile it, if this is one\n"), r.output
+        "line 3: no joint named 'FR_HAA'; if the program was compiled before 2026-12-06, which did "
+        "not record the joints its robot file leaves out, recompile it\n"), r.output
+    # a robot file read here, or a program that lists what it leaves out, is no such program: a
+    # name neither has gets no such hint (a review's find)
+    limits.write_text("joint,tau,qd\nFL_HFE,150,\nFR_HAX,150,\n")
+    for source, extra in (("examples/quadruped.urdf", pick), (str(program), [])):
+        r = CliRunner().invoke(main, ["lookahead", source, *extra, "--trajectory", str(path), "--rate",
+                                      "1kHz", "--window", "8", "--limits", str(limits)])
+        assert r.exit_code == 1 and "no joint named 'FR_HAX'" in r.output and "recompile" not in r.output, \
+            r.output
     # a program of the whole robot holds every movable joint: its fixed ones alone are left out
     whole = tmp_path / "whole.vamp.json"
     assert CliRunner().invoke(main, ["compile", "examples/quadruped.urdf", "-o", str(whole)]).exit_code == 0

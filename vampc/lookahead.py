@@ -156,7 +156,9 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
     given: set = set()               # (joint, "effort" or "speed") the --limits file gave
     lines: dict[int, int] = {}       # joint -> the line of the --limits file naming it
     if path is not None:
-        tau, qd, given, lines = _read_limits(path, chain, tau, qd, tuple(locked))
+        from vampc.sniff import is_program
+        tau, qd, given, lines = _read_limits(path, chain, tau, qd, tuple(locked),
+                                             source is not None and is_program(source))
     free = set(free_joints(chain).tolist())
     unused = [chain.joints[i].name for i, what in sorted(given) if what == "effort" and i not in free]
     if unused:                        # a value the file gives is never dropped without a word
@@ -219,7 +221,7 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
 SMALLEST_LIMIT = 1e-12
 
 
-def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
+def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = (), program: bool = False):
     import csv
     import io
 
@@ -274,8 +276,9 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
             from vampc.errors import VampcWarning
             warnings.warn(VampcWarning(
                 f"{path}: line {line}: joint {shown(row[0] if row[0] in left_out else name)} of the "
-                "robot file is not one the program holds (a fixed joint, or one the base, the tip or "
-                "a locked joint leaves out): its limits are not used"), stacklevel=3)
+                "robot file is not one of the joints compiled (a fixed joint, one the base, the tip or "
+                "a locked joint leaves out, or one an MJCF equality holds): its limits are not used"),
+                stacklevel=3)
             continue
         if name not in names:
             matches = padded.get(name, [])
@@ -283,10 +286,10 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = ()):
                 from vampc.textio import did_you_mean
                 # (a program compiled before robot.left_out was written does not say which of
                 # its robot file's joints it leaves out: a review's find)
-                older = "" if matches or left_out or not str(chain.source).lower().endswith(
-                    (".urdf", ".xml")) else ("; a program compiled before 2026-12-06 does not list "
-                                             "the joints its robot file leaves out: recompile it, "
-                                             "if this is one")
+                older = "" if matches or left_out or not program or not str(
+                    chain.source).lower().endswith((".urdf", ".xml")) else (
+                    "; if the program was compiled before 2026-12-06, which did not record the "
+                    "joints its robot file leaves out, recompile it")
                 raise VampcError(f"{path}: line {line}: no joint named {shown(name)}"
                                  + (f" (joints {', '.join(map(shown, matches))} differ only in "
                                     "spaces round their names: write the name as the robot "
