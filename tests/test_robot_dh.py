@@ -426,7 +426,11 @@ ROW = ("name: t\njoints:\n  - name: j1\n    type: revolute\n    a: {a}\n    alph
      "line 3: YAML merge keys (<<) are not read"),
     # untagged values YAML 1.1 resolves to its own types are not called tagged (a review's find)
     (ROW.format(a="2001-12-14", com="[0, 0, 0]"), 'joints[0].a (joint 1): "2001-12-14" is not of type '
-     '"number"')])
+     '"number"'),
+    (ROW.format(a="=", com="[0, 0, 0]"), 'joints[0].a (joint 1): "=" is not of type "number"'),
+    (ROW.format(a="<<", com="[0, 0, 0]"), "line 5: '<<' is YAML's merge key, not a value"),
+    (ROW.format(a="!!timestamp 2001-12-14", com="[0, 0, 0]"), "line 5: a value tagged !!timestamp is "
+     "not read")])
 def test_tagged_values_and_keys_that_are_not_names_are_one_line(tmp_path, text, says):
     """PyYAML's constructors raise Python's own errors (TypeError, ValueError, KeyError, ...) for a
     tagged value they cannot make, or a list as a key: each was an internal error, exit 3 (an

@@ -258,6 +258,13 @@ def _tag_text(tag: str) -> str:
 
 _FLOAT = re.compile(r"""^[-+]?(?:[0-9][0-9_]*)?(?:\.[0-9_]*)?[eE][-+]?[0-9]+$""")
 _Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456789."))
+# YAML 1.1's dates and `=` are text here, as in YAML 1.2 and JSON (the schema then says a date where
+# a number is due is no number; PyYAML's "no constructor for the tag value" had been said of `a: =`),
+# so a tag on a value is always one the user wrote (a review's find)
+_Loader.yaml_implicit_resolvers = {
+    first: [(tag, rx) for tag, rx in resolvers
+            if tag not in ("tag:yaml.org,2002:timestamp", "tag:yaml.org,2002:value")]
+    for first, resolvers in _Loader.yaml_implicit_resolvers.items()}
 
 
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode, deep: bool = False) -> dict:
@@ -300,12 +307,12 @@ def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
         if (id(node), robot) in seen:   # (an alias: its node is checked once)
             continue
         seen.add((id(node), robot))
-        if robot and node.tag not in _PLAIN_TAGS and (
-                not isinstance(node, yaml.ScalarNode) or
-                loader.resolve(yaml.ScalarNode, node.value, (True, False)) != node.tag):
+        if robot and node.tag == _MERGE:          # (`a: <<`: a merge key's mark as a value)
+            raise located(path, f"line {node.start_mark.line + 1}", "'<<' is YAML's merge key, "
+                          "not a value")
+        if robot and node.tag not in _PLAIN_TAGS:
             # a tag the user wrote (`com: !!set {...}` passed the schema as a list and was an
-            # internal error; `!!omap`); an untagged date or `=`, which YAML 1.1 resolves to its
-            # own types, goes on to be said by the schema or the constructor, not called tagged
+            # internal error; `!!omap`): dates and `=` resolve to text here (_Loader)
             raise located(path, f"line {node.start_mark.line + 1}", f"a value tagged "
                           f"{_tag_text(node.tag)} is not read: write it untagged")
         if isinstance(node, yaml.MappingNode):
