@@ -167,8 +167,9 @@ def us(flops: float, hz: float) -> float:
 
 def per_second(flops: float, hz: float) -> float:
     """How many times per second something taking `flops` ticks happens at `hz` (the clock as its
-    float prints), exactly, rounded down as `rate` rounds: a throughput is never said to be more
-    than it is (20 MHz over 27 flops is 740,740.74: 740,741 had been said, a new user's find)."""
+    float prints), exactly, rounded down (to the unit from 100 on, else to 6 significant digits;
+    `rate`, the host traffic's, rounds to the nearest): a throughput is never said to be more than
+    it is (20 MHz over 27 flops is 740,740.74: 740,741 had been said, a new user's find)."""
     q = exact(hz) / Fraction(flops)
     return down(q, 0) if q >= 100 else down(q, 6)
 
