@@ -217,6 +217,27 @@ def robot_notes(chain) -> str:
 
 # --- programs -------------------------------------------------------------------------------------
 
+@contextlib.contextmanager
+def reading(source: str):
+    """A bar while a program file is read and its IRs rebuilt (a 1000-joint log program took 4 s to
+    read and 22 s before a report's first bar, with nothing on stderr: a new user's find)."""
+    from vampc import progress
+    with progress.stages(f"reading {Path(source).name}", ("program file",)) as stage:
+        stage("program file")
+        yield
+
+
+def preparing(ld, count: int):
+    """The stream engine's static check and data flow for `count` sets (prepare_stream), under a bar
+    of their own: 9.6 s for a 500-joint log program had run under a sets bar at 0 that said
+    nothing of them (a new user's find)."""
+    from vampc import progress
+    from vampc.emulator import prepare_stream
+    with progress.stages("preparing the stream engine", ("static check and data flow",)) as stage:
+        stage("static check and data flow")
+        return prepare_stream(ld, count)
+
+
 def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, params: dict):
     """The emulator's IRs of SOURCE: a program file read, or a robot compiled in this process.
     `params`: the compile and robot option values given (checked against a program file's)."""
@@ -224,12 +245,8 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
     from vampc.emulator.load import loaded_from_compiled
     from vampc.sniff import is_program
     if is_program(source):
-        from vampc import progress
         from vampc.options import WORD_OPTIONS
-        # (a 1000-joint log program took 4 s to read and 22 s before a report's first bar, with
-        # nothing on stderr: a new user's find)
-        with progress.stages(f"reading {Path(source).name}", ("program file",)) as stage:
-            stage("program file")
+        with reading(source):
             ld = load_program(source)
         check_program_options(options.given, params, source, ld.options, overrides=WORD_OPTIONS)
         if options.given & set(WORD_OPTIONS):        # a what-if: the program in another word
@@ -406,10 +423,13 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         # (the check runs chunk by chunk beside the engine: its bar said "stream engine" alone, for
         # 3.6 s against the engine's 0.52 s of 300 000 sets: a new user's find)
         label = f"{own.engine} engine" + (" and check" if own.check_torques else "")
+        # (prepared under its own bar before the sets' bar: nested in it, it had drawn below an
+        # empty line, a review's find)
+        stream = preparing(ld, states.count) if own.engine == "stream" else None
         with progress.counter(label, states.count) as bar:
             outcome = run(ld, states, engine=own.engine, seed=own.seed, vcd=sinks.vcd,
                           check=own.check_torques, sink=sinks.chunk, progress=bar,
-                          faults=tuple(parse_fault(text) for text in own.fault))
+                          faults=tuple(parse_fault(text) for text in own.fault), stream=stream)
         sinks.finish_vcd()
         word = ld.arith
         if ld.word is None:
@@ -892,9 +912,7 @@ def _report_compiled(source, options: CompileOptions, robot_opts: RobotOptions, 
     from vampc.background import Deferred, in_background
     from vampc.sniff import is_program
     if is_program(source):
-        from vampc import progress
-        with progress.stages(f"reading {Path(source).name}", ("program file",)) as stage:
-            stage("program file")
+        with reading(source):
             return program_compiled(source, options.given, params)
     c = compile_robot(source, options, robot_opts, check_network=False)
     if not options.verify:
@@ -931,7 +949,8 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
     from vampc.sniff import is_program
     outs = plan_outputs([source], {"--curve": own.curve, "--html": own.html})
     if is_program(source):
-        c, _, check = program_compiled(source, options.given, params)
+        with reading(source):
+            c, _, check = program_compiled(source, options.given, params)
         check.wait()
         chain, options = c.chain, c.options
         if c.network.bus is not None:      # (a robot file's --bus is refused with --tradeoff)
@@ -1331,8 +1350,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     from vampc import progress
     network = lambda tr: emulate(ld, tr, own.engine).tau            # noqa: E731
     if envelope and own.engine == "stream":      # (many short calls: the engine prepared once)
-        from vampc.emulator import prepare_stream
-        prepared = prepare_stream(ld, traj.count * futures * own.window)
+        prepared = preparing(ld, traj.count * futures * own.window)
         network = lambda tr: emulate(ld, tr, "stream", stream=prepared).tau    # noqa: E731
     with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
         try:

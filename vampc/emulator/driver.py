@@ -238,10 +238,11 @@ class Outcome:
 
 def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=None,
         check: bool = False, sink: Callable[[Trajectory, np.ndarray], None] | None = None,
-        progress=None, faults=()) -> Outcome:
+        progress=None, faults=(), stream=None) -> Outcome:
     """Run every state through the engine. Each chunk's states and torques go to `sink(traj, tau)`
     in order. A non-finite torque is a VampcError naming the set and the joint. `faults`: injected
-    into the tick engine (vampc.emulator.faults)."""
+    into the tick engine (vampc.emulator.faults). `stream`: the stream engine's preparation for
+    these states (prepare_stream), made here when not given."""
     engine = Engine(engine)
     match engine:
         case Engine.TICK:           # one chunk: the tick engine runs the sets back to back
@@ -254,20 +255,15 @@ def run(ld: Loaded, states: States, engine: str = "stream", seed: int = 0, vcd=N
     from vampc.emulator.stream import count_overflows_from_here
     count_overflows_from_here(ld)
     with np.errstate(over="ignore", invalid="ignore"):   # non-finite torques are refused below
-        return _run(ld, states, engine, seed, vcd, check, sink, progress, size, faults)
+        return _run(ld, states, engine, seed, vcd, check, sink, progress, size, faults, stream)
 
 
-def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, faults=()) -> Outcome:
+def _run(ld, states, engine: Engine, seed, vcd, check, sink, progress, size, faults=(),
+         stream=None) -> Outcome:
     from vampc.emulator import emulate, prepare_stream
     merged, seconds, first = None, 0.0, None
-    stream = None
-    if engine is Engine.STREAM:
-        # the static check and the engine's flow before the first set (9.6 s for a 500-joint log
-        # program, under a sets bar at 0 that said nothing of them: a new user's find)
-        from vampc import progress as bars
-        with bars.stages("preparing the stream engine", ("static check and data flow",)) as stage:
-            stage("static check and data flow")
-            stream = prepare_stream(ld, states.count)
+    if engine is Engine.STREAM and stream is None:
+        stream = prepare_stream(ld, states.count)
     if progress is not None:      # the sets start now: the bar's clock too (the static check of a
         progress(0, states.count)  # 1024-joint log program had counted as 13 s of 20 sets' time)
     sites: list[str] = []
