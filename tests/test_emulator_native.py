@@ -565,3 +565,22 @@ def test_an_interrupted_tool_is_killed_with_what_it_started(tmp_path, how):
     else:
         os.kill(pid, signal.SIGKILL)
         raise AssertionError(f"the tool's child {pid} still runs")
+
+
+def test_the_rtl_tools_run_through_the_same_helper(monkeypatch, tmp_path):
+    """iverilog (cosim._run) and the YoWASP tools (synth._tool) go through background.run_tool,
+    whose whole process group is killed on a signal (the test above): reverting either to
+    subprocess.run passed every test (a review's find)."""
+    import subprocess as sp
+
+    from vampc import background
+    from vampc.rtl import cosim, synth
+    calls = []
+
+    def fake(cmd, **kw):
+        calls.append(cmd)
+        return sp.CompletedProcess(cmd, 0, "out", "")
+    monkeypatch.setattr(background, "run_tool", fake)
+    cosim._run(["iverilog", "-o", "x"], str(tmp_path))
+    assert synth._tool("print(1)", ["a"], str(tmp_path), 5, "yosys") == "out"
+    assert calls[0] == ["iverilog", "-o", "x"] and calls[1][1:] == ["-c", "print(1)", "a"]
