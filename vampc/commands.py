@@ -1798,7 +1798,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                       (available_cores() if own.workers is None else own.workers),
                       whole="a fault campaign runs on the tick engine: give --workers 1, or run "
                       "it on a machine with more memory (--scheduler)")
-    last = (sets - 1) * ld.period + max(o.tick for o in ld.net.outputs)
+    last = (sets - 1) * ld.period + ld.net.latency
     if own.at > last:
         raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "
                          "sets)")

@@ -66,7 +66,7 @@ def _stream(ld, traj, progress, stream, start) -> Emulation:
     values = port_values(ld, traj)
     inputs = {i: values[(p, e)] for i, (p, e, _) in enumerate(stream.flow.inputs)}
     tau = stream.run(inputs, traj.count, progress)
-    latency = max(o.tick for o in ld.net.outputs)
+    latency = ld.net.latency
     P = ld.period
     return Emulation(tau, "stream", ld.load_ticks, latency, P, (traj.count - 1) * P + latency + 1,
                      time.perf_counter() - start)

@@ -80,7 +80,7 @@ def default_sets(ld) -> int:
     from vampc.network.checking import warmup
     w = warmup(ld.programs, ld.timing, ld.period)
     k = ld.net.checking.compare if ld.net.checking is not None else 1
-    latency = max(o.tick for o in ld.net.outputs)
+    latency = ld.net.latency
     return check_periods(len(ld.net.vamps), w, k) + math.ceil(latency / ld.period) + TAIL + 1
 
 
@@ -93,7 +93,7 @@ def reach_sets(ld) -> int:
     them to leave the network; without error correction, only the latter."""
     from vampc.emulator.checking import sweep_periods
     from vampc.network.checking import warmup
-    latency = max(o.tick for o in ld.net.outputs)
+    latency = ld.net.latency
     drain = math.ceil(latency / ld.period) + TAIL + 1
     if ld.net.checking is None:
         return drain
@@ -286,7 +286,7 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
     """One run with `fault`, classified (see the module docstring)."""
     ld, P = setup.ld, setup.ld.period
     ec = ld.net.checking is not None
-    latency = max(o.tick for o in ld.net.outputs)
+    latency = ld.net.latency
     ref_bits = setup.reference.view(np.int64)
     out = {"fault": fault.text, "vamp": fault.vamp, "kind": _kind(fault)}
     engine = engine_class(ld)(ld, seed=setup.seed, faults=[fault])

@@ -272,7 +272,7 @@ class TickEngine:
         span = max([o.tick for o in self.ld.net.outputs] + list(self.ld.schedule.finish))
         self.steady = (span, count * P)
         outs = self.ld.net.outputs
-        last_tick = (count - 1) * P + max(o.tick for o in outs)
+        last_tick = (count - 1) * P + self.ld.net.latency
         if self.faults:
             from vampc.emulator.faults import check_faults
             check_faults(self.faults, self.ld, last_tick)

@@ -43,7 +43,7 @@ def run_ticks(ld, count: int) -> int:
     never run in the design, and the overflow outputs disagreed)."""
     last_dump = max(ld.schedule.finish) - 1
     return ld.load_ticks + (count - 1) * ld.net.period + \
-        max(max(o.tick for o in ld.net.outputs), last_dump) + 1
+        max(ld.net.latency, last_dump) + 1
 
 
 def host_run(ld, traj, inputs) -> HostRun:
