@@ -793,3 +793,42 @@ def test_a_joint_an_equality_holds_is_left_out_not_lost(tmp_path):
     assert [j.name for j in held.joints] == ["j1", "j3"] and held.locked == () and held.left_out == ("j2",)
     mine = load_robot(robot, mimic="couple", lock={"j3": 0.1})        # the user's own lock stays one
     assert mine.locked == ("j3",) and mine.left_out == ("j2",)
+
+
+def test_floating_an_mjcf_without_a_free_joint_floats_its_top_body(tmp_path):
+    """--floating-base on an MJCF with no free joint floated the world body: the base at the world's
+    origin (the trunk 0.4 m above it) and a table welded to the world counted in it, exit 0 unsaid
+    (base_fz 203 N over; a new user's find). Pinocchio (a free-flyer root on the file) and MuJoCo float
+    the robot's top body: so does vampc, checked against Pinocchio's rnea here."""
+    from vampc.compiler import CompileOptions, compile_chain, program_document
+    from vampc.emulator import emulate, loaded_from_doc
+    from vampc.emulator.host import random_trajectory
+    path = tmp_path / "trunk.xml"
+    path.write_text(
+        '<mujoco model="t"><compiler angle="radian"/><worldbody>'
+        '<body name="trunk" pos="0 0 0.4"><inertial pos="0 0 0" mass="8" diaginertia="0.05 0.12 0.14"/>'
+        '<body name="thigh" pos="0.25 0.1 0"><joint name="hip" type="hinge" axis="0 1 0" range="-2 2"/>'
+        '<inertial pos="0 0 -0.1" mass="1" diaginertia="0.003 0.003 0.0003"/></body></body>'
+        '<body name="table" pos="2 0 0"><inertial pos="0 0 0" mass="20" diaginertia="1 1 1"/></body>'
+        '</worldbody></mujoco>')
+    chain = load_robot(path, floating=True)
+    assert chain.floating and [j.name for j in chain.joints] == ["hip"]
+    assert chain.base_mass == pytest.approx(8.0)              # the trunk's, not the table's too
+    traj = random_trajectory(chain, 5, 3)
+    with warnings.catch_warnings():          # (this overload returns the model and its constraints,
+        warnings.simplefilter("ignore")      # with a deprecation warning, in Pinocchio 3)
+        pm = pin.buildModelFromMJCF(str(path), pin.JointModelFreeFlyer(), "root_joint")
+    pm = pm[0] if isinstance(pm, tuple) else pm
+    pm.gravity.linear = mujoco.MjModel.from_xml_path(str(path)).opt.gravity
+    data, want = pm.createData(), []
+    for s in range(traj.count):
+        q, v, a = pin.neutral(pm), np.zeros(pm.nv), np.zeros(pm.nv)
+        q[7:], v[6:], a[6:] = traj.q[s], traj.qd[s], traj.qdd[s]
+        b = traj.base[s]
+        v[:6], a[:6] = np.r_[0, 0, 0, b[:3]], np.r_[b[6:], b[3:6]]
+        tau = pin.rnea(pm, data, q, v, a)
+        want.append(np.r_[tau[6:], tau[:6]])
+    want = np.array(want)
+    ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
+    got = emulate(ld, traj, "stream").tau
+    assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want)), (got[0], want[0])

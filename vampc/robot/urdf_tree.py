@@ -169,7 +169,18 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     if len(roots) != 1:
         raise located(path, "", f"several root links ({quoted(roots)}); choose one with --base")
     carried = _floating_child(tree, roots[0])
-    return (carried, True) if carried else (roots[0], floating)
+    if carried:
+        return carried, True
+    if floating and not tree.by_name:
+        # an MJCF with no free joint, --floating-base: its root is the world body, and floating
+        # that put the base at the world's origin and counted the bodies welded to the world (a
+        # scene's table) in it; Pinocchio and MuJoCo float the robot's top body (a new user's
+        # find). The one body under the world with moving joints below it, welded to the world.
+        top = tree.children[roots[0]]
+        moving = [j for j in top if any(k.type in MOVABLE for k in tree.below(j.child))]
+        if len(moving) == 1 and all(j.type == "fixed" for j in top):
+            return moving[0].child, True
+    return roots[0], floating
 
 
 def _after_last_joint(tree: Tree, link: str) -> str:
