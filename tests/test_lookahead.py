@@ -1395,3 +1395,23 @@ def test_the_torque_at_rest_is_said_to_be_what_makes_it(tmp_path):
                                       "--window", "8", "--limits", str(limits), "--retime", retime])
         assert r.exit_code == 1 and "row 1: joint 'j1' needs 5 at rest (the tip load alone), beyond its " \
             "limit 1" in r.output, r.output
+
+
+def test_a_floating_base_is_refused_as_the_option_or_as_the_robots(tmp_path):
+    """The look-ahead does not run a floating base: `--floating-base` is a usage error (exit 2, as
+    options that do not apply are; it was exit 1, a new user's find); a robot that floats by its
+    own file is that file's error (exit 1)."""
+    r = CliRunner().invoke(main, ["lookahead", "examples/quadruped.urdf", "--floating-base",
+                                  "--trajectory", "examples/puma560-path.csv", "--rate", "1kHz",
+                                  "--window", "8"])
+    assert r.exit_code == 2 and "--floating-base: vampc lookahead does not run a floating base yet" \
+        in r.stderr, r.output
+    robot = tmp_path / "float.yaml"
+    import yaml
+    table = yaml.safe_load(Path("examples/planar2.yaml").read_text())
+    table["base"] = {**table.get("base", {}), "floating": True}
+    robot.write_text(yaml.safe_dump(table))
+    r = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", "examples/puma560-path.csv",
+                                  "--rate", "1kHz", "--window", "8"])
+    assert r.exit_code == 1 and r.stderr == (f"vampc: error: {robot}: a floating base is not supported "
+                                             "by vampc lookahead yet\n"), r.output

@@ -1245,6 +1245,10 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     outs = plan_outputs([source, own.trajectory, own.accelerations, named_file(own.limits)],
                         {"-o": own.output, "--torques": own.torques, "--plot": own.plot},
                         stdout_ok=("-o", "--torques"), writes={"-o": CSV_TABLE, "--torques": CSV_TABLE})
+    if robot_opts.floating_base:     # (the option: a usage error, exit 2, as options that do not
+        #                              apply are; it was exit 1, a new user's find)
+        raise VampcUsageError("--floating-base: vampc lookahead does not run a floating base yet "
+                              "(README, vampc lookahead)")
     ld = loaded(source, options, robot_opts, params)
     if ld.chain.floating:
         raise VampcError(f"{source}: a floating base is not supported by vampc lookahead yet")
