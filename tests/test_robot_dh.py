@@ -540,6 +540,11 @@ def test_a_file_of_another_kind_says_what_it_looks_like(tmp_path):
         load_robot(npy_named_urdf)
     assert str(err.value) == (f"{npy_named_urdf}: this is a NumPy array (.npy: a trajectory or "
                               "torques?), not a robot description")
+    commented = tmp_path / "c.json"          # JSON with a comment, which YAML does not read either:
+    commented.write_text('// my robot\n{"name": "x", "joints": []}\n')   # the JSON reader's place
+    with pytest.raises(VampcError) as err:
+        load_robot(commented)
+    assert str(err.value) == f"{commented}: not valid JSON: invalid character (line 1, column 1)"
     broken_json = tmp_path / "bad.json"                 # JSON, broken: no hint
     broken_json.write_text('{"name": "x", joints: []}')
     with pytest.raises(VampcError) as err:

@@ -73,6 +73,17 @@ def sniff(path) -> str | None:
     return "yaml" if ":" in text else None
 
 
+def _yaml_table(path) -> bool:
+    """Whether the file reads as YAML to a mapping with joints (a DH table in YAML)."""
+    import yaml
+    try:
+        doc = yaml.load(Path(path).read_text(encoding="utf-8"),
+                        Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+    except (yaml.YAMLError, OSError, UnicodeDecodeError, RecursionError):
+        return False
+    return isinstance(doc, dict) and "joints" in doc
+
+
 def _program_text(head: bytes) -> bool:
     """Whether a text's start is a program file's: its format named, or the checksum line vampc
     writes first (all a compact form's first member holds)."""
@@ -141,8 +152,11 @@ def suffix_mismatch(path, expected: str) -> str | None:
         return f"this is {DESCRIPTIONS['npy']}, not a robot description"
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
-    if expected == "dh" and kind == "yaml" and Path(path).suffix.lower() == ".json":
-        # (it was "not valid JSON: invalid character (line 1, column 1)" alone: an audit's find)
+    if expected == "dh" and kind == "yaml" and Path(path).suffix.lower() == ".json" and \
+            _yaml_table(path):
+        # (it was "not valid JSON: invalid character (line 1, column 1)" alone: an audit's find;
+        # a JSON file with a comment before its table, which YAML does not read either, is left
+        # to the JSON reader's message and place: a review's find)
         return "this is YAML, not JSON; a DH table in YAML is named .yaml or .yml"
     if expected == "urdf" and kind in ("json", "yaml"):
         return f"this is {kind.upper()}, not XML; a DH table is named .yaml, .yml or .json"
