@@ -134,7 +134,7 @@ def rtl_figures(path: str, c) -> dict:
            "vamps_sum": {key: sum(r[key] * r["vamps"] for r in kinds)
                          for key in ("LUT4", "MULT18X18D", "flip_flops")},
            "fmax_mhz": min(fmax) if fmax else None}
-    if c.network is not None and "period" not in doc:    # (an older file: taken, not in silence)
+    if net is not None and "period" not in doc:    # (an older file: taken, not in silence)
         import warnings
 
         from vampc.errors import VampcWarning

@@ -299,8 +299,9 @@ _PLAIN_TAGS = {"tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "f
 
 def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
     """VampcError naming the line of the first number YAML 1.1 reads as another value (see above),
-    or of a merge key (`<<: *row`: not read; merged mappings repeat every entry they merge, so a
-    small file nesting them grows without bound before its keys collapse)."""
+    of a value of the robot tagged by hand (`!!set`, `!!float nan`: _PLAIN_TAGS), or of a merge key
+    anywhere, annotations included (`<<: *row`: not read; merged mappings repeat every entry they
+    merge, so a small file nesting them grows without bound before its keys collapse)."""
     stack, seen = [(root, True)], set()
     while stack:
         node, robot = stack.pop()       # robot: what the robot is built from (not an annotation)
