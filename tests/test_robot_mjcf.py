@@ -79,10 +79,17 @@ HUMANOID = model("humanoid", body(
           '<body name="pelvis" pos="0 0 1" quat="1 0 0 0"><freejoint name="root"/>')
 
 
-def pin_reference(path, chain, traj):
+def pin_reference(path, chain, traj, free_flyer: bool = False):
     """Pinocchio's rnea on its MJCF model, its velocities in vampc's joint order (its v order, one
-    entry a joint, a composite's in file order), gravity set from the file as MuJoCo reads it."""
-    pm = pin.buildModelFromMJCF(str(path))
+    entry a joint, a composite's in file order), gravity set from the file as MuJoCo reads it;
+    `free_flyer`: the model built with a free-flyer root (a file with no free joint, floated)."""
+    if free_flyer:
+        with warnings.catch_warnings():      # (this overload returns the model and its constraints,
+            warnings.simplefilter("ignore")  # with a deprecation warning, in Pinocchio 3)
+            pm = pin.buildModelFromMJCF(str(path), pin.JointModelFreeFlyer(), "root_joint")
+        pm = pm[0] if isinstance(pm, tuple) else pm
+    else:
+        pm = pin.buildModelFromMJCF(str(path))
     pm.gravity.linear = mujoco.MjModel.from_xml_path(str(path)).opt.gravity
     head = 6 if chain.floating else 0
     assert pm.nv == chain.n + head
@@ -815,20 +822,7 @@ def test_floating_an_mjcf_without_a_free_joint_floats_its_top_body(tmp_path):
     assert chain.floating and [j.name for j in chain.joints] == ["hip"]
     assert chain.base_mass == pytest.approx(8.0)              # the trunk's, not the table's too
     traj = random_trajectory(chain, 5, 3)
-    with warnings.catch_warnings():          # (this overload returns the model and its constraints,
-        warnings.simplefilter("ignore")      # with a deprecation warning, in Pinocchio 3)
-        pm = pin.buildModelFromMJCF(str(path), pin.JointModelFreeFlyer(), "root_joint")
-    pm = pm[0] if isinstance(pm, tuple) else pm
-    pm.gravity.linear = mujoco.MjModel.from_xml_path(str(path)).opt.gravity
-    data, want = pm.createData(), []
-    for s in range(traj.count):
-        q, v, a = pin.neutral(pm), np.zeros(pm.nv), np.zeros(pm.nv)
-        q[7:], v[6:], a[6:] = traj.q[s], traj.qd[s], traj.qdd[s]
-        b = traj.base[s]
-        v[:6], a[:6] = np.r_[0, 0, 0, b[:3]], np.r_[b[6:], b[3:6]]
-        tau = pin.rnea(pm, data, q, v, a)
-        want.append(np.r_[tau[6:], tau[:6]])
-    want = np.array(want)
+    want = pin_reference(path, chain, traj, free_flyer=True)
     ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
     got = emulate(ld, traj, "stream").tau
     assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want)), (got[0], want[0])
