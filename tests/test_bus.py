@@ -687,7 +687,7 @@ def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
     counter of P.bit_length() bits, a source of enough bits for the deepest buffer's stages, and a
     6-bit tier; the word line is the point-to-point program's plus those."""
     robot = EXAMPLES / "planar2.yaml"
-    totals = {}
+    totals, counts = {}, {}
     for name, extra in (("p2p", []), ("bus", ["--bus", "mlb"])):
         program = tmp_path / f"{name}.vamp.json"
         r = CliRunner().invoke(main, ["compile", str(robot), "--word", "q16.16", "-o", str(program), *extra])
@@ -695,6 +695,7 @@ def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
         rep = json.loads(CliRunner().invoke(main, ["report", str(program), "--format", "json"]).output)
         totals[name] = rep["word"]["control_register_bits"]
         net = json.loads(program.read_text())["network"]
+        counts[name] = rep["hardware"]["control_registers"]
     writes = net["bus"]["writes"]
     deepest = max(b["stages"] for b in net["buffers"])
     each = int(net["period"]).bit_length() + max(1, deepest.bit_length()) + 6
@@ -702,3 +703,10 @@ def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
     # (the tier selects the bus adds to the slot tables: an operand's inputs are its tiers and wires)
     selects = totals["bus"] - totals["p2p"] - len(writes) * each
     assert 0 < selects < len(writes) * each, (totals, len(writes), each)
+    # and their number: the bits were counted and the registers were not (a new user's find).
+    # (the paper's four for a VAMP of one slot reading one input on each operand, six a slot else)
+    programs = json.loads(program.read_text())["programs"]
+    slots = {p["vamp"]: len(p["slots"]) for p in programs}
+    slot_registers = sum(4 if slots[v["index"]] == len(v["a"]) == len(v["b"]) == 1
+                         else 6 * slots[v["index"]] for v in net["vamps"])
+    assert counts["bus"] == slot_registers + len(writes), (counts, slot_registers, len(writes))

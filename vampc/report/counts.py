@@ -260,7 +260,8 @@ def hardware(c) -> dict:
 def hardware_counts(c) -> dict:
     """What a layout needs beyond one op per VAMP, counted from the network and the program:
     slots (ops run per period), control registers (the paper's four per single-slot VAMP with one
-    input per operand; six per slot — the four and two selects — otherwise), multiplexer inputs
+    input per operand; six per slot — the four and two selects — otherwise; on the Mostly-Local Bus
+    also each bus-write register, which word_bits counts in the control bits too), multiplexer inputs
     beyond the first of each operand, program ports, host writes per torque set, the period and
     buffer clock, program words and Program-Mode load time."""
     net = c.network
@@ -271,6 +272,8 @@ def hardware_counts(c) -> dict:
         control = 4 * len(slots)
     else:
         control = sum(4 if s == a == b == 1 else 6 * s for s, a, b in zip(slots, ins_a, ins_b))
+    if net.bus is not None:     # (a new user's find: the bits were counted, the registers were not)
+        control += len(net.bus.writes)
     from vampc.program.emit import load_ticks
     return {
         "slots": sum(slots),
