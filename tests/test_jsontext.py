@@ -58,11 +58,29 @@ def test_what_is_not_json_is_a_decode_error(text):
     ('{"a":\n [1, NaN]}', "NaN is not allowed (line 2, column 6)"),
     ('{"a":\n [1, -Infinity]}', "-Infinity is not allowed (line 2, column 6)"),
     ('{"a": 1,}', "trailing comma in object (line 1, column 9)"),
+    # text cut short: said where it ends, just past its last character (no place was said before)
+    ('{"program": "x",\n "synth": [1,2', "it ends early (line 2, column 15)"),
+    ('{"a": [\n\n  \n', "it ends early (line 1, column 8)"),
 ])
 def test_a_decode_problem_is_said_with_its_line_and_column(text, said):
     with pytest.raises(jsontext.DecodeError) as exc:
         jsontext.loads(text)
     assert jsontext.decode_problem(exc.value, text) == said
+
+
+def test_report_rtl_figures_cut_short_are_said_with_their_place(tmp_path):
+    """`report --rtl` of a figures file cut short said "not JSON (Input data was truncated)", no
+    line or column (a new user's find)."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    figures = tmp_path / "cut.json"
+    figures.write_text('{"program": "x",\n "synth": [1,2')
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                  "--rtl", str(figures)])
+    assert r.exit_code == 1 and r.stderr == \
+        f"vampc: error: {figures}: not JSON: it ends early (line 2, column 15)\n"
 
 
 def test_number_rows_from_a_flat_array_are_the_rows_written_one_by_one():
@@ -171,7 +189,7 @@ def test_json_nested_too_deeply_is_not_json_for_every_reader(tmp_path):
     figures = tmp_path / "deep.json"
     figures.write_text(deep)
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--rtl", str(figures)])
-    assert r.exit_code == 1 and r.stderr == f"vampc: error: {figures}: not JSON (nested too deeply)\n"
+    assert r.exit_code == 1 and r.stderr == f"vampc: error: {figures}: not JSON: nested too deeply\n"
     program = tmp_path / "p.vamp.json"
     program.write_text(deep)
     r = CliRunner().invoke(main, ["emulate", str(program), "--random", "1"])

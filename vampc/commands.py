@@ -1804,8 +1804,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                       "it on a machine with more memory (--scheduler)")
     last = (sets - 1) * ld.period + ld.net.latency
     if own.at > last:
-        raise VampcError(f"--at {own.at}: the run's last Data-Mode tick is {last} ({sets} torque "
-                         "sets)")
+        raise VampcError(f"{source}: --at {own.at}: the run's last Data-Mode tick is {last} "
+                         f"({sets} torque sets)")
     width = ld.arith.bits
     wide = [b for b in own.bit_list() or () if b >= width]
     if wide:                   # (said of --bits, not of a --fault the user never wrote)

@@ -197,9 +197,13 @@ def decode_problem(exc: DecodeError, text: str | bytes) -> str:
     and where, as line and column ("NaN is not allowed (line 3, column 12)")."""
     message = str(exc).removeprefix("JSON is malformed: ")
     m = _AT_BYTE.search(message)
-    if m is None:
-        return message
     data = text.encode() if isinstance(text, str) else text
+    if m is None:
+        if message == "Input data was truncated":     # said where: at its end (a new user's find)
+            end = len(data.rstrip())
+            line, start = data.count(b"\n", 0, end) + 1, data.rfind(b"\n", 0, end) + 1
+            return f"it ends early (line {line}, column {end - start + 1})"
+        return message
     at = int(m.group(1))
     if data[at - 1:at] == b"-" and data.startswith(b"Infinity", at):     # msgspec points past "-"
         at -= 1

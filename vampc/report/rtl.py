@@ -34,13 +34,17 @@ def rtl_figures(path: str, c) -> dict:
         raise VampcError(f"{path}: the figures are of another design: this program has {what}, "
                          "which `vampc rtl` does not render, so its hardware is not in them "
                          "(README, RTL: Limits)")
+    text = ""
     try:
         with open(path, encoding="utf-8") as f:
-            doc = jsontext.loads(f.read())
+            text = f.read()
+        doc = jsontext.loads(text)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read: {exc.strerror}") from None
+    except jsontext.DecodeError as exc:      # (said with its line and column: a new user's find)
+        raise VampcError(f"{path}: not JSON: {jsontext.decode_problem(exc, text)}") from None
     except ValueError as exc:
-        raise VampcError(f"{path}: not JSON ({exc})") from None
+        raise VampcError(f"{path}: not JSON: {exc}") from None
     if not isinstance(doc, dict) or not isinstance(doc.get("synth"), dict) or \
             not isinstance(doc["synth"].get("kinds"), dict) or not doc["synth"]["kinds"] or \
             "network" not in doc["synth"]:
