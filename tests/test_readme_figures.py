@@ -679,3 +679,18 @@ def test_snake64_latency_prose():
     rep = report("snake64.yaml")
     got = (rep["joints"], *latency(rep), rep["paper"]["flops"])
     assert got == ints(m), f"README.md:{no}: vampc {got}"
+
+
+def test_emulated_time_prose():
+    """"the Puma's 1000 sets: L + F + 999 × I + 1 = T flops": what `vampc emulate` prints of the
+    Puma's 1000 sets, and the sum."""
+    no, m = prose("### `vampc emulate SOURCE`", r"the Puma's 1000 sets: (\d+) \+ (\d+) \+ 999 × (\d+) "
+                                                r"\+ 1 = (\d+) flops")
+    load, first, interval, total = ints(m)
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / PUMA), "--random", "1000"])
+    assert r.exit_code == 0, r.output
+    said = re.search(r"program load (\d+) ticks; first set after (\d+) flops, then one every (\d+) "
+                     r"flops; emulated time (\d+) flops", r.output)
+    assert said and tuple(map(int, said.groups())) == (load, first, interval, total), \
+        f"README.md:{no}: vampc {r.output}"
+    assert load + first + 999 * interval + 1 == total, f"README.md:{no}: the sum is not {total}"
