@@ -481,8 +481,9 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
                         f"as the slower unit and counts as that unit{shared}; a slower unit can also "
                         "move the critical path onto another route"))
     if rep["prismatic_joints"]:
-        # (measured against the same arms all revolute, 47 random chains of 1-9 joints: never a
-        # longer path, the same or 1 M + 2 to 4 A shorter; "add the σ̄ terms" read as a cost)
+        # (measured against the same arms all revolute, 48 random chains of 1-9 joints: never a
+        # longer path, the same or shorter, by 1 M + 4 A linear, 1 A to 2 M + 4 A log (README,
+        # Exactness convention); "add the σ̄ terms" had been read as a cost)
         reasons.append(("prismatic joints (σ̄ terms)",
                         f"prismatic joints {rep['prismatic_joints']}: Table I.1's σ̄ terms add ops but "
                         "no latency, and the path is the same as with revolute joints or shorter "
