@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -508,3 +509,32 @@ def test_a_refused_non_finite_torque_still_says_what_the_checking_did(tmp_path, 
     assert r.exit_code == 1 and "the torque is nan" in lines[-1] and not (tmp_path / "t.csv").exists()
     assert (f"error correction: VAMP {found['finder']} found a mismatch at Data-Mode tick "
             f"{found['detected_tick']} and excised VAMP {found['excised']}") in lines[-2], lines
+
+
+ARM3P = """name: arm3p
+joints:
+  - {name: waist, type: revolute, a: 0.1, alpha: 1.5707963, d: 0.4, theta: 0, mass: 5.0, com: [0,-0.05,0.02], inertia: [0.05,0.04,0.03,0.001,0.0,0.002]}
+  - {name: shoulder, type: revolute, a: 0.5, alpha: 0, d: 0.05, theta: 0.3, mass: 4.0, com: [-0.25,0,0.01], inertia: [0.01,0.1,0.1,0,0,0]}
+  - {name: slide, type: prismatic, a: 0.0, alpha: -1.5707963, d: 0.2, theta: 0.1, mass: 2.0, com: [0,0,-0.1], inertia: [0.02,0.02,0.002,0,0,0]}
+"""
+
+
+def test_two_nans_of_one_op_are_not_a_mismatch(tmp_path):
+    """A new user's 3-joint arm on 5 VAMPs: VAMP 1's operand-B bit 62 stuck at 1 makes its results
+    NaN, which VAMP 0 reads. The extraneous VAMP, checking VAMP 0 first, computed VAMP 0's op on the
+    same NaN operands as VAMP 0 and held a NaN of another payload (numpy's choice of operand as the
+    arrays lay), so it found a mismatch and excised the healthy VAMP 0; the campaign listed that
+    as an escape. NaN results are the canonical NaN now (vampc.machine.arith): VAMP 0 finds the
+    fault in its own check of VAMP 1, as it does for bits 40 and 63 of the same register."""
+    robot = tmp_path / "arm3p.yaml"
+    robot.write_text(ARM3P)
+    program = tmp_path / "arm3p.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(robot), "--vamps", "5", "--error-correction", "-o",
+                                  str(program)])
+    assert r.exit_code == 0, r.output
+    for bit in (40, 62, 63):
+        r = CliRunner().invoke(main, ["emulate", str(program), "--engine", "tick", "--random", "26",
+                                      "--fault", f"vamp=1,stuck=b.0:{bit},value=1"])
+        assert re.search(r"VAMP 0 found a mismatch at Data-Mode tick \d+ and excised VAMP 1\b",
+                         r.output), (bit, r.output)
+        assert "naming its successor in the chain, VAMP 1" in r.output, (bit, r.output)

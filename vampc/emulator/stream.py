@@ -18,6 +18,7 @@ import numpy as np
 from vampc.emulator.load import Loaded
 from vampc.kinds import FlowKind, SourceKind, unhandled
 from vampc.machine import interp as rom
+from vampc.machine.arith import canonical_nan
 from vampc.machine.ops import ROM
 
 CHUNK = 4096   # torque sets evaluated together: keeps the working set in cache
@@ -85,7 +86,7 @@ class StreamEngine:
     def run(self, ports: dict, count: int, progress=None) -> np.ndarray:
         """Torques (count, n) of `count` sets given their input values, by input index."""
         if self.native is not None:
-            return self.native.run(ports, count, progress)
+            return canonical_nan(self.native.run(ports, count, progress))
         if self.batches is None and batched_pays(self.flow, self.ld.arith, count):
             self.batches = Batches(self.flow)      # (a short last chunk of a long run: made once)
         return run_numpy(self.ld, self.flow, ports, count, progress, self.batches)
@@ -225,12 +226,13 @@ class Batches:
             value = _constant(values, consts, arith)
             table[first:first + span] = value.reshape(3, 3).T[:, None, :] if span == 3 else value
         for r, members, ra, rb in self.batches:
-            out = rom.run(r, _gathered(table, ra, count), _gathered(table, rb, count), arith)
+            out = rom.run(r, _gathered(table, ra, count), _gathered(table, rb, count), arith,
+                          canonical=False)
             table[members] = out
         tau = np.empty((count, ld.chain.n_outputs))
         for joint, op, component in self.outputs:
             tau[:, joint - 1] = arith.decode(table[op, :, component])
-        return tau
+        return canonical_nan(tau)
 
 
 def _gathered(table: np.ndarray, rows: np.ndarray, count: int) -> np.ndarray:
@@ -247,11 +249,11 @@ def _run_chunk(ld: Loaded, fl: Flow, ports, count, consts: dict) -> np.ndarray:
     arith = ld.arith
     for r, a, b in fl.ops:
         vals.append(rom.run(r, _operand(a, vals, ports, count, consts, arith),
-                            _operand(b, vals, ports, count, consts, arith), arith))
+                            _operand(b, vals, ports, count, consts, arith), arith, canonical=False))
     tau = np.empty((count, ld.chain.n_outputs))
     for joint, op, component in fl.outputs:
         tau[:, joint - 1] = arith.decode(vals[op][:, component])
-    return tau
+    return canonical_nan(tau)
 
 
 def _operand(sources, vals, ports, count, consts, arith) -> np.ndarray:

@@ -419,10 +419,10 @@ class TickEngine:
             # each ROM entry's slots in turn: the later entry's result stays
             for r in np.unique(self.s_rom[dumps]):
                 sel = v[self.s_rom[dumps] == r]
-                regs[sel, :3] = self.units[sel, rom.result_unit(int(r)), :]
+                regs[sel, :3] = self.word.result(self.units[sel, rom.result_unit(int(r)), :])
                 regs[sel, 3:] = 0
         else:                     # one slot a VAMP: each its op's result unit, in one gather
-            regs[v, :3] = self.units[v, self.s_result[dumps], :]
+            regs[v, :3] = self.word.result(self.units[v, self.s_result[dumps], :])
             regs[v, 3:] = 0
         tags[v] = self.utag[v]
         bad = self.broken[dumps]

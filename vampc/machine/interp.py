@@ -104,13 +104,18 @@ def _read(ref, regs, units):
     return regs[kind][..., _M, i]
 
 
-def run(rom: int, op_a: np.ndarray, op_b: np.ndarray, arith=FLOAT64) -> np.ndarray:
-    """The whole micro-sequence at once: the 3-scalar result, batch-shaped."""
+def run(rom: int, op_a: np.ndarray, op_b: np.ndarray, arith=FLOAT64,
+        canonical: bool = True) -> np.ndarray:
+    """The whole micro-sequence at once: the 3-scalar result, batch-shaped, as the Result register
+    holds it (arith.result: a NaN is the canonical NaN). `canonical` off leaves a NaN as the
+    arithmetic made it, for a caller that makes its outputs canonical instead (the stream engine:
+    a NaN goes on being NaN through every later op, so its torques are the same bits)."""
     am, bm = registers(rom, op_a, op_b)
     units = np.zeros(op_a.shape[:-1] + (3, 3), dtype=arith.dtype)
     for k in range(steps(rom)):
         step(rom, k, am, bm, units, arith)
-    return units[..., result_unit(rom), :]
+    out = units[..., result_unit(rom), :]
+    return arith.result(out) if canonical else out
 
 
 def apply(op: ops.Op, a: np.ndarray, b: np.ndarray, arith=FLOAT64) -> np.ndarray:
