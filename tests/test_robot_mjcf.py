@@ -826,3 +826,32 @@ def test_floating_an_mjcf_without_a_free_joint_floats_its_top_body(tmp_path):
     ld = loaded_from_doc(program_document(compile_chain(chain, CompileOptions())))
     got = emulate(ld, traj, "stream").tau
     assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want)), (got[0], want[0])
+
+
+def test_floating_the_world_body_with_a_table_or_two_robots_on_it_is_refused(tmp_path):
+    """An arm hinged straight to the world beside a welded table, or two bodies on joints of their
+    own under the world: --floating-base floated the world body, the table's 50 kg in the base
+    (base_fz 517 N at rest where MuJoCo's free-jointed arm gives 27 N), or both robots as one,
+    exit 0 unsaid (a new user's find). Refused, saying why; the arm alone still floats (the world
+    body, massless), and both files compile on a fixed base as before."""
+    arm = ('<body name="arm" pos="0 0 0.5"><joint name="h1" axis="0 0 1"/><geom type="capsule" '
+           'fromto="0 0 0 0.3 0 0" size="0.04"/><body name="fore" pos="0.3 0 0"><joint name="h2" '
+           'axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/></body></body>')
+    table = '<body name="table" pos="2 0 0"><geom type="box" size="0.5 0.5 0.05" mass="50"/></body>'
+    other = ('<body name="b" pos="1 0 1"><joint name="jb" type="slide" axis="1 0 0"/>'
+             '<geom type="box" size="0.1 0.1 0.1"/></body>')
+    files = {}
+    for name, bodies in (("table_arm", table + arm), ("two", arm + other), ("arm", arm)):
+        files[name] = tmp_path / f"{name}.xml"
+        files[name].write_text(f'<mujoco model="{name}"><worldbody>{bodies}</worldbody></mujoco>')
+    assert_error(lambda: load_robot(files["table_arm"], floating=True), files["table_arm"],
+                 r"--floating-base: 'arm' hangs on joint 'h1' from the world body, so the world body "
+                 r"would float, and with it 'table', welded to it with no joint below: give the robot "
+                 r"a free joint in the file to float it alone \(README, MJCF\)")
+    assert_error(lambda: load_robot(files["two"], floating=True), files["two"],
+                 r"--floating-base: the world body carries 2 bodies with joints \('arm', 'b'\), each a "
+                 r"robot of its own, .*--base BODY \(README, MJCF\)")
+    alone = load_robot(files["arm"], floating=True)
+    assert alone.floating and alone.base_mass == 0 and [j.name for j in alone.joints] == ["h1", "h2"]
+    for name in ("table_arm", "two"):
+        assert not load_robot(files[name]).floating

@@ -177,9 +177,25 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
         # scene's table) in it; Pinocchio and MuJoCo float the robot's top body (a new user's
         # find). The one body under the world with moving joints below it, welded to the world.
         top = tree.children[roots[0]]
-        moving = [j for j in top if any(k.type in MOVABLE for k in tree.below(j.child))]
+        moving = [j for j in top if j.type in MOVABLE
+                  or any(k.type in MOVABLE for k in tree.below(j.child))]
         if len(moving) == 1 and all(j.type == "fixed" for j in top):
             return moving[0].child, True
+        # (the world body floated with what is welded to it, unsaid, where a robot hangs on a
+        # joint from it beside a table, or where two robots do: a new user's find)
+        if len(moving) > 1:
+            raise located(path, "", f"--floating-base: the world body carries {len(moving)} bodies "
+                          f"with joints ({quoted(j.child for j in moving)}), each a robot of its "
+                          "own, and floating the world body would join them: give the one to float "
+                          "a free joint in the file, or compile it alone with --base BODY (README, "
+                          "MJCF)")
+        still = [j.child for j in top if j not in moving]
+        if moving and still:
+            hung = moving[0]
+            raise located(path, "", f"--floating-base: '{hung.child}' hangs on joint '{hung.name}' "
+                          f"from the world body, so the world body would float, and with it "
+                          f"{quoted(still)}, welded to it with no joint below: give the robot a free "
+                          "joint in the file to float it alone (README, MJCF)")
     return roots[0], floating
 
 
