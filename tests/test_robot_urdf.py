@@ -226,7 +226,8 @@ DEFAULTS = robot(
     "</inertial></link>", link("l1"), link("l2"), link("l3"), link("l4", None),
     '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><limit upper="2" effort="3"/>'
     "</joint>",
-    '<joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="1 2 3"/><axis/>'
+    # (no <axis>: URDF's default 1 0 0; an <axis/> without xyz is no axis to urdfdom, refused)
+    '<joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="1 2 3"/>'
     '</joint>',
     '<joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/><origin rpy="0.3 -0.2 1.1"/>'
     '<axis xyz="0 1 0"/></joint>',
@@ -1208,3 +1209,23 @@ def test_a_urdf_with_a_default_namespace_is_read_as_urdfdom_reads_it(tmp_path):
     plain = load_urdf(write(tmp_path, robot(*ARM), "plain.urdf"))
     assert [j.name for j in chain.joints] == [j.name for j in plain.joints] == ["j1", "j2"]
     check_torques(path, chain)
+
+
+def test_an_axis_element_without_xyz_is_refused_on_a_moving_joint(tmp_path):
+    """<axis>0 1 0</axis> (the axis as text) and <axis/> were read as 1 0 0, URDF's default when
+    there is no <axis>; urdfdom leaves the axis 0 0 0 then, and Pinocchio's torque is 0 (a new
+    user's find, exit 0 unsaid). Refused, as an axis of 0 0 0 is; on a fixed joint it is not read."""
+    for element, text in (("<axis>0 1 0</axis>", " (its text '0 1 0' is not read)"), ("<axis/>", "")):
+        body = robot(*ARM[:4], joint("j2", "revolute", "l1", "l2").replace('<axis xyz="0 0 1"/>', element))
+        path = write(tmp_path, body, "a.urdf")
+        assert_error(lambda: load_urdf(path), path,
+                     re.escape("joint 'j2': <axis> has no xyz, so urdfdom (Pinocchio's URDF reader) "
+                               "takes its axis as 0 0 0, no axis at all; give <axis xyz=\"...\"/>" + text))
+    fixed = write(tmp_path, robot(*ARM[:4], joint("j2", "fixed", "l1", "l2").replace(
+        '<axis xyz="0 0 1"/>', "<axis/>")), "f.urdf")
+    assert [j.name for j in load_urdf(fixed).joints] == ["j1"]
+    # no <axis> at all is URDF's default, 1 0 0, as urdfdom reads it
+    bare = write(tmp_path, robot(*ARM[:4], joint("j2", "revolute", "l1", "l2").replace(
+        '<axis xyz="0 0 1"/>', "")), "b.urdf")
+    x = write(tmp_path, robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(1, 0, 0))), "x.urdf")
+    assert np.array_equal(load_urdf(bare).joints[1].phi, load_urdf(x).joints[1].phi)
