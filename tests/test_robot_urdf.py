@@ -219,7 +219,7 @@ def check_torques(path: Path, chain, lock: dict | None = None) -> None:
 
 # --- defaults: what yourdfpy reads when the file leaves something out -----------------------------------
 
-# No <origin>, an <origin> with xyz or rpy only, no <axis>, an <axis> without xyz, a partial <limit>, an
+# No <origin>, an <origin> with xyz or rpy only, no <axis>, a partial <limit>, an
 # <inertial> without <origin>.
 DEFAULTS = robot(
     '<link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
