@@ -2166,3 +2166,23 @@ def test_rtl_figures_standard_output_cannot_take_leave_the_old_verilog(tmp_path)
                       "--cosim", 1, stdout=full, stderr=subprocess.PIPE)
     assert done.returncode == 1 and "cannot write to standard output: No space left" in done.stderr
     assert out.read_text() == "OLD\n"
+
+
+def test_a_file_name_that_is_not_utf8_is_written_as_its_bytes(tmp_path):
+    """A robot file named b'b\\xff.yaml' (Python hands the name over with a lone surrogate, which
+    UTF-8 has no bytes for) ended `compile` and `faults --format json` in an internal error (an
+    audit's find): the name is written into the JSON as its bytes read, 'b\\\\xff.yaml'."""
+    robot = Path(os.fsdecode(bytes(tmp_path) + b"/b\xff.yaml"))
+    robot.write_bytes((EXAMPLES / "planar2.yaml").read_bytes())
+    program = tmp_path / "p.vamp.json"
+    res = run("compile", robot, "-o", program)
+    assert res.exit_code == 0, res.output
+    source = json.loads(program.read_text())["robot"]["source"]
+    assert source.endswith("b\\xff.yaml"), source
+    res = run("emulate", program, "--random", "3", "--check")
+    assert res.exit_code == 0 and "OK" in res.output, res.output
+    results = Path(os.fsdecode(bytes(tmp_path) + b"/r\xff.jsonl"))
+    res = run("faults", program, "--workers", "1", "--kinds", "dead", "--results", results,
+              "--format", "json")
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.stdout)["results"].endswith("r\\xff.jsonl") and results.exists()

@@ -170,12 +170,43 @@ def ascii_bytes(out: bytes) -> bytes:
 
 def encode(value, sort_keys: bool = True) -> str:
     """Compact JSON text (no whitespace) of a value whose floats are already written."""
-    return ascii_text((_SORTED if sort_keys else _PLAIN).encode(value))
+    return ascii_text(_encoded(_SORTED if sort_keys else _PLAIN, value))
 
 
 def encode_lines(values) -> bytes:
     """Newline-delimited compact JSON of each value (sorted keys), floats already written."""
-    return _SORTED.encode_lines(values)
+    try:
+        return _SORTED.encode_lines(values)
+    except UnicodeEncodeError:
+        return _SORTED.encode_lines([_unsurrogated(v) for v in values])
+
+
+def _encoded(encoder, value) -> bytes:
+    """encoder.encode(value); a string holding a lone surrogate, which UTF-8 has no bytes for (a
+    file name that is not UTF-8, as Python hands it over: 'b\\udcff.yaml' had been an internal
+    error, an audit's find), written as `_unsurrogated` says."""
+    try:
+        return encoder.encode(value)
+    except UnicodeEncodeError:
+        return encoder.encode(_unsurrogated(value))
+
+
+def _unsurrogated(value):
+    """`value` with each string's lone surrogates written out: a byte Python kept as a surrogate
+    as it was in the name (\\xff), another as its code (\\ud800)."""
+    if isinstance(value, str):
+        try:
+            return value.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+        except UnicodeEncodeError:
+            return value.encode("utf-8", "backslashreplace").decode()
+    if isinstance(value, dict):
+        return {_unsurrogated(k): _unsurrogated(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_unsurrogated(v) for v in value]
+    if isinstance(value, msgspec.Struct):
+        return msgspec.structs.replace(value, **{f: _unsurrogated(getattr(value, f))
+                                                 for f in value.__struct_fields__})
+    return value
 
 
 def dumps(value, indent: int | None = None, sort_keys: bool = False) -> str:
@@ -184,7 +215,7 @@ def dumps(value, indent: int | None = None, sort_keys: bool = False) -> str:
     (at least 1)."""
     if indent is not None and indent < 1:
         raise ValueError(f"indent {indent}: give None (one line) or at least 1")
-    out = (_SORTED if sort_keys else _PLAIN).encode(rendered(value))
+    out = _encoded(_SORTED if sort_keys else _PLAIN, rendered(value))
     return ascii_text(msgspec.json.format(out, indent=0 if indent is None else indent))
 
 
