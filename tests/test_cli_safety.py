@@ -1630,6 +1630,31 @@ def test_a_character_device_with_no_end_is_not_read(program, tmp_path, where):
     assert not (tmp_path / "t.csv").exists()
 
 
+@pytest.mark.parametrize("feed", ["device", "pipe of NULs", "header then NULs", "gzip"])
+def test_standard_input_with_no_end_or_no_text_is_refused(program, tmp_path, feed):
+    """`--trajectory - < /dev/zero` and `cat /dev/zero | ... --trajectory -` were read until memory
+    ran out (24 GB on a shared machine: an audit's find): standard input from a character device
+    (not a terminal) is refused as a named one is, and a pipe's NUL byte, which no CSV has, as it
+    arrives; a compressed CSV through a pipe is still said to be one."""
+    import subprocess
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero here")
+    command = f"{sys.executable} -m vampc emulate {program} --trajectory - -o {tmp_path / 't.csv'}"
+    shell = {"device": f"{command} < /dev/zero",
+             "pipe of NULs": f"cat /dev/zero | {command}",
+             "header then NULs": f"(echo q1,q2,qd1,qd2,qdd1,qdd2; cat /dev/zero) | {command}",
+             "gzip": f"(echo q1,q2,qd1,qd2,qdd1,qdd2; echo 0,0,0,0,0,0) | gzip | {command}"}[feed]
+    done = subprocess.run(["bash", "-c", shell], capture_output=True, text=True, timeout=120)
+    said = {"device": r"standard input is a character device, which has no end: give a file or a "
+                      r"pipe",
+            "pipe of NULs": r"cannot read trajectory: byte 0 is a NUL byte, which no text has \(a "
+                            r"CSV is expected\)",
+            "header then NULs": r"cannot read trajectory: byte 24 is a NUL byte",
+            "gzip": r"gzip-compressed; give the trajectory as plain CSV"}[feed]
+    assert done.returncode == 1 and re.match(r"vampc: error: -: .*" + said, done.stderr), done.stderr
+    assert len(done.stderr.splitlines()) == 1 and not (tmp_path / "t.csv").exists()
+
+
 def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):
     """Integer arrays are read as float64: nanosecond times 2**53 + 1, + 2, ... were rounded, saying
     nothing, some to repeats (a new user's find); so were int64 positions with --allow-out-of-limits.

@@ -22,14 +22,18 @@ def stdin_hint(path, exc: BaseException | None = None) -> str:
     return ""
 
 
-def read_whole(path, stdin: bool = False) -> bytes:
+def read_whole(path, stdin: bool = False, text: bool = False) -> bytes:
     """The bytes of a user's input, read once: a regular file as Path.read_bytes reads it (into
     one buffer of its size), a pipe or FIFO in pieces, between which a termination signal or Ctrl-C
     ends the read (in one C call Python's handlers do not run: `yes | vampc emulate ... -` could
     not be stopped but by SIGKILL). A character device other than /dev/null (/dev/zero,
     /dev/urandom: no end; 10 GB read in 15 s) is refused with an OSError, which each caller's
     'cannot read' line words. `stdin`: `-` is standard input (a terminal included), for a reader
-    that takes it so (a trajectory); elsewhere `-` is a file of that name."""
+    that takes it so (a trajectory); elsewhere `-` is a file of that name. Standard input from a
+    character device other than a terminal or /dev/null is refused as a named one is (`- <
+    /dev/zero` had been read until memory ran out: an audit's find). `text`: the reader takes text
+    only (a CSV), so a pipe's NUL byte, which no such text has, is refused as it arrives (`cat
+    /dev/zero |` had been, too)."""
     import errno
     import os
     import stat
@@ -40,9 +44,13 @@ def read_whole(path, stdin: bool = False) -> bytes:
         except (AttributeError, OSError, ValueError):   # (a stream without one: a test's, Jupyter's)
             data = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read()
             return data.encode() if isinstance(data, str) else data
-        if stat.S_ISREG(os.fstat(fd).st_mode):    # (a file redirected in: one buffer of its size)
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISREG(mode):                    # (a file redirected in: one buffer of its size)
             return sys.stdin.buffer.read()
-        return _pieces(fd)
+        if stat.S_ISCHR(mode) and not os.isatty(fd) and not _null(fd):
+            raise OSError(errno.EINVAL, "standard input is a character device, which has no end: "
+                                        "give a file or a pipe")
+        return _pieces(fd, text)
     fd = os.open(path, os.O_RDONLY)
     try:
         mode = os.fstat(fd).st_mode
@@ -52,18 +60,35 @@ def read_whole(path, stdin: bool = False) -> bytes:
         if stat.S_ISCHR(mode) and not _null(fd):
             raise OSError(errno.EINVAL, "it is a character device, which has no end: give a file "
                                         "or a pipe")
-        return _pieces(fd)
+        return _pieces(fd, text)
     finally:
         os.close(fd)
 
 
-def _pieces(fd: int) -> bytes:
-    """What a descriptor gives until its end, a MiB at a time (signal handlers run between)."""
+def _pieces(fd: int, text: bool = False) -> bytes:
+    """What a descriptor gives until its end, a MiB at a time (signal handlers run between); with
+    `text`, an OSError at the first NUL byte."""
+    import errno
     import os
-    pieces = []
+    pieces, size = [], 0
     while piece := os.read(fd, 1 << 20):
+        if text and not pieces and _binary(piece):
+            text = False          # (compressed, an array, UTF-16: the reader says what it is)
+        if text and b"\0" in piece:
+            at = size + piece.index(b"\0")
+            raise OSError(errno.EINVAL, f"byte {at} is a NUL byte, which no text has (a CSV is "
+                                        "expected)")
         pieces.append(piece)
+        size += len(piece)
     return b"".join(pieces)
+
+
+def _binary(head: bytes) -> bool:
+    """Whether bytes starting so are a known kind that is not UTF-8 text: compressed, a NumPy
+    array, a zip, or text with another byte-order mark."""
+    from vampc.sniff import compression
+    return bool(compression(head[:16])) or head.startswith((NPY_MAGIC, ZIP_MAGIC)) or \
+        any(head.startswith(bom) for bom, _ in _OTHER_BOMS)
 
 
 def _null(fd: int) -> bool:

@@ -51,7 +51,7 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
         source = None        # a pipe or FIFO: its bytes, read once (a second open waited for good)
         if str(path) != "-" and not path.is_file():
             from vampc.textio import read_whole
-            source = io.BytesIO(read_whole(path))
+            source = io.BytesIO(read_whole(path, text=suffix not in (".npy", ".npz")))
         if suffix == ".npz":
             data, t = _read_npz(path, n, floating, source)
         elif suffix == ".npy":
@@ -145,7 +145,7 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     if str(path) == STDIN and sys.stdin is None:
         raise VampcError(f"-: standard input is closed, so the {what} has nowhere to come from "
                          "(give it as a file, or redirect standard input from one)")
-    raw = read_whole(path, stdin=True) if source is None else source.getvalue()   # (-: standard input)
+    raw = read_whole(path, stdin=True, text=True) if source is None else source.getvalue()  # (-: stdin)
     from vampc.sniff import compression
     packed = compression(raw[:16])
     if packed:                               # (was: 'line 1: byte 0x8b is not UTF-8')
