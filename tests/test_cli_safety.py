@@ -2211,3 +2211,24 @@ def test_a_file_name_that_is_not_utf8_is_written_as_its_bytes(tmp_path):
               "--format", "json")
     assert res.exit_code == 0, res.output
     assert json.loads(res.stdout)["results"].endswith("r\\xff.jsonl") and results.exists()
+
+
+def test_a_replaced_output_keeps_its_owner_and_a_hard_link_is_said(program, tmp_path):
+    """Root replacing a file of another user's made it root's (the owner could no longer write
+    it), and a hard link to the output was split without a word (an audit's find): the owner and
+    group are kept where the user may give them, and the other names of a hard-linked file, which
+    keep the old content, are said."""
+    out, other = tmp_path / "t.csv", tmp_path / "other.csv"
+    out.write_text("OLD\n")
+    os.link(out, other)
+    if IS_ROOT:
+        os.chown(out, 65534, 65534)
+    res = run("emulate", program, "--random", "2", "-o", out)
+    assert res.exit_code == 0, res.output
+    assert re.search(rf"warning: -o {re.escape(str(out))}: the file has 1 other hard link\(s\), which "
+                     r"keep the old content: the new file replaces this name only", res.stderr)
+    assert other.read_text() == "OLD\n" and out.read_text().startswith("tau_")
+    if IS_ROOT:
+        assert (out.stat().st_uid, out.stat().st_gid) == (65534, 65534)
+    res = run("emulate", program, "--random", "2", "-o", out)          # one name now: nothing said
+    assert res.exit_code == 0 and "warning" not in res.stderr

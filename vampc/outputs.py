@@ -498,6 +498,7 @@ class Pending:
             raise_if_terminated()          # an interrupt swallowed on the way: not put in place
             if self.tmp is not None:
                 committing()               # from here a signal lets the command finish
+                _keep_owner_and_links(self.tmp, self.out)
                 os.chmod(self.tmp, _mode_for(self.out.target))
                 os.replace(self.tmp, self.out.target)
                 _TEMPORARIES.discard(self.tmp)    # after the rename: a signal between the two finds no file
@@ -550,6 +551,29 @@ def placing(pending) -> Iterator[None]:
             with contextlib.suppress(OSError):
                 fcntl.flock(fd, fcntl.LOCK_UN)
             os.close(fd)
+
+
+def _keep_owner_and_links(tmp: str, out: PlannedOutput) -> None:
+    """Before `tmp` replaces `out.target`: the old file's owner and group kept where the user may give
+    them (root may; others only a group of theirs), and a warning where the old file has other
+    hard links, which keep the old content (root replacing a file of another user's had made it
+    root's, unsaid, and a hard link had been split without a word: an audit's find)."""
+    try:
+        old = os.stat(out.target)
+    except OSError:
+        return
+    mine = os.stat(tmp)
+    if (old.st_uid, old.st_gid) != (mine.st_uid, mine.st_gid):
+        with contextlib.suppress(OSError):
+            os.chown(tmp, old.st_uid if os.geteuid() == 0 else -1, old.st_gid)
+    if old.st_nlink > 1:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"{out.option} {out.path}: the file has {old.st_nlink - 1} other "
+                                   "hard link(s), which keep the old content: the new file replaces "
+                                   "this name only"),
+                      stacklevel=2)
 
 
 def _mode_for(target: Path) -> int:
