@@ -125,7 +125,14 @@ def test_folded_latency_and_interval_are_reported_beside_the_systolic():
 
 def test_share_passes_without_folded_is_a_usage_error():
     res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--share-passes"])
-    assert res.exit_code == 2 and "--share-passes applies to the folded layout only" in res.stderr
+    assert res.exit_code == 2 and "--share-passes applies to the folded layout only (add --layout " \
+        "folded)" in res.stderr
+    # with a budget, whose own layout refuses --layout: not told to add it (an audit's find)
+    for budget in (["--vamps", "10"], ["--interval", "8"]):
+        res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--share-passes",
+                                        *budget])
+        assert res.exit_code == 2 and "--share-passes applies to the folded layout only, not with " \
+            "--vamps or --interval, which make their own (budgeted) layout" in res.stderr, res.stderr
 
 
 # --- bad slot programs -----------------------------------------------------------------------------

@@ -210,7 +210,12 @@ class CompileOptions:
                     raise VampcUsageError(f"{flag(name)} applies to the log recursion only (add "
                                           "--recursion log)")
         if self.share_passes and not kind.shares_passes:
-            raise VampcUsageError(f"--share-passes applies to the {FOLDED.name} layout only (add "
+            # (with a budget, "add --layout folded" led to the budget's own refusal of --layout:
+            # an audit's find)
+            raise VampcUsageError(f"--share-passes applies to the {FOLDED.name} layout only, not "
+                                  "with --vamps or --interval, which make their own (budgeted) "
+                                  "layout" if self.budget else
+                                  f"--share-passes applies to the {FOLDED.name} layout only (add "
                                   f"--layout {FOLDED.name})")
         if self.exact and self.vamps is None:
             raise VampcUsageError("--exact applies with --vamps K")
