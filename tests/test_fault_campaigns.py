@@ -573,6 +573,14 @@ def test_a_kind_or_bit_named_twice_runs_once(programs, tmp_path):
     twice = _campaign(ec, tmp_path, "--kinds", "dead,dead", "--sets", "3")
     once = _campaign(ec, tmp_path, "--kinds", "dead", "--sets", "3", name="once.jsonl")
     assert twice["runs"] == once["runs"] and len({r["fault"] for r in once["runs"]}) == len(once["runs"])
+    # and said, not dropped unsaid (an audit's find): 03 is bit 3 again
+    r = RUN(main, ["faults", str(ec), "--kinds", "result,dead,result", "--bits", "3,03,5", "--values",
+                   "1,1", "--sets", "3", "--workers", "1", "--results", str(tmp_path / "w.jsonl")])
+    said = [x for x in r.output.splitlines() if x.startswith("vampc: warning: --")]
+    assert r.exit_code == 0 and said == [
+        "vampc: warning: --kinds result,dead,result: result given more than once, taken once",
+        "vampc: warning: --bits 3,03,5: 3 given more than once, taken once",
+        "vampc: warning: --values 1,1: 1 given more than once, taken once"], r.output
 
 
 def test_a_campaign_too_big_for_memory_names_what_faults_can_do(programs, tmp_path, monkeypatch):

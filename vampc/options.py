@@ -1020,6 +1020,17 @@ class FaultsOptions:
         self.bit_list()
         if self.value_list() is None:
             raise VampcUsageError(f"--values {self.values}: give 0, 1 or 0,1")
+        for name in ("kinds", "bits", "values"):    # (each once, as a set: said, not dropped
+            text = getattr(self, name)              # unsaid; an audit's find)
+            parts = [p.strip() for p in text.split(",") if p.strip()] if text else []
+            parts = [str(int(p)) if p.isascii() and p.isdigit() else p for p in parts]  # (03: 3)
+            twice = sorted({p for p in parts if parts.count(p) > 1}, key=parts.index)
+            if twice and name in self.given:
+                import warnings
+
+                from vampc.errors import VampcWarning
+                warnings.warn(VampcWarning(f"{flag(name)} {text}: {', '.join(twice)} given more "
+                                           "than once, taken once"), stacklevel=2)
 
     def kind_list(self) -> list[str]:
         """--kinds, each once (`dead,dead` ran every fault twice and counted it twice), in the
