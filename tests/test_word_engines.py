@@ -522,3 +522,25 @@ def test_a_result_register_holds_the_canonical_nan_of_any_payload():
         raw = np.array(nans + keep.tolist(), dtype=view)
         out = fmt.result(raw.view(dtype).copy()).view(view)
         assert out.tolist() == [canonical] * len(nans) + keep.tolist(), fmt
+
+
+def test_torques_below_the_checks_floor_are_said_on_its_verdict(tmp_path):
+    """Masses of 1e-300 kg: every torque about 1e-300 N·m, written 0 by a q16.16 word, passed with
+    "max error 5e-288 of the largest |τ|" and nothing said of the error being measured against
+    1e-12 N·m (an audit's find). The verdict line says so, with the run's largest |τ|."""
+    import yaml
+    doc = yaml.safe_load((EXAMPLES / "planar2.yaml").read_text())
+    for j in doc["joints"]:
+        j["mass"] = 1e-300
+        j["inertia"] = [1e-300 if x else 0 for x in j.get("inertia", [0] * 6)]
+    robot = tmp_path / "tiny.yaml"
+    robot.write_text(yaml.safe_dump(doc))
+    res = CliRunner().invoke(main, ["emulate", str(robot), "--random", "3", "--check", "--word",
+                                    "q16.16"])
+    assert res.exit_code == 0, res.output
+    assert re.search(r"\(every torque is below 1e-12 N·m, the least the error is measured against: "
+                     r"its largest \|τ\| is \d\.\de-30\d\), tolerance 0\.001: OK", res.output), res.output
+    # a robot of ordinary masses: nothing said of it
+    res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",
+                                    "--check", "--word", "q16.16"])
+    assert res.exit_code == 0 and "the least the error is measured against" not in res.output

@@ -548,7 +548,13 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
         lines.append(f"  {name}: {res.max_abs[k]:.3e}, {res.rel[k]:.3e}, {res.rms[k]:.3e}")
     worst = int(res.max_abs.argmax()) if len(names) else 0
     over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
-    lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}), tolerance "
+    from vampc.emulator.host import CHECK_FLOOR
+    top = float(res.max_ref.max(initial=0.0))
+    # (every torque of 1e-288 N·m written 0 in q16.16 passed as "5e-288 of the largest |τ|": the
+    # error is measured against 1e-12 N·m there, said; an audit's find)
+    floor = (f" (every torque is below {CHECK_FLOOR:g} N·m, the least the error is measured "
+             f"against: its largest |τ| is {top:.1e})" if top < CHECK_FLOOR else "")
+    lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}){floor}, tolerance "
                  f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}"
                  + ("" if ok else " (the injected --fault: a wider word would not undo it)" if faulted
                     else _word_hint(ld, outcome)))

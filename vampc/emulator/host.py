@@ -169,6 +169,11 @@ def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = No
                              f"which hold [{-top:g}, {top:g}); {said}")
 
 
+# The least |τ| (N·m, or N) a torque's error is measured against: below it the relative error of a
+# check is the error over this (README, Word formats: --check).
+CHECK_FLOOR = 1e-12
+
+
 @dataclass(frozen=True)
 class CheckResult:
     """Worst errors of emulated torques against the reference."""
@@ -196,14 +201,14 @@ class WordCheck:
     def rel(self) -> np.ndarray:
         """Per joint: the largest error relative to that joint's largest |τ| over the run."""
         with np.errstate(invalid="ignore", over="ignore"):     # (a reference not finite: nan, said)
-            return self.max_abs / np.maximum(self.max_ref, 1e-12)
+            return self.max_abs / np.maximum(self.max_ref, CHECK_FLOOR)
 
     @property
     def overall(self) -> float:
         """The largest error of any joint relative to the largest |τ| of any joint over the run
         (what --check's tolerance bounds: a joint that barely moves is not its own yardstick)."""
         with np.errstate(invalid="ignore", over="ignore"):     # (a reference not finite: nan, said)
-            return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), 1e-12))
+            return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), CHECK_FLOOR))
 
     @property
     def rms(self) -> np.ndarray:
@@ -247,7 +252,7 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     from vampc.dynamics.reference import rnea
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
-    scale = np.maximum(np.max(np.abs(ref), axis=1, keepdims=True), 1e-12)
+    scale = np.maximum(np.max(np.abs(ref), axis=1, keepdims=True), CHECK_FLOOR)
     rel = err / scale
     worst = int(np.argmax(np.max(rel, axis=1))) if len(rel) else 0
     max_rel = float(rel.max()) if rel.size else 0.0
