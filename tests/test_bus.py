@@ -710,3 +710,21 @@ def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
     slot_registers = sum(4 if slots[v["index"]] == len(v["a"]) == len(v["b"]) == 1
                          else 6 * slots[v["index"]] for v in net["vamps"])
     assert counts["bus"] == slot_registers + len(writes), (counts, slot_registers, len(writes))
+
+
+def test_a_bus_program_counted_before_its_bus_write_registers_is_not_called_edited(tmp_path):
+    """A bus program compiled before the bus-write registers were counted in the number of control
+    registers stores that number without them: read back, it was said to be edited (a review's
+    find). It is not; another number is."""
+    from program_util import reported_with_summary
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--bus", "mlb",
+                                     "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    now = doc["summary"]["hardware"]["control_registers"]
+    writes = len(doc["network"]["bus"]["writes"])
+    for stored, warned in ((now - writes, False), (now - writes + 1, True), (now, False)):
+        doc["summary"]["hardware"]["control_registers"] = stored
+        r = reported_with_summary(doc, tmp_path)
+        assert ("the stored summary disagrees with the file's graph, schedule and network "
+                "(hardware)" in r.stderr) == warned, (stored, r.stderr)
