@@ -847,11 +847,20 @@ def test_floating_the_world_body_with_a_table_or_two_robots_on_it_is_refused(tmp
     assert_error(lambda: load_robot(files["table_arm"], floating=True), files["table_arm"],
                  r"--floating-base: 'arm' hangs on joint 'h1' from the world body, so the world body "
                  r"would float, and with it 'table', welded to it with no joint below: give the robot "
-                 r"a free joint in the file to float it alone \(README, MJCF\)")
+                 r"a free joint in the file to float it alone, or float 'arm' itself with --base "
+                 r"arm \(README, MJCF\)")
     assert_error(lambda: load_robot(files["two"], floating=True), files["two"],
                  r"--floating-base: the world body carries 2 bodies with joints \('arm', 'b'\), each a "
                  r"robot of its own, .*--base BODY \(README, MJCF\)")
     alone = load_robot(files["arm"], floating=True)
     assert alone.floating and alone.base_mass == 0 and [j.name for j in alone.joints] == ["h1", "h2"]
+    # a welded body of no mass (a camera's, a site's) floats with the world body as before: it
+    # changes nothing (a review's find: refused)
+    for extra in ('<body name="cambody" pos="1 0 1"><camera name="c"/></body>',
+                  '<body name="target" pos="1 0 0"><site name="s"/></body>'):
+        scene = tmp_path / "scene.xml"
+        scene.write_text(f'<mujoco model="s"><worldbody>{extra}{arm}</worldbody></mujoco>')
+        chain = load_robot(scene, floating=True)
+        assert chain.floating and chain.base_mass == 0 and [j.name for j in chain.joints] == ["h1", "h2"]
     for name in ("table_arm", "two"):
         assert not load_robot(files[name]).floating

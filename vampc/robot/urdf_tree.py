@@ -113,6 +113,14 @@ class Tree:
                 link = self.parent[link].parent
             done.update(seen)
 
+    def has_mass(self, link: str) -> bool:
+        """Whether `link` or a link under it has an inertial of nonzero mass."""
+        for name in [link] + [j.child for j in self.below(link)]:
+            inertial = getattr(self.links[name], "inertial", None)
+            if inertial is not None and inertial.mass:
+                return True
+        return False
+
     def below(self, link: str, by_name: bool = False) -> list:
         """Every joint in the subtree under `link`, depth first, children in file order or, `by_name`,
         in the order of their names (as urdfdom keeps them, so Pinocchio numbers a URDF's joints)."""
@@ -189,13 +197,15 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
                           "own, and floating the world body would join them: give the one to float "
                           "a free joint in the file, or compile it alone with --base BODY (README, "
                           "MJCF)")
-        still = [j.child for j in top if j not in moving]
+        # (a welded body of no mass, a camera's or a site's, changes nothing: a review's find)
+        still = [j.child for j in top if j not in moving and tree.has_mass(j.child)]
         if moving and still:
             hung = moving[0]
             raise located(path, "", f"--floating-base: '{hung.child}' hangs on joint '{hung.name}' "
                           f"from the world body, so the world body would float, and with it "
                           f"{quoted(still)}, welded to it with no joint below: give the robot a free "
-                          "joint in the file to float it alone (README, MJCF)")
+                          f"joint in the file to float it alone, or float '{hung.child}' itself with "
+                          f"--base {hung.child} (README, MJCF)")
     return roots[0], floating
 
 
