@@ -1214,13 +1214,22 @@ def test_a_urdf_with_a_default_namespace_is_read_as_urdfdom_reads_it(tmp_path):
 def test_an_axis_element_without_xyz_is_refused_on_a_moving_joint(tmp_path):
     """<axis>0 1 0</axis> (the axis as text) and <axis/> were read as 1 0 0, URDF's default when
     there is no <axis>; urdfdom leaves the axis 0 0 0 then, and Pinocchio's torque is 0 (a new
-    user's find, exit 0 unsaid). Refused, as an axis of 0 0 0 is; on a fixed joint it is not read."""
-    for element, text in (("<axis>0 1 0</axis>", " (its text '0 1 0' is not read)"), ("<axis/>", "")):
+    user's find, exit 0 unsaid). Read as urdfdom reads it, it is refused as an axis of 0 0 0 is,
+    where the joint is used (a review's find: refused anywhere in the file, and before a joint
+    type the file gets wrong); on a fixed joint it is not read."""
+    said = re.escape("joint 'j2': axis is zero (its <axis> gives xyz=\"0 0 0\" or no xyz, which "
+                     "urdfdom, Pinocchio's reader, reads so; README, URDF)")
+    for element in ("<axis>0 1 0</axis>", "<axis/>", '<axis xyz="0 0 0"/>'):
         body = robot(*ARM[:4], joint("j2", "revolute", "l1", "l2").replace('<axis xyz="0 0 1"/>', element))
         path = write(tmp_path, body, "a.urdf")
-        assert_error(lambda: load_urdf(path), path,
-                     re.escape("joint 'j2': <axis> has no xyz, so urdfdom (Pinocchio's URDF reader) "
-                               "takes its axis as 0 0 0, no axis at all; give <axis xyz=\"...\"/>" + text))
+        assert_error(lambda: load_urdf(path), path, said)
+        # above the base, cut away at 0: not looked at, as with xyz="0 0 0"
+        above = write(tmp_path, robot(*ARM[:3], ARM[3].replace('<axis xyz="0 0 1"/>', element), ARM[4]),
+                      "above.urdf")
+        assert [j.name for j in load_urdf(above, base="l1").joints] == ["j2"]
+    hinge = write(tmp_path, robot(*ARM[:4], joint("j2", "hinge", "l1", "l2").replace(
+        '<axis xyz="0 0 1"/>', "<axis/>")), "h.urdf")
+    assert_error(lambda: load_urdf(hinge), hinge, re.escape("joint 'j2': unsupported joint type 'hinge'"))
     fixed = write(tmp_path, robot(*ARM[:4], joint("j2", "fixed", "l1", "l2").replace(
         '<axis xyz="0 0 1"/>', "<axis/>")), "f.urdf")
     assert [j.name for j in load_urdf(fixed).joints] == ["j1"]

@@ -523,13 +523,11 @@ def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) ->
             if tag in tags:
                 _check_numbers(sub, tag, where, path)
             if tag == "axis" and "axis" not in met and sub.get("xyz") is None and \
-                    parent.get("type") not in ("fixed", "floating"):
-                # (read as 1 0 0, URDF's default without an <axis>, where urdfdom and so Pinocchio
-                # leave the axis 0 0 0, unsaid: a new user's <axis>0 1 0</axis>)
-                text = " ".join((sub.text or "").split())
-                raise located(path, where, "<axis> has no xyz, so urdfdom (Pinocchio's URDF reader) "
-                              "takes its axis as 0 0 0, no axis at all; give <axis xyz=\"...\"/>"
-                              + (f" (its text '{text}' is not read)" if text else ""))
+                    parent.get("type") in MOVABLE:
+                # read as urdfdom (and so Pinocchio) reads it, 0 0 0, which the joint checks then
+                # refuse where the joint is used: it had been 1 0 0, URDF's default without an
+                # <axis>, unsaid (a new user's <axis>0 1 0</axis>: torque 0 in Pinocchio)
+                sub.set("xyz", "0 0 0")
             if tag in once:
                 if tag in met:
                     unread.append(f"{here}: a second <{tag}> (line {sub.sourceline}) is not read (the "

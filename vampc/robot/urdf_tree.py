@@ -241,7 +241,10 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
             raise located(path, f"joint '{j.name}'", f"unsupported joint type '{j.type}'")
         length = math.hypot(*j.axis) if j.type in MOVABLE else 1.0
         if not length > 1e-9:       # (an axis of 1e-170 was said to be zero: a new user's find)
-            raise located(path, f"joint '{j.name}'", "axis is zero" if not length else
+            raise located(path, f"joint '{j.name}'", (
+                "axis is zero" + (" (its <axis> gives xyz=\"0 0 0\" or no xyz, which urdfdom, "
+                                  "Pinocchio's reader, reads so; README, URDF)" if tree.by_name
+                                  else "")) if not length else
                           f"its axis is {length:.3g} long: too short to be told from zero (at "
                           "least 1e-9; only its direction counts: give a unit vector)")
 
