@@ -1640,19 +1640,42 @@ def test_standard_input_with_no_end_or_no_text_is_refused(program, tmp_path, fee
     if not os.path.exists("/dev/zero"):
         pytest.skip("no /dev/zero here")
     command = f"{sys.executable} -m vampc emulate {program} --trajectory - -o {tmp_path / 't.csv'}"
+    # (capped, so that a reader that regresses fails here without taking the machine's memory: a
+    # review's find)
+    command = f"(ulimit -v 4000000; {command})"
     shell = {"device": f"{command} < /dev/zero",
-             "pipe of NULs": f"cat /dev/zero | {command}",
-             "header then NULs": f"(echo q1,q2,qd1,qd2,qdd1,qdd2; cat /dev/zero) | {command}",
+             "pipe of NULs": f"head -c 64M /dev/zero | {command}",
+             "header then NULs": f"(echo q1,q2,qd1,qd2,qdd1,qdd2; head -c 64M /dev/zero) | {command}",
              "gzip": f"(echo q1,q2,qd1,qd2,qdd1,qdd2; echo 0,0,0,0,0,0) | gzip | {command}"}[feed]
     done = subprocess.run(["bash", "-c", shell], capture_output=True, text=True, timeout=120)
     said = {"device": r"standard input is a character device, which has no end: give a file or a "
                       r"pipe",
             "pipe of NULs": r"cannot read trajectory: byte 0 is a NUL byte, which no text has \(a "
-                            r"CSV is expected\)",
+                            r"text file is expected\)$",
             "header then NULs": r"cannot read trajectory: byte 24 is a NUL byte",
             "gzip": r"gzip-compressed; give the trajectory as plain CSV"}[feed]
     assert done.returncode == 1 and re.match(r"vampc: error: -: .*" + said, done.stderr), done.stderr
     assert len(done.stderr.splitlines()) == 1 and not (tmp_path / "t.csv").exists()
+
+
+def test_every_text_reader_refuses_a_pipes_nul_byte_and_a_device(tmp_path):
+    """The NUL refusal had covered the trajectory readers only: a FIFO named .urdf fed zeros was read
+    whole before 'not well-formed XML', and `report --rtl /dev/zero` (read by open(), not as every
+    input is) ran until memory ran out (a review's find)."""
+    import subprocess
+    if not os.path.exists("/dev/zero") or not hasattr(os, "mkfifo"):
+        pytest.skip("no /dev/zero or FIFOs here")
+    fifo = tmp_path / "r.urdf"
+    os.mkfifo(fifo)
+    shell = (f"(head -c 8M /dev/zero > {fifo} &) ; (ulimit -v 4000000; {sys.executable} -m vampc "
+             f"compile {fifo} -o {tmp_path / 'x.vamp.json'})")
+    done = subprocess.run(["bash", "-c", shell], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1 and done.stderr == (f"vampc: error: {fifo}: cannot read: byte 0 is a "
+                                                    "NUL byte, which no text has (a text file is "
+                                                    "expected)\n"), done.stderr
+    res = run("report", PLANAR, "--word", "q16.16", "--rtl", "/dev/zero")
+    user_error(res, r"^vampc: error: /dev/zero: cannot read: it is a character device, which has no "
+                    r"end: give a file or a pipe$")
 
 
 def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):

@@ -236,7 +236,7 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = (), prog
         padded.setdefault(j.name.strip(), []).append(j.name)
     try:
         from vampc.textio import read_whole, stdin_hint
-        raw = read_whole(path)
+        raw = read_whole(path, text=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read limits: {exc.strerror or exc}"
                          f"{stdin_hint(path, exc)}") from None

@@ -67,20 +67,30 @@ def read_whole(path, stdin: bool = False, text: bool = False) -> bytes:
 
 def _pieces(fd: int, text: bool = False) -> bytes:
     """What a descriptor gives until its end, a MiB at a time (signal handlers run between); with
-    `text`, an OSError at the first NUL byte."""
+    `text`, an OSError at the first NUL byte, unless the first 16 bytes say the content is of a
+    known kind that is not UTF-8 text (the reader then says what it is)."""
     import errno
     import os
-    pieces, size = [], 0
+    pieces, size, checked = [], 0, not text      # checked: the bytes so far looked at
     while piece := os.read(fd, 1 << 20):
-        if text and not pieces and _binary(piece):
-            text = False          # (compressed, an array, UTF-16: the reader says what it is)
-        if text and b"\0" in piece:
-            at = size + piece.index(b"\0")
-            raise OSError(errno.EINVAL, f"byte {at} is a NUL byte, which no text has (a CSV is "
-                                        "expected)")
         pieces.append(piece)
         size += len(piece)
-    return b"".join(pieces)
+        if not checked and size >= 16:
+            head = b"".join(pieces)
+            if _binary(head[:16]):
+                text = False         # (compressed, an array, UTF-16: the reader says what it is)
+            checked = True
+            piece = head
+        if text and checked and b"\0" in piece:
+            at = size - len(piece) + piece.index(b"\0")
+            raise OSError(errno.EINVAL, _NUL.format(at))
+    data = b"".join(pieces)
+    if text and not checked and b"\0" in data and not _binary(data):
+        raise OSError(errno.EINVAL, _NUL.format(data.index(b"\0")))
+    return data
+
+
+_NUL = "byte {} is a NUL byte, which no text has (a text file is expected)"
 
 
 def _binary(head: bytes) -> bool:

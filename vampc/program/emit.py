@@ -129,7 +129,7 @@ def read_numbering(path: str | Path, count: int, limit: int | None = None) -> tu
     first: dict[int, int] = {}           # each number's line
     try:
         from vampc.textio import read_whole, stdin_hint
-        raw = read_whole(path)
+        raw = read_whole(path, text=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read numbering file: {exc.strerror}"
                          f"{stdin_hint(path, exc)}") from None

@@ -362,7 +362,7 @@ def _read(path) -> tuple[ProgramFile, bytes]:
     from vampc.textio import decode_utf8
     try:
         from vampc.textio import read_whole
-        raw = read_whole(path)
+        raw = read_whole(path, text=True)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read program file: {exc.strerror}") from None
     packed = raw.startswith(GZIP_MAGIC)

@@ -35,9 +35,9 @@ def rtl_figures(path: str, c) -> dict:
                          "which `vampc rtl` does not render, so its hardware is not in them "
                          "(README, RTL: Limits)")
     text = ""
-    try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
+    try:     # (read as every input is: a character device refused, a pipe's NUL byte; a review's)
+        from vampc.textio import decode_utf8, read_whole
+        text = decode_utf8(read_whole(path, text=True), path, "figures file")
         doc = jsontext.loads(text)
     except OSError as exc:
         raise VampcError(f"{path}: cannot read: {exc.strerror}") from None

@@ -188,7 +188,7 @@ def read_text(path: Path) -> str:
     why it cannot be read."""
     from vampc.textio import read_whole
     try:
-        return read_whole(path).decode("utf-8").removeprefix("\ufeff")
+        return read_whole(path, text=True).decode("utf-8").removeprefix("\ufeff")
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except UnicodeDecodeError as exc:

@@ -363,7 +363,7 @@ def _parse_xml(path: Path):
     """Parse without resolving entities or touching the network, and refuse any entity at all."""
     try:
         from vampc.textio import read_whole
-        data = read_whole(path)
+        data = read_whole(path, text=True)
     except FileNotFoundError:
         raise located(path, "", "no such file") from None
     except OSError as exc:
