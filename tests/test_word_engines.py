@@ -540,7 +540,20 @@ def test_torques_below_the_checks_floor_are_said_on_its_verdict(tmp_path):
     assert res.exit_code == 0, res.output
     assert re.search(r"\(every torque is below 1e-12 N·m, the least the error is measured against: "
                      r"its largest \|τ\| is \d\.\de-30\d\), tolerance 0\.001: OK", res.output), res.output
+    # the float64 check, of each set's largest |τ|, and the look-ahead's, of each row's: counted
+    # (a review's find: said nothing)
+    res = CliRunner().invoke(main, ["emulate", str(robot), "--random", "3", "--check"])
+    assert res.exit_code == 0 and "(3 sets whose every torque is below 1e-12 N·m, the least the " \
+        "error is measured against), tolerance 1e-9: OK" in res.output, res.output
+    path = tmp_path / "path.csv"
+    path.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0,0\n0.001,0.1,0,0,0,0,0\n"
+                    "0.002,0.2,0,0,0,0,0\n")
+    res = CliRunner().invoke(main, ["lookahead", str(robot), "--trajectory", str(path), "--rate",
+                                    "1kHz", "--window", "2", "--check"])
+    assert res.exit_code == 0 and "(3 rows whose every torque is below 1e-12 N·m" in res.output, \
+        res.output
     # a robot of ordinary masses: nothing said of it
-    res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",
-                                    "--check", "--word", "q16.16"])
-    assert res.exit_code == 0 and "the least the error is measured against" not in res.output
+    for word in (["--word", "q16.16"], []):
+        res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",
+                                        "--check", *word])
+        assert res.exit_code == 0 and "the least the error is measured against" not in res.output

@@ -484,8 +484,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         say(REFERENCE_NOT_FINITE, info)
     elif outcome.check is not None and ld.word is None:
         res = outcome.check
+        from vampc.emulator.host import floor_clause
         say(f"check against reference RNEA: max abs error {res.max_abs:.3e}, max relative error "
-            f"{res.max_rel:.3e} (set {res.worst_row + 1}), tolerance "
+            f"{res.max_rel:.3e} (set {res.worst_row + 1}){floor_clause(res)}, tolerance "
             f"{number_text(own.tolerance or default_tolerance(word))}: "
             f"{'OK' if ok else 'FAILED'}"
             + ("" if ok or own.fault else _edited_hint(ld, states.chunk(ld.chain, res.worst_row, 1))),
@@ -557,12 +558,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
         lines.append(f"  {name}: {res.max_abs[k]:.3e}, {res.rel[k]:.3e}, {res.rms[k]:.3e}")
     worst = int(res.max_abs.argmax()) if len(names) else 0
     over = f", {count(outcome.overflows, 'overflow')}" if outcome.overflows else ""
-    from vampc.emulator.host import CHECK_FLOOR
-    top = float(res.max_ref.max(initial=0.0))
-    # (every torque of 1e-288 N·m written 0 in q16.16 passed as "5e-288 of the largest |τ|": the
-    # error is measured against 1e-12 N·m there, said; an audit's find)
-    floor = (f" (every torque is below {CHECK_FLOOR:g} N·m, the least the error is measured "
-             f"against: its largest |τ| is {top:.1e})" if top < CHECK_FLOOR else "")
+    from vampc.emulator.host import floor_clause
+    floor = floor_clause(res)
     lines.append(f"max error {res.overall:.3e} of the largest |τ| ({names[worst]}){floor}, tolerance "
                  f"{number_text(tolerance)}{over}: {'OK' if ok else 'FAILED'}"
                  + ("" if ok else " (the injected --fault: a wider word would not undo it)" if faulted
@@ -1436,7 +1433,9 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             same = False
             line = REFERENCE_NOT_FINITE
         else:
-            line = (f"check against reference RNEA: max relative error {error:.3e}, tolerance "
+            from vampc.emulator.host import floor_clause
+            line = (f"check against reference RNEA: max relative error {error:.3e}"
+                    f"{floor_clause(check, 'row')}, tolerance "
                     f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}"
                     + ("" if same or overflows else
                        _edited_hint(ld, _state(traj, check.worst_row) if ld.word is None else None)))

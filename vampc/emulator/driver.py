@@ -362,12 +362,12 @@ STOPPED = "the run stopped and wrote no output file"     # (emulate says more wh
 
 
 def _merge(acc: CheckResult | None, new: CheckResult, start: int) -> CheckResult:
-    new = CheckResult(new.max_abs, new.max_rel, new.worst_row + start, new.ok)
+    new = CheckResult(new.max_abs, new.max_rel, new.worst_row + start, new.ok, new.floored)
     if acc is None:
         return new
     worst = new if new.max_rel > acc.max_rel else acc
     return CheckResult(max(acc.max_abs, new.max_abs), worst.max_rel, worst.worst_row,
-                       acc.ok and new.ok)
+                       acc.ok and new.ok, acc.floored + new.floored)
 
 
 __all__ = ["Outcome", "States", "run", "random_states", "chunk_size"]

@@ -182,6 +182,7 @@ class CheckResult:
     max_rel: float
     worst_row: int
     ok: bool
+    floored: int = 0        # sets whose largest |τ| is below CHECK_FLOOR (measured against it)
 
 
 @dataclass(frozen=True)
@@ -252,9 +253,24 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     from vampc.dynamics.reference import rnea
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
-    scale = np.maximum(np.max(np.abs(ref), axis=1, keepdims=True), CHECK_FLOOR)
+    top = np.max(np.abs(ref), axis=1, keepdims=True) if ref.size else np.zeros((len(ref), 1))
+    scale = np.maximum(top, CHECK_FLOOR)
     rel = err / scale
     worst = int(np.argmax(np.max(rel, axis=1))) if len(rel) else 0
     max_rel = float(rel.max()) if rel.size else 0.0
     return CheckResult(float(err.max()) if err.size else 0.0, max_rel, worst,
-                       bool(max_rel <= tol and np.all(np.isfinite(tau))))
+                       bool(max_rel <= tol and np.all(np.isfinite(tau))),
+                       int(np.count_nonzero(top < CHECK_FLOOR)))
+
+
+def floor_clause(check, noun: str = "set") -> str:
+    """What a check's verdict line says when torques were below CHECK_FLOOR, the least their errors
+    are measured against (a CheckResult's sets, a WordCheck's run), else nothing (every torque of
+    1e-300 N·m written 0 in q16.16 had passed unexplained: an audit's find)."""
+    if isinstance(check, WordCheck):
+        top = float(check.max_ref.max(initial=0.0))
+        return (f" (every torque is below {CHECK_FLOOR:g} N·m, the least the error is measured "
+                f"against: its largest |τ| is {top:.1e})" if top < CHECK_FLOOR else "")
+    k = getattr(check, "floored", 0)
+    return (f" ({k} {noun}{'' if k == 1 else 's'} whose every torque is below {CHECK_FLOOR:g} N·m, "
+            "the least the error is measured against)" if k else "")
