@@ -2255,3 +2255,21 @@ def test_a_replaced_output_keeps_its_owner_and_a_hard_link_is_said(program, tmp_
         assert (out.stat().st_uid, out.stat().st_gid) == (65534, 65534)
     res = run("emulate", program, "--random", "2", "-o", out)          # one name now: nothing said
     assert res.exit_code == 0 and "warning" not in res.stderr
+
+
+@pytest.mark.skipif(not IS_ROOT, reason="a file of another user's needs root to make")
+def test_an_owner_that_cannot_be_kept_is_said(program, tmp_path, monkeypatch):
+    """Where the owner or group cannot be given (a user not root, root on NFS with root_squash: here
+    chown refused as it would be), the new file's owner was changed without a word (a review's
+    find): said, with both."""
+    out = tmp_path / "t.csv"
+    out.write_text("OLD\n")
+    os.chown(out, 65534, 65534)
+
+    def refused(*args, **kwargs):
+        raise PermissionError(1, "Operation not permitted")
+    monkeypatch.setattr(os, "chown", refused)
+    res = run("emulate", program, "--random", "2", "-o", out)
+    assert res.exit_code == 0, res.output
+    assert re.search(rf"warning: -o {re.escape(str(out))}: the new file's owner and group are "
+                     r"0:0, not the old file's 65534:65534, which this user cannot give", res.stderr)

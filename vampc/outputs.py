@@ -562,14 +562,22 @@ def _keep_owner_and_links(tmp: str, out: PlannedOutput) -> None:
         old = os.stat(out.target)
     except OSError:
         return
+    import warnings
+
+    from vampc.errors import VampcWarning
     mine = os.stat(tmp)
     if (old.st_uid, old.st_gid) != (mine.st_uid, mine.st_gid):
-        with contextlib.suppress(OSError):
+        try:
             os.chown(tmp, old.st_uid if os.geteuid() == 0 else -1, old.st_gid)
+        except OSError:
+            pass
+        now = os.stat(tmp)
+        if (now.st_uid, now.st_gid) != (old.st_uid, old.st_gid):     # (said: a review's find)
+            warnings.warn(VampcWarning(f"{out.option} {out.path}: the new file's owner and group "
+                                       f"are {now.st_uid}:{now.st_gid}, not the old file's "
+                                       f"{old.st_uid}:{old.st_gid}, which this user cannot give"),
+                          stacklevel=2)
     if old.st_nlink > 1:
-        import warnings
-
-        from vampc.errors import VampcWarning
         warnings.warn(VampcWarning(f"{out.option} {out.path}: the file has {old.st_nlink - 1} other "
                                    "hard link(s), which keep the old content: the new file replaces "
                                    "this name only"),
