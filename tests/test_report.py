@@ -191,3 +191,35 @@ def test_vamp_counts_of_plain_and_unusual_vamps():
         assert got["by_op"] == ops
         assert hardware_counts(case)["control_registers"] == control
     assert vamp_counts(empty)["shared"] == 1 and vamp_counts(c)["shared"] == 0
+
+
+def test_long_lists_of_joint_numbers_are_cut_in_the_text(tmp_path):
+    """A 4 096-joint chain's 585 prismatic joints were listed in full on five report lines of 3 500
+    characters (the robot line, the paper note, a footnote, the VAMPs table's check column; a new
+    user's find), where the joints line is cut: each list past twelve numbers gives the first
+    eleven and how many in all (`--format json` lists every one)."""
+    import json
+    import re
+
+    import yaml
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    joints = [{"name": f"j{i + 1}", "type": "prismatic" if i % 3 == 0 else "revolute", "a": 0.1,
+               "alpha": 0.3, "d": 0.05, "theta": 0.2, "mass": 1.0, "com": [0.01, 0, 0],
+               "inertia": [0.01, 0.01, 0.01, 0, 0, 0]} for i in range(60)]
+    robot = tmp_path / "p60.yaml"
+    robot.write_text(yaml.safe_dump({"name": "p60", "joints": joints}))
+    every = list(range(1, 61, 3))
+    for recursion in ("linear", "log"):
+        res = CliRunner().invoke(main, ["report", str(robot), "--recursion", recursion])
+        assert res.exit_code == 0, res.output
+        lists = re.findall(r"\[(\d+(?:, \d+)+)(, \.\.\. (\d+) in all)?\]", res.stdout)
+        cut = [(nums, total) for nums, _, total in lists if total]
+        assert cut and all(total == "20" and nums == ", ".join(map(str, every[:11]))
+                           for nums, total in cut), cut
+        assert all(len(nums.split(", ")) <= 12 for nums, _, _ in lists), lists
+        assert f"(60 joints, prismatic [{', '.join(map(str, every[:11]))}, ... 20 in all])" in res.stdout
+        rep = json.loads(CliRunner().invoke(main, ["report", str(robot), "--recursion", recursion,
+                                                   "--format", "json"]).stdout)
+        assert rep["prismatic_joints"] == every

@@ -317,6 +317,19 @@ def prismatic_joints(chain) -> list[int]:
     return [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0]
 
 
+SHOWN_NUMBERS = 12
+
+
+def numbers_text(numbers) -> str:
+    """Joint numbers as a message gives them, '[3, 5]'; past SHOWN_NUMBERS the first few and how
+    many in all (585 prismatic joints of a 4 096-joint chain had made lines of 3 500 characters: a
+    new user's find; --format json lists every one)."""
+    numbers = list(numbers)
+    if len(numbers) <= SHOWN_NUMBERS:
+        return str(numbers)
+    return "[" + ", ".join(map(str, numbers[:SHOWN_NUMBERS - 1])) + f", ... {len(numbers)} in all]"
+
+
 def paper_flops(rep: dict) -> int:
     """The paper's formula in flops at the report's Mult and Addn latencies (the paper's own figure
     when both are 1 flop)."""
@@ -485,7 +498,8 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         # longer path, the same or shorter, by 1 M + 4 A linear, 1 A to 2 M + 4 A log (README,
         # Exactness convention); "add the σ̄ terms" had been read as a cost)
         reasons.append(("prismatic joints (σ̄ terms)",
-                        f"prismatic joints {rep['prismatic_joints']}: Table I.1's σ̄ terms add ops but "
+                        f"prismatic joints {numbers_text(rep['prismatic_joints'])}: Table I.1's σ̄ "
+                        "terms add ops but "
                         "no latency, and the path is the same as with revolute joints or shorter "
                         "(the paper's formula is for a general rotary arm)"))
     if log and rep.get("prefix", "sklansky") != "sklansky":
@@ -561,7 +575,8 @@ def _layout_notes(rep: dict) -> list[str]:
         # (the σ̄ clause was said of all-revolute arms too: a new user's find)
         prismatic = rep.get("prismatic_joints")
         return [f"single device (section VI, Figure VI.1): paper {paper} for a general rotary arm"
-                + (f"; prismatic joints {prismatic} add VAMPs for their σ̄ terms" if prismatic else "")]
+                + (f"; prismatic joints {numbers_text(prismatic)} add VAMPs for their σ̄ terms"
+                   if prismatic else "")]
     notes = ["single device (section VI, n = 6): paper 98 + 39, a tier of 3 nodes (26 + 10 "
              "backward, 13 forward each); vampc binds each tier position's ops by name"]
     if not rep.get("uniform_leaves"):

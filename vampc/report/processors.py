@@ -209,8 +209,9 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, chain) -> str:
         why.append(_tree_why(recursion, sec, row, ref, chain))
     prismatic = prismatic_joints(chain)
     if not why and prismatic:      # (the Stanford arm's 14 [12] said "see README, Layouts")
-        why.append(f"prismatic joints {prismatic} add the σ̄ terms (Table I.1's translational case; "
-                   "section VI counts a rotary arm)")
+        from vampc.report.counts import numbers_text
+        why.append(f"prismatic joints {numbers_text(prismatic)} add the σ̄ terms (Table I.1's "
+                   "translational case; section VI counts a rotary arm)")
     head = (f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " if diff else
             "per node as the paper's, for another reason: ")
     return head + ("; ".join(why) or "see README, Layouts")

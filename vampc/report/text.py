@@ -2,7 +2,7 @@
 markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
-from vampc.report.counts import latency_note, latency_terms, paper_flops, vamp_notes
+from vampc.report.counts import latency_note, latency_terms, numbers_text, paper_flops, vamp_notes
 from vampc.schedule.registry import SYSTOLIC, is_layout
 from vampc.textio import count
 
@@ -37,7 +37,8 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     lat, paper, v = rep["latency"], rep["paper"], rep["vamps"]
     pairs = [
         ("robot", f"{rep['robot']} ({count(rep['joints'], 'joint')}"
-         + (f", prismatic {rep['prismatic_joints']})" if rep["prismatic_joints"] else ")")),
+         + (f", prismatic {numbers_text(rep['prismatic_joints'])})" if rep["prismatic_joints"]
+            else ")")),
         ("joints", _joints(rep)),
         ("recursion", rep["recursion"] + (f" ({rep['prefix']})" if rep.get("prefix") else "")),
         ("layout", rep["layout"] + (" (forward pass on the backward VAMPs)"
