@@ -2,7 +2,13 @@
 markdown`): the summary lines, then the tables of vampc.report.sections."""
 from __future__ import annotations
 
-from vampc.report.counts import latency_note, latency_terms, numbers_text, paper_flops, vamp_notes
+from vampc.report.counts import (
+    latency_note,
+    latency_terms,
+    numbers_text,
+    paper_flops,
+    vamp_notes,
+)
 from vampc.schedule.registry import SYSTOLIC, is_layout
 from vampc.textio import count
 
