@@ -405,22 +405,20 @@ def test_reading_a_program_and_preparing_the_engine_show_bars(monkeypatch, tmp_p
 def test_the_tick_engines_bar_moves_within_a_set(monkeypatch):
     """A 93 810-VAMP network's 3 sets on the tick engine showed 0/3 and an elapsed time stuck at
     00:00 for minutes (a new user's find): the engine reported whole sets every 1024 ticks, and a
-    bar at 0 restarts its clock. It reports hundredths of a set, twice a second (here with every
-    tick slowed to 40 ms, as a big network's are), and the whole run at its end."""
-    import time
+    bar at 0 restarts its clock. It reports hundredths of a set, twice a second (here on a clock
+    that moves 0.6 s each time it is read, as a big network's ticks take that long), and the whole
+    run at its end."""
+    import itertools
+    import types
 
     from vampc.compiler import compile_chain
+    from vampc.emulator import tick
     from vampc.emulator.driver import States, run
     from vampc.emulator.load import loaded_from_compiled
-    from vampc.emulator.tick import TickEngine
     from vampc.robot import load_robot
     ld = loaded_from_compiled(compile_chain(load_robot(EXAMPLES / "puma560.yaml")), "<test>")
-    slow = TickEngine._data_tick
-
-    def data_tick(self, c, t):
-        time.sleep(0.04)
-        return slow(self, c, t)
-    monkeypatch.setattr(TickEngine, "_data_tick", data_tick)
+    clock = itertools.count(0.0, 0.6)
+    monkeypatch.setattr(tick, "time", types.SimpleNamespace(monotonic=lambda: next(clock)))
     seen = []
     run(ld, States.random(3, 0), engine="tick", progress=lambda done, total: seen.append(done))
     inside = [d for d in seen if 0 < d < 3]
