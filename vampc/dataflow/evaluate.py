@@ -10,7 +10,7 @@ import numpy as np
 
 from vampc.dataflow.graph import Graph
 from vampc.dataflow.host import input_values
-from vampc.machine.arith import FLOAT64
+from vampc.machine.arith import FLOAT64, canonical_nan
 from vampc.machine.interp import apply
 from vampc.machine.ops import Op
 from vampc.robot.chain import Chain
@@ -33,7 +33,9 @@ def evaluate_nodes(graph: Graph, chain: Chain, q, qd, qdd, base=None,
             shape = (3, 3) if len(nd.value) == 9 else (3,)
             vals.append(np.broadcast_to(np.reshape(arith.encode(nd.value), shape), (count,) + shape))
         else:
-            vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]], arith))
+            # (a NaN as the arithmetic makes it: `evaluate` makes the torques' canonical, as the
+            # stream engine does, without a check on every op)
+            vals.append(apply(nd.op, vals[nd.args[0]], vals[nd.args[1]], arith, canonical=False))
     return vals
 
 
@@ -42,5 +44,6 @@ def evaluate(graph: Graph, chain: Chain, q, qd, qdd, base=None, arith=FLOAT64) -
     computed by evaluating the graph in the word format `arith`."""
     single = np.ndim(q) == 1
     vals = evaluate_nodes(graph, chain, q, qd, qdd, base, arith)
-    tau = arith.decode(np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1))
+    tau = canonical_nan(arith.decode(np.stack([vals[o.node][:, o.component]
+                                               for o in graph.outputs], axis=1)))
     return tau[0] if single else tau

@@ -74,6 +74,8 @@ MODE_NAMES = ("normal", "warm", "check", "fill", "inhibited", "idle")
 class CheckingTickEngine(TickEngine):
     """The tick engine of a program compiled with --error-correction (see the module docstring)."""
 
+    CHECKS = True
+
     def __init__(self, ld, seed: int = 0, vcd=None, faults=(), strict: bool | None = None):
         self.checking = ld.net.checking
         V = len(ld.net.vamps)

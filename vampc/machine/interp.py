@@ -118,13 +118,15 @@ def run(rom: int, op_a: np.ndarray, op_b: np.ndarray, arith=FLOAT64,
     return arith.result(out) if canonical else out
 
 
-def apply(op: ops.Op, a: np.ndarray, b: np.ndarray, arith=FLOAT64) -> np.ndarray:
+def apply(op: ops.Op, a: np.ndarray, b: np.ndarray, arith=FLOAT64,
+          canonical: bool = True) -> np.ndarray:
     """A compute op on whole values, as the VAMPs compute it: `a`, `b` (..., 3) vectors or (..., 3, 3)
-    matrices; the result (..., 3), or (..., 3, 3) for a 3-column op (column k from VAMP k)."""
+    matrices; the result (..., 3), or (..., 3, 3) for a 3-column op (column k from VAMP k).
+    `canonical`: as `run`'s."""
     entry = TABLE[op]
     flat_a, flat_b = (x.reshape(x.shape[:-2] + (9,)) if shape == "m" else x
                       for x, shape in zip((a, b), entry.operands))
     if entry.columns == 1:
-        return run(ops.rom_pointer(op, None), flat_a, flat_b, arith)
-    return np.stack([run(ops.rom_pointer(op, k), flat_a, flat_b, arith)
+        return run(ops.rom_pointer(op, None), flat_a, flat_b, arith, canonical)
+    return np.stack([run(ops.rom_pointer(op, k), flat_a, flat_b, arith, canonical)
                      for k in range(entry.columns)], axis=-1)
