@@ -31,9 +31,10 @@ the same two NaN operands held other bits than its successor, found a mismatch a
 healthy VAMP (a new user's find). A NaN result goes on being NaN through every later op, so
 canonical Results make every NaN a line carries, a comparator sees or a torque holds the same bits
 in every engine; inside a module the units' NaNs are left as the arithmetic makes them. The tick
-engine holds every Result so (its lines, comparators and waveforms show them); the stream engines,
-whose only Results they show are the torques, make those canonical (numpy's per-op check had cost
-its runs 7-17%; generated C keeps its arithmetic as it was).
+engine holds every Result so where their bits are seen beyond the torques (a fault on a register,
+the checking's comparators, a waveform), and otherwise, as the stream engines and the graph
+evaluator do, makes the torques canonical at the end: the same bits (a check on every op or dump
+had cost their runs 5-17%; generated C keeps its arithmetic as it was).
 """
 from __future__ import annotations
 
