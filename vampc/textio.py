@@ -32,7 +32,7 @@ def read_whole(path, stdin: bool = False, text: bool = False) -> bytes:
     that takes it so (a trajectory); elsewhere `-` is a file of that name. Standard input from a
     character device other than a terminal or /dev/null is refused as a named one is (`- <
     /dev/zero` had been read until memory ran out: an audit's find). `text`: the reader takes text
-    only (a CSV), so a pipe's NUL byte, which no such text has, is refused as it arrives (`cat
+    only (CSV, XML, YAML, JSON), so a pipe's NUL byte, which no such text has, is refused as it arrives (`cat
     /dev/zero |` had been, too)."""
     import errno
     import os
