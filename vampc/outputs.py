@@ -498,8 +498,7 @@ class Pending:
             raise_if_terminated()          # an interrupt swallowed on the way: not put in place
             if self.tmp is not None:
                 committing()               # from here a signal lets the command finish
-                _keep_owner_and_links(self.tmp, self.out)
-                os.chmod(self.tmp, _mode_for(self.out.target))
+                _like_the_old(self.tmp, self.out)
                 os.replace(self.tmp, self.out.target)
                 _TEMPORARIES.discard(self.tmp)    # after the rename: a signal between the two finds no file
                 self.tmp = None
@@ -553,14 +552,18 @@ def placing(pending) -> Iterator[None]:
             os.close(fd)
 
 
-def _keep_owner_and_links(tmp: str, out: PlannedOutput) -> None:
-    """Before `tmp` replaces `out.target`: the old file's owner and group kept where the user may give
-    them (root may; others only a group of theirs), and a warning where the old file has other
+def _like_the_old(tmp: str, out: PlannedOutput) -> None:
+    """Before `tmp` replaces `out.target`, from one look at the old file: its permission bits (a new
+    file's, by the umask, where there is none), its owner and group where the user may give them
+    (root may; others only a group of theirs; said where not), and a warning where it has other
     hard links, which keep the old content (root replacing a file of another user's had made it
     root's, unsaid, and a hard link had been split without a word: an audit's find)."""
     try:
         old = os.stat(out.target)
-    except OSError:
+    except FileNotFoundError:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         return
     import warnings
 
@@ -577,20 +580,12 @@ def _keep_owner_and_links(tmp: str, out: PlannedOutput) -> None:
                                        f"are {now.st_uid}:{now.st_gid}, not the old file's "
                                        f"{old.st_uid}:{old.st_gid}, which this user cannot give"),
                           stacklevel=2)
+    os.chmod(tmp, stat.S_IMODE(old.st_mode))        # (after chown, which may clear set-id bits)
     if old.st_nlink > 1:
         warnings.warn(VampcWarning(f"{out.option} {out.path}: the file has {old.st_nlink - 1} other "
                                    "hard link(s), which keep the old content: the new file replaces "
                                    "this name only"),
                       stacklevel=2)
-
-
-def _mode_for(target: Path) -> int:
-    try:
-        return stat.S_IMODE(os.stat(target).st_mode)
-    except FileNotFoundError:
-        umask = os.umask(0)
-        os.umask(umask)
-        return 0o666 & ~umask
 
 
 @contextlib.contextmanager
