@@ -5,6 +5,8 @@ from __future__ import annotations
 import codecs
 from pathlib import Path
 
+from vampc.textio import NPY_MAGIC
+
 HEAD = 4096
 PROGRAM_SUFFIX = ".vamp.json"
 
@@ -56,7 +58,7 @@ def sniff(path) -> str | None:
     if head.startswith(codecs.BOM_UTF8):
         head = head[len(codecs.BOM_UTF8):]
     head = head.lstrip()
-    if head.startswith(b"\x93NUMPY"):               # (a robot file's "not UTF-8 text (byte 0)")
+    if head.startswith(NPY_MAGIC):                  # (a robot file's "not UTF-8 text (byte 0)")
         return "npy"
     if head.startswith(b"<"):
         return "svg" if b"<svg" in head and b"<robot" not in head else "urdf"

@@ -253,7 +253,7 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     from vampc.dynamics.reference import rnea
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     err = np.abs(tau - ref)
-    top = np.max(np.abs(ref), axis=1, keepdims=True) if ref.size else np.zeros((len(ref), 1))
+    top = np.max(np.abs(ref), axis=1, keepdims=True)
     scale = np.maximum(top, CHECK_FLOOR)
     rel = err / scale
     worst = int(np.argmax(np.max(rel, axis=1))) if len(rel) else 0
@@ -271,6 +271,6 @@ def floor_clause(check, noun: str = "set") -> str:
         top = float(check.max_ref.max(initial=0.0))
         return (f" (every torque is below {CHECK_FLOOR:g} N·m, the least the error is measured "
                 f"against: its largest |τ| is {top:.1e})" if top < CHECK_FLOOR else "")
-    k = getattr(check, "floored", 0)
+    k = check.floored
     return (f" ({k} {noun}{'' if k == 1 else 's'} whose every torque is below {CHECK_FLOOR:g} N·m, "
             "the least the error is measured against)" if k else "")
