@@ -1022,8 +1022,8 @@ class FaultsOptions:
             raise VampcUsageError(f"--values {self.values}: give 0, 1 or 0,1")
         for name in ("kinds", "bits", "values"):    # (each once, as a set: said, not dropped
             text = getattr(self, name)              # unsaid; an audit's find)
-            parts = [p.strip() for p in text.split(",") if p.strip()] if text else []
-            parts = [str(int(p)) if p.isascii() and p.isdigit() else p for p in parts]  # (03: 3)
+            parts = [str(int(p)) if p.isascii() and p.isdigit() else p   # (03: 3)
+                     for p in _parts(text)]
             twice = sorted({p for p in parts if parts.count(p) > 1}, key=parts.index)
             if twice and name in self.given:
                 import warnings
@@ -1037,14 +1037,14 @@ class FaultsOptions:
         campaign's own order: a set of kinds, so `control,dead` is the campaign `dead,control` is
         (each had refused the other's results file: a new user's find)."""
         from vampc.emulator.campaign import KINDS
-        given = {k.strip() for k in self.kinds.split(",") if k.strip()}
+        given = set(_parts(self.kinds))
         return [k for k in KINDS if k in given] + sorted(given - set(KINDS))
 
     def bit_list(self) -> list[int] | None:
         """--bits as numbers (VampcUsageError for a bad one); None: the default bit."""
         if self.bits is None:
             return None
-        parts = [b.strip() for b in self.bits.split(",") if b.strip()]
+        parts = _parts(self.bits)
         from vampc.textio import ascii_digits
         if not parts or not all(map(ascii_digits, parts)):
             raise VampcUsageError(f"--bits {self.bits}: give bit numbers, e.g. 62,52,0")
@@ -1052,8 +1052,13 @@ class FaultsOptions:
         #                                                       62,52 is the campaign 52,62 is)
 
     def value_list(self) -> tuple[int, ...] | None:
-        parts = sorted({v.strip() for v in self.values.split(",") if v.strip()})
+        parts = sorted(set(_parts(self.values)))
         return tuple(int(v) for v in parts) if parts and set(parts) <= {"0", "1"} else None
+
+
+def _parts(text: str | None) -> list[str]:
+    """The items of a comma-separated option value (--kinds, --bits, --values), spaces dropped."""
+    return [p.strip() for p in text.split(",") if p.strip()] if text else []
 
 
 # The compile options that shape only the network (its VAMPs, timing and wiring), not the graph: a
