@@ -151,12 +151,12 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
     joint, followers included. `locked`: joints --lock took out of the robot (a row naming one is
     passed over with a warning)."""
     from vampc.robot.mimic import free_joints
+    from vampc.sniff import is_program
     tau = [j.limits.tau for j in chain.joints]
     qd = [j.limits.qd for j in chain.joints]
     given: set = set()               # (joint, "effort" or "speed") the --limits file gave
     lines: dict[int, int] = {}       # joint -> the line of the --limits file naming it
     if path is not None:
-        from vampc.sniff import is_program
         tau, qd, given, lines = _read_limits(path, chain, tau, qd, tuple(locked),
                                              source is not None and is_program(source))
     free = set(free_joints(chain).tolist())
@@ -203,7 +203,6 @@ def limits_of(chain, path: str | None, source: str | None = None, locked=()) -> 
                 from pathlib import Path
 
                 from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES
-                from vampc.sniff import is_program
                 table = ours and Path(str(came)).suffix.lower() in YAML_SUFFIXES + JSON_SUFFIXES \
                     and not is_program(came)        # (a program named prog.json has no such field)
                 field = f" (its limits.{'tau' if what == 'effort' else 'qd'})" if table else ""

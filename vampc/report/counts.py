@@ -499,8 +499,8 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         # Exactness convention); "add the σ̄ terms" had been read as a cost)
         reasons.append(("prismatic joints (σ̄ terms)",
                         f"prismatic joints {numbers_text(rep['prismatic_joints'])}: Table I.1's σ̄ "
-                        "terms add ops but "
-                        "no latency, and the path is the same as with revolute joints or shorter "
+                        "terms add ops but no latency, and the path is the same as with revolute "
+                        "joints or shorter "
                         "(the paper's formula is for a general rotary arm)"))
     if log and rep.get("prefix", "sklansky") != "sklansky":
         # sized where every other reason is a known count: the rest of the difference is the
