@@ -4,6 +4,7 @@ and refuses two writers on one bus; damaged bus registers are reported; bad tier
 errors; tuned tiers never stretch the cycle more than the default."""
 from __future__ import annotations
 
+import functools
 import json
 import re
 from pathlib import Path
@@ -11,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from emulator_util import document, mutated
+from emulator_util import document, mutated, outcome
 
 from vampc.cli import main
 from vampc.compiler import CompileOptions, compile_chain, program_document
@@ -220,6 +221,12 @@ def test_the_bus_program_as_compiled_runs_on_both_engines():
     assert check_torques(CHAIN, TRAJ, stream).ok
 
 
+@functools.cache
+def _good() -> np.ndarray:
+    """The torques of the bus program as compiled, for the damage sweeps (computed once)."""
+    return emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
+
+
 def _every_write_damage(doc):
     P = doc["network"]["period"]
     for i, (src, counter, tier) in enumerate(doc["network"]["bus"]["writes"]):
@@ -233,13 +240,7 @@ def test_a_damaged_bus_write_register_is_reported_or_changes_the_torques(damage)
 
     def change(doc):
         _set_write(doc, i, **{field: value})
-    doc = mutated(DOC, change)
-    good = emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
-    try:
-        got = emulate(loaded_from_doc(doc), TRAJ, "stream").tau
-    except VampcError:
-        return
-    assert not np.array_equal(got, good)
+    assert outcome(mutated(DOC, change), TRAJ, _good()) in ("reported", "changed")
 
 
 def _tier_selects(doc):
@@ -255,21 +256,17 @@ def test_every_damaged_tier_select_is_reported_or_changes_the_torques():
     # each bus input of each multiplexer made to name the next tier: its bus then carries another
     # writer's value, or none
     T = len(DOC["network"]["bus"]["tiers"])
-    good = emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
-    silent = []
+    wrong = []
     selects = list(_tier_selects(DOC))
     assert len(selects) > 100
     for v, name, k, j in selects:
         def change(doc):
             tap = doc["network"]["vamps"][v][name][k][j]
             doc["network"]["vamps"][v][name][k][j] = ["bus", (tap[1] + 1) % T, 0]
-        try:
-            got = emulate(loaded_from_doc(mutated(DOC, change)), TRAJ, "stream").tau
-        except VampcError:
-            continue
-        if np.array_equal(got, good):
-            silent.append((v, name, k, j))
-    assert silent == []
+        said = outcome(mutated(DOC, change), TRAJ, _good())
+        if said not in ("reported", "changed"):
+            wrong.append((v, name, k, j, said))
+    assert wrong == []
 
 
 def test_a_write_no_one_latches_is_reported():
