@@ -107,11 +107,11 @@ def test_rows_are_variables_for_systolic_and_vamps_for_folded(puma):
     assert len(rows) == len(f.layout.unit_vamps) and rows[0].label.startswith("VAMP 0: bwd")
 
 
-def test_the_chart_is_deterministic(puma):
+def test_the_chart_holds_no_date_or_version(puma):
+    # (the same bytes from one run to the next: tests/test_report_network_drawing.py, two processes)
     c = compile_chain(puma, CompileOptions(layout="folded"))
     a = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
-    b = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
-    assert a == b and "<dc:date>" not in a and "Matplotlib v" not in a
+    assert "<dc:date>" not in a and "Matplotlib v" not in a
 
 
 def test_a_big_chart_merges_bars_per_variable(puma, monkeypatch):
