@@ -35,10 +35,12 @@ def test_the_bound_is_never_below_what_is_observed(robot, recursion):
     graph = compile_chain(chain, CompileOptions(recursion=recursion)).graph
     traj = random_states(chain, 0, 120, 4)
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    compared = 0
     for bits, rounding in ((20, Rounding.NEAREST), (28, Rounding.TRUNCATE), (36, Rounding.NEAREST)):
         got = fitted(graph, chain, bits, rounding, Ranges())
         if got is None:           # no split of this width holds the values: nothing to compare
             continue
+        compared += 1
         word, bound = got
         vals = evaluate_nodes(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
         tau = word.decode(np.stack([vals[o.node][:, o.component] for o in graph.outputs], axis=1))
@@ -47,6 +49,7 @@ def test_the_bound_is_never_below_what_is_observed(robot, recursion):
         assert np.all(np.abs(ref).max(axis=0) <= bound.tau_max), word.name
         peak = max(float(np.abs(word.decode(v)).max()) for v in vals if v.dtype == np.int64)
         assert peak <= bound.peak
+    assert compared == 3          # every width held the values of every example: none skipped
 
 
 def test_precision_names_the_narrowest_words():
