@@ -279,5 +279,9 @@ def test_every_fault_example_of_the_help_is_taken():
     text = res.output.split("--fault SPEC", 1)[1].split("repeatable", 1)[0]
     examples = re.findall(r"(\S+=\S+) \(", text)
     assert len(examples) == 4, examples
-    for spec in examples:
-        assert parse_fault(spec).vamp >= 0, spec
+    faults = [parse_fault(spec) for spec in examples]      # (each raises if refused)
+    # each the fault it shows: its VAMP, its kind, a rate only where it gives one
+    assert [f.kind for f in faults] == ["stuck", "flip", "dead", "stuck"], faults
+    for spec, fault in zip(examples, faults):
+        assert spec.startswith(f"vamp={fault.vamp},"), (spec, fault)
+        assert (fault.rate == 0.1) == ("rate=0.1" in spec), (spec, fault)
