@@ -425,7 +425,7 @@ def test_parse_csv_reads_random_tables_as_python_does(monkeypatch):
         return rng.choice(["0", "-0", "0.", ".0", "1e-400", "1e400", "1e999999", "4.9e-324", "00012",
                            "2.4703282292062327e-324", "1.7976931348623159e308"])
     accepted = 0
-    for _ in range(6000):
+    for _ in range(3000):           # (6000 until 2026-12-06: 2 s of the suite more)
         cols = rng.randint(1, 4)
         lines = [",".join(rng.choice(["", "", " ", "\t"]) + number() + rng.choice(["", "", " ", "\t"])
                           for _ in range(cols)) for _ in range(rng.randint(1, 4))]
@@ -439,7 +439,7 @@ def test_parse_csv_reads_random_tables_as_python_does(monkeypatch):
         if want is not None:
             accepted += 1
             assert np.array_equal(got.view(np.uint64), want.view(np.uint64)), (body, cols)
-    assert accepted > 2000
+    assert accepted > 1000
 
 
 def _significant_digits(cell: str) -> int:
