@@ -497,8 +497,8 @@ def test_a_nan_result_is_the_canonical_nan_in_every_engine(word, monkeypatch):
     """IEEE 754 leaves a NaN result's payload open and numpy's loops gave one operand's or the
     other's as the arrays lay in memory (a checker found a mismatch between two NaNs of one op on
     one pair of operands and excised a healthy VAMP: a new user's find). A Result holding a NaN
-    holds the canonical quiet NaN: every NaN torque of the numpy and C stream engines and the tick
-    engine is that one bit pattern (0x7FF8000000000000; binary32's 0x7FC00000 widens to it)."""
+    holds the canonical quiet NaN: every NaN torque of the numpy (in batches and one op at a time)
+    and C stream engines and the tick engine is that one bit pattern (0x7FF8000000000000; binary32's 0x7FC00000 widens to it)."""
     import warnings
     chain = load_robot(EXAMPLES / "planar2.yaml")
     c = compile_chain(chain, CompileOptions())
@@ -518,6 +518,14 @@ def test_a_nan_result_is_the_canonical_nan_in_every_engine(word, monkeypatch):
                 warnings.simplefilter("ignore", RuntimeWarning)
                 got["evaluate"] = evaluate(c.graph, chain, traj.q, traj.qd, traj.qdd,
                                            arith=ld.arith).view(np.uint64)
+    # and the numpy stream path's one op at a time (130 sets run in batches of ops above)
+    from vampc.emulator import stream
+    monkeypatch.setenv("VAMPC_NATIVE", "0")
+    monkeypatch.setattr(stream, "BATCHED_BELOW", 1)
+    ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(word))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        got["per op"] = emulate(ld, traj, "stream").tau.view(np.uint64)
     nan = np.isnan(got["0", "stream"].view(np.float64))
     assert nan.sum() >= 3 and nan[[3, 5, 7]].all()
     for name, bits in got.items():
