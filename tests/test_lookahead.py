@@ -657,6 +657,39 @@ def test_overflows_fail_the_run_without_check(tmp_path, retime):
         assert r.exit_code == 1 and tau.read_text() != "mine\n", r.output
 
 
+def test_a_failed_run_writes_no_new_file_beside_an_old_one_it_keeps(tmp_path):
+    """A failed run kept the existing -o and wrote a new --plot and --torques of the failed run
+    beside it: files that did not match (a new user's find; vampc emulate keeps its files a matching
+    set). None is written then, each said; --write-failed writes them all."""
+    program = tmp_path / "p2.vamp.json"
+    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q6.10", "-o",
+                                     str(program)]).exit_code == 0
+    made = subprocess.run([sys.executable, "examples/make_path.py", "0.4", "1000"], check=True,
+                          capture_output=True, text=True).stdout            # the Puma's six joints
+    rows = np.loadtxt(io.StringIO(made), delimiter=",", skiprows=1)
+    path = write_path(tmp_path, rows[:, 0], rows[:, 1:3], rows[:, 7:9], rows[:, 13:15])
+    limits = tmp_path / "lim.csv"
+    limits.write_text("joint,tau,qd\nshoulder,500,\nelbow,500,\n")
+    out, tau, plot = tmp_path / "out.csv", tmp_path / "tau.csv", tmp_path / "plot.svg"
+    out.write_text("mine\n")
+    args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "16",
+            "--limits", str(limits), "--overflow", "saturate", "--retime", "window", "-o", str(out),
+            "--torques", str(tau), "--plot", str(plot)]
+    r = CliRunner().invoke(main, args)          # (saturated torques: the run fails)
+    assert r.exit_code == 1, r.output
+    assert out.read_text() == "mine\n" and not tau.exists() and not plot.exists(), r.output
+    for option, name in (("--torques", tau), ("--plot", plot)):
+        assert (f"{option} {name} NOT written: the q6.10 words overflowed and {out} is kept, which "
+                "it would not match (--write-failed writes them all)") in r.output, r.output
+    r = CliRunner().invoke(main, args + ["--write-failed"])
+    assert r.exit_code == 1 and out.read_text() != "mine\n" and tau.exists() and plot.exists()
+    out.unlink()                                # nothing to keep: every new file is written
+    tau.unlink()
+    plot.unlink()
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 1 and out.exists() and tau.exists() and plot.exists(), r.output
+
+
 def test_overflows_fail_the_check_even_when_the_error_is_within_tolerance(setup, tmp_path):
     """Limits far away let the window retiming run the path at MAX_SPEED: its rows' q̈ go beyond
     q16.16's range. Refused naming the retimed row; with --overflow saturate the overflows fail

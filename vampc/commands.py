@@ -1473,6 +1473,13 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     for option in kept:
         tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
             "unchanged; --write-failed replaces it anyway)", True)
+    # a new file beside an existing one kept would not match it (a new plot of the failed run beside
+    # the old retimed path: a new user's find), as vampc emulate keeps its files a matching set
+    beside = [o for o in outs if o not in kept and outs[o].kind == "file"] if kept else []
+    for option in beside:
+        tell(f"{option} {outs[option].path} NOT written: {why} and {outs[kept[0]].path} is kept, "
+             "which it would not match (--write-failed writes them all)", True)
+    kept += beside
     from vampc.outputs import write_together
     write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
     if not ok:
