@@ -319,7 +319,7 @@ def test_a_retiming_over_a_limit_fails_and_replaces_no_existing_file(setup, tmp_
                                                                      write_failed):
     """Should the network find a retimed row over a limit (here: a plan made 1% outside them), the
     run fails (it printed the violations and exited 0) and, as emulate's failed --check, replaces no
-    existing output unless --write-failed; a new one is written, and said so. All outputs are
+    existing output unless --write-failed, nor writes a new one beside it (said so). All outputs are
     written together, so a failure or a signal leaves none half done."""
     import vampc.lookahead as la
     monkeypatch.setattr(la, "PLAN_MARGIN", -0.01)
@@ -333,11 +333,13 @@ def test_a_retiming_over_a_limit_fails_and_replaces_no_existing_file(setup, tmp_
     assert r.exit_code == 1, r.output
     assert re.search(r"retimed rows by the network: \d+ violations, with the s̈ arriving at each row "
                      r"\d+ violations \(worst [\d.]+ × a limit\) FAILED", r.output), r.output
-    assert new.exists() and plot.exists() and "--torques " + str(new) + " written although the retiming failed" in r.output
     if write_failed:
         assert old.read_text().startswith("t,q1")
-    else:
+        assert new.exists() and plot.exists() and "--torques " + str(new) + " written although the retiming failed" in r.output
+    else:       # (and no new file beside the one kept, which it would not match: since 2026-12-06)
         assert old.read_text() == "before\n" and "-o " + str(old) + " NOT written: the retiming failed" in r.output
+        assert not new.exists() and not plot.exists(), r.output
+        assert f"--torques {new} NOT written: the retiming failed and {old} is kept" in r.output, r.output
 
 
 def test_write_failed_applies_with_check_or_retime(setup):
