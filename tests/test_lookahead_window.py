@@ -314,6 +314,30 @@ def test_a_narrower_word_plans_within_its_error_and_stays_within_every_limit(set
     assert np.max(np.abs(tau) / LIM) > 0.99                  # and still uses them
 
 
+def test_a_narrower_word_retimed_without_check_says_its_error_was_not_measured(setup, tmp_path):
+    """The plan trusts a narrower word's torques to the error --check allows; a new user's arm in
+    q24.8 erred more (1.2e-2 of the largest |τ|), and its retimed paths went up to 1.009 times a
+    limit by the reference dynamics, exit 0, unsaid. A retiming in a narrower word without --check
+    now warns that the error was not measured; with --check such a run fails (and nothing warns:
+    it was measured); a float64 retiming has no word error to warn of."""
+    folder, program, limits, path = setup
+    coarse = tmp_path / "q24.8.vamp.json"
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "q24.8", "-o", str(coarse)]).exit_code == 0
+    out = tmp_path / "out.csv"
+    base = ["--trajectory", str(path), "--rate", "1kHz", "--window", "64", "--limits", str(limits),
+            "--retime", "window", "-o", str(out)]
+    said = ("the retiming plans each effort limit 0.06 inside, the error --check allows a q24.8 "
+            "network (0.001 of the largest |τ|), which this run does not measure")
+    r = CliRunner().invoke(main, ["lookahead", str(coarse), *base])
+    assert r.exit_code == 0 and said in r.output, r.output
+    r = CliRunner().invoke(main, ["lookahead", str(coarse), *base, "--check", "--write-failed"])
+    assert r.exit_code == 1 and said not in r.output, r.output
+    assert re.search(r"check against reference RNEA: max relative error [\d.e-]+, tolerance 0\.001: FAILED",
+                     r.output), r.output
+    r = CliRunner().invoke(main, ["lookahead", str(program), *base])
+    assert r.exit_code == 0 and "does not measure" not in r.output, r.output
+
+
 @pytest.mark.parametrize("write_failed", [False, True])
 def test_a_retiming_over_a_limit_fails_and_replaces_no_existing_file(setup, tmp_path, monkeypatch,
                                                                      write_failed):
