@@ -229,7 +229,10 @@ def test_a_clock_that_cannot_compute_the_candidates_in_time_is_refused(setup, tm
             "--limits", str(limits), "--retime", "envelope", "-o", str(out)]
     r = CliRunner().invoke(main, [*args, "--clock", "200kHz"])
     assert r.exit_code == 1 and not out.exists(), r.output
-    assert re.search(r"row \d+ as retimed: the network computes its \d+ candidate rows in .* the arm runs "
+    # the row named as the path's, the network as the program's (the row was the robot file's)
+    assert r.output.startswith(f"vampc: error: {path}: row "), r.output
+    assert re.search(rf"row \d+ as retimed: the network of {re.escape(str(program))} computes its \d+ "
+                     r"candidate rows in .* the arm runs "
                      r"the interval before it in .*: it cannot keep up", r.output), r.output
     assert len(r.output.strip().splitlines()) == 1
     r = CliRunner().invoke(main, [*args, "--clock", "20MHz"])

@@ -1388,7 +1388,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                      "errs more and can take the retimed path over a limit (--check measures it and "
                      "fails the run then; vampc precision gives each width's error)")
     if clock is not None and envelope:
-        tell(_envelope_in_time(source, ld, own, clock, res), info)
+        tell(_envelope_in_time(source, ld, own, clock, res, source_path), info)
     if clock is not None:
         # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
         step = lam if own.retime not in ("window", "envelope") else \
@@ -1576,11 +1576,12 @@ def _envelope_lines(res, window: int, n: int, span: float, traj) -> list[str]:
     return lines
 
 
-def _envelope_in_time(source, ld, own, clock: float, res) -> str:
+def _envelope_in_time(source, ld, own, clock: float, res, path: str) -> str:
     """--retime envelope with --clock: the candidates of each row come while the arm runs the
     interval before it (those of the first row, and of a row where it waits at rest, before it
     goes on): their last torque set after the latency and an interval more for each further row.
-    The line to say, or VampcError where a row's come later than the arm."""
+    The line to say, or VampcError where a row's come later than the arm, naming the row of the
+    path (`path`) and the network's file (`source`)."""
     import numpy as np
 
     from vampc.report.clock import time_text, times_apart
@@ -1597,7 +1598,8 @@ def _envelope_in_time(source, ld, own, clock: float, res) -> str:
     if worst >= 0 and use[worst] > 1:
         i = worst + 1
         late, early = times_apart(need[i] * 1e6, ran[i - 1] * 1e6)
-        raise VampcError(f"{source}: row {i + 1} as retimed: the network computes its "
+        # (the row is the path's: it had been named as a row of the robot file, a new user's find)
+        raise VampcError(f"{path}: row {i + 1} as retimed: the network of {source} computes its "
                          f"{count(int(env.rows[i]), 'candidate row')} in {late} ({ld.schedule.latency} "
                          f"flops of latency and {ld.schedule.interval} a row at {own.clock}), and the "
                          f"arm runs the interval before it in {early}, {100 * (1 - spare):.3g}% of "
