@@ -378,3 +378,39 @@ def test_the_rows_entering_the_register_are_counted_against_the_clock(setup, tmp
     assert need == pytest.approx((61 + (rows - 1) * 4) / clock * 1e3, abs=6e-4)     # (4 digits said)
     assert share == pytest.approx(2 * 4 * 1e3 / clock, abs=6e-5)
     assert ran * (1 - share) < need <= ran          # the share is what leaves it short
+
+
+def test_the_envelopes_bar_moves_every_half_second_and_says_the_time_left(monkeypatch):
+    """On the tick engine a row's candidates took 0.3 s and the bar said "row 1 of 1961" for 61 s,
+    told every 256 rows (a new user's find): it is told every half second too, and says the time
+    left once 2 s have gone. (A clock that moves 0.3 s a look, and a network that finds every
+    candidate within the limits.)"""
+    import types
+
+    import vampc.lookahead as la
+    from vampc.emulator.host import Trajectory
+    now = [0.0]
+
+    def monotonic():
+        now[0] += 0.3
+        return now[0]
+    monkeypatch.setattr(la, "time", types.SimpleNamespace(monotonic=monotonic))
+    n = 40
+    s = np.linspace(0.0, 1.0, n)
+    traj = Trajectory(s[:, None], np.ones((n, 1)), np.zeros((n, 1)))
+    told = []
+    la.envelope_plan(traj, lambda rows: (np.zeros((rows.count, 1)), np.zeros(rows.count, bool)),
+                     la.Limits((10.0,), (None,)), 8, 2, 1e-3, told.append)
+    assert told[:4] == [0, 2, 4, 6] and len(told) >= 15, told      # every half second: every other row
+    said = []
+    now[0] = 0.0
+    tell = la._rows_told(said.append, 1000)
+    tell(0)
+    tell(9)             # 0.6 s gone: too soon to say
+    tell(99)            # 0.9 s
+    for _ in range(5):
+        monotonic()
+    tell(199)           # 2.7 s gone for 199 rows: 800 more, about 11 s
+    assert said[:3] == ["candidate futures, row 1 of 1000", "candidate futures, row 10 of 1000",
+                        "candidate futures, row 100 of 1000"]
+    assert said[3] == "candidate futures, row 200 of 1000, about 11 s left", said

@@ -73,6 +73,7 @@ Not built yet (issue "Trajectory look-ahead"): a floating base.
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -707,7 +708,7 @@ def _envelope(out: Lookahead, ld, traj, g, window: int, limits: Limits, futures:
     stage("candidate futures")
     try:
         env = envelope_plan(traj, evaluate, planned, window, futures, 1.0 / rate,
-                            lambda i: stage(f"candidate futures, row {i + 1} of {traj.count}"))
+                            _rows_told(stage, traj.count))
     except VampcError as exc:       # (the path named, as every other look-ahead error names it)
         raise VampcError(f"{path}: {exc}") from None
     out.envelope = env
@@ -1292,6 +1293,23 @@ def candidate_rows(traj, first: int, x: np.ndarray, lam: float):
                       np.concatenate([u[leave_r, leave_j], u[come_r, come_j - 1]])), r
 
 
+def _rows_told(stage, total: int):
+    """progress(i) for envelope_plan: the row, and once a few seconds have gone the time left at
+    the rate so far."""
+    begun = time.monotonic()
+
+    def told(i: int) -> None:
+        text = f"candidate futures, row {i + 1} of {total}"
+        gone = time.monotonic() - begun
+        if i > 0 and gone >= 2.0:
+            left = gone * (total - 1 - i) / i
+            text += (f", about {left:.0f} s left" if left < 90 else
+                     f", about {left / 60:.0f} min left" if left < 5400 else
+                     f", about {left / 3600:.1f} h left")
+        stage(text)
+    return told
+
+
 def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam: float,
                   progress=None) -> Envelope:
     """--retime envelope: R registers of `window` rows side by side, each holding the rows the host
@@ -1315,9 +1333,13 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
     plan = np.zeros(1)           # the committed plan's x from this row on: at rest, nowhere to go
     U = ENVELOPE_U
     top = MAX_SPEED ** 2 / (2.0 * lam)     # the s̈ to the top speed from rest in one row: U's most
+    told = time.monotonic()
     for i in range(n_rows - 1):
-        if progress is not None and i % 256 == 0:
+        # (every 256 rows, or half a second: on the tick engine a row's candidates took 0.3 s, and
+        # the bar said row 1 for 61 s: a new user's find)
+        if progress is not None and (i % 256 == 0 or time.monotonic() - told >= 0.5):
             progress(i)
+            told = time.monotonic()
         m = min(window, n_rows - i)
         x0 = out.x[i]
         if i + m - 1 == n_rows - 2 and (x0 > 0 or m >= 4):
