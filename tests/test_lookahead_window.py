@@ -895,3 +895,21 @@ def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_pa
                              r"\(0\.1 GiB available\); run the path in parts", r.stderr), r.stderr
         else:
             assert r.exit_code == 0, r.output
+
+
+def test_the_columns_disagreeing_are_said_before_an_error_they_may_cause(setup, tmp_path):
+    """A q̈ of 1e300 in one row: the window retiming's error named only the retimed rows' times (t =
+    5.6e+141), while the warning that the path's q̇ and q̈ disagree there, said by every other run
+    once it went through, was never said (a new user's find). It comes first now."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = bump_path()
+    qdd = qdd.copy()
+    qdd[100, 1] = 1e300
+    path = write_path(tmp_path, t, q, qd, qdd)
+    r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
+                                  "--window", "16", "--limits", str(limits), "--retime", "window"])
+    assert r.exit_code == 1, r.output
+    lines = r.output.splitlines()
+    assert len(lines) == 2 and lines[1].startswith(f"vampc: error: {path}: "), r.output
+    assert re.match(rf"vampc: warning: {re.escape(str(path))}: line 10[12] to 10[23]: qd2 changes by \S+ but qdd2 "
+                    r"gives \S+ over the step 1/rate", lines[0]), r.output

@@ -1368,17 +1368,24 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if envelope and own.engine == "stream":      # (many short calls: the engine prepared once)
         prepared = preparing(ld, traj.count * futures * own.window)
         network = lambda tr: emulate(ld, tr, "stream", stream=prepared).tau    # noqa: E731
-    with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
-        try:
-            res = la.run(ld, traj, own.window, limits, own.retime, network, source_path, futures,
-                         rate, margin, "overflow" not in options.given, stage)
-        except VampcError as exc:      # found on torques an overflow may have spoiled: said so
-            if ld.word is None or not ld.arith.overflows:
-                raise
-            raise VampcError(f"{exc} ({ld.arith!r} words: {count(ld.arith.overflows, 'overflow')} "
-                             "before it: the torques may not be the path's)") from None
-    if res.retimed is not None:
-        la.check_new_times(res, times, source_path)
+    try:
+        with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
+            try:
+                res = la.run(ld, traj, own.window, limits, own.retime, network, source_path, futures,
+                             rate, margin, "overflow" not in options.given, stage)
+            except VampcError as exc:      # found on torques an overflow may have spoiled: said so
+                if ld.word is None or not ld.arith.overflows:
+                    raise
+                raise VampcError(f"{exc} ({ld.arith!r} words: {count(ld.arith.overflows, 'overflow')} "
+                                 "before it: the torques may not be the path's)") from None
+        if res.retimed is not None:
+            la.check_new_times(res, times, source_path)
+    except VampcError:
+        # the path's columns disagreeing is said first where it may be why (a q̈ of 1e300 in one
+        # row: the window retiming's error said only the retimed rows' times, a new user's find)
+        if disagree is not None:
+            warnings.warn(VampcWarning(disagree), stacklevel=1)
+        raise
     if res.retimed is not None and margin and not own.check_torques:
         # (a new user's arm in q24.8: its torques 1.2e-2 of the largest |τ| off, the window and
         # envelope retimings up to 1.009 times a limit by the reference dynamics, exit 0 unsaid)
