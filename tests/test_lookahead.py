@@ -421,7 +421,12 @@ def test_a_torque_that_overflows_is_an_error_and_nothing_is_written(setup, tmp_p
                       *(["-o", str(out)] if retime else []))
     assert r.exit_code == 1, r.output
     assert re.search(r"path\.csv: row 4, joint \d \(\w+\): the torque is (nan|-?inf) \(float64 overflow: the robot.s or the state.s numbers are too large\)", r.output)
-    assert "wrote no output file" in r.output and len(r.output.strip().splitlines()) == 1, r.output
+    # one line, after the warning that the path's q̇ disagrees with its q there (said first since
+    # 2026-12-06, where it may be why)
+    lines = r.output.strip().splitlines()
+    assert "wrote no output file" in lines[-1] and len(lines) == 2, r.output
+    assert re.match(r"vampc: warning: \S+path\.csv: line 5 to 6: q1 changes by \S+ but qd1 gives 5e\+296",
+                    lines[0]), r.output
     assert tau.read_text() == "before\n" and not out.exists()
 
 
