@@ -176,9 +176,14 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits", 1),
     (lambda t: np.round(t / 3, 5), ["--rate", "3kHz"], r"t steps by 0\.00033, not 1/rate = "
      r"0\.000333\d+; give the rate the rows were sampled at \(times rounded to fewer digits", 1),
-    # one late row is not rounding: no hint to leave the t column out (a review's)
+    # one late row is not rounding: no hint to leave the t column out (a review's), nor a rate to
+    # give (no rate fits: a retimed path read back was told to give one, a new user's find)
     (lambda t: t + (np.arange(len(t)) == 250) * 0.0004, [], r"line 252 \(state 251\): t steps by "
-     r"0\.0014\d*, not 1/rate = 0\.001; give the rate the rows were sampled at$", 1),
+     r"0\.0014\d*, not 1/rate = 0\.001; no rate fits these rows: their steps run from 0\.0006 to "
+     r"0\.0014 s, and the register takes one row every λ \(a row late or missing, or rows at other "
+     r"times, as a retimed path's -o has them: resample the path at one rate\)$", 1),
+    (lambda t: t * (1 + np.arange(len(t)) / 100), [], r"line 3 \(state 2\): t steps by \S+, not 1/rate "
+     r"= 0\.001; no rate fits these rows: their steps run from", 1),
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4 ms .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),

@@ -411,12 +411,20 @@ def check_path(traj, rate: float, path: str) -> np.ndarray:
         # (rows evenly apart at another step: the rate given is off, not the times; the rounding
         # hint had been given of --rate 999.9Hz beside exact times, a look-ahead audit's find)
         even = float(np.ptp(steps)) <= 2 * float(slack.max())
-        raise VampcError(f"{path}: {state_at(path, off[0] + 1)}: t steps by {step!r}, not 1/rate = {lam!r}; "
-                         "give the rate the rows were sampled at"
-                         + (f" (every step is {step!r}: {1.0 / step:.9g} Hz)" if even else
-                            " (times rounded to fewer digits, or held as float32, are off by their "
-                            "rounding: write them in full, or leave the t column out, and the rows "
-                            "are 1/rate apart)" if rounded else ""))
+        if even or rounded:
+            hint = ("; give the rate the rows were sampled at"
+                    + (f" (every step is {step!r}: {1.0 / step:.9g} Hz)" if even else
+                       " (times rounded to fewer digits, or held as float32, are off by their "
+                       "rounding: write them in full, or leave the t column out, and the rows are "
+                       "1/rate apart)"))
+        else:       # (no rate fits rows unevenly apart, a retimed path's -o: a new user read one
+            #         back and was told to give the rate the rows were sampled at)
+            hint = (f"; no rate fits these rows: their steps run from {float(steps.min()):.6g} to "
+                    f"{float(steps.max()):.6g} s, and the register takes one row every λ (a row "
+                    "late or missing, or rows at other times, as a retimed path's -o has them: "
+                    "resample the path at one rate)")
+        raise VampcError(f"{path}: {state_at(path, off[0] + 1)}: t steps by {step!r}, not 1/rate = "
+                         f"{lam!r}{hint}")
     return t
 
 
