@@ -121,6 +121,15 @@ def _header_hint(names: list[str], columns: list[str]) -> str:
         return "; the file looks like torques (vampc emulate's output), not states"
     if head == "joint" and names[1:2] == ["tau"]:
         return "; the file looks like a limits file (joint,tau,qd)"
+    # (a new user's files: columns split by ';' or tabs, a 'time' column, names in capitals)
+    for sep, said in ((";", "semicolons"), ("\t", "tabs")):
+        if len(names) == 1 and sep in head:
+            return f"; its columns are separated by {said}: a CSV table's are by commas"
+    wanted = {c.lower() for c in ("t", *columns)}
+    if all(c.lower() in wanted for c in names) and any(c != c.lower() for c in names):
+        return "; the column names are lower case (q1, qd1, qdd1, t)"
+    if head.lower() in ("time", "time_s", "t_s", "timestamp") and names[1:] in (list(columns), []):
+        return "; a time column is named t"
     return ""
 
 
