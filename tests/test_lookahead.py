@@ -1458,3 +1458,20 @@ def test_a_floating_base_is_refused_as_the_option_or_as_the_robots(tmp_path):
                                   "--rate", "1kHz", "--window", "8"])
     assert r.exit_code == 1 and r.stderr == (f"vampc: error: {robot}: a floating base is not supported "
                                              "by vampc lookahead yet\n"), r.output
+
+
+def test_an_array_of_a_t_column_and_one_column_too_few_is_said_to_look_so(setup, tmp_path):
+    """A .npy of t and every column but the last (18 for the Puma's 6 joints, as many as the
+    table without t) is read as one without t: the rate warning then says its first column steps
+    as a t column does (a new user's array was told only that another rate would fit)."""
+    folder, program, limits, _ = setup
+    t, q, qd, qdd = sine_path()
+    short = tmp_path / "short.npy"
+    np.save(short, np.column_stack([t, q, qd, qdd[:, :-1]]))
+    r = run_lookahead(program, short, limits, "--allow-out-of-limits")
+    assert "its first column (q of joint 1) steps evenly from 0 by 0.001, as a t column does: a t " \
+        "column and one column too few?" in r.output, r.output
+    whole = tmp_path / "whole.npy"                    # (the table as it should be: no such word)
+    np.save(whole, np.column_stack([q, qd, qdd]))
+    r = run_lookahead(program, whole, limits)
+    assert r.exit_code == 0 and "t column" not in r.output, r.output

@@ -444,6 +444,7 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
             fits = rate / ratio if ratio > 0 else np.inf
         advice = (f"(about {fits:.4g} Hz would fit them)" if np.isfinite(fits) else
                   "(no rate would fit them: its positions and velocities are not of one motion)")
+        advice += _t_like(traj)
         warnings.warn(VampcWarning(
             f"{path}: its positions move {ratio:.3g} times what its velocities give at "
             f"{rate:g} Hz (the rows 1/rate apart): is --rate the rate the rows were sampled at? "
@@ -509,8 +510,21 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
                     f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate{extent}: the "
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
-                    "limits (write q, qd and qdd of one motion)")
+                    "limits (write q, qd and qdd of one motion)"
+                    + (_t_like(traj) if traj.t is None and (what, j) == ("q", 0) else ""))
     return None
+
+
+def _t_like(traj) -> str:
+    """'; its first column ... a t column ...?' where a table read without t has a first column
+    stepping evenly from 0, as a t column does: the table then lacks a column (a new user's .npy of
+    18 columns for 6 joints and t was read as 18 without t and told only of its q1 and rate), else ''."""
+    first = traj.q[:, 0]
+    steps = np.diff(first)
+    if len(steps) and first[0] == 0 and steps[0] > 0 and np.allclose(steps, steps[0], rtol=1e-6, atol=0):
+        return (f"; its first column (q of joint 1) steps evenly from 0 by {float(steps[0]):.6g}, "
+                "as a t column does: a t column and one column too few?")
+    return ""
 
 
 def check_window(window: int, traj, futures: int = 1) -> None:
