@@ -412,9 +412,27 @@ def test_a_worker_that_dies_keeps_the_runs_finished_and_says_so(programs, tmp_pa
                           capture_output=True, text=True, timeout=300)
     errors = [x for x in done.stderr.splitlines() if not x.startswith("vampc: warning")]
     assert done.returncode == 1 and len(errors) == 1, done.stderr
-    assert f"the runs finished are kept in {results} (a re-run resumes from them)" in errors[0]
     kept = results.read_text().splitlines()
     assert 1 <= len(kept) < 9            # a header and the runs finished before (not all eight)
+    runs = len(kept) - 1                 # (as many as the message says: "no run" when none)
+    said = (f"{runs} run{'s' * (runs != 1)} finished this time kept in {results} (a re-run resumes "
+            "from them)" if runs else "no run finished: nothing is kept")
+    assert said in errors[0], errors[0]
+
+
+def test_what_a_stopped_campaign_keeps_is_what_its_results_file_holds():
+    """A campaign on a cluster with no workers said "the runs finished are kept in
+    p2ec.single.faults.jsonl", a file it then removed, none having finished (a new user's find)."""
+    from types import SimpleNamespace
+
+    from vampc.commands import _runs_kept
+    assert _runs_kept(SimpleNamespace(added=0, done={}), "r.jsonl") == "no run finished: nothing is kept"
+    assert _runs_kept(SimpleNamespace(added=3, done=dict.fromkeys(range(3))), "r.jsonl") == \
+        "3 runs finished this time kept in r.jsonl (a re-run resumes from them)"
+    assert _runs_kept(SimpleNamespace(added=1, done=dict.fromkeys(range(5))), "r.jsonl") == \
+        "1 run finished this time kept in r.jsonl beside 4 before (a re-run resumes from them)"
+    assert _runs_kept(SimpleNamespace(added=0, done=dict.fromkeys(range(4))), "r.jsonl") == \
+        "no run finished this time; the 4 before are kept in r.jsonl (a re-run resumes from them)"
 
 
 def test_a_one_line_file_that_is_no_header_of_ours_is_refused_and_kept(programs, tmp_path):

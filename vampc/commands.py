@@ -1237,6 +1237,19 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
 
 # --- lookahead ------------------------------------------------------------------------------------
 
+def _runs_kept(store, results: str) -> str:
+    """What a stopped campaign keeps: its runs finished, this time and before, in the results file
+    (a cluster without workers had been said to keep its runs in a file it then removed, none
+    having finished: a new user's find)."""
+    before = len(store.done) - store.added
+    if store.added:
+        return (f"{count(store.added, 'run')} finished this time kept in {results}"
+                + (f" beside {before} before" if before else "") + " (a re-run resumes from them)")
+    if before:
+        return f"no run finished this time; the {before} before are kept in {results} (a re-run resumes from them)"
+    return "no run finished: nothing is kept"
+
+
 def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
                       params: dict, say) -> bool:
     """`vampc lookahead`: the torque shift register over a path (vampc.lookahead); False when
@@ -1906,13 +1919,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                        lambda _, r: store.add(*r),
                                        available_cores() if own.workers is None
                                        else own.workers, own.scheduler, client, bar,
-                                       kept=f"the runs finished are kept in {results} (a re-run "
-                                       "resumes from them)")
+                                       kept=lambda: _runs_kept(store, results))
                 failed = False
             except KeyboardInterrupt as exc:     # (Ctrl-C, SIGTERM: "interrupted" alone, though
                 if store.added:                  # the runs finished are kept: a new user's find)
-                    exc.note = (f"{count(store.added, 'run')} finished this time kept in {results} "
-                                "(a re-run resumes from them)")
+                    exc.note = _runs_kept(store, results)
                 raise
             finally:
                 store.close(failed)

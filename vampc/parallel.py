@@ -92,10 +92,11 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
 
 def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
               workers: int = 1, scheduler: str | None = None, client=None, progress=None,
-              warn_stack: int = 3, kept: str = "nothing is written") -> None:
+              warn_stack: int = 3, kept: str | Callable[[], str] = "nothing is written") -> None:
     """Run `task(context, item)` for every item (see the module docstring). `client`: a Client
     already connected to `scheduler` (connect); `progress(done, total)` after each result; `kept`:
-    what is left of a run a dead worker stops, for its message."""
+    what is left of a run a dead worker or the cluster stops, for its message (or a function
+    saying it then)."""
     if scheduler is not None:
         _on_cluster(task, context, items, done, scheduler, client, progress, kept)
         return
@@ -141,7 +142,7 @@ def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, obj
         from concurrent.futures.process import BrokenProcessPool
         if isinstance(exc, BrokenProcessPool):       # a worker killed (a signal, out of memory)
             raise VampcError(f"a worker process ended before its task did ({one_line(exc)}); "
-                             f"{kept}: run again, with fewer --workers if memory is short") from None
+                             f"{_said(kept)}: run again, with fewer --workers if memory is short") from None
         raise
     pool.shutdown()
 
@@ -222,7 +223,12 @@ def _worker_task(item):
     return task(context, item)
 
 
-def _on_cluster(task, context, items, done, address: str, client, progress, kept: str) -> None:
+def _said(kept: str | Callable[[], str]) -> str:
+    """What is kept of a stopped run, said when it stops."""
+    return kept() if callable(kept) else kept
+
+
+def _on_cluster(task, context, items, done, address: str, client, progress, kept) -> None:
     own = client is None
     client = client or connect(address)
     try:
@@ -240,7 +246,7 @@ def _on_cluster(task, context, items, done, address: str, client, progress, kept
         # (what is kept said, as for a dead local worker: a campaign whose scheduler went away
         # said only Dask's words, and its runs were kept: a new user's)
         raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
-                         f"{one_line(exc)}); {kept}") from None
+                         f"{one_line(exc)}); {_said(kept)}") from None
     finally:
         if own:
             client.close()
