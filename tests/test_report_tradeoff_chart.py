@@ -119,5 +119,13 @@ def test_a_budget_slower_than_one_with_fewer_vamps_is_explained():
     assert text.splitlines()[-1].startswith("budget 3: latency 40 flops, longer than budget 2's 28 "
                                             "with fewer VAMPs: each budget is scheduled at its "
                                             "smallest interval; `vampc compile --vamps 3 --interval I`")
+    # the Markdown table and the HTML page say it too (they had left it out: a new user's find)
+    from vampc.report.html import tradeoff_page
+    from vampc.report.tradeoff import render_markdown
+    said = text.splitlines()[-1]
+    assert render_markdown(rows).splitlines()[-1] == said
+    import html as h
+    assert h.escape(said) in tradeoff_page(rows, "one joint", "<svg/>")
     rows[2]["latency_flops"] = 25
-    assert "longer than" not in render_text(rows)
+    assert "longer than" not in render_text(rows) + render_markdown(rows) + \
+        tradeoff_page(rows, "one joint", "<svg/>")

@@ -45,6 +45,7 @@ def page(rep: dict, timing_svg: str, network_svg: str, reservation_svg: str = ""
 def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
     """`vampc report --tradeoff --html FILE.html`: the sweep's table and its curve on one page."""
     from vampc.report.table import Table
+    from vampc.report.tradeoff import notes
     esc = html.escape
     marks = lambda r: ("L" if r["pareto_latency"] else "") + ("I" if r["pareto_interval"] else "") + \
         ("*" if r["pareto"] else "")
@@ -57,7 +58,8 @@ def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
                          f"{r['control_registers']:,}", f"{r['mux_inputs']:,}",
                          f"{r['host_writes_per_set']:,}") for r in rows),
                   ("front: L on the latency-VAMP front, I on the interval-VAMP front, * Pareto-optimal "
-                   "in VAMPs, latency, interval and buffer stages (README, VAMP budgets and the trade-off)",),
+                   "in VAMPs, latency, interval and buffer stages (README, VAMP budgets and the trade-off)",
+                   *notes(rows)),
                   align="llrrrrrrrrrrr")
     body = [f"<h1>vampc trade-off: {esc(title)}</h1>",
             '<section id="curve"><h2>Curve</h2><div class="picture">'

@@ -174,7 +174,7 @@ def render_markdown(rows: list[dict]) -> str:
                      f"{r['latency_bound']} | {r['latency_gap_pct']}% | {r['interval_flops']} | "
                      f"{r['interval_bound']} | {r['interval_gap_pct']}% | {r['buffer_stages']} | "
                      f"{r['control_registers']} | {r['mux_inputs']} | {r['host_writes_per_set']} |")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + ["", *notes(rows)] if notes(rows) else lines) + "\n"
 
 
 def render_text(rows: list[dict]) -> str:
@@ -189,14 +189,21 @@ def render_text(rows: list[dict]) -> str:
                      f"{r['interval_flops']:>10}{r['interval_bound']:>7}{r['interval_gap_pct']:>6}%"
                      f"{r['buffer_stages']:>9}{r['control_registers']:>11}{r['mux_inputs']:>8}"
                      f"{r['host_writes_per_set']:>9}")
+    return "\n".join(lines + notes(rows)) + "\n"
+
+
+def notes(rows: list[dict]) -> list[str]:
+    """What the table says below it, in every format (text, Markdown, HTML): where a budget's
+    latency is longer than one with fewer VAMPs (the Markdown and HTML tables had left it out: a
+    new user's find)."""
     slower = _slower_than_fewer(rows)
-    if slower:
-        more, fewer = slower
-        lines.append(f"{more['layout']}: latency {more['latency_flops']} flops, longer than "
-                     f"{fewer['layout']}'s {fewer['latency_flops']} with fewer VAMPs: each budget is "
-                     f"scheduled at its smallest interval; `vampc compile --vamps {more['vamps']} "
-                     "--interval I` with a longer interval may shorten its latency")
-    return "\n".join(lines) + "\n"
+    if not slower:
+        return []
+    more, fewer = slower
+    return [f"{more['layout']}: latency {more['latency_flops']} flops, longer than "
+            f"{fewer['layout']}'s {fewer['latency_flops']} with fewer VAMPs: each budget is "
+            f"scheduled at its smallest interval; `vampc compile --vamps {more['vamps']} "
+            "--interval I` with a longer interval may shorten its latency"]
 
 
 def _slower_than_fewer(rows: list[dict]):
