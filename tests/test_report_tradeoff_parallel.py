@@ -448,3 +448,31 @@ def test_a_scheduler_host_name_that_does_not_resolve_is_said_so(monkeypatch):
     assert r.exit_code == 1 and len(r.output.strip().splitlines()) == 1
     assert "(the host name 'nosuchhost.invalid' does not resolve: Name or service not known)" \
         in r.output, r.output
+
+
+def test_what_dask_says_is_said_in_plain_words_on_one_line():
+    """New users' clusters: Dask's version table came out as one line of literal \\n, workers from
+    a Python without vampc said only ModuleNotFoundError, and every worker restarting mid-run said
+    FutureCancelledError "already forgotten"."""
+    import warnings
+
+    from vampc.cli import _library_text
+    from vampc.parallel import _why
+    table = ("Mismatched versions found\n\n+---------+--------+-----------+---------+\n"
+             "| Package | Client | Scheduler | Workers |\n+---------+--------+-----------+---------+\n"
+             "| numpy   | 2.4.6  | None      | None    |\n| pandas  | 3.1.1  | None      | 2.0     |\n"
+             "+---------+--------+-----------+---------+")
+    mismatch = type("VersionMismatchWarning", (Warning,), {})
+    assert _library_text(mismatch, mismatch(table)) == (
+        "the cluster's Python packages are not this Python's (numpy 2.4.6 here, None on the "
+        "scheduler, None on the workers; pandas 3.1.1 here, None on the scheduler, 2.0 on the "
+        "workers): its workers need vampc and what it needs, as installed here")
+    assert _library_text(UserWarning, "two\nlines  of it") == "two lines of it"   # (no \n)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert _why(Exception(ModuleNotFoundError("No module named 'vampc'"))).startswith(
+            ": the workers' Python cannot import vampc; install vampc")
+    cancelled = type("FutureCancelledError", (Exception,), {})
+    assert _why(cancelled("_budget_task-1 cancelled for reason: already forgotten.")).startswith(
+        ": the cluster lost what this run had sent its workers")
+    assert _why(OSError("Timed out")) == ""

@@ -112,6 +112,26 @@ def unbroken(text: str) -> str:
     return text.replace("\r", "\\r").replace("\n", "\\n")
 
 
+_WHERE = {"client": "here", "scheduler": "on the scheduler", "workers": "on the workers"}
+
+
+def _library_text(category, message) -> str:
+    """A library's warning on one line: its line breaks are layout, not a file name's (Dask's
+    version table came out as one line of literal \\n, a new user's find), so they are spaces,
+    and Dask's table of packages whose versions differ is said in words."""
+    text = str(message)
+    if category.__name__ == "VersionMismatchWarning":
+        rows = [[c.strip() for c in line.strip().strip("|").split("|")]
+                for line in text.splitlines() if line.strip().startswith("|")]
+        if len(rows) > 1 and rows[0][:1] == ["Package"]:
+            heads = [_WHERE.get(h.lower(), f"for {h}") for h in rows[0][1:]]
+            said = "; ".join(f"{r[0]} " + ", ".join(f"{v} {h}" for h, v in zip(heads, r[1:]))
+                             for r in rows[1:])
+            return (f"the cluster's Python packages are not this Python's ({said}): its workers "
+                    "need vampc and what it needs, as installed here")
+    return " ".join(text.split())
+
+
 def _show_warning(message, category, *rest):
     """One line on stderr (through say: a reader gone drops it, the run goes on). A warning raised
     while one is said is dropped: click 8.5 warned of get_text_stream inside say(), whose warning
@@ -124,7 +144,7 @@ def _show_warning(message, category, *rest):
         if issubclass(category, VampcWarning):
             say(f"vampc: warning: {unbroken(str(message))}", err=True)
         else:   # a library's own warning (numpy's, say): not ours to silence, but one line
-            say(f"vampc: warning: {category.__name__}: {unbroken(str(message))}", err=True)
+            say(f"vampc: warning: {category.__name__}: {_library_text(category, message)}", err=True)
     finally:
         _WARNING.clear()
 

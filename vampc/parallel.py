@@ -246,10 +246,23 @@ def _on_cluster(task, context, items, done, address: str, client, progress, kept
         # (what is kept said, as for a dead local worker: a campaign whose scheduler went away
         # said only Dask's words, and its runs were kept: a new user's)
         raise VampcError(f"--scheduler {address}: the cluster failed ({type(exc).__name__}: "
-                         f"{one_line(exc)}); {_said(kept)}") from None
+                         f"{one_line(exc)}){_why(exc)}; {_said(kept)}") from None
     finally:
         if own:
             client.close()
+
+
+def _why(exc: Exception) -> str:
+    """What Dask's words for a failure mean, where they are not plain (new users' clusters: workers
+    from a Python without vampc; every worker restarted mid-run), else ''."""
+    said = str(exc)
+    if "No module named 'vampc" in said:
+        return (": the workers' Python cannot import vampc; install vampc, the version run here, "
+                "where the workers run")
+    if type(exc).__name__ == "FutureCancelledError" and "forgotten" in said:
+        return (": the cluster lost what this run had sent its workers (every worker holding it "
+                "restarted or left); run again")
+    return ""
 
 
 def one_line(exc: Exception) -> str:
