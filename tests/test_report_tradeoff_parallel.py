@@ -476,3 +476,19 @@ def test_what_dask_says_is_said_in_plain_words_on_one_line():
     assert _why(cancelled("_budget_task-1 cancelled for reason: already forgotten.")).startswith(
         ": the cluster lost what this run had sent its workers")
     assert _why(OSError("Timed out")) == ""
+
+
+def test_an_inproc_address_from_a_command_and_ucx_without_its_support_are_said_so():
+    """`--scheduler inproc://...` from a shell got Dask's "does not match host or pid", and `ucx://`
+    without its package "Can't instantiate abstract class UCXConnector" (a new user's)."""
+    pytest.importorskip("distributed")
+    from vampc.parallel import _protocol_hint
+    res = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff",
+                                    "--scheduler", "inproc://127.0.0.1/1/1"])
+    assert res.exit_code == 1 and res.stderr.count("\n") == 1, res.output
+    assert res.stderr.rstrip().endswith(
+        ": an inproc:// cluster runs inside one Python process and is reached only from that "
+        "process (vampc's API called there), not from a command"), res.stderr
+    assert _protocol_hint("ucx://h:1", TypeError("Can't instantiate abstract class UCXConnector")) \
+        .startswith(": ucx:// needs Dask's UCX support installed")
+    assert _protocol_hint("tcp://h:1", OSError("Timed out")) == ""

@@ -86,8 +86,20 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
                              "answers is not Dask: does something else listen on that port?)") \
                 from None
         raise VampcError(f"--scheduler {address}: cannot reach a Dask scheduler there "
-                         f"({type(exc).__name__}: {one_line(exc)})") from None
+                         f"({type(exc).__name__}: {one_line(exc)}){_protocol_hint(address, exc)}") from None
     return got["client"]
+
+
+def _protocol_hint(address: str, exc: BaseException) -> str:
+    """What Dask's words mean for the protocols a shell cannot use as given (a new user's
+    `inproc://` and `ucx://` got only Dask's internals), else ''."""
+    scheme = address.strip().split("://", 1)[0].lower()
+    if scheme == "inproc":
+        return (": an inproc:// cluster runs inside one Python process and is reached only from "
+                "that process (vampc's API called there), not from a command")
+    if scheme == "ucx" and "UCX" in str(exc):
+        return ": ucx:// needs Dask's UCX support installed (distributed-ucxx), here and on the cluster"
+    return ""
 
 
 def run_tasks(task: Callable, context, items: Sequence, done: Callable[[int, object], None],
