@@ -15,8 +15,16 @@ PUMA = Path(__file__).parent.parent / "examples" / "puma560.yaml"
 
 
 def test_every_api_name_resolves():
+    # each name is the object its module defines under it (not merely something: the getattr
+    # raising was the only way this could fail), and a function or class as the API lists it
+    import importlib
     for name in vampc.__all__:
-        assert getattr(vampc, name) is not None
+        where = vampc._API[name]
+        module, attr = where if isinstance(where, tuple) else (where, name)
+        got = getattr(vampc, name)
+        assert got is getattr(importlib.import_module(module), attr), name
+        assert callable(got), name
+    assert vampc.render_report is importlib.import_module("vampc.report.text").render
 
 
 def test_unknown_name():
