@@ -897,17 +897,20 @@ def test_a_path_too_long_for_the_memory_is_refused_before_any_pass(setup, tmp_pa
             assert r.exit_code == 0, r.output
 
 
-def test_the_columns_disagreeing_are_said_before_an_error_they_may_cause(setup, tmp_path):
+@pytest.mark.parametrize("retime", [["window"], ["envelope", "--clock", "150kHz"]],
+                         ids=["window", "envelope-clock"])
+def test_the_columns_disagreeing_are_said_before_an_error_they_may_cause(setup, tmp_path, retime):
     """A q̈ of 1e300 in one row: the window retiming's error named only the retimed rows' times (t =
     5.6e+141), while the warning that the path's q̇ and q̈ disagree there, said by every other run
-    once it went through, was never said (a new user's find). It comes first now."""
+    once it went through, was never said (a new user's find). It comes first now, before any error
+    that ends the run after the network's passes (the envelope's clock too: a review's)."""
     folder, program, limits, _ = setup
     t, q, qd, qdd = bump_path()
     qdd = qdd.copy()
     qdd[100, 1] = 1e300
     path = write_path(tmp_path, t, q, qd, qdd)
     r = CliRunner().invoke(main, ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz",
-                                  "--window", "16", "--limits", str(limits), "--retime", "window"])
+                                  "--window", "16", "--limits", str(limits), "--retime", *retime])
     assert r.exit_code == 1, r.output
     lines = r.output.splitlines()
     assert len(lines) == 2 and lines[1].startswith(f"vampc: error: {path}: "), r.output

@@ -1393,133 +1393,135 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
                                  "before it: the torques may not be the path's)") from None
         if res.retimed is not None:
             la.check_new_times(res, times, source_path)
+        if res.retimed is not None and margin and not own.check_torques:
+            # (a new user's arm in q24.8: its torques 1.2e-2 of the largest |τ| off, the window and
+            # envelope retimings up to 1.009 times a limit by the reference dynamics, exit 0 unsaid)
+            later.append(f"{source}: the retiming plans each effort limit {res.word_error:.3g} inside, the "
+                         f"error --check allows a {ld.arith.name} network ({number_text(margin)} of the "
+                         "largest |τ|), which this run does not measure: a word too narrow for this robot "
+                         "errs more and can take the retimed path over a limit (--check measures it and "
+                         "fails the run then; vampc precision gives each width's error)")
+        if clock is not None and envelope:
+            tell(_envelope_in_time(source, ld, own, clock, res, source_path), info)
+        if clock is not None:
+            # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
+            step = lam if own.retime not in ("window", "envelope") else \
+                min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
+            if need * period > step:
+                from vampc.report.clock import times_apart
+                apart, needs = times_apart(step * 1e6, need * period * 1e6)
+                raise VampcError(f"{source}: the retimed path has rows {apart} apart; the network needs "
+                                 f"{needs} for the {need} passes of a row ({ld.schedule.interval} flops at "
+                                 f"{own.clock}): it cannot keep up")
+            late, early = _in_time(source, ld, own, clock, need, seen, step)
+            passes = "the one pass" if need == 1 else f"the {need} passes"
+            # (in engineering units, and naming the network judged: "6.299e+04 µs before the motors
+            # take it", of a network it did not name, a new user's find)
+            tell(f"network of {count(len(ld.net.vamps), 'VAMP')}: one torque set every "
+                 f"{ld.schedule.interval} flops, {time_text(period * 1e6)} at {own.clock}; {passes} of "
+                 f"each row, every {time_text(step * 1e6)}, {'uses' if need == 1 else 'use'} "
+                 f"{100 * need * period / step:.3g}% of its time: "
+                 f"keeps up; a row's torques come {time_text(late * 1e6)} after it enters (the latency, "
+                 f"{late / lam:.3g} λ, with {passes}), {time_text((early - late) * 1e6)} before the "
+                 "motors take it",
+                 info)
+        tell(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
+        overflows = ld.arith.overflows
+        overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
+        failed = []                           # what failed: the retiming, the check
+        if ld.word is not None:          # overflows are never silent (every pass of the network)
+            spoiled = ""
+            if overflowed:               # values saturated (or wrapped) on the way to the torques
+                judged = "the violations and the retiming" if res.retimed is not None else "the violations"
+                spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
+                           "FAILED (a wider word: vampc precision)")
+            tell(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
+        if res.retimed_violations or res.arriving_violations:   # the network finds a row over: failed
+            failed.append("retiming")
+        if own.check_torques:
+            tolerance = own.tolerance or default_tolerance(ld.arith)
+            import numpy as np
+            with np.errstate(all="ignore"):      # (a reference past the float range: said below)
+                if ld.word is None:
+                    check = check_torques(ld.chain, traj, res.tau)
+                    same, error = check.ok, check.max_rel
+                else:                     # a narrower word: errors against each joint's largest |τ|
+                    from vampc.emulator.host import word_check
+                    check = word_check(ld.chain, traj, res.tau)
+                    error = check.overall
+                    same = error <= tolerance and not overflows
+            over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
+            if not _reference_finite(check):      # (it said "max relative error nan", as emulate did)
+                same = False
+                line = REFERENCE_NOT_FINITE
+            else:
+                from vampc.emulator.host import floor_clause
+                line = (f"check against reference RNEA: max relative error {error:.3e}"
+                        f"{floor_clause(check, 'row')}, tolerance "
+                        f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}"
+                        + ("" if same or overflows else
+                           _edited_hint(ld, _state(traj, check.worst_row) if ld.word is None else None)))
+            within, arrived = [], []
+            if res.retimed is not None and _reference_finite(check):   # (else nothing to check by)
+                from vampc.dynamics.reference import rnea
+                from vampc.robot.mimic import reduce_torques
+                new = res.retimed
+                ref = rnea(ld.chain, new.q, new.qd, new.qdd)
+                within = la.violations(reduce_torques(ld.chain, ref), new.qd, limits)
+                line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
+                         f"{'' if not within else ' FAILED'}")
+                if res.k is None:           # the window retiming: the s̈ arriving at each row too
+                    came = la.arriving(traj, res)     # (its speeds are the rows': checked just above)
+                    arrived = [v for v in la.violations(reduce_torques(ld.chain, rnea(
+                        ld.chain, came.q, came.qd, came.qdd)), came.qd, limits) if v.kind == "torque"]
+                    worst = max((abs(v.value) / v.limit for v in arrived), default=0.0)
+                    line += (f"; with the s̈ arriving at each row: {count(len(arrived), 'violation')}"
+                             + (f" (worst {ratio_text(worst)} × a limit) FAILED" if arrived else ""))
+            tell(line, info)
+            if not same or within or arrived:
+                failed.append("check")
+        ok = not failed and not overflowed
+        content = _lookahead_outputs(outs, ld.chain, traj, times, res)
+        if "--plot" in outs:
+            from vampc.report.svg import format_of
+            from vampc.robot.mimic import free_joints
+            content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
+                                            f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
+                                            f"window {own.window}", format_of(outs["--plot"].path))
+        why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
+                           ([f"the {' and '.join(failed)} failed"] if failed else []))
+        kept = [] if ok or own.write_failed else \
+            [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
+        for option in kept:
+            tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
+                "unchanged; --write-failed replaces it anyway)", True)
+        # a new file beside an existing one kept would not match it (a new plot of the failed run beside
+        # the old retimed path: a new user's find), as vampc emulate keeps its files a matching set
+        beside = [o for o in outs if o not in kept and outs[o].kind == "file"] if kept else []
+        for option in beside:
+            tell(f"{option} {outs[option].path} NOT written: {why} and {outs[kept[0]].path} is kept, "
+                 "which it would not match (--write-failed writes them all)", True)
+        kept += beside
+        from vampc.outputs import write_together
+        write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
+        if not ok:
+            for option in (o for o in outs if o not in kept):
+                tell(f"{option} {outs[option].path} written although {why}", True)
+        # (the report had gone out before an output that could not be written: --torques /dev/full
+        # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
+        for text in later + ([disagree] if disagree is not None else []):
+            warnings.warn(VampcWarning(text), stacklevel=1)
+        disagree = None                  # (said: not again should what follows fail)
+        for text, err in told:
+            say(text, err)
+        return ok
     except VampcError:
         # the path's columns disagreeing is said first where it may be why (a q̈ of 1e300 in one
-        # row: the window retiming's error said only the retimed rows' times, a new user's find)
+        # row: the window retiming's error said only the retimed rows' times, a new user's find),
+        # whatever error ends the run after it went through the network
         if disagree is not None:
             warnings.warn(VampcWarning(disagree), stacklevel=1)
         raise
-    if res.retimed is not None and margin and not own.check_torques:
-        # (a new user's arm in q24.8: its torques 1.2e-2 of the largest |τ| off, the window and
-        # envelope retimings up to 1.009 times a limit by the reference dynamics, exit 0 unsaid)
-        later.append(f"{source}: the retiming plans each effort limit {res.word_error:.3g} inside, the "
-                     f"error --check allows a {ld.arith.name} network ({number_text(margin)} of the "
-                     "largest |τ|), which this run does not measure: a word too narrow for this robot "
-                     "errs more and can take the retimed path over a limit (--check measures it and "
-                     "fails the run then; vampc precision gives each width's error)")
-    if clock is not None and envelope:
-        tell(_envelope_in_time(source, ld, own, clock, res, source_path), info)
-    if clock is not None:
-        # the register takes a row per λ; a retimed path may go faster than that (rows closer than λ)
-        step = lam if own.retime not in ("window", "envelope") else \
-            min(lam, float(min(res.retimed_t[1:] - res.retimed_t[:-1])))
-        if need * period > step:
-            from vampc.report.clock import times_apart
-            apart, needs = times_apart(step * 1e6, need * period * 1e6)
-            raise VampcError(f"{source}: the retimed path has rows {apart} apart; the network needs "
-                             f"{needs} for the {need} passes of a row ({ld.schedule.interval} flops at "
-                             f"{own.clock}): it cannot keep up")
-        late, early = _in_time(source, ld, own, clock, need, seen, step)
-        passes = "the one pass" if need == 1 else f"the {need} passes"
-        # (in engineering units, and naming the network judged: "6.299e+04 µs before the motors
-        # take it", of a network it did not name, a new user's find)
-        tell(f"network of {count(len(ld.net.vamps), 'VAMP')}: one torque set every "
-             f"{ld.schedule.interval} flops, {time_text(period * 1e6)} at {own.clock}; {passes} of "
-             f"each row, every {time_text(step * 1e6)}, {'uses' if need == 1 else 'use'} "
-             f"{100 * need * period / step:.3g}% of its time: "
-             f"keeps up; a row's torques come {time_text(late * 1e6)} after it enters (the latency, "
-             f"{late / lam:.3g} λ, with {passes}), {time_text((early - late) * 1e6)} before the "
-             "motors take it",
-             info)
-    tell(lookahead_summary(ld, traj, times, own.window, lam, res, limits), info)
-    overflows = ld.arith.overflows
-    overflowed = ld.word is not None and overflows > 0   # (the run then fails: below)
-    failed = []                           # what failed: the retiming, the check
-    if ld.word is not None:          # overflows are never silent (every pass of the network)
-        spoiled = ""
-        if overflowed:               # values saturated (or wrapped) on the way to the torques
-            judged = "the violations and the retiming" if res.retimed is not None else "the violations"
-            spoiled = (f": the torques may not be the path's, so {judged} above cannot be trusted: "
-                       "FAILED (a wider word: vampc precision)")
-        tell(f"{ld.arith!r} words: {count(overflows, 'overflow')}{spoiled}", info)
-    if res.retimed_violations or res.arriving_violations:   # the network finds a row over: failed
-        failed.append("retiming")
-    if own.check_torques:
-        tolerance = own.tolerance or default_tolerance(ld.arith)
-        import numpy as np
-        with np.errstate(all="ignore"):      # (a reference past the float range: said below)
-            if ld.word is None:
-                check = check_torques(ld.chain, traj, res.tau)
-                same, error = check.ok, check.max_rel
-            else:                     # a narrower word: errors against each joint's largest |τ|
-                from vampc.emulator.host import word_check
-                check = word_check(ld.chain, traj, res.tau)
-                error = check.overall
-                same = error <= tolerance and not overflows
-        over = f", {count(overflows, 'overflow')} in the run" if overflows else ""
-        if not _reference_finite(check):      # (it said "max relative error nan", as emulate did)
-            same = False
-            line = REFERENCE_NOT_FINITE
-        else:
-            from vampc.emulator.host import floor_clause
-            line = (f"check against reference RNEA: max relative error {error:.3e}"
-                    f"{floor_clause(check, 'row')}, tolerance "
-                    f"{number_text(tolerance)}{over}: {'OK' if same else 'FAILED'}"
-                    + ("" if same or overflows else
-                       _edited_hint(ld, _state(traj, check.worst_row) if ld.word is None else None)))
-        within, arrived = [], []
-        if res.retimed is not None and _reference_finite(check):   # (else nothing to check by)
-            from vampc.dynamics.reference import rnea
-            from vampc.robot.mimic import reduce_torques
-            new = res.retimed
-            ref = rnea(ld.chain, new.q, new.qd, new.qdd)
-            within = la.violations(reduce_torques(ld.chain, ref), new.qd, limits)
-            line += (f"; retimed rows by the reference: {count(len(within), 'violation')}"
-                     f"{'' if not within else ' FAILED'}")
-            if res.k is None:           # the window retiming: the s̈ arriving at each row too
-                came = la.arriving(traj, res)     # (its speeds are the rows': checked just above)
-                arrived = [v for v in la.violations(reduce_torques(ld.chain, rnea(
-                    ld.chain, came.q, came.qd, came.qdd)), came.qd, limits) if v.kind == "torque"]
-                worst = max((abs(v.value) / v.limit for v in arrived), default=0.0)
-                line += (f"; with the s̈ arriving at each row: {count(len(arrived), 'violation')}"
-                         + (f" (worst {ratio_text(worst)} × a limit) FAILED" if arrived else ""))
-        tell(line, info)
-        if not same or within or arrived:
-            failed.append("check")
-    ok = not failed and not overflowed
-    content = _lookahead_outputs(outs, ld.chain, traj, times, res)
-    if "--plot" in outs:
-        from vampc.report.svg import format_of
-        from vampc.robot.mimic import free_joints
-        content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
-                                        f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                        f"window {own.window}", format_of(outs["--plot"].path))
-    why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
-                       ([f"the {' and '.join(failed)} failed"] if failed else []))
-    kept = [] if ok or own.write_failed else \
-        [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
-    for option in kept:
-        tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
-            "unchanged; --write-failed replaces it anyway)", True)
-    # a new file beside an existing one kept would not match it (a new plot of the failed run beside
-    # the old retimed path: a new user's find), as vampc emulate keeps its files a matching set
-    beside = [o for o in outs if o not in kept and outs[o].kind == "file"] if kept else []
-    for option in beside:
-        tell(f"{option} {outs[option].path} NOT written: {why} and {outs[kept[0]].path} is kept, "
-             "which it would not match (--write-failed writes them all)", True)
-    kept += beside
-    from vampc.outputs import write_together
-    write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
-    if not ok:
-        for option in (o for o in outs if o not in kept):
-            tell(f"{option} {outs[option].path} written although {why}", True)
-    # (the report had gone out before an output that could not be written: --torques /dev/full
-    # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
-    for text in later + ([disagree] if disagree is not None else []):
-        warnings.warn(VampcWarning(text), stacklevel=1)
-    for text, err in told:
-        say(text, err)
-    return ok
 
 
 def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -> tuple[float, float]:
