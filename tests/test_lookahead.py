@@ -1475,3 +1475,10 @@ def test_an_array_of_a_t_column_and_one_column_too_few_is_said_to_look_so(setup,
     np.save(whole, np.column_stack([q, qd, qdd]))
     r = run_lookahead(program, whole, limits)
     assert r.exit_code == 0 and "t column" not in r.output, r.output
+    # a CSV's columns are named: its q1 ramping from 0 is q1, whatever else is wrong (a review's)
+    ramp = tmp_path / "ramp.csv"
+    head = ",".join(f"{p}{i}" for p in ("q", "qd", "qdd") for i in range(1, 7))
+    np.savetxt(ramp, np.column_stack([t, q[:, 1:], qd, qdd]), delimiter=",", header=head, comments="",
+               fmt="%.17g")
+    r = run_lookahead(program, ramp, limits, "--allow-out-of-limits")
+    assert "q1 changes by" in r.output and "t column" not in r.output, r.output

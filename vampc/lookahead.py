@@ -444,7 +444,7 @@ def _check_rate_against_speeds(traj, lam: float, rate: float, path: str) -> None
             fits = rate / ratio if ratio > 0 else np.inf
         advice = (f"(about {fits:.4g} Hz would fit them)" if np.isfinite(fits) else
                   "(no rate would fit them: its positions and velocities are not of one motion)")
-        advice += _t_like(traj)
+        advice += _t_like(traj, path)
         warnings.warn(VampcWarning(
             f"{path}: its positions move {ratio:.3g} times what its velocities give at "
             f"{rate:g} Hz (the rows 1/rate apart): is --rate the rate the rows were sampled at? "
@@ -511,14 +511,17 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
                     "limits (write q, qd and qdd of one motion)"
-                    + (_t_like(traj) if traj.t is None and (what, j) == ("q", 0) else ""))
+                    + (_t_like(traj, path) if traj.t is None and (what, j) == ("q", 0) else ""))
     return None
 
 
-def _t_like(traj) -> str:
-    """'; its first column ... a t column ...?' where a table read without t has a first column
-    stepping evenly from 0, as a t column does: the table then lacks a column (a new user's .npy of
-    18 columns for 6 joints and t was read as 18 without t and told only of its q1 and rate), else ''."""
+def _t_like(traj, path: str) -> str:
+    """'; its first column ... a t column ...?' where a .npy read without t has a first column
+    stepping evenly from 0, as a t column does: the array then lacks a column (a new user's .npy of
+    18 columns for 6 joints and t was read as 18 without t and told only of its q1 and rate), else
+    ''. (A CSV's columns and a .npz's arrays are named: a q1 ramping from 0 is q1.)"""
+    if not str(path).lower().endswith(".npy"):
+        return ""
     first = traj.q[:, 0]
     steps = np.diff(first)
     if len(steps) and first[0] == 0 and steps[0] > 0 and np.allclose(steps, steps[0], rtol=1e-6, atol=0):
