@@ -184,6 +184,10 @@ def test_uniform_k_is_the_closed_form_and_the_retimed_path_is_within_limits(setu
      r"times, as a retimed path's -o has them: resample the path at one rate\)$", 1),
     (lambda t: t * (1 + np.arange(len(t)) / 100), [], r"line 3 \(state 2\): t steps by \S+, not 1/rate "
      r"= 0\.001; no rate fits these rows: their steps run from", 1),
+    # steps drifting from 1 ms to 1.05 ms, the first within 0.1% of λ: not rounding (a review's)
+    (lambda t: np.concatenate([[0.0], np.cumsum(np.linspace(1.0009e-3, 1.05e-3, len(t) - 1))]), [],
+     r"line 3 \(state 2\): t steps by \S+, not 1/rate = 0\.001; no rate fits these rows: their steps "
+     r"run from 0\.0010009 to 0\.00105 s", 1),
     (None, ["--window", "100000"], r"--window 100000: larger than the trajectory \(500 rows\)", 2),
     (None, ["--clock", "1kHz"], r"the network computes a torque set every 4 ms .* it cannot keep up", 1),
     (None, ["-o", "x.csv"], r"-o writes the retimed \(or integrated\) path: give --retime or --accelerations", 2),
