@@ -454,28 +454,36 @@ def test_what_dask_says_is_said_in_plain_words_on_one_line():
     """New users' clusters: Dask's version table came out as one line of literal \\n, workers from
     a Python without vampc said only ModuleNotFoundError, and every worker restarting mid-run said
     FutureCancelledError "already forgotten"."""
-    import warnings
+    import re
 
     from vampc.cli import _library_text
     from vampc.parallel import _why
-    table = ("Mismatched versions found\n\n+---------+--------+-----------+---------+\n"
-             "| Package | Client | Scheduler | Workers |\n+---------+--------+-----------+---------+\n"
-             "| numpy   | 2.4.6  | None      | None    |\n| pandas  | 3.1.1  | None      | 2.0     |\n"
-             "+---------+--------+-----------+---------+")
     mismatch = type("VersionMismatchWarning", (Warning,), {})
-    assert _library_text(mismatch, mismatch(table)) == (
-        "the cluster's Python packages are not this Python's (numpy 2.4.6 here, None on the "
-        "scheduler, None on the workers; pandas 3.1.1 here, None on the scheduler, 2.0 on the "
-        "workers): its workers need vampc and what it needs, as installed here")
     assert _library_text(UserWarning, "two\nlines  of it") == "two lines of it"   # (no \n)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        assert _why(Exception(ModuleNotFoundError("No module named 'vampc'"))).startswith(
-            ": the workers' Python cannot import vampc; install vampc")
+    assert _why(Exception(ModuleNotFoundError("No module named 'vampc'"))).startswith(
+        ": the workers' Python cannot import vampc; install vampc")
     cancelled = type("FutureCancelledError", (Exception,), {})
     assert _why(cancelled("_budget_task-1 cancelled for reason: already forgotten.")).startswith(
         ": the cluster lost what this run had sent its workers")
     assert _why(OSError("Timed out")) == ""
+    # Dask's own tables: workers of two versions, a package missing, no worker at all, notes
+    versions = pytest.importorskip("distributed.versions")
+    here = {"packages": {"numpy": "2.4.6", "msgpack": "1.0", "lz4": "4.0"}}
+    scheduler = {"packages": {"numpy": "2.4.6", "msgpack": "1.1", "lz4": "4.1"}}
+    workers = {"a": {"packages": {"numpy": "1.25", "msgpack": "1.0"}},
+               "b": {"packages": {"numpy": "1.26", "msgpack": "1.0"}}}
+    said = _library_text(mismatch, versions.error_message(scheduler, workers, here)["warning"])
+    assert re.fullmatch(r"the cluster's Python packages are not this Python's \(lz4 4\.0 here, 4\.1 on "
+                        r"the scheduler, missing on the workers; msgpack 1\.0 here, 1\.1 on the "
+                        r"scheduler, 1\.0 on the workers; numpy 2\.4\.6 here, 2\.4\.6 on the scheduler, "
+                        r"1\.2[56] or 1\.2[56] on the workers\): vampc's tasks run on the workers, "
+                        r"which need vampc and what it needs, as installed here", said), said
+    said = _library_text(mismatch, versions.error_message(scheduler, {}, here)["warning"])
+    assert said == ("the cluster's Python packages are not this Python's (lz4 4.0 here, 4.1 on the "
+                    "scheduler, no worker to ask; msgpack 1.0 here, 1.1 on the scheduler, no worker "
+                    "to ask)"), said
+    noted = versions.error_message(scheduler, {}, here)["warning"] + "\nNotes: \n-  lz4: ok to vary"
+    assert _library_text(mismatch, noted).endswith("; Dask's notes: -  lz4: ok to vary".replace("-  ", "- "))
 
 
 def test_an_inproc_address_from_a_command_and_ucx_without_its_support_are_said_so():

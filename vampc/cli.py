@@ -121,15 +121,31 @@ def _library_text(category, message) -> str:
     and Dask's table of packages whose versions differ is said in words."""
     text = str(message)
     if category.__name__ == "VersionMismatchWarning":
+        table, _, notes = text.partition("Notes:")
         rows = [[c.strip() for c in line.strip().strip("|").split("|")]
-                for line in text.splitlines() if line.strip().startswith("|")]
+                for line in table.splitlines() if line.strip().startswith("|")]
         if len(rows) > 1 and rows[0][:1] == ["Package"]:
-            heads = [_WHERE.get(h.lower(), f"for {h}") for h in rows[0][1:]]
-            said = "; ".join(f"{r[0]} " + ", ".join(f"{v} {h}" for h, v in zip(heads, r[1:]))
-                             for r in rows[1:])
-            return (f"the cluster's Python packages are not this Python's ({said}): its workers "
-                    "need vampc and what it needs, as installed here")
+            heads = [h.lower() for h in rows[0][1:]]
+            said, workers_differ = [], False
+            for pkg, *values in rows[1:]:
+                got = dict(zip(heads, values))
+                workers_differ |= got.get("workers") not in (got.get("client"), "None")
+                said.append(f"{pkg} " + ", ".join(_version(v, h) for h, v in got.items()))
+            return ("the cluster's Python packages are not this Python's (" + "; ".join(said) + ")"
+                    + (": vampc's tasks run on the workers, which need vampc and what it needs, as "
+                       "installed here" if workers_differ else "")
+                    + (f"; Dask's notes: {' '.join(notes.split())}" if notes.strip() else ""))
     return " ".join(text.split())
+
+
+def _version(value: str, where: str) -> str:
+    """One cell of Dask's version table in words, with where it is: workers of several versions
+    ({'1.25', '1.26'}), a package missing, no worker at all (None in the workers' column)."""
+    if value == "None" and where == "workers":
+        return "no worker to ask"
+    if value.startswith("{") and value.endswith("}"):
+        value = " or ".join(v.strip().strip("'\"") for v in value[1:-1].split(","))
+    return f"{'missing' if value == 'MISSING' else value} {_WHERE.get(where, 'for ' + where)}"
 
 
 def _show_warning(message, category, *rest):

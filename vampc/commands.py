@@ -1247,7 +1247,7 @@ def _runs_kept(store, results: str) -> str:
                 + (f" beside {before} before" if before else "") + " (a re-run resumes from them)")
     if before:
         return f"no run finished this time; the {before} before are kept in {results} (a re-run resumes from them)"
-    return "no run finished: nothing is kept"
+    return "no run had finished, so nothing is kept"
 
 
 def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
@@ -1924,9 +1924,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                        kept=lambda: _runs_kept(store, results))
                 failed = False
             except KeyboardInterrupt as exc:     # (Ctrl-C, SIGTERM: "interrupted" alone, though
-                if store.added:                  # the runs finished are kept: a new user's find)
-                    exc.note = _runs_kept(store, results)
-                raise
+                exc.note = _runs_kept(store, results)    # the runs finished are kept: a new user's
+                raise                                    # find; and those of a run resumed: a review's
             finally:
                 store.close(failed)
     finally:
