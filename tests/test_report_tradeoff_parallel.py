@@ -499,4 +499,10 @@ def test_an_inproc_address_from_a_command_and_ucx_without_its_support_are_said_s
         "process (vampc's API called there), not from a command"), res.stderr
     assert _protocol_hint("ucx://h:1", TypeError("Can't instantiate abstract class UCXConnector")) \
         .startswith(": ucx:// needs Dask's UCX support installed")
+    assert _protocol_hint("ucxx://h:1", ValueError("unknown address scheme 'ucxx'")) \
+        .startswith(": ucxx:// needs Dask's UCX support installed")
     assert _protocol_hint("tcp://h:1", OSError("Timed out")) == ""
+    res = CliRunner().invoke(main, ["report", "examples/planar2.yaml", "--tradeoff", "--scheduler",
+                                    "inproc://x"])          # (the usage error says it too)
+    assert res.exit_code == 2 and "reached only from that process (vampc's API called there), not " \
+        "from a command" in res.output, res.output

@@ -361,14 +361,16 @@ def check_parallel(options) -> None:
         # (an in-process cluster's own address, HOST/PID/N: anything else failed with a ValueError)
         raise VampcUsageError(f"--scheduler {options.scheduler}: an inproc:// address is an "
                               "in-process cluster's own (inproc://HOST/PID/N, as its "
-                              "scheduler_address says)")
+                              "scheduler_address says), reached only from that process (vampc's "
+                              "API called there), not from a command")
     if sep and "@" in rest:
         raise VampcUsageError(f"--scheduler {options.scheduler}: a Dask address has no user part; "
                               "give tcp://HOST:PORT")
     if sep and scheme not in DASK_SCHEMES:
         raise VampcUsageError(f"--scheduler {options.scheduler}: {given}:// is not a Dask address; "
-                              f"give tcp://HOST:PORT (Dask's port is 8786; tls://, ws://, ucx:// and inproc:// are taken too) "
-                              "or HOST:PORT")
+                              f"give tcp://HOST:PORT (Dask's port is 8786; tls://, ws:// and ucx:// "
+                              "are taken too, and an in-process cluster's inproc:// from its own "
+                              "process) or HOST:PORT")
     if options.scheduler is not None and (not sep or scheme in ("tcp", "tls", "ws", "wss")):
         # (a name with no port, or a port out of range, waited the whole timeout for a connection
         # that could never be made, then said it could not reach it, exit 1)

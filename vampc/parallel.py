@@ -93,12 +93,13 @@ def connect(address: str, timeout: str = SCHEDULER_TIMEOUT):
 def _protocol_hint(address: str, exc: BaseException) -> str:
     """What Dask's words mean for the protocols a shell cannot use as given (a new user's
     `inproc://` and `ucx://` got only Dask's internals), else ''."""
-    scheme = address.strip().split("://", 1)[0].lower()
+    scheme = address.split("://", 1)[0]      # (spaces and capitals: refused before, options.py)
     if scheme == "inproc":
         return (": an inproc:// cluster runs inside one Python process and is reached only from "
                 "that process (vampc's API called there), not from a command")
-    if scheme == "ucx" and "UCX" in str(exc):
-        return ": ucx:// needs Dask's UCX support installed (distributed-ucxx), here and on the cluster"
+    if scheme in ("ucx", "ucxx") and ("UCX" in str(exc) or "unknown address scheme" in str(exc)):
+        return (f": {scheme}:// needs Dask's UCX support installed (distributed-ucxx), here and on "
+                "the cluster")
     return ""
 
 
