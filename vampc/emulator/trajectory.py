@@ -127,7 +127,7 @@ def _header_hint(names: list[str], columns: list[str]) -> str:
             return f"; its columns are separated by {said}: a CSV table's are by commas"
     wanted = {c.lower() for c in ("t", *columns)}
     if all(c.lower() in wanted for c in names) and any(c != c.lower() for c in names):
-        return "; the column names are lower case (q1, qd1, qdd1, t)"
+        return f"; write the column names in lower case ({columns[0]}, not {columns[0].upper()})"
     if head.lower() in ("time", "time_s", "t_s", "timestamp") and names[1:] in (list(columns), []):
         return "; a time column is named t"
     return ""
