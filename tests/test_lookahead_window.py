@@ -330,6 +330,13 @@ def test_a_narrower_word_retimed_without_check_says_its_error_was_not_measured(s
             "network (0.001 of the largest |τ|), which this run does not measure")
     r = CliRunner().invoke(main, ["lookahead", str(coarse), *base])
     assert r.exit_code == 0 and said in r.output, r.output
+    assert "(--check measures it and fails the run then; vampc precision gives each fixed-point " \
+        "width's error)" in r.output, r.output
+    single = tmp_path / "f32.vamp.json"           # (vampc precision is for fixed point: not said)
+    assert CliRunner().invoke(main, ["compile", PUMA, "--word", "float32", "-o", str(single)]).exit_code == 0
+    r = CliRunner().invoke(main, ["lookahead", str(single), *base])
+    assert r.exit_code == 0 and "a float32 network (1e-5 of the largest |τ|), which this run does " \
+        "not measure" in r.output and "precision" not in r.output, r.output
     r = CliRunner().invoke(main, ["lookahead", str(coarse), *base, "--check", "--write-failed"])
     assert r.exit_code == 1 and said not in r.output, r.output
     assert re.search(r"check against reference RNEA: max relative error [\d.e-]+, tolerance 0\.001: FAILED",

@@ -1394,13 +1394,15 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         if res.retimed is not None:
             la.check_new_times(res, times, source_path)
         if res.retimed is not None and margin and not own.check_torques:
+            from vampc.machine.arith import Fixed
             # (a new user's arm in q24.8: its torques 1.2e-2 of the largest |τ| off, the window and
             # envelope retimings up to 1.009 times a limit by the reference dynamics, exit 0 unsaid)
             later.append(f"{source}: the retiming plans each effort limit {res.word_error:.3g} inside, the "
                          f"error --check allows a {ld.arith.name} network ({number_text(margin)} of the "
                          "largest |τ|), which this run does not measure: a word too narrow for this robot "
                          "errs more and can take the retimed path over a limit (--check measures it and "
-                         "fails the run then; vampc precision gives each width's error)")
+                         "fails the run then" + ("; vampc precision gives each fixed-point width's "
+                                                 "error)" if isinstance(ld.arith, Fixed) else ")"))
         if clock is not None and envelope:
             tell(_envelope_in_time(source, ld, own, clock, res, source_path), info)
         if clock is not None:
