@@ -734,7 +734,8 @@ class LookaheadOptions:
     write_failed: bool = field(default=False, metadata=cli(
         "--write-failed", help="With --check or --retime (or a program in a narrower word than "
         "float64, whose overflows fail a run): write -o, --torques and --plot even when the run "
-        "fails and the file exists (by default a failed run never replaces an existing file)."))
+        "fails and the file exists (by default a failed run never replaces an existing file, nor "
+        "writes a new one beside a file it keeps)."))
 
     def check(self) -> None:
         """Required options and their rules."""
