@@ -76,7 +76,9 @@ import sys
 from click.testing import CliRunner
 from vampc.cli import main
 robot, out = sys.argv[1], sys.argv[2]
-for args in (["report", robot, "--layout", "folded", "--html", out + "/folded.html"],
+for args in (["report", robot, "--html", out + "/systolic.html"],
+             ["report", robot, "--vamps", "6", "--html", out + "/budget.html"],
+             ["report", robot, "--layout", "folded", "--html", out + "/folded.html"],
              ["report", robot, "--recursion", "log", "--html", out + "/log.html"],
              ["emulate", robot, "--random", "5", "--engine", "tick", "--vcd", out + "/ticks.vcd"]):
     res = CliRunner().invoke(main, args)
@@ -97,7 +99,7 @@ def test_pictures_and_waveforms_are_the_same_bytes_whatever_the_hash_seed(tmp_pa
         subprocess.run([sys.executable, "-c", _PICTURES, str(EXAMPLES / "planar2.yaml"), str(out)],
                        check=True, env={**os.environ, "PYTHONHASHSEED": seed}, timeout=300)
         made.append({p.name: p.read_bytes() for p in sorted(out.iterdir())})
-    assert list(made[0]) == ["folded.html", "log.html", "ticks.vcd"]
+    assert list(made[0]) == ["budget.html", "folded.html", "log.html", "systolic.html", "ticks.vcd"]
     assert made[0]["folded.html"].count(b"<svg") >= 2 and b"$enddefinitions" in made[0]["ticks.vcd"]
     assert made[0] == made[1]
 

@@ -1142,7 +1142,7 @@ def test_what_a_vendor_adds_is_read_without_a_word(tmp_path):
     text = text.replace('<robot name="r">', '<robot name="r" xmlns:ext="http://example.org/ext">').replace(
         '<axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/><ext:gain value="2"/>', 1)
     for added in ("command_effort", "<contact>", "<gravity>", "xmlns:ext", "<ext:gain"):
-        assert added in text, added      # (the robot's text still has what each edit looks for)
+        assert added in text, added      # (each edit took: the robot had what it replaces)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_urdf(write(tmp_path, text))

@@ -1359,13 +1359,13 @@ def envelope_plan(traj, evaluate, limits: Limits, window: int, futures: int, lam
     plan = np.zeros(1)           # the committed plan's x from this row on: at rest, nowhere to go
     U = ENVELOPE_U
     top = MAX_SPEED ** 2 / (2.0 * lam)     # the s̈ to the top speed from rest in one row: U's most
-    told = time.monotonic()
+    last = time.monotonic()          # when the bar was last told
     for i in range(n_rows - 1):
         # (every 256 rows, or half a second: on the tick engine a row's candidates took 0.3 s, and
         # the bar said row 1 for 61 s: a new user's find)
-        if progress is not None and (i % 256 == 0 or time.monotonic() - told >= 0.5):
+        if progress is not None and (i % 256 == 0 or time.monotonic() - last >= 0.5):
             progress(i)
-            told = time.monotonic()
+            last = time.monotonic()
         m = min(window, n_rows - i)
         x0 = out.x[i]
         if i + m - 1 == n_rows - 2 and (x0 > 0 or m >= 4):

@@ -59,7 +59,7 @@ def tradeoff_page(rows: list[dict], title: str, curve_svg: str) -> str:
                          f"{r['host_writes_per_set']:,}") for r in rows),
                   ("front: L on the latency-VAMP front, I on the interval-VAMP front, * Pareto-optimal "
                    "in VAMPs, latency, interval and buffer stages (README, VAMP budgets and the trade-off)",
-                   *notes(rows)),
+                   *(note.replace("`", "") for note in notes(rows))),     # (Markdown's quotes)
                   align="llrrrrrrrrrrr")
     body = [f"<h1>vampc trade-off: {esc(title)}</h1>",
             '<section id="curve"><h2>Curve</h2><div class="picture">'

@@ -174,7 +174,8 @@ def render_markdown(rows: list[dict]) -> str:
                      f"{r['latency_bound']} | {r['latency_gap_pct']}% | {r['interval_flops']} | "
                      f"{r['interval_bound']} | {r['interval_gap_pct']}% | {r['buffer_stages']} | "
                      f"{r['control_registers']} | {r['mux_inputs']} | {r['host_writes_per_set']} |")
-    return "\n".join(lines + ["", *notes(rows)] if notes(rows) else lines) + "\n"
+    said = notes(rows)
+    return "\n".join(lines + ["", *said] if said else lines) + "\n"
 
 
 def render_text(rows: list[dict]) -> str:
