@@ -1475,6 +1475,7 @@ def test_an_array_of_a_t_column_and_one_column_too_few_is_said_to_look_so(setup,
     r = run_lookahead(program, short, limits, "--allow-out-of-limits")
     assert "its first column (q of joint 1) steps evenly from 0 by 0.001, as a t column does: a t " \
         "column and one column too few?" in r.output, r.output
+    assert f"{short}: states 1 to 2: q1 changes by" in r.output, r.output      # (no lines in a .npy)
     whole = tmp_path / "whole.npy"                    # (the table as it should be: no such word)
     np.save(whole, np.column_stack([q, qd, qdd]))
     r = run_lookahead(program, whole, limits)

@@ -503,11 +503,15 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
             # (how far it goes: one line named of a path whose every step disagreed read as a
             # slip in one row; a new user's find)
             rows, joints = int(off.any(axis=1).sum()), int(off.any(axis=0).sum())
+            from vampc.emulator.trajectory import numpy_file
             from vampc.textio import count
             extent = "" if off.sum() == 1 else \
                 (f" ({rows} of its {count(len(step), 'step')} disagree{'s' * (rows == 1)} so, in "
                  f"{count(joints, 'joint')})")
-            return (f"{path}: line {r + 2} to {r + 3}: {joint} changes by {float(step[r, j]):.6g} "
+            # (a .npy has no lines: its states are named, as every other message names them)
+            where = (f"states {r + 1} to {r + 2}" if numpy_file(path) else
+                     f"line {r + 2} to {r + 3}")
+            return (f"{path}: {where}: {joint} changes by {float(step[r, j]):.6g} "
                     f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate{extent}: the "
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
