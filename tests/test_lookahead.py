@@ -619,13 +619,9 @@ def test_a_row_a_fixed_point_word_cannot_hold_is_refused_and_overflows_are_said(
     assert n > 0 and re.search(rf"tolerance 0\.001, {n} overflows? in the run: FAILED", r.output), r.output
 
 
-@pytest.mark.parametrize("retime", [[], ["--retime", "window"]], ids=["check", "window"])
-def test_overflows_fail_the_run_without_check(tmp_path, retime):
-    """A new user's run: planar2 in q6.10 (torques up to 32), effort limits of 500, --overflow
-    saturate: the register held torques saturated at 32, so no row looked near a limit; the window
-    retiming ran the path fast, beyond the limits by the reference dynamics, and the run said 0
-    violations, exit 0, unless --check was given. Overflows now fail the run, saying why, and an
-    existing output is left as it was."""
+def _saturating_planar2(tmp_path):
+    """planar2 in q6.10 (torques up to 32), the first two joints of the Puma's example path, and
+    effort limits of 500: (program, path, limits)."""
     program = tmp_path / "p2.vamp.json"
     assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q6.10", "-o",
                                      str(program)]).exit_code == 0
@@ -635,6 +631,17 @@ def test_overflows_fail_the_run_without_check(tmp_path, retime):
     path = write_path(tmp_path, rows[:, 0], rows[:, 1:3], rows[:, 7:9], rows[:, 13:15])
     limits = tmp_path / "lim.csv"
     limits.write_text("joint,tau,qd\nshoulder,500,\nelbow,500,\n")
+    return program, path, limits
+
+
+@pytest.mark.parametrize("retime", [[], ["--retime", "window"]], ids=["check", "window"])
+def test_overflows_fail_the_run_without_check(tmp_path, retime):
+    """A new user's run: planar2 in q6.10 (torques up to 32), effort limits of 500, --overflow
+    saturate: the register held torques saturated at 32, so no row looked near a limit; the window
+    retiming ran the path fast, beyond the limits by the reference dynamics, and the run said 0
+    violations, exit 0, unless --check was given. Overflows now fail the run, saying why, and an
+    existing output is left as it was."""
+    program, path, limits = _saturating_planar2(tmp_path)
     out = tmp_path / "out.csv"
     out.write_text("mine\n")
     args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "16",
@@ -675,15 +682,7 @@ def test_a_failed_run_writes_no_new_file_beside_an_old_one_it_keeps(tmp_path):
     """A failed run kept the existing -o and wrote a new --plot and --torques of the failed run
     beside it: files that did not match (a new user's find; vampc emulate keeps its files a matching
     set). None is written then, each said; --write-failed writes them all."""
-    program = tmp_path / "p2.vamp.json"
-    assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "--word", "q6.10", "-o",
-                                     str(program)]).exit_code == 0
-    made = subprocess.run([sys.executable, "examples/make_path.py", "0.4", "1000"], check=True,
-                          capture_output=True, text=True).stdout            # the Puma's six joints
-    rows = np.loadtxt(io.StringIO(made), delimiter=",", skiprows=1)
-    path = write_path(tmp_path, rows[:, 0], rows[:, 1:3], rows[:, 7:9], rows[:, 13:15])
-    limits = tmp_path / "lim.csv"
-    limits.write_text("joint,tau,qd\nshoulder,500,\nelbow,500,\n")
+    program, path, limits = _saturating_planar2(tmp_path)
     out, tau, plot = tmp_path / "out.csv", tmp_path / "tau.csv", tmp_path / "plot.svg"
     out.write_text("mine\n")
     args = ["lookahead", str(program), "--trajectory", str(path), "--rate", "1kHz", "--window", "16",
