@@ -1381,6 +1381,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if envelope and own.engine == "stream":      # (many short calls: the engine prepared once)
         prepared = preparing(ld, traj.count * futures * own.window)
         network = lambda tr: emulate(ld, tr, "stream", stream=prepared).tau    # noqa: E731
+    writing = False
     try:
         with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
             try:
@@ -1483,6 +1484,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             if not same or within or arrived:
                 failed.append("check")
         ok = not failed and not overflowed
+        # (an output that cannot be written is not the path's doing: that error alone, a review's)
+        writing = True
         content = _lookahead_outputs(outs, ld.chain, traj, times, res)
         if "--plot" in outs:
             from vampc.report.svg import format_of
@@ -1520,8 +1523,8 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     except VampcError:
         # the path's columns disagreeing is said first where it may be why (a q̈ of 1e300 in one
         # row: the window retiming's error said only the retimed rows' times, a new user's find),
-        # whatever error ends the run after it went through the network
-        if disagree is not None:
+        # whatever error ends the run after it went through the network, but for its outputs'
+        if disagree is not None and not writing:
             warnings.warn(VampcWarning(disagree), stacklevel=1)
         raise
 
