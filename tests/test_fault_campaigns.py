@@ -1039,6 +1039,16 @@ def test_an_interrupted_campaign_says_the_runs_it_keeps(programs, tmp_path, monk
         f"vampc: interrupted; no run finished this time; the 3 before are kept in {path} (a re-run "
         "resumes from them)"), r.stderr           # (it said "interrupted" alone: a review's find)
     monkeypatch.setattr(cp.ResultsFile, "add", real)
+    real_open = cp.ResultsFile.open
+
+    def opening(self):                       # a Ctrl-C as the file is opened, before any count
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cp.ResultsFile, "open", opening)
+    fresh = tmp_path / "fresh.jsonl"
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(fresh)])
+    assert r.exit_code == 130 and r.stderr.strip().splitlines()[-1] == (
+        "vampc: interrupted; no run had finished, so nothing is kept"), r.stderr
+    monkeypatch.setattr(cp.ResultsFile, "open", real_open)
     r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
     assert r.exit_code == 0 and "(3 run(s) read from" in r.output, r.output
 

@@ -559,6 +559,7 @@ class ResultsFile:
         self.period = period            # the program's: a run's counts checked against its ticks
         self.default = default          # the path is the default one, not the user's --results
         self.done: dict[int, dict] = {}
+        self.added = 0                  # runs added by this run (a Ctrl-C before open() asks too)
         self._fh = None
 
     @property
