@@ -33,7 +33,7 @@ from vampc.options import (
     check_program_options,
     flag,
 )
-from vampc.textio import count, listed
+from vampc.textio import count, listed, rough_time
 
 # Programs with more slots than this are statically checked in a forked process while the report
 # is built (about a third of the work for a 512-joint log program); a robot file's compiled network
@@ -1237,17 +1237,15 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
 
 # --- lookahead ------------------------------------------------------------------------------------
 
-def _runs_kept(store, results: str) -> str:
-    """What a stopped campaign keeps: its runs finished, this time and before, in the results file
-    (a cluster without workers had been said to keep its runs in a file it then removed, none
-    having finished: a new user's find)."""
-    before = len(store.done) - store.added
-    if store.added:
-        return (f"{count(store.added, 'run')} finished this time kept in {results}"
-                + (f" beside {before} before" if before else "") + " (a re-run resumes from them)")
-    if before:
-        return f"no run finished this time; the {before} before are kept in {results} (a re-run resumes from them)"
-    return "no run had finished, so nothing is kept"
+@contextlib.contextmanager
+def _said_before_an_error(warning: str | None):
+    """A warning said before any VampcError the block ends in, where it may be why (None: none)."""
+    try:
+        yield
+    except VampcError:
+        if warning is not None:
+            warnings.warn(VampcWarning(warning), stacklevel=1)
+        raise
 
 
 def lookahead_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
@@ -1381,8 +1379,11 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
     if envelope and own.engine == "stream":      # (many short calls: the engine prepared once)
         prepared = preparing(ld, traj.count * futures * own.window)
         network = lambda tr: emulate(ld, tr, "stream", stream=prepared).tau    # noqa: E731
-    writing = False
-    try:
+    # the path's columns disagreeing is said first where it may be why, whatever error ends the
+    # run once it has gone through the network (a q̈ of 1e300 in one row: the window retiming's
+    # error said only the retimed rows' times, a new user's find), but for its outputs' (an
+    # output that cannot be written is not the path's doing: that error alone, a review's)
+    with _said_before_an_error(disagree):
         with progress.stages(f"look-ahead over {Path(source_path).name}", la.STAGES[own.retime]) as stage:
             try:
                 res = la.run(ld, traj, own.window, limits, own.retime, network, source_path, futures,
@@ -1484,49 +1485,39 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             if not same or within or arrived:
                 failed.append("check")
         ok = not failed and not overflowed
-        # (an output that cannot be written is not the path's doing: that error alone, a review's)
-        writing = True
-        content = _lookahead_outputs(outs, ld.chain, traj, times, res)
-        if "--plot" in outs:
-            from vampc.report.svg import format_of
-            from vampc.robot.mimic import free_joints
-            content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
-                                            f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
-                                            f"window {own.window}", format_of(outs["--plot"].path))
-        why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
-                           ([f"the {' and '.join(failed)} failed"] if failed else []))
-        kept = [] if ok or own.write_failed else \
-            [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
-        for option in kept:
-            tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
-                "unchanged; --write-failed replaces it anyway)", True)
-        # a new file beside an existing one kept would not match it (a new plot of the failed run beside
-        # the old retimed path: a new user's find), as vampc emulate keeps its files a matching set
-        beside = [o for o in outs if o not in kept and outs[o].kind == "file"] if kept else []
-        for option in beside:
-            tell(f"{option} {outs[option].path} NOT written: {why} and {outs[kept[0]].path} is kept, "
-                 "which it would not match (--write-failed writes them all)", True)
-        kept += beside
-        from vampc.outputs import write_together
-        write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
-        if not ok:
-            for option in (o for o in outs if o not in kept):
-                tell(f"{option} {outs[option].path} written although {why}", True)
-        # (the report had gone out before an output that could not be written: --torques /dev/full
-        # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
-        for text in later + ([disagree] if disagree is not None else []):
-            warnings.warn(VampcWarning(text), stacklevel=1)
-        disagree = None                  # (said: not again should what follows fail)
-        for text, err in told:
-            say(text, err)
-        return ok
-    except VampcError:
-        # the path's columns disagreeing is said first where it may be why (a q̈ of 1e300 in one
-        # row: the window retiming's error said only the retimed rows' times, a new user's find),
-        # whatever error ends the run after it went through the network, but for its outputs'
-        if disagree is not None and not writing:
-            warnings.warn(VampcWarning(disagree), stacklevel=1)
-        raise
+    content = _lookahead_outputs(outs, ld.chain, traj, times, res)
+    if "--plot" in outs:
+        from vampc.report.svg import format_of
+        from vampc.robot.mimic import free_joints
+        content["--plot"] = la.plot_svg([ld.chain.joints[i] for i in free_joints(ld.chain)], times, res, limits,
+                                        f"{ld.chain.name}: {traj.count} rows at {own.rate}, "
+                                        f"window {own.window}", format_of(outs["--plot"].path))
+    why = " and ".join(([f"the {ld.arith.name} words overflowed"] if overflowed else []) +
+                       ([f"the {' and '.join(failed)} failed"] if failed else []))
+    kept = [] if ok or own.write_failed else \
+        [o for o in outs if outs[o].kind == "file" and outs[o].target.exists()]
+    for option in kept:
+        tell(f"{option} {outs[option].path} NOT written: {why} and it exists (it is "
+            "unchanged; --write-failed replaces it anyway)", True)
+    # a new file beside an existing one kept would not match it (a new plot of the failed run beside
+    # the old retimed path: a new user's find), as vampc emulate keeps its files a matching set
+    beside = [o for o in outs if o not in kept and outs[o].kind == "file"] if kept else []
+    for option in beside:
+        tell(f"{option} {outs[option].path} NOT written: {why} and {outs[kept[0]].path} is kept, "
+             "which it would not match (--write-failed writes them all)", True)
+    kept += beside
+    from vampc.outputs import write_together
+    write_together([(outs[o], content[o], WHAT[o]) for o in outs if o not in kept])
+    if not ok:
+        for option in (o for o in outs if o not in kept):
+            tell(f"{option} {outs[option].path} written although {why}", True)
+    # (the report had gone out before an output that could not be written: --torques /dev/full
+    # ended with exit status 1 after it; and the path's q̇ disagreeing with its q: a review)
+    for text in later + ([disagree] if disagree is not None else []):
+        warnings.warn(VampcWarning(text), stacklevel=1)
+    for text, err in told:
+        say(text, err)
+    return ok
 
 
 def _in_time(source, ld, own, clock: float, need: int, seen: int, step: float) -> tuple[float, float]:
@@ -1826,6 +1817,19 @@ def _lookahead_outputs(outs: dict, chain, traj, times, res) -> dict:
 
 
 # --- faults ---------------------------------------------------------------------------------------
+
+def _runs_kept(store, results: str) -> str:
+    """What a stopped campaign keeps: its runs finished, this time and before, in the results file
+    (a cluster without workers had been said to keep its runs in a file it then removed, none
+    having finished: a new user's find)."""
+    before = len(store.done) - store.added
+    if store.added:
+        return (f"{count(store.added, 'run')} finished this time kept in {results}"
+                + (f" beside {before} before" if before else "") + " (a re-run resumes from them)")
+    if before:
+        return f"no run finished this time; the {before} before are kept in {results} (a re-run resumes from them)"
+    return "no run had finished, so nothing is kept"
+
 
 def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotOptions,
                    params: dict, say) -> None:
@@ -2145,7 +2149,7 @@ def _preflight(ld, own, limit: float, estimates) -> list:
     # figures, which the report's clock comes from, were refused with it)
     for what, seconds in steps:
         if seconds > limit:
-            raise VampcError(f"{what} is estimated at {_duration(seconds)}, beyond "
+            raise VampcError(f"{what} is estimated at {rough_time(seconds)}, beyond "
                              f"--max-minutes {limit / 60:g}; give a larger --max-minutes to run it "
                              "anyway")
     return steps
@@ -2162,7 +2166,7 @@ def _run_estimate(ld, own, limit: float, steps: list) -> str | None:
                                               else [])
         for k, (what, seconds) in enumerate(network):
             if seconds > limit:     # (and what follows it: place and route needs the synthesis)
-                out = (f"; the network's {what} ({_duration(seconds)}), beyond --max-minutes, will "
+                out = (f"; the network's {what} ({rough_time(seconds)}), beyond --max-minutes, will "
                        "be left out" + (", and its place and route with it"
                                         if k + 1 < len(network) else ""))
                 break
@@ -2170,7 +2174,7 @@ def _run_estimate(ld, own, limit: float, steps: list) -> str | None:
     total = sum(seconds for _, seconds in steps)
     if total < 60:
         return None
-    return (f"vampc rtl: {count(len(steps), 'step')} estimated at {_duration(total)} in all "
+    return (f"vampc rtl: {count(len(steps), 'step')} estimated at {rough_time(total)} in all "
             f"(--max-minutes {own.max_minutes:g} bounds each step, not the whole run){out}")
 
 
@@ -2186,11 +2190,7 @@ def _within(what: str, seconds: float, note) -> None:
     """Say what is about to run and its estimate (_preflight has refused, before any work, every
     step beyond --max-minutes)."""
     if seconds >= 5:
-        note(f"vampc rtl: {what} (estimated {_duration(seconds)})")
-
-
-def _duration(seconds: float) -> str:
-    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
+        note(f"vampc rtl: {what} (estimated {rough_time(seconds)})")
 
 
 def _cosim(ld, design, own, figures, limit, note) -> bool:
@@ -2275,7 +2275,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
     estimate, pnr_estimate = _network_estimates(ld, own)
     if estimate > limit:
         figures["synth"]["network"] = None
-        note(f"vampc rtl: the network's synthesis is estimated at {_duration(estimate)}, beyond "
+        note(f"vampc rtl: the network's synthesis is estimated at {rough_time(estimate)}, beyond "
              f"--max-minutes {own.max_minutes:g}: left out, with its place and route (give a "
              "larger --max-minutes to run it); each VAMP kind's figures are above")
         return
@@ -2289,7 +2289,7 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
             if pnr_estimate > limit:
                 figures["synth"]["network"]["pnr"] = None
                 note(f"vampc rtl: the network's place and route is estimated at "
-                     f"{_duration(pnr_estimate)}, beyond --max-minutes {own.max_minutes:g}: left "
+                     f"{rough_time(pnr_estimate)}, beyond --max-minutes {own.max_minutes:g}: left "
                      "out (give a larger --max-minutes to run it)")
             else:
                 _within(f"placing and routing the network of {count(V, 'VAMP')}", pnr_estimate, note)

@@ -1332,10 +1332,8 @@ def _rows_told(stage, total: int):
         text = f"candidate futures, row {i + 1} of {total}"
         gone = time.monotonic() - begun
         if i > 0 and gone >= 2.0:
-            left = gone * (total - 1 - i) / i
-            text += (f", about {left:.0f} s left" if left < 90 else
-                     f", about {left / 60:.0f} min left" if left < 5400 else
-                     f", about {left / 3600:.1f} h left")
+            from vampc.textio import rough_time
+            text += f", about {rough_time(gone * (total - 1 - i) / i)} left"
         stage(text)
     return told
 

@@ -157,6 +157,11 @@ def count(k: int, noun: str) -> str:
     return f"{k} {noun}" + ("" if k == 1 else "s")
 
 
+def rough_time(seconds: float) -> str:
+    """A time to wait, as an estimate gives it: '16 s' below two minutes, else '7 min'."""
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min"
+
+
 def shown(text: str, limit: int = 60) -> str:
     """`text` quoted for a message: control, format (zero-width, BOM) and other invisible characters
     escaped as \\uXXXX, cut to `limit` characters."""
