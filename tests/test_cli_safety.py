@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from conftest import EXAMPLES
+from conftest import ARM1, EXAMPLES
 from program_util import edited_program
 
 from vampc.cli import main
@@ -2209,10 +2209,8 @@ def test_rtl_figures_standard_output_cannot_take_leave_the_old_verilog(tmp_path)
         pytest.skip("no /dev/full here")
     out = tmp_path / "out.v"
     out.write_text("OLD\n")
-    robot = tmp_path / "one.yaml"        # one joint on one VAMP: 3 s, where planar2 on 3 took 6.4 s
-    robot.write_text("name: one\njoints:\n  - {name: j, type: revolute, a: 0.5, alpha: 0.3, d: 0.1, "
-                     "theta: 0.0, mass: 2.0, com: [-0.25, 0.02, 0.01],\n     inertia: [0.01, 0.04, "
-                     "0.04, 0.001, 0.0, 0.0]}\n")
+    robot = tmp_path / "arm1.yaml"       # one joint on one VAMP: 3 s, where planar2 on 3 took 6.4 s
+    robot.write_text(ARM1)
     with open("/dev/full", "w") as full:
         done = _vampc("rtl", robot, "--word", "q16.16", "--vamps", 1, "-o", out,
                       "--cosim", 1, stdout=full, stderr=subprocess.PIPE)
