@@ -57,9 +57,8 @@ def torques(doc: dict, traj, engine="stream", **kw) -> np.ndarray:
 # What the loader's checks of a program say when they refuse one (vampc/emulator/load.py, timing.py,
 # the bus's), and the tick engine's own as it runs one unchecked ("(a timing error)", at a tick): a
 # damaged word must be refused by one of them, at a place (a VAMP, a slot, a constant buffer, a
-# delay line, a word of the program stream), or
-# change the torques. Any other error (a schema's, a decoder's, an internal one, a loader refusing
-# everything) is not a report of the damage.
+# delay line, a word of the program stream), or change the torques. Any other error (a schema's, a
+# decoder's, an internal one, a loader refusing everything) is not a report of the damage.
 CHECKS = re.compile("|".join((
     r"never matches the Cycle-Counter", r"selects no input", r"is selected by no slot",
     r"is re-latched at (tick|counter) \d+, before the micro-step",
