@@ -498,7 +498,8 @@ def test_a_nan_result_is_the_canonical_nan_in_every_engine(word, monkeypatch):
     other's as the arrays lay in memory (a checker found a mismatch between two NaNs of one op on
     one pair of operands and excised a healthy VAMP: a new user's find). A Result holding a NaN
     holds the canonical quiet NaN: every NaN torque of the numpy (in batches and one op at a time)
-    and C stream engines and the tick engine is that one bit pattern (0x7FF8000000000000; binary32's 0x7FC00000 widens to it)."""
+    and C stream engines and the tick engine is that one bit pattern (0x7FF8000000000000;
+    binary32's 0x7FC00000 widens to it)."""
     import warnings
     chain = load_robot(EXAMPLES / "planar2.yaml")
     c = compile_chain(chain, CompileOptions())
