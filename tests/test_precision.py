@@ -195,6 +195,11 @@ def test_a_program_file_is_analysed_in_its_own_rounding(tmp_path):
     assert what_if.exit_code == 0 and loads(what_if.stdout)["rounding"] == "nearest"
     assert "pt.vamp.json rounds by truncate; --rounding nearest analyses" in what_if.stderr
     assert loads(what_if.stdout)["rows"][0]["bound"] < got["rows"][0]["bound"]
+    # --help said "[default: nearest]" (a new user read it so): it says what the run does
+    helped = re.sub(r"-\s+", "-", " ".join(
+        CliRunner().invoke(main, ["precision", "--help"]).stdout.split()))   # click's wrap at "-"
+    assert "[default: nearest]" not in helped
+    assert "Default: a fixed-point program file's own, else nearest." in helped
 
 
 def test_an_error_over_the_tolerance_never_prints_as_within_it():

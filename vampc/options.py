@@ -101,11 +101,13 @@ class CompileOptions:
         "`vampc emulate`, `faults`, `lookahead` and `rtl` run the program in another one (a what-if). "
         "README, Word formats."))
     rounding: str = field(default="nearest", metadata=cli(
-        "--rounding", choices=lambda: WORD_ROUNDING, show_default=True, help="Fixed-point words: "
-        "how a product drops its extra fraction bits (nearest: ties up; truncate: towards -inf)."))
+        "--rounding", choices=lambda: WORD_ROUNDING, help="Fixed-point words: how a product drops "
+        "its extra fraction bits (nearest: ties up; truncate: towards -inf). Default: a fixed-point "
+        "program file's own, else nearest."))
     overflow: str = field(default="saturate", metadata=cli(
-        "--overflow", choices=lambda: WORD_OVERFLOW, show_default=True, help="Fixed-point words: "
-        "a result beyond the word saturates or wraps; either way it is counted and reported."))
+        "--overflow", choices=lambda: WORD_OVERFLOW, help="Fixed-point words: a result beyond "
+        "the word saturates or wraps; either way it is counted and reported. Default: a "
+        "fixed-point program file's own, else saturate."))
     bus: str = field(default="p2p", metadata=cli(
         "--bus", choices=lambda: BUS_KINDS, show_default=True, help="How results travel between "
         "VAMPs: p2p, a wire from each source to its readers; mlb, the Mostly-Local Bus of section "
