@@ -307,3 +307,47 @@ def test_a_damaged_compressed_npz_and_a_npy_on_standard_input_are_one_line(tmp_p
                                   "-o", str(out)], input=good.read_bytes())
     assert r.exit_code == 1 and "-: a NumPy .npy array on standard input, which takes trajectory " \
         "text (CSV) only; give the array as a file named .npy" in r.stderr, r.stderr
+
+
+def _npy_with_header(path, header: bytes, data: bytes) -> None:
+    """A version-1.0 .npy of `header` (padded as numpy pads it) and `data`, as a damaged or
+    hand-made file would be."""
+    header = header + b" " * (117 - len(header)) + b"\n"
+    path.write_bytes(b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little") + header + data)
+
+
+def test_odd_npy_headers_and_arrays_are_one_line_each(tmp_path):
+    """A new user's: a header whose brace is never closed was a traceback, exit 3 (numpy raised
+    tokenize's TokenError); a call in a header was said with an object's address; a negative
+    length as "-152 bytes" of data; no states and a structured array as a shape alone; a long
+    double that is no float64 came after a RuntimeWarning line."""
+    from conftest import EXAMPLES
+    data = np.zeros((3, 6)).tobytes()
+    cases = {
+        "open": (b"{'descr': '<f8', 'fortran_order': False, 'shape': (3, 6), ",
+                 "not a numpy array file (its header does not parse: EOF in multi-line statement)"),
+        "call": (b"{'descr': f(), 'fortran_order': False, 'shape': (3, 6), }",
+                 "not a numpy array file (malformed node or string on line 1: a Call expression)"),
+        "negative": (b"{'descr': '<f8', 'fortran_order': False, 'shape': (-1, 6), }",
+                     "its header announces a negative length, shape (-1, 6) (damaged, or not "
+                     "written by numpy)"),
+    }
+    for name, (header, _) in cases.items():
+        _npy_with_header(tmp_path / f"{name}.npy", header, data)
+    np.save(tmp_path / "empty.npy", np.zeros((0, 7)))
+    np.save(tmp_path / "fields.npy", np.zeros(3, dtype=[("q1", "f8"), ("q2", "f8")]))
+    cases["empty"] = (None, "the array has no states (shape (0, 7))")
+    cases["fields"] = (None, "a structured array (named fields q1, q2); save a plain array of "
+                             "numbers, (states, 6) or (states, 7) with t first")
+    if np.finfo(np.longdouble).nmant > 52:
+        size = 18 * np.dtype(np.longdouble).itemsize     # bytes no float64 holds, some no number
+        noise = np.random.default_rng(1).integers(0, 256, size, dtype=np.uint8).tobytes()
+        np.save(tmp_path / "wide.npy", np.frombuffer(noise, dtype=np.longdouble).reshape(3, 6))
+        cases["wide"] = (None, "the array, state 1, column ")
+    out = tmp_path / "tau.npy"
+    for name, (_, said) in cases.items():
+        r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory",
+                                      str(tmp_path / f"{name}.npy"), "-o", str(out)])
+        assert r.exit_code == 1, (name, r.output, r.exception)
+        assert r.stderr.startswith(f"vampc: error: {tmp_path / name}.npy: {said}"), r.stderr
+        assert r.stderr.count("\n") == 1 and "0x" not in r.stderr and not out.exists(), r.stderr

@@ -15,7 +15,9 @@ import contextlib
 import csv
 import io
 import math
+import re
 import sys
+import tokenize
 import zipfile
 import zlib
 from pathlib import Path
@@ -347,7 +349,8 @@ def _loadtxt(body: str, cols: int):
 # What np.load raises on a damaged or unexpected file: a truncated array (EOFError, ValueError), an
 # object array (ValueError: pickles are refused), a file that is not a zip (BadZipFile), a bad member.
 _NUMPY_ERRORS = (ValueError, EOFError, zipfile.BadZipFile, KeyError, TypeError, UnicodeError,
-                 zlib.error)    # (a damaged compressed member: a traceback, exit 3, an audit's)
+                 zlib.error,    # (a damaged compressed member: a traceback, exit 3, an audit's)
+                 tokenize.TokenError)   # (a header whose brace is never closed: the same, a new user's)
 
 
 def _npy_fits(path: Path, member: str | None = None, z=None, source=None) -> None:
@@ -372,9 +375,12 @@ def _npy_fits(path: Path, member: str | None = None, z=None, source=None) -> Non
         return                      # np.load says why
     if dtype.hasobject:
         return
+    what = f"{path}: array {member}" if member is not None else f"{path}"
+    if any(d < 0 for d in shape):     # (said as "-152 bytes" of data announced)
+        raise VampcError(f"{what}: its header announces a negative length, shape {tuple(shape)} "
+                         "(damaged, or not written by numpy)")
     need = math.prod(shape) * dtype.itemsize
     if need != size - start:          # short: truncated; long: data numpy would leave unread
-        what = f"{path}: array {member}" if member is not None else f"{path}"
         why = "truncated or damaged" if need > size - start else "damaged, or another file after it"
         raise VampcError(f"{what}: its header announces an array of shape {tuple(shape)} "
                          f"({need:,} bytes) but the file holds {size - start:,} bytes of data "
@@ -420,6 +426,12 @@ def _read_npy(path: Path, n: int, width: int, source=None):
         raise VampcError(f"{path}: not a numpy array file ({_numpy_reason(exc)})") from None
     if not isinstance(arr, np.ndarray):
         raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
+    if arr.dtype.names:     # (said as "array of shape (3,)", its fields unsaid)
+        raise VampcError(f"{path}: a structured array (named fields {', '.join(arr.dtype.names)}); "
+                         f"save a plain array of numbers, (states, {width}) or (states, {width + 1}) "
+                         "with t first")
+    if arr.ndim == 2 and arr.shape[1] in (width, width + 1) and arr.shape[0] == 0:
+        raise VampcError(f"{path}: the array has no states (shape {arr.shape})")
     if arr.ndim != 2 or arr.shape[1] not in (width, width + 1) or arr.shape[0] == 0:
         base = (" (a floating base: q, qd, qdd, then the 9 base columns)" if width > 3 * n else
                 "; if the last 9 columns are a floating base's, give the robot --floating-base "
@@ -501,7 +513,10 @@ def _member(path, z, key: str) -> np.ndarray:
 
 
 def _numpy_reason(exc: Exception) -> str:
+    if isinstance(exc, tokenize.TokenError):
+        return f"its header does not parse: {exc.args[0]}"
     text = " ".join(str(exc).split())
+    text = re.sub(r"<ast\.(\w+) object at 0x[0-9a-fA-F]+>", r"a \1 expression", text)  # (an address)
     if "allow_pickle" in text:
         return "it holds Python objects (dtype object); save plain numbers"
     return text[:200] or type(exc).__name__
@@ -513,7 +528,8 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
         raise VampcError(f"{path}: {what} is complex ({arr.dtype}); states must be real numbers")
     if arr.dtype.kind not in "fiu":     # (timedelta64 is an integer to NumPy: refused as datetime64 is)
         raise VampcError(f"{path}: {what} holds {arr.dtype.name} values, not numbers")
-    with np.errstate(over="ignore"):    # (a long double past float64: inf, said by the finiteness check)
+    with np.errstate(over="ignore", invalid="ignore"):   # (a long double past float64, or no number:
+        # inf or nan, said by the finiteness check; a RuntimeWarning line came before that error)
         out = np.asarray(arr, dtype=float)
     if arr.dtype.kind in "iu":
         _exact_integers(path, what, arr, out)
