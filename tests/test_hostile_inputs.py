@@ -747,10 +747,34 @@ def test_a_late_overflow_with_standard_output_says_what_was_sent(puma_program, t
     assert "set 3000" in err
     if chunk:
         assert "wrote no output file" not in err
-        assert "the run stopped there: -o - had sent the sets before it to standard output" in err
+        # (it said "the sets before it", 2 999, where the chunk that held the set was not sent)
+        assert "the run stopped there: -o - had sent the first 2000 sets (the chunks before the " \
+               "one that held it) to standard output, which ends with them" in err, err
         assert out.startswith("tau_waist,") and out.count("\n") == 1 + 2000
     else:
         assert "the run stopped and wrote no output file" in err and out == ""
+
+
+def test_a_signal_with_standard_output_says_how_many_sets_were_sent(puma_program, monkeypatch):
+    """`-o -` sends the torques a chunk at a time: a SIGTERM said "terminated" alone over a torque
+    file cut at a chunk's end, whole lines that looked like a finished file (a new user's find)."""
+    import vampc.commands as commands
+    import vampc.emulator.driver as driver
+    from vampc.errors import Terminated
+    monkeypatch.setattr(driver, "MAX_CHUNK", 1000)
+    real, calls = commands.Sinks.chunk, []
+
+    def chunk(self, traj, tau):
+        calls.append(len(tau))
+        if len(calls) == 3:
+            raise Terminated(15)          # as the handler raises it, in the third chunk
+        real(self, traj, tau)
+    monkeypatch.setattr(commands.Sinks, "chunk", chunk)
+    code, err, out = run("emulate", puma_program, "--random", 5000, "-o", "-")
+    assert code == 128 + 15 and err.count("\n") == 1, err
+    assert err == ("vampc: terminated (SIGTERM); -o - had sent the first 2000 sets to standard "
+                   "output, which ends with them\n"), err
+    assert out.startswith("tau_waist,") and out.count("\n") == 1 + 2000
 
 
 def test_a_numpy_file_named_csv_and_a_program_without_version_say_so(puma_program, tmp_path):
@@ -863,7 +887,8 @@ def test_a_waveform_streamed_before_an_overflow_is_said_to_have_been_sent(tmp_pa
     code, err, out = run("emulate", program, "--trajectory", states, "--allow-out-of-limits", "--engine",
                          "tick", "--vcd", "-")
     assert code == 1 and one_line(err), err
-    assert "--vcd - had sent the sets before it to standard output" in err and "$enddefinitions" in out
+    assert "--vcd - had sent the waveform of the sets run by then to standard output" in err
+    assert "$enddefinitions" in out
 
 
 @pytest.mark.parametrize("limits, said", [

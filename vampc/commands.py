@@ -468,12 +468,24 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         streamed = [o.option for o in outs.values() if o.is_stdout]
         sent = sinks.sent or sinks.vcd is not None and sinks.vcd.sampled
         if streamed and sent and STOPPED in str(exc):         # (driver.non_finite's words)
+            # (it said "the sets before it", where the chunk that held the set had not been sent:
+            # 182 358 of 189 999 sets, a new user's count)
+            rows = (f"the first {count(sinks.rows, 'set')} (the chunks before the one that held "
+                    "it)")
+            said = [f"{o} - had sent " + ("the waveform of the sets run by then" if o == "--vcd"
+                                          else rows) for o in streamed]
             raise VampcError(str(exc).replace(
-                STOPPED, f"the run stopped there: {' and '.join(streamed)} - had sent the sets before it "
-                "to standard output, which ends with them")) from None
+                STOPPED, f"the run stopped there: {' and '.join(said)} to standard output, which "
+                "ends with them")) from None
         raise
-    except BaseException:         # (a line that cannot be said, a failed commit: no temporaries left)
+    except BaseException as exc:  # (a line that cannot be said, a failed commit: no temporaries left)
         sinks.discard()
+        streamed = [o.option for o in outs.values() if o.is_stdout and o.option != "--vcd"]
+        if isinstance(exc, KeyboardInterrupt) and streamed and sinks.sent:
+            # (a signal said "terminated" alone over a torque file cut at a chunk's end, whole
+            # lines that looked finished: a new user's find)
+            exc.note = (f"{' and '.join(streamed)} - had sent the first {count(sinks.rows, 'set')} "
+                        "to standard output, which ends with them")
         raise
     if ld.word is not None:          # overflows are never silent
         say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
@@ -711,6 +723,7 @@ class Sinks:
         # the tables' headers go out with the first rows (or at the end: no rows), not before the
         # run: its static check may still refuse the program, and `-o -` had sent a header line
         self.sent = False         # any rows written (to standard output: sent, whatever comes)
+        self.rows = 0             # how many
         self._heads = [(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count),
                        (self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)]
 
@@ -755,6 +768,7 @@ class Sinks:
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
         self._headed()
         self.sent = True
+        self.rows += len(tau)
         if self.tau is not None:
             self._rows(self.tau, self.npy, traj.t, reduce_torques(chain, tau))
         if self.states is not None:
