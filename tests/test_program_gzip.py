@@ -91,6 +91,25 @@ def test_a_truncated_compact_form_under_any_name_is_known_as_a_program(programs,
     assert r.exit_code == 1 and f"{bad}: compressed program file is truncated" in r.output, r.output
 
 
+@pytest.mark.parametrize("name", ["t.gz", "t.bin", "t.yaml"])
+def test_a_compact_form_cut_inside_its_gzip_header_is_said_to_be_cut(programs, tmp_path, name):
+    """Cut before any byte of its content shows (10 bytes, a gzip header), a compact program named
+    otherwise was "unknown robot file extension '.gz' (it looks like gzip-compressed data:
+    decompress it first (gunzip))", which gunzip cannot (a new user's find)."""
+    bad = tmp_path / name
+    bad.write_bytes(programs[1].read_bytes()[:10])
+    for command in (["emulate", str(bad), "--random", "5"], ["report", str(bad)]):
+        r = CliRunner().invoke(main, command)
+        assert r.exit_code == 1 and r.stderr.count("\n") == 1, r.output
+        assert r.stderr.endswith(f"{bad}: {'this is ' if name == 't.yaml' else ''}gzip-compressed "
+                                 "data cut short or damaged before any of its content (a compact "
+                                 "program file, *.vamp.json.gz, truncated?)\n"), r.stderr
+    whole = tmp_path / "empty.gz"             # a whole gzip file of no text is not cut
+    whole.write_bytes(gzip.compress(b""))
+    r = CliRunner().invoke(main, ["emulate", str(whole), "--random", "5"])
+    assert r.exit_code == 1 and "decompress it first (gunzip)" in r.stderr, r.stderr
+
+
 def test_a_gzip_bomb_is_refused():
     bomb = gzip.compress(b" " * (3 << 20))
     with pytest.raises(VampcError, match="decompresses to more than"):

@@ -23,6 +23,10 @@ DESCRIPTIONS = {"program": "a vampc program file", "urdf": "XML (a URDF)",
                 "svg": "an SVG picture (vampc report's pictures write them)",
                 "vcd": "a VCD waveform (vampc emulate --vcd writes them)",
                 "gzip": "gzip-compressed data: decompress it first (gunzip)",
+                # (a compact program cut inside its gzip header was told to be decompressed, as
+                # one cut later was called truncated: a new user's find)
+                "gzip-cut": "gzip-compressed data cut short or damaged before any of its content (a "
+                            "compact program file, *.vamp.json.gz, truncated?)",
                 "json": "JSON (a DH table?)", "yaml": "YAML (a DH table?)",
                 "npy": "a NumPy array (.npy: a trajectory or torques?)",
                 **{name: f"{name}-compressed data" for name in OTHER_COMPRESSIONS}}
@@ -39,7 +43,8 @@ def compression(head: bytes) -> str | None:
 
 
 def sniff(path) -> str | None:
-    """"program", "urdf", "json", "yaml", "vcd" or "gzip" (compressed, not a program) by content;
+    """"program", "urdf", "json", "yaml", "vcd", "gzip" (compressed, not a program) or "gzip-cut"
+    (compressed, no byte of content readable) by content;
     None if unreadable or none of these (the loaders then say what is wrong). Only a regular file is
     looked at: a FIFO's first bytes, once read, are gone, and the loader must read them."""
     try:
@@ -50,7 +55,9 @@ def sniff(path) -> str | None:
     except OSError:
         return None
     if head.startswith(b"\x1f\x8b"):               # gzip: a compact program file (or nothing we read)
-        head = _gunzipped_head(path)
+        head, ended = _gunzipped_head(path)
+        if not head and not ended:
+            return "gzip-cut"
         if not _program_text(head):
             return "gzip"
     elif packed := compression(head):
@@ -98,22 +105,24 @@ def is_program(path) -> bool:
     return str(path).endswith((PROGRAM_SUFFIX, PROGRAM_SUFFIX + ".gz")) or sniff(path) == "program"
 
 
-def _gunzipped_head(path) -> bytes:
+def _gunzipped_head(path) -> tuple[bytes, bool]:
     """The first HEAD bytes of a gzip file's content, as far as they go (b"" if it is not readable
-    gzip). A truncated file still shows its start: reading it whole to EOF had called a cut
-    program file "gzip-compressed data" (the reader then says it is truncated)."""
+    gzip), and whether a member ended whole. A truncated file still shows its start: reading it
+    whole to EOF had called a cut program file "gzip-compressed data" (the reader then says it is
+    truncated)."""
     import zlib
-    out = b""
+    out, ended = b"", False
     try:
         with open(path, "rb") as fh:
             packed = fh.read(1 << 16)
         while packed and len(out) < HEAD:     # member after member (vampc's compact form has two)
             d = zlib.decompressobj(wbits=31)
             out += d.decompress(packed, HEAD - len(out))
+            ended = ended or d.eof
             packed = d.unused_data if d.eof else b""
     except (OSError, zlib.error):
         pass
-    return out
+    return out, ended
 
 
 def vampc_output(doc) -> str | None:
@@ -146,6 +155,8 @@ def suffix_mismatch(path, expected: str) -> str | None:
                 "`vampc emulate` or `vampc report` with it")
     if kind == "gzip":
         return "this is gzip-compressed; decompress it first (gunzip)"
+    if kind == "gzip-cut":
+        return f"this is {DESCRIPTIONS[kind]}"
     if kind in OTHER_COMPRESSIONS:
         return f"this is {kind}-compressed; decompress it first"
     if kind == "vcd":

@@ -115,6 +115,9 @@ def _load(path: Path, base, tip, lock, floating: bool, mimic: str, accept_improp
     kind = sniff(path)
     if kind in OTHER_COMPRESSIONS:
         raise located(path, "", f"{kind}-compressed; {OTHER_COMPRESSION}")
+    if kind == "gzip-cut":                 # (whatever its name: a program file's content may be)
+        from vampc.sniff import DESCRIPTIONS
+        raise located(path, "", DESCRIPTIONS[kind])
     suffix = path.suffix.lower()            # (a new user gave their torque CSV as the robot)
     table = looks_like(path) or (
         ": a CSV table is a trajectory (for --trajectory), torques or limits, not a robot"
