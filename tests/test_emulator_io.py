@@ -351,3 +351,24 @@ def test_odd_npy_headers_and_arrays_are_one_line_each(tmp_path):
         assert r.exit_code == 1, (name, r.output, r.exception)
         assert r.stderr.startswith(f"vampc: error: {tmp_path / name}.npy: {said}"), r.stderr
         assert r.stderr.count("\n") == 1 and "0x" not in r.stderr and not out.exists(), r.stderr
+
+
+def test_a_blank_first_line_and_a_quote_never_closed_are_said_so(tmp_path):
+    """A new user's: a blank line before the header was "header: 0 columns, expected 6"; a quote
+    opened and never closed was "line 3: 4 columns, expected 6" (the csv reader took the lines
+    after it into the cell)."""
+    from conftest import EXAMPLES
+    header, row = "q1,q2,qd1,qd2,qdd1,qdd2\n", "0.1,0.2,0.3,0.4,0.5,0.6\n"
+    cases = {"blank": ("\n" + header + row, "line 1 is blank: the header line comes first "
+                                            "(q1,q2...qdd2, t first if the rows have times)"),
+             "quote": (header + row + '0.1,"0.2,0.3,0.4,0.5,0.6\n' + row * 2,
+                       "line 3, column q2: a quoted cell runs on over the lines after it (a "
+                       "quote opened and not closed?)")}
+    out = tmp_path / "tau.csv"
+    for name, (text, said) in cases.items():
+        path = tmp_path / f"{name}.csv"
+        path.write_text(text)
+        r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory",
+                                      str(path), "-o", str(out)])
+        assert r.exit_code == 1 and r.stderr == f"vampc: error: {path}: {said}\n", r.stderr
+        assert not out.exists()

@@ -184,6 +184,9 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     head = next(rows, None)
     if head is None:
         raise VampcError(f"{path}: empty {what} file")
+    if not "".join(head).strip():      # (it said "header: 0 columns, expected 18": a new user's)
+        raise VampcError(f"{path}: line 1 is blank: the header line comes first ({_listed(columns)}, "
+                         "t first if the rows have times)")
     names = [c.strip() for c in head]
     has_t = bool(names) and names[0] == "t"
     want = (["t"] if has_t else []) + list(columns)
@@ -198,10 +201,9 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
         if not floating and names[len(want):] == BASE_COLUMNS and names[:len(want)] == want:
             first += ("; the base columns are a floating base's: give the robot --floating-base "
                       "(README, Trees and floating bases)")
-        listed = ",".join(want) if len(want) <= 3 else f"{','.join(want[:2])}...{want[-1]}"
         first += _header_hint(names, columns)
         raise VampcError(f"{path}: header: {which} (expected {count(len(want), 'column')} "
-                         f"{listed}: {why}){first}")
+                         f"{_listed(want)}: {why}){first}")
     # row by row into blocks of an array (a list of every row's strings took 7.9 GB for a 730 MB file)
     blocks, block, k = [], np.empty((4096, len(want))), 0
     for r, row in enumerate(rows, 2):
@@ -214,6 +216,12 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     if data.shape[0] == 0:
         raise VampcError(f"{path}: the {what} has no {'states' if what == 'trajectory' else 'rows'}")
     return (data[:, 1:], data[:, 0]) if has_t else (data, None)
+
+
+def _listed(columns) -> str:
+    """A header's columns, the middle ones left out past three."""
+    columns = list(columns)
+    return ",".join(columns) if len(columns) <= 3 else f"{','.join(columns[:2])}...{columns[-1]}"
 
 
 def _rows(path: Path, reader):
@@ -241,6 +249,11 @@ def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes 
         raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table" + (
             " (lines ended CR CR LF, as a CRLF file saved again as text ends them, read as a "
             "blank line after each)" if b"\r\r\n" in raw else ""))
+    spread = next((c for c, cell in enumerate(row) if "\n" in cell or "\r" in cell), None)
+    if spread is not None:      # (said as "4 columns, expected 19", the lines after it taken in)
+        column = want[spread] if spread < len(want) else f"{spread + 1}"
+        raise VampcError(f"{path}: line {r}, column {column}: a quoted cell runs on over the lines "
+                         "after it (a quote opened and not closed?)")
     if len(row) != len(want):
         raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
     out = []
