@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from errors_util import assert_error
 
-from vampc.errors import VampcWarning
+from vampc.errors import VampcError, VampcWarning
 from vampc.robot import load_robot
 
 mujoco = pytest.importorskip("mujoco")
@@ -864,3 +864,15 @@ def test_floating_the_world_body_with_a_table_or_two_robots_on_it_is_refused(tmp
         assert chain.floating and chain.base_mass == 0 and [j.name for j in chain.joints] == ["h1", "h2"]
     for name in ("table_arm", "two"):
         assert not load_robot(files[name]).floating
+
+
+def test_a_number_that_is_not_finite_leaves_mujocos_warning_handler_as_it_was(tmp_path):
+    """The check of the file's numbers ran after vampc had taken MuJoCo's warning handler (the
+    process's) and outside the code that gives it back: a refused `nan` left vampc's in place, so
+    the next test that asked for MuJoCo's handler failed, in one order of the suite only."""
+    path = tmp_path / "nan.xml"
+    path.write_text(TWO_HINGES.replace('pos="0.3 0 0"', 'pos="nan 0 0"', 1))
+    assert mujoco.get_mju_user_warning() is None
+    with pytest.raises(VampcError, match="pos: 'nan' is not a finite number"):
+        load_robot(path)
+    assert mujoco.get_mju_user_warning() is None

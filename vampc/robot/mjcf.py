@@ -294,12 +294,12 @@ def _compiled(path: Path):
     # MuJoCo's own warnings printed two lines of their own on stderr ahead of vampc's and wrote
     # MUJOCO_LOG.TXT into the folder (a new user's find): taken here, said once the robot is made
     heard: list[str] = []
+    _finite_attributes(path)      # (before the handler is taken: its error had left it taken)
     with _HANDLER:                # (the handler is the process's: one model compiles at a time)
         previous = getattr(mujoco, "get_mju_user_warning", lambda: None)()
         hear = getattr(mujoco, "set_mju_user_warning", None)
         if hear is not None:
             hear(lambda message: heard.append(" ".join(str(message).split())))
-        _finite_attributes(path)
         try:
             model = mujoco.MjModel.from_xml_path(str(path))
             _finite_model(model, path)
