@@ -112,8 +112,8 @@ def test_the_seed_draws_emulates_random_states(tmp_path):
 
 @pytest.mark.parametrize("args, said", [
     (["--sweep", "1:70"], "--sweep 1:70: give A:B"), (["--sweep", "x"], "--sweep x: give A:B"),
-    (["--tolerance", "0"], "--tolerance 0: give a positive number"),
-    (["--acceleration", "-1"], "--acceleration -1: give a positive number"),
+    (["--tolerance", "0"], "--tolerance 0: give a positive finite number"),
+    (["--acceleration", "-1"], "--acceleration -1: give a positive finite number"),
     # (the CSV is the table alone: --tolerance was taken, and changed nothing: an options audit)
     (["--tolerance", "1e-4", "--format", "csv"], "--tolerance applies with --format text or json"),
 ])

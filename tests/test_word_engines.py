@@ -120,10 +120,13 @@ def test_a_float64_program_keeps_its_bytes_and_a_word_is_recorded_only_when_give
     (["--word", "float16"], "--word float16"), (["--word", "q16.-1"], "--word q16.-1"),
     (["--word", "q١٦.١٦"], "--word q١٦.١٦"),       # (other scripts' digits: it was q16.16)
     (["--word", "float32", "--overflow", "wrap"], "--overflow applies to fixed-point words"),
-    (["--tolerance", "-1", "--check"], "--tolerance -1: give a positive number"),
+    (["--tolerance", "-1", "--check"], "--tolerance -1: give a positive finite number"),
     # (1e-400 reads as 0.0, and was echoed so with no word: a file-safety audit)
-    (["--tolerance", "1e-400", "--check"], "--tolerance 0: give a positive number (a number below "
-                                            "about 5e-324 also reads as 0)"),
+    (["--tolerance", "1e-400", "--check"], "--tolerance 0: give a positive finite number (a "
+                                            "number below about 5e-324 also reads as 0)"),
+    # (1e400 reads as inf: "--tolerance inf: give a positive number" of a positive number written)
+    (["--tolerance", "1e400", "--check"], "--tolerance inf: give a positive finite number (a "
+                                           "number above about 1.8e308 also reads as inf)"),
 ])
 def test_a_word_option_that_makes_no_sense_is_a_usage_error(args, said):
     res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",

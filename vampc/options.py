@@ -41,8 +41,9 @@ def check_positive(option: str, value: float) -> None:
     """VampcUsageError unless `value` is a positive finite number; a 0 that was written as a number
     too small for float64 (1e-400, echoed as "0.0": a file-safety audit) is said to be one."""
     if not (value > 0 and math.isfinite(value)):
-        raise VampcUsageError(f"{option} {value:g}: give a positive number" + (
-            " (a number below about 5e-324 also reads as 0)" if value == 0 else ""))
+        raise VampcUsageError(f"{option} {value:g}: give a positive finite number" + (
+            " (a number below about 5e-324 also reads as 0)" if value == 0 else
+            " (a number above about 1.8e308 also reads as inf)" if value == math.inf else ""))
 
 
 def flag(name: str) -> str:
