@@ -285,3 +285,49 @@ def test_every_fault_example_of_the_help_is_taken():
     for spec, fault in zip(examples, faults):
         assert spec.startswith(f"vamp={fault.vamp},"), (spec, fault)
         assert (fault.rate == 0.1) == ("rate=0.1" in spec), (spec, fault)
+
+
+def _hand_widths(ld, v: int) -> dict:
+    """VAMP v's control fields in bits, worked out here from the machine's description (README,
+    Word formats): each delay is compared with the Cycle-Counter, which counts 0..P; the ROM
+    pointer picks one of the ROM's 9 entries; a select one of its multiplexer's inputs."""
+    import math
+    vamp, P = ld.net.vamps[v], ld.period
+    counter = math.floor(math.log2(P)) + 1
+    return {"delay_a": counter, "delay_b": counter, "delay_r": counter, "rom": 4,
+            "sel_a": math.ceil(math.log2(len(vamp.a))), "sel_b": math.ceil(math.log2(len(vamp.b)))}
+
+
+def test_a_control_fault_reaches_only_the_bits_the_hardware_holds():
+    """Faults took every control field as 24 bits, and a random campaign drew bits 0..11 of any
+    field: bit 10 of a 3-bit delay, in no register, was a "silent corruption" (a new user's,
+    beside the report's and the RTL's counts of the same registers). A bit beyond a field is
+    refused, naming its width; a campaign's control bits are each one the hardware has, every
+    field's drawn."""
+    from vampc.emulator.campaign import faults_of
+    from vampc.emulator.faults import check_faults
+    from vampc.errors import VampcError
+    from vampc.machine.ops import ROM
+    from vampc.program.words import FIELDS
+    assert len(ROM) == 9
+    ld = loaded(CHAIN, layout="folded")        # (P = 40; multiplexers of one to three inputs)
+    one = next(v for v, vamp in enumerate(ld.net.vamps) if len(vamp.a) == len(vamp.b) == 1)
+    many = next(v for v, vamp in enumerate(ld.net.vamps) if len(vamp.a) == 3 and len(vamp.b) == 2)
+    assert _hand_widths(ld, many) == dict(delay_a=6, delay_b=6, delay_r=6, rom=4, sel_a=2, sel_b=1)
+    for v in (one, many):
+        for field, bits in _hand_widths(ld, v).items():
+            if bits:
+                check_faults([parse_fault(f"vamp={v},stuck=control.{field}:{bits - 1}")], ld, 100)
+            with pytest.raises(VampcError) as refused:
+                check_faults([parse_fault(f"vamp={v},stuck=control.{field}:{bits}")], ld, 100)
+            held = (f"no bits: VAMP {v}'s {field[-1].upper()} multiplexer has one input, nothing "
+                    "to select" if not bits else f"{bits} bit{'s' * (bits > 1)} (0..{bits - 1})")
+            assert str(refused.value) == (f"--fault 'vamp={v},stuck=control.{field}:{bits}': bit "
+                                          f"{bits}: {field} has {held}, as the hardware holds it "
+                                          "(README, Faults)")
+    drawn = faults_of(ld, "random", kinds=("control",), count=600, seed=1, sets=12)
+    fields = set()
+    for f in drawn:
+        assert f.register == "control" and f.bit < _hand_widths(ld, f.vamp)[FIELDS[f.component]], f.text
+        fields.add(FIELDS[f.component])
+    assert fields == set(FIELDS)

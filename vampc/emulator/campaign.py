@@ -180,12 +180,20 @@ def _draw_random(ld, specs: list, rng, V: int, kinds, last: int, rate: float, co
             v = int(homes[kind][int(rng.integers(0, len(homes[kind])))])
         ck = ld.net.checking
         how = str(rng.choice(["stuck", "flip", "intermittent"]))
-        if kind in ("control", "control2"):   # the low bits: a field's values are small
+        if kind in ("control", "control2"):
+            # one of the slot's control bits, each as likely (a field's bits as the hardware holds
+            # them: bits 0..11 of any field were drawn, most in no register, a new user's find)
+            from vampc.emulator.faults import control_widths
             from vampc.program.words import FIELDS
-            field = str(rng.choice(FIELDS))
             owner = v if kind == "control" else ck.order[ck.order.index(v) + 1]
-            reg = f"{kind}.{field}.{int(rng.integers(0, len(ld.programs[owner])))}"
-            bit = int(rng.integers(0, 12))
+            slot = int(rng.integers(0, len(ld.programs[owner])))
+            widths = control_widths(ld, owner)
+            bit = int(rng.integers(0, sum(widths)))
+            field = 0
+            while bit >= widths[field]:
+                bit -= widths[field]
+                field += 1
+            reg = f"{kind}.{FIELDS[field]}.{slot}"
         else:
             reg = {"result": f"result.{'xyz'[int(rng.integers(0, 3))]}",
                    "a": f"a.{int(rng.integers(0, 9))}", "b": f"b.{int(rng.integers(0, 9))}"}[kind]

@@ -15,7 +15,8 @@ A fault is comma-separated key=value fields:
 
 Registers: `result.x`, `result.y`, `result.z` (the Result's three scalars); `a.K`, `b.K` (operand
 registers A and B, scalar K of 0..8, or x, y, z for 0..2); `control.FIELD` or `control.FIELD.SLOT`,
-FIELD one of delay_a, delay_b, delay_r, rom, sel_a, sel_b (24-bit fields; slot 0 by default);
+FIELD one of delay_a, delay_b, delay_r, rom, sel_a, sel_b (each as wide as the hardware holds it:
+control_widths; slot 0 by default);
 `control2.FIELD[.SLOT]`, with error correction, the second set (the copy of the successor's). A
 flipped control bit stays flipped: the registers are written only in Program Mode.
 
@@ -42,7 +43,6 @@ REGISTERS = ("result", "a", "b", "control", "control2")
 class NoSuchRegister(ValueError):
     """A well-formed fault naming a register no VAMP has (a VampcError, exit 1, not a usage error)."""
 AXES = {"x": 0, "y": 1, "z": 2}
-CONTROL_BITS = 24
 
 
 @dataclass(frozen=True)
@@ -214,12 +214,13 @@ def check_faults(faults, ld, last_tick: int) -> None:
             raise VampcError(f"{where}: tick {f.at} is after the run's last tick ({last_tick})")
         if f.kind == "dead":
             continue
-        bits = CONTROL_BITS if f.register in ("control", "control2") else word_bits
-        if f.bit >= bits:
-            raise VampcError(f"{where}: bit {f.bit}: the register has {bits} bits (0..{bits - 1})")
         if f.register == "control" and f.vamp == len(ld.net.vamps):
             raise VampcError(f"{where}: the extraneous VAMP {f.vamp} has no control registers of "
                              "its own (its second set is its successor's)")
+        if f.register not in ("control", "control2"):
+            if f.bit >= word_bits:
+                raise VampcError(f"{where}: bit {f.bit}: the register has {word_bits} bits "
+                                 f"(0..{word_bits - 1})")
         if f.register == "control2":
             order = ld.net.checking.order if ld.net.checking is not None else ()
             if f.vamp not in order[:-1]:
@@ -236,6 +237,24 @@ def check_faults(faults, ld, last_tick: int) -> None:
         if f.register == "control" and f.slot >= len(ld.programs[f.vamp]):
             raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
                              f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")
+        if f.register in ("control", "control2"):
+            owner = f.vamp if f.register == "control" else \
+                ld.net.checking.order[ld.net.checking.order.index(f.vamp) + 1]
+            field, bits = FIELDS[f.component], control_widths(ld, owner)[f.component]
+            if f.bit >= bits:
+                held = (f"no bits: VAMP {owner}'s {'A' if field == 'sel_a' else 'B'} multiplexer "
+                        "has one input, nothing to select" if bits == 0 else
+                        f"{bits} bit{'s' * (bits > 1)} (0..{bits - 1})")
+                raise VampcError(f"{where}: bit {f.bit}: {field} has {held}, as the hardware "
+                                 "holds it (README, Faults)")
+
+
+def control_widths(ld, v: int) -> tuple[int, ...]:
+    """VAMP v's control fields (FIELDS' order) in bits, as the hardware holds them
+    (vampc.program.words.field_widths: the report counts them, the RTL builds them)."""
+    from vampc.program.words import field_widths
+    vamp = ld.net.vamps[v]
+    return field_widths(ld.net.period, len(vamp.a), len(vamp.b))
 
 
 def set_bit(word, values: np.ndarray, bit: int, how: str) -> np.ndarray:
@@ -267,6 +286,6 @@ def _apply(u, mask, how: str):
 
 
 def set_field(value: int, bit: int, how: str) -> int:
-    """A 24-bit control field with one bit set, cleared or flipped."""
+    """A control field with one bit (within its width: check_faults) set, cleared or flipped."""
     mask = 1 << bit
     return value | mask if how == "set" else value & ~mask if how == "clear" else value ^ mask

@@ -65,6 +65,25 @@ class Packing(Struct, frozen=True):
 
 PACKING = Packing()
 FIELDS = ("delay_a", "delay_b", "delay_r", "rom", "sel_a", "sel_b")
+
+
+def counter_bits(period: int) -> int:
+    """A Cycle-Counter's bits: it counts 0 .. P (P in the tick before Global-Reset returns it to 0),
+    so P.bit_length() bits."""
+    return max(1, int(period).bit_length())
+
+
+def field_widths(period: int, inputs_a: int, inputs_b: int) -> tuple[int, ...]:
+    """A slot's control fields (FIELDS' order) in bits, as the hardware holds them: each delay as
+    wide as the Cycle-Counter it is compared with, the ROM pointer as the ROM's entries need, each
+    select as its multiplexer's `inputs_a`/`inputs_b` inputs need (none for one input: nothing to
+    select). The one definition the report counts (vampc.report.counts), the RTL builds
+    (vampc.rtl.design) and the fault model's control bits are (vampc.emulator.faults): faults had
+    taken every field as 24 bits, and the RTL a select of one input as one bit that nothing read
+    (a new user's find)."""
+    counter = counter_bits(period)
+    return (counter, counter, counter, (len(ROM) - 1).bit_length(),
+            (int(inputs_a) - 1).bit_length(), (int(inputs_b) - 1).bit_length())
 ADDRESS = 8          # addresses per slot in an extended word
 
 

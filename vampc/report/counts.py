@@ -11,6 +11,7 @@ from collections import Counter
 
 from vampc.kinds import Pass, Recursion
 from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
+from vampc.program.words import counter_bits, field_widths  # noqa: F401  (counter_bits: the report's)
 from vampc.schedule.registry import BUDGET, FOLDED, is_layout
 from vampc.textio import count
 
@@ -162,19 +163,11 @@ def values_bits(values: int) -> int:
     return (values - 1).bit_length()
 
 
-def counter_bits(period: int) -> int:
-    """A Cycle-Counter's bits, as vampc.rtl.design builds it: it counts 0 .. P (P in the tick before
-    Global-Reset returns it to 0), so P.bit_length() bits."""
-    return max(1, int(period).bit_length())
-
-
 def slot_table_bits(v, period: int) -> int:
-    """A VAMP's slot table in bits, as vampc.rtl.design builds it: per slot a valid bit, delay-A,
-    delay-B and delay-R (each as wide as the Cycle-Counter it is compared with), the ROM pointer and
-    the multiplexer selects (none for a multiplexer of one input: never read, synthesis drops it)."""
-    from vampc.machine import ops
-    return len(v.slots) * (1 + 3 * counter_bits(period) + values_bits(len(ops.ROM))
-                           + values_bits(len(v.a)) + values_bits(len(v.b)))
+    """A VAMP's slot table in bits, as vampc.rtl.design builds it: per slot a valid bit and its
+    fields (vampc.program.words.field_widths: the delays as wide as the Cycle-Counter, the ROM
+    pointer, the multiplexer selects, none for a multiplexer of one input)."""
+    return len(v.slots) * (1 + sum(field_widths(period, len(v.a), len(v.b))))
 
 
 def network_control_bits(c) -> tuple[int, int]:

@@ -48,7 +48,7 @@ from vampc.machine.arith import Fn, Overflow, Rounding
 from vampc.machine.interp import result_unit
 from vampc.machine.interp import steps as rom_steps
 from vampc.machine.timing import captures
-from vampc.program.words import ADDRESS, FIELDS
+from vampc.program.words import ADDRESS, FIELDS, field_widths
 
 MULTIPLIERS = 2        # per primitive module (section VII): two multipliers, one adder/subtractor
 
@@ -160,14 +160,13 @@ class Vamp(Elaboratable):
         m = Module()
         W, P, S = self.arith.W, self.P, self.S
         n = f"v{self.index}"
-        cb = width(P)
-        rb = width(len(ops.ROM) - 1)
-        sab, sbb = width(len(self.a_in) - 1), width(len(self.b_in) - 1)
+        widths = field_widths(P, len(self.a_in), len(self.b_in))   # (a select of one input: none)
+        cb = widths[0]
         # --- registers ----------------------------------------------------------------------
         cc = Signal(cb, name=f"{n}_cc")
         valid = Signal(S, name=f"{n}_valid")
-        fields = [[Signal(w, name=f"{n}_s{s}_{f}") for f, w in
-                   zip(FIELDS, (cb, cb, cb, rb, sab, sbb))] for s in range(S)]
+        fields = [[Signal(w, name=f"{n}_s{s}_{f}") for f, w in zip(FIELDS, widths)]
+                  for s in range(S)]
         op_a = [Signal(signed(W), name=f"{n}_a{i}") for i in range(9)]
         op_b = [Signal(signed(W), name=f"{n}_b{i}") for i in range(9)]
         units = [[Signal(signed(W), name=f"{n}_u{u}m{mod}") for mod in range(3)] for u in range(3)]
@@ -216,7 +215,7 @@ class Vamp(Elaboratable):
         for name, now, reg, k, inputs in (("a", a_now, op_a, 0, self.a_in),
                                           ("b", b_now, op_b, 1, self.b_in)):
             latch = Signal(name=f"{n}_latch_{name}")
-            sel = Signal(range(max(2, len(inputs))), name=f"{n}_sel_{name}")
+            sel = Signal(range(len(inputs)), name=f"{n}_sel_{name}")   # (one input: no bits)
             for s in range(S):
                 delay, select = fields[s][k], fields[s][4 + k]
                 with m.If(valid[s] & (delay == c)):
