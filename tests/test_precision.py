@@ -328,9 +328,10 @@ def test_the_states_analysed_are_said_with_the_answer(tmp_path):
     res = run(main, ["precision", str(EXAMPLES / "puma560.yaml"), "--sweep", "26:27", "--sets", "20",
                      "--acceleration", "20"])
     assert res.exit_code == 0, res.output
-    assert res.output.splitlines()[0].endswith(
-        "random states; states analysed: positions within their limits; speeds within ±1 (the robot file gives no "
-        "joint a limit); accelerations within ±20 (--acceleration)")
+    assert re.search(
+        r"random states, [0-9.e+]+ \(N·m or N\); states analysed: positions within their limits; "
+        r"speeds within ±1 \(the robot file gives no joint a limit\); accelerations within ±20 "
+        r"\(--acceleration\)$", res.output.splitlines()[0]), res.output
     dh = tmp_path / "p.yaml"          # (the elbow without a speed limit)
     dh.write_text((EXAMPLES / "planar2.yaml").read_text().replace("qd: 3.0, tau: 25.0", "tau: 25.0"))
     res = run(main, ["precision", str(dh), "--sweep", "20:20", "--sets", "20"])
@@ -477,3 +478,32 @@ def test_a_robot_compiled_in_the_run_is_not_told_to_be_compiled_again(tmp_path):
     assert CliRunner().invoke(main, ["compile", str(robot), "--recursion", "log", "-o", str(program)]).exit_code == 0
     r = CliRunner().invoke(main, ["emulate", str(program), "--random", "1000", "--check"])
     assert r.exit_code == 1 and "or was the file's robot or graph edited? Compile the robot again" in r.output
+
+
+def test_the_errors_yardstick_is_said_here_and_by_a_failed_check(tmp_path):
+    """A new user's: the word `precision` chose at 1e-3 failed `emulate --check` at 1e-3 on an arm
+    holding still, since precision's errors are relative to the largest |τ| of its random states
+    and the check's to its run's. Precision gives its yardstick (JSON `tau_max`, and in its text's
+    first line); a failed check says its own and how the two tolerances compare."""
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    traj = random_states(chain, 0, 300, 0)          # emulate --random's, as precision draws them
+    want = float(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd)).max())
+    got = _precision(EXAMPLES / "planar2.yaml", "--sets", "300", "--sweep", "20:20", "--format",
+                     "json")
+    assert got.exit_code == 0 and loads(got.stdout)["tau_max"] == want
+    text = _precision(EXAMPLES / "planar2.yaml", "--sets", "300", "--sweep", "20:20")
+    assert f"errors relative to the largest |τ| of 300 random states, {want:.4g} (N·m or N); " \
+        in text.stdout, text.stdout
+    program = tmp_path / "p.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q8.8",
+                                     "-o", str(program)]).exit_code == 0
+    still = tmp_path / "still.csv"                  # held near hanging down: small torques
+    still.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "".join(
+        f"{-1.5 + k * 1e-3},0.01,0,0,0,0\n" for k in range(20)))
+    q = np.array([[-1.5 + k * 1e-3, 0.01] for k in range(20)])
+    scale = float(np.abs(rnea(chain, q, np.zeros_like(q), np.zeros_like(q))).max())
+    r = CliRunner().invoke(main, ["emulate", str(program), "--trajectory", str(still), "--check"])
+    assert r.exit_code == 1 and ": FAILED (a wider --word would do better; `vampc precision` finds " \
+        "one, but its tolerance is relative to the largest |τ| of random states over the joint " \
+        f"ranges, this check's to this run's, {scale:.4g}: for a run of smaller torques, scale its " \
+        "tolerance down by the ratio)" in r.stdout, r.output

@@ -635,7 +635,13 @@ def _word_hint(ld, outcome) -> str:
     if isinstance(ld.arith, Fixed) and ld.arith.bits == 64:
         return " (64 bits is the widest word: more of them for the fraction would do better; " \
                "`vampc precision` finds the split)"
-    return " (a wider --word would do better; `vampc precision` finds one)"
+    # (the tolerances differ in their yardstick: a word precision chose at 1e-3 failed 1e-3 here on
+    # an arm holding still, its torques a hundredth of the random states', a new user's find)
+    scale = float(outcome.check.max_ref.max(initial=0.0))
+    return (" (a wider --word would do better; `vampc precision` finds one, but its tolerance is "
+            "relative to the largest |τ| of random states over the joint ranges, this check's to "
+            f"this run's, {scale:.4g}: for a run of smaller torques, scale its tolerance down by "
+            "the ratio)")
 
 
 def _graph_apart(ld, sets: int = 16, also=None) -> float | None:
@@ -1154,7 +1160,7 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                          "peak_at": analysis.peak_at,
                          "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
                          "observed": error / scale, "overflows": word.overflows})
-    return precision_text(rows, own, chain, rounding)
+    return precision_text(rows, own, chain, rounding, scale)
 
 
 PRECISION_CHUNK_BYTES = 256 << 20     # the node values of one chunk of states (as evaluate holds them)
@@ -1178,8 +1184,12 @@ def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
 TOO_NARROW = "no qI.F of this width holds the peak"
 
 
-def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> str:
-    """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance."""
+def precision_text(rows: list[dict], own, chain, rounding: str = "nearest",
+                   scale: float | None = None) -> str:
+    """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance;
+    `scale`, the largest |τ| of the random states, which the errors are relative to (said: `emulate
+    --check` takes its run's own, and a word chosen here failed it on a run of small torques, a
+    new user's find)."""
     from vampc.precision import states_analysed, states_line
     ok = [r for r in rows if r["word"] and r["bound"] <= own.tolerance]
     seen = [r for r in rows if r["word"] and r["observed"] <= own.tolerance and not r["overflows"]]
@@ -1189,7 +1199,7 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
              "observed": bool(seen) and seen[0]["bits"] == own.widths().start > 2}
     if own.fmt == "json":
         return jsontext.dumps({"robot": chain.name, "tolerance": own.tolerance, "rounding": rounding,
-                               "sets": own.sets, "seed": own.seed, "rows": rows,
+                               "sets": own.sets, "seed": own.seed, "tau_max": scale, "rows": rows,
                                "states": states_analysed(chain, own.acceleration),
                                "narrowest_bound": ok[0]["word"] if ok else None,
                                "narrowest_observed": seen[0]["word"] if seen else None,
@@ -1208,7 +1218,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest") -> s
     lines = [f"{chain.name}: word widths, each as the qI.F with the fewest integer bits nothing can "
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states"
-             + (f" (seed {own.seed})" if own.seed else "") + "; "
+             + (f" (seed {own.seed})" if own.seed else "")
+             + (f", {scale:.4g} (N·m or N)" if scale is not None else "") + "; "
              + states_line(states_analysed(chain, own.acceleration), chain.n),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)
