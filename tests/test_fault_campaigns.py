@@ -1123,3 +1123,17 @@ def test_a_fixed_point_run_that_overflowed_says_so(programs, tmp_path):
     r = RUN(main, ["emulate", str(program), "--engine", "tick", "--random", str(sets), "--fault", fault])
     said = re.search(r"q16\.16 \(nearest, saturate\) words: (\d+) overflows", r.output)
     assert said and int(said[1]) > 0, r.output
+
+
+def test_a_what_if_words_campaign_beside_the_programs_own_is_said_to_be_another_word(programs,
+                                                                                   quick_results):
+    """A new user ran a campaign in a what-if --word after the program's own campaign: the default
+    results file was refused as holding "another program". It is the same program in another
+    word, said so."""
+    ec, _, _ = programs
+    r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--word", "q8.15", "--results",
+                   str(quick_results)])
+    assert r.exit_code == 1 and "holds the results of another campaign or program (another word: " \
+        "the program's own in the file, q8.15 (nearest, saturate) here, other faults" in r.stderr, \
+        r.stderr
+    assert "another program" not in r.stderr

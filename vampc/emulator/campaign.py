@@ -727,10 +727,26 @@ def _differing(head, header: dict) -> str | None:
     default length was shorter, was refused as if --sets had been given. None if it is no header."""
     if not isinstance(head, dict) or head.get("vampc_faults") != header.get("vampc_faults"):
         return None
-    said = {"program": "another program", "campaign": f"the {head.get('campaign')} campaign, not "
+    said = {"program": _other_program(head.get("program"), header["program"]),
+            "campaign": f"the {head.get('campaign')} campaign, not "
             f"{header['campaign']}", "sets": f"{head.get('sets')} sets a run, not {header['sets']}",
             "seed": f"seed {head.get('seed')}, not {header['seed']}", "faults": _other_faults(head, header)}
     return ", ".join(text for key, text in said.items() if head.get(key) != header.get(key)) or None
+
+
+def _other_program(theirs, ours: str) -> str:
+    """How the file's program differs from this campaign's (their identities: the file's digest,
+    then for a robot file its compile options, then for a what-if --word the word run): a what-if
+    word run after the program's own campaign was said to be "another program" (a new user's)."""
+    if not isinstance(theirs, str):
+        return "another program"
+    (base_t, _, rest_t), (base_o, _, rest_o) = theirs.partition(":"), ours.partition(":")
+    if base_t != base_o:
+        return "another program or robot file"
+    if not rest_t.startswith("{") and not rest_o.startswith("{"):     # a program file's words
+        own = "the program's own"
+        return f"another word: {rest_t or own} in the file, {rest_o or own} here"
+    return "the same robot file compiled with other options or --word"
 
 
 def _other_faults(head: dict, header: dict) -> str:
