@@ -303,10 +303,11 @@ def test_messages_a_new_user_read_wrongly(tmp_path):
     assert res.exit_code == 1 and "64 bits is the widest word" in res.output, res.output
     # overflows: more integer bits, not a wider word (q2.62 was told to widen; an audit's)
     for word, fewer in (("q2.62", " and fewer for the fraction (64 bits is the widest)"),
-                        ("q2.30", "")):
+                        ("q2.30", ""), ("q1.15", "")):       # ("the word's 1 integer bits")
+        bits = "1 integer bit" if word == "q1.15" else "2 integer bits"
         res = _run("emulate", prog, "--random", 3, "--word", word, "--check")
-        assert res.exit_code == 1 and "overflows: FAILED (the values outgrew the word's 2 integer " \
-            f"bits: a word with more of them{fewer} would hold them; `vampc precision` finds " \
+        assert res.exit_code == 1 and f"overflows: FAILED (the values outgrew the word's {bits}: " \
+            f"a word with more of them{fewer} would hold them; `vampc precision` finds " \
             "one)" in res.output and "wider --word" not in res.output, res.output
 
 

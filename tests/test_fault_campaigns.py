@@ -685,12 +685,15 @@ def test_a_what_if_word_is_said_and_csv_files_end_as_standard_output_does(progra
                    "--results", str(tmp_path / "w.jsonl"), "--workers", "1"])
     assert r.exit_code == 0, r.output
     assert "words q16.16 (nearest, saturate) (what if: not the program's own word)" in r.stdout
+    # (README says a narrower word's summary gives the fault-free run's overflows: 0 was unsaid)
+    assert "\n  the fault-free run did not overflow the word\n" in r.stdout, r.stdout
     r = RUN(main, ["faults", str(ec), "--word", "q16.16", "--kinds", "result", "--sets", "3",
                    "--results", str(tmp_path / "w.jsonl"), "--workers", "1", "--format", "json"])
     got = _json(r.output)
     assert got["word"] == "q16.16 (nearest, saturate)" and got["what_if_word"] is True
     own = _campaign(ec, tmp_path, "--kinds", "control", "--sets", "3", name="own.jsonl")
     assert own["word"] == "float64" and own["what_if_word"] is False
+    assert own["reference_overflows"] is None and got["reference_overflows"] == 0
     args = ["faults", str(ec), "--kinds", "control", "--sets", "3", "--results",
             str(tmp_path / "c.jsonl"), "--workers", "1", "--format", "csv"]
     out = tmp_path / "c.csv"

@@ -630,7 +630,7 @@ def _word_hint(ld, outcome) -> str:
         # (the values outgrew the integer bits: q2.62, already the widest word, was told a wider
         # one would do better, where q16.16 passes; an audit's)
         fewer = " and fewer for the fraction (64 bits is the widest)" if ld.arith.bits == 64 else ""
-        return (f" (the values outgrew the word's {ld.arith.integer} integer bits: a word with "
+        return (f" (the values outgrew the word's {count(ld.arith.integer, 'integer bit')}: a word with "
                 f"more of them{fewer} would hold them; `vampc precision` finds one)")
     if isinstance(ld.arith, Fixed) and ld.arith.bits == 64:
         return " (64 bits is the widest word: more of them for the fraction would do better; " \
@@ -1983,6 +1983,8 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         head += (f"\n  the fault-free run overflowed the word {count(overflows, 'time')}: its "
                  f"torques are the word's, not the robot's, and every run is classified against "
                  "them (vampc emulate --engine tick says where; a wider --word)")
+    elif overflows is not None:          # (said as README says: in a narrower word, 0 too)
+        head += "\n  the fault-free run did not overflow the word"
     if own.fmt == "json":
         text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
                                "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
