@@ -3,6 +3,7 @@ faults with and without error correction, results kept and resumed, local worker
 cluster giving the same results, and bad input as one line."""
 from __future__ import annotations
 
+import io
 import json
 import re
 
@@ -1140,3 +1141,21 @@ def test_a_what_if_words_campaign_beside_the_programs_own_is_said_to_be_another_
         "the program's own in the file, q8.15 (nearest, saturate) here, other faults" in r.stderr, \
         r.stderr
     assert "another program" not in r.stderr
+
+
+def test_the_csv_gives_each_runs_overflows_as_the_json_does(programs, tmp_path):
+    """The JSON's runs carry a fixed-point word's overflows per run; the CSV had no such column (a
+    new user's). It is its last column, empty in a float word."""
+    import csv
+    ec, _, _ = programs
+    args = ["faults", str(ec), "--kinds", "result", "--sets", "3", "--word", "q6.10", "--workers",
+            "1", "--results", str(tmp_path / "r.jsonl")]
+    doc = _json(RUN(main, [*args, "--format", "json"]).output)
+    table = RUN(main, [*args, "--format", "csv"]).stdout
+    rows = list(csv.DictReader(io.StringIO(table)))
+    assert list(rows[0])[-1] == "overflows" and len(rows) == len(doc["runs"])
+    assert [int(r["overflows"]) for r in rows] == [run["overflows"] for run in doc["runs"]]
+    assert any(run["overflows"] for run in doc["runs"])
+    plain = RUN(main, ["faults", str(ec), "--kinds", "result", "--sets", "3", "--workers", "1",
+                       "--results", str(tmp_path / "f.jsonl"), "--format", "csv"]).stdout
+    assert {r["overflows"] for r in csv.DictReader(io.StringIO(plain))} == {""}
