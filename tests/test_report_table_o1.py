@@ -421,3 +421,37 @@ def test_every_flops_of_table_o1_is_at_the_reports_latencies():
     plain = report(fmt=())
     assert "15 + 43 = 58" in plain and "= M + A + wait" in plain and "16 + 45 + 0" in plain
     assert "M×" not in plain and "Mult of" not in plain
+
+
+def test_the_formulas_at_a_large_n_are_shown_exactly():
+    """A new user's 2000-joint robot: Uicker/Kahn's Addns, 25n⁴ + 66⅓n³ + 129½n² + 42⅓n − 96, is
+    400,531,184,751,237⅓ at n = 2000, shown as ...237 3/10 (the text guessed the fraction from a
+    float, which cannot hold a third there). Worked out here from the paper's printed formula in
+    integers (times 6), the row's exact text and the table's cell give it."""
+    from fractions import Fraction
+
+    from vampc.report import paper
+    from vampc.report.sections import exact
+    n = 2000
+    want = Fraction(150 * n**4 + 398 * n**3 + 777 * n**2 + 254 * n - 576, 6)
+    row = paper.o1_row(paper.formulation("uicker_kahn"), n)
+    assert row["adds_formula"] == "25n⁴ + 66⅓n³ + 129½n² + 42⅓n − 96"
+    assert Fraction(row["adds_exact"]) == want and row["adds"] == float(want)
+    assert exact(row["adds_exact"]) == "400,531,184,751,237⅓"
+    assert exact(row["mults_exact"]) == "520,692,018,439,872"       # (a whole number: no fraction)
+    assert Fraction(row["flops_exact"]) == want + 520_692_018_439_872
+    assert exact(row["flops_exact"]) == "921,223,203,191,109⅓"
+    assert exact(row["adds"]) != exact(row["adds_exact"])       # (the float's guess: the defect)
+    # the report's table of a robot, its formulas put at n = 2000, shows the exact cells
+    import json
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    from vampc.report.sections import o1_at_n
+    rep = json.loads(CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--format",
+                                               "json"]).stdout)
+    rep["table_o1"].update(n=n, formulas=[paper.o1_row(f, n) for f in paper.TABLE_O1])
+    cells = next(r for r in o1_at_n(rep).rows if r[0] == row["method"])
+    assert cells[1:4] == ("520,692,018,439,872", "400,531,184,751,237⅓", "921,223,203,191,109⅓")

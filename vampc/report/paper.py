@@ -93,8 +93,13 @@ def o1_row(f: Formulation, n: int, mult: int = 1, add: int = 1) -> dict:
     flops are at a Mult of `mult` flops and an Addn of `add` (the paper's 1 and 1 by default), as
     the report counts its own latency."""
     m, a = f.mults(n), f.adds(n)
+    flops = m * mult + a * add
+    # (the exact values beside the JSON numbers: a float cannot hold a third past n of about
+    # 1487, and the text, guessing the fraction from it, showed 400,531,184,751,237 3/10 of a
+    # 2000-joint robot for ...237⅓: a new user's find)
     row = {"key": f.key, "method": f.method, "measure": f.measure, "source": "formula",
-           "mults": number(m), "adds": number(a), "flops": number(m * mult + a * add),
+           "mults": number(m), "adds": number(a), "flops": number(flops),
+           "mults_exact": str(m), "adds_exact": str(a), "flops_exact": str(flops),
            "mults_formula": f.mults_text, "adds_formula": f.adds_text, "qualifier": f.qualifier}
     if n == 6:
         pm, pa = f.printed_n6

@@ -37,12 +37,19 @@ VULGAR = {(1, 2): "½", (1, 3): "⅓", (2, 3): "⅔", (1, 4): "¼", (3, 4): "¾"
 
 def exact(x) -> str:
     """A formula's value as the formula gives it: an integer with separators, or a whole part and a
-    fraction ('89,323⅕'; the paper's coefficients have denominators 2, 3, 4 and 12, so a value
-    at an integer n is a multiple of 1/12)."""
+    fraction ('89,323⅕'). `x` a Fraction or its text ('1201593554253712/3', the report's
+    `*_exact`), or a number (the paper's coefficients have denominators 2, 3, 4 and 12, so a
+    value at an integer n is a multiple of 1/12: guessed from a float, which past n of about 1487
+    cannot hold it; a report of an older vampc has no exact text)."""
     from fractions import Fraction
-    if x is None or float(x).is_integer():
+    if isinstance(x, (str, Fraction)):
+        f = Fraction(x)
+        if f.denominator == 1:
+            return f"{f.numerator:,}"
+    elif x is None or float(x).is_integer():
         return num(x)
-    f = Fraction(x).limit_denominator(12)
+    else:
+        f = Fraction(x).limit_denominator(12)
     whole, part = divmod(f.numerator, f.denominator)
     key = (part, f.denominator)
     return f"{whole:,}" + VULGAR.get(key, f" {part}/{f.denominator}")
@@ -183,7 +190,7 @@ def o1_at_n(rep: dict) -> Table:
         ((f"{unit or 'time'} at {clk['text']}",) if clk else ())
     rows, notes = [], []
     for i, f in enumerate(t["formulas"]):
-        row = [f["method"], exact(f["mults"]), exact(f["adds"]), exact(f["flops"])]
+        row = [f["method"], *(exact(f.get(f"{k}_exact", f[k])) for k in ("mults", "adds", "flops"))]
         if six:
             p = f["printed_n6"]
             row += [f"{num(p['mults'])} + {num(p['adds'])}",
