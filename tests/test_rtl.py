@@ -907,6 +907,8 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
     registers = _design_registers(c)
     one_input = any(len(inputs) == 1 for v in c.network.vamps for inputs in (v.a, v.b))
     assert one_input == ("vamps" not in options)    # (the case, but in a budget of three VAMPs)
+    # (and no register of no bits: Yosys wrote one as `wire [-1:0]`, two bits to Verilog)
+    assert [s.name for s in registers.values() if not len(s)] == []
     bits = word_bits(c)
     W = bits["bits"]
     counted = (bits["data_register_bits"] + bits["control_register_bits"] + bits["delay_line_bits"]

@@ -73,6 +73,12 @@ def counter_bits(period: int) -> int:
     return max(1, int(period).bit_length())
 
 
+def rom_pointer_bits() -> int:
+    """A ROM pointer's bits: one of the ROM's entries (the op table's, which may grow: asked each
+    time)."""
+    return (len(ROM) - 1).bit_length()
+
+
 def field_widths(period: int, inputs_a: int, inputs_b: int) -> tuple[int, ...]:
     """A slot's control fields (FIELDS' order) in bits, as the hardware holds them: each delay as
     wide as the Cycle-Counter it is compared with, the ROM pointer as the ROM's entries need, each
@@ -82,7 +88,7 @@ def field_widths(period: int, inputs_a: int, inputs_b: int) -> tuple[int, ...]:
     taken every field as 24 bits, and the RTL a select of one input as one bit that nothing read
     (a new user's find)."""
     counter = counter_bits(period)
-    return (counter, counter, counter, (len(ROM) - 1).bit_length(),
+    return (counter, counter, counter, rom_pointer_bits(),
             (int(inputs_a) - 1).bit_length(), (int(inputs_b) - 1).bit_length())
 ADDRESS = 8          # addresses per slot in an extended word
 

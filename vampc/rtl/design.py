@@ -48,7 +48,13 @@ from vampc.machine.arith import Fn, Overflow, Rounding
 from vampc.machine.interp import result_unit
 from vampc.machine.interp import steps as rom_steps
 from vampc.machine.timing import captures
-from vampc.program.words import ADDRESS, FIELDS, field_widths
+from vampc.program.words import (
+    ADDRESS,
+    FIELDS,
+    counter_bits,
+    field_widths,
+    rom_pointer_bits,
+)
 
 MULTIPLIERS = 2        # per primitive module (section VII): two multipliers, one adder/subtractor
 
@@ -165,7 +171,9 @@ class Vamp(Elaboratable):
         # --- registers ----------------------------------------------------------------------
         cc = Signal(cb, name=f"{n}_cc")
         valid = Signal(S, name=f"{n}_valid")
-        fields = [[Signal(w, name=f"{n}_s{s}_{f}") for f, w in zip(FIELDS, widths)]
+        # (a field of no bits is no signal: Yosys wrote a zero-width one as `wire [-1:0]`, which
+        # Verilog reads as two bits; a review's find)
+        fields = [[Signal(w, name=f"{n}_s{s}_{f}") if w else None for f, w in zip(FIELDS, widths)]
                   for s in range(S)]
         op_a = [Signal(signed(W), name=f"{n}_a{i}") for i in range(9)]
         op_b = [Signal(signed(W), name=f"{n}_b{i}") for i in range(9)]
@@ -189,7 +197,7 @@ class Vamp(Elaboratable):
             m.d.sync += valid.eq(1)
             da, db, dr, rom, sa, sb = fields[0]
             m.d.sync += [da.eq(w1[shift:]), db.eq(w1[:shift]), dr.eq(w2[shift:]),
-                         rom.eq(w2[:shift]), sa.eq(0), sb.eq(0)]
+                         rom.eq(w2[:shift])] + [sel.eq(0) for sel in (sa, sb) if sel is not None]
         with m.Elif(w0 == -self.number):              # an extended word: one field of one slot
             slot = w1[3:].as_signed()                  # address = slot · 8 + field
             field = w1[:3]
@@ -201,7 +209,8 @@ class Vamp(Elaboratable):
                     with m.Switch(field):
                         for f, reg in enumerate(fields[s]):
                             with m.Case(f):
-                                m.d.sync += reg.eq(w2)
+                                if reg is not None:
+                                    m.d.sync += reg.eq(w2)
 
     # --- Data Mode ----------------------------------------------------------------------------
     def _data_mode(self, m, c, valid, fields, op_a, op_b, units, cb):
@@ -215,11 +224,11 @@ class Vamp(Elaboratable):
         for name, now, reg, k, inputs in (("a", a_now, op_a, 0, self.a_in),
                                           ("b", b_now, op_b, 1, self.b_in)):
             latch = Signal(name=f"{n}_latch_{name}")
-            sel = Signal(range(len(inputs)), name=f"{n}_sel_{name}")   # (one input: no bits)
+            sel = Signal(range(len(inputs)), name=f"{n}_sel_{name}") if len(inputs) > 1 else None
             for s in range(S):
                 delay, select = fields[s][k], fields[s][4 + k]
                 with m.If(valid[s] & (delay == c)):
-                    m.d.comb += [latch.eq(1), sel.eq(select)]
+                    m.d.comb += [latch.eq(1)] + ([] if sel is None else [sel.eq(select)])
             with m.If(latch):
                 for i in range(9):
                     src = inputs[0][i] if len(inputs) == 1 else \
@@ -317,7 +326,7 @@ def microcode(timing) -> Microcode:
     program = micro_program()
     index = {(r, j): k + 1 for k, (r, j, _) in enumerate(program)}
     depth = max(timing.step_ends(r)[-1] for r in range(len(ops.ROM)))
-    slots = 1 << width(len(ops.ROM) - 1)
+    slots = 1 << max(1, rom_pointer_bits())          # (the rom field's: field_widths)
     stride_bits = width(depth - 1)
     codes = [0] * ((slots << stride_bits) + 1)   # the last entry: no step (left beyond any op)
     for r in range(len(ops.ROM)):
@@ -425,7 +434,7 @@ class NetworkDesign(Elaboratable):
         # every period in Data Mode)
         m.d.sync += self.overflow.eq(Mux(self.program, 0, self.overflow | _any(x.overflow for x in vamps)))
         # the buffer clock: every tick in Program Mode, at each block's last tick in Data Mode
-        cc = Signal(width(net.period), name="buffer_cc")
+        cc = Signal(counter_bits(net.period), name="buffer_cc")
         c = Mux(self.global_reset, 0, cc)
         m.d.sync += cc.eq(c + 1)
         shift = Signal(name="buffer_clock")
