@@ -351,6 +351,12 @@ def test_odd_npy_headers_and_arrays_are_one_line_each(tmp_path):
         assert r.exit_code == 1, (name, r.output, r.exception)
         assert r.stderr.startswith(f"vampc: error: {tmp_path / name}.npy: {said}"), r.stderr
         assert r.stderr.count("\n") == 1 and "0x" not in r.stderr and not out.exists(), r.stderr
+    empty = tmp_path / "empty.npz"              # (and an archive's member: a review's)
+    np.savez(empty, q=np.zeros((0, 2)), qd=np.zeros((0, 2)), qdd=np.zeros((0, 2)))
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory",
+                                  str(empty), "-o", str(out)])
+    assert r.exit_code == 1 and r.stderr == f"vampc: error: {empty}: array q holds no states " \
+        "(shape (0, 2))\n", r.stderr
 
 
 def test_a_blank_first_line_and_a_quote_never_closed_are_said_so(tmp_path):
@@ -362,8 +368,10 @@ def test_a_blank_first_line_and_a_quote_never_closed_are_said_so(tmp_path):
     cases = {"blank": ("\n" + header + row, "line 1 is blank: the header line comes first "
                                             "(q1,q2...qdd2, t first if the rows have times)"),
              "quote": (header + row + '0.1,"0.2,0.3,0.4,0.5,0.6\n' + row * 2,
-                       "line 3, column q2: a quoted cell runs on over the lines after it (a "
-                       "quote opened and not closed?)")}
+                       "line 3, column q2: a quoted cell holds a line break (a quote opened and "
+                       "not closed?)"),
+             "commas": (",,,,,\n" + header + row, "line 1 holds no column names, only commas: the "
+                        "header line comes first (q1,q2...qdd2, t first if the rows have times)")}
     out = tmp_path / "tau.csv"
     for name, (text, said) in cases.items():
         path = tmp_path / f"{name}.csv"

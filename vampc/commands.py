@@ -470,10 +470,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if streamed and sent and STOPPED in str(exc):         # (driver.non_finite's words)
             # (it said "the sets before it", where the chunk that held the set had not been sent:
             # 182 358 of 189 999 sets, a new user's count)
-            rows = (f"the first {count(sinks.rows, 'set')} (the chunks before the one that held "
-                    "it)")
             said = [f"{o} - had sent " + ("the waveform of the sets run by then" if o == "--vcd"
-                                          else rows) for o in streamed]
+                                          else f"{sinks.streamed(o)} (the chunks before the one "
+                                          "that held it)") for o in streamed]
             raise VampcError(str(exc).replace(
                 STOPPED, f"the run stopped there: {' and '.join(said)} to standard output, which "
                 "ends with them")) from None
@@ -484,8 +483,8 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if isinstance(exc, KeyboardInterrupt) and streamed and sinks.sent:
             # (a signal said "terminated" alone over a torque file cut at a chunk's end, whole
             # lines that looked finished: a new user's find)
-            exc.note = (f"{' and '.join(streamed)} - had sent the first {count(sinks.rows, 'set')} "
-                        "to standard output, which ends with them")
+            exc.note = (" and ".join(f"{o} - had sent {sinks.streamed(o)}" for o in streamed)
+                        + " to standard output, which ends with them")
         raise
     if ld.word is not None:          # overflows are never silent
         say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
@@ -637,7 +636,8 @@ def _word_hint(ld, outcome) -> str:
                "`vampc precision` finds the split)"
     # (the tolerances differ in their yardstick: a word precision chose at 1e-3 failed 1e-3 here on
     # an arm holding still, its torques a hundredth of the random states', a new user's find)
-    scale = float(outcome.check.max_ref.max(initial=0.0))
+    from vampc.emulator.host import CHECK_FLOOR  # (the yardstick the check divided by)
+    scale = max(float(outcome.check.max_ref.max(initial=0.0)), CHECK_FLOOR)
     return (" (a wider --word would do better; `vampc precision` finds one, but its tolerance is "
             "relative to the largest |τ| of random states over the joint ranges, this check's to "
             f"this run's, {scale:.4g}: for a run of smaller torques, scale its tolerance down by "
@@ -729,7 +729,8 @@ class Sinks:
         # the tables' headers go out with the first rows (or at the end: no rows), not before the
         # run: its static check may still refuse the program, and `-o -` had sent a header line
         self.sent = False         # any rows written (to standard output: sent, whatever comes)
-        self.rows = 0             # how many
+        self.rows: dict = {}      # per output (Pending): its rows written whole, counted after the
+        self.writing = None       # write returns; the output being written (a signal may cut it)
         self._heads = [(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count),
                        (self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)]
 
@@ -752,21 +753,34 @@ class Sinks:
     def _rows(self, pending, npy: bool, *columns) -> None:
         """A chunk's rows of a table: the columns side by side, as CSV text or raw float64."""
         from vampc.emulator.trajectory import format_rows, side_by_side
+        rows = len(next(c for c in columns if c is not None))
         if npy:
             import numpy as np
             data = np.ascontiguousarray(side_by_side(*columns), dtype="<f8")
-            self._write(pending, lambda fh: fh.write(data.tobytes()))
+            self._write(pending, lambda fh: fh.write(data.tobytes()), rows)
         else:
-            self._write(pending, lambda fh: fh.write(format_rows(*columns)))
+            self._write(pending, lambda fh: fh.write(format_rows(*columns)), rows)
 
-    def _write(self, pending, action) -> None:
+    def _write(self, pending, action, rows: int = 0) -> None:
         if pending is None:
             return
+        self.writing = pending
         try:
             action(pending.fh)
         except OSError as exc:
             self.discard()
             raise pending.error(exc) from None
+        self.writing = None
+        self.rows[pending] = self.rows.get(pending, 0) + rows
+
+    def streamed(self, option: str) -> str:
+        """What `option` (-o or --save-states) had sent to standard output when the run stopped:
+        the sets written whole, and the part of the next chunk a signal cut (a signal during the
+        write had been counted as the whole chunk sent: a review's find)."""
+        pending = self.tau if option == "-o" else self.states
+        sent = f"the first {count(self.rows.get(pending, 0), 'set')}"
+        return sent + (", and part of the next (its last line perhaps cut short)"
+                       if self.writing is pending and pending is not None else "")
 
     def chunk(self, traj, tau) -> None:
         """One chunk's torques and states."""
@@ -774,7 +788,6 @@ class Sinks:
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
         self._headed()
         self.sent = True
-        self.rows += len(tau)
         if self.tau is not None:
             self._rows(self.tau, self.npy, traj.t, reduce_torques(chain, tau))
         if self.states is not None:

@@ -716,7 +716,7 @@ class ResultsFile:
 CSV_COLUMNS = ("index", "fault", "vamp", "kind", "class", "sets_run", "detected_tick",
                "latency_cycles", "finder", "excised", "named", "named_right", "corrupted_before",
                "corrupted_after", "corrupted", "maintenance_ticks", "reason", "first_wrong_non_finite",
-               "overflows")     # (a fixed-point word's, as the JSON's runs have them; empty in floats)
+               "overflows")     # (a narrower word's, as the JSON's runs have them; empty in float64)
 LABELS = {"masked": "masked", "detected-corrected": "detected and corrected",
           "detected-not-corrected": "detected, not corrected",
           "silent-corruption": "silent corruption", "hang": "hang"}

@@ -185,7 +185,8 @@ def read_table(path: Path, columns: list[str], why: str, floating: bool = False,
     if head is None:
         raise VampcError(f"{path}: empty {what} file")
     if not "".join(head).strip():      # (it said "header: 0 columns, expected 18": a new user's)
-        raise VampcError(f"{path}: line 1 is blank: the header line comes first ({_listed(columns)}, "
+        what = "is blank" if len(head) < 2 else "holds no column names, only commas"
+        raise VampcError(f"{path}: line 1 {what}: the header line comes first ({_listed(columns)}, "
                          "t first if the rows have times)")
     names = [c.strip() for c in head]
     has_t = bool(names) and names[0] == "t"
@@ -252,8 +253,8 @@ def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes 
     spread = next((c for c, cell in enumerate(row) if "\n" in cell or "\r" in cell), None)
     if spread is not None:      # (said as "4 columns, expected 19", the lines after it taken in)
         column = want[spread] if spread < len(want) else f"{spread + 1}"
-        raise VampcError(f"{path}: line {r}, column {column}: a quoted cell runs on over the lines "
-                         "after it (a quote opened and not closed?)")
+        raise VampcError(f"{path}: line {r}, column {column}: a quoted cell holds a line break (a "
+                         "quote opened and not closed?)")
     if len(row) != len(want):
         raise VampcError(f"{path}: line {r}: {len(row)} columns, expected {len(want)}")
     out = []
@@ -491,6 +492,8 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
                 parts[0].ndim == 2 and parts[0].shape[1] == n:
             raise VampcError(f"{path}: array {k} has {p.shape[0]} rows and array q "
                              f"{parts[0].shape[0]}; the arrays hold one row per state")
+        if p.shape == (0, n):            # (said as a shape alone, a review's find)
+            raise VampcError(f"{path}: array {k} holds no states (shape {p.shape})")
         if p.ndim != 2 or p.shape != (parts[0].shape[0], n) or p.shape[0] == 0:
             raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n})")
     if t is not None and t.shape != (parts[0].shape[0],):
