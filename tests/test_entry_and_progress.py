@@ -142,7 +142,7 @@ def test_rtl_shows_its_steps(monkeypatch, tmp_path):
     r = CliRunner().invoke(main, ["rtl", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
                                   "-o", str(tmp_path / "p.v")])
     assert r.exit_code == 0, r.output
-    assert "vampc rtl of planar2.yaml: 0/1 stages" in r.stderr and ", Verilog" in r.stderr, r.stderr
+    assert "vampc rtl of planar2.yaml [" in r.stderr and ", Verilog" in r.stderr, r.stderr
 
 
 def test_a_line_said_within_a_bars_delay_draws_no_bar(monkeypatch, capsys):
@@ -163,7 +163,8 @@ def test_a_line_said_within_a_bars_delay_draws_no_bar(monkeypatch, capsys):
 
 def test_a_long_stage_shows_its_bar_once_the_delay_has_passed(monkeypatch, capsys):
     """A bar is drawn by tqdm only when it is updated: one long stage (rtl's Verilog, 76 s) showed
-    nothing. It appears once DELAY has passed, its elapsed time moving, and is cleared at the end."""
+    nothing. It appears once DELAY has passed, its elapsed time moving, and is cleared at the end;
+    a bar of one stage says no count of stages ("0/1 stages" never moved: a new user's find)."""
     import re
     import time
 
@@ -171,7 +172,7 @@ def test_a_long_stage_shows_its_bar_once_the_delay_has_passed(monkeypatch, capsy
     from vampc.cli import say
     monkeypatch.setenv("VAMPC_PROGRESS", "1")
     monkeypatch.setattr(progress, "DELAY", 0.2)
-    drawn = re.compile(r"work: 0/1 stages \[\d\d:\d\d\], one")
+    drawn = re.compile(r"work \[\d\d:\d\d\], one")
     err = ""
     progress.begin()
     try:
@@ -187,7 +188,7 @@ def test_a_long_stage_shows_its_bar_once_the_delay_has_passed(monkeypatch, capsy
     finally:
         progress.end()
     err += capsys.readouterr().err
-    assert drawn.search(err), repr(err)
+    assert drawn.search(err) and "stages" not in err, repr(err)
     assert err.split("\n")[-2].split("\r")[-1] == "the result", repr(err)    # cleared, not glued
 
 
@@ -397,9 +398,9 @@ def test_reading_a_program_and_preparing_the_engine_show_bars(monkeypatch, tmp_p
     args = ["--random", "3"] if command == "emulate" else []
     r = CliRunner().invoke(main, [command, str(program), *args])
     assert r.exit_code == 0, r.output
-    assert "reading p.vamp.json: 0/1 stages" in r.stderr, r.stderr
+    assert "reading p.vamp.json [" in r.stderr, r.stderr
     if command == "emulate":
-        assert "preparing the stream engine: 0/1 stages" in r.stderr, r.stderr
+        assert "preparing the stream engine [" in r.stderr, r.stderr
 
 
 def test_the_tick_engines_bar_moves_within_a_set(monkeypatch):

@@ -128,7 +128,9 @@ def stages(label: str, names: tuple[str, ...]):
     with tqdm(total=len(names), desc=label, unit="stage", delay=_delay(),
               file=_Stderr(sys.stderr),
               leave=False, **_width(),
-              bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}") as bar:
+              # (one stage: "0/1 stages" never moved, only the time did: a new user's find)
+              bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]{postfix}" if len(names) > 1
+              else "{desc} [{elapsed}]{postfix}") as bar:
         running = [""]          # the stage's name, which a note follows
 
         def stage(name: str) -> None:
