@@ -537,3 +537,23 @@ def test_the_cheap_searchs_last_fallback_places_the_graph(monkeypatch):
     placed = budget._quick_for(graph, timing, k, schedule_asap(graph, timing))
     assert all(isinstance(a, budget.Attempt) for a in calls[-1])
     assert placed is not None and placed.interval >= budget.bounds(graph, timing, k).interval_bound
+
+
+def test_a_long_attempt_says_how_far_it_is(monkeypatch):
+    """One attempt at a 256-joint log chain's --vamps 2000 ran 40 s under one unmoving note (a new
+    user's find): every NOTE_EVERY placements it says the ops placed and the placements made, of
+    the attempt's budget, each count within its whole."""
+    import re
+
+    from vampc.schedule import budget
+    notes: list[str] = []
+    monkeypatch.setattr(budget, "NOTE_EVERY", 1)
+    monkeypatch.setattr(budget.progress, "note", notes.append)
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(vamps=3))
+    ops = sum(1 for nd in c.graph.nodes if nd.op.is_compute)
+    counted = [re.fullmatch(r"3 VAMPs, interval \d+(, latency ≤ \d+)?: ([\d,]+) of ([\d,]+) ops "
+                            r"placed, ([\d,]+) placements of at most ([\d,]+)", x) for x in notes]
+    counted = [[int(g.replace(",", "")) for g in m.groups()[1:]] for m in counted if m]
+    assert counted and all(placed <= whole == ops and made <= most for placed, whole, made, most
+                           in counted)
+    assert max(placed for placed, *_ in counted) == ops - 1     # (said before each placement)

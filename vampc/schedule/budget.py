@@ -155,8 +155,8 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                                             attempt.swing, attempt.pack, attempt.big)
     # (the bar of a 256-joint log chain's --vamps 2000 said "schedule" alone for minutes: a new
     # user's find; each attempt says what it tries, as --exact's solver does)
-    progress.note(f"{k} VAMPs, interval {ii}" + (f", latency ≤ {latency}" if latency is not None
-                                                  else ""))
+    said = f"{k} VAMPs, interval {ii}" + (f", latency ≤ {latency}" if latency is not None else "")
+    progress.note(said)
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
     nodes = graph.nodes
@@ -175,7 +175,7 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
     if big:              # the longest ops first (bin packing's rule), then as above
         rank = {i: r for r, i in enumerate(order)}
         order.sort(key=lambda i: (-d[nodes[i].op] * VAMPS_PER_OP[nodes[i].op], rank[i]))
-    return _Modulo(graph, d, k, ii, asap, deadline, scan, swing, pack).run(order, effort)
+    return _Modulo(graph, d, k, ii, asap, deadline, scan, swing, pack).run(order, effort, said)
 
 
 def _jitter(count: int, seed: int) -> list[float]:
@@ -187,6 +187,7 @@ def _jitter(count: int, seed: int) -> list[float]:
 
 
 SCAN = 16      # ticks an evicting op looks ahead for the fewest ops to displace
+NOTE_EVERY = 1 << 15   # placements between the notes of one attempt's progress (about 0.5 s)
 
 
 class _Modulo:
@@ -213,17 +214,22 @@ class _Modulo:
         self.longest = max(dur for dur, _ in self.shapes)
         self.avail = {shape: bytearray([shape[1] <= k]) * ii for shape in self.shapes}
 
-    def run(self, order: list[int], effort: int) -> Placed | None:
+    def run(self, order: list[int], effort: int, said: str = "") -> Placed | None:
         import heapq
         rank = {i: r for r, i in enumerate(order)}
         queue = [(rank[i], i) for i in order]
         heapq.heapify(queue)
         last: dict[int, int] = {}
-        steps = effort * len(order)
+        steps = budget = effort * len(order)
         while queue:
             if steps == 0:
                 return None
             steps -= 1
+            if steps % NOTE_EVERY == 0 and said:
+                # (one attempt on a 256-joint log chain's 2000 VAMPs ran 40 s under one unmoving
+                # note: a new user's find; how far it is, said)
+                progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed, "
+                              f"{budget - steps:,} placements of at most {budget:,}")
             _, i = heapq.heappop(queue)
             if i in self.start:
                 continue
