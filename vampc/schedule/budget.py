@@ -225,7 +225,7 @@ class _Modulo:
             if steps == 0:
                 return None
             steps -= 1
-            if steps % NOTE_EVERY == 0 and said:
+            if said and (budget - steps) % NOTE_EVERY == 0:
                 # (one attempt on a 256-joint log chain's 2000 VAMPs ran 40 s under one unmoving
                 # note: a new user's find; how far it is, said)
                 progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed, "
