@@ -425,3 +425,47 @@ def test_the_tick_engines_bar_moves_within_a_set(monkeypatch):
     inside = [d for d in seen if 0 < d < 3]
     assert len(inside) >= 2 and any(d != int(d) for d in inside), seen
     assert seen == sorted(seen) and seen[-1] == 3, seen
+
+
+def test_a_bar_of_uneven_things_shows_no_time_left(monkeypatch, capsys):
+    """The trade-off's bar said 13 s left with 15 of 47 budgets done, of a run that took 50 s (its
+    later budgets cost more: a new user's find): a bar of things that take uneven times shows the
+    elapsed time alone; a bar of even ones its time left too."""
+    from vampc import progress
+    monkeypatch.setenv("VAMPC_PROGRESS", "1")
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    shown = {}
+    progress.begin()
+    try:
+        for even in (True, False):
+            with progress.counter("things", 4, unit="thing", even=even) as update:
+                update(1, 4)
+            shown[even] = capsys.readouterr().err
+    finally:
+        progress.end()
+    assert "things:" in shown[True] and "4 [00:00<" in shown[True] and "thing/s" in shown[True], shown
+    assert "things:" in shown[False] and "4 [00:00]" in shown[False], shown
+    assert "<" not in shown[False] and "/s" not in shown[False], shown
+
+
+def test_the_trade_offs_bar_is_one_of_uneven_things(monkeypatch):
+    """(The bar above is the trade-off's: its budgets take uneven times.)"""
+    import contextlib
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc import progress
+    from vampc.cli import main
+    asked = []
+    real = progress.counter
+
+    @contextlib.contextmanager
+    def counter(label, total, unit="set", even=True):
+        asked.append((label, even))
+        with real(label, total, unit, even) as update:
+            yield update
+    monkeypatch.setattr(progress, "counter", counter)
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--tradeoff",
+                                  "--workers", "1", "--format", "csv"])
+    assert r.exit_code == 0 and ("trade-off", False) in asked, (r.output, asked)

@@ -1012,7 +1012,7 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
                           stacklevel=1)
     else:
         chain = load_chain(source, options, robot_opts)
-    with progress.counter("trade-off", 1, unit="budget") as bar, naming(source):
+    with progress.counter("trade-off", 1, unit="budget", even=False) as bar, naming(source):
         rows = tr.tradeoff(chain, options, bar, workers=own.workers, scheduler=own.scheduler)
     content: dict = {}
     if outs:
