@@ -1119,7 +1119,14 @@ def test_an_axis_too_long_to_square_turns_about_its_direction(tmp_path):
     ((link("l2"), link("l2").replace("inertial>", "inertal>")), r"link 'l2': <inertal> \(line \d+\) is not read \(did you mean "
      r"<inertial>\?\): a link's mass and inertia are read inside its <inertial>"),
     (('<link name="l2">', '<link name="l2"><mass value="3"/>'), r"link 'l2': <mass> \(line \d+\) is not "
-     r"read: a link's mass and inertia are read inside its <inertial>")])
+     r"read: a link's mass and inertia are read inside its <inertial>"),
+    # (a new user's: each left out without a word)
+    (('<link name="l2">', '<link name="l2"><origin xyz="1 0 0"/>'), r"link 'l2': <origin> \(line \d+\) "
+     r"is not read: a link's origins are those of its <inertial>, <visual> and <collision>"),
+    (('<child link="l1"/>', '<child link="l1"><origin xyz="1 0 0"/></child>'), r"joint 'j1': <origin> "
+     r"inside <child> \(line \d+\) is not read: a joint's <origin> goes directly in the <joint>"),
+    (("</robot>", '<robot name="x"><link name="ghost"/></robot></robot>'), r"a <robot> inside <robot> "
+     r"\(line \d+\) is not read, nor anything in it")])
 def test_what_urdfdom_leaves_out_is_said(tmp_path, edit, said):
     """A second <origin>, <axis>, <mimic>, <inertial> or <mass>, an attribute or element misspelt: urdfdom
     (and so Pinocchio and yourdfpy) reads the first and skips what it does not know, and so had vampc,
@@ -1241,3 +1248,17 @@ def test_an_axis_element_without_xyz_is_refused_on_a_moving_joint(tmp_path):
         '<axis xyz="0 0 1"/>', "")), "b.urdf")
     x = write(tmp_path, robot(*ARM[:4], joint("j2", "revolute", "l1", "l2", axis=(1, 0, 0))), "x.urdf")
     assert np.array_equal(load_urdf(bare).joints[1].phi, load_urdf(x).joints[1].phi)
+
+
+@pytest.mark.parametrize("inner", ['<joint name="j9" type="fixed"/>', '<link name="l9"/>'])
+def test_a_joint_or_link_inside_a_link_is_refused_by_name(tmp_path, inner):
+    """A misplaced </link> put a joint inside a link: urdfdom skips it, so its child link became a
+    second root, "several root links ...; choose one with --base", which would lose part of the
+    arm (a new user's find); a fixed joint so placed, with nothing after it, was left out unsaid.
+    One line naming the link, the element and its line."""
+    path = write(tmp_path, robot(*ARM).replace('<link name="l1">', f'<link name="l1">{inner}', 1))
+    tag = inner[1:inner.index(" ")]
+    name = inner.split('"')[1]
+    assert_error(lambda: load_urdf(path), path,
+                 rf"link 'l1': <{tag} name=\"{name}\"> \(line \d+\) is inside the link, where no URDF "
+                 rf"reader reads it: a <{tag}> goes directly in <robot> \(a misplaced </link>\?\)")

@@ -418,6 +418,10 @@ def _check_xml(root, path: Path) -> None:
                       stacklevel=2)
         root.set("name", path.stem)
     unread: list[str] = []      # what urdfdom's reading (and so vampc's) leaves out: said below
+    for inner in root.iterdescendants("robot"):     # (its links and joints vanished, unsaid)
+        unread.append(f"a <robot> inside <robot> (line {inner.sourceline}) is not read, nor "
+                      "anything in it")
+        break
     for kind in ("link", "joint"):
         seen = set()
         for el in root.iterchildren(kind):
@@ -503,6 +507,16 @@ def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) ->
             tag = sub.tag
             if tag == "inertial":
                 inertials.append(sub)
+            elif tag in ("joint", "link"):
+                # (urdfdom skips it: a joint so placed was left out, its child link then a second
+                # root, "choose one with --base", which loses part of the arm: a new user's find)
+                name = f" name=\"{sub.get('name')}\"" if sub.get("name") else ""
+                raise located(path, where, f"<{tag}{name}> (line {sub.sourceline}) is inside the "
+                              f"link, where no URDF reader reads it: a <{tag}> goes directly in "
+                              "<robot> (a misplaced </link>?)")
+            elif tag == "origin":
+                unread.append(f"{where}: <origin> (line {sub.sourceline}) is not read: a link's "
+                              "origins are those of its <inertial>, <visual> and <collision>")
             elif isinstance(tag, str):
                 near = _close(tag, ("inertial",), 0.8)
                 if tag in ("mass", "inertia") or near:
@@ -528,6 +542,12 @@ def _check_children(el, kind: str, where: str, path: Path, unread: list[str]) ->
                 # refuse where the joint is used: it had been 1 0 0, URDF's default without an
                 # <axis>, unsaid (a new user's <axis>0 1 0</axis>: torque 0 in Pinocchio)
                 sub.set("xyz", "0 0 0")
+            if tag in ("parent", "child") and len(sub):
+                inner = next((x for x in sub if isinstance(x.tag, str)), None)
+                if inner is not None:       # (<child link="b"><origin .../></child>: unsaid)
+                    unread.append(f"{here}: <{inner.tag}> inside <{tag}> (line {inner.sourceline}) "
+                                  "is not read" + (": a joint's <origin> goes directly in the "
+                                                   "<joint>" if inner.tag == "origin" else ""))
             if tag in once:
                 if tag in met:
                     unread.append(f"{here}: a second <{tag}> (line {sub.sourceline}) is not read (the "
