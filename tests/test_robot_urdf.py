@@ -1262,3 +1262,31 @@ def test_a_joint_or_link_inside_a_link_is_refused_by_name(tmp_path, inner):
     assert_error(lambda: load_urdf(path), path,
                  rf"link 'l1': <{tag} name=\"{name}\"> \(line \d+\) is inside the link, where no URDF "
                  rf"reader reads it: a <{tag}> goes directly in <robot> \(a misplaced </link>\?\)")
+
+
+@pytest.mark.parametrize("case", ["tab", "line break", "utf-16"])
+def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
+    """A tab or line break among an <origin>'s numbers, or a UTF-16 file: XML (and so vampc) reads
+    them, urdfdom (Pinocchio's URDF reader) refuses the file, unsaid here (a new user's finds).
+    Pinocchio, where installed, says it refuses each; vampc warns, reading the robot as XML does."""
+    text = robot(*ARM)
+    old = '<origin xyz="0 0 0.10000000000000001" rpy="0 0 0"/><axis'
+    assert old in text
+    if case == "utf-16":
+        path = tmp_path / "r.urdf"
+        path.write_text(text.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="utf-16"?>'),
+                        encoding="utf-16")
+        said = r"UTF-16 text, which urdfdom \(Pinocchio's URDF reader\) cannot read"
+    else:
+        gap = "\t" if case == "tab" else "\n"
+        path = write(tmp_path, text.replace(old, old.replace("0 0 0.1", f"0{gap}0 0.1"), 1))
+        line = text[:text.index(old)].count("\n") + 1
+        said = (rf"line {line}: xyz=\"...\" holds a tab or line break between its numbers, which "
+                r"urdfdom \(Pinocchio's URDF reader\) refuses; read here as spaces")
+    with pytest.warns(VampcWarning) as heard:
+        chain = load_urdf(path)
+    assert [w for w in heard if re.search(said, str(w.message))], [str(w.message) for w in heard]
+    assert len(chain.joints) == 2
+    pin = pytest.importorskip("pinocchio")
+    with pytest.raises(Exception):
+        pin.buildModelFromUrdf(str(path))

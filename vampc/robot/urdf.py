@@ -30,6 +30,7 @@ refused. Every problem is a one-line VampcError "FILE: joint 'x': WHAT", "FILE: 
 """
 from __future__ import annotations
 
+import codecs
 import dataclasses
 import io
 import math
@@ -378,10 +379,33 @@ def _parse_xml(path: Path):
         raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
     _refuse_entities(root, path)
     _check_xml(root, path)
+    _what_urdfdom_refuses(data, path)       # (a file refused above is said refused alone)
     return root
 
 
 _ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
+# a number attribute whose value holds a tab or line break: XML reads them as spaces, urdfdom (it
+# does not normalise attributes) reads "0\t0.1" as one piece, "not a float", and refuses the file
+_BROKEN_NUMBERS = re.compile(rb"\s(" + "|".join(sorted({a for attrs in _NUMBERS.values() for a in attrs}))
+                             .encode() + rb")\s*=\s*(\"[^\"]*[\t\r\n][^\"]*\"|'[^']*[\t\r\n][^']*')")
+
+
+def _what_urdfdom_refuses(data: bytes, path: Path) -> None:
+    """Warn of what this reader takes and urdfdom, Pinocchio's URDF reader, refuses, so the file
+    does not load there (a new user's finds; read here as the XML says): a UTF-16 file, a number
+    attribute with a tab or line break among its numbers."""
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        warnings.warn(VampcWarning(f"{path}: UTF-16 text, which urdfdom (Pinocchio's URDF reader) "
+                                   "cannot read; read here, but save it as UTF-8 to use it there"),
+                      stacklevel=4)
+        return
+    found = _BROKEN_NUMBERS.search(data)
+    if found:
+        line = data.count(b"\n", 0, found.start(1)) + 1
+        warnings.warn(VampcWarning(
+            f"{path}: line {line}: {found[1].decode()}=\"...\" holds a tab or line break between its "
+            "numbers, which urdfdom (Pinocchio's URDF reader) refuses; read here as spaces"),
+            stacklevel=4)
 
 
 def _refuse_declared_entities(data: bytes, path: Path) -> None:
