@@ -876,3 +876,19 @@ def test_a_number_that_is_not_finite_leaves_mujocos_warning_handler_as_it_was(tm
     with pytest.raises(VampcError, match="pos: 'nan' is not a finite number"):
         load_robot(path)
     assert mujoco.get_mju_user_warning() is None
+
+
+def test_a_free_joints_turned_body_is_said_in_mjcfs_words(tmp_path):
+    """An MJCF free joint on a turned body was warned of "the turn of its <origin> (rpy)", a URDF's
+    words (a new user's find): its body's orientation attributes are named."""
+    path = tmp_path / "free.xml"
+    path.write_text('<mujoco model="m"><worldbody><body name="base" pos="0 0 1" euler="0 0 20">'
+                    '<freejoint name="root"/><geom type="sphere" size="0.1" mass="2"/>'
+                    '<body name="a" pos="0.2 0 0"><joint name="j1" axis="0 0 1"/>'
+                    '<geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body>'
+                    '</body></worldbody></mujoco>')
+    with pytest.warns(VampcWarning) as heard:
+        load_robot(path)
+    said = [str(w.message) for w in heard if "(floating)" in str(w.message)]
+    assert len(said) == 1 and "joint 'root' (floating): the turn of its body (quat, euler, " \
+        "axisangle, xyaxes or zaxis) is not used" in said[0] and "<origin>" not in said[0], said

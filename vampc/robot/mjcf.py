@@ -209,7 +209,8 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
                          # "no joint has a <mimic>" of a model whose equality it had just locked)
                          # (nor of one whose follower above the base it placed, turning gravity)
                          mimic_said=None if held or placed else "joint equality (<equality><joint>)",
-                         mimic_given=mimic_given)
+                         mimic_given=mimic_given,
+                         turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
         if turned:                   # (said once the robot is made: an error comes alone)
             warnings.warn(VampcWarning(turned), stacklevel=2)
         for message in heard:

@@ -156,15 +156,17 @@ MIMIC_MODES = ("ordinary", "couple")
 def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
              lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
              accept_improper_inertia: bool = False, mimic_said: str | None = "<mimic>",
-             mimic_given: bool = False) -> Chain:
+             mimic_given: bool = False, turn_said: str = "the turn of its <origin> (rpy)") -> Chain:
     """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
     too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them.
     `mimic_said`: what a file's mimic joints are called, for the warning that --mimic couple finds
     none (None: no warning, the caller's --mimic couple has done something already); `mimic_given`:
-    the user named --mimic (an explicit --mimic ordinary warns so too)."""
+    the user named --mimic (an explicit --mimic ordinary warns so too); `turn_said`: what turns a
+    floating joint's frame in the file (an MJCF's body was told of an <origin>, a new user's)."""
     token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
     try:
-        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said, mimic_given)
+        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said, mimic_given,
+                         turn_said)
     finally:
         _ACCEPT_IMPROPER.reset(token)
 
@@ -179,7 +181,8 @@ def _no_mimic(tree: Tree, said: str) -> str:
             f"{named} {'have' if len(fixed) > 1 else 'has'} one, and a fixed joint does not move)")
 
 
-def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path) -> None:
+def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path,
+                          turn_said: str = "the turn of its <origin> (rpy)") -> None:
     """A floating base's joint whose <origin> turns the base: the turn is not used (the base is at
     the world's orientation, its tilt the host's input), said (it was dropped in silence, and the
     torques differed from Pinocchio's at that joint's neutral pose: a new user's find)."""
@@ -188,14 +191,15 @@ def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path) -> 
             np.allclose(_origin(j)[:3, :3], np.eye(3), rtol=0, atol=1e-12):
         return
     warnings.warn(VampcWarning(
-        f"{path}: joint '{j.name}' (floating): the turn of its <origin> (rpy) is not used: the "
+        f"{path}: joint '{j.name}' (floating): {turn_said} is not used: the "
         "floating base is taken at the world's orientation, gravity in its own frame, and a tilted "
         "base's gravity goes in the base columns (README, Trees and floating bases)"), stacklevel=4)
 
 
 def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               lock: dict[str, float] | None, floating: bool, mimic: str,
-              mimic_said: str | None = "<mimic>", mimic_given: bool = False) -> Chain:
+              mimic_said: str | None = "<mimic>", mimic_given: bool = False,
+              turn_said: str = "the turn of its <origin> (rpy)") -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
     # the joints the file names, in its order (not an MJCF weld's made-up one; the tree is turned below)
@@ -213,7 +217,7 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     named, asked = base, floating
     base, floating = choose_base(tree, base, path, floating)
     check_joint_types(tree, base, path)
-    _warn_floating_origin(tree, base, floating, path)
+    _warn_floating_origin(tree, base, floating, path, turn_said)
     root_joint = tree.parent.get(base)
     if asked and root_joint is not None and root_joint.type == "floating" and \
             named in (None, root_joint.parent):
