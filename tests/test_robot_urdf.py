@@ -420,6 +420,12 @@ URDF_ERRORS = [
      r"with --lock right_1=VALUE, or leave out --tip to take the whole robot \(a tree\)$"),
     (TREE, {"tip": "chest"}, r"joint 'left_1' moves below the tip link 'chest'; choose a tip further out "
                              r"or lock it with --lock left_1=VALUE \(also 'right_1'\)"),   # not a branch
+    # a tip hung on a fixed joint (a flange): what moves below it was said to branch off (a new
+    # user's --tip shoulder_flange)
+    (robot(link("base"), link("l1"), link("flange"), link("l2"), joint("j1", "revolute", "base", "l1"),
+           joint("fx", "fixed", "l1", "flange"), joint("j2", "revolute", "flange", "l2")),
+     {"tip": "flange"}, r"joint 'j2' moves below the tip link 'flange'; choose a tip further out or "
+                        r"lock it with --lock j2=VALUE$"),
 ]
 
 

@@ -786,7 +786,10 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
                 # MJCF one, where --base holds the joints it cuts away; it had been qpos = 0)
                 frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, -_offset(j)))
                 body_of[j.child] = body_of[link]
-                stack.append((j.child, frozen or (j.name in lock and j.name not in route), past_tip))
+                # (a tip hung on a fixed joint: what moves below it was said to branch off, a new
+                # user's --tip shoulder_flange)
+                stack.append((j.child, frozen or (j.name in lock and j.name not in route),
+                              past_tip or j.child == tip))
     if stray or at_zero:                 # named in file order
         order = {name: i for i, name in enumerate(tree.joints)}.__getitem__
     if stray:
