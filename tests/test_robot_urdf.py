@@ -422,6 +422,10 @@ URDF_ERRORS = [
                              r"or lock it with --lock left_1=VALUE \(also 'right_1'\)"),   # not a branch
     # a tip hung on a fixed joint (a flange): what moves below it was said to branch off (a new
     # user's --tip shoulder_flange)
+    # (an unexpanded xacro property was "expected a finite number" alone: a new user's)
+    (robot(*ARM).replace('<mass value="1"/>', '<mass value="${forearm_mass}"/>', 1), {},
+     r"link 'base': <mass value=\"\$\{forearm_mass\}\">: a xacro expression, which no URDF "
+     r"reader expands; run xacro first \(xacro r.urdf > r-expanded.urdf\) and give the URDF$"),
     (robot(link("base"), link("l1"), link("flange"), link("l2"), joint("j1", "revolute", "base", "l1"),
            joint("fx", "fixed", "l1", "flange"), joint("j2", "revolute", "flange", "l2")),
      {"tip": "flange"}, r"joint 'j2' moves below the tip link 'flange'; choose a tip further out or "

@@ -626,6 +626,10 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
         except ValueError:
             values = ()
         if len(values) != count or not all(map(math.isfinite, values)):
+            if "${" in raw or "$(" in raw:    # (a xacro property or argument: "expected a finite
+                # number" alone, where a <xacro:macro> is told to run xacro: a new user's find)
+                raise located(path, where, f"<{tag} {attr}=\"{raw}\">: a xacro expression, which no "
+                              f"URDF reader expands; {run_xacro(path)}")
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
             raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
         if count == 1 and raw[-1:].isspace():
