@@ -455,3 +455,12 @@ def test_the_formulas_at_a_large_n_are_shown_exactly():
     rep["table_o1"].update(n=n, formulas=[paper.o1_row(f, n) for f in paper.TABLE_O1])
     cells = next(r for r in o1_at_n(rep).rows if r[0] == row["method"])
     assert cells[1:4] == ("520,692,018,439,872", "400,531,184,751,237⅓", "921,223,203,191,109⅓")
+    # past n of about 4000 a third's float is whole: the note that a cell is a fraction went with
+    # the float while the cell showed it (a review's find); and a negative value keeps its sign
+    n = 5001
+    rep["table_o1"].update(n=n, formulas=[paper.o1_row(f, n) for f in paper.TABLE_O1])
+    adds = Fraction(150 * n**4 + 398 * n**3 + 777 * n**2 + 254 * n - 576, 6)
+    assert adds.denominator == 2 and float(adds).is_integer()
+    table = o1_at_n(rep)
+    assert any(note.startswith(f"{row['method']}") and "fraction" in note for note in table.notes)
+    assert exact("-7/3") == "-2⅓" and exact(Fraction(-5, 2)) == "-2½"

@@ -382,34 +382,55 @@ def _parse_xml(path: Path):
         hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
         raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
     _refuse_entities(root, path)
-    _check_xml(root, path)
-    _what_urdfdom_refuses(data, path)       # (a file refused above is said refused alone)
+    # (_check_numbers looks at them; only where some attribute holds a tab or line break: a
+    # 16 000-joint file would pay for every element's look otherwise)
+    token = _RAW_LINES.set(data.splitlines(keepends=True) if _BROKEN_VALUE.search(data) else None)
+    try:
+        _check_xml(root, path)
+    finally:
+        _RAW_LINES.reset(token)
+    encoding = (root.getroottree().docinfo.encoding or "").upper()
+    # (by the first bytes too: without a declaration lxml says UTF-8 of a UTF-16 file it read)
+    if data.startswith((codecs.BOM_UTF32_LE, codecs.BOM_UTF32_BE, b"<\x00\x00\x00", b"\x00\x00\x00<")):
+        encoding = "UTF-32"
+    elif data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE, b"<\x00", b"\x00<")):
+        encoding = "UTF-16"
+    if encoding.startswith(("UTF-16", "UTF-32", "UCS")):      # (after the checks: an error alone)
+        warnings.warn(VampcWarning(f"{path}: {encoding} text, which urdfdom (Pinocchio's URDF "
+                                   "reader) cannot read; read here, but save it as UTF-8 to use it "
+                                   "there"), stacklevel=3)
     return root
 
 
 _ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
-# a number attribute whose value holds a tab or line break: XML reads them as spaces, urdfdom (it
-# does not normalise attributes) reads "0\t0.1" as one piece, "not a float", and refuses the file
-_BROKEN_NUMBERS = re.compile(rb"\s(" + "|".join(sorted({a for attrs in _NUMBERS.values() for a in attrs}))
-                             .encode() + rb")\s*=\s*(\"[^\"]*[\t\r\n][^\"]*\"|'[^']*[\t\r\n][^']*')")
+# The file's lines as bytes while its elements are checked: a tab or line break in a number
+# attribute, which XML reads as a space, is seen in them (_check_numbers)
+_RAW_LINES: ContextVar[list | None] = ContextVar("raw_lines", default=None)
+_AFTER_A_NUMBER = re.compile(r"\S *[\t\r\n]")
+_BROKEN_VALUE = re.compile(rb"=\s*(\"[^\"<]*[\t\r\n][^\"<]*\"|'[^'<]*[\t\r\n][^'<]*')")
 
 
-def _what_urdfdom_refuses(data: bytes, path: Path) -> None:
-    """Warn of what this reader takes and urdfdom, Pinocchio's URDF reader, refuses, so the file
-    does not load there (a new user's finds; read here as the XML says): a UTF-16 file, a number
-    attribute with a tab or line break among its numbers."""
-    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        warnings.warn(VampcWarning(f"{path}: UTF-16 text, which urdfdom (Pinocchio's URDF reader) "
-                                   "cannot read; read here, but save it as UTF-8 to use it there"),
-                      stacklevel=4)
-        return
-    found = _BROKEN_NUMBERS.search(data)
-    if found:
-        line = data.count(b"\n", 0, found.start(1)) + 1
-        warnings.warn(VampcWarning(
-            f"{path}: line {line}: {found[1].decode()}=\"...\" holds a tab or line break between its "
-            "numbers, which urdfdom (Pinocchio's URDF reader) refuses; read here as spaces"),
-            stacklevel=4)
+def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
+    """Whether a number list attribute holds a tab or line break after one of its numbers as the
+    file has it (urdfdom, Pinocchio's URDF reader, splits at spaces alone and reads each piece
+    whole: "0\t0.1" is not a float there; XML reads it as a space): in the parsed value (a
+    character reference, &#9;, stays a tab) or in the element's start tag in the file's bytes. The
+    line its start tag begins on where it does, else None."""
+    if _AFTER_A_NUMBER.search(raw):
+        return el.sourceline or 0
+    lines = _RAW_LINES.get()
+    if not lines or not el.sourceline:
+        return None
+    # the element's start tag: the last to begin by the end of its line (libxml2 gives a tag
+    # broken over lines the line where it ends), looked for from a few lines before
+    first = max(0, el.sourceline - 20)
+    text = b"".join(lines[first:el.sourceline + 40])
+    end = len(b"".join(lines[first:el.sourceline]))
+    tags = [m for m in re.finditer(rb"<" + tag.encode() + rb"\b[^>]*?\s" + re.escape(attr.encode())
+                                   + rb"\s*=\s*(\"[^\"]*\"|'[^']*')", text) if m.start() < end]
+    if not tags or re.search(rb"\S *[\t\r\n]", tags[-1][1][1:-1]) is None:
+        return None
+    return first + 1 + len(re.findall(rb"\r\n|\r|\n", text[:tags[-1].start()]))   # (its line)
 
 
 def _refuse_declared_entities(data: bytes, path: Path) -> None:
@@ -632,6 +653,14 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
                               f"URDF reader expands; {run_xacro(path)}")
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
             raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
+        line = _broken_list(el, tag, attr, raw) if count > 1 else None
+        if line is not None:
+            # (read here unsaid, where Pinocchio refuses the file, or an <inertial>'s: a new user's)
+            warnings.warn(VampcWarning(
+                f"{path}: {where}: <{tag} {attr}=...> (line {line}): a tab or line break "
+                "after a number, which urdfdom (Pinocchio's URDF reader) does not read: it refuses "
+                "the file, or in an <inertial> leaves the link's mass out; read here as a space"),
+                stacklevel=2)
         if count == 1 and raw[-1:].isspace():
             # urdfdom reads one number to the end of the text: a space after it is "not a float"
             # there, and Pinocchio drops that <inertial> (a mass of '2.0 ' gave torques of 2 kg
