@@ -653,7 +653,8 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
                               f"URDF reader expands; {run_xacro(path)}")
             noun = "a finite number" if count == 1 else f"{count} finite numbers"
             raise located(path, where, f"<{tag} {attr}=\"{raw}\">: expected {noun}")
-        line = _broken_list(el, tag, attr, raw) if count > 1 else None
+        line = _broken_list(el, tag, attr, raw) if count > 1 and (
+            _RAW_LINES.get() is not None or "\t" in raw or "\n" in raw or "\r" in raw) else None
         if line is not None:
             # (read here unsaid, where Pinocchio refuses the file, or an <inertial>'s: a new user's)
             warnings.warn(VampcWarning(
