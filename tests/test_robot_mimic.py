@@ -193,15 +193,15 @@ def test_a_locked_leader_locks_its_followers(tmp_path):
 
 
 def test_a_missing_leader_only_warns_when_mimics_are_ordinary(tmp_path):
-    """Pinocchio's default loads it (the tag is unused); --mimic couple refuses it (MIMIC_ERRORS)."""
+    """Pinocchio's default loads it (the tag is unused); --mimic couple refuses it (MIMIC_ERRORS).
+    One warning: it was followed by the ordinary mimics' "--mimic couple couples them", of the
+    same joint, which --mimic couple refuses (a new user's find)."""
     path = write(tmp_path, gripper('<mimic joint="f9"/>', ""))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         assert load_urdf(path).n == 6
     assert [str(w.message).split(": ", 1)[1] for w in caught] == [
-        "joint 'f2' mimics joint 'f9', which the file does not have; --mimic couple would refuse it",
-        "joint 'f2' mimics joint 'f9': taken as ordinary joints (own q, q̇, q̈ and torque), as Pinocchio "
-        "reads them by default; --mimic couple couples them"]
+        "joint 'f2' mimics joint 'f9', which the file does not have; --mimic couple would refuse it"]
 
 
 def test_mimic_couple_is_for_robot_files(tmp_path):

@@ -783,6 +783,11 @@ def _check_mimics(joints, tree: Tree, path: Path) -> None:
                                    "which the file does not have" + (f" (and {len(lost) - 1} more)"
                                    if len(lost) > 1 else "") + "; --mimic couple would refuse it"),
                       stacklevel=3)
+    # (those whose leader is lost are said above alone: they were said again here, "--mimic couple
+    # couples them", beside "--mimic couple would refuse it", a new user's find)
+    mimics = [j for j in mimics if j not in lost]
+    if not mimics:
+        return
     first = mimics[0]
     more = f" (and {len(mimics) - 1} more mimic joints)" if len(mimics) > 1 else ""
     warnings.warn(VampcWarning(f"{path}: joint '{first.name}' mimics joint '{first.mimic.joint}'{more}: "
