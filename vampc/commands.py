@@ -636,8 +636,7 @@ def _word_hint(ld, outcome) -> str:
                "`vampc precision` finds the split)"
     # (the tolerances differ in their yardstick: a word precision chose at 1e-3 failed 1e-3 here on
     # an arm holding still, its torques a hundredth of the random states', a new user's find)
-    from vampc.emulator.host import CHECK_FLOOR  # (the yardstick the check divided by)
-    scale = max(float(outcome.check.max_ref.max(initial=0.0)), CHECK_FLOOR)
+    scale = outcome.check.scale
     return (" (a wider --word would do better; `vampc precision` finds one, but its tolerance is "
             "relative to the largest |τ| of random states over the joint ranges, this check's to "
             f"this run's, {scale:.4g}: for a run of smaller torques, scale its tolerance down by "
@@ -1197,8 +1196,7 @@ def _precision_rounding(source: str, ld, options: CompileOptions) -> str:
 TOO_NARROW = "no qI.F of this width holds the peak"
 
 
-def precision_text(rows: list[dict], own, chain, rounding: str = "nearest",
-                   scale: float | None = None) -> str:
+def precision_text(rows: list[dict], own, chain, rounding: str, scale: float) -> str:
     """The precision table as text, CSV or JSON, with the narrowest words meeting --tolerance;
     `scale`, the largest |τ| of the random states, which the errors are relative to (said: `emulate
     --check` takes its run's own, and a word chosen here failed it on a run of small torques, a
@@ -1232,7 +1230,7 @@ def precision_text(rows: list[dict], own, chain, rounding: str = "nearest",
              f"overflow in (peak: the largest magnitude any register can hold), rounding {rounding}; "
              f"errors relative to the largest |τ| of {own.sets} random states"
              + (f" (seed {own.seed})" if own.seed else "")
-             + (f", {scale:.4g} (N·m or N)" if scale is not None else "") + "; "
+             + f", {scale:.4g} (N·m or N); "
              + states_line(states_analysed(chain, own.acceleration), chain.n),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)

@@ -230,16 +230,16 @@ def check_faults(faults, ld, last_tick: int) -> None:
                        if not order else f"VAMP {f.vamp} is the last of the chain, with no successor")
                 raise VampcError(f"{where}: control2 is the second set of control registers a "
                                  f"VAMP with a successor holds under error correction: {why}")
-            succ = order[order.index(f.vamp) + 1]
+            owner = succ = order[order.index(f.vamp) + 1]     # (its fields are the successor's)
             if f.slot >= len(ld.programs[succ]):
                 raise VampcError(f"{where}: VAMP {f.vamp}'s second set copies VAMP {succ}'s "
                                  f"{len(ld.programs[succ])} slot(s): no slot {f.slot}")
-        if f.register == "control" and f.slot >= len(ld.programs[f.vamp]):
-            raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
-                             f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")
+        if f.register == "control":
+            owner = f.vamp
+            if f.slot >= len(ld.programs[f.vamp]):
+                raise VampcError(f"{where}: {ld.vamp_name(f.vamp)} has "
+                                 f"{len(ld.programs[f.vamp])} slot(s), no slot {f.slot}")
         if f.register in ("control", "control2"):
-            owner = f.vamp if f.register == "control" else \
-                ld.net.checking.order[ld.net.checking.order.index(f.vamp) + 1]
             field, bits = FIELDS[f.component], control_widths(ld, owner)[f.component]
             if f.bit >= bits:
                 held = (f"no bits: VAMP {owner}'s {'A' if field == 'sel_a' else 'B'} multiplexer "

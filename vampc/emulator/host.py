@@ -205,11 +205,16 @@ class WordCheck:
             return self.max_abs / np.maximum(self.max_ref, CHECK_FLOOR)
 
     @property
+    def scale(self) -> float:
+        """The yardstick of `overall`: the largest |τ| of any joint over the run (floored)."""
+        return max(float(self.max_ref.max(initial=0.0)), CHECK_FLOOR)
+
+    @property
     def overall(self) -> float:
         """The largest error of any joint relative to the largest |τ| of any joint over the run
         (what --check's tolerance bounds: a joint that barely moves is not its own yardstick)."""
         with np.errstate(invalid="ignore", over="ignore"):     # (a reference not finite: nan, said)
-            return float(self.max_abs.max(initial=0.0) / max(self.max_ref.max(initial=0.0), CHECK_FLOOR))
+            return float(self.max_abs.max(initial=0.0) / self.scale)
 
     @property
     def rms(self) -> np.ndarray:

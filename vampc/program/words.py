@@ -73,10 +73,15 @@ def counter_bits(period: int) -> int:
     return max(1, int(period).bit_length())
 
 
+def values_bits(values: int) -> int:
+    """Bits to tell `values` things apart (0 for one): a ROM pointer's, a select's."""
+    return (int(values) - 1).bit_length()
+
+
 def rom_pointer_bits() -> int:
     """A ROM pointer's bits: one of the ROM's entries (the op table's, which may grow: asked each
     time)."""
-    return (len(ROM) - 1).bit_length()
+    return values_bits(len(ROM))
 
 
 def field_widths(period: int, inputs_a: int, inputs_b: int) -> tuple[int, ...]:
@@ -88,8 +93,8 @@ def field_widths(period: int, inputs_a: int, inputs_b: int) -> tuple[int, ...]:
     taken every field as 24 bits, and the RTL a select of one input as one bit that nothing read
     (a new user's find)."""
     counter = counter_bits(period)
-    return (counter, counter, counter, rom_pointer_bits(),
-            (int(inputs_a) - 1).bit_length(), (int(inputs_b) - 1).bit_length())
+    return (counter, counter, counter, rom_pointer_bits(), values_bits(inputs_a),
+            values_bits(inputs_b))
 ADDRESS = 8          # addresses per slot in an extended word
 
 

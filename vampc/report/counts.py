@@ -11,7 +11,11 @@ from collections import Counter
 
 from vampc.kinds import Pass, Recursion
 from vampc.machine.ops import SERIAL_WORK, VAMPS_PER_OP
-from vampc.program.words import counter_bits, field_widths  # noqa: F401  (counter_bits: the report's)
+from vampc.program.words import (  # noqa: F401  (counter_bits, values_bits: the report's)
+    counter_bits,
+    field_widths,
+    values_bits,
+)
 from vampc.schedule.registry import BUDGET, FOLDED, is_layout
 from vampc.textio import count
 
@@ -156,11 +160,6 @@ DATA_WORDS_PER_VAMP = 9 + 9 + 9 + 3
 # A micro-step assignment as the ROM holds it: the unit written (3: 2 bits), the function (mul, add,
 # sub: 2 bits), and each of its two operands (one of 9 registers: A0-A2, B0-B2, U0-U2: 4 bits each).
 ROM_BITS_PER_ASSIGNMENT = 2 + 2 + 4 + 4
-
-
-def values_bits(values: int) -> int:
-    """Bits to tell `values` things apart (0 for one): a ROM pointer's, a select's."""
-    return (values - 1).bit_length()
 
 
 def slot_table_bits(v, period: int) -> int:

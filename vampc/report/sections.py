@@ -43,7 +43,6 @@ def exact(x) -> str:
     `*_exact`), or a number (the paper's coefficients have denominators 2, 3, 4 and 12, so a
     value at an integer n is a multiple of 1/12: guessed from a float, which past n of about 1487
     cannot hold it; a report of an older vampc has no exact text)."""
-    from fractions import Fraction
     if isinstance(x, (str, Fraction)):
         f = Fraction(x)
         if f.denominator == 1:

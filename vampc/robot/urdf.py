@@ -407,6 +407,7 @@ _ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
 # attribute, which XML reads as a space, is seen in them (_check_numbers)
 _RAW_LINES: ContextVar[list | None] = ContextVar("raw_lines", default=None)
 _AFTER_A_NUMBER = re.compile(r"\S *[\t\r\n]")
+_AFTER_A_NUMBER_BYTES = re.compile(_AFTER_A_NUMBER.pattern.encode())      # (the file's, as read)
 _BROKEN_VALUE = re.compile(rb"=\s*(\"[^\"<]*[\t\r\n][^\"<]*\"|'[^'<]*[\t\r\n][^'<]*')")
 
 
@@ -428,7 +429,7 @@ def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
     end = len(b"".join(lines[first:el.sourceline]))
     tags = [m for m in re.finditer(rb"<" + tag.encode() + rb"\b[^>]*?\s" + re.escape(attr.encode())
                                    + rb"\s*=\s*(\"[^\"]*\"|'[^']*')", text) if m.start() < end]
-    if not tags or re.search(rb"\S *[\t\r\n]", tags[-1][1][1:-1]) is None:
+    if not tags or _AFTER_A_NUMBER_BYTES.search(tags[-1][1][1:-1]) is None:
         return None
     return first + 1 + len(re.findall(rb"\r\n|\r|\n", text[:tags[-1].start()]))   # (its line)
 
