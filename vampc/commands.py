@@ -470,12 +470,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if streamed and sent and STOPPED in str(exc):         # (driver.non_finite's words)
             # (it said "the sets before it", where the chunk that held the set had not been sent:
             # 182 358 of 189 999 sets, a new user's count)
-            said = [f"{o} - had sent " + ("the waveform of the sets run by then" if o == "--vcd"
-                                          else f"{sinks.streamed(o)} (the chunks before the one "
-                                          "that held it)") for o in streamed]
             raise VampcError(str(exc).replace(
-                STOPPED, f"the run stopped there: {' and '.join(said)} to standard output, which "
-                "ends with them")) from None
+                STOPPED, "the run stopped there: " + sinks.sent_note(
+                    streamed, " (the chunks before the one that held it)"))) from None
         raise
     except BaseException as exc:  # (a line that cannot be said, a failed commit: no temporaries left)
         sinks.discard()
@@ -483,8 +480,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         if isinstance(exc, KeyboardInterrupt) and streamed and sinks.sent:
             # (a signal said "terminated" alone over a torque file cut at a chunk's end, whole
             # lines that looked finished: a new user's find)
-            exc.note = (" and ".join(f"{o} - had sent {sinks.streamed(o)}" for o in streamed)
-                        + " to standard output, which ends with them")
+            exc.note = sinks.sent_note(streamed)
         raise
     if ld.word is not None:          # overflows are never silent
         say(f"{word!r} words: {count(outcome.overflows, 'overflow')}"
@@ -772,14 +768,21 @@ class Sinks:
         self.writing = None
         self.rows[pending] = self.rows.get(pending, 0) + rows
 
-    def streamed(self, option: str) -> str:
-        """What `option` (-o or --save-states) had sent to standard output when the run stopped:
-        the sets written whole, and the part of the next chunk a signal cut (a signal during the
-        write had been counted as the whole chunk sent: a review's find)."""
-        pending = self.tau if option == "-o" else self.states
-        sent = f"the first {count(self.rows.get(pending, 0), 'set')}"
-        return sent + (", and part of the next (its last line perhaps cut short)"
-                       if self.writing is pending and pending is not None else "")
+    def sent_note(self, options: list[str], which: str = "") -> str:
+        """What `options` (-o, --save-states, --vcd) on standard output had sent when the run
+        stopped: a table's sets written whole (`which`: what those were) and the part of the next
+        chunk a signal cut (a signal during the write had been counted as the whole chunk sent: a
+        review's find); the waveform of the sets run."""
+        said = []
+        for option in options:
+            if option == "--vcd":
+                said.append(f"{option} - had sent the waveform of the sets run by then")
+                continue
+            pending = self.tau if option == "-o" else self.states
+            said.append(f"{option} - had sent the first {count(self.rows.get(pending, 0), 'set')}"
+                        + (", and part of the next (its last line perhaps cut short)"
+                           if self.writing is pending and pending is not None else "") + which)
+        return " and ".join(said) + " to standard output, which ends with them"
 
     def chunk(self, traj, tau) -> None:
         """One chunk's torques and states."""
