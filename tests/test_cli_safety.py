@@ -1694,7 +1694,7 @@ def test_an_integer_a_float64_cannot_hold_is_refused(program, tmp_path):
     states[3, 2] = 2 ** 64 - 1
     np.save(tmp_path / "big.npy", states)
     user_error(run("emulate", program, "--trajectory", tmp_path / "big.npy", "-o", tmp_path / "t.csv",
-                   "--allow-out-of-limits"), r"the array, state 4, column 3: the integer 18446744073709551615 ")
+                   "--allow-out-of-limits"), r"the array, state 4, column q2: the integer 18446744073709551615 ")
     even = tmp_path / "even.npz"
     np.savez(even, q=z, qd=z, qdd=z, t=np.arange(5, dtype=np.int64) * 2 + 2 ** 53)
     res = run("emulate", program, "--trajectory", even, "-o", "-")
@@ -1715,12 +1715,17 @@ def test_a_long_double_a_float64_cannot_hold_is_refused(program, tmp_path):
     states[1, 2] = np.longdouble(1) + np.longdouble(2) ** -60
     np.save(tmp_path / "fine.npy", states)
     user_error(run("emulate", program, "--trajectory", tmp_path / "fine.npy", "-o", tmp_path / "t.csv"),
-               r"^vampc: error: .*fine\.npy: the array, state 2, column 3: the long double "
+               r"^vampc: error: .*fine\.npy: the array, state 2, column qd1: the long double "
                r"1\.0000000000000000009 is not a float64 \(vampc computes in float64, where it is 1\.0\); "
                r"save the array as float64 if that rounding will do$")
+    nan = np.full((5, 6), 0.1)
+    nan[1, 2] = np.nan             # the same cell, named the same way by the finiteness check
+    np.save(tmp_path / "nan.npy", nan)
+    user_error(run("emulate", program, "--trajectory", tmp_path / "nan.npy", "-o", tmp_path / "t.csv"),
+               r"^vampc: error: .*nan\.npy: state 2, column qd1: nan is not finite$")
     np.savez(tmp_path / "fine.npz", q=states[:, :2], qd=states[:, 2:4], qdd=states[:, 4:])
     user_error(run("emulate", program, "--trajectory", tmp_path / "fine.npz", "-o", tmp_path / "t.csv"),
-               r"^vampc: error: .*fine\.npz: array qd, state 2, column 1: the long double ")
+               r"^vampc: error: .*fine\.npz: array qd, state 2, column qd1: the long double ")
     assert not (tmp_path / "t.csv").exists()
     np.save(tmp_path / "f64.npy", np.full((5, 6), 0.1))
     res, res64 = (run("emulate", program, "--trajectory", tmp_path / f, "-o", "-")

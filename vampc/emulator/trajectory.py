@@ -48,7 +48,6 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
     from vampc.emulator.host import Trajectory
     path = Path(path)
     suffix = path.suffix.lower()
-    width = len(header(n, floating))
     try:
         source = None        # a pipe or FIFO: its bytes, read once (a second open waited for good)
         if str(path) != "-" and not path.is_file():
@@ -57,7 +56,7 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
         if suffix == ".npz":
             data, t = _read_npz(path, n, floating, source)
         elif suffix == ".npy":
-            data, t = _read_npy(path, n, width, source)
+            data, t = _read_npy(path, n, header(n, floating), source)
         else:
             data, t = read_table(path, header(n, floating), program_joints(n, of), floating,
                                  arrays=True, source=source)
@@ -429,7 +428,8 @@ def _magic(path: Path, what: str, source=None) -> None:
                          "saved, or a .csv")
 
 
-def _read_npy(path: Path, n: int, width: int, source=None):
+def _read_npy(path: Path, n: int, names: list[str], source=None):
+    width = len(names)
     _magic(path, "numpy .npy array file", source)
     _npy_fits(path, source=source)
     if source is not None:
@@ -453,7 +453,7 @@ def _read_npy(path: Path, n: int, width: int, source=None):
                 else "")
         raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {width}) or "
                          f"(states, {width + 1}) with t first{base}")
-    arr = _as_float(path, arr)
+    arr = _as_float(path, arr, columns=(["t"] if arr.shape[1] == width + 1 else []) + names)
     return (arr[:, 1:], arr[:, 0]) if arr.shape[1] == width + 1 else (arr, None)
 
 
@@ -485,7 +485,8 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
     if extra:               # (a `T` for `t` ran without times, unsaid: never silently dropped)
         raise VampcError(f"{path}: array {extra[0]!r} is not read (the arrays are q, qd, qdd, "
                          "optional t, and base for a floating base)")
-    parts = [_as_float(path, _member(path, z, k), k) for k in ("q", "qd", "qdd")]
+    parts = [_as_float(path, _member(path, z, k), k, [f"{k}{i}" for i in range(1, n + 1)])
+             for k in ("q", "qd", "qdd")]
     t = _as_float(path, _member(path, z, "t"), "t") if "t" in z.files else None
     for k, p in zip(("q", "qd", "qdd"), parts):
         if p.ndim == 2 and p.shape[1] == n and p.shape[0] and p.shape[0] != parts[0].shape[0] and \
@@ -511,7 +512,7 @@ def _npz_base(path: Path, z, count: int) -> np.ndarray:
     if "base" not in z.files:
         raise VampcError(f"{path}: missing array base (a floating-base program needs the base's motion, "
                          f"(states, 9): {','.join(BASE_COLUMNS)})")
-    base = _as_float(path, _member(path, z, "base"), "base")
+    base = _as_float(path, _member(path, z, "base"), "base", BASE_COLUMNS)
     if base.shape != (count, 9):
         raise VampcError(f"{path}: array base has shape {base.shape}; expected ({count}, 9)")
     return base
@@ -538,7 +539,9 @@ def _numpy_reason(exc: Exception) -> str:
     return text[:200] or type(exc).__name__
 
 
-def _as_float(path, arr, name: str = "") -> np.ndarray:
+def _as_float(path, arr, name: str = "", columns: list[str] | None = None) -> np.ndarray:
+    """`arr` as float64; VampcError at a value it cannot be exactly. `columns`: the names of a 2-D
+    array's columns, by which a message names the column (by its number otherwise)."""
     what = f"array {name}" if name else "the array"
     if np.issubdtype(arr.dtype, np.complexfloating):
         raise VampcError(f"{path}: {what} is complex ({arr.dtype}); states must be real numbers")
@@ -548,13 +551,13 @@ def _as_float(path, arr, name: str = "") -> np.ndarray:
         # inf or nan, said by the finiteness check; a RuntimeWarning line came before that error)
         out = np.asarray(arr, dtype=float)
     if arr.dtype.kind in "iu":
-        _exact_integers(path, what, arr, out)
+        _exact_integers(path, what, arr, out, columns)
     elif arr.dtype.itemsize > 8:        # a long double (float128): more bits than float64's 53
-        _exact_long_doubles(path, what, arr, out)
+        _exact_long_doubles(path, what, arr, out, columns)
     return out
 
 
-def _exact_integers(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
+def _exact_integers(path, what: str, arr: np.ndarray, out: np.ndarray, columns=None) -> None:
     """VampcError at the first integer that float64 cannot hold (past 2**53, an odd one, say): it was
     rounded, saying nothing (nanosecond times 2**53 + 1, + 2, + 3 read as 2**53, 2**53 + 2, 2**53 + 4,
     repeats among them; a new user's find)."""
@@ -569,13 +572,13 @@ def _exact_integers(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
     if exact.all():
         return
     k = int(np.flatnonzero(~exact)[0])
-    place = _cell(np.argwhere(big)[k])
+    place = _cell(np.argwhere(big)[k], columns)
     raise VampcError(f"{path}: {what}, {place}: the integer {int(values[k])} is not a float64 (vampc "
                      f"computes in float64, where it is {float(rounded[k])!r}); give it as a float, or in a "
                      "unit that keeps it within 2**53")
 
 
-def _exact_long_doubles(path, what: str, arr: np.ndarray, out: np.ndarray) -> None:
+def _exact_long_doubles(path, what: str, arr: np.ndarray, out: np.ndarray, columns=None) -> None:
     """VampcError at the first long double that float64 does not hold exactly: 1 + 2**-60 was
     rounded to 1.0, saying nothing, as integers past 2**53 were (one past float64's range is inf
     in `out`, refused as not finite)."""
@@ -583,14 +586,18 @@ def _exact_long_doubles(path, what: str, arr: np.ndarray, out: np.ndarray) -> No
     if not lost.any():
         return
     at = np.argwhere(lost)[0]
-    raise VampcError(f"{path}: {what}, {_cell(at)}: the long double {arr[tuple(at)]!s} is not a "
+    raise VampcError(f"{path}: {what}, {_cell(at, columns)}: the long double {arr[tuple(at)]!s} is not a "
                      f"float64 (vampc computes in float64, where it is {float(out[tuple(at)])!r}); "
                      "save the array as float64 if that rounding will do")
 
 
-def _cell(at) -> str:
-    """Where index `at` of a NumPy trajectory array is: its state (from 1) and its column."""
-    return f"state {at[0] + 1}" + (f", column {at[1] + 1}" if len(at) > 1 else "")
+def _cell(at, columns=None) -> str:
+    """Where index `at` of a NumPy trajectory array is: its state (from 1) and its column (by its
+    name in `columns` where given, as the finiteness check names it; by its number otherwise)."""
+    if len(at) < 2:
+        return f"state {at[0] + 1}"
+    named = columns is not None and at[1] < len(columns)      # (a member not yet of its shape: by number)
+    return f"state {at[0] + 1}, column {columns[at[1]] if named else at[1] + 1}"
 
 
 def numpy_file(path) -> bool:
