@@ -797,6 +797,28 @@ def test_a_signal_with_standard_output_says_how_many_sets_were_sent(puma_program
         "vampc: terminated (SIGTERM); -o - had sent the first 2000 sets, and part of the next (its "
         "last line perhaps cut short) to standard output, which ends with them\n"), err
     assert 1 + 2000 < out.count("\n") < 1 + 3000
+    # a signal in the header's write, or in the first chunk's: no "first 0 sets" (it said "had sent
+    # the first 0 sets, and part of the next", or nothing at all over a header cut short)
+    for cut_at, said, lines in ((0, "part of its header, and no set to standard output", 0),
+                                (1, "its header, and part of the first sets (its last line perhaps "
+                                 "cut short) to standard output", 1)):
+        calls = []
+
+        def write(self, pending, action, rows=0):
+            if pending is not None:            # (the states' table, not asked for, is None)
+                calls.append(rows)
+            if pending is not None and len(calls) - 1 == cut_at:
+                def half(fh):
+                    whole = io.StringIO()
+                    action(whole)
+                    fh.write(whole.getvalue()[:len(whole.getvalue()) // 2])
+                    raise Terminated(15)
+                return real_write(self, pending, half, rows)
+            return real_write(self, pending, action, rows)
+        monkeypatch.setattr(commands.Sinks, "_write", write)
+        code, err, out = run("emulate", puma_program, "--random", 5000, "-o", "-")
+        assert code == 128 + 15 and err == f"vampc: terminated (SIGTERM); -o - had sent {said}\n", err
+        assert out.count("\n") >= lines and out.startswith("tau_waist"[:len(out)]), out[:80]
 
 
 def test_a_numpy_file_named_csv_and_a_program_without_version_say_so(puma_program, tmp_path):

@@ -726,6 +726,7 @@ class Sinks:
         self.sent = False         # any rows written (to standard output: sent, whatever comes)
         self.rows: dict = {}      # per output (Pending): its rows written whole, counted after the
         self.writing = None       # write returns; the output being written (a signal may cut it)
+        self.headed: set = set()  # the outputs whose header went out whole
         self._heads = [(self.tau, self.npy, t + torque_columns(free_names(ld.chain), floating), count),
                        (self.states, self.states_npy, t + header(n_free(ld.chain), floating), count)]
 
@@ -767,29 +768,39 @@ class Sinks:
             raise pending.error(exc) from None
         self.writing = None
         self.rows[pending] = self.rows.get(pending, 0) + rows
+        self.headed.add(pending)       # (its header is the first write)
 
     def sent_note(self, options: list[str], which: str = "") -> str:
         """What `options` (-o, --save-states, --vcd) on standard output had sent when the run
         stopped: a table's sets written whole (`which`: what those were) and the part of the next
         chunk a signal cut (a signal during the write had been counted as the whole chunk sent: a
         review's find); the waveform of the sets run."""
-        said = []
+        said, whole = [], False        # whole: some table had sent sets whole
         for option in options:
             if option == "--vcd":
                 said.append(f"{option} - had sent the waveform of the sets run by then")
                 continue
             pending = self.tau if option == "-o" else self.states
-            said.append(f"{option} - had sent the first {count(self.rows.get(pending, 0), 'set')}"
-                        + (", and part of the next (its last line perhaps cut short)"
-                           if self.writing is pending and pending is not None else "") + which)
-        return " and ".join(said) + " to standard output, which ends with them"
+            cut = self.writing is pending and pending is not None
+            if pending not in self.headed:       # (it said "the first 0 sets, and part of the next")
+                said.append(f"{option} - had sent " + ("part of its header, and no set" if cut else
+                                                       "nothing"))
+            elif not self.rows.get(pending, 0):
+                said.append(f"{option} - had sent its header, and " + (
+                    "part of the first sets (its last line perhaps cut short)" if cut else "no set"))
+            else:
+                whole = True
+                said.append(f"{option} - had sent the first {count(self.rows.get(pending, 0), 'set')}"
+                            + (", and part of the next (its last line perhaps cut short)" if cut else "")
+                            + which)
+        return " and ".join(said) + " to standard output" + (", which ends with them" if whole else "")
 
     def chunk(self, traj, tau) -> None:
         """One chunk's torques and states."""
         from vampc.robot.mimic import reduce_states, reduce_torques
         chain = self.ld.chain      # coupled mimic joints: the independent joints' columns only
+        self.sent = True          # (before the headers: a signal may cut one)
         self._headed()
-        self.sent = True
         if self.tau is not None:
             self._rows(self.tau, self.npy, traj.t, reduce_torques(chain, tau))
         if self.states is not None:
