@@ -541,8 +541,9 @@ def test_the_cheap_searchs_last_fallback_places_the_graph(monkeypatch):
 
 def test_a_long_attempt_says_how_far_it_is(monkeypatch):
     """One attempt at a 256-joint log chain's --vamps 2000 ran 40 s under one unmoving note (a new
-    user's find): every NOTE_EVERY placements it says the ops placed and the placements made, of
-    the attempt's budget, each count within its whole."""
+    user's find): every NOTE_EVERY steps it says the ops placed, the placements made and the steps
+    taken of the attempt's budget (which counts ops taken from the queue, one already placed too:
+    the note had called those placements), each count within its whole."""
     import re
 
     from vampc.schedule import budget
@@ -552,8 +553,12 @@ def test_a_long_attempt_says_how_far_it_is(monkeypatch):
     c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(vamps=3))
     ops = sum(1 for nd in c.graph.nodes if nd.op.is_compute)
     counted = [re.fullmatch(r"3 VAMPs, interval \d+(, latency ≤ \d+)?: ([\d,]+) of ([\d,]+) ops "
-                            r"placed, ([\d,]+) placements of at most ([\d,]+)", x) for x in notes]
+                            r"placed; ([\d,]+) placements, ([\d,]+) of at most ([\d,]+) steps", x)
+               for x in notes]
     counted = [[int(g.replace(",", "")) for g in m.groups()[1:]] for m in counted if m]
-    assert counted and all(placed <= whole == ops and made <= most for placed, whole, made, most
-                           in counted)
+    assert counted and len(counted) == sum("ops placed" in x for x in notes) and all(
+        placed <= whole == ops and placed <= made <= taken <= most
+        for placed, whole, made, taken, most in counted)
+    assert any(made < taken for _, _, made, taken, _ in counted)     # (a placed op taken again)
     assert max(placed for placed, *_ in counted) == ops - 1     # (said before each placement)
+

@@ -187,14 +187,15 @@ def _jitter(count: int, seed: int) -> list[float]:
 
 
 SCAN = 16      # ticks an evicting op looks ahead for the fewest ops to displace
-NOTE_EVERY = 1 << 15   # placements between the notes of one attempt's progress (about 0.5 s)
+NOTE_EVERY = 1 << 15   # steps between the notes of one attempt's progress (about 0.5 s)
 
 
 class _Modulo:
     """Iterative modulo scheduling (after Rau): ops are placed most urgent first at the earliest tick
     a VAMP is free for them modulo the interval; an op that finds none within one interval is placed
     anyway, evicting what occupies that VAMP, and the evicted ops (and any successor the move put
-    too early) go back in the queue. A budget of placements bounds the work."""
+    too early) go back in the queue. A budget of steps (ops taken from the queue, a placed one
+    skipped too) bounds the work."""
 
     def __init__(self, graph: Graph, d, k: int, ii: int, asap: Schedule, deadline=None,
                  scan: bool = False, swing: bool = False, pack: int = 0):
@@ -220,7 +221,8 @@ class _Modulo:
         queue = [(rank[i], i) for i in order]
         heapq.heapify(queue)
         last: dict[int, int] = {}
-        steps = budget = effort * len(order)
+        steps = budget = effort * len(order)     # steps: ops taken from the queue
+        made = 0                                 # placements (evictions put some back)
         while queue:
             if steps == 0:
                 return None
@@ -228,11 +230,14 @@ class _Modulo:
             if said and (budget - steps) % NOTE_EVERY == 0:
                 # (one attempt on a 256-joint log chain's 2000 VAMPs ran 40 s under one unmoving
                 # note: a new user's find; how far it is, said)
-                progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed, "
-                              f"{budget - steps:,} placements of at most {budget:,}")
+                # (its budget counts steps, ops taken from the queue, one already placed too: the
+                # note had called them placements)
+                progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed; "
+                              f"{made:,} placements, {budget - steps:,} of at most {budget:,} steps")
             _, i = heapq.heappop(queue)
             if i in self.start:
                 continue
+            made += 1
             try:
                 for evicted in self._place(i, last):
                     heapq.heappush(queue, (rank[evicted], evicted))
