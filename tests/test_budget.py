@@ -562,3 +562,41 @@ def test_a_long_attempt_says_how_far_it_is(monkeypatch):
     assert any(made < taken for _, _, made, taken, _ in counted)     # (a placed op taken again)
     assert max(placed for placed, *_ in counted) == ops - 1     # (said before each placement)
 
+
+@pytest.mark.parametrize("signals", [1, 2])
+def test_a_signal_returns_from_the_exact_search_only_once_it_has_ended(signals):
+    """A signal that interrupts Thread.join can leave the thread marked as ended while it still
+    runs (Python 3.11), and the command left with CP-SAT still searching: the process aborted on
+    its way out ("terminate called without an active exception", exit 134 where 143 was due; the
+    signal test of --exact failed so whenever two ran at once). A stand-in solver whose search runs
+    until stopped: the interrupt comes out of the search's wait only after its Solve has returned,
+    and a second signal while the search winds down does not cut that wait short."""
+    import signal
+    import threading
+    import time
+
+    from vampc.schedule.exact import _solve_stoppably
+    started, stopped, sent, returned = (threading.Event() for _ in range(4))
+
+    class Solver:
+        def Solve(self, model, callback):
+            started.set()
+            stopped.wait()
+            sent.wait()                     # (the signals are in before the search ends)
+            time.sleep(0.2)
+            returned.set()
+            return "stopped"
+
+        def StopSearch(self):
+            stopped.set()
+
+    def interrupt():
+        started.wait()
+        for _ in range(signals):
+            time.sleep(0.2)
+            signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+        sent.set()
+    threading.Thread(target=interrupt, daemon=True).start()
+    with pytest.raises(KeyboardInterrupt):
+        _solve_stoppably(Solver(), None, None)
+    assert returned.is_set()

@@ -117,24 +117,34 @@ def _solve_stoppably(solver, model, callback):
     """solver.Solve(model, callback) on a thread, stopped when this thread is interrupted."""
     import threading
     done: list = []
+    # the search's end, said by the search itself: a signal that interrupts Thread.join can leave
+    # the thread marked as ended while it still runs (Python 3.11's join releases the thread's own
+    # lock when interrupted), and the command then left with the search in CP-SAT: the process
+    # aborted on the way out ("terminate called without an active exception", exit 134 for 143)
+    ended = threading.Event()
 
     def search() -> None:
         try:
             done.append(solver.Solve(model, callback))
         except BaseException as exc:       # raised again on the calling thread
             done.append(exc)
+        finally:
+            ended.set()
     worker = threading.Thread(target=search, name="vampc-cp-sat", daemon=True)
     stop = getattr(solver, "stop_search", None) or solver.StopSearch
     try:
         worker.start()
-        while worker.is_alive():
-            worker.join(0.1)
+        while not ended.wait(0.1):
+            pass
     except BaseException:
         # asked again until the search ends: a request made before the solver has set itself up
         # is lost (a review's find: a signal in that gap waited out the solver's limit)
-        while worker.is_alive():
-            stop()
-            worker.join(0.1)
+        while not ended.is_set():
+            try:
+                stop()
+                ended.wait(0.1)
+            except BaseException:     # a second signal: the search must still end first
+                continue
         raise
     if isinstance(done[0], BaseException):
         raise done[0]
