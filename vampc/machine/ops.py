@@ -17,8 +17,9 @@ one adder/subtractor and operand registers OP-A-1..3 / OP-B-1..3. An op's entry 
 Everything else follows from the entries: the micro-step units and so every duration (`Timing`), the
 ROM (one pointer per op column), the tick engine's and the stream engine's numpy interpreter
 (vampc.machine.interp), the stream engine's generated C (vampc.emulator.native), the graph evaluator
-(vampc.dataflow.evaluate), the allocator's and schedulers' VAMP counts, the report's op columns and
-colours and the program schema's op names. Arithmetic goes through vampc.machine.arith.
+(vampc.dataflow.evaluate), the RTL's microcode (vampc.rtl.design), the allocator's and schedulers'
+VAMP counts, the report's op columns and colours and the op names a program file is read with (its
+schema says only that an op is a name). Arithmetic goes through vampc.machine.arith.
 
     op   result                       steps (Table VII.1)                        VAMPs  serial work
     VA   A + B                        1: ADD ⇐ A_m + B_m                          1      3 A
@@ -126,6 +127,9 @@ class View(enum.Enum):
 
 MULT1, MULT2, ADDER = 0, 1, 2          # a module's unit registers
 UNIT_NAMES = ("MULT-1", "MULT-2", "ADDER")
+# what a primitive module computes with (section VII): two multipliers and one adder/subtractor,
+# shared by every op; a micro-step uses at most these (OpDef.verify; the RTL builds them)
+MULTIPLIERS, ADDERS = 2, 1
 
 
 @dataclass(frozen=True)
@@ -241,6 +245,12 @@ class OpDef:
             targets = [a.unit for a in step]
             if len(set(targets)) != len(targets) or not set(targets) <= {MULT1, MULT2, ADDER}:
                 raise ValueError(f"{where}: step {k + 1} assigns a unit twice or no unit")
+            kinds = [a.fn.unit for a in step]
+            if kinds.count("M") > MULTIPLIERS or kinds.count("A") > ADDERS:
+                # (the RTL alone refused such a step; the emulators ran it: a new developer's find)
+                raise ValueError(f"{where}: step {k + 1} needs {kinds.count('M')} multipliers and "
+                                 f"{kinds.count('A')} adders, where a module has {MULTIPLIERS} and "
+                                 f"{ADDERS}")
             for a in step:
                 for r in (a.x, a.y):
                     if r.kind not in ("a", "b", "u") or not 0 <= r.i < 3:
@@ -470,8 +480,21 @@ for _e in BUILTIN:
     Op._make(_e.name, True)
 Op._make("INPUT", False)
 Op._make("CONST", False)
-for _e in BUILTIN:
+def _first_pointers(entries) -> list[int]:
+    """Each entry's first ROM pointer: its `rom`, or where that is None the next free one after
+    every pointer given, in the entries' order (a built-in entry without `rom` had failed the
+    import: a new developer's find)."""
+    following = max((e.rom + e.columns for e in entries if e.rom is not None), default=0)
+    out = []
+    for e in entries:
+        out.append(following if e.rom is None else e.rom)
+        following += e.columns if e.rom is None else 0
+    return out
+
+
+for _e, _first in zip(BUILTIN, _first_pointers(BUILTIN)):
+    _e.verify()
     TABLE[_e.op] = _e
     for _k in range(_e.columns):
-        _rom_of[_e.rom + _k] = (_e.op, _k if _e.columns > 1 else None)
+        _rom_of[_first + _k] = (_e.op, _k if _e.columns > 1 else None)
 _derive()

@@ -1,13 +1,15 @@
 """The compiled VAMP network as an Amaranth design (README "RTL").
 
-Everything here is rendered from the same definitions the emulator runs, never restated:
+Everything here is rendered from the same definitions the emulator runs:
 
 - the datapath of a VAMP from the op table (vampc.machine.ops): every ROM entry's micro-steps, module
-  by module, with each module's operand registers chosen by the entry's views; each module has two
-  multipliers and one adder/subtractor, shared by every op, and a step's assignments are given to
-  them in order (a step that needs more is refused);
-- the arithmetic from the word format (vampc.machine.arith.Fixed): the exact product, the rounding
-  rule's shift, the overflow rule (saturate or wrap);
+  by module, with each module's operand registers chosen by the entry's views; each module has
+  ops.MULTIPLIERS multipliers and ops.ADDERS adder/subtractor, shared by every op, and a step's
+  assignments are given to them in order (the op table refuses a step that needs more);
+- the arithmetic from the word format's parameters (vampc.machine.arith.Fixed: width, fraction
+  bits, rounding and overflow rules): the exact product, the rounding rule's shift, saturate or
+  wrap. This is the one rule written again, as hardware (`Arith`), since the emulator's is numpy
+  and C: co-simulation (`vampc rtl --cosim`) checks the two bit for bit;
 - the timing from vampc.machine.timing and Timing.step_ends: step j of a slot runs at the counter
   step_counter(delay-R, ends, j, P), the latch at delay-A/B, the dump at delay-R;
 - Program Mode from vampc.program.words: the VAMP-number recognition, the compact word (one slot, its
@@ -47,6 +49,7 @@ from vampc.machine import ops
 from vampc.machine.arith import Fn, Overflow, Rounding
 from vampc.machine.interp import result_unit
 from vampc.machine.interp import steps as rom_steps
+from vampc.machine.ops import ADDERS, MULTIPLIERS
 from vampc.machine.timing import captures
 from vampc.program.words import (
     ADDRESS,
@@ -55,8 +58,6 @@ from vampc.program.words import (
     field_widths,
     rom_pointer_bits,
 )
-
-MULTIPLIERS = 2        # per primitive module (section VII): two multipliers, one adder/subtractor
 
 
 def width(n: int) -> int:
@@ -119,7 +120,7 @@ def micro_program():
                         unit, mults = mults, mults + 1
                     else:
                         unit, adds = MULTIPLIERS, adds + 1
-                    if mults > MULTIPLIERS or adds > 1:
+                    if mults > MULTIPLIERS or adds > ADDERS:    # (OpDef.verify refuses it first)
                         raise VampcError(f"op {entry.name} step {j + 1} needs more than "
                                          f"{MULTIPLIERS} multipliers and one adder in a module")
                     assigns.append((unit, a.fn, _source(entry, col, mod, a.x),
