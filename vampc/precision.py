@@ -35,7 +35,7 @@ from vampc.dataflow.graph import Graph, InputKey
 from vampc.dataflow.host import BASE_QUANTITIES, input_value
 from vampc.errors import VampcError
 from vampc.kinds import Quantity
-from vampc.machine.arith import Fixed, Float32, Fn, Rounding
+from vampc.machine.arith import Fixed, Fn, Rounding
 from vampc.machine.ops import TABLE, Op
 from vampc.robot.chain import Chain
 
@@ -112,13 +112,6 @@ def _coupled_text(names: list[str]) -> str:
             "limits")
 
 
-def rounding(word, magnitude: float) -> float:
-    """The most one rounding in `word` moves a value of at most this magnitude."""
-    if isinstance(word, Fixed):
-        return 2.0 ** -word.fraction * (1.0 if word.rounding is Rounding.TRUNCATE else 0.5)
-    return magnitude * (2.0 ** -24 if isinstance(word, Float32) else 2.0 ** -53)
-
-
 @dataclass(frozen=True)
 class Analysis:
     """The bounds: the largest magnitude any register holds (`peak`), and per torque output its
@@ -144,7 +137,7 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
     for nd in graph.nodes:
         if nd.op is Op.INPUT:
             size, scalar = _input_bound(chain, nd.key, ranges)
-            e = rounding(word, scalar) + 4 * 2.0 ** -53 * scalar     # float64 first, then the word
+            e = word.rounding_error(scalar) + 4 * 2.0 ** -53 * scalar     # float64 first, then the word
             norm.append(size)
             err.append((3.0 if nd.shape == "m" else ROOT3) * e)
             held(scalar + e, nd.id)
@@ -169,7 +162,7 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
             size, spread, scalar = gain * na * nb, gain * (na * eb + nb * ea + ea * eb), na * nb
         assigns = [a.fn for step in entry.steps for a in step]
         rounded = (sum(fn is Fn.MUL for fn in assigns) if isinstance(word, Fixed) else len(assigns))
-        own = rounded * rounding(word, scalar + spread)
+        own = rounded * word.rounding_error(scalar + spread)
         norm.append(size)
         err.append(spread + (3.0 if entry.columns == 3 else ROOT3) * own)
         held(scalar + err[-1], nd.id)

@@ -66,11 +66,19 @@ class Float64:
     c_type = "double"
     dtype = np.float64
     bits = 64
+    # `emulate --check`'s default tolerance (README, Word formats): of each set's largest |τ| in
+    # float64, of the run's largest |τ| of any joint in a narrower word
+    check_tolerance = 1e-9
     _C = {Fn.MUL: "*", Fn.ADD: "+", Fn.SUB: "-"}
 
     def __init__(self):
         self.overflows = 0
         self.track = None      # a list to collect, per overflowing call, each batch row's overflows
+
+    def rounding_error(self, magnitude: float) -> float:
+        """The most one rounding to this word moves a value of at most `magnitude` (vampc
+        precision's bounds)."""
+        return magnitude * 2.0 ** -53
 
     def apply(self, fn: Fn, x, y):
         """fn(x, y) on numpy arrays (any broadcastable shapes)."""
@@ -146,6 +154,10 @@ class Float32(Float64):
     c_type = "float"
     dtype = np.float32
     bits = 32
+    check_tolerance = 1e-5
+
+    def rounding_error(self, magnitude: float) -> float:
+        return magnitude * 2.0 ** -24
 
     def apply(self, fn: Fn, x, y):
         with np.errstate(over="ignore", invalid="ignore"):
@@ -204,6 +216,7 @@ class Fixed(Float64):
 
     c_type = "int64_t"
     dtype = np.int64
+    check_tolerance = 1e-3
 
     def __init__(self, integer: int, fraction: int, rounding: Rounding = Rounding.NEAREST,
                  overflow: Overflow = Overflow.SATURATE):
@@ -224,6 +237,10 @@ class Fixed(Float64):
 
     def fresh(self):
         return Fixed(self.integer, self.fraction, self.rounding, self.overflow)
+
+    def rounding_error(self, magnitude: float) -> float:
+        """Whatever the magnitude: half a last place (nearest), a whole one (truncate)."""
+        return 2.0 ** -self.fraction * (1.0 if self.rounding is Rounding.TRUNCATE else 0.5)
 
     def result(self, values):
         return values                   # (integers: no NaN)
