@@ -1083,3 +1083,20 @@ def test_a_folder_given_as_the_robot_is_one_line_and_exit_1(tmp_path, name, comm
     code, err, _ = run(command, folder, *extra)
     assert code == 1 and one_line(err), err
     assert err.endswith(f"{name}: not a regular file (a robot or program file is read from one)\n"), err
+
+
+def test_an_improper_inertia_in_a_programs_robot_section_is_warned_of(puma_program, tmp_path):
+    """An inertia edited to one no rigid body has (an eigenvalue of -0.02), checksum made again:
+    edited in the graph's and the network's constants too, emulate --check passed and report ran,
+    unsaid (a new user's find), where a robot file holding it is refused. A program compiled
+    with --accept-improper-inertia holds one lawfully (the option is not recorded), so it is a
+    warning naming the place; the unedited file has none."""
+    improper = [[0.000625, 0.0, 0.0], [0.0, 0.02, 0.0], [0.0, 0.0, -0.02]]
+    edited = edited_program(puma_program, tmp_path,
+                            lambda d: d["robot"]["joints"][1].__setitem__("inertia", improper))
+    for args in (("emulate", edited, "--random", 2, "-o", "-"), ("report", edited)):
+        code, err, _ = run(*args)
+        assert err.count("robot.joints[1].inertia: inertia is not positive semi-definite "
+                         "(eigenvalues -0.02, 0.000625, 0.02): taken as the file holds it") == 1, err
+    code, err, _ = run("emulate", puma_program, "--random", 2, "-o", "-")
+    assert code == 0 and "warning" not in err, err

@@ -135,6 +135,7 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
                          f"has {len(graph.outputs)} outputs, not the {chain.n_outputs} of "
                          f"{chain.n} torques{' and the base wrench' if chain.floating else ''} "
                          "(the file was edited); recompile it")
+    _warn_improper_inertias(chain, path)
     if tree:      # the host walks the tree: parents must be a depth-first tree of n joints
         try:
             chain._verify_tree()
@@ -145,6 +146,34 @@ def chain_from_doc(doc: F.RobotDoc, graph: Graph | None = None, path="<program>"
         except VampcInternalError as exc:
             raise VampcError(f"{path}: robot.mimic: {exc}") from None
     return chain
+
+
+def _warn_improper_inertias(chain: Chain, path) -> None:
+    """A warning for each inertia of the robot section that is not symmetric positive semi-definite
+    beyond a rounding error: a robot file's is refused so (a DH table's always, a URDF's or MJCF's
+    unless --accept-improper-inertia, which a program does not record), and an edited one had run
+    and been reported unsaid (a new user's find). Taken, since a program compiled with that option
+    holds one."""
+    from vampc.robot.dh import improper_inertias, inertia_problem
+    places = [f"robot.joints[{i}].inertia" for i in range(chain.n)]
+    stack = [j.inertia for j in chain.joints]
+    if chain.floating:
+        places.append("robot.base_inertia")
+        stack.append(np.asarray(chain.base_inertia))
+    stack = np.asarray(stack, dtype=float).reshape(-1, 3, 3)
+    suspect = np.flatnonzero(improper_inertias(stack))     # (a file's numbers are finite: JSON's)
+    if not suspect.size:
+        return
+    import warnings
+
+    from vampc.errors import VampcWarning
+    from vampc.robot.urdf import NEARLY_PSD, NEARLY_PSD_ABS
+    for k in suspect:
+        problem = inertia_problem(stack[k], tolerance=NEARLY_PSD, floor=NEARLY_PSD_ABS)
+        if problem:
+            warnings.warn(VampcWarning(f"{path}: {places[k]}: {problem}: taken as the file holds it "
+                                       "(no rigid body has it: a robot file's is refused so, unless "
+                                       "--accept-improper-inertia)"), stacklevel=2)
 
 
 def _check_joints(doc: F.RobotDoc, path) -> None:
