@@ -1100,3 +1100,18 @@ def test_an_improper_inertia_in_a_programs_robot_section_is_warned_of(puma_progr
                          "(eigenvalues -0.02, 0.000625, 0.02): taken as the file holds it") == 1, err
     code, err, _ = run("emulate", puma_program, "--random", 2, "-o", "-")
     assert code == 0 and "warning" not in err, err
+
+
+@pytest.mark.parametrize("key, value, said", [("prefix", "kogge-stone", "'kogge-stone'"),
+                                              ("uniform_leaves", True, "true")])
+def test_a_log_option_edited_into_a_linear_program_is_refused(puma_program, tmp_path, key, value, said):
+    """options.prefix or uniform_leaves edited into a linear program (checksum made again): the
+    report took it, exit 0, its Table O.1 log rows, serial work and package rows changed (a new
+    user's find), where the command line refuses the option (exit 2). Refused, naming it."""
+    edited = edited_program(puma_program, tmp_path, lambda d: d["options"].__setitem__(key, value))
+    for args in (("report", edited), ("emulate", edited, "--random", 2, "-o", "-")):
+        code, err, out = run(*args)
+        assert code == 1 and one_line(err) and out == "", err
+        assert err.endswith(f"edited.vamp.json: options.{key}: {said}, which applies to the log "
+                            "recursion only, and the file's is linear (the file was edited); "
+                            "recompile it\n"), err
