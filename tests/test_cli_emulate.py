@@ -170,6 +170,9 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
      r"VAMP 1: operand A is wired to \w+ \d+ at stage 999 \(only a buffer has stages\)"),
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(1, d["program_stream"][0]["words"][0][1] + 0.5),
      True, r"program stream of \w+ \d+, word 0: scalar \d+\.5 is not an integer"),
+    # scalar 1, the VAMP number, likewise: it was said to match no VAMP on the path (a new user's)
+    (lambda d: d["program_stream"][0]["words"][0].__setitem__(0, d["program_stream"][0]["words"][0][0] + 1e-7),
+     True, r"program stream of \w+ \d+, word 0: scalar 1\.0000001 is not an integer \(every scalar"),
     # a scalar beyond the packing: 1e300 unpacked into a 300-digit delay-R, which the error printed
     # whole (424 characters: a new user's find)
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 1e300), True,

@@ -230,8 +230,10 @@ def delivered_programs(net: Network, numbers, stream, path,
         for k, word in enumerate(entry.words):
             # the hardware takes a control field as an integer: a corrupted 4097.5 would be
             # latched as 4097 and go unseen, so the file's words must hold integers
-            if word[1] != int(word[1]) or word[2] != int(word[2]):
-                x = word[1] if word[1] != int(word[1]) else word[2]
+            # (scalar 1, the VAMP number, too: 1.0000001 was said to match no VAMP on the path,
+            # where VAMP 1 was: a new user's find)
+            x = next((x for x in word[:3] if x != int(x)), None)
+            if x is not None:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: scalar "
                                  f"{float(x)!r} is not an integer (every scalar of a Program-Mode "
                                  "word is)")
