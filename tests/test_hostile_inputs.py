@@ -1115,3 +1115,26 @@ def test_a_log_option_edited_into_a_linear_program_is_refused(puma_program, tmp_
         assert err.endswith(f"edited.vamp.json: options.{key}: {said}, which applies to the log "
                             "recursion only, and the file's is linear (the file was edited); "
                             "recompile it\n"), err
+
+
+def test_a_number_beyond_float_range_in_a_program_file_is_placed(puma_program, tmp_path):
+    """1e999 in a program file (a period, a constant, a mass) was "not a vampc program file
+    (invalid JSON: Number out of range - at `$[...][...]`)": no place, and it is a program file (a
+    new user's find). The number, its line and column; the same for a negative one in a file laid
+    out over lines."""
+    text = Path(puma_program).read_text()
+    assert text.count('"period":4,') >= 1
+    edited = tmp_path / "huge.vamp.json"
+    edited.write_text(text.replace('"period":4,', '"period":1e999,', 1))
+    at = text.index('"period":4,') + len('"period":')
+    line, column = text.count("\n", 0, at) + 1, at - text.rfind("\n", 0, at)
+    code, err, out = run("emulate", edited, "--random", 2, "-o", "-")
+    assert code == 1 and out == "" and err == (
+        f"vampc: error: {edited}: the number 1e999 is beyond float64's range (about 1.8e308) "
+        f"(line {line}, column {column})\n"), err
+    laid_out = tmp_path / "laid_out.vamp.json"
+    import re
+    laid_out.write_text(re.sub(r'"mass": [0-9.e+-]+', '"mass": -2e400', json.dumps(json.loads(text), indent=1),
+                               count=1))
+    code, err, _ = run("report", laid_out)
+    assert code == 1 and one_line(err) and "the number -2e400 is beyond float64's range" in err, err

@@ -10,6 +10,7 @@ has no number for, are a ValueError, never written.
 """
 from __future__ import annotations
 
+import math
 import re
 
 import msgspec
@@ -223,12 +224,35 @@ _AT_BYTE = re.compile(r"\s*\(byte (\d+)\)$")
 _CONSTANTS = ("NaN", "Infinity", "-Infinity")
 
 
+# a JSON number after a value's opening ('[', ':' or ','), with a fraction or an exponent
+_FLOAT = re.compile(rb"[\[:,]\s*(-?\d+(?:\.\d+)?(?:[eE][+-]?\d+)?)")
+OUT_OF_RANGE = "is beyond float64's range (about 1.8e308)"
+
+
+def _huge_number(data: bytes) -> tuple[bytes, int] | None:
+    """The first JSON number of `data` too large for a float, and where it starts; None if none is
+    found (msgspec says "Number out of range" with no place: `$[...][...]`)."""
+    for m in _FLOAT.finditer(data):
+        token = m.group(1)
+        if (b"e" in token or b"E" in token or len(token) > 300) and float(token) in (math.inf, -math.inf):
+            return token, m.start(1)
+    return None
+
+
 def decode_problem(exc: DecodeError, text: str | bytes) -> str:
     """msgspec's "JSON is malformed: invalid character (byte 81)" said for a person: what is wrong
-    and where, as line and column ("NaN is not allowed (line 3, column 12)")."""
+    and where, as line and column ("NaN is not allowed (line 3, column 12)"; "the number 1e999 is
+    beyond float64's range (about 1.8e308) (line 3, column 12)")."""
     message = str(exc).removeprefix("JSON is malformed: ")
     m = _AT_BYTE.search(message)
     data = text.encode() if isinstance(text, str) else text
+    if message.startswith("Number out of range"):     # (said with no place: a new user's find)
+        found = _huge_number(data)
+        if found is not None:
+            token, at = found
+            line = data.count(b"\n", 0, at) + 1
+            column = at - (data.rfind(b"\n", 0, at) + 1) + 1
+            return f"the number {token.decode()} {OUT_OF_RANGE} (line {line}, column {column})"
     if m is None:
         if message == "Input data was truncated":     # said where: at its end (a new user's find)
             end = len(data.rstrip())

@@ -43,6 +43,7 @@ import numpy as np
 from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 from vampc.jsontext import (  # noqa: F401 - number, numbers, number_rows: the writer's, from here
+    OUT_OF_RANGE,
     DecodeError,
     ascii_bytes,
     ascii_text,
@@ -471,8 +472,10 @@ def _untyped(data, path):
         if kind not in (None, "program", "json", "gzip"):
             raise VampcError(f"{path}: not a vampc program file (it looks like "
                              f"{DESCRIPTIONS[kind]})") from None
-        raise VampcError(f"{path}: not a vampc program file (invalid JSON: "
-                         f"{decode_problem(exc, text)})") from None
+        problem = decode_problem(exc, text)
+        if OUT_OF_RANGE in problem:          # (JSON: a number, which float64 cannot hold)
+            raise VampcError(f"{path}: {problem}") from None
+        raise VampcError(f"{path}: not a vampc program file (invalid JSON: {problem})") from None
 
 
 def _refuse_version(doc, path) -> None:
