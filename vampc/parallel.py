@@ -279,4 +279,6 @@ def _why(exc: Exception) -> str:
 
 
 def one_line(exc: Exception) -> str:
-    return " ".join(str(exc).split())[:300]
+    """An exception's message on one line (vampc.textio.one_line)."""
+    from vampc.textio import one_line as collapsed
+    return collapsed(str(exc))

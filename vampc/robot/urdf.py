@@ -56,7 +56,7 @@ from vampc.robot.urdf_tree import (
     follows_from_below,
     quoted,
 )
-from vampc.textio import did_you_mean, name_problem, plain_number
+from vampc.textio import did_you_mean, name_problem, one_line, plain_number
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
@@ -683,12 +683,8 @@ def _read_robot(path: Path):
         urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
     except Exception as exc:  # noqa: BLE001 - on bad input yourdfpy raises anything (KeyError, AttributeError...)
-        raise located(path, "", f"yourdfpy cannot read it ({type(exc).__name__}: {_one_line(exc)})") from None
+        raise located(path, "", f"yourdfpy cannot read it ({type(exc).__name__}: {one_line(str(exc))})") from None
     return urdf.robot
-
-
-def _one_line(exc: Exception) -> str:
-    return " ".join(str(exc).split())
 
 
 # --- lock and chain ----------------------------------------------------------------------------------
