@@ -1251,18 +1251,25 @@ def test_numbers_on_the_command_line_are_ascii_digits(program, args):
 
 @pytest.mark.parametrize("command", [["compile", "{robot}"], ["report", "{robot}"],
                                      ["precision", "{robot}", "--sets", "2"],
-                                     ["emulate", "{robot}", "--trajectory", "{traj}"]])
+                                     ["emulate", "{robot}", "--trajectory", "{traj}"],
+                                     ["compile", "{robot}", "--dump-after", "graph"],
+                                     ["compile", "{robot}", "--numbering", "{numbering}",
+                                      "--dump-after", "emit"]])
 def test_standard_output_appended_to_an_input_is_refused(tmp_path, command):
     """`vampc emulate ... --trajectory in.csv >> in.csv` appended the command's lines to the
-    trajectory it read: standard output onto an input file is refused and the file left as it was."""
+    trajectory it read: standard output onto an input file is refused and the file left as it was.
+    (`compile --dump-after`, which plans no output file, had appended its dump to the robot file or
+    the numbering file, exit 0: a new user's find.)"""
     import subprocess
     import sys
     robot = tmp_path / "planar2.yaml"
     robot.write_bytes(PLANAR.read_bytes())
     traj = tmp_path / "traj.csv"
     traj.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "0,0,0,0,0,0\n" * 3)
-    args = [a.format(robot=robot, traj=traj) for a in command]
-    victim = traj if "--trajectory" in command else robot
+    numbering = tmp_path / "numbering.txt"
+    numbering.write_text("".join(f"{k}\n" for k in range(1, 61)))
+    args = [a.format(robot=robot, traj=traj, numbering=numbering) for a in command]
+    victim = traj if "--trajectory" in command else numbering if "--numbering" in command else robot
     before = victim.read_bytes()
     with open(victim, "ab") as fh:
         done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdout=fh,

@@ -160,6 +160,8 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     own.check(options.given)   # (options.numbering is own.numbering: both from --numbering)
     if own.dump_after:
         from vampc.dump import dump_after
+        from vampc.outputs import stdout_apart
+        stdout_apart([robot, own.numbering])         # (the dump goes to standard output)
         return dump_after(own.dump_after, compile_robot(robot, options, robot_opts, own.dump_after))
     options.check()
     robot_opts.check(robot)

@@ -64,17 +64,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
     where WRITES does not say (its kind and names, as WRITES holds them; `vampc rtl -o`: Verilog),
     `labels` how an output the user did not give is called ('the default results file')."""
     labels = labels or {}
-    # (an input given as - is standard input; a file so named, given to an option that reads
-    # files only, comes as ./-: `named_file`)
-    reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
-    inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
-    inputs += _files_read_with(inputs)
-    _refuse_stdout_input(inputs)
-    stdin = _regular_file(sys.stdin) if reads_stdin else None   # (an output must not replace it)
-    if stdin is not None and _same_stat(stdin, sys.stdout):
-        raise VampcError("standard output is the file standard input reads (an input given as -, "
-                         "redirected onto it); vampc never writes over its inputs: send standard "
-                         "output elsewhere" + _emptied(stdin))
+    inputs, stdin = stdout_apart(inputs)
     planned: dict[str, PlannedOutput] = {}
     for option, path in outputs.items():
         if path is None:
@@ -284,6 +274,26 @@ def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
                     "" if out.target == Path(os.path.realpath(src)) else " (a hard link to it)")
             raise VampcError(f"{out.path}: {out.option} is the input file {src}{link}; "
                              "vampc never writes over its inputs")
+
+
+def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
+    """VampcError when standard output is one of the command's input files (None entries ignored;
+    the files they read with them too) or the file standard input reads; every command checks it
+    before it writes a byte there (plan_outputs; `compile --dump-after`, which plans no output file,
+    had appended its dump to its own robot file, exit 0: a new user's find). The inputs given as
+    paths, and the file standard input reads where an input is - (an output must not replace it)."""
+    # (an input given as - is standard input; a file so named, given to an option that reads
+    # files only, comes as ./-: `named_file`)
+    reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
+    inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
+    inputs += _files_read_with(inputs)
+    _refuse_stdout_input(inputs)
+    stdin = _regular_file(sys.stdin) if reads_stdin else None
+    if stdin is not None and _same_stat(stdin, sys.stdout):
+        raise VampcError("standard output is the file standard input reads (an input given as -, "
+                         "redirected onto it); vampc never writes over its inputs: send standard "
+                         "output elsewhere" + _emptied(stdin))
+    return inputs, stdin
 
 
 def _refuse_stdout_input(inputs: list[Path]) -> None:
