@@ -1069,3 +1069,28 @@ def test_figures_of_the_other_layout_with_the_same_kinds_are_refused(tmp_path):
     r = CliRunner().invoke(main, ["report", str(progs["folded"]), "--rtl", str(path)])
     assert r.exit_code == 0 and f"vampc: warning: {path}: written before `vampc rtl` gave the period " \
         "and latency, so they are not compared" in r.stderr, r.output
+
+
+def test_yosys_failing_is_one_line(programs, tmp_path, monkeypatch):
+    """Yosys, which Amaranth runs to write the Verilog, failed under a file-size limit (`ulimit -f
+    50`: its WebAssembly runtime could not write its cache): its traceback ended `vampc rtl` as a
+    bug in vampc, exit 3 (a new user's find). One line with Yosys's last word, exit 1, the old
+    file kept. (Yosys is made to fail here as it did there, by the error it raised.)"""
+    from amaranth._toolchain.yosys import YosysError
+    from amaranth.back import verilog as amaranth_verilog
+
+    said = ("Traceback (most recent call last):\n  File \"<frozen runpy>\", line 198, in "
+            "_run_module_as_main\n    raise WasmtimeError._from_ptr(error)\n"
+            "wasmtime._error.WasmtimeError: File too large (os error 27)\n")
+
+    def convert(*args, **kwargs):
+        raise YosysError(said.strip())
+    monkeypatch.setattr(amaranth_verilog, "convert", convert)
+    out = tmp_path / "old.v"
+    out.write_text("old")
+    r = CliRunner().invoke(main, ["rtl", str(programs / "fixed.vamp.json"), "-o", str(out)])
+    assert r.exit_code == 1 and r.stderr.endswith(
+        "vampc: error: Yosys (which Amaranth runs to write the Verilog) failed: File too large "
+        "(os error 27)\n"), r.output
+    assert r.stderr.count("\n") <= 2 and "Traceback" not in r.stderr
+    assert out.read_text() == "old"

@@ -2,6 +2,9 @@
 naming what it is."""
 from __future__ import annotations
 
+import re
+
+from vampc.errors import VampcError
 from vampc.textio import count
 
 
@@ -46,8 +49,24 @@ def _wrench(chain) -> str:
 
 def verilog_text(design) -> str:
     """The whole Verilog file for `design` (a vampc.rtl.design.NetworkDesign)."""
+    from amaranth._toolchain.yosys import YosysError
     from amaranth.back import verilog
 
     from vampc.rtl.deep import deep
-    text = deep(verilog.convert, design, name=design.name, ports=design.ports(), emit_src=False)
+    try:
+        text = deep(verilog.convert, design, name=design.name, ports=design.ports(), emit_src=False)
+    except YosysError as exc:
+        # (Yosys, run by Amaranth to write the Verilog, failed under a file-size limit: its
+        # traceback ended the command as "a bug in vampc", exit 3: a new user's find)
+        raise VampcError(f"Yosys (which Amaranth runs to write the Verilog) failed: "
+                         f"{yosys_reason(str(exc))}") from None
     return header(design) + text
+
+
+def yosys_reason(text: str) -> str:
+    """The last line of what Yosys (or the WebAssembly runtime it runs in) said, without a Python
+    exception's name: 'File too large (os error 27)'."""
+    from vampc.textio import one_line
+    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
+    last = lines[-1] if lines else "no message"
+    return one_line(re.sub(r"^[\w.]+(Error|Exception): ", "", last))
