@@ -921,6 +921,41 @@ def test_a_read_only_file_is_kept_even_for_root(tmp_path):
     assert target.read_text() == "mine\n"
 
 
+def test_a_writable_file_on_a_read_only_file_system_is_said_so(tmp_path, monkeypatch):
+    """A file of mode 644 on a file system mounted read-only was said to exist and be read-only
+    (a new user's find, on a read-only bind mount): the file system is. (The kernel's answers for
+    such a mount, os.access and statvfs's ST_RDONLY, are given here: mounting needs root.)"""
+    import os
+    target = tmp_path / "kept.vamp.json"
+    target.write_text("mine\n")
+    real_access, real_statvfs = os.access, os.statvfs
+
+    class ReadOnly:
+        def __init__(self, real):
+            self.f_flag = real.f_flag | os.ST_RDONLY
+    monkeypatch.setattr(os, "access", lambda p, mode, **k: False if str(p) == str(target) and
+                        mode == os.W_OK else real_access(p, mode, **k))
+    monkeypatch.setattr(os, "statvfs", lambda p: ReadOnly(real_statvfs(p)) if str(p) == str(target)
+                        else real_statvfs(p))
+    res = run("compile", PLANAR, "-o", target)
+    user_error(res, r"kept\.vamp\.json: is on a read-only file system; vampc cannot replace it$")
+    assert target.read_text() == "mine\n"
+
+
+def test_the_default_output_onto_an_input_is_said_as_the_default(tmp_path, monkeypatch):
+    """`vampc compile planar2.yaml --numbering planar2.vamp.json` (the default program file's name)
+    was refused saying "-o is the input file", an option the user never gave (a new user's find)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "planar2.yaml").write_bytes(PLANAR.read_bytes())
+    numbering = tmp_path / "planar2.vamp.json"
+    numbering.write_text("".join(f"{k}\n" for k in range(1, 61)))
+    res = run("compile", "planar2.yaml", "--numbering", "planar2.vamp.json")
+    user_error(res, r"planar2\.vamp\.json: the default program file is the input file "
+                    r"planar2\.vamp\.json; vampc never writes over its inputs \(give -o FILE to write "
+                    r"it elsewhere\)$")
+    assert numbering.read_text() == "".join(f"{k}\n" for k in range(1, 61))
+
+
 @pytest.mark.parametrize("args, message", [
     ((PLANAR, "--lock", "shoulder=0"), "--lock applies to URDF and MJCF files only"),
     ((PLANAR, "--base", "a", "--tip", "b"), "--base, --tip apply to URDF and MJCF files only"),

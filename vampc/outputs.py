@@ -78,7 +78,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
             # user's, of `vampc faults` in a read-only folder)
             raise VampcError(f"{exc} ({labels[option]}: give {option} FILE to write it "
                              "elsewhere)") from None
-        _refuse_input(out, inputs)
+        _refuse_input(out, inputs, labels.get(option))
         if stdin is not None and out.target is not None and out.target.exists() and \
                 _same_stat(stdin, out.target):
             raise VampcError(f"{out.path}: {option} is the file standard input reads (an input "
@@ -147,6 +147,8 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
         raise VampcError(f"{path}: is {what}; give a file name for {option}")
     if mode is not None and (not mode & stat.S_IWUSR or not os.access(target, os.W_OK)):
         # the owner's write bit, too: root may write anything, but a file made read-only is kept
+        if mode & stat.S_IWUSR and _read_only_mount(target):   # (said of the file: a new user's)
+            raise VampcError(f"{path}: is on a read-only file system; vampc cannot replace it")
         raise VampcError(f"{path}: exists and is read-only; vampc does not replace it")
     if mode is None:
         # the folder as the kernel finds it: realpath drops 'nosuchdir/..' as text, and the output
@@ -261,7 +263,17 @@ def _files_read_with(inputs: list[Path]) -> list[Path]:
     return [f for p in xml for f in files_read(p)]
 
 
-def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
+def _read_only_mount(path) -> bool:
+    """Whether `path` is on a file system mounted read-only."""
+    try:
+        return bool(os.statvfs(path).f_flag & os.ST_RDONLY)
+    except (OSError, AttributeError):        # (no statvfs: not POSIX)
+        return False
+
+
+def _refuse_input(out: PlannedOutput, inputs: list[Path], label: str | None = None) -> None:
+    """VampcError when the output is one of the inputs (`label`: how an output the user did not
+    name is called: 'the default program file', not '-o', which the user never gave)."""
     if out.target is None or not out.target.exists():
         return
     for src in inputs:
@@ -272,8 +284,9 @@ def _refuse_input(out: PlannedOutput, inputs: list[Path]) -> None:
         if same:
             link = (" (through a symlink)" if os.path.islink(out.path) else
                     "" if out.target == Path(os.path.realpath(src)) else " (a hard link to it)")
-            raise VampcError(f"{out.path}: {out.option} is the input file {src}{link}; "
-                             "vampc never writes over its inputs")
+            raise VampcError(f"{out.path}: {label or out.option} is the input file {src}{link}; "
+                             "vampc never writes over its inputs"
+                             + (f" (give {out.option} FILE to write it elsewhere)" if label else ""))
 
 
 def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
