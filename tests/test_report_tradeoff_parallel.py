@@ -506,3 +506,24 @@ def test_an_inproc_address_from_a_command_and_ucx_without_its_support_are_said_s
                                     "inproc://x"])          # (the usage error says it too)
     assert res.exit_code == 2 and "reached only from that process (vampc's API called there), not " \
         "from a command" in res.output, res.output
+
+
+
+def test_more_workers_than_cores_is_warned_of(monkeypatch):
+    """--workers 1000 on a 2-core machine forked a process per task, each with its own memory,
+    unsaid (report --tradeoff and faults check their --workers alike: check_parallel). Warned of,
+    with the cores there are; as many as the cores, not."""
+    import warnings
+    from types import SimpleNamespace
+
+    import vampc.background as background
+    from vampc.errors import VampcWarning
+    from vampc.options import check_parallel
+    monkeypatch.setattr(background, "available_cores", lambda: 2)
+    for workers, warned in ((3, True), (2, False), (None, False)):
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            check_parallel(SimpleNamespace(workers=workers, scheduler=None))
+        said = [str(w.message) for w in seen if issubclass(w.category, VampcWarning)]
+        assert said == ([f"--workers {workers}: this machine gives vampc 2 cores; the workers share "
+                         "them (no faster than 2) and each holds its own memory"] if warned else []), said

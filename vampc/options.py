@@ -387,6 +387,17 @@ def check_parallel(options) -> None:
                                   "IPv6 host in brackets, tcp://[::1]:8786)")
     if options.workers is not None and options.scheduler is not None:
         raise VampcUsageError("--workers and --scheduler: give one (the cluster has its own workers)")
+    from vampc.background import available_cores
+    cores = available_cores()
+    if options.workers is not None and options.workers > cores:
+        # (--workers 1000 on 2 cores forked a process per task, each with its memory, unsaid)
+        import warnings
+
+        from vampc.errors import VampcWarning
+        warnings.warn(VampcWarning(f"--workers {options.workers}: this machine gives vampc "
+                                   f"{cores} core{'s' if cores != 1 else ''}; the workers share "
+                                   f"them (no faster than {cores}) and each holds its own memory"),
+                      stacklevel=2)
 
 
 def check_word(options) -> None:
