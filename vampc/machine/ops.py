@@ -476,10 +476,7 @@ def _step_ends(timing: Timing, rom: int) -> tuple[int, ...]:
 
 on_change(_step_ends.cache_clear)
 
-for _e in BUILTIN:
-    Op._make(_e.name, True)
-Op._make("INPUT", False)
-Op._make("CONST", False)
+
 def _first_pointers(entries) -> list[int]:
     """Each entry's first ROM pointer: its `rom`, or where that is None the next free one after
     every pointer given, in the entries' order (a built-in entry without `rom` had failed the
@@ -492,6 +489,10 @@ def _first_pointers(entries) -> list[int]:
     return out
 
 
+for _e in BUILTIN:
+    Op._make(_e.name, True)
+Op._make("INPUT", False)
+Op._make("CONST", False)
 for _e, _first in zip(BUILTIN, _first_pointers(BUILTIN)):
     _e.verify()
     TABLE[_e.op] = _e
