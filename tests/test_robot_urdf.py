@@ -1316,3 +1316,28 @@ def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
             pin.buildModelFromUrdf(str(path))
     else:
         assert pin.buildModelFromUrdf(str(path)).nq == 2
+
+
+@pytest.mark.parametrize("rpy, xyz, warned", [((0, 0, 0.5), (0, 0, 1), True), ((0, 0, 0), (0, 0, 0), False)])
+def test_floating_a_massless_root_fixed_away_from_its_body_is_said(tmp_path, rpy, xyz, warned):
+    """--floating-base on a URDF whose root is a massless `base_footprint` fixed to the torso 1 m
+    above and turned: the root floats (as Pinocchio's free flyer at the root), so the base's columns
+    and wrench are in its frame, and a new user's torques differed by 10% from --base torso, unsaid.
+    Said, with the --base that floats the torso; not where the weld leaves the frames as one. The
+    chains differ as said: --base torso floats the torso at its own frame."""
+    text = robot(link("base_footprint", None), link("torso"), *ARM[1:3],
+                 joint("bf", "fixed", "base_footprint", "torso", xyz=xyz, rpy=rpy),
+                 joint("j1", "revolute", "torso", "l1"), joint("j2", "revolute", "l1", "l2"))
+    path = write(tmp_path, text)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        floated = load_urdf(path, floating=True)
+    said = [str(w.message) for w in seen if "free flyer" in str(w.message)]
+    assert said == ([f"{path}: --floating-base floats the root link 'base_footprint', which has no mass: "
+                     "'torso' is fixed to it by joint 'bf' away from its frame, so the base's columns "
+                     "are read, and its wrench given, in the frame of 'base_footprint' (as Pinocchio's "
+                     "free flyer at the root); --base torso --floating-base floats 'torso' itself"]
+                    if warned else [])
+    torso = load_urdf(path, base="torso", floating=True)     # j1 from the floating base's frame:
+    assert np.allclose(floated.joints[0].shift, np.add(xyz, [0, 0, 0.1]))     # through the weld
+    assert np.allclose(torso.joints[0].shift, [0, 0, 0.1])                 # from the torso's own

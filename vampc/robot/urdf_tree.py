@@ -179,6 +179,8 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
     carried = _floating_child(tree, roots[0])
     if carried:
         return carried, True
+    if floating and tree.by_name:
+        _warn_massless_root(tree, roots[0], path)
     if floating and not tree.by_name:
         # an MJCF with no free joint, --floating-base: its root is the world body, and floating
         # that put the base at the world's origin and counted the bodies welded to the world (a
@@ -207,6 +209,31 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
                           f"joint in the file to float it alone, or float '{hung.child}' itself with "
                           f"--base {hung.child} (README, MJCF)")
     return roots[0], floating
+
+
+def _warn_massless_root(tree: Tree, root: str, path: Path) -> None:
+    """--floating-base on a URDF whose root link has no mass and holds a body on a fixed joint that
+    moves its frame (a `world` or `base_footprint` over the torso): the root floats, as Pinocchio's
+    free flyer at the root does, so the base's columns are read, and its wrench given, in the root's
+    frame, not the body's. Said, with --base to float the body (a new user's torques differed by 10%
+    between the two, unsaid)."""
+    inertial = getattr(tree.links[root], "inertial", None)
+    welded = tree.children[root]
+    if inertial is not None and inertial.mass or not welded or any(j.type != "fixed" for j in welded):
+        return
+    import numpy as np
+    moved = [j for j in welded if j.origin is not None and not np.allclose(j.origin, np.eye(4))
+             and tree.has_mass(j.child)]
+    if moved:
+        import warnings
+
+        from vampc.errors import VampcWarning
+        j = moved[0]
+        warnings.warn(VampcWarning(
+            f"{path}: --floating-base floats the root link '{root}', which has no mass: '{j.child}' "
+            f"is fixed to it by joint '{j.name}' away from its frame, so the base's columns are read, "
+            f"and its wrench given, in the frame of '{root}' (as Pinocchio's free flyer at the root); "
+            f"--base {j.child} --floating-base floats '{j.child}' itself"), stacklevel=3)
 
 
 def _after_last_joint(tree: Tree, link: str) -> str:
