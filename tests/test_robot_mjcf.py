@@ -889,6 +889,13 @@ def test_a_free_joints_turned_body_is_said_in_mjcfs_words(tmp_path):
                     '</body></worldbody></mujoco>')
     with pytest.warns(VampcWarning) as heard:
         load_robot(path)
-    said = [str(w.message) for w in heard if "(floating)" in str(w.message)]
-    assert len(said) == 1 and "joint 'root' (floating): the turn of its body (quat, euler, " \
+    said = [str(w.message) for w in heard if "free joint" in str(w.message)]
+    assert len(said) == 1 and "the free joint of body 'base': the turn of its body (quat, euler, " \
         "axisangle, xyaxes or zaxis) is not used" in said[0] and "<origin>" not in said[0], said
+    # a free joint left unnamed: by its body, not by 'joint0', vampc's name for it (a new user's)
+    path.write_text(path.read_text().replace('<freejoint name="root"/>', "<freejoint/>"))
+    with pytest.warns(VampcWarning) as heard:
+        load_robot(path)
+    said = [str(w.message) for w in heard if "is not used" in str(w.message)]
+    assert len(said) == 1 and "the free joint of body 'base': the turn" in said[0] and \
+        "joint0" not in said[0], said

@@ -190,8 +190,11 @@ def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path,
     if not floating or j is None or j.type != "floating" or \
             np.allclose(_origin(j)[:3, :3], np.eye(3), rtol=0, atol=1e-12):
         return
+    # (an MJCF's free joint by its body: one left unnamed in the file was called by vampc's name
+    # for it, 'joint0', which the file does not have: a new user's find)
+    who = f"joint '{j.name}' (floating)" if tree.by_name else f"the free joint of body '{j.child}'"
     warnings.warn(VampcWarning(
-        f"{path}: joint '{j.name}' (floating): {turn_said} is not used: the "
+        f"{path}: {who}: {turn_said} is not used: the "
         "floating base is taken at the world's orientation, gravity in its own frame, and a tilted "
         "base's gravity goes in the base columns (README, Trees and floating bases)"), stacklevel=4)
 
