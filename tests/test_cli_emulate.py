@@ -383,6 +383,9 @@ def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
     ("t\tq1\tq2\tqd1\tqd2\tqdd1\tqdd2\n0\t0\t0\t0\t0\t0\t0\n", "its columns are separated by tabs"),
     ("time,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,0,0\n", "a time column is named t"),
     ("T,Q1,Q2,QD1,QD2,QDD1,QDD2\n0,0,0,0,0,0,0\n", "write the column names in lower case (q1, not Q1)"),
+    # (columns named by joint: which joint q1 is went unsaid, a new user's find)
+    ("q_shoulder,q_elbow,qd_shoulder,qd_elbow,qdd_shoulder,qdd_elbow\n0,0,0,0,0,0\n",
+     "the columns are numbered, not named by joint: q1 is the first joint in joint order"),
 ])
 def test_a_header_that_is_not_the_trajectorys_is_said_what_it_seems(tmp_path, text, said):
     """numpy.savetxt's '# t,q1,...' was said to have 't' where 'q1' was expected, as if the t
