@@ -238,7 +238,9 @@ def test_an_empty_robot_file_or_fifo_says_so(tmp_path):
 def test_a_lock_outside_the_joints_limits_is_refused(tmp_path):
     code, err, _ = run("compile", EXAMPLES / "arm6.urdf", "--lock", "waist=100", "-o",
                        tmp_path / "p.vamp.json")
-    assert code == 1 and one_line(err) and "100.0 is outside the joint's limits [-2.9, 2.9]" in err
+    assert code == 1 and one_line(err) and "100.0 is outside the joint's limits [-2.9, 2.9] " \
+        "(radians, as every --lock value of a revolute joint, whatever unit the file writes its " \
+        "angles in)" in err               # (an MJCF in degrees: --lock a1=30 went unexplained)
     assert run("compile", EXAMPLES / "arm6.urdf", "--lock", "waist=1", "-o",
                tmp_path / "p.vamp.json")[0] == 0
 

@@ -716,8 +716,11 @@ def _check_lock(lock: dict, tree: Tree, path: Path) -> dict:
             continue
         lim = _position_range(joint)
         if lim is not None and not lim[0] <= number <= lim[1]:
+            unit = (" (radians, as every --lock value of a revolute joint, whatever unit the "
+                    "file writes its angles in)" if joint.type in ("revolute", "continuous") else
+                    " (metres)")     # (an MJCF in degrees: --lock a1=30 went unexplained)
             raise located(path, f"lock {name}", f"{value} is outside the joint's limits "
-                          f"[{lim[0]!r}, {lim[1]!r}]")
+                          f"[{lim[0]!r}, {lim[1]!r}]{unit}")
         out[name] = number
     return out
 
