@@ -852,12 +852,16 @@ def test_urdf_two_roots(tmp_path):
 
 
 def test_urdf_floating_joint_not_at_the_root(tmp_path):
-    robot = _urdf(tmp_path, '<robot name="r">' + LINK % "a" + LINK % "b" + LINK % "c"
-                  + JOINT % ("j1", "revolute", "a", "b") + JOINT % ("free", "floating", "b", "c") + "</robot>")
+    robot = _urdf(tmp_path, '<robot name="r">' + LINK % "a" + LINK % "b" + LINK % "c" + LINK % "d"
+                  + JOINT % ("j1", "revolute", "a", "b") + JOINT % ("free", "floating", "b", "c")
+                  + JOINT % ("j2", "revolute", "c", "d") + "</robot>")
     user_error(run("compile", robot, "-o", tmp_path / "r.vamp.json"),
                r"robot\.urdf: joint 'free': a floating joint is taken only as the one joint of the root "
-               r"link \(the base then floats; README, Trees and floating bases\), and this one is not$")
+               r"link \(the base then floats; README, Trees and floating bases\), and this one is not; "
+               r"--base c --floating-base floats 'c', what is above it left out$")
     assert not (tmp_path / "r.vamp.json").exists()
+    # the way said works (it went unsaid: a new user's find)
+    assert run("compile", robot, "--base", "c", "--floating-base", "-o", "-").exit_code == 0
 
 
 def test_urdf_root_floating_joint_floats(tmp_path):

@@ -259,9 +259,12 @@ def check_joint_types(tree: Tree, base: str, path: Path) -> None:
         if j.type == "floating":    # a floating root joint was taken by choose_base
             # (why this one is not, said: a root with a floating and a fixed joint had been told
             # floating joints are not supported, an audit's)
+            # (the way round it, where there is one, was unsaid: a new user's find)
+            way = (f"; --base {j.child} --floating-base floats '{j.child}', what is above it left "
+                   "out" if any(k.type in MOVABLE for k in tree.below(j.child)) else "")
             raise located(path, f"joint '{j.name}'", "a floating joint is taken only as the one joint "
                           "of the root link (the base then floats; README, Trees and floating "
-                          "bases), and this one is not")
+                          f"bases), and this one is not{way}")
         if j.type == "planar":
             raise located(path, f"joint '{j.name}'", f"{j.type} joints are not supported")
         if j.type != "fixed" and j.type not in MOVABLE:
