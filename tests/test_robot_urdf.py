@@ -729,6 +729,16 @@ def test_naming_the_root_of_a_floating_robot_as_base_is_as_leaving_it_out(tmp_pa
             pytest.warns(VampcWarning, match=r"joint 'j1' \(revolute\) has no <limit>"):
         fixed = load_urdf(path, base="trunk")
     assert not fixed.floating
+    # the floating joint's <origin> turned: gravity is turned by it, as at Pinocchio's neutral
+    # pose, said (only "taken as a fixed base" was: a new user's find); unturned above, not said
+    turned = write(tmp_path, FLOATING_ROOT.replace('<child link="trunk"/>',
+                                                   '<child link="trunk"/><origin rpy="0.3 0 0"/>'), "t.urdf")
+    with pytest.warns(VampcWarning, match=r"taken as a fixed base \(--floating-base lets it float\); "
+                                          r"gravity is turned by the joint's <origin> rpy, as at "
+                                          r"Pinocchio's neutral pose$"), \
+            pytest.warns(VampcWarning, match=r"joint 'j1' \(revolute\) has no <limit>"):
+        tilted = load_urdf(turned, base="trunk")
+    assert np.allclose(tilted.gravity, [0, -9.81 * np.sin(0.3), -9.81 * np.cos(0.3)])
 
 
 def test_locking_a_leader_where_its_follower_leaves_its_limits_is_said(tmp_path):

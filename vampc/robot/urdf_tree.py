@@ -166,10 +166,15 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
         if above is not None and above.type == "floating" and not floating:
             import warnings
 
+            import numpy as np
+
             from vampc.errors import VampcWarning
+            turned = above.origin is not None and not np.allclose(above.origin[:3, :3], np.eye(3))
             warnings.warn(VampcWarning(f"{path}: base link '{base}' hangs on floating joint "
                                        f"'{above.name}': it is taken as a fixed base (--floating-base "
-                                       "lets it float)"), stacklevel=3)
+                                       "lets it float)" + ("; gravity is turned by the joint's "
+                                       "<origin> rpy, as at Pinocchio's neutral pose" if turned
+                                       else "")), stacklevel=3)
         return base, floating
     roots = [name for name in tree.links if name not in tree.parent]
     if not roots:   # (a <robot> with no <link> was "several root links ()": a new user's find)
