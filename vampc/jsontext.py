@@ -224,17 +224,19 @@ _AT_BYTE = re.compile(r"\s*\(byte (\d+)\)$")
 _CONSTANTS = ("NaN", "Infinity", "-Infinity")
 
 
-# a JSON number after a value's opening ('[', ':' or ','), with a fraction or an exponent
-_FLOAT = re.compile(rb"[\[:,]\s*(-?\d+(?:\.\d+)?(?:[eE][+-]?\d+)?)")
+# a JSON string, taken whole (so nothing in it is read as a number: a checksum's hex digits
+# '35670e9337' had been), or a number with its fraction and exponent
+_STRING_OR_NUMBER = re.compile(rb'"(?:[^"\\]|\\.)*"|(-?\d+(?:\.\d+)?(?:[eE][+-]?\d+)?)')
 OUT_OF_RANGE = "is beyond float64's range (about 1.8e308)"
 
 
 def _huge_number(data: bytes) -> tuple[bytes, int] | None:
     """The first JSON number of `data` too large for a float, and where it starts; None if none is
     found (msgspec says "Number out of range" with no place: `$[...][...]`)."""
-    for m in _FLOAT.finditer(data):
+    for m in _STRING_OR_NUMBER.finditer(data):
         token = m.group(1)
-        if (b"e" in token or b"E" in token or len(token) > 300) and float(token) in (math.inf, -math.inf):
+        if token is not None and (b"e" in token or b"E" in token or len(token) > 300) and \
+                float(token) in (math.inf, -math.inf):
             return token, m.start(1)
     return None
 
