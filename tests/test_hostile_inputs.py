@@ -1140,3 +1140,23 @@ def test_a_number_beyond_float_range_in_a_program_file_is_placed(puma_program, t
                                count=1))
     code, err, _ = run("report", laid_out)
     assert code == 1 and one_line(err) and "the number -2e400 is beyond float64's range" in err, err
+
+
+def test_a_linear_program_written_through_the_api_with_a_log_option_is_read(tmp_path):
+    """CompileOptions(prefix=...) with the linear recursion, through the API (which takes it: only
+    the command line's given options are refused), wrote the prefix into the file, which the reader
+    then refused as edited (a review's find). The file records the log options' defaults, as the
+    command line's does: the same bytes, read back and reported."""
+    from vampc.compiler import CompileOptions, compile_chain, program_text
+    from vampc.kinds import Prefix
+    from vampc.program.file import write_program
+    from vampc.robot import load_robot
+    chain = load_robot(EXAMPLES / "planar2.yaml")
+    texts = []
+    for options in (CompileOptions(prefix=Prefix.KOGGE_STONE, uniform_leaves=True), CompileOptions()):
+        path = tmp_path / f"p{len(texts)}.vamp.json"
+        write_program(program_text(compile_chain(chain, options)), str(path))
+        texts.append(path.read_bytes())
+    assert texts[0] == texts[1]
+    code, err, _ = run("report", tmp_path / "p0.vamp.json")
+    assert code == 0, err

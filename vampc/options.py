@@ -179,6 +179,12 @@ class CompileOptions:
         """The options as a program file records them: the word format only when it is not float64
         (so float64 programs keep their bytes), its rounding and overflow only for fixed point."""
         out = {name: getattr(self, name) for name in self.recorded()}
+        if self.recursion is Recursion.LINEAR:
+            # the log recursion's options, which a linear network does not use, as their defaults:
+            # the API takes CompileOptions(prefix=...) with the linear recursion, and the file it
+            # wrote was then refused as edited (a reader refuses them: a review's find)
+            for name in ("prefix", "uniform_leaves"):
+                out[name] = next(f.default for f in fields(self) if f.name == name)
         if self.word == "float64":
             del out["word"]
         if not self.word.startswith("q"):
