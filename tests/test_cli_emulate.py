@@ -400,6 +400,17 @@ def test_a_header_that_is_not_the_trajectorys_is_said_what_it_seems(tmp_path, te
     assert "header:" in r.stderr and said in r.stderr and not out.exists()
 
 
+@pytest.mark.parametrize("text", ["q1,q2,qdot1,qdot2,qddot1,qddot2\n0,0,0,0,0,0\n",
+                                  "q1,q2,qd1,qd2,qdd1,qdd2,quality\n0,0,0,0,0,0,0\n"])
+def test_a_header_not_named_by_joint_is_not_told_it_is(tmp_path, text):
+    """The hint for columns named by joint (q_shoulder, ...) fired on qdot1 and on an extra column
+    'quality' (a review's find): only names after q, qd and qdd alike are taken for joints'."""
+    traj = tmp_path / "traj.csv"
+    traj.write_text(text)
+    r = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--trajectory", str(traj)])
+    assert r.exit_code == 1 and "header:" in r.stderr and "named by joint" not in r.stderr, r.stderr
+
+
 @pytest.mark.parametrize("name, said", [("tau.csv", "a CSV table is a trajectory (for --trajectory)"),
                                         ("tau.npy", "a NumPy array is a trajectory (for --trajectory)")])
 def test_a_table_given_as_the_robot_is_said_to_be_one(tmp_path, name, said):

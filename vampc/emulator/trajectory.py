@@ -131,8 +131,13 @@ def _header_hint(names: list[str], columns: list[str]) -> str:
         return f"; write the column names in lower case ({columns[0]}, not {columns[0].upper()})"
     if head.lower() in ("time", "time_s", "t_s", "timestamp") and names[1:] in (list(columns), []):
         return "; a time column is named t"
-    named = [m for m in (re.fullmatch(r"(qdd|qd|q)[_ .-]?(\w+)", c) for c in names) if m]
-    if any(not m.group(2).isdigit() for m in named):
+    # named by joint: some name after q, qd and qdd alike (q_shoulder, qd_shoulder, qdd_shoulder;
+    # not qdot1 or a column 'quality', which a review found told so)
+    parts: dict[str, set] = {"q": set(), "qd": set(), "qdd": set()}
+    for m in (re.fullmatch(r"(qdd|qd|q)[_ .-]?(\w+)", c) for c in names):
+        if m and not m.group(2).isdigit():
+            parts[m.group(1)].add(m.group(2))
+    if parts["q"] & parts["qd"] & parts["qdd"]:
         # (q_shoulder...: named by joint, where the columns are numbered; which joint is q1 went
         # unsaid: a new user's find)
         return ("; the columns are numbered, not named by joint: q1 is the first joint in joint "
