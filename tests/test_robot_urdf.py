@@ -1351,3 +1351,16 @@ def test_floating_a_massless_root_fixed_away_from_its_body_is_said(tmp_path, rpy
     torso = load_urdf(path, base="torso", floating=True)     # j1 from the floating base's frame:
     assert np.allclose(floated.joints[0].shift, np.add(xyz, [0, 0, 0.1]))     # through the weld
     assert np.allclose(torso.joints[0].shift, [0, 0, 0.1])                 # from the torso's own
+    # through two massless links, the first weld leaving the frame as it is: said all the same (a
+    # review's world -> base_link -> torso went unsaid, only the root's own joints looked at)
+    deeper = robot(link("world", None), link("base_footprint", None), link("torso"), *ARM[1:3],
+                   joint("w", "fixed", "world", "base_footprint", xyz=(0, 0, 0)),
+                   joint("bf", "fixed", "base_footprint", "torso", xyz=xyz, rpy=rpy),
+                   joint("j1", "revolute", "torso", "l1"), joint("j2", "revolute", "l1", "l2"))
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        load_urdf(write(tmp_path, deeper, "deeper.urdf"), floating=True)
+    said = [str(w.message) for w in seen if "free flyer" in str(w.message)]
+    assert len(said) == warned and all("floats the root link 'world', which has no mass: 'torso' is "
+                                       "fixed to it by joints 'w', 'bf' away from its frame" in m
+                                       for m in said), said
