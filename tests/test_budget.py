@@ -552,15 +552,23 @@ def test_a_long_attempt_says_how_far_it_is(monkeypatch):
     monkeypatch.setattr(budget.progress, "note", notes.append)
     c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(vamps=3))
     ops = sum(1 for nd in c.graph.nodes if nd.op.is_compute)
-    counted = [re.fullmatch(r"3 VAMPs, interval \d+(, latency ≤ \d+)?: ([\d,]+) of ([\d,]+) ops "
+    matched = [re.fullmatch(r"(3 VAMPs, interval \d+(?:, latency ≤ \d+)?): ([\d,]+) of ([\d,]+) ops "
                             r"placed; ([\d,]+) placements, ([\d,]+) of at most ([\d,]+) steps", x)
                for x in notes]
-    counted = [[int(g.replace(",", "")) for g in m.groups()[1:]] for m in counted if m]
+    counted = [[m.group(1)] + [int(g.replace(",", "")) for g in m.groups()[1:]] for m in matched if m]
     assert counted and len(counted) == sum("ops placed" in x for x in notes) and all(
         placed <= whole == ops and placed <= made <= taken <= most
-        for placed, whole, made, taken, most in counted)
-    assert any(made < taken for _, _, made, taken, _ in counted)     # (a placed op taken again)
-    assert max(placed for placed, *_ in counted) == ops - 1     # (said before each placement)
+        for _, placed, whole, made, taken, most in counted)
+    # every step said once, from the first taken: the steps taken so far (it said one more, the
+    # step about to be taken, a review's find), attempt by attempt (each starts again at 1)
+    runs: list[list[int]] = []
+    for *_, made, taken, _ in counted:
+        if taken == 1 or not runs:
+            assert made == 1, counted      # (the one step taken so far placed its op)
+            runs.append([])
+        runs[-1].append(taken)
+    assert len(runs) > 1 and all(run == list(range(1, len(run) + 1)) for run in runs), runs
+    assert max(placed for _, placed, *_ in counted) == ops - 1     # (said before each placement)
 
 
 @pytest.mark.parametrize("signals", [1, 2])

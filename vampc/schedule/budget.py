@@ -226,14 +226,15 @@ class _Modulo:
         while queue:
             if steps == 0:
                 return None
-            steps -= 1
-            if said and (budget - steps) % NOTE_EVERY == 0:
+            taken = budget - steps
+            if said and taken and taken % NOTE_EVERY == 0:
                 # (one attempt on a 256-joint log chain's 2000 VAMPs ran 40 s under one unmoving
                 # note: a new user's find; how far it is, said)
                 # (its budget counts steps, ops taken from the queue, one already placed too: the
-                # note had called them placements)
+                # note had called them placements; the steps taken so far, this one not yet)
                 progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed; "
-                              f"{made:,} placements, {budget - steps:,} of at most {budget:,} steps")
+                              f"{made:,} placements, {taken:,} of at most {budget:,} steps")
+            steps -= 1
             _, i = heapq.heappop(queue)
             if i in self.start:
                 continue
