@@ -43,7 +43,8 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     if c.graph.recursion is Recursion.LOG and not big:
         stage("prefix shapes")
         infeasible: list = []
-        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options, infeasible=infeasible)
+        rep["prefix_comparison"] = compare_prefixes(c.chain, c.options, infeasible=infeasible,
+                                                    own=c)
         if infeasible:
             rep["prefix_comparison_infeasible"] = infeasible
     stage("Table O.1")

@@ -27,26 +27,35 @@ def max_fan_out(network) -> int:
 
 
 def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
-                     infeasible: list | None = None) -> list[dict]:
+                     infeasible: list | None = None, own=None) -> list[dict]:
     """Latency, VAMPs, buffer stages and fan-out of every prefix shape, other options as given. A
     shape whose graph has more than `limit` ops (default: vampc.report.configs.ALLOCATE_LIMIT) is
     scheduled but not allocated: its row has latency and VAMPs only. A shape these options cannot
     compile (the program's own --tiers too few for another shape's bus traffic) has no row; it is
     appended to `infeasible` as {"prefix", "why"} (its error made the whole report fail, naming
-    no file: a new user's find)."""
+    no file: a new user's find). `own`: the program's compiled IRs (vampc.compiler.Compiled),
+    whose shape's row is theirs, not compiled again. An --exact program's other shapes are placed
+    by the list scheduler, their rows marked "exact": false (CP-SAT ran again for each shape: a
+    report needed OR-Tools and ran for more than 13 minutes where the compile took 8; a new
+    user's find)."""
     from vampc.report.configs import ALLOCATE_LIMIT
     from vampc.schedule.layout import layout_and_schedule
     from vampc.schedule.registry import LayoutRequest
     limit = ALLOCATE_LIMIT if limit is None else limit
     rows = []
     for shape in Prefix:
-        opts = replace(options, recursion="log", prefix=shape, verify=False, numbering=None)
+        if own is not None and shape == own.options.prefix:
+            rows.append(_row(shape, own) | ({"exact": True} if options.exact else {}))
+            continue
+        opts = replace(options, recursion="log", prefix=shape, verify=False, numbering=None,
+                       exact=False)
+        marked = {"exact": False} if options.exact else {}
         graph = build_graph(chain, opts)
         if len(graph.compute_nodes()) > limit:
             lay, s = layout_and_schedule(graph, opts.timing, opts.layout,
                                          LayoutRequest(opts.share_passes, verify=False))
             rows.append({"prefix": shape, "latency_flops": s.latency, "mults": s.mults,
-                         "adds": s.adds, "waits": s.waits, "vamps": lay.vamp_count})
+                         "adds": s.adds, "waits": s.waits, "vamps": lay.vamp_count} | marked)
             continue
         try:
             c = compile_chain(chain, opts)
@@ -55,11 +64,15 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
                 raise
             infeasible.append({"prefix": shape, "why": str(exc)})
             continue
-        rows.append({"prefix": shape, "latency_flops": c.schedule.latency,
-                     "mults": c.schedule.mults, "adds": c.schedule.adds, "waits": c.schedule.waits,
-                     "vamps": len(c.network.vamps), "buffer_stages": c.network.buffer_stages,
-                     "max_fan_out": max_fan_out(c.network)})
+        rows.append(_row(shape, c) | marked)
     return rows
+
+
+def _row(shape, c) -> dict:
+    """A prefix shape's row from its compiled IRs."""
+    return {"prefix": shape, "latency_flops": c.schedule.latency, "mults": c.schedule.mults,
+            "adds": c.schedule.adds, "waits": c.schedule.waits, "vamps": len(c.network.vamps),
+            "buffer_stages": c.network.buffer_stages, "max_fan_out": max_fan_out(c.network)}
 
 
 def layout_rows(configs, recursion: str) -> list[dict]:

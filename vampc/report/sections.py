@@ -303,6 +303,11 @@ def prefixes(rep: dict) -> Table:
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
     notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
               for r in rep.get("prefix_comparison_infeasible", ())]
+    if any(r.get("exact") is False for r in rep["prefix_comparison"]):
+        own = next((r["prefix"] for r in rep["prefix_comparison"] if r.get("exact")), None)
+        notes.append((f"{own}: as --exact placed it; " if own else "") + "the other shapes placed by "
+                     "the list scheduler, at the same budget (--exact's solver is not run again for "
+                     "a comparison)")
     return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
                  "and options)", ("prefix", "latency", _terms_head(rep, *(["wait"] if waits else [])),
                                   "VAMPs", "buffer stages",
