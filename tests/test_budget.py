@@ -649,3 +649,20 @@ def test_the_report_of_a_log_exact_program_runs_no_solver(tmp_path, monkeypatch)
     assert [r["exact"] for r in rows] == [r["prefix"] == "sklansky" for r in rows]
     text = CliRunner().invoke(main, ["report", str(program)]).stdout
     assert "sklansky: as --exact placed it; the other shapes placed by the list scheduler" in text
+
+
+def test_a_bound_above_the_work_over_the_vamps_is_said_to_be_the_longest_op(tmp_path):
+    """--vamps 1000 on planar2: "⌈W/K⌉ = ⌈108/1000⌉ = 1, and no op shorter than its duration",
+    then "against the bound 3", left the 3 unexplained; and one VAMP was "1 VAMPs" (a new user's
+    finds). The longest op (an MV: 3 flops, README's timing model) is named where it is the bound."""
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--vamps", "1000"])
+    assert res.exit_code == 0, res.output
+    assert ("interval 3 against the bound 3 (⌈W/K⌉ = ⌈108/1000⌉ = 1; the longest op, 3 flops): "
+            "gap 0.0%") in res.stdout
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--vamps", "6"])
+    assert "(⌈W/K⌉ = ⌈108/6⌉ = 18, and no op shorter than its duration)" in res.stdout
+    one = tmp_path / "one.yaml"
+    one.write_text("".join((EXAMPLES / "planar2.yaml").read_text().splitlines(True)[:16]))
+    res = CliRunner().invoke(main, ["compile", str(one), "--vamps", "1", "--interval", "40", "-o", "-"])
+    assert res.exit_code == 1 and "flops on 1 VAMP: below ⌈W/K⌉ = 54 flops, the least any " \
+        "schedule on 1 VAMP reaches" in res.stderr, res.stderr

@@ -35,6 +35,7 @@ from vampc.errors import VampcError, VampcInternalError
 from vampc.machine.ops import VAMPS_PER_OP, Timing
 from vampc.machine.timing import next_capture, result_windows
 from vampc.schedule.asap import Schedule, schedule_asap
+from vampc.textio import count
 
 
 @dataclass(frozen=True)
@@ -155,7 +156,7 @@ def modulo_schedule(graph: Graph, timing: Timing, k: int, ii: int,
                                             attempt.swing, attempt.pack, attempt.big)
     # (the bar of a 256-joint log chain's --vamps 2000 said "schedule" alone for minutes: a new
     # user's find; each attempt says what it tries, as --exact's solver does)
-    said = f"{k} VAMPs, interval {ii}" + (f", latency ≤ {latency}" if latency is not None else "")
+    said = f"{count(k, 'VAMP')}, interval {ii}" + (f", latency ≤ {latency}" if latency is not None else "")
     progress.note(said)
     d = timing.durations
     asap = asap or schedule_asap(graph, timing, verify=False)
@@ -498,10 +499,10 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             found = next((t for t in range(interval + 1, min(best.interval, interval + 64))
                           if modulo_schedule(graph, timing, k, t, asap) is not None), best.interval)
             floor = bounds(graph, timing, k).interval_bound
-            below = (f": below ⌈W/K⌉ = {floor} flops, the least any schedule on {k} VAMPs "
+            below = (f": below ⌈W/K⌉ = {floor} flops, the least any schedule on {count(k, 'VAMP')} "
                      "reaches" if interval < floor else "")
             raise VampcError(f"--vamps {asked_k} --interval {asked}: this scheduler places no "
-                             f"torque set every {interval} flops on {k} VAMPs{below}; the smallest "
+                             f"torque set every {interval} flops on {count(k, 'VAMP')}{below}; the smallest "
                              f"interval from there it reaches is {found} flops")
         if best.interval <= interval and (placed is None or (_latency(graph, best), best.interval)
                                           < (_latency(graph, placed), placed.interval)):
