@@ -217,6 +217,16 @@ def test_tradeoff_json_and_csv():
     from schema_check import schema_errors      # the trade-off's own schema (it had none: the
     assert schema_errors("tradeoff", doc) == []  # report's, which README pointed at, refused it)
     assert schema_errors("report", doc) != []
+    # the latencies swept at and the text's note (neither was in the JSON: a new user's find)
+    text = CliRunner().invoke(main, args).stdout
+    assert (doc["mult_latency"], doc["add_latency"]) == (1, 1) and doc["notes"] == [
+        "budget 6: latency 52 flops, longer than budget 5's 29 with fewer VAMPs: each budget is "
+        "scheduled at its smallest interval; `vampc compile --vamps 6 --interval I` with a longer "
+        "interval may shorten its latency"] and text.endswith(doc["notes"][0] + "\n")
+    slower = json.loads(CliRunner().invoke(main, [*args, "--mult-latency", "3", "--add-latency", "2",
+                                                  "--format", "json"]).stdout)
+    assert (slower["mult_latency"], slower["add_latency"]) == (3, 2)
+    assert schema_errors("tradeoff", slower) == []
     layouts = {r["layout"] for r in rows}
     assert {"systolic", "folded", "folded, shared passes"} <= layouts
     assert any(r["layout"].startswith("budget") for r in rows)

@@ -1044,7 +1044,11 @@ def tradeoff_command(source: str, own: ReportOptions, options: CompileOptions,
             from vampc.report.html import tradeoff_page
             content["--html"] = tradeoff_page(rows, title, curve)
     if own.fmt == "json":
+        # (the latencies swept at and the table's note, which text gives, had no place here: a
+        # new user's find)
         text = jsontext.dumps({"robot": chain.name, "joints": chain.n, "recursion": options.recursion,
+                               "mult_latency": options.mult_latency,
+                               "add_latency": options.add_latency, "notes": tr.notes(rows),
                                "points": rows}, indent=1) + "\n"
     elif own.fmt == "markdown":
         text = tr.render_markdown(rows)
