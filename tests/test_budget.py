@@ -676,3 +676,24 @@ def test_a_bound_above_the_work_over_the_vamps_is_said_to_be_the_longest_op(tmp_
     res = CliRunner().invoke(main, ["compile", str(one), "--vamps", "1", "--interval", "40", "-o", "-"])
     assert res.exit_code == 1 and "flops on 1 VAMP: below ⌈W/K⌉ = 54 flops, the least any " \
         "schedule on 1 VAMP reaches" in res.stderr, res.stderr
+
+
+def test_a_budget_that_misses_an_interval_a_smaller_one_reaches_does_not_stop_the_search():
+    """With latencies 3 and 2, planar2's 21 VAMPs reach interval 13 and 23 do not (a heuristic's
+    budgets are not monotone): --interval 13 took 24 VAMPs, and --vamps 23 --interval 13 was
+    refused, though 23 VAMPs can run the 21-VAMP placement with two idle (a new user's finds).
+    ⌈W/T⌉ = ⌈266/13⌉ = 21 VAMPs is the fewest any schedule needs, so 21 is the optimum."""
+    slow = ["--mult-latency", "3", "--add-latency", "2", "--format", "json"]
+    robot = str(EXAMPLES / "planar2.yaml")
+
+    def figures(*args):
+        res = CliRunner().invoke(main, ["report", robot, *slow, *args])
+        assert res.exit_code == 0, res.output
+        doc = json.loads(res.stdout)
+        return doc["budget"]["vamps_used"], doc["interval_flops"], doc["budget"]["work"]
+    assert figures("--vamps", "21")[:2] == (21, 13)
+    assert figures("--vamps", "23")[1] == 14                   # (the budget that misses)
+    used, interval, work = figures("--interval", "13")
+    assert (used, interval) == (-(-work // 13), 13) == (21, 13)
+    used, interval, _ = figures("--vamps", "23", "--interval", "13")
+    assert used <= 23 and interval == 13

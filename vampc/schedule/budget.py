@@ -478,12 +478,18 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             placed = best
         # fewer VAMPs: the search one attempt at a time missed some that --vamps K's portfolio
         # reaches the interval with (--interval 18 took 19 VAMPs where --vamps 18 reaches 18)
+        # Not every budget reaches what a smaller one does (with latencies 3 and 2, planar2's 21
+        # VAMPs reach interval 13 and 23 do not: --interval 13 took 24, a new user's find), so
+        # the search goes on past a budget that misses, to MISSES in a row
         floor = _vamps_floor(graph, timing, interval, smallest)
-        while thorough and k - 1 >= floor:
-            fewer = _for_vamps(graph, timing, k - 1, asap, thorough)
+        tried, missed = k - 1, 0
+        while thorough and tried >= floor and missed < MISSES:
+            fewer = _for_vamps(graph, timing, tried, asap, thorough)
             if fewer.interval > interval:
-                break
-            k, placed = k - 1, fewer
+                missed += 1
+            else:
+                k, placed, missed = tried, fewer, 0
+            tried -= 1
     elif interval is None:
         placed = _for_vamps(graph, timing, k, asap, thorough)
     else:
@@ -492,6 +498,16 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
         # is within T and its latency shorter (one attempt at T had given --vamps 7 --interval 48
         # a latency of 100 where --vamps 7 alone reaches 48 and 66), or where T failed
         best = _for_vamps(graph, timing, k, asap, thorough)
+        if placed is None and best.interval > interval:
+            # fewer VAMPs, within K: a smaller budget may reach T where K does not (planar2 at
+            # latencies 3 and 2: --vamps 23 --interval 13 was refused, where 21 reach 13: a new
+            # user's find)
+            floor = _vamps_floor(graph, timing, interval, smallest)
+            for fewer in range(k - 1, max(floor, k - FEWER_TRIED) - 1, -1):
+                at = _for_vamps(graph, timing, fewer, asap, thorough)
+                if at.interval <= interval:
+                    placed = best = at
+                    break
         if placed is None and best.interval > interval:
             # the interval it does reach from T up, tried one at a time (it had named --vamps K's
             # own interval, 37 where --vamps 3 --interval 36 works: a new user's find), and the
@@ -720,6 +736,10 @@ def _smallest_interval(graph, timing, k, asap, floor: int) -> Placed:
         if placed is not None:
             return placed
         ii += 1
+
+
+MISSES = 2          # --interval T: budgets in a row that miss T before the search for fewer stops
+FEWER_TRIED = 8     # --vamps K --interval T where K misses T: the smaller budgets tried
 
 
 def _vamps_floor(graph, timing, interval: int, smallest: int) -> int:
