@@ -782,14 +782,18 @@ def test_a_signal_with_standard_output_says_how_many_sets_were_sent(puma_program
     monkeypatch.setattr(commands.Sinks, "chunk", real)
     real_write, rows_written = commands.Sinks._write, []
 
+    def halved(action):
+        """A write that sends half of what `action` writes, and is then cut by SIGTERM."""
+        def half(fh):
+            whole = io.StringIO()
+            action(whole)
+            fh.write(whole.getvalue()[:len(whole.getvalue()) // 2])
+            raise Terminated(15)
+        return half
+
     def write(self, pending, action, rows=0):
         if rows and len(rows_written) == 2:
-            def half(fh):
-                whole = io.StringIO()
-                action(whole)
-                fh.write(whole.getvalue()[:len(whole.getvalue()) // 2])
-                raise Terminated(15)
-            return real_write(self, pending, half, rows)
+            return real_write(self, pending, halved(action), rows)
         if rows:
             rows_written.append(rows)
         return real_write(self, pending, action, rows)
@@ -810,12 +814,7 @@ def test_a_signal_with_standard_output_says_how_many_sets_were_sent(puma_program
             if pending is not None:            # (the states' table, not asked for, is None)
                 calls.append(rows)
             if pending is not None and len(calls) - 1 == cut_at:
-                def half(fh):
-                    whole = io.StringIO()
-                    action(whole)
-                    fh.write(whole.getvalue()[:len(whole.getvalue()) // 2])
-                    raise Terminated(15)
-                return real_write(self, pending, half, rows)
+                return real_write(self, pending, halved(action), rows)
             return real_write(self, pending, action, rows)
         monkeypatch.setattr(commands.Sinks, "_write", write)
         code, err, out = run("emulate", puma_program, "--random", 5000, "-o", "-")
