@@ -1364,3 +1364,21 @@ def test_floating_a_massless_root_fixed_away_from_its_body_is_said(tmp_path, rpy
     assert len(said) == warned and all("floats the root link 'world', which has no mass: 'torso' is "
                                        "fixed to it by joints 'w', 'bf' away from its frame" in m
                                        for m in said), said
+    # and where the walk ends (a review of that walk found two it had dropped): at a massless link
+    # the joints move from, and past a plate of mass welded beside the body
+    for name, parts, body in (
+            ("massless.urdf", [link("world", None), link("bf", None), *ARM[1:3],
+                               joint("w", "fixed", "world", "bf", xyz=xyz, rpy=rpy),
+                               joint("j1", "revolute", "bf", "l1"), joint("j2", "revolute", "l1", "l2")],
+             "bf"),
+            ("plate.urdf", [link("world", None), link("torso"), link("plate"), *ARM[1:3],
+                            joint("w", "fixed", "world", "torso", xyz=xyz, rpy=rpy),
+                            joint("p", "fixed", "world", "plate", xyz=(1, 0, 0)),
+                            joint("j1", "revolute", "torso", "l1"), joint("j2", "revolute", "l1", "l2")],
+             "torso")):
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            load_urdf(write(tmp_path, robot(*parts), name), floating=True)
+        said = [str(w.message) for w in seen if "free flyer" in str(w.message)]
+        assert len(said) == warned and all(f"'{body}' is fixed to it by joint 'w' away" in m
+                                           for m in said), (name, said)

@@ -231,12 +231,18 @@ def _warn_massless_root(tree: Tree, root: str, path: Path) -> None:
     link, pose, through = root, np.eye(4), []
     while massless(link):
         welded = tree.children[link]
-        if not welded or any(j.type != "fixed" for j in welded):
+        if not welded:
             return
+        if any(j.type != "fixed" for j in welded):
+            break                 # (a massless link the joints move from: it is the body that floats)
         heavy = [j for j in welded if tree.has_mass(j.child)]
-        if len(heavy) != 1:       # (nothing of mass below, or several bodies: no one body to name)
+        moving = [j for j in heavy if any(k.type in MOVABLE for k in tree.below(j.child))]
+        # the one body with joints below it (a plate welded beside the torso does not hide it),
+        # or the one body of mass; none or several: no one body to name
+        chosen = moving if len(moving) == 1 else heavy if len(heavy) == 1 else []
+        if not chosen:
             return
-        j = heavy[0]
+        j = chosen[0]
         pose = pose @ (np.eye(4) if j.origin is None else np.asarray(j.origin))
         link, through = j.child, through + [j.name]
     if link == root or np.allclose(pose, np.eye(4)):
