@@ -386,6 +386,8 @@ def test_a_reference_that_is_not_finite_is_said_so(tmp_path, program, word):
     # (columns named by joint: which joint q1 is went unsaid, a new user's find)
     ("q_shoulder,q_elbow,qd_shoulder,qd_elbow,qdd_shoulder,qdd_elbow\n0,0,0,0,0,0\n",
      "the columns are numbered, not named by joint: q1 is the first joint in joint order"),
+    ("q_shoulder,q_elbow,qdot_shoulder,qdot_elbow,qddot_shoulder,qddot_elbow\n0,0,0,0,0,0\n",
+     "the columns are numbered, not named by joint"),     # (dropped by 008de49: a review's find)
 ])
 def test_a_header_that_is_not_the_trajectorys_is_said_what_it_seems(tmp_path, text, said):
     """numpy.savetxt's '# t,q1,...' was said to have 't' where 'q1' was expected, as if the t

@@ -134,9 +134,10 @@ def _header_hint(names: list[str], columns: list[str]) -> str:
     # named by joint: some name after q, qd and qdd alike (q_shoulder, qd_shoulder, qdd_shoulder;
     # not qdot1 or a column 'quality', which a review found told so)
     parts: dict[str, set] = {"q": set(), "qd": set(), "qdd": set()}
-    for m in (re.fullmatch(r"(qdd|qd|q)[_ .-]?(\w+)", c) for c in names):
+    kind = {"qddot": "qdd", "qdd": "qdd", "qdot": "qd", "qd": "qd", "q": "q"}   # (qdot_shoulder too)
+    for m in (re.fullmatch(r"(qddot|qdd|qdot|qd|q)[_ .-]?(\w+)", c) for c in names):
         if m and not m.group(2).isdigit():
-            parts[m.group(1)].add(m.group(2))
+            parts[kind[m.group(1)]].add(m.group(2))
     if parts["q"] & parts["qd"] & parts["qdd"]:
         # (q_shoulder...: named by joint, where the columns are numbered; which joint is q1 went
         # unsaid: a new user's find)
