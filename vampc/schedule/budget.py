@@ -227,14 +227,13 @@ class _Modulo:
         while queue:
             if steps == 0:
                 return None
-            taken = budget - steps
-            if said and taken and taken % NOTE_EVERY == 0:
+            if said and (budget - steps) % NOTE_EVERY == 0 and steps != budget:
                 # (one attempt on a 256-joint log chain's 2000 VAMPs ran 40 s under one unmoving
                 # note: a new user's find; how far it is, said)
                 # (its budget counts steps, ops taken from the queue, one already placed too: the
                 # note had called them placements; the steps taken so far, this one not yet)
                 progress.note(f"{said}: {len(self.start):,} of {len(order):,} ops placed; "
-                              f"{made:,} placements, {taken:,} of at most {budget:,} steps")
+                              f"{made:,} placements, {budget - steps:,} of at most {budget:,} steps")
             steps -= 1
             _, i = heapq.heappop(queue)
             if i in self.start:
@@ -450,11 +449,9 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
         # scheduler had run first, 38 s on a 64-joint log graph: a review's find)
         heuristic = _for_vamps(graph, timing, k, asap, thorough) \
             if interval is None or interval >= b.interval_bound else None
-        if heuristic is not None and interval is not None:   # (the better of T and --vamps K's)
-            at = modulo_schedule(graph, timing, k, interval, asap)
-            if heuristic.interval > interval or at is not None and (
-                    _latency(graph, at), at.interval) < (_latency(graph, heuristic), heuristic.interval):
-                heuristic = at
+        if heuristic is not None and interval is not None:   # (as without --exact)
+            heuristic = _within(graph, modulo_schedule(graph, timing, k, interval, asap), heuristic,
+                                interval)
         if heuristic is not None and heuristic.interval <= (interval or b.interval_bound) and \
                 _latency(graph, heuristic) == b.latency:
             placed = heuristic
@@ -523,10 +520,18 @@ def budget_schedule(graph: Graph, timing: Timing, k: int | None = None,
             raise VampcError(f"--vamps {asked_k} --interval {asked}: this scheduler places no "
                              f"torque set every {interval} flops on {count(k, 'VAMP')}{below}; the smallest "
                              f"interval from there it reaches is {found} flops")
-        if best.interval <= interval and (placed is None or (_latency(graph, best), best.interval)
-                                          < (_latency(graph, placed), placed.interval)):
-            placed = best          # a set at least every T flops, as --interval promises
+        placed = _within(graph, placed, best, interval)    # a set at least every T flops
     return _finish(graph, timing, placed, k, verify, proof, asap)
+
+
+def _within(graph, at: Placed | None, best: Placed, interval: int) -> Placed | None:
+    """What --vamps K --interval T takes of `at` (a placement at exactly T, or None) and `best`
+    (what --vamps K reaches): `best` where its interval is T or less and its latency shorter, or as
+    short at a smaller interval; else `at`."""
+    if best.interval <= interval and (at is None or (_latency(graph, best), best.interval)
+                                      < (_latency(graph, at), at.interval)):
+        return best
+    return at
 
 
 def usable(graph: Graph, timing: Timing, k: int | None, interval: int | None, longest: int):
