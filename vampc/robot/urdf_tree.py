@@ -113,13 +113,14 @@ class Tree:
                 link = self.parent[link].parent
             done.update(seen)
 
+    def has_own_mass(self, link: str) -> bool:
+        """Whether `link` itself has an inertial of nonzero mass."""
+        inertial = getattr(self.links[link], "inertial", None)
+        return inertial is not None and bool(inertial.mass)
+
     def has_mass(self, link: str) -> bool:
         """Whether `link` or a link under it has an inertial of nonzero mass."""
-        for name in [link] + [j.child for j in self.below(link)]:
-            inertial = getattr(self.links[name], "inertial", None)
-            if inertial is not None and inertial.mass:
-                return True
-        return False
+        return any(self.has_own_mass(name) for name in [link] + [j.child for j in self.below(link)])
 
     def below(self, link: str, by_name: bool = False) -> list:
         """Every joint in the subtree under `link`, depth first, children in file order or, `by_name`,
@@ -224,12 +225,8 @@ def _warn_massless_root(tree: Tree, root: str, path: Path) -> None:
     user's torques differed by 10% between the two, unsaid; a review's world -> base_link -> torso
     went unsaid where only the root's own joints were looked at)."""
     import numpy as np
-
-    def massless(link: str) -> bool:
-        inertial = getattr(tree.links[link], "inertial", None)
-        return inertial is None or not inertial.mass
     link, pose, through = root, np.eye(4), []
-    while massless(link):
+    while not tree.has_own_mass(link):
         welded = tree.children[link]
         if not welded:
             return
