@@ -689,17 +689,6 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
     _check_unwritten(doc.options.recorded(), options, path)
-    if options.recursion is Recursion.LINEAR:      # (the command line refuses them: exit 2; an
-        # edited file's report had taken them, its Table O.1 and log figures changed: a new user's)
-        from dataclasses import fields
-        defaults = {f.name: f.default for f in fields(options)}
-        for name in ("prefix", "uniform_leaves"):
-            if getattr(options, name) != defaults[name]:
-                value = getattr(options, name)
-                value = "true" if value is True else repr(getattr(value, "value", value))  # (as JSON)
-                raise VampcError(f"{path}: options.{name}: {value}, which "
-                                 "applies to the log recursion only, and the file's is linear (the "
-                                 "file was edited); recompile it")
     _check_layout_names(doc, options, path)
     for where, got, want, section in (
             ("recursion", options.recursion, graph.recursion, "the graph is"),
@@ -724,6 +713,15 @@ def _check_unwritten(recorded: dict, options, path) -> None:
 
     from vampc.compiler import CompileOptions
     defaults = {f.name: f.default for f in fields(CompileOptions)}
+    if options.recursion is Recursion.LINEAR:      # (the command line refuses them: exit 2; an
+        # edited file's report had taken them, its Table O.1 and log figures changed: a new user's)
+        for name in ("prefix", "uniform_leaves"):
+            if getattr(options, name) != defaults[name]:
+                value = getattr(options, name)
+                value = "true" if value is True else repr(getattr(value, "value", value))  # (as JSON)
+                raise VampcError(f"{path}: options.{name}: {value}, which "
+                                 "applies to the log recursion only, and the file's is linear (the "
+                                 "file was edited); recompile it")
     written = options.record()
     for key, value in recorded.items():
         if key not in written and value != defaults.get(key):
