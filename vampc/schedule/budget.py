@@ -215,6 +215,8 @@ class _Modulo:
         self.shapes = sorted({(d[nd.op], VAMPS_PER_OP[nd.op]) for nd in graph.compute_nodes()})
         self.longest = max(dur for dur, _ in self.shapes)
         self.avail = {shape: bytearray([shape[1] <= k]) * ii for shape in self.shapes}
+        # the same tables as _refresh walks them: (duration - 1, VAMPs needed, table)
+        self.tables = [(dur - 1, need, self.avail[(dur, need)]) for dur, need in self.shapes]
 
     def run(self, order: list[int], effort: int, said: str = "") -> Placed | None:
         import heapq
@@ -266,7 +268,17 @@ class _Modulo:
             if first > end:
                 first = ready
             ticks = range(first, min(end, first + SCAN) + 1) if self.scan else (first,)
-            t, vamps = min((self._conflicts(t, dur, need) for t in ticks))[1:]
+            best = None
+            for tick in ticks:
+                c = self._conflicts(tick, dur, need)
+                if best is None or c < best:
+                    best = c
+                    if c[0] <= 1:
+                        # no later tick evicts fewer: none evicts no op, since _fit found no
+                        # start in [ready, end] with `need` VAMPs free throughout (and a tie goes
+                        # to the earlier tick, as min() over ticks in order gives)
+                        break
+            t, vamps = best[1:]
             evicted = sorted({self.occupant[tick % self.ii][v] for tick in range(t, t + dur)
                               for v in vamps if v in self.occupant[tick % self.ii]})
             for e in evicted:
@@ -370,17 +382,17 @@ class _Modulo:
 
     def _refresh(self, t: int, dur: int) -> None:
         """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
-        ii, free, avail, shapes = self.ii, self.free, self.avail, self.shapes
-        for start in range(t - self.longest + 1, t + dur):
+        ii, free, longest, tables = self.ii, self.free, self.longest, self.tables
+        for start in range(t - longest + 1, t + dur):
             s0 = start % ii
             # the VAMPs free for 1, 2, ... ticks from `start` (_free_for of each length, built up)
-            spans = [free[s0]]
-            for tick in range(start + 1, start + self.longest):
-                spans.append(spans[-1] & free[tick % ii])
-            for shape in shapes:
-                length, need = shape
-                mask = spans[length - 1]
-                avail[shape][s0] = mask.bit_count() >= need if need > 1 else mask != 0
+            mask = free[s0]
+            spans = [mask]
+            for tick in range(start + 1, start + longest):
+                mask &= free[tick % ii]
+                spans.append(mask)
+            for last, need, table in tables:
+                table[s0] = spans[last].bit_count() >= need if need > 1 else spans[last] != 0
 
     def _reserve(self, i: int, t: int, vamps: tuple[int, ...]) -> None:
         dur = self.d[self.g.nodes[i].op]
