@@ -90,3 +90,108 @@ def test_stages_pause_the_garbage_collector_and_resume_it():
         gc.enable()
     vampc.program_document(vampc.compile_chain(vampc.random_chain(2, 1)))
     assert gc.isenabled()
+
+
+# --- a library caller's states and options (a new user's script: extra joint columns had been dropped,
+# so another robot's trajectory ran; NaN ran into NaN torques; a 1-D state was an IndexError) -------
+
+def _puma_loaded():
+    chain = vampc.load_robot(PUMA)
+    return chain, vampc.loaded_from_compiled(vampc.compile_chain(chain, vampc.CompileOptions()))
+
+
+def _bad_states(traj):
+    """(label, Trajectory or other, words the error must hold) of each way a caller's states can be
+    wrong."""
+    T = vampc.Trajectory
+    q, qd, qdd = traj.q, traj.qd, traj.qdd
+    nan = q.copy()
+    nan[1, 5] = np.nan
+    one = np.ones((len(q), 1))
+    return [
+        ("a seventh joint column", T(np.hstack([q, one]), np.hstack([qd, one]), np.hstack([qdd, one])),
+         "q has shape (5, 7); it must be (states, 6)"),
+        ("a NaN", T(nan, qd, qdd), "state 2, column q6: nan is not finite"),
+        ("an infinity", T(q, qd, np.where(q > 0, np.inf, qdd)), "is not finite"),
+        ("one 1-D state", T(q[0], qd[0], qdd[0]), "(1, 6) for one state"),
+        ("no states", T(q[:0], qd[:0], qdd[:0]), "no states"),
+        ("fewer qd rows", T(q, qd[:4], qdd), "qd has 4 states where q has 5"),
+        ("complex", T(q + 0j, qd, qdd), "complex"),
+        ("text", T(q.astype(str), qd, qdd), "not numbers"),
+        ("an integer past 2**53", T(np.full(q.shape, 2 ** 53 + 1), qd, qdd), "state 1, column q1"),
+        ("a base on a fixed base", T(q, qd, qdd, None, np.zeros((len(q), 9))), "base applies to a floating"),
+        ("a t per state but one", T(q, qd, qdd, np.arange(len(q) - 1.0)), "t has 4 states"),
+        ("bare arrays", q, "must be a vampc.Trajectory"),
+    ]
+
+
+@pytest.mark.parametrize("case", range(12))
+@pytest.mark.parametrize("engine", ["stream", "tick"])
+def test_states_a_library_caller_gives_wrong_are_refused_naming_what_and_where(case, engine):
+    chain, ld = _puma_loaded()
+    label, bad, words = _bad_states(vampc.random_trajectory(chain, 5, 0))[case]
+    with pytest.raises(vampc.VampcError) as err:
+        vampc.emulate(ld, bad, engine=engine)
+    assert str(err.value).startswith("emulate: ") and words in str(err.value), (label, err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_states_as_lists_or_other_real_dtypes_give_the_same_torques_and_are_not_changed():
+    chain, ld = _puma_loaded()
+    traj = vampc.random_trajectory(chain, 5, 0)
+    tau = vampc.emulate(ld, traj).tau
+    listed = vampc.Trajectory(traj.q.tolist(), traj.qd.tolist(), traj.qdd.tolist())
+    assert np.array_equal(vampc.emulate(ld, listed).tau, tau)
+    fortran = vampc.Trajectory(np.asfortranarray(traj.q), traj.qd[:, ::1], traj.qdd.copy())
+    before = fortran.q.copy()
+    assert np.array_equal(vampc.emulate(ld, fortran).tau, tau)
+    assert np.array_equal(fortran.q, before)
+    whole = vampc.Trajectory(np.zeros((2, 6), dtype=np.int32), np.zeros((2, 6)), np.zeros((2, 6)))
+    floats = vampc.Trajectory(np.zeros((2, 6)), np.zeros((2, 6)), np.zeros((2, 6)))
+    assert np.array_equal(vampc.emulate(ld, whole).tau, vampc.emulate(ld, floats).tau)
+
+
+def test_an_unknown_engine_names_the_engines():
+    chain, ld = _puma_loaded()
+    with pytest.raises(vampc.VampcUsageError, match="'TICK': the engines are stream, tick"):
+        vampc.emulate(ld, vampc.random_trajectory(chain, 2, 0), engine="TICK")
+
+
+def test_check_torques_refuses_torques_of_another_shape_and_names_the_words_tolerance():
+    chain, ld = _puma_loaded()
+    traj = vampc.random_trajectory(chain, 5, 0)
+    tau = vampc.emulate(ld, traj).tau
+    assert vampc.check_torques(chain, traj, tau).ok
+    with pytest.raises(vampc.VampcError, match=r"check_torques: tau has shape \(5, 5\)"):
+        vampc.check_torques(chain, traj, tau[:, :5])
+    assert "check_tolerance" in vampc.check_torques.__doc__
+
+
+@pytest.mark.parametrize("options, words", [
+    (dict(prefix="kogge-stone"), "--prefix applies to the log recursion only"),
+    (dict(uniform_leaves=True), "--uniform-leaves applies to the log recursion only"),
+    (dict(rounding="truncate"), "--rounding applies to fixed-point words"),
+    (dict(overflow="wrap"), "--overflow applies to fixed-point words"),
+    (dict(check_cycles=3), "--check-cycles applies with --error-correction"),
+])
+def test_a_library_callers_option_that_does_not_apply_is_refused_as_on_the_command_line(options, words):
+    # (it had been taken and dropped without a word, the program file recording the default)
+    chain = vampc.load_robot(PUMA)
+    with pytest.raises(vampc.VampcUsageError, match=words):
+        vampc.compile_chain(chain, vampc.CompileOptions(**options))
+    # where it applies it is taken
+    applies = {"prefix": dict(recursion="log"), "uniform_leaves": dict(recursion="log"),
+               "rounding": dict(word="q16.16"), "overflow": dict(word="q16.16"),
+               "check_cycles": dict(error_correction=True)}[next(iter(options))]
+    vampc.compile_chain(chain, vampc.CompileOptions(**options, **applies))
+
+
+def test_the_exported_types_are_the_ones_the_functions_take_and_return():
+    chain, ld = _puma_loaded()
+    assert isinstance(ld, vampc.Loaded)
+    em = vampc.emulate(ld, vampc.random_trajectory(chain, 2, 0))
+    assert isinstance(em, vampc.Emulation)
+    assert isinstance(vampc.random_trajectory(chain, 2, 0), vampc.Trajectory)
+    assert isinstance(vampc.compile_chain(chain), vampc.Compiled)
+    assert issubclass(vampc.VampcUsageError, vampc.VampcError)
+    assert issubclass(vampc.VampcWarning, Warning)

@@ -1142,17 +1142,23 @@ def test_a_number_beyond_float_range_in_a_program_file_is_placed(puma_program, t
 
 
 def test_a_linear_program_written_through_the_api_with_a_log_option_is_read(tmp_path):
-    """CompileOptions(prefix=...) with the linear recursion, through the API (which takes it: only
-    the command line's given options are refused), wrote the prefix into the file, which the reader
-    then refused as edited (a review's find). The file records the log options' defaults, as the
-    command line's does: the same bytes, read back and reported."""
+    """CompileOptions(prefix=...) with the linear recursion, through the API (which took it then:
+    only the command line's given options were refused), wrote the prefix into the file, which the
+    reader then refused as edited (a review's find). The API now refuses it as the command line
+    does; options made as the command line makes them (`library` off: only what is given is
+    checked) still record the log options' defaults, as the command line's file does: the same
+    bytes, read back and reported."""
     from vampc.compiler import CompileOptions, compile_chain, program_text
+    from vampc.errors import VampcUsageError
     from vampc.kinds import Prefix
     from vampc.program.file import write_program
     from vampc.robot import load_robot
     chain = load_robot(EXAMPLES / "planar2.yaml")
+    with pytest.raises(VampcUsageError, match="--prefix applies to the log recursion only"):
+        compile_chain(chain, CompileOptions(prefix=Prefix.KOGGE_STONE, uniform_leaves=True))
     texts = []
-    for options in (CompileOptions(prefix=Prefix.KOGGE_STONE, uniform_leaves=True), CompileOptions()):
+    for options in (CompileOptions(prefix=Prefix.KOGGE_STONE, uniform_leaves=True, library=False),
+                    CompileOptions()):
         path = tmp_path / f"p{len(texts)}.vamp.json"
         write_program(program_text(compile_chain(chain, options)), str(path))
         texts.append(path.read_bytes())

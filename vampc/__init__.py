@@ -3,7 +3,7 @@ Manipulator Dynamics), emulate them, and report their cost.
 
 The stages, as functions (the CLI is a thin layer over exactly these):
 
-    chain = vampc.load_robot("examples/puma560.yaml")          # Chain (DH table or URDF)
+    chain = vampc.load_robot("examples/puma560.yaml")          # Chain (DH table, URDF or MJCF)
     graph = vampc.build_linear(chain)                          # or vampc.build_log(chain, prefix=...)
     sched = vampc.schedule_asap(graph)                         # latency, critical path
     net = vampc.allocate_systolic(graph, sched)                # VAMPs, buffers, ports, constants
@@ -14,9 +14,12 @@ The stages, as functions (the CLI is a thin layer over exactly these):
     vampc.timing_svg(c.graph, c.layout, c.schedule, "title")   # pictures: also network_svg, report_dot
     ld = vampc.loaded_from_compiled(c)                         # or vampc.load_program(path)
     vampc.emulate(ld, vampc.random_trajectory(chain, 100, 0))  # torques from the emulated network
+    vampc.emulate(ld, vampc.Trajectory(q, qd, qdd)).tau        # your own states: arrays states × n
     vampc.rnea(chain, q, qd, qdd)                              # the reference dynamics
 
-Names are resolved on first use, so `import vampc` stays cheap.
+Names are resolved on first use, so `import vampc` stays cheap. Bad input raises VampcError (a
+VampcUsageError for a rule between options) with one line naming the place; warnings are
+VampcWarning (README, Python API).
 """
 from __future__ import annotations
 
@@ -43,7 +46,9 @@ _API = {
     "emulate": "vampc.emulator", "load_program": "vampc.emulator",
     "loaded_from_doc": "vampc.emulator", "loaded_from_compiled": "vampc.emulator", "random_trajectory": "vampc.emulator.host",
     "read_trajectory": "vampc.emulator.host", "check_torques": "vampc.emulator.host",
-    "VampcError": "vampc.errors",
+    "VampcError": "vampc.errors", "VampcUsageError": "vampc.errors", "VampcWarning": "vampc.errors",
+    "Trajectory": "vampc.emulator.host", "CheckResult": "vampc.emulator.host",
+    "Emulation": "vampc.emulator", "Loaded": "vampc.emulator.load", "Compiled": "vampc.compiler",
 }
 
 __all__ = sorted(_API)

@@ -103,4 +103,6 @@ def build(cls, ctx: click.Context, params: dict):
         values["given"] = frozenset(   # every option the user gave, this object's or not
             k for k in ctx.params if ctx.get_parameter_source(k) not in (
                 None, ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP))
+    if "library" in names:
+        values["library"] = False      # (the command line says what was given)
     return cls(**values)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 
 from vampc.dataflow.registry import prefix_names, recursion_names
@@ -130,6 +130,11 @@ class CompileOptions:
         "before the check moves on; the paper's 1, or more to catch faults one cycle's data mask "
         "(a sweep takes K more periods per VAMP)."))
     given: frozenset = field(default=frozenset(), compare=False, repr=False)
+    # made by a library caller, not the command line (vampc.cliopts.build): where nothing is
+    # `given`, check() takes the options whose values are not the defaults as given, so an option
+    # that does not apply is refused as the command line refuses it (CompileOptions(prefix=...)
+    # with the linear recursion had been taken and dropped without a word: a new user's find)
+    library: bool = field(default=True, compare=False, repr=False)
 
     def __post_init__(self):
         for name, kind, what in (("recursion", Recursion, "recursion"),
@@ -173,7 +178,8 @@ class CompileOptions:
     @staticmethod
     def recorded() -> tuple[str, ...]:
         """The options a program file records (all but --verify and the names given)."""
-        return tuple(f.name for f in fields(CompileOptions) if f.name not in ("verify", "given"))
+        return tuple(f.name for f in fields(CompileOptions)
+                     if f.name not in ("verify", "given", "library"))
 
     def record(self) -> dict:
         """The options as a program file records them: the word format only when it is not float64
@@ -205,8 +211,16 @@ class CompileOptions:
         from vampc.machine.arith import parse_word
         return parse_word(self.word, self.rounding, self.overflow)
 
+    def changed(self) -> frozenset:
+        """The options whose values are not their defaults."""
+        return frozenset(f.name for f in fields(self) if f.name not in ("given", "library")
+                         and f.default is not MISSING and getattr(self, f.name) != f.default)
+
     def check(self) -> None:
-        """Every rule between compile options (VampcUsageError, one line)."""
+        """Every rule between compile options (VampcUsageError, one line); a library caller's
+        options not at their defaults count as given (`library`)."""
+        if self.library and not self.given and self.changed():
+            return replace(self, given=self.changed()).check()
         try:
             kind = layout_kind(self.layout)
         except ValueError as exc:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vampc.emulator.check import check_program
-from vampc.emulator.host import Trajectory, port_values
+from vampc.emulator.host import Trajectory, checked_trajectory, port_values
 from vampc.emulator.load import (
     Loaded,
     load_program,
@@ -43,9 +43,19 @@ def emulate(ld: Loaded, traj: Trajectory, engine: str = "stream", seed: int = 0,
     """Run the loaded program on a trajectory with the chosen engine. `vcd` is a VcdWriter (tick
     engine only); `progress(done, total)` reports progress; `stream` is a StreamEngine prepared for
     a longer run this trajectory is a chunk of (vampc.emulator.driver); `faults`: Faults injected
-    (tick engine only; vampc.emulator.faults)."""
+    (tick engine only; vampc.emulator.faults).
+
+    `traj`: q, qd and qdd (states × joints, in the program's joint order: README, Python API),
+    optionally t (states) and, on a floating-base program, base (states × 9: ω_0, ω̇_0, a_0 in O_0;
+    None: the base at rest); refused (VampcError) where not so (checked_trajectory). Returns the
+    torques as `tau` (states × outputs: the joints, then a floating base's wrench)."""
     start = time.perf_counter()
-    engine = Engine(engine)
+    try:
+        engine = Engine(engine)
+    except ValueError:
+        from vampc.errors import VampcUsageError
+        raise VampcUsageError(f"engine {engine!r}: the engines are {', '.join(ENGINES)}") from None
+    traj = checked_trajectory(ld.chain, traj)
     match engine:
         case Engine.TICK:
             if static_check:

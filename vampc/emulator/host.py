@@ -32,6 +32,56 @@ class Trajectory:
         return self.q.shape[0]
 
 
+def checked_trajectory(chain: Chain, traj, where: str = "emulate") -> Trajectory:
+    """`traj` as the network takes it, or VampcError naming what is wrong and where (`where`, the
+    state and the column, as a trajectory file's are named): a Trajectory whose q, qd and qdd are
+    arrays of states × the chain's joints (real numbers, finite, exactly float64: an integer past
+    2**53 is refused rather than rounded), the same number of states in each, at least one; `t`
+    one per state; `base` (states × 9) only on a floating-base chain (None there: the base at rest,
+    held against gravity). A library caller's arrays had been taken as they came: extra joint
+    columns dropped (another robot's trajectory ran), NaN run into NaN torques, a 1-D state an
+    IndexError (a new user's find)."""
+    from vampc.emulator.trajectory import BASE_COLUMNS, _as_float, _check_finite
+    if not isinstance(traj, Trajectory):
+        raise VampcError(f"{where}: the states must be a vampc.Trajectory(q, qd, qdd, t=None, "
+                         f"base=None) of arrays (states × joints), not {type(traj).__name__}")
+    n = chain.n
+    count = None
+    arrays = {}
+    for name in ("q", "qd", "qdd", "t", "base"):
+        value = getattr(traj, name)
+        if value is None:
+            arrays[name] = None
+            continue
+        if name == "base" and not chain.floating:
+            raise VampcError(f"{where}: base is given but the robot's base is fixed (base applies "
+                             "to a floating-base program)")
+        arr = np.asarray(value)
+        want = 1 if name == "t" else 2
+        width = 9 if name == "base" else n
+        shape = "(states,)" if name == "t" else f"(states, {width})"
+        if arr.ndim != want or (want == 2 and arr.shape[1] != width):
+            one = f"; (1, {width}) for one state" if want == 2 and arr.ndim == 1 else ""
+            what = (f"{width} columns (the robot's {n} joints)" if name != "base" else
+                    "9 columns (ω_0, ω̇_0, a_0)")
+            raise VampcError(f"{where}: {name} has shape {arr.shape}; it must be {shape}: "
+                             f"{what if want == 2 else 'one time per state'}{one}")
+        if count is None:
+            count = arr.shape[0]
+            if count == 0:
+                raise VampcError(f"{where}: no states (q has 0 rows)")
+        elif arr.shape[0] != count:
+            raise VampcError(f"{where}: {name} has {arr.shape[0]} states where q has {count}")
+        columns = ["t"] if name == "t" else BASE_COLUMNS if name == "base" else \
+            [f"{name}{j}" for j in range(1, n + 1)]
+        out = _as_float(where, arr, name, columns)
+        _check_finite(where, out.reshape(count, -1), columns)
+        arrays[name] = out
+    if all(arrays[name] is getattr(traj, name) for name in arrays):
+        return traj
+    return Trajectory(**arrays)
+
+
 def port_values(ld: Loaded, traj: Trajectory) -> dict[tuple[int, int], np.ndarray]:
     """What the host writes for every set to each (port, entry): (count, 3) or (count, 9), row-major,
     as words of the network's format (vampc.machine.arith: encode)."""
@@ -254,9 +304,16 @@ def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
 
 def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 1e-9) -> CheckResult:
     """Compare with the reference RNEA; relative error per set against that set's largest |τ| (the base
-    wrench's components included)."""
+    wrench's components included). `tol` is float64's: a program in another word format errs by
+    its rounding, so give its own, `ld.arith.check_tolerance` (what `vampc emulate --check` takes:
+    README, Word formats). `tau`: states × outputs, as `emulate` returns it."""
     from vampc.dynamics.reference import rnea
+    traj = checked_trajectory(chain, traj, "check_torques")
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+    tau = np.asarray(tau)
+    if tau.shape != ref.shape:
+        raise VampcError(f"check_torques: tau has shape {tau.shape}; the states' reference "
+                         f"torques have {ref.shape} (states × outputs)")
     err = np.abs(tau - ref)
     top = np.max(np.abs(ref), axis=1, keepdims=True)
     scale = np.maximum(top, CHECK_FLOOR)

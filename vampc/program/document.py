@@ -684,7 +684,7 @@ def recorded_options(doc: F.ProgramFile, graph: Graph, path):
     latencies, not the file's)."""
     from vampc.compiler import CompileOptions
     try:
-        options = CompileOptions(**doc.options.recorded())
+        options = CompileOptions(**doc.options.recorded(), library=False)   # (its own rules below)
         options.check()
     except VampcError as exc:          # a usage error on the command line is the file's here
         raise VampcError(f"{path}: options: {exc}") from None
