@@ -675,6 +675,15 @@ def test_the_drawings_of_a_bus_or_checked_program_say_what_they_leave_out(tmp_pa
     res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), "--network",
                                     str(tmp_path / "n.svg")])
     assert res.exit_code == 0 and "warning" not in res.stderr
+    # the timing and reservation charts of a checked program too (the plain program's bytes: an
+    # options audit's find); a bus program's charts draw its bus, unwarned
+    for extra, warned in ((["--error-correction"], True), (["--bus", "mlb"], False), ([], False)):
+        res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), *extra, "--timing",
+                                        str(tmp_path / "t.svg"), "--reservation",
+                                        str(tmp_path / "r.svg")])
+        assert res.exit_code == 0, res.output
+        said = "vampc: warning: --timing, --reservation: charted without the error correction"
+        assert (said in res.stderr) == warned, (extra, res.stderr)
 
 
 def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):

@@ -96,6 +96,14 @@ def test_millihertz_and_the_rate_example_are_not_megahertz():
     from vampc.options import frequency
     with pytest.raises(VampcUsageError, match=r"--rate '1000' has no unit: .*\(e\.g\. 1000Hz\)"):
         frequency("1000", "--rate", "rate")
+    # a row rate in millihertz is a rate a path may have: its Hz is said, not megahertz; and a rate
+    # that is no rate is shown a row rate's example (20MHz had been: an options audit's find)
+    with pytest.raises(VampcUsageError, match=r"--rate '500mHz': mHz is millihertz; write 0\.5Hz"):
+        frequency("500mHz", "--rate", "rate")
+    with pytest.raises(VampcUsageError, match=r"--rate '-1kHz' is not a rate .*e\.g\. 1kHz\)$"):
+        frequency("-1kHz", "--rate", "rate")
+    with pytest.raises(VampcUsageError, match=r"--clock '-1kHz' is not a clock rate .*e\.g\. 20MHz\)$"):
+        frequency("-1kHz", "--clock")
 
 
 def test_margins_read_as_words():

@@ -652,6 +652,23 @@ def test_an_improper_inertia_is_taken_as_written_when_asked(tmp_path):
         load_urdf(path)                      # the next load is strict again
 
 
+def test_accepting_improper_inertias_where_none_is_says_it_has_no_effect(tmp_path):
+    """As --mimic and --floating-base say where they do nothing (it was silent: an options
+    audit's find); where an inertia is taken so, the warning is that one's, not this."""
+    path = write(tmp_path, robot(*ARM))
+    with pytest.warns(VampcWarning, match="every inertia is positive semi-definite; "
+                                          "--accept-improper-inertia has no effect"):
+        load_urdf(path, accept_improper_inertia=True)
+    improper = write(tmp_path, robot(link("base"), link("l1", 1.0, inertia=(1, 2, 0, 1, 0, 1)),
+                                     link("l2"), *ARM[3:]))
+    import warnings
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        load_urdf(improper, accept_improper_inertia=True)
+    assert not any("no effect" in str(w.message) for w in said)
+    assert any("taken as written" in str(w.message) for w in said)
+
+
 def test_a_robot_without_a_name_is_named_after_its_file(tmp_path):
     text = robot(*ARM).replace('<robot name="r">', "<robot>")
     assert "<robot>" in text

@@ -1072,6 +1072,12 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
         warnings.warn(VampcWarning(f"{', '.join(drawn)}: the network is drawn without its error "
                                    "correction (the extraneous VAMP and the checking wires; the "
                                    "report's error-correction lines count them)"), stacklevel=1)
+    # (the charts too were the plain program's bytes, unsaid: an options audit's find)
+    charted = [o for o in ("--timing", "--reservation") if o in outs]
+    if charted and c.network.checking is not None:
+        warnings.warn(VampcWarning(f"{', '.join(charted)}: charted without the error correction "
+                                   "(the extraneous VAMP and the checkers' compare periods; the "
+                                   "report's error-correction lines count them)"), stacklevel=1)
     from vampc.report import pictures
     return pictures.make(c, rep, {o: out.path for o, out in outs.items()}, focus)
 

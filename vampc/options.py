@@ -695,6 +695,17 @@ def frequency(text: str, option: str, noun: str = "clock rate") -> float:
         message = str(exc).replace("clock rate", noun)
         if noun != "clock rate":          # a row rate: suggest Hz, not MHz
             message = re.sub(r"\(e\.g\. ([0-9.eE+-]+)MHz\)", r"(e.g. \1Hz)", message)
+            message = message.replace("e.g. 20MHz", "e.g. 1kHz")
+            # (500mHz is a rate a path may have: its Hz, not megahertz, suggested: an audit's find)
+            milli = re.fullmatch(r"\s*([0-9.eE+-]+)\s*mHz\s*", text)
+            if milli and "millihertz" in message:
+                try:
+                    hz = float(milli.group(1)) / 1000
+                except ValueError:
+                    hz = None
+                if hz is not None:
+                    message = message.replace("write MHz for megahertz",
+                                              f"write {hz:g}Hz for {hz:g} rows a second")
         raise VampcUsageError(f"{option} {message}") from None
 
 
@@ -716,7 +727,7 @@ class LookaheadOptions:
         "(default 0)."))
     rate: str | None = field(default=None, metadata=cli(
         "--rate", metavar="F", help="Rows per second, with a unit (Hz, kHz: 1kHz): one row goes to "
-        "the motors every λ = 1/rate."))
+        "the motors every λ = 1/rate (required)."))
     window: int | None = field(default=None, metadata=cli(
         "--window", range=(1, 1 << 24), metavar="M", help="Rows in the shift register: how far ahead "
         "the host sees (required)."))
@@ -795,7 +806,8 @@ class LookaheadOptions:
                                   "largest |τ|)")
         if self.retime == "envelope" and self.window is not None and self.window < 3:
             raise VampcUsageError(f"--retime envelope sees {self.window} row(s) ahead: it needs at "
-                                  "least 3 (--window) to start and still be able to stop")
+                                  "least 4 (--window), or the whole path, to start and still be "
+                                  "able to stop")
         if self.retime == "window" and self.window is not None and self.window * (self.futures or 1) < 3:
             raise VampcUsageError(f"--retime window sees {self.window * (self.futures or 1)} row(s) ahead: "
                                   "it needs at least 3 (--window × --futures) to start and still be "

@@ -163,12 +163,18 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
     none (None: no warning, the caller's --mimic couple has done something already); `mimic_given`:
     the user named --mimic (an explicit --mimic ordinary warns so too); `turn_said`: what turns a
     floating joint's frame in the file (an MJCF's body was told of an <origin>, a new user's)."""
-    token = _ACCEPT_IMPROPER.set(bool(accept_improper_inertia))
+    accepted = [False] if accept_improper_inertia else None    # [an inertia was taken so]
+    token = _ACCEPT_IMPROPER.set(accepted)
     try:
-        return _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said, mimic_given,
-                         turn_said)
+        chain = _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said,
+                          mimic_given, turn_said)
     finally:
         _ACCEPT_IMPROPER.reset(token)
+    if accepted == [False]:
+        # (as --mimic and --floating-base say where they do nothing: an options audit's find)
+        warnings.warn(VampcWarning(f"{path}: every inertia is positive semi-definite; "
+                                   "--accept-improper-inertia has no effect"), stacklevel=3)
+    return chain
 
 
 def _no_mimic(tree: Tree, said: str) -> str:
@@ -1016,8 +1022,9 @@ NEARLY_PSD_ABS = 1e-7
 # every command (a new user's find); a millionth of a millionth of any link's inertia moves no torque.
 NEGLIGIBLE_PSD = 1e-12
 # --accept-improper-inertia, for the load under way (a context variable: the checks sit deep in the
-# body computations, and a load in one thread must not change another's).
-_ACCEPT_IMPROPER: ContextVar[bool] = ContextVar("accept_improper_inertia", default=False)
+# body computations, and a load in one thread must not change another's): None without it, else
+# [whether an inertia was taken as written].
+_ACCEPT_IMPROPER: ContextVar[list | None] = ContextVar("accept_improper_inertia", default=None)
 
 
 def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
@@ -1041,7 +1048,9 @@ def _check_inertias(inertia: np.ndarray, names: list, path: Path) -> None:
                                        f"{NEARLY_PSD:g} of its largest entry or {NEARLY_PSD_ABS:g} "
                                        "kg m²: taken as a rounding error"), stacklevel=2)
             continue
-        if _ACCEPT_IMPROPER.get():
+        accepted = _ACCEPT_IMPROPER.get()
+        if accepted is not None:
+            accepted[0] = True
             warnings.warn(VampcWarning(f"{path}: link '{names[i]}': {problem}: taken as written "
                                        "(--accept-improper-inertia); no rigid body has it"), stacklevel=2)
             continue
