@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import gc
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -195,3 +196,20 @@ def test_the_exported_types_are_the_ones_the_functions_take_and_return():
     assert isinstance(vampc.compile_chain(chain), vampc.Compiled)
     assert issubclass(vampc.VampcUsageError, vampc.VampcError)
     assert issubclass(vampc.VampcWarning, Warning)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda c: vampc.random_trajectory(c, 2, -1), "random_trajectory: seed -1: give a seed of 0"),
+    (lambda c: vampc.random_trajectory(c, 2.0, 0), "count and seed must be integers, not float"),
+    (lambda c: vampc.random_trajectory(c, 2, None), "not int and NoneType"),
+    (lambda c: vampc.build_report(vampc.compile_chain(c), clock_hz=0), "clock_hz 0: give a clock"),
+    (lambda c: vampc.build_report(vampc.compile_chain(c), clock_hz=float("nan")), "clock_hz nan"),
+    (lambda c: vampc.load_robot(PUMA.parent / "ur5.urdf", mimic="bogus"),
+     "mimic 'bogus': give one of ordinary, couple"),
+    (lambda c: vampc.load_robot(PUMA.parent / "ur5.urdf", lock=["j=0"]), "lock: give a dict"),
+])
+def test_a_library_callers_bad_argument_is_a_vampc_error_naming_it(call, words):
+    # (a ValueError from numpy's SeedSequence, a TypeError, "math domain error", an AttributeError:
+    # none a VampcError, none naming the argument: a new user's finds)
+    with pytest.raises(vampc.VampcError, match=re.escape(words)):
+        call(vampc.load_robot(PUMA))

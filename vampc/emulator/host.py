@@ -105,7 +105,16 @@ def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
     the same as the first `count` states of any longer run with this seed
     (vampc.emulator.driver.random_states). A coupled follower (vampc.robot.mimic) follows its
     leader, whatever its own limits say."""
+    import operator
+
     from vampc.emulator.driver import States, random_states
+    try:
+        count, seed = operator.index(count), operator.index(seed)
+    except TypeError:
+        raise VampcError(f"random_trajectory: count and seed must be integers, not "
+                         f"{type(count).__name__} and {type(seed).__name__}") from None
+    if seed < 0:
+        raise VampcError(f"random_trajectory: seed {seed}: give a seed of 0 or more")
     return random_states(chain, 0, States.random(count, seed).count, seed)
 
 

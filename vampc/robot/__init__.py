@@ -39,6 +39,11 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
     warns that it has no effect) and `accept_improper_inertia` whether an inertia that is not
     positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
     import numpy as np
+    if lock is not None and not isinstance(lock, dict):
+        # (a library caller's list: said, not an AttributeError: a new user's find)
+        from vampc.errors import VampcUsageError
+        raise VampcUsageError(f"lock: give a dict of joint name to position (radians or metres), "
+                              f"not a {type(lock).__name__}")
     with np.errstate(over="ignore", invalid="ignore"):      # (overflows are said below, by joint)
         chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia,
                       mimic_given)

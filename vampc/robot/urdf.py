@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from vampc.errors import VampcWarning, located
+from vampc.errors import VampcUsageError, VampcWarning, located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, Limits
 from vampc.robot.dh import improper_inertias, inertia_problem, joint_count_problem
@@ -90,7 +90,7 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
     warning naming the link, however far it misses (Pinocchio does not check)."""
     path = Path(path)
     if mimic not in MIMIC_MODES:
-        raise ValueError(f"mimic must be one of {MIMIC_MODES}, not {mimic!r}")
+        raise VampcUsageError(f"mimic {mimic!r}: give one of {', '.join(MIMIC_MODES)}")
     with gc_paused():  # a big robot is millions of objects: the collector would walk them again and again
         robot = _read_robot(path)
         return chain_of(robot, Tree.build(robot, path), path, base, tip, lock, floating, mimic,
