@@ -134,6 +134,21 @@ def test_a_word_option_that_makes_no_sense_is_a_usage_error(args, said):
     assert res.exit_code == 2 and said in res.stderr, res.stderr
 
 
+@pytest.mark.parametrize("value", ["1", "5"])
+@pytest.mark.parametrize("command", ["emulate", "precision", "lookahead"])
+def test_a_tolerance_of_one_or_more_is_refused_by_every_command_alike(command, value):
+    """An error of the largest |τ| or more lets any torque of that size pass: emulate took 5 (and
+    passed), precision named a word for it, lookahead refused it (an options audit's find)."""
+    robot = str(EXAMPLES / "planar2.yaml")
+    args = {"emulate": ["emulate", robot, "--random", "3", "--check"],
+            "precision": ["precision", robot],
+            "lookahead": ["lookahead", robot, "--trajectory", str(EXAMPLES / "puma560-path.csv"),
+                          "--rate", "1kHz", "--window", "8", "--check", "--word", "float32"]}[command]
+    res = CliRunner().invoke(main, [*args, "--tolerance", value])
+    assert res.exit_code == 2, (res.output, res.stderr)
+    assert f"--tolerance {value}: give an error below 1 (of the largest |τ|)" in res.stderr
+
+
 @pytest.mark.parametrize("word", ["float32", "q16.16", "q32.32", "q5.12"])
 def test_the_generated_c_computes_each_word_as_numpy_does(word, monkeypatch):
     """The stream engine's C path (VAMPC_NATIVE=1: compiled even for a short run) renders the same

@@ -46,6 +46,15 @@ def check_positive(option: str, value: float) -> None:
             " (a number above about 1.8e308 also reads as inf)" if value == math.inf else ""))
 
 
+def check_tolerance(value: float) -> None:
+    """VampcUsageError unless --tolerance is a positive number below 1: an error relative to the
+    largest |τ|, and one of 1 or more lets any torque of the right size pass (emulate and precision
+    had taken 5, lookahead refused it: an options audit's find)."""
+    check_positive("--tolerance", value)
+    if value >= 1:
+        raise VampcUsageError(f"--tolerance {value:g}: give an error below 1 (of the largest |τ|)")
+
+
 def flag(name: str) -> str:
     """'--share-passes' for 'share_passes'."""
     return "--" + name.replace("_", "-")
@@ -605,7 +614,7 @@ class EmulateOptions:
         "--tolerance) or a word overflowed."))
     tolerance: float | None = field(default=None, metadata=cli(
         "--tolerance", type=float, metavar="X", help="With --check: the largest relative error "
-        "allowed (default: 1e-9 for float64, 1e-5 for float32, 1e-3 for fixed point)."))
+        "allowed, below 1 (default: 1e-9 for float64, 1e-5 for float32, 1e-3 for fixed point)."))
     vcd: str | None = field(default=None, metadata=cli(
         "--vcd", path=True, dash=True, help="Tick engine: write every VAMP's Result as a VCD "
         "waveform (GTKWave)."))
@@ -664,7 +673,7 @@ class EmulateOptions:
         if self.tolerance is not None and not self.check_torques:
             raise VampcUsageError("--tolerance applies with --check")
         if self.tolerance is not None:
-            check_positive("--tolerance", self.tolerance)
+            check_tolerance(self.tolerance)
         files = [x for x in (self.output, self.save_states, self.vcd) if x is not None and x != "-"]
         if self.write_failed and not (self.check_torques and files):
             # (to standard output alone it changed nothing, and was taken: lookahead refused it)
@@ -797,13 +806,10 @@ class LookaheadOptions:
         if self.futures is not None and self.retime not in ("window", "envelope"):
             raise VampcUsageError("--futures applies with --retime window or envelope")
         if self.tolerance is not None:
-            check_positive("--tolerance", self.tolerance)
+            check_tolerance(self.tolerance)
         if self.tolerance is not None and not (self.check_torques or self.retime):
             # (without either nothing reads it: it was taken silently on a narrower word)
             raise VampcUsageError("--tolerance applies with --check or --retime")
-        if self.tolerance is not None and self.tolerance >= 1:
-            raise VampcUsageError(f"--tolerance {self.tolerance}: give an error below 1 (of the "
-                                  "largest |τ|)")
         if self.retime == "envelope" and self.window is not None and self.window < 3:
             raise VampcUsageError(f"--retime envelope sees {self.window} row(s) ahead: it needs at "
                                   "least 4 (--window), or the whole path, to start and still be "
@@ -1129,7 +1135,7 @@ class PrecisionOptions:
 
     tolerance: float = field(default=1e-3, metadata=cli(
         "--tolerance", type=float, metavar="X", show_default=True, help="The largest torque error "
-        "allowed, relative to the largest |τ| of the random states: the narrowest word meeting it "
+        "allowed, relative to the largest |τ| of the random states (below 1): the narrowest word meeting it "
         "by the analysed bound, with no possible overflow, is named."))
     sweep: str = field(default="8:48", metadata=cli(
         "--sweep", metavar="A:B", show_default=True, help="Word widths to try, in bits (2..64): "
@@ -1164,8 +1170,8 @@ class PrecisionOptions:
     def check(self) -> None:
         """Every rule between precision options."""
         self.widths()
-        for name in ("tolerance", "acceleration"):
-            check_positive(flag(name), getattr(self, name))
+        check_tolerance(self.tolerance)
+        check_positive("--acceleration", self.acceleration)
 
 
 MAX_MINUTES = 7 * 24 * 60      # --max-minutes at most: a week
