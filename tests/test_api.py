@@ -187,6 +187,18 @@ def test_a_library_callers_option_that_does_not_apply_is_refused_as_on_the_comma
     vampc.compile_chain(chain, vampc.CompileOptions(**options, **applies))
 
 
+def test_numpy_numbers_and_mappings_are_taken_where_python_ones_are():
+    # (the first argument checks took int and float and dict only: the review's find)
+    import types
+    c = vampc.compile_chain(vampc.load_robot(PUMA))
+    assert vampc.build_report(c, clock_hz=np.float32(2e7))["clock"] == \
+        vampc.build_report(c, clock_hz=20e6)["clock"]
+    vampc.build_report(c, clock_hz=np.int64(20_000_000))
+    chain = vampc.load_robot(PUMA.parent / "ur5.urdf", lock=types.MappingProxyType({"wrist_3_joint": 0.0}))
+    assert chain.n == 5
+    assert vampc.random_trajectory(vampc.load_robot(PUMA), np.int64(2), np.int32(1)).count == 2
+
+
 def test_the_exported_types_are_the_ones_the_functions_take_and_return():
     chain, ld = _puma_loaded()
     assert isinstance(ld, vampc.Loaded)
@@ -204,9 +216,11 @@ def test_the_exported_types_are_the_ones_the_functions_take_and_return():
     (lambda c: vampc.random_trajectory(c, 2, None), "not int and NoneType"),
     (lambda c: vampc.build_report(vampc.compile_chain(c), clock_hz=0), "clock_hz 0: give a clock"),
     (lambda c: vampc.build_report(vampc.compile_chain(c), clock_hz=float("nan")), "clock_hz nan"),
+    (lambda c: vampc.build_report(vampc.compile_chain(c), clock_hz=True), "clock_hz True"),
+    (lambda c: vampc.random_trajectory(c, -1, 0), "random_trajectory: count -1: give 1 or more"),
     (lambda c: vampc.load_robot(PUMA.parent / "ur5.urdf", mimic="bogus"),
      "mimic 'bogus': give one of ordinary, couple"),
-    (lambda c: vampc.load_robot(PUMA.parent / "ur5.urdf", lock=["j=0"]), "lock: give a dict"),
+    (lambda c: vampc.load_robot(PUMA.parent / "ur5.urdf", lock=["j=0"]), "lock: give a mapping"),
 ])
 def test_a_library_callers_bad_argument_is_a_vampc_error_naming_it(call, words):
     # (a ValueError from numpy's SeedSequence, a TypeError, "math domain error", an AttributeError:

@@ -705,3 +705,30 @@ def test_a_budget_that_misses_an_interval_a_smaller_one_reaches_does_not_stop_th
     assert (used, interval) == (-(-work // 13), 13) == (21, 13)
     used, interval, _ = figures("--vamps", "23", "--interval", "13")
     assert used <= 23 and interval == 13
+
+
+def test_every_tick_an_evicting_op_scans_displaces_an_op(monkeypatch):
+    """The scan for the tick displacing the fewest ops stops at one displacing a single op, taking
+    it as min() over every tick would: that holds only if no scanned tick displaces none, since the
+    op found no free room in its window first. Checked on every tick scanned, with and without
+    deadlines, over placements that evict often (a log graph on a tight budget)."""
+    from vampc.schedule import budget
+    from vampc.schedule.budget import Attempt
+    seen = []
+    original = budget._Modulo._conflicts
+    def conflicts(self, t, dur, need):
+        got = original(self, t, dur, need)
+        seen.append(got[0])
+        return got
+    monkeypatch.setattr(budget._Modulo, "_conflicts", conflicts)
+    graph = build_graph(random_chain(4, 3, prismatic_fraction=0.0), CompileOptions(recursion="log"))
+    timing = Timing()
+    b = bounds(graph, timing, 12)
+    placed = 0
+    for latency in (None, b.latency + 20):
+        for attempt in (Attempt(scan=True), Attempt(big=True, scan=True), Attempt(scan=True, seed=2)):
+            for ii in range(b.interval_bound, b.interval_bound + 6):
+                placed += modulo_schedule(graph, timing, 12, ii, latency=latency,
+                                          attempt=attempt) is not None
+    assert placed and len(seen) > 1000 and 1 in seen
+    assert min(seen) >= 1

@@ -680,9 +680,10 @@ def test_the_drawings_of_a_bus_or_checked_program_say_what_they_leave_out(tmp_pa
     for extra, warned in ((["--error-correction"], True), (["--bus", "mlb"], False), ([], False)):
         res = CliRunner().invoke(main, ["report", str(EXAMPLES / "planar2.yaml"), *extra, "--timing",
                                         str(tmp_path / "t.svg"), "--reservation",
-                                        str(tmp_path / "r.svg")])
+                                        str(tmp_path / "r.svg"), "--html", str(tmp_path / "p.html")])
         assert res.exit_code == 0, res.output
-        said = "vampc: warning: --timing, --reservation: charted without the error correction"
+        said = ("vampc: warning: --timing, --reservation, --html: charted without the error "
+                "correction")
         assert (said in res.stderr) == warned, (extra, res.stderr)
 
 

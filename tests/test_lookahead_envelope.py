@@ -198,7 +198,7 @@ def test_the_candidate_taken_is_the_fastest_within_the_limits(counted):
 @pytest.mark.parametrize("args, message", [
     (["--retime", "uniform", "--futures", "2"], r"--futures applies with --retime window or envelope"),
     (["--retime", "envelope", "--window", "2"],
-     r"--retime envelope sees 2 row\(s\) ahead: it needs at least 4 \(--window\), or the whole path"),
+     r"--retime envelope sees 2 row\(s\) ahead: it needs at least 4 \(--window; 3 where the path has 3 rows\)"),
     # 3 rows of a longer path: a plan could stop the arm one row before the last (the example path
     # had been refused at its row 249: an audit's)
     (["--retime", "envelope", "--window", "3"],

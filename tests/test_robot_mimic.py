@@ -358,3 +358,25 @@ def test_every_joint_below_the_base_locked_through_its_leader_says_so(tmp_path):
     assert_error(lambda: load_urdf(path, base="l2", mimic="couple", lock={"j2": 0.4}), path,
                  r"no free joint below base link 'l2': its 3 movable joints \('j3', 'f1', 'f2'\) "
                  r"are all locked$")
+
+
+def test_a_library_caller_may_give_a_coupled_robots_independent_joints_only(tmp_path):
+    """As a trajectory file does (the followers' states derived from their leaders'): the same
+    torques as every joint's states; any other width is refused naming both (the review of the
+    states check found 3-column states of a 4-joint gripper refused, naming a 4th joint the user
+    never sees)."""
+    from vampc.compiler import CompileOptions, compile_chain
+    from vampc.emulator import emulate, loaded_from_compiled
+    from vampc.emulator.host import Trajectory, random_trajectory
+    from vampc.errors import VampcError
+    chain = load_urdf(write(tmp_path, COUPLED), mimic="couple")
+    ld = loaded_from_compiled(compile_chain(chain, CompileOptions()))
+    traj = random_trajectory(chain, 5, 1)
+    free = [0, 1, 2, 4]
+    given = Trajectory(traj.q[:, free], traj.qd[:, free], traj.qdd[:, free])
+    assert np.array_equal(emulate(ld, given).tau, emulate(ld, traj).tau)
+    with pytest.raises(VampcError, match=r"q has shape \(5, 5\); it must be \(states, 6\): 6 columns "
+                                         r"\(the robot's 6 joints, or its 4 independent ones\)"):
+        emulate(ld, Trajectory(traj.q[:, :5], traj.qd[:, :5], traj.qdd[:, :5]))
+    with pytest.raises(VampcError, match=r"qd has shape \(5, 6\); it must be \(states, 4\)"):
+        emulate(ld, Trajectory(traj.q[:, free], traj.qd, traj.qdd))

@@ -1073,7 +1073,7 @@ def _pictures(c, rep: dict, outs: dict, focus=None) -> dict:
                                    "correction (the extraneous VAMP and the checking wires; the "
                                    "report's error-correction lines count them)"), stacklevel=1)
     # (the charts too were the plain program's bytes, unsaid: an options audit's find)
-    charted = [o for o in ("--timing", "--reservation") if o in outs]
+    charted = [o for o in ("--timing", "--reservation", "--html") if o in outs]   # (the page holds both)
     if charted and c.network.checking is not None:
         warnings.warn(VampcWarning(f"{', '.join(charted)}: charted without the error correction "
                                    "(the extraneous VAMP and the checkers' compare periods; the "

@@ -708,13 +708,14 @@ def frequency(text: str, option: str, noun: str = "clock rate") -> float:
             # (500mHz is a rate a path may have: its Hz, not megahertz, suggested: an audit's find)
             milli = re.fullmatch(r"\s*([0-9.eE+-]+)\s*mHz\s*", text)
             if milli and "millihertz" in message:
+                from vampc.report.clock import RATE_RANGE_TEXT, parse_clock
                 try:
                     hz = float(milli.group(1)) / 1000
+                    parse_clock(f"{hz!r}Hz")          # (a rate that is itself refused: not told)
+                    told = f"write {hz:.15g}Hz for {hz:.15g} rows a second"
                 except ValueError:
-                    hz = None
-                if hz is not None:
-                    message = message.replace("write MHz for megahertz",
-                                              f"write {hz:g}Hz for {hz:g} rows a second")
+                    told = f"a row rate must be {RATE_RANGE_TEXT}"
+                message = message.replace("write MHz for megahertz", told)
         raise VampcUsageError(f"{option} {message}") from None
 
 
@@ -812,8 +813,8 @@ class LookaheadOptions:
             raise VampcUsageError("--tolerance applies with --check or --retime")
         if self.retime == "envelope" and self.window is not None and self.window < 3:
             raise VampcUsageError(f"--retime envelope sees {self.window} row(s) ahead: it needs at "
-                                  "least 4 (--window), or the whole path, to start and still be "
-                                  "able to stop")
+                                  "least 4 (--window; 3 where the path has 3 rows) to start and "
+                                  "still be able to stop")
         if self.retime == "window" and self.window is not None and self.window * (self.futures or 1) < 3:
             raise VampcUsageError(f"--retime window sees {self.window * (self.futures or 1)} row(s) ahead: "
                                   "it needs at least 3 (--window × --futures) to start and still be "

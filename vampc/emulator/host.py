@@ -38,18 +38,24 @@ def checked_trajectory(chain: Chain, traj, where: str = "emulate") -> Trajectory
     arrays of states × the chain's joints (real numbers, finite, exactly float64: an integer past
     2**53 is refused rather than rounded), the same number of states in each, at least one; `t`
     one per state; `base` (states × 9) only on a floating-base chain (None there: the base at rest,
-    held against gravity). A library caller's arrays had been taken as they came: extra joint
-    columns dropped (another robot's trajectory ran), NaN run into NaN torques, a 1-D state an
-    IndexError (a new user's find)."""
+    held against gravity). With coupled mimic joints q, qd and qdd may give the independent joints
+    only, as a trajectory file does: the followers' states are derived from their leaders'. A
+    library caller's arrays had been taken as they came: extra joint columns dropped (another
+    robot's trajectory ran), NaN run into NaN torques, a 1-D state an IndexError (a new user's
+    find)."""
     from vampc.emulator.trajectory import BASE_COLUMNS, _as_float, _check_finite
+    from vampc.robot.mimic import expand, n_free
     if not isinstance(traj, Trajectory):
         raise VampcError(f"{where}: the states must be a vampc.Trajectory(q, qd, qdd, t=None, "
                          f"base=None) of arrays (states × joints), not {type(traj).__name__}")
-    n = chain.n
+    n, free = chain.n, n_free(chain)
+    joints = None        # the joint columns q gave: n, or the independent joints' `free`
     count = None
     arrays = {}
     for name in ("q", "qd", "qdd", "t", "base"):
         value = getattr(traj, name)
+        if value is None and name in ("q", "qd", "qdd"):
+            raise VampcError(f"{where}: {name} is missing (None): give an array of states × joints")
         if value is None:
             arrays[name] = None
             continue
@@ -58,14 +64,20 @@ def checked_trajectory(chain: Chain, traj, where: str = "emulate") -> Trajectory
                              "to a floating-base program)")
         arr = np.asarray(value)
         want = 1 if name == "t" else 2
-        width = 9 if name == "base" else n
-        shape = "(states,)" if name == "t" else f"(states, {width})"
+        if name == "base":
+            width, what = 9, "9 columns (ω_0, ω̇_0, a_0)"
+        else:
+            widths = (joints,) if joints is not None else (n, free) if free != n else (n,)
+            width = arr.shape[1] if arr.ndim == 2 and arr.shape[1] in widths else widths[0]
+            what = (f"{width} columns (the robot's {n} joints" +
+                    (f", or its {free} independent ones)" if free != n and joints is None else ")"))
         if arr.ndim != want or (want == 2 and arr.shape[1] != width):
+            shape = "(states,)" if name == "t" else f"(states, {width})"
             one = f"; (1, {width}) for one state" if want == 2 and arr.ndim == 1 else ""
-            what = (f"{width} columns (the robot's {n} joints)" if name != "base" else
-                    "9 columns (ω_0, ω̇_0, a_0)")
             raise VampcError(f"{where}: {name} has shape {arr.shape}; it must be {shape}: "
                              f"{what if want == 2 else 'one time per state'}{one}")
+        if name == "q":
+            joints = width
         if count is None:
             count = arr.shape[0]
             if count == 0:
@@ -73,10 +85,13 @@ def checked_trajectory(chain: Chain, traj, where: str = "emulate") -> Trajectory
         elif arr.shape[0] != count:
             raise VampcError(f"{where}: {name} has {arr.shape[0]} states where q has {count}")
         columns = ["t"] if name == "t" else BASE_COLUMNS if name == "base" else \
-            [f"{name}{j}" for j in range(1, n + 1)]
+            [f"{name}{j}" for j in range(1, width + 1)]
         out = _as_float(where, arr, name, columns)
         _check_finite(where, out.reshape(count, -1), columns)
         arrays[name] = out
+    if joints != n:       # the independent joints: the coupled followers' states derived
+        arrays["q"], arrays["qd"], arrays["qdd"] = expand(chain, arrays["q"], arrays["qd"],
+                                                          arrays["qdd"])
     if all(arrays[name] is getattr(traj, name) for name in arrays):
         return traj
     return Trajectory(**arrays)
@@ -115,6 +130,8 @@ def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
                          f"{type(count).__name__} and {type(seed).__name__}") from None
     if seed < 0:
         raise VampcError(f"random_trajectory: seed {seed}: give a seed of 0 or more")
+    if count < 1:
+        raise VampcError(f"random_trajectory: count {count}: give 1 or more states")
     return random_states(chain, 0, States.random(count, seed).count, seed)
 
 

@@ -33,8 +33,10 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     `cpu_reference`: measure a CPU's time per set here (vampc.report.engineering.cpu_reference).
     `stage(name)` is told as each of REPORT_STAGES starts (a progress bar's)."""
     import math
-    if clock_hz is not None and not (isinstance(clock_hz, (int, float)) and math.isfinite(clock_hz)
-                                     and clock_hz > 0):
+    import numbers
+    if clock_hz is not None and not (isinstance(clock_hz, numbers.Real)
+                                     and not isinstance(clock_hz, bool)
+                                     and math.isfinite(clock_hz) and clock_hz > 0):
         # (a math domain error: a new user's find)
         from vampc.errors import VampcUsageError
         raise VampcUsageError(f"build_report: clock_hz {clock_hz!r}: give a clock rate in Hz "

@@ -38,11 +38,13 @@ def load_robot(path, base: str | None = None, tip: str | None = None,
     a URDF's mimic joints are read (`mimic_given`: the user named it, so a file without mimic joints
     warns that it has no effect) and `accept_improper_inertia` whether an inertia that is not
     positive semi-definite is refused (vampc.robot.urdf.load_urdf)."""
+    from collections.abc import Mapping
+
     import numpy as np
-    if lock is not None and not isinstance(lock, dict):
+    if lock is not None and not isinstance(lock, Mapping):
         # (a library caller's list: said, not an AttributeError: a new user's find)
         from vampc.errors import VampcUsageError
-        raise VampcUsageError(f"lock: give a dict of joint name to position (radians or metres), "
+        raise VampcUsageError(f"lock: give a mapping of joint name to position (radians or metres), "
                               f"not a {type(lock).__name__}")
     with np.errstate(over="ignore", invalid="ignore"):      # (overflows are said below, by joint)
         chain = _load(Path(path), base, tip, lock, floating, mimic, accept_improper_inertia,

@@ -172,8 +172,8 @@ def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | 
         _ACCEPT_IMPROPER.reset(token)
     if accepted == [False]:
         # (as --mimic and --floating-base say where they do nothing: an options audit's find)
-        warnings.warn(VampcWarning(f"{path}: every inertia is positive semi-definite; "
-                                   "--accept-improper-inertia has no effect"), stacklevel=3)
+        warnings.warn(VampcWarning(f"{path}: no inertia needed it; --accept-improper-inertia "
+                                   "has no effect"), stacklevel=3)
     return chain
 
 
