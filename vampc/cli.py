@@ -8,7 +8,9 @@ report it, exit 3.
 """
 from __future__ import annotations
 
+import contextlib
 import functools
+import io
 import os
 import sys
 import warnings
@@ -195,6 +197,13 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                 escaped = text.encode(exc.encoding, "backslashreplace").decode(exc.encoding)
                 click.echo(escaped, file=WholeText(stream), nl=nl)
     except OSError as exc:
+        if err and not isinstance(exc, BrokenPipeError):
+            # standard error that cannot be written (read-only, full): its lines are dropped and the
+            # run goes on, its exit status saying how it ended, as when its reader is gone (a
+            # warning had failed the run with exit 1, no output and nothing said: a CI user's find)
+            with contextlib.suppress(OSError, ValueError, io.UnsupportedOperation):
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stderr.fileno())
+            return
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
             os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())
             if err or not result_on_stdout():
@@ -212,10 +221,28 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                          f"{exc.strerror or exc}") from None
 
 
+def _encodable(text: str) -> str:
+    """`text` as standard output's encoding can hold it: a character it cannot (⌈, τ under a
+    Latin-1 or ASCII locale) as its backslash escape. Every command's --help had been a traceback
+    there (a CI user's find); a result is refused whole instead (say)."""
+    encoding = getattr(sys.stdout, "encoding", None) or "utf-8"
+    try:
+        text.encode(encoding)
+    except UnicodeEncodeError:
+        return text.encode(encoding, "backslashreplace").decode(encoding)
+    except LookupError:
+        pass
+    return text
+
+
 class _Command(click.Command):
     """A vampc command: an option that takes one value given twice is a usage error (click keeps
     the last, and `--limits a.csv --limits b.csv` dropped a.csv without a word; options that take
-    several, such as --fault and --lock, say so in their help)."""
+    several, such as --fault and --lock, say so in their help). Its help is written as standard
+    output can hold it (_encodable)."""
+
+    def get_help(self, ctx) -> str:
+        return _encodable(super().get_help(ctx))
 
     def make_parser(self, ctx):
         parser = super().make_parser(ctx)
@@ -241,6 +268,9 @@ class _Vampc(click.Group):
     read, exit 2, like every other error."""
 
     command_class = _Command
+
+    def get_help(self, ctx) -> str:
+        return _encodable(super().get_help(ctx))
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:

@@ -373,7 +373,9 @@ def _new_temporary(target: Path) -> tuple[int, str]:
         room = os.pathconf(target.parent, "PC_NAME_MAX") - 22
     except (OSError, ValueError):
         room = 255 - 22
-    stem = os.fsencode(target.name)[:max(1, room)].decode(errors="ignore")
+    # (its bytes, cut, and back as the file system's name: decoded as UTF-8 it could not be
+    # encoded again under a non-UTF-8 locale, a traceback for `-o "tau ü.csv"`: a CI user's find)
+    stem = os.fsdecode(os.fsencode(target.name)[:max(1, room)])
     for _ in range(100):
         name = str(target.parent / f".{stem}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)
@@ -397,14 +399,15 @@ class _Whole:
     stopped it. A buffered file's write() may take part of a long piece and return how much, with no
     error (a file-size limit or a full disk reached mid-piece; the next write raises), and text files
     drop that count: 251 594 bytes of torques sent to standard output under a file-size limit left
-    102 400 and exit status 0 (a new user's find). Text (`binary` False) is encoded here, as a text
-    file would encode it (the locale's encoding; standard output's own); anything else of the file
-    (seek, flush, close) is its own."""
+    102 400 and exit status 0 (a new user's find). Text (`binary` False) is encoded here: in UTF-8
+    for a file (as the program file and JSON are: a torque CSV's header had been written in the
+    locale's encoding, other bytes under Latin-1 and a traceback for a name it cannot hold, and the
+    pictures an internal error: a CI user's find), in standard output's own encoding for it;
+    anything else of the file (seek, flush, close) is its own."""
 
     def __init__(self, file, binary: bool, encoding: str | None = None, errors: str | None = None):
-        import locale
         self._file = file
-        self._encoding = None if binary else (encoding or locale.getpreferredencoding(False))
+        self._encoding = None if binary else (encoding or "utf-8")
         self._errors = errors or "strict"
 
     def write(self, data) -> int:

@@ -775,7 +775,12 @@ def cache_dir() -> Path:
     """$XDG_CACHE_HOME/vampc (default ~/.cache/vampc), else a private folder in the temp dir."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     uid = os.getuid() if hasattr(os, "getuid") else 0
-    for folder in (Path(base) / "vampc", Path(tempfile.gettempdir()) / f"vampc-{uid}"):
+    folders = [Path(base) / "vampc"]
+    try:
+        folders.append(Path(tempfile.gettempdir()) / f"vampc-{uid}")
+    except OSError:        # no usable temp folder at all (a read-only container): numpy, not a
+        pass               # traceback (a CI user's find)
+    for folder in folders:
         try:
             folder.mkdir(mode=0o700, parents=True, exist_ok=True)
         except OSError:
