@@ -64,29 +64,29 @@ def handle_errors(f):
         except VampcUsageError as exc:
             raise click.UsageError(str(exc)) from None
         except VampcError as exc:
-            click.echo(f"vampc: error: {unbroken(str(exc))}", err=True)
+            _status(f"vampc: error: {unbroken(str(exc))}")
             sys.exit(1)
         except Terminated as exc:
             discard_all()
-            click.echo(f"vampc: terminated ({exc})" + _kept(exc), err=True)
+            _status(f"vampc: terminated ({exc})" + _kept(exc))
             sys.exit(128 + exc.signum)
         except KeyboardInterrupt as exc:
             discard_all()
-            click.echo("vampc: interrupted" + _kept(exc), err=True)
+            _status("vampc: interrupted" + _kept(exc))
             sys.exit(130)
         except (click.exceptions.Exit, click.ClickException, SystemExit):
             raise
         except MemoryError:
             discard_all()
-            click.echo("vampc: error: out of memory: this run needs more memory than the process "
-                       "may have (fewer states or a smaller robot at a time, or more memory); an "
-                       "output not finished is not written", err=True)
+            _status("vampc: error: out of memory: this run needs more memory than the process "
+                    "may have (fewer states or a smaller robot at a time, or more memory); an "
+                    "output not finished is not written")
             sys.exit(1)
         except Exception:
             import traceback
             traceback.print_exc()
-            click.echo("vampc: internal error: this is a bug in vampc, not in your input; please "
-                       "report it with the command line and the input file", err=True)
+            _status("vampc: internal error: this is a bug in vampc, not in your input; please "
+                    "report it with the command line and the input file")
             sys.exit(3)
         finally:
             # a check still running beside the command, which ended early (a SIGTERM during
@@ -99,6 +99,14 @@ def handle_errors(f):
 
 
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
+
+
+def _status(text: str) -> None:
+    """A run's last line on standard error (its error, or that it was stopped): one that standard
+    error cannot take is dropped, and the exit status says how the run ended (a full standard
+    error turned a usage error's 2, or a signal's 143, into 1: a review's find)."""
+    with contextlib.suppress(OSError, ValueError):
+        click.echo(text, err=True)
 
 
 def _kept(exc: BaseException) -> str:
@@ -190,13 +198,15 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
             except UnicodeEncodeError as exc:
                 # an encoding that cannot hold τ or µ (PYTHONIOENCODING=latin-1): the report was an
                 # internal error. A message is said with escapes; a result is refused, whole
-                if not err:
+                if not err and result_on_stdout():
                     raise VampcError(f"cannot write to standard output: its encoding "
                                      f"({exc.encoding}) cannot hold {exc.object[exc.start]!r}; use "
                                      "a UTF-8 locale or PYTHONIOENCODING=utf-8") from None
                 escaped = text.encode(exc.encoding, "backslashreplace").decode(exc.encoding)
                 click.echo(escaped, file=WholeText(stream), nl=nl)
     except OSError as exc:
+        if err and isinstance(exc, (BlockingIOError, InterruptedError)):
+            return          # (a non-blocking standard error full for now: this line alone dropped)
         if err and not isinstance(exc, BrokenPipeError):
             # standard error that cannot be written (read-only, full): its lines are dropped and the
             # run goes on, its exit status saying how it ended, as when its reader is gone (a
@@ -286,13 +296,13 @@ class _Vampc(click.Group):
             message = " ".join(exc.format_message().split())
             if isinstance(exc, click.NoSuchOption) and exc.ctx is not None:
                 message = self._taken_elsewhere(exc, where) or message
-            click.echo(f"vampc: error: {message} (see '{where} --help')", err=True)
+            _status(f"vampc: error: {message} (see '{where} --help')")
             sys.exit(2)
         except click.ClickException as exc:
             exc.show()
             sys.exit(exc.exit_code)
         except click.Abort:
-            click.echo("vampc: interrupted", err=True)
+            _status("vampc: interrupted")
             sys.exit(1)
         finally:
             restore()

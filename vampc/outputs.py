@@ -375,7 +375,9 @@ def _new_temporary(target: Path) -> tuple[int, str]:
         room = 255 - 22
     # (its bytes, cut, and back as the file system's name: decoded as UTF-8 it could not be
     # encoded again under a non-UTF-8 locale, a traceback for `-o "tau ü.csv"`: a CI user's find)
-    stem = os.fsdecode(os.fsencode(target.name)[:max(1, room)])
+    # (a character cut in two is dropped: a name of whole characters, which a file system that
+    # holds only UTF-8 names takes)
+    stem = os.fsencode(target.name)[:max(1, room)].decode(sys.getfilesystemencoding(), "ignore")
     for _ in range(100):
         name = str(target.parent / f".{stem}.{os.urandom(8).hex()}.tmp")
         _TEMPORARIES.add(name)
@@ -405,10 +407,13 @@ class _Whole:
     pictures an internal error: a CI user's find), in standard output's own encoding for it;
     anything else of the file (seek, flush, close) is its own."""
 
-    def __init__(self, file, binary: bool, encoding: str | None = None, errors: str | None = None):
+    def __init__(self, file, binary: bool, encoding: str | None = None, errors: str | None = None,
+                 result: bool = False):
         self._file = file
         self._encoding = None if binary else (encoding or "utf-8")
         self._errors = errors or "strict"
+        self._result = result       # an output (standard output's): a character it cannot hold is
+        # a one-line error; else (say's lines) the UnicodeEncodeError, for the caller to escape
 
     def write(self, data) -> int:
         if isinstance(data, str):
@@ -417,7 +422,15 @@ class _Whole:
             given = len(data)
             if os.linesep != "\n":
                 data = data.replace("\n", os.linesep)
-            data = data.encode(self._encoding, self._errors)
+            try:
+                data = data.encode(self._encoding, self._errors)
+            except UnicodeEncodeError as exc:     # (only standard output's can be other than UTF-8:
+                # a joint named beyond ASCII to `-o -` under the C locale was an internal error)
+                if not self._result:
+                    raise
+                raise VampcError(f"cannot write to standard output: its encoding ({exc.encoding}) "
+                                 f"cannot hold {exc.object[exc.start]!r}; use a UTF-8 locale or "
+                                 "PYTHONIOENCODING=utf-8") from None
         else:
             given = None
         view = memoryview(data).cast("B")
@@ -484,7 +497,7 @@ class Pending:
                                      f"{what} (bytes): write it to a file")
                 self.fh = sys.stdout if buffer is None else \
                     _Whole(buffer, binary, getattr(sys.stdout, "encoding", None),
-                           getattr(sys.stdout, "errors", None))
+                           getattr(sys.stdout, "errors", None), result=True)
             elif out.kind == "stream":
                 self.fh = _Whole(open(out.target, "wb"), binary)   # noqa: SIM115 - closed in commit/discard
             else:

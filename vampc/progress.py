@@ -67,8 +67,10 @@ class _Stderr:
             return len(text)
         try:
             return self._stream.write(text)
-        except (BrokenPipeError, ValueError):       # (ValueError: the stream closed)
-            self._drop()
+        except (BlockingIOError, InterruptedError):   # (full for now: this redraw dropped)
+            return len(text)
+        except (OSError, ValueError):       # (ValueError: the stream closed; OSError: its reader
+            self._drop()                    # gone, or full, or read-only: a review's find)
             return len(text)
 
     def flush(self) -> None:
@@ -76,7 +78,9 @@ class _Stderr:
             return
         try:
             self._stream.flush()
-        except (BrokenPipeError, ValueError):
+        except (BlockingIOError, InterruptedError):
+            pass
+        except (OSError, ValueError):
             self._drop()
 
     def _drop(self) -> None:

@@ -73,7 +73,8 @@ def checked_trajectory(chain: Chain, traj, where: str = "emulate") -> Trajectory
                     (f", or its {free} independent ones)" if free != n and joints is None else ")"))
         if arr.ndim != want or (want == 2 and arr.shape[1] != width):
             shape = "(states,)" if name == "t" else f"(states, {width})"
-            one = f"; (1, {width}) for one state" if want == 2 and arr.ndim == 1 else ""
+            one = "" if want != 2 or arr.ndim != 1 else f"; (1, {width}) for one state" + (
+                f" (or (1, {free}))" if name != "base" and free != n and joints is None else "")
             raise VampcError(f"{where}: {name} has shape {arr.shape}; it must be {shape}: "
                              f"{what if want == 2 else 'one time per state'}{one}")
         if name == "q":

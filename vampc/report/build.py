@@ -41,6 +41,8 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
         from vampc.errors import VampcUsageError
         raise VampcUsageError(f"build_report: clock_hz {clock_hz!r}: give a clock rate in Hz "
                               "above 0")
+    if clock_hz is not None:      # (a numpy number went into the report, which json could not dump)
+        clock_hz = int(clock_hz) if isinstance(clock_hz, numbers.Integral) else float(clock_hz)
     stage = stage or (lambda name: None)
     rep = dict(figures) if figures is not None else summary(c)
     rep["vamps"] = {**rep["vamps"], "unused": unused_vamps(c)}
