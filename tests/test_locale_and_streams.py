@@ -142,8 +142,6 @@ def test_a_progress_bar_to_a_standard_error_that_cannot_be_written_is_dropped_no
     assert full.write("bar") == 3
     full.flush()
     assert full._gone and full.write("more") == 4 and full._stream.tries == 1
-    busy = progress._Stderr(Failing(errno.EAGAIN))
-    busy._stream.error = errno.EAGAIN
     class Busy(Failing):
         def write(self, text):
             self.tries += 1
