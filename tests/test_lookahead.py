@@ -1486,3 +1486,22 @@ def test_an_array_of_a_t_column_and_one_column_too_few_is_said_to_look_so(setup,
                fmt="%.17g")
     r = run_lookahead(program, ramp, limits, "--allow-out-of-limits")
     assert "q1 changes by" in r.output and "t column" not in r.output, r.output
+
+
+def test_a_limits_file_gives_the_speed_a_robot_file_gave_as_zero(tmp_path):
+    """A DH joint's `qd: 0` is refused with "give the joint's limit in --limits FILE"; giving it
+    there divided by that 0 in the degrees-per-second check: exit 3 (a new user's find). The
+    file's speed limit is taken, and its violations said."""
+    robot = tmp_path / "p2q.yaml"
+    robot.write_text((EXAMPLES / "planar2.yaml").read_text().replace("qd: 3.0, tau: 50.0",
+                                                                     "qd: 0, tau: 50.0"))
+    limits = tmp_path / "limits.csv"
+    limits.write_text("joint,tau,qd\nshoulder,40,2\n")
+    t = np.arange(50) / 1000.0
+    rows = ["t,q1,q2,qd1,qd2,qdd1,qdd2"] + [f"{x!r},{3 * x!r},0,3,0,0,0" for x in t.tolist()]
+    path = tmp_path / "path.csv"
+    path.write_text("\n".join(rows) + "\n")
+    res = CliRunner().invoke(main, ["lookahead", str(robot), "--limits", str(limits), "--trajectory",
+                                    str(path), "--rate", "1kHz", "--window", "8"])
+    assert res.exit_code == 0, (res.output, res.stderr)
+    assert "joint shoulder speed 3 beyond 2" in res.output and "50 violations" in res.output

@@ -321,7 +321,9 @@ def _read_limits(path: str, chain, tau: list, qd: list, locked: tuple = (), prog
         if values[1] is not None:
             i = names[name]
             own = qd[i]
-            if own is not None and chain.joints[i].sigma != 0 and \
+            # (a robot's own qd of 0, which its file cannot be run with and the refusal of which
+            # says to give it here, divided by zero: exit 3, a new user's find)
+            if own is not None and own > 0 and chain.joints[i].sigma != 0 and \
                     abs(values[1] / own - DEGREES) < 0.005 * DEGREES:
                 import warnings
 
