@@ -353,8 +353,9 @@ def test_every_joint_below_the_base_locked_through_its_leader_says_so(tmp_path):
         joint("f1", "prismatic", "l3", "f1l", extra=follow.format("j3")),
         joint("f2", "prismatic", "f1l", "f2l", extra=follow.format("f1"))))
     assert_error(lambda: load_urdf(path, base="l2", mimic="couple"), path,
-                 r"joint 'j3': mimics joint 'j2', which is not one of the robot's joints \(choose "
-                 r"--base, or lock it\)")
+                 r"joint 'j3': mimics joint 'j2', which is not among the joints compiled \(the base "
+                 r"or the tip leaves it out\): choose a --base above it, or --lock j2=VALUE \(its "
+                 r"followers are then held too\)")
     assert_error(lambda: load_urdf(path, base="l2", mimic="couple", lock={"j2": 0.4}), path,
                  r"no free joint below base link 'l2': its 3 movable joints \('j3', 'f1', 'f2'\) "
                  r"are all locked$")

@@ -347,8 +347,11 @@ def _coupled(chain: Chain, leaders: dict, path: Path) -> Chain:
         if j.name in leaders:
             leader, mult, off = leaders[j.name]
             if leader not in index:
-                raise located(path, f"joint '{j.name}'", f"mimics joint '{leader}', which is not one of "
-                                                         "the robot's joints (choose --base, or lock it)")
+                # (it is in the file: "not one of the robot's joints" read as a typo, a new user's)
+                raise located(path, f"joint '{j.name}'", f"mimics joint '{leader}', which is not among "
+                                                         "the joints compiled (the base or the tip leaves "
+                                                         f"it out): choose a --base above it, or --lock "
+                                                         f"{leader}=VALUE (its followers are then held too)")
             out.append(Mimic(index[j.name], index[leader], mult, off))
     return replace(chain, mimic=tuple(out))
 
