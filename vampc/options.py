@@ -185,6 +185,12 @@ class CompileOptions:
         return layout_kind(self.layout_name)
 
     @staticmethod
+    def defaults() -> dict:
+        """Each option's default value, by name (one table: record(), changed(), the program
+        reader's checks and check_program_options had each made their own)."""
+        return dict(_COMPILE_DEFAULTS)
+
+    @staticmethod
     def recorded() -> tuple[str, ...]:
         """The options a program file records (all but --verify and the names given)."""
         return tuple(f.name for f in fields(CompileOptions)
@@ -199,7 +205,7 @@ class CompileOptions:
             # the API takes CompileOptions(prefix=...) with the linear recursion, and the file it
             # wrote was then refused as edited (a reader refuses them: a review's find)
             for name in ("prefix", "uniform_leaves"):
-                out[name] = next(f.default for f in fields(self) if f.name == name)
+                out[name] = _COMPILE_DEFAULTS[name]
         if self.word == "float64":
             del out["word"]
         if not self.word.startswith("q"):
@@ -222,14 +228,15 @@ class CompileOptions:
 
     def changed(self) -> frozenset:
         """The options whose values are not their defaults."""
-        return frozenset(f.name for f in fields(self) if f.name not in ("given", "library")
-                         and f.default is not MISSING and getattr(self, f.name) != f.default)
+        return frozenset(name for name, value in _COMPILE_DEFAULTS.items()
+                         if name not in ("given", "library") and getattr(self, name) != value)
 
     def check(self) -> None:
         """Every rule between compile options (VampcUsageError, one line); a library caller's
         options not at their defaults count as given (`library`)."""
-        if self.library and not self.given and self.changed():
-            return replace(self, given=self.changed()).check()
+        changed = self.changed() if self.library and not self.given else frozenset()
+        if changed:
+            return replace(self, given=changed).check()
         try:
             kind = layout_kind(self.layout)
         except ValueError as exc:
@@ -263,6 +270,9 @@ class CompileOptions:
             raise VampcUsageError(f"--error-correction is built for point-to-point wiring (the "
                                   f"{', '.join(layout_names())} and budget layouts), not --bus "
                                   f"{self.bus}")
+
+
+_COMPILE_DEFAULTS = {f.name: f.default for f in fields(CompileOptions) if f.default is not MISSING}
 
 
 @dataclass(frozen=True)
@@ -464,7 +474,7 @@ def check_program_options(given, params: dict, source: str, stored: dict,
                               f"{' '.join(budget)}, which "
                               + ("make their" if len(budget) > 1 else "makes its")
                               + " own (budgeted) layout: leave out --layout")
-    defaults = {f.name: f.default for f in fields(CompileOptions)}
+    defaults = CompileOptions.defaults()
     # the options that decide what applies (--word, --recursion...) first: `--word q16.16
     # --rounding truncate` on a float64 report is --word's error, not --rounding's
     args = (given, params, source, stored, overrides, defaults)

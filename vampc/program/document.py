@@ -709,10 +709,8 @@ def _check_unwritten(recorded: dict, options, path) -> None:
     where its value is not the default: the command line refuses it (--rounding on a float64
     program), and a float64 file's edited options.rounding was taken unseen by the report and
     used by a what-if --word run (a new user's find). A default's value changes nothing."""
-    from dataclasses import fields
-
     from vampc.compiler import CompileOptions
-    defaults = {f.name: f.default for f in fields(CompileOptions)}
+    defaults = CompileOptions.defaults()
     if options.recursion is Recursion.LINEAR:      # (the command line refuses them: exit 2; an
         # edited file's report had taken them, its Table O.1 and log figures changed: a new user's)
         for name in ("prefix", "uniform_leaves"):
