@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import io
 import os
 import sys
 import warnings
@@ -45,6 +44,8 @@ from vampc.outputs import (
     discard_all,
     need_stdout,
     result_on_stdout,
+    silence,
+    unencodable,
 )
 
 
@@ -199,26 +200,23 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                 # an encoding that cannot hold τ or µ (PYTHONIOENCODING=latin-1): the report was an
                 # internal error. A message is said with escapes; a result is refused, whole
                 if not err and result_on_stdout():
-                    raise VampcError(f"cannot write to standard output: its encoding "
-                                     f"({exc.encoding}) cannot hold {exc.object[exc.start]!r}; use "
-                                     "a UTF-8 locale or PYTHONIOENCODING=utf-8") from None
+                    raise unencodable(exc) from None
                 escaped = text.encode(exc.encoding, "backslashreplace").decode(exc.encoding)
                 click.echo(escaped, file=WholeText(stream), nl=nl)
     except OSError as exc:
-        if err and isinstance(exc, (BlockingIOError, InterruptedError)):
-            return          # (a non-blocking standard error full for now: this line alone dropped)
-        if err and not isinstance(exc, BrokenPipeError):
-            # standard error that cannot be written (read-only, full): its lines are dropped and the
-            # run goes on, its exit status saying how it ended, as when its reader is gone (a
-            # warning had failed the run with exit 1, no output and nothing said: a CI user's find)
-            with contextlib.suppress(OSError, ValueError, io.UnsupportedOperation):
-                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stderr.fileno())
+        if err:
+            # standard error that cannot be written (its reader gone, read-only, full): its lines
+            # are dropped and the run goes on, its exit status saying how it ended (a warning had
+            # failed the run with exit 1, no output and nothing said: a CI user's find); one full
+            # for now (non-blocking) drops this line alone
+            if not isinstance(exc, (BlockingIOError, InterruptedError)):
+                silence(sys.stderr)
             return
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
-            os.dup2(os.open(os.devnull, os.O_WRONLY), (sys.stderr if err else sys.stdout).fileno())
-            if err or not result_on_stdout():
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            if not result_on_stdout():
                 return
-        elif not err and not result_on_stdout():
+        elif not result_on_stdout():
             # a summary line standard output cannot take (> /dev/full): dropped, said once on
             # standard error; the files are written (the summary comes once they are) and the
             # exit status is the run's (it was exit 1 beside files already replaced: a new user's)
@@ -227,8 +225,7 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                 f"({exc.strerror or exc}): they are dropped; files are written as without them",
                 err=True)
             return
-        raise VampcError(f"cannot write to standard {'error' if err else 'output'}: "
-                         f"{exc.strerror or exc}") from None
+        raise VampcError(f"cannot write to standard output: {exc.strerror or exc}") from None
 
 
 def _encodable(text: str) -> str:

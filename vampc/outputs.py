@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import io
 import os
 import stat
 import sys
@@ -396,6 +397,20 @@ def discard_all() -> None:
         _TEMPORARIES.discard(tmp)
 
 
+def silence(stream) -> None:
+    """Point `stream`'s file descriptor at /dev/null: nothing more reaches it, at exit either (a
+    standard error whose reader is gone, or that is full or read-only, loses its lines, not the
+    run). A stream without a descriptor of its own is left as it is."""
+    with contextlib.suppress(OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), stream.fileno())
+
+
+def unencodable(exc: UnicodeEncodeError) -> VampcError:
+    """The one line for a result standard output's encoding cannot hold."""
+    return VampcError(f"cannot write to standard output: its encoding ({exc.encoding}) cannot hold "
+                      f"{exc.object[exc.start]!r}; use a UTF-8 locale or PYTHONIOENCODING=utf-8")
+
+
 class _Whole:
     """A binary file (the output's) whose write() takes all it is given or raises the OSError that
     stopped it. A buffered file's write() may take part of a long piece and return how much, with no
@@ -428,9 +443,7 @@ class _Whole:
                 # a joint named beyond ASCII to `-o -` under the C locale was an internal error)
                 if not self._result:
                     raise
-                raise VampcError(f"cannot write to standard output: its encoding ({exc.encoding}) "
-                                 f"cannot hold {exc.object[exc.start]!r}; use a UTF-8 locale or "
-                                 "PYTHONIOENCODING=utf-8") from None
+                raise unencodable(exc) from None
         else:
             given = None
         view = memoryview(data).cast("B")

@@ -84,11 +84,9 @@ class _Stderr:
             self._drop()
 
     def _drop(self) -> None:
+        from vampc.outputs import silence
         self._gone = True
-        try:                      # nothing more reaches it, at exit either (as say() does)
-            os.dup2(os.open(os.devnull, os.O_WRONLY), self._stream.fileno())
-        except (OSError, ValueError, AttributeError):
-            pass
+        silence(self._stream)     # (as say() does)
 
     def __getattr__(self, name):
         return getattr(self._stream, name)
