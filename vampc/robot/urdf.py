@@ -55,6 +55,7 @@ from vampc.robot.urdf_tree import (
     cut_away,
     follows_from_below,
     quoted,
+    turns,
 )
 from vampc.textio import did_you_mean, name_problem, one_line, plain_number
 
@@ -193,8 +194,7 @@ def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path,
     the world's orientation, its tilt the host's input), said (it was dropped in silence, and the
     torques differed from Pinocchio's at that joint's neutral pose: a new user's find)."""
     j = tree.parent.get(base)
-    if not floating or j is None or j.type != "floating" or \
-            np.allclose(_origin(j)[:3, :3], np.eye(3), rtol=0, atol=1e-12):
+    if not floating or j is None or j.type != "floating" or not turns(j):
         return
     # (an MJCF's free joint by its body: one left unnamed in the file was called by vampc's name
     # for it, 'joint0', which the file does not have: a new user's find)

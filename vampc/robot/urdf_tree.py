@@ -151,6 +151,14 @@ class Tree:
         return out[::-1]
 
 
+def turns(joint) -> bool:
+    """Whether a joint's <origin> turns the frame of the link it carries (by more than 1e-12 in any
+    entry: the two warnings that say so had taken a turn at 1e-12 and at numpy's 1e-8 each)."""
+    import numpy as np
+    return joint.origin is not None and not np.allclose(joint.origin[:3, :3], np.eye(3), rtol=0,
+                                                        atol=1e-12)
+
+
 def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False) -> tuple[str, bool]:
     """The base link: `base` if given (it must exist; the root link whose one joint floats is taken as
     when it is not given, and a link hanging on a floating joint is a fixed base, said), else the only
@@ -167,10 +175,8 @@ def choose_base(tree: Tree, base: str | None, path: Path, floating: bool = False
         if above is not None and above.type == "floating" and not floating:
             import warnings
 
-            import numpy as np
-
             from vampc.errors import VampcWarning
-            turned = above.origin is not None and not np.allclose(above.origin[:3, :3], np.eye(3))
+            turned = turns(above)
             warnings.warn(VampcWarning(f"{path}: base link '{base}' hangs on floating joint "
                                        f"'{above.name}': it is taken as a fixed base (--floating-base "
                                        "lets it float)" + ("; gravity is turned by the joint's "
