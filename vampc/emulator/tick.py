@@ -324,7 +324,8 @@ class TickEngine:
             self.bus[self.const_row[c.index], :len(c.value)] = self.ld.arith.fresh().encode(c.value)
             self.tag[self.const_row[c.index]] = CONST
         self._slots()
-        self._plan = {}
+        self._port_plan()
+        self._outs_at = None
         self._bus_drives()
 
     def _bus_drives(self) -> None:
@@ -449,23 +450,37 @@ class TickEngine:
             regs[v[bad], :3] = self.word.random(self.rng, (int(bad.sum()), 3), 1e3)
             tags[v[bad]] = UNKNOWN
 
-    def _write_ports(self, ports, block: int, count: int) -> None:
+    def _port_plan(self) -> None:
+        """Per block of a period (block mod K): the port entries the host writes at its start, as
+        (row, size, (port, entry), torque set in the run's first period) in the order written; a
+        period later the same entries are written for the next set (port_writes)."""
         K = self.P // self.B
-        for p in self.ld.net.ports:
-            for j, s in port_writes(p.entries, block, K):
-                row = self.port_row[p.index]
-                self.bus[row, :] = 0
-                if 0 <= s < count:
-                    self.bus[row, :p.size] = ports[(p.index, j)][s]
-                    self.tag[row] = s
-                else:
-                    self.tag[row] = UNKNOWN
+        self.ports_at = [[(self.port_row[p.index], p.size, (p.index, j), s)
+                          for p in self.ld.net.ports for j, s in port_writes(p.entries, b, K)]
+                         for b in range(K)]
+
+    def _write_ports(self, ports, block: int, count: int) -> None:
+        period, b = divmod(block, self.P // self.B)
+        for row, size, key, first in self.ports_at[b]:
+            s = first + period
+            self.bus[row, :] = 0
+            if 0 <= s < count:
+                self.bus[row, :size] = ports[key][s]
+                self.tag[row] = s
+            else:
+                self.tag[row] = UNKNOWN
 
     def _observe(self, t: int, outs, tau, seen, count) -> None:
-        for k, o in enumerate(outs):
+        """Read the torques due at tick t (output k of set j at o.tick + j P)."""
+        if self._outs_at is None or self._outs_at[0] is not outs:
+            at: dict[int, list] = {}
+            for k, o in enumerate(outs):
+                at.setdefault(o.tick % self.P, []).append((k, o))
+            self._outs_at = (outs, at)
+        for k, o in self._outs_at[1].get(t % self.P, ()):
             tg = self.tag[o.vamp]
-            j, rem = divmod(t - o.tick, self.P)
-            if rem == 0 and 0 <= j < count:
+            j = (t - o.tick) // self.P
+            if 0 <= j < count:
                 seen[j, k] = t
                 if tg != j and self.strict:
                     raise VampcError(
@@ -556,11 +571,10 @@ class TickEngine:
 
     def _step(self, r: int, j: int, slots, t: int) -> None:
         idx = self.slot_vamp[slots]
-        am, bm = rom.registers(r, self.op_a, self.op_b, idx)
         units = self.units[idx]
         word = self.word
         before, word.track = word.overflows, []
-        rom.step(r, j, am, bm, units, word)
+        rom.step_rows(r, j, self.op_a, self.op_b, idx, units, word)
         if word.overflows != before:
             self._count_overflows(r, j, slots, idx, word, before)
         word.track = None

@@ -66,7 +66,20 @@ def operand_steps(rom: int) -> int:
     return TABLE[ROM[rom][0]].operand_steps
 
 
-for _cached in (_views, _program, steps, operand_steps):     # (the op table can be changed)
+@functools.lru_cache(maxsize=None)
+def _direct(rom: int):
+    """_program's micro-steps with each register reference as the operand scalar every module
+    reads (its View's scalar of that register): ("a"|"b", 3 scalar indices) or ("u", unit)."""
+    va, vb = _views(rom)
+    views = {"a": va, "b": vb}
+
+    def ref(r):
+        kind, i = r
+        return r if kind == "u" else (kind, views[kind][_M, i])
+    return tuple(tuple((unit, fn, ref(x), ref(y)) for unit, fn, x, y in step) for step in _program(rom))
+
+
+for _cached in (_views, _program, _direct, steps, operand_steps):     # (the op table can be changed)
     ops.on_change(_cached.cache_clear)
 
 
@@ -95,6 +108,22 @@ def step(rom: int, k: int, am: np.ndarray, bm: np.ndarray, units: np.ndarray,
         new.append((unit, arith.apply(fn, _read(x, regs, units), _read(y, regs, units))))
     for unit, value in new:
         units[..., unit, :] = value
+
+
+def step_rows(rom: int, k: int, op_a: np.ndarray, op_b: np.ndarray, rows: np.ndarray,
+              units: np.ndarray, arith=FLOAT64) -> None:
+    """step() on the VAMPs `rows` of op_a and op_b (2-D, 9 scalars a row), each register read
+    straight from them (the tick engine's): the values step(rom, k, *registers(rom, op_a, op_b,
+    rows), units, arith) reads, without gathering all nine of every module first."""
+    r = rows[:, None]
+    regs = {"a": op_a, "b": op_b}
+    new = []
+    for unit, fn, x, y in _direct(rom)[k]:
+        xv = units[:, x[1], :] if x[0] == "u" else regs[x[0]][r, x[1]]
+        yv = units[:, y[1], :] if y[0] == "u" else regs[y[0]][r, y[1]]
+        new.append((unit, arith.apply(fn, xv, yv)))
+    for unit, value in new:
+        units[:, unit, :] = value
 
 
 def _read(ref, regs, units):
