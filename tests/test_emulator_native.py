@@ -245,6 +245,32 @@ def test_cache_is_keyed_by_source(small, cache, monkeypatch):
 
 
 @needs_cc
+def test_a_killed_compiles_temporaries_are_removed_by_a_later_compile(small, cache):
+    """A SIGKILL during a compile left its .vampc-cc.* folder and half-written .vampc-*.so in the
+    cache for good (a CI engineer's find): the next compile removes those an hour old or more,
+    and leaves fresh ones (a compile running now) and everything else alone."""
+    import os
+    import time
+    ld, fl, _ = small
+    cache.mkdir(parents=True)
+    old, fresh = time.time() - native.STALE_SECONDS - 60, time.time() - 60
+    left = {cache / ".vampc-cc.abc123": old, cache / ".vampc-0123.k9x.so": old,
+            cache / ".vampc-0123.sha256.k9x": old, cache / ".vampc-cc.now456": fresh,
+            cache / ".vampc-4567.now.so": fresh, cache / "mine.txt": old, cache / ".other": old}
+    for path, when in left.items():
+        if "cc." in path.name:
+            path.mkdir()
+            (path / "ccXYZ.s").write_text("left")
+        else:
+            path.write_text("left")
+        os.utime(path, (when, when))
+    native.build(ld, fl)
+    stays = {p.name for p in cache.iterdir()}
+    assert {".vampc-cc.now456", ".vampc-4567.now.so", "mine.txt", ".other"} <= stays
+    assert not stays & {".vampc-cc.abc123", ".vampc-0123.k9x.so", ".vampc-0123.sha256.k9x"}
+
+
+@needs_cc
 def test_a_damaged_cached_object_is_said_and_compiled_again(small, cache):
     """A cut-short cached object was loaded as it was and killed the process with SIGBUS, nothing
     said; an empty one sent every run to numpy in silence (an audit's finds). Each is now found by

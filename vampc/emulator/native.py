@@ -63,6 +63,8 @@ CACHED_FROM = 2_000
 PART = 32           # VAMP loops per C function: gcc's compile time grows faster than linearly in
                     # the length of a function (alias walks in PRE), so big networks are split
 CFLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off", "-fno-fast-math")
+# a compile's temporaries in the cache (.vampc-...) this old are a killed compile's (_sweep)
+STALE_SECONDS = 3600
 ENTRY = "vamp_run"
 ZERO = "0.0"        # an operand scalar beyond its source's width reads a zeroed register (tick engine)
 
@@ -860,8 +862,35 @@ def _load(path: Path) -> ctypes.CDLL:
         raise NativeError(f"cannot load {path}: {exc}") from None
 
 
+def _sweep(folder: Path) -> None:
+    """Remove the temporaries a killed compile left in the cache: a SIGKILL (a job runner's time-out
+    escalated) gives it no chance to, and a shared cache filled with .vampc-cc.* folders and
+    half-written objects that no run removed (a CI engineer's find). Only the names compiles give
+    their temporaries (.vampc-...), only an hour old or more: a compile running now holds fresh
+    ones."""
+    import time
+    now = time.time()
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.name.startswith(".vampc-"):
+            continue
+        try:
+            if now - entry.stat(follow_symlinks=False).st_mtime < STALE_SECONDS:
+                continue
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path, ignore_errors=True)
+            else:
+                os.unlink(entry.path)
+        except OSError:
+            continue
+
+
 def _compile(cc: str, source: str, target: Path) -> None:
     """Compile from stdin to a temporary name, then rename: concurrent runs never load half a file."""
+    _sweep(target.parent)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=".so", dir=target.parent)
     os.close(fd)
     # gcc's own temporaries in a folder of ours, removed whatever happens: a SIGTERM kills the
