@@ -1898,6 +1898,114 @@ def test_a_sigterm_while_vampc_is_imported_is_one_line():
     assert (r.returncode, r.stderr, r.stdout) == (143, "vampc: terminated (SIGTERM)\n", ""), r
 
 
+def test_a_library_that_will_not_load_is_one_line():
+    """Under `ulimit -v` numpy's import failed ("failed to map segment from shared object") and the
+    console script showed a traceback and numpy's page of advice (a CI engineer's find): one line
+    naming the library and its loader's reason, exit 1. (numpy refused here by sys.modules.)"""
+    import subprocess
+    import sys
+    code = ("import sys\nsys.modules['numpy'] = None\nsys.argv = ['vampc', '--version']\n"
+            "from vampc.launch import main\nmain()\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1 and r.stdout == "" and r.stderr.count("\n") == 1, r
+    assert r.stderr.startswith("vampc: error: cannot load numpy: import of numpy halted"), r
+
+
+@pytest.mark.parametrize("sig, status, line", [("SIGTERM", 143, "vampc: terminated (SIGTERM)"),
+                                               ("SIGINT", 130, "vampc: interrupted")])
+def test_a_signal_while_the_command_line_is_parsed_is_the_signals_line_and_status(tmp_path, sig,
+                                                                                  status, line):
+    """A SIGTERM or Ctrl-C while click parsed the command line went through click, which took it
+    for an interrupted prompt: a blank line, "vampc: interrupted" and exit 1, so a CI job's
+    time-out looked like a failure (a CI engineer's find). Now the command raises it as it begins:
+    its own line and 128 + the signal, nothing written; and after --help, the same status."""
+    import subprocess
+    import sys
+    code = (
+        "import os, signal, sys, click\n"
+        "parse = click.core.Command.parse_args\n"
+        "def parse_args(self, ctx, args):\n"
+        "    if not isinstance(self, click.Group):\n"
+        f"        os.kill(os.getpid(), signal.{sig})\n"
+        "    return parse(self, ctx, args)\n"
+        "click.core.Command.parse_args = parse_args\n"
+        "sys.argv = ['vampc', *sys.argv[1:]]\n"
+        "from vampc.launch import main\n"
+        "main()\n")
+    out = tmp_path / "tau.csv"
+    import signal
+
+    def ctrl_c_as_at_a_terminal():      # (a test runner's worker may start children ignoring it)
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+    r = subprocess.run([sys.executable, "-c", code, "emulate", str(EXAMPLES / "planar2.yaml"),
+                        "--random", "5", "-o", str(out)], capture_output=True, text=True, timeout=120,
+                       preexec_fn=ctrl_c_as_at_a_terminal)
+    assert (r.returncode, r.stderr, r.stdout) == (status, line + "\n", ""), r
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+    r = subprocess.run([sys.executable, "-c", code, "emulate", "--help"], capture_output=True,
+                       text=True, timeout=120, preexec_fn=ctrl_c_as_at_a_terminal)
+    assert (r.returncode, r.stderr) == (status, line + "\n") and "--random" in r.stdout, r
+
+
+def test_a_second_signal_while_the_first_is_said_does_not_kill_the_run(tmp_path):
+    """A job runner's second SIGTERM a few milliseconds after the first, while the run said its
+    line and removed its outputs, killed the process by that signal (status -15, not 143: a CI
+    engineer's find). The second lands here as the run discards its outputs."""
+    import subprocess
+    import sys
+    code = (
+        "import os, signal, sys\n"
+        "sys.argv = ['vampc', *sys.argv[1:]]\n"
+        "import vampc.cli, vampc.commands\n"
+        "emulate, discard = vampc.commands.emulate_command, vampc.cli.discard_all\n"
+        "def first(*a, **k):\n"
+        "    os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    return emulate(*a, **k)\n"
+        "def second():\n"
+        "    os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    discard()\n"
+        "vampc.commands.emulate_command, vampc.cli.discard_all = first, second\n"
+        "from vampc.launch import main\n"
+        "main()\n")
+    out = tmp_path / "tau.csv"
+    r = subprocess.run([sys.executable, "-c", code, "emulate", str(EXAMPLES / "planar2.yaml"),
+                        "--random", "5", "-o", str(out)], capture_output=True, text=True, timeout=120)
+    assert (r.returncode, r.stderr, r.stdout) == (143, "vampc: terminated (SIGTERM)\n", ""), r
+    assert list(tmp_path.iterdir()) == []
+
+
+def _chained_emfile():
+    try:
+        raise OSError(24, "Too many open files")
+    except OSError as exc:
+        raise ValueError("a library's own wrapping") from exc
+
+
+@pytest.mark.parametrize("raised, said", [
+    (RuntimeError("can't start new thread"), "cannot start a thread"),
+    (OSError(24, "Too many open files"), "too many open files"),
+    (_chained_emfile, "too many open files"),
+    (BlockingIOError(11, "Resource temporarily unavailable"), "the system refused the run a resource")])
+def test_what_the_system_refuses_is_one_line_not_an_internal_error(tmp_path, monkeypatch, raised,
+                                                                   said):
+    """Under `ulimit -v` a thread pool's submit raised "can't start new thread", under `ulimit -n`
+    a worker pool's pipe "Too many open files": each a traceback, "internal error", exit 3 (a CI
+    engineer's finds). Now one line saying what the system refused, exit 1, nothing written."""
+    import vampc.commands
+
+    def refuse(*args, **kwargs):
+        if callable(raised):
+            raised()
+        raise raised
+    monkeypatch.setattr(vampc.commands, "emulate_command", refuse)
+    out = tmp_path / "tau.csv"
+    res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3",
+                                    "-o", str(out)])
+    assert res.exit_code == 1 and "Traceback" not in res.output, res.output
+    assert res.output.count("\n") == 1 and res.output.startswith(f"vampc: error: {said}")
+    assert not out.exists()
+
+
 def test_outputs_are_put_in_place_under_their_folders_lock(tmp_path):
     """Two runs writing the same -o and --save-states at once had left one run's torques beside
     another's states (each file replaced whole, the pair not: an audit's find). The outputs are put

@@ -23,7 +23,10 @@ from vampc.errors import (
     VampcError,
     VampcUsageError,
     VampcWarning,
+    begin,
     raise_if_terminated,
+    signalled_while_parsing,
+    stopping,
     terminate_like_interrupt,
 )
 from vampc.options import (
@@ -56,6 +59,7 @@ def handle_errors(f):
         command_begins()
         progress.begin()
         try:
+            begin()                            # (a signal while the options were parsed: now)
             with warnings.catch_warnings():
                 warnings.simplefilter("always", VampcWarning)
                 warnings.showwarning = _show_warning
@@ -68,10 +72,12 @@ def handle_errors(f):
             _status(f"vampc: error: {unbroken(str(exc))}")
             sys.exit(1)
         except Terminated as exc:
+            stopping()
             discard_all()
             _status(f"vampc: terminated ({exc})" + _kept(exc))
             sys.exit(128 + exc.signum)
         except KeyboardInterrupt as exc:
+            stopping()
             discard_all()
             _status("vampc: interrupted" + _kept(exc))
             sys.exit(130)
@@ -83,7 +89,12 @@ def handle_errors(f):
                     "may have (fewer states or a smaller robot at a time, or more memory); an "
                     "output not finished is not written")
             sys.exit(1)
-        except Exception:
+        except Exception as exc:
+            short = _out_of_resources(exc)
+            if short is not None:
+                discard_all()
+                _status(f"vampc: error: {short}; an output not finished is not written")
+                sys.exit(1)
             import traceback
             traceback.print_exc()
             _status("vampc: internal error: this is a bug in vampc, not in your input; please "
@@ -108,6 +119,43 @@ def _status(text: str) -> None:
     error turned a usage error's 2, or a signal's 143, into 1: a review's find)."""
     with contextlib.suppress(OSError, ValueError):
         click.echo(text, err=True)
+
+
+def _out_of_resources(exc: BaseException) -> str | None:
+    """What the system would not give the run, said in a line, where an exception (or one it was
+    raised from) is the system saying so: no thread could be started (under `ulimit -v` a thread
+    pool's submit raised RuntimeError), no more files could be opened (`ulimit -n`: the pipes of a
+    worker pool), no process could be made; each was a traceback and "internal error", exit 3 (a
+    CI engineer's finds). None for anything else."""
+    import errno
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        if isinstance(exc, RuntimeError) and "can't start new thread" in str(exc):
+            return ("cannot start a thread: the system refused one (out of memory under "
+                    "`ulimit -v`, or the limit on processes and threads, `ulimit -u`)")
+        if isinstance(exc, OSError) and exc.errno in (errno.EMFILE, errno.ENFILE):
+            return "too many open files: the process may open no more (`ulimit -n`)"
+        if isinstance(exc, OSError) and exc.errno in (errno.ENOMEM, errno.EAGAIN) and \
+                exc.filename is None:
+            return (f"the system refused the run a resource ({exc.strerror or exc}): out of "
+                    "memory, or a limit on processes (`ulimit -v`, `ulimit -u`)")
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
+def _end_if_signalled() -> None:
+    """A SIGTERM, SIGHUP or Ctrl-C that came while the command line was parsed, and no command
+    began to raise it (help was printed, or the line was a usage error): the run ends as that
+    signal ends a command, its one line and 128 + the signal's number."""
+    signum = signalled_while_parsing()
+    if signum is None:
+        return
+    import signal
+    stopping()
+    _status("vampc: interrupted" if signum == signal.SIGINT
+            else f"vampc: terminated ({signal.Signals(signum).name})")
+    sys.exit(128 + signum)
 
 
 def _kept(exc: BaseException) -> str:
@@ -285,7 +333,9 @@ class _Vampc(click.Group):
         restore = terminate_like_interrupt()
         try:
             code = super().main(args, prog_name, complete_var, False, **extra)
+            _end_if_signalled()
         except click.UsageError as exc:
+            _end_if_signalled()
             if type(exc).__name__ == "NoArgsIsHelpError":      # `vampc` alone: the help
                 click.echo(exc.ctx.get_help(), err=True)
                 sys.exit(2)
@@ -298,9 +348,14 @@ class _Vampc(click.Group):
         except click.ClickException as exc:
             exc.show()
             sys.exit(exc.exit_code)
-        except click.Abort:
+        except click.Abort as exc:
+            _end_if_signalled()
+            stopped = exc.__cause__ or exc.__context__
+            if isinstance(stopped, Terminated):
+                _status(f"vampc: terminated ({stopped})")
+                sys.exit(128 + stopped.signum)
             _status("vampc: interrupted")
-            sys.exit(1)
+            sys.exit(130 if isinstance(stopped, KeyboardInterrupt) else 1)
         finally:
             restore()
         sys.exit(code if isinstance(code, int) else 0)

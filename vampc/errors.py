@@ -57,6 +57,20 @@ _terminated: list[int] = []
 _committing: list[bool] = []
 
 
+# Set while the command line is parsed (from terminate_like_interrupt until the command begins:
+# `begin`): a signal then is remembered, not raised, and the command raises it as it begins. Raised
+# during parsing, it went through click, which took it for an interrupted prompt: a blank line,
+# "vampc: interrupted" and exit 1 for a SIGTERM, whose run must say so and exit 143 (a CI engineer's
+# find: a job's time-out looked like a failure).
+_parsing: list[bool] = []
+
+
+def begin() -> None:
+    """The command begins (its options parsed): a signal that came during parsing is raised now."""
+    _parsing.clear()
+    raise_if_terminated()
+
+
 def committing() -> None:
     """The command puts its outputs in place from here on: a signal no longer stops it."""
     if not _committing:
@@ -75,7 +89,8 @@ def terminate(signum: int):
     if _committing:
         return
     remember(signum)
-    raise Terminated(signum)
+    if not _parsing:
+        raise Terminated(signum)
 
 
 def interrupt(signum: int):
@@ -84,7 +99,8 @@ def interrupt(signum: int):
     if _committing:
         return
     remember(signum)
-    raise KeyboardInterrupt
+    if not _parsing:
+        raise KeyboardInterrupt
 
 
 def raise_if_terminated() -> None:
@@ -110,6 +126,7 @@ def terminate_like_interrupt():
     def ctrl_c(signum, frame):
         interrupt(signum)
     _committing.clear()              # (a library call's outputs, before this command, do not count)
+    _parsing[:] = [True]
     previous = {}
     for name in ("SIGTERM", "SIGHUP"):
         if hasattr(signal, name):
@@ -120,12 +137,32 @@ def terminate_like_interrupt():
     def restore():
         # the console script's process ends with its command: once the outputs were put in place,
         # a signal during Python's teardown must not kill it either (it did, exit 143)
-        leaving = _committing and LEAVING_AFTER_COMMAND
+        # likewise once a signal has ended it: a second one during the teardown had killed the
+        # process by that signal after its line was said (a CI engineer's find)
+        leaving = (_committing or _terminated) and LEAVING_AFTER_COMMAND
         for sig, old in previous.items():
             signal.signal(sig, signal.SIG_IGN if leaving else old)
         _terminated.clear()          # a signal belongs to the command it ended, not to the next one
         _committing.clear()
+        _parsing.clear()
     return restore
+
+
+def stopping() -> None:
+    """A command is ending on a signal (its one line about to be said): from here the console
+    script's process leaves, so further signals are ignored (a second SIGTERM within milliseconds
+    of the first, from a job runner, had killed it by that signal, exit -15 instead of 143)."""
+    if LEAVING_AFTER_COMMAND:
+        import signal
+        for name in ("SIGTERM", "SIGHUP", "SIGINT"):
+            if hasattr(signal, name):
+                signal.signal(getattr(signal, name), signal.SIG_IGN)
+
+
+def signalled_while_parsing() -> int | None:
+    """The signal that came while the command line was parsed, if the command never began to raise
+    it (help printed, or a usage error)."""
+    return _terminated[0] if _terminated and _parsing else None
 
 
 # Set by the console script (vampc.launch): the process ends when its command does. Library callers

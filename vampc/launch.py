@@ -47,6 +47,26 @@ def main() -> None:
         signum = ended.args[0]
         sys.stderr.write(f"vampc: terminated ({signal.Signals(signum).name})\n")
         sys.exit(128 + signum)
+    except MemoryError:
+        sys.stderr.write("vampc: error: out of memory while starting (the process may have too "
+                         "little memory: `ulimit -v`)\n")
+        sys.exit(1)
+    except ImportError as exc:
+        # a library vampc needs that will not load (under `ulimit -v` numpy's "failed to map
+        # segment from shared object" was a traceback: a CI engineer's find); vampc's own
+        # modules failing to import is a bug, shown in full
+        if (exc.name or "").split(".")[0] == "vampc":
+            raise
+        first = exc             # (numpy's own is a page of advice raised from the loader's line)
+        while isinstance(first.__cause__, ImportError):
+            first = first.__cause__
+        module = next((m for m in _importing(exc.__traceback__) if m.split(".")[0] != "vampc"),
+                      exc.name or first.name or "a library vampc needs")
+        what = " ".join(str(first).split())[:300]
+        sys.stderr.write(f"vampc: error: cannot load {module.split('.')[0]}: {what} (out of "
+                         "memory under `ulimit -v`, or an installation to mend: pip install "
+                         "--force-reinstall vampc)\n")
+        sys.exit(1)
     finally:
         for sig, old in previous.items():
             signal.signal(sig, old)
@@ -58,6 +78,17 @@ def main() -> None:
         if _SKIP_TEARDOWN and done.code in (0, None):
             _leave_now()
         raise
+
+
+def _importing(tb) -> list[str]:
+    """The modules being imported along a traceback, outermost first (their frames' __name__)."""
+    names = []
+    while tb is not None:
+        name = tb.tb_frame.f_globals.get("__name__", "")
+        if tb.tb_frame.f_code.co_name == "<module>" and name not in names:
+            names.append(name)
+        tb = tb.tb_next
+    return names
 
 
 def _leave_now() -> None:
