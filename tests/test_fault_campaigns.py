@@ -169,12 +169,15 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     # (what differs is said: an earlier vampc's default random campaign, 565 sets a run where it
     # is now 1488, was refused as if --sets had been given: a review's find)
     # (and which faults: "other faults" alone left a new user to guess)
+    # (and, the program, campaign and seed being the same, that an earlier vampc's file is also
+    # such a file: one from before an upgrade was "another campaign or program" alone, an audit's)
     faults = r"other faults, 8 in the file and 8 here; the first that differs is fault 1: 'vamp=[^']+' " \
-             r"in the file, 'vamp=[^']+' here"
+             r"in the file, 'vamp=[^']+' here; the same program, campaign and seed: other options, " \
+             r"or a file an earlier vampc wrote, which drew other faults or ran other lengths"
     assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds the "
                         rf"results of another campaign \({faults}\): give --results FILE for this one, "
                         r"or remove it to start over", r.output.splitlines()[-1]), r.output
-    assert "dead" in r.output.splitlines()[-1].split(" here)")[0].split("in the file, ")[-1]
+    assert "dead" in r.output.splitlines()[-1].split(" here;")[0].split("in the file, ")[-1]
     r = RUN(main, ["faults", str(program), *("41" if x == "40" else x for x in QUICK), "--workers", "1"])
     assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds "
                         rf"the results of another campaign \(40 sets a run, not 41, {faults}\): give "

@@ -732,7 +732,15 @@ def _differing(head, header: dict) -> str | None:
             "campaign": f"the {head.get('campaign')} campaign, not "
             f"{header['campaign']}", "sets": f"{head.get('sets')} sets a run, not {header['sets']}",
             "seed": f"seed {head.get('seed')}, not {header['seed']}", "faults": _other_faults(head, header)}
-    return ", ".join(text for key, text in said.items() if head.get(key) != header.get(key)) or None
+    differ = [key for key in said if head.get(key) != header.get(key)]
+    text = ", ".join(said[key] for key in differ) or None
+    if differ and set(differ) <= {"sets", "faults"}:
+        # the same program, campaign and seed: another --sets or --kinds, or an earlier vampc, which
+        # drew other faults and ran other lengths for them (a user's file from before an upgrade
+        # was said to be "another campaign or program" alone: an audit of old files)
+        text += ("; the same program, campaign and seed: other options, or a file an earlier "
+                 "vampc wrote, which drew other faults or ran other lengths")
+    return text
 
 
 def _other_program(theirs, ours: str) -> str:
