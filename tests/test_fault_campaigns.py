@@ -177,7 +177,7 @@ def test_a_default_results_file_of_other_kinds_is_named_as_the_default(programs,
     assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds the "
                         rf"results of another campaign \({faults}\): give --results FILE for this one, "
                         r"or remove it to start over", r.output.splitlines()[-1]), r.output
-    assert "dead" in r.output.splitlines()[-1].split(" here;")[0].split("in the file, ")[-1]
+    assert "dead" in r.output.splitlines()[-1].split("in the file, ")[-1].split(" here;")[0]
     r = RUN(main, ["faults", str(program), *("41" if x == "40" else x for x in QUICK), "--workers", "1"])
     assert re.fullmatch(rf"vampc: error: {re.escape(str(default))}, the default results file, holds "
                         rf"the results of another campaign \(40 sets a run, not 41, {faults}\): give "
