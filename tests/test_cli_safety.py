@@ -1974,6 +1974,31 @@ def test_a_second_signal_while_the_first_is_said_does_not_kill_the_run(tmp_path)
     assert list(tmp_path.iterdir()) == []
 
 
+def _a_refused_fork():
+    def _launch():          # (as multiprocessing's Popen._launch, where os.fork raises it)
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+    _launch()
+
+
+@pytest.mark.parametrize("raised", [BlockingIOError(11, "Resource temporarily unavailable"),
+                                    "met while handling"])
+def test_what_the_system_did_not_refuse_is_still_an_internal_error(monkeypatch, raised):
+    """A non-blocking read's EAGAIN is not a refused process, and a bug met while handling a
+    refused resource is a bug (a review's finds): both shown in full, exit 3."""
+    import vampc.commands
+
+    def bug(*args, **kwargs):
+        if isinstance(raised, BaseException):
+            raise raised
+        try:
+            raise OSError(24, "Too many open files")
+        except OSError:
+            {}["a bug"]
+    monkeypatch.setattr(vampc.commands, "emulate_command", bug)
+    res = CliRunner().invoke(main, ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "3"])
+    assert res.exit_code == 3 and "internal error" in res.output, res.output
+
+
 def _chained_emfile():
     try:
         raise OSError(24, "Too many open files")
@@ -1985,7 +2010,8 @@ def _chained_emfile():
     (RuntimeError("can't start new thread"), "cannot start a thread"),
     (OSError(24, "Too many open files"), "too many open files"),
     (_chained_emfile, "too many open files"),
-    (BlockingIOError(11, "Resource temporarily unavailable"), "the system refused the run a resource")])
+    (_a_refused_fork, "the system refused the run a resource"),
+    (OSError(12, "Cannot allocate memory"), "the system refused the run a resource")])
 def test_what_the_system_refuses_is_one_line_not_an_internal_error(tmp_path, monkeypatch, raised,
                                                                    said):
     """Under `ulimit -v` a thread pool's submit raised "can't start new thread", under `ulimit -n`

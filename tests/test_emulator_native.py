@@ -247,7 +247,7 @@ def test_cache_is_keyed_by_source(small, cache, monkeypatch):
 @needs_cc
 def test_a_killed_compiles_temporaries_are_removed_by_a_later_compile(small, cache):
     """A SIGKILL during a compile left its .vampc-cc.* folder and half-written .vampc-*.so in the
-    cache for good (a CI engineer's find): the next compile removes those an hour old or more,
+    cache for good (a CI engineer's find): the next compile removes those a day old or more,
     and leaves fresh ones (a compile running now) and everything else alone."""
     import os
     import time

@@ -129,19 +129,31 @@ def _out_of_resources(exc: BaseException) -> str | None:
     CI engineer's finds). None for anything else."""
     import errno
     seen: set[int] = set()
-    while exc is not None and id(exc) not in seen:
-        seen.add(id(exc))
+    while exc is not None and id(exc) not in seen:      # (raised from: not a bug met while
+        seen.add(id(exc))                               # handling one, which is shown in full)
         if isinstance(exc, RuntimeError) and "can't start new thread" in str(exc):
             return ("cannot start a thread: the system refused one (out of memory under "
                     "`ulimit -v`, or the limit on processes and threads, `ulimit -u`)")
         if isinstance(exc, OSError) and exc.errno in (errno.EMFILE, errno.ENFILE):
             return "too many open files: the process may open no more (`ulimit -n`)"
-        if isinstance(exc, OSError) and exc.errno in (errno.ENOMEM, errno.EAGAIN) and \
-                exc.filename is None:
+        if isinstance(exc, OSError) and exc.filename is None and (
+                exc.errno == errno.ENOMEM or exc.errno == errno.EAGAIN and _making_a_process(exc)):
             return (f"the system refused the run a resource ({exc.strerror or exc}): out of "
                     "memory, or a limit on processes (`ulimit -v`, `ulimit -u`)")
-        exc = exc.__cause__ or exc.__context__
+        exc = exc.__cause__
     return None
+
+
+def _making_a_process(exc: BaseException) -> bool:
+    """Whether `exc` was raised making a process (a worker pool's fork, a tool's spawn): there
+    EAGAIN is the system's limit on processes; elsewhere it is non-blocking I/O's 'try again'."""
+    tb = exc.__traceback__
+    while tb is not None:
+        code = tb.tb_frame.f_code
+        if code.co_name in ("_launch", "_execute_child", "fork", "_fork_exec", "posix_spawn"):
+            return True
+        tb = tb.tb_next
+    return False
 
 
 def _end_if_signalled() -> None:
@@ -346,11 +358,14 @@ class _Vampc(click.Group):
             _status(f"vampc: error: {message} (see '{where} --help')")
             sys.exit(2)
         except click.ClickException as exc:
+            _end_if_signalled()
             exc.show()
             sys.exit(exc.exit_code)
         except click.Abort as exc:
             _end_if_signalled()
             stopped = exc.__cause__ or exc.__context__
+            if isinstance(stopped, KeyboardInterrupt):
+                stopping()
             if isinstance(stopped, Terminated):
                 _status(f"vampc: terminated ({stopped})")
                 sys.exit(128 + stopped.signum)

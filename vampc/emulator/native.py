@@ -63,8 +63,9 @@ CACHED_FROM = 2_000
 PART = 32           # VAMP loops per C function: gcc's compile time grows faster than linearly in
                     # the length of a function (alias walks in PRE), so big networks are split
 CFLAGS = ("-O2", "-fPIC", "-shared", "-ffp-contract=off", "-fno-fast-math")
-# a compile's temporaries in the cache (.vampc-...) this old are a killed compile's (_sweep)
-STALE_SECONDS = 3600
+# a compile's temporaries in the cache (.vampc-...) this old are a killed compile's (_sweep): a
+# day, far beyond any compile (gcc's scratch folder keeps its time while cc1 works for minutes)
+STALE_SECONDS = 86400
 ENTRY = "vamp_run"
 ZERO = "0.0"        # an operand scalar beyond its source's width reads a zeroed register (tick engine)
 
@@ -866,8 +867,8 @@ def _sweep(folder: Path) -> None:
     """Remove the temporaries a killed compile left in the cache: a SIGKILL (a job runner's time-out
     escalated) gives it no chance to, and a shared cache filled with .vampc-cc.* folders and
     half-written objects that no run removed (a CI engineer's find). Only the names compiles give
-    their temporaries (.vampc-...), only an hour old or more: a compile running now holds fresh
-    ones."""
+    their temporaries (.vampc-...), only a day old or more (STALE_SECONDS): a compile running now
+    holds younger ones."""
     import time
     now = time.time()
     try:
