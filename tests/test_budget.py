@@ -20,7 +20,7 @@ from vampc.compiler import CompileOptions, build_graph, compile_chain
 from vampc.dataflow.graph import GraphBuilder
 from vampc.emulator.host import check_torques
 from vampc.errors import VampcError
-from vampc.machine.ops import Op, Timing
+from vampc.machine.ops import ROM, Op, Timing
 from vampc.robot import load_robot
 from vampc.robot.random import random_chain
 from vampc.schedule.budget import bounds, budget_schedule, modulo_schedule, work
@@ -732,3 +732,37 @@ def test_every_tick_an_evicting_op_scans_displaces_an_op(monkeypatch):
                                           attempt=attempt) is not None
     assert placed and len(seen) > 1000 and 1 in seen
     assert min(seen) >= 1
+
+
+def test_the_availability_kept_is_what_the_free_vamps_give_after_every_change(monkeypatch):
+    """The availability bits (whether `need` VAMPs are free for `dur` ticks from each start) are
+    refreshed after every reservation and removal over the starts whose span meets it, each start
+    of the period once when the span goes round a short period: checked against the bits worked
+    out afresh from the free VAMPs, at every start and for every op shape, after every change of a
+    tight, evicting schedule at intervals shorter and longer than the longest op."""
+    from vampc.schedule import budget
+    from vampc.schedule.budget import Attempt
+    checked = []
+
+    def afresh(self):
+        for (dur, need), table in self.avail.items():
+            for s in range(self.ii):
+                free = self._free_for(s, dur).bit_count()
+                assert table[s] == (free >= need), (self.ii, s, dur, need)
+        checked.append(self.ii)
+    for name in ("_reserve", "_remove"):
+        original = getattr(budget._Modulo, name)
+
+        def changed(self, *args, _original=original):
+            _original(self, *args)
+            afresh(self)
+        monkeypatch.setattr(budget._Modulo, name, changed)
+    graph = build_graph(random_chain(3, 5, prismatic_fraction=0.0), CompileOptions(recursion="log"))
+    timing = Timing()
+    longest = max(timing.step_ends(r)[-1] for r in range(len(ROM)))
+    for k in (9, 100):           # evicting at a tight interval; a period shorter than two spans
+        b = bounds(graph, timing, k)
+        for ii in range(b.interval_bound, b.interval_bound + 3):
+            modulo_schedule(graph, timing, k, ii, attempt=Attempt(scan=True))
+    assert len(checked) > 200
+    assert min(checked) < 2 * longest - 1 < max(checked)     # (both ways of choosing the starts)

@@ -383,7 +383,10 @@ class _Modulo:
     def _refresh(self, t: int, dur: int) -> None:
         """Recompute the availability bits of every start whose span meets ticks t .. t + dur - 1."""
         ii, free, longest, tables = self.ii, self.free, self.longest, self.tables
-        for start in range(t - longest + 1, t + dur):
+        # (each start of the period once: at a short interval the range went round it, a start's
+        # bits recomputed up to three times, the same each time)
+        first = t - longest + 1 if longest + dur - 1 <= ii else t
+        for start in range(first, first + min(longest + dur - 1, ii)):
             s0 = start % ii
             # the VAMPs free for 1, 2, ... ticks from `start` (_free_for of each length, built up)
             mask = free[s0]
