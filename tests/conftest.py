@@ -53,6 +53,19 @@ def pytest_sessionfinish(session):
     gc.unfreeze()
 
 
+# Bytecode for the processes the tests start. Where the environment says not to write .pyc files
+# (PYTHONDONTWRITEBYTECODE, as this project's machines set it), every `python -m vampc` a test runs
+# from the checkout compiled vampc's modules from source again: 0.3-0.4 s a process (a 10-set Puma
+# emulate, 2026-12-07: 0.75-1.06 s without vampc's .pyc files, 0.52-0.61 s with them), for some 150
+# such processes a run. The test processes and the processes they start write and read bytecode as
+# Python does by default (vampc/__pycache__, ignored by git; nothing where a folder is read-only),
+# as an installed package has it (pip writes its .pyc files) and as benchmarks/emulate_io.py's
+# children do. Set in the first process, before its workers start: they inherit it.
+def pytest_configure(config):
+    if not hasattr(config, "workerinput"):
+        os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+
+
 def pytest_sessionstart(session):
     """Tests name the examples as the README does ("examples/planar2.yaml", some when their module
     is imported): they run from the repository's root wherever pytest is started (`pytest
