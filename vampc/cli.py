@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import os
 import sys
 import warnings
 
@@ -273,14 +272,14 @@ def say(text: str, err: bool = False, nl: bool = True) -> None:
                 silence(sys.stderr)
             return
         if isinstance(exc, BrokenPipeError):       # nothing more reaches it, at exit either
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            silence(sys.stdout)
             if not result_on_stdout():
                 return
         elif not result_on_stdout():
             # a summary line standard output cannot take (> /dev/full): dropped, said once on
             # standard error; the files are written (the summary comes once they are) and the
             # exit status is the run's (it was exit 1 beside files already replaced: a new user's)
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            silence(sys.stdout)
             say(f"vampc: warning: standard output cannot take the summary lines "
                 f"({exc.strerror or exc}): they are dropped; files are written as without them",
                 err=True)
