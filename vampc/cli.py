@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import signal
 import sys
 import warnings
 
@@ -71,15 +72,9 @@ def handle_errors(f):
             _status(f"vampc: error: {unbroken(str(exc))}")
             sys.exit(1)
         except Terminated as exc:
-            stopping()
-            discard_all()
-            _status(f"vampc: terminated ({exc})" + _kept(exc))
-            sys.exit(128 + exc.signum)
+            _end_on_signal(exc.signum, _kept(exc))
         except KeyboardInterrupt as exc:
-            stopping()
-            discard_all()
-            _status("vampc: interrupted" + _kept(exc))
-            sys.exit(130)
+            _end_on_signal(signal.SIGINT, _kept(exc))
         except (click.exceptions.Exit, click.ClickException, SystemExit):
             raise
         except MemoryError:
@@ -155,18 +150,23 @@ def _making_a_process(exc: BaseException) -> bool:
     return False
 
 
+def _end_on_signal(signum: int, kept: str = "") -> None:
+    """End the run as a SIGTERM, SIGHUP or Ctrl-C ends it: further signals ignored, every output
+    being written removed, its one line (and what it kept), exit status 128 + the signal's number."""
+    stopping()
+    discard_all()
+    _status(("vampc: interrupted" if signum == signal.SIGINT
+             else f"vampc: terminated ({signal.Signals(signum).name})") + kept)
+    sys.exit(128 + signum)
+
+
 def _end_if_signalled() -> None:
     """A SIGTERM, SIGHUP or Ctrl-C that came while the command line was parsed, and no command
     began to raise it (help was printed, or the line was a usage error): the run ends as that
-    signal ends a command, its one line and 128 + the signal's number."""
+    signal ends a command."""
     signum = signalled_while_parsing()
-    if signum is None:
-        return
-    import signal
-    stopping()
-    _status("vampc: interrupted" if signum == signal.SIGINT
-            else f"vampc: terminated ({signal.Signals(signum).name})")
-    sys.exit(128 + signum)
+    if signum is not None:
+        _end_on_signal(signum)
 
 
 def _kept(exc: BaseException) -> str:
@@ -364,12 +364,9 @@ class _Vampc(click.Group):
             _end_if_signalled()
             stopped = exc.__cause__ or exc.__context__
             if isinstance(stopped, KeyboardInterrupt):
-                stopping()
-            if isinstance(stopped, Terminated):
-                _status(f"vampc: terminated ({stopped})")
-                sys.exit(128 + stopped.signum)
+                _end_on_signal(getattr(stopped, "signum", signal.SIGINT))
             _status("vampc: interrupted")
-            sys.exit(130 if isinstance(stopped, KeyboardInterrupt) else 1)
+            sys.exit(1)
         finally:
             restore()
         sys.exit(code if isinstance(code, int) else 0)
