@@ -385,8 +385,7 @@ class _Modulo:
         ii, free, longest, tables = self.ii, self.free, self.longest, self.tables
         # (each start of the period once: at a short interval the range went round it, a start's
         # bits recomputed up to three times, the same each time)
-        first = t - longest + 1 if longest + dur - 1 <= ii else t
-        for start in range(first, first + min(longest + dur - 1, ii)):
+        for start in range(t + dur - min(longest + dur - 1, ii), t + dur):
             s0 = start % ii
             # the VAMPs free for 1, 2, ... ticks from `start` (_free_for of each length, built up)
             mask = free[s0]
