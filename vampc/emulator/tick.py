@@ -293,7 +293,7 @@ class TickEngine:
         for t in range(last_tick + 1):
             if t % self.B == 0:
                 self._write_ports(ports, t // self.B, count)
-            self._observe(t, outs, tau, seen, count)
+            self._observe(t, tau, seen, count)
             self._data_tick(t % P, t)
             if progress is not None and t % 16 == 0 and time.monotonic() - shown >= 0.5:
                 # in torque sets, as the bar counts (ticks had been counted as sets: a 6000-set
@@ -325,7 +325,9 @@ class TickEngine:
             self.tag[self.const_row[c.index]] = CONST
         self._slots()
         self._port_plan()
-        self._outs_at = None
+        self.outs_at: dict[int, list] = {}       # per counter: the torques read then (k, output)
+        for k, o in enumerate(self.ld.net.outputs):
+            self.outs_at.setdefault(o.tick % self.P, []).append((k, o))
         self._bus_drives()
 
     def _bus_drives(self) -> None:
@@ -470,14 +472,9 @@ class TickEngine:
             else:
                 self.tag[row] = UNKNOWN
 
-    def _observe(self, t: int, outs, tau, seen, count) -> None:
+    def _observe(self, t: int, tau, seen, count) -> None:
         """Read the torques due at tick t (output k of set j at o.tick + j P)."""
-        if self._outs_at is None or self._outs_at[0] is not outs:
-            at: dict[int, list] = {}
-            for k, o in enumerate(outs):
-                at.setdefault(o.tick % self.P, []).append((k, o))
-            self._outs_at = (outs, at)
-        for k, o in self._outs_at[1].get(t % self.P, ()):
+        for k, o in self.outs_at.get(t % self.P, ()):
             tg = self.tag[o.vamp]
             j = (t - o.tick) // self.P
             if 0 <= j < count:
