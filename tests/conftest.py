@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import gc
 import os
+import signal
 from pathlib import Path
 
 import pytest
@@ -51,6 +52,26 @@ def pytest_runtest_setup(item):
 
 def pytest_sessionfinish(session):
     gc.unfreeze()
+
+
+# Signal handlers, in each test process: a test that changes one puts it back. A test that left
+# Ctrl-C ignored (vampc's console script ignores signals once it is leaving, and the test of that
+# put back SIGTERM's and SIGHUP's handlers only) made a later test in the same process, which sends
+# itself SIGINT, wait for ever: the suite hung, or failed, by the order its tests ran in. Each test
+# is checked here, and a handler left changed is put back and fails that test's teardown.
+_KEPT_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP", "SIGALRM")
+                      if hasattr(signal, name))
+
+
+@pytest.fixture(autouse=True)
+def _signal_handlers_put_back():
+    before = {sig: signal.getsignal(sig) for sig in _KEPT_SIGNALS}
+    yield
+    changed = [sig for sig, old in before.items() if signal.getsignal(sig) != old]
+    for sig in changed:
+        signal.signal(sig, before[sig])
+    names = ", ".join(signal.Signals(sig).name for sig in changed)
+    assert not changed, f"the test left the handler of {names} changed"
 
 
 # Bytecode for the processes the tests start. Where the environment says not to write .pyc files

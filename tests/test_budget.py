@@ -396,10 +396,15 @@ def test_a_signal_stops_exact_at_once_and_keeps_the_old_file(tmp_path, sig, code
     import time
     out = tmp_path / "p.vamp.json"
     out.write_text("old")
+
+    def ctrl_c_as_at_a_terminal():
+        # a test process started from a shell's background job (`pytest &`, as a CI script may
+        # start it) ignores SIGINT and its child would inherit that, so Ctrl-C's default action
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
     proc = subprocess.Popen([sys.executable, "-m", "vampc", "compile", str(EXAMPLES / "planar2.yaml"),
                              "--exact", "--vamps", "4", "-o", str(out)],
                             env={**os.environ, "VAMPC_PROGRESS": "1"}, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)
+                            stderr=subprocess.PIPE, preexec_fn=ctrl_c_as_at_a_terminal)
     seen = b""
     try:
         os.set_blocking(proc.stderr.fileno(), False)
@@ -624,8 +629,8 @@ def test_a_signal_returns_from_the_exact_search_only_once_it_has_ended(signals):
     class Solver:
         def Solve(self, model, callback):
             started.set()
-            stopped.wait()
-            sent.wait()                     # (the signals are in before the search ends)
+            # (bounded: a signal that never arrives must fail the test, not hang the run)
+            assert stopped.wait(60) and sent.wait(60)      # (the signals are in before the end)
             time.sleep(0.2)
             returned.set()
             return "stopped"
@@ -639,9 +644,16 @@ def test_a_signal_returns_from_the_exact_search_only_once_it_has_ended(signals):
             time.sleep(0.2)
             signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
         sent.set()
-    threading.Thread(target=interrupt, daemon=True).start()
-    with pytest.raises(KeyboardInterrupt):
-        _solve_stoppably(Solver(), None, None)
+    # Ctrl-C raises KeyboardInterrupt here, as at a terminal, whatever this process was started
+    # with: a test run started as a shell's background job ignores SIGINT, and this test then
+    # waited for ever for a signal that never came
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        threading.Thread(target=interrupt, daemon=True).start()
+        with pytest.raises(KeyboardInterrupt):
+            _solve_stoppably(Solver(), None, None)
+    finally:
+        signal.signal(signal.SIGINT, before)
     assert returned.is_set()
 
 

@@ -1188,11 +1188,15 @@ def test_a_check_that_fails_still_says_so_by_exit_status_with_the_reader_gone(tm
 def test_after_the_outputs_are_in_place_the_console_script_ignores_signals_to_its_end(monkeypatch):
     """The console script's process ends with its command: once its outputs were put in place, a
     SIGTERM during Python's teardown killed it (exit 143, the files whole: a new user's run). Its
-    handlers are then left ignoring signals; a library caller gets its own back."""
+    handlers are then left ignoring signals; a library caller gets its own back. (Ctrl-C's too:
+    it was left ignored in this test process, and a later test that sent itself SIGINT there
+    waited for ever.)"""
     import signal
 
     from vampc import errors
-    before = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
+    original = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)}
+    signal.signal(signal.SIGINT, signal.default_int_handler)     # (as at a terminal)
+    before = {s: signal.getsignal(s) for s in original}
     try:
         for leaving in (True, False):
             monkeypatch.setattr(errors, "LEAVING_AFTER_COMMAND", leaving)
@@ -1206,7 +1210,7 @@ def test_after_the_outputs_are_in_place_the_console_script_ignores_signals_to_it
             restore()
             assert all(signal.getsignal(s) == old for s, old in before.items())
     finally:
-        for sig, old in before.items():
+        for sig, old in original.items():
             signal.signal(sig, old)
 
 
