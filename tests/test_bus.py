@@ -735,3 +735,73 @@ def test_a_bus_program_counted_before_its_bus_write_registers_is_not_called_edit
         r = reported_with_summary(doc, tmp_path)
         assert ("the stored summary disagrees with the file's graph, schedule and network "
                 "(hardware)" in r.stderr) == warned, (stored, r.stderr)
+
+
+@pytest.mark.parametrize("edit", ["bus program called p2p", "bus program, option dropped",
+                                  "p2p program called mlb"])
+def test_an_edited_bus_option_is_refused_by_every_reader(tmp_path, edit):
+    """options.bus edited (checksum made again) ran on both engines, torques unchanged, and the
+    report labelled the network by it: the bus program called point to point, its comparison row
+    given the bus's pins and tiers, or a point-to-point program called a bus one (a new user's)."""
+    from program_util import edited_program
+    program = tmp_path / "p.vamp.json"
+    bus = edit != "p2p program called mlb"
+    assert CliRunner().invoke(main, ["compile", str(PUMA), *(["--bus", "mlb"] if bus else []),
+                                     "-o", str(program)]).exit_code == 0
+
+    def change(d):
+        if edit == "bus program called p2p":
+            d["options"]["bus"] = "p2p"
+        elif edit == "bus program, option dropped":
+            del d["options"]["bus"]
+        else:
+            d["options"]["bus"] = "mlb"
+    edited = edited_program(program, tmp_path, change)
+    said = ("network.bus: a Mostly-Local Bus, but options.bus is 'p2p'" if bus else
+            "options.bus: 'mlb', but the network has no bus (network.bus)")
+    for command in (["emulate", str(edited), "--random", "2", "-o", str(tmp_path / "t.csv")],
+                    ["report", str(edited)]):
+        res = CliRunner().invoke(main, command)
+        assert res.exit_code == 1 and said in res.stderr and "recompile it" in res.stderr, res.output
+        assert len(res.stderr.splitlines()) == 1 and res.stdout == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["edited.vamp.json", "p.vamp.json"]
+
+
+def test_a_result_moved_off_the_bus_onto_a_direct_wire_is_refused():
+    """A reader's bus tap rewired to the Result of the VAMP that wrote it, the write and its
+    bus-write register words dropped (checksum made again): the file describes a wire the
+    Mostly-Local Bus does not have, where only operand A's input 0 (Program Mode's) comes from
+    another VAMP. Both engines ran it with the same torques, and the report counted the wire as a
+    Program-Mode one (a new user's). Every such rewire of the bus Puma is refused, naming the input."""
+    from vampc.program.words import WRITE_FIELDS
+    chain = load_robot(PUMA)
+    doc = document(chain, bus="mlb")
+    p2p = document(chain)
+    bus = doc["network"]["bus"]
+    writes_of: dict[int, list[int]] = {}
+    for j, w in enumerate(bus["writes"]):
+        if w[0][0] == "vamp":
+            writes_of.setdefault(w[0][1], []).append(j)
+    cases = []
+    for s, js in writes_of.items():
+        source = ["vamp", s, 0]
+        readers = [(v["index"], side, k, m) for v in p2p["network"]["vamps"] for side in "ab"
+                   for k, inp in enumerate(v[side]) for m, t in enumerate(inp) if t == source]
+        if len(js) == 1 and len(readers) == 1 and readers[0][1:3] != ("a", 0):   # (its register 0)
+            cases.append((s, js[0], readers[0]))
+    assert len(cases) >= 5
+    for s, j, (v, side, k, m) in cases[:12]:
+        assert doc["network"]["vamps"][v][side][k][m][0] == "bus"
+
+        def change(d):
+            d["network"]["vamps"][v][side][k][m] = ["vamp", s, 0]
+            d["network"]["bus"]["writes"].pop(j)
+            number = d["network"]["vamps"][s]["number"]
+            for entry in d["program_stream"]:
+                keep = [i for i, w in enumerate(entry["words"])
+                        if not (w[0] == -number and int(w[1]) in WRITE_FIELDS)]
+                for key in ("words", "targets", "depth"):
+                    entry[key] = [entry[key][i] for i in keep]
+        with pytest.raises(VampcError, match=rf"network\.vamps\[{v}\]\.{side}\[{k}\]: vamp {s}, a "
+                           "wire from a Result, but on the Mostly-Local Bus"):
+            loaded_from_doc(mutated(doc, change))

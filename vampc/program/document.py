@@ -445,6 +445,7 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
     for name, got, want in (("period", doc.io.period, nd.period), ("clock", doc.io.clock, nd.clock)):
         if got != want:             # (the host's side of the network's own figures)
             raise VampcError(f"{path}: io.{name}: {got}, but network.{name} is {want}")
+    _check_bus_option(doc, path)
     for section, rows in (("vamps", nd.vamps), ("buffers", nd.buffers), ("ports", nd.ports),
                           ("consts", nd.consts)):
         for i, row in enumerate(rows):          # (taps name them by index: the position)
@@ -454,6 +455,8 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
     vamps = tuple(Vamp(v.index, tuple(map(operand, v.a)), tuple(map(operand, v.b)),
                        slots(v.index)) for v in nd.vamps)
     _check_stages(nd, taps.values(), path)
+    if nd.bus is not None:
+        _check_direct_wires(vamps, path)
     return Network(nd.period, nd.clock, vamps,
                    tuple(Buffer(b.index, b.source, b.stages) for b in nd.buffers),
                    tuple(Port(p.index, p.size, tuple(PortEntry(InputKey(e.quantity, e.joint),
@@ -465,6 +468,40 @@ def _network(doc: F.ProgramFile, path, slot) -> Network:
                    None if nd.bus is None else bus_from_doc(nd.bus, len(vamps), path),
                    None if nd.error_correction is None
                    else checking_from_doc(nd.error_correction, len(vamps), path))
+
+
+def _check_bus_option(doc: F.ProgramFile, path) -> None:
+    """options.bus names the wiring the network has: a Mostly-Local Bus (network.bus) with "mlb",
+    none with "p2p" (the default, unwritten). An edited options.bus ran, and the report labelled
+    the network by it: a bus program called point to point, its comparison row given the bus's
+    pins and tiers, or a point-to-point program called a bus one (a new user's)."""
+    option = doc.options.bus if isinstance(doc.options.bus, str) else "p2p"
+    if (option == "mlb") == (doc.network.bus is not None):
+        return
+    if doc.network.bus is None:
+        raise VampcError(f"{path}: options.bus: 'mlb', but the network has no bus (network.bus) "
+                         "(the file was edited); recompile it")
+    raise VampcError(f"{path}: network.bus: a Mostly-Local Bus, but options.bus is {option!r} "
+                     "(point to point) (the file was edited); recompile it")
+
+
+def _check_direct_wires(vamps, path) -> None:
+    """On the Mostly-Local Bus, results reach their readers over the bus: the only wire from a VAMP's
+    Result (or a buffer behind it) to another VAMP is operand A's input 0, Program Mode's (which
+    Data Mode never selects). A multiplexer input rewired from a bus tap to a Result ran, the same
+    torques, and the report counted it as a Program-Mode wire (a new user's)."""
+    for v in vamps:
+        for name, inputs in (("a", v.a), ("b", v.b)):
+            for k, operand in enumerate(inputs):
+                if name == "a" and k == 0:
+                    continue
+                for tap in operand.taps:
+                    if tap.kind is TapKind.VAMP or tap.kind is TapKind.BUFFER:
+                        raise VampcError(
+                            f"{path}: network.vamps[{v.index}].{name}[{k}]: {tap}, a wire from a "
+                            "Result, but on the Mostly-Local Bus results reach their readers over "
+                            "the bus (only operand A's input 0, Program Mode's wire, comes from "
+                            "another VAMP) (the file was edited); recompile it")
 
 
 def _misplaced(section: str, rows, i: int, path) -> VampcError:
