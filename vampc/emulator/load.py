@@ -16,7 +16,13 @@ from vampc.errors import VampcError
 from vampc.gcpause import gc_paused
 from vampc.kinds import TapKind
 from vampc.machine.ops import Op, Timing
-from vampc.network.model import PROGRAM_WIRE_READ, Network, Tap, program_wire
+from vampc.network.model import (
+    PROGRAM_WIRE_READ,
+    Network,
+    Tap,
+    program_wire,
+    tap_source,
+)
 from vampc.program.document import (
     chain_from_doc,
     graph_from_doc,
@@ -281,11 +287,24 @@ def _check_bus_registers(net: Network, numbers, writes, path) -> None:
     bus_writes(net, writes, path)            # each one complete and naming what exists
     for v, regs in enumerate(bus_registers(net)):
         listed = [[r.counter, r.source * TIER_CODES + r.tier] for r in regs]
-        if listed != writes[v]:
+        if listed == writes[v]:
+            continue
+        if len(listed) != len(writes[v]):
             raise VampcError(f"{path}: network.bus.writes lists {len(listed)} bus-write "
                              f"register(s) for VAMP {v} (number {numbers[v]}), but the program "
-                             f"stream delivers {len(writes[v])}"
-                             + (" that differ" if len(listed) == len(writes[v]) else ""))
+                             f"stream delivers {len(writes[v])}")
+        # (the same number: which register and field differ, a new user's)
+        j = next(j for j, (a, b) in enumerate(zip(listed, writes[v])) if a != b)
+        (counter, code), (got_counter, got_code) = listed[j], writes[v][j]
+        sources = [b.source for b in net.buffers]
+        entry = [i for i, w in enumerate(net.bus.writes) if tap_source(w.source, sources) == v][j]
+        what = (f"Cycle-Counter {counter}, the program stream's {got_counter}"
+                if counter != got_counter else
+                f"source {code // TIER_CODES} on tier {code % TIER_CODES}, the program stream's "
+                f"source {got_code // TIER_CODES} on tier {got_code % TIER_CODES}")
+        raise VampcError(f"{path}: VAMP {v} (number {numbers[v]}): bus-write register {j}: "
+                         f"network.bus.writes[{entry}] gives {what} (the file was edited); "
+                         "recompile it")
 
 
 def _check_inputs_used(net: Network, numbers, progs, path) -> None:
