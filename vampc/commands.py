@@ -2009,40 +2009,43 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             client.close()
     runs = [store.done[i] for i in range(len(faults))]
     summary = cp.summarise(ld, runs, sets, overflows or 0)
-    np.seterr(all="ignore")
-    word = f"{ld.arith!r}" + (" (what if: not the program's own word)" if what_if else "")
-    head = (f"vampc faults: {source}, campaign {own.campaign}: {len(faults)} faults on "
-            f"{cp.physical_vamps(ld)} VAMPs, {sets} torque sets each, words {word}, error "
-            f"correction {'on' if ld.net.checking is not None else 'off'}"
-            + (f" ({len(faults) - len(todo)} run(s) read from {results})"
-               if len(todo) < len(faults) else ""))
-    skipped = cp.not_run(ld, own.kind_list()) if own.campaign == "single" else []
-    if skipped:
-        head += "\n  no such fault: " + "; ".join(skipped)
-    if overflows:
-        # (the runs are classified against torques the word saturated or wrapped: a new user's
-        # q4.12 campaign said nothing of the fault-free run's overflows)
-        head += (f"\n  the fault-free run overflowed the word {count(overflows, 'time')}: its "
-                 f"torques are the word's, not the robot's, and every run is classified against "
-                 "them (vampc emulate --engine tick says where; a wider --word)")
-    elif overflows is not None:          # (said as README says: in a narrower word, 0 too)
-        head += "\n  the fault-free run did not overflow the word"
-    if own.fmt == "json":
-        text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
-                               "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
-                               "reference_overflows": overflows, "not_run": skipped,
-                               "results": results, "summary": summary, "runs": runs}, indent=1)
-    elif own.fmt == "csv":
-        text = cp.render_csv(runs)
-    else:
-        text = cp.render_text(head, summary) + f"\nresults: {results} (a re-run resumes from it)"
-    if "-o" in outs and not outs["-o"].is_stdout:      # (the CSV's own newline: not a second one)
-        write_output(outs["-o"], text.rstrip("\n") + "\n", "report")
-        # (a campaign's end said nothing with -o: a new user's find; stderr, as rtl says its -o)
-        say(f"vampc faults: {count(summary['runs'], 'run')} ({own.campaign}); the {own.fmt} report in "
-            f"{outs['-o'].path}, each run's result in {results}", True)
-    else:
-        say(text.rstrip("\n"))
+    # (a campaign's figures may divide by zero: NumPy says nothing of it here, and only here:
+    # np.seterr had left every later NumPy warning unsaid in the process, a library caller's
+    # and the test process's, which then passed tests of "no NumPy warning" whatever the code)
+    with np.errstate(all="ignore"):
+        word = f"{ld.arith!r}" + (" (what if: not the program's own word)" if what_if else "")
+        head = (f"vampc faults: {source}, campaign {own.campaign}: {len(faults)} faults on "
+                f"{cp.physical_vamps(ld)} VAMPs, {sets} torque sets each, words {word}, error "
+                f"correction {'on' if ld.net.checking is not None else 'off'}"
+                + (f" ({len(faults) - len(todo)} run(s) read from {results})"
+                   if len(todo) < len(faults) else ""))
+        skipped = cp.not_run(ld, own.kind_list()) if own.campaign == "single" else []
+        if skipped:
+            head += "\n  no such fault: " + "; ".join(skipped)
+        if overflows:
+            # (the runs are classified against torques the word saturated or wrapped: a new user's
+            # q4.12 campaign said nothing of the fault-free run's overflows)
+            head += (f"\n  the fault-free run overflowed the word {count(overflows, 'time')}: its "
+                     f"torques are the word's, not the robot's, and every run is classified against "
+                     "them (vampc emulate --engine tick says where; a wider --word)")
+        elif overflows is not None:          # (said as README says: in a narrower word, 0 too)
+            head += "\n  the fault-free run did not overflow the word"
+        if own.fmt == "json":
+            text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
+                                   "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
+                                   "reference_overflows": overflows, "not_run": skipped,
+                                   "results": results, "summary": summary, "runs": runs}, indent=1)
+        elif own.fmt == "csv":
+            text = cp.render_csv(runs)
+        else:
+            text = cp.render_text(head, summary) + f"\nresults: {results} (a re-run resumes from it)"
+        if "-o" in outs and not outs["-o"].is_stdout:      # (the CSV's own newline: not a second one)
+            write_output(outs["-o"], text.rstrip("\n") + "\n", "report")
+            # (a campaign's end said nothing with -o: a new user's find; stderr, as rtl says its -o)
+            say(f"vampc faults: {count(summary['runs'], 'run')} ({own.campaign}); the {own.fmt} report in "
+                f"{outs['-o'].path}, each run's result in {results}", True)
+        else:
+            say(text.rstrip("\n"))
 
 
 def _fault_task(setup, item):

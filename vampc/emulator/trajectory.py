@@ -452,6 +452,7 @@ def _read_npy(path: Path, n: int, names: list[str], source=None):
     except _NUMPY_ERRORS as exc:
         raise VampcError(f"{path}: not a numpy array file ({_numpy_reason(exc)})") from None
     if not isinstance(arr, np.ndarray):
+        arr.close()         # (np.load's NpzFile holds the file open: a library caller's leak)
         raise VampcError(f"{path}: a .npz archive, not a .npy array; rename it .npz")
     if arr.dtype.names:     # (said as "array of shape (3,)", its fields unsaid)
         raise VampcError(f"{path}: a structured array (named fields {', '.join(arr.dtype.names)}); "
