@@ -67,7 +67,7 @@ _KEPT_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "S
 # everything for the rest of the process, and every later test in that process of "no NumPy
 # warning" then passed whatever the code did (an order-dependence hunt's find).
 @pytest.fixture(autouse=True)
-def _signal_handlers_put_back():
+def _signal_handlers_and_numpy_errors_put_back():
     import numpy as np
     before = {sig: signal.getsignal(sig) for sig in _KEPT_SIGNALS}
     errors = np.geterr()
@@ -75,9 +75,9 @@ def _signal_handlers_put_back():
     changed = [sig for sig, old in before.items() if signal.getsignal(sig) != old]
     for sig in changed:
         signal.signal(sig, before[sig])
+    left = np.seterr(**errors)               # (both put back before either is said)
     names = ", ".join(signal.Signals(sig).name for sig in changed)
     assert not changed, f"the test left the handler of {names} changed"
-    left = np.seterr(**errors)
     assert left == errors, f"the test left NumPy's error handling changed: {left}, not {errors}"
 
 

@@ -748,8 +748,12 @@ def test_an_edited_bus_option_is_refused_by_every_reader(tmp_path, edit):
         else:
             d["options"]["bus"] = "mlb"
     edited = edited_program(program, tmp_path, change)
-    said = ("network.bus: a Mostly-Local Bus, but options.bus is 'p2p'" if bus else
-            "options.bus: 'mlb', but the network has no bus (network.bus)")
+    said = {"bus program called p2p": "network.bus: a Mostly-Local Bus, but options.bus is 'p2p' "
+                                      "(point to point)",
+            "bus program, option dropped": "network.bus: a Mostly-Local Bus, but options.bus is "
+                                           "not given (point to point)",
+            "p2p program called mlb": "options.bus: 'mlb', but the network has no bus "
+                                      "(network.bus)"}[edit]
     for command in (["emulate", str(edited), "--random", "2", "-o", str(tmp_path / "t.csv")],
                     ["report", str(edited)]):
         res = CliRunner().invoke(main, command)
@@ -814,4 +818,31 @@ def test_a_bus_write_edited_apart_from_its_register_words_names_the_entry_and_fi
     with pytest.raises(VampcError, match=re.escape(
             f"VAMP 0 (number 1): bus-write register 0: network.bus.writes[0] gives {said} (the "
             "file was edited); recompile it")):
+        loaded_from_doc(mutated(doc, change))
+
+
+def test_a_bus_write_dropped_from_the_listing_alone_is_said_as_edited():
+    """network.bus.writes missing one entry the program stream still loads: the count said, as an
+    edited file."""
+    def change(d):
+        d["network"]["bus"]["writes"].pop(0)
+    with pytest.raises(VampcError, match=re.escape(
+            "network.bus.writes lists 0 bus-write register(s) for VAMP 0 (number 1), but the "
+            "program stream delivers 1 (the file was edited); recompile it")):
+        loaded_from_doc(mutated(document(load_robot(PUMA), bus="mlb"), change))
+
+
+def test_a_reader_rewired_to_a_buffer_stage_is_refused_as_a_direct_wire():
+    """The folded bus Puma's delayed values travel on the bus too: an input rewired to a stage of a
+    VAMP's delay buffer is a wire the Mostly-Local Bus does not have, and is refused."""
+    doc = document(load_robot(PUMA), bus="mlb", layout="folded")
+    assert doc["network"]["buffers"]
+    v, k = next((v["index"], k) for v in doc["network"]["vamps"] for k, inp in enumerate(v["b"])
+                if inp[0][0] == "bus")
+
+    def change(d):
+        d["network"]["vamps"][v]["b"][k] = [["buffer", 0, 1]]
+    with pytest.raises(VampcError, match=re.escape(
+            f"network.vamps[{v}].b[{k}]: buffer 0 stage 1, a wire from a Result, but on the "
+            "Mostly-Local Bus")):
         loaded_from_doc(mutated(doc, change))

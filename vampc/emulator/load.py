@@ -292,7 +292,7 @@ def _check_bus_registers(net: Network, numbers, writes, path) -> None:
         if len(listed) != len(writes[v]):
             raise VampcError(f"{path}: network.bus.writes lists {len(listed)} bus-write "
                              f"register(s) for VAMP {v} (number {numbers[v]}), but the program "
-                             f"stream delivers {len(writes[v])}")
+                             f"stream delivers {len(writes[v])} (the file was edited); recompile it")
         # (the same number: which register and field differ, a new user's)
         j = next(j for j, (a, b) in enumerate(zip(listed, writes[v])) if a != b)
         (counter, code), (got_counter, got_code) = listed[j], writes[v][j]

@@ -481,8 +481,10 @@ def _check_bus_option(doc: F.ProgramFile, path) -> None:
     if doc.network.bus is None:
         raise VampcError(f"{path}: options.bus: 'mlb', but the network has no bus (network.bus) "
                          "(the file was edited); recompile it")
-    raise VampcError(f"{path}: network.bus: a Mostly-Local Bus, but options.bus is {option!r} "
-                     "(point to point) (the file was edited); recompile it")
+    given = (f"options.bus is {option!r}" if isinstance(doc.options.bus, str)
+             else "options.bus is not given")
+    raise VampcError(f"{path}: network.bus: a Mostly-Local Bus, but {given} (point to point) "
+                     "(the file was edited); recompile it")
 
 
 def _check_direct_wires(vamps, path) -> None:
