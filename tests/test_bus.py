@@ -846,3 +846,20 @@ def test_a_reader_rewired_to_a_buffer_stage_is_refused_as_a_direct_wire():
             f"network.vamps[{v}].b[{k}]: buffer 0 stage 1, a wire from a Result, but on the "
             "Mostly-Local Bus")):
         loaded_from_doc(mutated(doc, change))
+
+
+def test_a_campaign_on_a_bus_program_says_what_takes_no_fault(tmp_path):
+    """README, Faults: on the Mostly-Local Bus the buses, tier selects and bus-write registers take
+    no fault; the campaign's report did not say so (a new user's). A point-to-point program's does
+    not say it."""
+    said = ("on the Mostly-Local Bus the VAMPs alone take faults: not the buses, the tier selects or "
+            "the bus-write registers (README, Faults)")
+    for bus in (True, False):
+        program = tmp_path / f"p{bus}.vamp.json"
+        assert CliRunner().invoke(main, ["compile", "examples/planar2.yaml", "-o", str(program),
+                                         *(["--bus", "mlb"] if bus else [])]).exit_code == 0
+        r = CliRunner().invoke(main, ["faults", str(program), "--campaign", "random", "--count",
+                                      "2", "--sets", "2", "--workers", "1", "--results",
+                                      str(tmp_path / f"r{bus}.jsonl")])
+        assert r.exit_code == 0, r.output
+        assert (said in r.stdout.splitlines()[1]) == bus, r.stdout

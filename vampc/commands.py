@@ -2030,6 +2030,9 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                      "them (vampc emulate --engine tick says where; a wider --word)")
         elif overflows is not None:          # (said as README says: in a narrower word, 0 too)
             head += "\n  the fault-free run did not overflow the word"
+        if ld.net.bus is not None:    # (README says so; the run did not: a new user's)
+            head += ("\n  on the Mostly-Local Bus the VAMPs alone take faults: not the buses, the "
+                     "tier selects or the bus-write registers (README, Faults)")
         if own.fmt == "json":
             text = jsontext.dumps({"program": source, "campaign": own.campaign, "sets": sets,
                                    "seed": own.seed, "word": repr(ld.arith), "what_if_word": what_if,
