@@ -222,6 +222,13 @@ def test_the_bus_program_as_compiled_runs_on_both_engines():
 
 
 @functools.cache
+def _puma(**options) -> dict:
+    """The Puma 560's program document compiled with `options` (computed once: read it, or edit a
+    copy made by `mutated`)."""
+    return document(load_robot(PUMA), **options)
+
+
+@functools.cache
 def _good() -> np.ndarray:
     """The torques of the bus program as compiled, for the damage sweeps (computed once)."""
     return emulate(loaded_from_doc(DOC), TRAJ, "stream").tau
@@ -547,7 +554,7 @@ def test_a_slot_damaged_to_read_program_modes_wire_is_reported(options):
     Puma's VAMPs 6 to 8: accepted by both engines, torques unchanged (an audit's)."""
     from vampc.program.words import FIELDS
     chain = load_robot(PUMA)
-    doc = document(chain, bus="mlb", **options)
+    doc = _puma(bus="mlb", **options)
     traj = random_trajectory(chain, 2, 5)
     good = emulate(loaded_from_doc(doc), traj, "stream").tau
     sel_a = FIELDS.index("sel_a")
@@ -769,9 +776,8 @@ def test_a_result_moved_off_the_bus_onto_a_direct_wire_is_refused():
     another VAMP. Both engines ran it with the same torques, and the report counted the wire as a
     Program-Mode one (a new user's). Every such rewire of the bus Puma is refused, naming the input."""
     from vampc.program.words import WRITE_FIELDS
-    chain = load_robot(PUMA)
-    doc = document(chain, bus="mlb")
-    p2p = document(chain)
+    doc = _puma(bus="mlb")
+    p2p = _puma()
     bus = doc["network"]["bus"]
     writes_of: dict[int, list[int]] = {}
     for j, w in enumerate(bus["writes"]):
@@ -810,7 +816,7 @@ def test_a_bus_write_edited_apart_from_its_register_words_names_the_entry_and_fi
     edited in network.bus.writes alone was said as "lists 1 bus-write register(s) for VAMP 0
     (number 1), but the program stream delivers 1 that differ", naming neither the entry nor the
     field (a new user's)."""
-    doc = document(load_robot(PUMA), bus="mlb")
+    doc = _puma(bus="mlb")
     assert doc["network"]["bus"]["writes"][0][:3] == [["vamp", 0, 0], 1, 2]
 
     def change(d):
@@ -829,13 +835,13 @@ def test_a_bus_write_dropped_from_the_listing_alone_is_said_as_edited():
     with pytest.raises(VampcError, match=re.escape(
             "network.bus.writes lists 0 bus-write register(s) for VAMP 0 (number 1), but the "
             "program stream delivers 1 (the file was edited); recompile it")):
-        loaded_from_doc(mutated(document(load_robot(PUMA), bus="mlb"), change))
+        loaded_from_doc(mutated(_puma(bus="mlb"), change))
 
 
 def test_a_reader_rewired_to_a_buffer_stage_is_refused_as_a_direct_wire():
     """The folded bus Puma's delayed values travel on the bus too: an input rewired to a stage of a
     VAMP's delay buffer is a wire the Mostly-Local Bus does not have, and is refused."""
-    doc = document(load_robot(PUMA), bus="mlb", layout="folded")
+    doc = _puma(bus="mlb", layout="folded")
     assert doc["network"]["buffers"]
     v, k = next((v["index"], k) for v in doc["network"]["vamps"] for k, inp in enumerate(v["b"])
                 if inp[0][0] == "bus")
