@@ -343,10 +343,11 @@ class _Vampc(click.Group):
             return super().main(args, prog_name, complete_var, False, **extra)
         restore = terminate_like_interrupt()
         try:
-            code = super().main(args, prog_name, complete_var, False, **extra)
-            _end_if_signalled()
+            try:
+                code = super().main(args, prog_name, complete_var, False, **extra)
+            finally:
+                _end_if_signalled()      # (however parsing ended: help, a usage error, an abort)
         except click.UsageError as exc:
-            _end_if_signalled()
             if type(exc).__name__ == "NoArgsIsHelpError":      # `vampc` alone: the help
                 click.echo(exc.ctx.get_help(), err=True)
                 sys.exit(2)
@@ -357,11 +358,9 @@ class _Vampc(click.Group):
             _status(f"vampc: error: {message} (see '{where} --help')")
             sys.exit(2)
         except click.ClickException as exc:
-            _end_if_signalled()
             exc.show()
             sys.exit(exc.exit_code)
         except click.Abort as exc:
-            _end_if_signalled()
             stopped = exc.__cause__ or exc.__context__
             if isinstance(stopped, KeyboardInterrupt):
                 _end_on_signal(getattr(stopped, "signum", signal.SIGINT))
