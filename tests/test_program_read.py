@@ -29,6 +29,23 @@ def test_report_of_an_exact_program_imports_no_ortools():
     assert "budget, 7 VAMPs, exact" in res.stdout
 
 
+def test_running_a_program_imports_no_robot_loader_nor_the_tools_of_other_commands(tmp_path):
+    """README, Emulator speed: the robot loaders (PyYAML, lxml, yourdfpy, MuJoCo) are not imported
+    to run a program, nor pyvcd without --vcd, nor the report's and compiler's libraries: each is
+    a start-up cost every `vampc emulate` of a program file would pay (PyYAML came back through the
+    check of a program's inertias, about 0.05 s of a 0.25 s run)."""
+    code = ("import sys\nfrom vampc.cli import main\ntry:\n    main(sys.argv[1:])\n"
+            "except SystemExit as e:\n    assert not e.code, e.code\n"
+            "heavy = ('yaml', 'lxml', 'yourdfpy', 'mujoco', 'vcd', 'matplotlib', 'networkx', 'ortools',"
+            " 'dask', 'amaranth')\n"
+            "print(sorted(m for m in heavy if m in sys.modules), file=sys.stderr)")
+    out = tmp_path / "tau.npy"
+    res = subprocess.run([sys.executable, "-c", code, "emulate", str(EXACT), "--random", "3", "-o", str(out)],
+                         capture_output=True, text=True, check=True)
+    assert res.stderr.strip().splitlines()[-1] == "[]", res.stderr
+    assert out.exists()
+
+
 def test_report_of_an_exact_program_does_not_schedule_its_own_configuration(monkeypatch):
     """No budget scheduler, heuristic or exact, runs; the only layouts made are the comparison
     configurations the file does not hold (systolic and folded, each recursion once)."""

@@ -154,7 +154,7 @@ def _warn_improper_inertias(chain: Chain, path) -> None:
     unless --accept-improper-inertia, which a program does not record), and an edited one had run
     and been reported unsaid (a new user's find). Taken, since a program compiled with that option
     holds one."""
-    from vampc.robot.dh import improper_inertias, inertia_problem
+    from vampc.robot.inertia import improper_inertias, inertia_problem
     places = [f"robot.joints[{i}].inertia" for i in range(chain.n)]
     stack = [j.inertia for j in chain.joints]
     if chain.floating:

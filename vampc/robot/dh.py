@@ -35,6 +35,7 @@ from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES  # noqa: F401 - re-exported
 from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
 from vampc.robot.dh_format import check as check_table
 from vampc.robot.dh_format import where as _where
+from vampc.robot.inertia import improper_inertias, inertia_problem  # noqa: F401 - re-exported
 from vampc.textio import one_line
 
 
@@ -195,30 +196,6 @@ def read_text(path: Path) -> str:
         raise located(path, "", f"not UTF-8 text (byte {exc.start})") from None
     except OSError as exc:
         raise located(path, "", f"cannot read: {exc.strerror or exc}") from None
-
-
-def inertia_problem(inertia: np.ndarray, tolerance: float = 1e-9, floor: float = 0.0) -> str | None:
-    """Why a 3x3 inertia is not symmetric positive semi-definite, or None if it is (up to rounding:
-    `tolerance` of its largest entry, or `floor` in its own units, whichever is larger)."""
-    scale = max(float(np.max(np.abs(inertia))), 1e-300)
-    limit = max(tolerance * scale, floor)
-    if np.max(np.abs(inertia - inertia.T)) > limit:
-        return "inertia is not symmetric"
-    eig = np.linalg.eigvalsh(inertia)
-    if eig[0] < -limit:
-        shown = ", ".join(f"{e:.6g}" for e in eig)
-        return f"inertia is not positive semi-definite (eigenvalues {shown})"
-    return None
-
-
-def improper_inertias(inertias: np.ndarray) -> np.ndarray:
-    """For a stack of 3x3 inertias (m, 3, 3): True where `inertia_problem` finds a problem (the same tests,
-    one LAPACK call for the whole stack instead of one each)."""
-    scale = np.maximum(np.abs(inertias).max(axis=(1, 2), initial=0.0), 1e-300)
-    asymmetric = np.abs(inertias - np.swapaxes(inertias, 1, 2)).max(axis=(1, 2), initial=0.0) > 1e-9 * scale
-    if len(inertias) == 0:
-        return asymmetric
-    return asymmetric | (np.linalg.eigvalsh(inertias)[:, 0] < -1e-9 * scale)
 
 
 def joint_count_problem(n: int) -> str | None:

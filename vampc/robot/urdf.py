@@ -45,7 +45,8 @@ from lxml import etree
 from vampc.errors import VampcUsageError, VampcWarning, located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, Limits
-from vampc.robot.dh import improper_inertias, inertia_problem, joint_count_problem
+from vampc.robot.dh import joint_count_problem
+from vampc.robot.inertia import improper_inertias, inertia_problem
 from vampc.robot.urdf_tree import (
     MOVABLE,
     Tree,
