@@ -60,6 +60,10 @@ def test_a_big_robot_leaves_out_what_would_compile_it_again(monkeypatch):
                                                                              "other leaf style"]
     assert len(rep["allocation"]["scheduled_only"]) == 5 and len(rep["processors"]["vamps"]) == 2
     assert "buffer_stages" not in rep["layout_comparison"][1]
+    from vampc.report.sections import layouts
+    note, = layouts(rep).notes      # the linear rows are small, yet not allocated: said why
+    assert rep["allocation"]["ops"] > 10 and f"the report's own: {rep['allocation']['ops']:,}" in note
+    assert "its graph and the report's own each have at most 10 ops" in note
 
 
 @pytest.fixture(scope="module")

@@ -287,9 +287,12 @@ def layouts(rep: dict) -> Table:
 
 def _unallocated(rep: dict) -> str:
     a = rep["allocation"]
+    # (said "only when its graph has at most ... ops": a log report over the limit leaves even
+    # the small linear rows unallocated, which that did not explain; an audit's find)
     return (f"{DASH}: not allocated — a configuration other than the report's own is allocated "
-            f"only when its graph has at most {a['limit_ops']:,} ops (compile it with its "
-            "--layout to see its buffers, multiplexers and load time)")
+            f"only when its graph and the report's own each have at most {a['limit_ops']:,} ops "
+            f"(the report's own: {a['ops']:,}; compile it with its --layout to see its buffers, "
+            "multiplexers and load time)")
 
 
 def prefixes(rep: dict) -> Table:
