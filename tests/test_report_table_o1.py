@@ -227,6 +227,26 @@ def test_a_rotating_base_and_a_tip_load_are_given_with_their_counts(n, rotating,
     assert "tip force" not in rows["linear, systolic"]["note"]
 
 
+@pytest.mark.parametrize("n", range(2, 10))
+def test_a_tip_force_costs_one_add_but_with_some_prefixes_at_some_n(n):
+    """README, Figures against the paper: a tip force is +1 A on Sklansky's path at every n, and
+    off the path of another prefix shape only at some n: Kogge-Stone at n = 6 and 7, Brent-Kung
+    and Ladner-Fischer at n = 8, from 2 to 9 (the README said Kogge-Stone at n = 3, where it
+    costs 1 A: an audit's find). Measured: the graph's latency with and without the force."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from vampc.compiler import CompileOptions
+    plain = random_chain(n, 11, prismatic_fraction=0.0)
+    loaded = replace(plain, tip_force=np.array([1.0, 2.0, 3.0]))
+    free = {"kogge-stone": (6, 7), "brent-kung": (8,), "ladner-fischer": (8,), "sklansky": ()}
+    for prefix, at in free.items():
+        opts = CompileOptions(recursion="log", prefix=prefix)
+        cost = compile_chain(loaded, opts).schedule.latency - compile_chain(plain, opts).schedule.latency
+        assert cost == (0 if n in at else 1), (prefix, n, cost)
+
+
 def test_the_summary_gives_the_same_reasons_and_the_json_names_the_conditions():
     """The report's summary (latency_note) reads the conditions from the report's keys, which the
     schema allows (present only when true)."""
