@@ -8,7 +8,7 @@ Prints, in one run:
   the Puma 560 in float64, float32 and q16.16, medians of R runs of N random sets, and each rate's
   share of float64's (issue "Hardware word formats": q16.16 at no worse than a third);
 - error: for the Puma 560, the Stanford arm, the bundled URDF arm (arm6) and the quadruped (a
-  floating-base tree), the largest torque error against the float64 reference RNEA relative to the
+  tree on a fixed base, as the URDF is loaded without --floating-base), the largest torque error against the float64 reference RNEA relative to the
   largest |τ| of the run, over 2000 random states within the joint limits, at float32, q16.16,
   q12.20, q20.12, q24.24, each beside the bound vampc.precision analyses for it ("may overflow"
   where the word's integer bits do not cover the analysed peak), and the narrowest word meeting 1e-3
