@@ -1123,11 +1123,12 @@ def test_a_path_without_times_run_at_another_rate_than_its_own_is_warned_of(setu
      r"line 2 to 3: q3 changes by \S+ but qd3 gives 0 over the step 1/rate \(\d+ of its 399 steps disagree "
      r"so, in 1 joint\):"),
     (lambda t, q, qd, qdd: qd.__setitem__((200, 0), 50 * qd[200, 0]),
-     r"line 202 to 203: q1 changes by \S+ but qd1 gives \S+ over the step 1/rate: the look-ahead"),  # one
+     r"line 202 to 203: q1 changes by \S+ but qd1 gives \S+ over the step 1/rate, held from line 202: "
+     r"the look-ahead"),                                                # one row (the rule of fewest steps off)
     (lambda t, q, qd, qdd: qdd.__setitem__((slice(300, None), 1), 0.0), r"line 302 to 303: qd2 changes by"),
     (lambda t, q, qd, qdd: qd.__setitem__(slice(None), 10 * qd),       # every step, every joint (a
-     r"line 2 to 3: q1 changes by \S+ but qd1 gives \S+ over the step 1/rate \(\d+ of its 399 steps "
-     r"disagree so, in 6 joints\):"),                                  # new user's: said so)
+     r"line 2 to 3: q1 changes by \S+ but qd1 gives \S+ over the step 1/rate, held from line 3 \(\d+ of "
+     r"its 399 steps disagree so, in 6 joints\):"),                                  # new user's: said so)
 ])
 def test_rows_whose_q_qd_qdd_disagree_are_warned_of_naming_the_line(setup, tmp_path, edit, where):
     """The look-ahead plans the motion the qd and qdd columns give: a path whose q moves otherwise
@@ -1505,3 +1506,26 @@ def test_a_limits_file_gives_the_speed_a_robot_file_gave_as_zero(tmp_path):
                                     str(path), "--rate", "1kHz", "--window", "8"])
     assert res.exit_code == 0, (res.output, res.stderr)
     assert "joint shoulder speed 3 beyond 2" in res.output and "50 violations" in res.output
+
+
+def test_a_warned_step_quotes_the_rule_the_path_follows(setup, tmp_path):
+    """A path of q̈ held over each step (the rule --accelerations integrates by) with one row's q̈
+    written fifty times over: the warning named the trapezoid rule's value for the step, whatever
+    rule the steps were judged by (an audit's: nearly the step itself beside "disagree"). It gives
+    the held value and the row it is held from."""
+    folder, program, limits, _ = setup
+    lam, n = 1e-3, 600
+    t = np.arange(n) * lam
+    qdd = np.zeros((n, 6))
+    qdd[:, 0] = np.where(t % 0.3 < 0.15, 2.0, -2.0)
+    qd, q = np.zeros((n, 6)), np.zeros((n, 6))
+    for i in range(n - 1):
+        qd[i + 1, 0] = qd[i, 0] + lam * qdd[i, 0]
+        q[i + 1, 0] = q[i, 0] + lam * qd[i, 0] + lam * lam / 2 * qdd[i, 0]
+    qdd[300, 0] *= 50                                   # row 300: line 302 of the file
+    r = run_lookahead(program, write_path(tmp_path, t, q, qd, qdd), limits)
+    warned = [line for line in r.stderr.splitlines() if line.startswith("vampc: warning:")]
+    assert r.exit_code == 0 and len(warned) == 1, r.stderr
+    held = f"{lam * qdd[300, 0]:.6g}"                  # (the trapezoid rule's: about half of it)
+    assert (f"line 302 to 303: qd1 changes by {lam * qdd[300, 0] / 50:.6g} but qdd1 gives {held} over "
+            "the step 1/rate, held from line 302: the look-ahead") in warned[0], warned[0]

@@ -496,7 +496,8 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
         tol = 0.25 * size + 0.01 * np.percentile(size, 95, axis=0) + 1e-12
         with np.errstate(invalid="ignore"):
             offs = [np.abs(step - r) > tol for r in rules]
-        off = min(offs, key=lambda o: int(o.sum()))    # the rule the path follows best, all rows
+        best = min(range(len(rules)), key=lambda k: int(offs[k].sum()))   # the rule the path
+        off = offs[best]                                                   # follows best, all rows
         if off.any():
             r, j = (int(v) for v in np.argwhere(off)[0])
             names = columns or {}
@@ -513,8 +514,15 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
             # (a .npy has no lines: its states are named, as every other message names them)
             where = (f"states {r + 1} to {r + 2}" if numpy_file(path) else
                      f"line {r + 2} to {r + 3}")
+            # (the trapezoid rule's value was given whatever rule the steps were judged by: nearly
+            # q's own change, on a path of held values, beside a warning that they disagree; an
+            # audit's find). The rule's value, and the row whose value it holds over the step.
+            held = ("" if best == 0 else
+                    f", held from {'state' if numpy_file(path) else 'line'} "
+                    f"{r + best + (0 if numpy_file(path) else 1)}")
             return (f"{path}: {where}: {joint} changes by {float(step[r, j]):.6g} "
-                    f"but {other} gives {float(rules[0][r, j]):.6g} over the step 1/rate{extent}: the "
+                    f"but {other} gives {float(rules[best][r, j]):.6g} over the step 1/rate{held}"
+                    f"{extent}: the "
                     "look-ahead plans the motion the qd and qdd columns give, so where the rows' q "
                     "or qd disagree with them, the arm going through the rows may not keep to its "
                     "limits (write q, qd and qdd of one motion)"
