@@ -209,14 +209,30 @@ def test_vamp_number_limit(tmp_path):
     assert FIELD_MAX == high, f"README.md:{no}: --vamps and --interval take 1..{FIELD_MAX}"
 
 
-def test_word_field_limit():
-    """Program delays and selects: below 2^k, with the message the table quotes."""
+def test_word_field_limit(tmp_path):
+    """Program delays and selects: below 2^k, with the messages the table quotes: the encoder's
+    when compiling, and a program file's reader's (its schema's, which an audit found is what an
+    edited file meets; the table gave the encoder's only)."""
     no, (_, value, _, message) = row(table(LIMITS, "| limit |"), "program delays and selects")
     superscript = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789")
     m = cell(no, value, r"below (\d+)([⁰¹²³⁴⁵⁶⁷⁸⁹]+)")
     base, power = int(m[1]), int(m[2].translate(superscript))
     limit = base**power
-    shape = cell(no, message, r"`(VAMP N: slot K FIELD V does not fit in a word)`")[1]
+    said = cell(no, message, r"compiling: `(VAMP N: slot K FIELD V does not fit in a word)`; reading a "
+                r"program file: ``(FILE: programs\[i\]\.slots\[k\]\.FIELD: expected `int` <= (\d+))``")
+    shape = said[1]
+    assert int(said[3]) == limit - 1
+    from vampc.program.file import checksum
+    program = tmp_path / "b6.vamp.json"
+    assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--vamps", "6",
+                                     "-o", str(program)]).exit_code == 0
+    doc = json.loads(program.read_text())
+    doc["programs"][2]["slots"][1]["delay_a"] = limit
+    doc["checksum"] = checksum(doc)
+    program.write_text(json.dumps(doc))
+    r = CliRunner().invoke(main, ["emulate", str(program), "--random", "2"])
+    assert r.exit_code == 1 and r.output.strip() == "vampc: error: " + said[2].replace("FILE", str(program)) \
+        .replace("[i]", "[2]").replace("[k]", "[1]").replace("FIELD", "delay_a"), r.output
     holes = {"N": r"\d+", "K": r"\d+", "FIELD": r"\w+", "V": r"\d+"}
     pattern = "".join(holes.get(w, re.escape(w)) for w in re.split(r"\b(N|K|FIELD|V)\b", shape))
     first = words.Program(0, 0, 0, 0)
