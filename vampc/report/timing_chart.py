@@ -174,7 +174,10 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
         title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable, the critical path's "
                   f"{len(sched.critical_path):,} ops " + ("shown one by one" if one_by_one else
                                                           "merged the same way, in red")
-                  + f" (charts of at most {MAX_BARS:,} ops and {MAX_LANES} rows show every op)")
+                  # (said "at most 10,000 ops and 300 rows" of a 9,000-op chart merged as its
+                  # bars were under 2 pt wide: an audit's find)
+                  + f" (charts of at most {MAX_BARS:,} ops and {MAX_LANES} rows show every op, "
+                  f"unless more than {LABELLED_BARS:,} of them would each be under 2 pt wide)")
     elif len(bars) > LABELLED_BARS:
         title += f" — {len(bars):,} ops: labels in the tooltips"
     ax.set_title(title.replace(": ", ":\n", 1) if width < 900 else title,
