@@ -79,7 +79,8 @@ class CompileOptions:
     numbering: str | None = None
     layout: str = field(default="systolic", metadata=cli(
         "--layout", choices=layout_names, show_default=True,
-        help="systolic: one VAMP per op, a new torque set every 4 flops; folded: the paper's single "
+        help="systolic: one VAMP per op, a new torque set every 4 flops (at the default latencies); "
+        "folded: the paper's single "
         "device, one node's (linear) or one tier's (log) VAMPs reused for every joint or tier, one "
         "torque set at a time."))
     share_passes: bool = field(default=False, metadata=cli(
