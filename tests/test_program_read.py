@@ -128,3 +128,24 @@ def test_a_programs_entry_naming_another_vamp_is_refused_by_every_command(tmp_pa
         res = CliRunner().invoke(main, args)
         assert res.exit_code == 1 and f"programs[3].vamp: {value}, but entry 3 lists VAMP 3" in res.stderr \
             and res.stderr.count("\n") == 1, res.stderr
+
+
+def test_the_warning_of_a_programs_improper_inertia_imports_no_robot_loader(tmp_path):
+    """A program compiled with --accept-improper-inertia is warned of as it is read; its thresholds
+    (NEARLY_PSD) were taken from the URDF loader, which brought lxml and PyYAML into that run."""
+    import re
+    urdf = (Path(__file__).resolve().parent.parent / "examples" / "arm6.urdf").read_text()
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(re.sub(r"<inertia [^>]*/>",
+                          '<inertia ixx="0.01" ixy="0.5" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>', urdf))
+    program = tmp_path / "bad.vamp.json"
+    made = CliRunner().invoke(main, ["compile", str(bad), "--accept-improper-inertia", "-o", str(program)])
+    assert made.exit_code == 0, made.output
+    code = ("import sys\nfrom vampc.cli import main\ntry:\n    main(sys.argv[1:])\n"
+            "except SystemExit as e:\n    assert not e.code, e.code\n"
+            "print(sorted(m for m in ('yaml', 'lxml', 'yourdfpy') if m in sys.modules), file=sys.stderr)")
+    res = subprocess.run([sys.executable, "-c", code, "emulate", str(program), "--random", "2",
+                          "-o", str(tmp_path / "tau.csv")], capture_output=True, text=True, check=True)
+    lines = res.stderr.strip().splitlines()
+    assert "robot.joints[0].inertia: inertia is not positive semi-definite" in res.stderr, res.stderr
+    assert lines[-1] == "[]", res.stderr

@@ -154,7 +154,12 @@ def _warn_improper_inertias(chain: Chain, path) -> None:
     unless --accept-improper-inertia, which a program does not record), and an edited one had run
     and been reported unsaid (a new user's find). Taken, since a program compiled with that option
     holds one."""
-    from vampc.robot.inertia import improper_inertias, inertia_problem
+    from vampc.robot.inertia import (
+        NEARLY_PSD,
+        NEARLY_PSD_ABS,
+        improper_inertias,
+        inertia_problem,
+    )
     places = [f"robot.joints[{i}].inertia" for i in range(chain.n)]
     stack = [j.inertia for j in chain.joints]
     if chain.floating:
@@ -167,7 +172,6 @@ def _warn_improper_inertias(chain: Chain, path) -> None:
     import warnings
 
     from vampc.errors import VampcWarning
-    from vampc.robot.urdf import NEARLY_PSD, NEARLY_PSD_ABS
     for k in suspect:
         problem = inertia_problem(stack[k], tolerance=NEARLY_PSD, floor=NEARLY_PSD_ABS)
         if problem:

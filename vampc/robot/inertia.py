@@ -6,6 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 
+# An inertia whose smallest eigenvalue is negative by at most this much of its largest entry, or by
+# at most NEARLY_PSD_ABS kg m² (a 10 g bead 3 mm from its axis: below any link's inertia), is a
+# rounding error of the file (exported models print a few digits): taken as it is, with a warning
+# (vampc.robot.urdf; a program's robot section, vampc.program.document).
+NEARLY_PSD = 1e-4
+NEARLY_PSD_ABS = 1e-7
+
 
 def inertia_problem(inertia: np.ndarray, tolerance: float = 1e-9, floor: float = 0.0) -> str | None:
     """Why a 3x3 inertia is not symmetric positive semi-definite, or None if it is (up to rounding:

@@ -46,7 +46,12 @@ from vampc.errors import VampcUsageError, VampcWarning, located
 from vampc.gcpause import gc_paused
 from vampc.robot.chain import Chain, Joint, Limits
 from vampc.robot.dh import joint_count_problem
-from vampc.robot.inertia import improper_inertias, inertia_problem
+from vampc.robot.inertia import (
+    NEARLY_PSD,
+    NEARLY_PSD_ABS,
+    improper_inertias,
+    inertia_problem,
+)
 from vampc.robot.urdf_tree import (
     MOVABLE,
     Tree,
@@ -1016,11 +1021,6 @@ def _check_mass(inertial, link: str, path: Path) -> None:
         raise located(path, f"link '{link}'", f"negative mass {inertial.mass}")
 
 
-# An inertia whose smallest eigenvalue is negative by at most this much of its largest entry, or by
-# at most NEARLY_PSD_ABS kg m² (a 10 g bead 3 mm from its axis: below any link's inertia), is a
-# rounding error of the file (exported models print a few digits): taken as it is, with a warning.
-NEARLY_PSD = 1e-4
-NEARLY_PSD_ABS = 1e-7
 # One that misses by at most this much of the robot's largest inertia entry is taken without a word:
 # iCub's files write ixz="2.40741e-35" beside a zero diagonal, six links of it, each warned of on
 # every command (a new user's find); a millionth of a millionth of any link's inertia moves no torque.
