@@ -512,14 +512,13 @@ def check_consistent(traj, lam: float, path: str, columns=None) -> str | None:
                 (f" ({rows} of its {count(len(step), 'step')} disagree{'s' * (rows == 1)} so, in "
                  f"{count(joints, 'joint')})")
             # (a .npy has no lines: its states are named, as every other message names them)
-            where = (f"states {r + 1} to {r + 2}" if numpy_file(path) else
-                     f"line {r + 2} to {r + 3}")
+            npy = numpy_file(path)
+            first = r + (1 if npy else 2)            # the step's first row, as the file counts it
+            where = f"states {first} to {first + 1}" if npy else f"line {first} to {first + 1}"
             # (the trapezoid rule's value was given whatever rule the steps were judged by: nearly
             # q's own change, on a path of held values, beside a warning that they disagree; an
             # audit's find). The rule's value, and the row whose value it holds over the step.
-            held = ("" if best == 0 else
-                    f", held from {'state' if numpy_file(path) else 'line'} "
-                    f"{r + best + (0 if numpy_file(path) else 1)}")
+            held = "" if best == 0 else f", held from {'state' if npy else 'line'} {first + best - 1}"
             return (f"{path}: {where}: {joint} changes by {float(step[r, j]):.6g} "
                     f"but {other} gives {float(rules[best][r, j]):.6g} over the step 1/rate{held}"
                     f"{extent}: the "
