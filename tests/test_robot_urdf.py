@@ -1302,13 +1302,14 @@ def test_a_joint_or_link_inside_a_link_is_refused_by_name(tmp_path, inner):
 
 
 @pytest.mark.parametrize("case", ["tab", "line break", "&#9;", "utf-16", "utf-16 unmarked",
-                                  "leading tab", "in a comment"])
+                                  "leading tab", "in a comment", "in a comment after the tag"])
 def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
     """A tab or line break after a number in an <origin>'s list, or a UTF-16 file: XML (and so
     vampc) reads them, urdfdom (Pinocchio's URDF reader) refuses the file, unsaid here (a new
     user's finds). Pinocchio, where installed, is the judge: where it refuses, vampc warns; where
     it loads the file (a leading tab, which its reader skips; a tab in a comment), vampc says
-    nothing (a review found both warned of, by a search over the file's bytes)."""
+    nothing (a review found both warned of, by a search over the file's bytes; an audit, a
+    commented-out tag after the real one on its line, taken for it)."""
     text = robot(*ARM)
     old = '<origin xyz="0 0 0.10000000000000001" rpy="0 0 0"/><axis'
     assert old in text
@@ -1325,6 +1326,11 @@ def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
     elif case == "in a comment":
         path = write(tmp_path, text.replace("<robot name=\"r\">", "<robot name=\"r\">\n<!-- <origin "
                                             "xyz=\"0\t0 0\"/> -->"))
+        refused = False
+    elif case == "in a comment after the tag":
+        mine = old + ' xyz="0 0 1"/>'
+        assert mine in text
+        path = write(tmp_path, text.replace(mine, mine + '<!-- <axis xyz="1\t0 0"/> -->', 1))
         refused = False
     else:
         gap = {"tab": "0\t0", "line break": "0\n0", "&#9;": "0&#9;0", "leading tab": "\t0 0"}[case]

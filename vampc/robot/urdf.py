@@ -429,6 +429,20 @@ _AFTER_A_NUMBER_BYTES = re.compile(_AFTER_A_NUMBER.pattern.encode())      # (the
 _BROKEN_VALUE = re.compile(rb"=\s*(\"[^\"<]*[\t\r\n][^\"<]*\"|'[^'<]*[\t\r\n][^'<]*')")
 
 
+_COMMENT = re.compile(rb"<!--.*?-->", re.S)
+
+
+def _without_comments(text: bytes) -> bytes:
+    """`text` with each comment's bytes but its line ends made spaces, the same length (a tag
+    commented out after an element's own on its line had been taken for it: an audit's), and
+    before a first "-->" with no "<!--" before it (a comment begun above the lines looked at)."""
+    blank = lambda m: re.sub(rb"[^\r\n]", b" ", m[0])     # noqa: E731
+    end, begin = text.find(b"-->"), text.find(b"<!--")
+    if end >= 0 and (begin < 0 or end < begin):
+        text = blank(re.match(rb".*?-->", text, re.S)) + text[end + 3:]
+    return _COMMENT.sub(blank, text)
+
+
 def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
     """Whether a number list attribute holds a tab or line break after one of its numbers as the
     file has it (urdfdom, Pinocchio's URDF reader, splits at spaces alone and reads each piece
@@ -443,7 +457,7 @@ def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
     # the element's start tag: the last to begin by the end of its line (libxml2 gives a tag
     # broken over lines the line where it ends), looked for from a few lines before
     first = max(0, el.sourceline - 20)
-    text = b"".join(lines[first:el.sourceline + 40])
+    text = _without_comments(b"".join(lines[first:el.sourceline + 40]))
     end = len(b"".join(lines[first:el.sourceline]))
     tags = [m for m in re.finditer(rb"<" + tag.encode() + rb"\b[^>]*?\s" + re.escape(attr.encode())
                                    + rb"\s*=\s*(\"[^\"]*\"|'[^']*')", text) if m.start() < end]
