@@ -1489,6 +1489,15 @@ def test_mimic_couple_with_every_follower_cut_away_is_warned_of(tmp_path):
                                                  "there\n"), res.stderr
     res = run("compile", robot, "--mimic", "couple", "-o", tmp_path / "b.vamp.json")
     assert res.exit_code == 0 and not res.stderr and "1 coupled mimic joint" in res.stdout, res.output
+    # j1 locked: j2 follows it, placed by its leader, not by --lock (an audit's: said "by --lock")
+    res = run("compile", robot, "--base", "l2", "--mimic", "couple", "--lock", "j1=0.2", "-o",
+              tmp_path / "c.vamp.json")
+    assert res.exit_code == 0 and "cut away (j1 at 0.2, j2 at 0.4: j1 by --lock; j2 by a coupled " \
+        "mimic's leader);" in res.stderr, res.stderr
+    res = run("compile", robot, "--base", "l2", "--mimic", "couple", "--lock", "j1=0.2", "--lock",
+              "j2=0.4", "-o", tmp_path / "d.vamp.json")
+    assert res.exit_code == 0 and "cut away (j1 at 0.2, j2 at 0.4: by --lock);" in res.stderr, \
+        res.stderr
 
 
 @pytest.mark.parametrize("outs", [["-o", "{in}"], ["--save-states", "{in}", "-o", "{other}"],

@@ -105,7 +105,7 @@ def load_urdf(path, base: str | None = None, tip: str | None = None,
 
 
 def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, leaders: dict,
-                     below: set, path: Path) -> tuple[Tree, str | None, dict]:
+                     below: set, path: Path, given=None) -> tuple[Tree, str | None, dict]:
     """The tree with its gravity ([0, 0, -9.81] in the root link's frame, as Pinocchio reads a URDF)
     turned into the frame of the link `--base` names, through the joints above it: a base on a
     tilted mount had read the root's vector as its own (wrong torques, said by nothing). Joints
@@ -114,7 +114,9 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     says so (None when only fixed joints are above), and the joints' positions. A follower above
     the base whose leader is a moving joint below it (`below`) is refused: the base would move with
     it. A floating base keeps the world's orientation (its motion is the host's input), and so its
-    gravity."""
+    gravity. The warning says a joint is placed by --lock where the user locked it (`given`: all of
+    `above_locks` when None), not where it follows a locked leader (an audit's: a coupled follower
+    was said placed by --lock)."""
     if floating or tree.gravity_in == base:        # (MJCF's: turned by MuJoCo's own kinematics)
         return tree, None, {}
     above = list(tree.ancestors(base))[::-1]          # root first
@@ -123,8 +125,8 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
     at = dict(above_locks)
     causes = {}
     for j in above:
-        causes[j.name] = "lock" if j.name in above_locks else "leader" if j.name in leaders \
-            else "default"
+        causes[j.name] = "lock" if j.name in above_locks and (given is None or j.name in given) \
+            else "leader" if j.name in leaders else "default"
         if j.name not in at and j.name in leaders:
             leader, mult, off = leaders[j.name]
             if leader in below:
@@ -243,7 +245,8 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     below = {j.name for j in tree.below(base)}
     lock, above_locks = _locks_below(lock, tree, base, below, path, floating, leaders, given)
     tip = choose_tip(tree, base, tip, lock, path)
-    tree, turned, at = _gravity_at_base(tree, base, floating, above_locks, leaders, below, path)
+    tree, turned, at = _gravity_at_base(tree, base, floating, above_locks, leaders, below, path,
+                                        given)
     # (a follower above the base that the coupling placed off 0, where gravity is turned, is an effect)
     if leaders and not any(at.get(f, 0.0) != 0 for f in leaders) and \
             not any(f in below for f in leaders) and mimic_said:
