@@ -100,7 +100,7 @@ def test_a_chain_of_mimics_is_composed_and_gives_the_constrained_forces(tmp_path
 
 def test_by_default_a_mimic_joint_is_ordinary_as_in_pinocchios_default_model(tmp_path):
     path = write(tmp_path, COUPLED)
-    with pytest.warns(VampcWarning, match=r"joint 'f2' mimics joint 'f1' \(and 1 more mimic joints\): "
+    with pytest.warns(VampcWarning, match=r"joint 'f2' mimics joint 'f1' \(and 1 more mimic joint\): "
                                           "taken as ordinary joints"):
         chain = load_urdf(path)
     assert chain.mimic == () and chain.n == 6

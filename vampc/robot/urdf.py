@@ -824,7 +824,8 @@ def _check_mimics(joints, tree: Tree, path: Path) -> None:
     if not mimics:
         return
     first = mimics[0]
-    more = f" (and {len(mimics) - 1} more mimic joints)" if len(mimics) > 1 else ""
+    more = f" (and {len(mimics) - 1} more mimic joint{'s' if len(mimics) > 2 else ''})" \
+        if len(mimics) > 1 else ""
     warnings.warn(VampcWarning(f"{path}: joint '{first.name}' mimics joint '{first.mimic.joint}'{more}: "
                                "taken as ordinary joints (own q, q̇, q̈ and torque), as Pinocchio reads "
                                "them by default; --mimic couple couples them"), stacklevel=3)
