@@ -63,7 +63,8 @@ class DhJoint(Struct, forbid_unknown_fields=True):
     name: Annotated[Name, _doc("Joint name (default j1, j2, ...).")] | UnsetType = UNSET
     parent: Annotated[Union[Annotated[int, Meta(ge=0)], Name], Meta(
         extra_json_schema={"x-error": PARENT_ERROR}, description=(
-            "The joint whose link carries this joint: its name, or its 1-based row number, 0 for "
+            "The joint whose link carries this joint: its name, or its 1-based row number written "
+            "as a whole number (2, not 2.0, which JSON Schema would pass and vampc refuses), 0 for "
             "the base (default: the previous row; the base for the first). The joint turns about z "
             "of its parent's frame O_parent, as a DH row does. Joints are numbered depth-first from "
             "the base, children in row order."))] | UnsetType = UNSET
@@ -222,7 +223,8 @@ def schema() -> dict:
     return {"$schema": "https://json-schema.org/draft/2020-12/schema",
             "$id": "https://vampc.invalid/schemas/dh-table.schema.json",
             "title": "vampc DH table", "description": (
-                "A serial robot in standard (distal) Denavit-Hartenberg form: A_i = Rz(theta_i) "
+                "A serial robot or a tree (rows naming their parent) in standard (distal) "
+                "Denavit-Hartenberg form: A_i = Rz(theta_i) "
                 "Tz(d_i) Tx(a_i) Rx(alpha_i). SI units (m, rad, kg, kg m^2). Vectors and matrices "
                 "use numbers only (NaN and infinities are refused). Error messages locate a problem "
                 "by its JSON path, 0-based as in the file (joints[0] is the first row), followed by "
