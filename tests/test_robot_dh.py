@@ -369,6 +369,27 @@ def test_a_number_yaml_11_reads_otherwise_is_refused(tmp_path, written, read):
            "hexadecimal or an underscore); write it in decimal digits" in str(info.value)
 
 
+@pytest.mark.parametrize("written, said", [("0x10", "the number 16"), ("010", "the number 8"),
+                                           ("5", "the number 5"), ("1.5", "the number 1.5"),
+                                           ("yes", "the truth value True"), ("~", "null")])
+@pytest.mark.parametrize("where", ["robot", "row"])
+def test_a_name_yaml_reads_as_no_text_is_refused_as_written(tmp_path, written, said, where):
+    """`name: 0x10` was refused as "name: 16 is not of type string", what YAML made of it and no
+    line (an audit's): the line, the name as written and what it is read as. Quoted, it is a name."""
+    text = (ONE_JOINT.replace("name: y1", f"name: {written}") if where == "robot" else
+            ONE_JOINT.replace("- {{type", f"- {{{{name: {written}, type"))
+    path = tmp_path / "y1.yaml"
+    path.write_text(text.format(a="0.5"))
+    with pytest.raises(VampcError) as info:
+        load_robot(path)
+    line = 1 if where == "robot" else 3
+    assert str(info.value) == (f"{path}: line {line}: name {written!r} is read as {said}; a name is "
+                               "text: quote it")
+    path.write_text(text.replace(f"name: {written}", f"name: '{written}'").format(a="0.5"))
+    robot = load_robot(path)
+    assert (robot.name if where == "robot" else robot.joints[0].name) == written
+
+
 @pytest.mark.parametrize("written, value", [("0.5", 0.5), ("5", 5.0), ("-0", 0.0), ("1e-1", 0.1),
                                             ("2.", 2.0), ("1.5E+0", 1.5), ("0", 0.0), ("+5", 5.0),
                                             ("01", 1.0)])

@@ -270,6 +270,9 @@ _PLAIN = {"tag:yaml.org,2002:int": re.compile(r"^[-+]?(?:0|[1-9][0-9]*)$"),
               r"^[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?$|^[-+]?\.(?:inf|Inf|INF)$|"
               r"^\.(?:nan|NaN|NAN)$")}
 _MERGE = "tag:yaml.org,2002:merge"
+_UNQUOTED = {"tag:yaml.org,2002:" + t: what for t, what in
+             (("int", "the number"), ("float", "the number"), ("bool", "the truth value"),
+              ("null", "null"))}
 # the tags a DH table's values resolve to untagged (a name may be any text: not checked)
 _PLAIN_TAGS = {"tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")}
 
@@ -300,6 +303,15 @@ def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
                                   "are not read: write the row's fields out (an alias of a whole "
                                   "row or value is read)")
                 text = key.value if isinstance(key, yaml.ScalarNode) else None
+                if robot and text == "name" and isinstance(value, yaml.ScalarNode) and \
+                        value.tag in _UNQUOTED and not value.style:
+                    # (the schema's message gave what YAML made of it, `name: 0x10` as "16 is not
+                    # of type string", no line: an audit's)
+                    made = "" if value.tag.endswith("null") else \
+                        f" {loader.construct_object(value)!r}"
+                    raise located(path, f"line {value.start_mark.line + 1}",
+                                  f"name {value.value!r} is read as {_UNQUOTED[value.tag]}{made}; "
+                                  "a name is text: quote it")
                 stack.append((value, robot and not (isinstance(text, str) and
                                                     (text.startswith("x-") or text == "name"))))
         elif isinstance(node, yaml.SequenceNode):
