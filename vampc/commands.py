@@ -1,7 +1,8 @@
-"""What the three commands do, as library functions (vampc.cli only parses options into the option
+"""What the commands do, as library functions (vampc.cli only parses options into the option
 objects of vampc.options, calls these and prints): compile a robot to a program file or an IR dump,
-emulate a program (or a robot compiled on the fly) into torque, state and waveform files, and build a
-report with its pictures, or a trade-off sweep.
+emulate a program (or a robot compiled on the fly) into torque, state and waveform files, build a
+report with its pictures, or a trade-off sweep, run the look-ahead register, find the narrowest
+word (precision), run fault campaigns and build RTL.
 
 Output files follow the rules of vampc.outputs (README "Output files"): planned before any work is
 done, written whole or not at all. `say(text, err)` receives the lines a command prints besides its
