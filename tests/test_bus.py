@@ -371,6 +371,13 @@ def test_the_bus_chart_shows_every_write(tmp_path):
     # a tier of at most 12 buses is drawn bus by bus: each of its writes has its tooltip
     small = [x for x in every if c.network.bus.tiers[x["tier"]].buses(len(c.network.vamps)) <= 12]
     assert small and all(f'id="bus-{x["tier"]}-{x["bus"]}-{x["counter"]}"' in text for x in small)
+    # tooltips count a tier's buses from 1 along the line, not as the IR numbers them (an offset
+    # tier's short first bus is -1 there), and name a VAMP's own Result once (an audit's)
+    titles = re.findall(r"<title>([^<]*)</title>", text)
+    numbers = [(int(i), int(n)) for i, n in re.findall(r", bus (-?\d+) of (\d+)", "\n".join(titles))]
+    assert len(numbers) == len(small) and all(1 <= i <= n for i, n in numbers)
+    assert any(x["bus"] < 0 for x in small) and "(the short one before the offset)" in text
+    assert not re.search(r"vamp \d+ \(VAMP", text) and "delaying VAMP" in text
     res = CliRunner().invoke(main, ["report", str(PUMA), "--bus-chart", str(tmp_path / "b.svg")])
     assert res.exit_code == 2 and "--bus-chart applies to a program on the Mostly-Local Bus" in \
         res.stderr and not (tmp_path / "b.svg").exists()

@@ -29,6 +29,22 @@ def cells(net) -> list[dict]:
     return out
 
 
+def bus_name(tier, b: int, vamps: int) -> str:
+    """'bus 3 of 9', counted from 1 along the line (the network IR numbers an offset tier's short
+    first bus -1, which a tooltip had shown: an audit's)."""
+    first = tier.bus_at(0)
+    return f"bus {b - first + 1} of {tier.buses(vamps)}" + \
+        (" (the short one before the offset)" if tier.offset and b == first else "")
+
+
+def writer_name(cell: dict, position) -> str:
+    """'VAMP 111 at place 12', or 'buffer 3, delaying VAMP 111 at place 12' (a VAMP's own Result
+    was named twice: 'vamp 111 (VAMP 111 at place 12)')."""
+    w = cell["writer"]
+    at = f"VAMP {w} at place {position[w]}"
+    return at if cell["source"] == f"vamp {w}" else f"{cell['source']}, delaying {at}"
+
+
 def bus_chart_svg(net, title: str) -> str:
     """The chart as SVG text (a network with a bus)."""
     with svg.settings():
@@ -72,9 +88,8 @@ def _draw(net, title: str) -> str:
         urls.append(f"#{gid}")
         who = ",".join(str(r) for r in cell["readers"])
         places = ", ".join(f"VAMP {r} at {bus.position[r]}" for r in cell["readers"])
-        titles[gid] = (f"tier {k} (span {bus.tiers[k].span}), bus {b}, Cycle-Counter {c}: "
-                       f"{cell['source']} (VAMP {cell['writer']} at place "
-                       f"{bus.position[cell['writer']]}) to {places}")
+        titles[gid] = (f"tier {k} (span {bus.tiers[k].span}), {bus_name(bus.tiers[k], b, V)}, "
+                       f"Cycle-Counter {c}: {writer_name(cell, bus.position)} to {places}")
         text = f"{cell['writer']}→{who}"
         if len(text) * FONT * 0.6 <= ptf:
             texts.append((c + 0.5, yy + 0.5, text))
