@@ -1302,7 +1302,8 @@ def test_a_joint_or_link_inside_a_link_is_refused_by_name(tmp_path, inner):
 
 
 @pytest.mark.parametrize("case", ["tab", "line break", "&#9;", "utf-16", "utf-16 unmarked",
-                                  "leading tab", "in a comment", "in a comment after the tag"])
+                                  "leading tab", "in a comment", "in a comment after the tag",
+                                  "a --> in an attribute after it", "a <!-- in CDATA before it"])
 def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
     """A tab or line break after a number in an <origin>'s list, or a UTF-16 file: XML (and so
     vampc) reads them, urdfdom (Pinocchio's URDF reader) refuses the file, unsaid here (a new
@@ -1332,6 +1333,12 @@ def test_what_pinocchios_reader_refuses_is_warned_of(tmp_path, case):
         assert mine in text
         path = write(tmp_path, text.replace(mine, mine + '<!-- <axis xyz="1\t0 0"/> -->', 1))
         refused = False
+    elif case.startswith("a "):       # (neither is a comment: a review's, both had hidden the tab)
+        broken = text.replace(old, old.replace('"0 0 0.1', '"0\t0 0.1'), 1)
+        path = write(tmp_path, broken.replace("</robot>", '<gazebo reference="x-->y"/></robot>')
+                     if "-->" in case else broken.replace(
+                         '<robot name="r">', '<robot name="r"><gazebo><![CDATA[ <!-- ]]></gazebo>'
+                         ).replace("</robot>", "<!-- a comment --></robot>"))
     else:
         gap = {"tab": "0\t0", "line break": "0\n0", "&#9;": "0&#9;0", "leading tab": "\t0 0"}[case]
         path = write(tmp_path, text.replace(old, old.replace('"0 0 0.1', f'"{gap} 0.1'), 1))

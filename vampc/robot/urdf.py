@@ -405,7 +405,8 @@ def _parse_xml(path: Path):
     _refuse_entities(root, path)
     # (_check_numbers looks at them; only where some attribute holds a tab or line break: a
     # 16 000-joint file would pay for every element's look otherwise)
-    token = _RAW_LINES.set(data.splitlines(keepends=True) if _BROKEN_VALUE.search(data) else None)
+    token = _RAW_LINES.set(_without_comments(data).splitlines(keepends=True)
+                           if _BROKEN_VALUE.search(data) else None)
     try:
         _check_xml(root, path)
     finally:
@@ -432,18 +433,18 @@ _AFTER_A_NUMBER_BYTES = re.compile(_AFTER_A_NUMBER.pattern.encode())      # (the
 _BROKEN_VALUE = re.compile(rb"=\s*(\"[^\"<]*[\t\r\n][^\"<]*\"|'[^'<]*[\t\r\n][^'<]*')")
 
 
-_COMMENT = re.compile(rb"<!--.*?-->", re.S)
+# XML's markup, stepped over in order so that a comment is found only where one begins: not a "<!--"
+# in CDATA or a "-->" in an attribute's value (a review's: taking those for a comment's ends had
+# blanked the joint's own tag, a tab after a number there unsaid)
+_MARKUP = re.compile(rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<(?:[^>\"']|\"[^\"]*\"|'[^']*')*>",
+                     re.S)
 
 
-def _without_comments(text: bytes) -> bytes:
-    """`text` with each comment's bytes but its line ends made spaces, the same length (a tag
-    commented out after an element's own on its line had been taken for it: an audit's), and
-    before a first "-->" with no "<!--" before it (a comment begun above the lines looked at)."""
-    blank = lambda m: re.sub(rb"[^\r\n]", b" ", m[0])     # noqa: E731
-    end, begin = text.find(b"-->"), text.find(b"<!--")
-    if end >= 0 and (begin < 0 or end < begin):
-        text = blank(re.match(rb".*?-->", text, re.S)) + text[end + 3:]
-    return _COMMENT.sub(blank, text)
+def _without_comments(data: bytes) -> bytes:
+    """`data` with each comment's bytes but its line ends made spaces, the same length (a tag
+    commented out after an element's own on its line had been taken for it: an audit's)."""
+    return _MARKUP.sub(lambda m: re.sub(rb"[^\r\n]", b" ", m[0]) if m[0].startswith(b"<!--")
+                       else m[0], data)
 
 
 def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
@@ -460,7 +461,7 @@ def _broken_list(el, tag: str, attr: str, raw: str) -> int | None:
     # the element's start tag: the last to begin by the end of its line (libxml2 gives a tag
     # broken over lines the line where it ends), looked for from a few lines before
     first = max(0, el.sourceline - 20)
-    text = _without_comments(b"".join(lines[first:el.sourceline + 40]))
+    text = b"".join(lines[first:el.sourceline + 40])      # (comments blanked: _without_comments)
     end = len(b"".join(lines[first:el.sourceline]))
     tags = [m for m in re.finditer(rb"<" + tag.encode() + rb"\b[^>]*?\s" + re.escape(attr.encode())
                                    + rb"\s*=\s*(\"[^\"]*\"|'[^']*')", text) if m.start() < end]
