@@ -390,6 +390,20 @@ def test_a_name_yaml_reads_as_no_text_is_refused_as_written(tmp_path, written, s
     assert (robot.name if where == "robot" else robot.joints[0].name) == written
 
 
+def test_an_empty_name_is_said_empty_and_a_name_where_none_belongs_unexpected(tmp_path):
+    """`name:` was said "read as null"; a name in `limits` (no such key) was told to be quoted, and
+    then refused as unexpected (a review's): the check is of the robot's and the rows' names."""
+    path = tmp_path / "y1.yaml"
+    path.write_text(ONE_JOINT.replace("name: y1", "name:").format(a="0.5"))
+    with pytest.raises(VampcError) as info:
+        load_robot(path)
+    assert str(info.value) == f"{path}: line 1: the name is empty: give it as text"
+    path.write_text(ONE_JOINT.replace("theta: 0,", "theta: 0, limits: {{name: 5}},").format(a="0.5"))
+    with pytest.raises(VampcError) as info:
+        load_robot(path)
+    assert "quote it" not in str(info.value) and "'name' was unexpected" in str(info.value)
+
+
 @pytest.mark.parametrize("written, value", [("0.5", 0.5), ("5", 5.0), ("-0", 0.0), ("1e-1", 0.1),
                                             ("2.", 2.0), ("1.5E+0", 1.5), ("0", 0.0), ("+5", 5.0),
                                             ("01", 1.0)])

@@ -277,6 +277,29 @@ _UNQUOTED = {"tag:yaml.org,2002:" + t: what for t, what in
 _PLAIN_TAGS = {"tag:yaml.org,2002:" + t for t in ("map", "seq", "str", "int", "float", "bool", "null")}
 
 
+def _refuse_unquoted_names(loader: _Loader, root, path: Path) -> None:
+    """VampcError naming the line of the robot's or a row's name that YAML reads as a number, a truth
+    value or null (`name: 0x10`, `yes`, `~`): the schema's message gave what YAML made of it with no
+    line ("name: 16 is not of type string": an audit's). Where no name belongs (`limits`, `base`,
+    `tip`) the schema says the key is unexpected."""
+    def entry(node, key: str):
+        if isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                if isinstance(k, yaml.ScalarNode) and k.value == key:
+                    return v
+        return None
+    joints = entry(root, "joints")
+    rows = joints.value if isinstance(joints, yaml.SequenceNode) else []
+    for value in (entry(root, "name"), *(entry(row, "name") for row in rows)):
+        if isinstance(value, yaml.ScalarNode) and value.tag in _UNQUOTED and not value.style:
+            where = f"line {value.start_mark.line + 1}"
+            if not value.value.strip():
+                raise located(path, where, "the name is empty: give it as text")
+            made = "" if value.tag.endswith("null") else f" {loader.construct_object(value)!r}"
+            raise located(path, where, f"name {value.value!r} is read as "
+                                       f"{_UNQUOTED[value.tag]}{made}; a name is text: quote it")
+
+
 def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
     """VampcError naming the line of the first number YAML 1.1 reads as another value (see above),
     of a value of the robot tagged by hand (`!!set`, `!!float nan`: _PLAIN_TAGS), or of a merge key
@@ -303,15 +326,6 @@ def _refuse_other_numbers(loader: _Loader, root, path: Path) -> None:
                                   "are not read: write the row's fields out (an alias of a whole "
                                   "row or value is read)")
                 text = key.value if isinstance(key, yaml.ScalarNode) else None
-                if robot and text == "name" and isinstance(value, yaml.ScalarNode) and \
-                        value.tag in _UNQUOTED and not value.style:
-                    # (the schema's message gave what YAML made of it, `name: 0x10` as "16 is not
-                    # of type string", no line: an audit's)
-                    made = "" if value.tag.endswith("null") else \
-                        f" {loader.construct_object(value)!r}"
-                    raise located(path, f"line {value.start_mark.line + 1}",
-                                  f"name {value.value!r} is read as {_UNQUOTED[value.tag]}{made}; "
-                                  "a name is text: quote it")
                 stack.append((value, robot and not (isinstance(text, str) and
                                                     (text.startswith("x-") or text == "name"))))
         elif isinstance(node, yaml.SequenceNode):
@@ -340,6 +354,7 @@ def _parse_yaml(text: str, path: Path):
             root = loader.get_single_node()
             if root is None:
                 return None
+            _refuse_unquoted_names(loader, root, path)
             _refuse_other_numbers(loader, root, path)
             return loader.construct_document(root)
         finally:
