@@ -378,6 +378,7 @@ def test_the_bus_chart_shows_every_write(tmp_path):
     assert len(numbers) == len(small) and all(1 <= i <= n for i, n in numbers)
     assert any(x["bus"] < 0 for x in small) and "(the short one before the offset)" in text
     assert not re.search(r"vamp \d+ \(VAMP", text) and "delaying VAMP" in text
+    assert re.search(r"Cycle-Counter \d+: VAMP \d+ at place \d+ to VAMP \d+ at place \d+", text)
     res = CliRunner().invoke(main, ["report", str(PUMA), "--bus-chart", str(tmp_path / "b.svg")])
     assert res.exit_code == 2 and "--bus-chart applies to a program on the Mostly-Local Bus" in \
         res.stderr and not (tmp_path / "b.svg").exists()

@@ -38,8 +38,8 @@ def bus_name(tier, b: int, vamps: int) -> str:
 
 
 def writer_name(cell: dict, position) -> str:
-    """'VAMP 111 at place 12', or 'buffer 3, delaying VAMP 111 at place 12' (a VAMP's own Result
-    was named twice: 'vamp 111 (VAMP 111 at place 12)')."""
+    """'VAMP 111 at place 12', or 'buffer 3 stage 2, delaying VAMP 111 at place 12' (a VAMP's own
+    Result was named twice: 'vamp 111 (VAMP 111 at place 12)')."""
     w = cell["writer"]
     at = f"VAMP {w} at place {position[w]}"
     return at if cell["source"] == f"vamp {w}" else f"{cell['source']}, delaying {at}"
@@ -87,7 +87,7 @@ def _draw(net, title: str) -> str:
         alphas.append(1.0)
         urls.append(f"#{gid}")
         who = ",".join(str(r) for r in cell["readers"])
-        places = ", ".join(f"VAMP {r} at {bus.position[r]}" for r in cell["readers"])
+        places = ", ".join(f"VAMP {r} at place {bus.position[r]}" for r in cell["readers"])
         titles[gid] = (f"tier {k} (span {bus.tiers[k].span}), {bus_name(bus.tiers[k], b, V)}, "
                        f"Cycle-Counter {c}: {writer_name(cell, bus.position)} to {places}")
         text = f"{cell['writer']}→{who}"
