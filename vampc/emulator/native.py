@@ -400,8 +400,8 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
    longs_max cells of more than 19 significant digits). A cell is converted by Eisel-Lemire, or by
    strtod where that cannot decide (a halfway case, a subnormal or infinite result, an exponent
    beyond 100000 or the table); a cell of more than 19 significant digits is left to the caller,
-   which converts it as Python's float() does (glibc's strtod misrounds some decimals of hundreds
-   of digits): longs[3k..3k+2] = its index in out, its offset and its length, *n_longs of them. On
+   which converts it as Python's float() does (the native path had differed from float() on some
+   decimals of hundreds of digits; the cause is not traced, glibc's strtod was found exact): longs[3k..3k+2] = its index in out, its offset and its length, *n_longs of them. On
    a refusal *bad is the offset of the line's first byte. */
 long parse_csv(const char *p, long len, long cols, long rows_max, double *out, long *bad,
                long *longs, long longs_max, long *n_longs) {
@@ -651,8 +651,9 @@ def parse_csv(body: bytes, cols: int, start: int = 0, refused: list | None = Non
     """The rows of a trajectory CSV from byte `start` of `body` (the line after its header) as an
     array (rows, cols), or None if they are not a plain table of decimal numbers, or if the native
     path is off or unavailable (the caller then parses them otherwise). A cell of more than 19
-    significant digits is converted by float() (glibc's strtod misrounds some decimals of hundreds
-    of digits; more than LONG_CELLS of them in a piece: refused); up to 19, Eisel-Lemire, and
+    significant digits is converted by float() (the native path had differed from float() on some
+    decimals of hundreds of digits, the cause not traced: glibc's strtod was found exact; more than
+    LONG_CELLS of them in a piece: refused); up to 19, Eisel-Lemire, and
     strtod where it cannot decide, round correctly as Python's float() does (tested against
     float(), bit for bit, on cells of every form).
     `refused`: a list given gets the offset in `body` of the first line refused, if one was.
