@@ -241,6 +241,23 @@ def test_an_output_tick_moved_within_its_hold_window_is_refused(program, tmp_pat
         "recompile it" in err and err.count("\n") == 1, err
 
 
+@pytest.mark.parametrize("latencies", [[], ["--mult-latency", "3", "--add-latency", "2"]])
+def test_a_report_runs_the_static_check_whatever_the_latencies(tmp_path, latencies):
+    """A report of a program of Mult/Addn latencies other than 1 skipped the emulator's static
+    check: an output tick moved off the torque's was reported with exit 0 (an audit's), where
+    `emulate` refused it, and the report of a program of unit latencies refuses it too."""
+    import json
+    program = tmp_path / "p.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", *latencies, "-o", program)[0] == 0
+    tick = json.loads(program.read_text())["io"]["outputs"][0]["tick"]
+    path = edited_program(program, tmp_path, lambda d: _set(d, ["io", "outputs", 0, "tick"], tick + 1))
+    for command in (["report", path], ["emulate", path, "--random", 2]):
+        code, err = run(*command)
+        assert code == 1 and f"at tick {tick + 1}, but it appears at tick {tick}, where the compiler " \
+            "reads it (the file was edited); recompile it" in err and err.count("\n") == 1, (command, err)
+    assert run("report", program)[0] == 0
+
+
 @pytest.fixture(scope="module")
 def log_programs(tmp_path_factory):
     """A log chain's program (the Puma's, Sklansky) and a log tree's (the quadruped's)."""
