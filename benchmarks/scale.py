@@ -25,7 +25,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-# Run one command, report its wall time and its peak resident memory (its own children included).
+# Run one command, report its wall time and its peak resident memory: the largest of the command's
+# process and its children's (ru_maxrss of RUSAGE_CHILDREN is one process's peak, not a sum: a
+# report's forked check is not added to the report's own; an audit's).
 WRAPPER = """
 import json, resource, subprocess, sys, time
 begun = time.perf_counter()

@@ -52,7 +52,7 @@ def leave_big(net) -> None:
     """For a network of more than BIG_NETWORK_SLOTS slots, once the command's work is done (with the
     collector paused): leave without freeing its millions of objects one by one, and keep them from
     the collector's walks once it resumes; they stay to the end."""
-    if net is not None and net.has_slots(BIG_NETWORK_SLOTS):
+    if net is not None and net.has_slots(BIG_NETWORK_SLOTS + 1):
         from vampc.launch import skip_teardown
         skip_teardown()
         gc.freeze()
