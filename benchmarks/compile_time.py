@@ -82,32 +82,20 @@ def process_time(runs: int = 5) -> float:
     return statistics.median(times)
 
 
-# Runs one command and prints its wall time and peak resident memory as JSON. A small process of its
-# own: Linux gives a child the peak of the process it was forked from (exec keeps the larger of the
-# two high-water marks), so measured from this script, after the in-process compiles above had grown
-# it to 3.3 GiB, the compile's 0.9 GiB was printed as 3.3 GiB (2026-12-07; the 2.3-2.7 GiB of
-# 2026-11-22 and 11-28 were measured so too).
-WRAPPER = """
-import json, resource, subprocess, sys, time
-begun = time.perf_counter()
-subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL)
-print(json.dumps({"seconds": time.perf_counter() - begun,
-                  "peak_kib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}))
-"""
-
-
 def log_process(n: int) -> None:
-    """One whole `vampc compile snake{n}.yaml --recursion log` process: wall time, peak memory, file."""
-    import json
+    """One whole `vampc compile snake{n}.yaml --recursion log` process: wall time, peak memory, file.
+    Measured by benchmarks/scale.py's `measure`, from a small process of its own: measured from this
+    script, after the in-process compiles above had grown it to 3.3 GiB, the compile's 0.9 GiB was
+    printed as 3.3 GiB (2026-12-07; Linux gives a child the high-water mark of the process it is
+    forked from; the 2.3-2.7 GiB of 2026-11-22 and 11-28 were measured so too)."""
+    from scale import measure
     with tempfile.TemporaryDirectory() as tmp:
         robot, out = Path(tmp) / f"snake{n}.yaml", Path(tmp) / f"snake{n}.vamp.json"
         robot.write_text(subprocess.run([sys.executable, str(ROOT / "examples" / "make_snake.py"),
                                          str(n)], check=True, capture_output=True, text=True).stdout)
-        got = json.loads(subprocess.run(
-            [sys.executable, "-c", WRAPPER, sys.executable, "-m", "vampc.cli", "compile", str(robot),
-             "--recursion", "log", "-o", str(out)], check=True, env=_cli_env(),
-            stdout=subprocess.PIPE, text=True).stdout)      # (its error, if any, to the terminal)
-        wall, peak = got["seconds"], got["peak_kib"] / 2**20             # KiB -> GiB (Linux)
+        got = measure([sys.executable, "-m", "vampc.cli", "compile", robot, "--recursion", "log",
+                       "-o", out], Path(tmp), env=_cli_env())
+        wall, peak = got["seconds"], got["peak_mib"] / 1024
         size = out.stat().st_size / 1e6
     print(f"vampc compile snake{n}.yaml --recursion log, whole process: {wall:.1f} s, "
           f"peak memory {peak:.1f} GiB, program file {size:.0f} MB", flush=True)

@@ -48,8 +48,11 @@ TARGET = {"compile4096": "< 15 s, < 1 GiB", "program": "< 100 MB compact", "repo
 NAMES = ("compile4096", "program", "report4096", "report16000", "emulate", "tradeoff")
 
 
-def measure(cmd: list, cwd: Path) -> dict:
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+def measure(cmd: list, cwd: Path, env: dict | None = None) -> dict:
+    """`cmd`'s wall time and peak memory, run from a small process of its own (WRAPPER; from a big
+    one, Linux would give the command that process's high-water mark); `env`: os.environ's by
+    default. Children write bytecode caches, as an installed package has them."""
+    env = {k: v for k, v in (env or os.environ).items() if k != "PYTHONDONTWRITEBYTECODE"}
     out = subprocess.run([sys.executable, "-c", WRAPPER, *map(str, cmd)], cwd=cwd, env=env,
                          capture_output=True, text=True, check=True)
     got = json.loads(out.stdout)

@@ -401,8 +401,9 @@ static int eisel_lemire(unsigned long long man, long e10, int neg, double *out) 
    strtod where that cannot decide (a halfway case, a subnormal or infinite result, an exponent
    beyond 100000 or the table); a cell of more than 19 significant digits is left to the caller,
    which converts it as Python's float() does (the native path had differed from float() on some
-   decimals of hundreds of digits; the cause is not traced, glibc's strtod was found exact): longs[3k..3k+2] = its index in out, its offset and its length, *n_longs of them. On
-   a refusal *bad is the offset of the line's first byte. */
+   decimals of hundreds of digits; the cause is not traced, glibc's strtod was found exact):
+   longs[3k..3k+2] = its index in out, its offset and its length, *n_longs of them. On a refusal
+   *bad is the offset of the line's first byte. */
 long parse_csv(const char *p, long len, long cols, long rows_max, double *out, long *bad,
                long *longs, long longs_max, long *n_longs) {
   const char *begin = p, *end = p + len, *num, *stop, *ed;
