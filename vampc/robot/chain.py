@@ -73,6 +73,27 @@ def rot_z(theta):
     return out
 
 
+def matmul(a, b, *more) -> np.ndarray:
+    """a @ b (@ more, left to right) for stacks of small matrices, broadcast as `@` broadcasts them,
+    each entry summed over k = 0, 1, ... in that order, every product and sum rounded on its own: the
+    same bits on every machine. NumPy's `@` hands these to the BLAS, whose kernels differ from one
+    CPU to another (a Haswell kernel fuses each multiply-add, a Sandy Bridge one does not), and so
+    did the last bits of a robot's constants, the host's A_i(q) and the torques (README, *Same bits
+    on every machine*)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.ndim < 2 or b.ndim < 2 or a.shape[-1] != b.shape[-2]:
+        raise VampcInternalError(f"matmul of shapes {a.shape} and {b.shape}")
+    out = a[..., :, 0, None] * b[..., None, 0, :]
+    for k in range(1, a.shape[-1]):
+        out = out + a[..., :, k, None] * b[..., None, k, :]
+    return matmul(out, *more) if more else out
+
+
+def matvec(m, v) -> np.ndarray:
+    """m @ v for stacks of matrices and vectors, in matmul's order."""
+    return matmul(m, np.asarray(v, dtype=float)[..., None])[..., 0]
+
+
 def rot_x(alpha: float) -> np.ndarray:
     """Rx(α) as a 3x3 array."""
     c, s = np.cos(alpha), np.sin(alpha)
@@ -134,8 +155,8 @@ class Joint:
         if self.type is JointType.PRISMATIC:
             a = np.broadcast_to(self.phi, q.shape + (3, 3)).copy()
         else:
-            a = rot_z(q + self.offset) @ self.phi
-        return a if self.pre is None else self.pre @ a
+            a = matmul(rot_z(q + self.offset), self.phi)
+        return a if self.pre is None else matmul(self.pre, a)
 
     def p_star(self, q) -> np.ndarray:
         """p*_i(q), vectorised over q (shape S gives S + (3,))."""

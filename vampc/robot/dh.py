@@ -32,7 +32,7 @@ from vampc import jsontext
 from vampc.errors import VampcError, VampcWarning, located
 from vampc.gcpause import gc_paused
 from vampc.robot import JSON_SUFFIXES, YAML_SUFFIXES  # noqa: F401 - re-exported, used below
-from vampc.robot.chain import Chain, Joint, JointType, Limits, rot_x, rot_z
+from vampc.robot.chain import Chain, Joint, JointType, Limits, matmul, rot_x, rot_z
 from vampc.robot.dh_format import check as check_table
 from vampc.robot.dh_format import where as _where
 from vampc.robot.inertia import improper_inertias, inertia_problem  # noqa: F401 - re-exported
@@ -508,7 +508,7 @@ def _joint(row: dict, i: int, inertia: np.ndarray, source: str) -> Joint:
     if kind is JointType.REVOLUTE:
         phi, p_fixed, offset = rot_x(alpha), [a, d * math.sin(alpha), d * math.cos(alpha)], theta
     else:
-        phi, p_fixed, offset = rot_z(theta) @ rot_x(alpha), [a, 0.0, 0.0], d
+        phi, p_fixed, offset = matmul(rot_z(theta), rot_x(alpha)), [a, 0.0, 0.0], d
     return Joint(name=row.get("name", f"j{i + 1}"), type=kind, phi=phi, p_fixed=_vec(p_fixed),
                  offset=offset, mass=float(row["mass"]), com=_vec(row["com"]),
                  inertia=inertia, limits=_limits(row.get("limits"), i, source))

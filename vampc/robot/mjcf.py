@@ -40,6 +40,7 @@ import numpy as np
 
 from vampc.errors import VampcError, VampcWarning, located
 from vampc.gcpause import gc_paused
+from vampc.robot.chain import matmul, matvec
 
 FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
 KINDS = {SLIDE: "prismatic", HINGE: "revolute"}
@@ -275,7 +276,7 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
     # body frame -> world; for BODY__JOINT, the body's joints after JOINT are at qpos0, where they
     # turn nothing: the body's frame is then the link's
     rotation = np.asarray(data.xmat[b], dtype=float).reshape(3, 3)
-    turned = tuple(float(g) for g in rotation.T @ np.asarray(gravity, dtype=float))
+    turned = tuple(float(g) for g in matvec(rotation.T, gravity))
     if not said:
         return turned, None, placed
     from vampc.robot.urdf_tree import cut_away, placed_by
@@ -406,7 +407,7 @@ def _robot(model, path: Path, base: str | None = None):
         parent = int(model.body_parentid[b])
         if b in static:
             continue
-        x = shift[parent] @ _pose(model.body_pos[b], model.body_quat[b])   # the body in its parent's link
+        x = matmul(shift[parent], _pose(model.body_pos[b], model.body_quat[b]))   # the body in its parent's link
         first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
         kinds = [int(model.jnt_type[j]) for j in range(first, first + count)]
         inertial = _inertial(model, b)
@@ -437,7 +438,7 @@ def _robot(model, path: Path, base: str | None = None):
                 if kind == "revolute" and not model.jnt_limited[j]:
                     kind = "continuous"
                 joints.append(_Joint(joint_name[j], kind, link, child,
-                                     at @ _translation(c - previous), np.array(model.jnt_axis[j], dtype=float),
+                                     matmul(at, _translation(c - previous)), np.array(model.jnt_axis[j], dtype=float),
                                      _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]]),
                                      named=bool(model.joint(j).name)))
                 at, previous, link = np.eye(4), c, child
@@ -447,7 +448,7 @@ def _robot(model, path: Path, base: str | None = None):
                 previous = np.zeros(3)
             shift[b] = _translation(-previous)
         if inertial is not None:
-            inertial.origin = shift[b] @ inertial.origin
+            inertial.origin = matmul(shift[b], inertial.origin)
         links.append(_Link(body_name[b], inertial))
     name = model.names[:model.names.index(b"\0")].decode() if model.names else ""
     if name in ("", "MuJoCo Model"):       # MuJoCo's name for a <mujoco> without model="..."
@@ -660,7 +661,8 @@ def _limit(model, j: int) -> _Limit | None:
 
 
 def _quat(q) -> np.ndarray:
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    q = np.asarray(q, dtype=float)        # (np.linalg.norm of a vector is the BLAS's dot: chain.matmul)
+    w, x, y, z = q / np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])

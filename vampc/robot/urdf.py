@@ -44,7 +44,7 @@ from lxml import etree
 
 from vampc.errors import VampcUsageError, VampcWarning, located
 from vampc.gcpause import gc_paused
-from vampc.robot.chain import Chain, Joint, Limits
+from vampc.robot.chain import Chain, Joint, Limits, matmul, matvec
 from vampc.robot.dh import joint_count_problem
 from vampc.robot.inertia import (
     NEARLY_PSD,
@@ -138,7 +138,7 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
         if q and not np.linalg.norm(np.asarray(j.axis, dtype=float)) > 0:
             raise located(path, f"joint '{j.name}'", "its axis is zero: no position of it turns "
                                                     "gravity (--lock gave it one)")
-        rotation = rotation @ (_origin(j) @ _motion(j, q) if q else _origin(j))[:3, :3]
+        rotation = matmul(rotation, (matmul(_origin(j), _motion(j, q)) if q else _origin(j))[:3, :3])
         if j.type == "floating" and j.child != base:     # (the base's own: choose_base says so)
             said.append(f"{j.name} (floating) at its <origin>")
         elif j.type == "planar":
@@ -148,7 +148,7 @@ def _gravity_at_base(tree: Tree, base: str, floating: bool, above_locks: dict, l
             outside = limits is not None and not limits[0] <= q <= limits[1]
             said.append(f"{j.name} at {q:.6g}" + (f", outside its limits [{limits[0]:.6g}, "
                                                    f"{limits[1]:.6g}]" if outside else ""))
-    gravity = rotation.T @ np.asarray(tree.gravity, dtype=float)
+    gravity = matvec(rotation.T, tree.gravity)
     turned = dataclasses.replace(tree, gravity=tuple(float(g) for g in gravity), gravity_in=base)
     if not said:
         return turned, None, at
@@ -377,7 +377,7 @@ def _load_tree(name: str, tree: Tree, base: str, lock: dict, floating: bool, pat
         if j.name in index:
             frames[j.child], body_of[j.child] = _IDENTITY, index[j.name]
         else:
-            frames[j.child] = frames[j.parent] @ _origin(j) @ _motion(j, lock.get(j.name, 0.0))
+            frames[j.child] = matmul(frames[j.parent], _origin(j), _motion(j, lock.get(j.name, 0.0)))
             body_of[j.child] = body_of[j.parent]
     parents = [body_of[j.parent] for j in joints]
     return build_tree(name, tree, joints, parents, frames, body_of, floating, path)
@@ -860,7 +860,7 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
                     at_zero.append(j.name)   # below a locked branch: frozen in the file's pose, unasked
                 # (the file's pose: q = 0 for a URDF joint, MuJoCo's reference position qpos0 for an
                 # MJCF one, where --base holds the joints it cuts away; it had been qpos = 0)
-                frames[j.child] = frames[link] @ _origin(j) @ _motion(j, lock.get(j.name, -_offset(j)))
+                frames[j.child] = matmul(frames[link], _origin(j), _motion(j, lock.get(j.name, -_offset(j))))
                 body_of[j.child] = body_of[link]
                 # (a tip hung on a fixed joint: what moves below it was said to branch off, a new
                 # user's --tip shoulder_flange)
@@ -900,14 +900,14 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     """The Chain, every joint's Φ_k, p*_k and body computed for all joints at once (numpy stacks)."""
     r_a = _z_to(_unit(np.array([j.axis for j in chain])))  # R_{a_k}: e_z onto joint k's axis
     g = _reference_poses(chain, frames, r_a, tip)
-    phi = _transposed(r_a) @ g[1:, :3, :3]
-    p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
+    phi = matmul(_transposed(r_a), g[1:, :3, :3])
+    p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, chain, path)
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
-    return Chain(name=name, joints=joints, gravity=g[0, :3, :3].T @ np.array(tree.gravity), source=str(path))
+    return Chain(name=name, joints=joints, gravity=matvec(g[0, :3, :3].T, tree.gravity), source=str(path))
 
 
 def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict, body_of: dict,
@@ -918,8 +918,8 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     for a floating base. Other children carry their joint frame in O_p (pre, shift)."""
     n = len(joints)
     r_a = _z_to(_unit(np.array([j.axis for j in joints])))
-    x = np.array([frames[j.parent] @ _origin(j) for j in joints])      # J_k in its parent body's frame
-    x[:, :3, :3] = x[:, :3, :3] @ r_a
+    x = _placed(frames, [(j.parent, _origin(j)) for j in joints])      # J_k in its parent body's frame
+    x[:, :3, :3] = matmul(x[:, :3, :3], r_a)
     heavy = _heavy_children(parents)
     g = np.array([np.eye(4)] * (n + 1))
     for p in range(n + 1):
@@ -927,8 +927,8 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
             g[p] = x[heavy[p] - 1]
         elif p and leaf_link is not None and p == n:
             g[p] = frames[leaf_link]
-    phi = _transposed(r_a) @ g[1:, :3, :3]
-    p_fixed = (_transposed(phi) @ _transposed(r_a) @ g[1:, :3, 3:])[..., 0]
+    phi = matmul(_transposed(r_a), g[1:, :3, :3])
+    p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, joints, path)
     built = []
@@ -939,7 +939,7 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
                            mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path),
                            **frame))
     extra = _base_body(tree, body_of, g[0], frames, path) if floating else {}
-    return Chain(name=name, joints=tuple(built), gravity=g[0, :3, :3].T @ np.array(tree.gravity),
+    return Chain(name=name, joints=tuple(built), gravity=matvec(g[0, :3, :3].T, tree.gravity),
                  source=str(path),
                  parents=tuple(parents), **extra)
 
@@ -959,8 +959,8 @@ def _heavy_children(parents: list) -> dict:
 def _joint_frame(g_parent: np.ndarray, x: np.ndarray) -> dict:
     """pre = J's orientation in O_p, shift = J's origin from O_p's origin in O_p (None when zero)."""
     rot = g_parent[:3, :3].T
-    shift = rot @ (x[:3, 3] - g_parent[:3, 3])
-    return {"pre": rot @ x[:3, :3], "shift": shift if np.any(shift) else None}
+    shift = matvec(rot, x[:3, 3] - g_parent[:3, 3])
+    return {"pre": matmul(rot, x[:3, :3]), "shift": shift if np.any(shift) else None}
 
 
 def _base_body(tree: Tree, body_of: dict, g0: np.ndarray, frames: dict, path: Path) -> dict:
@@ -972,18 +972,18 @@ def _base_body(tree: Tree, body_of: dict, g0: np.ndarray, frames: dict, path: Pa
         _check_mass(tree.links[name].inertial, name, path)
     parts = [tree.links[name].inertial for name in links]
     _check_inertias(np.array([p.inertia for p in parts]), links, path)
-    pose = _rigid_inverse(g0[None])[0] @ np.array([frames[name] @ _origin(p) for name, p in zip(links, parts)])
+    pose = matmul(_rigid_inverse(g0[None])[0], _placed(frames, [(name, _origin(p)) for name, p in zip(links, parts)]))
     rot = pose[:, :3, :3]
     mass, com, inertia = _sum_bodies(np.zeros(len(parts), dtype=int), 1, np.array([p.mass for p in parts]),
-                                     pose[:, :3, 3], rot @ np.array([p.inertia for p in parts]) @ _transposed(rot))
+                                     pose[:, :3, 3], matmul(rot, np.array([p.inertia for p in parts]), _transposed(rot)))
     return {"floating": True, "base_mass": float(mass[0]), "base_com": com[0], "base_inertia": inertia[0]}
 
 
 def _reference_poses(chain: list, frames: dict, r_a: np.ndarray, tip: str) -> np.ndarray:
     """G_0..G_n as an (n + 1, 4, 4) stack: G_{k-1} = X T_k R_{a_k}, X the pose of joint k's parent link in
     its body; G_n the pose of the tip link in body n."""
-    g = np.array([frames[j.parent] @ _origin(j) for j in chain] + [frames[tip]])
-    g[:-1, :3, :3] = g[:-1, :3, :3] @ r_a
+    g = np.concatenate([_placed(frames, [(j.parent, _origin(j)) for j in chain]), [frames[tip]]])
+    g[:-1, :3, :3] = matmul(g[:-1, :3, :3], r_a)
     return g
 
 
@@ -1004,11 +1004,11 @@ def _body_inertias(tree: Tree, members: dict, g: np.ndarray, frames: dict, path:
         return np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
     inertia = np.array([p.inertia for p in parts])
     _check_inertias(inertia, names, path)
-    in_link = np.array([frames[name] @ _origin(p) for name, p in zip(names, parts)])
-    pose = _rigid_inverse(g[1:])[body] @ in_link  # each inertial's frame in O_k
+    in_link = _placed(frames, [(name, _origin(p)) for name, p in zip(names, parts)])
+    pose = matmul(_rigid_inverse(g[1:])[body], in_link)  # each inertial's frame in O_k
     rot = pose[:, :3, :3]
     return _sum_bodies(body, n, np.array([p.mass for p in parts]), pose[:, :3, 3],
-                       rot @ inertia @ _transposed(rot))
+                       matmul(rot, inertia, _transposed(rot)))
 
 
 def _inertial_parts(tree: Tree, members: dict, n: int, path: Path):
@@ -1089,7 +1089,8 @@ def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, ine
     np.add.at(first, body, mass[:, None] * com)
     centre = np.divide(first, total[:, None], out=np.zeros((n, 3)), where=total[:, None] > 0)
     d = com - centre[body]
-    shift = np.einsum("ij,ij->i", d, d)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
+    square = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2]   # (einsum's order is its own)
+    shift = square[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
     out = np.zeros((n, 3, 3))
     np.add.at(out, body, inertia + mass[:, None, None] * shift)
     return total, centre, out
@@ -1198,6 +1199,13 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / norm
 
 
+def _placed(frames: dict, pairs: list) -> np.ndarray:
+    """frames[link] @ x for each (link, x), as one (m, 4, 4) stack."""
+    if not pairs:
+        return np.zeros((0, 4, 4))
+    return matmul(np.array([frames[link] for link, _ in pairs]), np.array([x for _, x in pairs]))
+
+
 def _transposed(m: np.ndarray) -> np.ndarray:
     return np.swapaxes(m, -1, -2)
 
@@ -1213,7 +1221,7 @@ def _axis_rotation(axis: np.ndarray, angle) -> np.ndarray:
     """Rodrigues: rotation by `angle` about the unit vector `axis`."""
     k = _skew(axis)
     sin, versin = np.sin(angle), 1.0 - np.cos(angle)
-    return np.eye(3) + np.asarray(sin)[..., None, None] * k + np.asarray(versin)[..., None, None] * (k @ k)
+    return np.eye(3) + np.asarray(sin)[..., None, None] * k + np.asarray(versin)[..., None, None] * matmul(k, k)
 
 
 def _z_to(a: np.ndarray) -> np.ndarray:
@@ -1232,6 +1240,6 @@ def _rigid_inverse(t: np.ndarray) -> np.ndarray:
     """Inverses of rigid transforms (m, 4, 4): [Rᵀ, -Rᵀ p]."""
     out = np.zeros_like(t)
     out[:, :3, :3] = _transposed(t[:, :3, :3])
-    out[:, :3, 3] = -(out[:, :3, :3] @ t[:, :3, 3:])[..., 0]
+    out[:, :3, 3] = -matvec(out[:, :3, :3], t[:, :3, 3])
     out[:, 3, 3] = 1.0
     return out

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vampc.errors import located
-from vampc.robot.chain import JointType
+from vampc.robot.chain import JointType, matmul
 from vampc.textio import did_you_mean
 
 MOVABLE = {"revolute": JointType.REVOLUTE, "continuous": JointType.REVOLUTE,
@@ -246,7 +246,7 @@ def _warn_massless_root(tree: Tree, root: str, path: Path) -> None:
         if not chosen:
             return
         j = chosen[0]
-        pose = pose @ (np.eye(4) if j.origin is None else np.asarray(j.origin))
+        pose = matmul(pose, np.eye(4) if j.origin is None else j.origin)
         link, through = j.child, through + [j.name]
     if link == root or np.allclose(pose, np.eye(4)):
         return

@@ -1,0 +1,135 @@
+"""The same bits on every machine: a robot's constants, the host's A_i(q) and so the torques do not
+depend on which BLAS kernel NumPy's `@` would call (README, *Same bits on every machine*).
+
+Two checks, each independent of the code under test: the products against Python's own float
+arithmetic in the order vampc.robot.chain.matmul defines (each product and sum rounded on its own:
+Python never fuses a multiply-add), and whole runs (compile and emulate, in-process) under
+OpenBLAS's Sandy Bridge kernel, which rounds every multiply-add in two steps where this machine's
+Haswell kernel fuses them, against the same runs under the default kernel. Before 2026-12-07 the
+second gave other program files and torques for examples/arm6.urdf."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vampc.robot.chain import Joint, JointType, matmul, matvec, rot_z
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+# a DH arm whose every row turns about an angle with no short binary expansion, so that every entry
+# of every Φ_i and A_i(q) is a sum of inexact products
+GENERAL_DH = """name: general
+joints:
+""" + "".join(f"""  - {{name: j{k}, type: {"prismatic" if k == 3 else "revolute"}, a: {0.1 + 0.07 * k}, alpha: {0.3 + 0.41 * k},
+     d: {0.05 * k}, theta: {0.2 + 0.13 * k}, mass: {1.0 + k}, com: [0.01, {0.02 * k}, -0.03],
+     inertia: [0.02, 0.03, 0.04, 0.001, 0.002, 0.003]}}
+""" for k in range(1, 6))
+
+
+def _python_product(a, b) -> list:
+    """a @ b for one pair of matrices (nested lists of floats), in Python floats, k in order."""
+    out = []
+    for row in a:
+        entries = []
+        for j in range(len(b[0])):
+            total = row[0] * b[0][j]
+            for k in range(1, len(b)):
+                total = total + row[k] * b[k][j]
+            entries.append(total)
+        out.append(entries)
+    return out
+
+
+def test_matmul_is_pythons_arithmetic_in_order():
+    rng = np.random.default_rng(7)
+    for shape_a, shape_b in (((50, 3, 3), (3, 3)), ((3, 3), (50, 3, 3)), ((50, 4, 4), (50, 4, 4)),
+                             ((50, 3, 3), (50, 3, 1)), ((2, 5), (5, 3))):
+        a, b = rng.normal(size=shape_a), rng.normal(size=shape_b)
+        got = matmul(a, b)
+        stack_a = np.broadcast_to(a, got.shape[:-2] + a.shape[-2:]).reshape(-1, *a.shape[-2:])
+        stack_b = np.broadcast_to(b, got.shape[:-2] + b.shape[-2:]).reshape(-1, *b.shape[-2:])
+        want = np.array([_python_product(x.tolist(), y.tolist()) for x, y in zip(stack_a, stack_b)])
+        assert got.reshape(want.shape).tobytes() == want.tobytes(), (shape_a, shape_b)
+    # three factors: left to right, as `@` chains them
+    a, b, c = (rng.normal(size=(3, 3)) for _ in range(3))
+    assert matmul(a, b, c).tobytes() == np.array(_python_product(_python_product(a.tolist(), b.tolist()),
+                                                                 c.tolist())).tobytes()
+    v = rng.normal(size=3)
+    assert matvec(a, v).tobytes() == np.array([r[0] for r in _python_product(a.tolist(),
+                                                                              [[x] for x in v])]).tobytes()
+
+
+def test_the_hosts_a_of_q_is_pythons_arithmetic_in_order():
+    """A_i(q) = Rz(q + offset) Φ_i (then M_d times it), every set: what the host writes to the
+    network, the same bits as Python's floats give."""
+    rng = np.random.default_rng(3)
+    phi = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    pre = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    q = rng.uniform(-3, 3, size=200)
+    for joint_pre in (None, pre):
+        joint = Joint(name="j", type=JointType.REVOLUTE, phi=phi, p_fixed=np.zeros(3), offset=0.25,
+                      mass=1.0, com=np.zeros(3), inertia=np.eye(3), pre=joint_pre)
+        got = joint.A(q)
+        turns = rot_z(q + 0.25)
+        want = [_python_product(t.tolist(), phi.tolist()) for t in turns]
+        if joint_pre is not None:
+            want = [_python_product(pre.tolist(), w) for w in want]
+        assert got.tobytes() == np.array(want).tobytes()
+
+
+CHILD = """
+import hashlib, json, os, sys
+import numpy as np
+from click.testing import CliRunner
+from vampc.cli import main
+os.environ["VAMPC_PROGRESS"] = "0"
+rng = np.random.default_rng(0)
+a = rng.normal(size=(200, 3, 3))
+out = {"blas": hashlib.sha256((a @ a).tobytes()).hexdigest()}
+runner = CliRunner()
+for robot in sys.argv[1:]:
+    prog = os.path.basename(robot) + ".vamp.json"
+    res = runner.invoke(main, ["compile", robot, "-o", prog], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(main, ["emulate", prog, "--random", "100", "--seed", "5", "-o", "-"],
+                        catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    out[robot] = [hashlib.sha256(open(prog, "rb").read()).hexdigest(),
+                  hashlib.sha256(res.stdout_bytes).hexdigest()]
+print(json.dumps(out))
+"""
+
+
+def _digests(tmp_path, robots, **env) -> dict:
+    folder = tmp_path / "_".join(f"{k}-{v}" for k, v in env.items()) if env else tmp_path / "default"
+    folder.mkdir()
+    child_env = {k: v for k, v in os.environ.items() if not k.startswith("OPENBLAS")}
+    child_env.update(env, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
+    done = subprocess.run([sys.executable, "-c", CHILD, *robots], cwd=folder, env=child_env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return json.loads(done.stdout.splitlines()[-1])
+
+
+def test_programs_and_torques_do_not_depend_on_the_blas_kernel(tmp_path):
+    """examples/arm6.urdf (a URDF of general <origin> turns), the quadruped (a tree: joint frames
+    `pre` and `shift`), a DH arm of general angles: the program file and 100 sets' torques, byte for
+    byte, under the default kernel and under OpenBLAS's Sandy Bridge one."""
+    dh = tmp_path / "general.yaml"
+    dh.write_text(GENERAL_DH)
+    robots = [str(EXAMPLES / "arm6.urdf"), str(EXAMPLES / "quadruped.urdf"), str(dh)]
+    default = _digests(tmp_path, robots)
+    other = _digests(tmp_path, robots, OPENBLAS_CORETYPE="Sandybridge")
+    if other["blas"] == default["blas"]:
+        pytest.skip("the BLAS kernel could not be changed here (not OpenBLAS on x86-64, or its "
+                    "kernels round these products alike)")
+    for robot in robots:
+        assert other[robot][0] == default[robot][0], f"{robot}: the program file differs"
+        assert other[robot][1] == default[robot][1], f"{robot}: the torques differ"
