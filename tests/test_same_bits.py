@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vampc.robot.chain import Joint, JointType, matmul, matvec, rot_z
+from vampc.robot.chain import Joint, JointType, matmul, matvec, rot_x, rot_z
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -70,18 +70,20 @@ def test_the_hosts_a_of_q_is_pythons_arithmetic_in_order():
     """A_i(q) = Rz(q + offset) Φ_i (then M_d times it), every set: what the host writes to the
     network, the same bits as Python's floats give."""
     rng = np.random.default_rng(3)
-    phi = np.linalg.qr(rng.normal(size=(3, 3)))[0]
     pre = np.linalg.qr(rng.normal(size=(3, 3)))[0]
     q = rng.uniform(-3, 3, size=200)
-    for joint_pre in (None, pre):
-        joint = Joint(name="j", type=JointType.REVOLUTE, phi=phi, p_fixed=np.zeros(3), offset=0.25,
-                      mass=1.0, com=np.zeros(3), inertia=np.eye(3), pre=joint_pre)
-        got = joint.A(q)
-        turns = rot_z(q + 0.25)
-        want = [_python_product(t.tolist(), phi.tolist()) for t in turns]
-        if joint_pre is not None:
-            want = [_python_product(pre.tolist(), w) for w in want]
-        assert got.tobytes() == np.array(want).tobytes()
+    q[:8] = [-0.25, -0.25 + np.pi / 2, -0.25 - np.pi, -0.0, 1e300, -1e-300, 5e-324, 0.0]
+    # a general Φ, and a DH row's Rx(0) and Rx(π/2), whose entries include -0.0 and 6e-17
+    for phi in (np.linalg.qr(rng.normal(size=(3, 3)))[0], rot_x(0.0), rot_x(np.pi / 2)):
+        for joint_pre in (None, pre):
+            joint = Joint(name="j", type=JointType.REVOLUTE, phi=phi, p_fixed=np.zeros(3), offset=0.25,
+                          mass=1.0, com=np.zeros(3), inertia=np.eye(3), pre=joint_pre)
+            got = joint.A(q)
+            turns = rot_z(q + 0.25)
+            want = [_python_product(t.tolist(), phi.tolist()) for t in turns]
+            if joint_pre is not None:
+                want = [_python_product(pre.tolist(), w) for w in want]
+            assert got.tobytes() == np.array(want).tobytes()
 
 
 CHILD = """

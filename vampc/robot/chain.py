@@ -83,10 +83,33 @@ def matmul(a, b, *more) -> np.ndarray:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     if a.ndim < 2 or b.ndim < 2 or a.shape[-1] != b.shape[-2]:
         raise VampcInternalError(f"matmul of shapes {a.shape} and {b.shape}")
-    out = a[..., :, 0, None] * b[..., None, 0, :]
-    for k in range(1, a.shape[-1]):
-        out = out + a[..., :, k, None] * b[..., None, k, :]
+    if a.ndim == 2 and b.ndim == 2:          # one pair: whole rows at once (few, small arrays)
+        out = a[:, 0, None] * b[None, 0, :]
+        for k in range(1, a.shape[-1]):
+            out = out + a[:, k, None] * b[None, k, :]
+    else:                                     # stacks: entry by entry, each a vector over the stack
+        out = np.empty(np.broadcast_shapes(a.shape[:-2], b.shape[:-2]) + (a.shape[-2], b.shape[-1]))
+        for i in range(a.shape[-2]):          # (4 times faster than broadcasting whole stacks here)
+            for j in range(b.shape[-1]):
+                entry = a[..., i, 0] * b[..., 0, j]
+                for k in range(1, a.shape[-1]):
+                    entry = entry + a[..., i, k] * b[..., k, j]
+                out[..., i, j] = entry
     return matmul(out, *more) if more else out
+
+
+def _turned(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Rz(θ) Φ for every θ: matmul(rot_z(θ), Φ), the same bits, without the stack of Rz (Rz's
+    zeros and one are written as scalars: a 100 000-set A_i(q) in a third of the time)."""
+    c, s = np.cos(theta), np.sin(theta)
+    minus_s = -s
+    out = np.empty(theta.shape + (3, 3))
+    for j in range(3):
+        p0, p1, p2 = phi[0, j], phi[1, j], phi[2, j]
+        out[..., 0, j] = (c * p0 + minus_s * p1) + 0.0 * p2
+        out[..., 1, j] = (s * p0 + c * p1) + 0.0 * p2
+        out[..., 2, j] = (0.0 * p0 + 0.0 * p1) + 1.0 * p2
+    return out
 
 
 def matvec(m, v) -> np.ndarray:
@@ -155,7 +178,7 @@ class Joint:
         if self.type is JointType.PRISMATIC:
             a = np.broadcast_to(self.phi, q.shape + (3, 3)).copy()
         else:
-            a = matmul(rot_z(q + self.offset), self.phi)
+            a = _turned(q + self.offset, self.phi)
         return a if self.pre is None else matmul(self.pre, a)
 
     def p_star(self, q) -> np.ndarray:
