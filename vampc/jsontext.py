@@ -19,7 +19,7 @@ _PLAIN = msgspec.json.Encoder()
 _SORTED = msgspec.json.Encoder(order="sorted")
 _DECODER = msgspec.json.Decoder()
 _NOT_ASCII = re.compile(rb"[\x7f-\xff]")
-_ESCAPE = re.compile("[\x7f-\U0010ffff]")
+_ESCAPE = re.compile("[^\x00-\x7e]")      # DEL and beyond ("[\x7f-\U0010ffff]" took 19 ms to compile)
 
 DecodeError = msgspec.DecodeError
 
