@@ -18,19 +18,36 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import vampc
 from vampc.robot.chain import Joint, JointType, matmul, matvec, rot_x, rot_z
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 
-# a DH arm whose every row turns about an angle with no short binary expansion, so that every entry
-# of every Φ_i and A_i(q) is a sum of inexact products
-GENERAL_DH = """name: general
-joints:
-""" + "".join(f"""  - {{name: j{k}, type: {"prismatic" if k == 3 else "revolute"}, a: {0.1 + 0.07 * k}, alpha: {0.3 + 0.41 * k},
-     d: {0.05 * k}, theta: {0.2 + 0.13 * k}, mass: {1.0 + k}, com: [0.01, {0.02 * k}, -0.03],
-     inertia: [0.02, 0.03, 0.04, 0.001, 0.002, 0.003]}}
-""" for k in range(1, 6))
+# a tree of general <origin> turns and joint axes (l1 carries two branches, j2-j3 and j4-j6), to
+# take with --floating-base: its joint frames (pre, shift), each Φ and p*, and its base body's
+# inertia are sums of inexact products
+GENERAL_TREE = """<robot name="tree">
+  <link name="base"><inertial><origin xyz="0.01 0.02 0.03" rpy="0.3 0.2 0.1"/><mass value="3"/>
+    <inertia ixx="0.1" ixy="0.01" ixz="0.002" iyy="0.12" iyz="0.003" izz="0.15"/></inertial></link>
+""" + "".join(f"""  <link name="l{k}"><inertial><origin xyz="0.05 {0.01 * k} -0.02" rpy="{0.1 * k} 0.4 0.7"/>
+    <mass value="{1 + 0.3 * k}"/><inertia ixx="0.02" ixy="0.001" ixz="0.0" iyy="0.03" iyz="0.002" izz="0.04"/>
+    </inertial></link>
+  <joint name="j{k}" type="revolute"><parent link="{"base" if k == 1 else "l1" if k == 4 else f"l{k - 1}"}"/><child link="l{k}"/>
+    <origin xyz="0.1 {0.03 * k} 0.2" rpy="{0.37 * k} {0.5 - 0.11 * k} {0.23 * k}"/>
+    <axis xyz="{0.2 * k} 1 0.3"/><limit lower="-2" upper="2" effort="50" velocity="3"/></joint>
+""" for k in range(1, 7)) + "</robot>\n"
+
+# a MuJoCo arm with turned bodies (quaternions) and joints off the body origins
+GENERAL_MJCF = """<mujoco model="arm"><option gravity="0.5 -0.3 -9.7"/><worldbody>
+<body name="a" pos="0 0 0.3" quat="0.9 0.1 0.2 0.1"><joint name="j1" type="hinge" axis="0 0.3 1" pos="0.01 0 0"/>
+ <inertial pos="0.05 0.01 0" mass="1" diaginertia="0.01 0.02 0.025" quat="0.8 0.2 0.1 0"/>
+ <body name="b" pos="0.05 0 0.1" quat="0.7 0.3 -0.2 0.4"><joint name="j2" type="hinge" axis="0.2 1 0"/>
+  <inertial pos="0.02 0 0.01" mass="0.8" diaginertia="0.01 0.015 0.02" quat="0.6 0.1 0.3 0.2"/>
+  <body name="c" pos="0.3 0.02 0" quat="0.9 -0.1 0.3 0.2"><joint name="j3" type="hinge" axis="1 0.4 0.1" pos="0 0.02 0"/>
+   <inertial pos="0.1 0 0" mass="0.5" diaginertia="0.005 0.006 0.007"/></body></body></body>
+</worldbody></mujoco>
+"""
 
 
 def _python_product(a, b) -> list:
@@ -96,9 +113,9 @@ rng = np.random.default_rng(0)
 a = rng.normal(size=(200, 3, 3))
 out = {"blas": hashlib.sha256((a @ a).tobytes()).hexdigest()}
 runner = CliRunner()
-for robot in sys.argv[1:]:
-    prog = os.path.basename(robot) + ".vamp.json"
-    res = runner.invoke(main, ["compile", robot, "-o", prog], catch_exceptions=False)
+for k, (robot, options) in enumerate(json.loads(sys.argv[1])):
+    prog = f"robot{k}.vamp.json"
+    res = runner.invoke(main, ["compile", robot, *options, "-o", prog], catch_exceptions=False)
     assert res.exit_code == 0, res.output
     res = runner.invoke(main, ["emulate", prog, "--random", "100", "--seed", "5", "-o", "-"],
                         catch_exceptions=False)
@@ -115,26 +132,37 @@ def _digests(tmp_path, robots, **env) -> dict:
     folder.mkdir()
     child_env = {k: v for k, v in os.environ.items() if not k.startswith(("OPENBLAS", "NPY_"))}
     child_env.update(env, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    done = subprocess.run([sys.executable, "-c", CHILD, *robots], cwd=folder, env=child_env,
+    done = subprocess.run([sys.executable, "-c", CHILD, json.dumps(robots)], cwd=folder, env=child_env,
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
     return json.loads(done.stdout.splitlines()[-1])
 
 
 def test_programs_and_torques_do_not_depend_on_the_blas_kernel(tmp_path):
-    """examples/arm6.urdf (a URDF of general <origin> turns), the quadruped (a tree: joint frames
-    `pre` and `shift`), a DH arm of general angles: the program file and 100 sets' torques, byte for
-    byte, under the default kernel and under OpenBLAS's Sandy Bridge one (and with NumPy's loops
-    for a CPU without AVX2)."""
-    dh = tmp_path / "general.yaml"
-    dh.write_text(GENERAL_DH)
-    robots = [str(EXAMPLES / "arm6.urdf"), str(EXAMPLES / "quadruped.urdf"), str(dh)]
+    """examples/arm6.urdf and examples/ur5.urdf (chains of general <origin> turns), a tree of such
+    turns on a floating base (joint frames pre and shift, the base body's inertia) and a MuJoCo arm
+    (where MuJoCo is installed): the program file and 100 sets' torques, byte for byte, under the
+    default kernel and under OpenBLAS's Sandy Bridge one (and with NumPy's loops for a CPU without
+    AVX2). Under the code before, every program file differed under the two kernels, and every
+    robot's torques but ur5's."""
+    tree = tmp_path / "tree.urdf"
+    tree.write_text(GENERAL_TREE)
+    robots = [(str(EXAMPLES / "arm6.urdf"), []), (str(EXAMPLES / "ur5.urdf"), []),
+              (str(tree), ["--floating-base"])]
+    try:
+        import mujoco  # noqa: F401
+        arm = tmp_path / "arm.xml"
+        arm.write_text(GENERAL_MJCF)
+        robots.append((str(arm), []))
+    except ImportError:
+        pass
+    robots = [list(r) for r in robots]
     default = _digests(tmp_path, robots)
     other = _digests(tmp_path, robots, OPENBLAS_CORETYPE="Sandybridge")
     if other["blas"] == default["blas"]:
         pytest.skip("the BLAS kernel could not be changed here (not OpenBLAS on x86-64, or its "
                     "kernels round these products alike)")
-    for robot in robots:
+    for robot, _ in robots:
         assert other[robot][0] == default[robot][0], f"{robot}: the program file differs"
         assert other[robot][1] == default[robot][1], f"{robot}: the torques differ"
     # and NumPy's own loops at their baseline instead of AVX2 (its sin, cos, sums and products
@@ -146,5 +174,49 @@ def test_programs_and_torques_do_not_depend_on_the_blas_kernel(tmp_path):
         from numpy.core._multiarray_umath import __cpu_features__
     if __cpu_features__.get("X86_V3"):
         plain = _digests(tmp_path, robots, NPY_DISABLE_CPU_FEATURES="X86_V3")
-        for robot in robots:
+        for robot, _ in robots:
             assert plain[robot] == default[robot], f"{robot}: NumPy's baseline loops differ"
+
+
+# Where NumPy's BLAS-backed products may stay in vampc's source: checks to a tolerance and robots
+# made up for tests, whose bits reach no program file, host word or torque of a robot file.
+ALLOWED = {
+    ("robot/chain.py", "m @ m.T"),            # a rotation's check, to 1e-9
+    ("robot/random.py", "rot @ np.diag"),     # random test robots
+    ("robot/urdf.py", "np.linalg.norm(np.asarray(j.axis"),   # only whether an axis is zero
+}
+BLAS_CALLS = ("np.dot(", ".dot(", "np.matmul(", "np.einsum(", "np.tensordot(", "np.inner(",
+              "np.vdot(")
+
+
+def test_no_blas_product_reaches_a_program_or_a_torque():
+    """The robot loaders, the host, the dataflow graph's constants, the emulator and the program
+    writer hold no `@` (but a decorator), np.dot, matmul, einsum or np.linalg.norm of a whole vector
+    (a BLAS dot: norm along an axis is NumPy's own sum) outside ALLOWED: what a machine's BLAS
+    kernel would round its own way. (The reference dynamics, vampc/dynamics, and `vampc
+    precision`'s bounds are checks to a tolerance and keep them.)"""
+    import io
+    import tokenize
+    root = Path(vampc.__file__).resolve().parent
+    found = []
+    for folder in ("robot", "dataflow", "emulator", "program", "network", "machine", "schedule"):
+        for path in sorted((root / folder).glob("*.py")):
+            name = f"{folder}/{path.name}"
+            text = path.read_text()
+            lines = text.splitlines()
+            at_line_start = True
+            for tok in tokenize.generate_tokens(io.StringIO(text).readline):
+                if tok.type == tokenize.OP and tok.string == "@" and not at_line_start:
+                    found.append((name, tok.start[0]))
+                at_line_start = tok.type in (tokenize.NEWLINE, tokenize.NL, tokenize.INDENT,
+                                             tokenize.DEDENT, tokenize.COMMENT)
+            for number, line in enumerate(lines, 1):
+                code = line.split("#")[0]
+                if any(call in code for call in BLAS_CALLS) or ("linalg.norm(" in code
+                                                                and "axis" not in code):
+                    found.append((name, number))
+    unexplained = [f"{name}:{number}: {(root / name).read_text().splitlines()[number - 1].strip()}"
+                   for name, number in found
+                   if not any(name == where and snippet in (root / name).read_text().splitlines()[number - 1]
+                              for where, snippet in ALLOWED)]
+    assert not unexplained, "\n".join(unexplained)

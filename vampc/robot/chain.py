@@ -83,11 +83,13 @@ def matmul(a, b, *more) -> np.ndarray:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     if a.ndim < 2 or b.ndim < 2 or a.shape[-1] != b.shape[-2]:
         raise VampcInternalError(f"matmul of shapes {a.shape} and {b.shape}")
-    if a.ndim == 2 and b.ndim == 2:          # one pair: whole rows at once (few, small arrays)
+    # two ways to the same bits, for speed: one pair at once (a call per frame of a URDF), a
+    # stack entry by entry
+    if a.ndim == 2 and b.ndim == 2:
         out = a[:, 0, None] * b[None, 0, :]
         for k in range(1, a.shape[-1]):
             out = out + a[:, k, None] * b[None, k, :]
-    else:                                     # stacks: entry by entry, each a vector over the stack
+    else:                                     # each entry a vector over the stack
         out = np.empty(np.broadcast_shapes(a.shape[:-2], b.shape[:-2]) + (a.shape[-2], b.shape[-1]))
         for i in range(a.shape[-2]):          # (4 times faster than broadcasting whole stacks here)
             for j in range(b.shape[-1]):

@@ -407,7 +407,8 @@ def _robot(model, path: Path, base: str | None = None):
         parent = int(model.body_parentid[b])
         if b in static:
             continue
-        x = matmul(shift[parent], _pose(model.body_pos[b], model.body_quat[b]))   # the body in its parent's link
+        # the body in its parent's link
+        x = matmul(shift[parent], _pose(model.body_pos[b], model.body_quat[b]))
         first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
         kinds = [int(model.jnt_type[j]) for j in range(first, first + count)]
         inertial = _inertial(model, b)
@@ -438,7 +439,8 @@ def _robot(model, path: Path, base: str | None = None):
                 if kind == "revolute" and not model.jnt_limited[j]:
                     kind = "continuous"
                 joints.append(_Joint(joint_name[j], kind, link, child,
-                                     matmul(at, _translation(c - previous)), np.array(model.jnt_axis[j], dtype=float),
+                                     matmul(at, _translation(c - previous)),
+                                     np.array(model.jnt_axis[j], dtype=float),
                                      _limit(model, j), offset=-float(model.qpos0[model.jnt_qposadr[j]]),
                                      named=bool(model.joint(j).name)))
                 at, previous, link = np.eye(4), c, child

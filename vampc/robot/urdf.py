@@ -972,10 +972,12 @@ def _base_body(tree: Tree, body_of: dict, g0: np.ndarray, frames: dict, path: Pa
         _check_mass(tree.links[name].inertial, name, path)
     parts = [tree.links[name].inertial for name in links]
     _check_inertias(np.array([p.inertia for p in parts]), links, path)
-    pose = matmul(_rigid_inverse(g0[None])[0], _placed(frames, [(name, _origin(p)) for name, p in zip(links, parts)]))
+    pose = matmul(_rigid_inverse(g0[None])[0],
+                  _placed(frames, [(name, _origin(p)) for name, p in zip(links, parts)]))
     rot = pose[:, :3, :3]
     mass, com, inertia = _sum_bodies(np.zeros(len(parts), dtype=int), 1, np.array([p.mass for p in parts]),
-                                     pose[:, :3, 3], matmul(rot, np.array([p.inertia for p in parts]), _transposed(rot)))
+                                     pose[:, :3, 3],
+                                     matmul(rot, np.array([p.inertia for p in parts]), _transposed(rot)))
     return {"floating": True, "base_mass": float(mass[0]), "base_com": com[0], "base_inertia": inertia[0]}
 
 
@@ -1089,7 +1091,7 @@ def _sum_bodies(body: np.ndarray, n: int, mass: np.ndarray, com: np.ndarray, ine
     np.add.at(first, body, mass[:, None] * com)
     centre = np.divide(first, total[:, None], out=np.zeros((n, 3)), where=total[:, None] > 0)
     d = com - centre[body]
-    square = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2]   # (einsum's order is its own)
+    square = d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2]   # (in turn, as chain.matmul)
     shift = square[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
     out = np.zeros((n, 3, 3))
     np.add.at(out, body, inertia + mass[:, None, None] * shift)
@@ -1221,7 +1223,8 @@ def _axis_rotation(axis: np.ndarray, angle) -> np.ndarray:
     """Rodrigues: rotation by `angle` about the unit vector `axis`."""
     k = _skew(axis)
     sin, versin = np.sin(angle), 1.0 - np.cos(angle)
-    return np.eye(3) + np.asarray(sin)[..., None, None] * k + np.asarray(versin)[..., None, None] * matmul(k, k)
+    return (np.eye(3) + np.asarray(sin)[..., None, None] * k
+            + np.asarray(versin)[..., None, None] * matmul(k, k))
 
 
 def _z_to(a: np.ndarray) -> np.ndarray:
