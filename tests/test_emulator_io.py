@@ -231,6 +231,27 @@ def test_a_line_the_native_reader_refuses_is_read_or_refused_as_the_slow_parser_
         assert native_got == slow_got and re.search(want, native_got), (native_got, slow_got)
 
 
+@pytest.mark.parametrize("rows, want", [
+    # an infinity, then a cell that is not a number two lines further on
+    (["0,0,inf,0,0,0", "0,0,0,0,0,0", "0,x,0,0,0,0"], r"line 3 \(state 2\), column qd1: inf is not finite"),
+    # a t that is not a number before a state that is not finite, and the other way round
+    (["nan,0,0,0,0,0,0", "1,0,0,-inf,0,0,0"], r"line 3 \(state 2\), column t: nan is not finite$"),
+    (["0,0,0,0,0,0,0", "1,0,0,1e999,0,0,0", "inf,0,0,0,0,0,0"],
+     r"line 4 \(state 3\), column qd1: inf is not finite \(written so, or a number beyond"),
+])
+def test_the_first_line_in_the_file_that_is_wrong_is_named(tmp_path, monkeypatch, rows, want):
+    """A number that is not finite and a cell further on that is not a number: the error names the
+    first in the file, as it names the first of two bad cells (the cell had been named, a file
+    being read the slow way to its end before its numbers were checked), with either reader."""
+    import re
+    header = ("t," if len(rows[0].split(",")) == 7 else "") + "q1,q2,qd1,qd2,qdd1,qdd2"
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join([header, "0,0,0,0,0,0" if not header.startswith("t") else "0,0,0,0,0,0,0",
+                                *rows]) + "\n")
+    native_got, slow_got = _read_both(path, monkeypatch)
+    assert native_got == slow_got and re.search(want, native_got), (native_got, slow_got)
+
+
 def test_lines_ended_by_cr_alone_read_as_lf(tmp_path, monkeypatch):
     rng = np.random.default_rng(4)
     body = "".join(",".join("%.17g" % x for x in row) + "\n" for row in rng.uniform(-1, 1, (30_000, 6)))

@@ -368,9 +368,7 @@ def read_accelerations(path: str, n: int, rate: float, q0, qd0, of: int | None =
         if "is 'q1'" in str(exc) or "is 'qd1'" in str(exc):     # a whole trajectory's header
             raise VampcError(f"{exc}; a path of q, qd and qdd is given as --trajectory") from None
         raise
-    _check_finite(path, qdd, columns, 2)
-    if t is not None:
-        _check_finite(path, t[:, None], ["t"], 2)
+    _check_finite(path, qdd, columns, 2, t)
     with np.errstate(over="ignore", invalid="ignore"):      # (said below, once, naming the place)
         q, qd = integrate(qdd, q0, qd0, rate)
     for name, values in (("qd", qd), ("q", q)):

@@ -63,10 +63,9 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
     except OSError as exc:
         raise VampcError(f"{path}: cannot read trajectory: {exc.strerror or exc}") from None
     line = None if numpy_file(path) else 2       # a CSV's states start on line 2
-    _check_finite(path, data, header(n, floating), line)
     if t is not None:
         t = np.asarray(t, dtype=float)
-        _check_finite(path, t[:, None], ["t"], line)
+    _check_finite(path, data, header(n, floating), line, t)
     base = data[:, 3 * n:].copy() if floating else None
     return Trajectory(data[:, :n].copy(), data[:, n:2 * n].copy(), data[:, 2 * n:3 * n].copy(), t, base)
 
@@ -253,10 +252,12 @@ def _rows(path: Path, reader):
         raise VampcError(f"{path}: line {reader.line_num}: {exc}") from None
 
 
-def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes = b"") -> list[float]:
-    """Line r's cells as numbers (VampcError naming the line and the column otherwise); `raw`, the
-    file's bytes, says whether a blank line comes of lines ended CR CR LF (read in memory: a FIFO
-    or standard input cannot be opened again, and a run hung on it, a review's find)."""
+def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes = b"",
+                finite: bool = True) -> list[float]:
+    """Line r's cells as numbers (VampcError naming the line and the column otherwise), each finite
+    unless not `finite`; `raw`, the file's bytes, says whether a blank line comes of lines ended CR
+    CR LF (read in memory: a FIFO or standard input cannot be opened again, and a run hung on it, a
+    review's find)."""
     if not "".join(row).strip():      # (a CRLF file saved again as text ends its lines \r\r\n)
         # (the CR CR LF reason only where the lines end so: it was said of every blank line)
         raise VampcError(f"{path}: line {r} is blank: blank lines can only end the table" + (
@@ -276,7 +277,9 @@ def _row_values(path: Path, row: list[str], r: int, want: list[str], raw: bytes 
         except ValueError:
             raise VampcError(f"{path}: line {r}, column {want[c]}: {shown(cell)} is not a "
                              "number") from None
-    return out
+        if finite and not math.isfinite(out[-1]):   # (said here, as _check_finite says it, so
+            raise _not_finite(path, out[-1], r - 2, want[c], 2)   # that the first bad line is
+    return out              # named: an inf, then a bad cell further on, had named the cell)
 
 
 def _refused_line(path: Path, raw: bytes, at: int, want: list[str]) -> None:
@@ -292,7 +295,10 @@ def _refused_line(path: Path, raw: bytes, at: int, want: list[str]) -> None:
     if b'"' in line or b"\r" in line or not line.isascii() or \
             not line.decode("ascii").replace(",", "").strip():
         return                        # (a blank line, commas and spaces too: the slow parser's)
-    _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want, raw)
+    # (a number that is not finite is left to the slow parser too: a line before this one that
+    # the native reader took may hold one, 1e999 read as inf, which comes first)
+    _row_values(path, line.decode("ascii").split(","), raw.count(b"\n", 0, at) + 1, want, raw,
+                finite=False)
 
 
 # The fast paths return (data, t), or None whenever the file is anything but a plain well-formed
@@ -631,17 +637,27 @@ def _place(row: int, first_line: int | None) -> str:
 
 
 def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
-                  first_line: int | None = None) -> None:
+                  first_line: int | None = None, t: np.ndarray | None = None) -> None:
     """VampcError naming the first state (from 1; with its line where the states start on
-    `first_line` of a text file) and column (by name where given) that is not finite."""
+    `first_line` of a text file) and column (by name where given) that is not finite, `t` (the
+    states' times, if given) its first column (a t not finite on line 3 had been named after a
+    state's cell on line 4)."""
+    first = []                                   # (state, column: -1 for t) of each's first
+    if t is not None and not np.isfinite(t).all():
+        first.append((int(np.flatnonzero(~np.isfinite(t))[0]), -1))
     bad = ~np.isfinite(data)
     if bad.any():
-        r, c = (int(x) for x in np.argwhere(bad)[0])
-        column = columns[c] if columns is not None and c < len(columns) else c + 1
-        where = _place(r, first_line)
-        why = (" (written so, or a number beyond float64's range, about 1.8e308)"
-               if np.isinf(data[r, c]) else "")
-        raise VampcError(f"{path}: {where}, column {column}: {data[r, c]} is not finite{why}")
+        first.append(tuple(int(x) for x in np.argwhere(bad)[0]))
+    if first:
+        r, c = min(first)
+        column = "t" if c < 0 else columns[c] if columns is not None and c < len(columns) else c + 1
+        raise _not_finite(path, t[r] if c < 0 else data[r, c], r, column, first_line)
+
+
+def _not_finite(path, value: float, row: int, column, first_line: int | None) -> VampcError:
+    """The error for state `row`'s (from 0) `value` in `column`, which is not finite."""
+    why = " (written so, or a number beyond float64's range, about 1.8e308)" if math.isinf(value) else ""
+    return VampcError(f"{path}: {_place(row, first_line)}, column {column}: {value} is not finite{why}")
 
 
 def torque_columns(names, floating: bool = False) -> list[str]:
