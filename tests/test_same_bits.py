@@ -220,3 +220,20 @@ def test_no_blas_product_reaches_a_program_or_a_torque():
                    if not any(name == where and snippet in (root / name).read_text().splitlines()[number - 1]
                               for where, snippet in ALLOWED)]
     assert not unexplained, "\n".join(unexplained)
+
+
+@pytest.mark.parametrize("locks", [("wrist_bend", "shoulder"), ("shoulder", "wrist_bend")])
+def test_locked_joints_are_kept_in_the_order_given(tmp_path, locks):
+    """The program file's robot.locked lists the --lock joints as the command line gives them: they
+    were read from a set, whose order followed PYTHONHASHSEED, so two runs of the same command
+    wrote two program files (a helper's sweep under six hash seeds)."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    prog = tmp_path / "p.vamp.json"
+    args = ["compile", str(EXAMPLES / "arm6.urdf"), "-o", str(prog)]
+    for name in locks:
+        args += ["--lock", f"{name}=0.1"]
+    res = CliRunner().invoke(main, args, catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    assert json.loads(prog.read_text())["robot"]["locked"] == list(locks)

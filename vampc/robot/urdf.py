@@ -218,7 +218,8 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               mimic_said: str | None = "<mimic>", mimic_given: bool = False,
               turn_said: str = "the turn of its <origin> (rpy)") -> Chain:
     lock = _check_lock(lock or {}, tree, path)
-    given = set(lock)               # (the user's: _lock_followers adds coupled followers' own)
+    given = dict.fromkeys(lock)     # (the user's, in their order: a set's followed the hash seed, and
+    # with two locks the program file did; _lock_followers adds coupled followers' own)
     # the joints the file names, in its order (not an MJCF weld's made-up one; the tree is turned below)
     every_joint = [name for name, j in tree.joints.items() if getattr(j, "named", True)]
     leaders, problems = _mimic_leaders(tree) if mimic == "couple" else ({}, {})
