@@ -643,8 +643,9 @@ def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
     states' times, if given) its first column (a t not finite on line 3 had been named after a
     state's cell on line 4)."""
     first = []                                   # (state, column: -1 for t) of each's first
-    if t is not None and not np.isfinite(t).all():
-        first.append((int(np.flatnonzero(~np.isfinite(t))[0]), -1))
+    bad_t = np.flatnonzero(~np.isfinite(t)) if t is not None else ()
+    if len(bad_t):
+        first.append((int(bad_t[0]), -1))
     bad = ~np.isfinite(data)
     if bad.any():
         first.append(tuple(int(x) for x in np.argwhere(bad)[0]))
@@ -656,8 +657,10 @@ def _check_finite(path, data: np.ndarray, columns: list[str] | None = None,
 
 def _not_finite(path, value: float, row: int, column, first_line: int | None) -> VampcError:
     """The error for state `row`'s (from 0) `value` in `column`, which is not finite."""
-    why = " (written so, or a number beyond float64's range, about 1.8e308)" if math.isinf(value) else ""
-    return VampcError(f"{path}: {_place(row, first_line)}, column {column}: {value} is not finite{why}")
+    why = (" (written so, or a number beyond float64's range, about 1.8e308)" if math.isinf(value)
+           else "")
+    return VampcError(f"{path}: {_place(row, first_line)}, column {column}: {value} is not "
+                      f"finite{why}")
 
 
 def torque_columns(names, floating: bool = False) -> list[str]:
