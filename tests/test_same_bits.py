@@ -10,6 +10,7 @@ second gave other program files and torques for examples/arm6.urdf."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -178,6 +179,68 @@ def test_programs_and_torques_do_not_depend_on_the_blas_kernel(tmp_path):
             assert plain[robot] == default[robot], f"{robot}: NumPy's baseline loops differ"
 
 
+PRECISION_CHILD = """
+import hashlib, json, sys
+import numpy as np
+from click.testing import CliRunner
+from vampc.cli import main
+rng = np.random.default_rng(0)
+a = rng.normal(size=(200, 3, 3))
+res = CliRunner().invoke(main, ["precision", sys.argv[1], "--format", "json", "--sets", "1",
+                                "--sweep", "19:19"], catch_exceptions=False)
+assert res.exit_code == 0, res.output
+print(json.dumps({"blas": hashlib.sha256((a @ a).tobytes()).hexdigest(), "out": res.output}))
+"""
+
+
+def test_a_precision_bound_does_not_depend_on_the_blas_kernel(tmp_path):
+    """`vampc precision`'s bound under OpenBLAS's Core2 kernel and the default one: the same bytes.
+    Its norms went through the BLAS (np.linalg.norm: a dot, LAPACK's SVD), and examples/arm6.urdf's
+    bound in q10.9 was 0.3506447868084065 under this machine's default kernel, ...066 under Core2
+    (a helper's sweep, 2026-12-07; this test fails on the code before)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OPENBLAS", "NPY_"))}
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
+    said = {}
+    for kernel in ("", "Core2"):
+        under = {**env, "OPENBLAS_CORETYPE": kernel} if kernel else env
+        done = subprocess.run([sys.executable, "-c", PRECISION_CHILD, str(EXAMPLES / "arm6.urdf")],
+                              check=False, cwd=tmp_path, capture_output=True, text=True,
+                              timeout=300, env=under)
+        assert done.returncode == 0, done.stderr[-2000:]
+        said[kernel] = json.loads(done.stdout.splitlines()[-1])
+    if said[""]["blas"] == said["Core2"]["blas"]:
+        pytest.skip("the BLAS kernel could not be changed here (not OpenBLAS on x86-64)")
+    row = json.loads(said[""]["out"])["rows"][0]
+    assert row["word"] == "q10.9" and row["bound"] > 0
+    assert said["Core2"]["out"] == said[""]["out"]
+
+
+def test_the_bounds_norms_are_lapacks_to_a_few_ulps():
+    """vampc.precision's own norms (Python floats in a fixed order) against NumPy's (the BLAS and
+    LAPACK's SVD) on random matrices of every kind the graph holds (inertias: symmetric, some with
+    two equal moments; general ones; scaled far up and down), and exactly on diagonal ones."""
+    from vampc.precision import spectral_norm, vector_norm
+    rng = np.random.default_rng(3)
+    for k in range(4000):
+        turn = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        moments = rng.uniform(0, 1, 3)
+        if k % 4 == 1:
+            moments[1] = moments[0]
+        m = (rng.normal(size=(3, 3)) if k % 4 == 0 else
+             rng.normal(size=(3, 3)) * 10.0 ** int(rng.integers(-300, 300)) if k % 4 == 3 else
+             turn * moments @ turn.T)
+        want = np.linalg.norm(m, 2)
+        assert abs(spectral_norm(m) - want) <= 8 * np.spacing(want), m
+        v = m[0]                        # (math.hypot: overflows no square, as NumPy's does)
+        assert abs(vector_norm(v) - math.hypot(*v)) <= 2 * np.spacing(math.hypot(*v)), v
+    for d in ([3.0, -5.0, 2.0], [0.1, 0.2, 0.3], [1.0, 1.0, 1.0], [0.0, 0.0, 0.0],
+              [1e-310, 0, 2e-310]):
+        assert spectral_norm(np.diag(d)) == max(abs(x) for x in d)
+    assert spectral_norm(np.full((3, 3), 1e307)) == np.linalg.norm(np.full((3, 3), 1e307), 2)
+    assert vector_norm([3.0, 4.0, 12.0]) == 13.0 and vector_norm([3e300, 4e300]) == 5e300
+    assert vector_norm([0.0, -0.0, 0.0]) == 0.0 and vector_norm([1.0, np.inf, 0.0]) == np.inf
+
+
 # Where NumPy's BLAS-backed products may stay in vampc's source: checks to a tolerance and robots
 # made up for tests, whose bits reach no program file, host word or torque of a robot file.
 ALLOWED = {
@@ -193,28 +256,31 @@ def test_no_blas_product_reaches_a_program_or_a_torque():
     """The robot loaders, the host, the dataflow graph's constants, the emulator and the program
     writer hold no `@` (but a decorator), np.dot, matmul, einsum or np.linalg.norm of a whole vector
     (a BLAS dot: norm along an axis is NumPy's own sum) outside ALLOWED: what a machine's BLAS
-    kernel would round its own way. (The reference dynamics, vampc/dynamics, and `vampc
-    precision`'s bounds are checks to a tolerance and keep them.)"""
+    kernel would round its own way; nor does `vampc precision`, whose bounds are printed and choose
+    words. (The reference dynamics, vampc/dynamics, is a check to a tolerance and keeps them.)"""
     import io
     import tokenize
     root = Path(vampc.__file__).resolve().parent
     found = []
-    for folder in ("robot", "dataflow", "emulator", "program", "network", "machine", "schedule"):
-        for path in sorted((root / folder).glob("*.py")):
-            name = f"{folder}/{path.name}"
-            text = path.read_text()
-            lines = text.splitlines()
-            at_line_start = True
-            for tok in tokenize.generate_tokens(io.StringIO(text).readline):
-                if tok.type == tokenize.OP and tok.string == "@" and not at_line_start:
-                    found.append((name, tok.start[0]))
-                at_line_start = tok.type in (tokenize.NEWLINE, tokenize.NL, tokenize.INDENT,
-                                             tokenize.DEDENT, tokenize.COMMENT)
-            for number, line in enumerate(lines, 1):
-                code = line.split("#")[0]
-                if any(call in code for call in BLAS_CALLS) or ("linalg.norm(" in code
-                                                                and "axis" not in code):
-                    found.append((name, number))
+    paths = [(f"{folder}/{path.name}", path)
+             for folder in ("robot", "dataflow", "emulator", "program", "network", "machine",
+                            "schedule")
+             for path in sorted((root / folder).glob("*.py"))]
+    paths.append(("precision.py", root / "precision.py"))     # (its bounds: printed; words by them)
+    for name, path in paths:
+        text = path.read_text()
+        lines = text.splitlines()
+        at_line_start = True
+        for tok in tokenize.generate_tokens(io.StringIO(text).readline):
+            if tok.type == tokenize.OP and tok.string == "@" and not at_line_start:
+                found.append((name, tok.start[0]))
+            at_line_start = tok.type in (tokenize.NEWLINE, tokenize.NL, tokenize.INDENT,
+                                         tokenize.DEDENT, tokenize.COMMENT)
+        for number, line in enumerate(lines, 1):
+            code = line.split("#")[0]
+            if any(call in code for call in BLAS_CALLS) or ("linalg.norm(" in code
+                                                            and "axis" not in code):
+                found.append((name, number))
     unexplained = [f"{name}:{number}: {(root / name).read_text().splitlines()[number - 1].strip()}"
                    for name, number in found
                    if not any(name == where and snippet in (root / name).read_text().splitlines()[number - 1]

@@ -145,8 +145,7 @@ def analyse(graph: Graph, chain: Chain, word, ranges: Ranges = Ranges()) -> Anal
         if nd.op is Op.CONST:
             v = np.asarray(nd.value, dtype=float)
             e = float(np.max(np.abs(word.decode(word.fresh().encode(v)) - v)))
-            norm.append(float(np.linalg.norm(v.reshape(3, 3), 2) if v.size == 9 else
-                              np.linalg.norm(v)))
+            norm.append(spectral_norm(v.reshape(3, 3)) if v.size == 9 else vector_norm(v))
             err.append((3.0 if v.size == 9 else ROOT3) * e)
             held(float(np.max(np.abs(v))) + e, nd.id)
             continue
@@ -187,7 +186,7 @@ def _input_bound(chain: Chain, key: InputKey, ranges: Ranges) -> tuple[float, fl
         return 1.0, 1.0
     if key.quantity in BASE_QUANTITIES:            # three components within ±1 (PDD0: minus g)
         g = np.asarray(chain.gravity, dtype=float) if key.quantity is Quantity.PDD0 else np.zeros(3)
-        return ROOT3 + float(np.linalg.norm(g)), 1.0 + float(np.max(np.abs(g)))
+        return ROOT3 + vector_norm(g), 1.0 + float(np.max(np.abs(g)))
     name = {Quantity.P_STAR: "q", Quantity.S_STAR: "q", Quantity.ZQD: "qd",
             Quantity.ZQDD: "qdd"}[key.quantity]
     ends = []
@@ -195,8 +194,81 @@ def _input_bound(chain: Chain, key: InputKey, ranges: Ranges) -> tuple[float, fl
         state = {n: np.zeros((1, chain.n)) for n in ("q", "qd", "qdd")}
         state[name][0, key.joint - 1] = end
         ends.append(input_value(chain, key, state["q"], state["qd"], state["qdd"]).reshape(-1))
-    return (max(float(np.linalg.norm(v)) for v in ends),
+    return (max(vector_norm(v) for v in ends),
             max(float(np.max(np.abs(v))) for v in ends))
+
+
+# The bound's norms in Python's float arithmetic, in a fixed order: np.linalg.norm's vector norm is
+# a BLAS dot and its spectral norm LAPACK's SVD, whose last bits follow the machine's BLAS kernel
+# (`vampc precision --format json` gave examples/arm6.urdf's float32 bound as 0.3506447868084065
+# under OpenBLAS's default kernel here and ...066 under its Core2 one: a helper's sweep, 2026-12-07).
+
+
+def vector_norm(v) -> float:
+    """The Euclidean norm of v: its squares summed exactly (math.fsum) and rounded once, then the
+    square root, scaled by a power of two so that no square overflows: the same bits on every
+    machine."""
+    values = np.asarray(v, dtype=float).reshape(-1).tolist()
+    largest = max((abs(x) for x in values), default=0.0)
+    if largest == 0.0 or not math.isfinite(largest):
+        return largest
+    scale = math.frexp(largest)[1]
+    return math.ldexp(math.sqrt(math.fsum(math.ldexp(x, -scale) ** 2 for x in values)), scale)
+
+
+def spectral_norm(m) -> float:
+    """The largest singular value of a 3x3 matrix: the square root of the largest eigenvalue of
+    mᵀm (its entries by math.fsum), found by cyclic Jacobi rotations in Python floats (square roots
+    and the four operations only, so the same bits on every machine; within a few ulps of LAPACK's
+    SVD, and exact for a diagonal matrix)."""
+    rows = np.asarray(m, dtype=float).reshape(3, 3).tolist()
+    largest = max(abs(x) for row in rows for x in row)
+    if not math.isfinite(largest):
+        return math.inf
+    if largest == 0.0:
+        return 0.0
+    scale = math.frexp(largest)[1]            # (by a power of two, exactly: mᵀm cannot overflow)
+    rows = [[math.ldexp(x, -scale) for x in row] for row in rows]
+    b = [[math.fsum(rows[k][i] * rows[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    return math.ldexp(math.sqrt(max(0.0, max(_jacobi_eigenvalues(b)))), scale)
+
+
+def _jacobi_eigenvalues(a: list) -> list:
+    """The eigenvalues of a symmetric 3x3 matrix (a list of rows, changed in place) by cyclic
+    Jacobi rotations (Numerical Recipes' `jacobi`): each rotation zeroes one off-diagonal entry;
+    an entry too small to change either diagonal entry it sits between is set to zero after the
+    fourth sweep; done when every off-diagonal entry is zero (some ten sweeps at most)."""
+    for sweep in range(50):
+        if a[0][1] == 0.0 and a[0][2] == 0.0 and a[1][2] == 0.0:
+            break
+        for p, q in ((0, 1), (0, 2), (1, 2)):
+            apq = a[p][q]
+            if apq == 0.0:
+                continue
+            g = 100.0 * abs(apq)
+            if sweep > 3 and abs(a[p][p]) + g == abs(a[p][p]) and abs(a[q][q]) + g == abs(a[q][q]):
+                a[p][q] = a[q][p] = 0.0
+                continue
+            h = a[q][q] - a[p][p]
+            if abs(h) + g == abs(h):
+                t = apq / h                          # (θ so large that θ² would overflow)
+            else:
+                theta = 0.5 * h / apq
+                t = 1.0 / (abs(theta) + math.sqrt(1.0 + theta * theta))
+                if theta < 0.0:
+                    t = -t
+            c = 1.0 / math.sqrt(1.0 + t * t)
+            s = t * c
+            tau = s / (1.0 + c)
+            h = t * apq
+            a[p][p] -= h
+            a[q][q] += h
+            a[p][q] = a[q][p] = 0.0
+            r = 3 - p - q                            # the third index
+            arp, arq = a[r][p], a[r][q]
+            a[r][p] = a[p][r] = arp - s * (arq + arp * tau)
+            a[r][q] = a[q][r] = arq + s * (arp - arq * tau)
+    return [a[0][0], a[1][1], a[2][2]]
 
 
 def integer_bits(peak: float, fraction: int) -> int:
