@@ -381,3 +381,59 @@ def test_a_library_caller_may_give_a_coupled_robots_independent_joints_only(tmp_
         emulate(ld, Trajectory(traj.q[:, :5], traj.qd[:, :5], traj.qdd[:, :5]))
     with pytest.raises(VampcError, match=r"qd has shape \(5, 6\); it must be \(states, 4\)"):
         emulate(ld, Trajectory(traj.q[:, free], traj.qd, traj.qdd))
+
+
+def _lever(multiplier: str) -> str:
+    """A leader turning about z, a follower about y at `multiplier` times it, and a slide."""
+    return f"""<?xml version="1.0"?>
+<robot name="lever">
+  <link name="base"/>
+  <link name="a"><inertial><origin xyz="0.2 0 0"/><mass value="2"/><inertia ixx="0.01" ixy="0.002" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <link name="b"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0.001" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="c"><inertial><origin xyz="0 0 0.1"/><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="lead" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="2"/></joint>
+  <joint name="follow" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/><limit lower="-0.1" upper="0.1" effort="10" velocity="0.1"/><mimic joint="lead" multiplier="{multiplier}" offset="0"/></joint>
+  <joint name="slide" type="prismatic"><parent link="b"/><child link="c"/><origin xyz="0.2 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_leaders_column_of_the_torque_file_is_checked_and_bounded(tmp_path, monkeypatch):
+    """A follower's error reaches its leader's column of the torque file m times. Measured here on
+    the files themselves (a word's torque file against float64's, the same 200 random states):
+    `--check` fails where that column is off by more than its tolerance, and `vampc precision`'s
+    bound (× its tau_max) is above that column's error for every word, its observed error that
+    error. Before 2026-12-07 both compared the network's joints only: q23.13 passed --check with
+    the file 0.9% off here (a new user's robot, q23.9 with it 3.8% off), and with a multiplier of -3000 the file's errors were 2.5 to 3.7 times the bound
+    (a new user's find)."""
+    import json
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "lever.urdf").write_text(_lever("-300"))
+    run = CliRunner()
+    common = ["lever.urdf", "--mimic", "couple", "--random", "200"]
+
+    def torques(*word) -> np.ndarray:
+        name = f"tau{'-'.join(word)}.csv"
+        res = run.invoke(main, ["emulate", *common, *word, "-o", name])
+        assert res.exit_code == 0, res.output
+        lines = (tmp_path / name).read_text().splitlines()
+        assert lines[0] == "tau_lead,tau_slide"
+        return np.array([[float(c) for c in line.split(",")] for line in lines[1:]])
+    exact = torques()
+    largest = float(np.abs(exact).max())
+    res = run.invoke(main, ["emulate", *common, "--word", "q23.13", "--check"])
+    error = float(np.abs(torques("--word", "q23.13") - exact).max())
+    assert error > 1e-3 * largest        # (the file's column: 0.9% of its largest |τ|; the network's
+    #                                      joints 9.3e-5 of theirs, which --check had said was OK)
+    assert res.exit_code == 1 and "FAILED" in res.output
+    assert f"{error / largest:.3e} of the largest |τ| (tau_lead in the torque file: tau_lead - " \
+           "300·tau_follow)" in res.output
+    res = run.invoke(main, ["precision", "lever.urdf", "--mimic", "couple", "--sets", "200",
+                            "--sweep", "31:35", "--format", "json"])
+    assert res.exit_code == 0, res.output
+    said = json.loads(res.stdout)
+    assert said["tau_max"] == pytest.approx(largest, rel=1e-12)
+    for row in said["rows"]:
+        error = float(np.abs(torques("--word", row["word"]) - exact).max())
+        assert row["observed"] * said["tau_max"] == pytest.approx(error, rel=1e-9), row
+        assert row["bound"] * said["tau_max"] >= error, row

@@ -560,7 +560,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
     """The check of a run in a word other than float64: per joint, then the verdict."""
     res = outcome.check
     from vampc.emulator.trajectory import torque_columns
-    names = torque_columns([j.name for j in ld.chain.joints], ld.chain.floating)
+    from vampc.robot.mimic import checked_names
+    names = checked_names(ld.chain, torque_columns([j.name for j in ld.chain.joints], ld.chain.floating))
     lines = [f"check against reference RNEA (float64), {ld.arith.name} words, per joint: max abs "
              "error, max error relative to the joint's largest |τ|, RMS error"]
     for k, name in enumerate(names):
@@ -1137,9 +1138,11 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
         traj = random_states(chain, start, min(chunk, own.sets - start), own.seed)
         return replace(traj, qdd=traj.qdd * own.acceleration)     # accelerations ±1: scaled to ±A
 
-    def reference(traj):
+    from vampc.robot.mimic import checked_bounds, checked_columns
+
+    def reference(traj):       # (coupled mimic joints: each leader's column of the file too)
         with np.errstate(all="ignore"):
-            return rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
+            return checked_columns(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
     refs = []
     scale = 0.0
     for start in starts:
@@ -1153,7 +1156,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
             refs.append((traj, ref))                    # (one chunk: kept, not computed again)
         if not start:          # the graph in float64 against the reference, on the first chunk
             with np.errstate(all="ignore"):
-                apart = np.abs(evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base) - ref)
+                apart = np.abs(checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd,
+                                                               traj.qdd, traj.base)) - ref)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
         raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the robot "
                          "has no mass): errors relative to the largest |τ| are not defined")
@@ -1188,7 +1192,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 else:
                     traj = states(start)
                     ref = reference(traj)
-                tau = evaluate(graph, chain, traj.q, traj.qd, traj.qdd, traj.base, arith=word)
+                tau = checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd, traj.qdd,
+                                                      traj.base, arith=word))
                 error = max(error, float(np.abs(tau - ref).max(initial=0.0)))
                 if k:
                     word.overflows -= consts             # (the host writes them once a run)
@@ -1196,7 +1201,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 advance(done, total)
             rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
                          "peak_at": analysis.peak_at,
-                         "bound": float(analysis.tau_error.max(initial=0.0)) / scale,
+                         "bound": float(checked_bounds(chain, analysis.tau_error, analysis.tau_max)
+                                        .max(initial=0.0)) / scale,
                          "observed": error / scale, "overflows": word.overflows})
     return precision_text(rows, own, chain, rounding, scale)
 
@@ -1257,6 +1263,9 @@ def precision_text(rows: list[dict], own, chain, rounding: str, scale: float) ->
              f"errors relative to the largest |τ| of {own.sets} random states"
              + (f" (seed {own.seed})" if own.seed else "")
              + f", {scale:.4g} (N·m or N); "
+             + ("errors and bounds of every joint of the network and of each leader's column of "
+                "the torque file (its followers' torques times their multipliers added); "
+                if chain.mimic else "")
              + states_line(states_analysed(chain, own.acceleration), chain.n),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)

@@ -320,10 +320,12 @@ def _over(x: np.ndarray, top: np.ndarray) -> np.ndarray:
 
 
 def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
-    """The per-joint errors of torques `tau` against the float64 reference RNEA."""
+    """The per-joint errors of torques `tau` against the float64 reference RNEA (with coupled mimic
+    joints, each leader's column of the torque file too: vampc.robot.mimic.checked_columns)."""
     from vampc.dynamics.reference import rnea
-    ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
-    err = np.abs(tau - ref)
+    from vampc.robot.mimic import checked_columns
+    ref = checked_columns(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
+    err = np.abs(checked_columns(chain, tau) - ref)
     top = err.max(axis=0, initial=0.0)
     return WordCheck(top, np.abs(ref).max(axis=0, initial=0.0), (_over(err, top) ** 2).sum(axis=0),
                      len(tau))
@@ -341,6 +343,9 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     if tau.shape != ref.shape:
         raise VampcError(f"check_torques: tau has shape {tau.shape}; the states' reference "
                          f"torques have {ref.shape} (states × outputs)")
+    # coupled mimic joints: each leader's column of the torque file too
+    from vampc.robot.mimic import checked_columns
+    tau, ref = checked_columns(chain, tau), checked_columns(chain, ref)
     err = np.abs(tau - ref)
     top = np.max(np.abs(ref), axis=1, keepdims=True)
     scale = np.maximum(top, CHECK_FLOOR)

@@ -87,3 +87,55 @@ def column_names(chain: Chain, prefix: str) -> list[str]:
     return [f"{prefix}{free[i]}" if i in free else
             f"{prefix} of joint '{chain.joints[i].name}' (derived from {prefix}{free[leader[i]]})"
             for i in range(chain.n)]
+
+
+def leaders(chain: Chain) -> list[int]:
+    """0-based indices of the joints some follower mimics, in joint order."""
+    return sorted({m.leader - 1 for m in chain.mimic})
+
+
+def checked_columns(chain: Chain, tau: np.ndarray) -> np.ndarray:
+    """What a check compares: the network's outputs (count, n [+ 6]), then each leader's column as
+    the torque file gives it (τ_l + Σ_f m_f τ_f, `reduce_torques`), in joint order. A follower's
+    error reaches its leader's column m_f times: compared joint by joint only, a multiplier of -300
+    left that column 3.8% of the file's largest |τ| off in q23.9 while --check said 4.4e-4, OK (a
+    new user's find)."""
+    if not chain.mimic:
+        return tau
+    tau = np.asarray(tau, dtype=float)
+    return np.hstack([tau, reduce_torques(chain, tau)[:, _leader_columns(chain)]])
+
+
+def checked_names(chain: Chain, names: list[str]) -> list[str]:
+    """The names of `checked_columns`' columns: the network's outputs' `names`, then each leader's
+    column of the torque file, named with what it adds."""
+    out = list(names)
+    for i in leaders(chain):
+        adds = " ".join(f"{'-' if m.multiplier < 0 else '+'} {abs(m.multiplier):g}·{names[m.follower - 1]}"
+                        for m in chain.mimic if m.leader - 1 == i)
+        out.append(f"{names[i]} in the torque file: {names[i]} {adds}")
+    return out
+
+
+def checked_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """Bounds on the errors of `checked_columns`' columns from the network's outputs' (`error`,
+    absolute) and their magnitudes' bounds (`size`): a leader's column errs by at most
+    e_l + Σ_f |m_f| e_f, plus the host's rounding of the sum in float64 (an ulp of its size per
+    addition)."""
+    if not chain.mimic:
+        return error
+    error, size = np.asarray(error, dtype=float), np.asarray(size, dtype=float)
+    extra = []
+    for i in leaders(chain):
+        followers = [m for m in chain.mimic if m.leader - 1 == i]
+        reach = size[i] + error[i] + sum(abs(m.multiplier) * (size[m.follower - 1] + error[m.follower - 1])
+                                         for m in followers)
+        extra.append(error[i] + sum(abs(m.multiplier) * error[m.follower - 1] for m in followers)
+                     + len(followers) * 2.0 ** -52 * reach)
+    return np.concatenate([error, extra])
+
+
+def _leader_columns(chain: Chain) -> list[int]:
+    """Where each leader's column is among reduce_torques' columns."""
+    where = {int(i): k for k, i in enumerate(free_joints(chain))}
+    return [where[i] for i in leaders(chain)]
