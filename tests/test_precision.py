@@ -202,6 +202,23 @@ def test_a_program_file_is_analysed_in_its_own_rounding(tmp_path):
     assert "Default: a fixed-point program file's own, else nearest." in helped
 
 
+def test_a_robot_whose_torques_are_all_zero_is_not_said_to_have_no_mass(tmp_path):
+    """A kilogram spinning on its own axis (its centre of mass on the axis, which is vertical, and
+    no inertia about it): every torque is zero, and the error said the robot had no mass (a new
+    user's find)."""
+    spin = tmp_path / "spin.urdf"
+    spin.write_text('<robot name="spin"><link name="base"/><link name="a"><inertial><origin '
+                    'xyz="0 0 0.3"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" '
+                    'izz="0"/></inertial></link><joint name="spin" type="revolute"><parent '
+                    'link="base"/><child link="a"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" '
+                    'effort="10" velocity="2"/></joint></robot>')
+    res = _precision(spin, "--sweep", "16:16", "--sets", "20")
+    assert res.exit_code == 1
+    assert res.stderr == (f"vampc: error: {spin}: every torque of the 20 random states is zero (the "
+                          "joints move no mass or inertia, and hold none against gravity): errors "
+                          "relative to the largest |τ| are not defined\n")
+
+
 def test_an_error_over_the_tolerance_never_prints_as_within_it():
     """q10.12's observed 1.014e-03 printed as 1.0e-03 beside a tolerance of 1e-3."""
     args = (EXAMPLES / "puma560.yaml", "--sweep", "20:26")
@@ -221,8 +238,9 @@ def test_a_massless_robot_and_the_widest_sweep_are_said_as_they_are(tmp_path):
     assert res.exit_code == 1 and res.stderr == (          # (the robot file's own warning first)
         f"vampc: warning: {massless}: every joint's link has mass 0 and inertia 0: every body is "
         "massless, so every torque is zero but for the tip's load\n"
-        f"vampc: error: {massless}: every torque of the 20 random states is zero (the robot has no "
-        "mass): errors relative to the largest |τ| are not defined\n")
+        f"vampc: error: {massless}: every torque of the 20 random states is zero (the joints move no "
+        "mass or inertia, and hold none against gravity): errors relative to the largest |τ| are "
+        "not defined\n")
     big = tmp_path / "big.yaml"
     big.write_text((EXAMPLES / "planar2.yaml").read_text().replace("a: 0.5", "a: 1e12"))
     res = _precision(big, "--sweep", "2:64", "--sets", "20")

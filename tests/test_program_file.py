@@ -681,7 +681,7 @@ def test_the_writers_runs_are_its_pieces_joined_in_order(sizes, least):
 
 
 def test_a_dh_table_named_like_a_program_says_what_it_is(tmp_path):
-    """`vampc compile arm.vamp.json` takes a DH table so named (by its .json); emulate, report and
+    """`vampc compile arm.vamp.json` took a DH table so named (by its .json); emulate, report and
     lookahead said only "format is not 'vampc-program'" (a new user's find): they say it looks like a
     DH table and how to name it."""
     import yaml
@@ -695,6 +695,13 @@ def test_a_dh_table_named_like_a_program_says_what_it_is(tmp_path):
                   "--window", "8"]):
         r = CliRunner().invoke(main, args)
         assert (r.exit_code, r.stderr) == (1, said), (args, r.output)
+    # and compile, which had compiled it (writing arm.vamp.vamp.json: a new user's find), refuses
+    # it too, writing nothing
+    r = CliRunner().invoke(main, ["compile", str(path), "-o", str(tmp_path / "out.vamp.json")])
+    assert (r.exit_code, r.stderr) == (1, f"vampc: error: {path}: named .vamp.json, it is taken for "
+                                          "a program file (as emulate, precision, report and "
+                                          "lookahead take it); a DH table in JSON is named .json\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.vamp.json"]
     renamed = tmp_path / "arm.json"                 # as the message says
     renamed.write_text(path.read_text())
     assert CliRunner().invoke(main, ["emulate", str(renamed), "--random", "2", "--check"]).exit_code == 0

@@ -1159,8 +1159,9 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 apart = np.abs(checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd,
                                                                traj.qdd, traj.base)) - ref)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
-        raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the robot "
-                         "has no mass): errors relative to the largest |τ| are not defined")
+        raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the joints "
+                         "move no mass or inertia, and hold none against gravity): errors relative to the "
+                         "largest |τ| are not defined")
     worst = float(np.nanmax(apart, initial=0.0)) if np.isfinite(apart).all() else np.inf
     if worst > GRAPH_AGREES * scale:
         # (a program file whose robot was edited, its checksum made again: the observed errors were

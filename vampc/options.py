@@ -1148,7 +1148,8 @@ class PrecisionOptions:
     tolerance: float = field(default=1e-3, metadata=cli(
         "--tolerance", type=float, metavar="X", show_default=True, help="The largest torque error "
         "allowed, relative to the largest |τ| of the random states (below 1): the narrowest word meeting it "
-        "by the analysed bound, with no possible overflow, is named."))
+        "by the analysed bound, with no possible overflow, is named (text and json: the csv is the "
+        "table alone, and refuses it)."))
     sweep: str = field(default="8:48", metadata=cli(
         "--sweep", metavar="A:B", show_default=True, help="Word widths to try, in bits (2..64): "
         "each as the qI.F with the fewest integer bits nothing can overflow in."))

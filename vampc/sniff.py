@@ -163,6 +163,11 @@ def suffix_mismatch(path, expected: str) -> str | None:
         return f"this is {DESCRIPTIONS['vcd']}, not a robot description"
     if kind == "npy":        # (a DH table's "not UTF-8 text (byte 0)", a URDF's "not well-formed")
         return f"this is {DESCRIPTIONS['npy']}, not a robot description"
+    if expected == "dh" and str(path).endswith(PROGRAM_SUFFIX):      # (is_program's test)
+        # (compile took a DH table so named, writing arm.vamp.vamp.json, where emulate, precision
+        # and report refuse it as a program file that is not one: a new user's find)
+        return ("named .vamp.json, it is taken for a program file (as emulate, precision, report "
+                "and lookahead take it); a DH table in JSON is named .json")
     if expected == "dh" and kind == "urdf":
         return "this is XML (a URDF?), not a DH table; name it .urdf to load it as a URDF"
     if expected == "dh" and kind == "yaml" and Path(path).suffix.lower() == ".json" and \
