@@ -404,8 +404,8 @@ def test_a_leaders_column_of_the_torque_file_is_checked_and_bounded(tmp_path, mo
     `--check` fails where that column is off by more than its tolerance, and `vampc precision`'s
     bound (× its tau_max) is above that column's error for every word, its observed error that
     error. Before 2026-12-07 both compared the network's joints only: q23.13 passed --check with
-    the file 0.9% off here (a new user's robot, q23.9 with it 3.8% off), and with a multiplier of -3000 the file's errors were 2.5 to 3.7 times the bound
-    (a new user's find)."""
+    the file 0.9% off here (a new user's robot, q23.9 with it 3.8% off), and with a multiplier of
+    -3000 the file's errors were 2.5 to 3.7 times the bound (a new user's find)."""
     import json
     monkeypatch.chdir(tmp_path)
     (tmp_path / "lever.urdf").write_text(_lever("-300"))
@@ -423,8 +423,9 @@ def test_a_leaders_column_of_the_torque_file_is_checked_and_bounded(tmp_path, mo
     largest = float(np.abs(exact).max())
     res = run.invoke(main, ["emulate", *common, "--word", "q23.13", "--check"])
     error = float(np.abs(torques("--word", "q23.13") - exact).max())
-    assert error > 1e-3 * largest        # (the file's column: 0.9% of its largest |τ|; the network's
-    #                                      joints 9.3e-5 of theirs, which --check had said was OK)
+    # (the file's column: 0.9% of its largest |τ|; the network's joints 9.3e-5 of theirs, which
+    # --check had said was OK)
+    assert error > 1e-3 * largest
     assert res.exit_code == 1 and "FAILED" in res.output
     assert f"{error / largest:.3e} of the largest |τ| (tau_lead in the torque file: tau_lead - " \
            "300·tau_follow)" in res.output
@@ -437,3 +438,29 @@ def test_a_leaders_column_of_the_torque_file_is_checked_and_bounded(tmp_path, mo
         error = float(np.abs(torques("--word", row["word"]) - exact).max())
         assert row["observed"] * said["tau_max"] == pytest.approx(error, rel=1e-9), row
         assert row["bound"] * said["tau_max"] >= error, row
+
+
+def test_a_float64_check_weighs_the_leaders_column_of_the_torque_file(tmp_path):
+    """float64's --check (check_torques) with coupled joints: torques whose follower is off by
+    4e-10 of each set's largest |τ| of the network's joints, within 1e-9, put the leader's column
+    of the torque file 3000 times that off: the check fails, where it passed comparing the
+    network's joints alone (reverting check_torques to them left every other test passing: a
+    review's find). The same torques on the robot read without the coupling pass."""
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import check_torques, random_trajectory
+    path = tmp_path / "lever.urdf"
+    path.write_text(_lever("-3000"))
+    for coupled, fails in (("couple", True), ("ordinary", False)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", VampcWarning)
+            chain = load_urdf(path, mimic=coupled)
+        traj = random_trajectory(chain, 50, 3)
+        ref = rnea(chain, traj.q, traj.qd, traj.qdd)
+        tau = ref.copy()
+        tau[:, 1] += 4e-10 * np.abs(ref).max(axis=1)          # the follower's column: joint 2
+        assert np.all(np.abs(tau - ref).max(axis=1) <= 1e-9 * np.abs(ref).max(axis=1))
+        check = check_torques(chain, traj, tau)
+        assert check.ok is not fails, (coupled, check)
+        if fails:
+            leader = np.abs(reduce_torques(chain, tau) - reduce_torques(chain, ref))[:, 0]
+            assert check.max_abs == pytest.approx(leader.max(), rel=1e-6)

@@ -561,7 +561,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
     res = outcome.check
     from vampc.emulator.trajectory import torque_columns
     from vampc.robot.mimic import checked_names
-    names = checked_names(ld.chain, torque_columns([j.name for j in ld.chain.joints], ld.chain.floating))
+    names = checked_names(ld.chain, torque_columns([j.name for j in ld.chain.joints],
+                                                   ld.chain.floating))
     lines = [f"check against reference RNEA (float64), {ld.arith.name} words, per joint: max abs "
              "error, max error relative to the joint's largest |τ|, RMS error"]
     for k, name in enumerate(names):
@@ -658,9 +659,12 @@ def _graph_apart(ld, sets: int = 16, also=None) -> float | None:
         traj = Trajectory(*(np.concatenate([a, b]) for a, b in
                             ((traj.q, also.q), (traj.qd, also.qd), (traj.qdd, also.qdd))),
                           None, None if traj.base is None else np.concatenate([traj.base, also.base]))
+    # (the columns --check compares: with coupled mimic joints, the leaders' of the torque file too)
+    from vampc.robot.mimic import checked_columns
     with np.errstate(all="ignore"):
-        ref = rnea(ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
-        got = evaluate(ld.graph, ld.chain, traj.q, traj.qd, traj.qdd, traj.base)
+        ref = checked_columns(ld.chain, rnea(ld.chain, traj.q, traj.qd, traj.qdd, traj.base))
+        got = checked_columns(ld.chain, evaluate(ld.graph, ld.chain, traj.q, traj.qd, traj.qdd,
+                                                 traj.base))
     whole = float(np.abs(ref).max(initial=0.0))
     if not (np.isfinite(ref).all() and np.isfinite(got).all()) or whole == 0.0:
         return None
@@ -1159,18 +1163,23 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 apart = np.abs(checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd,
                                                                traj.qdd, traj.base)) - ref)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
-        raise VampcError(f"{source}: every torque of the {own.sets} random states is zero (the joints "
-                         "move no mass or inertia, and hold none against gravity): errors relative to the "
-                         "largest |τ| are not defined")
+        raise VampcError(f"{source}: every torque of the {own.sets} random states is zero "
+                         "(the joints move no mass or inertia, and hold none against gravity): "
+                         "errors relative to the largest |τ| are not defined")
     worst = float(np.nanmax(apart, initial=0.0)) if np.isfinite(apart).all() else np.inf
     if worst > GRAPH_AGREES * scale:
         # (a program file whose robot was edited, its checksum made again: the observed errors were
         # the edit's, over the analysed bound, and said nothing)
         set_, joint = np.unravel_index(np.argmax(np.nan_to_num(apart, nan=np.inf)), apart.shape)
+        from vampc.emulator.trajectory import torque_columns
+        from vampc.robot.mimic import checked_names
+        # (past the joints: a floating base's wrench, a leader's column of the torque file, by name)
+        where = (f"joint {joint + 1}" if joint < chain.n else checked_names(chain, torque_columns(
+            [j.name for j in chain.joints], chain.floating))[joint])
         raise VampcError(f"{source}: the program's graph misses its robot's dynamics: in "
                          f"float64 its torques differ from the reference Newton-Euler's by "
-                         f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, joint "
-                         f"{joint + 1}), so the errors observed would not be the word's: "
+                         f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, "
+                         f"{where}), so the errors observed would not be the word's: "
                          f"{_graph_cause(graph, source)}")
     rows = []
     with np.errstate(over="ignore", invalid="ignore"):   # (a peak past the float range: no fit)

@@ -209,6 +209,8 @@ def vector_norm(v) -> float:
     square root, scaled by a power of two so that no square overflows: the same bits on every
     machine."""
     values = np.asarray(v, dtype=float).reshape(-1).tolist()
+    if any(math.isnan(x) for x in values):
+        return math.nan
     largest = max((abs(x) for x in values), default=0.0)
     if largest == 0.0 or not math.isfinite(largest):
         return largest
@@ -222,6 +224,8 @@ def spectral_norm(m) -> float:
     and the four operations only, so the same bits on every machine; within a few ulps of LAPACK's
     SVD, and exact for a diagonal matrix)."""
     rows = np.asarray(m, dtype=float).reshape(3, 3).tolist()
+    if any(math.isnan(x) for row in rows for x in row):
+        return math.nan                      # (max() passes a NaN by: its norm had come out 0.0)
     largest = max(abs(x) for row in rows for x in row)
     if not math.isfinite(largest):
         return math.inf

@@ -265,7 +265,8 @@ class CheckResult:
 @dataclass(frozen=True)
 class WordCheck:
     """Torques computed in a word format narrower than float64 against the float64 reference, per
-    joint (torque column) over a whole run: the largest |error|, the largest |τ| of the reference
+    joint (torque column; with coupled mimic joints, each leader's column of the torque file
+    after them: vampc.robot.mimic.checked_columns) over a whole run: the largest |error|, the largest |τ| of the reference
     (the scale of the relative error), the sum of the squared errors each over the largest squared
     (so it cannot overflow: errors of 7e300, each finite, had an RMS of inf beside them), and the
     sets compared."""

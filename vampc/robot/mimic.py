@@ -11,8 +11,9 @@ q_full = G q + b (a follower f of leader l: q_f = m_f q_l + o_f; the rest: q_i =
 
 This is d'Alembert's principle for the constrained system, and Pinocchio's rnea on a model built with
 `mimic=True` gives the same (tests/test_robot_mimic.py). A trajectory file and the torque output carry
-the independent joints only, in joint order (`free_joints`); the emulator's own check compares every
-joint of the network (followers included) with the reference.
+the independent joints only, in joint order (`free_joints`); the emulator's check compares every
+joint of the network (followers included) and each leader's column as the torque file gives it
+(`checked_columns`) with the reference's, as `vampc precision` bounds and measures them.
 """
 from __future__ import annotations
 
@@ -120,18 +121,20 @@ def checked_names(chain: Chain, names: list[str]) -> list[str]:
 def checked_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.ndarray:
     """Bounds on the errors of `checked_columns`' columns from the network's outputs' (`error`,
     absolute) and their magnitudes' bounds (`size`): a leader's column errs by at most
-    e_l + Σ_f |m_f| e_f, plus the host's rounding of the sum in float64 (an ulp of its size per
-    addition)."""
+    e_l + Σ_f |m_f| e_f, plus float64's rounding of the sum, both the host's and the reference's
+    it is measured against (a product and an addition per follower in each: half an ulp of the
+    sum's reach each, 2⁻⁵³ of it)."""
     if not chain.mimic:
         return error
     error, size = np.asarray(error, dtype=float), np.asarray(size, dtype=float)
     extra = []
     for i in leaders(chain):
         followers = [m for m in chain.mimic if m.leader - 1 == i]
-        reach = size[i] + error[i] + sum(abs(m.multiplier) * (size[m.follower - 1] + error[m.follower - 1])
+        reach = size[i] + error[i] + sum(abs(m.multiplier) * (size[m.follower - 1]
+                                                              + error[m.follower - 1])
                                          for m in followers)
         extra.append(error[i] + sum(abs(m.multiplier) * error[m.follower - 1] for m in followers)
-                     + len(followers) * 2.0 ** -52 * reach)
+                     + 4 * len(followers) * 2.0 ** -53 * reach)
     return np.concatenate([error, extra])
 
 
