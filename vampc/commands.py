@@ -560,9 +560,8 @@ def word_check_text(ld, outcome, tolerance: float, ok: bool, faulted: bool = Fal
     """The check of a run in a word other than float64: per joint, then the verdict."""
     res = outcome.check
     from vampc.emulator.trajectory import torque_columns
-    from vampc.robot.mimic import checked_names
-    names = checked_names(ld.chain, torque_columns([j.name for j in ld.chain.joints],
-                                                   ld.chain.floating))
+    from vampc.robot.mimic import free_names
+    names = torque_columns(free_names(ld.chain), ld.chain.floating)   # (the torque file's columns)
     lines = [f"check against reference RNEA (float64), {ld.arith.name} words, per joint: max abs "
              "error, max error relative to the joint's largest |τ|, RMS error"]
     for k, name in enumerate(names):
@@ -1142,11 +1141,11 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
         traj = random_states(chain, start, min(chunk, own.sets - start), own.seed)
         return replace(traj, qdd=traj.qdd * own.acceleration)     # accelerations ±1: scaled to ±A
 
-    from vampc.robot.mimic import checked_bounds, checked_columns
+    from vampc.robot.mimic import delivered_bounds, reduce_torques
 
-    def reference(traj):       # (coupled mimic joints: each leader's column of the file too)
+    def reference(traj):       # (the torque file's columns: with coupled mimic joints, reduced)
         with np.errstate(all="ignore"):
-            return checked_columns(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
+            return reduce_torques(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
     refs = []
     scale = 0.0
     for start in starts:
@@ -1160,8 +1159,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
             refs.append((traj, ref))                    # (one chunk: kept, not computed again)
         if not start:          # the graph in float64 against the reference, on the first chunk
             with np.errstate(all="ignore"):
-                apart = np.abs(checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd,
-                                                               traj.qdd, traj.base)) - ref)
+                apart = np.abs(reduce_torques(chain, evaluate(graph, chain, traj.q, traj.qd,
+                                                              traj.qdd, traj.base)) - ref)
     if scale == 0.0:          # (divided by 1e-12 instead, the errors came out as 1e10)
         raise VampcError(f"{source}: every torque of the {own.sets} random states is zero "
                          "(the joints move no mass or inertia, and hold none against gravity): "
@@ -1172,10 +1171,10 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
         # the edit's, over the analysed bound, and said nothing)
         set_, joint = np.unravel_index(np.argmax(np.nan_to_num(apart, nan=np.inf)), apart.shape)
         from vampc.emulator.trajectory import torque_columns
-        from vampc.robot.mimic import checked_names
-        # (past the joints: a floating base's wrench, a leader's column of the torque file, by name)
-        where = (f"joint {joint + 1}" if joint < chain.n else checked_names(chain, torque_columns(
-            [j.name for j in chain.joints], chain.floating))[joint])
+        from vampc.robot.mimic import free_names, n_free
+        # (a column of the torque file: past its joints a floating base's wrench, by name)
+        where = (f"joint {joint + 1}" if joint < n_free(chain) and not chain.mimic else
+                 f"column {torque_columns(free_names(chain), chain.floating)[joint]}")
         raise VampcError(f"{source}: the program's graph misses its robot's dynamics: in "
                          f"float64 its torques differ from the reference Newton-Euler's by "
                          f"{worst / scale:.1e} of the largest |τ| (random state {set_ + 1}, "
@@ -1202,8 +1201,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 else:
                     traj = states(start)
                     ref = reference(traj)
-                tau = checked_columns(chain, evaluate(graph, chain, traj.q, traj.qd, traj.qdd,
-                                                      traj.base, arith=word))
+                tau = reduce_torques(chain, evaluate(graph, chain, traj.q, traj.qd, traj.qdd,
+                                                     traj.base, arith=word))
                 error = max(error, float(np.abs(tau - ref).max(initial=0.0)))
                 if k:
                     word.overflows -= consts             # (the host writes them once a run)
@@ -1211,8 +1210,8 @@ def precision_command(source: str, own, options: CompileOptions, robot_opts: Rob
                 advance(done, total)
             rows.append({"bits": bits, "word": word.name, "peak": analysis.peak,
                          "peak_at": analysis.peak_at,
-                         "bound": float(checked_bounds(chain, analysis.tau_error, analysis.tau_max)
-                                        .max(initial=0.0)) / scale,
+                         "bound": float(delivered_bounds(chain, analysis.tau_error,
+                                                         analysis.tau_max).max(initial=0.0)) / scale,
                          "observed": error / scale, "overflows": word.overflows})
     return precision_text(rows, own, chain, rounding, scale)
 
@@ -1273,9 +1272,8 @@ def precision_text(rows: list[dict], own, chain, rounding: str, scale: float) ->
              f"errors relative to the largest |τ| of {own.sets} random states"
              + (f" (seed {own.seed})" if own.seed else "")
              + f", {scale:.4g} (N·m or N); "
-             + ("errors and bounds of every joint of the network and of each leader's column of "
-                "the torque file (its followers' torques times their multipliers added); "
-                if chain.mimic else "")
+             + ("errors and bounds of the torque file's columns (a leader's with its followers' "
+                "torques times their multipliers added); " if chain.mimic else "")
              + states_line(states_analysed(chain, own.acceleration), chain.n),
              f"{'bits':>4}  {'word':<8} {'peak':>10}  {'bound':>8}  {'observed':>8}  overflows"]
     def beside(x: float) -> str:      # (1.014e-03 printed 1.0e-03, beside a tolerance of 1e-3)

@@ -265,8 +265,8 @@ class CheckResult:
 @dataclass(frozen=True)
 class WordCheck:
     """Torques computed in a word format narrower than float64 against the float64 reference, per
-    joint (torque column; with coupled mimic joints, each leader's column of the torque file
-    after them: vampc.robot.mimic.checked_columns) over a whole run: the largest |error|, the largest |τ| of the reference
+    column of the torque file (with coupled mimic joints, the independent joints':
+    vampc.robot.mimic.reduce_torques) over a whole run: the largest |error|, the largest |τ| of the reference
     (the scale of the relative error), the sum of the squared errors each over the largest squared
     (so it cannot overflow: errors of 7e300, each finite, had an RMS of inf beside them), and the
     sets compared."""
@@ -321,12 +321,13 @@ def _over(x: np.ndarray, top: np.ndarray) -> np.ndarray:
 
 
 def word_check(chain: Chain, traj: Trajectory, tau: np.ndarray) -> WordCheck:
-    """The per-joint errors of torques `tau` against the float64 reference RNEA (with coupled mimic
-    joints, each leader's column of the torque file too: vampc.robot.mimic.checked_columns)."""
+    """The errors of torques `tau` against the float64 reference RNEA, per column of the torque file
+    (with coupled mimic joints, the independent joints' generalized forces, a leader's with its
+    followers' torques times their multipliers: vampc.robot.mimic.reduce_torques)."""
     from vampc.dynamics.reference import rnea
-    from vampc.robot.mimic import checked_columns
-    ref = checked_columns(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
-    err = np.abs(checked_columns(chain, tau) - ref)
+    from vampc.robot.mimic import reduce_torques
+    ref = reduce_torques(chain, rnea(chain, traj.q, traj.qd, traj.qdd, traj.base))
+    err = np.abs(reduce_torques(chain, tau) - ref)
     top = err.max(axis=0, initial=0.0)
     return WordCheck(top, np.abs(ref).max(axis=0, initial=0.0), (_over(err, top) ** 2).sum(axis=0),
                      len(tau))
@@ -344,13 +345,17 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     if tau.shape != ref.shape:
         raise VampcError(f"check_torques: tau has shape {tau.shape}; the states' reference "
                          f"torques have {ref.shape} (states × outputs)")
-    # coupled mimic joints: each leader's column of the torque file too
-    from vampc.robot.mimic import checked_columns
-    tau, ref = checked_columns(chain, tau), checked_columns(chain, ref)
     err = np.abs(tau - ref)
     top = np.max(np.abs(ref), axis=1, keepdims=True)
     scale = np.maximum(top, CHECK_FLOOR)
     rel = err / scale
+    if chain.mimic:      # and the torque file's columns, each set against their own largest |τ|
+        from vampc.robot.mimic import reduce_torques
+        given, want = reduce_torques(chain, tau), reduce_torques(chain, ref)
+        apart = np.abs(given - want)
+        err = np.hstack([err, apart])
+        rel = np.hstack([rel, apart / np.maximum(np.max(np.abs(want), axis=1, keepdims=True),
+                                                 CHECK_FLOOR)])
     worst = int(np.argmax(np.max(rel, axis=1))) if len(rel) else 0
     max_rel = float(rel.max()) if rel.size else 0.0
     return CheckResult(float(err.max()) if err.size else 0.0, max_rel, worst,

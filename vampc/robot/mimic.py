@@ -11,9 +11,10 @@ q_full = G q + b (a follower f of leader l: q_f = m_f q_l + o_f; the rest: q_i =
 
 This is d'Alembert's principle for the constrained system, and Pinocchio's rnea on a model built with
 `mimic=True` gives the same (tests/test_robot_mimic.py). A trajectory file and the torque output carry
-the independent joints only, in joint order (`free_joints`); the emulator's check compares every
-joint of the network (followers included) and each leader's column as the torque file gives it
-(`checked_columns`) with the reference's, as `vampc precision` bounds and measures them.
+the independent joints only, in joint order (`free_joints`). A check in a word narrower than
+float64, and `vampc precision`, measure the torque file's columns against the reference's reduced
+alike, relative to the file's largest |τ| (`delivered_bounds`); the float64 check compares every
+joint of the network too (followers included), each group against its own largest |τ|.
 """
 from __future__ import annotations
 
@@ -90,52 +91,41 @@ def column_names(chain: Chain, prefix: str) -> list[str]:
             for i in range(chain.n)]
 
 
+
 def leaders(chain: Chain) -> list[int]:
     """0-based indices of the joints some follower mimics, in joint order."""
     return sorted({m.leader - 1 for m in chain.mimic})
 
 
 def checked_columns(chain: Chain, tau: np.ndarray) -> np.ndarray:
-    """What a check compares: the network's outputs (count, n [+ 6]), then each leader's column as
-    the torque file gives it (τ_l + Σ_f m_f τ_f, `reduce_torques`), in joint order. A follower's
-    error reaches its leader's column m_f times: compared joint by joint only, a multiplier of -300
-    left that column 3.8% of the file's largest |τ| off in q23.9 while --check said 4.4e-4, OK (a
-    new user's find)."""
+    """The network's outputs (count, n [+ 6]), then each leader's column as the torque file gives
+    it (τ_l + Σ_f m_f τ_f, `reduce_torques`), in joint order: what a float64 check's edited-file
+    diagnosis compares."""
     if not chain.mimic:
         return tau
     tau = np.asarray(tau, dtype=float)
     return np.hstack([tau, reduce_torques(chain, tau)[:, _leader_columns(chain)]])
 
 
-def checked_names(chain: Chain, names: list[str]) -> list[str]:
-    """The names of `checked_columns`' columns: the network's outputs' `names`, then each leader's
-    column of the torque file, named with what it adds."""
-    out = list(names)
-    for i in leaders(chain):
-        adds = " ".join(f"{'-' if m.multiplier < 0 else '+'} {abs(m.multiplier):g}·{names[m.follower - 1]}"
-                        for m in chain.mimic if m.leader - 1 == i)
-        out.append(f"{names[i]} in the torque file: {names[i]} {adds}")
-    return out
-
-
-def checked_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.ndarray:
-    """Bounds on the errors of `checked_columns`' columns from the network's outputs' (`error`,
-    absolute) and their magnitudes' bounds (`size`): a leader's column errs by at most
-    e_l + Σ_f |m_f| e_f, plus float64's rounding of the sum, both the host's and the reference's
-    it is measured against (a product and an addition per follower in each: half an ulp of the
-    sum's reach each, 2⁻⁵³ of it)."""
+def delivered_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """Bounds on the errors of the torque file's columns (`reduce_torques`) from the network's
+    outputs' (`error`, absolute) and their magnitudes' bounds (`size`): a leader's column errs by
+    at most e_l + Σ_f |m_f| e_f, plus float64's rounding of the sum, both the host's and the
+    reference's it is measured against (a product and an addition per follower in each: half an
+    ulp of the sum's reach each, 2⁻⁵³ of it); every other column by its own output's."""
     if not chain.mimic:
         return error
     error, size = np.asarray(error, dtype=float), np.asarray(size, dtype=float)
-    extra = []
+    out = np.array(error, dtype=float)
     for i in leaders(chain):
         followers = [m for m in chain.mimic if m.leader - 1 == i]
         reach = size[i] + error[i] + sum(abs(m.multiplier) * (size[m.follower - 1]
                                                               + error[m.follower - 1])
                                          for m in followers)
-        extra.append(error[i] + sum(abs(m.multiplier) * error[m.follower - 1] for m in followers)
-                     + 4 * len(followers) * 2.0 ** -53 * reach)
-    return np.concatenate([error, extra])
+        out[i] = (error[i] + sum(abs(m.multiplier) * error[m.follower - 1] for m in followers)
+                  + 4 * len(followers) * 2.0 ** -53 * reach)
+    keep = np.r_[free_joints(chain), np.arange(chain.n, len(error))]
+    return out[keep]
 
 
 def _leader_columns(chain: Chain) -> list[int]:
