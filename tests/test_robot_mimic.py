@@ -506,3 +506,21 @@ def test_a_word_is_judged_against_the_torque_files_largest_torque(tmp_path, monk
     assert row["word"] == "q15.4" and said["tau_max"] == pytest.approx(largest, rel=1e-12)
     assert row["observed"] == pytest.approx(error / largest, rel=1e-9)
     assert row["bound"] >= row["observed"] and said["narrowest_observed"] is None
+
+
+def test_a_followers_speed_as_its_leader_drives_it_is_weighed_against_the_word(tmp_path):
+    """A follower at 300 times a leader's 2 rad/s runs at up to 600 rad/s, beyond q10.22's 512,
+    whatever its own speed limit (0.1): compile warns of it, as it warns of a joint's own speed
+    limit (it said nothing, and every run then overflowed: a new user's find). Read without the
+    coupling, the follower's own limit is within the word: no such warning."""
+    path = tmp_path / "lever.urdf"
+    path.write_text(_lever("300"))
+    for coupled, warned in (("couple", True), ("ordinary", False)):
+        res = CliRunner().invoke(main, ["compile", str(path), "--mimic", coupled, "--word", "q10.22",
+                                        "-o", str(tmp_path / f"{coupled}.vamp.json")])
+        assert res.exit_code == 0, res.output
+        said = (f"vampc: warning: {path}: joint limits beyond q10.22 words, which hold [-512, 512): "
+                "'follow' speed up to 600 as 'lead' drives it (300 × its speed limit 2); states "
+                "near them are refused")
+        assert (said in res.stderr) is warned, res.stderr
+        assert "'follow' speed limit" not in res.stderr

@@ -133,14 +133,28 @@ def _warn_limits_beyond_word(robot: str, c) -> None:
     if not hasattr(word, "beyond"):                  # float words: nothing beyond them
         return
     said = []
+    follows = {m.follower: m for m in c.chain.mimic}
     for i, j in enumerate(c.chain.joints, 1):
-        lim = j.limits
-        if lim.qd is not None and np.any(word.beyond(np.array([lim.qd, -lim.qd]))):
-            said.append(f"'{j.name}' speed limit {lim.qd:g}")
-        if j.sigma == 0 and lim.q is not None:
-            ends = np.asarray(lim.q, dtype=float)
+        lim, m = j.limits, follows.get(i)
+        qd, travel, how = lim.qd, lim.q, ""
+        if m is not None:
+            # a coupled follower moves as its leader drives it, whatever its own limits (as random
+            # states and vampc precision take it): a multiplier of 200 on a leader's 3 rad/s compiled
+            # in q10.22 without a word, and every run then overflowed (a new user's find)
+            lead = c.chain.joints[m.leader - 1]
+            qd = None if lead.limits.qd is None else abs(m.multiplier) * lead.limits.qd
+            travel = None if lead.limits.q is None else \
+                tuple(sorted(m.multiplier * x + m.offset for x in lead.limits.q))
+            how = f" as '{lead.name}' drives it"
+        if qd is not None and np.any(word.beyond(np.array([qd, -qd]))):
+            said.append(f"'{j.name}' speed limit {qd:g}" if m is None else
+                        f"'{j.name}' speed up to {qd:g}{how} ({m.multiplier:g} × its speed limit "
+                        f"{lead.limits.qd:g})")
+        if j.sigma == 0 and travel is not None:
+            ends = np.asarray(travel, dtype=float)
             if np.any(word.beyond(np.concatenate([j.p_star(ends), j.s_star(ends)]))):
-                said.append(f"'{j.name}' travel [{lim.q[0]:g}, {lim.q[1]:g}] (its p*{i}, s*{i})")
+                said.append(f"'{j.name}' travel [{travel[0]:g}, {travel[1]:g}]{how} "
+                            f"(its p*{i}, s*{i})")
     if said:
         warnings.warn(VampcWarning(
             f"{robot}: joint limits beyond {c.options.word} words, which hold [{-word.top:g}, "
