@@ -524,3 +524,29 @@ def test_a_followers_speed_as_its_leader_drives_it_is_weighed_against_the_word(t
                 "near them are refused")
         assert (said in res.stderr) is warned, res.stderr
         assert "'follow' speed limit" not in res.stderr
+
+
+def test_array_states_and_a_start_short_of_the_followers_say_why(tmp_path):
+    """A .npy or .npz trajectory, and the look-ahead's --q0, given every joint of a robot with a
+    coupled follower: the CSV's message said the program takes the independent joints only; the
+    arrays' said only the shape expected, and --q0's "one per joint" of a robot with more joints
+    (a new user's find)."""
+    path = tmp_path / "lever.urdf"
+    path.write_text(_lever("2"))
+    rows = np.zeros((4, 3))
+    np.save(tmp_path / "s.npy", np.hstack([rows, rows, rows]))
+    np.savez(tmp_path / "s.npz", q=rows, qd=rows, qdd=rows)
+    why = "the program is for 3 joints, 2 independent (coupled followers follow their leaders: " \
+          "give the independent joints' columns)"
+    for name, shape in (("s.npy", "array of shape (4, 9); expected (states, 6) or (states, 7) with "
+                                  "t first"), ("s.npz", "array q has shape (4, 3); expected (states, 2)")):
+        res = CliRunner().invoke(main, ["emulate", str(path), "--mimic", "couple", "--trajectory",
+                                        str(tmp_path / name)])
+        assert (res.exit_code, res.stderr) == (1, f"vampc: error: {tmp_path / name}: {shape}: {why}\n")
+    (tmp_path / "qdd.csv").write_text("qdd1,qdd2\n0,0\n0,0\n0,0\n")
+    res = CliRunner().invoke(main, ["lookahead", str(path), "--mimic", "couple", "--accelerations",
+                                    str(tmp_path / "qdd.csv"), "--q0", "0,0,0", "--rate", "1kHz",
+                                    "--window", "2"])
+    assert res.exit_code == 2 and res.stderr.startswith(
+        "vampc: error: --q0 '0,0,0': give 2 finite numbers, one per independent joint (of the 3, "
+        "coupled followers follow their leaders)")

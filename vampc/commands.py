@@ -1445,7 +1445,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
         from vampc.emulator.host import Trajectory
         from vampc.robot.mimic import expand, n_free
         free = la.read_accelerations(own.accelerations, n_free(ld.chain), rate,
-                                     *own.start(n_free(ld.chain)), of=ld.chain.n)
+                                     *own.start(n_free(ld.chain), ld.chain.n), of=ld.chain.n)
         traj = Trajectory(*expand(ld.chain, free.q, free.qd, free.qdd), free.t, None)
     times = la.check_path(traj, rate, source_path)
     # said once the run has gone through (an error before it stays one line); integrated from q̈,

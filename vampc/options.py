@@ -843,8 +843,9 @@ class LookaheadOptions:
                 raise VampcUsageError(f"{option} writes CSV (README, vampc lookahead): "
                                       "give a .csv file name")
 
-    def start(self, n: int) -> tuple:
-        """--q0 and --qd0 as arrays of n numbers (VampcUsageError naming a bad one)."""
+    def start(self, n: int, of: int | None = None) -> tuple:
+        """--q0 and --qd0 as arrays of n numbers (VampcUsageError naming a bad one); `of`: the
+        robot's joints, when n of them are independent (coupled mimic followers)."""
         import numpy as np
         out = []
         for name in ("q0", "qd0"):
@@ -858,7 +859,10 @@ class LookaheadOptions:
             except ValueError:
                 raise VampcUsageError(f"--{name} {text!r}: give {n} comma-separated numbers") from None
             if len(values) != n or not np.all(np.isfinite(values)):
-                raise VampcUsageError(f"--{name} {text!r}: give {n} finite numbers, one per joint")
+                each = ("one per joint" if of is None or of == n else
+                        f"one per independent joint (of the {of}, coupled followers follow their "
+                        "leaders)")
+                raise VampcUsageError(f"--{name} {text!r}: give {n} finite numbers, {each}")
             out.append(values)
         return tuple(out)
 

@@ -53,10 +53,14 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
         if str(path) != "-" and not path.is_file():
             from vampc.textio import read_whole
             source = io.BytesIO(read_whole(path, text=suffix not in (".npy", ".npz")))
-        if suffix == ".npz":
-            data, t = _read_npz(path, n, floating, source)
-        elif suffix == ".npy":
-            data, t = _read_npy(path, n, header(n, floating), source)
+        if suffix in (".npz", ".npy"):
+            try:
+                data, t = (_read_npz(path, n, floating, source) if suffix == ".npz" else
+                           _read_npy(path, n, header(n, floating), source))
+            except VampcError as exc:      # (a shape short of the followers: said why, as a CSV's)
+                if of is None or of == n or "expected (states, " not in str(exc):
+                    raise
+                raise VampcError(f"{exc}: {program_joints(n, of)}") from None
         else:
             data, t = read_table(path, header(n, floating), program_joints(n, of), floating,
                                  arrays=True, source=source)
