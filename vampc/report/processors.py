@@ -329,8 +329,8 @@ def _beyond_the_paper(chain) -> list[str]:
                    f"{', ...' if len(prismatic) > 6 else ''}: σ̄ terms)")
     if any(j.shift is not None or j.pre is not None for j in chain.joints):
         out.append("joint frames shifted or turned from their parent's (not DH)")
-    if chain.parents is not None:
-        out.append("branches (a tree)")
+    if chain.parents is not None and len(set(chain.parents)) < len(chain.parents):
+        out.append("branches (a tree)")   # (a chain in tree form, as a floating base's, has none)
     if chain.floating:
         out.append("a floating base")
     return out
