@@ -100,3 +100,41 @@ def test_another_prefix_is_sized_where_the_other_reasons_are_counts():
         m = sum(c[0] for c in counted) + (-1 if "M" in size else 0)
         a = sum(c[1] for c in counted) + int(size.split()[-2].replace("−", "-"))
         assert (m, a) == (got[0] - rep["paper"]["mults"], got[1] - rep["paper"]["adds"])
+
+
+def test_the_compile_summary_weighs_mults_and_addns_by_their_latencies(tmp_path):
+    """With 3-flop Mults and 2-flop Addns the summary said 'latency 150 flops (28 M + 33 A)', which
+    do not add up to it (a new user's find): each count is said with its latency, and they do."""
+    import re
+
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--mult-latency", "3",
+                                    "--add-latency", "2", "-o", str(tmp_path / "p.vamp.json")])
+    assert res.exit_code == 0, res.output
+    m = re.search(r"latency (\d+) flops \((\d+) M × 3 \+ (\d+) A × 2\)", res.output)
+    assert m, res.output
+    total, mults, adds = map(int, m.groups())
+    assert total == 3 * mults + 2 * adds
+    res = CliRunner().invoke(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o",
+                                    str(tmp_path / "q.vamp.json")])
+    m = re.search(r"latency (\d+) flops \((\d+) M \+ (\d+) A\)", res.output)
+    assert m and int(m[1]) == int(m[2]) + int(m[3]), res.output
+
+
+def test_a_folded_reports_ops_by_kind_are_said_to_be_ops():
+    """'VAMPs 30' and below it 'by op MTV 18, MV 24, SV 6, VA 72, VC 60', which sum to 180 (a new
+    user's find): the line says they are ops, their sum, and the VAMPs that run them."""
+    from click.testing import CliRunner
+    from conftest import EXAMPLES
+
+    from vampc.cli import main
+    out = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--layout",
+                                    "folded"]).output
+    line = next(x for x in out.splitlines() if x.startswith("  by op"))
+    assert line.endswith("MTV 18, MV 24, SV 6, VA 72, VC 60 (ops, 180 in all, run on these 30 VAMPs)")
+    out = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml")]).output
+    line = next(x for x in out.splitlines() if x.startswith("  by op"))
+    assert line.endswith("VC 60")              # (systolic: an op a VAMP, nothing to add)

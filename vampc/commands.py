@@ -195,11 +195,18 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
         leave_big(c.network)
     s = c.schedule
     say(f"{out.path}: {count(c.chain.n, 'joint')}, {c.graph.recursion} recursion, "
-        f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ({s.mults} M + "
-        f"{s.adds} A{f' + {s.waits} waiting' if s.waits else ''}), interval "
+        f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ("
+        f"{_weighted(s.mults, c.options.mult_latency, 'M')} + "
+        f"{_weighted(s.adds, c.options.add_latency, 'A')}{f' + {s.waits} waiting' if s.waits else ''}), interval "
         f"{count(s.interval, 'flop')}" + bus_note(c.network) + checking_note(c.network)
         + robot_notes(c.chain), out.is_stdout)
     return None
+
+
+def _weighted(ops: int, latency: int, kind: str) -> str:
+    """'28 M', or '28 M × 3' where an op takes more than a flop (the summary's 28 M + 33 A beside a
+    latency of 150 flops: a new user's find)."""
+    return f"{ops} {kind}" + (f" × {latency}" if latency != 1 else "")
 
 
 def checking_note(net) -> str:

@@ -112,7 +112,10 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
          # (more than the network's VAMPs on a budget: they are the busiest node's ops, an audit's)
          + (" (the busiest node's ops, one a VAMP as the paper counts them; this layout's VAMPs run "
             "several)" if sum(v["by_op"].values()) > v["total"] else "")),
-        ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())),
+        # (ops, one a slot: summed to 180 beside "VAMPs 30" of a folded layout: a new user's find)
+        ("  by op", ", ".join(f"{k} {n}" for k, n in v["by_op"].items())
+         + (f" (ops, {sum(v['by_op'].values())} in all, run on these {v['total']} VAMPs)"
+            if sum(v["by_op"].values()) != v["total"] else "")),
         *([("  unused", _unused_text(v["unused"], v["total"]))]
           if v.get("unused", {}).get("ops") else []),        # (a report's: build_report)
         *[("", note) for note in vamp_notes(rep)],
