@@ -197,7 +197,8 @@ def compile_command(robot: str, own: CompileCommand, options: CompileOptions,
     say(f"{out.path}: {count(c.chain.n, 'joint')}, {c.graph.recursion} recursion, "
         f"{count(len(c.network.vamps), 'VAMP')}, latency {count(s.latency, 'flop')} ("
         f"{_weighted(s.mults, c.options.mult_latency, 'M')} + "
-        f"{_weighted(s.adds, c.options.add_latency, 'A')}{f' + {s.waits} waiting' if s.waits else ''}), interval "
+        f"{_weighted(s.adds, c.options.add_latency, 'A')}"
+        f"{f' + {s.waits} waiting' if s.waits else ''}), interval "
         f"{count(s.interval, 'flop')}" + bus_note(c.network) + checking_note(c.network)
         + robot_notes(c.chain), out.is_stdout)
     return None

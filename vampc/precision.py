@@ -200,7 +200,7 @@ def _input_bound(chain: Chain, key: InputKey, ranges: Ranges) -> tuple[float, fl
 
 # The bound's norms in Python's float arithmetic, in a fixed order: np.linalg.norm's vector norm is
 # a BLAS dot and its spectral norm LAPACK's SVD, whose last bits follow the machine's BLAS kernel
-# (`vampc precision --format json` gave examples/arm6.urdf's float32 bound as 0.3506447868084065
+# (`vampc precision --format json` gave examples/arm6.urdf's q10.9 bound as 0.3506447868084065
 # under OpenBLAS's default kernel here and ...066 under its Core2 one: a helper's sweep, 2026-12-07).
 
 
