@@ -99,3 +99,29 @@ def test_a_cpu_reference_of_torques_past_the_float_range_is_said(tmp_path):
                         "are not finite numbers (the robot's numbers overflow a float): the times are "
                         "of that arithmetic\n"), r.stderr
     assert "CPU reference" in r.stdout
+
+
+def test_pinocchio_is_timed_only_on_the_robot_the_network_computes(tmp_path, monkeypatch):
+    """--cpu-reference built Pinocchio's model from the URDF file whatever the options: a 9-joint
+    Panda was timed beside a network of 7 (--lock), a fixed base beside a floating one, and a
+    program whose URDF was gone printed Pinocchio's C++ errors (a new user's find). Now its time is
+    left out where the model is not the network's robot, saying why."""
+    import shutil
+    pytest.importorskip("pinocchio")
+    monkeypatch.chdir(tmp_path)
+    shutil.copy(EXAMPLES / "arm6.urdf", "arm.urdf")
+
+    def reference(*args):
+        res = CliRunner().invoke(main, ["report", *args, "--cpu-reference", "--format", "json"])
+        assert res.exit_code == 0, res.output
+        return json.loads(res.stdout)["engineering"]["cpu_reference"]
+    whole = reference("arm.urdf")
+    assert "not_measured" not in whole and any("Pinocchio" in m["what"] for m in whole["measured"])
+    for args, why in ((["arm.urdf", "--lock", "wrist_bend=0"], "6 joints in the file against 5 here"),
+                      (["arm.urdf", "--floating-base"], "a floating base")):
+        got = reference(*args)
+        assert why in got["not_measured"] and not any("Pinocchio" in m["what"] for m in got["measured"])
+    assert CliRunner().invoke(main, ["compile", "arm.urdf", "-o", "arm.vamp.json"]).exit_code == 0
+    (tmp_path / "arm.urdf").unlink()
+    got = reference("arm.vamp.json")
+    assert "the URDF arm.urdf is not found from here" in got["not_measured"]

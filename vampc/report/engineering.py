@@ -108,10 +108,24 @@ def _pinocchio_model(chain):
         import pinocchio as pin
     except ImportError:
         return None, "not installed: pip install pin"
+    import os
+    if not os.path.isfile(source):     # (pin's C++ printed its own errors on stderr: a new user's find)
+        return None, (f"the URDF {source} is not found from here (a program file names the file "
+                      "it was compiled from)")
     try:
-        return pin.buildModelFromUrdf(source), ""
+        model = pin.buildModelFromUrdf(source)
     except Exception:          # pin refusing the file: the figure is left out, and said so
         return None, "it did not load this URDF"
+    # Pinocchio times the file's whole robot on a fixed base: not this chain if --lock, --tip or
+    # --base took joints out, a floating base was added, or the file is no longer the one compiled
+    # (Pinocchio's time of a 9-joint Panda was set beside a 7-joint network: a new user's find)
+    names = sorted(str(x) for x in list(model.names)[1:])
+    if chain.floating or names != sorted(j.name for j in chain.joints):
+        return None, ("Pinocchio's model of the file is not this robot: " + (
+            "a floating base" if chain.floating else
+            f"{model.nv} joints in the file against {chain.n} here, or other names (--lock, --tip "
+            "or --base, or the file changed since the program was compiled)"))
+    return model, ""
 
 
 def _machine() -> str:
