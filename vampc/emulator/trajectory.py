@@ -53,14 +53,12 @@ def read(path, n: int, floating: bool = False, of: int | None = None):
         if str(path) != "-" and not path.is_file():
             from vampc.textio import read_whole
             source = io.BytesIO(read_whole(path, text=suffix not in (".npy", ".npz")))
-        if suffix in (".npz", ".npy"):
-            try:
-                data, t = (_read_npz(path, n, floating, source) if suffix == ".npz" else
-                           _read_npy(path, n, header(n, floating), source))
-            except VampcError as exc:      # (a shape short of the followers: said why, as a CSV's)
-                if of is None or of == n or "expected (states, " not in str(exc):
-                    raise
-                raise VampcError(f"{exc}: {program_joints(n, of)}") from None
+        # (an array's width short of coupled followers: said why, as a CSV's header is)
+        why = "" if of is None or of == n else f": {program_joints(n, of)}"
+        if suffix == ".npz":
+            data, t = _read_npz(path, n, floating, source, why)
+        elif suffix == ".npy":
+            data, t = _read_npy(path, n, header(n, floating), source, why)
         else:
             data, t = read_table(path, header(n, floating), program_joints(n, of), floating,
                                  arrays=True, source=source)
@@ -451,7 +449,7 @@ def _magic(path: Path, what: str, source=None) -> None:
                          "saved, or a .csv")
 
 
-def _read_npy(path: Path, n: int, names: list[str], source=None):
+def _read_npy(path: Path, n: int, names: list[str], source=None, why: str = ""):
     width = len(names)
     _magic(path, "numpy .npy array file", source)
     _npy_fits(path, source=source)
@@ -476,12 +474,12 @@ def _read_npy(path: Path, n: int, names: list[str], source=None):
                 "(README, Trees and floating bases)" if arr.ndim == 2 and arr.shape[1] in (width + 9, width + 10)
                 else "")
         raise VampcError(f"{path}: array of shape {arr.shape}; expected (states, {width}) or "
-                         f"(states, {width + 1}) with t first{base}")
+                         f"(states, {width + 1}) with t first{base}{why}")
     arr = _as_float(path, arr, columns=(["t"] if arr.shape[1] == width + 1 else []) + names)
     return (arr[:, 1:], arr[:, 0]) if arr.shape[1] == width + 1 else (arr, None)
 
 
-def _read_npz(path: Path, n: int, floating: bool = False, source=None):
+def _read_npz(path: Path, n: int, floating: bool = False, source=None, why: str = ""):
     _magic(path, "numpy .npz archive", source)
     if source is not None:
         source.seek(0)
@@ -497,11 +495,11 @@ def _read_npz(path: Path, n: int, floating: bool = False, source=None):
         if twice:          # (numpy reads the last, zip tools the first: it ran on the last, unsaid)
             raise VampcError(f"{path}: the archive holds {twice[0]!r} more than once (which is the "
                              "array?); save it again with numpy.savez")
-        return _npz_arrays(path, z, n, floating)
+        return _npz_arrays(path, z, n, floating, why)
 
 
-def _npz_arrays(path: Path, z, n: int, floating: bool):
-    """(data, t) from an open .npz archive."""
+def _npz_arrays(path: Path, z, n: int, floating: bool, why: str = ""):
+    """(data, t) from an open .npz archive (`why`: what a width short of n says, if anything)."""
     missing = [k for k in ("q", "qd", "qdd") if k not in z.files]
     if missing:
         raise VampcError(f"{path}: missing arrays {missing} (need q, qd, qdd; optional t)")
@@ -520,7 +518,7 @@ def _npz_arrays(path: Path, z, n: int, floating: bool):
         if p.shape == (0, n):            # (said as a shape alone, a review's find)
             raise VampcError(f"{path}: array {k} holds no states (shape {p.shape})")
         if p.ndim != 2 or p.shape != (parts[0].shape[0], n) or p.shape[0] == 0:
-            raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n})")
+            raise VampcError(f"{path}: array {k} has shape {p.shape}; expected (states, {n}){why}")
     if t is not None and t.shape != (parts[0].shape[0],):
         raise VampcError(f"{path}: array t has shape {t.shape}; expected ({parts[0].shape[0]},)")
     if floating:

@@ -77,8 +77,13 @@ def reduce_torques(chain: Chain, tau: np.ndarray) -> np.ndarray:
     tau = np.array(tau, dtype=float)
     for m in chain.mimic:
         tau[:, m.leader - 1] += m.multiplier * tau[:, m.follower - 1]
-    keep = np.r_[free_joints(chain), np.arange(chain.n, tau.shape[1])]
-    return tau[:, keep]
+    return tau[:, _file_columns(chain, tau.shape[1])]
+
+
+def _file_columns(chain: Chain, width: int) -> np.ndarray:
+    """Which of `width` network outputs are the torque file's columns: the independent joints'
+    (their generalized forces), then a floating base's wrench."""
+    return np.r_[free_joints(chain), np.arange(chain.n, width)]
 
 
 def column_names(chain: Chain, prefix: str) -> list[str]:
@@ -91,20 +96,18 @@ def column_names(chain: Chain, prefix: str) -> list[str]:
             for i in range(chain.n)]
 
 
-
 def leaders(chain: Chain) -> list[int]:
     """0-based indices of the joints some follower mimics, in joint order."""
     return sorted({m.leader - 1 for m in chain.mimic})
 
 
 def checked_columns(chain: Chain, tau: np.ndarray) -> np.ndarray:
-    """The network's outputs (count, n [+ 6]), then each leader's column as the torque file gives
-    it (τ_l + Σ_f m_f τ_f, `reduce_torques`), in joint order: what a float64 check's edited-file
-    diagnosis compares."""
+    """The network's outputs (count, n [+ 6]), then the torque file's columns (`reduce_torques`: a
+    leader's τ_l + Σ_f m_f τ_f, the others the network's own again): what a float64 check's
+    edited-file diagnosis compares."""
     if not chain.mimic:
         return tau
-    tau = np.asarray(tau, dtype=float)
-    return np.hstack([tau, reduce_torques(chain, tau)[:, _leader_columns(chain)]])
+    return np.hstack([tau, reduce_torques(chain, tau)])
 
 
 def delivered_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.ndarray:
@@ -124,11 +127,4 @@ def delivered_bounds(chain: Chain, error: np.ndarray, size: np.ndarray) -> np.nd
                                          for m in followers)
         out[i] = (error[i] + sum(abs(m.multiplier) * error[m.follower - 1] for m in followers)
                   + 4 * len(followers) * 2.0 ** -53 * reach)
-    keep = np.r_[free_joints(chain), np.arange(chain.n, len(error))]
-    return out[keep]
-
-
-def _leader_columns(chain: Chain) -> list[int]:
-    """Where each leader's column is among reduce_torques' columns."""
-    where = {int(i): k for k, i in enumerate(free_joints(chain))}
-    return [where[i] for i in leaders(chain)]
+    return out[_file_columns(chain, len(error))]
