@@ -361,15 +361,52 @@ def test_two_free_bodies_are_refused(tmp_path):
                  r"or --base b_trunk --floating-base\)")
     chain = load_robot(path, base="b_trunk", floating=True)
     assert chain.n == 12 and chain.joints[0].name.startswith("b_")
-    # a hinged body and a free one on the world, neither with joints below its own: no --base helps
-    # (the advice had been --base BODY --floating-base, which then failed either way: a new user's find)
+    # two free bodies, neither with joints below its own: no --base helps (the advice had been
+    # --base BODY --floating-base, which then failed either way: a new user's find)
     alone = tmp_path / "alone.xml"
-    alone.write_text('<mujoco model="m"><worldbody><body name="a"><joint name="h"/><geom type="sphere" '
+    alone.write_text('<mujoco model="m"><worldbody><body name="a"><freejoint/><geom type="sphere" '
                      'size="0.1"/></body><body name="b"><freejoint/><geom type="sphere" size="0.1"/>'
                      "</body></worldbody></mujoco>")
-    assert_error(lambda: load_robot(alone), alone, r"body 'b': .* one robot per file \(none has joints "
+    assert_error(lambda: load_robot(alone), alone, r"body 'a': .* one robot per file \(none has joints "
                                                    r"below its own for --base to keep: give each its own "
                                                    r"file\)")
+
+
+def test_an_arm_hinged_to_the_world_beside_free_bodies_is_taken_whole_with_base_world(tmp_path):
+    """A scene: an arm whose first hinge is on a body the world carries, beside a free cube (and a
+    free quadruped). Refused as one robot per file, the advice had been --base shoulder, which cut
+    the arm's first joint away (a new user's find), and --base world was refused too (a floating
+    joint below the root). Now the advice is --base world, which keeps the whole arm on a fixed
+    base and leaves the free bodies out, saying so: its torques are Pinocchio's on the arm alone."""
+    cube = ('<body name="cube" pos="0.5 0 0.05"><freejoint name="cube_free"/>'
+            '<geom type="box" size="0.02 0.02 0.02"/></body>')
+    dog = QUADRUPED.split("<worldbody>")[1].split("</worldbody>")[0]
+    alone, scene, kennel = tmp_path / "arm.xml", tmp_path / "scene.xml", tmp_path / "kennel.xml"
+    alone.write_text(ARM)
+    scene.write_text(ARM.replace("</worldbody>", cube + "</worldbody>"))
+    kennel.write_text(ARM.replace("</worldbody>", cube + dog + "</worldbody>"))
+    assert_error(lambda: load_robot(scene), scene,
+                 r"body 'cube': has a free joint \(a floating base\) but the world also carries 'shoulder' "
+                 r"with joints of its own: one robot per file \(choose one with --base world for "
+                 r"'shoulder' on a fixed base, the free body left out\)")
+    assert_error(lambda: load_robot(kennel), kennel,
+                 r"body 'cube': .* the world also carries 'trunk', 'shoulder' with joints of its own: one "
+                 r"robot per file \(choose one with --base world for 'shoulder' on a fixed base, the free "
+                 r"bodies left out or --base trunk --floating-base\)")
+    from vampc.dynamics.reference import rnea
+    from vampc.emulator.host import random_trajectory
+    for path, left in ((scene, r"'cube' on a free joint floats apart from the bodies hinged to the "
+                                r"world and is left out"),
+                       (kennel, r"'cube', 'trunk' on free joints float apart from the bodies hinged to "
+                                r"the world and are left out")):
+        with pytest.warns(VampcWarning, match=f"{path}: --base world: {left}"):
+            chain = load_robot(path, base="world")
+        assert not chain.floating and [j.name for j in chain.joints] == ["j1", "j2", "j3", "j4", "j5", "j6"]
+        traj = random_trajectory(chain, 4, 2)
+        want = pin_reference(alone, chain, traj)
+        assert np.max(np.abs(rnea(chain, traj.q, traj.qd, traj.qdd) - want)) <= 1e-9 * np.max(np.abs(want))
+    dogs = load_robot(kennel, base="trunk", floating=True)
+    assert dogs.floating and dogs.n == 12
 
 
 def test_a_model_without_a_name_is_named_after_its_file(tmp_path):

@@ -399,7 +399,7 @@ def _robot(model, path: Path, base: str | None = None):
     body_name = [model.body(b).name or links_taken.new(f"body{b}") for b in range(model.nbody)]
     joint_name = [model.joint(j).name or joints_taken.new(f"joint{j}") for j in range(model.njnt)]
     _refuse(model, path, joint_name, mujoco)
-    static = _static_beside_free(model, path, body_name) if base is None else set()
+    static = _static_beside_free(model, path, body_name, base)
     links = [_Link(body_name[0], None)]
     joints = []
     shift = {0: np.eye(4)}          # each body's own link frame from the body frame: T(-c_k)
@@ -477,26 +477,40 @@ class _Names:
         return name
 
 
-def _static_beside_free(model, path: Path, body_name: list) -> set:
+def _static_beside_free(model, path: Path, body_name: list, base: str | None) -> set:
     """Bodies to leave out: when the world carries one body on a free joint (the floating base) and
     other subtrees without any joint (a table, a floor: they move with nothing the network computes),
-    those subtrees. Two free bodies, or a free body beside a jointed one, are refused: one robot."""
+    those subtrees; with --base world, the subtrees on free joints beside bodies hinged to the world
+    (a cube beside a fixed arm: it floats apart from the robot). Otherwise two free bodies, or a
+    free body beside a jointed one, are refused: one robot."""
     children = [b for b in range(1, model.nbody) if int(model.body_parentid[b]) == 0]
     free = [b for b in children if int(model.body_jntnum[b]) and int(model.jnt_type[model.body_jntadr[b]]) == FREE]
     if not free or len(children) == 1:
         return set()
     root = np.array([int(model.body_rootid[b]) for b in range(model.nbody)])
     moving = [b for b in children if b not in free and np.any(model.body_jntnum[root == b])]
+    world = body_name[0]
+    if base == world and moving:
+        names = ", ".join(repr(body_name[b]) for b in free)
+        warnings.warn(VampcWarning(
+            f"{path}: --base {world}: {names} on {'a free joint' if len(free) == 1 else 'free joints'} "
+            f"float{'s' if len(free) == 1 else ''} apart from the bodies hinged to the world and "
+            f"{'is' if len(free) == 1 else 'are'} left out"), stacklevel=4)
+        return {b for b in range(1, model.nbody) if root[b] in free}
+    if base is not None:
+        return set()
     if len(free) > 1 or moving:
         others = [body_name[b] for b in free[1:] + moving]
-        # the advice names only bodies --base can take: one with joints below its own (a body on a
-        # hinge to the world, --base cuts that hinge away; the suggestion had failed so)
-        below = [b for b in free + moving if any(model.body_jntnum[d] for d in range(1, model.nbody)
-                                                 if root[d] == b and d != b)]
-        how = ("choose one with " + " or ".join(f"--base {body_name[b]}"
-                                               + (" --floating-base" if b in free else "")
-                                               for b in below)
-               if below else "none has joints below its own for --base to keep: give each its own file")
+        # the advice names only what --base can take whole: the world, for bodies hinged to it (a
+        # body on a hinge to the world as --base cuts that hinge away: a new user's arm lost its
+        # first joint so), and a free body with joints below its own
+        below = [b for b in free if any(model.body_jntnum[d] for d in range(1, model.nbody)
+                                        if root[d] == b and d != b)]
+        ways = ([f"--base {world} for {', '.join(repr(body_name[b]) for b in moving)} on a fixed base, "
+                 f"the free {'body' if len(free) == 1 else 'bodies'} left out"] if moving else []) \
+            + [f"--base {body_name[b]} --floating-base" for b in below]
+        how = ("choose one with " + " or ".join(ways) if ways
+               else "none has joints below its own for --base to keep: give each its own file")
         raise located(path, _named(model, "body", free[0], body_name), f"has a free joint (a floating base) but the "
                       f"world also carries {', '.join(repr(n) for n in others)} with joints of its own: "
                       f"one robot per file ({how})")
