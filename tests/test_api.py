@@ -168,6 +168,54 @@ def test_check_torques_refuses_torques_of_another_shape_and_names_the_words_tole
     assert "check_tolerance" in vampc.check_torques.__doc__
 
 
+@pytest.mark.parametrize("tol, words", [(0, "0: give a positive"), (-1, "-1: give a positive"),
+                                        (float("nan"), "nan: give a positive"),
+                                        (2, "2: give an error below 1"), ("1e-3", "give a number"),
+                                        (True, "give a number")])
+def test_check_torques_refuses_a_tolerance_the_command_line_refuses(tol, words):
+    """0, -1 and NaN had failed every check, 2 passed torques 1.5 times the reference's, unsaid,
+    where `--tolerance` refuses them all (a new user's find)."""
+    chain, ld = _puma_loaded()
+    traj = vampc.random_trajectory(chain, 3, 0)
+    tau = vampc.emulate(ld, traj).tau
+    assert not vampc.check_torques(chain, traj, 2.5 * tau, 0.9).ok
+    with pytest.raises(vampc.VampcUsageError, match=re.escape(words)) as exc:
+        vampc.check_torques(chain, traj, 2.5 * tau, tol)
+    assert str(exc.value).startswith("check_torques: tol ")
+
+
+def test_a_trajectory_read_in_python_is_held_to_the_joint_limits_as_the_command_lines(tmp_path):
+    """`vampc.read_trajectory` makes a Trajectory "as --trajectory does", but ran a state outside the
+    joint limits that `vampc emulate --trajectory` refuses (a new user's find): now refused the
+    same way, unless allow_out_of_limits; `vampc.check_limits` checks one made in Python."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    chain, ld = _puma_loaded()
+    traj = vampc.random_trajectory(chain, 3, 0)
+    q = traj.q.copy()
+    q[1, 0] = 100.0                   # the waist, limits ±2.79 rad
+    path = tmp_path / "far.csv"
+    n = chain.n
+    header = ",".join([f"q{i}" for i in range(1, n + 1)] + [f"qd{i}" for i in range(1, n + 1)]
+                      + [f"qdd{i}" for i in range(1, n + 1)])
+    np.savetxt(path, np.hstack([q, traj.qd, traj.qdd]), delimiter=",", header=header, comments="",
+               fmt="%.17g")
+    said = CliRunner().invoke(main, ["emulate", str(PUMA), "--trajectory", str(path)]).output
+    assert "line 3 (state 2): joint 1 (waist) is outside its limits" in said
+    with pytest.raises(vampc.VampcError, match=re.escape(f"{path}: line 3 (state 2): joint 1 (waist) "
+                                                         "is outside its limits")) as exc:
+        vampc.read_trajectory(path, chain)
+    assert str(exc.value).endswith("give allow_out_of_limits=True to run anyway")
+    far = vampc.read_trajectory(path, chain, allow_out_of_limits=True)
+    assert far.q[1, 0] == 100.0
+    tau = vampc.emulate(ld, far).tau
+    assert vampc.check_torques(chain, far, tau).ok
+    with pytest.raises(vampc.VampcError, match=re.escape("check_limits: state 2: joint 1 (waist)")):
+        vampc.check_limits(chain, vampc.Trajectory(q, traj.qd, traj.qdd))
+    vampc.check_limits(chain, traj)
+
+
 @pytest.mark.parametrize("options, words", [
     (dict(prefix="kogge-stone"), "--prefix applies to the log recursion only"),
     (dict(uniform_leaves=True), "--uniform-leaves applies to the log recursion only"),

@@ -437,3 +437,21 @@ def test_swapped_matrix_columns_are_refused_by_every_command(log_program, tmp_pa
     assert not (tmp_path / "r.jsonl").exists()
     code, err = run("report", edited)
     assert code == 1 and "(the file was edited)" in err, err
+
+
+def test_a_figure_gone_from_the_stored_summary_is_said_as_an_edit(tmp_path):
+    """A float32 program's stored summary without its word figures was reported with no word,
+    where one with a changed figure is called edited (a new user's find); a figure the compiler
+    writes for the program and the file lacks is an edit too."""
+    from program_util import reported_with_summary
+    program = tmp_path / "p.vamp.json"
+    assert run("compile", EXAMPLES / "planar2.yaml", "--word", "float32", "-o", program)[0] == 0
+    doc = json.loads(program.read_text())
+    r = reported_with_summary(json.loads(json.dumps(doc)), tmp_path)
+    assert "stored summary" not in r.stderr
+    for key in ("word", "buffers"):
+        edited = json.loads(json.dumps(doc))
+        del edited["summary"][key]
+        r = reported_with_summary(edited, tmp_path)
+        assert (f"the stored summary disagrees with the file's graph, schedule and network ({key} "
+                "missing): the file was edited") in r.stderr, r.stderr

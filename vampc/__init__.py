@@ -46,6 +46,7 @@ _API = {
     "emulate": "vampc.emulator", "load_program": "vampc.emulator",
     "loaded_from_doc": "vampc.emulator", "loaded_from_compiled": "vampc.emulator", "random_trajectory": "vampc.emulator.host",
     "read_trajectory": "vampc.emulator.host", "check_torques": "vampc.emulator.host",
+    "check_limits": "vampc.emulator.host",
     "VampcError": "vampc.errors", "VampcUsageError": "vampc.errors", "VampcWarning": "vampc.errors",
     "Trajectory": "vampc.emulator.host", "CheckResult": "vampc.emulator.host",
     "Emulation": "vampc.emulator", "Loaded": "vampc.emulator.load", "Compiled": "vampc.compiler",

@@ -337,6 +337,10 @@ def program_compiled(source: str, given, params: dict):
     fresh = jsontext.loads(jsontext.dumps(summary(c)))
     edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v
                     and not _counted_before(k, v, c))
+    # a figure the compiler writes for this program gone from the stored summary is an edit too (a
+    # float32 program's summary without its word went unsaid, and so did a float64 program whose
+    # options.word was edited: a new user's find)
+    edited += sorted(f"{k} missing" for k in fresh if k not in doc.summary)
     if edited:
         warnings.warn(VampcWarning(f"{source}: the stored summary disagrees with the file's graph, "
                                    f"schedule and network ({', '.join(edited)}): the file was "
@@ -412,7 +416,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     from vampc import progress
     from vampc.emulator.driver import States, run
     from vampc.emulator.faults import parse_fault
-    from vampc.emulator.host import check_limits, check_word_range, read_trajectory
+    from vampc.emulator.host import check_word_range, read_trajectory
     from vampc.outputs import CSV_TABLE, plan_outputs
     begun = time.perf_counter()
     own.check()
@@ -440,9 +444,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                                    "bits), not every bit of the words (--vcd-as word writes them all)"), stacklevel=1)
     traj = None
     if own.trajectory:
-        traj = read_trajectory(own.trajectory, ld.chain)
-        if not own.allow_out_of_limits:
-            check_limits(ld.chain, traj, own.trajectory)
+        traj = read_trajectory(own.trajectory, ld.chain, own.allow_out_of_limits)
         if "overflow" not in options.given:
             check_word_range(ld.arith, traj, own.trajectory, ld.chain, keys=ld.graph.input_keys())
         states = States(traj.count, traj, source=own.trajectory)
@@ -1448,7 +1450,7 @@ def lookahead_command(source: str, own, options: CompileOptions, robot_opts: Rob
             raise VampcError(f"{own.limits or source}: {exc}") from None
     source_path = own.trajectory or own.accelerations
     if own.trajectory is not None:
-        traj = read_trajectory(own.trajectory, ld.chain)
+        traj = read_trajectory(own.trajectory, ld.chain, allow_out_of_limits=True)
     else:                             # q and q̇ integrated from q̈ (vampc.lookahead.integrate)
         from vampc.emulator.host import Trajectory
         from vampc.robot.mimic import expand, n_free

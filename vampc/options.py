@@ -46,13 +46,13 @@ def check_positive(option: str, value: float) -> None:
             " (a number above about 1.8e308 also reads as inf)" if value == math.inf else ""))
 
 
-def check_tolerance(value: float) -> None:
-    """VampcUsageError unless --tolerance is a positive number below 1: an error relative to the
-    largest |τ|, and one of 1 or more lets any torque of the right size pass (emulate and precision
-    had taken 5, lookahead refused it: an options audit's find)."""
-    check_positive("--tolerance", value)
+def check_tolerance(value: float, option: str = "--tolerance") -> None:
+    """VampcUsageError unless --tolerance (`option`) is a positive number below 1: an error relative
+    to the largest |τ|, and one of 1 or more lets any torque of the right size pass (emulate and
+    precision had taken 5, lookahead refused it: an options audit's find)."""
+    check_positive(option, value)
     if value >= 1:
-        raise VampcUsageError(f"--tolerance {value:g}: give an error below 1 (of the largest |τ|)")
+        raise VampcUsageError(f"{option} {value:g}: give an error below 1 (of the largest |τ|)")
 
 
 def flag(name: str) -> str:

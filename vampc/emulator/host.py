@@ -10,7 +10,7 @@ import numpy as np
 
 from vampc.dataflow.host import input_value
 from vampc.emulator.load import Loaded
-from vampc.errors import VampcError
+from vampc.errors import VampcError, VampcUsageError
 from vampc.robot.chain import Chain
 from vampc.textio import apart
 
@@ -136,24 +136,33 @@ def random_trajectory(chain: Chain, count: int, seed: int) -> Trajectory:
     return random_states(chain, 0, States.random(count, seed).count, seed)
 
 
-def read_trajectory(path: str | Path, chain: Chain) -> Trajectory:
+def read_trajectory(path: str | Path, chain: Chain, allow_out_of_limits: bool = False) -> Trajectory:
     """A trajectory from CSV (header q1..qn,qd1..qdn,qdd1..qddn, a floating base's 9 columns, optional
     leading t), .npy or .npz. With coupled mimic joints the file gives the independent joints only
-    (vampc.robot.mimic), and the followers' states are derived from their leaders'."""
+    (vampc.robot.mimic), and the followers' states are derived from their leaders'. States outside
+    the joint limits (position and speed) are refused, as `--trajectory` refuses them, unless
+    `allow_out_of_limits` (`--allow-out-of-limits`: the API's had been run unchecked, a new user's
+    find)."""
     from vampc.emulator.trajectory import read
     from vampc.robot.mimic import expand, n_free
     traj = read(path, n_free(chain), chain.floating, chain.n)
-    if not chain.mimic:
-        return traj
-    return Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
+    if chain.mimic:
+        traj = Trajectory(*expand(chain, traj.q, traj.qd, traj.qdd), traj.t, traj.base)
+    if not allow_out_of_limits:
+        check_limits(chain, traj, str(path), how="give allow_out_of_limits=True to run anyway")
+    return traj
 
 
-def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
-                 integrated: bool = False) -> None:
+def check_limits(chain: Chain, traj: Trajectory, path: str | None = None, speeds: bool = True,
+                 integrated: bool = False, how: str | None = None) -> None:
     """Refuse states outside the joint limits (position, and speed unless `speeds` is off), naming
     the row and joint (a coupled follower's by the leader column it is derived from). `integrated`:
     the states are q̈'s of `path` integrated from --q0 and --qd0 (the first state's position is
-    --q0's, the others' come of the integration: a look-ahead audit found --q0's blamed on the file)."""
+    --q0's, the others' come of the integration: a look-ahead audit found --q0's blamed on the file).
+    `how`: the way round it, said last (for a file, --allow-out-of-limits). `path` None: states
+    made in Python (vampc.check_limits), named by their number."""
+    if how is None:
+        how = "use --allow-out-of-limits to run anyway" if path is not None else ""
     from vampc.emulator.trajectory import state_at
     from vampc.robot.mimic import column_names
     derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
@@ -182,11 +191,12 @@ def check_limits(chain: Chain, traj: Trajectory, path: str, speeds: bool = True,
             limits = ([f"q in [{lim.q[0]:g}, {lim.q[1]:g}]"] if lim.q else []) + \
                 ([f"|qd| <= {lim.qd:g}"] if lim.qd is not None and speeds else [])
             where = ("--q0" if integrated and row == 0 else
+                     f"check_limits: state {row + 1}" if path is None else
                      f"{path}: {state_at(path, row)}" + (", integrated from --q0 and --qd0"
                                                         if integrated else ""))
             raise VampcError(f"{where}: joint {i + 1} ({j.name}) is outside "
-                             f"its limits: {' and '.join(broken)} ({via}limits {', '.join(limits)}); "
-                             "use --allow-out-of-limits to run anyway")
+                             f"its limits: {' and '.join(broken)} ({via}limits {', '.join(limits)})"
+                             + (f"; {how}" if how else ""))
 
 
 def check_word_range(word, traj: Trajectory, path: str, chain: Chain | None = None,
@@ -337,8 +347,14 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     """Compare with the reference RNEA; relative error per set against that set's largest |τ| (the base
     wrench's components included). `tol` is float64's: a program in another word format errs by
     its rounding, so give its own, `ld.arith.check_tolerance` (what `vampc emulate --check` takes:
-    README, Word formats). `tau`: states × outputs, as `emulate` returns it."""
+    README, Word formats). `tau`: states × outputs, as `emulate` returns it. A `tol` that is not
+    above 0 and below 1 is refused as `--tolerance` refuses it (VampcUsageError: 0, NaN or -1 had
+    failed every check and 2 passed any torque of the right size, unsaid: a new user's find)."""
     from vampc.dynamics.reference import rnea
+    from vampc.options import check_tolerance
+    if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
+        raise VampcUsageError(f"check_torques: tol {tol!r}: give a number above 0 and below 1")
+    check_tolerance(float(tol), "check_torques: tol")
     traj = checked_trajectory(chain, traj, "check_torques")
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     tau = np.asarray(tau)
