@@ -717,18 +717,20 @@ def test_the_bus_write_registers_are_counted_in_the_control_registers(tmp_path):
     selects = totals["bus"] - totals["p2p"] - len(writes) * each
     assert 0 < selects < len(writes) * each, (totals, len(writes), each)
     # and their number: the bits were counted and the registers were not (a new user's find).
-    # (the paper's four for a VAMP of one slot reading one input on each operand, six a slot else)
+    # (per slot the paper's four and a select for each operand multiplexer of more than one input)
     programs = json.loads(program.read_text())["programs"]
     slots = {p["vamp"]: len(p["slots"]) for p in programs}
-    slot_registers = sum(4 if slots[v["index"]] == len(v["a"]) == len(v["b"]) == 1
-                         else 6 * slots[v["index"]] for v in net["vamps"])
+    slot_registers = sum(slots[v["index"]] * (4 + (len(v["a"]) > 1) + (len(v["b"]) > 1))
+                         for v in net["vamps"])
     assert counts["bus"] == slot_registers + len(writes), (counts, slot_registers, len(writes))
 
 
 def test_a_bus_program_counted_before_its_bus_write_registers_is_not_called_edited(tmp_path):
     """A bus program compiled before the bus-write registers were counted in the number of control
     registers stores that number without them: read back, it was said to be edited (a review's
-    find). It is not; another number is."""
+    find). It is not; another number is. Nor is one stored when six control registers were counted
+    a slot of any VAMP with several slots or inputs (until 2026-12-07), with or without the
+    bus-write registers."""
     from program_util import reported_with_summary
     program = tmp_path / "p.vamp.json"
     assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--bus", "mlb",
@@ -736,7 +738,12 @@ def test_a_bus_program_counted_before_its_bus_write_registers_is_not_called_edit
     doc = json.loads(program.read_text())
     now = doc["summary"]["hardware"]["control_registers"]
     writes = len(doc["network"]["bus"]["writes"])
-    for stored, warned in ((now - writes, False), (now - writes + 1, True), (now, False)):
+    slots = {p["vamp"]: len(p["slots"]) for p in doc["programs"]}
+    six = sum(4 if slots[v["index"]] == len(v["a"]) == len(v["b"]) == 1 else 6 * slots[v["index"]]
+              for v in doc["network"]["vamps"])
+    assert six > now - writes
+    for stored, warned in ((six, False), (six + writes, False), (six + 1, True), (now - writes, True),
+                           (now, False)):
         doc["summary"]["hardware"]["control_registers"] = stored
         r = reported_with_summary(doc, tmp_path)
         assert ("the stored summary disagrees with the file's graph, schedule and network "

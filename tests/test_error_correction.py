@@ -335,6 +335,12 @@ def test_the_report_counts_what_the_checking_adds():
     assert ec["wires"]["successor_inputs"] == sum(inputs) and ec["wires"]["total"] == sum(inputs) + 4 * V + 2
     assert ec["wires"]["control"] == 3 * V + 2
     assert ec["registers"]["second_control_registers"] == 4 * V     # one-slot systolic VAMPs
+    # folded: a copy of each VAMP's own control registers, selects only where a multiplexer has
+    # more than one input (six a slot had been counted on every VAMP of several slots or inputs)
+    folded = compile_chain(PLANAR, CompileOptions(error_correction=True, layout="folded"))
+    second = build_report(folded)["error_correction"]["registers"]["second_control_registers"]
+    assert second == sum(len(v.slots) * (4 + (len(v.a) > 1) + (len(v.b) > 1))
+                         for v in folded.network.vamps) == 282
     assert ec["added"] == {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0}
     assert (c.schedule.latency, c.schedule.interval) == (plain.schedule.latency, plain.schedule.interval)
     assert ec["sweep_periods"] == sweep_periods(V, net.checking.warmup)

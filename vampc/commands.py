@@ -385,13 +385,15 @@ def _counted_before(key: str, stored, c) -> bool:
                                      + values_bits(len(v.a)) + values_bits(len(v.b)))
                      for v in net.vamps)
         return stored in (earlier, {**earlier, "control_register_bits": before})
-    if key == "hardware" and isinstance(stored, dict) and c.network.bus is not None:
-        # (the number of control registers without the bus-write registers, until 2026-12-06,
-        # later: a review's find, such a program was said to be edited)
-        from vampc.report.counts import hardware
+    if key == "hardware" and isinstance(stored, dict):
+        # (six control registers a slot of a VAMP with several slots or inputs, until 2026-12-07;
+        # and before, on a bus, without the bus-write registers, until 2026-12-06, later: a
+        # review's find, such a program was said to be edited)
+        from vampc.report.counts import hardware, six_per_slot
         now = jsontext.loads(jsontext.dumps(hardware(c)))
-        return stored == {**now, "control_registers": now["control_registers"]
-                          - len(c.network.bus.writes)}
+        writes = len(c.network.bus.writes) if c.network.bus is not None else 0
+        return any(stored == {**now, "control_registers": count}
+                   for count in (six_per_slot(c.network) + writes, six_per_slot(c.network)))
     return (key == "packages_40pin" and c.network.checking is not None
             and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 

@@ -62,8 +62,9 @@ def checking_figures(c) -> dict | None:
 
     from vampc.report.counts import slot_table_bits, values_bits
     table_bits = {v.index: slot_table_bits(v, net.period) for v in net.vamps}
-    plain = {v.index: 4 if len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1
-             else 6 * len(v.slots) for v in net.vamps}
+    from vampc.report.counts import control_registers
+    plain = {v.index: control_registers(len(v.slots), len(v.a), len(v.b), net.period)
+             for v in net.vamps}
     stage_bits = values_bits(ck.warmup + ck.compare + 1)
     word = c.options.arith().bits
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]

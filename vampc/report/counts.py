@@ -249,10 +249,26 @@ def hardware(c) -> dict:
     return dict(hit[2])
 
 
+def control_registers(slots: int, ins_a: int, ins_b: int, period: int) -> int:
+    """A VAMP's control registers: per slot the fields of vampc.program.words.field_widths that
+    have bits (delay-A, delay-B, delay-R, the ROM pointer, and a select for each operand multiplexer
+    of more than one input), the registers vampc.rtl builds."""
+    from vampc.program.words import field_widths
+    return slots * sum(1 for w in field_widths(period, ins_a, ins_b) if w)
+
+
+def six_per_slot(net) -> int:
+    """The control registers as counted until 2026-12-07: the paper's four for a VAMP of one slot
+    and one input per operand, else six a slot (what a stored summary of then holds)."""
+    return sum(4 if len(v.slots) == len(v.a) == len(v.b) == 1 else 6 * len(v.slots) for v in net.vamps)
+
+
 def hardware_counts(c) -> dict:
     """What a layout needs beyond one op per VAMP, counted from the network and the program:
-    slots (ops run per period), control registers (the paper's four per single-slot VAMP with one
-    input per operand; six per slot — the four and two selects — otherwise; on the Mostly-Local Bus
+    slots (ops run per period), control registers (per slot the paper's four, and a select for each
+    operand multiplexer of more than one input, as the RTL builds them and word_bits counts their
+    bits; until 2026-12-07 two selects a slot whenever a VAMP had several slots or inputs, a
+    hardware user's find: 360 on planar2 folded where the RTL builds 282; on the Mostly-Local Bus
     also each bus-write register, which word_bits counts in the control bits too), multiplexer inputs
     beyond the first of each operand, program ports, host writes per torque set, the period and
     buffer clock, program words and Program-Mode load time."""
@@ -263,7 +279,7 @@ def hardware_counts(c) -> dict:
     if min(slots) == max(slots) == max(ins_a) == max(ins_b) == 1:   # all plain (systolic): at once
         control = 4 * len(slots)
     else:
-        control = sum(4 if s == a == b == 1 else 6 * s for s, a, b in zip(slots, ins_a, ins_b))
+        control = sum(control_registers(s, a, b, net.period) for s, a, b in zip(slots, ins_a, ins_b))
     if net.bus is not None:     # (a new user's find: the bits were counted, the registers were not)
         control += len(net.bus.writes)
     from vampc.program.emit import load_ticks

@@ -113,11 +113,12 @@ SCHEDULER_TIMEOUT = "10s"       # how long to try to reach a Dask scheduler
 
 def _row(label, graph, sched, layout, b, verify: bool = False) -> dict:
     net = allocate(graph, sched, layout, verify=verify)
-    plain = [len(v.slots) == 1 and len(v.a) == 1 and len(v.b) == 1 for v in net.vamps]
+    from vampc.report.counts import control_registers
     ib = b.interval_bound
     return {"layout": label, "vamps": len(net.vamps), "latency_flops": sched.latency,
             "interval_flops": sched.interval, "buffer_stages": net.buffer_stages,
-            "control_registers": sum(4 if p else 6 * len(v.slots) for v, p in zip(net.vamps, plain)),
+            "control_registers": sum(control_registers(len(v.slots), len(v.a), len(v.b), net.period)
+                                     for v in net.vamps),
             "mux_inputs": sum(len(v.a) - 1 + len(v.b) - 1 for v in net.vamps),
             "host_writes_per_set": sum(len(p.entries) for p in net.ports),
             "interval_bound": ib, "interval_gap_pct": gap_pct(sched.interval, ib),
