@@ -614,7 +614,7 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
                                   "--format", "json"])
     assert r.exit_code == 0, r.output
     assert "vampc rtl: the network's synthesis is estimated at 18 min, beyond --max-minutes 8: " \
-        "left out" in r.stderr, r.stderr
+        "left out, with its place and route (give" in r.stderr, r.stderr
     # the whole run's estimate before any step (a user read --max-minutes as the whole run's bound,
     # and the network's being left out was said only at the end): the sum of each step's own
     import re
@@ -642,6 +642,9 @@ def test_a_network_beyond_the_time_is_left_out_and_each_vamp_synthesized_once(pr
     assert r.exit_code == 0 and "the network's synthesis is not in the file (`vampc rtl` leaves it out beyond --max-minutes)" in r.output
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--max-minutes", "8"])
     assert r.exit_code == 0 and "  the network: synthesis left out (beyond --max-minutes)" in r.stdout
+    # no --pnr: no place and route to leave out (it said "with its place and route": a user's find)
+    assert "beyond --max-minutes 8: left out (give a larger" in r.stderr and \
+        "place and route" not in r.stderr, r.stderr
     # the network's synthesis within the time and its place and route beyond it: both said up front,
     # and counted among the steps (it said "2 steps" of 4: a review's find)
     r = CliRunner().invoke(main, ["rtl", program, "--synth", "ecp5", "--pnr", "--max-minutes", "30"])
@@ -674,6 +677,14 @@ def test_a_what_if_word_is_warned(programs):
         "in q16.16 (truncate, saturate) (what if: not the program's own word)\n" in r.stderr, r.stderr
     r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1", "--rounding", "nearest"])
     assert r.exit_code == 0 and "warning" not in r.stderr, r.stderr      # its own word, said again
+    # the JSON figures mark the what-if, as faults' do (they had said `"rounding": "truncate"`
+    # alone: a hardware user's find)
+    for rounding, what_if in (("truncate", True), ("nearest", False)):
+        r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1", "--rounding", rounding,
+                                      "--format", "json"])
+        assert r.exit_code == 0, r.output
+        figures = json.loads(r.stdout)
+        assert figures["what_if_word"] is what_if and figures["rounding"] == rounding
     # a refused step is the one line: the what-if is said once the steps are known good
     r = CliRunner().invoke(main, ["rtl", fixed, "--cosim", "1000000", "--rounding", "truncate",
                                   "--max-minutes", "0.01"])

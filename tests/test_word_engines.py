@@ -389,14 +389,16 @@ def test_a_what_if_in_a_word_too_narrow_for_the_programs_words_is_one_line(tmp_p
     for engine in ("stream", "tick"):
         res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q9.7", "--engine",
                          engine])
-        assert res.exit_code == 1 and "--word q9.7: a Program-Mode word holds" in res.stderr \
+        # (an option this program cannot take: a usage error, exit 2, as faults --bits beyond its word)
+    assert res.exit_code == 2 and "--word q9.7: a Program-Mode word holds" in res.stderr \
             and "compile it with --word q9.7" in res.stderr, res.stderr
     # a word too narrow for the network's VAMP numbers: no compile can pack it, so none is advised
     # (the advice to compile with --word q1.1 failed on them: a new user's find)
     res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q2.2"])
-    assert res.exit_code == 1 and res.stderr.count("\n") == 1 and \
+    assert res.exit_code == 2 and res.stderr.count("\n") == 1 and \
         re.search(r"--word q2\.2: VAMP number \d+ does not fit in a 4-bit Program-Mode word \(at most 7\): "
-                  r"no program of this network can be packed for that word$", res.stderr.strip()), res.stderr
+                  r"no program of this network can be packed for that word \(see '.* emulate --help'\)$",
+                  res.stderr.strip()), res.stderr
     res = run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "--vamps", "12", "--word", "q2.2",
                      "-o", str(tmp_path / "q.vamp.json")])
     assert res.exit_code == 1 and "does not fit in a 4-bit Program-Mode word" in res.stderr, res.stderr

@@ -285,8 +285,9 @@ def loaded(source: str, options: CompileOptions, robot_opts: RobotOptions, param
             from vampc.emulator.load import in_word
             try:
                 ld = in_word(ld, None if word.word == "float64" else word.arith())
-            except ValueError as exc:
-                raise VampcError(f"{source}: --word {word.word}: {exc}") from None
+            except ValueError as exc:     # (an option this program cannot take: usage, exit 2,
+                #                               as faults --bits beyond the word; a user's find)
+                raise VampcUsageError(f"{source}: --word {word.word}: {exc}") from None
         return ld
     return loaded_from_compiled(compile_robot(source, options, robot_opts), source)
 
@@ -300,6 +301,14 @@ def check_file_network(source: str, ld) -> None:
     if is_program(source):
         from vampc.emulator.check import check_program
         check_program(ld)          # (its errors name the file)
+
+
+def _what_if(source: str, ld) -> bool:
+    """Whether a program file runs in a word other than the one it records (--word, --rounding,
+    --overflow given); a robot file compiles in the word given, its own."""
+    from vampc.emulator.load import recorded_word
+    from vampc.sniff import is_program
+    return is_program(source) and repr(ld.word) != repr(recorded_word(ld.options, source))
 
 
 def warn_what_if(source: str, ld, doing: str) -> None:
@@ -2006,8 +2015,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
         warnings.warn(VampcWarning(f"--sets {own.sets}: {said}"), stacklevel=1)
     identity = cp.program_digest(source) if is_program(source) else \
         cp.program_digest(source) + ":" + jsontext.dumps(options.record())
-    from vampc.emulator.load import recorded_word
-    what_if = is_program(source) and repr(ld.word) != repr(recorded_word(ld.options, source))
+    what_if = _what_if(source, ld)
     if what_if:
         identity += f":{ld.arith!r}"    # a what-if --word: another machine, other results (one
         #                                 matching the program's own, or --rounding nearest said
@@ -2169,7 +2177,9 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
                      "mult_latency": ld.options.get("mult_latency", 1),
                      "add_latency": ld.options.get("add_latency", 1),
                      "vamps": V, "kinds": {kind_name(k): len(v) for k, v in kinds(ld).items()},
-                     "period": ld.net.period, "latency_ticks": ld.net.latency}
+                     "period": ld.net.period, "latency_ticks": ld.net.latency,
+                     # (a what-if word was said on stderr only; faults' JSON marks it: a user's find)
+                     "what_if_word": _what_if(source, ld)}
     ok = True
     estimates = _kind_estimates(ld, own) if own.synth is not None else None
     steps = _preflight(ld, own, limit, estimates)     # every step's estimate and tool before any work
@@ -2393,7 +2403,8 @@ def _synth(ld, design, own, figures, limit, note, estimates, stage=lambda name: 
     if estimate > limit:
         figures["synth"]["network"] = None
         note(f"vampc rtl: the network's synthesis is estimated at {rough_time(estimate)}, beyond "
-             f"--max-minutes {own.max_minutes:g}: left out, with its place and route (give a "
+             f"--max-minutes {own.max_minutes:g}: left out" + (", with its place and route"
+                                                               if own.pnr else "") + " (give a "
              "larger --max-minutes to run it); each VAMP kind's figures are above")
         return
     _within(f"synthesizing the network of {count(V, 'VAMP')}", estimate, note)
