@@ -63,7 +63,7 @@ CHECKS = re.compile("|".join((
     r"never matches the Cycle-Counter", r"selects no input", r"is selected by no slot",
     r"is re-latched at (tick|counter) \d+, before the micro-step",
     r"latches operand [AB] at (tick|counter) \d+, the schedule has tick",
-    r"drives its result at tick \d+, the schedule has", r"run micro-steps in the same tick",
+    r"drives its result at (tick|counter) \d+, the schedule has", r"run micro-steps in the same tick",
     r"ROM pointer \d+ selects .*, the graph node is", r"the wiring has a loop: VAMP",
     r"is read from VAMP .*, but it (appears at tick|shows set)", r"holds .*, not graph node",
     r"matches no VAMP on that input's Operand-[AB] paths", r"but the stream lists VAMP",

@@ -229,3 +229,23 @@ def test_operand_a_loop_is_reported():
         d["network"]["vamps"][0]["a"] = [[["vamp", downstream, 0]]]
     with pytest.raises(VampcError, match=r"VAMP \d+: its Operand-A path loops back through VAMP \d+"):
         torques(mutated(doc, change), TRAJ)
+
+
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_a_refused_flip_is_blamed_on_the_vamp_flipped(layout):
+    """A delay or ROM pointer edited in both the stream and the listing was refused naming another
+    VAMP: the one the damaged slot's result then reached at the wrong tick (VAMP 5's delay-R said
+    as VAMP 26's operand re-latched; a ROM pointer edited from VA to VC as VAMP 1's timing: a new
+    user's find). Each slot's own words are now checked first: every refusal names the VAMP whose
+    field was flipped. (Every fifth flip of the sweep: of all 1408 systolic and 1781 folded ones,
+    370 and 101 had been blamed elsewhere; all of them take 11 s.)"""
+    from vampc.emulator.check import check_program
+    blamed = []
+    for v, k, field, value in FLIPS[layout][::5]:
+        try:
+            check_program(loaded_from_doc(mutated(DOCS[layout], _set_field(v, k, field, value))))
+        except VampcError as exc:
+            said = str(exc)
+            if not (f"VAMP {v} (" in said or f"VAMP {v} slot {k} (" in said):
+                blamed.append((v, k, field, value, said))
+    assert blamed == [], (len(blamed), blamed[:3])

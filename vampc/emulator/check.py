@@ -22,6 +22,7 @@ from vampc.textio import numbers_shown
 def check_program(ld: Loaded) -> tm.StaticTiming:
     """All static checks; returns the derived timing. VampcError on the first problem found. A
     program is frozen, so the last two checked are not checked again (both engines on one program)."""
+    check_words(ld)
     timing = tm.derive(ld)
     check_against_schedule(ld, timing)
     check_against_graph(ld, timing)
@@ -75,6 +76,40 @@ def check_bus(ld: Loaded) -> None:
                              f"Cycle-Counter {c}, but no VAMP latches it then")
 
 
+def check_words(ld: Loaded) -> None:
+    """Each slot's own words before any timing is derived: its ROM pointer runs its graph node's op
+    (and column), its delays are the schedule's ticks modulo the period. Checked after the timing,
+    an edited delay or ROM pointer was blamed on the VAMP its result then reached at the wrong tick
+    (VAMP 5's delay-R said as VAMP 26's operand re-latched: a new user's find)."""
+    nodes, start, finish, P = ld.graph.nodes, ld.schedule.start, ld.schedule.finish, ld.period
+    members: dict[int, list[int]] = {}
+    for v in ld.net.vamps:
+        for s in v.slots:
+            members.setdefault(s.node, []).append(v.index)
+    for v, vamp in enumerate(ld.net.vamps):
+        for k, slot in enumerate(vamp.slots):
+            prog = ld.programs[v][k]
+            _check_rom(ld, v, k, prog.rom, nodes[slot.node], members[slot.node])
+            for reg, delay, tick in (("A", prog.delay_a, start[slot.node]),
+                                     ("B", prog.delay_b, start[slot.node]),
+                                     ("R", prog.delay_r, finish[slot.node] - 1)):
+                if delay != tick % P:
+                    what = "drives its result" if reg == "R" else f"latches operand {reg}"
+                    raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: delay-{reg} {delay} {what} "
+                                     f"at counter {delay}, the schedule has tick {tick} (counter "
+                                     f"{tick % P})")
+
+
+def _check_rom(ld: Loaded, v: int, k: int, rom: int, node, members: list) -> None:
+    """The slot's ROM pointer selects its graph node's op (and, of a matrix op spread over several
+    VAMPs, this VAMP's column)."""
+    op, col = ROM[rom]
+    if op is not node.op or (col is not None and col != members.index(v)):
+        raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: ROM pointer {rom} selects {op.value}"
+                         + (f" column {col}" if col is not None else "")
+                         + f", the graph node is {node.op.value}")
+
+
 def check_against_schedule(ld: Loaded, timing: tm.StaticTiming) -> None:
     """Latch and dump ticks implied by the programs equal those the compiler scheduled, and so do the
     delays themselves (a latch of a constant is harmless at any tick, but a changed word is damage)."""
@@ -107,12 +142,7 @@ def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
     for v, vamp in enumerate(ld.net.vamps):
         for k, slot in enumerate(vamp.slots):
             node = nodes[slot.node]
-            op, col = ROM[ld.programs[v][k].rom]
-            if op is not node.op or (col is not None and col != members[slot.node].index(v)):
-                raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: ROM pointer "
-                                 f"{ld.programs[v][k].rom} selects {op.value}"
-                                 + (f" column {col}" if col is not None else "")
-                                 + f", the graph node is {node.op.value}")
+            _check_rom(ld, v, k, ld.programs[v][k].rom, node, members[slot.node])
             t = timing.slots[(v, k)]
             for name, sources, arg in (("A", t.src_a, node.args[0]), ("B", t.src_b, node.args[1])):
                 carried = {_carried(ld, src) for src in sources}
