@@ -75,6 +75,10 @@ EDITS = {
     "extra constant": (lambda d: d["network"]["consts"].append(
         {**d["network"]["consts"][0], "index": len(d["network"]["consts"])}),
         "network.consts[12] ('"),
+    # (unpacked, it was said as other fields: "delay-b 4095 never matches the Cycle-Counter")
+    "negative scalar": (lambda d: _set(d, ["program_stream", 0, "words", 0, 1], -4097.0),
+                        "program stream of const 0, word 0: scalar -4097 is negative: a compact word "
+                        "packs two fields in each"),
 }
 
 

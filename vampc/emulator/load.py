@@ -250,6 +250,13 @@ def delivered_programs(net: Network, numbers, stream, path,
                                  f"{_whole(x)} does not fit in a {packing.limit.bit_length()}-bit "
                                  f"Program-Mode word (at most {packing.limit - 1} in magnitude, "
                                  "as this program packs them)")
+            if float(word[0]) > 0 and min(float(word[1]), float(word[2])) < 0:
+                # (unpacked, a negative scalar was said as other fields: "delay-b 4095 never
+                # matches the Cycle-Counter" of a -4097: a new user's find)
+                raise VampcError(f"{path}: program stream of {entry.root}, word {k}: scalar "
+                                 f"{_whole(min(word[1], word[2]))} is negative: a compact word packs "
+                                 "two fields in each (delay-A and delay-B, delay-R and the ROM "
+                                 "pointer), each from 0")
             v = index_of.get(word_number(word))
             if v is None or roots[v] != entry.root:
                 raise VampcError(f"{path}: program stream of {entry.root}, word {k}: number "
