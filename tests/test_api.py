@@ -203,6 +203,7 @@ def test_a_trajectory_read_in_python_is_held_to_the_joint_limits_as_the_command_
                fmt="%.17g")
     said = CliRunner().invoke(main, ["emulate", str(PUMA), "--trajectory", str(path)]).output
     assert "line 3 (state 2): joint 1 (waist) is outside its limits" in said
+    assert said.rstrip().endswith("use --allow-out-of-limits to run anyway"), said   # (the option's)
     with pytest.raises(vampc.VampcError, match=re.escape(f"{path}: line 3 (state 2): joint 1 (waist) "
                                                          "is outside its limits")) as exc:
         vampc.read_trajectory(path, chain)

@@ -427,7 +427,7 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     from vampc import progress
     from vampc.emulator.driver import States, run
     from vampc.emulator.faults import parse_fault
-    from vampc.emulator.host import check_word_range, read_trajectory
+    from vampc.emulator.host import check_limits, check_word_range, read_trajectory
     from vampc.outputs import CSV_TABLE, plan_outputs
     begun = time.perf_counter()
     own.check()
@@ -455,7 +455,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
                                    "bits), not every bit of the words (--vcd-as word writes them all)"), stacklevel=1)
     traj = None
     if own.trajectory:
-        traj = read_trajectory(own.trajectory, ld.chain, own.allow_out_of_limits)
+        traj = read_trajectory(own.trajectory, ld.chain, allow_out_of_limits=True)
+        if not own.allow_out_of_limits:    # (its own check: the advice is the option's)
+            check_limits(ld.chain, traj, own.trajectory)
         if "overflow" not in options.given:
             check_word_range(ld.arith, traj, own.trajectory, ld.chain, keys=ld.graph.input_keys())
         states = States(traj.count, traj, source=own.trajectory)
