@@ -182,13 +182,14 @@ def test_out_of_limits_allowed_on_request(tmp_path, program):
     (lambda d: d["program_stream"][0]["words"][0].__setitem__(2, 16777216.0), True,
      r"program stream of \w+ \d+, word 0: scalar 16777216 does not fit in a 25-bit Program-Mode "
      r"word \(at most 16777215 in magnitude, as this program packs them\)$"),
+    # (VAMP 0's delays edited, word and listing: it was said as VAMP 1's operand A re-latched;
+    # the VAMP edited is named since 2026-12-07, a new user's find)
     (lambda d: (d["program_stream"][0]["words"][0].__setitem__(1, 3.0),
                 d["programs"][d["program_stream"][0]["targets"][0]]["slots"][0].update(delay_a=0,
                                                                                      delay_b=3)),
      True,
-     r"VAMP 1 \(number 2, bwd1\.omega\): operand A latched at tick 1 is re-latched at tick 5, "
-     r"before the micro-step at tick 6 that still reads it \(delay-R 3; the op waits for operand B, "
-     r"latched at tick 5\)$"),
+     r"VAMP 0 \(number 1, bwd1\.T2\): delay-B 3 latches operand B at counter 3, the schedule has "
+     r"tick 0 \(counter 0\)$"),
     # operand B wired to a later VAMP: said of operand A alone, a field the user never touched (a
     # new user's find); the later operand is named
     (lambda d: d["network"]["vamps"][1].update(b=[[["vamp", 2, 0]]]), True,

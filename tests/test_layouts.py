@@ -163,7 +163,14 @@ def test_overlapping_slots_are_reported():
         s0 = doc["programs"][v]["slots"][0]
         for f in ("delay_a", "delay_b", "delay_r"):
             _set_field(v, 1, f, s0[f])(doc)
-    _refused(consistent, rf"VAMP {v} slot 0 .* and slot 1 run micro-steps in the same tick")
+    # the edited slot's delays are not its schedule's ticks: said of it first (since 2026-12-07)
+    _refused(consistent, rf"VAMP {v} slot 1 \(.*\): delay-A \d+ latches operand A at counter \d+, "
+                         r"the schedule has tick")
+    # and the timing rules alone (the tick engine's, unchecked) see the two slots overlap
+    from vampc.emulator import timing
+    with pytest.raises(VampcError, match=rf"VAMP {v} slot 0 .* and slot 1 run micro-steps in the "
+                                         "same tick"):
+        timing.derive(loaded_from_doc(mutated(DOC, consistent)))
 
 
 def test_a_select_that_points_nowhere_names_vamp_slot_and_field():
