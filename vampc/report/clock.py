@@ -277,3 +277,4 @@ def add_clock(rep: dict, hz: float) -> None:
             row["load_us"] = us(row["load_ticks"], hz)
     for row in rep.get("prefix_comparison", []):
         row["latency_us"] = us(row["latency_flops"], hz)
+        row["interval_us"] = us(row["interval_flops"], hz)

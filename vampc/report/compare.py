@@ -28,7 +28,8 @@ def max_fan_out(network) -> int:
 
 def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
                      infeasible: list | None = None, own=None) -> list[dict]:
-    """Latency, VAMPs, buffer stages and fan-out of every prefix shape, other options as given. A
+    """Latency, interval, VAMPs, buffer stages and fan-out of every prefix shape, other options as
+    given (the interval: on a budget or folded each shape's work sets its own; a new user's find). A
     shape whose graph has more than `limit` ops (default: vampc.report.configs.ALLOCATE_LIMIT) is
     scheduled but not allocated: its row has latency and VAMPs only. A shape these options cannot
     compile (the program's own --tiers too few for another shape's bus traffic) has no row; it is
@@ -55,7 +56,8 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
             lay, s = layout_and_schedule(graph, opts.timing, opts.layout,
                                          LayoutRequest(opts.share_passes, verify=False))
             rows.append({"prefix": shape, "latency_flops": s.latency, "mults": s.mults,
-                         "adds": s.adds, "waits": s.waits, "vamps": lay.vamp_count} | marked)
+                         "adds": s.adds, "waits": s.waits, "interval_flops": s.interval,
+                         "vamps": lay.vamp_count} | marked)
             continue
         try:
             c = compile_chain(chain, opts)
@@ -71,7 +73,8 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
 def _row(shape, c) -> dict:
     """A prefix shape's row from its compiled IRs."""
     return {"prefix": shape, "latency_flops": c.schedule.latency, "mults": c.schedule.mults,
-            "adds": c.schedule.adds, "waits": c.schedule.waits, "vamps": len(c.network.vamps),
+            "adds": c.schedule.adds, "waits": c.schedule.waits,
+            "interval_flops": c.schedule.interval, "vamps": len(c.network.vamps),
             "buffer_stages": c.network.buffer_stages, "max_fan_out": max_fan_out(c.network)}
 
 

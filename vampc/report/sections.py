@@ -299,9 +299,14 @@ def prefixes(rep: dict) -> Table:
     """The prefix-shape comparison (log recursion)."""
     # (a folded layout's waits: '44' beside '12 + 30' did not add up, a review's find)
     waits = any(r.get("waits") for r in rep["prefix_comparison"])
+    # the interval where the shapes' differ (a budget's or a folded layout's: each shape's work
+    # sets it; the table had none, and Brent-Kung's 107 and 128 beside Sklansky's 136 and 168 on
+    # one budget could not be seen: a new user's find)
+    intervals = len({r["interval_flops"] for r in rep["prefix_comparison"]}) > 1
     rows = tuple((r["prefix"], num(r["latency_flops"]),
-                  _terms(rep, r["mults"], r["adds"], *([r.get("waits", 0)] if waits else [])),
-                  num(r["vamps"]), num(r.get("buffer_stages")), num(r.get("max_fan_out")))
+                  _terms(rep, r["mults"], r["adds"], *([r.get("waits", 0)] if waits else [])))
+                 + ((num(r["interval_flops"]),) if intervals else ())
+                 + (num(r["vamps"]), num(r.get("buffer_stages")), num(r.get("max_fan_out")))
                  for r in rep["prefix_comparison"])
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
     notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
@@ -312,9 +317,9 @@ def prefixes(rep: dict) -> Table:
                      "the list scheduler, at the same budget (--exact's solver is not run again for "
                      "a comparison)")
     return Table("prefixes", f"Prefix shapes (log recursion, {rep['layout']} layout, same robot "
-                 "and options)", ("prefix", "latency", _terms_head(rep, *(["wait"] if waits else [])),
-                                  "VAMPs", "buffer stages",
-                                  "fan-out"), rows, tuple(notes), align="lrlrrr")
+                 "and options)", ("prefix", "latency", _terms_head(rep, *(["wait"] if waits else [])))
+                 + (("interval",) if intervals else ()) + ("VAMPs", "buffer stages", "fan-out"),
+                 rows, tuple(notes), align="lrl" + ("r" if intervals else "") + "rrr")
 
 
 # --- processors ----------------------------------------------------------------------------------
