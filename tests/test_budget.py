@@ -221,7 +221,8 @@ def test_tradeoff_json_and_csv():
     text = CliRunner().invoke(main, args).stdout
     assert (doc["mult_latency"], doc["add_latency"]) == (1, 1) and doc["notes"] == [
         "budget 6: latency 52 flops, longer than budget 5's 29 with fewer VAMPs: each budget is "
-        "scheduled at its smallest interval; `vampc compile --vamps 6 --interval I` with a longer "
+        "scheduled at the smallest interval the search reaches near its bound (as `--vamps` does: "
+        "README, VAMP budgets); `vampc compile --vamps 6 --interval I` with a longer "
         "interval may shorten its latency"] and text.endswith(doc["notes"][0] + "\n")
     slower = json.loads(CliRunner().invoke(main, [*args, "--mult-latency", "3", "--add-latency", "2",
                                                   "--format", "json"]).stdout)

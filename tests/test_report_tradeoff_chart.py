@@ -117,8 +117,10 @@ def test_a_budget_slower_than_one_with_fewer_vamps_is_explained():
              "pareto_interval": True} for v, lat in ((1, 50), (2, 28), (3, 40), (4, 21))]
     text = render_text(rows)
     assert text.splitlines()[-1].startswith("budget 3: latency 40 flops, longer than budget 2's 28 "
-                                            "with fewer VAMPs: each budget is scheduled at its "
-                                            "smallest interval; `vampc compile --vamps 3 --interval I`")
+                                            "with fewer VAMPs: each budget is scheduled at the "
+                                            "smallest interval the search reaches near its bound (as "
+                                            "`--vamps` does: README, VAMP budgets); `vampc compile "
+                                            "--vamps 3 --interval I`")
     # the Markdown table and the HTML page say it too (they had left it out: a new user's find)
     from vampc.report.html import tradeoff_page
     from vampc.report.tradeoff import render_markdown

@@ -204,7 +204,8 @@ def notes(rows: list[dict]) -> list[str]:
     more, fewer = slower
     return [f"{more['layout']}: latency {more['latency_flops']} flops, longer than "
             f"{fewer['layout']}'s {fewer['latency_flops']} with fewer VAMPs: each budget is "
-            f"scheduled at its smallest interval; `vampc compile --vamps {more['vamps']} "
+            f"scheduled at the smallest interval the search reaches near its bound (as `--vamps` "
+            f"does: README, VAMP budgets); `vampc compile --vamps {more['vamps']} "
             "--interval I` with a longer interval may shorten its latency"]
 
 
