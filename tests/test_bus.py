@@ -474,6 +474,31 @@ def test_a_prefix_shape_the_programs_tiers_cannot_carry_leaves_the_report(tmp_pa
     assert "  * kogge-stone: not feasible with these options (the tiers cannot carry node" in text
 
 
+def test_prefix_shapes_beyond_the_allocation_limit_on_the_bus_are_said_to_leave_it_out():
+    """A shape over the allocation limit is scheduled, not allocated: on the bus its row's latency
+    and interval are the layout's wired point to point (the Puma log's Sklansky: interval 4
+    against 8 on the bus, Kogge-Stone 4 against 10), which read as faster than the bus (a review's
+    find). The allocated rows are the shapes' own bus programs; the note says what the others
+    leave out."""
+    from vampc.kinds import Prefix
+    from vampc.report.build import build_report
+    from vampc.report.compare import compare_prefixes
+    from vampc.report.sections import prefixes
+    chain = load_robot(PUMA)
+    options = CompileOptions(recursion="log", bus="mlb")
+    c = compile_chain(chain, options)
+    rep = build_report(c)
+    own = {Prefix(r["prefix"]): r["interval_flops"] for r in rep["prefix_comparison"]}
+    for shape, interval in own.items():     # each allocated row is its own bus program's
+        assert interval == compile_chain(chain, CompileOptions(recursion="log", bus="mlb",
+                                                               prefix=shape)).schedule.interval
+    assert "leave out the Mostly-Local Bus" not in " ".join(prefixes(rep).notes)
+    rep["prefix_comparison"] = compare_prefixes(chain, options, limit=0, own=c)
+    notes = " ".join(prefixes(rep).notes)
+    assert ("the shapes not allocated are scheduled wired point to point: their latency and "
+            "interval leave out the Mostly-Local Bus's stretch and wait") in notes
+
+
 def test_a_damaged_bus_program_is_named_by_report_as_by_emulate(tmp_path):
     """A bus program whose tiers were edited (checksum made again): report said '<network>: VAMP 3
     slot 0: ...' where emulate names the file (a new user's find)."""

@@ -390,8 +390,8 @@ def test_a_what_if_in_a_word_too_narrow_for_the_programs_words_is_one_line(tmp_p
         res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q9.7", "--engine",
                          engine])
         # (an option this program cannot take: a usage error, exit 2, as faults --bits beyond its word)
-    assert res.exit_code == 2 and "--word q9.7: a Program-Mode word holds" in res.stderr \
-            and "compile it with --word q9.7" in res.stderr, res.stderr
+        assert res.exit_code == 2 and "--word q9.7: a Program-Mode word holds" in res.stderr \
+            and "compile it with --word q9.7" in res.stderr, (engine, res.stderr)
     # a word too narrow for the network's VAMP numbers: no compile can pack it, so none is advised
     # (the advice to compile with --word q1.1 failed on them: a new user's find)
     res = run(main, ["emulate", str(prog), "--random", "2", "--word", "q2.2"])

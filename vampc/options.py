@@ -37,20 +37,22 @@ def cli(*decls: str, help: str, **click: object) -> dict:
     return {"cli": (decls, help, click)}
 
 
-def check_positive(option: str, value: float) -> None:
-    """VampcUsageError unless `value` is a positive finite number; a 0 that was written as a number
-    too small for float64 (1e-400, echoed as "0.0": a file-safety audit) is said to be one."""
+def check_positive(option: str, value: float, cli: bool = True) -> None:
+    """VampcUsageError unless `value` is a positive finite number; on the command line (`cli`), a 0
+    that was written as a number too small for float64 (1e-400, echoed as "0.0": a file-safety
+    audit) is said to be one."""
     if not (value > 0 and math.isfinite(value)):
         raise VampcUsageError(f"{option} {value:g}: give a positive finite number" + (
+            "" if not cli else
             " (a number below about 5e-324 also reads as 0)" if value == 0 else
             " (a number above about 1.8e308 also reads as inf)" if value == math.inf else ""))
 
 
-def check_tolerance(value: float, option: str = "--tolerance") -> None:
+def check_tolerance(value: float, option: str = "--tolerance", cli: bool = True) -> None:
     """VampcUsageError unless --tolerance (`option`) is a positive number below 1: an error relative
     to the largest |τ|, and one of 1 or more lets any torque of the right size pass (emulate and
-    precision had taken 5, lookahead refused it: an options audit's find)."""
-    check_positive(option, value)
+    precision had taken 5, lookahead refused it: an options audit's find). `cli`: check_positive's."""
+    check_positive(option, value, cli)
     if value >= 1:
         raise VampcUsageError(f"{option} {value:g}: give an error below 1 (of the largest |τ|)")
 
@@ -88,7 +90,9 @@ class CompileOptions:
         "(Figure VI.1b)."))
     vamps: int | None = field(default=None, metadata=cli(
         "--vamps", range=(1, FIELD_MAX), metavar="K", help="A VAMP budget: schedule onto at most K "
-        "VAMPs at the smallest interval reachable (not below ⌈W/K⌉); more VAMPs than the graph has "
+        "VAMPs at the smallest interval the search reaches with the latency held near its bound (not "
+        "below ⌈W/K⌉; --interval T may reach a smaller one at a longer latency: README, VAMP "
+        "budgets and the trade-off); more VAMPs than the graph has "
         "VAMP-ops are never used (K is capped there). At most 16777215: VAMP numbers are 24-bit."))
     interval: int | None = field(default=None, metadata=cli(
         "--interval", range=(1, FIELD_MAX), metavar="T", help="A rate: a new torque set at least "

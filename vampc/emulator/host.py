@@ -163,6 +163,9 @@ def check_limits(chain: Chain, traj: Trajectory, path: str | None = None, speeds
     made in Python (vampc.check_limits), named by their number."""
     if how is None:
         how = "use --allow-out-of-limits to run anyway" if path is not None else ""
+    if path is None:        # a caller's Trajectory: checked as emulate checks one (a list, a NaN or
+        #                     too few columns had been an AttributeError, passed or an IndexError)
+        traj = checked_trajectory(chain, traj, "check_limits")
     from vampc.emulator.trajectory import state_at
     from vampc.robot.mimic import column_names
     derived = {m.follower - 1: column_names(chain, "q")[m.follower - 1].split(" (")[1].rstrip(")")
@@ -354,7 +357,7 @@ def check_torques(chain: Chain, traj: Trajectory, tau: np.ndarray, tol: float = 
     from vampc.options import check_tolerance
     if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
         raise VampcUsageError(f"check_torques: tol {tol!r}: give a number above 0 and below 1")
-    check_tolerance(float(tol), "check_torques: tol")
+    check_tolerance(float(tol), "check_torques: tol", cli=False)
     traj = checked_trajectory(chain, traj, "check_torques")
     ref = rnea(chain, traj.q, traj.qd, traj.qdd, traj.base)
     tau = np.asarray(tau)

@@ -12,7 +12,8 @@ Hardware (what the report counts):
 - A VAMP has one pair of operand registers, three primitive modules and one Result register, and a
   table of slots. Each slot holds the paper's four control fields (delay-A, delay-B, delay-R, ROM
   pointer) plus two multiplexer selects (sel-A, sel-B): which of the VAMP's operand-A and operand-B
-  inputs the slot latches. The Cycle-Counter runs 0..P-1 (Global-Reset pulses every P ticks); a slot
+  inputs the slot latches (a select of a multiplexer of one input is always 0 and has no register:
+  the report counts, and the RTL builds, a select only where an operand has several inputs). The Cycle-Counter runs 0..P-1 (Global-Reset pulses every P ticks); a slot
   latches operand A from input sel-A at the tick whose counter is its delay-A, operand B likewise, runs
   its micro-steps in the ticks ending with the one whose counter is delay-R, and drives the Result
   from the next tick. The Result holds until the VAMP's next dump (for one slot: exactly P ticks).

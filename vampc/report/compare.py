@@ -31,7 +31,9 @@ def compare_prefixes(chain, options: CompileOptions, limit: int | None = None,
     """Latency, interval, VAMPs, buffer stages and fan-out of every prefix shape, other options as
     given (the interval: on a budget or folded each shape's work sets its own; a new user's find). A
     shape whose graph has more than `limit` ops (default: vampc.report.configs.ALLOCATE_LIMIT) is
-    scheduled but not allocated: its row has latency and VAMPs only. A shape these options cannot
+    scheduled but not allocated: its row has latency, interval and VAMPs only, and on the
+    Mostly-Local Bus those of the layout wired point to point (the bus's stretch and wait are
+    found as it is allocated; the report's note says so). A shape these options cannot
     compile (the program's own --tiers too few for another shape's bus traffic) has no row; it is
     appended to `infeasible` as {"prefix", "why"} (its error made the whole report fail, naming
     no file: a new user's find). `own`: the program's compiled IRs (vampc.compiler.Compiled),

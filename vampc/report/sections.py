@@ -309,6 +309,11 @@ def prefixes(rep: dict) -> Table:
                  + (num(r["vamps"]), num(r.get("buffer_stages")), num(r.get("max_fan_out")))
                  for r in rep["prefix_comparison"])
     notes = [] if all("buffer_stages" in r for r in rep["prefix_comparison"]) else [_unallocated(rep)]
+    if notes and rep.get("bus"):
+        # (scheduled as wired point to point: their latency and interval leave out what the bus
+        # adds, so a shape could look faster than on the bus; a review's find)
+        notes.append("the shapes not allocated are scheduled wired point to point: their latency "
+                     "and interval leave out the Mostly-Local Bus's stretch and wait")
     notes += [f"{r['prefix']}: not feasible with these options ({r['why']})"
               for r in rep.get("prefix_comparison_infeasible", ())]
     if any(r.get("exact") is False for r in rep["prefix_comparison"]):
