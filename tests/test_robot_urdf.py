@@ -420,6 +420,15 @@ URDF_ERRORS = [
      r"with --lock right_1=VALUE, or leave out --tip to take the whole robot \(a tree\)$"),
     (TREE, {"tip": "chest"}, r"joint 'left_1' moves below the tip link 'chest'; choose a tip further out "
                              r"or lock it with --lock left_1=VALUE \(also 'right_1'\)"),   # not a branch
+    # the others as what they are: below the tip, or branching off (a new user's talos --tip
+    # arm_left_7_link listed the gripper's joint, below the tip, as branching off)
+    (TREE, {"tip": "l_upper"}, r"joint 'left_2' moves below the tip link 'l_upper'; choose a tip further "
+                               r"out or lock it with --lock left_2=VALUE \(and branching off the chain: "
+                               r"'right_1'\)$"),
+    (TREE, {"tip": "r_upper"},
+     r"joint 'left_1' branches off the chain from base link '\w+' to tip link 'r_upper'; lock it "
+     r"with --lock left_1=VALUE \(and below the tip: 'right_2'\), or leave out --tip to take the "
+     r"whole robot \(a tree\)$"),
     # a tip hung on a fixed joint (a flange): what moves below it was said to branch off (a new
     # user's --tip shoulder_flange)
     # (an unexpanded xacro property was "expected a finite number" alone: a new user's)

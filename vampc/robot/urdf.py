@@ -871,7 +871,14 @@ def _bodies(tree: Tree, base: str, chain: list, route: set, lock: dict, path: Pa
         order = {name: i for i, name in enumerate(tree.joints)}.__getitem__
     if stray:
         stray.sort(key=order)
-        more = f" (also {quoted(stray[1:])})" if len(stray) > 1 else ""
+        # (the others said as what they are, below the tip or branching off: a new user's talos
+        # --tip arm_left_7_link listed its gripper joint among the joints branching off)
+        alike = [j for j in stray[1:] if (j in beyond) == (stray[0] in beyond)]
+        other = [j for j in stray[1:] if (j in beyond) != (stray[0] in beyond)]
+        parts = ([f"also {quoted(alike)}"] if alike else []) + (
+            [("and below the tip: " if stray[0] not in beyond else "and branching off the chain: ")
+             + quoted(other)] if other else [])
+        more = f" ({'; '.join(parts)})" if parts else ""
         # (a coupled follower is locked by its leader: "lock it with --lock FOLLOWER=VALUE" was
         # then refused, "lock 'LEADER' instead"; an audit's find)
         leader = (leaders or {}).get(stray[0], (None,))[0]
