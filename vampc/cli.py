@@ -24,6 +24,7 @@ from vampc.errors import (
     VampcUsageError,
     VampcWarning,
     begin,
+    kept_note,
     raise_if_terminated,
     signalled_while_parsing,
     stopping,
@@ -171,7 +172,7 @@ def _end_if_signalled() -> None:
 
 def _kept(exc: BaseException) -> str:
     """What an interrupted command kept, where it says so (`exc.note`: a fault campaign's runs)."""
-    note = getattr(exc, "note", "")
+    note = getattr(exc, "note", "") or kept_note()
     return f"; {note}" if note else ""
 
 

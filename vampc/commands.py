@@ -21,7 +21,13 @@ import warnings
 from pathlib import Path
 
 from vampc import jsontext
-from vampc.errors import VampcError, VampcUsageError, VampcWarning
+from vampc.errors import (
+    VampcError,
+    VampcUsageError,
+    VampcWarning,
+    keeps,
+    raise_if_terminated,
+)
 from vampc.gcpause import gc_paused
 from vampc.options import (
     NETWORK_SHAPE,
@@ -2027,6 +2033,7 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     store = cp.ResultsFile(str(outs["--results"].path), header, default=own.results is None,
                            period=ld.period)
     store.load()
+    keeps(lambda: _runs_kept(store, results))      # (said however the interrupt comes out)
     client = parallel.connect(own.scheduler) if own.scheduler is not None else None
     try:
         todo = [i for i in range(len(faults)) if i not in store.done]
@@ -2044,12 +2051,18 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
             failed = True
             try:
                 store.open()      # (inside: a header it cannot write leaves no file it made)
+                def keep(_, r) -> None:
+                    store.add(*r)
+                    # a Ctrl-C or SIGTERM whose exception Dask's code swallowed (in a finaliser)
+                    # is raised here, where what is kept is said: it had come out later, at the
+                    # summary, as "interrupted" alone (a new user's find, with --scheduler)
+                    raise_if_terminated()
                 with progress.counter("fault runs", len(todo), unit="run") as bar:
-                    parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo],
-                                       lambda _, r: store.add(*r),
+                    parallel.run_tasks(_fault_task, setup, [(i, faults[i]) for i in todo], keep,
                                        available_cores() if own.workers is None
                                        else own.workers, own.scheduler, client, bar,
                                        kept=lambda: _runs_kept(store, results))
+                    raise_if_terminated()
                 failed = False
             except KeyboardInterrupt as exc:     # (Ctrl-C, SIGTERM: "interrupted" alone, though
                 exc.note = _runs_kept(store, results)    # the runs finished are kept: a new user's

@@ -65,9 +65,27 @@ _committing: list[bool] = []
 _parsing: list[bool] = []
 
 
+# What an interrupted command keeps, said beside "interrupted" (a fault campaign's runs): set by
+# the command once it keeps something (`keeps`), read where the interrupt ends it (`kept_note`).
+# An exception's own note is lost where the signal's exception is swallowed on the way and raised
+# again later (raise_if_terminated): a campaign on a Dask cluster said "interrupted" alone.
+_keeps: list = []
+
+
+def keeps(note) -> None:
+    """From here on, an interrupt of this command says `note()` (what it keeps)."""
+    _keeps[:] = [note]
+
+
+def kept_note() -> str:
+    """What the command said it keeps (`keeps`), or ''."""
+    return _keeps[0]() if _keeps else ""
+
+
 def begin() -> None:
     """The command begins (its options parsed): a signal that came during parsing is raised now."""
     _parsing.clear()
+    _keeps.clear()
     raise_if_terminated()
 
 
