@@ -335,7 +335,11 @@ def run_fault(setup: Setup, fault: Fault) -> dict:
                     "latency_cycles": latency_cycles(d["tick"], fault.at, P),
                     "finder": d["finder"], "excised": d["excised"],
                     "corrupted_before": int((bad & (entered < after)).sum()),
-                    "corrupted_after": int((bad & (entered >= after)).sum())})
+                    "corrupted_after": int((bad & (entered >= after)).sum()),
+                    # (the sets run after it: a run stops TAIL sets after the detection, so
+                    # corrupted_after counts among those, not over a whole run; a new user read
+                    # its 0 or 9 as all a longer run spoils, where 194 of 197 sets were)
+                    "sets_after": int((done & (entered >= after)).sum())})
         m = engine.maintenance()
         out["named"] = m["named"]
         out["maintenance_ticks"] = m["ticks"]
@@ -402,7 +406,8 @@ def _escape_reason(ld, fault: Fault, d: dict, out: dict, m: dict) -> str:
                 "reaches no output")
     if not out["named_right"]:
         return f"Maintenance Mode named {out['named']}, not VAMP {fault.vamp}"
-    return f"{out['corrupted_after']} set(s) after the correction still differ"
+    return (f"{out['corrupted_after']} of the {out['sets_after']} set(s) run after the correction "
+            f"still differ (a run stops {TAIL} sets after the detection's; later sets are not run)")
 
 
 def next_check(ld, vamp: int, start: int) -> int:
@@ -514,7 +519,7 @@ def _histogram(values: list[int], bins: int = 8) -> list[dict]:
 
 # --- the results file -------------------------------------------------------------------------
 
-SET_COUNTS = ("sets_run", "corrupted", "corrupted_before", "corrupted_after")
+SET_COUNTS = ("sets_run", "corrupted", "corrupted_before", "corrupted_after", "sets_after")
 TICK_COUNTS = ("detected_tick", "maintenance_ticks")
 
 
@@ -544,7 +549,10 @@ def _a_run_of(run, faults, sets: int | None = None, period: int | None = None) -
     if run["class"] != run_class(run, fault.vamp):
         return False          # (an edited "class": "masked" of a corrupted run was counted masked)
     if "sets_run" in run and (run.get("corrupted", 0) > run["sets_run"] or
-                              run.get("corrupted_before", 0) + run.get("corrupted_after", 0) > run["sets_run"]):
+                              run.get("corrupted_before", 0) + run.get("corrupted_after", 0) > run["sets_run"]
+                              or run.get("sets_after", 0) > run["sets_run"]):
+        return False
+    if "sets_after" in run and run.get("corrupted_after", 0) > run["sets_after"]:
         return False
     if period is not None and "detected_tick" in run:
         # run_fault's own rules: the sets entering before the detection's cycle ends, and the
@@ -715,7 +723,8 @@ class ResultsFile:
 
 CSV_COLUMNS = ("index", "fault", "vamp", "kind", "class", "sets_run", "detected_tick",
                "latency_cycles", "finder", "excised", "named", "named_right", "corrupted_before",
-               "corrupted_after", "corrupted", "maintenance_ticks", "reason", "first_wrong_non_finite",
+               "corrupted_after", "sets_after", "corrupted", "maintenance_ticks", "reason",
+               "first_wrong_non_finite",
                "overflows")     # (a narrower word's, as the JSON's runs have them; empty in float64)
 LABELS = {"masked": "masked", "detected-corrected": "detected and corrected",
           "detected-not-corrected": "detected, not corrected",
