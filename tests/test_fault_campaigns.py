@@ -1038,6 +1038,17 @@ def test_a_file_system_without_locks_runs_the_campaign(programs, tmp_path, monke
     assert len(path.read_text().splitlines()) == 1 + 8
 
 
+def _adding_then(count: int, act):
+    """ResultsFile.add that, once it has added `count` runs this time, calls `act` (a signal)."""
+    real = cp.ResultsFile.add
+
+    def add(self, index, run):
+        real(self, index, run)
+        if self.added == count:
+            act()
+    return add
+
+
 def test_an_interrupt_swallowed_on_the_way_still_says_the_runs_kept(programs, tmp_path, monkeypatch):
     """On a Dask cluster a Ctrl-C or SIGTERM often ended a campaign with "vampc: interrupted" alone
     (a new user's find: 5 of 8 tries): the signal's exception was swallowed in the cluster's code
@@ -1050,12 +1061,8 @@ def test_an_interrupt_swallowed_on_the_way_still_says_the_runs_kept(programs, tm
     ec, _, _ = programs
     path = tmp_path / "r.jsonl"
     real = cp.ResultsFile.add
-
-    def add(self, index, run):
-        real(self, index, run)
-        if self.added == 2:
-            errors.remember(signal.SIGINT)      # its KeyboardInterrupt lost on the way
-    monkeypatch.setattr(cp.ResultsFile, "add", add)
+    # (its KeyboardInterrupt lost on the way)
+    monkeypatch.setattr(cp.ResultsFile, "add", _adding_then(2, lambda: errors.remember(signal.SIGINT)))
     try:
         r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
     finally:
@@ -1082,11 +1089,9 @@ def test_an_interrupted_campaign_says_the_runs_it_keeps(programs, tmp_path, monk
     path = tmp_path / "r.jsonl"
     real = cp.ResultsFile.add
 
-    def add(self, index, run):
-        real(self, index, run)
-        if self.added == 3:
-            raise KeyboardInterrupt
-    monkeypatch.setattr(cp.ResultsFile, "add", add)
+    def interrupt():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cp.ResultsFile, "add", _adding_then(3, interrupt))
     r = RUN(main, ["faults", str(ec), *QUICK, "--workers", "1", "--results", str(path)])
     assert r.exit_code == 130 and r.stderr.strip().splitlines()[-1] == (
         f"vampc: interrupted; 3 runs finished this time kept in {path} (a re-run resumes from "
