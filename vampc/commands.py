@@ -321,12 +321,9 @@ def warn_what_if(source: str, ld, doing: str) -> None:
     """Warn when a program file runs in a word other than the one it records (--word, --rounding,
     --overflow given: a what-if). precision and faults say so in their reports; rtl, emulate and
     lookahead said nothing of it (emulate's check named the word alone)."""
-    from vampc.sniff import is_program
-    if not is_program(source):
-        return
-    from vampc.emulator.load import recorded_word
-    own_word = recorded_word(ld.options, source)
-    if repr(own_word) != repr(ld.word):
+    if _what_if(source, ld):
+        from vampc.emulator.load import recorded_word
+        own_word = recorded_word(ld.options, source)
         mine = "float64" if own_word is None else repr(own_word)
         theirs = "float64" if ld.word is None else repr(ld.word)
         warnings.warn(VampcWarning(f"{source} computes in {mine}; {doing} {theirs} (what if: not "
@@ -2033,7 +2030,10 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
     store = cp.ResultsFile(str(outs["--results"].path), header, default=own.results is None,
                            period=ld.period)
     store.load()
-    keeps(lambda: _runs_kept(store, results))      # (said however the interrupt comes out)
+    # what an interrupt keeps, said however it comes out (Ctrl-C and SIGTERM said "interrupted"
+    # alone though the runs finished are kept: a new user's find; those of a run resumed: a
+    # review's; a signal swallowed in a Dask cluster's code: a new user's)
+    keeps(lambda: _runs_kept(store, results))
     client = parallel.connect(own.scheduler) if own.scheduler is not None else None
     try:
         todo = [i for i in range(len(faults)) if i not in store.done]
@@ -2064,9 +2064,6 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                                        kept=lambda: _runs_kept(store, results))
                     raise_if_terminated()
                 failed = False
-            except KeyboardInterrupt as exc:     # (Ctrl-C, SIGTERM: "interrupted" alone, though
-                exc.note = _runs_kept(store, results)    # the runs finished are kept: a new user's
-                raise                                    # find; and those of a run resumed: a review's
             finally:
                 store.close(failed)
     finally:

@@ -111,24 +111,23 @@ def _check_rom(ld: Loaded, v: int, k: int, rom: int, node, members: list) -> Non
 
 
 def check_against_schedule(ld: Loaded, timing: tm.StaticTiming) -> None:
-    """Latch and dump ticks implied by the programs equal those the compiler scheduled, and so do the
-    delays themselves (a latch of a constant is harmless at any tick, but a changed word is damage)."""
+    """Latch and dump ticks implied by the programs equal those the compiler scheduled (the delays
+    themselves, a counter within the period, are check_words', first: a latch of a constant is
+    harmless at any tick, but a changed word is damage)."""
     start, finish = ld.schedule.start, ld.schedule.finish
-    P = ld.period
     for v, vamp in enumerate(ld.net.vamps):
         for k, slot in enumerate(vamp.slots):
             t = timing.slots[(v, k)]
-            want = {"A": start[slot.node], "B": start[slot.node], "R": finish[slot.node] - 1}
-            got = {"A": t.latch_a, "B": t.latch_b, "R": t.last}
+            if t.periodic:
+                continue
             prog = ld.programs[v][k]
-            delay = {"A": prog.delay_a, "B": prog.delay_b, "R": prog.delay_r}
-            for reg in ("A", "B", "R"):
-                tick = got[reg] if abs(got[reg]) != tm.INF and not t.periodic else None
-                if delay[reg] != want[reg] % P or tick not in (None, want[reg]):
+            for reg, tick, want, delay in (("A", t.latch_a, start[slot.node], prog.delay_a),
+                                           ("B", t.latch_b, start[slot.node], prog.delay_b),
+                                           ("R", t.last, finish[slot.node] - 1, prog.delay_r)):
+                if abs(tick) != tm.INF and tick != want:
                     what = "drives its result" if reg == "R" else f"latches operand {reg}"
-                    at = f"at tick {tick:g}" if tick is not None else f"at counter {delay[reg]}"
-                    raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: delay-{reg} {delay[reg]} "
-                                     f"{what} {at}, the schedule has tick {want[reg]}")
+                    raise VampcError(f"{ld.path}: {ld.vamp_name(v, k)}: delay-{reg} {delay} "
+                                     f"{what} at tick {tick:g}, the schedule has tick {want}")
 
 
 def check_against_graph(ld: Loaded, timing: tm.StaticTiming) -> None:
