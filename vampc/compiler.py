@@ -1,4 +1,4 @@
-"""The compile pipeline as one straight line of named stages (DESIGN §2).
+"""The compile pipeline as one straight line of named stages (README, *Source layout*).
 
     robot file --load--> Chain --build--> Graph --schedule--> Schedule --allocate--> Network
       --emit--> programs + program stream --document--> program file

@@ -1,6 +1,7 @@
 """What the host computes for every torque set: the INPUT quantities of a dataflow graph.
 
-VAMPs cannot do trigonometry, so the host writes, per joint i and per state (DESIGN §3):
+VAMPs cannot do trigonometry, so the host writes, per joint i and per state (the paper's
+section II):
 
     A       A_i(q_i)                      (3x3, row-major when flattened)
     zqd     z_{i-1} q̇_i = [0, 0, q̇_i]    (two pre-stored zeroes, q̇ in the third scalar; u_i q̇_i

@@ -5,8 +5,9 @@ revolute joint: 3 MV, 5 VA, 4 VC) and the non-propagated r̈_i, F_i, N_i (10 ops
 1 SV); the forward node computes f_i, n_i (8 ops: 2 MV, 4 VA, 2 VC). The node ids T1..T24 follow
 Table III.1.
 
-Output convention (DESIGN §5). The paper returns the third coordinate of n_i as τ_i, which is right only
-when z_{i-1} referred to O_i is e_z. We carry the forward variables referred to O_{i-1} instead:
+Output convention (README, *Exactness convention*). The paper returns the third coordinate of n_i as
+τ_i, which is right only when z_{i-1} referred to O_i is e_z. We carry the forward variables
+referred to O_{i-1} instead:
 
     f'_i = A_i f_i = A_i (F_i + f'_{i+1})
     n'_i = A_i n_i = A_i (n'_{i+1} + N_i + s*_i × F_i + p*_i × f'_{i+1})

@@ -27,14 +27,14 @@ referred to O_{a-1} (see "Output convention"), with W and R recomputed as on the
     f'_{a,b} = f'_{a,k} + W_{a,k} f'_{k+1,b}                                        (T19, f)
     n'_{a,b} = (n'_{a,k} + W_{a,k} (R_{a,k} × f'_{k+1,b})) + W_{a,k} n'_{k+1,b}    (T21..T24, n)
 
-Leaves (a = b). By default Table IV.1's, with DESIGN §5's corrections (q̇_a in ω and Q, q̈_a in ω̇, no
-p̈*_a term for a ≥ 1, the ∂ term is σ̄_a A_aᵀ z q̈_a; 2 ω_{a,a} × Q_{a,a} is identically zero since
-σ_a σ̄_a = 0): a revolute leaf is W = A_a, ω = A_aᵀ z q̇_a, ω̇ = A_aᵀ z q̈_a, Q = 0, R = p*_a,
-S = ω × p*_a, p̈ = ω̇ × p*_a + ω × S (2 MV, 3 VC, 1 VA); a prismatic one ω = ω̇ = S = 0,
-Q = A_aᵀ z q̇_a, p̈ = A_aᵀ z q̈_a (2 MV). Forward: W = A_a, R = p*_a, f' = A_a F_a,
-n' = A_a (N_a + s*_a × F_a) (2 MV, 1 VC, 1 VA); partial terms are named L1..L6. With uniform_leaves
-the combining node itself builds X_{a,a} from Appendix D's artificial operands (corrected as in
-logforms: ṗ*_a is p*_a, a_{a-1} is z_{a-1}):
+Leaves (a = b). By default Table IV.1's, with the corrections of README's *Exactness convention*
+(q̇_a in ω and Q, q̈_a in ω̇, no p̈*_a term for a ≥ 1, the ∂ term is σ̄_a A_aᵀ z q̈_a; 2 ω_{a,a} ×
+Q_{a,a} is identically zero since σ_a σ̄_a = 0): a revolute leaf is W = A_a, ω = A_aᵀ z q̇_a, ω̇ =
+A_aᵀ z q̈_a, Q = 0, R = p*_a, S = ω × p*_a, p̈ = ω̇ × p*_a + ω × S (2 MV, 3 VC, 1 VA); a prismatic
+one ω = ω̇ = S = 0, Q = A_aᵀ z q̇_a, p̈ = A_aᵀ z q̈_a (2 MV). Forward: W = A_a, R = p*_a, f' = A_a
+F_a, n' = A_a (N_a + s*_a × F_a) (2 MV, 1 VC, 1 VA); partial terms are named L1..L6. With
+uniform_leaves the combining node itself builds X_{a,a} from Appendix D's artificial operands
+(corrected as in logforms: ṗ*_a is p*_a, a_{a-1} is z_{a-1}):
 
     backward  X_{a,k} = (I, σ_a z q̇_a, σ_a z q̈_a, σ̄_a z q̇_a, 0, 0, σ̄_a z q̈_a)
               X_{k+1,b} = (A_a, 0, 0, 0, p*_a, 0, 0)
@@ -56,15 +56,15 @@ every n (Sklansky, n = 7: 9 instead of 12 each way) and a whole tier each way wh
 The tip load is folded into leaf n as F_n + f_{n+1} and N_n + (n_{n+1} - r*_n × f_{n+1}) (a constant):
 at most 2 VA, none for a free tip (the paper's case).
 
-Output convention (DESIGN §5). τ_i = z_{i-1}·n_i is the third coordinate of A_i n_i, not of n_i. As in
-the linear graph the forward parameters are carried referred to O_{a-1}: f'_{a,b} = A_a f_{a,b},
-n'_{a,b} = A_a n_{a,b}. Multiplying logforms' combine by A_a (A_a W_{a+1,k+1} = W_{a,k} A_{k+1},
-A (u × v) = A u × A v, A_{k+1} A_{k+1}ᵀ R_{a,k} = R_{a,k}) gives the forms above: they use the unshifted
-W_{a,k}, R_{a,k} of the backward pass (R_{a,k} and f'_{k+1,b} are both in O_k), so the paper's
-T20 = A_{k+1}ᵀ R_{a,k} is not needed, and τ_i is read off directly. The output correction is the A_a
-of the forward leaf: 2 MV per joint with Table IV.1 leaves (f = F_a, n = N_a + s*_a × F_a in the paper)
-and no op at all with uniform leaves (W_{a,k} = A_a instead of I). On the critical path it is one MV,
-1 Mult + 2 Addns.
+Output convention (README, *Exactness convention*). τ_i = z_{i-1}·n_i is the third coordinate of A_i
+n_i, not of n_i. As in the linear graph the forward parameters are carried referred to O_{a-1}:
+f'_{a,b} = A_a f_{a,b}, n'_{a,b} = A_a n_{a,b}. Multiplying logforms' combine by A_a (A_a
+W_{a+1,k+1} = W_{a,k} A_{k+1}, A (u × v) = A u × A v, A_{k+1} A_{k+1}ᵀ R_{a,k} = R_{a,k}) gives the
+forms above: they use the unshifted W_{a,k}, R_{a,k} of the backward pass (R_{a,k} and f'_{k+1,b}
+are both in O_k), so the paper's T20 = A_{k+1}ᵀ R_{a,k} is not needed, and τ_i is read off directly.
+The output correction is the A_a of the forward leaf: 2 MV per joint with Table IV.1 leaves (f =
+F_a, n = N_a + s*_a × F_a in the paper) and no op at all with uniform leaves (W_{a,k} = A_a instead
+of I). On the critical path it is one MV, 1 Mult + 2 Addns.
 
 VAMPs, n = 6, general rotary arm, Sklansky, uniform leaves (the paper's section VI case: grounded in O_0,
 7 combining + 6 leaf nodes each way): backward 13 × 26 + npv 6 × 10 = 398, as the paper; forward

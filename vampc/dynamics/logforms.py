@@ -74,7 +74,8 @@ Where these differ from the printed Table IV.1 (and Appendix D), and why:
    σ̄_a z q̈_a; n_{k+1,b} = \\dot s*_a × F_a is s*_a × F_a; with R', the right operand's R' is
    A_{a+1}ᵀ p*_a.
 7. Table V.1's W'_{k+1,b} p̈_{a,k} (step T16) is W_{k+1,b}ᵀ p̈_{a,k}.
-8. The joint force is τ_i = (A_iᵀz)·n_i (or ·f_i), not the third coordinate of n_i (DESIGN §5).
+8. The joint force is τ_i = (A_iᵀz)·n_i (or ·f_i), not the third coordinate of n_i
+   (README, *Exactness convention*).
 
 Trees (issue 12; vampc.dataflow.treeprefix). A joint d whose joint frame J_d is shifted by o_d from its
 parent's frame origin (vampc.robot.chain) is the leaf X_{d,d} after a motionless virtual leaf

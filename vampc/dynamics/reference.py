@@ -1,8 +1,8 @@
 """Serial recursive Newton-Euler (Table I.1, after Luh, Walker and Paul): the oracle for every later stage.
 
-Conventions (DESIGN §3). All vectors are in link coordinates: ω_i, ω̇_i, p̈_i, r̈_i, F_i, N_i, f_i, n_i are
-referred to O_i. The paper calls the base→tip pass the *backward* recursion and the tip→base pass the
-*forward* recursion; this module keeps that naming.
+Conventions (the paper's section II). All vectors are in link coordinates: ω_i, ω̇_i, p̈_i, r̈_i,
+F_i, N_i, f_i, n_i are referred to O_i. The paper calls the base→tip pass the *backward* recursion
+and the tip→base pass the *forward* recursion; this module keeps that naming.
 
 Backward (base→tip), for i = 1..n, with z = e_z in O_{i-1} and A_iᵀ z = joint.axis:
 
@@ -25,7 +25,7 @@ so the joint force is
 
     τ_i = z_{i-1}·n_i (revolute) or z_{i-1}·f_i (prismatic),  z_{i-1} referred to O_i = joint.axis = Φ_iᵀ e_z,
 
-not the third coordinate of n_i (DESIGN §5: the two agree only when Φ_i = I).
+not the third coordinate of n_i (README, *Exactness convention*: the two agree only when Φ_i = I).
 
 Every function accepts a single state (q of shape (n,)) or a batch (q of shape (N, n), or any leading
 shape): the same code runs on both because every product broadcasts over leading axes.

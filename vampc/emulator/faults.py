@@ -269,12 +269,10 @@ def set_bit(word, values: np.ndarray, bit: int, how: str) -> np.ndarray:
             shift = np.int64(64 - width)             # raw - 2**63 was out of int64's reach)
             raw = (raw << shift) >> shift
         return raw.astype(np.int64)
-    if word.bits == 32:
-        u = values.astype(np.float32).view(np.uint32)
-        out = _apply(u, np.uint32(1 << bit), how).view(np.float32)
-        return out.astype(values.dtype)
-    u = np.ascontiguousarray(values, dtype=np.float64).view(np.uint64)
-    return _apply(u, np.uint64(1 << bit), how).view(np.float64)
+    dtype = np.dtype(word.dtype)                     # a float word: its IEEE bits, of its size
+    u = np.ascontiguousarray(values, dtype=dtype).view(f"u{dtype.itemsize}")
+    out = _apply(u, u.dtype.type(1 << bit), how).view(dtype)
+    return out.astype(values.dtype, copy=False)
 
 
 def _apply(u, mask, how: str):

@@ -1,4 +1,4 @@
-"""The machine itself, below every stage that uses it (DESIGN §2, §10): the op table (each op's
-micro-steps and latency shape, as data: vampc.machine.ops), the arithmetic interface (word formats:
-vampc.machine.arith) and the numpy interpreter of the op table every Python engine runs
-(vampc.machine.interp)."""
+"""The machine itself, below every stage that uses it (README, *Extending vampc*): the op table
+(each op's micro-steps and latency shape, as data: vampc.machine.ops), the arithmetic interface
+(word formats: vampc.machine.arith) and the numpy interpreter of the op table every Python engine
+runs (vampc.machine.interp)."""

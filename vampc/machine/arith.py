@@ -1,4 +1,5 @@
-"""The arithmetic of a VAMP's units, behind one small interface (DESIGN §10): the word formats.
+"""The arithmetic of a VAMP's units, behind one small interface (README, *Word formats*,
+*Extending vampc*): the word formats.
 
 Every engine does its arithmetic through a word format: the tick engine and the numpy stream engine
 call `apply`, the stream engine's generated C renders `c_expr`, and later a Verilog generator renders
@@ -121,6 +122,13 @@ class Float64:
         """The same format with its overflow count at zero (one per run)."""
         return type(self)()
 
+    @property
+    def program_bits(self) -> int:
+        """Every integer below 2**program_bits in magnitude travels exactly in a Program-Mode word
+        of this format (vampc.program.words.Packing): a float's significand, its dtype's (53 bits
+        in float64, 24 in float32)."""
+        return int(np.finfo(self.dtype).nmant) + 1
+
     def random(self, rng, shape, scale: float = 1.0) -> np.ndarray:
         """Words a register may hold at power-on (the tick engine's random start)."""
         return (rng.normal(size=shape) * scale).astype(self.dtype)
@@ -237,6 +245,11 @@ class Fixed(Float64):
 
     def fresh(self):
         return Fixed(self.integer, self.fraction, self.rounding, self.overflow)
+
+    @property
+    def program_bits(self) -> int:
+        """A scalar travels as its raw bits (program_words), so below the sign bit."""
+        return self.bits - 1
 
     def rounding_error(self, magnitude: float) -> float:
         """Whatever the magnitude: half a last place (nearest), a whole one (truncate)."""

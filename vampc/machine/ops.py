@@ -1,4 +1,5 @@
-"""The VAMP op table: every op defined once, as data (DESIGN §4, §10; Tables III.1, V.1, VII.1).
+"""The VAMP op table: every op defined once, as data (README, *Extending vampc*; the
+paper's Tables III.1, V.1, VII.1).
 
 A VAMP is three primitive modules, one per result component; module m (0-based) has two multipliers,
 one adder/subtractor and operand registers OP-A-1..3 / OP-B-1..3. An op's entry says

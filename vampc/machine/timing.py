@@ -1,7 +1,7 @@
-"""The hardware's timing rules, stated once (DESIGN §6–7, §10): when a value shows on a Result, a
-buffer stage or a port, when a slot's registers change, and how the Cycle-Counter places events in
-a period. The allocator, the budget scheduler, the network check (Network.verify), the static timing
-check and the tick engine all take them from here.
+"""The hardware's timing rules, stated once (README, *Timing model*): when a value shows on a
+Result, a buffer stage or a port, when a slot's registers change, and how the Cycle-Counter places
+events in a period. The allocator, the budget scheduler, the network check (Network.verify), the
+static timing check and the tick engine all take them from here.
 
 The rules (vampc.network.model describes the hardware they belong to):
 

@@ -1,5 +1,5 @@
 """Allocation: a layout's units become VAMPs with slots, multiplexers, delay buffers, host ports and
-constant buffers (DESIGN §6; the hardware is described in vampc.network.model).
+constant buffers (README, *Layouts*; the hardware is described in vampc.network.model).
 
 Every VAMP of a unit runs one slot per node bound to the unit, in the order of their dumps (three
 VAMPs per MM unit, one per column). A slot latches both operands at its node's scheduled start and

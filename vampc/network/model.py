@@ -1,5 +1,5 @@
 """The network IR: VAMPs with time-multiplexed slots, delay buffers, host ports and constant buffers,
-wired by taps through operand multiplexers (DESIGN §6–7).
+wired by taps through operand multiplexers (README, *Layouts*, *Program file*).
 
 A layout binds every graph op to a (VAMP, slot) and repeats with a period P: the initiation interval,
 in ticks, between successive torque sets. Everything below is periodic with P; absolute ticks are

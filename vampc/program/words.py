@@ -1,4 +1,5 @@
-"""Program words: the one place where VAMP programs are packed and unpacked (DESIGN §7).
+"""Program words: the one place where VAMP programs are packed and unpacked
+(README, *Program file*).
 
 A VAMP's program is a table of slots. Each slot is the paper's four control fields — delay-A,
 delay-B, delay-R (Cycle-Counter values at which operand A is latched, operand B is latched and the
@@ -30,11 +31,12 @@ clears the slot table, so a VAMP driving no bus holds none after Program Mode. E
 binary64.
 
 Narrow words (`Packing`). A fixed-point word of W bits carries a scalar as its raw bits, so below
-2^(W-1) (the sign bit). For W < 25 the compact word's two fields per scalar shrink to ⌊(W-1)/2⌋ bits
-each (4096 becomes 2^⌊(W-1)/2⌋ above), and whatever does not fit travels in extended words, whose
-values must then be below 2^(W-1): more words per VAMP, the same tables delivered. The packing
-follows from the word format the program records; float words and fixed words of 25 bits or more use
-the one above.
+2^(W-1) (the sign bit); a float word of a p-bit significand holds the integers below 2^p exactly.
+Where that bound, 2^b, is below 2^24 (W < 25; p < 24), the compact word's two fields per scalar
+shrink to ⌊b/2⌋ bits each (4096 becomes 2^⌊b/2⌋ above), and whatever does not fit travels in
+extended words, whose values must then be below 2^b: more words per VAMP, the same tables
+delivered. The packing follows from the word format the program records (its `program_bits`, b);
+float64, float32 and fixed words of 25 bits or more use the one above.
 """
 from __future__ import annotations
 
@@ -56,11 +58,13 @@ class Packing(Struct, frozen=True):
 
     @staticmethod
     def of(word) -> "Packing":
-        """The packing a word format carries (see the module docstring)."""
-        bits = getattr(word, "bits", 64)
-        if getattr(word, "c_type", "") != "int64_t" or bits >= 25:
+        """The packing a word format carries (see the module docstring): from the integers its
+        words hold exactly (`program_bits`: a float's significand, a fixed word's bits below the
+        sign), so a format added to vampc.machine.arith packs as it must."""
+        bits = getattr(word, "program_bits", 53)        # (None: float64)
+        if bits >= LIMIT.bit_length() - 1:
             return PACKING
-        return Packing(1 << ((bits - 1) // 2), 1 << (bits - 1))
+        return Packing(1 << (bits // 2), 1 << bits)
 
 
 PACKING = Packing()

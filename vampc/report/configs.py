@@ -1,5 +1,5 @@
 """The configurations a report compares: both recursions, each in every layout vampc makes, for the
-report's robot and options (DESIGN §6).
+report's robot and options (README, *Layouts*).
 
 The report's own configuration is the compiled one it was given (from a robot or a program file).
 The others are built here from the same chain: the graph once per recursion, then each layout's

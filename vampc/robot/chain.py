@@ -1,4 +1,4 @@
-"""The robot model in the paper's notation (section II, DESIGN §3).
+"""The robot model in the paper's notation (section II).
 
 Links 0..n; joint i connects link i-1 to link i. Frame O_i is fixed in link i with z_i along joint i+1.
 All vectors are in link coordinates. For joint i:

@@ -1,4 +1,5 @@
-"""Standard (distal) DH tables in YAML or JSON → Chain (DESIGN §3, schema `schemas/dh-table.schema.json`).
+"""Standard (distal) DH tables in YAML or JSON → Chain (README, *DH table*; schema
+`schemas/dh-table.schema.json`).
 
 Row i gives A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i), so the rotation is Rz(θ_i) Rx(α_i) and the origin of O_i
 from O_{i-1}, in O_i, is p*_i = [a_i, d_i sin α_i, d_i cos α_i]. On the Chain model:

@@ -1,4 +1,4 @@
-"""URDF → Chain (DESIGN §3).
+"""URDF → Chain (README, *URDF*).
 
 A URDF joint k has an origin T_k (pose of the child link frame in the parent link frame at q = 0) and a unit
 axis a_k in the child frame. We put O_{k-1} at joint k's origin, fixed in link k-1, with z along a_k:

@@ -1,4 +1,5 @@
-"""The kinematic tree of a URDF robot, and the choice of base, tip and route through it (DESIGN §3).
+"""The kinematic tree of a URDF robot, and the choice of base, tip and route through it
+(README, *URDF*).
 
 `Tree` indexes yourdfpy's links and joints by name, with each link's parent joint and child joints, and
 refuses what is not a tree (undefined links, a link with two parents, closed loops). The functions below

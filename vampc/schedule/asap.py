@@ -1,4 +1,4 @@
-"""ASAP scheduling and the critical path of a dataflow graph (DESIGN §6).
+"""ASAP scheduling and the critical path of a dataflow graph (README, *Timing model*).
 
 Every INPUT and CONST is available at flop 0; a compute node starts when its last operand is ready and
 takes Timing.duration(op) flops. One exception: an op that reads only inputs and constants (e.g. T11 of

@@ -1,4 +1,4 @@
-"""Layouts: which VAMPs run which ops, and how often a new torque set enters (DESIGN §6).
+"""Layouts: which VAMPs run which ops, and how often a new torque set enters (README, *Layouts*).
 
 A layout binds every compute node of the graph to a *unit* — one VAMP, or three for an MM — and fixes
 the period P (ticks between successive torque sets) and the buffer clock B. Every VAMP of a unit runs
