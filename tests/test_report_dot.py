@@ -63,3 +63,43 @@ def test_a_floating_bases_wrench_outputs_are_named_as_the_torque_files_columns(a
     assert sorted(map(int, labels)) == list(range(1, 19))
     assert [labels[str(j)].rstrip("…") for j in range(13, 19)] == list(WRENCH_COLUMNS)
     assert all(labels[str(j)].rstrip("…") == f"τ{j}" for j in range(1, 13))
+
+
+def test_an_mm_members_operand_b_is_one_wire_from_its_columns_vamp():
+    """The VAMP computing column c of A·B reads column c of B: one wire, from the VAMP making that
+    column (found here from the graph: the node B comes from, the column computed), as the pins
+    count it; the DOT had drawn three (a hardware user counted 12 pins from it where the report
+    said 10), and the fan-out counted them too. The fan-out and the most pins a VAMP needs are
+    worked out again from the edges drawn."""
+    from vampc.report.compare import max_fan_out
+    from vampc.report.processors import vamp_pins
+    c = compile_chain(load_robot(EXAMPLES / "puma560.yaml"), CompileOptions(recursion="log"))
+    net = report_dot(c.graph, c.layout, c.network, "puma").split("\ndigraph dataflow {")[0]
+    edges = re.findall(r'^\s+([vbpk])(\d+) -> v(\d+) \[label="([AB])\d+', net, re.M)
+    buffer_of = {int(b): int(v) for v, b in re.findall(r"v(\d+) -> b(\d+);", net)}
+    vamps = c.network.vamps
+    members = [v for v in vamps if v.slots[0].op.name == "MM"]
+    made_by_vamps = 0
+    for v in members:
+        s = v.slots[0]
+        b_from = [(kind, int(i)) for kind, i, to, side in edges if int(to) == v.index and side == "B"]
+        assert len(b_from) == 1, (v.index, b_from)
+        kind, i = b_from[0]
+        arg = c.graph.nodes[c.graph.nodes[s.node].args[1]]
+        if kind in "pk":         # (a host port's or constant's matrix: one input of its own)
+            assert not arg.op.is_compute
+            continue
+        source = vamps[i if kind == "v" else buffer_of[i]].slots[0]
+        assert source.node == arg.id and source.column == s.column
+        made_by_vamps += 1
+    assert made_by_vamps == 18       # (the MM members reading a matrix other VAMPs make)
+    drives = {}
+    for kind, i, _, _ in edges:
+        if kind in "vb":
+            src = int(i) if kind == "v" else buffer_of[int(i)]
+            drives[src] = drives.get(src, 0) + 1
+    assert max_fan_out(c.network) == max(drives.values())
+    into = {}
+    for _, _, to, _ in edges:
+        into[int(to)] = into.get(int(to), 0) + 1
+    assert max(vamp_pins(v)["separate"] for v in vamps) == 6 + max(into.values()) == 10

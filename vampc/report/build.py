@@ -73,6 +73,10 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
                                      + ["other leaf style"]) if big else []}
     from vampc.report.counts import path_conditions
     rep.update(path_conditions(c.chain))     # (the latency's reasons read them: latency_note)
+    from vampc.report.compare import revolute_path
+    turned = revolute_path(c.chain, c.options)
+    if turned is not None:                   # (present only then, so other reports keep their bytes)
+        rep["revolute_path"] = turned
     if c.chain.mimic:            # coupled mimic joints (vampc.robot.mimic): the host's, not the network's
         names = [j.name for j in c.chain.joints]
         rep["mimic"] = [{"follower": names[m.follower - 1], "leader": names[m.leader - 1],

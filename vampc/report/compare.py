@@ -6,23 +6,28 @@ from dataclasses import replace
 from vampc.compiler import CompileOptions, build_graph, compile_chain
 from vampc.errors import VampcError
 from vampc.kinds import Prefix, TapKind
+from vampc.memo import keep_last
 
 
 def max_fan_out(network) -> int:
     """The most multiplexer inputs any one VAMP Result drives (directly or through its buffer)."""
     from vampc.network.bus import wired
     network = wired(network)     # a bus network: the wires it implements
+    from vampc.report.processors import read_taps
     readers = [0] * len(network.vamps)
     sources = [b.source for b in network.buffers]
     vamp, buffer = TapKind.VAMP, TapKind.BUFFER
     for v in network.vamps:      # (tap_source in line: a million VAMPs in a big network)
-        for operands in (v.a, v.b):
-            for operand in operands:
-                for tap in operand.taps:
-                    if tap.kind is vamp:
-                        readers[tap.index] += 1
-                    elif tap.kind is buffer:
-                        readers[sources[tap.index]] += 1
+        if all(len(o.taps) == 1 for o in v.a) and all(len(o.taps) == 1 for o in v.b):
+            inputs = [o.taps for o in v.a] + [o.taps for o in v.b]
+        else:                    # a matrix operand: the columns read (an MM member's B: its own)
+            inputs = read_taps(v)
+        for taps in inputs:
+            for tap in taps:
+                if tap.kind is vamp:
+                    readers[tap.index] += 1
+                elif tap.kind is buffer:
+                    readers[sources[tap.index]] += 1
     return max(readers, default=0)
 
 
@@ -106,6 +111,35 @@ def compare_layouts(chain, options: CompileOptions) -> list[dict]:
     from vampc.report.configs import configurations
     c = compile_chain(chain, replace(options, verify=False, numbering=None))
     return layout_rows(configurations(c, (c.graph.recursion,)), c.graph.recursion)
+
+
+def revolute_path(chain, options) -> dict | None:
+    """{"mults", "adds"} on the critical path of the same arm with every prismatic joint revolute
+    (its graph, scheduled ASAP at `options`' timing, recursion, prefix shape and leaves): what a
+    latency's reasons measure the prismatic joints' σ̄ terms against (vampc.report.counts.
+    latency_reasons; they had been given no size, a hardware user's find). None without prismatic
+    joints, and on a tree or floating base, whose latency is not itemised."""
+    from vampc.robot.chain import JointType
+    if not chain.is_fixed_chain or all(j.type is JointType.REVOLUTE for j in chain.joints):
+        return None
+    return _revolute_path(chain, options.recursion, options.prefix, options.uniform_leaves,
+                          options.mult_latency, options.add_latency)
+
+
+@keep_last(4)          # (Table O.1 asks for each configuration: two graphs, one per recursion)
+def _revolute_path(chain, recursion, prefix, uniform_leaves, mult, add) -> dict:
+    import warnings
+
+    from vampc.robot.chain import JointType
+    from vampc.schedule.asap import schedule_asap
+    with warnings.catch_warnings():      # (the chain's own checks were said when it was read)
+        warnings.simplefilter("ignore")
+        turned = replace(chain, joints=tuple(replace(j, type=JointType.REVOLUTE)
+                                             for j in chain.joints))
+    options = CompileOptions(recursion=recursion, prefix=prefix, uniform_leaves=uniform_leaves,
+                             mult_latency=mult, add_latency=add)
+    s = schedule_asap(build_graph(turned, options), options.timing, verify=False)
+    return {"mults": s.mults, "adds": s.adds}
 
 
 def tree_latencies(chain, options) -> dict:

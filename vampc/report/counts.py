@@ -431,8 +431,23 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     """Why a latency differs from the paper's formula, each reason as (short, sentence); `rep` holds
     the summary keys latency, paper, joints, recursion, uniform_leaves, timing, prismatic_joints,
     and optionally tree (a tree or floating base: "tree" or "floating"), prefix (its shape),
-    base_rotates and tip_force (path_conditions)."""
+    base_rotates and tip_force (path_conditions) and revolute_path (with prismatic joints: the
+    same arm's path with them revolute, vampc.report.compare.revolute_path)."""
     got, paper = rep["latency"], rep["paper"]
+    turned = rep.get("revolute_path")
+    if rep["prismatic_joints"] and turned and not rep.get("tree"):
+        # the same arm's reasons with its prismatic joints revolute, then what they change, measured
+        # on its graph (vampc.report.compare.revolute_path): the prismatic joints' reason had no
+        # size, a one-joint arm's −2 M − 6 A left unsaid (a hardware user's find)
+        reasons = latency_reasons({**rep, "prismatic_joints": [], "revolute_path": None,
+                                   "latency": {**got, **turned}})
+        dm, da = got["mults"] - turned["mults"], got["adds"] - turned["adds"]
+        size = _sized(dm, da) or "no change"
+        return reasons + [(f"prismatic joints, {size}",
+                           f"prismatic joints {numbers_text(rep['prismatic_joints'])}: Table I.1's "
+                           f"σ̄ terms in place of the rotary ones: {size} on the path against the "
+                           "same arm with revolute joints (its graph's critical path, measured; "
+                           "the paper's formula is for a general rotary arm)")]
     reasons = [(CORRECTION,
                 "includes the output correction of 1 Mult + 2 Addns: τ_i = z_{i-1}·n_i is the third "
                 "coordinate of A_i n_i, not of n_i (the paper's convention is exact only when Φ_i = "

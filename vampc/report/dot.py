@@ -96,17 +96,20 @@ def network_dot(graph, layout, net, name: str) -> str:
 
 
 def _network_edges(net) -> list[str]:
-    """One edge per multiplexer input (an MM operand: one per column), labelled operand and input."""
+    """One edge per wire into a multiplexer input (a matrix operand: one per column it reads, so
+    one into an MM member's operand B, as the report's pins count: read_taps), labelled operand
+    and input."""
     from vampc.network.bus import wired
+    from vampc.report.processors import read_taps
     net = wired(net)             # a bus network: the wires it implements
     names = {"vamp": "v", "buffer": "b", "port": "p", "const": "k"}
     out = []
     for v in net.vamps:
-        for operand_name, inputs in (("A", v.a), ("B", v.b)):
-            for k, operand in enumerate(inputs):
-                for tap in operand.taps:
-                    label = f"{operand_name}{k}" + (f" s{tap.stage}" if tap.kind is TapKind.BUFFER else "")
-                    out.append(f"  {names[tap.kind]}{tap.index} -> v{v.index} [label={quote(label)}];")
+        inputs = [f"A{k}" for k in range(len(v.a))] + [f"B{k}" for k in range(len(v.b))]
+        for name, taps in zip(inputs, read_taps(v)):
+            for tap in taps:
+                label = name + (f" s{tap.stage}" if tap.kind is TapKind.BUFFER else "")
+                out.append(f"  {names[tap.kind]}{tap.index} -> v{v.index} [label={quote(label)}];")
     return out
 
 

@@ -89,6 +89,7 @@ def drawing(graph, layout, net, critical_path=(), focus: tuple[int, int] | None 
 @keep_last()          # the last drawing made: the DOT of a big network asks for the same one
 def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
     from vampc.network.bus import wired
+    from vampc.report.processors import read_taps
     net = wired(net)             # a bus network: the wires it implements
     if layout.grouped:
         sites = vamp_sites(graph, layout)
@@ -102,8 +103,8 @@ def _drawing(graph, layout, net, critical_path, focus) -> Drawing:
     readers_of_port: dict[int, list] = {}
     for v in net.vamps:
         here = sites[v.index]
-        for operand in v.a + v.b:
-            for tap in operand.taps:
+        for taps in read_taps(v):        # (an MM member's operand B: the one column it reads)
+            for tap in taps:
                 match tap.kind:
                     case TapKind.VAMP:
                         buses[(sites[tap.index], here)] += 1

@@ -207,11 +207,18 @@ def _vamp_note(recursion: str, sec: str, leaves, row: dict, chain) -> str:
     if not why and tree:
         # (it said "see README, Layouts" of every per-node count of a tree that differs)
         why.append(_tree_why(recursion, sec, row, ref, chain))
+    if not why and not log_fwd and Recursion(recursion) is Recursion.LOG and chain.n == 1:
+        # (it said "see README, Layouts", or of a prismatic joint "add the σ̄ terms" beside 3 [26])
+        why.append(f"one joint: its leaf is the only backward node, {row['per_node']} VAMPs (no "
+                   "combining node to compare with the paper's)")
     prismatic = prismatic_joints(chain)
     if not why and prismatic:      # (the Stanford arm's 14 [12] said "see README, Layouts")
         from vampc.report.counts import numbers_text
-        why.append(f"prismatic joints {numbers_text(prismatic)} add the σ̄ terms (Table I.1's "
-                   "translational case; section VI counts a rotary arm)")
+        more = ref.get("per_node") is None or row["per_node"] >= ref["per_node"]
+        why.append(f"prismatic joints {numbers_text(prismatic)} "
+                   f"{'add' if more else 'take'} the σ̄ terms (Table I.1's translational case, "
+                   f"{'beside' if more else 'in place of'} the rotary terms; section VI counts a "
+                   "rotary arm)")
     head = (f"differs in {', '.join(c.replace('_', ' ') for c in diff)}: " if diff else
             "per node as the paper's, for another reason: ")
     return head + ("; ".join(why) or "see README, Layouts")
@@ -231,11 +238,13 @@ def _tree_why(recursion: str, sec: str, row: dict, ref: dict, chain) -> str:
         for p in chain.parent_of:
             kids[p] += 1
         several = any(k > 1 for k in kids[1:])
+        turned = any(j.pre is not None for j in chain.joints)    # (vampc.dataflow.linear's VD)
         return ("the robot has branches (a tree): " + (
             "a joint with several children sums their f' and n' (VA trees), " if several else "") +
             "a child whose frame is shifted from its parent's carries its moment over (Y1, Y2: "
-            "VC + VA) and a joint whose axis is not its parent frame's z takes τ = u·n' (VD), beyond "
-            "the paper's Table I.1 (README, Trees and floating bases)")
+            "VC + VA)" + (" and a joint whose axis is not its parent frame's z takes τ = u·n' (VD)"
+                          if turned else "") +
+            ", beyond the paper's Table I.1 (README, Trees and floating bases)")
     if linear and sec in (Section.BWD, "bwd_total") and ref.get("per_node") is not None and \
             row["per_node"] - ref["per_node"] == 5:
         return ("the robot has branches (a tree): a joint whose frame is shifted from its parent's "

@@ -43,6 +43,19 @@ def _recursions(configs) -> list[str]:
     return list(dict.fromkeys(k.recursion for k in configs))
 
 
+def _which_is_more(work: dict, ref: dict) -> str:
+    """Where vampc's serial count exceeds Luh-Walker-Paul's, said of this robot (it said "at n = 1
+    vampc's count is the larger", where a rotary arm's Addns are also the more at n = 2, 216
+    against 214: a hardware user's find)."""
+    more = [f"{unit} ({work[k]} against {ref[k]})" for unit, k in (("Mults", "mults"),
+                                                                  ("Addns", "adds"))
+            if work[k] > ref[k]]
+    if more:
+        return "; here vampc counts more " + " and ".join(more)
+    fewer = all(work[k] < ref[k] for k in ("mults", "adds"))
+    return "; here vampc counts fewer of both" if fewer else "; here vampc counts no more of either"
+
+
 def _serial_row(graph, n: int, timing) -> dict:
     """The graph's ops done one after another, beside Luh-Walker-Paul's serial Newton-Euler; its
     flops at `timing`'s Mult and Addn latencies."""
@@ -55,8 +68,8 @@ def _serial_row(graph, n: int, timing) -> dict:
             "linear graph, serial work: counted op by op from vampc's graph (README, Figures "
             "against the paper), not by Luh-Walker-Paul's accounting of their own formulation "
             "(150n − 48 Mults, 131n − 48 Addns): the paper's input/output convention (no SV for "
-            "z q̇, z q̈ and no VD for τ) is part of the difference, not all of it, and at n = 1 "
-            "vampc's count is the larger"),
+            "z q̇, z q̈ and no VD for τ) is part of the difference, not all of it" +
+            _which_is_more(work, ref)),
         Recursion.LOG: (
             "work traded for depth",
             "log graph, serial work: the log recursion trades work for depth, every combining "
@@ -89,6 +102,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
     if k.options.layout_kind is SYSTOLIC and s.interval == s.timing.cycle:   # (a bus may stretch it)
         im, ia = _cycle_counts(s.timing)
         row["interval"] = {"mults": im, "adds": ia}
+    from vampc.report.compare import revolute_path
     reasons = latency_reasons({
         "latency": {"flops": s.latency, "mults": s.mults, "adds": s.adds, "waits": s.waits,
                     "data_path": _data_path(k) if s.waits else None},
@@ -98,6 +112,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0],
         "tree": "tree" if not chain.is_chain else "floating" if chain.floating else None,
         "prefix": str(getattr(k.options.prefix, "value", k.options.prefix)),
+        "revolute_path": revolute_path(chain, k.options),
         **path_conditions(chain)})
     short = [r[0] for r in reasons]
     on_bus = k.network is not None and k.network.bus is not None
