@@ -2489,3 +2489,31 @@ def test_an_owner_that_cannot_be_kept_is_said(program, tmp_path, monkeypatch):
     assert res.exit_code == 0, res.output
     assert re.search(rf"warning: -o {re.escape(str(out))}: the new file's owner and group are "
                      r"0:0, not the old file's 65534:65534, which this user cannot give", res.stderr)
+
+
+@pytest.mark.parametrize("command", [["emulate", "{program}", "--random", "3", "--word", "float32"],
+                                     ["compile", "{robot}", "-o", "out.yaml"],
+                                     ["compile", "{robot}", "-o", "{program}"]])
+def test_standard_error_appended_to_a_file_named_is_refused_before_a_word(tmp_path, command):
+    """`vampc emulate p.vamp.json --word float32 2>> p.vamp.json` appended its warning to the
+    program file and ran on, exit 0, and the file no longer read; `compile r.yaml -o out.yaml 2>>
+    r.yaml` wrote its warning into the robot file, then called the file bad YAML (a new user's
+    find). Refused before anything is said, the refusal on standard output, the file as it was."""
+    import subprocess
+    import sys
+    robot = tmp_path / "planar2.yaml"
+    robot.write_bytes(PLANAR.read_bytes())
+    program = tmp_path / "p.vamp.json"
+    subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(robot), "-o", str(program)],
+                   check=True, capture_output=True)
+    args = [a.format(robot=robot, program=program) for a in command]
+    victim = program if "{program}" in command else robot
+    before = victim.read_bytes()
+    with open(victim, "ab") as fh:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdout=subprocess.PIPE,
+                              stderr=fh, text=True, cwd=tmp_path)
+    assert done.returncode == 1 and done.stdout == (
+        f"vampc: error: {victim}: standard error is this file, named on the command line "
+        "(redirected onto it); vampc never writes into the files it is given: send standard error "
+        "elsewhere\n")
+    assert victim.read_bytes() == before and not (tmp_path / "out.yaml").exists()
