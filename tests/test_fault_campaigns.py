@@ -1217,3 +1217,24 @@ def test_the_csv_gives_each_runs_overflows_as_the_json_does(programs, tmp_path):
     plain = RUN(main, ["faults", str(ec), "--kinds", "result", "--sets", "3", "--workers", "1",
                        "--results", str(tmp_path / "f.jsonl"), "--format", "csv"]).stdout
     assert {r["overflows"] for r in csv.DictReader(io.StringIO(plain))} == {""}
+
+
+def test_a_fault_free_run_whose_torques_overflow_is_refused_naming_the_set(tmp_path):
+    """Masses of 1e300 and a link of 1e200 overflow float64: `emulate` refuses the torques, naming
+    the set, and a campaign ran every fault against those NaNs and said 100% coverage, exit 0 (a
+    new user's find). It is refused as emulate refuses it, and writes no results file."""
+    robot = tmp_path / "huge.yaml"
+    robot.write_text((EXAMPLES / "planar2.yaml").read_text().replace("mass: 2.0", "mass: 1.0e300")
+                     .replace("a: 0.5", "a: 1.0e200"))
+    program = tmp_path / "huge.vamp.json"
+    assert RUN(main, ["compile", str(robot), "--error-correction", "-o", str(program)]).exit_code == 0
+    em = RUN(main, ["emulate", str(program), "--random", "3"])
+    assert em.exit_code == 1 and "set 1, joint 1 (shoulder): the torque is nan" in em.output
+    results = tmp_path / "r.jsonl"
+    r = RUN(main, ["faults", str(program), "--kinds", "dead", "--workers", "1", "--results",
+                   str(results)])
+    assert r.exit_code == 1 and r.output == (
+        f"vampc: error: {program}: set 1 of the fault-free run, joint 1 (shoulder): the torque is "
+        "nan (float64 overflow: the robot's or the state's numbers are too large); the run stopped "
+        "and wrote no output file\n"), r.output
+    assert not results.exists()

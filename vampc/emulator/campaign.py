@@ -275,6 +275,11 @@ def reference_run(ld, ports, sets: int, seed: int) -> np.ndarray:
         d = engine.detections[0]
         raise VampcError(f"{ld.path}: the checking flagged VAMP {d['excised']} at tick "
                          f"{d['tick']} without any fault (a false alarm: an emulator error)")
+    from vampc.emulator.driver import non_finite
+    found = non_finite(ld, tau)
+    if found is not None:    # (every run would be measured against it: a campaign on a robot whose
+        #                      torques overflow said 100% coverage, exit 0: a new user's find)
+        raise VampcError(f"{ld.path}: set {found[0] + 1} of the fault-free run, {found[1]}")
     return tau
 
 
