@@ -61,6 +61,10 @@ def test_what_is_not_json_is_a_decode_error(text):
     # text cut short: said where it ends, just past its last character (no place was said before)
     ('{"program": "x",\n "synth": [1,2', "it ends early (line 2, column 15)"),
     ('{"a": [\n\n  \n', "it ends early (line 1, column 8)"),
+    # a lone high surrogate: msgspec says "truncated", and "it ends early" was said of a whole file
+    # (a new user's find); an escaped backslash before a u is no escape, a pair is no problem
+    ('{"a": 1,\n "x-note": "ok \\\\ud800 \\ud83d\\ude00", "b": "\\ud800"}',
+     "\\ud800 is half of a UTF-16 surrogate pair, alone (line 2, column 45)"),
     # a number beyond float64's range: msgspec says no place; nothing in a string is taken for it
     # (a checksum's hex '35670e9337' had been named where 1e999 was: a review's find)
     ('{"checksum": "sha256:35670e9337ab", "note": "\\" 1e999",\n "period": -2.5e999}',

@@ -194,6 +194,13 @@ YAML_ERRORS = [
      r"line 1: a value tagged !!python/object/apply:os\.system is not read: write it untagged"),
     ("name: x\nname: y\njoints: []\n", r"line 2: not valid YAML: duplicate key 'name'"),
     ("a: &a [1, *a]\nname: x\njoints: [*a]\n", r"a YAML alias refers to itself"),
+    # a key YAML reads as no text is named (the whole mapping had been quoted, the key not named)
+    ("name: x\n1: 2\njoints: []\n", r"the key 1 is read as a number, not a name \(quote it: "
+                                      r"keys are text\)$"),
+    ("name: x\n~: 2\njoints: []\n", r"the key null is read as null, not a name \(quote it: keys are text\)"),
+    ("name: x\njoints:\n  - {yes: 3}\n",
+     r"joints\[0\] \(joint 1\): the key true is read as a truth value, not a name \(quote it: "
+     r"keys are text\)"),
     # "Billion laughs" in YAML: nine levels of nine aliases, 9^9 values once expanded.
     ("l0: &l0 [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\n"
      + "".join(f"l{k}: &l{k} [{', '.join([f'*l{k - 1}'] * 9)}]\n" for k in range(1, 9))
@@ -585,3 +592,27 @@ def test_a_file_of_another_kind_says_what_it_looks_like(tmp_path):
     with pytest.raises(VampcError) as err:
         load_robot(broken_json)
     assert str(err.value) == f"{broken_json}: not valid JSON: object keys must be strings (line 1, column 15)"
+
+
+def test_a_position_limit_in_degrees_is_warned_about_once(tmp_path):
+    """`limits: {q: [-170, 170]}` on a revolute joint was taken as ±170 rad, random states drawn out
+    to ±156 rad, unsaid (a new user's find): beyond two turns it is warned of, once, the first named
+    and the other joints counted; a prismatic joint's metres and a few turns are not."""
+    import warnings
+
+    from vampc.errors import VampcWarning
+    path = tmp_path / "degrees.yaml"
+    path.write_text(yaml.safe_dump({"name": "x", "joints": [
+        row(limits={"q": [-3 * math.pi, 3 * math.pi]}), row(limits={"q": [-170, 170]}),
+        row(type="prismatic", limits={"q": [-50, 50]}), row(limits={"q": [0, 360]})]}))
+    with pytest.warns(VampcWarning) as said:
+        chain = load_dh(path)
+    assert [str(w.message) for w in said] == [
+        f"{path}: joints[1].limits (joint 2): q limit -170 is more than two turns: position limits "
+        "are radians (-170° is -2.9671) (and 1 more joint)"]
+    assert chain.joints[1].limits.q == (-170.0, 170.0)      # (taken as written)
+    path.write_text(yaml.safe_dump({"name": "x", "joints": [
+        row(limits={"q": [-4 * math.pi, 4 * math.pi]}), row(type="prismatic", limits={"q": [-50, 50]})]}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_dh(path)

@@ -1254,6 +1254,19 @@ def test_floating_base_on_a_dh_table_that_floats_already_is_said_to_do_nothing(t
         assert load_robot(path).floating
 
 
+def test_floating_base_on_a_dh_table_that_says_fixed_is_said_to_override_it(tmp_path):
+    """`base: {floating: false}` and --floating-base: the base floated, nothing said, and the base
+    link's mass, refused without the option, was taken silently with it (a new user's find)."""
+    text = (EXAMPLES / "planar2.yaml").read_text().replace(
+        "name:", "base: {floating: false, mass: 3.0}\nname:", 1)
+    path = write(tmp_path, text, "fixed.yaml")
+    with pytest.warns(VampcWarning, match=r"fixed\.yaml: base\.floating is false; --floating-base "
+                                          r"floats the base all the same"):
+        assert load_robot(path, floating=True).floating
+    with pytest.raises(VampcError, match="counts only for a floating base"):
+        load_robot(path)
+
+
 def test_a_urdf_with_a_default_namespace_is_read_as_urdfdom_reads_it(tmp_path):
     """<robot xmlns="..."> (Drake-style) put every element in that namespace, and the file was said
     to have "no <link>" (a new user's find): read by the elements' own names, as urdfdom does, its

@@ -241,6 +241,26 @@ def _huge_number(data: bytes) -> tuple[bytes, int] | None:
     return None
 
 
+_STRING_BYTES = re.compile(rb'"(?:[^"\\]|\\.)*"')
+_BACKSLASHED = re.compile(rb'\\(u[0-9a-fA-F]{4}|.)')
+
+
+def _lone_surrogate(data: bytes) -> tuple[str, int] | None:
+    """The first \\uD800-\\uDBFF escape of a JSON string not followed by a low surrogate's, and
+    where it starts; None if there is none."""
+    for m in _STRING_BYTES.finditer(data):
+        escapes = list(_BACKSLASHED.finditer(m.group()))
+        for k, e in enumerate(escapes):
+            code = e.group(1)
+            if len(code) == 5 and 0xD800 <= int(code[1:], 16) <= 0xDBFF:
+                after = escapes[k + 1] if k + 1 < len(escapes) else None
+                low = (after is not None and after.start() == e.end() and len(after.group(1)) == 5
+                       and 0xDC00 <= int(after.group(1)[1:], 16) <= 0xDFFF)
+                if not low:
+                    return "\\" + code.decode(), m.start() + e.start()
+    return None
+
+
 def decode_problem(exc: DecodeError, text: str | bytes) -> str:
     """msgspec's "JSON is malformed: invalid character (byte 81)" said for a person: what is wrong
     and where, as line and column ("NaN is not allowed (line 3, column 12)"; "the number 1e999 is
@@ -256,6 +276,13 @@ def decode_problem(exc: DecodeError, text: str | bytes) -> str:
             column = at - (data.rfind(b"\n", 0, at) + 1) + 1
             return f"the number {token.decode()} {OUT_OF_RANGE} (line {line}, column {column})"
     if m is None:
+        lone = _lone_surrogate(data) if message == "Input data was truncated" else None
+        if lone is not None:   # (msgspec says "truncated" of '"\ud800"': "it ends early" was said)
+            escape, at = lone
+            line = data.count(b"\n", 0, at) + 1
+            column = at - (data.rfind(b"\n", 0, at) + 1) + 1
+            return (f"{escape} is half of a UTF-16 surrogate pair, alone (line {line}, column "
+                    f"{column})")
         if message == "Input data was truncated":     # said where: at its end (a new user's find)
             end = len(data.rstrip())
             line, start = data.count(b"\n", 0, end) + 1, data.rfind(b"\n", 0, end) + 1

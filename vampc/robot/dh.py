@@ -115,6 +115,9 @@ def _floating_base(base: dict, floating: bool, source: str) -> dict:
     if floating and base.get("floating"):     # (taken unsaid: a new user's find)
         warnings.warn(VampcWarning(f"{source}: base.floating is true already; --floating-base has no "
                                    "effect"), stacklevel=4)
+    if floating and base.get("floating") is False:    # (overridden unsaid: a new user's find)
+        warnings.warn(VampcWarning(f"{source}: base.floating is false; --floating-base floats the "
+                                   "base all the same"), stacklevel=4)
     if not (floating or base.get("floating")):
         for key in ("mass", "com", "inertia"):
             if key in base:
@@ -481,6 +484,7 @@ def _warn_degrees(rows: list, source: str) -> None:
     unsaid)."""
     found = [(i, key) for i, row in enumerate(rows) for key in ("alpha", "theta")
              if abs(float(row[key])) > 2 * math.pi + 1e-3]    # (2π rounded, 6.2832, is radians)
+    _warn_degree_limits(rows, source)
     if not found:
         return
     i, key = found[0]
@@ -490,6 +494,25 @@ def _warn_degrees(rows: list, source: str) -> None:
                                f"{'more than 2π' if value > 0 else 'less than -2π'}: DH angles are "
                                f"radians ({value:g}° is {math.radians(value):.5g}){more}"),
                   stacklevel=3)
+
+
+def _warn_degree_limits(rows: list, source: str) -> None:
+    """One warning for a revolute joint's position limit beyond two turns (4π): degrees, most
+    likely (`q: [-170, 170]` drove random states to ±156 rad, unsaid: a new user's find), up to
+    1080 (three turns in degrees); a joint of a few turns, ±2π or ±3π, is not warned of."""
+    found = [(i, float(x)) for i, row in enumerate(rows)
+             if row.get("type", "revolute") == "revolute" and (row.get("limits") or {}).get("q")
+             for x in row["limits"]["q"] if 4 * math.pi < abs(float(x)) <= 1080]
+    #         (up to three turns in degrees: a bound of 1e308 is no angle, but "no limit")
+    if not found:
+        return
+    i, value = found[0]
+    more = sum(1 for k in {j for j, _ in found} if k != i)
+    warnings.warn(VampcWarning(f"{source}: {_where(('joints', i, 'limits'))}: q limit {value:g} is "
+                               f"more than two turns: position limits are radians ({value:g}° is "
+                               f"{math.radians(value):.5g})"
+                               + (f" (and {more} more joint{'s' if more > 1 else ''})" if more
+                                  else "")), stacklevel=4)
 
 
 def _check_names(rows: list, source: str) -> None:

@@ -149,7 +149,7 @@ def _problem(doc, message: str) -> tuple[tuple, str]:
     text, _, at = message.partition(" - at `")
     if at.startswith("key` in `"):                  # "Expected `str` - at `key` in `$.base`"
         keys = _keys(at.removeprefix("key` in `"))
-        return keys, f"a key of {_compact(value_at(doc, keys))} is not a string"
+        return keys, _not_a_name(value_at(doc, keys))
     keys = _keys(at)
     m = re.fullmatch(r"Object (contains unknown|missing required) field `(.*)`", text)
     if m:
@@ -185,6 +185,20 @@ def value_at(doc, keys: tuple):
     for key in keys:
         doc = doc[key]
     return doc
+
+
+def _not_a_name(mapping) -> str:
+    """What is wrong with a mapping one of whose keys is not text: that key, as YAML read it (the
+    whole mapping had been quoted, cut at 300 characters in a big file, the key not named: a new
+    user's find)."""
+    key = next((k for k in mapping if not isinstance(k, str)), None) \
+        if isinstance(mapping, dict) else None
+    if key is None and not (isinstance(mapping, dict) and None in mapping):
+        return f"a key of {_compact(mapping)} is not a string"
+    shown = "null" if key is None else str(key).lower() if isinstance(key, bool) else repr(key)
+    what = ("null" if key is None else "a truth value" if isinstance(key, bool) else
+            "a number" if isinstance(key, (int, float)) else type(key).__name__)
+    return f"the key {shown} is read as {what}, not a name (quote it: keys are text)"
 
 
 def _compact(value) -> str:
