@@ -1629,8 +1629,11 @@ def test_every_byte_is_written_or_the_run_fails(program, tmp_path):
                                    str(states), "-o", target], stdout=sink, stderr=subprocess.PIPE, text=True,
                                   preexec_fn=limited)
         assert done.returncode == 1, (target, done.stderr)
-        assert re.fullmatch(rf"vampc: error: {re.escape(target)}: cannot write torques: File too large\n",
-                            done.stderr), done.stderr
+        sent = "" if target not in ("-", "/dev/stdout") else \
+            r"; -o - had sent its header, and part of the first sets \(its last line perhaps cut " \
+            r"short\) to standard output"       # (what went out, as a signal's stop says it)
+        assert re.fullmatch(rf"vampc: error: {re.escape(target)}: cannot write torques: File too "
+                            rf"large{sent}\n", done.stderr), done.stderr
         assert not (tmp_path / "tau.csv").exists()
     done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program), "--trajectory",
                            str(states), "-o", "-"], capture_output=True)
@@ -2517,3 +2520,34 @@ def test_standard_error_appended_to_a_file_named_is_refused_before_a_word(tmp_pa
         "(redirected onto it); vampc never writes into the files it is given: send standard error "
         "elsewhere\n")
     assert victim.read_bytes() == before and not (tmp_path / "out.yaml").exists()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+def test_a_full_standard_output_says_what_had_gone_out(tmp_path):
+    """`-o - > /dev/full` (a full disk, or a file-size limit) said only "cannot write torques",
+    where a signal's stop says what had gone out (a new user's find): the write error says it too.
+    Against a file-size limit the sets written whole are counted."""
+    import resource
+    import subprocess
+    import sys
+    program = tmp_path / "p.vamp.json"
+    subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(PLANAR), "-o", str(program)],
+                   check=True, capture_output=True)
+    with open("/dev/full", "wb") as full:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program),
+                               "--random", "50", "-o", "-"], stdout=full, stderr=subprocess.PIPE,
+                              text=True)
+    assert done.returncode == 1 and done.stderr == (
+        "vampc: error: -: cannot write torques: No space left on device; -o - had sent part of its "
+        "header, and no set to standard output\n"), done.stderr
+    out = tmp_path / "t.csv"
+
+    def small():          # (Python ignores SIGXFSZ: a write past the limit fails with EFBIG)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8192, 8192))
+    with open(out, "wb") as fh:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program),
+                               "--random", "100000", "-o", "-"], stdout=fh,
+                              stderr=subprocess.PIPE, text=True, preexec_fn=small)
+    assert done.returncode == 1 and done.stderr.startswith(
+        "vampc: error: -: cannot write torques: File too large; -o - had sent "), done.stderr
+    assert done.stderr.endswith(" to standard output\n") and out.stat().st_size == 8192

@@ -694,6 +694,23 @@ def test_a_full_disk_under_the_results_file_is_one_line_and_resumes(programs, tm
     assert _campaign(ec, tmp_path, *QUICK)["runs"] == whole["runs"]
 
 
+def test_a_full_disk_before_any_result_says_nothing_is_kept(programs, tmp_path, monkeypatch):
+    """A disk full before the first run's line had been said to keep "the results written before"
+    (a new user's find, on a tmpfs filled beside the program): none were."""
+    ec, _, _ = programs
+    real_open = cp.ResultsFile.open
+
+    def opened(self):
+        real_open(self)
+        self._fh = _FillsUp(self._fh, 10)
+    monkeypatch.setattr(cp.ResultsFile, "open", opened)
+    path = tmp_path / "r.jsonl"
+    r = RUN(main, ["faults", str(ec), "--results", str(path), "--workers", "1", *QUICK])
+    assert r.exit_code == 1 and r.stderr.splitlines()[-1] == (
+        f"vampc: error: --results {path}: cannot write: No space left on device (no run's result "
+        "had been written)"), r.stderr
+
+
 def test_a_what_if_word_is_said_and_csv_files_end_as_standard_output_does(programs, tmp_path):
     """`faults PROGRAM --word q16.16` ran in another word format and neither the summary nor the
     JSON said so; `--format csv -o FILE` ended with a blank line standard output did not have."""

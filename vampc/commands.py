@@ -810,8 +810,14 @@ class Sinks:
         try:
             action(pending.fh)
         except OSError as exc:
+            error = pending.error(exc)
+            if pending.out.is_stdout and pending in (self.tau, self.states):
+                # what went out whole, as a signal's note says it (a full disk or a file-size limit
+                # under `-o - > f` said only "cannot write": a new user's find)
+                option = "-o" if pending is self.tau else "--save-states"
+                error = VampcError(f"{error}; {self.sent_note([option])}")
             self.discard()
-            raise pending.error(exc) from None
+            raise error from None
         self.writing = None
         self.rows[pending] = self.rows.get(pending, 0) + rows
         self.headed.add(pending)       # (its header is the first write)

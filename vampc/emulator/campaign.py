@@ -699,17 +699,20 @@ class ResultsFile:
     def add(self, index: int, run: dict) -> None:
         from vampc import jsontext
         run = {"index": index, **run}
-        self.done[index] = run
         try:
             self._fh.write(jsontext.dumps(run).encode() + b"\n")
             self._fh.flush()
         except OSError as exc:       # (a full disk: a traceback and "internal error", exit 3)
             raise self._cannot(exc) from None
+        self.done[index] = run       # (kept once written: what _cannot says is kept)
         self.added += 1
 
     def _cannot(self, exc: OSError) -> VampcError:
-        return VampcError(f"{self.called}: cannot write: {exc.strerror or exc} (the results "
-                          "written before are kept: the same command resumes from them)")
+        # (before any run's result there is nothing to resume from: a full disk under a new
+        # results file had been said to keep "the results written before": a new user's find)
+        kept = ("the results written before are kept: the same command resumes from them"
+                if self.done else "no run's result had been written")
+        return VampcError(f"{self.called}: cannot write: {exc.strerror or exc} ({kept})")
 
     def close(self, failed: bool = False) -> None:
         """Close; a file this run made and added no result to is removed if it failed."""
