@@ -49,3 +49,15 @@ def test_a_grouped_drawings_key_names_the_wrench(tmp_path):
     assert res.exit_code == 0, res.stderr
     text = out.read_text()
     assert "groups of" in text and "base_fx" in text and "wrench" in text
+
+
+def test_the_base_motion_ports_are_named_as_readme_names_them(tmp_path):
+    """A floating base's ports were labelled omega00, omega_dot00 and pdd00 in the drawing and the
+    DOT (a new user's find): omega0, omega_dot0 and pdd0, as README and the trajectory name them."""
+    out, dot = tmp_path / "n.svg", tmp_path / "n.dot"
+    res = CliRunner().invoke(main, ["report", str(EXAMPLES / "quadruped.urdf"), "--floating-base",
+                                    "--network", str(out), "--dot", str(dot)])
+    assert res.exit_code == 0, res.stderr
+    said = set(re.findall(r"host port \d+: ([a-z_]+\d+)", out.read_text()))
+    said |= set(re.findall(r'label="port \d+: ([a-z_]+\d+)', dot.read_text()))
+    assert {"omega0", "omega_dot0", "pdd0"} <= said and not {"omega00", "omega_dot00", "pdd00"} & said

@@ -59,7 +59,7 @@ def dump_network(net) -> str:
                   for k, s in enumerate(v.slots)]
     lines += [f"buffer {b.index} behind vamp {b.source}: {b.stages} stages" for b in net.buffers]
     for p in net.ports:
-        entries = " ".join(f"{e.key.quantity}{e.key.joint}@{e.block}" for e in p.entries)
+        entries = " ".join(f"{e.key.label}@{e.block}" for e in p.entries)
         lines.append(f"port {p.index} ({p.size}): {entries or 'program only'}")
     lines += [f"const {c.index} {c.name} [{', '.join(map(repr, c.value))}]" for c in net.consts]
     lines += [f"output tau{o.joint} = vamp {o.vamp} component {o.component} at tick {o.tick}"

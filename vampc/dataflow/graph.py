@@ -32,6 +32,12 @@ class InputKey:
         if not isinstance(self.quantity, Quantity):     # a builder's name, or read from a file
             object.__setattr__(self, "quantity", Quantity(self.quantity))
 
+    @property
+    def label(self) -> str:
+        """'A3', 'zqd2'; a floating base's 'omega0', not 'omega00' (as README names its ports: the
+        pictures had doubled the 0, a new user's find)."""
+        return str(self.quantity) if self.joint == 0 else f"{self.quantity}{self.joint}"
+
 
 class Node(Struct, frozen=True, gc=False):
     """One node. `args` are operand node ids (A then B). `name` is the paper's variable (e.g. "T4").

@@ -200,7 +200,7 @@ def _describe(ld: Loaded, src) -> str:
         return f"the result of {ld.vamp_name(src[1], src[2])}"
     if src[0] is SourceKind.PORT:
         key = ld.net.ports[src[1]].entries[src[2]].key
-        return f"port {src[1]}'s {key.quantity}{key.joint}"
+        return f"port {src[1]}'s {key.label}"
     if src[0] is SourceKind.CONST:
         return f"constant {ld.net.consts[src[1]].name}"
     return unhandled(src[0])

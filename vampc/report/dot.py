@@ -85,7 +85,7 @@ def network_dot(graph, layout, net, name: str) -> str:
     lines += [f"  b{b.index} [shape=square, label={quote(f'{b.stages} st.')}]; v{b.source} -> b{b.index};"
               for b in net.buffers]
     for p in net.ports:
-        what = ", ".join(dict.fromkeys(f"{e.key.quantity}{e.key.joint}" for e in p.entries)) or "program"
+        what = ", ".join(dict.fromkeys(e.key.label for e in p.entries)) or "program"
         lines.append(f"  p{p.index} [shape=invtriangle, label={quote(f'port {p.index}: {what}')}];")
     lines += [f"  k{c.index} [shape=box, style=dashed, label={quote(c.name)}];" for c in net.consts]
     lines += _network_edges(net)

@@ -265,7 +265,7 @@ def _budget_sites(graph, net):
 
 def _port_label(p) -> str:
     """'A3', 'zqd2 +5' (a folded port carries a quantity for every joint), 'program'."""
-    names = list(dict.fromkeys(f"{e.key.quantity}{e.key.joint}" for e in p.entries))
+    names = list(dict.fromkeys(e.key.label for e in p.entries))
     if not names:
         return "program"
     return names[0] + (f" +{len(names) - 1}" if len(names) > 1 else "")
