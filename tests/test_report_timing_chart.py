@@ -129,7 +129,7 @@ def test_a_big_chart_merges_bars_per_variable(puma, monkeypatch):
 
 
 def test_a_chart_of_many_rows_merges_and_stays_readable_in_size(monkeypatch):
-    """A 64-joint log network has 1 824 lanes of bars: the chart merges per variable, keeps the
+    """A 64-joint log network has 1 952 lanes of bars: the chart merges per variable, keeps the
     critical path, and is at most about 2 000 px (1 500 pt) wide and tall and under 1 MB."""
     from vampc.robot.random import random_chain
     c = compile_chain(random_chain(64, 3), CompileOptions(recursion="log"))
@@ -157,3 +157,27 @@ def test_a_long_schedule_merges_bars_closer_than_the_plot_can_show(monkeypatch):
     # "charts of at most 10,000 ops and 300 rows show every op" (an audit's find)
     assert len(c.graph.compute_nodes()) < timing_chart.MAX_BARS
     assert "unless more than 4,000 of them would each be under 2 pt wide" in svg
+
+
+def test_a_rows_label_names_the_kind_of_every_op_in_it(puma, monkeypatch):
+    """The log recursion computes omega by an MTV in a combining node and a VA in a leaf: both were
+    drawn in one row labelled "bwd omega (MTV)", and a merged chart coloured the VAs as MTVs (a new
+    user's find). A row holds ops of the kind its label names, and a merged row counts exactly the
+    graph's ops of that name, pass and kind."""
+    from collections import Counter
+    c = compile_chain(puma, CompileOptions(recursion="log"))
+    data = timing_chart.chart(c.graph, c.layout, c.schedule)
+    assert not data.merged
+    kinds = set()
+    for row in data.rows:
+        kind = re.fullmatch(r"\w+ \S+ \((\w+)\)", row.label).group(1)
+        ops = {c.graph.nodes[i].op.value for lane in row.lanes for i in lane}
+        assert ops == {kind}, (row.label, ops)
+        kinds.add((row.label.split(" (")[0], kind))
+    assert ("bwd omega", "MTV") in kinds and ("bwd omega", "VA") in kinds
+    monkeypatch.setattr(timing_chart, "MAX_BARS", 10)
+    merged = timing_chart.chart(c.graph, c.layout, c.schedule)
+    assert merged.merged
+    want = Counter(f"{nd.section} {nd.name} ({nd.op.value})" for nd in c.graph.compute_nodes())
+    got = Counter({row.label: sum(n for _, _, n in row.lanes[0]) for row in merged.rows})
+    assert got == want and all(row.label.endswith(f"({row.op})") for row in merged.rows)

@@ -71,14 +71,24 @@ def chart(graph, layout, sched) -> Chart:
     return Chart(tuple(rows), merged, span, sets)
 
 
-def _roles(graph) -> list[tuple[str, str]]:
-    """(section, name) of every op, sections in pass order, names in order of first appearance."""
-    seen: dict[tuple[str, str], None] = {}
+def _roles(graph) -> list[tuple[str, str, str]]:
+    """(section, name, op kind) of every op, sections in pass order, names in order of first
+    appearance: a row per kind, as its label and colour say one (the log recursion computes a
+    variable by an MTV in a combining node and a VA in a leaf, and both were drawn in one row
+    labelled MTV, coloured so when merged: a new user's find)."""
+    seen: dict[tuple[str, str, str], None] = {}
     for sec in SECTIONS:
         for nd in graph.compute_nodes():
             if nd.section == sec:
-                seen.setdefault((sec, nd.name))
+                seen.setdefault((sec, nd.name, nd.op.value))
     return list(seen)
+
+
+def _by_role(graph) -> dict[tuple[str, str, str], list[int]]:
+    by_role: dict[tuple[str, str, str], list[int]] = {}
+    for nd in graph.compute_nodes():
+        by_role.setdefault((nd.section, nd.name, nd.op.value), []).append(nd.id)
+    return by_role
 
 
 def _lanes(ids, sched) -> tuple[tuple[int, ...], ...]:
@@ -97,11 +107,9 @@ def _lanes(ids, sched) -> tuple[tuple[int, ...], ...]:
 
 
 def _variable_rows(graph, sched) -> list[Row]:
-    by_role: dict[tuple[str, str], list[int]] = {}
-    for nd in graph.compute_nodes():
-        by_role.setdefault((nd.section, nd.name), []).append(nd.id)
-    return [Row(f"{sec} {name} ({graph.nodes[by_role[(sec, name)][0]].op.value})",
-                _lanes(by_role[(sec, name)], sched)) for sec, name in _roles(graph)]
+    by_role = _by_role(graph)
+    return [Row(f"{sec} {name} ({op})", _lanes(by_role[(sec, name, op)], sched))
+            for sec, name, op in _roles(graph)]
 
 
 def _unit_rows(graph, layout, sched) -> list[Row]:
@@ -119,20 +127,17 @@ def _unit_rows(graph, layout, sched) -> list[Row]:
 def _merged_rows(graph, sched, gap: float = 0) -> list[Row]:
     """Per variable, the spans in which some node computes it, with how many ops each covers; spans
     less than `gap` flops apart are one (a long schedule's plot cannot show the gap)."""
-    by_role: dict[tuple[str, str], list[int]] = {}
-    for nd in graph.compute_nodes():
-        by_role.setdefault((nd.section, nd.name), []).append(nd.id)
+    by_role = _by_role(graph)
     rows = []
-    for sec, name in _roles(graph):
+    for sec, name, op in _roles(graph):
         spans: list[list[int]] = []
-        for i in sorted(by_role[(sec, name)], key=lambda i: sched.start[i]):
+        for i in sorted(by_role[(sec, name, op)], key=lambda i: sched.start[i]):
             s, f = sched.start[i], sched.finish[i]
             if spans and s <= spans[-1][1] + gap:
                 spans[-1][1] = max(spans[-1][1], f)
                 spans[-1][2] += 1
             else:
                 spans.append([s, f, 1])
-        op = graph.nodes[by_role[(sec, name)][0]].op.value
         rows.append(Row(f"{sec} {name} ({op})", (tuple(tuple(x) for x in spans),), op))
     return rows
 
@@ -300,7 +305,7 @@ def _merged_row_of(graph, data: Chart) -> dict:
     """In a merged chart, the row (y) of each critical op: its variable's."""
     y0 = len(data.sets) + 1
     at = {role: y0 + k for k, role in enumerate(_roles(graph))}     # the merged rows' order
-    return lambda i: at[(graph.nodes[i].section, graph.nodes[i].name)]
+    return lambda i: at[(graph.nodes[i].section, graph.nodes[i].name, graph.nodes[i].op.value)]
 
 
 def _critical_bars(graph, layout, sched, data: Chart) -> list:
