@@ -61,3 +61,26 @@ def test_every_svg_group_id_is_unique_and_each_piece_has_its_tooltip(tmp_path):
             first = _re.search(rf'<g id="{base}"><title>([^<]+)</title>', text)
             again = _re.search(rf'<g id="{piece}"><title>([^<]+)</title>', text)
             assert first and again and first.group(1) == again.group(1), piece
+
+
+def test_characters_the_font_lacks_are_said_once(tmp_path):
+    """A robot named in Japanese with an emoji printed matplotlib's own warning once a glyph and a
+    picture, 18 lines for three pictures (a new user's find): one warning names them."""
+    import re as _re
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    from vampc.report import svg
+    svg._SAID_GLYPHS.clear()
+    robot = tmp_path / "jp.yaml"
+    robot.write_text(_re.sub(r"(?m)^name: .*$", 'name: "ロボ腕 «ü» 🤖"',
+                             (EXAMPLES / "planar2.yaml").read_text(), count=1))
+    r = CliRunner().invoke(main, ["report", str(robot), "--timing", str(tmp_path / "t.svg"),
+                                  "--network", str(tmp_path / "n.png"),
+                                  "--reservation", str(tmp_path / "r.svg")])
+    assert r.exit_code == 0, r.stderr
+    said = [x for x in r.stderr.splitlines() if "font" in x or "Glyph" in x]
+    assert said == ["vampc: warning: the pictures' font (DejaVu Sans) has no ロ ボ 腕 🤖: an SVG keeps "
+                    "the text, which a browser shows in a font that has them; a PNG or PDF draws "
+                    "boxes"], r.stderr

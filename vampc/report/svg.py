@@ -73,12 +73,36 @@ def cycle_axes(ticks: int, rows: float, row_pt: float, left: float, top: float, 
     return fig, ax, ptf, width, height
 
 
+_GLYPH = re.compile(r"Glyph (\d+) .*missing from font")
+_SAID_GLYPHS: set[str] = set()       # (said once a run, whatever the pictures)
+
+
 @contextmanager
 def settings():
-    """matplotlib's rc settings for a deterministic SVG, for the duration of one drawing."""
+    """matplotlib's rc settings for a deterministic SVG, for the duration of one drawing; the
+    characters its font lacks said in one warning (matplotlib's own, one a glyph and a picture, had
+    printed 18 lines for a robot named in Japanese: a new user's find)."""
+    import warnings
+
     import matplotlib
-    with matplotlib.rc_context(SETTINGS):
-        yield
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        with matplotlib.rc_context(SETTINGS):
+            yield
+    missing = []
+    for w in seen:
+        m = _GLYPH.search(str(w.message))
+        if m is None:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        elif chr(int(m.group(1))) not in _SAID_GLYPHS:
+            missing.append(chr(int(m.group(1))))
+    missing = list(dict.fromkeys(missing))
+    if missing:
+        from vampc.errors import VampcWarning
+        _SAID_GLYPHS.update(missing)
+        warnings.warn(VampcWarning(
+            f"the pictures' font (DejaVu Sans) has no {' '.join(missing)}: an SVG keeps the text, "
+            "which a browser shows in a font that has them; a PNG or PDF draws boxes"), stacklevel=3)
 
 
 def to_svg(fig, titles: dict[str, str] | None = None) -> str | bytes:
