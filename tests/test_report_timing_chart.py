@@ -181,3 +181,19 @@ def test_a_rows_label_names_the_kind_of_every_op_in_it(puma, monkeypatch):
     want = Counter(f"{nd.section} {nd.name} ({nd.op.value})" for nd in c.graph.compute_nodes())
     got = Counter({row.label: sum(n for _, _, n in row.lanes[0]) for row in merged.rows})
     assert got == want and all(row.label.endswith(f"({row.op})") for row in merged.rows)
+
+
+def test_the_critical_path_runs_along_its_bars_lower_edges(tmp_path):
+    """The red line joining the critical path ran through the middle of each bar and struck its
+    label out (a new user's find): it runs along each critical bar's lower edge."""
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions())
+    svg = timing_chart.timing_svg(c.graph, c.layout, c.schedule, "t")
+    g = groups(svg)
+    points = [tuple(map(float, p)) for p in
+              re.findall(r"[ML] ([\d.]+) ([\d.]+)", g["critical-path"].find(f".//{SVG}path").get("d"))]
+    for i in c.schedule.critical_path:
+        corners = [tuple(map(float, p)) for p in re.findall(
+            r"[ML] ([\d.]+) ([\d.]+)", g[f"op-{i}-critical"].find(f".//{SVG}path").get("d"))]
+        left, right = min(x for x, _ in corners), max(x for x, _ in corners)
+        lower = max(y for _, y in corners)          # (SVG's y grows downwards)
+        assert (left, lower) in points and (right, lower) in points, (i, corners)
