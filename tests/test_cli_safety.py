@@ -2495,13 +2495,14 @@ def test_an_owner_that_cannot_be_kept_is_said(program, tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("command", [["emulate", "{program}", "--random", "3", "--word", "float32"],
-                                     ["compile", "{robot}", "-o", "out.yaml"],
-                                     ["compile", "{robot}", "-o", "{program}"]])
-def test_standard_error_appended_to_a_file_named_is_refused_before_a_word(tmp_path, command):
+                                     ["compile", "{robot}", "-o", "out.yaml"]])
+def test_standard_error_appended_to_an_input_is_refused_before_a_word(tmp_path, command):
     """`vampc emulate p.vamp.json --word float32 2>> p.vamp.json` appended its warning to the
     program file and ran on, exit 0, and the file no longer read; `compile r.yaml -o out.yaml 2>>
     r.yaml` wrote its warning into the robot file, then called the file bad YAML (a new user's
-    find). Refused before anything is said, the refusal on standard output, the file as it was."""
+    find). Refused before anything is said, the refusal on standard output, the file as it was;
+    a word of the command line that names standard error's file but no input (`--recursion log
+    2> log`) is no input (a review's find: the first check, on every word, refused it)."""
     import subprocess
     import sys
     robot = tmp_path / "planar2.yaml"
@@ -2516,10 +2517,14 @@ def test_standard_error_appended_to_a_file_named_is_refused_before_a_word(tmp_pa
         done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdout=subprocess.PIPE,
                               stderr=fh, text=True, cwd=tmp_path)
     assert done.returncode == 1 and done.stdout == (
-        f"vampc: error: {victim}: standard error is this file, named on the command line "
-        "(redirected onto it); vampc never writes into the files it is given: send standard error "
-        "elsewhere\n")
+        f"vampc: error: {victim}: standard error is this input file (redirected onto it); vampc "
+        "never writes over its inputs: send standard error elsewhere\n")
     assert victim.read_bytes() == before and not (tmp_path / "out.yaml").exists()
+    with open(tmp_path / "log", "wb") as fh:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(robot),
+                               "--recursion", "log", "-o", "p.json"], stdout=subprocess.PIPE,
+                              stderr=fh, text=True, cwd=tmp_path)
+    assert done.returncode == 0 and (tmp_path / "p.json").exists()
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")

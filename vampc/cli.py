@@ -108,58 +108,6 @@ def handle_errors(f):
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
 
 
-def _stderr_apart(argv: list[str]) -> None:
-    """Exit 1 before anything is said when standard error is redirected onto a file the command
-    line names (an input, or an output: `vampc emulate p.vamp.json ... 2>> p.vamp.json` appended a
-    warning to the program file and ran on, exit 0, which then no longer read; a new user's find).
-    Its refusal goes to standard output, as standard error is the user's file (nowhere when both
-    are)."""
-    import os
-    import stat
-    try:
-        err = os.fstat(2)
-    except (OSError, ValueError):
-        return
-    if not stat.S_ISREG(err.st_mode):
-        return
-    for token in argv:
-        for name in dict.fromkeys((token, token.split("=", 1)[-1])):
-            if not name or name == "-" or _names_a_descriptor(name):
-                continue             # (-o /dev/stderr: the output's own refusal, exit 2)
-            try:
-                here = os.stat(name)
-            except (OSError, ValueError):
-                continue
-            if (here.st_dev, here.st_ino) != (err.st_dev, err.st_ino):
-                continue
-            emptied = (" (the file is empty now: the shell empties a file it redirects to with > "
-                       "before vampc starts)") if err.st_size == 0 else ""
-            with contextlib.suppress(OSError, ValueError):
-                out = os.fstat(1)
-                if (out.st_dev, out.st_ino) != (err.st_dev, err.st_ino):
-                    print(f"vampc: error: {name}: standard error is this file, named on the "
-                          "command line (redirected onto it); vampc never writes into the files "
-                          f"it is given: send standard error elsewhere{emptied}", flush=True)
-            sys.exit(1)
-
-
-def _names_a_descriptor(name: str) -> bool:
-    """Whether `name`, or a symlink on the way from it, is a file descriptor's name (/dev/stderr,
-    /dev/fd/N, /proc/self/fd/N), not a file of the user's."""
-    import os
-    import re
-    path = os.path.abspath(name)
-    for _ in range(40):
-        if path in ("/dev/stdin", "/dev/stdout", "/dev/stderr") or \
-                re.fullmatch(r"/(dev|proc/self|proc/\d+)/fd/\d+", path):
-            return True
-        try:
-            path = os.path.normpath(os.path.join(os.path.dirname(path), os.readlink(path)))
-        except (OSError, ValueError):
-            return False
-    return False
-
-
 def _status(text: str) -> None:
     """A run's last line on standard error (its error, or that it was stopped): one that standard
     error cannot take is dropped, and the exit status says how the run ended (a full standard
@@ -394,7 +342,6 @@ class _Vampc(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, False, **extra)
-        _stderr_apart(sys.argv[1:] if args is None else list(args))
         restore = terminate_like_interrupt()
         try:
             try:

@@ -301,6 +301,7 @@ def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
     inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
     inputs += _files_read_with(inputs)
+    _refuse_stderr_input(inputs)
     _refuse_stdout_input(inputs)
     stdin = _regular_file(sys.stdin) if reads_stdin else None
     if stdin is not None and _same_stat(stdin, sys.stdout):
@@ -308,6 +309,22 @@ def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
                          "redirected onto it); vampc never writes over its inputs: send standard "
                          "output elsewhere" + _emptied(stdin))
     return inputs, stdin
+
+
+def _refuse_stderr_input(inputs: list[Path]) -> None:
+    """VampcError when standard error is one of the input files (`vampc emulate p.vamp.json
+    --word float32 2>> p.vamp.json` appended its warning to the program file and ran on, exit 0,
+    and the file no longer read: a new user's find): before any message, and said on standard
+    output, as standard error is the user's file (nowhere when standard output is that file too)."""
+    there = _regular_file(sys.stderr)        # (None: a terminal, a pipe, a test's capture)
+    if there is None:
+        return
+    for src in inputs:
+        if _same_stat(there, src):
+            sys.stderr = sys.stdout if not _same_stat(there, sys.stdout) else open(os.devnull, "w")  # noqa: SIM115
+            raise VampcError(f"{src}: standard error is this input file (redirected onto it); vampc "
+                             "never writes over its inputs: send standard error elsewhere"
+                             + _emptied(there))
 
 
 def _refuse_stdout_input(inputs: list[Path]) -> None:
