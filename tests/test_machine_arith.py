@@ -122,6 +122,10 @@ def test_a_word_format_added_to_arith_packs_runs_in_every_engine_and_flips(monke
     if native.compiler() is not None:
         monkeypatch.setenv("VAMPC_NATIVE", "1")
         assert np.array_equal(emulate(ld, traj, "stream").tau, numpy_tau)
+    # with error correction: the checking engine compares the half's own bits, flags nothing
+    checked = loaded_from_compiled(compile_chain(chain, CompileOptions(
+        word="float16", layout="folded", error_correction=True)))
+    assert np.array_equal(emulate(checked, traj, "tick").tau, numpy_tau)
     # a fault flips the half's own bit (its pattern by struct, not numpy)
     values = np.array([1.0, -2.5, 0.0, 65504.0, 3e-5], dtype=np.float16)
     for bit in (0, 9, 10, 14, 15):

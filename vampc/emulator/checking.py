@@ -380,4 +380,4 @@ def check_periods(position: int, warmup: int, compare: int = 1) -> int:
 def _bits(values: np.ndarray) -> np.ndarray:
     """Words as the comparator sees them: their bit patterns."""
     a = np.ascontiguousarray(values)
-    return a.view(np.int64) if a.dtype.itemsize == 8 else a.view(np.int32)
+    return a.view(f"i{a.dtype.itemsize}")     # (of any word's size: binary16's had failed)

@@ -20,8 +20,9 @@ control_widths; slot 0 by default);
 `control2.FIELD[.SLOT]`, with error correction, the second set (the copy of the successor's). A
 flipped control bit stays flipped: the registers are written only in Program Mode.
 
-Bits count from 0, the least significant, in the word as the network's format holds it: the IEEE
-binary64 or binary32 bit pattern, or a fixed-point word's two's-complement raw bits (a stuck or
+Bits count from 0, the least significant, in the word as the network's format holds it: a float
+format's IEEE bit pattern (binary64, binary32, of its dtype's size), or a fixed-point word's
+two's-complement raw bits (a stuck or
 flipped bit of a qI.F word is a bit of the real word). How the engine applies them: a Result fault
 after the tick's dumps (the register holds it until the next dump), an operand fault after the
 tick's latches, a control fault by changing the field the slot tables hold (the engine's slot
@@ -260,7 +261,7 @@ def control_widths(ld, v: int) -> tuple[int, ...]:
 def set_bit(word, values: np.ndarray, bit: int, how: str) -> np.ndarray:
     """`values` (words of the format `word`) with bit `bit` set to 1 ("set"), 0 ("clear") or
     flipped ("flip"), as the hardware word holds it."""
-    if word.dtype == np.int64:                       # fixed point: two's complement, `bits` wide
+    if np.dtype(word.dtype).kind == "i":            # fixed point: two's complement, `bits` wide
         width = word.bits
         raw = values.astype(np.int64) & np.int64((1 << width) - 1 if width < 64 else -1)
         mask = np.int64(1 << bit) if bit < 63 else np.int64(-(1 << 63))
