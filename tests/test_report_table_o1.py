@@ -508,3 +508,28 @@ def test_the_serial_row_says_where_vampcs_count_is_the_more(n, says):
     assert (serial["mults"], serial["adds"]) == (126 * n, 108 * n)
     assert serial["paper"] == {"mults": 150 * n - 48, "adds": 131 * n - 48}
     assert serial["explanation"].endswith("part of the difference, not all of it" + says)
+
+
+def test_a_prismatic_share_is_the_graphs_not_a_route_that_waits():
+    """The prismatic joints' share of a latency is measured between two graphs (this arm's and the
+    same arm's with revolute joints), not from this schedule's route: on the exact solver's 7-VAMP
+    Puma, whose critical path is another route than the data path (−2 M, −3 A, waiting), a review
+    gave the report prismatic joint 3 with both graphs' paths the same and was told the route's
+    −2 M − 3 A was the prismatic joints'. Here the share is none and the route keeps its reason."""
+    import json
+    from pathlib import Path
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    from vampc.report.counts import latency_note
+    path = Path(__file__).parent / "data" / "puma560-vamps7-exact.vamp.json"
+    r = CliRunner().invoke(main, ["report", str(path), "--format", "json"])
+    rep = json.loads(r.stdout)
+    data = {"mults": 16, "adds": 45}          # (the Puma's data path, this test's docstring above)
+    rep.update(prismatic_joints=[3], revolute_path={**data, "own_mults": data["mults"],
+                                                    "own_adds": data["adds"]})
+    notes = latency_note(rep)
+    assert any(n.startswith("−2 M, −3 A: the schedule's critical path is another route") for n in notes)
+    assert any(n.startswith("prismatic joints [3]: ") and ": no change on the path" in n for n in notes)
+    assert not any("not explained" in n for n in notes), notes

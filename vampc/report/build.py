@@ -74,7 +74,7 @@ def build_report(c, clock_hz: float | None = None, pins: int | None = None,
     from vampc.report.counts import path_conditions
     rep.update(path_conditions(c.chain))     # (the latency's reasons read them: latency_note)
     from vampc.report.compare import revolute_path
-    turned = revolute_path(c.chain, c.options)
+    turned = revolute_path(c.chain, c.options, c.graph)
     if turned is not None:                   # (present only then, so other reports keep their bytes)
         rep["revolute_path"] = turned
     if c.chain.mimic:            # coupled mimic joints (vampc.robot.mimic): the host's, not the network's

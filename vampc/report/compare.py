@@ -113,21 +113,26 @@ def compare_layouts(chain, options: CompileOptions) -> list[dict]:
     return layout_rows(configurations(c, (c.graph.recursion,)), c.graph.recursion)
 
 
-def revolute_path(chain, options) -> dict | None:
-    """{"mults", "adds"} on the critical path of the same arm with every prismatic joint revolute
-    (its graph, scheduled ASAP at `options`' timing, recursion, prefix shape and leaves): what a
-    latency's reasons measure the prismatic joints' σ̄ terms against (vampc.report.counts.
-    latency_reasons; they had been given no size, a hardware user's find). None without prismatic
-    joints, and on a tree or floating base, whose latency is not itemised."""
+def revolute_path(chain, options, graph) -> dict | None:
+    """{"mults", "adds"} on the critical path of the same arm with every prismatic joint revolute,
+    and {"own_mults", "own_adds"} on this arm's `graph`'s, both scheduled ASAP at `options`' timing
+    (recursion, prefix shape and leaves): the difference is what a latency's reasons give the
+    prismatic joints' σ̄ terms (vampc.report.counts.latency_reasons; they had been given no size, a
+    hardware user's find), measured between two graphs, whatever the layout waits. None without
+    prismatic joints, on a tree or floating base, whose latency is not itemised, and for a graph of
+    more than ALLOCATE_LIMIT ops, as the report leaves out its other comparisons that compile the
+    robot again (two graphs more: 15 s of a 16 000-joint report, a review's find)."""
+    from vampc.report.configs import ALLOCATE_LIMIT
     from vampc.robot.chain import JointType
-    if not chain.is_fixed_chain or all(j.type is JointType.REVOLUTE for j in chain.joints):
+    if not chain.is_fixed_chain or all(j.type is JointType.REVOLUTE for j in chain.joints) or \
+            len(graph.compute_nodes()) > ALLOCATE_LIMIT:
         return None
-    return _revolute_path(chain, options.recursion, options.prefix, options.uniform_leaves,
+    return _revolute_path(chain, graph, options.recursion, options.prefix, options.uniform_leaves,
                           options.mult_latency, options.add_latency)
 
 
 @keep_last(4)          # (Table O.1 asks for each configuration: two graphs, one per recursion)
-def _revolute_path(chain, recursion, prefix, uniform_leaves, mult, add) -> dict:
+def _revolute_path(chain, graph, recursion, prefix, uniform_leaves, mult, add) -> dict:
     import warnings
 
     from vampc.robot.chain import JointType
@@ -139,7 +144,8 @@ def _revolute_path(chain, recursion, prefix, uniform_leaves, mult, add) -> dict:
     options = CompileOptions(recursion=recursion, prefix=prefix, uniform_leaves=uniform_leaves,
                              mult_latency=mult, add_latency=add)
     s = schedule_asap(build_graph(turned, options), options.timing, verify=False)
-    return {"mults": s.mults, "adds": s.adds}
+    own = schedule_asap(graph, options.timing, verify=False)
+    return {"mults": s.mults, "adds": s.adds, "own_mults": own.mults, "own_adds": own.adds}
 
 
 def tree_latencies(chain, options) -> dict:

@@ -436,12 +436,14 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
     got, paper = rep["latency"], rep["paper"]
     turned = rep.get("revolute_path")
     if rep["prismatic_joints"] and turned and not rep.get("tree"):
-        # the same arm's reasons with its prismatic joints revolute, then what they change, measured
-        # on its graph (vampc.report.compare.revolute_path): the prismatic joints' reason had no
+        # what the prismatic joints change, measured between this arm's graph and the same arm's
+        # with them revolute (vampc.report.compare.revolute_path), then the reasons of the rest,
+        # this schedule's own (its waits, a route that waits): the prismatic joints' reason had no
         # size, a one-joint arm's −2 M − 6 A left unsaid (a hardware user's find)
+        dm, da = turned["own_mults"] - turned["mults"], turned["own_adds"] - turned["adds"]
         reasons = latency_reasons({**rep, "prismatic_joints": [], "revolute_path": None,
-                                   "latency": {**got, **turned}})
-        dm, da = got["mults"] - turned["mults"], got["adds"] - turned["adds"]
+                                   "latency": {**got, "mults": got["mults"] - dm,
+                                               "adds": got["adds"] - da}})
         size = _sized(dm, da) or "no change"
         return reasons + [(f"prismatic joints, {size}",
                            f"prismatic joints {numbers_text(rep['prismatic_joints'])}: Table I.1's "

@@ -112,7 +112,7 @@ def _config_row(k, chain, notes: list[str]) -> dict:
         "prismatic_joints": [i for i, j in enumerate(chain.joints, 1) if j.sigma == 0],
         "tree": "tree" if not chain.is_chain else "floating" if chain.floating else None,
         "prefix": str(getattr(k.options.prefix, "value", k.options.prefix)),
-        "revolute_path": revolute_path(chain, k.options),
+        "revolute_path": revolute_path(chain, k.options, k.graph),
         **path_conditions(chain)})
     short = [r[0] for r in reasons]
     on_bus = k.network is not None and k.network.bus is not None
