@@ -17,10 +17,15 @@ def max_fan_out(network) -> int:
     readers = [0] * len(network.vamps)
     sources = [b.source for b in network.buffers]
     vamp, buffer = TapKind.VAMP, TapKind.BUFFER
+    from vampc.machine.ops import TABLE, View
     for v in network.vamps:      # (tap_source in line: a million VAMPs in a big network)
-        if all(len(o.taps) == 1 for o in v.a) and all(len(o.taps) == 1 for o in v.b):
-            inputs = [o.taps for o in v.a] + [o.taps for o in v.b]
-        else:                    # a matrix operand: the columns read (an MM member's B: its own)
+        a, b, slots = v.a, v.b, v.slots
+        if len(a) == 1 and len(b) == 1 and len(slots) == 1:     # (most: a systolic VAMP)
+            tb = b[0].taps
+            if len(tb) > 1 and TABLE[slots[0].op].views[1] is View.BCOLUMN:
+                tb = (tb[slots[0].column],)  # an MM member's B: the column it reads (read_taps)
+            inputs = (a[0].taps, tb)
+        else:
             inputs = read_taps(v)
         for taps in inputs:
             for tap in taps:
