@@ -2556,3 +2556,42 @@ def test_a_full_standard_output_says_what_had_gone_out(tmp_path):
     assert done.returncode == 1 and done.stderr.startswith(
         "vampc: error: -: cannot write torques: File too large; -o - had sent "), done.stderr
     assert done.stderr.endswith(" to standard output\n") and out.stat().st_size == 8192
+
+
+@pytest.mark.parametrize("case", ["usage", "output", "results", "stdin"])
+def test_standard_error_onto_a_file_given_is_refused_before_any_message(tmp_path, case):
+    """Standard error onto a file the command line gives was checked only once the command ran (a
+    review's find): a usage error (`--recursion bogus 2>> r.yaml`) was written into the robot file,
+    `-o p.json 2>> p.json`'s own refusal into the program, which then no longer read, and a
+    `--results` file's next resume failed on the line; standard error onto the file standard input
+    reads (`--trajectory - < st.csv 2>> st.csv`) read the warning back as data. Each is refused
+    before a word is said (an output exit 2, as its other refusals; an input 1), the file kept."""
+    import subprocess
+    import sys
+    robot = tmp_path / "planar2.yaml"
+    robot.write_bytes(PLANAR.read_bytes())
+    program = tmp_path / "p.vamp.json"
+    subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(robot), "-o", str(program)],
+                   check=True, capture_output=True)
+    states = tmp_path / "st.csv"
+    states.write_text("q1,q2,qd1,qd2,qdd1,qdd2\n" + "0,0,0,0,0,0\n" * 3)
+    results = tmp_path / "r.jsonl"
+    results.write_text("not yet\n")
+    args, victim, code, said = {
+        "usage": (["compile", str(robot), "--recursion", "bogus", "-o", "x.json"], robot, 1,
+                  f"{robot}: standard error is this input file"),
+        "output": (["compile", str(robot), "-o", str(program)], program, 2,
+                   f"-o {program}: standard error is this output file"),
+        "results": (["faults", str(program), "--results", str(results)], results, 1,
+                    f"{results}: standard error is this input file"),
+        "stdin": (["emulate", str(program), "--trajectory", "-", "--word", "float32"], states, 1,
+                  "the file standard input reads (an input given as -): standard error is this "
+                  "input file"),
+    }[case]
+    before = victim.read_bytes()
+    with open(victim, "ab") as err, open(states, "rb") as stdin:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", *args], stdin=stdin,
+                              stdout=subprocess.PIPE, stderr=err, text=True, cwd=tmp_path)
+    assert done.returncode == code and done.stdout.startswith(f"vampc: error: {said} (redirected "
+                                                              "onto it); "), done.stdout
+    assert victim.read_bytes() == before

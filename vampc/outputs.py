@@ -301,9 +301,9 @@ def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
     reads_stdin = any(p is not None and str(p) == STDIN for p in inputs)
     inputs = [Path(p) for p in inputs if p is not None and str(p) != STDIN]
     inputs += _files_read_with(inputs)
-    _refuse_stderr_input(inputs)
-    _refuse_stdout_input(inputs)
     stdin = _regular_file(sys.stdin) if reads_stdin else None
+    _refuse_stderr_input(inputs, stdin)
+    _refuse_stdout_input(inputs)
     if stdin is not None and _same_stat(stdin, sys.stdout):
         raise VampcError("standard output is the file standard input reads (an input given as -, "
                          "redirected onto it); vampc never writes over its inputs: send standard "
@@ -311,20 +311,25 @@ def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
     return inputs, stdin
 
 
-def _refuse_stderr_input(inputs: list[Path]) -> None:
-    """VampcError when standard error is one of the input files (`vampc emulate p.vamp.json
-    --word float32 2>> p.vamp.json` appended its warning to the program file and ran on, exit 0,
-    and the file no longer read: a new user's find): before any message, and said on standard
-    output, as standard error is the user's file (nowhere when standard output is that file too)."""
+def _refuse_stderr_input(inputs: list[Path], stdin: os.stat_result | None) -> None:
+    """VampcError when standard error is one of the input files, the files they read (an MJCF's
+    includes) or the file standard input reads for an input given as - (the command line's own
+    are refused before it is parsed: vampc.cli): said on standard output, as standard error is the
+    user's file (nowhere when standard output is one of the inputs too)."""
     there = _regular_file(sys.stderr)        # (None: a terminal, a pipe, a test's capture)
     if there is None:
         return
-    for src in inputs:
-        if _same_stat(there, src):
-            sys.stderr = sys.stdout if not _same_stat(there, sys.stdout) else open(os.devnull, "w")  # noqa: SIM115
-            raise VampcError(f"{src}: standard error is this input file (redirected onto it); vampc "
-                             "never writes over its inputs: send standard error elsewhere"
-                             + _emptied(there))
+    said = [src for src in inputs if _same_stat(there, src)]
+    if stdin is not None and (stdin.st_dev, stdin.st_ino) == (there.st_dev, there.st_ino):
+        said.append("the file standard input reads (an input given as -)")
+    if not said:
+        return
+    out = _regular_file(sys.stdout)
+    spoiled = out is not None and ((out.st_dev, out.st_ino) == (there.st_dev, there.st_ino) or any(
+        _same_stat(out, src) for src in inputs) or (stdin is not None and _same_stat(stdin, sys.stdout)))
+    sys.stderr = open(os.devnull, "w") if spoiled else sys.stdout  # noqa: SIM115
+    raise VampcError(f"{said[0]}: standard error is this input file (redirected onto it); vampc "
+                     "never writes over its inputs: send standard error elsewhere" + _emptied(there))
 
 
 def _refuse_stdout_input(inputs: list[Path]) -> None:
