@@ -1630,8 +1630,8 @@ def test_every_byte_is_written_or_the_run_fails(program, tmp_path):
                                   preexec_fn=limited)
         assert done.returncode == 1, (target, done.stderr)
         sent = "" if target not in ("-", "/dev/stdout") else \
-            r"; -o - had sent its header, and part of the first sets \(its last line perhaps cut " \
-            r"short\) to standard output"       # (what went out, as a signal's stop says it)
+            rf"; -o {re.escape(target)} had sent its header, and part of the first sets \(its last " \
+            r"line perhaps cut short\) to standard output"   # (what went out, as a signal says it)
         assert re.fullmatch(rf"vampc: error: {re.escape(target)}: cannot write torques: File too "
                             rf"large{sent}\n", done.stderr), done.stderr
         assert not (tmp_path / "tau.csv").exists()
@@ -2543,8 +2543,8 @@ def test_a_full_standard_output_says_what_had_gone_out(tmp_path):
                                "--random", "50", "-o", "-"], stdout=full, stderr=subprocess.PIPE,
                               text=True)
     assert done.returncode == 1 and done.stderr == (
-        "vampc: error: -: cannot write torques: No space left on device; -o - had sent part of its "
-        "header, and no set to standard output\n"), done.stderr
+        "vampc: error: -: cannot write torques: No space left on device; -o - had sent at most part "
+        "of its header, and no set to standard output\n"), done.stderr
     out = tmp_path / "t.csv"
 
     def small():          # (Python ignores SIGXFSZ: a write past the limit fails with EFBIG)
@@ -2595,3 +2595,30 @@ def test_standard_error_onto_a_file_given_is_refused_before_any_message(tmp_path
     assert done.returncode == code and done.stdout.startswith(f"vampc: error: {said} (redirected "
                                                               "onto it); "), done.stdout
     assert victim.read_bytes() == before
+
+
+def test_a_write_error_says_what_the_other_table_had_sent(tmp_path):
+    """`-o t.csv --save-states -` under a file-size limit: the torques' file failed and the error
+    did not say the states had gone out to standard output, as a signal's note does (a review's
+    find); `-o /dev/stdout` is named as given, not as `-o -`."""
+    import resource
+    import subprocess
+    import sys
+    program = tmp_path / "p.vamp.json"
+    subprocess.run([sys.executable, "-m", "vampc.cli", "compile", str(PLANAR), "-o", str(program)],
+                   check=True, capture_output=True)
+
+    def small():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (300_000, 300_000))
+    done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program), "--random",
+                           "20000", "-o", str(tmp_path / "t.csv"), "--save-states", "-"],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                          preexec_fn=small)
+    assert done.returncode == 1 and f"{tmp_path / 't.csv'}: cannot write torques: File too large; " \
+        "--save-states - had sent " in done.stderr, done.stderr
+    with open("/dev/full", "wb") as full:
+        done = subprocess.run([sys.executable, "-m", "vampc.cli", "emulate", str(program),
+                               "--random", "5", "-o", "/dev/stdout"], stdout=full,
+                              stderr=subprocess.PIPE, text=True)
+    assert done.returncode == 1 and "; -o /dev/stdout had sent at most part of its header" in \
+        done.stderr, done.stderr

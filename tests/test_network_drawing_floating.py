@@ -61,3 +61,7 @@ def test_the_base_motion_ports_are_named_as_readme_names_them(tmp_path):
     said = set(re.findall(r"host port \d+: ([a-z_]+\d+)", out.read_text()))
     said |= set(re.findall(r'label="port \d+: ([a-z_]+\d+)', dot.read_text()))
     assert {"omega0", "omega_dot0", "pdd0"} <= said and not {"omega00", "omega_dot00", "pdd00"} & said
+    dump = CliRunner().invoke(main, ["compile", str(EXAMPLES / "quadruped.urdf"), "--floating-base",
+                                     "--dump-after", "graph"])
+    keys = {line.split()[-1] for line in dump.stdout.splitlines() if " INPUT - io 0 " in line}
+    assert keys == {"omega0", "omega_dot0", "pdd0"}, keys      # (its key; the node keeps its name)

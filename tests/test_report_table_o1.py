@@ -533,3 +533,12 @@ def test_a_prismatic_share_is_the_graphs_not_a_route_that_waits():
     assert any(n.startswith("−2 M, −3 A: the schedule's critical path is another route") for n in notes)
     assert any(n.startswith("prismatic joints [3]: ") and ": no change on the path" in n for n in notes)
     assert not any("not explained" in n for n in notes), notes
+    # a share of −1 M − 4 A: the route that waits is still said (the longest data path is shifted
+    # with the latency: a second review's case, which was "−2 M, −3 A not explained")
+    rep.update(revolute_path={**data, "own_mults": 15, "own_adds": 41},
+               latency={**rep["latency"], "mults": 13, "adds": 38, "flops": 56})
+    rep["budget"] = {**rep["budget"], "critical_path": 56}
+    notes = latency_note(rep)
+    assert any(n.startswith("−2 M, −3 A: the schedule's critical path is another route") for n in notes)
+    assert any(n.startswith("prismatic joints [3]: ") and ": −1 M, −4 A on the path" in n for n in notes)
+    assert not any("not explained" in n for n in notes), notes

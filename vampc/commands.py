@@ -811,11 +811,13 @@ class Sinks:
             action(pending.fh)
         except OSError as exc:
             error = pending.error(exc)
-            if pending.out.is_stdout and pending in (self.tau, self.states):
+            on_stdout = [option for option, p in (("-o", self.tau), ("--save-states", self.states))
+                         if p is not None and p.out.is_stdout]
+            if on_stdout:
                 # what went out whole, as a signal's note says it (a full disk or a file-size limit
-                # under `-o - > f` said only "cannot write": a new user's find)
-                option = "-o" if pending is self.tau else "--save-states"
-                error = VampcError(f"{error}; {self.sent_note([option])}")
+                # under `-o - > f` said only "cannot write": a new user's find), whichever table
+                # failed (a review's: --save-states - beside a failing -o FILE went unsaid)
+                error = VampcError(f"{error}; {self.sent_note(on_stdout)}")
             self.discard()
             raise error from None
         self.writing = None
@@ -834,15 +836,16 @@ class Sinks:
                 continue
             pending = self.tau if option == "-o" else self.states
             cut = self.writing is pending and pending is not None
+            given = f"{option} {pending.out.path}" if pending is not None else f"{option} -"
             if pending not in self.headed:       # (it said "the first 0 sets, and part of the next")
-                said.append(f"{option} - had sent " + ("part of its header, and no set" if cut else
-                                                       "nothing"))
+                said.append(f"{given} had sent " + ("at most part of its header, and no set" if cut
+                                                    else "nothing"))
             elif not self.rows.get(pending, 0):
-                said.append(f"{option} - had sent its header, and " + (
+                said.append(f"{given} had sent its header, and " + (
                     "part of the first sets (its last line perhaps cut short)" if cut else "no set"))
             else:
-                whole = True
-                said.append(f"{option} - had sent the first {count(self.rows.get(pending, 0), 'set')}"
+                whole = whole or not cut         # (it ends with them only if none was cut after)
+                said.append(f"{given} had sent the first {count(self.rows.get(pending, 0), 'set')}"
                             + (", and part of the next (its last line perhaps cut short)" if cut else "")
                             + which)
         return " and ".join(said) + " to standard output" + (", which ends with them" if whole else "")

@@ -15,7 +15,7 @@ def dump_graph(graph) -> str:
     lines = [f"# {graph.recursion} graph, n = {graph.n}: id op args section group name [key|value]"]
     for nd in graph.nodes:
         args = ",".join(map(str, nd.args)) or "-"
-        extra = (f" {nd.key.quantity}{nd.key.joint}" if nd.key else
+        extra = (f" {nd.key.label}" if nd.key else
                  f" [{', '.join(map(repr, nd.value))}]" if nd.value is not None else "")
         lines.append(f"{nd.id} {nd.op.value} {args} {nd.section} {nd.group} {nd.name}{extra}")
     lines += [f"output tau{o.joint} = node {o.node} component {o.component}"

@@ -324,7 +324,8 @@ def _overflow_sites(ld: Loaded, fl: Flow, traj, limit: int, start: int) -> list[
     for (s, quantity, joint), (tick, where, n) in written.items():
         listed = (f"port {where[0]}" if len(where) == 1 else
                   f"ports {', '.join(map(str, where[:-1]))} and {where[-1]}")
-        found.append((s, tick, f"set {s + 1}, tick {tick}: the host's {quantity}{joint} for "
+        found.append((s, tick, f"set {s + 1}, tick {tick}: the host's "
+                               f"{quantity}{joint if joint else ''} for "
                                f"{listed}{_scalars(n)}"))
     for c in ld.net.consts if start == 0 else ():     # written once, before the first set
         n = constant_overflows(ld, (c,))

@@ -533,8 +533,11 @@ def check_port_writes(nd, writes, path) -> None:
         raise VampcError(f"{path}: io.port_writes: {len(got)} writes, but network.ports have "
                          f"{len(want)} entries")
     port, quantity, joint, tick = want[k]
-    raise VampcError(f"{path}: io.port_writes[{k}]: port {got[k][0]} {got[k][1]}{got[k][2]} at tick "
-                     f"{got[k][3]}, but network.ports give port {port} {quantity}{joint} at tick {tick}")
+    def named(q, j) -> str:          # (a floating base's omega0, not omega00: InputKey.label)
+        return f"{q}{j if j else ''}"
+    raise VampcError(f"{path}: io.port_writes[{k}]: port {got[k][0]} {named(got[k][1], got[k][2])} "
+                     f"at tick {got[k][3]}, but network.ports give port {port} "
+                     f"{named(quantity, joint)} at tick {tick}")
 
 
 def _check_port_sizes(nd, path) -> None:

@@ -441,9 +441,13 @@ def latency_reasons(rep: dict) -> list[tuple[str, str]]:
         # this schedule's own (its waits, a route that waits): the prismatic joints' reason had no
         # size, a one-joint arm's −2 M − 6 A left unsaid (a hardware user's find)
         dm, da = turned["own_mults"] - turned["mults"], turned["own_adds"] - turned["adds"]
+        from vampc.machine.ops import Timing
+        timing = Timing(rep["timing"]["mult_latency"], rep["timing"]["add_latency"])
+        rest = {**got, "mults": got["mults"] - dm, "adds": got["adds"] - da}
+        if got.get("data_path") is not None:     # (the longest data path, shifted the same)
+            rest["data_path"] = got["data_path"] - timing.flops(dm, da)
         reasons = latency_reasons({**rep, "prismatic_joints": [], "revolute_path": None,
-                                   "latency": {**got, "mults": got["mults"] - dm,
-                                               "adds": got["adds"] - da}})
+                                   "latency": rest})
         size = _sized(dm, da) or "no change"
         return reasons + [(f"prismatic joints, {size}",
                            f"prismatic joints {numbers_text(rep['prismatic_joints'])}: Table I.1's "

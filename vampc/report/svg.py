@@ -81,28 +81,33 @@ _SAID_GLYPHS: set[str] = set()       # (said once a run, whatever the pictures)
 def settings():
     """matplotlib's rc settings for a deterministic SVG, for the duration of one drawing; the
     characters its font lacks said in one warning (matplotlib's own, one a glyph and a picture, had
-    printed 18 lines for a robot named in Japanese: a new user's find)."""
+    printed 18 lines for a robot named in Japanese: a new user's find). Only those are taken aside:
+    every other warning is shown as it would be (the shower is wrapped, not the filters changed)."""
     import warnings
 
     import matplotlib
-    with warnings.catch_warnings(record=True) as seen:
-        warnings.simplefilter("always")
+    missing: list[str] = []
+    shower = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        m = _GLYPH.search(str(message))
+        if m is None:
+            return shower(message, category, filename, lineno, file, line)
+        missing.append(chr(int(m.group(1))))
+    warnings.showwarning = show
+    try:
         with matplotlib.rc_context(SETTINGS):
             yield
-    missing = []
-    for w in seen:
-        m = _GLYPH.search(str(w.message))
-        if m is None:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        elif chr(int(m.group(1))) not in _SAID_GLYPHS:
-            missing.append(chr(int(m.group(1))))
-    missing = list(dict.fromkeys(missing))
-    if missing:
-        from vampc.errors import VampcWarning
-        _SAID_GLYPHS.update(missing)
-        warnings.warn(VampcWarning(
-            f"the pictures' font (DejaVu Sans) has no {' '.join(missing)}: an SVG keeps the text, "
-            "which a browser shows in a font that has them; a PNG or PDF draws boxes"), stacklevel=3)
+    finally:
+        warnings.showwarning = shower
+        new = [c for c in dict.fromkeys(missing) if c not in _SAID_GLYPHS]
+        if new:
+            from vampc.errors import VampcWarning
+            _SAID_GLYPHS.update(new)
+            warnings.warn(VampcWarning(
+                f"the pictures' font (DejaVu Sans) has no {' '.join(new)}: an SVG keeps the text, "
+                "which a browser shows in a font that has them; a PNG or PDF draws boxes"),
+                stacklevel=3)
 
 
 def to_svg(fig, titles: dict[str, str] | None = None) -> str | bytes:

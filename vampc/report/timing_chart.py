@@ -1,5 +1,5 @@
 """The timing chart (`vampc report --timing FILE.svg`), in the style of the paper's Table III.2:
-flops across, one row per variable (systolic layout: the op of that name in every node, one lane
+flops across, one row per variable and op kind (systolic layout: the op of that name and kind in every node, one lane
 more wherever two run at once) or per VAMP (folded layouts: a unit, three VAMPs for an MM), every
 scheduled op a bar labelled with its op and node, the critical path outlined in red and joined, and
 a strip above showing successive torque sets: one every interval, each lasting the latency, so a
@@ -7,7 +7,7 @@ pipelined layout's overlapping sets are visible.
 
 Each op's bar is an SVG group with id `op-<node id>` (`op-<node id>-critical` on the critical path)
 and a <title> naming it. A chart of more than MAX_BARS ops (a 512-joint log network has 95 000), of
-more than LABELLED_BARS ops under 2 pt wide each (a 300-joint chain's), or of more than MAX_LANES lanes (a 64-joint log network has 1 824) would be neither readable nor quick to
+more than LABELLED_BARS ops under 2 pt wide each (a 300-joint chain's), or of more than MAX_LANES lanes (a 64-joint log network has 1 952) would be neither readable nor quick to
 draw: it shows, per variable, when any node computes it (merged bars, ids `busy-<row>-<k>`), keeps
 the critical path's ops as their own red-edged bars on their variable's row, joined (ids
 `op-<node id>-critical`), and says so in its title; one of more than LABELLED_BARS ops keeps its
@@ -176,7 +176,7 @@ def _draw(graph, layout, sched, data: Chart, title: str) -> str:
     _axes(ax, data, sched, ticks, names, pxf)
     if data.merged:
         one_by_one = len(sched.critical_path) <= MAX_CRITICAL_BARS
-        title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable, the critical path's "
+        title += (f" — {len(graph.compute_nodes()):,} ops: merged per variable and op kind, the critical path's "
                   f"{len(sched.critical_path):,} ops " + ("shown one by one" if one_by_one else
                                                           "merged the same way, in red")
                   # (said "at most 10,000 ops and 300 rows" of a 9,000-op chart merged as its
