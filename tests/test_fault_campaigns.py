@@ -670,17 +670,23 @@ class _FillsUp:
         return getattr(self.fh, name)
 
 
+def _filling(monkeypatch, room: int):
+    """Results files opened from here on fill after `room` bytes; the real open, to put back."""
+    real_open = cp.ResultsFile.open
+
+    def opened(self):
+        real_open(self)
+        self._fh = _FillsUp(self._fh, room)
+    monkeypatch.setattr(cp.ResultsFile, "open", opened)
+    return real_open
+
+
 def test_a_full_disk_under_the_results_file_is_one_line_and_resumes(programs, tmp_path, monkeypatch):
     """A full disk while a campaign wrote its --results file was a traceback and 'internal
     error' (exit 3): one line naming the file, exit 1; the runs written are kept and resumed."""
     ec, _, _ = programs
     whole = _campaign(ec, tmp_path, *QUICK, name="whole.jsonl")
-    real_open = cp.ResultsFile.open
-
-    def opened(self):
-        real_open(self)
-        self._fh = _FillsUp(self._fh, 1500)
-    monkeypatch.setattr(cp.ResultsFile, "open", opened)
+    real_open = _filling(monkeypatch, 1500)
     path = tmp_path / "r.jsonl"
     r = RUN(main, ["faults", str(ec), "--format", "json", "--results", str(path), "--workers", "1",
                    *QUICK])
@@ -698,12 +704,7 @@ def test_a_full_disk_before_any_result_says_nothing_is_kept(programs, tmp_path, 
     """A disk full before the first run's line had been said to keep "the results written before"
     (a new user's find, on a tmpfs filled beside the program): none were."""
     ec, _, _ = programs
-    real_open = cp.ResultsFile.open
-
-    def opened(self):
-        real_open(self)
-        self._fh = _FillsUp(self._fh, 10)
-    monkeypatch.setattr(cp.ResultsFile, "open", opened)
+    _filling(monkeypatch, 10)
     path = tmp_path / "r.jsonl"
     r = RUN(main, ["faults", str(ec), "--results", str(path), "--workers", "1", *QUICK])
     assert r.exit_code == 1 and r.stderr.splitlines()[-1] == (

@@ -74,12 +74,6 @@ class Float16(Float32):
     def rounding_error(self, magnitude: float) -> float:
         return magnitude * 2.0 ** -11
 
-    def encode(self, values):
-        with np.errstate(over="ignore"):
-            out = np.asarray(values, dtype=np.float64).astype(np.float16)
-        self.overflows += int(np.count_nonzero(~np.isfinite(out)))
-        return out
-
     def c_expr(self, fn: Fn, x: str, y: str) -> str:
         return f"h_{fn.value}({x}, {y})"
 

@@ -177,8 +177,8 @@ class Float32(Float64):
         return out
 
     def encode(self, values) -> np.ndarray:
-        with np.errstate(over="ignore"):
-            out = np.asarray(values, dtype=np.float64).astype(np.float32)
+        with np.errstate(over="ignore"):     # (its dtype's: a narrower float format inherits it)
+            out = np.asarray(values, dtype=np.float64).astype(self.dtype)
         bad = ~np.isfinite(out)
         if bad.any():
             self.overflows += int(np.count_nonzero(bad))
