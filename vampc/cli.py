@@ -49,6 +49,7 @@ from vampc.outputs import (
     need_stdout,
     result_on_stdout,
     silence,
+    stderr_apart,
     unencodable,
 )
 
@@ -108,30 +109,10 @@ def handle_errors(f):
 _WARNING: list[bool] = []        # a warning being said (a warning raised while saying it: once)
 
 
-# the file options that name outputs (any other file option, and a command's source, is an input)
-_OUTPUTS = frozenset(("-o", "--output", "--vcd", "--save-states", "--timing", "--network",
-                      "--reservation", "--dot", "--bus-chart", "--html", "--curve", "--torques",
-                      "--plot"))
-
-
 def _stderr_apart(group, argv: list[str]) -> None:
-    """Exit before anything is said when standard error is redirected onto a file the command line
-    gives as an input or an output (`vampc emulate p.vamp.json --word float32 2>> p.vamp.json`
-    appended its warning to the program file and ran on, exit 0; a usage error, or `-o p.json 2>>
-    p.json`'s own refusal, was written into the file: new users' and a review's finds): only the
-    command's source and the values of its file options are compared (every word had been, and
-    `--recursion log 2> log` was refused). The refusal goes to standard output (nowhere when that
-    is one of the files too): exit 1 for an input, 2 for an output, as its other refusals."""
-    import os
-    import stat
-
-    from vampc.cliopts import FilePath
-    try:
-        err = os.fstat(2)
-    except (OSError, ValueError):
-        return
-    if not stat.S_ISREG(err.st_mode):
-        return
+    """vampc.outputs.stderr_apart on the files the command line gives, found before it is parsed
+    (a usage error is said too): the command's source and the values of its file options only
+    (every word had been compared, and `--recursion log 2> log` was refused: a review's find)."""
     at = next((k for k, t in enumerate(argv) if t in group.commands), None)
     if at is None:
         return
@@ -140,76 +121,26 @@ def _stderr_apart(group, argv: list[str]) -> None:
              for o in p.opts}
     valued = {o for p in cmd.params if isinstance(p, click.Option) and not p.is_flag
               and not p.count for o in p.opts}
-    named: list[tuple[str, str]] = []          # (how the command line gives it, the file name)
+    given: list[tuple[str, str]] = []          # (how the command line gives it, the file name)
     rest = iter(argv[at + 1:])
     for token in rest:
         if token == "--":
-            named += [("", t) for t in rest]
+            given += [("", t) for t in rest]
             break
         option, eq, value = token.partition("=")
         if token.startswith("--") and eq:
             if option in files:
-                named.append((option, value))
+                given.append((option, value))
         elif token in valued:
             value = next(rest, "")
             if token in files:
-                named.append((token, value))
+                given.append((token, value))
         elif token.startswith("-") and not token.startswith("--") and len(token) > 2 and \
                 token[:2] in files:                                  # (-oFILE)
-            named.append((token[:2], token[2:]))
+            given.append((token[:2], token[2:]))
         elif not token.startswith("-") or token == "-":
-            named.append(("", token))
-    out = None
-    with contextlib.suppress(OSError, ValueError):
-        out = os.fstat(1)
-    for option, name in named:
-        if not name or name == "-" or _names_a_descriptor(name):
-            continue             # (-o /dev/stderr: the output's own refusal, exit 2)
-        try:
-            here = os.stat(name)
-        except (OSError, ValueError):
-            continue
-        if (here.st_dev, here.st_ino) != (err.st_dev, err.st_ino):
-            continue
-        output = option in _OUTPUTS
-        what = (f"{option} {name}: standard error is this output file" if output else
-                f"{name}: standard error is this input file")
-        emptied = (" (the file is empty now: the shell empties a file it redirects to with > "
-                   "before vampc starts)") if err.st_size == 0 and not output else ""
-        if out is not None and (out.st_dev, out.st_ino) != (err.st_dev, err.st_ino) and not any(
-                _same_file(out, n) for _, n in named):
-            with contextlib.suppress(OSError, ValueError):
-                print(f"vampc: error: {what} (redirected onto it); " + (
-                    "the command's messages would spoil it: send standard error elsewhere, or give "
-                    "another file" if output else "vampc never writes over its inputs: send "
-                    f"standard error elsewhere{emptied}"), flush=True)
-        sys.exit(2 if output else 1)
-
-
-def _same_file(st, name: str) -> bool:
-    import os
-    try:
-        here = os.stat(name)
-    except (OSError, ValueError):
-        return False
-    return (here.st_dev, here.st_ino) == (st.st_dev, st.st_ino)
-
-
-def _names_a_descriptor(name: str) -> bool:
-    """Whether `name`, or a symlink on the way from it, is a file descriptor's name (/dev/stderr,
-    /dev/fd/N, /proc/self/fd/N), not a file of the user's."""
-    import os
-    import re
-    path = os.path.abspath(name)
-    for _ in range(40):
-        if path in ("/dev/stdin", "/dev/stdout", "/dev/stderr") or \
-                re.fullmatch(r"/(dev|proc/self|proc/\d+)/fd/\d+", path):
-            return True
-        try:
-            path = os.path.normpath(os.path.join(os.path.dirname(path), os.readlink(path)))
-        except (OSError, ValueError):
-            return False
-    return False
+            given.append(("", token))
+    stderr_apart(given)
 
 
 def _status(text: str) -> None:

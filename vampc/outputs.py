@@ -105,7 +105,7 @@ def _plan(option: str, path: str, stdout_ok) -> PlannedOutput:
             raise VampcUsageError(f"{option} -: standard output is not available for this output")
         need_stdout(f"{option} -")
         return PlannedOutput(option, path, "stdout", None)
-    if _names_stdin(path):
+    if names_descriptor(path, (0,)):
         # (through /proc/self/fd/0 it is the file the shell redirected into the command: `-o
         # /dev/stdin < keep.csv` replaced keep.csv with the torques, exit status 0)
         raise VampcUsageError(f"{option} {path}: that is standard input, which vampc never writes "
@@ -189,11 +189,14 @@ def need_stdout(what: str) -> None:
                          "(redirect it to a file, or to /dev/null to drop it)")
 
 
-def _names_stdin(path: str) -> bool:
-    """Whether `path` names standard input: /dev/stdin, /dev/fd/0, /proc/self/fd/0 (or this
-    process's number for self), or a symlink to one of them."""
-    aliases = {os.path.join(os.sep, "dev", "stdin"), os.path.join(os.sep, "proc", "self", "fd", "0"),
-               os.path.join(os.sep, "proc", str(os.getpid()), "fd", "0")}
+def names_descriptor(path: str, fds=(0, 1, 2)) -> bool:
+    """Whether `path` names one of the standard streams `fds` (0: standard input): /dev/stdin,
+    /dev/fd/0, /proc/self/fd/0 (or this process's number for self), or a symlink to one of them;
+    not a file of the user's."""
+    std = {0: "stdin", 1: "stdout", 2: "stderr"}
+    aliases = {alias for fd in fds for alias in (
+        os.path.join(os.sep, "dev", std[fd]), os.path.join(os.sep, "proc", "self", "fd", str(fd)),
+        os.path.join(os.sep, "proc", str(os.getpid()), "fd", str(fd)))}
     here = os.path.abspath(path)
     for _ in range(40):                  # (a loop of links ends the walk: the kernel's limit)
         name = os.path.join(os.path.realpath(os.path.dirname(here)), os.path.basename(here))
@@ -311,11 +314,52 @@ def stdout_apart(inputs) -> tuple[list[Path], os.stat_result | None]:
     return inputs, stdin
 
 
+# the file options that name outputs (any other file option, and a command's source, is an input)
+OUTPUT_OPTIONS = frozenset(("-o", "--output", "--vcd", "--save-states", "--timing", "--network",
+                            "--reservation", "--dot", "--bus-chart", "--html", "--curve",
+                            "--torques", "--plot"))
+
+
+def stderr_apart(given: list[tuple[str, str]]) -> None:
+    """Exit before anything is said when standard error is redirected onto a file a command line
+    gives, as (option, name) pairs (option "" for its source; vampc.cli finds them before parsing):
+    `vampc emulate p.vamp.json --word float32 2>> p.vamp.json` appended its warning to the program
+    file and ran on, exit 0; a usage error, or `-o p.json 2>> p.json`'s own refusal, was written
+    into the file (new users' and a review's finds). Exit 1 for an input, 2 for an output (in
+    OUTPUT_OPTIONS), as their other refusals; the refusal said where _elsewhere says."""
+    there = _regular_file(sys.stderr)        # (None: a terminal, a pipe, a test's capture)
+    if there is None:
+        return
+    for option, name in given:
+        if not name or name == STDIN or names_descriptor(name) or \
+                not _same_file(name, sys.stderr):
+            continue             # (-o /dev/stderr: the output's own refusal, exit 2)
+        output = option in OUTPUT_OPTIONS
+        what = (f"{option} {name}: standard error is this output file" if output else
+                f"{name}: standard error is this input file")
+        with contextlib.suppress(OSError, ValueError):
+            print(f"vampc: error: {what} (redirected onto it); " + (
+                "the command's messages would spoil it: send standard error elsewhere, or give "
+                "another file" if output else "vampc never writes over its inputs: send standard "
+                f"error elsewhere{_emptied(there)}"), file=_elsewhere(there, [n for _, n in given]),
+                flush=True)
+        sys.exit(2 if output else 1)
+
+
+def _elsewhere(there: os.stat_result, files):
+    """Where a refusal of standard error onto one of `files` (paths, or a stream with a file
+    descriptor) goes: standard output, or nowhere when that is standard error's file or one of
+    `files` too."""
+    out = _regular_file(sys.stdout)
+    spoiled = out is not None and ((out.st_dev, out.st_ino) == (there.st_dev, there.st_ino) or
+                                   any(_same_stat(out, f) for f in files))
+    return open(os.devnull, "w") if spoiled else sys.stdout  # noqa: SIM115
+
+
 def _refuse_stderr_input(inputs: list[Path], stdin: os.stat_result | None) -> None:
     """VampcError when standard error is one of the input files, the files they read (an MJCF's
     includes) or the file standard input reads for an input given as - (the command line's own
-    are refused before it is parsed: vampc.cli): said on standard output, as standard error is the
-    user's file (nowhere when standard output is one of the inputs too)."""
+    are refused before it is parsed: stderr_apart): said where _elsewhere says."""
     there = _regular_file(sys.stderr)        # (None: a terminal, a pipe, a test's capture)
     if there is None:
         return
@@ -324,10 +368,7 @@ def _refuse_stderr_input(inputs: list[Path], stdin: os.stat_result | None) -> No
         said.append("the file standard input reads (an input given as -)")
     if not said:
         return
-    out = _regular_file(sys.stdout)
-    spoiled = out is not None and ((out.st_dev, out.st_ino) == (there.st_dev, there.st_ino) or any(
-        _same_stat(out, src) for src in inputs) or (stdin is not None and _same_stat(stdin, sys.stdout)))
-    sys.stderr = open(os.devnull, "w") if spoiled else sys.stdout  # noqa: SIM115
+    sys.stderr = _elsewhere(there, inputs + ([sys.stdin] if stdin is not None else []))
     raise VampcError(f"{said[0]}: standard error is this input file (redirected onto it); vampc "
                      "never writes over its inputs: send standard error elsewhere" + _emptied(there))
 
