@@ -276,30 +276,27 @@ def decode_problem(exc: DecodeError, text: str | bytes) -> str:
         found = _huge_number(data)
         if found is not None:
             token, at = found
-            line = data.count(b"\n", 0, at) + 1
-            column = at - (data.rfind(b"\n", 0, at) + 1) + 1
-            return f"the number {token.decode()} {OUT_OF_RANGE} (line {line}, column {column})"
+            return f"the number {token.decode()} {OUT_OF_RANGE} ({_place(data, at)})"
     if m is None:
         lone = _lone_surrogate(data) if message == "Input data was truncated" else None
         if lone is not None:   # (msgspec says "truncated" of '"\ud800"': "it ends early" was said)
             escape, at = lone
-            line = data.count(b"\n", 0, at) + 1
-            column = at - (data.rfind(b"\n", 0, at) + 1) + 1
-            return (f"{escape} is half of a UTF-16 surrogate pair, alone (line {line}, column "
-                    f"{column})")
+            return f"{escape} is half of a UTF-16 surrogate pair, alone ({_place(data, at)})"
         if message == "Input data was truncated":     # said where: at its end (a new user's find)
-            end = len(data.rstrip())
-            line, start = data.count(b"\n", 0, end) + 1, data.rfind(b"\n", 0, end) + 1
-            return f"it ends early (line {line}, column {end - start + 1})"
+            return f"it ends early ({_place(data, len(data.rstrip()))})"
         return message
     at = int(m.group(1))
     if data[at - 1:at] == b"-" and data.startswith(b"Infinity", at):     # msgspec points past "-"
         at -= 1
-    line = data.count(b"\n", 0, at) + 1
-    column = at - (data.rfind(b"\n", 0, at) + 1) + 1
     constant = next((c for c in _CONSTANTS if data.startswith(c.encode(), at)), None)
     what = f"{constant} is not allowed" if constant else message[:m.start()]
-    return f"{what} (line {line}, column {column})"
+    return f"{what} ({_place(data, at)})"
+
+
+def _place(data: bytes, at: int) -> str:
+    """'line L, column C' of byte `at` of `data` (both from 1)."""
+    line, column = data.count(b"\n", 0, at) + 1, at - data.rfind(b"\n", 0, at)
+    return f"line {line}, column {column}"
 
 
 class NestedTooDeeply(DecodeError, RecursionError):
