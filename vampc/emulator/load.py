@@ -344,6 +344,9 @@ def _program(net: Network, numbers, v: int, table, roots, path) -> tuple[Program
     vamp = net.vamps[v]
     for k, row in enumerate(table):
         where = f"{name} slot {k}"
+        for f, inputs in ((4, vamp.a), (5, vamp.b)):
+            if row[f] is None and len(inputs) == 1:
+                row[f] = 0           # no register: a multiplexer of one input passes input 0
         for f, value in zip(FIELDS, row):
             if value is None:
                 raise VampcError(f"{path}: {where}: {f.replace('_', '-')} is never programmed")

@@ -385,6 +385,9 @@ class TickEngine:
         for p, r, kind, table in tables:
             inputs = net.vamps[r]
             for k, (da, db, dr, rr, sa, sb) in enumerate(table):
+                # a multiplexer of one input has no select register: it passes input 0 whatever
+                # the table's field holds (none is written, vampc.program.words.vamp_words)
+                sa, sb = (sa if len(inputs.a) > 1 else 0), (sb if len(inputs.b) > 1 else 0)
                 bad = rr >= len(ROM) or sa >= len(inputs.a) or sb >= len(inputs.b)
                 if bad and self.strict:
                     what = (f"ROM pointer {rr} is not in the ROM (0..{len(ROM) - 1})"

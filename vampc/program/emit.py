@@ -316,7 +316,8 @@ def program_stream(net: Network, progs, numbering, packing=PACKING) -> tuple[Str
                     fits_compact(slots[0], packing):
                 mine = [encode(number, slots[0], packing)]     # (says what does not fit)
             else:
-                mine = vamp_words(number, slots, packing)
+                vamp = net.vamps[v]
+                mine = vamp_words(number, slots, packing, (len(vamp.a), len(vamp.b)))
             if regs:                            # after the slot words (vampc.program.words)
                 mine = mine + bus_words(number, regs, packing)
             targets.extend([v] * len(mine))
