@@ -360,6 +360,59 @@ def test_the_report_counts_what_the_checking_adds():
     assert "packaged_vamps" not in build_report(plain)["packages"]["rows"][0]
 
 
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_the_checkings_multiplexers_fan_out_and_registers_are_counted(layout, tmp_path):
+    """Against the program file's network section, read here without vampc: a checker selects its
+    successor's operands on the primed inputs as the successor does (a copy of its multiplexers:
+    their inputs beyond the first), chooses own or primed operands (one more input on each of a
+    VAMP's two operands, none on the extraneous VAMP, which has no operands of its own), and each
+    Result line has a second driver, its predecessor's Result'. Each multiplexer input reading a
+    Result has its twin on the reader's checker, and the line is read by its checker's Result':
+    2 f + 1 on the busiest line. The storage's control registers include the second tables, modes
+    and stage counters (the report had counted 0 mux inputs, fan-out 8 and 1.026 kbit of control
+    registers on planar2 systolic, where 178, 17 and 2.171 kbit: a hardware user's find)."""
+    from vampc.report.build import build_report
+    from vampc.program.file import write_program
+    from vampc.compiler import program_document
+    c = compile_chain(PLANAR, CompileOptions(error_correction=True, layout=layout))
+    write_program(program_document(c), tmp_path / "p.vamp.json")
+    net = json.loads((tmp_path / "p.vamp.json").read_text())["network"]
+    vamps, chain = net["vamps"], net["error_correction"]["chain"]
+    V = len(vamps)
+    successors = chain                      # the extraneous VAMP checks chain[0], chain[k] chain[k+1]
+    copies = sum(len(vamps[s]["a"]) - 1 + len(vamps[s]["b"]) - 1 for s in successors)
+    readers = [0] * V
+    for v in vamps:
+        for operand in ("a", "b"):
+            for wire in v[operand]:
+                for kind, index, _ in wire:
+                    if kind == "vamp":
+                        readers[index] += 1
+                    elif kind == "buffer":
+                        readers[net["buffers"][index]["source"]] += 1
+    rep = build_report(c)
+    ec = rep["error_correction"]
+    assert ec["multiplexers"] == {"successor_copies": copies, "own_or_primed": 2 * (V - 1),
+                                  "result_lines": V, "mux_inputs": copies + 2 * (V - 1) + V}
+    assert copies > 0 if layout == "folded" else copies == 0
+    # (an MM member reads one column of operand B: the three columns' taps counted here bound it)
+    assert 0 < ec["fan_out"]["without"] <= max(readers)
+    assert ec["fan_out"]["with"] == 2 * ec["fan_out"]["without"] + 1
+    plain = build_report(compile_chain(PLANAR, CompileOptions(layout=layout)))
+    assert ec["fan_out"]["without"] == plain["wiring"]["max_fan_out"]
+    r, bits = ec["registers"], rep["engineering"]["bits"]
+    counter = net["period"].bit_length()      # E's Cycle-Counter counts 0 .. P (README, Word formats)
+    added = bits["control_register_bits"] - plain["engineering"]["bits"]["control_register_bits"]
+    assert bits["checking_control_bits"] == \
+        r["second_control_bits"] + r["mode_bits"] + r["stage_counter_bits"]
+    assert added == bits["checking_control_bits"] + counter     # and E's Cycle-Counter
+    assert "checking_control_bits" not in plain["engineering"]["bits"]
+    from vampc.report.checking import checking_pairs
+    said = dict(checking_pairs(ec))
+    assert f"{copies + 2 * (V - 1) + V} inputs" in said["  multiplexers"]
+    assert f"up to {ec['fan_out']['with']} inputs" in said["  fan-out"]
+
+
 def test_a_detection_after_the_last_set_names_no_set(tmp_path):
     """The check of VAMPs 36/37 comes round after the last of 100 Puma sets has passed them: the
     line said 'set 114' (tick // period). It names the tick only."""

@@ -49,6 +49,35 @@ def checked_pins(net) -> list[int]:
         out.append(own + extra)
     return out
 
+def checking_multiplexers(net) -> dict:
+    """The multiplexer inputs the checking adds, each multiplexer's inputs beyond its first as the
+    network's are counted (vampc.report.counts): a checker selects its successor's operands among
+    the primed inputs as the successor's own selects do (a copy of each of its successor's operand
+    multiplexers), chooses between its own operands and the primed ones (one more input on each
+    operand, but on the extraneous VAMP, which has none of its own), and each Result line has a
+    second driver, its predecessor's Result' (one more input a line). Until 2026-12-07 the report
+    counted none of them (planar2 systolic: 0 mux inputs with checking; a hardware user's find)."""
+    ck, V = net.checking, len(net.vamps)
+    order = ck.order
+    succ = {order[i]: order[i + 1] for i in range(V)}
+    copies = sum(len(net.vamps[s].a) - 1 + len(net.vamps[s].b) - 1 for s in succ.values())
+    own_or_primed = 2 * sum(1 for p in succ if p < V)
+    out = {"successor_copies": copies, "own_or_primed": own_or_primed, "result_lines": V}
+    return {**out, "mux_inputs": sum(out.values())}
+
+
+def checking_control_bits(net) -> int:
+    """The checking's control registers in bits: each checker's second slot table (its successor's,
+    counted as the first: vampc.report.counts.slot_table_bits), and every physical VAMP's mode and
+    stage counter. The storage line's control registers include them (a hardware user's find: they
+    were only on the error-correction line)."""
+    from vampc.report.counts import slot_table_bits, values_bits
+    ck, V = net.checking, len(net.vamps)
+    order = ck.order
+    second = sum(slot_table_bits(net.vamps[order[i + 1]], net.period) for i in range(V))
+    return second + (MODE_BITS + values_bits(ck.warmup + ck.compare + 1)) * (V + 1)
+
+
 def checking_figures(c) -> dict | None:
     """The error-correction section of a report of `c` (a vampc.compiler.Compiled); None without."""
     net = c.network
@@ -76,6 +105,9 @@ def checking_figures(c) -> dict | None:
     place = {**{v: v for v in range(V)}, V: -1}
     length = sum((operand_wires(net.vamps[s]) + 4) * abs(place[p] - place[s]) for p, s in succ.items())
     sweep = sweep_periods(V, ck.warmup, ck.compare)
+    from vampc.report.compare import max_fan_out
+    fan = max_fan_out(net)
+    muxes = checking_multiplexers(net)
     from vampc.network.checking import unnameable
     unnamed = unnameable(net)
     return {
@@ -96,6 +128,10 @@ def checking_figures(c) -> dict | None:
         # ends (the last VAMP's Test-out to its own Test-back-in, the extraneous VAMP's
         # Test-back-out to its own Test-in, within a VAMP: no length), which were left out (a
         # review's find, from section VII's description)
+        "multiplexers": muxes,
+        # each multiplexer input reading a Result (or its buffer) has its twin on the checker's
+        # primed input, and each Result line is read by its checker's Result' as well
+        "fan_out": {"with": 2 * fan + 1, "without": fan},
         "wires": {"successor_inputs": shared, "result_prime": V, "control": 3 * V + LOOP_BACKS,
                   "total": shared + 4 * V + LOOP_BACKS, "length_pitches": length},
         "added": {"latency_flops": 0, "interval_flops": 0, "load_ticks": 0},
@@ -124,6 +160,16 @@ def checking_pairs(ck: dict | None) -> list[tuple[str, str]]:
                             f"checking, {pins['without']['max']} (mean {pins['without']['mean']:.1f}) "
                             f"without: Operand-A', Operand-B' per successor operand wire, Result', and "
                             f"{pins['control']} Test and Inhibit pins"),
+        ("  multiplexers", f"{ck['multiplexers']['mux_inputs']} inputs beyond each one's first: "
+                           f"{ck['multiplexers']['successor_copies']} on the copies of each "
+                           f"successor's operand multiplexers (the primed inputs), "
+                           f"{ck['multiplexers']['own_or_primed']} choosing own or primed operands, "
+                           f"{ck['multiplexers']['result_lines']} a second driver on each Result "
+                           "line (its predecessor's Result')"),
+        ("  fan-out", f"up to {ck['fan_out']['with']} inputs on one Result line ("
+                      f"{ck['fan_out']['without']} without checking): each multiplexer input "
+                      "reading it has its twin on the reader's checker, and the line is read by "
+                      "its own checker's Result'"),
         ("  successor wires", f"{wires['total']}: {wires['successor_inputs']} shared operand wires, "
                               f"{wires['result_prime']} Result', {wires['control']} control lines"),
         # (it said "a permanent fault found within", of faults the compared values may mask for a

@@ -203,12 +203,18 @@ def word_bits(c) -> dict:
     control = sum(counter + slot_table_bits(v, net.period) for v in net.vamps) \
         + (counter if net.buffers else 0) + counter * (physical - len(net.vamps))
     control += sum(network_control_bits(c))
+    checking = 0
+    if net.checking is not None:     # the second slot tables, modes and stage counters
+        from vampc.report.checking import checking_control_bits
+        checking = checking_control_bits(net)
+        control += checking
     rom = ROM_BITS_PER_ASSIGNMENT * sum(len(step) for r in range(len(ops.ROM))
                                         for step in ops.entry(r)[0].steps)
     inputs = sum(p.size for p in net.ports for _ in p.entries)
     out = {"format": c.options.word, "bits": W,
            "data_register_bits": DATA_WORDS_PER_VAMP * W * physical,
            "control_register_bits": control, "rom_bits_per_vamp": rom,
+           **({"checking_control_bits": checking} if net.checking is not None else {}),
            "rom_bits": rom * physical,
            "delay_line_bits": 3 * W * net.buffer_stages,
            "constant_bits": W * sum(len(k.value) for k in net.consts),

@@ -49,7 +49,8 @@ def engineering(c, clock_hz: float | None = None) -> dict:
             "host_io": io, "critical_path": path,
             "bits": {k: bits[k] for k in ("bits", "data_register_bits", "control_register_bits",
                                           "rom_bits", "delay_line_bits", "constant_bits",
-                                          "input_port_bits", "program_bits")},
+                                          "input_port_bits", "program_bits", "checking_control_bits")
+                     if k in bits},
             "cpu_reference": None}
 
 

@@ -116,8 +116,10 @@ def engineering(rep: dict) -> Table:
     waits = rep["latency"].get("waits") or 0
     rows.append(("critical path", f"the data path, {len(path)} ops, {data} flops"
                  + (f" (latency {data + waits} with {waits} waiting)" if waits else "") + f": {shown}"))
+    checking = (f" (the checking's {_bits(bits['checking_control_bits'])} of them)"
+                if "checking_control_bits" in bits else "")
     rows.append(("storage", f"data registers {_bits(bits['data_register_bits'])}, control registers "
-                 f"{_bits(bits['control_register_bits'])}, microcode ROM {_bits(bits['rom_bits'])}, delay "
+                 f"{_bits(bits['control_register_bits'])}{checking}, microcode ROM {_bits(bits['rom_bits'])}, delay "
                  f"lines {_bits(bits['delay_line_bits'])}, constants {_bits(bits['constant_bits'])}, "
                  f"input ports {_bits(bits['input_port_bits'])}, program {_bits(bits['program_bits'])} "
                  f"({bits['bits']}-bit words)"))

@@ -88,7 +88,9 @@ def summary_pairs(rep: dict) -> list[tuple[str, str]]:
     if w:
         modes = f" ({w['rounding']}, {w['overflow']})" if "rounding" in w else ""
         pairs.append(("word", f"{w['format']}{modes}: {w['bits']} bits; {w['data_register_bits']:,} "
-                      f"bits of data registers, {w['control_register_bits']:,} of control registers, "
+                      f"bits of data registers, {w['control_register_bits']:,} of control registers"
+                      + (f" (the checking's {w['checking_control_bits']:,} of them)"
+                         if "checking_control_bits" in w else "") + ", "
                       f"{w['rom_bits']:,} of microcode ROM ({w['rom_bits_per_vamp']:,} a VAMP), "
                       f"{w['delay_line_bits']:,} of delay lines, {w['constant_bits']:,} of constants, "
                       f"{w['input_port_bits']:,} of input ports; "
