@@ -74,6 +74,19 @@ def test_json_report_validates_and_carries_the_clock(program):
     assert lin["time_us"] == 3.05 and lin["sets_per_second"] == 5e6
 
 
+def test_each_measured_table_o1_row_gives_its_interval_and_latency_in_time(program):
+    """Table O.1's measured rows at --clock 20MHz (one flop per tick, README: 0.05 µs a flop),
+    computed here from each row's own flops: interval_us is its interval's flops / 20, time_us its
+    latency's; the rows' intervals are not their latencies (it had given the latency's time as the
+    interval's: the systolic row's 0.2 µs read 3.05)."""
+    rep = json.loads(run("report", program, "--format", "json", "--clock", "20MHz").stdout)
+    rows = [r for r in rep["table_o1"]["measured"] if "interval_flops" in r]
+    assert rows and any(r["interval_flops"] != r["flops"] for r in rows)
+    for row in rows:
+        assert row["interval_us"] == pytest.approx(row["interval_flops"] / 20.0, rel=1e-5), row
+        assert row["time_us"] == pytest.approx(row["flops"] / 20.0, rel=1e-5), row
+
+
 @pytest.mark.parametrize("args", [(PUMA, "--vamps", "12"), (PUMA, "--recursion", "log", "--interval", "150"),
                                   (EXAMPLES / "quadruped.urdf",), (PLANAR, "--floating-base")])
 def test_json_report_of_a_budget_or_a_tree_validates(args, tmp_path):

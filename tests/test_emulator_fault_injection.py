@@ -89,6 +89,24 @@ def test_an_intermittent_fault_spoils_some_cycles_and_is_repeatable():
     assert 0 < changed.sum() < always.sum() and not (changed & ~always).any()
 
 
+def test_an_intermittent_fault_holds_in_about_its_rate_of_cycles():
+    """rate=0.1 (not 0.5, which reads the same either way round): a stuck Result bit of the VAMP τ1
+    is read from spoils a set only if it holds in the cycle that set is read, so of the sets the
+    permanent fault spoils (193 of 200), a binomial 10% ± 2.2% are spoiled when it holds in a tenth
+    of the cycles (22, with the engine's seed 3), and never one it leaves alone. (Active where the
+    draw was above the rate, it spoiled 171: 89%.)"""
+    traj = random_trajectory(CHAIN, 200, 3)
+    v = LD.net.outputs[0].vamp
+    with np.errstate(all="ignore"):
+        good, always, some = (emulate(LD, traj, "tick", seed=3, faults=[parse_fault(s) for s in spec]).tau
+                              for spec in ([], [f"vamp={v},{STUCK}"], [f"vamp={v},{STUCK},rate=0.1"]))
+
+    def spoiled(tau):
+        return ~np.all((tau == good) & np.isfinite(tau), axis=1)
+    assert spoiled(always).sum() > 150 and not (spoiled(some) & ~spoiled(always)).any()
+    assert 0.03 < spoiled(some).sum() / spoiled(always).sum() < 0.2
+
+
 def test_a_dead_vamp_is_seen():
     v = LD.net.outputs[0].vamp
     assert _changed(_run(f"vamp={v},dead")).all()      # its undriven Result: every torque read

@@ -371,9 +371,9 @@ def test_the_checkings_multiplexers_fan_out_and_registers_are_counted(layout, tm
     2 f + 1 on the busiest line. The storage's control registers include the second tables, modes
     and stage counters (the report had counted 0 mux inputs, fan-out 8 and 1.026 kbit of control
     registers on planar2 systolic, where 178, 17 and 2.171 kbit: a hardware user's find)."""
-    from vampc.report.build import build_report
-    from vampc.program.file import write_program
     from vampc.compiler import program_document
+    from vampc.program.file import write_program
+    from vampc.report.build import build_report
     c = compile_chain(PLANAR, CompileOptions(error_correction=True, layout=layout))
     write_program(program_document(c), tmp_path / "p.vamp.json")
     net = json.loads((tmp_path / "p.vamp.json").read_text())["network"]

@@ -597,6 +597,31 @@ def test_gravity_near_a_limit_is_planned_inside_it_or_refused(setup, tmp_path, r
     assert worst <= shoulder * (1 - 0.9e-9)                   # the margin planned, less rounding
 
 
+@pytest.mark.parametrize("retime", ["uniform", "window"])
+@pytest.mark.parametrize("above, refused", [(5e-6, True), (3e-5, False)])
+def test_gravity_inside_a_limit_by_less_than_a_narrower_words_error_is_refused(setup, tmp_path, retime,
+                                                                               above, refused):
+    """A float32 register may be off by its --check tolerance, 1e-5 (README) of the largest effort
+    limit, here the shoulder's, computed in the test. The shoulder's limit set 5e-6 above the largest
+    torque gravity alone needs on the path (by the reference dynamics): inside the limit, but by
+    less than that error, so no retiming can promise it (it had been planned and passed: the error
+    added to the limit, not taken off); 3e-5 above, more than the error: planned."""
+    folder, program, _, path = setup
+    t, q, qd, qdd = sine_path()
+    shoulder = float(np.abs(rnea(load_robot(PUMA), q, 0 * qd, 0 * qdd))[:, 1].max()) * (1 + above)
+    limits = tmp_path / "lim.csv"
+    limits.write_text(LIMITS.replace("shoulder,60,", f"shoulder,{shoulder!r},"))
+    r = run_lookahead(program, path, limits, "--retime", retime, "--word", "float32")
+    if not refused:
+        assert r.exit_code == 0, r.output
+        return
+    error = 1e-5 * shoulder                       # the shoulder's is the largest limit
+    assert r.exit_code == 1 and re.search(
+        rf"row \d+: joint 'shoulder' needs \S+ at rest \(gravity alone\), closer to its limit \S+ "
+        rf"than {error:.3g} and 1e-09 of the rest, the margin the retiming keeps for rounding and "
+        rf"the error a float32 network's --check allows", r.output), r.output
+
+
 def test_a_row_a_fixed_point_word_cannot_hold_is_refused_and_overflows_are_said(setup, tmp_path):
     """A q̈ beyond q16.16's range was written as the word saturated it, the torques silently wrong.
     As emulate: refused naming the row and column unless --overflow is given; then every pass's
@@ -745,6 +770,22 @@ def test_the_uniform_k_plans_inside_the_limits_however_close_gravity_comes():
     assert abs(res.k_closed_form / np.sqrt(6.25 / (limits[1] - 37.0)) - 1) <= 1e-9
     assert (np.abs(res.retimed_tau) <= limits * (1 - 0.9e-9)).all()
     assert np.abs(res.retimed_tau[:, 1]).max() >= limits[1] * (1 - 1.1e-9)     # and uses them
+
+
+@pytest.mark.parametrize("tau, gravity, limit", [(-11.0, -2.0, -10.0), (-11.0, 2.0, -10.0),
+                                                  (11.0, -2.0, 10.0), (11.0, 2.0, 10.0)])
+def test_the_uniform_k_brings_a_torque_past_either_limit_back_to_that_limit(tau, gravity, limit):
+    """Hollerbach's time scaling: slowed by k, a torque becomes τ' = (τ − τ_g)/k² + τ_g (τ_g the
+    gravity torque, which does not scale). The smallest k for one torque beyond ±10 N·m solves
+    τ' = that limit, k² = (τ − τ_g)/(limit − τ_g), computed here: 9/8 for −11 over gravity −2
+    (below the negative limit), 13/12 for −11 over +2 and for 11 over −2, 9/8 for 11 over +2. (A
+    torque below the negative limit had been divided by the positive limit's gap: 9/12 and
+    13/8.)"""
+    from vampc.lookahead import Limits, uniform_k
+    k = uniform_k(np.array([[tau]]), np.array([[gravity]]), np.zeros((1, 1)),
+                  Limits((10.0,), (None,)), ["j"])
+    assert k == pytest.approx(np.sqrt((tau - gravity) / (limit - gravity)), rel=1e-12)
+    assert (tau - gravity) / k ** 2 + gravity == pytest.approx(limit, rel=1e-12)
 
 
 def test_the_summary_gives_each_joints_worst_torque_over_its_limit_before_and_after(setup):

@@ -49,6 +49,25 @@ def test_utilisation_host_io_and_critical_path(options):
     assert e["cpu_reference"] is None
 
 
+def test_the_host_reads_each_joints_torque_once_a_set_at_the_clocks_rate():
+    """`report --clock 20MHz`'s outputs per second against README's definitions, computed here:
+    one flop per tick (--clock), so a set every interval_flops / 20 MHz, each set reading one torque
+    per joint of the robot file (its joints counted with PyYAML: a fixed base adds no wrench) in
+    words of the program's format (float64 by default: 64 bits). (Scalars out per second had been
+    outputs × the interval, and bits out the host's write bits: no test read them.)"""
+    import yaml
+    r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--clock", "20MHz",
+                                  "--format", "json"])
+    assert r.exit_code == 0, r.output
+    rep = json.loads(r.output)
+    io = rep["engineering"]["host_io"]
+    outputs = len(yaml.safe_load((EXAMPLES / "puma560.yaml").read_text())["joints"])
+    sets = 20e6 / 1 / rep["interval_flops"]            # Hz / (ticks per flop) / flops per set
+    assert outputs == 6 and rep["interval_flops"] > 1
+    assert io["scalars_out_per_second"] == pytest.approx(outputs * sets, abs=0.5)
+    assert io["bits_out_per_second"] == pytest.approx(64 * outputs * sets, abs=0.5)
+
+
 def test_the_section_prints_and_the_cpu_reference_is_measured_when_asked():
     r = CliRunner().invoke(main, ["report", str(EXAMPLES / "puma560.yaml"), "--clock", "20MHz",
                                   "--cpu-reference"])

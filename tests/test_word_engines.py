@@ -149,22 +149,36 @@ def test_a_tolerance_of_one_or_more_is_refused_by_every_command_alike(command, v
     assert f"--tolerance {value}: give an error below 1 (of the largest |τ|)" in res.stderr
 
 
-@pytest.mark.parametrize("word", ["float32", "q16.16", "q32.32", "q5.12"])
-def test_the_generated_c_computes_each_word_as_numpy_does(word, monkeypatch):
+@pytest.mark.parametrize("word, rounding, overflow",
+                         [("float32", "nearest", "wrap"), ("q16.16", "nearest", "wrap"),
+                          ("q32.32", "nearest", "wrap"), ("q32.32", "truncate", "saturate")]
+                         + [(w, r, o) for w in ("q5.12", "q9.4")
+                            for r in ("nearest", "truncate") for o in ("wrap", "saturate")],
+                         ids=lambda v: v)
+def test_the_generated_c_computes_each_word_as_numpy_does(word, rounding, overflow, monkeypatch):
     """The stream engine's C path (VAMPC_NATIVE=1: compiled even for a short run) renders the same
-    format: bit-identical torques and the same overflow count (q5.12, range ±16, wraps 225 times
-    on the 2-link arm's 130 sets; 130 is not a whole number of the C path's 64-set blocks)."""
+    format under every rounding and overflow rule: bit-identical torques and the same overflow
+    count. q5.12 (range ±16) overflows hundreds of times on the 2-link arm's 130 sets, so both the
+    wrap and the saturate branches of the C run (a saturation to the wrong end differs); q9.4 has
+    4 fraction bits, so a product's dropped bits are all ones often enough that a truncation which
+    is not the arithmetic shift (towards -inf) differs (q16.16 and q32.32 neither overflow nor,
+    with 16 and 32 fraction bits, meet that case here: one rule each, for int64_t and __int128).
+    The reference is numpy's Fixed, itself held to the Python-integer oracle in test_word_formats.
+    130 is not a whole number of the C path's 64-set blocks."""
     chain = load_robot(EXAMPLES / "planar2.yaml")
     c = compile_chain(chain, CompileOptions())
     traj = random_trajectory(chain, 130, 4)
     got = {}
     for mode in ("0", "1"):
         monkeypatch.setenv("VAMPC_NATIVE", mode)
-        ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(word, "nearest", "wrap"))
+        ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(word, rounding, overflow))
         got[mode] = (emulate(ld, traj, "stream").tau, ld.arith.overflows)
     assert np.array_equal(got["0"][0], got["1"][0]) and got["0"][1] == got["1"][1]
     if word == "q5.12":
         assert got["0"][1] > 0
+    if word == "q9.4" and rounding == "truncate":   # the rounding rule matters on these sets
+        ld = dataclasses.replace(loaded_from_compiled(c), word=parse_word(word, "nearest", overflow))
+        assert not np.array_equal(emulate(ld, traj, "stream").tau, got["0"][0])
 
 
 def test_the_first_overflows_are_located(tmp_path):
@@ -300,6 +314,28 @@ def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
     assert "word" not in loads(run(main, ["report", str(plain), "--format", "json"]).output)
 
 
+def test_a_floating_base_reads_a_word_for_each_joint_torque_and_each_base_wrench_component(tmp_path):
+    """host_read_bits_per_set of a floating-base quadruped in q16.16 is 32 bits for each scalar a
+    set reads out: counted here from the URDF itself (its joints that are not fixed, read with
+    ElementTree) plus the base wrench's 3 forces and 3 moments, and the same number as the columns
+    of the emulator's torque CSV (it had counted the 12 joints alone; a fixed-base arm cannot
+    tell)."""
+    import xml.etree.ElementTree as ET
+
+    from vampc.jsontext import loads
+    run = CliRunner().invoke
+    urdf, prog, csv = EXAMPLES / "quadruped.urdf", tmp_path / "q.vamp.json", tmp_path / "t.csv"
+    assert run(main, ["compile", str(urdf), "--floating-base", "--word", "q16.16", "-o",
+                      str(prog)]).exit_code == 0
+    joints = [j for j in ET.parse(urdf).getroot().iter("joint") if j.get("type") != "fixed"]
+    outputs = len(joints) + 6
+    assert len(joints) == 12
+    assert run(main, ["emulate", str(prog), "--random", "2", "-o", str(csv)]).exit_code == 0
+    assert len(csv.read_text().splitlines()[0].split(",")) == outputs
+    rep = loads(run(main, ["report", str(prog), "--format", "json"]).output)
+    assert rep["word"]["host_read_bits_per_set"] == 32 * outputs
+
+
 def test_a_waveform_shows_the_values_a_word_stands_for(tmp_path):
     """--vcd writes what a fixed-point word means (raw · 2^-F), not its raw bits."""
     prog, wave = tmp_path / "p.vamp.json", tmp_path / "w.vcd"
@@ -405,10 +441,20 @@ def test_a_what_if_in_a_word_too_narrow_for_the_programs_words_is_one_line(tmp_p
 
 
 def test_float64_tolerance_tightens_and_loosens_and_words_are_named_canonically(tmp_path):
+    """A float64 run's --tolerance is the bound its verdict holds the measured error to: the
+    largest relative error the run itself prints (about 2.1e-16 on the 2-link arm, said to 4
+    figures) fails a tolerance 0.1% below it and passes one 0.1% above (a tolerance taken as 1000
+    times itself passed both, and 1e-30 and 1e-3 could not tell)."""
     run = CliRunner().invoke
     base = ["emulate", str(EXAMPLES / "planar2.yaml"), "--random", "20", "--check"]
-    assert run(main, base + ["--tolerance", "1e-30"]).exit_code == 1
-    assert run(main, base + ["--tolerance", "1e-3"]).exit_code == 0
+    res = run(main, base)
+    assert res.exit_code == 0, res.output
+    said = float(re.search(r"max relative error ([0-9.e+-]+) ", res.output).group(1))
+    assert 0 < said < 1e-12
+    below = run(main, base + ["--tolerance", repr(said * 0.999)])
+    above = run(main, base + ["--tolerance", repr(said * 1.001)])
+    assert below.exit_code == 1 and ": FAILED" in below.output, below.output
+    assert above.exit_code == 0 and ": OK" in above.output, above.output
     prog = tmp_path / "z.vamp.json"
     assert run(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q016.016", "-o",
                       str(prog)]).exit_code == 0
