@@ -368,7 +368,8 @@ def _counted_before(key: str, stored, c) -> bool:
     the slots' valid bits, the delay fields at ceil(log2 P) bits (until 2026-12-05); and each of
     those without the network's overflow flag and the bus-write registers (until 2026-12-06); the
     number of a bus network's control registers without its bus-write registers (until 2026-12-06,
-    later)."""
+    later); a checked network's control register bits without the checking's (until
+    2026-12-07)."""
     from vampc.report.counts import (
         counter_bits,
         network_control_bits,
@@ -381,9 +382,13 @@ def _counted_before(key: str, stored, c) -> bool:
         from vampc.machine import ops
         net = c.network
         now = jsontext.loads(jsontext.dumps(word_bits(c)))
+        if "checking_control_bits" in now and "checking_control_bits" not in stored:
+            # (stored before the checking's second tables, modes and stage counters were counted
+            # among the control registers, until 2026-12-07: a checked program was called edited)
+            now["control_register_bits"] -= now.pop("checking_control_bits")
         flag, bus = network_control_bits(c)
         # (stored before the overflow flag was counted, and before that the bus-write registers)
-        for less in (flag, flag + bus):
+        for less in (0, flag, flag + bus):
             if stored == {**now, "control_register_bits": now["control_register_bits"] - less}:
                 return True
         now["control_register_bits"] -= flag + bus
