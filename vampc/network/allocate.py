@@ -21,6 +21,8 @@ in Program Mode. Everything is counted in the report.
 """
 from __future__ import annotations
 
+import operator
+
 from vampc.dataflow.graph import Graph, InputKey
 from vampc.errors import VampcInternalError
 from vampc.kinds import Quantity, TapKind
@@ -42,6 +44,29 @@ from vampc.network.model import (
 )
 from vampc.schedule.asap import Schedule
 from vampc.schedule.layout import Layout
+
+_BLOCK = operator.attrgetter("block")
+
+
+def repeats_dropped(entries: list[PortEntry], per_period: int) -> list[PortEntry]:
+    """A port's entries without the writes that repeat what it shows already: an entry whose
+    predecessor in the period's order (vampc.machine.timing.PortSchedule) carries the same key and
+    was written for the same set in the blocks just before it (its absolute block is where the
+    predecessor's window ends) adds nothing, so the predecessor's window runs on over its blocks.
+    The allocator makes an entry per block a folded layout reads the port in; a folded Puma wrote
+    A_1 in blocks 0 and 1 and A_6 in blocks 6, 8 and 9 of one set (54 writes a set on the log
+    folded Puma where 46 carry every value: a hardware user's find, 2026-12-07). Network.verify
+    checks what each read then sees, as for any entry."""
+    if len(entries) < 2:
+        return entries
+    order = sorted(entries, key=lambda e: e.block % per_period)
+    while len(order) > 1:
+        again = next((k for k, e in enumerate(order) if e.key == order[k - 1].key and
+                      0 < e.block - order[k - 1].block < per_period), None)
+        if again is None:
+            return order
+        del order[again]
+    return order
 
 
 class _Allocator:
@@ -218,7 +243,8 @@ class _Allocator:
     def _network(self, reads_a, reads_b) -> Network:
         vamps = self._vamps(reads_a, reads_b)
         buffers = tuple(Buffer(i, v, self.stages[v]) for v, i in self.buffer_of.items())
-        ports = tuple(Port(i, size, tuple(sorted(entries, key=lambda e: e.block)))
+        K = self.P // self.B
+        ports = tuple(Port(i, size, tuple(sorted(repeats_dropped(entries, K), key=_BLOCK)))
                       for i, (size, entries) in enumerate(zip(self.port_size, self.port_entries)))
         ports = ports + self.program_ports
         outputs = tuple(OutputPoint(o.joint, self.place[o.node][0], o.component,
