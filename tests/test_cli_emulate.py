@@ -233,6 +233,22 @@ def test_help_explains():
     assert res.exit_code == 0 and "--check" in res.output and "bit for bit" in res.output
 
 
+def test_a_run_that_writes_no_torques_says_so(program, tmp_path):
+    """`emulate P --random 3` computed torques and wrote none, saying nothing (the help says it
+    returns torques: a new user's find): a note on stderr, not a warning, where no -o, --save-states,
+    --check or --vcd is given; -o's help says so."""
+    note = "no torques written: give -o FILE (or -o - for standard output)"
+    res = CliRunner().invoke(main, ["emulate", str(program), "--random", "3"])
+    assert res.exit_code == 0 and res.stderr == note + "\n", res.stderr
+    assert res.stdout.startswith("stream engine: 3 torque sets"), res.stdout
+    for args in (["-o", tmp_path / "tau.csv"], ["-o", "-"], ["--save-states", tmp_path / "s.csv"],
+                 ["--check"], ["--engine", "tick", "--vcd", tmp_path / "w.vcd"]):
+        res = CliRunner().invoke(main, ["emulate", str(program), "--random", "3", *map(str, args)])
+        assert res.exit_code == 0 and "no torques written" not in res.output, (args, res.output)
+    helped = " ".join(_run("emulate", "--help").stdout.split())
+    assert "Without -o no torques are written" in helped
+
+
 def test_burned_in_numbering_keeps_chips_interchangeable(tmp_path, states):
     # Same network, VAMP numbers shuffled: the program stream changes, the torques do not.
     chain, (q, qd, qdd) = states

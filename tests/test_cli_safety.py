@@ -530,6 +530,29 @@ def test_seed_without_random_or_tick_is_a_usage_error(tmp_path, program):
     assert res.exit_code == 2 and "--seed applies to --random and to the tick engine" in res.stderr
 
 
+def test_seed_on_the_tick_engine_with_a_trajectory_alone_is_warned_of(tmp_path, program):
+    """`--trajectory st.csv --engine tick --seed 7` gave the torques of any seed, unsaid (a new
+    user's find): the seed fills the tick engine's power-on registers, which reach no torque; it
+    shows with --vcd and --fault, and draws the states of --random."""
+    traj = _csv(tmp_path / "t.csv", HEAD + ROW + ROW)
+    said = "vampc: warning: --seed 7: with --trajectory, and no --vcd or --fault, it has no effect"
+    outs = []
+    for seed in ("7", "8"):
+        out = tmp_path / f"tau{seed}.csv"
+        res = run("emulate", program, "--trajectory", traj, "--engine", "tick", "--seed", seed,
+                  "-o", out)
+        assert res.exit_code == 0, res.output
+        outs.append(out.read_bytes())
+    assert outs[0] == outs[1]                # (what the warning says)
+    assert res.stderr.count("vampc: warning:") == 1 and said.replace("7", "8", 1) in res.stderr, \
+        res.stderr
+    for args in (["--trajectory", traj, "--vcd", tmp_path / "w.vcd"],
+                 ["--trajectory", traj, "--fault", "vamp=5,dead"], ["--random", "2"]):
+        res = run("emulate", program, *args, "--engine", "tick", "--seed", "7", "-o",
+                  tmp_path / "tau.csv")
+        assert res.exit_code == 0 and "--seed" not in res.stderr, res.output
+
+
 # --- --random N streams in chunks ------------------------------------------------------------------
 
 def test_random_states_depend_on_position_not_on_chunking():
@@ -799,10 +822,12 @@ def test_progress_is_drawn_by_tqdm_when_asked(program, monkeypatch):
     assert "compiling planar2.yaml" in res.stderr
 
 
-def test_no_progress_when_not_a_terminal(program, monkeypatch):
+def test_no_progress_when_not_a_terminal(program, monkeypatch, tmp_path):
     monkeypatch.delenv("VAMPC_PROGRESS", raising=False)
-    res = run("emulate", program, "--random", 5000)
-    assert res.stderr == ""
+    # (with -o: a run that writes no torques says so on stderr, test_cli_emulate's
+    # test_a_run_that_writes_no_torques_says_so; here nothing at all is said there)
+    res = run("emulate", program, "--random", 5000, "-o", tmp_path / "tau.csv")
+    assert res.exit_code == 0 and res.stderr == ""
 
 
 # --- trees and floating bases (issue 12) --------------------------------------------------------------

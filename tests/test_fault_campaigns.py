@@ -299,6 +299,30 @@ def test_usage_errors(programs, args, says):
     assert r.exit_code == 2 and says in r.output, r.output
 
 
+@pytest.mark.parametrize("args, says", [
+    (["-o", "f.txt.gz"], "-o writes the report as plain text: not .gz (compress the file afterwards)"),
+    (["--format", "csv", "-o", "f.csv.gz"], "-o writes the CSV table as plain text: not .gz"),
+    (["--format", "json", "-o", "f.json.bz2"], "-o writes the JSON report as plain text: not .bz2"),
+    (["-o", "f.zst"], "not .zst"),
+    (["--results", "fr.jsonl.gz"], "--results writes each run's result as plain text (JSON lines, "
+                                   "appended to and read back by a re-run): not .gz"),
+    (["--results", "fr.jsonl.XZ"], "--results writes each run's result as plain text"),
+])
+def test_a_compressed_name_for_the_report_or_the_results_is_a_usage_error(programs, tmp_path,
+                                                                          monkeypatch, args, says):
+    """`faults P --kinds dead -o f.txt.gz` (and --results fr.jsonl.gz) wrote plain text under a
+    compressed file's name, exit 0, unsaid (a new user's find; emulate's -o refuses one): refused
+    before any run, naming the option, and nothing written (the default results file neither)."""
+    ec, _, _ = programs
+    monkeypatch.chdir(tmp_path)
+    program = tmp_path / "ec.vamp.json"
+    program.write_bytes(ec.read_bytes())
+    r = RUN(main, ["faults", str(program), "--kinds", "dead", "--sets", FEW, "--workers", "1", *args])
+    assert r.exit_code == 2 and says in r.stderr, r.output
+    assert len(r.stderr.splitlines()) == 1 and "Traceback" not in r.output
+    assert [p.name for p in tmp_path.iterdir()] == ["ec.vamp.json"]
+
+
 def test_check_cycles_without_error_correction_is_a_usage_error():
     r = RUN(main, ["faults", "examples/planar2.yaml", "--check-cycles", "3"])
     says = "--check-cycles applies with --error-correction"

@@ -32,6 +32,32 @@ def test_the_word_refused_is_named_as_it_was_given(tmp_path):
         assert res.exit_code == 2 and f"{head}{said} (see" in res.stderr, res.stderr
 
 
+def test_the_help_says_rtl_needs_a_fixed_point_word_and_lists_no_option_it_refuses():
+    """`rtl --help` listed --bus, --tiers, --error-correction and --check-cycles, which make a
+    network rtl refuses ("not rendered in RTL yet"), and showed `--word [default: float64]`, a word
+    rtl refuses (a new user's find). They are left out of the help (still taken, so the refusal
+    says why, as `precision --help` leaves out what it refuses), the help says what is not
+    rendered, and --word's says a fixed-point qI.F word is needed, with no default shown."""
+    import re
+    text = CliRunner().invoke(main, ["rtl", "--help"], terminal_width=1000).stdout
+    for option in ("--bus", "--tiers", "--error-correction", "--check-cycles"):
+        assert not re.search(rf"^\s+{option}\b", text, re.M), option
+    flat = " ".join(text.split())
+    assert "(--bus mlb) and error correction (--error-correction) are not rendered in RTL yet" in flat
+    word = next(line for line in text.splitlines() if line.strip().startswith("--word"))
+    assert "RTL needs signed fixed point, qI.F" in word and "default" not in word, word
+    assert "--rounding" in text and "--layout" in text      # (what it takes, still listed)
+    # (still taken: the refusal names them)
+    res = CliRunner().invoke(main, ["rtl", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                    "--error-correction", "-o", "x.v"])
+    assert res.exit_code == 2 and "(--error-correction) is not rendered in RTL yet" in res.stderr, \
+        res.stderr
+    # the other commands' --word help is the field's own, its default shown
+    word = next(line for line in CliRunner().invoke(main, ["emulate", "--help"], terminal_width=1000)
+                .stdout.splitlines() if line.strip().startswith("--word"))
+    assert "[default: float64]" in word, word
+
+
 def test_the_header_names_a_floating_bases_wrench_outputs():
     from vampc.rtl.verilog import header
     chain = load_robot(EXAMPLES / "planar2.yaml", floating=True)

@@ -32,6 +32,8 @@ from vampc.errors import (
 )
 from vampc.options import (
     PRECISION_REFUSES,
+    RTL_HELPS,
+    RTL_UNRENDERED,
     CompileCommand,
     CompileOptions,
     EmulateOptions,
@@ -459,7 +461,7 @@ def compile(ctx, robot, **params):
 @handle_errors
 def emulate(ctx, source, **params):
     """Run a program file (or a robot file, compiled on the fly) in the VAMP network emulator and
-    return the joint torques it computes."""
+    return the joint torques it computes (-o FILE, or -o - for standard output)."""
     from vampc.commands import emulate_command
     if not emulate_command(source, build(EmulateOptions, ctx, params),
                            build(CompileOptions, ctx, params), build(RobotOptions, ctx, params),
@@ -536,14 +538,16 @@ def faults(ctx, source, **params):
 
 @main.command(short_help="The network as Verilog: co-simulation, synthesis figures.")
 @click.argument("source", type=FilePath())
-@options_of(RtlOptions, CompileOptions, RobotOptions)
+@options_of(RtlOptions, CompileOptions, RobotOptions, hidden=RTL_UNRENDERED, helps=RTL_HELPS)
 @click.pass_context
 @handle_errors
 def rtl(ctx, source, **params):
     """The compiled network as synthesizable Verilog (-o FILE.v), co-simulated against the emulator
     bit for bit (--cosim N --check) and synthesized for cell counts and Fmax (--synth ecp5 --pnr).
     SOURCE: a program compiled with a fixed-point word (--word qI.F), a program in another word
-    given --word qI.F here, or a robot file compiled here with --word qI.F (README, RTL)."""
+    given --word qI.F here, or a robot file compiled here with --word qI.F. The Mostly-Local Bus
+    (--bus mlb) and error correction (--error-correction) are not rendered in RTL yet: such a
+    program or option is refused (README, RTL)."""
     from vampc.commands import rtl_command
     if (params.get("cosim") is not None or params.get("synth") is not None) and \
             params.get("output") != "-":        # their verdict and figures are its result

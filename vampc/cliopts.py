@@ -62,15 +62,20 @@ class Choices(click.Choice):
         pass
 
 
-def options_of(*classes, hidden=()):
+def options_of(*classes, hidden=(), helps=None):
     """Decorator: one click option per field of the option classes (vampc.options). Fields named
     in `hidden` are left out of --help (a command that refuses them: they still parse, so giving
-    one is that command's usage error, not click's "no such option")."""
+    one is that command's usage error, not click's "no such option"). `helps` gives a field this
+    command's own help, as (text, click keywords over the field's: show_default=False where the
+    field's default is not what this command takes)."""
     def decorate(f):
         for cls in reversed(classes):
             for fl in reversed(cli_fields(cls)):
                 decls, text, kw = fl.metadata["cli"]
                 kw = dict(kw)
+                if helps and fl.name in helps:
+                    text, own = helps[fl.name]
+                    kw.update(own)
                 if "choices" in kw:
                     kw["type"] = Choices(kw.pop("choices"))
                 if "range" in kw:

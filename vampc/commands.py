@@ -32,6 +32,7 @@ from vampc.gcpause import gc_paused
 from vampc.options import (
     NETWORK_SHAPE,
     PRECISION_REFUSES,
+    RTL_JSON_AND_VERILOG,
     CompileCommand,
     CompileOptions,
     EmulateOptions,
@@ -504,6 +505,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
         elif ld.net.checking is not None:       # (it said nothing: --error-correction looked taken)
             say("error correction: not run by the stream engine, which computes the same torques "
                 "without it; --engine tick runs the checking (README, Error correction)", info)
+        if not (own.output or own.save_states or own.check_torques or own.vcd):
+            # (the run computed torques and wrote none, saying nothing of it: a new user's find)
+            notes.append(NO_TORQUES_WRITTEN)
         for note in notes:
             say(note, True)
     except VampcError as exc:
@@ -550,6 +554,9 @@ def emulate_command(source: str, own: EmulateOptions, options: CompileOptions,
     # one by one: a new user's find; compile and report leave so already)
     leave_big(ld.net)
     return ok
+
+
+NO_TORQUES_WRITTEN = "no torques written: give -o FILE (or -o - for standard output)"
 
 
 def checking_line(ld, ck: dict) -> str:
@@ -2196,6 +2203,8 @@ def rtl_command(source: str, own, options: CompileOptions, robot_opts: RobotOpti
     from vampc.rtl.design import NetworkDesign, kinds
     V = len(ld.net.vamps)
     to_stdout = "-o" in outs and outs["-o"].kind == "stdout"
+    if to_stdout and own.fmt == "json":       # (-o /dev/stdout too: RtlOptions.check says -o -)
+        raise VampcUsageError(RTL_JSON_AND_VERILOG.format(outs["-o"].path))
     note = functools.partial(say, err=True)
     limit = own.max_minutes * 60
     figures: dict = {"program": source, "robot": ld.chain.name, "word": ld.word.name,

@@ -646,7 +646,9 @@ class EmulateOptions:
     output: str | None = field(default=None, metadata=cli(
         "-o", "--output", path=True, dash=True, help="Write torques as CSV: a t column if the "
         "trajectory has one, then tau_<joint name> per joint (N·m revolute, N prismatic); - for "
-        "standard output. A name ending in .npy writes the same columns as a NumPy float64 array."))
+        "standard output. A name ending in .npy writes the same columns as a NumPy float64 array. "
+        "Without -o no torques are written (said on stderr, unless --save-states, --check or "
+        "--vcd is given)."))
     save_states: str | None = field(default=None, metadata=cli(
         "--save-states", path=True, dash=True, metavar="FILE", help="Write the states run as a "
         "trajectory (the --trajectory format: CSV, or a NumPy array for a name ending in .npy), to "
@@ -685,6 +687,17 @@ class EmulateOptions:
             raise VampcUsageError(str(exc)) from None
         if "seed" in self.given and self.random_count is None and Engine(self.engine) is not Engine.TICK:
             raise VampcUsageError("--seed applies to --random and to the tick engine")
+        if "seed" in self.given and self.random_count is None and not self.vcd and not self.fault:
+            # (the tick engine's power-on register contents reach no torque: it agrees bit for bit
+            # with the stream engine, which has none; the output was the same for any seed,
+            # unsaid: a new user's find)
+            import warnings
+
+            from vampc.errors import VampcWarning
+            warnings.warn(VampcWarning(f"--seed {self.seed}: with --trajectory, and no --vcd or "
+                                       "--fault, it has no effect (it seeds the tick engine's "
+                                       "power-on register contents, which no torque depends on)"),
+                          stacklevel=2)
         if self.tolerance is not None and not self.check_torques:
             raise VampcUsageError("--tolerance applies with --check")
         if self.tolerance is not None:
@@ -1090,6 +1103,16 @@ class FaultsOptions:
                                   f"{self.campaign} campaign draws its ticks)")
         if not 0 < self.rate < 1:
             raise VampcUsageError(f"--rate {self.rate}: give a fraction 0 < F < 1")
+        # (a .gz name got plain text, exit 0, unsaid: a new user's find; emulate's -o refuses one)
+        report = {"text": "the report", "json": "the JSON report", "csv": "the CSV table"}[self.fmt]
+        results = ("each run's result as plain text (JSON lines, appended to and read back by a "
+                   "re-run)")
+        for option, value, what in (("-o", self.output, f"{report} as plain text"),
+                                    ("--results", self.results, results)):
+            suffix = Path(value).suffix.lower() if value else ""
+            if suffix in COMPRESSED:
+                raise VampcUsageError(f"{option} writes {what}: not {suffix}"
+                                      + (" (compress the file afterwards)" if option == "-o" else ""))
         check_parallel(self)
 
         self.bit_list()
@@ -1196,6 +1219,20 @@ class PrecisionOptions:
 
 
 MAX_MINUTES = 7 * 24 * 60      # --max-minutes at most: a week
+# The compile options of what `vampc rtl` does not render yet (README, RTL): left out of its --help
+# (given, they are still taken, and the network they make is refused, naming them), and its own
+# help of --word, which needs fixed point there (the help had listed them, and --word
+# "[default: float64]", which rtl refuses: a new user's find).
+RTL_UNRENDERED = ("bus", "tiers", "error_correction", "check_cycles")
+RTL_WORD_HELP = ("The VAMPs' word format: RTL needs signed fixed point, qI.F (I integer bits "
+                 "including the sign, F fraction bits, I + F from 2 to 64; e.g. q16.16). Required "
+                 "with a robot file; a program file is rendered in its own word, which must be "
+                 "fixed point, or in the qI.F given here (a what-if). README, RTL.")
+RTL_HELPS = {"word": (RTL_WORD_HELP, {"show_default": False})}
+# (`rtl -o - --format json` put the Verilog on standard output and the JSON on standard error
+# behind a progress line: neither parsed, a new user's find; as lookahead's -o - and --torques -)
+RTL_JSON_AND_VERILOG = ("-o {} and --format json: only one can be standard output (the Verilog or "
+                        "the JSON figures); give -o FILE.v")
 
 
 @dataclass(frozen=True)
@@ -1247,6 +1284,8 @@ class RtlOptions:
             raise VampcUsageError("--seed applies to --cosim N")
         if self.pnr and self.synth is None:
             raise VampcUsageError("--pnr applies to --synth ecp5")
+        if self.output == "-" and self.fmt == "json":
+            raise VampcUsageError(RTL_JSON_AND_VERILOG.format("-"))
         if not 0 < self.max_minutes <= MAX_MINUTES:     # (inf was a timeout no clock can hold)
             raise VampcUsageError(f"--max-minutes {self.max_minutes:g}: give a positive number of "
                                   f"minutes, at most {MAX_MINUTES} (a week)")
