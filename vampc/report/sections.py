@@ -502,7 +502,10 @@ def _input_note(ib: dict) -> str:
             f"{consts}. The "
             "paper's 37 per joint count z q̇ 3, z q̈ 3, A 9, p*, ṗ*, r*, s*, z 3 each, m 1, J 6 "
             "(symmetric) and 15 for the endpoints; vampc stores no ṗ* or z (the input convention), "
-            "m as a vector and J whole, and one buffer per distinct constant")
+            "m as a vector and J whole, and one buffer per distinct constant. Counted by quantity, as "
+            "the paper counts it, so the same for every layout: the network's own port and constant "
+            "registers (a folded port written several times a set) are the storage line's input "
+            "ports and constants")
 
 
 def _flow_paper(rep: dict, flow: str) -> str:
