@@ -987,7 +987,6 @@ def _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(plain, registers):
 def test_a_word_program_stored_without_its_input_ports_is_not_called_edited(tmp_path, checked):
     """Programs compiled before the input ports and the extraneous VAMP were counted store word
     figures without them: read back, those are not taken for an edit; another one is."""
-    from program_util import reported_with_summary
     program = tmp_path / "p.vamp.json"
     extra = ["--error-correction"] if checked else ["--layout", "folded"]
     assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
@@ -1005,6 +1004,13 @@ def test_a_word_program_stored_without_its_input_ports_is_not_called_edited(tmp_
         word["rom_bits"] = word["rom_bits_per_vamp"] * V
         P = doc["network"]["period"]
         word["control_register_bits"] = counter - 1 - P.bit_length()
+    _taken_as_stored_until_a_figure_changes(doc, word, tmp_path)
+
+
+def _taken_as_stored_until_a_figure_changes(doc, word, tmp_path):
+    """A program whose stored word figures are `word` (an earlier vampc's count) is reported without
+    the "edited" warning, and with it once another figure is changed."""
+    from program_util import reported_with_summary
     for edit, warned in ((0, False), (1, True)):
         word["delay_line_bits"] += edit
         r = reported_with_summary(doc, tmp_path)
@@ -1017,18 +1023,13 @@ def test_a_checked_program_stored_without_the_checkings_registers_is_not_called_
     the checking's second tables, modes and stage counters, and no checking_control_bits: read
     back, that is not taken for an edit (it was: a warning on every report of such a file); another
     figure changed is."""
-    from program_util import reported_with_summary
     program = tmp_path / "p.vamp.json"
     assert CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
                                      "--error-correction", "-o", str(program)]).exit_code == 0
     doc = json.loads(program.read_text())
     word = doc["summary"]["word"]
     word["control_register_bits"] -= word.pop("checking_control_bits")
-    for edit, warned in ((0, False), (1, True)):
-        word["delay_line_bits"] += edit
-        r = reported_with_summary(doc, tmp_path)
-        assert ("the stored summary disagrees with the file's graph, schedule and network (word)"
-                in r.stderr) == warned, r.stderr
+    _taken_as_stored_until_a_figure_changes(doc, word, tmp_path)
 
 
 def test_a_word_program_compiled_before_the_counters_were_counted_is_not_called_edited(tmp_path):
