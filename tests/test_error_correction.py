@@ -365,7 +365,8 @@ def test_the_checkings_multiplexers_fan_out_and_registers_are_counted(layout, tm
     """Against the program file's network section, read here without vampc: a checker selects its
     successor's operands on the primed inputs as the successor does (a copy of its multiplexers:
     their inputs beyond the first), chooses own or primed operands (one more input on each of a
-    VAMP's two operands, none on the extraneous VAMP, which has no operands of its own), and each
+    VAMP's two operands, none on the extraneous VAMP, which has no operands of its own, nor on the
+    last in the chain, which checks none), and each
     Result line has a second driver, its predecessor's Result'. Each multiplexer input reading a
     Result has its twin on the reader's checker, and the line is read by its checker's Result':
     2 f + 1 on the busiest line. The storage's control registers include the second tables, modes

@@ -740,6 +740,7 @@ def test_a_select_of_one_input_gets_no_word_and_the_rest_still_program_it(option
     assert ld.programs == c.programs
     engine = TickEngine(ld, seed=3)
     engine.program()
+    assert engine.programs() == c.programs      # (it showed the power-on fields of such selects)
     traj = vampc.random_trajectory(chain, 4, 5)
     from vampc.emulator.host import port_values
     np.testing.assert_array_equal(engine.run(port_values(ld, traj), 4), vampc.emulate(ld, traj).tau)

@@ -260,8 +260,12 @@ class TickEngine:
         tables[v] = apply_word(table, word, self.ld.packing, writes)
 
     def programs(self) -> tuple[tuple[Program, ...], ...]:
-        """The slot tables the VAMPs hold now."""
-        return tuple(tuple(Program(*row) for row in table) for table in self.tables)
+        """The slot tables the VAMPs hold now (a select of a multiplexer of one input, which has no
+        register, as the 0 it passes: it showed the field's power-on contents)."""
+        vamps = self.ld.net.vamps
+        return tuple(tuple(Program(*row[:4], row[4] if len(v.a) > 1 else 0,
+                                   row[5] if len(v.b) > 1 else 0) for row in table)
+                     for v, table in zip(vamps, self.tables))
 
     # --- Data Mode ----------------------------------------------------------------------------
     def run(self, ports: dict, count: int, stats: TickStats | None = None, progress=None,

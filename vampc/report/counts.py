@@ -218,7 +218,7 @@ def word_bits(c) -> dict:
            "rom_bits": rom * physical,
            "delay_line_bits": 3 * W * net.buffer_stages,
            "constant_bits": W * sum(len(k.value) for k in net.consts),
-           # each host port is a register of its size (vampc.rtl.design), written once a set
+           # each host port is a register of its size (vampc.rtl.design), written at its entries
            "input_port_bits": W * sum(p.size for p in net.ports),
            "host_write_bits_per_set": W * inputs, "host_read_bits_per_set": W * c.chain.n_outputs,
            "program_bits": 3 * W * sum(len(e.words) for e in c.stream)}
