@@ -72,6 +72,13 @@ class TickStats:
     appear: list = field(default_factory=list)     # per set: tick its last torque was read
 
 
+def held_selects(vamp, sel_a: int, sel_b: int) -> tuple[int, int]:
+    """The selects `vamp`'s multiplexers act on, from its slot table's fields: a multiplexer of one
+    input has no select register and passes input 0 whatever the field holds (no word is written
+    to it: vampc.program.words.vamp_words)."""
+    return (sel_a if len(vamp.a) > 1 else 0), (sel_b if len(vamp.b) > 1 else 0)
+
+
 class TickEngine:
     """A network loaded from a program file, ready to be programmed and run."""
 
@@ -262,10 +269,8 @@ class TickEngine:
     def programs(self) -> tuple[tuple[Program, ...], ...]:
         """The slot tables the VAMPs hold now (a select of a multiplexer of one input, which has no
         register, as the 0 it passes: it showed the field's power-on contents)."""
-        vamps = self.ld.net.vamps
-        return tuple(tuple(Program(*row[:4], row[4] if len(v.a) > 1 else 0,
-                                   row[5] if len(v.b) > 1 else 0) for row in table)
-                     for v, table in zip(vamps, self.tables))
+        return tuple(tuple(Program(*row[:4], *held_selects(v, row[4], row[5])) for row in table)
+                     for v, table in zip(self.ld.net.vamps, self.tables))
 
     # --- Data Mode ----------------------------------------------------------------------------
     def run(self, ports: dict, count: int, stats: TickStats | None = None, progress=None,
@@ -389,9 +394,7 @@ class TickEngine:
         for p, r, kind, table in tables:
             inputs = net.vamps[r]
             for k, (da, db, dr, rr, sa, sb) in enumerate(table):
-                # a multiplexer of one input has no select register: it passes input 0 whatever
-                # the table's field holds (none is written, vampc.program.words.vamp_words)
-                sa, sb = (sa if len(inputs.a) > 1 else 0), (sb if len(inputs.b) > 1 else 0)
+                sa, sb = held_selects(inputs, sa, sb)
                 bad = rr >= len(ROM) or sa >= len(inputs.a) or sb >= len(inputs.b)
                 if bad and self.strict:
                     what = (f"ROM pointer {rr} is not in the ROM (0..{len(ROM) - 1})"

@@ -33,16 +33,21 @@ LOOP_BACKS = 2      # the chain's two ends: a VAMP's Test line fed back to itsel
 
 
 
+def successors(net) -> dict[int, int]:
+    """Each physical VAMP's successor in the check chain (the extraneous VAMP V's is the chain's
+    first; the chain's last has none)."""
+    order = net.checking.order
+    return {order[i]: order[i + 1] for i in range(len(net.vamps))}
+
+
 def checked_pins(net) -> list[int]:
     """Each physical VAMP's pins with checking, wired separately, in chain order (the extraneous
     VAMP E first): its own (the paper's budget with a pin per operand wire; E: power, clocks,
     reset, Result), its successor's operand wires and Result', and the Test and Inhibit pins. The
     package count packs these (vampc.report.processors.network_pins)."""
-    ck, V = net.checking, len(net.vamps)
-    order = ck.order
-    succ = {order[i]: order[i + 1] for i in range(V)}
+    V, succ = len(net.vamps), successors(net)
     out = []
-    for p in order:
+    for p in net.checking.order:
         own = vamp_pins(net.vamps[p])["separate"] if p < V else 6
         s = succ.get(p)
         extra = len(CONTROL_PINS) + (operand_wires(net.vamps[s]) + 1 if s is not None else 0)
@@ -57,25 +62,29 @@ def checking_multiplexers(net) -> dict:
     operand, but on the extraneous VAMP, which has none of its own), and each Result line has a
     second driver, its predecessor's Result' (one more input a line). Until 2026-12-07 the report
     counted none of them (planar2 systolic: 0 mux inputs with checking; a hardware user's find)."""
-    ck, V = net.checking, len(net.vamps)
-    order = ck.order
-    succ = {order[i]: order[i + 1] for i in range(V)}
+    V, succ = len(net.vamps), successors(net)
     copies = sum(len(net.vamps[s].a) - 1 + len(net.vamps[s].b) - 1 for s in succ.values())
     own_or_primed = 2 * sum(1 for p in succ if p < V)
     out = {"successor_copies": copies, "own_or_primed": own_or_primed, "result_lines": V}
     return {**out, "mux_inputs": sum(out.values())}
 
 
-def checking_control_bits(net) -> int:
+def checking_register_bits(net) -> dict[str, int]:
     """The checking's control registers in bits: each checker's second slot table (its successor's,
     counted as the first: vampc.report.counts.slot_table_bits), and every physical VAMP's mode and
-    stage counter. The storage line's control registers include them (a hardware user's find: they
-    were only on the error-correction line)."""
+    stage counter."""
     from vampc.report.counts import slot_table_bits, values_bits
-    ck, V = net.checking, len(net.vamps)
-    order = ck.order
-    second = sum(slot_table_bits(net.vamps[order[i + 1]], net.period) for i in range(V))
-    return second + (MODE_BITS + values_bits(ck.warmup + ck.compare + 1)) * (V + 1)
+    ck, physical = net.checking, len(net.vamps) + 1
+    return {"second_control_bits": sum(slot_table_bits(net.vamps[s], net.period)
+                                       for s in successors(net).values()),
+            "mode_bits": MODE_BITS * physical,
+            "stage_counter_bits": values_bits(ck.warmup + ck.compare + 1) * physical}
+
+
+def checking_control_bits(net) -> int:
+    """checking_register_bits summed: the storage line's control registers include them (a
+    hardware user's find: they were only on the error-correction line)."""
+    return sum(checking_register_bits(net).values())
 
 
 def checking_figures(c) -> dict | None:
@@ -85,16 +94,10 @@ def checking_figures(c) -> dict | None:
     if ck is None:
         return None
     from vampc.emulator.checking import sweep_periods
-    V = len(net.vamps)
-    order = ck.order
-    succ = {order[i]: order[i + 1] for i in range(V)}
-
-    from vampc.report.counts import slot_table_bits, values_bits
-    table_bits = {v.index: slot_table_bits(v, net.period) for v in net.vamps}
+    V, succ = len(net.vamps), successors(net)
     from vampc.report.counts import control_registers
     plain = {v.index: control_registers(len(v.slots), len(v.a), len(v.b), net.period)
              for v in net.vamps}
-    stage_bits = values_bits(ck.warmup + ck.compare + 1)
     word = c.options.arith().bits
     pins_before = [vamp_pins(v)["separate"] for v in net.vamps]
     pins_after = checked_pins(net)
@@ -117,8 +120,7 @@ def checking_figures(c) -> dict | None:
         "vamps": V + 1,
         "warmup_periods": ck.warmup, "compare_periods": ck.compare,
         "registers": {"second_control_registers": sum(plain[s] for s in succ.values()),
-                      "second_control_bits": sum(table_bits[s] for s in succ.values()),
-                      "mode_bits": MODE_BITS * (V + 1), "stage_counter_bits": stage_bits * (V + 1),
+                      **checking_register_bits(net),
                       "comparators": V, "comparator_bits": 3 * word * V},
         "pins_per_vamp": {"with": {"max": max(pins_after), "mean": sum(pins_after) / len(pins_after)},
                           "without": {"max": max(pins_before),
