@@ -930,3 +930,39 @@ def test_the_barycentre_rounds_halve_the_puma_log_graphs_message_length():
         lengths.append(sum(abs(int(rank[a]) - int(rank[b])) for a, b in edges))
     assert lengths == [15939, 7748]
     assert c.network.bus.position == bus.line_positions(c.graph, c.layout)   # the compiler's: 200 rounds
+
+
+@pytest.mark.parametrize("layout", ["systolic", "folded"])
+def test_the_bus_drivers_their_multiplexers_and_comparators_are_counted(tmp_path, layout):
+    """A VAMP drives a tier's bus through a driver of its own and, where it drives that tier with
+    several sources (its Result, stages of the buffer behind it), through a multiplexer of them; each
+    bus-write register fires on a comparator of its Cycle-Counter value. The report counted the
+    registers, not the drivers, their multiplexers or the comparators (a hardware engineer's
+    question). Counted here from the program file's bus writes and buffers alone."""
+    robot = EXAMPLES / "puma560.yaml"
+    program = tmp_path / "bus.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(robot), "--recursion", "log", "--layout", layout,
+                                  "--bus", "mlb", "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["report", str(program), "--format", "json"])
+    assert r.exit_code == 0, r.output
+    rep = json.loads(r.output)
+    net = json.loads(program.read_text())["network"]
+    behind = {b["index"]: b["source"] for b in net["buffers"]}
+    driven: dict = {}
+    for (kind, index, stage), _counter, tier in net["bus"]["writes"]:
+        vamp = index if kind == "vamp" else behind[index]
+        driven.setdefault((vamp, tier), set()).add((kind, index, stage))
+    per_vamp: dict = {}
+    for vamp, _tier in driven:
+        per_vamp[vamp] = per_vamp.get(vamp, 0) + 1
+    assert rep["bus"]["drivers"] == {"count": len(driven),
+                                     "mux_inputs": sum(len(s) - 1 for s in driven.values()),
+                                     "max_sources": max(map(len, driven.values())),
+                                     "max_per_vamp": max(per_vamp.values())}
+    assert rep["bus"]["drivers"]["mux_inputs"] > 0      # (some VAMP drives a tier from its buffer too)
+    assert rep["engineering"]["control_logic"]["bus_write_comparators"] == len(net["bus"]["writes"])
+    r = CliRunner().invoke(main, ["report", str(program)])
+    d = rep["bus"]["drivers"]
+    assert f"{d['count']:,} drivers of a VAMP onto a tier's bus" in r.output
+    assert f"{len(net['bus']['writes']):,} of the bus-write registers" in r.output

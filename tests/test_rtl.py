@@ -911,19 +911,83 @@ def test_place_and_route_on_given_cells_does_not_repeat_them(tmp_path, monkeypat
     assert got["utilization"] == {"TRELLIS_FF": {"used": 9}}
 
 
-def _design_registers(c) -> dict:
-    """Every signal the Amaranth design of compiled program `c` drives in the sync domain (by id)."""
+def _design_registers(c, logic: dict | None = None) -> dict:
+    """Every signal the Amaranth design of compiled program `c` drives in the sync domain (by id).
+    With `logic` (a dict), also count into it, walking every expression of the design once, the
+    logic that reads the control registers (vampc.report.counts.control_logic's keys, measured here
+    from the design's operators: an `==` of a slot's delay field and its VAMP's Cycle-Counter, a
+    `-` of its delay-R and the counter, an `==` of a word against a constant, an `==` of the
+    as-signed slot address against a constant, an `==` of the buffers' counter against a tick)."""
     from amaranth.hdl import Fragment
+    from amaranth.hdl import _ast as ast
 
     from vampc.rtl.design import NetworkDesign
     registers: dict[int, object] = {}
+    seen: dict[int, object] = {}
+
+    def names(e) -> set:
+        return {s.name for s in e._rhs_signals()}
+
+    def expr(e):
+        if id(e) in seen:
+            return
+        seen[id(e)] = e
+        for sub in (getattr(e, "operands", None) or getattr(e, "parts", None) or ()):
+            expr(sub)
+        for attr in ("value", "index", "offset", "test"):
+            if isinstance(getattr(e, attr, None), ast.Value):
+                expr(getattr(e, attr))
+        for sub in getattr(e, "elems", ()):
+            expr(sub)
+        if isinstance(e, ast.SwitchValue):     # (a Mux: its test and every case's value)
+            for _patterns, value in e.cases:
+                expr(value)
+
+    def statement(st):
+        if isinstance(st, ast.Assign):
+            expr(st.lhs)
+            expr(st.rhs)
+        elif isinstance(st, ast.Switch):
+            expr(st.test)
+            for case in st.cases:
+                for sub in case[1]:
+                    statement(sub)
 
     def walk(fragment):
         for signal in (s for stmt in fragment.statements.get("sync", ()) for s in stmt._lhs_signals()):
             registers[id(signal)] = signal
+        if logic is not None:
+            for statements in fragment.statements.values():
+                for st in statements:
+                    statement(st)
         for sub, *_ in fragment.subfragments:
             walk(sub)
     walk(Fragment.get(NetworkDesign(loaded_from_compiled(c)), None))
+    if logic is not None:
+        ops = [e for e in seen.values() if isinstance(e, ast.Operator) and len(e.operands) == 2]
+
+        def count(operator, test):
+            return sum(1 for e in ops if e.operator == operator and test(*e.operands))
+
+        def counter(x):
+            return isinstance(x, ast.Signal) and re.fullmatch(r"v\d+_c", x.name)
+
+        def delay(x, field):
+            return isinstance(x, ast.Signal) and re.fullmatch(rf"v\d+_s\d+_delay_{field}", x.name)
+        W = c.options.arith().bits
+        logic.update(
+            cycle_counters=sum(1 for r in registers.values() if re.fullmatch(r"v\d+_cc|buffer_cc", r.name)),
+            counter_bits={len(r) for r in registers.values() if re.fullmatch(r"v\d+_cc|buffer_cc", r.name)},
+            delay_comparators=count("==", lambda x, y: any(delay(x, f) for f in "abr") and counter(y)),
+            step_subtractors=count("-", lambda x, y: delay(x, "r") and counter(y)),
+            wrap_adders=count("+", lambda x, y: isinstance(x, ast.Signal)
+                              and re.fullmatch(r"v\d+_s\d+_left", x.name) and isinstance(y, ast.Const)),
+            number_comparators=count("==", lambda x, y: isinstance(x, (ast.Signal, ast.Slice))
+                                     and len(x) == W and isinstance(y, ast.Const)),
+            slot_address_comparators=count("==", lambda x, y: isinstance(x, ast.Operator)
+                                           and x.operator == "s" and isinstance(y, ast.Const)),
+            buffer_clock_comparators=count("==", lambda x, y: "buffer_cc" in names(x)
+                                           and isinstance(y, ast.Const)))
     return registers
 
 
@@ -940,7 +1004,8 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
     test took them off; a new user counted them in the Verilog): it has none."""
     from vampc.report.counts import word_bits
     c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(word="q16.16", **options))
-    registers = _design_registers(c)
+    logic: dict = {}
+    registers = _design_registers(c, logic)
     one_input = any(len(inputs) == 1 for v in c.network.vamps for inputs in (v.a, v.b))
     assert one_input == ("vamps" not in options)    # (the case, but in a budget of three VAMPs)
     # (and no register of no bits: Yosys wrote one as `wire [-1:0]`, two bits to Verilog)
@@ -951,6 +1016,14 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
                + bits["constant_bits"] + bits["input_port_bits"])
     assert sum(len(s) for s in registers.values()) == counted
     assert bits["input_port_bits"] == W * sum(p.size for p in c.network.ports) > 0
+    # and the logic that reads the control registers (engineering.control_logic, counted since
+    # 2026-12-08: the registers were counted, not the counters' comparators and subtractors)
+    from vampc.report.counts import control_logic
+    expected = control_logic(c)
+    assert logic.pop("counter_bits") == {expected["counter_bits"]}
+    assert logic.pop("wrap_adders") == expected["step_subtractors"]     # (one with each subtractor)
+    assert expected["number_comparator_bits"] == W and expected["bus_write_comparators"] == 0
+    assert logic == {k: expected[k] for k in logic} and min(logic.values()) > 0
     if options == dict(layout="folded"):
         # Yosys's flip-flops of this network with the overflow flag (README, RTL: 33 193,
         # measured 2026-12-06; 33 192 before the flag)

@@ -227,6 +227,33 @@ def word_bits(c) -> dict:
     return out
 
 
+def control_logic(c) -> dict:
+    """The logic that reads the control registers (section VII: "the delays are easily implemented
+    by counters and comparators"), as vampc.rtl.design builds it: a Cycle-Counter on each VAMP (and
+    the extraneous VAMP of error correction) and one for the delay buffers, each with its
+    incrementer; per slot three comparators of the Cycle-Counter's width (delay-A, delay-B, delay-R
+    against the Cycle-Counter: latch A, latch B, dump), a comparator of the slot address (Program
+    Mode's extended words) and a subtractor one bit wider with its wrap-around adder (delay-R −
+    Cycle-Counter mod P, the ticks to the dump that address the microcode ROM); per VAMP two comparators of a word (its VAMP-number
+    and its negation in the first word of Operand-A: a compact and an extended program word); for
+    the buffers' clock one comparator a block end of the period (the ticks it shifts at); on the
+    Mostly-Local Bus one comparator a bus-write register (its Cycle-Counter value). Counted since
+    2026-12-08 (a hardware engineer's question: the registers were counted, not what reads them);
+    the checking's own comparators are in its section."""
+    from vampc.machine.timing import captures
+    net = c.network
+    slots = sum(len(v.slots) for v in net.vamps)
+    physical = physical_vamps(net)
+    ends = sum(1 for t in range(net.period) if captures(t, net.clock)) if net.buffers else 0
+    writes = len(net.bus.writes) if net.bus is not None else 0
+    counters = physical + (1 if net.buffers else 0)
+    return {"cycle_counters": counters, "counter_bits": counter_bits(net.period),
+            "delay_comparators": 3 * slots, "buffer_clock_comparators": ends,
+            "bus_write_comparators": writes, "slot_address_comparators": slots,
+            "step_subtractors": slots, "number_comparators": 2 * physical,
+            "number_comparator_bits": c.options.arith().bits}
+
+
 def tree_summary(chain, prefix: str) -> dict:
     """A tree's shape and depths (vampc.dataflow.treeprefix.tree_depths): joints, leaves, height (the
     depth of the level-by-level, linear recursion), the log recursion's backward ⊗ tiers (heavy paths

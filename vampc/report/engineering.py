@@ -1,6 +1,6 @@
 """What a hardware engineer asks for next (`vampc report`, section "Engineering figures"): how busy
 each VAMP is, what the host moves per set and per second, the critical path op by op, the bits of
-storage, and (with `--cpu-reference`) the time a CPU takes per set on this machine.
+storage, the counters and comparators that read the control registers, and (with `--cpu-reference`) the time a CPU takes per set on this machine.
 
 Utilisation: a VAMP is busy for its ops' durations (an MM member for the MM's) once per torque set;
 busy ticks / interval is its share of the time (1 = never idle). Host I/O: the scalars the host
@@ -17,7 +17,7 @@ PER_VAMP_UP_TO = 4096          # VAMPs: above this the JSON keeps the spread, no
 
 def engineering(c, clock_hz: float | None = None) -> dict:
     """The section's figures for a compiled program `c` (vampc.compiler.Compiled)."""
-    from vampc.report.counts import distinct_port_scalars, word_bits
+    from vampc.report.counts import control_logic, distinct_port_scalars, word_bits
     net, graph, sched = c.network, c.graph, c.schedule
     duration = sched.timing.durations
     interval = sched.interval
@@ -51,7 +51,7 @@ def engineering(c, clock_hz: float | None = None) -> dict:
                                           "rom_bits", "delay_line_bits", "constant_bits",
                                           "input_port_bits", "program_bits", "checking_control_bits")
                      if k in bits},
-            "cpu_reference": None}
+            "control_logic": control_logic(c), "cpu_reference": None}
 
 
 def cpu_reference(chain, sets: int = 200, seed: int = 0) -> dict:

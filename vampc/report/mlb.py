@@ -5,6 +5,7 @@ robots small enough to compile again, the same robot with the default tiers, tun
 point-to-point wiring side by side. Every figure is read off the compiled network."""
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import replace
 
 from vampc.kinds import TapKind
@@ -61,9 +62,15 @@ def bus_figures(c) -> dict | None:
                          "longest": max(dist, default=0),
                          "mean": sum(dist) / len(dist) if dist else 0.0})
     writers: dict[int, int] = {}
+    # a VAMP drives a tier's bus through a driver of its own; where it drives that tier with more
+    # than one source (its Result, stages of the buffer behind it), through a multiplexer of them
+    # that the firing register's source field selects (counted since 2026-12-08: the registers
+    # were, the drivers and their multiplexers were not)
+    driven: dict[tuple[int, int], set] = {}
     for w in bus.writes:
         u = tap_source(w.source, sources)
         writers[u] = writers.get(u, 0) + 1
+        driven.setdefault((u, w.tier), set()).add(w.source)
     register_bits = write_register_bits(net)
     p2p = wired(net)
     p2p_pins = [_p2p_pins(v) for v in p2p.vamps]
@@ -83,6 +90,10 @@ def bus_figures(c) -> dict | None:
         "registers": {"bus_write": len(bus.writes), "max_per_vamp": max(writers.values(), default=0),
                       "bits_each": register_bits, "bits": register_bits * len(bus.writes),
                       "tier_select_bits": TIER_BITS},
+        "drivers": {"count": len(driven),
+                    "mux_inputs": sum(len(d) - 1 for d in driven.values()),
+                    "max_sources": max(map(len, driven.values()), default=0),
+                    "max_per_vamp": max(Counter(u for u, _ in driven).values(), default=0)},
         "pins_per_vamp": {"bus": {"max": max(bus_pins), "mean": sum(bus_pins) / V},
                           "point_to_point": {"max": max(p2p_pins), "mean": sum(p2p_pins) / V}},
         "wires_per_vamp": {"bus": {"max": max(bus_in), "mean": sum(bus_in) / V},
@@ -185,6 +196,16 @@ def _comparison(c) -> list[dict]:
     return rows
 
 
+def _drivers_text(d: dict | None) -> str:
+    """The bus lines' drivers: a VAMP's onto a tier's bus, and the multiplexers of their sources."""
+    if d is None:
+        return "—"
+    return (f"{d['count']:,} drivers of a VAMP onto a tier's bus (up to {d['max_per_vamp']} on one "
+            f"VAMP); {d['mux_inputs']:,} multiplexer inputs beyond the first where one drives a tier "
+            f"with several sources (its Result, stages of the buffer behind it; up to "
+            f"{d['max_sources']} on one driver)")
+
+
 def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
     """The text report's Mostly-Local Bus lines, as (label, value) pairs; none without a bus."""
     if b is None:
@@ -198,6 +219,7 @@ def bus_pairs(b: dict | None) -> list[tuple[str, str]]:
         ("  cycle", _cycle_text(b)),
         ("  registers", f"{regs['bus_write']} bus-write registers of {regs['bits_each']} bits (up "
                         f"to {regs['max_per_vamp']} on one VAMP); an operand select picks a tier"),
+        ("  drivers", _drivers_text(b.get("drivers"))),
         ("  pins per VAMP", f"up to {pins['bus']['max']} (mean {pins['bus']['mean']:.1f}) on the "
                             f"bus; point-to-point up to {pins['point_to_point']['max']} (mean "
                             f"{pins['point_to_point']['mean']:.1f})"),

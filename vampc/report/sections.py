@@ -89,6 +89,23 @@ def _ratio(x: float) -> str:
     return f"{x:,.0f}" if x >= 100 else f"{x:.3g}"
 
 
+def control_logic_text(k: dict) -> str:
+    """The engineering table's control-logic line (vampc.report.counts.control_logic)."""
+    b = k["counter_bits"]
+    against = [f"{k['delay_comparators']:,} of the slots' delays (3 a slot)"]
+    if k["buffer_clock_comparators"]:
+        against.append(f"{k['buffer_clock_comparators']:,} of the buffer clock's ticks")
+    if k["bus_write_comparators"]:
+        against.append(f"{k['bus_write_comparators']:,} of the bus-write registers")
+    return (f"{k['cycle_counters']:,} Cycle-Counters of {b} bits with their incrementers; comparators "
+            f"of {b} bits against them: {', '.join(against)}; {k['step_subtractors']:,} subtractors of "
+            f"{b + 1} bits with their wrap-around adders (the ticks to a slot's dump, mod the period, "
+            "addressing the ROM); "
+            f"{k['number_comparators']:,} comparators of {k['number_comparator_bits']} bits (a VAMP's "
+            f"number and its negation in Program Mode) and {k['slot_address_comparators']:,} of a slot "
+            "address")
+
+
 def engineering(rep: dict) -> Table:
     """Utilisation, host I/O, the critical path op by op, storage bits and the CPU reference."""
     e = rep["engineering"]
@@ -123,6 +140,9 @@ def engineering(rep: dict) -> Table:
                  f"lines {_bits(bits['delay_line_bits'])}, constants {_bits(bits['constant_bits'])}, "
                  f"input ports {_bits(bits['input_port_bits'])}, program {_bits(bits['program_bits'])} "
                  f"({bits['bits']}-bit words)"))
+    logic = e.get("control_logic")
+    if logic:
+        rows.append(("control logic", control_logic_text(logic)))
     notes = ["utilisation: a VAMP's ops' durations once per set over the interval; host I/O: what the "
              "host writes into the ports and reads off the outputs each set (constants are loaded once, "
              "in Program Mode); the whole critical path is in --format json (engineering.critical_path)"]
