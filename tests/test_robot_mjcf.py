@@ -4,6 +4,7 @@ and compared with Pinocchio's MJCF model (pin.buildModelFromMJCF) and with MuJoC
 dynamics (mj_inverse); and what is refused, one line each."""
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -936,3 +937,56 @@ def test_a_free_joints_turned_body_is_said_in_mjcfs_words(tmp_path):
     said = [str(w.message) for w in heard if "is not used" in str(w.message)]
     assert len(said) == 1 and "the free joint of body 'base': the turn" in said[0] and \
         "joint0" not in said[0], said
+
+
+ROBOT_XML = """<mujoco model="r">
+  <worldbody>
+    <body name="upper" pos="0 0 0">
+      <joint name="shoulder" type="hinge" axis="0 0 1"/>
+      <inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>
+      <body name="lower" pos="0.3 0 0">
+        <joint name="elbow" type="hinge" axis="0 1 0"/>
+        <inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("edit, line, element, said", [
+    (('<body name="lower"', '<body name="lower" bogus="1"'), 6, "<body name='lower'>",
+     r"XML Error: Schema violation: unrecognized attribute: 'bogus' Element 'body'"),
+    (('name="elbow"', 'name="shoulder"'), 7, "<joint name='shoulder'>",
+     r"XML Error: Error: repeated name 'shoulder' in joint Element 'joint'"),
+    (('mass="1" diaginertia="0.01 0.02 0.025"/>\n      <body', 'mass="-1" diaginertia="0.01 0.02 0.025"/>\n      <body'),
+     3, "<body name='upper'>", r"Error: .*Element name 'upper', id 1"),
+    (('<inertial pos="0.05 0 0" mass="1"', '<inertialx pos="0.05 0 0" mass="1"'), 5, "<inertialx>",
+     r"XML Error: Schema violation: unrecognized element Element 'inertialx'"),
+])
+def test_an_error_in_an_included_file_names_that_file_and_line(tmp_path, edit, line, element, said):
+    """MuJoCo says "line 0" of an element of an included file: an error in a robot's file, compiled
+    through the scene that includes it, was said of the scene, line 0 (a Menagerie trial's find).
+    The file and line of the element are named; the same file compiled alone gives that line too."""
+    robot = tmp_path / "robot.xml"
+    robot.write_text(ROBOT_XML.replace(*edit, 1))
+    scene = tmp_path / "scene.xml"
+    scene.write_text('<mujoco model="scene">\n  <include file="robot.xml"/>\n  <option gravity="0 0 -9.81"/>\n'
+                     '</mujoco>\n')
+    assert_error(lambda: load_robot(scene), robot,
+                 rf"line {line}: {re.escape(element)}: MuJoCo cannot read {re.escape(str(scene))} \({said}\)")
+    with pytest.raises(VampcError, match=rf"line {line}\)$"):       # (MuJoCo's own, alone)
+        load_robot(robot)
+
+
+def test_an_error_in_an_included_file_no_one_element_fits_names_the_files(tmp_path):
+    """Where the message fits no one element of the included files (two have the attribute), the
+    message says MuJoCo's line 0 is in a file the model includes, and names them."""
+    robot = tmp_path / "robot.xml"
+    robot.write_text(ROBOT_XML.replace('<body name="', '<body bogus="1" name="'))
+    scene = tmp_path / "scene.xml"
+    scene.write_text('<mujoco model="scene">\n  <include file="robot.xml"/>\n</mujoco>\n')
+    assert_error(lambda: load_robot(scene), scene,
+                 r"MuJoCo cannot read it \(XML Error: Schema violation: unrecognized attribute: 'bogus' "
+                 rf"Element 'body', line 0; MuJoCo gives line 0 for an element of a file it includes: "
+                 rf"{re.escape(str(robot))}\)")

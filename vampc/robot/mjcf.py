@@ -307,13 +307,58 @@ def _compiled(path: Path):
             _finite_model(model, path)
             return model, list(dict.fromkeys(heard))
         except ValueError as exc:            # MuJoCo's parser and compiler errors
-            raise located(path, "", f"MuJoCo cannot read it ({' '.join(str(exc).split())})") from None
+            said = " ".join(str(exc).split())
+            raise (_in_included_file(path, said)
+                   or located(path, "", f"MuJoCo cannot read it ({said})")) from None
         finally:
             if hear is not None:
                 hear(previous)
 
 
 _HANDLER = threading.Lock()
+
+
+def _in_included_file(path: Path, said: str):
+    """MuJoCo's error `said` placed in the included file and line it is about, or None: MuJoCo gives
+    "line 0" for an element of an included file (an error in a robot's file, compiled through its
+    scene.xml, was said of scene.xml, line 0: a Menagerie trial's find). The element is found by what
+    the message names: its tag and an unrecognized attribute it has, or the name it repeats; an
+    unrecognized element by its tag. Where no one element of the included files fits, the message
+    names the files it may be in."""
+    import re
+
+    from lxml import etree
+    m = (re.search(r"Element '(?P<tag>[^']+)', line 0\b", said)            # the parser's
+         or re.search(r"Element name '(?P<name>[^']*)', id \d+, line 0\b", said))  # the compiler's
+    if m is None:
+        return None
+    included = list(_model_files(path))[1:]
+    if not included:
+        return None
+    tag, name = m.groupdict().get("tag"), m.groupdict().get("name")
+    attribute = re.search(r"unrecognized attribute: '([^']+)'", said)
+    repeated = re.search(r"repeated name '([^']*)'", said)
+    if name is None and repeated:
+        name = repeated.group(1)
+    if tag and not (attribute or name is not None or "unrecognized element" in said):
+        fits = []
+    else:
+        fits = [(here, e) for here, root in included for e in root.iter()
+                if isinstance(e.tag, str) and (tag is None or etree.QName(e).localname == tag)
+                and (attribute is None or e.get(attribute.group(1)) is not None)
+                and (name is None or e.get("name") == name)]
+    if repeated and fits:
+        fits = fits[-1:]        # (the later one is the repeat: MuJoCo reads the model in order)
+    if len(fits) == 1:
+        here, element = fits[0]
+        given = element.get("name")
+        message = said[:m.start()] + m.group(0)[:-len(", line 0")]
+        return located(here, f"line {element.sourceline}: <{etree.QName(element).localname}"
+                       + (f" name='{given}'" if given else "") + ">",
+                       f"MuJoCo cannot read {path} ({message})")
+    names = ", ".join(str(here) for here, _ in included)
+    return located(path, "", f"MuJoCo cannot read it ({said}; MuJoCo gives line 0 for an element of "
+                   f"a file it includes: {names})")
 
 # attributes that hold names, not numbers ('inf' or 'nan' may name a body)
 NAME_ATTRIBUTES = frozenset("name class childclass joint joint1 joint2 body body1 body2 site site1 site2 "
