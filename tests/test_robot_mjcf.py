@@ -165,7 +165,9 @@ MJCF_ERRORS = [
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
            extra='<equality><joint joint1="j1" joint2="j2"/><weld body1="b"/></equality>'), "",
      r"<equality> number 2 \(unnamed\): weld equality constraints are not supported \(the network "
-     r"computes an open tree; joint equalities are read as mimic joints\)"),
+     r"computes an open tree; joint equalities are read as mimic joints\): its loop moves on joints "
+     r"'j2', 'j1' \(a loop no joint of which moves, all locked or left out by --base or --tip, is left "
+     r"out\)"),
     (model("p", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
            extra='<equality><joint name="sq" joint1="j1" joint2="j2" polycoef="0 1 0.5 0 0"/></equality>'),
@@ -181,7 +183,8 @@ MJCF_ERRORS = [
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
            extra='<equality><connect name="eq" body1="b" anchor="0 0 0"/></equality>'), "",
      r"equality 'eq': connect equality constraints are not supported \(the network computes an open "
-     r"tree; joint equalities are read as mimic joints\)"),
+     r"tree; joint equalities are read as mimic joints\): its loop moves on joints 'j2', 'j1' \(a loop "
+     r"no joint of which moves, all locked or left out by --base or --tip, is left out\)"),
     (model("i", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)])).replace(
         "<worldbody>", '<include file="missing.xml"/><worldbody>'), "",
      r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
@@ -990,3 +993,70 @@ def test_an_error_in_an_included_file_no_one_element_fits_names_the_files(tmp_pa
                  r"MuJoCo cannot read it \(XML Error: Schema violation: unrecognized attribute: 'bogus' "
                  rf"Element 'body', line 0; MuJoCo gives line 0 for an element of a file it includes: "
                  rf"{re.escape(str(robot))}\)")
+
+
+GRIPPER_XML = """<mujoco model="g">
+  <worldbody>
+    <body name="upper">
+      <joint name="j1" type="hinge" axis="0 0 1"/>
+      <inertial pos="0.1 0 0" mass="2" diaginertia="0.01 0.02 0.025"/>
+      <body name="lower" pos="0.3 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0"/>
+        <inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>
+        <body name="left" pos="0.2 0.02 0">
+          <joint name="f1" type="hinge" axis="0 0 1"/>
+          <inertial pos="0.02 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>
+        </body>
+        <body name="right" pos="0.2 -0.02 0">
+          <joint name="f2" type="hinge" axis="0 0 1"/>
+          <inertial pos="0.02 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <connect name="linkage" body1="left" body2="right" anchor="0.02 0 0"/>
+  </equality>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("edit, options, joints, said", [
+    (("", ""), dict(lock={"f1": 0.2, "f2": -0.1}), ["j1", "j2"], "connect of 'left' and 'right'"),
+    (('body1="left" body2="right"', 'body1="upper"'), dict(base="lower"), ["f1", "f2"],
+     "connect of 'upper' and 'world'"),
+], ids=["locked", "above-the-base"])
+def test_a_loop_no_joint_of_which_moves_is_left_out_with_a_warning(tmp_path, edit, options, joints, said):
+    """A connect or weld equality was refused whatever the joints of its loop were locked at (a
+    Menagerie trial's find: an xarm7 with its Robotiq gripper's joints locked, or compiled to its
+    wrist with --tip). With every joint between its two bodies locked or left out, the loop's
+    bodies are one rigid body and its forces internal to it: it is left out, said, and the robot is
+    the file's without the equality (the same torques)."""
+    from vampc.dynamics.reference import rnea
+    looped, plain = tmp_path / "looped.xml", tmp_path / "plain.xml"
+    looped.write_text(GRIPPER_XML.replace(*edit))
+    plain.write_text(GRIPPER_XML.replace(GRIPPER_XML[GRIPPER_XML.index("  <equality>"):
+                                                     GRIPPER_XML.index("</mujoco>")], ""))
+    assert_error(lambda: load_robot(looped), looped,
+                 r"equality 'linkage': connect equality constraints are not supported \(the network "
+                 r"computes an open tree; joint equalities are read as mimic joints\): its loop moves on "
+                 rf"joints? '{'f1' if options.get('lock') else 'j1'}'.* \(a loop no joint of which moves, "
+                 r"all locked or left out by --base or --tip, is left out\)")
+    with pytest.warns(VampcWarning, match=rf"equality 'linkage' \({said}\) left out: no joint between "
+                                          r"its bodies moves in the compiled robot"):
+        chain = load_robot(looped, **options)
+    want = load_robot(plain, **options)
+    assert [j.name for j in chain.joints] == [j.name for j in want.joints] == joints
+    rng = np.random.default_rng(0)
+    q, qd, qdd = (rng.normal(size=(5, 2)) for _ in range(3))
+    assert np.array_equal(rnea(chain, q, qd, qdd), rnea(want, q, qd, qdd))
+
+
+def test_a_loop_through_a_joint_the_robot_keeps_is_refused_naming_it(tmp_path):
+    """A loop from a finger to the link before the wrist joint moves with that joint, whatever the
+    fingers are locked at: refused, naming the joint that moves."""
+    path = tmp_path / "g.xml"
+    path.write_text(GRIPPER_XML.replace('body2="right"', 'body2="upper"'))
+    assert_error(lambda: load_robot(path, lock={"f1": 0.0, "f2": 0.0}), path,
+                 r"equality 'linkage': connect equality constraints are not supported \(.*\): its loop "
+                 r"moves on joint 'j2' \(.*\)")

@@ -89,6 +89,7 @@ class _Robot:
     joints: list
     bodies: tuple = ()        # each MuJoCo body's link name, by body id (named or made up)
     joint_names: tuple = ()   # each MuJoCo joint's name, by joint id (named or made up)
+    loops: tuple = ()         # connect and weld equalities: (where, kind, body1 id, body2 id)
 
 
 def is_mjcf(path) -> bool:
@@ -204,14 +205,21 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
         if base is not None and not floating:
             gravity, turned, placed = _in_base(model, robot, base, gravity, lock, path, mimic == "couple")
         tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base, limits_required=False)
-        chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
-                         accept_improper_inertia=accept_improper_inertia,
-                         # (an equality holding a joint is --mimic couple's doing too: it warned
-                         # "no joint has a <mimic>" of a model whose equality it had just locked)
-                         # (nor of one whose follower above the base it placed, turning gravity)
-                         mimic_said=None if held or placed else "joint equality (<equality><joint>)",
-                         mimic_given=mimic_given,
-                         turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
+        with warnings.catch_warnings(record=bool(robot.loops)) as caught:
+            # (with a loop, the warnings of making the robot wait for _loops: an error comes alone)
+            if robot.loops:
+                warnings.simplefilter("always")
+            chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
+                             accept_improper_inertia=accept_improper_inertia,
+                             # (an equality holding a joint is --mimic couple's doing too: it warned
+                             # "no joint has a <mimic>" of a model whose equality it had just locked)
+                             # (nor of one whose follower above the base it placed, turning gravity)
+                             mimic_said=None if held or placed else "joint equality (<equality><joint>)",
+                             mimic_given=mimic_given,
+                             turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
+        _loops(model, robot, chain, path)
+        for w in caught or ():
+            warnings.warn(w.message, w.category, stacklevel=2)
         if turned:                   # (said once the robot is made: an error comes alone)
             warnings.warn(VampcWarning(turned), stacklevel=2)
         for message in heard:
@@ -502,9 +510,9 @@ def _robot(model, path: Path, base: str | None = None):
         warnings.warn(VampcWarning(f"{path}: <mujoco> has no model name; calling it {path.stem!r}"),
                       stacklevel=3)
         name = path.stem
-    held = _equalities(model, path, joints, joint_name)
+    held, loops = _equalities(model, path, joints, joint_name)
     gravity = (0.0, 0.0, 0.0) if _gravity_off(model) else tuple(float(g) for g in model.opt.gravity)
-    return _Robot(name, links, joints, tuple(body_name), tuple(joint_name)), gravity, held
+    return _Robot(name, links, joints, tuple(body_name), tuple(joint_name), tuple(loops)), gravity, held
 
 
 class _Names:
@@ -664,13 +672,20 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
     equalities are left out; other kinds, and polynomials beyond degree 1, are refused."""
     import mujoco
     by_name = {j.name: j for j in joints}
-    held, inactive = {}, []
+    held, inactive, loops = {}, [], []
     for e in range(model.neq):
         where = _element("equality", model.equality(e).name, e)
         if not model.eq_active0[e]:
             inactive.append(_element("equality", model.equality(e).name, e))   # (it said '#0')
             continue
         kind = int(model.eq_type[e])
+        if kind in (int(mujoco.mjtEq.mjEQ_CONNECT), int(mujoco.mjtEq.mjEQ_WELD)):
+            # (a loop: refused once the robot is made unless no joint of it moves, _loops)
+            ends = [int(model.eq_obj1id[e]), max(0, int(model.eq_obj2id[e]))]
+            if int(model.eq_objtype[e]) == int(mujoco.mjtObj.mjOBJ_SITE):
+                ends = [int(model.site_bodyid[k]) for k in ends]
+            loops.append((where, mujoco.mjtEq(kind).name[5:].lower(), *ends))
+            continue
         if kind != int(mujoco.mjtEq.mjEQ_JOINT):
             raise located(path, where, f"{mujoco.mjtEq(kind).name[5:].lower()} equality constraints are not "
                                        "supported (the network computes an open tree; joint equalities "
@@ -689,7 +704,53 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
         by_name[follower].mimic = _Mimic(joint_name[two], c[1], y0 + c[0] - c[1] * x0)
     if inactive:
         warnings.warn(VampcWarning(f"{path}: inactive {', '.join(inactive)} left out"), stacklevel=4)
-    return held
+    return held, loops
+
+
+def _loops(model, robot: _Robot, chain, path: Path) -> None:
+    """Refuse a connect or weld equality (a closed loop: the network computes an open tree) whose
+    loop has a joint that moves in the compiled robot: one on the way between its two bodies that
+    is one of the chain's joints, or a free joint. Where none moves (every one locked by --lock or
+    held by an equality, fixed, or left out by --base or --tip: a Robotiq gripper's linkage behind a
+    --tip, or with its joints locked), its bodies are one rigid body to the network and the loop's
+    forces are internal to it: left out with a warning (a Menagerie trial's find: an xarm7 refused
+    whatever its gripper's joints were locked at)."""
+    moving = {j.name for j in chain.joints}
+    left = []
+    for where, kind, one, two in robot.loops:
+        path_joints, a, b = [], one, two
+        while a != b:                  # up from the deeper body until the two meet (the world)
+            deeper = a if _depth(model, a) >= _depth(model, b) else b
+            first, count = int(model.body_jntadr[deeper]), int(model.body_jntnum[deeper])
+            path_joints += range(first, first + count)
+            if deeper == a:
+                a = int(model.body_parentid[a])
+            else:
+                b = int(model.body_parentid[b])
+        moves = [robot.joint_names[j] for j in path_joints
+                 if robot.joint_names[j] in moving or int(model.jnt_type[j]) == FREE]
+        if moves:
+            raise located(path, where, f"{kind} equality constraints are not supported (the network "
+                          f"computes an open tree; joint equalities are read as mimic joints): its loop "
+                          f"moves on joint{'s' if len(moves) > 1 else ''} "
+                          f"{', '.join(repr(m) for m in moves[:5])}"
+                          + (f" and {len(moves) - 5} more" if len(moves) > 5 else "")
+                          + " (a loop no joint of which moves, all locked or left out by --base or "
+                            "--tip, is left out)")
+        left.append(f"{where} ({kind} of '{robot.bodies[one]}' and '{robot.bodies[two]}')")
+    if left:
+        warnings.warn(VampcWarning(
+            f"{path}: {', '.join(left)} left out: no joint between {'its' if len(left) == 1 else 'their'} "
+            "bodies moves in the compiled robot (locked, fixed, or left out by --base or --tip), so "
+            "the loop's forces are internal to one rigid body"), stacklevel=3)
+
+
+def _depth(model, b: int) -> int:
+    """A body's depth below the world (the world 0)."""
+    d = 0
+    while b:
+        b, d = int(model.body_parentid[b]), d + 1
+    return d
 
 
 def _named(model, kind: str, k: int, names: list) -> str:
