@@ -151,6 +151,19 @@ def test_a_character_device_is_written_through_not_replaced(tmp_path, program):
     assert stat.S_ISCHR(os.stat(dev).st_mode)
 
 
+def test_a_socket_is_refused_before_any_work_not_written_as_a_stream(tmp_path, program):
+    """README "Output files": a character device or a FIFO is written as a stream; a folder, socket
+    or block device is refused (a mutation audit: taken as a stream, a socket failed only after the
+    emulation, with "No such device or address")."""
+    import socket
+    sock = tmp_path / "s.csv"
+    with socket.socket(socket.AF_UNIX) as s:
+        s.bind(str(sock))
+        res = run("emulate", program, "--random", 3, "-o", sock)
+        user_error(res, r"s\.csv: is not a regular file; give a file name for -o$")
+        assert stat.S_ISSOCK(os.stat(sock).st_mode)
+
+
 def test_standard_output_takes_the_torques_and_the_summary_goes_to_stderr(program):
     res = run("emulate", program, "--random", 3, "-o", "-")
     assert res.exit_code == 0
@@ -530,6 +543,24 @@ def test_seed_without_random_or_tick_is_a_usage_error(tmp_path, program):
     assert res.exit_code == 2 and "--seed applies to --random and to the tick engine" in res.stderr
 
 
+@pytest.mark.parametrize("action", ["ignore", "error"])
+def test_a_warning_is_said_whatever_pythons_own_warning_filters_say(tmp_path, program, action):
+    """README: something worth knowing that does not stop the work is one line `vampc: warning:
+    ...`, and an option that has no effect is never silently ignored: Python's own filters
+    (PYTHONWARNINGS, -W) neither drop it (ignore) nor make it an internal error (error). A mutation
+    audit: without vampc's own filter, `ignore` dropped it and `error` was a traceback, exit 3."""
+    import subprocess
+    traj = _csv(tmp_path / "t.csv", HEAD + ROW)
+    done = subprocess.run([sys.executable, "-m", "vampc", "emulate", str(program), "--trajectory",
+                           str(traj), "--engine", "tick", "--seed", "7", "-o", str(tmp_path / "t.tau")],
+                          capture_output=True, text=True,
+                          env={**os.environ, "PYTHONWARNINGS": action, "VAMPC_PROGRESS": "0"})
+    assert done.returncode == 0, done.stderr
+    assert "vampc: warning: --seed 7: with --trajectory, and no --vcd or --fault, it has no " \
+           "effect" in done.stderr and "Traceback" not in done.stderr, done.stderr
+    assert (tmp_path / "t.tau").read_text().startswith("tau_shoulder,tau_elbow\n")
+
+
 def test_seed_on_the_tick_engine_with_a_trajectory_alone_is_warned_of(tmp_path, program):
     """`--trajectory st.csv --engine tick --seed 7` gave the torques of any seed, unsaid (a new
     user's find): the seed fills the tick engine's power-on registers, which reach no torque; it
@@ -753,6 +784,12 @@ def test_save_states_writes_csv_or_npy_not_npz(tmp_path, program):
     (["-o", "tau.csv.bz2"], "not .bz2 (compress the file afterwards)"),
     (["-o", "tau.csv.xz"], "not .xz (compress the file afterwards)"),
     (["--save-states", "s.zip"], "not .zip (compress the file afterwards)"),
+    # options that change nothing here, and a waveform under a compressed file's name (a mutation
+    # audit: each was taken in silence when unchecked)
+    (["--vcd-as", "word"], "--vcd-as applies with --vcd"),
+    (["--tolerance", "1e-3"], "--tolerance applies with --check"),
+    (["--engine", "tick", "--vcd", "w.vcd.gz"], "--vcd writes a VCD text file: not .gz (compress "
+                                                "the file afterwards)"),
 ])
 def test_emulate_options_it_would_not_honour_are_usage_errors(tmp_path, program, args, message):
     res = run("emulate", program, "--random", 2, *[tmp_path / a if "." in a else a for a in args])
@@ -1110,6 +1147,31 @@ def test_a_big_compile_leaves_without_teardown_its_output_whole(tmp_path, big, m
     assert failed.returncode == 1 and "atexit ran" in failed.stderr
 
 
+FAILING_BIG_CHECK = """
+import sys
+import vampc.commands
+from vampc import launch
+from vampc.emulator import driver
+from vampc.emulator.host import CheckResult
+vampc.commands.BIG_NETWORK_SLOTS = 0                  # every network counts as big
+driver.check_torques = lambda chain, traj, tau, tol=1e-9: CheckResult(1.0, 0.5, 0, False)
+sys.argv = ["vampc", *sys.argv[1:]]
+launch.main()
+"""
+
+
+def test_a_big_emulation_whose_check_fails_exits_1_though_it_asked_to_skip_the_teardown(program):
+    """`emulate --check` says by its exit status whether the check passed (README), also for a big
+    network, whose run asks to leave without teardown (vampc.launch) before its failed check ends it
+    with status 1: only a run that succeeded leaves so (a mutation audit: leaving so on any status
+    made the failed check exit 0)."""
+    import subprocess
+    done = subprocess.run([sys.executable, "-c", FAILING_BIG_CHECK, "emulate", str(program),
+                           "--random", "3", "--check"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, (done.stdout, done.stderr)
+    assert "FAILED" in done.stdout, done.stdout
+
+
 def main_emulates(program) -> bool:
     """Whether `vampc emulate PROGRAM --random 3 --check` passes (the file is whole and sound)."""
     res = CliRunner().invoke(main, ["emulate", str(program), "--random", "3", "--check"])
@@ -1271,6 +1333,22 @@ def test_an_output_that_cannot_be_put_in_place_leaves_no_temporary_of_the_others
     with pytest.raises(VampcError, match=r"1\.txt: cannot write x: No space left on device"):
         write_together([(out, "new\n", "x") for out in outs])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["0.txt"]
+
+
+def test_a_later_stream_that_cannot_take_its_bytes_leaves_the_earlier_files_as_they_were(tmp_path):
+    """vampc.outputs.write_together (README "Output files": every output is written out, a stream
+    flushed, before any is renamed into place, so one that fails leaves the others' files as they
+    were): a few bytes for /dev/full sit in its buffer until flushed, and flushed only as it was put
+    in place, the file before it had been replaced already (a mutation audit)."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    from vampc.outputs import output_for, write_together
+    kept = tmp_path / "kept.txt"
+    kept.write_text("previous\n")
+    with pytest.raises(VampcError, match=r"/dev/full: cannot write y: No space left on device"):
+        write_together([(output_for(kept), "new\n", "x"),
+                        (output_for("/dev/full", "--torques"), "small\n", "y")])
+    assert kept.read_text() == "previous\n" and sorted(p.name for p in tmp_path.iterdir()) == ["kept.txt"]
 
 
 CLOSED_STDOUT = """

@@ -557,13 +557,15 @@ def test_an_interrupted_tool_is_killed_with_what_it_started(tmp_path, how):
     after vampc had exited (an audit's find); iverilog's ivlpp and ivl likewise (a review's).
     Outside tools run in a process group of their own (background.run_tool), killed whole when the
     run stops waiting: a signal's handler raising, or a timeout. A shell stands for the driver and
-    a sleep for what it started."""
+    a sleep for what it started. The run stops at once: killed alone, the driver left the sleep
+    holding the pipes, and the run waited out its 30 s before it stopped (a mutation audit)."""
     import signal
     import time
 
     from vampc.background import run_tool
     pidfile = tmp_path / "pid"
     cmd = ["sh", "-c", f"sleep 30 & echo $! > {pidfile}; wait"]
+    begun = time.monotonic()
     if how == "signal":
         def interrupt(*_):
             raise KeyboardInterrupt
@@ -578,6 +580,7 @@ def test_an_interrupted_tool_is_killed_with_what_it_started(tmp_path, how):
     else:
         with pytest.raises(subprocess.TimeoutExpired):
             run_tool(cmd, timeout=0.5)
+    assert time.monotonic() - begun < 10
     pid = int(pidfile.read_text())
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:

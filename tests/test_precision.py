@@ -219,6 +219,19 @@ def test_a_robot_whose_torques_are_all_zero_is_not_said_to_have_no_mass(tmp_path
                           "relative to the largest |τ| are not defined\n")
 
 
+def test_a_robot_whose_reference_torques_overflow_is_said_so_not_called_massless(tmp_path):
+    """A non-finite number is never a silent result (README): a link of 1e305 kg a kilometre long
+    overflows the reference torques of random states, which is the error; unchecked (a mutation
+    audit) the largest |τ| came out as 0, and the robot was said to move no mass."""
+    huge = tmp_path / "huge.yaml"
+    huge.write_text((EXAMPLES / "planar2.yaml").read_text().replace("mass: 2.0", "mass: 1.0e305")
+                    .replace("a: 0.5", "a: 1000.0").replace("com: [-0.25,", "com: [-500.0,"))
+    res = _precision(huge, "--sweep", "16:16", "--sets", "20")
+    assert res.exit_code == 1 and res.stderr == (
+        f"vampc: error: {huge}: the reference torques of random states are not finite numbers (the "
+        "robot's numbers overflow a float): no word holds them\n"), res.stderr
+
+
 def test_an_error_over_the_tolerance_never_prints_as_within_it():
     """q10.12's observed 1.014e-03 printed as 1.0e-03 beside a tolerance of 1e-3."""
     args = (EXAMPLES / "puma560.yaml", "--sweep", "20:26")

@@ -325,6 +325,21 @@ def test_joint_equalities_are_mimic_joints(tmp_path):
     assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want))
 
 
+def test_a_lock_that_an_equality_contradicts_is_refused_with_mimic_couple(tmp_path):
+    """With --mimic couple an equality locks its joint where it holds it (README, MJCF); a --lock of
+    that joint elsewhere is an error, not dropped for the equality's value (a mutation audit: taken
+    in silence, the user's --lock f3=0.5 compiled f3 at 0.2). At the same value it is taken."""
+    path = tmp_path / "g.xml"
+    path.write_text(GRIPPER)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(VampcError, match=r"g\.xml: lock f3: an equality holds joint 'f3' at 0\.2 "
+                                             r"\(--mimic couple\)$"):
+            load_robot(path, mimic="couple", lock={"f3": 0.5})
+        chain = load_robot(path, mimic="couple", lock={"f3": 0.2})
+    assert [j.name for j in chain.joints] == ["wrist", "f1", "f2"]
+
+
 def test_generated_names_never_take_a_name_the_file_uses(tmp_path):
     """An unnamed joint beside one named 'joint1' (MuJoCo's index would make it 'joint1' too), and a
     body named like the massless link between a body's two joints: distinct names, Pinocchio's

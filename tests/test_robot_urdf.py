@@ -414,6 +414,15 @@ URDF_ERRORS = [
     (robot(*ARM), {"tip": "l2", "lock": {"j1": 0.0, "j2": 0.0}},
      r"no movable joints between base link 'base' and tip link 'l2'"),
     (robot(*ARM), {"lock": {"j9": 0.0}}, r"lock j9: no joint named 'j9'"),
+    # a zero axis above --base, given a position by --lock (a mutation audit: unchecked, said as
+    # gravity "numbers too large for a float")
+    (robot(*ARM, link("l3"), joint("j0", "revolute", "l2", "l3", axis=(1, 0, 0)))
+     .replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>', 1), {"base": "l1", "lock": {"j1": 0.5}},
+     r"joint 'j1': its axis is zero: no position of it turns gravity \(--lock gave it one\)$"),
+    # a name given twice (a mutation audit: unchecked, a joint's was a KeyError, exit 3)
+    (robot(*ARM, link("l1")), {}, r"link 'l1': defined twice \(again on line 8\)$"),
+    (robot(*ARM).replace('<joint name="j2"', '<joint name="j1"'), {},
+     r"joint 'j1': defined twice \(again on line 7\)$"),
     (robot(*ARM), {"lock": {"j1": float("nan")}}, r"lock j1: value nan is not a finite number"),
     (TREE, {"tip": "left_hand"},
      r"joint 'right_1' branches off the chain from base link '\w+' to tip link 'left_hand'; lock it "
@@ -446,6 +455,17 @@ URDF_ERRORS = [
 def test_urdf_errors(tmp_path, text, options, message):
     path = write(tmp_path, text)
     assert_error(lambda: load_robot(path, **options), path, message)
+
+
+def test_a_lock_at_a_joints_limit_is_within_it(tmp_path):
+    """--lock refuses a value outside the joint's limits (README, --lock); one at a limit itself is
+    within them (a mutation audit: a strict comparison refused --lock j1=1 for upper="1")."""
+    path = write(tmp_path, robot(*ARM))
+    for at in (-1.0, 1.0):
+        chain = load_urdf(path, lock={"j1": at})
+        assert [j.name for j in chain.joints] == ["j2"]
+    with pytest.raises(VampcError, match=r"lock j1: 1\.0000001 is outside the joint's limits \[-1\.0, 1\.0\]"):
+        load_urdf(path, lock={"j1": 1.0000001})
 
 
 def test_missing_file(tmp_path):
