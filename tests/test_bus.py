@@ -962,6 +962,14 @@ def test_the_bus_drivers_their_multiplexers_and_comparators_are_counted(tmp_path
                                      "max_per_vamp": max(per_vamp.values())}
     assert rep["bus"]["drivers"]["mux_inputs"] > 0      # (some VAMP drives a tier from its buffer too)
     assert rep["engineering"]["control_logic"]["bus_write_comparators"] == len(net["bus"]["writes"])
+    # a slot address a slot, or a bus-write register (register j at address j·8 + 6 or 7), which more
+    registers: dict = {}
+    for (kind, index, _stage), _counter, _tier in net["bus"]["writes"]:
+        vamp = index if kind == "vamp" else behind[index]
+        registers[vamp] = registers.get(vamp, 0) + 1
+    slots = {p["vamp"]: len(p["slots"]) for p in json.loads(program.read_text())["programs"]}
+    addresses = sum(max(slots[v], registers.get(v, 0)) for v in slots)
+    assert rep["engineering"]["control_logic"]["slot_address_comparators"] == addresses > sum(slots.values())
     r = CliRunner().invoke(main, ["report", str(program)])
     d = rep["bus"]["drivers"]
     assert f"{d['count']:,} drivers of a VAMP onto a tier's bus" in r.output

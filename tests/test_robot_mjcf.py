@@ -166,8 +166,7 @@ MJCF_ERRORS = [
            extra='<equality><joint joint1="j1" joint2="j2"/><weld body1="b"/></equality>'), "",
      r"<equality> number 2 \(unnamed\): weld equality constraints are not supported \(the network "
      r"computes an open tree; joint equalities are read as mimic joints\): its loop moves on joints "
-     r"'j2', 'j1' \(a loop no joint of which moves, all locked or left out by --base or --tip, is left "
-     r"out\)"),
+     r"'j2', 'j1' \(a loop no joint of which moves, all locked or above a fixed --base, is left out\)"),
     (model("p", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)], inner=body(
         "b", "0.1 0 0", [("j2", "hinge", "0 0 1", "0 0 0", None)])),
            extra='<equality><joint name="sq" joint1="j1" joint2="j2" polycoef="0 1 0.5 0 0"/></equality>'),
@@ -184,7 +183,7 @@ MJCF_ERRORS = [
            extra='<equality><connect name="eq" body1="b" anchor="0 0 0"/></equality>'), "",
      r"equality 'eq': connect equality constraints are not supported \(the network computes an open "
      r"tree; joint equalities are read as mimic joints\): its loop moves on joints 'j2', 'j1' \(a loop "
-     r"no joint of which moves, all locked or left out by --base or --tip, is left out\)"),
+     r"no joint of which moves, all locked or above a fixed --base, is left out\)"),
     (model("i", body("a", "0 0 0", [("j1", "hinge", "0 0 1", "0 0 0", None)])).replace(
         "<worldbody>", '<include file="missing.xml"/><worldbody>'), "",
      r"MuJoCo cannot read it \(.*missing\.xml.*\)"),
@@ -1056,7 +1055,7 @@ def test_a_loop_no_joint_of_which_moves_is_left_out_with_a_warning(tmp_path, edi
                  r"equality 'linkage': connect equality constraints are not supported \(the network "
                  r"computes an open tree; joint equalities are read as mimic joints\): its loop moves on "
                  rf"joints? '{'f1' if options.get('lock') else 'j1'}'.* \(a loop no joint of which moves, "
-                 r"all locked or left out by --base or --tip, is left out\)")
+                 r"all locked or above a fixed --base, is left out\)")
     with pytest.warns(VampcWarning, match=rf"equality 'linkage' \({said}\) left out: no joint between "
                                           r"its bodies moves in the compiled robot"):
         chain = load_robot(looped, **options)
@@ -1075,3 +1074,96 @@ def test_a_loop_through_a_joint_the_robot_keeps_is_refused_naming_it(tmp_path):
     assert_error(lambda: load_robot(path, lock={"f1": 0.0, "f2": 0.0}), path,
                  r"equality 'linkage': connect equality constraints are not supported \(.*\): its loop "
                  r"moves on joint 'j2' \(.*\)")
+
+
+def test_an_error_in_a_nested_include_is_found_where_mujoco_reads_it(tmp_path):
+    """An include of an include is read from the model's folder where that has the file, else from
+    the including file's (MuJoCo 4); and a name repeated in two included files is the one MuJoCo
+    reads later, an include read where it stands (a review's finds: the folders the other way
+    round named sub/b.xml where MuJoCo read ./b.xml, and a breadth-first order the first copy)."""
+    body = ('<mujoco>\n  <body name="{b}" pos="0.3 0 0">\n    <joint name="{j}" type="hinge" axis="0 1 0"{x}/>\n'
+            '    <inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>\n  </body>\n</mujoco>\n')
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "a.xml").write_text(
+        '<mujoco>\n  <body name="upper">\n    <joint name="shoulder" type="hinge" axis="0 0 1"/>\n'
+        '    <inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>\n'
+        '    <include file="b.xml"/>\n  </body>\n</mujoco>\n')
+    (tmp_path / "sub" / "b.xml").write_text(body.format(b="lower", j="elbow", x=' bogus="1"'))
+    (tmp_path / "b.xml").write_text(body.format(b="lower", j="elbow", x=' bogus="2"'))
+    model = tmp_path / "m.xml"
+    model.write_text('<mujoco model="m">\n  <worldbody>\n    <include file="sub/a.xml"/>\n  </worldbody>\n'
+                     '</mujoco>\n')
+    assert_error(lambda: load_robot(model), tmp_path / "b.xml",
+                 rf"line 3: <joint name='elbow'>: MuJoCo cannot read {re.escape(str(model))} \(.*'bogus'.*\)")
+    (tmp_path / "b.xml").unlink()            # (then the including file's folder's)
+    assert_error(lambda: load_robot(model), tmp_path / "sub" / "b.xml",
+                 rf"line 3: <joint name='elbow'>: MuJoCo cannot read {re.escape(str(model))} \(.*'bogus'.*\)")
+    # a name repeated: first in c.xml (included by a.xml), then in d.xml, included after a.xml
+    (tmp_path / "a.xml").write_text('<mujoco>\n  <include file="c.xml"/>\n</mujoco>\n')
+    (tmp_path / "c.xml").write_text(body.format(b="one", j="dup", x=""))
+    (tmp_path / "d.xml").write_text('<mujoco>\n\n' + body.format(b="two", j="dup", x="")[10:])
+    model.write_text('<mujoco model="m">\n  <worldbody>\n    <include file="a.xml"/>\n'
+                     '    <include file="d.xml"/>\n  </worldbody>\n</mujoco>\n')
+    assert_error(lambda: load_robot(model), tmp_path / "d.xml",
+                 rf"line 4: <joint name='dup'>: MuJoCo cannot read {re.escape(str(model))} \(.*repeated "
+                 r"name 'dup'.*\)")
+
+
+@pytest.mark.parametrize("weld, options, said", [
+    ('<weld name="w" body1="cube"/>', dict(base="world"), None),
+    ('<weld name="w" body1="upper"/>', dict(base="lower", floating=True), None),
+    ('<weld name="w" body1="upper"/>', {}, "the floating base 'upper'"),
+    ('<weld name="w" body1="left" body2="upper"/>', dict(lock={"f1": 0.0}), "joint 'j2'"),
+], ids=["free-cube-left-out", "above-a-floating-base", "the-floating-base", "through-a-joint"])
+def test_a_loop_through_a_free_joint_moves_only_with_the_floating_base(tmp_path, weld, options, said):
+    """A free joint on a loop's way moves only where it is the robot's floating base and the loop
+    holds it (one body in the robot, the other not): a free cube welded to the world, left out with
+    --base world, and a weld above a floating --base, were refused as moving on the free joint (a
+    review's find)."""
+    text = GRIPPER_XML.replace('<body name="upper">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
+                               '<body name="upper">\n      <freejoint name="root"/>')
+    if "cube" in weld:
+        text = GRIPPER_XML.replace("  </worldbody>", '    <body name="cube" pos="1 0 0">\n      <freejoint/>\n'
+                                   '      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>\n'
+                                   '    </body>\n  </worldbody>')
+    text = text.replace('<connect name="linkage" body1="left" body2="right" anchor="0.02 0 0"/>', weld)
+    path = tmp_path / "w.xml"
+    path.write_text(text)
+    if said is None:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            load_robot(path, **options)
+        assert any(re.search(r"equality 'w' \(weld of '\w+' and 'world'\) left out", str(w.message))
+                   for w in caught), [str(w.message) for w in caught]
+    else:
+        assert_error(lambda: load_robot(path, **options), path,
+                     rf"equality 'w': weld equality constraints are not supported \(.*\): its loop moves on "
+                     rf"{said} \(.*\)")
+
+
+def test_an_mjcf_error_comes_alone_and_a_free_body_beside_a_named_base_is_said(tmp_path):
+    """The warnings of reading a model (armature ignored, no model name, ...) wait until the robot
+    is made: a refused loop's error came after them (a review's find). And a free body beside the
+    robot that --base names is left out as --base world leaves it out, said (a Menagerie trial's:
+    said for --base world only)."""
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    path = tmp_path / "g.xml"
+    path.write_text(GRIPPER_XML.replace('name="j1"', 'name="j1" armature="0.1"'))
+    out = tmp_path / "g.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(path), "-o", str(out)])
+    assert r.exit_code == 1 and not out.exists()
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith(f"vampc: error: {path}: equality 'linkage'"), r.stderr
+    r = CliRunner().invoke(main, ["compile", str(path), "--lock", "f1=0", "--lock", "f2=0", "-o", str(out)])
+    assert r.exit_code == 0 and "armature" in r.stderr and "equality 'linkage'" in r.stderr, r.stderr
+    cube = tmp_path / "c.xml"
+    cube.write_text(GRIPPER_XML.replace('<body name="upper">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
+                                        '<body name="upper">\n      <freejoint name="root"/>')
+                    .replace("  </worldbody>", '    <body name="cube" pos="1 0 0">\n      <freejoint/>\n'
+                             '      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>\n'
+                             '    </body>\n  </worldbody>'))
+    with pytest.warns(VampcWarning, match=r"--base upper: 'cube' on a free joint floats apart from the "
+                                          r"robot below it and is left out"):
+        chain = load_robot(cube, base="upper", floating=True, lock={"f1": 0.0, "f2": 0.0})
+    assert [j.name for j in chain.joints] == ["j2"]

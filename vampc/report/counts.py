@@ -234,22 +234,36 @@ def control_logic(c) -> dict:
     incrementer; per slot three comparators of the Cycle-Counter's width (delay-A, delay-B, delay-R
     against the Cycle-Counter: latch A, latch B, dump), a comparator of the slot address (Program
     Mode's extended words) and a subtractor one bit wider with its wrap-around adder (delay-R −
-    Cycle-Counter mod P, the ticks to the dump that address the microcode ROM); per VAMP two comparators of a word (its VAMP-number
-    and its negation in the first word of Operand-A: a compact and an extended program word); for
-    the buffers' clock one comparator a block end of the period (the ticks it shifts at); on the
-    Mostly-Local Bus one comparator a bus-write register (its Cycle-Counter value). Counted since
-    2026-12-08 (a hardware engineer's question: the registers were counted, not what reads them);
-    the checking's own comparators are in its section."""
+    Cycle-Counter mod P, the ticks to the dump that address the microcode ROM); per VAMP two
+    comparators of a word (its VAMP-number and its negation in the first word of Operand-A: a
+    compact and an extended program word); for the buffers' clock one comparator a block end of the
+    period (none where it shifts every tick); on the Mostly-Local Bus one comparator a bus-write
+    register (its Cycle-Counter value) and a slot-address comparator for each register past the
+    VAMP's slots (register j is loaded at address j·8 + 6 or 7). Counted since 2026-12-08 (a
+    hardware engineer's question: the registers were counted, not what reads them). The RTL renders
+    neither the bus nor the checking: their logic is counted by the same rule (the bus) or not at
+    all (the checking's second tables, whose registers its section counts, and its comparators of
+    results, there too)."""
     from vampc.machine.timing import captures
+    from vampc.network.model import tap_source
     net = c.network
     slots = sum(len(v.slots) for v in net.vamps)
     physical = physical_vamps(net)
     ends = sum(1 for t in range(net.period) if captures(t, net.clock)) if net.buffers else 0
+    if ends == net.period:          # (a buffer clock of one tick: it shifts every tick)
+        ends = 0
     writes = len(net.bus.writes) if net.bus is not None else 0
+    # a slot address a slot, and on the bus one a bus-write register (register j at address j·8 +
+    # 6 or 7): as many as the VAMP's slots or its registers, whichever is more
+    addresses = [len(v.slots) for v in net.vamps]
+    if net.bus is not None:
+        sources = [b.source for b in net.buffers]
+        registers = Counter(tap_source(w.source, sources) for w in net.bus.writes)
+        addresses = [max(a, registers.get(v.index, 0)) for a, v in zip(addresses, net.vamps)]
     counters = physical + (1 if net.buffers else 0)
     return {"cycle_counters": counters, "counter_bits": counter_bits(net.period),
             "delay_comparators": 3 * slots, "buffer_clock_comparators": ends,
-            "bus_write_comparators": writes, "slot_address_comparators": slots,
+            "bus_write_comparators": writes, "slot_address_comparators": sum(addresses),
             "step_subtractors": slots, "number_comparators": 2 * physical,
             "number_comparator_bits": c.options.arith().bits}
 

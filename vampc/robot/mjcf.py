@@ -121,8 +121,9 @@ _FILE_ATTRIBUTES = {
 
 def _model_files(path) -> Iterator[tuple[Path, object]]:
     """Each XML file of the MJCF model `path` with its parsed root: the model, then its
-    <include>s, each found where MuJoCo finds it (the including file's folder, else the model's;
-    an include of an include had been looked for in the model's folder only: a review's find).
+    <include>s, each found where MuJoCo finds it (the model's folder, else the including file's;
+    an include of an include had been looked for in the model's folder only, a review's find, and
+    then in the including file's first, where MuJoCo 4 reads the model folder's: another's).
     Entities are neither loaded nor resolved; a file that cannot be read or parsed is skipped
     (MuJoCo's own load says what is wrong with it)."""
     from lxml import etree
@@ -141,7 +142,31 @@ def _model_files(path) -> Iterator[tuple[Path, object]]:
         yield here, root
         for element in root.iter("{*}include", "include"):
             if element.get("file"):
-                todo.append(_found(element.get("file"), here.parent, main))
+                todo.append(_found(element.get("file"), main, here.parent))
+
+
+def _in_reading_order(path) -> Iterator[tuple[Path, object]]:
+    """Every element of the MJCF model `path` with its file, in the order MuJoCo reads them: each
+    <include> replaced where it stands by its file's elements (found as _model_files finds it; a
+    file within its own includes is not read again)."""
+    from lxml import etree
+    main = Path(path).parent
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+
+    def walk(here: Path, within: frozenset):
+        try:
+            root = etree.parse(str(here), parser).getroot()
+        except (etree.XMLSyntaxError, OSError, ValueError):
+            return
+        for element in root.iter():
+            if not isinstance(element.tag, str):
+                continue
+            yield here, element
+            if etree.QName(element).localname == "include" and element.get("file"):
+                found = _found(element.get("file"), main, here.parent)
+                if found.resolve() not in within:
+                    yield from walk(found, within | {found.resolve()})
+    yield from walk(Path(path), frozenset({Path(path).resolve()}))
 
 
 def _found(name: str, *folders: Path) -> Path:
@@ -185,46 +210,53 @@ def load_mjcf(path, base: str | None = None, tip: str | None = None,
     """Read an MJCF file as a Chain (see the module docstring); base, tip, lock, floating and mimic
     as vampc.robot.urdf.load_urdf takes them (links are MuJoCo's bodies; joint equalities are its
     mimic joints)."""
-    from vampc.robot.urdf import chain_of
-    from vampc.robot.urdf_tree import Tree
     path = Path(path)
     model, heard = _compiled(path)
-    with gc_paused():
-        robot, gravity, held = _robot(model, path, base)
-        lock = dict(lock or {})
-        for name, value in held.items():
-            if mimic == "ordinary":
-                warnings.warn(VampcWarning(f"{path}: an equality holds joint '{name}' at {value:g}: taken "
-                                           "as an ordinary joint; --mimic couple locks it there"), stacklevel=2)
-            elif name in lock and lock[name] != value:
-                raise located(path, f"lock {name}", f"an equality holds joint '{name}' at {value!r} "
-                                                    "(--mimic couple)")
-            else:
-                lock[name] = value
-        turned, placed = None, False
-        if base is not None and not floating:
-            gravity, turned, placed = _in_base(model, robot, base, gravity, lock, path, mimic == "couple")
-        tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base, limits_required=False)
-        with warnings.catch_warnings(record=bool(robot.loops)) as caught:
-            # (with a loop, the warnings of making the robot wait for _loops: an error comes alone)
-            if robot.loops:
-                warnings.simplefilter("always")
-            chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
-                             accept_improper_inertia=accept_improper_inertia,
-                             # (an equality holding a joint is --mimic couple's doing too: it warned
-                             # "no joint has a <mimic>" of a model whose equality it had just locked)
-                             # (nor of one whose follower above the base it placed, turning gravity)
-                             mimic_said=None if held or placed else "joint equality (<equality><joint>)",
-                             mimic_given=mimic_given,
-                             turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
-        _loops(model, robot, chain, path)
-        for w in caught or ():
-            warnings.warn(w.message, w.category, stacklevel=2)
-        if turned:                   # (said once the robot is made: an error comes alone)
-            warnings.warn(VampcWarning(turned), stacklevel=2)
-        for message in heard:
-            warnings.warn(VampcWarning(f"{path}: MuJoCo warns: {message}"), stacklevel=2)
-        return chain
+    # the warnings of reading the model and making the robot are said once it is made: an error,
+    # a loop's refusal among them, comes alone (a Menagerie trial's: "joint armature ... ignored"
+    # and a scene's cube "left out" came before the error that ended the run)
+    with gc_paused(), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        chain = _load(model, path, base, tip, lock, floating, accept_improper_inertia, mimic,
+                      mimic_given)
+    for w in caught:
+        warnings.warn(w.message, w.category, stacklevel=2)
+    for message in heard:
+        warnings.warn(VampcWarning(f"{path}: MuJoCo warns: {message}"), stacklevel=2)
+    return chain
+
+
+def _load(model, path: Path, base, tip, lock, floating, accept_improper_inertia, mimic, mimic_given):
+    """load_mjcf's robot of the compiled `model` (its warnings as they come)."""
+    from vampc.robot.urdf import chain_of
+    from vampc.robot.urdf_tree import Tree
+    robot, gravity, held = _robot(model, path, base)
+    lock = dict(lock or {})
+    for name, value in held.items():
+        if mimic == "ordinary":
+            warnings.warn(VampcWarning(f"{path}: an equality holds joint '{name}' at {value:g}: taken "
+                                       "as an ordinary joint; --mimic couple locks it there"), stacklevel=2)
+        elif name in lock and lock[name] != value:
+            raise located(path, f"lock {name}", f"an equality holds joint '{name}' at {value!r} "
+                                                "(--mimic couple)")
+        else:
+            lock[name] = value
+    turned, placed = None, False
+    if base is not None and not floating:
+        gravity, turned, placed = _in_base(model, robot, base, gravity, lock, path, mimic == "couple")
+    tree = Tree.build(robot, path, gravity=gravity, by_name=False, gravity_in=base, limits_required=False)
+    chain = chain_of(robot, tree, path, base, tip, lock, floating, mimic,
+                     accept_improper_inertia=accept_improper_inertia,
+                     # (an equality holding a joint is --mimic couple's doing too: it warned
+                     # "no joint has a <mimic>" of a model whose equality it had just locked)
+                     # (nor of one whose follower above the base it placed, turning gravity)
+                     mimic_said=None if held or placed else "joint equality (<equality><joint>)",
+                     mimic_given=mimic_given,
+                     turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
+    _loops(model, robot, chain, path, base)
+    if turned:                   # (said once the robot is made: an error comes alone)
+        warnings.warn(VampcWarning(turned), stacklevel=2)
+    return chain
 
 
 def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: bool = False):
@@ -340,7 +372,8 @@ def _in_included_file(path: Path, said: str):
          or re.search(r"Element name '(?P<name>[^']*)', id \d+, line 0\b", said))  # the compiler's
     if m is None:
         return None
-    included = list(_model_files(path))[1:]
+    model = Path(path).resolve()
+    included = [(here, e) for here, e in _in_reading_order(path) if here.resolve() != model]
     if not included:
         return None
     tag, name = m.groupdict().get("tag"), m.groupdict().get("name")
@@ -351,12 +384,12 @@ def _in_included_file(path: Path, said: str):
     if tag and not (attribute or name is not None or "unrecognized element" in said):
         fits = []
     else:
-        fits = [(here, e) for here, root in included for e in root.iter()
-                if isinstance(e.tag, str) and (tag is None or etree.QName(e).localname == tag)
+        fits = [(here, e) for here, e in included
+                if (tag is None or etree.QName(e).localname == tag)
                 and (attribute is None or e.get(attribute.group(1)) is not None)
                 and (name is None or e.get("name") == name)]
     if repeated and fits:
-        fits = fits[-1:]        # (the later one is the repeat: MuJoCo reads the model in order)
+        fits = fits[-1:]        # (the later one is the repeat, in the order MuJoCo reads)
     if len(fits) == 1:
         here, element = fits[0]
         given = element.get("name")
@@ -364,7 +397,7 @@ def _in_included_file(path: Path, said: str):
         return located(here, f"line {element.sourceline}: <{etree.QName(element).localname}"
                        + (f" name='{given}'" if given else "") + ">",
                        f"MuJoCo cannot read {path} ({message})")
-    names = ", ".join(str(here) for here, _ in included)
+    names = ", ".join(dict.fromkeys(str(here) for here, _ in included))
     return located(path, "", f"MuJoCo cannot read it ({said}; MuJoCo gives line 0 for an element of "
                    f"a file it includes: {names})")
 
@@ -551,6 +584,16 @@ def _static_beside_free(model, path: Path, body_name: list, base: str | None) ->
             f"{'is' if len(free) == 1 else 'are'} left out"), stacklevel=4)
         return {b for b in range(1, model.nbody) if root[b] in free}
     if base is not None:
+        # (another free body beside the base's: a scene's cube, left out as --base world leaves it
+        # out, but unsaid: a Menagerie trial's find)
+        b = body_name.index(base) if base in body_name else None
+        apart = [f for f in free if b is not None and root[b] != f]
+        if apart:
+            names = ", ".join(repr(body_name[f]) for f in apart)
+            warnings.warn(VampcWarning(
+                f"{path}: --base {base}: {names} on {'a free joint' if len(apart) == 1 else 'free joints'} "
+                f"float{'s' if len(apart) == 1 else ''} apart from the robot below it and "
+                f"{'is' if len(apart) == 1 else 'are'} left out"), stacklevel=4)
         return set()
     if len(free) > 1 or moving:
         others = [body_name[b] for b in free[1:] + moving]
@@ -707,15 +750,17 @@ def _equalities(model, path: Path, joints: list, joint_name: list) -> dict:
     return held, loops
 
 
-def _loops(model, robot: _Robot, chain, path: Path) -> None:
+def _loops(model, robot: _Robot, chain, path: Path, base: str | None) -> None:
     """Refuse a connect or weld equality (a closed loop: the network computes an open tree) whose
     loop has a joint that moves in the compiled robot: one on the way between its two bodies that
-    is one of the chain's joints, or a free joint. Where none moves (every one locked by --lock or
-    held by an equality, fixed, or left out by --base or --tip: a Robotiq gripper's linkage behind a
-    --tip, or with its joints locked), its bodies are one rigid body to the network and the loop's
-    forces are internal to it: left out with a warning (a Menagerie trial's find: an xarm7 refused
-    whatever its gripper's joints were locked at)."""
+    is one of the chain's joints, or, on a floating base, the base's own motion (one of its bodies
+    in the robot, at or below the base, and the other not). Where none moves (every one locked by --lock, held by an equality under
+    --mimic couple, fixed, above a fixed base, or a free body's that the robot leaves out), its
+    bodies are one rigid body to the network or no part of it, and the loop's forces internal to
+    it: left out with a warning (a Menagerie trial's find: an xarm7 refused whatever its gripper's
+    joints were locked at)."""
     moving = {j.name for j in chain.joints}
+    floats = _base_body(model, robot, chain, base) if chain.floating else None
     left = []
     for where, kind, one, two in robot.loops:
         path_joints, a, b = [], one, two
@@ -727,22 +772,56 @@ def _loops(model, robot: _Robot, chain, path: Path) -> None:
                 a = int(model.body_parentid[a])
             else:
                 b = int(model.body_parentid[b])
-        moves = [robot.joint_names[j] for j in path_joints
-                 if robot.joint_names[j] in moving or int(model.jnt_type[j]) == FREE]
+        moves = [robot.joint_names[j] for j in path_joints if robot.joint_names[j] in moving]
+        if floats is not None and _at_or_above(model, floats, one) != _at_or_above(model, floats, two):
+            # (one body in the robot, the other not: the loop holds the base's own motion)
+            moves.append(f"the floating base '{robot.bodies[floats]}'")
         if moves:
             raise located(path, where, f"{kind} equality constraints are not supported (the network "
                           f"computes an open tree; joint equalities are read as mimic joints): its loop "
-                          f"moves on joint{'s' if len(moves) > 1 else ''} "
-                          f"{', '.join(repr(m) for m in moves[:5])}"
+                          f"moves on {_joints_said(moves[:5])}"
                           + (f" and {len(moves) - 5} more" if len(moves) > 5 else "")
-                          + " (a loop no joint of which moves, all locked or left out by --base or "
-                            "--tip, is left out)")
+                          + " (a loop no joint of which moves, all locked or above a fixed --base, "
+                            "is left out)")
         left.append(f"{where} ({kind} of '{robot.bodies[one]}' and '{robot.bodies[two]}')")
     if left:
         warnings.warn(VampcWarning(
             f"{path}: {', '.join(left)} left out: no joint between {'its' if len(left) == 1 else 'their'} "
-            "bodies moves in the compiled robot (locked, fixed, or left out by --base or --tip), so "
-            "the loop's forces are internal to one rigid body"), stacklevel=3)
+            "bodies moves in the compiled robot (locked, fixed, above the base or a free body's left "
+            "out), so the loop's forces are internal to one rigid body or outside the robot"),
+            stacklevel=3)
+
+
+def _joints_said(moves: list) -> str:
+    """'joint 'j2'', 'joints 'j2', 'j1'', or the floating base among them, for _loops' message."""
+    named = [m for m in moves if not m.startswith("the floating base")]
+    said = ([f"joint{'s' if len(named) > 1 else ''} {', '.join(repr(m) for m in named)}"] if named else []) \
+        + [m for m in moves if m.startswith("the floating base")]
+    return " and ".join(said)
+
+
+def _base_body(model, robot: _Robot, chain, base: str | None) -> int:
+    """The body of a floating chain's base: the one `base` names (a link between two joints of a
+    body, that body), else the body the world carries that holds the chain's first joint."""
+    if base is not None and base in robot.bodies:
+        return robot.bodies.index(base)
+    if base is not None:
+        owner = next((jt.name for jt in robot.joints if jt.child == base and jt.name in robot.joint_names),
+                     None)
+        if owner is not None:
+            return int(model.jnt_bodyid[robot.joint_names.index(owner)])
+    first = robot.joint_names.index(chain.joints[0].name)
+    return int(model.body_rootid[model.jnt_bodyid[first]])
+
+
+def _at_or_above(model, body: int, of: int) -> bool:
+    """Whether `body` is `of` or one of the bodies above it."""
+    while True:
+        if of == body:
+            return True
+        if of == 0:
+            return False
+        of = int(model.body_parentid[of])
 
 
 def _depth(model, b: int) -> int:
