@@ -22,7 +22,8 @@ from vampc.schedule.asap import schedule_asap
 def row(n: int, shape: str) -> str:
     """One line of the table."""
     chain = random_tree(n, 0, shape, prismatic_fraction=0.0)
-    d = tree_depths(chain.parent_of, "sklansky", ground=chain.floating or chain.base_rotates)
+    d = tree_depths(chain.parent_of, "sklansky", ground=chain.floating or chain.base_rotates,
+                    floating=chain.floating)
     start = time.perf_counter()
     linear = schedule_asap(build_linear(chain, verify=False), verify=False).latency
     log = schedule_asap(build_log(chain, verify=False), verify=False).latency

@@ -349,7 +349,8 @@ def depth_row(shape: str, n: int, recursions: tuple[str, ...]) -> tuple[int, ...
     """What benchmarks/tree_depth.py prints for one tree: height, light edges, backward tiers,
     forward levels, ⌈log2(n+1)⌉, then the ASAP latencies of `recursions` (linear, log)."""
     tree = random_tree(n, 0, shape, prismatic_fraction=0.0)
-    d = tree_depths(tree.parent_of, "sklansky", ground=tree.floating or tree.base_rotates)
+    d = tree_depths(tree.parent_of, "sklansky", ground=tree.floating or tree.base_rotates,
+                    floating=tree.floating)
     out = (d["height"], d["light_edges"], d["backward_tiers"], d["forward_levels"], d["log2"])
     return out + tuple(schedule_asap(build_graph(tree, CompileOptions(recursion=r, verify=False)),
                                      verify=False).latency for r in recursions)
@@ -362,14 +363,19 @@ SHAPES = {"chain": "chain", "binary": "binary", "star of chains": "star"}
 @pytest.mark.parametrize("n", [64, 512, pytest.param(4096, marks=pytest.mark.slow)])
 def test_depth_against_n(n):
     """The "Depth against n" rows of size n (n = 4096: all but the log latency, whose graphs take
-    minutes), and forward levels = ⌈log2 n⌉ as the prose says."""
+    minutes), and forward levels = ⌈log2 m⌉ as the prose says, m the largest subtree on the base."""
     rows = [(no, cells) for no, cells in table(TREES, "| shape | n |") if integer(cells[1]) == n]
     assert {cells[0] for _, cells in rows} == set(SHAPES)
     for no, cells in rows:
         want = tuple(integer(c) for c in cells[2:])
         got = depth_row(SHAPES[cells[0]], n, ("linear", "log") if n < 4096 else ("linear",))
         assert got == want[:len(got)], f"README.md:{no}: {cells[0]}, n = {n}: vampc {got}"
-        assert got[3] == math.ceil(math.log2(n))
+        parents = tree_parents(n, SHAPES[cells[0]])
+        sizes = [1] * (n + 1)
+        for j in range(n, 0, -1):
+            sizes[parents[j - 1]] += sizes[j]
+        largest = max(sizes[j] for j in range(1, n + 1) if parents[j - 1] == 0)
+        assert got[3] == math.ceil(math.log2(largest))
 
 
 # --- Layouts --------------------------------------------------------------------------------------

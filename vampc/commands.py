@@ -412,6 +412,10 @@ def _counted_before(key: str, stored, c) -> bool:
         writes = len(c.network.bus.writes) if c.network.bus is not None else 0
         return any(stored == {**now, "control_registers": count}
                    for count in (six_per_slot(c.network) + writes, six_per_slot(c.network)))
+    if key == "tree":        # (a chain's worst range as its forward addition levels, until 2026-12-08)
+        from vampc.program.document import tree_counted_before
+        from vampc.report.counts import tree_summary
+        return tree_counted_before(stored, jsontext.loads(jsontext.dumps(tree_summary(c.chain, c.options.prefix))))
     return (key == "packages_40pin" and c.network.checking is not None
             and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 

@@ -206,7 +206,7 @@ def _base_wrench(ctx: _Ctx, loads: tuple[int, int], totals: tuple[int, int]) -> 
 
 def _meta(ctx: _Ctx, prefix: str, ground0: bool, prefixes, suffixes) -> dict:
     """logarithmic.py's metadata, for a tree: its depth figures too."""
-    depths = tree_depths(ctx.chain.parent_of, prefix, not ground0)
+    depths = tree_depths(ctx.chain.parent_of, prefix, not ground0, ctx.chain.floating)
     return {
         "recursion": "log", "prefix": prefix, "tree": jsontext.dumps(depths),
         "leaves": LOG_LEAVES[ctx.uniform], "ground": LOG_GROUNDS[ground0],

@@ -153,9 +153,10 @@ def block_sources(level: int, index: int, count: int) -> list[tuple[int, int]]:
     return [h for h in halves if h[1] << h[0] < count]
 
 
-def tree_depths(parents, shape: str, ground: bool) -> dict[str, int]:
+def tree_depths(parents, shape: str, ground: bool, floating: bool = False) -> dict[str, int]:
     """Depth figures of a tree for the report: joints, leaves, height (the level-by-level depth), heavy
-    paths, light edges on the worst path, backward ⊗ tiers, forward addition levels, ⌈log2(n+1)⌉."""
+    paths, light edges on the worst path, backward ⊗ tiers, forward addition levels (of the ranges the
+    graph sums: `floating` adds the whole range, the base wrench's), ⌈log2(n+1)⌉."""
     n = len(parents)
     tiers, _ = path_prefix_plan(parents, shape, ground)
     kids = children_of(parents)
@@ -169,17 +170,30 @@ def tree_depths(parents, shape: str, ground: bool) -> dict[str, int]:
         light[j] = light[p] + (1 if j in starts and p else 0)
     return {"joints": n, "leaves": sum(1 for j in range(1, n + 1) if not kids[j]),
             "height": max(depth), "heavy_paths": len(paths), "light_edges": max(light),
-            "backward_tiers": len(tiers), "forward_levels": sum_levels(n),
+            "backward_tiers": len(tiers), "forward_levels": subtree_sum_levels(parents, floating),
             "log2": max(n, 0).bit_length()}
 
 
-def sum_levels(n: int) -> int:
-    """Addition levels of the forward subtree sums: block levels, plus the sum of a range's blocks."""
-    worst = 0
-    for lo in range(n):
-        ready = sorted(level for level, _ in range_blocks(lo, n))
-        worst = max(worst, earliest_sum(ready))
-    return worst
+def subtree_sum_levels(parents, floating: bool) -> int:
+    """Addition levels of the forward subtree sums the log tree graph builds (vampc.dataflow.logtree):
+    each joint j's subtree, positions [j - 1, j - 1 + size_j), and the whole [0, n) only for a floating
+    base's wrench (a fixed base's is pruned). The report gave the worst range [lo, n) instead, a chain's
+    ranges, ⌈log2 n⌉: a fixed-base tree with several joints on the base sums no range that long (a
+    quadruped's legs of 3 joints: 2 levels, not 4). Each range of m positions takes ⌈log2 m⌉ levels."""
+    size = subtree_sizes(parents)
+    ranges = [(j - 1, j - 1 + size[j]) for j in range(1, len(parents) + 1)]
+    if floating:
+        ranges.append((0, len(parents)))
+    return max((earliest_sum(sorted(level for level, _ in range_blocks(lo, hi))) for lo, hi in ranges),
+               default=0)
+
+
+def chain_sum_levels(n: int) -> int:
+    """The forward addition levels the report gave a tree until 2026-12-08: the worst range [lo, n)
+    of a chain of n joints (a program file of then stores it: vampc.program.document reads it as
+    counted before, not as an edit)."""
+    return max((earliest_sum(sorted(level for level, _ in range_blocks(lo, n))) for lo in range(n)),
+               default=0)
 
 
 def earliest_sum(ready: list[int]) -> int:

@@ -277,7 +277,8 @@ def tree_summary(chain, prefix: str) -> dict:
     # (the builders' ground0 is a fixed base standing still); with it always, a fixed-base tree's
     # tiers were one more than its graph's wherever its heavy path from the base has 2, 4, 8 ...
     # joints (a trees audit: talos_reduced 4 against 3)
-    depths = tree_depths(chain.parent_of, prefix, ground=chain.floating or chain.base_rotates)
+    depths = tree_depths(chain.parent_of, prefix, ground=chain.floating or chain.base_rotates,
+                         floating=chain.floating)
     return {**depths, "log2_n_plus_1": (chain.n).bit_length(), "floating": chain.floating,
             "outputs": chain.n_outputs, "parents": list(chain.parent_of)}
 
