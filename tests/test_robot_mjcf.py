@@ -1167,3 +1167,30 @@ def test_an_mjcf_error_comes_alone_and_a_free_body_beside_a_named_base_is_said(t
                                           r"robot below it and is left out"):
         chain = load_robot(cube, base="upper", floating=True, lock={"f1": 0.0, "f2": 0.0})
     assert [j.name for j in chain.joints] == ["j2"]
+
+
+def test_a_loop_on_a_floating_world_body_and_a_free_body_beside_a_link_base(tmp_path):
+    """--floating-base on a model whose top body hinges to the world floats the world body: a weld
+    to the world held inside it, its joints locked, was refused as moving on the floating base
+    (the hinged body was taken for the base: a review's find). And a free body beside a base named
+    as a link between two joints of a body (BODY__JOINT) is said to be left out, as beside BODY."""
+    path = tmp_path / "a.xml"
+    path.write_text(GRIPPER_XML.replace('<connect name="linkage" body1="left" body2="right" anchor="0.02 0 0"/>',
+                                        '<weld name="w" body1="lower"/>'))
+    with pytest.warns(VampcWarning, match=r"equality 'w' \(weld of 'lower' and 'world'\) left out"):
+        chain = load_robot(path, floating=True, lock={"j1": 0.0, "j2": 0.0})
+    assert chain.floating and [j.name for j in chain.joints] == ["f1", "f2"]
+    assert_error(lambda: load_robot(path, floating=True, lock={"j1": 0.0}), path,
+                 r"equality 'w': weld equality constraints are not supported \(.*\): its loop moves on "
+                 r"joint 'j2' \(.*\)")
+    two = tmp_path / "two.xml"
+    two.write_text(GRIPPER_XML.replace('<joint name="j2" type="hinge" axis="0 1 0"/>',
+                                       '<joint name="j2" type="hinge" axis="0 1 0"/>\n        '
+                                       '<joint name="j2b" type="hinge" axis="1 0 0"/>')
+                   .replace("  </worldbody>", '    <body name="cube" pos="1 0 0">\n      <freejoint/>\n'
+                            '      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>\n'
+                            '    </body>\n  </worldbody>')
+                   .replace("  <equality>\n    <connect name=\"linkage\" body1=\"left\" body2=\"right\" "
+                            "anchor=\"0.02 0 0\"/>\n  </equality>\n", ""))
+    with pytest.warns(VampcWarning, match=r"--base lower__j2: 'cube' on a free joint floats apart"):
+        load_robot(two, base="lower__j2")

@@ -586,7 +586,8 @@ def _static_beside_free(model, path: Path, body_name: list, base: str | None) ->
     if base is not None:
         # (another free body beside the base's: a scene's cube, left out as --base world leaves it
         # out, but unsaid: a Menagerie trial's find)
-        b = body_name.index(base) if base in body_name else None
+        owner = base if base in body_name else base.rsplit("__", 1)[0]     # (BODY__JOINT: BODY's)
+        b = body_name.index(owner) if owner in body_name else None
         apart = [f for f in free if b is not None and root[b] != f]
         if apart:
             names = ", ".join(repr(body_name[f]) for f in apart)
@@ -811,7 +812,11 @@ def _base_body(model, robot: _Robot, chain, base: str | None) -> int:
         if owner is not None:
             return int(model.jnt_bodyid[robot.joint_names.index(owner)])
     first = robot.joint_names.index(chain.joints[0].name)
-    return int(model.body_rootid[model.jnt_bodyid[first]])
+    top = int(model.body_rootid[model.jnt_bodyid[first]])
+    count = int(model.body_jntnum[top])
+    if count and not (count == 1 and int(model.jnt_type[model.body_jntadr[top]]) == FREE):
+        return 0    # (hinged to the world: the world body floats with what is welded to it, a review's)
+    return top      # (on its free joint, or welded to the world with joints below: it floats)
 
 
 def _at_or_above(model, body: int, of: int) -> bool:
