@@ -1009,30 +1009,15 @@ def test_an_error_in_an_included_file_no_one_element_fits_names_the_files(tmp_pa
                  rf"{re.escape(str(robot))}\)")
 
 
-GRIPPER_XML = """<mujoco model="g">
-  <worldbody>
-    <body name="upper">
-      <joint name="j1" type="hinge" axis="0 0 1"/>
-      <inertial pos="0.1 0 0" mass="2" diaginertia="0.01 0.02 0.025"/>
-      <body name="lower" pos="0.3 0 0">
-        <joint name="j2" type="hinge" axis="0 1 0"/>
-        <inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.025"/>
-        <body name="left" pos="0.2 0.02 0">
-          <joint name="f1" type="hinge" axis="0 0 1"/>
-          <inertial pos="0.02 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>
-        </body>
-        <body name="right" pos="0.2 -0.02 0">
-          <joint name="f2" type="hinge" axis="0 0 1"/>
-          <inertial pos="0.02 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-  <equality>
-    <connect name="linkage" body1="left" body2="right" anchor="0.02 0 0"/>
-  </equality>
-</mujoco>
-"""
+# the arm above with two fingers on its forearm, held together by a connect equality (a linkage)
+FINGER = ('        <body name="{0}" pos="0.2 {1} 0">\n          <joint name="{2}" type="hinge" axis="0 0 1"/>\n'
+          '          <inertial pos="0.02 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/>\n        </body>\n')
+GRIPPER_XML = (ROBOT_XML.replace('model="r"', 'model="g"').replace('name="shoulder"', 'name="j1"')
+               .replace('name="elbow"', 'name="j2"')
+               .replace("      </body>\n    </body>", FINGER.format("left", "0.02", "f1")
+                        + FINGER.format("right", "-0.02", "f2") + "      </body>\n    </body>")
+               .replace("</mujoco>\n", '  <equality>\n    <connect name="linkage" body1="left" body2="right" '
+                        'anchor="0.02 0 0"/>\n  </equality>\n</mujoco>\n'))
 
 
 @pytest.mark.parametrize("edit, options, joints, said", [
@@ -1120,8 +1105,8 @@ def test_a_loop_through_a_free_joint_moves_only_with_the_floating_base(tmp_path,
     holds it (one body in the robot, the other not): a free cube welded to the world, left out with
     --base world, and a weld above a floating --base, were refused as moving on the free joint (a
     review's find)."""
-    text = GRIPPER_XML.replace('<body name="upper">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
-                               '<body name="upper">\n      <freejoint name="root"/>')
+    text = GRIPPER_XML.replace('<body name="upper" pos="0 0 0">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
+                               '<body name="upper" pos="0 0 0">\n      <freejoint name="root"/>')
     if "cube" in weld:
         text = GRIPPER_XML.replace("  </worldbody>", '    <body name="cube" pos="1 0 0">\n      <freejoint/>\n'
                                    '      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>\n'
@@ -1158,8 +1143,8 @@ def test_an_mjcf_error_comes_alone_and_a_free_body_beside_a_named_base_is_said(t
     r = CliRunner().invoke(main, ["compile", str(path), "--lock", "f1=0", "--lock", "f2=0", "-o", str(out)])
     assert r.exit_code == 0 and "armature" in r.stderr and "equality 'linkage'" in r.stderr, r.stderr
     cube = tmp_path / "c.xml"
-    cube.write_text(GRIPPER_XML.replace('<body name="upper">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
-                                        '<body name="upper">\n      <freejoint name="root"/>')
+    cube.write_text(GRIPPER_XML.replace('<body name="upper" pos="0 0 0">\n      <joint name="j1" type="hinge" axis="0 0 1"/>',
+                                        '<body name="upper" pos="0 0 0">\n      <freejoint name="root"/>')
                     .replace("  </worldbody>", '    <body name="cube" pos="1 0 0">\n      <freejoint/>\n'
                              '      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>\n'
                              '    </body>\n  </worldbody>'))
