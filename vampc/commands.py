@@ -349,7 +349,7 @@ def program_compiled(source: str, given, params: dict):
                           inline=not c.network.has_slots(BACKGROUND_CHECK_SLOTS + 1))
     fresh = jsontext.loads(jsontext.dumps(summary(c)))
     edited = sorted(k for k, v in doc.summary.items() if k in fresh and fresh[k] != v
-                    and not _counted_before(k, v, c))
+                    and not _counted_before(k, v, c, fresh[k]))
     # a figure the compiler writes for this program gone from the stored summary is an edit too (a
     # float32 program's summary without its word went unsaid, and so did a float64 program whose
     # options.word was edited: a new user's find)
@@ -361,7 +361,7 @@ def program_compiled(source: str, given, params: dict):
     return c, fresh, check
 
 
-def _counted_before(key: str, stored, c) -> bool:
+def _counted_before(key: str, stored, c, now) -> bool:
     """A stored summary figure that an earlier vampc counted otherwise, not an edit: the 40-pin
     packages of a checked network without its extraneous VAMP (until 2026-12-04); a word's figures
     without its input ports, the extraneous VAMP's data registers, ROM and Cycle-Counter (until
@@ -370,19 +370,19 @@ def _counted_before(key: str, stored, c) -> bool:
     those without the network's overflow flag and the bus-write registers (until 2026-12-06); the
     number of a bus network's control registers without its bus-write registers (until 2026-12-06,
     later); a checked network's control register bits without the checking's (until
-    2026-12-07)."""
+    2026-12-07); a tree's forward addition levels as a chain's worst range (until 2026-12-08).
+    `now`: the figure as counted today (the fresh summary's, as JSON reads it)."""
     from vampc.report.counts import (
         counter_bits,
         network_control_bits,
         packages,
         physical_vamps,
         values_bits,
-        word_bits,
     )
     if key == "word" and isinstance(stored, dict) and c.options.word != "float64":
         from vampc.machine import ops
         net = c.network
-        now = jsontext.loads(jsontext.dumps(word_bits(c)))
+        now = dict(now)
         if "checking_control_bits" in now and "checking_control_bits" not in stored:
             # (stored before the checking's second tables, modes and stage counters were counted
             # among the control registers, until 2026-12-07: a checked program was called edited)
@@ -407,15 +407,13 @@ def _counted_before(key: str, stored, c) -> bool:
         # (six control registers a slot of a VAMP with several slots or inputs, until 2026-12-07;
         # and before, on a bus, without the bus-write registers, until 2026-12-06, later: a
         # review's find, such a program was said to be edited)
-        from vampc.report.counts import hardware, six_per_slot
-        now = jsontext.loads(jsontext.dumps(hardware(c)))
+        from vampc.report.counts import six_per_slot
         writes = len(c.network.bus.writes) if c.network.bus is not None else 0
         return any(stored == {**now, "control_registers": count}
                    for count in (six_per_slot(c.network) + writes, six_per_slot(c.network)))
-    if key == "tree":        # (a chain's worst range as its forward addition levels, until 2026-12-08)
+    if key == "tree":
         from vampc.program.document import tree_counted_before
-        from vampc.report.counts import tree_summary
-        return tree_counted_before(stored, jsontext.loads(jsontext.dumps(tree_summary(c.chain, c.options.prefix))))
+        return tree_counted_before(stored, now)
     return (key == "packages_40pin" and c.network.checking is not None
             and jsontext.loads(jsontext.dumps(packages(len(c.network.vamps)))) == stored)
 

@@ -461,6 +461,15 @@ def check_word(options) -> None:
 COMPRESSED = (".gz", ".bz2", ".xz", ".zip", ".zst", ".lzma", ".7z")   # suffixes of compressed files
 
 
+def refuse_compressed(option: str, value: str | None, what: str, afterwards: bool = True) -> None:
+    """A usage error for an output `option` that writes plain text (`what`) given a compressed
+    name (a .gz name was written as plain text, exit 0), saying to compress the file afterwards."""
+    suffix = Path(value).suffix.lower() if value else ""
+    if suffix in COMPRESSED:
+        raise VampcUsageError(f"{option} writes {what}: not {suffix}"
+                              + (" (compress the file afterwards)" if afterwards else ""))
+
+
 def check_program_options(given, params: dict, source: str, stored: dict,
                           overrides: tuple = ()) -> None:
     """Compile and robot options given with a program file must not contradict how it was compiled:
@@ -714,10 +723,7 @@ class EmulateOptions:
                 raise VampcUsageError(f"{option} writes {what} as CSV or, for a name ending in .npy, "
                                       f"as a NumPy array: not {suffix}"
                                       + (" (compress the file afterwards)" if suffix != ".npz" else ""))
-        suffix = Path(self.vcd).suffix.lower() if self.vcd else ""
-        if suffix in COMPRESSED:              # (a .gz name was written as plain text)
-            raise VampcUsageError(f"--vcd writes a VCD text file: not {suffix} (compress the file "
-                                  "afterwards)")
+        refuse_compressed("--vcd", self.vcd, "a VCD text file")
         if self.allow_out_of_limits and self.trajectory is None:
             raise VampcUsageError("--allow-out-of-limits applies with --trajectory (random states are "
                                   "drawn within the limits)")
@@ -1107,12 +1113,8 @@ class FaultsOptions:
         report = {"text": "the report", "json": "the JSON report", "csv": "the CSV table"}[self.fmt]
         results = ("each run's result as plain text (JSON lines, appended to and read back by a "
                    "re-run)")
-        for option, value, what in (("-o", self.output, f"{report} as plain text"),
-                                    ("--results", self.results, results)):
-            suffix = Path(value).suffix.lower() if value else ""
-            if suffix in COMPRESSED:
-                raise VampcUsageError(f"{option} writes {what}: not {suffix}"
-                                      + (" (compress the file afterwards)" if option == "-o" else ""))
+        refuse_compressed("-o", self.output, f"{report} as plain text")
+        refuse_compressed("--results", self.results, results, afterwards=False)
         check_parallel(self)
 
         self.bit_list()

@@ -184,16 +184,19 @@ def subtree_sum_levels(parents, floating: bool) -> int:
     ranges = [(j - 1, j - 1 + size[j]) for j in range(1, len(parents) + 1)]
     if floating:
         ranges.append((0, len(parents)))
-    return max((earliest_sum(sorted(level for level, _ in range_blocks(lo, hi))) for lo, hi in ranges),
-               default=0)
+    return max((range_sum_levels(lo, hi) for lo, hi in ranges), default=0)
 
 
 def chain_sum_levels(n: int) -> int:
     """The forward addition levels the report gave a tree until 2026-12-08: the worst range [lo, n)
     of a chain of n joints (a program file of then stores it: vampc.program.document reads it as
     counted before, not as an edit)."""
-    return max((earliest_sum(sorted(level for level, _ in range_blocks(lo, n))) for lo in range(n)),
-               default=0)
+    return max((range_sum_levels(lo, n) for lo in range(n)), default=0)
+
+
+def range_sum_levels(lo: int, hi: int) -> int:
+    """Addition levels of the sum of positions [lo, hi): its blocks' levels, then their sum."""
+    return earliest_sum(sorted(level for level, _ in range_blocks(lo, hi)))
 
 
 def earliest_sum(ready: list[int]) -> int:

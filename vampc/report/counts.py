@@ -245,7 +245,6 @@ def control_logic(c) -> dict:
     all (the checking's second tables, whose registers its section counts, and its comparators of
     results, there too)."""
     from vampc.machine.timing import captures
-    from vampc.network.model import tap_source
     net = c.network
     slots = sum(len(v.slots) for v in net.vamps)
     physical = physical_vamps(net)
@@ -257,8 +256,8 @@ def control_logic(c) -> dict:
     # 6 or 7): as many as the VAMP's slots or its registers, whichever is more
     addresses = [len(v.slots) for v in net.vamps]
     if net.bus is not None:
-        sources = [b.source for b in net.buffers]
-        registers = Counter(tap_source(w.source, sources) for w in net.bus.writes)
+        from vampc.report.mlb import registers_by_vamp
+        registers = registers_by_vamp(net)
         addresses = [max(a, registers.get(v.index, 0)) for a, v in zip(addresses, net.vamps)]
     counters = physical + (1 if net.buffers else 0)
     return {"cycle_counters": counters, "counter_bits": counter_bits(net.period),

@@ -61,16 +61,14 @@ def bus_figures(c) -> dict | None:
                          "writes": len(dist), "utilisation": len(dist) / (buses * P),
                          "longest": max(dist, default=0),
                          "mean": sum(dist) / len(dist) if dist else 0.0})
-    writers: dict[int, int] = {}
+    writers = registers_by_vamp(net)
     # a VAMP drives a tier's bus through a driver of its own; where it drives that tier with more
     # than one source (its Result, stages of the buffer behind it), through a multiplexer of them
     # that the firing register's source field selects (counted since 2026-12-08: the registers
     # were, the drivers and their multiplexers were not)
     driven: dict[tuple[int, int], set] = {}
     for w in bus.writes:
-        u = tap_source(w.source, sources)
-        writers[u] = writers.get(u, 0) + 1
-        driven.setdefault((u, w.tier), set()).add(w.source)
+        driven.setdefault((tap_source(w.source, sources), w.tier), set()).add(w.source)
     register_bits = write_register_bits(net)
     p2p = wired(net)
     p2p_pins = [_p2p_pins(v) for v in p2p.vamps]
@@ -110,6 +108,12 @@ def bus_figures(c) -> dict | None:
                                      f"{COMPARE_LIMIT} (each is a compile; benchmarks/bus.py "
                                      "compares bigger ones)")
     return out
+
+
+def registers_by_vamp(net) -> Counter:
+    """The bus-write registers each VAMP holds (a write of a stage of its buffer is its own)."""
+    sources = [b.source for b in net.buffers]
+    return Counter(tap_source(w.source, sources) for w in net.bus.writes)
 
 
 def _tier_length(tier, vamps: int) -> int:

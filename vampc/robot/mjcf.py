@@ -126,23 +126,31 @@ def _model_files(path) -> Iterator[tuple[Path, object]]:
     then in the including file's first, where MuJoCo 4 reads the model folder's: another's).
     Entities are neither loaded nor resolved; a file that cannot be read or parsed is skipped
     (MuJoCo's own load says what is wrong with it)."""
-    from lxml import etree
     main = Path(path).parent
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
     todo, seen = [Path(path)], set()
     while todo:
         here = todo.pop(0)
         if here.resolve() in seen:            # (a file included twice, or itself: read once)
             continue
         seen.add(here.resolve())
-        try:
-            root = etree.parse(str(here), parser).getroot()
-        except (etree.XMLSyntaxError, OSError, ValueError):
+        root = _xml_root(here)
+        if root is None:
             continue
         yield here, root
         for element in root.iter("{*}include", "include"):
             if element.get("file"):
                 todo.append(_found(element.get("file"), main, here.parent))
+
+
+def _xml_root(here: Path):
+    """The parsed root of an MJCF file, entities neither loaded nor resolved; None where it cannot
+    be read or parsed (MuJoCo's own load says what is wrong with it)."""
+    from lxml import etree
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    try:
+        return etree.parse(str(here), parser).getroot()
+    except (etree.XMLSyntaxError, OSError, ValueError):
+        return None
 
 
 def _in_reading_order(path) -> Iterator[tuple[Path, object]]:
@@ -151,12 +159,10 @@ def _in_reading_order(path) -> Iterator[tuple[Path, object]]:
     file within its own includes is not read again)."""
     from lxml import etree
     main = Path(path).parent
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
 
     def walk(here: Path, within: frozenset):
-        try:
-            root = etree.parse(str(here), parser).getroot()
-        except (etree.XMLSyntaxError, OSError, ValueError):
+        root = _xml_root(here)
+        if root is None:
             return
         for element in root.iter():
             if not isinstance(element.tag, str):
@@ -269,15 +275,10 @@ def _in_base(model, robot, base: str, gravity, lock: dict, path: Path, couple: b
     no joint is above it), and whether a follower was placed off 0 so. A follower above whose leader
     is below is refused, as for a URDF."""
     import mujoco
-    if base in robot.bodies[1:]:
-        b, last = robot.bodies.index(base), None
-    else:        # a link between two joints of one body (`BODY__JOINT`: the child of JOINT)
-        owner = next((jt.name for jt in robot.joints if jt.child == base and jt.name in robot.joint_names),
-                     None)
-        if owner is None:    # (the world, or no link: chain_of says so of an unknown --base)
-            return gravity, None, False
-        last = robot.joint_names.index(owner)
-        b = int(model.jnt_bodyid[last])
+    named = _named_body(model, robot, base)
+    if named is None or named[0] == 0:    # (the world, or no link: chain_of says so of an unknown --base)
+        return gravity, None, False
+    b, last = named
     data = mujoco.MjData(model)
     moved, above = [], b           # (the body's own joints, to its parent, are cut away too)
     while above > 0:
@@ -764,17 +765,12 @@ def _loops(model, robot: _Robot, chain, path: Path, base: str | None) -> None:
     floats = _base_body(model, robot, chain, base) if chain.floating else None
     left = []
     for where, kind, one, two in robot.loops:
-        path_joints, a, b = [], one, two
-        while a != b:                  # up from the deeper body until the two meet (the world)
-            deeper = a if _depth(model, a) >= _depth(model, b) else b
-            first, count = int(model.body_jntadr[deeper]), int(model.body_jntnum[deeper])
-            path_joints += range(first, first + count)
-            if deeper == a:
-                a = int(model.body_parentid[a])
-            else:
-                b = int(model.body_parentid[b])
-        moves = [robot.joint_names[j] for j in path_joints if robot.joint_names[j] in moving]
-        if floats is not None and _at_or_above(model, floats, one) != _at_or_above(model, floats, two):
+        ups = _up(model, one), _up(model, two)
+        way = [b for b in ups[0] + ups[1] if (b in ups[0]) != (b in ups[1])]   # (up to where they meet)
+        moves = [robot.joint_names[j] for b in way
+                 for j in range(int(model.body_jntadr[b]), int(model.body_jntadr[b]) + int(model.body_jntnum[b]))
+                 if robot.joint_names[j] in moving]
+        if floats is not None and (floats in ups[0]) != (floats in ups[1]):
             # (one body in the robot, the other not: the loop holds the base's own motion)
             moves.append(f"the floating base '{robot.bodies[floats]}'")
         if moves:
@@ -801,16 +797,25 @@ def _joints_said(moves: list) -> str:
     return " and ".join(said)
 
 
+def _named_body(model, robot: _Robot, base: str | None) -> tuple[int, int | None] | None:
+    """The body `base` names (0 the world) and, for a link between two joints of one body
+    (`BODY__JOINT`: the child of JOINT), JOINT's index; None for no body or link of the model."""
+    if base in robot.bodies:
+        return robot.bodies.index(base), None
+    owner = next((jt.name for jt in robot.joints if jt.child == base and jt.name in robot.joint_names),
+                 None)
+    if owner is None:
+        return None
+    last = robot.joint_names.index(owner)
+    return int(model.jnt_bodyid[last]), last
+
+
 def _base_body(model, robot: _Robot, chain, base: str | None) -> int:
     """The body of a floating chain's base: the one `base` names (a link between two joints of a
     body, that body), else the body the world carries that holds the chain's first joint."""
-    if base is not None and base in robot.bodies:
-        return robot.bodies.index(base)
-    if base is not None:
-        owner = next((jt.name for jt in robot.joints if jt.child == base and jt.name in robot.joint_names),
-                     None)
-        if owner is not None:
-            return int(model.jnt_bodyid[robot.joint_names.index(owner)])
+    named = _named_body(model, robot, base) if base is not None else None
+    if named is not None:
+        return named[0]
     first = robot.joint_names.index(chain.joints[0].name)
     top = int(model.body_rootid[model.jnt_bodyid[first]])
     count = int(model.body_jntnum[top])
@@ -819,22 +824,13 @@ def _base_body(model, robot: _Robot, chain, base: str | None) -> int:
     return top      # (on its free joint, or welded to the world with joints below: it floats)
 
 
-def _at_or_above(model, body: int, of: int) -> bool:
-    """Whether `body` is `of` or one of the bodies above it."""
-    while True:
-        if of == body:
-            return True
-        if of == 0:
-            return False
-        of = int(model.body_parentid[of])
-
-
-def _depth(model, b: int) -> int:
-    """A body's depth below the world (the world 0)."""
-    d = 0
+def _up(model, b: int) -> list[int]:
+    """Body `b` and the bodies above it, up to and with the world (0)."""
+    out = [b]
     while b:
-        b, d = int(model.body_parentid[b]), d + 1
-    return d
+        b = int(model.body_parentid[b])
+        out.append(b)
+    return out
 
 
 def _named(model, kind: str, k: int, names: list) -> str:
