@@ -1179,3 +1179,57 @@ def test_a_loop_on_a_floating_world_body_and_a_free_body_beside_a_link_base(tmp_
                             "anchor=\"0.02 0 0\"/>\n  </equality>\n", ""))
     with pytest.warns(VampcWarning, match=r"--base lower__j2: 'cube' on a free joint floats apart"):
         load_robot(two, base="lower__j2")
+
+
+LEGS_XML = """<mujoco model="legs">
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <freejoint name="root"/>
+      <geom type="box" size="0.2 0.1 0.05" mass="5"/>
+      <body name="a1" pos="0.2 0 0">
+        <joint name="ja1" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/>
+        <body name="a2" pos="0 0 -0.3">
+          <joint name="ja2" type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/>
+        </body>
+      </body>
+      <body name="b1" pos="-0.2 0 0">
+        <joint name="jb1" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/>
+      </body>
+    </body>
+    <body name="cube" pos="1 0 0">
+      <freejoint/>
+      <geom type="box" size="0.05 0.05 0.05" mass="1"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_a_base_below_the_top_body_says_what_beside_it_is_left_out(tmp_path):
+    """--base a1 left leg b out (floating, the torso too), saying nothing, as for a URDF (a
+    founder's reread): said after the way up is, in the model's order, as bodies; the cube
+    floating apart is said on its own, not here."""
+    path = tmp_path / "legs.xml"
+    path.write_text(LEGS_XML)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        chain = load_robot(path, base="a1")
+    said = [str(w.message) for w in seen]
+    assert [j.name for j in chain.joints] == ["ja2"]
+    cut = [k for k, t in enumerate(said) if "the joints above it are cut away" in t]
+    beside = [k for k, t in enumerate(said) if "beside the way up" in t]
+    assert len(cut) == 1 and beside == [cut[0] + 1], said
+    assert said[beside[0]].endswith("--base a1: the branches beside the way up to it are left out (1 "
+                                    "moving joint: 'jb1'); the fixed base takes their forces, so no "
+                                    "torque below it depends on them"), said
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_robot(path, base="a1", floating=True)
+    said = [str(w.message) for w in seen if "above and beside" in str(w.message)]
+    assert len(said) == 1 and said[0].endswith(
+        "--base a1 --floating-base: only 'a1' and what hangs below it float; the bodies above and "
+        "beside it are left out ('torso', 'b1' with mass; 2 moving joints: 'ja1', 'jb1'), so they "
+        "do not load the floating base"), said
+    assert chain.floating and [j.name for j in chain.joints] == ["ja2"]

@@ -316,6 +316,64 @@ def test_base_below_the_root():
     check_frames(ARM6, chain, "link2", "link5", bodies, frozen={"flange": 0.3})
 
 
+def _file_joints_and_heavy_links(path):
+    """(moving joint names by their link, the links with a mass), read from the file with ElementTree."""
+    import xml.etree.ElementTree as ET
+    root = ET.parse(path).getroot()
+    moving = {j.find("child").get("link"): j.get("name") for j in root.iter("joint")
+              if j.get("type") in ("revolute", "continuous", "prismatic")}
+    heavy = [link.get("name") for link in root.iter("link")
+             if link.find("inertial/mass") is not None and float(link.find("inertial/mass").get("value")) > 0]
+    return moving, heavy
+
+
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+def test_a_base_below_the_root_says_what_beside_it_is_left_out(floating):
+    """--base FL_hip on the quadruped left the other three legs out (and, floating, the trunk too:
+    a different robot floats), saying nothing: a founder's reread. The warning names, in the
+    file's order, the moving joints off the way up (a fixed base takes their forces) or, for a
+    floating base, every link with a mass and every moving joint not below FL_hip."""
+    path = EXAMPLES / "quadruped.urdf"
+    moving, heavy = _file_joints_and_heavy_links(path)
+    leg = {"FL_hip", "FL_upper", "FL_lower", "FL_foot"}       # FL_hip and what hangs below it
+    joints = [j for link, j in moving.items() if link not in leg - {"FL_hip"}] if floating else \
+        [j for link, j in moving.items() if not link.startswith("FL_")]
+    assert len(joints) == (10 if floating else 9)
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path, base="FL_hip", floating=floating)
+    said = [str(w.message) for w in seen if "beside" in str(w.message)]
+    assert len(said) == 1, said
+    names = ", ".join(f"'{j}'" for j in joints)
+    if floating:
+        links = [name for name in heavy if name not in leg]
+        shown = ", ".join(f"'{n}'" for n in links[:10]) + f" and {len(links) - 10} more"
+        assert f"--base FL_hip --floating-base: only 'FL_hip' and what hangs below it float; the links " \
+            f"above and beside it are left out ({shown} with mass; 10 moving joints: {names}), so " \
+            "they do not load the floating base" in said[0], said
+    else:
+        assert f"--base FL_hip: the branches beside the way up to it are left out (9 moving joints: " \
+            f"{names});" in said[0], said
+    assert [j.name for j in chain.joints] == [moving[k] for k in ("FL_upper", "FL_lower")]
+
+
+def test_nothing_beside_the_base_is_said_only_what_a_floating_base_leaves_above():
+    """A chain's base below its root leaves nothing beside it (the way up is said where gravity is
+    turned); floating, the links above it are left out, said with the one moving joint; the root
+    named as --base leaves nothing out."""
+    path = EXAMPLES / "ur5.urdf"
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        load_urdf(path, base="shoulder_link")
+        load_urdf(path, base="world")
+        load_urdf(EXAMPLES / "quadruped.urdf", base="trunk", floating=True)
+    assert not [w for w in seen if "beside" in str(w.message)], [str(w.message) for w in seen]
+    with pytest.warns(VampcWarning, match=r"--base shoulder_link --floating-base: only 'shoulder_link' "
+                                          r"and what hangs below it float; the links above and beside "
+                                          r"it are left out \('base_link' with mass; 1 moving joint: "
+                                          r"'shoulder_pan_joint'\)"):
+        load_urdf(path, base="shoulder_link", floating=True)
+
+
 # --- trees and locking -------------------------------------------------------------------------------------
 
 def test_tree_tip_and_locked_branch(tmp_path):

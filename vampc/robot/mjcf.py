@@ -258,10 +258,9 @@ def _load(model, path: Path, base, tip, lock, floating, accept_improper_inertia,
                      # (nor of one whose follower above the base it placed, turning gravity)
                      mimic_said=None if held or placed else "joint equality (<equality><joint>)",
                      mimic_given=mimic_given,
-                     turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)")
+                     turn_said="the turn of its body (quat, euler, axisangle, xyaxes or zaxis)",
+                     turned=turned)      # (said once the robot is made: an error comes alone)
     _loops(model, robot, chain, path, base)
-    if turned:                   # (said once the robot is made: an error comes alone)
-        warnings.warn(VampcWarning(turned), stacklevel=2)
     return chain
 
 

@@ -165,18 +165,21 @@ MIMIC_MODES = ("ordinary", "couple")
 def chain_of(robot, tree: Tree, path: Path, base: str | None = None, tip: str | None = None,
              lock: dict[str, float] | None = None, floating: bool = False, mimic: str = "ordinary",
              accept_improper_inertia: bool = False, mimic_said: str | None = "<mimic>",
-             mimic_given: bool = False, turn_said: str = "the turn of its <origin> (rpy)") -> Chain:
+             mimic_given: bool = False, turn_said: str = "the turn of its <origin> (rpy)",
+             turned: str | None = None) -> Chain:
     """The Chain of a robot read as links and joints (yourdfpy's shape; vampc.robot.mjcf builds one
     too): base, tip, lock, floating, mimic and accept_improper_inertia as `load_urdf` takes them.
     `mimic_said`: what a file's mimic joints are called, for the warning that --mimic couple finds
     none (None: no warning, the caller's --mimic couple has done something already); `mimic_given`:
     the user named --mimic (an explicit --mimic ordinary warns so too); `turn_said`: what turns a
-    floating joint's frame in the file (an MJCF's body was told of an <origin>, a new user's)."""
+    floating joint's frame in the file (an MJCF's body was told of an <origin>, a new user's);
+    `turned`: the caller's warning that --base turned gravity (an MJCF's, by MuJoCo's kinematics),
+    said once the robot is made, before what --base left out beside the way up."""
     accepted = [False] if accept_improper_inertia else None    # [an inertia was taken so]
     token = _ACCEPT_IMPROPER.set(accepted)
     try:
         chain = _chain_of(robot, tree, path, base, tip, lock, floating, mimic, mimic_said,
-                          mimic_given, turn_said)
+                          mimic_given, turn_said, turned)
     finally:
         _ACCEPT_IMPROPER.reset(token)
     if accepted == [False]:
@@ -216,7 +219,7 @@ def _warn_floating_origin(tree: Tree, base: str, floating: bool, path: Path,
 def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
               lock: dict[str, float] | None, floating: bool, mimic: str,
               mimic_said: str | None = "<mimic>", mimic_given: bool = False,
-              turn_said: str = "the turn of its <origin> (rpy)") -> Chain:
+              turn_said: str = "the turn of its <origin> (rpy)", turned_by: str | None = None) -> Chain:
     lock = _check_lock(lock or {}, tree, path)
     given = dict.fromkeys(lock)     # (the user's, in their order: a set's followed the hash seed, and
     # with two locks the program file did; _lock_followers adds coupled followers' own)
@@ -270,14 +273,63 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
         if j.name in problems:
             raise located(path, *problems[j.name])
     chain = _coupled(chain, leaders, path) if leaders else chain
-    if turned:                       # (said once the robot is made: an error comes alone)
-        warnings.warn(VampcWarning(turned), stacklevel=3)
+    for said in (turned, turned_by):     # (said once the robot is made: an error comes alone)
+        if said:
+            warnings.warn(VampcWarning(said), stacklevel=3)
+    if named is not None:
+        beside = _left_beside(tree, base, below, floating, given, path)
+        if beside:
+            warnings.warn(VampcWarning(beside), stacklevel=3)
     # the locks that took a joint out (below the base) or placed one (above it), in the order given;
     # not one said to have no effect, so that its program is the one without it
     taken = tuple(name for name in given if name in lock or name in above_locks)
     held = {j.name for j in chain.joints}
     left_out = tuple(name for name in every_joint if name not in held and name not in taken)
     return dataclasses.replace(chain, locked=taken, left_out=left_out) if taken or left_out else chain
+
+
+def _left_beside(tree: Tree, base: str, below: set, floating: bool, given, path: Path) -> str | None:
+    """The warning that --base left out the moving joints beside the way up to it (a fixed base:
+    the way up's own are said where gravity is turned) or, for a floating base, every link and
+    moving joint above and beside it: what hangs on the base's side of any floating joint (a free
+    body apart is the MJCF reader's to say) and is not below it. A joint the user locked is said
+    where its lock is. A quadruped's --base FL_hip had left three legs out, and with
+    --floating-base the trunk too, saying nothing (a founder's reread)."""
+    up = set() if floating else {j.name for j in tree.ancestors(base)}
+    seen, stack, joints, links = {base}, [base], [], []
+    while stack:                     # the links held to the base by joints that are not floating
+        link = stack.pop()
+        ways = [j for j in tree.children[link] if j.name not in below]
+        if link in tree.parent:
+            ways.append(tree.parent[link])
+        for j in ways:
+            if j.type == "floating":
+                continue
+            other = j.parent if j.child == link else j.child
+            if other in seen:
+                continue
+            seen.add(other)
+            stack.append(other)
+            links.append(other)
+            if j.type in MOVABLE and j.name not in up and j.name not in (given or ()):
+                joints.append(j.name)
+    order = {name: k for k, name in enumerate(tree.joints)}      # (said in the file's order)
+    joints.sort(key=order.__getitem__)
+    order = {name: k for k, name in enumerate(tree.links)}
+    heavy = sorted((name for name in links if tree.has_own_mass(name)), key=order.__getitem__) \
+        if floating else []
+    if not joints and not heavy:
+        return None
+    count = f"{len(joints)} moving joint{'s' * (len(joints) != 1)}"
+    if not floating:
+        return (f"{path}: --base {base}: the branches beside the way up to it are left out "
+                f"({count}: {quoted(joints)}); the fixed base takes their forces, so no torque "
+                "below it depends on them")
+    parts = ([f"{quoted(heavy)} with mass"] if heavy else []) + \
+        ([f"{count}: {quoted(joints)}"] if joints else [])
+    return (f"{path}: --base {base} --floating-base: only '{base}' and what hangs below it float; "
+            f"the {'links' if tree.by_name else 'bodies'} above and beside it are left out ({'; '.join(parts)}), so they do not load "
+            "the floating base")
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
