@@ -389,6 +389,37 @@ def test_data_outputs_named_as_another_format_are_warned_of(tmp_path):
         assert (said in r.stderr) if kind else "whatever the name says" not in r.stderr, (name, r.stderr)
 
 
+def test_a_misnamed_output_over_a_robot_or_program_file_is_refused_and_the_file_kept(tmp_path):
+    """`report --timing arm.yaml` replaced the user's DH table with SVG and `emulate -o arm.yaml`
+    with torques, exit 0, the warning of the name alone (a new user's slip, found by a trial): an
+    output misnamed so, over a robot description or a program file, is refused and the file kept;
+    one of the kind the option writes (an earlier run's, misnamed too) is replaced, warned."""
+    program = tmp_path / "p.vamp.json"
+    assert run("compile", str(EXAMPLES / "planar2.yaml"), "-o", program).exit_code == 0
+    table, urdf, other = tmp_path / "arm.yaml", tmp_path / "arm.urdf", tmp_path / "q.vamp.json"
+    table.write_bytes((EXAMPLES / "planar2.yaml").read_bytes())
+    urdf.write_bytes((EXAMPLES / "arm6.urdf").read_bytes())
+    other.write_bytes(program.read_bytes())
+    kept = {path: path.read_bytes() for path in (table, urdf, other)}
+    for args, path, said in (
+            (["report", str(program), "--timing"], table, "is YAML (a DH table?); --timing writes SVG"),
+            (["emulate", str(program), "--random", "2", "-o"], table, "is YAML (a DH table?); -o writes CSV"),
+            (["emulate", str(program), "--random", "2", "-o"], urdf, "is XML (a URDF); -o writes CSV"),
+            (["emulate", str(program), "--random", "2", "-o"], other, "is a vampc program file; -o writes CSV"),
+            (["compile", str(EXAMPLES / "puma560.yaml"), "-o"], urdf,
+             "is XML (a URDF); -o writes a program file")):
+        r = run(*args, path)
+        assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {path}: {said}, whatever the "
+                                                         "name says, and vampc does not replace it (name it ") \
+            and r.stderr.count("\n") == 1, (args, r.stderr)
+        assert {p: p.read_bytes() for p in kept} == kept
+    again = tmp_path / "p.urdf"
+    for _ in range(2):       # a program under a robot's name, then the same again: replaced, warned
+        r = run("compile", str(EXAMPLES / "planar2.yaml"), "-o", again)
+        assert r.exit_code == 0 and "whatever the name says (name it .vamp.json)" in r.stderr, r.stderr
+    assert again.read_bytes() == program.read_bytes()
+
+
 def test_an_input_named_dash_where_it_is_a_files_name_says_so(tmp_path, monkeypatch):
     """`-` is standard input for a trajectory only; elsewhere it is a file's name, and a missing one
     said only "-: no such file" (a new user gave `--limits - < lim.csv`)."""

@@ -95,7 +95,7 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
         planned[option] = out
     for option, out in planned.items():          # accepted: say when the name misleads
         if out.kind == "file":                   # (a device or standard output has no suffix to mind)
-            _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})})
+            _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})}, out.target)
     return planned
 
 
@@ -802,10 +802,18 @@ OTHER_FORMATS = (".json", ".jsonl", ".yaml", ".yml", ".xml", ".urdf", ".html", "
 CSV_TABLE = ("CSV", (".csv",), OTHER_FORMATS)
 
 
-def _warn_suffix(option: str, path: str, writes: dict) -> None:
+# what an existing file under a misnamed output's name is refused for being (vampc.sniff's kinds):
+# a robot description or a program file, the user's work (`report --timing arm.yaml` had replaced
+# the DH table with SVG and `emulate -o arm.yaml` with torques, each with the warning alone: a new
+# user's slip, found by a trial)
+KEPT = ("program", "urdf", "yaml", "json")
+
+
+def _warn_suffix(option: str, path: str, writes: dict, target: Path | None = None) -> None:
     """A one-line warning when an output goes to a name that says otherwise (x.png gets SVG). An
     entry of `writes` with a third item, the names of other formats, is warned of only for those
-    (CSV_TABLE: a table named .txt or .dat is not misnamed)."""
+    (CSV_TABLE: a table named .txt or .dat is not misnamed). Where the name's file (`target`)
+    exists and looks like a robot description or a program file (KEPT), it is refused instead."""
     import warnings
 
     from vampc.errors import VampcWarning
@@ -814,5 +822,12 @@ def _warn_suffix(option: str, path: str, writes: dict) -> None:
     if kind and path.strip() not in ("", "-") and not name.endswith(kind[1]) and \
             (len(kind) < 3 or name.endswith(kind[2])):
         also = f", or {' or '.join(kind[1][1:])} for that format" if kind is PICTURE else ""
+        from vampc.sniff import DESCRIPTIONS, sniff
+        held = sniff(target) if target is not None else None
+        if held in KEPT and held != {"a program file": "program", "JSON": "json"}.get(kind[0]):
+            # (the kind it writes, an earlier run's output under that name, is replaced as warned)
+            raise VampcError(f"{path}: is {DESCRIPTIONS[held]}; {option} writes {kind[0]}, whatever "
+                             f"the name says, and vampc does not replace it (name it "
+                             f"{kind[1][0]}{also})")
         warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
                                    f"(name it {kind[1][0]}{also})"))
