@@ -857,6 +857,13 @@ def test_a_kind_a_vamp_has_no_fault_of_is_said_not_dropped(programs, tmp_path):
     # on every VAMP, unsaid (a review's find)
     assert _campaign(plain, tmp_path, "--kinds", "control2,dead", "--sets", FEW, name="q.jsonl")["not_run"] == [
         "control2 on every VAMP (no error correction: no VAMP has a second set)"]
+    # and control2 alone, no fault left to run, said only that it "gives no fault on this
+    # program" (a new user's find): why is said as not_run says it
+    r = RUN(main, ["faults", str(plain), "--kinds", "control2", "--sets", FEW, "--workers", "1",
+                   "--results", str(tmp_path / "n.jsonl")])
+    assert r.exit_code == 1 and r.stderr == (
+        f"vampc: error: {plain}: --kinds control2 gives no fault on this program: control2 on every "
+        "VAMP (no error correction: no VAMP has a second set)\n") and not (tmp_path / "n.jsonl").exists()
 
 
 def test_a_random_campaign_runs_only_the_kinds_asked_for(programs, tmp_path):

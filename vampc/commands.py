@@ -2023,7 +2023,11 @@ def faults_command(source: str, own, options: CompileOptions, robot_opts: RobotO
                           own.seed, sets, own.bit_list(), own.value_list())
     check_faults(faults, ld, last)      # a bit the word has not, control2 without checking
     if not faults:
-        raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program")
+        # (why, where the single campaign can say it: control2 on a program without error
+        # correction had no reason given, a new user's find)
+        why = cp.not_run(ld, own.kind_list() or ()) if own.campaign == "single" else []
+        raise VampcError(f"{source}: --kinds {own.kinds} gives no fault on this program"
+                         + (f": {'; '.join(why)}" if why else ""))
     # (warned once the options are known good: it came before their error, two lines for one)
     if own.sets is not None and ld.net.checking is not None and own.sets < whole:
         drawn, reach = own.campaign in cp.DRAWN, cp.reach_sets(ld)
