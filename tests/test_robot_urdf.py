@@ -453,8 +453,6 @@ URDF_ERRORS = [
      r"line 6: <joint> has no name"),
     (robot(*ARM, link("extra_root")), {},
      r"several root links \('base', 'extra_root'\); choose one with --base"),
-    (robot(*ARM).replace("</link>", '<visual><geometry><box/></geometry></visual></link>', 1), {},
-     r"yourdfpy cannot read it \(KeyError: 'size'\)"),
     (robot(*[link(f"r{i}") for i in range(12)]), {},
      r"several root links \('r0', 'r1', 'r2', 'r3', 'r4', 'r5', 'r6', 'r7', 'r8', 'r9' and 2 more\); "
      r"choose one with --base"),
@@ -874,9 +872,36 @@ def test_a_one_bound_limit_beyond_the_default_names_the_default(tmp_path):
     text = robot(link("b"), link("l1"),
                  '<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
                  '<axis xyz="0 0 1"/><limit upper="-0.5" effort="1" velocity="1"/></joint>')
-    with pytest.raises(VampcError, match=r"joint 'j1': <limit> lower not given \(URDF's default, 0\) "
-                                         r"is above upper -0\.5"):
+    with pytest.warns(VampcWarning, match=r"joint 'j1': <limit> lower not given \(URDF's default, 0\) "
+                                          r"is above upper -0\.5; read as no position limits"):
         load_urdf(write(tmp_path, text))
+
+
+def test_limits_lower_above_upper_are_none_as_bullet_reads_them_and_a_capsule_is_not_read(tmp_path):
+    """Files made for pybullet write <limit lower="1" upper="0"> for a joint without position
+    limits ("values ignored in case upper limit < lower limit", pybullet's guide), and Bullet's
+    humanoid a <capsule> collision shape: both were refused (a trial of public URDF collections),
+    though Pinocchio reads them and the dynamics needs neither. The limits are read as none, said
+    once for the joints so written; the shape is not read; the torques are those of the file
+    without them, by Pinocchio's rnea."""
+    body = ('<inertial><mass value="1"/><origin xyz="0.1 0 0"/><inertia ixx="0.01" iyy="0.02" '
+            'izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>')
+    capsule = ('<collision><geometry><capsule radius="0.05" length="0.3"/></geometry></collision>'
+               '<visual><geometry><box/></geometry></visual>')    # (a box without size: yourdfpy's KeyError)
+    joints = ''.join(f'<joint name="j{k}" type="revolute"><parent link="l{k - 1}"/><child link="l{k}"/>'
+                     f'<origin xyz="0.3 0 0"/><axis xyz="0 {k % 2} {1 - k % 2}"/>'
+                     f'<limit lower="1" upper="0" effort="5" velocity="2"/></joint>' for k in (1, 2))
+    links = link("l0") + "".join(f'<link name="l{k}">{body}{capsule}</link>' for k in (1, 2))
+    path = write(tmp_path, robot(links, joints))
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path, lock={})
+    said = [str(w.message) for w in seen if "is above" in str(w.message)]
+    assert said == [f"{path}: joint 'j1' (and 'j2'): <limit> lower 1 is above upper 0; read as no "
+                    "position limits, as Bullet reads them (--lock then takes any position)"], said
+    assert all(j.limits.q is None and j.limits.tau == 5 for j in chain.joints)
+    plain = write(tmp_path, robot(link("l0") + "".join(f'<link name="l{k}">{body}</link>' for k in (1, 2)),
+                                  joints.replace(' lower="1" upper="0"', "")), "plain.urdf")
+    check_torques(plain, chain)
 
 
 TILTED_MOUNT = """<robot name="tilted">
@@ -1577,3 +1602,32 @@ def test_a_chain_on_a_floating_base_is_not_said_to_branch():
         res = CliRunner().invoke(main, ["report", str(EXAMPLES / robot), *options])
         assert res.exit_code == 0, res.output
         assert ("branches (a tree)" in res.stdout) is branches, robot
+
+
+@pytest.mark.parametrize("head, said", [
+    ('<?xml version="0.0" ?>\n', 'line 1: its XML declaration names <?xml version="0.0" ?>, which XML refuses'),
+    ('\n\n<?xml version="1.0" encoding="utf-8"?>\n', "line 3: its XML declaration comes after blank "
+                                                     "space, which XML refuses")])
+def test_an_xml_declaration_that_alone_breaks_the_xml_is_read_past_as_urdfdom_does(tmp_path, head, said):
+    """Bullet's `<?xml version="0.0" ?>` (seven files) and a blank line before the declaration
+    (two) were refused as not well-formed XML, though urdfdom (TinyXML) and so Pinocchio read them
+    (a trial of public URDF collections): read as the file without the declaration, said; an error
+    further on names its own line; a declared encoding other than UTF-8 is still refused."""
+    body = robot(link("b"), link("l1"), '<joint name="j1" type="revolute"><parent link="b"/>'
+                 '<child link="l1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" '
+                 'velocity="1"/></joint>')
+    body = body[body.index("\n") + 1:]                      # (robot() writes a declaration of 1.0)
+    clean = write(tmp_path, body, "clean.urdf")
+    path = write(tmp_path, head + body)
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path)
+    assert [str(w.message) for w in seen] == [f"{path}: {said}; read as XML 1.0 without it, as "
+                                              "urdfdom (Pinocchio's reader) reads it"]
+    assert [j.name for j in chain.joints] == ["j1"]
+    check_torques(clean, chain)                  # (Pinocchio's rnea on the file without it)
+    broken = write(tmp_path, head + body.replace("</robot>", ""), "broken.urdf")
+    last = broken.read_text().count("\n") + 1            # (the end of the data, where it is cut)
+    assert_error(lambda: load_urdf(broken), broken, rf"line {last}: not well-formed XML: .*")
+    latin = write(tmp_path, re.sub(r'\s*encoding="[^"]*"', "", head).replace("?>", ' encoding="latin-1"?>')
+                  + body, "latin.urdf")
+    assert_error(lambda: load_urdf(latin), latin, r"line \d: not well-formed XML: .*")

@@ -453,8 +453,14 @@ def _parse_xml(path: Path):
     try:
         root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as exc:
-        hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
-        raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
+        mended = _lenient_declaration(data, exc.msg)
+        if mended is None:
+            hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
+            raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
+        data, declared = mended
+        root = _parse_again(data, parser, path)
+    else:
+        declared = None
     _refuse_entities(root, path)
     # (_check_numbers looks at them; only where some attribute holds a tab or line break: a
     # 16 000-joint file would pay for every element's look otherwise)
@@ -470,11 +476,51 @@ def _parse_xml(path: Path):
         encoding = "UTF-32"
     elif data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE, b"<\x00", b"\x00<")):
         encoding = "UTF-16"
+    if declared:                                              # (after the checks: an error alone)
+        warnings.warn(VampcWarning(f"{path}: {declared}"), stacklevel=3)
     if encoding.startswith(("UTF-16", "UTF-32", "UCS")):      # (after the checks: an error alone)
         warnings.warn(VampcWarning(f"{path}: {encoding} text, which urdfdom (Pinocchio's URDF "
                                    "reader) cannot read; read here, but save it as UTF-8 to use it "
                                    "there"), stacklevel=3)
     return root
+
+
+_DECLARATION = re.compile(rb"<\?xml\s[^>]*\?>")
+_DECLARED_ENCODING = re.compile(rb"encoding\s*=\s*[\"']([^\"']*)[\"']")
+
+
+def _lenient_declaration(data: bytes, msg: str) -> tuple[bytes, str] | None:
+    """The file's bytes with its XML declaration blanked (spaces, so every line keeps its number),
+    where that declaration alone made it not well-formed: a version other than 1.x (Bullet's
+    `<?xml version="0.0" ?>`) or blank lines before it; urdfdom's TinyXML, and so Pinocchio, reads
+    such files (a trial of public URDF collections: nine of Bullet's refused); and the warning that
+    says so. None where something else is wrong, or the declaration names an encoding other than UTF-8 (a
+    file read as UTF-8 without it would be read wrong)."""
+    if "Unsupported version" not in msg and "XML declaration allowed only at the start" not in msg:
+        return None
+    found = _DECLARATION.search(data, 0, 4096)
+    if found is None or data[:found.start()].strip(b" \t\r\n\xef\xbb\xbf"):
+        return None
+    encoding = _DECLARED_ENCODING.search(found.group(0))
+    if encoding and encoding.group(1).lower().replace(b"_", b"-") not in (b"utf-8", b"utf8", b"ascii",
+                                                                           b"us-ascii"):
+        return None
+    line = data.count(b"\n", 0, found.start()) + 1
+    what = ("its XML declaration comes after blank space" if found.start()
+            and "allowed only at the start" in msg else
+            f"its XML declaration names {one_line(found.group(0).decode('utf-8', 'replace'))}")
+    return (data[:found.start()] + b" " * len(found.group(0)) + data[found.end():],
+            f"line {line}: {what}, which XML refuses; read as XML 1.0 without it, as urdfdom "
+            "(Pinocchio's reader) reads it")
+
+
+def _parse_again(data: bytes, parser, path: Path):
+    """The root of `data`, mended by _lenient_declaration; an error in it said as any other."""
+    try:
+        return etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as exc:
+        hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
+        raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
 
 
 _ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
@@ -767,7 +813,14 @@ def _read_robot(path: Path):
 
     # The root element only: the (already vetted) DOCTYPE stays behind. Our tree is freed before yourdfpy
     # parses its own (kept, it raised the peak memory of a 100 000-joint load from 1.2 to 2.0 GB).
-    data = etree.tostring(_parse_xml(path))
+    root = _parse_xml(path)
+    # a link's <visual> and <collision> are not read (the dynamics needs neither): yourdfpy knows
+    # boxes, cylinders, spheres and meshes only and refused a file with a <capsule> (Bullet's
+    # humanoid), which urdfdom and Pinocchio read (a trial of public URDF collections)
+    for link in root.iterchildren("link"):
+        for child in [c for c in link if c.tag in ("visual", "collision")]:
+            link.remove(child)
+    data = etree.tostring(root)
     try:
         urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
@@ -964,6 +1017,7 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, chain, path)
+    _warn_inverted_limits(chain, path)
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
@@ -991,6 +1045,7 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, joints, path)
+    _warn_inverted_limits(joints, path)
     built = []
     for k, j in enumerate(joints):
         frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
@@ -1198,10 +1253,6 @@ def _limits(j, path: Path) -> Limits:
     if lim is None:
         return Limits()
     q = _position_range(j)
-    if q is not None and q[0] > q[1]:
-        lower = f"lower {q[0]:g}" if lim.lower is not None else "lower not given (URDF's default, 0)"
-        upper = f"upper {q[1]:g}" if lim.upper is not None else "upper not given (URDF's default, 0)"
-        raise located(path, f"joint '{j.name}'", f"<limit> {lower} is above {upper}")
     # URDF files often write velocity="0" effort="0" as placeholders: read those as "not given".
     return Limits(q=q, qd=_positive(lim.velocity, "velocity", j, path),
                   tau=_positive(lim.effort, "effort", j, path))
@@ -1214,7 +1265,27 @@ def _position_range(j) -> tuple[float, float] | None:
     lim = j.limit
     if j.type == "continuous" or lim is None or lim.lower is None and lim.upper is None:
         return None
-    return (float(_or(lim.lower, 0.0)), float(_or(lim.upper, 0.0)))
+    q = (float(_or(lim.lower, 0.0)), float(_or(lim.upper, 0.0)))
+    return None if q[0] > q[1] else q        # (Bullet's way of saying none: _warn_inverted_limits)
+
+
+def _warn_inverted_limits(joints, path: Path) -> None:
+    """One warning naming the joints whose <limit> lower is above upper: read as no position
+    limits, as Bullet reads them ("values ignored in case upper limit < lower limit": files made
+    for pybullet write lower="1" upper="0" so); they were refused, though Pinocchio reads them and
+    the dynamics does not need them (a trial of public URDF collections)."""
+    inverted = [j for j in joints if j.type != "continuous" and j.limit is not None
+                and not (j.limit.lower is None and j.limit.upper is None)
+                and float(_or(j.limit.lower, 0.0)) > float(_or(j.limit.upper, 0.0))]
+    if not inverted:
+        return
+    j, lim = inverted[0], inverted[0].limit
+    lower = f"lower {float(lim.lower):g}" if lim.lower is not None else "lower not given (URDF's default, 0)"
+    upper = f"upper {float(lim.upper):g}" if lim.upper is not None else "upper not given (URDF's default, 0)"
+    more = f" (and {quoted(k.name for k in inverted[1:])})" if len(inverted) > 1 else ""
+    warnings.warn(VampcWarning(f"{path}: joint '{j.name}'{more}: <limit> {lower} is above {upper}; "
+                               "read as no position limits, as Bullet reads them (--lock then "
+                               "takes any position)"), stacklevel=3)
 
 
 def _positive(value, name: str, j, path: Path) -> float | None:
