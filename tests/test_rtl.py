@@ -1035,6 +1035,33 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
         _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(c, registers)
 
 
+def test_a_network_without_delay_buffers_has_no_buffer_counter_in_the_report_or_the_design(tmp_path):
+    """A one-joint arm's folded network has no delay buffer. The report counted no Cycle-Counter
+    for the buffers there, and the design built one anyway with its block-end comparators, driving
+    nothing (5 flip-flops and 6 comparators); the storage test's networks all have buffers, so a
+    report counting the buffers' counter whether or not there are buffers passed every test (a
+    mutation audit's find). Counted against the Amaranth design, as the storage test does."""
+    from vampc.report.counts import control_logic, word_bits
+    robot = tmp_path / "arm1.yaml"
+    robot.write_text(ARM1)
+    c = compile_chain(load_robot(robot), CompileOptions(word="q16.16", layout="folded"))
+    assert not c.network.buffers and c.network.clock > 1
+    logic: dict = {}
+    registers = _design_registers(c, logic)
+    assert [s.name for s in registers.values() if s.name.startswith("buf")] == []
+    bits = word_bits(c)
+    assert sum(len(s) for s in registers.values()) == (
+        bits["data_register_bits"] + bits["control_register_bits"] + bits["delay_line_bits"]
+        + bits["constant_bits"] + bits["input_port_bits"])
+    assert bits["delay_line_bits"] == 0
+    # one Cycle-Counter a VAMP and none for the buffers; no comparator of the buffer clock's ticks
+    assert logic["cycle_counters"] == len(c.network.vamps) and logic["buffer_clock_comparators"] == 0
+    expected = control_logic(c)
+    assert logic.pop("counter_bits") == {expected["counter_bits"]}
+    assert logic.pop("wrap_adders") == expected["step_subtractors"]
+    assert logic == {k: expected[k] for k in logic}
+
+
 def _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(plain, registers):
     """With error correction the report counts one VAMP more (the extraneous one, built as the
     others, section VII): its data registers and Cycle-Counter are those of a VAMP of the plain
