@@ -266,3 +266,62 @@ def test_prismatic_joints_on_the_path_are_sized_against_the_same_arm_revolute(ty
     assert not any("not explained" in n for n in notes), notes
     assert not any("not explained" in r.get("explanation", "") or "not explained" in r.get("note", "")
                    for r in rep["table_o1"]["measured"]), rep["table_o1"]["measured"]
+
+
+def test_the_microcode_rom_holds_table_vii1s_micro_steps_at_twelve_bits_an_assignment():
+    """The ROM a VAMP holds (section VII: "the microcode instructions needed for each item in the
+    repertoire may be stored on-module in Read-Only-Memory"), counted by hand from Table VII.1's
+    sequences: VA one assignment (ADDER), SV one (MULT-1), VC three (MULT-1 and MULT-2, then the
+    SUBTRACTOR), and the dot sequence of MV, MTV, VD and each of MM's three columns (a ROM pointer
+    each) five (MULT-1, MULT-2; ADDER, MULT-1; ADDER): 35. Each assignment is 12 bits: the unit
+    written (one of 3: 2 bits), its function (mul, add, sub: 2 bits) and two operands (one of 9
+    registers: 4 bits each). One copy a VAMP. Only the golden report's bytes had seen a wrong
+    width here (a mutation audit's)."""
+    from vampc.report.build import build_report
+    c = compile_chain(load_robot(EXAMPLES / "planar2.yaml"), CompileOptions(word="q16.16"))
+    rep = build_report(c)
+    per_vamp = (1 + 1 + 3 + 5 * (3 + 3)) * (2 + 2 + 4 + 4)
+    assert per_vamp == 420
+    assert rep["word"]["rom_bits_per_vamp"] == per_vamp
+    V = len(c.network.vamps)
+    assert rep["word"]["rom_bits"] == rep["engineering"]["bits"]["rom_bits"] == per_vamp * V
+    assert f"{per_vamp * V:,} of microcode ROM ({per_vamp} a VAMP)" in render(rep)
+
+
+def test_the_time_multiplexed_line_counts_operand_inputs_host_writes_and_words_from_the_file(tmp_path):
+    """The time-multiplexed line's figures, counted here from the program file alone: the widest
+    operand multiplexer (operand B's, here wider than any operand A's), the host's port writes a
+    torque set (each entry of a port), the program ports (a port with no entries, there only for
+    Program Mode), the slots and the Program-Mode words. Only the golden report's and the
+    baseline's bytes had seen these wrong (a mutation audit's: the widest taken from operand A
+    alone, the host writes counted a port at a time)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from vampc.cli import main
+    program = tmp_path / "p.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--recursion", "log",
+                                  "--layout", "folded", "--share-passes", "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    hw = json.loads(CliRunner().invoke(main, ["report", str(program), "--format", "json"]).output)["hardware"]
+    doc = json.loads(program.read_text())
+    vamps, ports = doc["network"]["vamps"], doc["network"]["ports"]
+    widest_b = max(len(v["b"]) for v in vamps)
+    assert widest_b > max(len(v["a"]) for v in vamps)
+    writes = sum(len(p["entries"]) for p in ports)
+    assert writes > len(ports)              # (a port written more than once a set)
+    words = sum(len(e["words"]) for e in doc["program_stream"])
+    assert (hw["max_mux_inputs"], hw["host_writes_per_set"], hw["program_ports"], hw["slots"],
+            hw["program_words"]) == (widest_b, writes, sum(1 for p in ports if not p["entries"]),
+                                     sum(len(p["slots"]) for p in doc["programs"]), words)
+    # per slot the paper's four (three delays, a ROM pointer) and a select for each operand
+    # multiplexer of more than one input
+    slots = {p["vamp"]: len(p["slots"]) for p in doc["programs"]}
+    control = sum(slots[v["index"]] * (4 + (len(v["a"]) > 1) + (len(v["b"]) > 1)) for v in vamps)
+    text = CliRunner().invoke(main, ["report", str(program)]).output
+    assert f"{sum(slots.values())} slots on {len(vamps)} VAMPs (period " in text
+    assert (f"; {control} control registers, {sum(len(v['a']) + len(v['b']) - 2 for v in vamps)} "
+            "multiplexer inputs beyond the first "
+            f"(at most {widest_b} inputs on one operand), {writes} host writes per set, {words} "
+            "program words loaded in") in text

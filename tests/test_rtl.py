@@ -1032,7 +1032,7 @@ def test_the_reports_storage_bits_are_the_designs_registers(options):
         # measured 2026-12-06; 33 192 before the flag)
         assert counted == 33_193
     if not options:         # (in this case: its design is elaborated once, about 2 s)
-        _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(c, registers)
+        _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(c, registers, logic)
 
 
 def test_a_network_without_delay_buffers_has_no_buffer_counter_in_the_report_or_the_design(tmp_path):
@@ -1062,13 +1062,16 @@ def test_a_network_without_delay_buffers_has_no_buffer_counter_in_the_report_or_
     assert logic == {k: expected[k] for k in logic}
 
 
-def _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(plain, registers):
+def _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(plain, registers, logic):
     """With error correction the report counts one VAMP more (the extraneous one, built as the
     others, section VII): its data registers and Cycle-Counter are those of a VAMP of the plain
     network's Amaranth design (VAMP 0's: operands a, b, the units' products and the result; `cc`),
-    and its ROM one more copy. (The RTL does not render the checking, so the plain design is the
-    independent count; a tests audit found the extraneous Cycle-Counter removable with every test
-    passing, the one below taking its expected figure from the stored file.)"""
+    its ROM one more copy, and its control logic a Cycle-Counter more and the two comparators of a
+    VAMP-number more than the plain design's (`logic`, measured there). (The RTL does not render
+    the checking, so the plain design is the independent count; a tests audit found the
+    extraneous Cycle-Counter removable with every test passing, the one below taking its expected
+    figure from the stored file; a mutation audit, its counter and comparators in the control
+    logic.)"""
     from vampc.report.counts import word_bits
     checked = compile_chain(load_robot(EXAMPLES / "planar2.yaml"),
                             CompileOptions(word="q16.16", error_correction=True))
@@ -1084,6 +1087,12 @@ def _the_extraneous_vamp_is_counted_as_one_vamp_of_the_design(plain, registers):
     assert b["control_register_bits"] - a["control_register_bits"] - b["checking_control_bits"] \
         == vamp0["v0_cc"] == 3
     assert b["rom_bits"] - a["rom_bits"] == a["rom_bits_per_vamp"] > 0
+    from vampc.report.counts import control_logic
+    checked_logic = control_logic(checked)
+    assert checked_logic["cycle_counters"] == logic["cycle_counters"] + 1
+    assert checked_logic["number_comparators"] == logic["number_comparators"] + 2
+    # (its slot table is the checking's second table: no delay comparators of its own)
+    assert checked_logic["delay_comparators"] == logic["delay_comparators"]
 
 
 @pytest.mark.parametrize("checked", [False, True], ids=["plain", "error-correction"])

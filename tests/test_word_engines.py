@@ -6,6 +6,7 @@ reported joint by joint and every overflow counted."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import re
 
 import numpy as np
@@ -305,10 +306,17 @@ def test_the_report_gives_the_bits_of_a_word_format(tmp_path):
     # as the counter, a ROM pointer, no select for a one-input mux; the buffers' counter (the RTL's
     # registers: tests/test_rtl.py counts them in the design itself)
     counter, rom = c.net.period.bit_length(), (len(ops.ROM) - 1).bit_length()
-    assert w["control_register_bits"] == sum(counter + len(v.slots) * (1 + 3 * counter + rom)
-                                             for v in c.net.vamps) + counter + 1   # (the overflow flag)
+    control = sum(counter + len(v.slots) * (1 + 3 * counter + rom) for v in c.net.vamps) + counter + 1
+    assert w["control_register_bits"] == control                 # (+ 1: the overflow flag)
+    # the Program-Mode stream: each scalar of every word the file's program_stream holds is a word
+    # (section VII: a VAMP-number and its program in a 3-vector; only the golden report's bytes had
+    # seen a wrong count here, a mutation audit's)
+    stream = json.loads(prog.read_text())["program_stream"]
+    assert w["program_bits"] == 32 * sum(len(word) for e in stream for word in e["words"]) > 0
+    assert all(len(word) == 3 for e in stream for word in e["words"])
     text = run(main, ["report", str(prog)]).output
     assert "q12.20 (nearest, saturate): 32 bits;" in text
+    assert f"{30 * 32 * V:,} bits of data registers, {control:,} of control registers, " in text
     plain = tmp_path / "f.vamp.json"
     assert run(main, ["compile", str(EXAMPLES / "puma560.yaml"), "-o", str(plain)]).exit_code == 0
     assert "word" not in loads(run(main, ["report", str(plain), "--format", "json"]).output)
