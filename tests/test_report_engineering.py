@@ -144,3 +144,32 @@ def test_pinocchio_is_timed_only_on_the_robot_the_network_computes(tmp_path, mon
     (tmp_path / "arm.urdf").unlink()
     got = reference("arm.vamp.json")
     assert "the URDF arm.urdf is not found from here" in got["not_measured"]
+
+
+def test_the_control_logic_line_gives_each_count_at_its_own_width(tmp_path):
+    """The control-logic line, counted from planar2's folded q16.16 program file (section VII: the
+    delays "implemented by counters and comparators"): a Cycle-Counter of P.bit_length() bits on
+    each VAMP and one for the buffers; three comparators a slot against it; one a block end of the
+    buffer clock (P / clock ends a period); a subtractor a slot one bit wider than the counter; two
+    comparators of a word a VAMP (its number and its negation); a slot-address comparator a slot.
+    Only the golden report's bytes had seen the line's widths and its buffer-clock clause wrong
+    (a mutation audit's: the subtractors given the counter's width, the word comparators the
+    counter's, the buffer clock's comparators left out)."""
+    program = tmp_path / "p.vamp.json"
+    r = CliRunner().invoke(main, ["compile", str(EXAMPLES / "planar2.yaml"), "--word", "q16.16",
+                                  "--layout", "folded", "-o", str(program)])
+    assert r.exit_code == 0, r.output
+    doc = json.loads(program.read_text())
+    P, clock, V = doc["network"]["period"], doc["network"]["clock"], len(doc["network"]["vamps"])
+    slots = sum(len(p["slots"]) for p in doc["programs"])
+    assert doc["network"]["buffers"] and 1 < clock < P and P % clock == 0
+    b = P.bit_length()
+    text = CliRunner().invoke(main, ["report", str(program)]).output
+    line = next(x for x in text.splitlines() if x.startswith("control logic"))
+    assert line.split(None, 2)[2] == (
+        f"{V + 1} Cycle-Counters of {b} bits with their incrementers; comparators of {b} bits "
+        f"against them: {3 * slots} of the slots' delays (3 a slot), {P // clock} of the buffer "
+        f"clock's ticks; {slots} subtractors of {b + 1} bits with their wrap-around adders (the "
+        "ticks to a slot's dump, mod the period, addressing the ROM); "
+        f"{2 * V} comparators of 32 bits (a VAMP's number and its negation in Program Mode) and "
+        f"{slots} of a slot address")
