@@ -1180,15 +1180,34 @@ def test_a_limit_without_effort_or_velocity_is_read_with_a_warning(tmp_path):
 
 
 def test_a_number_with_a_space_after_it_is_read_with_a_warning(tmp_path):
-    """urdfdom refuses '2.0 ' ("not a float"), and Pinocchio drops that <inertial>: vampc read it as 2
-    without a word (an audit's). A space before the number is urdfdom's reading too: no warning."""
+    """urdfdom does not read '2.0 ' ("not a float"), and Pinocchio drops that <inertial>: vampc read
+    it as 2 without a word (an audit's). The warning had said urdfdom refuses the file: Pinocchio
+    loads it, a bad inertia entry zeroing the rotational inertia alone (the Unitree dex2_5 hands'
+    line break after an ixz, a URDF trial's): each said as Pinocchio reads it, checked with it when
+    it is installed. A space before the number is urdfdom's reading too: no warning."""
     text = robot(link("base"), link("l1", mass=2.0), link("l2"), *ARM[3:])
     path = write(tmp_path, text.replace('<mass value="2"', '<mass value="2 "', 1))
     assert '<mass value="2 "' in path.read_text()
-    with pytest.warns(VampcWarning, match=r"link 'l1': <mass value=\"2 \">: a space after the number, which "
-                                          r"urdfdom \(Pinocchio's URDF reader\) refuses; read here as 2"):
+    with pytest.warns(VampcWarning, match=r"link 'l1': <mass value=\"2 \">: a space or line break after the "
+                                          r"number, which urdfdom \(Pinocchio's URDF reader\) does not read as "
+                                          r"a number \(Pinocchio drops the link's <inertial>\); read here as 2"):
         chain = load_urdf(path)
     assert chain.joints[0].mass == 2.0
+    l1 = link("l1", mass=2.0)
+    entry = write(tmp_path, text.replace(l1, l1.replace('ixz="0"', 'ixz="0\r\n"')), "i.urdf")
+    with pytest.warns(VampcWarning, match=r"link 'l1': <inertia ixz=\"0 \">: a space or line break after "
+                                          r"the number, .* \(Pinocchio zeroes the link's rotational inertia, "
+                                          r"keeping its mass and centre of mass\); read here as 0"):
+        load_urdf(entry)
+    try:
+        import pinocchio as pin
+    except ImportError:
+        pin = None
+    if pin is not None:                # (what the warnings say of Pinocchio, seen in Pinocchio)
+        dropped = pin.buildModelFromUrdf(str(path)).inertias[1]
+        assert dropped.mass == 0 and not dropped.inertia.any()
+        zeroed = pin.buildModelFromUrdf(str(entry)).inertias[1]
+        assert zeroed.mass == 2 and not zeroed.inertia.any() and zeroed.lever.any()
     before = write(tmp_path, text.replace('<mass value="2"', '<mass value=" 2"', 1), "b.urdf")
     with warnings.catch_warnings():
         warnings.simplefilter("error")

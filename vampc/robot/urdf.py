@@ -802,9 +802,16 @@ def _check_numbers(el, tag: str, where: str, path: Path) -> None:
             # urdfdom reads one number to the end of the text: a space after it is "not a float"
             # there, and Pinocchio drops that <inertial> (a mass of '2.0 ' gave torques of 2 kg
             # here, 0 there, unsaid: an audit's)
-            warnings.warn(VampcWarning(f"{path}: {where}: <{tag} {attr}=\"{raw}\">: a space after the "
-                                       f"number, which urdfdom (Pinocchio's URDF reader) refuses; read "
-                                       f"here as {values[0]:g}"), stacklevel=2)
+            # (said "refuses": urdfdom logs an error and Pinocchio loads the file, a bad mass
+            # dropping the whole <inertial>, a bad inertia entry the rotational inertia alone, mass
+            # and centre kept: the Unitree dex2_5 hands' line break after an ixz, a URDF trial's)
+            then = {"mass": "Pinocchio drops the link's <inertial>",
+                    "inertia": "Pinocchio zeroes the link's rotational inertia, keeping its mass "
+                               "and centre of mass"}.get(tag, "Pinocchio does not take it as written")
+            warnings.warn(VampcWarning(f"{path}: {where}: <{tag} {attr}=\"{raw}\">: a space or line "
+                                       f"break after the number, which urdfdom (Pinocchio's URDF "
+                                       f"reader) does not read as a number ({then}); read here as "
+                                       f"{values[0]:g}"), stacklevel=2)
 
 
 def _read_robot(path: Path):
