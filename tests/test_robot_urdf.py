@@ -1650,3 +1650,29 @@ def test_an_xml_declaration_that_alone_breaks_the_xml_is_read_past_as_urdfdom_do
     latin = write(tmp_path, re.sub(r'\s*encoding="[^"]*"', "", head).replace("?>", ' encoding="latin-1"?>')
                   + body, "latin.urdf")
     assert_error(lambda: load_urdf(latin), latin, r"line \d: not well-formed XML: .*")
+
+
+def test_an_undeclared_namespace_prefix_is_read_past_as_urdfdom_does(tmp_path):
+    """An old Gazebo extension's `<sensor:camera>` (Fetch's URDF), its prefix never declared, made
+    the file not well-formed XML here, though Pinocchio reads it (a trial of public URDF
+    collections): the prefix is declared, each said once with its line, the element not read; the
+    torques are Pinocchio's on the same file; xacro's prefix is still a xacro file's error."""
+    text = robot(link("b"), link("l1"), '<joint name="j1" type="revolute"><parent link="b"/>'
+                 '<child link="l1"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" '
+                 'velocity="1"/></joint>', '<gazebo reference="l1" gz:x="1">\n<sensor:camera name="c">'
+                 '<controller:cam plugin="p"/></sensor:camera>\n<sensor:ray/></gazebo>')
+    path = write(tmp_path, text)
+    line = text[:text.index("<gazebo")].count("\n") + 1
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path)
+    tail = "is not declared, which XML refuses; read as another namespace's, which is not read, as " \
+        "urdfdom reads past it"
+    assert [str(w.message) for w in seen] == [
+        f"{path}: line {line}: gz:x=... on <gazebo>: namespace prefix 'gz' {tail}",
+        f"{path}: line {line + 1}: <sensor:camera>: namespace prefix 'sensor' {tail}",
+        f"{path}: line {line + 1}: <controller:cam>: namespace prefix 'controller' {tail}"]
+    assert [j.name for j in chain.joints] == ["j1"]
+    check_torques(path, chain)                   # (Pinocchio reads the file as it is)
+    xacro = write(tmp_path, text.replace("<gazebo ", "<xacro:arm/><gazebo "), "x.urdf")
+    assert_error(lambda: load_urdf(xacro), xacro, rf"line {line}: not well-formed XML: Namespace prefix "
+                                                  r"xacro on arm is not defined.* \(a xacro file: .*\)")

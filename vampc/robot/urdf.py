@@ -450,17 +450,19 @@ def _parse_xml(path: Path):
     _refuse_declared_entities(data, path)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
                              remove_comments=True, remove_pis=True)
-    try:
-        root = etree.fromstring(data, parser)
-    except etree.XMLSyntaxError as exc:
-        mended = _lenient_declaration(data, exc.msg)
-        if mended is None:
-            hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
-            raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
-        data, declared = mended
-        root = _parse_again(data, parser, path)
-    else:
-        declared = None
+    declared = []        # what XML refuses and urdfdom reads past, mended: said once the file is read
+    while True:
+        try:
+            root = etree.fromstring(data, parser)
+            break
+        except etree.XMLSyntaxError as exc:
+            mended = None if len(declared) >= MENDS else \
+                _lenient_declaration(data, exc.msg) or _undeclared_prefix(data, exc.msg, exc.lineno)
+            if mended is None:
+                hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
+                raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
+            data, said = mended
+            declared.append(said)
     _refuse_entities(root, path)
     # (_check_numbers looks at them; only where some attribute holds a tab or line break: a
     # 16 000-joint file would pay for every element's look otherwise)
@@ -476,8 +478,8 @@ def _parse_xml(path: Path):
         encoding = "UTF-32"
     elif data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE, b"<\x00", b"\x00<")):
         encoding = "UTF-16"
-    if declared:                                              # (after the checks: an error alone)
-        warnings.warn(VampcWarning(f"{path}: {declared}"), stacklevel=3)
+    for said in declared:                                     # (after the checks: an error alone)
+        warnings.warn(VampcWarning(f"{path}: {said}"), stacklevel=3)
     if encoding.startswith(("UTF-16", "UTF-32", "UCS")):      # (after the checks: an error alone)
         warnings.warn(VampcWarning(f"{path}: {encoding} text, which urdfdom (Pinocchio's URDF "
                                    "reader) cannot read; read here, but save it as UTF-8 to use it "
@@ -514,13 +516,29 @@ def _lenient_declaration(data: bytes, msg: str) -> tuple[bytes, str] | None:
             "(Pinocchio's reader) reads it")
 
 
-def _parse_again(data: bytes, parser, path: Path):
-    """The root of `data`, mended by _lenient_declaration; an error in it said as any other."""
-    try:
-        return etree.fromstring(data, parser)
-    except etree.XMLSyntaxError as exc:
-        hint = f" (a xacro file: {run_xacro(path)})" if "prefix xacro " in exc.msg else ""
-        raise located(path, f"line {exc.lineno}", f"not well-formed XML: {exc.msg}{hint}") from None
+MENDS = 16        # (at most so many mends of one file: the declaration and a prefix each)
+_UNBOUND = re.compile(r"Namespace prefix ([A-Za-z_][\w.-]*) (?:for (\S+) )?on (\S+) is not defined")
+
+
+def _undeclared_prefix(data: bytes, msg: str, line: int) -> tuple[bytes, str] | None:
+    """The file's bytes with a namespace prefix it uses but does not declare declared on its
+    <robot> element (the same line: every line keeps its number), and the warning that says so:
+    an old Gazebo extension's `<sensor:camera>` inside <gazebo> (Fetch's URDF), which urdfdom
+    reads past, made the file not well-formed XML here (a trial of public URDF collections). An
+    element of another namespace is not read (as one declared). None for another error, for
+    xacro's prefix (a xacro file: run xacro) and for a file not in an ASCII-based encoding."""
+    found = _UNBOUND.search(msg)
+    if found is None or found[1] == "xacro" or b"\x00" in data[:4]:
+        return None
+    root = re.search(rb"<robot\b", _without_comments(data))
+    if root is None:
+        return None
+    prefix = found[1]
+    where = f"<{prefix}:{found[3]}>" if found[2] is None else f"{prefix}:{found[2]}=... on <{found[3]}>"
+    declare = f' xmlns:{prefix}="urn:vampc:undeclared:{prefix}"'.encode()
+    return (data[:root.end()] + declare + data[root.end():],
+            f"line {line}: {where}: namespace prefix '{prefix}' is not declared, which XML "
+            f"refuses; read as another namespace's, which is not read, as urdfdom reads past it")
 
 
 _ENTITY_DECL = re.compile(rb"<!ENTITY\s+(?:%\s+)?([^\s>]+)")
