@@ -1676,3 +1676,29 @@ def test_an_undeclared_namespace_prefix_is_read_past_as_urdfdom_does(tmp_path):
     xacro = write(tmp_path, text.replace("<gazebo ", "<xacro:arm/><gazebo "), "x.urdf")
     assert_error(lambda: load_urdf(xacro), xacro, rf"line {line}: not well-formed XML: Namespace prefix "
                                                   r"xacro on arm is not defined.* \(a xacro file: .*\)")
+
+
+def test_a_macro_call_left_in_xacros_output_is_read_past_with_a_warning(tmp_path):
+    """Valkyrie's <xacro:v1_pelvis_sensors_usb/> and robotis-OP2's <xacro:grey/> in a <visual>:
+    calls of macros the file does not define, left in xacro's output, were refused with "run
+    xacro first", which could not help (a trial of public URDF collections); urdfdom reads past
+    them. Read past, said once with their lines; the torques are Pinocchio's on the same file; a
+    file that defines a macro is still a xacro file."""
+    ns = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+    text = robot(link("b"), link("l1").replace("</link>", '<visual><geometry><box size="1 1 1"/>'
+                                                          '</geometry><xacro:grey/></visual></link>'),
+                 '<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
+                 '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>',
+                 '<xacro:sensors_usb parent="b"/>').replace("<robot ", f"<robot {ns} ")
+    path = write(tmp_path, text)
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path)
+    assert [str(w.message) for w in seen] == [
+        f"{path}: <xacro:grey> (line 4), <xacro:sensors_usb> (line 6): a call of a xacro macro the "
+        "file does not define, left in xacro's output; read past, as urdfdom reads it: what the "
+        "macro would make is not in the robot"]
+    check_torques(path, chain)                   # (Pinocchio reads the file as it is)
+    defined = write(tmp_path, text.replace('<xacro:sensors_usb parent="b"/>',
+                                           '<xacro:macro name="grey"/>'), "d.urdf")
+    assert_error(lambda: load_urdf(defined), defined, r"line 6: <xacro:macro>: a xacro element, which "
+                                                      r"no URDF reader expands; run xacro first .*")

@@ -60,6 +60,7 @@ from vampc.robot.urdf_tree import (
     choose_tip,
     cut_away,
     follows_from_below,
+    listed,
     quoted,
     turns,
 )
@@ -668,11 +669,32 @@ def _refuse_xacro(root, path: Path) -> None:
     macros make without a word (3 joints read as 1: a new user's; Pinocchio reads 1 too). Only
     where the root declares a xacro namespace, which xacro's own output keeps, unused."""
     # by the prefix too: PR2-era files bind xacro: to another address (Gazebo's interface schema)
-    for uri in {u for p, u in root.nsmap.items() if u and (p == "xacro" or "xacro" in u.lower())}:
-        for el in root.iter(f"{{{uri}}}*"):
+    found = [el for uri in {u for p, u in root.nsmap.items() if u and (p == "xacro" or "xacro" in u.lower())}
+             for el in root.iter(f"{{{uri}}}*")]
+    found.sort(key=lambda el: el.sourceline or 0)
+    for el in found:
+        if etree.QName(el).localname in XACRO_WORDS:
             raise located(path, f"line {el.sourceline}",
                           f"<xacro:{etree.QName(el).localname}>: a xacro element, which no URDF "
                           f"reader expands; {run_xacro(path)}")
+    if found:
+        # only calls of macros the file does not define: xacro's own output, with a call it left
+        # (Valkyrie's <xacro:v1_pelvis_sensors_usb/>, robotis-OP2's <xacro:grey/>); "run xacro
+        # first" could not help, and urdfdom reads past them (a trial of public URDF collections)
+        names = [f"<xacro:{etree.QName(el).localname}> (line {el.sourceline})" for el in found]
+        warnings.warn(VampcWarning(
+            f"{path}: {listed(names, 3)}: a call of a xacro macro the file does not define, left "
+            "in xacro's output; read past, as urdfdom reads it: what the macro would make is not "
+            "in the robot"), stacklevel=4)
+        for el in found:
+            if el.getparent() is not None:
+                el.getparent().remove(el)
+
+
+# xacro's own elements, which a file xacro has expanded does not hold: a xacro file (a call of a
+# macro the file does not define is xacro's output's leftover: _refuse_xacro)
+XACRO_WORDS = {"macro", "property", "include", "arg", "if", "unless", "insert_block", "element",
+               "attribute", "call", "eval-comments", "loop"}
 
 
 def run_xacro(path: Path) -> str:
