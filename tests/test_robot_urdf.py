@@ -1702,3 +1702,21 @@ def test_a_macro_call_left_in_xacros_output_is_read_past_with_a_warning(tmp_path
                                            '<xacro:macro name="grey"/>'), "d.urdf")
     assert_error(lambda: load_urdf(defined), defined, r"line 6: <xacro:macro>: a xacro element, which "
                                                       r"no URDF reader expands; run xacro first .*")
+
+
+def test_drakes_force_elements_are_said_not_read(tmp_path):
+    """Drake's <force_element> (a spring) and <cable> passed without a word, where an MJCF's
+    tendons that exert forces are refused (a trial of public URDF collections, Drake's
+    robotiq_tendons): said not read, the first named with its line; the torques are those of the
+    file as urdfdom reads it, Pinocchio's."""
+    text = robot(link("b"), link("l1"), '<joint name="j1" type="revolute"><parent link="b"/>'
+                 '<child link="l1"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" '
+                 'velocity="1"/></joint>', '<force_element name="s"><torsional_spring joint="j1" '
+                 'stiffness="3"/></force_element>', '<cable name="c"/>')
+    path = write(tmp_path, text)
+    with pytest.warns(VampcWarning) as seen:
+        chain = load_urdf(path)
+    assert [str(w.message) for w in seen] == [
+        f"{path}: <force_element> (line 6, Drake's spring or damper) is not read: its forces are not "
+        "in the torques (and 1 more such)"]
+    check_torques(path, chain)
