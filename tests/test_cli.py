@@ -389,28 +389,33 @@ def test_data_outputs_named_as_another_format_are_warned_of(tmp_path):
         assert (said in r.stderr) if kind else "whatever the name says" not in r.stderr, (name, r.stderr)
 
 
-def test_a_misnamed_output_over_a_robot_or_program_file_is_refused_and_the_file_kept(tmp_path):
+def test_an_output_over_a_robot_or_program_file_is_refused_and_the_file_kept(tmp_path):
     """`report --timing arm.yaml` replaced the user's DH table with SVG and `emulate -o arm.yaml`
-    with torques, exit 0, the warning of the name alone (a new user's slip, found by a trial): an
-    output misnamed so, over a robot description or a program file, is refused and the file kept;
-    one of the kind the option writes (an earlier run's, misnamed too) is replaced, warned."""
+    with torques, exit 0, the warning of the name alone (a new user's slip, found by a trial), and
+    `compile -o dh.json` a DH table in JSON with no word (a review's): an output over a robot
+    description or a program file, by its content, is refused and the file kept; a program over a
+    program (compile -o) is replaced, and so is a text, DOT graph or CSV an earlier run wrote under
+    a misnamed name (said YAML by its colons: a review's), warned."""
     program = tmp_path / "p.vamp.json"
     assert run("compile", str(EXAMPLES / "planar2.yaml"), "-o", program).exit_code == 0
     table, urdf, other = tmp_path / "arm.yaml", tmp_path / "arm.urdf", tmp_path / "q.vamp.json"
     table.write_bytes((EXAMPLES / "planar2.yaml").read_bytes())
     urdf.write_bytes((EXAMPLES / "arm6.urdf").read_bytes())
     other.write_bytes(program.read_bytes())
-    kept = {path: path.read_bytes() for path in (table, urdf, other)}
+    import yaml
+    dh = tmp_path / "dh.json"         # the DH table in JSON, a name a program file may have too
+    dh.write_text(json.dumps(yaml.safe_load(table.read_text())))
+    kept = {path: path.read_bytes() for path in (table, urdf, other, dh)}
     for args, path, said in (
-            (["report", str(program), "--timing"], table, "is YAML (a DH table?); --timing writes SVG"),
-            (["emulate", str(program), "--random", "2", "-o"], table, "is YAML (a DH table?); -o writes CSV"),
-            (["emulate", str(program), "--random", "2", "-o"], urdf, "is XML (a URDF); -o writes CSV"),
+            (["report", str(program), "--timing"], table, "is a DH table; --timing writes SVG"),
+            (["emulate", str(program), "--random", "2", "-o"], table, "is a DH table; -o writes CSV"),
+            (["emulate", str(program), "--random", "2", "-o"], urdf, "is a URDF; -o writes CSV"),
             (["emulate", str(program), "--random", "2", "-o"], other, "is a vampc program file; -o writes CSV"),
-            (["compile", str(EXAMPLES / "puma560.yaml"), "-o"], urdf,
-             "is XML (a URDF); -o writes a program file")):
+            (["compile", str(EXAMPLES / "puma560.yaml"), "-o"], urdf, "is a URDF; -o writes a program file"),
+            (["compile", str(EXAMPLES / "puma560.yaml"), "-o"], dh, "is a DH table; -o writes a program file")):
         r = run(*args, path)
-        assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {path}: {said}, whatever the "
-                                                         "name says, and vampc does not replace it (name it ") \
+        assert r.exit_code == 1 and r.stderr.startswith(f"vampc: error: {path}: {said}, and vampc does "
+                                                         "not replace it: give another file name (name it ") \
             and r.stderr.count("\n") == 1, (args, r.stderr)
         assert {p: p.read_bytes() for p in kept} == kept
     again = tmp_path / "p.urdf"
@@ -418,6 +423,14 @@ def test_a_misnamed_output_over_a_robot_or_program_file_is_refused_and_the_file_
         r = run("compile", str(EXAMPLES / "planar2.yaml"), "-o", again)
         assert r.exit_code == 0 and "whatever the name says (name it .vamp.json)" in r.stderr, r.stderr
     assert again.read_bytes() == program.read_bytes()
+    for args, name in ((["report", str(program), "--dot"], "g.txt"),
+                       (["faults", str(program), "--kinds", "dead", "--sets", "2", "--workers", "1",
+                         "--format", "text", "-o"], "f.json")):
+        for k in range(2):   # an earlier run's own output under a misnamed name: replaced, warned
+            (tmp_path / "r.jsonl").unlink(missing_ok=True)
+            r = run(*args, tmp_path / name, *(["--results", str(tmp_path / "r.jsonl")]
+                                               if args[0] == "faults" else []))
+            assert r.exit_code == 0 and "whatever the name says" in r.stderr, (args, k, r.stderr)
 
 
 def test_an_input_named_dash_where_it_is_a_files_name_says_so(tmp_path, monkeypatch):

@@ -93,9 +93,13 @@ def plan_outputs(inputs, outputs: dict, stdout_ok: tuple[str, ...] = (),
                 raise VampcError(f"{path}: {labels.get(option, option)} and "
                                  f"{labels.get(other.option, other.option)} name the same file")
         planned[option] = out
+    kinds = {**WRITES, **(writes or {})}
+    for option, out in planned.items():          # a robot file or program the output would replace
+        if out.kind == "file":
+            _refuse_users_work(option, str(outputs[option]), out.target, kinds.get(option))
     for option, out in planned.items():          # accepted: say when the name misleads
         if out.kind == "file":                   # (a device or standard output has no suffix to mind)
-            _warn_suffix(option, str(outputs[option]), {**WRITES, **(writes or {})}, out.target)
+            _warn_suffix(option, str(outputs[option]), kinds)
     return planned
 
 
@@ -802,18 +806,28 @@ OTHER_FORMATS = (".json", ".jsonl", ".yaml", ".yml", ".xml", ".urdf", ".html", "
 CSV_TABLE = ("CSV", (".csv",), OTHER_FORMATS)
 
 
-# what an existing file under a misnamed output's name is refused for being (vampc.sniff's kinds):
-# a robot description or a program file, the user's work (`report --timing arm.yaml` had replaced
-# the DH table with SVG and `emulate -o arm.yaml` with torques, each with the warning alone: a new
-# user's slip, found by a trial)
-KEPT = ("program", "urdf", "yaml", "json")
+def _refuse_users_work(option: str, path: str, target: Path | None, kind) -> None:
+    """Refuse an output over an existing robot description (vampc writes none) or program file (but
+    by `compile -o`, which writes one): the user's work. `report --timing arm.yaml` had replaced the
+    DH table with SVG and `emulate -o arm.yaml` with torques, each with a warning of the name
+    alone, and `compile -o dh.json` a DH table in JSON with none (a new user's slip, found by a
+    trial; a review's). A program file is replaced by an output of no kind said (a library
+    caller's, vampc.program.file.write_program). By content, not by name: a text, DOT or Verilog file an earlier run wrote
+    under a misnamed name is replaced, as warned."""
+    from vampc.sniff import robot_or_program
+    held = robot_or_program(target) if target is not None and target.exists() else None
+    if held is None or held == "a vampc program file" and (kind is None or kind[0] == "a program file"):
+        return       # (an output of no kind said, a library caller's: write_program, say)
+    writes = f"writes {kind[0]}" if kind is not None else "writes another kind of file"
+    name = f" (name it {kind[1][0]})" if kind is not None else ""
+    raise VampcError(f"{path}: is {held}; {option} {writes}, and vampc does not replace it: give "
+                     f"another file name{name}")
 
 
-def _warn_suffix(option: str, path: str, writes: dict, target: Path | None = None) -> None:
+def _warn_suffix(option: str, path: str, writes: dict) -> None:
     """A one-line warning when an output goes to a name that says otherwise (x.png gets SVG). An
     entry of `writes` with a third item, the names of other formats, is warned of only for those
-    (CSV_TABLE: a table named .txt or .dat is not misnamed). Where the name's file (`target`)
-    exists and looks like a robot description or a program file (KEPT), it is refused instead."""
+    (CSV_TABLE: a table named .txt or .dat is not misnamed)."""
     import warnings
 
     from vampc.errors import VampcWarning
@@ -822,12 +836,5 @@ def _warn_suffix(option: str, path: str, writes: dict, target: Path | None = Non
     if kind and path.strip() not in ("", "-") and not name.endswith(kind[1]) and \
             (len(kind) < 3 or name.endswith(kind[2])):
         also = f", or {' or '.join(kind[1][1:])} for that format" if kind is PICTURE else ""
-        from vampc.sniff import DESCRIPTIONS, sniff
-        held = sniff(target) if target is not None else None
-        if held in KEPT and held != {"a program file": "program", "JSON": "json"}.get(kind[0]):
-            # (the kind it writes, an earlier run's output under that name, is replaced as warned)
-            raise VampcError(f"{path}: is {DESCRIPTIONS[held]}; {option} writes {kind[0]}, whatever "
-                             f"the name says, and vampc does not replace it (name it "
-                             f"{kind[1][0]}{also})")
         warnings.warn(VampcWarning(f"{option} {path}: writes {kind[0]}, whatever the name says "
                                    f"(name it {kind[1][0]}{also})"))

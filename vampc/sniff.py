@@ -8,6 +8,7 @@ from pathlib import Path
 from vampc.textio import NPY_MAGIC
 
 HEAD = 4096
+TABLE_BYTES = 1 << 24      # (a DH table is far smaller: a bigger YAML or JSON is not read as one)
 PROGRAM_SUFFIX = ".vamp.json"
 
 # Compressed files by their first bytes (gzip's: vampc reads a program file's compact form)
@@ -138,6 +139,23 @@ def vampc_output(doc) -> str | None:
                        (("robot", "recursion", "points"), "a vampc report --tradeoff (JSON)")):
         if all(k in doc for k in keys):
             return what
+    return None
+
+
+def robot_or_program(path) -> str | None:
+    """What a file is when it is a robot description or a program file, the user's work an output
+    must not replace ('a URDF', 'an MJCF model', 'a DH table', 'a vampc program file'), by its
+    content; None otherwise (a table, a picture, a report, Verilog, a DOT graph...)."""
+    kind = sniff(path)
+    if kind == "program":
+        return DESCRIPTIONS["program"]
+    if kind == "urdf":
+        with open(path, "rb") as fh:
+            head = fh.read(HEAD)
+        return "a URDF" if b"<robot" in head else "an MJCF model" if b"<mujoco" in head else None
+    if kind in ("yaml", "json") and Path(path).stat().st_size <= TABLE_BYTES and _yaml_table(path):
+        # (JSON is YAML: one reader for both; a big text, a report, is no DH table)
+        return "a DH table"
     return None
 
 
