@@ -1209,9 +1209,9 @@ LEGS_XML = """<mujoco model="legs">
 
 
 def test_a_base_below_the_top_body_says_what_beside_it_is_left_out(tmp_path):
-    """--base a1 left leg b out (floating, the torso too), saying nothing, as for a URDF (a
-    founder's reread): said after the way up is, in the model's order, as bodies; the cube
-    floating apart is said on its own, not here."""
+    """--base a1 left leg b out (floating, the torso too, with its free joint), saying nothing, as
+    for a URDF (a founder's reread): said after the way up is, in the model's order, as bodies; the
+    cube floating apart is said on its own, not here."""
     path = tmp_path / "legs.xml"
     path.write_text(LEGS_XML)
     with warnings.catch_warnings(record=True) as seen:
@@ -1230,6 +1230,6 @@ def test_a_base_below_the_top_body_says_what_beside_it_is_left_out(tmp_path):
     said = [str(w.message) for w in seen if "above and beside" in str(w.message)]
     assert len(said) == 1 and said[0].endswith(
         "--base a1 --floating-base: only 'a1' and what hangs below it float; the bodies above and "
-        "beside it are left out ('torso', 'b1' with mass; 2 moving joints: 'ja1', 'jb1'), so they "
+        "beside it are left out ('torso', 'b1' with mass; 3 moving joints: 'root', 'ja1', 'jb1'), so they "
         "do not load the floating base"), said
     assert chain.floating and [j.name for j in chain.joints] == ["ja2"]

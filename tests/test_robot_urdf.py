@@ -1720,3 +1720,49 @@ def test_drakes_force_elements_are_said_not_read(tmp_path):
         f"{path}: <force_element> (line 6, Drake's spring or damper) is not read: its forces are not "
         "in the torques (and 1 more such)"]
     check_torques(path, chain)
+
+
+def test_what_beside_the_base_moves_across_a_floating_joint_or_on_a_planar_one_is_said(tmp_path):
+    """A door hinged to the world beside the quadruped's floating trunk, and a box on a planar
+    joint there, were left out unnamed: the walk stopped at every floating joint and named
+    revolute and prismatic joints only (a review's). Named now, in the file's order; the trunk's
+    own floating joint is said as its motion when the trunk floats."""
+    text = (EXAMPLES / "quadruped.urdf").read_text()
+    extra = ('<link name="world"/><joint name="root" type="floating"><parent link="world"/>'
+             '<child link="trunk"/></joint>' + link("door") + '<joint name="door_hinge" type="revolute">'
+             '<parent link="world"/><child link="door"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" '
+             'effort="1" velocity="1"/></joint>' + link("box", mass=3.0) + '<joint name="slide" '
+             'type="planar"><parent link="world"/><child link="box"/><axis xyz="0 0 1"/></joint>')
+    path = write(tmp_path, text.replace("</robot>", extra + "</robot>"))
+    legs = [j for link_, j in _file_joints_and_heavy_links(EXAMPLES / "quadruped.urdf")[0].items()
+            if not link_.startswith("FL_")]
+    for base, floating, named in (("FL_hip", False, legs + ["door_hinge", "slide"]),
+                                  ("trunk", False, ["door_hinge", "slide"]),
+                                  ("trunk", True, ["door_hinge", "slide"])):
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            load_urdf(path, base=base, floating=floating)
+        said = [str(w.message) for w in seen if "beside the way up" in str(w.message)
+                or "above and beside" in str(w.message)]       # (not the folder's name)
+        shown = ", ".join(f"'{j}'" for j in named[:10]) + (f" and {len(named) - 10} more" if len(named) > 10 else "")
+        assert len(said) == 1 and f"{len(named)} moving joints: {shown})" in said[0], (base, said)
+        assert ("'door'" in said[0] and "'box'" in said[0]) == floating, said   # (their mass, floating)
+
+
+def test_inverted_limits_of_a_locked_joint_or_one_above_the_base_are_said(tmp_path):
+    """The warning that <limit> lower above upper is read as no limits looked at the robot's joints
+    only: a --lock of such a joint, once refused (no value fits), was taken at any value in silence,
+    and one on the way up to --base went unsaid (a review's)."""
+    chain = [link("b"), link("l1"), link("l2"), link("l3")]
+    joints = [f'<joint name="j{k}" type="revolute"><parent link="{p}"/><child link="l{k}"/>'
+              f'<axis xyz="0 0 1"/><limit lower="{1 if k < 3 else -1}" upper="{0 if k < 3 else 1}" '
+              f'effort="1" velocity="1"/></joint>' for k, p in ((1, "b"), (2, "l1"), (3, "l2"))]
+    path = write(tmp_path, robot(*chain, *joints))
+    for kwargs, said in (({"lock": {"j2": 5.0}}, "joint 'j1' (and 'j2')"),
+                         ({"base": "l1"}, "joint 'j1' (and 'j2')"),
+                         ({"base": "l2", "tip": "l3"}, "joint 'j1' (and 'j2')")):
+        with pytest.warns(VampcWarning) as seen:
+            load_urdf(path, **kwargs)
+        told = [str(w.message) for w in seen if "is above" in str(w.message)]
+        assert told == [f"{path}: {said}: <limit> lower 1 is above upper 0; read as no position "
+                        "limits, as Bullet reads them (--lock then takes any position)"], (kwargs, told)

@@ -277,6 +277,10 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
     for said in (turned, turned_by):     # (said once the robot is made: an error comes alone)
         if said:
             warnings.warn(VampcWarning(said), stacklevel=3)
+    # the joints whose positions are used: the robot's, those locked, those on the way up
+    used = {j.name for j in chain.joints} | set(lock) | set(above_locks) | \
+        {j.name for j in tree.ancestors(base)}
+    _warn_inverted_limits([j for name, j in tree.joints.items() if name in used], path)
     if named is not None:
         beside = _left_beside(tree, base, below, floating, given, path)
         if beside:
@@ -292,28 +296,35 @@ def _chain_of(robot, tree: Tree, path: Path, base: str | None, tip: str | None,
 def _left_beside(tree: Tree, base: str, below: set, floating: bool, given, path: Path) -> str | None:
     """The warning that --base left out the moving joints beside the way up to it (a fixed base:
     the way up's own are said where gravity is turned) or, for a floating base, every link and
-    moving joint above and beside it: what hangs on the base's side of any floating joint (a free
-    body apart is the MJCF reader's to say) and is not below it. A joint the user locked is said
+    moving joint above and beside it: what is not below it, a body floating apart named by its
+    floating joint alone (an MJCF's free body is its reader's to say). Planar and floating joints
+    move too (a door hinged to the world beside a floating trunk, a box on a planar joint, went
+    unnamed: a review's). A joint the user locked is said
     where its lock is. A quadruped's --base FL_hip had left three legs out, and with
     --floating-base the trunk too, saying nothing (a founder's reread)."""
-    up = set() if floating else {j.name for j in tree.ancestors(base)}
+    ancestors = {j.name for j in tree.ancestors(base)}
+    own = tree.parent.get(base)          # (a floating base's own floating joint is its motion)
+    up = ancestors if not floating else {own.name} if own is not None and own.type == "floating" \
+        else set()
     seen, stack, joints, links = {base}, [base], [], []
-    while stack:                     # the links held to the base by joints that are not floating
+    while stack:                     # the links held to the base but across a floating joint apart
         link = stack.pop()
         ways = [j for j in tree.children[link] if j.name not in below]
         if link in tree.parent:
             ways.append(tree.parent[link])
         for j in ways:
-            if j.type == "floating":
-                continue
             other = j.parent if j.child == link else j.child
             if other in seen:
                 continue
+            moves = j.type in MOVABLE or j.type in ("planar", "floating")
+            if moves and j.name not in up and j.name not in (given or ()) and \
+                    (j.type != "floating" or j.name in ancestors or tree.by_name):
+                joints.append(j.name)         # (an MJCF's free body apart: its reader says it)
+            if j.type == "floating" and j.name not in ancestors:
+                continue                      # (a body floating apart: what it carries is its own)
             seen.add(other)
             stack.append(other)
             links.append(other)
-            if j.type in MOVABLE and j.name not in up and j.name not in (given or ()):
-                joints.append(j.name)
     order = {name: k for k, name in enumerate(tree.joints)}      # (said in the file's order)
     joints.sort(key=order.__getitem__)
     order = {name: k for k, name in enumerate(tree.links)}
@@ -1077,7 +1088,6 @@ def _build(name: str, tree: Tree, chain: list, frames: dict, body_of: dict, tip:
     p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, chain, path)
-    _warn_inverted_limits(chain, path)
     joints = tuple(Joint(name=j.name, type=MOVABLE[j.type], phi=phi[k], p_fixed=p_fixed[k], offset=_offset(j),
                          mass=float(mass[k]), com=com[k], inertia=inertia[k], limits=_limits(j, path))
                    for k, j in enumerate(chain))
@@ -1105,7 +1115,6 @@ def build_tree(name: str, tree: Tree, joints: list, parents: list, frames: dict,
     p_fixed = matmul(_transposed(phi), _transposed(r_a), g[1:, :3, 3:])[..., 0]
     mass, com, inertia = _body_inertias(tree, _members(body_of), g, frames, path)
     _warn_no_limit(tree, joints, path)
-    _warn_inverted_limits(joints, path)
     built = []
     for k, j in enumerate(joints):
         frame = {} if heavy.get(parents[k]) == k + 1 and not (parents[k] == 0 and floating) else \
