@@ -299,8 +299,7 @@ def _left_beside(tree: Tree, base: str, below: set, floating: bool, given, path:
     moving joint above and beside it: what is not below it, a body floating apart named by its
     floating joint alone (an MJCF's free body is its reader's to say). Planar and floating joints
     move too (a door hinged to the world beside a floating trunk, a box on a planar joint, went
-    unnamed: a review's). A joint the user locked is said
-    where its lock is. A quadruped's --base FL_hip had left three legs out, and with
+    unnamed: a review's). A joint the user locked is said where its lock is. A quadruped's --base FL_hip had left three legs out, and with
     --floating-base the trunk too, saying nothing (a founder's reread)."""
     ancestors = {j.name for j in tree.ancestors(base)}
     own = tree.parent.get(base)          # (a floating base's own floating joint is its motion)
@@ -339,9 +338,10 @@ def _left_beside(tree: Tree, base: str, below: set, floating: bool, given, path:
                 "below it depends on them")
     parts = ([f"{quoted(heavy)} with mass"] if heavy else []) + \
         ([f"{count}: {quoted(joints)}"] if joints else [])
+    links = "links" if tree.by_name else "bodies"
     return (f"{path}: --base {base} --floating-base: only '{base}' and what hangs below it float; "
-            f"the {'links' if tree.by_name else 'bodies'} above and beside it are left out ({'; '.join(parts)}), so they do not load "
-            "the floating base")
+            f"the {links} above and beside it are left out ({'; '.join(parts)}), so they do not "
+            "load the floating base")
 
 
 # --- mimic joints (vampc.robot.mimic) ----------------------------------------------------------------
@@ -1328,14 +1328,22 @@ def _limits(j, path: Path) -> Limits:
 
 
 def _position_range(j) -> tuple[float, float] | None:
-    """A joint's position limits: None for a continuous joint or a <limit> giving neither lower nor
-    upper; one of them given, the other is URDF's default, 0 (as urdfdom and Pinocchio read it: a
+    """A joint's position limits: None for a continuous joint, a <limit> giving neither lower nor
+    upper, or one whose lower is above its upper (_inverted); one of them given, the other is URDF's default, 0 (as urdfdom and Pinocchio read it: a
     <limit upper="1"> had been read as no limits at all)."""
     lim = j.limit
     if j.type == "continuous" or lim is None or lim.lower is None and lim.upper is None:
         return None
-    q = (float(_or(lim.lower, 0.0)), float(_or(lim.upper, 0.0)))
-    return None if q[0] > q[1] else q        # (Bullet's way of saying none: _warn_inverted_limits)
+    return None if _inverted(j) else (float(_or(lim.lower, 0.0)), float(_or(lim.upper, 0.0)))
+
+
+def _inverted(j) -> bool:
+    """Whether a joint's <limit> gives a lower bound above its upper (one not given is URDF's
+    default, 0): Bullet's way of saying there is none (_warn_inverted_limits)."""
+    lim = j.limit
+    return j.type != "continuous" and lim is not None and \
+        not (lim.lower is None and lim.upper is None) and \
+        float(_or(lim.lower, 0.0)) > float(_or(lim.upper, 0.0))
 
 
 def _warn_inverted_limits(joints, path: Path) -> None:
@@ -1343,9 +1351,7 @@ def _warn_inverted_limits(joints, path: Path) -> None:
     limits, as Bullet reads them ("values ignored in case upper limit < lower limit": files made
     for pybullet write lower="1" upper="0" so); they were refused, though Pinocchio reads them and
     the dynamics does not need them (a trial of public URDF collections)."""
-    inverted = [j for j in joints if j.type != "continuous" and j.limit is not None
-                and not (j.limit.lower is None and j.limit.upper is None)
-                and float(_or(j.limit.lower, 0.0)) > float(_or(j.limit.upper, 0.0))]
+    inverted = [j for j in joints if _inverted(j)]
     if not inverted:
         return
     j, lim = inverted[0], inverted[0].limit
