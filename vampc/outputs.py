@@ -812,11 +812,11 @@ def _refuse_users_work(option: str, path: str, target: Path | None, kind) -> Non
     DH table with SVG and `emulate -o arm.yaml` with torques, each with a warning of the name
     alone, and `compile -o dh.json` a DH table in JSON with none (a new user's slip, found by a
     trial; a review's). A program file is replaced by an output of no kind said (a library
-    caller's, vampc.program.file.write_program). By content, not by name: a text, DOT or Verilog file an earlier run wrote
-    under a misnamed name is replaced, as warned."""
-    from vampc.sniff import robot_or_program
+    caller's, vampc.program.file.write_program). By content, not by name: a text, DOT or Verilog
+    file an earlier run wrote under a misnamed name is replaced, as warned."""
+    from vampc.sniff import DESCRIPTIONS, robot_or_program
     held = robot_or_program(target) if target is not None and target.exists() else None
-    if held is None or held == "a vampc program file" and (kind is None or kind[0] == "a program file"):
+    if held is None or held == DESCRIPTIONS["program"] and (kind is None or kind[0] == "a program file"):
         return       # (an output of no kind said, a library caller's: write_program, say)
     writes = f"writes {kind[0]}" if kind is not None else "writes another kind of file"
     name = f" (name it {kind[1][0]})" if kind is not None else ""

@@ -62,6 +62,15 @@ def captures(tick: int, clock: int) -> bool:
     return (tick + 1) % clock == 0
 
 
+def shift_compares(period: int, clock: int) -> list[int]:
+    """The ticks of the period the buffers' Cycle-Counter is compared against, one comparator each:
+    those at whose end the stages shift (captures), none where they shift at every tick's end (a
+    clock of one tick needs no comparator: vampc.rtl.design builds none, vampc.report.counts counts
+    none; their OR, always true, had been built and counted, a review's find)."""
+    ends = [t for t in range(period) if captures(t, clock)]
+    return [] if len(ends) == period else ends
+
+
 def next_capture(emit: int, clock: int) -> int:
     """The earliest tick a VAMP's next value may show on its Result so that its buffer captured the
     value that appeared at `emit`: the start of the next block."""

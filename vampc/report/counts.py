@@ -244,13 +244,11 @@ def control_logic(c) -> dict:
     neither the bus nor the checking: their logic is counted by the same rule (the bus) or not at
     all (the checking's second tables, whose registers its section counts, and its comparators of
     results, there too)."""
-    from vampc.machine.timing import captures
+    from vampc.machine.timing import shift_compares
     net = c.network
     slots = sum(len(v.slots) for v in net.vamps)
     physical = physical_vamps(net)
-    ends = sum(1 for t in range(net.period) if captures(t, net.clock)) if net.buffers else 0
-    if ends == net.period:          # (a buffer clock of one tick: it shifts every tick)
-        ends = 0
+    ends = len(shift_compares(net.period, net.clock)) if net.buffers else 0
     writes = len(net.bus.writes) if net.bus is not None else 0
     # a slot address a slot, and on the bus one a bus-write register (register j at address j·8 +
     # 6 or 7): as many as the VAMP's slots or its registers, whichever is more

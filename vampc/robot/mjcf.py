@@ -755,8 +755,9 @@ def _loops(model, robot: _Robot, chain, path: Path, base: str | None) -> None:
     """Refuse a connect or weld equality (a closed loop: the network computes an open tree) whose
     loop has a joint that moves in the compiled robot: one on the way between its two bodies that
     is one of the chain's joints, or, on a floating base, the base's own motion (one of its bodies
-    in the robot, at or below the base, and the other not). Where none moves (every one locked by --lock, held by an equality under
-    --mimic couple, fixed, above a fixed base, or a free body's that the robot leaves out), its
+    in the robot, at or below the base, and the other not). Where none moves (every one locked by
+    --lock, held by an equality under --mimic couple, fixed, above a fixed base, or a free body's
+    that the robot leaves out), its
     bodies are one rigid body to the network or no part of it, and the loop's forces internal to
     it: left out with a warning (a Menagerie trial's find: an xarm7 refused whatever its gripper's
     joints were locked at)."""

@@ -50,7 +50,7 @@ from vampc.machine.arith import Fn, Overflow, Rounding
 from vampc.machine.interp import result_unit
 from vampc.machine.interp import steps as rom_steps
 from vampc.machine.ops import ADDERS, MULTIPLIERS
-from vampc.machine.timing import captures
+from vampc.machine.timing import shift_compares
 from vampc.program.words import (
     ADDRESS,
     FIELDS,
@@ -450,10 +450,10 @@ class NetworkDesign(Elaboratable):
         c = Mux(self.global_reset, 0, cc)
         m.d.sync += cc.eq(c + 1)
         shift = Signal(name="buffer_clock")
-        ends = [t for t in range(net.period) if captures(t, net.clock)]
+        ends = shift_compares(net.period, net.clock)
         # (a buffer clock of one tick shifts every tick: no comparator; it had one a tick, their OR
         # always true, 54 on planar2 in a budget of 2 VAMPs, a review's find)
-        m.d.comb += shift.eq(1 if len(ends) == net.period else self.program | _any(c == t for t in ends))
+        m.d.comb += shift.eq(self.program | _any(c == t for t in ends) if ends else 1)
         with m.If(shift):
             for b in net.buffers:
                 for s in range(1, b.stages + 1):
